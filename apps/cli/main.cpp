@@ -1,0 +1,26 @@
+// mesohex: meso-skeleton guided hexahedral meshing. Arguments -> options structs; errors -> exit codes.
+#include <iostream>
+
+#include "commands.h"
+#include "mesohex/core/error.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"mesohex: all-hex meshes guided by meso-skeletons (curve branches + quad leaflets).\n"
+                 "Example: mesohex quality out.mesh --json"};
+    app.require_subcommand(1);
+    int status = 0;
+    mesohex::cli::register_quality(app, &status);
+    mesohex::cli::register_convert(app, &status);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const mesohex::Error& e) {
+        std::cerr << "mesohex: error: " << e.what() << "\n";
+        return mesohex::exit_code(e.code());
+    } catch (const std::exception& e) {
+        std::cerr << "mesohex: error: " << e.what() << "\n";
+        return 1;
+    }
+    return status;
+}

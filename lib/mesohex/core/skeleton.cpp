@@ -1,0 +1,25 @@
+#include "mesohex/core/skeleton.h"
+
+#include <algorithm>
+#include <set>
+#include <utility>
+
+namespace mesohex {
+
+int add_face_edges(Skeleton& s) {
+    std::set<std::pair<int, int>> known;
+    for (const std::array<int, 2>& e : s.edges) known.insert(std::minmax(e[0], e[1]));
+    int added = 0;
+    for (const std::vector<int>& f : s.faces) {
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            const int a = f[i], b = f[(i + 1) % f.size()];
+            if (known.insert(std::minmax(a, b)).second) {
+                s.edges.push_back({a, b});
+                ++added;
+            }
+        }
+    }
+    return added;
+}
+
+}  // namespace mesohex

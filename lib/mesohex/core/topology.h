@@ -1,0 +1,42 @@
+#pragma once
+// Derived topology of a hex mesh, computed by a function (never maintained). Deterministic: element order depends only
+// on the input arrays, never on hash-table iteration order.
+#include <array>
+#include <vector>
+
+#include "mesohex/core/hex_mesh.h"
+
+namespace mesohex {
+
+struct HexTopology {
+    // Unique quad faces. faces[f] is the quad as seen from its first hex (outward from face_hexes[f][0]).
+    std::vector<std::array<int, 4>> faces;
+    // The (at most two, in well-formed meshes) hexes of each face; -1 when absent. face_hexes[f][0] is never -1.
+    std::vector<std::array<int, 2>> face_hexes;
+    // Number of hexes that contain each face (> 2 means non-manifold; kept so validation can report it).
+    std::vector<int> face_hex_count;
+    // Per hex, its 6 face ids in kHexFaces order.
+    std::vector<std::array<int, 6>> hex_faces;
+    // Unique edges (v0 < v1), and the number of hexes around each (valence).
+    std::vector<std::array<int, 2>> edges;
+    std::vector<int> edge_valence;
+    std::vector<bool> edge_on_boundary;  // edge belongs to a boundary quad
+    // Per hex, its 12 edge ids in kHexEdges order.
+    std::vector<std::array<int, 12>> hex_edges;
+    // Boundary quads (faces with one hex), oriented outward from the mesh, and the face id each one comes from.
+    std::vector<std::array<int, 4>> boundary_quads;
+    std::vector<int> boundary_face;
+};
+
+// O(#hexes log #hexes). Works on any input with indices in range (validation reports the rest).
+HexTopology compute_hex_topology(const HexMesh& mesh);
+
+// The boundary surface as a quad mesh with its own compact vertex numbering; vertex_of[i] is the hex-mesh vertex of
+// boundary vertex i.
+struct BoundarySurface {
+    QuadMesh surface;
+    std::vector<int> vertex_of;
+};
+BoundarySurface extract_boundary(const HexMesh& mesh, const HexTopology& topo);
+
+}  // namespace mesohex

@@ -1,0 +1,1 @@
+namespace mesohex {}  // removed once pipeline.cpp lands

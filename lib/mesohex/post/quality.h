@@ -1,0 +1,42 @@
+#pragma once
+// Quality report: Verdict's hex scaled Jacobian, topology invariants, singular edges.
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mesohex/core/hex_mesh.h"
+#include "mesohex/core/validate.h"
+
+namespace mesohex {
+
+// Verdict hex_scaled_jacobian: min over the 8 corner frames and the centre principal-axes frame of
+// det / (product of the three column lengths). Zero-length column or non-finite value -> -1 (inverted, never perfect).
+double scaled_jacobian(const std::array<Vec3, 8>& corners);
+std::vector<double> scaled_jacobians(const HexMesh& mesh);  // parallel, deterministic
+
+struct QualityReport {
+    long vertices = 0, hexes = 0;
+    double sj_min = 0, sj_avg = 0;
+    long inverted = 0;  // hexes with scaled Jacobian <= 0
+    std::array<long, 10> sj_histogram{};  // 10 bins over [-1, 1]
+    std::vector<int> worst_hexes;        // ids of the (up to) 10 worst hexes, worst first
+    long euler_characteristic = 0;       // V - E + F - C
+    long boundary_euler_characteristic = 0;
+    long boundary_components = 0;
+    double boundary_genus = 0;           // per closed boundary: sum over components of (2 - chi_i) / 2
+    std::map<int, long> singular_interior_edges;  // valence -> count (valence != 4)
+    std::map<int, long> singular_boundary_edges;  // valence -> count (valence != 2)
+    ValidationReport validation;
+    std::vector<double> sj;  // per hex
+};
+
+QualityReport compute_quality(const HexMesh& mesh);
+
+// One JSON object (serialised text) with at least: vertices, hexes, sj_min, sj_avg, inverted, euler_characteristic,
+// singular_edges {interior: {valence: count}, boundary: {...}}, valid, problems. Implemented without exposing the
+// JSON library in this header.
+std::string quality_to_json(const QualityReport& report, int indent = 2);
+std::string quality_to_text(const QualityReport& report);
+
+}  // namespace mesohex

@@ -1,0 +1,1 @@
+namespace mesohex {}  // removed once the first stage lands

@@ -1,0 +1,20 @@
+#pragma once
+// Hex mesh file formats, chosen by extension: .mesh (MEDIT, default), .vtk (legacy ASCII 2.0), .vtu (VTK XML),
+// .msh (Gmsh 4.1 ASCII), .inp (Abaqus C3D8, write only). Parse errors throw mesohex::Error naming file:line.
+#include <string>
+#include <vector>
+
+#include "mesohex/core/hex_mesh.h"
+
+namespace mesohex {
+
+HexMesh read_hex_mesh(const std::string& path);
+
+// Writes to a temporary file beside `path`, then renames it: a failure never leaves a half-written file.
+// cell_scalars (may be empty): one value per hex, written as cell data named "scaled_jacobian" where the format allows.
+void write_hex_mesh(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars = {});
+
+// Writes `text` to `path` atomically (temporary file + rename). Used for every output file of the project.
+void write_file_atomically(const std::string& path, const std::string& text);
+
+}  // namespace mesohex

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# mesohex project script.
+#   ./mesohex.sh demo    install what is missing, build (Release), mesh a bundled example, print its quality
+#   ./mesohex.sh test    install what is missing, build, run the whole test suite (what CI runs)
+#   ./mesohex.sh deps | build | bench
+set -euo pipefail
+cd "$(dirname "$0")"
+ROOT=$(pwd)
+BUILD=${MESOHEX_BUILD_DIR:-$ROOT/build}
+JOBS=${MESOHEX_JOBS:-$(nproc)}
+
+# Every Debian package the project needs (build, tests, benchmarks).
+PACKAGES=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev
+          libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+          python3 python3-meshio python3-numpy)
+
+deps() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "mesohex.sh: installing ${missing[*]}"
+    local sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+}
+
+build() {
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMESOHEX_WERROR=ON >/dev/null
+  cmake --build "$BUILD" -j "$JOBS"
+}
+
+run_tests() {
+  local args=(--test-dir "$BUILD" --output-on-failure -j "$JOBS" --timeout 1200)
+  if [ -d "$ROOT/../shared/data" ]; then
+    echo "mesohex.sh: ../shared/data found: running every test, shared_data ones included"
+  else
+    echo "mesohex.sh: ../shared/data not found: skipping the tests labelled shared_data"
+    args+=(-LE shared_data)
+  fi
+  ctest "${args[@]}"
+}
+
+demo() {
+  mkdir -p "$ROOT/out"
+  "$BUILD/bin/mesohex" --help
+}
+
+case "${1:-}" in
+  deps) deps ;;
+  build) deps; build ;;
+  test) deps; build; run_tests ;;
+  demo) deps; build; demo ;;
+  bench) deps; build; "$BUILD/bench/mesohex_bench" ;;
+  *) echo "usage: $0 demo|test|deps|build|bench" >&2; exit 2 ;;
+esac
