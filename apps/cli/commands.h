@@ -6,6 +6,12 @@
 namespace mesohex::cli {
 
 void register_quality(CLI::App& app, int* status);
+void register_mesh(CLI::App& app, int* status);
+void register_analyze(CLI::App& app, int* status);
 void register_convert(CLI::App& app, int* status);
+void register_generate(CLI::App& app, int* status);
+void register_import(CLI::App& app, int* status);
+void register_skeletonize(CLI::App& app, int* status);
+void register_thicken(CLI::App& app, int* status);
 
 }  // namespace mesohex::cli

@@ -9,8 +9,14 @@ int main(int argc, char** argv) {
                  "Example: mesohex quality out.mesh --json"};
     app.require_subcommand(1);
     int status = 0;
+    mesohex::cli::register_mesh(app, &status);
+    mesohex::cli::register_analyze(app, &status);
     mesohex::cli::register_quality(app, &status);
     mesohex::cli::register_convert(app, &status);
+    mesohex::cli::register_generate(app, &status);
+    mesohex::cli::register_import(app, &status);
+    mesohex::cli::register_skeletonize(app, &status);
+    mesohex::cli::register_thicken(app, &status);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,1 +1,937 @@
-// TEMPORARY STUB: replaced by the real implementation (foundation work in progress).
+// Hex mesh formats: MEDIT .mesh, legacy VTK .vtk, VTK XML .vtu (ASCII), Gmsh .msh 4.1 (ASCII), Abaqus .inp (write).
+// All of them use the VTK hex vertex order (MEDIT, Gmsh and Abaqus C3D8 number the hexahedron like VTK), so no
+// permutation happens here. Readers parse the whole file as text, track line numbers, and throw mesohex::Error
+// "path:line: message" on anything they do not understand.
+#include "mesohex_io/hex_io.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include "mesohex/core/error.h"
+
+namespace mesohex {
+namespace {
+
+// ---------------------------------------------------------------------------------------------------------------
+// Small text utilities.
+
+std::string lower(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+}
+
+bool iequals(std::string_view a, std::string_view b) { return lower(a) == lower(b); }
+
+std::string extension_of(const std::string& path) {
+    const std::size_t slash = path.find_last_of('/');
+    const std::size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+    return lower(path.substr(dot));
+}
+
+[[noreturn]] void fail_at(const std::string& path, int line, const std::string& message) {
+    throw Error(ErrorCode::InvalidInput, path + ":" + std::to_string(line) + ": " + message,
+                {ElementRef::Kind::FileLine, line});
+}
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(ErrorCode::IoError, path + ": cannot open for reading: " + std::strerror(errno));
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) throw Error(ErrorCode::IoError, path + ": read error");
+    return ss.str();
+}
+
+void append_double(std::string& out, double x) {
+    char buf[32];
+    const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, x);  // shortest exact representation
+    out.append(buf, r.ptr);
+}
+void append_int(std::string& out, long x) {
+    char buf[24];
+    const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, x);
+    out.append(buf, r.ptr);
+}
+
+// Whitespace-separated tokens with line numbers. `comment` starts a comment running to the end of the line.
+class Lexer {
+public:
+    Lexer(const std::string& path, std::string_view text, int first_line = 1, char comment = 0)
+        : path_(path), text_(text), line_(first_line), token_line_(first_line), last_content_line_(first_line),
+          comment_(comment) {}
+
+    // Next token, or an empty view at the end of the text.
+    std::string_view next() {
+        skip_space();
+        if (pos_ >= text_.size()) {
+            token_line_ = last_content_line_;  // "end of file" is reported on the last line with content
+            return {};
+        }
+        const std::size_t start = pos_;
+        while (pos_ < text_.size() && !is_space(text_[pos_]) && text_[pos_] != comment_) ++pos_;
+        token_line_ = line_;
+        last_content_line_ = line_;
+        return text_.substr(start, pos_ - start);
+    }
+    bool at_end() {
+        skip_space();
+        return pos_ >= text_.size();
+    }
+    std::string_view expect(const std::string& what) {
+        const std::string_view t = next();
+        if (t.empty()) fail("unexpected end of file, expected " + what);
+        return t;
+    }
+    void expect_keyword(std::string_view keyword) {
+        const std::string_view t = expect(std::string(keyword));
+        if (!iequals(t, keyword)) fail("expected '" + std::string(keyword) + "', found '" + std::string(t) + "'");
+    }
+    long expect_int(const std::string& what) {
+        const std::string_view t = expect(what);
+        long value = 0;
+        const std::from_chars_result r = std::from_chars(t.data(), t.data() + t.size(), value);
+        if (r.ec != std::errc() || r.ptr != t.data() + t.size())
+            fail("expected an integer (" + what + "), found '" + std::string(t) + "'");
+        return value;
+    }
+    long expect_count(const std::string& what, long max_value = 2000000000L) {
+        const long n = expect_int(what);
+        if (n < 0 || n > max_value) fail("invalid " + what + " " + std::to_string(n));
+        // Every counted item needs at least one byte: a larger count is a truncated or corrupt file (and must not
+        // make the reader allocate gigabytes).
+        if (static_cast<std::size_t>(n) > text_.size() - pos_)
+            fail(what + " " + std::to_string(n) + " is more than the rest of the file can hold (truncated file?)");
+        return n;
+    }
+    double expect_double(const std::string& what) {
+        const std::string_view t = expect(what);
+        double value = 0;
+        const char* begin = t.data();
+        if (!t.empty() && t[0] == '+') ++begin;  // from_chars does not accept a leading '+'
+        const std::from_chars_result r = std::from_chars(begin, t.data() + t.size(), value);
+        if (r.ec == std::errc::result_out_of_range) fail("number out of range (" + what + "): '" + std::string(t) + "'");
+        if (r.ec != std::errc() || r.ptr != t.data() + t.size())
+            fail("expected a number (" + what + "), found '" + std::string(t) + "'");
+        if (!std::isfinite(value)) fail("non-finite " + what + " '" + std::string(t) + "'");
+        return value;
+    }
+    // The rest of the current line (after the last token), without the line break; moves to the next line.
+    std::string_view rest_of_line() {
+        const std::size_t start = pos_;
+        while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+        std::string_view s = text_.substr(start, pos_ - start);
+        if (pos_ < text_.size()) {
+            ++pos_;
+            ++line_;
+        }
+        while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+        while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+        return s;
+    }
+    std::size_t position() const { return pos_; }
+    int line() const { return token_line_; }
+    [[noreturn]] void fail(const std::string& message) const { fail_at(path_, token_line_, message); }
+
+private:
+    static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+    void skip_space() {
+        while (pos_ < text_.size()) {
+            const char c = text_[pos_];
+            if (c == '\n') {
+                ++line_;
+                ++pos_;
+            } else if (is_space(c)) {
+                ++pos_;
+            } else if (comment_ != 0 && c == comment_) {
+                while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+            } else {
+                break;
+            }
+        }
+    }
+
+    const std::string& path_;
+    std::string_view text_;
+    std::size_t pos_ = 0;
+    int line_;
+    int token_line_;
+    int last_content_line_;
+    char comment_;
+};
+
+// 0-based or 1-based vertex index read from a file, checked against the number of vertices.
+int read_vertex_index(Lexer& lex, long base, long num_points, long cell, const char* cell_name) {
+    const long raw = lex.expect_int("vertex index");
+    const long v = raw - base;
+    if (v < 0 || v >= num_points)
+        lex.fail(std::string(cell_name) + " " + std::to_string(cell + base) + ": vertex index " + std::to_string(raw) +
+                 " out of range (" + std::to_string(base) + ".." + std::to_string(num_points - 1 + base) + ")");
+    return static_cast<int>(v);
+}
+
+void check_writable(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars) {
+    const long n = static_cast<long>(mesh.points.size());
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
+        for (int v : mesh.hexes[h])
+            if (v < 0 || v >= n)
+                throw Error(ErrorCode::InvalidInput,
+                            path + ": cannot write: hex " + std::to_string(h) + " refers to vertex " +
+                                std::to_string(v) + " (there are " + std::to_string(n) + " vertices)",
+                            {ElementRef::Kind::Hex, static_cast<int>(h)});
+    if (!cell_scalars.empty() && cell_scalars.size() != mesh.hexes.size())
+        throw Error(ErrorCode::InvalidInput, path + ": cannot write: " + std::to_string(cell_scalars.size()) +
+                                                 " cell values for " + std::to_string(mesh.hexes.size()) + " hexes");
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// MEDIT .mesh
+
+HexMesh read_medit(const std::string& path, const std::string& text) {
+    Lexer lex(path, text, 1, '#');
+    HexMesh mesh;
+    bool have_version = false, have_vertices = false, have_hexes = false, have_end = false;
+    while (!lex.at_end()) {
+        const std::string key = lower(lex.next());
+        const int key_line = lex.line();
+        if (key == "meshversionformatted") {
+            const long version = lex.expect_int("mesh version");
+            if (version < 1 || version > 4) lex.fail("unsupported MeshVersionFormatted " + std::to_string(version));
+            have_version = true;
+        } else if (key == "meshversionunformatted") {
+            lex.fail("binary MEDIT files are not supported (use ASCII, MeshVersionFormatted)");
+        } else if (key == "dimension") {
+            const long dim = lex.expect_int("dimension");
+            if (dim != 3) lex.fail("only Dimension 3 is supported, found " + std::to_string(dim));
+        } else if (key == "vertices") {
+            if (have_vertices) lex.fail("second Vertices section");
+            const long n = lex.expect_count("number of vertices");
+            mesh.points.resize(static_cast<std::size_t>(n));
+            for (long v = 0; v < n; ++v) {
+                Vec3& p = mesh.points[static_cast<std::size_t>(v)];
+                p.x = lex.expect_double("x coordinate of vertex " + std::to_string(v + 1));
+                p.y = lex.expect_double("y coordinate of vertex " + std::to_string(v + 1));
+                p.z = lex.expect_double("z coordinate of vertex " + std::to_string(v + 1));
+                lex.expect_int("reference of vertex " + std::to_string(v + 1));
+            }
+            have_vertices = true;
+        } else if (key == "hexahedra") {
+            if (!have_vertices) lex.fail("Hexahedra before Vertices");
+            if (have_hexes) lex.fail("second Hexahedra section");
+            const long n = lex.expect_count("number of hexahedra");
+            mesh.hexes.resize(static_cast<std::size_t>(n));
+            const long np = static_cast<long>(mesh.points.size());
+            for (long h = 0; h < n; ++h) {
+                for (int lv = 0; lv < 8; ++lv)
+                    mesh.hexes[static_cast<std::size_t>(h)][static_cast<std::size_t>(lv)] =
+                        read_vertex_index(lex, 1, np, h, "hexahedron");
+                lex.expect_int("reference of hexahedron " + std::to_string(h + 1));
+            }
+            have_hexes = true;
+        } else if (key == "edges" || key == "triangles" || key == "quadrilaterals" || key == "corners" ||
+                   key == "ridges" || key == "requiredvertices" || key == "requirededges" ||
+                   key == "requiredtriangles" || key == "requiredquadrilaterals") {
+            // Lower-dimensional entities (boundary patches, features): skipped.
+            const int per = key == "edges" ? 3 : key == "triangles" ? 4 : key == "quadrilaterals" ? 5 : 1;
+            const long n = lex.expect_count("number of " + key);
+            for (long i = 0; i < n * per; ++i) lex.expect_int("entry of " + key);
+        } else if (key == "tetrahedra" || key == "prisms" || key == "pyramids" || key == "hexahedra2" ||
+                   key == "tetrahedra2") {
+            const long n = lex.expect_count("number of " + key);
+            if (n > 0) fail_at(path, key_line, "the mesh contains " + key + ": only hexahedral meshes are supported");
+        } else if (key == "end") {
+            have_end = true;
+            break;
+        } else {
+            fail_at(path, key_line, "unknown MEDIT keyword '" + key + "'");
+        }
+    }
+    if (!have_version) fail_at(path, 1, "not a MEDIT file: MeshVersionFormatted missing");
+    if (!have_vertices || !have_hexes)
+        fail_at(path, lex.line(), std::string("truncated or incomplete MEDIT file: no ") +
+                                      (have_vertices ? "Hexahedra" : "Vertices") + " section");
+    if (!have_end) fail_at(path, lex.line(), "truncated MEDIT file: 'End' missing");
+    return mesh;
+}
+
+std::string write_medit(const HexMesh& mesh) {
+    std::string out = "MeshVersionFormatted 2\nDimension 3\n\nVertices\n";
+    append_int(out, static_cast<long>(mesh.points.size()));
+    out += '\n';
+    for (const Vec3& p : mesh.points) {
+        append_double(out, p.x);
+        out += ' ';
+        append_double(out, p.y);
+        out += ' ';
+        append_double(out, p.z);
+        out += " 0\n";
+    }
+    out += "\nHexahedra\n";
+    append_int(out, static_cast<long>(mesh.hexes.size()));
+    out += '\n';
+    for (const std::array<int, 8>& hex : mesh.hexes) {
+        for (int v : hex) {
+            append_int(out, v + 1);
+            out += ' ';
+        }
+        out += "0\n";
+    }
+    out += "\nEnd\n";
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Legacy VTK (.vtk), ASCII. Reads versions 2.0-4.2 (CELLS n size) and 5.1 (OFFSETS / CONNECTIVITY).
+
+HexMesh read_vtk(const std::string& path, const std::string& text) {
+    Lexer lex(path, text);
+    const std::string_view header = lex.rest_of_line();
+    if (lower(header).rfind("# vtk datafile version", 0) != 0)
+        fail_at(path, 1, "not a legacy VTK file: first line must be '# vtk DataFile Version x.x'");
+    lex.rest_of_line();  // title
+    const std::string format = lower(lex.rest_of_line());
+    if (format == "binary") fail_at(path, 3, "binary VTK files are not supported (write ASCII)");
+    if (format != "ascii") fail_at(path, 3, "expected 'ASCII' on line 3");
+    lex.expect_keyword("DATASET");
+    const std::string_view type = lex.expect("dataset type");
+    if (!iequals(type, "UNSTRUCTURED_GRID"))
+        lex.fail("dataset type '" + std::string(type) + "' is not supported (only UNSTRUCTURED_GRID)");
+
+    HexMesh mesh;
+    bool have_points = false, have_cells = false;
+    std::vector<long> offsets;
+    std::vector<int> connectivity;
+    while (true) {
+        const std::string_view tok = lex.next();
+        if (tok.empty()) {
+            lex.fail(have_points ? (have_cells ? "truncated VTK file: CELL_TYPES missing" : "truncated VTK file: CELLS missing")
+                                 : "truncated VTK file: POINTS missing");
+        }
+        const std::string key = lower(tok);
+        if (key == "points") {
+            const long n = lex.expect_count("number of points");
+            const std::string dtype = lower(lex.expect("point data type"));
+            if (dtype != "float" && dtype != "double") lex.fail("unsupported point type '" + dtype + "'");
+            mesh.points.resize(static_cast<std::size_t>(n));
+            for (long v = 0; v < n; ++v)
+                for (int c = 0; c < 3; ++c)
+                    mesh.points[static_cast<std::size_t>(v)][c] = lex.expect_double("coordinate of point " + std::to_string(v));
+            have_points = true;
+        } else if (key == "metadata") {
+            // VTK 5.x writes METADATA blocks ended by a blank line: skip them.
+            lex.rest_of_line();
+            while (true) {
+                const std::size_t before = lex.position();
+                const std::string_view line = lex.rest_of_line();
+                if (line.empty() || lex.position() == before) break;
+            }
+        } else if (key == "cells") {
+            if (!have_points) lex.fail("CELLS before POINTS");
+            const long a = lex.expect_count("number of cells");
+            const long b = lex.expect_count("cell list size");
+            const long np = static_cast<long>(mesh.points.size());
+            // Peek: VTK 5.1 has "OFFSETS type" next.
+            Lexer peek = lex;
+            const std::string_view next = peek.next();
+            if (iequals(next, "OFFSETS")) {
+                lex.next();
+                lex.expect("offsets type");
+                offsets.resize(static_cast<std::size_t>(a));
+                for (long i = 0; i < a; ++i) offsets[static_cast<std::size_t>(i)] = lex.expect_int("offset");
+                lex.expect_keyword("CONNECTIVITY");
+                lex.expect("connectivity type");
+                connectivity.resize(static_cast<std::size_t>(b));
+                for (long i = 0; i < b; ++i) {
+                    const long cell = static_cast<long>(std::upper_bound(offsets.begin(), offsets.end(), i) - offsets.begin()) - 1;
+                    connectivity[static_cast<std::size_t>(i)] = read_vertex_index(lex, 0, np, cell, "cell");
+                }
+                if (a < 1 || offsets.front() != 0 || offsets.back() != b) lex.fail("inconsistent OFFSETS / CONNECTIVITY");
+            } else {
+                offsets.assign(1, 0);
+                for (long c = 0; c < a; ++c) {
+                    const long k = lex.expect_count("number of vertices of cell " + std::to_string(c), 1000);
+                    if (k != 8) lex.fail("cell " + std::to_string(c) + " has " + std::to_string(k) + " vertices, not a hexahedron (8)");
+                    for (long i = 0; i < k; ++i) connectivity.push_back(read_vertex_index(lex, 0, np, c, "cell"));
+                    offsets.push_back(static_cast<long>(connectivity.size()));
+                }
+                if (b != a * 9) lex.fail("CELLS size " + std::to_string(b) + " does not match " + std::to_string(a) + " hexahedra (expected " + std::to_string(a * 9) + ")");
+            }
+            const std::size_t cells = offsets.size() - 1;
+            mesh.hexes.resize(cells);
+            for (std::size_t c = 0; c < cells; ++c) {
+                if (offsets[c + 1] - offsets[c] != 8)
+                    lex.fail("cell " + std::to_string(c) + " has " + std::to_string(offsets[c + 1] - offsets[c]) + " vertices, not a hexahedron (8)");
+                for (std::size_t lv = 0; lv < 8; ++lv)
+                    mesh.hexes[c][lv] = connectivity[static_cast<std::size_t>(offsets[c]) + lv];
+            }
+            have_cells = true;
+        } else if (key == "cell_types") {
+            if (!have_cells) lex.fail("CELL_TYPES before CELLS");
+            const long n = lex.expect_count("number of cell types");
+            if (n != static_cast<long>(mesh.hexes.size()))
+                lex.fail("CELL_TYPES count " + std::to_string(n) + " differs from the number of cells " + std::to_string(mesh.hexes.size()));
+            for (long c = 0; c < n; ++c) {
+                const long t = lex.expect_int("cell type");
+                if (t != 12) lex.fail("cell " + std::to_string(c) + " has VTK type " + std::to_string(t) + ", not a hexahedron (12)");
+            }
+            return mesh;  // point and cell data that follow are not needed
+        } else {
+            lex.fail("unexpected keyword '" + std::string(tok) + "' in VTK file");
+        }
+    }
+}
+
+std::string write_vtk(const HexMesh& mesh, const std::vector<double>& cell_scalars) {
+    std::string out = "# vtk DataFile Version 2.0\nmesohex hex mesh\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS ";
+    append_int(out, static_cast<long>(mesh.points.size()));
+    out += " double\n";
+    for (const Vec3& p : mesh.points) {
+        append_double(out, p.x);
+        out += ' ';
+        append_double(out, p.y);
+        out += ' ';
+        append_double(out, p.z);
+        out += '\n';
+    }
+    out += "CELLS ";
+    append_int(out, static_cast<long>(mesh.hexes.size()));
+    out += ' ';
+    append_int(out, static_cast<long>(mesh.hexes.size()) * 9);
+    out += '\n';
+    for (const std::array<int, 8>& hex : mesh.hexes) {
+        out += '8';
+        for (int v : hex) {
+            out += ' ';
+            append_int(out, v);
+        }
+        out += '\n';
+    }
+    out += "CELL_TYPES ";
+    append_int(out, static_cast<long>(mesh.hexes.size()));
+    out += '\n';
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h) out += "12\n";
+    if (!cell_scalars.empty()) {
+        out += "CELL_DATA ";
+        append_int(out, static_cast<long>(mesh.hexes.size()));
+        out += "\nSCALARS scaled_jacobian double 1\nLOOKUP_TABLE default\n";
+        for (double s : cell_scalars) {
+            append_double(out, s);
+            out += '\n';
+        }
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// VTK XML unstructured grid (.vtu), ASCII data arrays only.
+
+struct XmlTag {
+    std::string name;  // without '/'
+    bool closing = false, self_closing = false;
+    std::vector<std::pair<std::string, std::string>> attributes;
+    std::size_t end = 0;  // position after '>'
+    int line = 1;
+    std::string attribute(const std::string& key) const {
+        for (const auto& [k, v] : attributes)
+            if (k == key) return v;
+        return "";
+    }
+};
+
+HexMesh read_vtu(const std::string& path, const std::string& text) {
+    std::size_t pos = 0;
+    int line = 1;
+    std::size_t counted = 0;  // line number is valid for text[0, counted)
+    auto line_at = [&](std::size_t p) {
+        line += static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(counted), text.begin() + static_cast<std::ptrdiff_t>(p), '\n'));
+        counted = p;
+        return line;
+    };
+    auto last_line = [&] {
+        std::size_t end = text.size();
+        while (end > 0 && std::isspace(static_cast<unsigned char>(text[end - 1]))) --end;
+        return line_at(end);
+    };
+    // Next tag at or after pos; false at the end of the text.
+    auto next_tag = [&](XmlTag& tag) {
+        while (true) {
+            const std::size_t lt = text.find('<', pos);
+            if (lt == std::string::npos) return false;
+            tag = XmlTag{};
+            tag.line = line_at(lt);
+            if (text.compare(lt, 4, "<!--") == 0 || text.compare(lt, 2, "<?") == 0) {
+                const std::string close = text.compare(lt, 4, "<!--") == 0 ? "-->" : "?>";
+                const std::size_t e = text.find(close, lt);
+                if (e == std::string::npos) fail_at(path, tag.line, "unterminated XML comment or declaration");
+                pos = e + close.size();
+                continue;
+            }
+            const std::size_t gt = text.find('>', lt);
+            if (gt == std::string::npos) fail_at(path, tag.line, "truncated XML tag");
+            std::string_view body(text.data() + lt + 1, gt - lt - 1);
+            if (!body.empty() && body.front() == '/') {
+                tag.closing = true;
+                body.remove_prefix(1);
+            }
+            if (!body.empty() && body.back() == '/') {
+                tag.self_closing = true;
+                body.remove_suffix(1);
+            }
+            std::size_t i = 0;
+            while (i < body.size() && !std::isspace(static_cast<unsigned char>(body[i]))) ++i;
+            tag.name = std::string(body.substr(0, i));
+            while (true) {
+                while (i < body.size() && std::isspace(static_cast<unsigned char>(body[i]))) ++i;
+                if (i >= body.size()) break;
+                const std::size_t eq = body.find('=', i);
+                if (eq == std::string_view::npos) fail_at(path, tag.line, "malformed attribute in <" + tag.name + ">");
+                std::string key(body.substr(i, eq - i));
+                while (!key.empty() && std::isspace(static_cast<unsigned char>(key.back()))) key.pop_back();
+                std::size_t q = eq + 1;
+                while (q < body.size() && std::isspace(static_cast<unsigned char>(body[q]))) ++q;
+                if (q >= body.size() || (body[q] != '"' && body[q] != '\''))
+                    fail_at(path, tag.line, "malformed attribute '" + key + "' in <" + tag.name + ">");
+                const std::size_t qe = body.find(body[q], q + 1);
+                if (qe == std::string_view::npos) fail_at(path, tag.line, "unterminated attribute '" + key + "'");
+                tag.attributes.emplace_back(key, std::string(body.substr(q + 1, qe - q - 1)));
+                i = qe + 1;
+            }
+            tag.end = gt + 1;
+            pos = gt + 1;
+            return true;
+        }
+    };
+
+    XmlTag tag;
+    if (!next_tag(tag) || tag.name != "VTKFile") fail_at(path, tag.line, "not a VTK XML file: <VTKFile> expected");
+    if (tag.attribute("type") != "UnstructuredGrid")
+        fail_at(path, tag.line, "VTK XML type '" + tag.attribute("type") + "' is not supported (only UnstructuredGrid)");
+    if (!tag.attribute("compressor").empty()) fail_at(path, tag.line, "compressed VTU files are not supported");
+
+    long num_points = -1, num_cells = -1;
+    std::vector<std::string> stack;
+    HexMesh mesh;
+    std::vector<long> connectivity, offsets, types;
+    bool have_points = false, done = false;
+    while (!done && next_tag(tag)) {
+        if (tag.closing) {
+            if (stack.empty() || stack.back() != tag.name)
+                fail_at(path, tag.line, "unexpected </" + tag.name + ">");
+            stack.pop_back();
+            if (tag.name == "Piece") done = true;
+            continue;
+        }
+        if (tag.name == "Piece") {
+            if (num_points >= 0) fail_at(path, tag.line, "only one <Piece> is supported");
+            auto count = [&](const char* key) {
+                const std::string s = tag.attribute(key);
+                long n = -1;
+                const std::from_chars_result r = std::from_chars(s.data(), s.data() + s.size(), n);
+                if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size() || n < 0)
+                    fail_at(path, tag.line, std::string("missing or invalid ") + key + " in <Piece>");
+                return n;
+            };
+            num_points = count("NumberOfPoints");
+            num_cells = count("NumberOfCells");
+            if (static_cast<std::size_t>(num_points) > text.size() || static_cast<std::size_t>(num_cells) > text.size())
+                fail_at(path, tag.line, "NumberOfPoints / NumberOfCells larger than the file can hold");
+        }
+        if (tag.name == "DataArray" && !tag.self_closing) {
+            const std::string parent = stack.empty() ? "" : stack.back();
+            const std::string name = tag.attribute("Name");
+            const std::string format = tag.attribute("format");
+            const bool wanted = parent == "Points" || (parent == "Cells" && (name == "connectivity" || name == "offsets" || name == "types"));
+            if (wanted && format != "ascii")
+                fail_at(path, tag.line, "DataArray format '" + format + "' is not supported (only ascii)");
+            const std::size_t close = text.find("</DataArray>", tag.end);
+            if (close == std::string::npos) fail_at(path, tag.line, "truncated file: </DataArray> missing");
+            if (wanted) {
+                Lexer lex(path, std::string_view(text).substr(tag.end, close - tag.end), tag.line);
+                if (parent == "Points") {
+                    if (num_points < 0) fail_at(path, tag.line, "<Points> outside <Piece>");
+                    if (tag.attribute("NumberOfComponents") != "3")
+                        fail_at(path, tag.line, "points must have NumberOfComponents=\"3\"");
+                    mesh.points.resize(static_cast<std::size_t>(num_points));
+                    for (long v = 0; v < num_points; ++v)
+                        for (int c = 0; c < 3; ++c)
+                            mesh.points[static_cast<std::size_t>(v)][c] = lex.expect_double("coordinate of point " + std::to_string(v));
+                    have_points = true;
+                } else {
+                    std::vector<long>& dst = name == "connectivity" ? connectivity : name == "offsets" ? offsets : types;
+                    while (!lex.at_end()) dst.push_back(lex.expect_int(name + " entry"));
+                }
+                if (!lex.at_end()) lex.fail("more values than declared in " + (name.empty() ? parent : name));
+            }
+            pos = close + std::strlen("</DataArray>");
+            continue;
+        }
+        if (!tag.self_closing) stack.push_back(tag.name);
+    }
+    if (!done) fail_at(path, last_line(), "truncated VTU file: </Piece> missing");
+    if (!have_points) fail_at(path, last_line(), "VTU file has no <Points>");
+    if (static_cast<long>(offsets.size()) != num_cells || static_cast<long>(types.size()) != num_cells)
+        fail_at(path, last_line(), "VTU cell arrays do not match NumberOfCells=" + std::to_string(num_cells));
+    mesh.hexes.resize(static_cast<std::size_t>(num_cells));
+    long begin = 0;
+    for (long c = 0; c < num_cells; ++c) {
+        const std::size_t cu = static_cast<std::size_t>(c);
+        if (types[cu] != 12)
+            fail_at(path, last_line(), "cell " + std::to_string(c) + " has VTK type " + std::to_string(types[cu]) + ", not a hexahedron (12)");
+        if (offsets[cu] - begin != 8 || offsets[cu] > static_cast<long>(connectivity.size()))
+            fail_at(path, last_line(), "cell " + std::to_string(c) + " does not have 8 vertices in connectivity/offsets");
+        for (std::size_t lv = 0; lv < 8; ++lv) {
+            const long v = connectivity[static_cast<std::size_t>(begin) + lv];
+            if (v < 0 || v >= num_points)
+                fail_at(path, last_line(), "cell " + std::to_string(c) + ": vertex index " + std::to_string(v) + " out of range");
+            mesh.hexes[cu][lv] = static_cast<int>(v);
+        }
+        begin = offsets[cu];
+    }
+    if (begin != static_cast<long>(connectivity.size()))
+        fail_at(path, last_line(), "connectivity has more entries than the offsets use");
+    return mesh;
+}
+
+std::string write_vtu(const HexMesh& mesh, const std::vector<double>& cell_scalars) {
+    std::string out =
+        "<?xml version=\"1.0\"?>\n"
+        "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        "  <UnstructuredGrid>\n"
+        "    <Piece NumberOfPoints=\"";
+    append_int(out, static_cast<long>(mesh.points.size()));
+    out += "\" NumberOfCells=\"";
+    append_int(out, static_cast<long>(mesh.hexes.size()));
+    out += "\">\n      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (const Vec3& p : mesh.points) {
+        append_double(out, p.x);
+        out += ' ';
+        append_double(out, p.y);
+        out += ' ';
+        append_double(out, p.z);
+        out += '\n';
+    }
+    out += "        </DataArray>\n      </Points>\n      <Cells>\n"
+           "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (const std::array<int, 8>& hex : mesh.hexes) {
+        for (std::size_t lv = 0; lv < 8; ++lv) {
+            append_int(out, hex[lv]);
+            out += lv < 7 ? ' ' : '\n';
+        }
+    }
+    out += "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
+        append_int(out, static_cast<long>(h + 1) * 8);
+        out += '\n';
+    }
+    out += "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h) out += "12\n";
+    out += "        </DataArray>\n      </Cells>\n";
+    if (!cell_scalars.empty()) {
+        out += "      <CellData Scalars=\"scaled_jacobian\">\n"
+               "        <DataArray type=\"Float64\" Name=\"scaled_jacobian\" format=\"ascii\">\n";
+        for (double s : cell_scalars) {
+            append_double(out, s);
+            out += '\n';
+        }
+        out += "        </DataArray>\n      </CellData>\n";
+    }
+    out += "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Gmsh .msh 4.1 ASCII.
+
+// Nodes per element of the Gmsh element types we may meet (0 = unknown).
+int gmsh_nodes_per_element(long type) {
+    switch (type) {
+        case 1: return 2;    // line
+        case 2: return 3;    // triangle
+        case 3: return 4;    // quadrangle
+        case 4: return 4;    // tetrahedron
+        case 5: return 8;    // hexahedron
+        case 6: return 6;    // prism
+        case 7: return 5;    // pyramid
+        case 8: return 3;    // line3
+        case 9: return 6;    // triangle6
+        case 10: return 9;   // quad9
+        case 11: return 10;  // tet10
+        case 12: return 27;  // hex27
+        case 13: return 18;  // prism18
+        case 14: return 14;  // pyramid14
+        case 15: return 1;   // point
+        case 16: return 8;   // quad8
+        case 17: return 20;  // hex20
+        case 18: return 15;  // prism15
+        case 19: return 13;  // pyramid13
+        default: return 0;
+    }
+}
+
+void skip_gmsh_section(Lexer& lex, const std::string& name) {
+    const std::string end = "$end" + lower(name.substr(1));
+    while (true) {
+        const std::string_view t = lex.next();
+        if (t.empty()) lex.fail("truncated file: " + std::string("$End") + name.substr(1) + " missing");
+        if (lower(t) == end) return;
+    }
+}
+
+HexMesh read_msh(const std::string& path, const std::string& text) {
+    Lexer lex(path, text);
+    HexMesh mesh;
+    std::vector<std::pair<long, int>> node_index;  // (tag, index), sorted by tag after $Nodes
+    bool have_format = false, have_nodes = false, have_elements = false;
+    while (!lex.at_end()) {
+        const std::string section(lex.next());
+        const std::string key = lower(section);
+        if (key == "$meshformat") {
+            const std::string_view version = lex.expect("format version");
+            if (version != "4.1") lex.fail("Gmsh format version " + std::string(version) + " is not supported (only 4.1)");
+            const long file_type = lex.expect_int("file type");
+            if (file_type != 0) lex.fail("binary Gmsh files are not supported (only ASCII)");
+            lex.expect_int("data size");
+            lex.expect_keyword("$EndMeshFormat");
+            have_format = true;
+        } else if (!have_format) {
+            lex.fail("not a Gmsh file: $MeshFormat expected first, found '" + section + "'");
+        } else if (key == "$nodes") {
+            const long blocks = lex.expect_count("number of node blocks");
+            const long total = lex.expect_count("number of nodes");
+            lex.expect_int("min node tag");
+            lex.expect_int("max node tag");
+            mesh.points.reserve(static_cast<std::size_t>(total));
+            node_index.reserve(static_cast<std::size_t>(total));
+            for (long b = 0; b < blocks; ++b) {
+                const long dim = lex.expect_int("entity dimension");
+                lex.expect_int("entity tag");
+                const long parametric = lex.expect_int("parametric flag");
+                const long n = lex.expect_count("number of nodes in block");
+                if (static_cast<long>(mesh.points.size()) + n > total) lex.fail("more nodes than declared (" + std::to_string(total) + ")");
+                const std::size_t first = mesh.points.size();
+                for (long i = 0; i < n; ++i) {
+                    const long tag = lex.expect_int("node tag");
+                    node_index.emplace_back(tag, static_cast<int>(first + static_cast<std::size_t>(i)));
+                }
+                for (long i = 0; i < n; ++i) {
+                    Vec3 p;
+                    for (int c = 0; c < 3; ++c) p[c] = lex.expect_double("node coordinate");
+                    if (parametric != 0)
+                        for (long k = 0; k < dim && k < 3; ++k) lex.expect_double("node parametric coordinate");
+                    mesh.points.push_back(p);
+                }
+            }
+            if (static_cast<long>(mesh.points.size()) != total)
+                lex.fail("$Nodes declares " + std::to_string(total) + " nodes but has " + std::to_string(mesh.points.size()));
+            lex.expect_keyword("$EndNodes");
+            std::sort(node_index.begin(), node_index.end());
+            for (std::size_t i = 1; i < node_index.size(); ++i)
+                if (node_index[i].first == node_index[i - 1].first) lex.fail("duplicate node tag " + std::to_string(node_index[i].first));
+            have_nodes = true;
+        } else if (key == "$elements") {
+            if (!have_nodes) lex.fail("$Elements before $Nodes");
+            const long blocks = lex.expect_count("number of element blocks");
+            const long total = lex.expect_count("number of elements");
+            lex.expect_int("min element tag");
+            lex.expect_int("max element tag");
+            long seen = 0;
+            for (long b = 0; b < blocks; ++b) {
+                const long dim = lex.expect_int("entity dimension");
+                lex.expect_int("entity tag");
+                const long type = lex.expect_int("element type");
+                const long n = lex.expect_count("number of elements in block");
+                const int per = gmsh_nodes_per_element(type);
+                if (per == 0) lex.fail("unknown Gmsh element type " + std::to_string(type));
+                if (dim == 3 && type != 5)
+                    lex.fail("element type " + std::to_string(type) + " is a volume element but not a hexahedron (type 5)");
+                for (long i = 0; i < n; ++i) {
+                    const long tag = lex.expect_int("element tag");
+                    std::array<int, 8> hex{};
+                    for (int k = 0; k < per; ++k) {
+                        const long node = lex.expect_int("node tag");
+                        const auto it = std::lower_bound(node_index.begin(), node_index.end(), std::make_pair(node, -1));
+                        if (it == node_index.end() || it->first != node)
+                            lex.fail("element " + std::to_string(tag) + " refers to unknown node " + std::to_string(node));
+                        if (type == 5) hex[static_cast<std::size_t>(k)] = it->second;
+                    }
+                    if (type == 5) mesh.hexes.push_back(hex);  // lower-dimensional elements (boundary) are skipped
+                }
+                seen += n;
+            }
+            if (seen != total) lex.fail("$Elements declares " + std::to_string(total) + " elements but has " + std::to_string(seen));
+            lex.expect_keyword("$EndElements");
+            have_elements = true;
+        } else if (!section.empty() && section[0] == '$') {
+            skip_gmsh_section(lex, section);  // $Entities, $PhysicalNames, $ElementData, ...
+        } else {
+            lex.fail("unexpected '" + section + "' outside a section");
+        }
+    }
+    if (!have_format) fail_at(path, 1, "not a Gmsh file: $MeshFormat missing");
+    if (!have_nodes || !have_elements)
+        fail_at(path, lex.line(), std::string("truncated Gmsh file: ") + (have_nodes ? "$Elements" : "$Nodes") + " missing");
+    return mesh;
+}
+
+std::string write_msh(const HexMesh& mesh, const std::vector<double>& cell_scalars) {
+    const long np = static_cast<long>(mesh.points.size()), nh = static_cast<long>(mesh.hexes.size());
+    std::string out = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n";
+    auto line4 = [&](long a, long b, long c, long d) {
+        append_int(out, a);
+        out += ' ';
+        append_int(out, b);
+        out += ' ';
+        append_int(out, c);
+        out += ' ';
+        append_int(out, d);
+        out += '\n';
+    };
+    line4(np > 0 ? 1 : 0, np, np > 0 ? 1 : 0, np);
+    if (np > 0) {
+        line4(3, 1, 0, np);
+        for (long v = 1; v <= np; ++v) {
+            append_int(out, v);
+            out += '\n';
+        }
+        for (const Vec3& p : mesh.points) {
+            append_double(out, p.x);
+            out += ' ';
+            append_double(out, p.y);
+            out += ' ';
+            append_double(out, p.z);
+            out += '\n';
+        }
+    }
+    out += "$EndNodes\n$Elements\n";
+    line4(nh > 0 ? 1 : 0, nh, nh > 0 ? 1 : 0, nh);
+    if (nh > 0) {
+        line4(3, 1, 5, nh);
+        for (long h = 0; h < nh; ++h) {
+            append_int(out, h + 1);
+            for (int v : mesh.hexes[static_cast<std::size_t>(h)]) {
+                out += ' ';
+                append_int(out, v + 1);
+            }
+            out += '\n';
+        }
+    }
+    out += "$EndElements\n";
+    if (!cell_scalars.empty()) {
+        out += "$ElementData\n1\n\"scaled_jacobian\"\n1\n0\n3\n0\n1\n";
+        append_int(out, nh);
+        out += '\n';
+        for (long h = 0; h < nh; ++h) {
+            append_int(out, h + 1);
+            out += ' ';
+            append_double(out, cell_scalars[static_cast<std::size_t>(h)]);
+            out += '\n';
+        }
+        out += "$EndElementData\n";
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Abaqus .inp (write only): C3D8 elements, node order as VTK.
+
+std::string write_inp(const HexMesh& mesh) {
+    std::string out = "*HEADING\nmesohex hex mesh\n*NODE\n";
+    for (std::size_t v = 0; v < mesh.points.size(); ++v) {
+        append_int(out, static_cast<long>(v) + 1);
+        for (int c = 0; c < 3; ++c) {
+            out += ", ";
+            append_double(out, mesh.points[v][c]);
+        }
+        out += '\n';
+    }
+    out += "*ELEMENT, TYPE=C3D8, ELSET=EALL\n";
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
+        append_int(out, static_cast<long>(h) + 1);
+        for (int v : mesh.hexes[h]) {
+            out += ", ";
+            append_int(out, v + 1);
+        }
+        out += '\n';
+    }
+    return out;
+}
+
+}  // namespace
+
+HexMesh read_hex_mesh(const std::string& path) {
+    const std::string ext = extension_of(path);
+    if (ext != ".mesh" && ext != ".vtk" && ext != ".vtu" && ext != ".msh") {
+        throw Error(ErrorCode::UnsupportedConfiguration,
+                    path + ": unknown hex mesh extension '" + ext + "' (readable: .mesh .vtk .vtu .msh)");
+    }
+    const std::string text = read_text(path);
+    if (ext == ".mesh") return read_medit(path, text);
+    if (ext == ".vtk") return read_vtk(path, text);
+    if (ext == ".vtu") return read_vtu(path, text);
+    return read_msh(path, text);
+}
+
+void write_hex_mesh(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars) {
+    const std::string ext = extension_of(path);
+    if (ext != ".mesh" && ext != ".vtk" && ext != ".vtu" && ext != ".msh" && ext != ".inp") {
+        throw Error(ErrorCode::UnsupportedConfiguration,
+                    path + ": unknown hex mesh extension '" + ext + "' (writable: .mesh .vtk .vtu .msh .inp)");
+    }
+    check_writable(path, mesh, cell_scalars);
+    if (ext == ".mesh") write_file_atomically(path, write_medit(mesh));
+    else if (ext == ".vtk") write_file_atomically(path, write_vtk(mesh, cell_scalars));
+    else if (ext == ".vtu") write_file_atomically(path, write_vtu(mesh, cell_scalars));
+    else if (ext == ".msh") write_file_atomically(path, write_msh(mesh, cell_scalars));
+    else write_file_atomically(path, write_inp(mesh));
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+    // A unique name beside the target (same file system, so rename is atomic); O_EXCL guards against collisions and
+    // mode 0666 lets the umask decide the permissions as for any new file.
+    static std::atomic<unsigned> counter{0};
+    std::string tmp;
+    int fd = -1;
+    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+        tmp = path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter.fetch_add(1));
+        fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST) break;
+    }
+    if (fd < 0) throw Error(ErrorCode::IoError, path + ": cannot create a temporary file beside it: " + std::strerror(errno));
+    std::size_t written = 0;
+    while (written < text.size()) {
+        const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            const std::string reason = std::strerror(errno);
+            ::close(fd);
+            ::unlink(tmp.c_str());
+            throw Error(ErrorCode::IoError, path + ": write failed: " + reason);
+        }
+        written += static_cast<std::size_t>(n);
+    }
+    if (::close(fd) != 0) {
+        const std::string reason = std::strerror(errno);
+        ::unlink(tmp.c_str());
+        throw Error(ErrorCode::IoError, path + ": write failed: " + reason);
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        const std::string reason = std::strerror(errno);
+        ::unlink(tmp.c_str());
+        throw Error(ErrorCode::IoError, path + ": cannot rename the temporary file into place: " + reason);
+    }
+}
+
+}  // namespace mesohex

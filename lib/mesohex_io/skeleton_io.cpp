@@ -1,1 +1,619 @@
-// TEMPORARY STUB: replaced by the real implementation (foundation work in progress).
+#include "mesohex_io/skeleton_io.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "mesohex/core/error.h"
+#include "mesohex_io/hex_io.h"
+
+// Formats and the exact rules each reader follows are documented in docs/formats.md ("Skeleton formats").
+// Every reader works on the whole file held in memory, line by line; errors name "<file>:<line>: <what>".
+
+namespace mesohex {
+namespace {
+
+// ------------------------------------------------------------------------------------------------ text helpers
+
+struct TextLine {
+    int number = 0;  // 1-based
+    std::string_view text;
+};
+
+std::string read_whole_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(ErrorCode::IoError, path + ": cannot open the file for reading");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) throw Error(ErrorCode::IoError, path + ": read error");
+    return ss.str();
+}
+
+// Splits into lines ('\n', with a trailing '\r' removed). The views point into `content`.
+std::vector<TextLine> split_lines(const std::string& content) {
+    std::vector<TextLine> lines;
+    std::size_t start = 0;
+    int number = 1;
+    while (start <= content.size()) {
+        std::size_t end = content.find('\n', start);
+        if (end == std::string::npos) end = content.size();
+        std::string_view text(content.data() + start, end - start);
+        if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
+        lines.push_back({number++, text});
+        if (end == content.size()) break;
+        start = end + 1;
+    }
+    return lines;
+}
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+std::vector<std::string_view> split_ws(std::string_view s) {
+    std::vector<std::string_view> out;
+    std::size_t i = 0;
+    while (i < s.size()) {
+        while (i < s.size() && is_space(s[i])) ++i;
+        const std::size_t b = i;
+        while (i < s.size() && !is_space(s[i])) ++i;
+        if (i > b) out.push_back(s.substr(b, i - b));
+    }
+    return out;
+}
+
+bool is_blank(std::string_view s) {
+    return std::all_of(s.begin(), s.end(), [](char c) { return is_space(c); });
+}
+
+std::string_view trim_left(std::string_view s) {
+    while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
+    return s;
+}
+
+class Context {
+public:
+    explicit Context(std::string file) : file_(std::move(file)) {}
+    [[noreturn]] void fail(int line, const std::string& what) const {
+        throw Error(ErrorCode::InvalidInput, file_ + ":" + std::to_string(line) + ": " + what,
+                    ElementRef{ElementRef::Kind::FileLine, line});
+    }
+    double number(std::string_view tok, int line, const char* what) const {
+        std::string_view t = tok;
+        if (!t.empty() && t.front() == '+') t.remove_prefix(1);
+        double value = 0;
+        const char* first = t.data();
+        const char* last = t.data() + t.size();
+        const std::from_chars_result r = std::from_chars(first, last, value);
+        if (t.empty() || r.ec != std::errc() || r.ptr != last)
+            fail(line, std::string("expected a number for ") + what + ", got '" + std::string(tok) + "'");
+        if (!std::isfinite(value)) fail(line, std::string("non-finite ") + what + " '" + std::string(tok) + "'");
+        return value;
+    }
+    long long integer(std::string_view tok, int line, const char* what) const {
+        std::string_view t = tok;
+        if (!t.empty() && t.front() == '+') t.remove_prefix(1);
+        long long value = 0;
+        const char* first = t.data();
+        const char* last = t.data() + t.size();
+        const std::from_chars_result r = std::from_chars(first, last, value);
+        if (t.empty() || r.ec != std::errc() || r.ptr != last)
+            fail(line, std::string("expected an integer for ") + what + ", got '" + std::string(tok) + "'");
+        return value;
+    }
+    // A count or index that must fit in [0, 2^31).
+    int non_negative(std::string_view tok, int line, const char* what) const {
+        const long long v = integer(tok, line, what);
+        if (v < 0 || v > 2147483647LL) fail(line, std::string(what) + " out of range: " + std::string(tok));
+        return static_cast<int>(v);
+    }
+    const std::string& file() const { return file_; }
+
+private:
+    std::string file_;
+};
+
+// Where each element came from, for error messages raised after parsing.
+struct Parsed {
+    Skeleton s;
+    std::vector<int> edge_line;
+    std::vector<int> face_line;
+    std::vector<int> radius_line;  // one per radius value
+};
+
+// "# mesohex radius <index> <r>" comment lines (index base given by the format). Returns true if `comment` (the text
+// after '#') is such a line, and stores the value.
+bool parse_radius_comment(const Context& ctx, std::string_view comment, int line, int index_base,
+                          std::map<int, std::pair<double, int>>& radius_of) {
+    const std::vector<std::string_view> tok = split_ws(comment);
+    if (tok.size() < 2 || tok[0] != "mesohex" || tok[1] != "radius") return false;
+    if (tok.size() != 4) ctx.fail(line, "radius comment must be '# mesohex radius <vertex> <radius>'");
+    const long long idx = ctx.integer(tok[2], line, "radius vertex index") - index_base;
+    if (idx < 0 || idx > 2147483647LL) ctx.fail(line, "radius vertex index out of range: " + std::string(tok[2]));
+    const double r = ctx.number(tok[3], line, "radius");
+    if (!radius_of.emplace(static_cast<int>(idx), std::make_pair(r, line)).second)
+        ctx.fail(line, "second radius for vertex " + std::string(tok[2]));
+    return true;
+}
+
+// Moves radius comments into p (all vertices or none).
+void apply_radius_comments(const Context& ctx, const std::map<int, std::pair<double, int>>& radius_of, Parsed& p,
+                           int last_line, int index_base) {
+    if (radius_of.empty()) return;
+    const int n = static_cast<int>(p.s.points.size());
+    for (const auto& [v, value] : radius_of)
+        if (v >= n)
+            ctx.fail(value.second, "radius given for vertex " + std::to_string(v + index_base) + " but the file has " +
+                                       std::to_string(n) + " vertices");
+    if (static_cast<int>(radius_of.size()) != n)
+        ctx.fail(last_line, "radius comments cover " + std::to_string(radius_of.size()) + " of " +
+                                std::to_string(n) + " vertices (give all or none)");
+    p.s.radii.resize(n);
+    p.radius_line.resize(n);
+    for (const auto& [v, value] : radius_of) {
+        p.s.radii[v] = value.first;
+        p.radius_line[v] = value.second;
+    }
+}
+
+// Checks shared by every reader; drops duplicate edges (documented); adds missing face sides.
+Skeleton finalize(const Context& ctx, Parsed p) {
+    Skeleton& s = p.s;
+    const int n = static_cast<int>(s.points.size());
+    for (std::size_t v = 0; v < s.radii.size(); ++v)
+        if (!(s.radii[v] > 0))
+            ctx.fail(p.radius_line[v], "radius of vertex " + std::to_string(v) + " must be positive, got " +
+                                           std::to_string(s.radii[v]));
+    std::vector<std::array<int, 2>> edges;
+    edges.reserve(s.edges.size());
+    std::set<std::pair<int, int>> seen;
+    for (std::size_t e = 0; e < s.edges.size(); ++e) {
+        const auto [a, b] = s.edges[e];
+        const int line = p.edge_line[e];
+        if (a < 0 || a >= n || b < 0 || b >= n)
+            ctx.fail(line, "edge names vertex " + std::to_string(a < 0 || a >= n ? a : b) + " but there are " +
+                               std::to_string(n) + " vertices (0-based)");
+        if (a == b) ctx.fail(line, "self-loop edge on vertex " + std::to_string(a));
+        if (seen.insert(std::minmax(a, b)).second) edges.push_back({a, b});
+    }
+    s.edges = std::move(edges);
+    for (std::size_t f = 0; f < s.faces.size(); ++f) {
+        const std::vector<int>& face = s.faces[f];
+        const int line = p.face_line[f];
+        if (face.size() < 3) ctx.fail(line, "face with fewer than 3 vertices");
+        for (const int v : face)
+            if (v < 0 || v >= n)
+                ctx.fail(line, "face names vertex " + std::to_string(v) + " but there are " + std::to_string(n) +
+                                   " vertices (0-based)");
+        std::vector<int> sorted = face;
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+            ctx.fail(line, "face repeats a vertex");
+    }
+    add_face_edges(s);
+    return std::move(p.s);
+}
+
+int last_line_number(const std::vector<TextLine>& lines) {
+    for (auto it = lines.rbegin(); it != lines.rend(); ++it)
+        if (!is_blank(it->text)) return it->number;
+    return 1;
+}
+
+void require_content(const Context& ctx, const std::vector<TextLine>& lines) {
+    if (std::all_of(lines.begin(), lines.end(), [](const TextLine& l) { return is_blank(l.text); }))
+        ctx.fail(1, "empty file");
+}
+
+// ------------------------------------------------------------------------------------------------ .cg / .cgr
+
+Skeleton read_cg(const Context& ctx, const std::vector<TextLine>& lines, bool radius_required) {
+    require_content(ctx, lines);
+    std::size_t i = 0;
+    while (is_blank(lines[i].text)) ++i;
+    const TextLine& header = lines[i++];
+    std::string h(header.text);
+    std::replace(h.begin(), h.end(), ':', ' ');
+    const std::vector<std::string_view> ht = split_ws(h);
+    int nv = -1, ne = -1;
+    if (ht.empty() || ht[0].front() != '#')
+        ctx.fail(header.number, "malformed header: expected '# D:3 NV:<n> NE:<m>'");
+    for (std::size_t k = 0; k + 1 < ht.size(); ++k) {
+        if (ht[k] == "NV") nv = ctx.non_negative(ht[k + 1], header.number, "NV");
+        if (ht[k] == "NE") ne = ctx.non_negative(ht[k + 1], header.number, "NE");
+    }
+    if (nv < 0 || ne < 0) ctx.fail(header.number, "malformed header: expected '# D:3 NV:<n> NE:<m>'");
+
+    Parsed p;
+    // .cgr: a radius on every 'v' line. .cg: a 4th value is taken as the radius only if every 'v' line has one (real
+    // .cg files mix 3- and 4-value lines; then the 4th values are ignored).
+    bool all_have_radius = true;
+    for (; i < lines.size(); ++i) {
+        const TextLine& l = lines[i];
+        const std::string_view t = trim_left(l.text);
+        if (t.empty() || t.front() == '#') continue;
+        const std::vector<std::string_view> tok = split_ws(t);
+        if (tok[0] == "v") {
+            if (tok.size() != 4 && tok.size() != 5)
+                ctx.fail(l.number, radius_required ? "expected 'v x y z r'" : "expected 'v x y z [r]'");
+            if (radius_required && tok.size() != 5) ctx.fail(l.number, "expected 'v x y z r' (radius missing)");
+            p.s.points.push_back(
+                {ctx.number(tok[1], l.number, "x"), ctx.number(tok[2], l.number, "y"), ctx.number(tok[3], l.number, "z")});
+            if (tok.size() == 5) {
+                p.s.radii.push_back(ctx.number(tok[4], l.number, "radius"));
+                p.radius_line.push_back(l.number);
+            } else {
+                all_have_radius = false;
+            }
+        } else if (tok[0] == "e") {
+            if (tok.size() != 3) ctx.fail(l.number, "expected 'e i j'");
+            p.s.edges.push_back({ctx.non_negative(tok[1], l.number, "vertex index"),
+                                 ctx.non_negative(tok[2], l.number, "vertex index")});
+            p.edge_line.push_back(l.number);
+        } else {
+            ctx.fail(l.number, "unknown line '" + std::string(tok[0]) + "' (expected 'v' or 'e')");
+        }
+    }
+    if (!all_have_radius) p.s.radii.clear(), p.radius_line.clear();
+    const int last = last_line_number(lines);
+    if (static_cast<int>(p.s.points.size()) != nv)
+        ctx.fail(last, "header declares NV " + std::to_string(nv) + " but the file has " +
+                           std::to_string(p.s.points.size()) + " 'v' lines");
+    if (static_cast<int>(p.s.edges.size()) != ne)
+        ctx.fail(last, "header declares NE " + std::to_string(ne) + " but the file has " +
+                           std::to_string(p.s.edges.size()) + " 'e' lines");
+    return finalize(ctx, std::move(p));
+}
+
+// ------------------------------------------------------------------------------------------------ .skel
+
+Skeleton read_skel(const Context& ctx, const std::vector<TextLine>& lines) {
+    require_content(ctx, lines);
+    // Line 1 is a free-text header (ignored: real files have it truncated). Then the count, then one line per node.
+    std::size_t i = 1;
+    while (i < lines.size() && is_blank(lines[i].text)) ++i;
+    if (i >= lines.size()) ctx.fail(last_line_number(lines), "truncated file: missing the node count");
+    const TextLine& count_line = lines[i++];
+    const std::vector<std::string_view> ct = split_ws(count_line.text);
+    if (ct.size() != 1) ctx.fail(count_line.number, "expected the node count alone on the line");
+    const int count = ctx.non_negative(ct[0], count_line.number, "node count");
+
+    struct Node {
+        long long id;
+        int line;
+        std::vector<long long> neighbours;
+    };
+    std::vector<Node> nodes;
+    Parsed p;
+    std::map<long long, int> row_of;
+    for (; i < lines.size(); ++i) {
+        const TextLine& l = lines[i];
+        if (is_blank(l.text)) continue;
+        const std::vector<std::string_view> tok = split_ws(l.text);
+        if (static_cast<int>(nodes.size()) == count)
+            ctx.fail(l.number, "more node lines than the declared count " + std::to_string(count));
+        if (tok.size() < 6) ctx.fail(l.number, "expected 'id x y z radius k n1 ... nk'");
+        Node node{ctx.integer(tok[0], l.number, "node id"), l.number, {}};
+        const Vec3 x{ctx.number(tok[1], l.number, "x"), ctx.number(tok[2], l.number, "y"),
+                     ctx.number(tok[3], l.number, "z")};
+        const double r = ctx.number(tok[4], l.number, "radius");
+        const int k = ctx.non_negative(tok[5], l.number, "neighbour count");
+        if (tok.size() != 6 + static_cast<std::size_t>(k))
+            ctx.fail(l.number, "neighbour count says " + std::to_string(k) + " but the line lists " +
+                                   std::to_string(tok.size() - 6));
+        for (int j = 0; j < k; ++j) node.neighbours.push_back(ctx.integer(tok[6 + j], l.number, "neighbour id"));
+        if (!row_of.emplace(node.id, static_cast<int>(nodes.size())).second)
+            ctx.fail(l.number, "duplicate node id " + std::to_string(node.id));
+        p.s.points.push_back(x);
+        p.s.radii.push_back(r);
+        p.radius_line.push_back(l.number);
+        nodes.push_back(std::move(node));
+    }
+    if (static_cast<int>(nodes.size()) != count)
+        ctx.fail(last_line_number(lines), "truncated file: the count says " + std::to_string(count) +
+                                              " nodes but " + std::to_string(nodes.size()) + " are listed");
+    for (std::size_t v = 0; v < nodes.size(); ++v) {
+        for (const long long nb : nodes[v].neighbours) {
+            const auto it = row_of.find(nb);
+            if (it == row_of.end())
+                ctx.fail(nodes[v].line, "neighbour id " + std::to_string(nb) + " is not the id of any node");
+            if (it->second == static_cast<int>(v))
+                ctx.fail(nodes[v].line, "node " + std::to_string(nodes[v].id) + " lists itself as a neighbour");
+            p.s.edges.push_back({static_cast<int>(v), it->second});  // duplicates dropped in finalize
+            p.edge_line.push_back(nodes[v].line);
+        }
+    }
+    return finalize(ctx, std::move(p));
+}
+
+// ------------------------------------------------------------------------------------------------ .ig
+
+struct Token {
+    std::string_view text;
+    int line;
+};
+
+// Sorts a face's edges into a closed cycle and returns its vertices. The face is traversed so that its first listed
+// edge comes first and the second listed edge follows it (when the edges are listed in cycle order, that order is
+// kept); the remaining edges are chained from there.
+std::vector<int> face_cycle(const Context& ctx, const std::vector<std::array<int, 2>>& edges,
+                            const std::vector<int>& face_edges, int line) {
+    const std::size_t k = face_edges.size();
+    std::array<int, 2> first = edges[face_edges[0]];
+    const std::array<int, 2> second = edges[face_edges[1]];
+    const auto touches = [](const std::array<int, 2>& e, int v) { return e[0] == v || e[1] == v; };
+    if (touches(second, first[0]) && !touches(second, first[1])) std::swap(first[0], first[1]);
+    std::vector<int> cycle{first[0], first[1]};
+    std::vector<bool> used(k, false);
+    used[0] = true;
+    int current = first[1];
+    for (std::size_t step = 1; step < k; ++step) {
+        std::size_t j = 0;
+        while (j < k && (used[j] || !touches(edges[face_edges[j]], current))) ++j;
+        if (j == k) ctx.fail(line, "face edges do not form a single closed cycle");
+        used[j] = true;
+        const std::array<int, 2>& e = edges[face_edges[j]];
+        current = e[0] == current ? e[1] : e[0];
+        if (step + 1 < k) cycle.push_back(current);
+    }
+    if (current != first[0]) ctx.fail(line, "face edges do not form a single closed cycle");
+    return cycle;  // repeated vertices are reported by finalize()
+}
+
+Skeleton read_ig(const Context& ctx, const std::vector<TextLine>& lines) {
+    require_content(ctx, lines);
+    std::vector<Token> tokens;
+    std::map<int, std::pair<double, int>> radius_of;
+    for (const TextLine& l : lines) {
+        std::string_view t = l.text;
+        const std::size_t hash = t.find('#');
+        if (hash != std::string_view::npos) {
+            parse_radius_comment(ctx, t.substr(hash + 1), l.number, 0, radius_of);
+            t = t.substr(0, hash);
+        }
+        for (const std::string_view tok : split_ws(t)) tokens.push_back({tok, l.number});
+    }
+    const int last = last_line_number(lines);
+    std::size_t pos = 0;
+    const auto next = [&](const char* what) -> const Token& {
+        if (pos >= tokens.size()) ctx.fail(last, std::string("unexpected end of file: expected ") + what);
+        return tokens[pos++];
+    };
+    const Token& magic = next("'IG'");
+    if (magic.text != "IG") ctx.fail(magic.line, "expected 'IG' at the start of the file");
+    const Token& tnv = next("the vertex count");
+    const int nv = ctx.non_negative(tnv.text, tnv.line, "vertex count");
+    const Token& tne = next("the edge count");
+    const int ne = ctx.non_negative(tne.text, tne.line, "edge count");
+    const Token& tnf = next("the face count");
+    const int nf = ctx.non_negative(tnf.text, tnf.line, "face count");
+
+    Parsed p;
+    for (int v = 0; v < nv; ++v) {
+        Vec3 x;
+        for (int c = 0; c < 3; ++c) {
+            const Token& t = next("a vertex coordinate");
+            x[c] = ctx.number(t.text, t.line, "coordinate");
+        }
+        p.s.points.push_back(x);
+    }
+    for (int e = 0; e < ne; ++e) {
+        const Token& a = next("an edge vertex");
+        const Token& b = next("an edge vertex");
+        p.s.edges.push_back({ctx.non_negative(a.text, a.line, "vertex index"),
+                             ctx.non_negative(b.text, b.line, "vertex index")});
+        p.edge_line.push_back(b.line);
+    }
+    // Range-check edges now: faces refer to them.
+    for (std::size_t e = 0; e < p.s.edges.size(); ++e)
+        for (const int v : p.s.edges[e])
+            if (v >= nv)
+                ctx.fail(p.edge_line[e], "edge names vertex " + std::to_string(v) + " but there are " +
+                                             std::to_string(nv) + " vertices (0-based)");
+    for (int f = 0; f < nf; ++f) {
+        const Token& tk = next("a face edge count");
+        const int k = ctx.non_negative(tk.text, tk.line, "face edge count");
+        if (k < 3) ctx.fail(tk.line, "face with fewer than 3 edges");
+        std::vector<int> face_edges;
+        for (int j = 0; j < k; ++j) {
+            const Token& t = next("a face edge index");
+            const int e = ctx.non_negative(t.text, t.line, "edge index");
+            if (e >= ne)
+                ctx.fail(t.line, "face names edge " + std::to_string(e) + " but there are " + std::to_string(ne) +
+                                     " edges (0-based)");
+            face_edges.push_back(e);
+        }
+        p.s.faces.push_back(face_cycle(ctx, p.s.edges, face_edges, tk.line));
+        p.face_line.push_back(tk.line);
+    }
+    if (pos < tokens.size())
+        ctx.fail(tokens[pos].line, "unexpected content after the last face ('" + std::string(tokens[pos].text) +
+                                       "'): do the counts in the header match the file?");
+    apply_radius_comments(ctx, radius_of, p, last, 0);
+    return finalize(ctx, std::move(p));
+}
+
+// ------------------------------------------------------------------------------------------------ .obj
+
+Skeleton read_obj(const Context& ctx, const std::vector<TextLine>& lines) {
+    require_content(ctx, lines);
+    Parsed p;
+    std::map<int, std::pair<double, int>> radius_of;
+    // Resolves an OBJ vertex reference ("7", "7/2", "7//3", "-1/...") to a 0-based index.
+    const auto index = [&](std::string_view tok, int line) {
+        const std::string_view head = tok.substr(0, tok.find('/'));
+        const long long i = ctx.integer(head, line, "vertex index");
+        const long long n = static_cast<long long>(p.s.points.size());
+        if (i == 0) ctx.fail(line, "vertex index 0 (OBJ indices start at 1)");
+        const long long v = i > 0 ? i - 1 : n + i;
+        if (v < 0 || v > 2147483647LL)
+            ctx.fail(line, "vertex index " + std::string(head) + " does not name a vertex");
+        return static_cast<int>(v);
+    };
+    for (const TextLine& l : lines) {
+        const std::string_view t = trim_left(l.text);
+        if (t.empty()) continue;
+        if (t.front() == '#') {
+            parse_radius_comment(ctx, t.substr(1), l.number, 1, radius_of);
+            continue;
+        }
+        const std::vector<std::string_view> tok = split_ws(t);
+        if (tok[0] == "v") {
+            if (tok.size() < 4) ctx.fail(l.number, "expected 'v x y z'");
+            p.s.points.push_back(
+                {ctx.number(tok[1], l.number, "x"), ctx.number(tok[2], l.number, "y"), ctx.number(tok[3], l.number, "z")});
+        } else if (tok[0] == "l") {
+            if (tok.size() < 3) ctx.fail(l.number, "a polyline needs at least 2 vertices");
+            int prev = index(tok[1], l.number);
+            for (std::size_t j = 2; j < tok.size(); ++j) {
+                const int v = index(tok[j], l.number);
+                p.s.edges.push_back({prev, v});
+                p.edge_line.push_back(l.number);
+                prev = v;
+            }
+        } else if (tok[0] == "f") {
+            if (tok.size() < 4) ctx.fail(l.number, "a face needs at least 3 vertices");
+            std::vector<int> face;
+            for (std::size_t j = 1; j < tok.size(); ++j) face.push_back(index(tok[j], l.number));
+            p.s.faces.push_back(std::move(face));
+            p.face_line.push_back(l.number);
+        }
+        // Every other statement (vt, vn, o, g, s, usemtl, mtllib, ...) is ignored.
+    }
+    if (p.s.points.empty()) ctx.fail(last_line_number(lines), "no 'v' line: the file holds no vertex");
+    apply_radius_comments(ctx, radius_of, p, last_line_number(lines), 1);
+    // finalize() reports out-of-range indices 0-based; make OBJ messages 1-based by checking here first.
+    const int n = static_cast<int>(p.s.points.size());
+    for (std::size_t e = 0; e < p.s.edges.size(); ++e)
+        for (const int v : p.s.edges[e])
+            if (v >= n)
+                ctx.fail(p.edge_line[e], "polyline names vertex " + std::to_string(v + 1) + " but there are " +
+                                             std::to_string(n) + " vertices");
+    for (std::size_t f = 0; f < p.s.faces.size(); ++f)
+        for (const int v : p.s.faces[f])
+            if (v >= n)
+                ctx.fail(p.face_line[f], "face names vertex " + std::to_string(v + 1) + " but there are " +
+                                             std::to_string(n) + " vertices");
+    return finalize(ctx, std::move(p));
+}
+
+// ------------------------------------------------------------------------------------------------ writers
+
+std::string lower_extension(const std::string& path) {
+    const std::size_t slash = path.find_last_of("/\\");
+    const std::size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
+    std::string ext = path.substr(dot + 1);
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+// Shortest text that reads back to exactly the same double.
+void put(std::string& out, double x) {
+    char buf[64];
+    const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, x);
+    out.append(buf, r.ptr);
+}
+
+void check_writable(const std::string& path, const Skeleton& s) {
+    const int n = static_cast<int>(s.points.size());
+    const auto bad = [&](const std::string& what) { throw Error(ErrorCode::InvalidInput, path + ": " + what); };
+    if (!s.radii.empty() && static_cast<int>(s.radii.size()) != n) bad("radius count differs from vertex count");
+    for (const Vec3& x : s.points)
+        if (!is_finite(x)) bad("non-finite vertex position");
+    for (const double r : s.radii)
+        if (!std::isfinite(r)) bad("non-finite radius");
+    for (const std::array<int, 2>& e : s.edges)
+        if (e[0] < 0 || e[0] >= n || e[1] < 0 || e[1] >= n) bad("edge index out of range");
+    for (const std::vector<int>& f : s.faces)
+        for (const int v : f)
+            if (v < 0 || v >= n) bad("face index out of range");
+}
+
+void put_radius_comments(std::string& out, const Skeleton& s, int index_base) {
+    for (std::size_t v = 0; v < s.radii.size(); ++v) {
+        out += "# mesohex radius ";
+        out += std::to_string(static_cast<long long>(v) + index_base);
+        out += ' ';
+        put(out, s.radii[v]);
+        out += '\n';
+    }
+}
+
+std::string format_ig(const std::string& path, const Skeleton& s) {
+    std::map<std::pair<int, int>, int> edge_of;
+    for (std::size_t e = 0; e < s.edges.size(); ++e)
+        edge_of.emplace(std::minmax(s.edges[e][0], s.edges[e][1]), static_cast<int>(e));
+    std::string out = "IG\n";
+    out += std::to_string(s.points.size()) + " " + std::to_string(s.edges.size()) + " " +
+           std::to_string(s.faces.size()) + "\n";
+    for (const Vec3& x : s.points) {
+        put(out, x.x), out += ' ', put(out, x.y), out += ' ', put(out, x.z);
+        out += '\n';
+    }
+    put_radius_comments(out, s, 0);
+    for (const std::array<int, 2>& e : s.edges) out += std::to_string(e[0]) + " " + std::to_string(e[1]) + "\n";
+    for (const std::vector<int>& f : s.faces) {
+        out += std::to_string(f.size());
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            const auto it = edge_of.find(std::minmax(f[i], f[(i + 1) % f.size()]));
+            if (it == edge_of.end())
+                throw Error(ErrorCode::InvalidInput, path + ": a face side is not in the edge list (.ig stores "
+                                                            "faces as edge indices)");
+            out += ' ' + std::to_string(it->second);
+        }
+        out += '\n';
+    }
+    return out;
+}
+
+std::string format_obj(const Skeleton& s) {
+    std::string out = "# mesohex skeleton: 'l' = edges (leaflet sides included), 'f' = leaflet faces\n";
+    for (const Vec3& x : s.points) {
+        out += "v ";
+        put(out, x.x), out += ' ', put(out, x.y), out += ' ', put(out, x.z);
+        out += '\n';
+    }
+    put_radius_comments(out, s, 1);
+    for (const std::array<int, 2>& e : s.edges) out += "l " + std::to_string(e[0] + 1) + " " + std::to_string(e[1] + 1) + "\n";
+    for (const std::vector<int>& f : s.faces) {
+        out += 'f';
+        for (const int v : f) out += ' ' + std::to_string(v + 1);
+        out += '\n';
+    }
+    return out;
+}
+
+}  // namespace
+
+Skeleton read_skeleton(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    const Context ctx(path);
+    if (ext != "ig" && ext != "cg" && ext != "cgr" && ext != "skel" && ext != "obj")
+        throw Error(ErrorCode::InvalidInput,
+                    path + ": unknown skeleton format '." + ext + "' (expected .ig, .cg, .cgr, .skel or .obj)");
+    const std::string content = read_whole_file(path);
+    if (content.find('\0') != std::string::npos) ctx.fail(1, "binary content (NUL byte) in a text format");
+    const std::vector<TextLine> lines = split_lines(content);
+    if (ext == "ig") return read_ig(ctx, lines);
+    if (ext == "cg") return read_cg(ctx, lines, false);
+    if (ext == "cgr") return read_cg(ctx, lines, true);
+    if (ext == "skel") return read_skel(ctx, lines);
+    return read_obj(ctx, lines);
+}
+
+void write_skeleton(const std::string& path, const Skeleton& skeleton) {
+    const std::string ext = lower_extension(path);
+    if (ext != "ig" && ext != "obj")
+        throw Error(ErrorCode::InvalidInput, path + ": cannot write skeleton format '." + ext + "' (use .ig or .obj)");
+    check_writable(path, skeleton);
+    write_file_atomically(path, ext == "ig" ? format_ig(path, skeleton) : format_obj(skeleton));
+}
+
+}  // namespace mesohex

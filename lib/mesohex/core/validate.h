@@ -26,4 +26,9 @@ struct ValidationReport {
 // no unused vertex, no NaN/Inf coordinate.
 ValidationReport validate(const HexMesh& mesh);
 
+// The same checks, reusing `topo` = compute_hex_topology(mesh) when the caller has it already (it is only used when
+// every index is in range).
+struct HexTopology;
+ValidationReport validate(const HexMesh& mesh, const HexTopology& topo);
+
 }  // namespace mesohex

@@ -20,15 +20,37 @@ struct SpherePartitionOptions {
     double planarity_tolerance = 0.05;
 };
 
-// Preconditions: n >= 2 unit directions (not necessarily distinct in general position; antipodal pairs, clustered
-// and coplanar sets allowed). Postconditions (checked by verify_sphere_partition before returning):
-//   - quads.size() == n, the quads form a closed genus-0 2-manifold (V - E + F == 2), every edge in two quads with
-//     opposite orientations, no repeated vertex in a quad;
-//   - each quad i is a convex spherical quad that contains direction i in its interior;
+// Preconditions: n >= 2 pairwise distinct directions, in any configuration (antipodal pairs, clusters, coplanar or
+// nearly coplanar sets, all in one hemisphere). Postconditions (checked by verify_sphere_partition before returning):
+//   - quads.size() == n, points.size() == n + 2, 2n edges; the quads form a closed genus-0 2-manifold
+//     (V - E + F == 2), every edge in two quads with opposite orientations, no repeated vertex in a quad;
+//   - each quad i is a convex spherical quad that contains direction i in its interior: every interior angle is in
+//     (0, 180°] (verify accepts 180° anywhere; partition_sphere makes 180° only where it must, at vertices shared by
+//     two quads: the equator vertices of the orange, the four vertices of the n = 2 "pillow" = two hemispheres,
+//     digon midpoints); angles around every vertex sum to 360° and the quad areas sum to 4π (no folds, overlaps).
+// Among the valid candidates (planar orange; hull -> 4-regular map -> dual -> relaxation; oranges around the best
+// axes) the one maximising min(smallest angle, 180° - largest angle, 90° x min_margin_ratio) is returned; a planar
+// set's orange is returned at once unless its lunes are slivers (< 15°).
+// Directions need not be unit length (they are normalised); n < 2, zero, non-finite or (nearly, < 1e-7 rad)
+// identical directions throw Error(InvalidInput). Deterministic: same input, same output bits; thread-safe.
+// Cost: O(n^4) hull plus bounded searches; about 0.5-10 ms for n = 3..8 on our machine. The hull path reliably
+// finds a partition up to n ~ 20; beyond (and for n > 64) the valid but poorer orange fallback may be used.
 // Throws mesohex::Error(NumericalFailure) if no valid partition could be built (never crashes, never hangs).
 SpherePartition partition_sphere(const std::vector<Vec3>& directions, const SpherePartitionOptions& options = {});
 
 // Returns an empty string when `p` satisfies every postcondition above for `directions`, else what is wrong.
 std::string verify_sphere_partition(const SpherePartition& p, const std::vector<Vec3>& directions);
+
+// Shape measures of a (verified) partition, in radians. Angles at valence-2 vertices (always 180°) are left out
+// (n = 2, no such vertex: min_angle = max_angle = 180°).
+struct SpherePartitionStats {
+    double min_angle = 0;   // smallest interior quad angle at a vertex of valence >= 3
+    double max_angle = 0;   // largest such angle
+    double min_margin = 0;  // smallest angular distance from a direction to the boundary of its quad
+    // Smallest ratio margin / (half the angle to the nearest other direction): 1 is the best possible, ~0.5 is good.
+    double min_margin_ratio = 0;
+    int max_valence = 0;    // largest number of quads around one vertex
+};
+SpherePartitionStats sphere_partition_stats(const SpherePartition& p, const std::vector<Vec3>& directions);
 
 }  // namespace mesohex

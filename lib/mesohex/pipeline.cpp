@@ -1,0 +1,83 @@
+#include "mesohex/pipeline.h"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "mesohex/core/error.h"
+#include "mesohex/stages/connection_surfaces.h"
+#include "mesohex/stages/frame_propagation.h"
+
+namespace mesohex {
+
+namespace {
+
+class StageClock {
+public:
+    explicit StageClock(std::vector<StageTiming>& out) : out_(out), start_(std::chrono::steady_clock::now()) {}
+    void lap(const char* stage) {
+        const auto now = std::chrono::steady_clock::now();
+        out_.push_back({stage, std::chrono::duration<double, std::milli>(now - start_).count()});
+        start_ = now;
+    }
+
+private:
+    std::vector<StageTiming>& out_;
+    std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+double default_radius(const Skeleton& s, double factor) {
+    double total = 0;
+    for (const std::array<int, 2>& e : s.edges) total += distance(s.points[e[0]], s.points[e[1]]);
+    return s.edges.empty() || !(total > 0) ? 1.0 : factor * total / static_cast<double>(s.edges.size());
+}
+
+PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& options) {
+    PipelineResult res;
+    StageClock clock(res.timings_ms);
+
+    // Validates indices and geometry before anything else (the default radius reads edge lengths).
+    res.input_analysis = analyze_skeleton(input, options.analysis);
+    clock.lap("analysis_input");
+    if (input.edges.empty() && input.faces.empty())
+        throw Error(ErrorCode::InvalidInput, "the skeleton has no edge and no face: nothing to mesh");
+
+    Skeleton s = input;
+    if (!s.radii.empty()) {
+        res.radius_source = "file";
+    } else {
+        res.radius_source = options.radius > 0 ? "option" : "default";
+        res.radius = options.radius > 0 ? options.radius : default_radius(s, options.default_radius_factor);
+        s.radii.assign(s.points.size(), res.radius);
+    }
+    for (std::size_t v = 0; v < s.radii.size(); ++v)
+        if (!(s.radii[v] > 0) || !std::isfinite(s.radii[v]))
+            throw Error(ErrorCode::InvalidInput,
+                        "skeleton vertex " + std::to_string(v) + " has radius " + std::to_string(s.radii[v]) +
+                            " (must be finite and > 0)",
+                        ElementRef{ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
+
+    if (options.resample) {
+        s = adapt_skeleton(s, options.adaptation);
+        clock.lap("adaptation");
+        res.analysis = analyze_skeleton(s, options.analysis);
+        clock.lap("analysis");
+    } else {
+        res.analysis = res.input_analysis;
+    }
+    res.skeleton = std::move(s);
+
+    const ConnectionSurfaces cs = build_connection_surfaces(res.skeleton, res.analysis, options.connection_surfaces);
+    res.predicted = predict_raw_mesh(res.analysis, cs);
+    clock.lap("connection_surfaces");
+    const BranchFrames frames = propagate_frames(res.skeleton, res.analysis, cs);
+    clock.lap("frames");
+    res.raw = build_raw_mesh(res.skeleton, res.analysis, cs, frames);
+    clock.lap("raw_mesh");
+    return res;
+}
+
+}  // namespace mesohex

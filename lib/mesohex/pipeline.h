@@ -1,0 +1,47 @@
+#pragma once
+// The pipeline: chains the stages (radius -> analysis -> adaptation -> analysis -> connection surfaces -> frames ->
+// raw mesh) and times each one. No geometry of its own.
+#include <string>
+#include <vector>
+
+#include "mesohex/core/skeleton.h"
+#include "mesohex/stages/adaptation.h"
+#include "mesohex/stages/raw_mesh.h"
+#include "mesohex/stages/skeleton_analysis.h"
+
+namespace mesohex {
+
+struct PipelineOptions {
+    // Radius: the file's per-vertex radii when present; else `radius` when > 0; else the default
+    // default_radius_factor x (mean length of all skeleton edges), the same for every vertex.
+    double radius = 0;
+    double default_radius_factor = 0.25;
+    bool resample = true;  // paper step 1 (adapt_skeleton); false keeps the input sampling (hexes == 4 x edges)
+    AdaptationOptions adaptation;
+    AnalysisOptions analysis;
+    ConnectionSurfaceOptions connection_surfaces;
+};
+
+struct StageTiming {
+    std::string stage;
+    double ms = 0;
+};
+
+struct PipelineResult {
+    std::string radius_source;  // "file", "option" or "default"
+    double radius = 0;          // the uniform radius used when radius_source != "file" (else 0)
+    SkeletonAnalysis input_analysis;  // analysis of the input skeleton (before adaptation)
+    Skeleton skeleton;                // the skeleton actually meshed (radii filled, adapted when resampling)
+    SkeletonAnalysis analysis;        // analysis of `skeleton`
+    RawMeshPrediction predicted;
+    RawMesh raw;
+    std::vector<StageTiming> timings_ms;  // in pipeline order
+};
+
+// Errors: whatever the stages throw (mesohex::Error naming the element), before anything is built.
+PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& options = {});
+
+// The default uniform radius: factor x mean edge length (1.0 for a skeleton without edges).
+double default_radius(const Skeleton& skeleton, double factor);
+
+}  // namespace mesohex

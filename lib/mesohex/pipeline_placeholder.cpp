@@ -1,1 +1,0 @@
-namespace mesohex {}  // removed once pipeline.cpp lands

@@ -1,0 +1,126 @@
+// Padding: one prism (hex) per boundary quad, glued through one new vertex per boundary vertex.
+#include "mesohex/post/padding.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "mesohex/core/error.h"
+#include "mesohex/core/topology.h"
+
+namespace mesohex {
+namespace {
+
+void check_input(const HexMesh& mesh, const PaddingOptions& options) {
+    if (options.layers < 0) throw Error(ErrorCode::InvalidInput, "pad: layers must be >= 0");
+    if (!(options.thickness > 0) || !std::isfinite(options.thickness))
+        throw Error(ErrorCode::InvalidInput, "pad: thickness must be a positive finite number");
+    if (!(options.absolute_thickness >= 0) || !std::isfinite(options.absolute_thickness))
+        throw Error(ErrorCode::InvalidInput, "pad: absolute_thickness must be >= 0");
+    const int n = static_cast<int>(mesh.points.size());
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
+        for (int v : mesh.hexes[h])
+            if (v < 0 || v >= n)
+                throw Error(ErrorCode::InvalidInput,
+                            "pad: hex " + std::to_string(h) + " has vertex index " + std::to_string(v) + " out of range",
+                            {ElementRef::Kind::Hex, static_cast<int>(h)});
+}
+
+Vec3 quad_normal(const HexMesh& mesh, const std::array<int, 4>& q) {
+    const Vec3& a = mesh.points[static_cast<std::size_t>(q[0])];
+    const Vec3& b = mesh.points[static_cast<std::size_t>(q[1])];
+    const Vec3& c = mesh.points[static_cast<std::size_t>(q[2])];
+    const Vec3& d = mesh.points[static_cast<std::size_t>(q[3])];
+    return normalized(cross(c - a, d - b));  // diagonals: robust for non-planar quads
+}
+
+// One layer over the whole boundary of `mesh` (in place); `origin` is extended for the new vertices.
+void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_of_hex, int layer,
+              const PaddingOptions& options) {
+    const HexTopology topo = compute_hex_topology(mesh);
+    const std::size_t old_vertices = mesh.points.size();
+    std::vector<int> new_id(old_vertices, -1);
+    std::vector<int> boundary_vertices;
+    for (const std::array<int, 4>& q : topo.boundary_quads)
+        for (int v : q)
+            if (new_id[static_cast<std::size_t>(v)] < 0) {
+                new_id[static_cast<std::size_t>(v)] = static_cast<int>(old_vertices + boundary_vertices.size());
+                boundary_vertices.push_back(v);
+            }
+    const std::size_t nb = boundary_vertices.size();
+    std::vector<int> local(old_vertices, -1);
+    for (std::size_t i = 0; i < nb; ++i) local[static_cast<std::size_t>(boundary_vertices[i])] = static_cast<int>(i);
+
+    // Per boundary vertex: sum of unit quad normals, the normals themselves (for the scaling), edge-length sums.
+    std::vector<Vec3> normal_sum(nb);
+    std::vector<double> edge_len_sum(nb, 0.0);
+    std::vector<int> edge_count(nb, 0);
+    std::vector<Vec3> quad_normals(topo.boundary_quads.size());
+    for (std::size_t q = 0; q < topo.boundary_quads.size(); ++q) {
+        const std::array<int, 4>& quad = topo.boundary_quads[q];
+        quad_normals[q] = quad_normal(mesh, quad);
+        for (int i = 0; i < 4; ++i) {
+            const int a = quad[static_cast<std::size_t>(i)], b = quad[static_cast<std::size_t>((i + 1) % 4)];
+            const std::size_t la = static_cast<std::size_t>(local[static_cast<std::size_t>(a)]);
+            const std::size_t lb = static_cast<std::size_t>(local[static_cast<std::size_t>(b)]);
+            normal_sum[la] += quad_normals[q];
+            // Each boundary edge is seen from its two quads: both endpoints collect it twice, which cancels in the mean.
+            const double len = distance(mesh.points[static_cast<std::size_t>(a)], mesh.points[static_cast<std::size_t>(b)]);
+            edge_len_sum[la] += len;
+            edge_len_sum[lb] += len;
+            ++edge_count[la];
+            ++edge_count[lb];
+        }
+    }
+    std::vector<Vec3> unit_normal(nb);
+    for (std::size_t i = 0; i < nb; ++i) unit_normal[i] = normalized(normal_sum[i]);
+    std::vector<double> cos_sum(nb, 0.0);
+    std::vector<int> cos_count(nb, 0);
+    for (std::size_t q = 0; q < topo.boundary_quads.size(); ++q)
+        for (int v : topo.boundary_quads[q]) {
+            const std::size_t l = static_cast<std::size_t>(local[static_cast<std::size_t>(v)]);
+            cos_sum[l] += dot(unit_normal[l], quad_normals[q]);
+            ++cos_count[l];
+        }
+
+    mesh.points.resize(old_vertices + nb);
+    for (std::size_t i = 0; i < nb; ++i) {
+        const int v = boundary_vertices[i];
+        const double mean_len = edge_count[i] > 0 ? edge_len_sum[i] / edge_count[i] : 0.0;
+        const double t = options.absolute_thickness > 0 ? options.absolute_thickness : options.thickness * mean_len;
+        const double mean_cos = cos_count[i] > 0 ? cos_sum[i] / cos_count[i] : 1.0;
+        const double scale = mean_cos > 1.0 / 3.0 ? 1.0 / mean_cos : 3.0;
+        mesh.points[old_vertices + i] = mesh.points[static_cast<std::size_t>(v)] + unit_normal[i] * (t * scale);
+        origin.push_back(origin[static_cast<std::size_t>(v)]);
+    }
+    mesh.hexes.reserve(mesh.hexes.size() + topo.boundary_quads.size());
+    for (const std::array<int, 4>& q : topo.boundary_quads) {
+        // q is outward from the mesh, i.e. its right-hand normal points into the new hex: it is the hex's bottom 0-1-2-3.
+        std::array<int, 8> hex{};
+        for (int i = 0; i < 4; ++i) {
+            hex[static_cast<std::size_t>(i)] = q[static_cast<std::size_t>(i)];
+            hex[static_cast<std::size_t>(i + 4)] = new_id[static_cast<std::size_t>(q[static_cast<std::size_t>(i)])];
+        }
+        mesh.hexes.push_back(hex);
+        layer_of_hex.push_back(layer);
+    }
+}
+
+}  // namespace
+
+PaddingResult pad(const HexMesh& mesh, const PaddingOptions& options) {
+    check_input(mesh, options);
+    PaddingResult result;
+    result.mesh = mesh;
+    result.first_new_vertex = static_cast<int>(mesh.points.size());
+    result.first_new_hex = static_cast<int>(mesh.hexes.size());
+    result.origin_vertex.resize(mesh.points.size());
+    for (std::size_t v = 0; v < mesh.points.size(); ++v) result.origin_vertex[v] = static_cast<int>(v);
+    result.layer_of_hex.assign(mesh.hexes.size(), 0);
+    for (int layer = 1; layer <= options.layers; ++layer)
+        pad_once(result.mesh, result.origin_vertex, result.layer_of_hex, layer, options);
+    return result;
+}
+
+}  // namespace mesohex

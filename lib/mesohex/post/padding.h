@@ -1,0 +1,39 @@
+#pragma once
+// Padding: one layer of hexes over every boundary component of a hex mesh (the reference pads only one component).
+#include <vector>
+
+#include "mesohex/core/hex_mesh.h"
+
+namespace mesohex {
+
+struct PaddingOptions {
+    int layers = 1;            // number of layers added, one after the other (each over the whole new boundary)
+    double thickness = 0.25;   // offset of the new outer vertices, x the mean length of the boundary edges at the vertex
+    double absolute_thickness = 0;  // > 0: use this offset (model units) everywhere instead of `thickness`
+};
+
+struct PaddingResult {
+    HexMesh mesh;  // old vertices keep their ids, new vertices are appended; old hexes first, then the new layer(s)
+    // Per vertex of `mesh`: the vertex of the INPUT mesh it stems from (itself for old vertices, the boundary vertex it
+    // was pushed from for new ones; for layers > 1, followed through the previous layers).
+    std::vector<int> origin_vertex;
+    // Per hex of `mesh`: 0 for the input hexes, k for hexes of the k-th padding layer.
+    std::vector<int> layer_of_hex;
+    int first_new_vertex = 0;  // = input vertex count
+    int first_new_hex = 0;     // = input hex count
+};
+
+// For every boundary quad (a, b, c, d) (outward) adds the hex (a, b, c, d, a', b', c', d'), where v' is a new vertex
+// per boundary vertex v, at p_v + t_v * m_v: m_v is the unit mean of the unit normals of the boundary quads at v,
+// scaled by 1 / (mean over those quads of m_v . n_q) (clamped to at most 3) so that a planar face moves by t_v and a
+// convex cube corner moves to the corner of the offset cube; t_v = thickness x (mean length of the boundary edges at v)
+// or absolute_thickness. Every boundary component is padded; new vertices are numbered in order of first appearance in
+// the boundary quads of compute_hex_topology, the new hexes in boundary-quad order.
+// Postconditions: hex count = old + number of boundary quads (per layer); every boundary hex of the result exposes
+// exactly one face to the boundary when the input boundary is a closed 2-manifold; old boundary edges of valence 1
+// (convex feature lines) become interior edges of valence 3. Euler characteristic is preserved.
+// Preconditions: indices in range (InvalidInput otherwise); layers >= 0; thickness > 0.
+// Complexity: O(#hexes log #hexes) per layer.
+PaddingResult pad(const HexMesh& mesh, const PaddingOptions& options = {});
+
+}  // namespace mesohex

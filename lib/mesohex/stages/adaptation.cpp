@@ -1,0 +1,479 @@
+#include "mesohex/stages/adaptation.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mesohex/core/error.h"
+
+// Section criterion (why AdaptationOptions::turn_safety and branching_reach exist).
+// Joints. The cross-section at a joint is the plane through it normal to the bisector of its two edge directions
+// (frames stage, reference-notes §7.3); its rim (the connection-surface vertices) lies at distance r from the joint.
+// When the branch turns by theta at the joint, that plane is tilted by theta/2 from the plane normal to each adjacent
+// edge, so on the inner side of the turn the rim moves along the edge, towards the next section, by r sin(theta/2).
+// Two consecutive sections A, B therefore cross (inverted hexes) on the inner side when
+//     |AB| < r_A sin(theta_A / 2) + r_B sin(theta_B / 2)
+// (worst case: both tilts face each other, as in a planar C-shaped turn). We ask for turn_safety times that.
+// Extremities: the section is flat and normal to the edge: reach 0.
+// Branching points and leaflet vertices. The section is a quad of the sphere of radius r_c, joined to the centre; its
+// vertices lie up to almost r_c ahead along the branch, so the next section must be beyond r_c. Moreover the quad only
+// covers a cone of half-angle gamma around the branch (about half the angle beta to the nearest other branch); the
+// first hex layer is inverted where the next section's rim, seen from the centre, leaves that cone, i.e. when
+// L < r_next cot(gamma). Hence reach = branching_reach * max(r_c, r_next cot(gamma)).
+// The same bound with r_a + r_b is the reference's collapse rule for short bridges.
+// A joint whose edge violates the bound is removed (the one of the edge's two ends with the larger reach); removing
+// it lengthens the edge, and the turn it carried is shared by its neighbours.
+
+namespace mesohex {
+namespace {
+
+struct Branch {
+    std::vector<int> verts;  // ordered; front == back for rings and loops
+    std::vector<int> edges;  // original edge ids, verts[i] -> verts[i+1]
+    bool ring = false;       // no end vertex at all (every vertex is a joint); verts.front() is the anchor
+};
+
+// The original polyline of a branch, parametrised by arc length.
+struct Polyline {
+    std::vector<Vec3> x;
+    std::vector<double> r;
+    std::vector<double> s;  // cumulative arc length, s[0] = 0
+
+    double length() const { return s.back(); }
+    // Linear interpolation of position and radius at arc length t (clamped to [0, length]).
+    std::pair<Vec3, double> at(double t) const {
+        if (!(t > 0)) return {x.front(), r.front()};
+        if (t >= s.back()) return {x.back(), r.back()};
+        const std::size_t i = static_cast<std::size_t>(std::upper_bound(s.begin(), s.end(), t) - s.begin());
+        const std::size_t a = i - 1;  // s[a] <= t < s[i]
+        const double len = s[i] - s[a];
+        const double u = len > 0 ? (t - s[a]) / len : 0.0;
+        return {x[a] + u * (x[i] - x[a]), r[a] + u * (r[i] - r[a])};
+    }
+};
+
+class UnionFind {
+public:
+    explicit UnionFind(int n) : parent_(static_cast<std::size_t>(n)) { std::iota(parent_.begin(), parent_.end(), 0); }
+    int find(int v) {
+        while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
+        return v;
+    }
+    void unite(int a, int b) {  // the smaller id stays the representative
+        a = find(a), b = find(b);
+        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+    }
+
+private:
+    std::vector<int> parent_;
+};
+
+[[noreturn]] void invalid(const std::string& what, ElementRef where = {}) {
+    throw Error(ErrorCode::InvalidInput, "adapt_skeleton: " + what, where);
+}
+
+void validate(const Skeleton& s, const AdaptationOptions& o) {
+    const int n = static_cast<int>(s.points.size());
+    if (!(o.density > 0) || !std::isfinite(o.density)) invalid("density must be a positive number");
+    if (s.radii.size() != s.points.size())
+        invalid("the skeleton (" + std::to_string(n) + " vertices, " + std::to_string(s.edges.size()) +
+                " edges) has " + std::to_string(s.radii.size()) +
+                " radii: adaptation needs one radius per vertex (fill radii first)");
+    for (int v = 0; v < n; ++v) {
+        if (!is_finite(s.points[v]))
+            invalid("vertex " + std::to_string(v) + " has a non-finite position",
+                    {ElementRef::Kind::SkeletonVertex, v});
+        if (!(s.radii[v] > 0) || !std::isfinite(s.radii[v]))
+            invalid("vertex " + std::to_string(v) + " has radius " + std::to_string(s.radii[v]) + " (must be > 0)",
+                    {ElementRef::Kind::SkeletonVertex, v});
+    }
+    std::set<std::pair<int, int>> seen;
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e) {
+        const auto [a, b] = s.edges[e];
+        const ElementRef where{ElementRef::Kind::SkeletonEdge, e};
+        if (a < 0 || a >= n || b < 0 || b >= n) invalid("edge " + std::to_string(e) + " has a vertex out of range", where);
+        if (a == b) invalid("edge " + std::to_string(e) + " is a self-loop", where);
+        if (!seen.insert(std::minmax(a, b)).second) invalid("edge " + std::to_string(e) + " is a duplicate", where);
+    }
+    for (int f = 0; f < static_cast<int>(s.faces.size()); ++f)
+        for (const int v : s.faces[f])
+            if (v < 0 || v >= n)
+                invalid("face " + std::to_string(f) + " has a vertex out of range", {ElementRef::Kind::SkeletonFace, f});
+}
+
+double sin_half_turn(const Vec3& prev, const Vec3& here, const Vec3& next) {
+    const Vec3 u = normalized(here - prev), w = normalized(next - here);
+    if (u == Vec3{} || w == Vec3{}) return 1.0;  // degenerate edge: treat as the worst turn
+    const double c = std::clamp(dot(u, w), -1.0, 1.0);
+    return std::sqrt(std::max(0.0, 0.5 * (1.0 - c)));
+}
+
+void bisect(const Polyline& pl, double t0, double t1, int depth, double r_floor, const AdaptationOptions& o,
+            std::vector<double>& out) {
+    if (depth >= o.max_depth) return;
+    const double r0 = std::max(pl.at(t0).second, r_floor);
+    const double r1 = std::max(pl.at(t1).second, r_floor);
+    if (!(r0 + r1 < o.density * (t1 - t0))) return;
+    const double tm = 0.5 * (t0 + t1);
+    bisect(pl, t0, tm, depth + 1, r_floor, o, out);
+    out.push_back(tm);
+    bisect(pl, tm, t1, depth + 1, r_floor, o, out);
+}
+
+// Bisection + minimum edge count + smoothing; returns the joints' arc parameters.
+std::vector<double> sample_branch(const Polyline& pl, int min_edges, const AdaptationOptions& o) {
+    const double r_max = *std::max_element(pl.r.begin(), pl.r.end());
+    std::vector<double> t;
+    bisect(pl, 0.0, pl.length(), 0, o.min_radius_fraction * r_max, o, t);
+    if (static_cast<int>(t.size()) + 1 < min_edges) {
+        t.clear();
+        for (int i = 1; i < min_edges; ++i) t.push_back(pl.length() * i / min_edges);
+        return t;
+    }
+    if (o.smooth && !t.empty()) {
+        std::vector<double> smoothed(t.size());
+        for (std::size_t i = 0; i < t.size(); ++i) {
+            const double before = i == 0 ? 0.0 : t[i - 1];
+            const double after = i + 1 == t.size() ? pl.length() : t[i + 1];
+            smoothed[i] = 0.5 * (before + after);
+        }
+        t = std::move(smoothed);
+    }
+    return t;
+}
+
+// What a branch end demands of the distance to its first joint: sphere * r_end (the end's own section), and
+// cot_gamma * r_joint (the joint's disc seen from the end vertex must stay inside the angular extent gamma of the
+// end's connection quad). Both 0 at an extremity.
+struct EndReach {
+    double sphere = 0;
+    double cot_gamma = 0;
+};
+
+// Removes joints that violate the section criterion. x/r hold the whole sampled chain (ends included); end_reach gives
+// the demands of each end (zero at an extremity); ring: x.front() == x.back() is the anchor, a joint that stays.
+// Never leaves fewer than min_edges edges. Returns the kept chain indices.
+std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vector<double>& r,
+                                      const std::array<EndReach, 2>& end_reach, bool ring, int min_edges,
+                                      const AdaptationOptions& o) {
+    std::vector<int> keep(x.size());
+    std::iota(keep.begin(), keep.end(), 0);
+    if (!(o.turn_safety > 0)) return keep;
+    const auto reach = [&](std::size_t k) -> double {
+        const std::size_t last = keep.size() - 1;
+        if (k == 0 || k == last) {
+            if (ring) {  // the anchor: a joint between the last and the first edge
+                if (keep.size() < 3) return r[keep[0]];
+                return r[keep[0]] * sin_half_turn(x[keep[last - 1]], x[keep[0]], x[keep[1]]);
+            }
+            const EndReach& er = end_reach[k == 0 ? 0 : 1];
+            const double r_near = r[keep[k == 0 ? 1 : last - 1]];
+            return std::max(er.sphere * r[keep[k]], er.cot_gamma * r_near);
+        }
+        return r[keep[k]] * sin_half_turn(x[keep[k - 1]], x[keep[k]], x[keep[k + 1]]);
+    };
+    std::size_t j = 0;  // edge keep[j] -> keep[j+1]
+    while (j + 1 < keep.size()) {
+        const double chord = distance(x[keep[j]], x[keep[j + 1]]);
+        const double ra = reach(j), rb = reach(j + 1);
+        const bool violated = chord < o.turn_safety * (ra + rb);
+        const bool can_remove = static_cast<int>(keep.size()) - 2 >= min_edges;  // edges after removing one joint
+        const bool a_joint = j > 0, b_joint = j + 2 < keep.size();
+        if (violated && can_remove && (a_joint || b_joint)) {
+            const std::size_t victim = !a_joint ? j + 1 : (!b_joint ? j : (rb > ra ? j + 1 : j));
+            keep.erase(keep.begin() + static_cast<std::ptrdiff_t>(victim));
+            j = victim >= 2 ? victim - 2 : 0;  // the turns of the victim's neighbours changed
+            continue;
+        }
+        ++j;
+    }
+    return keep;
+}
+
+}  // namespace
+
+Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o) {
+    return adapt_skeleton_detailed(s, o).skeleton;
+}
+
+AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOptions& o) {
+    validate(s, o);
+    const int n = static_cast<int>(s.points.size());
+    const int ne = static_cast<int>(s.edges.size());
+
+    // Leaflet membership.
+    std::vector<bool> on_face(n, false);
+    std::set<std::pair<int, int>> face_sides;
+    for (const std::vector<int>& f : s.faces)
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            on_face[f[i]] = true;
+            face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+        }
+    std::vector<std::vector<int>> incident(n);
+    for (int e = 0; e < ne; ++e) {
+        incident[s.edges[e][0]].push_back(e);
+        incident[s.edges[e][1]].push_back(e);
+    }
+    std::vector<bool> branch_edge(ne);
+    for (int e = 0; e < ne; ++e) branch_edge[e] = !face_sides.count(std::minmax(s.edges[e][0], s.edges[e][1]));
+    const auto is_joint = [&](int v) { return incident[v].size() == 2 && !on_face[v]; };
+    const auto other = [&](int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; };
+
+    // Branch extraction, in order of each branch's first edge id.
+    std::vector<Branch> branches;
+    std::vector<bool> visited(ne, false);
+    for (int e0 = 0; e0 < ne; ++e0) {
+        if (!branch_edge[e0] || visited[e0]) continue;
+        visited[e0] = true;
+        std::vector<int> fwd_v{s.edges[e0][0], s.edges[e0][1]}, fwd_e{e0};
+        // forward from edges[e0][1]
+        for (int cur = fwd_v.back(), prev = e0; is_joint(cur);) {
+            const int f = incident[cur][0] == prev ? incident[cur][1] : incident[cur][0];
+            if (visited[f]) break;  // closed ring
+            visited[f] = true;
+            cur = other(f, cur);
+            fwd_v.push_back(cur);
+            fwd_e.push_back(f);
+            prev = f;
+        }
+        Branch b;
+        const bool ring = fwd_v.front() == fwd_v.back() && is_joint(fwd_v.front());
+        if (!ring) {
+            // backward from edges[e0][0]
+            std::vector<int> back_v, back_e;
+            for (int cur = fwd_v.front(), prev = e0; is_joint(cur);) {
+                const int f = incident[cur][0] == prev ? incident[cur][1] : incident[cur][0];
+                if (visited[f]) break;
+                visited[f] = true;
+                cur = other(f, cur);
+                back_v.push_back(cur);
+                back_e.push_back(f);
+                prev = f;
+            }
+            b.verts.assign(back_v.rbegin(), back_v.rend());
+            b.verts.insert(b.verts.end(), fwd_v.begin(), fwd_v.end());
+            b.edges.assign(back_e.rbegin(), back_e.rend());
+            b.edges.insert(b.edges.end(), fwd_e.begin(), fwd_e.end());
+        } else {
+            // Rotate so that the smallest vertex id is the anchor (first and last).
+            fwd_v.pop_back();
+            const std::size_t k = static_cast<std::size_t>(std::min_element(fwd_v.begin(), fwd_v.end()) - fwd_v.begin());
+            std::rotate(fwd_v.begin(), fwd_v.begin() + static_cast<std::ptrdiff_t>(k), fwd_v.end());
+            std::rotate(fwd_e.begin(), fwd_e.begin() + static_cast<std::ptrdiff_t>(k), fwd_e.end());
+            fwd_v.push_back(fwd_v.front());
+            b.verts = std::move(fwd_v);
+            b.edges = std::move(fwd_e);
+            b.ring = true;
+        }
+        branches.push_back(std::move(b));
+    }
+
+    // Vertex positions and radii as the branches see them: the input, then merged bridge ends after collapses.
+    std::vector<Vec3> pos = s.points;
+    std::vector<double> rad = s.radii;
+    std::vector<Polyline> polylines(branches.size());
+    const auto build_polylines = [&] {
+        for (std::size_t i = 0; i < branches.size(); ++i) {
+            Polyline& pl = polylines[i];
+            pl = Polyline{};
+            double acc = 0;
+            for (std::size_t k = 0; k < branches[i].verts.size(); ++k) {
+                const int v = branches[i].verts[k];
+                if (k > 0) acc += distance(pl.x.back(), pos[v]);
+                pl.x.push_back(pos[v]);
+                pl.r.push_back(rad[v]);
+                pl.s.push_back(acc);
+            }
+        }
+    };
+    build_polylines();
+
+    const auto is_free_branching_point = [&](int v) { return incident[v].size() >= 3 && !on_face[v]; };
+    // Per branch end: the direction it leaves its end vertex (towards the point of its original polyline at arc
+    // length min(2 r, L)), and the smallest angle beta to any other branch end or leaflet edge at that vertex. The
+    // end's connection quad extends about gamma = beta / 2 from the branch direction (clamped to [15, 60] degrees).
+    std::vector<std::array<EndReach, 2>> end_reach(branches.size());
+    const auto compute_end_reach = [&] {
+        std::vector<std::vector<Vec3>> dirs_at(n);  // every direction leaving each vertex
+        std::vector<std::array<Vec3, 2>> end_dir(branches.size());
+        for (std::size_t bi = 0; bi < branches.size(); ++bi) {
+            if (branches[bi].ring) continue;
+            const Polyline& pl = polylines[bi];
+            for (int side = 0; side < 2; ++side) {
+                const int v = side == 0 ? branches[bi].verts.front() : branches[bi].verts.back();
+                const double d = std::min(2.0 * rad[v], pl.length());
+                const Vec3 target = pl.at(side == 0 ? d : pl.length() - d).first;
+                end_dir[bi][side] = normalized(target - pos[v]);
+                dirs_at[v].push_back(end_dir[bi][side]);
+            }
+        }
+        for (int e = 0; e < ne; ++e)
+            if (!branch_edge[e]) {
+                const int a = s.edges[e][0], b = s.edges[e][1];
+                dirs_at[a].push_back(normalized(pos[b] - pos[a]));
+                dirs_at[b].push_back(normalized(pos[a] - pos[b]));
+            }
+        const double pi = 3.14159265358979323846;
+        for (std::size_t bi = 0; bi < branches.size(); ++bi) {
+            if (branches[bi].ring) continue;
+            for (int side = 0; side < 2; ++side) {
+                const int v = side == 0 ? branches[bi].verts.front() : branches[bi].verts.back();
+                if (incident[v].size() == 1 && !on_face[v]) continue;  // extremity: flat section, no demand
+                double beta = pi;
+                bool skipped_self = false;
+                for (const Vec3& d : dirs_at[v]) {
+                    if (!skipped_self && d == end_dir[bi][side]) {
+                        skipped_self = true;
+                        continue;
+                    }
+                    beta = std::min(beta, std::acos(std::clamp(dot(d, end_dir[bi][side]), -1.0, 1.0)));
+                }
+                const double gamma = std::clamp(0.5 * beta, pi / 24, pi / 3);
+                end_reach[bi][side] = {o.branching_reach, o.branching_reach / std::tan(gamma)};
+            }
+        }
+    };
+    compute_end_reach();
+
+    // Samples a branch whose ends are at positions xa, xb: joints' arc parameters after bisection, smoothing and the
+    // turn criterion.
+    const auto resample = [&](std::size_t bi, int min_edges, const Vec3& xa, const Vec3& xb, int* removed) {
+        const Branch& b = branches[bi];
+        const Polyline& pl = polylines[bi];
+        const std::vector<double> t = sample_branch(pl, min_edges, o);
+        std::vector<Vec3> x{xa};
+        std::vector<double> r{pl.r.front()};
+        for (const double ti : t) {
+            const auto [p, ri] = pl.at(ti);
+            x.push_back(p);
+            r.push_back(ri);
+        }
+        x.push_back(xb);
+        r.push_back(pl.r.back());
+        const std::vector<int> keep = apply_turn_criterion(x, r, end_reach[bi], b.ring, min_edges, o);
+        if (removed) *removed += static_cast<int>(x.size() - keep.size());
+        std::vector<double> kept_t;
+        for (std::size_t k = 1; k + 1 < keep.size(); ++k) kept_t.push_back(t[keep[k] - 1]);
+        return kept_t;
+    };
+
+    // Short bridges between two free branching points: collapse candidates, shortest first.
+    UnionFind classes(n);
+    int result_collapsed = 0;
+    std::vector<bool> collapsed(branches.size(), false);
+    if (o.collapse_short_bridges) {
+        std::vector<std::pair<double, std::size_t>> candidates;
+        for (std::size_t bi = 0; bi < branches.size(); ++bi) {
+            const Branch& b = branches[bi];
+            const int a = b.verts.front(), c = b.verts.back();
+            if (b.ring || a == c || !is_free_branching_point(a) || !is_free_branching_point(c)) continue;
+            const double chord = distance(s.points[a], s.points[c]);
+            if (!(s.radii[a] + s.radii[c] > chord)) continue;
+            if (!resample(bi, 1, s.points[a], s.points[c], nullptr).empty()) continue;
+            candidates.push_back({chord, bi});
+        }
+        std::sort(candidates.begin(), candidates.end());
+        // Branches at each vertex, and the members of each class, to look only at branches touching a class.
+        std::vector<std::vector<int>> branches_at(n), members(n);
+        for (std::size_t bj = 0; bj < branches.size(); ++bj)
+            if (!branches[bj].ring) {
+                branches_at[branches[bj].verts.front()].push_back(static_cast<int>(bj));
+                branches_at[branches[bj].verts.back()].push_back(static_cast<int>(bj));
+            }
+        for (const auto& [chord, bi] : candidates) {
+            const int ca = classes.find(branches[bi].verts.front()), cc = classes.find(branches[bi].verts.back());
+            if (ca == cc) continue;
+            if (members[ca].empty()) members[ca] = {ca};
+            if (members[cc].empty()) members[cc] = {cc};
+            bool other_link = false;  // another branch between the two classes would become a loop
+            for (const int v : members[ca])
+                for (const int bj : branches_at[v]) {
+                    if (bj == static_cast<int>(bi) || collapsed[bj]) continue;
+                    const int x = classes.find(branches[bj].verts.front()), y = classes.find(branches[bj].verts.back());
+                    other_link = other_link || (x == ca && y == cc) || (x == cc && y == ca);
+                }
+            if (other_link) continue;
+            const int keep_class = std::min(ca, cc), gone = std::max(ca, cc);
+            members[keep_class].insert(members[keep_class].end(), members[gone].begin(), members[gone].end());
+            members[gone].clear();
+            classes.unite(ca, cc);
+            collapsed[bi] = true;
+            ++result_collapsed;
+        }
+    }
+
+    // Merged classes: mean position and radius of their members (for a pair: the midpoint). The branches attached to
+    // them start from the merged vertex: their polylines and end directions are rebuilt.
+    if (result_collapsed > 0) {
+        std::vector<Vec3> sum_x(n);
+        std::vector<double> sum_r(n, 0.0);
+        std::vector<int> count(n, 0);
+        for (int v = 0; v < n; ++v) {
+            const int c = classes.find(v);
+            sum_x[c] += s.points[v], sum_r[c] += s.radii[v], ++count[c];
+        }
+        for (int v = 0; v < n; ++v) {
+            const int c = classes.find(v);
+            if (count[c] < 2) continue;
+            pos[v] = sum_x[c] / count[c];
+            rad[v] = sum_r[c] / count[c];
+        }
+        build_polylines();
+        compute_end_reach();
+    }
+
+    // Kept vertices: every non-joint (merged classes once, at their smallest id), plus ring anchors.
+    std::vector<bool> kept(n, false);
+    for (int v = 0; v < n; ++v) kept[v] = !is_joint(v) && classes.find(v) == v;
+    for (const Branch& b : branches)
+        if (b.ring) kept[b.verts.front()] = true;
+    std::vector<int> new_id(n, -1);
+    AdaptationResult result;
+    Skeleton& out = result.skeleton;
+    for (int v = 0; v < n; ++v) {
+        if (!kept[v]) continue;
+        new_id[v] = static_cast<int>(out.points.size());
+        out.points.push_back(pos[v]);
+        out.radii.push_back(rad[v]);
+    }
+    const auto id_of = [&](int v) { return new_id[classes.find(v)]; };
+
+    for (int e = 0; e < ne; ++e)
+        if (!branch_edge[e]) out.edges.push_back({id_of(s.edges[e][0]), id_of(s.edges[e][1])});
+    out.faces = s.faces;
+    for (std::vector<int>& f : out.faces)
+        for (int& v : f) v = id_of(v);
+
+    std::set<std::pair<int, int>> single_edge_links;  // to never emit two edges joining the same two vertices
+    for (const std::array<int, 2>& e : out.edges) single_edge_links.insert(std::minmax(e[0], e[1]));
+    for (std::size_t bi = 0; bi < branches.size(); ++bi) {
+        if (collapsed[bi]) continue;
+        const Branch& b = branches[bi];
+        const int a = id_of(b.verts.front()), c = id_of(b.verts.back());
+        int min_edges = (b.ring || a == c) ? 3 : 1;
+        if (min_edges == 1 && single_edge_links.count(std::minmax(a, c))) min_edges = 2;
+        std::vector<double> t = resample(bi, min_edges, out.points[a], out.points[c], &result.turn_removed_joints);
+        if (t.empty()) single_edge_links.insert(std::minmax(a, c));
+        int prev = a;
+        for (const double ti : t) {
+            const auto [p, r] = polylines[bi].at(ti);
+            const int v = static_cast<int>(out.points.size());
+            out.points.push_back(p);
+            out.radii.push_back(r);
+            out.edges.push_back({prev, v});
+            prev = v;
+        }
+        out.edges.push_back({prev, c});
+    }
+    result.collapsed_bridges = result_collapsed;
+    result.vertex_map.resize(n);
+    for (int v = 0; v < n; ++v) result.vertex_map[v] = id_of(v);
+    return result;
+}
+
+}  // namespace mesohex

@@ -1,0 +1,70 @@
+#pragma once
+// Step 1 of the paper (§3.1): radius-aware adaptation of the curve branches of a meso-skeleton.
+#include <vector>
+
+#include "mesohex/core/skeleton.h"
+
+namespace mesohex {
+
+struct AdaptationOptions {
+    // Bisection test: a sub-branch [t0, t1] (arc length) is cut at its arc-length midpoint while
+    //   r(t0) + r(t1) < density * (t1 - t0).
+    // On a straight branch of constant radius r the final edges are in (r/density, 2r/density], i.e. close to
+    // 2r/density. The reference uses 0.5 (edges about 4r long); 1.0 gives edges of one to two radii, close to
+    // cube-shaped hexes (the cross-section quads span about one radius).
+    double density = 1.0;
+    // Smoothing pass of reference-notes §5.2 step 2: each inserted vertex moves to the mean arc parameter of its two
+    // neighbours (Jacobi, one pass), then is re-evaluated on the original polyline.
+    bool smooth = true;
+    // Section criterion (anti-overlap of consecutive cross-sections; derivation in adaptation.cpp): for every edge
+    // (a, b) of a resampled branch, |b - a| >= turn_safety * (reach(a) + reach(b)), with
+    //   reach = r sin(theta / 2) at a joint turning by theta,
+    //   reach = 0 at an extremity,
+    //   reach = branching_reach * max(r_end, r_next * cot(gamma)) at a branching point or leaflet vertex, where r_next
+    //           is the radius at the other end of the edge and gamma = clamp(beta / 2, 7.5, 60 degrees), beta the
+    //           smallest angle between this branch and any other branch or leaflet edge leaving that vertex (a branch
+    //           leaves towards the point of its original polyline at arc length min(2 r, its length)).
+    // Joints violating it are removed (the end of the edge with the larger reach). An edge with no joint left to
+    // remove (e.g. a short branch from a branching point to an extremity) stays as it is. 0 disables the criterion.
+    // With the defaults no raw hex is inverted on armadillo, aorta, bigbuddy, block, cactus, dino, dinopet, knight
+    // (min scaled Jacobian 0.03 .. 0.23); without the criterion 1-4 % are. branching_reach = 1.5 is a more cautious
+    // choice that was needed with earlier connection surfaces (fewer hexes, same result today).
+    double turn_safety = 1.25;
+    double branching_reach = 1.0;
+    // Radius floor used by the bisection test only (never written): max(r, min_radius_fraction * largest radius on the
+    // branch). Keeps a near-zero radius at an extremity (armadillo: 7e-5) from bisecting towards it forever.
+    double min_radius_fraction = 0.25;
+    // Bisection depth limit (at most 2^max_depth edges per branch), a guard against absurd radius/length ratios.
+    int max_depth = 16;
+    // Merge the two ends of a single-edge branch between two branching points (no leaflet) when r_a + r_b > length,
+    // to their midpoint (mean position and radius). Skipped when another branch joins the same two vertices (it would
+    // become a loop); then the bridge stays as it is.
+    bool collapse_short_bridges = true;
+};
+
+// Returns the adapted skeleton. Every curve branch (maximal chain of edges through vertices of degree 2 that lie on no
+// leaflet face; closed rings included) is simplified to one segment and bisected (AdaptationOptions::density),
+// smoothed, then cleaned by the section criterion; new joints are evaluated (position and radius, linearly) on the
+// ORIGINAL polyline by arc length (a polyline whose end vertex was merged by a collapse starts at the merged
+// position instead). Leaflet faces, their edges and vertices are copied unchanged.
+// Preconditions (else Error InvalidInput naming the element): one radius per vertex, finite and > 0; finite
+// positions; edge indices in range; no self-loop, no duplicate edge; density > 0.
+// Postconditions: V - E + F unchanged (collapses remove one vertex and one edge each); rings and loops at one vertex
+// keep >= 3 edges; no two edges join the same two vertices. Output order: the kept original vertices (every vertex
+// that is not a branch joint, plus one anchor per ring: its smallest vertex id) in their original order, then the new
+// joints branch by branch; edges: leaflet edges in their original order, then branch edges branch by branch; faces in
+// their original order. Deterministic. Complexity O(V + E + output size) (a few log factors).
+Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o = {});
+
+// The same, with what happened (for reports and tests).
+struct AdaptationResult {
+    Skeleton skeleton;
+    // Per input vertex: its output vertex, or -1 for a branch joint that was resampled away. Both ends of a collapsed
+    // bridge map to the merged vertex.
+    std::vector<int> vertex_map;
+    int collapsed_bridges = 0;     // each one removes one branching point, one vertex and one edge
+    int turn_removed_joints = 0;   // joints removed by the turn criterion (final branches only)
+};
+AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOptions& o = {});
+
+}  // namespace mesohex

@@ -1,0 +1,239 @@
+#include "mesohex/stages/connection_surfaces.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "mesohex/core/error.h"
+#include "mesohex/stages/sphere_partition.h"
+
+namespace mesohex {
+
+namespace {
+
+struct SurfaceSize {
+    int points = 0, quads = 0, edges = 0;
+};
+
+// Moves the partition points on the sphere (topology unchanged) to increase, vertex by vertex, the smallest margin of
+// the quads around it: a deterministic pattern search with a halving step. Why: a raw hex of the first chunk of a
+// branch is positive at its sphere corners exactly when the first joint's cross-section, seen from the centre (a cap
+// of angular radius atan(r / L)), lies inside the quad; a direction close to a side or corner of its quad gives flat
+// or inverted hexes. The result is re-verified (verify_sphere_partition); if it fails, the input is returned.
+// Partitions whose smallest margin is already >= good_margin are returned as they are.
+SpherePartition relax_partition(const SpherePartition& part, const std::vector<Vec3>& dirs, double good_margin) {
+    const int np = static_cast<int>(part.points.size());
+    const int nq = static_cast<int>(part.quads.size());
+    std::vector<std::vector<int>> incident(np);
+    for (int i = 0; i < nq; ++i)
+        for (int x : part.quads[i]) incident[x].push_back(i);
+    SpherePartition cur = part;
+    for (Vec3& p : cur.points) p = normalized(p);
+    auto margin_of = [&](int i) {
+        std::array<Vec3, 4> q;
+        for (int k = 0; k < 4; ++k) q[k] = cur.points[part.quads[i][k]];
+        return spherical_quad_margin(q, dirs[i]);
+    };
+    auto local_min = [&](int x) {
+        double m = 10;
+        for (int i : incident[x]) m = std::min(m, margin_of(i));
+        return m;
+    };
+    double worst = 10;
+    for (int i = 0; i < nq; ++i) worst = std::min(worst, margin_of(i));
+    if (worst >= good_margin) return part;  // already comfortable: most junctions of degree <= 6 stop here
+    double step = 0.25;
+    for (int round = 0; round < 64 && step > 2e-3; ++round) {
+        bool improved = false;
+        for (int x = 0; x < np; ++x) {
+            const Vec3 p = cur.points[x];
+            Vec3 u = cross(p, Vec3{1, 0, 0});
+            if (norm(u) < 0.5) u = cross(p, Vec3{0, 1, 0});
+            u = normalized(u);
+            const Vec3 w = cross(p, u);
+            double best = local_min(x);
+            Vec3 best_p = p;
+            for (int k = 0; k < 8; ++k) {
+                const double a = k * 0.7853981633974483;
+                const Vec3 dir = std::cos(a) * u + std::sin(a) * w;
+                cur.points[x] = normalized(std::cos(step) * p + std::sin(step) * dir);
+                const double m = local_min(x);
+                if (m > best + 1e-9) {
+                    best = m;
+                    best_p = cur.points[x];
+                }
+            }
+            cur.points[x] = best_p;
+            improved = improved || !(best_p == p);
+        }
+        if (!improved) step *= 0.5;
+    }
+    return verify_sphere_partition(cur, dirs).empty() ? cur : part;
+}
+
+SurfaceSize surface_size(VertexClass c, int branch_degree) {
+    switch (c) {
+        case VertexClass::Extremity: return {4, 1, 4};
+        case VertexClass::Joint: return {4, 2, 4};
+        case VertexClass::BranchingPoint: return {branch_degree + 2, branch_degree, 2 * branch_degree};
+        default: return {};
+    }
+}
+
+}  // namespace
+
+double spherical_quad_margin(const std::array<Vec3, 4>& q, const Vec3& d) {
+    double m = 10;
+    for (int k = 0; k < 4; ++k) {
+        const Vec3 n = cross(q[k], q[(k + 1) % 4]);
+        const double nn = norm(n);
+        if (!(nn > 1e-12)) return -1;
+        if (dot(n, q[(k + 2) % 4]) < -1e-12 * nn) return -1;  // corner at q[k+1] reflex (flat is allowed: lunes)
+        m = std::min(m, std::asin(std::clamp(dot(n, d) / nn, -1.0, 1.0)));
+    }
+    return m;
+}
+
+ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& an,
+                                             const ConnectionSurfaceOptions& options) {
+    const int nv = static_cast<int>(skeleton.points.size());
+    const int ne = static_cast<int>(skeleton.edges.size());
+    MESOHEX_CHECK(static_cast<int>(an.vertex_class.size()) == nv, "analysis does not match the skeleton");
+    for (int v = 0; v < nv; ++v) {
+        const VertexClass c = an.vertex_class[v];
+        if (c != VertexClass::Isolated && c != VertexClass::Extremity && c != VertexClass::Joint &&
+            c != VertexClass::BranchingPoint && c != VertexClass::LeafletInterior &&
+            c != VertexClass::LeafletBoundary)
+            throw Error(ErrorCode::UnsupportedConfiguration,
+                        "skeleton vertex " + std::to_string(v) + " is a " + to_string(c) +
+                            ": junctions with leaflets (BL/LL-joints, fan edges) are not meshed yet",
+                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
+        if (c == VertexClass::BranchingPoint && an.vertex_boundary_edges[v] > 0)
+            throw Error(ErrorCode::UnsupportedConfiguration,
+                        "skeleton vertex " + std::to_string(v) +
+                            " joins branches and leaflets: such junctions are not meshed yet",
+                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    }
+
+    for (int l = 0; l < static_cast<int>(an.leaflets.size()); ++l)
+        if (!an.leaflets[l].orientable)
+            throw Error(ErrorCode::UnsupportedConfiguration,
+                        "leaflet " + std::to_string(l) + " (face " + std::to_string(an.leaflets[l].faces.front()) +
+                            ") is not orientable (Moebius-like): not supported",
+                        ElementRef{ElementRef::Kind::SkeletonFace, an.leaflets[l].faces.front()});
+
+    ConnectionSurfaces cs;
+    cs.point_begin.assign(nv + 1, 0);
+    cs.quad_begin.assign(nv + 1, 0);
+    cs.edge_begin.assign(nv + 1, 0);
+    for (int v = 0; v < nv; ++v) {
+        const SurfaceSize sz = surface_size(an.vertex_class[v], an.vertex_branch_edges[v]);
+        cs.point_begin[v + 1] = cs.point_begin[v] + sz.points;
+        cs.quad_begin[v + 1] = cs.quad_begin[v] + sz.quads;
+        cs.edge_begin[v + 1] = cs.edge_begin[v] + sz.edges;
+    }
+    cs.directions.assign(cs.point_begin[nv], Vec3{});
+    cs.point_valence.assign(cs.point_begin[nv], 0);
+    cs.quads.resize(cs.quad_begin[nv]);
+    cs.quad_edges.resize(cs.quad_begin[nv]);
+    cs.edges.resize(cs.edge_begin[nv]);
+    cs.edge_quad.assign(ne, {-1, -1});
+
+    // Each task writes only its vertex's ranges and the (edge, side) slots of its own incident edges.
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256), [&](const tbb::blocked_range<int>& range) {
+        std::vector<Vec3> dirs;
+        std::vector<int> inc;
+        for (int v = range.begin(); v != range.end(); ++v) {
+            const VertexClass c = an.vertex_class[v];
+            if (c != VertexClass::Extremity && c != VertexClass::Joint && c != VertexClass::BranchingPoint) continue;
+            const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+            inc.clear();
+            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+                if (an.edge_degree[an.vertex_edges[i]] == 0) inc.push_back(an.vertex_edges[i]);
+            auto side_of = [&](int e) { return skeleton.edges[e][0] == v ? 0 : 1; };
+            if (c == VertexClass::Extremity || c == VertexClass::Joint) {
+                cs.edges[e0 + 0] = {0, 1};
+                cs.edges[e0 + 1] = {1, 2};
+                cs.edges[e0 + 2] = {2, 3};
+                cs.edges[e0 + 3] = {3, 0};
+                cs.quads[q0] = {0, 1, 2, 3};
+                cs.quad_edges[q0] = {0, 1, 2, 3};
+                cs.edge_quad[inc[0]][side_of(inc[0])] = q0;
+                for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 1;
+                if (c == VertexClass::Joint) {
+                    cs.quads[q0 + 1] = {2, 1, 0, 3};
+                    cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
+                    cs.edge_quad[inc[1]][side_of(inc[1])] = q0 + 1;
+                    for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 2;
+                }
+                continue;
+            }
+            // Branching point: partition of the sphere with one quad per incident branch direction.
+            const int n = static_cast<int>(inc.size());
+            dirs.resize(n);
+            const Vec3& center = skeleton.points[v];
+            for (int i = 0; i < n; ++i) {
+                const int e = inc[i];
+                const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+                dirs[i] = normalized(skeleton.points[w] - center);
+            }
+            SpherePartition part;
+            try {
+                SpherePartitionOptions po;
+                po.planarity_tolerance = options.planarity_tolerance;
+                part = partition_sphere(dirs, po);
+                if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
+            } catch (const Error& err) {
+                throw Error(ErrorCode::NumericalFailure,
+                            "no connection surface at skeleton vertex " + std::to_string(v) + " (degree " +
+                                std::to_string(n) + "): " + err.what(),
+                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
+            }
+            if (static_cast<int>(part.quads.size()) != n || static_cast<int>(part.points.size()) != n + 2)
+                throw Error(ErrorCode::NumericalFailure,
+                            "sphere partition at skeleton vertex " + std::to_string(v) + " has " +
+                                std::to_string(part.quads.size()) + " quads and " +
+                                std::to_string(part.points.size()) + " points for degree " + std::to_string(n),
+                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
+            for (int k = 0; k < n + 2; ++k) cs.directions[p0 + k] = normalized(part.points[k]);
+            int n_edges = 0;
+            for (int i = 0; i < n; ++i) {
+                const std::array<int, 4>& q = part.quads[i];
+                cs.quads[q0 + i] = q;
+                for (int k = 0; k < 4; ++k) {
+                    ++cs.point_valence[p0 + q[k]];
+                    const int a = q[k], b = q[(k + 1) % 4];
+                    int found = -1;
+                    for (int j = 0; j < n_edges; ++j) {
+                        const std::array<int, 2>& ed = cs.edges[e0 + j];
+                        if ((ed[0] == a && ed[1] == b) || (ed[0] == b && ed[1] == a)) {
+                            found = j;
+                            break;
+                        }
+                    }
+                    if (found < 0) {
+                        if (n_edges == 2 * n)
+                            throw Error(ErrorCode::NumericalFailure,
+                                        "sphere partition at skeleton vertex " + std::to_string(v) +
+                                            " is not a closed quad surface",
+                                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
+                        found = n_edges;
+                        cs.edges[e0 + n_edges++] = {a, b};
+                    }
+                    cs.quad_edges[q0 + i][k] = found;
+                }
+                cs.edge_quad[inc[i]][side_of(inc[i])] = q0 + i;
+            }
+            if (n_edges != 2 * n)
+                throw Error(ErrorCode::NumericalFailure,
+                            "sphere partition at skeleton vertex " + std::to_string(v) +
+                                " is not a closed quad surface",
+                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
+        }
+    });
+    return cs;
+}
+
+}  // namespace mesohex

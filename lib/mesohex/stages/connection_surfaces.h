@@ -1,0 +1,58 @@
+#pragma once
+// Paper step 3: connection surfaces. One closed quad surface per skeleton vertex that joins branches (one quad at an
+// extremity, two quads sharing their four vertices at a joint, a quad partition of the sphere with one quad per
+// incident branch at a branching point), stored in flat arrays with one CSR range per skeleton vertex.
+//
+// Conventions (reference-notes §6.1): every quad is counter-clockwise seen from outside the sphere of its vertex.
+// For a quad registered on (edge e, endpoint v), "outside" is the direction from v into e. Points are unit
+// directions from the vertex centre; branching-point directions come from partition_sphere, extremity and joint
+// directions are left zero here and set by frame propagation (they depend on the frames).
+#include <array>
+#include <vector>
+
+#include "mesohex/core/skeleton.h"
+#include "mesohex/core/vec.h"
+#include "mesohex/stages/skeleton_analysis.h"
+
+namespace mesohex {
+
+struct ConnectionSurfaces {
+    // CSR ranges per skeleton vertex (size V + 1). A vertex without a surface has empty ranges.
+    std::vector<int> point_begin;
+    std::vector<int> quad_begin;
+    std::vector<int> edge_begin;
+    // Flat arrays. Quad and edge entries hold point indices LOCAL to their vertex's surface.
+    std::vector<Vec3> directions;                 // unit direction per surface point (zero for extremity/joint)
+    std::vector<std::array<int, 4>> quads;        // local point indices, CCW seen from outside
+    std::vector<std::array<int, 4>> quad_edges;   // local edge index of quad side k = (q_k, q_{k+1})
+    std::vector<std::array<int, 2>> edges;        // local point indices of each surface edge
+    std::vector<int> point_valence;               // number of quads containing each point
+    // Per skeleton edge and side (0: edges[e][0], 1: edges[e][1]): the GLOBAL quad index registered there, or -1.
+    std::vector<std::array<int, 2>> edge_quad;
+};
+
+struct ConnectionSurfaceOptions {
+    double planarity_tolerance = 0.05;  // passed to partition_sphere
+    // Move branching-point surface points on the sphere to maximise the angular margin of every direction inside its
+    // quad (topology unchanged; re-verified with verify_sphere_partition, else the partition is kept as built).
+    bool relax_partitions = true;
+    double relax_below_margin = 0.5;  // radians (~29 deg): only partitions with a smaller margin are relaxed
+};
+
+// Preconditions: `analysis` is analyze_skeleton(skeleton). Leaflet interior and regular boundary vertices need no
+// surface; junctions with leaflets (BL/LL-joints, branching points with leaflets, fan edges) and non-orientable
+// leaflets are not supported yet: Error(UnsupportedConfiguration) naming the vertex or face.
+// Postconditions: every branch edge has a quad on both sides; extremity surfaces have 4 points / 1 quad / 4 edges,
+// joints 4 / 2 / 4 (quad A = (0,1,2,3) on the vertex's first incident edge, quad B = (2,1,0,3) on the second), a
+// branching point of degree n has n + 2 points, n quads (quad i on its i-th incident edge in increasing edge id) and
+// 2n edges. Throws Error(NumericalFailure) naming the vertex if no sphere partition can be built.
+// Parallel over vertices (oneTBB), deterministic. Complexity: linear in the skeleton plus the partitions.
+ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
+                                             const ConnectionSurfaceOptions& options = {});
+
+// Signed angular margin (radians) of unit direction d inside the spherical quad q (unit vectors, counter-clockwise
+// seen from outside): the smallest angle from d to the great circles of the four sides, positive inside; -1 when the
+// quad has a reflex corner (flat corners, as in the lunes of an orange partition, are allowed).
+double spherical_quad_margin(const std::array<Vec3, 4>& q, const Vec3& d);
+
+}  // namespace mesohex

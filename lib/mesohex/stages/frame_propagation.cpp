@@ -1,0 +1,181 @@
+#include "mesohex/stages/frame_propagation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "mesohex/core/error.h"
+
+namespace mesohex {
+
+namespace {
+
+constexpr double kTiny = 1e-24;
+
+Vec3 any_perpendicular(const Vec3& t) {
+    const double ax = std::abs(t.x), ay = std::abs(t.y), az = std::abs(t.z);
+    const Vec3 axis = (ax <= ay && ax <= az) ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+    return normalized(cross(t, axis));
+}
+
+// Frame with the given unit t and r as close as possible to r_hint.
+Frame orthonormal_frame(const Vec3& r_hint, const Vec3& t) {
+    Vec3 r = r_hint - dot(r_hint, t) * t;
+    const double n = norm(r);
+    r = n > 1e-12 ? r / n : any_perpendicular(t);
+    return {r, cross(t, r), t};
+}
+
+Frame reversed(const Frame& f) { return {f.r, -f.s, -f.t}; }
+
+Frame rotated(const Frame& f, double angle) {
+    const double c = std::cos(angle), s = std::sin(angle);
+    const Vec3 r = c * f.r + s * f.s;
+    return {r, cross(f.t, r), f.t};
+}
+
+// Quad vertex directions (from the start) of the frame: (-s, +r, +s, -r).
+std::array<Vec3, 4> quad_directions(const Frame& f) { return {-f.s, f.r, f.s, -f.r}; }
+
+// Frame of a quad a0..a3 (CCW around t): r along a3 -> a1 and along (a2 - a0) x t, orthogonalised against t.
+Frame quad_frame(const std::array<Vec3, 4>& a, const Vec3& t) {
+    return orthonormal_frame((a[1] - a[3]) + cross(a[2] - a[0], t), t);
+}
+
+// Unit tangent at an interior vertex (bisector of the two edge directions); falls back to the incoming direction.
+Vec3 joint_tangent(const Vec3& prev, const Vec3& p, const Vec3& next) {
+    const Vec3 din = normalized(p - prev), dout = normalized(next - p);
+    const Vec3 t = din + dout;
+    return norm(t) > 1e-9 ? normalized(t) : (norm(din) > 0 ? din : dout);
+}
+
+}  // namespace
+
+Frame rotation_minimizing_step(const Frame& f, const Vec3& x0, const Vec3& x1, const Vec3& t1) {
+    const Vec3 v1 = x1 - x0;
+    const double c1 = dot(v1, v1);
+    Vec3 rl = f.r, tl = f.t;
+    if (c1 > kTiny) {
+        rl = f.r - (2.0 / c1) * dot(v1, f.r) * v1;
+        tl = f.t - (2.0 / c1) * dot(v1, f.t) * v1;
+    }
+    const Vec3 v2 = t1 - tl;
+    const double c2 = dot(v2, v2);
+    Vec3 r1 = rl;
+    if (c2 > kTiny) r1 = rl - (2.0 / c2) * dot(v2, rl) * v2;
+    return orthonormal_frame(r1, t1);
+}
+
+BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                              const FrameOptions& /*options*/) {
+    const int ne = static_cast<int>(skeleton.edges.size());
+    BranchFrames out;
+    out.edge_frames.assign(ne, {});
+    out.edge_rotation.assign(ne, {0, 0});
+    out.directions = cs.directions;  // branching points keep their partition; the rest is overwritten below
+    out.branch_defect.assign(an.branches.size(), 0.0);
+
+    auto side_of = [&](int e, int v) { return skeleton.edges[e][0] == v ? 0 : 1; };
+    auto quad_dirs = [&](int v, int gq, int rot, const std::vector<Vec3>& dirs) {
+        const int p0 = cs.point_begin[v];
+        const std::array<int, 4>& q = cs.quads[gq];
+        std::array<Vec3, 4> a;
+        for (int k = 0; k < 4; ++k) a[k] = dirs[p0 + q[(rot + k) & 3]];
+        return a;
+    };
+    // Writes the points of a joint/extremity surface at v so that the quad registered on e_out shows frame f.
+    auto place_surface = [&](int v, int e_out, const Frame& f) {
+        const int gq = cs.edge_quad[e_out][side_of(e_out, v)];
+        const std::array<Vec3, 4> d = quad_directions(f);
+        const std::array<int, 4>& q = cs.quads[gq];
+        for (int k = 0; k < 4; ++k) out.directions[cs.point_begin[v] + q[k]] = d[k];
+    };
+
+    const int nb = static_cast<int>(an.branches.size());
+    tbb::parallel_for(tbb::blocked_range<int>(0, nb, 64), [&](const tbb::blocked_range<int>& range) {
+        std::vector<int> verts, edges;
+        std::vector<Frame> F;
+        std::vector<double> arc;
+        for (int b = range.begin(); b != range.end(); ++b) {
+            const Branch& br = an.branches[b];
+            verts = br.vertices;
+            edges = br.edges;
+            auto constrained = [&](int v) { return an.vertex_class[v] == VertexClass::BranchingPoint; };
+            if (!br.ring && !constrained(verts.front()) && constrained(verts.back())) {
+                std::reverse(verts.begin(), verts.end());
+                std::reverse(edges.begin(), edges.end());
+            }
+            const int m = static_cast<int>(edges.size());
+            const bool start_fixed = !br.ring && constrained(verts.front());
+            const bool end_fixed = br.ring || constrained(verts.back());
+            auto P = [&](int i) -> const Vec3& { return skeleton.points[verts[i]]; };
+
+            arc.assign(m + 1, 0.0);
+            for (int i = 1; i <= m; ++i) arc[i] = arc[i - 1] + distance(P(i - 1), P(i));
+
+            // Start frame.
+            F.assign(m, Frame{});
+            const Vec3 t_first = normalized(P(1) - P(0));
+            if (start_fixed) {
+                const int v0 = verts[0];
+                const int gq = cs.edge_quad[edges[0]][side_of(edges[0], v0)];
+                F[0] = quad_frame(quad_dirs(v0, gq, 0, cs.directions), t_first);
+            } else if (br.ring) {
+                const Vec3 t0 = joint_tangent(P(m - 1), P(0), P(1));
+                F[0] = orthonormal_frame(any_perpendicular(t0), t0);
+            } else {
+                F[0] = orthonormal_frame(any_perpendicular(t_first), t_first);
+            }
+            // Forward rotation-minimizing propagation through the joints.
+            for (int i = 1; i < m; ++i)
+                F[i] = rotation_minimizing_step(F[i - 1], P(i - 1), P(i), joint_tangent(P(i - 1), P(i), P(i + 1)));
+            const Vec3 t_end = br.ring ? F[0].t : normalized(P(m) - P(m - 1));
+            Frame arrival = rotation_minimizing_step(F[m - 1], P(m - 1), P(m), t_end);
+
+            // The ring's start joint is placed from its free frame before it serves as the far end.
+            if (br.ring) place_surface(verts[0], edges[0], F[0]);
+
+            const int vm = verts[m];
+            const int side_m = side_of(edges[m - 1], vm);
+            if (end_fixed) {
+                // Quarter-turn snapping of the far quad, then the residual defect spread by arc length.
+                const int gq = cs.edge_quad[edges[m - 1]][side_m];
+                const std::vector<Vec3>& dirs = br.ring ? out.directions : cs.directions;
+                int best = 0;
+                double best_dot = -2;
+                Frame g_best{};
+                for (int rot = 0; rot < 4; ++rot) {
+                    const Frame g = quad_frame(quad_dirs(vm, gq, rot, dirs), -t_end);
+                    const double d = dot(arrival.r, g.r);
+                    if (d > best_dot) {
+                        best_dot = d;
+                        best = rot;
+                        g_best = g;
+                    }
+                }
+                const double theta =
+                    std::atan2(dot(cross(arrival.r, g_best.r), arrival.t), dot(arrival.r, g_best.r));
+                out.edge_rotation[edges[m - 1]][side_m] = static_cast<std::uint8_t>(best);
+                out.branch_defect[b] = theta;
+                const double L = arc[m];
+                if (L > 0)
+                    for (int i = 1; i < m; ++i) F[i] = rotated(F[i], theta * arc[i] / L);
+                arrival = rotated(arrival, theta);
+            } else {
+                // Free far end: an extremity, placed from the arriving frame.
+                place_surface(vm, edges[m - 1], reversed(arrival));
+            }
+            if (!start_fixed && !br.ring) place_surface(verts[0], edges[0], F[0]);
+            for (int i = 1; i < m; ++i) place_surface(verts[i], edges[i], F[i]);
+            for (int i = 0; i < m; ++i) {
+                const int e = edges[i];
+                out.edge_frames[e][side_of(e, verts[i])] = F[i];
+                out.edge_frames[e][side_of(e, verts[i + 1])] = reversed(i + 1 < m ? F[i + 1] : arrival);
+            }
+        }
+    });
+    return out;
+}
+
+}  // namespace mesohex

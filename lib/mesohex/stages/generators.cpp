@@ -1,0 +1,536 @@
+#include "mesohex/stages/generators.h"
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numbers>
+
+#include "mesohex/core/error.h"
+
+namespace mesohex {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr int kMaxResolution = 1000;  // bounds every n and m so a typo cannot ask for gigabytes
+
+// ---------------------------------------------------------------------------------------------------------------
+// Small building blocks. Points are appended with their radius; branch edges are added explicitly; leaflet edges are
+// added once at the end by add_face_edges(), so every face side is present exactly once.
+
+int add_point(Skeleton& s, const Vec3& p, double radius) {
+    s.points.push_back(p);
+    s.radii.push_back(radius);
+    return static_cast<int>(s.points.size()) - 1;
+}
+
+// Appends a branch (polyline) that starts at the existing point `start` and visits `points` in order; one branch
+// edge per consecutive pair. Returns the ids of the whole polyline, `start` included.
+std::vector<int> add_polyline(Skeleton& s, int start, const std::vector<Vec3>& points,
+                              const std::vector<double>& radii) {
+    std::vector<int> ids{start};
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const int v = add_point(s, points[k], radii[k]);
+        s.edges.push_back({ids.back(), v});
+        ids.push_back(v);
+    }
+    return ids;
+}
+
+// Same, but joins two existing points `a` and `b` through the interior `points`.
+void add_polyline_between(Skeleton& s, int a, int b, const std::vector<Vec3>& points,
+                          const std::vector<double>& radii) {
+    const std::vector<int> ids = add_polyline(s, a, points, radii);
+    s.edges.push_back({ids.back(), b});
+}
+
+// The point ids of a (nu + 1) x (nv + 1) lattice of a quad grid; -1 = not created yet (so that rows can be shared
+// with other grids or branches before the grid is filled).
+struct Lattice {
+    int nu = 0, nv = 0;
+    std::vector<int> ids;
+    Lattice(int nu_, int nv_) : nu(nu_), nv(nv_), ids(static_cast<std::size_t>((nu_ + 1) * (nv_ + 1)), -1) {}
+    int& at(int i, int j) { return ids[static_cast<std::size_t>(i * (nv + 1) + j)]; }
+    int at(int i, int j) const { return ids[static_cast<std::size_t>(i * (nv + 1) + j)]; }
+};
+
+// Creates every lattice point that is still -1, at position(i, j) with the given radius.
+void fill_lattice(Skeleton& s, Lattice& lat, const std::function<Vec3(int, int)>& position, double radius) {
+    for (int i = 0; i <= lat.nu; ++i)
+        for (int j = 0; j <= lat.nv; ++j)
+            if (lat.at(i, j) < 0) lat.at(i, j) = add_point(s, position(i, j), radius);
+}
+
+// Adds the nu x nv quads of the lattice, each as (i,j) (i+1,j) (i+1,j+1) (i,j+1): all faces of one lattice are
+// consistently oriented, with normal along (d/di) x (d/dj). Only cells with keep(i, j) are added.
+void add_lattice_quads(Skeleton& s, const Lattice& lat, const std::function<bool(int, int)>& keep = {}) {
+    for (int i = 0; i < lat.nu; ++i)
+        for (int j = 0; j < lat.nv; ++j)
+            if (!keep || keep(i, j))
+                s.faces.push_back({lat.at(i, j), lat.at(i + 1, j), lat.at(i + 1, j + 1), lat.at(i, j + 1)});
+}
+
+Vec3 rotate_z(const Vec3& d, double angle) {
+    const double c = std::cos(angle), s = std::sin(angle);
+    return {c * d.x - s * d.y, s * d.x + c * d.y, d.z};
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Options
+
+struct Params {
+    int n = 0, m = 0, quarter_turns = 0;
+    double L = 1.0;  // leaflet edge length
+    double r = 0.3;  // default radius: 0.3 x L x radius_scale
+};
+
+int resolution(const std::string& shape, const char* what, int value, int fallback, int min_value) {
+    const int v = value == 0 ? fallback : value;
+    if (v < min_value || v > kMaxResolution)
+        throw Error(ErrorCode::InvalidInput, "generate " + shape + ": " + what + " = " + std::to_string(v) +
+                                                 " is out of range [" + std::to_string(min_value) + ", " +
+                                                 std::to_string(kMaxResolution) + "]");
+    return v;
+}
+
+Params make_params(const std::string& shape, const GeneratorOptions& o, std::array<int, 2> default_nm,
+                   std::array<int, 2> min_nm) {
+    if (!(o.edge_length > 0) || !std::isfinite(o.edge_length))
+        throw Error(ErrorCode::InvalidInput, "generate " + shape + ": edge length must be > 0");
+    if (!(o.radius_scale > 0) || !std::isfinite(o.radius_scale))
+        throw Error(ErrorCode::InvalidInput, "generate " + shape + ": radius scale must be > 0");
+    Params p;
+    p.n = resolution(shape, "n", o.n, default_nm[0], min_nm[0]);
+    p.m = resolution(shape, "m", o.m, default_nm[1], min_nm[1]);
+    p.quarter_turns = o.quarter_turns == -1 ? 2 : o.quarter_turns;
+    if (p.quarter_turns < 0 || p.quarter_turns > 64)
+        throw Error(ErrorCode::InvalidInput, "generate " + shape + ": quarter turns = " +
+                                                 std::to_string(p.quarter_turns) + " is out of range [0, 64]");
+    p.L = o.edge_length;
+    p.r = 0.3 * o.edge_length * o.radius_scale;
+    return p;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The shapes. Each builds points, branch edges and faces; generate_skeleton() adds the face edges.
+
+// n x m quads in the z = 0 plane, centred on the origin, normal +z.
+Skeleton make_plate(const Params& p) {
+    Skeleton s;
+    Lattice lat(p.n, p.m);
+    fill_lattice(s, lat, [&](int i, int j) { return Vec3{(i - 0.5 * p.n) * p.L, (j - 0.5 * p.m) * p.L, 0.0}; },
+                 p.r);
+    add_lattice_quads(s, lat);
+    return s;
+}
+
+// The closed surface of a cube, n x n quads per side, normals outward. Points are shared between sides through
+// their integer lattice coordinates.
+Skeleton make_box(const Params& p) {
+    Skeleton s;
+    const int k = p.n;
+    std::map<std::array<int, 3>, int> id_of;
+    struct Side {
+        std::array<int, 3> origin, u, v;  // u x v is the outward normal
+    };
+    const std::array<Side, 6> sides{{
+        {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}},  // z = 0
+        {{0, 0, k}, {1, 0, 0}, {0, 1, 0}},  // z = k
+        {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}},  // y = 0
+        {{0, k, 0}, {0, 0, 1}, {1, 0, 0}},  // y = k
+        {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}},  // x = 0
+        {{k, 0, 0}, {0, 1, 0}, {0, 0, 1}},  // x = k
+    }};
+    for (const Side& side : sides) {
+        Lattice lat(k, k);
+        for (int i = 0; i <= k; ++i) {
+            for (int j = 0; j <= k; ++j) {
+                std::array<int, 3> c{};
+                for (int a = 0; a < 3; ++a) c[a] = side.origin[a] + i * side.u[a] + j * side.v[a];
+                auto it = id_of.find(c);
+                if (it == id_of.end()) {
+                    const Vec3 pos{(c[0] - 0.5 * k) * p.L, (c[1] - 0.5 * k) * p.L, (c[2] - 0.5 * k) * p.L};
+                    it = id_of.emplace(c, add_point(s, pos, p.r)).first;
+                }
+                lat.at(i, j) = it->second;
+            }
+        }
+        add_lattice_quads(s, lat);
+    }
+    return s;
+}
+
+// A closed quad torus: n quads around the z axis, m around the tube. Sizes make the edges at the middle of the tube
+// have length L. Radius = 0.3 x the mean local edge length (edges are shorter on the inner side).
+Skeleton make_torus(const Params& p) {
+    if (p.n < p.m + 4)
+        throw Error(ErrorCode::InvalidInput, "generate torus: n (around the axis) must be at least m + 4 so that "
+                                             "the hole stays open");
+    Skeleton s;
+    const double big = p.n * p.L / (2 * kPi), small = p.m * p.L / (2 * kPi);
+    std::vector<int> id(static_cast<std::size_t>(p.n * p.m));
+    for (int i = 0; i < p.n; ++i) {
+        const double theta = 2 * kPi * i / p.n;
+        for (int j = 0; j < p.m; ++j) {
+            const double phi = 2 * kPi * j / p.m;
+            const double rho = big + small * std::cos(phi);
+            const double around = 2 * kPi * rho / p.n;  // local edge length around the axis
+            id[static_cast<std::size_t>(i * p.m + j)] =
+                add_point(s, {rho * std::cos(theta), rho * std::sin(theta), small * std::sin(phi)},
+                          p.r * 0.5 * (around + p.L) / p.L);
+        }
+    }
+    auto at = [&](int i, int j) { return id[static_cast<std::size_t>((i % p.n) * p.m + (j % p.m))]; };
+    for (int i = 0; i < p.n; ++i)
+        for (int j = 0; j < p.m; ++j) s.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+    return s;
+}
+
+// Strips of m x n quads sharing one fan edge of n edges along z; strip k leaves in the horizontal direction at
+// angle angles[k]. The fan ends are corners of every strip.
+Skeleton make_fan(const Params& p, const std::vector<double>& angles) {
+    Skeleton s;
+    std::vector<int> fan;
+    for (int j = 0; j <= p.n; ++j) fan.push_back(add_point(s, {0, 0, (j - 0.5 * p.n) * p.L}, p.r));
+    for (const double angle : angles) {
+        const Vec3 d{std::cos(angle), std::sin(angle), 0};
+        Lattice lat(p.m, p.n);
+        for (int j = 0; j <= p.n; ++j) lat.at(0, j) = fan[static_cast<std::size_t>(j)];
+        fill_lattice(s, lat, [&](int i, int j) { return s.points[fan[static_cast<std::size_t>(j)]] + i * p.L * d; },
+                     p.r);
+        add_lattice_quads(s, lat);
+    }
+    return s;
+}
+
+// A finger (or thumb): n branch edges leaving `start` along `first`, then turning by `turn` radians per edge
+// (in the z = 0 plane); the radius tapers linearly from the joint's to 0.7 of it.
+void add_finger(Skeleton& s, int start, Vec3 first, double turn, double edge, int n) {
+    std::vector<Vec3> pts;
+    std::vector<double> radii;
+    Vec3 pos = s.points[static_cast<std::size_t>(start)];
+    Vec3 dir = normalized(first);
+    const double r0 = s.radii[static_cast<std::size_t>(start)];
+    for (int k = 1; k <= n; ++k) {
+        pos += edge * dir;
+        pts.push_back(pos);
+        radii.push_back(r0 * (1.0 - 0.3 * k / n));
+        dir = rotate_z(dir, turn);
+    }
+    add_polyline(s, start, pts, radii);
+}
+
+// Palm: an 8 x m grid (x spacing a = 0.75 L, y spacing L). In the top row, points at odd x index are raised by a/2
+// and the others lowered by a/2, so each raised point is a convex 90° boundary vertex whose outward diagonal is +y:
+// the four fingers leave from them. The thumb leaves from the palm's lower-left corner (a 90° corner) along its
+// outward diagonal (-x-y), then turns towards -x and +y. Fingers and thumb are branches of n edges.
+Skeleton make_hand(const Params& p) {
+    Skeleton s;
+    const int cols = 8, rows = p.m;
+    const double a = 0.75 * p.L;
+    Lattice lat(cols, rows);
+    fill_lattice(s, lat,
+                 [&](int i, int j) {
+                     Vec3 pos{i * a, j * p.L, 0};
+                     if (j == rows) pos.y += (i % 2 == 1 ? 0.5 : -0.5) * a;
+                     return pos;
+                 },
+                 p.r);
+    add_lattice_quads(s, lat);
+    const std::array<double, 4> spread{0.12, 0.04, -0.04, -0.12};  // fingers fan out slightly (radians / edge)
+    const std::array<double, 4> length{0.6, 0.75, 0.8, 0.7};       // edge length of each finger, x L
+    for (int f = 0; f < 4; ++f) add_finger(s, lat.at(2 * f + 1, rows), {0, 1, 0}, spread[f], length[f] * p.L, p.n);
+    add_finger(s, lat.at(0, 0), {-1, -1, 0}, -0.6, 0.7 * p.L, p.n);  // thumb
+    return s;
+}
+
+// Seat: n x n quads at height h, split by a fan edge (the row of points at y = n - 1) into a front leaflet and a
+// one-quad rear lip; the back (n x n quads) rises from the fan edge, which thus has degree 3 and ends on the seat's
+// side borders, one row away from the rear corners. Four legs (m edges each) leave the seat's four convex corners,
+// the first edge 45° below the outward corner diagonal, then straight down.
+Skeleton make_chair(const Params& p) {
+    Skeleton s;
+    const int n = p.n;
+    const double leg_edge = 0.75 * p.L;
+    const double height = leg_edge * (p.m - 1) + leg_edge * std::sqrt(0.5);
+    Lattice seat(n, n);
+    fill_lattice(s, seat, [&](int i, int j) { return Vec3{i * p.L, j * p.L, height}; }, p.r);
+    add_lattice_quads(s, seat);
+    Lattice back(n, n);
+    for (int i = 0; i <= n; ++i) back.at(i, 0) = seat.at(i, n - 1);
+    fill_lattice(s, back, [&](int i, int k) { return Vec3{i * p.L, (n - 1) * p.L, height + k * p.L}; }, p.r);
+    add_lattice_quads(s, back);
+    const std::array<std::array<int, 2>, 4> corners{{{0, 0}, {n, 0}, {n, n}, {0, n}}};
+    for (const std::array<int, 2>& c : corners) {
+        const Vec3 out = normalized(Vec3{c[0] == 0 ? -1.0 : 1.0, c[1] == 0 ? -1.0 : 1.0, 0});
+        const int start = seat.at(c[0], c[1]);
+        std::vector<Vec3> pts;
+        std::vector<double> radii;
+        Vec3 pos = s.points[static_cast<std::size_t>(start)] + leg_edge * normalized(out + Vec3{0, 0, -1});
+        for (int k = 1; k <= p.m; ++k) {
+            pts.push_back(pos);
+            radii.push_back(p.r * (1.0 - 0.2 * k / p.m));
+            pos.z -= leg_edge;
+        }
+        add_polyline(s, start, pts, radii);
+    }
+    return s;
+}
+
+// Body along x: a neck of 3 edges forward and a body of 3 edges backward from the branching point B (origin). The
+// two wings (n quads of span x m quads of chord, swept back) touch B by one corner each (B is a branching point
+// with 2 branches + 2 leaflets); a 2 x 2 tail leaflet hangs by its corner at the rear end of the body (a BL-joint,
+// the body arriving along the tail's outward corner diagonal).
+Skeleton make_bird(const Params& p) {
+    Skeleton s;
+    const double body_r = 1.2 * p.r, edge = 0.8 * p.L;
+    const int b = add_point(s, {0, 0, 0}, body_r);
+    add_polyline(s, b, {{edge, 0, 0.1 * edge}, {2 * edge, 0, 0.3 * edge}, {3 * edge, 0, 0.6 * edge}},
+                 {body_r, 0.9 * body_r, 0.8 * body_r});
+    const std::vector<int> body = add_polyline(s, b, {{-edge, 0, 0}, {-2 * edge, 0, 0}, {-3 * edge, 0, 0}},
+                                               {body_r, 0.9 * body_r, p.r});
+    const double h = std::sqrt(0.5);
+    // Left wing: i along the chord (+x+y), j along the span (-x+y): normal +z. Right wing: mirrored.
+    for (const double side : {1.0, -1.0}) {
+        const Vec3 chord{h, side * h, 0}, span{-h, side * h, 0};
+        const bool left = side > 0;
+        Lattice lat(left ? p.m : p.n, left ? p.n : p.m);
+        lat.at(0, 0) = b;
+        fill_lattice(s, lat,
+                     [&](int i, int j) {
+                         const int c = left ? i : j, w = left ? j : i;
+                         return (c * p.L) * chord + (w * p.L) * span + Vec3{0, 0, 0.1 * w * p.L};
+                     },
+                     p.r);
+        add_lattice_quads(s, lat);
+    }
+    const int tail_corner = body.back();
+    const Vec3 t0 = s.points[static_cast<std::size_t>(tail_corner)];
+    Lattice tail(2, 2);
+    tail.at(0, 0) = tail_corner;
+    fill_lattice(s, tail, [&](int i, int j) { return t0 + (i * p.L) * Vec3{-h, h, 0} + (j * p.L) * Vec3{-h, -h, 0}; },
+                 p.r);
+    add_lattice_quads(s, tail);
+    return s;
+}
+
+// An open strip of n x m quads along x (width m L, centred on the x axis), its cross-section rotating by
+// quarter_turns x 90° from one end to the other.
+Skeleton make_twist(const Params& p) {
+    Skeleton s;
+    const double total = p.quarter_turns * 0.5 * kPi;
+    Lattice lat(p.n, p.m);
+    fill_lattice(s, lat,
+                 [&](int i, int j) {
+                     const double angle = total * i / p.n, w = (j - 0.5 * p.m) * p.L;
+                     return Vec3{i * p.L, w * std::cos(angle), w * std::sin(angle)};
+                 },
+                 p.r);
+    add_lattice_quads(s, lat);
+    return s;
+}
+
+// A ring of n segments whose cross-section is an X (four arms of m quads from the core) rotating by
+// quarter_turns x 90° once around. The core circle is a closed fan edge of degree 4. With 2 quarter turns each pair
+// of opposite arms is a Möbius strip; cut along its centre line by the fan edge it is one orientable annulus, so
+// every leaflet is orientable (2 leaflets for 2 quarter turns, 1 for odd, 4 for multiples of 4).
+Skeleton make_torustwist(const Params& p) {
+    const double big = p.n * p.L / (2 * kPi);
+    if (big < (p.m + 0.5) * p.L)
+        throw Error(ErrorCode::InvalidInput, "generate torustwist: n must be at least 2 pi (m + 0.5) so that the "
+                                             "arms do not reach the axis");
+    Skeleton s;
+    std::vector<int> core;
+    for (int i = 0; i < p.n; ++i) {
+        const double theta = 2 * kPi * i / p.n;
+        core.push_back(add_point(s, {big * std::cos(theta), big * std::sin(theta), 0}, p.r));
+    }
+    // arm[(i * 4 + a) * m + (j - 1)] = point j (1..m) of arm a at ring position i.
+    std::vector<int> arm(static_cast<std::size_t>(p.n * 4 * p.m));
+    for (int i = 0; i < p.n; ++i) {
+        const double theta = 2 * kPi * i / p.n;
+        const Vec3 radial{std::cos(theta), std::sin(theta), 0};
+        for (int a = 0; a < 4; ++a) {
+            const double phi = 0.5 * kPi * (a + p.quarter_turns * static_cast<double>(i) / p.n);
+            const Vec3 d = std::cos(phi) * radial + Vec3{0, 0, std::sin(phi)};
+            for (int j = 1; j <= p.m; ++j)
+                arm[static_cast<std::size_t>((i * 4 + a) * p.m + j - 1)] =
+                    add_point(s, s.points[static_cast<std::size_t>(core[static_cast<std::size_t>(i)])] + j * p.L * d,
+                              p.r);
+        }
+    }
+    // Point j of arm a at ring position i, for i in [0, n]: position n is position 0 with the arms shifted.
+    auto at = [&](int i, int a, int j) {
+        if (i == p.n) {
+            i = 0;
+            a = (a + p.quarter_turns) % 4;
+        }
+        if (j == 0) return core[static_cast<std::size_t>(i)];
+        return arm[static_cast<std::size_t>((i * 4 + a) * p.m + j - 1)];
+    };
+    for (int a = 0; a < 4; ++a)
+        for (int i = 0; i < p.n; ++i)
+            for (int j = 0; j < p.m; ++j)
+                s.faces.push_back({at(i, a, j), at(i + 1, a, j), at(i + 1, a, j + 1), at(i, a, j + 1)});
+    return s;
+}
+
+// The compound of an octahedron (vertices at +-2c on the axes) and its dual cube (vertices at (+-c, +-c, +-c)):
+// every octahedron edge crosses one cube edge at right angles at their common midpoint. Branching points: 6
+// octahedron vertices (4 branches), 8 cube vertices (3 branches), 12 crossings (4 branches); each of the 48
+// half-edges is a branch of n edges. Curve-only.
+Skeleton make_dualocta(const Params& p) {
+    Skeleton s;
+    const double c = 0.6 * p.n * p.L;  // cube half-edges have n edges of 0.6 L; octahedron half-edges 0.85 L
+    const double r = p.r;
+    std::vector<int> octa, cube;
+    for (int axis = 0; axis < 3; ++axis)
+        for (const double sign : {1.0, -1.0}) {
+            Vec3 v{};
+            v[axis] = 2 * c * sign;
+            octa.push_back(add_point(s, v, r));
+        }
+    for (int k = 0; k < 8; ++k)
+        cube.push_back(add_point(s, {(k & 1) ? c : -c, (k & 2) ? c : -c, (k & 4) ? c : -c}, r));
+    auto half_edge = [&](int from, int to) {  // n edges from point `from` to point `to`
+        std::vector<Vec3> pts;
+        std::vector<double> radii;
+        const Vec3 a = s.points[static_cast<std::size_t>(from)], b = s.points[static_cast<std::size_t>(to)];
+        for (int k = 1; k < p.n; ++k) {
+            pts.push_back(a + (static_cast<double>(k) / p.n) * (b - a));
+            radii.push_back(r);
+        }
+        add_polyline_between(s, from, to, pts, radii);
+    };
+    // Cube edges: pairs of corners differing in one bit. Each one's midpoint is a crossing with the octahedron edge
+    // joining the two octahedron vertices on the axes in which the cube edge's corners agree.
+    for (int k = 0; k < 8; ++k) {
+        for (int bit = 0; bit < 3; ++bit) {
+            const int other = k ^ (1 << bit);
+            if (other < k) continue;
+            const Vec3 mid = 0.5 * (s.points[static_cast<std::size_t>(cube[static_cast<std::size_t>(k)])] +
+                                    s.points[static_cast<std::size_t>(cube[static_cast<std::size_t>(other)])]);
+            const int x = add_point(s, mid, r);
+            half_edge(cube[static_cast<std::size_t>(k)], x);
+            half_edge(x, cube[static_cast<std::size_t>(other)]);
+            for (int axis = 0; axis < 3; ++axis) {
+                if (axis == bit) continue;
+                const int o = octa[static_cast<std::size_t>(2 * axis + ((k >> axis) & 1 ? 0 : 1))];
+                half_edge(o, x);
+            }
+        }
+    }
+    return s;
+}
+
+// A two- or three-bladed Darrieus turbine on a vertical shaft. The shaft is a branch through two branching points
+// S (z = 0) and T (z = H) with 3 edges below S and one above T. Each blade is a strip of n quads along a bow in a
+// vertical half-plane (from S out to radius R and back to T) and one quad of chord in the tangential direction; the
+// blade touches the shaft only at its two inner corners S and T (each a convex 90° corner: the bow starts
+// horizontally in its half-plane, the chord edge is horizontal and tangential). S and T are branching points with 2
+// shaft branches + m blade leaflets; no leaflet edge lies along the shaft.
+Skeleton make_turbine(const Params& p) {
+    if (p.m > 3)
+        throw Error(ErrorCode::InvalidInput, "generate turbine: m (blades) must be 2 or 3 (more would make the blade "
+                                             "roots overlap at the shaft)");
+    Skeleton s;
+    const double radius_out = 2 * p.L, height = 5 * p.L, shaft_edge = 0.6 * p.L;
+    const int below = 3, middle = 8, above = 1;
+    const int bottom = add_point(s, {0, 0, -below * shaft_edge}, 0.8 * p.r);
+    std::vector<Vec3> pts;
+    std::vector<double> radii;
+    for (int k = 1; k <= below; ++k) pts.push_back({0, 0, (k - below) * shaft_edge});
+    radii.assign(pts.size(), p.r);
+    const int low = add_polyline(s, bottom, pts, radii).back();
+    pts.clear();
+    for (int k = 1; k <= middle; ++k) pts.push_back({0, 0, height * k / middle});
+    radii.assign(pts.size(), p.r);
+    const int high = add_polyline(s, low, pts, radii).back();
+    add_polyline(s, high, {{0, 0, height + above * shaft_edge}}, {0.8 * p.r});
+    for (int blade = 0; blade < p.m; ++blade) {
+        const double alpha = 2 * kPi * blade / p.m;
+        const Vec3 radial{std::cos(alpha), std::sin(alpha), 0}, tangent{-std::sin(alpha), std::cos(alpha), 0};
+        Lattice lat(p.n, 1);
+        lat.at(0, 0) = low;
+        lat.at(p.n, 0) = high;
+        fill_lattice(s, lat,
+                     [&](int i, int j) {
+                         const double t = kPi * i / p.n;
+                         return (radius_out * std::sin(t)) * radial + Vec3{0, 0, 0.5 * height * (1 - std::cos(t))} +
+                                (j * p.L) * tangent;
+                     },
+                     p.r);
+        add_lattice_quads(s, lat);
+    }
+    return s;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+
+struct Shape {
+    const char* name;
+    std::array<int, 2> default_nm;
+    std::array<int, 2> min_nm;
+    const char* help;
+    std::function<Skeleton(const Params&)> make;
+};
+
+const std::vector<Shape>& shapes() {
+    static const std::vector<Shape> table{
+        {"plate", {3, 3}, {1, 1}, "flat leaflet of n x m quads (default 3 x 3)", make_plate},
+        {"box", {2, 1}, {1, 1}, "closed cube surface, n x n quads per side (default 2); m unused", make_box},
+        {"torus", {24, 8}, {7, 3}, "hollow torus surface, n quads around the axis x m around the tube "
+                                   "(default 24 x 8, n >= m + 4)", make_torus},
+        {"tfan", {2, 2}, {1, 1}, "T: three strips of m quads on one fan edge of n edges (default n 2, m 2)",
+         [](const Params& p) { return make_fan(p, {0.0, 0.5 * kPi, kPi}); }},
+        {"xfan", {2, 2}, {1, 1}, "X: four strips of m quads on one fan edge of n edges (default n 2, m 2)",
+         [](const Params& p) { return make_fan(p, {0.0, 0.5 * kPi, kPi, 1.5 * kPi}); }},
+        {"hand", {3, 4}, {1, 2}, "palm leaflet (8 x m quads, default m 4) with four fingers and a thumb of n edges "
+                                 "(default 3) at convex 90-degree border vertices (BL-joints)", make_hand},
+        {"chair", {4, 4}, {2, 1}, "seat (n x n quads, default 4) and back meeting at a degree-3 fan edge, four legs "
+                                  "of m edges (default 4) from the seat corners", make_chair},
+        {"bird", {4, 2}, {1, 1}, "two wings (n span x m chord quads, default 4 x 2) touching the body's branching "
+                                 "point by a corner, neck and body branches, a 2 x 2 tail leaflet (BL-joint)",
+         make_bird},
+        {"twist", {12, 2}, {1, 1}, "open strip of n x m quads (default 12 x 2) whose section turns by "
+                                   "quarter-turns x 90 degrees (default 2 = 180)", make_twist},
+        {"torustwist", {24, 1}, {4, 1}, "ring of n segments with an X section (arms of m quads, default 24 x 1) "
+                                        "turning by quarter-turns x 90 degrees (default 2: two intersecting "
+                                        "Moebius strips); the core is a closed degree-4 fan edge, so every leaflet "
+                                        "is an orientable annulus", make_torustwist},
+        {"dualocta", {2, 1}, {1, 1}, "curve frame: octahedron + dual cube edges crossing at their midpoints, n "
+                                     "edges per half-edge (default 2); m unused", make_dualocta},
+        {"turbine", {8, 2}, {2, 2}, "Darrieus turbine: shaft branch, m blades (2 or 3, default 2) of n quads "
+                                    "(default 8) touching the shaft at two branching points by their corners",
+         make_turbine},
+    };
+    return table;
+}
+
+const Shape& find_shape(const std::string& name) {
+    for (const Shape& shape : shapes())
+        if (name == shape.name) return shape;
+    std::string valid;
+    for (const Shape& shape : shapes()) valid += (valid.empty() ? "" : ", ") + std::string(shape.name);
+    throw Error(ErrorCode::InvalidInput, "unknown skeleton generator '" + name + "' (valid names: " + valid + ")");
+}
+
+}  // namespace
+
+std::vector<std::string> generator_names() {
+    std::vector<std::string> names;
+    for (const Shape& shape : shapes()) names.emplace_back(shape.name);
+    return names;
+}
+
+std::string generator_help(const std::string& name) { return find_shape(name).help; }
+
+Skeleton generate_skeleton(const std::string& name, const GeneratorOptions& options) {
+    const Shape& shape = find_shape(name);
+    Skeleton s = shape.make(make_params(name, options, shape.default_nm, shape.min_nm));
+    add_face_edges(s);
+    return s;
+}
+
+}  // namespace mesohex

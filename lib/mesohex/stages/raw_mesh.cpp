@@ -1,0 +1,237 @@
+#include "mesohex/stages/raw_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "mesohex/core/error.h"
+
+namespace mesohex {
+
+namespace {
+
+bool has_surface(VertexClass c) {
+    return c == VertexClass::Extremity || c == VertexClass::Joint || c == VertexClass::BranchingPoint;
+}
+
+}  // namespace
+
+RawMeshPrediction predict_raw_mesh(const SkeletonAnalysis& an, const ConnectionSurfaces& cs) {
+    RawMeshPrediction p;
+    const int nv = static_cast<int>(an.vertex_class.size());
+    for (int v = 0; v < nv; ++v) {
+        const int np = cs.point_begin[v + 1] - cs.point_begin[v];
+        const int ned = cs.edge_begin[v + 1] - cs.edge_begin[v];
+        if (np > 0) p.vertices += 1 + np + ned;
+        if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
+        if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
+        if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
+        if (an.vertex_class[v] != VertexClass::BranchingPoint) continue;
+        for (int x = cs.point_begin[v]; x < cs.point_begin[v + 1]; ++x)
+            if (cs.point_valence[x] != 2) ++p.interior_irregular_edges[2 * cs.point_valence[x]];
+    }
+    if (an.counts.branch_edges > 0) p.boundary_irregular_edges[1] += 4 * an.counts.branch_edges;
+    // Leaflets: the edge from a leaflet vertex to its up (down) copy has one plate hex per incident face, plus the two
+    // half-chunks at a boundary vertex; each boundary edge has two outer longitudinal edges with one hex.
+    std::vector<int> faces_at(nv, 0);
+    for (const std::array<int, 4>& f : an.face_vertices)
+        for (int w : f) ++faces_at[w];
+    for (int v = 0; v < nv; ++v) {
+        const VertexClass c = an.vertex_class[v];
+        if (c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) continue;
+        const int k = faces_at[v] + (c == VertexClass::LeafletBoundary ? 2 : 0);
+        if (k != 4) p.interior_irregular_edges[k] += 2;
+    }
+    if (an.counts.boundary_edges > 0) p.boundary_irregular_edges[1] += 2 * an.counts.boundary_edges;
+    p.hexes = an.predicted_hexes;
+    return p;
+}
+
+RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                       const BranchFrames& frames, const RawMeshOptions& options) {
+    const int nv = static_cast<int>(skeleton.points.size());
+    const int ne = static_cast<int>(skeleton.edges.size());
+    if (skeleton.radii.size() != skeleton.points.size())
+        throw Error(ErrorCode::InvalidInput, "the skeleton needs one radius per vertex to build the raw mesh");
+    for (int v = 0; v < nv; ++v)
+        if (!(skeleton.radii[v] > 0) || !std::isfinite(skeleton.radii[v]))
+            throw Error(ErrorCode::InvalidInput,
+                        "skeleton vertex " + std::to_string(v) + " has radius " + std::to_string(skeleton.radii[v]) +
+                            " (must be finite and > 0)",
+                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    MESOHEX_CHECK(static_cast<int>(cs.point_begin.size()) == nv + 1, "connection surfaces do not match the skeleton");
+    MESOHEX_CHECK(frames.directions.size() == cs.directions.size(), "frames do not match the connection surfaces");
+
+    RawMesh raw;
+    // Vertex ids: prefix sum of (1 + points + edges) over the connection surfaces.
+    raw.vertex_base.assign(nv, -1);
+    int n_points = 0;
+    // Leaflet vertices: interior -> centre, up, down; regular boundary -> also out, out-up, out-down.
+    for (int v = 0; v < nv; ++v) {
+        const VertexClass c = an.vertex_class[v];
+        if (has_surface(c)) {
+            raw.vertex_base[v] = n_points;
+            n_points += 1 + (cs.point_begin[v + 1] - cs.point_begin[v]) + (cs.edge_begin[v + 1] - cs.edge_begin[v]);
+        } else if (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) {
+            raw.vertex_base[v] = n_points;
+            n_points += c == VertexClass::LeafletInterior ? 3 : 6;
+        }
+    }
+    // Hex slots: 4 per branch edge, in edge order.
+    std::vector<int> edge_slot(ne, -1);
+    int n_hex = 0;
+    for (int e = 0; e < ne; ++e)
+        if (an.edge_degree[e] == 0) {
+            edge_slot[e] = n_hex;
+            n_hex += 4;
+        }
+    const int nf = static_cast<int>(an.face_vertices.size());
+    const int face_slot0 = n_hex;  // 2 per leaflet face (plates), in face order
+    n_hex += 2 * nf;
+    // Boundary edges (degree 1): slot, and the face side that traverses them.
+    std::vector<int> boundary_slot(ne, -1);
+    std::vector<std::array<int, 2>> boundary_side(ne, {-1, -1});
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 4; ++k)
+            if (an.edge_degree[an.face_edges[f][k]] == 1) boundary_side[an.face_edges[f][k]] = {f, k};
+    for (int e = 0; e < ne; ++e)
+        if (an.edge_degree[e] == 1) {
+            boundary_slot[e] = n_hex;
+            n_hex += 2;
+        }
+    MESOHEX_CHECK(n_hex == an.predicted_hexes, "hex slots differ from the analysis prediction");
+
+    raw.mesh.points.resize(n_points);
+    raw.mesh.hexes.resize(n_hex);
+    raw.hex_edge.resize(n_hex);
+
+    // Blocks: one chunk of 4 hexes per branch edge (reference-notes §8.1, written in VTK order: the kite at the
+    // first endpoint u, counter-clockwise around the direction u -> v, is the bottom face).
+    tbb::parallel_for(tbb::blocked_range<int>(0, ne, 1024), [&](const tbb::blocked_range<int>& range) {
+        for (int e = range.begin(); e != range.end(); ++e) {
+            const int h0 = edge_slot[e];
+            if (h0 < 0) continue;
+            const int u = skeleton.edges[e][0], v = skeleton.edges[e][1];
+            const int qu = cs.edge_quad[e][0], qv = cs.edge_quad[e][1];
+            const int ru = frames.edge_rotation[e][0], rv = frames.edge_rotation[e][1];
+            const int bu = raw.vertex_base[u], bv = raw.vertex_base[v];
+            const int mu = bu + 1 + (cs.point_begin[u + 1] - cs.point_begin[u]);
+            const int mv = bv + 1 + (cs.point_begin[v + 1] - cs.point_begin[v]);
+            const std::array<int, 4>& au = cs.quads[qu];
+            const std::array<int, 4>& eu = cs.quad_edges[qu];
+            const std::array<int, 4>& av = cs.quads[qv];
+            const std::array<int, 4>& ev = cs.quad_edges[qv];
+            for (int k = 0; k < 4; ++k) {
+                // a_k = au[(ru + k) & 3]; matched far vertex a'_k = b_{(2 - k) & 3} = av[(rv + 2 - k) & 3].
+                const int a0 = au[(ru + k) & 3], a1 = au[(ru + k + 1) & 3], ea = eu[(ru + k) & 3];
+                const int b0 = av[(rv + 2 - k) & 3], b1 = av[(rv + 1 - k) & 3], eb = ev[(rv + 1 - k) & 3];
+                raw.mesh.hexes[h0 + k] = {bu, bu + 1 + a0, mu + ea, bu + 1 + a1,
+                                          bv, bv + 1 + b0, mv + eb, bv + 1 + b1};
+                raw.hex_edge[h0 + k] = e;
+            }
+        }
+    });
+
+    // Leaflet blocks (reference-notes §8.2-8.3, VTK order). Ids at a leaflet vertex: base = centre, +1 up, +2 down,
+    // +3 out, +4 out-up, +5 out-down; "up" is the side of the leaflet's oriented face normals.
+    tbb::parallel_for(tbb::blocked_range<int>(0, nf, 1024), [&](const tbb::blocked_range<int>& range) {
+        for (int f = range.begin(); f != range.end(); ++f) {
+            const std::array<int, 4>& w = an.face_vertices[f];
+            std::array<int, 4> c, up, dn;
+            for (int k = 0; k < 4; ++k) {
+                c[k] = raw.vertex_base[w[k]];
+                up[k] = c[k] + 1;
+                dn[k] = c[k] + 2;
+            }
+            const int h = face_slot0 + 2 * f;
+            raw.mesh.hexes[h] = {c[0], c[1], c[2], c[3], up[0], up[1], up[2], up[3]};
+            raw.mesh.hexes[h + 1] = {c[0], c[3], c[2], c[1], dn[0], dn[3], dn[2], dn[1]};
+            raw.hex_edge[h] = raw.hex_edge[h + 1] = -1;
+        }
+    });
+    tbb::parallel_for(tbb::blocked_range<int>(0, ne, 1024), [&](const tbb::blocked_range<int>& range) {
+        for (int e = range.begin(); e != range.end(); ++e) {
+            const int h = boundary_slot[e];
+            if (h < 0) continue;
+            const auto [f, k] = boundary_side[e];
+            const int a = raw.vertex_base[an.face_vertices[f][k]], b = raw.vertex_base[an.face_vertices[f][(k + 1) % 4]];
+            raw.mesh.hexes[h] = {a, a + 3, b + 3, b, a + 1, a + 4, b + 4, b + 1};
+            raw.mesh.hexes[h + 1] = {a, b, b + 3, a + 3, a + 2, b + 2, b + 5, a + 5};
+            raw.hex_edge[h] = raw.hex_edge[h + 1] = e;
+        }
+    });
+
+    // Leaflet vertex normals (sum of incident face normals) and, at boundary vertices, the inward direction (sum of
+    // unit vectors to all leaflet neighbours). Serial accumulation in face / edge order: deterministic.
+    std::vector<Vec3> leaf_normal(nf > 0 ? nv : 0), leaf_inward(nf > 0 ? nv : 0);
+    for (int f = 0; f < nf; ++f)
+        for (int w : an.face_vertices[f]) leaf_normal[w] += an.face_normal[f];
+    if (nf > 0)
+        for (int e = 0; e < ne; ++e) {
+            if (an.edge_degree[e] == 0) continue;
+            const int a = skeleton.edges[e][0], b = skeleton.edges[e][1];
+            const Vec3 d = normalized(skeleton.points[b] - skeleton.points[a]);
+            leaf_inward[a] += d;
+            leaf_inward[b] -= d;
+        }
+
+    // Effective radius: a vertex next to a branching point u (edge length L, direction d from u) gets at most
+    // L sin(kappa m), m = margin of d inside u's quad, so that its cross-section seen from u fits inside that quad:
+    // then every hex corner on u's sphere is positive (see relax_partition in connection_surfaces.cpp).
+    std::vector<double> radius(skeleton.radii);
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 512), [&](const tbb::blocked_range<int>& range) {
+        for (int v = range.begin(); v != range.end(); ++v) {
+            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+                const int e = an.vertex_edges[i];
+                if (an.edge_degree[e] != 0) continue;
+                const int side_u = skeleton.edges[e][0] == v ? 1 : 0;
+                const int u = skeleton.edges[e][side_u];
+                if (an.vertex_class[u] != VertexClass::BranchingPoint) continue;
+                const Vec3 d = skeleton.points[v] - skeleton.points[u];
+                const double L = norm(d);
+                const int gq = cs.edge_quad[e][side_u];
+                std::array<Vec3, 4> q;
+                for (int k = 0; k < 4; ++k) q[k] = frames.directions[cs.point_begin[u] + cs.quads[gq][k]];
+                const double m = spherical_quad_margin(q, d / L);
+                if (m > 0) radius[v] = std::min(radius[v], L * std::sin(options.margin_fraction * m));
+            }
+        }
+    });
+
+    // Geometry transfer: centre, surface points and surface-edge midpoints on the sphere of local radius.
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 512), [&](const tbb::blocked_range<int>& range) {
+        for (int v = range.begin(); v != range.end(); ++v) {
+            const int base = raw.vertex_base[v];
+            if (base < 0) continue;
+            const Vec3& c = skeleton.points[v];
+            const double r = radius[v];
+            const VertexClass vc = an.vertex_class[v];
+            if (vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary) {
+                const Vec3 n = r * normalized(leaf_normal[v]);
+                raw.mesh.points[base] = c;
+                raw.mesh.points[base + 1] = c + n;
+                raw.mesh.points[base + 2] = c - n;
+                if (vc == VertexClass::LeafletBoundary) {
+                    const Vec3 out = c - r * normalized(leaf_inward[v]);
+                    raw.mesh.points[base + 3] = out;
+                    raw.mesh.points[base + 4] = out + n;
+                    raw.mesh.points[base + 5] = out - n;
+                }
+                continue;
+            }
+            const int p0 = cs.point_begin[v], np = cs.point_begin[v + 1] - p0;
+            raw.mesh.points[base] = c;
+            for (int x = 0; x < np; ++x) raw.mesh.points[base + 1 + x] = c + r * frames.directions[p0 + x];
+            for (int j = cs.edge_begin[v]; j < cs.edge_begin[v + 1]; ++j) {
+                const std::array<int, 2>& ed = cs.edges[j];
+                const Vec3 mid = normalized(frames.directions[p0 + ed[0]] + frames.directions[p0 + ed[1]]);
+                raw.mesh.points[base + 1 + np + (j - cs.edge_begin[v])] = c + r * mid;
+            }
+        }
+    });
+    return raw;
+}
+
+}  // namespace mesohex

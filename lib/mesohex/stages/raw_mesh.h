@@ -1,0 +1,69 @@
+#pragma once
+// Paper steps 5-7: block insertion, sewing and geometry transfer, as one indexed construction.
+//
+// Sewing is implicit (design choice 1, STYLE rule 7, second option): every raw-mesh vertex gets its id up front from
+// the skeleton element it stems from, by a prefix sum over the connection surfaces:
+//   surface of skeleton vertex v (ids from vertex_base[v]):  C_v = base,  Q_v(x) = base + 1 + x (x local surface
+//   point),  M_v(j) = base + 1 + (#points of v) + j (j local surface edge).
+// Each hex is then written directly as 8 ids (reference-notes §8.1) into a slot reserved for its block (4 per branch
+// edge, in branch-edge order), so blocks that share a connection-surface vertex or edge share the id: that is the
+// sewing. Both the hex loop and the geometry loop are oneTBB parallel loops over preallocated slots: the output is
+// bit-identical for any thread count.
+// Leaflets (first part of issue 4): a leaflet interior vertex owns 3 ids (centre, up, down), a regular leaflet
+// boundary vertex 6 (centre, up, down, out, out-up, out-down); a plate of 2 hexes per leaflet face and a half-chunk of
+// 2 hexes per boundary edge (reference-notes §8.2-8.3) take the hex slots after the chunks. Junctions with leaflets
+// (BL/LL-joints, branching points with leaflets, fan edges) are rejected by build_connection_surfaces for now; they
+// will name their up/down/out vertices from their connection quads (§8.5) with the same scheme.
+#include <map>
+#include <vector>
+
+#include "mesohex/core/hex_mesh.h"
+#include "mesohex/core/skeleton.h"
+#include "mesohex/stages/connection_surfaces.h"
+#include "mesohex/stages/frame_propagation.h"
+#include "mesohex/stages/skeleton_analysis.h"
+
+namespace mesohex {
+
+// What the raw mesh will be, known before any hex is built (analysis + connection-surface valences).
+struct RawMeshPrediction {
+    long vertices = 0;
+    long hexes = 0;
+    // Interior edges of valence != 4, by valence: the ray from a branching-point centre to a connection-surface
+    // point of valence k has 2k hexes.
+    std::map<int, long> interior_irregular_edges;
+    // Boundary edges of valence != 2, by valence (the definition of post/quality.h): every branch edge has 4
+    // longitudinal edges through the surface-edge midpoints with 1 hex; every extremity cap has 8 rim edges with 1 hex;
+    // every leaflet boundary edge has 2 (out-up and out-down) with 1 hex. Leaflet vertices add 2 interior edges
+    // (to up and down) of valence (faces around it) + 2 at a boundary vertex, when that is not 4.
+    std::map<int, long> boundary_irregular_edges;
+    friend bool operator==(const RawMeshPrediction&, const RawMeshPrediction&) = default;
+};
+
+RawMeshPrediction predict_raw_mesh(const SkeletonAnalysis& analysis, const ConnectionSurfaces& surfaces);
+
+struct RawMesh {
+    HexMesh mesh;
+    std::vector<int> hex_edge;     // per hex: the skeleton edge of its chunk or half-chunk; -1 for a plate hex
+    std::vector<int> vertex_base;  // per skeleton vertex: id of its centre (first of its ids), or -1
+};
+
+struct RawMeshOptions {
+    // A vertex adjacent to a branching point u by an edge of length L gets the radius min(r, L sin(margin_fraction *
+    // m)), m = angular margin of the edge direction inside u's connection quad: its cross-section, seen from u, then
+    // lies inside that quad and every raw hex corner on u's sphere is positive. 1 would allow flat corners.
+    double margin_fraction = 0.75;
+};
+
+// Preconditions: skeleton.radii has one finite radius > 0 per vertex (Error(InvalidInput) naming the vertex
+// otherwise); analysis, surfaces and frames computed from this skeleton.
+// Postconditions: mesh.hexes.size() == analysis.predicted_hexes, mesh.points.size() == predict_raw_mesh().vertices;
+// every hex in VTK order; positions: C_v at the skeleton vertex, Q_v(x) = c + r_v * d_x, M_v(x, y) =
+// c + r_v * unit(d_x + d_y) (on the sphere of local radius r_v, reduced next to branching points, see
+// RawMeshOptions::margin_fraction); leaflet vertex w: up/down = w +- r n (n = unit sum of incident face normals),
+// out = w - r d (d = unit sum of unit vectors to its leaflet neighbours), out-up/out-down = out +- r n.
+// Complexity: O(hexes + surface points), parallel.
+RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& analysis, const ConnectionSurfaces& surfaces,
+                       const BranchFrames& frames, const RawMeshOptions& options = {});
+
+}  // namespace mesohex

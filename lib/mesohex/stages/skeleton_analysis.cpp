@@ -1,0 +1,363 @@
+#include "mesohex/stages/skeleton_analysis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "mesohex/core/error.h"
+
+namespace mesohex {
+
+const char* to_string(VertexClass c) {
+    switch (c) {
+        case VertexClass::Isolated: return "isolated";
+        case VertexClass::Extremity: return "extremity";
+        case VertexClass::Joint: return "joint";
+        case VertexClass::BranchingPoint: return "branching_point";
+        case VertexClass::LeafletInterior: return "leaflet_interior";
+        case VertexClass::LeafletBoundary: return "leaflet_boundary";
+        case VertexClass::BLJoint: return "bl_joint";
+        case VertexClass::LLJoint: return "ll_joint";
+        case VertexClass::FanEdgeVertex: return "fan_edge_vertex";
+        case VertexClass::FanEdgeEnd: return "fan_edge_end";
+    }
+    return "?";
+}
+
+namespace {
+
+[[noreturn]] void fail(ErrorCode code, const std::string& msg, ElementRef::Kind kind, int index) {
+    throw Error(code, msg, ElementRef{kind, index});
+}
+
+int find_root(std::vector<int>& parent, int v) {
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+// Edge between a and b among a's incident edges (smallest id), or -1.
+int edge_between(const SkeletonAnalysis& an, const Skeleton& s, int a, int b) {
+    for (int i = an.vertex_edge_begin[a]; i < an.vertex_edge_begin[a + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        const std::array<int, 2>& ed = s.edges[e];
+        if ((ed[0] == a && ed[1] == b) || (ed[0] == b && ed[1] == a)) return e;
+    }
+    return -1;
+}
+
+void validate_input(const Skeleton& s, const AnalysisOptions& opt) {
+    const int nv = static_cast<int>(s.points.size());
+    for (int v = 0; v < nv; ++v)
+        if (!is_finite(s.points[v]))
+            fail(ErrorCode::InvalidInput, "skeleton vertex " + std::to_string(v) + " has a non-finite position",
+                 ElementRef::Kind::SkeletonVertex, v);
+    if (!s.radii.empty() && s.radii.size() != s.points.size())
+        fail(ErrorCode::InvalidInput,
+             "skeleton has " + std::to_string(s.radii.size()) + " radii for " + std::to_string(nv) + " vertices",
+             ElementRef::Kind::None, -1);
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e) {
+        const std::array<int, 2>& ed = s.edges[e];
+        if (ed[0] < 0 || ed[0] >= nv || ed[1] < 0 || ed[1] >= nv)
+            fail(ErrorCode::InvalidInput, "skeleton edge " + std::to_string(e) + " names a vertex out of range",
+                 ElementRef::Kind::SkeletonEdge, e);
+        if (ed[0] == ed[1])
+            fail(ErrorCode::InvalidInput,
+                 "skeleton edge " + std::to_string(e) + " is a self-loop on vertex " + std::to_string(ed[0]),
+                 ElementRef::Kind::SkeletonEdge, e);
+        if (!(distance(s.points[ed[0]], s.points[ed[1]]) > opt.min_edge_length))
+            fail(ErrorCode::InvalidInput,
+                 "skeleton edge " + std::to_string(e) + " (" + std::to_string(ed[0]) + ", " + std::to_string(ed[1]) +
+                     ") has zero length",
+                 ElementRef::Kind::SkeletonEdge, e);
+    }
+    for (int f = 0; f < static_cast<int>(s.faces.size()); ++f) {
+        const std::vector<int>& face = s.faces[f];
+        if (face.size() != 4)
+            fail(ErrorCode::InvalidInput,
+                 "skeleton face " + std::to_string(f) + " has " + std::to_string(face.size()) +
+                     " vertices; leaflets must be made of quads",
+                 ElementRef::Kind::SkeletonFace, f);
+        for (int k = 0; k < 4; ++k) {
+            if (face[k] < 0 || face[k] >= nv)
+                fail(ErrorCode::InvalidInput, "skeleton face " + std::to_string(f) + " names a vertex out of range",
+                     ElementRef::Kind::SkeletonFace, f);
+            for (int j = 0; j < k; ++j)
+                if (face[j] == face[k])
+                    fail(ErrorCode::InvalidInput,
+                         "skeleton face " + std::to_string(f) + " repeats vertex " + std::to_string(face[k]),
+                         ElementRef::Kind::SkeletonFace, f);
+        }
+    }
+}
+
+}  // namespace
+
+SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& options) {
+    validate_input(s, options);
+    const int nv = static_cast<int>(s.points.size());
+    const int ne = static_cast<int>(s.edges.size());
+    const int nf = static_cast<int>(s.faces.size());
+    SkeletonAnalysis an;
+
+    // Incidence (CSR, edges in increasing id per vertex).
+    an.vertex_edge_begin.assign(nv + 1, 0);
+    for (const std::array<int, 2>& ed : s.edges) {
+        ++an.vertex_edge_begin[ed[0] + 1];
+        ++an.vertex_edge_begin[ed[1] + 1];
+    }
+    std::partial_sum(an.vertex_edge_begin.begin(), an.vertex_edge_begin.end(), an.vertex_edge_begin.begin());
+    an.vertex_edges.resize(an.vertex_edge_begin[nv]);
+    {
+        std::vector<int> fill(an.vertex_edge_begin.begin(), an.vertex_edge_begin.end() - 1);
+        for (int e = 0; e < ne; ++e) {
+            an.vertex_edges[fill[s.edges[e][0]]++] = e;
+            an.vertex_edges[fill[s.edges[e][1]]++] = e;
+        }
+    }
+
+    // Faces: sides -> edges, edge degrees.
+    an.edge_degree.assign(ne, 0);
+    an.face_vertices.resize(nf);
+    an.face_edges.resize(nf);
+    for (int f = 0; f < nf; ++f) {
+        for (int k = 0; k < 4; ++k) an.face_vertices[f][k] = s.faces[f][k];
+        for (int k = 0; k < 4; ++k) {
+            const int a = s.faces[f][k], b = s.faces[f][(k + 1) % 4];
+            const int e = edge_between(an, s, a, b);
+            if (e < 0)
+                fail(ErrorCode::InvalidInput,
+                     "side (" + std::to_string(a) + ", " + std::to_string(b) + ") of skeleton face " +
+                         std::to_string(f) + " is not in the edge list",
+                     ElementRef::Kind::SkeletonFace, f);
+            an.face_edges[f][k] = e;
+            ++an.edge_degree[e];
+        }
+    }
+    // Edge -> faces (CSR).
+    std::vector<int> edge_face_begin(ne + 1, 0), edge_faces;
+    for (int e = 0; e < ne; ++e) edge_face_begin[e + 1] = edge_face_begin[e] + an.edge_degree[e];
+    edge_faces.resize(edge_face_begin[ne]);
+    {
+        std::vector<int> fill(edge_face_begin.begin(), edge_face_begin.end() - 1);
+        for (int f = 0; f < nf; ++f)
+            for (int k = 0; k < 4; ++k) edge_faces[fill[an.face_edges[f][k]]++] = f;
+    }
+
+    // Leaflets: flood across degree-2 edges, orienting each new face against its neighbour.
+    an.face_leaflet.assign(nf, -1);
+    std::vector<int> queue;
+    for (int f0 = 0; f0 < nf; ++f0) {
+        if (an.face_leaflet[f0] >= 0) continue;
+        const int leaf = static_cast<int>(an.leaflets.size());
+        an.leaflets.push_back({});
+        Leaflet& L = an.leaflets.back();
+        queue.assign(1, f0);
+        an.face_leaflet[f0] = leaf;
+        for (std::size_t qi = 0; qi < queue.size(); ++qi) {
+            const int f = queue[qi];
+            L.faces.push_back(f);
+            for (int k = 0; k < 4; ++k) {
+                const int e = an.face_edges[f][k];
+                if (an.edge_degree[e] != 2) continue;
+                const int a = an.face_vertices[f][k], b = an.face_vertices[f][(k + 1) % 4];
+                const int g = edge_faces[edge_face_begin[e]] == f ? edge_faces[edge_face_begin[e] + 1]
+                                                                   : edge_faces[edge_face_begin[e]];
+                if (g == f) continue;  // a face glued to itself: cannot happen with 4 distinct vertices
+                std::array<int, 4>& gv = an.face_vertices[g];
+                int ia = 0;
+                while (gv[ia] != a) ++ia;
+                const bool same_direction = gv[(ia + 1) % 4] == b;  // g also traverses a -> b
+                if (an.face_leaflet[g] < 0) {
+                    if (same_direction) {
+                        std::swap(gv[1], gv[3]);
+                        std::array<int, 4>& ge = an.face_edges[g];
+                        // sides of (w0,w3,w2,w1): (w0,w3)=old side 3, (w3,w2)=old 2, (w2,w1)=old 1, (w1,w0)=old 0
+                        ge = {ge[3], ge[2], ge[1], ge[0]};
+                    }
+                    an.face_leaflet[g] = leaf;
+                    queue.push_back(g);
+                } else if (same_direction) {
+                    L.orientable = false;
+                }
+            }
+        }
+        std::sort(L.faces.begin(), L.faces.end());
+    }
+    an.face_normal.resize(nf);
+    for (int f = 0; f < nf; ++f) {
+        Vec3 n{};
+        for (int k = 0; k < 4; ++k)
+            n += cross(s.points[an.face_vertices[f][k]], s.points[an.face_vertices[f][(k + 1) % 4]]);
+        if (!(norm(n) > 0))
+            fail(ErrorCode::InvalidInput, "skeleton face " + std::to_string(f) + " has zero area",
+                 ElementRef::Kind::SkeletonFace, f);
+        an.face_normal[f] = normalized(n);
+    }
+
+    // Vertex classification (pseudo-degree, reference-notes §4.1-4.2, plus explicit rejection of the unsupported).
+    an.vertex_class.assign(nv, VertexClass::Isolated);
+    an.vertex_branch_edges.assign(nv, 0);
+    an.vertex_boundary_edges.assign(nv, 0);
+    for (int v = 0; v < nv; ++v) {
+        int nb = 0, nbnd = 0, ninner = 0, nfan = 0;
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+            const int d = an.edge_degree[an.vertex_edges[i]];
+            if (d == 0) ++nb;
+            else if (d == 1) ++nbnd;
+            else if (d == 2) ++ninner;
+            else ++nfan;
+        }
+        an.vertex_branch_edges[v] = nb;
+        an.vertex_boundary_edges[v] = nbnd;
+        const std::string vname = "skeleton vertex " + std::to_string(v);
+        VertexClass c = VertexClass::Isolated;
+        if (nfan > 0) {
+            if (nb > 0)
+                fail(ErrorCode::UnsupportedConfiguration,
+                     vname + ": a branch edge on a fan-edge vertex is not supported (paper limitation 3)",
+                     ElementRef::Kind::SkeletonVertex, v);
+            c = nfan == 1 ? VertexClass::FanEdgeEnd : VertexClass::FanEdgeVertex;
+        } else {
+            if (nbnd % 2 != 0)
+                fail(ErrorCode::UnsupportedConfiguration,
+                     vname + " has an odd number (" + std::to_string(nbnd) + ") of leaflet boundary edges",
+                     ElementRef::Kind::SkeletonVertex, v);
+            const int nl = nbnd / 2;
+            if (nl == 0 && ninner > 0) {
+                if (nb > 0)
+                    fail(ErrorCode::UnsupportedConfiguration,
+                         vname + ": a branch edge on a leaflet interior vertex is not supported (paper limitation 1)",
+                         ElementRef::Kind::SkeletonVertex, v);
+                c = VertexClass::LeafletInterior;
+            } else if (nl + nb > 2) {
+                c = VertexClass::BranchingPoint;
+            } else if (nl == 0 && nb == 1) {
+                c = VertexClass::Extremity;
+            } else if (nl == 0 && nb == 2) {
+                c = VertexClass::Joint;
+            } else if (nl == 1 && nb == 0) {
+                c = VertexClass::LeafletBoundary;
+            } else if (nl == 1 && nb == 1) {
+                c = VertexClass::BLJoint;
+            } else if (nl == 2 && nb == 0) {
+                c = VertexClass::LLJoint;
+            }
+        }
+        an.vertex_class[v] = c;
+    }
+
+    // Branches: walk from every non-joint vertex along each unvisited branch edge; what is left are closed rings.
+    an.edge_branch.assign(ne, -1);
+    auto other_end = [&](int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; };
+    auto next_joint_edge = [&](int v, int e_in) {
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+            const int e = an.vertex_edges[i];
+            if (e != e_in && an.edge_degree[e] == 0) return e;
+        }
+        return -1;
+    };
+    auto walk = [&](int start, int e0, bool ring) {
+        const int b = static_cast<int>(an.branches.size());
+        an.branches.push_back({});
+        Branch& br = an.branches.back();
+        br.ring = ring;
+        br.vertices.push_back(start);
+        int cur = start, e = e0;
+        while (true) {
+            an.edge_branch[e] = b;
+            br.edges.push_back(e);
+            cur = other_end(e, cur);
+            br.vertices.push_back(cur);
+            if (cur == start || an.vertex_class[cur] != VertexClass::Joint) break;
+            e = next_joint_edge(cur, e);
+            if (e < 0 || an.edge_branch[e] >= 0) break;  // cannot happen for a joint; defensive against a hang
+        }
+    };
+    for (int v = 0; v < nv; ++v) {
+        if (an.vertex_class[v] == VertexClass::Joint) continue;
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+            const int e = an.vertex_edges[i];
+            if (an.edge_degree[e] == 0 && an.edge_branch[e] < 0) walk(v, e, false);
+        }
+    }
+    for (int v = 0; v < nv; ++v) {
+        if (an.vertex_class[v] != VertexClass::Joint) continue;
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+            const int e = an.vertex_edges[i];
+            if (an.edge_degree[e] == 0 && an.edge_branch[e] < 0) walk(v, e, true);
+        }
+    }
+
+    // Counts.
+    AnalysisCounts& c = an.counts;
+    c.vertices = nv;
+    c.edges = ne;
+    c.faces = nf;
+    for (int e = 0; e < ne; ++e) {
+        const int d = an.edge_degree[e];
+        if (d == 0) ++c.branch_edges;
+        else if (d == 1) ++c.boundary_edges;
+        else if (d >= 3) ++c.fan_edges;
+    }
+    c.branches = static_cast<long>(an.branches.size());
+    c.leaflets = static_cast<long>(an.leaflets.size());
+    for (const Branch& b : an.branches) c.rings += b.ring ? 1 : 0;
+    for (VertexClass vc : an.vertex_class) {
+        switch (vc) {
+            case VertexClass::Isolated: ++c.isolated; break;
+            case VertexClass::Extremity: ++c.extremities; break;
+            case VertexClass::Joint: ++c.joints; break;
+            case VertexClass::BranchingPoint: ++c.branching_points; break;
+            case VertexClass::LeafletInterior: ++c.leaflet_interior; break;
+            case VertexClass::LeafletBoundary: ++c.leaflet_boundary; break;
+            case VertexClass::BLJoint: ++c.bl_joints; break;
+            case VertexClass::LLJoint: ++c.ll_joints; break;
+            case VertexClass::FanEdgeVertex: ++c.fan_edge_vertices; break;
+            case VertexClass::FanEdgeEnd: ++c.fan_edge_ends; break;
+        }
+    }
+    std::vector<int> parent(nv);
+    std::iota(parent.begin(), parent.end(), 0);
+    for (const std::array<int, 2>& ed : s.edges) {
+        const int a = find_root(parent, ed[0]), b = find_root(parent, ed[1]);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+    for (int v = 0; v < nv; ++v)
+        if (an.vertex_class[v] != VertexClass::Isolated && find_root(parent, v) == v) ++c.components;
+    c.cycles = c.components - ((c.vertices - c.isolated) - c.edges + c.faces);
+    an.predicted_hexes = 4 * c.branch_edges + 2 * c.faces + 2 * c.boundary_edges;
+    return an;
+}
+
+std::string analysis_to_text(const SkeletonAnalysis& an) {
+    const AnalysisCounts& c = an.counts;
+    std::ostringstream os;
+    os << "vertices " << c.vertices << ", edges " << c.edges << ", faces " << c.faces << "\n";
+    os << "branches " << c.branches << " (rings " << c.rings << "), leaflets " << c.leaflets << ", components "
+       << c.components << ", independent cycles " << c.cycles << "\n";
+    os << "branch edges " << c.branch_edges << ", leaflet boundary edges " << c.boundary_edges << ", fan edges "
+       << c.fan_edges << "\n";
+    os << "extremities " << c.extremities << ", joints " << c.joints << ", branching points " << c.branching_points
+       << ", BL-joints " << c.bl_joints << ", LL-joints " << c.ll_joints << "\n";
+    os << "leaflet interior " << c.leaflet_interior << ", leaflet boundary " << c.leaflet_boundary
+       << ", fan-edge vertices " << c.fan_edge_vertices << ", fan-edge ends " << c.fan_edge_ends << ", isolated "
+       << c.isolated << "\n";
+    os << "predicted hexes " << an.predicted_hexes << "\n";
+    const int nv = static_cast<int>(an.vertex_class.size());
+    for (int v = 0; v < nv; ++v) {
+        const VertexClass vc = an.vertex_class[v];
+        if (vc == VertexClass::Joint || vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary)
+            continue;
+        os << "vertex " << v << ": " << to_string(vc) << " (degree "
+           << an.vertex_edge_begin[v + 1] - an.vertex_edge_begin[v] << ")\n";
+    }
+    for (std::size_t l = 0; l < an.leaflets.size(); ++l)
+        if (!an.leaflets[l].orientable) os << "leaflet " << l << ": not orientable\n";
+    return os.str();
+}
+
+}  // namespace mesohex

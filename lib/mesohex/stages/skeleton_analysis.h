@@ -1,0 +1,101 @@
+#pragma once
+// Paper step 2: skeleton analysis. Classifies every vertex, extracts branches (ordered vertex chains) and leaflets
+// (consistently oriented face sets), and counts everything the raw mesh needs, so that every raw-mesh vertex and hex
+// can be given its id up front (design choice 1).
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mesohex/core/skeleton.h"
+#include "mesohex/core/vec.h"
+
+namespace mesohex {
+
+// Vertex classes of the paper (figure 4) from the pseudo-degree (nl leaflets through the boundary, nb branch edges)
+// of reference-notes §4.1-4.2. Fan-edge vertices are vertices on an edge with >= 3 faces.
+enum class VertexClass : std::uint8_t {
+    Isolated,         // no edge, no face: produces nothing
+    Extremity,        // (0,1): one branch edge
+    Joint,            // (0,2): two branch edges
+    BranchingPoint,   // nl + nb > 2
+    LeafletInterior,  // (0,0) with faces: only interior leaflet edges
+    LeafletBoundary,  // (1,0): two leaflet boundary edges, no branch
+    BLJoint,          // (1,1): one leaflet (through its boundary) and one branch edge
+    LLJoint,          // (2,0): two leaflets through their boundaries
+    FanEdgeVertex,    // on two or more fan edges (inside a fan-edge chain)
+    FanEdgeEnd,       // on exactly one fan edge
+};
+const char* to_string(VertexClass c);
+
+// A branch: the ordered chain vertices[0], edges[0], vertices[1], ..., edges[m-1], vertices[m] (m >= 1) through
+// Joint vertices only. vertices.front() == vertices.back() for a loop at a branching point and for a closed ring.
+struct Branch {
+    std::vector<int> vertices;
+    std::vector<int> edges;
+    bool ring = false;  // closed ring without any non-joint vertex: vertices[0] is an artificial start (free frame)
+    friend bool operator==(const Branch&, const Branch&) = default;
+};
+
+// A leaflet: faces connected through edges with exactly two incident faces, oriented consistently.
+struct Leaflet {
+    std::vector<int> faces;
+    bool orientable = true;  // false: a Möbius-like leaflet (some interior edge is traversed twice the same way)
+    friend bool operator==(const Leaflet&, const Leaflet&) = default;
+};
+
+struct AnalysisCounts {
+    long vertices = 0, edges = 0, faces = 0;
+    long branch_edges = 0;     // edges of degree 0
+    long boundary_edges = 0;   // leaflet edges of degree 1
+    long fan_edges = 0;        // degree >= 3
+    long branches = 0, leaflets = 0;
+    long extremities = 0, joints = 0, branching_points = 0, bl_joints = 0, ll_joints = 0;
+    long leaflet_interior = 0, leaflet_boundary = 0, fan_edge_vertices = 0, fan_edge_ends = 0, isolated = 0;
+    long rings = 0;       // branches that are closed rings without a branching point
+    // components - (V - E + F), isolated vertices excluded: the number of independent cycles (first Betti number)
+    // for curve skeletons and leaflets without closed surfaces.
+    long cycles = 0;
+    long components = 0;  // connected components (isolated vertices excluded)
+    friend bool operator==(const AnalysisCounts&, const AnalysisCounts&) = default;
+};
+
+struct SkeletonAnalysis {
+    // Vertex -> incident edges, CSR, each list in increasing edge id: vertex_edges[vertex_edge_begin[v] ...].
+    std::vector<int> vertex_edge_begin;  // size V + 1
+    std::vector<int> vertex_edges;
+    std::vector<VertexClass> vertex_class;   // per vertex
+    std::vector<int> vertex_branch_edges;    // per vertex: number of incident branch (degree-0) edges
+    std::vector<int> vertex_boundary_edges;  // per vertex: number of incident degree-1 edges
+    std::vector<int> edge_degree;            // per edge: number of incident faces (0 = branch edge)
+    std::vector<int> edge_branch;            // per edge: its branch, or -1
+    std::vector<Branch> branches;
+    // Leaflets. face_vertices is the face re-oriented consistently within its leaflet (the first face of each leaflet,
+    // in face-id order, keeps the input orientation). face_normal: Newell normal of the oriented face, unit length.
+    std::vector<Leaflet> leaflets;
+    std::vector<int> face_leaflet;
+    std::vector<std::array<int, 4>> face_vertices;
+    std::vector<std::array<int, 4>> face_edges;  // edge of side (face_vertices[k], face_vertices[k+1])
+    std::vector<Vec3> face_normal;
+    AnalysisCounts counts;
+    // Raw-mesh hex count known from the analysis alone: 4 per branch edge + 2 per leaflet face + 2 per boundary edge.
+    long predicted_hexes = 0;
+};
+
+struct AnalysisOptions {
+    // Edges shorter than this (absolute) are rejected as degenerate.
+    double min_edge_length = 1e-12;
+};
+
+// Preconditions (checked, Error(InvalidInput) naming the element otherwise): indices in range, no self-loop edge,
+// no zero-length edge, finite positions, every face a quad whose sides are all listed in skeleton.edges.
+// Rejected with Error(UnsupportedConfiguration) naming the vertex: a branch edge on a leaflet interior vertex or on a
+// fan-edge vertex, a vertex with an odd number of leaflet boundary edges.
+// Postconditions: every branch edge is in exactly one branch; every face in exactly one leaflet.
+// Complexity: O(V + E log E + F).
+SkeletonAnalysis analyze_skeleton(const Skeleton& skeleton, const AnalysisOptions& options = {});
+
+// Human-readable classification (one line of counts, then one line per non-trivial class), for `mesohex analyze`.
+std::string analysis_to_text(const SkeletonAnalysis& analysis);
+
+}  // namespace mesohex

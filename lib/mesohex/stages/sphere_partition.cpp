@@ -1,0 +1,1159 @@
+// Quad partition of the unit sphere, one quad per direction (paper step 3 at a branching point).
+//
+// Candidates, each checked by verify_sphere_partition; the one with the best quality_score is returned:
+//   1. planar directions (within options.planarity_tolerance of a great circle) and n = 2: the "orange" around the
+//      best-fit plane normal (lunes between two poles; equator vertices on the bisectors of consecutive directions),
+//      returned at once unless its lunes are slivers (a tight cluster is "planar" too);
+//   2. the VKB21 construction made robust: convex hull of the directions as a polygon map (coplanar corners give one
+//      polygon; a hull that does not contain the centre gets one "complement" face), a bounded branch-and-bound
+//      choosing edge removals / doublings (digons) / diagonals so that every direction has degree 4, the dual
+//      (a face of the 4-regular map = a partition vertex at its vector-area direction, i.e. the Voronoi vertex for a
+//      hull triangle), then a relaxation of the partition vertices maximising a smooth minimum of the quality
+//      measures without ever leaving the valid set;
+//   3. oranges around the best axes of a fixed candidate set (grid, pair normals, circle centres), refined by local
+//      search: valid whenever the directions have distinct azimuths about the axis, so this is the fallback.
+// Every loop is bounded (search nodes, sweeps, iterations); no randomness; no unordered containers.
+#include "mesohex/stages/sphere_partition.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mesohex/core/error.h"
+
+namespace mesohex {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMinSeparation = 1e-7;   // rad; closer directions are rejected as duplicates
+constexpr double kUnitTolerance = 1e-9;   // | |p| - 1 | allowed for partition points
+constexpr double kAngleTolerance = 1e-8;  // rad; slack on "angle <= 180°" and "angle > 0"
+constexpr double kSumTolerance = 1e-6;    // rad / sr; slack on vertex angle sums and the total area
+constexpr double kMinMargin = 1e-10;      // sin of the angular distance of a direction to its quad boundary
+constexpr double kGoodOrange = 15 * kPi / 180;  // a planar set's orange is used at once when its quality_score >= this
+
+double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
+
+// Per direction, the largest possible distance to its quad's boundary: half the angle to the nearest other direction.
+std::vector<double> margin_bounds(const std::vector<Vec3>& directions) {
+    const int n = static_cast<int>(directions.size());
+    std::vector<double> bound(n, kPi / 2);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            if (i != j) bound[i] = std::min(bound[i], 0.5 * angle_between(directions[i], directions[j]));
+    for (double& b : bound) b = std::max(b, 1e-12);
+    return bound;
+}
+
+// Larger is better; only meaningful for verified partitions. An angle's quality is its distance to 0 or 180°; a
+// margin ratio of 1 (the direction as far from its quad's edges as its nearest neighbour allows) counts as 90°.
+double quality_score(const SpherePartition& p, const std::vector<Vec3>& d) {
+    const SpherePartitionStats s = sphere_partition_stats(p, d);
+    return std::min({s.min_angle, kPi - s.max_angle, kPi / 2 * s.min_margin_ratio});
+}
+
+// Interior angle at b of a spherical polygon ... a, b, c ... listed counter-clockwise seen from outside; in [0, 2π).
+// Returns -1 when an adjacent vertex coincides with b or is antipodal to it (no tangent direction).
+double corner_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 to_prev = a - dot(a, b) * b;
+    const Vec3 to_next = c - dot(c, b) * b;
+    if (norm(to_prev) < 1e-12 || norm(to_next) < 1e-12) return -1;
+    double angle = std::atan2(dot(b, cross(to_next, to_prev)), dot(to_next, to_prev));
+    if (angle < 0) angle += 2 * kPi;
+    return angle;
+}
+
+// A unit vector orthogonal to the unit vector a (deterministic).
+Vec3 any_orthogonal(const Vec3& a) {
+    const double ax = std::abs(a.x), ay = std::abs(a.y), az = std::abs(a.z);
+    const Vec3 e = (ax <= ay && ax <= az) ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+    return normalized(cross(a, e));
+}
+
+// Eigenvector of the smallest eigenvalue of the symmetric 3x3 matrix m (cyclic Jacobi, bounded sweeps).
+Vec3 smallest_eigenvector(double m[3][3]) {
+    double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int sweep = 0; sweep < 50; ++sweep) {
+        const double off = m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2];
+        if (off < 1e-30) break;
+        for (int p = 0; p < 2; ++p) {
+            for (int q = p + 1; q < 3; ++q) {
+                if (std::abs(m[p][q]) < 1e-300) continue;
+                const double theta = (m[q][q] - m[p][p]) / (2 * m[p][q]);
+                const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1));
+                const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+                for (int k = 0; k < 3; ++k) {  // m <- m J (columns p, q)
+                    const double mkp = m[k][p], mkq = m[k][q];
+                    m[k][p] = c * mkp - s * mkq;
+                    m[k][q] = s * mkp + c * mkq;
+                }
+                for (int k = 0; k < 3; ++k) {  // m <- J^T m (rows p, q)
+                    const double mpk = m[p][k], mqk = m[q][k];
+                    m[p][k] = c * mpk - s * mqk;
+                    m[q][k] = s * mpk + c * mqk;
+                }
+                for (int k = 0; k < 3; ++k) {  // v <- v J
+                    const double vkp = v[k][p], vkq = v[k][q];
+                    v[k][p] = c * vkp - s * vkq;
+                    v[k][q] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+    int best = 0;
+    for (int k = 1; k < 3; ++k)
+        if (m[k][k] < m[best][best]) best = k;
+    return normalized(Vec3{v[0][best], v[1][best], v[2][best]});
+}
+
+// Normal of the great circle that best fits the directions (least-squares, through the centre).
+Vec3 best_fit_plane_normal(const std::vector<Vec3>& d) {
+    double m[3][3] = {};
+    for (const Vec3& p : d)
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) m[r][c] += p[r] * p[c];
+    return smallest_eigenvector(m);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Orange: lunes between the poles +axis and -axis, one per direction, split at the bisectors of consecutive azimuths.
+
+struct OrangeFrame {
+    Vec3 axis, u, w;                // right-handed: u x w = axis
+    std::vector<double> azimuth;    // per direction, in (-π, π]
+    std::vector<double> elevation;  // per direction, asin(d . axis)
+    std::vector<int> order;         // directions sorted by azimuth
+};
+
+OrangeFrame orange_frame(const std::vector<Vec3>& d, const Vec3& axis) {
+    OrangeFrame f;
+    f.axis = axis;
+    f.u = any_orthogonal(axis);
+    f.w = cross(axis, f.u);
+    const int n = static_cast<int>(d.size());
+    f.azimuth.resize(n);
+    f.elevation.resize(n);
+    for (int i = 0; i < n; ++i) {
+        f.azimuth[i] = std::atan2(dot(d[i], f.w), dot(d[i], f.u));
+        f.elevation[i] = std::asin(std::clamp(dot(d[i], axis), -1.0, 1.0));
+    }
+    f.order.resize(n);
+    std::iota(f.order.begin(), f.order.end(), 0);
+    std::sort(f.order.begin(), f.order.end(), [&](int a, int b) {
+        return f.azimuth[a] != f.azimuth[b] ? f.azimuth[a] < f.azimuth[b] : a < b;
+    });
+    return f;
+}
+
+// Gap (CCW azimuth difference) from sorted position k to k + 1, in (0, 2π]; one direction alone gets 2π.
+double orange_gap(const OrangeFrame& f, int k) {
+    const int n = static_cast<int>(f.order.size());
+    double gap = f.azimuth[f.order[(k + 1) % n]] - f.azimuth[f.order[k]];
+    if (k + 1 >= n) gap += 2 * kPi;
+    return gap;
+}
+
+// Smallest sin of the angular distance of a direction to its lune's boundary (<= 0: orange impossible on this axis).
+double orange_margin(const OrangeFrame& f) {
+    const int n = static_cast<int>(f.order.size());
+    double margin = 1;
+    for (int k = 0; k < n; ++k) {
+        const int i = f.order[k];
+        const double half_before = 0.5 * orange_gap(f, (k + n - 1) % n);
+        const double half_after = 0.5 * orange_gap(f, k);
+        const double side = std::sin(std::min({half_before, half_after, kPi / 2}));
+        margin = std::min(margin, std::cos(f.elevation[i]) * side);
+    }
+    return margin;
+}
+
+// quality_score of the orange on this frame (n >= 3), computed directly: lune angle w at both poles, margin ratio.
+double orange_quality(const OrangeFrame& f, const std::vector<double>& bound) {
+    const int n = static_cast<int>(f.order.size());
+    double quality = kPi;
+    for (int k = 0; k < n; ++k) {
+        const int i = f.order[k];
+        const double before = orange_gap(f, (k + n - 1) % n), after = orange_gap(f, k);
+        const double width = 0.5 * (before + after);
+        const double side = std::cos(f.elevation[i]) * std::sin(std::min({0.5 * before, 0.5 * after, kPi / 2}));
+        const double margin = std::asin(std::clamp(side, -1.0, 1.0));
+        quality = std::min({quality, width, kPi - width, kPi / 2 * margin / bound[i]});
+    }
+    return quality;
+}
+
+// Local search on the axis (8 tangent directions, halving steps, bounded) maximising orange_quality.
+Vec3 refine_orange_axis(const std::vector<Vec3>& d, const std::vector<double>& bound, Vec3 axis) {
+    double best = orange_quality(orange_frame(d, axis), bound);
+    double step = 0.05;
+    for (int iteration = 0; iteration < 100 && step > 1e-4; ++iteration) {
+        const Vec3 t1 = any_orthogonal(axis), t2 = cross(axis, t1);
+        Vec3 best_axis = axis;
+        for (int k = 0; k < 8; ++k) {
+            const double phi = kPi * k / 4;
+            const Vec3 trial = normalized(axis + step * (std::cos(phi) * t1 + std::sin(phi) * t2));
+            const double q = orange_quality(orange_frame(d, trial), bound);
+            if (q > best + 1e-12) {
+                best = q;
+                best_axis = trial;
+            }
+        }
+        if (best_axis == axis) step *= 0.5;
+        axis = best_axis;
+    }
+    return axis;
+}
+
+SpherePartition build_orange(const OrangeFrame& f) {
+    const int n = static_cast<int>(f.order.size());
+    SpherePartition p;
+    p.points.push_back(f.axis);   // 0: north pole
+    p.points.push_back(-f.axis);  // 1: south pole
+    for (int k = 0; k < n; ++k) {  // 2 + k: equator vertex between sorted directions k and k + 1
+        const double phi = f.azimuth[f.order[k]] + 0.5 * orange_gap(f, k);
+        p.points.push_back(normalized(std::cos(phi) * f.u + std::sin(phi) * f.w));
+    }
+    p.quads.resize(n);
+    for (int k = 0; k < n; ++k) {
+        const int east = 2 + k, west = 2 + (k + n - 1) % n;
+        p.quads[f.order[k]] = {east, 0, west, 1};  // east, north, west, south: CCW seen from outside
+    }
+    return p;
+}
+
+// Deterministic, roughly uniform axis candidates (Fibonacci points on the upper hemisphere; -axis is the same orange).
+std::vector<Vec3> candidate_axes(const std::vector<Vec3>& d) {
+    std::vector<Vec3> axes;
+    axes.push_back(best_fit_plane_normal(d));
+    const int count = 400;
+    const double golden = kPi * (3 - std::sqrt(5.0));
+    for (int k = 0; k < count; ++k) {
+        const double z = 1 - (k + 0.5) / count;
+        const double r = std::sqrt(std::max(0.0, 1 - z * z));
+        axes.push_back(Vec3{r * std::cos(golden * k), r * std::sin(golden * k), z});
+    }
+    const int n = static_cast<int>(d.size());
+    for (int i = 0; i < n && i < 40; ++i)
+        for (int j = i + 1; j < n && j < 40; ++j) {
+            const Vec3 c = cross(d[i], d[j]);
+            if (norm(c) > 1e-6) axes.push_back(normalized(c));
+            // Centres of circles through three directions (hull face normals: for a cluster, the axis through it).
+            for (int k = j + 1; k < n && k < 16; ++k) {
+                const Vec3 t = cross(d[j] - d[i], d[k] - d[i]);
+                if (norm(t) > 1e-12) axes.push_back(normalized(t));
+            }
+        }
+    Vec3 mean{};
+    for (const Vec3& v : d) mean += v;
+    if (norm(mean) > 1e-9) axes.push_back(normalized(mean));
+    return axes;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Convex hull of the directions as a polygon map on the sphere ("base map").
+//
+// Brute force over triples (O(n^4), n is a junction degree): a triple spans a hull face when no other direction is
+// more than `eps` in front of its plane; the face is every direction within `eps` of the plane, ordered around the
+// normal (directions on one plane lie on one circle, so all of them are polygon corners). Faces whose plane passes
+// behind the centre (offset < -kNearOffset: all directions lie in an open hemisphere and the centre is outside the
+// hull) do not project to the sphere one-to-one; together they stand for the empty rest of the sphere and are merged
+// into one "complement" face bounded by the spherical hull of the directions.
+
+constexpr double kNearOffset = 1e-9;
+
+struct BaseMap {
+    std::vector<std::vector<int>> faces;  // vertex cycles, counter-clockwise seen from outside
+    // Per face: >= 4 corners, so diagonals may split it. The map is only combinatorial (partition geometry comes from
+    // the face centres and the relaxation), so a diagonal of the complement face need not be a short arc.
+    std::vector<char> allow_diagonals;
+};
+
+// True if the faces (vertex cycles) form a closed, oriented 2-manifold map of the sphere on vertices 0..nv-1: every
+// directed edge once with its reverse, no repeated vertex in a face, every vertex used with one cycle of faces
+// around it, V - E + F = 2.
+bool is_sphere_map(const std::vector<std::vector<int>>& faces, int nv) {
+    std::map<std::pair<int, int>, int> directed;
+    int half_edges = 0;
+    std::vector<int> out_degree(nv, 0);
+    for (const std::vector<int>& f : faces) {
+        if (f.size() < 2) return false;
+        for (std::size_t k = 0; k < f.size(); ++k) {
+            const int a = f[k], b = f[(k + 1) % f.size()];
+            if (a == b || !directed.insert({{a, b}, 1}).second) return false;
+            ++out_degree[a];
+            ++half_edges;
+        }
+        std::vector<int> sorted = f;
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+    }
+    for (const auto& [edge, count] : directed)
+        if (!directed.count({edge.second, edge.first})) return false;
+    for (int v = 0; v < nv; ++v)
+        if (out_degree[v] == 0) return false;
+    const int ne = half_edges / 2, nf = static_cast<int>(faces.size());
+    if (nv - ne + nf != 2) return false;
+    // Vertex links are single cycles: walk succ(v->w) = v->pred_F(v) where F holds v->w.
+    std::map<std::pair<int, int>, int> pred;  // directed edge v->w -> predecessor of v in its face
+    for (const std::vector<int>& f : faces)
+        for (std::size_t k = 0; k < f.size(); ++k)
+            pred[{f[k], f[(k + 1) % f.size()]}] = f[(k + f.size() - 1) % f.size()];
+    for (int v = 0; v < nv; ++v) {
+        const auto first = directed.lower_bound({v, -1});
+        const int w0 = first->first.second;
+        int w = w0, steps = 0;
+        do {
+            w = pred.at({v, w});
+            ++steps;
+        } while (w != w0 && steps <= out_degree[v]);
+        if (steps != out_degree[v]) return false;
+    }
+    return true;
+}
+
+std::optional<BaseMap> hull_base_map(const std::vector<Vec3>& d, double eps) {
+    const int n = static_cast<int>(d.size());
+    struct Face {
+        std::vector<int> members;  // sorted
+        Vec3 normal;
+        double offset;
+    };
+    std::vector<Face> found;
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+            for (int k = j + 1; k < n; ++k) {
+                const Vec3 c = cross(d[j] - d[i], d[k] - d[i]);
+                if (norm(c) < 1e-14) continue;
+                const Vec3 nrm = normalized(c);
+                const double h = dot(nrm, d[i]);
+                bool front = false, back = false;
+                std::vector<int> members;
+                for (int m = 0; m < n; ++m) {
+                    const double s = dot(nrm, d[m]) - h;
+                    if (s > eps) front = true;
+                    else if (s < -eps) back = true;
+                    else members.push_back(m);
+                }
+                for (int side = 0; side < 2; ++side) {
+                    if (side == 0 ? front : back) continue;
+                    const Vec3 normal = side == 0 ? nrm : -nrm;
+                    bool duplicate = false;
+                    for (const Face& f : found)
+                        duplicate = duplicate || (f.members == members && dot(f.normal, normal) > 0);
+                    if (!duplicate) found.push_back({members, normal, side == 0 ? h : -h});
+                }
+            }
+    // Order each face around its normal; split into proper faces and near faces (centre behind the plane).
+    std::vector<std::vector<int>> proper, near;
+    std::vector<char> proper_diag;
+    for (const Face& f : found) {
+        Vec3 centroid{};
+        for (int m : f.members) centroid += d[m];
+        centroid /= static_cast<double>(f.members.size());
+        const Vec3 u = any_orthogonal(f.normal), w = cross(f.normal, u);
+        std::vector<std::pair<double, int>> by_angle;
+        for (int m : f.members) by_angle.push_back({std::atan2(dot(d[m] - centroid, w), dot(d[m] - centroid, u)), m});
+        std::sort(by_angle.begin(), by_angle.end());
+        std::vector<int> cycle;
+        for (const auto& [angle, m] : by_angle) cycle.push_back(m);
+        if (f.offset < -kNearOffset) {
+            near.push_back(cycle);
+        } else {
+            proper.push_back(cycle);
+            proper_diag.push_back(cycle.size() >= 4);
+        }
+    }
+    std::vector<std::vector<int>> all = proper;
+    all.insert(all.end(), near.begin(), near.end());
+    if (!is_sphere_map(all, n)) return std::nullopt;
+    BaseMap base{proper, proper_diag};
+    if (!near.empty()) {  // merge the near faces: boundary edges are those whose reverse lies in a proper face
+        std::set<std::pair<int, int>> in_near;
+        for (const std::vector<int>& f : near)
+            for (std::size_t k = 0; k < f.size(); ++k) in_near.insert({f[k], f[(k + 1) % f.size()]});
+        std::map<int, int> next;  // boundary: a -> b
+        for (const auto& [a, b] : in_near)
+            if (!in_near.count({b, a}) && !next.insert({a, b}).second) return std::nullopt;
+        if (next.empty()) return std::nullopt;
+        std::vector<int> cycle = {next.begin()->first};
+        while (static_cast<int>(cycle.size()) <= static_cast<int>(next.size())) {
+            const auto it = next.find(cycle.back());
+            if (it == next.end()) return std::nullopt;
+            if (it->second == cycle.front()) break;
+            cycle.push_back(it->second);
+        }
+        if (cycle.size() != next.size()) return std::nullopt;
+        base.faces.push_back(cycle);
+        base.allow_diagonals.push_back(cycle.size() >= 4);
+        // Directions strictly inside the near region would be lost: they must all be on its boundary.
+        if (!is_sphere_map(base.faces, n)) return std::nullopt;
+    }
+    return base;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Making the map 4-regular. Every base edge gets a multiplicity (0: removed, i.e. its two faces merge; 1: kept; 2:
+// doubled, i.e. a digon = a valence-2 partition vertex on the Voronoi edge) and convex faces may get diagonals. A
+// bounded branch-and-bound collects the cheapest assignments with every vertex degree exactly 4. Costs: removing an
+// edge costs the length of its Voronoi edge (the partition edge that collapses), doubling or a diagonal a small
+// constant (no geometric change / a zero-length edge the relaxation opens).
+
+struct Item {
+    int a = -1, b = -1;   // endpoints
+    int face = -1;        // diagonal: its face; base edge: -1
+    int pos_a = -1, pos_b = -1;  // diagonal: corner positions in the face cycle
+    double remove_cost = 0;      // base edge: cost of multiplicity 0
+    int left = -1, right = -1;   // base edge: the faces left of a->b and of b->a
+};
+
+struct Assignment {
+    std::vector<int> value;  // per item: base edge multiplicity 0..2, diagonal 0/1
+    double cost = 0;
+};
+
+constexpr double kDoubleCost = 0.05;
+constexpr double kDiagonalCost = 0.05;
+
+Vec3 face_centre(const std::vector<int>& cycle, const std::vector<Vec3>& d) {
+    if (cycle.size() == 2) return normalized(d[cycle[0]] + d[cycle[1]]);
+    Vec3 area{};
+    for (std::size_t k = 0; k < cycle.size(); ++k) area += cross(d[cycle[k]], d[cycle[(k + 1) % cycle.size()]]);
+    if (norm(area) > 1e-12) return normalized(area);
+    Vec3 sum{};
+    for (int v : cycle) sum += d[v];
+    return normalized(sum);
+}
+
+std::vector<Item> factor_items(const BaseMap& base, const std::vector<Vec3>& d) {
+    std::vector<Item> items;
+    std::map<std::pair<int, int>, int> left_face;  // directed edge -> face on its left
+    for (int f = 0; f < static_cast<int>(base.faces.size()); ++f) {
+        const std::vector<int>& c = base.faces[f];
+        for (std::size_t k = 0; k < c.size(); ++k) left_face[{c[k], c[(k + 1) % c.size()]}] = f;
+    }
+    for (const auto& [edge, f] : left_face) {
+        if (edge.first > edge.second) continue;
+        const int g = left_face.at({edge.second, edge.first});
+        Item it;
+        it.a = edge.first;
+        it.b = edge.second;
+        it.left = f;
+        it.right = g;
+        it.remove_cost = 1e-3 + angle_between(face_centre(base.faces[f], d), face_centre(base.faces[g], d));
+        // Merging two faces into a non-convex one makes a poor partition vertex: check the corners at a and b.
+        const std::vector<int>& cf = base.faces[f];
+        const std::vector<int>& cg = base.faces[g];
+        const auto at = [](const std::vector<int>& c, int v, int shift) {
+            const int sz = static_cast<int>(c.size());
+            const int k = static_cast<int>(std::find(c.begin(), c.end(), v) - c.begin());
+            return c[(k + shift + sz) % sz];
+        };
+        // f holds a->b, g holds b->a; the merged cycle runs b .. pred_f(a) a succ_g(a) .. pred_g(b) b, so its corners
+        // are pred_f(a) -> a -> succ_g(a) and pred_g(b) -> b -> succ_f(b).
+        const double corner_a = corner_angle(d[at(cf, it.a, -1)], d[it.a], d[at(cg, it.a, 1)]);
+        const double corner_b = corner_angle(d[at(cg, it.b, -1)], d[it.b], d[at(cf, it.b, 1)]);
+        if (corner_a < 0 || corner_a > kPi - 1e-3 || corner_b < 0 || corner_b > kPi - 1e-3) it.remove_cost += 1;
+        items.push_back(it);
+    }
+    for (int f = 0; f < static_cast<int>(base.faces.size()); ++f) {
+        if (!base.allow_diagonals[f]) continue;
+        const int k = static_cast<int>(base.faces[f].size());
+        for (int i = 0; i < k; ++i)
+            for (int j = i + 2; j < k; ++j) {
+                if (i == 0 && j == k - 1) continue;
+                Item it;
+                it.a = base.faces[f][i];
+                it.b = base.faces[f][j];
+                it.face = f;
+                it.pos_a = i;
+                it.pos_b = j;
+                items.push_back(it);
+            }
+    }
+    return items;
+}
+
+// Extra cost of a merged face with about s sides (a partition vertex of valence s): 5 is tolerable, more is not.
+double face_size_penalty(int s) {
+    if (s <= 4) return 0;
+    if (s == 5) return 0.3;
+    if (s == 6) return 1.3;
+    return 3.3 + 3.0 * (s - 7);
+}
+
+// The `max_results` cheapest degree-4 assignments found within `node_budget` search nodes (cheapest first).
+// Removing an edge also charges the growth of its two faces (size + removed edges, approximating the merged size).
+std::vector<Assignment> cheapest_factors(const std::vector<Item>& items, const BaseMap& base, int nv, int max_results,
+                                         long node_budget, int root) {
+    const int ni = static_cast<int>(items.size());
+    std::vector<int> face_size(base.faces.size());
+    for (std::size_t f = 0; f < base.faces.size(); ++f) face_size[f] = static_cast<int>(base.faces[f].size());
+    // Visit items so that vertices are completed in breadth-first order over the map (a small frontier of partly
+    // assigned vertices keeps the degree pruning effective): item order = (later endpoint rank, earlier rank).
+    std::vector<std::vector<int>> adjacent(nv);
+    for (const Item& it : items) {
+        adjacent[it.a].push_back(it.b);
+        adjacent[it.b].push_back(it.a);
+    }
+    std::vector<int> vertex_rank(nv, -1), queue;
+    for (int k = 0; k < nv; ++k) {
+        const int start = (root + k) % nv;
+        if (vertex_rank[start] >= 0) continue;
+        vertex_rank[start] = static_cast<int>(queue.size());
+        queue.push_back(start);
+        for (std::size_t head = queue.size() - 1; head < queue.size(); ++head) {
+            std::vector<int> next = adjacent[queue[head]];
+            std::sort(next.begin(), next.end());
+            for (int w : next)
+                if (vertex_rank[w] < 0) {
+                    vertex_rank[w] = static_cast<int>(queue.size());
+                    queue.push_back(w);
+                }
+        }
+    }
+    std::vector<int> order(ni);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int x, int y) {
+        const int kx = std::max(vertex_rank[items[x].a], vertex_rank[items[x].b]);
+        const int ky = std::max(vertex_rank[items[y].a], vertex_rank[items[y].b]);
+        if (kx != ky) return kx < ky;
+        const int lx = std::min(vertex_rank[items[x].a], vertex_rank[items[x].b]);
+        const int ly = std::min(vertex_rank[items[y].a], vertex_rank[items[y].b]);
+        return lx != ly ? lx < ly : x < y;
+    });
+    std::vector<int> degree(nv, 0), capacity(nv, 0);  // capacity = most the unassigned items can still add
+    for (const Item& it : items) {
+        const int most = it.face < 0 ? 2 : 1;
+        capacity[it.a] += most;
+        capacity[it.b] += most;
+    }
+    // A direction with two doubled edges would get a lune (its two real corners antipodal): only for a flat hull.
+    const int max_doubles = base.faces.size() == 2 ? 2 : 1;
+    std::vector<int> doubles(nv, 0);
+    std::vector<int> value(ni, 0);
+    std::vector<Assignment> best;
+    long nodes = 0;
+    auto crosses = [&](int item) {
+        const Item& x = items[item];
+        for (int o = 0; o < ni; ++o) {
+            if (o == item || items[o].face != x.face || value[o] == 0) continue;
+            const Item& y = items[o];
+            const auto inside = [&](int p) { return p > x.pos_a && p < x.pos_b; };
+            const bool shares = y.pos_a == x.pos_a || y.pos_a == x.pos_b || y.pos_b == x.pos_a || y.pos_b == x.pos_b;
+            if (!shares && inside(y.pos_a) != inside(y.pos_b)) return true;
+        }
+        return false;
+    };
+    // Depth-first branch and bound (recursion depth = number of items, a few hundred at most).
+    std::function<void(int, double)> search = [&](int depth, double cost) {
+        if (++nodes > node_budget) return;
+        if (static_cast<int>(best.size()) == max_results && cost >= best.back().cost) return;
+        if (depth == ni) {
+            for (int v = 0; v < nv; ++v)
+                if (degree[v] != 4) return;
+            Assignment a{value, cost};
+            best.insert(std::upper_bound(best.begin(), best.end(), a,
+                                         [](const Assignment& x, const Assignment& y) { return x.cost < y.cost; }),
+                        a);
+            if (static_cast<int>(best.size()) > max_results) best.pop_back();
+            return;
+        }
+        const int item = order[depth];
+        const Item& it = items[item];
+        const int most = it.face < 0 ? 2 : 1;
+        capacity[it.a] -= most;
+        capacity[it.b] -= most;
+        // Values cheapest first: edge 1 (free), 2 (double), 0 (remove: Voronoi length); diagonal 0, 1.
+        std::array<int, 3> values = {1, 2, 0};
+        double growth = 0;
+        if (it.face < 0)
+            for (int f : {it.left, it.right})
+                growth += face_size_penalty(face_size[f] + 1) - face_size_penalty(face_size[f]);
+        std::array<double, 3> costs = {0, kDoubleCost, it.remove_cost + growth};
+        int count = 3;
+        if (it.face >= 0) {
+            values = {0, 1, 0};
+            costs = {0, kDiagonalCost, 0};
+            count = 2;
+        } else if (costs[2] < kDoubleCost) {
+            std::swap(values[1], values[2]);
+            std::swap(costs[1], costs[2]);
+        }
+        for (int c = 0; c < count; ++c) {
+            const int x = values[c];
+            degree[it.a] += x;
+            degree[it.b] += x;
+            value[item] = x;
+            if (it.face < 0 && x == 0) {
+                ++face_size[it.left];
+                ++face_size[it.right];
+            }
+            if (it.face < 0 && x == 2) {
+                ++doubles[it.a];
+                ++doubles[it.b];
+            }
+            const bool feasible = doubles[it.a] <= max_doubles && doubles[it.b] <= max_doubles
+                                  && degree[it.a] <= 4 && degree[it.b] <= 4 && degree[it.a] + capacity[it.a] >= 4
+                                  && degree[it.b] + capacity[it.b] >= 4 && !(it.face >= 0 && x == 1 && crosses(item));
+            if (feasible) search(depth + 1, cost + costs[c]);
+            degree[it.a] -= x;
+            degree[it.b] -= x;
+            value[item] = 0;
+            if (it.face < 0 && x == 0) {
+                --face_size[it.left];
+                --face_size[it.right];
+            }
+            if (it.face < 0 && x == 2) {
+                --doubles[it.a];
+                --doubles[it.b];
+            }
+        }
+        capacity[it.a] += most;
+        capacity[it.b] += most;
+    };
+    search(0, 0);
+    return best;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// From an assignment to a partition: build the rotation system of the 4-regular map (arcs = kept/doubled base edges
+// and diagonals), trace its faces, and take the dual. Dual vertex of a face = its vector-area direction (the
+// circumcentre for a hull triangle, i.e. the Voronoi vertex), or the arc midpoint for a digon.
+
+std::optional<SpherePartition> dual_partition(const BaseMap& base, const std::vector<Item>& items,
+                                              const Assignment& assignment, const std::vector<Vec3>& d) {
+    const int nv = static_cast<int>(d.size());
+    std::map<std::pair<int, int>, std::pair<int, int>> left;  // directed base edge -> (face, corner)
+    for (int f = 0; f < static_cast<int>(base.faces.size()); ++f) {
+        const std::vector<int>& c = base.faces[f];
+        for (int k = 0; k < static_cast<int>(c.size()); ++k) left[{c[k], c[(k + 1) % c.size()]}] = {f, k};
+    }
+    std::map<std::pair<int, int>, int> edge_item;  // undirected base edge (a < b) -> item
+    for (int i = 0; i < static_cast<int>(items.size()); ++i)
+        if (items[i].face < 0) edge_item[{items[i].a, items[i].b}] = i;
+    // Arcs: per base edge item, `value` copies (copy 0 borders the face left of a->b, a < b); per chosen diagonal one.
+    std::vector<std::array<int, 2>> arc_ends;
+    std::map<std::pair<int, int>, int> first_arc;  // item -> first arc id (key (item, 0))
+    for (int i = 0; i < static_cast<int>(items.size()); ++i) {
+        first_arc[{i, 0}] = static_cast<int>(arc_ends.size());
+        for (int c = 0; c < assignment.value[i]; ++c) arc_ends.push_back({items[i].a, items[i].b});
+    }
+    // Half-edge h = 2*arc + (0: a->b, 1: b->a).
+    std::vector<std::vector<int>> rot(nv);
+    for (int v = 0; v < nv; ++v) {
+        // Base outgoing edges of v in CCW order: succ(v->w) = v->pred_F(v), F = face left of v->w.
+        const auto first = left.lower_bound({v, -1});
+        if (first == left.end() || first->first.first != v) return std::nullopt;
+        int w = first->first.second;
+        const int w0 = w;
+        int guard = 0;
+        do {
+            const auto [f, k] = left.at({v, w});
+            const std::vector<int>& cyc = base.faces[f];
+            const int sz = static_cast<int>(cyc.size());
+            // Copies of v->w: the one bordering the face on the right first, then the one bordering f.
+            const int item = edge_item.at(std::minmax(v, w));
+            const int arc0 = first_arc.at({item, 0});
+            const int copies = assignment.value[item];
+            const int half = v == items[item].a ? 0 : 1;
+            if (copies == 1) rot[v].push_back(2 * arc0 + half);
+            if (copies == 2) {
+                const bool v_is_min = v == items[item].a;  // copy 0 borders the face left of min->max
+                rot[v].push_back(2 * (arc0 + (v_is_min ? 1 : 0)) + half);
+                rot[v].push_back(2 * (arc0 + (v_is_min ? 0 : 1)) + half);
+            }
+            // Diagonals of f at v, in the order of their other corner along the cycle after v.
+            std::vector<std::pair<int, int>> diags;  // (steps from v, half-edge)
+            for (int i = 0; i < static_cast<int>(items.size()); ++i) {
+                const Item& it = items[i];
+                if (it.face != f || assignment.value[i] == 0 || (it.a != v && it.b != v)) continue;
+                const int other_pos = it.a == v ? it.pos_b : it.pos_a;
+                diags.push_back({(other_pos - k + sz) % sz, 2 * first_arc.at({i, 0}) + (it.a == v ? 0 : 1)});
+            }
+            std::sort(diags.begin(), diags.end());
+            for (const auto& [steps, h] : diags) rot[v].push_back(h);
+            w = cyc[(k + sz - 1) % sz];
+        } while (w != w0 && ++guard <= nv * 4);
+        if (rot[v].size() != 4) return std::nullopt;
+    }
+    const int nh = 2 * static_cast<int>(arc_ends.size());
+    std::vector<int> slot(nh, -1);
+    for (int v = 0; v < nv; ++v)
+        for (int k = 0; k < 4; ++k) slot[rot[v][k]] = k;
+    for (int h = 0; h < nh; ++h)
+        if (slot[h] < 0) return std::nullopt;
+    const auto tail = [&](int h) { return arc_ends[h / 2][h % 2]; };
+    const auto head = [&](int h) { return arc_ends[h / 2][1 - h % 2]; };
+    // Faces: next(u->v) = the outgoing half-edge at v just clockwise of v->u.
+    std::vector<int> face_of(nh, -1);
+    std::vector<std::vector<int>> faces;
+    for (int h0 = 0; h0 < nh; ++h0) {
+        if (face_of[h0] >= 0) continue;
+        const int f = static_cast<int>(faces.size());
+        faces.emplace_back();
+        int h = h0;
+        do {
+            face_of[h] = f;
+            faces[f].push_back(tail(h));
+            const int v = head(h);
+            h = rot[v][(slot[h ^ 1] + 3) % 4];
+        } while (h != h0 && static_cast<int>(faces[f].size()) <= nh);
+        std::vector<int> sorted = faces[f];
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return std::nullopt;
+    }
+    if (nv - nh / 2 + static_cast<int>(faces.size()) != 2) return std::nullopt;
+    std::set<std::pair<int, int>> face_pairs;  // two faces sharing two arcs would give a doubled partition edge
+    for (int h = 0; h < nh; h += 2)
+        if (!face_pairs.insert(std::minmax(face_of[h], face_of[h + 1])).second) return std::nullopt;
+    SpherePartition p;
+    for (const std::vector<int>& f : faces) p.points.push_back(face_centre(f, d));
+    p.quads.resize(nv);
+    for (int v = 0; v < nv; ++v)
+        for (int k = 0; k < 4; ++k) p.quads[v][k] = face_of[rot[v][k]];
+    return p;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Relaxation: coordinate descent on the vertices of valence >= 3 (valence-2 vertices stay evenly spread on the arc
+// between their two nearest real vertices, so their angles stay 180°). Energy per quad: squared deviation of each
+// real corner angle from 360°/valence, plus a barrier keeping the direction away from the quad's edges. Phase 1
+// removes constraint violations (if the start is invalid), phase 2 lowers the energy without ever leaving the valid
+// set. Bounded sweeps, step halving.
+
+struct Relaxer {
+    const std::vector<Vec3>& d;
+    SpherePartition& p;
+    std::vector<int> valence;
+    std::vector<std::vector<int>> quads_of;
+    std::vector<std::vector<int>> chains;  // per chain: real start, valence-2 vertices..., real end
+    static constexpr double kMinCorner = 2e-3;  // rad, kept from 0 and 180° at real corners
+    static constexpr double kMinSide = 1e-3;    // sin-distance of a direction to its quad's edges
+    // Energy = sum of exp(-kSharpness * q) over the quality measures q of quality_score: every real corner angle, its
+    // supplement, and 90° x (distance of the direction to each quad edge / its bound): a smooth "maximise the minimum".
+    static constexpr double kSharpness = 14;
+    std::vector<double> bound;
+
+    Relaxer(const std::vector<Vec3>& dirs, SpherePartition& part) : d(dirs), p(part), bound(margin_bounds(dirs)) {
+        const int nv = static_cast<int>(p.points.size());
+        valence.assign(nv, 0);
+        quads_of.assign(nv, {});
+        for (int q = 0; q < static_cast<int>(p.quads.size()); ++q)
+            for (int v : p.quads[q]) {
+                ++valence[v];
+                quads_of[v].push_back(q);
+            }
+    }
+
+    // Chains of valence-2 vertices between two real vertices; false if some chain has no usable real ends.
+    bool find_chains() {
+        const int nv = static_cast<int>(p.points.size());
+        std::vector<std::vector<int>> nbr(nv);
+        for (const std::array<int, 4>& quad : p.quads)
+            for (int k = 0; k < 4; ++k) {
+                const int a = quad[k], b = quad[(k + 1) % 4];
+                if (std::find(nbr[a].begin(), nbr[a].end(), b) == nbr[a].end()) nbr[a].push_back(b);
+                if (std::find(nbr[b].begin(), nbr[b].end(), a) == nbr[b].end()) nbr[b].push_back(a);
+            }
+        std::vector<char> done(nv, 0);
+        for (int v = 0; v < nv; ++v) {
+            if (valence[v] != 2 || done[v]) continue;
+            if (nbr[v].size() != 2) return false;
+            std::vector<int> left = {v}, right;
+            for (int side = 0; side < 2; ++side) {  // walk both ways until a real vertex
+                int prev = v, at = nbr[v][side];
+                std::vector<int>& path = side == 0 ? left : right;
+                int guard = 0;
+                while (valence[at] == 2 && ++guard <= nv) {
+                    if (at == v) return false;  // a cycle of valence-2 vertices (pillow)
+                    path.push_back(at);
+                    const int next = nbr[at][0] == prev ? nbr[at][1] : nbr[at][0];
+                    prev = at;
+                    at = next;
+                }
+                if (guard > nv) return false;
+                path.push_back(at);
+            }
+            std::vector<int> chain(left.rbegin(), left.rend());  // real end ... v
+            chain.insert(chain.end(), right.begin(), right.end());
+            for (int x : chain) done[x] = 1;
+            for (const std::vector<int>& c : chains)  // two chains between the same ends would coincide
+                if (std::minmax(c.front(), c.back()) == std::minmax(chain.front(), chain.back())) return false;
+            chains.push_back(chain);
+        }
+        return true;
+    }
+
+    bool place_chains() {
+        for (const std::vector<int>& c : chains) {
+            const Vec3& a = p.points[c.front()];
+            const Vec3& b = p.points[c.back()];
+            const double angle = angle_between(a, b);
+            if (angle < 1e-9 || angle > kPi - 1e-6) return false;
+            const int m = static_cast<int>(c.size()) - 1;
+            for (int k = 1; k < m; ++k) {
+                const double t = static_cast<double>(k) / m;
+                p.points[c[k]] = normalized(std::sin((1 - t) * angle) * a + std::sin(t * angle) * b);
+            }
+        }
+        return true;
+    }
+
+    // violation >= 0 (0 when the quad is valid with the margins above) and energy of quad q.
+    std::pair<double, double> quad_terms(int q) const {
+        const std::array<int, 4>& quad = p.quads[q];
+        double violation = 0, energy = 0;
+        for (int k = 0; k < 4; ++k) {
+            const int v = quad[k];
+            const Vec3& b = p.points[v];
+            const Vec3& c = p.points[quad[(k + 1) % 4]];
+            if (valence[v] >= 3) {
+                double angle = corner_angle(p.points[quad[(k + 3) % 4]], b, c);
+                if (angle < 0) angle = 0;
+                violation += std::max(0.0, kMinCorner - angle) + std::max(0.0, angle - (kPi - kMinCorner));
+                energy += std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+            }
+            const Vec3 nrm = cross(b, c);
+            const double len = norm(nrm);
+            const double side = len > 1e-15 ? dot(d[q], nrm) / len : -1;
+            violation += std::max(0.0, kMinSide - side);
+            energy += std::exp(-kSharpness * kPi / 2 * std::asin(std::clamp(side, -1.0, 1.0)) / bound[q]);
+        }
+        return {violation, energy};
+    }
+
+    std::pair<double, double> local_terms(int v) const {
+        double violation = 0, energy = 0;
+        for (int q : quads_of[v]) {
+            const auto [x, e] = quad_terms(q);
+            violation += x;
+            energy += e;
+        }
+        return {violation, energy};
+    }
+
+    double total_violation() const {
+        double x = 0;
+        for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) x += quad_terms(q).first;
+        return x;
+    }
+    double total_energy() const {
+        double e = 0;
+        for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) e += quad_terms(q).second;
+        return e;
+    }
+
+    // One phase of coordinate descent with a step per vertex (grown on success, halved on failure); `repair`:
+    // minimise the violation, else the energy while the violation stays 0. Stops after max_sweeps sweeps, when every
+    // step is tiny, or when a sweep lowers the energy by less than 0.1 %.
+    void descend(bool repair, int max_sweeps) {
+        const int nv = static_cast<int>(p.points.size());
+        std::vector<double> step(nv, 0.05);
+        double energy = repair ? 0 : total_energy();
+        for (int sweep = 0; sweep < max_sweeps; ++sweep) {
+            bool active = false;
+            for (int v = 0; v < nv; ++v) {
+                if (valence[v] < 3 || step[v] < 1e-4) continue;
+                active = true;
+                const Vec3 origin = p.points[v];
+                const auto [x0, e0] = local_terms(v);
+                if (repair && x0 == 0) continue;
+                const Vec3 t1 = any_orthogonal(origin), t2 = cross(origin, t1);
+                double best_score = repair ? x0 : e0;
+                Vec3 best_pos = origin;
+                for (int k = 0; k < 8; ++k) {
+                    const double phi = kPi * k / 4;
+                    p.points[v] = normalized(origin + step[v] * (std::cos(phi) * t1 + std::sin(phi) * t2));
+                    if (!place_chains()) continue;
+                    const auto [x, e] = local_terms(v);
+                    const double score = repair ? x : e;
+                    if ((repair || x == 0) && score < best_score - 1e-6 * best_score - 1e-12) {
+                        best_score = score;
+                        best_pos = p.points[v];
+                    }
+                }
+                p.points[v] = best_pos;
+                place_chains();
+                step[v] = best_pos == origin ? 0.5 * step[v] : std::min(0.2, 1.25 * step[v]);
+            }
+            if (!active || (repair && total_violation() == 0)) return;
+            if (!repair) {
+                const double now = total_energy();
+                if (now > energy * (1 - 1e-3)) return;
+                energy = now;
+            }
+        }
+    }
+};
+
+// Candidates from the hull path (possibly invalid: the caller verifies). Successive halving: up to 8 duals of the
+// cheapest assignments get a short relaxation, the 2 best (by quality_score) a long one.
+std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d) {
+    std::vector<SpherePartition> out;
+    const int n = static_cast<int>(d.size());
+    if (n < 3 || n > 64) return out;
+    for (double eps : {1e-10, 1e-7, 1e-4}) {
+        const std::optional<BaseMap> base = hull_base_map(d, eps);
+        if (!base) continue;
+        const std::vector<Item> items = factor_items(*base, d);
+        // The search order grows from a root vertex; when a budget runs out without a result, try other roots.
+        for (int attempt = 0; attempt < 4 && out.empty(); ++attempt) {
+            for (const Assignment& a : cheapest_factors(items, *base, n, 24, 400000, attempt * n / 4)) {
+                std::optional<SpherePartition> p = dual_partition(*base, items, a, d);
+                if (p) out.push_back(std::move(*p));
+                if (out.size() == 8) break;
+            }
+        }
+        break;
+    }
+    std::vector<std::pair<double, int>> ranked;  // (-score, candidate)
+    std::vector<char> relaxable(out.size(), 0);
+    for (int c = 0; c < static_cast<int>(out.size()); ++c) {
+        Relaxer r(d, out[c]);
+        const SpherePartition original = out[c];
+        if (!r.find_chains() || !r.place_chains()) {
+            out[c] = original;
+        } else {
+            relaxable[c] = 1;
+            if (r.total_violation() > 0) r.descend(true, 40);
+            if (r.total_violation() == 0) r.descend(false, 5);
+        }
+        const bool valid = verify_sphere_partition(out[c], d).empty();
+        ranked.push_back({valid ? -quality_score(out[c], d) : 1.0, c});
+    }
+    std::sort(ranked.begin(), ranked.end());
+    for (int k = 0; k < static_cast<int>(ranked.size()) && k < 2; ++k) {
+        const int c = ranked[k].second;
+        if (!relaxable[c] || ranked[k].first > 0) continue;
+        Relaxer r(d, out[c]);
+        if (r.find_chains() && r.place_chains()) r.descend(false, 100);
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+
+std::vector<Vec3> validated_directions(const std::vector<Vec3>& directions) {
+    const int n = static_cast<int>(directions.size());
+    if (n < 2)
+        throw Error(ErrorCode::InvalidInput,
+                    "sphere partition: need at least 2 directions, got " + std::to_string(n));
+    std::vector<Vec3> d(n);
+    for (int i = 0; i < n; ++i) {
+        if (!is_finite(directions[i]) || norm(directions[i]) < 1e-300)
+            throw Error(ErrorCode::InvalidInput,
+                        "sphere partition: direction " + std::to_string(i) + " is zero or not finite");
+        d[i] = normalized(directions[i]);
+    }
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+            if (angle_between(d[i], d[j]) < kMinSeparation)
+                throw Error(ErrorCode::InvalidInput, "sphere partition: directions " + std::to_string(i) + " and "
+                                                         + std::to_string(j) + " coincide");
+    return d;
+}
+
+
+}  // namespace
+
+std::string verify_sphere_partition(const SpherePartition& p, const std::vector<Vec3>& directions) {
+    const int n = static_cast<int>(directions.size());
+    const int nv = static_cast<int>(p.points.size());
+    if (static_cast<int>(p.quads.size()) != n)
+        return "expected " + std::to_string(n) + " quads, got " + std::to_string(p.quads.size());
+    for (int v = 0; v < nv; ++v)
+        if (!is_finite(p.points[v]) || std::abs(norm(p.points[v]) - 1) > kUnitTolerance)
+            return "point " + std::to_string(v) + " is not a finite unit vector";
+    // Topology: every directed edge once, its reverse once; each vertex link one cycle; connected; Euler = 2.
+    std::vector<std::vector<std::pair<int, int>>> out(nv);  // out[a] = {(b, quad)} for directed edges a -> b
+    std::vector<int> valence(nv, 0);
+    for (int q = 0; q < n; ++q) {
+        const std::array<int, 4>& quad = p.quads[q];
+        for (int k = 0; k < 4; ++k) {
+            if (quad[k] < 0 || quad[k] >= nv) return "quad " + std::to_string(q) + " has an invalid vertex id";
+            for (int l = 0; l < k; ++l)
+                if (quad[k] == quad[l]) return "quad " + std::to_string(q) + " repeats a vertex";
+        }
+        for (int k = 0; k < 4; ++k) {
+            const int a = quad[k], b = quad[(k + 1) % 4];
+            for (const std::pair<int, int>& e : out[a])
+                if (e.first == b) return "directed edge " + std::to_string(a) + "->" + std::to_string(b) + " twice";
+            out[a].push_back({b, q});
+            ++valence[a];
+        }
+    }
+    int edges2 = 0;
+    for (int a = 0; a < nv; ++a) {
+        if (valence[a] == 0) return "point " + std::to_string(a) + " is in no quad";
+        for (const std::pair<int, int>& e : out[a]) {
+            bool reverse = false;
+            for (const std::pair<int, int>& r : out[e.first]) reverse = reverse || r.first == a;
+            if (!reverse) return "edge " + std::to_string(a) + "-" + std::to_string(e.first) + " is on the border";
+            ++edges2;
+        }
+    }
+    const int ne = edges2 / 2;
+    if (nv - ne + n != 2) return "Euler characteristic " + std::to_string(nv - ne + n) + " != 2";
+    for (int v = 0; v < nv; ++v) {  // the quads around v form one cycle (prev-neighbour -> next-neighbour)
+        std::vector<std::pair<int, int>> link;  // (previous vertex, next vertex) in each quad at v
+        for (int q = 0; q < n; ++q)
+            for (int k = 0; k < 4; ++k)
+                if (p.quads[q][k] == v) link.push_back({p.quads[q][(k + 3) % 4], p.quads[q][(k + 1) % 4]});
+        int steps = 0, at = link[0].second;
+        do {
+            const auto it = std::find_if(link.begin(), link.end(), [&](const auto& l) { return l.first == at; });
+            if (it == link.end()) return "vertex " + std::to_string(v) + " is not manifold";
+            at = it->second;
+            ++steps;
+        } while (at != link[0].second && steps <= static_cast<int>(link.size()));
+        if (steps != static_cast<int>(link.size())) return "vertex " + std::to_string(v) + " is not manifold";
+    }
+    {  // connected
+        std::vector<char> seen(nv, 0);
+        std::vector<int> stack = {0};
+        seen[0] = 1;
+        int count = 1;
+        while (!stack.empty()) {
+            const int a = stack.back();
+            stack.pop_back();
+            for (const std::pair<int, int>& e : out[a])
+                if (!seen[e.first]) {
+                    seen[e.first] = 1;
+                    ++count;
+                    stack.push_back(e.first);
+                }
+        }
+        if (count != nv) return "the quads are not connected";
+    }
+    // Geometry: convex quads with positive area, containing their direction; angle sums 2π, total area 4π.
+    std::vector<double> angle_sum(nv, 0);
+    double area_sum = 0;
+    for (int q = 0; q < n; ++q) {
+        const std::array<int, 4>& quad = p.quads[q];
+        const Vec3 dir = normalized(directions[q]);
+        double quad_angles = 0;
+        for (int k = 0; k < 4; ++k) {
+            const Vec3& a = p.points[quad[(k + 3) % 4]];
+            const Vec3& b = p.points[quad[k]];
+            const Vec3& c = p.points[quad[(k + 1) % 4]];
+            const double angle = corner_angle(a, b, c);
+            if (angle < kAngleTolerance || angle > kPi + kAngleTolerance)
+                return "quad " + std::to_string(q) + " is not convex at corner " + std::to_string(k) + " (angle "
+                       + std::to_string(angle * 180 / kPi) + " deg)";
+            angle_sum[quad[k]] += angle;
+            quad_angles += angle;
+            const Vec3 edge_normal = cross(b, c);
+            if (norm(edge_normal) < 1e-12) return "quad " + std::to_string(q) + " has a degenerate edge";
+            if (dot(dir, edge_normal) / norm(edge_normal) <= kMinMargin)
+                return "direction " + std::to_string(q) + " is not inside its quad";
+        }
+        const double area = quad_angles - 2 * kPi;
+        if (area <= 0) return "quad " + std::to_string(q) + " has no positive area";
+        area_sum += area;
+    }
+    for (int v = 0; v < nv; ++v)
+        if (std::abs(angle_sum[v] - 2 * kPi) > kSumTolerance)
+            return "angles around vertex " + std::to_string(v) + " do not sum to 360 deg (fold)";
+    if (std::abs(area_sum - 4 * kPi) > kSumTolerance) return "quad areas do not sum to 4 pi (overlap)";
+    return "";
+}
+
+SpherePartitionStats sphere_partition_stats(const SpherePartition& p, const std::vector<Vec3>& directions) {
+    SpherePartitionStats s;
+    s.min_angle = 2 * kPi;
+    s.min_margin = kPi;
+    std::vector<int> valence(p.points.size(), 0);
+    for (const std::array<int, 4>& quad : p.quads)
+        for (int v : quad) ++valence[v];
+    for (int v : valence) s.max_valence = std::max(s.max_valence, v);
+    s.min_margin_ratio = 1e300;
+    const std::vector<double> bound = margin_bounds(directions);
+    for (std::size_t q = 0; q < p.quads.size() && q < directions.size(); ++q) {
+        const std::array<int, 4>& quad = p.quads[q];
+        const Vec3 dir = normalized(directions[q]);
+        double margin = kPi;
+        for (int k = 0; k < 4; ++k) {
+            const Vec3& b = p.points[quad[k]];
+            const Vec3& c = p.points[quad[(k + 1) % 4]];
+            if (valence[quad[k]] >= 3) {
+                const double angle = corner_angle(p.points[quad[(k + 3) % 4]], b, c);
+                s.min_angle = std::min(s.min_angle, angle);
+                s.max_angle = std::max(s.max_angle, angle);
+            }
+            const Vec3 edge_normal = normalized(cross(b, c));
+            margin = std::min(margin, std::asin(std::clamp(dot(dir, edge_normal), -1.0, 1.0)));
+        }
+        s.min_margin = std::min(s.min_margin, margin);
+        s.min_margin_ratio = std::min(s.min_margin_ratio, margin / bound[q]);
+    }
+    if (s.max_angle == 0) s.min_angle = s.max_angle = kPi;  // no vertex of valence >= 3 (n = 2): all angles 180°
+    return s;
+}
+
+SpherePartition partition_sphere(const std::vector<Vec3>& directions, const SpherePartitionOptions& options) {
+    const std::vector<Vec3> d = validated_directions(directions);
+    const int n = static_cast<int>(d.size());
+
+    // 1. Planar (always for n = 2): the orange around the best-fit plane normal.
+    Vec3 normal = best_fit_plane_normal(d);
+    if (n == 2) {
+        const Vec3 c = cross(d[0], d[1]);
+        normal = norm(c) > 1e-9 ? normalized(c) : any_orthogonal(d[0]);
+    }
+    double planarity = 0;
+    for (const Vec3& p : d) planarity = std::max(planarity, std::abs(dot(p, normal)));
+    std::vector<SpherePartition> candidates;
+    if (n == 2 || planarity <= options.planarity_tolerance) {
+        const OrangeFrame frame = orange_frame(d, normal);
+        if (orange_margin(frame) > 0) {
+            SpherePartition p = build_orange(frame);
+            // A tight cluster is "planar" too, but its lunes are slivers: then let the general path compete.
+            if (verify_sphere_partition(p, d).empty() && (n == 2 || quality_score(p, d) >= kGoodOrange)) return p;
+            candidates.push_back(std::move(p));
+        }
+    }
+
+    // 2. Hull -> 4-regular map -> dual -> relaxation, and oranges around the best axes; the best verified one wins.
+    try {
+        for (SpherePartition& p : hull_candidates(d)) candidates.push_back(std::move(p));
+    } catch (const std::out_of_range&) {
+        // A map lookup (.at) found an inconsistent structure: cannot happen for a verified base map; if it does, the
+        // hull path simply contributes nothing and the oranges below remain.
+    }
+    std::vector<std::pair<double, int>> ranked;
+    const std::vector<Vec3> axes = candidate_axes(d);
+    const std::vector<double> bound = margin_bounds(d);
+    for (int a = 0; a < static_cast<int>(axes.size()); ++a) {
+        const OrangeFrame frame = orange_frame(d, axes[a]);
+        if (orange_margin(frame) > 0) ranked.push_back({-orange_quality(frame, bound), a});
+    }
+    std::sort(ranked.begin(), ranked.end());
+    for (int r = 0; r < static_cast<int>(ranked.size()) && r < 3; ++r) {
+        const OrangeFrame frame = orange_frame(d, refine_orange_axis(d, bound, axes[ranked[r].second]));
+        if (orange_margin(frame) > 0) candidates.push_back(build_orange(frame));
+    }
+    std::optional<SpherePartition> best;
+    double best_score = -1;
+    for (SpherePartition& p : candidates) {
+        if (!verify_sphere_partition(p, d).empty()) continue;
+        const double score = quality_score(p, d);
+        if (!best || score > best_score) {
+            best = std::move(p);
+            best_score = score;
+        }
+    }
+    if (best) return *best;
+    throw Error(ErrorCode::NumericalFailure,
+                "sphere partition: no valid quad partition found for " + std::to_string(n) + " directions");
+}
+
+}  // namespace mesohex

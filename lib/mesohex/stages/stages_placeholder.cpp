@@ -1,1 +1,0 @@
-namespace mesohex {}  // removed once the first stage lands

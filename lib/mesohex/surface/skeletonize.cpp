@@ -1,0 +1,446 @@
+// Mean-curvature-flow skeleton + radii + cleaning. The only file that includes CGAL's MCF header (heavy).
+#include "mesohex/surface/skeletonize.h"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Mean_curvature_flow_skeletonization.h>
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "mesohex/core/error.h"
+
+namespace mesohex {
+namespace {
+
+using Kernel = CGAL::Simple_cartesian<double>;
+using Point = Kernel::Point_3;
+using CgalMesh = CGAL::Surface_mesh<Point>;
+using Mcf = CGAL::Mean_curvature_flow_skeletonization<CgalMesh>;
+using Primitive = CGAL::AABB_face_graph_triangle_primitive<CgalMesh>;
+using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+Vec3 to_vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
+Point to_point(const Vec3& v) { return {v.x, v.y, v.z}; }
+
+Error invalid(const std::string& why, ElementRef where = {}) {
+    return Error(ErrorCode::InvalidInput, "surface cannot be skeletonized: " + why, where);
+}
+
+struct UnionFind {
+    std::vector<int> parent;
+    explicit UnionFind(int n) : parent(static_cast<size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
+    int find(int x) {
+        while (parent[static_cast<size_t>(x)] != x) {
+            parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+            x = parent[static_cast<size_t>(x)];
+        }
+        return x;
+    }
+    bool unite(int a, int b) {
+        a = find(a);
+        b = find(b);
+        if (a == b) return false;
+        parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
+        return true;
+    }
+};
+
+// Throws InvalidInput unless the surface is a closed, manifold, consistently oriented, single-component triangle mesh.
+void check_skeletonizable(const TriangleMesh& m) {
+    const int nv = static_cast<int>(m.points.size());
+    const int nt = static_cast<int>(m.triangles.size());
+    if (nt < 4) throw invalid("it has " + std::to_string(nt) + " triangles (a closed surface needs at least 4)");
+    for (int t = 0; t < nt; ++t) {
+        const std::array<int, 3>& tri = m.triangles[static_cast<size_t>(t)];
+        for (int i = 0; i < 3; ++i)
+            if (tri[i] < 0 || tri[i] >= nv)
+                throw invalid("triangle " + std::to_string(t) + " has vertex index " + std::to_string(tri[i])
+                                  + " out of range");
+        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
+            throw invalid("triangle " + std::to_string(t) + " is degenerate (repeated vertex)");
+    }
+    for (int v = 0; v < nv; ++v)
+        if (!is_finite(m.points[static_cast<size_t>(v)]))
+            throw invalid("vertex " + std::to_string(v) + " has a non-finite coordinate");
+    // Directed half-edges sorted by undirected key: each undirected edge must appear exactly twice, once per direction.
+    struct HalfEdge {
+        int lo, hi, from, tri;
+    };
+    std::vector<HalfEdge> half;
+    half.reserve(static_cast<size_t>(nt) * 3);
+    for (int t = 0; t < nt; ++t) {
+        const std::array<int, 3>& tri = m.triangles[static_cast<size_t>(t)];
+        for (int i = 0; i < 3; ++i) {
+            const int a = tri[i], b = tri[(i + 1) % 3];
+            half.push_back({std::min(a, b), std::max(a, b), a, t});
+        }
+    }
+    std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
+        return std::tie(x.lo, x.hi, x.tri) < std::tie(y.lo, y.hi, y.tri);
+    });
+    for (size_t i = 0; i < half.size();) {
+        size_t j = i;
+        while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) ++j;
+        const std::string edge = "edge (" + std::to_string(half[i].lo) + ", " + std::to_string(half[i].hi) + ")";
+        if (j - i == 1)
+            throw invalid("the surface is open: " + edge + " belongs to triangle " + std::to_string(half[i].tri)
+                              + " only");
+        if (j - i > 2)
+            throw invalid("the surface is not manifold: " + edge + " belongs to " + std::to_string(j - i)
+                              + " triangles");
+        if (half[i].from == half[i + 1].from)
+            throw invalid("the surface is not consistently oriented: triangles " + std::to_string(half[i].tri)
+                              + " and " + std::to_string(half[i + 1].tri) + " traverse " + edge
+                              + " in the same direction");
+        i = j;
+    }
+    // Vertex-manifold: the link of every vertex (opposite edges of its triangles) is one cycle.
+    std::vector<int> start(static_cast<size_t>(nv) + 1, 0);
+    for (const std::array<int, 3>& tri : m.triangles)
+        for (int i = 0; i < 3; ++i) ++start[static_cast<size_t>(tri[i]) + 1];
+    for (int v = 0; v < nv; ++v) start[static_cast<size_t>(v) + 1] += start[static_cast<size_t>(v)];
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    std::vector<int> incident(static_cast<size_t>(nt) * 3);
+    for (int t = 0; t < nt; ++t)
+        for (int i = 0; i < 3; ++i)
+            incident[static_cast<size_t>(fill[static_cast<size_t>(m.triangles[static_cast<size_t>(t)][i])]++)] = t;
+    std::vector<int> link_vertices;
+    for (int v = 0; v < nv; ++v) {
+        const int b = start[static_cast<size_t>(v)], e = start[static_cast<size_t>(v) + 1];
+        if (b == e) continue;  // unreferenced: ignored
+        link_vertices.clear();
+        std::vector<std::array<int, 2>> link_edges;
+        for (int k = b; k < e; ++k) {
+            const std::array<int, 3>& tri = m.triangles[static_cast<size_t>(incident[static_cast<size_t>(k)])];
+            const int i = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+            link_edges.push_back({tri[(i + 1) % 3], tri[(i + 2) % 3]});
+            link_vertices.push_back(tri[(i + 1) % 3]);
+            link_vertices.push_back(tri[(i + 2) % 3]);
+        }
+        std::sort(link_vertices.begin(), link_vertices.end());
+        link_vertices.erase(std::unique(link_vertices.begin(), link_vertices.end()), link_vertices.end());
+        UnionFind uf(static_cast<int>(link_vertices.size()));
+        int components = static_cast<int>(link_vertices.size());
+        auto local = [&](int x) {
+            return static_cast<int>(std::lower_bound(link_vertices.begin(), link_vertices.end(), x)
+                                    - link_vertices.begin());
+        };
+        for (const std::array<int, 2>& le : link_edges)
+            if (uf.unite(local(le[0]), local(le[1]))) --components;
+        if (components != 1)
+            throw invalid("the surface is not manifold at vertex " + std::to_string(v) + " (" + std::to_string(components)
+                              + " cones of triangles meet there)");
+    }
+    // One connected component (over referenced vertices).
+    UnionFind uf(nv);
+    for (const std::array<int, 3>& tri : m.triangles) {
+        uf.unite(tri[0], tri[1]);
+        uf.unite(tri[1], tri[2]);
+    }
+    int components = 0;
+    for (int v = 0; v < nv; ++v)
+        if (start[static_cast<size_t>(v)] != start[static_cast<size_t>(v) + 1] && uf.find(v) == v) ++components;
+    if (components != 1)
+        throw invalid("the surface has " + std::to_string(components)
+                      + " connected components (skeletonize each one separately)");
+}
+
+// A mutable graph for cleaning: adjacency sets kept sorted, dead vertices flagged.
+struct Graph {
+    std::vector<Vec3> points;
+    std::vector<double> radii;      // what cleaning decides with: median correspondence distance (the section's size)
+    std::vector<double> out_radii;  // what is output (= radii, or the distance to the surface with inscribed_radii)
+    std::vector<std::vector<int>> adj;
+    std::vector<bool> alive;
+
+    int degree(int v) const { return static_cast<int>(adj[static_cast<size_t>(v)].size()); }
+    void add_edge(int a, int b) {
+        std::vector<int>& la = adj[static_cast<size_t>(a)];
+        std::vector<int>& lb = adj[static_cast<size_t>(b)];
+        la.insert(std::lower_bound(la.begin(), la.end(), b), b);
+        lb.insert(std::lower_bound(lb.begin(), lb.end(), a), a);
+    }
+    void remove_vertex(int v) {
+        for (int u : adj[static_cast<size_t>(v)]) {
+            std::vector<int>& lu = adj[static_cast<size_t>(u)];
+            lu.erase(std::lower_bound(lu.begin(), lu.end(), v));
+        }
+        adj[static_cast<size_t>(v)].clear();
+        alive[static_cast<size_t>(v)] = false;
+    }
+    int add_vertex(const Vec3& p, double r, double out_r) {
+        points.push_back(p);
+        radii.push_back(r);
+        out_radii.push_back(out_r);
+        adj.emplace_back();
+        alive.push_back(true);
+        return static_cast<int>(points.size()) - 1;
+    }
+};
+
+// Walks from `from` through `next` along degree-2 vertices until a vertex of degree != 2 (or back to `from`).
+// Returns the visited vertices, `from` first, the stop vertex last.
+std::vector<int> walk_branch(const Graph& g, int from, int next) {
+    std::vector<int> path{from, next};
+    int prev = from, cur = next;
+    while (g.degree(cur) == 2 && cur != from) {
+        const std::vector<int>& n = g.adj[static_cast<size_t>(cur)];
+        const int nxt = n[0] == prev ? n[1] : n[0];
+        prev = cur;
+        cur = nxt;
+        path.push_back(cur);
+    }
+    return path;
+}
+
+double path_length(const Graph& g, const std::vector<int>& path) {
+    double len = 0;
+    for (size_t i = 0; i + 1 < path.size(); ++i)
+        len += distance(g.points[static_cast<size_t>(path[i])], g.points[static_cast<size_t>(path[i + 1])]);
+    return len;
+}
+
+// Removes, smallest first, terminal branches whose tube stays near their branching point's ball: length + radius at
+// the extremity < prune_factor x radius at the branching point. Returns the number removed.
+int prune_branches(Graph& g, double prune_factor) {
+    int pruned = 0;
+    for (;;) {
+        double best_ratio = std::numeric_limits<double>::infinity();
+        std::vector<int> best;
+        for (int v = 0; v < static_cast<int>(g.points.size()); ++v) {
+            if (!g.alive[static_cast<size_t>(v)] || g.degree(v) != 1) continue;
+            std::vector<int> path = walk_branch(g, v, g.adj[static_cast<size_t>(v)][0]);
+            if (g.degree(path.back()) < 3) continue;  // the whole graph is a path: nothing is spurious
+            const double reach = path_length(g, path) + g.radii[static_cast<size_t>(v)];
+            const double ratio = reach / (prune_factor * g.radii[static_cast<size_t>(path.back())]);
+            if (ratio < 1 && ratio < best_ratio) {
+                best_ratio = ratio;
+                best = std::move(path);
+            }
+        }
+        if (best.empty()) return pruned;
+        for (size_t i = 0; i + 1 < best.size(); ++i) g.remove_vertex(best[i]);
+        ++pruned;
+    }
+}
+
+// Merges, shortest first, pairs of branching points joined by a branch shorter than merge_factor x the larger of
+// their radii, unless the merge would destroy a cycle. Returns the number of merges.
+int merge_branch_points(Graph& g, double merge_factor) {
+    int merged = 0;
+    std::vector<std::vector<int>> rejected;  // paths whose merge would change the cycle count
+    for (;;) {
+        double best_ratio = std::numeric_limits<double>::infinity();
+        std::vector<int> best;
+        for (int a = 0; a < static_cast<int>(g.points.size()); ++a) {
+            if (!g.alive[static_cast<size_t>(a)] || g.degree(a) < 3) continue;
+            for (int n : g.adj[static_cast<size_t>(a)]) {
+                std::vector<int> path = walk_branch(g, a, n);
+                const int b = path.back();
+                if (b <= a || g.degree(b) < 3) continue;  // each junction-junction branch once, a < b
+                const double limit = merge_factor * std::max(g.radii[static_cast<size_t>(a)],
+                                                             g.radii[static_cast<size_t>(b)]);
+                const double ratio = path_length(g, path) / limit;
+                if (ratio < 1 && ratio < best_ratio
+                    && std::find(rejected.begin(), rejected.end(), path) == rejected.end()) {
+                    best_ratio = ratio;
+                    best = std::move(path);
+                }
+            }
+        }
+        if (best.empty()) return merged;
+        // The contracted set S = the path. Merging keeps the cycle count iff the only edges inside S are the path
+        // edges and no outside vertex is adjacent to two vertices of S (or twice to one).
+        std::vector<int> s = best;
+        std::sort(s.begin(), s.end());
+        int inside = 0;
+        std::vector<int> outside;
+        for (int v : s)
+            for (int u : g.adj[static_cast<size_t>(v)]) {
+                if (std::binary_search(s.begin(), s.end(), u))
+                    ++inside;
+                else
+                    outside.push_back(u);
+            }
+        std::vector<int> outside_unique = outside;
+        std::sort(outside_unique.begin(), outside_unique.end());
+        outside_unique.erase(std::unique(outside_unique.begin(), outside_unique.end()), outside_unique.end());
+        if (inside / 2 != static_cast<int>(best.size()) - 1 || outside_unique.size() != outside.size()) {
+            rejected.push_back(best);
+            continue;
+        }
+        const int a = best.front(), b = best.back();
+        const Vec3 p = 0.5 * (g.points[static_cast<size_t>(a)] + g.points[static_cast<size_t>(b)]);
+        const double r = std::max(g.radii[static_cast<size_t>(a)], g.radii[static_cast<size_t>(b)]);
+        for (size_t i = 1; i < best.size(); ++i) g.remove_vertex(best[i]);
+        g.points[static_cast<size_t>(a)] = p;
+        g.radii[static_cast<size_t>(a)] = r;
+        g.out_radii[static_cast<size_t>(a)] =
+            std::max(g.out_radii[static_cast<size_t>(a)], g.out_radii[static_cast<size_t>(b)]);
+        for (int u : outside_unique)
+            if (!std::binary_search(g.adj[static_cast<size_t>(a)].begin(), g.adj[static_cast<size_t>(a)].end(), u))
+                g.add_edge(a, u);
+        rejected.clear();
+        ++merged;
+    }
+}
+
+// Extends every extremity along its terminal direction up to extension_gap x radius before the surface.
+int extend_extremities(Graph& g, const AabbTree& tree, double gap, double spacing) {
+    int extended = 0;
+    const int n0 = static_cast<int>(g.points.size());
+    for (int v = 0; v < n0; ++v) {
+        if (!g.alive[static_cast<size_t>(v)] || g.degree(v) != 1) continue;
+        const double r = g.radii[static_cast<size_t>(v)];
+        // Terminal direction: from the branch point one radius back (or the branch's other end) to the extremity.
+        std::vector<int> path = walk_branch(g, v, g.adj[static_cast<size_t>(v)][0]);
+        Vec3 back = g.points[static_cast<size_t>(path.back())];
+        double len = 0;
+        for (size_t i = 0; i + 1 < path.size(); ++i) {
+            len += distance(g.points[static_cast<size_t>(path[i])], g.points[static_cast<size_t>(path[i + 1])]);
+            if (len >= r) {
+                back = g.points[static_cast<size_t>(path[i + 1])];
+                break;
+            }
+        }
+        const Vec3 tip = g.points[static_cast<size_t>(v)];
+        const Vec3 dir = normalized(tip - back);
+        if (squared_norm(dir) == 0) continue;
+        const Kernel::Ray_3 ray(to_point(tip), Kernel::Vector_3(dir.x, dir.y, dir.z));
+        const auto hit = tree.first_intersection(ray);
+        if (!hit) continue;
+        const Point* hp = boost::get<Point>(&hit->first);
+        if (hp == nullptr) continue;  // ray along a triangle: leave the extremity as it is
+        const double reach = dot(to_vec(*hp) - tip, dir) - gap * r;
+        if (reach <= 0.05 * r) continue;
+        // Spaced like the skeleton, but never denser than a quarter radius (a blob's flow skeleton can be one tiny edge).
+        const int steps = std::max(1, static_cast<int>(std::ceil(reach / std::max(spacing, 0.25 * r))));
+        int prev = v;
+        for (int k = 1; k <= steps; ++k) {
+            const Vec3 p = tip + dir * (reach * k / steps);
+            const double d = std::sqrt(tree.squared_distance(to_point(p)));
+            const double out_r = g.out_radii[static_cast<size_t>(v)];
+            const int w = g.add_vertex(p, std::clamp(d, 0.5 * r, r), std::clamp(d, 0.5 * out_r, out_r));
+            g.add_edge(prev, w);
+            prev = w;
+        }
+        ++extended;
+    }
+    return extended;
+}
+
+}  // namespace
+
+Skeletonization skeletonize_surface(const TriangleMesh& surface, const SkeletonizeOptions& options) {
+    check_skeletonizable(surface);
+    if (!(options.prune_factor >= 0) || !(options.merge_factor >= 0) || !(options.extension_gap >= 0)
+        || options.max_iterations < 1 || !(options.min_edge_length >= 0))
+        throw Error(ErrorCode::InvalidInput, "skeletonize: options out of range (factors must be >= 0, "
+                                             "max_iterations >= 1)");
+
+    // Referenced vertices only, in input order.
+    CgalMesh mesh;
+    std::vector<CgalMesh::Vertex_index> vmap(surface.points.size(), CgalMesh::null_vertex());
+    for (const std::array<int, 3>& tri : surface.triangles)
+        for (int i = 0; i < 3; ++i) vmap[static_cast<size_t>(tri[i])] = CgalMesh::Vertex_index(0);
+    for (size_t v = 0; v < surface.points.size(); ++v)
+        if (vmap[v] != CgalMesh::null_vertex()) vmap[v] = mesh.add_vertex(to_point(surface.points[v]));
+    for (size_t t = 0; t < surface.triangles.size(); ++t) {
+        const std::array<int, 3>& tri = surface.triangles[t];
+        const CgalMesh::Face_index f = mesh.add_face(vmap[static_cast<size_t>(tri[0])],
+                                                     vmap[static_cast<size_t>(tri[1])],
+                                                     vmap[static_cast<size_t>(tri[2])]);
+        if (f == CgalMesh::null_face())
+            throw invalid("triangle " + std::to_string(t) + " cannot be added to a manifold halfedge mesh");
+    }
+
+    Mcf mcf(mesh);
+    if (options.min_edge_length > 0) mcf.set_min_edge_length(options.min_edge_length);
+    mcf.set_max_iterations(static_cast<std::size_t>(options.max_iterations));
+    mcf.set_quality_speed_tradeoff(options.quality_speed_tradeoff);
+    mcf.set_medially_centered_speed_tradeoff(options.medially_centered_speed_tradeoff);
+    Mcf::Skeleton mcf_skeleton;
+    mcf(mcf_skeleton);
+
+    const int n = static_cast<int>(boost::num_vertices(mcf_skeleton));
+    if (n == 0) throw Error(ErrorCode::NumericalFailure, "skeletonize: the mean curvature flow gave an empty skeleton");
+
+    AabbTree tree(faces(mesh).first, faces(mesh).second, mesh);
+    tree.accelerate_distance_queries();
+
+    Graph g;
+    g.points.resize(static_cast<size_t>(n));
+    g.radii.resize(static_cast<size_t>(n));
+    g.out_radii.resize(static_cast<size_t>(n));
+    g.adj.resize(static_cast<size_t>(n));
+    g.alive.assign(static_cast<size_t>(n), true);
+    std::vector<double> dists;
+    for (int v = 0; v < n; ++v) {
+        const auto& sv = mcf_skeleton[static_cast<Mcf::Skeleton::vertex_descriptor>(v)];
+        const Vec3 p = to_vec(sv.point);
+        g.points[static_cast<size_t>(v)] = p;
+        dists.clear();
+        for (CgalMesh::Vertex_index iv : sv.vertices) dists.push_back(distance(p, to_vec(mesh.point(iv))));
+        double r = 0;
+        if (!dists.empty()) {
+            const size_t mid = dists.size() / 2;
+            std::nth_element(dists.begin(), dists.begin() + static_cast<std::ptrdiff_t>(mid), dists.end());
+            r = dists[mid];
+        }
+        const double surface_distance = std::sqrt(tree.squared_distance(sv.point));
+        if (!(r > 0)) r = surface_distance;
+        g.radii[static_cast<size_t>(v)] = r;
+        g.out_radii[static_cast<size_t>(v)] = options.inscribed_radii ? surface_distance : r;
+    }
+    double total_length = 0;
+    int edge_count = 0;
+    for (auto [it, end] = boost::edges(mcf_skeleton); it != end; ++it) {
+        const int a = static_cast<int>(boost::source(*it, mcf_skeleton));
+        const int b = static_cast<int>(boost::target(*it, mcf_skeleton));
+        if (a == b) continue;
+        const std::vector<int>& la = g.adj[static_cast<size_t>(a)];
+        if (std::binary_search(la.begin(), la.end(), b)) continue;
+        g.add_edge(a, b);
+        total_length += distance(g.points[static_cast<size_t>(a)], g.points[static_cast<size_t>(b)]);
+        ++edge_count;
+    }
+    for (int v = 0; v < n; ++v)
+        if (!(g.radii[static_cast<size_t>(v)] > 0) || !(g.out_radii[static_cast<size_t>(v)] > 0))
+            throw Error(ErrorCode::NumericalFailure,
+                        "skeletonize: skeleton vertex " + std::to_string(v) + " lies on the surface (zero radius)");
+
+    Skeletonization result;
+    result.mcf_vertices = n;
+    if (options.prune) result.pruned_branches = prune_branches(g, options.prune_factor);
+    if (options.merge_branch_points) result.merged_branch_points = merge_branch_points(g, options.merge_factor);
+    if (options.extend_extremities) {
+        const double spacing = edge_count > 0 ? total_length / edge_count : 1.0;
+        result.extended_extremities = extend_extremities(g, tree, options.extension_gap, spacing);
+    }
+
+    // Compact, alive vertices in index order.
+    std::vector<int> new_id(g.points.size(), -1);
+    Skeleton& s = result.skeleton;
+    for (size_t v = 0; v < g.points.size(); ++v) {
+        if (!g.alive[v]) continue;
+        new_id[v] = static_cast<int>(s.points.size());
+        s.points.push_back(g.points[v]);
+        s.radii.push_back(g.out_radii[v]);
+    }
+    for (size_t v = 0; v < g.points.size(); ++v)
+        for (int u : g.adj[v])
+            if (static_cast<size_t>(u) > v) s.edges.push_back({new_id[v], new_id[static_cast<size_t>(u)]});
+    return result;
+}
+
+}  // namespace mesohex

@@ -1,0 +1,52 @@
+#pragma once
+// Curve skeleton of a closed surface by mean curvature flow (CGAL::Mean_curvature_flow_skeletonization), with a
+// radius per skeleton vertex and the cleaning a mesher needs. CGAL is included only by skeletonize.cpp.
+#include "mesohex/core/hex_mesh.h"
+#include "mesohex/core/skeleton.h"
+
+namespace mesohex {
+
+struct SkeletonizeOptions {
+    // Mean curvature flow. 0 keeps CGAL's default, which is already relative to the model size
+    // (min_edge_length = 0.002 x bounding-box diagonal).
+    double min_edge_length = 0;             // absolute length; 0 = CGAL default
+    int max_iterations = 500;               // contraction iterations at most (CGAL default)
+    double quality_speed_tradeoff = 0.1;    // CGAL omega_H
+    double medially_centered_speed_tradeoff = 0.2;  // CGAL omega_P
+    // Radius of each flow-skeleton vertex: the median distance to the surface vertices the flow maps to it (default;
+    // the mean size of the cross-section), or, with inscribed_radii, its distance to the surface (the radius of
+    // the largest ball centred there; smaller on non-circular cross-sections). Cleaning always decides with the
+    // median radius, so both settings give the same graph.
+    bool inscribed_radii = false;
+    // Cleaning.
+    bool prune = true;
+    double prune_factor = 2.0;        // a terminal branch is removed when its length + its extremity's radius is
+                                      // below prune_factor x its branching point's radius (its tube barely leaves
+                                      // the branching point's ball)
+    bool merge_branch_points = true;
+    double merge_factor = 1.0;        // two branching points joined by a branch shorter than
+                                      // merge_factor x (larger of their radii) become one
+    bool extend_extremities = true;
+    double extension_gap = 0.5;       // an extended extremity stops extension_gap x (its radius) before the surface
+};
+
+struct Skeletonization {
+    Skeleton skeleton;              // curve only (no faces); radii always present, one per point
+    int mcf_vertices = 0;           // vertices of the raw MCF skeleton
+    int pruned_branches = 0;
+    int merged_branch_points = 0;   // merges performed (each removes one branching point)
+    int extended_extremities = 0;
+};
+
+// Skeletonizes `surface`.
+// Preconditions (checked, InvalidInput naming the offending element otherwise): indices in range, no degenerate
+// triangle (repeated vertex), closed (every edge in exactly two triangles), edge- and vertex-manifold, consistently
+// oriented, a single connected component. Unreferenced vertices are ignored.
+// Postconditions: every point has a radius > 0 (see inscribed_radii; the distance to the surface for a vertex with no
+// corresponding surface vertex); the graph is connected, has no loop edge and no duplicate edge; its cycle
+// count (E - V + 1) equals the MCF skeleton's. The radius of extension vertices is the distance to the surface
+// clamped to [0.5, 1] x the radius of the extremity they extend.
+// Complexity: dominated by the MCF (sparse Cholesky per iteration on the remeshed surface).
+Skeletonization skeletonize_surface(const TriangleMesh& surface, const SkeletonizeOptions& options = {});
+
+}  // namespace mesohex

@@ -1,0 +1,17 @@
+#pragma once
+// Medial meshes (.ma, Q-MAT style): header `nv ne nf`, then nv lines `v x y z r`, ne lines `e i j`, nf lines
+// `f i j k` (0-based). The edge list includes the triangle sides; "curve-only" edges are those in no triangle.
+#include <string>
+
+#include "mesohex/core/skeleton.h"
+
+namespace mesohex {
+
+// Reads a .ma file into a Skeleton whose faces are the medial triangles (3 vertices each) and whose edges are the
+// file's edges in file order, followed by any triangle side the file omitted (add_face_edges). Radii: one per point.
+// Errors (IoError, naming file:line): unreadable file, bad header, a count that does not match the lines present,
+// a malformed line, an index out of range, a repeated vertex in an edge or triangle, a duplicated edge, a
+// non-positive or non-finite radius or coordinate. Blank lines and lines starting with '#' are skipped.
+Skeleton read_medial_mesh(const std::string& path);
+
+}  // namespace mesohex

@@ -1,0 +1,378 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "mesohex/core/error.h"
+#include "mesohex/stages/adaptation.h"
+
+using mesohex::AdaptationOptions;
+using mesohex::Skeleton;
+using mesohex::Vec3;
+
+namespace {
+
+// Appends a polyline from vertex `from` to `to` (existing ids) through `inner` new points.
+void add_path(Skeleton& s, int from, int to, const std::vector<Vec3>& inner, double r) {
+    int prev = from;
+    for (const Vec3& x : inner) {
+        s.points.push_back(x);
+        s.radii.push_back(r);
+        const int v = static_cast<int>(s.points.size()) - 1;
+        s.edges.push_back({prev, v});
+        prev = v;
+    }
+    s.edges.push_back({prev, to});
+}
+
+// Straight oversampled branch from (0,0,0) to (L,0,0): vertices 0 and 1 are the extremities, then `inner` joints.
+Skeleton straight(double length, int inner, double r) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {length, 0, 0}};
+    s.radii = {r, r};
+    std::vector<Vec3> xs;
+    for (int i = 1; i <= inner; ++i) xs.push_back({length * i / (inner + 1), 0, 0});
+    add_path(s, 0, 1, xs, r);
+    return s;
+}
+
+std::vector<int> degrees(const Skeleton& s) {
+    std::vector<int> d(s.points.size(), 0);
+    for (const std::array<int, 2>& e : s.edges) ++d[e[0]], ++d[e[1]];
+    return d;
+}
+
+int count_degree_at_least(const Skeleton& s, int k) {
+    const std::vector<int> d = degrees(s);
+    return static_cast<int>(std::count_if(d.begin(), d.end(), [k](int x) { return x >= k; }));
+}
+
+}  // namespace
+
+// L = 16, r = 1, density 1: split while 2 < length: 16 -> 8 -> 4 -> 2 (2 < 2 fails): 8 edges of length 2 = 2r/density.
+TEST(Adaptation, StraightConstantRadiusPowerOfTwo) {
+    const Skeleton out = mesohex::adapt_skeleton(straight(16, 31, 1.0));
+    ASSERT_EQ(out.points.size(), 9u);
+    ASSERT_EQ(out.edges.size(), 8u);
+    EXPECT_EQ(out.points[0], (Vec3{0, 0, 0}));   // extremities keep their ids, first
+    EXPECT_EQ(out.points[1], (Vec3{16, 0, 0}));
+    for (const std::array<int, 2>& e : out.edges)
+        EXPECT_NEAR(mesohex::distance(out.points[e[0]], out.points[e[1]]), 2.0, 1e-12);
+    for (int v = 2; v < 9; ++v) EXPECT_NEAR(out.points[v].x, 2.0 * (v - 1), 1e-12);  // joints in branch order
+    for (const double r : out.radii) EXPECT_DOUBLE_EQ(r, 1.0);
+}
+
+TEST(Adaptation, DensityScalesEdgeLength) {
+    AdaptationOptions o;
+    o.density = 0.5;  // 2r/density = 4: 16 -> 8 -> 4 (2 < 2 fails): 4 edges
+    EXPECT_EQ(mesohex::adapt_skeleton(straight(16, 31, 1.0), o).edges.size(), 4u);
+    o.density = 2.0;  // 2r/density = 1: 16 edges
+    EXPECT_EQ(mesohex::adapt_skeleton(straight(16, 31, 1.0), o).edges.size(), 16u);
+    // L = 12 (not a power of two times 2r): 12 -> 6 -> 3 -> 1.5 (2 < 1.5 fails): 8 edges of 1.5, within (r, 2r].
+    const Skeleton out = mesohex::adapt_skeleton(straight(12, 5, 1.0));
+    ASSERT_EQ(out.edges.size(), 8u);
+    for (const std::array<int, 2>& e : out.edges)
+        EXPECT_NEAR(mesohex::distance(out.points[e[0]], out.points[e[1]]), 1.5, 1e-12);
+}
+
+// Radius linear in x (0.2 + 0.05 x): new joints lie on the original segment and get the interpolated radius.
+TEST(Adaptation, SamplesLieOnOriginalPolylineWithInterpolatedRadius) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {20, 0, 0}};
+    s.radii = {0.2, 1.2};
+    std::vector<Vec3> xs;
+    for (int i = 1; i < 40; ++i) xs.push_back({0.5 * i, 0, 0});
+    add_path(s, 0, 1, xs, 0);
+    for (std::size_t v = 2; v < s.points.size(); ++v) s.radii[v] = 0.2 + 0.05 * s.points[v].x;
+    const Skeleton out = mesohex::adapt_skeleton(s);
+    ASSERT_GT(out.points.size(), 3u);
+    ASSERT_LT(out.points.size(), s.points.size());
+    for (std::size_t v = 0; v < out.points.size(); ++v) {
+        EXPECT_EQ(out.points[v].y, 0.0);
+        EXPECT_EQ(out.points[v].z, 0.0);
+        EXPECT_GE(out.points[v].x, 0.0);
+        EXPECT_LE(out.points[v].x, 20.0);
+        EXPECT_NEAR(out.radii[v], 0.2 + 0.05 * out.points[v].x, 1e-12);
+    }
+    // Edges where the radius is larger are longer.
+    const auto len_at = [&](double x) {
+        for (const std::array<int, 2>& e : out.edges) {
+            const double a = out.points[e[0]].x, b = out.points[e[1]].x;
+            if (std::min(a, b) <= x && x <= std::max(a, b)) return std::abs(b - a);
+        }
+        return 0.0;
+    };
+    EXPECT_LT(len_at(0.1), len_at(19.9));
+}
+
+// An L-shaped polyline: every new joint lies on one of the two original segments.
+TEST(Adaptation, SamplesOnBentPolyline) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {10, 10, 0}};
+    s.radii = {0.3, 0.3};
+    std::vector<Vec3> xs;
+    for (int i = 1; i <= 10; ++i) xs.push_back({double(i), 0, 0});
+    for (int i = 1; i < 10; ++i) xs.push_back({10, double(i), 0});
+    add_path(s, 0, 1, xs, 0.3);
+    AdaptationOptions o;
+    o.turn_safety = 0;  // keep every bisection sample
+    const Skeleton out = mesohex::adapt_skeleton(s, o);
+    ASSERT_EQ(mesohex::euler_characteristic(out), 1);
+    for (const Vec3& x : out.points) {
+        const bool on_first = std::abs(x.y) < 1e-12 && x.x >= 0 && x.x <= 10;
+        const bool on_second = std::abs(x.x - 10) < 1e-12 && x.y >= 0 && x.y <= 10;
+        EXPECT_TRUE(on_first || on_second) << x.x << " " << x.y;
+    }
+}
+
+// Two branching points 1 apart with radius 0.6 (0.6 + 0.6 > 1), each with two long arms: they merge at the midpoint.
+TEST(Adaptation, ShortBridgeCollapsesToMidpoint) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {-10, 5, 0}, {-10, -5, 0}, {11, 5, 0}, {11, -5, 0}};
+    s.radii = {0.6, 0.6, 0.5, 0.5, 0.5, 0.5};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
+    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_EQ(r.collapsed_bridges, 1);
+    EXPECT_EQ(r.vertex_map[0], r.vertex_map[1]);
+    EXPECT_EQ(r.vertex_map[0], 0);
+    EXPECT_EQ(r.skeleton.points[0], (Vec3{0.5, 0, 0}));
+    EXPECT_DOUBLE_EQ(r.skeleton.radii[0], 0.6);
+    EXPECT_EQ(degrees(r.skeleton)[0], 4);
+    EXPECT_EQ(count_degree_at_least(r.skeleton, 3), 1);
+    EXPECT_EQ(mesohex::euler_characteristic(r.skeleton), 1);
+    // The same bridge 2 long (0.6 + 0.6 < 2) stays.
+    s.points[1] = {2, 0, 0};
+    const mesohex::AdaptationResult kept = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_EQ(kept.collapsed_bridges, 0);
+    EXPECT_EQ(count_degree_at_least(kept.skeleton, 3), 2);
+    // With collapsing off, the short bridge stays too.
+    s.points[1] = {1, 0, 0};
+    AdaptationOptions o;
+    o.collapse_short_bridges = false;
+    EXPECT_EQ(count_degree_at_least(mesohex::adapt_skeleton(s, o), 3), 2);
+}
+
+// Closed ring of 6 joints with a radius too large to bisect: it keeps 3 edges, anchored at its smallest id.
+TEST(Adaptation, RingKeepsThreeEdges) {
+    Skeleton s;
+    for (int i = 0; i < 6; ++i) {
+        const double a = 2 * M_PI * i / 6;
+        s.points.push_back({std::cos(a), std::sin(a), 0});
+        s.radii.push_back(5.0);
+        s.edges.push_back({i, (i + 1) % 6});
+    }
+    const Skeleton out = mesohex::adapt_skeleton(s);
+    EXPECT_EQ(out.points.size(), 3u);
+    EXPECT_EQ(out.edges.size(), 3u);
+    EXPECT_EQ(out.points[0], s.points[0]);
+    for (const int d : degrees(out)) EXPECT_EQ(d, 2);
+    // A thin ring is resampled to more edges and stays closed (V - E = 0).
+    for (double& r : s.radii) r = 0.05;
+    const Skeleton thin = mesohex::adapt_skeleton(s);
+    EXPECT_GE(thin.edges.size(), 6u);
+    EXPECT_EQ(mesohex::euler_characteristic(thin), 0);
+    for (const int d : degrees(thin)) EXPECT_EQ(d, 2);
+}
+
+// A loop starting and ending at one branching point (plus a tail): the loop keeps at least 3 edges.
+TEST(Adaptation, LoopAtBranchingPointKeepsThreeEdges) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {-5, 0, 0}};
+    s.radii = {3.0, 1.0};
+    s.edges = {{0, 1}};
+    add_path(s, 0, 0, {{1, 1, 0}, {2, 0, 0}, {1, -1, 0}}, 3.0);
+    const Skeleton out = mesohex::adapt_skeleton(s);
+    EXPECT_EQ(mesohex::euler_characteristic(out), 0);
+    EXPECT_EQ(degrees(out)[0], 3);
+    EXPECT_GE(out.edges.size(), 4u);  // tail + at least 3 loop edges
+    for (std::size_t i = 0; i < out.edges.size(); ++i)
+        for (std::size_t j = i + 1; j < out.edges.size(); ++j)
+            EXPECT_NE(std::minmax(out.edges[i][0], out.edges[i][1]), std::minmax(out.edges[j][0], out.edges[j][1]));
+}
+
+// A 2x1 quad leaflet with a long oversampled branch at a corner: leaflet unchanged, branch resampled.
+TEST(Adaptation, LeafletsUntouchedBranchesResampled) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {12, 0, 0}};
+    s.radii = {0.2, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2};
+    s.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}};
+    s.edges = {{0, 1}, {1, 2}, {3, 4}, {4, 5}, {0, 3}, {1, 4}, {2, 5}};
+    std::vector<Vec3> xs;
+    for (int i = 1; i < 100; ++i) xs.push_back({2 + 0.1 * i, 0, 0});
+    add_path(s, 2, 6, xs, 0.2);
+    const Skeleton out = mesohex::adapt_skeleton(s);
+    for (int v = 0; v < 7; ++v) {
+        EXPECT_EQ(out.points[v], s.points[v]);
+        EXPECT_EQ(out.radii[v], s.radii[v]);
+    }
+    EXPECT_EQ(out.faces, s.faces);
+    using Edges = std::vector<std::array<int, 2>>;
+    EXPECT_EQ(Edges(out.edges.begin(), out.edges.begin() + 7), Edges(s.edges.begin(), s.edges.begin() + 7));
+    // Branch of length 10 at r = 0.2, density 1: 10 -> 5 -> ... -> 0.3125 (0.4 < 0.3125 fails): 32 edges. At the
+    // leaflet corner the nearest other edge is at 90 degrees (gamma 45, cot 1): reach max(0.2, 0.2) = 0.2, so the
+    // first edge must be >= 1.25 * 0.2 = 0.25 <= 0.3125: every joint stays.
+    EXPECT_EQ(out.edges.size(), 7u + 32u);
+    EXPECT_NEAR(mesohex::distance(out.points[2], out.points[out.edges[7][1]]), 0.3125, 1e-12);
+    // With branching_reach 1.5 the demand is 1.25 * 0.3 = 0.375 > 0.3125: the first joint goes, the first edge is
+    // 0.625 and there are 31.
+    AdaptationOptions cautious;
+    cautious.branching_reach = 1.5;
+    const Skeleton out2 = mesohex::adapt_skeleton(s, cautious);
+    EXPECT_EQ(out2.edges.size(), 7u + 31u);
+    EXPECT_NEAR(mesohex::distance(out2.points[2], out2.points[out2.edges[7][1]]), 0.625, 1e-12);
+    EXPECT_EQ(mesohex::euler_characteristic(out), mesohex::euler_characteristic(s));
+}
+
+// A near-zero radius at an extremity must not make the bisection run towards it.
+TEST(Adaptation, TinyExtremityRadiusStaysBounded) {
+    Skeleton s = straight(1.0, 99, 0.1);
+    s.radii[1] = 7e-5;  // the far extremity
+    const Skeleton out = mesohex::adapt_skeleton(s);
+    // Radius floor 0.25 * 0.1: no edge shorter than (0.025 + 0.025) / 2 / density.
+    EXPECT_LE(out.edges.size(), 40u);
+    for (const std::array<int, 2>& e : out.edges)
+        EXPECT_GT(mesohex::distance(out.points[e[0]], out.points[e[1]]), 0.02);
+}
+
+// A U-turn (two right-angle corners 3 apart, r = 1): after adaptation every edge satisfies the documented
+// anti-overlap bound |ab| >= turn_safety * (r_a sin(theta_a/2) + r_b sin(theta_b/2)).
+TEST(Adaptation, SharpTurnsSatisfySectionBound) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0, 3, 0}};
+    s.radii = {1, 1};
+    std::vector<Vec3> xs;
+    for (int i = 1; i <= 16; ++i) xs.push_back({0.5 * i, 0, 0});
+    for (int i = 1; i <= 5; ++i) xs.push_back({8, 0.5 * i, 0});
+    for (int i = 16; i >= 1; --i) xs.push_back({0.5 * i, 3, 0});
+    add_path(s, 0, 1, xs, 1.0);
+    for (const double density : {1.0, 2.0, 4.0}) {
+        AdaptationOptions o;
+        o.density = density;
+        const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s, o);
+        const Skeleton& out = r.skeleton;
+        // Walk the output chain from vertex 0.
+        std::vector<int> chain{0};
+        std::vector<bool> used(out.edges.size(), false);
+        for (bool grew = true; grew;) {
+            grew = false;
+            for (std::size_t e = 0; e < out.edges.size(); ++e) {
+                if (used[e] || (out.edges[e][0] != chain.back() && out.edges[e][1] != chain.back())) continue;
+                used[e] = true;
+                chain.push_back(out.edges[e][0] == chain.back() ? out.edges[e][1] : out.edges[e][0]);
+                grew = true;
+            }
+        }
+        ASSERT_EQ(chain.size(), out.points.size());
+        const auto reach = [&](std::size_t k) {
+            if (k == 0 || k + 1 == chain.size()) return 0.0;  // extremities
+            const Vec3 u = mesohex::normalized(out.points[chain[k]] - out.points[chain[k - 1]]);
+            const Vec3 w = mesohex::normalized(out.points[chain[k + 1]] - out.points[chain[k]]);
+            return out.radii[chain[k]] * std::sqrt(std::max(0.0, 0.5 * (1 - mesohex::dot(u, w))));
+        };
+        for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+            EXPECT_GE(mesohex::distance(out.points[chain[k]], out.points[chain[k + 1]]),
+                      o.turn_safety * (reach(k) + reach(k + 1)) - 1e-12);
+        if (density == 4.0) {
+            EXPECT_GT(r.turn_removed_joints, 0);  // edges of 0.5 cannot carry a 45-degree turn
+        }
+    }
+}
+
+// Star of 3 orthogonal straight arms of length 16, r = 1, density 2: arms are cut into 16 edges of 1. At the branching
+// point beta = 90 degrees, gamma = 45 (cot 1): reach max(1, 1 * 1) = 1, so the first edge must be at least
+// 1.25 * 1 = 1.25: the first joint (1 away) goes, the next (2 away) stays: 15 edges per arm.
+TEST(Adaptation, FirstJointKeepsClearOfBranchingPoint) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {16, 0, 0}, {0, 16, 0}, {0, 0, 16}};
+    s.radii = {1, 1, 1, 1};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}};
+    AdaptationOptions o;
+    o.density = 2;
+    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s, o);
+    EXPECT_EQ(r.turn_removed_joints, 3);
+    EXPECT_EQ(r.skeleton.edges.size(), 45u);
+    EXPECT_EQ(r.skeleton.points.size(), 46u);
+    for (const std::array<int, 2>& e : r.skeleton.edges) {
+        const double len = mesohex::distance(r.skeleton.points[e[0]], r.skeleton.points[e[1]]);
+        EXPECT_NEAR(len, (e[0] == 0 || e[1] == 0) ? 2.0 : 1.0, 1e-12);
+    }
+}
+
+TEST(Adaptation, DeterministicAndEulerPreserving) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {5, 0, 0}, {0, 5, 0}, {0, 0, 5}};
+    s.radii = {0.5, 0.2, 0.3, 0.1};
+    s.edges = {{0, 1}, {0, 2}};
+    add_path(s, 0, 3, {{0, 0, 1}, {0.1, 0, 2}, {0, 0.2, 3}, {0, 0, 4}}, 0.2);
+    add_path(s, 1, 2, {{3, 2, 0}, {2, 3, 0}}, 0.25);
+    const Skeleton a = mesohex::adapt_skeleton(s);
+    const Skeleton b = mesohex::adapt_skeleton(s);
+    EXPECT_EQ(a, b);
+    EXPECT_EQ(mesohex::euler_characteristic(a), mesohex::euler_characteristic(s));
+    EXPECT_EQ(count_degree_at_least(a, 3), count_degree_at_least(s, 3));
+}
+
+// Seeded random graphs (trees with extra cycle edges, random radii, oversampled branches): invariants hold.
+TEST(Adaptation, RandomGraphsKeepInvariants) {
+    std::mt19937 rng(12345);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), ur(0.01, 0.5);
+    for (int trial = 0; trial < 200; ++trial) {
+        Skeleton s;
+        const int nodes = 2 + static_cast<int>(rng() % 12);
+        for (int v = 0; v < nodes; ++v) {
+            s.points.push_back({3 * u(rng), 3 * u(rng), 3 * u(rng)});
+            s.radii.push_back(ur(rng));
+        }
+        std::set<std::pair<int, int>> links;
+        for (int v = 1; v < nodes; ++v) links.insert({static_cast<int>(rng() % v), v});
+        for (int extra = static_cast<int>(rng() % 3); extra > 0; --extra) {
+            const int a = static_cast<int>(rng() % nodes), b = static_cast<int>(rng() % nodes);
+            if (a != b) links.insert(std::minmax(a, b));
+        }
+        for (const auto& [a, b] : links) {  // each link becomes an oversampled polyline with a little noise
+            std::vector<Vec3> inner;
+            const int k = static_cast<int>(rng() % 8);
+            for (int i = 1; i <= k; ++i) {
+                const double f = double(i) / (k + 1);
+                inner.push_back(s.points[a] + f * (s.points[b] - s.points[a]) + 0.05 * Vec3{u(rng), u(rng), u(rng)});
+            }
+            add_path(s, a, b, inner, ur(rng));
+        }
+        const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
+        const Skeleton& out = r.skeleton;
+        ASSERT_EQ(mesohex::euler_characteristic(out), mesohex::euler_characteristic(s)) << trial;
+        EXPECT_EQ(count_degree_at_least(out, 3), count_degree_at_least(s, 3) - r.collapsed_bridges) << trial;
+        std::set<std::pair<int, int>> seen;
+        for (const std::array<int, 2>& e : out.edges) {
+            EXPECT_NE(e[0], e[1]);
+            EXPECT_TRUE(seen.insert(std::minmax(e[0], e[1])).second) << trial;
+        }
+        for (std::size_t v = 0; v < out.points.size(); ++v) {
+            EXPECT_TRUE(mesohex::is_finite(out.points[v]));
+            EXPECT_GT(out.radii[v], 0.0);
+        }
+        EXPECT_EQ(mesohex::adapt_skeleton(s), out);
+    }
+}
+
+TEST(Adaptation, RejectsMissingOrBadRadii) {
+    Skeleton s = straight(4, 3, 1.0);
+    s.radii.clear();
+    try {
+        (void)mesohex::adapt_skeleton(s);
+        ADD_FAILURE();
+    } catch (const mesohex::Error& e) {
+        EXPECT_EQ(e.code(), mesohex::ErrorCode::InvalidInput);
+        EXPECT_NE(std::string(e.what()).find("radius"), std::string::npos) << e.what();
+    }
+    s = straight(4, 3, 1.0);
+    s.radii[2] = 0;
+    EXPECT_THROW((void)mesohex::adapt_skeleton(s), mesohex::Error);
+    s = straight(4, 3, 1.0);
+    s.edges.push_back({0, 1});
+    s.edges.push_back({1, 0});
+    EXPECT_THROW((void)mesohex::adapt_skeleton(s), mesohex::Error);
+}

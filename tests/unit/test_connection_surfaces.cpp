@@ -1,0 +1,147 @@
+// Connection surfaces (paper step 3): counts, registration and orientation on tiny skeletons.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <utility>
+
+#include "mesohex/core/error.h"
+#include "mesohex/stages/connection_surfaces.h"
+
+using namespace mesohex;
+
+namespace {
+
+Skeleton star(const std::vector<Vec3>& dirs) {
+    Skeleton s;
+    s.points.push_back({0, 0, 0});
+    for (std::size_t i = 0; i < dirs.size(); ++i) {
+        s.points.push_back(dirs[i]);
+        s.edges.push_back({0, static_cast<int>(i) + 1});
+    }
+    return s;
+}
+
+std::vector<Vec3> random_directions(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::vector<Vec3> d;
+    while (static_cast<int>(d.size()) < n) {
+        const Vec3 c = normalized(Vec3{g(rng), g(rng), g(rng)});
+        bool ok = norm(c) > 0.5;
+        for (const Vec3& o : d) ok = ok && dot(o, c) < std::cos(0.35);  // keep directions >= 20 degrees apart
+        if (ok) d.push_back(c);
+    }
+    return d;
+}
+
+// Checks the closed-surface invariants of vertex v's surface: every edge in two quads with opposite orientation,
+// V - E + F == 2, quad_edges consistent with edges.
+void expect_closed_surface(const ConnectionSurfaces& cs, int v) {
+    std::map<std::pair<int, int>, int> directed;
+    for (int q = cs.quad_begin[v]; q < cs.quad_begin[v + 1]; ++q)
+        for (int k = 0; k < 4; ++k) {
+            const int a = cs.quads[q][k], b = cs.quads[q][(k + 1) % 4];
+            ++directed[{a, b}];
+            const std::array<int, 2>& ed = cs.edges[cs.edge_begin[v] + cs.quad_edges[q][k]];
+            EXPECT_TRUE((ed[0] == a && ed[1] == b) || (ed[0] == b && ed[1] == a));
+        }
+    for (const auto& [key, count] : directed) {
+        EXPECT_EQ(count, 1);
+        EXPECT_EQ(directed.count({key.second, key.first}), 1u) << "edge without an opposite half-edge";
+    }
+    const int np = cs.point_begin[v + 1] - cs.point_begin[v];
+    const int nq = cs.quad_begin[v + 1] - cs.quad_begin[v];
+    const int ne = cs.edge_begin[v + 1] - cs.edge_begin[v];
+    EXPECT_EQ(np - ne + nq, 2);
+}
+
+}  // namespace
+
+TEST(ConnectionSurfaces, OneEdgeHasTwoExtremityQuads) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}};
+    s.edges = {{0, 1}};
+    const ConnectionSurfaces cs = build_connection_surfaces(s, analyze_skeleton(s));
+    for (int v = 0; v < 2; ++v) {
+        EXPECT_EQ(cs.point_begin[v + 1] - cs.point_begin[v], 4);
+        EXPECT_EQ(cs.quad_begin[v + 1] - cs.quad_begin[v], 1);
+        EXPECT_EQ(cs.edge_begin[v + 1] - cs.edge_begin[v], 4);
+    }
+    EXPECT_EQ(cs.edge_quad[0][0], 0);
+    EXPECT_EQ(cs.edge_quad[0][1], 1);
+}
+
+TEST(ConnectionSurfaces, JointIsAPillowOfTwoQuads) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+    s.edges = {{0, 1}, {1, 2}};
+    const ConnectionSurfaces cs = build_connection_surfaces(s, analyze_skeleton(s));
+    EXPECT_EQ(cs.quad_begin[2] - cs.quad_begin[1], 2);
+    expect_closed_surface(cs, 1);
+    for (int x = cs.point_begin[1]; x < cs.point_begin[2]; ++x) EXPECT_EQ(cs.point_valence[x], 2);
+    // Quad A on the first incident edge (edge 0, side 1), quad B on edge 1 (side 0).
+    EXPECT_EQ(cs.edge_quad[0][1], cs.quad_begin[1]);
+    EXPECT_EQ(cs.edge_quad[1][0], cs.quad_begin[1] + 1);
+}
+
+TEST(ConnectionSurfaces, BranchingPointsOfDegree3To12) {
+    for (int n = 3; n <= 12; ++n) {
+        for (unsigned seed = 1; seed <= 3; ++seed) {
+            const std::vector<Vec3> dirs = random_directions(n, seed * 100 + n);
+            const Skeleton s = star(dirs);
+            const ConnectionSurfaces cs = build_connection_surfaces(s, analyze_skeleton(s));
+            SCOPED_TRACE("degree " + std::to_string(n) + " seed " + std::to_string(seed));
+            EXPECT_EQ(cs.point_begin[1] - cs.point_begin[0], n + 2);
+            EXPECT_EQ(cs.quad_begin[1] - cs.quad_begin[0], n);
+            EXPECT_EQ(cs.edge_begin[1] - cs.edge_begin[0], 2 * n);
+            expect_closed_surface(cs, 0);
+            int valence_sum = 0;
+            for (int x = cs.point_begin[0]; x < cs.point_begin[1]; ++x) valence_sum += cs.point_valence[x];
+            EXPECT_EQ(valence_sum, 4 * n);
+            for (int i = 0; i < n; ++i) {
+                // Quad registered on edge i at the centre contains direction i: left of every side seen from outside.
+                const int q = cs.edge_quad[i][0];
+                ASSERT_GE(q, 0);
+                for (int k = 0; k < 4; ++k) {
+                    const Vec3& a = cs.directions[cs.quads[q][k]];
+                    const Vec3& b = cs.directions[cs.quads[q][(k + 1) % 4]];
+                    EXPECT_GT(dot(cross(a, b), dirs[i]), 0.0);
+                }
+            }
+        }
+    }
+}
+
+TEST(ConnectionSurfaces, LeafletVerticesNeedNoSurfaceAndJunctionsAreRejectedForNow) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    s.faces = {{0, 1, 2, 3}};
+    add_face_edges(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, analyze_skeleton(s));
+    EXPECT_EQ(cs.point_begin.back(), 0);
+    EXPECT_TRUE(cs.quads.empty());
+    s.points.push_back({-1, -1, 0});
+    s.edges.push_back({0, 4});  // BL-joint
+    try {
+        build_connection_surfaces(s, analyze_skeleton(s));
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
+        EXPECT_EQ(e.where().index, 0);
+    }
+}
+
+TEST(ConnectionSurfaces, NonOrientableLeafletIsRejected) {
+    Skeleton s;
+    s.points = {{0, 0, 1}, {1, 0, 1}, {2, 0, 1}, {0, 0, 0}, {1, 0, 0}, {2, 0.5, 0}};
+    s.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}, {2, 3, 0, 5}};
+    add_face_edges(s);
+    try {
+        build_connection_surfaces(s, analyze_skeleton(s));
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
+        EXPECT_EQ(e.where().kind, ElementRef::Kind::SkeletonFace);
+    }
+}

@@ -1,0 +1,253 @@
+// Local-global fitting against analytic surfaces (cube, sphere, plane).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/global_control.h>
+
+#include "hex_fixtures.h"
+#include "mesohex/core/error.h"
+#include "mesohex/core/validate.h"
+#include "mesohex/post/padding.h"
+#include "mesohex/post/quality.h"
+#include "mesohex/post/subdivision.h"
+#include "mesohex/post/surface_fitting.h"
+
+using namespace mesohex;
+using mesohex::test::make_block;
+
+namespace {
+
+// Closest point on the surface of the box [lo, hi]^3 (inside points go to the nearest face, outside ones are clamped).
+SurfaceProjector box_surface(double lo, double hi) {
+    return {[lo, hi](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
+        out.resize(in.size());
+        for (std::size_t i = 0; i < in.size(); ++i) {
+            Vec3 p = in[i];
+            bool inside = true;
+            for (int a = 0; a < 3; ++a)
+                if (p[a] < lo || p[a] > hi) inside = false;
+            if (!inside) {
+                for (int a = 0; a < 3; ++a) p[a] = std::clamp(p[a], lo, hi);
+            } else {
+                int best = 0;
+                double best_d = 1e300, best_v = 0;
+                for (int a = 0; a < 3; ++a) {
+                    if (p[a] - lo < best_d) { best_d = p[a] - lo; best = a; best_v = lo; }
+                    if (hi - p[a] < best_d) { best_d = hi - p[a]; best = a; best_v = hi; }
+                }
+                p[best] = best_v;
+            }
+            out[i] = p;
+        }
+    }};
+}
+
+SurfaceProjector sphere_surface(Vec3 c, double r) {
+    return {[c, r](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
+        out.resize(in.size());
+        for (std::size_t i = 0; i < in.size(); ++i) out[i] = c + r * normalized(in[i] - c);
+    }};
+}
+
+HexMesh scaled_block(int n, double lo, double hi) {
+    HexMesh m = make_block(n, n, n);
+    for (Vec3& p : m.points) p = Vec3{lo, lo, lo} + ((hi - lo) / n) * p;
+    return m;
+}
+
+}  // namespace
+
+TEST(Fitting, CubeAgainstItsOwnSurfaceStaysACube) {
+    const HexMesh cube = scaled_block(4, 0.0, 1.0);
+    for (int refresh : {0, 1, 10}) {
+        FitOptions options;
+        options.max_iterations = 30;
+        options.refresh_every = refresh;
+        const FitResult r = fit_to_surface(cube, box_surface(0.0, 1.0), options);
+        ASSERT_EQ(r.mesh.points.size(), cube.points.size());
+        double worst = 0;
+        for (std::size_t v = 0; v < cube.points.size(); ++v) worst = std::max(worst, distance(r.mesh.points[v], cube.points[v]));
+        EXPECT_LT(worst, 1e-6) << "refresh=" << refresh;
+        EXPECT_TRUE(r.converged);
+        EXPECT_LE(r.iterations, 3);  // already a fixed point: the first step does not move it
+        EXPECT_NEAR(r.sj_min_after, 1.0, 1e-6);
+        EXPECT_LT(r.max_distance, 1e-9);
+    }
+}
+
+TEST(Fitting, PaddedBlockFitsASphere) {
+    // A 4x4x4 block of [-0.6, 0.6]^3 with one padding layer, fitted to the sphere of radius 1.
+    const HexMesh padded = pad(scaled_block(4, -0.6, 0.6)).mesh;
+    ASSERT_EQ(padded.hexes.size(), 64u + 96u);
+    std::vector<double> energies;
+    FitOptions options;
+    options.lambda = 10;
+    options.refresh_every = 5;
+    options.max_iterations = 400;
+    options.progress = [&](const FitProgress& p) { energies.push_back(p.energy); };
+    const FitResult r = fit_to_surface(padded, sphere_surface({0, 0, 0}, 1.0), options);
+    EXPECT_EQ(static_cast<int>(energies.size()), r.iterations);
+    EXPECT_TRUE(r.converged);  // by the progress rule, before the cap
+    EXPECT_LT(r.iterations, 400);
+    EXPECT_EQ(r.inverted_after, 0);
+    EXPECT_GT(r.sj_min_after, 0.5);   // measured 0.67
+    EXPECT_LT(r.max_distance, 0.01);  // measured 0.003; 1 % of the bounding-box diagonal is 0.035
+    ASSERT_GE(energies.size(), 2u);
+    EXPECT_LT(energies.back(), energies.front());
+    EXPECT_TRUE(validate(r.mesh).valid());
+}
+
+TEST(Fitting, NeverIncreasesTheInvertedCount) {
+    // A 4x4x1 slab z in [0, 1]; the "surface" pulls the top skin down to z = -0.5 (through the bottom) and leaves the
+    // rest where it is: with a strong pull, the full step inverts the slab; the guarded fitter backs off.
+    const HexMesh slab = make_block(4, 4, 1);
+    const SurfaceProjector mirror{[](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
+        out = in;
+        for (Vec3& p : out)
+            if (p.z > 0.5) p.z = -0.5;
+    }};
+    FitOptions options;
+    options.lambda = 50;
+    options.max_iterations = 20;
+    options.guard_inversions = false;
+    const FitResult unguarded = fit_to_surface(slab, mirror, options);
+    ASSERT_GT(unguarded.inverted_after, 0);  // the scenario really inverts hexes
+
+    options.guard_inversions = true;
+    std::vector<FitProgress> steps;
+    options.progress = [&](const FitProgress& p) { steps.push_back(p); };
+    const FitResult guarded = fit_to_surface(slab, mirror, options);
+    EXPECT_EQ(guarded.inverted_before, 0);
+    EXPECT_EQ(guarded.inverted_after, 0);
+    for (const FitProgress& p : steps) EXPECT_EQ(p.inverted, 0);
+    ASSERT_FALSE(steps.empty());
+    EXPECT_LT(steps.front().step_fraction, 1.0);  // the first step had to be damped
+    EXPECT_GT(guarded.sj_min_after, 0.0);
+}
+
+TEST(Fitting, FrozenVerticesDoNotMove) {
+    const HexMesh padded = pad(scaled_block(2, -0.5, 0.5)).mesh;
+    FitOptions options;
+    options.max_iterations = 10;
+    options.frozen.assign(padded.points.size(), false);
+    options.frozen[0] = true;
+    options.frozen[30] = true;
+    const FitResult r = fit_to_surface(padded, sphere_surface({0, 0, 0}, 1.0), options);
+    EXPECT_EQ(r.mesh.points[0], padded.points[0]);
+    EXPECT_EQ(r.mesh.points[30], padded.points[30]);
+    EXPECT_NE(r.mesh.points[40], padded.points[40]);
+}
+
+TEST(Fitting, DeterministicForAnyThreadCount) {
+    const HexMesh padded = pad(scaled_block(5, -0.5, 0.5)).mesh;
+    FitOptions options;
+    options.max_iterations = 15;
+    options.move_tolerance = 0;
+    options.energy_window = 1 << 30;  // never stop early
+    FitResult one, two;
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+        one = fit_to_surface(padded, sphere_surface({0, 0, 0}, 1.0), options);
+    }
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+        two = fit_to_surface(padded, sphere_surface({0, 0, 0}, 1.0), options);
+    }
+    EXPECT_EQ(one.iterations, 15);
+    EXPECT_EQ(one.mesh, two.mesh);
+    EXPECT_EQ(one.energy, two.energy);
+}
+
+TEST(Fitting, InsideTheSkinKeepsAGoodBlock) {
+    // fit_boundary = false: the boundary is only attached to its current position, no projector needed.
+    HexMesh m = scaled_block(3, 0.0, 1.0);
+    m.points[21] += Vec3{0.1, -0.05, 0.08};  // an interior vertex (1,1,1) of the 4x4x4 grid moved off
+    FitOptions options;
+    options.fit_boundary = false;
+    const FitResult r = fit_to_surface(m, SurfaceProjector{}, options);
+    EXPECT_TRUE(r.converged);
+    EXPECT_GT(r.sj_min_after, r.sj_min_before);
+    EXPECT_LT(distance(r.mesh.points[21], Vec3{1.0 / 3, 1.0 / 3, 1.0 / 3}), 0.03);
+}
+
+TEST(Fitting, RejectsBadInput) {
+    HexMesh m = make_block(1, 1, 1);
+    EXPECT_THROW(fit_to_surface(m, SurfaceProjector{}), Error);  // fit_boundary without a projector
+    FitOptions bad;
+    bad.lambda = -1;
+    EXPECT_THROW(fit_to_surface(m, box_surface(0, 1), bad), Error);
+    m.hexes[0][2] = 42;
+    EXPECT_THROW(fit_to_surface(m, box_surface(0, 1)), Error);
+    EXPECT_THROW(fit_to_surface(HexMesh{}, box_surface(0, 1)), Error);
+    const SurfaceProjector short_answer{[](const std::vector<Vec3>&, std::vector<Vec3>& out) { out.clear(); }};
+    EXPECT_THROW(fit_to_surface(make_block(1, 1, 1), short_answer), Error);
+}
+
+TEST(Fitting, ConjugateGradientSolverAgreesWithDirect) {
+    const HexMesh padded = pad(scaled_block(4, -0.6, 0.6)).mesh;
+    FitOptions options;
+    options.max_iterations = 400;
+    options.solver = FitSolver::Direct;
+    const FitResult direct = fit_to_surface(padded, sphere_surface({0, 0, 0}, 1.0), options);
+    options.solver = FitSolver::ConjugateGradient;
+    options.cg_tolerance = 1e-8;  // near-exact global steps: the same iterates up to round-off
+    const FitResult cg = fit_to_surface(padded, sphere_surface({0, 0, 0}, 1.0), options);
+    EXPECT_EQ(cg.inverted_after, 0);
+    EXPECT_NEAR(cg.sj_min_after, direct.sj_min_after, 0.02);
+    EXPECT_LT(cg.max_distance, 0.01);
+    // Default (inexact: residual / 30 per step) CG: still converges to a good fit.
+    options.cg_tolerance = FitOptions{}.cg_tolerance;
+    const FitResult loose = fit_to_surface(padded, sphere_surface({0, 0, 0}, 1.0), options);
+    EXPECT_EQ(loose.inverted_after, 0);
+    EXPECT_GT(loose.sj_min_after, 0.5);
+    EXPECT_LT(loose.max_distance, 0.01);
+}
+
+TEST(Fitting, ConjugateGradientKeepsTheCubeAndIsDeterministic) {
+    const HexMesh cube = scaled_block(4, 0.0, 1.0);
+    FitOptions options;
+    options.solver = FitSolver::ConjugateGradient;
+    options.max_iterations = 20;
+    const FitResult r = fit_to_surface(cube, box_surface(0.0, 1.0), options);
+    for (std::size_t v = 0; v < cube.points.size(); ++v) EXPECT_LT(distance(r.mesh.points[v], cube.points[v]), 1e-6);
+    const HexMesh padded = pad(scaled_block(5, -0.5, 0.5)).mesh;
+    options.move_tolerance = 0;
+    options.energy_window = 1 << 30;  // never stop early
+    FitResult one, two;
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+        one = fit_to_surface(padded, sphere_surface({0, 0, 0}, 1.0), options);
+    }
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+        two = fit_to_surface(padded, sphere_surface({0, 0, 0}, 1.0), options);
+    }
+    EXPECT_EQ(one.iterations, 20);
+    EXPECT_EQ(one.mesh, two.mesh);
+}
+
+TEST(Fitting, PaddedSubdividedShellFitsTwoSpheres) {
+    // Box shell [-1.5, 1.5]^3 minus the centre cube (two boundary components), padded on both, subdivided 1 -> 8, fitted
+    // to the union of the spheres of radius 2 (outside) and 0.4 (the cavity): every vertex goes to the nearer sphere.
+    HexMesh shell = make_block(3, 3, 3);
+    shell.hexes.erase(shell.hexes.begin() + 13);
+    for (Vec3& p : shell.points) p = p - Vec3{1.5, 1.5, 1.5};
+    const HexMesh mesh = subdivide(pad(shell).mesh).mesh;
+    ASSERT_EQ(mesh.hexes.size(), 8u * (26u + 54u + 6u));
+    const SurfaceProjector two_spheres{[](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
+        out.resize(in.size());
+        for (std::size_t i = 0; i < in.size(); ++i) {
+            const double r = norm(in[i]);
+            out[i] = normalized(in[i]) * (std::abs(r - 2.0) < std::abs(r - 0.4) ? 2.0 : 0.4);
+        }
+    }};
+    const FitResult r = fit_to_surface(mesh, two_spheres, FitOptions{});
+    EXPECT_EQ(r.inverted_after, 0);
+    EXPECT_GT(r.sj_min_after, 0.5);   // measured 0.73
+    EXPECT_LT(r.max_distance, 0.02);  // measured 0.009 (0.5 % of the outer diameter)
+    const QualityReport q = compute_quality(r.mesh);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.boundary_components, 2);
+}

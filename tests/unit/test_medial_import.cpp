@@ -1,0 +1,259 @@
+// Medial mesh (.ma) reading and medial mesh -> meso-skeleton conversion on tiny inputs checkable on paper.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "mesohex/core/error.h"
+#include "mesohex/stages/medial_import.h"
+#include "mesohex_io/medial_io.h"
+#include "quad_skeleton_checks.h"
+
+namespace mesohex {
+namespace {
+
+Skeleton medial(std::vector<Vec3> points, std::vector<std::array<int, 2>> curve_edges,
+                std::vector<std::vector<int>> triangles, double radius = 0.01) {
+    Skeleton s;
+    s.points = std::move(points);
+    s.radii.assign(s.points.size(), radius);
+    s.edges = std::move(curve_edges);
+    s.faces = std::move(triangles);
+    add_face_edges(s);
+    return s;
+}
+
+// Unit square split along its diagonal 0-2 into two triangles, oriented the same way.
+Skeleton unit_square() { return medial({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {}, {{0, 1, 2}, {0, 2, 3}}); }
+
+TEST(MedialImport, SquareOfTwoTrianglesPairsIntoOneQuadSplitInFour) {
+    const MedialImport r = import_medial_mesh(unit_square());
+    EXPECT_EQ(r.paired_quads, 1);
+    EXPECT_EQ(r.split_triangles, 0);
+    EXPECT_EQ(r.leaflets, 1);
+    // 4 corners + 4 side midpoints + 1 centre; 8 boundary halves + 4 spokes; 4 quads.
+    EXPECT_EQ(r.skeleton.points.size(), 9u);
+    EXPECT_EQ(r.skeleton.edges.size(), 12u);
+    EXPECT_EQ(r.skeleton.faces.size(), 4u);
+    testing::expect_valid_quad_skeleton(r.skeleton);
+    testing::expect_leaflets_oriented(r.skeleton, r.face_leaflet);
+    // The centre vertex is the square's centre; the diagonal 0-2 is gone.
+    EXPECT_NEAR(distance(r.skeleton.points[8], Vec3{0.5, 0.5, 0}), 0.0, 1e-12);
+    for (const std::array<int, 2>& e : r.skeleton.edges) EXPECT_FALSE(std::min(e[0], e[1]) == 0 && std::max(e[0], e[1]) == 2);
+    EXPECT_EQ(euler_characteristic(r.skeleton), 1);
+}
+
+TEST(MedialImport, WithoutPairingEveryTriangleSplitsInThree) {
+    MedialImportOptions opt;
+    opt.pair_triangles = false;
+    const MedialImport r = import_medial_mesh(unit_square(), opt);
+    EXPECT_EQ(r.split_triangles, 2);
+    // 4 corners + 5 edge midpoints + 2 centres; 10 halves + 6 spokes; 6 quads.
+    EXPECT_EQ(r.skeleton.points.size(), 11u);
+    EXPECT_EQ(r.skeleton.edges.size(), 16u);
+    EXPECT_EQ(r.skeleton.faces.size(), 6u);
+    testing::expect_valid_quad_skeleton(r.skeleton);
+    testing::expect_leaflets_oriented(r.skeleton, r.face_leaflet);
+    // Radii interpolated: the midpoint of side 0-1 gets the mean of radii 1 and 3.
+    Skeleton s = unit_square();
+    s.radii = {1, 3, 1, 1};
+    opt.min_sheet_area_factor = 0;  // area 1 < (mean radius 1.5)^2 would collapse the sheet
+    const MedialImport r2 = import_medial_mesh(s, opt);
+    bool found = false;
+    for (size_t v = 0; v < r2.skeleton.points.size(); ++v)
+        if (distance(r2.skeleton.points[v], Vec3{0.5, 0, 0}) < 1e-12) {
+            EXPECT_DOUBLE_EQ(r2.skeleton.radii[v], 2.0);
+            found = true;
+        }
+    EXPECT_TRUE(found);
+}
+
+TEST(MedialImport, InconsistentInputOrientationIsFixed) {
+    // Same square, second triangle listed the other way round (traverses 0->2 like the first).
+    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {}, {{0, 1, 2}, {0, 3, 2}});
+    MedialImportOptions opt;
+    opt.pair_triangles = false;
+    const MedialImport r = import_medial_mesh(s, opt);
+    EXPECT_EQ(r.leaflets, 1);
+    testing::expect_valid_quad_skeleton(r.skeleton);
+    testing::expect_leaflets_oriented(r.skeleton, r.face_leaflet);
+    const MedialImport paired = import_medial_mesh(s);
+    EXPECT_EQ(paired.paired_quads, 1);
+    testing::expect_leaflets_oriented(paired.skeleton, paired.face_leaflet);
+}
+
+TEST(MedialImport, EdgeInThreeTrianglesBecomesFanEdges) {
+    // Three triangles around edge 0-1 (like hand.ma's medial junction): three leaflets, nothing to pair.
+    const Skeleton s = medial({{0, 0, 0}, {0, 0, 1}, {1, 0, 0.5}, {-0.5, 0.87, 0.5}, {-0.5, -0.87, 0.5}}, {},
+                              {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}}, 0.001);
+    const MedialImport r = import_medial_mesh(s);
+    EXPECT_EQ(r.fan_edges, 1);
+    EXPECT_EQ(r.leaflets, 3);
+    EXPECT_EQ(r.paired_quads, 0);
+    EXPECT_EQ(r.skeleton.faces.size(), 9u);
+    testing::expect_valid_quad_skeleton(r.skeleton);
+    testing::expect_leaflets_oriented(r.skeleton, r.face_leaflet);
+    // The two halves of the fan edge are each in three quads, one per leaflet.
+    std::map<std::pair<int, int>, std::set<int>> edge_leaflets;
+    for (size_t f = 0; f < r.skeleton.faces.size(); ++f)
+        for (size_t i = 0; i < 4; ++i)
+            edge_leaflets[std::minmax(r.skeleton.faces[f][i], r.skeleton.faces[f][(i + 1) % 4])].insert(r.face_leaflet[f]);
+    int fan_halves = 0;
+    for (const auto& [e, leaflets] : edge_leaflets)
+        if (leaflets.size() == 3) ++fan_halves;
+    EXPECT_EQ(fan_halves, 2);
+    // V: 5 + 7 midpoints + 3 centres = 15; E: 2 fan halves + 6 side halves x 2 + 9 spokes = 23; F 9; chi = 1 as input.
+    EXPECT_EQ(r.skeleton.points.size(), 15u);
+    EXPECT_EQ(r.skeleton.edges.size(), 23u);
+    EXPECT_EQ(euler_characteristic(r.skeleton), euler_characteristic(s));
+}
+
+TEST(MedialImport, SingleTriangleSheetCollapsesToCentroidStar) {
+    // A triangle whose corners each continue as a curve edge (dtorus.ma's situation).
+    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {2, 0, 0}, {0, 2, 0}},
+                              {{0, 3}, {1, 4}, {2, 5}}, {{0, 1, 2}}, 0.1);
+    const MedialImport r = import_medial_mesh(s);
+    EXPECT_EQ(r.sheets, 1);
+    EXPECT_EQ(r.collapsed_sheets, 1);
+    EXPECT_TRUE(r.skeleton.faces.empty());
+    // 6 vertices + centroid; 3 curve edges + 3 spokes; chi unchanged (1).
+    ASSERT_EQ(r.skeleton.points.size(), 7u);
+    EXPECT_EQ(r.skeleton.edges.size(), 6u);
+    EXPECT_NEAR(distance(r.skeleton.points[6], Vec3{1.0 / 3, 1.0 / 3, 0}), 0.0, 1e-12);
+    EXPECT_DOUBLE_EQ(r.skeleton.radii[6], 0.1);
+    EXPECT_EQ(euler_characteristic(r.skeleton), euler_characteristic(s));
+    testing::expect_valid_quad_skeleton(r.skeleton);
+}
+
+TEST(MedialImport, UnattachedCornerOfCollapsedSheetIsDropped) {
+    // Corner 2 has no curve edge: the collapsed triangle becomes a path 3-0-c-1-4.
+    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {2, 0, 0}}, {{0, 3}, {1, 4}},
+                              {{0, 1, 2}}, 0.1);
+    const MedialImport r = import_medial_mesh(s);
+    EXPECT_EQ(r.collapsed_sheets, 1);
+    EXPECT_EQ(r.skeleton.points.size(), 5u);
+    EXPECT_EQ(r.skeleton.edges.size(), 4u);
+    testing::expect_valid_quad_skeleton(r.skeleton);
+}
+
+TEST(MedialImport, SmallAreaSheetCollapses) {
+    // Two triangles, but their area (1) is below (mean radius 2)^2 = 4.
+    Skeleton s = unit_square();
+    s.radii.assign(4, 2.0);
+    EXPECT_EQ(import_medial_mesh(s).collapsed_sheets, 1);
+    s.radii.assign(4, 0.5);
+    EXPECT_EQ(import_medial_mesh(s).collapsed_sheets, 0);
+}
+
+TEST(MedialImport, MoebiusBandIsRejected) {
+    // 6 cross-sections t_i = (cos, sin, +w), b_i = (cos, sin, -w) around a circle, the last one glued twisted.
+    const int n = 6;
+    std::vector<Vec3> pts;
+    for (int i = 0; i < n; ++i) {
+        const double a = 2 * 3.14159265358979 * i / n;
+        pts.push_back({std::cos(a), std::sin(a), 0.2});
+        pts.push_back({std::cos(a), std::sin(a), -0.2});
+    }
+    std::vector<std::vector<int>> tris;
+    for (int i = 0; i < n; ++i) {
+        const int t0 = 2 * i, b0 = 2 * i + 1;
+        int t1 = 2 * ((i + 1) % n), b1 = 2 * ((i + 1) % n) + 1;
+        if (i == n - 1) std::swap(t1, b1);
+        tris.push_back({t0, b0, b1});
+        tris.push_back({t0, b1, t1});
+    }
+    try {
+        import_medial_mesh(medial(pts, {}, tris));
+        FAIL() << "a Moebius band must be rejected";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
+        EXPECT_NE(std::string(e.what()).find("orientable"), std::string::npos);
+    }
+    // The untwisted band is fine and keeps chi = 0.
+    std::vector<std::vector<int>> ring;
+    for (int i = 0; i < n; ++i) {
+        const int t0 = 2 * i, b0 = 2 * i + 1, t1 = 2 * ((i + 1) % n), b1 = 2 * ((i + 1) % n) + 1;
+        ring.push_back({t0, b0, b1});
+        ring.push_back({t0, b1, t1});
+    }
+    const MedialImport r = import_medial_mesh(medial(pts, {}, ring));
+    testing::expect_valid_quad_skeleton(r.skeleton);
+    testing::expect_leaflets_oriented(r.skeleton, r.face_leaflet);
+    EXPECT_EQ(euler_characteristic(r.skeleton), 0);
+}
+
+TEST(MedialImport, BadInputNamesTheElement) {
+    Skeleton s = unit_square();
+    s.radii.pop_back();
+    EXPECT_THROW(import_medial_mesh(s), Error);
+    s = unit_square();
+    s.faces[1].push_back(1);
+    try {
+        import_medial_mesh(s);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::InvalidInput);
+        EXPECT_EQ(e.where().kind, ElementRef::Kind::SkeletonFace);
+        EXPECT_EQ(e.where().index, 1);
+    }
+    s = unit_square();
+    s.edges.pop_back();  // a triangle side no longer listed
+    EXPECT_THROW(import_medial_mesh(s), Error);
+}
+
+// ---- .ma reader
+std::string write_temp(const std::string& name, const std::string& text) {
+    const std::string path = (std::filesystem::temp_directory_path() / ("mesohex_test_" + name)).string();
+    std::ofstream(path) << text;
+    return path;
+}
+
+TEST(MedialIo, ReadsCountsRadiiAndAddsMissingTriangleSides) {
+    const std::string path =
+        write_temp("ok.ma", "4 4 1\nv 0 0 0 0.5\nv 1 0 0 0.25\nv 0 1 0 0.5\n\nv 5 5 5 1\ne 0 1\ne 1 2\ne 2 0\ne 2 3\nf 0 1 2\n");
+    const Skeleton s = read_medial_mesh(path);
+    EXPECT_EQ(s.points.size(), 4u);
+    EXPECT_EQ(s.edges.size(), 4u);
+    ASSERT_EQ(s.faces.size(), 1u);
+    EXPECT_EQ(s.faces[0], (std::vector<int>{0, 1, 2}));
+    EXPECT_DOUBLE_EQ(s.radii[1], 0.25);
+    const std::string missing = write_temp("missing.ma", "3 1 1\nv 0 0 0 1\nv 1 0 0 1\nv 0 1 0 1\ne 0 1\nf 0 1 2\n");
+    EXPECT_EQ(read_medial_mesh(missing).edges.size(), 3u);
+    std::remove(path.c_str());
+    std::remove(missing.c_str());
+}
+
+TEST(MedialIo, ErrorsNameFileAndLine) {
+    struct Case {
+        const char* text;
+        int line;
+    };
+    const Case cases[] = {
+        {"2 1 0\nv 0 0 0 1\nv 1 0 0 1\ne 0 2\n", 4},              // index out of range
+        {"2 1 0\nv 0 0 0 1\nv 1 0 0 -1\ne 0 1\n", 3},             // negative radius
+        {"2 2 0\nv 0 0 0 1\nv 1 0 0 1\ne 0 1\n", 4},              // fewer edges than announced
+        {"2 1 0\nv 0 0 0 1\nv 1 0 0 1\ne 0 1\nf 0 1 1\n", 5},     // data after the announced counts
+        {"2 1 x\n", 1},                                           // bad header
+        {"2 1 0\nv 0 0 0 1\nv 1 0 0 1\ne 1 1\n", 4},              // loop edge
+        {"2 1 0\nv 0 0 1\nv 1 0 0 1\ne 0 1\n", 2},                // short vertex line
+    };
+    int i = 0;
+    for (const Case& c : cases) {
+        const std::string path = write_temp("bad" + std::to_string(i++) + ".ma", c.text);
+        try {
+            read_medial_mesh(path);
+            ADD_FAILURE() << "no error for: " << c.text;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::IoError);
+            EXPECT_EQ(e.where().index, c.line) << e.what();
+            EXPECT_NE(std::string(e.what()).find(path + ":" + std::to_string(c.line)), std::string::npos) << e.what();
+        }
+        std::remove(path.c_str());
+    }
+    EXPECT_THROW(read_medial_mesh("/nonexistent/x.ma"), Error);
+}
+
+}  // namespace
+}  // namespace mesohex

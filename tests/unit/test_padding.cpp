@@ -1,0 +1,142 @@
+// Padding: counts, validity, Euler characteristic and singular edges, derived on paper.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "hex_fixtures.h"
+#include "mesohex/core/error.h"
+#include "mesohex/core/topology.h"
+#include "mesohex/core/validate.h"
+#include "mesohex/post/padding.h"
+#include "mesohex/post/quality.h"
+
+using namespace mesohex;
+using mesohex::test::make_block;
+
+namespace {
+
+// Number of boundary quads of each hex.
+std::vector<int> exposed_faces(const HexMesh& m) {
+    const HexTopology t = compute_hex_topology(m);
+    std::vector<int> count(m.hexes.size(), 0);
+    for (int f : t.boundary_face) ++count[static_cast<std::size_t>(t.face_hexes[static_cast<std::size_t>(f)][0])];
+    return count;
+}
+
+// The 3x3x3 block without its centre hex: a box shell with two boundary components (outer 54 quads, inner 6).
+HexMesh make_box_shell() {
+    HexMesh m = make_block(3, 3, 3);
+    m.hexes.erase(m.hexes.begin() + 13);  // hex (1, 1, 1)
+    return m;
+}
+
+}  // namespace
+
+TEST(Padding, SingleHexGivesSeven) {
+    const PaddingResult r = pad(mesohex::test::make_unit_cube());
+    EXPECT_EQ(r.mesh.hexes.size(), 7u);
+    EXPECT_EQ(r.mesh.points.size(), 16u);  // 8 old + 8 pushed copies
+    EXPECT_EQ(r.first_new_vertex, 8);
+    EXPECT_EQ(r.first_new_hex, 1);
+    const QualityReport q = compute_quality(r.mesh);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.euler_characteristic, 1);
+    EXPECT_EQ(q.inverted, 0);
+    // Old boundary edges (12) had valence 1; now interior with valence 3. The 8 pushed edges v-v' at the cube corners
+    // see 3 hexes too. Nothing else is irregular inside; the new boundary is a cube skin (valence 2 everywhere).
+    EXPECT_EQ(q.singular_interior_edges.at(3), 20);
+    EXPECT_EQ(q.singular_interior_edges.size(), 1u);
+    EXPECT_TRUE(q.singular_boundary_edges.empty());
+    // Every boundary hex exposes exactly one face; the old hex is interior.
+    const std::vector<int> exposed = exposed_faces(r.mesh);
+    EXPECT_EQ(exposed[0], 0);
+    for (int h = 1; h < 7; ++h) EXPECT_EQ(exposed[static_cast<std::size_t>(h)], 1);
+    // Maps.
+    for (int v = 0; v < 8; ++v) EXPECT_EQ(r.origin_vertex[static_cast<std::size_t>(v)], v);
+    for (int v = 8; v < 16; ++v) {
+        const int o = r.origin_vertex[static_cast<std::size_t>(v)];
+        ASSERT_GE(o, 0);
+        ASSERT_LT(o, 8);
+    }
+    EXPECT_EQ(r.layer_of_hex, (std::vector<int>{0, 1, 1, 1, 1, 1, 1}));
+}
+
+TEST(Padding, CubeCornerMovesToTheOffsetCube) {
+    // thickness 0.25 x mean boundary edge length 1: the 8 new vertices are the corners of [-0.25, 1.25]^3.
+    const PaddingResult r = pad(mesohex::test::make_unit_cube());
+    for (int v = 8; v < 16; ++v) {
+        const Vec3 o = r.mesh.points[static_cast<std::size_t>(r.origin_vertex[static_cast<std::size_t>(v)])];
+        const Vec3 p = r.mesh.points[static_cast<std::size_t>(v)];
+        for (int a = 0; a < 3; ++a) EXPECT_NEAR(p[a], o[a] == 0 ? -0.25 : 1.25, 1e-12);
+    }
+    for (double sj : compute_quality(r.mesh).sj) EXPECT_GT(sj, 0.5);
+}
+
+TEST(Padding, Block2x2x2Gives8Plus24) {
+    const PaddingResult r = pad(make_block(2, 2, 2), {.layers = 1, .thickness = 0.5, .absolute_thickness = 0});
+    EXPECT_EQ(r.mesh.hexes.size(), 32u);
+    EXPECT_EQ(r.mesh.points.size(), 27u + 26u);
+    const QualityReport q = compute_quality(r.mesh);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.euler_characteristic, 1);
+    EXPECT_EQ(q.inverted, 0);
+    // The 12 feature edges of the old cube, 2 segments each, become valence-3 interior edges; plus the 8 corner
+    // edges v-v'. Face-interior old edges get valence 4 (2 old + 2 new).
+    EXPECT_EQ(q.singular_interior_edges.at(3), 24 + 8);
+    EXPECT_EQ(q.singular_interior_edges.size(), 1u);
+    const std::vector<int> exposed = exposed_faces(r.mesh);
+    for (std::size_t h = 0; h < 8; ++h) EXPECT_EQ(exposed[h], 0);
+    for (std::size_t h = 8; h < 32; ++h) EXPECT_EQ(exposed[h], 1);
+}
+
+TEST(Padding, HollowBoxShellGetsBothComponentsPadded) {
+    const HexMesh shell = make_box_shell();
+    ASSERT_EQ(shell.hexes.size(), 26u);
+    ASSERT_EQ(compute_quality(shell).boundary_components, 2);
+    const PaddingResult r = pad(shell);
+    EXPECT_EQ(r.mesh.hexes.size(), 26u + 54u + 6u);
+    EXPECT_EQ(r.mesh.points.size(), 64u + 56u + 8u);
+    const QualityReport q = compute_quality(r.mesh);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.inverted, 0);
+    EXPECT_EQ(q.boundary_components, 2);
+    EXPECT_EQ(q.euler_characteristic, compute_quality(shell).euler_characteristic);
+    // The inner skin moved into the cavity [1, 2]^3: its new vertices are strictly inside it.
+    int inside = 0;
+    for (std::size_t v = 64; v < r.mesh.points.size(); ++v) {
+        const Vec3& p = r.mesh.points[v];
+        if (p.x > 1 && p.x < 2 && p.y > 1 && p.y < 2 && p.z > 1 && p.z < 2) ++inside;
+    }
+    EXPECT_EQ(inside, 8);
+    const std::vector<int> exposed = exposed_faces(r.mesh);
+    for (std::size_t h = 0; h < 26; ++h) EXPECT_EQ(exposed[h], 0);
+    for (std::size_t h = 26; h < r.mesh.hexes.size(); ++h) EXPECT_EQ(exposed[h], 1);
+}
+
+TEST(Padding, RingOfEightIsPaddedInsideAndOutside) {
+    // 8 hexes around a hole (solid torus, one boundary component of genus 1): 32 boundary quads.
+    const HexMesh ring = mesohex::test::make_ring8();
+    const PaddingResult r = pad(ring);
+    EXPECT_EQ(r.mesh.hexes.size(), 8u + 32u);
+    const QualityReport q = compute_quality(r.mesh);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.inverted, 0);
+    EXPECT_EQ(q.euler_characteristic, 0);
+}
+
+TEST(Padding, TwoLayersAndZeroLayers) {
+    const PaddingResult r2 = pad(mesohex::test::make_unit_cube(), {.layers = 2});
+    EXPECT_EQ(r2.mesh.hexes.size(), 13u);  // 7 + the 6 boundary quads of the padded cube
+    EXPECT_TRUE(validate(r2.mesh).valid());
+    EXPECT_EQ(std::count(r2.layer_of_hex.begin(), r2.layer_of_hex.end(), 2), 6);
+    for (std::size_t v = 16; v < r2.mesh.points.size(); ++v) EXPECT_LT(r2.origin_vertex[v], 8);
+    const PaddingResult r0 = pad(mesohex::test::make_unit_cube(), {.layers = 0});
+    EXPECT_EQ(r0.mesh, mesohex::test::make_unit_cube());
+}
+
+TEST(Padding, RejectsBadInput) {
+    HexMesh m = mesohex::test::make_unit_cube();
+    m.hexes[0][3] = 99;
+    EXPECT_THROW(pad(m), Error);
+    EXPECT_THROW(pad(mesohex::test::make_unit_cube(), {.layers = 1, .thickness = -1}), Error);
+}

@@ -1,0 +1,313 @@
+// Raw mesh (paper steps 5-7): exact counts, validity, Euler characteristic, predicted irregular edges == measured,
+// determinism across thread counts.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+#include <tbb/global_control.h>
+
+#include "mesohex/core/error.h"
+#include "mesohex/core/validate.h"
+#include "mesohex/post/quality.h"
+#include "mesohex/stages/raw_mesh.h"
+
+using namespace mesohex;
+
+namespace {
+
+struct Built {
+    SkeletonAnalysis an;
+    ConnectionSurfaces cs;
+    RawMeshPrediction prediction;
+    RawMesh raw;
+};
+
+Built build(Skeleton s, double radius) {
+    if (s.radii.empty()) s.radii.assign(s.points.size(), radius);
+    Built b;
+    b.an = analyze_skeleton(s);
+    b.cs = build_connection_surfaces(s, b.an);
+    b.prediction = predict_raw_mesh(b.an, b.cs);
+    const BranchFrames fr = propagate_frames(s, b.an, b.cs);
+    b.raw = build_raw_mesh(s, b.an, b.cs, fr);
+    return b;
+}
+
+// Everything the issue asks of a raw mesh of a curve skeleton.
+void expect_good_raw_mesh(const Skeleton& s, const Built& b, bool expect_no_inverted = true) {
+    const HexMesh& m = b.raw.mesh;
+    EXPECT_EQ(static_cast<long>(m.hexes.size()), 4 * static_cast<long>(s.edges.size()));
+    EXPECT_EQ(static_cast<long>(m.hexes.size()), b.prediction.hexes);
+    EXPECT_EQ(static_cast<long>(m.points.size()), b.prediction.vertices);
+    for (const Vec3& p : m.points) EXPECT_TRUE(is_finite(p));
+    const ValidationReport vr = validate(m);
+    EXPECT_TRUE(vr.valid()) << (vr.problems.empty() ? std::string() : vr.problems.front().message);
+    const QualityReport q = compute_quality(m);
+    EXPECT_EQ(q.euler_characteristic, euler_characteristic(s) - b.an.counts.isolated);
+    EXPECT_EQ(q.singular_interior_edges, (std::map<int, long>(b.prediction.interior_irregular_edges.begin(),
+                                                                b.prediction.interior_irregular_edges.end())));
+    EXPECT_EQ(q.singular_boundary_edges, (std::map<int, long>(b.prediction.boundary_irregular_edges.begin(),
+                                                                b.prediction.boundary_irregular_edges.end())));
+    if (expect_no_inverted) {
+        EXPECT_EQ(q.inverted, 0);
+        EXPECT_GT(q.sj_min, 0.0);
+    }
+}
+
+Skeleton star(const std::vector<Vec3>& dirs, int edges_per_arm, double arm_length) {
+    Skeleton s;
+    s.points.push_back({0, 0, 0});
+    for (const Vec3& d : dirs) {
+        int prev = 0;
+        for (int k = 1; k <= edges_per_arm; ++k) {
+            s.points.push_back(d * (arm_length * k / edges_per_arm));
+            const int cur = static_cast<int>(s.points.size()) - 1;
+            s.edges.push_back({prev, cur});
+            prev = cur;
+        }
+    }
+    return s;
+}
+
+std::vector<Vec3> random_directions(int n, unsigned seed, double min_angle) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::vector<Vec3> d;
+    while (static_cast<int>(d.size()) < n) {
+        const Vec3 c = normalized(Vec3{g(rng), g(rng), g(rng)});
+        bool ok = norm(c) > 0.5;
+        for (const Vec3& o : d) ok = ok && dot(o, c) < std::cos(min_angle);
+        if (ok) d.push_back(c);
+    }
+    return d;
+}
+
+Skeleton ring(int n) {
+    Skeleton s;
+    for (int i = 0; i < n; ++i) s.points.push_back({std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0});
+    for (int i = 0; i < n; ++i) s.edges.push_back({i, (i + 1) % n});
+    return s;
+}
+
+// n x m quads in the plane z = 0, vertex (i, j) = j * (n + 1) + i.
+Skeleton plate(int n, int m) {
+    Skeleton s;
+    for (int j = 0; j <= m; ++j)
+        for (int i = 0; i <= n; ++i) s.points.push_back({double(i), double(j), 0});
+    for (int j = 0; j < m; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i;
+            s.faces.push_back({a, a + 1, a + n + 2, a + n + 1});
+        }
+    add_face_edges(s);
+    return s;
+}
+
+// Surface of the cube [0, 2]^3 with 2 x 2 unit quads per side (26 vertices, 24 faces), faces listed in arbitrary
+// orientations (the analysis orients them).
+Skeleton cube_surface() {
+    Skeleton s;
+    std::map<std::array<int, 3>, int> id;
+    auto vertex = [&](std::array<int, 3> c) {
+        auto [it, fresh] = id.emplace(c, static_cast<int>(s.points.size()));
+        if (fresh) s.points.push_back({double(c[0]), double(c[1]), double(c[2])});
+        return it->second;
+    };
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side : {0, 2})
+            for (int i = 0; i < 2; ++i)
+                for (int j = 0; j < 2; ++j) {
+                    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                    std::vector<int> f;
+                    for (auto [du, dv] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) {
+                        std::array<int, 3> c{};
+                        c[axis] = side;
+                        c[u] = i + du;
+                        c[v] = j + dv;
+                        f.push_back(vertex(c));
+                    }
+                    s.faces.push_back(f);
+                }
+    add_face_edges(s);
+    return s;
+}
+
+// Leaflet meshes: hexes = 2 per face + 2 per boundary edge, valid, Euler characteristic of the skeleton,
+// predicted irregular edges == measured, no inverted hex.
+void expect_good_leaflet_mesh(const Skeleton& s, const Built& b, long hexes) {
+    const HexMesh& m = b.raw.mesh;
+    EXPECT_EQ(static_cast<long>(m.hexes.size()), hexes);
+    EXPECT_EQ(static_cast<long>(m.hexes.size()), b.prediction.hexes);
+    EXPECT_EQ(static_cast<long>(m.points.size()), b.prediction.vertices);
+    const QualityReport q = compute_quality(m);
+    EXPECT_TRUE(q.validation.valid()) << (q.validation.problems.empty() ? "" : q.validation.problems[0].message);
+    EXPECT_EQ(q.euler_characteristic, euler_characteristic(s));
+    EXPECT_EQ(q.singular_interior_edges, b.prediction.interior_irregular_edges);
+    EXPECT_EQ(q.singular_boundary_edges, b.prediction.boundary_irregular_edges);
+    EXPECT_EQ(q.inverted, 0);
+    EXPECT_GT(q.sj_min, 0.0);
+}
+
+}  // namespace
+
+TEST(RawMeshLeaflets, OneQuadIsOnePlateAndFourHalfChunks) {
+    const Skeleton s = plate(1, 1);
+    const Built b = build(s, 0.25);
+    expect_good_leaflet_mesh(s, b, 10);
+    EXPECT_EQ(b.raw.mesh.points.size(), 24u);  // 4 boundary vertices x 6
+    // A free 90-degree corner with one face: up and down edges of valence 1 + 2 = 3.
+    EXPECT_EQ(b.prediction.interior_irregular_edges, (std::map<int, long>{{3, 8}}));
+}
+
+TEST(RawMeshLeaflets, ThreeByThreePlate) {
+    const Skeleton s = plate(3, 3);
+    const Built b = build(s, 0.25);
+    expect_good_leaflet_mesh(s, b, 42);
+    EXPECT_EQ(b.raw.mesh.points.size(), 4u * 3 + 12 * 6);
+}
+
+TEST(RawMeshLeaflets, ClosedCubeSurfaceIsAShell) {
+    const Skeleton s = cube_surface();
+    ASSERT_EQ(s.points.size(), 26u);
+    const Built b = build(s, 0.25);
+    expect_good_leaflet_mesh(s, b, 48);
+    const QualityReport q = compute_quality(b.raw.mesh);
+    EXPECT_EQ(q.euler_characteristic, 2);
+    EXPECT_EQ(q.boundary_components, 2);
+    // 8 cube corners with 3 faces: their up and down edges have 3 hexes.
+    EXPECT_EQ(b.prediction.interior_irregular_edges, (std::map<int, long>{{3, 16}}));
+}
+
+TEST(RawMeshLeaflets, CurvesAndLeafletsInOneSkeleton) {
+    Skeleton s = plate(2, 1);
+    const int base = static_cast<int>(s.points.size());
+    s.points.push_back({0, 5, 0});
+    s.points.push_back({1, 5, 0});
+    s.points.push_back({2, 5, 0.5});
+    s.edges.push_back({base, base + 1});
+    s.edges.push_back({base + 1, base + 2});
+    const Built b = build(s, 0.25);
+    expect_good_leaflet_mesh(s, b, 2 * 2 + 2 * 6 + 4 * 2);
+}
+
+TEST(RawMeshLeaflets, JunctionsWithLeafletsAreRejectedForNow) {
+    Skeleton s = plate(1, 1);
+    s.points.push_back({-1, -1, 0});
+    s.edges.push_back({0, 4});  // BL-joint at corner 0
+    s.radii.assign(s.points.size(), 0.25);
+    EXPECT_THROW(build(s, 0.25), Error);
+}
+
+TEST(RawMesh, OneEdgeIsOneChunkOfFourHexes) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}};
+    s.edges = {{0, 1}};
+    const Built b = build(s, 0.25);
+    ASSERT_EQ(b.raw.mesh.hexes.size(), 4u);
+    EXPECT_EQ(b.raw.mesh.points.size(), 18u);  // 2 x (centre + 4 quad vertices + 4 mids)
+    EXPECT_EQ(b.prediction.boundary_irregular_edges.at(1), 4 + 2 * 8);
+    EXPECT_TRUE(b.prediction.interior_irregular_edges.empty());
+    expect_good_raw_mesh(s, b);
+    // All 4 hexes share the axis (centres 0 and 9).
+    for (const std::array<int, 8>& h : b.raw.mesh.hexes) {
+        EXPECT_EQ(h[0], 0);
+        EXPECT_EQ(h[4], 9);
+    }
+    // Cross-section points on the sphere of radius 0.25 around each centre.
+    for (int i = 1; i < 9; ++i) EXPECT_NEAR(norm(b.raw.mesh.points[i] - s.points[0]), 0.25, 1e-12);
+}
+
+TEST(RawMesh, ThreeStarHasTwelveHexesAndPredictedIrregularEdges) {
+    const double c = std::cos(2 * M_PI / 3), sn = std::sin(2 * M_PI / 3);
+    const Skeleton s = star({{1, 0, 0}, {c, sn, 0}, {c, -sn, 0}}, 1, 1.0);
+    const Built b = build(s, 0.25);
+    EXPECT_EQ(b.raw.mesh.hexes.size(), 12u);
+    // Any quad partition of the sphere into 3 quads has 5 vertices with valences summing to 12; the two "poles" of
+    // valence 3 give two interior edges with 6 hexes.
+    EXPECT_EQ(b.prediction.interior_irregular_edges, (std::map<int, long>{{6, 2}}));
+    expect_good_raw_mesh(s, b);
+}
+
+TEST(RawMesh, ClosedRingOfSixEdges) {
+    const Skeleton s = ring(6);
+    const Built b = build(s, 0.25);
+    EXPECT_EQ(b.raw.mesh.hexes.size(), 24u);
+    const QualityReport q = compute_quality(b.raw.mesh);
+    EXPECT_EQ(q.euler_characteristic, 0);
+    EXPECT_EQ(q.boundary_components, 1);
+    expect_good_raw_mesh(s, b);
+}
+
+TEST(RawMesh, IsolatedPolyline) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0.5, 0}, {3, 0.5, 0.5}, {4, 0, 1}};
+    for (int i = 0; i < 4; ++i) s.edges.push_back({i, i + 1});
+    const Built b = build(s, 0.25);
+    EXPECT_EQ(b.raw.mesh.hexes.size(), 16u);
+    expect_good_raw_mesh(s, b);
+}
+
+TEST(RawMesh, LoopAtABranchingPoint) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {-1, 0, 0}, {1, 1, 0.2}, {2, 0, 0}, {1, -1, -0.2}};
+    s.edges = {{0, 1}, {0, 2}, {2, 3}, {3, 4}, {4, 0}};
+    const Built b = build(s, 0.2);
+    expect_good_raw_mesh(s, b);
+    EXPECT_EQ(compute_quality(b.raw.mesh).euler_characteristic, 0);
+}
+
+TEST(RawMesh, StarsOfDegree3To12WithRandomDirections) {
+    for (int n = 3; n <= 12; ++n) {
+        for (unsigned seed = 1; seed <= 3; ++seed) {
+            SCOPED_TRACE("degree " + std::to_string(n) + " seed " + std::to_string(seed));
+            const Skeleton s = star(random_directions(n, 1000 * seed + n, 0.35), 2, 2.0);
+            const Built b = build(s, 0.2);
+            expect_good_raw_mesh(s, b);
+        }
+    }
+}
+
+TEST(RawMesh, TwoJunctionsWithABridgeAndAnIsolatedVertex) {
+    const double c = std::cos(2 * M_PI / 3), sn = std::sin(2 * M_PI / 3);
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {c, sn, 0}, {c, -sn, 0}, {2 - c, 0, sn}, {2 - c, 0, -sn},
+                {9, 9, 9}};
+    s.edges = {{0, 1}, {1, 2}, {0, 3}, {0, 4}, {2, 5}, {2, 6}};
+    const Built b = build(s, 0.2);
+    EXPECT_EQ(b.an.counts.isolated, 1);
+    expect_good_raw_mesh(s, b);
+}
+
+TEST(RawMesh, IdenticalForAnyThreadCount) {
+    const Skeleton s = star(random_directions(9, 77, 0.35), 3, 2.0);
+    Built one, two;
+    {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+        one = build(s, 0.2);
+    }
+    {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+        two = build(s, 0.2);
+    }
+    EXPECT_TRUE(one.raw.mesh == two.raw.mesh);
+}
+
+TEST(RawMesh, RejectsMissingOrBadRadius) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}};
+    s.edges = {{0, 1}};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    EXPECT_THROW(build_raw_mesh(s, an, cs, fr), Error);
+    s.radii = {0.1, 0.0};
+    try {
+        build_raw_mesh(s, an, cs, fr);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::InvalidInput);
+        EXPECT_EQ(e.where().index, 1);
+    }
+}

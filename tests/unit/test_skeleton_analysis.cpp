@@ -1,0 +1,216 @@
+// Skeleton analysis (paper step 2) on tiny skeletons checkable on paper.
+#include <gtest/gtest.h>
+
+#include "mesohex/core/error.h"
+#include "mesohex/stages/skeleton_analysis.h"
+
+using namespace mesohex;
+
+namespace {
+
+Skeleton polyline(int n_edges, bool closed) {
+    Skeleton s;
+    const int nv = closed ? n_edges : n_edges + 1;
+    for (int i = 0; i < nv; ++i) s.points.push_back({double(i), double(i % 2) * 0.3, 0});
+    if (closed) {
+        s.points.clear();
+        for (int i = 0; i < nv; ++i)
+            s.points.push_back({std::cos(2 * M_PI * i / nv), std::sin(2 * M_PI * i / nv), 0});
+    }
+    for (int i = 0; i < n_edges; ++i) s.edges.push_back({i, (i + 1) % nv});
+    return s;
+}
+
+// n x m quads in the plane z = 0, vertex (i, j) = j * (n + 1) + i.
+Skeleton plate(int n, int m) {
+    Skeleton s;
+    for (int j = 0; j <= m; ++j)
+        for (int i = 0; i <= n; ++i) s.points.push_back({double(i), double(j), 0});
+    for (int j = 0; j < m; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i;
+            s.faces.push_back({a, a + 1, a + n + 2, a + n + 1});
+        }
+    add_face_edges(s);
+    return s;
+}
+
+}  // namespace
+
+TEST(SkeletonAnalysis, OneEdge) {
+    const SkeletonAnalysis an = analyze_skeleton(polyline(1, false));
+    EXPECT_EQ(an.vertex_class[0], VertexClass::Extremity);
+    EXPECT_EQ(an.vertex_class[1], VertexClass::Extremity);
+    ASSERT_EQ(an.branches.size(), 1u);
+    EXPECT_EQ(an.branches[0].vertices, (std::vector<int>{0, 1}));
+    EXPECT_EQ(an.branches[0].edges, (std::vector<int>{0}));
+    EXPECT_EQ(an.predicted_hexes, 4);
+    EXPECT_EQ(an.counts.extremities, 2);
+    EXPECT_EQ(an.counts.cycles, 0);
+    EXPECT_EQ(an.counts.components, 1);
+}
+
+TEST(SkeletonAnalysis, ThreeStar) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    s.edges = {{0, 1}, {2, 0}, {0, 3}};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    EXPECT_EQ(an.vertex_class[0], VertexClass::BranchingPoint);
+    EXPECT_EQ(an.counts.branching_points, 1);
+    EXPECT_EQ(an.counts.extremities, 3);
+    ASSERT_EQ(an.branches.size(), 3u);
+    for (const Branch& b : an.branches) {
+        EXPECT_EQ(b.vertices.front(), 0);  // walked from the branching point
+        EXPECT_EQ(b.edges.size(), 1u);
+    }
+    EXPECT_EQ(an.predicted_hexes, 12);
+}
+
+TEST(SkeletonAnalysis, IsolatedPolylineIsOneOrderedBranch) {
+    const SkeletonAnalysis an = analyze_skeleton(polyline(4, false));
+    ASSERT_EQ(an.branches.size(), 1u);
+    EXPECT_EQ(an.branches[0].vertices, (std::vector<int>{0, 1, 2, 3, 4}));
+    EXPECT_EQ(an.branches[0].edges, (std::vector<int>{0, 1, 2, 3}));
+    EXPECT_FALSE(an.branches[0].ring);
+    EXPECT_EQ(an.counts.joints, 3);
+    EXPECT_EQ(an.predicted_hexes, 16);
+}
+
+TEST(SkeletonAnalysis, ClosedRingWithoutBranchingPoint) {
+    const SkeletonAnalysis an = analyze_skeleton(polyline(6, true));
+    EXPECT_EQ(an.counts.joints, 6);
+    ASSERT_EQ(an.branches.size(), 1u);
+    const Branch& b = an.branches[0];
+    EXPECT_TRUE(b.ring);
+    EXPECT_EQ(b.vertices.size(), 7u);
+    EXPECT_EQ(b.vertices.front(), b.vertices.back());
+    EXPECT_EQ(b.edges.size(), 6u);
+    EXPECT_EQ(an.counts.cycles, 1);
+    EXPECT_EQ(an.counts.rings, 1);
+    EXPECT_EQ(an.predicted_hexes, 24);
+}
+
+TEST(SkeletonAnalysis, LoopAtBranchingPoint) {
+    // Tail 0-1 and loop 0-2-3-0: vertex 0 has degree 3.
+    Skeleton s;
+    s.points = {{0, 0, 0}, {-1, 0, 0}, {1, 1, 0}, {1, -1, 0}};
+    s.edges = {{0, 1}, {0, 2}, {2, 3}, {3, 0}};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    EXPECT_EQ(an.vertex_class[0], VertexClass::BranchingPoint);
+    ASSERT_EQ(an.branches.size(), 2u);
+    EXPECT_EQ(an.branches[0].vertices, (std::vector<int>{0, 1}));
+    EXPECT_EQ(an.branches[1].vertices, (std::vector<int>{0, 2, 3, 0}));
+    EXPECT_FALSE(an.branches[1].ring);
+    EXPECT_EQ(an.counts.cycles, 1);
+    for (int e = 0; e < 4; ++e) EXPECT_GE(an.edge_branch[e], 0);
+}
+
+TEST(SkeletonAnalysis, IsolatedVertexProducesNothing) {
+    Skeleton s = polyline(1, false);
+    s.points.push_back({5, 5, 5});
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    EXPECT_EQ(an.vertex_class[2], VertexClass::Isolated);
+    EXPECT_EQ(an.counts.isolated, 1);
+    EXPECT_EQ(an.counts.components, 1);
+    EXPECT_EQ(an.predicted_hexes, 4);
+}
+
+TEST(SkeletonAnalysis, SingleQuadLeaflet) {
+    const SkeletonAnalysis an = analyze_skeleton(plate(1, 1));
+    EXPECT_EQ(an.counts.leaflets, 1);
+    EXPECT_EQ(an.counts.boundary_edges, 4);
+    EXPECT_EQ(an.counts.leaflet_boundary, 4);
+    EXPECT_EQ(an.predicted_hexes, 10);  // 1 plate (2) + 4 half-chunks (8)
+    EXPECT_NEAR(an.face_normal[0].z, 1.0, 1e-12);
+}
+
+TEST(SkeletonAnalysis, ThreeByThreePlate) {
+    const SkeletonAnalysis an = analyze_skeleton(plate(3, 3));
+    EXPECT_EQ(an.counts.leaflets, 1);
+    EXPECT_EQ(an.counts.boundary_edges, 12);
+    EXPECT_EQ(an.counts.leaflet_interior, 4);
+    EXPECT_EQ(an.counts.leaflet_boundary, 12);
+    EXPECT_EQ(an.predicted_hexes, 42);
+}
+
+TEST(SkeletonAnalysis, LeafletFacesAreReorientedConsistently) {
+    Skeleton s = plate(2, 1);
+    std::swap(s.faces[1][1], s.faces[1][3]);  // second face given clockwise
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ASSERT_EQ(an.leaflets.size(), 1u);
+    EXPECT_TRUE(an.leaflets[0].orientable);
+    EXPECT_NEAR(an.face_normal[0].z, 1.0, 1e-12);
+    EXPECT_NEAR(an.face_normal[1].z, 1.0, 1e-12);
+    // Shared edge (1, 4): traversed 1->4 by one face and 4->1 by the other.
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(s.edges[an.face_edges[1][k]][0] + s.edges[an.face_edges[1][k]][1],
+                                          an.face_vertices[1][k] + an.face_vertices[1][(k + 1) % 4]);
+}
+
+TEST(SkeletonAnalysis, MoebiusStripIsReportedNonOrientable) {
+    // top t0..t2 = 0..2, bottom b0..b2 = 3..5; the last face closes the strip with a half twist.
+    Skeleton s;
+    s.points = {{0, 0, 1}, {1, 0, 1}, {2, 0, 1}, {0, 0, 0}, {1, 0, 0}, {2, 0.5, 0}};
+    s.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}, {2, 3, 0, 5}};
+    add_face_edges(s);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ASSERT_EQ(an.leaflets.size(), 1u);
+    EXPECT_FALSE(an.leaflets[0].orientable);
+    EXPECT_EQ(an.counts.boundary_edges, 6);
+}
+
+TEST(SkeletonAnalysis, TFanClassifiesFanVertices) {
+    // Three quads sharing edge (0, 1).
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, {-1, 0, 1}, {-1, 0, 0}, {0, 1, 1}, {0, 1, 0}};
+    s.faces = {{0, 1, 2, 3}, {1, 0, 5, 4}, {0, 1, 6, 7}};
+    add_face_edges(s);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    EXPECT_EQ(an.counts.fan_edges, 1);
+    EXPECT_EQ(an.vertex_class[0], VertexClass::FanEdgeEnd);
+    EXPECT_EQ(an.vertex_class[1], VertexClass::FanEdgeEnd);
+    EXPECT_EQ(an.counts.leaflets, 3);
+}
+
+TEST(SkeletonAnalysis, BranchAtLeafletCornerIsBLJoint) {
+    Skeleton s = plate(1, 1);
+    s.points.push_back({-1, -1, 0});
+    s.edges.push_back({0, 4});
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    EXPECT_EQ(an.vertex_class[0], VertexClass::BLJoint);
+    EXPECT_EQ(an.vertex_class[4], VertexClass::Extremity);
+    EXPECT_EQ(an.predicted_hexes, 14);
+}
+
+TEST(SkeletonAnalysis, RejectsBadInput) {
+    Skeleton loop = polyline(2, false);
+    loop.edges.push_back({1, 1});
+    EXPECT_THROW(analyze_skeleton(loop), Error);
+    Skeleton out_of_range = polyline(1, false);
+    out_of_range.edges.push_back({0, 7});
+    EXPECT_THROW(analyze_skeleton(out_of_range), Error);
+    Skeleton tri;
+    tri.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    tri.faces = {{0, 1, 2}};
+    add_face_edges(tri);
+    try {
+        analyze_skeleton(tri);
+        FAIL() << "a triangle face must be rejected";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::InvalidInput);
+        EXPECT_EQ(e.where().kind, ElementRef::Kind::SkeletonFace);
+        EXPECT_EQ(e.where().index, 0);
+    }
+    Skeleton interior = plate(2, 2);  // centre vertex 4 is interior
+    interior.points.push_back({1, 1, 1});
+    interior.edges.push_back({4, 9});
+    try {
+        analyze_skeleton(interior);
+        FAIL() << "a branch on a leaflet interior vertex must be rejected";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
+        EXPECT_EQ(e.where().index, 4);
+    }
+    Skeleton zero = polyline(1, false);
+    zero.points[1] = zero.points[0];
+    EXPECT_THROW(analyze_skeleton(zero), Error);
+}

@@ -1,0 +1,250 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "mesohex/core/error.h"
+#include "mesohex/stages/sphere_partition.h"
+
+using mesohex::partition_sphere;
+using mesohex::SpherePartition;
+using mesohex::Vec3;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180;
+
+// Counts of a closed quad mesh with n faces: E = 2n (4n half-edges), V = n + 2 (Euler).
+void expect_counts(const SpherePartition& p, int n) {
+    std::set<std::pair<int, int>> edges;
+    for (const std::array<int, 4>& q : p.quads)
+        for (int k = 0; k < 4; ++k) edges.insert(std::minmax(q[k], q[(k + 1) % 4]));
+    EXPECT_EQ(static_cast<int>(edges.size()), 2 * n);
+    EXPECT_EQ(static_cast<int>(p.points.size()), n + 2);
+    EXPECT_EQ(static_cast<int>(p.points.size()) - static_cast<int>(edges.size()) + static_cast<int>(p.quads.size()),
+              2);
+}
+
+// Partitions, checks every postcondition, returns the stats; optionally checks that a second call gives the same bits.
+mesohex::SpherePartitionStats check(const std::vector<Vec3>& d, bool check_determinism = true) {
+    const SpherePartition p = partition_sphere(d);
+    EXPECT_EQ(mesohex::verify_sphere_partition(p, d), "");
+    expect_counts(p, static_cast<int>(d.size()));
+    if (check_determinism) {
+        const SpherePartition again = partition_sphere(d);
+        EXPECT_TRUE(again.points == p.points && again.quads == p.quads) << "not deterministic";
+    }
+    return mesohex::sphere_partition_stats(p, d);
+}
+
+void print_stats(const char* name, int n, const mesohex::SpherePartitionStats& s) {
+    std::printf("%-16s n=%2d min angle %6.1f max angle %6.1f margin %5.1f deg (ratio %.2f) max valence %d\n", name, n,
+                s.min_angle / kDeg, s.max_angle / kDeg, s.min_margin / kDeg, s.min_margin_ratio, s.max_valence);
+}
+
+Vec3 spherical(double polar_deg, double azimuth_deg) {
+    const double t = polar_deg * kDeg, f = azimuth_deg * kDeg;
+    return {std::sin(t) * std::cos(f), std::sin(t) * std::sin(f), std::cos(t)};
+}
+
+std::vector<Vec3> random_directions(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uni(-1, 1);
+    std::vector<Vec3> d;
+    while (static_cast<int>(d.size()) < n) {
+        const Vec3 v{uni(rng), uni(rng), uni(rng)};
+        const double r = mesohex::norm(v);
+        if (r > 0.1 && r <= 1) d.push_back(v / r);
+    }
+    return d;
+}
+
+}  // namespace
+
+TEST(SpherePartition, TwoDirectionsGiveTwoHemispheres) {
+    const std::vector<Vec3> d = {{1, 0, 0}, {0, 1, 0}};
+    const SpherePartition p = partition_sphere(d);
+    ASSERT_EQ(mesohex::verify_sphere_partition(p, d), "");
+    expect_counts(p, 2);
+    // All 4 vertices lie on the great circle separating the two directions: the plane with normal d0 - d1.
+    const Vec3 separator = mesohex::normalized(d[0] - d[1]);
+    for (const Vec3& v : p.points) EXPECT_NEAR(mesohex::dot(v, separator), 0, 1e-12);
+    // Both quads share all 4 vertices.
+    EXPECT_EQ(std::set<int>(p.quads[0].begin(), p.quads[0].end()), std::set<int>(p.quads[1].begin(), p.quads[1].end()));
+}
+
+TEST(SpherePartition, TwoAntipodalAndTwoCloseDirections) {
+    check({{0, 0, 1}, {0, 0, -1}});
+    check({{1, 0, 0}, mesohex::normalized(Vec3{1, 1e-3, 0})});
+}
+
+TEST(SpherePartition, PlanarStarIsAnOrange) {
+    // 5 directions in the xy plane: lunes between the poles ±z; pole valence 5, the 5 equator vertices valence 2,
+    // the pole angle of each lune = half the sum of the gaps on its two sides.
+    const std::vector<double> az = {0, 50, 150, 200, 290};
+    std::vector<Vec3> d;
+    for (double a : az) d.push_back(spherical(90, a));
+    const SpherePartition p = partition_sphere(d);
+    ASSERT_EQ(mesohex::verify_sphere_partition(p, d), "");
+    expect_counts(p, 5);
+    int poles = 0;
+    for (const Vec3& v : p.points)
+        if (std::abs(std::abs(v.z) - 1) < 1e-12) ++poles;
+        else EXPECT_NEAR(v.z, 0, 1e-12);
+    EXPECT_EQ(poles, 2);
+    const mesohex::SpherePartitionStats s = mesohex::sphere_partition_stats(p, d);
+    EXPECT_EQ(s.max_valence, 5);
+    // gaps 50, 100, 50, 90, 70 → lune angles 60 (0°), 75 (50°), 75 (150°), 70 (200°), 80 (290°)
+    EXPECT_NEAR(s.min_angle, 60 * kDeg, 1e-9);
+    EXPECT_NEAR(s.max_angle, 80 * kDeg, 1e-9);
+}
+
+TEST(SpherePartition, PlanarFamilies) {
+    for (int n = 3; n <= 20; ++n) {
+        std::vector<Vec3> even, bunched, tilted;
+        for (int i = 0; i < n; ++i) {
+            even.push_back(spherical(90, 360.0 * i / n + 7));
+            bunched.push_back(spherical(90, 100.0 * i / n));  // all within a 100° arc
+            tilted.push_back(spherical(90 + ((i % 2) ? 2.0 : -2.0), 360.0 * i / n));  // nearly planar
+        }
+        check(even);
+        check(bunched);
+        check(tilted);
+    }
+}
+
+TEST(SpherePartition, AxisAlignedIsACube) {
+    // ±x, ±y, ±z: the hull is the octahedron (every vertex of degree 4), its dual the cube; a cube's corner projected
+    // onto the sphere has three 120° angles, and each face centre is 45° from the face's edges.
+    const std::vector<Vec3> d = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    const mesohex::SpherePartitionStats s = check(d);
+    print_stats("axes", 6, s);
+    EXPECT_EQ(s.max_valence, 3);
+    EXPECT_NEAR(s.min_angle, 120 * kDeg, 1e-6);
+    EXPECT_NEAR(s.max_angle, 120 * kDeg, 1e-6);
+    EXPECT_NEAR(s.min_margin, 45 * kDeg, 1e-6);
+    const SpherePartition p = partition_sphere(d);
+    const double c = 1 / std::sqrt(3.0);
+    for (const Vec3& v : p.points) {  // the 8 cube corners
+        EXPECT_NEAR(std::abs(v.x), c, 1e-9);
+        EXPECT_NEAR(std::abs(v.y), c, 1e-9);
+        EXPECT_NEAR(std::abs(v.z), c, 1e-9);
+    }
+}
+
+TEST(SpherePartition, TetrahedralStar) {
+    // K4 plus two digons: 4 vertices of valence 3 (the antipodes of the directions) with 120° angles, and 2 of
+    // valence 2; each quad is a spherical triangle (one 180° corner) with its direction at the centre.
+    const double c = 1 / std::sqrt(3.0);
+    const std::vector<Vec3> d = {{c, c, c}, {c, -c, -c}, {-c, c, -c}, {-c, -c, c}};
+    const mesohex::SpherePartitionStats s = check(d);
+    print_stats("tetrahedral", 4, s);
+    EXPECT_EQ(s.max_valence, 3);
+    EXPECT_NEAR(s.min_angle, 120 * kDeg, 1e-6);
+    EXPECT_NEAR(s.max_angle, 120 * kDeg, 1e-6);
+    // Quad 0's edges lie on the great circles through two other directions: distance asin(sqrt(2/3)) = 54.74°, half
+    // the tetrahedral angle acos(-1/3) (so the margin ratio is 1).
+    EXPECT_NEAR(s.min_margin, std::asin(std::sqrt(2.0 / 3.0)), 1e-6);
+    EXPECT_NEAR(s.min_margin_ratio, 1, 1e-6);
+}
+
+TEST(SpherePartition, SpecialFamilies) {
+    const double c = 1 / std::sqrt(3.0), g = (1 + std::sqrt(5.0)) / 2;
+    std::vector<std::pair<const char*, std::vector<Vec3>>> sets = {
+        {"xyz", {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
+        {"-x+x+y+z", {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
+        {"5 axes", {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}}},
+        {"Y tilted", {spherical(80, 0), spherical(80, 120), spherical(80, 240)}},
+        {"Y+up", {spherical(90, 0), spherical(90, 120), spherical(90, 240), spherical(0, 0)}},
+        {"Y+up+down", {spherical(90, 0), spherical(90, 120), spherical(90, 240), spherical(0, 0), spherical(180, 0)}},
+        {"T+out", {spherical(90, 0), spherical(90, 90), spherical(90, 180), spherical(20, 270)}},
+    };
+    std::vector<Vec3> cube, ico, dod;
+    for (int i = 0; i < 8; ++i) cube.push_back({(i & 1) ? c : -c, (i & 2) ? c : -c, (i & 4) ? c : -c});
+    dod = cube;
+    for (double a : {-1.0, 1.0})
+        for (double b : {-1.0, 1.0}) {
+            ico.push_back(mesohex::normalized(Vec3{0, a, b * g}));
+            ico.push_back(mesohex::normalized(Vec3{a, b * g, 0}));
+            ico.push_back(mesohex::normalized(Vec3{b * g, 0, a}));
+            dod.push_back(mesohex::normalized(Vec3{0, a / g, b * g}));
+            dod.push_back(mesohex::normalized(Vec3{a / g, b * g, 0}));
+            dod.push_back(mesohex::normalized(Vec3{b * g, 0, a / g}));
+        }
+    sets.push_back({"cube corners", cube});  // cospherical: 4 directions per hull face
+    sets.push_back({"icosahedron", ico});
+    sets.push_back({"dodecahedron", dod});  // 5 per hull face
+    for (int n : {3, 5, 8}) {
+        std::vector<Vec3> cone, zigzag;
+        for (int i = 0; i < n; ++i) {
+            cone.push_back(spherical(30, 360.0 * i / n));  // all in a hemisphere: the centre is outside the hull
+            zigzag.push_back(spherical(90 + ((i % 2) ? 6.0 : -6.0), 360.0 * i / n + 1));  // beyond the tolerance
+        }
+        sets.push_back({"cone 30", cone});
+        sets.push_back({"zigzag 6", zigzag});
+    }
+    for (const auto& [name, d] : sets) print_stats(name, static_cast<int>(d.size()), check(d));
+}
+
+TEST(SpherePartition, ClusteredAndAntipodal) {
+    for (int n = 3; n <= 12; ++n) {
+        std::vector<Vec3> cluster, pairs;
+        for (int i = 0; i < n; ++i) cluster.push_back(spherical(2.0 * (1 + i % 3), 117.0 * i));  // within ~6° of +z
+        cluster[0] = spherical(0, 0);
+        for (const Vec3& v : random_directions((n + 1) / 2, 100 + n)) {
+            pairs.push_back(v);
+            if (static_cast<int>(pairs.size()) < n) pairs.push_back(-v);
+        }
+        check(cluster);
+        check(pairs);
+    }
+}
+
+TEST(SpherePartition, RandomDirections) {
+    int cases = 0;
+    for (int n = 2; n <= 20; ++n) {
+        double worst_min_angle = kPi, worst_max_angle = 0, worst_ratio = 1e9;
+        int worst_valence = 0;
+        const int runs = n <= 12 ? 25 : 3;
+        for (int run = 0; run < runs; ++run) {
+            const mesohex::SpherePartitionStats s = check(random_directions(n, 1000 * n + run), run % 5 == 0);
+            worst_min_angle = std::min(worst_min_angle, s.min_angle);
+            worst_max_angle = std::max(worst_max_angle, s.max_angle);
+            worst_ratio = std::min(worst_ratio, s.min_margin_ratio);
+            worst_valence = std::max(worst_valence, s.max_valence);
+            ++cases;
+        }
+        std::printf("n=%2d runs=%2d worst min angle %6.1f, worst max angle %6.1f deg, worst margin ratio %.2f, "
+                    "max valence %d\n", n, runs, worst_min_angle / kDeg, worst_max_angle / kDeg, worst_ratio,
+                    worst_valence);
+    }
+    std::printf("%d random cases\n", cases);
+}
+
+TEST(SpherePartition, BadInputIsRejected) {
+    EXPECT_THROW(partition_sphere({{1, 0, 0}}), mesohex::Error);
+    EXPECT_THROW(partition_sphere({{1, 0, 0}, {0, 0, 0}}), mesohex::Error);
+    EXPECT_THROW(partition_sphere({{1, 0, 0}, {2, 0, 0}}), mesohex::Error);
+    EXPECT_THROW(partition_sphere({{1, 0, 0}, {0, std::nan(""), 0}}), mesohex::Error);
+}
+
+TEST(SpherePartition, VerifyCatchesBrokenPartitions) {
+    const std::vector<Vec3> d = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, -1, -1}};
+    SpherePartition p = partition_sphere(d);
+    ASSERT_EQ(mesohex::verify_sphere_partition(p, d), "");
+    SpherePartition swapped = p;
+    std::swap(swapped.quads[0], swapped.quads[1]);  // directions 0 and 1 are no longer in their quads
+    EXPECT_NE(mesohex::verify_sphere_partition(swapped, d), "");
+    SpherePartition flipped = p;
+    std::reverse(flipped.quads[2].begin(), flipped.quads[2].end());  // wrong orientation
+    EXPECT_NE(mesohex::verify_sphere_partition(flipped, d), "");
+    SpherePartition moved = p;
+    moved.points[0] = -moved.points[0];  // fold
+    EXPECT_NE(mesohex::verify_sphere_partition(moved, d), "");
+}

@@ -1,0 +1,149 @@
+// Topology of small blocks, counts derived on paper.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "hex_fixtures.h"
+#include "mesohex/core/hex_convention.h"
+#include "mesohex/core/topology.h"
+
+using namespace mesohex;
+using mesohex::test::make_block;
+
+namespace {
+bool reversed_cyclic(const std::array<int, 4>& a, const std::array<int, 4>& b) {
+    for (int k = 0; k < 4; ++k)
+        if (b[k] == a[0]) return b[(k + 1) % 4] == a[3] && b[(k + 2) % 4] == a[2] && b[(k + 3) % 4] == a[1];
+    return false;
+}
+}  // namespace
+
+TEST(Topology, SingleHex) {
+    const HexMesh m = mesohex::test::make_unit_cube();
+    const HexTopology t = compute_hex_topology(m);
+    EXPECT_EQ(t.faces.size(), 6u);
+    EXPECT_EQ(t.edges.size(), 12u);
+    EXPECT_EQ(t.boundary_quads.size(), 6u);
+    for (int lf = 0; lf < 6; ++lf) {
+        EXPECT_EQ(t.hex_faces[0][lf], lf);  // ids by first appearance
+        EXPECT_EQ(t.face_hex_count[lf], 1);
+        EXPECT_EQ(t.face_hexes[lf][0], 0);
+        EXPECT_EQ(t.face_hexes[lf][1], -1);
+    }
+    for (int le = 0; le < 12; ++le) {
+        EXPECT_EQ(t.hex_edges[0][le], le);
+        EXPECT_EQ(t.edge_valence[le], 1);
+        EXPECT_TRUE(t.edge_on_boundary[le]);
+        EXPECT_LT(t.edges[le][0], t.edges[le][1]);
+    }
+    // block numbering: hex 0 = {0,1,3,2,4,5,7,6}; bottom face (local 0 3 2 1), outward (-z): vertices 0 2 3 1
+    EXPECT_EQ(m.hexes[0], (std::array<int, 8>{0, 1, 3, 2, 4, 5, 7, 6}));
+    EXPECT_EQ(t.boundary_quads[0], (std::array<int, 4>{0, 2, 3, 1}));
+}
+
+TEST(Topology, Block2x2x2) {
+    const HexMesh m = make_block(2, 2, 2);
+    const HexTopology t = compute_hex_topology(m);
+    // V=27, E = 3 directions * 2 * 9 = 54, F = 3 * 3 * 4 = 36, boundary quads = 6 * 4 = 24.
+    EXPECT_EQ(t.edges.size(), 54u);
+    EXPECT_EQ(t.faces.size(), 36u);
+    EXPECT_EQ(t.boundary_quads.size(), 24u);
+    int interior_faces = 0;
+    for (std::size_t f = 0; f < t.faces.size(); ++f) {
+        if (t.face_hex_count[f] == 2) {
+            ++interior_faces;
+            // the same face seen from the second hex is the reverse
+            const int h1 = t.face_hexes[f][1];
+            int lf1 = -1;
+            for (int lf = 0; lf < 6; ++lf)
+                if (t.hex_faces[h1][lf] == static_cast<int>(f)) lf1 = lf;
+            ASSERT_GE(lf1, 0);
+            std::array<int, 4> q1;
+            for (int i = 0; i < 4; ++i) q1[i] = m.hexes[h1][kHexFaces[lf1][i]];
+            EXPECT_TRUE(reversed_cyclic(t.faces[f], q1));
+        }
+    }
+    EXPECT_EQ(interior_faces, 12);
+    // 6 interior edges (at the centre vertex 13) of valence 4; boundary: 24 on cube edges (1), 24 on faces (2).
+    int interior = 0, val1 = 0, val2 = 0;
+    for (std::size_t e = 0; e < t.edges.size(); ++e) {
+        if (!t.edge_on_boundary[e]) {
+            ++interior;
+            EXPECT_EQ(t.edge_valence[e], 4);
+            EXPECT_TRUE(t.edges[e][0] == 13 || t.edges[e][1] == 13);
+        } else {
+            val1 += t.edge_valence[e] == 1;
+            val2 += t.edge_valence[e] == 2;
+        }
+    }
+    EXPECT_EQ(interior, 6);
+    EXPECT_EQ(val1, 24);
+    EXPECT_EQ(val2, 24);
+    // boundary quads point outward: their normal agrees with the direction from the centre (1,1,1)
+    for (const auto& q : t.boundary_quads) {
+        const Vec3 a = m.points[q[0]], b = m.points[q[1]], c = m.points[q[2]];
+        const Vec3 n = cross(b - a, c - b);
+        const Vec3 mid = (m.points[q[0]] + m.points[q[1]] + m.points[q[2]] + m.points[q[3]]) / 4.0;
+        EXPECT_GT(dot(n, mid - Vec3{1, 1, 1}), 0);
+    }
+}
+
+TEST(Topology, ExtractBoundaryOfBlock) {
+    const HexMesh m = make_block(2, 2, 2);
+    const HexTopology t = compute_hex_topology(m);
+    const BoundarySurface b = extract_boundary(m, t);
+    EXPECT_EQ(b.surface.points.size(), 26u);  // all but the centre
+    EXPECT_EQ(b.surface.quads.size(), 24u);
+    EXPECT_EQ(std::count(b.vertex_of.begin(), b.vertex_of.end(), 13), 0);
+    for (std::size_t q = 0; q < b.surface.quads.size(); ++q)
+        for (int i = 0; i < 4; ++i) EXPECT_EQ(b.vertex_of[b.surface.quads[q][i]], t.boundary_quads[q][i]);
+    for (std::size_t i = 0; i < b.vertex_of.size(); ++i) EXPECT_EQ(b.surface.points[i], m.points[b.vertex_of[i]]);
+}
+
+TEST(Topology, Ring8HasValence3And1OnTheBoundary) {
+    const HexMesh m = mesohex::test::make_ring8();
+    const HexTopology t = compute_hex_topology(m);
+    EXPECT_EQ(t.edges.size(), 64u);
+    EXPECT_EQ(t.faces.size(), 40u);
+    EXPECT_EQ(t.boundary_quads.size(), 32u);
+    std::multiset<int> vertical_valences;  // z-edges: 4 outer corners (1), 4 inner corners (3), 8 others (2)
+    for (std::size_t e = 0; e < t.edges.size(); ++e)
+        if (m.points[t.edges[e][1]].z != m.points[t.edges[e][0]].z) vertical_valences.insert(t.edge_valence[e]);
+    EXPECT_EQ(vertical_valences.count(1), 4u);
+    EXPECT_EQ(vertical_valences.count(2), 8u);
+    EXPECT_EQ(vertical_valences.count(3), 4u);
+}
+
+TEST(Topology, NonManifoldFaceIsCounted) {
+    HexMesh m = mesohex::test::make_unit_cube();
+    // two more hexes sharing the top face 4 5 6 7 from above
+    for (int i = 0; i < 4; ++i) m.points.push_back(m.points[4 + i] + Vec3{0, 0, 1});
+    m.hexes.push_back({4, 5, 6, 7, 8, 9, 10, 11});
+    m.hexes.push_back({4, 5, 6, 7, 8, 9, 10, 11});
+    const HexTopology t = compute_hex_topology(m);
+    const int top = t.hex_faces[0][1];
+    EXPECT_EQ(t.face_hex_count[top], 3);
+    EXPECT_EQ(t.face_hexes[top][0], 0);
+    EXPECT_EQ(t.face_hexes[top][1], 1);
+}
+
+TEST(Topology, DeterministicAndIndependentOfRepeats) {
+    const HexMesh m = make_block(5, 4, 3);
+    const HexTopology a = compute_hex_topology(m);
+    const HexTopology b = compute_hex_topology(m);
+    EXPECT_EQ(a.faces, b.faces);
+    EXPECT_EQ(a.edges, b.edges);
+    EXPECT_EQ(a.hex_faces, b.hex_faces);
+    EXPECT_EQ(a.boundary_quads, b.boundary_quads);
+    // Euler characteristic of a box: V - E + F - C = 1
+    const long V = static_cast<long>(m.points.size());
+    EXPECT_EQ(V - static_cast<long>(a.edges.size()) + static_cast<long>(a.faces.size()) - static_cast<long>(m.hexes.size()), 1);
+}
+
+TEST(Topology, EmptyMesh) {
+    const HexTopology t = compute_hex_topology(HexMesh{});
+    EXPECT_TRUE(t.faces.empty());
+    EXPECT_TRUE(t.edges.empty());
+    EXPECT_TRUE(t.boundary_quads.empty());
+}
