@@ -197,6 +197,23 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                 const double m = spherical_quad_margin(q, d / L);
                 if (m > 0) radius[v] = std::min(radius[v], L * std::sin(options.margin_fraction * m));
             }
+            // Sharp turn at a joint: its cross-section (normal to the bisector) reaches r sin(theta / 2) along each
+            // of its edges; keep that within turn_fraction of half of each edge so that neighbouring cross-sections
+            // cannot cross.
+            if (an.vertex_class[v] == VertexClass::Joint) {
+                const int e0 = an.vertex_edges[an.vertex_edge_begin[v]];
+                const int e1 = an.vertex_edges[an.vertex_edge_begin[v] + 1];
+                const Vec3& p = skeleton.points[v];
+                const int w0 = skeleton.edges[e0][0] == v ? skeleton.edges[e0][1] : skeleton.edges[e0][0];
+                const int w1 = skeleton.edges[e1][0] == v ? skeleton.edges[e1][1] : skeleton.edges[e1][0];
+                const Vec3 a = skeleton.points[w0] - p, b = skeleton.points[w1] - p;
+                const double la = norm(a), lb = norm(b);
+                // turn angle theta = pi - angle(a, b); sin(theta / 2) = cos(angle(a, b) / 2)
+                const double cos_ab = std::clamp(dot(a, b) / (la * lb), -1.0, 1.0);
+                const double reach = std::sqrt(0.5 * (1 + cos_ab));
+                if (reach > 1e-9)
+                    radius[v] = std::min(radius[v], options.turn_fraction * 0.5 * std::min(la, lb) / reach);
+            }
         }
     });
 

@@ -53,6 +53,10 @@ struct RawMeshOptions {
     // m)), m = angular margin of the edge direction inside u's connection quad: its cross-section, seen from u, then
     // lies inside that quad and every raw hex corner on u's sphere is positive. 1 would allow flat corners.
     double margin_fraction = 0.75;
+    // A joint turning by theta gets at most turn_fraction * (shorter incident edge) / (2 sin(theta / 2)): its
+    // cross-section then reaches at most turn_fraction of half of each incident edge (the adaptation stage normally
+    // guarantees this already; this only acts on inputs meshed with their own sampling).
+    double turn_fraction = 0.8;
 };
 
 // Preconditions: skeleton.radii has one finite radius > 0 per vertex (Error(InvalidInput) naming the vertex
