@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # mesohex project script.
-#   ./mesohex.sh demo    install what is missing, build (Release), mesh a bundled example, print its quality
+#   ./mesohex.sh demo    install what is missing, build (Release), mesh data/tiny/tripod.obj, print its quality
 #   ./mesohex.sh test    install what is missing, build, run the whole test suite (what CI runs)
 #   ./mesohex.sh deps | build | bench
 set -euo pipefail
@@ -46,7 +46,8 @@ run_tests() {
 
 demo() {
   mkdir -p "$ROOT/out"
-  "$BUILD/bin/mesohex" --help
+  "$BUILD/bin/mesohex" mesh data/tiny/tripod.obj -o out/tripod.mesh --report out/tripod.json
+  "$BUILD/bin/mesohex" quality out/tripod.mesh
 }
 
 case "${1:-}" in

@@ -77,6 +77,7 @@ SurfaceSize surface_size(VertexClass c, int branch_degree) {
     switch (c) {
         case VertexClass::Extremity: return {4, 1, 4};
         case VertexClass::Joint: return {4, 2, 4};
+        case VertexClass::BLJoint: return {4, 2, 4};
         case VertexClass::BranchingPoint: return {branch_degree + 2, branch_degree, 2 * branch_degree};
         default: return {};
     }
@@ -104,11 +105,11 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
     for (int v = 0; v < nv; ++v) {
         const VertexClass c = an.vertex_class[v];
         if (c != VertexClass::Isolated && c != VertexClass::Extremity && c != VertexClass::Joint &&
-            c != VertexClass::BranchingPoint && c != VertexClass::LeafletInterior &&
+            c != VertexClass::BranchingPoint && c != VertexClass::LeafletInterior && c != VertexClass::BLJoint &&
             c != VertexClass::LeafletBoundary)
             throw Error(ErrorCode::UnsupportedConfiguration,
                         "skeleton vertex " + std::to_string(v) + " is a " + to_string(c) +
-                            ": junctions with leaflets (BL/LL-joints, fan edges) are not meshed yet",
+                            ": LL-joints, fan edges and branching points with leaflets are not meshed yet",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
         if (c == VertexClass::BranchingPoint && an.vertex_boundary_edges[v] > 0)
             throw Error(ErrorCode::UnsupportedConfiguration,
@@ -141,18 +142,63 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
     cs.edges.resize(cs.edge_begin[nv]);
     cs.edge_quad.assign(ne, {-1, -1});
 
+    // Sum of the normals of the faces around each vertex (for BL-joint frames); serial, in face order.
+    std::vector<Vec3> vertex_normal_sum(an.counts.bl_joints > 0 ? nv : 0);
+    if (an.counts.bl_joints > 0)
+        for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+            for (int w : an.face_vertices[f]) vertex_normal_sum[w] += an.face_normal[f];
+
     // Each task writes only its vertex's ranges and the (edge, side) slots of its own incident edges.
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256), [&](const tbb::blocked_range<int>& range) {
         std::vector<Vec3> dirs;
         std::vector<int> inc;
         for (int v = range.begin(); v != range.end(); ++v) {
             const VertexClass c = an.vertex_class[v];
-            if (c != VertexClass::Extremity && c != VertexClass::Joint && c != VertexClass::BranchingPoint) continue;
+            if (c != VertexClass::Extremity && c != VertexClass::Joint && c != VertexClass::BranchingPoint &&
+                c != VertexClass::BLJoint)
+                continue;
             const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
             inc.clear();
             for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
                 if (an.edge_degree[an.vertex_edges[i]] == 0) inc.push_back(an.vertex_edges[i]);
             auto side_of = [&](int e) { return skeleton.edges[e][0] == v ? 0 : 1; };
+            if (c == VertexClass::BLJoint) {
+                // Pillow: quad A = (0,1,2,3) on the branch edge, quad B = (2,1,0,3) for the leaflet (registered on
+                // no edge). Geometry from the leaflet frame (reference-notes §7.2): T into the leaflet (mean of the
+                // unit vectors to its neighbours), R = leaflet normal made orthogonal to T, S = T x R; quad B shows
+                // (-S, R, S, -R) from its start, so its q1 is "up" (the rotation k = 0 of §8.5).
+                cs.edges[e0 + 0] = {0, 1};
+                cs.edges[e0 + 1] = {1, 2};
+                cs.edges[e0 + 2] = {2, 3};
+                cs.edges[e0 + 3] = {3, 0};
+                cs.quads[q0] = {0, 1, 2, 3};
+                cs.quad_edges[q0] = {0, 1, 2, 3};
+                cs.quads[q0 + 1] = {2, 1, 0, 3};
+                cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
+                cs.edge_quad[inc[0]][side_of(inc[0])] = q0;
+                for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 2;
+                Vec3 t{};
+                for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+                    const int e = an.vertex_edges[i];
+                    if (an.edge_degree[e] == 0) continue;
+                    const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+                    t += normalized(skeleton.points[w] - skeleton.points[v]);
+                }
+                t = normalized(t);
+                Vec3 r = vertex_normal_sum[v] - dot(vertex_normal_sum[v], t) * t;
+                if (!(norm(r) > 1e-12))
+                    throw Error(ErrorCode::UnsupportedConfiguration,
+                                "BL-joint at skeleton vertex " + std::to_string(v) +
+                                    ": the leaflet direction is along its normal (degenerate corner)",
+                                ElementRef{ElementRef::Kind::SkeletonVertex, v});
+                r = normalized(r);
+                const Vec3 sv = cross(t, r);
+                cs.directions[p0 + 2] = -sv;
+                cs.directions[p0 + 1] = r;
+                cs.directions[p0 + 0] = sv;
+                cs.directions[p0 + 3] = -r;
+                continue;
+            }
             if (c == VertexClass::Extremity || c == VertexClass::Joint) {
                 cs.edges[e0 + 0] = {0, 1};
                 cs.edges[e0 + 1] = {1, 2};

@@ -101,7 +101,9 @@ BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& 
             const Branch& br = an.branches[b];
             verts = br.vertices;
             edges = br.edges;
-            auto constrained = [&](int v) { return an.vertex_class[v] == VertexClass::BranchingPoint; };
+            auto constrained = [&](int v) {
+                return an.vertex_class[v] == VertexClass::BranchingPoint || an.vertex_class[v] == VertexClass::BLJoint;
+            };
             if (!br.ring && !constrained(verts.front()) && constrained(verts.back())) {
                 std::reverse(verts.begin(), verts.end());
                 std::reverse(edges.begin(), edges.end());

@@ -1,0 +1,111 @@
+#include "mesohex/finish.h"
+
+#include <chrono>
+#include <utility>
+
+#include "mesohex/core/topology.h"
+#include "mesohex/post/subdivision.h"
+#include "mesohex/surface/surface_check.h"
+#include "mesohex/surface/surface_query.h"
+
+namespace mesohex {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+FinishStage measure(const std::string& name, double ms, const HexMesh& mesh) {
+    FinishStage s;
+    s.stage = name;
+    s.ms = ms;
+    s.vertices = static_cast<long>(mesh.points.size());
+    s.hexes = static_cast<long>(mesh.hexes.size());
+    const std::vector<double> sj = scaled_jacobians(mesh);
+    double sum = 0;
+    s.sj_min = sj.empty() ? 0 : sj.front();
+    for (double v : sj) {
+        sum += v;
+        if (v < s.sj_min) s.sj_min = v;
+        if (v <= 0) ++s.inverted;
+    }
+    s.sj_avg = sj.empty() ? 0 : sum / static_cast<double>(sj.size());
+    return s;
+}
+
+}  // namespace
+
+FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const FinishOptions& options) {
+    const Clock::time_point start_all = Clock::now();
+    FinishResult result;
+
+    TriangleMesh surface = domain;
+    if (check_surface(surface).signed_volume < 0) result.domain_flipped_triangles = orient_outward(surface).flipped_triangles;
+    const SurfaceQuery query(surface);
+
+    HexMesh mesh = raw;
+    result.stages.push_back(measure("input", 0, mesh));
+
+    if (options.pad) {
+        const Clock::time_point t = Clock::now();
+        mesh = pad(mesh, options.padding).mesh;
+        result.stages.push_back(measure("pad", ms_since(t), mesh));
+    }
+
+    if (options.subdivide) {
+        const Clock::time_point t = Clock::now();
+        int levels = 1;
+        if (options.levels >= 0) {
+            levels = options.levels;
+        } else if (options.size > 0) {
+            levels = levels_for_size(mesh, options.size);
+        }
+        for (int i = 0; i < levels; ++i) mesh = subdivide(mesh).mesh;
+        result.subdivision_levels = levels;
+        result.stages.push_back(measure("subdivide", ms_since(t), mesh));
+    }
+
+    if (options.fit) {
+        const Clock::time_point t = Clock::now();
+        SurfaceProjector projector;
+        projector.closest_points = [&query](const std::vector<Vec3>& in, std::vector<Vec3>& closest) {
+            const std::vector<ClosestPoint> hits = query.closest(in);
+            closest.resize(hits.size());
+            for (std::size_t i = 0; i < hits.size(); ++i) closest[i] = hits[i].point;
+        };
+        FitResult fit = fit_to_surface(mesh, projector, options.fitting);
+        mesh = std::move(fit.mesh);
+        result.fit_iterations = fit.iterations;
+        result.fit_converged = fit.converged;
+        result.fit_max_distance = fit.max_distance;
+        result.stages.push_back(measure("fit", ms_since(t), mesh));
+    }
+
+    if (options.untangle && result.stages.back().inverted > 0) {
+        const Clock::time_point t = Clock::now();
+        UntangleResult u = untangle(mesh, options.untangling);
+        mesh = std::move(u.mesh);
+        result.untangled = true;
+        result.untangle_rounds = u.rounds;
+        result.stages.push_back(measure("untangle", ms_since(t), mesh));
+    }
+
+    result.quality = compute_quality(mesh);
+
+    if (options.measure_distance) {
+        const Clock::time_point t = Clock::now();
+        const BoundarySurface boundary = extract_boundary(mesh, compute_hex_topology(mesh));
+        result.distance = surface_distance(boundary.surface, query, options.distance);
+        result.distance_measured = true;
+        result.distance_ms = ms_since(t);
+    }
+
+    result.mesh = std::move(mesh);
+    result.total_ms = ms_since(start_all);
+    return result;
+}
+
+}  // namespace mesohex

@@ -1,0 +1,61 @@
+#pragma once
+// Post-processing chain of a raw mesh (issue 5, items 5-8): pad -> subdivide -> fit to the domain surface ->
+// untangle (only if needed) -> final quality and two-sided Hausdorff distance to the domain. Times every stage and
+// records the quality after each one. No geometry of its own; no printing.
+#include <string>
+#include <vector>
+
+#include "mesohex/core/hex_mesh.h"
+#include "mesohex/post/padding.h"
+#include "mesohex/post/quality.h"
+#include "mesohex/post/surface_fitting.h"
+#include "mesohex/post/untangle.h"
+#include "mesohex/surface/surface_distance.h"
+
+namespace mesohex {
+
+struct FinishOptions {
+    bool pad = true;
+    PaddingOptions padding;        // default: 1 layer
+    bool subdivide = true;
+    int levels = -1;               // >= 0: this many 1 -> 8 levels; < 0: from `size` when > 0, else 1 level
+    double size = 0;               // target mean edge length (levels_for_size on the padded mesh), used when levels < 0
+    bool fit = true;
+    FitOptions fitting;            // progress callback passed through to fit_to_surface
+    bool untangle = true;          // run only when some hex has scaled Jacobian <= 0 at that point
+    UntangleOptions untangling;
+    bool measure_distance = true;  // two-sided Hausdorff distance of the final boundary to the domain
+    SurfaceDistanceOptions distance;
+};
+
+struct FinishStage {
+    std::string stage;  // "input", "pad", "subdivide", "fit", "untangle"
+    double ms = 0;      // wall time of the stage (0 for "input")
+    long vertices = 0, hexes = 0;
+    double sj_min = 0, sj_avg = 0;  // scaled Jacobian after the stage
+    long inverted = 0;              // hexes with scaled Jacobian <= 0 after the stage
+};
+
+struct FinishResult {
+    HexMesh mesh;                     // the final mesh
+    std::vector<FinishStage> stages;  // "input" first, then every stage that ran, in order
+    int domain_flipped_triangles = 0; // triangles of the domain reversed by orient_outward (inward-facing input)
+    int subdivision_levels = 0;       // levels actually applied
+    int fit_iterations = 0;
+    bool fit_converged = false;
+    double fit_max_distance = 0;      // largest boundary-vertex distance to the surface at the end of the fit
+    bool untangled = false;           // untangle ran
+    int untangle_rounds = 0;
+    QualityReport quality;            // compute_quality of the final mesh
+    bool distance_measured = false;
+    SurfaceDistance distance;         // absolute (max, mean) and relative to the domain bbox diagonal
+    double distance_ms = 0;
+    double total_ms = 0;
+};
+
+// Preconditions: `raw` has indices in range (the stages throw InvalidInput otherwise); `domain` has a non-degenerate
+// triangle (InvalidInput otherwise) and should be a closed surface. The domain is copied and oriented outward first
+// (orient_outward) when it faces inward. Errors: whatever the stages throw.
+FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const FinishOptions& options = {});
+
+}  // namespace mesohex
