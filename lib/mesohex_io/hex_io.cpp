@@ -3,6 +3,7 @@
 // permutation happens here. Readers parse the whole file as text, track line numbers, and throw mesohex::Error
 // "path:line: message" on anything they do not understand.
 #include "mesohex_io/hex_io.h"
+#include "mesohex_io/text_input.h"
 
 #include <algorithm>
 #include <atomic>
@@ -35,11 +36,10 @@ std::string lower(std::string_view s) {
 
 bool iequals(std::string_view a, std::string_view b) { return lower(a) == lower(b); }
 
+// ".mesh", ".vtk", ...: lower-case, with the dot; "" when there is none.
 std::string extension_of(const std::string& path) {
-    const std::size_t slash = path.find_last_of('/');
-    const std::size_t dot = path.find_last_of('.');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-    return lower(path.substr(dot));
+    const std::string ext = lower_extension(path);
+    return ext.empty() ? ext : "." + ext;
 }
 
 [[noreturn]] void fail_at(const std::string& path, int line, const std::string& message) {
@@ -47,14 +47,6 @@ std::string extension_of(const std::string& path) {
                 {ElementRef::Kind::FileLine, line});
 }
 
-std::string read_text(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(ErrorCode::IoError, path + ": cannot open for reading: " + std::strerror(errno));
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw Error(ErrorCode::IoError, path + ": read error");
-    return ss.str();
-}
 
 void append_double(std::string& out, double x) {
     char buf[32];
@@ -877,7 +869,7 @@ HexMesh read_hex_mesh(const std::string& path) {
         throw Error(ErrorCode::UnsupportedConfiguration,
                     path + ": unknown hex mesh extension '" + ext + "' (readable: .mesh .vtk .vtu .msh)");
     }
-    const std::string text = read_text(path);
+    const std::string text = read_whole_file(path);
     if (ext == ".mesh") return read_medit(path, text);
     if (ext == ".vtk") return read_vtk(path, text);
     if (ext == ".vtu") return read_vtu(path, text);

@@ -1,4 +1,5 @@
 #include "mesohex_io/skeleton_io.h"
+#include "mesohex_io/text_input.h"
 
 #include <algorithm>
 #include <array>
@@ -28,14 +29,6 @@ struct TextLine {
     std::string_view text;
 };
 
-std::string read_whole_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(ErrorCode::IoError, path + ": cannot open the file for reading");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw Error(ErrorCode::IoError, path + ": read error");
-    return ss.str();
-}
 
 // Splits into lines ('\n', with a trailing '\r' removed). The views point into `content`.
 std::vector<TextLine> split_lines(const std::string& content) {
@@ -56,17 +49,6 @@ std::vector<TextLine> split_lines(const std::string& content) {
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 
-std::vector<std::string_view> split_ws(std::string_view s) {
-    std::vector<std::string_view> out;
-    std::size_t i = 0;
-    while (i < s.size()) {
-        while (i < s.size() && is_space(s[i])) ++i;
-        const std::size_t b = i;
-        while (i < s.size() && !is_space(s[i])) ++i;
-        if (i > b) out.push_back(s.substr(b, i - b));
-    }
-    return out;
-}
 
 bool is_blank(std::string_view s) {
     return std::all_of(s.begin(), s.end(), [](char c) { return is_space(c); });
@@ -131,7 +113,7 @@ struct Parsed {
 // after '#') is such a line, and stores the value.
 bool parse_radius_comment(const Context& ctx, std::string_view comment, int line, int index_base,
                           std::map<int, std::pair<double, int>>& radius_of) {
-    const std::vector<std::string_view> tok = split_ws(comment);
+    const std::vector<std::string_view> tok = split_whitespace(comment);
     if (tok.size() < 2 || tok[0] != "mesohex" || tok[1] != "radius") return false;
     if (tok.size() != 4) ctx.fail(line, "radius comment must be '# mesohex radius <vertex> <radius>'");
     const long long idx = ctx.integer(tok[2], line, "radius vertex index") - index_base;
@@ -220,7 +202,7 @@ Skeleton read_cg(const Context& ctx, const std::vector<TextLine>& lines, bool ra
     const TextLine& header = lines[i++];
     std::string h(header.text);
     std::replace(h.begin(), h.end(), ':', ' ');
-    const std::vector<std::string_view> ht = split_ws(h);
+    const std::vector<std::string_view> ht = split_whitespace(h);
     int nv = -1, ne = -1;
     if (ht.empty() || ht[0].front() != '#')
         ctx.fail(header.number, "malformed header: expected '# D:3 NV:<n> NE:<m>'");
@@ -238,7 +220,7 @@ Skeleton read_cg(const Context& ctx, const std::vector<TextLine>& lines, bool ra
         const TextLine& l = lines[i];
         const std::string_view t = trim_left(l.text);
         if (t.empty() || t.front() == '#') continue;
-        const std::vector<std::string_view> tok = split_ws(t);
+        const std::vector<std::string_view> tok = split_whitespace(t);
         if (tok[0] == "v") {
             if (tok.size() != 4 && tok.size() != 5)
                 ctx.fail(l.number, radius_required ? "expected 'v x y z r'" : "expected 'v x y z [r]'");
@@ -280,7 +262,7 @@ Skeleton read_skel(const Context& ctx, const std::vector<TextLine>& lines) {
     while (i < lines.size() && is_blank(lines[i].text)) ++i;
     if (i >= lines.size()) ctx.fail(last_line_number(lines), "truncated file: missing the node count");
     const TextLine& count_line = lines[i++];
-    const std::vector<std::string_view> ct = split_ws(count_line.text);
+    const std::vector<std::string_view> ct = split_whitespace(count_line.text);
     if (ct.size() != 1) ctx.fail(count_line.number, "expected the node count alone on the line");
     const int count = ctx.non_negative(ct[0], count_line.number, "node count");
 
@@ -295,7 +277,7 @@ Skeleton read_skel(const Context& ctx, const std::vector<TextLine>& lines) {
     for (; i < lines.size(); ++i) {
         const TextLine& l = lines[i];
         if (is_blank(l.text)) continue;
-        const std::vector<std::string_view> tok = split_ws(l.text);
+        const std::vector<std::string_view> tok = split_whitespace(l.text);
         if (static_cast<int>(nodes.size()) == count)
             ctx.fail(l.number, "more node lines than the declared count " + std::to_string(count));
         if (tok.size() < 6) ctx.fail(l.number, "expected 'id x y z radius k n1 ... nk'");
@@ -377,7 +359,7 @@ Skeleton read_ig(const Context& ctx, const std::vector<TextLine>& lines) {
             parse_radius_comment(ctx, t.substr(hash + 1), l.number, 0, radius_of);
             t = t.substr(0, hash);
         }
-        for (const std::string_view tok : split_ws(t)) tokens.push_back({tok, l.number});
+        for (const std::string_view tok : split_whitespace(t)) tokens.push_back({tok, l.number});
     }
     const int last = last_line_number(lines);
     std::size_t pos = 0;
@@ -463,7 +445,7 @@ Skeleton read_obj(const Context& ctx, const std::vector<TextLine>& lines) {
             parse_radius_comment(ctx, t.substr(1), l.number, 1, radius_of);
             continue;
         }
-        const std::vector<std::string_view> tok = split_ws(t);
+        const std::vector<std::string_view> tok = split_whitespace(t);
         if (tok[0] == "v") {
             if (tok.size() < 4) ctx.fail(l.number, "expected 'v x y z'");
             p.s.points.push_back(
@@ -505,14 +487,6 @@ Skeleton read_obj(const Context& ctx, const std::vector<TextLine>& lines) {
 
 // ------------------------------------------------------------------------------------------------ writers
 
-std::string lower_extension(const std::string& path) {
-    const std::size_t slash = path.find_last_of("/\\");
-    const std::size_t dot = path.find_last_of('.');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-    std::string ext = path.substr(dot + 1);
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
-}
 
 // Shortest text that reads back to exactly the same double.
 void put(std::string& out, double x) {

@@ -1,5 +1,6 @@
 // Triangle surface IO: OFF, OBJ, STL (ASCII / binary), PLY (ASCII / binary LE / BE). See surface_io.h.
 #include "mesohex_io/surface_io.h"
+#include "mesohex_io/text_input.h"
 
 #include <algorithm>
 #include <bit>
@@ -19,37 +20,8 @@
 namespace mesohex {
 namespace {
 
-std::string read_whole_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(ErrorCode::IoError, path + ": cannot open the file for reading");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw Error(ErrorCode::IoError, path + ": read error");
-    return ss.str();
-}
 
-std::string lower_extension(const std::string& path) {
-    const std::size_t slash = path.find_last_of('/');
-    const std::size_t dot = path.find_last_of('.');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-    std::string ext = path.substr(dot + 1);
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
-}
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-
-std::vector<std::string_view> split_ws(std::string_view s) {
-    std::vector<std::string_view> out;
-    std::size_t i = 0;
-    while (i < s.size()) {
-        while (i < s.size() && is_space(s[i])) ++i;
-        const std::size_t b = i;
-        while (i < s.size() && !is_space(s[i])) ++i;
-        if (i > b) out.push_back(s.substr(b, i - b));
-    }
-    return out;
-}
 
 // Line-by-line reader over the file content with 1-based line numbers and error helpers.
 class Lines {
@@ -74,7 +46,7 @@ public:
         while (next(line)) {
             const std::size_t hash = line.find('#');
             if (hash != std::string_view::npos) line = line.substr(0, hash);
-            tokens = split_ws(line);
+            tokens = split_whitespace(line);
             if (!tokens.empty()) return true;
         }
         return false;
@@ -391,7 +363,7 @@ TriangleMesh read_ply(const std::string& path, const std::string& content) {
     std::vector<PlyElement> elements;
     bool ended = false;
     while (in.next(line)) {
-        const std::vector<std::string_view> tok = split_ws(line);
+        const std::vector<std::string_view> tok = split_whitespace(line);
         if (tok.empty()) continue;
         if (tok[0] == "comment" || tok[0] == "obj_info") continue;
         if (tok[0] == "end_header") {

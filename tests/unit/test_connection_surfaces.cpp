@@ -113,7 +113,7 @@ TEST(ConnectionSurfaces, BranchingPointsOfDegree3To12) {
     }
 }
 
-TEST(ConnectionSurfaces, LeafletVerticesNeedNoSurfaceAndJunctionsAreRejectedForNow) {
+TEST(ConnectionSurfaces, LeafletVerticesAndBLJoints) {
     Skeleton s;
     s.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
     s.faces = {{0, 1, 2, 3}};
@@ -122,7 +122,14 @@ TEST(ConnectionSurfaces, LeafletVerticesNeedNoSurfaceAndJunctionsAreRejectedForN
     EXPECT_EQ(cs.point_begin.back(), 0);
     EXPECT_TRUE(cs.quads.empty());
     s.points.push_back({-1, -1, 0});
-    s.edges.push_back({0, 4});  // BL-joint
+    s.edges.push_back({0, 4});  // BL-joint: a pillow, quad A on the branch edge, directions from the leaflet frame
+    const ConnectionSurfaces bl = build_connection_surfaces(s, analyze_skeleton(s));
+    EXPECT_EQ(bl.quad_begin[1] - bl.quad_begin[0], 2);
+    EXPECT_EQ(bl.edge_quad[4][0], bl.quad_begin[0]);
+    // quad B = (2, 1, 0, 3): its q1 (point 1) is the leaflet normal +z ("up").
+    EXPECT_NEAR(bl.directions[bl.point_begin[0] + 1].z, 1.0, 1e-12);
+    s.points.push_back({1, -1, 0});
+    s.edges.push_back({0, 5});  // now a branching point mixing branches and a leaflet: not supported yet
     try {
         build_connection_surfaces(s, analyze_skeleton(s));
         FAIL();

@@ -192,12 +192,34 @@ TEST(RawMeshLeaflets, CurvesAndLeafletsInOneSkeleton) {
     expect_good_leaflet_mesh(s, b, 2 * 2 + 2 * 6 + 4 * 2);
 }
 
-TEST(RawMeshLeaflets, JunctionsWithLeafletsAreRejectedForNow) {
-    Skeleton s = plate(1, 1);
-    s.points.push_back({-1, -1, 0});
-    s.edges.push_back({0, 4});  // BL-joint at corner 0
-    s.radii.assign(s.points.size(), 0.25);
-    EXPECT_THROW(build(s, 0.25), Error);
+TEST(RawMeshLeaflets, PlateWithABranchAtACornerIsABLJoint) {
+    // 3 x 3 plate (42 hexes) + a 3-edge branch leaving corner 0 along the outward diagonal (12 hexes) = 54.
+    Skeleton s = plate(3, 3);
+    int prev = 0;
+    for (int k = 1; k <= 3; ++k) {
+        s.points.push_back({-0.7 * k, -0.7 * k, 0});
+        const int cur = static_cast<int>(s.points.size()) - 1;
+        s.edges.push_back({prev, cur});
+        prev = cur;
+    }
+    const Built b = build(s, 0.25);
+    EXPECT_EQ(b.an.vertex_class[0], VertexClass::BLJoint);
+    expect_good_leaflet_mesh(s, b, 54);
+    // The corner has one face: its up and down rays have 2 + 2 + 1 = 5 hexes.
+    EXPECT_EQ(b.prediction.interior_irregular_edges.at(5), 2);
+}
+
+TEST(RawMeshLeaflets, FanEdgesAreRejectedForNow) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, {-1, 0, 1}, {-1, 0, 0}, {0, 1, 1}, {0, 1, 0}};
+    s.faces = {{0, 1, 2, 3}, {1, 0, 5, 4}, {0, 1, 6, 7}};
+    add_face_edges(s);
+    try {
+        build(s, 0.25);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
+    }
 }
 
 TEST(RawMesh, OneEdgeIsOneChunkOfFourHexes) {

@@ -1,4 +1,5 @@
 // Quality report: Verdict's hex scaled Jacobian, Euler characteristics, boundary genus, singular edges.
+#include "mesohex/core/union_find.h"
 #include "mesohex/post/quality.h"
 
 #include <algorithm>
@@ -30,22 +31,6 @@ bool indices_in_range(const HexMesh& mesh, const std::array<int, 8>& hex) {
     for (int v : hex)
         if (v < 0 || static_cast<std::size_t>(v) >= mesh.points.size()) return false;
     return true;
-}
-
-// Union-find with path halving; the root of a set is its smallest element (deterministic).
-int find_root(std::vector<int>& parent, int x) {
-    while (parent[static_cast<std::size_t>(x)] != x) {
-        parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
-        x = parent[static_cast<std::size_t>(x)];
-    }
-    return x;
-}
-void unite(std::vector<int>& parent, int a, int b) {
-    a = find_root(parent, a);
-    b = find_root(parent, b);
-    if (a == b) return;
-    if (a < b) parent[static_cast<std::size_t>(b)] = a;
-    else parent[static_cast<std::size_t>(a)] = b;
 }
 
 }  // namespace
@@ -136,17 +121,16 @@ QualityReport compute_quality(const HexMesh& mesh) {
     }
 
     // Boundary components: union-find over the vertices of boundary quads.
-    std::vector<int> parent(mesh.points.size());
-    std::iota(parent.begin(), parent.end(), 0);
+    UnionFind sets(static_cast<int>(mesh.points.size()));
     std::vector<char> on_boundary(mesh.points.size(), 0);
     for (const std::array<int, 4>& q : topo.boundary_quads) {
         for (int i = 0; i < 4; ++i) on_boundary[static_cast<std::size_t>(q[static_cast<std::size_t>(i)])] = 1;
-        for (int i = 1; i < 4; ++i) unite(parent, q[0], q[static_cast<std::size_t>(i)]);
+        for (int i = 1; i < 4; ++i) sets.unite(q[0], q[static_cast<std::size_t>(i)]);
     }
     std::vector<int> component_of_root(mesh.points.size(), -1);
     std::vector<long> chi;  // per component, numbered by first appearance in the boundary quads
     auto component = [&](int v) {
-        int& c = component_of_root[static_cast<std::size_t>(find_root(parent, v))];
+        int& c = component_of_root[static_cast<std::size_t>(sets.find(v))];
         if (c < 0) {
             c = static_cast<int>(chi.size());
             chi.push_back(0);

@@ -2,6 +2,7 @@
 // 1 is the midpoint (present only if that axis is split). A lattice point with m coordinates equal to 1 is a corner
 // (m = 0), an edge midpoint (m = 1), a face centroid (m = 2) or the cell centroid (m = 3); its global id comes from the
 // topology element it lies on, so neighbouring hexes agree without any sewing.
+#include "mesohex/core/union_find.h"
 #include "mesohex/post/subdivision.h"
 
 #include <algorithm>
@@ -40,14 +41,6 @@ int local_face(std::array<int, 4> corners) {
         if (f == corners) return lf;
     }
     return -1;
-}
-
-int find_root(std::vector<int>& parent, int x) {
-    while (parent[static_cast<std::size_t>(x)] != x) {
-        parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
-        x = parent[static_cast<std::size_t>(x)];
-    }
-    return x;
 }
 
 void check_indices(const HexMesh& mesh, const char* who) {
@@ -196,22 +189,18 @@ SubdivisionResult subdivide_sheets(const HexMesh& mesh, const std::vector<bool>&
                                                  std::to_string(edge_selected.size()) + " entries, the mesh has " +
                                                  std::to_string(topo.edges.size()) + " edges");
     // Sheets: union of the 4 parallel edges per hex axis.
-    std::vector<int> parent(topo.edges.size());
-    for (std::size_t e = 0; e < parent.size(); ++e) parent[e] = static_cast<int>(e);
+    UnionFind sheets(static_cast<int>(topo.edges.size()));
     for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
-        for (int a = 0; a < 3; ++a) {
-            const int r0 = find_root(parent, topo.hex_edges[h][static_cast<std::size_t>(kAxisEdges[a][0])]);
-            for (int i = 1; i < 4; ++i) {
-                const int ri = find_root(parent, topo.hex_edges[h][static_cast<std::size_t>(kAxisEdges[a][i])]);
-                if (ri != r0) parent[static_cast<std::size_t>(ri)] = r0;
-            }
-        }
+        for (int a = 0; a < 3; ++a)
+            for (int i = 1; i < 4; ++i)
+                sheets.unite(topo.hex_edges[h][static_cast<std::size_t>(kAxisEdges[a][0])],
+                             topo.hex_edges[h][static_cast<std::size_t>(kAxisEdges[a][i])]);
     std::vector<bool> root_split(topo.edges.size(), false);
     for (std::size_t e = 0; e < topo.edges.size(); ++e)
-        if (edge_selected[e]) root_split[static_cast<std::size_t>(find_root(parent, static_cast<int>(e)))] = true;
+        if (edge_selected[e]) root_split[static_cast<std::size_t>(sheets.find(static_cast<int>(e)))] = true;
     std::vector<bool> edge_split(topo.edges.size(), false);
     for (std::size_t e = 0; e < topo.edges.size(); ++e)
-        edge_split[e] = root_split[static_cast<std::size_t>(find_root(parent, static_cast<int>(e)))];
+        edge_split[e] = root_split[static_cast<std::size_t>(sheets.find(static_cast<int>(e)))];
     return split(mesh, topo, edge_split);
 }
 

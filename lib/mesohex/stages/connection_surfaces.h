@@ -40,8 +40,12 @@ struct ConnectionSurfaceOptions {
 };
 
 // Preconditions: `analysis` is analyze_skeleton(skeleton). Leaflet interior and regular boundary vertices need no
-// surface; junctions with leaflets (BL/LL-joints, branching points with leaflets, fan edges) and non-orientable
-// leaflets are not supported yet: Error(UnsupportedConfiguration) naming the vertex or face.
+// surface. A BL-joint gets a pillow like a joint: quad A = (0,1,2,3) on its branch edge, quad B = (2,1,0,3) for the
+// leaflet (on no edge), placed from the leaflet frame (T into the leaflet, R = leaflet normal made orthogonal to T):
+// quad B from its start is (-S, R, S, -R), so its q1 is "up". This layout is right at convex leaflet corners; on a
+// straight leaflet border it gives flat or inverted half-chunks (reference-notes §8.5).
+// Not supported yet (Error(UnsupportedConfiguration) naming the vertex or face): LL-joints, fan edges, branching
+// points mixing branches and leaflets, non-orientable leaflets.
 // Postconditions: every branch edge has a quad on both sides; extremity surfaces have 4 points / 1 quad / 4 edges,
 // joints 4 / 2 / 4 (quad A = (0,1,2,3) on the vertex's first incident edge, quad B = (2,1,0,3) on the second), a
 // branching point of degree n has n + 2 points, n quads (quad i on its i-th incident edge in increasing edge id) and

@@ -1,3 +1,4 @@
+#include "mesohex/core/union_find.h"
 #include "mesohex/stages/medial_import.h"
 
 #include <algorithm>
@@ -22,23 +23,6 @@ Error bad(const std::string& what, ElementRef where = {}) {
 ElementRef vertex_ref(int v) { return {ElementRef::Kind::SkeletonVertex, v}; }
 ElementRef edge_ref(int e) { return {ElementRef::Kind::SkeletonEdge, e}; }
 ElementRef face_ref(int f) { return {ElementRef::Kind::SkeletonFace, f}; }
-
-struct UnionFind {
-    std::vector<int> parent;
-    explicit UnionFind(int n) : parent(static_cast<size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
-    int find(int x) {
-        while (parent[static_cast<size_t>(x)] != x) {
-            parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
-            x = parent[static_cast<size_t>(x)];
-        }
-        return x;
-    }
-    void unite(int a, int b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
-    }
-};
 
 // Angle at p between the directions to a and b, in degrees (0 for a degenerate side).
 double angle_deg(const Vec3& p, const Vec3& a, const Vec3& b) {

@@ -13,7 +13,8 @@ namespace mesohex {
 namespace {
 
 bool has_surface(VertexClass c) {
-    return c == VertexClass::Extremity || c == VertexClass::Joint || c == VertexClass::BranchingPoint;
+    return c == VertexClass::Extremity || c == VertexClass::Joint || c == VertexClass::BranchingPoint ||
+           c == VertexClass::BLJoint;
 }
 
 }  // namespace
@@ -43,6 +44,10 @@ RawMeshPrediction predict_raw_mesh(const SkeletonAnalysis& an, const ConnectionS
         if (c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) continue;
         const int k = faces_at[v] + (c == VertexClass::LeafletBoundary ? 2 : 0);
         if (k != 4) p.interior_irregular_edges[k] += 2;
+    }
+    for (int v = 0; v < nv; ++v) {
+        // BL-joint: its up and down rays carry the 2 chunk kites, the 2 half-chunks and one plate per face.
+        if (an.vertex_class[v] == VertexClass::BLJoint) p.interior_irregular_edges[4 + faces_at[v]] += 2;
     }
     if (an.counts.boundary_edges > 0) p.boundary_irregular_edges[1] += 2 * an.counts.boundary_edges;
     p.hexes = an.predicted_hexes;
@@ -142,8 +147,9 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             std::array<int, 4> c, up, dn;
             for (int k = 0; k < 4; ++k) {
                 c[k] = raw.vertex_base[w[k]];
-                up[k] = c[k] + 1;
-                dn[k] = c[k] + 2;
+                const bool bl = an.vertex_class[w[k]] == VertexClass::BLJoint;
+                up[k] = c[k] + (bl ? 2 : 1);
+                dn[k] = c[k] + (bl ? 4 : 2);
             }
             const int h = face_slot0 + 2 * f;
             raw.mesh.hexes[h] = {c[0], c[1], c[2], c[3], up[0], up[1], up[2], up[3]};
@@ -156,9 +162,21 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             const int h = boundary_slot[e];
             if (h < 0) continue;
             const auto [f, k] = boundary_side[e];
-            const int a = raw.vertex_base[an.face_vertices[f][k]], b = raw.vertex_base[an.face_vertices[f][(k + 1) % 4]];
-            raw.mesh.hexes[h] = {a, a + 3, b + 3, b, a + 1, a + 4, b + 4, b + 1};
-            raw.mesh.hexes[h + 1] = {a, b, b + 3, a + 3, a + 2, b + 2, b + 5, a + 5};
+            // The face traverses e from wa to wb. Offsets from each end's first id (a regular boundary vertex:
+            // centre, up, down, out, out-up, out-down; a BL-joint: its connection quad B = (q0..q3) = points
+            // (2, 1, 0, 3), with up = q1, down = q3, and §8.5 with k = 0: e arrives at wb -> out = q0,
+            // out-up = mid(q0, q1), out-down = mid(q3, q0); e leaves wa -> out = q2, out-up = mid(q1, q2),
+            // out-down = mid(q2, q3); ids: Q(x) = base + 1 + x, M(j) = base + 5 + j).
+            const int wa = an.face_vertices[f][k], wb = an.face_vertices[f][(k + 1) % 4];
+            const int a = raw.vertex_base[wa], b = raw.vertex_base[wb];
+            const bool bla = an.vertex_class[wa] == VertexClass::BLJoint;
+            const bool blb = an.vertex_class[wb] == VertexClass::BLJoint;
+            const int ua = a + (bla ? 2 : 1), da = a + (bla ? 4 : 2);
+            const int ub = b + (blb ? 2 : 1), db = b + (blb ? 4 : 2);
+            const int oa = a + (bla ? 1 : 3), oua = a + (bla ? 5 : 4), oda = a + (bla ? 8 : 5);
+            const int ob = b + 3, oub = b + (blb ? 6 : 4), odb = b + (blb ? 7 : 5);
+            raw.mesh.hexes[h] = {a, oa, ob, b, ua, oua, oub, ub};
+            raw.mesh.hexes[h + 1] = {a, b, ob, oa, da, db, odb, oda};
             raw.hex_edge[h] = raw.hex_edge[h + 1] = e;
         }
     });

@@ -11,9 +11,10 @@
 // bit-identical for any thread count.
 // Leaflets (first part of issue 4): a leaflet interior vertex owns 3 ids (centre, up, down), a regular leaflet
 // boundary vertex 6 (centre, up, down, out, out-up, out-down); a plate of 2 hexes per leaflet face and a half-chunk of
-// 2 hexes per boundary edge (reference-notes §8.2-8.3) take the hex slots after the chunks. Junctions with leaflets
-// (BL/LL-joints, branching points with leaflets, fan edges) are rejected by build_connection_surfaces for now; they
-// will name their up/down/out vertices from their connection quads (§8.5) with the same scheme.
+// 2 hexes per boundary edge (reference-notes §8.2-8.3) take the hex slots after the chunks. At a BL-joint the
+// leaflet's up/down/out vertices are the ids of its connection quad B (§8.5, rotation k = 0). LL-joints, branching
+// points with leaflets and fan edges are rejected by build_connection_surfaces for now; they will name their vertices
+// from their connection quads / gaps with the same scheme.
 #include <map>
 #include <vector>
 

@@ -1,3 +1,4 @@
+#include "mesohex/core/union_find.h"
 #include "mesohex/stages/skeleton_analysis.h"
 
 #include <algorithm>
@@ -29,14 +30,6 @@ namespace {
 
 [[noreturn]] void fail(ErrorCode code, const std::string& msg, ElementRef::Kind kind, int index) {
     throw Error(code, msg, ElementRef{kind, index});
-}
-
-int find_root(std::vector<int>& parent, int v) {
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];
-        v = parent[v];
-    }
-    return v;
 }
 
 // Edge between a and b among a's incident edges (smallest id), or -1.
@@ -320,14 +313,12 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
             case VertexClass::FanEdgeEnd: ++c.fan_edge_ends; break;
         }
     }
-    std::vector<int> parent(nv);
-    std::iota(parent.begin(), parent.end(), 0);
+    UnionFind sets(nv);
     for (const std::array<int, 2>& ed : s.edges) {
-        const int a = find_root(parent, ed[0]), b = find_root(parent, ed[1]);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        sets.unite(ed[0], ed[1]);
     }
     for (int v = 0; v < nv; ++v)
-        if (an.vertex_class[v] != VertexClass::Isolated && find_root(parent, v) == v) ++c.components;
+        if (an.vertex_class[v] != VertexClass::Isolated && sets.find(v) == v) ++c.components;
     c.cycles = c.components - ((c.vertices - c.isolated) - c.edges + c.faces);
     an.predicted_hexes = 4 * c.branch_edges + 2 * c.faces + 2 * c.boundary_edges;
     return an;

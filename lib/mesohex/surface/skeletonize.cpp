@@ -1,4 +1,5 @@
 // Mean-curvature-flow skeleton + radii + cleaning. The only file that includes CGAL's MCF header (heavy).
+#include "mesohex/core/union_find.h"
 #include "mesohex/surface/skeletonize.h"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -35,25 +36,6 @@ Point to_point(const Vec3& v) { return {v.x, v.y, v.z}; }
 Error invalid(const std::string& why, ElementRef where = {}) {
     return Error(ErrorCode::InvalidInput, "surface cannot be skeletonized: " + why, where);
 }
-
-struct UnionFind {
-    std::vector<int> parent;
-    explicit UnionFind(int n) : parent(static_cast<size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
-    int find(int x) {
-        while (parent[static_cast<size_t>(x)] != x) {
-            parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
-            x = parent[static_cast<size_t>(x)];
-        }
-        return x;
-    }
-    bool unite(int a, int b) {
-        a = find(a);
-        b = find(b);
-        if (a == b) return false;
-        parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
-        return true;
-    }
-};
 
 // Throws InvalidInput unless the surface is a closed, manifold, consistently oriented, single-component triangle mesh.
 void check_skeletonizable(const TriangleMesh& m) {

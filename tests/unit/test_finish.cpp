@@ -1,0 +1,110 @@
+// finish_mesh on a case checkable on paper: one unit hex inside its own cube surface.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mesohex/finish.h"
+
+using namespace mesohex;
+
+namespace {
+
+HexMesh unit_hex() {
+    HexMesh m;
+    m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    m.hexes = {{0, 1, 2, 3, 4, 5, 6, 7}};
+    return m;
+}
+
+// The unit cube [0, 1]^3 as 12 triangles, counter-clockwise seen from outside.
+TriangleMesh unit_cube_surface() {
+    TriangleMesh s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+    for (const auto& q : quads) {
+        s.triangles.push_back({q[0], q[1], q[2]});
+        s.triangles.push_back({q[0], q[2], q[3]});
+    }
+    return s;
+}
+
+}  // namespace
+
+TEST(Finish, UnitHexInItsCube) {
+    const FinishResult r = finish_mesh(unit_hex(), unit_cube_surface());
+    // input, pad, subdivide, fit (no untangle: nothing inverted).
+    ASSERT_EQ(r.stages.size(), 4u);
+    EXPECT_EQ(r.stages[0].stage, "input");
+    EXPECT_EQ(r.stages[0].hexes, 1);
+    EXPECT_DOUBLE_EQ(r.stages[0].sj_min, 1.0);
+    // Padding a cube: one hex per face -> 7 hexes, 8 new vertices.
+    EXPECT_EQ(r.stages[1].stage, "pad");
+    EXPECT_EQ(r.stages[1].hexes, 7);
+    EXPECT_EQ(r.stages[1].vertices, 16);
+    // One 1 -> 8 level: 56 hexes; vertices = V + E + F + C = 16 + 32 + 24 + 7 = 79.
+    EXPECT_EQ(r.subdivision_levels, 1);
+    EXPECT_EQ(r.stages[2].stage, "subdivide");
+    EXPECT_EQ(r.stages[2].hexes, 56);
+    EXPECT_EQ(r.stages[2].vertices, 79);
+    EXPECT_EQ(r.stages[3].stage, "fit");
+    EXPECT_FALSE(r.untangled);
+    EXPECT_EQ(r.domain_flipped_triangles, 0);
+    // Final mesh: valid, nothing inverted, boundary on the cube.
+    EXPECT_EQ(r.mesh.hexes.size(), 56u);
+    EXPECT_TRUE(r.quality.validation.valid());
+    EXPECT_EQ(r.quality.inverted, 0);
+    EXPECT_GT(r.quality.sj_min, 0.0);
+    EXPECT_EQ(r.quality.euler_characteristic, 1);
+    ASSERT_TRUE(r.distance_measured);
+    EXPECT_NEAR(r.distance.diagonal, std::sqrt(3.0), 1e-12);
+    EXPECT_NEAR(r.distance.max, r.distance.relative_max * r.distance.diagonal, 1e-12);
+    // The boundary rows are a penalty (weight lambda = 10): the boundary stops short of the cube by O(1 / lambda)
+    // (measured 1.37 % of the diagonal).
+    EXPECT_LT(r.distance.relative_max, 0.02);
+}
+
+// With a 100x larger surface weight the boundary lands on the cube (every boundary vertex projects onto the face,
+// edge or corner it is pushed to, so the boundary quads tile the cube surface): the distance shrinks ~100x.
+// The progress callback is passed through: one call per fit step.
+TEST(Finish, SurfaceWeightAndProgress) {
+    FinishOptions o;
+    int calls = 0;
+    o.fitting.progress = [&calls](const FitProgress&) { ++calls; };
+    const FinishResult soft = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_EQ(calls, soft.fit_iterations);
+    EXPECT_GT(calls, 0);
+    o.fitting.lambda = 1000;
+    const FinishResult hard = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_LT(hard.distance.max, 1e-4);
+    EXPECT_LT(hard.distance.max, soft.distance.max / 50);
+    EXPECT_EQ(hard.quality.inverted, 0);
+}
+
+TEST(Finish, InwardDomainIsFlippedAndStagesCanBeSkipped) {
+    TriangleMesh inward = unit_cube_surface();
+    for (auto& t : inward.triangles) std::swap(t[1], t[2]);
+    FinishOptions o;
+    o.pad = false;
+    o.subdivide = false;
+    o.fit = false;
+    const FinishResult r = finish_mesh(unit_hex(), inward, o);
+    EXPECT_EQ(r.domain_flipped_triangles, 12);
+    ASSERT_EQ(r.stages.size(), 1u);  // input only
+    EXPECT_EQ(r.mesh, unit_hex());
+    // The hex is its own domain: every sample of either side lies on the other.
+    ASSERT_TRUE(r.distance_measured);
+    EXPECT_LT(r.distance.max, 1e-12);
+}
+
+TEST(Finish, LevelsFromSize) {
+    FinishOptions o;
+    o.pad = false;
+    o.fit = false;
+    o.size = 0.3;  // unit edges: 1 -> 0.5 -> 0.25, two levels
+    const FinishResult r = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_EQ(r.subdivision_levels, 2);
+    EXPECT_EQ(r.mesh.hexes.size(), 64u);
+    EXPECT_EQ(r.quality.inverted, 0);
+    EXPECT_NEAR(r.quality.sj_min, 1.0, 1e-12);
+    EXPECT_LT(r.distance.max, 1e-12);
+}

@@ -1,0 +1,148 @@
+// finish_mesh on the real skeleton / surface pairs of ../shared/data (label shared_data): raw mesh from run_pipeline
+// (default options: resampling on, radii from the file), then pad -> subdivide -> fit -> untangle. Prints the measured
+// quality per stage, the Hausdorff distance and the timings; asserts only what was measured to hold (with margins).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "mesohex/finish.h"
+#include "mesohex/pipeline.h"
+#include "mesohex/surface/radius_from_surface.h"
+#include "mesohex/surface/surface_query.h"
+#include "mesohex_io/skeleton_io.h"
+#include "mesohex_io/surface_io.h"
+
+using namespace mesohex;
+
+namespace {
+
+std::string data(const std::string& rel) { return std::string(MESOHEX_SHARED_DATA_DIR) + "/" + rel; }
+
+struct Case {
+    PipelineResult pipeline;
+    double pipeline_ms = 0;
+    FinishResult finish;
+};
+
+Case run_case(const std::string& label, Skeleton skeleton, const TriangleMesh& domain, const FinishOptions& options) {
+    Case c;
+    const auto t0 = std::chrono::steady_clock::now();
+    c.pipeline = run_pipeline(skeleton);
+    c.pipeline_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    c.finish = finish_mesh(c.pipeline.raw.mesh, domain, options);
+    const FinishResult& f = c.finish;
+    std::printf("[finish_data] %s: skeleton %zu pts -> raw %zu hexes (run_pipeline %.0f ms); domain flipped %d tris\n",
+                label.c_str(), c.pipeline.skeleton.points.size(), c.pipeline.raw.mesh.hexes.size(), c.pipeline_ms,
+                f.domain_flipped_triangles);
+    for (const FinishStage& s : f.stages) {
+        std::printf("[finish_data]   %-9s %8ld hexes %8ld verts  SJ min %+.4f avg %.4f  inverted %6ld  %8.0f ms\n",
+                    s.stage.c_str(), s.hexes, s.vertices, s.sj_min, s.sj_avg, s.inverted, s.ms);
+    }
+    std::printf("[finish_data]   fit: %d iterations, converged %d, max boundary-vertex distance %.4g; untangle ran %d"
+                " (%d rounds)\n",
+                f.fit_iterations, f.fit_converged ? 1 : 0, f.fit_max_distance, f.untangled ? 1 : 0, f.untangle_rounds);
+    std::printf("[finish_data]   final: SJ min %+.4f avg %.4f inverted %ld valid %d\n", f.quality.sj_min,
+                f.quality.sj_avg, f.quality.inverted, f.quality.validation.valid() ? 1 : 0);
+    std::printf("[finish_data]   Hausdorff: %.4g (%.3f %% of bbox diag %.4g); mesh->surface max %.4g, surface->mesh max"
+                " %.4g; mean %.4g (%.3f %%); %.0f ms; total finish %.0f ms\n",
+                f.distance.max, 100 * f.distance.relative_max, f.distance.diagonal, f.distance.mesh_to_surface_max,
+                f.distance.surface_to_mesh_max, f.distance.mean, 100 * f.distance.relative_mean, f.distance_ms,
+                f.total_ms);
+    std::fflush(stdout);
+    return c;
+}
+
+// Measured (2-core machine, Release): levels 1 + 300 fit iterations, inversion guard on (the FitOptions defaults),
+// takes ~1.3 s on cactus and ~0.8 s on aorta. With 2 levels and the guard on, the fit stalls after 5-10 steps
+// (a step given up entirely) with min SJ ~0.004; with the guard off aorta gets inverted boundary hexes that untangle
+// cannot repair; so the file-radii cases use 1 level.
+FinishOptions data_options() {
+    FinishOptions o;
+    o.levels = 1;
+    o.fitting.max_iterations = 300;
+    return o;
+}
+
+void expect_hex_counts(const FinishResult& f, const PipelineResult& p) {
+    ASSERT_GE(f.stages.size(), 4u);
+    EXPECT_EQ(f.stages[0].hexes, static_cast<long>(p.raw.mesh.hexes.size()));
+    EXPECT_GT(f.stages[1].hexes, f.stages[0].hexes);                         // one layer per boundary quad
+    long factor = 1;
+    for (int i = 0; i < f.subdivision_levels; ++i) factor *= 8;
+    EXPECT_EQ(f.stages[2].hexes, factor * f.stages[1].hexes);
+    EXPECT_EQ(static_cast<long>(f.mesh.hexes.size()), f.stages[2].hexes);
+}
+
+}  // namespace
+
+// Measured: raw 92 hexes -> 2336; final min SJ 0.435, avg 0.914, 0 inverted; Hausdorff 2.33 % of the diagonal
+// (mean 0.14 %). Issue targets: min SJ >= 0.3, avg >= 0.85 (met), Hausdorff <= 1 % (not met).
+TEST(FinishData, Cactus) {
+    const Skeleton s = read_skeleton(data("curve-skeletons/cactus.skel"));
+    const TriangleMesh domain = read_surface(data("surfaces/cactus.obj"));
+    const Case c = run_case("cactus (file radii, 1 level)", s, domain, data_options());
+    const FinishResult& f = c.finish;
+    expect_hex_counts(f, c.pipeline);
+    EXPECT_EQ(f.domain_flipped_triangles, 0);
+    EXPECT_TRUE(f.quality.validation.valid());
+    EXPECT_EQ(f.quality.inverted, 0);
+    EXPECT_GT(f.quality.sj_min, 0.3);
+    EXPECT_GT(f.quality.sj_avg, 0.85);
+    EXPECT_LT(f.distance.relative_max, 0.03);
+}
+
+// Same with 2 levels and the inversion guard off. Measured: 18688 hexes, min SJ 0.404, avg 0.969, 0 inverted,
+// Hausdorff 2.02 %, fit ~6 s.
+TEST(FinishData, CactusTwoLevels) {
+    const Skeleton s = read_skeleton(data("curve-skeletons/cactus.skel"));
+    const TriangleMesh domain = read_surface(data("surfaces/cactus.obj"));
+    FinishOptions o = data_options();
+    o.levels = 2;
+    o.fitting.guard_inversions = false;
+    const Case c = run_case("cactus (file radii, 2 levels, no guard)", s, domain, o);
+    const FinishResult& f = c.finish;
+    expect_hex_counts(f, c.pipeline);
+    EXPECT_TRUE(f.quality.validation.valid());
+    EXPECT_EQ(f.quality.inverted, 0);
+    EXPECT_GT(f.quality.sj_min, 0.3);
+    EXPECT_GT(f.quality.sj_avg, 0.85);
+    EXPECT_LT(f.distance.relative_max, 0.025);
+}
+
+// Radii 0.5 x distance to the surface (the reference's choice: room for the padding layer). With the guard on the
+// fit stalls after ~10 steps (min SJ 0.004, Hausdorff 4.3 %); with the guard off it runs the 300 steps without
+// inverting anything. Measured: raw 240 hexes -> 5888; min SJ 0.672, avg 0.936, Hausdorff 1.97 %.
+TEST(FinishData, CactusRadiusFromSurface) {
+    Skeleton s = read_skeleton(data("curve-skeletons/cactus.skel"));
+    const TriangleMesh domain = read_surface(data("surfaces/cactus.obj"));
+    const RadiusFromSurface r = radius_from_surface(s, SurfaceQuery(domain));  // factor 0.5
+    ASSERT_TRUE(r.zero_radius_vertices.empty());
+    s.radii = r.radii;
+    FinishOptions o = data_options();
+    o.fitting.guard_inversions = false;
+    const Case c = run_case("cactus (0.5 x distance radii, 1 level, no guard)", s, domain, o);
+    const FinishResult& f = c.finish;
+    expect_hex_counts(f, c.pipeline);
+    EXPECT_TRUE(f.quality.validation.valid());
+    EXPECT_EQ(f.quality.inverted, 0);
+    EXPECT_GT(f.quality.sj_min, 0.5);
+    EXPECT_GT(f.quality.sj_avg, 0.85);
+    EXPECT_LT(f.distance.relative_max, 0.025);
+}
+
+// Measured: raw 52 hexes -> 1344; min SJ 0.423, avg 0.909, 0 inverted; Hausdorff 2.23 % (mean 0.16 %).
+TEST(FinishData, Aorta) {
+    const Skeleton s = read_skeleton(data("curve-skeletons/aorta.skel"));
+    const TriangleMesh domain = read_surface(data("surfaces/aorta.stl"));
+    const Case c = run_case("aorta (file radii, 1 level)", s, domain, data_options());
+    const FinishResult& f = c.finish;
+    expect_hex_counts(f, c.pipeline);
+    EXPECT_EQ(f.domain_flipped_triangles, static_cast<int>(domain.triangles.size()));  // aorta.stl faces inward
+    EXPECT_TRUE(f.quality.validation.valid());
+    EXPECT_EQ(f.quality.inverted, 0);
+    EXPECT_GT(f.quality.sj_min, 0.3);
+    EXPECT_GT(f.quality.sj_avg, 0.85);
+    EXPECT_LT(f.distance.relative_max, 0.03);
+}
