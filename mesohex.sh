@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # mesohex project script.
-#   ./mesohex.sh demo    install what is missing, build (Release), mesh data/tiny/tripod.obj, print its quality
+#   ./mesohex.sh demo    install what is missing, build (Release), mesh data/tiny/tripod.obj in its domain, print the quality
 #   ./mesohex.sh test    install what is missing, build, run the whole test suite (what CI runs)
 #   ./mesohex.sh deps | build | bench
 set -euo pipefail
@@ -46,7 +46,9 @@ run_tests() {
 
 demo() {
   mkdir -p "$ROOT/out"
-  "$BUILD/bin/mesohex" mesh data/tiny/tripod.obj -o out/tripod.mesh --report out/tripod.json
+  # The domain of the example is the surface its skeleton describes (spheres + round cones), built by `thicken`.
+  "$BUILD/bin/mesohex" thicken data/tiny/tripod.obj -o out/tripod.off --resolution 3
+  "$BUILD/bin/mesohex" mesh data/tiny/tripod.obj --surface out/tripod.off -o out/tripod.mesh --report out/tripod.json
   "$BUILD/bin/mesohex" quality out/tripod.mesh
 }
 

@@ -1,5 +1,7 @@
 // End-to-end runs of the built `mesohex` binary: quality and convert on good and malformed files.
 #include <gtest/gtest.h>
+
+#include "cli_run.h"
 #include <sys/wait.h>
 
 #include <array>
@@ -11,23 +13,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CliRun {
-    int status = -1;
-    std::string output;  // stdout and stderr together
-};
+using mesohex::test::CliRun;
 
-CliRun run(const std::string& args) {
-    const std::string cmd = std::string(MESOHEX_CLI_PATH) + " " + args + " 2>&1";
-    CliRun r;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf;
-    std::size_t n;
-    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-    const int raw = ::pclose(pipe);
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return r;
-}
+CliRun run(const std::string& args) { return mesohex::test::run_cli(args); }
 
 std::string data(const std::string& name) { return std::string(MESOHEX_TEST_DATA_DIR) + "/hex/" + name; }
 

@@ -2,6 +2,8 @@
 // satisfy (quads, orientation, unique edges, radii, supported configurations, BL-joints at convex corners).
 #include <gtest/gtest.h>
 
+#include "cli_run.h"
+
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -428,22 +430,9 @@ TEST(Generators, BadNamesAndOptionsAreInvalidInput) {
 
 namespace {
 
-struct CliRun {
-    int status = -1;
-    std::string out;
-};
+using mesohex::test::CliRun;
 
-CliRun run_cli(const std::string& args) {
-    CliRun r;
-    const std::string command = std::string(MESOHEX_CLI_PATH) + " " + args + " 2>/dev/null";
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return r;
-    char buffer[256];
-    while (fgets(buffer, sizeof buffer, pipe)) r.out += buffer;
-    const int raw = pclose(pipe);
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return r;
-}
+CliRun run_cli(const std::string& args) { return mesohex::test::run_cli(args, false); }
 
 }  // namespace
 
@@ -452,7 +441,7 @@ TEST(GenerateCli, ListPrintsTheNamesOnePerLine) {
     EXPECT_EQ(r.status, 0);
     std::string expected_out;
     for (const std::string& name : mesohex::generator_names()) expected_out += name + "\n";
-    EXPECT_EQ(r.out, expected_out);
+    EXPECT_EQ(r.output, expected_out);
 }
 
 TEST(GenerateCli, WritesAnObjThatReadsBackAsTheSameSkeleton) {

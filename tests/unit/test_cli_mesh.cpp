@@ -1,0 +1,101 @@
+// End-to-end runs of `mesohex mesh`: the raw mesh, the whole pipeline in a thickened domain, and the exit status 5
+// that says a mesh with inverted hexes was written.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_run.h"
+#include "mesohex/post/quality.h"
+#include "mesohex_io/hex_io.h"
+
+namespace fs = std::filesystem;
+using mesohex::test::run_cli;
+
+namespace {
+
+fs::path temp_dir() {
+    const fs::path dir = fs::path(testing::TempDir()) / "mesohex_test_cli_mesh";
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string tripod() { return std::string(MESOHEX_PROJECT_DIR) + "/data/tiny/tripod.obj"; }
+
+nlohmann::json read_json(const fs::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+}
+
+}  // namespace
+
+// tripod.obj: 17 vertices, 16 edges (a trunk of 4 edges and three branches of 4 edges at one degree-4 branching
+// point). Without resampling the raw mesh has 4 x 16 = 64 hexes; the branching point's connection surface has
+// 4 quads, 8 edges and 6 vertices, and the mesh has the skeleton's Euler characteristic, 1.
+TEST(MeshCli, RawMeshOfTheBundledExampleHasTheCountsDerivedFromTheSkeleton) {
+    const fs::path out = temp_dir() / "tripod_raw.mesh", report = temp_dir() / "tripod_raw.json";
+    const auto r = run_cli("mesh " + tripod() + " --no-resample -o " + out.string() + " --report " + report.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const mesohex::QualityReport q = mesohex::compute_quality(mesohex::read_hex_mesh(out.string()));
+    EXPECT_EQ(q.hexes, 64);
+    EXPECT_EQ(q.euler_characteristic, 1);
+    EXPECT_TRUE(q.validation.valid());
+    const nlohmann::json rep = read_json(report);
+    EXPECT_EQ(rep["skeleton"]["vertices"], 17);
+    EXPECT_EQ(rep["skeleton"]["branching_points"], 1);
+    EXPECT_EQ(rep["skeleton"]["extremities"], 4);
+    EXPECT_EQ(rep["predicted"]["hexes"], 64);
+    EXPECT_EQ(rep["prediction_matches"], true);
+    EXPECT_EQ(rep["quality"]["hexes"], 64);
+}
+
+// The whole pipeline on the example in its own thickened domain: padding (1 layer) and one 1->8 level give
+// 8 x (176 + padding) hexes, no inverted hex, and the targets for procedural shapes: min SJ >= 0.5,
+// average >= 0.9, Hausdorff distance <= 1 % of the bounding-box diagonal.
+TEST(MeshCli, WholePipelineInAThickenedDomainMeetsTheQualityTargets) {
+    const fs::path domain = temp_dir() / "tripod.off", out = temp_dir() / "tripod.vtu",
+                   report = temp_dir() / "tripod.json";
+    ASSERT_EQ(run_cli("thicken " + tripod() + " -o " + domain.string() + " --resolution 3").status, 0);
+    const auto r = run_cli("mesh " + tripod() + " --surface " + domain.string() + " -o " + out.string() +
+                           " --report " + report.string() + " --quiet");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const nlohmann::json rep = read_json(report);
+    const long raw_hexes = rep["raw_quality"]["hexes"];
+    const auto& stages = rep["stages"];
+    ASSERT_GE(stages.size(), 4u);
+    EXPECT_EQ(stages[1]["stage"], "pad");
+    EXPECT_EQ(stages[2]["stage"], "subdivide");
+    EXPECT_EQ(stages[2]["hexes"].get<long>(), 8 * stages[1]["hexes"].get<long>());
+    EXPECT_GT(stages[1]["hexes"].get<long>(), raw_hexes);
+    EXPECT_EQ(rep["quality"]["inverted"], 0);
+    EXPECT_EQ(rep["quality"]["valid"], true);
+    EXPECT_GE(rep["quality"]["sj_min"].get<double>(), 0.5);
+    EXPECT_GE(rep["quality"]["sj_avg"].get<double>(), 0.9);
+    EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), 0.01);
+    EXPECT_EQ(rep["quality"]["euler_characteristic"], 1);
+}
+
+// A zig-zag with a radius far too large for its sampling: the raw mesh folds. It is written, the exit status is 5
+// and stderr says how many hexes are inverted.
+TEST(MeshCli, InvertedHexesAreReportedWithExitStatusFive) {
+    const fs::path skel = temp_dir() / "zig.obj", out = temp_dir() / "zig.mesh";
+    std::ofstream(skel) << "v 0 0 0\nv 1 0 0\nv 1.1 0.1 0\nv 2 0.2 0\nv 2.1 0.2 0.1\nl 1 2 3 4 5\n";
+    const auto r = run_cli("mesh " + skel.string() + " --no-resample --radius 0.6 -o " + out.string());
+    EXPECT_EQ(r.status, 5) << r.output;
+    EXPECT_NE(r.output.find("inverted hex"), std::string::npos) << r.output;
+    const mesohex::QualityReport q = mesohex::compute_quality(mesohex::read_hex_mesh(out.string()));
+    EXPECT_GT(q.inverted, 0);
+    EXPECT_EQ(q.hexes, 16);
+}
+
+TEST(MeshCli, MissingSurfaceIsAFileErrorAndWritesNothing) {
+    const fs::path out = temp_dir() / "never.mesh";
+    fs::remove(out);
+    const auto r = run_cli("mesh " + tripod() + " --surface /nonexistent/domain.off -o " + out.string());
+    EXPECT_EQ(r.status, 4) << r.output;
+    EXPECT_NE(r.output.find("/nonexistent/domain.off"), std::string::npos);
+    EXPECT_FALSE(fs::exists(out));
+}
