@@ -59,6 +59,15 @@ void append_int(std::string& out, long x) {
     out.append(buf, r.ptr);
 }
 
+// "x y z" with the shortest round-trip text of each coordinate.
+void append_xyz(std::string& out, const Vec3& p) {
+    append_double(out, p.x);
+    out += ' ';
+    append_double(out, p.y);
+    out += ' ';
+    append_double(out, p.z);
+}
+
 // Whitespace-separated tokens with line numbers. `comment` starts a comment running to the end of the line.
 class Lexer {
 public:
@@ -264,11 +273,7 @@ std::string write_medit(const HexMesh& mesh) {
     append_int(out, static_cast<long>(mesh.points.size()));
     out += '\n';
     for (const Vec3& p : mesh.points) {
-        append_double(out, p.x);
-        out += ' ';
-        append_double(out, p.y);
-        out += ' ';
-        append_double(out, p.z);
+        append_xyz(out, p);
         out += " 0\n";
     }
     out += "\nHexahedra\n";
@@ -391,11 +396,7 @@ std::string write_vtk(const HexMesh& mesh, const std::vector<double>& cell_scala
     append_int(out, static_cast<long>(mesh.points.size()));
     out += " double\n";
     for (const Vec3& p : mesh.points) {
-        append_double(out, p.x);
-        out += ' ';
-        append_double(out, p.y);
-        out += ' ';
-        append_double(out, p.z);
+        append_xyz(out, p);
         out += '\n';
     }
     out += "CELLS ";
@@ -608,11 +609,7 @@ std::string write_vtu(const HexMesh& mesh, const std::vector<double>& cell_scala
     append_int(out, static_cast<long>(mesh.hexes.size()));
     out += "\">\n      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
     for (const Vec3& p : mesh.points) {
-        append_double(out, p.x);
-        out += ' ';
-        append_double(out, p.y);
-        out += ' ';
-        append_double(out, p.z);
+        append_xyz(out, p);
         out += '\n';
     }
     out += "        </DataArray>\n      </Points>\n      <Cells>\n"
@@ -799,11 +796,7 @@ std::string write_msh(const HexMesh& mesh, const std::vector<double>& cell_scala
             out += '\n';
         }
         for (const Vec3& p : mesh.points) {
-            append_double(out, p.x);
-            out += ' ';
-            append_double(out, p.y);
-            out += ' ';
-            append_double(out, p.z);
+            append_xyz(out, p);
             out += '\n';
         }
     }

@@ -129,14 +129,18 @@ TEST(ConnectionSurfaces, LeafletVerticesAndBLJoints) {
     // quad B = (2, 1, 0, 3): its q1 (point 1) is the leaflet normal +z ("up").
     EXPECT_NEAR(bl.directions[bl.point_begin[0] + 1].z, 1.0, 1e-12);
     s.points.push_back({1, -1, 0});
-    s.edges.push_back({0, 5});  // now a branching point mixing branches and a leaflet: not supported yet
-    try {
-        build_connection_surfaces(s, analyze_skeleton(s));
-        FAIL();
-    } catch (const Error& e) {
-        EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
-        EXPECT_EQ(e.where().index, 0);
-    }
+    s.edges.push_back({0, 5});  // now a branching point with two branches and a leaflet (a virtual third branch)
+    const ConnectionSurfaces bp = build_connection_surfaces(s, analyze_skeleton(s));
+    EXPECT_EQ(bp.quad_begin[1] - bp.quad_begin[0], 3);
+    EXPECT_EQ(bp.point_begin[1] - bp.point_begin[0], 5);
+    EXPECT_EQ(bp.edge_quad[4][0], bp.quad_begin[0]);
+    EXPECT_EQ(bp.edge_quad[5][0], bp.quad_begin[0] + 1);
+    EXPECT_EQ(bp.face_corner_quad[0][0], 2);  // the leaflet quad comes after the two branch quads
+    const int r = bp.quad_rotation[bp.quad_begin[0] + 2];
+    ASSERT_GE(r, 0);
+    // its up vertex q_{r+1} is the quad vertex nearest to the leaflet normal +z (an in-plane configuration:
+    // the up vertex lies in the upper hemisphere)
+    EXPECT_GT(bp.directions[bp.point_begin[0] + bp.quads[bp.quad_begin[0] + 2][(r + 1) & 3]].z, 0.5);
 }
 
 TEST(ConnectionSurfaces, NonOrientableLeafletIsRejected) {

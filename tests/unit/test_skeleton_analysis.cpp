@@ -1,6 +1,8 @@
 // Skeleton analysis (paper step 2) on tiny skeletons checkable on paper.
 #include <gtest/gtest.h>
 
+#include "skeleton_fixtures.h"
+
 #include "mesohex/core/error.h"
 #include "mesohex/stages/skeleton_analysis.h"
 
@@ -21,19 +23,7 @@ Skeleton polyline(int n_edges, bool closed) {
     return s;
 }
 
-// n x m quads in the plane z = 0, vertex (i, j) = j * (n + 1) + i.
-Skeleton plate(int n, int m) {
-    Skeleton s;
-    for (int j = 0; j <= m; ++j)
-        for (int i = 0; i <= n; ++i) s.points.push_back({double(i), double(j), 0});
-    for (int j = 0; j < m; ++j)
-        for (int i = 0; i < n; ++i) {
-            const int a = j * (n + 1) + i;
-            s.faces.push_back({a, a + 1, a + n + 2, a + n + 1});
-        }
-    add_face_edges(s);
-    return s;
-}
+using mesohex::test::plate;
 
 }  // namespace
 

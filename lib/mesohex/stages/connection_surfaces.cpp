@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include <tbb/parallel_for.h>
@@ -78,6 +79,7 @@ SurfaceSize surface_size(VertexClass c, int branch_degree) {
         case VertexClass::Extremity: return {4, 1, 4};
         case VertexClass::Joint: return {4, 2, 4};
         case VertexClass::BLJoint: return {4, 2, 4};
+        case VertexClass::LLJoint: return {4, 2, 4};
         case VertexClass::BranchingPoint: return {branch_degree + 2, branch_degree, 2 * branch_degree};
         default: return {};
     }
@@ -106,15 +108,11 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
         const VertexClass c = an.vertex_class[v];
         if (c != VertexClass::Isolated && c != VertexClass::Extremity && c != VertexClass::Joint &&
             c != VertexClass::BranchingPoint && c != VertexClass::LeafletInterior && c != VertexClass::BLJoint &&
-            c != VertexClass::LeafletBoundary)
+            c != VertexClass::LeafletBoundary && c != VertexClass::FanEdgeVertex && c != VertexClass::FanEdgeEnd &&
+            c != VertexClass::LLJoint)
             throw Error(ErrorCode::UnsupportedConfiguration,
                         "skeleton vertex " + std::to_string(v) + " is a " + to_string(c) +
-                            ": LL-joints, fan edges and branching points with leaflets are not meshed yet",
-                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
-        if (c == VertexClass::BranchingPoint && an.vertex_boundary_edges[v] > 0)
-            throw Error(ErrorCode::UnsupportedConfiguration,
-                        "skeleton vertex " + std::to_string(v) +
-                            " joins branches and leaflets: such junctions are not meshed yet",
+                            ": branching points with leaflets are not meshed yet",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
     }
 
@@ -130,7 +128,8 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
     cs.quad_begin.assign(nv + 1, 0);
     cs.edge_begin.assign(nv + 1, 0);
     for (int v = 0; v < nv; ++v) {
-        const SurfaceSize sz = surface_size(an.vertex_class[v], an.vertex_branch_edges[v]);
+        const SurfaceSize sz =
+            surface_size(an.vertex_class[v], an.vertex_branch_edges[v] + an.vertex_boundary_edges[v] / 2);
         cs.point_begin[v + 1] = cs.point_begin[v] + sz.points;
         cs.quad_begin[v + 1] = cs.quad_begin[v] + sz.quads;
         cs.edge_begin[v + 1] = cs.edge_begin[v] + sz.edges;
@@ -147,6 +146,86 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
     if (an.counts.bl_joints > 0)
         for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
             for (int w : an.face_vertices[f]) vertex_normal_sum[w] += an.face_normal[f];
+
+    // Leaflet sides at LL-joints and branching points (reference-notes §6.3, §6.8): the faces at v connected through
+    // interior edges at v form one side, numbered by lowest face id; side s is the vertex's local quad
+    // (branch edges first). Each side's direction is the unit mean of the unit vectors to its neighbours, its normal
+    // the sum of its face normals. Serial in face order.
+    const int nf = static_cast<int>(an.face_vertices.size());
+    cs.face_corner_quad.assign(nf, {-1, -1, -1, -1});
+    std::vector<std::vector<Vec3>> side_dir(nv), side_nor(nv);
+    auto junction = [&](int v) {
+        return an.vertex_class[v] == VertexClass::LLJoint ||
+               (an.vertex_class[v] == VertexClass::BranchingPoint && an.vertex_boundary_edges[v] > 0);
+    };
+    if (an.counts.ll_joints > 0 || an.counts.branching_points > 0) {
+        std::vector<std::vector<std::pair<int, int>>> vfaces(nv);  // (face, corner), in face order
+        for (int f = 0; f < nf; ++f)
+            for (int k = 0; k < 4; ++k)
+                if (junction(an.face_vertices[f][k])) vfaces[an.face_vertices[f][k]].push_back({f, k});
+        for (int v = 0; v < nv; ++v) {
+            if (!junction(v)) continue;
+            const auto& fl = vfaces[v];
+            const int n = static_cast<int>(fl.size());
+            const int nl = an.vertex_boundary_edges[v] / 2;
+            auto edges_at = [&](int i) {
+                const auto [f, k] = fl[i];
+                return std::array<int, 2>{an.face_edges[f][k], an.face_edges[f][(k + 3) & 3]};
+            };
+            auto share = [&](int i, int j) {
+                for (int a : edges_at(i))
+                    for (int b : edges_at(j))
+                        if (a == b && an.edge_degree[a] == 2) return true;
+                return false;
+            };
+            std::vector<int> side(n, -1);
+            for (int s = 0; s < nl; ++s) {
+                int seed = -1;
+                for (int i = 0; i < n && seed < 0; ++i)
+                    if (side[i] < 0) seed = i;
+                if (seed < 0) break;
+                side[seed] = s;
+                for (bool changed = true; changed;) {
+                    changed = false;
+                    for (int i = 0; i < n; ++i)
+                        for (int j = 0; j < n; ++j)
+                            if (side[i] == s && side[j] < 0 && share(i, j)) {
+                                side[j] = s;
+                                changed = true;
+                            }
+                }
+            }
+            if (std::find(side.begin(), side.end(), -1) != side.end() ||
+                std::find(side.begin(), side.end(), nl - 1) == side.end())
+                throw Error(ErrorCode::UnsupportedConfiguration,
+                            "skeleton vertex " + std::to_string(v) + ": its leaflet faces do not form " +
+                                std::to_string(nl) + " leaflet sides",
+                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
+            side_dir[v].assign(nl, Vec3{});
+            side_nor[v].assign(nl, Vec3{});
+            const int nb = an.vertex_branch_edges[v];
+            for (int s = 0; s < nl; ++s) {
+                std::vector<int> es;
+                for (int i = 0; i < n; ++i) {
+                    if (side[i] != s) continue;
+                    side_nor[v][s] += an.face_normal[fl[i].first];
+                    for (int e : edges_at(i)) es.push_back(e);
+                }
+                std::sort(es.begin(), es.end());
+                es.erase(std::unique(es.begin(), es.end()), es.end());
+                for (int e : es) {
+                    const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+                    side_dir[v][s] += normalized(skeleton.points[w] - skeleton.points[v]);
+                }
+                if (!(norm(side_dir[v][s]) > 1e-9))
+                    throw Error(ErrorCode::UnsupportedConfiguration,
+                                "skeleton vertex " + std::to_string(v) + ": a leaflet at it has no mean direction",
+                                ElementRef{ElementRef::Kind::SkeletonVertex, v});
+                side_dir[v][s] = normalized(side_dir[v][s]);
+            }
+            for (int i = 0; i < n; ++i) cs.face_corner_quad[fl[i].first][fl[i].second] = nb + side[i];
+        }
+    }
 
     // Each task writes only its vertex's ranges and the (edge, side) slots of its own incident edges.
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256), [&](const tbb::blocked_range<int>& range) {
@@ -217,14 +296,17 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                 continue;
             }
             // Branching point: partition of the sphere with one quad per incident branch direction.
-            const int n = static_cast<int>(inc.size());
+            // Leaflets count as virtual branches after the branch edges (reference-notes §6.8).
+            const int nb = static_cast<int>(inc.size());
+            const int n = nb + static_cast<int>(side_dir[v].size());
             dirs.resize(n);
             const Vec3& center = skeleton.points[v];
-            for (int i = 0; i < n; ++i) {
+            for (int i = 0; i < nb; ++i) {
                 const int e = inc[i];
                 const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
                 dirs[i] = normalized(skeleton.points[w] - center);
             }
+            for (int i = nb; i < n; ++i) dirs[i] = side_dir[v][i - nb];
             SpherePartition part;
             try {
                 SpherePartitionOptions po;
@@ -270,7 +352,7 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                     }
                     cs.quad_edges[q0 + i][k] = found;
                 }
-                cs.edge_quad[inc[i]][side_of(inc[i])] = q0 + i;
+                if (i < nb) cs.edge_quad[inc[i]][side_of(inc[i])] = q0 + i;
             }
             if (n_edges != 2 * n)
                 throw Error(ErrorCode::NumericalFailure,
@@ -279,6 +361,62 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                             ElementRef{ElementRef::Kind::SkeletonVertex, v});
         }
     });
+
+    // LL-joints (reference-notes §6.3, §7.2, §8.5 with the flaw fixed): a pillow, quad A = (0,1,2,3) for side 0,
+    // quad B = (2,1,0,3) for side 1. T = unit(dir_0 - dir_1); R = the side-0 normal made orthogonal to T, turned about
+    // T by half the residual angle between the two projected normals and the nearest multiple of 90 degrees,
+    // S = T x R; points (-S, R, S, -R). Then every leaflet quad (LL-joint or branching point) picks its own rotation
+    // k (§8.5): with its frame T = its direction, R = unit((q2 - q0) x T), S = T x R, the quad vertex nearest to the
+    // side's own normal is its up vertex q_{k+1} (q1 ~ R, q2 ~ S, q3 ~ -R, q0 ~ -S). Serial.
+    cs.quad_rotation.assign(cs.quad_begin[nv], -1);
+    const double quarter = std::numbers::pi / 2;
+    for (int v = 0; v < nv; ++v) {
+        if (!junction(v)) continue;
+        const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+        const auto fail = [&](const std::string& what) {
+            throw Error(ErrorCode::UnsupportedConfiguration, "leaflet junction at skeleton vertex " +
+                                                                 std::to_string(v) + ": " + what,
+                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
+        };
+        if (an.vertex_class[v] == VertexClass::LLJoint) {
+            const std::vector<Vec3>& dir = side_dir[v];
+            const std::vector<Vec3>& nor = side_nor[v];
+            Vec3 t = dir[0] - dir[1];
+            if (!(norm(t) > 1e-9)) fail("both leaflets leave in the same direction");
+            t = normalized(t);
+            Vec3 a = nor[0] - dot(nor[0], t) * t, b = nor[1] - dot(nor[1], t) * t;
+            if (!(norm(a) > 1e-9) || !(norm(b) > 1e-9)) fail("a leaflet normal is along the joint direction");
+            a = normalized(a);
+            const Vec3 ta = cross(t, a);
+            const double phi = std::atan2(dot(b, ta), dot(b, a));
+            const double delta = phi - std::round(phi / quarter) * quarter;
+            const Vec3 r = normalized(std::cos(0.5 * delta) * a + std::sin(0.5 * delta) * ta);
+            const Vec3 sv = cross(t, r);
+            for (int k = 0; k < 4; ++k) {
+                cs.edges[e0 + k] = {k, (k + 1) & 3};
+                cs.point_valence[p0 + k] = 2;
+            }
+            cs.quads[q0] = {0, 1, 2, 3};
+            cs.quad_edges[q0] = {0, 1, 2, 3};
+            cs.quads[q0 + 1] = {2, 1, 0, 3};
+            cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
+            cs.directions[p0 + 0] = -sv;
+            cs.directions[p0 + 1] = r;
+            cs.directions[p0 + 2] = sv;
+            cs.directions[p0 + 3] = -r;
+        }
+        const int nb = an.vertex_branch_edges[v];
+        for (int s = 0; s < static_cast<int>(side_dir[v].size()); ++s) {
+            const int q = q0 + nb + s;
+            const Vec3 t = side_dir[v][s];
+            Vec3 r = cross(cs.directions[p0 + cs.quads[q][2]] - cs.directions[p0 + cs.quads[q][0]], t);
+            if (!(norm(r) > 1e-12)) fail("degenerate leaflet quad");
+            r = normalized(r);
+            const Vec3 sv = cross(t, r);
+            const double psi = std::atan2(dot(side_nor[v][s], sv), dot(side_nor[v][s], r));
+            cs.quad_rotation[q] = ((static_cast<int>(std::lround(psi / quarter)) % 4) + 4) % 4;
+        }
+    }
     return cs;
 }
 

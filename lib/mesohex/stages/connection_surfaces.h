@@ -29,6 +29,11 @@ struct ConnectionSurfaces {
     std::vector<int> point_valence;               // number of quads containing each point
     // Per skeleton edge and side (0: edges[e][0], 1: edges[e][1]): the GLOBAL quad index registered there, or -1.
     std::vector<std::array<int, 2>> edge_quad;
+    // Leaflets at LL-joints and branching points (virtual branches, after the branch quads of the vertex): per leaflet
+    // face and corner, the LOCAL quad index of that corner's leaflet at the vertex, or -1 elsewhere; per global quad,
+    // the registration rotation k of reference-notes §8.5 (up = q_{k+1}, down = q_{k+3}), -1 for branch quads.
+    std::vector<std::array<int, 4>> face_corner_quad;
+    std::vector<int> quad_rotation;
 };
 
 struct ConnectionSurfaceOptions {
@@ -44,8 +49,10 @@ struct ConnectionSurfaceOptions {
 // leaflet (on no edge), placed from the leaflet frame (T into the leaflet, R = leaflet normal made orthogonal to T):
 // quad B from its start is (-S, R, S, -R), so its q1 is "up". This layout is right at convex leaflet corners; on a
 // straight leaflet border it gives flat or inverted half-chunks (reference-notes §8.5).
-// Not supported yet (Error(UnsupportedConfiguration) naming the vertex or face): LL-joints, fan edges, branching
-// points mixing branches and leaflets, non-orientable leaflets.
+// An LL-joint gets a pillow too (quad A = (0,1,2,3) for side 0, quad B = (2,1,0,3) for side 1, on no edge), see
+// leaflet_rotation. Fan-edge vertices need no surface (their gap vertices are made by build_raw_mesh).
+// A branching point with leaflets partitions the sphere with one quad per branch edge and one per leaflet side.
+// Not supported yet (Error(UnsupportedConfiguration) naming the vertex or face): non-orientable leaflets.
 // Postconditions: every branch edge has a quad on both sides; extremity surfaces have 4 points / 1 quad / 4 edges,
 // joints 4 / 2 / 4 (quad A = (0,1,2,3) on the vertex's first incident edge, quad B = (2,1,0,3) on the second), a
 // branching point of degree n has n + 2 points, n quads (quad i on its i-th incident edge in increasing edge id) and

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include <tbb/parallel_for.h>
@@ -14,7 +15,18 @@ namespace {
 
 bool has_surface(VertexClass c) {
     return c == VertexClass::Extremity || c == VertexClass::Joint || c == VertexClass::BranchingPoint ||
-           c == VertexClass::BLJoint;
+           c == VertexClass::BLJoint || c == VertexClass::LLJoint;
+}
+
+
+bool is_fan(VertexClass c) { return c == VertexClass::FanEdgeVertex || c == VertexClass::FanEdgeEnd; }
+
+// Number of gaps expected at a fan-edge vertex: the number of faces around its first fan edge (every leaflet through
+// the fan continues across the vertex; build_raw_mesh checks this against the gaps it finds).
+int expected_gaps(const SkeletonAnalysis& an, int v) {
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+        if (an.edge_degree[an.vertex_edges[i]] >= 3) return an.edge_degree[an.vertex_edges[i]];
+    return 0;
 }
 
 }  // namespace
@@ -29,7 +41,7 @@ RawMeshPrediction predict_raw_mesh(const SkeletonAnalysis& an, const ConnectionS
         if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
         if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
         if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
-        if (an.vertex_class[v] != VertexClass::BranchingPoint) continue;
+        if (an.vertex_class[v] != VertexClass::BranchingPoint || an.vertex_boundary_edges[v] > 0) continue;
         for (int x = cs.point_begin[v]; x < cs.point_begin[v + 1]; ++x)
             if (cs.point_valence[x] != 2) ++p.interior_irregular_edges[2 * cs.point_valence[x]];
     }
@@ -44,6 +56,43 @@ RawMeshPrediction predict_raw_mesh(const SkeletonAnalysis& an, const ConnectionS
         if (c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) continue;
         const int k = faces_at[v] + (c == VertexClass::LeafletBoundary ? 2 : 0);
         if (k != 4) p.interior_irregular_edges[k] += 2;
+    }
+    // Fan edges (reference-notes §8.6): the fan edge has 2 hexes per face, the extension edge w -> O_w at a fan end
+    // one per half-chunk (also 2 per face); the ray from a fan-edge vertex to a gap vertex has the plates (and, at a
+    // fan end, the half-chunks) facing that gap, (2 faces + 2 boundary edges at w) / gaps each when the fan is regular.
+    for (int e = 0; e < static_cast<int>(an.edge_degree.size()); ++e)
+        if (an.edge_degree[e] >= 3) ++p.interior_irregular_edges[2 * an.edge_degree[e]];
+    for (int v = 0; v < nv; ++v) {
+        if (!is_fan(an.vertex_class[v])) continue;
+        const int g = expected_gaps(an, v);
+        const bool end = an.vertex_class[v] == VertexClass::FanEdgeEnd;
+        p.vertices += end ? 2 + 2 * g : 1 + g;
+        if (end) ++p.interior_irregular_edges[2 * g];
+        const int k = (2 * faces_at[v] + 2 * an.vertex_boundary_edges[v]) / g;
+        if (k != 4) p.interior_irregular_edges[k] += g;
+    }
+    // Leaflet junctions (LL-joints, branching points with leaflets): the ray to a surface point x has, per quad
+    // containing x, the 2 kites of a chunk for a branch quad; for a leaflet quad its plates + 2 half-chunks if x is
+    // that leaflet's up or down vertex, else the 2 half-chunks of the boundary edge whose out vertex it is.
+    {
+        std::vector<int> quad_faces(cs.quads.size(), 0);
+        for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+            for (int k = 0; k < 4; ++k)
+                if (cs.face_corner_quad[f][k] >= 0)
+                    ++quad_faces[cs.quad_begin[an.face_vertices[f][k]] + cs.face_corner_quad[f][k]];
+        for (int v = 0; v < nv; ++v) {
+            const bool ll = an.vertex_class[v] == VertexClass::LLJoint;
+            if (!ll && !(an.vertex_class[v] == VertexClass::BranchingPoint && an.vertex_boundary_edges[v] > 0))
+                continue;
+            std::vector<int> ray(cs.point_begin[v + 1] - cs.point_begin[v], 0);
+            for (int q = cs.quad_begin[v]; q < cs.quad_begin[v + 1]; ++q) {
+                const int r = cs.quad_rotation[q];
+                for (int i = 0; i < 4; ++i)
+                    ray[cs.quads[q][i]] += r >= 0 && (((i - r) & 3) == 1 || ((i - r) & 3) == 3) ? quad_faces[q] + 2 : 2;
+            }
+            for (int k : ray)
+                if (k != 4) ++p.interior_irregular_edges[k];
+        }
     }
     for (int v = 0; v < nv; ++v) {
         // BL-joint: its up and down rays carry the 2 chunk kites, the 2 half-chunks and one plate per face.
@@ -82,8 +131,124 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
         } else if (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) {
             raw.vertex_base[v] = n_points;
             n_points += c == VertexClass::LeafletInterior ? 3 : 6;
+        } else if (is_fan(c)) {
+            // centre, one vertex per gap; at a fan end also O_w and one out-copy per gap
+            const int g = expected_gaps(an, v);
+            raw.vertex_base[v] = n_points;
+            n_points += c == VertexClass::FanEdgeEnd ? 2 + 2 * g : 1 + g;
         }
     }
+    const int nf = static_cast<int>(an.face_vertices.size());
+
+    // Fan edges (reference-notes §6.9, §8.6): sort the faces around each fan edge by angle about t = unit(p1 - p0);
+    // gap i lies between sorted faces i and i+1; face f faces gap i with its up side iff it traverses the edge from
+    // p0 to p1. A (face, corner, side) node joins the gap it faces; faces sharing an interior edge at a fan-edge
+    // vertex share both sides. The gaps at vertex w are the resulting classes, numbered by first appearance in
+    // (face, corner, side) order.
+    std::vector<int> gap_of;  // per node f * 8 + corner * 2 + side (0 up, 1 down): local gap index, or -1
+    std::vector<Vec3> gap_dir;  // per node: the face normal pointing into its gap
+    if (an.counts.fan_edges > 0) {
+        std::vector<int> parent(8 * nf);
+        for (int i = 0; i < 8 * nf; ++i) parent[i] = i;
+        auto find = [&](int x) {
+            while (parent[x] != x) x = parent[x] = parent[parent[x]];
+            return x;
+        };
+        auto unite = [&](int a, int b) {
+            a = find(a);
+            b = find(b);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        };
+        auto corner = [&](int f, int w) {
+            for (int k = 0; k < 4; ++k)
+                if (an.face_vertices[f][k] == w) return k;
+            return -1;
+        };
+        std::vector<std::vector<std::pair<int, int>>> edge_faces(ne);  // (face, side index) in face order
+        for (int f = 0; f < nf; ++f)
+            for (int k = 0; k < 4; ++k) edge_faces[an.face_edges[f][k]].push_back({f, k});
+        for (int e = 0; e < ne; ++e) {
+            const int p0 = skeleton.edges[e][0], p1 = skeleton.edges[e][1];
+            if (an.edge_degree[e] == 2) {
+                for (int w : {p0, p1}) {
+                    if (!is_fan(an.vertex_class[w])) continue;
+                    const int f = edge_faces[e][0].first, g = edge_faces[e][1].first;
+                    for (int side = 0; side < 2; ++side) unite(f * 8 + corner(f, w) * 2 + side, g * 8 + corner(g, w) * 2 + side);
+                }
+                continue;
+            }
+            if (an.edge_degree[e] < 3) continue;
+            const Vec3 t = normalized(skeleton.points[p1] - skeleton.points[p0]);
+            const Vec3 m = 0.5 * (skeleton.points[p0] + skeleton.points[p1]);
+            std::vector<std::pair<double, int>> order;  // (angle, face)
+            Vec3 l1, l2;
+            for (const auto& [f, k] : edge_faces[e]) {
+                const std::array<int, 4>& fv = an.face_vertices[f];
+                Vec3 d = 0.5 * (skeleton.points[fv[(k + 2) & 3]] + skeleton.points[fv[(k + 3) & 3]]) - m;
+                d = d - dot(d, t) * t;
+                if (order.empty()) {
+                    l1 = normalized(d);
+                    l2 = cross(t, l1);
+                }
+                double a = std::atan2(dot(d, l2), dot(d, l1));
+                if (order.empty() || a < 0) a = order.empty() ? 0.0 : a + 2 * std::numbers::pi;
+                order.push_back({a, f});
+            }
+            std::sort(order.begin(), order.end());
+            const int d = static_cast<int>(order.size());
+            for (int i = 0; i < d; ++i) {
+                const int f = order[i].second, g = order[(i + 1) % d].second;
+                const bool bit_f = an.face_vertices[f][corner(f, p0)] != p0 ||
+                                   an.face_vertices[f][(corner(f, p0) + 1) & 3] != p1;
+                const bool bit_g = an.face_vertices[g][corner(g, p0)] != p0 ||
+                                   an.face_vertices[g][(corner(g, p0) + 1) & 3] != p1;
+                for (int w : {p0, p1})
+                    unite(f * 8 + corner(f, w) * 2 + (bit_f ? 1 : 0), g * 8 + corner(g, w) * 2 + (bit_g ? 0 : 1));
+            }
+        }
+        gap_of.assign(8 * nf, -1);
+        gap_dir.assign(8 * nf, Vec3{});
+        std::vector<int> n_gaps(nv, 0);
+        std::vector<int> root_gap(8 * nf, -1);
+        for (int f = 0; f < nf; ++f)
+            for (int k = 0; k < 4; ++k) {
+                const int w = an.face_vertices[f][k];
+                if (!is_fan(an.vertex_class[w])) continue;
+                for (int side = 0; side < 2; ++side) {
+                    const int node = f * 8 + k * 2 + side, r = find(node);
+                    if (root_gap[r] < 0) root_gap[r] = n_gaps[w]++;
+                    gap_of[node] = root_gap[r];
+                    gap_dir[node] = side == 0 ? an.face_normal[f] : -1.0 * an.face_normal[f];
+                }
+            }
+        for (int v = 0; v < nv; ++v)
+            if (is_fan(an.vertex_class[v]) && n_gaps[v] != expected_gaps(an, v))
+                throw Error(ErrorCode::UnsupportedConfiguration,
+                            "skeleton vertex " + std::to_string(v) + " has " + std::to_string(n_gaps[v]) +
+                                " gaps between its fan leaflets instead of " + std::to_string(expected_gaps(an, v)) +
+                                ": irregular fans are not meshed yet",
+                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    }
+    // Up and down vertex id of each face corner.
+    std::vector<std::array<int, 4>> face_up(nf), face_dn(nf);
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 4; ++k) {
+            const int w = an.face_vertices[f][k];
+            const int c = raw.vertex_base[w];
+            const VertexClass vc = an.vertex_class[w];
+            if (is_fan(vc)) {
+                face_up[f][k] = c + 1 + gap_of[f * 8 + k * 2];
+                face_dn[f][k] = c + 1 + gap_of[f * 8 + k * 2 + 1];
+            } else if (cs.face_corner_quad[f][k] >= 0) {
+                const int q = cs.quad_begin[w] + cs.face_corner_quad[f][k], r = cs.quad_rotation[q];
+                face_up[f][k] = c + 1 + cs.quads[q][(r + 1) & 3];
+                face_dn[f][k] = c + 1 + cs.quads[q][(r + 3) & 3];
+            } else {
+                const bool bl = vc == VertexClass::BLJoint;
+                face_up[f][k] = c + (bl ? 2 : 1);
+                face_dn[f][k] = c + (bl ? 4 : 2);
+            }
+        }
     // Hex slots: 4 per branch edge, in edge order.
     std::vector<int> edge_slot(ne, -1);
     int n_hex = 0;
@@ -92,7 +257,6 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             edge_slot[e] = n_hex;
             n_hex += 4;
         }
-    const int nf = static_cast<int>(an.face_vertices.size());
     const int face_slot0 = n_hex;  // 2 per leaflet face (plates), in face order
     n_hex += 2 * nf;
     // Boundary edges (degree 1): slot, and the face side that traverses them.
@@ -144,13 +308,10 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     tbb::parallel_for(tbb::blocked_range<int>(0, nf, 1024), [&](const tbb::blocked_range<int>& range) {
         for (int f = range.begin(); f != range.end(); ++f) {
             const std::array<int, 4>& w = an.face_vertices[f];
-            std::array<int, 4> c, up, dn;
-            for (int k = 0; k < 4; ++k) {
-                c[k] = raw.vertex_base[w[k]];
-                const bool bl = an.vertex_class[w[k]] == VertexClass::BLJoint;
-                up[k] = c[k] + (bl ? 2 : 1);
-                dn[k] = c[k] + (bl ? 4 : 2);
-            }
+            std::array<int, 4> c;
+            for (int k = 0; k < 4; ++k) c[k] = raw.vertex_base[w[k]];
+            const std::array<int, 4>& up = face_up[f];
+            const std::array<int, 4>& dn = face_dn[f];
             const int h = face_slot0 + 2 * f;
             raw.mesh.hexes[h] = {c[0], c[1], c[2], c[3], up[0], up[1], up[2], up[3]};
             raw.mesh.hexes[h + 1] = {c[0], c[3], c[2], c[1], dn[0], dn[3], dn[2], dn[1]};
@@ -171,10 +332,39 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             const int a = raw.vertex_base[wa], b = raw.vertex_base[wb];
             const bool bla = an.vertex_class[wa] == VertexClass::BLJoint;
             const bool blb = an.vertex_class[wb] == VertexClass::BLJoint;
-            const int ua = a + (bla ? 2 : 1), da = a + (bla ? 4 : 2);
-            const int ub = b + (blb ? 2 : 1), db = b + (blb ? 4 : 2);
-            const int oa = a + (bla ? 1 : 3), oua = a + (bla ? 5 : 4), oda = a + (bla ? 8 : 5);
-            const int ob = b + 3, oub = b + (blb ? 6 : 4), odb = b + (blb ? 7 : 5);
+            const int ua = face_up[f][k], da = face_dn[f][k];
+            const int ub = face_up[f][(k + 1) % 4], db = face_dn[f][(k + 1) % 4];
+            int oa = a + (bla ? 1 : 3), oua = a + (bla ? 5 : 4), oda = a + (bla ? 8 : 5);
+            int ob = b + 3, oub = b + (blb ? 6 : 4), odb = b + (blb ? 7 : 5);
+            // Fan-edge end (§8.6): out = O_w, out-up / out-down = out-copies of the gaps on the face's sides.
+            if (an.vertex_class[wa] == VertexClass::FanEdgeEnd) {
+                const int g = expected_gaps(an, wa);
+                oa = a + 1 + g;
+                oua = a + 2 + g + gap_of[f * 8 + k * 2];
+                oda = a + 2 + g + gap_of[f * 8 + k * 2 + 1];
+            }
+            // Leaflet junction (§8.5): e leaves wa (q_{k+2}, mid(q_{k+1}, q_{k+2}), mid(q_{k+2}, q_{k+3})) and
+            // arrives at wb (q_k, mid(q_k, q_{k+1}), mid(q_{k+3}, q_k)), with the rotation k of the face's quad.
+            if (cs.face_corner_quad[f][k] >= 0) {
+                const int q = cs.quad_begin[wa] + cs.face_corner_quad[f][k], r = cs.quad_rotation[q];
+                const int m0 = a + 1 + (cs.point_begin[wa + 1] - cs.point_begin[wa]);
+                oa = a + 1 + cs.quads[q][(r + 2) & 3];
+                oua = m0 + cs.quad_edges[q][(r + 1) & 3];
+                oda = m0 + cs.quad_edges[q][(r + 2) & 3];
+            }
+            if (cs.face_corner_quad[f][(k + 1) % 4] >= 0) {
+                const int q = cs.quad_begin[wb] + cs.face_corner_quad[f][(k + 1) % 4], r = cs.quad_rotation[q];
+                const int m0 = b + 1 + (cs.point_begin[wb + 1] - cs.point_begin[wb]);
+                ob = b + 1 + cs.quads[q][r & 3];
+                oub = m0 + cs.quad_edges[q][r & 3];
+                odb = m0 + cs.quad_edges[q][(r + 3) & 3];
+            }
+            if (an.vertex_class[wb] == VertexClass::FanEdgeEnd) {
+                const int kb = (k + 1) % 4, g = expected_gaps(an, wb);
+                ob = b + 1 + g;
+                oub = b + 2 + g + gap_of[f * 8 + kb * 2];
+                odb = b + 2 + g + gap_of[f * 8 + kb * 2 + 1];
+            }
             raw.mesh.hexes[h] = {a, oa, ob, b, ua, oua, oub, ub};
             raw.mesh.hexes[h + 1] = {a, b, ob, oa, da, db, odb, oda};
             raw.hex_edge[h] = raw.hex_edge[h + 1] = e;
@@ -235,11 +425,44 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
         }
     });
 
+    // Fan-edge vertices (reference-notes §10): gap vertex = w + r unit(sum of the normals of the faces around the
+    // gap, each flipped into the gap), the bisector; at a fan end also O_w = w + r e and gap out-copies = gap + r e,
+    // e = unit vector along the fan edge pointing away from it. Serial in face order: deterministic.
+    if (an.counts.fan_edges > 0) {
+        std::vector<Vec3> gap_sum(n_points);
+        for (int f = 0; f < nf; ++f)
+            for (int k = 0; k < 4; ++k) {
+                const int w = an.face_vertices[f][k];
+                if (!is_fan(an.vertex_class[w])) continue;
+                for (int side = 0; side < 2; ++side)
+                    gap_sum[raw.vertex_base[w] + 1 + gap_of[f * 8 + k * 2 + side]] += gap_dir[f * 8 + k * 2 + side];
+            }
+        for (int v = 0; v < nv; ++v) {
+            const VertexClass vc = an.vertex_class[v];
+            if (!is_fan(vc)) continue;
+            const int base = raw.vertex_base[v], g = expected_gaps(an, v);
+            const Vec3& c = skeleton.points[v];
+            const double r = radius[v];
+            raw.mesh.points[base] = c;
+            for (int j = 0; j < g; ++j) raw.mesh.points[base + 1 + j] = c + r * normalized(gap_sum[base + 1 + j]);
+            if (vc != VertexClass::FanEdgeEnd) continue;
+            Vec3 e{};
+            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+                const int fe = an.vertex_edges[i];
+                if (an.edge_degree[fe] < 3) continue;
+                const int o = skeleton.edges[fe][0] == v ? skeleton.edges[fe][1] : skeleton.edges[fe][0];
+                e = r * normalized(c - skeleton.points[o]);
+            }
+            raw.mesh.points[base + 1 + g] = c + e;
+            for (int j = 0; j < g; ++j) raw.mesh.points[base + 2 + g + j] = raw.mesh.points[base + 1 + j] + e;
+        }
+    }
+
     // Geometry transfer: centre, surface points and surface-edge midpoints on the sphere of local radius.
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 512), [&](const tbb::blocked_range<int>& range) {
         for (int v = range.begin(); v != range.end(); ++v) {
             const int base = raw.vertex_base[v];
-            if (base < 0) continue;
+            if (base < 0 || is_fan(an.vertex_class[v])) continue;
             const Vec3& c = skeleton.points[v];
             const double r = radius[v];
             const VertexClass vc = an.vertex_class[v];

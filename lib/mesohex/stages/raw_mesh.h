@@ -12,9 +12,12 @@
 // Leaflets (first part of issue 4): a leaflet interior vertex owns 3 ids (centre, up, down), a regular leaflet
 // boundary vertex 6 (centre, up, down, out, out-up, out-down); a plate of 2 hexes per leaflet face and a half-chunk of
 // 2 hexes per boundary edge (reference-notes §8.2-8.3) take the hex slots after the chunks. At a BL-joint the
-// leaflet's up/down/out vertices are the ids of its connection quad B (§8.5, rotation k = 0). LL-joints, branching
-// points with leaflets and fan edges are rejected by build_connection_surfaces for now; they will name their vertices
-// from their connection quads / gaps with the same scheme.
+// leaflet's up/down/out vertices are the ids of its connection quad B (§8.5, rotation k = 0); at an LL-joint and at a
+// branching point with leaflets, of the leaflet's quad with the rotation ConnectionSurfaces::quad_rotation chosen
+// from the leaflet's own normal. A fan-edge vertex owns 1 + g ids (centre, one vertex per gap between the sorted
+// faces around its fan edges, on the gap bisector), a fan-edge end 2 + 2g (also O_w and one out-copy per gap)
+// (§6.9, §8.6, §10); the gap count g must equal the degree of the vertex's fan edges (checked; otherwise
+// Error(UnsupportedConfiguration) naming the vertex).
 #include <map>
 #include <vector>
 
