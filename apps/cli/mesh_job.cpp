@@ -87,6 +87,11 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         ->capture_default_str();
     cmd->add_option("--levels", job->levels, "1->8 subdivision levels after padding (default 1, or from --size)");
     cmd->add_option("--size", job->size, "Target mean edge length; chooses the subdivision levels");
+    cmd->add_option("--refine", job->refine,
+                    "Subdivision per level: uniform (1->8), longitudinal (only the sheets along the branches: more "
+                    "cross-sections), radial (only the cross-sections of the branches)")
+        ->check(CLI::IsMember({"uniform", "longitudinal", "radial"}))
+        ->capture_default_str();
     cmd->add_flag("--no-pad", job->no_pad, "Skip the padding layer");
     cmd->add_flag("--no-fit", job->no_fit, "Skip the surface fitting (and untangling)");
     cmd->add_option("--iterations", job->iterations, "Iteration cap of the fitting loop")->capture_default_str();
@@ -133,6 +138,15 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
         fo.pad = !job.no_pad;
         fo.levels = job.levels;
         fo.size = job.size;
+        if (job.refine != "uniform") {
+            fo.refinement = job.refine == "longitudinal" ? FinishOptions::Refinement::Longitudinal
+                                                         : FinishOptions::Refinement::Radial;
+            fo.chunk_hex.assign(res.raw.hex_edge.size(), 0);
+            for (std::size_t h = 0; h < res.raw.hex_edge.size(); ++h) {
+                const int e = res.raw.hex_edge[h];
+                fo.chunk_hex[h] = e >= 0 && res.analysis.edge_degree[static_cast<std::size_t>(e)] == 0;
+            }
+        }
         fo.fit = !job.no_fit;
         fo.untangle = !job.no_fit;
         fo.fitting.max_iterations = job.iterations;

@@ -27,6 +27,7 @@ struct MeshJob {
     double radius_factor = 0.5;
     int levels = -1;
     double size = 0;
+    std::string refine = "uniform";  // uniform | longitudinal | radial
     bool no_pad = false;
     bool no_fit = false;
     int iterations = 300;

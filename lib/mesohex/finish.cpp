@@ -63,7 +63,26 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         } else if (options.size > 0) {
             levels = levels_for_size(mesh, options.size);
         }
-        for (int i = 0; i < levels; ++i) mesh = subdivide(mesh).mesh;
+        // Padding keeps the raw hexes first, so chunk_hex stays valid; children inherit their parent's flag.
+        std::vector<char> chunk = options.chunk_hex;
+        for (int i = 0; i < levels; ++i) {
+            if (options.refinement == FinishOptions::Refinement::Uniform) {
+                mesh = subdivide(mesh).mesh;
+                continue;
+            }
+            const SheetDirection dir = options.refinement == FinishOptions::Refinement::Longitudinal
+                                           ? SheetDirection::Longitudinal
+                                           : SheetDirection::Radial;
+            SubdivisionResult sub =
+                subdivide_sheets(mesh, select_branch_sheets(mesh, compute_hex_topology(mesh), chunk, dir));
+            std::vector<char> child_chunk(sub.mesh.hexes.size(), 0);
+            for (std::size_t h = 0; h < child_chunk.size(); ++h) {
+                const std::size_t parent = static_cast<std::size_t>(sub.parent_hex[h]);
+                child_chunk[h] = parent < chunk.size() ? chunk[parent] : 0;
+            }
+            mesh = std::move(sub.mesh);
+            chunk = std::move(child_chunk);
+        }
         result.subdivision_levels = levels;
         result.stages.push_back(measure("subdivide", ms_since(t), mesh));
     }

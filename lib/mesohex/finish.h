@@ -8,6 +8,7 @@
 #include "mesohex/core/hex_mesh.h"
 #include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
+#include "mesohex/post/sheet_selection.h"
 #include "mesohex/post/surface_fitting.h"
 #include "mesohex/post/untangle.h"
 #include "mesohex/surface/surface_distance.h"
@@ -20,6 +21,10 @@ struct FinishOptions {
     bool subdivide = true;
     int levels = -1;               // >= 0: this many 1 -> 8 levels; < 0: from `size` when > 0, else 1 level
     double size = 0;               // target mean edge length (levels_for_size on the padded mesh), used when levels < 0
+    // Uniform: 1 -> 8 per level. Longitudinal / Radial: per level, split only the sheets of the branch chunks along
+    // the branches / across them (select_branch_sheets); needs chunk_hex.
+    enum class Refinement { Uniform, Longitudinal, Radial } refinement = Refinement::Uniform;
+    std::vector<char> chunk_hex;   // per raw hex: 1 for a chunk hex of a branch edge (RawMesh::hex_edge on a branch)
     bool fit = true;
     FitOptions fitting;            // progress callback passed through to fit_to_surface
     bool untangle = true;          // run only when some hex has scaled Jacobian <= 0 at that point

@@ -99,3 +99,24 @@ TEST(MeshCli, MissingSurfaceIsAFileErrorAndWritesNothing) {
     EXPECT_NE(r.output.find("/nonexistent/domain.off"), std::string::npos);
     EXPECT_FALSE(fs::exists(out));
 }
+
+// Directional refinement: longitudinal and radial levels split only some sheets, so a level gives fewer hexes than
+// the 8x of a uniform level but more than the padded mesh, and the mesh stays valid with the skeleton's Euler
+// characteristic.
+TEST(MeshCli, DirectionalRefinementSplitsOnlySomeSheets) {
+    const fs::path domain = temp_dir() / "tripod_dir.off";
+    ASSERT_EQ(run_cli("thicken " + tripod() + " -o " + domain.string() + " --resolution 2").status, 0);
+    for (const std::string mode : {"longitudinal", "radial"}) {
+        SCOPED_TRACE(mode);
+        const fs::path out = temp_dir() / ("tripod_" + mode + ".mesh"), report = temp_dir() / (mode + ".json");
+        const auto r = run_cli("mesh " + tripod() + " --surface " + domain.string() + " --no-fit --refine " + mode +
+                               " -o " + out.string() + " --report " + report.string());
+        ASSERT_EQ(r.status, 0) << r.output;
+        const nlohmann::json rep = read_json(report);
+        const long padded = rep["stages"][1]["hexes"], refined = rep["stages"][2]["hexes"];
+        EXPECT_GT(refined, padded);
+        EXPECT_LT(refined, 8 * padded);
+        EXPECT_EQ(rep["quality"]["valid"], true);
+        EXPECT_EQ(rep["quality"]["euler_characteristic"], 1);
+    }
+}
