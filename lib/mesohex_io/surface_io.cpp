@@ -422,17 +422,25 @@ TriangleMesh read_ply(const std::string& path, const std::string& content) {
             if (el.properties[i].name == name) return static_cast<int>(i);
         return -1;
     };
+    // Which properties of an element hold the coordinates / the face list; a vertex element without x, y, z or a face
+    // element without a vertex list is an error at its header line.
+    struct ElementLayout {
+        bool is_vertex, is_face;
+        int ix, iy, iz, ilist;
+    };
+    auto layout_of = [&](const PlyElement& el) {
+        ElementLayout l{el.name == "vertex", el.name == "face", property_index(el, "x"), property_index(el, "y"),
+                        property_index(el, "z"), property_index(el, "vertex_indices")};
+        if (l.ilist < 0) l.ilist = property_index(el, "vertex_index");
+        if (l.is_vertex && (l.ix < 0 || l.iy < 0 || l.iz < 0)) in.fail_at(el.header_line, "vertex element without x, y, z");
+        if (l.is_face && l.ilist < 0) in.fail_at(el.header_line, "face element without 'vertex_indices'");
+        return l;
+    };
 
     if (format == Format::Ascii) {
         std::vector<std::string_view> tok;
         for (const PlyElement& el : elements) {
-            const bool is_vertex = el.name == "vertex";
-            const bool is_face = el.name == "face";
-            const int ix = property_index(el, "x"), iy = property_index(el, "y"), iz = property_index(el, "z");
-            int ilist = property_index(el, "vertex_indices");
-            if (ilist < 0) ilist = property_index(el, "vertex_index");
-            if (is_vertex && (ix < 0 || iy < 0 || iz < 0)) in.fail_at(el.header_line, "vertex element without x, y, z");
-            if (is_face && ilist < 0) in.fail_at(el.header_line, "face element without 'vertex_indices'");
+            const auto [is_vertex, is_face, ix, iy, iz, ilist] = layout_of(el);
             for (long long i = 0; i < el.count; ++i) {
                 if (!in.next_tokens(tok))
                     in.fail("unexpected end of file: " + std::to_string(el.count - i) + " '" + el.name + "' missing");
@@ -473,13 +481,7 @@ TriangleMesh read_ply(const std::string& path, const std::string& content) {
 
     PlyBinary body(path, content, in.position(), format == Format::BinaryBE);
     for (const PlyElement& el : elements) {
-        const bool is_vertex = el.name == "vertex";
-        const bool is_face = el.name == "face";
-        const int ix = property_index(el, "x"), iy = property_index(el, "y"), iz = property_index(el, "z");
-        int ilist = property_index(el, "vertex_indices");
-        if (ilist < 0) ilist = property_index(el, "vertex_index");
-        if (is_vertex && (ix < 0 || iy < 0 || iz < 0)) in.fail_at(el.header_line, "vertex element without x, y, z");
-        if (is_face && ilist < 0) in.fail_at(el.header_line, "face element without 'vertex_indices'");
+        const auto [is_vertex, is_face, ix, iy, iz, ilist] = layout_of(el);
         for (long long i = 0; i < el.count; ++i) {
             const std::size_t start = body.position();
             Vec3 p;

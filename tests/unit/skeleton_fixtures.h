@@ -1,5 +1,9 @@
 #pragma once
 // Small skeletons built in memory for the stage tests.
+#include <cmath>
+#include <random>
+#include <vector>
+
 #include "mesohex/core/skeleton.h"
 
 namespace mesohex::test {
@@ -16,6 +20,20 @@ inline Skeleton plate(int n, int m) {
         }
     add_face_edges(s);
     return s;
+}
+
+// n seeded random unit directions, pairwise at least min_angle (radians) apart.
+inline std::vector<Vec3> random_directions(int n, unsigned seed, double min_angle) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::vector<Vec3> d;
+    while (static_cast<int>(d.size()) < n) {
+        const Vec3 c = normalized(Vec3{g(rng), g(rng), g(rng)});
+        bool ok = norm(c) > 0.5;
+        for (const Vec3& o : d) ok = ok && dot(o, c) < std::cos(min_angle);
+        if (ok) d.push_back(c);
+    }
+    return d;
 }
 
 }  // namespace mesohex::test

@@ -1,6 +1,8 @@
 // Connection surfaces (paper step 3): counts, registration and orientation on tiny skeletons.
 #include <gtest/gtest.h>
 
+#include "skeleton_fixtures.h"
+
 #include <map>
 #include <random>
 #include <utility>
@@ -20,19 +22,6 @@ Skeleton star(const std::vector<Vec3>& dirs) {
         s.edges.push_back({0, static_cast<int>(i) + 1});
     }
     return s;
-}
-
-std::vector<Vec3> random_directions(int n, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> g(0.0, 1.0);
-    std::vector<Vec3> d;
-    while (static_cast<int>(d.size()) < n) {
-        const Vec3 c = normalized(Vec3{g(rng), g(rng), g(rng)});
-        bool ok = norm(c) > 0.5;
-        for (const Vec3& o : d) ok = ok && dot(o, c) < std::cos(0.35);  // keep directions >= 20 degrees apart
-        if (ok) d.push_back(c);
-    }
-    return d;
 }
 
 // Checks the closed-surface invariants of vertex v's surface: every edge in two quads with opposite orientation,
@@ -56,6 +45,11 @@ void expect_closed_surface(const ConnectionSurfaces& cs, int v) {
     EXPECT_EQ(np - ne + nq, 2);
 }
 
+
+// Directions at least 0.35 rad (about 20 degrees) apart.
+std::vector<Vec3> random_directions(int n, unsigned seed) {
+    return mesohex::test::random_directions(n, seed, 0.35);
+}
 }  // namespace
 
 TEST(ConnectionSurfaces, OneEdgeHasTwoExtremityQuads) {

@@ -76,19 +76,6 @@ Skeleton star(const std::vector<Vec3>& dirs, int edges_per_arm, double arm_lengt
     return s;
 }
 
-std::vector<Vec3> random_directions(int n, unsigned seed, double min_angle) {
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> g(0.0, 1.0);
-    std::vector<Vec3> d;
-    while (static_cast<int>(d.size()) < n) {
-        const Vec3 c = normalized(Vec3{g(rng), g(rng), g(rng)});
-        bool ok = norm(c) > 0.5;
-        for (const Vec3& o : d) ok = ok && dot(o, c) < std::cos(min_angle);
-        if (ok) d.push_back(c);
-    }
-    return d;
-}
-
 Skeleton ring(int n) {
     Skeleton s;
     for (int i = 0; i < n; ++i) s.points.push_back({std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0});
@@ -97,6 +84,7 @@ Skeleton ring(int n) {
 }
 
 using mesohex::test::plate;
+using mesohex::test::random_directions;
 
 // Surface of the cube [0, 2]^3 with 2 x 2 unit quads per side (26 vertices, 24 faces), faces listed in arbitrary
 // orientations (the analysis orients them).

@@ -14,6 +14,14 @@ namespace mesohex {
 
 namespace {
 
+// Quad q0 = (0, 1, 2, 3) with its edges e0..e0+3 = 01, 12, 23, 30 (local point ids): the first quad of an extremity,
+// joint or BL-joint surface.
+void set_square(ConnectionSurfaces& cs, int e0, int q0) {
+    for (int k = 0; k < 4; ++k) cs.edges[e0 + k] = {k, (k + 1) % 4};
+    cs.quads[q0] = {0, 1, 2, 3};
+    cs.quad_edges[q0] = {0, 1, 2, 3};
+}
+
 struct SurfaceSize {
     int points = 0, quads = 0, edges = 0;
 };
@@ -246,12 +254,7 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                 // no edge). Geometry from the leaflet frame (reference-notes §7.2): T into the leaflet (mean of the
                 // unit vectors to its neighbours), R = leaflet normal made orthogonal to T, S = T x R; quad B shows
                 // (-S, R, S, -R) from its start, so its q1 is "up" (the rotation k = 0 of §8.5).
-                cs.edges[e0 + 0] = {0, 1};
-                cs.edges[e0 + 1] = {1, 2};
-                cs.edges[e0 + 2] = {2, 3};
-                cs.edges[e0 + 3] = {3, 0};
-                cs.quads[q0] = {0, 1, 2, 3};
-                cs.quad_edges[q0] = {0, 1, 2, 3};
+                set_square(cs, e0, q0);
                 cs.quads[q0 + 1] = {2, 1, 0, 3};
                 cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
                 cs.edge_quad[inc[0]][side_of(inc[0])] = q0;
@@ -279,12 +282,7 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                 continue;
             }
             if (c == VertexClass::Extremity || c == VertexClass::Joint) {
-                cs.edges[e0 + 0] = {0, 1};
-                cs.edges[e0 + 1] = {1, 2};
-                cs.edges[e0 + 2] = {2, 3};
-                cs.edges[e0 + 3] = {3, 0};
-                cs.quads[q0] = {0, 1, 2, 3};
-                cs.quad_edges[q0] = {0, 1, 2, 3};
+                set_square(cs, e0, q0);
                 cs.edge_quad[inc[0]][side_of(inc[0])] = q0;
                 for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 1;
                 if (c == VertexClass::Joint) {
