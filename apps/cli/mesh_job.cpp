@@ -95,6 +95,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_flag("--no-pad", job->no_pad, "Skip the padding layer");
     cmd->add_flag("--no-fit", job->no_fit, "Skip the surface fitting (and untangling)");
     cmd->add_option("--iterations", job->iterations, "Iteration cap of the fitting loop")->capture_default_str();
+    cmd->add_option("--fit-weight", job->fit_weight,
+                    "Weight of the pull of the boundary onto the surface, relative to the shape terms")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_flag("-q,--quiet", job->quiet, "No progress bar");
     cmd->add_option("--report", job->report, "Write a JSON report (skeleton, predicted, quality, timings_ms)");
     cmd->add_option("--threads", job->threads, "Worker threads (0 = all cores)");
@@ -150,6 +154,7 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
         fo.fit = !job.no_fit;
         fo.untangle = !job.no_fit;
         fo.fitting.max_iterations = job.iterations;
+        fo.fitting.lambda = job.fit_weight;
         FitProgressBar bar(job.iterations, !job.quiet && isatty(STDERR_FILENO));
         fo.fitting.progress = [&bar](const FitProgress& p) { bar.update(p); };
         fin = finish_mesh(res.raw.mesh, *domain, fo);

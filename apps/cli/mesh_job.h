@@ -31,6 +31,7 @@ struct MeshJob {
     bool no_pad = false;
     bool no_fit = false;
     int iterations = 300;
+    double fit_weight = 3.0;
     bool quiet = false;
 };
 

@@ -1,5 +1,6 @@
 #include "mesohex/finish.h"
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 
@@ -34,6 +35,18 @@ FinishStage measure(const std::string& name, double ms, const HexMesh& mesh) {
     }
     s.sj_avg = sj.empty() ? 0 : sum / static_cast<double>(sj.size());
     return s;
+}
+
+std::size_t count_boundary_vertices(const HexMesh& mesh) {
+    std::vector<char> seen(mesh.points.size(), 0);
+    std::size_t n = 0;
+    for (const std::array<int, 4>& q : compute_hex_topology(mesh).boundary_quads)
+        for (int v : q)
+            if (!seen[static_cast<std::size_t>(v)]) {
+                seen[static_cast<std::size_t>(v)] = 1;
+                ++n;
+            }
+    return n;
 }
 
 }  // namespace
@@ -95,7 +108,29 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
             closest.resize(hits.size());
             for (std::size_t i = 0; i < hits.size(); ++i) closest[i] = hits[i].point;
         };
-        FitResult fit = fit_to_surface(mesh, projector, options.fitting);
+        // Two-sided fit: the domain's vertices and triangle centroids, matched with the current mesh boundary; on a
+        // surface much denser than the mesh boundary, every k-th of them (k from the count, deterministic).
+        {
+            std::vector<Vec3> all = surface.points;
+            for (const std::array<int, 3>& t : surface.triangles)
+                all.push_back((surface.points[static_cast<std::size_t>(t[0])] +
+                               surface.points[static_cast<std::size_t>(t[1])] +
+                               surface.points[static_cast<std::size_t>(t[2])]) *
+                              (1.0 / 3.0));
+            const std::size_t wanted = std::max<std::size_t>(20000, 8 * count_boundary_vertices(mesh));
+            const std::size_t stride = std::max<std::size_t>(1, all.size() / wanted);
+            for (std::size_t i = 0; i < all.size(); i += stride) projector.samples.push_back(all[i]);
+        }
+        projector.samples_to_boundary = [&projector](const TriangleMesh& boundary,
+                                                     std::vector<SurfaceProjector::Hit>& hits) {
+            const SurfaceQuery on_boundary(boundary);
+            const std::vector<ClosestPoint> found = on_boundary.closest(projector.samples);
+            hits.resize(found.size());
+            for (std::size_t i = 0; i < found.size(); ++i) hits[i] = {found[i].triangle, found[i].point};
+        };
+        FitOptions fitting = options.fitting;
+        if (options.gap_goal > 0) fitting.gap_goal = options.gap_goal * query.bbox_diagonal();
+        FitResult fit = fit_to_surface(mesh, projector, fitting);
         mesh = std::move(fit.mesh);
         result.fit_iterations = fit.iterations;
         result.fit_converged = fit.converged;
@@ -110,6 +145,18 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         result.untangled = true;
         result.untangle_rounds = u.rounds;
         result.stages.push_back(measure("untangle", ms_since(t), mesh));
+    }
+
+    if (options.improve_sj > 0 && result.stages.back().sj_min < options.improve_sj) {
+        const Clock::time_point t = Clock::now();
+        UntangleOptions uo = options.improving;
+        uo.target_sj = options.improve_sj;
+        UntangleResult u = untangle(mesh, uo);
+        if (u.inverted_after <= result.stages.back().inverted && u.sj_min_after > result.stages.back().sj_min) {
+            mesh = std::move(u.mesh);
+            result.improved = true;
+        }
+        result.stages.push_back(measure("improve", ms_since(t), mesh));
     }
 
     result.quality = compute_quality(mesh);

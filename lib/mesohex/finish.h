@@ -15,6 +15,14 @@
 
 namespace mesohex {
 
+inline UntangleOptions improve_defaults() {
+    UntangleOptions o;
+    o.fix_boundary = false;
+    o.boundary_attach = 100;
+    o.region_rings = 1;
+    return o;
+}
+
 struct FinishOptions {
     bool pad = true;
     PaddingOptions padding;        // default: 1 layer
@@ -27,14 +35,21 @@ struct FinishOptions {
     std::vector<char> chunk_hex;   // per raw hex: 1 for a chunk hex of a branch edge (RawMesh::hex_edge on a branch)
     bool fit = true;
     FitOptions fitting;            // progress callback passed through to fit_to_surface
+    double gap_goal = 0.005;       // > 0: fitting.gap_goal = this x the domain's bbox diagonal (tighten the pull only
+                                   // while the boundary is farther than that from the surface)
     bool untangle = true;          // run only when some hex has scaled Jacobian <= 0 at that point
     UntangleOptions untangling;
+    // Quality pass: when min SJ is below improve_sj after fitting, the vertices of the hexes below it and of their
+    // neighbours are optimized with the untangling energy, boundary vertices softly held where they are (attachment
+    // 100 / h^2: they move a small fraction of an edge); kept only if min SJ rises and no hex got inverted. 0 = off.
+    double improve_sj = 0.3;
+    UntangleOptions improving = improve_defaults();
     bool measure_distance = true;  // two-sided Hausdorff distance of the final boundary to the domain
     SurfaceDistanceOptions distance;
 };
 
 struct FinishStage {
-    std::string stage;  // "input", "pad", "subdivide", "fit", "untangle"
+    std::string stage;  // "input", "pad", "subdivide", "fit", "untangle", "improve"
     double ms = 0;      // wall time of the stage (0 for "input")
     long vertices = 0, hexes = 0;
     double sj_min = 0, sj_avg = 0;  // scaled Jacobian after the stage
@@ -51,6 +66,7 @@ struct FinishResult {
     double fit_max_distance = 0;      // largest boundary-vertex distance to the surface at the end of the fit
     bool untangled = false;           // untangle ran
     int untangle_rounds = 0;
+    bool improved = false;            // the quality pass ran and its result was kept
     QualityReport quality;            // compute_quality of the final mesh
     bool distance_measured = false;
     SurfaceDistance distance;         // absolute (max, mean) and relative to the domain bbox diagonal

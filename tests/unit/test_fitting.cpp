@@ -13,29 +13,30 @@
 #include "mesohex/post/quality.h"
 #include "mesohex/post/subdivision.h"
 #include "mesohex/post/surface_fitting.h"
+#include "mesohex/surface/surface_query.h"
 
 using namespace mesohex;
 using mesohex::test::make_block;
 
 namespace {
 
-// Closest point on the surface of the box [lo, hi]^3 (inside points go to the nearest face, outside ones are clamped).
-SurfaceProjector box_surface(double lo, double hi) {
+// Closest point on the surface of the box [lo, hi] (inside points go to the nearest face, outside ones are clamped).
+SurfaceProjector box_surface(Vec3 lo, Vec3 hi) {
     return {[lo, hi](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
         out.resize(in.size());
         for (std::size_t i = 0; i < in.size(); ++i) {
             Vec3 p = in[i];
             bool inside = true;
             for (int a = 0; a < 3; ++a)
-                if (p[a] < lo || p[a] > hi) inside = false;
+                if (p[a] < lo[a] || p[a] > hi[a]) inside = false;
             if (!inside) {
-                for (int a = 0; a < 3; ++a) p[a] = std::clamp(p[a], lo, hi);
+                for (int a = 0; a < 3; ++a) p[a] = std::clamp(p[a], lo[a], hi[a]);
             } else {
                 int best = 0;
                 double best_d = 1e300, best_v = 0;
                 for (int a = 0; a < 3; ++a) {
-                    if (p[a] - lo < best_d) { best_d = p[a] - lo; best = a; best_v = lo; }
-                    if (hi - p[a] < best_d) { best_d = hi - p[a]; best = a; best_v = hi; }
+                    if (p[a] - lo[a] < best_d) { best_d = p[a] - lo[a]; best = a; best_v = lo[a]; }
+                    if (hi[a] - p[a] < best_d) { best_d = hi[a] - p[a]; best = a; best_v = hi[a]; }
                 }
                 p[best] = best_v;
             }
@@ -43,6 +44,8 @@ SurfaceProjector box_surface(double lo, double hi) {
         }
     }};
 }
+
+SurfaceProjector box_surface(double lo, double hi) { return box_surface(Vec3{lo, lo, lo}, Vec3{hi, hi, hi}); }
 
 SurfaceProjector sphere_surface(Vec3 c, double r) {
     return {[c, r](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
@@ -71,7 +74,7 @@ TEST(Fitting, CubeAgainstItsOwnSurfaceStaysACube) {
         for (std::size_t v = 0; v < cube.points.size(); ++v) worst = std::max(worst, distance(r.mesh.points[v], cube.points[v]));
         EXPECT_LT(worst, 1e-6) << "refresh=" << refresh;
         EXPECT_TRUE(r.converged);
-        EXPECT_LE(r.iterations, 3);  // already a fixed point: the first step does not move it
+        EXPECT_LE(r.iterations, 5);  // a fixed point: one step per lambda stage (3, 9, 27, 30) does not move it
         EXPECT_NEAR(r.sj_min_after, 1.0, 1e-6);
         EXPECT_LT(r.max_distance, 1e-9);
     }
@@ -111,6 +114,7 @@ TEST(Fitting, NeverIncreasesTheInvertedCount) {
     FitOptions options;
     options.lambda = 50;
     options.max_iterations = 20;
+    options.reach = 0;  // the whole pull at once
     options.guard_inversions = false;
     const FitResult unguarded = fit_to_surface(slab, mirror, options);
     ASSERT_GT(unguarded.inverted_after, 0);  // the scenario really inverts hexes
@@ -250,4 +254,79 @@ TEST(Fitting, PaddedSubdividedShellFitsTwoSpheres) {
     const QualityReport q = compute_quality(r.mesh);
     EXPECT_TRUE(q.validation.valid());
     EXPECT_EQ(q.boundary_components, 2);
+}
+
+// The block [-1, 1]^2 x [0, 2] (4 x 4 x 4 hexes) fitted to the taller box [-1, 1]^2 x [0, 3]. The one-sided fit
+// cannot reach the top: every vertex of the block's top face is at distance 1 - |x| <= 1 from a side face but 1 from
+// the top face, so its closest surface point is on a side, and the top of the box stays 1 away from the mesh. The
+// two-sided fit matches the box's samples with the mesh boundary and pulls the top face up.
+TEST(Fitting, TwoSidedFitReachesWhatTheClosestPointsMiss) {
+    HexMesh block = make_block(4, 4, 4);
+    for (Vec3& p : block.points) p = Vec3{-1 + 0.5 * p.x, -1 + 0.5 * p.y, 0.5 * p.z};
+    const Vec3 lo{-1, -1, 0}, hi{1, 1, 3};
+    SurfaceProjector surface = box_surface(lo, hi);
+    // Samples: a grid of step 0.25 on the six faces of the taller box.
+    for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            const int nb = static_cast<int>(std::lround((hi[b] - lo[b]) / 0.25));
+            const int nc = static_cast<int>(std::lround((hi[c] - lo[c]) / 0.25));
+            for (int i = 0; i <= nb; ++i)
+                for (int j = 0; j <= nc; ++j) {
+                    Vec3 p;
+                    p[a] = side ? hi[a] : lo[a];
+                    p[b] = lo[b] + 0.25 * i;
+                    p[c] = lo[c] + 0.25 * j;
+                    surface.samples.push_back(p);
+                }
+        }
+    surface.samples_to_boundary = [&surface](const TriangleMesh& boundary, std::vector<SurfaceProjector::Hit>& hits) {
+        const std::vector<ClosestPoint> found = SurfaceQuery(boundary).closest(surface.samples);
+        hits.clear();
+        for (const ClosestPoint& c : found) hits.push_back({c.triangle, c.point});
+    };
+    auto top_gap = [](const HexMesh& m) {  // distance from the centre of the box's top face to the mesh's top
+        double best = 1e300;
+        for (const Vec3& p : m.points) best = std::min(best, distance(p, Vec3{0, 0, 3}));
+        return best;
+    };
+    FitOptions options;
+    options.max_iterations = 300;
+    options.two_sided_weight = 0;
+    const FitResult one_sided = fit_to_surface(block, surface, options);
+    EXPECT_GT(top_gap(one_sided.mesh), 0.9);
+    EXPECT_EQ(one_sided.inverted_after, 0);
+
+    options.two_sided_weight = 0.5;
+    options.two_sided_start = 20;
+    const FitResult two_sided = fit_to_surface(block, surface, options);
+    EXPECT_LT(top_gap(two_sided.mesh), 0.25);
+    EXPECT_EQ(two_sided.inverted_after, 0);
+    EXPECT_GT(two_sided.sj_min_after, 0.5);
+    EXPECT_LT(two_sided.max_distance, 0.05);  // the boundary vertices still lie on the box
+}
+
+// The guard works per hex: a step that would invert the hexes under one pulled vertex damps the moves of those hexes'
+// vertices only; the rest of the mesh takes its full step.
+TEST(Fitting, GuardDampsOnlyTheVerticesOfOffendingHexes) {
+    const HexMesh slab = make_block(4, 4, 1);
+    const int pulled = 2 + 5 * (2 + 5 * 1);  // vertex (2, 2, 1), centre of the top face
+    const SurfaceProjector surface{[&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
+        out = in;
+        for (Vec3& p : out) {
+            if (distance(p, Vec3{2, 2, 1}) < 1e-9) p.z = -1.0;  // through the bottom: would invert its 4 hexes
+            else if (p.x < 0.5) p.x -= 0.2;                     // the x = 0 side moves out a little
+        }
+    }};
+    FitOptions options;
+    options.lambda = 50;
+    options.reach = 0;  // the whole pull at once
+    SurfaceFitter fitter(slab, surface, options);
+    const FitProgress p = fitter.step();
+    EXPECT_EQ(p.inverted, 0);
+    EXPECT_GT(p.held_vertices, 0);
+    EXPECT_LT(p.step_fraction, 1.0);
+    EXPECT_GT(p.step_fraction, 0.5);  // most vertices moved freely
+    EXPECT_GT(fitter.points()[static_cast<std::size_t>(pulled)].z, 0.0);
+    EXPECT_LT(fitter.points()[0].x, -0.01);  // far from the pulled vertex: the side did move out
 }

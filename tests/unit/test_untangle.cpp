@@ -132,3 +132,32 @@ TEST(Untangle, BoundaryVertexFoldNeedsAMovingBoundary) {
     EXPECT_EQ(compute_quality(moving.mesh).inverted, 0);
     EXPECT_LT(moving.mesh.points[static_cast<std::size_t>(vid(2, 1, 1, 0))].z, 1.0);
 }
+
+// Quality pass (target_sj > 0): no hex is inverted, but an interior vertex pushed toward a corner leaves thin hexes
+// around it; the pass moves the interior vertices near them back toward the regular grid and keeps the boundary.
+TEST(Untangle, QualityPassRaisesTheMinimumAndKeepsTheBoundary) {
+    HexMesh m = make_block(3, 3, 3);
+    m.points[static_cast<std::size_t>(vid(3, 1, 1, 1))] = {1.3, 1.32, 1.28};  // toward (2, 2, 2): SJ ~0.18, not inverted
+    const QualityReport before = compute_quality(m);
+    ASSERT_EQ(before.inverted, 0);
+    ASSERT_LT(before.sj_min, 0.5);
+    UntangleOptions options;
+    const UntangleResult plain = untangle(m, options);  // nothing inverted: unchanged
+    EXPECT_EQ(plain.rounds, 0);
+    options.target_sj = 0.8;
+    const UntangleResult r = untangle(m, options);
+    EXPECT_GT(r.rounds, 0);
+    EXPECT_EQ(r.inverted_after, 0);
+    const QualityReport after = compute_quality(r.mesh);
+    EXPECT_GT(after.sj_min, 0.8);  // the regular grid (SJ 1) is the optimum
+    EXPECT_NEAR(after.sj_min, r.sj_min_after, 1e-12);
+    for (int k = 0; k <= 3; ++k)
+        for (int j = 0; j <= 3; ++j)
+            for (int i = 0; i <= 3; ++i)
+                if (i == 0 || i == 3 || j == 0 || j == 3 || k == 0 || k == 3) {
+                    const std::size_t v = static_cast<std::size_t>(vid(3, i, j, k));
+                    EXPECT_EQ(r.mesh.points[v], m.points[v]);
+                }
+    options.target_sj = 1.0;
+    EXPECT_THROW(untangle(m, options), Error);
+}

@@ -96,14 +96,16 @@ double fast_scaled_jacobian(const std::vector<Vec3>& x, const std::array<int, 8>
     return std::isfinite(sj) ? sj : -1.0;
 }
 
-HexStats hex_stats(const std::vector<std::array<int, 8>>& hexes, const std::vector<Vec3>& x) {
+// Scaled Jacobian of every hex into sj, and the summary.
+HexStats hex_stats(const std::vector<std::array<int, 8>>& hexes, const std::vector<Vec3>& x, std::vector<double>& sj) {
+    sj.resize(hexes.size());
     return tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, hexes.size(), 1024), HexStats{},
         [&](const tbb::blocked_range<std::size_t>& r, HexStats acc) {
             for (std::size_t h = r.begin(); h < r.end(); ++h) {
-                const double sj = fast_scaled_jacobian(x, hexes[h]);
-                if (!(sj > 0)) ++acc.inverted;
-                acc.sj_min = std::min(acc.sj_min, sj);
+                sj[h] = fast_scaled_jacobian(x, hexes[h]);
+                if (!(sj[h] > 0)) ++acc.inverted;
+                acc.sj_min = std::min(acc.sj_min, sj[h]);
             }
             return acc;
         },
@@ -125,6 +127,7 @@ struct SurfaceFitter::Impl {
     std::vector<int> slot_hex;                         // per entry of edge_slots: h ...
     std::vector<std::uint8_t> slot_ends;               // ... and 8 l1 + l2, l1 the local corner of edges[e][0]
     std::vector<int> vertex_edge_begin, vertex_edges;  // per vertex: its edges, encoded 2 e (v first) or 2 e + 1
+    std::vector<int> vertex_hex_begin, vertex_hexes;   // per vertex: the hexes that use it, ascending
     std::vector<int> boundary_vertices;
     std::vector<double> edge_weight;  // w_e = Lbar / t_e
     double mean_target = 1;           // Lbar
@@ -140,15 +143,22 @@ struct SurfaceFitter::Impl {
     std::vector<double> m_val, inv_diag;
     std::vector<Vec3> cg_r, cg_z, cg_p, cg_q;
     int last_cg_iterations = 0;
+    double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
     // Per step buffers.
     std::vector<Vec3> edge_rhs;      // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
     std::vector<double> edge_energy;
     std::vector<Vec3> targets;       // per boundary vertex
     std::vector<Vec3> rhs, work, solution;
     HexStats stats;
+    std::vector<double> hex_sj;      // scaled Jacobian of every hex at the current positions
+    std::vector<double> hex_floor;   // per hex: the guard's lower bound of its SJ
+    std::vector<int> boundary_index; // per vertex: its index in boundary_vertices, or -1
+    TriangleMesh boundary_tris;      // the boundary quads split in two (a, b, c), (a, c, d), over all mesh vertices
+    std::vector<double> step_scale;  // per vertex: the part of its global-step move that was accepted
     int iteration = 0;
 
     void build_incidence();
+    void two_sided_corrections(std::vector<Vec3>& correction);
     void compute_targets();
     void factorize();
     void assemble();
@@ -197,8 +207,25 @@ void SurfaceFitter::Impl::build_incidence() {
     std::vector<bool> on_boundary(nv, false);
     for (const std::array<int, 4>& q : topo.boundary_quads)
         for (int v : q) on_boundary[static_cast<std::size_t>(v)] = true;
+    boundary_index.assign(nv, -1);
     for (std::size_t v = 0; v < nv; ++v)
-        if (on_boundary[v]) boundary_vertices.push_back(static_cast<int>(v));
+        if (on_boundary[v]) {
+            boundary_index[v] = static_cast<int>(boundary_vertices.size());
+            boundary_vertices.push_back(static_cast<int>(v));
+        }
+    boundary_tris.triangles.clear();
+    for (const std::array<int, 4>& q : topo.boundary_quads) {
+        boundary_tris.triangles.push_back({q[0], q[1], q[2]});
+        boundary_tris.triangles.push_back({q[0], q[2], q[3]});
+    }
+    vertex_hex_begin.assign(nv + 1, 0);
+    for (const std::array<int, 8>& hex : mesh.hexes)
+        for (int v : hex) ++vertex_hex_begin[static_cast<std::size_t>(v) + 1];
+    for (std::size_t v = 0; v < nv; ++v) vertex_hex_begin[v + 1] += vertex_hex_begin[v];
+    vertex_hexes.resize(static_cast<std::size_t>(vertex_hex_begin[nv]));
+    std::vector<int> hfill(vertex_hex_begin.begin(), vertex_hex_begin.end() - 1);
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
+        for (int v : mesh.hexes[h]) vertex_hexes[static_cast<std::size_t>(hfill[static_cast<std::size_t>(v)]++)] = static_cast<int>(h);
 }
 
 // t_e = mean over the hexes around e of the mean length of the 4 edges parallel to e in that hex.
@@ -283,6 +310,52 @@ void SurfaceFitter::Impl::factorize() {
     for (int i = 0; i < nv; ++i) perm[static_cast<std::size_t>(i)] = static_cast<int>(pidx(i));
 }
 
+// Two-sided fit: every surface sample is matched with its closest point p on the current boundary (in triangle
+// (a, b, c), barycentric (b_a, b_b, b_c)); each corner i gets the offset s - p with weight b_i. A boundary vertex's
+// correction is the weighted sum of its offsets divided by (1 + the sum of its weights): at most the mean offset of
+// the samples it stands for, and small when few samples pull. Sequential accumulation in sample order: deterministic.
+void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
+    const std::size_t nb = boundary_vertices.size();
+    correction.assign(nb, Vec3{});
+    if (!(options.two_sided_weight > 0) || surface.samples.empty() || !surface.samples_to_boundary) return;
+    if (iteration <= options.two_sided_start) return;
+    boundary_tris.points = mesh.points;
+    std::vector<SurfaceProjector::Hit> hits;
+    surface.samples_to_boundary(boundary_tris, hits);
+    if (hits.size() != surface.samples.size())
+        throw Error(ErrorCode::InvalidInput, "SurfaceFitter: samples_to_boundary returned " + std::to_string(hits.size()) +
+                                                 " hits for " + std::to_string(surface.samples.size()) + " samples");
+    std::vector<double> weight(nb, 0.0);
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        const int t = hits[i].triangle;
+        if (t < 0 || t >= static_cast<int>(boundary_tris.triangles.size())) continue;
+        const std::array<int, 3>& tri = boundary_tris.triangles[static_cast<std::size_t>(t)];
+        const Vec3& a = mesh.points[static_cast<std::size_t>(tri[0])];
+        const Vec3& b = mesh.points[static_cast<std::size_t>(tri[1])];
+        const Vec3& c = mesh.points[static_cast<std::size_t>(tri[2])];
+        // Barycentric coordinates of the hit (it lies on the triangle up to rounding).
+        const Vec3 n = cross(b - a, c - a);
+        const double n2 = squared_norm(n);
+        std::array<double, 3> bary = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+        if (n2 > 0) {
+            const Vec3& p = hits[i].point;
+            bary[0] = std::clamp(dot(cross(b - p, c - p), n) / n2, 0.0, 1.0);
+            bary[1] = std::clamp(dot(cross(c - p, a - p), n) / n2, 0.0, 1.0);
+            bary[2] = std::clamp(1.0 - bary[0] - bary[1], 0.0, 1.0);
+        }
+        const Vec3 offset = surface.samples[i] - hits[i].point;
+        gap = std::max(gap, norm(offset));
+        for (int k = 0; k < 3; ++k) {
+            const int bi = boundary_index[static_cast<std::size_t>(tri[static_cast<std::size_t>(k)])];
+            if (bi < 0) continue;
+            const double w = options.two_sided_weight * bary[static_cast<std::size_t>(k)];
+            weight[static_cast<std::size_t>(bi)] += w;
+            correction[static_cast<std::size_t>(bi)] += w * offset;
+        }
+    }
+    for (std::size_t i = 0; i < nb; ++i) correction[i] = correction[i] * (1.0 / (1.0 + weight[i]));
+}
+
 // Directions, energy and right-hand side at the current positions. Returns the energy |A X - b|^2.
 double SurfaceFitter::Impl::local_step() {
     const std::size_t ne = topo.edges.size();
@@ -319,6 +392,19 @@ double SurfaceFitter::Impl::local_step() {
         if (targets.size() != nb)
             throw Error(ErrorCode::InvalidInput, "SurfaceFitter: the projector returned " + std::to_string(targets.size()) +
                                                      " points for " + std::to_string(nb) + " queries");
+        gap = 0;
+        for (std::size_t i = 0; i < nb; ++i) gap = std::max(gap, distance(query[i], targets[i]));
+        std::vector<Vec3> correction;
+        two_sided_corrections(correction);
+        for (std::size_t i = 0; i < nb; ++i) targets[i] += correction[i];
+        if (options.reach > 0) {  // approach the surface gradually: at most `reach` x Lbar per step
+            const double reach = options.reach * mean_target;
+            for (std::size_t i = 0; i < nb; ++i) {
+                const Vec3 d = targets[i] - query[i];
+                const double l = norm(d);
+                if (l > reach) targets[i] = query[i] + d * (reach / l);
+            }
+        }
     } else {
         targets = query;
     }
@@ -538,7 +624,10 @@ SurfaceFitter::SurfaceFitter(const HexMesh& mesh, const SurfaceProjector& surfac
                (options.solver == FitSolver::Auto && mesh.points.size() <= 5000);
     if (s.direct) s.factorize();
     else s.assemble();
-    s.stats = hex_stats(s.mesh.hexes, s.mesh.points);
+    s.stats = hex_stats(s.mesh.hexes, s.mesh.points, s.hex_sj);
+    s.hex_floor.resize(s.hex_sj.size());
+    for (std::size_t h = 0; h < s.hex_sj.size(); ++h)
+        s.hex_floor[h] = std::min(s.options.floor_fraction * s.hex_sj[h], s.options.sj_guard - s.options.max_sj_drop);
 }
 
 SurfaceFitter::~SurfaceFitter() = default;
@@ -562,26 +651,73 @@ FitProgress SurfaceFitter::step() {
     if (!s.options.frozen.empty())
         for (std::size_t v = 0; v < nv; ++v)
             if (s.options.frozen[v]) s.solution[v] = old[v];
-    double fraction = 1.0;
-    HexStats stats;
-    for (int attempt = 0;; ++attempt) {
-        tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { x[v] = old[v] + fraction * (s.solution[v] - old[v]); });
-        if (!s.options.guard_inversions) {
-            stats = hex_stats(s.mesh.hexes, x);
-            break;
+    // Inversion guard, per vertex: a hex the step would invert (or collapse: min SJ below sj_guard and more than
+    // max_sj_drop below its value before the step) halves the move of its 8 vertices and is checked again; after
+    // max_backtracks halvings they stay where they were. Only the hexes around vertices whose move changed are
+    // re-checked. A hex whose 8 vertices all stay is unchanged, so the loop ends. Sequential marking in hex order:
+    // deterministic.
+    std::vector<double>& scale = s.step_scale;
+    scale.assign(nv, 1.0);
+    tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { x[v] = s.solution[v]; });
+    std::vector<double> sj_new;
+    HexStats stats = hex_stats(s.mesh.hexes, x, sj_new);
+    if (s.options.guard_inversions) {
+        const std::vector<double>& sj_old = s.hex_sj;
+        auto bad = [&](std::size_t h) {
+            const double now = sj_new[h], before = sj_old[h];
+            if (!(now > 0) && before > 0) return true;
+            return now < s.hex_floor[h] && now < before;
+        };
+        std::vector<int> check(s.mesh.hexes.size());
+        for (std::size_t h = 0; h < check.size(); ++h) check[h] = static_cast<int>(h);
+        std::vector<std::uint8_t> halvings(nv, 0), marked(nv, 0), queued(s.mesh.hexes.size(), 0);
+        std::vector<int> changed;
+        while (!check.empty()) {
+            changed.clear();
+            for (int h : check)
+                if (bad(static_cast<std::size_t>(h)))
+                    for (int v : s.mesh.hexes[static_cast<std::size_t>(h)]) {
+                        const std::size_t vi = static_cast<std::size_t>(v);
+                        if (marked[vi] || scale[vi] == 0) continue;
+                        marked[vi] = 1;
+                        changed.push_back(v);
+                    }
+            if (changed.empty()) break;
+            check.clear();
+            for (int v : changed) {
+                const std::size_t vi = static_cast<std::size_t>(v);
+                marked[vi] = 0;
+                scale[vi] = ++halvings[vi] > s.options.max_backtracks ? 0.0 : 0.5 * scale[vi];
+                x[vi] = old[vi] + scale[vi] * (s.solution[vi] - old[vi]);
+                for (int i = s.vertex_hex_begin[vi]; i < s.vertex_hex_begin[vi + 1]; ++i) {
+                    const int h = s.vertex_hexes[static_cast<std::size_t>(i)];
+                    if (!queued[static_cast<std::size_t>(h)]) {
+                        queued[static_cast<std::size_t>(h)] = 1;
+                        check.push_back(h);
+                    }
+                }
+            }
+            std::sort(check.begin(), check.end());
+            for (int h : check) {
+                queued[static_cast<std::size_t>(h)] = 0;
+                sj_new[static_cast<std::size_t>(h)] = fast_scaled_jacobian(x, s.mesh.hexes[static_cast<std::size_t>(h)]);
+            }
         }
-        stats = hex_stats(s.mesh.hexes, x);
-        const bool more_inverted = stats.inverted > s.stats.inverted;
-        const bool collapsed = stats.sj_min < s.options.sj_guard && stats.sj_min < s.stats.sj_min - s.options.max_sj_drop;
-        if (!more_inverted && !collapsed) break;
-        if (attempt >= s.options.max_backtracks) {  // give the step up
-            x = old;
-            fraction = 0;
-            stats = s.stats;
-            break;
+        stats = HexStats{};
+        for (double v : sj_new) {
+            if (!(v > 0)) ++stats.inverted;
+            stats.sj_min = std::min(stats.sj_min, v);
         }
-        fraction *= 0.5;
     }
+    s.hex_sj.swap(sj_new);
+    double fraction = 0;
+    long held = 0;
+    for (std::size_t v = 0; v < nv; ++v) {
+        fraction += scale[v];
+        if (scale[v] < 1) ++held;
+    }
+    fraction = nv > 0 ? fraction / static_cast<double>(nv) : 1.0;
+    progress.held_vertices = held;
     double max_move = 0;
     for (std::size_t v = 0; v < nv; ++v) max_move = std::max(max_move, distance(x[v], old[v]));
     s.stats = stats;
@@ -599,6 +735,17 @@ long SurfaceFitter::inverted() const { return impl_->stats.inverted; }
 double SurfaceFitter::sj_min() const { return impl_->stats.sj_min; }
 double SurfaceFitter::mean_target_length() const { return impl_->mean_target; }
 
+double SurfaceFitter::surface_gap() const { return impl_->gap; }
+
+void SurfaceFitter::set_lambda(double lambda) {
+    if (!(lambda > 0) || !std::isfinite(lambda))
+        throw Error(ErrorCode::InvalidInput, "SurfaceFitter: lambda must be a positive finite number");
+    Impl& s = *impl_;
+    s.options.lambda = lambda;
+    if (s.direct) s.factorize();
+    else s.assemble();
+}
+
 FitResult fit_to_surface(const HexMesh& mesh, const SurfaceProjector& surface, const FitOptions& options) {
     if (options.max_iterations < 0 || options.refresh_every < 0)
         throw Error(ErrorCode::InvalidInput, "fit_to_surface: max_iterations and refresh_every must be >= 0");
@@ -608,20 +755,41 @@ FitResult fit_to_surface(const HexMesh& mesh, const SurfaceProjector& surface, c
     result.sj_min_before = fitter.sj_min();
     if (options.energy_window < 1) throw Error(ErrorCode::InvalidInput, "fit_to_surface: energy_window must be >= 1");
     std::vector<double> energies;
+    const bool two_sided = options.two_sided_weight > 0 && !surface.samples.empty() && surface.samples_to_boundary;
+    const int phase_start = two_sided ? std::min(options.two_sided_start, options.max_iterations) : 0;
+    // Stage the pull: converge with `lambda`, then tighten it (x 3 per stage) up to lambda_final; the last 20 % of the
+    // iteration budget is kept for the tightest stage.
+    double lambda = options.lambda;
+    const double lambda_final = options.fit_boundary ? std::max(options.lambda, options.lambda_final) : options.lambda;
+    int stage_start = phase_start;
+    auto tighten = [&](int iteration) {
+        if (!(lambda < lambda_final) || fitter.surface_gap() <= options.gap_goal) return false;
+        lambda = std::min(3 * lambda, lambda_final);
+        fitter.set_lambda(lambda);
+        energies.clear();
+        stage_start = std::max(iteration, phase_start);
+        return true;
+    };
     for (int it = 0; it < options.max_iterations; ++it) {
         const FitProgress p = fitter.step();
         result.iterations = p.iteration;
         result.energy = p.energy;
         if (p.step_fraction == 0) break;  // even a tiny step would invert: stalled
-        if (p.max_move < options.move_tolerance) {
-            result.converged = true;
-            break;
-        }
+        bool settled = p.max_move < options.move_tolerance && p.iteration > phase_start;
+        // Energies are compared only within one phase (the two-sided pull and lambda change the energy's definition).
+        if (p.iteration == phase_start + 1) energies.clear();
         energies.push_back(p.energy);
         const std::size_t w = static_cast<std::size_t>(options.energy_window);
-        if (energies.size() > w) {
+        if (energies.size() > w && p.iteration > stage_start) {
             const double before = energies[energies.size() - 1 - w];
-            if (before - p.energy <= options.energy_tolerance * before) {
+            if (std::abs(before - p.energy) <= options.energy_tolerance * before) settled = true;
+        }
+        if (p.max_move < options.move_tolerance && (!(lambda < lambda_final) || fitter.surface_gap() <= options.gap_goal))
+            settled = true;
+        const bool late = p.iteration >= options.max_iterations - options.max_iterations / 5;
+        if (settled || late) {
+            if (tighten(p.iteration)) continue;
+            if (settled) {
                 result.converged = true;
                 break;
             }

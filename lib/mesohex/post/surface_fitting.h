@@ -3,6 +3,7 @@
 // Eigen stays in surface_fitting.cpp behind the SurfaceFitter class.
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "mesohex/core/hex_mesh.h"
@@ -12,7 +13,19 @@ namespace mesohex {
 // The domain surface, as a callback: closest[i] = the point of the surface closest to in[i]. The pipeline plugs in
 // CGAL's AABB tree; tests use analytic surfaces. May be called from one thread at a time (never concurrently).
 struct SurfaceProjector {
-    std::function<void(const std::vector<Vec3>& in, std::vector<Vec3>& closest)> closest_points;
+    using ClosestPoints = std::function<void(const std::vector<Vec3>& in, std::vector<Vec3>& closest)>;
+    SurfaceProjector() = default;
+    SurfaceProjector(ClosestPoints f) : closest_points(std::move(f)) {}  // NOLINT: implicit, {lambda} reads well
+    ClosestPoints closest_points;
+    // Optional, for the two-sided fit: points sampled on the surface, and the closest point of a triangle mesh (the
+    // current boundary of the hex mesh) to every sample: hits[i] = {triangle id, point}. When both are set, the
+    // fitter also pulls the boundary toward the samples it does not yet reach (creases, tips, rims).
+    std::vector<Vec3> samples;
+    struct Hit {
+        int triangle = -1;
+        Vec3 point;
+    };
+    std::function<void(const TriangleMesh& boundary, std::vector<Hit>& hits)> samples_to_boundary;
 };
 
 struct FitProgress {
@@ -21,7 +34,9 @@ struct FitProgress {
     double max_move = 0;        // largest vertex displacement of the step / mean target length
     long inverted = 0;          // hexes with scaled Jacobian <= 0 after the step
     double sj_min = 0;          // after the step
-    double step_fraction = 1;   // 1 = full global step accepted, < 1 = damped (back-off), 0 = rejected
+    double step_fraction = 1;   // mean over the vertices of the accepted part of their move: 1 = full global step,
+                                // < 1 = some moves damped by the inversion guard, 0 = no vertex could move (stalled)
+    long held_vertices = 0;     // vertices whose move the guard damped or cancelled in this step
     int solver_iterations = 0;  // CG iterations of the global step (0 with the direct solver)
 };
 
@@ -32,7 +47,10 @@ enum class FitSolver {
 };
 
 struct FitOptions {
-    double lambda = 10.0;           // weight of the boundary-to-surface rows, relative to the edge rows (reference: 1)
+    double lambda = 3.0;            // weight of the boundary-to-surface rows, relative to the edge rows (reference: 1),
+    double lambda_final = 30.0;     // raised x 3 each time the fit settles while the surface gap (the largest
+    double gap_goal = 0;            // vertex-to-surface or sample-to-boundary distance) is above gap_goal
+                                    // (fit_to_surface; a looser pull keeps better hexes)
     int max_iterations = 300;       // iteration cap of fit_to_surface
     double move_tolerance = 1e-5;   // stop when the largest move of a step < move_tolerance x mean target length ...
     double energy_tolerance = 1e-3; // ... or when the energy decreased by less than this relative amount over the
@@ -43,10 +61,14 @@ struct FitOptions {
     int cg_max_iterations = 100;    // ConjugateGradient: iteration cap per global step ...
     double cg_tolerance = 3e-2;     // ... and residual reduction per step (per coordinate, relative to the residual
                                     // of the warm start; a fixed point has residual 0 and does not move)
-    bool guard_inversions = true;   // back off a step that increases the inverted count or collapses min SJ
-    int max_backtracks = 6;         // halvings of a rejected step before giving up on it
-    double sj_guard = 0.2;          // a step may lower min SJ below this only by at most max_sj_drop
-    double max_sj_drop = 0.05;
+    bool guard_inversions = true;   // per hex: damp the moves of the vertices of a hex the step would invert or collapse
+    int max_backtracks = 6;         // halvings of a vertex's move before it stays where it was for this step
+    double sj_guard = 0.2;          // no step may take a hex below min(floor_fraction x its SJ before the fit,
+    double max_sj_drop = 0.1;       // sj_guard - max_sj_drop), nor invert a hex that was not inverted
+    double floor_fraction = 0.5;
+    double two_sided_weight = 0.5;  // pull toward the surface samples (SurfaceProjector::samples), 0 = one-sided ...
+    int two_sided_start = 50;       // ... from this step on (the boundary first settles on the surface)
+    double reach = 0.5;             // a boundary target is at most reach x Lbar from its vertex (0 = no limit)
     bool fit_boundary = true;       // false: boundary rows pull to the CURRENT boundary positions (optimize inside
                                     // the skin; the projector is then not called)
     std::vector<bool> frozen;       // optional, per vertex: never moved (still in the solve)
@@ -91,6 +113,11 @@ public:
     long inverted() const;
     double sj_min() const;
     double mean_target_length() const;
+    // At the last step's start: the largest distance of a boundary vertex to its closest surface point and (two-sided
+    // fit) of a surface sample to the boundary.
+    double surface_gap() const;
+    // Changes the weight of the boundary rows (refactorizes / reassembles the matrix). lambda > 0.
+    void set_lambda(double lambda);
 
 private:
     struct Impl;

@@ -209,12 +209,13 @@ double minimize(UntangleState& pb, int max_iterations, double length_scale) {
 }
 
 struct Inversion {
-    long count = 0;
+    long count = 0;     // hexes with SJ <= the threshold (the ones the stage works on)
+    long inverted = 0;  // hexes with SJ <= 0
     double sj_min = 1;
     std::vector<int> hexes;
 };
 
-Inversion inversion_of(const HexMesh& mesh, const std::vector<Vec3>& x) {
+Inversion inversion_of(const HexMesh& mesh, const std::vector<Vec3>& x, double threshold) {
     std::vector<double> sj(mesh.hexes.size());
     tbb::parallel_for(std::size_t{0}, mesh.hexes.size(), [&](std::size_t h) {
         std::array<Vec3, 8> c;
@@ -225,10 +226,18 @@ Inversion inversion_of(const HexMesh& mesh, const std::vector<Vec3>& x) {
     inv.sj_min = mesh.hexes.empty() ? 1.0 : std::numeric_limits<double>::infinity();
     for (std::size_t h = 0; h < sj.size(); ++h) {
         inv.sj_min = std::min(inv.sj_min, sj[h]);
-        if (!(sj[h] > 0)) inv.hexes.push_back(static_cast<int>(h));
+        if (!(sj[h] > threshold)) inv.hexes.push_back(static_cast<int>(h));
+        if (!(sj[h] > 0)) ++inv.inverted;
     }
     inv.count = static_cast<long>(inv.hexes.size());
     return inv;
+}
+
+double inversion_sj(const HexMesh& mesh, const std::vector<Vec3>& x, int h) {
+    std::array<Vec3, 8> c;
+    for (int i = 0; i < 8; ++i)
+        c[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(mesh.hexes[static_cast<std::size_t>(h)][static_cast<std::size_t>(i)])];
+    return scaled_jacobian(c);
 }
 
 }  // namespace
@@ -248,11 +257,13 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
 
     UntangleResult result;
     result.mesh = mesh;
-    Inversion inv = inversion_of(mesh, mesh.points);
-    result.inverted_before = inv.count;
+    if (!(options.target_sj >= 0 && options.target_sj < 1))
+        throw Error(ErrorCode::InvalidInput, "untangle: target_sj must lie in [0, 1)");
+    Inversion inv = inversion_of(mesh, mesh.points, options.target_sj);
+    result.inverted_before = inv.inverted;
     result.sj_min_before = inv.sj_min;
     if (inv.count == 0) {
-        result.inverted_after = 0;
+        result.inverted_after = inv.inverted;
         result.sj_min_after = inv.sj_min;
         return result;
     }
@@ -347,9 +358,11 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
         const double e_prev = evaluate(pb, nullptr);
         const double energy = minimize(pb, options.max_inner_iterations, mean_size);
         detmin = min_corner_det(pb);
-        inv = inversion_of(mesh, pb.x);
+        inv = inversion_of(mesh, pb.x, options.target_sj);
         result.rounds = round;
-        if (inv.count < best.count || (inv.count == best.count && inv.sj_min > best.sj_min)) {
+        if (inv.inverted < best.inverted ||
+            (inv.inverted == best.inverted &&
+             (inv.count < best.count || (inv.count == best.count && inv.sj_min > best.sj_min)))) {
             best = inv;
             best_x = pb.x;
         }
@@ -359,7 +372,7 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
             p.epsilon = pb.eps;
             p.energy = energy;
             p.min_det = detmin;
-            p.inverted = inv.count;
+            p.inverted = inv.inverted;
             options.progress(p);
         }
         // Garanzha et al.'s epsilon update.
@@ -373,9 +386,10 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
         }
     }
     result.mesh.points = best_x;
-    result.inverted_after = best.count;
+    result.inverted_after = best.inverted;
     result.sj_min_after = best.sj_min;
-    result.inverted_hexes = best.hexes;
+    for (int h : best.hexes)
+        if (!(inversion_sj(mesh, best_x, h) > 0)) result.inverted_hexes.push_back(h);
     return result;
 }
 

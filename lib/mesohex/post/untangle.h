@@ -26,6 +26,10 @@ struct UntangleOptions {
     double boundary_attach = 10;  // weight of that attachment (x |x - x0|^2 / h^2, h = mean edge length)
     std::vector<bool> frozen;     // optional, per vertex: never moved
     int extra_rounds = 1;         // rounds run after the last inversion disappeared (improve the margin)
+    double target_sj = 0;         // the hexes worked on: SJ <= target_sj (0: the inverted ones). A positive value
+                                  // makes this a quality pass: the region grows around the hexes below it, and the
+                                  // state kept is the one with the fewest inverted hexes, then fewest below target,
+                                  // then the largest min SJ (never more inverted hexes than at the start)
     std::function<void(const UntangleProgress&)> progress;
 };
 
