@@ -117,7 +117,7 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
                                surface.points[static_cast<std::size_t>(t[1])] +
                                surface.points[static_cast<std::size_t>(t[2])]) *
                               (1.0 / 3.0));
-            const std::size_t wanted = std::max<std::size_t>(20000, 8 * count_boundary_vertices(mesh));
+            const std::size_t wanted = std::max<std::size_t>(20000, 4 * count_boundary_vertices(mesh));
             const std::size_t stride = std::max<std::size_t>(1, all.size() / wanted);
             for (std::size_t i = 0; i < all.size(); i += stride) projector.samples.push_back(all[i]);
         }

@@ -42,15 +42,24 @@ constexpr std::array<std::array<std::array<int, 2>, 8>, 8> make_other_two() {
 }
 constexpr std::array<std::array<std::array<int, 2>, 8>, 8> kOtherTwo = make_other_two();
 
-// Normal at corner `lc` of a hex, ideal direction for its edge towards `lo`: the (right-handed) cross product of the
-// two other corner edges, so that it points to the side of `lo` on a positively oriented hex. Unit length (or zero).
-Vec3 corner_normal(const std::vector<Vec3>& x, const std::array<int, 8>& hex, int lc, int lo) {
-    const std::array<int, 2>& bc = kOtherTwo[static_cast<std::size_t>(lc)][static_cast<std::size_t>(lo)];
-    const Vec3& xc = x[static_cast<std::size_t>(hex[static_cast<std::size_t>(lc)])];
-    const Vec3 n = cross(x[static_cast<std::size_t>(hex[static_cast<std::size_t>(bc[0])])] - xc,
-                         x[static_cast<std::size_t>(hex[static_cast<std::size_t>(bc[1])])] - xc);
-    const double l2 = squared_norm(n);
-    return l2 > 0 ? n * (1.0 / std::sqrt(l2)) : Vec3{};
+// For every local edge le of a hex (corners a = kHexEdges[le][0], b = kHexEdges[le][1]): the normal at a, ideal
+// direction of the edge a -> b, and the normal at b, ideal direction of b -> a. The normal at corner c for its edge
+// toward o is the (right-handed) cross product of c's two other corner edges, so that it points to the side of o on a
+// positively oriented hex; unit length (or zero). One pass per hex: its 8 corners are read once.
+void hex_corner_normals(const std::vector<Vec3>& x, const std::array<int, 8>& hex, Vec3* out /* 24 */) {
+    std::array<Vec3, 8> p;
+    for (std::size_t i = 0; i < 8; ++i) p[i] = x[static_cast<std::size_t>(hex[i])];
+    auto normal = [&](int c, int o) {
+        const std::array<int, 2>& bc = kOtherTwo[static_cast<std::size_t>(c)][static_cast<std::size_t>(o)];
+        const Vec3& pc = p[static_cast<std::size_t>(c)];
+        const Vec3 n = cross(p[static_cast<std::size_t>(bc[0])] - pc, p[static_cast<std::size_t>(bc[1])] - pc);
+        const double l2 = squared_norm(n);
+        return l2 > 0 ? n * (1.0 / std::sqrt(l2)) : Vec3{};
+    };
+    for (std::size_t le = 0; le < 12; ++le) {
+        out[2 * le] = normal(kHexEdges[le][0], kHexEdges[le][1]);
+        out[2 * le + 1] = normal(kHexEdges[le][1], kHexEdges[le][0]);
+    }
 }
 
 struct HexStats {
@@ -124,8 +133,8 @@ struct SurfaceFitter::Impl {
     FitOptions options;
     HexTopology topo;
     std::vector<int> edge_slot_begin, edge_slots;      // per edge: its (h * 12 + le) slots
-    std::vector<int> slot_hex;                         // per entry of edge_slots: h ...
-    std::vector<std::uint8_t> slot_ends;               // ... and 8 l1 + l2, l1 the local corner of edges[e][0]
+    std::vector<std::uint8_t> slot_flipped;            // per entry of edge_slots: 1 if edges[e][0] is the hex's
+                                                       // kHexEdges[le][1] corner
     std::vector<int> vertex_edge_begin, vertex_edges;  // per vertex: its edges, encoded 2 e (v first) or 2 e + 1
     std::vector<int> vertex_hex_begin, vertex_hexes;   // per vertex: the hexes that use it, ascending
     std::vector<int> boundary_vertices;
@@ -143,8 +152,11 @@ struct SurfaceFitter::Impl {
     std::vector<double> m_val, inv_diag;
     std::vector<Vec3> cg_r, cg_z, cg_p, cg_q;
     int last_cg_iterations = 0;
+    std::vector<Vec3> cached_correction;  // the two-sided corrections of the last matching, per boundary vertex
+    double cached_sample_gap = 0;
     double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
     // Per step buffers.
+    std::vector<Vec3> slot_normals;  // per hex h and local edge le: 2 corner normals at 24 h + 2 le (+ 1)
     std::vector<Vec3> edge_rhs;      // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
     std::vector<double> edge_energy;
     std::vector<Vec3> targets;       // per boundary vertex
@@ -181,16 +193,13 @@ void SurfaceFitter::Impl::build_incidence() {
             const int e = topo.hex_edges[h][static_cast<std::size_t>(le)];
             edge_slots[static_cast<std::size_t>(fill[static_cast<std::size_t>(e)]++)] = static_cast<int>(h) * 12 + le;
         }
-    slot_hex.resize(edge_slots.size());
-    slot_ends.resize(edge_slots.size());
+    slot_flipped.resize(edge_slots.size());
     for (std::size_t e = 0; e < ne; ++e)
         for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
             const int slot = edge_slots[static_cast<std::size_t>(i)];
             const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(slot / 12)];
-            int l1 = kHexEdges[static_cast<std::size_t>(slot % 12)][0], l2 = kHexEdges[static_cast<std::size_t>(slot % 12)][1];
-            if (hex[static_cast<std::size_t>(l1)] != topo.edges[e][0]) std::swap(l1, l2);
-            slot_hex[static_cast<std::size_t>(i)] = slot / 12;
-            slot_ends[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(8 * l1 + l2);
+            const int l1 = kHexEdges[static_cast<std::size_t>(slot % 12)][0];
+            slot_flipped[static_cast<std::size_t>(i)] = hex[static_cast<std::size_t>(l1)] != topo.edges[e][0] ? 1 : 0;
         }
     vertex_edge_begin.assign(nv + 1, 0);
     for (const std::array<int, 2>& e : topo.edges) {
@@ -319,6 +328,13 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
     correction.assign(nb, Vec3{});
     if (!(options.two_sided_weight > 0) || surface.samples.empty() || !surface.samples_to_boundary) return;
     if (iteration <= options.two_sided_start) return;
+    const int every = std::max(1, options.two_sided_every);
+    if ((iteration - options.two_sided_start - 1) % every != 0 && cached_correction.size() == nb) {
+        correction = cached_correction;  // the matching is refreshed every `every` steps
+        gap = std::max(gap, cached_sample_gap);
+        return;
+    }
+    double sample_gap = 0;
     boundary_tris.points = mesh.points;
     std::vector<SurfaceProjector::Hit> hits;
     surface.samples_to_boundary(boundary_tris, hits);
@@ -344,7 +360,7 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
             bary[2] = std::clamp(1.0 - bary[0] - bary[1], 0.0, 1.0);
         }
         const Vec3 offset = surface.samples[i] - hits[i].point;
-        gap = std::max(gap, norm(offset));
+        sample_gap = std::max(sample_gap, norm(offset));
         for (int k = 0; k < 3; ++k) {
             const int bi = boundary_index[static_cast<std::size_t>(tri[static_cast<std::size_t>(k)])];
             if (bi < 0) continue;
@@ -354,6 +370,9 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
         }
     }
     for (std::size_t i = 0; i < nb; ++i) correction[i] = correction[i] * (1.0 / (1.0 + weight[i]));
+    cached_correction = correction;
+    cached_sample_gap = sample_gap;
+    gap = std::max(gap, sample_gap);
 }
 
 // Directions, energy and right-hand side at the current positions. Returns the energy |A X - b|^2.
@@ -362,6 +381,11 @@ double SurfaceFitter::Impl::local_step() {
     const std::vector<Vec3>& x = mesh.points;
     edge_rhs.resize(ne);
     edge_energy.resize(ne);
+    const std::size_t nh = mesh.hexes.size();
+    slot_normals.resize(24 * nh);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nh, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t h = r.begin(); h < r.end(); ++h) hex_corner_normals(x, mesh.hexes[h], &slot_normals[24 * h]);
+    });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ne, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t e = r.begin(); e < r.end(); ++e) {
             const int v1 = topo.edges[e][0], v2 = topo.edges[e][1];
@@ -369,11 +393,11 @@ double SurfaceFitter::Impl::local_step() {
             const Vec3 u = normalized(edge);
             Vec3 s1 = u, s2 = -u;
             for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
-                const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(slot_hex[static_cast<std::size_t>(i)])];
-                const int l1 = slot_ends[static_cast<std::size_t>(i)] >> 3, l2 = slot_ends[static_cast<std::size_t>(i)] & 7;
-                const Vec3 n1 = corner_normal(x, hex, l1, l2);
+                const std::size_t slot = static_cast<std::size_t>(edge_slots[static_cast<std::size_t>(i)]);
+                const bool flipped = slot_flipped[static_cast<std::size_t>(i)] != 0;  // edges[e][0] is the local end 1
+                const Vec3& n1 = slot_normals[2 * slot + (flipped ? 1 : 0)];
                 if (dot(n1, u) > 0) s1 += n1;
-                const Vec3 n2 = corner_normal(x, hex, l2, l1);
+                const Vec3& n2 = slot_normals[2 * slot + (flipped ? 0 : 1)];
                 if (dot(n2, u) < 0) s2 += n2;
             }
             const Vec3 d1 = normalized(s1), d2 = normalized(s2);

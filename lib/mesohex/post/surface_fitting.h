@@ -67,7 +67,8 @@ struct FitOptions {
     double max_sj_drop = 0.1;       // sj_guard - max_sj_drop), nor invert a hex that was not inverted
     double floor_fraction = 0.5;
     double two_sided_weight = 0.5;  // pull toward the surface samples (SurfaceProjector::samples), 0 = one-sided ...
-    int two_sided_start = 50;       // ... from this step on (the boundary first settles on the surface)
+    int two_sided_start = 50;       // ... from this step on (the boundary first settles on the surface), matching
+    int two_sided_every = 2;        // the samples with the boundary again every this many steps
     double reach = 0.5;             // a boundary target is at most reach x Lbar from its vertex (0 = no limit)
     bool fit_boundary = true;       // false: boundary rows pull to the CURRENT boundary positions (optimize inside
                                     // the skin; the projector is then not called)
