@@ -152,6 +152,7 @@ struct SurfaceFitter::Impl {
     std::vector<double> m_val, inv_diag;
     std::vector<Vec3> cg_r, cg_z, cg_p, cg_q;
     int last_cg_iterations = 0;
+    std::vector<Vec3> last_move;           // per vertex: its move in the last step (CG warm start)
     std::vector<Vec3> cached_correction;  // the two-sided corrections of the last matching, per boundary vertex
     double cached_sample_gap = 0;
     double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
@@ -505,7 +506,11 @@ void accumulate(Dot3& acc, const Vec3& a, const Vec3& b) {
 void SurfaceFitter::Impl::solve_cg() {
     const std::size_t n = rhs.size();
     constexpr std::size_t kGrain = 2048;
+    // Warm start: the current positions moved on by the last step's move (successive local-global steps move a
+    // vertex in nearly the same direction), which saves CG iterations; a fixed point still starts exactly at itself.
     solution = mesh.points;
+    if (last_move.size() == n)
+        for (std::size_t v = 0; v < n; ++v) solution[v] += last_move[v];
     cg_r.resize(n);
     cg_z.resize(n);
     cg_p.resize(n);
@@ -743,7 +748,11 @@ FitProgress SurfaceFitter::step() {
     fraction = nv > 0 ? fraction / static_cast<double>(nv) : 1.0;
     progress.held_vertices = held;
     double max_move = 0;
-    for (std::size_t v = 0; v < nv; ++v) max_move = std::max(max_move, distance(x[v], old[v]));
+    s.last_move.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        s.last_move[v] = x[v] - old[v];
+        max_move = std::max(max_move, norm(s.last_move[v]));
+    }
     s.stats = stats;
     progress.max_move = max_move / s.mean_target;
     progress.inverted = stats.inverted;
