@@ -315,22 +315,53 @@ TEST(RawMeshLeaflets, GeneratedShapesWithFanEdgesAndJunctions) {
     }
 }
 
-TEST(RawMeshLeaflets, GeneratedShapesWithLeafletsOnAStraightBorderAreValidButNotYetPositive) {
-    // bird and turbine (branching points mixing branches and leaflets) and hand (BL-joints) attach branches in the
-    // middle of a straight leaflet border, where the junction layout of reference-notes §8.5 flattens or inverts the
-    // half-chunks. Topology, counts and irregular edges already hold.
+TEST(RawMeshLeaflets, GeneratedHandBirdAndTurbineHaveNoInvertedHex) {
+    // bird and turbine (branching points mixing branches and leaflets) and hand (BL-joints on a zigzag border): their
+    // junction surfaces are relaxed on a model of the leaflet hexes (connection_surfaces.cpp), and leaflet border
+    // vertices push their out vertex along the bisector of the exterior angle (right at the hand's reflex vertices).
     for (const std::string name : {"bird", "turbine", "hand"}) {
         SCOPED_TRACE(name);
         const Skeleton s = generate_skeleton(name, {});
         const Built b = build(s, 0.0);
-        const QualityReport q = compute_quality(b.raw.mesh);
-        EXPECT_TRUE(q.validation.valid());
-        EXPECT_EQ(static_cast<long>(b.raw.mesh.hexes.size()), b.prediction.hexes);
-        EXPECT_EQ(static_cast<long>(b.raw.mesh.points.size()), b.prediction.vertices);
-        EXPECT_EQ(q.euler_characteristic, euler_characteristic(s));
-        EXPECT_EQ(q.singular_interior_edges, b.prediction.interior_irregular_edges);
-        EXPECT_EQ(q.singular_boundary_edges, b.prediction.boundary_irregular_edges);
+        expect_good_leaflet_mesh(s, b, b.an.predicted_hexes);
     }
+}
+
+TEST(RawMeshLeaflets, PerpendicularBranchAtAPlateCorner) {
+    // 3 x 3 plate + a 3-edge branch leaving corner 0 perpendicular to the plate (either side): 42 + 12 = 54. The
+    // BL-joint pillow is tilted between the leaflet and the reversed branch, then relaxed.
+    for (const double z : {1.0, -1.0}) {
+        Skeleton s = plate(3, 3);
+        int prev = 0;
+        for (int k = 1; k <= 3; ++k) {
+            s.points.push_back({0, 0, z * k});
+            const int cur = static_cast<int>(s.points.size()) - 1;
+            s.edges.push_back({prev, cur});
+            prev = cur;
+        }
+        const Built b = build(s, 0.25);
+        EXPECT_EQ(b.an.vertex_class[0], VertexClass::BLJoint);
+        expect_good_leaflet_mesh(s, b, 54);
+    }
+}
+
+TEST(RawMeshLeaflets, ReflexBorderVertexPushesItsOutVertexOutward) {
+    // An L of three unit quads: the reflex border vertex (1, 1) pushes its out vertex along the exterior bisector
+    // (+1, +1) / sqrt 2, away from the leaflet (the mean of the unit vectors to its 4 neighbours is zero there, and
+    // at the hand's zigzag reflex vertices it pointed into the palm).
+    Skeleton s;
+    for (int j = 0; j <= 2; ++j)
+        for (int i = 0; i <= 2; ++i) s.points.push_back({double(i), double(j), 0});
+    s.points.pop_back();  // (2, 2) is not used
+    // faces (0,0), (1,0), (0,1): the quad (1,1)-(2,2) is missing, so vertex 4 = (1,1) is a reflex border corner
+    s.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}, {3, 4, 7, 6}};
+    add_face_edges(s);
+    const Built b = build(s, 0.25);
+    ASSERT_EQ(b.an.vertex_class[4], VertexClass::LeafletBoundary);
+    const Vec3 out = b.raw.mesh.points[b.raw.vertex_base[4] + 3];
+    EXPECT_NEAR(out.x, 1 + 0.25 * std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(out.y, 1 + 0.25 * std::sqrt(0.5), 1e-12);
+    expect_good_leaflet_mesh(s, b, 2 * 3 + 2 * 8);
 }
 
 TEST(RawMesh, OneEdgeIsOneChunkOfFourHexes) {

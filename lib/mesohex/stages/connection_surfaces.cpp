@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mesohex/core/error.h"
+#include "mesohex/stages/frame_propagation.h"
 #include "mesohex/stages/sphere_partition.h"
 
 namespace mesohex {
@@ -82,6 +83,282 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
     return verify_sphere_partition(cur, dirs).empty() ? cur : part;
 }
 
+// ---------------------------------------------------------------------------------------------------------------
+// Junctions with leaflets (branching points mixing branches and leaflets, BL-joints). The sphere partition alone only
+// sees one mean direction per leaflet, but the leaflet's hexes at the junction are four half-chunks and its plates,
+// whose shape depends on where its quad's up / down / out vertices are relative to the leaflet's two boundary edges
+// and its normal: e.g. a leaflet corner of 90 degrees between two branches 90 degrees away gets a lune whose sides
+// run exactly along its boundary edges (flat half-chunks), and a leaflet whose normal points along a branch gets an
+// up vertex tilted towards the leaflet (folded half-chunks). So the junction surface is relaxed on a model of those
+// hexes: every corner of a half-chunk or plate hex that lies on the junction's sphere, built with the raw-mesh
+// layout (reference-notes §8.2, §8.3, §8.5) and the leaflet neighbours placed as regular leaflet vertices
+// (centre, centre + r n, centre + r out, ...; leaflet_vertex_frames), plus, per branch, its angular margin inside
+// its quad and every corner of its first chunk (the neighbour's cross-section transported as propagate_frames and
+// shrunk as build_raw_mesh do). The objective is a smooth minimum of all these sine-like values.
+
+// One hex vertex of the model: a fixed point (relative to the junction centre), the centre, r x a surface point, or
+// r x the unit mean of two surface points (a surface-edge midpoint).
+struct ModelVertex {
+    enum Kind : std::uint8_t { Fixed, Centre, Point, Mid } kind = Fixed;
+    int a = -1, b = -1;
+    Vec3 p{};
+};
+struct ModelHex {
+    std::array<ModelVertex, 8> v;
+    std::array<bool, 8> on_sphere{};  // corners evaluated (the ones at the junction)
+};
+struct JunctionModel {
+    double r = 1;
+    std::vector<std::array<int, 4>> quads;  // the partition quads (local point ids)
+    std::vector<Vec3> dirs;                 // per quad: the direction it must contain
+    int branch_quads = 0;                   // quads [0, branch_quads) are branches: their margin counts
+    std::vector<ModelHex> hexes;
+    // Per branch quad: the first chunk of the branch, to the neighbour w at distance length along the quad's
+    // direction; w's cross-section (radius w_radius, reduced as build_raw_mesh does next to a branching point) is
+    // placed from the rotation-minimising transport of the quad's frame to w (tangent w_tangent), as
+    // propagate_frames does. Empty when the model has no chunks.
+    struct Chunk {
+        double length = 1, w_radius = 1;
+        Vec3 w_tangent{};
+    };
+    std::vector<Chunk> chunks;
+};
+
+// Weight of sin(branch margin) against the hex corner values: makes narrow branch quads bind earlier than the chunk
+// model alone would (measured on the generated shapes: 0.5 gives the best minimum scaled Jacobian of 0.25 / 0.5 / 1).
+constexpr double kBranchMarginWeight = 0.5;
+// RawMeshOptions::margin_fraction (default): the radius reduction of a branch vertex next to a branching point.
+constexpr double kMarginFraction = 0.75;
+
+// Normalised corner determinant (the scaled Jacobian of one corner), -1 for a degenerate corner.
+double corner_value(const std::array<Vec3, 8>& x, int c) {
+    static constexpr int nb[8][3] = {{1, 3, 4}, {2, 0, 5}, {3, 1, 6}, {0, 2, 7},
+                                     {7, 5, 0}, {4, 6, 1}, {5, 7, 2}, {6, 4, 3}};
+    const Vec3 a = x[nb[c][0]] - x[c], b = x[nb[c][1]] - x[c], d = x[nb[c][2]] - x[c];
+    const double l = norm(a) * norm(b) * norm(d);
+    if (!(l > 1e-300)) return -1;
+    return det3(a, b, d) / l;
+}
+
+// The terms of the junction objective (each roughly the sine of an angle; all must be positive): sin(margin) of
+// every direction in its quad (-1 for a non-convex quad; leaflet directions only need to stay inside), and the
+// corner values of the model hexes.
+void junction_terms(const JunctionModel& m, const std::vector<Vec3>& pts, std::vector<double>& terms) {
+    terms.clear();
+    for (std::size_t i = 0; i < m.quads.size(); ++i) {
+        std::array<Vec3, 4> q;
+        for (int k = 0; k < 4; ++k) q[k] = pts[m.quads[i][k]];
+        double mg = spherical_quad_margin(q, m.dirs[i]);
+        Vec3 area{};  // a quad turned inside out (e.g. a lune whose sides crossed) can look convex: check its side
+        for (int k = 0; k < 4; ++k) area += cross(q[k], q[(k + 1) & 3]);
+        if (!(dot(area, m.dirs[i]) > 0)) mg = -1;
+        if (static_cast<int>(i) >= m.branch_quads || m.chunks.empty()) {
+            const double w = static_cast<int>(i) < m.branch_quads ? kBranchMarginWeight : 1.0;
+            // leaflets: inside (by ~6 deg) is enough; branches without a chunk model: the margin itself
+            terms.push_back(mg <= -1 ? -1.0 : static_cast<int>(i) < m.branch_quads ? w * std::sin(mg)
+                                                                                  : std::min(1.0, 10 * std::sin(mg)));
+            continue;
+        }
+        // Branch: its weighted margin, and the 8 corners of its first chunk's 4 hexes.
+        terms.push_back(mg <= -1 ? -1.0 : kBranchMarginWeight * std::sin(mg));
+        if (!(mg > 0)) {  // no chunk: as bad as a folded one (keeps the objective from jumping up here)
+            terms.push_back(-1);
+            continue;
+        }
+        const JunctionModel::Chunk& c = m.chunks[i];
+        const Vec3& d = m.dirs[i];
+        // quad_frame of frame_propagation.cpp: r along (a1 - a3) + (a2 - a0) x t, orthogonalised against t
+        Vec3 fr = (q[1] - q[3]) + cross(q[2] - q[0], d);
+        fr = fr - dot(fr, d) * d;
+        if (!(norm(fr) > 1e-12)) {
+            terms.push_back(-1);
+            continue;
+        }
+        fr = normalized(fr);
+        const Frame f0{fr, cross(d, fr), d};
+        const Frame f1 = rotation_minimizing_step(f0, Vec3{}, c.length * d, c.w_tangent);
+        const std::array<Vec3, 4> fd{-1.0 * f1.s, f1.r, f1.s, -1.0 * f1.r};
+        const double rw = std::min(c.w_radius, c.length * std::sin(kMarginFraction * mg));
+        const Vec3 w = c.length * d;
+        for (int k = 0; k < 4; ++k) {
+            const int k1 = (k + 1) & 3;
+            const std::array<Vec3, 8> x{Vec3{},
+                                        m.r * q[k],
+                                        m.r * normalized(q[k] + q[k1]),
+                                        m.r * q[k1],
+                                        w,
+                                        w + rw * fd[k],
+                                        w + rw * normalized(fd[k] + fd[k1]),
+                                        w + rw * fd[k1]};
+            for (int corner = 0; corner < 8; ++corner) terms.push_back(corner_value(x, corner));
+        }
+    }
+    for (const ModelHex& h : m.hexes) {
+        std::array<Vec3, 8> x;
+        for (int k = 0; k < 8; ++k) {
+            const ModelVertex& mv = h.v[k];
+            switch (mv.kind) {
+                case ModelVertex::Fixed: x[k] = mv.p; break;
+                case ModelVertex::Centre: x[k] = Vec3{}; break;
+                case ModelVertex::Point: x[k] = m.r * pts[mv.a]; break;
+                case ModelVertex::Mid: {
+                    const Vec3 s = pts[mv.a] + pts[mv.b];
+                    x[k] = norm(s) > 1e-12 ? m.r * normalized(s) : Vec3{};
+                    break;
+                }
+            }
+        }
+        for (int k = 0; k < 8; ++k)
+            if (h.on_sphere[k]) terms.push_back(corner_value(x, k));
+    }
+}
+
+// Smooth minimum of the terms (log-sum-exp, sharpness 40): raising it raises every nearly binding term.
+double soft_min(const std::vector<double>& t) {
+    double lo = 1e300;
+    for (double x : t) lo = std::min(lo, x);
+    double s = 0;
+    for (double x : t) s += std::exp(-40.0 * (x - lo));
+    return lo - std::log(s) / 40.0;
+}
+
+double hard_min(const JunctionModel& m, const std::vector<Vec3>& pts) {
+    std::vector<double> t;
+    junction_terms(m, pts, t);
+    double lo = 1e300;
+    for (double x : t) lo = std::min(lo, x);
+    return lo;
+}
+
+// Pattern search on the partition points maximising soft_min(junction_terms). A point of valence 2 (a lune
+// equator point or a digon midpoint) must keep its 180-degree angle: it stays on the great circle through its two
+// neighbours unless these are antipodal (then every position keeps it). Deterministic; bounded.
+SpherePartition relax_junction(const SpherePartition& part, const JunctionModel& m, double good) {
+    if (m.quads.empty() || hard_min(m, part.points) >= good) return part;
+    const int np = static_cast<int>(part.points.size());
+    std::vector<std::vector<int>> nbrs(np);
+    for (const std::array<int, 4>& q : part.quads)
+        for (int k = 0; k < 4; ++k) {
+            std::vector<int>& l = nbrs[q[k]];
+            for (int o : {q[(k + 1) & 3], q[(k + 3) & 3]})
+                if (std::find(l.begin(), l.end(), o) == l.end()) l.push_back(o);
+        }
+    std::vector<Vec3> cur(part.points.begin(), part.points.end());
+    for (Vec3& p : cur) p = normalized(p);
+    // Keeps every valence-2 point on the great circle of its two neighbours.
+    auto project = [&](std::vector<Vec3>& pts) {
+        for (int x = 0; x < np; ++x) {
+            if (nbrs[x].size() != 2) continue;
+            const Vec3 n = cross(pts[nbrs[x][0]], pts[nbrs[x][1]]);
+            if (norm(n) < 1e-9) continue;  // antipodal neighbours: free
+            const Vec3 a = normalized(n);
+            const Vec3 q = pts[x] - dot(pts[x], a) * a;
+            if (norm(q) > 1e-12) pts[x] = normalized(q);
+        }
+    };
+    std::vector<double> terms;
+    auto score = [&](const std::vector<Vec3>& pts) {
+        junction_terms(m, pts, terms);
+        return soft_min(terms);
+    };
+    double best = score(cur);
+    const double start = best;
+    double step = 0.3;
+    std::vector<Vec3> trial;
+    for (int round = 0; round < 200 && step > 1e-3; ++round) {
+        bool improved = false;
+        for (int x = 0; x < np; ++x) {
+            const Vec3 p = cur[x];
+            Vec3 u = cross(p, Vec3{1, 0, 0});
+            if (norm(u) < 0.5) u = cross(p, Vec3{0, 1, 0});
+            u = normalized(u);
+            const Vec3 w = cross(p, u);
+            for (int k = 0; k < 8; ++k) {
+                const double a = k * 0.7853981633974483;
+                trial = cur;
+                trial[x] = normalized(std::cos(step) * p + std::sin(step) * (std::cos(a) * u + std::sin(a) * w));
+                project(trial);
+                const double sc = score(trial);
+                if (sc > best + 1e-12) {
+                    best = sc;
+                    cur = trial;
+                    improved = true;
+                }
+            }
+        }
+        if (!improved) step *= 0.5;
+    }
+    if (!(best > start)) return part;
+    SpherePartition out = part;
+    out.points = cur;
+    return verify_sphere_partition(out, m.dirs).empty() ? out : part;
+}
+
+// Registration rotation k of a leaflet quad q (unit points from its start) for a leaflet leaving along unit t with
+// normal (sum) nor: with T = t, R = unit((q2 - q0) x T), S = T x R, the quad vertex nearest to the normal is its up
+// vertex q_{k+1} (q1 ~ R, q2 ~ S, q3 ~ -R, q0 ~ -S). -1 when the quad is degenerate.
+int leaflet_quad_rotation(const std::array<Vec3, 4>& q, const Vec3& t, const Vec3& nor) {
+    Vec3 r = cross(q[2] - q[0], t);
+    if (!(norm(r) > 1e-12)) return -1;
+    r = normalized(r);
+    const Vec3 sv = cross(t, r);
+    const double psi = std::atan2(dot(nor, sv), dot(nor, r));
+    return ((static_cast<int>(std::lround(psi / (std::numbers::pi / 2))) % 4) + 4) % 4;
+}
+
+// The pillow of a BL-joint from its frame (T into the leaflet, R = the leaflet's up): points (S, R, -S, -R).
+std::vector<Vec3> pillow_points(const Vec3& t, const Vec3& r) {
+    const Vec3 sv = cross(t, r);
+    return {sv, r, -1.0 * sv, -1.0 * r};
+}
+
+// Pattern search on the frame of a BL-joint pillow (T in 8 tangent directions, R turned about T), maximising
+// soft_min(junction_terms); keeps the frame when nothing improves. Deterministic; bounded.
+void relax_pillow_frame(const JunctionModel& m, Vec3& t, Vec3& r, double good) {
+    if (m.quads.empty() || hard_min(m, pillow_points(t, r)) >= good) return;
+    std::vector<double> terms;
+    auto score = [&](const Vec3& tt, const Vec3& rr) {
+        const std::vector<Vec3> pts = pillow_points(tt, rr);
+        for (std::size_t i = 0; i < m.quads.size(); ++i) {  // the branch and the leaflet stay in their hemispheres
+            std::array<Vec3, 4> q;
+            for (int k = 0; k < 4; ++k) q[k] = pts[m.quads[i][k]];
+            if (!(spherical_quad_margin(q, m.dirs[i]) > 1e-6)) return -1e300;
+        }
+        junction_terms(m, pts, terms);
+        return soft_min(terms);
+    };
+    double best = score(t, r);
+    double step = 0.1;
+    for (int round = 0; round < 200 && step > 1e-3; ++round) {
+        bool improved = false;
+        Vec3 u = cross(t, Vec3{1, 0, 0});
+        if (norm(u) < 0.5) u = cross(t, Vec3{0, 1, 0});
+        u = normalized(u);
+        const Vec3 w = cross(t, u);
+        for (int k = 0; k < 10; ++k) {
+            Vec3 tt = t, rr = r;
+            if (k < 8) {
+                const double a = k * 0.7853981633974483;
+                tt = normalized(std::cos(step) * t + std::sin(step) * (std::cos(a) * u + std::sin(a) * w));
+                rr = r - dot(r, tt) * tt;
+                if (!(norm(rr) > 1e-9)) continue;
+                rr = normalized(rr);
+            } else {
+                const double a = k == 8 ? step : -step;
+                rr = normalized(std::cos(a) * r + std::sin(a) * cross(t, r));
+            }
+            const double sc = score(tt, rr);
+            if (sc > best + 1e-12) {
+                best = sc;
+                t = tt;
+                r = rr;
+                improved = true;
+            }
+        }
+        if (!improved) step *= 0.5;
+    }
+}
+
 SurfaceSize surface_size(VertexClass c, int branch_degree) {
     switch (c) {
         case VertexClass::Extremity: return {4, 1, 4};
@@ -94,6 +371,44 @@ SurfaceSize surface_size(VertexClass c, int branch_degree) {
 }
 
 }  // namespace
+
+LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const SkeletonAnalysis& an) {
+    const int nv = static_cast<int>(skeleton.points.size());
+    const int nf = static_cast<int>(an.face_vertices.size());
+    LeafletVertexFrames lf;
+    lf.normal.assign(nf > 0 ? nv : 0, Vec3{});
+    lf.out.assign(nf > 0 ? nv : 0, Vec3{});
+    if (nf == 0) return lf;
+    for (int f = 0; f < nf; ++f)
+        for (int w : an.face_vertices[f]) lf.normal[w] += an.face_normal[f];
+    for (Vec3& n : lf.normal)
+        if (norm(n) > 0) n = normalized(n);
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 4; ++k) {
+            if (an.edge_degree[an.face_edges[f][k]] != 1) continue;
+            const int a = an.face_vertices[f][k], b = an.face_vertices[f][(k + 1) & 3];
+            const Vec3 t = normalized(skeleton.points[b] - skeleton.points[a]);
+            for (int w : {a, b})
+                if (an.vertex_boundary_edges[w] == 2) lf.out[w] += cross(t, lf.normal[w]);
+        }
+    for (int w = 0; w < nv; ++w) {
+        if (an.vertex_boundary_edges[w] != 2) continue;
+        if (norm(lf.out[w]) > 1e-6) {
+            lf.out[w] = normalized(lf.out[w]);
+            continue;
+        }
+        // Hairpin (the border turns back on itself): minus the mean of the unit vectors to the leaflet neighbours.
+        Vec3 d{};
+        for (int i = an.vertex_edge_begin[w]; i < an.vertex_edge_begin[w + 1]; ++i) {
+            const int e = an.vertex_edges[i];
+            if (an.edge_degree[e] == 0) continue;
+            const int o = skeleton.edges[e][0] == w ? skeleton.edges[e][1] : skeleton.edges[e][0];
+            d += normalized(skeleton.points[o] - skeleton.points[w]);
+        }
+        lf.out[w] = norm(d) > 0 ? -1.0 * normalized(d) : Vec3{};
+    }
+    return lf;
+}
 
 double spherical_quad_margin(const std::array<Vec3, 4>& q, const Vec3& d) {
     double m = 10;
@@ -162,6 +477,7 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
     const int nf = static_cast<int>(an.face_vertices.size());
     cs.face_corner_quad.assign(nf, {-1, -1, -1, -1});
     std::vector<std::vector<Vec3>> side_dir(nv), side_nor(nv);
+    std::vector<std::vector<std::array<int, 3>>> junction_faces(nv);  // (face, corner, side) at each junction
     auto junction = [&](int v) {
         return an.vertex_class[v] == VertexClass::LLJoint ||
                (an.vertex_class[v] == VertexClass::BranchingPoint && an.vertex_boundary_edges[v] > 0);
@@ -231,10 +547,133 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                                 ElementRef{ElementRef::Kind::SkeletonVertex, v});
                 side_dir[v][s] = normalized(side_dir[v][s]);
             }
-            for (int i = 0; i < n; ++i) cs.face_corner_quad[fl[i].first][fl[i].second] = nb + side[i];
+            for (int i = 0; i < n; ++i) {
+                cs.face_corner_quad[fl[i].first][fl[i].second] = nb + side[i];
+                junction_faces[v].push_back({fl[i].first, fl[i].second, side[i]});
+            }
         }
     }
 
+    for (int f = 0; f < nf; ++f)  // BL-joints: every face at the joint is on the leaflet's side (quad 1)
+        for (int k = 0; k < 4; ++k)
+            if (an.vertex_class[an.face_vertices[f][k]] == VertexClass::BLJoint)
+                junction_faces[an.face_vertices[f][k]].push_back({f, k, 0});
+
+    // The hex model of a junction with leaflets (see relax_junction), for the partition `part` of vertex v whose
+    // quads [nb, n) are its leaflet sides.
+    const LeafletVertexFrames leaf = leaflet_vertex_frames(skeleton, an);
+    auto radius_at = [&](int w) {
+        if (!skeleton.radii.empty()) return skeleton.radii[w];
+        double sum = 0;  // no radii yet: a quarter of the mean incident edge length, as the pipeline's default
+        const int deg = an.vertex_edge_begin[w + 1] - an.vertex_edge_begin[w];
+        for (int i = an.vertex_edge_begin[w]; i < an.vertex_edge_begin[w + 1]; ++i) {
+            const std::array<int, 2>& ed = skeleton.edges[an.vertex_edges[i]];
+            sum += distance(skeleton.points[ed[0]], skeleton.points[ed[1]]);
+        }
+        return deg > 0 ? 0.25 * sum / deg : 1.0;
+    };
+    // rot: per quad, the registration rotation of a leaflet quad (-1 for a branch quad).
+    auto junction_model = [&](int v, const SpherePartition& part, const std::vector<Vec3>& dirs, int nb,
+                              const std::vector<int>& rot) {
+        JunctionModel m;
+        m.r = radius_at(v);
+        m.quads = part.quads;
+        m.dirs = dirs;
+        m.branch_quads = nb;
+        const Vec3& c = skeleton.points[v];
+        if (nb > 0 && static_cast<int>(part.quads.size()) > nb) {
+            // Chunks: the i-th branch quad is on the i-th incident branch edge (in increasing edge id).
+            int i = 0;
+            for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1] && i < nb; ++j) {
+                const int e = an.vertex_edges[j];
+                if (an.edge_degree[e] != 0) continue;
+                const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+                JunctionModel::Chunk ch;
+                ch.length = distance(skeleton.points[w], c);
+                ch.w_radius = radius_at(w);
+                ch.w_tangent = dirs[i];
+                if (an.vertex_class[w] == VertexClass::Joint)
+                    for (int jj = an.vertex_edge_begin[w]; jj < an.vertex_edge_begin[w + 1]; ++jj) {
+                        const int e2 = an.vertex_edges[jj];
+                        if (e2 == e || an.edge_degree[e2] != 0) continue;
+                        const int x = skeleton.edges[e2][0] == w ? skeleton.edges[e2][1] : skeleton.edges[e2][0];
+                        const Vec3 t = dirs[i] + normalized(skeleton.points[x] - skeleton.points[w]);
+                        if (norm(t) > 1e-9) ch.w_tangent = normalized(t);
+                    }
+                m.chunks.push_back(ch);
+                ++i;
+            }
+            if (i != nb) m.chunks.clear();
+        }
+        auto point = [](int a) { return ModelVertex{ModelVertex::Point, a, -1, {}}; };
+        auto mid = [](int a, int b) { return ModelVertex{ModelVertex::Mid, a, b, {}}; };
+        auto fixed = [&](const Vec3& p) { return ModelVertex{ModelVertex::Fixed, -1, -1, p - c}; };
+        const ModelVertex centre{ModelVertex::Centre, -1, -1, {}};
+        for (const std::array<int, 3>& fks : junction_faces[v]) {
+            const int f = fks[0], kv = fks[1], qi = nb + fks[2], r = rot[qi];
+            const std::array<int, 4>& q = part.quads[qi];
+            const std::array<int, 4>& fw = an.face_vertices[f];
+            // Plates: UP = (c0 c1 c2 c3 | up0..up3), DOWN = (c0 c3 c2 c1 | dn0 dn3 dn2 dn1).
+            ModelHex up, dn;
+            for (int j = 0; j < 4; ++j) {
+                const int w = fw[j], iu = j, id = (4 - j) & 3;
+                if (j == kv) {
+                    up.v[iu] = dn.v[id] = centre;
+                    up.v[iu + 4] = point(q[(r + 1) & 3]);
+                    dn.v[id + 4] = point(q[(r + 3) & 3]);
+                    up.on_sphere[iu] = up.on_sphere[iu + 4] = dn.on_sphere[id] = dn.on_sphere[id + 4] = true;
+                } else {
+                    const Vec3& p = skeleton.points[w];
+                    const Vec3 nn = radius_at(w) * leaf.normal[w];
+                    up.v[iu] = dn.v[id] = fixed(p);
+                    up.v[iu + 4] = fixed(p + nn);
+                    dn.v[id + 4] = fixed(p - nn);
+                }
+            }
+            m.hexes.push_back(up);
+            m.hexes.push_back(dn);
+            // Half-chunks of the face's boundary edges at v (reference-notes §8.3, §8.5):
+            // UP = (a oa ob b | ua oua oub ub), DOWN = (a b ob oa | da db odb oda), the face traversing a -> b.
+            for (const int ke : {kv, (kv + 3) & 3}) {
+                if (an.edge_degree[an.face_edges[f][ke]] != 1) continue;
+                const int wa = fw[ke], wb = fw[(ke + 1) & 3];
+                const bool at_a = wa == v;
+                const int w = at_a ? wb : wa;
+                const Vec3& p = skeleton.points[w];
+                const double rw = radius_at(w);
+                const Vec3 nn = rw * leaf.normal[w];
+                Vec3 o = leaf.out[w];
+                if (!(norm(o) > 0.5))
+                    o = cross(normalized(skeleton.points[wb] - skeleton.points[wa]), leaf.normal[w]);
+                o = rw * o;
+                // far end: centre, out, out-up, out-down, up, down
+                const std::array<ModelVertex, 6> far{fixed(p), fixed(p + o), fixed(p + o + nn), fixed(p + o - nn),
+                                                     fixed(p + nn), fixed(p - nn)};
+                std::array<ModelVertex, 6> near;
+                if (at_a)  // e leaves v: out q_{k+2}, out-up mid(q_{k+1}, q_{k+2}), out-down mid(q_{k+2}, q_{k+3})
+                    near = {centre, point(q[(r + 2) & 3]), mid(q[(r + 1) & 3], q[(r + 2) & 3]),
+                            mid(q[(r + 2) & 3], q[(r + 3) & 3]), point(q[(r + 1) & 3]), point(q[(r + 3) & 3])};
+                else  // e arrives at v: out q_k, out-up mid(q_k, q_{k+1}), out-down mid(q_{k+3}, q_k)
+                    near = {centre, point(q[r & 3]), mid(q[r & 3], q[(r + 1) & 3]), mid(q[(r + 3) & 3], q[r & 3]),
+                            point(q[(r + 1) & 3]), point(q[(r + 3) & 3])};
+                const std::array<ModelVertex, 6>& A = at_a ? near : far;
+                const std::array<ModelVertex, 6>& B = at_a ? far : near;
+                ModelHex hu, hd;
+                hu.v = {A[0], A[1], B[1], B[0], A[4], A[2], B[2], B[4]};
+                hd.v = {A[0], B[0], B[1], A[1], A[5], B[5], B[3], A[3]};
+                using Corners = std::array<int, 4>;  // the corners at v
+                const Corners near_u = at_a ? Corners{0, 1, 4, 5} : Corners{2, 3, 6, 7};
+                const Corners near_d = at_a ? Corners{0, 3, 4, 7} : Corners{1, 2, 5, 6};
+                for (int i : near_u) hu.on_sphere[i] = true;
+                for (int i : near_d) hd.on_sphere[i] = true;
+                m.hexes.push_back(hu);
+                m.hexes.push_back(hd);
+            }
+        }
+        return m;
+    };
+
+    cs.quad_rotation.assign(cs.quad_begin[nv], -1);
     // Each task writes only its vertex's ranges and the (edge, side) slots of its own incident edges.
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256), [&](const tbb::blocked_range<int>& range) {
         std::vector<Vec3> dirs;
@@ -266,7 +705,13 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                     const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
                     t += normalized(skeleton.points[w] - skeleton.points[v]);
                 }
-                t = normalized(t);
+                const Vec3 leaf_dir = normalized(t);
+                const int wb = skeleton.edges[inc[0]][0] == v ? skeleton.edges[inc[0]][1] : skeleton.edges[inc[0]][0];
+                const Vec3 branch_dir = normalized(skeleton.points[wb] - skeleton.points[v]);
+                // The hemispheres split the leaflet from the branch: T starts halfway between the leaflet direction
+                // and the reversed branch (T = the leaflet direction for a branch along its outward diagonal).
+                t = leaf_dir - branch_dir;
+                t = norm(t) > 1e-6 ? normalized(t) : leaf_dir;
                 Vec3 r = vertex_normal_sum[v] - dot(vertex_normal_sum[v], t) * t;
                 if (!(norm(r) > 1e-12))
                     throw Error(ErrorCode::UnsupportedConfiguration,
@@ -274,6 +719,13 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                                     ": the leaflet direction is along its normal (degenerate corner)",
                                 ElementRef{ElementRef::Kind::SkeletonVertex, v});
                 r = normalized(r);
+                if (options.relax_partitions) {
+                    SpherePartition pillow;
+                    pillow.quads = {{0, 1, 2, 3}, {2, 1, 0, 3}};
+                    const std::vector<Vec3> pd{branch_dir, leaf_dir};
+                    const JunctionModel m = junction_model(v, pillow, pd, 1, {-1, 0});
+                    relax_pillow_frame(m, t, r, options.relax_junctions_below);
+                }
                 const Vec3 sv = cross(t, r);
                 cs.directions[p0 + 2] = -sv;
                 cs.directions[p0 + 1] = r;
@@ -311,6 +763,22 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                 po.planarity_tolerance = options.planarity_tolerance;
                 part = partition_sphere(dirs, po);
                 if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
+                if (options.relax_partitions && n > nb) {
+                    std::vector<int> rot(n, -1);
+                    bool ok = true;
+                    for (int i = nb; i < n; ++i) {
+                        std::array<Vec3, 4> qd;
+                        for (int k = 0; k < 4; ++k) qd[k] = normalized(part.points[part.quads[i][k]]);
+                        rot[i] = leaflet_quad_rotation(qd, side_dir[v][i - nb], side_nor[v][i - nb]);
+                        ok = ok && rot[i] >= 0;
+                    }
+                    if (ok) {
+                        part = relax_junction(part, junction_model(v, part, dirs, nb, rot),
+                                              options.relax_junctions_below);
+                        // the rotations the model was relaxed with (the nearest vertex to the normal may change)
+                        for (int i = nb; i < n; ++i) cs.quad_rotation[q0 + i] = rot[i];
+                    }
+                }
             } catch (const Error& err) {
                 throw Error(ErrorCode::NumericalFailure,
                             "no connection surface at skeleton vertex " + std::to_string(v) + " (degree " +
@@ -363,10 +831,9 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
     // LL-joints (reference-notes §6.3, §7.2, §8.5 with the flaw fixed): a pillow, quad A = (0,1,2,3) for side 0,
     // quad B = (2,1,0,3) for side 1. T = unit(dir_0 - dir_1); R = the side-0 normal made orthogonal to T, turned about
     // T by half the residual angle between the two projected normals and the nearest multiple of 90 degrees,
-    // S = T x R; points (-S, R, S, -R). Then every leaflet quad (LL-joint or branching point) picks its own rotation
-    // k (§8.5): with its frame T = its direction, R = unit((q2 - q0) x T), S = T x R, the quad vertex nearest to the
+    // S = T x R; points (-S, R, S, -R). Then every leaflet quad (LL-joint or branching point) not fixed by the
+    // junction relaxation picks its own rotation k (§8.5): with its frame T = its direction, R = unit((q2 - q0) x T), S = T x R, the quad vertex nearest to the
     // side's own normal is its up vertex q_{k+1} (q1 ~ R, q2 ~ S, q3 ~ -R, q0 ~ -S). Serial.
-    cs.quad_rotation.assign(cs.quad_begin[nv], -1);
     const double quarter = std::numbers::pi / 2;
     for (int v = 0; v < nv; ++v) {
         if (!junction(v)) continue;
@@ -406,13 +873,11 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
         const int nb = an.vertex_branch_edges[v];
         for (int s = 0; s < static_cast<int>(side_dir[v].size()); ++s) {
             const int q = q0 + nb + s;
-            const Vec3 t = side_dir[v][s];
-            Vec3 r = cross(cs.directions[p0 + cs.quads[q][2]] - cs.directions[p0 + cs.quads[q][0]], t);
-            if (!(norm(r) > 1e-12)) fail("degenerate leaflet quad");
-            r = normalized(r);
-            const Vec3 sv = cross(t, r);
-            const double psi = std::atan2(dot(side_nor[v][s], sv), dot(side_nor[v][s], r));
-            cs.quad_rotation[q] = ((static_cast<int>(std::lround(psi / quarter)) % 4) + 4) % 4;
+            std::array<Vec3, 4> qd;
+            for (int k = 0; k < 4; ++k) qd[k] = cs.directions[p0 + cs.quads[q][k]];
+            if (cs.quad_rotation[q] < 0)  // not already fixed by the junction relaxation
+                cs.quad_rotation[q] = leaflet_quad_rotation(qd, side_dir[v][s], side_nor[v][s]);
+            if (cs.quad_rotation[q] < 0) fail("degenerate leaflet quad");
         }
     }
     return cs;

@@ -42,13 +42,24 @@ struct ConnectionSurfaceOptions {
     // quad (topology unchanged; re-verified with verify_sphere_partition, else the partition is kept as built).
     bool relax_partitions = true;
     double relax_below_margin = 0.5;  // radians (~29 deg): only partitions with a smaller margin are relaxed
+    // Junctions with leaflets (branching points with leaflet sides, BL-joints) are relaxed on a model of their leaflet
+    // hexes (half-chunk and plate corners at the junction, scaled-Jacobian-like values, and 0.5 sin(margin) of each
+    // branch direction) when the smallest model value is below this (with relax_partitions).
+    double relax_junctions_below = 0.5;
 };
 
 // Preconditions: `analysis` is analyze_skeleton(skeleton). Leaflet interior and regular boundary vertices need no
 // surface. A BL-joint gets a pillow like a joint: quad A = (0,1,2,3) on its branch edge, quad B = (2,1,0,3) for the
-// leaflet (on no edge), placed from the leaflet frame (T into the leaflet, R = leaflet normal made orthogonal to T):
-// quad B from its start is (-S, R, S, -R), so its q1 is "up". This layout is right at convex leaflet corners; on a
-// straight leaflet border it gives flat or inverted half-chunks (reference-notes §8.5).
+// leaflet (on no edge), placed from a frame (T into the leaflet, R = leaflet normal made orthogonal to T): quad B from
+// its start is (-S, R, S, -R), so its q1 is "up". T starts halfway between the leaflet's mean direction and the
+// reversed branch, then (T, R) are relaxed on the hex model described below. Right at convex leaflet corners with the
+// branch in any direction (in-plane, perpendicular); on a straight leaflet border no pillow can hold the half-chunks
+// (both border edges would have to be strictly inside one hemisphere): flat or inverted hexes (reference-notes §8.5).
+// Junctions with leaflets (BL-joints, branching points with leaflet sides) whose model value is below
+// options.relax_junctions_below are relaxed on a model of their hexes: every half-chunk and plate hex corner at the
+// junction (leaflet neighbours placed as regular leaflet vertices), and each branch's margin and first chunk; the
+// relaxed partition is re-verified (verify_sphere_partition), else the partition is kept as built.
+// Radii: skeleton.radii when present, else 0.25 x the mean incident edge length (the model only).
 // An LL-joint gets a pillow too (quad A = (0,1,2,3) for side 0, quad B = (2,1,0,3) for side 1, on no edge), see
 // leaflet_rotation. Fan-edge vertices need no surface (their gap vertices are made by build_raw_mesh).
 // A branching point with leaflets partitions the sphere with one quad per branch edge and one per leaflet side.
@@ -60,6 +71,22 @@ struct ConnectionSurfaceOptions {
 // Parallel over vertices (oneTBB), deterministic. Complexity: linear in the skeleton plus the partitions.
 ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                                              const ConnectionSurfaceOptions& options = {});
+
+// Directions of the raw-mesh vertices around every leaflet vertex (reference-notes §10), shared by the connection
+// surfaces (to place junction surfaces) and the raw mesh (to place the leaflet vertices):
+//   normal[w] = unit sum of the oriented normals of the faces at w (zero for a vertex without faces);
+//   out[w]    = at a vertex with exactly two leaflet boundary edges: the unit sum of the outward in-plane normals
+//               t x normal[w] of its two boundary edges (t = the edge's direction as its face traverses it; the face
+//               lies to the left of t seen from its normal), i.e. the bisector of the EXTERIOR angle of the border,
+//               right at convex, straight and reflex corners alike (the mean of the unit vectors to all neighbours,
+//               negated, points into the leaflet at a reflex corner); falls back to that mean for a hairpin; zero for
+//               every other vertex.
+// Serial, in face order: deterministic. O(F + E).
+struct LeafletVertexFrames {
+    std::vector<Vec3> normal;
+    std::vector<Vec3> out;
+};
+LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const SkeletonAnalysis& analysis);
 
 // Signed angular margin (radians) of unit direction d inside the spherical quad q (unit vectors, counter-clockwise
 // seen from outside): the smallest angle from d to the great circles of the four sides, positive inside; -1 when the

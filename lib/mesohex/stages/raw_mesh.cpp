@@ -371,19 +371,8 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
         }
     });
 
-    // Leaflet vertex normals (sum of incident face normals) and, at boundary vertices, the inward direction (sum of
-    // unit vectors to all leaflet neighbours). Serial accumulation in face / edge order: deterministic.
-    std::vector<Vec3> leaf_normal(nf > 0 ? nv : 0), leaf_inward(nf > 0 ? nv : 0);
-    for (int f = 0; f < nf; ++f)
-        for (int w : an.face_vertices[f]) leaf_normal[w] += an.face_normal[f];
-    if (nf > 0)
-        for (int e = 0; e < ne; ++e) {
-            if (an.edge_degree[e] == 0) continue;
-            const int a = skeleton.edges[e][0], b = skeleton.edges[e][1];
-            const Vec3 d = normalized(skeleton.points[b] - skeleton.points[a]);
-            leaf_inward[a] += d;
-            leaf_inward[b] -= d;
-        }
+    // Leaflet vertex normals and outward directions (shared with the junction surfaces).
+    const LeafletVertexFrames leaf = leaflet_vertex_frames(skeleton, an);
 
     // Effective radius: a vertex next to a branching point u (edge length L, direction d from u) gets at most
     // L sin(kappa m), m = margin of d inside u's quad, so that its cross-section seen from u fits inside that quad:
@@ -467,12 +456,12 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             const double r = radius[v];
             const VertexClass vc = an.vertex_class[v];
             if (vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary) {
-                const Vec3 n = r * normalized(leaf_normal[v]);
+                const Vec3 n = r * leaf.normal[v];
                 raw.mesh.points[base] = c;
                 raw.mesh.points[base + 1] = c + n;
                 raw.mesh.points[base + 2] = c - n;
                 if (vc == VertexClass::LeafletBoundary) {
-                    const Vec3 out = c - r * normalized(leaf_inward[v]);
+                    const Vec3 out = c + r * leaf.out[v];
                     raw.mesh.points[base + 3] = out;
                     raw.mesh.points[base + 4] = out + n;
                     raw.mesh.points[base + 5] = out - n;

@@ -192,18 +192,37 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     }
 
     // Vertex classification (pseudo-degree, reference-notes §4.1-4.2, plus explicit rejection of the unsupported).
+    // Per vertex: does some leaflet have faces at it but no boundary or fan edge at it (the vertex is inside that
+    // leaflet)? Serial in face order.
+    std::vector<std::vector<std::pair<int, bool>>> leaflet_rim(nv);  // (leaflet, has a rim edge at the vertex)
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 4; ++k) {
+            const int w = an.face_vertices[f][k], l = an.face_leaflet[f];
+            const bool rim =
+                an.edge_degree[an.face_edges[f][k]] != 2 || an.edge_degree[an.face_edges[f][(k + 3) & 3]] != 2;
+            auto it = std::find_if(leaflet_rim[w].begin(), leaflet_rim[w].end(),
+                                   [&](const std::pair<int, bool>& x) { return x.first == l; });
+            if (it == leaflet_rim[w].end()) leaflet_rim[w].push_back({l, rim});
+            else it->second = it->second || rim;
+        }
     an.vertex_class.assign(nv, VertexClass::Isolated);
     an.vertex_branch_edges.assign(nv, 0);
     an.vertex_boundary_edges.assign(nv, 0);
     for (int v = 0; v < nv; ++v) {
         int nb = 0, nbnd = 0, ninner = 0, nfan = 0;
+        std::vector<int> fan_degrees;
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
             const int d = an.edge_degree[an.vertex_edges[i]];
             if (d == 0) ++nb;
             else if (d == 1) ++nbnd;
             else if (d == 2) ++ninner;
-            else ++nfan;
+            else {
+                ++nfan;
+                fan_degrees.push_back(d);
+            }
         }
+        bool inside_a_leaflet = false;
+        for (const std::pair<int, bool>& x : leaflet_rim[v]) inside_a_leaflet = inside_a_leaflet || !x.second;
         an.vertex_branch_edges[v] = nb;
         an.vertex_boundary_edges[v] = nbnd;
         const std::string vname = "skeleton vertex " + std::to_string(v);
@@ -213,7 +232,25 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
                 fail(ErrorCode::UnsupportedConfiguration,
                      vname + ": a branch edge on a fan-edge vertex is not supported (paper limitation 3)",
                      ElementRef::Kind::SkeletonVertex, v);
+            // A regular fan: at its end every leaflet around the fan edge leaves by one boundary edge; along it,
+            // every leaflet goes on across the vertex (paper limitation 2 otherwise: the fan stops inside a leaflet).
+            const bool regular = !inside_a_leaflet &&
+                                 (nfan == 1 ? nbnd == fan_degrees[0]
+                                            : nfan == 2 && fan_degrees[0] == fan_degrees[1] && nbnd == 0);
+            if (!regular)
+                fail(ErrorCode::UnsupportedConfiguration,
+                     vname + ": an irregular fan (a fan edge ending inside a leaflet, paper limitation 2, or " +
+                         std::to_string(nfan) + " fan edges of unequal degrees or not in one chain) is not supported",
+                     ElementRef::Kind::SkeletonVertex, v);
             c = nfan == 1 ? VertexClass::FanEdgeEnd : VertexClass::FanEdgeVertex;
+        } else if (inside_a_leaflet && (nb > 0 || nbnd > 0)) {
+            if (nb > 0)
+                fail(ErrorCode::UnsupportedConfiguration,
+                     vname + ": a branch edge on a leaflet interior vertex is not supported (paper limitation 1)",
+                     ElementRef::Kind::SkeletonVertex, v);
+            fail(ErrorCode::UnsupportedConfiguration,
+                 vname + ": a leaflet touches the interior of another leaflet; not supported",
+                 ElementRef::Kind::SkeletonVertex, v);
         } else {
             if (nbnd % 2 != 0)
                 fail(ErrorCode::UnsupportedConfiguration,

@@ -89,8 +89,12 @@ struct AnalysisOptions {
 
 // Preconditions (checked, Error(InvalidInput) naming the element otherwise): indices in range, no self-loop edge,
 // no zero-length edge, finite positions, every face a quad whose sides are all listed in skeleton.edges.
-// Rejected with Error(UnsupportedConfiguration) naming the vertex: a branch edge on a leaflet interior vertex or on a
-// fan-edge vertex, a vertex with an odd number of leaflet boundary edges.
+// Rejected with Error(UnsupportedConfiguration) naming the vertex (the paper's section 5 limitations, so that they
+// never reach the later stages): a branch edge on a vertex inside a leaflet (limitation 1) or on a fan-edge vertex
+// (limitation 3); an irregular fan (limitation 2): a fan edge ending inside a leaflet, i.e. a fan-edge end where not
+// every face around the fan edge leaves by its own boundary edge, a fan-edge chain vertex with a boundary edge, with
+// fan edges of unequal degrees or with more than two fan edges, or any fan-edge vertex inside a leaflet; a leaflet
+// touching the interior of another leaflet; a vertex with an odd number of leaflet boundary edges.
 // Postconditions: every branch edge is in exactly one branch; every face in exactly one leaflet.
 // Complexity: O(V + E log E + F).
 SkeletonAnalysis analyze_skeleton(const Skeleton& skeleton, const AnalysisOptions& options = {});
