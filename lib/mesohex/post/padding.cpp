@@ -8,6 +8,7 @@
 
 #include "mesohex/core/error.h"
 #include "mesohex/core/topology.h"
+#include "mesohex/post/quality.h"
 
 namespace mesohex {
 namespace {
@@ -85,14 +86,44 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
         }
 
     mesh.points.resize(old_vertices + nb);
+    std::vector<double> offset(nb);
     for (std::size_t i = 0; i < nb; ++i) {
         const int v = boundary_vertices[i];
         const double mean_len = edge_count[i] > 0 ? edge_len_sum[i] / edge_count[i] : 0.0;
         const double t = options.absolute_thickness > 0 ? options.absolute_thickness : options.thickness * mean_len;
         const double mean_cos = cos_count[i] > 0 ? cos_sum[i] / cos_count[i] : 1.0;
         const double scale = mean_cos > 1.0 / 3.0 ? 1.0 / mean_cos : 3.0;
-        mesh.points[old_vertices + i] = mesh.points[static_cast<std::size_t>(v)] + unit_normal[i] * (t * scale);
+        offset[i] = t * scale;
+        mesh.points[old_vertices + i] = mesh.points[static_cast<std::size_t>(v)] + unit_normal[i] * offset[i];
         origin.push_back(origin[static_cast<std::size_t>(v)]);
+    }
+    // Where the boundary folds sharply (thin plates, saddles), the averaged normals of neighbouring vertices can
+    // cross: the outer vertices of an inverted new hex are pulled back (offset halved, up to 6 times). Ascending
+    // order, no parallelism: deterministic.
+    auto new_hex_sj = [&](const std::array<int, 4>& q) {
+        std::array<Vec3, 8> c;
+        for (std::size_t i = 0; i < 4; ++i) {
+            c[i] = mesh.points[static_cast<std::size_t>(q[i])];
+            c[i + 4] = mesh.points[static_cast<std::size_t>(new_id[static_cast<std::size_t>(q[i])])];
+        }
+        return scaled_jacobian(c);
+    };
+    for (int round = 0; round < 6; ++round) {
+        std::vector<char> shrink(nb, 0);
+        bool any = false;
+        for (const std::array<int, 4>& q : topo.boundary_quads)
+            if (!(new_hex_sj(q) > 0))
+                for (int v : q) {
+                    shrink[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
+                    any = true;
+                }
+        if (!any) break;
+        for (std::size_t i = 0; i < nb; ++i)
+            if (shrink[i]) {
+                offset[i] *= 0.5;
+                mesh.points[old_vertices + i] =
+                    mesh.points[static_cast<std::size_t>(boundary_vertices[i])] + unit_normal[i] * offset[i];
+            }
     }
     mesh.hexes.reserve(mesh.hexes.size() + topo.boundary_quads.size());
     for (const std::array<int, 4>& q : topo.boundary_quads) {
