@@ -133,8 +133,8 @@ struct SurfaceFitter::Impl {
     FitOptions options;
     HexTopology topo;
     std::vector<int> edge_slot_begin, edge_slots;      // per edge: its (h * 12 + le) slots
-    std::vector<std::uint8_t> slot_flipped;            // per entry of edge_slots: 1 if edges[e][0] is the hex's
-                                                       // kHexEdges[le][1] corner
+    std::vector<int> slot_target;  // per hex slot 12 h + le: where its 2 normals go in slot_normals (edge order),
+                                   // 2 i (+ 1 flipped: edges[e][0] is the hex's kHexEdges[le][1] corner)
     std::vector<int> vertex_edge_begin, vertex_edges;  // per vertex: its edges, encoded 2 e (v first) or 2 e + 1
     std::vector<int> vertex_hex_begin, vertex_hexes;   // per vertex: the hexes that use it, ascending
     std::vector<int> boundary_vertices;
@@ -157,7 +157,7 @@ struct SurfaceFitter::Impl {
     double cached_sample_gap = 0;
     double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
     // Per step buffers.
-    std::vector<Vec3> slot_normals;  // per hex h and local edge le: 2 corner normals at 24 h + 2 le (+ 1)
+    std::vector<Vec3> slot_normals;  // per entry i of edge_slots: the normal at edges[e][0] (2 i), at edges[e][1] (2 i + 1)
     std::vector<Vec3> edge_rhs;      // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
     std::vector<double> edge_energy;
     std::vector<Vec3> targets;       // per boundary vertex
@@ -194,13 +194,14 @@ void SurfaceFitter::Impl::build_incidence() {
             const int e = topo.hex_edges[h][static_cast<std::size_t>(le)];
             edge_slots[static_cast<std::size_t>(fill[static_cast<std::size_t>(e)]++)] = static_cast<int>(h) * 12 + le;
         }
-    slot_flipped.resize(edge_slots.size());
+    slot_target.resize(edge_slots.size());
     for (std::size_t e = 0; e < ne; ++e)
         for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
             const int slot = edge_slots[static_cast<std::size_t>(i)];
             const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(slot / 12)];
             const int l1 = kHexEdges[static_cast<std::size_t>(slot % 12)][0];
-            slot_flipped[static_cast<std::size_t>(i)] = hex[static_cast<std::size_t>(l1)] != topo.edges[e][0] ? 1 : 0;
+            const bool flipped = hex[static_cast<std::size_t>(l1)] != topo.edges[e][0];
+            slot_target[static_cast<std::size_t>(slot)] = 2 * i + (flipped ? 1 : 0);
         }
     vertex_edge_begin.assign(nv + 1, 0);
     for (const std::array<int, 2>& e : topo.edges) {
@@ -385,7 +386,15 @@ double SurfaceFitter::Impl::local_step() {
     const std::size_t nh = mesh.hexes.size();
     slot_normals.resize(24 * nh);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nh, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t h = r.begin(); h < r.end(); ++h) hex_corner_normals(x, mesh.hexes[h], &slot_normals[24 * h]);
+        std::array<Vec3, 24> n;
+        for (std::size_t h = r.begin(); h < r.end(); ++h) {
+            hex_corner_normals(x, mesh.hexes[h], n.data());
+            for (std::size_t le = 0; le < 12; ++le) {
+                const int t = slot_target[12 * h + le];  // 2 i, or 2 i + 1 when the edge runs the other way
+                slot_normals[static_cast<std::size_t>(t & ~1)] = n[2 * le + static_cast<std::size_t>(t & 1)];
+                slot_normals[static_cast<std::size_t>(t | 1)] = n[2 * le + 1 - static_cast<std::size_t>(t & 1)];
+            }
+        }
     });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ne, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t e = r.begin(); e < r.end(); ++e) {
@@ -394,11 +403,9 @@ double SurfaceFitter::Impl::local_step() {
             const Vec3 u = normalized(edge);
             Vec3 s1 = u, s2 = -u;
             for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
-                const std::size_t slot = static_cast<std::size_t>(edge_slots[static_cast<std::size_t>(i)]);
-                const bool flipped = slot_flipped[static_cast<std::size_t>(i)] != 0;  // edges[e][0] is the local end 1
-                const Vec3& n1 = slot_normals[2 * slot + (flipped ? 1 : 0)];
+                const Vec3& n1 = slot_normals[2 * static_cast<std::size_t>(i)];
                 if (dot(n1, u) > 0) s1 += n1;
-                const Vec3& n2 = slot_normals[2 * slot + (flipped ? 0 : 1)];
+                const Vec3& n2 = slot_normals[2 * static_cast<std::size_t>(i) + 1];
                 if (dot(n2, u) < 0) s2 += n2;
             }
             const Vec3 d1 = normalized(s1), d2 = normalized(s2);
