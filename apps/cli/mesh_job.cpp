@@ -99,6 +99,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "Weight of the pull of the boundary onto the surface, relative to the shape terms")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--improve-below", job->improve_sj,
+                    "Quality pass after fitting on the hexes whose scaled Jacobian is below this (0 = off)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 0.99));
     cmd->add_flag("-q,--quiet", job->quiet, "No progress bar");
     cmd->add_option("--report", job->report, "Write a JSON report (skeleton, predicted, quality, timings_ms)");
     cmd->add_option("--threads", job->threads, "Worker threads (0 = all cores)");
@@ -155,6 +159,7 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
         fo.untangle = !job.no_fit;
         fo.fitting.max_iterations = job.iterations;
         fo.fitting.lambda = job.fit_weight;
+        fo.improve_sj = job.improve_sj;
         FitProgressBar bar(job.iterations, !job.quiet && isatty(STDERR_FILENO));
         fo.fitting.progress = [&bar](const FitProgress& p) { bar.update(p); };
         fin = finish_mesh(res.raw.mesh, *domain, fo);

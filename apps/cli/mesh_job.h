@@ -32,6 +32,7 @@ struct MeshJob {
     bool no_fit = false;
     int iterations = 300;
     double fit_weight = 3.0;
+    double improve_sj = 0.3;
     bool quiet = false;
 };
 
