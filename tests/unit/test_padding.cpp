@@ -140,3 +140,31 @@ TEST(Padding, RejectsBadInput) {
     EXPECT_THROW(pad(m), Error);
     EXPECT_THROW(pad(mesohex::test::make_unit_cube(), {.layers = 1, .thickness = -1}), Error);
 }
+
+// A U: the 3 x 3 x 3 block without its middle column's upper two layers, the slot (open in y) squeezed to 0.2 wide
+// (x = 0.9 .. 1.1). At the slot's floor the two bottom corners' normals (45 degrees, toward each other) would carry
+// their outer vertices past each other (offset ~0.25 each, half width 0.1) and invert the new hexes on the floor;
+// the padding pulls those outer vertices back instead.
+TEST(Padding, NarrowSlotDoesNotInvert) {
+    HexMesh u = make_block(3, 3, 3);
+    std::vector<std::array<int, 8>> kept;
+    for (std::size_t h = 0; h < u.hexes.size(); ++h) {
+        const int i = static_cast<int>(h) % 3, k = static_cast<int>(h) / 9;
+        if (!(i == 1 && k >= 1)) kept.push_back(u.hexes[h]);
+    }
+    u.hexes = kept;
+    for (Vec3& p : u.points) {
+        if (p.x == 1) p.x = 0.9;
+        else if (p.x == 2) p.x = 1.1;
+        else if (p.x == 3) p.x = 2.1;
+    }
+    ASSERT_EQ(u.hexes.size(), 21u);
+    ASSERT_EQ(compute_quality(u).inverted, 0);
+    const long boundary_quads = static_cast<long>(compute_hex_topology(u).boundary_quads.size());
+    const PaddingResult r = pad(u);
+    EXPECT_EQ(static_cast<long>(r.mesh.hexes.size()), 21 + boundary_quads);
+    const QualityReport q = compute_quality(r.mesh);
+    EXPECT_EQ(q.inverted, 0);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_GT(q.sj_min, 0.0);
+}
