@@ -18,6 +18,9 @@ struct ImportArgs {
     std::string input;
     std::string output;
     bool no_pairing = false;
+    bool keep_fans = false;
+    bool no_bl_corners = false;
+    bool keep_interior_curves = false;
     MedialImportOptions options;
 };
 
@@ -37,16 +40,38 @@ void register_import(CLI::App& app, int* status) {
         ->capture_default_str();
     cmd->add_flag("--no-pairing", args->no_pairing,
                   "Split every triangle into 3 quads (no pairing of triangles into quads first)");
-    cmd->footer("Example: mesohex import hand.ma -o hand.obj");
+    cmd->add_flag("--keep-irregular-fans", args->keep_fans,
+                  "Keep fan edges whose triangles are not in distinct leaflets (the mesher rejects them)");
+    cmd->add_flag("--keep-interior-curves", args->keep_interior_curves,
+                  "Keep curve edges that end inside a sheet there (the mesher rejects them) instead of moving the end "
+                  "to the sheet's nearest boundary vertex");
+    cmd->add_flag("--no-bl-corners", args->no_bl_corners,
+                  "Leave curve attachments on straight leaflet boundaries where they are (no corner made)");
+    cmd->add_option("--bl-corner-angle", args->options.bl_joint_max_angle_deg,
+                    "A curve attachment whose two leaflet boundary edges make a larger angle (degrees) is moved out")
+        ->capture_default_str();
+    cmd->add_option("--bl-corner-push", args->options.bl_joint_push,
+                    "... by this x the mean length of its two boundary edges")
+        ->capture_default_str();
+    cmd->add_option("--smoothing", args->options.smoothing_iterations,
+                    "Laplacian smoothing sweeps over the leaflet interior vertices (0 = none)")
+        ->capture_default_str();
+    cmd->footer("Method: docs/skeletons.md. Example: mesohex import hand.ma -o hand.obj");
     cmd->callback([args, status]() {
         args->options.pair_triangles = !args->no_pairing;
+        args->options.resolve_irregular_fans = !args->keep_fans;
+        args->options.bl_joint_corners = !args->no_bl_corners;
+        args->options.reattach_interior_curves = !args->keep_interior_curves;
         const Skeleton medial = read_medial_mesh(args->input);
         const MedialImport r = import_medial_mesh(medial, args->options);
         write_skeleton(args->output, r.skeleton);
         std::cout << "import " << args->input << ": " << medial.points.size() << " vertices, " << medial.edges.size()
                   << " edges, " << medial.faces.size() << " triangles in " << r.sheets << " sheet(s)\n"
-                  << "  collapsed sheets " << r.collapsed_sheets << ", leaflets " << r.leaflets << ", fan edges "
+                  << "  irregular-fan triangles removed " << r.fan_triangles_removed << ", curve ends moved to a sheet boundary "
+                  << r.reattached_curve_ends << ", collapsed sheets "
+                  << r.collapsed_sheets << ", leaflets " << r.leaflets << ", fan edges "
                   << r.fan_edges << ", triangle pairs " << r.paired_quads << ", lone triangles " << r.split_triangles
+                  << ", BL-joints moved to a corner " << r.moved_bl_joints << ", smoothed vertices " << r.smoothed_vertices
                   << "\n  skeleton: " << r.skeleton.points.size() << " points, " << r.skeleton.edges.size()
                   << " edges, " << r.skeleton.faces.size() << " quads, Euler characteristic "
                   << euler_characteristic(r.skeleton) << " (input " << euler_characteristic(medial) << ") -> "

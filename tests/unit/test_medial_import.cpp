@@ -1,10 +1,16 @@
 // Medial mesh (.ma) reading and medial mesh -> meso-skeleton conversion on tiny inputs checkable on paper.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "mesohex/core/error.h"
 #include "mesohex/stages/medial_import.h"
@@ -108,6 +114,67 @@ TEST(MedialImport, EdgeInThreeTrianglesBecomesFanEdges) {
     EXPECT_EQ(r.skeleton.points.size(), 15u);
     EXPECT_EQ(r.skeleton.edges.size(), 23u);
     EXPECT_EQ(euler_characteristic(r.skeleton), euler_characteristic(s));
+    EXPECT_EQ(r.fan_triangles_removed, 0);  // three distinct leaflets: a regular fan, kept
+}
+
+TEST(MedialImport, IrregularFanLosesTheTriangleThatLeavesTheFlattestFan) {
+    // Fan edge 0-1 along z with wings towards 2 (0 deg), 3 (90 deg) and 4 (200 deg). Triangle D = (1, 2, 3) joins
+    // wings A = (0,1,2) and B = (0,1,3) through manifold edges: A and B are one leaflet, so the fan is irregular.
+    // Candidates: A (side 0-2 free), B (side 0-3 free), C = (0,1,4) (both sides free, vertex 4 in nothing else).
+    // Remaining wing angles: without A 110 deg, without B 160 deg, without C 90 deg -> B goes, with side 0-3.
+    auto at = [](double deg) {
+        const double a = deg * std::numbers::pi / 180;
+        return Vec3{std::cos(a), std::sin(a), 0.5};
+    };
+    const Skeleton s = medial({{0, 0, 0}, {0, 0, 1}, at(0), at(90), at(200)}, {},
+                              {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}, {1, 2, 3}}, 0.001);
+    const MedialImport r = import_medial_mesh(s);
+    EXPECT_EQ(r.fan_triangles_removed, 1);
+    EXPECT_EQ(r.fan_edges, 0);
+    EXPECT_EQ(r.leaflets, 1);
+    // V 5 - E 7 + F 3 = 1 = 5 - 8 + 4: the Euler characteristic is kept.
+    EXPECT_EQ(euler_characteristic(r.skeleton), euler_characteristic(s));
+    testing::expect_valid_quad_skeleton(r.skeleton);
+    testing::expect_leaflets_oriented(r.skeleton, r.face_leaflet);
+    // Side 0-3 is gone (no point at its midpoint); sides 0-2 and 0-4 remain (points at their midpoints).
+    auto has_point = [&](const Vec3& p) {
+        for (const Vec3& q : r.skeleton.points)
+            if (distance(p, q) < 1e-12) return true;
+        return false;
+    };
+    EXPECT_FALSE(has_point(0.5 * (s.points[0] + s.points[3])));
+    EXPECT_TRUE(has_point(0.5 * (s.points[0] + s.points[2])));
+    EXPECT_TRUE(has_point(0.5 * (s.points[0] + s.points[4])));
+
+    MedialImportOptions keep;
+    keep.resolve_irregular_fans = false;
+    const MedialImport kept = import_medial_mesh(s, keep);
+    EXPECT_EQ(kept.fan_triangles_removed, 0);
+    EXPECT_EQ(kept.fan_edges, 1);
+}
+
+TEST(MedialImport, CurveOnASheetInteriorMovesToTheNearestBoundaryVertex) {
+    // Square 0-1-2-3 fanned around interior vertex 4 = (1.2, 0.9); curve edge 4-5 goes up from it (cup.ma's handle).
+    // Distances from 4 to the corners: 1.50, 1.20, 1.36, 1.63 -> the curve end moves to corner 1.
+    const Skeleton s = medial({{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {1.2, 0.9, 0}, {1.2, 0.9, 1}}, {{4, 5}},
+                              {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}});
+    const MedialImport r = import_medial_mesh(s);
+    EXPECT_EQ(r.reattached_curve_ends, 1);
+    EXPECT_EQ(euler_characteristic(r.skeleton), euler_characteristic(s));
+    testing::expect_valid_quad_skeleton(r.skeleton);
+    // Curve edges = edges in no face: exactly one, from corner 1 (input vertices keep their ids) to 5.
+    std::set<std::pair<int, int>> face_sides;
+    for (const std::vector<int>& f : r.skeleton.faces)
+        for (size_t i = 0; i < f.size(); ++i) face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+    std::vector<std::pair<int, int>> curve;
+    for (const std::array<int, 2>& e : r.skeleton.edges)
+        if (!face_sides.count(std::minmax(e[0], e[1]))) curve.push_back(std::minmax(e[0], e[1]));
+    ASSERT_EQ(curve.size(), 1u);
+    EXPECT_EQ(curve[0], std::make_pair(1, 5));
+
+    MedialImportOptions keep;
+    keep.reattach_interior_curves = false;
+    EXPECT_EQ(import_medial_mesh(s, keep).reattached_curve_ends, 0);
 }
 
 TEST(MedialImport, SingleTriangleSheetCollapsesToCentroidStar) {

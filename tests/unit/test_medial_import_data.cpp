@@ -6,9 +6,15 @@
 #include <cstdlib>
 #include <sys/wait.h>
 #include <filesystem>
+#include <iostream>
+#include <set>
 #include <string>
+#include <utility>
 
+#include "cli_run.h"
+#include "mesohex/post/quality.h"
 #include "mesohex/stages/medial_import.h"
+#include "mesohex_io/hex_io.h"
 #include "mesohex_io/medial_io.h"
 #include "mesohex_io/skeleton_io.h"
 #include "quad_skeleton_checks.h"
@@ -19,7 +25,8 @@ namespace {
 struct Expected {
     const char* name;
     size_t v, e, f, curve_only;
-    int sheets, fan_edges;
+    int sheets, fan_edges;      // fan edges left after fan resolution
+    int fan_triangles_removed;  // irregular-fan triangles removed
 };
 
 class MedialData : public ::testing::TestWithParam<Expected> {};
@@ -39,21 +46,24 @@ TEST_P(MedialData, LoadsAndConverts) {
     const MedialImport r = import_medial_mesh(m);
     EXPECT_EQ(r.sheets, x.sheets);
     EXPECT_EQ(r.fan_edges, x.fan_edges);
+    EXPECT_EQ(r.fan_triangles_removed, x.fan_triangles_removed);
     testing::expect_valid_quad_skeleton(r.skeleton);
     testing::expect_leaflets_oriented(r.skeleton, r.face_leaflet);
     if (r.collapsed_sheets == 0) {
         EXPECT_EQ(euler_characteristic(r.skeleton), euler_characteristic(m));
         EXPECT_EQ(r.skeleton.faces.size(), 4u * static_cast<size_t>(r.paired_quads) + 3u * static_cast<size_t>(r.split_triangles));
-        EXPECT_EQ(2 * r.paired_quads + r.split_triangles, static_cast<int>(x.f));
+        EXPECT_EQ(2 * r.paired_quads + r.split_triangles, static_cast<int>(x.f) - r.fan_triangles_removed);
     }
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedData, MedialData,
-                         ::testing::Values(Expected{"hand", 40, 69, 30, 14, 1, 1},
-                                           Expected{"airplane1", 53, 103, 51, 6, 2, 0},
-                                           Expected{"dtorus", 29, 31, 1, 28, 1, 0},
-                                           Expected{"wrench", 42, 74, 32, 9, 1, 0},
-                                           Expected{"cup", 174, 473, 298, 5, 1, 0}),
+                         // hand.ma's one fan edge (3-10, triangles 7, 8, 9) has two wings in the same leaflet
+                         // (an irregular fan): triangle 9 (free side 3-4) goes, leaving wings 7 and 8.
+                         ::testing::Values(Expected{"hand", 40, 69, 30, 14, 1, 0, 1},
+                                           Expected{"airplane1", 53, 103, 51, 6, 2, 0, 0},
+                                           Expected{"dtorus", 29, 31, 1, 28, 1, 0, 0},
+                                           Expected{"wrench", 42, 74, 32, 9, 1, 0, 0},
+                                           Expected{"cup", 174, 473, 298, 5, 1, 0, 0}),
                          [](const ::testing::TestParamInfo<Expected>& i) { return std::string(i.param.name); });
 
 TEST(MedialData, DtorusTriangleCollapses) {
@@ -84,6 +94,79 @@ TEST(MedialData, CliImportWritesAReadableSkeleton) {
     const int rc = std::system(bad.c_str());
     EXPECT_EQ(WEXITSTATUS(rc), 4);
     EXPECT_FALSE(std::filesystem::exists(output));
+}
+
+// Imports a medial mesh, writes the skeleton, meshes it with its surface through the CLI (`mesh --surface`, with
+// --raw or the whole finishing chain) and checks what every model must give: a valid all-hex mesh whose Euler
+// characteristic is the skeleton's. Returns the quality report.
+QualityReport mesh_imported(const std::string& name, bool raw) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path();
+    const std::string skeleton_path = (dir / ("mesohex_test_medial_" + name + ".obj")).string();
+    const std::string mesh_path = (dir / ("mesohex_test_medial_" + name + (raw ? "_raw" : "") + ".mesh")).string();
+    const Skeleton skeleton =
+        import_medial_mesh(read_medial_mesh(std::string(MESOHEX_SHARED_DATA_DIR) + "/medial-meshes/" + name + ".ma"))
+            .skeleton;
+    write_skeleton(skeleton_path, skeleton);
+    std::filesystem::remove(mesh_path);
+    const auto run = test::run_cli("mesh " + skeleton_path + " --surface " + std::string(MESOHEX_SHARED_DATA_DIR)
+                                   + "/surfaces/" + name + ".off -o " + mesh_path + (raw ? " --raw" : "") + " --quiet");
+    // 0, or 5 when the mesh written has inverted hexes (checked by the callers).
+    EXPECT_TRUE(run.status == 0 || run.status == 5) << run.output;
+    if (!std::filesystem::exists(mesh_path)) {
+        ADD_FAILURE() << name << ": no mesh written\n" << run.output;
+        return {};
+    }
+    const QualityReport q = compute_quality(read_hex_mesh(mesh_path));
+    EXPECT_GT(q.hexes, 0) << name;
+    EXPECT_TRUE(q.validation.valid()) << name;
+    EXPECT_EQ(q.euler_characteristic, euler_characteristic(skeleton)) << name;
+    std::cout << name << (raw ? " raw" : " finished") << ": " << q.hexes << " hexes, SJ min " << q.sj_min << " avg "
+              << q.sj_avg << ", inverted " << q.inverted << "\n";
+    std::filesystem::remove(skeleton_path);
+    std::filesystem::remove(mesh_path);
+    return q;
+}
+
+// wrench (a sheet with curve branches at its boundary, genus 1) and dtorus (curves only once its single triangle
+// collapses, genus 2) mesh without any inverted hex, raw and finished.
+TEST(MedialData, WrenchAndDtorusMeshWithoutInvertedHexes) {
+    for (const char* name : {"wrench", "dtorus"}) {
+        EXPECT_EQ(mesh_imported(name, true).inverted, 0) << name;
+        const QualityReport q = mesh_imported(name, false);
+        EXPECT_EQ(q.inverted, 0) << name;
+        EXPECT_GT(q.sj_min, 0.0) << name;
+    }
+}
+
+// cup.ma's handle ends on two interior vertices of the cup's sheet (53 and 6); both ends move to the sheet's
+// nearest boundary vertices (65 and 83, 4.4 and 4.1 away), and nothing else is changed.
+TEST(MedialData, CupHandleMovesToTheSheetBoundary) {
+    const Skeleton m = read_medial_mesh(std::string(MESOHEX_SHARED_DATA_DIR) + "/medial-meshes/cup.ma");
+    const MedialImport r = import_medial_mesh(m);
+    EXPECT_EQ(r.reattached_curve_ends, 2);
+    // Points as without re-attachment: 174 input vertices + 344 midpoints (468 triangle sides - 124 pair diagonals) +
+    // 174 face centres (124 pairs + 50 lone triangles).
+    EXPECT_EQ(r.paired_quads, 124);
+    EXPECT_EQ(r.split_triangles, 50);
+    EXPECT_EQ(r.skeleton.points.size(), 692u);
+    EXPECT_EQ(euler_characteristic(r.skeleton), euler_characteristic(m));
+    // Input vertices keep their ids: the handle's ends are now 65 and 83, nothing attaches to 53 or 6.
+    std::set<std::pair<int, int>> face_sides;
+    for (const std::vector<int>& f : r.skeleton.faces)
+        for (size_t i = 0; i < f.size(); ++i) face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+    std::set<int> curve_vertices;
+    for (const std::array<int, 2>& e : r.skeleton.edges)
+        if (!face_sides.count(std::minmax(e[0], e[1]))) curve_vertices.insert({e[0], e[1]});
+    EXPECT_TRUE(curve_vertices.count(65) && curve_vertices.count(83));
+    EXPECT_FALSE(curve_vertices.count(53) || curve_vertices.count(6));
+}
+
+// hand (after its irregular fan is resolved), airplane1 and cup (after its handle is re-attached) give valid raw
+// meshes with the skeleton's Euler characteristic. NOT ACHIEVED yet: no inverted hex. Measured 2026-11-22, raw /
+// finished inverted hexes: hand 18 / 7, airplane1 12 / 7, cup 12 / 3 (docs/skeletons.md); next to BL-joints and on
+// plates over folds of the sheet.
+TEST(MedialData, HandAirplaneAndCupGiveValidRawMeshes) {
+    for (const char* name : {"hand", "airplane1", "cup"}) mesh_imported(name, true);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "mesohex/core/error.h"
@@ -229,6 +230,47 @@ TEST(Skeletonize, BentTubeGivesAPathWithTrueRadii) {
         }
     }
     EXPECT_GE(checked, 4);
+}
+
+// Same input, same output bits, whatever the heap looks like: CGAL's MCF used to collapse edges in address order.
+// Between runs, the heap is churned (many small blocks allocated, every other one freed) so that the flow's internal
+// mesh elements land at other addresses and in another relative order.
+TEST(Skeletonize, SameSurfaceSameSkeletonWhateverTheHeap) {
+    for (const TriangleMesh& surface : {bent_tube(3.0, 0.8, 0.4), torus(1.0, 0.3, 48, 12)}) {
+        const Skeletonization first = skeletonize_surface(surface);
+        std::vector<std::vector<char>> churn;
+        for (int run = 1; run <= 3; ++run) {
+            for (int k = 0; k < 4000 * run; ++k) churn.emplace_back(static_cast<size_t>(8 + (k * 37) % 300));
+            for (size_t k = 0; k < churn.size(); k += 2) std::vector<char>().swap(churn[k]);
+            const TriangleMesh copy = surface;  // a copy at another address
+            const Skeletonization again = skeletonize_surface(copy);
+            EXPECT_EQ(again.mcf_vertices, first.mcf_vertices) << "run " << run;
+            ASSERT_EQ(again.skeleton.points.size(), first.skeleton.points.size()) << "run " << run;
+            for (size_t v = 0; v < first.skeleton.points.size(); ++v) {
+                // Exact equality on purpose: the same bits are required.
+                EXPECT_EQ(again.skeleton.points[v].x, first.skeleton.points[v].x) << "run " << run << " vertex " << v;
+                EXPECT_EQ(again.skeleton.points[v].y, first.skeleton.points[v].y) << "run " << run << " vertex " << v;
+                EXPECT_EQ(again.skeleton.points[v].z, first.skeleton.points[v].z) << "run " << run << " vertex " << v;
+            }
+            EXPECT_EQ(again.skeleton.radii, first.skeleton.radii) << "run " << run;
+            EXPECT_EQ(again.skeleton.edges, first.skeleton.edges) << "run " << run;
+        }
+    }
+}
+
+TEST(Skeletonize, OutputOrderIsCanonical) {
+    const Skeleton s = skeletonize_surface(bent_tube(3.0, 0.8, 0.4)).skeleton;
+    ASSERT_GE(s.points.size(), 2u);
+    for (size_t v = 1; v < s.points.size(); ++v) {
+        const Vec3 &a = s.points[v - 1], &b = s.points[v];
+        EXPECT_TRUE(std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z)) << "vertices " << v - 1 << ", " << v;
+    }
+    for (size_t e = 0; e < s.edges.size(); ++e) {
+        EXPECT_LT(s.edges[e][0], s.edges[e][1]) << "edge " << e;
+        if (e > 0) {
+            EXPECT_LT(s.edges[e - 1], s.edges[e]) << "edge " << e;
+        }
+    }
 }
 
 std::string error_of(const TriangleMesh& m) {

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <numbers>
 #include <numeric>
 #include <queue>
@@ -44,6 +46,240 @@ int third_vertex(const std::array<int, 3>& t, int a, int b) {
     return -1;
 }
 
+
+// (min, max) of an edge's ends, by value (std::minmax returns references).
+std::pair<int, int> side_key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
+
+// Angle at the axis a-b between the half-planes towards c and d, in degrees (0..180).
+double wing_angle_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    const Vec3 axis = normalized(b - a);
+    Vec3 u = c - a, w = d - a;
+    u = normalized(u - axis * dot(u, axis));
+    w = normalized(w - axis * dot(w, axis));
+    if (squared_norm(u) == 0 || squared_norm(w) == 0) return 0;
+    return std::acos(std::clamp(dot(u, w), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+}
+
+// One step of fan resolution on a validated medial mesh (triangle sides all in m.edges). An edge in three or more
+// triangles is an IRREGULAR fan when two of its triangles belong to the same leaflet (components through edges in
+// exactly two triangles): the mesher needs the leaflets around a fan edge to be distinct (hand.ma's palm/wrist
+// junction is one leaflet folding onto itself). Such a fan loses one triangle whose removal keeps the Euler
+// characteristic and the connectivity: a triangle with exactly one side in no other triangle (removed with that
+// side), or with both other sides free and its third vertex in nothing else (removed with both sides and the
+// vertex). Among the candidates, the one leaving the flattest fan (largest angle between the remaining wings) goes,
+// ties to the lower triangle index. Returns false when no irregular fan has a removable triangle.
+bool remove_irregular_fan_triangle(Skeleton& m) {
+    const int nv = static_cast<int>(m.points.size());
+    const int nt = static_cast<int>(m.faces.size());
+    std::map<std::pair<int, int>, std::vector<int>> side_tris;
+    for (int t = 0; t < nt; ++t)
+        for (int i = 0; i < 3; ++i)
+            side_tris[side_key(m.faces[static_cast<size_t>(t)][static_cast<size_t>(i)],
+                                  m.faces[static_cast<size_t>(t)][static_cast<size_t>((i + 1) % 3)])]
+                .push_back(t);
+    UnionFind leaf(nt);
+    for (const auto& [side, tris] : side_tris)
+        if (tris.size() == 2) leaf.unite(tris[0], tris[1]);
+    std::vector<int> vertex_uses(static_cast<size_t>(nv), 0);  // triangles + curve edges at each vertex
+    for (const std::vector<int>& f : m.faces)
+        for (int x : f) ++vertex_uses[static_cast<size_t>(x)];
+    for (const std::array<int, 2>& e : m.edges)
+        if (side_tris.find(side_key(e[0], e[1])) == side_tris.end())
+            for (int x : e) ++vertex_uses[static_cast<size_t>(x)];
+    struct Removal {
+        double score = -1;
+        int tri = -1, drop_vertex = -1;
+        std::vector<std::pair<int, int>> drop_sides;
+    } best;
+    for (const auto& [side, tris] : side_tris) {
+        if (tris.size() < 3) continue;
+        std::vector<int> roots;
+        for (int t : tris) roots.push_back(leaf.find(t));
+        std::sort(roots.begin(), roots.end());
+        if (std::adjacent_find(roots.begin(), roots.end()) == roots.end()) continue;  // regular: distinct leaflets
+        const auto [a, b] = side;
+        for (int t : tris) {
+            const int o = third_vertex({m.faces[static_cast<size_t>(t)][0], m.faces[static_cast<size_t>(t)][1],
+                                        m.faces[static_cast<size_t>(t)][2]},
+                                       a, b);
+            std::vector<std::pair<int, int>> free_sides;
+            for (const std::pair<int, int>& other : {side_key(a, o), side_key(b, o)})
+                if (side_tris[other].size() == 1) free_sides.push_back(other);
+            Removal r;
+            r.tri = t;
+            r.drop_sides = free_sides;
+            if (free_sides.size() == 2) {
+                if (vertex_uses[static_cast<size_t>(o)] != 1) continue;  // o would be left behind, disconnected
+                r.drop_vertex = o;
+            } else if (free_sides.size() != 1) {
+                continue;  // removing it would open a hole
+            }
+            for (size_t i = 0; i < tris.size(); ++i)
+                for (size_t j = i + 1; j < tris.size(); ++j) {
+                    if (tris[i] == t || tris[j] == t) continue;
+                    auto opp = [&](int u) {
+                        const std::vector<int>& f = m.faces[static_cast<size_t>(u)];
+                        return m.points[static_cast<size_t>(third_vertex({f[0], f[1], f[2]}, a, b))];
+                    };
+                    r.score = std::max(r.score, wing_angle_deg(m.points[static_cast<size_t>(a)],
+                                                               m.points[static_cast<size_t>(b)], opp(tris[i]),
+                                                               opp(tris[j])));
+                }
+            if (r.score > best.score || (r.score == best.score && best.tri >= 0 && r.tri < best.tri)) best = r;
+        }
+    }
+    if (best.tri < 0) return false;
+    m.faces.erase(m.faces.begin() + best.tri);
+    std::erase_if(m.edges, [&](const std::array<int, 2>& e) {
+        return std::find(best.drop_sides.begin(), best.drop_sides.end(), side_key(e[0], e[1]))
+               != best.drop_sides.end();
+    });
+    if (best.drop_vertex >= 0) {
+        const int d = best.drop_vertex;
+        m.points.erase(m.points.begin() + d);
+        m.radii.erase(m.radii.begin() + d);
+        for (std::array<int, 2>& e : m.edges)
+            for (int& x : e) x -= x > d ? 1 : 0;
+        for (std::vector<int>& f : m.faces)
+            for (int& x : f) x -= x > d ? 1 : 0;
+    }
+    return true;
+}
+
+// BL-joints (a leaflet boundary vertex with one curve edge) on a nearly straight stretch of the leaflet boundary are
+// pushed out of the leaflet so that the boundary makes a corner there (see MedialImportOptions::bl_joint_corners).
+// Decisions use the positions before any move (each joint is judged on the unmoved skeleton). Returns the count moved.
+int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
+    const int nv = static_cast<int>(s.points.size());
+    std::map<std::pair<int, int>, int> side_faces;
+    for (const std::vector<int>& f : s.faces)
+        for (size_t i = 0; i < f.size(); ++i) ++side_faces[side_key(f[i], f[(i + 1) % f.size()])];
+    std::vector<int> curve_degree(static_cast<size_t>(nv), 0);
+    std::vector<std::vector<int>> leaflet_neighbours(static_cast<size_t>(nv)), boundary_neighbours(static_cast<size_t>(nv));
+    for (const std::array<int, 2>& e : s.edges) {
+        const auto it = side_faces.find(side_key(e[0], e[1]));
+        if (it == side_faces.end()) {
+            for (int x : e) ++curve_degree[static_cast<size_t>(x)];
+            continue;
+        }
+        for (int k = 0; k < 2; ++k) {
+            leaflet_neighbours[static_cast<size_t>(e[k])].push_back(e[1 - k]);
+            if (it->second == 1) boundary_neighbours[static_cast<size_t>(e[k])].push_back(e[1 - k]);
+            if (it->second >= 3) boundary_neighbours[static_cast<size_t>(e[k])].push_back(-1);  // fan: not a BL-joint
+        }
+    }
+    const std::vector<Vec3> before = s.points;
+    int moved = 0;
+    for (int v = 0; v < nv; ++v) {
+        const std::vector<int>& bn = boundary_neighbours[static_cast<size_t>(v)];
+        if (curve_degree[static_cast<size_t>(v)] != 1 || bn.size() != 2 || bn[0] < 0 || bn[1] < 0) continue;
+        const Vec3& p = before[static_cast<size_t>(v)];
+        const Vec3 &a = before[static_cast<size_t>(bn[0])], &b = before[static_cast<size_t>(bn[1])];
+        if (angle_deg(p, a, b) <= opt.bl_joint_max_angle_deg) continue;
+        Vec3 inward{};
+        for (int u : leaflet_neighbours[static_cast<size_t>(v)])
+            inward += normalized(before[static_cast<size_t>(u)] - p);
+        inward = normalized(inward);
+        if (squared_norm(inward) == 0) continue;
+        const double length = 0.5 * (distance(p, a) + distance(p, b));
+        s.points[static_cast<size_t>(v)] = p - inward * (opt.bl_joint_push * length);
+        ++moved;
+    }
+    return moved;
+}
+
+// Jacobi Laplacian smoothing of leaflet interior vertices (every incident edge in exactly two faces, no curve edge):
+// p <- p + factor x (mean of the neighbours - p), `iterations` times, all vertices from the same previous positions
+// (order-independent). Returns the number of vertices smoothed.
+int smooth_leaflet_interiors(Skeleton& s, int iterations, double factor) {
+    const int nv = static_cast<int>(s.points.size());
+    std::map<std::pair<int, int>, int> side_faces;
+    for (const std::vector<int>& f : s.faces)
+        for (size_t i = 0; i < f.size(); ++i) ++side_faces[side_key(f[i], f[(i + 1) % f.size()])];
+    std::vector<bool> interior(static_cast<size_t>(nv), false), blocked(static_cast<size_t>(nv), false);
+    std::vector<std::vector<int>> neighbours(static_cast<size_t>(nv));
+    for (const std::array<int, 2>& e : s.edges) {
+        const auto it = side_faces.find(side_key(e[0], e[1]));
+        const bool manifold = it != side_faces.end() && it->second == 2;
+        for (int k = 0; k < 2; ++k) {
+            if (manifold)
+                interior[static_cast<size_t>(e[k])] = true;
+            else
+                blocked[static_cast<size_t>(e[k])] = true;
+            neighbours[static_cast<size_t>(e[k])].push_back(e[1 - k]);
+        }
+    }
+    std::vector<int> movable;
+    for (int v = 0; v < nv; ++v)
+        if (interior[static_cast<size_t>(v)] && !blocked[static_cast<size_t>(v)]) movable.push_back(v);
+    for (int it = 0; it < iterations; ++it) {
+        const std::vector<Vec3> prev = s.points;
+        for (int v : movable) {
+            Vec3 mean{};
+            for (int u : neighbours[static_cast<size_t>(v)]) mean += prev[static_cast<size_t>(u)];
+            mean = mean / static_cast<double>(neighbours[static_cast<size_t>(v)].size());
+            s.points[static_cast<size_t>(v)] = prev[static_cast<size_t>(v)] + (mean - prev[static_cast<size_t>(v)]) * factor;
+        }
+    }
+    return iterations > 0 ? static_cast<int>(movable.size()) : 0;
+}
+
+// Curve ends on a sheet's interior (paper limitation 1: the mesher cannot attach a branch there) move to the nearest
+// boundary vertex of the same sheet that is on no fan edge (Euclidean distance, ties to the lower index): every curve
+// edge (x, v) with v inside a sheet (in a triangle, no side at v in one triangle only or in three or more) becomes
+// (x, b). An edge that
+// would become a loop or duplicate an existing edge is left as it is. Vertex, edge and face counts, hence the Euler
+// characteristic, do not change. Returns the number of curve-edge ends moved.
+int reattach_interior_curve_ends(Skeleton& m) {
+    const int nv = static_cast<int>(m.points.size());
+    const int nt = static_cast<int>(m.faces.size());
+    std::map<std::pair<int, int>, std::vector<int>> side_tris;
+    for (int t = 0; t < nt; ++t)
+        for (int i = 0; i < 3; ++i)
+            side_tris[side_key(m.faces[static_cast<size_t>(t)][static_cast<size_t>(i)],
+                               m.faces[static_cast<size_t>(t)][static_cast<size_t>((i + 1) % 3)])]
+                .push_back(t);
+    UnionFind sheet(nt);
+    for (const auto& [side, tris] : side_tris)
+        for (size_t k = 1; k < tris.size(); ++k) sheet.unite(tris[0], tris[k]);
+    std::vector<int> vertex_sheet(static_cast<size_t>(nv), -1);
+    std::vector<bool> rim(static_cast<size_t>(nv), false), fan(static_cast<size_t>(nv), false);
+    for (int t = 0; t < nt; ++t)
+        for (int x : m.faces[static_cast<size_t>(t)]) vertex_sheet[static_cast<size_t>(x)] = sheet.find(t);
+    for (const auto& [side, tris] : side_tris) {
+        std::vector<bool>& flag = tris.size() == 1 ? rim : fan;
+        if (tris.size() != 2) flag[static_cast<size_t>(side.first)] = flag[static_cast<size_t>(side.second)] = true;
+    }
+    std::vector<std::pair<int, int>> existing;
+    for (const std::array<int, 2>& e : m.edges) existing.push_back(side_key(e[0], e[1]));
+    std::sort(existing.begin(), existing.end());
+    int moved = 0;
+    for (std::array<int, 2>& e : m.edges) {
+        if (side_tris.count(side_key(e[0], e[1])) > 0) continue;  // a triangle side, not a curve edge
+        for (int k = 0; k < 2; ++k) {
+            const int v = e[k], x = e[1 - k];
+            const int sv = vertex_sheet[static_cast<size_t>(v)];
+            if (sv < 0 || rim[static_cast<size_t>(v)] || fan[static_cast<size_t>(v)]) continue;
+            int best = -1;
+            double best_d = std::numeric_limits<double>::infinity();
+            for (int b = 0; b < nv; ++b) {
+                if (!rim[static_cast<size_t>(b)] || fan[static_cast<size_t>(b)] || vertex_sheet[static_cast<size_t>(b)] != sv)
+                    continue;  // a boundary vertex of the same sheet, not on a fan edge (paper limitation 3)
+                const double d = distance(m.points[static_cast<size_t>(v)], m.points[static_cast<size_t>(b)]);
+                if (d < best_d) {
+                    best_d = d;
+                    best = b;
+                }
+            }
+            if (best < 0 || best == x || std::binary_search(existing.begin(), existing.end(), side_key(best, x)))
+                continue;
+            e[static_cast<size_t>(k)] = best;
+            existing.insert(std::lower_bound(existing.begin(), existing.end(), side_key(best, x)), side_key(best, x));
+            ++moved;
+        }
+    }
+    return moved;
+}
 }  // namespace
 
 MedialImport import_medial_mesh(const Skeleton& m, const MedialImportOptions& opt) {
@@ -96,6 +332,23 @@ MedialImport import_medial_mesh(const Skeleton& m, const MedialImportOptions& op
                 throw bad("side " + std::to_string(i) + " of face " + std::to_string(t) + " is not in the edge list",
                           face_ref(t));
             tri_edge[static_cast<size_t>(t)][static_cast<size_t>(i)] = e;
+        }
+    }
+
+    if (opt.resolve_irregular_fans || opt.reattach_interior_curves) {
+        Skeleton reduced = m;
+        int removed = 0, reattached = 0;
+        if (opt.resolve_irregular_fans)
+            while (remove_irregular_fan_triangle(reduced)) ++removed;
+        if (opt.reattach_interior_curves) reattached = reattach_interior_curve_ends(reduced);
+        if (removed > 0 || reattached > 0) {
+            MedialImportOptions rest = opt;
+            rest.resolve_irregular_fans = false;
+            rest.reattach_interior_curves = false;
+            MedialImport r = import_medial_mesh(reduced, rest);
+            r.fan_triangles_removed = removed;
+            r.reattached_curve_ends = reattached;
+            return r;
         }
     }
 
@@ -316,6 +569,8 @@ MedialImport import_medial_mesh(const Skeleton& m, const MedialImportOptions& op
         }
     }
     add_face_edges(out);
+    if (opt.bl_joint_corners) result.moved_bl_joints = make_bl_joint_corners(out, opt);
+    result.smoothed_vertices = smooth_leaflet_interiors(out, opt.smoothing_iterations, opt.smoothing_factor);
     return result;
 }
 

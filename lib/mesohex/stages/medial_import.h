@@ -1,6 +1,9 @@
 #pragma once
 // Medial mesh (curve edges + triangle sheets, e.g. read from a .ma file) -> meso-skeleton (curve branches + quad
 // leaflets). Method (docs/skeletons.md):
+//   0. irregular fans (an edge in 3+ triangles, two of them in the same leaflet) lose removable triangles (see
+//      MedialImportOptions::resolve_irregular_fans); curve edges ending inside a sheet move to the sheet's nearest
+//      boundary vertex (reattach_interior_curves);
 //   1. sheets = triangles connected through shared edges; a sheet with fewer than min_sheet_triangles triangles or an
 //      area below min_sheet_area_factor x (its mean radius)^2 collapses to a curve: a new vertex at its centroid,
 //      joined to each sheet vertex that has an attachment (a curve edge or another sheet); unattached sheet vertices
@@ -10,7 +13,9 @@
 //   3. adjacent triangles of a leaflet are paired greedily into quads, best shape first (corner angles closest to
 //      90 degrees, small fold); every face (pair quad or lone triangle) is then split at its centroid and its edge
 //      midpoints into 4 or 3 quads that share the midpoints: an all-quad, conforming subdivision of every sheet;
-//   4. curve edges (in no triangle) stay branch edges. Radii are kept at input vertices, averaged at new ones.
+//   4. curve edges (in no triangle) stay branch edges. Radii are kept at input vertices, averaged at new ones;
+//   5. BL-joints on a straight stretch of leaflet boundary are pushed out to make a corner (bl_joint_corners);
+//   6. leaflet interior vertices are smoothed (smoothing_iterations).
 // The Euler characteristic V - E + F is preserved by pairing, splitting and by collapsing a sheet whose vertices are
 // all attached.
 #include <vector>
@@ -20,11 +25,32 @@
 namespace mesohex {
 
 struct MedialImportOptions {
+    // Before everything else: an edge in 3+ triangles of which two lie in the same leaflet (an irregular fan, which
+    // the mesher cannot mesh) loses triangles, one at a time, flattest remaining fan first, as long as a triangle can
+    // go without changing the Euler characteristic (one side free: the triangle and that side go; two sides free and
+    // the third vertex in nothing else: the triangle, both sides and the vertex go).
+    bool resolve_irregular_fans = true;
+    // Then a curve edge ending inside a sheet (paper limitation 1: the mesher cannot attach a branch there, cup.ma's
+    // handle) is re-attached to the nearest boundary vertex of that sheet; counts and Euler characteristic unchanged.
+    bool reattach_interior_curves = true;
     int min_sheet_triangles = 2;          // sheets with fewer triangles collapse to a curve
     double min_sheet_area_factor = 1.0;   // sheets with area < factor x (mean vertex radius)^2 collapse to a curve
     bool pair_triangles = true;           // pair triangles into quads before splitting (fewer irregular vertices)
     double max_pair_corner_deviation_deg = 60;  // a pair quad is accepted if every corner is within this of 90 deg
     double max_pair_fold_deg = 45;        // ... and the two triangle normals differ by at most this angle
+    // After quadrangulation: a BL-joint (a leaflet boundary vertex with exactly one curve edge) where the leaflet
+    // boundary is nearly straight (angle between its two boundary edges above bl_joint_max_angle_deg) is moved out of
+    // the leaflet, against the mean direction to its leaflet neighbours, by bl_joint_push x the mean length of its two
+    // boundary edges: the boundary then makes a corner there, the layout the mesher's BL-joint blocks need (on a
+    // straight boundary their half-chunks fold). Topology and radii are unchanged.
+    bool bl_joint_corners = true;
+    double bl_joint_max_angle_deg = 110;
+    double bl_joint_push = 1.25;
+    // Finally, leaflet interior vertices (all incident edges in exactly two faces, no curve edge) are smoothed:
+    // p <- p + smoothing_factor x (neighbour mean - p), smoothing_iterations Jacobi sweeps (0 = off). Evens out the
+    // quads the split makes (corners up to 150 degrees) and the sheet's folds, over which the mesher's plates invert.
+    int smoothing_iterations = 10;
+    double smoothing_factor = 0.5;
 };
 
 struct MedialImport {
@@ -36,6 +62,10 @@ struct MedialImport {
     int leaflets = 0;
     int paired_quads = 0;             // triangle pairs merged into a quad before splitting
     int split_triangles = 0;          // triangles left unpaired (each split into 3 quads)
+    int moved_bl_joints = 0;          // BL-joints moved to make a corner (bl_joint_corners)
+    int smoothed_vertices = 0;        // leaflet interior vertices moved by the smoothing
+    int reattached_curve_ends = 0;    // curve-edge ends moved from a sheet interior to its boundary
+    int fan_triangles_removed = 0;    // triangles removed to make irregular fans regular (resolve_irregular_fans)
     int fan_edges = 0;                // input edges in 3 or more triangles (each becomes 2 fan edges when split)
 };
 

@@ -20,15 +20,41 @@
 
 #include "mesohex/core/error.h"
 
-namespace mesohex {
-namespace {
-
+// CGAL types, outside the anonymous namespace so that the std::less specialization below can name them.
+namespace mesohex::skeletonize_cgal {
 using Kernel = CGAL::Simple_cartesian<double>;
 using Point = Kernel::Point_3;
 using CgalMesh = CGAL::Surface_mesh<Point>;
 using Mcf = CGAL::Mean_curvature_flow_skeletonization<CgalMesh>;
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<CgalMesh>;
 using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+}  // namespace mesohex::skeletonize_cgal
+
+// Determinism. CGAL's MCF contracts internally on a Polyhedron_3 and, in collapse_short_edges(), collapses the short
+// edges in the order of a std::set<edge_descriptor>, whose default order compares halfedge ADDRESSES: the collapse
+// order, hence the remeshed surface and the skeleton's sampling, then depends on the heap's history (a second run in
+// the same process gave 95 instead of 108 vertices on cactus.obj). The set's comparator is std::less<edge_descriptor>;
+// this specialization (for the edge type of our instantiation only) orders edges by the smaller id of their two
+// halfedges. The MCF renumbers halfedges 0..2E-1 at initialisation and after every round of face splits, and a collapse
+// round only removes halfedges, so these ids are unique and unchanged while an edge is in the set: a strict order that
+// depends only on the mesh's history, never on addresses.
+template <>
+struct std::less<boost::graph_traits<mesohex::skeletonize_cgal::Mcf::Meso_skeleton>::edge_descriptor> {
+    using Edge = boost::graph_traits<mesohex::skeletonize_cgal::Mcf::Meso_skeleton>::edge_descriptor;
+    static std::size_t key(const Edge& e) {
+        return std::min(e.halfedge()->id(), e.halfedge()->opposite()->id());
+    }
+    bool operator()(const Edge& a, const Edge& b) const { return key(a) < key(b); }
+};
+
+namespace mesohex {
+namespace {
+
+using skeletonize_cgal::AabbTree;
+using skeletonize_cgal::CgalMesh;
+using skeletonize_cgal::Kernel;
+using skeletonize_cgal::Mcf;
+using skeletonize_cgal::Point;
 
 Vec3 to_vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 Point to_point(const Vec3& v) { return {v.x, v.y, v.z}; }
@@ -360,42 +386,63 @@ Skeletonization skeletonize_surface(const TriangleMesh& surface, const Skeletoni
     AabbTree tree(faces(mesh).first, faces(mesh).second, mesh);
     tree.accelerate_distance_queries();
 
-    Graph g;
-    g.points.resize(static_cast<size_t>(n));
-    g.radii.resize(static_cast<size_t>(n));
-    g.out_radii.resize(static_cast<size_t>(n));
-    g.adj.resize(static_cast<size_t>(n));
-    g.alive.assign(static_cast<size_t>(n), true);
+    // Raw flow skeleton: position, radii, edges, in CGAL's vertex order.
+    std::vector<Vec3> raw_points(static_cast<size_t>(n));
+    std::vector<double> raw_radii(static_cast<size_t>(n)), raw_out_radii(static_cast<size_t>(n));
     std::vector<double> dists;
     for (int v = 0; v < n; ++v) {
         const auto& sv = mcf_skeleton[static_cast<Mcf::Skeleton::vertex_descriptor>(v)];
         const Vec3 p = to_vec(sv.point);
-        g.points[static_cast<size_t>(v)] = p;
+        raw_points[static_cast<size_t>(v)] = p;
         dists.clear();
         for (CgalMesh::Vertex_index iv : sv.vertices) dists.push_back(distance(p, to_vec(mesh.point(iv))));
         double r = 0;
-        if (!dists.empty()) {
+        if (!dists.empty()) {  // the median is a value of the multiset: independent of the correspondence order
             const size_t mid = dists.size() / 2;
             std::nth_element(dists.begin(), dists.begin() + static_cast<std::ptrdiff_t>(mid), dists.end());
             r = dists[mid];
         }
         const double surface_distance = std::sqrt(tree.squared_distance(sv.point));
         if (!(r > 0)) r = surface_distance;
-        g.radii[static_cast<size_t>(v)] = r;
-        g.out_radii[static_cast<size_t>(v)] = options.inscribed_radii ? surface_distance : r;
+        raw_radii[static_cast<size_t>(v)] = r;
+        raw_out_radii[static_cast<size_t>(v)] = options.inscribed_radii ? surface_distance : r;
+    }
+    // Canonical vertex order: lexicographic (x, y, z), then radius, then CGAL's index. Everything after this point
+    // (pruning, merging, extension, output) iterates in this order, so the result depends on the skeleton's geometry,
+    // not on the order in which CGAL happened to emit it.
+    std::vector<int> order(static_cast<size_t>(n));
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+        const Vec3 &pa = raw_points[static_cast<size_t>(a)], &pb = raw_points[static_cast<size_t>(b)];
+        return std::tie(pa.x, pa.y, pa.z, raw_radii[static_cast<size_t>(a)], a)
+               < std::tie(pb.x, pb.y, pb.z, raw_radii[static_cast<size_t>(b)], b);
+    });
+    std::vector<int> rank(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) rank[static_cast<size_t>(order[static_cast<size_t>(i)])] = i;
+    Graph g;
+    g.adj.resize(static_cast<size_t>(n));
+    g.alive.assign(static_cast<size_t>(n), true);
+    for (int old : order) {
+        g.points.push_back(raw_points[static_cast<size_t>(old)]);
+        g.radii.push_back(raw_radii[static_cast<size_t>(old)]);
+        g.out_radii.push_back(raw_out_radii[static_cast<size_t>(old)]);
     }
     double total_length = 0;
     int edge_count = 0;
     for (auto [it, end] = boost::edges(mcf_skeleton); it != end; ++it) {
-        const int a = static_cast<int>(boost::source(*it, mcf_skeleton));
-        const int b = static_cast<int>(boost::target(*it, mcf_skeleton));
+        const int a = rank[static_cast<size_t>(boost::source(*it, mcf_skeleton))];
+        const int b = rank[static_cast<size_t>(boost::target(*it, mcf_skeleton))];
         if (a == b) continue;
         const std::vector<int>& la = g.adj[static_cast<size_t>(a)];
         if (std::binary_search(la.begin(), la.end(), b)) continue;
         g.add_edge(a, b);
-        total_length += distance(g.points[static_cast<size_t>(a)], g.points[static_cast<size_t>(b)]);
         ++edge_count;
     }
+    // Mean edge length summed in canonical edge order (a < b, ascending), so that it is the same bits however CGAL
+    // listed the edges.
+    for (int a = 0; a < n; ++a)
+        for (int b : g.adj[static_cast<size_t>(a)])
+            if (b > a) total_length += distance(g.points[static_cast<size_t>(a)], g.points[static_cast<size_t>(b)]);
     for (int v = 0; v < n; ++v)
         if (!(g.radii[static_cast<size_t>(v)] > 0) || !(g.out_radii[static_cast<size_t>(v)] > 0))
             throw Error(ErrorCode::NumericalFailure,
@@ -410,18 +457,28 @@ Skeletonization skeletonize_surface(const TriangleMesh& surface, const Skeletoni
         result.extended_extremities = extend_extremities(g, tree, options.extension_gap, spacing);
     }
 
-    // Compact, alive vertices in index order.
+    // Output in canonical order: alive vertices sorted lexicographically by (x, y, z) (ties: graph index, itself
+    // canonical), edges (a < b) in ascending order.
+    std::vector<int> alive;
+    for (int v = 0; v < static_cast<int>(g.points.size()); ++v)
+        if (g.alive[static_cast<size_t>(v)]) alive.push_back(v);
+    std::sort(alive.begin(), alive.end(), [&](int a, int b) {
+        const Vec3 &pa = g.points[static_cast<size_t>(a)], &pb = g.points[static_cast<size_t>(b)];
+        return std::tie(pa.x, pa.y, pa.z, a) < std::tie(pb.x, pb.y, pb.z, b);
+    });
     std::vector<int> new_id(g.points.size(), -1);
     Skeleton& s = result.skeleton;
-    for (size_t v = 0; v < g.points.size(); ++v) {
-        if (!g.alive[v]) continue;
-        new_id[v] = static_cast<int>(s.points.size());
-        s.points.push_back(g.points[v]);
-        s.radii.push_back(g.out_radii[v]);
+    for (int v : alive) {
+        new_id[static_cast<size_t>(v)] = static_cast<int>(s.points.size());
+        s.points.push_back(g.points[static_cast<size_t>(v)]);
+        s.radii.push_back(g.out_radii[static_cast<size_t>(v)]);
     }
-    for (size_t v = 0; v < g.points.size(); ++v)
-        for (int u : g.adj[v])
-            if (static_cast<size_t>(u) > v) s.edges.push_back({new_id[v], new_id[static_cast<size_t>(u)]});
+    for (int v : alive)
+        for (int u : g.adj[static_cast<size_t>(v)]) {
+            const int a = new_id[static_cast<size_t>(v)], b = new_id[static_cast<size_t>(u)];
+            if (a < b) s.edges.push_back({a, b});
+        }
+    std::sort(s.edges.begin(), s.edges.end());
     return result;
 }
 

@@ -46,6 +46,9 @@ struct Skeletonization {
 // corresponding surface vertex); the graph is connected, has no loop edge and no duplicate edge; its cycle
 // count (E - V + 1) equals the MCF skeleton's. The radius of extension vertices is the distance to the surface
 // clamped to [0.5, 1] x the radius of the extremity they extend.
+// Determinism: the result depends only on `surface` and `options` (not on the heap, the thread count or earlier calls):
+// same input, same output bits. Output order is canonical: points sorted lexicographically by (x, y, z), every edge
+// {a, b} with a < b, edges sorted.
 // Complexity: dominated by the MCF (sparse Cholesky per iteration on the remeshed surface).
 Skeletonization skeletonize_surface(const TriangleMesh& surface, const SkeletonizeOptions& options = {});
 
