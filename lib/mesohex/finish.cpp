@@ -147,7 +147,8 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         result.stages.push_back(measure("untangle", ms_since(t), mesh));
     }
 
-    if (options.improve_sj > 0 && result.stages.back().sj_min < options.improve_sj) {
+    auto improve = [&]() {
+        if (!(options.improve_sj > 0 && result.stages.back().sj_min < options.improve_sj)) return;
         const Clock::time_point t = Clock::now();
         UntangleOptions uo = options.improving;
         uo.target_sj = options.improve_sj;
@@ -157,6 +158,23 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
             result.improved = true;
         }
         result.stages.push_back(measure("improve", ms_since(t), mesh));
+    };
+    improve();
+
+    if (options.untangle && options.free_boundary_fallback && options.untangling.fix_boundary &&
+        result.stages.back().inverted > 0) {
+        // Some folds need the boundary to move: untangle again with boundary vertices softly attached where they are.
+        const Clock::time_point t = Clock::now();
+        UntangleOptions free = options.untangling;
+        free.fix_boundary = false;
+        UntangleResult u = untangle(mesh, free);
+        const bool kept = u.inverted_after < result.stages.back().inverted;
+        if (kept) {
+            mesh = std::move(u.mesh);
+            result.untangled_boundary_moved = true;
+        }
+        result.stages.push_back(measure("untangle-free", ms_since(t), mesh));
+        if (kept) improve();
     }
 
     result.quality = compute_quality(mesh);

@@ -39,6 +39,8 @@ struct FinishOptions {
                                    // while the boundary is farther than that from the surface)
     bool untangle = true;          // run only when some hex has scaled Jacobian <= 0 at that point
     UntangleOptions untangling;
+    bool free_boundary_fallback = true;  // if hexes stay inverted with the boundary fixed, untangle again with the
+                                         // boundary vertices softly attached (untangling.boundary_attach)
     // Quality pass: when min SJ is below improve_sj after fitting, the vertices of the hexes below it and of their
     // neighbours are optimized with the untangling energy, boundary vertices softly held where they are (attachment
     // 100 / h^2: they move a small fraction of an edge); kept only if min SJ rises and no hex got inverted. 0 = off.
@@ -49,7 +51,7 @@ struct FinishOptions {
 };
 
 struct FinishStage {
-    std::string stage;  // "input", "pad", "subdivide", "fit", "untangle", "improve"
+    std::string stage;  // "input", "pad", "subdivide", "fit", "untangle", "improve", "untangle-free"
     double ms = 0;      // wall time of the stage (0 for "input")
     long vertices = 0, hexes = 0;
     double sj_min = 0, sj_avg = 0;  // scaled Jacobian after the stage
@@ -66,6 +68,7 @@ struct FinishResult {
     double fit_max_distance = 0;      // largest boundary-vertex distance to the surface at the end of the fit
     bool untangled = false;           // untangle ran
     int untangle_rounds = 0;
+    bool untangled_boundary_moved = false;  // the free-boundary fallback of the untangle stage was kept
     bool improved = false;            // the quality pass ran and its result was kept
     QualityReport quality;            // compute_quality of the final mesh
     bool distance_measured = false;
