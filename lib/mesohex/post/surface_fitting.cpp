@@ -28,19 +28,15 @@ constexpr double kRegularization = 1e-8;  // weight of the rows x_v = x_v^curren
 // The axis (0: 0-1, 1: 0-3, 2: 0-4) of each local edge.
 constexpr std::array<int, 12> kEdgeAxis = {0, 1, 0, 1, 0, 1, 0, 1, 2, 2, 2, 2};
 
-// For corner lc and its neighbour lo: the two other neighbours (b, c) of lc, in the cyclic order of
-// kHexCornerNeighbors after lo, so that (lo - lc, b - lc, c - lc) is right-handed on the unit cube.
-constexpr std::array<std::array<std::array<int, 2>, 8>, 8> make_other_two() {
-    std::array<std::array<std::array<int, 2>, 8>, 8> t{};
-    for (int lc = 0; lc < 8; ++lc)
-        for (int k = 0; k < 3; ++k) {
-            const std::array<int, 3>& nb = kHexCornerNeighbors[static_cast<std::size_t>(lc)];
-            t[static_cast<std::size_t>(lc)][static_cast<std::size_t>(nb[static_cast<std::size_t>(k)])] = {
-                nb[static_cast<std::size_t>((k + 1) % 3)], nb[static_cast<std::size_t>((k + 2) % 3)]};
-        }
+// Position k of corner o in kHexCornerNeighbors[c] (o a neighbour of c).
+constexpr std::array<std::array<int, 8>, 8> make_neighbor_index() {
+    std::array<std::array<int, 8>, 8> t{};
+    for (int c = 0; c < 8; ++c)
+        for (int k = 0; k < 3; ++k)
+            t[static_cast<std::size_t>(c)][static_cast<std::size_t>(kHexCornerNeighbors[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)])] = k;
     return t;
 }
-constexpr std::array<std::array<std::array<int, 2>, 8>, 8> kOtherTwo = make_other_two();
+constexpr std::array<std::array<int, 8>, 8> kNeighborIndex = make_neighbor_index();
 
 // For every local edge le of a hex (corners a = kHexEdges[le][0], b = kHexEdges[le][1]): the normal at a, ideal
 // direction of the edge a -> b, and the normal at b, ideal direction of b -> a. The normal at corner c for its edge
@@ -49,16 +45,25 @@ constexpr std::array<std::array<std::array<int, 2>, 8>, 8> kOtherTwo = make_othe
 void hex_corner_normals(const std::vector<Vec3>& x, const std::array<int, 8>& hex, Vec3* out /* 24 */) {
     std::array<Vec3, 8> p;
     for (std::size_t i = 0; i < 8; ++i) p[i] = x[static_cast<std::size_t>(hex[i])];
-    auto normal = [&](int c, int o) {
-        const std::array<int, 2>& bc = kOtherTwo[static_cast<std::size_t>(c)][static_cast<std::size_t>(o)];
-        const Vec3& pc = p[static_cast<std::size_t>(c)];
-        const Vec3 n = cross(p[static_cast<std::size_t>(bc[0])] - pc, p[static_cast<std::size_t>(bc[1])] - pc);
+    auto unit = [](const Vec3& n) {
         const double l2 = squared_norm(n);
         return l2 > 0 ? n * (1.0 / std::sqrt(l2)) : Vec3{};
     };
+    // Corner c with neighbours (n0, n1, n2) and edges e_k = p[n_k] - p[c]: the normal toward n_k is the cross product
+    // of the two other edges in cyclic order (e1 x e2, e2 x e0, e0 x e1): right-handed on the unit cube, so it points
+    // to the side of n_k on a positively oriented hex.
+    std::array<std::array<Vec3, 3>, 8> cn;
+    for (std::size_t c = 0; c < 8; ++c) {
+        const std::array<int, 3>& nb = kHexCornerNeighbors[c];
+        const Vec3 e0 = p[static_cast<std::size_t>(nb[0])] - p[c];
+        const Vec3 e1 = p[static_cast<std::size_t>(nb[1])] - p[c];
+        const Vec3 e2 = p[static_cast<std::size_t>(nb[2])] - p[c];
+        cn[c] = {unit(cross(e1, e2)), unit(cross(e2, e0)), unit(cross(e0, e1))};
+    }
     for (std::size_t le = 0; le < 12; ++le) {
-        out[2 * le] = normal(kHexEdges[le][0], kHexEdges[le][1]);
-        out[2 * le + 1] = normal(kHexEdges[le][1], kHexEdges[le][0]);
+        const std::size_t a = static_cast<std::size_t>(kHexEdges[le][0]), b = static_cast<std::size_t>(kHexEdges[le][1]);
+        out[2 * le] = cn[a][static_cast<std::size_t>(kNeighborIndex[a][b])];
+        out[2 * le + 1] = cn[b][static_cast<std::size_t>(kNeighborIndex[b][a])];
     }
 }
 
@@ -157,7 +162,10 @@ struct SurfaceFitter::Impl {
     double cached_sample_gap = 0;
     double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
     // Per step buffers.
-    std::vector<Vec3> slot_normals;  // per entry i of edge_slots: the normal at edges[e][0] (2 i), at edges[e][1] (2 i + 1)
+    struct Normal32 {  // a unit corner normal in single precision: half the memory traffic of the normal pass
+        float x, y, z;
+    };
+    std::vector<Normal32> slot_normals;  // per entry i of edge_slots: the normal at edges[e][0] (2 i), at edges[e][1] (2 i + 1)
     std::vector<Vec3> edge_rhs;      // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
     std::vector<double> edge_energy;
     std::vector<Vec3> targets;       // per boundary vertex
@@ -391,8 +399,12 @@ double SurfaceFitter::Impl::local_step() {
             hex_corner_normals(x, mesh.hexes[h], n.data());
             for (std::size_t le = 0; le < 12; ++le) {
                 const int t = slot_target[12 * h + le];  // 2 i, or 2 i + 1 when the edge runs the other way
-                slot_normals[static_cast<std::size_t>(t & ~1)] = n[2 * le + static_cast<std::size_t>(t & 1)];
-                slot_normals[static_cast<std::size_t>(t | 1)] = n[2 * le + 1 - static_cast<std::size_t>(t & 1)];
+                const Vec3& a = n[2 * le + static_cast<std::size_t>(t & 1)];
+                const Vec3& b = n[2 * le + 1 - static_cast<std::size_t>(t & 1)];
+                slot_normals[static_cast<std::size_t>(t & ~1)] = {static_cast<float>(a.x), static_cast<float>(a.y),
+                                                                  static_cast<float>(a.z)};
+                slot_normals[static_cast<std::size_t>(t | 1)] = {static_cast<float>(b.x), static_cast<float>(b.y),
+                                                                 static_cast<float>(b.z)};
             }
         }
     });
@@ -403,9 +415,11 @@ double SurfaceFitter::Impl::local_step() {
             const Vec3 u = normalized(edge);
             Vec3 s1 = u, s2 = -u;
             for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
-                const Vec3& n1 = slot_normals[2 * static_cast<std::size_t>(i)];
+                const Normal32& f1 = slot_normals[2 * static_cast<std::size_t>(i)];
+                const Vec3 n1{f1.x, f1.y, f1.z};
                 if (dot(n1, u) > 0) s1 += n1;
-                const Vec3& n2 = slot_normals[2 * static_cast<std::size_t>(i) + 1];
+                const Normal32& f2 = slot_normals[2 * static_cast<std::size_t>(i) + 1];
+                const Vec3 n2{f2.x, f2.y, f2.z};
                 if (dot(n2, u) < 0) s2 += n2;
             }
             const Vec3 d1 = normalized(s1), d2 = normalized(s2);
