@@ -1,12 +1,47 @@
 #pragma once
 // Small skeletons built in memory for the stage tests.
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "mesohex/core/skeleton.h"
 
 namespace mesohex::test {
+
+// The surface of the cube [0, 2]^3 with 2 x 2 unit quads per side (26 vertices, 24 faces, 48 edges). outward: every
+// face counter-clockwise seen from outside; otherwise the faces on the sides x, y, z = 0 are listed the other way
+// round (inconsistent orientations, which the analysis must fix).
+inline Skeleton cube_surface(bool outward) {
+    Skeleton s;
+    std::map<std::array<int, 3>, int> id;
+    auto vertex = [&](std::array<int, 3> c) {
+        auto [it, fresh] = id.emplace(c, static_cast<int>(s.points.size()));
+        if (fresh) s.points.push_back({double(c[0]), double(c[1]), double(c[2])});
+        return it->second;
+    };
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side : {0, 2})
+            for (int i = 0; i < 2; ++i)
+                for (int j = 0; j < 2; ++j) {
+                    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                    std::vector<int> f;
+                    for (auto [du, dv] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) {
+                        std::array<int, 3> c{};
+                        c[axis] = side;
+                        c[u] = i + du;
+                        c[v] = j + dv;
+                        f.push_back(vertex(c));
+                    }
+                    if (outward && side == 0) std::reverse(f.begin(), f.end());
+                    s.faces.push_back(f);
+                }
+    add_face_edges(s);
+    return s;
+}
 
 // n x m unit quads in the plane z = 0, vertex (i, j) = j * (n + 1) + i, faces counter-clockwise seen from +z.
 inline Skeleton plate(int n, int m) {

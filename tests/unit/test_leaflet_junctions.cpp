@@ -21,6 +21,8 @@
 
 using namespace mesohex;
 
+using mesohex::test::cube_surface;
+
 namespace {
 
 struct Built {
@@ -84,34 +86,6 @@ Skeleton fan(int n, int m, const std::vector<Vec3>& dirs) {
     return s;
 }
 
-// The surface of [0, 2]^3 with 2 x 2 unit quads per side, normals outward.
-Skeleton cube_surface() {
-    Skeleton s;
-    std::map<std::array<int, 3>, int> id;
-    auto vertex = [&](std::array<int, 3> c) {
-        auto [it, fresh] = id.emplace(c, static_cast<int>(s.points.size()));
-        if (fresh) s.points.push_back({double(c[0]), double(c[1]), double(c[2])});
-        return it->second;
-    };
-    for (int axis = 0; axis < 3; ++axis)
-        for (int side : {0, 2})
-            for (int i = 0; i < 2; ++i)
-                for (int j = 0; j < 2; ++j) {
-                    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-                    std::vector<int> f;
-                    for (auto [du, dv] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) {
-                        std::array<int, 3> c{};
-                        c[axis] = side;
-                        c[u] = i + du;
-                        c[v] = j + dv;
-                        f.push_back(vertex(c));
-                    }
-                    if (side == 0) std::reverse(f.begin(), f.end());
-                    s.faces.push_back(f);
-                }
-    add_face_edges(s);
-    return s;
-}
 
 // Analysis must reject s with UnsupportedConfiguration naming skeleton vertex v (and the later stages never run).
 void expect_rejected_at(const Skeleton& s, int v, const std::string& words) {
@@ -178,7 +152,7 @@ TEST(LeafletJunctions, HandWrittenPlatesFansAndCube) {
     expect_good(fan(3, 2, {{0, 1, 0}, {0, 0, 1}, {0, -1, 0}, {0, 0, -1}}),
                 build(fan(3, 2, {{0, 1, 0}, {0, 0, 1}, {0, -1, 0}, {0, 0, -1}}), 0.25), 104);
     // Closed 2 x 2 x 2-per-face cube surface: 24 faces x 2 = 48 hexes, Euler characteristic 2 (a shell).
-    const Skeleton cube = cube_surface();
+    const Skeleton cube = cube_surface(true);
     const Built b = build(cube, 0.25);
     expect_good(cube, b, 48);
     EXPECT_EQ(b.quality.euler_characteristic, 2);

@@ -83,37 +83,9 @@ Skeleton ring(int n) {
     return s;
 }
 
+using mesohex::test::cube_surface;
 using mesohex::test::plate;
 using mesohex::test::random_directions;
-
-// Surface of the cube [0, 2]^3 with 2 x 2 unit quads per side (26 vertices, 24 faces), faces listed in arbitrary
-// orientations (the analysis orients them).
-Skeleton cube_surface() {
-    Skeleton s;
-    std::map<std::array<int, 3>, int> id;
-    auto vertex = [&](std::array<int, 3> c) {
-        auto [it, fresh] = id.emplace(c, static_cast<int>(s.points.size()));
-        if (fresh) s.points.push_back({double(c[0]), double(c[1]), double(c[2])});
-        return it->second;
-    };
-    for (int axis = 0; axis < 3; ++axis)
-        for (int side : {0, 2})
-            for (int i = 0; i < 2; ++i)
-                for (int j = 0; j < 2; ++j) {
-                    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-                    std::vector<int> f;
-                    for (auto [du, dv] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) {
-                        std::array<int, 3> c{};
-                        c[axis] = side;
-                        c[u] = i + du;
-                        c[v] = j + dv;
-                        f.push_back(vertex(c));
-                    }
-                    s.faces.push_back(f);
-                }
-    add_face_edges(s);
-    return s;
-}
 
 // Leaflet meshes: hexes = 2 per face + 2 per boundary edge, valid, Euler characteristic of the skeleton,
 // predicted irregular edges == measured, no inverted hex.
@@ -152,7 +124,7 @@ TEST(RawMeshLeaflets, ThreeByThreePlate) {
 }
 
 TEST(RawMeshLeaflets, ClosedCubeSurfaceIsAShell) {
-    const Skeleton s = cube_surface();
+    const Skeleton s = cube_surface(false);
     ASSERT_EQ(s.points.size(), 26u);
     const Built b = build(s, 0.25);
     expect_good_leaflet_mesh(s, b, 48);
