@@ -50,6 +50,31 @@ private:
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+// The same for the untangling and quality passes (one line per stage, rounds instead of iterations).
+class UntangleProgressLine {
+public:
+    UntangleProgressLine(const char* label, int max_rounds, bool enabled)
+        : label_(label), max_(max_rounds), enabled_(enabled) {}
+    void update(const UntangleProgress& p) {
+        if (!enabled_) return;
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        if (elapsed < 1.0) return;
+        std::cerr << "\r" << label_ << " round " << p.round << "/" << max_ << "  inverted " << p.inverted << "   "
+                  << std::flush;
+        drawn_ = true;
+    }
+    ~UntangleProgressLine() {
+        if (drawn_) std::cerr << "\n";
+    }
+
+private:
+    const char* label_;
+    int max_;
+    bool enabled_;
+    bool drawn_ = false;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
 nlohmann::json counts_json(const AnalysisCounts& c) {
     return {{"vertices", c.vertices},
             {"edges", c.edges},
@@ -162,6 +187,11 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
         fo.improve_sj = job.improve_sj;
         FitProgressBar bar(job.iterations, !job.quiet && isatty(STDERR_FILENO));
         fo.fitting.progress = [&bar](const FitProgress& p) { bar.update(p); };
+        const bool show = !job.quiet && isatty(STDERR_FILENO);
+        UntangleProgressLine untangle_line("untangle", fo.untangling.max_rounds, show);
+        UntangleProgressLine improve_line("improve", fo.improving.max_rounds, show);
+        fo.untangling.progress = [&untangle_line](const UntangleProgress& p) { untangle_line.update(p); };
+        fo.improving.progress = [&improve_line](const UntangleProgress& p) { improve_line.update(p); };
         fin = finish_mesh(res.raw.mesh, *domain, fo);
     }
     const QualityReport& final_quality = fin ? fin->quality : q;
