@@ -671,7 +671,7 @@ SurfaceFitter::SurfaceFitter(const HexMesh& mesh, const SurfaceProjector& surfac
     s.build_incidence();
     s.compute_targets();
     s.direct = options.solver == FitSolver::Direct ||
-               (options.solver == FitSolver::Auto && mesh.points.size() <= 5000);
+               (options.solver == FitSolver::Auto && mesh.points.size() <= 1000);
     if (s.direct) s.factorize();
     else s.assemble();
     s.stats = hex_stats(s.mesh.hexes, s.mesh.points, s.hex_sj);

@@ -41,7 +41,7 @@ struct FitProgress {
 };
 
 enum class FitSolver {
-    Auto,               // Direct up to 5000 vertices, ConjugateGradient above
+    Auto,               // Direct up to 1000 vertices, ConjugateGradient above (faster from a few thousand on)
     Direct,             // sparse LDL^T of A^T A (Eigen SimplicialLDLT), factorized once; exact global step
     ConjugateGradient,  // A^T A assembled once; Jacobi-preconditioned CG warm-started at the current positions
 };
@@ -91,7 +91,7 @@ struct FitResult {
 // refreshed, every refresh_every steps), then every step(): local step (parallel over edges, deterministic) computes the ideal direction of
 // every oriented edge from the corner normals of its hexes and the surface target of every boundary vertex; global
 // step solves A^T A X = A^T b for the 3 coordinates with the stored factorization; then the inversion guard.
-// With FitSolver::ConjugateGradient (the default above 5000 vertices: the sparse Cholesky factor of a 3D mesh
+// With FitSolver::ConjugateGradient (the default above 1000 vertices: the sparse Cholesky factor of a 3D mesh
 // Laplacian grows superlinearly; at 56 k hexes the factorization takes over a minute and one solve ~0.3 s), the
 // matrix is assembled once (again per refresh) and each global step runs a warm-started Jacobi-preconditioned CG
 // until the residual dropped by cg_tolerance: a fixed point of the exact iteration is one of this iteration too.
