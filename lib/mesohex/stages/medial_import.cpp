@@ -60,6 +60,15 @@ double wing_angle_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d
     return std::acos(std::clamp(dot(u, w), -1.0, 1.0)) * 180.0 / std::numbers::pi;
 }
 
+// Per triangle side (sorted vertex pair): the triangles that have it, ascending.
+std::map<std::pair<int, int>, std::vector<int>> triangles_by_side(const Skeleton& m) {
+    std::map<std::pair<int, int>, std::vector<int>> side_tris;
+    for (size_t t = 0; t < m.faces.size(); ++t)
+        for (size_t i = 0; i < 3; ++i)
+            side_tris[side_key(m.faces[t][i], m.faces[t][(i + 1) % 3])].push_back(static_cast<int>(t));
+    return side_tris;
+}
+
 // One step of fan resolution on a validated medial mesh (triangle sides all in m.edges). An edge in three or more
 // triangles is an IRREGULAR fan when two of its triangles belong to the same leaflet (components through edges in
 // exactly two triangles): the mesher needs the leaflets around a fan edge to be distinct (hand.ma's palm/wrist
@@ -71,12 +80,7 @@ double wing_angle_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d
 bool remove_irregular_fan_triangle(Skeleton& m) {
     const int nv = static_cast<int>(m.points.size());
     const int nt = static_cast<int>(m.faces.size());
-    std::map<std::pair<int, int>, std::vector<int>> side_tris;
-    for (int t = 0; t < nt; ++t)
-        for (int i = 0; i < 3; ++i)
-            side_tris[side_key(m.faces[static_cast<size_t>(t)][static_cast<size_t>(i)],
-                                  m.faces[static_cast<size_t>(t)][static_cast<size_t>((i + 1) % 3)])]
-                .push_back(t);
+    std::map<std::pair<int, int>, std::vector<int>> side_tris = triangles_by_side(m);
     UnionFind leaf(nt);
     for (const auto& [side, tris] : side_tris)
         if (tris.size() == 2) leaf.unite(tris[0], tris[1]);
@@ -233,12 +237,7 @@ int smooth_leaflet_interiors(Skeleton& s, int iterations, double factor) {
 int reattach_interior_curve_ends(Skeleton& m) {
     const int nv = static_cast<int>(m.points.size());
     const int nt = static_cast<int>(m.faces.size());
-    std::map<std::pair<int, int>, std::vector<int>> side_tris;
-    for (int t = 0; t < nt; ++t)
-        for (int i = 0; i < 3; ++i)
-            side_tris[side_key(m.faces[static_cast<size_t>(t)][static_cast<size_t>(i)],
-                               m.faces[static_cast<size_t>(t)][static_cast<size_t>((i + 1) % 3)])]
-                .push_back(t);
+    std::map<std::pair<int, int>, std::vector<int>> side_tris = triangles_by_side(m);
     UnionFind sheet(nt);
     for (const auto& [side, tris] : side_tris)
         for (size_t k = 1; k < tris.size(); ++k) sheet.unite(tris[0], tris[k]);
