@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -38,32 +39,47 @@ constexpr std::array<std::array<int, 8>, 8> make_neighbor_index() {
 }
 constexpr std::array<std::array<int, 8>, 8> kNeighborIndex = make_neighbor_index();
 
-// For every local edge le of a hex (corners a = kHexEdges[le][0], b = kHexEdges[le][1]): the normal at a, ideal
-// direction of the edge a -> b, and the normal at b, ideal direction of b -> a. The normal at corner c for its edge
-// toward o is the (right-handed) cross product of c's two other corner edges, so that it points to the side of o on a
-// positively oriented hex; unit length (or zero). One pass per hex: its 8 corners are read once.
-void hex_corner_normals(const std::vector<Vec3>& x, const std::array<int, 8>& hex, Vec3* out /* 24 */) {
+// A unit corner normal in single precision: a direction needs no more, and the normal pass moves half the bytes.
+struct Normal32 {
+    float x, y, z;
+};
+
+// For every local edge le of a hex (corners a = kHexEdges[le][0], b = kHexEdges[le][1]): out[2 le] is the normal at a
+// for its edge toward b, out[2 le + 1] the normal at b toward a. The normal at corner c toward its neighbour o is the
+// (right-handed) cross product of c's two other corner edges, so that it points to the side of o on a positively
+// oriented hex; unit length (or zero). One pass per hex: its 8 corners are read once. The edges are differences of
+// double positions (exact enough far from the origin); the 24 cross products and their normalisation run in single
+// precision over plain arrays, which the compiler vectorises: the square roots and divisions dominate this pass.
+void hex_corner_normals(const std::vector<Vec3>& x, const std::array<int, 8>& hex, Normal32* out /* 24 */) {
     std::array<Vec3, 8> p;
     for (std::size_t i = 0; i < 8; ++i) p[i] = x[static_cast<std::size_t>(hex[i])];
-    auto unit = [](const Vec3& n) {
-        const double l2 = squared_norm(n);
-        return l2 > 0 ? n * (1.0 / std::sqrt(l2)) : Vec3{};
-    };
-    // Corner c with neighbours (n0, n1, n2) and edges e_k = p[n_k] - p[c]: the normal toward n_k is the cross product
-    // of the two other edges in cyclic order (e1 x e2, e2 x e0, e0 x e1): right-handed on the unit cube, so it points
-    // to the side of n_k on a positively oriented hex.
-    std::array<std::array<Vec3, 3>, 8> cn;
-    for (std::size_t c = 0; c < 8; ++c) {
-        const std::array<int, 3>& nb = kHexCornerNeighbors[c];
-        const Vec3 e0 = p[static_cast<std::size_t>(nb[0])] - p[c];
-        const Vec3 e1 = p[static_cast<std::size_t>(nb[1])] - p[c];
-        const Vec3 e2 = p[static_cast<std::size_t>(nb[2])] - p[c];
-        cn[c] = {unit(cross(e1, e2)), unit(cross(e2, e0)), unit(cross(e0, e1))};
+    // Corner c, neighbours (n0, n1, n2), edges e_k = p[n_k] - p[c]; normal k = e_{k+1} x e_{k+2} (cyclic), slot 3 c + k.
+    std::array<float, 24> ex, ey, ez, nx, ny, nz, inv;
+    for (std::size_t c = 0; c < 8; ++c)
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Vec3 e = p[static_cast<std::size_t>(kHexCornerNeighbors[c][k])] - p[c];
+            ex[3 * c + k] = static_cast<float>(e.x);
+            ey[3 * c + k] = static_cast<float>(e.y);
+            ez[3 * c + k] = static_cast<float>(e.z);
+        }
+    for (std::size_t c = 0; c < 8; ++c)
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::size_t i = 3 * c + (k + 1) % 3, j = 3 * c + (k + 2) % 3;
+            nx[3 * c + k] = ey[i] * ez[j] - ez[i] * ey[j];
+            ny[3 * c + k] = ez[i] * ex[j] - ex[i] * ez[j];
+            nz[3 * c + k] = ex[i] * ey[j] - ey[i] * ex[j];
+        }
+    // A zero normal (degenerate corner) stays zero: its components are multiplied by a finite number.
+    for (std::size_t i = 0; i < 24; ++i) {
+        const float l2 = nx[i] * nx[i] + ny[i] * ny[i] + nz[i] * nz[i];
+        inv[i] = 1.0f / std::sqrt(l2 < std::numeric_limits<float>::min() ? std::numeric_limits<float>::min() : l2);
     }
     for (std::size_t le = 0; le < 12; ++le) {
         const std::size_t a = static_cast<std::size_t>(kHexEdges[le][0]), b = static_cast<std::size_t>(kHexEdges[le][1]);
-        out[2 * le] = cn[a][static_cast<std::size_t>(kNeighborIndex[a][b])];
-        out[2 * le + 1] = cn[b][static_cast<std::size_t>(kNeighborIndex[b][a])];
+        const std::size_t ia = 3 * a + static_cast<std::size_t>(kNeighborIndex[a][b]);
+        const std::size_t ib = 3 * b + static_cast<std::size_t>(kNeighborIndex[b][a]);
+        out[2 * le] = {nx[ia] * inv[ia], ny[ia] * inv[ia], nz[ia] * inv[ia]};
+        out[2 * le + 1] = {nx[ib] * inv[ib], ny[ib] * inv[ib], nz[ib] * inv[ib]};
     }
 }
 
@@ -72,16 +88,16 @@ struct HexStats {
     double sj_min = std::numeric_limits<double>::infinity();
 };
 
-// Verdict's hex scaled Jacobian (same definition as post/quality.h's scaled_jacobian), with each of the 12 edge
-// lengths computed once: this check runs after every step, on every hex.
+// Verdict's hex scaled Jacobian (same definition as post/quality.h's scaled_jacobian, equal up to rounding) with one
+// square root: each of the 9 frames is compared by its signed squared value det |det| / (l1^2 l2^2 l3^2), whose
+// minimum is the square of the minimum. This check runs after every step, on every hex.
 double fast_scaled_jacobian(const std::vector<Vec3>& x, const std::array<int, 8>& hex) {
     std::array<Vec3, 8> p;
     for (std::size_t i = 0; i < 8; ++i) p[i] = x[static_cast<std::size_t>(hex[i])];
-    std::array<double, 12> inv_len;
+    std::array<double, 12> len2;
     for (std::size_t le = 0; le < 12; ++le) {
-        const double l2 = squared_norm(p[static_cast<std::size_t>(kHexEdges[le][1])] - p[static_cast<std::size_t>(kHexEdges[le][0])]);
-        if (!(l2 > std::numeric_limits<double>::min()) || !std::isfinite(l2)) return -1.0;
-        inv_len[le] = 1.0 / std::sqrt(l2);
+        len2[le] = squared_norm(p[static_cast<std::size_t>(kHexEdges[le][1])] - p[static_cast<std::size_t>(kHexEdges[le][0])]);
+        if (!(len2[le] > std::numeric_limits<double>::min()) || !std::isfinite(len2[le])) return -1.0;
     }
     // Local edge id between corners a and b.
     constexpr std::array<std::array<int, 8>, 8> kEdgeOf = {{
@@ -96,18 +112,22 @@ double fast_scaled_jacobian(const std::vector<Vec3>& x, const std::array<int, 8>
     if (!(lx > std::numeric_limits<double>::min() && ly > std::numeric_limits<double>::min() &&
           lz > std::numeric_limits<double>::min()))
         return -1.0;
-    double sj = det3(xi, eta, zeta) / std::sqrt(lx * ly * lz);
+    std::array<double, 9> num, den;
+    num[8] = det3(xi, eta, zeta);
+    den[8] = lx * ly * lz;
     for (std::size_t lv = 0; lv < 8; ++lv) {
         const std::array<int, 3>& nb = kHexCornerNeighbors[lv];
         const Vec3& o = p[lv];
-        const double det = det3(p[static_cast<std::size_t>(nb[0])] - o, p[static_cast<std::size_t>(nb[1])] - o,
-                                p[static_cast<std::size_t>(nb[2])] - o);
-        const double scale = inv_len[static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[0])])] *
-                             inv_len[static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[1])])] *
-                             inv_len[static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[2])])];
-        sj = std::min(sj, det * scale);
+        num[lv] = det3(p[static_cast<std::size_t>(nb[0])] - o, p[static_cast<std::size_t>(nb[1])] - o,
+                       p[static_cast<std::size_t>(nb[2])] - o);
+        den[lv] = len2[static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[0])])] *
+                  len2[static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[1])])] *
+                  len2[static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[2])])];
     }
-    return std::isfinite(sj) ? sj : -1.0;
+    double q = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < 9; ++i) q = std::min(q, num[i] * std::abs(num[i]) / den[i]);
+    if (!std::isfinite(q)) return -1.0;
+    return q < 0 ? -std::sqrt(-q) : std::sqrt(q);
 }
 
 // Scaled Jacobian of every hex into sj, and the summary.
@@ -162,12 +182,8 @@ struct SurfaceFitter::Impl {
     double cached_sample_gap = 0;
     double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
     // Per step buffers.
-    struct Normal32 {  // a unit corner normal in single precision: half the memory traffic of the normal pass
-        float x, y, z;
-    };
     std::vector<Normal32> slot_normals;  // per entry i of edge_slots: the normal at edges[e][0] (2 i), at edges[e][1] (2 i + 1)
     std::vector<Vec3> edge_rhs;      // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
-    std::vector<double> edge_energy;
     std::vector<Vec3> targets;       // per boundary vertex
     std::vector<Vec3> rhs, work, solution;
     HexStats stats;
@@ -390,44 +406,46 @@ double SurfaceFitter::Impl::local_step() {
     const std::size_t ne = topo.edges.size();
     const std::vector<Vec3>& x = mesh.points;
     edge_rhs.resize(ne);
-    edge_energy.resize(ne);
     const std::size_t nh = mesh.hexes.size();
     slot_normals.resize(24 * nh);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nh, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::array<Vec3, 24> n;
+        std::array<Normal32, 24> n;
         for (std::size_t h = r.begin(); h < r.end(); ++h) {
             hex_corner_normals(x, mesh.hexes[h], n.data());
             for (std::size_t le = 0; le < 12; ++le) {
                 const int t = slot_target[12 * h + le];  // 2 i, or 2 i + 1 when the edge runs the other way
-                const Vec3& a = n[2 * le + static_cast<std::size_t>(t & 1)];
-                const Vec3& b = n[2 * le + 1 - static_cast<std::size_t>(t & 1)];
-                slot_normals[static_cast<std::size_t>(t & ~1)] = {static_cast<float>(a.x), static_cast<float>(a.y),
-                                                                  static_cast<float>(a.z)};
-                slot_normals[static_cast<std::size_t>(t | 1)] = {static_cast<float>(b.x), static_cast<float>(b.y),
-                                                                 static_cast<float>(b.z)};
+                slot_normals[static_cast<std::size_t>(t & ~1)] = n[2 * le + static_cast<std::size_t>(t & 1)];
+                slot_normals[static_cast<std::size_t>(t | 1)] = n[2 * le + 1 - static_cast<std::size_t>(t & 1)];
             }
         }
     });
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ne, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t e = r.begin(); e < r.end(); ++e) {
-            const int v1 = topo.edges[e][0], v2 = topo.edges[e][1];
-            const Vec3 edge = x[static_cast<std::size_t>(v2)] - x[static_cast<std::size_t>(v1)];
-            const Vec3 u = normalized(edge);
-            Vec3 s1 = u, s2 = -u;
-            for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
-                const Normal32& f1 = slot_normals[2 * static_cast<std::size_t>(i)];
-                const Vec3 n1{f1.x, f1.y, f1.z};
-                if (dot(n1, u) > 0) s1 += n1;
-                const Normal32& f2 = slot_normals[2 * static_cast<std::size_t>(i) + 1];
-                const Vec3 n2{f2.x, f2.y, f2.z};
-                if (dot(n2, u) < 0) s2 += n2;
+    // Per edge: its two ideal directions, its right-hand side and its energy (summed in a fixed tree: the same total
+    // for any thread count).
+    const double edge_energy_sum = tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<std::size_t>(0, ne, 2048), 0.0,
+        [&](const tbb::blocked_range<std::size_t>& r, double acc) {
+            for (std::size_t e = r.begin(); e < r.end(); ++e) {
+                const int v1 = topo.edges[e][0], v2 = topo.edges[e][1];
+                const Vec3 edge = x[static_cast<std::size_t>(v2)] - x[static_cast<std::size_t>(v1)];
+                const Vec3 u = normalized(edge);
+                Vec3 s1 = u, s2 = -u;
+                // The side tests use the edge itself, not u: they need not wait for u's square root and division.
+                for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
+                    const Normal32& f1 = slot_normals[2 * static_cast<std::size_t>(i)];
+                    const Vec3 n1{f1.x, f1.y, f1.z};
+                    if (dot(n1, edge) > 0) s1 += n1;
+                    const Normal32& f2 = slot_normals[2 * static_cast<std::size_t>(i) + 1];
+                    const Vec3 n2{f2.x, f2.y, f2.z};
+                    if (dot(n2, edge) < 0) s2 += n2;
+                }
+                const Vec3 d1 = normalized(s1), d2 = normalized(s2);
+                const double w = edge_weight[e];
+                edge_rhs[e] = (w * mean_target) * (d1 - d2);
+                acc += squared_norm(w * edge - mean_target * d1) + squared_norm(-w * edge - mean_target * d2);
             }
-            const Vec3 d1 = normalized(s1), d2 = normalized(s2);
-            const double w = edge_weight[e];
-            edge_rhs[e] = (w * mean_target) * (d1 - d2);
-            edge_energy[e] = squared_norm(w * edge - mean_target * d1) + squared_norm(-w * edge - mean_target * d2);
-        }
-    });
+            return acc;
+        },
+        std::plus<double>());
     // Surface targets.
     const std::size_t nb = boundary_vertices.size();
     std::vector<Vec3> query(nb);
@@ -455,8 +473,7 @@ double SurfaceFitter::Impl::local_step() {
         targets = query;
     }
     const double l2 = options.lambda * options.lambda;
-    double energy = 0;
-    for (std::size_t e = 0; e < ne; ++e) energy += edge_energy[e];
+    double energy = edge_energy_sum;
     for (std::size_t i = 0; i < nb; ++i) energy += l2 * squared_norm(query[i] - targets[i]);
 
     // A^T b per vertex (gathered in the fixed vertex->edge order).
@@ -768,12 +785,13 @@ FitProgress SurfaceFitter::step() {
     }
     fraction = nv > 0 ? fraction / static_cast<double>(nv) : 1.0;
     progress.held_vertices = held;
-    double max_move = 0;
+    double max_move2 = 0;
     s.last_move.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) {
         s.last_move[v] = x[v] - old[v];
-        max_move = std::max(max_move, norm(s.last_move[v]));
+        max_move2 = std::max(max_move2, squared_norm(s.last_move[v]));
     }
+    const double max_move = std::sqrt(max_move2);
     s.stats = stats;
     progress.max_move = max_move / s.mean_target;
     progress.inverted = stats.inverted;
