@@ -83,6 +83,12 @@ void hex_corner_normals(const std::vector<Vec3>& x, const std::array<int, 8>& he
     }
 }
 
+// a / |a| (zero for zero) with one division: the edge pass normalises three vectors per edge.
+Vec3 unit(const Vec3& a) {
+    const double l2 = squared_norm(a);
+    return l2 > 0 ? a * (1.0 / std::sqrt(l2)) : Vec3{};
+}
+
 struct HexStats {
     long inverted = 0;
     double sj_min = std::numeric_limits<double>::infinity();
@@ -427,7 +433,7 @@ double SurfaceFitter::Impl::local_step() {
             for (std::size_t e = r.begin(); e < r.end(); ++e) {
                 const int v1 = topo.edges[e][0], v2 = topo.edges[e][1];
                 const Vec3 edge = x[static_cast<std::size_t>(v2)] - x[static_cast<std::size_t>(v1)];
-                const Vec3 u = normalized(edge);
+                const Vec3 u = unit(edge);
                 Vec3 s1 = u, s2 = -u;
                 // The side tests use the edge itself, not u: they need not wait for u's square root and division.
                 for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
@@ -438,7 +444,7 @@ double SurfaceFitter::Impl::local_step() {
                     const Vec3 n2{f2.x, f2.y, f2.z};
                     if (dot(n2, edge) < 0) s2 += n2;
                 }
-                const Vec3 d1 = normalized(s1), d2 = normalized(s2);
+                const Vec3 d1 = unit(s1), d2 = unit(s2);
                 const double w = edge_weight[e];
                 edge_rhs[e] = (w * mean_target) * (d1 - d2);
                 acc += squared_norm(w * edge - mean_target * d1) + squared_norm(-w * edge - mean_target * d2);
