@@ -44,43 +44,77 @@ struct Normal32 {
     float x, y, z;
 };
 
-// For every local edge le of a hex (corners a = kHexEdges[le][0], b = kHexEdges[le][1]): out[2 le] is the normal at a
-// for its edge toward b, out[2 le + 1] the normal at b toward a. The normal at corner c toward its neighbour o is the
-// (right-handed) cross product of c's two other corner edges, so that it points to the side of o on a positively
-// oriented hex; unit length (or zero). One pass per hex: its 8 corners are read once. The edges are differences of
-// double positions (exact enough far from the origin); the 24 cross products and their normalisation run in single
-// precision over plain arrays, which the compiler vectorises: the square roots and divisions dominate this pass.
+// Output normal k = 2 le + end of a hex (end 0: at corner a = kHexEdges[le][0] toward b = kHexEdges[le][1]; end 1: at b
+// toward a) is the (right-handed) cross product of the corner's two other edges, (x[o1] - x[c]) x (x[o2] - x[c]) with
+// (o1, o2) the neighbours after o in c's cyclic neighbour order, so that it points to the side of o on a positively
+// oriented hex. Each corner edge is plus or minus one of the 12 hex edges E[le] = x[b] - x[a] (negation is exact), so
+// normal k = E[first[k]] x (sign[k] E[second[k]]).
+struct NormalRecipe {
+    std::array<int, 24> first{}, second{};
+    std::array<float, 24> sign{};
+};
+constexpr NormalRecipe make_normal_recipe() {
+    NormalRecipe r;
+    auto edge_of = [](int a, int b) {
+        for (int le = 0; le < 12; ++le)
+            if ((kHexEdges[static_cast<std::size_t>(le)][0] == a && kHexEdges[static_cast<std::size_t>(le)][1] == b) ||
+                (kHexEdges[static_cast<std::size_t>(le)][0] == b && kHexEdges[static_cast<std::size_t>(le)][1] == a))
+                return le;
+        return -1;
+    };
+    for (std::size_t le = 0; le < 12; ++le)
+        for (std::size_t end = 0; end < 2; ++end) {
+            const int c = kHexEdges[le][end], o = kHexEdges[le][1 - end];
+            const std::array<int, 3>& nb = kHexCornerNeighbors[static_cast<std::size_t>(c)];
+            const int k = kNeighborIndex[static_cast<std::size_t>(c)][static_cast<std::size_t>(o)];
+            const int o1 = nb[static_cast<std::size_t>((k + 1) % 3)], o2 = nb[static_cast<std::size_t>((k + 2) % 3)];
+            const int e1 = edge_of(c, o1), e2 = edge_of(c, o2);
+            // x[o] - x[c] is +E when c is the edge's first corner.
+            const bool plus1 = kHexEdges[static_cast<std::size_t>(e1)][0] == c;
+            const bool plus2 = kHexEdges[static_cast<std::size_t>(e2)][0] == c;
+            r.first[2 * le + end] = e1;
+            r.second[2 * le + end] = e2;
+            r.sign[2 * le + end] = plus1 == plus2 ? 1.0f : -1.0f;
+        }
+    return r;
+}
+constexpr NormalRecipe kNormalRecipe = make_normal_recipe();
+
+// The 24 unit corner normals of a hex (out[k] as above; zero for a degenerate corner). The 12 edges are differences of
+// double positions (exact enough far from the origin), rounded to single precision; the cross products and their
+// normalisation run over plain single-precision arrays, which the compiler vectorises (square roots and divisions
+// dominated this pass).
 void hex_corner_normals(const std::vector<Vec3>& x, const std::array<int, 8>& hex, Normal32* out /* 24 */) {
-    std::array<Vec3, 8> p;
-    for (std::size_t i = 0; i < 8; ++i) p[i] = x[static_cast<std::size_t>(hex[i])];
-    // Corner c, neighbours (n0, n1, n2), edges e_k = p[n_k] - p[c]; normal k = e_{k+1} x e_{k+2} (cyclic), slot 3 c + k.
-    std::array<float, 24> ex, ey, ez, nx, ny, nz, inv;
-    for (std::size_t c = 0; c < 8; ++c)
-        for (std::size_t k = 0; k < 3; ++k) {
-            const Vec3 e = p[static_cast<std::size_t>(kHexCornerNeighbors[c][k])] - p[c];
-            ex[3 * c + k] = static_cast<float>(e.x);
-            ey[3 * c + k] = static_cast<float>(e.y);
-            ez[3 * c + k] = static_cast<float>(e.z);
-        }
-    for (std::size_t c = 0; c < 8; ++c)
-        for (std::size_t k = 0; k < 3; ++k) {
-            const std::size_t i = 3 * c + (k + 1) % 3, j = 3 * c + (k + 2) % 3;
-            nx[3 * c + k] = ey[i] * ez[j] - ez[i] * ey[j];
-            ny[3 * c + k] = ez[i] * ex[j] - ex[i] * ez[j];
-            nz[3 * c + k] = ex[i] * ey[j] - ey[i] * ex[j];
-        }
-    // A zero normal (degenerate corner) stays zero: its components are multiplied by a finite number.
-    for (std::size_t i = 0; i < 24; ++i) {
-        const float l2 = nx[i] * nx[i] + ny[i] * ny[i] + nz[i] * nz[i];
-        inv[i] = 1.0f / std::sqrt(l2 < std::numeric_limits<float>::min() ? std::numeric_limits<float>::min() : l2);
-    }
+    std::array<float, 12> ex, ey, ez;
     for (std::size_t le = 0; le < 12; ++le) {
-        const std::size_t a = static_cast<std::size_t>(kHexEdges[le][0]), b = static_cast<std::size_t>(kHexEdges[le][1]);
-        const std::size_t ia = 3 * a + static_cast<std::size_t>(kNeighborIndex[a][b]);
-        const std::size_t ib = 3 * b + static_cast<std::size_t>(kNeighborIndex[b][a]);
-        out[2 * le] = {nx[ia] * inv[ia], ny[ia] * inv[ia], nz[ia] * inv[ia]};
-        out[2 * le + 1] = {nx[ib] * inv[ib], ny[ib] * inv[ib], nz[ib] * inv[ib]};
+        const Vec3 e = x[static_cast<std::size_t>(hex[static_cast<std::size_t>(kHexEdges[le][1])])] -
+                       x[static_cast<std::size_t>(hex[static_cast<std::size_t>(kHexEdges[le][0])])];
+        ex[le] = static_cast<float>(e.x);
+        ey[le] = static_cast<float>(e.y);
+        ez[le] = static_cast<float>(e.z);
     }
+    std::array<float, 24> ax, ay, az, bx, by, bz, nx, ny, nz, inv;
+    for (std::size_t k = 0; k < 24; ++k) {
+        const std::size_t i = static_cast<std::size_t>(kNormalRecipe.first[k]);
+        const std::size_t j = static_cast<std::size_t>(kNormalRecipe.second[k]);
+        ax[k] = ex[i];
+        ay[k] = ey[i];
+        az[k] = ez[i];
+        bx[k] = kNormalRecipe.sign[k] * ex[j];
+        by[k] = kNormalRecipe.sign[k] * ey[j];
+        bz[k] = kNormalRecipe.sign[k] * ez[j];
+    }
+    for (std::size_t k = 0; k < 24; ++k) {
+        nx[k] = ay[k] * bz[k] - az[k] * by[k];
+        ny[k] = az[k] * bx[k] - ax[k] * bz[k];
+        nz[k] = ax[k] * by[k] - ay[k] * bx[k];
+    }
+    // A zero normal stays zero: its components are multiplied by a finite number.
+    for (std::size_t k = 0; k < 24; ++k) {
+        const float l2 = nx[k] * nx[k] + ny[k] * ny[k] + nz[k] * nz[k];
+        inv[k] = 1.0f / std::sqrt(l2 < std::numeric_limits<float>::min() ? std::numeric_limits<float>::min() : l2);
+    }
+    for (std::size_t k = 0; k < 24; ++k) out[k] = {nx[k] * inv[k], ny[k] * inv[k], nz[k] * inv[k]};
 }
 
 // a / |a| (zero for zero) with one division: the edge pass normalises three vectors per edge.
