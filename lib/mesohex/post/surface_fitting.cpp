@@ -236,6 +236,10 @@ struct SurfaceFitter::Impl {
     std::vector<double> step_scale;  // per vertex: the part of its global-step move that was accepted
     int iteration = 0;
 
+    bool normals_current = false;  // slot_normals hold the corner normals at the current positions
+
+    void store_normals(std::size_t h);
+    HexStats measure_and_store_normals(std::vector<double>& sj);
     void build_incidence();
     void two_sided_corrections(std::vector<Vec3>& correction);
     void compute_targets();
@@ -443,24 +447,56 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
     gap = std::max(gap, sample_gap);
 }
 
+// The 24 corner normals of hex h into their edge-ordered slots.
+void SurfaceFitter::Impl::store_normals(std::size_t h) {
+    std::array<Normal32, 24> n;
+    hex_corner_normals(mesh.points, mesh.hexes[h], n.data());
+    for (std::size_t le = 0; le < 12; ++le) {
+        const int t = slot_target[12 * h + le];  // 2 i, or 2 i + 1 when the edge runs the other way
+        slot_normals[static_cast<std::size_t>(t & ~1)] = n[2 * le + static_cast<std::size_t>(t & 1)];
+        slot_normals[static_cast<std::size_t>(t | 1)] = n[2 * le + 1 - static_cast<std::size_t>(t & 1)];
+    }
+}
+
+// Scaled Jacobian of every hex into sj and the summary, with the corner normals of the next local step in the same
+// pass over the hexes (each hex's corners are read once).
+HexStats SurfaceFitter::Impl::measure_and_store_normals(std::vector<double>& sj) {
+    const std::size_t nh = mesh.hexes.size();
+    sj.resize(nh);
+    slot_normals.resize(24 * nh);
+    const HexStats stats = tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<std::size_t>(0, nh, 1024), HexStats{},
+        [&](const tbb::blocked_range<std::size_t>& r, HexStats acc) {
+            for (std::size_t h = r.begin(); h < r.end(); ++h) {
+                sj[h] = fast_scaled_jacobian(mesh.points, mesh.hexes[h]);
+                if (!(sj[h] > 0)) ++acc.inverted;
+                acc.sj_min = std::min(acc.sj_min, sj[h]);
+                store_normals(h);
+            }
+            return acc;
+        },
+        [](HexStats a, const HexStats& b) {
+            a.inverted += b.inverted;
+            a.sj_min = std::min(a.sj_min, b.sj_min);
+            return a;
+        });
+    normals_current = true;
+    return stats;
+}
+
 // Directions, energy and right-hand side at the current positions. Returns the energy |A X - b|^2.
 double SurfaceFitter::Impl::local_step() {
     const std::size_t ne = topo.edges.size();
     const std::vector<Vec3>& x = mesh.points;
     edge_rhs.resize(ne);
     const std::size_t nh = mesh.hexes.size();
-    slot_normals.resize(24 * nh);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nh, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::array<Normal32, 24> n;
-        for (std::size_t h = r.begin(); h < r.end(); ++h) {
-            hex_corner_normals(x, mesh.hexes[h], n.data());
-            for (std::size_t le = 0; le < 12; ++le) {
-                const int t = slot_target[12 * h + le];  // 2 i, or 2 i + 1 when the edge runs the other way
-                slot_normals[static_cast<std::size_t>(t & ~1)] = n[2 * le + static_cast<std::size_t>(t & 1)];
-                slot_normals[static_cast<std::size_t>(t | 1)] = n[2 * le + 1 - static_cast<std::size_t>(t & 1)];
-            }
-        }
-    });
+    if (!normals_current) {  // after a step they were computed with its scaled Jacobians
+        slot_normals.resize(24 * nh);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nh, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t h = r.begin(); h < r.end(); ++h) store_normals(h);
+        });
+        normals_current = true;
+    }
     // Per edge: its two ideal directions, its right-hand side and its energy (summed in a fixed tree: the same total
     // for any thread count).
     const double edge_energy_sum = tbb::parallel_deterministic_reduce(
@@ -771,7 +807,7 @@ FitProgress SurfaceFitter::step() {
     scale.assign(nv, 1.0);
     tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { x[v] = s.solution[v]; });
     std::vector<double> sj_new;
-    HexStats stats = hex_stats(s.mesh.hexes, x, sj_new);
+    HexStats stats = s.measure_and_store_normals(sj_new);
     if (s.options.guard_inversions) {
         const std::vector<double>& sj_old = s.hex_sj;
         auto bad = [&](std::size_t h) {
@@ -812,6 +848,7 @@ FitProgress SurfaceFitter::step() {
             for (int h : check) {
                 queued[static_cast<std::size_t>(h)] = 0;
                 sj_new[static_cast<std::size_t>(h)] = fast_scaled_jacobian(x, s.mesh.hexes[static_cast<std::size_t>(h)]);
+                s.store_normals(static_cast<std::size_t>(h));  // its corners moved: the next local step's normals too
             }
         }
         stats = HexStats{};
