@@ -131,6 +131,43 @@ TEST(Fitting, NeverIncreasesTheInvertedCount) {
     EXPECT_GT(guarded.sj_min_after, 0.0);
 }
 
+// The fitter measures every hex after every step with its own (faster) scaled Jacobian: its minimum and inverted
+// count must be those of the quality module, also when the unguarded step inverts hexes (the slab above).
+TEST(Fitting, StepMeasuresAgreeWithTheQualityModule) {
+    const HexMesh slab = make_block(4, 4, 1);
+    const SurfaceProjector mirror{[](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
+        out = in;
+        for (Vec3& p : out)
+            if (p.z > 0.5) p.z = -0.5;
+    }};
+    for (const bool guard : {false, true}) {
+        FitOptions options;
+        options.lambda = 50;
+        options.reach = 0;
+        options.guard_inversions = guard;
+        SurfaceFitter fitter(slab, mirror, options);
+        long inverted_seen = 0;
+        for (int i = 0; i < 6; ++i) {
+            const FitProgress p = fitter.step();
+            const QualityReport q = compute_quality(fitter.mesh());
+            EXPECT_EQ(p.inverted, q.inverted) << "step " << i;
+            EXPECT_NEAR(p.sj_min, q.sj_min, 1e-12) << "step " << i;
+            inverted_seen += q.inverted;
+        }
+        if (!guard) {
+            EXPECT_GT(inverted_seen, 0);  // the comparison covered inverted hexes
+        }
+    }
+    // A smoothly deformed block (every hex positive, many different shapes).
+    HexMesh block = scaled_block(5, -0.5, 0.5);
+    for (Vec3& p : block.points) p += 0.05 * Vec3{std::sin(7 * p.y), std::sin(5 * p.z), std::sin(6 * p.x)};
+    SurfaceFitter fitter(block, sphere_surface({0, 0, 0}, 0.7), FitOptions{});
+    for (int i = 0; i < 5; ++i) {
+        const FitProgress p = fitter.step();
+        EXPECT_NEAR(p.sj_min, compute_quality(fitter.mesh()).sj_min, 1e-12) << "step " << i;
+    }
+}
+
 TEST(Fitting, FrozenVerticesDoNotMove) {
     const HexMesh padded = pad(scaled_block(2, -0.5, 0.5)).mesh;
     FitOptions options;
