@@ -54,6 +54,15 @@ SurfaceProjector sphere_surface(Vec3 c, double r) {
     }};
 }
 
+// For the 4x4x1 slab z in [0, 1]: pulls the top skin down to z = -0.5 (through the bottom), leaves the rest.
+SurfaceProjector top_skin_through_bottom() {
+    return {[](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
+        out = in;
+        for (Vec3& p : out)
+            if (p.z > 0.5) p.z = -0.5;
+    }};
+}
+
 HexMesh scaled_block(int n, double lo, double hi) {
     HexMesh m = make_block(n, n, n);
     for (Vec3& p : m.points) p = Vec3{lo, lo, lo} + ((hi - lo) / n) * p;
@@ -106,11 +115,7 @@ TEST(Fitting, NeverIncreasesTheInvertedCount) {
     // A 4x4x1 slab z in [0, 1]; the "surface" pulls the top skin down to z = -0.5 (through the bottom) and leaves the
     // rest where it is: with a strong pull, the full step inverts the slab; the guarded fitter backs off.
     const HexMesh slab = make_block(4, 4, 1);
-    const SurfaceProjector mirror{[](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
-        out = in;
-        for (Vec3& p : out)
-            if (p.z > 0.5) p.z = -0.5;
-    }};
+    const SurfaceProjector mirror = top_skin_through_bottom();
     FitOptions options;
     options.lambda = 50;
     options.max_iterations = 20;
@@ -135,11 +140,7 @@ TEST(Fitting, NeverIncreasesTheInvertedCount) {
 // count must be those of the quality module, also when the unguarded step inverts hexes (the slab above).
 TEST(Fitting, StepMeasuresAgreeWithTheQualityModule) {
     const HexMesh slab = make_block(4, 4, 1);
-    const SurfaceProjector mirror{[](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
-        out = in;
-        for (Vec3& p : out)
-            if (p.z > 0.5) p.z = -0.5;
-    }};
+    const SurfaceProjector mirror = top_skin_through_bottom();
     for (const bool guard : {false, true}) {
         FitOptions options;
         options.lambda = 50;
