@@ -54,6 +54,10 @@ void register_import(CLI::App& app, int* status) {
     cmd->add_option("--bl-corner-push", args->options.bl_joint_push,
                     "... by this x the mean length of its two boundary edges")
         ->capture_default_str();
+    cmd->add_option("--bl-corner-back-push", args->options.bl_joint_back_push,
+                    "... times (1 + this x c) when the curve heads back over the leaflet (c = cosine of its angle to "
+                    "the inward direction, > 0)")
+        ->capture_default_str();
     cmd->add_option("--smoothing", args->options.smoothing_iterations,
                     "Smoothing sweeps over the leaflets: Laplacian on interior vertices, along the normal on boundary "
                     "vertices (0 = none)")

@@ -253,6 +253,24 @@ TEST(MedialImport, ReflexBorderCornerMovesTowardsItsBoundaryNeighbours) {
     EXPECT_NEAR(distance(import_medial_mesh(s, opt).skeleton.points[4], Vec3{1, 1, 0}), 0.0, 1e-12);
 }
 
+TEST(MedialImport, BLJointOnAStraightBorderIsPushedOutMoreWhenItsCurveHeadsBackOverTheLeaflet) {
+    // Two unit squares side by side; a curve leaves vertex 1 = (1, 0, 0), in the middle of the straight border y = 0.
+    // After the split its boundary neighbours are (0.5, 0, 0) and (1.5, 0, 0) (mean length 0.5) and its inward
+    // direction is +y. A curve towards (1, -1, 1) heads away: pushed by 1.25 x 0.5 to (1, -0.625, 0). A curve
+    // towards (1, 1, 1) heads back over the leaflet (cosine sqrt(1/2) with +y): pushed 1 + sqrt(1/2) times as far.
+    for (const double y : {-1.0, 1.0}) {
+        const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, y, 1}},
+                                  {{1, 6}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}});
+        const MedialImport r = import_medial_mesh(s);
+        EXPECT_EQ(r.moved_bl_joints, 1);
+        const double push = 1.25 * 0.5 * (y > 0 ? 1 + std::sqrt(0.5) : 1.0);
+        EXPECT_NEAR(distance(r.skeleton.points[1], Vec3{1, -push, 0}), 0.0, 1e-12) << "y " << y;
+        MedialImportOptions plain;
+        plain.bl_joint_back_push = 0;
+        EXPECT_NEAR(distance(import_medial_mesh(s, plain).skeleton.points[1], Vec3{1, -0.625, 0}), 0.0, 1e-12);
+    }
+}
+
 TEST(MedialImport, MoebiusBandIsRejected) {
     // 6 cross-sections t_i = (cos, sin, +w), b_i = (cos, sin, -w) around a circle, the last one glued twisted.
     const int n = 6;

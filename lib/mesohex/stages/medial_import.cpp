@@ -158,12 +158,15 @@ int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
     std::map<std::pair<int, int>, int> side_faces;
     for (const std::vector<int>& f : s.faces)
         for (size_t i = 0; i < f.size(); ++i) ++side_faces[side_key(f[i], f[(i + 1) % f.size()])];
-    std::vector<int> curve_degree(static_cast<size_t>(nv), 0);
+    std::vector<int> curve_degree(static_cast<size_t>(nv), 0), curve_neighbour(static_cast<size_t>(nv), -1);
     std::vector<std::vector<int>> leaflet_neighbours(static_cast<size_t>(nv)), boundary_neighbours(static_cast<size_t>(nv));
     for (const std::array<int, 2>& e : s.edges) {
         const auto it = side_faces.find(side_key(e[0], e[1]));
         if (it == side_faces.end()) {
-            for (int x : e) ++curve_degree[static_cast<size_t>(x)];
+            for (int k = 0; k < 2; ++k) {
+                ++curve_degree[static_cast<size_t>(e[k])];
+                curve_neighbour[static_cast<size_t>(e[k])] = e[1 - k];
+            }
             continue;
         }
         for (int k = 0; k < 2; ++k) {
@@ -186,7 +189,11 @@ int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
         inward = normalized(inward);
         if (squared_norm(inward) == 0) continue;
         const double length = 0.5 * (distance(p, a) + distance(p, b));
-        s.points[static_cast<size_t>(v)] = p - inward * (opt.bl_joint_push * length);
+        // A branch heading back over the leaflet (positive cosine of its angle to the inward direction) gets a
+        // sharper corner: bl_joint_back_push x that cosine more.
+        const Vec3 branch = normalized(before[static_cast<size_t>(curve_neighbour[static_cast<size_t>(v)])] - p);
+        const double back = opt.bl_joint_back_push * std::max(0.0, dot(branch, inward));
+        s.points[static_cast<size_t>(v)] = p - inward * (opt.bl_joint_push * (1 + back) * length);
         ++moved;
     }
     return moved;

@@ -47,6 +47,10 @@ struct MedialImportOptions {
     bool bl_joint_corners = true;
     double bl_joint_max_angle_deg = 110;
     double bl_joint_push = 1.25;
+    // A joint whose branch heads back over the leaflet (angle to the inward direction below 90 degrees, cosine c > 0:
+    // a plane between the branch and the leaflet's border edges needs a sharper corner) is pushed by
+    // bl_joint_push x (1 + bl_joint_back_push x c) x that length instead (cup.ma's re-attached handle: c = 0.78).
+    double bl_joint_back_push = 1.0;
     // Finally, leaflet interior vertices (all incident edges in exactly two faces, no curve edge) are smoothed:
     // p <- p + smoothing_factor x (neighbour mean - p), smoothing_iterations Jacobi sweeps (0 = off). Evens out the
     // quads the split makes (corners up to 150 degrees) and the sheet's folds, over which the mesher's plates invert.
