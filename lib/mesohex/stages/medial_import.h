@@ -14,7 +14,8 @@
 //      90 degrees, small fold); every face (pair quad or lone triangle) is then split at its centroid and its edge
 //      midpoints into 4 or 3 quads that share the midpoints: an all-quad, conforming subdivision of every sheet;
 //   4. curve edges (in no triangle) stay branch edges. Radii are kept at input vertices, averaged at new ones;
-//   5. BL-joints on a straight stretch of leaflet boundary are pushed out to make a corner (bl_joint_corners);
+//   5. BL-joints on a straight stretch of leaflet boundary are pushed out to make a corner, further when their branch
+//      heads back over the leaflet (bl_joint_corners, bl_joint_back_push);
 //   6. leaflets are smoothed: interior vertices by Laplacian sweeps, boundary vertices along their normal (and along
 //      the border at reflex corners) (smoothing_iterations, smooth_boundary).
 // The Euler characteristic V - E + F is preserved by pairing, splitting and by collapsing a sheet whose vertices are
