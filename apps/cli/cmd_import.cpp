@@ -21,6 +21,7 @@ struct ImportArgs {
     bool keep_fans = false;
     bool no_bl_corners = false;
     bool keep_interior_curves = false;
+    bool no_boundary_smoothing = false;
     MedialImportOptions options;
 };
 
@@ -53,8 +54,19 @@ void register_import(CLI::App& app, int* status) {
     cmd->add_option("--bl-corner-push", args->options.bl_joint_push,
                     "... by this x the mean length of its two boundary edges")
         ->capture_default_str();
+    cmd->add_option("--bl-corner-back-push", args->options.bl_joint_back_push,
+                    "... times (1 + this x c) when the curve heads back over the leaflet (c = cosine of its angle to "
+                    "the inward direction, > 0)")
+        ->capture_default_str();
     cmd->add_option("--smoothing", args->options.smoothing_iterations,
-                    "Laplacian smoothing sweeps over the leaflet interior vertices (0 = none)")
+                    "Smoothing sweeps over the leaflets: Laplacian on interior vertices, along the normal on boundary "
+                    "vertices (0 = none)")
+        ->capture_default_str();
+    cmd->add_flag("--no-boundary-smoothing", args->no_boundary_smoothing,
+                  "Smooth the leaflet interior vertices only (boundary vertices stay where they are)");
+    cmd->add_option("--reflex-corner-angle", args->options.reflex_corner_deg,
+                    "A leaflet boundary vertex whose face angles sum to more (degrees) also moves towards the midpoint "
+                    "of its two boundary neighbours while smoothing")
         ->capture_default_str();
     cmd->footer("Method: docs/skeletons.md. Example: mesohex import hand.ma -o hand.obj");
     cmd->callback([args, status]() {
@@ -62,6 +74,7 @@ void register_import(CLI::App& app, int* status) {
         args->options.resolve_irregular_fans = !args->keep_fans;
         args->options.bl_joint_corners = !args->no_bl_corners;
         args->options.reattach_interior_curves = !args->keep_interior_curves;
+        args->options.smooth_boundary = !args->no_boundary_smoothing;
         const Skeleton medial = read_medial_mesh(args->input);
         const MedialImport r = import_medial_mesh(medial, args->options);
         write_skeleton(args->output, r.skeleton);

@@ -128,7 +128,9 @@ TEST(MedialImport, IrregularFanLosesTheTriangleThatLeavesTheFlattestFan) {
     };
     const Skeleton s = medial({{0, 0, 0}, {0, 0, 1}, at(0), at(90), at(200)}, {},
                               {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}, {1, 2, 3}}, 0.001);
-    const MedialImport r = import_medial_mesh(s);
+    MedialImportOptions unsmoothed;  // the midpoints checked below stay where the split puts them
+    unsmoothed.smoothing_iterations = 0;
+    const MedialImport r = import_medial_mesh(s, unsmoothed);
     EXPECT_EQ(r.fan_triangles_removed, 1);
     EXPECT_EQ(r.fan_edges, 0);
     EXPECT_EQ(r.leaflets, 1);
@@ -212,6 +214,61 @@ TEST(MedialImport, SmallAreaSheetCollapses) {
     EXPECT_EQ(import_medial_mesh(s).collapsed_sheets, 1);
     s.radii.assign(4, 0.5);
     EXPECT_EQ(import_medial_mesh(s).collapsed_sheets, 0);
+}
+
+TEST(MedialImport, BoundaryVerticesFlattenAFoldAlongTheirNormal) {
+    // Two unit squares folded by 90 degrees about their shared side 1-2 (the second stands in the plane x = 1). One
+    // sweep: vertex 1 = (1, 0, 0) has the neighbours (0.5, 0, 0), (1, 0.5, 0), (1, 0, 0.5) (mean - p = (-1, 1, 1) / 6)
+    // and the normal (-1, 0, 1) / sqrt 2 (two quads of equal area, normals +z and -x); it moves by
+    // 0.5 x n (n . (mean - p)) = (-1, 0, 1) / 12. Vertex 0, a flat corner, does not move.
+    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 1}, {1, 1, 1}}, {},
+                              {{0, 1, 2}, {0, 2, 3}, {2, 1, 4}, {2, 4, 5}});
+    MedialImportOptions opt;
+    opt.smoothing_iterations = 1;
+    const MedialImport r = import_medial_mesh(s, opt);
+    ASSERT_EQ(r.paired_quads, 2);
+    EXPECT_NEAR(distance(r.skeleton.points[1], Vec3{11.0 / 12, 0, 1.0 / 12}), 0.0, 1e-12);
+    EXPECT_NEAR(distance(r.skeleton.points[0], Vec3{0, 0, 0}), 0.0, 1e-12);
+    // 3 interior vertices (2 face centres, the midpoint of side 1-2) + 12 boundary vertices (6 corners, 6 midpoints).
+    EXPECT_EQ(r.smoothed_vertices, 15);
+    opt.smooth_boundary = false;
+    const MedialImport fixed = import_medial_mesh(s, opt);
+    EXPECT_NEAR(distance(fixed.skeleton.points[1], Vec3{1, 0, 0}), 0.0, 1e-12);
+    EXPECT_EQ(fixed.smoothed_vertices, 3);
+}
+
+TEST(MedialImport, ReflexBorderCornerMovesTowardsItsBoundaryNeighbours) {
+    // An L of three unit squares in the plane z = 0: the border vertex 4 = (1, 1) has face angles summing to 270
+    // degrees. One sweep moves it by 0.5 x (midpoint of its boundary neighbours (1.5, 1) and (1, 1.5) - p) =
+    // (0.125, 0.125); the sheet is flat, so nothing moves along the normal. Below reflex_corner_deg it stays.
+    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}}, {},
+                              {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7}, {3, 7, 6}});
+    MedialImportOptions opt;
+    opt.smoothing_iterations = 1;
+    const MedialImport r = import_medial_mesh(s, opt);
+    ASSERT_EQ(r.paired_quads, 3);
+    EXPECT_NEAR(distance(r.skeleton.points[4], Vec3{1.125, 1.125, 0}), 0.0, 1e-12);
+    EXPECT_NEAR(distance(r.skeleton.points[1], Vec3{1, 0, 0}), 0.0, 1e-12);
+    opt.reflex_corner_deg = 280;
+    EXPECT_NEAR(distance(import_medial_mesh(s, opt).skeleton.points[4], Vec3{1, 1, 0}), 0.0, 1e-12);
+}
+
+TEST(MedialImport, BLJointOnAStraightBorderIsPushedOutMoreWhenItsCurveHeadsBackOverTheLeaflet) {
+    // Two unit squares side by side; a curve leaves vertex 1 = (1, 0, 0), in the middle of the straight border y = 0.
+    // After the split its boundary neighbours are (0.5, 0, 0) and (1.5, 0, 0) (mean length 0.5) and its inward
+    // direction is +y. A curve towards (1, -1, 1) heads away: pushed by 1.25 x 0.5 to (1, -0.625, 0). A curve
+    // towards (1, 1, 1) heads back over the leaflet (cosine sqrt(1/2) with +y): pushed 1 + sqrt(1/2) times as far.
+    for (const double y : {-1.0, 1.0}) {
+        const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, y, 1}},
+                                  {{1, 6}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}});
+        const MedialImport r = import_medial_mesh(s);
+        EXPECT_EQ(r.moved_bl_joints, 1);
+        const double push = 1.25 * 0.5 * (y > 0 ? 1 + std::sqrt(0.5) : 1.0);
+        EXPECT_NEAR(distance(r.skeleton.points[1], Vec3{1, -push, 0}), 0.0, 1e-12) << "y " << y;
+        MedialImportOptions plain;
+        plain.bl_joint_back_push = 0;
+        EXPECT_NEAR(distance(import_medial_mesh(s, plain).skeleton.points[1], Vec3{1, -0.625, 0}), 0.0, 1e-12);
+    }
 }
 
 TEST(MedialImport, MoebiusBandIsRejected) {

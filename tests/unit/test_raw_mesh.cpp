@@ -334,6 +334,15 @@ TEST(RawMeshLeaflets, ReflexBorderVertexPushesItsOutVertexOutward) {
     EXPECT_NEAR(out.x, 1 + 0.25 * std::sqrt(0.5), 1e-12);
     EXPECT_NEAR(out.y, 1 + 0.25 * std::sqrt(0.5), 1e-12);
     expect_good_leaflet_mesh(s, b, 2 * 3 + 2 * 8);
+    // As thick as its edges are long (r = 1): at (1, 1) the out vertex would reach 0.71 along both border edges of
+    // length 1; it stops at kReflexOutFraction (0.3) of the edge, measured along it: distance 0.3 / cos 45 deg, i.e.
+    // at (1.3, 1.3). The convex corner (0, 0) keeps r; the mesh stays valid.
+    const Built thick = build(s, 1.0);
+    const Vec3 reflex_out = thick.raw.mesh.points[thick.raw.vertex_base[4] + 3];
+    EXPECT_NEAR(reflex_out.x, 1.3, 1e-12);
+    EXPECT_NEAR(reflex_out.y, 1.3, 1e-12);
+    EXPECT_NEAR(distance(thick.raw.mesh.points[thick.raw.vertex_base[0] + 3], Vec3{0, 0, 0}), 1.0, 1e-12);
+    EXPECT_EQ(compute_quality(thick.raw.mesh).inverted, 0);
 }
 
 TEST(RawMesh, OneEdgeIsOneChunkOfFourHexes) {

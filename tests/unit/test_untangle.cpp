@@ -133,6 +133,25 @@ TEST(Untangle, BoundaryVertexFoldNeedsAMovingBoundary) {
     EXPECT_LT(moving.mesh.points[static_cast<std::size_t>(vid(2, 1, 1, 0))].z, 1.0);
 }
 
+TEST(Untangle, HexWithPositiveCornersAndANegativeCentreFrame) {
+    // A twisted hex (half-integer corners): its 8 corner frames are positive (smallest normalized determinant 0.075)
+    // but its centre frame is not (xi = (2.5, 3, -1.5), eta = (1.5, 0, 0.5), zeta = (1.5, 1, 0.5): det -3.5,
+    // normalized -0.28), so its scaled Jacobian is negative and it counts as inverted. The untangling energy includes the centre
+    // frame: with its vertices free (softly attached) it is repaired.
+    HexMesh m;
+    m.points = {{1, 0.5, 1}, {0.5, 1, 0}, {2, 2, 1.5}, {1, 0, 1}, {1, 1.5, 2.5}, {2, 1, 0}, {2, 1.5, 1.5}, {1, 0.5, 0}};
+    m.hexes = {{0, 1, 2, 3, 4, 5, 6, 7}};
+    const QualityReport before = compute_quality(m);
+    ASSERT_EQ(before.inverted, 1);
+    EXPECT_NEAR(before.sj_min, -0.2828, 1e-4);
+    UntangleOptions options;
+    options.fix_boundary = false;
+    const UntangleResult r = untangle(m, options);
+    EXPECT_EQ(r.inverted_before, 1);
+    EXPECT_EQ(r.inverted_after, 0);
+    EXPECT_GT(compute_quality(r.mesh).sj_min, 0);
+}
+
 // Quality pass (target_sj > 0): no hex is inverted, but an interior vertex pushed toward a corner leaves thin hexes
 // around it; the pass moves the interior vertices near them back toward the regular grid and keeps the boundary.
 TEST(Untangle, QualityPassRaisesTheMinimumAndKeepsTheBoundary) {

@@ -1,4 +1,5 @@
-// Foldover-free untangling (Garanzha et al. 2021) on hex corners, minimized with L-BFGS over the free vertices.
+// Foldover-free untangling (Garanzha et al. 2021) on hex corners and centre frames, minimized with L-BFGS over the free
+// vertices.
 // Per-hex corner gradients go to per-hex slots (parallel), then each free vertex gathers its slots in a fixed order:
 // results are independent of the thread count.
 #include "mesohex/post/untangle.h"
@@ -38,7 +39,16 @@ struct Sum {
     double value = 0;
 };
 
-// Energy of one hex and (optionally) its 8 corner gradients.
+// Signs of the 8 hex vertices in the centre (principal-axes) frame of the scaled Jacobian (post/quality.cpp):
+// xi = (p1 + p2 + p5 + p6) - (p0 + p3 + p4 + p7), eta = (p2 + p3 + p6 + p7) - (p0 + p1 + p4 + p5),
+// zeta = (p4 + p5 + p6 + p7) - (p0 + p1 + p2 + p3).
+constexpr std::array<std::array<double, 8>, 3> kCentreFrameSign = {{
+    {-1, 1, 1, -1, -1, 1, 1, -1},
+    {-1, -1, 1, 1, -1, -1, 1, 1},
+    {-1, -1, -1, -1, 1, 1, 1, 1},
+}};
+
+// Energy of one hex and (optionally) its 8 vertex gradients (9 frames: 8 corners and the centre).
 double hex_energy(const UntangleState& pb, int h, std::array<Vec3, 8>* grad) {
     const std::array<int, 8>& hex = pb.mesh->hexes[static_cast<std::size_t>(h)];
     const double inv_s = 1.0 / pb.hex_size[static_cast<std::size_t>(h)];
@@ -47,12 +57,24 @@ double hex_energy(const UntangleState& pb, int h, std::array<Vec3, 8>* grad) {
     if (grad) grad->fill(Vec3{});
     double energy = 0;
     const double eps2 = pb.eps * pb.eps;
-    for (int c = 0; c < 8; ++c) {
-        const std::array<int, 3>& nb = kHexCornerNeighbors[static_cast<std::size_t>(c)];
-        const Vec3& xc = p[static_cast<std::size_t>(c)];
-        const Vec3 f0 = (p[static_cast<std::size_t>(nb[0])] - xc) * inv_s;
-        const Vec3 f1 = (p[static_cast<std::size_t>(nb[1])] - xc) * inv_s;
-        const Vec3 f2 = (p[static_cast<std::size_t>(nb[2])] - xc) * inv_s;
+    // The 8 corner frames, then the centre frame (c = 8), as in the scaled Jacobian: a hex can have 8 positive
+    // corners and a negative centre frame (a twisted hex), and it counts as inverted then.
+    for (int c = 0; c < 9; ++c) {
+        Vec3 f0, f1, f2;
+        if (c < 8) {
+            const std::array<int, 3>& nb = kHexCornerNeighbors[static_cast<std::size_t>(c)];
+            const Vec3& xc = p[static_cast<std::size_t>(c)];
+            f0 = (p[static_cast<std::size_t>(nb[0])] - xc) * inv_s;
+            f1 = (p[static_cast<std::size_t>(nb[1])] - xc) * inv_s;
+            f2 = (p[static_cast<std::size_t>(nb[2])] - xc) * inv_s;
+        } else {
+            const double q = 0.25 * inv_s;  // each axis is a sum of 4 edges
+            for (int i = 0; i < 8; ++i) {
+                f0 += (q * kCentreFrameSign[0][static_cast<std::size_t>(i)]) * p[static_cast<std::size_t>(i)];
+                f1 += (q * kCentreFrameSign[1][static_cast<std::size_t>(i)]) * p[static_cast<std::size_t>(i)];
+                f2 += (q * kCentreFrameSign[2][static_cast<std::size_t>(i)]) * p[static_cast<std::size_t>(i)];
+            }
+        }
         const Vec3 c0 = cross(f1, f2), c1 = cross(f2, f0), c2 = cross(f0, f1);
         const double det = dot(f0, c0);
         const double trace = squared_norm(f0) + squared_norm(f1) + squared_norm(f2);
@@ -68,6 +90,14 @@ double hex_energy(const UntangleState& pb, int h, std::array<Vec3, 8>* grad) {
         const Vec3 g0 = (2 * d_trace * f0 + d_det * c0) * inv_s;
         const Vec3 g1 = (2 * d_trace * f1 + d_det * c1) * inv_s;
         const Vec3 g2 = (2 * d_trace * f2 + d_det * c2) * inv_s;
+        if (c == 8) {
+            for (int i = 0; i < 8; ++i)
+                (*grad)[static_cast<std::size_t>(i)] += 0.25 * (kCentreFrameSign[0][static_cast<std::size_t>(i)] * g0 +
+                                                                kCentreFrameSign[1][static_cast<std::size_t>(i)] * g1 +
+                                                                kCentreFrameSign[2][static_cast<std::size_t>(i)] * g2);
+            continue;
+        }
+        const std::array<int, 3>& nb = kHexCornerNeighbors[static_cast<std::size_t>(c)];
         (*grad)[static_cast<std::size_t>(nb[0])] += g0;
         (*grad)[static_cast<std::size_t>(nb[1])] += g1;
         (*grad)[static_cast<std::size_t>(nb[2])] += g2;
@@ -126,6 +156,12 @@ double min_corner_det(const UntangleState& pb) {
                                             (pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(nb[2])])] - xc) * inv_s);
                     acc = std::min(acc, det);
                 }
+                std::array<Vec3, 3> f{};
+                for (int i = 0; i < 8; ++i)
+                    for (int k = 0; k < 3; ++k)
+                        f[static_cast<std::size_t>(k)] += (0.25 * inv_s * kCentreFrameSign[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)]) *
+                                                          pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(i)])];
+                acc = std::min(acc, det3(f[0], f[1], f[2]));
             }
             return acc;
         },

@@ -42,8 +42,9 @@ struct UntangleResult {
 };
 
 // If no hex has scaled Jacobian <= 0, returns the mesh unchanged (rounds = 0). Otherwise minimizes
-// sum over the 8 corners of the active hexes of f(J), J = (corner frame) / h_hex (h_hex = the hex's mean edge length at
-// the start; ideal = cube of that size), chi(D, eps) = (D + sqrt(eps^2 + D^2)) / 2 in place of det J, over the free
+// sum over the 8 corners and the centre frame of the active hexes of f(J), J = (corner frame) / h_hex (centre frame:
+// its three axes, each a sum of 4 edges, / 4 h_hex; h_hex = the hex's mean edge length at the start; ideal = cube of
+// that size; the centre frame is the scaled Jacobian's ninth, which can be negative with 8 positive corners), chi(D, eps) = (D + sqrt(eps^2 + D^2)) / 2 in place of det J, over the free
 // vertices (interior vertices near inverted hexes), decreasing eps as in the paper, until every hex has a positive
 // scaled Jacobian (or max_rounds). The energy is finite for every position, so the minimization never needs a
 // feasible start. Reports what remains inverted. Deterministic (parallel evaluation with fixed reduction order).

@@ -410,6 +410,23 @@ LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const Skelet
     return lf;
 }
 
+double leaflet_out_distance(const Skeleton& skeleton, const SkeletonAnalysis& an, const LeafletVertexFrames& frames,
+                            int w, double r) {
+    if (an.vertex_boundary_edges[w] != 2 || frames.out.empty()) return r;
+    double d = r;
+    const Vec3& c = skeleton.points[w];
+    for (int i = an.vertex_edge_begin[w]; i < an.vertex_edge_begin[w + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (an.edge_degree[e] != 1) continue;
+        const int x = skeleton.edges[e][0] == w ? skeleton.edges[e][1] : skeleton.edges[e][0];
+        const Vec3 ev = skeleton.points[x] - c;
+        const double L = norm(ev);
+        const double along = L > 0 ? dot(frames.out[w], ev) / L : 0;
+        if (along > 1e-9) d = std::min(d, kReflexOutFraction * L / along);
+    }
+    return d;
+}
+
 double spherical_quad_margin(const std::array<Vec3, 4>& q, const Vec3& d) {
     double m = 10;
     for (int k = 0; k < 4; ++k) {
@@ -643,9 +660,12 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                 const double rw = radius_at(w);
                 const Vec3 nn = rw * leaf.normal[w];
                 Vec3 o = leaf.out[w];
+                double ow = rw;
                 if (!(norm(o) > 0.5))
                     o = cross(normalized(skeleton.points[wb] - skeleton.points[wa]), leaf.normal[w]);
-                o = rw * o;
+                else
+                    ow = leaflet_out_distance(skeleton, an, leaf, w, rw);
+                o = ow * o;
                 // far end: centre, out, out-up, out-down, up, down
                 const std::array<ModelVertex, 6> far{fixed(p), fixed(p + o), fixed(p + o + nn), fixed(p + o - nn),
                                                      fixed(p + nn), fixed(p - nn)};

@@ -88,6 +88,16 @@ struct LeafletVertexFrames {
 };
 LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const SkeletonAnalysis& analysis);
 
+// Distance from a regular leaflet boundary vertex w (two boundary edges) of radius r to its out vertex (the raw mesh
+// puts it at w + distance x frames.out[w]): r, except at a reflex corner of the border, where out leans along a
+// boundary edge (angle phi < 90 degrees to the edge w -> x, length L): there at most kReflexOutFraction x L / cos phi,
+// so that the out vertex stays within that fraction of the edge, measured along it, and the half-chunks on both sides
+// of the corner cannot fold over each other (they do once r cos phi exceeds L: a sheet as thick as its edges are
+// long, wrapping around the corner). Convex and straight corners (and vertices without two boundary edges) give r.
+inline constexpr double kReflexOutFraction = 0.3;
+double leaflet_out_distance(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
+                            const LeafletVertexFrames& frames, int w, double r);
+
 // Signed angular margin (radians) of unit direction d inside the spherical quad q (unit vectors, counter-clockwise
 // seen from outside): the smallest angle from d to the great circles of the four sides, positive inside; -1 when the
 // quad has a reflex corner (flat corners, as in the lunes of an orange partition, are allowed).

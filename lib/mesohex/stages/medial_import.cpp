@@ -158,12 +158,15 @@ int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
     std::map<std::pair<int, int>, int> side_faces;
     for (const std::vector<int>& f : s.faces)
         for (size_t i = 0; i < f.size(); ++i) ++side_faces[side_key(f[i], f[(i + 1) % f.size()])];
-    std::vector<int> curve_degree(static_cast<size_t>(nv), 0);
+    std::vector<int> curve_degree(static_cast<size_t>(nv), 0), curve_neighbour(static_cast<size_t>(nv), -1);
     std::vector<std::vector<int>> leaflet_neighbours(static_cast<size_t>(nv)), boundary_neighbours(static_cast<size_t>(nv));
     for (const std::array<int, 2>& e : s.edges) {
         const auto it = side_faces.find(side_key(e[0], e[1]));
         if (it == side_faces.end()) {
-            for (int x : e) ++curve_degree[static_cast<size_t>(x)];
+            for (int k = 0; k < 2; ++k) {
+                ++curve_degree[static_cast<size_t>(e[k])];
+                curve_neighbour[static_cast<size_t>(e[k])] = e[1 - k];
+            }
             continue;
         }
         for (int k = 0; k < 2; ++k) {
@@ -186,46 +189,87 @@ int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
         inward = normalized(inward);
         if (squared_norm(inward) == 0) continue;
         const double length = 0.5 * (distance(p, a) + distance(p, b));
-        s.points[static_cast<size_t>(v)] = p - inward * (opt.bl_joint_push * length);
+        // A branch heading back over the leaflet (positive cosine of its angle to the inward direction) gets a
+        // sharper corner: bl_joint_back_push x that cosine more.
+        const Vec3 branch = normalized(before[static_cast<size_t>(curve_neighbour[static_cast<size_t>(v)])] - p);
+        const double back = opt.bl_joint_back_push * std::max(0.0, dot(branch, inward));
+        s.points[static_cast<size_t>(v)] = p - inward * (opt.bl_joint_push * (1 + back) * length);
         ++moved;
     }
     return moved;
 }
 
-// Jacobi Laplacian smoothing of leaflet interior vertices (every incident edge in exactly two faces, no curve edge):
-// p <- p + factor x (mean of the neighbours - p), `iterations` times, all vertices from the same previous positions
-// (order-independent). Returns the number of vertices smoothed.
-int smooth_leaflet_interiors(Skeleton& s, int iterations, double factor) {
+// Jacobi smoothing of the leaflets (see MedialImportOptions::smoothing_iterations), all vertices from the same
+// previous positions (order-independent): interior vertices (every incident edge in exactly two faces, no curve
+// edge) p <- p + factor x (m - p), m = mean of the neighbours; with opt.smooth_boundary, regular boundary vertices
+// (exactly two boundary edges, every other edge in two faces, no curve or fan edge) p <- p + factor x ((m - p).n) n,
+// n = unit sum of the face normals at p (the sheet's fold flattens, its outline stays), and, at a reflex corner (sum
+// of the face angles at p above opt.reflex_corner_deg), also p <- p + factor x (midpoint of the two boundary
+// neighbours - p). Returns the number of vertices smoothed.
+int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt) {
     const int nv = static_cast<int>(s.points.size());
+    const int iterations = opt.smoothing_iterations;
+    const double factor = opt.smoothing_factor;
     std::map<std::pair<int, int>, int> side_faces;
     for (const std::vector<int>& f : s.faces)
         for (size_t i = 0; i < f.size(); ++i) ++side_faces[side_key(f[i], f[(i + 1) % f.size()])];
-    std::vector<bool> interior(static_cast<size_t>(nv), false), blocked(static_cast<size_t>(nv), false);
-    std::vector<std::vector<int>> neighbours(static_cast<size_t>(nv));
+    std::vector<bool> interior(static_cast<size_t>(nv), false), blocked(static_cast<size_t>(nv), false),
+        other(static_cast<size_t>(nv), false);  // other: a curve or fan edge
+    std::vector<std::vector<int>> neighbours(static_cast<size_t>(nv)), boundary(static_cast<size_t>(nv));
     for (const std::array<int, 2>& e : s.edges) {
         const auto it = side_faces.find(side_key(e[0], e[1]));
-        const bool manifold = it != side_faces.end() && it->second == 2;
+        const int faces = it == side_faces.end() ? 0 : it->second;
         for (int k = 0; k < 2; ++k) {
-            if (manifold)
-                interior[static_cast<size_t>(e[k])] = true;
+            const size_t x = static_cast<size_t>(e[k]);
+            if (faces == 2)
+                interior[x] = true;
             else
-                blocked[static_cast<size_t>(e[k])] = true;
-            neighbours[static_cast<size_t>(e[k])].push_back(e[1 - k]);
+                blocked[x] = true;
+            if (faces == 1) boundary[x].push_back(e[1 - k]);
+            if (faces == 0 || faces >= 3) other[x] = true;
+            neighbours[x].push_back(e[1 - k]);
         }
     }
-    std::vector<int> movable;
-    for (int v = 0; v < nv; ++v)
-        if (interior[static_cast<size_t>(v)] && !blocked[static_cast<size_t>(v)]) movable.push_back(v);
+    std::vector<int> movable, rim;
+    for (int v = 0; v < nv; ++v) {
+        const size_t x = static_cast<size_t>(v);
+        if (interior[x] && !blocked[x]) movable.push_back(v);
+        if (opt.smooth_boundary && !other[x] && boundary[x].size() == 2) rim.push_back(v);
+    }
+    auto mean_of_neighbours = [&](const std::vector<Vec3>& prev, int v) {
+        Vec3 mean{};
+        for (int u : neighbours[static_cast<size_t>(v)]) mean += prev[static_cast<size_t>(u)];
+        return mean / static_cast<double>(neighbours[static_cast<size_t>(v)].size());
+    };
     for (int it = 0; it < iterations; ++it) {
         const std::vector<Vec3> prev = s.points;
-        for (int v : movable) {
-            Vec3 mean{};
-            for (int u : neighbours[static_cast<size_t>(v)]) mean += prev[static_cast<size_t>(u)];
-            mean = mean / static_cast<double>(neighbours[static_cast<size_t>(v)].size());
-            s.points[static_cast<size_t>(v)] = prev[static_cast<size_t>(v)] + (mean - prev[static_cast<size_t>(v)]) * factor;
+        for (int v : movable)
+            s.points[static_cast<size_t>(v)] =
+                prev[static_cast<size_t>(v)] + (mean_of_neighbours(prev, v) - prev[static_cast<size_t>(v)]) * factor;
+        if (rim.empty()) continue;
+        std::vector<Vec3> normal(static_cast<size_t>(nv), Vec3{});
+        std::vector<double> angle_sum(static_cast<size_t>(nv), 0.0);
+        for (const std::vector<int>& f : s.faces) {
+            const size_t k = f.size();
+            const Vec3 n = cross(prev[static_cast<size_t>(f[2])] - prev[static_cast<size_t>(f[0])],
+                                 prev[static_cast<size_t>(f[3 % k])] - prev[static_cast<size_t>(f[1])]);
+            for (size_t i = 0; i < k; ++i) {
+                normal[static_cast<size_t>(f[i])] += n;
+                angle_sum[static_cast<size_t>(f[i])] += angle_deg(prev[static_cast<size_t>(f[i])],
+                                                                  prev[static_cast<size_t>(f[(i + 1) % k])],
+                                                                  prev[static_cast<size_t>(f[(i + k - 1) % k])]);
+            }
+        }
+        for (int v : rim) {
+            const size_t x = static_cast<size_t>(v);
+            const Vec3 n = normalized(normal[x]);
+            Vec3 move = n * dot(mean_of_neighbours(prev, v) - prev[x], n);
+            if (angle_sum[x] > opt.reflex_corner_deg)
+                move += 0.5 * (prev[static_cast<size_t>(boundary[x][0])] + prev[static_cast<size_t>(boundary[x][1])]) - prev[x];
+            s.points[x] = prev[x] + move * factor;
         }
     }
-    return iterations > 0 ? static_cast<int>(movable.size()) : 0;
+    return iterations > 0 ? static_cast<int>(movable.size() + rim.size()) : 0;
 }
 
 // Curve ends on a sheet's interior (paper limitation 1: the mesher cannot attach a branch there) move to the nearest
@@ -569,7 +613,7 @@ MedialImport import_medial_mesh(const Skeleton& m, const MedialImportOptions& op
     }
     add_face_edges(out);
     if (opt.bl_joint_corners) result.moved_bl_joints = make_bl_joint_corners(out, opt);
-    result.smoothed_vertices = smooth_leaflet_interiors(out, opt.smoothing_iterations, opt.smoothing_factor);
+    result.smoothed_vertices = smooth_leaflets(out, opt);
     return result;
 }
 

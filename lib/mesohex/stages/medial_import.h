@@ -14,8 +14,10 @@
 //      90 degrees, small fold); every face (pair quad or lone triangle) is then split at its centroid and its edge
 //      midpoints into 4 or 3 quads that share the midpoints: an all-quad, conforming subdivision of every sheet;
 //   4. curve edges (in no triangle) stay branch edges. Radii are kept at input vertices, averaged at new ones;
-//   5. BL-joints on a straight stretch of leaflet boundary are pushed out to make a corner (bl_joint_corners);
-//   6. leaflet interior vertices are smoothed (smoothing_iterations).
+//   5. BL-joints on a straight stretch of leaflet boundary are pushed out to make a corner, further when their branch
+//      heads back over the leaflet (bl_joint_corners, bl_joint_back_push);
+//   6. leaflets are smoothed: interior vertices by Laplacian sweeps, boundary vertices along their normal (and along
+//      the border at reflex corners) (smoothing_iterations, smooth_boundary).
 // The Euler characteristic V - E + F is preserved by pairing, splitting and by collapsing a sheet whose vertices are
 // all attached.
 #include <vector>
@@ -46,11 +48,22 @@ struct MedialImportOptions {
     bool bl_joint_corners = true;
     double bl_joint_max_angle_deg = 110;
     double bl_joint_push = 1.25;
+    // A joint whose branch heads back over the leaflet (angle to the inward direction below 90 degrees, cosine c > 0:
+    // a plane between the branch and the leaflet's border edges needs a sharper corner) is pushed by
+    // bl_joint_push x (1 + bl_joint_back_push x c) x that length instead (cup.ma's re-attached handle: c = 0.78).
+    double bl_joint_back_push = 1.0;
     // Finally, leaflet interior vertices (all incident edges in exactly two faces, no curve edge) are smoothed:
     // p <- p + smoothing_factor x (neighbour mean - p), smoothing_iterations Jacobi sweeps (0 = off). Evens out the
     // quads the split makes (corners up to 150 degrees) and the sheet's folds, over which the mesher's plates invert.
-    int smoothing_iterations = 10;
+    int smoothing_iterations = 30;
     double smoothing_factor = 0.5;
+    // In the same sweeps, regular leaflet boundary vertices (two boundary edges, no curve or fan edge) move along
+    // their normal only, by smoothing_factor x the normal component of (neighbour mean - p): folds that reach the
+    // border flatten (hand.ma's wrist), the outline stays. At a reflex corner (face angles at the vertex summing to
+    // more than reflex_corner_deg: the sheet wraps around it) the vertex also moves by smoothing_factor x (midpoint of
+    // its two boundary neighbours - p): the half-chunks the mesher puts outside such a corner converge and fold.
+    bool smooth_boundary = true;
+    double reflex_corner_deg = 220;
 };
 
 struct MedialImport {
@@ -63,7 +76,7 @@ struct MedialImport {
     int paired_quads = 0;             // triangle pairs merged into a quad before splitting
     int split_triangles = 0;          // triangles left unpaired (each split into 3 quads)
     int moved_bl_joints = 0;          // BL-joints moved to make a corner (bl_joint_corners)
-    int smoothed_vertices = 0;        // leaflet interior vertices moved by the smoothing
+    int smoothed_vertices = 0;        // leaflet interior and regular boundary vertices moved by the smoothing
     int reattached_curve_ends = 0;    // curve-edge ends moved from a sheet interior to its boundary
     int fan_triangles_removed = 0;    // triangles removed to make irregular fans regular (resolve_irregular_fans)
     int fan_edges = 0;                // input edges in 3 or more triangles (each becomes 2 fan edges when split)

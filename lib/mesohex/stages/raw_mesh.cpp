@@ -461,7 +461,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                 raw.mesh.points[base + 1] = c + n;
                 raw.mesh.points[base + 2] = c - n;
                 if (vc == VertexClass::LeafletBoundary) {
-                    const Vec3 out = c + r * leaf.out[v];
+                    const Vec3 out = c + leaflet_out_distance(skeleton, an, leaf, v, r) * leaf.out[v];
                     raw.mesh.points[base + 3] = out;
                     raw.mesh.points[base + 4] = out + n;
                     raw.mesh.points[base + 5] = out - n;

@@ -69,7 +69,8 @@ struct RawMeshOptions {
 // every hex in VTK order; positions: C_v at the skeleton vertex, Q_v(x) = c + r_v * d_x, M_v(x, y) =
 // c + r_v * unit(d_x + d_y) (on the sphere of local radius r_v, reduced next to branching points, see
 // RawMeshOptions::margin_fraction); leaflet vertex w: up/down = w +- r n (n = unit sum of incident face normals),
-// out = w + r o (o = LeafletVertexFrames::out, the bisector of the exterior angle of the border),
+// out = w + d o (o = LeafletVertexFrames::out, the bisector of the exterior angle of the border; d = r, shortened at
+// reflex corners, see leaflet_out_distance),
 // out-up/out-down = out +- r n.
 // Complexity: O(hexes + surface points), parallel.
 RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& analysis, const ConnectionSurfaces& surfaces,
