@@ -190,12 +190,14 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         return l;
     };
 
-    double total_prev = -1;
+    // A vertex is tried again only after a vertex of one of its hexes moved (itself included).
+    std::vector<char> dirty(nv, 1);
     for (int sweep = 1; sweep <= options.max_sweeps; ++sweep) {
-        double total = 0;
+        double total = 0, gain = 0;
         long moves = 0;
         for (std::size_t v = 0; v < nv; ++v) {
-            if (fixed[v]) continue;
+            if (fixed[v] || !dirty[v]) continue;
+            dirty[v] = 0;
             bool active = false;
             for (int i = vh_begin[v]; i < vh_begin[v + 1] && !active; ++i)
                 active = sj[static_cast<std::size_t>(vh[static_cast<std::size_t>(i)])] <= options.skip_above;
@@ -230,6 +232,7 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
                 on_boundary[v] && options.max_gap > 0 ? std::max(options.max_gap, chord_gap(v)) : 0;
             double step = 0.2 * h;
             bool accepted = false;
+            double energy_after = before.energy;
             for (int ls = 0; ls < 6 && !accepted; ++ls, step *= 0.5) {
                 Vec3 cand = x0 + step * dir;
                 if (on_boundary[v]) {
@@ -241,22 +244,23 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
                 if (after.energy < before.energy && after.sj_min >= std::min(before.sj_min, options.target_sj) &&
                     after.sj_min > 0 && (gap_limit <= 0 || chord_gap(v) <= gap_limit))
                     accepted = true;
+                energy_after = after.energy;
             }
             if (!accepted) {
                 x[v] = x0;
                 continue;
             }
             ++moves;
+            gain += before.energy - energy_after;
             for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i) {
                 const std::size_t hh = static_cast<std::size_t>(vh[static_cast<std::size_t>(i)]);
                 sj[hh] = scaled_jacobian(hex_corners(hh));
+                for (int w : mesh.hexes[hh]) dirty[static_cast<std::size_t>(w)] = 1;
             }
         }
         result.sweeps = sweep;
         result.moves += moves;
-        if (moves == 0) break;
-        if (total_prev > 0 && total_prev - total <= options.min_gain * total_prev) break;
-        total_prev = total;
+        if (moves == 0 || gain <= options.min_gain * total) break;
     }
     stats(result.sj_min_after, result.sj_avg_after);
     return result;

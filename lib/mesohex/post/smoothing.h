@@ -9,8 +9,9 @@
 namespace mesohex {
 
 struct SmoothOptions {
-    int max_sweeps = 20;          // Gauss-Seidel sweeps over the vertices (ascending ids); stops earlier when a sweep
-    double min_gain = 1e-4;       // lowers the total energy by less than this relative amount
+    int max_sweeps = 20;          // Gauss-Seidel sweeps over the vertices (ascending ids; a vertex is tried again only
+    double min_gain = 1e-4;       // after a vertex of its hexes moved); stops earlier when the moves of a sweep lower
+                                  // the energy of the vertices tried by less than this relative amount
     double target_sj = 0.6;       // frame values below this are penalized strongly (weight below_weight)
     double below_weight = 20;
     double skip_above = 0.97;     // vertices whose hexes all have scaled Jacobian above this are not moved
