@@ -145,3 +145,20 @@ TEST(MeshCli, GeneratedShapesMeetTheQualityTargets) {
         EXPECT_EQ(rep["quality"]["euler_characteristic"], rep["skeleton"]["euler_characteristic"]) << name;
     }
 }
+
+// The generated bird's raw mesh has boundary vertices (around its valence-20 centre) whose mean normal points behind
+// one of their quads: padding there gave 2 hexes inverted at any offset before the direction tilt; now none.
+TEST(MeshCli, PaddingOfTheGeneratedBirdInvertsNothing) {
+    const fs::path skeleton = temp_dir() / "bird.obj", domain = temp_dir() / "bird.off",
+                   out = temp_dir() / "bird_pad.mesh", report = temp_dir() / "bird_pad.json";
+    ASSERT_EQ(run_cli("generate bird -o " + skeleton.string()).status, 0);
+    ASSERT_EQ(run_cli("thicken " + skeleton.string() + " -o " + domain.string() + " --resolution 3").status, 0);
+    const auto r = run_cli("mesh " + skeleton.string() + " --surface " + domain.string() + " -o " + out.string() +
+                           " --no-fit --levels 0 --improve-below 0 --report " + report.string() + " --quiet");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const nlohmann::json rep = read_json(report);
+    ASSERT_EQ(rep["stages"][1]["stage"], "pad");
+    EXPECT_EQ(rep["stages"][1]["inverted"], 0);
+    EXPECT_GT(rep["stages"][1]["sj_min"].get<double>(), 0.0);
+    EXPECT_EQ(rep["quality"]["inverted"], 0);
+}
