@@ -110,7 +110,8 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_option("--radius-factor", job->radius_factor,
                     "Radius from the surface = factor x distance to the surface (room for the padding layer)")
         ->capture_default_str();
-    cmd->add_option("--levels", job->levels, "1->8 subdivision levels after padding (default 1, or from --size)");
+    cmd->add_option("--levels", job->levels, "1->8 subdivision levels after padding (default: from --size, else 1, or 2 when the padded mesh's mean edge "
+                    "is longer than 1/16 of the domain's bounding-box diagonal)");
     cmd->add_option("--size", job->size, "Target mean edge length; chooses the subdivision levels");
     cmd->add_option("--refine", job->refine,
                     "Subdivision per level: uniform (1->8), longitudinal (only the sheets along the branches: more "
@@ -266,6 +267,8 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
                                     {"mean", fin->distance.mean},
                                     {"relative_max", fin->distance.relative_max},
                                     {"relative_mean", fin->distance.relative_mean},
+                                    {"mesh_to_surface_max", fin->distance.mesh_to_surface_max},
+                                    {"surface_to_mesh_max", fin->distance.surface_to_mesh_max},
                                     {"bbox_diagonal", fin->distance.diagonal}};
         }
         nlohmann::json timings = nlohmann::json::object();

@@ -75,6 +75,9 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
             levels = options.levels;
         } else if (options.size > 0) {
             levels = levels_for_size(mesh, options.size);
+        } else if (options.min_resolution > 0) {
+            const int needed = levels_for_size(mesh, query.bbox_diagonal() / options.min_resolution);
+            levels = std::max(1, std::min(needed, options.max_auto_levels));
         }
         // Padding keeps the raw hexes first, so chunk_hex stays valid; children inherit their parent's flag.
         std::vector<char> chunk = options.chunk_hex;
@@ -175,6 +178,16 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         }
         result.stages.push_back(measure("untangle-free", ms_since(t), mesh));
         if (kept) improve();
+    }
+
+    if (options.fit && options.smooth && result.stages.back().inverted == 0) {
+        const Clock::time_point t = Clock::now();
+        SmoothOptions so = options.smoothing;
+        if (options.smooth_gap > 0) so.max_gap = options.smooth_gap * query.bbox_diagonal();
+        SmoothResult sm = smooth_quality(mesh, [&query](const Vec3& p) { return query.closest(p).point; }, so);
+        mesh = std::move(sm.mesh);
+        result.smoothed = sm.moves > 0;
+        result.stages.push_back(measure("smooth", ms_since(t), mesh));
     }
 
     result.quality = compute_quality(mesh);

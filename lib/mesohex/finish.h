@@ -9,6 +9,7 @@
 #include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/post/sheet_selection.h"
+#include "mesohex/post/smoothing.h"
 #include "mesohex/post/surface_fitting.h"
 #include "mesohex/post/untangle.h"
 #include "mesohex/surface/surface_distance.h"
@@ -27,8 +28,10 @@ struct FinishOptions {
     bool pad = true;
     PaddingOptions padding;        // default: 1 layer
     bool subdivide = true;
-    int levels = -1;               // >= 0: this many 1 -> 8 levels; < 0: from `size` when > 0, else 1 level
+    int levels = -1;               // >= 0: this many 1 -> 8 levels; < 0: from `size` when > 0, else from min_resolution
     double size = 0;               // target mean edge length (levels_for_size on the padded mesh), used when levels < 0
+    double min_resolution = 16;    // levels < 0, size <= 0: at least 1 level, more (up to max_auto_levels) while the
+    int max_auto_levels = 2;       // mean edge length of the padded mesh exceeds the domain's bbox diagonal / this
     // Uniform: 1 -> 8 per level. Longitudinal / Radial: per level, split only the sheets of the branch chunks along
     // the branches / across them (select_branch_sheets); needs chunk_hex.
     enum class Refinement { Uniform, Longitudinal, Radial } refinement = Refinement::Uniform;
@@ -46,12 +49,19 @@ struct FinishOptions {
     // 100 / h^2: they move a small fraction of an edge); kept only if min SJ rises and no hex got inverted. 0 = off.
     double improve_sj = 0.3;
     UntangleOptions improving = improve_defaults();
+    // Smoothing pass (last, after a fit, on a mesh without inverted hexes): per-vertex scaled-Jacobian descent,
+    // boundary vertices sliding on the domain surface (smooth_quality); never inverts a hex nor lowers the worst hex
+    // at a vertex below the target.
+    bool smooth = true;
+    SmoothOptions smoothing;
+    double smooth_gap = 0.0025;    // > 0: smoothing.max_gap = this x the domain's bbox diagonal (boundary moves keep
+                                   // the boundary that close to the surface, or no farther than before)
     bool measure_distance = true;  // two-sided Hausdorff distance of the final boundary to the domain
     SurfaceDistanceOptions distance;
 };
 
 struct FinishStage {
-    std::string stage;  // "input", "pad", "subdivide", "fit", "untangle", "improve", "untangle-free"
+    std::string stage;  // "input", "pad", "subdivide", "fit", "untangle", "improve", "untangle-free", "smooth"
     double ms = 0;      // wall time of the stage (0 for "input")
     long vertices = 0, hexes = 0;
     double sj_min = 0, sj_avg = 0;  // scaled Jacobian after the stage
@@ -70,6 +80,7 @@ struct FinishResult {
     int untangle_rounds = 0;
     bool untangled_boundary_moved = false;  // the free-boundary fallback of the untangle stage was kept
     bool improved = false;            // the quality pass ran and its result was kept
+    bool smoothed = false;            // the smoothing pass moved some vertex
     QualityReport quality;            // compute_quality of the final mesh
     bool distance_measured = false;
     SurfaceDistance distance;         // absolute (max, mean) and relative to the domain bbox diagonal

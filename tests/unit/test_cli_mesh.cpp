@@ -122,10 +122,12 @@ TEST(MeshCli, DirectionalRefinementSplitsOnlySomeSheets) {
 }
 
 // Procedural meso-skeletons with leaflets in their own thickened domains (thicken --resolution 3), default command:
-// the targets for procedural shapes. Measured: plate 864 hexes, SJ min 0.737, avg 0.932, Hausdorff 0.50 %;
-// twist 2112 hexes, 0.776 / 0.952, 0.36 %.
-TEST(MeshCli, GeneratedPlateAndTwistMeetTheQualityTargets) {
-    for (const std::string name : {"plate", "twist"}) {
+// the targets for procedural shapes. Measured (smoothing pass, levels from the domain size):
+// plate 6912 hexes (2 levels), SJ min 0.738, avg 0.979, Hausdorff 0.42 %; twist 2112, 0.814 / 0.954, 0.35 %;
+// tfan 1248, 0.706 / 0.917, 0.63 %; xfan 1664, 0.687 / 0.903, 0.44 %; box 6144 (2 levels), 0.564 / 0.960, 0.71 %;
+// (Also meeting them, not run here for time: torus, hand, chair 5280 hexes 0.707 / 0.940 0.37 %, torustwist.)
+TEST(MeshCli, GeneratedShapesMeetTheQualityTargets) {
+    for (const std::string name : {"plate", "twist", "tfan", "xfan", "box"}) {
         const fs::path skeleton = temp_dir() / (name + ".obj"), domain = temp_dir() / (name + ".off"),
                        out = temp_dir() / (name + ".mesh"), report = temp_dir() / (name + ".json");
         ASSERT_EQ(run_cli("generate " + name + " -o " + skeleton.string()).status, 0) << name;
@@ -139,6 +141,24 @@ TEST(MeshCli, GeneratedPlateAndTwistMeetTheQualityTargets) {
         EXPECT_GE(rep["quality"]["sj_min"].get<double>(), 0.5) << name;
         EXPECT_GE(rep["quality"]["sj_avg"].get<double>(), 0.9) << name;
         EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), 0.01) << name;
-        EXPECT_EQ(rep["quality"]["euler_characteristic"], 1) << name;
+        // The mesh has the skeleton's Euler characteristic (1; 2 for the closed box surface).
+        EXPECT_EQ(rep["quality"]["euler_characteristic"], rep["skeleton"]["euler_characteristic"]) << name;
     }
+}
+
+// The generated bird's raw mesh has boundary vertices (around its valence-20 centre) whose mean normal points behind
+// one of their quads: padding there gave 2 hexes inverted at any offset before the direction tilt; now none.
+TEST(MeshCli, PaddingOfTheGeneratedBirdInvertsNothing) {
+    const fs::path skeleton = temp_dir() / "bird.obj", domain = temp_dir() / "bird.off",
+                   out = temp_dir() / "bird_pad.mesh", report = temp_dir() / "bird_pad.json";
+    ASSERT_EQ(run_cli("generate bird -o " + skeleton.string()).status, 0);
+    ASSERT_EQ(run_cli("thicken " + skeleton.string() + " -o " + domain.string() + " --resolution 3").status, 0);
+    const auto r = run_cli("mesh " + skeleton.string() + " --surface " + domain.string() + " -o " + out.string() +
+                           " --no-fit --levels 0 --improve-below 0 --report " + report.string() + " --quiet");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const nlohmann::json rep = read_json(report);
+    ASSERT_EQ(rep["stages"][1]["stage"], "pad");
+    EXPECT_EQ(rep["stages"][1]["inverted"], 0);
+    EXPECT_GT(rep["stages"][1]["sj_min"].get<double>(), 0.0);
+    EXPECT_EQ(rep["quality"]["inverted"], 0);
 }

@@ -34,9 +34,11 @@ TriangleMesh unit_cube_surface() {
 }  // namespace
 
 TEST(Finish, UnitHexInItsCube) {
-    const FinishResult r = finish_mesh(unit_hex(), unit_cube_surface());
-    // input, pad, subdivide, fit (no untangle: nothing inverted).
-    ASSERT_EQ(r.stages.size(), 4u);
+    FinishOptions o;
+    o.levels = 1;  // the default would choose 2 here (see LevelsFromTheDomainSize)
+    const FinishResult r = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    // input, pad, subdivide, fit, smooth (no untangle: nothing inverted; no quality pass: min SJ above 0.3).
+    ASSERT_EQ(r.stages.size(), 5u);
     EXPECT_EQ(r.stages[0].stage, "input");
     EXPECT_EQ(r.stages[0].hexes, 1);
     EXPECT_DOUBLE_EQ(r.stages[0].sj_min, 1.0);
@@ -50,6 +52,8 @@ TEST(Finish, UnitHexInItsCube) {
     EXPECT_EQ(r.stages[2].hexes, 56);
     EXPECT_EQ(r.stages[2].vertices, 79);
     EXPECT_EQ(r.stages[3].stage, "fit");
+    EXPECT_EQ(r.stages[4].stage, "smooth");
+    EXPECT_GE(r.stages[4].sj_min, r.stages[3].sj_min);
     EXPECT_FALSE(r.untangled);
     EXPECT_EQ(r.domain_flipped_triangles, 0);
     // Final mesh: valid, nothing inverted, boundary on the cube.
@@ -110,6 +114,22 @@ TEST(Finish, LevelsFromSize) {
     EXPECT_EQ(r.quality.inverted, 0);
     EXPECT_NEAR(r.quality.sj_min, 1.0, 1e-12);
     EXPECT_LT(r.distance.max, 1e-12);
+}
+
+// Default levels from the domain size: the padded unit hex has 32 edges (12 of length 1, 12 of 1.5, 8 of
+// 0.25 sqrt(3)), mean 1.046; the cube's diagonal is sqrt(3) = 1.732. min_resolution 16 asks for edges <= 0.108:
+// 4 halvings, capped at max_auto_levels = 2 (7 x 64 = 448 hexes); min_resolution 1 asks for <= 1.732: no halving,
+// at least 1 level (56 hexes).
+TEST(Finish, LevelsFromTheDomainSize) {
+    FinishOptions o;
+    o.fit = false;
+    const FinishResult fine = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_EQ(fine.subdivision_levels, 2);
+    EXPECT_EQ(fine.mesh.hexes.size(), 448u);
+    o.min_resolution = 1;
+    const FinishResult coarse = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_EQ(coarse.subdivision_levels, 1);
+    EXPECT_EQ(coarse.mesh.hexes.size(), 56u);
 }
 
 // The whole chain (pad, subdivide, fit with the two-sided pull, quality pass) gives the same mesh, bit for bit, with 1

@@ -108,22 +108,61 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
         }
         return scaled_jacobian(c);
     };
-    for (int round = 0; round < 6; ++round) {
-        std::vector<char> shrink(nb, 0);
+    const std::vector<double> full_offset = offset;
+    auto shrink_inverted = [&]() {
+        for (int round = 0; round < 6; ++round) {
+            std::vector<char> shrink(nb, 0);
+            bool any = false;
+            for (const std::array<int, 4>& q : topo.boundary_quads)
+                if (!(new_hex_sj(q) > 0))
+                    for (int v : q) {
+                        shrink[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
+                        any = true;
+                    }
+            if (!any) break;
+            for (std::size_t i = 0; i < nb; ++i)
+                if (shrink[i]) {
+                    offset[i] *= 0.5;
+                    mesh.points[old_vertices + i] =
+                        mesh.points[static_cast<std::size_t>(boundary_vertices[i])] + unit_normal[i] * offset[i];
+                }
+        }
+    };
+    shrink_inverted();
+    // A new hex still inverted then is inverted at any offset: the direction at one of its vertices points behind
+    // one of the quads there. Tilt the direction of its vertices toward the normal of their worst-facing quad (a
+    // quarter of it per step), back at the full offset, then shrink again; at most 20 times.
+    std::vector<std::vector<int>> quads_at(nb);
+    for (std::size_t q = 0; q < topo.boundary_quads.size(); ++q)
+        for (int v : topo.boundary_quads[q])
+            quads_at[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])].push_back(static_cast<int>(q));
+    for (int tilt = 0; tilt < 20; ++tilt) {
+        std::vector<char> bad(nb, 0);
         bool any = false;
         for (const std::array<int, 4>& q : topo.boundary_quads)
             if (!(new_hex_sj(q) > 0))
                 for (int v : q) {
-                    shrink[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
+                    bad[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
                     any = true;
                 }
         if (!any) break;
-        for (std::size_t i = 0; i < nb; ++i)
-            if (shrink[i]) {
-                offset[i] *= 0.5;
-                mesh.points[old_vertices + i] =
-                    mesh.points[static_cast<std::size_t>(boundary_vertices[i])] + unit_normal[i] * offset[i];
+        for (std::size_t i = 0; i < nb; ++i) {
+            if (!bad[i]) continue;
+            double worst = 2.0;
+            Vec3 worst_normal;
+            for (int q : quads_at[i]) {
+                const double d = dot(unit_normal[i], quad_normals[static_cast<std::size_t>(q)]);
+                if (d < worst) {
+                    worst = d;
+                    worst_normal = quad_normals[static_cast<std::size_t>(q)];
+                }
             }
+            unit_normal[i] = normalized(unit_normal[i] + 0.25 * worst_normal);
+            offset[i] = full_offset[i];
+            mesh.points[old_vertices + i] =
+                mesh.points[static_cast<std::size_t>(boundary_vertices[i])] + unit_normal[i] * offset[i];
+        }
+        shrink_inverted();
     }
     mesh.hexes.reserve(mesh.hexes.size() + topo.boundary_quads.size());
     for (const std::array<int, 4>& q : topo.boundary_quads) {

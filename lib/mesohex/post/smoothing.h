@@ -1,0 +1,46 @@
+#pragma once
+// Quality smoothing: local, per-vertex optimization of the scaled Jacobian (Gauss-Seidel sweeps), with the boundary
+// vertices sliding on the domain surface. Runs after the fit on a mesh without inverted hexes; never inverts a hex.
+#include <functional>
+#include <vector>
+
+#include "mesohex/core/hex_mesh.h"
+
+namespace mesohex {
+
+struct SmoothOptions {
+    int max_sweeps = 20;          // Gauss-Seidel sweeps over the vertices (ascending ids; a vertex is tried again only
+    double min_gain = 1e-4;       // after a vertex of its hexes moved); stops earlier when the moves of a sweep lower
+                                  // the energy of the vertices tried by less than this relative amount
+    double target_sj = 0.6;       // frame values below this are penalized strongly (weight below_weight)
+    double below_weight = 20;
+    double skip_above = 0.97;     // vertices whose hexes all have scaled Jacobian above this are not moved
+    bool move_boundary = true;    // boundary vertices slide on the surface (needs `project`); false: fixed
+    double feature_angle = 35;    // degrees: a boundary vertex whose boundary quad normals deviate more than this from
+                                  // their mean (crease, corner, rim) stays fixed
+    double max_slide = 0.5;       // a boundary vertex moves at most this x its mean edge length from its start
+    double max_gap = 0;           // > 0: a boundary move is kept only if the distance to the surface of the centroids
+                                  // and edge midpoints of the boundary quads at the vertex stays <= max(this, before)
+    std::vector<bool> frozen;     // optional, per vertex: never moved
+};
+
+struct SmoothResult {
+    HexMesh mesh;
+    int sweeps = 0;
+    long moves = 0;  // accepted vertex moves over all sweeps
+    double sj_min_before = 0, sj_min_after = 0, sj_avg_before = 0, sj_avg_after = 0;
+};
+
+// Per vertex v (not frozen, not a feature boundary vertex, in a hex with scaled Jacobian <= skip_above): minimizes
+// E(v) = sum over the hexes h at v and over their 9 Verdict frames (8 corners + centre) of
+// (1 - q)^2 + below_weight * max(0, target_sj - q)^2 (q = normalized frame determinant) along its negative gradient
+// (central differences; boundary vertices: tangential to the boundary, then projected onto the surface by `project`),
+// trying steps of 0.2, 0.1, ... x its mean edge length. A move is kept when E(v) decreases and the smallest scaled
+// Jacobian m of the hexes at v stays >= min(m before, target_sj): no hex is inverted, the worst hex at v never gets
+// worse unless it stays above target_sj. Sequential sweeps in ascending vertex order: deterministic.
+// `project` may be empty when move_boundary is false (or then boundary vertices stay fixed).
+// Preconditions: indices in range, frozen empty or one entry per vertex (InvalidInput otherwise).
+SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
+                            const SmoothOptions& options = {});
+
+}  // namespace mesohex

@@ -1,0 +1,101 @@
+// smooth_quality on blocks of unit cubes with one vertex displaced: checkable by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mesohex/core/error.h"
+#include "mesohex/post/quality.h"
+#include "mesohex/post/smoothing.h"
+
+using namespace mesohex;
+
+namespace {
+
+// n x n x m block of unit cubes; vertex (i, j, k) has id i + (n + 1) (j + (n + 1) k).
+HexMesh block(int n, int m) {
+    HexMesh b;
+    auto id = [n](int i, int j, int k) { return i + (n + 1) * (j + (n + 1) * k); };
+    for (int k = 0; k <= m; ++k)
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) b.points.push_back({double(i), double(j), double(k)});
+    for (int k = 0; k < m; ++k)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i)
+                b.hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
+                                   id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)});
+    return b;
+}
+
+double min_sj(const HexMesh& m) {
+    double s = 1;
+    for (double v : scaled_jacobians(m)) s = std::min(s, v);
+    return s;
+}
+
+}  // namespace
+
+// 2 x 2 x 2 block, centre vertex (id 13) moved by (0.3, 0.2, 0.1): the 8 cubes around it are skewed (min SJ 0.80).
+// Boundary vertices stay fixed (no projector). By default the vertex stops moving once its hexes are all above
+// skip_above = 0.97; with skip_above 1 the centre returns to (1, 1, 1) within a small tolerance.
+TEST(Smoothing, DisplacedCentreReturns) {
+    HexMesh m = block(2, 2);
+    m.points[13] = {1.3, 1.2, 1.1};
+    const double before = min_sj(m);
+    ASSERT_LT(before, 0.9);
+    SmoothOptions o;
+    o.move_boundary = false;
+    const SmoothResult coarse = smooth_quality(m, {}, o);
+    EXPECT_GT(coarse.sj_min_after, 0.97);
+    o.skip_above = 1;
+    const SmoothResult r = smooth_quality(m, {}, o);
+    EXPECT_NEAR(r.sj_min_before, before, 1e-12);
+    EXPECT_GT(r.moves, 0);
+    EXPECT_NEAR(r.mesh.points[13].x, 1.0, 0.02);
+    EXPECT_NEAR(r.mesh.points[13].y, 1.0, 0.02);
+    EXPECT_NEAR(r.mesh.points[13].z, 1.0, 0.02);
+    EXPECT_GT(r.sj_min_after, 0.99);
+    for (std::size_t v = 0; v < m.points.size(); ++v)
+        if (v != 13) {
+            EXPECT_EQ(r.mesh.points[v], m.points[v]) << v;
+        }
+}
+
+// 2 x 2 x 1 block: the top-face centre (id 13 = (1, 1, 1)) slid to (1.3, 1.2, 1). With the projector onto the plane
+// z = 1 it slides back inside the plane; the block's edge and corner vertices (feature vertices: their boundary quads
+// turn by 90 degrees) and the other face centres stay where they are. Without the projector it cannot move at all.
+TEST(Smoothing, BoundaryVertexSlidesOnTheSurface) {
+    HexMesh m = block(2, 1);
+    m.points[13] = {1.3, 1.2, 1.0};
+    auto plane = [](const Vec3& p) { return Vec3{p.x, p.y, 1.0}; };
+    SmoothOptions o;
+    o.skip_above = 1;
+    const SmoothResult r = smooth_quality(m, plane, o);
+    EXPECT_GT(r.moves, 0);
+    EXPECT_DOUBLE_EQ(r.mesh.points[13].z, 1.0);
+    EXPECT_NEAR(r.mesh.points[13].x, 1.0, 0.02);
+    EXPECT_NEAR(r.mesh.points[13].y, 1.0, 0.02);
+    EXPECT_GT(r.sj_min_after, 0.99);
+    for (std::size_t v = 0; v < m.points.size(); ++v)
+        if (v != 13 && v != 4) {  // 4: the bottom-face centre, free too
+            EXPECT_EQ(r.mesh.points[v], m.points[v]) << v;
+        }
+    const SmoothResult fixed = smooth_quality(m, {});
+    EXPECT_EQ(fixed.moves, 0);
+    EXPECT_EQ(fixed.mesh, m);
+}
+
+// Never inverts and never lowers the minimum: an inverted input is returned unchanged; bad input throws.
+TEST(Smoothing, InvertedInputUnchangedAndBadInputRejected) {
+    HexMesh m = block(2, 2);
+    m.points[13] = {2.5, 1.0, 1.0};  // through the neighbouring cubes' faces
+    ASSERT_LE(min_sj(m), 0.0);
+    const SmoothResult r = smooth_quality(m, {});
+    EXPECT_EQ(r.moves, 0);
+    EXPECT_EQ(r.mesh, m);
+    HexMesh bad = block(1, 1);
+    bad.hexes[0][3] = 99;
+    EXPECT_THROW(smooth_quality(bad, {}), Error);
+    SmoothOptions o;
+    o.frozen = {true};
+    EXPECT_THROW(smooth_quality(block(1, 1), {}, o), Error);
+}
