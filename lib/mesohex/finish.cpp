@@ -106,10 +106,18 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     if (options.fit) {
         const Clock::time_point t = Clock::now();
         SurfaceProjector projector;
-        projector.closest_points = [&query](const std::vector<Vec3>& in, std::vector<Vec3>& closest) {
-            const std::vector<ClosestPoint> hits = query.closest(in);
+        // The fit queries the same boundary vertices (and the same domain samples) step after step, each a little
+        // moved: each query starts from the triangle it found last time (the results do not depend on the hints).
+        std::vector<int> vertex_hints, sample_hints;
+        projector.closest_points = [&query, &vertex_hints](const std::vector<Vec3>& in, std::vector<Vec3>& closest) {
+            const std::vector<ClosestPoint> hits =
+                vertex_hints.size() == in.size() ? query.closest(in, vertex_hints) : query.closest(in);
             closest.resize(hits.size());
-            for (std::size_t i = 0; i < hits.size(); ++i) closest[i] = hits[i].point;
+            vertex_hints.resize(hits.size());
+            for (std::size_t i = 0; i < hits.size(); ++i) {
+                closest[i] = hits[i].point;
+                vertex_hints[i] = hits[i].triangle;
+            }
         };
         // Two-sided fit: the domain's vertices and triangle centroids, matched with the current mesh boundary; on a
         // surface much denser than the mesh boundary, every k-th of them (k from the count, deterministic).
@@ -124,12 +132,19 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
             const std::size_t stride = std::max<std::size_t>(1, all.size() / wanted);
             for (std::size_t i = 0; i < all.size(); i += stride) projector.samples.push_back(all[i]);
         }
-        projector.samples_to_boundary = [&projector](const TriangleMesh& boundary,
-                                                     std::vector<SurfaceProjector::Hit>& hits) {
-            const SurfaceQuery on_boundary(boundary);
-            const std::vector<ClosestPoint> found = on_boundary.closest(projector.samples);
+        projector.samples_to_boundary = [&projector, &sample_hints](const TriangleMesh& boundary,
+                                                                    std::vector<SurfaceProjector::Hit>& hits) {
+            // The boundary's triangles keep their indices from call to call (only their corners move).
+            const bool hinted = sample_hints.size() == projector.samples.size();
+            const SurfaceQuery on_boundary(boundary, /*accelerate=*/!hinted);
+            const std::vector<ClosestPoint> found =
+                hinted ? on_boundary.closest(projector.samples, sample_hints) : on_boundary.closest(projector.samples);
             hits.resize(found.size());
-            for (std::size_t i = 0; i < found.size(); ++i) hits[i] = {found[i].triangle, found[i].point};
+            sample_hints.resize(found.size());
+            for (std::size_t i = 0; i < found.size(); ++i) {
+                hits[i] = {found[i].triangle, found[i].point};
+                sample_hints[i] = found[i].triangle;
+            }
         };
         FitOptions fitting = options.fitting;
         if (options.gap_goal > 0) fitting.gap_goal = options.gap_goal * query.bbox_diagonal();

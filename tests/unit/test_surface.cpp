@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "mesohex/core/error.h"
 #include "mesohex/surface/radius_from_surface.h"
@@ -153,6 +154,37 @@ TEST(SurfaceQuery, ClosestPointOnUnitCube) {
     ASSERT_EQ(batch.size(), 2u);
     EXPECT_EQ(batch[0].point, a.point);
     EXPECT_EQ(batch[1].point, b.point);
+}
+
+// A hint only bounds the search: with any hint (the right triangle, a far one, none, a degenerate one) the closest
+// point is the one found without hints; an unaccelerated tree gives it too.
+TEST(SurfaceQuery, HintsDoNotChangeTheClosestPoint) {
+    TriangleMesh cube = make_cube();
+    cube.triangles.push_back({0, 0, 1});  // degenerate (index 12): not in the tree
+    const SurfaceQuery q(cube);
+    const SurfaceQuery plain(cube, /*accelerate=*/false);
+    std::vector<Vec3> points;
+    for (int i = 0; i < 200; ++i)  // a deterministic cloud around the cube, inside and outside
+        points.push_back({-0.7 + 2.4 * std::fmod(0.618034 * i, 1.0), -0.7 + 2.4 * std::fmod(0.414214 * i + 0.1, 1.0),
+                          -0.7 + 2.4 * std::fmod(0.732051 * i + 0.3, 1.0)});
+    const std::vector<ClosestPoint> expected = q.closest(points);
+    std::vector<std::vector<int>> hint_sets(4, std::vector<int>(points.size()));
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        hint_sets[0][i] = expected[i].triangle;            // last answer
+        hint_sets[1][i] = static_cast<int>(i % 12);         // any triangle
+        hint_sets[2][i] = -1;                               // none
+        hint_sets[3][i] = i % 2 == 0 ? 12 : 99;             // degenerate, out of range: ignored
+    }
+    for (const std::vector<int>& hints : hint_sets)
+        for (const SurfaceQuery* query : {&q, &plain}) {
+            const std::vector<ClosestPoint> got = query->closest(points, hints);
+            ASSERT_EQ(got.size(), points.size());
+            for (std::size_t i = 0; i < points.size(); ++i) {
+                EXPECT_NEAR(distance(got[i].point, expected[i].point), 0, 1e-12) << i;
+                EXPECT_NEAR(got[i].squared_distance, expected[i].squared_distance, 1e-12) << i;
+            }
+        }
+    EXPECT_THROW(q.closest(points, std::vector<int>(3, 0)), Error);
 }
 
 TEST(SurfaceQuery, InsideOutside) {

@@ -72,6 +72,7 @@ struct SurfaceQuery::Impl {
     TriangleMesh mesh;
     std::vector<Triangle> triangles;  // non-degenerate triangles only
     std::vector<int> triangle_id;     // index in mesh.triangles of triangles[i]
+    std::vector<int> primitive_of;    // per triangle of mesh: its index in triangles, or -1 (degenerate)
     Tree tree;
     Vec3 lo, hi;
     double diagonal = 0;
@@ -123,7 +124,7 @@ struct SurfaceQuery::Impl {
     }
 };
 
-SurfaceQuery::SurfaceQuery(const TriangleMesh& surface) : impl_(std::make_unique<Impl>()) {
+SurfaceQuery::SurfaceQuery(const TriangleMesh& surface, bool accelerate) : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.mesh = surface;
     const long nv = static_cast<long>(surface.points.size());
@@ -154,7 +155,12 @@ SurfaceQuery::SurfaceQuery(const TriangleMesh& surface) : impl_(std::make_unique
     m.diagonal = norm(m.hi - m.lo);
     m.tree.insert(m.triangles.cbegin(), m.triangles.cend());
     m.tree.build();
-    m.tree.accelerate_distance_queries();  // builds the search kd-tree now: later queries are read-only (thread-safe)
+    // The search kd-tree is built now or never: later queries are read-only (thread-safe).
+    if (accelerate) m.tree.accelerate_distance_queries();
+    else m.tree.do_not_accelerate_distance_queries();
+    m.primitive_of.assign(surface.triangles.size(), -1);
+    for (std::size_t i = 0; i < m.triangle_id.size(); ++i)
+        m.primitive_of[static_cast<std::size_t>(m.triangle_id[i])] = static_cast<int>(i);
 }
 
 SurfaceQuery::~SurfaceQuery() = default;
@@ -200,6 +206,34 @@ std::vector<ClosestPoint> SurfaceQuery::closest(const std::vector<Vec3>& points)
     std::vector<ClosestPoint> out(points.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = closest(points[i]);
+    });
+    return out;
+}
+
+std::vector<ClosestPoint> SurfaceQuery::closest(const std::vector<Vec3>& points,
+                                                const std::vector<int>& hint_triangles) const {
+    const Impl& m = *impl_;
+    if (hint_triangles.size() != points.size())
+        throw Error(ErrorCode::InvalidInput, "surface query: " + std::to_string(hint_triangles.size()) + " hints for " +
+                                                 std::to_string(points.size()) + " points");
+    std::vector<ClosestPoint> out(points.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const int t = hint_triangles[i];
+            const int prim = t >= 0 && static_cast<std::size_t>(t) < m.primitive_of.size()
+                                 ? m.primitive_of[static_cast<std::size_t>(t)]
+                                 : -1;
+            if (prim < 0) {
+                out[i] = closest(points[i]);
+                continue;
+            }
+            const TriangleIterator it = m.triangles.cbegin() + prim;
+            const Point centroid = CGAL::centroid((*it)[0], (*it)[1], (*it)[2]);
+            const auto hit = m.tree.closest_point_and_primitive(to_cgal(points[i]), std::make_pair(centroid, it));
+            out[i].point = to_vec(hit.first);
+            out[i].triangle = m.id_of(hit.second);
+            out[i].squared_distance = squared_norm(out[i].point - points[i]);
+        }
     });
     return out;
 }

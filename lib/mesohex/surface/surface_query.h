@@ -26,7 +26,9 @@ class SurfaceQuery {
 public:
     // Builds the tree over the non-degenerate triangles of `surface` (the mesh is copied). Preconditions: at least one
     // non-degenerate triangle, indices in range, finite coordinates (InvalidInput otherwise). O(F log F).
-    explicit SurfaceQuery(const TriangleMesh& surface);
+    // `accelerate` builds CGAL's search kd-tree for closest-point queries without a hint; a query object used only
+    // with hints (see closest below) can skip it.
+    explicit SurfaceQuery(const TriangleMesh& surface, bool accelerate = true);
     ~SurfaceQuery();
     SurfaceQuery(SurfaceQuery&&) noexcept;
     SurfaceQuery& operator=(SurfaceQuery&&) noexcept;
@@ -52,6 +54,10 @@ public:
 
     // Parallel batch versions (deterministic: result[i] depends on points[i] only).
     std::vector<ClosestPoint> closest(const std::vector<Vec3>& points) const;
+    // The same with a hint per point: a triangle (index in surface().triangles, or -1 for none) whose centroid bounds
+    // the search from the start. Points that moved little since their last query pass their last triangle: the
+    // traversal then skips most of the tree. The closest point found is the same as without the hint.
+    std::vector<ClosestPoint> closest(const std::vector<Vec3>& points, const std::vector<int>& hint_triangles) const;
     std::vector<double> squared_distances(const std::vector<Vec3>& points) const;
     std::vector<char> inside(const std::vector<Vec3>& points) const;  // 1 inside, 0 outside
 
