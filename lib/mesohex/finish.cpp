@@ -199,7 +199,17 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         const Clock::time_point t = Clock::now();
         SmoothOptions so = options.smoothing;
         if (options.smooth_gap > 0) so.max_gap = options.smooth_gap * query.bbox_diagonal();
-        SmoothResult sm = smooth_quality(mesh, [&query](const Vec3& p) { return query.closest(p).point; }, so);
+        // Smoothing projects points near each other one after the other (sequentially): each query starts from the
+        // triangle the last one found (the result does not depend on it).
+        int last_triangle = -1;
+        SmoothResult sm = smooth_quality(
+            mesh,
+            [&query, &last_triangle](const Vec3& p) {
+                const ClosestPoint c = query.closest(p, last_triangle);
+                last_triangle = c.triangle;
+                return c.point;
+            },
+            so);
         mesh = std::move(sm.mesh);
         result.smoothed = sm.moves > 0;
         result.stages.push_back(measure("smooth", ms_since(t), mesh));

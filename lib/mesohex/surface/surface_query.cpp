@@ -181,6 +181,22 @@ ClosestPoint SurfaceQuery::closest(const Vec3& p) const {
     return c;
 }
 
+ClosestPoint SurfaceQuery::closest(const Vec3& p, int hint_triangle) const {
+    const Impl& m = *impl_;
+    const int prim = hint_triangle >= 0 && static_cast<std::size_t>(hint_triangle) < m.primitive_of.size()
+                         ? m.primitive_of[static_cast<std::size_t>(hint_triangle)]
+                         : -1;
+    if (prim < 0) return closest(p);
+    const TriangleIterator it = m.triangles.cbegin() + prim;
+    const Point centroid = CGAL::centroid((*it)[0], (*it)[1], (*it)[2]);
+    const auto r = m.tree.closest_point_and_primitive(to_cgal(p), std::make_pair(centroid, it));
+    ClosestPoint c;
+    c.point = to_vec(r.first);
+    c.triangle = m.id_of(r.second);
+    c.squared_distance = squared_norm(c.point - p);
+    return c;
+}
+
 double SurfaceQuery::squared_distance(const Vec3& p) const { return impl_->tree.squared_distance(to_cgal(p)); }
 
 std::optional<RayHit> SurfaceQuery::first_hit(const Vec3& origin, const Vec3& direction, double min_distance) const {
@@ -212,28 +228,12 @@ std::vector<ClosestPoint> SurfaceQuery::closest(const std::vector<Vec3>& points)
 
 std::vector<ClosestPoint> SurfaceQuery::closest(const std::vector<Vec3>& points,
                                                 const std::vector<int>& hint_triangles) const {
-    const Impl& m = *impl_;
     if (hint_triangles.size() != points.size())
         throw Error(ErrorCode::InvalidInput, "surface query: " + std::to_string(hint_triangles.size()) + " hints for " +
                                                  std::to_string(points.size()) + " points");
     std::vector<ClosestPoint> out(points.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            const int t = hint_triangles[i];
-            const int prim = t >= 0 && static_cast<std::size_t>(t) < m.primitive_of.size()
-                                 ? m.primitive_of[static_cast<std::size_t>(t)]
-                                 : -1;
-            if (prim < 0) {
-                out[i] = closest(points[i]);
-                continue;
-            }
-            const TriangleIterator it = m.triangles.cbegin() + prim;
-            const Point centroid = CGAL::centroid((*it)[0], (*it)[1], (*it)[2]);
-            const auto hit = m.tree.closest_point_and_primitive(to_cgal(points[i]), std::make_pair(centroid, it));
-            out[i].point = to_vec(hit.first);
-            out[i].triangle = m.id_of(hit.second);
-            out[i].squared_distance = squared_norm(out[i].point - points[i]);
-        }
+        for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = closest(points[i], hint_triangles[i]);
     });
     return out;
 }

@@ -42,6 +42,8 @@ public:
     double bbox_diagonal() const;
 
     ClosestPoint closest(const Vec3& p) const;
+    // The same, the search bounded from the start by triangle hint_triangle's centroid (-1: no hint). Same result.
+    ClosestPoint closest(const Vec3& p, int hint_triangle) const;
     double squared_distance(const Vec3& p) const;
     // First intersection of the ray origin + t direction, t > min_distance (use a small positive value to skip the
     // surface the origin lies on). direction need not be unit; a zero direction gives no hit.
