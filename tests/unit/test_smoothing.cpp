@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "hex_fixtures.h"
 #include "mesohex/core/error.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/post/smoothing.h"
@@ -12,19 +13,7 @@ using namespace mesohex;
 namespace {
 
 // n x n x m block of unit cubes; vertex (i, j, k) has id i + (n + 1) (j + (n + 1) k).
-HexMesh block(int n, int m) {
-    HexMesh b;
-    auto id = [n](int i, int j, int k) { return i + (n + 1) * (j + (n + 1) * k); };
-    for (int k = 0; k <= m; ++k)
-        for (int j = 0; j <= n; ++j)
-            for (int i = 0; i <= n; ++i) b.points.push_back({double(i), double(j), double(k)});
-    for (int k = 0; k < m; ++k)
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i)
-                b.hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
-                                   id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)});
-    return b;
-}
+HexMesh block(int n, int m) { return test::make_block(n, n, m); }
 
 double min_sj(const HexMesh& m) {
     double s = 1;

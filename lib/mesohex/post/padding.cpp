@@ -108,18 +108,23 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
         }
         return scaled_jacobian(c);
     };
+    // Marks (per boundary vertex) the 4 vertices of every boundary quad whose new hex is not positive; false if none.
+    auto mark_inverted = [&](std::vector<char>& marked) {
+        marked.assign(nb, 0);
+        bool any = false;
+        for (const std::array<int, 4>& q : topo.boundary_quads)
+            if (!(new_hex_sj(q) > 0))
+                for (int v : q) {
+                    marked[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
+                    any = true;
+                }
+        return any;
+    };
     const std::vector<double> full_offset = offset;
     auto shrink_inverted = [&]() {
         for (int round = 0; round < 6; ++round) {
-            std::vector<char> shrink(nb, 0);
-            bool any = false;
-            for (const std::array<int, 4>& q : topo.boundary_quads)
-                if (!(new_hex_sj(q) > 0))
-                    for (int v : q) {
-                        shrink[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
-                        any = true;
-                    }
-            if (!any) break;
+            std::vector<char> shrink;
+            if (!mark_inverted(shrink)) break;
             for (std::size_t i = 0; i < nb; ++i)
                 if (shrink[i]) {
                     offset[i] *= 0.5;
@@ -137,15 +142,8 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
         for (int v : topo.boundary_quads[q])
             quads_at[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])].push_back(static_cast<int>(q));
     for (int tilt = 0; tilt < 20; ++tilt) {
-        std::vector<char> bad(nb, 0);
-        bool any = false;
-        for (const std::array<int, 4>& q : topo.boundary_quads)
-            if (!(new_hex_sj(q) > 0))
-                for (int v : q) {
-                    bad[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
-                    any = true;
-                }
-        if (!any) break;
+        std::vector<char> bad;
+        if (!mark_inverted(bad)) break;
         for (std::size_t i = 0; i < nb; ++i) {
             if (!bad[i]) continue;
             double worst = 2.0;
