@@ -228,8 +228,19 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
             const double gn = norm(g);
             if (!(gn > 0) || !std::isfinite(gn)) continue;
             const Vec3 dir = g / (-gn);
-            const double gap_limit =
-                on_boundary[v] && options.max_gap > 0 ? std::max(options.max_gap, chord_gap(v)) : 0;
+            // The chord-gap limit needs the gap at x0 (a dozen projections): computed only once a candidate passes the
+            // other tests, most visits end before that.
+            double gap_limit = -1;
+            auto gap_ok = [&]() {
+                if (!(on_boundary[v] && options.max_gap > 0)) return true;
+                if (gap_limit < 0) {
+                    const Vec3 cand = x[v];
+                    x[v] = x0;
+                    gap_limit = std::max(options.max_gap, chord_gap(v));
+                    x[v] = cand;
+                }
+                return chord_gap(v) <= gap_limit;
+            };
             double step = 0.2 * h;
             bool accepted = false;
             double energy_after = before.energy;
@@ -242,7 +253,7 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
                 x[v] = cand;
                 const Local after = local(v);
                 if (after.energy < before.energy && after.sj_min >= std::min(before.sj_min, options.target_sj) &&
-                    after.sj_min > 0 && (gap_limit <= 0 || chord_gap(v) <= gap_limit))
+                    after.sj_min > 0 && gap_ok())
                     accepted = true;
                 energy_after = after.energy;
             }
