@@ -120,6 +120,9 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         ->capture_default_str();
     cmd->add_flag("--no-pad", job->no_pad, "Skip the padding layer");
     cmd->add_flag("--no-fit", job->no_fit, "Skip the surface fitting (and untangling)");
+    cmd->add_flag("--no-untangle", job->no_untangle,
+                  "Skip the untangling of inverted hexes after the fit (the report and exit status 5 still say so)");
+    cmd->add_flag("--no-smooth", job->no_smooth, "Skip the final smoothing pass");
     cmd->add_option("--iterations", job->iterations, "Iteration cap of the fitting loop")->capture_default_str();
     cmd->add_option("--fit-weight", job->fit_weight,
                     "Weight of the pull of the boundary onto the surface, relative to the shape terms")
@@ -182,7 +185,8 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
             }
         }
         fo.fit = !job.no_fit;
-        fo.untangle = !job.no_fit;
+        fo.untangle = !job.no_fit && !job.no_untangle;
+        fo.smooth = !job.no_smooth;
         fo.fitting.max_iterations = job.iterations;
         fo.fitting.lambda = job.fit_weight;
         fo.improve_sj = job.improve_sj;

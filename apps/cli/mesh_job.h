@@ -30,6 +30,8 @@ struct MeshJob {
     std::string refine = "uniform";  // uniform | longitudinal | radial
     bool no_pad = false;
     bool no_fit = false;
+    bool no_untangle = false;
+    bool no_smooth = false;
     int iterations = 300;
     double fit_weight = 3.0;
     double improve_sj = 0.3;

@@ -2,9 +2,11 @@
 // that says a mesh with inverted hexes was written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -89,6 +91,56 @@ TEST(MeshCli, InvertedHexesAreReportedWithExitStatusFive) {
     const mesohex::QualityReport q = mesohex::compute_quality(mesohex::read_hex_mesh(out.string()));
     EXPECT_GT(q.inverted, 0);
     EXPECT_EQ(q.hexes, 16);
+}
+
+// Stage switches: by default the chain ends with the smoothing pass (the tripod at level 0 has hexes below the
+// smoothing's 0.6); --no-smooth leaves it out and keeps the fitted mesh as it is (same fit stage, same final quality
+// as the fit). --no-untangle (with the quality pass off) leaves a fit's inverted hexes: exit status 5.
+TEST(MeshCli, StageSwitchesTurnSmoothingAndUntanglingOff) {
+    const fs::path domain = temp_dir() / "tripod_sw.off";
+    ASSERT_EQ(run_cli("thicken " + tripod() + " -o " + domain.string() + " --resolution 2").status, 0);
+    auto stages_of = [](const nlohmann::json& rep) {
+        std::vector<std::string> names;
+        for (const auto& s : rep["stages"]) names.push_back(s["stage"].get<std::string>());
+        return names;
+    };
+    nlohmann::json with, without;
+    for (const bool smooth : {true, false}) {
+        const fs::path out = temp_dir() / "tripod_sw.mesh", report = temp_dir() / "tripod_sw.json";
+        const auto r = run_cli("mesh " + tripod() + " --surface " + domain.string() + " --levels 0 -o " + out.string() +
+                               " --report " + report.string() + " --quiet" + (smooth ? "" : " --no-smooth"));
+        ASSERT_EQ(r.status, 0) << r.output;
+        (smooth ? with : without) = read_json(report);
+    }
+    const std::vector<std::string> a = stages_of(with), b = stages_of(without);
+    ASSERT_FALSE(a.empty());
+    EXPECT_EQ(a.back(), "smooth");
+    EXPECT_EQ(std::count(b.begin(), b.end(), "smooth"), 0);
+    EXPECT_EQ(b.back(), "fit");
+    EXPECT_EQ(without["quality"]["sj_min"], without["stages"].back()["sj_min"]);
+    EXPECT_EQ(with["stages"][3]["sj_min"], without["stages"][3]["sj_min"]);  // the same fit
+    EXPECT_GT(with["quality"]["sj_min"].get<double>(), without["quality"]["sj_min"].get<double>());
+
+    // The zig-zag with radii 1.2 x the distance to its own domain: the fit leaves inverted hexes (8, measured), which
+    // the untangling repairs; without it and without the quality pass they stay, and the exit status says so.
+    const fs::path skel = temp_dir() / "zig_sw.obj", zig_domain = temp_dir() / "zig_sw.off",
+                   out = temp_dir() / "zig_sw.mesh", report = temp_dir() / "zig_sw.json";
+    std::ofstream(skel) << "v 0 0 0\nv 1 0 0\nv 1.1 0.1 0\nv 2 0.2 0\nv 2.1 0.2 0.1\nl 1 2 3 4 5\n";
+    ASSERT_EQ(run_cli("thicken " + skel.string() + " -o " + zig_domain.string() + " --radius 0.6").status, 0);
+    const std::string zig = "mesh " + skel.string() + " --no-resample --radius-factor 1.2 --surface " +
+                            zig_domain.string() + " --levels 0 -o " + out.string() + " --report " + report.string() +
+                            " --quiet";
+    const auto repaired = run_cli(zig);
+    EXPECT_EQ(repaired.status, 0) << repaired.output;
+    const std::vector<std::string> z1 = stages_of(read_json(report));
+    EXPECT_EQ(std::count(z1.begin(), z1.end(), "untangle"), 1);
+    const auto kept = run_cli(zig + " --no-untangle --improve-below 0");
+    EXPECT_EQ(kept.status, 5) << kept.output;
+    const nlohmann::json rep = read_json(report);
+    const std::vector<std::string> z2 = stages_of(rep);
+    EXPECT_EQ(std::count(z2.begin(), z2.end(), "untangle"), 0);
+    EXPECT_EQ(std::count(z2.begin(), z2.end(), "improve"), 0);
+    EXPECT_GT(rep["quality"]["inverted"].get<long>(), 0);
 }
 
 TEST(MeshCli, MissingSurfaceIsAFileErrorAndWritesNothing) {
