@@ -50,25 +50,27 @@ private:
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-// The same for the untangling and quality passes (one line per stage, rounds instead of iterations).
-class UntangleProgressLine {
+// The same for the untangling, quality and smoothing passes (one line per stage, rounds or sweeps instead of
+// iterations).
+class StageProgressLine {
 public:
-    UntangleProgressLine(const char* label, int max_rounds, bool enabled)
-        : label_(label), max_(max_rounds), enabled_(enabled) {}
-    void update(const UntangleProgress& p) {
+    StageProgressLine(const char* label, const char* unit, int max_rounds, bool enabled)
+        : label_(label), unit_(unit), max_(max_rounds), enabled_(enabled) {}
+    void update(int round, const std::string& detail) {
         if (!enabled_) return;
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
         if (elapsed < 1.0) return;
-        std::cerr << "\r" << label_ << " round " << p.round << "/" << max_ << "  inverted " << p.inverted << "   "
+        std::cerr << "\r" << label_ << " " << unit_ << " " << round << "/" << max_ << "  " << detail << "   "
                   << std::flush;
         drawn_ = true;
     }
-    ~UntangleProgressLine() {
+    ~StageProgressLine() {
         if (drawn_) std::cerr << "\n";
     }
 
 private:
     const char* label_;
+    const char* unit_;
     int max_;
     bool enabled_;
     bool drawn_ = false;
@@ -193,10 +195,18 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
         FitProgressBar bar(job.iterations, !job.quiet && isatty(STDERR_FILENO));
         fo.fitting.progress = [&bar](const FitProgress& p) { bar.update(p); };
         const bool show = !job.quiet && isatty(STDERR_FILENO);
-        UntangleProgressLine untangle_line("untangle", fo.untangling.max_rounds, show);
-        UntangleProgressLine improve_line("improve", fo.improving.max_rounds, show);
-        fo.untangling.progress = [&untangle_line](const UntangleProgress& p) { untangle_line.update(p); };
-        fo.improving.progress = [&improve_line](const UntangleProgress& p) { improve_line.update(p); };
+        StageProgressLine untangle_line("untangle", "round", fo.untangling.max_rounds, show);
+        StageProgressLine improve_line("improve", "round", fo.improving.max_rounds, show);
+        StageProgressLine smooth_line("smooth", "sweep", fo.smoothing.max_sweeps, show);
+        fo.untangling.progress = [&untangle_line](const UntangleProgress& p) {
+            untangle_line.update(p.round, "inverted " + std::to_string(p.inverted));
+        };
+        fo.improving.progress = [&improve_line](const UntangleProgress& p) {
+            improve_line.update(p.round, "inverted " + std::to_string(p.inverted));
+        };
+        fo.smoothing.progress = [&smooth_line](const SmoothProgress& p) {
+            smooth_line.update(p.sweep, "moves " + std::to_string(p.moves));
+        };
         fin = finish_mesh(res.raw.mesh, *domain, fo);
     }
     const QualityReport& final_quality = fin ? fin->quality : q;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "hex_fixtures.h"
 #include "mesohex/core/error.h"
@@ -36,7 +37,16 @@ TEST(Smoothing, DisplacedCentreReturns) {
     const SmoothResult coarse = smooth_quality(m, {}, o);
     EXPECT_GT(coarse.sj_min_after, 0.97);
     o.skip_above = 1;
+    std::vector<SmoothProgress> sweeps;  // one report per sweep, adding up to the result
+    o.progress = [&sweeps](const SmoothProgress& p) { sweeps.push_back(p); };
     const SmoothResult r = smooth_quality(m, {}, o);
+    ASSERT_EQ(static_cast<int>(sweeps.size()), r.sweeps);
+    long moves = 0;
+    for (std::size_t i = 0; i < sweeps.size(); ++i) {
+        EXPECT_EQ(sweeps[i].sweep, static_cast<int>(i) + 1);
+        moves += sweeps[i].moves;
+    }
+    EXPECT_EQ(moves, r.moves);
     EXPECT_NEAR(r.sj_min_before, before, 1e-12);
     EXPECT_GT(r.moves, 0);
     EXPECT_NEAR(r.mesh.points[13].x, 1.0, 0.02);

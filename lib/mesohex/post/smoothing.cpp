@@ -271,6 +271,7 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         }
         result.sweeps = sweep;
         result.moves += moves;
+        if (options.progress) options.progress({sweep, moves});
         if (moves == 0 || gain <= options.min_gain * total) break;
     }
     stats(result.sj_min_after, result.sj_avg_after);

@@ -8,6 +8,11 @@
 
 namespace mesohex {
 
+struct SmoothProgress {
+    int sweep = 0;   // sweeps done
+    long moves = 0;  // vertex moves accepted in that sweep
+};
+
 struct SmoothOptions {
     int max_sweeps = 20;          // Gauss-Seidel sweeps over the vertices (ascending ids; a vertex is tried again only
     double min_gain = 1e-4;       // after a vertex of its hexes moved); stops earlier when the moves of a sweep lower
@@ -22,6 +27,7 @@ struct SmoothOptions {
     double max_gap = 0;           // > 0: a boundary move is kept only if the distance to the surface of the centroids
                                   // and edge midpoints of the boundary quads at the vertex stays <= max(this, before)
     std::vector<bool> frozen;     // optional, per vertex: never moved
+    std::function<void(const SmoothProgress&)> progress;  // optional, called after every sweep
 };
 
 struct SmoothResult {
