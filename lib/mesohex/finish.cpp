@@ -66,6 +66,19 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         const Clock::time_point t = Clock::now();
         mesh = pad(mesh, options.padding).mesh;
         result.stages.push_back(measure("pad", ms_since(t), mesh));
+        // Near-flat padding hexes: relax them on the coarse padded mesh (FinishOptions::pad_improve_sj).
+        if (options.pad_improve_sj > 0 && result.stages.back().inverted == 0 &&
+            result.stages.back().sj_min < options.pad_improve_sj) {
+            const Clock::time_point ti = Clock::now();
+            UntangleOptions uo = options.pad_improving;
+            uo.target_sj = options.pad_improve_sj;
+            UntangleResult u = untangle(mesh, uo);
+            if (u.inverted_after == 0 && u.sj_min_after > result.stages.back().sj_min) {
+                mesh = std::move(u.mesh);
+                result.pad_improved = true;
+            }
+            result.stages.push_back(measure("pad-improve", ms_since(ti), mesh));
+        }
     }
 
     if (options.subdivide) {
