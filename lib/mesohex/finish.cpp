@@ -62,23 +62,28 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     HexMesh mesh = raw;
     result.stages.push_back(measure("input", 0, mesh));
 
+    // Quality pass (the untangling energy with a target scaled Jacobian) on the current mesh, recorded as stage
+    // `name`; its result is kept (and `kept` set) only if it inverts no more hexes and raises the minimum.
+    auto quality_pass = [&](const char* name, double target_sj, const UntangleOptions& base, bool& kept) {
+        const Clock::time_point t = Clock::now();
+        UntangleOptions uo = base;
+        uo.target_sj = target_sj;
+        UntangleResult u = untangle(mesh, uo);
+        if (u.inverted_after <= result.stages.back().inverted && u.sj_min_after > result.stages.back().sj_min) {
+            mesh = std::move(u.mesh);
+            kept = true;
+        }
+        result.stages.push_back(measure(name, ms_since(t), mesh));
+    };
+
     if (options.pad) {
         const Clock::time_point t = Clock::now();
         mesh = pad(mesh, options.padding).mesh;
         result.stages.push_back(measure("pad", ms_since(t), mesh));
         // Near-flat padding hexes: relax them on the coarse padded mesh (FinishOptions::pad_improve_sj).
         if (options.pad_improve_sj > 0 && result.stages.back().inverted == 0 &&
-            result.stages.back().sj_min < options.pad_improve_sj) {
-            const Clock::time_point ti = Clock::now();
-            UntangleOptions uo = options.pad_improving;
-            uo.target_sj = options.pad_improve_sj;
-            UntangleResult u = untangle(mesh, uo);
-            if (u.inverted_after == 0 && u.sj_min_after > result.stages.back().sj_min) {
-                mesh = std::move(u.mesh);
-                result.pad_improved = true;
-            }
-            result.stages.push_back(measure("pad-improve", ms_since(ti), mesh));
-        }
+            result.stages.back().sj_min < options.pad_improve_sj)
+            quality_pass("pad-improve", options.pad_improve_sj, options.pad_improving, result.pad_improved);
     }
 
     if (options.subdivide) {
@@ -179,16 +184,8 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     }
 
     auto improve = [&]() {
-        if (!(options.improve_sj > 0 && result.stages.back().sj_min < options.improve_sj)) return;
-        const Clock::time_point t = Clock::now();
-        UntangleOptions uo = options.improving;
-        uo.target_sj = options.improve_sj;
-        UntangleResult u = untangle(mesh, uo);
-        if (u.inverted_after <= result.stages.back().inverted && u.sj_min_after > result.stages.back().sj_min) {
-            mesh = std::move(u.mesh);
-            result.improved = true;
-        }
-        result.stages.push_back(measure("improve", ms_since(t), mesh));
+        if (options.improve_sj > 0 && result.stages.back().sj_min < options.improve_sj)
+            quality_pass("improve", options.improve_sj, options.improving, result.improved);
     };
     improve();
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <set>
+#include <vector>
 
 #include "hex_fixtures.h"
 #include "mesohex/core/hex_convention.h"
@@ -146,4 +147,20 @@ TEST(Topology, EmptyMesh) {
     EXPECT_TRUE(t.faces.empty());
     EXPECT_TRUE(t.edges.empty());
     EXPECT_TRUE(t.boundary_quads.empty());
+}
+
+// Vertex -> hexes of the 2 x 2 x 2 block: the centre vertex (1, 1, 1), id 13, is in all 8 hexes, listed in ascending
+// order; the corner (0, 0, 0) is in hex 0 only; the face centre (1, 1, 0), id 4, in the 4 bottom hexes 0..3.
+TEST(Topology, VertexHexesOfBlock2x2x2) {
+    const HexMesh m = mesohex::test::make_block(2, 2, 2);
+    const VertexHexes vh = vertex_hexes(m);
+    ASSERT_EQ(vh.begin.size(), m.points.size() + 1);
+    EXPECT_EQ(vh.begin.back(), 8 * 8);
+    auto of = [&](int v) {
+        return std::vector<int>(vh.hexes.begin() + vh.begin[static_cast<std::size_t>(v)],
+                                vh.hexes.begin() + vh.begin[static_cast<std::size_t>(v) + 1]);
+    };
+    EXPECT_EQ(of(13), (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
+    EXPECT_EQ(of(0), (std::vector<int>{0}));
+    EXPECT_EQ(of(4), (std::vector<int>{0, 1, 2, 3}));
 }

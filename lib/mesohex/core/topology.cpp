@@ -69,6 +69,20 @@ int number_groups(const std::vector<std::array<int, N>>& keys, const std::vector
 
 }  // namespace
 
+VertexHexes vertex_hexes(const HexMesh& mesh) {
+    const std::size_t nv = mesh.points.size();
+    VertexHexes r;
+    r.begin.assign(nv + 1, 0);
+    for (const std::array<int, 8>& hex : mesh.hexes)
+        for (int v : hex) ++r.begin[static_cast<std::size_t>(v) + 1];
+    for (std::size_t v = 0; v < nv; ++v) r.begin[v + 1] += r.begin[v];
+    r.hexes.resize(static_cast<std::size_t>(r.begin[nv]));
+    std::vector<int> fill(r.begin.begin(), r.begin.end() - 1);
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
+        for (int v : mesh.hexes[h]) r.hexes[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(h);
+    return r;
+}
+
 HexTopology compute_hex_topology(const HexMesh& mesh) {
     HexTopology topo;
     const std::size_t num_hexes = mesh.hexes.size();

@@ -31,6 +31,14 @@ struct HexTopology {
 // O(#hexes log #hexes). Works on any input with indices in range (validation reports the rest).
 HexTopology compute_hex_topology(const HexMesh& mesh);
 
+// Per vertex v, the hexes that use it in ascending order: hexes[begin[v]] .. hexes[begin[v + 1] - 1] (CSR).
+// Preconditions: indices in range. O(#hexes).
+struct VertexHexes {
+    std::vector<int> begin;  // #vertices + 1 entries
+    std::vector<int> hexes;
+};
+VertexHexes vertex_hexes(const HexMesh& mesh);
+
 // The boundary surface as a quad mesh with its own compact vertex numbering; vertex_of[i] is the hex-mesh vertex of
 // boundary vertex i.
 struct BoundarySurface {

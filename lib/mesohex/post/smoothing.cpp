@@ -81,17 +81,9 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
     if (nh == 0 || !(result.sj_min_before > 0)) return result;  // only for meshes without inverted hexes
 
     // Vertex -> hexes (CSR).
-    std::vector<int> vh_begin(nv + 1, 0), vh;
-    for (const std::array<int, 8>& hex : mesh.hexes)
-        for (int v : hex) ++vh_begin[static_cast<std::size_t>(v) + 1];
-    for (std::size_t v = 0; v < nv; ++v) vh_begin[v + 1] += vh_begin[v];
-    vh.resize(static_cast<std::size_t>(vh_begin.back()));
-    {
-        std::vector<int> fill(vh_begin.begin(), vh_begin.end() - 1);
-        for (std::size_t h = 0; h < nh; ++h)
-            for (int v : mesh.hexes[h])
-                vh[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(h);
-    }
+    const VertexHexes incident = vertex_hexes(mesh);
+    const std::vector<int>& vh_begin = incident.begin;
+    const std::vector<int>& vh = incident.hexes;
     // Mean length of the edges at every vertex (each edge seen from its hexes; the mean is what matters).
     std::vector<double> edge_len(nv, 0.0);
     {

@@ -201,7 +201,7 @@ struct SurfaceFitter::Impl {
     std::vector<int> slot_target;  // per hex slot 12 h + le: where its 2 normals go in slot_normals (edge order),
                                    // 2 i (+ 1 flipped: edges[e][0] is the hex's kHexEdges[le][1] corner)
     std::vector<int> vertex_edge_begin, vertex_edges;  // per vertex: its edges, encoded 2 e (v first) or 2 e + 1
-    std::vector<int> vertex_hex_begin, vertex_hexes;   // per vertex: the hexes that use it, ascending
+    VertexHexes vertex_hex;                            // per vertex: the hexes that use it, ascending
     std::vector<int> boundary_vertices;
     std::vector<double> edge_weight;  // w_e = Lbar / t_e
     double mean_target = 1;           // Lbar
@@ -299,14 +299,7 @@ void SurfaceFitter::Impl::build_incidence() {
         boundary_tris.triangles.push_back({q[0], q[1], q[2]});
         boundary_tris.triangles.push_back({q[0], q[2], q[3]});
     }
-    vertex_hex_begin.assign(nv + 1, 0);
-    for (const std::array<int, 8>& hex : mesh.hexes)
-        for (int v : hex) ++vertex_hex_begin[static_cast<std::size_t>(v) + 1];
-    for (std::size_t v = 0; v < nv; ++v) vertex_hex_begin[v + 1] += vertex_hex_begin[v];
-    vertex_hexes.resize(static_cast<std::size_t>(vertex_hex_begin[nv]));
-    std::vector<int> hfill(vertex_hex_begin.begin(), vertex_hex_begin.end() - 1);
-    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
-        for (int v : mesh.hexes[h]) vertex_hexes[static_cast<std::size_t>(hfill[static_cast<std::size_t>(v)]++)] = static_cast<int>(h);
+    vertex_hex = vertex_hexes(mesh);
 }
 
 // t_e = mean over the hexes around e of the mean length of the 4 edges parallel to e in that hex.
@@ -836,8 +829,8 @@ FitProgress SurfaceFitter::step() {
                 marked[vi] = 0;
                 scale[vi] = ++halvings[vi] > s.options.max_backtracks ? 0.0 : 0.5 * scale[vi];
                 x[vi] = old[vi] + scale[vi] * (s.solution[vi] - old[vi]);
-                for (int i = s.vertex_hex_begin[vi]; i < s.vertex_hex_begin[vi + 1]; ++i) {
-                    const int h = s.vertex_hexes[static_cast<std::size_t>(i)];
+                for (int i = s.vertex_hex.begin[vi]; i < s.vertex_hex.begin[vi + 1]; ++i) {
+                    const int h = s.vertex_hex.hexes[static_cast<std::size_t>(i)];
                     if (!queued[static_cast<std::size_t>(h)]) {
                         queued[static_cast<std::size_t>(h)] = 1;
                         check.push_back(h);

@@ -48,6 +48,16 @@ constexpr std::array<std::array<double, 8>, 3> kCentreFrameSign = {{
     {-1, -1, -1, -1, 1, 1, 1, 1},
 }};
 
+// The centre frame of corners p, each axis (a sum of 4 edges) x 0.25 inv_s.
+std::array<Vec3, 3> centre_frame(const std::array<Vec3, 8>& p, double inv_s) {
+    const double q = 0.25 * inv_s;
+    std::array<Vec3, 3> f{};
+    for (int i = 0; i < 8; ++i)
+        for (std::size_t k = 0; k < 3; ++k)
+            f[k] += (q * kCentreFrameSign[k][static_cast<std::size_t>(i)]) * p[static_cast<std::size_t>(i)];
+    return f;
+}
+
 // Energy of one hex and (optionally) its 8 vertex gradients (9 frames: 8 corners and the centre).
 double hex_energy(const UntangleState& pb, int h, std::array<Vec3, 8>* grad) {
     const std::array<int, 8>& hex = pb.mesh->hexes[static_cast<std::size_t>(h)];
@@ -68,12 +78,10 @@ double hex_energy(const UntangleState& pb, int h, std::array<Vec3, 8>* grad) {
             f1 = (p[static_cast<std::size_t>(nb[1])] - xc) * inv_s;
             f2 = (p[static_cast<std::size_t>(nb[2])] - xc) * inv_s;
         } else {
-            const double q = 0.25 * inv_s;  // each axis is a sum of 4 edges
-            for (int i = 0; i < 8; ++i) {
-                f0 += (q * kCentreFrameSign[0][static_cast<std::size_t>(i)]) * p[static_cast<std::size_t>(i)];
-                f1 += (q * kCentreFrameSign[1][static_cast<std::size_t>(i)]) * p[static_cast<std::size_t>(i)];
-                f2 += (q * kCentreFrameSign[2][static_cast<std::size_t>(i)]) * p[static_cast<std::size_t>(i)];
-            }
+            const std::array<Vec3, 3> f = centre_frame(p, inv_s);
+            f0 = f[0];
+            f1 = f[1];
+            f2 = f[2];
         }
         const Vec3 c0 = cross(f1, f2), c1 = cross(f2, f0), c2 = cross(f0, f1);
         const double det = dot(f0, c0);
@@ -156,11 +164,9 @@ double min_corner_det(const UntangleState& pb) {
                                             (pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(nb[2])])] - xc) * inv_s);
                     acc = std::min(acc, det);
                 }
-                std::array<Vec3, 3> f{};
-                for (int i = 0; i < 8; ++i)
-                    for (int k = 0; k < 3; ++k)
-                        f[static_cast<std::size_t>(k)] += (0.25 * inv_s * kCentreFrameSign[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)]) *
-                                                          pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(i)])];
+                std::array<Vec3, 8> p;
+                for (std::size_t i = 0; i < 8; ++i) p[i] = pb.x[static_cast<std::size_t>(hex[i])];
+                const std::array<Vec3, 3> f = centre_frame(p, inv_s);
                 acc = std::min(acc, det3(f[0], f[1], f[2]));
             }
             return acc;
