@@ -57,7 +57,8 @@ void register_import(CLI::App& app, int* status) {
     cmd->add_option("--bl-corner-back-push", args->options.bl_joint_back_push,
                     "... times (1 + this x c) when the curve heads back over the leaflet (c = cosine of its angle to "
                     "the inward direction, > 0)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--smoothing", args->options.smoothing_iterations,
                     "Smoothing sweeps over the leaflets: Laplacian on interior vertices, along the normal on boundary "
                     "vertices (0 = none)")
@@ -67,7 +68,8 @@ void register_import(CLI::App& app, int* status) {
     cmd->add_option("--reflex-corner-angle", args->options.reflex_corner_deg,
                     "A leaflet boundary vertex whose face angles sum to more (degrees) also moves towards the midpoint "
                     "of its two boundary neighbours while smoothing")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 360.0));
     cmd->footer("Method: docs/skeletons.md. Example: mesohex import hand.ma -o hand.obj");
     cmd->callback([args, status]() {
         args->options.pair_triangles = !args->no_pairing;

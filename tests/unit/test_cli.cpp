@@ -111,3 +111,23 @@ TEST(Cli, ConvertRoundTrip) {
     EXPECT_TRUE(contains(q.output, "\"hexes\": 2")) << q.output;
     fs::remove_all(dir);
 }
+
+// The import's shape options reject values outside their range before reading anything, naming the option; nothing
+// is written.
+TEST(Cli, ImportRejectsOutOfRangeOptions) {
+    const fs::path in = fs::temp_directory_path() / "mesohex_test_opt.ma", out = fs::temp_directory_path() / "mesohex_test_opt.obj";
+    std::FILE* f = std::fopen(in.string().c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("3 3 1\nv 0 0 0 0.1\nv 1 0 0 0.1\nv 0 1 0 0.1\ne 0 1\ne 1 2\ne 2 0\nf 0 1 2\n", f);
+    std::fclose(f);
+    fs::remove(out);
+    for (const std::string bad : {"--bl-corner-back-push -1", "--reflex-corner-angle 400"}) {
+        const CliRun r = run("import " + in.string() + " -o " + out.string() + " " + bad);
+        EXPECT_NE(r.status, 0) << bad;
+        EXPECT_TRUE(contains(r.output, bad.substr(0, bad.find(' ')))) << r.output;
+        EXPECT_FALSE(fs::exists(out)) << bad;
+    }
+    const CliRun good = run("import " + in.string() + " -o " + out.string() + " --bl-corner-back-push 0.5");
+    EXPECT_EQ(good.status, 0) << good.output;
+    EXPECT_TRUE(fs::exists(out));
+}
