@@ -58,7 +58,7 @@ void register_import(CLI::App& app, int* status) {
                     "... times (1 + this x c) when the curve heads back over the leaflet (c = cosine of its angle to "
                     "the inward direction, > 0)")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::Range(0.0, 10.0));
     cmd->add_option("--smoothing", args->options.smoothing_iterations,
                     "Smoothing sweeps over the leaflets: Laplacian on interior vertices, along the normal on boundary "
                     "vertices (0 = none)")
