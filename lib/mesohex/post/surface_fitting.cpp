@@ -39,11 +39,6 @@ constexpr std::array<std::array<int, 8>, 8> make_neighbor_index() {
 }
 constexpr std::array<std::array<int, 8>, 8> kNeighborIndex = make_neighbor_index();
 
-// A unit corner normal in single precision: a direction needs no more, and the normal pass moves half the bytes.
-struct Normal32 {
-    float x, y, z;
-};
-
 // Output normal k = 2 le + end of a hex (end 0: at corner a = kHexEdges[le][0] toward b = kHexEdges[le][1]; end 1: at b
 // toward a) is the (right-handed) cross product of the corner's two other edges, (x[o1] - x[c]) x (x[o2] - x[c]) with
 // (o1, o2) the neighbours after o in c's cyclic neighbour order, so that it points to the side of o on a positively
@@ -80,41 +75,140 @@ constexpr NormalRecipe make_normal_recipe() {
 }
 constexpr NormalRecipe kNormalRecipe = make_normal_recipe();
 
-// The 24 unit corner normals of a hex (out[k] as above; zero for a degenerate corner). The 12 edges are differences of
-// double positions (exact enough far from the origin), rounded to single precision; the cross products and their
-// normalisation run over plain single-precision arrays, which the compiler vectorises (square roots and divisions
-// dominated this pass).
-void hex_corner_normals(const std::vector<Vec3>& x, const std::array<int, 8>& hex, Normal32* out /* 24 */) {
-    std::array<float, 12> ex, ey, ez;
+// The hex pass runs on blocks of kLanes hexes in structure-of-arrays form: every value below is an array over the
+// block's hexes, each loop over lanes is one vector operation, and the block's arithmetic is the same, operation by
+// operation, as a one-hex evaluation would be (IEEE operations are correctly rounded whatever the vector width; the
+// file is compiled without floating-point contraction), so the results do not depend on how hexes are grouped.
+constexpr std::size_t kLanes = 8;
+
+// The local edge between corners a and b, -1 if none.
+constexpr std::array<std::array<int, 8>, 8> make_edge_of() {
+    std::array<std::array<int, 8>, 8> t{};
+    for (auto& row : t) row.fill(-1);
     for (std::size_t le = 0; le < 12; ++le) {
-        const Vec3 e = x[static_cast<std::size_t>(hex[static_cast<std::size_t>(kHexEdges[le][1])])] -
-                       x[static_cast<std::size_t>(hex[static_cast<std::size_t>(kHexEdges[le][0])])];
-        ex[le] = static_cast<float>(e.x);
-        ey[le] = static_cast<float>(e.y);
-        ez[le] = static_cast<float>(e.z);
+        t[static_cast<std::size_t>(kHexEdges[le][0])][static_cast<std::size_t>(kHexEdges[le][1])] = static_cast<int>(le);
+        t[static_cast<std::size_t>(kHexEdges[le][1])][static_cast<std::size_t>(kHexEdges[le][0])] = static_cast<int>(le);
     }
-    std::array<float, 24> ax, ay, az, bx, by, bz, nx, ny, nz, inv;
+    return t;
+}
+constexpr std::array<std::array<int, 8>, 8> kEdgeOf = make_edge_of();
+
+// A block's corner normals: normal k (= 2 le + end as in NormalRecipe) of the block's hex l, component c, is at
+// (3 k + c) kLanes + l. Hex h's block is h / kLanes, its lane h % kLanes.
+constexpr std::size_t kBlockFloats = 24 * 3 * kLanes;
+std::size_t normal_offset(std::size_t h, std::size_t k) { return (h / kLanes) * kBlockFloats + 3 * k * kLanes + h % kLanes; }
+
+// Scaled Jacobians sj[0..kLanes) and corner normals (one block, as above) of the hexes hexes[0..kLanes) (a block may
+// repeat a hex).
+//
+// Scaled Jacobian: Verdict's hex scaled Jacobian (same definition as post/quality.h's scaled_jacobian, equal up to
+// rounding) with one square root. Each of the 9 frames is compared by its signed squared value
+// det |det| / (l1^2 l2^2 l3^2), whose minimum is the square of the minimum. A corner frame's edges are plus or minus
+// hex edges (negation is exact, and det(s0 a, s1 b, s2 c) = s0 s1 s2 det(a, b, c) exactly). A hex with a zero-length
+// edge or principal axis, or a non-finite value, gets -1. This check runs after every step, on every hex.
+//
+// Normals: the 12 edges are rounded to single precision; the cross products and their normalisation run in single
+// precision (a direction needs no more). A zero normal stays zero: its components are multiplied by a finite number.
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+void hex_block(const Vec3* x, const std::array<int, 8>* const* hexes, double* sj, float* normals) {
+    constexpr std::size_t L = kLanes;
+    alignas(64) double px[8][L], py[8][L], pz[8][L];
+    for (std::size_t l = 0; l < L; ++l)
+        for (std::size_t c = 0; c < 8; ++c) {
+            const Vec3& p = x[static_cast<std::size_t>((*hexes[l])[c])];
+            px[c][l] = p.x;
+            py[c][l] = p.y;
+            pz[c][l] = p.z;
+        }
+    // Validity: every edge and principal axis has a finite squared length above DBL_MIN. lo is the smallest; nf
+    // becomes NaN when one is infinite or NaN (x * 0 is NaN exactly then).
+    alignas(64) double ex[12][L], ey[12][L], ez[12][L], len2[12][L], lo[L], nf[L];
+    for (std::size_t l = 0; l < L; ++l) {
+        lo[l] = std::numeric_limits<double>::infinity();
+        nf[l] = 0;
+    }
+    for (std::size_t le = 0; le < 12; ++le) {
+        const std::size_t a = static_cast<std::size_t>(kHexEdges[le][0]), b = static_cast<std::size_t>(kHexEdges[le][1]);
+        for (std::size_t l = 0; l < L; ++l) {
+            ex[le][l] = px[b][l] - px[a][l];
+            ey[le][l] = py[b][l] - py[a][l];
+            ez[le][l] = pz[b][l] - pz[a][l];
+            len2[le][l] = ex[le][l] * ex[le][l] + ey[le][l] * ey[le][l] + ez[le][l] * ez[le][l];
+            lo[l] = len2[le][l] < lo[l] ? len2[le][l] : lo[l];
+            nf[l] += len2[le][l] * 0.0;
+        }
+    }
+    alignas(64) double q[L];
+    for (std::size_t l = 0; l < L; ++l) q[l] = std::numeric_limits<double>::infinity();
+    auto frame = [&](const double* ax, const double* ay, const double* az, const double* bx, const double* by,
+                     const double* bz, const double* cx, const double* cy, const double* cz, double sa, double sb,
+                     double sc, const double* la, const double* lb, const double* lc) {
+        for (std::size_t l = 0; l < L; ++l) {
+            const double a0 = sa * ax[l], a1 = sa * ay[l], a2 = sa * az[l];
+            const double b0 = sb * bx[l], b1 = sb * by[l], b2 = sb * bz[l];
+            const double c0 = sc * cx[l], c1 = sc * cy[l], c2 = sc * cz[l];
+            const double det = a0 * (b1 * c2 - b2 * c1) + a1 * (b2 * c0 - b0 * c2) + a2 * (b0 * c1 - b1 * c0);
+            const double v = det * std::abs(det) / (la[l] * lb[l] * lc[l]);
+            q[l] = v < q[l] ? v : q[l];
+        }
+    };
+    for (std::size_t lv = 0; lv < 8; ++lv) {
+        const std::array<int, 3>& nb = kHexCornerNeighbors[lv];
+        std::size_t e[3];
+        double s[3];
+        for (std::size_t k = 0; k < 3; ++k) {
+            e[k] = static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[k])]);
+            s[k] = kHexEdges[e[k]][0] == static_cast<int>(lv) ? 1.0 : -1.0;  // x[nb] - x[lv] = s E
+        }
+        frame(ex[e[0]], ey[e[0]], ez[e[0]], ex[e[1]], ey[e[1]], ez[e[1]], ex[e[2]], ey[e[2]], ez[e[2]], s[0], s[1], s[2],
+              len2[e[0]], len2[e[1]], len2[e[2]]);
+    }
+    // The centre frame: the three principal axes.
+    alignas(64) double ax[3][L], ay[3][L], az[3][L], al[3][L];
+    constexpr int kPlus[3][4] = {{1, 2, 5, 6}, {2, 3, 6, 7}, {4, 5, 6, 7}};
+    constexpr int kMinus[3][4] = {{0, 3, 4, 7}, {0, 1, 4, 5}, {0, 1, 2, 3}};
+    for (std::size_t d = 0; d < 3; ++d) {
+        const std::size_t p0 = kPlus[d][0], p1 = kPlus[d][1], p2 = kPlus[d][2], p3 = kPlus[d][3];
+        const std::size_t m0 = kMinus[d][0], m1 = kMinus[d][1], m2 = kMinus[d][2], m3 = kMinus[d][3];
+        for (std::size_t l = 0; l < L; ++l) {
+            ax[d][l] = (px[p0][l] + px[p1][l] + px[p2][l] + px[p3][l]) - (px[m0][l] + px[m1][l] + px[m2][l] + px[m3][l]);
+            ay[d][l] = (py[p0][l] + py[p1][l] + py[p2][l] + py[p3][l]) - (py[m0][l] + py[m1][l] + py[m2][l] + py[m3][l]);
+            az[d][l] = (pz[p0][l] + pz[p1][l] + pz[p2][l] + pz[p3][l]) - (pz[m0][l] + pz[m1][l] + pz[m2][l] + pz[m3][l]);
+            al[d][l] = ax[d][l] * ax[d][l] + ay[d][l] * ay[d][l] + az[d][l] * az[d][l];
+            lo[l] = al[d][l] < lo[l] ? al[d][l] : lo[l];
+            nf[l] += al[d][l] * 0.0;
+        }
+    }
+    frame(ax[0], ay[0], az[0], ax[1], ay[1], az[1], ax[2], ay[2], az[2], 1.0, 1.0, 1.0, al[0], al[1], al[2]);
+    for (std::size_t l = 0; l < L; ++l) {
+        const bool finite = q[l] >= -std::numeric_limits<double>::max() && q[l] <= std::numeric_limits<double>::max();
+        const double r = std::sqrt(std::abs(q[l]));
+        const bool valid = lo[l] > std::numeric_limits<double>::min() && nf[l] == 0;
+        sj[l] = valid && finite ? (q[l] < 0 ? -r : r) : -1.0;
+    }
+    // Corner normals.
+    alignas(64) float fx[12][L], fy[12][L], fz[12][L];
+    for (std::size_t le = 0; le < 12; ++le)
+        for (std::size_t l = 0; l < L; ++l) {
+            fx[le][l] = static_cast<float>(ex[le][l]);
+            fy[le][l] = static_cast<float>(ey[le][l]);
+            fz[le][l] = static_cast<float>(ez[le][l]);
+        }
     for (std::size_t k = 0; k < 24; ++k) {
         const std::size_t i = static_cast<std::size_t>(kNormalRecipe.first[k]);
         const std::size_t j = static_cast<std::size_t>(kNormalRecipe.second[k]);
-        ax[k] = ex[i];
-        ay[k] = ey[i];
-        az[k] = ez[i];
-        bx[k] = kNormalRecipe.sign[k] * ex[j];
-        by[k] = kNormalRecipe.sign[k] * ey[j];
-        bz[k] = kNormalRecipe.sign[k] * ez[j];
+        const float sg = kNormalRecipe.sign[k];
+        for (std::size_t l = 0; l < L; ++l) {
+            const float a0 = fx[i][l], a1 = fy[i][l], a2 = fz[i][l];
+            const float b0 = sg * fx[j][l], b1 = sg * fy[j][l], b2 = sg * fz[j][l];
+            const float n0 = a1 * b2 - a2 * b1, n1 = a2 * b0 - a0 * b2, n2 = a0 * b1 - a1 * b0;
+            const float l2 = n0 * n0 + n1 * n1 + n2 * n2;
+            const float inv = 1.0f / std::sqrt(l2 < std::numeric_limits<float>::min() ? std::numeric_limits<float>::min() : l2);
+            normals[(3 * k) * L + l] = n0 * inv;
+            normals[(3 * k + 1) * L + l] = n1 * inv;
+            normals[(3 * k + 2) * L + l] = n2 * inv;
+        }
     }
-    for (std::size_t k = 0; k < 24; ++k) {
-        nx[k] = ay[k] * bz[k] - az[k] * by[k];
-        ny[k] = az[k] * bx[k] - ax[k] * bz[k];
-        nz[k] = ax[k] * by[k] - ay[k] * bx[k];
-    }
-    // A zero normal stays zero: its components are multiplied by a finite number.
-    for (std::size_t k = 0; k < 24; ++k) {
-        const float l2 = nx[k] * nx[k] + ny[k] * ny[k] + nz[k] * nz[k];
-        inv[k] = 1.0f / std::sqrt(l2 < std::numeric_limits<float>::min() ? std::numeric_limits<float>::min() : l2);
-    }
-    for (std::size_t k = 0; k < 24; ++k) out[k] = {nx[k] * inv[k], ny[k] * inv[k], nz[k] * inv[k]};
 }
 
 // a / |a| (zero for zero) with one division: the edge pass normalises three vectors per edge.
@@ -128,68 +222,6 @@ struct HexStats {
     double sj_min = std::numeric_limits<double>::infinity();
 };
 
-// Verdict's hex scaled Jacobian (same definition as post/quality.h's scaled_jacobian, equal up to rounding) with one
-// square root: each of the 9 frames is compared by its signed squared value det |det| / (l1^2 l2^2 l3^2), whose
-// minimum is the square of the minimum. This check runs after every step, on every hex.
-double fast_scaled_jacobian(const std::vector<Vec3>& x, const std::array<int, 8>& hex) {
-    std::array<Vec3, 8> p;
-    for (std::size_t i = 0; i < 8; ++i) p[i] = x[static_cast<std::size_t>(hex[i])];
-    std::array<double, 12> len2;
-    for (std::size_t le = 0; le < 12; ++le) {
-        len2[le] = squared_norm(p[static_cast<std::size_t>(kHexEdges[le][1])] - p[static_cast<std::size_t>(kHexEdges[le][0])]);
-        if (!(len2[le] > std::numeric_limits<double>::min()) || !std::isfinite(len2[le])) return -1.0;
-    }
-    // Local edge id between corners a and b.
-    constexpr std::array<std::array<int, 8>, 8> kEdgeOf = {{
-        {-1, 0, -1, 3, 8, -1, -1, -1}, {0, -1, 1, -1, -1, 9, -1, -1}, {-1, 1, -1, 2, -1, -1, 10, -1},
-        {3, -1, 2, -1, -1, -1, -1, 11}, {8, -1, -1, -1, -1, 4, -1, 7}, {-1, 9, -1, -1, 4, -1, 5, -1},
-        {-1, -1, 10, -1, -1, 5, -1, 6}, {-1, -1, -1, 11, 7, -1, 6, -1},
-    }};
-    const Vec3 xi = (p[1] + p[2] + p[5] + p[6]) - (p[0] + p[3] + p[4] + p[7]);
-    const Vec3 eta = (p[2] + p[3] + p[6] + p[7]) - (p[0] + p[1] + p[4] + p[5]);
-    const Vec3 zeta = (p[4] + p[5] + p[6] + p[7]) - (p[0] + p[1] + p[2] + p[3]);
-    const double lx = squared_norm(xi), ly = squared_norm(eta), lz = squared_norm(zeta);
-    if (!(lx > std::numeric_limits<double>::min() && ly > std::numeric_limits<double>::min() &&
-          lz > std::numeric_limits<double>::min()))
-        return -1.0;
-    std::array<double, 9> num, den;
-    num[8] = det3(xi, eta, zeta);
-    den[8] = lx * ly * lz;
-    for (std::size_t lv = 0; lv < 8; ++lv) {
-        const std::array<int, 3>& nb = kHexCornerNeighbors[lv];
-        const Vec3& o = p[lv];
-        num[lv] = det3(p[static_cast<std::size_t>(nb[0])] - o, p[static_cast<std::size_t>(nb[1])] - o,
-                       p[static_cast<std::size_t>(nb[2])] - o);
-        den[lv] = len2[static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[0])])] *
-                  len2[static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[1])])] *
-                  len2[static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[2])])];
-    }
-    double q = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < 9; ++i) q = std::min(q, num[i] * std::abs(num[i]) / den[i]);
-    if (!std::isfinite(q)) return -1.0;
-    return q < 0 ? -std::sqrt(-q) : std::sqrt(q);
-}
-
-// Scaled Jacobian of every hex into sj, and the summary.
-HexStats hex_stats(const std::vector<std::array<int, 8>>& hexes, const std::vector<Vec3>& x, std::vector<double>& sj) {
-    sj.resize(hexes.size());
-    return tbb::parallel_deterministic_reduce(
-        tbb::blocked_range<std::size_t>(0, hexes.size(), 1024), HexStats{},
-        [&](const tbb::blocked_range<std::size_t>& r, HexStats acc) {
-            for (std::size_t h = r.begin(); h < r.end(); ++h) {
-                sj[h] = fast_scaled_jacobian(x, hexes[h]);
-                if (!(sj[h] > 0)) ++acc.inverted;
-                acc.sj_min = std::min(acc.sj_min, sj[h]);
-            }
-            return acc;
-        },
-        [](HexStats a, const HexStats& b) {
-            a.inverted += b.inverted;
-            a.sj_min = std::min(a.sj_min, b.sj_min);
-            return a;
-        });
-}
-
 }  // namespace
 
 struct SurfaceFitter::Impl {
@@ -198,8 +230,8 @@ struct SurfaceFitter::Impl {
     FitOptions options;
     HexTopology topo;
     std::vector<int> edge_slot_begin, edge_slots;      // per edge: its (h * 12 + le) slots
-    std::vector<int> slot_target;  // per hex slot 12 h + le: where its 2 normals go in slot_normals (edge order),
-                                   // 2 i (+ 1 flipped: edges[e][0] is the hex's kHexEdges[le][1] corner)
+    std::vector<int> slot_normal_at;  // per entry i of edge_slots: the offsets in hex_normals of its hex's normals at
+                                      // edges[e][0] (2 i) and at edges[e][1] (2 i + 1)
     std::vector<int> vertex_edge_begin, vertex_edges;  // per vertex: its edges, encoded 2 e (v first) or 2 e + 1
     VertexHexes vertex_hex;                            // per vertex: the hexes that use it, ascending
     std::vector<int> boundary_vertices;
@@ -224,7 +256,7 @@ struct SurfaceFitter::Impl {
     double cached_sample_gap = 0;
     double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
     // Per step buffers.
-    std::vector<Normal32> slot_normals;  // per entry i of edge_slots: the normal at edges[e][0] (2 i), at edges[e][1] (2 i + 1)
+    std::vector<float> hex_normals;  // the corner normals of every hex, in blocks (normal_offset)
     std::vector<Vec3> edge_rhs;      // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
     std::vector<Vec3> targets;       // per boundary vertex
     std::vector<Vec3> rhs, work, solution;
@@ -236,10 +268,9 @@ struct SurfaceFitter::Impl {
     std::vector<double> step_scale;  // per vertex: the part of its global-step move that was accepted
     int iteration = 0;
 
-    bool normals_current = false;  // slot_normals hold the corner normals at the current positions
-
-    void store_normals(std::size_t h);
-    HexStats measure_and_store_normals(std::vector<double>& sj);
+    template <class Id>
+    HexStats measure(Id id, std::size_t begin, std::size_t end, std::vector<double>& sj, bool in_place);
+    HexStats measure_all(std::vector<double>& sj);
     void build_incidence();
     void two_sided_corrections(std::vector<Vec3>& correction);
     void compute_targets();
@@ -264,14 +295,15 @@ void SurfaceFitter::Impl::build_incidence() {
             const int e = topo.hex_edges[h][static_cast<std::size_t>(le)];
             edge_slots[static_cast<std::size_t>(fill[static_cast<std::size_t>(e)]++)] = static_cast<int>(h) * 12 + le;
         }
-    slot_target.resize(edge_slots.size());
+    // Normal 2 le + end of a hex sits at corner kHexEdges[le][end]; flipped: edges[e][0] is the hex's kHexEdges[le][1].
+    slot_normal_at.resize(2 * edge_slots.size());
     for (std::size_t e = 0; e < ne; ++e)
         for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
             const int slot = edge_slots[static_cast<std::size_t>(i)];
-            const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(slot / 12)];
-            const int l1 = kHexEdges[static_cast<std::size_t>(slot % 12)][0];
-            const bool flipped = hex[static_cast<std::size_t>(l1)] != topo.edges[e][0];
-            slot_target[static_cast<std::size_t>(slot)] = 2 * i + (flipped ? 1 : 0);
+            const std::size_t h = static_cast<std::size_t>(slot / 12), le = static_cast<std::size_t>(slot % 12);
+            const std::size_t flipped = mesh.hexes[h][static_cast<std::size_t>(kHexEdges[le][0])] != topo.edges[e][0] ? 1 : 0;
+            slot_normal_at[2 * static_cast<std::size_t>(i)] = static_cast<int>(normal_offset(h, 2 * le + flipped));
+            slot_normal_at[2 * static_cast<std::size_t>(i) + 1] = static_cast<int>(normal_offset(h, 2 * le + 1 - flipped));
         }
     vertex_edge_begin.assign(nv + 1, 0);
     for (const std::array<int, 2>& e : topo.edges) {
@@ -440,32 +472,43 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
     gap = std::max(gap, sample_gap);
 }
 
-// The 24 corner normals of hex h into their edge-ordered slots.
-void SurfaceFitter::Impl::store_normals(std::size_t h) {
-    std::array<Normal32, 24> n;
-    hex_corner_normals(mesh.points, mesh.hexes[h], n.data());
-    for (std::size_t le = 0; le < 12; ++le) {
-        const int t = slot_target[12 * h + le];  // 2 i, or 2 i + 1 when the edge runs the other way
-        slot_normals[static_cast<std::size_t>(t & ~1)] = n[2 * le + static_cast<std::size_t>(t & 1)];
-        slot_normals[static_cast<std::size_t>(t | 1)] = n[2 * le + 1 - static_cast<std::size_t>(t & 1)];
+// Measures the hexes id(i), i in [begin, end), in blocks of kLanes (the last block repeats its last hex): their scaled
+// Jacobians into sj, their corner normals (the next local step's) into hex_normals. Returns their summary. With
+// in_place (id the identity, begin a multiple of kLanes) the kernel writes the normal blocks directly.
+template <class Id>
+HexStats SurfaceFitter::Impl::measure(Id id, std::size_t begin, std::size_t end, std::vector<double>& sj, bool in_place) {
+    HexStats acc;
+    alignas(64) double block_sj[kLanes];
+    alignas(64) float block_normals[kBlockFloats];
+    std::array<const std::array<int, 8>*, kLanes> block;
+    for (std::size_t i = begin; i < end; i += kLanes) {
+        const std::size_t n = std::min(kLanes, end - i);
+        for (std::size_t l = 0; l < kLanes; ++l) block[l] = &mesh.hexes[id(i + std::min(l, n - 1))];
+        hex_block(mesh.points.data(), block.data(), block_sj,
+                  in_place ? hex_normals.data() + (i / kLanes) * kBlockFloats : block_normals);
+        for (std::size_t l = 0; l < n; ++l) {
+            const std::size_t h = id(i + l);
+            sj[h] = block_sj[l];
+            if (!(sj[h] > 0)) ++acc.inverted;
+            acc.sj_min = std::min(acc.sj_min, sj[h]);
+            if (!in_place)
+                for (std::size_t k = 0; k < 3 * 24; ++k) hex_normals[normal_offset(h, 0) + k * kLanes] = block_normals[k * kLanes + l];
+        }
     }
+    return acc;
 }
 
-// Scaled Jacobian of every hex into sj and the summary, with the corner normals of the next local step in the same
-// pass over the hexes (each hex's corners are read once).
-HexStats SurfaceFitter::Impl::measure_and_store_normals(std::vector<double>& sj) {
+// Every hex, in parallel (fixed reduction tree: the same summary for any thread count).
+HexStats SurfaceFitter::Impl::measure_all(std::vector<double>& sj) {
     const std::size_t nh = mesh.hexes.size();
     sj.resize(nh);
-    slot_normals.resize(24 * nh);
-    const HexStats stats = tbb::parallel_deterministic_reduce(
+    hex_normals.resize((nh + kLanes - 1) / kLanes * kBlockFloats);
+    return tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, nh, 1024), HexStats{},
         [&](const tbb::blocked_range<std::size_t>& r, HexStats acc) {
-            for (std::size_t h = r.begin(); h < r.end(); ++h) {
-                sj[h] = fast_scaled_jacobian(mesh.points, mesh.hexes[h]);
-                if (!(sj[h] > 0)) ++acc.inverted;
-                acc.sj_min = std::min(acc.sj_min, sj[h]);
-                store_normals(h);
-            }
+            const HexStats b = measure([](std::size_t i) { return i; }, r.begin(), r.end(), sj, true);
+            acc.inverted += b.inverted;
+            acc.sj_min = std::min(acc.sj_min, b.sj_min);
             return acc;
         },
         [](HexStats a, const HexStats& b) {
@@ -473,8 +516,6 @@ HexStats SurfaceFitter::Impl::measure_and_store_normals(std::vector<double>& sj)
             a.sj_min = std::min(a.sj_min, b.sj_min);
             return a;
         });
-    normals_current = true;
-    return stats;
 }
 
 // Directions, energy and right-hand side at the current positions. Returns the energy |A X - b|^2.
@@ -482,14 +523,9 @@ double SurfaceFitter::Impl::local_step() {
     const std::size_t ne = topo.edges.size();
     const std::vector<Vec3>& x = mesh.points;
     edge_rhs.resize(ne);
-    const std::size_t nh = mesh.hexes.size();
-    if (!normals_current) {  // after a step they were computed with its scaled Jacobians
-        slot_normals.resize(24 * nh);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nh, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t h = r.begin(); h < r.end(); ++h) store_normals(h);
-        });
-        normals_current = true;
-    }
+    const float* normals = hex_normals.data();
+    // slot_normals hold the corner normals at the current positions: measure_all() computes them with the scaled
+    // Jacobians, at construction and after every step.
     // Per edge: its two ideal directions, its right-hand side and its energy (summed in a fixed tree: the same total
     // for any thread count).
     const double edge_energy_sum = tbb::parallel_deterministic_reduce(
@@ -502,11 +538,11 @@ double SurfaceFitter::Impl::local_step() {
                 Vec3 s1 = u, s2 = -u;
                 // The side tests use the edge itself, not u: they need not wait for u's square root and division.
                 for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
-                    const Normal32& f1 = slot_normals[2 * static_cast<std::size_t>(i)];
-                    const Vec3 n1{f1.x, f1.y, f1.z};
+                    const float* f1 = normals + slot_normal_at[2 * static_cast<std::size_t>(i)];
+                    const Vec3 n1{f1[0], f1[kLanes], f1[2 * kLanes]};
                     if (dot(n1, edge) > 0) s1 += n1;
-                    const Normal32& f2 = slot_normals[2 * static_cast<std::size_t>(i) + 1];
-                    const Vec3 n2{f2.x, f2.y, f2.z};
+                    const float* f2 = normals + slot_normal_at[2 * static_cast<std::size_t>(i) + 1];
+                    const Vec3 n2{f2[0], f2[kLanes], f2[2 * kLanes]};
                     if (dot(n2, edge) < 0) s2 += n2;
                 }
                 const Vec3 d1 = unit(s1), d2 = unit(s2);
@@ -764,7 +800,7 @@ SurfaceFitter::SurfaceFitter(const HexMesh& mesh, const SurfaceProjector& surfac
                (options.solver == FitSolver::Auto && mesh.points.size() <= 1000);
     if (s.direct) s.factorize();
     else s.assemble();
-    s.stats = hex_stats(s.mesh.hexes, s.mesh.points, s.hex_sj);
+    s.stats = s.measure_all(s.hex_sj);
     s.hex_floor.resize(s.hex_sj.size());
     for (std::size_t h = 0; h < s.hex_sj.size(); ++h)
         s.hex_floor[h] = std::min(s.options.floor_fraction * s.hex_sj[h], s.options.sj_guard - s.options.max_sj_drop);
@@ -800,7 +836,7 @@ FitProgress SurfaceFitter::step() {
     scale.assign(nv, 1.0);
     tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { x[v] = s.solution[v]; });
     std::vector<double> sj_new;
-    HexStats stats = s.measure_and_store_normals(sj_new);
+    HexStats stats = s.measure_all(sj_new);
     if (s.options.guard_inversions) {
         const std::vector<double>& sj_old = s.hex_sj;
         auto bad = [&](std::size_t h) {
@@ -838,11 +874,9 @@ FitProgress SurfaceFitter::step() {
                 }
             }
             std::sort(check.begin(), check.end());
-            for (int h : check) {
-                queued[static_cast<std::size_t>(h)] = 0;
-                sj_new[static_cast<std::size_t>(h)] = fast_scaled_jacobian(x, s.mesh.hexes[static_cast<std::size_t>(h)]);
-                s.store_normals(static_cast<std::size_t>(h));  // its corners moved: the next local step's normals too
-            }
+            for (int h : check) queued[static_cast<std::size_t>(h)] = 0;
+            // Their corners moved: new scaled Jacobians, and the next local step's normals too.
+            s.measure([&](std::size_t i) { return static_cast<std::size_t>(check[i]); }, 0, check.size(), sj_new, false);
         }
         stats = HexStats{};
         for (double v : sj_new) {
