@@ -81,6 +81,14 @@ constexpr NormalRecipe kNormalRecipe = make_normal_recipe();
 // file is compiled without floating-point contraction), so the results do not depend on how hexes are grouped.
 constexpr std::size_t kLanes = 8;
 
+// The vector kernels below are compiled three times (AVX-512, AVX2, baseline); the loader picks the best one this CPU
+// runs. All three compute the same bits: no contraction into fused multiply-adds (-ffp-contract=off on this file).
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+#define MESOHEX_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define MESOHEX_SIMD_CLONES
+#endif
+
 // The local edge between corners a and b, -1 if none.
 constexpr std::array<std::array<int, 8>, 8> make_edge_of() {
     std::array<std::array<int, 8>, 8> t{};
@@ -109,7 +117,7 @@ std::size_t normal_offset(std::size_t h, std::size_t k) { return (h / kLanes) * 
 //
 // Normals: the 12 edges are rounded to single precision; the cross products and their normalisation run in single
 // precision (a direction needs no more). A zero normal stays zero: its components are multiplied by a finite number.
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+MESOHEX_SIMD_CLONES
 void hex_block(const Vec3* x, const std::array<int, 8>* const* hexes, double* sj, float* normals) {
     constexpr std::size_t L = kLanes;
     alignas(64) double px[8][L], py[8][L], pz[8][L];
@@ -211,16 +219,188 @@ void hex_block(const Vec3* x, const std::array<int, 8>* const* hexes, double* sj
     }
 }
 
-// a / |a| (zero for zero) with one division: the edge pass normalises three vectors per edge.
-Vec3 unit(const Vec3& a) {
-    const double l2 = squared_norm(a);
-    return l2 > 0 ? a * (1.0 / std::sqrt(l2)) : Vec3{};
-}
-
 struct HexStats {
     long inverted = 0;
     double sj_min = std::numeric_limits<double>::infinity();
 };
+
+// The edge pass runs on blocks of kLanes edges, in the same structure-of-arrays form. Block b's slot table holds, for
+// slot k < K (its edges' largest number of hexes), end t (0: the normal at edges[e][0], 1: at edges[e][1]) and lane l,
+// the offset in hex_normals of that normal; a lane past its edge's hexes points at a zero normal, which never passes
+// a side test.
+struct EdgeBlockInput {
+    const Vec3* x;
+    const std::array<int, 2>* edges;  // the block's first edge
+    std::size_t n;                    // its edges (the last block may have fewer than kLanes)
+    const float* normals;             // hex_normals
+    const int* slots;                 // the block's slot table, K x 2 x kLanes offsets
+    int k;
+    const double* weight;             // the block's first edge weight
+    double mean_target;
+};
+
+// For each edge of the block: its two ideal directions d1 (at edges[e][0]) and d2 (at edges[e][1]) from its unit
+// vector and the corner normals on its side, its right-hand side w Lbar (d1 - d2) and its energy
+// |w e - Lbar d1|^2 + |-w e - Lbar d2|^2.
+MESOHEX_SIMD_CLONES
+void edge_block(const EdgeBlockInput& in, Vec3* rhs, double* energy) {
+    constexpr std::size_t L = kLanes;
+    alignas(64) double ex[L], ey[L], ez[L], s1x[L], s1y[L], s1z[L], s2x[L], s2y[L], s2z[L], w[L];
+    for (std::size_t l = 0; l < L; ++l) {
+        const std::size_t j = std::min(l, in.n - 1);
+        const Vec3& a = in.x[static_cast<std::size_t>(in.edges[j][0])];
+        const Vec3& b = in.x[static_cast<std::size_t>(in.edges[j][1])];
+        ex[l] = b.x - a.x;
+        ey[l] = b.y - a.y;
+        ez[l] = b.z - a.z;
+        w[l] = in.weight[j];
+    }
+    // u = e / |e| (zero for zero); s1 = u, s2 = -u.
+    for (std::size_t l = 0; l < L; ++l) {
+        const double l2 = ex[l] * ex[l] + ey[l] * ey[l] + ez[l] * ez[l];
+        const double inv = 1.0 / std::sqrt(l2);
+        s1x[l] = l2 > 0 ? ex[l] * inv : 0.0;
+        s1y[l] = l2 > 0 ? ey[l] * inv : 0.0;
+        s1z[l] = l2 > 0 ? ez[l] * inv : 0.0;
+        s2x[l] = -s1x[l];
+        s2y[l] = -s1y[l];
+        s2z[l] = -s1z[l];
+    }
+    // The side tests use the edge itself, not u: they need not wait for u's square root and division.
+    for (int k = 0; k < in.k; ++k) {
+        const int* o1 = in.slots + (2 * k) * static_cast<int>(L);
+        const int* o2 = o1 + L;
+        for (std::size_t l = 0; l < L; ++l) {
+            const float* f1 = in.normals + o1[l];
+            const double n1x = f1[0], n1y = f1[L], n1z = f1[2 * L];
+            const bool in1 = n1x * ex[l] + n1y * ey[l] + n1z * ez[l] > 0;
+            s1x[l] = in1 ? s1x[l] + n1x : s1x[l];
+            s1y[l] = in1 ? s1y[l] + n1y : s1y[l];
+            s1z[l] = in1 ? s1z[l] + n1z : s1z[l];
+            const float* f2 = in.normals + o2[l];
+            const double n2x = f2[0], n2y = f2[L], n2z = f2[2 * L];
+            const bool in2 = n2x * ex[l] + n2y * ey[l] + n2z * ez[l] < 0;
+            s2x[l] = in2 ? s2x[l] + n2x : s2x[l];
+            s2y[l] = in2 ? s2y[l] + n2y : s2y[l];
+            s2z[l] = in2 ? s2z[l] + n2z : s2z[l];
+        }
+    }
+    alignas(64) double rx[L], ry[L], rz[L], en[L];
+    for (std::size_t l = 0; l < L; ++l) {
+        const double a2 = s1x[l] * s1x[l] + s1y[l] * s1y[l] + s1z[l] * s1z[l];
+        const double ia = 1.0 / std::sqrt(a2);
+        const double d1x = a2 > 0 ? s1x[l] * ia : 0.0, d1y = a2 > 0 ? s1y[l] * ia : 0.0, d1z = a2 > 0 ? s1z[l] * ia : 0.0;
+        const double b2 = s2x[l] * s2x[l] + s2y[l] * s2y[l] + s2z[l] * s2z[l];
+        const double ib = 1.0 / std::sqrt(b2);
+        const double d2x = b2 > 0 ? s2x[l] * ib : 0.0, d2y = b2 > 0 ? s2y[l] * ib : 0.0, d2z = b2 > 0 ? s2z[l] * ib : 0.0;
+        const double wl = w[l] * in.mean_target;
+        rx[l] = wl * (d1x - d2x);
+        ry[l] = wl * (d1y - d2y);
+        rz[l] = wl * (d1z - d2z);
+        const double m = in.mean_target, nw = -w[l];
+        const double p0 = w[l] * ex[l] - m * d1x, p1 = w[l] * ey[l] - m * d1y, p2 = w[l] * ez[l] - m * d1z;
+        const double q0 = nw * ex[l] - m * d2x, q1 = nw * ey[l] - m * d2y, q2 = nw * ez[l] - m * d2z;
+        en[l] = (p0 * p0 + p1 * p1 + p2 * p2) + (q0 * q0 + q1 * q1 + q2 * q2);
+    }
+    for (std::size_t l = 0; l < in.n; ++l) {
+        rhs[l] = Vec3{rx[l], ry[l], rz[l]};
+        energy[l] = en[l];
+    }
+}
+
+// A conjugate-gradient vector entry: x, y, z and a zero fourth lane, one 256-bit register (GCC's vector extension;
+// the baseline clone splits it in two). The lanes never mix, so each coordinate's values are those of a scalar
+// computation.
+// alignas: without AVX the compiler aligns the vector type to 16 bytes only, the AVX clones assume 32.
+typedef double Double4 __attribute__((vector_size(32)));
+struct alignas(32) V4 {
+    Double4 c;
+};
+
+// A^T A in CSR form: row v holds a placeholder for its diagonal, then its off-diagonal entries.
+struct CgMatrix {
+    const int* begin;
+    const int* col;
+    const float* val;  // off-diagonal entries in single precision
+    const double* diag;
+    const double* inv_diag;
+};
+
+// Row v of M times in. Inlined into each kernel clone.
+__attribute__((always_inline)) inline void matrix_row(const CgMatrix& m, const V4* __restrict in, std::size_t v,
+                                                      Double4& s) {
+    s = m.diag[v] * in[v].c;
+    for (int k = m.begin[v] + 1; k < m.begin[v + 1]; ++k)
+        s += static_cast<double>(m.val[static_cast<std::size_t>(k)]) * in[static_cast<std::size_t>(m.col[static_cast<std::size_t>(k)])].c;
+}
+
+// The kernels' arrays never overlap; their sums (in row order) are kept in locals and added to the caller's at the
+// end. Vectors cross the kernels' boundaries by reference only (the clones' register conventions differ).
+
+// Rows [b, e): r = rhs - M x, z = D^-1 r, p = z; adds r.z, rhs.rhs and r.r per lane.
+MESOHEX_SIMD_CLONES
+void cg_start(const CgMatrix& m, const V4* __restrict x, const V4* __restrict rhs, V4* __restrict r, V4* __restrict z,
+              V4* __restrict p, std::size_t b, std::size_t e, double* rz_out, double* bb_out, double* rr_out) {
+    Double4 rz{}, bb{}, rr{}, mx;
+    for (std::size_t v = b; v < e; ++v) {
+        matrix_row(m, x, v, mx);
+        const Double4 rv = rhs[v].c - mx;
+        const Double4 zv = m.inv_diag[v] * rv;
+        rz += rv * zv;
+        bb += rhs[v].c * rhs[v].c;
+        rr += rv * rv;
+        r[v].c = rv;
+        z[v].c = zv;
+        p[v].c = zv;
+    }
+    for (int c = 0; c < 4; ++c) {
+        rz_out[c] += rz[c];
+        bb_out[c] += bb[c];
+        rr_out[c] += rr[c];
+    }
+}
+
+// Rows [b, e): q = M p; adds p.q per lane.
+MESOHEX_SIMD_CLONES
+void cg_product(const CgMatrix& m, const V4* __restrict p, V4* __restrict q, std::size_t b, std::size_t e,
+                double* pq_out) {
+    Double4 pq{}, qv;
+    for (std::size_t v = b; v < e; ++v) {
+        matrix_row(m, p, v, qv);
+        pq += p[v].c * qv;
+        q[v].c = qv;
+    }
+    for (int c = 0; c < 4; ++c) pq_out[c] += pq[c];
+}
+
+// Rows [b, e): x += alpha p, r -= alpha q, z = D^-1 r; adds r.z and r.r per lane.
+MESOHEX_SIMD_CLONES
+void cg_update(const CgMatrix& m, const V4& alpha_in, const V4* __restrict p, const V4* __restrict q,
+               V4* __restrict x, V4* __restrict r, V4* __restrict z, std::size_t b, std::size_t e, double* rz_out,
+               double* rr_out) {
+    const Double4 alpha = alpha_in.c;
+    Double4 rz{}, rr{};
+    for (std::size_t v = b; v < e; ++v) {
+        x[v].c += alpha * p[v].c;
+        const Double4 rv = r[v].c - alpha * q[v].c;
+        const Double4 zv = m.inv_diag[v] * rv;
+        rz += rv * zv;
+        rr += rv * rv;
+        r[v].c = rv;
+        z[v].c = zv;
+    }
+    for (int c = 0; c < 4; ++c) {
+        rz_out[c] += rz[c];
+        rr_out[c] += rr[c];
+    }
+}
+
+// Rows [b, e): p = z + beta p.
+MESOHEX_SIMD_CLONES
+void cg_direction(const V4& beta_in, const V4* __restrict z, V4* __restrict p, std::size_t b, std::size_t e) {
+    const Double4 beta = beta_in.c;
+    for (std::size_t v = b; v < e; ++v) p[v].c = z[v].c + beta * p[v].c;
+}
 
 }  // namespace
 
@@ -230,8 +410,8 @@ struct SurfaceFitter::Impl {
     FitOptions options;
     HexTopology topo;
     std::vector<int> edge_slot_begin, edge_slots;      // per edge: its (h * 12 + le) slots
-    std::vector<int> slot_normal_at;  // per entry i of edge_slots: the offsets in hex_normals of its hex's normals at
-                                      // edges[e][0] (2 i) and at edges[e][1] (2 i + 1)
+    std::vector<int> edge_block_begin, edge_block_slots;  // per block of kLanes edges: its slot table (edge_block)
+    std::vector<double> edge_energy;                      // per edge, at the last local step
     std::vector<int> vertex_edge_begin, vertex_edges;  // per vertex: its edges, encoded 2 e (v first) or 2 e + 1
     VertexHexes vertex_hex;                            // per vertex: the hexes that use it, ascending
     std::vector<int> boundary_vertices;
@@ -249,14 +429,14 @@ struct SurfaceFitter::Impl {
     std::vector<int> m_begin, m_col;
     std::vector<float> m_val;  // off-diagonal entries (-2 w_e^2) in single precision: the product reads half the bytes
     std::vector<double> m_diag, inv_diag;
-    std::vector<Vec3> cg_r, cg_z, cg_p, cg_q;
+    std::vector<V4> cg_x, cg_b, cg_r, cg_z, cg_p, cg_q;
     int last_cg_iterations = 0;
     std::vector<Vec3> last_move;           // per vertex: its move in the last step (CG warm start)
     std::vector<Vec3> cached_correction;  // the two-sided corrections of the last matching, per boundary vertex
     double cached_sample_gap = 0;
     double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
     // Per step buffers.
-    std::vector<float> hex_normals;  // the corner normals of every hex, in blocks (normal_offset)
+    std::vector<float> hex_normals;  // the corner normals of every hex, in blocks (normal_offset), then a zero block
     std::vector<Vec3> edge_rhs;      // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
     std::vector<Vec3> targets;       // per boundary vertex
     std::vector<Vec3> rhs, work, solution;
@@ -296,15 +476,33 @@ void SurfaceFitter::Impl::build_incidence() {
             edge_slots[static_cast<std::size_t>(fill[static_cast<std::size_t>(e)]++)] = static_cast<int>(h) * 12 + le;
         }
     // Normal 2 le + end of a hex sits at corner kHexEdges[le][end]; flipped: edges[e][0] is the hex's kHexEdges[le][1].
-    slot_normal_at.resize(2 * edge_slots.size());
-    for (std::size_t e = 0; e < ne; ++e)
-        for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
-            const int slot = edge_slots[static_cast<std::size_t>(i)];
-            const std::size_t h = static_cast<std::size_t>(slot / 12), le = static_cast<std::size_t>(slot % 12);
-            const std::size_t flipped = mesh.hexes[h][static_cast<std::size_t>(kHexEdges[le][0])] != topo.edges[e][0] ? 1 : 0;
-            slot_normal_at[2 * static_cast<std::size_t>(i)] = static_cast<int>(normal_offset(h, 2 * le + flipped));
-            slot_normal_at[2 * static_cast<std::size_t>(i) + 1] = static_cast<int>(normal_offset(h, 2 * le + 1 - flipped));
+    // The zero normal is the first of the zero block after the hexes' blocks.
+    const std::size_t nh = mesh.hexes.size();
+    if (nh > static_cast<std::size_t>(std::numeric_limits<int>::max()) / (24 * 3) - kLanes)
+        throw Error(ErrorCode::InvalidInput, "SurfaceFitter: too many hexes (" + std::to_string(nh) + ")");
+    const int zero = static_cast<int>((nh + kLanes - 1) / kLanes * kBlockFloats);
+    const std::size_t nblocks = (ne + kLanes - 1) / kLanes;
+    edge_block_begin.assign(nblocks + 1, 0);
+    edge_block_slots.clear();
+    for (std::size_t b = 0; b < nblocks; ++b) {
+        const std::size_t e0 = b * kLanes, n = std::min(kLanes, ne - e0);
+        int k = 0;
+        for (std::size_t l = 0; l < n; ++l) k = std::max(k, edge_slot_begin[e0 + l + 1] - edge_slot_begin[e0 + l]);
+        const std::size_t base = edge_block_slots.size();
+        edge_block_slots.resize(base + 2 * kLanes * static_cast<std::size_t>(k), zero);
+        for (std::size_t l = 0; l < n; ++l) {
+            const std::size_t e = e0 + l;
+            for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
+                const std::size_t j = static_cast<std::size_t>(i - edge_slot_begin[e]);
+                const int slot = edge_slots[static_cast<std::size_t>(i)];
+                const std::size_t h = static_cast<std::size_t>(slot / 12), le = static_cast<std::size_t>(slot % 12);
+                const std::size_t flipped = mesh.hexes[h][static_cast<std::size_t>(kHexEdges[le][0])] != topo.edges[e][0] ? 1 : 0;
+                edge_block_slots[base + (2 * j) * kLanes + l] = static_cast<int>(normal_offset(h, 2 * le + flipped));
+                edge_block_slots[base + (2 * j + 1) * kLanes + l] = static_cast<int>(normal_offset(h, 2 * le + 1 - flipped));
+            }
         }
+        edge_block_begin[b + 1] = static_cast<int>(edge_block_slots.size());
+    }
     vertex_edge_begin.assign(nv + 1, 0);
     for (const std::array<int, 2>& e : topo.edges) {
         ++vertex_edge_begin[static_cast<std::size_t>(e[0]) + 1];
@@ -502,7 +700,7 @@ HexStats SurfaceFitter::Impl::measure(Id id, std::size_t begin, std::size_t end,
 HexStats SurfaceFitter::Impl::measure_all(std::vector<double>& sj) {
     const std::size_t nh = mesh.hexes.size();
     sj.resize(nh);
-    hex_normals.resize((nh + kLanes - 1) / kLanes * kBlockFloats);
+    hex_normals.resize(((nh + kLanes - 1) / kLanes + 1) * kBlockFloats);  // new entries (the zero block) are zero
     return tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, nh, 1024), HexStats{},
         [&](const tbb::blocked_range<std::size_t>& r, HexStats acc) {
@@ -523,33 +721,25 @@ double SurfaceFitter::Impl::local_step() {
     const std::size_t ne = topo.edges.size();
     const std::vector<Vec3>& x = mesh.points;
     edge_rhs.resize(ne);
-    const float* normals = hex_normals.data();
-    // slot_normals hold the corner normals at the current positions: measure_all() computes them with the scaled
+    edge_energy.resize(ne);
+    // hex_normals hold the corner normals at the current positions: measure_all() computes them with the scaled
     // Jacobians, at construction and after every step.
-    // Per edge: its two ideal directions, its right-hand side and its energy (summed in a fixed tree: the same total
-    // for any thread count).
+    const std::size_t nblocks = edge_block_begin.size() - 1;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b < r.end(); ++b) {
+            const std::size_t e0 = b * kLanes;
+            const EdgeBlockInput in{x.data(), topo.edges.data() + e0, std::min(kLanes, ne - e0), hex_normals.data(),
+                                    edge_block_slots.data() + edge_block_begin[b],
+                                    (edge_block_begin[b + 1] - edge_block_begin[b]) / static_cast<int>(2 * kLanes),
+                                    edge_weight.data() + e0, mean_target};
+            edge_block(in, edge_rhs.data() + e0, edge_energy.data() + e0);
+        }
+    });
+    // The energies summed in a fixed tree: the same total for any thread count.
     const double edge_energy_sum = tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, ne, 2048), 0.0,
         [&](const tbb::blocked_range<std::size_t>& r, double acc) {
-            for (std::size_t e = r.begin(); e < r.end(); ++e) {
-                const int v1 = topo.edges[e][0], v2 = topo.edges[e][1];
-                const Vec3 edge = x[static_cast<std::size_t>(v2)] - x[static_cast<std::size_t>(v1)];
-                const Vec3 u = unit(edge);
-                Vec3 s1 = u, s2 = -u;
-                // The side tests use the edge itself, not u: they need not wait for u's square root and division.
-                for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
-                    const float* f1 = normals + slot_normal_at[2 * static_cast<std::size_t>(i)];
-                    const Vec3 n1{f1[0], f1[kLanes], f1[2 * kLanes]};
-                    if (dot(n1, edge) > 0) s1 += n1;
-                    const float* f2 = normals + slot_normal_at[2 * static_cast<std::size_t>(i) + 1];
-                    const Vec3 n2{f2[0], f2[kLanes], f2[2 * kLanes]};
-                    if (dot(n2, edge) < 0) s2 += n2;
-                }
-                const Vec3 d1 = unit(s1), d2 = unit(s2);
-                const double w = edge_weight[e];
-                edge_rhs[e] = (w * mean_target) * (d1 - d2);
-                acc += squared_norm(w * edge - mean_target * d1) + squared_norm(-w * edge - mean_target * d2);
-            }
+            for (std::size_t e = r.begin(); e < r.end(); ++e) acc += edge_energy[e];
             return acc;
         },
         std::plus<double>());
@@ -634,17 +824,14 @@ void SurfaceFitter::Impl::assemble() {
 }
 
 namespace {
-struct Dot3 {
-    double v[3] = {0, 0, 0};
+// Per-lane sums (the fourth lane sums zeros).
+// Per-lane sums in plain doubles: TBB keeps them in its own (not 32-byte aligned) storage.
+struct Dot4 {
+    double v[4] = {0, 0, 0, 0};
 };
-Dot3 add(Dot3 a, const Dot3& b) {
-    for (int c = 0; c < 3; ++c) a.v[c] += b.v[c];
+Dot4 add(Dot4 a, const Dot4& b) {
+    for (int c = 0; c < 4; ++c) a.v[c] += b.v[c];
     return a;
-}
-void accumulate(Dot3& acc, const Vec3& a, const Vec3& b) {
-    acc.v[0] += a.x * b.x;
-    acc.v[1] += a.y * b.y;
-    acc.v[2] += a.z * b.z;
 }
 }  // namespace
 
@@ -655,34 +842,28 @@ void SurfaceFitter::Impl::solve_cg() {
     constexpr std::size_t kGrain = 2048;
     // Warm start: the current positions moved on by the last step's move (successive local-global steps move a
     // vertex in nearly the same direction), which saves CG iterations; a fixed point still starts exactly at itself.
-    solution = mesh.points;
-    if (last_move.size() == n)
-        for (std::size_t v = 0; v < n; ++v) solution[v] += last_move[v];
+    cg_x.resize(n);
+    cg_b.resize(n);
+    for (std::size_t v = 0; v < n; ++v) {
+        Vec3 x0 = mesh.points[v];
+        if (last_move.size() == n) x0 += last_move[v];
+        cg_x[v].c = Double4{x0.x, x0.y, x0.z, 0.0};
+        cg_b[v].c = Double4{rhs[v].x, rhs[v].y, rhs[v].z, 0.0};
+    }
     cg_r.resize(n);
     cg_z.resize(n);
     cg_p.resize(n);
     cg_q.resize(n);
-    auto spmv_row = [&](const std::vector<Vec3>& in, std::size_t v) {
-        Vec3 s = m_diag[v] * in[v];
-        for (int k = m_begin[v] + 1; k < m_begin[v + 1]; ++k)
-            s += static_cast<double>(m_val[static_cast<std::size_t>(k)]) * in[static_cast<std::size_t>(m_col[static_cast<std::size_t>(k)])];
-        return s;
-    };
-    // r = b - M x, z = D^-1 r, p = z; rz and |b|^2.
+    const CgMatrix m{m_begin.data(), m_col.data(), m_val.data(), m_diag.data(), inv_diag.data()};
+    // r = b - M x, z = D^-1 r, p = z; rz, |b|^2 and |r|^2.
     struct Init {
-        Dot3 rz, bb, rr;
+        Dot4 rz, bb, rr;
     };
     const Init init = tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, n, kGrain), Init{},
         [&](const tbb::blocked_range<std::size_t>& r, Init acc) {
-            for (std::size_t v = r.begin(); v < r.end(); ++v) {
-                cg_r[v] = rhs[v] - spmv_row(solution, v);
-                cg_z[v] = inv_diag[v] * cg_r[v];
-                cg_p[v] = cg_z[v];
-                accumulate(acc.rz, cg_r[v], cg_z[v]);
-                accumulate(acc.bb, rhs[v], rhs[v]);
-                accumulate(acc.rr, cg_r[v], cg_r[v]);
-            }
+            cg_start(m, cg_x.data(), cg_b.data(), cg_r.data(), cg_z.data(), cg_p.data(), r.begin(), r.end(), acc.rz.v,
+                     acc.bb.v, acc.rr.v);
             return acc;
         },
         [](Init a, const Init& b) {
@@ -691,7 +872,7 @@ void SurfaceFitter::Impl::solve_cg() {
             a.rr = add(a.rr, b.rr);
             return a;
         });
-    Dot3 rz = init.rz, rr = init.rr;
+    Dot4 rz = init.rz, rr = init.rr;
     const double tol2 = options.cg_tolerance * options.cg_tolerance;
     auto converged = [&]() {
         for (int c = 0; c < 3; ++c)
@@ -700,33 +881,23 @@ void SurfaceFitter::Impl::solve_cg() {
     };
     int it = 0;
     for (; it < options.cg_max_iterations && !converged(); ++it) {
-        const Dot3 pq = tbb::parallel_deterministic_reduce(
-            tbb::blocked_range<std::size_t>(0, n, kGrain), Dot3{},
-            [&](const tbb::blocked_range<std::size_t>& r, Dot3 acc) {
-                for (std::size_t v = r.begin(); v < r.end(); ++v) {
-                    cg_q[v] = spmv_row(cg_p, v);
-                    accumulate(acc, cg_p[v], cg_q[v]);
-                }
+        const Dot4 pq = tbb::parallel_deterministic_reduce(
+            tbb::blocked_range<std::size_t>(0, n, kGrain), Dot4{},
+            [&](const tbb::blocked_range<std::size_t>& r, Dot4 acc) {
+                cg_product(m, cg_p.data(), cg_q.data(), r.begin(), r.end(), acc.v);
                 return acc;
             },
             add);
-        Vec3 alpha;
-        for (int c = 0; c < 3; ++c) alpha[c] = pq.v[c] > 0 ? rz.v[c] / pq.v[c] : 0.0;
+        V4 alpha{};
+        for (int c = 0; c < 3; ++c) alpha.c[c] = pq.v[c] > 0 ? rz.v[c] / pq.v[c] : 0.0;
         struct Update {
-            Dot3 rz, rr;
+            Dot4 rz, rr;
         };
         const Update up = tbb::parallel_deterministic_reduce(
             tbb::blocked_range<std::size_t>(0, n, kGrain), Update{},
             [&](const tbb::blocked_range<std::size_t>& r, Update acc) {
-                for (std::size_t v = r.begin(); v < r.end(); ++v) {
-                    const Vec3& p = cg_p[v];
-                    const Vec3& q = cg_q[v];
-                    solution[v] += Vec3{alpha.x * p.x, alpha.y * p.y, alpha.z * p.z};
-                    cg_r[v] -= Vec3{alpha.x * q.x, alpha.y * q.y, alpha.z * q.z};
-                    cg_z[v] = inv_diag[v] * cg_r[v];
-                    accumulate(acc.rz, cg_r[v], cg_z[v]);
-                    accumulate(acc.rr, cg_r[v], cg_r[v]);
-                }
+                cg_update(m, alpha, cg_p.data(), cg_q.data(), cg_x.data(), cg_r.data(), cg_z.data(), r.begin(), r.end(),
+                          acc.rz.v, acc.rr.v);
                 return acc;
             },
             [](Update a, const Update& b) {
@@ -734,19 +905,17 @@ void SurfaceFitter::Impl::solve_cg() {
                 a.rr = add(a.rr, b.rr);
                 return a;
             });
-        Vec3 beta;
-        for (int c = 0; c < 3; ++c) beta[c] = rz.v[c] > 0 ? up.rz.v[c] / rz.v[c] : 0.0;
+        V4 beta{};
+        for (int c = 0; c < 3; ++c) beta.c[c] = rz.v[c] > 0 ? up.rz.v[c] / rz.v[c] : 0.0;
         rz = up.rz;
         rr = up.rr;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t v = r.begin(); v < r.end(); ++v) {
-                const Vec3& z = cg_z[v];
-                Vec3& p = cg_p[v];
-                p = Vec3{z.x + beta.x * p.x, z.y + beta.y * p.y, z.z + beta.z * p.z};
-            }
+            cg_direction(beta, cg_z.data(), cg_p.data(), r.begin(), r.end());
         });
     }
     last_cg_iterations = it;
+    solution.resize(n);
+    for (std::size_t v = 0; v < n; ++v) solution[v] = Vec3{cg_x[v].c[0], cg_x[v].c[1], cg_x[v].c[2]};
 }
 
 // solution = (A^T A)^{-1} rhs with the stored LDL^T factor, x, y and z together.
