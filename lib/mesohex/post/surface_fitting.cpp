@@ -39,42 +39,6 @@ constexpr std::array<std::array<int, 8>, 8> make_neighbor_index() {
 }
 constexpr std::array<std::array<int, 8>, 8> kNeighborIndex = make_neighbor_index();
 
-// Output normal k = 2 le + end of a hex (end 0: at corner a = kHexEdges[le][0] toward b = kHexEdges[le][1]; end 1: at b
-// toward a) is the (right-handed) cross product of the corner's two other edges, (x[o1] - x[c]) x (x[o2] - x[c]) with
-// (o1, o2) the neighbours after o in c's cyclic neighbour order, so that it points to the side of o on a positively
-// oriented hex. Each corner edge is plus or minus one of the 12 hex edges E[le] = x[b] - x[a] (negation is exact), so
-// normal k = E[first[k]] x (sign[k] E[second[k]]).
-struct NormalRecipe {
-    std::array<int, 24> first{}, second{};
-    std::array<float, 24> sign{};
-};
-constexpr NormalRecipe make_normal_recipe() {
-    NormalRecipe r;
-    auto edge_of = [](int a, int b) {
-        for (int le = 0; le < 12; ++le)
-            if ((kHexEdges[static_cast<std::size_t>(le)][0] == a && kHexEdges[static_cast<std::size_t>(le)][1] == b) ||
-                (kHexEdges[static_cast<std::size_t>(le)][0] == b && kHexEdges[static_cast<std::size_t>(le)][1] == a))
-                return le;
-        return -1;
-    };
-    for (std::size_t le = 0; le < 12; ++le)
-        for (std::size_t end = 0; end < 2; ++end) {
-            const int c = kHexEdges[le][end], o = kHexEdges[le][1 - end];
-            const std::array<int, 3>& nb = kHexCornerNeighbors[static_cast<std::size_t>(c)];
-            const int k = kNeighborIndex[static_cast<std::size_t>(c)][static_cast<std::size_t>(o)];
-            const int o1 = nb[static_cast<std::size_t>((k + 1) % 3)], o2 = nb[static_cast<std::size_t>((k + 2) % 3)];
-            const int e1 = edge_of(c, o1), e2 = edge_of(c, o2);
-            // x[o] - x[c] is +E when c is the edge's first corner.
-            const bool plus1 = kHexEdges[static_cast<std::size_t>(e1)][0] == c;
-            const bool plus2 = kHexEdges[static_cast<std::size_t>(e2)][0] == c;
-            r.first[2 * le + end] = e1;
-            r.second[2 * le + end] = e2;
-            r.sign[2 * le + end] = plus1 == plus2 ? 1.0f : -1.0f;
-        }
-    return r;
-}
-constexpr NormalRecipe kNormalRecipe = make_normal_recipe();
-
 // The hex pass runs on blocks of kLanes hexes in structure-of-arrays form: every value below is an array over the
 // block's hexes, each loop over lanes is one vector operation, and the block's arithmetic is the same, operation by
 // operation, as a one-hex evaluation would be (IEEE operations are correctly rounded whatever the vector width; the
@@ -101,24 +65,15 @@ constexpr std::array<std::array<int, 8>, 8> make_edge_of() {
 }
 constexpr std::array<std::array<int, 8>, 8> kEdgeOf = make_edge_of();
 
-// A block's corner normals: normal k (= 2 le + end as in NormalRecipe) of the block's hex l, component c, is at
-// (3 k + c) kLanes + l. Hex h's block is h / kLanes, its lane h % kLanes.
-constexpr std::size_t kBlockFloats = 24 * 3 * kLanes;
-std::size_t normal_offset(std::size_t h, std::size_t k) { return (h / kLanes) * kBlockFloats + 3 * k * kLanes + h % kLanes; }
-
-// Scaled Jacobians sj[0..kLanes) and corner normals (one block, as above) of the hexes hexes[0..kLanes) (a block may
-// repeat a hex).
+// Scaled Jacobians sj[0..kLanes) of the hexes hexes[0..kLanes) (a block may repeat a hex).
 //
 // Scaled Jacobian: Verdict's hex scaled Jacobian (same definition as post/quality.h's scaled_jacobian, equal up to
 // rounding) with one square root. Each of the 9 frames is compared by its signed squared value
 // det |det| / (l1^2 l2^2 l3^2), whose minimum is the square of the minimum. A corner frame's edges are plus or minus
 // hex edges (negation is exact, and det(s0 a, s1 b, s2 c) = s0 s1 s2 det(a, b, c) exactly). A hex with a zero-length
 // edge or principal axis, or a non-finite value, gets -1. This check runs after every step, on every hex.
-//
-// Normals: the 12 edges are rounded to single precision; the cross products and their normalisation run in single
-// precision (a direction needs no more). A zero normal stays zero: its components are multiplied by a finite number.
 MESOHEX_SIMD_CLONES
-void hex_block(const Vec3* x, const std::array<int, 8>* const* hexes, double* sj, float* normals) {
+void hex_block(const Vec3* x, const std::array<int, 8>* const* hexes, double* sj) {
     constexpr std::size_t L = kLanes;
     alignas(64) double px[8][L], py[8][L], pz[8][L];
     for (std::size_t l = 0; l < L; ++l)
@@ -194,29 +149,6 @@ void hex_block(const Vec3* x, const std::array<int, 8>* const* hexes, double* sj
         const bool valid = lo[l] > std::numeric_limits<double>::min() && nf[l] == 0;
         sj[l] = valid && finite ? (q[l] < 0 ? -r : r) : -1.0;
     }
-    // Corner normals.
-    alignas(64) float fx[12][L], fy[12][L], fz[12][L];
-    for (std::size_t le = 0; le < 12; ++le)
-        for (std::size_t l = 0; l < L; ++l) {
-            fx[le][l] = static_cast<float>(ex[le][l]);
-            fy[le][l] = static_cast<float>(ey[le][l]);
-            fz[le][l] = static_cast<float>(ez[le][l]);
-        }
-    for (std::size_t k = 0; k < 24; ++k) {
-        const std::size_t i = static_cast<std::size_t>(kNormalRecipe.first[k]);
-        const std::size_t j = static_cast<std::size_t>(kNormalRecipe.second[k]);
-        const float sg = kNormalRecipe.sign[k];
-        for (std::size_t l = 0; l < L; ++l) {
-            const float a0 = fx[i][l], a1 = fy[i][l], a2 = fz[i][l];
-            const float b0 = sg * fx[j][l], b1 = sg * fy[j][l], b2 = sg * fz[j][l];
-            const float n0 = a1 * b2 - a2 * b1, n1 = a2 * b0 - a0 * b2, n2 = a0 * b1 - a1 * b0;
-            const float l2 = n0 * n0 + n1 * n1 + n2 * n2;
-            const float inv = 1.0f / std::sqrt(l2 < std::numeric_limits<float>::min() ? std::numeric_limits<float>::min() : l2);
-            normals[(3 * k) * L + l] = n0 * inv;
-            normals[(3 * k + 1) * L + l] = n1 * inv;
-            normals[(3 * k + 2) * L + l] = n2 * inv;
-        }
-    }
 }
 
 struct HexStats {
@@ -224,20 +156,38 @@ struct HexStats {
     double sj_min = std::numeric_limits<double>::infinity();
 };
 
-// The edge pass runs on blocks of kLanes edges, in the same structure-of-arrays form. Block b's slot table holds, for
-// slot k < K (its edges' largest number of hexes), end t (0: the normal at edges[e][0], 1: at edges[e][1]) and lane l,
-// the offset in hex_normals of that normal; a lane past its edge's hexes points at a zero normal, which never passes
-// a side test.
+// The edge pass runs on blocks of kLanes edges, in the same structure-of-arrays form. Each hex around an edge gives a
+// corner normal at each of the edge's ends v: (x[o1] - x[v]) x (x[o2] - x[v]) with o1, o2 the corner's two other
+// neighbours in the hex, in the cyclic order that makes it point to the edge's side on a positively oriented hex. The
+// two differences are rounded to single precision, and the cross product and its normalisation run in single
+// precision (a direction needs no more; a zero normal stays zero). Each corner normal is used by exactly one edge, so
+// computing it here costs nothing extra, and the pass reads positions instead of stored normals.
+//
+// Block b's slot table holds, for slot k < K (its edges' largest number of hexes), entry t and lane l, the vertex
+// o1 (t = 0) and o2 (t = 1) at edges[e][0], o1 (t = 2) and o2 (t = 3) at edges[e][1]. A lane past its edge's hexes
+// names the end itself twice: a zero normal, which never passes a side test.
 struct EdgeBlockInput {
     const Vec3* x;
     const std::array<int, 2>* edges;  // the block's first edge
     std::size_t n;                    // its edges (the last block may have fewer than kLanes)
-    const float* normals;             // hex_normals
-    const int* slots;                 // the block's slot table, K x 2 x kLanes offsets
+    const int* slots;                 // the block's slot table, K x 4 x kLanes vertices
     int k;
     const double* weight;             // the block's first edge weight
     double mean_target;
 };
+
+// The unit corner normal at v, in single precision, widened.
+__attribute__((always_inline)) inline void corner_normal(double vx, double vy, double vz, const Vec3& o1, const Vec3& o2,
+                                                         double& nx, double& ny, double& nz) {
+    const float a0 = static_cast<float>(o1.x - vx), a1 = static_cast<float>(o1.y - vy), a2 = static_cast<float>(o1.z - vz);
+    const float b0 = static_cast<float>(o2.x - vx), b1 = static_cast<float>(o2.y - vy), b2 = static_cast<float>(o2.z - vz);
+    const float n0 = a1 * b2 - a2 * b1, n1 = a2 * b0 - a0 * b2, n2 = a0 * b1 - a1 * b0;
+    const float l2 = n0 * n0 + n1 * n1 + n2 * n2;
+    const float inv = 1.0f / std::sqrt(l2 < std::numeric_limits<float>::min() ? std::numeric_limits<float>::min() : l2);
+    nx = n0 * inv;
+    ny = n1 * inv;
+    nz = n2 * inv;
+}
 
 // For each edge of the block: its two ideal directions d1 (at edges[e][0]) and d2 (at edges[e][1]) from its unit
 // vector and the corner normals on its side, its right-hand side w Lbar (d1 - d2) and its energy
@@ -245,15 +195,24 @@ struct EdgeBlockInput {
 MESOHEX_SIMD_CLONES
 void edge_block(const EdgeBlockInput& in, Vec3* rhs, double* energy) {
     constexpr std::size_t L = kLanes;
+    alignas(64) double ax[L], ay[L], az[L], bx[L], by[L], bz[L];
     alignas(64) double ex[L], ey[L], ez[L], s1x[L], s1y[L], s1z[L], s2x[L], s2y[L], s2z[L], w[L];
     for (std::size_t l = 0; l < L; ++l) {
         const std::size_t j = std::min(l, in.n - 1);
         const Vec3& a = in.x[static_cast<std::size_t>(in.edges[j][0])];
         const Vec3& b = in.x[static_cast<std::size_t>(in.edges[j][1])];
-        ex[l] = b.x - a.x;
-        ey[l] = b.y - a.y;
-        ez[l] = b.z - a.z;
+        ax[l] = a.x;
+        ay[l] = a.y;
+        az[l] = a.z;
+        bx[l] = b.x;
+        by[l] = b.y;
+        bz[l] = b.z;
         w[l] = in.weight[j];
+    }
+    for (std::size_t l = 0; l < L; ++l) {
+        ex[l] = bx[l] - ax[l];
+        ey[l] = by[l] - ay[l];
+        ez[l] = bz[l] - az[l];
     }
     // u = e / |e| (zero for zero); s1 = u, s2 = -u.
     for (std::size_t l = 0; l < L; ++l) {
@@ -268,17 +227,17 @@ void edge_block(const EdgeBlockInput& in, Vec3* rhs, double* energy) {
     }
     // The side tests use the edge itself, not u: they need not wait for u's square root and division.
     for (int k = 0; k < in.k; ++k) {
-        const int* o1 = in.slots + (2 * k) * static_cast<int>(L);
-        const int* o2 = o1 + L;
+        const int* o = in.slots + static_cast<std::size_t>(4 * k) * L;
         for (std::size_t l = 0; l < L; ++l) {
-            const float* f1 = in.normals + o1[l];
-            const double n1x = f1[0], n1y = f1[L], n1z = f1[2 * L];
+            double n1x, n1y, n1z, n2x, n2y, n2z;
+            corner_normal(ax[l], ay[l], az[l], in.x[static_cast<std::size_t>(o[l])], in.x[static_cast<std::size_t>(o[L + l])],
+                          n1x, n1y, n1z);
+            corner_normal(bx[l], by[l], bz[l], in.x[static_cast<std::size_t>(o[2 * L + l])],
+                          in.x[static_cast<std::size_t>(o[3 * L + l])], n2x, n2y, n2z);
             const bool in1 = n1x * ex[l] + n1y * ey[l] + n1z * ez[l] > 0;
             s1x[l] = in1 ? s1x[l] + n1x : s1x[l];
             s1y[l] = in1 ? s1y[l] + n1y : s1y[l];
             s1z[l] = in1 ? s1z[l] + n1z : s1z[l];
-            const float* f2 = in.normals + o2[l];
-            const double n2x = f2[0], n2y = f2[L], n2z = f2[2 * L];
             const bool in2 = n2x * ex[l] + n2y * ey[l] + n2z * ez[l] < 0;
             s2x[l] = in2 ? s2x[l] + n2x : s2x[l];
             s2y[l] = in2 ? s2y[l] + n2y : s2y[l];
@@ -436,7 +395,6 @@ struct SurfaceFitter::Impl {
     double cached_sample_gap = 0;
     double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
     // Per step buffers.
-    std::vector<float> hex_normals;  // the corner normals of every hex, in blocks (normal_offset), then a zero block
     std::vector<Vec3> edge_rhs;      // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
     std::vector<Vec3> targets;       // per boundary vertex
     std::vector<Vec3> rhs, work, solution;
@@ -449,7 +407,7 @@ struct SurfaceFitter::Impl {
     int iteration = 0;
 
     template <class Id>
-    HexStats measure(Id id, std::size_t begin, std::size_t end, std::vector<double>& sj, bool in_place);
+    HexStats measure(Id id, std::size_t begin, std::size_t end, std::vector<double>& sj);
     HexStats measure_all(std::vector<double>& sj);
     void build_incidence();
     void two_sided_corrections(std::vector<Vec3>& correction);
@@ -475,12 +433,7 @@ void SurfaceFitter::Impl::build_incidence() {
             const int e = topo.hex_edges[h][static_cast<std::size_t>(le)];
             edge_slots[static_cast<std::size_t>(fill[static_cast<std::size_t>(e)]++)] = static_cast<int>(h) * 12 + le;
         }
-    // Normal 2 le + end of a hex sits at corner kHexEdges[le][end]; flipped: edges[e][0] is the hex's kHexEdges[le][1].
-    // The zero normal is the first of the zero block after the hexes' blocks.
-    const std::size_t nh = mesh.hexes.size();
-    if (nh > static_cast<std::size_t>(std::numeric_limits<int>::max()) / (24 * 3) - kLanes)
-        throw Error(ErrorCode::InvalidInput, "SurfaceFitter: too many hexes (" + std::to_string(nh) + ")");
-    const int zero = static_cast<int>((nh + kLanes - 1) / kLanes * kBlockFloats);
+    // Each block's slot table (edge_block).
     const std::size_t nblocks = (ne + kLanes - 1) / kLanes;
     edge_block_begin.assign(nblocks + 1, 0);
     edge_block_slots.clear();
@@ -489,16 +442,28 @@ void SurfaceFitter::Impl::build_incidence() {
         int k = 0;
         for (std::size_t l = 0; l < n; ++l) k = std::max(k, edge_slot_begin[e0 + l + 1] - edge_slot_begin[e0 + l]);
         const std::size_t base = edge_block_slots.size();
-        edge_block_slots.resize(base + 2 * kLanes * static_cast<std::size_t>(k), zero);
+        edge_block_slots.resize(base + 4 * kLanes * static_cast<std::size_t>(k));
+        for (std::size_t l = 0; l < kLanes; ++l) {
+            const std::array<int, 2>& ends = topo.edges[e0 + std::min(l, n - 1)];
+            for (std::size_t j = 0; j < static_cast<std::size_t>(k); ++j)
+                for (std::size_t t = 0; t < 4; ++t) edge_block_slots[base + (4 * j + t) * kLanes + l] = ends[t / 2];
+        }
         for (std::size_t l = 0; l < n; ++l) {
             const std::size_t e = e0 + l;
             for (int i = edge_slot_begin[e]; i < edge_slot_begin[e + 1]; ++i) {
                 const std::size_t j = static_cast<std::size_t>(i - edge_slot_begin[e]);
                 const int slot = edge_slots[static_cast<std::size_t>(i)];
-                const std::size_t h = static_cast<std::size_t>(slot / 12), le = static_cast<std::size_t>(slot % 12);
-                const std::size_t flipped = mesh.hexes[h][static_cast<std::size_t>(kHexEdges[le][0])] != topo.edges[e][0] ? 1 : 0;
-                edge_block_slots[base + (2 * j) * kLanes + l] = static_cast<int>(normal_offset(h, 2 * le + flipped));
-                edge_block_slots[base + (2 * j + 1) * kLanes + l] = static_cast<int>(normal_offset(h, 2 * le + 1 - flipped));
+                const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(slot / 12)];
+                const std::array<int, 2>& corners = kHexEdges[static_cast<std::size_t>(slot % 12)];
+                for (std::size_t end = 0; end < 2; ++end) {
+                    // The hex corner at edges[e][end], and the one at the other end.
+                    const std::size_t c = static_cast<std::size_t>(hex[static_cast<std::size_t>(corners[0])] == topo.edges[e][end] ? corners[0] : corners[1]);
+                    const std::size_t o = static_cast<std::size_t>(hex[static_cast<std::size_t>(corners[0])] == topo.edges[e][end] ? corners[1] : corners[0]);
+                    const std::array<int, 3>& nb = kHexCornerNeighbors[c];
+                    const int m = kNeighborIndex[c][o];
+                    edge_block_slots[base + (4 * j + 2 * end) * kLanes + l] = hex[static_cast<std::size_t>(nb[static_cast<std::size_t>((m + 1) % 3)])];
+                    edge_block_slots[base + (4 * j + 2 * end + 1) * kLanes + l] = hex[static_cast<std::size_t>(nb[static_cast<std::size_t>((m + 2) % 3)])];
+                }
             }
         }
         edge_block_begin[b + 1] = static_cast<int>(edge_block_slots.size());
@@ -671,26 +636,21 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
 }
 
 // Measures the hexes id(i), i in [begin, end), in blocks of kLanes (the last block repeats its last hex): their scaled
-// Jacobians into sj, their corner normals (the next local step's) into hex_normals. Returns their summary. With
-// in_place (id the identity, begin a multiple of kLanes) the kernel writes the normal blocks directly.
+// Jacobians into sj. Returns their summary.
 template <class Id>
-HexStats SurfaceFitter::Impl::measure(Id id, std::size_t begin, std::size_t end, std::vector<double>& sj, bool in_place) {
+HexStats SurfaceFitter::Impl::measure(Id id, std::size_t begin, std::size_t end, std::vector<double>& sj) {
     HexStats acc;
     alignas(64) double block_sj[kLanes];
-    alignas(64) float block_normals[kBlockFloats];
     std::array<const std::array<int, 8>*, kLanes> block;
     for (std::size_t i = begin; i < end; i += kLanes) {
         const std::size_t n = std::min(kLanes, end - i);
         for (std::size_t l = 0; l < kLanes; ++l) block[l] = &mesh.hexes[id(i + std::min(l, n - 1))];
-        hex_block(mesh.points.data(), block.data(), block_sj,
-                  in_place ? hex_normals.data() + (i / kLanes) * kBlockFloats : block_normals);
+        hex_block(mesh.points.data(), block.data(), block_sj);
         for (std::size_t l = 0; l < n; ++l) {
             const std::size_t h = id(i + l);
             sj[h] = block_sj[l];
             if (!(sj[h] > 0)) ++acc.inverted;
             acc.sj_min = std::min(acc.sj_min, sj[h]);
-            if (!in_place)
-                for (std::size_t k = 0; k < 3 * 24; ++k) hex_normals[normal_offset(h, 0) + k * kLanes] = block_normals[k * kLanes + l];
         }
     }
     return acc;
@@ -700,11 +660,10 @@ HexStats SurfaceFitter::Impl::measure(Id id, std::size_t begin, std::size_t end,
 HexStats SurfaceFitter::Impl::measure_all(std::vector<double>& sj) {
     const std::size_t nh = mesh.hexes.size();
     sj.resize(nh);
-    hex_normals.resize(((nh + kLanes - 1) / kLanes + 1) * kBlockFloats);  // new entries (the zero block) are zero
     return tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, nh, 1024), HexStats{},
         [&](const tbb::blocked_range<std::size_t>& r, HexStats acc) {
-            const HexStats b = measure([](std::size_t i) { return i; }, r.begin(), r.end(), sj, true);
+            const HexStats b = measure([](std::size_t i) { return i; }, r.begin(), r.end(), sj);
             acc.inverted += b.inverted;
             acc.sj_min = std::min(acc.sj_min, b.sj_min);
             return acc;
@@ -722,15 +681,13 @@ double SurfaceFitter::Impl::local_step() {
     const std::vector<Vec3>& x = mesh.points;
     edge_rhs.resize(ne);
     edge_energy.resize(ne);
-    // hex_normals hold the corner normals at the current positions: measure_all() computes them with the scaled
-    // Jacobians, at construction and after every step.
     const std::size_t nblocks = edge_block_begin.size() - 1;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 64), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
             const std::size_t e0 = b * kLanes;
-            const EdgeBlockInput in{x.data(), topo.edges.data() + e0, std::min(kLanes, ne - e0), hex_normals.data(),
+            const EdgeBlockInput in{x.data(), topo.edges.data() + e0, std::min(kLanes, ne - e0),
                                     edge_block_slots.data() + edge_block_begin[b],
-                                    (edge_block_begin[b + 1] - edge_block_begin[b]) / static_cast<int>(2 * kLanes),
+                                    (edge_block_begin[b + 1] - edge_block_begin[b]) / static_cast<int>(4 * kLanes),
                                     edge_weight.data() + e0, mean_target};
             edge_block(in, edge_rhs.data() + e0, edge_energy.data() + e0);
         }
@@ -1044,8 +1001,8 @@ FitProgress SurfaceFitter::step() {
             }
             std::sort(check.begin(), check.end());
             for (int h : check) queued[static_cast<std::size_t>(h)] = 0;
-            // Their corners moved: new scaled Jacobians, and the next local step's normals too.
-            s.measure([&](std::size_t i) { return static_cast<std::size_t>(check[i]); }, 0, check.size(), sj_new, false);
+            // Their corners moved: new scaled Jacobians.
+            s.measure([&](std::size_t i) { return static_cast<std::size_t>(check[i]); }, 0, check.size(), sj_new);
         }
         stats = HexStats{};
         for (double v : sj_new) {
