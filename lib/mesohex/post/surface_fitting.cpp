@@ -404,6 +404,9 @@ struct SurfaceFitter::Impl {
     std::vector<int> boundary_index; // per vertex: its index in boundary_vertices, or -1
     TriangleMesh boundary_tris;      // the boundary quads split in two (a, b, c), (a, c, d), over all mesh vertices
     std::vector<double> step_scale;  // per vertex: the part of its global-step move that was accepted
+    std::vector<Vec3> old_points;    // step buffers: positions before the step, next scaled Jacobians, guard marks
+    std::vector<double> sj_next;
+    std::vector<std::uint8_t> halvings, marked, queued;
     int iteration = 0;
 
     template <class Id>
@@ -801,12 +804,15 @@ void SurfaceFitter::Impl::solve_cg() {
     // vertex in nearly the same direction), which saves CG iterations; a fixed point still starts exactly at itself.
     cg_x.resize(n);
     cg_b.resize(n);
-    for (std::size_t v = 0; v < n; ++v) {
-        Vec3 x0 = mesh.points[v];
-        if (last_move.size() == n) x0 += last_move[v];
-        cg_x[v].c = Double4{x0.x, x0.y, x0.z, 0.0};
-        cg_b[v].c = Double4{rhs[v].x, rhs[v].y, rhs[v].z, 0.0};
-    }
+    const bool warm = last_move.size() == n;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v < r.end(); ++v) {
+            Vec3 x0 = mesh.points[v];
+            if (warm) x0 += last_move[v];
+            cg_x[v].c = Double4{x0.x, x0.y, x0.z, 0.0};
+            cg_b[v].c = Double4{rhs[v].x, rhs[v].y, rhs[v].z, 0.0};
+        }
+    });
     cg_r.resize(n);
     cg_z.resize(n);
     cg_p.resize(n);
@@ -872,7 +878,9 @@ void SurfaceFitter::Impl::solve_cg() {
     }
     last_cg_iterations = it;
     solution.resize(n);
-    for (std::size_t v = 0; v < n; ++v) solution[v] = Vec3{cg_x[v].c[0], cg_x[v].c[1], cg_x[v].c[2]};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v < r.end(); ++v) solution[v] = Vec3{cg_x[v].c[0], cg_x[v].c[1], cg_x[v].c[2]};
+    });
 }
 
 // solution = (A^T A)^{-1} rhs with the stored LDL^T factor, x, y and z together.
@@ -949,10 +957,16 @@ FitProgress SurfaceFitter::step() {
     progress.solver_iterations = s.direct ? 0 : s.last_cg_iterations;
     const std::size_t nv = s.mesh.points.size();
     std::vector<Vec3>& x = s.mesh.points;
-    const std::vector<Vec3> old = x;
-    if (!s.options.frozen.empty())
-        for (std::size_t v = 0; v < nv; ++v)
-            if (s.options.frozen[v]) s.solution[v] = old[v];
+    std::vector<Vec3>& old = s.old_points;
+    old.resize(nv);
+    const bool frozen = !s.options.frozen.empty();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v < r.end(); ++v) {
+            old[v] = x[v];
+            if (frozen && s.options.frozen[v]) s.solution[v] = old[v];
+            x[v] = s.solution[v];
+        }
+    });
     // Inversion guard, per vertex: a hex the step would invert (or collapse: min SJ below sj_guard and more than
     // max_sj_drop below its value before the step) halves the move of its 8 vertices and is checked again; after
     // max_backtracks halvings they stay where they were. Only the hexes around vertices whose move changed are
@@ -960,8 +974,7 @@ FitProgress SurfaceFitter::step() {
     // deterministic.
     std::vector<double>& scale = s.step_scale;
     scale.assign(nv, 1.0);
-    tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { x[v] = s.solution[v]; });
-    std::vector<double> sj_new;
+    std::vector<double>& sj_new = s.sj_next;
     HexStats stats = s.measure_all(sj_new);
     if (s.options.guard_inversions) {
         const std::vector<double>& sj_old = s.hex_sj;
@@ -970,14 +983,32 @@ FitProgress SurfaceFitter::step() {
             if (!(now > 0) && before > 0) return true;
             return now < s.hex_floor[h] && now < before;
         };
-        std::vector<int> check(s.mesh.hexes.size());
-        for (std::size_t h = 0; h < check.size(); ++h) check[h] = static_cast<int>(h);
-        std::vector<std::uint8_t> halvings(nv, 0), marked(nv, 0), queued(s.mesh.hexes.size(), 0);
+        // The first round's bad hexes, found in parallel, in ascending order.
+        std::vector<int> check = tbb::parallel_deterministic_reduce(
+            tbb::blocked_range<std::size_t>(0, s.mesh.hexes.size(), 4096), std::vector<int>{},
+            [&](const tbb::blocked_range<std::size_t>& r, std::vector<int> acc) {
+                for (std::size_t h = r.begin(); h < r.end(); ++h)
+                    if (bad(h)) acc.push_back(static_cast<int>(h));
+                return acc;
+            },
+            [](std::vector<int> a, const std::vector<int>& b) {
+                a.insert(a.end(), b.begin(), b.end());
+                return a;
+            });
+        const bool any_bad = !check.empty();
+        std::vector<std::uint8_t>& halvings = s.halvings;
+        std::vector<std::uint8_t>& marked = s.marked;
+        std::vector<std::uint8_t>& queued = s.queued;
+        if (any_bad) {
+            halvings.assign(nv, 0);
+            marked.assign(nv, 0);
+            queued.assign(s.mesh.hexes.size(), 0);
+        }
         std::vector<int> changed;
-        while (!check.empty()) {
+        for (bool first = true; !check.empty(); first = false) {
             changed.clear();
             for (int h : check)
-                if (bad(static_cast<std::size_t>(h)))
+                if (first || bad(static_cast<std::size_t>(h)))
                     for (int v : s.mesh.hexes[static_cast<std::size_t>(h)]) {
                         const std::size_t vi = static_cast<std::size_t>(v);
                         if (marked[vi] || scale[vi] == 0) continue;
@@ -1004,28 +1035,50 @@ FitProgress SurfaceFitter::step() {
             // Their corners moved: new scaled Jacobians.
             s.measure([&](std::size_t i) { return static_cast<std::size_t>(check[i]); }, 0, check.size(), sj_new);
         }
-        stats = HexStats{};
-        for (double v : sj_new) {
-            if (!(v > 0)) ++stats.inverted;
-            stats.sj_min = std::min(stats.sj_min, v);
-        }
+        if (any_bad)
+            stats = tbb::parallel_deterministic_reduce(
+                tbb::blocked_range<std::size_t>(0, sj_new.size(), 4096), HexStats{},
+                [&](const tbb::blocked_range<std::size_t>& r, HexStats acc) {
+                    for (std::size_t h = r.begin(); h < r.end(); ++h) {
+                        if (!(sj_new[h] > 0)) ++acc.inverted;
+                        acc.sj_min = std::min(acc.sj_min, sj_new[h]);
+                    }
+                    return acc;
+                },
+                [](HexStats a, const HexStats& b) {
+                    a.inverted += b.inverted;
+                    a.sj_min = std::min(a.sj_min, b.sj_min);
+                    return a;
+                });
     }
     s.hex_sj.swap(sj_new);
-    double fraction = 0;
-    long held = 0;
-    for (std::size_t v = 0; v < nv; ++v) {
-        fraction += scale[v];
-        if (scale[v] < 1) ++held;
-    }
-    fraction = nv > 0 ? fraction / static_cast<double>(nv) : 1.0;
-    progress.held_vertices = held;
-    double max_move2 = 0;
+    // The accepted fraction, the damped vertices, each vertex's move and the largest.
+    struct Moves {
+        double fraction = 0;
+        long held = 0;
+        double max_move2 = 0;
+    };
     s.last_move.resize(nv);
-    for (std::size_t v = 0; v < nv; ++v) {
-        s.last_move[v] = x[v] - old[v];
-        max_move2 = std::max(max_move2, squared_norm(s.last_move[v]));
-    }
-    const double max_move = std::sqrt(max_move2);
+    const Moves moves = tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<std::size_t>(0, nv, 4096), Moves{},
+        [&](const tbb::blocked_range<std::size_t>& r, Moves acc) {
+            for (std::size_t v = r.begin(); v < r.end(); ++v) {
+                acc.fraction += scale[v];
+                if (scale[v] < 1) ++acc.held;
+                s.last_move[v] = x[v] - old[v];
+                acc.max_move2 = std::max(acc.max_move2, squared_norm(s.last_move[v]));
+            }
+            return acc;
+        },
+        [](Moves a, const Moves& b) {
+            a.fraction += b.fraction;
+            a.held += b.held;
+            a.max_move2 = std::max(a.max_move2, b.max_move2);
+            return a;
+        });
+    const double fraction = nv > 0 ? moves.fraction / static_cast<double>(nv) : 1.0;
+    progress.held_vertices = moves.held;
+    const double max_move = std::sqrt(moves.max_move2);
     s.stats = stats;
     progress.max_move = max_move / s.mean_target;
     progress.inverted = stats.inverted;
