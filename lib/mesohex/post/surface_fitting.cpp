@@ -296,10 +296,9 @@ __attribute__((always_inline)) inline void matrix_row(const CgMatrix& m, const V
 // The kernels' arrays never overlap; their sums (in row order) are kept in locals and added to the caller's at the
 // end. Vectors cross the kernels' boundaries by reference only (the clones' register conventions differ).
 
-// Rows [b, e): r = rhs - M x, z = D^-1 r, p = z; adds r.z, rhs.rhs and r.r per lane.
+// Rows [b, e): r = rhs - M x, p = z = D^-1 r; adds r.z, rhs.rhs and r.r per lane.
 MESOHEX_SIMD_CLONES
-void cg_start(const CgMatrix& m, const V4* __restrict x, const V4* __restrict rhs, V4* __restrict r, V4* __restrict z,
-              V4* __restrict p, std::size_t b, std::size_t e, double* rz_out, double* bb_out, double* rr_out) {
+void cg_start(const CgMatrix& m, const V4* __restrict x, const V4* __restrict rhs, V4* __restrict r, V4* __restrict p, std::size_t b, std::size_t e, double* rz_out, double* bb_out, double* rr_out) {
     Double4 rz{}, bb{}, rr{}, mx;
     for (std::size_t v = b; v < e; ++v) {
         matrix_row(m, x, v, mx);
@@ -309,7 +308,6 @@ void cg_start(const CgMatrix& m, const V4* __restrict x, const V4* __restrict rh
         bb += rhs[v].c * rhs[v].c;
         rr += rv * rv;
         r[v].c = rv;
-        z[v].c = zv;
         p[v].c = zv;
     }
     for (int c = 0; c < 4; ++c) {
@@ -332,11 +330,11 @@ void cg_product(const CgMatrix& m, const V4* __restrict p, V4* __restrict q, std
     for (int c = 0; c < 4; ++c) pq_out[c] += pq[c];
 }
 
-// Rows [b, e): x += alpha p, r -= alpha q, z = D^-1 r; adds r.z and r.r per lane.
+// Rows [b, e): x += alpha p, r -= alpha q; adds r.z and r.r per lane with z = D^-1 r (not stored: cg_direction
+// computes it again, to the same bits).
 MESOHEX_SIMD_CLONES
 void cg_update(const CgMatrix& m, const V4& alpha_in, const V4* __restrict p, const V4* __restrict q,
-               V4* __restrict x, V4* __restrict r, V4* __restrict z, std::size_t b, std::size_t e, double* rz_out,
-               double* rr_out) {
+               V4* __restrict x, V4* __restrict r, std::size_t b, std::size_t e, double* rz_out, double* rr_out) {
     const Double4 alpha = alpha_in.c;
     Double4 rz{}, rr{};
     for (std::size_t v = b; v < e; ++v) {
@@ -346,7 +344,6 @@ void cg_update(const CgMatrix& m, const V4& alpha_in, const V4* __restrict p, co
         rz += rv * zv;
         rr += rv * rv;
         r[v].c = rv;
-        z[v].c = zv;
     }
     for (int c = 0; c < 4; ++c) {
         rz_out[c] += rz[c];
@@ -354,11 +351,12 @@ void cg_update(const CgMatrix& m, const V4& alpha_in, const V4* __restrict p, co
     }
 }
 
-// Rows [b, e): p = z + beta p.
+// Rows [b, e): p = D^-1 r + beta p.
 MESOHEX_SIMD_CLONES
-void cg_direction(const V4& beta_in, const V4* __restrict z, V4* __restrict p, std::size_t b, std::size_t e) {
+void cg_direction(const CgMatrix& m, const V4& beta_in, const V4* __restrict r, V4* __restrict p, std::size_t b,
+                  std::size_t e) {
     const Double4 beta = beta_in.c;
-    for (std::size_t v = b; v < e; ++v) p[v].c = z[v].c + beta * p[v].c;
+    for (std::size_t v = b; v < e; ++v) p[v].c = m.inv_diag[v] * r[v].c + beta * p[v].c;
 }
 
 }  // namespace
@@ -388,7 +386,7 @@ struct SurfaceFitter::Impl {
     std::vector<int> m_begin, m_col;
     std::vector<float> m_val;  // off-diagonal entries (-2 w_e^2) in single precision: the product reads half the bytes
     std::vector<double> m_diag, inv_diag;
-    std::vector<V4> cg_x, cg_b, cg_r, cg_z, cg_p, cg_q;
+    std::vector<V4> cg_x, cg_b, cg_r, cg_p, cg_q;
     int last_cg_iterations = 0;
     std::vector<Vec3> last_move;           // per vertex: its move in the last step (CG warm start)
     std::vector<Vec3> cached_correction;  // the two-sided corrections of the last matching, per boundary vertex
@@ -814,7 +812,6 @@ void SurfaceFitter::Impl::solve_cg() {
         }
     });
     cg_r.resize(n);
-    cg_z.resize(n);
     cg_p.resize(n);
     cg_q.resize(n);
     const CgMatrix m{m_begin.data(), m_col.data(), m_val.data(), m_diag.data(), inv_diag.data()};
@@ -825,7 +822,7 @@ void SurfaceFitter::Impl::solve_cg() {
     const Init init = tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, n, kGrain), Init{},
         [&](const tbb::blocked_range<std::size_t>& r, Init acc) {
-            cg_start(m, cg_x.data(), cg_b.data(), cg_r.data(), cg_z.data(), cg_p.data(), r.begin(), r.end(), acc.rz.v,
+            cg_start(m, cg_x.data(), cg_b.data(), cg_r.data(), cg_p.data(), r.begin(), r.end(), acc.rz.v,
                      acc.bb.v, acc.rr.v);
             return acc;
         },
@@ -859,8 +856,8 @@ void SurfaceFitter::Impl::solve_cg() {
         const Update up = tbb::parallel_deterministic_reduce(
             tbb::blocked_range<std::size_t>(0, n, kGrain), Update{},
             [&](const tbb::blocked_range<std::size_t>& r, Update acc) {
-                cg_update(m, alpha, cg_p.data(), cg_q.data(), cg_x.data(), cg_r.data(), cg_z.data(), r.begin(), r.end(),
-                          acc.rz.v, acc.rr.v);
+                cg_update(m, alpha, cg_p.data(), cg_q.data(), cg_x.data(), cg_r.data(), r.begin(), r.end(), acc.rz.v,
+                          acc.rr.v);
                 return acc;
             },
             [](Update a, const Update& b) {
@@ -873,7 +870,7 @@ void SurfaceFitter::Impl::solve_cg() {
         rz = up.rz;
         rr = up.rr;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-            cg_direction(beta, cg_z.data(), cg_p.data(), r.begin(), r.end());
+            cg_direction(m, beta, cg_r.data(), cg_p.data(), r.begin(), r.end());
         });
     }
     last_cg_iterations = it;
