@@ -188,8 +188,10 @@ ClosestPoint SurfaceQuery::closest(const Vec3& p, int hint_triangle) const {
                          : -1;
     if (prim < 0) return closest(p);
     const TriangleIterator it = m.triangles.cbegin() + prim;
-    const Point centroid = CGAL::centroid((*it)[0], (*it)[1], (*it)[2]);
-    const auto r = m.tree.closest_point_and_primitive(to_cgal(p), std::make_pair(centroid, it));
+    // The hint's closest point bounds the search from the start: the traversal skips every box farther than it.
+    const Point q = to_cgal(p);
+    const Point on_hint = K().construct_projected_point_3_object()(*it, q);
+    const auto r = m.tree.closest_point_and_primitive(q, std::make_pair(on_hint, it));
     ClosestPoint c;
     c.point = to_vec(r.first);
     c.triangle = m.id_of(r.second);
