@@ -155,6 +155,11 @@ struct HexStats {
     long inverted = 0;
     double sj_min = std::numeric_limits<double>::infinity();
 };
+HexStats join(HexStats a, const HexStats& b) {
+    a.inverted += b.inverted;
+    a.sj_min = std::min(a.sj_min, b.sj_min);
+    return a;
+}
 
 // The edge pass runs on blocks of kLanes edges, in the same structure-of-arrays form. Each hex around an edge gives a
 // corner normal at each of the edge's ends v: (x[o1] - x[v]) x (x[o2] - x[v]) with o1, o2 the corner's two other
@@ -664,16 +669,9 @@ HexStats SurfaceFitter::Impl::measure_all(std::vector<double>& sj) {
     return tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, nh, 1024), HexStats{},
         [&](const tbb::blocked_range<std::size_t>& r, HexStats acc) {
-            const HexStats b = measure([](std::size_t i) { return i; }, r.begin(), r.end(), sj);
-            acc.inverted += b.inverted;
-            acc.sj_min = std::min(acc.sj_min, b.sj_min);
-            return acc;
+            return join(acc, measure([](std::size_t i) { return i; }, r.begin(), r.end(), sj));
         },
-        [](HexStats a, const HexStats& b) {
-            a.inverted += b.inverted;
-            a.sj_min = std::min(a.sj_min, b.sj_min);
-            return a;
-        });
+        join);
 }
 
 // Directions, energy and right-hand side at the current positions. Returns the energy |A X - b|^2.
@@ -1042,11 +1040,7 @@ FitProgress SurfaceFitter::step() {
                     }
                     return acc;
                 },
-                [](HexStats a, const HexStats& b) {
-                    a.inverted += b.inverted;
-                    a.sj_min = std::min(a.sj_min, b.sj_min);
-                    return a;
-                });
+                join);
     }
     s.hex_sj.swap(sj_new);
     // The accepted fraction, the damped vertices, each vertex's move and the largest.
