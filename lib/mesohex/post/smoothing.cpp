@@ -196,90 +196,95 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         return l;
     };
 
-    // A vertex is tried again only after a vertex of one of its hexes moved (itself included).
+    // A vertex is tried again only after a vertex of one of its hexes moved (itself included). Sweeps are numbered
+    // on from the last one when run again.
     std::vector<char> dirty(nv, 1);
-    for (int sweep = 1; sweep <= options.max_sweeps; ++sweep) {
-        double total = 0, gain = 0;
-        long moves = 0;
-        for (std::size_t v = 0; v < nv; ++v) {
-            if (fixed[v] || !dirty[v]) continue;
-            dirty[v] = 0;
-            bool active = false;
-            for (int i = vh_begin[v]; i < vh_begin[v + 1] && !active; ++i)
-                active = sj[static_cast<std::size_t>(vh[static_cast<std::size_t>(i)])] <= options.skip_above;
-            if (!active) continue;
-            const Vec3 x0 = x[v];
-            const Local before = local(v);
-            total += before.energy;
-            const double h = edge_len[v];
-            const double d = 1e-4 * h;
-            Vec3 g;
-            for (int k = 0; k < 3; ++k) {
-                x[v] = x0;
-                x[v][k] += d;
-                const double ep = local(v).energy;
-                x[v] = x0;
-                x[v][k] -= d;
-                const double em = local(v).energy;
-                g[k] = (ep - em) / (2 * d);
-            }
-            x[v] = x0;
-            Vec3 n;
-            if (on_boundary[v]) {
-                bool feature = false;
-                n = boundary_normal(v, feature);
-                if (feature) continue;
-                g -= dot(g, n) * n;
-            }
-            const double gn = norm(g);
-            if (!(gn > 0) || !std::isfinite(gn)) continue;
-            const Vec3 dir = g / (-gn);
-            // The chord-gap limit needs the gap at x0 (a dozen projections): computed only once a candidate passes the
-            // other tests, most visits end before that.
-            double gap_limit = -1;
-            auto gap_ok = [&]() {
-                if (!(on_boundary[v] && options.max_gap > 0)) return true;
-                if (gap_limit < 0) {
-                    const Vec3 cand = x[v];
+    auto run_sweeps = [&](int max_sweeps) {
+        const int first = result.sweeps + 1, last = result.sweeps + max_sweeps;
+        for (int sweep = first; sweep <= last; ++sweep) {
+            double total = 0, gain = 0;
+            long moves = 0;
+            for (std::size_t v = 0; v < nv; ++v) {
+                if (fixed[v] || !dirty[v]) continue;
+                dirty[v] = 0;
+                bool active = false;
+                for (int i = vh_begin[v]; i < vh_begin[v + 1] && !active; ++i)
+                    active = sj[static_cast<std::size_t>(vh[static_cast<std::size_t>(i)])] <= options.skip_above;
+                if (!active) continue;
+                const Vec3 x0 = x[v];
+                const Local before = local(v);
+                total += before.energy;
+                const double h = edge_len[v];
+                const double d = 1e-4 * h;
+                Vec3 g;
+                for (int k = 0; k < 3; ++k) {
                     x[v] = x0;
-                    gap_limit = std::max(options.max_gap, chord_gap(v));
-                    x[v] = cand;
+                    x[v][k] += d;
+                    const double ep = local(v).energy;
+                    x[v] = x0;
+                    x[v][k] -= d;
+                    const double em = local(v).energy;
+                    g[k] = (ep - em) / (2 * d);
                 }
-                return chord_gap(v) <= gap_limit;
-            };
-            double step = 0.2 * h;
-            bool accepted = false;
-            double energy_after = before.energy;
-            for (int ls = 0; ls < 6 && !accepted; ++ls, step *= 0.5) {
-                Vec3 cand = x0 + step * dir;
-                if (on_boundary[v]) {
-                    cand = project(cand);
-                    if (!is_finite(cand) || distance(cand, start[v]) > options.max_slide * h) continue;
-                }
-                x[v] = cand;
-                const Local after = local(v);
-                if (after.energy < before.energy && after.sj_min >= std::min(before.sj_min, options.target_sj) &&
-                    after.sj_min > 0 && gap_ok())
-                    accepted = true;
-                energy_after = after.energy;
-            }
-            if (!accepted) {
                 x[v] = x0;
-                continue;
+                Vec3 n;
+                if (on_boundary[v]) {
+                    bool feature = false;
+                    n = boundary_normal(v, feature);
+                    if (feature) continue;
+                    g -= dot(g, n) * n;
+                }
+                const double gn = norm(g);
+                if (!(gn > 0) || !std::isfinite(gn)) continue;
+                const Vec3 dir = g / (-gn);
+                // The chord-gap limit needs the gap at x0 (a dozen projections): computed only once a candidate passes
+                // the other tests, most visits end before that.
+                double gap_limit = -1;
+                auto gap_ok = [&]() {
+                    if (!(on_boundary[v] && options.max_gap > 0)) return true;
+                    if (gap_limit < 0) {
+                        const Vec3 cand = x[v];
+                        x[v] = x0;
+                        gap_limit = std::max(options.max_gap, chord_gap(v));
+                        x[v] = cand;
+                    }
+                    return chord_gap(v) <= gap_limit;
+                };
+                double step = 0.2 * h;
+                bool accepted = false;
+                double energy_after = before.energy;
+                for (int ls = 0; ls < 6 && !accepted; ++ls, step *= 0.5) {
+                    Vec3 cand = x0 + step * dir;
+                    if (on_boundary[v]) {
+                        cand = project(cand);
+                        if (!is_finite(cand) || distance(cand, start[v]) > options.max_slide * h) continue;
+                    }
+                    x[v] = cand;
+                    const Local after = local(v);
+                    if (after.energy < before.energy && after.sj_min >= std::min(before.sj_min, options.target_sj) &&
+                        after.sj_min > 0 && gap_ok())
+                        accepted = true;
+                    energy_after = after.energy;
+                }
+                if (!accepted) {
+                    x[v] = x0;
+                    continue;
+                }
+                ++moves;
+                gain += before.energy - energy_after;
+                for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i) {
+                    const std::size_t hh = static_cast<std::size_t>(vh[static_cast<std::size_t>(i)]);
+                    sj[hh] = scaled_jacobian(hex_corners(hh));
+                    for (int w : mesh.hexes[hh]) dirty[static_cast<std::size_t>(w)] = 1;
+                }
             }
-            ++moves;
-            gain += before.energy - energy_after;
-            for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i) {
-                const std::size_t hh = static_cast<std::size_t>(vh[static_cast<std::size_t>(i)]);
-                sj[hh] = scaled_jacobian(hex_corners(hh));
-                for (int w : mesh.hexes[hh]) dirty[static_cast<std::size_t>(w)] = 1;
-            }
+            result.sweeps = sweep;
+            result.moves += moves;
+            if (options.progress) options.progress({sweep, moves});
+            if (moves == 0 || gain <= options.min_gain * total) break;
         }
-        result.sweeps = sweep;
-        result.moves += moves;
-        if (options.progress) options.progress({sweep, moves});
-        if (moves == 0 || gain <= options.min_gain * total) break;
-    }
+    };
+    run_sweeps(options.max_sweeps);
 
     // Max-min pass. `local_min` / `soft_min` over the hexes at one vertex; a move of a vertex set changes the hexes at
     // its vertices only.
@@ -405,9 +410,13 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         }
         if (best.empty()) return false;
         for (std::size_t i = 0; i < n; ++i) x[set[i]] = best[i];
-        for (int hh : around) sj[static_cast<std::size_t>(hh)] = scaled_jacobian(hex_corners(static_cast<std::size_t>(hh)));
+        for (int hh : around) {
+            sj[static_cast<std::size_t>(hh)] = scaled_jacobian(hex_corners(static_cast<std::size_t>(hh)));
+            for (int w : mesh.hexes[static_cast<std::size_t>(hh)]) dirty[static_cast<std::size_t>(w)] = 1;
+        }
         return true;
     };
+    std::fill(dirty.begin(), dirty.end(), 0);  // from here on: marked by the max-min moves (for the sweeps after it)
     std::vector<char> wanted(nv);
     std::vector<std::size_t> bad, set;
     for (int round = 1; options.worst_below > 0 && round <= options.worst_rounds; ++round) {
@@ -436,6 +445,9 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         if (moves == 0) break;
     }
 
+    // The max-min moves may have lowered good hexes around them: a few sweeps from the vertices near them (never
+    // below min(their worst hex, target_sj)).
+    if (result.worst_moves > 0) run_sweeps(options.resweeps);
     stats(result.sj_min_after, result.sj_avg_after);
     return result;
 }

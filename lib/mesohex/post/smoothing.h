@@ -41,6 +41,8 @@ struct SmoothOptions {
     double worst_crease_angle = 70;    // degrees: that pass moves a boundary vertex with two sharp boundary edges
                                        // (normals of their quads more than this apart) only along them, and never one
                                        // with one or more than two (corner); the chord-gap limit holds the others
+    int resweeps = 5;                  // after that pass, at most this many sweeps more from the vertices near its
+                                       // moves (they may have lowered good hexes there)
     double worst_max_slide = 1.0;      // that pass's max_slide
     double worst_gap_factor = 2;       // that pass's chord-gap limit at a vertex: max(this x max_gap, the gap there
                                        // at the start of the smoothing): the few vertices it moves may slide where
@@ -51,7 +53,7 @@ struct SmoothOptions {
 
 struct SmoothResult {
     HexMesh mesh;
-    int sweeps = 0;
+    int sweeps = 0;  // sweeps done, both runs (before and after the max-min pass)
     long moves = 0;  // accepted vertex moves over all sweeps
     int worst_rounds = 0;     // rounds of the max-min pass
     long worst_moves = 0;     // accepted moves of the max-min pass (a joint move of a hex's vertices counts once)
