@@ -197,7 +197,7 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
         const bool show = !job.quiet && isatty(STDERR_FILENO);
         StageProgressLine untangle_line("untangle", "round", fo.untangling.max_rounds, show);
         StageProgressLine improve_line("improve", "round", fo.improving.max_rounds, show);
-        StageProgressLine smooth_line("smooth", "sweep", fo.smoothing.max_sweeps, show);
+        StageProgressLine smooth_line("smooth", "sweep", fo.smoothing.max_sweeps + fo.smoothing.resweeps, show);
         fo.untangling.progress = [&untangle_line](const UntangleProgress& p) {
             untangle_line.update(p.round, "inverted " + std::to_string(p.inverted));
         };

@@ -98,3 +98,34 @@ TEST(Smoothing, InvertedInputUnchangedAndBadInputRejected) {
     o.frozen = {true};
     EXPECT_THROW(smooth_quality(block(1, 1), {}, o), Error);
 }
+
+// The max-min pass alone (no sweeps before or after it): 2 x 2 x 2 block, centre vertex (id 13) moved by (0.3, 0.2, 0.1), boundary
+// fixed. Every move raises the smallest scaled Jacobian of the hexes it touches, so the centre walks back toward
+// (1, 1, 1): the min SJ rises from 0.80 toward 1 and nothing else moves. worst_below 0: the pass is off, nothing moves.
+TEST(Smoothing, MaxMinPassRaisesTheWorstHex) {
+    HexMesh m = block(2, 2);
+    m.points[13] = {1.3, 1.2, 1.1};
+    const double before = min_sj(m);
+    SmoothOptions o;
+    o.move_boundary = false;
+    o.max_sweeps = 0;
+    o.resweeps = 0;
+    o.worst_below = 1;
+    const SmoothResult r = smooth_quality(m, {}, o);
+    EXPECT_EQ(r.sweeps, 0);
+    EXPECT_EQ(r.moves, 0);
+    EXPECT_GT(r.worst_moves, 0);
+    EXPECT_GE(r.worst_rounds, 1);
+    EXPECT_NEAR(r.sj_min_before, before, 1e-12);
+    EXPECT_GT(r.sj_min_after, 0.95);
+    EXPECT_NEAR(r.sj_min_after, min_sj(r.mesh), 1e-12);
+    EXPECT_LT(distance(r.mesh.points[13], Vec3{1, 1, 1}), 0.1 * distance(m.points[13], Vec3{1, 1, 1}));
+    for (std::size_t v = 0; v < m.points.size(); ++v)
+        if (v != 13) {
+            EXPECT_EQ(r.mesh.points[v], m.points[v]) << v;
+        }
+    o.worst_below = 0;
+    const SmoothResult off = smooth_quality(m, {}, o);
+    EXPECT_EQ(off.worst_moves, 0);
+    EXPECT_EQ(off.mesh, m);
+}

@@ -135,35 +135,49 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
             if (dot(n, quad_normal(vq[static_cast<std::size_t>(i)])) < cos_feature) feature = true;
         return n;
     };
-    // Boundary vertices that start on a feature stay fixed for the whole pass.
-    std::vector<char> fixed(nv, 0);
+    // Boundary vertices that start on a feature stay fixed for the whole sweeps (the max-min pass may move them:
+    // worst_moves_features); frozen vertices and, without sliding, all boundary vertices never move.
+    std::vector<char> fixed(nv, 0), frozen(nv, 0);
     for (std::size_t v = 0; v < nv; ++v) {
-        if (!options.frozen.empty() && options.frozen[v]) fixed[v] = 1;
-        if (on_boundary[v]) {
+        if ((!options.frozen.empty() && options.frozen[v]) || (on_boundary[v] && !slide)) frozen[v] = 1;
+        fixed[v] = frozen[v];
+        if (on_boundary[v] && !fixed[v]) {
             bool feature = false;
             boundary_normal(v, feature);
-            if (!slide || feature) fixed[v] = 1;
+            if (feature) fixed[v] = 1;
         }
     }
     const std::vector<Vec3> start = mesh.points;
-    // Chord gap of the boundary around v: largest distance of its boundary quads' centroids and edge midpoints to the
-    // surface.
-    auto chord_gap = [&](std::size_t v) {
+    // Chord gap of the boundary around v with the vertices at `pos`: largest distance of its boundary quads'
+    // centroids and edge midpoints to the surface.
+    auto chord_gap_at = [&](std::size_t v, const std::vector<Vec3>& pos) {
         double gap = 0;
         for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i) {
             const std::array<int, 4>& f =
                 topo.boundary_quads[static_cast<std::size_t>(vq[static_cast<std::size_t>(i)])];
             Vec3 c;
-            for (int w : f) c += x[static_cast<std::size_t>(w)];
+            for (int w : f) c += pos[static_cast<std::size_t>(w)];
             c *= 0.25;
             gap = std::max(gap, distance(c, project(c)));
             for (std::size_t k = 0; k < 4; ++k)
                 if (static_cast<std::size_t>(f[k]) == v) {
-                    const Vec3 a = 0.5 * (x[v] + x[static_cast<std::size_t>(f[(k + 1) % 4])]);
+                    const Vec3 a = 0.5 * (pos[v] + pos[static_cast<std::size_t>(f[(k + 1) % 4])]);
                     gap = std::max(gap, distance(a, project(a)));
                 }
         }
         return gap;
+    };
+    auto chord_gap = [&](std::size_t v) { return chord_gap_at(v, x); };
+    // Max-min pass: limit of the chord gap at v, max(worst_gap_factor x max_gap, its gap at the start), computed when
+    // first needed. Relative to the start (not to the position before the move): where the boundary is coarse for
+    // the curvature (gap above max_gap from the start), vertices can still slide, never farther from the surface
+    // than the fit left them.
+    std::vector<double> worst_gap_limit(nv, -1.0);
+    auto worst_gap_ok = [&](std::size_t v) {
+        if (!(on_boundary[v] && options.max_gap > 0)) return true;
+        if (worst_gap_limit[v] < 0)
+            worst_gap_limit[v] = std::max(options.worst_gap_factor * options.max_gap, chord_gap_at(v, start));
+        return chord_gap(v) <= worst_gap_limit[v];
     };
 
     auto local = [&](std::size_t v) {
@@ -182,90 +196,258 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         return l;
     };
 
-    // A vertex is tried again only after a vertex of one of its hexes moved (itself included).
+    // A vertex is tried again only after a vertex of one of its hexes moved (itself included). Sweeps are numbered
+    // on from the last one when run again.
     std::vector<char> dirty(nv, 1);
-    for (int sweep = 1; sweep <= options.max_sweeps; ++sweep) {
-        double total = 0, gain = 0;
-        long moves = 0;
-        for (std::size_t v = 0; v < nv; ++v) {
-            if (fixed[v] || !dirty[v]) continue;
-            dirty[v] = 0;
-            bool active = false;
-            for (int i = vh_begin[v]; i < vh_begin[v + 1] && !active; ++i)
-                active = sj[static_cast<std::size_t>(vh[static_cast<std::size_t>(i)])] <= options.skip_above;
-            if (!active) continue;
-            const Vec3 x0 = x[v];
-            const Local before = local(v);
-            total += before.energy;
-            const double h = edge_len[v];
-            const double d = 1e-4 * h;
-            Vec3 g;
-            for (int k = 0; k < 3; ++k) {
-                x[v] = x0;
-                x[v][k] += d;
-                const double ep = local(v).energy;
-                x[v] = x0;
-                x[v][k] -= d;
-                const double em = local(v).energy;
-                g[k] = (ep - em) / (2 * d);
-            }
-            x[v] = x0;
-            Vec3 n;
-            if (on_boundary[v]) {
-                bool feature = false;
-                n = boundary_normal(v, feature);
-                if (feature) continue;
-                g -= dot(g, n) * n;
-            }
-            const double gn = norm(g);
-            if (!(gn > 0) || !std::isfinite(gn)) continue;
-            const Vec3 dir = g / (-gn);
-            // The chord-gap limit needs the gap at x0 (a dozen projections): computed only once a candidate passes the
-            // other tests, most visits end before that.
-            double gap_limit = -1;
-            auto gap_ok = [&]() {
-                if (!(on_boundary[v] && options.max_gap > 0)) return true;
-                if (gap_limit < 0) {
-                    const Vec3 cand = x[v];
+    auto run_sweeps = [&](int max_sweeps) {
+        const int first = result.sweeps + 1, last = result.sweeps + max_sweeps;
+        for (int sweep = first; sweep <= last; ++sweep) {
+            double total = 0, gain = 0;
+            long moves = 0;
+            for (std::size_t v = 0; v < nv; ++v) {
+                if (fixed[v] || !dirty[v]) continue;
+                dirty[v] = 0;
+                bool active = false;
+                for (int i = vh_begin[v]; i < vh_begin[v + 1] && !active; ++i)
+                    active = sj[static_cast<std::size_t>(vh[static_cast<std::size_t>(i)])] <= options.skip_above;
+                if (!active) continue;
+                const Vec3 x0 = x[v];
+                const Local before = local(v);
+                total += before.energy;
+                const double h = edge_len[v];
+                const double d = 1e-4 * h;
+                Vec3 g;
+                for (int k = 0; k < 3; ++k) {
                     x[v] = x0;
-                    gap_limit = std::max(options.max_gap, chord_gap(v));
-                    x[v] = cand;
+                    x[v][k] += d;
+                    const double ep = local(v).energy;
+                    x[v] = x0;
+                    x[v][k] -= d;
+                    const double em = local(v).energy;
+                    g[k] = (ep - em) / (2 * d);
                 }
-                return chord_gap(v) <= gap_limit;
-            };
-            double step = 0.2 * h;
-            bool accepted = false;
-            double energy_after = before.energy;
-            for (int ls = 0; ls < 6 && !accepted; ++ls, step *= 0.5) {
-                Vec3 cand = x0 + step * dir;
+                x[v] = x0;
+                Vec3 n;
+                if (on_boundary[v]) {
+                    bool feature = false;
+                    n = boundary_normal(v, feature);
+                    if (feature) continue;
+                    g -= dot(g, n) * n;
+                }
+                const double gn = norm(g);
+                if (!(gn > 0) || !std::isfinite(gn)) continue;
+                const Vec3 dir = g / (-gn);
+                // The chord-gap limit needs the gap at x0 (a dozen projections): computed only once a candidate passes
+                // the other tests, most visits end before that.
+                double gap_limit = -1;
+                auto gap_ok = [&]() {
+                    if (!(on_boundary[v] && options.max_gap > 0)) return true;
+                    if (gap_limit < 0) {
+                        const Vec3 cand = x[v];
+                        x[v] = x0;
+                        gap_limit = std::max(options.max_gap, chord_gap(v));
+                        x[v] = cand;
+                    }
+                    return chord_gap(v) <= gap_limit;
+                };
+                double step = 0.2 * h;
+                bool accepted = false;
+                double energy_after = before.energy;
+                for (int ls = 0; ls < 6 && !accepted; ++ls, step *= 0.5) {
+                    Vec3 cand = x0 + step * dir;
+                    if (on_boundary[v]) {
+                        cand = project(cand);
+                        if (!is_finite(cand) || distance(cand, start[v]) > options.max_slide * h) continue;
+                    }
+                    x[v] = cand;
+                    const Local after = local(v);
+                    if (after.energy < before.energy && after.sj_min >= std::min(before.sj_min, options.target_sj) &&
+                        after.sj_min > 0 && gap_ok())
+                        accepted = true;
+                    energy_after = after.energy;
+                }
+                if (!accepted) {
+                    x[v] = x0;
+                    continue;
+                }
+                ++moves;
+                gain += before.energy - energy_after;
+                for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i) {
+                    const std::size_t hh = static_cast<std::size_t>(vh[static_cast<std::size_t>(i)]);
+                    sj[hh] = scaled_jacobian(hex_corners(hh));
+                    for (int w : mesh.hexes[hh]) dirty[static_cast<std::size_t>(w)] = 1;
+                }
+            }
+            result.sweeps = sweep;
+            result.moves += moves;
+            if (options.progress) options.progress({sweep, moves});
+            if (moves == 0 || gain <= options.min_gain * total) break;
+        }
+    };
+    run_sweeps(options.max_sweeps);
+
+    // Max-min pass. `local_min` / `soft_min` over the hexes at one vertex; a move of a vertex set changes the hexes at
+    // its vertices only.
+    // Sharp boundary edges (their two boundary quads' normals more than worst_crease_angle apart, at the start): a
+    // boundary vertex with none slides on the surface, one with two slides along them (along the line through its
+    // two sharp-edge neighbours, then projected), any other (a corner, the end of a crease) stays where it is.
+    std::vector<std::array<int, 2>> crease(nv, {-1, -1});  // the two sharp-edge neighbours
+    std::vector<char> corner(nv, 0);
+    if (options.worst_below > 0) {
+        const double cos_crease = std::cos(options.worst_crease_angle * 3.14159265358979323846 / 180.0);
+        std::vector<std::pair<int, int>> edges;  // (neighbour, quad) of the boundary edges at v
+        for (std::size_t v = 0; v < nv; ++v) {
+            if (!on_boundary[v]) continue;
+            edges.clear();
+            for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i) {
+                const int q = vq[static_cast<std::size_t>(i)];
+                const std::array<int, 4>& f = topo.boundary_quads[static_cast<std::size_t>(q)];
+                for (std::size_t k = 0; k < 4; ++k)
+                    if (static_cast<std::size_t>(f[k]) == v) {
+                        edges.emplace_back(f[(k + 1) % 4], q);
+                        edges.emplace_back(f[(k + 3) % 4], q);
+                    }
+            }
+            std::sort(edges.begin(), edges.end());
+            int sharp = 0;
+            for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
+                if (edges[i].first != edges[i + 1].first) continue;
+                if (dot(quad_normal(edges[i].second), quad_normal(edges[i + 1].second)) < cos_crease) {
+                    if (sharp < 2) crease[v][static_cast<std::size_t>(sharp)] = edges[i].first;
+                    ++sharp;
+                }
+                ++i;
+            }
+            if (sharp == 1 || sharp > 2) corner[v] = 1;
+            if (sharp != 2) crease[v] = {-1, -1};
+        }
+    }
+    auto movable = [&](std::size_t v) {
+        return !frozen[v] && !corner[v] && (!fixed[v] || options.worst_moves_features);
+    };
+    auto hexes_min = [&](const std::vector<int>& hexes) {
+        double m = 1;
+        for (int hh : hexes)
+            for (double q : frame_values(hex_corners(static_cast<std::size_t>(hh)))) m = std::min(m, q);
+        return m;
+    };
+    auto soft_min = [&](std::size_t v, double m0) {
+        double e = 0;
+        for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i)
+            for (double q : frame_values(hex_corners(static_cast<std::size_t>(vh[static_cast<std::size_t>(i)]))))
+                e += std::exp(-options.worst_sharpness * (q - m0));
+        return e;
+    };
+    // Moves the vertices `set` (all movable, ascending) together if that raises the smallest frame value of the
+    // hexes around them; returns whether it did.
+    std::vector<int> around;
+    std::vector<Vec3> x0, g, best;
+    auto raise_min = [&](const std::vector<std::size_t>& set) {
+        around.clear();
+        for (std::size_t v : set)
+            for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i) around.push_back(vh[static_cast<std::size_t>(i)]);
+        std::sort(around.begin(), around.end());
+        around.erase(std::unique(around.begin(), around.end()), around.end());
+        const double m0 = hexes_min(around);
+        const std::size_t n = set.size();
+        x0.assign(n, Vec3{});
+        g.assign(n, Vec3{});
+        double gmax = 0, h = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t v = set[i];
+            x0[i] = x[v];
+            h += edge_len[v];
+            const double d = 1e-5 * edge_len[v];
+            for (int k = 0; k < 3; ++k) {
+                x[v] = x0[i];
+                x[v][k] += d;
+                const double ep = soft_min(v, m0);
+                x[v] = x0[i];
+                x[v][k] -= d;
+                const double em = soft_min(v, m0);
+                g[i][k] = (ep - em) / (2 * d);
+            }
+            x[v] = x0[i];
+            if (crease[v][0] >= 0) {
+                const Vec3 t = normalized(x[static_cast<std::size_t>(crease[v][1])] -
+                                          x[static_cast<std::size_t>(crease[v][0])]);
+                g[i] = dot(g[i], t) * t;
+            } else if (on_boundary[v]) {
+                bool feature = false;
+                const Vec3 nrm = boundary_normal(v, feature);
+                g[i] -= dot(g[i], nrm) * nrm;
+            }
+            gmax = std::max(gmax, norm(g[i]));
+        }
+        if (!(gmax > 0) || !std::isfinite(gmax)) return false;
+        h /= static_cast<double>(n);
+        double best_min = m0 + 1e-5;
+        best.clear();
+        double step = 0.2 * h;
+        for (int ls = 0; ls < 10; ++ls, step *= 0.5) {
+            bool ok = true;
+            for (std::size_t i = 0; i < n && ok; ++i) {
+                const std::size_t v = set[i];
+                Vec3 cand = x0[i] - (step / gmax) * g[i];
                 if (on_boundary[v]) {
                     cand = project(cand);
-                    if (!is_finite(cand) || distance(cand, start[v]) > options.max_slide * h) continue;
+                    ok = is_finite(cand) && distance(cand, start[v]) <= options.worst_max_slide * edge_len[v];
                 }
                 x[v] = cand;
-                const Local after = local(v);
-                if (after.energy < before.energy && after.sj_min >= std::min(before.sj_min, options.target_sj) &&
-                    after.sj_min > 0 && gap_ok())
-                    accepted = true;
-                energy_after = after.energy;
             }
-            if (!accepted) {
-                x[v] = x0;
-                continue;
+            if (ok) {
+                const double m = hexes_min(around);
+                if (m > best_min) {
+                    for (std::size_t i = 0; i < n && ok; ++i) ok = worst_gap_ok(set[i]);
+                    if (ok) {
+                        best_min = m;
+                        best.resize(n);
+                        for (std::size_t i = 0; i < n; ++i) best[i] = x[set[i]];
+                    }
+                }
             }
-            ++moves;
-            gain += before.energy - energy_after;
-            for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i) {
-                const std::size_t hh = static_cast<std::size_t>(vh[static_cast<std::size_t>(i)]);
-                sj[hh] = scaled_jacobian(hex_corners(hh));
-                for (int w : mesh.hexes[hh]) dirty[static_cast<std::size_t>(w)] = 1;
-            }
+            for (std::size_t i = 0; i < n; ++i) x[set[i]] = x0[i];
         }
-        result.sweeps = sweep;
-        result.moves += moves;
-        if (options.progress) options.progress({sweep, moves});
-        if (moves == 0 || gain <= options.min_gain * total) break;
+        if (best.empty()) return false;
+        for (std::size_t i = 0; i < n; ++i) x[set[i]] = best[i];
+        for (int hh : around) {
+            sj[static_cast<std::size_t>(hh)] = scaled_jacobian(hex_corners(static_cast<std::size_t>(hh)));
+            for (int w : mesh.hexes[static_cast<std::size_t>(hh)]) dirty[static_cast<std::size_t>(w)] = 1;
+        }
+        return true;
+    };
+    std::fill(dirty.begin(), dirty.end(), 0);  // from here on: marked by the max-min moves (for the sweeps after it)
+    std::vector<char> wanted(nv);
+    std::vector<std::size_t> bad, set;
+    for (int round = 1; options.worst_below > 0 && round <= options.worst_rounds; ++round) {
+        bad.clear();
+        for (std::size_t hh = 0; hh < nh; ++hh)
+            if (sj[hh] < options.worst_below) bad.push_back(hh);
+        if (bad.empty()) break;
+        long moves = 0;
+        std::fill(wanted.begin(), wanted.end(), 0);
+        for (std::size_t hh : bad)
+            for (int w : mesh.hexes[hh]) wanted[static_cast<std::size_t>(w)] = 1;
+        for (std::size_t v = 0; v < nv; ++v)
+            if (wanted[v] && movable(v) && raise_min({v})) ++moves;
+        // Joint moves, worst hex first (its SJ after the single moves; ties by id).
+        std::stable_sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) { return sj[a] < sj[b]; });
+        for (std::size_t hh : bad) {
+            if (!(sj[hh] < options.worst_below)) continue;
+            set.clear();
+            for (int w : mesh.hexes[hh])
+                if (movable(static_cast<std::size_t>(w))) set.push_back(static_cast<std::size_t>(w));
+            std::sort(set.begin(), set.end());
+            if (!set.empty() && raise_min(set)) ++moves;
+        }
+        result.worst_rounds = round;
+        result.worst_moves += moves;
+        if (moves == 0) break;
     }
+
+    // The max-min moves may have lowered good hexes around them: a few sweeps from the vertices near them (never
+    // below min(their worst hex, target_sj)).
+    if (result.worst_moves > 0) run_sweeps(options.resweeps);
     stats(result.sj_min_after, result.sj_avg_after);
     return result;
 }

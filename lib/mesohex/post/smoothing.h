@@ -24,16 +24,39 @@ struct SmoothOptions {
     double feature_angle = 35;    // degrees: a boundary vertex whose boundary quad normals deviate more than this from
                                   // their mean (crease, corner, rim) stays fixed
     double max_slide = 0.5;       // a boundary vertex moves at most this x its mean edge length from its start
-    double max_gap = 0;           // > 0: a boundary move is kept only if the distance to the surface of the centroids
-                                  // and edge midpoints of the boundary quads at the vertex stays <= max(this, before)
+    double max_gap = 0;           // > 0: a boundary move is kept only if the chord gap at the vertex (the largest
+                                  // distance to the surface of the centroids and edge midpoints of its boundary quads)
+                                  // stays <= max(this, before)
+    // Max-min pass, after the sweeps: the sweeps lower a sum over all frames and stall where the worst hex needs a
+    // move that lowers some other frame first (the fan of quads at a high-valence boundary vertex: its ring has to
+    // turn as a whole). While a round raises something: every vertex of a hex below worst_below, then the 8 vertices
+    // of every such hex together (worst hex first), move along the descent direction of the soft minimum
+    // sum exp(-worst_sharpness (q - m)) over the frames q of the hexes around them (m = their smallest frame value),
+    // boundary vertices tangentially and projected; the best of 10 step lengths is kept if it raises m by more than
+    // 1e-5 and passes the slide and chord-gap limits. 0 = off.
+    double worst_below = 0.6;
+    int worst_rounds = 100;
+    double worst_sharpness = 40;
+    bool worst_moves_features = true;  // feature boundary vertices (fixed in the sweeps) may slide in that pass too:
+    double worst_crease_angle = 70;    // degrees: that pass moves a boundary vertex with two sharp boundary edges
+                                       // (normals of their quads more than this apart) only along them, and never one
+                                       // with one or more than two (corner); the chord-gap limit holds the others
+    int resweeps = 5;                  // after that pass, at most this many sweeps more from the vertices near its
+                                       // moves (they may have lowered good hexes there)
+    double worst_max_slide = 1.0;      // that pass's max_slide
+    double worst_gap_factor = 2;       // that pass's chord-gap limit at a vertex: max(this x max_gap, the gap there
+                                       // at the start of the smoothing): the few vertices it moves may slide where
+                                       // the boundary is coarse for the curvature, never farther than the fit left them
     std::vector<bool> frozen;     // optional, per vertex: never moved
     std::function<void(const SmoothProgress&)> progress;  // optional, called after every sweep
 };
 
 struct SmoothResult {
     HexMesh mesh;
-    int sweeps = 0;
+    int sweeps = 0;  // sweeps done, both runs (before and after the max-min pass)
     long moves = 0;  // accepted vertex moves over all sweeps
+    int worst_rounds = 0;     // rounds of the max-min pass
+    long worst_moves = 0;     // accepted moves of the max-min pass (a joint move of a hex's vertices counts once)
     double sj_min_before = 0, sj_min_after = 0, sj_avg_before = 0, sj_avg_after = 0;
 };
 
@@ -43,7 +66,8 @@ struct SmoothResult {
 // (central differences; boundary vertices: tangential to the boundary, then projected onto the surface by `project`),
 // trying steps of 0.2, 0.1, ... x its mean edge length. A move is kept when E(v) decreases and the smallest scaled
 // Jacobian m of the hexes at v stays >= min(m before, target_sj): no hex is inverted, the worst hex at v never gets
-// worse unless it stays above target_sj. Sequential sweeps in ascending vertex order: deterministic.
+// worse unless it stays above target_sj. Then the max-min pass (worst_below): its moves only raise the smallest
+// scaled Jacobian of the hexes they touch. Sequential sweeps in ascending vertex order: deterministic.
 // `project` may be empty when move_boundary is false (or then boundary vertices stay fixed).
 // Preconditions: indices in range, frozen empty or one entry per vertex (InvalidInput otherwise).
 SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
