@@ -68,6 +68,7 @@ struct FinishOptions {
     // neighbours are optimized with the untangling energy, boundary vertices softly held where they are (attachment
     // 100 / h^2: they move a small fraction of an edge); kept only if min SJ rises and no hex got inverted. 0 = off.
     double improve_sj = 0.3;
+    double improve_distance_budget = 0.01;  // x the domain's diagonal: see quality_pass in finish.cpp
     UntangleOptions improving = improve_defaults();
     // Smoothing pass (last, after a fit, on a mesh without inverted hexes): per-vertex scaled-Jacobian descent,
     // boundary vertices sliding on the domain surface (smooth_quality); never inverts a hex nor lowers the worst hex
