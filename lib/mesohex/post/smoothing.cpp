@@ -168,16 +168,53 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         return gap;
     };
     auto chord_gap = [&](std::size_t v) { return chord_gap_at(v, x); };
-    // Max-min pass: limit of the chord gap at v, max(worst_gap_factor x max_gap, its gap at the start), computed when
-    // first needed. Relative to the start (not to the position before the move): where the boundary is coarse for
-    // the curvature (gap above max_gap from the start), vertices can still slide, never farther from the surface
-    // than the fit left them.
+    // Max-min pass: limits of the chord gap and of the cover gap (below) at v, max(worst_gap_factor x max_gap, the gap
+    // at the start), computed when first needed. Relative to the start (not to the position before the move): where
+    // the boundary is coarse for the curvature (gap above max_gap from the start), vertices can still slide, never
+    // farther from the surface than the fit left them.
     std::vector<double> worst_gap_limit(nv, -1.0);
+    // Cover gap at v with the vertices at `pos`: largest distance of the surface points near v (its start position and
+    // the surface points closest to the start centroids of its boundary quads) to its boundary quads (each split as
+    // the distance measure splits them: (a, b, c), (a, c, d)). Catches the boundary sliding away from a bump or tip
+    // of the surface, which the chord gap does not see.
+    std::vector<Vec3> quad_sample(topo.boundary_quads.size());
+    std::vector<char> quad_sampled(topo.boundary_quads.size(), 0);
+    auto cover_gap_at = [&](std::size_t v, const std::vector<Vec3>& pos) {
+        auto patch_distance = [&](const Vec3& p) {
+            double d = DBL_MAX;
+            for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i) {
+                const std::array<int, 4>& f =
+                    topo.boundary_quads[static_cast<std::size_t>(vq[static_cast<std::size_t>(i)])];
+                const Vec3& a = pos[static_cast<std::size_t>(f[0])];
+                const Vec3& b = pos[static_cast<std::size_t>(f[1])];
+                const Vec3& c = pos[static_cast<std::size_t>(f[2])];
+                const Vec3& e = pos[static_cast<std::size_t>(f[3])];
+                d = std::min({d, distance(p, closest_point_on_triangle(p, a, b, c)),
+                              distance(p, closest_point_on_triangle(p, a, c, e))});
+            }
+            return d;
+        };
+        double gap = patch_distance(start[v]);
+        for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i) {
+            const std::size_t q = static_cast<std::size_t>(vq[static_cast<std::size_t>(i)]);
+            if (!quad_sampled[q]) {
+                Vec3 c;
+                for (int w : topo.boundary_quads[q]) c += start[static_cast<std::size_t>(w)];
+                quad_sample[q] = project(0.25 * c);
+                quad_sampled[q] = 1;
+            }
+            gap = std::max(gap, patch_distance(quad_sample[q]));
+        }
+        return gap;
+    };
+    std::vector<double> cover_limit(nv, -1.0);
     auto worst_gap_ok = [&](std::size_t v) {
         if (!(on_boundary[v] && options.max_gap > 0)) return true;
         if (worst_gap_limit[v] < 0)
             worst_gap_limit[v] = std::max(options.worst_gap_factor * options.max_gap, chord_gap_at(v, start));
-        return chord_gap(v) <= worst_gap_limit[v];
+        if (cover_limit[v] < 0)
+            cover_limit[v] = std::max(options.worst_gap_factor * options.max_gap, cover_gap_at(v, start));
+        return cover_gap_at(v, x) <= cover_limit[v] && chord_gap(v) <= worst_gap_limit[v];
     };
 
     auto local = [&](std::size_t v) {

@@ -44,9 +44,12 @@ struct SmoothOptions {
     int resweeps = 5;                  // after that pass, at most this many sweeps more from the vertices near its
                                        // moves (they may have lowered good hexes there)
     double worst_max_slide = 1.0;      // that pass's max_slide
-    double worst_gap_factor = 2;       // that pass's chord-gap limit at a vertex: max(this x max_gap, the gap there
-                                       // at the start of the smoothing): the few vertices it moves may slide where
-                                       // the boundary is coarse for the curvature, never farther than the fit left them
+    double worst_gap_factor = 2;       // that pass's limit at a vertex of the chord gap and of the cover gap (the
+                                       // distance of the surface points around it at the start to its boundary quads:
+                                       // the boundary must not slide off a bump or tip): max(this x max_gap, the gap
+                                       // there at the start of the smoothing). The few vertices it moves may slide
+                                       // where the boundary is coarse for the curvature, never farther than the fit
+                                       // left them
     std::vector<bool> frozen;     // optional, per vertex: never moved
     std::function<void(const SmoothProgress&)> progress;  // optional, called after every sweep
 };
