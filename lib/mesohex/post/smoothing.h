@@ -33,14 +33,14 @@ struct SmoothOptions {
     // of every such hex together (worst hex first), move along the descent direction of the soft minimum
     // sum exp(-worst_sharpness (q - m)) over the frames q of the hexes around them (m = their smallest frame value),
     // boundary vertices tangentially and projected; the best of 10 step lengths is kept if it raises m by more than
-    // 1e-5 and passes the slide and chord-gap limits. 0 = off.
+    // 1e-5 and passes the slide and gap limits (worst_max_slide, worst_gap_factor). 0 = off.
     double worst_below = 0.6;
     int worst_rounds = 100;
     double worst_sharpness = 40;
     bool worst_moves_features = true;  // feature boundary vertices (fixed in the sweeps) may slide in that pass too:
     double worst_crease_angle = 70;    // degrees: that pass moves a boundary vertex with two sharp boundary edges
                                        // (normals of their quads more than this apart) only along them, and never one
-                                       // with one or more than two (corner); the chord-gap limit holds the others
+                                       // with one or more than two (corner); the gap limits hold the others
     int resweeps = 5;                  // after that pass, at most this many sweeps more from the vertices near its
                                        // moves (they may have lowered good hexes there)
     double worst_max_slide = 1.0;      // that pass's max_slide
