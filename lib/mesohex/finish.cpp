@@ -1,7 +1,6 @@
 #include "mesohex/finish.h"
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
 #include <utility>
 
@@ -116,11 +115,6 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         } else if (options.min_resolution > 0) {
             const int needed = levels_for_size(mesh, query.bbox_diagonal() / options.min_resolution);
             levels = std::max(1, std::min(needed, options.max_auto_levels));
-            const double input_mean_sj = result.stages.front().sj_avg;
-            const double next_hexes = static_cast<double>(mesh.hexes.size()) * std::pow(8.0, levels + 1);
-            if (input_mean_sj < options.refine_below_mean_sj && levels < options.max_auto_levels &&
-                next_hexes <= static_cast<double>(options.auto_hex_budget))
-                ++levels;
         }
         // Padding keeps the raw hexes first, so chunk_hex stays valid; children inherit their parent's flag.
         std::vector<char> chunk = options.chunk_hex;

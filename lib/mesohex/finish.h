@@ -46,12 +46,6 @@ struct FinishOptions {
     double size = 0;               // target mean edge length (levels_for_size on the padded mesh), used when levels < 0
     double min_resolution = 16;    // levels < 0, size <= 0: at least 1 level, more (up to max_auto_levels) while the
     int max_auto_levels = 2;       // mean edge length of the padded mesh exceeds the domain's bbox diagonal / this
-    // ... and one more (up to max_auto_levels, if the result has at most auto_hex_budget hexes) when the input mesh's
-    // mean scaled Jacobian is below refine_below_mean_sj: one level leaves too few vertices to relax a raw mesh that
-    // distorted. Generated dualocta (raw mean 0.41; every other generated shape and every shared input is >= 0.55):
-    // mean SJ 0.874 with 1 level, 0.959 with 2. 0 = off.
-    double refine_below_mean_sj = 0.5;
-    long auto_hex_budget = 100000;
     // Uniform: 1 -> 8 per level. Longitudinal / Radial: per level, split only the sheets of the branch chunks along
     // the branches / across them (select_branch_sheets); needs chunk_hex.
     enum class Refinement { Uniform, Longitudinal, Radial } refinement = Refinement::Uniform;

@@ -132,29 +132,6 @@ TEST(Finish, LevelsFromTheDomainSize) {
     EXPECT_EQ(coarse.mesh.hexes.size(), 56u);
 }
 
-// A distorted input gets one more level: the unit hex with its top face shifted by 2 along x has scaled Jacobian
-// 1 / sqrt(5) = 0.447 (every corner frame: two unit edges and (2, 0, 1)), below refine_below_mean_sj = 0.5. With
-// min_resolution 1 (1 level by size, as above) it gets 2 levels (7 x 64 = 448 hexes), unless the rule is off or the
-// 448 hexes exceed the budget.
-TEST(Finish, DistortedInputGetsOneMoreLevel) {
-    HexMesh sheared = unit_hex();
-    for (int v = 4; v < 8; ++v) sheared.points[static_cast<std::size_t>(v)].x += 2;
-    FinishOptions o;
-    o.fit = false;
-    o.min_resolution = 1;
-    const FinishResult more = finish_mesh(sheared, unit_cube_surface(), o);
-    EXPECT_NEAR(more.stages.front().sj_avg, 1 / std::sqrt(5.0), 1e-12);
-    EXPECT_EQ(more.subdivision_levels, 2);
-    EXPECT_EQ(more.mesh.hexes.size(), 448u);
-    o.auto_hex_budget = 447;
-    EXPECT_EQ(finish_mesh(sheared, unit_cube_surface(), o).subdivision_levels, 1);
-    o.auto_hex_budget = 448;
-    o.refine_below_mean_sj = 0;
-    EXPECT_EQ(finish_mesh(sheared, unit_cube_surface(), o).subdivision_levels, 1);
-    o.refine_below_mean_sj = 0.5;
-    EXPECT_EQ(finish_mesh(unit_hex(), unit_cube_surface(), o).subdivision_levels, 1);  // SJ 1: no extra level
-}
-
 // The whole chain (pad, subdivide, fit with the two-sided pull, quality pass) gives the same mesh, bit for bit, with 1
 // and with 2 threads: here the unit hex grows into the larger cube [-0.5, 1.5]^3.
 TEST(Finish, SameMeshForAnyThreadCount) {
