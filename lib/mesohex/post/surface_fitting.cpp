@@ -1,7 +1,9 @@
 // Local-global geometry optimization (reference-notes §12.6). The normal matrix A^T A is assembled and factorized
 // once (Eigen SimplicialLDLT); the triangular solves run on a copy of the factor with the 3 coordinates fused (one pass
-// over L for x, y and z). The local step is parallel over edges, each edge writing only its own slots; per-vertex sums
-// gather over a fixed vertex->edge list, so results do not depend on the thread count.
+// over L for x, y and z), or Jacobi-preconditioned CG runs on 4-lane vectors. The local step is parallel over blocks of
+// 8 edges, each block writing only its own edges; per-vertex sums gather over a fixed vertex->edge list and every
+// reduction has a fixed tree, so results do not depend on the thread count. The per-hex and per-edge passes and the CG
+// passes are vector kernels over plain arrays (see kLanes).
 #include "mesohex/post/surface_fitting.h"
 
 #include <algorithm>
