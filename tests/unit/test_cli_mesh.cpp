@@ -176,8 +176,8 @@ TEST(MeshCli, DirectionalRefinementSplitsOnlySomeSheets) {
 // Procedural meso-skeletons with leaflets in their own thickened domains (thicken --resolution 3), default command:
 // the targets for procedural shapes. Measured (smoothing pass with its max-min pass, levels from the domain
 // size): plate 6912 hexes (2 levels), SJ min 0.739, avg 0.979, Hausdorff 0.42 %; twist 2112, 0.814 / 0.954, 0.35 %;
-// tfan 1248, 0.709 / 0.917, 0.63 %; xfan 1664, 0.687 / 0.903, 0.44 %; box 6144 (2 levels), 0.592 / 0.960, 0.71 %;
-// bird 2880, 0.535 / 0.914, 0.74 % and turbine 4128, 0.525 / 0.913, 0.80 % (without the max-min pass 0.462 and
+// tfan 1248, 0.704 / 0.917, 0.63 %; xfan 1664, 0.687 / 0.903, 0.44 %; box 6144 (2 levels), 0.575 / 0.960, 0.71 %;
+// bird 2880, 0.548 / 0.914, 0.77 % and turbine 4128, 0.520 / 0.913, 0.80 % (without the max-min pass 0.462 and
 // 0.329: their worst hexes sit at the fans of quads around boundary vertices of valence 10 / 8).
 // (Also meeting them, not run here for time: torus, hand, chair 5280 hexes 0.698 / 0.940 0.37 %, torustwist.)
 TEST(MeshCli, GeneratedShapesMeetTheQualityTargets) {
@@ -198,6 +198,26 @@ TEST(MeshCli, GeneratedShapesMeetTheQualityTargets) {
         // The mesh has the skeleton's Euler characteristic (1; 2 for the closed box surface).
         EXPECT_EQ(rep["quality"]["euler_characteristic"], rep["skeleton"]["euler_characteristic"]) << name;
     }
+}
+
+// The generated dualocta (a cube frame and an octahedron frame crossing at their edges' midpoints, 4-valent
+// crossings): the quality pass after the fit used to pull the boundary off the caps of the octahedron's tips
+// (Hausdorff 1.46 %, surface-to-mesh; 0.72 % after the fit alone); its result is now dropped when it moves the boundary
+// away from the domain. Measured 11520 hexes, SJ 0.521 / 0.876, Hausdorff 0.77 %: the average misses the 0.9 target
+// (fat tubes, raw mean SJ 0.41), the rest meets it.
+TEST(MeshCli, GeneratedDualOctahedronStaysOnItsDomain) {
+    const fs::path skeleton = temp_dir() / "dualocta.obj", domain = temp_dir() / "dualocta.off",
+                   out = temp_dir() / "dualocta.mesh", report = temp_dir() / "dualocta.json";
+    ASSERT_EQ(run_cli("generate dualocta -o " + skeleton.string()).status, 0);
+    ASSERT_EQ(run_cli("thicken " + skeleton.string() + " -o " + domain.string() + " --resolution 3").status, 0);
+    const auto r = run_cli("mesh " + skeleton.string() + " --surface " + domain.string() + " -o " + out.string() +
+                           " --report " + report.string() + " --quiet");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const nlohmann::json rep = read_json(report);
+    EXPECT_EQ(rep["quality"]["inverted"], 0);
+    EXPECT_GE(rep["quality"]["sj_min"].get<double>(), 0.5);
+    EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), 0.01);
+    EXPECT_EQ(rep["quality"]["euler_characteristic"], rep["skeleton"]["euler_characteristic"]);
 }
 
 // The generated bird's raw mesh has boundary vertices (around its valence-20 centre) whose mean normal points behind
