@@ -173,6 +173,23 @@ TEST(MeshCli, DirectionalRefinementSplitsOnlySomeSheets) {
     }
 }
 
+namespace {
+
+// generate NAME, thicken it (--resolution 3) and mesh the skeleton in that domain with `options` (file names tagged
+// with `tag`): the JSON report.
+void mesh_generated(const std::string& name, const std::string& options, const std::string& tag, nlohmann::json& rep) {
+    const fs::path skeleton = temp_dir() / (name + ".obj"), domain = temp_dir() / (name + ".off"),
+                   out = temp_dir() / (name + tag + ".mesh"), report = temp_dir() / (name + tag + ".json");
+    ASSERT_EQ(run_cli("generate " + name + " -o " + skeleton.string()).status, 0) << name;
+    ASSERT_EQ(run_cli("thicken " + skeleton.string() + " -o " + domain.string() + " --resolution 3").status, 0) << name;
+    const auto r = run_cli("mesh " + skeleton.string() + " --surface " + domain.string() + " -o " + out.string() +
+                           " --report " + report.string() + " --quiet " + options);
+    ASSERT_EQ(r.status, 0) << name << "\n" << r.output;
+    rep = read_json(report);
+}
+
+}  // namespace
+
 // Procedural meso-skeletons with leaflets in their own thickened domains (thicken --resolution 3), default command:
 // the targets for procedural shapes. Measured (smoothing pass with its max-min pass, levels from the domain
 // size): plate 6912 hexes (2 levels), SJ min 0.739, avg 0.979, Hausdorff 0.42 %; twist 2112, 0.814 / 0.954, 0.35 %;
@@ -182,14 +199,8 @@ TEST(MeshCli, DirectionalRefinementSplitsOnlySomeSheets) {
 // (Also meeting them, not run here for time: torus, hand, chair 5280 hexes 0.698 / 0.940 0.37 %, torustwist.)
 TEST(MeshCli, GeneratedShapesMeetTheQualityTargets) {
     for (const std::string name : {"plate", "twist", "tfan", "xfan", "box", "bird", "turbine"}) {
-        const fs::path skeleton = temp_dir() / (name + ".obj"), domain = temp_dir() / (name + ".off"),
-                       out = temp_dir() / (name + ".mesh"), report = temp_dir() / (name + ".json");
-        ASSERT_EQ(run_cli("generate " + name + " -o " + skeleton.string()).status, 0) << name;
-        ASSERT_EQ(run_cli("thicken " + skeleton.string() + " -o " + domain.string() + " --resolution 3").status, 0);
-        const auto r = run_cli("mesh " + skeleton.string() + " --surface " + domain.string() + " -o " + out.string() +
-                               " --report " + report.string() + " --quiet");
-        ASSERT_EQ(r.status, 0) << name << "\n" << r.output;
-        const nlohmann::json rep = read_json(report);
+        nlohmann::json rep;
+        ASSERT_NO_FATAL_FAILURE(mesh_generated(name, "", "", rep));
         EXPECT_EQ(rep["quality"]["inverted"], 0) << name;
         EXPECT_EQ(rep["quality"]["valid"], true) << name;
         EXPECT_GE(rep["quality"]["sj_min"].get<double>(), 0.5) << name;
@@ -206,14 +217,8 @@ TEST(MeshCli, GeneratedShapesMeetTheQualityTargets) {
 // away from the domain. Measured 11520 hexes, SJ 0.521 / 0.876, Hausdorff 0.77 %: the average misses the 0.9 target
 // (fat tubes, raw mean SJ 0.41), the rest meets it.
 TEST(MeshCli, GeneratedDualOctahedronStaysOnItsDomain) {
-    const fs::path skeleton = temp_dir() / "dualocta.obj", domain = temp_dir() / "dualocta.off",
-                   out = temp_dir() / "dualocta.mesh", report = temp_dir() / "dualocta.json";
-    ASSERT_EQ(run_cli("generate dualocta -o " + skeleton.string()).status, 0);
-    ASSERT_EQ(run_cli("thicken " + skeleton.string() + " -o " + domain.string() + " --resolution 3").status, 0);
-    const auto r = run_cli("mesh " + skeleton.string() + " --surface " + domain.string() + " -o " + out.string() +
-                           " --report " + report.string() + " --quiet");
-    ASSERT_EQ(r.status, 0) << r.output;
-    const nlohmann::json rep = read_json(report);
+    nlohmann::json rep;
+    ASSERT_NO_FATAL_FAILURE(mesh_generated("dualocta", "", "", rep));
     EXPECT_EQ(rep["quality"]["inverted"], 0);
     EXPECT_GE(rep["quality"]["sj_min"].get<double>(), 0.5);
     EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), 0.01);
@@ -223,14 +228,8 @@ TEST(MeshCli, GeneratedDualOctahedronStaysOnItsDomain) {
 // The generated bird's raw mesh has boundary vertices (around its valence-20 centre) whose mean normal points behind
 // one of their quads: padding there gave 2 hexes inverted at any offset before the direction tilt; now none.
 TEST(MeshCli, PaddingOfTheGeneratedBirdInvertsNothing) {
-    const fs::path skeleton = temp_dir() / "bird.obj", domain = temp_dir() / "bird.off",
-                   out = temp_dir() / "bird_pad.mesh", report = temp_dir() / "bird_pad.json";
-    ASSERT_EQ(run_cli("generate bird -o " + skeleton.string()).status, 0);
-    ASSERT_EQ(run_cli("thicken " + skeleton.string() + " -o " + domain.string() + " --resolution 3").status, 0);
-    const auto r = run_cli("mesh " + skeleton.string() + " --surface " + domain.string() + " -o " + out.string() +
-                           " --no-fit --levels 0 --improve-below 0 --report " + report.string() + " --quiet");
-    ASSERT_EQ(r.status, 0) << r.output;
-    const nlohmann::json rep = read_json(report);
+    nlohmann::json rep;
+    ASSERT_NO_FATAL_FAILURE(mesh_generated("bird", "--no-fit --levels 0 --improve-below 0", "_pad", rep));
     ASSERT_EQ(rep["stages"][1]["stage"], "pad");
     EXPECT_EQ(rep["stages"][1]["inverted"], 0);
     EXPECT_GT(rep["stages"][1]["sj_min"].get<double>(), 0.0);
