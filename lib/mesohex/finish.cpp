@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <unordered_map>
 #include <utility>
@@ -90,11 +91,15 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         if (keep && on_surface && !uo.fix_boundary && before.inverted == 0)
             keep = distance_to_domain(u.mesh) <=
                    std::max(distance_to_domain(mesh), options.improve_distance_budget * query.bbox_diagonal());
+        // The stage's measures: those of the pass's result if kept, else those of the unchanged mesh.
+        FinishStage stage = keep ? after : before;
         if (keep) {
             mesh = std::move(u.mesh);
             kept = true;
         }
-        result.stages.push_back(measure(name, ms_since(t), mesh));
+        stage.stage = name;
+        stage.ms = ms_since(t);
+        result.stages.push_back(stage);
     };
 
     if (options.pad) {

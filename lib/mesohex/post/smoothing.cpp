@@ -251,6 +251,13 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
                 const Vec3 x0 = x[v];
                 const Local before = local(v);
                 total += before.energy;
+                // A boundary vertex on a feature (at its current position) stays; the others move tangentially.
+                Vec3 n;
+                if (on_boundary[v]) {
+                    bool feature = false;
+                    n = boundary_normal(v, feature);
+                    if (feature) continue;
+                }
                 const double h = edge_len[v];
                 const double d = 1e-4 * h;
                 Vec3 g;
@@ -264,13 +271,7 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
                     g[k] = (ep - em) / (2 * d);
                 }
                 x[v] = x0;
-                Vec3 n;
-                if (on_boundary[v]) {
-                    bool feature = false;
-                    n = boundary_normal(v, feature);
-                    if (feature) continue;
-                    g -= dot(g, n) * n;
-                }
+                if (on_boundary[v]) g -= dot(g, n) * n;
                 const double gn = norm(g);
                 if (!(gn > 0) || !std::isfinite(gn)) continue;
                 const Vec3 dir = g / (-gn);

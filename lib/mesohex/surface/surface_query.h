@@ -42,7 +42,8 @@ public:
     double bbox_diagonal() const;
 
     ClosestPoint closest(const Vec3& p) const;
-    // The same, the search bounded from the start by triangle hint_triangle's centroid (-1: no hint). Same result.
+    // The same, the search bounded from the start by p's closest point on triangle hint_triangle (-1: no hint). Same
+    // closest point (on a tie, the triangle reported may differ).
     ClosestPoint closest(const Vec3& p, int hint_triangle) const;
     double squared_distance(const Vec3& p) const;
     // First intersection of the ray origin + t direction, t > min_distance (use a small positive value to skip the
@@ -56,8 +57,8 @@ public:
 
     // Parallel batch versions (deterministic: result[i] depends on points[i] only).
     std::vector<ClosestPoint> closest(const std::vector<Vec3>& points) const;
-    // The same with a hint per point: a triangle (index in surface().triangles, or -1 for none) whose centroid bounds
-    // the search from the start. Points that moved little since their last query pass their last triangle: the
+    // The same with a hint per point: a triangle (index in surface().triangles, or -1 for none) whose closest point to
+    // the query bounds the search from the start. Points that moved little since their last query pass their last triangle: the
     // traversal then skips most of the tree. The closest point found is the same as without the hint.
     std::vector<ClosestPoint> closest(const std::vector<Vec3>& points, const std::vector<int>& hint_triangles) const;
     std::vector<double> squared_distances(const std::vector<Vec3>& points) const;
