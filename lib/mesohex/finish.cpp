@@ -122,6 +122,10 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         } else if (options.min_resolution > 0) {
             const int needed = levels_for_size(mesh, query.bbox_diagonal() / options.min_resolution);
             levels = std::max(1, std::min(needed, options.max_auto_levels));
+            const long hexes_after = static_cast<long>(mesh.hexes.size()) << (3 * (levels + 1));
+            if (result.stages.front().sj_avg < options.poor_raw_sj_avg && levels < options.max_auto_levels &&
+                hexes_after <= options.max_auto_hexes)
+                ++levels;
         }
         // Padding keeps the raw hexes first, so chunk_hex stays valid; children inherit their parent's flag.
         std::vector<char> chunk = options.chunk_hex;
@@ -235,6 +239,15 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         const Clock::time_point t = Clock::now();
         SmoothOptions so = options.smoothing;
         if (options.smooth_gap > 0) so.max_gap = options.smooth_gap * query.bbox_diagonal();
+        // Features are where the domain has a convex crease or corner, not wherever the fit left the boundary folded
+        // (SmoothOptions::surface_normal): the domain's normal, its closest triangle's (the surface faces outward).
+        if (!so.surface_normal)
+            so.surface_normal = [&query, &surface](const Vec3& p) {
+                const std::array<int, 3>& t = surface.triangles[static_cast<std::size_t>(query.closest(p).triangle)];
+                const Vec3& a = surface.points[static_cast<std::size_t>(t[0])];
+                return normalized(cross(surface.points[static_cast<std::size_t>(t[1])] - a,
+                                        surface.points[static_cast<std::size_t>(t[2])] - a));
+            };
         // Smoothing projects points one after the other (sequentially), many times near the same places: each query
         // starts from the triangle found last in its cell of a grid (cells of 0.5 % of the diagonal), else from the
         // triangle the last query found (the closest point does not depend on the hint).

@@ -191,12 +191,13 @@ void mesh_generated(const std::string& name, const std::string& options, const s
 }  // namespace
 
 // Procedural meso-skeletons with leaflets in their own thickened domains (thicken --resolution 3), default command:
-// the targets for procedural shapes. Measured (smoothing pass with its max-min pass, levels from the domain
-// size): plate 6912 hexes (2 levels), SJ min 0.739, avg 0.979, Hausdorff 0.42 %; twist 2112, 0.814 / 0.954, 0.35 %;
-// tfan 1248, 0.704 / 0.917, 0.63 %; xfan 1664, 0.687 / 0.903, 0.44 %; box 6144 (2 levels), 0.575 / 0.960, 0.71 %;
-// bird 2880, 0.548 / 0.914, 0.77 % and turbine 4128, 0.520 / 0.913, 0.80 % (without the max-min pass 0.462 and
-// 0.329: their worst hexes sit at the fans of quads around boundary vertices of valence 10 / 8).
-// (Also meeting them, not run here for time: torus, hand, chair 5280 hexes 0.698 / 0.940 0.37 %, torustwist.)
+// the targets for procedural shapes. Measured (smoothing pass with its max-min pass, features only where the
+// domain is convex-sharp, levels from the domain size): plate 6912 hexes (2 levels), SJ min 0.738, avg 0.979,
+// Hausdorff 0.42 %; twist 2112, 0.814 / 0.954, 0.35 %; tfan 1248, 0.723 / 0.918, 0.63 %; xfan 1664, 0.688 / 0.903,
+// 0.43 %; box 6144 (2 levels), 0.600 / 0.962, 0.71 %; bird 2880, 0.532 / 0.914, 0.74 % and turbine 4128,
+// 0.501 / 0.913, 0.80 % (without the max-min pass 0.462 and 0.329: their worst hexes sit at the fans of quads around
+// boundary vertices of valence 10 / 8).
+// (Also meeting them, not run here for time: torus, hand, chair 5280 hexes 0.750 / 0.940 0.37 %, torustwist.)
 TEST(MeshCli, GeneratedShapesMeetTheQualityTargets) {
     for (const std::string name : {"plate", "twist", "tfan", "xfan", "box", "bird", "turbine"}) {
         nlohmann::json rep;
@@ -212,15 +213,20 @@ TEST(MeshCli, GeneratedShapesMeetTheQualityTargets) {
 }
 
 // The generated dualocta (a cube frame and an octahedron frame crossing at their edges' midpoints, 4-valent
-// crossings): the quality pass after the fit used to pull the boundary off the caps of the octahedron's tips
-// (Hausdorff 1.46 %, surface-to-mesh; 0.72 % after the fit alone); its result is now dropped when it moves the boundary
-// away from the domain. Measured 11520 hexes, SJ 0.521 / 0.876, Hausdorff 0.77 %: the average misses the 0.9 target
-// (fat tubes, raw mean SJ 0.41), the rest meets it.
-TEST(MeshCli, GeneratedDualOctahedronStaysOnItsDomain) {
+// crossings, fat tubes: raw mean SJ 0.41) meets the targets too. Its raw mesh is poor, so it gets 2 levels (1 level:
+// 11520 hexes, average 0.876). At 2 levels the fit leaves the boundary folded back and forth along the concave creases
+// where the tubes cross; the smoothing irons those folds out only because they are not convex creases of the domain
+// (as features fixed: min 0.43). The quality pass after the fit used to pull the boundary off the caps of the
+// octahedron's tips (Hausdorff 1.46 %); its result is dropped when it moves the boundary away from the domain.
+// Measured 92160 hexes, SJ 0.522 / 0.961, Hausdorff 0.74 %, 34 s.
+TEST(MeshCli, GeneratedDualOctahedronMeetsTheTargets) {
     nlohmann::json rep;
     ASSERT_NO_FATAL_FAILURE(mesh_generated("dualocta", "", "", rep));
+    EXPECT_EQ(rep["subdivision_levels"], 2);
+    EXPECT_EQ(rep["quality"]["hexes"], 92160);
     EXPECT_EQ(rep["quality"]["inverted"], 0);
     EXPECT_GE(rep["quality"]["sj_min"].get<double>(), 0.5);
+    EXPECT_GE(rep["quality"]["sj_avg"].get<double>(), 0.9);
     EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), 0.01);
     EXPECT_EQ(rep["quality"]["euler_characteristic"], rep["skeleton"]["euler_characteristic"]);
 }

@@ -132,6 +132,28 @@ TEST(Finish, LevelsFromTheDomainSize) {
     EXPECT_EQ(coarse.mesh.hexes.size(), 56u);
 }
 
+// A raw mesh of poor hexes gets one level more: the unit hex sheared by 2 along x (every corner frame 1 / sqrt(5) =
+// 0.447, below poor_raw_sj_avg = 0.5) gets 2 levels where the domain size asks for 1 (min_resolution 0.01), 7 x 64 =
+// 448 hexes; not when 448 exceeds max_auto_hexes, nor with the rule off, nor for the unit hex itself.
+TEST(Finish, PoorRawMeshGetsOneLevelMore) {
+    HexMesh sheared = unit_hex();
+    for (Vec3& p : sheared.points) p.x += 2 * p.z;
+    ASSERT_NEAR(scaled_jacobians(sheared)[0], 1 / std::sqrt(5.0), 1e-12);
+    FinishOptions o;
+    o.fit = false;
+    o.min_resolution = 0.01;
+    const FinishResult poor = finish_mesh(sheared, unit_cube_surface(), o);
+    EXPECT_EQ(poor.subdivision_levels, 2);
+    EXPECT_EQ(poor.mesh.hexes.size(), 448u);
+    o.max_auto_hexes = 447;
+    EXPECT_EQ(finish_mesh(sheared, unit_cube_surface(), o).subdivision_levels, 1);
+    o.max_auto_hexes = 448;
+    o.poor_raw_sj_avg = 0;
+    EXPECT_EQ(finish_mesh(sheared, unit_cube_surface(), o).subdivision_levels, 1);
+    o.poor_raw_sj_avg = 0.5;  // the unit hex itself is not poor
+    EXPECT_EQ(finish_mesh(unit_hex(), unit_cube_surface(), o).subdivision_levels, 1);
+}
+
 // The whole chain (pad, subdivide, fit with the two-sided pull, quality pass) gives the same mesh, bit for bit, with 1
 // and with 2 threads: here the unit hex grows into the larger cube [-0.5, 1.5]^3.
 TEST(Finish, SameMeshForAnyThreadCount) {

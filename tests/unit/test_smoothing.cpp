@@ -129,3 +129,62 @@ TEST(Smoothing, MaxMinPassRaisesTheWorstHex) {
     EXPECT_EQ(off.worst_moves, 0);
     EXPECT_EQ(off.mesh, m);
 }
+
+namespace {
+
+// 2 x 2 x 1 block whose top is the roof z = base + s |x - 1| (s = +1: a valley, a concave crease of the domain along
+// x = 1; s = -1, base 2: a ridge, a convex crease), with the closest point and the outward normal of that roof.
+struct Roof {
+    double base, s;
+    HexMesh block() const {
+        HexMesh m = test::make_block(2, 2, 1);
+        for (Vec3& p : m.points)
+            if (p.z == 1) p.z = base + s * std::abs(p.x - 1);
+        return m;
+    }
+    Vec3 closest(const Vec3& p) const {  // the nearest of the two half-planes and the crease line
+        Vec3 best{1, p.y, base};
+        for (const double side : {-1.0, 1.0}) {  // side -1: x <= 1, the plane -side*s*x + z = base - side*s
+            const Vec3 n{-side * s, 0, 1};
+            const Vec3 q = p - (0.5 * (dot(n, p) - (base - side * s))) * n;
+            if (side * (q.x - 1) >= 0 && distance(q, p) < distance(best, p)) best = q;
+        }
+        return best;
+    }
+    Vec3 normal(const Vec3& p) const { return normalized(Vec3{(p.x < 1 ? s : -s), 0, 1}); }
+};
+
+}  // namespace
+
+// Features follow the domain: vertex 13 (the middle of the roof's crease, (1, 1, top)) moved 0.3 along the crease; all
+// other vertices frozen, max-min pass off. Its boundary quads turn by 90 degrees, so by their normals alone it is a
+// feature and stays. Given the domain's normals: at the valley the domain is concave, not a feature, and the vertex
+// slides back to y = 1 on the domain; at the ridge (convex) it stays a feature and does not move.
+TEST(Smoothing, FeaturesAreConvexCreasesOfTheDomain) {
+    for (const bool valley : {true, false}) {
+        const Roof roof = valley ? Roof{1, 1} : Roof{2, -1};
+        HexMesh m = roof.block();
+        ASSERT_EQ(m.points[13], (Vec3{1, 1, roof.base}));
+        m.points[13].y = 1.3;
+        SmoothOptions o;
+        o.skip_above = 1;
+        o.worst_below = 0;
+        o.frozen.assign(m.points.size(), true);
+        o.frozen[13] = false;
+        auto project = [&roof](const Vec3& p) { return roof.closest(p); };
+        const SmoothResult by_mesh = smooth_quality(m, project, o);
+        EXPECT_EQ(by_mesh.moves, 0) << valley;
+        EXPECT_EQ(by_mesh.mesh, m);
+        o.surface_normal = [&roof](const Vec3& p) { return roof.normal(p); };
+        const SmoothResult by_domain = smooth_quality(m, project, o);
+        if (valley) {
+            EXPECT_GT(by_domain.moves, 0);
+            EXPECT_NEAR(by_domain.mesh.points[13].y, 1.0, 0.02);
+            EXPECT_LT(distance(by_domain.mesh.points[13], roof.closest(by_domain.mesh.points[13])), 1e-12);
+            EXPECT_GT(by_domain.sj_min_after, by_domain.sj_min_before);
+        } else {
+            EXPECT_EQ(by_domain.moves, 0);
+            EXPECT_EQ(by_domain.mesh, m);
+        }
+    }
+}

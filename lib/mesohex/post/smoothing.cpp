@@ -125,12 +125,44 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         return normalized(cross(x[static_cast<std::size_t>(f[2])] - x[static_cast<std::size_t>(f[0])],
                                 x[static_cast<std::size_t>(f[3])] - x[static_cast<std::size_t>(f[1])]));
     };
-    // Boundary vertex normal; `feature` when a quad normal deviates more than feature_angle from it.
+    // The domain under every boundary quad (its point closest to the quad's start centroid, and its normal there), if
+    // its normals are given. Two quads are a convex-sharp pair of the domain when their domain normals are more than
+    // feature_angle apart and each one's domain point lies below the other's tangent plane.
+    const bool domain_normals = static_cast<bool>(options.surface_normal) && static_cast<bool>(project);
+    std::vector<Vec3> quad_domain_normal, quad_domain_point;
+    auto convex_sharp = [&](std::size_t a, std::size_t b, double cos_angle) {
+        return !(dot(quad_domain_normal[a], quad_domain_normal[b]) >= cos_angle) &&
+               dot(quad_domain_point[b] - quad_domain_point[a], quad_domain_normal[a]) +
+                       dot(quad_domain_point[a] - quad_domain_point[b], quad_domain_normal[b]) < 0;
+    };
+    std::vector<char> domain_feature(nv, 1);
+    if (domain_normals) {
+        quad_domain_normal.resize(topo.boundary_quads.size());
+        quad_domain_point.resize(topo.boundary_quads.size());
+        for (std::size_t q = 0; q < topo.boundary_quads.size(); ++q) {
+            Vec3 c;
+            for (int w : topo.boundary_quads[q]) c += x[static_cast<std::size_t>(w)];
+            quad_domain_point[q] = project(0.25 * c);
+            quad_domain_normal[q] = options.surface_normal(0.25 * c);
+        }
+        for (std::size_t v = 0; v < nv; ++v) {
+            if (!on_boundary[v]) continue;
+            domain_feature[v] = 0;
+            for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i)
+                for (int j = i + 1; j < vq_begin[v + 1]; ++j)
+                    if (convex_sharp(static_cast<std::size_t>(vq[static_cast<std::size_t>(i)]),
+                                     static_cast<std::size_t>(vq[static_cast<std::size_t>(j)]), cos_feature))
+                        domain_feature[v] = 1;
+        }
+    }
+    // Boundary vertex normal; `feature` when a quad normal deviates more than feature_angle from it (and the domain
+    // is sharp there too, when its normals are known).
     auto boundary_normal = [&](std::size_t v, bool& feature) {
         Vec3 n;
         for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i) n += quad_normal(vq[static_cast<std::size_t>(i)]);
         n = normalized(n);
         feature = false;
+        if (!domain_feature[v]) return n;
         for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i)
             if (dot(n, quad_normal(vq[static_cast<std::size_t>(i)])) < cos_feature) feature = true;
         return n;
@@ -350,7 +382,10 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
             int sharp = 0;
             for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
                 if (edges[i].first != edges[i + 1].first) continue;
-                if (dot(quad_normal(edges[i].second), quad_normal(edges[i + 1].second)) < cos_crease) {
+                const std::size_t qa = static_cast<std::size_t>(edges[i].second),
+                                  qb = static_cast<std::size_t>(edges[i + 1].second);
+                if (dot(quad_normal(edges[i].second), quad_normal(edges[i + 1].second)) < cos_crease &&
+                    (!domain_normals || convex_sharp(qa, qb, cos_crease))) {
                     if (sharp < 2) crease[v][static_cast<std::size_t>(sharp)] = edges[i].first;
                     ++sharp;
                 }

@@ -50,6 +50,17 @@ struct SmoothOptions {
                                        // there at the start of the smoothing). The few vertices it moves may slide
                                        // where the boundary is coarse for the curvature, never farther than the fit
                                        // left them
+    // Optional: the domain's unit outward normal at the surface point closest to a point. With it (and `project`),
+    // sharpness must be a convex feature of the domain too: take, for every boundary quad, the domain's point closest
+    // to its centroid at the start and the normal there; two quads are a convex-sharp pair when those normals are more
+    // than the angle apart and each point lies below the other's tangent plane. A boundary vertex is a feature in the
+    // sweeps only if some pair of its quads is (feature_angle), and a boundary edge is sharp for the max-min pass only
+    // if its two quads are (worst_crease_angle). Why: a fit can leave the boundary folded where the domain is smooth,
+    // and along a concave crease of the domain the boundary folds back and forth (generated dualocta at two levels:
+    // convex 74° next to concave 108° edges where its tubes cross; those vertices all stayed fixed and its worst hexes
+    // stayed at 0.43). A concave crease is then rounded off within the gap limits instead; convex ones (a CAD edge,
+    // a cube's corner) stay. Without it, the quads' own normals alone decide.
+    std::function<Vec3(const Vec3&)> surface_normal;
     std::vector<bool> frozen;     // optional, per vertex: never moved
     std::function<void(const SmoothProgress&)> progress;  // optional, called after every sweep
 };
