@@ -114,7 +114,7 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         ->capture_default_str();
     cmd->add_option("--levels", job->levels, "1->8 subdivision levels after padding (default: from --size, else 1, or 2 when the padded mesh's mean edge "
                     "is longer than 1/16 of the domain's bounding-box diagonal or the raw mesh's mean scaled Jacobian is below 0.5, "
-                    "within 150000 hexes)");
+                    "within 150000 hexes and if padding inverted nothing)");
     cmd->add_option("--size", job->size, "Target mean edge length; chooses the subdivision levels");
     cmd->add_option("--refine", job->refine,
                     "Subdivision per level: uniform (1->8), longitudinal (only the sheets along the branches: more "

@@ -123,8 +123,8 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
             const int needed = levels_for_size(mesh, query.bbox_diagonal() / options.min_resolution);
             levels = std::max(1, std::min(needed, options.max_auto_levels));
             const long hexes_after = static_cast<long>(mesh.hexes.size()) << (3 * (levels + 1));
-            if (result.stages.front().sj_avg < options.poor_raw_sj_avg && levels < options.max_auto_levels &&
-                hexes_after <= options.max_auto_hexes)
+            if (result.stages.front().sj_avg < options.poor_raw_sj_avg && result.stages.back().inverted == 0 &&
+                levels < options.max_auto_levels && hexes_after <= options.max_auto_hexes)
                 ++levels;
         }
         // Padding keeps the raw hexes first, so chunk_hex stays valid; children inherit their parent's flag.

@@ -50,7 +50,10 @@ struct FinishOptions {
     // the raw mesh's mean scaled Jacobian is below this. A raw mesh of poor hexes (short, fat branches between
     // crossings: generated dualocta, raw mean 0.41 against >= 0.55 for every other generated shape and real input)
     // keeps much of that shape after one level and a fit (dualocta: mean 0.876); with one more level the distortion
-    // spreads over 8 times more hexes and the fitted mean reaches 0.96. 0 = off.
+    // spreads over 8 times more hexes and the fitted mean reaches 0.96. Not when the padded mesh has inverted hexes:
+    // the untangling then has 8 times more to do and a finer mesh does not undo the folds (auto on the shared
+    // bracket_inches and bearing_plate, raw means 0.47 and below: 80 s -> over 300 s, 3 -> 7 hexes left inverted).
+    // 0 = off.
     double poor_raw_sj_avg = 0.5;
     long max_auto_hexes = 150000;
     // Uniform: 1 -> 8 per level. Longitudinal / Radial: per level, split only the sheets of the branch chunks along

@@ -134,7 +134,8 @@ TEST(Finish, LevelsFromTheDomainSize) {
 
 // A raw mesh of poor hexes gets one level more: the unit hex sheared by 2 along x (every corner frame 1 / sqrt(5) =
 // 0.447, below poor_raw_sj_avg = 0.5) gets 2 levels where the domain size asks for 1 (min_resolution 0.01), 7 x 64 =
-// 448 hexes; not when 448 exceeds max_auto_hexes, nor with the rule off, nor for the unit hex itself.
+// 448 hexes; not when 448 exceeds max_auto_hexes, nor with the rule off, nor for the unit hex itself, nor when a hex
+// is inverted before the subdivision.
 TEST(Finish, PoorRawMeshGetsOneLevelMore) {
     HexMesh sheared = unit_hex();
     for (Vec3& p : sheared.points) p.x += 2 * p.z;
@@ -152,6 +153,16 @@ TEST(Finish, PoorRawMeshGetsOneLevelMore) {
     EXPECT_EQ(finish_mesh(sheared, unit_cube_surface(), o).subdivision_levels, 1);
     o.poor_raw_sj_avg = 0.5;  // the unit hex itself is not poor
     EXPECT_EQ(finish_mesh(unit_hex(), unit_cube_surface(), o).subdivision_levels, 1);
+    // Not when the mesh to subdivide has an inverted hex (here without padding: the sheared hex beside an inverted
+    // unit hex, its top face listed first).
+    o.pad = false;
+    EXPECT_EQ(finish_mesh(sheared, unit_cube_surface(), o).subdivision_levels, 2);
+    HexMesh folded = sheared;
+    const HexMesh u = unit_hex();
+    for (const Vec3& p : u.points) folded.points.push_back(p + Vec3{5, 0, 0});
+    folded.hexes.push_back({12, 13, 14, 15, 8, 9, 10, 11});
+    ASSERT_LT(scaled_jacobians(folded)[1], 0);
+    EXPECT_EQ(finish_mesh(folded, unit_cube_surface(), o).subdivision_levels, 1);
 }
 
 // The whole chain (pad, subdivide, fit with the two-sided pull, quality pass) gives the same mesh, bit for bit, with 1
