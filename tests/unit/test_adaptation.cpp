@@ -128,22 +128,23 @@ TEST(Adaptation, SamplesOnBentPolyline) {
     }
 }
 
-// Two branching points 1 apart with radius 0.6 (0.6 + 0.6 > 1), each with two long arms: they merge at the midpoint.
+// Two branching points 1 apart with radius 0.8 (1 < 0.7 x (0.8 + 0.8) = 1.12: collapse_spread), each with two long
+// arms: they merge at the midpoint.
 TEST(Adaptation, ShortBridgeCollapsesToMidpoint) {
     Skeleton s;
     s.points = {{0, 0, 0}, {1, 0, 0}, {-10, 5, 0}, {-10, -5, 0}, {11, 5, 0}, {11, -5, 0}};
-    s.radii = {0.6, 0.6, 0.5, 0.5, 0.5, 0.5};
+    s.radii = {0.8, 0.8, 0.5, 0.5, 0.5, 0.5};
     s.edges = {{0, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
     const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
     EXPECT_EQ(r.collapsed_bridges, 1);
     EXPECT_EQ(r.vertex_map[0], r.vertex_map[1]);
     EXPECT_EQ(r.vertex_map[0], 0);
     EXPECT_EQ(r.skeleton.points[0], (Vec3{0.5, 0, 0}));
-    EXPECT_DOUBLE_EQ(r.skeleton.radii[0], 0.6);
+    EXPECT_DOUBLE_EQ(r.skeleton.radii[0], 0.8);
     EXPECT_EQ(degrees(r.skeleton)[0], 4);
     EXPECT_EQ(count_degree_at_least(r.skeleton, 3), 1);
     EXPECT_EQ(mesohex::euler_characteristic(r.skeleton), 1);
-    // The same bridge 2 long (0.6 + 0.6 < 2) stays.
+    // The same bridge 2 long (0.8 + 0.8 < 2) stays.
     s.points[1] = {2, 0, 0};
     const mesohex::AdaptationResult kept = mesohex::adapt_skeleton_detailed(s);
     EXPECT_EQ(kept.collapsed_bridges, 0);
@@ -153,6 +154,36 @@ TEST(Adaptation, ShortBridgeCollapsesToMidpoint) {
     AdaptationOptions o;
     o.collapse_short_bridges = false;
     EXPECT_EQ(count_degree_at_least(mesohex::adapt_skeleton(s, o), 3), 2);
+    // Radius 0.6: the balls overlap (1.2 > 1) but the ends would lie 0.5 from the midpoint, more than 0.7 x 0.6 = 0.42:
+    // no collapse by default; with collapse_spread 1 (the reference's rule, r_a + r_b > chord) it collapses.
+    s.radii[0] = s.radii[1] = 0.6;
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s).collapsed_bridges, 0);
+    o.collapse_short_bridges = true;
+    o.collapse_spread = 1;
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, o).collapsed_bridges, 1);
+}
+
+// Three branching points in a row 1 apart, radius 0.8: each bridge alone may collapse (1 < 1.12), but merging the
+// chain whole would put its ends 1 from the mean position, more than 0.7 x 0.8 = 0.56: one collapse, two branching
+// points left (the merged one of degree 4, the third of degree 3).
+TEST(Adaptation, ChainOfShortBridgesDoesNotDrift) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {-10, 5, 0}, {-10, -5, 0}, {1, 10, 0}, {12, 5, 0}, {12, -5, 0}};
+    s.radii = {0.8, 0.8, 0.8, 0.5, 0.5, 0.5, 0.5, 0.5};
+    s.edges = {{0, 1}, {1, 2}, {0, 3}, {0, 4}, {1, 5}, {2, 6}, {2, 7}};
+    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_EQ(r.collapsed_bridges, 1);
+    EXPECT_EQ(count_degree_at_least(r.skeleton, 3), 2);
+    EXPECT_EQ(count_degree_at_least(r.skeleton, 4), 1);
+    EXPECT_EQ(mesohex::euler_characteristic(r.skeleton), 1);
+    // With collapse_spread 2 the whole chain merges into one vertex of degree 5 at (1, 0, 0).
+    AdaptationOptions o;
+    o.collapse_spread = 2;
+    const mesohex::AdaptationResult all = mesohex::adapt_skeleton_detailed(s, o);
+    EXPECT_EQ(all.collapsed_bridges, 2);
+    EXPECT_EQ(count_degree_at_least(all.skeleton, 3), 1);
+    EXPECT_EQ(count_degree_at_least(all.skeleton, 5), 1);
+    EXPECT_EQ(all.skeleton.points[static_cast<std::size_t>(all.vertex_map[1])], (Vec3{1, 0, 0}));
 }
 
 // Closed ring of 6 joints with a radius too large to bisect: it keeps 3 edges, anchored at its smallest id.
