@@ -255,7 +255,9 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         std::unordered_map<std::uint64_t, int> cell_triangle;
         const double cell = 0.005 * query.bbox_diagonal();
         auto cell_of = [cell](const Vec3& p) {
-            auto c = [cell](double v) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / cell)) & 0x1fffff); };
+            auto c = [cell](double v) {  // 21 bits per axis
+                return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / cell)) & 0x1fffff);
+            };
             return (c(p.x) << 42) | (c(p.y) << 21) | c(p.z);
         };
         SmoothResult sm = smooth_quality(

@@ -382,10 +382,10 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
             int sharp = 0;
             for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
                 if (edges[i].first != edges[i + 1].first) continue;
-                const std::size_t qa = static_cast<std::size_t>(edges[i].second),
-                                  qb = static_cast<std::size_t>(edges[i + 1].second);
-                if (dot(quad_normal(edges[i].second), quad_normal(edges[i + 1].second)) < cos_crease &&
-                    (!domain_normals || convex_sharp(qa, qb, cos_crease))) {
+                const int qa = edges[i].second, qb = edges[i + 1].second;
+                if (dot(quad_normal(qa), quad_normal(qb)) < cos_crease &&
+                    (!domain_normals ||
+                     convex_sharp(static_cast<std::size_t>(qa), static_cast<std::size_t>(qb), cos_crease))) {
                     if (sharp < 2) crease[v][static_cast<std::size_t>(sharp)] = edges[i].first;
                     ++sharp;
                 }

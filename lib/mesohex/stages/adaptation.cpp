@@ -398,25 +398,20 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
                     other_link = other_link || (x == ca && y == cc) || (x == cc && y == ca);
                 }
             if (other_link) continue;
-            {
-                // The merged vertex (mean position and radius of both classes' members) must keep every member's
-                // centre within collapse_spread x its radius: a pair only when its chord < collapse_spread (r_a + r_b),
-                // and a chain of short bridges does not drift away from the balls at its ends.
-                Vec3 mean;
-                double mean_r = 0;
-                const std::size_t count = members[ca].size() + members[cc].size();
-                for (const std::vector<int>* m : {&members[ca], &members[cc]})
-                    for (const int v : *m) {
-                        mean += s.points[v];
-                        mean_r += s.radii[v];
-                    }
-                mean *= 1.0 / static_cast<double>(count);
-                mean_r /= static_cast<double>(count);
-                bool drifts = false;
-                for (const std::vector<int>* m : {&members[ca], &members[cc]})
-                    for (const int v : *m) drifts = drifts || !(distance(s.points[v], mean) < o.collapse_spread * mean_r);
-                if (drifts) continue;
-            }
+            // The merged vertex (mean position and radius of both classes' members) must keep every member's centre
+            // within collapse_spread x its radius: a pair only when its chord < collapse_spread (r_a + r_b), and a
+            // chain of short bridges does not drift away from the balls at its ends.
+            std::vector<int> merged = members[ca];
+            merged.insert(merged.end(), members[cc].begin(), members[cc].end());
+            Vec3 mean;
+            double mean_r = 0;
+            for (const int v : merged) mean += s.points[v], mean_r += s.radii[v];
+            mean *= 1.0 / static_cast<double>(merged.size());
+            mean_r /= static_cast<double>(merged.size());
+            const bool drifts = std::any_of(merged.begin(), merged.end(), [&](int v) {
+                return !(distance(s.points[v], mean) < o.collapse_spread * mean_r);
+            });
+            if (drifts) continue;
             const int keep_class = std::min(ca, cc), gone = std::max(ca, cc);
             members[keep_class].insert(members[keep_class].end(), members[gone].begin(), members[gone].end());
             members[gone].clear();

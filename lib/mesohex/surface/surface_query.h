@@ -58,8 +58,8 @@ public:
     // Parallel batch versions (deterministic: result[i] depends on points[i] only).
     std::vector<ClosestPoint> closest(const std::vector<Vec3>& points) const;
     // The same with a hint per point: a triangle (index in surface().triangles, or -1 for none) whose closest point to
-    // the query bounds the search from the start. Points that moved little since their last query pass their last triangle: the
-    // traversal then skips most of the tree. The closest point found is the same as without the hint.
+    // the query bounds the search from the start. Points that moved little since their last query pass their last
+    // triangle: the traversal then skips most of the tree. The closest point found is the same as without the hint.
     std::vector<ClosestPoint> closest(const std::vector<Vec3>& points, const std::vector<int>& hint_triangles) const;
     std::vector<double> squared_distances(const std::vector<Vec3>& points) const;
     std::vector<char> inside(const std::vector<Vec3>& points) const;  // 1 inside, 0 outside
