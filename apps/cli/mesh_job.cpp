@@ -166,14 +166,13 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
     PipelineOptions options;
     options.radius = job.radius;
     options.resample = !job.no_resample;
-    const PipelineResult res = run_pipeline(skeleton, options);
+    PipelineResult res = run_pipeline(skeleton, options);
     const auto t2 = std::chrono::steady_clock::now();
-    const QualityReport q = compute_quality(res.raw.mesh);
+    QualityReport q = compute_quality(res.raw.mesh);
     const auto t3 = std::chrono::steady_clock::now();
 
     const bool finishing = domain.has_value() && !job.raw;
-    std::optional<FinishResult> fin;
-    if (finishing) {
+    const auto finish = [&](const PipelineResult& run) {
         FinishOptions fo;
         fo.pad = !job.no_pad;
         fo.levels = job.levels;
@@ -181,10 +180,10 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
         if (job.refine != "uniform") {
             fo.refinement = job.refine == "longitudinal" ? FinishOptions::Refinement::Longitudinal
                                                          : FinishOptions::Refinement::Radial;
-            fo.chunk_hex.assign(res.raw.hex_edge.size(), 0);
-            for (std::size_t h = 0; h < res.raw.hex_edge.size(); ++h) {
-                const int e = res.raw.hex_edge[h];
-                fo.chunk_hex[h] = e >= 0 && res.analysis.edge_degree[static_cast<std::size_t>(e)] == 0;
+            fo.chunk_hex.assign(run.raw.hex_edge.size(), 0);
+            for (std::size_t h = 0; h < run.raw.hex_edge.size(); ++h) {
+                const int e = run.raw.hex_edge[h];
+                fo.chunk_hex[h] = e >= 0 && run.analysis.edge_degree[static_cast<std::size_t>(e)] == 0;
             }
         }
         fo.fit = !job.no_fit;
@@ -208,7 +207,44 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
         fo.smoothing.progress = [&smooth_line](const SmoothProgress& p) {
             smooth_line.update(p.sweep, "moves " + std::to_string(p.moves));
         };
-        fin = finish_mesh(res.raw.mesh, *domain, fo);
+        return finish_mesh(run.raw.mesh, *domain, fo);
+    };
+    std::optional<FinishResult> fin;
+    nlohmann::json attempts = nlohmann::json::array();
+    const auto attempt_json = [](const AdaptationOptions& a, const FinishResult& f) {
+        nlohmann::json j = {{"free_branching_reach", a.free_branching_reach},
+                            {"hexes", f.quality.hexes},
+                            {"sj_min", f.quality.sj_min},
+                            {"sj_avg", f.quality.sj_avg},
+                            {"inverted", f.quality.inverted},
+                            {"missed_goals", missed_goals(f)}};
+        if (f.distance_measured) j["hausdorff_relative_max"] = f.distance.relative_max;
+        return j;
+    };
+    if (finishing) {
+        fin = finish(res);
+        attempts.push_back(attempt_json(options.adaptation, *fin));
+        // Second attempt: when the mesh misses its goals (MeshGoals), adapt again with the cautious reach at branching
+        // points (AdaptationOptions::free_branching_reach) and keep the better result (better_finish).
+        PipelineOptions cautious = options;
+        cautious.adaptation.free_branching_reach = options.adaptation.branching_reach;
+        if (!job.no_fit && options.resample && missed_goals(*fin) > 0 &&
+            cautious.adaptation.free_branching_reach != options.adaptation.free_branching_reach) {
+            PipelineResult res2 = run_pipeline(skeleton, cautious);
+            if (!(res2.skeleton == res.skeleton)) {
+                if (!job.quiet)
+                    std::cerr << "mesohex: the mesh misses " << missed_goals(*fin)
+                              << " goal(s); second attempt with first joints farther from the branching points\n";
+                FinishResult fin2 = finish(res2);
+                attempts.push_back(attempt_json(cautious.adaptation, fin2));
+                if (better_finish(fin2, *fin)) {
+                    fin = std::move(fin2);
+                    res = std::move(res2);
+                    q = compute_quality(res.raw.mesh);
+                    options = cautious;
+                }
+            }
+        }
     }
     const QualityReport& final_quality = fin ? fin->quality : q;
     write_hex_mesh(job.output, fin ? fin->mesh : res.raw.mesh, final_quality.sj);
@@ -242,6 +278,19 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
             std::cout << ", Hausdorff " << fin->distance.max << " (" << 100.0 * fin->distance.relative_max
                       << " % of the bbox diagonal)";
         std::cout << " -> " << job.output << "\n";
+        if (attempts.size() > 1)
+            for (std::size_t i = 0; i < attempts.size(); ++i) {
+                const nlohmann::json& a = attempts[i];
+                std::cout << "attempt " << i + 1 << " (first joints at " << a["free_branching_reach"].get<double>()
+                          << " x the reach at branching points): SJ min " << a["sj_min"].get<double>() << " avg "
+                          << a["sj_avg"].get<double>() << ", inverted " << a["inverted"].get<long>();
+                if (a.contains("hausdorff_relative_max"))
+                    std::cout << ", Hausdorff " << 100.0 * a["hausdorff_relative_max"].get<double>() << " %";
+                std::cout << (a["free_branching_reach"].get<double>() == options.adaptation.free_branching_reach
+                                  ? " (kept)"
+                                  : "")
+                          << "\n";
+            }
     }
 
     if (!job.report.empty()) {
@@ -277,6 +326,8 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
             rep["subdivision_levels"] = fin->subdivision_levels;
             rep["fit"] = {{"iterations", fin->fit_iterations}, {"converged", fin->fit_converged}};
             rep["untangled"] = fin->untangled;
+            rep["attempts"] = attempts;  // first the default adaptation, then the cautious one when it was tried
+            rep["free_branching_reach"] = options.adaptation.free_branching_reach;  // of the mesh written
             if (fin->distance_measured)
                 rep["hausdorff"] = {{"max", fin->distance.max},
                                     {"mean", fin->distance.mean},

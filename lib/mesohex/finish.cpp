@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <utility>
 
@@ -289,6 +290,28 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     result.mesh = std::move(mesh);
     result.total_ms = ms_since(start_all);
     return result;
+}
+
+int missed_goals(const FinishResult& r, const MeshGoals& goals) {
+    const QualityReport& q = r.quality;
+    int missed = 0;
+    if (q.inverted > 0 || !q.validation.valid()) ++missed;
+    if (!(q.sj_min >= goals.sj_min)) ++missed;
+    if (!(q.sj_avg >= goals.sj_avg)) ++missed;
+    if (r.distance_measured && !(r.distance.relative_max <= goals.hausdorff)) ++missed;
+    return missed;
+}
+
+bool better_finish(const FinishResult& a, const FinishResult& b, const MeshGoals& goals) {
+    const auto badness = [](const FinishResult& r) {
+        return r.quality.validation.valid() ? r.quality.inverted : std::numeric_limits<long>::max();
+    };
+    if (badness(a) != badness(b)) return badness(a) < badness(b);
+    const int ma = missed_goals(a, goals), mb = missed_goals(b, goals);
+    if (ma != mb) return ma < mb;
+    if (a.distance_measured && b.distance_measured && a.distance.relative_max != b.distance.relative_max)
+        return a.distance.relative_max < b.distance.relative_max;
+    return a.quality.sj_min > b.quality.sj_min;
 }
 
 }  // namespace mesohex

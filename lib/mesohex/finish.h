@@ -114,6 +114,21 @@ struct FinishResult {
     double total_ms = 0;
 };
 
+// What a finished mesh is judged by when the mesh command weighs a second attempt (another adaptation of the same
+// skeleton): the acceptance targets for real skeleton/surface pairs. A result misses a goal when some hex is inverted
+// or the mesh is invalid, when min scaled Jacobian < sj_min, average < sj_avg, or (distance measured) relative
+// Hausdorff distance > hausdorff.
+struct MeshGoals {
+    double sj_min = 0.3;
+    double sj_avg = 0.85;
+    double hausdorff = 0.01;  // x the domain's bounding-box diagonal
+};
+// Number of goals missed (0..4: validity-and-inversion, min, average, distance).
+int missed_goals(const FinishResult& r, const MeshGoals& goals = {});
+// True when `a` is strictly better than `b`: fewer inverted hexes (a valid mesh before an invalid one), else fewer
+// goals missed, else a smaller relative Hausdorff distance (when both measured it), else a higher min scaled Jacobian.
+bool better_finish(const FinishResult& a, const FinishResult& b, const MeshGoals& goals = {});
+
 // Preconditions: `raw` has indices in range (the stages throw InvalidInput otherwise); `domain` has a non-degenerate
 // triangle (InvalidInput otherwise) and should be a closed surface. The domain is copied and oriented outward first
 // (orient_outward) when it faces inward. Errors: whatever the stages throw.

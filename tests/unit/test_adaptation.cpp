@@ -313,8 +313,9 @@ TEST(Adaptation, SharpTurnsSatisfySectionBound) {
 }
 
 // Star of 3 orthogonal straight arms of length 16, r = 1, density 2: arms are cut into 16 edges of 1. At the branching
-// point beta = 90 degrees, gamma = 45 (cot 1): reach max(1, 1 * 1) = 1, so the first edge must be at least
-// 1.25 * 1 = 1.25: the first joint (1 away) goes, the next (2 away) stays: 15 edges per arm.
+// point beta = 90 degrees, gamma = 45 (cot 1): reach f * max(1, 1 * 1) = f, so the first edge must be at least
+// 1.25 f. With f = free_branching_reach = 1: the first joint (1 away) goes, the next (2 away) stays: 15 edges per arm.
+// With the default f = 0.7: 1 >= 0.875, every joint stays: 16 edges per arm.
 TEST(Adaptation, FirstJointKeepsClearOfBranchingPoint) {
     Skeleton s;
     s.points = {{0, 0, 0}, {16, 0, 0}, {0, 16, 0}, {0, 0, 16}};
@@ -322,6 +323,7 @@ TEST(Adaptation, FirstJointKeepsClearOfBranchingPoint) {
     s.edges = {{0, 1}, {0, 2}, {0, 3}};
     AdaptationOptions o;
     o.density = 2;
+    o.free_branching_reach = 1.0;
     const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s, o);
     EXPECT_EQ(r.turn_removed_joints, 3);
     EXPECT_EQ(r.skeleton.edges.size(), 45u);
@@ -330,6 +332,29 @@ TEST(Adaptation, FirstJointKeepsClearOfBranchingPoint) {
         const double len = mesohex::distance(r.skeleton.points[e[0]], r.skeleton.points[e[1]]);
         EXPECT_NEAR(len, (e[0] == 0 || e[1] == 0) ? 2.0 : 1.0, 1e-12);
     }
+    o.free_branching_reach = AdaptationOptions{}.free_branching_reach;
+    ASSERT_EQ(o.free_branching_reach, 0.7);
+    const mesohex::AdaptationResult d = mesohex::adapt_skeleton_detailed(s, o);
+    EXPECT_EQ(d.turn_removed_joints, 0);
+    EXPECT_EQ(d.skeleton.edges.size(), 48u);
+    for (const std::array<int, 2>& e : d.skeleton.edges)
+        EXPECT_NEAR(mesohex::distance(d.skeleton.points[e[0]], d.skeleton.points[e[1]]), 1.0, 1e-12);
+}
+
+// The free reach applies at branching points without a leaflet only: the same star whose branching point is also the
+// corner of a unit leaflet square keeps branching_reach there. The square's edges leave at 90 degrees from the arms
+// along x and y and the z arm (beta = 90, cot 1), so each arm's first joint (1 away) goes again: 15 edges per arm.
+TEST(Adaptation, LeafletVertexKeepsTheBranchingReach) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {-16, 0, 0}, {0, -16, 0}, {0, 0, 16}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    s.radii = {1, 1, 1, 1, 0.3, 0.3, 0.3};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {4, 5}, {5, 6}, {6, 0}};
+    s.faces = {{0, 4, 5, 6}};
+    AdaptationOptions o;
+    o.density = 2;
+    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s, o);
+    EXPECT_EQ(r.turn_removed_joints, 3);
+    EXPECT_EQ(r.skeleton.edges.size(), 4u + 45u);
 }
 
 TEST(Adaptation, DeterministicAndEulerPreserving) {

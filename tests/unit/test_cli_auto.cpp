@@ -12,6 +12,7 @@
 #include "cli_run.h"
 #include "mesohex/core/skeleton.h"
 #include "mesohex/post/quality.h"
+#include "mesohex/stages/adaptation.h"
 #include "mesohex_io/hex_io.h"
 #include "mesohex_io/skeleton_io.h"
 
@@ -67,6 +68,23 @@ void check_auto(const std::string& model, const std::string& file, double max_re
     EXPECT_GE(rep["timings_ms"]["total"].get<double>(), rep["timings_ms"]["skeletonize"].get<double>());
     ASSERT_TRUE(rep.contains("hausdorff"));
     EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), max_relative_hausdorff);
+    // Attempts: the default adaptation first; a second one only when the first missed a goal; the mesh written is the
+    // attempt whose reach the report names, with its numbers.
+    const nlohmann::json& attempts = rep["attempts"];
+    ASSERT_TRUE(attempts.size() == 1 || attempts.size() == 2) << attempts.dump();
+    EXPECT_EQ(attempts[0]["free_branching_reach"].get<double>(), mesohex::AdaptationOptions{}.free_branching_reach);
+    if (attempts.size() == 2) {
+        EXPECT_GT(attempts[0]["missed_goals"].get<int>(), 0);
+    }
+    int kept = 0;
+    for (const nlohmann::json& a : attempts)
+        if (a["free_branching_reach"] == rep["free_branching_reach"]) {
+            ++kept;
+            EXPECT_EQ(a["hexes"].get<long>(), q.hexes);
+            EXPECT_EQ(a["sj_min"].get<double>(), rep["quality"]["sj_min"].get<double>());
+            EXPECT_EQ(a["hausdorff_relative_max"].get<double>(), rep["hausdorff"]["relative_max"].get<double>());
+        }
+    EXPECT_EQ(kept, 1);
     std::cout << model << ": skeleton " << skel.points.size() << " vertices, " << skel.edges.size() << " edges; "
               << q.hexes << " hexes, SJ min " << q.sj_min << " avg " << q.sj_avg << ", Hausdorff "
               << 100.0 * rep["hausdorff"]["relative_max"].get<double>() << " %, skeletonize "

@@ -187,3 +187,37 @@ TEST(Finish, SameMeshForAnyThreadCount) {
     std::printf("[finish] unit hex in [-0.5, 1.5]^3, 2 levels: %zu hexes, SJ min %.3f, Hausdorff %.2f %%\n",
                 one.mesh.hexes.size(), one.quality.sj_min, 100 * one.distance.relative_max);
 }
+
+// The goals a second attempt is weighed by (MeshGoals: min 0.3, average 0.85, Hausdorff 1 %), on hand-set results.
+TEST(Finish, GoalsAndTheBetterOfTwoResults) {
+    const auto result = [](long inverted, double sj_min, double sj_avg, double hausdorff) {
+        FinishResult r;
+        r.quality.inverted = inverted;
+        r.quality.sj_min = sj_min;
+        r.quality.sj_avg = sj_avg;
+        r.distance_measured = true;
+        r.distance.relative_max = hausdorff;
+        return r;
+    };
+    const FinishResult meets = result(0, 0.66, 0.92, 0.0076);    // auto cactus, cautious reach
+    const FinishResult far = result(0, 0.23, 0.91, 0.042);       // auto cactus, default reach: min and distance
+    const FinishResult fat = result(0, 0.104, 0.899, 0.0179);    // dino, default reach
+    const FinishResult fat1 = result(0, 0.097, 0.877, 0.0316);   // dino, cautious reach
+    const FinishResult inverted = result(2, -0.1, 0.95, 0.002);  // everything but the inversions is fine
+    EXPECT_EQ(mesohex::missed_goals(meets), 0);
+    EXPECT_EQ(mesohex::missed_goals(far), 2);
+    EXPECT_EQ(mesohex::missed_goals(inverted), 2);  // inverted, and min < 0.3
+    EXPECT_EQ(mesohex::missed_goals(result(0, 0.3, 0.85, 0.01)), 0);  // the goals are inclusive
+    FinishResult unmeasured = far;
+    unmeasured.distance_measured = false;
+    EXPECT_EQ(mesohex::missed_goals(unmeasured), 1);
+    EXPECT_TRUE(mesohex::better_finish(meets, far));
+    EXPECT_FALSE(mesohex::better_finish(far, meets));
+    EXPECT_TRUE(mesohex::better_finish(fat, fat1));  // both miss 2 goals: the smaller distance wins
+    EXPECT_FALSE(mesohex::better_finish(fat1, fat));
+    EXPECT_TRUE(mesohex::better_finish(far, inverted));  // no inverted hex first, whatever the rest
+    EXPECT_FALSE(mesohex::better_finish(meets, meets));  // strict
+    mesohex::MeshGoals loose;
+    loose.hausdorff = 0.05;
+    EXPECT_EQ(mesohex::missed_goals(far, loose), 1);
+}

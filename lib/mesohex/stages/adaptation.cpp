@@ -24,7 +24,8 @@
 // vertices lie up to almost r_c ahead along the branch, so the next section must be beyond r_c. Moreover the quad only
 // covers a cone of half-angle gamma around the branch (about half the angle beta to the nearest other branch); the
 // first hex layer is inverted where the next section's rim, seen from the centre, leaves that cone, i.e. when
-// L < r_next cot(gamma). Hence reach = branching_reach * max(r_c, r_next cot(gamma)).
+// L < r_next cot(gamma). Hence reach = branching_reach * max(r_c, r_next cot(gamma)), with free_branching_reach in
+// place of branching_reach at a branching point without a leaflet.
 // The same bound with r_a + r_b is the reference's collapse rule for short bridges.
 // A joint whose edge violates the bound is removed (the one of the edge's two ends with the larger reach); removing
 // it lengthens the edge, and the turn it carried is shared by its neighbours.
@@ -334,7 +335,8 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
                     beta = std::min(beta, std::acos(std::clamp(dot(d, end_dir[bi][side]), -1.0, 1.0)));
                 }
                 const double gamma = std::clamp(0.5 * beta, pi / 24, pi / 3);
-                end_reach[bi][side] = {o.branching_reach, o.branching_reach / std::tan(gamma)};
+                const double br = is_free_branching_point(v) ? o.free_branching_reach : o.branching_reach;
+                end_reach[bi][side] = {br, br / std::tan(gamma)};
             }
         }
     };

@@ -20,17 +20,29 @@ struct AdaptationOptions {
     // (a, b) of a resampled branch, |b - a| >= turn_safety * (reach(a) + reach(b)), with
     //   reach = r sin(theta / 2) at a joint turning by theta,
     //   reach = 0 at an extremity,
-    //   reach = branching_reach * max(r_end, r_next * cot(gamma)) at a branching point or leaflet vertex, where r_next
+    //   reach = branching_reach * max(r_end, r_next * cot(gamma)) at a leaflet vertex (free_branching_reach in place of
+    //           branching_reach at a branching point without a leaflet), where r_next
     //           is the radius at the other end of the edge and gamma = clamp(beta / 2, 7.5, 60 degrees), beta the
     //           smallest angle between this branch and any other branch or leaflet edge leaving that vertex (a branch
     //           leaves towards the point of its original polyline at arc length min(2 r, its length)).
     // Joints violating it are removed (the end of the edge with the larger reach). An edge with no joint left to
     // remove (e.g. a short branch from a branching point to an extremity) stays as it is. 0 disables the criterion.
     // With the defaults no raw hex is inverted on armadillo, aorta, bigbuddy, block, cactus, dino, dinopet, knight
-    // (min scaled Jacobian 0.03 .. 0.23); without the criterion 1-4 % are. branching_reach = 1.5 is a more cautious
+    // (min scaled Jacobian 0.07 .. 0.39); without the criterion 1-4 % are. branching_reach = 1.5 is a more cautious
     // choice that was needed with earlier connection surfaces (fewer hexes, same result today).
     double turn_safety = 1.25;
     double branching_reach = 1.0;
+    // The same factor at branching points without a leaflet (both terms of the reach; branching_reach stays at leaflet
+    // vertices, where 0.7 drops turbine's minimum scaled Jacobian below 0.5). Fat branches leaving close together
+    // (dino: degree 4, r 0.22, branches 35 degrees apart) pushed their first joints about 3 r out with 1.0: the raw
+    // hexes there were 0.44 long against branches of radius 0.08 beyond, too coarse to follow the junction's blob.
+    // With 0.7, in their thickened domains: dino 3.16 -> 1.79 % Hausdorff, bigbuddy 2.27 -> 1.64 %, armadillo
+    // 1.72 -> 1.29 %, dinopet 2.83 -> 1.91 %, knight 4.18 -> 3.45 %; cactus.skel 0.682 / 0.930 -> 0.739 / 0.934 and
+    // aorta.skel 0.617 / 0.919 -> 0.733 / 0.930; no raw hex inverted on any shared skeleton (0.6 inverts 2 on
+    // armadillo). The generated shapes are unchanged. The mesh command retries with branching_reach here when the
+    // result misses its goals (MeshGoals): auto's cactus skeleton leaves the domain near a branching point and needs
+    // the farther joints (0.76 % with 1.0, 4.2 % with 0.7).
+    double free_branching_reach = 0.7;
     // Radius floor used by the bisection test only (never written): max(r, min_radius_fraction * largest radius on the
     // branch). Keeps a near-zero radius at an extremity (armadillo: 7e-5) from bisecting towards it forever.
     double min_radius_fraction = 0.25;
