@@ -82,8 +82,9 @@ void expect_hex_counts(const FinishResult& f, const PipelineResult& p) {
 }  // namespace
 
 // Measured: raw 116 hexes -> 2912; final min SJ 0.647, avg 0.931, 0 inverted; Hausdorff 0.63 % of the diagonal
-// (raw 104 hexes -> 2624 and 0.660 / 0.927 / 0.57 % with AdaptationOptions::free_branching_reach 1; raw 92 hexes -> 2336 and 0.538 / 0.917 / 0.65 % while a bridge of 0.8 (r_a + r_b) still collapsed; before the
-// smoothing pass: 0.354 / 0.902 / 0.54 %; smoothing without its max-min pass: 0.438 / 0.917 / 0.54 %).
+// (raw 104 hexes -> 2624 and 0.660 / 0.927 / 0.57 % with AdaptationOptions::free_branching_reach 1; raw 92 hexes
+// -> 2336 and 0.538 / 0.917 / 0.65 % while a bridge of 0.8 (r_a + r_b) still collapsed; before the smoothing pass:
+// 0.354 / 0.902 / 0.54 %; smoothing without its max-min pass: 0.438 / 0.917 / 0.54 %).
 // Issue 5 targets: min SJ >= 0.3, avg >= 0.85, Hausdorff <= 1 %.
 TEST(FinishData, Cactus) {
     const Skeleton s = read_skeleton(data("curve-skeletons/cactus.skel"));
@@ -137,9 +138,9 @@ TEST(FinishData, CactusRadiusFromSurface) {
 }
 
 // Measured: raw 64 hexes -> 1632; min SJ 0.601, avg 0.920, 0 inverted; Hausdorff 0.61 % (raw 52 -> 1344,
-// 0.601 / 0.912 / 0.64 % with free_branching_reach 1; padding min SJ 0.016, 0.206
-// after the pad-improve pass; with reach 1, without that pass: 0.578 / 0.910 / 0.67 %; without the smoothing's max-min pass:
-// 0.585 / 0.911 / 0.64 %). Issue 5 targets met.
+// 0.601 / 0.912 / 0.64 % with free_branching_reach 1; padding min SJ 0.016, 0.206 after the pad-improve pass; with
+// reach 1, without that pass: 0.578 / 0.910 / 0.67 %; without the smoothing's max-min pass: 0.585 / 0.911 / 0.64 %).
+// Issue 5 targets met.
 TEST(FinishData, Aorta) {
     const Skeleton s = read_skeleton(data("curve-skeletons/aorta.skel"));
     const TriangleMesh domain = read_surface(data("surfaces/aorta.stl"));
