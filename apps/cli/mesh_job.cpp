@@ -97,6 +97,8 @@ nlohmann::json counts_json(const AnalysisCounts& c) {
             {"euler_characteristic", c.vertices - c.edges + c.faces}};
 }
 
+nlohmann::json xyz(const Vec3& p) { return nlohmann::json::array({p.x, p.y, p.z}); }
+
 nlohmann::json valence_json(const std::map<int, long>& m) {
     nlohmann::json j = nlohmann::json::object();
     for (const auto& [valence, count] : m) j[std::to_string(valence)] = count;
@@ -126,6 +128,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_flag("--no-untangle", job->no_untangle,
                   "Skip the untangling of inverted hexes after the fit (the report and exit status 5 still say so)");
     cmd->add_flag("--no-smooth", job->no_smooth, "Skip the final smoothing pass");
+    cmd->add_flag("--no-retry", job->no_retry,
+                  "One attempt only: no second adaptation with the first joints farther from the branching points "
+                  "when the mesh misses a goal (inverted hex, SJ min < 0.3, avg < 0.85, Hausdorff > 1 % of the "
+                  "diagonal)");
     cmd->add_option("--iterations", job->iterations, "Iteration cap of the fitting loop")->capture_default_str();
     cmd->add_option("--fit-weight", job->fit_weight,
                     "Weight of the pull of the boundary onto the surface, relative to the shape terms")
@@ -228,7 +234,7 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
         // points (AdaptationOptions::free_branching_reach) and keep the better result (better_finish).
         PipelineOptions cautious = options;
         cautious.adaptation.free_branching_reach = options.adaptation.branching_reach;
-        if (!job.no_fit && options.resample && missed_goals(*fin) > 0 &&
+        if (!job.no_retry && !job.no_fit && options.resample && missed_goals(*fin) > 0 &&
             cautious.adaptation.free_branching_reach != options.adaptation.free_branching_reach) {
             PipelineResult res2 = run_pipeline(skeleton, cautious);
             if (!(res2.skeleton == res.skeleton)) {
@@ -335,6 +341,8 @@ int run_mesh_job(const MeshJob& job, Skeleton skeleton, const std::optional<Tria
                                     {"relative_mean", fin->distance.relative_mean},
                                     {"mesh_to_surface_max", fin->distance.mesh_to_surface_max},
                                     {"surface_to_mesh_max", fin->distance.surface_to_mesh_max},
+                                    {"mesh_to_surface_at", xyz(fin->distance.mesh_to_surface_at)},
+                                    {"surface_to_mesh_at", xyz(fin->distance.surface_to_mesh_at)},
                                     {"bbox_diagonal", fin->distance.diagonal}};
         }
         nlohmann::json timings = nlohmann::json::object();

@@ -32,6 +32,7 @@ struct MeshJob {
     bool no_fit = false;
     bool no_untangle = false;
     bool no_smooth = false;
+    bool no_retry = false;  // no second attempt with the cautious reach at branching points
     int iterations = 300;
     double fit_weight = 3.0;
     double improve_sj = 0.3;

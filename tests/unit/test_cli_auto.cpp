@@ -68,6 +68,8 @@ void check_auto(const std::string& model, const std::string& file, double max_re
     EXPECT_GE(rep["timings_ms"]["total"].get<double>(), rep["timings_ms"]["skeletonize"].get<double>());
     ASSERT_TRUE(rep.contains("hausdorff"));
     EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), max_relative_hausdorff);
+    EXPECT_EQ(rep["hausdorff"]["mesh_to_surface_at"].size(), 3u);  // where each maximum is, for the user to look
+    EXPECT_EQ(rep["hausdorff"]["surface_to_mesh_at"].size(), 3u);
     // Attempts: the default adaptation first; a second one only when the first missed a goal; the mesh written is the
     // attempt whose reach the report names, with its numbers.
     const nlohmann::json& attempts = rep["attempts"];

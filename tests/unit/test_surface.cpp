@@ -256,6 +256,22 @@ TEST(SurfaceDistance, CubeAgainstScaledCube) {
     EXPECT_GT(z.mesh_samples, 8);
 }
 
+// Where the maxima are: the unit cube with corner 7 pulled out to (1.2, 1.2, 1.2), against the unit cube. The mesh
+// sample farthest from the surface is that corner (0.2 sqrt(3) away); the surface sample farthest from the mesh lies on
+// the cube and is surface_to_mesh_max from the mesh.
+TEST(SurfaceDistance, ReportsWhereTheMaximaAre) {
+    const SurfaceQuery domain(make_cube());
+    TriangleMesh pulled = make_cube();
+    pulled.points[7] = {1.2, 1.2, 1.2};
+    const SurfaceDistance d = surface_distance(pulled, domain);
+    EXPECT_NEAR(d.mesh_to_surface_max, 0.2 * std::sqrt(3.0), 1e-12);
+    EXPECT_EQ(d.mesh_to_surface_at, (Vec3{1.2, 1.2, 1.2}));
+    EXPECT_NEAR(domain.closest(d.surface_to_mesh_at).squared_distance, 0.0, 1e-20);
+    EXPECT_NEAR(std::sqrt(SurfaceQuery(pulled).closest(d.surface_to_mesh_at).squared_distance), d.surface_to_mesh_max,
+                1e-12);
+    EXPECT_GT(d.surface_to_mesh_max, 0.0);
+}
+
 TEST(RadiusFromSurface, HalfTheDistanceAndOutsideCheck) {
     const SurfaceQuery q(make_cube(2.0));
     Skeleton s;

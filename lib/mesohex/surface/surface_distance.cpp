@@ -37,12 +37,17 @@ std::vector<Vec3> sample(const TriangleMesh& m, int n) {
     return out;
 }
 
-void max_mean(const std::vector<double>& d2, double& mx, double& mean) {
+// Largest and mean distance over the samples (squared distances in), and where the largest is (the first sample
+// attaining it: deterministic).
+void max_mean(const std::vector<double>& d2, const std::vector<Vec3>& samples, double& mx, double& mean, Vec3& at) {
     mx = 0;
     double sum = 0;
-    for (double v : d2) {
-        const double d = std::sqrt(v);
-        mx = std::max(mx, d);
+    for (std::size_t i = 0; i < d2.size(); ++i) {
+        const double d = std::sqrt(d2[i]);
+        if (d > mx || i == 0) {
+            mx = d;
+            at = samples[i];
+        }
         sum += d;
     }
     mean = d2.empty() ? 0.0 : sum / static_cast<double>(d2.size());
@@ -57,8 +62,10 @@ SurfaceDistance surface_distance(const TriangleMesh& boundary, const SurfaceQuer
     const std::vector<Vec3> mesh_samples = sample(boundary, n);
     const std::vector<Vec3> surface_samples = sample(domain.surface(), n);
     SurfaceDistance r;
-    max_mean(domain.squared_distances(mesh_samples), r.mesh_to_surface_max, r.mesh_to_surface_mean);
-    max_mean(mesh_query.squared_distances(surface_samples), r.surface_to_mesh_max, r.surface_to_mesh_mean);
+    max_mean(domain.squared_distances(mesh_samples), mesh_samples, r.mesh_to_surface_max, r.mesh_to_surface_mean,
+             r.mesh_to_surface_at);
+    max_mean(mesh_query.squared_distances(surface_samples), surface_samples, r.surface_to_mesh_max,
+             r.surface_to_mesh_mean, r.surface_to_mesh_at);
     r.mesh_samples = static_cast<long>(mesh_samples.size());
     r.surface_samples = static_cast<long>(surface_samples.size());
     r.max = std::max(r.mesh_to_surface_max, r.surface_to_mesh_max);
