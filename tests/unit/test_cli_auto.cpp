@@ -143,3 +143,17 @@ TEST(AutoCli, CactusGivesAValidHexMeshCloseToTheSurface) {
 TEST(AutoCli, AortaGivesAValidHexMeshCloseToTheSurface) {
     check_auto("aorta", "aorta.stl", kHausdorffTarget);
 }
+
+// --no-retry: one attempt, with the default reach, whatever it gives; the report says so.
+TEST(AutoCli, NoRetryKeepsTheFirstAttempt) {
+    const fs::path surface = fs::path(MESOHEX_SHARED_DATA_DIR) / "surfaces" / "cactus.obj";
+    const fs::path out = temp_dir() / "cactus_once.mesh", report = temp_dir() / "cactus_once.json";
+    const auto r = run_cli("auto " + surface.string() + " -o " + out.string() + " --report " + report.string() +
+                           " --quiet --no-retry");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const nlohmann::json rep = read_json(report);
+    ASSERT_EQ(rep["attempts"].size(), 1u);
+    EXPECT_EQ(rep["free_branching_reach"].get<double>(), mesohex::AdaptationOptions{}.free_branching_reach);
+    EXPECT_EQ(rep["attempts"][0]["hexes"].get<long>(), rep["quality"]["hexes"].get<long>());
+    EXPECT_EQ(r.output.find("attempt 2"), std::string::npos);
+}
