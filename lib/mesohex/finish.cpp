@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 
@@ -105,7 +107,17 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
 
     if (options.pad) {
         const Clock::time_point t = Clock::now();
-        mesh = pad(mesh, options.padding).mesh;
+        PaddingOptions padding = options.padding;
+        if (options.pad_to_domain > 0 && !padding.offset_rule && padding.absolute_thickness == 0)
+            padding.offset_rule = [&query, &options](const Vec3& p, const Vec3& d, double t, double mean_edge) {
+                // Towards the domain: as far as the surface along d (from inside), at least t, at most
+                // pad_to_domain x the mean boundary edge at the vertex.
+                const double cap = std::max(t, options.pad_to_domain * mean_edge);
+                if (!(cap > t) || !query.inside(p)) return t;
+                const std::optional<RayHit> hit = query.first_hit(p, d);
+                return hit ? std::clamp(hit->distance, t, cap) : t;
+            };
+        mesh = pad(mesh, padding).mesh;
         result.stages.push_back(measure("pad", ms_since(t), mesh));
         // Near-flat padding hexes: relax them on the coarse padded mesh (FinishOptions::pad_improve_sj).
         if (options.pad_improve_sj > 0 && result.stages.back().inverted == 0 &&

@@ -33,6 +33,12 @@ inline UntangleOptions pad_improve_defaults() {
 struct FinishOptions {
     bool pad = true;
     PaddingOptions padding;        // default: 1 layer
+    // > 0 (and padding.offset_rule unset, padding.absolute_thickness 0): a boundary vertex inside the domain moves as
+    // far as the domain surface along its padding direction, between the padding's own offset (thickness x shortest
+    // boundary edge) and pad_to_domain x the mean boundary edge at the vertex. A raw mesh inside its domain (radii
+    // 0.5 x the distance to the surface) then starts the fit with its boundary near the surface, while a raw mesh
+    // already at the surface keeps a thin layer.
+    double pad_to_domain = 0.25;
     // Quality pass on the padded mesh (before subdivision) when its min SJ is below pad_improve_sj (near-flat padding
     // hexes where the averaged normals of a concave junction or a high-valence vertex almost cross; the fit keeps
     // every hex near its start quality, so they would stay bad and hold the boundary off the surface): the untangling

@@ -6,6 +6,7 @@
 
 #include <tbb/global_control.h>
 
+#include "hex_fixtures.h"
 #include "mesohex/finish.h"
 
 using namespace mesohex;
@@ -220,4 +221,35 @@ TEST(Finish, GoalsAndTheBetterOfTwoResults) {
     mesohex::MeshGoals loose;
     loose.hausdorff = 0.05;
     EXPECT_EQ(mesohex::missed_goals(far, loose), 1);
+}
+
+// Padding towards the domain (FinishOptions::pad_to_domain): the 2 x 2 x 2 block stretched to 2 x 2 x 6. The vertex in
+// the middle of its face y = 0, (1, 0, 3), has boundary edges of 1 (along x) and 3 (along z): the layer's own offset
+// is 0.25 x 1, the cap 0.25 x mean edge 2 = 0.5. Its new vertex goes along -y as far as the domain's face y = -h,
+// within [0.25, 0.5]; with pad_to_domain 0 it stays at 0.25.
+TEST(Finish, PaddingReachesTowardsTheDomain) {
+    HexMesh block = mesohex::test::make_block(2, 2, 2);
+    for (Vec3& p : block.points) p.z *= 3;
+    const auto padded_y = [&](double h, double pad_to_domain) {
+        TriangleMesh box = unit_cube_surface();
+        for (Vec3& p : box.points) p = Vec3{-1 + 4 * p.x, -h + (2 + 2 * h) * p.y, -1 + 8 * p.z};
+        FinishOptions o;
+        o.subdivide = false;
+        o.fit = false;
+        o.smooth = false;
+        o.pad_improve_sj = 0;
+        o.measure_distance = false;
+        o.pad_to_domain = pad_to_domain;
+        const FinishResult r = finish_mesh(block, box, o);
+        double y = 1;
+        for (std::size_t v = block.points.size(); v < r.mesh.points.size(); ++v)
+            if (std::abs(r.mesh.points[v].x - 1) < 1e-12 && std::abs(r.mesh.points[v].z - 3) < 1e-12 &&
+                r.mesh.points[v].y < 0)
+                y = r.mesh.points[v].y;
+        return y;
+    };
+    EXPECT_NEAR(padded_y(0.4, 0.25), -0.4, 1e-12);   // the domain's face
+    EXPECT_NEAR(padded_y(1.0, 0.25), -0.5, 1e-12);   // the cap
+    EXPECT_NEAR(padded_y(0.1, 0.25), -0.25, 1e-12);  // the layer's own offset
+    EXPECT_NEAR(padded_y(1.0, 0.0), -0.25, 1e-12);   // off
 }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "hex_fixtures.h"
 #include "mesohex/core/error.h"
@@ -14,6 +15,14 @@ using namespace mesohex;
 using mesohex::test::make_block;
 
 namespace {
+
+PaddingOptions options(int layers, double thickness = 0.25) {
+    PaddingOptions o;
+    o.layers = layers;
+    o.thickness = thickness;
+    return o;
+}
+
 
 // Number of boundary quads of each hex.
 std::vector<int> exposed_faces(const HexMesh& m) {
@@ -72,8 +81,41 @@ TEST(Padding, CubeCornerMovesToTheOffsetCube) {
     for (double sj : compute_quality(r.mesh).sj) EXPECT_GT(sj, 0.5);
 }
 
+// A hex of 1 x 1 x 3: the layer is thickness x the SHORTEST boundary edge at each vertex (1), so the new vertices are
+// the corners of [-0.25, 1.25]^2 x [-0.25, 3.25] (the mean edge at a corner, 5/3, would give 0.42). An offset rule
+// replaces that offset: it receives the corner's offset (0.25 sqrt(3) along the diagonal) and the mean edge 5/3.
+TEST(Padding, LayerFollowsTheShortestEdgeAndTheOffsetRule) {
+    HexMesh tall = mesohex::test::make_unit_cube();
+    for (Vec3& p : tall.points) p.z *= 3;
+    const PaddingResult r = pad(tall);
+    for (int v = 8; v < 16; ++v) {
+        const Vec3 o = r.mesh.points[static_cast<std::size_t>(r.origin_vertex[static_cast<std::size_t>(v)])];
+        const Vec3 p = r.mesh.points[static_cast<std::size_t>(v)];
+        EXPECT_NEAR(p.x, o.x == 0 ? -0.25 : 1.25, 1e-12);
+        EXPECT_NEAR(p.y, o.y == 0 ? -0.25 : 1.25, 1e-12);
+        EXPECT_NEAR(p.z, o.z == 0 ? -0.25 : 3.25, 1e-12);
+    }
+    PaddingOptions o = options(1);
+    int calls = 0;
+    o.offset_rule = [&calls](const Vec3&, const Vec3& d, double t, double mean_edge) {
+        ++calls;
+        EXPECT_NEAR(norm(d), 1.0, 1e-12);
+        EXPECT_NEAR(t, 0.25 * std::sqrt(3.0), 1e-12);
+        EXPECT_NEAR(mean_edge, 5.0 / 3.0, 1e-12);
+        return 0.1 * std::sqrt(3.0);
+    };
+    const PaddingResult q = pad(tall, o);
+    EXPECT_EQ(calls, 8);
+    for (int v = 8; v < 16; ++v) {
+        const Vec3 c = q.mesh.points[static_cast<std::size_t>(q.origin_vertex[static_cast<std::size_t>(v)])];
+        const Vec3 p = q.mesh.points[static_cast<std::size_t>(v)];
+        EXPECT_NEAR(p.x, c.x == 0 ? -0.1 : 1.1, 1e-12);
+        EXPECT_NEAR(p.z, c.z == 0 ? -0.1 : 3.1, 1e-12);
+    }
+}
+
 TEST(Padding, Block2x2x2Gives8Plus24) {
-    const PaddingResult r = pad(make_block(2, 2, 2), {.layers = 1, .thickness = 0.5, .absolute_thickness = 0});
+    const PaddingResult r = pad(make_block(2, 2, 2), options(1, 0.5));
     EXPECT_EQ(r.mesh.hexes.size(), 32u);
     EXPECT_EQ(r.mesh.points.size(), 27u + 26u);
     const QualityReport q = compute_quality(r.mesh);
@@ -125,12 +167,12 @@ TEST(Padding, RingOfEightIsPaddedInsideAndOutside) {
 }
 
 TEST(Padding, TwoLayersAndZeroLayers) {
-    const PaddingResult r2 = pad(mesohex::test::make_unit_cube(), {.layers = 2});
+    const PaddingResult r2 = pad(mesohex::test::make_unit_cube(), options(2));
     EXPECT_EQ(r2.mesh.hexes.size(), 13u);  // 7 + the 6 boundary quads of the padded cube
     EXPECT_TRUE(validate(r2.mesh).valid());
     EXPECT_EQ(std::count(r2.layer_of_hex.begin(), r2.layer_of_hex.end(), 2), 6);
     for (std::size_t v = 16; v < r2.mesh.points.size(); ++v) EXPECT_LT(r2.origin_vertex[v], 8);
-    const PaddingResult r0 = pad(mesohex::test::make_unit_cube(), {.layers = 0});
+    const PaddingResult r0 = pad(mesohex::test::make_unit_cube(), options(0));
     EXPECT_EQ(r0.mesh, mesohex::test::make_unit_cube());
 }
 
@@ -138,7 +180,7 @@ TEST(Padding, RejectsBadInput) {
     HexMesh m = mesohex::test::make_unit_cube();
     m.hexes[0][3] = 99;
     EXPECT_THROW(pad(m), Error);
-    EXPECT_THROW(pad(mesohex::test::make_unit_cube(), {.layers = 1, .thickness = -1}), Error);
+    EXPECT_THROW(pad(mesohex::test::make_unit_cube(), options(1, -1)), Error);
 }
 
 // A U: the 3 x 3 x 3 block without its middle column's upper two layers, the slot (open in y) squeezed to 0.2 wide

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "mesohex/core/error.h"
@@ -53,8 +54,9 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
     std::vector<int> local(old_vertices, -1);
     for (std::size_t i = 0; i < nb; ++i) local[static_cast<std::size_t>(boundary_vertices[i])] = static_cast<int>(i);
 
-    // Per boundary vertex: sum of unit quad normals, the normals themselves (for the scaling), edge-length sums.
+    // Per boundary vertex: sum of unit quad normals, the normals themselves (for the scaling), shortest boundary edge.
     std::vector<Vec3> normal_sum(nb);
+    std::vector<double> shortest_edge(nb, std::numeric_limits<double>::infinity());
     std::vector<double> edge_len_sum(nb, 0.0);
     std::vector<int> edge_count(nb, 0);
     std::vector<Vec3> quad_normals(topo.boundary_quads.size());
@@ -66,9 +68,10 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
             const std::size_t la = static_cast<std::size_t>(local[static_cast<std::size_t>(a)]);
             const std::size_t lb = static_cast<std::size_t>(local[static_cast<std::size_t>(b)]);
             normal_sum[la] += quad_normals[q];
-            // Each boundary edge is seen from its two quads: both endpoints collect it twice, which cancels in the mean.
             const double len = distance(mesh.points[static_cast<std::size_t>(a)], mesh.points[static_cast<std::size_t>(b)]);
-            edge_len_sum[la] += len;
+            shortest_edge[la] = std::min(shortest_edge[la], len);
+            shortest_edge[lb] = std::min(shortest_edge[lb], len);
+            edge_len_sum[la] += len;  // each edge is seen from its two quads: counted twice at both ends, as its count
             edge_len_sum[lb] += len;
             ++edge_count[la];
             ++edge_count[lb];
@@ -89,11 +92,14 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
     std::vector<double> offset(nb);
     for (std::size_t i = 0; i < nb; ++i) {
         const int v = boundary_vertices[i];
-        const double mean_len = edge_count[i] > 0 ? edge_len_sum[i] / edge_count[i] : 0.0;
-        const double t = options.absolute_thickness > 0 ? options.absolute_thickness : options.thickness * mean_len;
+        const double t = options.absolute_thickness > 0 ? options.absolute_thickness : options.thickness * shortest_edge[i];
         const double mean_cos = cos_count[i] > 0 ? cos_sum[i] / cos_count[i] : 1.0;
         const double scale = mean_cos > 1.0 / 3.0 ? 1.0 / mean_cos : 3.0;
         offset[i] = t * scale;
+        if (options.offset_rule) {
+            const double mean_edge = edge_count[i] > 0 ? edge_len_sum[i] / edge_count[i] : 0.0;
+            offset[i] = options.offset_rule(mesh.points[static_cast<std::size_t>(v)], unit_normal[i], offset[i], mean_edge);
+        }
         mesh.points[old_vertices + i] = mesh.points[static_cast<std::size_t>(v)] + unit_normal[i] * offset[i];
         origin.push_back(origin[static_cast<std::size_t>(v)]);
     }
