@@ -40,8 +40,7 @@ struct AdaptationOptions {
     // 1.72 -> 1.29 %, dinopet 2.83 -> 1.91 %, knight 4.18 -> 3.45 %; cactus.skel 0.682 / 0.930 -> 0.739 / 0.934 and
     // aorta.skel 0.617 / 0.919 -> 0.733 / 0.930; no raw hex inverted on any shared skeleton (0.6 inverts 2 on
     // armadillo). The generated shapes are unchanged. The mesh command retries with branching_reach here when the
-    // result misses its goals (MeshGoals): auto's cactus skeleton leaves the domain near a branching point and needs
-    // the farther joints (0.76 % with 1.0, 4.2 % with 0.7).
+    // result misses its goals (MeshGoals, README step 8); knight and armadillo keep that second attempt.
     double free_branching_reach = 0.7;
     // Radius floor used by the bisection test only (never written): max(r, min_radius_fraction * largest radius on the
     // branch). Keeps a near-zero radius at an extremity (armadillo: 7e-5) from bisecting towards it forever.
