@@ -21,6 +21,7 @@ struct ImportArgs {
     bool keep_fans = false;
     bool no_bl_corners = false;
     bool keep_interior_curves = false;
+    bool reattach_interior_curves = false;
     bool no_boundary_smoothing = false;
     MedialImportOptions options;
 };
@@ -44,8 +45,10 @@ void register_import(CLI::App& app, int* status) {
     cmd->add_flag("--keep-irregular-fans", args->keep_fans,
                   "Keep fan edges whose triangles are not in distinct leaflets (the mesher rejects them)");
     cmd->add_flag("--keep-interior-curves", args->keep_interior_curves,
-                  "Keep curve edges that end inside a sheet there (the mesher rejects them) instead of moving the end "
-                  "to the sheet's nearest boundary vertex");
+                  "Keep curve edges that end inside a sheet exactly there (the mesher roots a branch only where 4 "
+                  "quads meet) instead of moving such an end to a regular neighbour");
+    cmd->add_flag("--reattach-interior-curves", args->reattach_interior_curves,
+                  "Move curve ends that lie inside a sheet to the sheet's nearest boundary vertex (the former way)");
     cmd->add_flag("--no-bl-corners", args->no_bl_corners,
                   "Leave curve attachments on straight leaflet boundaries where they are (no corner made)");
     cmd->add_option("--bl-corner-angle", args->options.bl_joint_max_angle_deg,
@@ -75,7 +78,8 @@ void register_import(CLI::App& app, int* status) {
         args->options.pair_triangles = !args->no_pairing;
         args->options.resolve_irregular_fans = !args->keep_fans;
         args->options.bl_joint_corners = !args->no_bl_corners;
-        args->options.reattach_interior_curves = !args->keep_interior_curves;
+        args->options.root_interior_curves = !args->keep_interior_curves;
+        args->options.reattach_interior_curves = args->reattach_interior_curves;
         args->options.smooth_boundary = !args->no_boundary_smoothing;
         const Skeleton medial = read_medial_mesh(args->input);
         const MedialImport r = import_medial_mesh(medial, args->options);
@@ -83,7 +87,8 @@ void register_import(CLI::App& app, int* status) {
         std::cout << "import " << args->input << ": " << medial.points.size() << " vertices, " << medial.edges.size()
                   << " edges, " << medial.faces.size() << " triangles in " << r.sheets << " sheet(s)\n"
                   << "  irregular-fan triangles removed " << r.fan_triangles_removed << ", curve ends moved to a sheet boundary "
-                  << r.reattached_curve_ends << ", collapsed sheets "
+                  << r.reattached_curve_ends << ", curve ends moved to a regular leaflet vertex " << r.rooted_curve_ends
+                  << ", collapsed sheets "
                   << r.collapsed_sheets << ", leaflets " << r.leaflets << ", fan edges "
                   << r.fan_edges << ", triangle pairs " << r.paired_quads << ", lone triangles " << r.split_triangles
                   << ", BL-joints moved to a corner " << r.moved_bl_joints << ", smoothed vertices " << r.smoothed_vertices

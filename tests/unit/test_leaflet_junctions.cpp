@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <map>
 #include <string>
 #include <vector>
@@ -210,11 +211,30 @@ TEST(LeafletJunctions, IdenticalForAnyThreadCount) {
 
 // Paper section 5: the three unsupported configurations are refused by the analysis, naming the vertex.
 TEST(LeafletJunctions, UnsupportedConfigurationsAreRejectedAtAnalysis) {
-    {  // limitation 1: a branch on the interior vertex 4 of a 2 x 2 plate
+    {  // limitation 1: two branches on the interior vertex 4 of a 2 x 2 plate (one alone is rooted on the plates)
         Skeleton s = test::plate(2, 2);
         s.points.push_back({1, 1, 1});
+        s.points.push_back({1, 1, -1});
         s.edges.push_back({4, 9});
+        s.edges.push_back({4, 10});
         expect_rejected_at(s, 4, "limitation 1");
+    }
+    {  // ... and one branch where 5 faces meet: a fan of 5 quads (centre 0, edge neighbours 1..5, diagonals 6..10)
+        Skeleton s;
+        s.points.push_back({0, 0, 0});
+        for (int k = 0; k < 5; ++k) {
+            const double t = 2 * std::numbers::pi * k / 5;
+            s.points.push_back({std::cos(t), std::sin(t), 0});
+        }
+        for (int k = 0; k < 5; ++k) {
+            const double t = 2 * std::numbers::pi * (k + 0.5) / 5;
+            s.points.push_back({1.4 * std::cos(t), 1.4 * std::sin(t), 0});
+        }
+        for (int k = 0; k < 5; ++k) s.faces.push_back({0, 1 + k, 6 + k, 1 + (k + 1) % 5});
+        add_face_edges(s);
+        s.points.push_back({0, 0, 1});
+        s.edges.push_back({0, 11});
+        expect_rejected_at(s, 0, "5 faces");
     }
     {  // limitation 2: a quad standing on the plate's interior edge 1-4 makes it a fan edge ending at vertex 4,
        // inside the plate (vertex 1 is a regular fan end on the plate's border)

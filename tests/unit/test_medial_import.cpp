@@ -14,6 +14,7 @@
 
 #include "mesohex/core/error.h"
 #include "mesohex/stages/medial_import.h"
+#include "mesohex/stages/skeleton_analysis.h"
 #include "mesohex_io/medial_io.h"
 #include "quad_skeleton_checks.h"
 
@@ -155,28 +156,87 @@ TEST(MedialImport, IrregularFanLosesTheTriangleThatLeavesTheFlattestFan) {
     EXPECT_EQ(kept.fan_edges, 1);
 }
 
-TEST(MedialImport, CurveOnASheetInteriorMovesToTheNearestBoundaryVertex) {
-    // Square 0-1-2-3 fanned around interior vertex 4 = (1.2, 0.9); curve edge 4-5 goes up from it (cup.ma's handle).
+// Curve edges = edges in no face, as (min, max) pairs.
+std::vector<std::pair<int, int>> curve_edges_of(const Skeleton& s) {
+    std::set<std::pair<int, int>> face_sides;
+    for (const std::vector<int>& f : s.faces)
+        for (size_t i = 0; i < f.size(); ++i) face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+    std::vector<std::pair<int, int>> curve;
+    for (const std::array<int, 2>& e : s.edges)
+        if (!face_sides.count(std::minmax(e[0], e[1]))) curve.push_back(std::minmax(e[0], e[1]));
+    return curve;
+}
+
+// Square 0-1-2-3 fanned around interior vertex 4 = (1.2, 0.9); curve edge 4-5 goes up from it (cup.ma's handle).
+Skeleton fanned_square_with_a_curve() {
+    return medial({{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {1.2, 0.9, 0}, {1.2, 0.9, 1}}, {{4, 5}},
+                  {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}});
+}
+
+TEST(MedialImport, CurveOnASheetInteriorStaysWhereFourQuadsMeet) {
+    const Skeleton s = fanned_square_with_a_curve();
+    // Without pairing every triangle splits into 3 quads: 4 quads meet at vertex 4, which keeps the curve.
+    MedialImportOptions split;
+    split.pair_triangles = false;
+    const MedialImport r = import_medial_mesh(s, split);
+    EXPECT_EQ(r.rooted_curve_ends, 0);
+    EXPECT_EQ(r.reattached_curve_ends, 0);
+    ASSERT_EQ(curve_edges_of(r.skeleton).size(), 1u);
+    EXPECT_EQ(curve_edges_of(r.skeleton)[0], std::make_pair(4, 5));
+    EXPECT_EQ(analyze_skeleton(r.skeleton).vertex_class[4], VertexClass::LeafletInterior);
+}
+
+TEST(MedialImport, CurveOnASheetInteriorMovesToARegularNeighbour) {
+    // A pentagon of 5 triangles around vertex 0, the curve 0-6 straight up. Split without pairing, 5 quads meet at 0;
+    // the end moves to a neighbour of 0 where 4 quads meet (the midpoint of a spoke: every in-plane neighbour is at
+    // 90 degrees to the curve, so the lowest id, the midpoint of spoke 0-1, the first new vertex: 7).
+    std::vector<Vec3> pts{{0, 0, 0}};
+    for (int k = 0; k < 5; ++k)
+        pts.push_back({std::cos(2 * std::numbers::pi * k / 5), std::sin(2 * std::numbers::pi * k / 5), 0});
+    pts.push_back({0, 0, 1});
+    std::vector<std::vector<int>> tris;
+    for (int k = 0; k < 5; ++k) tris.push_back({0, 1 + k, 1 + (k + 1) % 5});
+    const Skeleton s = medial(pts, {{0, 6}}, tris);
+    MedialImportOptions split;
+    split.pair_triangles = false;
+    const MedialImport p = import_medial_mesh(s, split);
+    EXPECT_EQ(p.rooted_curve_ends, 1);
+    EXPECT_EQ(euler_characteristic(p.skeleton), euler_characteristic(s));
+    testing::expect_valid_quad_skeleton(p.skeleton);
+    const std::vector<std::pair<int, int>> curve = curve_edges_of(p.skeleton);
+    ASSERT_EQ(curve.size(), 1u);
+    EXPECT_EQ(curve[0], std::make_pair(6, 7));
+    int faces_at_root = 0, faces_at_centre = 0;
+    for (const std::vector<int>& f : p.skeleton.faces) {
+        faces_at_root += static_cast<int>(std::count(f.begin(), f.end(), 7));
+        faces_at_centre += static_cast<int>(std::count(f.begin(), f.end(), 0));
+    }
+    EXPECT_EQ(faces_at_root, 4);
+    EXPECT_EQ(faces_at_centre, 5);
+    const SkeletonAnalysis an = analyze_skeleton(p.skeleton);
+    EXPECT_EQ(an.vertex_class[7], VertexClass::LeafletInterior);
+    EXPECT_EQ(an.vertex_branch_edges[7], 1);
+    // Kept in place on request: the mesher then names vertex 0.
+    MedialImportOptions keep = split;
+    keep.root_interior_curves = false;
+    EXPECT_THROW((void)analyze_skeleton(import_medial_mesh(s, keep).skeleton), Error);
+}
+
+TEST(MedialImport, CurveOnASheetInteriorCanMoveToTheNearestBoundaryVertex) {
     // Distances from 4 to the corners: 1.50, 1.20, 1.36, 1.63 -> the curve end moves to corner 1.
-    const Skeleton s = medial({{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {1.2, 0.9, 0}, {1.2, 0.9, 1}}, {{4, 5}},
-                              {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}});
-    const MedialImport r = import_medial_mesh(s);
+    const Skeleton s = fanned_square_with_a_curve();
+    MedialImportOptions reattach;
+    reattach.reattach_interior_curves = true;
+    const MedialImport r = import_medial_mesh(s, reattach);
     EXPECT_EQ(r.reattached_curve_ends, 1);
     EXPECT_EQ(euler_characteristic(r.skeleton), euler_characteristic(s));
     testing::expect_valid_quad_skeleton(r.skeleton);
-    // Curve edges = edges in no face: exactly one, from corner 1 (input vertices keep their ids) to 5.
-    std::set<std::pair<int, int>> face_sides;
-    for (const std::vector<int>& f : r.skeleton.faces)
-        for (size_t i = 0; i < f.size(); ++i) face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
-    std::vector<std::pair<int, int>> curve;
-    for (const std::array<int, 2>& e : r.skeleton.edges)
-        if (!face_sides.count(std::minmax(e[0], e[1]))) curve.push_back(std::minmax(e[0], e[1]));
+    // Exactly one curve edge, from corner 1 (input vertices keep their ids) to 5.
+    const std::vector<std::pair<int, int>> curve = curve_edges_of(r.skeleton);
     ASSERT_EQ(curve.size(), 1u);
     EXPECT_EQ(curve[0], std::make_pair(1, 5));
 
-    MedialImportOptions keep;
-    keep.reattach_interior_curves = false;
-    EXPECT_EQ(import_medial_mesh(s, keep).reattached_curve_ends, 0);
+    EXPECT_EQ(import_medial_mesh(s).reattached_curve_ends, 0);  // not by default
 }
 
 TEST(MedialImport, SingleTriangleSheetCollapsesToCentroidStar) {

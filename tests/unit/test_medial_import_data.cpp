@@ -2,6 +2,7 @@
 // quad meso-skeleton (label shared_data).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <sys/wait.h>
@@ -14,6 +15,7 @@
 #include "cli_run.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/medial_import.h"
+#include "mesohex/stages/skeleton_analysis.h"
 #include "mesohex_io/hex_io.h"
 #include "mesohex_io/medial_io.h"
 #include "mesohex_io/skeleton_io.h"
@@ -138,27 +140,38 @@ TEST(MedialData, WrenchAndDtorusMeshWithoutInvertedHexes) {
     }
 }
 
-// cup.ma's handle ends on two interior vertices of the cup's sheet (53 and 6); both ends move to the sheet's
-// nearest boundary vertices (65 and 83, 4.4 and 4.1 away), and nothing else is changed.
-TEST(MedialData, CupHandleMovesToTheSheetBoundary) {
+// cup.ma's handle ends on two interior vertices of the cup's sheet (53 and 6). The mesher roots a branch where 4 quads
+// meet: 53 keeps its end, 6's end moves to a regular neighbour; nothing else is changed.
+TEST(MedialData, CupHandleIsRootedInsideTheSheet) {
     const Skeleton m = read_medial_mesh(std::string(MESOHEX_SHARED_DATA_DIR) + "/medial-meshes/cup.ma");
     const MedialImport r = import_medial_mesh(m);
-    EXPECT_EQ(r.reattached_curve_ends, 2);
-    // Points as without re-attachment: 174 input vertices + 344 midpoints (468 triangle sides - 124 pair diagonals) +
-    // 174 face centres (124 pairs + 50 lone triangles).
+    EXPECT_EQ(r.reattached_curve_ends, 0);
+    // Points: 174 input vertices + 344 midpoints (468 triangle sides - 124 pair diagonals) + 174 face centres (124
+    // pairs + 50 lone triangles).
     EXPECT_EQ(r.paired_quads, 124);
     EXPECT_EQ(r.split_triangles, 50);
     EXPECT_EQ(r.skeleton.points.size(), 692u);
     EXPECT_EQ(euler_characteristic(r.skeleton), euler_characteristic(m));
-    // Input vertices keep their ids: the handle's ends are now 65 and 83, nothing attaches to 53 or 6.
+    // The handle's ends: 53 (4 quads meet there) stays; 6 (5 quads) moves to a regular neighbour, one rooted end.
+    EXPECT_EQ(r.rooted_curve_ends, 1);
     std::set<std::pair<int, int>> face_sides;
+    std::vector<int> faces_at(r.skeleton.points.size(), 0);
     for (const std::vector<int>& f : r.skeleton.faces)
-        for (size_t i = 0; i < f.size(); ++i) face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
-    std::set<int> curve_vertices;
+        for (size_t i = 0; i < f.size(); ++i) {
+            face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+            ++faces_at[static_cast<size_t>(f[i])];
+        }
+    std::vector<int> roots;
     for (const std::array<int, 2>& e : r.skeleton.edges)
-        if (!face_sides.count(std::minmax(e[0], e[1]))) curve_vertices.insert({e[0], e[1]});
-    EXPECT_TRUE(curve_vertices.count(65) && curve_vertices.count(83));
-    EXPECT_FALSE(curve_vertices.count(53) || curve_vertices.count(6));
+        if (!face_sides.count(std::minmax(e[0], e[1])))
+            for (int v : e)
+                if (faces_at[static_cast<size_t>(v)] > 0) roots.push_back(v);
+    ASSERT_EQ(roots.size(), 2u);
+    EXPECT_EQ(std::count(roots.begin(), roots.end(), 53), 1);
+    EXPECT_EQ(std::count(roots.begin(), roots.end(), 6), 0);
+    for (int v : roots) EXPECT_EQ(faces_at[static_cast<size_t>(v)], 4) << v;
+    const SkeletonAnalysis an = analyze_skeleton(r.skeleton);
+    for (int v : roots) EXPECT_EQ(an.vertex_class[static_cast<size_t>(v)], VertexClass::LeafletInterior) << v;
 }
 
 // hand (after its irregular fan is resolved), airplane1 and cup (after its handle is re-attached) give valid raw

@@ -317,6 +317,55 @@ TEST(RawMeshLeaflets, PerpendicularBranchAtAPlateCorner) {
     }
 }
 
+// Beyond the paper's limitation 1: a branch rooted at the interior vertex 4 of a 2 x 2 plate (4 faces meet there).
+// Hexes: 4 faces x 2 plates + 8 boundary edges x 2 half-chunks + 2 branch edges x 4 = 32. Vertices: 8 boundary
+// vertices x 6 + the interior vertex's 3 + 9 at the joint + 9 at the extremity = 69: the first chunk stands on the
+// plates' 2 x 2 patch on the branch's side and adds no vertex there. The patch's 8 outer edges get a third hex.
+TEST(RawMeshLeaflets, BranchRootedInsideAPlateStandsOnItsPlates) {
+    for (const double z : {1.0, -1.0}) {
+        SCOPED_TRACE(z);
+        Skeleton s = plate(2, 2);
+        s.points.push_back({1, 1, z});
+        s.points.push_back({1, 1, 2 * z});
+        s.edges.push_back({4, 9});
+        s.edges.push_back({9, 10});
+        const Built b = build(s, 0.25);
+        EXPECT_EQ(b.an.vertex_class[4], VertexClass::LeafletInterior);
+        EXPECT_EQ(b.an.vertex_branch_edges[4], 1);
+        expect_good_leaflet_mesh(s, b, 32);
+        EXPECT_EQ(b.raw.mesh.points.size(), 69u);
+        EXPECT_EQ(b.prediction.boundary_irregular_edges, (std::map<int, long>{{1, 8 + 8 + 16}, {3, 8}}));
+        // The first chunk's 4 hexes (slots 0-3, edge 0 = 4-9) share the up (z > 0) or down vertex of 4, and each
+        // has one face on a plate hex: its 4 root corners are the plate's corners on that side.
+        const int centre = b.raw.vertex_base[4] + (z > 0 ? 1 : 2);
+        for (int k = 0; k < 4; ++k) {
+            const std::array<int, 8>& h = b.raw.mesh.hexes[k];
+            EXPECT_EQ(h[0], centre);
+            for (int c = 0; c < 4; ++c) EXPECT_NEAR(b.raw.mesh.points[h[c]].z, 0.25 * z, 1e-12);
+        }
+        const QualityReport q = compute_quality(b.raw.mesh);
+        EXPECT_EQ(q.boundary_components, 1);
+    }
+}
+
+// An arch rooted at two interior vertices of a 6 x 4 plate (cup.ma's handle): one handle, Euler characteristic 0.
+// Hexes: 24 faces x 2 + 20 boundary edges x 2 + 6 branch edges x 4 = 112.
+TEST(RawMeshLeaflets, ArchRootedAtTwoInteriorVerticesMakesAHandle) {
+    Skeleton s = plate(6, 4);
+    const int a = 2 * 7 + 1, c = 2 * 7 + 5, base = static_cast<int>(s.points.size());
+    for (const Vec3& p : std::vector<Vec3>{{1, 2, 1}, {2, 2, 1.8}, {3, 2, 2}, {4, 2, 1.8}, {5, 2, 1}})
+        s.points.push_back(p);
+    s.edges.push_back({a, base});
+    for (int k = 0; k < 4; ++k) s.edges.push_back({base + k, base + k + 1});
+    s.edges.push_back({base + 4, c});
+    const Built b = build(s, 0.3);
+    expect_good_leaflet_mesh(s, b, 112);
+    const QualityReport q = compute_quality(b.raw.mesh);
+    EXPECT_EQ(q.euler_characteristic, 0);
+    EXPECT_EQ(q.boundary_components, 1);
+    EXPECT_EQ(q.boundary_euler_characteristic, 0);  // a torus
+}
+
 TEST(RawMeshLeaflets, ReflexBorderVertexPushesItsOutVertexOutward) {
     // An L of three unit quads: the reflex border vertex (1, 1) pushes its out vertex along the exterior bisector
     // (+1, +1) / sqrt 2, away from the leaflet (the mean of the unit vectors to its 4 neighbours is zero there, and

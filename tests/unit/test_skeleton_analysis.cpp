@@ -190,12 +190,15 @@ TEST(SkeletonAnalysis, RejectsBadInput) {
         EXPECT_EQ(e.where().kind, ElementRef::Kind::SkeletonFace);
         EXPECT_EQ(e.where().index, 0);
     }
-    Skeleton interior = plate(2, 2);  // centre vertex 4 is interior
+    Skeleton interior = plate(2, 2);  // centre vertex 4 is interior: one branch is rooted there, two are refused
     interior.points.push_back({1, 1, 1});
     interior.edges.push_back({4, 9});
+    EXPECT_EQ(analyze_skeleton(interior).vertex_class[4], VertexClass::LeafletInterior);
+    interior.points.push_back({1, 1, -1});
+    interior.edges.push_back({4, 10});
     try {
         analyze_skeleton(interior);
-        FAIL() << "a branch on a leaflet interior vertex must be rejected";
+        FAIL() << "two branches on a leaflet interior vertex must be rejected";
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
         EXPECT_EQ(e.where().index, 4);

@@ -366,11 +366,59 @@ SurfaceSize surface_size(VertexClass c, int branch_degree) {
         case VertexClass::BLJoint: return {4, 2, 4};
         case VertexClass::LLJoint: return {4, 2, 4};
         case VertexClass::BranchingPoint: return {branch_degree + 2, branch_degree, 2 * branch_degree};
+        case VertexClass::LeafletInterior: return branch_degree == 1 ? SurfaceSize{4, 1, 4} : SurfaceSize{};
         default: return {};
     }
 }
 
 }  // namespace
+
+LeafletPatch leaflet_patch(const Skeleton& skeleton, const SkeletonAnalysis& an, int v, int branch_edge) {
+    std::vector<std::array<int, 2>> fc;  // (face, corner of v), in face order
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        for (int k = 0; k < 4; ++k)
+            if (an.face_vertices[f][k] == v) fc.push_back({f, k});
+    const std::string where = "skeleton vertex " + std::to_string(v);
+    if (fc.size() != 4)
+        throw Error(ErrorCode::UnsupportedConfiguration,
+                    where + ": a branch rooted inside a leaflet needs 4 faces there, not " + std::to_string(fc.size()),
+                    ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    // Counter-clockwise about the oriented normal, face f spans from its corner after v to its corner before v.
+    std::array<std::array<int, 2>, 4> ccw{};
+    ccw[0] = fc[0];
+    std::array<bool, 4> used{true, false, false, false};
+    for (int i = 1; i < 4; ++i) {
+        const auto [f, k] = ccw[i - 1];
+        const int next_start = an.face_vertices[f][(k + 3) & 3];
+        bool found = false;
+        for (int j = 0; j < 4 && !found; ++j) {
+            const auto [g, c] = fc[j];
+            if (used[j] || an.face_vertices[g][(c + 1) & 3] != next_start) continue;
+            ccw[i] = fc[j];
+            used[j] = found = true;
+        }
+        if (!found)
+            throw Error(ErrorCode::UnsupportedConfiguration,
+                        where + ": the 4 faces around it do not form one consistently oriented fan",
+                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    }
+    Vec3 normal{};
+    for (const auto& [f, k] : ccw) normal += an.face_normal[f];
+    const int w = skeleton.edges[branch_edge][0] == v ? skeleton.edges[branch_edge][1] : skeleton.edges[branch_edge][0];
+    LeafletPatch p;
+    p.up = dot(skeleton.points[w] - skeleton.points[v], normal) >= 0;
+    for (int k = 0; k < 4; ++k) {
+        // Seen from the branch's side the order is counter-clockwise: as built on the up side, reversed below.
+        const int j = p.up ? k : (3 - k) & 3;
+        const auto [f, c] = ccw[j];
+        p.face[k] = f;
+        p.corner_centre[k] = c;
+        p.corner_point[k] = p.up ? (c + 1) & 3 : (c + 3) & 3;
+        p.corner_diagonal[k] = (c + 2) & 3;
+        p.neighbour[k] = an.face_vertices[f][p.corner_point[k]];
+    }
+    return p;
+}
 
 LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const SkeletonAnalysis& an) {
     const int nv = static_cast<int>(skeleton.points.size());
@@ -700,14 +748,28 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
         std::vector<int> inc;
         for (int v = range.begin(); v != range.end(); ++v) {
             const VertexClass c = an.vertex_class[v];
+            const bool rooted = c == VertexClass::LeafletInterior && an.vertex_branch_edges[v] == 1;
             if (c != VertexClass::Extremity && c != VertexClass::Joint && c != VertexClass::BranchingPoint &&
-                c != VertexClass::BLJoint)
+                c != VertexClass::BLJoint && !rooted)
                 continue;
             const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
             inc.clear();
             for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
                 if (an.edge_degree[an.vertex_edges[i]] == 0) inc.push_back(an.vertex_edges[i]);
             auto side_of = [&](int e) { return skeleton.edges[e][0] == v ? 0 : 1; };
+            if (rooted) {
+                // Branch rooted inside a leaflet: one quad on the branch edge whose points are the 4 edge neighbours
+                // of v in the order of leaflet_patch (point k = the patch's neighbour k on the branch's side; edge k
+                // between points k and k + 1 = the patch's diagonal vertex there); directions towards them.
+                set_square(cs, e0, q0);
+                cs.edge_quad[inc[0]][side_of(inc[0])] = q0;
+                const LeafletPatch patch = leaflet_patch(skeleton, an, v, inc[0]);
+                for (int k = 0; k < 4; ++k) {
+                    cs.point_valence[p0 + k] = 1;
+                    cs.directions[p0 + k] = normalized(skeleton.points[patch.neighbour[k]] - skeleton.points[v]);
+                }
+                continue;
+            }
             if (c == VertexClass::BLJoint) {
                 // Pillow: quad A = (0,1,2,3) on the branch edge, quad B = (2,1,0,3) for the leaflet (registered on
                 // no edge). Geometry from the leaflet frame (reference-notes §7.2): T into the leaflet (mean of the

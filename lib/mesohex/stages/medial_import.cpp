@@ -323,6 +323,67 @@ int reattach_interior_curve_ends(Skeleton& m) {
     }
     return moved;
 }
+// After the quad split: a curve edge ending at a leaflet interior vertex that is not regular (4 faces) moves that end
+// to the regular interior neighbour (through a leaflet edge) without a curve edge of its own that lies most in the
+// curve's direction (ties: lowest id). The mesher roots a branch only where 4 faces meet. Returns the ends moved.
+int root_interior_curve_ends(Skeleton& s) {
+    const int nv = static_cast<int>(s.points.size());
+    std::map<std::pair<int, int>, int> side_faces;
+    std::vector<int> faces_at(static_cast<size_t>(nv), 0);
+    for (const std::vector<int>& f : s.faces)
+        for (size_t i = 0; i < f.size(); ++i) {
+            ++side_faces[side_key(f[i], f[(i + 1) % f.size()])];
+            ++faces_at[static_cast<size_t>(f[i])];
+        }
+    std::vector<bool> rim(static_cast<size_t>(nv), false);
+    std::vector<int> curve_edges(static_cast<size_t>(nv), 0);
+    std::vector<std::vector<int>> leaflet_nbrs(static_cast<size_t>(nv));
+    for (const std::array<int, 2>& e : s.edges) {
+        const auto it = side_faces.find(side_key(e[0], e[1]));
+        const int n = it == side_faces.end() ? 0 : it->second;
+        if (n == 0) {
+            ++curve_edges[static_cast<size_t>(e[0])];
+            ++curve_edges[static_cast<size_t>(e[1])];
+        } else {
+            leaflet_nbrs[static_cast<size_t>(e[0])].push_back(e[1]);
+            leaflet_nbrs[static_cast<size_t>(e[1])].push_back(e[0]);
+        }
+        if (n != 0 && n != 2) rim[static_cast<size_t>(e[0])] = rim[static_cast<size_t>(e[1])] = true;
+    }
+    auto interior = [&](int v) { return faces_at[static_cast<size_t>(v)] > 0 && !rim[static_cast<size_t>(v)]; };
+    std::vector<std::pair<int, int>> existing;
+    for (const std::array<int, 2>& e : s.edges) existing.push_back(side_key(e[0], e[1]));
+    std::sort(existing.begin(), existing.end());
+    int moved = 0;
+    for (std::array<int, 2>& e : s.edges) {
+        if (side_faces.count(side_key(e[0], e[1])) > 0) continue;
+        for (int k = 0; k < 2; ++k) {
+            const int v = e[static_cast<size_t>(k)], x = e[static_cast<size_t>(1 - k)];
+            if (!interior(v) || (faces_at[static_cast<size_t>(v)] == 4 && curve_edges[static_cast<size_t>(v)] == 1))
+                continue;
+            const Vec3 d = normalized(s.points[static_cast<size_t>(x)] - s.points[static_cast<size_t>(v)]);
+            int best = -1;
+            double best_dot = -2;
+            for (int b : leaflet_nbrs[static_cast<size_t>(v)]) {
+                if (!interior(b) || faces_at[static_cast<size_t>(b)] != 4 || curve_edges[static_cast<size_t>(b)] != 0 ||
+                    b == x || std::binary_search(existing.begin(), existing.end(), side_key(b, x)))
+                    continue;
+                const double c = dot(normalized(s.points[static_cast<size_t>(b)] - s.points[static_cast<size_t>(v)]), d);
+                if (c > best_dot || (c == best_dot && b < best)) {
+                    best_dot = c;
+                    best = b;
+                }
+            }
+            if (best < 0) continue;  // left as it is: the mesher names the vertex
+            e[static_cast<size_t>(k)] = best;
+            --curve_edges[static_cast<size_t>(v)];
+            ++curve_edges[static_cast<size_t>(best)];
+            existing.insert(std::lower_bound(existing.begin(), existing.end(), side_key(best, x)), side_key(best, x));
+            ++moved;
+        }
+    }
+    return moved;
+}
 }  // namespace
 
 MedialImport import_medial_mesh(const Skeleton& m, const MedialImportOptions& opt) {
@@ -612,6 +673,7 @@ MedialImport import_medial_mesh(const Skeleton& m, const MedialImportOptions& op
         }
     }
     add_face_edges(out);
+    if (opt.root_interior_curves) result.rooted_curve_ends = root_interior_curve_ends(out);
     if (opt.bl_joint_corners) result.moved_bl_joints = make_bl_joint_corners(out, opt);
     result.smoothed_vertices = smooth_leaflets(out, opt);
     return result;

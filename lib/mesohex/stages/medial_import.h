@@ -2,8 +2,8 @@
 // Medial mesh (curve edges + triangle sheets, e.g. read from a .ma file) -> meso-skeleton (curve branches + quad
 // leaflets). Method (docs/skeletons.md):
 //   0. irregular fans (an edge in 3+ triangles, two of them in the same leaflet) lose removable triangles (see
-//      MedialImportOptions::resolve_irregular_fans); curve edges ending inside a sheet move to the sheet's nearest
-//      boundary vertex (reattach_interior_curves);
+//      MedialImportOptions::resolve_irregular_fans); (optionally) curve edges ending inside a sheet move to the
+//      sheet's nearest boundary vertex (reattach_interior_curves, off by default);
 //   1. sheets = triangles connected through shared edges; a sheet with fewer than min_sheet_triangles triangles or an
 //      area below min_sheet_area_factor x (its mean radius)^2 collapses to a curve: a new vertex at its centroid,
 //      joined to each sheet vertex that has an attachment (a curve edge or another sheet); unattached sheet vertices
@@ -13,7 +13,8 @@
 //   3. adjacent triangles of a leaflet are paired greedily into quads, best shape first (corner angles closest to
 //      90 degrees, small fold); every face (pair quad or lone triangle) is then split at its centroid and its edge
 //      midpoints into 4 or 3 quads that share the midpoints: an all-quad, conforming subdivision of every sheet;
-//   4. curve edges (in no triangle) stay branch edges. Radii are kept at input vertices, averaged at new ones;
+//   4. curve edges (in no triangle) stay branch edges; one ending inside a leaflet where other than 4 quads meet moves
+//      to a regular neighbour (root_interior_curves). Radii are kept at input vertices, averaged at new ones;
 //   5. BL-joints on a straight stretch of leaflet boundary are pushed out to make a corner, further when their branch
 //      heads back over the leaflet (bl_joint_corners, bl_joint_back_push);
 //   6. leaflets are smoothed: interior vertices by Laplacian sweeps, boundary vertices along their normal (and along
@@ -32,9 +33,13 @@ struct MedialImportOptions {
     // go without changing the Euler characteristic (one side free: the triangle and that side go; two sides free and
     // the third vertex in nothing else: the triangle, both sides and the vertex go).
     bool resolve_irregular_fans = true;
-    // Then a curve edge ending inside a sheet (paper limitation 1: the mesher cannot attach a branch there, cup.ma's
-    // handle) is re-attached to the nearest boundary vertex of that sheet; counts and Euler characteristic unchanged.
-    bool reattach_interior_curves = true;
+    // A curve edge ending inside a sheet (cup.ma's handle) stays there: after the quad split, an end at a vertex where
+    // other than 4 faces meet moves to the regular (4-face) neighbour most in the curve's direction, where the mesher
+    // roots the branch on the plates (root_interior_curves). Counts and Euler characteristic unchanged.
+    bool root_interior_curves = true;
+    // The former way, before everything else (paper limitation 1): re-attach such an end to the nearest boundary
+    // vertex of its sheet. On cup.ma it drags the handle's ends about two radii along the wall, out of the domain.
+    bool reattach_interior_curves = false;
     int min_sheet_triangles = 2;          // sheets with fewer triangles collapse to a curve
     double min_sheet_area_factor = 1.0;   // sheets with area < factor x (mean vertex radius)^2 collapse to a curve
     bool pair_triangles = true;           // pair triangles into quads before splitting (fewer irregular vertices)
@@ -78,6 +83,7 @@ struct MedialImport {
     int moved_bl_joints = 0;          // BL-joints moved to make a corner (bl_joint_corners)
     int smoothed_vertices = 0;        // leaflet interior and regular boundary vertices moved by the smoothing
     int reattached_curve_ends = 0;    // curve-edge ends moved from a sheet interior to its boundary
+    int rooted_curve_ends = 0;        // curve-edge ends moved inside a leaflet to a regular vertex
     int fan_triangles_removed = 0;    // triangles removed to make irregular fans regular (resolve_irregular_fans)
     int fan_edges = 0;                // input edges in 3 or more triangles (each becomes 2 fan edges when split)
 };

@@ -37,7 +37,11 @@ RawMeshPrediction predict_raw_mesh(const SkeletonAnalysis& an, const ConnectionS
     for (int v = 0; v < nv; ++v) {
         const int np = cs.point_begin[v + 1] - cs.point_begin[v];
         const int ned = cs.edge_begin[v + 1] - cs.edge_begin[v];
-        if (np > 0) p.vertices += 1 + np + ned;
+        // A branch rooted inside a leaflet reuses the 9 plate vertices of its patch; the 8 outer edges of the patch
+        // get its first chunk's hex on top of the 2 plates (or plate and half-chunk) they had.
+        const bool rooted = an.vertex_class[v] == VertexClass::LeafletInterior && an.vertex_branch_edges[v] == 1;
+        if (rooted) p.boundary_irregular_edges[3] += 8;
+        if (np > 0 && !rooted) p.vertices += 1 + np + ned;
         if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
         if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
         if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
@@ -249,6 +253,26 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                 face_dn[f][k] = c + (bl ? 4 : 2);
             }
         }
+    // Branches rooted inside a leaflet (LeafletPatch): their connection quad's centre, points and edge midpoints are
+    // the plate vertices of the patch on the branch's side: centre = v's up (down) vertex, point k = its neighbour's,
+    // edge k = the diagonal vertex's. Ids per rooted vertex: centre, 4 points, 4 edges.
+    std::vector<std::array<int, 9>> rooted_ids(nv, std::array<int, 9>{});
+    std::vector<char> rooted(nv, 0);
+    for (int v = 0; v < nv; ++v) {
+        if (an.vertex_class[v] != VertexClass::LeafletInterior || an.vertex_branch_edges[v] != 1) continue;
+        int e = -1;
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+            if (an.edge_degree[an.vertex_edges[i]] == 0) e = an.vertex_edges[i];
+        const LeafletPatch patch = leaflet_patch(skeleton, an, v, e);
+        const std::vector<std::array<int, 4>>& side = patch.up ? face_up : face_dn;
+        rooted[v] = 1;
+        rooted_ids[v][0] = side[patch.face[0]][patch.corner_centre[0]];
+        for (int k = 0; k < 4; ++k) {
+            rooted_ids[v][1 + k] = side[patch.face[k]][patch.corner_point[k]];
+            rooted_ids[v][5 + k] = side[patch.face[k]][patch.corner_diagonal[k]];
+        }
+    }
+
     // Hex slots: 4 per branch edge, in edge order.
     std::vector<int> edge_slot(ne, -1);
     int n_hex = 0;
@@ -292,12 +316,17 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             const std::array<int, 4>& eu = cs.quad_edges[qu];
             const std::array<int, 4>& av = cs.quads[qv];
             const std::array<int, 4>& ev = cs.quad_edges[qv];
+            // Ids of the centre, of surface point x and of surface edge j at an end (its own surface vertices, or
+            // the plate vertices of a rooted branch's patch).
+            auto centre = [&](int w, int b) { return rooted[w] ? rooted_ids[w][0] : b; };
+            auto point = [&](int w, int b, int x) { return rooted[w] ? rooted_ids[w][1 + x] : b + 1 + x; };
+            auto edge = [&](int w, int m, int j) { return rooted[w] ? rooted_ids[w][5 + j] : m + j; };
             for (int k = 0; k < 4; ++k) {
                 // a_k = au[(ru + k) & 3]; matched far vertex a'_k = b_{(2 - k) & 3} = av[(rv + 2 - k) & 3].
                 const int a0 = au[(ru + k) & 3], a1 = au[(ru + k + 1) & 3], ea = eu[(ru + k) & 3];
                 const int b0 = av[(rv + 2 - k) & 3], b1 = av[(rv + 1 - k) & 3], eb = ev[(rv + 1 - k) & 3];
-                raw.mesh.hexes[h0 + k] = {bu, bu + 1 + a0, mu + ea, bu + 1 + a1,
-                                          bv, bv + 1 + b0, mv + eb, bv + 1 + b1};
+                raw.mesh.hexes[h0 + k] = {centre(u, bu), point(u, bu, a0), edge(u, mu, ea), point(u, bu, a1),
+                                          centre(v, bv), point(v, bv, b0), edge(v, mv, eb), point(v, bv, b1)};
                 raw.hex_edge[h0 + k] = e;
             }
         }

@@ -32,6 +32,12 @@ namespace {
     throw Error(code, msg, ElementRef{kind, index});
 }
 
+std::string branch_inside_leaflet(int branch_edges, int faces) {
+    return "a leaflet interior vertex carries a branch only where 4 faces of one leaflet meet and one branch leaves "
+           "(here " + std::to_string(branch_edges) + " branch edge(s), " + std::to_string(faces) +
+           " faces; the paper's limitation 1 otherwise)";
+}
+
 // Edge between a and b among a's incident edges (smallest id), or -1.
 int edge_between(const SkeletonAnalysis& an, const Skeleton& s, int a, int b) {
     for (int i = an.vertex_edge_begin[a]; i < an.vertex_edge_begin[a + 1]; ++i) {
@@ -205,6 +211,9 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
             if (it == leaflet_rim[w].end()) leaflet_rim[w].push_back({l, rim});
             else it->second = it->second || rim;
         }
+    std::vector<int> faces_at(nv, 0);
+    for (const std::array<int, 4>& fv : an.face_vertices)
+        for (int w : fv) ++faces_at[w];
     an.vertex_class.assign(nv, VertexClass::Isolated);
     an.vertex_branch_edges.assign(nv, 0);
     an.vertex_boundary_edges.assign(nv, 0);
@@ -243,11 +252,16 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
                          std::to_string(nfan) + " fan edges of unequal degrees or not in one chain) is not supported",
                      ElementRef::Kind::SkeletonVertex, v);
             c = nfan == 1 ? VertexClass::FanEdgeEnd : VertexClass::FanEdgeVertex;
+        } else if (inside_a_leaflet && nb == 1 && nbnd == 0 && leaflet_rim[v].size() == 1 && ninner == 4 &&
+                   faces_at[v] == 4) {
+            // Beyond the paper's limitation 1: one branch leaving a regular interior vertex (4 faces of one
+            // leaflet). The branch's first chunk stands on the 2 x 2 plate faces around the vertex, on the side the
+            // branch leaves to (raw_mesh.cpp).
+            c = VertexClass::LeafletInterior;
         } else if (inside_a_leaflet && (nb > 0 || nbnd > 0)) {
             if (nb > 0)
                 fail(ErrorCode::UnsupportedConfiguration,
-                     vname + ": a branch edge on a leaflet interior vertex is not supported (paper limitation 1)",
-                     ElementRef::Kind::SkeletonVertex, v);
+                     vname + ": " + branch_inside_leaflet(nb, faces_at[v]), ElementRef::Kind::SkeletonVertex, v);
             fail(ErrorCode::UnsupportedConfiguration,
                  vname + ": a leaflet touches the interior of another leaflet; not supported",
                  ElementRef::Kind::SkeletonVertex, v);
@@ -260,8 +274,7 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
             if (nl == 0 && ninner > 0) {
                 if (nb > 0)
                     fail(ErrorCode::UnsupportedConfiguration,
-                         vname + ": a branch edge on a leaflet interior vertex is not supported (paper limitation 1)",
-                         ElementRef::Kind::SkeletonVertex, v);
+                         vname + ": " + branch_inside_leaflet(nb, faces_at[v]), ElementRef::Kind::SkeletonVertex, v);
                 c = VertexClass::LeafletInterior;
             } else if (nl + nb > 2) {
                 c = VertexClass::BranchingPoint;

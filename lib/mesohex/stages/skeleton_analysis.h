@@ -19,7 +19,8 @@ enum class VertexClass : std::uint8_t {
     Extremity,        // (0,1): one branch edge
     Joint,            // (0,2): two branch edges
     BranchingPoint,   // nl + nb > 2
-    LeafletInterior,  // (0,0) with faces: only interior leaflet edges
+    LeafletInterior,  // (0,0) with faces: only interior leaflet edges (plus at most one branch edge where 4 faces of
+                      // one leaflet meet: vertex_branch_edges == 1)
     LeafletBoundary,  // (1,0): two leaflet boundary edges, no branch
     BLJoint,          // (1,1): one leaflet (through its boundary) and one branch edge
     LLJoint,          // (2,0): two leaflets through their boundaries
