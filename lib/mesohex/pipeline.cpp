@@ -71,7 +71,7 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
     res.skeleton = std::move(s);
 
     const ConnectionSurfaces cs = build_connection_surfaces(res.skeleton, res.analysis, options.connection_surfaces);
-    res.predicted = predict_raw_mesh(res.analysis, cs);
+    res.predicted = predict_raw_mesh(res.skeleton, res.analysis, cs);
     clock.lap("connection_surfaces");
     const BranchFrames frames = propagate_frames(res.skeleton, res.analysis, cs);
     clock.lap("frames");

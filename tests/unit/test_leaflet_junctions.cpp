@@ -39,7 +39,7 @@ Built build(Skeleton s, double r) {
     Built b;
     b.an = analyze_skeleton(s);
     const ConnectionSurfaces cs = build_connection_surfaces(s, b.an);
-    b.prediction = predict_raw_mesh(b.an, cs);
+    b.prediction = predict_raw_mesh(s, b.an, cs);
     b.raw = build_raw_mesh(s, b.an, cs, propagate_frames(s, b.an, cs));
     b.quality = compute_quality(b.raw.mesh);
     return b;

@@ -313,21 +313,45 @@ TEST(MedialImport, ReflexBorderCornerMovesTowardsItsBoundaryNeighbours) {
     EXPECT_NEAR(distance(import_medial_mesh(s, opt).skeleton.points[4], Vec3{1, 1, 0}), 0.0, 1e-12);
 }
 
+// Two unit squares side by side; a curve leaves vertex 1 = (1, 0, 0), in the middle of the straight border y = 0,
+// towards `to`. After the split its boundary neighbours are (0.5, 0, 0) and (1.5, 0, 0) (mean length 0.5), 2 quads
+// meet there and its inward direction is +y.
+Skeleton straight_border_with_a_curve(const Vec3& to) {
+    return medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, to}, {{1, 6}},
+                  {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}});
+}
+
 TEST(MedialImport, BLJointOnAStraightBorderIsPushedOutMoreWhenItsCurveHeadsBackOverTheLeaflet) {
-    // Two unit squares side by side; a curve leaves vertex 1 = (1, 0, 0), in the middle of the straight border y = 0.
-    // After the split its boundary neighbours are (0.5, 0, 0) and (1.5, 0, 0) (mean length 0.5) and its inward
-    // direction is +y. A curve towards (1, -1, 1) heads away: pushed by 1.25 x 0.5 to (1, -0.625, 0). A curve
-    // towards (1, 1, 1) heads back over the leaflet (cosine sqrt(1/2) with +y): pushed 1 + sqrt(1/2) times as far.
-    for (const double y : {-1.0, 1.0}) {
-        const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, y, 1}},
-                                  {{1, 6}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}});
+    // A curve towards (2, -0.3, 0.3) (74 degrees from the outward -y and from the normal: not rooted by the mesher)
+    // has no component along +y: pushed by 1.25 x 0.5 to (1, -0.625, 0). A curve towards (1, 1, 0.5) heads back over
+    // the leaflet (cosine 1 / sqrt(1.25) with +y; 63 degrees from the normal): pushed 1 + 1 / sqrt(1.25) times as far.
+    for (const Vec3& to : {Vec3{2, -0.3, 0.3}, Vec3{1, 1, 0.5}}) {
+        const Skeleton s = straight_border_with_a_curve(to);
         const MedialImport r = import_medial_mesh(s);
         EXPECT_EQ(r.moved_bl_joints, 1);
-        const double push = 1.25 * 0.5 * (y > 0 ? 1 + std::sqrt(0.5) : 1.0);
-        EXPECT_NEAR(distance(r.skeleton.points[1], Vec3{1, -push, 0}), 0.0, 1e-12) << "y " << y;
+        const double push = 1.25 * 0.5 * (to.y > 0 ? 1 + 1 / std::sqrt(1.25) : 1.0);
+        EXPECT_NEAR(distance(r.skeleton.points[1], Vec3{1, -push, 0}), 0.0, 1e-12) << "y " << to.y;
         MedialImportOptions plain;
         plain.bl_joint_back_push = 0;
         EXPECT_NEAR(distance(import_medial_mesh(s, plain).skeleton.points[1], Vec3{1, -0.625, 0}), 0.0, 1e-12);
+    }
+}
+
+TEST(MedialImport, BLJointTheMesherRootsOnTheBorderStaysWhereItIs) {
+    // Outward in the plane (border_root Out) and along the normal where 2 quads meet (Side): no corner is made, and
+    // the mesher classifies vertex 1 as a leaflet boundary vertex rooting the branch.
+    for (const Vec3& to : {Vec3{1, -1, 0}, Vec3{1.2, -0.5, 0.3}, Vec3{1, 0, 1}, Vec3{1, 0.3, -1}}) {
+        SCOPED_TRACE(::testing::Message() << to.x << " " << to.y << " " << to.z);
+        const Skeleton s = straight_border_with_a_curve(to);
+        const MedialImport r = import_medial_mesh(s);
+        EXPECT_EQ(r.moved_bl_joints, 0);
+        EXPECT_NEAR(distance(r.skeleton.points[1], Vec3{1, 0, 0}), 0.0, 1e-12);
+        const SkeletonAnalysis an = analyze_skeleton(r.skeleton);
+        EXPECT_EQ(an.vertex_class[1], VertexClass::LeafletBoundary);
+        EXPECT_EQ(an.vertex_border_root[1], to.z > 0.5 || to.z < -0.5 ? BorderRoot::Side : BorderRoot::Out);
+        MedialImportOptions corner;
+        corner.keep_rooted_bl_joints = false;
+        EXPECT_EQ(import_medial_mesh(s, corner).moved_bl_joints, 1);
     }
 }
 

@@ -34,7 +34,7 @@ Built build(Skeleton s, double radius) {
     Built b;
     b.an = analyze_skeleton(s);
     b.cs = build_connection_surfaces(s, b.an);
-    b.prediction = predict_raw_mesh(b.an, b.cs);
+    b.prediction = predict_raw_mesh(s, b.an, b.cs);
     const BranchFrames fr = propagate_frames(s, b.an, b.cs);
     b.raw = build_raw_mesh(s, b.an, b.cs, fr);
     return b;

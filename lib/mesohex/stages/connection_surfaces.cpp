@@ -366,12 +366,60 @@ SurfaceSize surface_size(VertexClass c, int branch_degree) {
         case VertexClass::BLJoint: return {4, 2, 4};
         case VertexClass::LLJoint: return {4, 2, 4};
         case VertexClass::BranchingPoint: return {branch_degree + 2, branch_degree, 2 * branch_degree};
-        case VertexClass::LeafletInterior: return branch_degree == 1 ? SurfaceSize{4, 1, 4} : SurfaceSize{};
         default: return {};
     }
 }
 
 }  // namespace
+
+Vec3 leaflet_normal_sum(const SkeletonAnalysis& an, int v) {
+    Vec3 n{};
+    for (std::size_t f = 0; f < an.face_vertices.size(); ++f)
+        for (int w : an.face_vertices[f])
+            if (w == v) n += an.face_normal[f];
+    return n;
+}
+
+BorderPatch border_patch(const Skeleton& skeleton, const SkeletonAnalysis& an, int v, int branch_edge) {
+    BorderPatch p;
+    p.kind = an.vertex_border_root[v];
+    int found = 0;
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (an.edge_degree[e] != 1 || found == 2) continue;
+        p.border_edge[found] = e;
+        p.border[found++] = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+    }
+    if (found != 2 || p.kind == BorderRoot::None)
+        throw Error(ErrorCode::UnsupportedConfiguration,
+                    "skeleton vertex " + std::to_string(v) + " cannot root a branch on the leaflet border there",
+                    ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    const Vec3& c = skeleton.points[v];
+    const Vec3 n = leaflet_normal_sum(an, v);
+    const int w = skeleton.edges[branch_edge][0] == v ? skeleton.edges[branch_edge][1] : skeleton.edges[branch_edge][0];
+    const Vec3 b = skeleton.points[w] - c;
+    p.up_first = dot(cross(skeleton.points[p.border[0]] - c, n), b) > 0;
+    if (p.kind == BorderRoot::Side) {
+        p.up = dot(b, n) >= 0;
+        // face[0]: the face whose corner after v (counter-clockwise about the normal) is a border neighbour.
+        int nf = 0;
+        for (int f = 0; f < static_cast<int>(an.face_vertices.size()) && nf < 2; ++f)
+            for (int k = 0; k < 4; ++k)
+                if (an.face_vertices[f][k] == v) {
+                    p.face[nf] = f;
+                    p.corner[nf++] = k;
+                }
+        const int after0 = an.face_vertices[p.face[0]][(p.corner[0] + 1) & 3];
+        if (after0 != p.border[0] && after0 != p.border[1]) {
+            std::swap(p.face[0], p.face[1]);
+            std::swap(p.corner[0], p.corner[1]);
+        }
+        const int x = an.face_vertices[p.face[0]][(p.corner[0] + 1) & 3];
+        p.first = x == p.border[0] ? 0 : 1;
+        p.middle = an.face_vertices[p.face[0]][(p.corner[0] + 3) & 3];
+    }
+    return p;
+}
 
 LeafletPatch leaflet_patch(const Skeleton& skeleton, const SkeletonAnalysis& an, int v, int branch_edge) {
     std::vector<std::array<int, 2>> fc;  // (face, corner of v), in face order
@@ -516,8 +564,12 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
     cs.quad_begin.assign(nv + 1, 0);
     cs.edge_begin.assign(nv + 1, 0);
     for (int v = 0; v < nv; ++v) {
-        const SurfaceSize sz =
-            surface_size(an.vertex_class[v], an.vertex_branch_edges[v] + an.vertex_boundary_edges[v] / 2);
+        const bool rooted = (an.vertex_class[v] == VertexClass::LeafletInterior ||
+                             an.vertex_class[v] == VertexClass::LeafletBoundary) &&
+                            an.vertex_branch_edges[v] == 1;
+        const SurfaceSize sz = rooted ? SurfaceSize{4, 1, 4}
+                                      : surface_size(an.vertex_class[v],
+                                                     an.vertex_branch_edges[v] + an.vertex_boundary_edges[v] / 2);
         cs.point_begin[v + 1] = cs.point_begin[v] + sz.points;
         cs.quad_begin[v + 1] = cs.quad_begin[v] + sz.quads;
         cs.edge_begin[v + 1] = cs.edge_begin[v] + sz.edges;
@@ -748,7 +800,8 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
         std::vector<int> inc;
         for (int v = range.begin(); v != range.end(); ++v) {
             const VertexClass c = an.vertex_class[v];
-            const bool rooted = c == VertexClass::LeafletInterior && an.vertex_branch_edges[v] == 1;
+            const bool rooted =
+                (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) && an.vertex_branch_edges[v] == 1;
             if (c != VertexClass::Extremity && c != VertexClass::Joint && c != VertexClass::BranchingPoint &&
                 c != VertexClass::BLJoint && !rooted)
                 continue;
@@ -763,10 +816,27 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                 // between points k and k + 1 = the patch's diagonal vertex there); directions towards them.
                 set_square(cs, e0, q0);
                 cs.edge_quad[inc[0]][side_of(inc[0])] = q0;
-                const LeafletPatch patch = leaflet_patch(skeleton, an, v, inc[0]);
-                for (int k = 0; k < 4; ++k) {
-                    cs.point_valence[p0 + k] = 1;
-                    cs.directions[p0 + k] = normalized(skeleton.points[patch.neighbour[k]] - skeleton.points[v]);
+                for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 1;
+                if (c == VertexClass::LeafletInterior) {
+                    const LeafletPatch patch = leaflet_patch(skeleton, an, v, inc[0]);
+                    for (int k = 0; k < 4; ++k)
+                        cs.directions[p0 + k] = normalized(skeleton.points[patch.neighbour[k]] - skeleton.points[v]);
+                } else {
+                    const BorderPatch patch = border_patch(skeleton, an, v, inc[0]);
+                    auto to = [&](int x) { return normalized(skeleton.points[x] - skeleton.points[v]); };
+                    if (patch.kind == BorderRoot::Out) {
+                        const Vec3 n = normalized(leaflet_normal_sum(an, v));
+                        const Vec3 side = patch.up_first ? n : -1.0 * n;
+                        cs.directions[p0 + 0] = to(patch.border[0]);
+                        cs.directions[p0 + 1] = side;
+                        cs.directions[p0 + 2] = to(patch.border[1]);
+                        cs.directions[p0 + 3] = -1.0 * side;
+                    } else {
+                        // Side: the out vertex lies opposite the middle neighbour.
+                        const std::array<Vec3, 4> up{to(patch.border[patch.first]), to(patch.middle),
+                                                     to(patch.border[1 - patch.first]), -1.0 * to(patch.middle)};
+                        for (int k = 0; k < 4; ++k) cs.directions[p0 + k] = patch.up ? up[k] : up[(4 - k) & 3];
+                    }
                 }
                 continue;
             }

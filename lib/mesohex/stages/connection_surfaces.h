@@ -85,6 +85,27 @@ struct LeafletPatch {
 };
 LeafletPatch leaflet_patch(const Skeleton& skeleton, const SkeletonAnalysis& analysis, int v, int branch_edge);
 
+// The patch a branch rooted on a leaflet border vertex v stands on (border_root_at(v) != None), seen from the branch,
+// counter-clockwise; border[i] is the other end of v's boundary edge border_edge[i] (in increasing edge id).
+//   Out:  the 4 half-chunk out faces around v's out vertex. Points (border[0]'s out vertex, v's out-up vertex,
+//         border[1]'s out vertex, v's out-down vertex) when up_first, else with out-up and out-down swapped; edge k
+//         joins points k and k + 1 at the out-up / out-down vertex of the border neighbour it touches.
+//   Side: the 2 plate faces (face[0] with border[first] and middle, face[1] with middle and the other border
+//         neighbour) and the 2 half-chunk faces around v's up vertex (up) or down vertex. Up: points (border[first],
+//         middle, border[1 - first], out) copies on the up side (out = v's out-up), edges at face[0]'s and face[1]'s
+//         diagonal corner and at the border neighbours' out-up; down: the reverse order on the down side.
+struct BorderPatch {
+    BorderRoot kind = BorderRoot::None;
+    std::array<int, 2> border{}, border_edge{};
+    bool up_first = true;                       // Out
+    bool up = true;                             // Side
+    int first = 0, middle = -1;                 // Side
+    std::array<int, 2> face{}, corner{};        // Side: the two faces and v's corner in each
+};
+BorderPatch border_patch(const Skeleton& skeleton, const SkeletonAnalysis& analysis, int v, int branch_edge);
+// Sum of the oriented normals of the faces at v.
+Vec3 leaflet_normal_sum(const SkeletonAnalysis& analysis, int v);
+
 // Directions of the raw-mesh vertices around every leaflet vertex (reference-notes §10), shared by the connection
 // surfaces (to place junction surfaces) and the raw mesh (to place the leaflet vertices):
 //   normal[w] = unit sum of the oriented normals of the faces at w (zero for a vertex without faces);

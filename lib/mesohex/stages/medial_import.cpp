@@ -1,5 +1,6 @@
 #include "mesohex/core/union_find.h"
 #include "mesohex/stages/medial_import.h"
+#include "mesohex/stages/skeleton_analysis.h"
 
 #include <algorithm>
 #include <array>
@@ -176,6 +177,13 @@ int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
         }
     }
     const std::vector<Vec3> before = s.points;
+    std::vector<Vec3> normal_sum(static_cast<size_t>(nv));  // oriented face normals (Newell) summed per vertex
+    for (const std::vector<int>& f : s.faces) {
+        Vec3 n{};
+        for (size_t i = 0; i < f.size(); ++i)
+            n += cross(before[static_cast<size_t>(f[i])], before[static_cast<size_t>(f[(i + 1) % f.size()])]);
+        for (int w : f) normal_sum[static_cast<size_t>(w)] += n;
+    }
     int moved = 0;
     for (int v = 0; v < nv; ++v) {
         const std::vector<int>& bn = boundary_neighbours[static_cast<size_t>(v)];
@@ -189,9 +197,14 @@ int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
         inward = normalized(inward);
         if (squared_norm(inward) == 0) continue;
         const double length = 0.5 * (distance(p, a) + distance(p, b));
+        const Vec3 branch = normalized(before[static_cast<size_t>(curve_neighbour[static_cast<size_t>(v)])] - p);
+        // The mesher roots a branch leaving a straight border outward on the border's out patch: no corner needed.
+        if (opt.keep_rooted_bl_joints &&
+            border_root(normalized(a - p), normalized(b - p), inward, normal_sum[static_cast<size_t>(v)], branch,
+                        static_cast<int>(leaflet_neighbours[static_cast<size_t>(v)].size()) - 1) != BorderRoot::None)
+            continue;
         // A branch heading back over the leaflet (positive cosine of its angle to the inward direction) gets a
         // sharper corner: bl_joint_back_push x that cosine more.
-        const Vec3 branch = normalized(before[static_cast<size_t>(curve_neighbour[static_cast<size_t>(v)])] - p);
         const double back = opt.bl_joint_back_push * std::max(0.0, dot(branch, inward));
         s.points[static_cast<size_t>(v)] = p - inward * (opt.bl_joint_push * (1 + back) * length);
         ++moved;

@@ -52,6 +52,9 @@ struct MedialImportOptions {
     // straight boundary their half-chunks fold). Topology and radii are unchanged.
     bool bl_joint_corners = true;
     double bl_joint_max_angle_deg = 110;
+    // ... except a joint the mesher roots on the border's plates (border_root: a branch leaving a straight border
+    // outward, or a branch along the normal where 2 faces meet), where no corner is needed.
+    bool keep_rooted_bl_joints = true;
     double bl_joint_push = 1.25;
     // A joint whose branch heads back over the leaflet (angle to the inward direction below 90 degrees, cosine c > 0:
     // a plane between the branch and the leaflet's border edges needs a sharper corner) is pushed by

@@ -31,16 +31,15 @@ int expected_gaps(const SkeletonAnalysis& an, int v) {
 
 }  // namespace
 
-RawMeshPrediction predict_raw_mesh(const SkeletonAnalysis& an, const ConnectionSurfaces& cs) {
+RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs) {
     RawMeshPrediction p;
     const int nv = static_cast<int>(an.vertex_class.size());
     for (int v = 0; v < nv; ++v) {
         const int np = cs.point_begin[v + 1] - cs.point_begin[v];
         const int ned = cs.edge_begin[v + 1] - cs.edge_begin[v];
-        // A branch rooted inside a leaflet reuses the 9 plate vertices of its patch; the 8 outer edges of the patch
-        // get its first chunk's hex on top of the 2 plates (or plate and half-chunk) they had.
-        const bool rooted = an.vertex_class[v] == VertexClass::LeafletInterior && an.vertex_branch_edges[v] == 1;
-        if (rooted) p.boundary_irregular_edges[3] += 8;
+        const bool rooted = (an.vertex_class[v] == VertexClass::LeafletInterior ||
+                             an.vertex_class[v] == VertexClass::LeafletBoundary) &&
+                            an.vertex_branch_edges[v] == 1;
         if (np > 0 && !rooted) p.vertices += 1 + np + ned;
         if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
         if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
@@ -103,6 +102,61 @@ RawMeshPrediction predict_raw_mesh(const SkeletonAnalysis& an, const ConnectionS
         if (an.vertex_class[v] == VertexClass::BLJoint) p.interior_irregular_edges[4 + faces_at[v]] += 2;
     }
     if (an.counts.boundary_edges > 0) p.boundary_irregular_edges[1] += 2 * an.counts.boundary_edges;
+    // Rooted branches reuse the 9 vertices of their patch; each of the patch's 8 outer edges gets the first chunk's
+    // hex on top of what it had: 2 hexes (plates, half-chunks), or 1 where it was a convex half-chunk edge. Patches of
+    // neighbouring rooted vertices can share outer edges (fingers rooted at every other border vertex): counted per
+    // edge, keyed by its family and skeleton vertices. Families: U / D = the up / down copies of a and b (plate tops);
+    // OX / DX = x's out and out-up / out-down copies (base 2); XU / XD = x's up and out-up / down and out-down copies
+    // (base 2); OU / OD = the out-up / out-down copies of a border vertex and its neighbour (base 1).
+    enum Family { U, D, OX, DX, XU, XD, OU, OD };
+    std::map<std::array<int, 3>, std::array<int, 2>> patch_edges;  // key -> (base hexes, patches)
+    auto add = [&](int family, int a, int b, int base) {
+        std::array<int, 2>& x = patch_edges[{family, std::min(a, b), std::max(a, b)}];
+        x[0] = base;
+        ++x[1];
+    };
+    for (int v = 0; v < nv; ++v) {
+        if (an.vertex_branch_edges[v] != 1) continue;
+        int e = -1;
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+            if (an.edge_degree[an.vertex_edges[i]] == 0) e = an.vertex_edges[i];
+        if (an.vertex_class[v] == VertexClass::LeafletInterior) {
+            const LeafletPatch lp = leaflet_patch(skeleton, an, v, e);
+            for (int k = 0; k < 4; ++k) {
+                const std::array<int, 4>& fv = an.face_vertices[lp.face[k]];
+                const int c = lp.corner_centre[k], d = fv[(c + 2) & 3];
+                add(lp.up ? U : D, fv[(c + 1) & 3], d, 2);
+                add(lp.up ? U : D, d, fv[(c + 3) & 3], 2);
+            }
+        } else if (an.vertex_class[v] == VertexClass::LeafletBoundary) {
+            const BorderPatch bp = border_patch(skeleton, an, v, e);
+            if (bp.kind == BorderRoot::Out) {
+                for (int x : bp.border) {
+                    add(OX, x, x, 2);
+                    add(DX, x, x, 2);
+                    add(OU, v, x, 1);
+                    add(OD, v, x, 1);
+                }
+            } else {
+                const int s = bp.up ? U : D;
+                for (int i = 0; i < 2; ++i) {
+                    const std::array<int, 4>& fv = an.face_vertices[bp.face[i]];
+                    const int c = bp.corner[i], d = fv[(c + 2) & 3];
+                    add(s, fv[(c + 1) & 3], d, 2);
+                    add(s, d, fv[(c + 3) & 3], 2);
+                }
+                for (int x : bp.border) {
+                    add(bp.up ? XU : XD, x, x, 2);
+                    add(bp.up ? OU : OD, v, x, 1);
+                }
+            }
+        }
+    }
+    for (const auto& [key, x] : patch_edges) {
+        if (x[0] != 2) --p.boundary_irregular_edges[x[0]];
+        if (x[0] + x[1] != 2) ++p.boundary_irregular_edges[x[0] + x[1]];
+    }
+    std::erase_if(p.boundary_irregular_edges, [](const auto& kv) { return kv.second == 0; });
     p.hexes = an.predicted_hexes;
     return p;
 }
@@ -259,7 +313,12 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     std::vector<std::array<int, 9>> rooted_ids(nv, std::array<int, 9>{});
     std::vector<char> rooted(nv, 0);
     for (int v = 0; v < nv; ++v) {
-        if (an.vertex_class[v] != VertexClass::LeafletInterior || an.vertex_branch_edges[v] != 1) continue;
+        if (an.vertex_branch_edges[v] != 1) continue;
+        if (an.vertex_class[v] == VertexClass::LeafletBoundary) {
+            rooted[v] = 1;  // ids below, from its half-chunks
+            continue;
+        }
+        if (an.vertex_class[v] != VertexClass::LeafletInterior) continue;
         int e = -1;
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
             if (an.edge_degree[an.vertex_edges[i]] == 0) e = an.vertex_edges[i];
@@ -299,38 +358,6 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     raw.mesh.points.resize(n_points);
     raw.mesh.hexes.resize(n_hex);
     raw.hex_edge.resize(n_hex);
-
-    // Blocks: one chunk of 4 hexes per branch edge (reference-notes §8.1, written in VTK order: the kite at the
-    // first endpoint u, counter-clockwise around the direction u -> v, is the bottom face).
-    tbb::parallel_for(tbb::blocked_range<int>(0, ne, 1024), [&](const tbb::blocked_range<int>& range) {
-        for (int e = range.begin(); e != range.end(); ++e) {
-            const int h0 = edge_slot[e];
-            if (h0 < 0) continue;
-            const int u = skeleton.edges[e][0], v = skeleton.edges[e][1];
-            const int qu = cs.edge_quad[e][0], qv = cs.edge_quad[e][1];
-            const int ru = frames.edge_rotation[e][0], rv = frames.edge_rotation[e][1];
-            const int bu = raw.vertex_base[u], bv = raw.vertex_base[v];
-            const int mu = bu + 1 + (cs.point_begin[u + 1] - cs.point_begin[u]);
-            const int mv = bv + 1 + (cs.point_begin[v + 1] - cs.point_begin[v]);
-            const std::array<int, 4>& au = cs.quads[qu];
-            const std::array<int, 4>& eu = cs.quad_edges[qu];
-            const std::array<int, 4>& av = cs.quads[qv];
-            const std::array<int, 4>& ev = cs.quad_edges[qv];
-            // Ids of the centre, of surface point x and of surface edge j at an end (its own surface vertices, or
-            // the plate vertices of a rooted branch's patch).
-            auto centre = [&](int w, int b) { return rooted[w] ? rooted_ids[w][0] : b; };
-            auto point = [&](int w, int b, int x) { return rooted[w] ? rooted_ids[w][1 + x] : b + 1 + x; };
-            auto edge = [&](int w, int m, int j) { return rooted[w] ? rooted_ids[w][5 + j] : m + j; };
-            for (int k = 0; k < 4; ++k) {
-                // a_k = au[(ru + k) & 3]; matched far vertex a'_k = b_{(2 - k) & 3} = av[(rv + 2 - k) & 3].
-                const int a0 = au[(ru + k) & 3], a1 = au[(ru + k + 1) & 3], ea = eu[(ru + k) & 3];
-                const int b0 = av[(rv + 2 - k) & 3], b1 = av[(rv + 1 - k) & 3], eb = ev[(rv + 1 - k) & 3];
-                raw.mesh.hexes[h0 + k] = {centre(u, bu), point(u, bu, a0), edge(u, mu, ea), point(u, bu, a1),
-                                          centre(v, bv), point(v, bv, b0), edge(v, mv, eb), point(v, bv, b1)};
-                raw.hex_edge[h0 + k] = e;
-            }
-        }
-    });
 
     // Leaflet blocks (reference-notes §8.2-8.3, VTK order). Ids at a leaflet vertex: base = centre, +1 up, +2 down,
     // +3 out, +4 out-up, +5 out-down; "up" is the side of the leaflet's oriented face normals.
@@ -397,6 +424,80 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             raw.mesh.hexes[h] = {a, oa, ob, b, ua, oua, oub, ub};
             raw.mesh.hexes[h + 1] = {a, b, ob, oa, da, db, odb, oda};
             raw.hex_edge[h] = raw.hex_edge[h + 1] = e;
+        }
+    });
+
+    // Branches rooted on a border vertex's out patch (BorderPatch): centre = its out vertex, points = the out vertices
+    // of its border neighbours and its own out-up / out-down, edges = the neighbours' out-up / out-down, all read from
+    // the half-chunks of its two boundary edges.
+    for (int v = 0; v < nv; ++v) {
+        if (!rooted[v] || an.vertex_class[v] != VertexClass::LeafletBoundary) continue;
+        int e = -1;
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+            if (an.edge_degree[an.vertex_edges[i]] == 0) e = an.vertex_edges[i];
+        const BorderPatch patch = border_patch(skeleton, an, v, e);
+        const int base = raw.vertex_base[v];
+        std::array<int, 2> o{}, ou{}, od{};  // per border neighbour: its out, out-up, out-down copies
+        for (int i = 0; i < 2; ++i) {
+            const int be = patch.border_edge[i], h = boundary_slot[be];
+            const auto [f, k] = boundary_side[be];
+            const std::array<int, 8>& up = raw.mesh.hexes[h];
+            const std::array<int, 8>& dn = raw.mesh.hexes[h + 1];
+            const bool leaves = an.face_vertices[f][k] == v;  // the face traverses the edge from v
+            o[i] = leaves ? up[2] : up[1];
+            ou[i] = leaves ? up[6] : up[5];
+            od[i] = leaves ? dn[6] : dn[7];
+        }
+        const int wu = base + 4, wd = base + 5;
+        if (patch.kind == BorderRoot::Out) {
+            rooted_ids[v] = patch.up_first
+                                ? std::array<int, 9>{base + 3, o[0], wu, o[1], wd, ou[0], ou[1], od[1], od[0]}
+                                : std::array<int, 9>{base + 3, o[0], wd, o[1], wu, od[0], od[1], ou[1], ou[0]};
+            continue;
+        }
+        // Side: face[0] = (v, first border neighbour, its diagonal d0, middle), face[1] = (v, middle, d1, the other).
+        const int a = patch.first, b = 1 - patch.first;
+        const int f0 = patch.face[0], c0 = patch.corner[0], f1 = patch.face[1], c1 = patch.corner[1];
+        if (patch.up) {
+            const auto& U = face_up;
+            rooted_ids[v] = {base + 1, U[f0][(c0 + 1) & 3], U[f0][(c0 + 3) & 3], U[f1][(c1 + 3) & 3], wu,
+                             U[f0][(c0 + 2) & 3], U[f1][(c1 + 2) & 3], ou[b], ou[a]};
+        } else {
+            const auto& D = face_dn;
+            rooted_ids[v] = {base + 2, D[f0][(c0 + 1) & 3], wd, D[f1][(c1 + 3) & 3], D[f0][(c0 + 3) & 3],
+                             od[a], od[b], D[f1][(c1 + 2) & 3], D[f0][(c0 + 2) & 3]};
+        }
+    }
+
+    // Blocks: one chunk of 4 hexes per branch edge (reference-notes §8.1, written in VTK order: the kite at the
+    // first endpoint u, counter-clockwise around the direction u -> v, is the bottom face).
+    tbb::parallel_for(tbb::blocked_range<int>(0, ne, 1024), [&](const tbb::blocked_range<int>& range) {
+        for (int e = range.begin(); e != range.end(); ++e) {
+            const int h0 = edge_slot[e];
+            if (h0 < 0) continue;
+            const int u = skeleton.edges[e][0], v = skeleton.edges[e][1];
+            const int qu = cs.edge_quad[e][0], qv = cs.edge_quad[e][1];
+            const int ru = frames.edge_rotation[e][0], rv = frames.edge_rotation[e][1];
+            const int bu = raw.vertex_base[u], bv = raw.vertex_base[v];
+            const int mu = bu + 1 + (cs.point_begin[u + 1] - cs.point_begin[u]);
+            const int mv = bv + 1 + (cs.point_begin[v + 1] - cs.point_begin[v]);
+            const std::array<int, 4>& au = cs.quads[qu];
+            const std::array<int, 4>& eu = cs.quad_edges[qu];
+            const std::array<int, 4>& av = cs.quads[qv];
+            const std::array<int, 4>& ev = cs.quad_edges[qv];
+            // Ids of the centre, of surface point x and of surface edge j at an end (its own surface vertices, or
+            // the plate vertices of a rooted branch's patch).
+            auto centre = [&](int w, int b) { return rooted[w] ? rooted_ids[w][0] : b; };
+            auto point = [&](int w, int b, int x) { return rooted[w] ? rooted_ids[w][1 + x] : b + 1 + x; };
+            auto edge = [&](int w, int m, int j) { return rooted[w] ? rooted_ids[w][5 + j] : m + j; };
+            for (int k = 0; k < 4; ++k) {
+                // a_k = au[(ru + k) & 3]; matched far vertex a'_k = b_{(2 - k) & 3} = av[(rv + 2 - k) & 3].
+                const int a0 = au[(ru + k) & 3], a1 = au[(ru + k + 1) & 3], ea = eu[(ru + k) & 3];
+                const int b0 = av[(rv + 2 - k) & 3], b1 = av[(rv + 1 - k) & 3], eb = ev[(rv + 1 - k) & 3];
+                raw.mesh.hexes[h0 + k] = {centre(u, bu), point(u, bu, a0), edge(u, mu, ea), point(u, bu, a1),
+                                          centre(v, bv), point(v, bv, b0), edge(v, mv, eb), point(v, bv, b1)};
+                raw.hex_edge[h0 + k] = e;
+            }
         }
     });
 

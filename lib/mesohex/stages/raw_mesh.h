@@ -39,12 +39,14 @@ struct RawMeshPrediction {
     // Boundary edges of valence != 2, by valence (the definition of post/quality.h): every branch edge has 4
     // longitudinal edges through the surface-edge midpoints with 1 hex; every extremity cap has 8 rim edges with 1 hex;
     // every leaflet boundary edge has 2 (out-up and out-down) with 1 hex. Leaflet vertices add 2 interior edges
-    // (to up and down) of valence (faces around it) + 2 at a boundary vertex, when that is not 4.
+    // (to up and down) of valence (faces around it) + 2 at a boundary vertex, when that is not 4. A branch rooted on a
+    // leaflet (LeafletPatch, BorderPatch) adds its first chunk's hex to each of its patch's 8 outer edges.
     std::map<int, long> boundary_irregular_edges;
     friend bool operator==(const RawMeshPrediction&, const RawMeshPrediction&) = default;
 };
 
-RawMeshPrediction predict_raw_mesh(const SkeletonAnalysis& analysis, const ConnectionSurfaces& surfaces);
+RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
+                                   const ConnectionSurfaces& surfaces);
 
 struct RawMesh {
     HexMesh mesh;

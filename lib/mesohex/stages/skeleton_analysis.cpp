@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 #include <sstream>
 
@@ -30,6 +31,10 @@ namespace {
 
 [[noreturn]] void fail(ErrorCode code, const std::string& msg, ElementRef::Kind kind, int index) {
     throw Error(code, msg, ElementRef{kind, index});
+}
+
+double angle_between_deg(const Vec3& a, const Vec3& b) {
+    return std::acos(std::clamp(dot(a, b) / (norm(a) * norm(b)), -1.0, 1.0)) * 180 / std::numbers::pi;
 }
 
 std::string branch_inside_leaflet(int branch_edges, int faces) {
@@ -94,6 +99,49 @@ void validate_input(const Skeleton& s, const AnalysisOptions& opt) {
 }
 
 }  // namespace
+
+BorderRoot border_root(const Vec3& d1, const Vec3& d2, const Vec3& inward, const Vec3& normal, const Vec3& branch,
+                       int faces) {
+    if (angle_between_deg(d1, d2) >= kBorderRootAngleDeg) {
+        Vec3 out = cross(normalized(d2 - d1), normal);
+        if (norm(out) > 1e-12) {
+            if (dot(out, inward) > 0) out = -1.0 * out;
+            if (angle_between_deg(out, branch) <= kBorderRootBranchDeg) return BorderRoot::Out;
+        }
+    }
+    if (faces == 2 && norm(normal) > 0 &&
+        std::min(angle_between_deg(normal, branch), angle_between_deg(-1.0 * normal, branch)) <= kBorderRootSideDeg)
+        return BorderRoot::Side;
+    return BorderRoot::None;
+}
+
+BorderRoot border_root_at(const Skeleton& s, const SkeletonAnalysis& an, int v) {
+    std::vector<Vec3> to_border;
+    Vec3 inward{}, branch{}, normal{};
+    int branches = 0;
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        const int w = s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0];
+        const Vec3 d = normalized(s.points[w] - s.points[v]);
+        if (an.edge_degree[e] == 0) {
+            branch = d;
+            ++branches;
+        } else {
+            inward += d;
+        }
+        if (an.edge_degree[e] == 1) to_border.push_back(d);
+        if (an.edge_degree[e] >= 3) return BorderRoot::None;
+    }
+    if (branches != 1 || to_border.size() != 2) return BorderRoot::None;
+    int faces = 0;
+    for (std::size_t f = 0; f < an.face_vertices.size(); ++f)
+        for (int w : an.face_vertices[f])
+            if (w == v) {
+                normal += an.face_normal[f];
+                ++faces;
+            }
+    return border_root(to_border[0], to_border[1], inward, normal, branch, faces);
+}
 
 SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& options) {
     validate_input(s, options);
@@ -215,6 +263,7 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     for (const std::array<int, 4>& fv : an.face_vertices)
         for (int w : fv) ++faces_at[w];
     an.vertex_class.assign(nv, VertexClass::Isolated);
+    an.vertex_border_root.assign(nv, BorderRoot::None);
     an.vertex_branch_edges.assign(nv, 0);
     an.vertex_boundary_edges.assign(nv, 0);
     for (int v = 0; v < nv; ++v) {
@@ -285,7 +334,8 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
             } else if (nl == 1 && nb == 0) {
                 c = VertexClass::LeafletBoundary;
             } else if (nl == 1 && nb == 1) {
-                c = VertexClass::BLJoint;
+                an.vertex_border_root[v] = border_root_at(s, an, v);
+                c = an.vertex_border_root[v] != BorderRoot::None ? VertexClass::LeafletBoundary : VertexClass::BLJoint;
             } else if (nl == 2 && nb == 0) {
                 c = VertexClass::LLJoint;
             }

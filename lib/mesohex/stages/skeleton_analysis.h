@@ -21,8 +21,9 @@ enum class VertexClass : std::uint8_t {
     BranchingPoint,   // nl + nb > 2
     LeafletInterior,  // (0,0) with faces: only interior leaflet edges (plus at most one branch edge where 4 faces of
                       // one leaflet meet: vertex_branch_edges == 1)
-    LeafletBoundary,  // (1,0): two leaflet boundary edges, no branch
-    BLJoint,          // (1,1): one leaflet (through its boundary) and one branch edge
+    LeafletBoundary,  // (1,0): two leaflet boundary edges, no branch (or one rooted on the border's plates:
+                      // border_root, vertex_branch_edges == 1)
+    BLJoint,          // (1,1): one leaflet (through its boundary) and one branch edge (border_root None)
     LLJoint,          // (2,0): two leaflets through their boundaries
     FanEdgeVertex,    // on two or more fan edges (inside a fan-edge chain)
     FanEdgeEnd,       // on exactly one fan edge
@@ -61,6 +62,26 @@ struct AnalysisCounts {
     friend bool operator==(const AnalysisCounts&, const AnalysisCounts&) = default;
 };
 
+// Branches rooted on a leaflet border vertex w (boundary neighbours in unit directions d1, d2; `faces` faces at w;
+// `branch` the unit direction the branch leaves to; `normal` the sum of the oriented face normals at w; `inward` the
+// mean unit vector to w's leaflet neighbours). Such a w is classified LeafletBoundary with vertex_branch_edges 1
+// instead of a BL-joint, whose pillow cannot hold the half-chunks on a straight border:
+//   Out:  the border is nearly straight (d1, d2 at least kBorderRootAngleDeg apart) and the branch leaves within
+//         kBorderRootBranchDeg of the outward in-plane direction cross(unit(d2 - d1), normal) (turned away from
+//         inward): the branch stands on the 4 half-chunk out faces around w's out vertex;
+//   Side: 2 faces meet at w and the branch leaves within kBorderRootSideDeg of the normal (either side): it stands on
+//         the 2 plate and 2 half-chunk faces around w's up (down) vertex.
+enum class BorderRoot : std::uint8_t { None, Out, Side };
+inline constexpr double kBorderRootAngleDeg = 100;
+inline constexpr double kBorderRootBranchDeg = 60;
+inline constexpr double kBorderRootSideDeg = 45;
+BorderRoot border_root(const Vec3& d1, const Vec3& d2, const Vec3& inward, const Vec3& normal, const Vec3& branch,
+                       int faces);
+struct SkeletonAnalysis;
+// The same for vertex v of an analysed skeleton (None unless v has exactly one branch edge, two boundary edges and no
+// fan edge). Needs only the analysis' incidence, edge degrees, faces and face normals.
+BorderRoot border_root_at(const Skeleton& skeleton, const SkeletonAnalysis& analysis, int v);
+
 struct SkeletonAnalysis {
     // Vertex -> incident edges, CSR, each list in increasing edge id: vertex_edges[vertex_edge_begin[v] ...].
     std::vector<int> vertex_edge_begin;  // size V + 1
@@ -68,6 +89,8 @@ struct SkeletonAnalysis {
     std::vector<VertexClass> vertex_class;   // per vertex
     std::vector<int> vertex_branch_edges;    // per vertex: number of incident branch (degree-0) edges
     std::vector<int> vertex_boundary_edges;  // per vertex: number of incident degree-1 edges
+    std::vector<BorderRoot> vertex_border_root;  // per vertex: how a branch is rooted on its leaflet border (None
+                                                 // unless a LeafletBoundary vertex with a branch edge)
     std::vector<int> edge_degree;            // per edge: number of incident faces (0 = branch edge)
     std::vector<int> edge_branch;            // per edge: its branch, or -1
     std::vector<Branch> branches;
@@ -87,6 +110,7 @@ struct AnalysisOptions {
     // Edges shorter than this (absolute) are rejected as degenerate.
     double min_edge_length = 1e-12;
 };
+
 
 // Preconditions (checked, Error(InvalidInput) naming the element otherwise): indices in range, no self-loop edge,
 // no zero-length edge, finite positions, every face a quad whose sides are all listed in skeleton.edges.
