@@ -591,10 +591,26 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                 raw.mesh.points[base + 1] = c + n;
                 raw.mesh.points[base + 2] = c - n;
                 if (vc == VertexClass::LeafletBoundary) {
-                    const Vec3 out = c + leaflet_out_distance(skeleton, an, leaf, v, r) * leaf.out[v];
+                    Vec3 o = leaf.out[v], m = n;
+                    if (an.vertex_border_root[v] == BorderRoot::Out) {
+                        // The out column of a vertex rooting a branch on its out patch turns about the border, by
+                        // the branch's tilt out of the leaflet's plane: the patch then faces the branch.
+                        Vec3 b{};
+                        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+                            const int e = an.vertex_edges[i];
+                            if (an.edge_degree[e] != 0) continue;
+                            const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+                            b = skeleton.points[w] - c;
+                        }
+                        const Vec3 un = leaf.normal[v];
+                        const double phi = options.border_root_tilt * std::atan2(dot(b, un), dot(b, o));
+                        o = std::cos(phi) * leaf.out[v] + std::sin(phi) * un;
+                        m = r * (std::cos(phi) * un - std::sin(phi) * leaf.out[v]);
+                    }
+                    const Vec3 out = c + leaflet_out_distance(skeleton, an, leaf, v, r) * o;
                     raw.mesh.points[base + 3] = out;
-                    raw.mesh.points[base + 4] = out + n;
-                    raw.mesh.points[base + 5] = out - n;
+                    raw.mesh.points[base + 4] = out + m;
+                    raw.mesh.points[base + 5] = out - m;
                 }
                 continue;
             }

@@ -63,6 +63,9 @@ struct RawMeshOptions {
     // cross-section then reaches at most turn_fraction of half of each incident edge (the adaptation stage normally
     // guarantees this already; this only acts on inputs meshed with their own sampling).
     double turn_fraction = 0.8;
+    // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
+    // out-down) about the border by this fraction of the branch's tilt out of the leaflet's plane (0 = in the plane).
+    double border_root_tilt = 1.0;
 };
 
 // Preconditions: skeleton.radii has one finite radius > 0 per vertex (Error(InvalidInput) naming the vertex
