@@ -103,22 +103,34 @@ TEST(FinishData, Cactus) {
     EXPECT_LE(f.distance.relative_max, 0.01);
 }
 
-// cup.ma imported (its handle rooted inside the sheet, at 53 and at 6's regular neighbour) in cup.off: a real pair
-// with a leaflet. Measured: raw 1488 hexes, none inverted (min 0.075) -> 25312; final min SJ 0.690, avg 0.971,
-// 0 inverted; Hausdorff 0.39 % (with the handle's ends moved to the rim, the former import: 12 raw inverted hexes,
-// 0.050 / 0.961, 7.0 %: the handle ran along the wall outside the domain).
-TEST(FinishData, CupFromItsMedialMesh) {
-    const Skeleton s = import_medial_mesh(read_medial_mesh(data("medial-meshes/cup.ma"))).skeleton;
-    const TriangleMesh domain = read_surface(data("surfaces/cup.off"));
-    const Case c = run_case("cup (imported medial mesh, 1 level)", s, domain, data_options());
-    const FinishResult& f = c.finish;
-    expect_hex_counts(f, c.pipeline);
-    EXPECT_EQ(f.stages[0].inverted, 0);
-    EXPECT_TRUE(f.quality.validation.valid());
-    EXPECT_EQ(f.quality.inverted, 0);
-    EXPECT_GE(f.quality.sj_min, 0.3);
-    EXPECT_GE(f.quality.sj_avg, 0.85);
-    EXPECT_LE(f.distance.relative_max, 0.01);
+// The shared medial meshes imported (mesohex import) and finished in their own surfaces: real pairs with leaflets.
+// Measured 2026-12-02 (raw hexes / inverted -> finished: min / avg SJ, Hausdorff):
+//   cup:       1488 / 0 -> 0.690 / 0.971, 0.39 %  (its handle rooted inside the sheet; with the handle's ends moved
+//              to the rim, the former import: 12 raw inverted hexes, 0.050 / 0.961, 7.0 %: the handle ran along the
+//              wall outside the domain);
+//   hand:      314 / 4 -> 0.580 / 0.927, 0.86 %   (fingers rooted on the palm's border: out patches; with BL-joint
+//              pillows on corners pushed out by the import: 12 raw inverted, 0.094 / 0.901, 2.45 %);
+//   airplane1: 446 / 0 -> 0.625 / 0.950, 0.48 %   (nose and tail rooted on out / side patches: 14 raw inverted,
+//              0.054 / 0.908, 3.17 % with pillows);
+//   wrench 0.680 / 0.954, 0.21 % (unchanged).
+// dtorus needs the mesh command's second attempt (0.195 / 0.924, 1.41 % at the first: MedialData.FinishedMeshesMeet-
+// TheRealPairTargets checks the command). Issue 5 targets for real pairs: no inverted hex, min SJ >= 0.3,
+// avg >= 0.85, Hausdorff <= 1 %.
+TEST(FinishData, ImportedMedialMeshesMeetTheRealPairTargets) {
+    for (const char* name : {"cup", "hand", "airplane1", "wrench"}) {
+        SCOPED_TRACE(name);
+        const Skeleton s =
+            import_medial_mesh(read_medial_mesh(data(std::string("medial-meshes/") + name + ".ma"))).skeleton;
+        const TriangleMesh domain = read_surface(data(std::string("surfaces/") + name + ".off"));
+        const Case c = run_case(std::string(name) + " (imported medial mesh, 1 level)", s, domain, data_options());
+        const FinishResult& f = c.finish;
+        expect_hex_counts(f, c.pipeline);
+        EXPECT_TRUE(f.quality.validation.valid());
+        EXPECT_EQ(f.quality.inverted, 0);
+        EXPECT_GE(f.quality.sj_min, 0.3);
+        EXPECT_GE(f.quality.sj_avg, 0.85);
+        EXPECT_LE(f.distance.relative_max, 0.01);
+    }
 }
 
 // Same with 2 levels. Measured: 23296 hexes, min SJ 0.601, avg 0.974, 0 inverted, Hausdorff 0.49 %, ~4 s (0.754 /

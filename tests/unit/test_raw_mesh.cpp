@@ -366,6 +366,69 @@ TEST(RawMeshLeaflets, ArchRootedAtTwoInteriorVerticesMakesAHandle) {
     EXPECT_EQ(q.boundary_euler_characteristic, 0);  // a torus
 }
 
+// A 2 x 2 plate with a 2-edge branch leaving the middle vertex 1 = (1, 0, 0) of its straight border y = 0 towards
+// `to`: 32 hexes (8 plates + 16 half-chunks + 8 chunk hexes) and 8 x 6 + 3 + 9 + 9 = 69 vertices, as for a branch
+// rooted inside; the branch stands on 4 half-chunk faces (Out) or on 2 plate and 2 half-chunk faces (Side).
+Skeleton plate_with_a_border_branch(const Vec3& to) {
+    Skeleton s = plate(2, 2);
+    s.points.push_back(Vec3{1, 0, 0} + to);
+    s.points.push_back(Vec3{1, 0, 0} + 2.0 * to);
+    s.edges.push_back({1, 9});
+    s.edges.push_back({9, 10});
+    return s;
+}
+
+TEST(RawMeshLeaflets, BranchLeavingAStraightBorderStandsOnItsHalfChunks) {
+    // Outward (-y), tilted 27 and 45 degrees out of the plane: Out. The out column turns with the branch, so the
+    // first chunk's root centre (vertex 1's out copy, at 0.25 from it) lies along the branch.
+    for (const Vec3& to : {Vec3{0, -1, 0}, Vec3{0, -1, 0.5}, Vec3{0, -1, -1}}) {
+        SCOPED_TRACE(::testing::Message() << to.y << " " << to.z);
+        const Skeleton s = plate_with_a_border_branch(to);
+        const Built b = build(s, 0.25);
+        EXPECT_EQ(b.an.vertex_class[1], VertexClass::LeafletBoundary);
+        EXPECT_EQ(b.an.vertex_border_root[1], BorderRoot::Out);
+        expect_good_leaflet_mesh(s, b, 32);
+        EXPECT_EQ(b.raw.mesh.points.size(), 69u);
+        const int out = b.raw.vertex_base[1] + 3;
+        EXPECT_EQ(b.raw.mesh.hexes[0][0], out);
+        EXPECT_NEAR(distance(b.raw.mesh.points[out], Vec3{1, 0, 0} + 0.25 * normalized(to)), 0.0, 1e-12);
+        // 4 of the 8 patch edges were convex (1 hex) and are flat now; 4 go from 2 hexes to 3.
+        EXPECT_EQ(b.prediction.boundary_irregular_edges, (std::map<int, long>{{1, 16 + 8 + 8 - 4}, {3, 4}}));
+    }
+}
+
+TEST(RawMeshLeaflets, BranchAlongTheNormalAtABorderVertexOfTwoFacesStandsOnItsPlates) {
+    // Up (+z) or down, or leaning 27 degrees outward: Side. On the up (down) side of vertex 1: 2 plates and 2
+    // half-chunks; the 2 patch edges at vertex 1's out-up copy were convex and are flat now, the other 6 get a third
+    // hex.
+    for (const Vec3& to : {Vec3{0, 0, 1}, Vec3{0, 0, -1}, Vec3{0, -0.5, 1}}) {
+        SCOPED_TRACE(::testing::Message() << to.y << " " << to.z);
+        const Skeleton s = plate_with_a_border_branch(to);
+        const Built b = build(s, 0.25);
+        EXPECT_EQ(b.an.vertex_border_root[1], BorderRoot::Side);
+        expect_good_leaflet_mesh(s, b, 32);
+        EXPECT_EQ(b.raw.mesh.points.size(), 69u);
+        EXPECT_EQ(b.raw.mesh.hexes[0][0], b.raw.vertex_base[1] + (to.z > 0 ? 1 : 2));
+        EXPECT_EQ(b.prediction.boundary_irregular_edges, (std::map<int, long>{{1, 16 + 8 + 8 - 2}, {3, 6}}));
+    }
+}
+
+TEST(RawMeshLeaflets, NeighbouringBorderRootsShareAPatchEdge) {
+    // A 4 x 1 strip with outward branches at border vertices 1 and 3 (both next to 2): the edges from 2's out copy to
+    // its out-up and out-down copies carry 2 half-chunks and both first chunks (boundary valence 4).
+    // Hexes: 4 x 2 + 10 x 2 + 2 x 4 = 36.
+    Skeleton s = plate(4, 1);
+    for (const int v : {1, 3}) {
+        s.points.push_back({double(v), -1, 0});
+        s.edges.push_back({v, static_cast<int>(s.points.size()) - 1});
+    }
+    const Built b = build(s, 0.2);
+    EXPECT_EQ(b.an.vertex_border_root[1], BorderRoot::Out);
+    EXPECT_EQ(b.an.vertex_border_root[3], BorderRoot::Out);
+    expect_good_leaflet_mesh(s, b, 36);
+    EXPECT_EQ(b.prediction.boundary_irregular_edges.at(4), 2);
+}
+
 TEST(RawMeshLeaflets, ReflexBorderVertexPushesItsOutVertexOutward) {
     // An L of three unit quads: the reflex border vertex (1, 1) pushes its out vertex along the exterior bisector
     // (+1, +1) / sqrt 2, away from the leaflet (the mean of the unit vectors to its 4 neighbours is zero there, and
