@@ -115,7 +115,8 @@ struct AnalysisOptions {
 // Preconditions (checked, Error(InvalidInput) naming the element otherwise): indices in range, no self-loop edge,
 // no zero-length edge, finite positions, every face a quad whose sides are all listed in skeleton.edges.
 // Rejected with Error(UnsupportedConfiguration) naming the vertex (the paper's section 5 limitations, so that they
-// never reach the later stages): a branch edge on a vertex inside a leaflet (limitation 1) or on a fan-edge vertex
+// never reach the later stages): a branch edge on a vertex inside a leaflet (limitation 1), except one branch where
+// 4 faces of one leaflet meet (rooted on the plates, LeafletPatch), or on a fan-edge vertex
 // (limitation 3); an irregular fan (limitation 2): a fan edge ending inside a leaflet, i.e. a fan-edge end where not
 // every face around the fan edge leaves by its own boundary edge, a fan-edge chain vertex with a boundary edge, with
 // fan edges of unequal degrees or with more than two fan edges, or any fan-edge vertex inside a leaflet; a leaflet
