@@ -1,8 +1,10 @@
 #include "mesohex/stages/adaptation.h"
+#include "mesohex/stages/skeleton_analysis.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <set>
 #include <string>
@@ -33,7 +35,7 @@
 namespace mesohex {
 namespace {
 
-struct Branch {
+struct Chain {
     std::vector<int> verts;  // ordered; front == back for rings and loops
     std::vector<int> edges;  // original edge ids, verts[i] -> verts[i+1]
     bool ring = false;       // no end vertex at all (every vertex is a joint); verts.front() is the anchor
@@ -154,6 +156,7 @@ std::vector<double> sample_branch(const Polyline& pl, int min_edges, const Adapt
 struct EndReach {
     double sphere = 0;
     double cot_gamma = 0;
+    double extent = 0;  // absolute: a branch rooted on a leaflet patch clears root_extent x the patch's edges
 };
 
 // Removes joints that violate the section criterion. x/r hold the whole sampled chain (ends included); end_reach gives
@@ -174,7 +177,7 @@ std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vec
             }
             const EndReach& er = end_reach[k == 0 ? 0 : 1];
             const double r_near = r[keep[k == 0 ? 1 : last - 1]];
-            return std::max(er.sphere * r[keep[k]], er.cot_gamma * r_near);
+            return std::max({er.sphere * r[keep[k]], er.cot_gamma * r_near, er.extent});
         }
         return r[keep[k]] * sin_half_turn(x[keep[k - 1]], x[keep[k]], x[keep[k + 1]]);
     };
@@ -226,7 +229,7 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
     const auto other = [&](int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; };
 
     // Branch extraction, in order of each branch's first edge id.
-    std::vector<Branch> branches;
+    std::vector<Chain> branches;
     std::vector<bool> visited(ne, false);
     for (int e0 = 0; e0 < ne; ++e0) {
         if (!branch_edge[e0] || visited[e0]) continue;
@@ -242,7 +245,7 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
             fwd_e.push_back(f);
             prev = f;
         }
-        Branch b;
+        Chain b;
         const bool ring = fwd_v.front() == fwd_v.back() && is_joint(fwd_v.front());
         if (!ring) {
             // backward from edges[e0][0]
@@ -295,6 +298,45 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
     build_polylines();
 
     const auto is_free_branching_point = [&](int v) { return incident[v].size() >= 3 && !on_face[v]; };
+    // A leaflet vertex with one branch edge that the mesher roots on its plates (inside the leaflet, or border_root on
+    // its border): o.root_extent x the mean length of its leaflet edges; 0 elsewhere (BL-joint pillows, junctions).
+    std::map<std::pair<int, int>, int> side_count;
+    for (const std::vector<int>& f : s.faces)
+        for (std::size_t i = 0; i < f.size(); ++i) ++side_count[std::minmax(f[i], f[(i + 1) % f.size()])];
+    const auto root_extent = [&](int v) -> double {
+        if (!on_face[v] || !(o.root_extent > 0)) return 0;
+        int branches_at = 0, faces_at = 0;
+        double length = 0;
+        std::vector<Vec3> to_border;
+        Vec3 inward{}, branch{}, normal{};
+        for (int e : incident[v]) {
+            const Vec3 d = pos[other(e, v)] - pos[v];
+            if (branch_edge[e]) {
+                ++branches_at;
+                branch = normalized(d);
+                continue;
+            }
+            const int c = side_count[std::minmax(s.edges[e][0], s.edges[e][1])];
+            if (c > 2) return 0;  // a fan edge
+            if (c == 1) to_border.push_back(normalized(d));
+            inward += normalized(d);
+            length += norm(d);
+        }
+        const int leaflet_edges = static_cast<int>(incident[v].size()) - branches_at;
+        if (branches_at != 1 || leaflet_edges == 0) return 0;
+        for (const std::vector<int>& f : s.faces) {
+            if (std::find(f.begin(), f.end(), v) == f.end()) continue;
+            Vec3 fn{};
+            for (std::size_t i = 0; i < f.size(); ++i) fn += cross(pos[f[i]], pos[f[(i + 1) % f.size()]]);
+            normal += dot(fn, normal) < 0 ? -1.0 * fn : fn;  // faces need not be oriented consistently yet
+            ++faces_at;
+        }
+        const bool rooted = to_border.empty() ||
+                            (to_border.size() == 2 &&
+                             border_root(to_border[0], to_border[1], inward, normal, branch, faces_at) !=
+                                 BorderRoot::None);
+        return rooted ? o.root_extent * length / leaflet_edges : 0.0;
+    };
     // Per branch end: the direction it leaves its end vertex (towards the point of its original polyline at arc
     // length min(2 r, L)), and the smallest angle beta to any other branch end or leaflet edge at that vertex. The
     // end's connection quad extends about gamma = beta / 2 from the branch direction (clamped to [15, 60] degrees).
@@ -336,7 +378,7 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
                 }
                 const double gamma = std::clamp(0.5 * beta, pi / 24, pi / 3);
                 const double br = is_free_branching_point(v) ? o.free_branching_reach : o.branching_reach;
-                end_reach[bi][side] = {br, br / std::tan(gamma)};
+                end_reach[bi][side] = {br, br / std::tan(gamma), root_extent(v)};
             }
         }
     };
@@ -345,7 +387,7 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
     // Samples a branch whose ends are at positions xa, xb: joints' arc parameters after bisection, smoothing and the
     // turn criterion.
     const auto resample = [&](std::size_t bi, int min_edges, const Vec3& xa, const Vec3& xb, int* removed) {
-        const Branch& b = branches[bi];
+        const Chain& b = branches[bi];
         const Polyline& pl = polylines[bi];
         const std::vector<double> t = sample_branch(pl, min_edges, o);
         std::vector<Vec3> x{xa};
@@ -371,7 +413,7 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
     if (o.collapse_short_bridges) {
         std::vector<std::pair<double, std::size_t>> candidates;
         for (std::size_t bi = 0; bi < branches.size(); ++bi) {
-            const Branch& b = branches[bi];
+            const Chain& b = branches[bi];
             const int a = b.verts.front(), c = b.verts.back();
             if (b.ring || a == c || !is_free_branching_point(a) || !is_free_branching_point(c)) continue;
             const double chord = distance(s.points[a], s.points[c]);
@@ -446,7 +488,7 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
     // Kept vertices: every non-joint (merged classes once, at their smallest id), plus ring anchors.
     std::vector<bool> kept(n, false);
     for (int v = 0; v < n; ++v) kept[v] = !is_joint(v) && classes.find(v) == v;
-    for (const Branch& b : branches)
+    for (const Chain& b : branches)
         if (b.ring) kept[b.verts.front()] = true;
     std::vector<int> new_id(n, -1);
     AdaptationResult result;
@@ -469,7 +511,7 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
     for (const std::array<int, 2>& e : out.edges) single_edge_links.insert(std::minmax(e[0], e[1]));
     for (std::size_t bi = 0; bi < branches.size(); ++bi) {
         if (collapsed[bi]) continue;
-        const Branch& b = branches[bi];
+        const Chain& b = branches[bi];
         const int a = id_of(b.verts.front()), c = id_of(b.verts.back());
         int min_edges = (b.ring || a == c) ? 3 : 1;
         if (min_edges == 1 && single_edge_links.count(std::minmax(a, c))) min_edges = 2;

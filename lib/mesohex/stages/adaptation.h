@@ -42,6 +42,12 @@ struct AdaptationOptions {
     // armadillo). The generated shapes are unchanged. The mesh command retries with branching_reach here when the
     // result misses its goals (MeshGoals, README step 8); knight and armadillo keep that second attempt.
     double free_branching_reach = 0.7;
+    // A branch rooted on a leaflet's plates (inside the leaflet where 4 faces meet, or on its border: border_root in
+    // skeleton_analysis.h) stands on a patch of faces about one leaflet edge wide: its end also reaches root_extent x
+    // the mean length of the leaflet edges at the vertex, so the first cross-section clears the patch (a pan with
+    // branches of radius 0.3 on unit quads: its arch's first joint 0.4 above the 2 x 2 patch inverted 4 raw hexes).
+    // It binds on none of the shared medial meshes nor on the generated pan. 0 disables.
+    double root_extent = 0.5;
     // Radius floor used by the bisection test only (never written): max(r, min_radius_fraction * largest radius on the
     // branch). Keeps a near-zero radius at an extremity (armadillo: 7e-5) from bisecting towards it forever.
     double min_radius_fraction = 0.25;
