@@ -357,6 +357,30 @@ TEST(Adaptation, LeafletVertexKeepsTheBranchingReach) {
     EXPECT_EQ(r.skeleton.edges.size(), 4u + 45u);
 }
 
+// A branch rooted inside a 2 x 2 plate of unit quads (centre vertex 4), straight up 3, radius 0.1 everywhere.
+// Bisection: 0.1 + 0.1 < 3 / 2^k until k = 4: 16 edges of 0.1875. Rooted, the end reaches root_extent x the mean
+// leaflet edge = 0.5 (the sphere and cone terms give 0.1): the first edge needs 1.25 x 0.5 = 0.625, so the joints at
+// 0.1875, 0.375 and 0.5625 go and the first joint is at 0.75: 13 edges. With root_extent 0 all 16 stay.
+TEST(Adaptation, RootedBranchClearsItsPatch) {
+    Skeleton s;
+    for (int j = 0; j <= 2; ++j)
+        for (int i = 0; i <= 2; ++i) s.points.push_back({double(i), double(j), 0});
+    s.points.push_back({1, 1, 3});
+    s.radii.assign(s.points.size(), 0.1);
+    s.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}, {3, 4, 7, 6}, {4, 5, 8, 7}};
+    mesohex::add_face_edges(s);
+    s.edges.push_back({4, 9});
+    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_EQ(r.turn_removed_joints, 3);
+    EXPECT_EQ(r.skeleton.edges.size(), 12u + 13u);
+    double lowest = 1e9;
+    for (std::size_t v = 10; v < r.skeleton.points.size(); ++v) lowest = std::min(lowest, r.skeleton.points[v].z);
+    EXPECT_NEAR(lowest, 0.75, 1e-12);
+    AdaptationOptions off;
+    off.root_extent = 0;
+    EXPECT_EQ(mesohex::adapt_skeleton(s, off).edges.size(), 12u + 16u);
+}
+
 TEST(Adaptation, DeterministicAndEulerPreserving) {
     Skeleton s;
     s.points = {{0, 0, 0}, {5, 0, 0}, {0, 5, 0}, {0, 0, 5}};
