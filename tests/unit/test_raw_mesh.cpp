@@ -429,6 +429,32 @@ TEST(RawMeshLeaflets, NeighbouringBorderRootsShareAPatchEdge) {
     EXPECT_EQ(b.prediction.boundary_irregular_edges.at(4), 2);
 }
 
+// Branches rooted at the neighbouring interior vertices 5 and 6 of a 3 x 3 plate share 2 faces: on the same side
+// they would stand on the same plate faces (refused, naming vertex 6); on opposite sides each takes its own side.
+// Hexes: 9 x 2 + 12 x 2 + 2 x 4 = 50.
+TEST(RawMeshLeaflets, NeighbouringRootsOnTheSameSideAreRefused) {
+    for (const double z6 : {1.0, -1.0}) {
+        Skeleton s = plate(3, 3);
+        s.points.push_back({1, 1, 1});
+        s.points.push_back({2, 1, z6});
+        s.edges.push_back({5, 16});
+        s.edges.push_back({6, 17});
+        if (z6 > 0) {
+            try {
+                (void)analyze_skeleton(s);
+                ADD_FAILURE() << "accepted";
+            } catch (const Error& e) {
+                EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
+                EXPECT_EQ(e.where().index, 6);
+                EXPECT_NE(std::string(e.what()).find("skeleton vertex 5"), std::string::npos) << e.what();
+            }
+        } else {
+            const Built b = build(s, 0.25);
+            expect_good_leaflet_mesh(s, b, 50);
+        }
+    }
+}
+
 TEST(RawMeshLeaflets, ReflexBorderVertexPushesItsOutVertexOutward) {
     // An L of three unit quads: the reflex border vertex (1, 1) pushes its out vertex along the exterior bisector
     // (+1, +1) / sqrt 2, away from the leaflet (the mean of the unit vectors to its 4 neighbours is zero there, and

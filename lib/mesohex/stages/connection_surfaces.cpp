@@ -801,7 +801,8 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
         for (int v = range.begin(); v != range.end(); ++v) {
             const VertexClass c = an.vertex_class[v];
             const bool rooted =
-                (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) && an.vertex_branch_edges[v] == 1;
+                (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) &&
+                an.vertex_branch_edges[v] == 1;
             if (c != VertexClass::Extremity && c != VertexClass::Joint && c != VertexClass::BranchingPoint &&
                 c != VertexClass::BLJoint && !rooted)
                 continue;

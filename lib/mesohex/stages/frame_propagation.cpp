@@ -102,7 +102,8 @@ BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& 
             verts = br.vertices;
             edges = br.edges;
             auto constrained = [&](int v) {
-                return an.vertex_class[v] == VertexClass::BranchingPoint || an.vertex_class[v] == VertexClass::BLJoint ||
+                return an.vertex_class[v] == VertexClass::BranchingPoint ||
+                       an.vertex_class[v] == VertexClass::BLJoint ||
                        ((an.vertex_class[v] == VertexClass::LeafletInterior ||
                          an.vertex_class[v] == VertexClass::LeafletBoundary) &&
                         an.vertex_branch_edges[v] == 1);

@@ -487,7 +487,7 @@ Skeleton make_pan(const Params& p) {
     std::vector<Vec3> handle;
     for (int k = 1; k <= 3; ++k)
         handle.push_back({x0 - k * p.L * std::cos(tilt), y_mid, k * p.L * std::sin(tilt)});
-    const double rb = p.r * 5 / 3;  // branches as thick as half a leaflet edge: the patches they stand on are 2 edges wide
+    const double rb = p.r * 5 / 3;  // half a leaflet edge: the patches the branches stand on are 2 edges wide
     add_polyline(s, lat.at(0, mid), handle, std::vector<double>(3, rb));
     // Arch: a half circle from vertex (2, mid) to (n - 2, mid), radius half their distance.
     const double xa = x0 + 2 * p.L, xb = x0 + (p.n - 2) * p.L, rc = 0.5 * (xb - xa), xc = 0.5 * (xa + xb);

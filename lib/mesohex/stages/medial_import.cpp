@@ -381,7 +381,8 @@ int root_interior_curve_ends(Skeleton& s) {
                 if (!interior(b) || faces_at[static_cast<size_t>(b)] != 4 || curve_edges[static_cast<size_t>(b)] != 0 ||
                     b == x || std::binary_search(existing.begin(), existing.end(), side_key(b, x)))
                     continue;
-                const double c = dot(normalized(s.points[static_cast<size_t>(b)] - s.points[static_cast<size_t>(v)]), d);
+                const Vec3 to_b = s.points[static_cast<size_t>(b)] - s.points[static_cast<size_t>(v)];
+                const double c = dot(normalized(to_b), d);
                 if (c > best_dot || (c == best_dot && b < best)) {
                     best_dot = c;
                     best = b;

@@ -2,7 +2,9 @@
 #include "mesohex/stages/skeleton_analysis.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <numeric>
 #include <sstream>
@@ -343,6 +345,51 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
         an.vertex_class[v] = c;
     }
 
+    // Branches rooted on the plates: no two may stand on the same raw quad (a plate's up / down face, a half-chunk's
+    // up / down face, or one of the two half-chunk out faces of a boundary edge). Keys: (kind, face or edge, side).
+    {
+        std::map<std::array<int, 3>, int> owner;  // key -> rooted vertex
+        auto claim = [&](int v, int kind, int id, int side) {
+            const auto [it, fresh] = owner.insert({{kind, id, side}, v});
+            if (!fresh)
+                fail(ErrorCode::UnsupportedConfiguration,
+                     "skeleton vertex " + std::to_string(v) + ": its branch would stand on leaflet faces that the "
+                         "branch rooted at skeleton vertex " + std::to_string(it->second) +
+                         " stands on too (two branches rooted next to each other on the same side); move one of them",
+                     ElementRef::Kind::SkeletonVertex, v);
+        };
+        for (int v = 0; v < nv; ++v) {
+            const VertexClass c = an.vertex_class[v];
+            if (an.vertex_branch_edges[v] != 1 ||
+                (c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary))
+                continue;
+            Vec3 branch{}, normal{};
+            std::vector<int> faces, border;
+            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+                const int e = an.vertex_edges[i];
+                const int w = s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0];
+                if (an.edge_degree[e] == 0) branch = s.points[w] - s.points[v];
+                if (an.edge_degree[e] == 1) border.push_back(e);
+            }
+            for (int f = 0; f < nf; ++f)
+                for (int w : an.face_vertices[f])
+                    if (w == v) {
+                        faces.push_back(f);
+                        normal += an.face_normal[f];
+                    }
+            const int side = dot(branch, normal) >= 0 ? 0 : 1;
+            if (c == VertexClass::LeafletInterior || an.vertex_border_root[v] == BorderRoot::Side) {
+                for (int f : faces) claim(v, 0, f, side);
+                for (int e : border) claim(v, 1, e, side);
+            } else {
+                for (int e : border) {
+                    claim(v, 2, e, 0);
+                    claim(v, 2, e, 1);
+                }
+            }
+        }
+    }
+
     // Branches: walk from every non-joint vertex along each unvisited branch edge; what is left are closed rings.
     an.edge_branch.assign(ne, -1);
     auto other_end = [&](int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; };
@@ -441,6 +488,15 @@ std::string analysis_to_text(const SkeletonAnalysis& an) {
     const int nv = static_cast<int>(an.vertex_class.size());
     for (int v = 0; v < nv; ++v) {
         const VertexClass vc = an.vertex_class[v];
+        if ((vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary) &&
+            an.vertex_branch_edges[v] == 1) {
+            const BorderRoot root = an.vertex_border_root[v];
+            const char* where = root == BorderRoot::Out    ? "out patch of the border"
+                                : root == BorderRoot::Side ? "side patch of the border"
+                                                           : "inside the leaflet";
+            os << "vertex " << v << ": " << to_string(vc) << ", its branch rooted on the plates (" << where << ")\n";
+            continue;
+        }
         if (vc == VertexClass::Joint || vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary)
             continue;
         os << "vertex " << v << ": " << to_string(vc) << " (degree "
