@@ -9,6 +9,7 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <set>
 
 #include <tbb/global_control.h>
 
@@ -453,6 +454,59 @@ TEST(RawMeshLeaflets, NeighbouringRootsOnTheSameSideAreRefused) {
             expect_good_leaflet_mesh(s, b, 50);
         }
     }
+}
+
+// Seeded random plates with branches of 2 edges at random vertices in random directions: whatever the analysis
+// accepts (roots inside, on the border's out or side patch, BL-joints at corners and where the border cannot root)
+// gives a valid raw mesh with the skeleton's Euler characteristic and exactly the predicted vertices and irregular
+// edges. Inverted hexes are allowed here (random directions).
+TEST(RawMeshLeaflets, RandomRootsGiveValidMeshesAsPredicted) {
+    std::mt19937 rng(2026);
+    std::uniform_int_distribution<int> pick(0, 24);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int built = 0, refused = 0;
+    std::map<int, int> classes;
+    for (int trial = 0; trial < 200; ++trial) {
+        Skeleton s = plate(4, 4);  // 25 vertices, 16 faces
+        std::set<int> roots;
+        const int k = 1 + trial % 3;
+        while (static_cast<int>(roots.size()) < k) roots.insert(pick(rng));
+        for (const int v : roots) {
+            Vec3 d{u(rng), u(rng), u(rng)};
+            if (!(norm(d) > 0.2)) d = {0, 0, 1};
+            d = normalized(d);
+            const int a = static_cast<int>(s.points.size());
+            s.points.push_back(s.points[v] + 0.8 * d);
+            s.points.push_back(s.points[v] + 1.6 * d);
+            s.edges.push_back({v, a});
+            s.edges.push_back({a, a + 1});
+        }
+        try {
+            (void)analyze_skeleton(s);
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration) << e.what();
+            ++refused;
+            continue;
+        }
+        SCOPED_TRACE(trial);
+        const Built b = build(s, 0.2);
+        for (const int v : roots)
+            ++classes[static_cast<int>(b.an.vertex_class[v]) * 10 + static_cast<int>(b.an.vertex_border_root[v])];
+        const QualityReport q = compute_quality(b.raw.mesh);
+        EXPECT_TRUE(q.validation.valid()) << (q.validation.problems.empty() ? "" : q.validation.problems[0].message);
+        EXPECT_EQ(q.euler_characteristic, euler_characteristic(s));
+        EXPECT_EQ(static_cast<long>(b.raw.mesh.points.size()), b.prediction.vertices);
+        EXPECT_EQ(q.singular_interior_edges, b.prediction.interior_irregular_edges);
+        EXPECT_EQ(q.singular_boundary_edges, b.prediction.boundary_irregular_edges);
+        ++built;
+    }
+    // Every kind of meeting occurred: inside (LeafletInterior), out / side patches (LeafletBoundary), BL-joints.
+    EXPECT_GT(built, 100);
+    EXPECT_GT(refused, 0);
+    EXPECT_GT(classes[static_cast<int>(VertexClass::LeafletInterior) * 10], 0);
+    EXPECT_GT(classes[static_cast<int>(VertexClass::LeafletBoundary) * 10 + static_cast<int>(BorderRoot::Out)], 0);
+    EXPECT_GT(classes[static_cast<int>(VertexClass::LeafletBoundary) * 10 + static_cast<int>(BorderRoot::Side)], 0);
+    EXPECT_GT(classes[static_cast<int>(VertexClass::BLJoint) * 10], 0);
 }
 
 TEST(RawMeshLeaflets, ReflexBorderVertexPushesItsOutVertexOutward) {
