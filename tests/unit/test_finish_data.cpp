@@ -81,6 +81,15 @@ void expect_hex_counts(const FinishResult& f, const PipelineResult& p) {
     EXPECT_EQ(static_cast<long>(f.mesh.hexes.size()), subdivided->hexes);
 }
 
+// Issue 5's targets: valid, no inverted hex, min SJ >= 0.3, avg >= min_avg, Hausdorff <= 1 % of the diagonal.
+void expect_targets(const FinishResult& f, double min_avg = 0.85) {
+    EXPECT_TRUE(f.quality.validation.valid());
+    EXPECT_EQ(f.quality.inverted, 0);
+    EXPECT_GE(f.quality.sj_min, 0.3);
+    EXPECT_GE(f.quality.sj_avg, min_avg);
+    EXPECT_LE(f.distance.relative_max, 0.01);
+}
+
 }  // namespace
 
 // Measured: raw 116 hexes -> 2912; final min SJ 0.676, avg 0.930, 0 inverted; Hausdorff 0.52 % of the diagonal
@@ -96,11 +105,7 @@ TEST(FinishData, Cactus) {
     const FinishResult& f = c.finish;
     expect_hex_counts(f, c.pipeline);
     EXPECT_EQ(f.domain_flipped_triangles, 0);
-    EXPECT_TRUE(f.quality.validation.valid());
-    EXPECT_EQ(f.quality.inverted, 0);
-    EXPECT_GE(f.quality.sj_min, 0.3);
-    EXPECT_GE(f.quality.sj_avg, 0.85);
-    EXPECT_LE(f.distance.relative_max, 0.01);
+    expect_targets(f);
 }
 
 // The shared medial meshes imported (mesohex import) and finished in their own surfaces: real pairs with leaflets.
@@ -125,11 +130,7 @@ TEST(FinishData, ImportedMedialMeshesMeetTheRealPairTargets) {
         const Case c = run_case(std::string(name) + " (imported medial mesh, 1 level)", s, domain, data_options());
         const FinishResult& f = c.finish;
         expect_hex_counts(f, c.pipeline);
-        EXPECT_TRUE(f.quality.validation.valid());
-        EXPECT_EQ(f.quality.inverted, 0);
-        EXPECT_GE(f.quality.sj_min, 0.3);
-        EXPECT_GE(f.quality.sj_avg, 0.85);
-        EXPECT_LE(f.distance.relative_max, 0.01);
+        expect_targets(f);
     }
 }
 
@@ -144,11 +145,7 @@ TEST(FinishData, CactusTwoLevels) {
     const Case c = run_case("cactus (file radii, 2 levels)", s, domain, o);
     const FinishResult& f = c.finish;
     expect_hex_counts(f, c.pipeline);
-    EXPECT_TRUE(f.quality.validation.valid());
-    EXPECT_EQ(f.quality.inverted, 0);
-    EXPECT_GE(f.quality.sj_min, 0.3);
-    EXPECT_GE(f.quality.sj_avg, 0.9);
-    EXPECT_LE(f.distance.relative_max, 0.01);
+    expect_targets(f, 0.9);
 }
 
 // Radii 0.5 x distance to the surface (the reference's choice: room for the padding layer). Measured: raw 260 hexes
@@ -184,9 +181,5 @@ TEST(FinishData, Aorta) {
     const FinishResult& f = c.finish;
     expect_hex_counts(f, c.pipeline);
     EXPECT_EQ(f.domain_flipped_triangles, static_cast<int>(domain.triangles.size()));  // aorta.stl faces inward
-    EXPECT_TRUE(f.quality.validation.valid());
-    EXPECT_EQ(f.quality.inverted, 0);
-    EXPECT_GE(f.quality.sj_min, 0.3);
-    EXPECT_GE(f.quality.sj_avg, 0.85);
-    EXPECT_LE(f.distance.relative_max, 0.01);
+    expect_targets(f);
 }
