@@ -76,7 +76,10 @@ struct RawMeshOptions {
 // RawMeshOptions::margin_fraction); leaflet vertex w: up/down = w +- r n (n = unit sum of incident face normals),
 // out = w + d o (o = LeafletVertexFrames::out, the bisector of the exterior angle of the border; d = r, shortened at
 // reflex corners, see leaflet_out_distance),
-// out-up/out-down = out +- r n.
+// out-up/out-down = out +- r n (at a border vertex rooting a branch on its out patch, the column out / out-up /
+// out-down turns about the border by border_root_tilt x the branch's tilt out of the leaflet's plane).
+// A branch rooted on a leaflet (LeafletPatch, BorderPatch) has no vertices of its own at its root: its first chunk's
+// bottom kites are the 4 plate / half-chunk faces of the patch.
 // Complexity: O(hexes + surface points), parallel.
 RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& analysis, const ConnectionSurfaces& surfaces,
                        const BranchFrames& frames, const RawMeshOptions& options = {});
