@@ -113,9 +113,10 @@ TEST(FinishData, Cactus) {
 //   cup:       1488 / 0 -> 0.690 / 0.971, 0.39 %  (its handle rooted inside the sheet; with the handle's ends moved
 //              to the rim, the former import: 12 raw inverted hexes, 0.050 / 0.961, 7.0 %: the handle ran along the
 //              wall outside the domain);
-//   hand:      314 / 4 -> 0.580 / 0.927, 0.86 %   (fingers rooted on the palm's border: out patches; with BL-joint
-//              pillows on corners pushed out by the import: 12 raw inverted, 0.094 / 0.901, 2.45 %);
-//   airplane1: 446 / 0 -> 0.625 / 0.950, 0.48 %   (nose and tail rooted on out / side patches: 14 raw inverted,
+//   hand:      314 / 1 -> 0.580 / 0.928, 0.86 %   (fingers rooted on the palm's border: out patches turned towards
+//              the branch; with BL-joint pillows on corners pushed out by the import: 12 raw inverted, 0.094 / 0.901,
+//              2.45 %);
+//   airplane1: 446 / 0 -> 0.626 / 0.950, 0.48 %   (nose and tail rooted on out / side patches: 14 raw inverted,
 //              0.054 / 0.908, 3.17 % with pillows);
 //   wrench 0.680 / 0.954, 0.21 % (unchanged).
 // dtorus needs the mesh command's second attempt (0.195 / 0.924, 1.41 % at the first: MedialData.FinishedMeshesMeet-

@@ -593,8 +593,9 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                 if (vc == VertexClass::LeafletBoundary) {
                     Vec3 o = leaf.out[v], m = n;
                     if (an.vertex_border_root[v] == BorderRoot::Out) {
-                        // The out column of a vertex rooting a branch on its out patch turns about the border, by
-                        // the branch's tilt out of the leaflet's plane: the patch then faces the branch.
+                        // The out column of a vertex rooting a branch on its out patch turns in the leaflet's plane
+                        // towards the branch (border_root_turn), then about the border by the branch's tilt out of
+                        // that plane (border_root_tilt): the patch then faces the branch.
                         Vec3 b{};
                         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
                             const int e = an.vertex_edges[i];
@@ -603,9 +604,12 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                             b = skeleton.points[w] - c;
                         }
                         const Vec3 un = leaf.normal[v];
-                        const double phi = options.border_root_tilt * std::atan2(dot(b, un), dot(b, o));
-                        o = std::cos(phi) * leaf.out[v] + std::sin(phi) * un;
-                        m = r * (std::cos(phi) * un - std::sin(phi) * leaf.out[v]);
+                        const Vec3 side = cross(un, o);
+                        const double psi = options.border_root_turn * std::atan2(dot(b, side), dot(b, o));
+                        const Vec3 o1 = std::cos(psi) * o + std::sin(psi) * side;
+                        const double phi = options.border_root_tilt * std::atan2(dot(b, un), dot(b, o1));
+                        o = std::cos(phi) * o1 + std::sin(phi) * un;
+                        m = r * (std::cos(phi) * un - std::sin(phi) * o1);
                     }
                     const Vec3 out = c + leaflet_out_distance(skeleton, an, leaf, v, r) * o;
                     raw.mesh.points[base + 3] = out;

@@ -64,7 +64,12 @@ struct RawMeshOptions {
     // guarantees this already; this only acts on inputs meshed with their own sampling).
     double turn_fraction = 0.8;
     // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
-    // out-down) about the border by this fraction of the branch's tilt out of the leaflet's plane (0 = in the plane).
+    // out-down) in the leaflet's plane towards the branch by border_root_turn x their angle there, then about the
+    // border by border_root_tilt x the branch's tilt out of the plane (0, 0 = the column along the border's outward
+    // bisector and normal). airplane1.ma's nose branch, 36 degrees below its sheet, folded its first chunk (min SJ
+    // -0.50) without the tilt; hand.ma's fingers, 50 to 55 degrees off the outward direction at corners of 109 and
+    // 121 degrees, folded 3 hexes of their first chunks (min -0.37) without the turn.
+    double border_root_turn = 1.0;
     double border_root_tilt = 1.0;
 };
 
@@ -77,7 +82,7 @@ struct RawMeshOptions {
 // out = w + d o (o = LeafletVertexFrames::out, the bisector of the exterior angle of the border; d = r, shortened at
 // reflex corners, see leaflet_out_distance),
 // out-up/out-down = out +- r n (at a border vertex rooting a branch on its out patch, the column out / out-up /
-// out-down turns about the border by border_root_tilt x the branch's tilt out of the leaflet's plane).
+// out-down turns towards the branch: border_root_turn, border_root_tilt).
 // A branch rooted on a leaflet (LeafletPatch, BorderPatch) has no vertices of its own at its root: its first chunk's
 // bottom kites are the 4 plate / half-chunk faces of the patch.
 // Complexity: O(hexes + surface points), parallel.
