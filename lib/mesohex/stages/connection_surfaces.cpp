@@ -564,10 +564,7 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
     cs.quad_begin.assign(nv + 1, 0);
     cs.edge_begin.assign(nv + 1, 0);
     for (int v = 0; v < nv; ++v) {
-        const bool rooted = (an.vertex_class[v] == VertexClass::LeafletInterior ||
-                             an.vertex_class[v] == VertexClass::LeafletBoundary) &&
-                            an.vertex_branch_edges[v] == 1;
-        const SurfaceSize sz = rooted ? SurfaceSize{4, 1, 4}
+        const SurfaceSize sz = roots_branch(an, v) ? SurfaceSize{4, 1, 4}
                                       : surface_size(an.vertex_class[v],
                                                      an.vertex_branch_edges[v] + an.vertex_boundary_edges[v] / 2);
         cs.point_begin[v + 1] = cs.point_begin[v] + sz.points;
@@ -800,9 +797,7 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
         std::vector<int> inc;
         for (int v = range.begin(); v != range.end(); ++v) {
             const VertexClass c = an.vertex_class[v];
-            const bool rooted =
-                (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) &&
-                an.vertex_branch_edges[v] == 1;
+            const bool rooted = roots_branch(an, v);
             if (c != VertexClass::Extremity && c != VertexClass::Joint && c != VertexClass::BranchingPoint &&
                 c != VertexClass::BLJoint && !rooted)
                 continue;
@@ -812,9 +807,9 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                 if (an.edge_degree[an.vertex_edges[i]] == 0) inc.push_back(an.vertex_edges[i]);
             auto side_of = [&](int e) { return skeleton.edges[e][0] == v ? 0 : 1; };
             if (rooted) {
-                // Branch rooted inside a leaflet: one quad on the branch edge whose points are the 4 edge neighbours
-                // of v in the order of leaflet_patch (point k = the patch's neighbour k on the branch's side; edge k
-                // between points k and k + 1 = the patch's diagonal vertex there); directions towards them.
+                // Branch rooted on the plates: one quad on the branch edge, its points in the order of the patch
+                // (LeafletPatch inside the leaflet, BorderPatch on its border), each pointing towards the skeleton
+                // vertex whose copy it is (the frames start from it; raw_mesh.cpp takes the ids from the patch).
                 set_square(cs, e0, q0);
                 cs.edge_quad[inc[0]][side_of(inc[0])] = q0;
                 for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 1;

@@ -103,10 +103,7 @@ BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& 
             edges = br.edges;
             auto constrained = [&](int v) {
                 return an.vertex_class[v] == VertexClass::BranchingPoint ||
-                       an.vertex_class[v] == VertexClass::BLJoint ||
-                       ((an.vertex_class[v] == VertexClass::LeafletInterior ||
-                         an.vertex_class[v] == VertexClass::LeafletBoundary) &&
-                        an.vertex_branch_edges[v] == 1);
+                       an.vertex_class[v] == VertexClass::BLJoint || roots_branch(an, v);
             };
             if (!br.ring && !constrained(verts.front()) && constrained(verts.back())) {
                 std::reverse(verts.begin(), verts.end());

@@ -37,10 +37,7 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     for (int v = 0; v < nv; ++v) {
         const int np = cs.point_begin[v + 1] - cs.point_begin[v];
         const int ned = cs.edge_begin[v + 1] - cs.edge_begin[v];
-        const bool rooted = (an.vertex_class[v] == VertexClass::LeafletInterior ||
-                             an.vertex_class[v] == VertexClass::LeafletBoundary) &&
-                            an.vertex_branch_edges[v] == 1;
-        if (np > 0 && !rooted) p.vertices += 1 + np + ned;
+        if (np > 0 && !roots_branch(an, v)) p.vertices += 1 + np + ned;
         if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
         if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
         if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
@@ -116,10 +113,8 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
         ++x[1];
     };
     for (int v = 0; v < nv; ++v) {
-        if (an.vertex_branch_edges[v] != 1) continue;
-        int e = -1;
-        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
-            if (an.edge_degree[an.vertex_edges[i]] == 0) e = an.vertex_edges[i];
+        if (!roots_branch(an, v)) continue;
+        const int e = first_branch_edge(an, v);
         if (an.vertex_class[v] == VertexClass::LeafletInterior) {
             const LeafletPatch lp = leaflet_patch(skeleton, an, v, e);
             for (int k = 0; k < 4; ++k) {
@@ -128,7 +123,7 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
                 add(lp.up ? U : D, fv[(c + 1) & 3], d, 2);
                 add(lp.up ? U : D, d, fv[(c + 3) & 3], 2);
             }
-        } else if (an.vertex_class[v] == VertexClass::LeafletBoundary) {
+        } else {
             const BorderPatch bp = border_patch(skeleton, an, v, e);
             if (bp.kind == BorderRoot::Out) {
                 for (int x : bp.border) {
@@ -307,31 +302,6 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                 face_dn[f][k] = c + (bl ? 4 : 2);
             }
         }
-    // Branches rooted inside a leaflet (LeafletPatch): their connection quad's centre, points and edge midpoints are
-    // the plate vertices of the patch on the branch's side: centre = v's up (down) vertex, point k = its neighbour's,
-    // edge k = the diagonal vertex's. Ids per rooted vertex: centre, 4 points, 4 edges.
-    std::vector<std::array<int, 9>> rooted_ids(nv, std::array<int, 9>{});
-    std::vector<char> rooted(nv, 0);
-    for (int v = 0; v < nv; ++v) {
-        if (an.vertex_branch_edges[v] != 1) continue;
-        if (an.vertex_class[v] == VertexClass::LeafletBoundary) {
-            rooted[v] = 1;  // ids below, from its half-chunks
-            continue;
-        }
-        if (an.vertex_class[v] != VertexClass::LeafletInterior) continue;
-        int e = -1;
-        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
-            if (an.edge_degree[an.vertex_edges[i]] == 0) e = an.vertex_edges[i];
-        const LeafletPatch patch = leaflet_patch(skeleton, an, v, e);
-        const std::vector<std::array<int, 4>>& side = patch.up ? face_up : face_dn;
-        rooted[v] = 1;
-        rooted_ids[v][0] = side[patch.face[0]][patch.corner_centre[0]];
-        for (int k = 0; k < 4; ++k) {
-            rooted_ids[v][1 + k] = side[patch.face[k]][patch.corner_point[k]];
-            rooted_ids[v][5 + k] = side[patch.face[k]][patch.corner_diagonal[k]];
-        }
-    }
-
     // Hex slots: 4 per branch edge, in edge order.
     std::vector<int> edge_slot(ne, -1);
     int n_hex = 0;
@@ -427,14 +397,28 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
         }
     });
 
-    // Branches rooted on a border vertex's out patch (BorderPatch): centre = its out vertex, points = the out vertices
-    // of its border neighbours and its own out-up / out-down, edges = the neighbours' out-up / out-down, all read from
-    // the half-chunks of its two boundary edges.
+    // Branches rooted on the plates: their connection quad's centre, 4 points and 4 edge midpoints are vertices the
+    // plates and half-chunks already have. Inside a leaflet (LeafletPatch): v's up (down) copy, its edge neighbours'
+    // and its diagonal neighbours' copies on the branch's side. On the border (BorderPatch), read from the half-chunks
+    // of v's two boundary edges: Out = v's out copy, its border neighbours' out copies and v's out-up / out-down, the
+    // neighbours' out-up / out-down; Side = v's up (down) copy, the plate copies of face[0] and face[1], v's and the
+    // neighbours' out-up (out-down).
+    std::vector<std::array<int, 9>> rooted_ids(nv, std::array<int, 9>{});
+    std::vector<char> rooted(nv, 0);
     for (int v = 0; v < nv; ++v) {
-        if (!rooted[v] || an.vertex_class[v] != VertexClass::LeafletBoundary) continue;
-        int e = -1;
-        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
-            if (an.edge_degree[an.vertex_edges[i]] == 0) e = an.vertex_edges[i];
+        if (!roots_branch(an, v)) continue;
+        rooted[v] = 1;
+        const int e = first_branch_edge(an, v);
+        if (an.vertex_class[v] == VertexClass::LeafletInterior) {
+            const LeafletPatch patch = leaflet_patch(skeleton, an, v, e);
+            const std::vector<std::array<int, 4>>& side = patch.up ? face_up : face_dn;
+            rooted_ids[v][0] = side[patch.face[0]][patch.corner_centre[0]];
+            for (int k = 0; k < 4; ++k) {
+                rooted_ids[v][1 + k] = side[patch.face[k]][patch.corner_point[k]];
+                rooted_ids[v][5 + k] = side[patch.face[k]][patch.corner_diagonal[k]];
+            }
+            continue;
+        }
         const BorderPatch patch = border_patch(skeleton, an, v, e);
         const int base = raw.vertex_base[v];
         std::array<int, 2> o{}, ou{}, od{};  // per border neighbour: its out, out-up, out-down copies
@@ -596,13 +580,9 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                         // The out column of a vertex rooting a branch on its out patch turns in the leaflet's plane
                         // towards the branch (border_root_turn), then about the border by the branch's tilt out of
                         // that plane (border_root_tilt): the patch then faces the branch.
-                        Vec3 b{};
-                        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-                            const int e = an.vertex_edges[i];
-                            if (an.edge_degree[e] != 0) continue;
-                            const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
-                            b = skeleton.points[w] - c;
-                        }
+                        const int e = first_branch_edge(an, v);
+                        const Vec3 b = skeleton.points[skeleton.edges[e][0] == v ? skeleton.edges[e][1]
+                                                                                 : skeleton.edges[e][0]] - c;
                         const Vec3 un = leaf.normal[v];
                         const Vec3 side = cross(un, o);
                         const double psi = options.border_root_turn * std::atan2(dot(b, side), dot(b, o));

@@ -359,18 +359,13 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
                      ElementRef::Kind::SkeletonVertex, v);
         };
         for (int v = 0; v < nv; ++v) {
-            const VertexClass c = an.vertex_class[v];
-            if (an.vertex_branch_edges[v] != 1 ||
-                (c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary))
-                continue;
-            Vec3 branch{}, normal{};
+            if (!roots_branch(an, v)) continue;
+            const int be = first_branch_edge(an, v);
+            const Vec3 branch = s.points[s.edges[be][0] == v ? s.edges[be][1] : s.edges[be][0]] - s.points[v];
+            Vec3 normal{};
             std::vector<int> faces, border;
-            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-                const int e = an.vertex_edges[i];
-                const int w = s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0];
-                if (an.edge_degree[e] == 0) branch = s.points[w] - s.points[v];
-                if (an.edge_degree[e] == 1) border.push_back(e);
-            }
+            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+                if (an.edge_degree[an.vertex_edges[i]] == 1) border.push_back(an.vertex_edges[i]);
             for (int f = 0; f < nf; ++f)
                 for (int w : an.face_vertices[f])
                     if (w == v) {
@@ -378,7 +373,7 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
                         normal += an.face_normal[f];
                     }
             const int side = dot(branch, normal) >= 0 ? 0 : 1;
-            if (c == VertexClass::LeafletInterior || an.vertex_border_root[v] == BorderRoot::Side) {
+            if (an.vertex_class[v] == VertexClass::LeafletInterior || an.vertex_border_root[v] == BorderRoot::Side) {
                 for (int f : faces) claim(v, 0, f, side);
                 for (int e : border) claim(v, 1, e, side);
             } else {
@@ -488,8 +483,7 @@ std::string analysis_to_text(const SkeletonAnalysis& an) {
     const int nv = static_cast<int>(an.vertex_class.size());
     for (int v = 0; v < nv; ++v) {
         const VertexClass vc = an.vertex_class[v];
-        if ((vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary) &&
-            an.vertex_branch_edges[v] == 1) {
+        if (roots_branch(an, v)) {
             const BorderRoot root = an.vertex_border_root[v];
             const char* where = root == BorderRoot::Out    ? "out patch of the border"
                                 : root == BorderRoot::Side ? "side patch of the border"

@@ -125,6 +125,18 @@ struct AnalysisOptions {
 // Complexity: O(V + E log E + F).
 SkeletonAnalysis analyze_skeleton(const Skeleton& skeleton, const AnalysisOptions& options = {});
 
+// Does v root a branch on the plates (a leaflet interior or boundary vertex with exactly one branch edge)?
+inline bool roots_branch(const SkeletonAnalysis& an, int v) {
+    return (an.vertex_class[v] == VertexClass::LeafletInterior || an.vertex_class[v] == VertexClass::LeafletBoundary) &&
+           an.vertex_branch_edges[v] == 1;
+}
+// The first branch edge (no face) incident to v in edge id order, or -1.
+inline int first_branch_edge(const SkeletonAnalysis& an, int v) {
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+        if (an.edge_degree[an.vertex_edges[i]] == 0) return an.vertex_edges[i];
+    return -1;
+}
+
 // Human-readable classification (one line of counts, then one line per non-trivial class), for `mesohex analyze`.
 std::string analysis_to_text(const SkeletonAnalysis& analysis);
 
