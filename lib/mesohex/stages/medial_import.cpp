@@ -198,7 +198,7 @@ int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
         if (squared_norm(inward) == 0) continue;
         const double length = 0.5 * (distance(p, a) + distance(p, b));
         const Vec3 branch = normalized(before[static_cast<size_t>(curve_neighbour[static_cast<size_t>(v)])] - p);
-        // The mesher roots a branch leaving a straight border outward on the border's out patch: no corner needed.
+        // The mesher roots this branch on the border's plates (border_root: Out or Side): no corner needed.
         if (opt.keep_rooted_bl_joints &&
             border_root(normalized(a - p), normalized(b - p), inward, normal_sum[static_cast<size_t>(v)], branch,
                         static_cast<int>(leaflet_neighbours[static_cast<size_t>(v)].size()) - 1) != BorderRoot::None)
@@ -336,6 +336,7 @@ int reattach_interior_curve_ends(Skeleton& m) {
     }
     return moved;
 }
+
 // After the quad split: a curve edge ending at a leaflet interior vertex that is not regular (4 faces) moves that end
 // to the regular interior neighbour (through a leaflet edge) without a curve edge of its own that lies most in the
 // curve's direction (ties: lowest id). The mesher roots a branch only where 4 faces meet. Returns the ends moved.
