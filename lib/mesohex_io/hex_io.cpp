@@ -113,15 +113,19 @@ public:
             fail("expected an integer (" + what + "), found '" + quote_excerpt(t) + "'");
         return value;
     }
-    // A count of items that each take at least `min_bytes` bytes of the rest of the text (for example 8 for a MEDIT
-    // vertex "0 0 0 0 "): a larger count is a truncated or corrupt file and must not make the reader allocate
-    // gigabytes (memory stays a small multiple of the file size).
-    long expect_count(const std::string& what, long max_value = 2000000000L, std::size_t min_bytes = 1) {
+    // A count of at most max_value items, each taking at least one byte of the rest of the text (a larger count is a
+    // corrupt header, refused at its line). What a reader reserves for them is capped by reservable().
+    long expect_count(const std::string& what, long max_value = 2000000000L) {
         const long n = expect_int(what);
         if (n < 0 || n > max_value) fail("invalid " + what + " " + std::to_string(n));
-        if (static_cast<std::size_t>(n) > (text_.size() - pos_) / std::max<std::size_t>(min_bytes, 1))
+        if (static_cast<std::size_t>(n) > text_.size() - pos_)
             fail(what + " " + std::to_string(n) + " is more than the rest of the file can hold (truncated file?)");
         return n;
+    }
+    // How many of `n` items, each at least `min_bytes` bytes of text, the rest of the text can hold: what a reader
+    // may reserve (memory stays a small multiple of the file size; a short file then fails where its data ends).
+    std::size_t reservable(long n, std::size_t min_bytes) const {
+        return std::min(static_cast<std::size_t>(std::max(n, 0L)), (text_.size() - pos_) / std::max<std::size_t>(min_bytes, 1));
     }
     double expect_double(const std::string& what) {
         const std::string_view t = expect(what);
@@ -224,27 +228,29 @@ HexMesh read_medit(const std::string& path, const std::string& text) {
             if (dim != 3) lex.fail("only Dimension 3 is supported, found " + std::to_string(dim));
         } else if (key == "vertices") {
             if (have_vertices) lex.fail("second Vertices section");
-            const long n = lex.expect_count("number of vertices", 2000000000L, 8);
-            mesh.points.resize(static_cast<std::size_t>(n));
+            const long n = lex.expect_count("number of vertices");
+            mesh.points.reserve(lex.reservable(n, 8));  // "x y z ref" takes 8 bytes at least
             for (long v = 0; v < n; ++v) {
-                Vec3& p = mesh.points[static_cast<std::size_t>(v)];
+                Vec3 p;
                 p.x = lex.expect_double("x coordinate of vertex " + std::to_string(v + 1));
                 p.y = lex.expect_double("y coordinate of vertex " + std::to_string(v + 1));
                 p.z = lex.expect_double("z coordinate of vertex " + std::to_string(v + 1));
                 lex.expect_int("reference of vertex " + std::to_string(v + 1));
+                mesh.points.push_back(p);
             }
             have_vertices = true;
         } else if (key == "hexahedra") {
             if (!have_vertices) lex.fail("Hexahedra before Vertices");
             if (have_hexes) lex.fail("second Hexahedra section");
-            const long n = lex.expect_count("number of hexahedra", 2000000000L, 18);
-            mesh.hexes.resize(static_cast<std::size_t>(n));
+            const long n = lex.expect_count("number of hexahedra");
+            mesh.hexes.reserve(lex.reservable(n, 18));  // 9 integers
             const long np = static_cast<long>(mesh.points.size());
             for (long h = 0; h < n; ++h) {
+                std::array<int, 8> hex{};
                 for (int lv = 0; lv < 8; ++lv)
-                    mesh.hexes[static_cast<std::size_t>(h)][static_cast<std::size_t>(lv)] =
-                        read_vertex_index(lex, 1, np, h, "hexahedron");
+                    hex[static_cast<std::size_t>(lv)] = read_vertex_index(lex, 1, np, h, "hexahedron");
                 lex.expect_int("reference of hexahedron " + std::to_string(h + 1));
+                mesh.hexes.push_back(hex);
             }
             have_hexes = true;
         } else if (key == "edges" || key == "triangles" || key == "quadrilaterals" || key == "corners" ||
@@ -324,13 +330,15 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
         }
         const std::string key = lower(tok);
         if (key == "points") {
-            const long n = lex.expect_count("number of points", 2000000000L, 6);
+            const long n = lex.expect_count("number of points");
             const std::string dtype = lower(lex.expect("point data type"));
             if (dtype != "float" && dtype != "double") lex.fail("unsupported point type '" + quote_excerpt(dtype) + "'");
-            mesh.points.resize(static_cast<std::size_t>(n));
-            for (long v = 0; v < n; ++v)
-                for (int c = 0; c < 3; ++c)
-                    mesh.points[static_cast<std::size_t>(v)][c] = lex.expect_double("coordinate of point " + std::to_string(v));
+            mesh.points.reserve(lex.reservable(n, 6));  // "x y z " takes 6 bytes at least
+            for (long v = 0; v < n; ++v) {
+                Vec3 p;
+                for (int c = 0; c < 3; ++c) p[c] = lex.expect_double("coordinate of point " + std::to_string(v));
+                mesh.points.push_back(p);
+            }
             have_points = true;
         } else if (key == "metadata") {
             // VTK 5.x writes METADATA blocks ended by a blank line: skip them.
@@ -342,8 +350,8 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
             }
         } else if (key == "cells") {
             if (!have_points) lex.fail("CELLS before POINTS");
-            const long a = lex.expect_count("number of cells", 2000000000L, 2);
-            const long b = lex.expect_count("cell list size", 2000000000L, 2);
+            const long a = lex.expect_count("number of cells");
+            const long b = lex.expect_count("cell list size");
             const long np = static_cast<long>(mesh.points.size());
             // Peek: VTK 5.1 has "OFFSETS type" next.
             Lexer peek = lex;
@@ -351,14 +359,14 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
             if (iequals(next, "OFFSETS")) {
                 lex.next();
                 lex.expect("offsets type");
-                offsets.resize(static_cast<std::size_t>(a));
-                for (long i = 0; i < a; ++i) offsets[static_cast<std::size_t>(i)] = lex.expect_int("offset");
+                offsets.reserve(lex.reservable(a, 2));
+                for (long i = 0; i < a; ++i) offsets.push_back(lex.expect_int("offset"));
                 lex.expect_keyword("CONNECTIVITY");
                 lex.expect("connectivity type");
-                connectivity.resize(static_cast<std::size_t>(b));
+                connectivity.reserve(lex.reservable(b, 2));
                 for (long i = 0; i < b; ++i) {
                     const long cell = static_cast<long>(std::upper_bound(offsets.begin(), offsets.end(), i) - offsets.begin()) - 1;
-                    connectivity[static_cast<std::size_t>(i)] = read_vertex_index(lex, 0, np, cell, "cell");
+                    connectivity.push_back(read_vertex_index(lex, 0, np, cell, "cell"));
                 }
                 if (a < 1 || offsets.front() != 0 || offsets.back() != b) lex.fail("inconsistent OFFSETS / CONNECTIVITY");
             } else {
@@ -704,11 +712,11 @@ HexMesh read_msh(const std::string& path, const std::string& text) {
             lex.fail("not a Gmsh file: $MeshFormat expected first, found '" + quote_excerpt(section) + "'");
         } else if (key == "$nodes") {
             const long blocks = lex.expect_count("number of node blocks");
-            const long total = lex.expect_count("number of nodes", 2000000000L, 8);
+            const long total = lex.expect_count("number of nodes");
             lex.expect_int("min node tag");
             lex.expect_int("max node tag");
-            mesh.points.reserve(static_cast<std::size_t>(total));
-            node_index.reserve(static_cast<std::size_t>(total));
+            mesh.points.reserve(lex.reservable(total, 8));  // "tag x y z" takes 8 bytes at least
+            node_index.reserve(lex.reservable(total, 8));
             for (long b = 0; b < blocks; ++b) {
                 const long dim = lex.expect_int("entity dimension");
                 lex.expect_int("entity tag");

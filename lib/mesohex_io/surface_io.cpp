@@ -113,12 +113,11 @@ TriangleMesh read_off(const std::string& path, const std::string& content) {
     if (nv < 0 || nf < 0 || nv > 1'000'000'000 || nf > 1'000'000'000) in.fail("invalid vertex / face counts");
     TriangleMesh mesh;
     // Counts are checked against the file size before reserving (a corrupt header must not allocate gigabytes).
-    // Shortest lines: "0 0 0\n" per vertex, "3 0 1 2\n" per face.
+    // What is reserved is capped by what the rest of the file can hold ("0 0 0\n" per vertex, "3 0 1 2\n" per face):
+    // a corrupt header allocates nothing big, and a short file fails where its data ends ("... missing").
     const std::size_t left = content.size() - std::min(in.position(), content.size());
-    check_count_fits(path, in.number(), nv, left, 6, "vertex count");
-    check_count_fits(path, in.number(), nf, left, 8, "face count");
-    mesh.points.reserve(static_cast<std::size_t>(nv));
-    mesh.triangles.reserve(static_cast<std::size_t>(nf));
+    mesh.points.reserve(std::min(static_cast<std::size_t>(nv), left / 6));
+    mesh.triangles.reserve(std::min(static_cast<std::size_t>(nf), left / 8));
     for (long long v = 0; v < nv; ++v) {
         if (!in.next_tokens(tok)) in.fail("unexpected end of file: " + std::to_string(nv - v) + " vertices missing");
         if (tok.size() < 3) in.fail("a vertex needs 3 coordinates");

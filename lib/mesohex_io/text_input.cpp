@@ -73,7 +73,7 @@ bool is_blank_content(std::string_view content) {
 }
 
 void fail_empty_file(const std::string& path, const std::string& expected) {
-    throw Error(ErrorCode::InvalidInput, path + ": empty file (" + expected + ")", {ElementRef::Kind::FileLine, 1});
+    throw Error(ErrorCode::InvalidInput, path + ":1: empty file (" + expected + ")", {ElementRef::Kind::FileLine, 1});
 }
 
 void check_count_fits(const std::string& path, int line, long long count, std::size_t bytes_left,

@@ -23,7 +23,7 @@ std::string quote_excerpt(std::string_view s, std::size_t max_chars = 80);
 // True when `content` holds nothing but whitespace (space, tab, CR, LF, FF, VT).
 bool is_blank_content(std::string_view content);
 
-// Error(InvalidInput) "<path>: empty file (<expected>)": an empty file has no line to name.
+// Error(InvalidInput) "<path>:1: empty file (<expected>)" (never "line 0"), for a file of whitespace only.
 [[noreturn]] void fail_empty_file(const std::string& path, const std::string& expected);
 
 // Error(InvalidInput) "<path>:<line>: <what>" unless `count` items, each taking at least `min_bytes` bytes of the

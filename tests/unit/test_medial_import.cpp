@@ -489,7 +489,7 @@ TEST(MedialIo, HeaderCountsBoundedByFileSize) {
         ADD_FAILURE() << "no error for an empty file";
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ErrorCode::InvalidInput);
-        EXPECT_EQ(std::string(e.what()), empty + ": empty file (expected the header 'nv ne nf')");
+        EXPECT_EQ(std::string(e.what()), empty + ":1: empty file (expected the header 'nv ne nf')");
     }
     std::remove(empty.c_str());
     std::string binary = "1 0 0\nq";
