@@ -184,7 +184,10 @@ void run_family(const char* name, Skeleton (*make)(Rng&), int trials, unsigned s
         Skeleton s = make(rng);
         const auto [scale, radius] = kRegimes[static_cast<std::size_t>(t) % kRegimes.size()];
         set_scale_and_radii(s, scale, radius, rng);
-        check_one(s, t % 8 == 0, tally, std::string(name) + " trial " + std::to_string(t));
+        // Resampling (adaptation) with ordinary radii only: with radius 1e-6 x the edge length it samples every edge
+        // up to its cap (65536 samples), a large mesh rather than a property.
+        const bool resample = t % 8 == 0 && radius >= 0.2;
+        check_one(s, resample, tally, std::string(name) + " trial " + std::to_string(t));
     }
     EXPECT_GE(tally.built, min_built) << name;
     std::cout << name << ": " << tally.built << " built, refused";
@@ -192,9 +195,9 @@ void run_family(const char* name, Skeleton (*make)(Rng&), int trials, unsigned s
     std::cout << "\n";
 }
 
-TEST(PipelineProperties, RandomTrees) { run_family("trees", random_tree, 800, 181, 300); }
+TEST(PipelineProperties, RandomTrees) { run_family("trees", random_tree, 500, 181, 200); }
 TEST(PipelineProperties, RandomCycles) { run_family("cycles", random_cycle, 500, 182, 200); }
-TEST(PipelineProperties, RandomStars) { run_family("stars", random_star, 1200, 183, 300); }
+TEST(PipelineProperties, RandomStars) { run_family("stars", random_star, 700, 183, 150); }
 TEST(PipelineProperties, RandomLeafletPatches) { run_family("patches", random_patch, 500, 184, 100); }
 
 }  // namespace
