@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # mesohex project script.
 #   ./mesohex.sh demo    install what is missing, build (Release), mesh data/tiny/tripod.obj in its domain, print the quality
-#   ./mesohex.sh test    install what is missing, build, run the whole test suite (what CI runs)
+#   ./mesohex.sh test    install what is missing, build, run the whole test suite (what CI runs), then a short
+#                        ASan/UBSan run of the fuzz corpus replay and the property tests (build-asan/)
 #   ./mesohex.sh deps | build | bench
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -12,7 +13,7 @@ JOBS=${MESOHEX_JOBS:-$(nproc)}
 # Every Debian package the project needs (build, tests, benchmarks).
 PACKAGES=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
-          python3 python3-meshio python3-numpy)
+          python3 python3-meshio python3-numpy clang libclang-rt-14-dev)
 
 deps() {
   local missing=()
@@ -44,6 +45,31 @@ run_tests() {
   ctest "${args[@]}"
 }
 
+# After the normal suite: a short ASan/UBSan run (the readers' fuzz-corpus replay and the pipeline property tests only)
+# in its own build directory, building only those targets. Skipped when the compiler cannot link a sanitized program.
+# MESOHEX_NO_SANITIZE=1 skips it.
+sanitizer_tests() {
+  [ "${MESOHEX_NO_SANITIZE:-0}" = 1 ] && return 0
+  local dir=${MESOHEX_ASAN_BUILD_DIR:-$ROOT/build-asan} probe
+  probe=$(mktemp -d)
+  if ! echo 'int main() { return 0; }' | ${CXX:-c++} -x c++ -fsanitize=address,undefined - -o "$probe/a" 2>/dev/null \
+     || ! "$probe/a"; then
+    echo "mesohex.sh: the compiler cannot build with -fsanitize=address,undefined: sanitizer run skipped"
+    rm -rf "$probe"
+    return 0
+  fi
+  rm -rf "$probe"
+  echo "mesohex.sh: sanitizer run (ASan + UBSan): fuzz corpus replay and property tests in $dir"
+  local launcher=()
+  command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESOHEX_SANITIZE=ON -DMESOHEX_WERROR=ON \
+    -DMESOHEX_BUILD_BENCH=OFF "${launcher[@]}" >/dev/null
+  cmake --build "$dir" -j "$JOBS" --target fuzz_regression_hex fuzz_regression_skeleton fuzz_regression_surface \
+    fuzz_regression_medial fuzz_regression_analysis test_properties
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+    ctest --test-dir "$dir" --output-on-failure -j "$JOBS" --timeout 600 -R '^(fuzz_corpus\.|PipelineProperties\.)'
+}
+
 demo() {
   mkdir -p "$ROOT/out"
   # The domain of the example is the surface its skeleton describes (spheres + round cones), built by `thicken`.
@@ -55,7 +81,8 @@ demo() {
 case "${1:-}" in
   deps) deps ;;
   build) deps; build ;;
-  test) deps; build; run_tests ;;
+  test) deps; build; run_tests; sanitizer_tests ;;
+
   demo) deps; build; demo ;;
   bench) deps; build; "$BUILD/bench/mesohex_bench" ;;
   *) echo "usage: $0 demo|test|deps|build|bench" >&2; exit 2 ;;

@@ -57,7 +57,8 @@ void register_auto(CLI::App& app, int* status) {
         const auto t0 = std::chrono::steady_clock::now();
         std::optional<TriangleMesh> domain = read_surface(args->surface);
         const auto t1 = std::chrono::steady_clock::now();
-        Skeletonization sk = skeletonize_surface(*domain);  // throws (nothing written) when it cannot be done
+        // Throws (nothing written) when it cannot be done, naming the surface file.
+        Skeletonization sk = at_stage("skeletonize", args->surface, [&] { return skeletonize_surface(*domain); });
         const auto t2 = std::chrono::steady_clock::now();
         const std::string skeleton_path =
             std::filesystem::path(args->job.output).replace_extension(".skeleton.obj").string();
@@ -87,7 +88,8 @@ void register_auto(CLI::App& app, int* status) {
             {"timings_ms",
              {{"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}}}};
         // The report's "read_skeleton" is the radius step only (the skeleton is in memory); "total" starts at t0.
-        *status = run_mesh_job(job, sk.skeleton, domain, t3, &extra, t0);
+        *status = at_stage("mesh", skeleton_path,
+                           [&] { return run_mesh_job(job, std::move(sk.skeleton), domain, t3, &extra, t0); }, false);
         std::cout << "auto: total " << ms(t0, std::chrono::steady_clock::now()) << " ms\n";
     });
 }

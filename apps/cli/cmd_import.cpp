@@ -82,7 +82,8 @@ void register_import(CLI::App& app, int* status) {
         args->options.reattach_interior_curves = args->reattach_interior_curves;
         args->options.smooth_boundary = !args->no_boundary_smoothing;
         const Skeleton medial = read_medial_mesh(args->input);
-        const MedialImport r = import_medial_mesh(medial, args->options);
+        const MedialImport r =
+            at_stage("import", args->input, [&] { return import_medial_mesh(medial, args->options); }, false);
         write_skeleton(args->output, r.skeleton);
         std::cout << "import " << args->input << ": " << medial.points.size() << " vertices, " << medial.edges.size()
                   << " edges, " << medial.faces.size() << " triangles in " << r.sheets << " sheet(s)\n"

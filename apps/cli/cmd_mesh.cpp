@@ -43,7 +43,8 @@ void register_mesh(CLI::App& app, int* status) {
         Skeleton skeleton = read_skeleton(args->skeleton);
         std::optional<TriangleMesh> domain;
         if (!args->surface.empty()) domain = read_surface(args->surface);
-        *status = run_mesh_job(*args, skeleton, domain, t0);
+        *status = at_stage("mesh", args->skeleton,
+                           [&] { return run_mesh_job(*args, std::move(skeleton), domain, t0); }, false);
     });
 }
 

@@ -60,8 +60,10 @@ void register_convert(CLI::App& app, int* status) {
     sub->add_option("output", opts->output, "output file; written to a temporary file and renamed")->required();
     sub->add_flag("--json", opts->json, "print the quality summary as JSON");
     sub->footer(
-        "Exit status: 0 = converted (even if the mesh has inverted hexes; see the summary); 2 = malformed input "
-        "(message names file:line); 3 = unknown extension; 4 = file cannot be read or written.\n"
+        "Exit status (the verdict of `quality` on the same mesh): 0 = converted, valid and without inverted hexes; "
+        "5 = converted, but the mesh has inverted hexes or fails validation (said on stderr, as `quality` "
+        "reports it); 2 = malformed input (message names file:line); 3 = unknown extension; 4 = file cannot be "
+        "read or written.\n"
         "Example: mesohex convert model.mesh model.vtu");
     sub->callback([opts, status] {
         const HexMesh mesh = read_hex_mesh(opts->input);
@@ -74,7 +76,16 @@ void register_convert(CLI::App& app, int* status) {
                       << " hexes)\n"
                       << quality_to_text(report);
         }
-        *status = 0;
+        // Same input, same verdict as `quality`.
+        const bool good = report.validation.valid() && report.inverted == 0;
+        if (!good)
+            std::cerr << "mesohex: warning: " << opts->input << ": "
+                      << (report.validation.valid() ? "the mesh has " + std::to_string(report.inverted) +
+                                                          " inverted hexes"
+                                                    : std::string("the mesh fails validation (see the report)"))
+                      << " (written anyway; exit status 5, as `quality` gives)\n";
+        *status = good ? 0 : kBadMeshStatus;
+
     });
 }
 

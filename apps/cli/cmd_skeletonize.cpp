@@ -57,7 +57,8 @@ void register_skeletonize(CLI::App& app, int* status) {
         const auto t0 = std::chrono::steady_clock::now();
         const TriangleMesh surface = read_surface(args->input);
         const auto t1 = std::chrono::steady_clock::now();
-        const Skeletonization r = skeletonize_surface(surface, args->options);
+        const Skeletonization r =
+            at_stage("skeletonize", args->input, [&] { return skeletonize_surface(surface, args->options); });
         const auto t2 = std::chrono::steady_clock::now();
         write_skeleton(args->output, r.skeleton);
         const Skeleton& s = r.skeleton;

@@ -2,8 +2,30 @@
 // Each subcommand lives in its own cmd_<name>.cpp and exposes one registration function. The callback it installs
 // returns the process exit status through *status; errors are mesohex::Error (mapped to exit codes in main.cpp).
 #include <CLI/CLI.hpp>
+#include <exception>
+#include <string>
+
+#include "mesohex/core/error.h"
 
 namespace mesohex::cli {
+
+// Runs f() as the stage `stage` on input `file`: a mesohex::Error gets "<file>: " in front when `name_file` (unless
+// it already names the file) and is otherwise passed on; any other exception (CGAL::Failure_exception, std::bad_alloc, Eigen, TBB) becomes
+// Error(NumericalFailure) "<file>: <stage>: internal failure: ..." (exit status 6). Nothing is written by a failed
+// stage, since outputs are written after it.
+template <typename F>
+auto at_stage(const std::string& stage, const std::string& file, F&& f, bool name_file = true) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        if (!name_file || what.compare(0, file.size(), file) == 0) throw;
+        throw Error(e.code(), file + ": " + what, e.where());
+    } catch (const std::exception& e) {
+        throw foreign_error(e, file + ": " + stage);
+    }
+}
+
 
 void register_quality(CLI::App& app, int* status);
 void register_mesh(CLI::App& app, int* status);

@@ -26,7 +26,12 @@ int main(int argc, char** argv) {
         std::cerr << "mesohex: error: " << e.what() << "\n";
         return mesohex::exit_code(e.code());
     } catch (const std::exception& e) {
-        std::cerr << "mesohex: error: " << e.what() << "\n";
+        // Not caught at a stage boundary (cmd_*.cpp use at_stage): still a documented code, never a bare message.
+        const mesohex::Error err = mesohex::foreign_error(e, "mesohex");
+        std::cerr << "mesohex: error: " << err.what() << "\n";
+        return mesohex::exit_code(err.code());
+    } catch (...) {
+        std::cerr << "mesohex: error: internal failure: unknown exception\n";
         return 1;
     }
     return status;

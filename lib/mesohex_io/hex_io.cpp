@@ -17,7 +17,11 @@
 #include <sstream>
 #include <string_view>
 
+#include <filesystem>
+
 #include <fcntl.h>
+#include <signal.h>
+
 #include <unistd.h>
 
 #include "mesohex/core/error.h"
@@ -99,24 +103,29 @@ public:
     }
     void expect_keyword(std::string_view keyword) {
         const std::string_view t = expect(std::string(keyword));
-        if (!iequals(t, keyword)) fail("expected '" + std::string(keyword) + "', found '" + std::string(t) + "'");
+        if (!iequals(t, keyword)) fail("expected '" + std::string(keyword) + "', found '" + quote_excerpt(t) + "'");
     }
     long expect_int(const std::string& what) {
         const std::string_view t = expect(what);
         long value = 0;
         const std::from_chars_result r = std::from_chars(t.data(), t.data() + t.size(), value);
         if (r.ec != std::errc() || r.ptr != t.data() + t.size())
-            fail("expected an integer (" + what + "), found '" + std::string(t) + "'");
+            fail("expected an integer (" + what + "), found '" + quote_excerpt(t) + "'");
         return value;
     }
+    // A count of at most max_value items, each taking at least one byte of the rest of the text (a larger count is a
+    // corrupt header, refused at its line). What a reader reserves for them is capped by reservable().
     long expect_count(const std::string& what, long max_value = 2000000000L) {
         const long n = expect_int(what);
         if (n < 0 || n > max_value) fail("invalid " + what + " " + std::to_string(n));
-        // Every counted item needs at least one byte: a larger count is a truncated or corrupt file (and must not
-        // make the reader allocate gigabytes).
         if (static_cast<std::size_t>(n) > text_.size() - pos_)
             fail(what + " " + std::to_string(n) + " is more than the rest of the file can hold (truncated file?)");
         return n;
+    }
+    // How many of `n` items, each at least `min_bytes` bytes of text, the rest of the text can hold: what a reader
+    // may reserve (memory stays a small multiple of the file size; a short file then fails where its data ends).
+    std::size_t reservable(long n, std::size_t min_bytes) const {
+        return std::min(static_cast<std::size_t>(std::max(n, 0L)), (text_.size() - pos_) / std::max<std::size_t>(min_bytes, 1));
     }
     double expect_double(const std::string& what) {
         const std::string_view t = expect(what);
@@ -124,10 +133,10 @@ public:
         const char* begin = t.data();
         if (!t.empty() && t[0] == '+') ++begin;  // from_chars does not accept a leading '+'
         const std::from_chars_result r = std::from_chars(begin, t.data() + t.size(), value);
-        if (r.ec == std::errc::result_out_of_range) fail("number out of range (" + what + "): '" + std::string(t) + "'");
+        if (r.ec == std::errc::result_out_of_range) fail("number out of range (" + what + "): '" + quote_excerpt(t) + "'");
         if (r.ec != std::errc() || r.ptr != t.data() + t.size())
-            fail("expected a number (" + what + "), found '" + std::string(t) + "'");
-        if (!std::isfinite(value)) fail("non-finite " + what + " '" + std::string(t) + "'");
+            fail("expected a number (" + what + "), found '" + quote_excerpt(t) + "'");
+        if (!std::isfinite(value)) fail("non-finite " + what + " '" + quote_excerpt(t) + "'");
         return value;
     }
     // The rest of the current line (after the last token), without the line break; moves to the next line.
@@ -220,26 +229,28 @@ HexMesh read_medit(const std::string& path, const std::string& text) {
         } else if (key == "vertices") {
             if (have_vertices) lex.fail("second Vertices section");
             const long n = lex.expect_count("number of vertices");
-            mesh.points.resize(static_cast<std::size_t>(n));
+            mesh.points.reserve(lex.reservable(n, 8));  // "x y z ref" takes 8 bytes at least
             for (long v = 0; v < n; ++v) {
-                Vec3& p = mesh.points[static_cast<std::size_t>(v)];
+                Vec3 p;
                 p.x = lex.expect_double("x coordinate of vertex " + std::to_string(v + 1));
                 p.y = lex.expect_double("y coordinate of vertex " + std::to_string(v + 1));
                 p.z = lex.expect_double("z coordinate of vertex " + std::to_string(v + 1));
                 lex.expect_int("reference of vertex " + std::to_string(v + 1));
+                mesh.points.push_back(p);
             }
             have_vertices = true;
         } else if (key == "hexahedra") {
             if (!have_vertices) lex.fail("Hexahedra before Vertices");
             if (have_hexes) lex.fail("second Hexahedra section");
             const long n = lex.expect_count("number of hexahedra");
-            mesh.hexes.resize(static_cast<std::size_t>(n));
+            mesh.hexes.reserve(lex.reservable(n, 18));  // 9 integers
             const long np = static_cast<long>(mesh.points.size());
             for (long h = 0; h < n; ++h) {
+                std::array<int, 8> hex{};
                 for (int lv = 0; lv < 8; ++lv)
-                    mesh.hexes[static_cast<std::size_t>(h)][static_cast<std::size_t>(lv)] =
-                        read_vertex_index(lex, 1, np, h, "hexahedron");
+                    hex[static_cast<std::size_t>(lv)] = read_vertex_index(lex, 1, np, h, "hexahedron");
                 lex.expect_int("reference of hexahedron " + std::to_string(h + 1));
+                mesh.hexes.push_back(hex);
             }
             have_hexes = true;
         } else if (key == "edges" || key == "triangles" || key == "quadrilaterals" || key == "corners" ||
@@ -252,12 +263,12 @@ HexMesh read_medit(const std::string& path, const std::string& text) {
         } else if (key == "tetrahedra" || key == "prisms" || key == "pyramids" || key == "hexahedra2" ||
                    key == "tetrahedra2") {
             const long n = lex.expect_count("number of " + key);
-            if (n > 0) fail_at(path, key_line, "the mesh contains " + key + ": only hexahedral meshes are supported");
+            if (n > 0) fail_at(path, key_line, "the mesh contains " + quote_excerpt(key) + ": only hexahedral meshes are supported");
         } else if (key == "end") {
             have_end = true;
             break;
         } else {
-            fail_at(path, key_line, "unknown MEDIT keyword '" + key + "'");
+            fail_at(path, key_line, "unknown MEDIT keyword '" + quote_excerpt(key) + "'");
         }
     }
     if (!have_version) fail_at(path, 1, "not a MEDIT file: MeshVersionFormatted missing");
@@ -305,7 +316,7 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
     lex.expect_keyword("DATASET");
     const std::string_view type = lex.expect("dataset type");
     if (!iequals(type, "UNSTRUCTURED_GRID"))
-        lex.fail("dataset type '" + std::string(type) + "' is not supported (only UNSTRUCTURED_GRID)");
+        lex.fail("dataset type '" + quote_excerpt(type) + "' is not supported (only UNSTRUCTURED_GRID)");
 
     HexMesh mesh;
     bool have_points = false, have_cells = false;
@@ -321,11 +332,13 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
         if (key == "points") {
             const long n = lex.expect_count("number of points");
             const std::string dtype = lower(lex.expect("point data type"));
-            if (dtype != "float" && dtype != "double") lex.fail("unsupported point type '" + dtype + "'");
-            mesh.points.resize(static_cast<std::size_t>(n));
-            for (long v = 0; v < n; ++v)
-                for (int c = 0; c < 3; ++c)
-                    mesh.points[static_cast<std::size_t>(v)][c] = lex.expect_double("coordinate of point " + std::to_string(v));
+            if (dtype != "float" && dtype != "double") lex.fail("unsupported point type '" + quote_excerpt(dtype) + "'");
+            mesh.points.reserve(lex.reservable(n, 6));  // "x y z " takes 6 bytes at least
+            for (long v = 0; v < n; ++v) {
+                Vec3 p;
+                for (int c = 0; c < 3; ++c) p[c] = lex.expect_double("coordinate of point " + std::to_string(v));
+                mesh.points.push_back(p);
+            }
             have_points = true;
         } else if (key == "metadata") {
             // VTK 5.x writes METADATA blocks ended by a blank line: skip them.
@@ -346,14 +359,14 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
             if (iequals(next, "OFFSETS")) {
                 lex.next();
                 lex.expect("offsets type");
-                offsets.resize(static_cast<std::size_t>(a));
-                for (long i = 0; i < a; ++i) offsets[static_cast<std::size_t>(i)] = lex.expect_int("offset");
+                offsets.reserve(lex.reservable(a, 2));
+                for (long i = 0; i < a; ++i) offsets.push_back(lex.expect_int("offset"));
                 lex.expect_keyword("CONNECTIVITY");
                 lex.expect("connectivity type");
-                connectivity.resize(static_cast<std::size_t>(b));
+                connectivity.reserve(lex.reservable(b, 2));
                 for (long i = 0; i < b; ++i) {
                     const long cell = static_cast<long>(std::upper_bound(offsets.begin(), offsets.end(), i) - offsets.begin()) - 1;
-                    connectivity[static_cast<std::size_t>(i)] = read_vertex_index(lex, 0, np, cell, "cell");
+                    connectivity.push_back(read_vertex_index(lex, 0, np, cell, "cell"));
                 }
                 if (a < 1 || offsets.front() != 0 || offsets.back() != b) lex.fail("inconsistent OFFSETS / CONNECTIVITY");
             } else {
@@ -386,7 +399,7 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
             }
             return mesh;  // point and cell data that follow are not needed
         } else {
-            lex.fail("unexpected keyword '" + std::string(tok) + "' in VTK file");
+            lex.fail("unexpected keyword '" + quote_excerpt(tok) + "' in VTK file");
         }
     }
 }
@@ -490,15 +503,15 @@ HexMesh read_vtu(const std::string& path, const std::string& text) {
                 while (i < body.size() && std::isspace(static_cast<unsigned char>(body[i]))) ++i;
                 if (i >= body.size()) break;
                 const std::size_t eq = body.find('=', i);
-                if (eq == std::string_view::npos) fail_at(path, tag.line, "malformed attribute in <" + tag.name + ">");
+                if (eq == std::string_view::npos) fail_at(path, tag.line, "malformed attribute in <" + quote_excerpt(tag.name) + ">");
                 std::string key(body.substr(i, eq - i));
                 while (!key.empty() && std::isspace(static_cast<unsigned char>(key.back()))) key.pop_back();
                 std::size_t q = eq + 1;
                 while (q < body.size() && std::isspace(static_cast<unsigned char>(body[q]))) ++q;
                 if (q >= body.size() || (body[q] != '"' && body[q] != '\''))
-                    fail_at(path, tag.line, "malformed attribute '" + key + "' in <" + tag.name + ">");
+                    fail_at(path, tag.line, "malformed attribute '" + quote_excerpt(key) + "' in <" + quote_excerpt(tag.name) + ">");
                 const std::size_t qe = body.find(body[q], q + 1);
-                if (qe == std::string_view::npos) fail_at(path, tag.line, "unterminated attribute '" + key + "'");
+                if (qe == std::string_view::npos) fail_at(path, tag.line, "unterminated attribute '" + quote_excerpt(key) + "'");
                 tag.attributes.emplace_back(key, std::string(body.substr(q + 1, qe - q - 1)));
                 i = qe + 1;
             }
@@ -511,7 +524,7 @@ HexMesh read_vtu(const std::string& path, const std::string& text) {
     XmlTag tag;
     if (!next_tag(tag) || tag.name != "VTKFile") fail_at(path, tag.line, "not a VTK XML file: <VTKFile> expected");
     if (tag.attribute("type") != "UnstructuredGrid")
-        fail_at(path, tag.line, "VTK XML type '" + tag.attribute("type") + "' is not supported (only UnstructuredGrid)");
+        fail_at(path, tag.line, "VTK XML type '" + quote_excerpt(tag.attribute("type")) + "' is not supported (only UnstructuredGrid)");
     if (!tag.attribute("compressor").empty()) fail_at(path, tag.line, "compressed VTU files are not supported");
 
     long num_points = -1, num_cells = -1;
@@ -522,7 +535,7 @@ HexMesh read_vtu(const std::string& path, const std::string& text) {
     while (!done && next_tag(tag)) {
         if (tag.closing) {
             if (stack.empty() || stack.back() != tag.name)
-                fail_at(path, tag.line, "unexpected </" + tag.name + ">");
+                fail_at(path, tag.line, "unexpected </" + quote_excerpt(tag.name) + ">");
             stack.pop_back();
             if (tag.name == "Piece") done = true;
             continue;
@@ -539,7 +552,7 @@ HexMesh read_vtu(const std::string& path, const std::string& text) {
             };
             num_points = count("NumberOfPoints");
             num_cells = count("NumberOfCells");
-            if (static_cast<std::size_t>(num_points) > text.size() || static_cast<std::size_t>(num_cells) > text.size())
+            if (static_cast<std::size_t>(num_points) > text.size() / 6 || static_cast<std::size_t>(num_cells) > text.size() / 4)
                 fail_at(path, tag.line, "NumberOfPoints / NumberOfCells larger than the file can hold");
         }
         if (tag.name == "DataArray" && !tag.self_closing) {
@@ -548,7 +561,7 @@ HexMesh read_vtu(const std::string& path, const std::string& text) {
             const std::string format = tag.attribute("format");
             const bool wanted = parent == "Points" || (parent == "Cells" && (name == "connectivity" || name == "offsets" || name == "types"));
             if (wanted && format != "ascii")
-                fail_at(path, tag.line, "DataArray format '" + format + "' is not supported (only ascii)");
+                fail_at(path, tag.line, "DataArray format '" + quote_excerpt(format) + "' is not supported (only ascii)");
             const std::size_t close = text.find("</DataArray>", tag.end);
             if (close == std::string::npos) fail_at(path, tag.line, "truncated file: </DataArray> missing");
             if (wanted) {
@@ -566,7 +579,7 @@ HexMesh read_vtu(const std::string& path, const std::string& text) {
                     std::vector<long>& dst = name == "connectivity" ? connectivity : name == "offsets" ? offsets : types;
                     while (!lex.at_end()) dst.push_back(lex.expect_int(name + " entry"));
                 }
-                if (!lex.at_end()) lex.fail("more values than declared in " + (name.empty() ? parent : name));
+                if (!lex.at_end()) lex.fail("more values than declared in " + quote_excerpt(name.empty() ? parent : name));
             }
             pos = close + std::strlen("</DataArray>");
             continue;
@@ -674,7 +687,7 @@ void skip_gmsh_section(Lexer& lex, const std::string& name) {
     const std::string end = "$end" + lower(name.substr(1));
     while (true) {
         const std::string_view t = lex.next();
-        if (t.empty()) lex.fail("truncated file: " + std::string("$End") + name.substr(1) + " missing");
+        if (t.empty()) lex.fail("truncated file: " + std::string("$End") + quote_excerpt(name.substr(1)) + " missing");
         if (lower(t) == end) return;
     }
 }
@@ -689,21 +702,21 @@ HexMesh read_msh(const std::string& path, const std::string& text) {
         const std::string key = lower(section);
         if (key == "$meshformat") {
             const std::string_view version = lex.expect("format version");
-            if (version != "4.1") lex.fail("Gmsh format version " + std::string(version) + " is not supported (only 4.1)");
+            if (version != "4.1") lex.fail("Gmsh format version " + quote_excerpt(version) + " is not supported (only 4.1)");
             const long file_type = lex.expect_int("file type");
             if (file_type != 0) lex.fail("binary Gmsh files are not supported (only ASCII)");
             lex.expect_int("data size");
             lex.expect_keyword("$EndMeshFormat");
             have_format = true;
         } else if (!have_format) {
-            lex.fail("not a Gmsh file: $MeshFormat expected first, found '" + section + "'");
+            lex.fail("not a Gmsh file: $MeshFormat expected first, found '" + quote_excerpt(section) + "'");
         } else if (key == "$nodes") {
             const long blocks = lex.expect_count("number of node blocks");
             const long total = lex.expect_count("number of nodes");
             lex.expect_int("min node tag");
             lex.expect_int("max node tag");
-            mesh.points.reserve(static_cast<std::size_t>(total));
-            node_index.reserve(static_cast<std::size_t>(total));
+            mesh.points.reserve(lex.reservable(total, 8));  // "tag x y z" takes 8 bytes at least
+            node_index.reserve(lex.reservable(total, 8));
             for (long b = 0; b < blocks; ++b) {
                 const long dim = lex.expect_int("entity dimension");
                 lex.expect_int("entity tag");
@@ -766,7 +779,7 @@ HexMesh read_msh(const std::string& path, const std::string& text) {
         } else if (!section.empty() && section[0] == '$') {
             skip_gmsh_section(lex, section);  // $Entities, $PhysicalNames, $ElementData, ...
         } else {
-            lex.fail("unexpected '" + section + "' outside a section");
+            lex.fail("unexpected '" + quote_excerpt(section) + "' outside a section");
         }
     }
     if (!have_format) fail_at(path, 1, "not a Gmsh file: $MeshFormat missing");
@@ -863,7 +876,9 @@ HexMesh read_hex_mesh(const std::string& path) {
                     path + ": unknown hex mesh extension '" + ext + "' (readable: .mesh .vtk .vtu .msh)");
     }
     const std::string text = read_whole_file(path);
+    if (is_blank_content(text)) fail_empty_file(path, "expected a hex mesh");
     if (ext == ".mesh") return read_medit(path, text);
+
     if (ext == ".vtk") return read_vtk(path, text);
     if (ext == ".vtu") return read_vtu(path, text);
     return read_msh(path, text);
@@ -883,9 +898,49 @@ void write_hex_mesh(const std::string& path, const HexMesh& mesh, const std::vec
     else write_file_atomically(path, write_inp(mesh));
 }
 
+namespace {
+
+// True for "<name>.tmp.<pid>.<n>" (pid and n decimal) and then sets `pid`.
+bool is_our_temporary(const std::string& entry, const std::string& name, long& pid) {
+    const std::string prefix = name + ".tmp.";
+    if (entry.size() <= prefix.size() || entry.compare(0, prefix.size(), prefix) != 0) return false;
+    const std::string_view rest = std::string_view(entry).substr(prefix.size());
+    const std::size_t dot = rest.find('.');
+    if (dot == std::string_view::npos || dot == 0 || dot + 1 >= rest.size()) return false;
+    const auto all_digits = [](std::string_view s) {
+        return !s.empty() && s.size() <= 18 && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+    };
+    if (!all_digits(rest.substr(0, dot)) || !all_digits(rest.substr(dot + 1))) return false;
+    pid = std::stol(std::string(rest.substr(0, dot)));
+    return pid > 0;
+}
+
+}  // namespace
+
+int remove_stale_temporaries(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path target(path);
+    const std::string name = target.filename().string();
+    if (name.empty()) return 0;
+    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    int removed = 0;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string entry = it->path().filename().string();
+        long pid = 0;
+        if (!is_our_temporary(entry, name, pid) || pid == static_cast<long>(::getpid())) continue;
+        // kill(pid, 0) fails with ESRCH only when no such process exists: a live writer's file is left alone.
+        if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+        if (fs::is_regular_file(it->symlink_status(ec)) && ::unlink(it->path().c_str()) == 0) ++removed;
+    }
+    return removed;
+}
+
 void write_file_atomically(const std::string& path, const std::string& text) {
     // A unique name beside the target (same file system, so rename is atomic); O_EXCL guards against collisions and
-    // mode 0666 lets the umask decide the permissions as for any new file.
+    // mode 0666 lets the umask decide the permissions as for any new file. Temporaries that a killed run left
+    // beside the same target are removed first (remove_stale_temporaries).
+    remove_stale_temporaries(path);
     static std::atomic<unsigned> counter{0};
     std::string tmp;
     int fd = -1;

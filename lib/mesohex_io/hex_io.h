@@ -14,7 +14,13 @@ HexMesh read_hex_mesh(const std::string& path);
 // cell_scalars (may be empty): one value per hex, written as cell data named "scaled_jacobian" where the format allows.
 void write_hex_mesh(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars = {});
 
-// Writes `text` to `path` atomically (temporary file + rename). Used for every output file of the project.
+// Writes `text` to `path` atomically (temporary file "<path>.tmp.<pid>.<n>" beside it + rename). Used for every
+// output file of the project. First removes the stale temporaries of the same target (remove_stale_temporaries).
 void write_file_atomically(const std::string& path, const std::string& text);
+
+// Removes "<path>.tmp.<pid>.<n>" files (our naming only, regular files only) whose writer process <pid> no longer
+// exists: what a run killed while writing `path` left behind. Returns how many were removed; errors are ignored.
+int remove_stale_temporaries(const std::string& path);
+
 
 }  // namespace mesohex

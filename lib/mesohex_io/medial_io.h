@@ -9,9 +9,11 @@ namespace mesohex {
 
 // Reads a .ma file into a Skeleton whose faces are the medial triangles (3 vertices each) and whose edges are the
 // file's edges in file order, followed by any triangle side the file omitted (add_face_edges). Radii: one per point.
-// Errors (IoError, naming file:line): unreadable file, bad header, a count that does not match the lines present,
-// a malformed line, an index out of range, a repeated vertex in an edge or triangle, a duplicated edge, a
-// non-positive or non-finite radius or coordinate. Blank lines and lines starting with '#' are skipped.
+// Errors: IoError when the file cannot be read; InvalidInput (naming file:line) for an empty file, a bad header, a
+// header count larger than the file can hold (nothing is reserved from the header alone), a count that does not
+// match the lines present, a malformed line, an index out of range, a repeated vertex in an edge or triangle, a
+// duplicated edge, a non-positive or non-finite radius or coordinate. Blank lines and lines starting with '#' are
+// skipped. Time and memory are linear in the file size.
 Skeleton read_medial_mesh(const std::string& path);
 
 }  // namespace mesohex

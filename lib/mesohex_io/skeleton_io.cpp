@@ -74,8 +74,8 @@ public:
         const char* last = t.data() + t.size();
         const std::from_chars_result r = std::from_chars(first, last, value);
         if (t.empty() || r.ec != std::errc() || r.ptr != last)
-            fail(line, std::string("expected a number for ") + what + ", got '" + std::string(tok) + "'");
-        if (!std::isfinite(value)) fail(line, std::string("non-finite ") + what + " '" + std::string(tok) + "'");
+            fail(line, std::string("expected a number for ") + what + ", got '" + quote_excerpt(tok) + "'");
+        if (!std::isfinite(value)) fail(line, std::string("non-finite ") + what + " '" + quote_excerpt(tok) + "'");
         return value;
     }
     long long integer(std::string_view tok, int line, const char* what) const {
@@ -86,13 +86,13 @@ public:
         const char* last = t.data() + t.size();
         const std::from_chars_result r = std::from_chars(first, last, value);
         if (t.empty() || r.ec != std::errc() || r.ptr != last)
-            fail(line, std::string("expected an integer for ") + what + ", got '" + std::string(tok) + "'");
+            fail(line, std::string("expected an integer for ") + what + ", got '" + quote_excerpt(tok) + "'");
         return value;
     }
     // A count or index that must fit in [0, 2^31).
     int non_negative(std::string_view tok, int line, const char* what) const {
         const long long v = integer(tok, line, what);
-        if (v < 0 || v > 2147483647LL) fail(line, std::string(what) + " out of range: " + std::string(tok));
+        if (v < 0 || v > 2147483647LL) fail(line, std::string(what) + " out of range: " + quote_excerpt(tok));
         return static_cast<int>(v);
     }
     const std::string& file() const { return file_; }
@@ -117,10 +117,10 @@ bool parse_radius_comment(const Context& ctx, std::string_view comment, int line
     if (tok.size() < 2 || tok[0] != "mesohex" || tok[1] != "radius") return false;
     if (tok.size() != 4) ctx.fail(line, "radius comment must be '# mesohex radius <vertex> <radius>'");
     const long long idx = ctx.integer(tok[2], line, "radius vertex index") - index_base;
-    if (idx < 0 || idx > 2147483647LL) ctx.fail(line, "radius vertex index out of range: " + std::string(tok[2]));
+    if (idx < 0 || idx > 2147483647LL) ctx.fail(line, "radius vertex index out of range: " + quote_excerpt(tok[2]));
     const double r = ctx.number(tok[3], line, "radius");
     if (!radius_of.emplace(static_cast<int>(idx), std::make_pair(r, line)).second)
-        ctx.fail(line, "second radius for vertex " + std::string(tok[2]));
+        ctx.fail(line, "second radius for vertex " + quote_excerpt(tok[2]));
     return true;
 }
 
@@ -239,7 +239,7 @@ Skeleton read_cg(const Context& ctx, const std::vector<TextLine>& lines, bool ra
                                  ctx.non_negative(tok[2], l.number, "vertex index")});
             p.edge_line.push_back(l.number);
         } else {
-            ctx.fail(l.number, "unknown line '" + std::string(tok[0]) + "' (expected 'v' or 'e')");
+            ctx.fail(l.number, "unknown line '" + quote_excerpt(tok[0]) + "' (expected 'v' or 'e')");
         }
     }
     if (!all_have_radius) p.s.radii.clear(), p.radius_line.clear();
@@ -323,7 +323,8 @@ struct Token {
 
 // Sorts a face's edges into a closed cycle and returns its vertices. The face is traversed so that its first listed
 // edge comes first and the second listed edge follows it (when the edges are listed in cycle order, that order is
-// kept); the remaining edges are chained from there.
+// kept); the remaining edges are chained from there. Linear in the face size: each step looks up the unused face
+// edges at the current vertex in a (vertex, local edge) table sorted once, instead of rescanning the whole face.
 std::vector<int> face_cycle(const Context& ctx, const std::vector<std::array<int, 2>>& edges,
                             const std::vector<int>& face_edges, int line) {
     const std::size_t k = face_edges.size();
@@ -331,14 +332,27 @@ std::vector<int> face_cycle(const Context& ctx, const std::vector<std::array<int
     const std::array<int, 2> second = edges[face_edges[1]];
     const auto touches = [](const std::array<int, 2>& e, int v) { return e[0] == v || e[1] == v; };
     if (touches(second, first[0]) && !touches(second, first[1])) std::swap(first[0], first[1]);
-    std::vector<int> cycle{first[0], first[1]};
+    // (vertex, local edge j) for both ends of every face edge; sorted so that the edges at a vertex are contiguous
+    // and in listing order (the first unused one is taken, as the listing-order scan did).
+    std::vector<std::pair<int, int>> at;
+    at.reserve(2 * k);
+    for (std::size_t j = 0; j < k; ++j)
+        for (const int v : edges[face_edges[j]]) at.emplace_back(v, static_cast<int>(j));
+    std::sort(at.begin(), at.end());
+    std::vector<std::size_t> cursor(at.size());  // per vertex group start: next candidate to look at
     std::vector<bool> used(k, false);
     used[0] = true;
+    std::vector<int> cycle{first[0], first[1]};
     int current = first[1];
     for (std::size_t step = 1; step < k; ++step) {
-        std::size_t j = 0;
-        while (j < k && (used[j] || !touches(edges[face_edges[j]], current))) ++j;
-        if (j == k) ctx.fail(line, "face edges do not form a single closed cycle");
+        std::size_t i = static_cast<std::size_t>(
+            std::lower_bound(at.begin(), at.end(), std::make_pair(current, -1)) - at.begin());
+        const std::size_t group = i;
+        i = std::max(i, cursor[group]);
+        while (i < at.size() && at[i].first == current && used[static_cast<std::size_t>(at[i].second)]) ++i;
+        cursor[group] = i;  // every entry before i at this vertex is used: never looked at again
+        if (i == at.size() || at[i].first != current) ctx.fail(line, "face edges do not form a single closed cycle");
+        const std::size_t j = static_cast<std::size_t>(at[i].second);
         used[j] = true;
         const std::array<int, 2>& e = edges[face_edges[j]];
         current = e[0] == current ? e[1] : e[0];
@@ -415,7 +429,7 @@ Skeleton read_ig(const Context& ctx, const std::vector<TextLine>& lines) {
         p.face_line.push_back(tk.line);
     }
     if (pos < tokens.size())
-        ctx.fail(tokens[pos].line, "unexpected content after the last face ('" + std::string(tokens[pos].text) +
+        ctx.fail(tokens[pos].line, "unexpected content after the last face ('" + quote_excerpt(tokens[pos].text) +
                                        "'): do the counts in the header match the file?");
     apply_radius_comments(ctx, radius_of, p, last, 0);
     return finalize(ctx, std::move(p));
@@ -435,7 +449,7 @@ Skeleton read_obj(const Context& ctx, const std::vector<TextLine>& lines) {
         if (i == 0) ctx.fail(line, "vertex index 0 (OBJ indices start at 1)");
         const long long v = i > 0 ? i - 1 : n + i;
         if (v < 0 || v > 2147483647LL)
-            ctx.fail(line, "vertex index " + std::string(head) + " does not name a vertex");
+            ctx.fail(line, "vertex index " + quote_excerpt(head) + " does not name a vertex");
         return static_cast<int>(v);
     };
     for (const TextLine& l : lines) {
@@ -573,6 +587,7 @@ Skeleton read_skeleton(const std::string& path) {
         throw Error(ErrorCode::InvalidInput,
                     path + ": unknown skeleton format '." + ext + "' (expected .ig, .cg, .cgr, .skel or .obj)");
     const std::string content = read_whole_file(path);
+    if (is_blank_content(content)) fail_empty_file(path, "expected a skeleton");
     if (content.find('\0') != std::string::npos) ctx.fail(1, "binary content (NUL byte) in a text format");
     const std::vector<TextLine> lines = split_lines(content);
     if (ext == "ig") return read_ig(ctx, lines);

@@ -65,8 +65,8 @@ public:
         double value = 0;
         const std::from_chars_result r = std::from_chars(t.data(), t.data() + t.size(), value);
         if (t.empty() || r.ec != std::errc() || r.ptr != t.data() + t.size())
-            fail(std::string("expected a number for ") + what + ", got '" + std::string(tok) + "'");
-        if (!std::isfinite(value)) fail(std::string("non-finite ") + what + " '" + std::string(tok) + "'");
+            fail(std::string("expected a number for ") + what + ", got '" + quote_excerpt(tok) + "'");
+        if (!std::isfinite(value)) fail(std::string("non-finite ") + what + " '" + quote_excerpt(tok) + "'");
         return value;
     }
     long long integer(std::string_view tok, const char* what) const {
@@ -75,7 +75,7 @@ public:
         long long value = 0;
         const std::from_chars_result r = std::from_chars(t.data(), t.data() + t.size(), value);
         if (t.empty() || r.ec != std::errc() || r.ptr != t.data() + t.size())
-            fail(std::string("expected an integer for ") + what + ", got '" + std::string(tok) + "'");
+            fail(std::string("expected an integer for ") + what + ", got '" + quote_excerpt(tok) + "'");
         return value;
     }
 
@@ -99,9 +99,9 @@ TriangleMesh read_off(const std::string& path, const std::string& content) {
     if (!in.next_tokens(tok)) in.fail("empty file (expected the OFF header)");
     const std::string_view head = tok[0];
     if (head.size() < 3 || head.substr(head.size() - 3) != "OFF")
-        in.fail("expected an OFF header ('OFF', 'COFF', 'NOFF', ...), got '" + std::string(head) + "'");
+        in.fail("expected an OFF header ('OFF', 'COFF', 'NOFF', ...), got '" + quote_excerpt(head) + "'");
     if (head.find("4") != std::string_view::npos || head.find("n") != std::string_view::npos)
-        in.fail("unsupported OFF variant '" + std::string(head) + "' (only 3D OFF)");
+        in.fail("unsupported OFF variant '" + quote_excerpt(head) + "' (only 3D OFF)");
     if (tok.size() > 1 && tok[1] == "BINARY") in.fail("binary OFF is not supported");
     std::vector<std::string_view> counts(tok.begin() + 1, tok.end());
     if (counts.empty()) {
@@ -113,9 +113,11 @@ TriangleMesh read_off(const std::string& path, const std::string& content) {
     if (nv < 0 || nf < 0 || nv > 1'000'000'000 || nf > 1'000'000'000) in.fail("invalid vertex / face counts");
     TriangleMesh mesh;
     // Counts are checked against the file size before reserving (a corrupt header must not allocate gigabytes).
-    const std::size_t cap = content.size() / 2;
-    mesh.points.reserve(std::min(static_cast<std::size_t>(nv), cap));
-    mesh.triangles.reserve(std::min(static_cast<std::size_t>(nf), cap));
+    // What is reserved is capped by what the rest of the file can hold ("0 0 0\n" per vertex, "3 0 1 2\n" per face):
+    // a corrupt header allocates nothing big, and a short file fails where its data ends ("... missing").
+    const std::size_t left = content.size() - std::min(in.position(), content.size());
+    mesh.points.reserve(std::min(static_cast<std::size_t>(nv), left / 6));
+    mesh.triangles.reserve(std::min(static_cast<std::size_t>(nf), left / 8));
     for (long long v = 0; v < nv; ++v) {
         if (!in.next_tokens(tok)) in.fail("unexpected end of file: " + std::to_string(nv - v) + " vertices missing");
         if (tok.size() < 3) in.fail("a vertex needs 3 coordinates");
@@ -269,7 +271,7 @@ TriangleMesh read_stl(const std::string& path, const std::string& content) {
         } else if (k == "endfacet") {
             if (in_loop) in.fail("'endfacet' before 'endloop'");
         } else {
-            in.fail("unexpected keyword '" + std::string(k) + "' in ASCII STL");
+            in.fail("unexpected keyword '" + quote_excerpt(k) + "' in ASCII STL");
         }
     }
     if (in_loop) in.fail("unexpected end of file inside a facet");
@@ -375,13 +377,13 @@ TriangleMesh read_ply(const std::string& path, const std::string& content) {
             if (tok[1] == "ascii") format = Format::Ascii;
             else if (tok[1] == "binary_little_endian") format = Format::BinaryLE;
             else if (tok[1] == "binary_big_endian") format = Format::BinaryBE;
-            else in.fail("unknown PLY format '" + std::string(tok[1]) + "'");
+            else in.fail("unknown PLY format '" + quote_excerpt(tok[1]) + "'");
             have_format = true;
         } else if (tok[0] == "element") {
             if (tok.size() < 3) in.fail("'element' needs a name and a count");
             const long long n = in.integer(tok[2], "the element count");
             if (n < 0 || n > 2'000'000'000) in.fail("invalid element count");
-            elements.push_back({std::string(tok[1]), n, in.number(), {}});
+            elements.push_back({quote_excerpt(tok[1]), n, in.number(), {}});
         } else if (tok[0] == "property") {
             if (elements.empty()) in.fail("'property' before any 'element'");
             PlyProperty p;
@@ -389,20 +391,20 @@ TriangleMesh read_ply(const std::string& path, const std::string& content) {
                 p.is_list = true;
                 p.count_type = ply_type(tok[2]);
                 p.type = ply_type(tok[3]);
-                p.name = std::string(tok[4]);
+                p.name = quote_excerpt(tok[4]);
                 if (p.count_type == PlyType::Invalid || p.type == PlyType::Invalid ||
                     p.count_type == PlyType::Float32 || p.count_type == PlyType::Float64)
                     in.fail("invalid list property types");
             } else if (tok.size() >= 3 && tok[1] != "list") {
                 p.type = ply_type(tok[1]);
-                p.name = std::string(tok[2]);
-                if (p.type == PlyType::Invalid) in.fail("unknown property type '" + std::string(tok[1]) + "'");
+                p.name = quote_excerpt(tok[2]);
+                if (p.type == PlyType::Invalid) in.fail("unknown property type '" + quote_excerpt(tok[1]) + "'");
             } else {
                 in.fail("malformed 'property' line");
             }
             elements.back().properties.push_back(p);
         } else {
-            in.fail("unexpected header keyword '" + std::string(tok[0]) + "'");
+            in.fail("unexpected header keyword '" + quote_excerpt(tok[0]) + "'");
         }
     }
     if (!ended) in.fail("missing 'end_header'");
@@ -482,6 +484,14 @@ TriangleMesh read_ply(const std::string& path, const std::string& content) {
     PlyBinary body(path, content, in.position(), format == Format::BinaryBE);
     for (const PlyElement& el : elements) {
         const auto [is_vertex, is_face, ix, iy, iz, ilist] = layout_of(el);
+        // Each record takes at least the sizes of its scalars and list counts: a count the rest of the file cannot
+        // hold is refused at once, and an element without properties (0 bytes per record) is skipped in O(1)
+        // instead of being "read" count times (work stays linear in the file size).
+        std::size_t min_record = 0;
+        for (const PlyProperty& prop : el.properties) min_record += ply_size(prop.is_list ? prop.count_type : prop.type);
+        if (min_record == 0) continue;
+        check_count_fits(path, el.header_line, el.count, content.size() - std::min(body.position(), content.size()),
+                         min_record, "'" + quote_excerpt(el.name) + "' element count");
         for (long long i = 0; i < el.count; ++i) {
             const std::size_t start = body.position();
             Vec3 p;
@@ -588,6 +598,7 @@ TriangleMesh read_surface(const std::string& path) {
     if (ext != "off" && ext != "obj" && ext != "stl" && ext != "ply")
         throw Error(ErrorCode::InvalidInput, path + ": unknown surface format '." + ext + "' (use .off, .obj, .stl or .ply)");
     const std::string content = read_whole_file(path);
+    if (is_blank_content(content)) fail_empty_file(path, "expected a triangle surface");
     TriangleMesh mesh;
     if (ext == "off") mesh = read_off(path, content);
     else if (ext == "obj") mesh = read_obj(path, content);

@@ -1,5 +1,6 @@
 #include "mesohex_io/text_input.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
@@ -42,6 +43,48 @@ std::vector<std::string_view> split_whitespace(std::string_view s) {
         if (i > b) out.push_back(s.substr(b, i - b));
     }
     return out;
+}
+
+std::string quote_excerpt(std::string_view s, std::size_t max_chars) {
+    static const char* const hex = "0123456789abcdef";
+    std::string out;
+    const std::size_t n = std::min(s.size(), max_chars);
+    out.reserve(n + 32);
+    for (std::size_t i = 0; i < n; ++i) {
+        const unsigned char c = static_cast<unsigned char>(s[i]);
+        if (c == '\\') {
+            out += "\\\\";
+        } else if (c >= 0x20 && c < 0x7f) {
+            out += static_cast<char>(c);
+        } else {
+            out += "\\x";
+            out += hex[c >> 4];
+            out += hex[c & 15];
+        }
+    }
+    if (s.size() > n) out += "... (" + std::to_string(s.size()) + " bytes)";
+    return out;
+}
+
+bool is_blank_content(std::string_view content) {
+    for (const char c : content)
+        if (!is_space(c) && c != '\n') return false;
+    return true;
+}
+
+void fail_empty_file(const std::string& path, const std::string& expected) {
+    throw Error(ErrorCode::InvalidInput, path + ":1: empty file (" + expected + ")", {ElementRef::Kind::FileLine, 1});
+}
+
+void check_count_fits(const std::string& path, int line, long long count, std::size_t bytes_left,
+                      std::size_t min_bytes, const std::string& what) {
+    const std::size_t per = std::max<std::size_t>(min_bytes, 1);
+    if (count < 0 || static_cast<unsigned long long>(count) > bytes_left / per)
+        throw Error(ErrorCode::InvalidInput,
+                    path + ":" + std::to_string(line) + ": " + what + " " + std::to_string(count) +
+                        " is more than the rest of the file (" + std::to_string(bytes_left) +
+                        " bytes) can hold: truncated or corrupt file?",
+                    {ElementRef::Kind::FileLine, line});
 }
 
 }  // namespace mesohex

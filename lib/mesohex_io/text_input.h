@@ -15,4 +15,20 @@ std::string lower_extension(const std::string& path);
 // Whitespace (space, tab, CR, FF, VT) separated tokens; the views point into `s`.
 std::vector<std::string_view> split_whitespace(std::string_view s);
 
+// Text from a file made safe to print inside an error message: at most `max_chars` characters of `s` (then "..."
+// and the full length in bytes), every byte outside printable ASCII written as \xNN, a backslash as \\. A 20 MB
+// line or a binary token never reaches the terminal whole or raw.
+std::string quote_excerpt(std::string_view s, std::size_t max_chars = 80);
+
+// True when `content` holds nothing but whitespace (space, tab, CR, LF, FF, VT).
+bool is_blank_content(std::string_view content);
+
+// Error(InvalidInput) "<path>:1: empty file (<expected>)" (never "line 0"), for a file of whitespace only.
+[[noreturn]] void fail_empty_file(const std::string& path, const std::string& expected);
+
+// Error(InvalidInput) "<path>:<line>: <what>" unless `count` items, each taking at least `min_bytes` bytes of the
+// file, fit in `bytes_left` bytes: a header count must never make a reader reserve more than the file can hold.
+void check_count_fits(const std::string& path, int line, long long count, std::size_t bytes_left,
+                      std::size_t min_bytes, const std::string& what);
+
 }  // namespace mesohex

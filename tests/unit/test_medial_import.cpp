@@ -1,6 +1,7 @@
 // Medial mesh (.ma) reading and medial mesh -> meso-skeleton conversion on tiny inputs checkable on paper.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -454,13 +455,57 @@ TEST(MedialIo, ErrorsNameFileAndLine) {
             read_medial_mesh(path);
             ADD_FAILURE() << "no error for: " << c.text;
         } catch (const Error& e) {
-            EXPECT_EQ(e.code(), ErrorCode::IoError);
+            EXPECT_EQ(e.code(), ErrorCode::InvalidInput);
             EXPECT_EQ(e.where().index, c.line) << e.what();
             EXPECT_NE(std::string(e.what()).find(path + ":" + std::to_string(c.line)), std::string::npos) << e.what();
         }
         std::remove(path.c_str());
     }
     EXPECT_THROW(read_medial_mesh("/nonexistent/x.ma"), Error);
+}
+
+// Issue 18: a header count the file cannot hold is refused before anything is reserved (no bad_alloc, no
+// terabytes), as InvalidInput naming file and line 1; an empty file says so instead of naming line 0; a long
+// binary token is quoted short and escaped.
+TEST(MedialIo, HeaderCountsBoundedByFileSize) {
+    const char* headers[] = {"2147483648 0 0\n", "1e12 0 0\n", "0 4000000000 0\n", "3 0 0\nv 0 0 0 1\n",
+                             "0 0 9223372036854775807\n"};
+    int i = 0;
+    for (const char* text : headers) {
+        const std::string path = write_temp("huge" + std::to_string(i++) + ".ma", text);
+        try {
+            read_medial_mesh(path);
+            ADD_FAILURE() << "no error for: " << text;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::InvalidInput) << e.what();
+            EXPECT_EQ(e.where().index, 1) << e.what();
+            EXPECT_NE(std::string(e.what()).find(path + ":1: "), std::string::npos) << e.what();
+        }
+        std::remove(path.c_str());
+    }
+    const std::string empty = write_temp("empty.ma", " \n\n");
+    try {
+        read_medial_mesh(empty);
+        ADD_FAILURE() << "no error for an empty file";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::InvalidInput);
+        EXPECT_EQ(std::string(e.what()), empty + ":1: empty file (expected the header 'nv ne nf')");
+    }
+    std::remove(empty.c_str());
+    std::string binary = "1 0 0\nq";
+    for (int k = 0; k < 100000; ++k) binary += static_cast<char>(0x80 + k % 100);
+    const std::string bin_path = write_temp("binary.ma", binary + "\n");
+    try {
+        read_medial_mesh(bin_path);
+        ADD_FAILURE() << "no error for a binary line";
+    } catch (const Error& e) {
+        const std::string msg = e.what();
+        EXPECT_LT(msg.size(), 400u) << msg;
+        EXPECT_NE(msg.find("\\x80"), std::string::npos) << msg;
+        EXPECT_EQ(std::count_if(msg.begin(), msg.end(), [](char c) { return static_cast<unsigned char>(c) >= 0x80; }),
+                  0);
+    }
+    std::remove(bin_path.c_str());
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #pragma once
 // Errors as values at stage boundaries: thrown only from input validation at the start of a stage or from IO.
+#include <new>
 #include <stdexcept>
+
 #include <string>
 
 namespace mesohex {
@@ -24,6 +26,16 @@ private:
     ErrorCode code_;
     ElementRef where_;
 };
+
+// A mesohex::Error for an exception that is not one: std::bad_alloc ("out of memory") or a foreign library's
+// failure (CGAL::Failure_exception, an Eigen or TBB error), as NumericalFailure with `context` (the file and stage
+// that were being processed) in front. Used at the stage boundaries of the CLI so that no run ends on a bare
+// foreign message.
+inline Error foreign_error(const std::exception& e, const std::string& context) {
+    const bool oom = dynamic_cast<const std::bad_alloc*>(&e) != nullptr;
+    return Error(ErrorCode::NumericalFailure,
+                 context + ": " + (oom ? std::string("out of memory") : "internal failure: " + std::string(e.what())));
+}
 
 // Exit status the CLI uses for each code (0 = success, 1 = generic failure, 5 = mesh has inverted hexes).
 inline int exit_code(ErrorCode c) {

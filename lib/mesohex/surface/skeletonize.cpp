@@ -63,8 +63,43 @@ Error invalid(const std::string& why, ElementRef where = {}) {
     return Error(ErrorCode::InvalidInput, "surface cannot be skeletonized: " + why, where);
 }
 
+// Geometry the mean curvature flow needs (checked before CGAL sees the mesh: on a degenerate surface it fails a
+// precondition or never ends): a bounding box of non-zero size, no triangle of (near) zero area, a non-zero
+// enclosed volume. The tolerances are relative to the bounding-box diagonal D.
+constexpr double kMinTriangleArea = 1e-12;  // x D^2: below this a triangle has no usable normal or cotangent weight
+constexpr double kMinVolume = 1e-9;         // x D^3: below this the surface encloses nothing (flat or collapsed)
+
+void check_geometry(const TriangleMesh& m) {
+    Vec3 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+            std::numeric_limits<double>::infinity()};
+    Vec3 hi = -1.0 * lo;
+    for (const std::array<int, 3>& tri : m.triangles)
+        for (const int v : tri)
+            for (int c = 0; c < 3; ++c) {
+                lo[c] = std::min(lo[c], m.points[static_cast<size_t>(v)][c]);
+                hi[c] = std::max(hi[c], m.points[static_cast<size_t>(v)][c]);
+            }
+    const double diag = norm(hi - lo);
+    if (!(diag > 0) || !std::isfinite(diag))
+        throw invalid("all its vertices coincide (the bounding box has size " + std::to_string(diag) + ")");
+    double volume = 0;
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+        const std::array<int, 3>& tri = m.triangles[t];
+        const Vec3& a = m.points[static_cast<size_t>(tri[0])];
+        const Vec3& b = m.points[static_cast<size_t>(tri[1])];
+        const Vec3& c = m.points[static_cast<size_t>(tri[2])];
+        const double area = 0.5 * norm(cross(b - a, c - a));
+        if (!(area > kMinTriangleArea * diag * diag))
+            throw invalid("triangle " + std::to_string(t) + " has (near) zero area (" + std::to_string(area) + ")");
+        volume += dot(a, cross(b, c)) / 6.0;
+    }
+    if (!(std::abs(volume) > kMinVolume * diag * diag * diag))
+        throw invalid("it encloses no volume (" + std::to_string(volume) + "): a flat or collapsed surface");
+}
+
 // Throws InvalidInput unless the surface is a closed, manifold, consistently oriented, single-component triangle mesh.
 void check_skeletonizable(const TriangleMesh& m) {
+
     const int nv = static_cast<int>(m.points.size());
     const int nt = static_cast<int>(m.triangles.size());
     if (nt < 4) throw invalid("it has " + std::to_string(nt) + " triangles (a closed surface needs at least 4)");
@@ -161,6 +196,7 @@ void check_skeletonizable(const TriangleMesh& m) {
     if (components != 1)
         throw invalid("the surface has " + std::to_string(components)
                       + " connected components (skeletonize each one separately)");
+    check_geometry(m);
 }
 
 // A mutable graph for cleaning: adjacency sets kept sorted, dead vertices flagged.

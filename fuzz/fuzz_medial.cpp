@@ -1,0 +1,22 @@
+// Fuzz target: the medial mesh reader (.ma; the first byte is ignored so that every target has the same input
+// layout). A mesohex::Error is a correct refusal; anything else is a finding.
+#include <cstdlib>
+
+#include "fuzz_common.h"
+#include "mesohex/core/error.h"
+#include "mesohex_io/medial_io.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const std::string path = mesohex::fuzz::write_input(data, size, {"ma"});
+    if (path.empty()) return 0;
+    try {
+        const mesohex::Skeleton s = mesohex::read_medial_mesh(path);
+        if (s.radii.size() != s.points.size()) std::abort();
+        for (const std::array<int, 2>& e : s.edges)
+            if (e[0] < 0 || e[1] < 0 || static_cast<std::size_t>(e[0]) >= s.points.size() ||
+                static_cast<std::size_t>(e[1]) >= s.points.size())
+                std::abort();
+    } catch (const mesohex::Error&) {
+    }
+    return 0;
+}

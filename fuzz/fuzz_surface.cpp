@@ -1,0 +1,21 @@
+// Fuzz target: triangle surface readers (.off, .obj, .stl, .ply). A mesohex::Error is a correct refusal; anything
+// else is a finding. A surface that is read has triangles whose indices are in range.
+#include <cstdlib>
+
+#include "fuzz_common.h"
+#include "mesohex/core/error.h"
+#include "mesohex_io/surface_io.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const std::string path = mesohex::fuzz::write_input(data, size, {"off", "obj", "stl", "ply"});
+    if (path.empty()) return 0;
+    try {
+        const mesohex::TriangleMesh m = mesohex::read_surface(path);
+        if (m.triangles.empty()) std::abort();
+        for (const std::array<int, 3>& t : m.triangles)
+            for (const int v : t)
+                if (v < 0 || static_cast<std::size_t>(v) >= m.points.size()) std::abort();
+    } catch (const mesohex::Error&) {
+    }
+    return 0;
+}
