@@ -7,19 +7,27 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include <tbb/global_control.h>
 
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_mesh.h"
 #include "mesohex/core/skeleton.h"
+#include "mesohex/mesh.h"
+#include "mesohex/mesh_report.h"
 #include "mesohex/post/partition.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
+#include "mesohex/surface/skeletonize.h"
 #include "mesohex/surface/thicken.h"
 #include "mesohex_io/hex_io.h"
 #include "mesohex_io/skeleton_io.h"
@@ -326,6 +334,232 @@ void bind_functions(py::module_& m) {
         "--resolution C --max-grid-points N`.");
 }
 
+// ---------------------------------------------------------------------------------------------------------------
+// mesh and auto: keyword options -> MeshOptions as the CLI's flags do (same names, '-' -> '_'), mesh_skeleton, the
+// mesh file and the report (mesh_report, the same keys as --report).
+
+struct MeshResult {
+    HexMesh mesh;
+    std::vector<double> scaled_jacobian;
+    std::optional<std::vector<int>> partition;
+    Skeleton skeleton;  // the skeleton meshed (after resampling)
+    py::object report;  // dict
+    int status = 0;     // 0, or 5 when the mesh has inverted hexes or is invalid (the CLI's exit status)
+};
+
+// The CLI's flags of `mesh` (with_radius) or `auto`, read from keyword arguments onto the library's defaults.
+struct MeshCall {
+    MeshOptions options;
+    int threads = 0;
+};
+
+MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
+    MeshCall call;
+    MeshOptions& o = call.options;
+    const std::set<std::string> flags = {"radius", "no_resample", "raw", "radius_from_surface", "radius_factor",
+                                         "levels", "size", "refine", "no_pad", "no_fit", "no_untangle", "no_smooth",
+                                         "no_retry", "iterations", "fit_weight", "improve_below", "partitions",
+                                         "threads"};
+    for (const auto& [key_handle, value] : kwargs) {
+        const std::string key = py::cast<std::string>(key_handle);
+        if (!flags.count(key) || (key == "radius" && !with_radius)) {
+            std::string valid;
+            for (const std::string& f : flags)
+                if (f != "radius" || with_radius) valid += (valid.empty() ? "" : ", ") + f;
+            invalid("unknown option '" + key + "' (valid: " + valid + ")");
+        }
+        auto flag = [&] { return py::cast<bool>(value); };
+        if (key == "radius") o.pipeline.radius = py::cast<double>(value);
+        else if (key == "no_resample") o.pipeline.resample = !flag();
+        else if (key == "raw") o.finish = !flag();
+        else if (key == "radius_from_surface") o.radius_from_surface = flag();
+        else if (key == "radius_factor") o.radius_factor = py::cast<double>(value);
+        else if (key == "levels") o.finishing.levels = py::cast<int>(value);
+        else if (key == "size") o.finishing.size = py::cast<double>(value);
+        else if (key == "refine") {
+            const std::string r = py::cast<std::string>(value);
+            if (r == "uniform") o.finishing.refinement = FinishOptions::Refinement::Uniform;
+            else if (r == "longitudinal") o.finishing.refinement = FinishOptions::Refinement::Longitudinal;
+            else if (r == "radial") o.finishing.refinement = FinishOptions::Refinement::Radial;
+            else invalid("refine: '" + r + "' is not one of uniform, longitudinal, radial");
+        } else if (key == "no_pad") o.finishing.pad = !flag();
+        else if (key == "no_fit") {
+            if (flag()) o.finishing.fit = o.finishing.untangle = false;
+        } else if (key == "no_untangle") {
+            if (flag()) o.finishing.untangle = false;
+        } else if (key == "no_smooth") o.finishing.smooth = !flag();
+        else if (key == "no_retry") o.retry = !flag();
+        else if (key == "iterations") o.finishing.fitting.max_iterations = py::cast<int>(value);
+        else if (key == "fit_weight") {
+            o.finishing.fitting.lambda = py::cast<double>(value);
+            if (!(o.finishing.fitting.lambda > 0)) invalid("fit_weight must be > 0");
+        } else if (key == "improve_below") {
+            o.finishing.improve_sj = py::cast<double>(value);
+            if (!(o.finishing.improve_sj >= 0 && o.finishing.improve_sj <= 0.99))
+                invalid("improve_below must be in [0, 0.99]");
+        } else if (key == "partitions") {
+            o.partitions = py::cast<int>(value);
+            if (o.partitions < 0) invalid("partitions must be >= 1 (0 = no partition)");
+        } else if (key == "threads") call.threads = py::cast<int>(value);
+    }
+    return call;
+}
+
+std::string path_of(const py::object& value) { return py::cast<std::string>(py::module_::import("os").attr("fspath")(value)); }
+bool is_path(const py::object& value) { return py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__"); }
+
+double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// Names of a mesh call, as the report gives them.
+struct MeshNames {
+    std::string input, surface, output, report;
+};
+
+// mesh_skeleton + the mesh file (when output is given) + the report (written when a path is given), as run_mesh_job
+// does. `extra` (an object, may be null): members added to the report ("timings_ms" merged into its timings, plus
+// "total" from `total_start`). Called without the GIL.
+MeshResult run_mesh(const Skeleton& skeleton, const TriangleMesh* domain, const MeshCall& call, const MeshNames& names,
+                    std::chrono::steady_clock::time_point start, const nlohmann::json* extra,
+                    std::chrono::steady_clock::time_point total_start, std::string& report_text) {
+    const auto t_mesh = std::chrono::steady_clock::now();
+    MeshOptions options = call.options;
+    options.progress = [](const MeshProgress&) {
+        // Lets Ctrl-C interrupt a long run: the exception propagates out of mesh_skeleton.
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    };
+    MeshRun run = mesh_skeleton(skeleton, domain, options);
+    const auto t_write = std::chrono::steady_clock::now();
+    if (!names.output.empty())
+        write_hex_mesh(names.output, run.mesh(), run.quality().sj, run.partition ? run.partition->part : std::vector<int>{});
+    const auto t_end = std::chrono::steady_clock::now();
+    nlohmann::json rep = mesh_report(run, ReportContext{names.input, names.output, names.surface,
+                                                        ms_between(start, t_mesh), ms_between(t_write, t_end)});
+    if (extra) {
+        for (const auto& [key, value] : extra->items())
+            if (key != "timings_ms") rep[key] = value;
+        if (extra->contains("timings_ms"))
+            for (const auto& [key, value] : (*extra)["timings_ms"].items()) rep["timings_ms"][key] = value;
+        rep["timings_ms"]["total"] = ms_between(total_start, t_end);
+    }
+    report_text = rep.dump();
+    if (!names.report.empty()) write_file_atomically(names.report, rep.dump(2) + "\n");
+    MeshResult r;
+    r.mesh = run.mesh();
+    r.scaled_jacobian = run.quality().sj;
+    if (run.partition) r.partition = run.partition->part;
+    r.skeleton = run.pipeline.skeleton;
+    r.status = run.exit_status();
+    return r;
+}
+
+MeshResult mesh_py(const py::object& skeleton_arg, const py::object& surface_arg, const std::string& output,
+                   const std::string& report, const py::kwargs& kwargs) {
+    const MeshCall call = mesh_call(kwargs, true);
+    ThreadLimit limit(call.threads);
+    MeshNames names{"", "", output, report};
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string report_text;
+    MeshResult result;
+    {
+        Skeleton skeleton;
+        std::optional<TriangleMesh> domain;
+        if (is_path(skeleton_arg)) names.input = path_of(skeleton_arg);
+        else skeleton = py::cast<Skeleton>(skeleton_arg);
+        if (!surface_arg.is_none()) {
+            if (is_path(surface_arg)) names.surface = path_of(surface_arg);
+            else domain = py::cast<TriangleMesh>(surface_arg);
+        }
+        py::gil_scoped_release release;
+        if (!names.input.empty()) skeleton = read_skeleton(names.input);
+        if (!names.surface.empty()) domain = read_surface(names.surface);
+        try {
+            result = run_mesh(skeleton, domain ? &*domain : nullptr, call, names, t0, nullptr, t0, report_text);
+        } catch (const Error& e) {
+            if (names.input.empty()) throw;
+            throw Error(e.code(), names.input + ": " + e.what(), e.where());  // name the file, as the CLI does
+        }
+    }
+    result.report = json_to_python(report_text);
+    return result;
+}
+
+MeshResult auto_py(const py::object& surface_arg, const std::string& output, const std::string& report,
+                   const py::kwargs& kwargs) {
+    const MeshCall call = mesh_call(kwargs, false);
+    ThreadLimit limit(call.threads);
+    MeshNames names{"", "", output, report};
+    std::string report_text;
+    MeshResult result;
+    {
+        std::optional<TriangleMesh> domain;
+        if (is_path(surface_arg)) names.surface = path_of(surface_arg);
+        else domain = py::cast<TriangleMesh>(surface_arg);
+        py::gil_scoped_release release;
+        const auto t0 = std::chrono::steady_clock::now();
+        if (!names.surface.empty()) domain = read_surface(names.surface);
+        const auto t1 = std::chrono::steady_clock::now();
+        const Skeletonization sk = skeletonize_surface(*domain);
+        const auto t2 = std::chrono::steady_clock::now();
+        // As `mesohex auto`: the skeleton used is written beside the mesh (OUT.skeleton.obj) when there is a file.
+        if (!output.empty()) {
+            names.input = std::filesystem::path(output).replace_extension(".skeleton.obj").string();
+            write_skeleton(names.input, sk.skeleton);
+        }
+        const auto t3 = std::chrono::steady_clock::now();
+        const nlohmann::json extra = {
+            {"mode", "auto"},
+            {"skeleton_used",
+             {{"path", names.input},
+              {"source", "skeletonize_surface (mean curvature flow)"},
+              {"vertices", sk.skeleton.points.size()},
+              {"edges", sk.skeleton.edges.size()},
+              {"mcf_vertices", sk.mcf_vertices},
+              {"pruned_branches", sk.pruned_branches},
+              {"merged_branch_points", sk.merged_branch_points},
+              {"extended_extremities", sk.extended_extremities}}},
+            {"timings_ms", {{"read_surface", ms_between(t0, t1)}, {"skeletonize", ms_between(t1, t2)},
+                            {"write_skeleton", ms_between(t2, t3)}}}};
+        result = run_mesh(sk.skeleton, &*domain, call, names, t3, &extra, t0, report_text);
+    }
+    result.report = json_to_python(report_text);
+    return result;
+}
+
+void bind_meshing(py::module_& m) {
+    py::class_<MeshResult>(m, "MeshResult",
+                           "A meshing result: the hex mesh, its per-hex scaled Jacobian, the partition (when asked "
+                           "for), the skeleton meshed, the report (dict, the keys of --report) and the status.")
+        .def_readonly("mesh", &MeshResult::mesh)
+        .def_property_readonly("vertices", [](const MeshResult& r) { return points_to_numpy(r.mesh.points); })
+        .def_property_readonly("hexes", [](const MeshResult& r) { return cells_to_numpy(r.mesh.hexes); })
+        .def_property_readonly("scaled_jacobian", [](const MeshResult& r) { return vector_to_numpy(r.scaled_jacobian); })
+        .def_property_readonly("partition", [](const MeshResult& r) -> py::object {
+            if (!r.partition) return py::none();
+            return vector_to_numpy(*r.partition);
+        })
+        .def_readonly("skeleton", &MeshResult::skeleton)
+        .def_readonly("report", &MeshResult::report)
+        .def_readonly("status", &MeshResult::status, "0, or 5 when the mesh has inverted hexes (the CLI's exit status)")
+        .def("__repr__", [](const MeshResult& r) {
+            return "<mesohex.MeshResult: " + std::to_string(r.mesh.points.size()) + " vertices, " +
+                   std::to_string(r.mesh.hexes.size()) + " hexes, status " + std::to_string(r.status) + ">";
+        });
+    m.def("mesh", &mesh_py, py::arg("skeleton"), py::arg("surface") = py::none(), py::kw_only(),
+          py::arg("output") = "", py::arg("report") = "",
+          "Meshes a skeleton (a Skeleton or a file path) as `mesohex mesh`: raw mesh, then, with a surface (a Surface "
+          "or a path), pad, subdivide, fit, untangle, smooth. Keyword options are the CLI's flags with '_' for '-' "
+          "(radius, no_resample, raw, radius_from_surface, radius_factor, levels, size, refine, no_pad, no_fit, "
+          "no_untangle, no_smooth, no_retry, iterations, fit_weight, improve_below, partitions, threads). output / "
+          "report: files to write (optional). Returns a MeshResult.");
+    m.def("auto", &auto_py, py::arg("surface"), py::kw_only(), py::arg("output") = "", py::arg("report") = "",
+          "Surface -> hex mesh as `mesohex auto`: skeletonize the surface (a Surface or a path), then mesh in it. "
+          "The same keyword options as mesh() except radius. With an output file, the skeleton used is written "
+          "beside it (OUT.skeleton.obj). Returns a MeshResult.");
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_mesohex, m) {
@@ -333,4 +567,5 @@ PYBIND11_MODULE(_mesohex, m) {
     register_errors(m);
     bind_types(m);
     bind_functions(m);
+    bind_meshing(m);
 }

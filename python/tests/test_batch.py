@@ -56,7 +56,7 @@ def test_batch_meshes_a_manifest_and_survives_bad_jobs(shapes):
         "skeleton,surface,output,options\n"
         "plate.obj,plate.off,out/plate.vtu,%s\n"
         "tfan.obj,tfan.off,out/tfan.mesh,%s --partitions 2\n"
-        ",box.off,out/box_auto.vtu,--raw\n"
+        ",plate.off,out/plate_auto.vtu,--raw\n"
         "broken.obj,plate.off,out/broken.vtu,%s\n"
         "box.obj,box.off,out/crash.vtu,%s\n" % (FAST, FAST, FAST, FAST))
     proc = run_batch(manifest, "--mesohex", d / "flaky_mesohex.sh", "--retries", "1")
@@ -64,7 +64,7 @@ def test_batch_meshes_a_manifest_and_survives_bad_jobs(shapes):
     rows = read_csv(d / "jobs.results.csv")
     assert [r["row"] for r in rows] == ["1", "2", "3", "4", "5"]
     by_name = {os.path.basename(r["output"]): r for r in rows}
-    for name in ("plate.vtu", "tfan.mesh", "box_auto.vtu"):
+    for name in ("plate.vtu", "tfan.mesh", "plate_auto.vtu"):
         r = by_name[name]
         assert r["status"] == "ok", r
         assert r["exit_code"] == "0"
@@ -75,7 +75,7 @@ def test_batch_meshes_a_manifest_and_survives_bad_jobs(shapes):
         assert abs(float(r["sj_avg"]) - q["sj_avg"]) < 1e-9
         assert float(r["seconds"]) > 0 and r["attempts"] == "1"
     assert float(by_name["plate.vtu"]["hausdorff"]) > 0  # finished meshes have a distance to the surface
-    assert by_name["box_auto.vtu"]["hausdorff"] == ""  # a raw mesh does not
+    assert by_name["plate_auto.vtu"]["hausdorff"] == ""  # a raw mesh does not
     bad = by_name["broken.vtu"]
     assert bad["status"] == "failed" and bad["exit_code"] == "2" and bad["attempts"] == "1"  # bad input: no retry
     assert "broken.obj" in bad["stderr"]
@@ -88,7 +88,7 @@ def test_batch_meshes_a_manifest_and_survives_bad_jobs(shapes):
     assert [r["status"] for r in records] == ["ok", "ok", "ok", "failed", "crashed"]
 
     # A rerun skips the three done jobs (their outputs stay untouched) and retries the others.
-    mtimes = {name: (out / name).stat().st_mtime_ns for name in ("plate.vtu", "tfan.mesh", "box_auto.vtu")}
+    mtimes = {name: (out / name).stat().st_mtime_ns for name in ("plate.vtu", "tfan.mesh", "plate_auto.vtu")}
     proc = run_batch(manifest, "--mesohex", d / "flaky_mesohex.sh", "--retries", "0")
     assert proc.returncode == 1, proc.stdout + proc.stderr
     assert proc.stdout.count("skipped") == 3, proc.stdout
