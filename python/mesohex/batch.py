@@ -5,8 +5,8 @@ flags (``--levels 1 --partitions 4``). A row with a skeleton runs ``mesohex mesh
 OUTPUT``; an empty skeleton runs ``mesohex auto SURFACE -o OUTPUT``. Relative paths are relative to the manifest.
 
 Every job runs the ``mesohex`` executable in its own process on a Dask worker, with a timeout: a crash or a timeout
-fails that job only (its stderr is kept in the results), and is retried (``--retries``); bad input (exit status 2, 3
-or 4) is not retried, since it would fail again. The results table (``--results PREFIX``: PREFIX.csv and PREFIX.json;
+fails that job only (its stderr is kept in the results), and is retried (``--retries``), as is a job whose worker
+died; bad input (exit status 2, 3 or 4) is not retried, since it would fail again. The results table (``--results PREFIX``: PREFIX.csv and PREFIX.json;
 default: the manifest's name + ``.results``) is rewritten atomically as each job finishes, with for every job: status,
 exit code, hexes, min/avg scaled Jacobian, inverted hexes, Hausdorff distance, seconds, attempts, the JSON report's
 path and the end of stderr. A rerun skips the jobs the table records as done (status ``ok`` or ``inverted``, output
@@ -39,10 +39,6 @@ RESULT_COLUMNS = ["row", "skeleton", "surface", "output", "options", "command", 
                   "sj_min", "sj_avg", "inverted", "hausdorff", "hausdorff_relative", "seconds", "attempts", "worker",
                   "report", "stderr"]
 STDERR_KEPT_CHARS = 20000  # in the JSON table (the CSV keeps the last 500)
-
-
-class JobFailed(Exception):
-    """A job that may succeed on a retry (crash, timeout, unexpected exit status); args[0] is its result record."""
 
 
 def default_cli():
@@ -116,13 +112,13 @@ def read_manifest(path):
 
 
 def run_job(job, cli, timeout, threads):
-    """Runs one job in its own process (on a worker). Returns its result record, or raises JobFailed(record) when a
-    retry may help (crash, timeout, unexpected exit status)."""
+    """Runs one job in its own process (on a worker) and returns its result record; record["retryable"] says whether
+    a retry may help (crash, timeout, unexpected exit status)."""
     args = [cli] + job["args"]
     if threads > 0 and "--threads" not in job["args"]:
         args += ["--threads", str(threads)]
     record = {k: job[k] for k in ("row", "skeleton", "surface", "output", "options", "report")}
-    record.update(command=" ".join(shlex.quote(a) for a in args), worker=socket.gethostname())
+    record.update(command=" ".join(shlex.quote(a) for a in args), worker=socket.gethostname(), retryable=False)
     start = time.monotonic()
     try:
         proc = subprocess.run(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout)
@@ -130,8 +126,9 @@ def run_job(job, cli, timeout, threads):
         code = proc.returncode
     except subprocess.TimeoutExpired as e:
         stderr = (e.stderr or b"").decode(errors="replace") + "\nmesohex.batch: killed after %g s (timeout)" % timeout
-        record.update(status="timeout", exit_code=None, seconds=time.monotonic() - start, stderr=stderr)
-        raise JobFailed(record)
+        record.update(status="timeout", exit_code=None, seconds=time.monotonic() - start, stderr=stderr,
+                      retryable=True)
+        return record
     except OSError as e:
         record.update(status="failed", exit_code=None, seconds=time.monotonic() - start,
                       stderr="mesohex.batch: cannot run %s: %s" % (cli, e))
@@ -147,7 +144,8 @@ def run_job(job, cli, timeout, threads):
     record["status"] = "crashed" if code < 0 else "failed"
     if code < 0:
         record["stderr"] += "\nmesohex.batch: killed by signal %d" % -code
-    raise JobFailed(record)
+    record["retryable"] = True
+    return record
 
 
 def read_report(path):
@@ -238,9 +236,7 @@ def run_batch(jobs, client, prefix, cli, timeout, retries, threads, log=print):
         n = attempts[job["output"]]
         try:
             record = fut.result()
-        except JobFailed as e:
-            record = e.args[0]
-            if n <= retries:
+            if record.pop("retryable") and n <= retries:
                 log("batch: row %d %s (attempt %d), retrying: %s" % (job["row"], record["status"], n, job["output"]))
                 pending.add(submit(job, n + 1))
                 continue
@@ -316,7 +312,7 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    # Run the functions of the importable module `mesohex.batch` (not of __main__): the workers unpickle run_job and
-    # JobFailed by reference to it.
+    # Run the functions of the importable module `mesohex.batch` (not of __main__): the workers then unpickle run_job
+    # by reference to it.
     from mesohex.batch import main as batch_main
     sys.exit(batch_main())

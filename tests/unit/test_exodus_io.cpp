@@ -128,6 +128,9 @@ TEST(ExodusIo, BlockOfEightHexes) {
     const json f = dump(path);
     ASSERT_FALSE(f.empty());
     EXPECT_EQ(f["file_format"], "NETCDF3_64BIT_OFFSET");
+    int status = -1;
+    EXPECT_EQ(run("ncdump -k " + path.string() + " 2>&1", &status), "64-bit offset\n");  // netcdf-bin agrees
+    EXPECT_EQ(status, 0);
     EXPECT_EQ(f["num_dim"], 3);
     EXPECT_EQ(f["num_nodes"], 27);
     EXPECT_EQ(f["num_elem"], 8);
