@@ -36,7 +36,7 @@ void register_auto(CLI::App& app, int* status) {
         "auto", "Surface -> hex mesh in one step: skeletonize (mean curvature flow), then mesh with the surface.");
     cmd->add_option("surface", args->surface, "Closed surface (.off .obj .stl .ply), one component, manifold")
         ->required();
-    cmd->add_option("-o,--output", args->job.output, "Output hex mesh (.mesh, .vtk, .vtu, .msh, .inp)")->required();
+    cmd->add_option("-o,--output", args->job.output, "Output hex mesh (.mesh, .vtk, .vtu, .msh, .inp, .exo)")->required();
     cmd->add_flag_callback("--no-resample", [args] { args->job.options.pipeline.resample = false; },
                            "Keep the skeleton's sampling (hexes = 4 x edges)");
     cmd->add_flag_callback("--raw", [args] { args->job.options.finish = false; },

@@ -21,7 +21,7 @@ void register_mesh(CLI::App& app, int* status) {
     auto args = std::make_shared<MeshJob>();
     CLI::App* cmd = app.add_subcommand("mesh", "Mesh a skeleton: raw all-hex mesh guided by its branches.");
     cmd->add_option("skeleton", args->skeleton, "Skeleton file (.skel, .cg, .cgr, .ig, .obj)")->required();
-    cmd->add_option("-o,--output", args->output, "Output hex mesh (.mesh, .vtk, .vtu, .msh, .inp)")->required();
+    cmd->add_option("-o,--output", args->output, "Output hex mesh (.mesh, .vtk, .vtu, .msh, .inp, .exo)")->required();
     cmd->add_option("--radius", args->options.pipeline.radius,
                     "Radius for skeletons without one (default: 0.25 x mean skeleton edge length)");
     cmd->add_flag_callback("--no-resample", [args] { args->options.pipeline.resample = false; },

@@ -1,10 +1,14 @@
-// `mesohex quality MESH [--json]` and `mesohex convert IN OUT`: the hex-mesh inspector and converter.
+// `mesohex quality MESH [--json]` and `mesohex convert IN OUT [--partitions N]`: the hex-mesh inspector and converter.
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "mesohex/core/error.h"
+#include "mesohex/post/partition.h"
 #include "mesohex/post/quality.h"
 #include "mesohex_io/hex_io.h"
 
@@ -22,6 +26,7 @@ struct QualityOptions {
 struct ConvertOptions {
     std::string input, output;
     bool json = false;
+    int partitions = 0;  // 0 = no partition
 };
 
 }  // namespace
@@ -54,27 +59,38 @@ void register_convert(CLI::App& app, int* status) {
     CLI::App* sub = app.add_subcommand(
         "convert",
         "Convert a hex mesh between formats, chosen by extension: reads .mesh (MEDIT), .vtk (legacy VTK), .vtu (VTK "
-        "XML, ASCII) and .msh (Gmsh 4.1 ASCII); writes those and .inp (Abaqus C3D8). The per-hex scaled Jacobian is "
-        "written as cell data 'scaled_jacobian' to .vtk, .vtu and .msh. Prints the quality summary of the mesh.");
+        "XML, ASCII) and .msh (Gmsh 4.1 ASCII); writes those, .inp (Abaqus C3D8) and .exo / .e (Exodus II, HEX8 "
+        "block, boundary side set 'boundary'). The per-hex scaled Jacobian is written as cell data 'scaled_jacobian' "
+        "to .vtk, .vtu and .msh (an element variable in .exo). Prints the quality summary of the mesh.");
     sub->add_option("input", opts->input, "input hex mesh file")->required();
     sub->add_option("output", opts->output, "output file; written to a temporary file and renamed")->required();
-    sub->add_flag("--json", opts->json, "print the quality summary as JSON");
+    sub->add_flag("--json", opts->json, "print the quality summary as JSON (with a 'partition' object when partitioned)");
+    sub->add_option("--partitions", opts->partitions,
+                    "split the hexes into N parts for MPI solvers (METIS k-way on the face adjacency of the hexes): "
+                    "cell data 'partition' in .vtk .vtu .msh, one element block per part in .exo, the reference "
+                    "part + 1 in .mesh, element sets PART_<p> in .inp")
+        ->check(CLI::Range(1, 1 << 30));
     sub->footer(
         "Exit status (the verdict of `quality` on the same mesh): 0 = converted, valid and without inverted hexes; "
         "5 = converted, but the mesh has inverted hexes or fails validation (said on stderr, as `quality` "
         "reports it); 2 = malformed input (message names file:line); 3 = unknown extension; 4 = file cannot be "
         "read or written.\n"
-        "Example: mesohex convert model.mesh model.vtu");
+        "Example: mesohex convert model.mesh model.exo --partitions 4");
     sub->callback([opts, status] {
         const HexMesh mesh = read_hex_mesh(opts->input);
         const QualityReport report = compute_quality(mesh);
-        write_hex_mesh(opts->output, mesh, report.sj);
+        std::optional<Partition> partition;
+        if (opts->partitions > 0) partition = partition_hexes(mesh, {.parts = opts->partitions});
+        write_hex_mesh(opts->output, mesh, report.sj, partition ? partition->part : std::vector<int>{});
         if (opts->json) {
-            std::cout << quality_to_json(report) << "\n";
+            nlohmann::json j = nlohmann::json::parse(quality_to_json(report));
+            if (partition) j["partition"] = nlohmann::json::parse(partition_to_json(*partition));
+            std::cout << j.dump(2) << "\n";
         } else {
             std::cout << "wrote " << opts->output << " (" << mesh.points.size() << " vertices, " << mesh.hexes.size()
-                      << " hexes)\n"
-                      << quality_to_text(report);
+                      << " hexes)\n";
+            if (partition) std::cout << partition_to_text(*partition);
+            std::cout << quality_to_text(report);
         }
         // Same input, same verdict as `quality`.
         const bool good = report.validation.valid() && report.inverted == 0;

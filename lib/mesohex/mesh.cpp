@@ -147,11 +147,18 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const M
     run.raw_quality = compute_quality(run.pipeline.raw.mesh);
     run.raw_quality_ms = ms_since(t);
     run.prediction_exact = prediction_matches(run.raw_quality, run.pipeline.predicted);
-    if (!domain || !options.finish) return run;
-
-    t = std::chrono::steady_clock::now();
-    finish_with_retry(run, skeleton, *domain, options);
-    run.finish_ms = ms_since(t);
+    if (domain && options.finish) {
+        t = std::chrono::steady_clock::now();
+        finish_with_retry(run, skeleton, *domain, options);
+        run.finish_ms = ms_since(t);
+    }
+    if (options.partitions > 0) {
+        t = std::chrono::steady_clock::now();
+        PartitionOptions po;
+        po.parts = options.partitions;
+        run.partition = partition_hexes(run.mesh(), po);
+        run.partition_ms = ms_since(t);
+    }
     return run;
 }
 

@@ -13,6 +13,7 @@
 #include "mesohex/core/skeleton.h"
 #include "mesohex/finish.h"
 #include "mesohex/pipeline.h"
+#include "mesohex/post/partition.h"
 #include "mesohex/post/quality.h"
 
 namespace mesohex {
@@ -41,6 +42,9 @@ struct MeshOptions {
     // Only with resampling, a fit, and when that adaptation gives another skeleton.
     bool retry = true;
     MeshGoals goals;
+    // Parts for MPI solvers: METIS k-way on the face adjacency of the hexes of the mesh kept (partition_hexes);
+    // 0 = no partition. More parts than hexes is an InvalidInput error.
+    int partitions = 0;
     std::function<void(const MeshProgress&)> progress;  // may be empty; may throw to cancel (the exception propagates)
 };
 
@@ -63,9 +67,11 @@ struct MeshRun {
     bool prediction_exact = false;     // raw counts and irregular edges equal the prediction
     std::optional<FinishResult> finish;  // set when a domain was given and options.finish
     std::vector<MeshAttempt> attempts;   // finished attempts, first the default adaptation
+    std::optional<Partition> partition;  // of mesh(), set when options.partitions > 0
     // Wall times (ms): radii from the domain, run_pipeline (the kept attempt's), raw-mesh quality, and everything
     // after it (finishing of every attempt, the second attempt's pipeline).
     double radius_ms = 0, pipeline_ms = 0, raw_quality_ms = 0, finish_ms = 0;
+    double partition_ms = 0;  // partition_hexes on the mesh kept
 
     const HexMesh& mesh() const { return finish ? finish->mesh : pipeline.raw.mesh; }
     const QualityReport& quality() const { return finish ? finish->quality : raw_quality; }

@@ -72,6 +72,7 @@ nlohmann::json timings_json(const MeshRun& run, const ReportContext& context) {
         timings["hausdorff"] = run.finish->distance_ms;
         timings["finish_total"] = run.finish->total_ms;
     }
+    if (run.partition) timings["partition"] = run.partition_ms;
     timings["write_and_finish"] = run.finish_ms + context.write_ms;
     return timings;
 }
@@ -134,6 +135,7 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
         rep["free_branching_reach"] = run.options.adaptation.free_branching_reach;  // of the mesh written
         if (fin.distance_measured) rep["hausdorff"] = hausdorff_json(fin.distance);
     }
+    if (run.partition) rep["partition"] = nlohmann::json::parse(partition_to_json(*run.partition));
     rep["timings_ms"] = timings_json(run, context);
     return rep;
 }

@@ -1,8 +1,9 @@
-// Hex mesh formats: MEDIT .mesh, legacy VTK .vtk, VTK XML .vtu (ASCII), Gmsh .msh 4.1 (ASCII), Abaqus .inp (write).
-// All of them use the VTK hex vertex order (MEDIT, Gmsh and Abaqus C3D8 number the hexahedron like VTK), so no
-// permutation happens here. Readers parse the whole file as text, track line numbers, and throw mesohex::Error
+// Hex mesh formats: MEDIT .mesh, legacy VTK .vtk, VTK XML .vtu (ASCII), Gmsh .msh 4.1 (ASCII), Abaqus .inp (write),
+// Exodus II .exo / .e (write, in exodus_io.cpp). All of them use the VTK hex vertex order (MEDIT, Gmsh, Abaqus C3D8
+// and Exodus HEX8 number the hexahedron like VTK), so no permutation happens here. Readers parse the whole file as text, track line numbers, and throw mesohex::Error
 // "path:line: message" on anything they do not understand.
 #include "mesohex_io/hex_io.h"
+#include "mesohex_io/exodus_io.h"
 #include "mesohex_io/text_input.h"
 
 #include <algorithm>
@@ -16,6 +17,8 @@
 #include <fstream>
 #include <sstream>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 
 #include <filesystem>
 
@@ -193,7 +196,8 @@ int read_vertex_index(Lexer& lex, long base, long num_points, long cell, const c
     return static_cast<int>(v);
 }
 
-void check_writable(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars) {
+void check_writable(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars,
+                    const std::vector<int>& partition) {
     const long n = static_cast<long>(mesh.points.size());
     for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
         for (int v : mesh.hexes[h])
@@ -205,6 +209,20 @@ void check_writable(const std::string& path, const HexMesh& mesh, const std::vec
     if (!cell_scalars.empty() && cell_scalars.size() != mesh.hexes.size())
         throw Error(ErrorCode::InvalidInput, path + ": cannot write: " + std::to_string(cell_scalars.size()) +
                                                  " cell values for " + std::to_string(mesh.hexes.size()) + " hexes");
+    if (!partition.empty() && partition.size() != mesh.hexes.size())
+        throw Error(ErrorCode::InvalidInput, path + ": cannot write: " + std::to_string(partition.size()) +
+                                                 " partition ids for " + std::to_string(mesh.hexes.size()) + " hexes");
+    for (std::size_t h = 0; h < partition.size(); ++h)
+        if (partition[h] < 0)
+            throw Error(ErrorCode::InvalidInput,
+                        path + ": cannot write: hex " + std::to_string(h) + " has partition id " +
+                            std::to_string(partition[h]),
+                        {ElementRef::Kind::Hex, static_cast<int>(h)});
+}
+
+// Hex reference of MEDIT and partition cell data: part + 1 in MEDIT (0 = no partition), the part elsewhere.
+int medit_reference(const std::vector<int>& partition, std::size_t h) {
+    return partition.empty() ? 0 : partition[h] + 1;
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -279,7 +297,7 @@ HexMesh read_medit(const std::string& path, const std::string& text) {
     return mesh;
 }
 
-std::string write_medit(const HexMesh& mesh) {
+std::string write_medit(const HexMesh& mesh, const std::vector<int>& partition) {
     std::string out = "MeshVersionFormatted 2\nDimension 3\n\nVertices\n";
     append_int(out, static_cast<long>(mesh.points.size()));
     out += '\n';
@@ -290,12 +308,13 @@ std::string write_medit(const HexMesh& mesh) {
     out += "\nHexahedra\n";
     append_int(out, static_cast<long>(mesh.hexes.size()));
     out += '\n';
-    for (const std::array<int, 8>& hex : mesh.hexes) {
-        for (int v : hex) {
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
+        for (int v : mesh.hexes[h]) {
             append_int(out, v + 1);
             out += ' ';
         }
-        out += "0\n";
+        append_int(out, medit_reference(partition, h));
+        out += '\n';
     }
     out += "\nEnd\n";
     return out;
@@ -404,7 +423,7 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
     }
 }
 
-std::string write_vtk(const HexMesh& mesh, const std::vector<double>& cell_scalars) {
+std::string write_vtk(const HexMesh& mesh, const std::vector<double>& cell_scalars, const std::vector<int>& partition) {
     std::string out = "# vtk DataFile Version 2.0\nmesohex hex mesh\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS ";
     append_int(out, static_cast<long>(mesh.points.size()));
     out += " double\n";
@@ -429,12 +448,22 @@ std::string write_vtk(const HexMesh& mesh, const std::vector<double>& cell_scala
     append_int(out, static_cast<long>(mesh.hexes.size()));
     out += '\n';
     for (std::size_t h = 0; h < mesh.hexes.size(); ++h) out += "12\n";
-    if (!cell_scalars.empty()) {
+    if (!cell_scalars.empty() || !partition.empty()) {
         out += "CELL_DATA ";
         append_int(out, static_cast<long>(mesh.hexes.size()));
-        out += "\nSCALARS scaled_jacobian double 1\nLOOKUP_TABLE default\n";
+        out += '\n';
+    }
+    if (!cell_scalars.empty()) {
+        out += "SCALARS scaled_jacobian double 1\nLOOKUP_TABLE default\n";
         for (double s : cell_scalars) {
             append_double(out, s);
+            out += '\n';
+        }
+    }
+    if (!partition.empty()) {
+        out += "SCALARS partition int 1\nLOOKUP_TABLE default\n";
+        for (int p : partition) {
+            append_int(out, p);
             out += '\n';
         }
     }
@@ -611,7 +640,7 @@ HexMesh read_vtu(const std::string& path, const std::string& text) {
     return mesh;
 }
 
-std::string write_vtu(const HexMesh& mesh, const std::vector<double>& cell_scalars) {
+std::string write_vtu(const HexMesh& mesh, const std::vector<double>& cell_scalars, const std::vector<int>& partition) {
     std::string out =
         "<?xml version=\"1.0\"?>\n"
         "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
@@ -641,14 +670,25 @@ std::string write_vtu(const HexMesh& mesh, const std::vector<double>& cell_scala
     out += "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
     for (std::size_t h = 0; h < mesh.hexes.size(); ++h) out += "12\n";
     out += "        </DataArray>\n      </Cells>\n";
-    if (!cell_scalars.empty()) {
-        out += "      <CellData Scalars=\"scaled_jacobian\">\n"
-               "        <DataArray type=\"Float64\" Name=\"scaled_jacobian\" format=\"ascii\">\n";
-        for (double s : cell_scalars) {
-            append_double(out, s);
-            out += '\n';
+    if (!cell_scalars.empty() || !partition.empty()) {
+        out += cell_scalars.empty() ? "      <CellData Scalars=\"partition\">\n" : "      <CellData Scalars=\"scaled_jacobian\">\n";
+        if (!cell_scalars.empty()) {
+            out += "        <DataArray type=\"Float64\" Name=\"scaled_jacobian\" format=\"ascii\">\n";
+            for (double s : cell_scalars) {
+                append_double(out, s);
+                out += '\n';
+            }
+            out += "        </DataArray>\n";
         }
-        out += "        </DataArray>\n      </CellData>\n";
+        if (!partition.empty()) {
+            out += "        <DataArray type=\"Int32\" Name=\"partition\" format=\"ascii\">\n";
+            for (int p : partition) {
+                append_int(out, p);
+                out += '\n';
+            }
+            out += "        </DataArray>\n";
+        }
+        out += "      </CellData>\n";
     }
     out += "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
     return out;
@@ -788,7 +828,25 @@ HexMesh read_msh(const std::string& path, const std::string& text) {
     return mesh;
 }
 
-std::string write_msh(const HexMesh& mesh, const std::vector<double>& cell_scalars) {
+// One $ElementData section (a single time step 0) named `name`, one value per hex.
+template <class T>
+void append_msh_element_data(std::string& out, const char* name, const std::vector<T>& values) {
+    out += "$ElementData\n1\n\"";
+    out += name;
+    out += "\"\n1\n0\n3\n0\n1\n";
+    append_int(out, static_cast<long>(values.size()));
+    out += '\n';
+    for (std::size_t h = 0; h < values.size(); ++h) {
+        append_int(out, static_cast<long>(h) + 1);
+        out += ' ';
+        if constexpr (std::is_integral_v<T>) append_int(out, values[h]);
+        else append_double(out, values[h]);
+        out += '\n';
+    }
+    out += "$EndElementData\n";
+}
+
+std::string write_msh(const HexMesh& mesh, const std::vector<double>& cell_scalars, const std::vector<int>& partition) {
     const long np = static_cast<long>(mesh.points.size()), nh = static_cast<long>(mesh.hexes.size());
     std::string out = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n";
     auto line4 = [&](long a, long b, long c, long d) {
@@ -827,25 +885,15 @@ std::string write_msh(const HexMesh& mesh, const std::vector<double>& cell_scala
         }
     }
     out += "$EndElements\n";
-    if (!cell_scalars.empty()) {
-        out += "$ElementData\n1\n\"scaled_jacobian\"\n1\n0\n3\n0\n1\n";
-        append_int(out, nh);
-        out += '\n';
-        for (long h = 0; h < nh; ++h) {
-            append_int(out, h + 1);
-            out += ' ';
-            append_double(out, cell_scalars[static_cast<std::size_t>(h)]);
-            out += '\n';
-        }
-        out += "$EndElementData\n";
-    }
+    if (!cell_scalars.empty()) append_msh_element_data(out, "scaled_jacobian", cell_scalars);
+    if (!partition.empty()) append_msh_element_data(out, "partition", partition);
     return out;
 }
 
 // ---------------------------------------------------------------------------------------------------------------
 // Abaqus .inp (write only): C3D8 elements, node order as VTK.
 
-std::string write_inp(const HexMesh& mesh) {
+std::string write_inp(const HexMesh& mesh, const std::vector<int>& partition) {
     std::string out = "*HEADING\nmesohex hex mesh\n*NODE\n";
     for (std::size_t v = 0; v < mesh.points.size(); ++v) {
         append_int(out, static_cast<long>(v) + 1);
@@ -861,6 +909,20 @@ std::string write_inp(const HexMesh& mesh) {
         for (int v : mesh.hexes[h]) {
             out += ", ";
             append_int(out, v + 1);
+        }
+        out += '\n';
+    }
+    // One element set PART_<p> per part (ids 16 to a line, as Abaqus asks).
+    const int parts = partition.empty() ? 0 : *std::max_element(partition.begin(), partition.end()) + 1;
+    for (int p = 0; p < parts; ++p) {
+        out += "*ELSET, ELSET=PART_";
+        append_int(out, p);
+        int on_line = 0;
+        for (std::size_t h = 0; h < partition.size(); ++h) {
+            if (partition[h] != p) continue;
+            out += on_line == 0 ? "\n" : ", ";
+            append_int(out, static_cast<long>(h) + 1);
+            on_line = (on_line + 1) % 16;
         }
         out += '\n';
     }
@@ -884,18 +946,21 @@ HexMesh read_hex_mesh(const std::string& path) {
     return read_msh(path, text);
 }
 
-void write_hex_mesh(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars) {
+void write_hex_mesh(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars,
+                    const std::vector<int>& partition) {
     const std::string ext = extension_of(path);
-    if (ext != ".mesh" && ext != ".vtk" && ext != ".vtu" && ext != ".msh" && ext != ".inp") {
+    if (ext != ".mesh" && ext != ".vtk" && ext != ".vtu" && ext != ".msh" && ext != ".inp" && ext != ".exo" &&
+        ext != ".e") {
         throw Error(ErrorCode::UnsupportedConfiguration,
-                    path + ": unknown hex mesh extension '" + ext + "' (writable: .mesh .vtk .vtu .msh .inp)");
+                    path + ": unknown hex mesh extension '" + ext + "' (writable: .mesh .vtk .vtu .msh .inp .exo .e)");
     }
-    check_writable(path, mesh, cell_scalars);
-    if (ext == ".mesh") write_file_atomically(path, write_medit(mesh));
-    else if (ext == ".vtk") write_file_atomically(path, write_vtk(mesh, cell_scalars));
-    else if (ext == ".vtu") write_file_atomically(path, write_vtu(mesh, cell_scalars));
-    else if (ext == ".msh") write_file_atomically(path, write_msh(mesh, cell_scalars));
-    else write_file_atomically(path, write_inp(mesh));
+    check_writable(path, mesh, cell_scalars, partition);
+    if (ext == ".mesh") write_file_atomically(path, write_medit(mesh, partition));
+    else if (ext == ".vtk") write_file_atomically(path, write_vtk(mesh, cell_scalars, partition));
+    else if (ext == ".vtu") write_file_atomically(path, write_vtu(mesh, cell_scalars, partition));
+    else if (ext == ".msh") write_file_atomically(path, write_msh(mesh, cell_scalars, partition));
+    else if (ext == ".inp") write_file_atomically(path, write_inp(mesh, partition));
+    else write_exodus(path, mesh, cell_scalars, partition);
 }
 
 namespace {
@@ -936,11 +1001,13 @@ int remove_stale_temporaries(const std::string& path) {
     return removed;
 }
 
-void write_file_atomically(const std::string& path, const std::string& text) {
-    // A unique name beside the target (same file system, so rename is atomic); O_EXCL guards against collisions and
-    // mode 0666 lets the umask decide the permissions as for any new file. Temporaries that a killed run left
-    // beside the same target are removed first (remove_stale_temporaries).
-    remove_stale_temporaries(path);
+namespace {
+
+// Creates a new empty file with a unique name beside `path` (same file system, so rename is atomic) and returns its
+// name and open descriptor. O_EXCL guards against collisions and mode 0666 lets the umask decide the permissions as
+// for any new file.
+std::pair<std::string, int> create_temporary_beside(const std::string& path) {
+    remove_stale_temporaries(path);  // what a run killed while writing the same target left
     static std::atomic<unsigned> counter{0};
     std::string tmp;
     int fd = -1;
@@ -950,6 +1017,33 @@ void write_file_atomically(const std::string& path, const std::string& text) {
         if (fd < 0 && errno != EEXIST) break;
     }
     if (fd < 0) throw Error(ErrorCode::IoError, path + ": cannot create a temporary file beside it: " + std::strerror(errno));
+    return {tmp, fd};
+}
+
+void rename_into_place(const std::string& tmp, const std::string& path) {
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        const std::string reason = std::strerror(errno);
+        ::unlink(tmp.c_str());
+        throw Error(ErrorCode::IoError, path + ": cannot rename the temporary file into place: " + reason);
+    }
+}
+
+}  // namespace
+
+void write_atomically_via(const std::string& path, const std::function<void(const std::string& temporary)>& write_to) {
+    const auto [tmp, fd] = create_temporary_beside(path);
+    ::close(fd);
+    try {
+        write_to(tmp);
+    } catch (...) {
+        ::unlink(tmp.c_str());
+        throw;
+    }
+    rename_into_place(tmp, path);
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+    const auto [tmp, fd] = create_temporary_beside(path);
     std::size_t written = 0;
     while (written < text.size()) {
         const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
@@ -967,11 +1061,7 @@ void write_file_atomically(const std::string& path, const std::string& text) {
         ::unlink(tmp.c_str());
         throw Error(ErrorCode::IoError, path + ": write failed: " + reason);
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        const std::string reason = std::strerror(errno);
-        ::unlink(tmp.c_str());
-        throw Error(ErrorCode::IoError, path + ": cannot rename the temporary file into place: " + reason);
-    }
+    rename_into_place(tmp, path);
 }
 
 }  // namespace mesohex

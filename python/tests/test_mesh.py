@@ -1,0 +1,98 @@
+"""mesohex.mesh and mesohex.auto: the same library call, options, report keys and errors as the CLI."""
+import json
+
+import numpy as np
+import pytest
+
+import mesohex
+
+FAST = dict(levels=0, iterations=30, threads=1)  # a small mesh and a short fit: about a second
+
+
+@pytest.fixture(scope="module")
+def plate(tmp_path_factory):
+    """A generated 2 x 2 plate skeleton and its thickened domain, as files."""
+    d = tmp_path_factory.mktemp("plate")
+    mesohex.write_skeleton(str(d / "plate.obj"), mesohex.generate("plate", n=2, m=2))
+    mesohex.write_surface(str(d / "plate.off"), mesohex.thicken(mesohex.read_skeleton(str(d / "plate.obj")),
+                                                                resolution=2))
+    return d
+
+
+def test_raw_mesh_matches_the_prediction():
+    s = mesohex.generate("plate", n=2, m=2)
+    r = mesohex.mesh(s, no_resample=True)
+    # A 2 x 2 plate, input sampling: 4 quads -> plates and half-chunks as predicted by the analysis.
+    assert r.report["prediction_matches"] is True
+    assert len(r.hexes) == r.report["predicted"]["hexes"] == r.report["quality"]["hexes"]
+    assert r.vertices.dtype == np.float64 and r.hexes.dtype == np.int32 and r.hexes.shape[1] == 8
+    assert r.scaled_jacobian.shape == (len(r.hexes),)
+    assert abs(r.scaled_jacobian.min() - r.report["quality"]["sj_min"]) < 1e-12
+    assert r.partition is None and "partition" not in r.report
+    assert r.status == (5 if r.report["quality"]["inverted"] > 0 else 0)
+
+
+def test_mesh_in_a_domain_like_the_cli(plate, tmp_path, cli):
+    r = mesohex.mesh(str(plate / "plate.obj"), str(plate / "plate.off"), output=str(tmp_path / "py.vtu"),
+                     report=str(tmp_path / "py.json"), partitions=4, **FAST)
+    cli("mesh", plate / "plate.obj", "--surface", plate / "plate.off", "-o", tmp_path / "cli.vtu", "--report",
+        tmp_path / "cli.json", "--levels", "0", "--iterations", "30", "--threads", "1", "--partitions", "4", "-q")
+    ours = json.loads((tmp_path / "py.json").read_text())
+    theirs = json.loads((tmp_path / "cli.json").read_text())
+    assert sorted(ours) == sorted(theirs) == sorted(r.report)
+    assert sorted(ours["timings_ms"]) == sorted(theirs["timings_ms"])
+    for key in ("quality", "raw_quality", "predicted", "partition", "hausdorff", "attempts", "subdivision_levels"):
+        assert ours[key] == theirs[key], key
+    assert (tmp_path / "py.vtu").read_bytes() == (tmp_path / "cli.vtu").read_bytes()  # the same file
+    assert r.report["input"] == str(plate / "plate.obj") and r.report["surface"] == str(plate / "plate.off")
+    # 4 parts of the final mesh, as cell data too
+    assert sorted(set(r.partition.tolist())) == [0, 1, 2, 3]
+    assert r.report["partition"]["parts"] == 4 and sum(r.report["partition"]["part_sizes"]) == len(r.hexes)
+    m = mesohex.to_meshio(r)
+    assert m.cell_data["partition"][0].tolist() == r.partition.tolist()
+    assert np.array_equal(m.cell_data["scaled_jacobian"][0], r.scaled_jacobian)
+
+
+def test_objects_in_objects_out(plate):
+    s = mesohex.read_skeleton(str(plate / "plate.obj"))
+    domain = mesohex.read_surface(str(plate / "plate.off"))
+    r = mesohex.mesh(s, domain, **FAST)
+    assert r.report["surface"] == "" and r.report["output"] == ""
+    assert r.report["quality"]["hexes"] == len(r.hexes) > 0
+    assert "hausdorff" in r.report
+
+
+def test_errors_carry_the_exit_status(plate, tmp_path):
+    with pytest.raises(mesohex.IoError) as e:
+        mesohex.mesh(str(tmp_path / "missing.obj"))
+    assert e.value.code == 4 and "missing.obj" in str(e.value)
+    with pytest.raises(mesohex.InvalidInput) as e:
+        mesohex.mesh(str(plate / "plate.obj"), levls=1)
+    assert "unknown option 'levls'" in str(e.value) and "levels" in str(e.value)
+    with pytest.raises(mesohex.InvalidInput):
+        mesohex.auto(str(plate / "plate.off"), radius=1.0)  # auto has no --radius
+    with pytest.raises(mesohex.InvalidInput):
+        mesohex.mesh(str(plate / "plate.obj"), refine="diagonal")
+    broken = tmp_path / "broken.obj"
+    broken.write_text("v 0 0 0\nv 1 0 0\nl 1 7\n")
+    with pytest.raises(mesohex.InvalidInput) as e:
+        mesohex.mesh(str(broken))
+    assert "broken.obj:3" in str(e.value) and e.value.code == 2
+    with pytest.raises(mesohex.InvalidInput) as e:
+        mesohex.mesh(mesohex.generate("plate", n=1, m=1), partitions=1000)
+    assert "1000" in str(e.value)
+    with pytest.raises(mesohex.UnsupportedConfiguration):
+        mesohex.mesh(mesohex.generate("plate", n=1, m=1), output=str(tmp_path / "m.stl"))
+    assert not (tmp_path / "m.stl").exists()
+
+
+def test_auto_on_a_capsule(tmp_path):
+    capsule = mesohex.thicken(mesohex.Skeleton(np.array([[0, 0, 0], [4, 0, 0]], dtype=float), np.array([[0, 1]]),
+                                               radii=np.array([0.6, 0.6])), resolution=3)
+    out = tmp_path / "capsule.mesh"
+    r = mesohex.auto(capsule, output=str(out), raw=True, threads=1)
+    assert r.report["mode"] == "auto"
+    assert r.report["skeleton_used"]["path"] == str(tmp_path / "capsule.skeleton.obj")
+    assert (tmp_path / "capsule.skeleton.obj").exists()
+    assert mesohex.read_hex_mesh(str(out)) == r.mesh
+    assert r.report["skeleton_used"]["vertices"] >= 2 and len(r.hexes) > 0
