@@ -474,21 +474,27 @@ TEST(Adaptation, RejectsMissingOrBadRadii) {
     EXPECT_THROW((void)mesohex::adapt_skeleton(s), mesohex::Error);
 }
 
-// Repeated and folded edges. The straight branch 0 -> 2 -> 3 -> 4 -> 1 (L = 4, r = 1, along +x) plus the edge (0, 1)
-// given twice. (1, 0) repeats (0, 1): dropped (1). (0, 1) and (0, 2) leave 0 along +x: (0, 1) moves to (2, 1), then
-// to (3, 1), then to (4, 1), which exists: dropped (2). Re-attachments: at 0, 2, 3 = 3. What is left is the straight
-// branch, resampled to 2 edges of length 2 (4 -> 2 + 2, 2 < 2 fails): 3 vertices, 2 edges; V - E = 1 (input: 5 - 6).
+// Repeated and folded edges. The straight branch 0 -> 2 -> 3 -> 4 -> 1 (L = 4, r = 1, along +x), a branch 0 -> 5 =
+// (-3.6, 0, 0) (so 0 is a branching point), and the edge (0, 1) given twice. (1, 0) repeats (0, 1): dropped (1).
+// (0, 1) and (0, 2) leave 0 along +x: (0, 1) moves to (2, 1) (2 is now a branching point), then to (3, 1), then to
+// (4, 1), which exists: dropped (2). Re-attachments: at 0, 2, 3 = 3. What is left is the straight branch 5 -> 0 -> 1 of
+// length 7.6, resampled to 4 edges of 1.9 (7.6 -> 3.8 -> 1.9, 2 < 1.9 fails): 5 vertices, 4 edges; V - E = 1 (input:
+// 6 - 7 = -1, +1 per dropped edge).
 TEST(Adaptation, RepeatedAndCoincidentEdgesAreRepaired) {
     Skeleton s = straight(4, 3, 1.0);
+    s.points.push_back({-3.6, 0, 0});
+    s.radii.push_back(1.0);
+    s.edges.push_back({0, 5});
     s.edges.push_back({0, 1});
     s.edges.push_back({1, 0});
     const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
     EXPECT_EQ(r.duplicate_edges, 2);
     EXPECT_EQ(r.reattached_edges, 3);
     EXPECT_EQ(r.merged_vertices, 0);
-    EXPECT_EQ(r.skeleton.points.size(), 3u);
-    EXPECT_EQ(r.skeleton.edges.size(), 2u);
+    EXPECT_EQ(r.skeleton.points.size(), 5u);
+    EXPECT_EQ(r.skeleton.edges.size(), 4u);
     EXPECT_EQ(mesohex::euler_characteristic(r.skeleton), 1);
+    EXPECT_EQ(count_degree_at_least(r.skeleton, 3), 0);
 }
 
 // A zero-length edge at a branching point: vertices 0 = (0,0,0) and 1 = (1e-6,0,0) (1e-6 <= 1e-3 x r), branches

@@ -218,11 +218,15 @@ void merge_short_edges(Repaired& r, const AdaptationOptions& o) {
             on_face[f[i]] = true;
             face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
         }
+    std::vector<int> degree(n, 0);
+    for (const std::array<int, 2>& e : s.edges) ++degree[e[0]], ++degree[e[1]];
     UnionFind uf(n);
     std::vector<bool> class_on_face = on_face;
     int merged = 0;
     for (const std::array<int, 2>& e : s.edges) {
         if (face_sides.count(std::minmax(e[0], e[1]))) continue;
+        // Inside a branch (two joints) the resampling steps over a zero-length segment: nothing to repair.
+        if (degree[e[0]] == 2 && degree[e[1]] == 2 && !on_face[e[0]] && !on_face[e[1]]) continue;
         const int a = uf.find(e[0]), b = uf.find(e[1]);
         if (a == b || (class_on_face[a] && class_on_face[b])) continue;
         if (!(distance(s.points[e[0]], s.points[e[1]]) <= std::max(0.0, o.merge_distance) * std::min(s.radii[e[0]], s.radii[e[1]])))
@@ -299,6 +303,7 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
         const int v = queue.back();
         queue.pop_back();
         std::vector<int>& inc = incident[v];
+        if (inc.size() < 3 && !on_face[v]) continue;  // a joint's turn is resampled; only junctions are partitioned
         bool again = true;
         while (again && budget > 0) {
             again = false;
