@@ -208,7 +208,9 @@ struct Repaired {
 // Merges the two ends of every branch edge shorter than merge_distance x the smaller end radius (not both on a
 // leaflet face; the merged vertex takes the leaflet vertex's position, else the mean, and the larger radius), then drops
 // self-loops and repeated edges. Vertices are renumbered in order; unused vertex ids disappear only by merging.
-void merge_short_edges(Repaired& r, const AdaptationOptions& o) {
+// inside_branches: also edges between two joints (on the final output, where no resampling follows). Returns whether
+// anything was merged or dropped.
+bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_branches = false) {
     const Skeleton& s = r.s;
     const int n = static_cast<int>(s.points.size());
     std::vector<bool> on_face(n, false);
@@ -226,7 +228,7 @@ void merge_short_edges(Repaired& r, const AdaptationOptions& o) {
     for (const std::array<int, 2>& e : s.edges) {
         if (face_sides.count(std::minmax(e[0], e[1]))) continue;
         // Inside a branch (two joints) the resampling steps over a zero-length segment: nothing to repair.
-        if (degree[e[0]] == 2 && degree[e[1]] == 2 && !on_face[e[0]] && !on_face[e[1]]) continue;
+        if (!inside_branches && degree[e[0]] == 2 && degree[e[1]] == 2 && !on_face[e[0]] && !on_face[e[1]]) continue;
         const int a = uf.find(e[0]), b = uf.find(e[1]);
         if (a == b || (class_on_face[a] && class_on_face[b])) continue;
         if (!(distance(s.points[e[0]], s.points[e[1]]) <= std::max(0.0, o.merge_distance) * std::min(s.radii[e[0]], s.radii[e[1]])))
@@ -268,8 +270,10 @@ void merge_short_edges(Repaired& r, const AdaptationOptions& o) {
     for (std::vector<int>& f : out.faces)
         for (int& v : f) v = id[uf.find(v)];
     for (int& v : r.map) v = id[uf.find(v)];
+    const bool changed = merged > 0 || out.edges.size() != s.edges.size();
     r.s = std::move(out);
     r.merged_vertices += merged;
+    return changed;
 }
 
 // At a vertex, two branch edges (v, a), (v, b) less than coincident_angle apart, |va| <= |vb|: (v, b) becomes (a, b)
@@ -303,7 +307,6 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
         const int v = queue.back();
         queue.pop_back();
         std::vector<int>& inc = incident[v];
-        if (inc.size() < 3 && !on_face[v]) continue;  // a joint's turn is resampled; only junctions are partitioned
         bool again = true;
         while (again && budget > 0) {
             again = false;
@@ -687,21 +690,32 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const Adaptation
         }
         out.edges.push_back({prev, c});
     }
-    // Resampled first edges can still be coincident (two branches leaving along one input segment): the same
-    // re-attachment on the output (no merge, so vertex ids stay).
+    // Resampled first edges can still be coincident (two branches whose first joints lie in one direction): the same
+    // repair on the output (a re-attachment that joins two coincident points is followed by their merge).
+    std::vector<int> post_map;
     if (o.coincident_angle > 0) {
-        Repaired post{std::move(out), {}, 0, 0, 0};
-        reattach_coincident(post, o);
+        std::vector<int> identity(out.points.size());
+        Repaired post{std::move(out), std::move(identity), 0, 0, 0};
+        std::iota(post.map.begin(), post.map.end(), 0);
+        for (int round = 0; round < 8; ++round) {
+            const bool moved = reattach_coincident(post, o);
+            if (!merge_short_edges(post, o, true) && !moved) break;
+        }
         out = std::move(post.s);
+        post_map = std::move(post.map);
         repaired.reattached_edges += post.reattached_edges;
         repaired.duplicate_edges += post.duplicate_edges;
+        repaired.merged_vertices += post.merged_vertices;
     }
     result.collapsed_bridges = result_collapsed;
     result.merged_vertices = repaired.merged_vertices;
     result.duplicate_edges = repaired.duplicate_edges;
     result.reattached_edges = repaired.reattached_edges;
     result.vertex_map.resize(input.points.size());
-    for (std::size_t v = 0; v < input.points.size(); ++v) result.vertex_map[v] = id_of(repaired.map[v]);
+    for (std::size_t v = 0; v < input.points.size(); ++v) {
+        const int w = id_of(repaired.map[v]);
+        result.vertex_map[v] = w < 0 || post_map.empty() ? w : post_map[w];
+    }
     return result;
 }
 

@@ -72,8 +72,8 @@ struct AdaptationOptions {
     //   larger radius), unless both ends are on leaflet faces or both are joints (inside a branch the resampling
     //   steps over it); repeated edges are dropped (AdaptationResult counts);
     double merge_distance = 1e-3;
-    // - two branch edges (v, a), (v, b) at a branching point or leaflet vertex v (not a joint) whose directions are
-    //   less than coincident_angle apart (radians;
+    // - two branch edges (v, a), (v, b) at one vertex whose directions are less than coincident_angle apart (at a
+    //   joint: a hairpin, the branch folding back along itself) (radians;
     //   0 disables), |va| <= |vb|: (v, b) is re-attached as (a, b) (the nearer edge becomes their shared trunk; the far
     //   branch's first segment moves by at most |va| sin(coincident_angle)), or dropped if (a, b) exists (a flat
     //   cycle: V - E + F then rises by 1). Not when a is a leaflet vertex. Repeated until no such pair is left.
@@ -90,8 +90,8 @@ struct AdaptationOptions {
 // positions; edge indices in range; no self-loop; density > 0. Repeated edges, zero-length branch edges and coincident
 // branch directions are repaired first (merge_distance, coincident_angle; counted in AdaptationResult).
 // Postconditions: V - E + F unchanged (collapses remove one vertex and one edge each) except by the repairs (a dropped
-// repeated edge raises it by 1); no two branch edges at a non-joint vertex closer than coincident_angle (except
-// towards a leaflet vertex); rings and loops at one vertex
+// repeated edge raises it by 1); no two branch edges at a vertex closer than coincident_angle (except towards a
+// leaflet vertex); rings and loops at one vertex
 // keep >= 3 edges; no two edges join the same two vertices. Output order: the kept original vertices (every vertex
 // that is not a branch joint, plus one anchor per ring: its smallest vertex id) in their original order, then the new
 // joints branch by branch; edges: leaflet edges in their original order, then branch edges branch by branch; faces in
