@@ -6,6 +6,7 @@
 #   bench/random_set.sh N [JOBS]              seeds 1..N (JOBS default 2)
 #   FIRST=101 bench/random_set.sh 200         seeds 101..200
 #   MESOHEX=path/to/mesohex OUT=dir THICKEN_ARGS="--resolution 3" MESH_ARGS="..." bench/random_set.sh 100
+#   SUMMARY_ONLY=1 bench/random_set.sh N      summarise the seeds of OUT already run (a partial run too)
 #
 # Prints one line per seed (sorted), then: worst, 5th percentile, median of each measure; the seeds with an inverted
 # hex; the fraction meeting every target (min SJ >= 0.3, avg >= 0.85, Hausdorff <= 1 %, 0 inverted); the seeds
@@ -44,13 +45,14 @@ export -f run_seed
 export MESOHEX OUT THICKEN_ARGS MESH_ARGS
 
 t0=$(date +%s)
-seq "$FIRST" "$N" | xargs -P "$JOBS" -I{} bash -c 'run_seed {}'
+[ -n "${SUMMARY_ONLY:-}" ] || seq "$FIRST" "$N" | xargs -P "$JOBS" -I{} bash -c 'run_seed {}'
 t1=$(date +%s)
 
 rows="$OUT/rows.txt"  # seed kind raw_hexes hexes min avg hausdorff% inverted rc seconds
 : >"$rows"
 for seed in $(seq "$FIRST" "$N"); do
     d="$OUT/$seed"
+    [ -f "$d/status" ] || continue  # not run (yet)
     read -r rc secs <"$d/status"
     kind=$(sed -n 's/.*(\(tree\|sheet\)).*/\1/p' "$d/generate.log")
     if [ -s "$d/report.json" ] && { [ "$rc" = 0 ] || [ "$rc" = 5 ]; }; then
@@ -91,6 +93,7 @@ END {
     printf "failed seeds:%s\n", failed
 }' "$rows"
 for seed in $(seq "$FIRST" "$N"); do
+    [ -f "$OUT/$seed/status" ] || continue
     read -r rc _ <"$OUT/$seed/status"
     if [ "$rc" != 0 ] && [ "$rc" != 5 ]; then
         echo "  seed $seed exit $rc: $(head -c 300 "$OUT/$seed/mesh.err" 2>/dev/null || cat "$OUT/$seed/thicken.log")"
