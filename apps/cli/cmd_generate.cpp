@@ -1,5 +1,6 @@
 // `mesohex generate NAME [options] -o SKELETON.obj`: writes a procedural meso-skeleton (with radii).
 // `mesohex generate --list`: the generator names, one per line.
+#include <cstdint>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -15,6 +16,7 @@ namespace {
 
 struct GenerateArgs {
     bool list = false;
+    long long random_seed = 0;  // with --random: generate_random_skeleton(seed) instead of a named shape
     std::string name;
     std::string output;
     GeneratorOptions options;
@@ -35,6 +37,9 @@ void register_generate(CLI::App& app, int* status) {
                                                    "quad leaflets).");
     cmd->add_flag("--list", args->list, "Print the generator names, one per line, and exit");
     cmd->add_option("name", args->name, "Shape name (see --list)");
+    CLI::Option* random_option = cmd->add_option("--random", args->random_seed,
+                    "Random skeleton of the evaluation set (tree or sheet, chosen by the seed; bench/random_set.sh) "
+                    "instead of a named shape; SEED >= 0");
     cmd->add_option("-o,--output", args->output, "Output skeleton file (.obj or .ig)");
     cmd->add_option("-n", args->options.n, "Main resolution (meaning per shape, see below)");
     cmd->add_option("-m", args->options.m, "Second resolution (meaning per shape, see below)");
@@ -46,18 +51,27 @@ void register_generate(CLI::App& app, int* status) {
                     "Multiplies every radius (default radii are about 0.3 x the edge length)")
         ->capture_default_str();
     cmd->footer(shapes_footer());
-    cmd->callback([args, status]() {
+    cmd->callback([args, status, random_option]() {
         if (args->list) {
             for (const std::string& name : generator_names()) std::cout << name << "\n";
             *status = 0;
             return;
         }
-        if (args->name.empty())
-            throw Error(ErrorCode::InvalidInput, "generate: give a shape NAME (mesohex generate --list)");
+        const bool random = random_option->count() > 0;
+        if (random && args->random_seed < 0)
+            throw Error(ErrorCode::InvalidInput, "generate: --random SEED must be >= 0");
+        if (random && !args->name.empty())
+            throw Error(ErrorCode::InvalidInput, "generate: give either a shape NAME or --random SEED, not both");
+        if (!random && args->name.empty())
+            throw Error(ErrorCode::InvalidInput, "generate: give a shape NAME (mesohex generate --list) or --random SEED");
         if (args->output.empty()) throw Error(ErrorCode::InvalidInput, "generate: give the output file with -o");
-        const Skeleton skeleton = generate_skeleton(args->name, args->options);
+        const auto seed = static_cast<std::uint64_t>(args->random_seed);
+        const Skeleton skeleton =
+            random ? generate_random_skeleton(seed, args->options) : generate_skeleton(args->name, args->options);
         write_skeleton(args->output, skeleton);
-        std::cout << "generate " << args->name << ": " << skeleton.points.size() << " points, "
+        const std::string title =
+            random ? "--random " + std::to_string(seed) + " (" + random_skeleton_kind(seed) + ")" : args->name;
+        std::cout << "generate " << title << ": " << skeleton.points.size() << " points, "
                   << skeleton.edges.size() << " edges, " << skeleton.faces.size() << " faces, Euler characteristic "
                   << euler_characteristic(skeleton) << " -> " << args->output << "\n";
         *status = 0;

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "mesohex/core/error.h"
+#include "mesohex/pipeline.h"
+#include "mesohex/post/quality.h"
 #include "mesohex/stages/adaptation.h"
 
 using mesohex::AdaptationOptions;
@@ -43,6 +45,21 @@ std::vector<int> degrees(const Skeleton& s) {
     std::vector<int> d(s.points.size(), 0);
     for (const std::array<int, 2>& e : s.edges) ++d[e[0]], ++d[e[1]];
     return d;
+}
+
+// Smallest angle between two edges at one vertex (radians; pi when no vertex has two edges).
+double smallest_angle_at_vertices(const Skeleton& s) {
+    std::vector<std::vector<Vec3>> dirs(s.points.size());
+    for (const std::array<int, 2>& e : s.edges) {
+        dirs[e[0]].push_back(mesohex::normalized(s.points[e[1]] - s.points[e[0]]));
+        dirs[e[1]].push_back(mesohex::normalized(s.points[e[0]] - s.points[e[1]]));
+    }
+    double best = 3.14159265358979323846;
+    for (const std::vector<Vec3>& d : dirs)
+        for (std::size_t i = 0; i < d.size(); ++i)
+            for (std::size_t j = i + 1; j < d.size(); ++j)
+                best = std::min(best, std::acos(std::clamp(mesohex::dot(d[i], d[j]), -1.0, 1.0)));
+    return best;
 }
 
 int count_degree_at_least(const Skeleton& s, int k) {
@@ -423,8 +440,12 @@ TEST(Adaptation, RandomGraphsKeepInvariants) {
         }
         const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
         const Skeleton& out = r.skeleton;
-        ASSERT_EQ(mesohex::euler_characteristic(out), mesohex::euler_characteristic(s)) << trial;
-        EXPECT_EQ(count_degree_at_least(out, 3), count_degree_at_least(s, 3) - r.collapsed_bridges) << trial;
+        // Each dropped repeated edge (a flat cycle after a re-attachment) raises V - E + F by one.
+        ASSERT_EQ(mesohex::euler_characteristic(out), mesohex::euler_characteristic(s) + r.duplicate_edges) << trial;
+        if (r.reattached_edges == 0 && r.merged_vertices == 0) {
+            EXPECT_EQ(count_degree_at_least(out, 3), count_degree_at_least(s, 3) - r.collapsed_bridges) << trial;
+        }
+        EXPECT_GE(smallest_angle_at_vertices(out), AdaptationOptions{}.coincident_angle) << trial;
         std::set<std::pair<int, int>> seen;
         for (const std::array<int, 2>& e : out.edges) {
             EXPECT_NE(e[0], e[1]);
@@ -451,8 +472,78 @@ TEST(Adaptation, RejectsMissingOrBadRadii) {
     s = straight(4, 3, 1.0);
     s.radii[2] = 0;
     EXPECT_THROW((void)mesohex::adapt_skeleton(s), mesohex::Error);
-    s = straight(4, 3, 1.0);
+}
+
+// Repeated and folded edges. The straight branch 0 -> 2 -> 3 -> 4 -> 1 (L = 4, r = 1, along +x), a branch 0 -> 5 =
+// (-3.6, 0, 0) (so 0 is a branching point), and the edge (0, 1) given twice. (1, 0) repeats (0, 1): dropped (1).
+// (0, 1) and (0, 2) leave 0 along +x: (0, 1) moves to (2, 1) (2 is now a branching point), then to (3, 1), then to
+// (4, 1), which exists: dropped (2). Re-attachments: at 0, 2, 3 = 3. What is left is the straight branch 5 -> 0 -> 1 of
+// length 7.6, resampled to 4 edges of 1.9 (7.6 -> 3.8 -> 1.9, 2 < 1.9 fails): 5 vertices, 4 edges; V - E = 1 (input:
+// 6 - 7 = -1, +1 per dropped edge).
+TEST(Adaptation, RepeatedAndCoincidentEdgesAreRepaired) {
+    Skeleton s = straight(4, 3, 1.0);
+    s.points.push_back({-3.6, 0, 0});
+    s.radii.push_back(1.0);
+    s.edges.push_back({0, 5});
     s.edges.push_back({0, 1});
     s.edges.push_back({1, 0});
-    EXPECT_THROW((void)mesohex::adapt_skeleton(s), mesohex::Error);
+    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_EQ(r.duplicate_edges, 2);
+    EXPECT_EQ(r.reattached_edges, 3);
+    EXPECT_EQ(r.merged_vertices, 0);
+    EXPECT_EQ(r.skeleton.points.size(), 5u);
+    EXPECT_EQ(r.skeleton.edges.size(), 4u);
+    EXPECT_EQ(mesohex::euler_characteristic(r.skeleton), 1);
+    EXPECT_EQ(count_degree_at_least(r.skeleton, 3), 0);
+}
+
+// A zero-length edge at a branching point: vertices 0 = (0,0,0) and 1 = (1e-6,0,0) (1e-6 <= 1e-3 x r), branches
+// 1 -> 2 = (3.6,0,0), 0 -> 3 = (0,3.6,0), 0 -> 4 = (0,-3.6,0), r = 1. 0 and 1 merge at (5e-7, 0, 0): a T junction of
+// three branches of length 3.6, each resampled to 2 edges (2 < 3.6, 2 >= 1.8; the first joint at 1.8 clears 0.7 x
+// max(1, 1 x cot 45 deg) x 1.25): 1 + 3 + 3 = 7 vertices, 6 edges; input vertices 0 and 1 map to output vertex 0.
+TEST(Adaptation, ZeroLengthEdgeIsContracted) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1e-6, 0, 0}, {3.6, 0, 0}, {0, 3.6, 0}, {0, -3.6, 0}};
+    s.radii.assign(5, 1.0);
+    s.edges = {{0, 1}, {1, 2}, {0, 3}, {0, 4}};
+    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_EQ(r.merged_vertices, 1);
+    EXPECT_EQ(r.duplicate_edges, 0);
+    EXPECT_EQ(r.skeleton.points.size(), 7u);
+    EXPECT_EQ(r.skeleton.edges.size(), 6u);
+    EXPECT_EQ(r.vertex_map[0], 0);
+    EXPECT_EQ(r.vertex_map[1], 0);
+    EXPECT_NEAR(r.skeleton.points[0].x, 5e-7, 1e-15);
+    EXPECT_EQ(degrees(r.skeleton)[0], 3);
+    AdaptationOptions off;
+    off.merge_distance = 0;  // only exactly zero-length edges: this one stays (a bridge of length 1e-6)
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, off).merged_vertices, 0);
+}
+
+// A small tree with a (nearly) duplicate direction: branching point c = (0,0,0), r = 1 everywhere, branches to
+// a = (2,0,0), b = (6, y, 0), d = (0,3.6,0), e = (0,-3.6,0). For y = 0 (collinear) and y = 0.1 (0.95 degrees) the
+// edges (c, a) and (c, b) leave c less than 2 degrees apart: (c, b) becomes (a, b), a becomes a joint of the branch
+// c -> a -> b (length ~6: bisected 6 -> 3 -> 1.5, 4 edges), d and e 2 edges each (3.6 -> 1.8). Raw mesh: 4 hexes per
+// branch edge = 4 x 8 = 32, as predicted, none inverted. Without the repair the collinear case stops in the sphere
+// partition (directions coincide).
+TEST(Adaptation, CoincidentBranchesMeshThroughSharedTrunk) {
+    for (const double y : {0.0, 0.1}) {
+        Skeleton s;
+        s.points = {{0, 0, 0}, {2, 0, 0}, {6, y, 0}, {0, 3.6, 0}, {0, -3.6, 0}};
+        s.radii.assign(5, 1.0);
+        s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+        const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
+        EXPECT_EQ(r.reattached_edges, 1) << y;
+        EXPECT_EQ(r.skeleton.edges.size(), 8u) << y;
+        EXPECT_EQ(r.vertex_map[1], -1) << y;  // a is a joint now, resampled away
+        const mesohex::PipelineResult res = mesohex::run_pipeline(s, {});
+        EXPECT_EQ(res.raw.mesh.hexes.size(), 32u) << y;
+        EXPECT_EQ(res.predicted.hexes, 32) << y;
+        EXPECT_EQ(mesohex::compute_quality(res.raw.mesh).inverted, 0) << y;
+        if (y == 0.0) {
+            mesohex::PipelineOptions no_repair;
+            no_repair.adaptation.coincident_angle = 0;
+            EXPECT_THROW((void)mesohex::run_pipeline(s, no_repair), mesohex::Error);
+        }
+    }
 }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -292,6 +293,37 @@ TEST(Generators, EveryShapeSatisfiesTheInvariants) {
     }
 }
 
+// The random evaluation set: every seed gives a valid, connected, simply connected skeleton the analysis accepts, of
+// the kind the seed names (trees: no face and a branching point; sheets: quads), the same skeleton for the same seed.
+TEST(Generators, RandomSkeletonsAreValidAndDeterministic) {
+    int trees = 0, sheets = 0;
+    for (std::uint64_t seed = 0; seed < 200; ++seed) {
+        SCOPED_TRACE(seed);
+        const Skeleton s = mesohex::generate_random_skeleton(seed);
+        EXPECT_EQ(check_invariants(s), "");
+        EXPECT_NO_THROW((void)mesohex::analyze_skeleton(s));
+        EXPECT_EQ(mesohex::euler_characteristic(s), 1);  // one component, no cycle beyond the leaflet's disc
+        EXPECT_FALSE(s.edges.empty());
+        EXPECT_GT(min_point_distance(s), 0.0);
+        EXPECT_EQ(mesohex::generate_random_skeleton(seed), s);
+        const bool sheet = std::string(mesohex::random_skeleton_kind(seed)) == "sheet";
+        EXPECT_EQ(sheet, seed % 5 == 0 || seed % 5 == 3);
+        if (sheet) {
+            ++sheets;
+            EXPECT_GE(s.faces.size(), 4u);  // at least 2 x 2 quads
+        } else {
+            ++trees;
+            EXPECT_TRUE(s.faces.empty());
+            std::vector<int> degree(s.points.size(), 0);
+            for (const std::array<int, 2>& e : s.edges) ++degree[e[0]], ++degree[e[1]];
+            EXPECT_GE(*std::max_element(degree.begin(), degree.end()), 3);
+        }
+    }
+    EXPECT_EQ(sheets, 80);
+    EXPECT_EQ(trees, 120);
+    EXPECT_NE(mesohex::generate_random_skeleton(1), mesohex::generate_random_skeleton(2));
+}
+
 // Leaflet edges are 2-4x their radius (default radius 0.3 x edge length, tolerance to [1.5, 5]).
 TEST(Generators, InvariantsHoldForOtherResolutions) {
     int checked = 0;
@@ -496,4 +528,21 @@ TEST(GenerateCli, UnknownNameIsAnInputErrorAndWritesNothing) {
               mesohex::exit_code(mesohex::ErrorCode::InvalidInput));
     EXPECT_FALSE(std::filesystem::exists(path));
     EXPECT_EQ(run_cli("generate plate").status, mesohex::exit_code(mesohex::ErrorCode::InvalidInput));  // no -o
+}
+
+TEST(GenerateCli, RandomSeedWritesTheRandomSkeleton) {
+    const std::filesystem::path path = std::filesystem::path(testing::TempDir()) / "mesohex_test_generators_r7.obj";
+    std::filesystem::remove(path);
+    const CliRun r = run_cli("generate --random 7 -o " + path.string());
+    ASSERT_EQ(r.status, 0);
+    const Skeleton expected_skeleton = mesohex::generate_random_skeleton(7);
+    const Skeleton read = mesohex::read_skeleton(path.string());
+    ASSERT_EQ(read.points.size(), expected_skeleton.points.size());
+    EXPECT_EQ(read.edges.size(), expected_skeleton.edges.size());
+    EXPECT_EQ(read.faces, expected_skeleton.faces);
+    for (std::size_t v = 0; v < read.points.size(); ++v)
+        EXPECT_NEAR(mesohex::distance(read.points[v], expected_skeleton.points[v]), 0.0, 1e-9);
+    const int invalid = mesohex::exit_code(mesohex::ErrorCode::InvalidInput);
+    EXPECT_EQ(run_cli("generate --random -1 -o " + path.string()).status, invalid);
+    EXPECT_EQ(run_cli("generate hand --random 3 -o " + path.string()).status, invalid);
 }

@@ -95,13 +95,11 @@ void validate(const Skeleton& s, const AdaptationOptions& o) {
             invalid("vertex " + std::to_string(v) + " has radius " + std::to_string(s.radii[v]) + " (must be > 0)",
                     {ElementRef::Kind::SkeletonVertex, v});
     }
-    std::set<std::pair<int, int>> seen;
     for (int e = 0; e < static_cast<int>(s.edges.size()); ++e) {
         const auto [a, b] = s.edges[e];
         const ElementRef where{ElementRef::Kind::SkeletonEdge, e};
         if (a < 0 || a >= n || b < 0 || b >= n) invalid("edge " + std::to_string(e) + " has a vertex out of range", where);
         if (a == b) invalid("edge " + std::to_string(e) + " is a self-loop", where);
-        if (!seen.insert(std::minmax(a, b)).second) invalid("edge " + std::to_string(e) + " is a duplicate", where);
     }
     for (int f = 0; f < static_cast<int>(s.faces.size()); ++f)
         for (const int v : s.faces[f])
@@ -199,14 +197,178 @@ std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vec
     return keep;
 }
 
+// Degenerate branch configurations (AdaptationOptions::merge_distance, coincident_angle): the input after repair, and
+// the map from input vertices to repaired ones.
+struct Repaired {
+    Skeleton s;
+    std::vector<int> map;
+    int merged_vertices = 0, duplicate_edges = 0, reattached_edges = 0;
+};
+
+// Merges the two ends of every branch edge shorter than merge_distance x the smaller end radius (not both on a
+// leaflet face; the merged vertex takes the leaflet vertex's position, else the mean, and the larger radius), then drops
+// self-loops and repeated edges. Vertices are renumbered in order; unused vertex ids disappear only by merging.
+// inside_branches: also edges between two joints (on the final output, where no resampling follows). Returns whether
+// anything was merged or dropped.
+bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_branches = false) {
+    const Skeleton& s = r.s;
+    const int n = static_cast<int>(s.points.size());
+    std::vector<bool> on_face(n, false);
+    std::set<std::pair<int, int>> face_sides;
+    for (const std::vector<int>& f : s.faces)
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            on_face[f[i]] = true;
+            face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+        }
+    std::vector<int> degree(n, 0);
+    for (const std::array<int, 2>& e : s.edges) ++degree[e[0]], ++degree[e[1]];
+    UnionFind uf(n);
+    std::vector<bool> class_on_face = on_face;
+    int merged = 0;
+    for (const std::array<int, 2>& e : s.edges) {
+        if (face_sides.count(std::minmax(e[0], e[1]))) continue;
+        // Inside a branch (two joints) the resampling steps over a zero-length segment: nothing to repair.
+        if (!inside_branches && degree[e[0]] == 2 && degree[e[1]] == 2 && !on_face[e[0]] && !on_face[e[1]]) continue;
+        const int a = uf.find(e[0]), b = uf.find(e[1]);
+        if (a == b || (class_on_face[a] && class_on_face[b])) continue;
+        if (!(distance(s.points[e[0]], s.points[e[1]]) <= std::max(0.0, o.merge_distance) * std::min(s.radii[e[0]], s.radii[e[1]])))
+            continue;
+        uf.unite(a, b);
+        class_on_face[uf.find(a)] = class_on_face[a] || class_on_face[b];
+        ++merged;
+    }
+    std::vector<int> id(n, -1);
+    Skeleton out;
+    std::vector<int> members(n, 0);
+    for (int v = 0; v < n; ++v) ++members[uf.find(v)];
+    std::vector<Vec3> sum(n);
+    std::vector<double> rmax(n, 0.0);
+    std::vector<int> face_member(n, -1);
+    for (int v = 0; v < n; ++v) {
+        const int c = uf.find(v);
+        sum[c] += s.points[v];
+        rmax[c] = std::max(rmax[c], s.radii[v]);
+        if (on_face[v]) face_member[c] = v;
+    }
+    for (int v = 0; v < n; ++v) {
+        if (uf.find(v) != v) continue;
+        id[v] = static_cast<int>(out.points.size());
+        out.points.push_back(face_member[v] >= 0 ? s.points[face_member[v]] : sum[v] / members[v]);
+        out.radii.push_back(rmax[v]);
+    }
+    std::set<std::pair<int, int>> seen;
+    for (const std::array<int, 2>& e : s.edges) {
+        const int a = id[uf.find(e[0])], b = id[uf.find(e[1])];
+        if (a == b) continue;  // the merged edge itself
+        if (!seen.insert(std::minmax(a, b)).second) {
+            ++r.duplicate_edges;
+            continue;
+        }
+        out.edges.push_back({a, b});
+    }
+    out.faces = s.faces;
+    for (std::vector<int>& f : out.faces)
+        for (int& v : f) v = id[uf.find(v)];
+    for (int& v : r.map) v = id[uf.find(v)];
+    const bool changed = merged > 0 || out.edges.size() != s.edges.size();
+    r.s = std::move(out);
+    r.merged_vertices += merged;
+    return changed;
+}
+
+// At a vertex, two branch edges (v, a), (v, b) less than coincident_angle apart, |va| <= |vb|: (v, b) becomes (a, b)
+// (dropped if that edge exists), unless a is a leaflet vertex. Repeats until no pair is left (each re-attachment moves
+// an edge to a vertex farther along the common direction; bounded by 4 x edges). Returns whether anything changed.
+bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
+    Skeleton& s = r.s;
+    const int n = static_cast<int>(s.points.size());
+    std::vector<bool> on_face(n, false);
+    std::set<std::pair<int, int>> face_sides;
+    for (const std::vector<int>& f : s.faces)
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            on_face[f[i]] = true;
+            face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+        }
+    std::set<std::pair<int, int>> links;
+    for (const std::array<int, 2>& e : s.edges) links.insert(std::minmax(e[0], e[1]));
+    std::vector<std::vector<int>> incident(n);
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
+        if (!face_sides.count(std::minmax(s.edges[e][0], s.edges[e][1]))) {
+            incident[s.edges[e][0]].push_back(e);
+            incident[s.edges[e][1]].push_back(e);
+        }
+    const double cos_limit = std::cos(o.coincident_angle);
+    std::vector<bool> removed(s.edges.size(), false);
+    bool changed = false;
+    long budget = 4 * static_cast<long>(s.edges.size()) + 4;
+    std::vector<int> queue(n);
+    std::iota(queue.begin(), queue.end(), 0);
+    while (!queue.empty() && budget > 0) {
+        const int v = queue.back();
+        queue.pop_back();
+        std::vector<int>& inc = incident[v];
+        bool again = true;
+        while (again && budget > 0) {
+            again = false;
+            for (std::size_t i = 0; i < inc.size() && !again; ++i)
+                for (std::size_t j = i + 1; j < inc.size() && !again; ++j) {
+                    const int ei = inc[i], ej = inc[j];
+                    const int wi = s.edges[ei][0] == v ? s.edges[ei][1] : s.edges[ei][0];
+                    const int wj = s.edges[ej][0] == v ? s.edges[ej][1] : s.edges[ej][0];
+                    const Vec3 di = s.points[wi] - s.points[v], dj = s.points[wj] - s.points[v];
+                    const double li = norm(di), lj = norm(dj);
+                    if (!(li > 0 && lj > 0) || !(dot(di, dj) >= cos_limit * li * lj)) continue;
+                    const bool i_near = li < lj || (li == lj && wi < wj);
+                    const int near = i_near ? wi : wj, far = i_near ? wj : wi, e_far = i_near ? ej : ei;
+                    if (on_face[near]) continue;
+                    --budget;
+                    changed = true;
+                    ++r.reattached_edges;
+                    inc.erase(std::find(inc.begin(), inc.end(), e_far));
+                    links.erase(std::minmax(v, far));
+                    std::vector<int>& at_far = incident[far];
+                    if (links.count(std::minmax(near, far))) {  // (near, far) exists: the edge is a duplicate
+                        removed[e_far] = true;
+                        ++r.duplicate_edges;
+                        at_far.erase(std::find(at_far.begin(), at_far.end(), e_far));
+                    } else {
+                        s.edges[e_far] = {near, far};
+                        links.insert(std::minmax(near, far));
+                        incident[near].push_back(e_far);
+                        queue.push_back(near);
+                    }
+                    again = true;
+                }
+        }
+    }
+    if (!changed) return false;
+    std::vector<std::array<int, 2>> kept;
+    for (std::size_t e = 0; e < s.edges.size(); ++e)
+        if (!removed[e]) kept.push_back(s.edges[e]);
+    s.edges = std::move(kept);
+    return true;
+}
+
+Repaired repair_degenerate_branches(const Skeleton& in, const AdaptationOptions& o) {
+    Repaired r{in, std::vector<int>(in.points.size()), 0, 0, 0};
+    std::iota(r.map.begin(), r.map.end(), 0);
+    merge_short_edges(r, o);  // also drops repeated edges
+    if (o.coincident_angle > 0)
+        for (int round = 0; round < 8 && reattach_coincident(r, o); ++round)
+            merge_short_edges(r, o);  // a re-attachment may join two coincident points
+    return r;
+}
+
 }  // namespace
 
 Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o) {
     return adapt_skeleton_detailed(s, o).skeleton;
 }
 
-AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOptions& o) {
-    validate(s, o);
+AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const AdaptationOptions& o) {
+    validate(input, o);
+    Repaired repaired = repair_degenerate_branches(input, o);
+    const Skeleton& s = repaired.s;
     const int n = static_cast<int>(s.points.size());
     const int ne = static_cast<int>(s.edges.size());
 
@@ -528,9 +690,32 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOpti
         }
         out.edges.push_back({prev, c});
     }
+    // Resampled first edges can still be coincident (two branches whose first joints lie in one direction): the same
+    // repair on the output (a re-attachment that joins two coincident points is followed by their merge).
+    std::vector<int> post_map;
+    if (o.coincident_angle > 0) {
+        std::vector<int> identity(out.points.size());
+        Repaired post{std::move(out), std::move(identity), 0, 0, 0};
+        std::iota(post.map.begin(), post.map.end(), 0);
+        for (int round = 0; round < 8; ++round) {
+            const bool moved = reattach_coincident(post, o);
+            if (!merge_short_edges(post, o, true) && !moved) break;
+        }
+        out = std::move(post.s);
+        post_map = std::move(post.map);
+        repaired.reattached_edges += post.reattached_edges;
+        repaired.duplicate_edges += post.duplicate_edges;
+        repaired.merged_vertices += post.merged_vertices;
+    }
     result.collapsed_bridges = result_collapsed;
-    result.vertex_map.resize(n);
-    for (int v = 0; v < n; ++v) result.vertex_map[v] = id_of(v);
+    result.merged_vertices = repaired.merged_vertices;
+    result.duplicate_edges = repaired.duplicate_edges;
+    result.reattached_edges = repaired.reattached_edges;
+    result.vertex_map.resize(input.points.size());
+    for (std::size_t v = 0; v < input.points.size(); ++v) {
+        const int w = id_of(repaired.map[v]);
+        result.vertex_map[v] = w < 0 || post_map.empty() ? w : post_map[w];
+    }
     return result;
 }
 

@@ -65,6 +65,20 @@ struct AdaptationOptions {
     // cactus a pair at 0.8 (r_a + r_b) is now kept: cactus.skel in cactus.obj 0.537 / 0.917, 0.65 % ->
     // 0.660 / 0.927, 0.57 %. No raw hex is inverted on any shared skeleton with 0.7 (nor with 1, the old rule).
     double collapse_spread = 0.7;
+    // Repairs of degenerate branch configurations, made first (they would stop the sphere partition with "directions
+    // i and j coincide", or leave a zero direction):
+    // - a branch edge shorter than merge_distance x the smaller radius of its ends (unitless; 0 = exactly zero length
+    //   only) is contracted: its ends become one vertex (a leaflet vertex keeps its position, else the midpoint; the
+    //   larger radius), unless both ends are on leaflet faces or both are joints (inside a branch the resampling
+    //   steps over it); repeated edges are dropped (AdaptationResult counts);
+    double merge_distance = 1e-3;
+    // - two branch edges (v, a), (v, b) at one vertex whose directions are less than coincident_angle apart (at a
+    //   joint: a hairpin, the branch folding back along itself) (radians;
+    //   0 disables), |va| <= |vb|: (v, b) is re-attached as (a, b) (the nearer edge becomes their shared trunk; the far
+    //   branch's first segment moves by at most |va| sin(coincident_angle)), or dropped if (a, b) exists (a flat
+    //   cycle: V - E + F then rises by 1). Not when a is a leaflet vertex. Repeated until no such pair is left.
+    //   Default 2 degrees.
+    double coincident_angle = 0.0349066;
 };
 
 // Returns the adapted skeleton. Every curve branch (maximal chain of edges through vertices of degree 2 that lie on no
@@ -73,8 +87,11 @@ struct AdaptationOptions {
 // ORIGINAL polyline by arc length (a polyline whose end vertex was merged by a collapse starts at the merged
 // position instead). Leaflet faces, their edges and vertices are copied unchanged.
 // Preconditions (else Error InvalidInput naming the element): one radius per vertex, finite and > 0; finite
-// positions; edge indices in range; no self-loop, no duplicate edge; density > 0.
-// Postconditions: V - E + F unchanged (collapses remove one vertex and one edge each); rings and loops at one vertex
+// positions; edge indices in range; no self-loop; density > 0. Repeated edges, zero-length branch edges and coincident
+// branch directions are repaired first (merge_distance, coincident_angle; counted in AdaptationResult).
+// Postconditions: V - E + F unchanged (collapses remove one vertex and one edge each) except by the repairs (a dropped
+// repeated edge raises it by 1); no two branch edges at a vertex closer than coincident_angle (except towards a
+// leaflet vertex); rings and loops at one vertex
 // keep >= 3 edges; no two edges join the same two vertices. Output order: the kept original vertices (every vertex
 // that is not a branch joint, plus one anchor per ring: its smallest vertex id) in their original order, then the new
 // joints branch by branch; edges: leaflet edges in their original order, then branch edges branch by branch; faces in
@@ -89,6 +106,9 @@ struct AdaptationResult {
     std::vector<int> vertex_map;
     int collapsed_bridges = 0;     // each one removes one branching point, one vertex and one edge
     int turn_removed_joints = 0;   // joints removed by the turn criterion (final branches only)
+    int merged_vertices = 0;       // zero-length (merge_distance) branch edges contracted: one vertex and edge each
+    int duplicate_edges = 0;       // repeated edges dropped (input repeats, or made by a merge or re-attachment)
+    int reattached_edges = 0;      // branch edges moved from a shared vertex to the nearer edge's end (coincident_angle)
 };
 AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOptions& o = {});
 

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <numbers>
@@ -501,6 +502,180 @@ Skeleton make_pan(const Params& p) {
     return s;
 }
 
+// ---------------------------------------------------------------------------------------------------------------
+// Random skeletons (evaluation set).
+
+// splitmix64: a tiny deterministic generator; uniform() uses the top 53 bits, so results are the same everywhere.
+class Random {
+public:
+    explicit Random(std::uint64_t seed) : state_(seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull) {}
+    std::uint64_t next() {
+        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    double uniform(double a, double b) { return a + (b - a) * static_cast<double>(next() >> 11) * 0x1.0p-53; }
+    int integer(int a, int b) { return a + static_cast<int>(next() % static_cast<std::uint64_t>(b - a + 1)); }
+    bool chance(double p) { return uniform(0, 1) < p; }
+    Vec3 unit() {  // uniform on the sphere
+        const double z = uniform(-1, 1), phi = uniform(0, 2 * kPi), s = std::sqrt(std::max(0.0, 1 - z * z));
+        return {s * std::cos(phi), s * std::sin(phi), z};
+    }
+
+private:
+    std::uint64_t state_;
+};
+
+// Any unit vector orthogonal to d.
+Vec3 orthogonal_unit(const Vec3& d) {
+    const Vec3 a = std::abs(d.x) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    return normalized(cross(d, a));
+}
+
+// d turned by `angle` towards the direction at `azimuth` around it.
+Vec3 turned(const Vec3& d, double angle, double azimuth) {
+    const Vec3 u = orthogonal_unit(d), v = cross(d, u);
+    return normalized(std::cos(angle) * d + std::sin(angle) * (std::cos(azimuth) * u + std::sin(azimuth) * v));
+}
+
+double segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
+    // Sampled (segments are short and this only guards the generator): min over 9 x 9 point pairs.
+    double best = distance(p0, q0);
+    for (int i = 0; i <= 8; ++i)
+        for (int j = 0; j <= 8; ++j)
+            best = std::min(best, distance(p0 + (i / 8.0) * (p1 - p0), q0 + (j / 8.0) * (q1 - q0)));
+    return best;
+}
+
+struct RandomTree {
+    Skeleton& s;
+    Random& rng;
+    double L;
+    double max_turn;          // radians, per seed
+    double min_radius;        // radii never below this
+    std::vector<int> parent;  // per point: the point it grew from (-1: none)
+    bool branched = false;    // the first branch that can branch always does (a tree has a branching point)
+
+    // True if the segment a -> (p, rp) keeps 1.1 x the radii sum from every segment not touching a, a's parent or a
+    // sibling start (children of a).
+    bool clear(int a, const Vec3& p, double rp) const {
+        const auto near_a = [&](int v) {
+            return v == a || (a < static_cast<int>(parent.size()) && v == parent[a]) ||
+                   (v < static_cast<int>(parent.size()) && parent[v] == a);
+        };
+        for (const std::array<int, 2>& e : s.edges) {
+            if (near_a(e[0]) || near_a(e[1])) continue;
+            const double need = 1.1 * (std::max(rp, s.radii[a]) + std::max(s.radii[e[0]], s.radii[e[1]]));
+            if (segment_distance(s.points[a], p, s.points[e[0]], s.points[e[1]]) < need) return false;
+        }
+        return true;
+    }
+
+    int add(int from, const Vec3& p, double r) {
+        const int v = add_point(s, p, r);
+        parent.resize(s.points.size(), -1);
+        parent[v] = from;
+        s.edges.push_back({from, v});
+        return v;
+    }
+
+    // A branch from `start` leaving along `dir`, radius r at its first joint; ends in a branching point (2 or 3
+    // children) while depth > 0 and the dice say so.
+    void grow(int start, Vec3 dir, double r, int depth) {
+        const int segments = rng.integer(2, 3);
+        int cur = start;
+        for (int k = 0; k < segments; ++k) {
+            const double len = r * rng.uniform(2.5, 4.5);  // 1-2 resampled edges (about 2 r each)
+            bool placed = false;
+            for (int attempt = 0; attempt < 12 && !placed; ++attempt) {
+                const Vec3 d = k == 0 && attempt == 0 ? dir : turned(dir, rng.uniform(0, max_turn), rng.uniform(0, 2 * kPi));
+                const Vec3 p = s.points[cur] + len * d;
+                if (!clear(cur, p, r)) continue;
+                cur = add(cur, p, r);
+                dir = d;
+                placed = true;
+            }
+            if (!placed) return;  // blocked: the branch ends here (an extremity)
+            r = std::max(min_radius, r * rng.uniform(0.85, 1.0));
+        }
+        if (depth <= 0 || (branched && !rng.chance(0.75))) return;
+        branched = true;
+        const int children = rng.chance(0.7) ? 2 : 3;
+        // Children: the first turns off by 20..70 degrees; the others at 20..40 degrees from it (close pair) or
+        // 60..140 degrees (spread), around random azimuths.
+        const bool close_pair = rng.chance(0.35);
+        const Vec3 first = turned(dir, rng.uniform(20, 70) * kPi / 180, rng.uniform(0, 2 * kPi));
+        std::vector<Vec3> dirs{first};
+        for (int c = 1; c < children; ++c) {
+            const double apart = (close_pair && c == 1 ? rng.uniform(20, 40) : rng.uniform(60, 140)) * kPi / 180;
+            Vec3 d = turned(first, apart, rng.uniform(0, 2 * kPi));
+            if (dot(d, dir) < -0.3) d = turned(first, apart, rng.uniform(0, 2 * kPi));  // avoid folding back
+            dirs.push_back(d);
+        }
+        for (const Vec3& d : dirs) grow(cur, d, std::max(min_radius, r * rng.uniform(0.55, 1.0)), depth - 1);
+    }
+};
+
+Skeleton make_random_tree(Random& rng, double L, double scale) {
+    Skeleton s;
+    const double r0 = L * scale * rng.uniform(0.15, 0.45);
+    RandomTree t{s, rng, L, rng.uniform(20, 75) * kPi / 180, r0 / 3, {}};
+    const int root = add_point(s, {0, 0, 0}, r0);
+    t.parent.assign(1, -1);
+    t.grow(root, rng.unit(), r0, rng.chance(0.2) ? 3 : rng.integer(1, 2));
+    return s;
+}
+
+Skeleton make_random_sheet(Random& rng, double L, double scale) {
+    Skeleton s;
+    const int nu = rng.integer(2, 4), nv = rng.integer(2, 4);
+    const double r = L * scale * rng.uniform(0.1, 0.3);
+    const double bend = rng.uniform(-0.25, 0.25) * L;       // height of a sine bump across u
+    const bool fold = nu >= 2 && rng.chance(0.5);
+    const int fold_row = rng.integer(1, nu - 1);            // rows i > fold_row are turned about x = fold_row
+    const double fold_angle = rng.uniform(0, 120) * kPi / 180;
+    std::vector<Vec3> jitter(static_cast<std::size_t>((nu + 1) * (nv + 1)));
+    for (Vec3& j : jitter) j = Vec3{rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05)} * L;
+    Lattice lat(nu, nv);
+    fill_lattice(s, lat, [&](int i, int j) {
+        const double x = i * L, y = j * L;
+        Vec3 p{x, y, bend * std::sin(kPi * j / nv)};
+        if (fold && i > fold_row) {  // rotate about the line x = fold_row L (direction y) by fold_angle
+            const double dx = x - fold_row * L;
+            p = {fold_row * L + dx * std::cos(fold_angle), y, p.z + dx * std::sin(fold_angle)};
+        }
+        return p + jitter[static_cast<std::size_t>(i * (nv + 1) + j)];
+    }, r);
+    add_lattice_quads(s, lat);
+    add_face_edges(s);
+    RandomTree t{s, rng, L, rng.uniform(15, 45) * kPi / 180, r / 2, std::vector<int>(s.points.size(), -1), true};
+    const double rb_max = 0.5 * L * scale;
+    // BL-joints at the four corners, along the outward corner diagonal (in the corner face's plane, +-15 degrees).
+    const std::array<std::array<int, 4>, 4> corners{{{0, 0, 1, 1}, {nu, 0, -1, 1}, {nu, nv, -1, -1}, {0, nv, 1, -1}}};
+    for (const std::array<int, 4>& c : corners) {
+        if (!rng.chance(0.4)) continue;
+        const int v = lat.at(c[0], c[1]);
+        const Vec3 out = normalized((s.points[v] - s.points[lat.at(c[0] + c[2], c[1])]) +
+                                    (s.points[v] - s.points[lat.at(c[0], c[1] + c[3])]));
+        const Vec3 d = turned(out, rng.uniform(0, 15) * kPi / 180, rng.uniform(0, 2 * kPi));
+        t.grow(v, d, std::min(rb_max, r * rng.uniform(1.0, 1.5)), rng.integer(0, 1));
+    }
+    // A branch rooted inside the leaflet (4 faces meet at every interior lattice vertex), off the fold row.
+    if (rng.chance(0.5)) {
+        const int i = rng.integer(1, nu - 1), j = rng.integer(1, nv - 1);
+        if (!(fold && i == fold_row)) {
+            const int v = lat.at(i, j);
+            Vec3 n = normalized(cross(s.points[lat.at(i + 1, j)] - s.points[lat.at(i - 1, j)],
+                                      s.points[lat.at(i, j + 1)] - s.points[lat.at(i, j - 1)]));
+            if (rng.chance(0.5)) n = -n;
+            const Vec3 d = turned(n, rng.uniform(0, 30) * kPi / 180, rng.uniform(0, 2 * kPi));
+            t.grow(v, d, std::min(rb_max, r * rng.uniform(1.2, 1.7)), 0);
+        }
+    }
+    return s;
+}
+
 struct Shape {
     const char* name;
     std::array<int, 2> default_nm;
@@ -564,6 +739,17 @@ std::string generator_help(const std::string& name) { return find_shape(name).he
 Skeleton generate_skeleton(const std::string& name, const GeneratorOptions& options) {
     const Shape& shape = find_shape(name);
     Skeleton s = shape.make(make_params(name, options, shape.default_nm, shape.min_nm));
+    add_face_edges(s);
+    return s;
+}
+
+const char* random_skeleton_kind(std::uint64_t seed) { return seed % 5 == 0 || seed % 5 == 3 ? "sheet" : "tree"; }
+
+Skeleton generate_random_skeleton(std::uint64_t seed, const GeneratorOptions& options) {
+    const Params p = make_params("--random", options, {1, 1}, {1, 1});
+    Random rng(seed);
+    Skeleton s = std::string(random_skeleton_kind(seed)) == "sheet" ? make_random_sheet(rng, p.L, options.radius_scale)
+                                                                    : make_random_tree(rng, p.L, options.radius_scale);
     add_face_edges(s);
     return s;
 }

@@ -8,6 +8,7 @@
 // consistently oriented within each leaflet (every edge shared by exactly two faces is traversed in opposite
 // directions by them); every face side is in `edges`; no duplicate edge; no unused vertex. The output depends only on
 // the name and the options (deterministic).
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,5 +36,25 @@ std::string generator_help(const std::string& name);
 // Builds the named skeleton. Unknown name or out-of-range options -> Error(InvalidInput) (the message lists the valid
 // names, or the valid range of the option). O(size of the output).
 Skeleton generate_skeleton(const std::string& name, const GeneratorOptions& options = {});
+
+// A random skeleton of the evaluation set (`mesohex generate --random SEED`, bench/random_set.sh), deterministic in
+// the seed (own 64-bit generator, no std:: distribution, so every platform gives the same skeleton). Two kinds:
+//   - tree (seeds with seed % 5 != 0 and != 3): a curve tree of 1-3 branching levels, branches of 2-3 segments of
+//     2.5..4.5 radii turning by up to a per-seed maximum of 20..75 degrees, branching points of degree 3-4 whose
+//     children are sometimes only 20-40 degrees apart, radius 0.15..0.45 x edge_length at the root, children
+//     0.55..1 x their parent, never below a third of the root's (fat, close branches);
+//   - sheet (seed % 5 == 0 or 3): one quad leaflet of 2..4 x 2..4 faces, jittered, bent, and folded with probability
+//     1/2 by 0..120 degrees along an interior row (sheets meeting at a sharp angle), radius 0.1..0.3 x edge_length
+//     (thin), with branches: BL-joints at convex corners leaving along the outward corner diagonal (each corner with
+//     probability 0.4) and a branch rooted at an interior vertex within 30 degrees of the normal (probability 0.5),
+//     radius 1..1.7 x the sheet's, at most 0.5 x edge_length, segments of 2.5..4.5 radii.
+// Segments keep 1.1 x the sum of their radii from every segment that does not share a vertex with them or their
+// branching point (else another direction is drawn, up to 12 times, then the branch ends), so distinct branches do
+// not merge in the thickened domain. Only supported configurations. Postconditions as generate_skeleton(); at least
+// one edge. edge_length and radius_scale as for the named shapes; n, m, quarter_turns unused. O(output^2) (tiny).
+Skeleton generate_random_skeleton(std::uint64_t seed, const GeneratorOptions& options = {});
+
+// "tree" or "sheet": the kind generate_random_skeleton(seed) builds.
+const char* random_skeleton_kind(std::uint64_t seed);
 
 }  // namespace mesohex
