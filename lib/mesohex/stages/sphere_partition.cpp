@@ -40,6 +40,9 @@ constexpr double kAngleTolerance = 1e-8;  // rad; slack on "angle <= 180°" and 
 constexpr double kSumTolerance = 1e-6;    // rad / sr; slack on vertex angle sums and the total area
 constexpr double kMinMargin = 1e-10;      // sin of the angular distance of a direction to its quad boundary
 constexpr double kGoodOrange = 15 * kPi / 180;  // a planar set's orange is used at once when its quality_score >= this
+// A degree-3 set's refined circumcentre orange (partition_sphere's step 2) is used at once when its quality_score >=
+// this: the same bar as a planar set's orange.
+constexpr double kGoodFast = kGoodOrange;
 
 double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 
@@ -793,8 +796,11 @@ struct Relaxer {
         return true;
     }
 
-    bool place_chains() {
+    // Places the valence-2 vertices of every chain (all chains), or only of the chains ending at real vertex `v`:
+    // the others keep their (already valid) positions, which depend on their ends only.
+    bool place_chains(int v = -1) {
         for (const std::vector<int>& c : chains) {
+            if (v >= 0 && c.front() != v && c.back() != v) continue;
             const Vec3& a = p.points[c.front()];
             const Vec3& b = p.points[c.back()];
             const double angle = angle_between(a, b);
@@ -873,7 +879,7 @@ struct Relaxer {
                 for (int k = 0; k < 8; ++k) {
                     const double phi = kPi * k / 4;
                     p.points[v] = normalized(origin + step[v] * (std::cos(phi) * t1 + std::sin(phi) * t2));
-                    if (!place_chains()) continue;
+                    if (!place_chains(v)) continue;
                     const auto [x, e] = local_terms(v);
                     const double score = repair ? x : e;
                     if ((repair || x == 0) && score < best_score - 1e-6 * best_score - 1e-12) {
@@ -882,7 +888,7 @@ struct Relaxer {
                     }
                 }
                 p.points[v] = best_pos;
-                place_chains();
+                place_chains(v);
                 step[v] = best_pos == origin ? 0.5 * step[v] : std::min(0.2, 1.25 * step[v]);
             }
             if (!active || (repair && total_violation() == 0)) return;
@@ -1122,7 +1128,27 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
         }
     }
 
-    // 2. Hull -> 4-regular map -> dual -> relaxation, and oranges around the best axes; the best verified one wins.
+    // 2. Degree 3 (most branching points of a tree): the orange around the axis through the circumcentre of the
+    // three directions (the hull path's construction for n = 3: a triangle with doubled edges, whose dual is that
+    // orange), its axis refined by the same local search as below, returned at once when its quality_score is at
+    // least kGoodFast; else it competes with the full search. This skips the scan of ~400 trial axes and the hull
+    // search (0.3 ms -> ~0.05 ms per partition); the raw meshes differ only where a better-scoring orange existed
+    // elsewhere (measured in docs/performance.md: min scaled Jacobian unchanged or better, mean slightly better).
+    if (n == 3) {
+        const Vec3 t = cross(d[1] - d[0], d[2] - d[0]);
+        if (norm(t) > 1e-9) {
+            const OrangeFrame frame = orange_frame(d, refine_orange_axis(d, margin_bounds(d), normalized(t)));
+            if (orange_margin(frame) > 0) {
+                SpherePartition p = build_orange(frame);
+                if (verify_sphere_partition(p, d).empty()) {
+                    if (quality_score(p, d) >= kGoodFast) return p;
+                    candidates.push_back(std::move(p));
+                }
+            }
+        }
+    }
+
+    // 3. Hull -> 4-regular map -> dual -> relaxation, and oranges around the best axes; the best verified one wins.
     try {
         for (SpherePartition& p : hull_candidates(d)) candidates.push_back(std::move(p));
     } catch (const std::out_of_range&) {
