@@ -73,7 +73,7 @@ void random_edits(const Skeleton& start, int edits, std::uint32_t seed) {
 TEST(Incremental, RandomEditsOnARandomTree) { random_edits(bench::random_tree(600, 11), 12, 1); }
 
 TEST(Incremental, RandomEditsOnGeneratedShapesWithLeaflets) {
-    for (const std::string name : {"hand", "dualocta", "turbine", "bird", "pan", "torustwist"}) {
+    for (const char* name : {"hand", "dualocta", "turbine", "bird", "pan", "torustwist"}) {
         SCOPED_TRACE(name);
         random_edits(generate_skeleton(name), 6, 2);
     }

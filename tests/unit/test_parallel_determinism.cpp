@@ -48,7 +48,7 @@ TEST(ParallelDeterminism, RandomTreeOneVersusTwoThreads) {
 }
 
 TEST(ParallelDeterminism, GeneratedShapesOneVersusTwoThreads) {
-    for (const std::string name : {"hand", "dualocta", "turbine"}) {
+    for (const char* name : {"hand", "dualocta", "turbine"}) {
         SCOPED_TRACE(name);
         const Skeleton s = generate_skeleton(name);
         expect_same_bits(run_with_threads(s, 1), run_with_threads(s, 2));
