@@ -40,9 +40,6 @@ constexpr double kAngleTolerance = 1e-8;  // rad; slack on "angle <= 180°" and 
 constexpr double kSumTolerance = 1e-6;    // rad / sr; slack on vertex angle sums and the total area
 constexpr double kMinMargin = 1e-10;      // sin of the angular distance of a direction to its quad boundary
 constexpr double kGoodOrange = 15 * kPi / 180;  // a planar set's orange is used at once when its quality_score >= this
-// A degree-3 set's refined circumcentre orange (partition_sphere's step 2) is used at once when its quality_score >=
-// this: the same bar as a planar set's orange.
-constexpr double kGoodFast = kGoodOrange;
 
 double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 
@@ -814,8 +811,10 @@ struct Relaxer {
         return true;
     }
 
-    // violation >= 0 (0 when the quad is valid with the margins above) and energy of quad q.
-    std::pair<double, double> quad_terms(int q) const {
+    // violation >= 0 (0 when the quad is valid with the margins above) and energy of quad q (0 unless `energy_too`:
+    // the repair phase and total_violation need the violation only, and the exp / asin of the energy are most of
+    // the cost).
+    std::pair<double, double> quad_terms(int q, bool energy_too = true) const {
         const std::array<int, 4>& quad = p.quads[q];
         double violation = 0, energy = 0;
         for (int k = 0; k < 4; ++k) {
@@ -826,21 +825,22 @@ struct Relaxer {
                 double angle = corner_angle(p.points[quad[(k + 3) % 4]], b, c);
                 if (angle < 0) angle = 0;
                 violation += std::max(0.0, kMinCorner - angle) + std::max(0.0, angle - (kPi - kMinCorner));
-                energy += std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+                if (energy_too) energy += std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
             }
             const Vec3 nrm = cross(b, c);
             const double len = norm(nrm);
             const double side = len > 1e-15 ? dot(d[q], nrm) / len : -1;
             violation += std::max(0.0, kMinSide - side);
-            energy += std::exp(-kSharpness * kPi / 2 * std::asin(std::clamp(side, -1.0, 1.0)) / bound[q]);
+            if (energy_too)
+                energy += std::exp(-kSharpness * kPi / 2 * std::asin(std::clamp(side, -1.0, 1.0)) / bound[q]);
         }
         return {violation, energy};
     }
 
-    std::pair<double, double> local_terms(int v) const {
+    std::pair<double, double> local_terms(int v, bool energy_too = true) const {
         double violation = 0, energy = 0;
         for (int q : quads_of[v]) {
-            const auto [x, e] = quad_terms(q);
+            const auto [x, e] = quad_terms(q, energy_too);
             violation += x;
             energy += e;
         }
@@ -849,7 +849,7 @@ struct Relaxer {
 
     double total_violation() const {
         double x = 0;
-        for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) x += quad_terms(q).first;
+        for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) x += quad_terms(q, false).first;
         return x;
     }
     double total_energy() const {
@@ -871,7 +871,7 @@ struct Relaxer {
                 if (valence[v] < 3 || step[v] < 1e-4) continue;
                 active = true;
                 const Vec3 origin = p.points[v];
-                const auto [x0, e0] = local_terms(v);
+                const auto [x0, e0] = local_terms(v, !repair);
                 if (repair && x0 == 0) continue;
                 const Vec3 t1 = any_orthogonal(origin), t2 = cross(origin, t1);
                 double best_score = repair ? x0 : e0;
@@ -880,7 +880,7 @@ struct Relaxer {
                     const double phi = kPi * k / 4;
                     p.points[v] = normalized(origin + step[v] * (std::cos(phi) * t1 + std::sin(phi) * t2));
                     if (!place_chains(v)) continue;
-                    const auto [x, e] = local_terms(v);
+                    const auto [x, e] = local_terms(v, !repair);
                     const double score = repair ? x : e;
                     if ((repair || x == 0) && score < best_score - 1e-6 * best_score - 1e-12) {
                         best_score = score;
@@ -1128,27 +1128,7 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
         }
     }
 
-    // 2. Degree 3 (most branching points of a tree): the orange around the axis through the circumcentre of the
-    // three directions (the hull path's construction for n = 3: a triangle with doubled edges, whose dual is that
-    // orange), its axis refined by the same local search as below, returned at once when its quality_score is at
-    // least kGoodFast; else it competes with the full search. This skips the scan of ~400 trial axes and the hull
-    // search (0.3 ms -> ~0.05 ms per partition); the raw meshes differ only where a better-scoring orange existed
-    // elsewhere (measured in docs/performance.md: min scaled Jacobian unchanged or better, mean slightly better).
-    if (n == 3) {
-        const Vec3 t = cross(d[1] - d[0], d[2] - d[0]);
-        if (norm(t) > 1e-9) {
-            const OrangeFrame frame = orange_frame(d, refine_orange_axis(d, margin_bounds(d), normalized(t)));
-            if (orange_margin(frame) > 0) {
-                SpherePartition p = build_orange(frame);
-                if (verify_sphere_partition(p, d).empty()) {
-                    if (quality_score(p, d) >= kGoodFast) return p;
-                    candidates.push_back(std::move(p));
-                }
-            }
-        }
-    }
-
-    // 3. Hull -> 4-regular map -> dual -> relaxation, and oranges around the best axes; the best verified one wins.
+    // 2. Hull -> 4-regular map -> dual -> relaxation, and oranges around the best axes; the best verified one wins.
     try {
         for (SpherePartition& p : hull_candidates(d)) candidates.push_back(std::move(p));
     } catch (const std::out_of_range&) {

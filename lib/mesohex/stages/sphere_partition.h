@@ -33,9 +33,7 @@ struct SpherePartitionOptions {
 // set's orange is returned at once unless its lunes are slivers (< 15°).
 // Directions need not be unit length (they are normalised); n < 2, zero, non-finite or (nearly, < 1e-7 rad)
 // identical directions throw Error(InvalidInput). Deterministic: same input, same output bits; thread-safe.
-// Three non-planar directions first try the orange around their circumcentre axis (refined locally), returned at
-// once when its score is >= 15° (tree branching points: ~0.05 ms instead of ~0.3 ms).
-// Cost: O(n^4) hull plus bounded searches; about 0.5-10 ms for n = 4..8 on our machine. The hull path reliably
+// Cost: O(n^4) hull plus bounded searches; about 0.5-10 ms for n = 3..8 on our machine. The hull path reliably
 // finds a partition up to n ~ 20; beyond (and for n > 64) the valid but poorer orange fallback may be used.
 // Throws mesohex::Error(NumericalFailure) if no valid partition could be built (never crashes, never hangs).
 SpherePartition partition_sphere(const std::vector<Vec3>& directions, const SpherePartitionOptions& options = {});
