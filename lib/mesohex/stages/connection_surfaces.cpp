@@ -537,6 +537,12 @@ double spherical_quad_margin(const std::array<Vec3, 4>& q, const Vec3& d) {
 
 ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& an,
                                              const ConnectionSurfaceOptions& options) {
+    return rebuild_connection_surfaces(skeleton, an, nullptr, {}, options);
+}
+
+ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& an,
+                                               const ConnectionSurfaces* previous, const std::vector<char>& recompute,
+                                               const ConnectionSurfaceOptions& options) {
     const int nv = static_cast<int>(skeleton.points.size());
     const int ne = static_cast<int>(skeleton.edges.size());
     MESOHEX_CHECK(static_cast<int>(an.vertex_class.size()) == nv, "analysis does not match the skeleton");
@@ -577,6 +583,10 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
     cs.quad_edges.resize(cs.quad_begin[nv]);
     cs.edges.resize(cs.edge_begin[nv]);
     cs.edge_quad.assign(ne, {-1, -1});
+    // Reuse needs the same CSR layout (same topology and vertex classes); else everything is recomputed.
+    const bool reuse = previous != nullptr && static_cast<int>(recompute.size()) == nv &&
+                       previous->point_begin == cs.point_begin && previous->quad_begin == cs.quad_begin &&
+                       previous->edge_begin == cs.edge_begin && static_cast<int>(previous->edge_quad.size()) == ne;
 
     // Sum of the normals of the faces around each vertex (for BL-joint frames); serial, in face order.
     std::vector<Vec3> vertex_normal_sum(an.counts.bl_joints > 0 ? nv : 0);
@@ -802,6 +812,26 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
                 c != VertexClass::BLJoint && !rooted)
                 continue;
             const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+            if (reuse && !recompute[v]) {  // copy the vertex's previous surface (its inputs did not change)
+                std::copy(previous->directions.begin() + p0, previous->directions.begin() + cs.point_begin[v + 1],
+                          cs.directions.begin() + p0);
+                std::copy(previous->point_valence.begin() + p0,
+                          previous->point_valence.begin() + cs.point_begin[v + 1], cs.point_valence.begin() + p0);
+                std::copy(previous->quads.begin() + q0, previous->quads.begin() + cs.quad_begin[v + 1],
+                          cs.quads.begin() + q0);
+                std::copy(previous->quad_edges.begin() + q0, previous->quad_edges.begin() + cs.quad_begin[v + 1],
+                          cs.quad_edges.begin() + q0);
+                std::copy(previous->quad_rotation.begin() + q0,
+                          previous->quad_rotation.begin() + cs.quad_begin[v + 1], cs.quad_rotation.begin() + q0);
+                std::copy(previous->edges.begin() + e0, previous->edges.begin() + cs.edge_begin[v + 1],
+                          cs.edges.begin() + e0);
+                for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+                    const int e = an.vertex_edges[i];
+                    const int side = skeleton.edges[e][0] == v ? 0 : 1;
+                    cs.edge_quad[e][side] = previous->edge_quad[e][side];
+                }
+                continue;
+            }
             inc.clear();
             for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
                 if (an.edge_degree[an.vertex_edges[i]] == 0) inc.push_back(an.vertex_edges[i]);

@@ -72,6 +72,17 @@ struct ConnectionSurfaceOptions {
 ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                                              const ConnectionSurfaceOptions& options = {});
 
+// Incremental form (for remeshing after an edit, see mesohex/incremental.h): the same result as
+// build_connection_surfaces(skeleton, analysis, options), computing the surfaces of the vertices with recompute[v] != 0
+// only and copying every other vertex's surface from `previous`. The caller guarantees that a copied vertex's inputs
+// did not change since `previous` was built with the same options: its position, its neighbours' positions and
+// radii, and the leaflet faces within three edges of it (incremental.cpp marks every vertex within three edges of a
+// moved one). When `previous` is null, recompute.size() != V, or the CSR layout differs (other topology or vertex
+// classes), everything is recomputed. LL-joint pillows (cheap, serial) are always recomputed.
+ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
+                                               const ConnectionSurfaces* previous, const std::vector<char>& recompute,
+                                               const ConnectionSurfaceOptions& options = {});
+
 // The 2 x 2 patch of leaflet faces around a leaflet interior vertex v that roots a branch (4 faces of one leaflet,
 // branch edge `branch_edge`), as the branch sees it: up = the branch leaves to the side of the faces' oriented
 // normals (its first chunk stands on the plates' up faces, else on their down faces); seen from that side, point k

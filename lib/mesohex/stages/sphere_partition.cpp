@@ -793,8 +793,11 @@ struct Relaxer {
         return true;
     }
 
-    bool place_chains() {
+    // Places the valence-2 vertices of every chain (all chains), or only of the chains ending at real vertex `v`:
+    // the others keep their (already valid) positions, which depend on their ends only.
+    bool place_chains(int v = -1) {
         for (const std::vector<int>& c : chains) {
+            if (v >= 0 && c.front() != v && c.back() != v) continue;
             const Vec3& a = p.points[c.front()];
             const Vec3& b = p.points[c.back()];
             const double angle = angle_between(a, b);
@@ -808,8 +811,10 @@ struct Relaxer {
         return true;
     }
 
-    // violation >= 0 (0 when the quad is valid with the margins above) and energy of quad q.
-    std::pair<double, double> quad_terms(int q) const {
+    // violation >= 0 (0 when the quad is valid with the margins above) and energy of quad q (0 unless `energy_too`:
+    // the repair phase and total_violation need the violation only, and the exp / asin of the energy are most of
+    // the cost).
+    std::pair<double, double> quad_terms(int q, bool energy_too = true) const {
         const std::array<int, 4>& quad = p.quads[q];
         double violation = 0, energy = 0;
         for (int k = 0; k < 4; ++k) {
@@ -820,21 +825,22 @@ struct Relaxer {
                 double angle = corner_angle(p.points[quad[(k + 3) % 4]], b, c);
                 if (angle < 0) angle = 0;
                 violation += std::max(0.0, kMinCorner - angle) + std::max(0.0, angle - (kPi - kMinCorner));
-                energy += std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+                if (energy_too) energy += std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
             }
             const Vec3 nrm = cross(b, c);
             const double len = norm(nrm);
             const double side = len > 1e-15 ? dot(d[q], nrm) / len : -1;
             violation += std::max(0.0, kMinSide - side);
-            energy += std::exp(-kSharpness * kPi / 2 * std::asin(std::clamp(side, -1.0, 1.0)) / bound[q]);
+            if (energy_too)
+                energy += std::exp(-kSharpness * kPi / 2 * std::asin(std::clamp(side, -1.0, 1.0)) / bound[q]);
         }
         return {violation, energy};
     }
 
-    std::pair<double, double> local_terms(int v) const {
+    std::pair<double, double> local_terms(int v, bool energy_too = true) const {
         double violation = 0, energy = 0;
         for (int q : quads_of[v]) {
-            const auto [x, e] = quad_terms(q);
+            const auto [x, e] = quad_terms(q, energy_too);
             violation += x;
             energy += e;
         }
@@ -843,7 +849,7 @@ struct Relaxer {
 
     double total_violation() const {
         double x = 0;
-        for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) x += quad_terms(q).first;
+        for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) x += quad_terms(q, false).first;
         return x;
     }
     double total_energy() const {
@@ -865,7 +871,7 @@ struct Relaxer {
                 if (valence[v] < 3 || step[v] < 1e-4) continue;
                 active = true;
                 const Vec3 origin = p.points[v];
-                const auto [x0, e0] = local_terms(v);
+                const auto [x0, e0] = local_terms(v, !repair);
                 if (repair && x0 == 0) continue;
                 const Vec3 t1 = any_orthogonal(origin), t2 = cross(origin, t1);
                 double best_score = repair ? x0 : e0;
@@ -873,8 +879,8 @@ struct Relaxer {
                 for (int k = 0; k < 8; ++k) {
                     const double phi = kPi * k / 4;
                     p.points[v] = normalized(origin + step[v] * (std::cos(phi) * t1 + std::sin(phi) * t2));
-                    if (!place_chains()) continue;
-                    const auto [x, e] = local_terms(v);
+                    if (!place_chains(v)) continue;
+                    const auto [x, e] = local_terms(v, !repair);
                     const double score = repair ? x : e;
                     if ((repair || x == 0) && score < best_score - 1e-6 * best_score - 1e-12) {
                         best_score = score;
@@ -882,7 +888,7 @@ struct Relaxer {
                     }
                 }
                 p.points[v] = best_pos;
-                place_chains();
+                place_chains(v);
                 step[v] = best_pos == origin ? 0.5 * step[v] : std::min(0.2, 1.25 * step[v]);
             }
             if (!active || (repair && total_violation() == 0)) return;

@@ -1,0 +1,47 @@
+#pragma once
+// Incremental remeshing for the studio (issue 19): after an edit that moves k skeleton vertices (or changes their
+// radii) without changing the topology, only the connection surfaces within reach of those vertices are recomputed;
+// the analysis (O(V + E + F), cheap), the frames and the raw mesh are rebuilt whole (the raw stage runs at > 10 M
+// hex/s). The result is byte-identical to a full run on the new skeleton (tests/unit/test_incremental.cpp checks this
+// on random edits).
+//
+// What is incremental: the skeleton that is meshed as given, without adaptation (PipelineOptions::resample = false;
+// adaptation re-samples whole branches, so one moved vertex can change the topology of everything downstream). The
+// studio remeshes its (already adapted, or hand-drawn) skeleton with this; a full `mesohex mesh` run still adapts.
+#include <vector>
+
+#include "mesohex/core/skeleton.h"
+#include "mesohex/stages/connection_surfaces.h"
+#include "mesohex/stages/frame_propagation.h"
+#include "mesohex/stages/raw_mesh.h"
+#include "mesohex/stages/skeleton_analysis.h"
+
+namespace mesohex {
+
+struct RemeshCache {
+    Skeleton skeleton;  // the skeleton last meshed (one radius per vertex)
+    SkeletonAnalysis analysis;
+    ConnectionSurfaces surfaces;
+    BranchFrames frames;
+    RawMesh raw;
+    AnalysisOptions analysis_options;
+    ConnectionSurfaceOptions surface_options;
+};
+
+struct RemeshStats {
+    bool full = true;              // everything was recomputed (first call, other topology, or options changed)
+    int changed_vertices = 0;      // vertices whose position or radius changed
+    int recomputed_surfaces = 0;   // vertices whose connection surface was recomputed (all when full)
+};
+
+// Meshes `skeleton` (radii required: one per vertex, finite and > 0) from scratch and fills the cache.
+// Errors: whatever analyze_skeleton and the stages throw, plus Error(InvalidInput) for missing or bad radii.
+RemeshStats remesh_full(RemeshCache& cache, const Skeleton& skeleton);
+
+// Brings the cache to `skeleton`: when it has the same edges, faces and number of vertices as cache.skeleton, the
+// connection surfaces of the vertices within three edges of a changed vertex are recomputed and the others reused;
+// otherwise (or when the vertex classes change) this is remesh_full. Afterwards cache.raw equals (bit for bit) what
+// remesh_full(skeleton) gives. On error the cache is left unchanged. Cost: O(V + E + F) plus the recomputed surfaces.
+RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton);
+
+}  // namespace mesohex

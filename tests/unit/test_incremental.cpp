@@ -1,0 +1,122 @@
+// remesh_incremental gives the same bits as a full run after random edits (moves of 1-3 vertices, radius changes),
+// falls back to a full run when the topology changes, and recomputes exactly the vertices within three edges.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <string>
+
+#include "bench_inputs.h"
+#include "mesohex/core/error.h"
+#include "mesohex/incremental.h"
+#include "mesohex/stages/generators.h"
+
+using namespace mesohex;
+
+namespace {
+
+void expect_same_mesh(const RemeshCache& a, const RemeshCache& b) {
+    ASSERT_EQ(a.raw.mesh.hexes, b.raw.mesh.hexes);
+    ASSERT_EQ(a.raw.mesh.points.size(), b.raw.mesh.points.size());
+    EXPECT_EQ(0, std::memcmp(a.raw.mesh.points.data(), b.raw.mesh.points.data(),
+                             a.raw.mesh.points.size() * sizeof(Vec3)));
+    ASSERT_EQ(a.surfaces.directions.size(), b.surfaces.directions.size());
+    EXPECT_EQ(0, std::memcmp(a.surfaces.directions.data(), b.surfaces.directions.data(),
+                             a.surfaces.directions.size() * sizeof(Vec3)));
+    EXPECT_EQ(a.surfaces.quads, b.surfaces.quads);
+    EXPECT_EQ(a.surfaces.edge_quad, b.surfaces.edge_quad);
+    EXPECT_EQ(a.surfaces.quad_rotation, b.surfaces.quad_rotation);
+    EXPECT_EQ(a.raw.hex_edge, b.raw.hex_edge);
+}
+
+// Moves 1-3 random vertices by up to 8 % of their radius per axis (and sometimes scales a radius by 0.9-1.1), then
+// checks the incremental result against a full run; edits the full run rejects are skipped (and must be rejected
+// by the incremental run too, leaving the cache unchanged).
+void random_edits(const Skeleton& start, int edits, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    RemeshCache cache;
+    remesh_full(cache, start);
+    Skeleton s = start;
+    int checked = 0;
+    for (int i = 0; i < edits; ++i) {
+        Skeleton next = s;
+        const int k = 1 + static_cast<int>(rng() % 3);
+        for (int j = 0; j < k; ++j) {
+            const int v = static_cast<int>(rng() % next.points.size());
+            const double step = 0.08 * next.radii[v];
+            next.points[v] += Vec3{step * (2 * bench::unit_draw(rng) - 1), step * (2 * bench::unit_draw(rng) - 1),
+                                   step * (2 * bench::unit_draw(rng) - 1)};
+            if (rng() % 4 == 0) next.radii[v] *= 0.9 + 0.2 * bench::unit_draw(rng);
+        }
+        RemeshCache full;
+        try {
+            remesh_full(full, next);
+        } catch (const Error&) {
+            const Skeleton before = cache.skeleton;
+            EXPECT_THROW(remesh_incremental(cache, next), Error);
+            EXPECT_EQ(cache.skeleton, before);
+            continue;
+        }
+        const RemeshStats stats = remesh_incremental(cache, next);
+        EXPECT_FALSE(stats.full);
+        EXPECT_GE(stats.changed_vertices, 1);
+        EXPECT_LE(stats.changed_vertices, k);
+        expect_same_mesh(cache, full);
+        s = next;
+        ++checked;
+    }
+    EXPECT_GE(checked, edits / 2);
+}
+
+}  // namespace
+
+TEST(Incremental, RandomEditsOnARandomTree) { random_edits(bench::random_tree(600, 11), 12, 1); }
+
+TEST(Incremental, RandomEditsOnGeneratedShapesWithLeaflets) {
+    for (const char* name : {"hand", "dualocta", "turbine", "bird", "pan", "torustwist"}) {
+        SCOPED_TRACE(name);
+        random_edits(generate_skeleton(name), 6, 2);
+    }
+}
+
+// A chain 0-1-...-9 with a branching point at 5 (an extra vertex 10 on it): moving vertex 5 recomputes the vertices
+// within three edges: 2, 3, 4, 5, 6, 7, 8 and 10 = 8 vertices.
+TEST(Incremental, RecomputesTheVerticesWithinThreeEdges) {
+    Skeleton s;
+    for (int v = 0; v < 10; ++v) s.points.push_back({static_cast<double>(v), 0, 0});
+    s.points.push_back({5, 1, 0.3});
+    for (int v = 0; v + 1 < 10; ++v) s.edges.push_back({v, v + 1});
+    s.edges.push_back({5, 10});
+    s.radii.assign(s.points.size(), 0.3);
+    RemeshCache cache;
+    const RemeshStats first = remesh_full(cache, s);
+    EXPECT_TRUE(first.full);
+    EXPECT_EQ(cache.raw.mesh.hexes.size(), 4u * 10u);  // 4 hexes per branch edge
+    s.points[5].z += 0.05;
+    const RemeshStats stats = remesh_incremental(cache, s);
+    EXPECT_FALSE(stats.full);
+    EXPECT_EQ(stats.changed_vertices, 1);
+    EXPECT_EQ(stats.recomputed_surfaces, 8);
+    RemeshCache full;
+    remesh_full(full, s);
+    expect_same_mesh(cache, full);
+}
+
+TEST(Incremental, OtherTopologyIsAFullRun) {
+    Skeleton s = bench::three_branch_star(31);
+    RemeshCache cache;
+    remesh_full(cache, s);
+    s.points.push_back(s.points.back() + Vec3{1, 0, 0});
+    s.edges.push_back({static_cast<int>(s.points.size()) - 2, static_cast<int>(s.points.size()) - 1});
+    s.radii.push_back(0.5);
+    const RemeshStats stats = remesh_incremental(cache, s);
+    EXPECT_TRUE(stats.full);
+    EXPECT_EQ(cache.raw.mesh.hexes.size(), 4u * s.edges.size());
+}
+
+TEST(Incremental, MissingRadiiAreAnError) {
+    Skeleton s = bench::three_branch_star(10);
+    s.radii.clear();
+    RemeshCache cache;
+    EXPECT_THROW(remesh_full(cache, s), Error);
+}
