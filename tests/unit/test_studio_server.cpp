@@ -360,10 +360,39 @@ TEST(StudioServer, OversizedBodyGets413AndTheServerKeepsAnswering) {
     ASSERT_TRUE(big);
     EXPECT_EQ(big->status, 413);
     EXPECT_EQ(body_json(big)["error"]["code"], "PayloadTooLarge") << big->body;
+    // Without a Content-Length (chunked), the limit holds too (counted while reading).
+    const auto chunked = s.client->Post(
+        "/api/mesh",
+        [](std::size_t offset, httplib::DataSink& sink) {
+            const std::string chunk(500, '#');
+            if (offset < 5000) sink.write(chunk.data(), chunk.size());
+            else sink.done();
+            return true;
+        },
+        "text/plain");
+    // (The server answers 413 and stops reading; the client may see that, or only the connection closed while it
+    // was still sending. Accepted, the '#' comment lines would have given 400: no skeleton.)
+    if (chunked) {
+        EXPECT_EQ(chunked->status, 413) << chunked->body;
+        EXPECT_EQ(body_json(chunked)["error"]["code"], "PayloadTooLarge") << chunked->body;
+    }
     const auto small = post(*s.client, "/api/parse", "v 0 0 0\nv 1 0 0\nl 1 2\n");
     ASSERT_TRUE(small);
     EXPECT_EQ(small->status, 200) << small->body;
     EXPECT_EQ(body_json(small)["skeleton"]["edges"], json::array({json::array({0, 1})}));
+}
+
+// `curl --data-binary @file` sends application/x-www-form-urlencoded: the body is still the file's text (no form
+// decoding, no 8 KiB form limit); a body parameter named format does not override the query.
+TEST(StudioServer, FormEncodedContentTypeIsReadAsPlainText) {
+    auto s = start_studio({});
+    const Skeleton torus = generate_skeleton("torus");  // 24 x 8 quads: 192 faces, 384 raw hexes
+    const std::string text = obj_text(torus) + "# format=ig&stage=final\n";
+    ASSERT_GT(text.size(), 8192u);
+    const auto r = post(*s.client, "/api/mesh?stage=raw", text, "application/x-www-form-urlencoded");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body.substr(0, 300);
+    EXPECT_EQ(body_json(r)["report"]["quality"]["hexes"], 384);
 }
 
 // Skeleton JSON -> OBJ / IG text -> parse: the same skeleton, radii included.
