@@ -22,9 +22,11 @@ enum class JobState { Queued, Running, Done, Failed, Cancelled };
 const char* to_string(JobState s);
 
 struct JobProgress {
-    std::string stage;  // "fit", "untangle", ... ("" before the first report)
+    std::string stage;  // "raw", "attempt", "fit", "untangle", "improve", "smooth" ("" before the first report)
     int step = 0;
-    int steps = 0;
+    int steps = 0;       // the stage's cap on step (0 when unknown)
+    double sj_min = 0;   // fit: current min scaled Jacobian
+    long inverted = 0;   // fit, untangle, improve: hexes with scaled Jacobian <= 0
 };
 
 // Thrown from JobContext::progress once the job is cancelled; the worker catches it.

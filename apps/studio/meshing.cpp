@@ -8,11 +8,11 @@
 
 #include "mesohex/core/error.h"
 #include "mesohex/core/topology.h"
-#include "mesohex/finish.h"
+#include "mesohex/mesh.h"
+#include "mesohex/mesh_report.h"
 #include "mesohex/pipeline.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/connection_surfaces.h"
-#include "mesohex/surface/radius_from_surface.h"
 
 namespace mesohex::studio {
 
@@ -126,132 +126,47 @@ const char* edge_kind(int degree) {
     return "fan";
 }
 
-nlohmann::json counts_json(const AnalysisCounts& c) {
-    return {{"vertices", c.vertices},
-            {"edges", c.edges},
-            {"faces", c.faces},
-            {"branches", c.branches},
-            {"branching_points", c.branching_points},
-            {"joints", c.joints},
-            {"extremities", c.extremities},
-            {"cycles", c.cycles},
-            {"components", c.components},
-            {"rings", c.rings},
-            {"leaflets", c.leaflets},
-            {"bl_joints", c.bl_joints},
-            {"ll_joints", c.ll_joints},
-            {"fan_edges", c.fan_edges},
-            {"boundary_edges", c.boundary_edges},
-            {"isolated_vertices", c.isolated},
-            {"euler_characteristic", c.vertices - c.edges + c.faces}};
-}
-
-nlohmann::json valence_json(const std::map<int, long>& m) {
-    nlohmann::json j = nlohmann::json::object();
-    for (const auto& [valence, count] : m) j[std::to_string(valence)] = count;
-    return j;
-}
-
 nlohmann::json predicted_json(const RawMeshPrediction& p) {
     return {{"hexes", p.hexes},
             {"vertices", p.vertices},
             {"irregular_edges",
-             {{"interior", valence_json(p.interior_irregular_edges)},
-              {"boundary", valence_json(p.boundary_irregular_edges)}}}};
+             {{"interior", valence_histogram_json(p.interior_irregular_edges)},
+              {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};
 }
 
 // ------------------------------------------------------------------------------------------- the meshing run
 
+// The library's run (the same call and report as `mesohex mesh`) and its report.
 struct Run {
-    PipelineResult pipeline;
-    PipelineOptions options;
-    QualityReport raw_quality;
-    std::optional<FinishResult> finish;
+    MeshRun run;
     nlohmann::json report;
-    const HexMesh& mesh() const { return finish ? finish->mesh : pipeline.raw.mesh; }
-    const QualityReport& quality() const { return finish ? finish->quality : raw_quality; }
+    const HexMesh& mesh() const { return run.mesh(); }
+    const QualityReport& quality() const { return run.quality(); }
 };
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& request) {
-    Run run;
-    Skeleton skeleton = input;
-    std::string radius_note;
-    if (domain && skeleton.radii.empty()) {
-        const RadiusFromSurface rs = radius_from_surface(skeleton, *domain->query);
-        for (std::size_t v = 0; v < rs.radii.size(); ++v)
-            if (!(rs.radii[v] > 0))
-                throw Error(ErrorCode::InvalidInput,
-                            request.skeleton_name + ": skeleton vertex " + std::to_string(v) +
-                                " lies on or outside the surface " + domain->name + ": no radius can be taken from it",
-                            {ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
-        skeleton.radii = rs.radii;
-        radius_note = "surface (0.500000 x distance)";
-    }
-    if (request.progress) request.progress("raw", 0, 0);
-    const auto t0 = std::chrono::steady_clock::now();
-    run.pipeline = run_pipeline(skeleton, run.options);
-    const double pipeline_ms = ms_since(t0);
-    const auto t1 = std::chrono::steady_clock::now();
-    run.raw_quality = compute_quality(run.pipeline.raw.mesh);
-    const double quality_ms = ms_since(t1);
-    if (request.finish) {
-        FinishOptions fo;
-        if (request.progress) {
-            fo.fitting.progress = [&](const FitProgress& p) {
-                request.progress("fit", p.iteration, fo.fitting.max_iterations);
-            };
-            fo.untangling.progress = [&](const UntangleProgress& p) {
-                request.progress("untangle", p.round, fo.untangling.max_rounds);
-            };
-            fo.improving.progress = [&](const UntangleProgress& p) {
-                request.progress("improve", p.round, fo.improving.max_rounds);
-            };
-            fo.smoothing.progress = [&](const SmoothProgress& p) {
-                request.progress("smooth", p.sweep, fo.smoothing.max_sweeps + fo.smoothing.resweeps);
-            };
-        }
-        run.finish = finish_mesh(run.pipeline.raw.mesh, domain->surface, fo);
-    }
-    const PipelineResult& res = run.pipeline;
-    const QualityReport& q = run.raw_quality;
-    nlohmann::json& rep = run.report;
-    rep["input"] = request.skeleton_name;
-    rep["output"] = "";
-    rep["skeleton"] = counts_json(res.input_analysis.counts);
-    rep["meshed_skeleton"] = counts_json(res.analysis.counts);
-    rep["resampled"] = run.options.resample;
-    rep["radius"] = {{"source", radius_note.empty() ? res.radius_source : radius_note}, {"value", res.radius}};
-    rep["predicted"] = predicted_json(res.predicted);
-    rep["prediction_matches"] = q.hexes == res.predicted.hexes && q.vertices == res.predicted.vertices &&
-                                q.singular_interior_edges == res.predicted.interior_irregular_edges &&
-                                q.singular_boundary_edges == res.predicted.boundary_irregular_edges;
-    rep["quality"] = nlohmann::json::parse(quality_to_json(run.quality()));
-    rep["raw_quality"] = nlohmann::json::parse(quality_to_json(q));
-    nlohmann::json timings = nlohmann::json::object();
-    for (const StageTiming& t : res.timings_ms) timings[t.stage] = t.ms;
-    timings["pipeline_total"] = pipeline_ms;
-    timings["quality"] = quality_ms;
-    if (run.finish) {
-        rep["surface"] = domain->name;
-        rep["subdivision_levels"] = run.finish->subdivision_levels;
-        for (const FinishStage& st : run.finish->stages)
-            if (st.stage != "input") timings[st.stage] = st.ms;
-        timings["finish_total"] = run.finish->total_ms;
-    }
-    rep["timings_ms"] = timings;
-    return run;
+Run run_mesh(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request) {
+    MeshOptions options;  // the defaults of `mesohex mesh`
+    options.finish = request.finish;
+    options.progress = request.progress;
+    Run r;
+    r.run = mesh_skeleton(skeleton, domain ? &domain->surface : nullptr, options);
+    ReportContext context;
+    context.input = request.skeleton_name;
+    if (r.run.finish && domain) context.surface = domain->name;
+    r.report = mesh_report(r.run, context);
+    return r;
 }
 
 // Connection surfaces of the meshed skeleton, drawn with the raw mesh's own vertices: the point x of the surface of
 // skeleton vertex v is raw vertex vertex_base[v] + 1 + x (raw_mesh.h).
 void put_connection_surfaces(std::string& out, const Run& run) {
-    const PipelineResult& res = run.pipeline;
+    const PipelineResult& res = run.run.pipeline;
     const ConnectionSurfaces cs =
-        build_connection_surfaces(res.skeleton, res.analysis, run.options.connection_surfaces);
+        build_connection_surfaces(res.skeleton, res.analysis, run.run.options.connection_surfaces);
     std::vector<Vec3> points;
     std::vector<std::array<int, 4>> quads;
     const int nv = static_cast<int>(res.skeleton.points.size());
@@ -287,7 +202,7 @@ void put_mesh(std::string& out, const Run& run, const Domain* domain) {
     put_key(out, "sj"), put_doubles(out, run.quality().sj), out += ',';
     put_key(out, "singular_edges"), put_ints(out, singular), out += ',';
     put_key(out, "boundary_quads"), put_ints(out, topo.boundary_quads);
-    if (run.finish && domain) {
+    if (run.run.finish && domain) {
         std::vector<char> on_boundary(mesh.points.size(), 0);
         for (const std::array<int, 4>& q : topo.boundary_quads)
             for (const int v : q) on_boundary[v] = 1;
@@ -372,14 +287,14 @@ nlohmann::json analysis_json(const SkeletonAnalysis& an) {
     for (const VertexClass c : an.vertex_class) classes.push_back(class_name(c));
     nlohmann::json kinds = nlohmann::json::array();
     for (const int d : an.edge_degree) kinds.push_back(edge_kind(d));
-    return {{"vertex_class", classes}, {"edge_kind", kinds}, {"counts", counts_json(an.counts)}};
+    return {{"vertex_class", classes}, {"edge_kind", kinds}, {"counts", analysis_counts_json(an.counts)}};
 }
 
 nlohmann::json analyze_response(const Skeleton& skeleton, const Domain* domain) {
     MeshRequest request;
     const Run run = run_mesh(skeleton, domain, request);
-    nlohmann::json j = analysis_json(run.pipeline.input_analysis);
-    j["predicted"] = predicted_json(run.pipeline.predicted);
+    nlohmann::json j = analysis_json(run.run.pipeline.input_analysis);
+    j["predicted"] = predicted_json(run.run.pipeline.predicted);
     return j;
 }
 
@@ -388,16 +303,16 @@ std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const 
     if (request.finish && !domain)
         throw std::logic_error("mesh_response: stage=final needs a domain");  // the server answers 409 before
     const Run run = run_mesh(skeleton, domain, request);
-    nlohmann::json analysis = analysis_json(run.pipeline.input_analysis);
-    analysis["predicted"] = predicted_json(run.pipeline.predicted);
+    nlohmann::json analysis = analysis_json(run.run.pipeline.input_analysis);
+    analysis["predicted"] = predicted_json(run.run.pipeline.predicted);
     std::string out;
     out.reserve(64 * run.mesh().hexes.size() + 4096);
     out += '{';
     put_key(out, "report"), out += run.report.dump(), out += ',';
     put_key(out, "mesh"), put_mesh(out, run, domain), out += ',';
     put_key(out, "analysis"), out += analysis.dump(), out += ',';
-    put_key(out, "meshed_skeleton"), put_skeleton(out, run.pipeline.skeleton), out += ',';
-    if (!run.finish) put_key(out, "connection_surfaces"), put_connection_surfaces(out, run), out += ',';
+    put_key(out, "meshed_skeleton"), put_skeleton(out, run.run.pipeline.skeleton), out += ',';
+    if (!run.run.finish) put_key(out, "connection_surfaces"), put_connection_surfaces(out, run), out += ',';
     put_key(out, "server_ms"), put(out, ms_since(t0));
     out += '}';
     return out;

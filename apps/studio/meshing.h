@@ -9,6 +9,7 @@
 
 #include "mesohex/core/hex_mesh.h"
 #include "mesohex/core/skeleton.h"
+#include "mesohex/mesh.h"
 #include "mesohex/stages/skeleton_analysis.h"
 #include "mesohex/surface/surface_query.h"
 
@@ -24,9 +25,9 @@ struct Domain {
 struct MeshRequest {
     std::string skeleton_name = "request";  // "input" in the report
     bool finish = false;                    // stage=final (needs a domain)
-    // Progress of the finishing stages ("raw", "fit", "untangle", "improve", "smooth", ...: step of steps); may
-    // throw to cancel the run.
-    std::function<void(const std::string& stage, int step, int steps)> progress;
+    // Progress of the run (MeshOptions::progress: "raw", "attempt", "fit", "untangle", "improve", "smooth"); may
+    // throw to cancel it.
+    std::function<void(const MeshProgress&)> progress;
 };
 
 // Meshes `skeleton` (in `domain` when given) and answers the /api/mesh body: {"report", "mesh", "analysis",

@@ -189,7 +189,12 @@ json body_json(const std::string& body) {
 std::string job_json(const JobSnapshot& s, bool with_result) {
     std::string out = json{{"job", s.id},
                            {"state", to_string(s.state)},
-                           {"progress", {{"stage", s.progress.stage}, {"step", s.progress.step}, {"steps", s.progress.steps}}}}
+                           {"progress",
+                            {{"stage", s.progress.stage},
+                             {"step", s.progress.step},
+                             {"steps", s.progress.steps},
+                             {"sj_min", s.progress.sj_min},
+                             {"inverted", s.progress.inverted}}}}
                           .dump();
     out.pop_back();  // '}'
     if (with_result && s.state == JobState::Done) out += ",\"result\":" + s.result;
@@ -332,8 +337,8 @@ void StudioServer::Impl::routes() {
         const std::optional<long> id = jobs.submit(client, [s = std::move(s), dp](JobContext& ctx) {
             MeshRequest request;
             request.finish = true;
-            request.progress = [&ctx](const std::string& stage, int step, int steps) {
-                ctx.progress({stage, step, steps});
+            request.progress = [&ctx](const MeshProgress& p) {
+                ctx.progress({p.stage, p.step, p.steps, p.sj_min, p.inverted});
             };
             return mesh_response(s, dp, request);
         });
