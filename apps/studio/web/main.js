@@ -100,7 +100,7 @@ function frameAll() {
   if (!(b.diagonal > 0)) return;
   const c = new THREE.Vector3(...b.min.map((x, i) => (x + b.max[i]) / 2));
   orbit.target.copy(c);
-  const d = b.diagonal * 1.4;
+  const d = b.diagonal * 2.1;
   camera.position.copy(c).add(new THREE.Vector3(0.55, -0.75, 0.45).normalize().multiplyScalar(d));
   camera.near = b.diagonal / 1000;
   camera.far = b.diagonal * 100;
@@ -681,7 +681,7 @@ function updateSelection() {
   const s = skel();
   const info = $('selinfo');
   if (st.selE && !st.selV.length) info.textContent = `edge ${st.selE[0]}-${st.selE[1]}`;
-  else if (st.selV.length) info.textContent = `${st.selV.length} vertex${st.selV.length > 1 ? 'es' : ''}: ${st.selV.slice(0, 8).join(', ')}${st.selV.length > 8 ? '…' : ''}`;
+  else if (st.selV.length) info.textContent = `${st.selV.length} vert${st.selV.length > 1 ? 'ices' : 'ex'}: ${st.selV.slice(0, 8).join(', ')}${st.selV.length > 8 ? '…' : ''}`;
   else info.textContent = 'nothing selected';
   const vs = st.selV.length ? st.selV : st.selE || [];
   if (vs.length && !$('brush').checked) {
@@ -912,7 +912,7 @@ $('btn-redo').onclick = () => { if (st.undo.redo()) changed(); };
 $('btn-finish').onclick = finish;
 $('btn-shot').onclick = () => { renderNow(); download('mesohex-studio.png', canvas.toDataURL('image/png')); };
 document.querySelectorAll('[data-op]').forEach((b) => { b.onclick = () => op(b.dataset.op); });
-['x', 'y', 'z'].forEach((k, d) => { $(`pos-${k}`).onchange = (ev) => moveTo(d, parseFloat(ev.target.value)); });
+['x', 'y', 'z'].forEach((k, d) => { $(`pos-${k}`).onchange = (ev) => { ev.target.blur(); moveTo(d, parseFloat(ev.target.value)); }; });
 for (const id of ['v-mesh', 'v-wire', 'v-color', 'v-sing', 'v-clip', 'v-clip-axis', 'v-clip-flip', 'v-clip-pos', 'v-shrink', 'v-stage', 'v-conn'])
   $(id).addEventListener('input', drawMesh);
 $('v-domain').oninput = () => { groups.domain.visible = $('v-domain').checked; render(); };
