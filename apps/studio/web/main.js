@@ -414,8 +414,11 @@ function showError(err) {
 function placeErrorLabel() {
   if (!errorAnchor || $('errorlabel').hidden) return;
   const p = toScreen(errorAnchor);
-  $('errorlabel').style.left = `${p.x}px`;
-  $('errorlabel').style.top = `${p.y}px`;
+  const w = canvas.getBoundingClientRect().width;
+  const l = $('errorlabel');
+  // Keep the label inside the view: to the left of the element when it is near the right border.
+  l.style.left = `${Math.max(0, p.x > w - 360 ? p.x - 360 : p.x)}px`;
+  l.style.top = `${p.y}px`;
 }
 
 function toScreen(p) {
