@@ -236,7 +236,7 @@ function drawMesh() {
   const nq = owner.length;
   const colors = new Float32Array(nq * 12);
   const dist = mesh.boundary_distance;
-  const maxDist = dist?.length ? Math.max(...dist) : 0;
+  const maxDist = dist?.length ? dist.reduce((m, x) => Math.max(m, x), 0) : 0;
   for (let q = 0; q < nq; q++)
     for (let k = 0; k < 4; k++) {
       let c;
@@ -327,7 +327,7 @@ function updateStats() {
     rows.push(['SJ ≤ 0', q.inverted]);
     rows.push(['singular edges', (mesh.singular_edges?.length || 0) / 3]);
     if (mesh.boundary_distance?.length && st.domain) {
-      const d = Math.max(...mesh.boundary_distance);
+      const d = mesh.boundary_distance.reduce((m, x) => Math.max(m, x), 0);
       rows.push(['Hausdorff (boundary)', `${d.toPrecision(3)} (${((100 * d) / st.domain.bbox_diagonal).toFixed(2)} % diag)`]);
     }
     if (resp.server_ms !== undefined) rows.push(['server / round trip', `${(+resp.server_ms).toFixed(1)} / ${st.lastRoundTripMs.toFixed(0)} ms`]);
