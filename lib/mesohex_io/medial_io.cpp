@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -14,13 +15,16 @@ namespace {
 
 class LineReader {
 public:
-    explicit LineReader(const std::string& path) : path_(path), in_(path) {
-        if (!in_) throw Error(ErrorCode::IoError, path + ": cannot open medial mesh");
+    explicit LineReader(const std::string& path) : path_(path), in_(std::make_unique<std::ifstream>(path)) {
+        if (!*in_) throw Error(ErrorCode::IoError, path + ": cannot open medial mesh");
     }
+    // The file's text held in memory; `name` stands for the file name in messages.
+    LineReader(const std::string& name, const std::string& content)
+        : path_(name), in_(std::make_unique<std::istringstream>(content)) {}
     // Next non-blank, non-comment line; false at end of file.
     bool next(std::istringstream& out) {
         std::string line;
-        while (std::getline(in_, line)) {
+        while (std::getline(*in_, line)) {
             ++line_no_;
             const size_t first = line.find_first_not_of(" \t\r");
             if (first == std::string::npos || line[first] == '#') continue;
@@ -37,7 +41,7 @@ public:
 
 private:
     std::string path_;
-    std::ifstream in_;
+    std::unique_ptr<std::istream> in_;
     int line_no_ = 0;
 };
 
@@ -53,10 +57,7 @@ void parse_record(LineReader& r, std::istringstream& ls, const char* tag, std::a
     if (ls >> extra) r.fail(std::string("trailing data on a '") + tag + "' line: '" + extra + "'");
 }
 
-}  // namespace
-
-Skeleton read_medial_mesh(const std::string& path) {
-    LineReader r(path);
+Skeleton read_medial(LineReader& r) {
     std::istringstream ls;
     if (!r.next(ls)) r.fail("empty file (expected the header 'nv ne nf')");
     long nv = -1, ne = -1, nf = -1;
@@ -102,6 +103,18 @@ Skeleton read_medial_mesh(const std::string& path) {
     if (r.next(ls)) r.fail("unexpected data after the " + std::to_string(nf) + " triangles announced by the header");
     add_face_edges(s);
     return s;
+}
+
+}  // namespace
+
+Skeleton read_medial_mesh(const std::string& path) {
+    LineReader r(path);
+    return read_medial(r);
+}
+
+Skeleton read_medial_mesh_text(const std::string& content, const std::string& name) {
+    LineReader r(name, content);
+    return read_medial(r);
 }
 
 }  // namespace mesohex
