@@ -188,19 +188,31 @@ test('studio page: load, extrude, move, undo with a live raw mesh (headless Chro
     assert.deepEqual(redo.skeleton, extruded.skeleton);
     assert.equal(redo.hexes, extruded.hexes);
 
-    // An invalid edit (an isolated vertex: N) is shown on the element, and the last valid mesh stays.
-    await page.keyboard.press('n');
-    await page.waitForFunction(() => document.getElementById('status').dataset.state === 'error', null, { timeout: 10000 })
-      .catch(() => {}); // the server may accept an isolated vertex; then there is nothing to show
-    const state = await page.evaluate(() => ({
-      status: document.getElementById('status').dataset.state,
+    // An invalid edit is shown on the element and the last valid mesh stays: moving vertex 5 onto vertex 4 makes
+    // edge 4 (4-5) zero-length, which the analysis rejects (422, where = skeleton_edge 4).
+    const p5 = await page.evaluate(() => window.studio.screenPosition(5));
+    await page.mouse.click(p5.x, p5.y);
+    assert.deepEqual(await page.evaluate(() => window.studio.state.selV), [5]);
+    await page.fill('#pos-x', '2');
+    await page.press('#pos-x', 'Enter');
+    await page.waitForFunction(() => document.getElementById('status').dataset.state === 'error', null, { timeout: 10000 });
+    const rejected = await page.evaluate(() => ({
       label: document.getElementById('errorlabel').hidden ? null : document.getElementById('errorlabel').textContent,
+      where: window.studio.state.error?.where,
       hexes: window.studio.hexCount(),
+      shown: document.getElementById('hexcount').textContent,
+      point: window.studio.skeleton().points[5],
     }));
-    if (state.status === 'error') {
-      assert.ok(state.label && state.label.length > 0, 'the error is labelled');
-      assert.equal(state.hexes, extruded.hexes, 'the last valid mesh stays on screen');
-    }
+    assert.deepEqual(rejected.point, [2, 0, 2]);
+    assert.deepEqual(rejected.where, { kind: 'skeleton_edge', index: 4 });
+    assert.match(rejected.label, /^edge 4: .*zero length/);
+    assert.equal(rejected.hexes, redo.hexes, 'the last valid mesh stays on screen');
+    assert.equal(Number(rejected.shown), redo.hexes);
+    // Undo: valid again, the error is gone.
+    await page.keyboard.press('Control+z');
+    const back = await meshSettled(page);
+    assert.deepEqual(back.skeleton, redo.skeleton);
+    assert.equal(await page.evaluate(() => document.getElementById('errorlabel').hidden), true);
     assert.deepEqual(pageErrors, []);
   } finally {
     if (browser) await browser.close();

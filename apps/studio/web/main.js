@@ -100,7 +100,7 @@ function frameAll() {
   if (!(b.diagonal > 0)) return;
   const c = new THREE.Vector3(...b.min.map((x, i) => (x + b.max[i]) / 2));
   orbit.target.copy(c);
-  const d = b.diagonal * 2.1;
+  const d = b.diagonal * 1.7;
   camera.position.copy(c).add(new THREE.Vector3(0.55, -0.75, 0.45).normalize().multiplyScalar(d));
   camera.near = b.diagonal / 1000;
   camera.far = b.diagonal * 100;
@@ -506,6 +506,8 @@ async function pollJob(id) {
       $('v-stage').value = 'final';
       $('progress').value = 1;
       st.job = null;
+      if (st.meshedVersion === st.version)
+        setStatus('ok', `final mesh of this skeleton: ${V.hexCount(j.result.mesh)} hexes (raw: ${V.hexCount(st.meshes.raw?.mesh)})`);
       drawMesh();
       break;
     }
