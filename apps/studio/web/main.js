@@ -100,7 +100,7 @@ function frameAll() {
   if (!(b.diagonal > 0)) return;
   const c = new THREE.Vector3(...b.min.map((x, i) => (x + b.max[i]) / 2));
   orbit.target.copy(c);
-  const d = b.diagonal * 1.7;
+  const d = b.diagonal * 1.25;
   camera.position.copy(c).add(new THREE.Vector3(0.55, -0.75, 0.45).normalize().multiplyScalar(d));
   camera.near = b.diagonal / 1000;
   camera.far = b.diagonal * 100;
@@ -117,7 +117,7 @@ function drawDomain() {
   g.setAttribute('position', new THREE.Float32BufferAttribute(st.domain.vertices, 3));
   g.setIndex(st.domain.triangles);
   g.computeVertexNormals();
-  const m = new THREE.Mesh(g, new THREE.MeshPhongMaterial({ color: 0x8fb3ff, transparent: true, opacity: 0.16,
+  const m = new THREE.Mesh(g, new THREE.MeshPhongMaterial({ color: 0x8fb3ff, transparent: true, opacity: 0.22,
     depthWrite: false, side: THREE.DoubleSide }));
   m.renderOrder = 10;
   groups.domain.add(m);
