@@ -190,6 +190,7 @@ test('studio page: load, extrude, move, undo with a live raw mesh (headless Chro
 
     // An invalid edit is shown on the element and the last valid mesh stays: moving vertex 5 onto vertex 4 makes
     // edge 4 (4-5) zero-length, which the analysis rejects (422, where = skeleton_edge 4).
+    await page.evaluate(() => window.studio.frameAll()); // the whole skeleton in view (no domain: its bounds)
     const p5 = await page.evaluate(() => window.studio.screenPosition(5));
     await page.mouse.click(p5.x, p5.y);
     assert.deepEqual(await page.evaluate(() => window.studio.state.selV), [5]);
