@@ -95,7 +95,8 @@ function sceneScale() {
 }
 
 function frameAll() {
-  const flat = st.domain ? st.domain.vertices : skel().points.flat();
+  // The union of the domain and the skeleton (a loaded skeleton may not fit the domain).
+  const flat = [...(st.domain ? st.domain.vertices : []), ...skel().points.flat()];
   const b = V.bounds(flat);
   if (!(b.diagonal > 0)) return;
   const c = new THREE.Vector3(...b.min.map((x, i) => (x + b.max[i]) / 2));
@@ -131,7 +132,13 @@ const CLASS_COLORS = {
 const SELECT_COLOR = 0xffffff;
 let vertexMesh = null, edgeLines = null, previewPoints = null;
 
-function vertexSize() { return sceneScale() * 0.008; }
+// Vertex markers: small against the scene, and against the skeleton's own edges (a fine skeleton, e.g. an imported
+// medial mesh, must stay readable).
+function vertexSize() {
+  const s = skel();
+  const e = s.edges.length ? meanEdgeLength() : Infinity;
+  return Math.min(sceneScale() * 0.008, 0.2 * e);
+}
 
 function drawSkeleton(points = skel().points) {
   clear(groups.skeleton);
@@ -858,7 +865,7 @@ function setSkeleton(json, label, { frame = true } = {}) {
   const s = M.fromJson(json);
   st.selV = []; st.selE = null;
   st.undo.push(s, label);
-  changed({ frame: frame && !st.domain });
+  changed({ frame: frame === 'always' || (frame && !st.domain) });
 }
 
 function download(name, text, type = 'text/plain') {
@@ -887,7 +894,7 @@ $('file').onchange = (ev) => guarded('load', async () => {
   const text = await f.text();
   const ext = f.name.split('.').pop().toLowerCase();
   const r = ext === 'ma' ? await api.importMa(text) : await api.parse(text, ext);
-  setSkeleton(r.skeleton, `load ${f.name}`, { frame: true });
+  setSkeleton(r.skeleton, `load ${f.name}`, { frame: 'always' });
   $('counts').dataset.file = f.name;
   ev.target.value = '';
 });
