@@ -98,7 +98,9 @@ function nonBackgroundFraction(page) {
   });
 }
 
-test('studio page: load, extrude, move, undo with a live raw mesh (headless Chromium)', { timeout: 58000 }, async () => {
+test('studio page: load, extrude, move, undo with a live raw mesh (headless Chromium)', { timeout: 58000 }, async (t) => {
+  const t0 = Date.now();
+  const phase = (name) => t.diagnostic(`${name}: ${((Date.now() - t0) / 1000).toFixed(1)} s`);
   assert.ok(fs.existsSync(cli), `mesohex binary not found at ${cli}`);
   const server = startServer();
   let browser = null;
@@ -110,7 +112,9 @@ test('studio page: load, extrude, move, undo with a live raw mesh (headless Chro
     const pageErrors = [];
     page.on('pageerror', (e) => pageErrors.push(e.message));
     await page.goto(url);
-    await page.waitForFunction(() => window.studio?.state?.ready, null, { timeout: 15000 });
+    // The page loads three.js (1.3 MB) from the studio: allow for a loaded machine.
+    await page.waitForFunction(() => window.studio?.state?.ready, null, { timeout: 35000 });
+    phase('page ready');
 
     // WebGL through SwiftShader.
     const gl = await page.evaluate(() => {
@@ -122,6 +126,7 @@ test('studio page: load, extrude, move, undo with a live raw mesh (headless Chro
 
     // The session's skeleton (tripod: 17 vertices, 16 edges) and its raw mesh are on screen.
     const first = await meshSettled(page);
+    phase('first raw mesh');
     assert.equal(first.skeleton.points.length, 17);
     assert.equal(first.skeleton.edges.length, 16);
     assert.ok(first.hexes > 0);
@@ -136,6 +141,7 @@ test('studio page: load, extrude, move, undo with a live raw mesh (headless Chro
     await page.setInputFiles('#file', lpath);
     await page.waitForFunction(() => window.studio.skeleton().points.length === 5, null, { timeout: 10000 });
     const loaded = await meshSettled(page);
+    phase('skeleton loaded and meshed');
     assert.deepEqual(loaded.skeleton.edges, [[0, 1], [1, 2], [2, 3], [3, 4]]);
     assert.deepEqual(loaded.skeleton.radii, [0.3, 0.3, 0.3, 0.3, 0.3]);
     assert.equal(Number(loaded.shown), loaded.hexes);
@@ -212,6 +218,7 @@ test('studio page: load, extrude, move, undo with a live raw mesh (headless Chro
     // Undo: valid again, the error is gone.
     await page.keyboard.press('Control+z');
     const back = await meshSettled(page);
+    phase('done');
     assert.deepEqual(back.skeleton, redo.skeleton);
     assert.equal(await page.evaluate(() => document.getElementById('errorlabel').hidden), true);
     assert.deepEqual(pageErrors, []);
