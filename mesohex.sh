@@ -10,7 +10,7 @@ BUILD=${MESOHEX_BUILD_DIR:-$ROOT/build}
 JOBS=${MESOHEX_JOBS:-$(nproc)}
 
 # Every Debian package the project needs (build, tests, benchmarks).
-PACKAGES=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev
+PACKAGES=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
           python3 python3-meshio python3-numpy
           nodejs npm chromium)   # the studio page (apps/studio/web: three.js via npm) and its headless-browser test

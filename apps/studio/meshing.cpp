@@ -73,6 +73,36 @@ void put_doubles(std::string& out, const std::vector<double>& values) {
     out += ']';
 }
 
+// Skeleton JSON written directly (the meshed skeleton of a 10 k-hex mesh has thousands of points).
+void put_skeleton(std::string& out, const Skeleton& s) {
+    out += '{';
+    put_key(out, "points");
+    out += '[';
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+        if (i) out += ',';
+        out += '[', put(out, s.points[i].x), out += ',', put(out, s.points[i].y), out += ',', put(out, s.points[i].z);
+        out += ']';
+    }
+    out += "],";
+    put_key(out, "radii"), put_doubles(out, s.radii), out += ',';
+    const auto put_cells = [&out](const auto& cells) {
+        out += '[';
+        for (std::size_t i = 0; i < cells.size(); ++i) {
+            if (i) out += ',';
+            out += '[';
+            for (std::size_t k = 0; k < cells[i].size(); ++k) {
+                if (k) out += ',';
+                put(out, static_cast<long long>(cells[i][k]));
+            }
+            out += ']';
+        }
+        out += ']';
+    };
+    put_key(out, "edges"), put_cells(s.edges), out += ',';
+    put_key(out, "faces"), put_cells(s.faces);
+    out += '}';
+}
+
 const char* class_name(VertexClass c) {
     switch (c) {
         case VertexClass::Isolated: return "Isolated";
@@ -366,7 +396,7 @@ std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const 
     put_key(out, "report"), out += run.report.dump(), out += ',';
     put_key(out, "mesh"), put_mesh(out, run, domain), out += ',';
     put_key(out, "analysis"), out += analysis.dump(), out += ',';
-    put_key(out, "meshed_skeleton"), out += skeleton_json(run.pipeline.skeleton).dump(), out += ',';
+    put_key(out, "meshed_skeleton"), put_skeleton(out, run.pipeline.skeleton), out += ',';
     if (!run.finish) put_key(out, "connection_surfaces"), put_connection_surfaces(out, run), out += ',';
     put_key(out, "server_ms"), put(out, ms_since(t0));
     out += '}';

@@ -28,6 +28,8 @@ namespace mesohex::studio {
 namespace {
 
 using nlohmann::json;
+using Req = httplib::Request;
+using Res = httplib::Response;
 
 // An answer other than 200, raised inside a handler.
 struct HttpError : std::runtime_error {
@@ -129,22 +131,56 @@ httplib::Server::Handler guarded(F f) {
     };
 }
 
+// POST handlers read the body themselves (a content reader): no form decoding of the body whatever its content type
+// (httplib would parse an x-www-form-urlencoded body into query parameters and cap it at 8 KiB), and the size limit
+// also holds for chunked bodies, which carry no Content-Length. F(request, body, response).
+template <typename F>
+httplib::Server::HandlerWithContentReader with_body(std::size_t max_bytes, F f) {
+    return [max_bytes, f](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
+        try {
+            std::string body;
+            bool too_large = false;
+            bool ok = false;
+            if (req.is_multipart_form_data()) {
+                reader([](const httplib::MultipartFormData&) { return true; },
+                       [](const char*, std::size_t) { return true; });
+                throw HttpError(400, "BadRequest", "multipart bodies are not read: send the file's text as the body");
+            }
+            ok = reader([&](const char* data, std::size_t n) {
+                if (body.size() + n > max_bytes) {
+                    too_large = true;
+                    return false;
+                }
+                body.append(data, n);
+                return true;
+            });
+            if (too_large || res.status == 413)
+                throw HttpError(413, "PayloadTooLarge", "request body over the size limit (" +
+                                                            std::to_string(max_bytes) + " bytes)");
+            if (!ok) throw HttpError(400, "BadRequest", "could not read the request body");
+            f(req, body, res);
+        } catch (...) {
+            send_error(res, std::current_exception());
+        }
+    };
+}
+
 std::string format_param(const httplib::Request& req, const char* fallback = "obj") {
     return req.has_param("format") ? req.get_param_value("format") : fallback;
 }
 
 // The request body as a skeleton file's text: a read error is a malformed request (400) naming the line.
-Skeleton body_skeleton(const httplib::Request& req) {
+Skeleton body_skeleton(const httplib::Request& req, const std::string& body) {
     try {
-        return read_skeleton_text(req.body, format_param(req), "request body");
+        return read_skeleton_text(body, format_param(req), "request body");
     } catch (const Error& e) {
         throw HttpError(400, code_name(e.code()), e.what(), e.where());
     }
 }
 
-json body_json(const httplib::Request& req) {
+json body_json(const std::string& body) {
     try {
-        return json::parse(req.body);
+        return json::parse(body);
     } catch (const json::exception& e) {
         throw HttpError(400, "BadRequest", std::string("malformed JSON body: ") + e.what());
     }
@@ -230,6 +266,10 @@ struct StudioServer::Impl {
 
     void routes();
     void static_routes();
+    template <typename F>
+    httplib::Server::HandlerWithContentReader post_handler(F f) const {
+        return with_body(options.max_body_bytes, f);
+    }
 };
 
 void StudioServer::Impl::routes() {
@@ -250,8 +290,8 @@ void StudioServer::Impl::routes() {
         send_json(res, session_body);
     }));
 
-    http.Post("/api/analyze", guarded([this](const httplib::Request& req, httplib::Response& res) {
-        const Skeleton s = body_skeleton(req);
+    http.Post("/api/analyze", post_handler([this](const Req& req, const std::string& body, Res& res) {
+        const Skeleton s = body_skeleton(req, body);
         SkeletonAnalysis an;
         try {
             an = analyze_skeleton(s);
@@ -268,12 +308,12 @@ void StudioServer::Impl::routes() {
         }
     }));
 
-    http.Post("/api/mesh", guarded([this](const httplib::Request& req, httplib::Response& res) {
+    http.Post("/api/mesh", post_handler([this](const Req& req, const std::string& body, Res& res) {
         const std::string stage = req.has_param("stage") ? req.get_param_value("stage") : "raw";
         if (stage != "raw" && stage != "final")
             throw HttpError(400, "BadRequest", "stage must be raw or final, not '" + stage + "'");
         if (stage == "final") require_domain("stage=final");
-        const Skeleton s = body_skeleton(req);
+        const Skeleton s = body_skeleton(req, body);
         MeshRequest request;
         request.finish = stage == "final";
         try {
@@ -283,11 +323,11 @@ void StudioServer::Impl::routes() {
         }
     }));
 
-    http.Post("/api/jobs", guarded([this](const httplib::Request& req, httplib::Response& res) {
+    http.Post("/api/jobs", post_handler([this](const Req& req, const std::string& body, Res& res) {
         const Domain& d = require_domain("a finishing job");
         std::string client = req.has_header("X-Studio-Client") ? req.get_header_value("X-Studio-Client") : "default";
         if (client.empty() || client.size() > 200) throw HttpError(400, "BadRequest", "X-Studio-Client: 1 to 200 characters");
-        Skeleton s = body_skeleton(req);
+        Skeleton s = body_skeleton(req, body);
         const Domain* dp = &d;
         const std::optional<long> id = jobs.submit(client, [s = std::move(s), dp](JobContext& ctx) {
             MeshRequest request;
@@ -337,7 +377,7 @@ void StudioServer::Impl::routes() {
         });
     }));
 
-    http.Post("/api/auto-skeleton", guarded([this](const httplib::Request&, httplib::Response& res) {
+    http.Post("/api/auto-skeleton", post_handler([this](const Req&, const std::string&, Res& res) {
         const Domain& d = require_domain("the curve skeleton");
         const std::lock_guard<std::mutex> lock(auto_mutex);
         if (!auto_body) {
@@ -352,12 +392,12 @@ void StudioServer::Impl::routes() {
         send_json(res, *auto_body);
     }));
 
-    http.Post("/api/import", guarded([](const httplib::Request& req, httplib::Response& res) {
+    http.Post("/api/import", post_handler([](const Req& req, const std::string& body, Res& res) {
         const std::string format = format_param(req, "ma");
         if (format != "ma") throw HttpError(400, "BadRequest", "import reads format=ma only, not '" + format + "'");
         Skeleton medial;
         try {
-            medial = read_medial_mesh_text(req.body, "request body");
+            medial = read_medial_mesh_text(body, "request body");
         } catch (const Error& e) {
             throw HttpError(400, code_name(e.code()), e.what(), e.where());
         }
@@ -370,15 +410,15 @@ void StudioServer::Impl::routes() {
         send_json(res, json{{"skeleton", skeleton_json(imp.skeleton)}, {"obj", skeleton_text(imp.skeleton, "obj", "skeleton")}}.dump());
     }));
 
-    http.Post("/api/parse", guarded([](const httplib::Request& req, httplib::Response& res) {
-        send_json(res, json{{"skeleton", skeleton_json(body_skeleton(req))}}.dump());
+    http.Post("/api/parse", post_handler([](const Req& req, const std::string& body, Res& res) {
+        send_json(res, json{{"skeleton", skeleton_json(body_skeleton(req, body))}}.dump());
     }));
 
-    http.Post("/api/serialize", guarded([](const httplib::Request& req, httplib::Response& res) {
+    http.Post("/api/serialize", post_handler([](const Req& req, const std::string& body, Res& res) {
         const std::string format = format_param(req);
         if (format != "obj" && format != "ig")
             throw HttpError(400, "BadRequest", "serialize writes format=obj or ig, not '" + format + "'");
-        const Skeleton s = skeleton_from_json(body_json(req));
+        const Skeleton s = skeleton_from_json(body_json(body));
         std::string text;
         try {
             text = skeleton_text(s, format, "skeleton");
@@ -388,9 +428,9 @@ void StudioServer::Impl::routes() {
         res.set_content(text, "text/plain; charset=utf-8");
     }));
 
-    http.Post("/api/radius-from-domain", guarded([this](const httplib::Request& req, httplib::Response& res) {
+    http.Post("/api/radius-from-domain", post_handler([this](const Req& req, const std::string& body, Res& res) {
         const Domain& d = require_domain("radius from the domain");
-        const Skeleton s = body_skeleton(req);
+        const Skeleton s = body_skeleton(req, body);
         RadiusFromSurface rs;
         try {
             rs = radius_from_surface(s, *d.query);
@@ -400,12 +440,12 @@ void StudioServer::Impl::routes() {
         send_json(res, json{{"radii", rs.radii}, {"outside_vertices", rs.outside_vertices}}.dump());
     }));
 
-    http.Post("/api/snap-medial", guarded([this](const httplib::Request& req, httplib::Response& res) {
+    http.Post("/api/snap-medial", post_handler([this](const Req&, const std::string& body, Res& res) {
         const Domain& d = require_domain("snapping to the medial position");
-        const json body = body_json(req);
-        if (!body.is_object() || !body.contains("points") || !body["points"].is_array())
+        const json request = body_json(body);
+        if (!request.is_object() || !request.contains("points") || !request["points"].is_array())
             throw HttpError(400, "BadRequest", "expected {\"points\": [[x, y, z], ...]}");
-        json wrapped = {{"points", body["points"]}};
+        json wrapped = {{"points", request["points"]}};
         const Skeleton pts = skeleton_from_json(wrapped);
         json out = json::array();
         const double eps = 1e-9 * d.query->bbox_diagonal();
@@ -424,10 +464,10 @@ void StudioServer::Impl::routes() {
         send_json(res, json{{"points", out}}.dump());
     }));
 
-    http.Post("/api/save", guarded([this](const httplib::Request& req, httplib::Response& res) {
+    http.Post("/api/save", post_handler([this](const Req& req, const std::string& body, Res& res) {
         if (session.save_target.empty())
             throw HttpError(403, "Forbidden", "no save target: start the studio with --save PATH");
-        const Skeleton s = body_skeleton(req);
+        const Skeleton s = body_skeleton(req, body);
         const std::lock_guard<std::mutex> lock(save_mutex);
         try {
             write_skeleton(session.save_target, s);
