@@ -395,6 +395,24 @@ TEST(StudioServer, FormEncodedContentTypeIsReadAsPlainText) {
     EXPECT_EQ(body_json(r)["report"]["quality"]["hexes"], 384);
 }
 
+// Answers are never compressed (loopback), whatever the client accepts: the JSON and the static files alike.
+TEST(StudioServer, AnswersAreNotCompressed) {
+    studio::StaticFiles files;
+    files.by_url["/app/main.js"] = {"text/javascript; charset=utf-8", std::string(20000, ' ') + "export {};"};
+    auto s = start_studio({}, files);
+    s.client->set_decompress(false);
+    const httplib::Headers accept{{"Accept-Encoding", "gzip, deflate, br"}};
+    const auto r = s.client->Post("/api/mesh?stage=raw", accept, obj_text(generate_skeleton("plate")), "text/plain");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200);
+    EXPECT_FALSE(r->has_header("Content-Encoding")) << r->get_header_value("Content-Encoding");
+    EXPECT_EQ(body_json(r)["report"]["quality"]["hexes"], 42);  // plate 3 x 3: 2 x 9 plate + 2 x 12 half-chunk hexes
+    const auto js = s.client->Get("/app/main.js", accept);
+    ASSERT_TRUE(js);
+    EXPECT_FALSE(js->has_header("Content-Encoding")) << js->get_header_value("Content-Encoding");
+    EXPECT_EQ(js->body.size(), 20010u);
+}
+
 // Skeleton JSON -> OBJ / IG text -> parse: the same skeleton, radii included.
 TEST(StudioServer, SerializeAndParseRoundTrip) {
     auto s = start_studio({});
