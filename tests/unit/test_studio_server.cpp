@@ -17,9 +17,11 @@
 #include <thread>
 
 #include "cli_run.h"
+#include "mesohex/core/error.h"
 #include "mesohex/pipeline.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
+#include "mesohex_io/medial_io.h"
 #include "mesohex_io/skeleton_io.h"
 #include "mesohex_io/surface_io.h"
 #include "meshing.h"
@@ -489,4 +491,24 @@ TEST(StudioServer, ImportsAMedialMeshFromTheBody) {
     EXPECT_EQ(j["skeleton"]["edges"].size(), 2u);
     EXPECT_EQ(j["skeleton"]["radii"], json::array({0.1, 0.2, 0.3}));
     EXPECT_EQ(read_skeleton_text(j["obj"].get<std::string>(), "obj", "x").points.size(), 3u);
+}
+
+// The readers on text (what the server uses) give what the file readers give, and name the text's stand-in name.
+TEST(StudioServer, TextReadersMatchTheFileReaders) {
+    std::ifstream in(tripod_path());
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(read_skeleton_text(text, "OBJ", "body"), read_skeleton(tripod_path()));
+    std::string message = "accepted";
+    try {
+        read_skeleton_text("v 0 0 0\nl 1 2\n", "obj", "body");  // an edge to a missing vertex
+    } catch (const std::exception& e) {
+        message = e.what();
+    }
+    EXPECT_EQ(message.rfind("body:2:", 0), 0u) << message;
+    EXPECT_THROW(read_skeleton_text(text, "stl", "body"), mesohex::Error);
+    const fs::path ma = temp_dir() / "curve.ma";
+    const std::string ma_text = "3 2 0\nv 0 0 0 0.1\nv 1 0 0 0.2\nv 2 0 0 0.3\ne 0 1\ne 1 2\n";
+    std::ofstream(ma) << ma_text;
+    EXPECT_EQ(read_medial_mesh_text(ma_text, "body"), read_medial_mesh(ma.string()));
+    EXPECT_EQ(skeleton_text(read_skeleton(tripod_path()), "ig", "x").rfind("IG\n17 16 0\n", 0), 0u);
 }
