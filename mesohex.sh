@@ -11,15 +11,18 @@ BUILD=${MESOHEX_BUILD_DIR:-$ROOT/build}
 JOBS=${MESOHEX_JOBS:-$(nproc)}
 
 # Every Debian package the project needs (build, tests, benchmarks).
-PACKAGES=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev
+PACKAGES=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
           python3 python3-meshio python3-numpy clang libclang-rt-14-dev
           libexodusii-dev netcdf-bin python3-netcdf4 libmetis-dev
-          pybind11-dev python3-pybind11 python3-dev python3-pytest python3-distributed)
+          pybind11-dev python3-pybind11 python3-dev python3-pytest python3-distributed
+          nodejs npm chromium)   # the studio page (apps/studio/web: three.js via npm) and its headless-browser test
 
 deps() {
   local missing=()
   for p in "${PACKAGES[@]}"; do
+    # A nodejs package that bundles npm (e.g. NodeSource's) conflicts with Debian's npm: the command is enough.
+    if [ "$p" = npm ] && command -v npm >/dev/null 2>&1; then continue; fi
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   if [ ${#missing[@]} -gt 0 ]; then
@@ -28,6 +31,20 @@ deps() {
     [ "$(id -u)" -eq 0 ] || sudo="sudo"
     $sudo apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+  web_deps
+}
+
+# The studio page's npm packages (three, playwright-core), exactly as pinned by package-lock.json; run again only
+# when the lock file changed since the last install or node_modules is missing.
+web_deps() {
+  local web="$ROOT/apps/studio/web" stamp="$ROOT/apps/studio/web/node_modules/.mesohex-lock.sha256"
+  local want
+  want=$(sha256sum "$web/package-lock.json" | cut -d' ' -f1)
+  if [ ! -d "$web/node_modules" ] || [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
+    echo "mesohex.sh: npm ci in apps/studio/web"
+    npm ci --prefix "$web" --no-audit --no-fund
+    echo "$want" > "$stamp"
   fi
 }
 

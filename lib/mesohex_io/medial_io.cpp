@@ -67,10 +67,7 @@ void parse_record(LineReader& r, std::istringstream& ls, const char* tag, std::a
     if (ls >> extra) r.fail(std::string("trailing data on a '") + tag + "' line: '" + quote_excerpt(extra) + "'");
 }
 
-}  // namespace
-
-Skeleton read_medial_mesh(const std::string& path) {
-    const std::string content = read_whole_file(path);
+Skeleton read_medial(const std::string& path, const std::string& content) {
     if (is_blank_content(content)) fail_empty_file(path, "expected the header 'nv ne nf'");
     LineReader r(path, content);
     std::istringstream ls;
@@ -125,6 +122,14 @@ Skeleton read_medial_mesh(const std::string& path) {
     if (r.next(ls)) r.fail("unexpected data after the " + std::to_string(nf) + " triangles announced by the header");
     add_face_edges(s);
     return s;
+}
+
+}  // namespace
+
+Skeleton read_medial_mesh(const std::string& path) { return read_medial(path, read_whole_file(path)); }
+
+Skeleton read_medial_mesh_text(const std::string& content, const std::string& name) {
+    return read_medial(name, content);
 }
 
 }  // namespace mesohex

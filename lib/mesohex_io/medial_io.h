@@ -15,5 +15,7 @@ namespace mesohex {
 // duplicated edge, a non-positive or non-finite radius or coordinate. Blank lines and lines starting with '#' are
 // skipped. Time and memory are linear in the file size.
 Skeleton read_medial_mesh(const std::string& path);
+// The same on the file's text held in memory; `name` stands for the file name in messages.
+Skeleton read_medial_mesh_text(const std::string& content, const std::string& name);
 
 }  // namespace mesohex

@@ -605,4 +605,27 @@ void write_skeleton(const std::string& path, const Skeleton& skeleton) {
     write_file_atomically(path, ext == "ig" ? format_ig(path, skeleton) : format_obj(skeleton));
 }
 
+Skeleton read_skeleton_text(const std::string& content, const std::string& format, const std::string& name) {
+    const std::string ext = lower_extension("." + format);
+    const Context ctx(name);
+    if (ext != "ig" && ext != "cg" && ext != "cgr" && ext != "skel" && ext != "obj")
+        throw Error(ErrorCode::InvalidInput,
+                    name + ": unknown skeleton format '" + format + "' (expected ig, cg, cgr, skel or obj)");
+    if (content.find('\0') != std::string::npos) ctx.fail(1, "binary content (NUL byte) in a text format");
+    const std::vector<TextLine> lines = split_lines(content);
+    if (ext == "ig") return read_ig(ctx, lines);
+    if (ext == "cg") return read_cg(ctx, lines, false);
+    if (ext == "cgr") return read_cg(ctx, lines, true);
+    if (ext == "skel") return read_skel(ctx, lines);
+    return read_obj(ctx, lines);
+}
+
+std::string skeleton_text(const Skeleton& skeleton, const std::string& format, const std::string& name) {
+    const std::string ext = lower_extension("." + format);
+    if (ext != "ig" && ext != "obj")
+        throw Error(ErrorCode::InvalidInput, name + ": cannot write skeleton format '" + format + "' (use ig or obj)");
+    check_writable(name, skeleton);
+    return ext == "ig" ? format_ig(name, skeleton) : format_obj(skeleton);
+}
+
 }  // namespace mesohex

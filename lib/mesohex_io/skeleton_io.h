@@ -11,4 +11,11 @@ namespace mesohex {
 Skeleton read_skeleton(const std::string& path);
 void write_skeleton(const std::string& path, const Skeleton& skeleton);
 
+// The same readers on a file's text held in memory (for the studio server, which never opens request paths):
+// `format` is the extension without the dot (ig, cg, cgr, skel, obj; case-insensitive), `name` stands for the file
+// name in error messages ("<name>:<line>: <what>").
+Skeleton read_skeleton_text(const std::string& content, const std::string& format, const std::string& name);
+// The text write_skeleton writes for `format` (ig or obj); `name` stands for the file name in error messages.
+std::string skeleton_text(const Skeleton& skeleton, const std::string& format, const std::string& name);
+
 }  // namespace mesohex

@@ -1,0 +1,50 @@
+#pragma once
+// The studio's one meshing call (what /api/mesh and the jobs run) and the JSON it answers: the same library call and
+// report as `mesohex mesh`, plus the arrays the page draws.
+#include <functional>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "mesohex/core/hex_mesh.h"
+#include "mesohex/core/skeleton.h"
+#include "mesohex/mesh.h"
+#include "mesohex/stages/skeleton_analysis.h"
+#include "mesohex/surface/surface_query.h"
+
+namespace mesohex::studio {
+
+// The domain of a session: the surface, its name, and the query structure built once.
+struct Domain {
+    std::string name;
+    TriangleMesh surface;
+    std::optional<SurfaceQuery> query;  // built from surface
+};
+
+struct MeshRequest {
+    std::string skeleton_name = "request";  // "input" in the report
+    bool finish = false;                    // stage=final (needs a domain)
+    // Progress of the run (MeshOptions::progress: "raw", "attempt", "fit", "untangle", "improve", "smooth"); may
+    // throw to cancel it.
+    std::function<void(const MeshProgress&)> progress;
+};
+
+// Meshes `skeleton` (in `domain` when given) and answers the /api/mesh body: {"report", "mesh", "analysis",
+// "meshed_skeleton", "connection_surfaces" (raw only), "server_ms"} as JSON text. Errors: mesohex::Error from the
+// library (naming the element), or whatever `progress` throws.
+std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request);
+
+// The /api/analyze body for `skeleton`: {"vertex_class", "edge_kind", "counts", "predicted"} (the prediction of the
+// raw mesh /api/mesh?stage=raw builds, with the same radii). Errors: mesohex::Error.
+nlohmann::json analyze_response(const Skeleton& skeleton, const Domain* domain);
+
+// Per-vertex classes and per-edge kinds of an analysis, with the counts (no prediction).
+nlohmann::json analysis_json(const SkeletonAnalysis& analysis);
+
+// Skeleton JSON {"points", "radii", "edges", "faces"} and back. skeleton_from_json throws
+// std::invalid_argument naming the offending member on anything malformed.
+nlohmann::json skeleton_json(const Skeleton& skeleton);
+Skeleton skeleton_from_json(const nlohmann::json& j);
+
+}  // namespace mesohex::studio

@@ -1,0 +1,45 @@
+// Thin wrappers over the studio server's JSON API (docs/studio.md). Every failure becomes an ApiError carrying the
+// server's {code, message, where} and the HTTP status.
+
+export class ApiError extends Error {
+  constructor(status, body) {
+    const e = body?.error || {};
+    super(e.message || `HTTP ${status}`);
+    this.status = status;
+    this.code = e.code || 'Unknown';
+    this.where = e.where || { kind: 'none' };
+  }
+}
+
+export const clientId = 'page-' + Math.random().toString(36).slice(2, 10);
+
+async function call(method, path, body, { signal, type = 'text/plain', expect = 'json' } = {}) {
+  const res = await fetch(path, {
+    method,
+    body,
+    signal,
+    headers: { 'Content-Type': type, 'X-Studio-Client': clientId },
+  });
+  if (!res.ok) {
+    let b = null;
+    try { b = await res.json(); } catch { /* not JSON */ }
+    throw new ApiError(res.status, b);
+  }
+  return expect === 'text' ? res.text() : res.json();
+}
+
+export const session = () => call('GET', '/api/session');
+export const mesh = (obj, stage, signal) => call('POST', `/api/mesh?stage=${stage}&format=obj`, obj, { signal });
+export const analyze = (obj, signal) => call('POST', '/api/analyze?format=obj', obj, { signal });
+export const autoSkeleton = () => call('POST', '/api/auto-skeleton', '');
+export const importMa = (text) => call('POST', '/api/import?format=ma', text);
+export const parse = (text, format) => call('POST', `/api/parse?format=${encodeURIComponent(format)}`, text);
+export const serialize = (skeletonJson, format) =>
+  call('POST', `/api/serialize?format=${format}`, JSON.stringify(skeletonJson), { type: 'application/json', expect: 'text' });
+export const radiusFromDomain = (obj) => call('POST', '/api/radius-from-domain?format=obj', obj);
+export const snapMedial = (points) =>
+  call('POST', '/api/snap-medial', JSON.stringify({ points }), { type: 'application/json' });
+export const save = (text, format) => call('POST', `/api/save?format=${format}`, text, { expect: 'text' });
+export const startJob = (obj) => call('POST', '/api/jobs?format=obj', obj);
+export const job = (id) => call('GET', `/api/jobs/${id}`);
+export const cancelJob = (id) => call('DELETE', `/api/jobs/${id}`).catch(() => null);

@@ -1,0 +1,990 @@
+// The studio page: three.js view + editing UI over the pure skeleton model (skeleton_model.js) and the server API.
+import * as THREE from 'three';
+import { OrbitControls } from '/vendor/OrbitControls.js';
+import { TransformControls } from '/vendor/TransformControls.js';
+import * as M from '/app/skeleton_model.js';
+import * as V from '/app/mesh_view.js';
+import * as api from '/app/api.js';
+
+const $ = (id) => document.getElementById(id);
+
+// ---------------------------------------------------------------- state
+const st = {
+  undo: new M.UndoStack(M.emptySkeleton()),
+  selV: [],            // selected vertices, in selection order
+  selE: null,          // selected edge [a, b] or null
+  domain: null,        // {vertices, triangles, bbox_diagonal}
+  saveTarget: null,
+  analysis: null,      // analysis of the skeleton last meshed successfully (same V count)
+  meshes: { raw: null, final: null }, // last valid responses of /api/mesh (or job results)
+  meshedVersion: -1,   // version of the skeleton the raw mesh shows
+  version: 0,          // bumps on every change of the skeleton
+  error: null,         // {message, where} of the last rejected skeleton
+  meshRequests: 0,     // completed raw mesh updates (for tests)
+  job: null,           // {id, version}
+  lastRoundTripMs: 0,
+};
+const skel = () => st.undo.current;
+
+// ---------------------------------------------------------------- three.js set-up
+const canvas = $('canvas');
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
+renderer.localClippingEnabled = true;
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0x1d2026);
+const camera = new THREE.PerspectiveCamera(40, 1, 0.001, 1000);
+camera.position.set(3, -6, 4);
+camera.up.set(0, 0, 1);
+scene.add(new THREE.HemisphereLight(0xffffff, 0x445566, 1.6));
+const sun = new THREE.DirectionalLight(0xffffff, 1.4);
+camera.add(sun);
+sun.position.set(1, 2, 3);
+scene.add(camera);
+const orbit = new OrbitControls(camera, canvas);
+orbit.enableDamping = false;
+orbit.addEventListener('change', render);
+const gizmoAnchor = new THREE.Object3D();
+scene.add(gizmoAnchor);
+const gizmo = new TransformControls(camera, canvas);
+gizmo.setSize(0.8);
+const gizmoHelper = gizmo.getHelper ? gizmo.getHelper() : gizmo;
+scene.add(gizmoHelper);
+gizmo.addEventListener('change', render);
+
+const groups = {
+  domain: new THREE.Group(), skeleton: new THREE.Group(), radii: new THREE.Group(), conn: new THREE.Group(),
+  mesh: new THREE.Group(), sing: new THREE.Group(), error: new THREE.Group(), mirror: new THREE.Group(),
+};
+for (const g of Object.values(groups)) scene.add(g);
+
+function clear(group) {
+  for (const c of [...group.children]) {
+    group.remove(c);
+    c.geometry?.dispose();
+    if (c.material) (Array.isArray(c.material) ? c.material : [c.material]).forEach((m) => m.dispose());
+  }
+}
+
+let renderQueued = false;
+function render() {
+  if (renderQueued) return;
+  renderQueued = true;
+  requestAnimationFrame(() => {
+    renderQueued = false;
+    placeErrorLabel();
+    renderer.render(scene, camera);
+  });
+}
+function renderNow() { placeErrorLabel(); renderer.render(scene, camera); }
+
+function resize() {
+  const r = canvas.parentElement.getBoundingClientRect();
+  renderer.setSize(r.width, r.height, false);
+  camera.aspect = r.width / Math.max(1, r.height);
+  camera.updateProjectionMatrix();
+  render();
+}
+window.addEventListener('resize', resize);
+
+// Scale of the scene: domain diagonal, else skeleton bbox, else 1.
+function sceneScale() {
+  if (st.domain?.bbox_diagonal) return st.domain.bbox_diagonal;
+  const b = V.bounds(skel().points.flat());
+  return b.diagonal > 0 ? b.diagonal : 4;
+}
+
+function frameAll() {
+  // The union of the domain and the skeleton (a loaded skeleton may not fit the domain).
+  const flat = [...(st.domain ? st.domain.vertices : []), ...skel().points.flat()];
+  const b = V.bounds(flat);
+  if (!(b.diagonal > 0)) return;
+  const c = new THREE.Vector3(...b.min.map((x, i) => (x + b.max[i]) / 2));
+  orbit.target.copy(c);
+  const d = b.diagonal * 1.25;
+  camera.position.copy(c).add(new THREE.Vector3(0.55, -0.75, 0.45).normalize().multiplyScalar(d));
+  camera.near = b.diagonal / 1000;
+  camera.far = b.diagonal * 100;
+  camera.updateProjectionMatrix();
+  orbit.update();
+  render();
+}
+
+// ---------------------------------------------------------------- domain
+function drawDomain() {
+  clear(groups.domain);
+  if (!st.domain) return;
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.Float32BufferAttribute(st.domain.vertices, 3));
+  g.setIndex(st.domain.triangles);
+  g.computeVertexNormals();
+  const m = new THREE.Mesh(g, new THREE.MeshPhongMaterial({ color: 0x8fb3ff, transparent: true, opacity: 0.22,
+    depthWrite: false, side: THREE.DoubleSide }));
+  m.renderOrder = 10;
+  groups.domain.add(m);
+}
+
+// ---------------------------------------------------------------- skeleton drawing
+const CLASS_COLORS = {
+  Extremity: 0xffd23f, Joint: 0xcfd8e3, BranchingPoint: 0xff5d5d, LeafletInterior: 0x4fc3f7, LeafletBoundary: 0x26a69a,
+  BLJoint: 0xff9800, LLJoint: 0xba68c8, FanEdgeVertex: 0x9ccc65, FanEdgeEnd: 0x558b2f, Isolated: 0x888888,
+};
+const SELECT_COLOR = 0xffffff;
+let vertexMesh = null, edgeLines = null, previewPoints = null;
+
+// Vertex markers: small against the scene, and against the skeleton's own edges (a fine skeleton, e.g. an imported
+// medial mesh, must stay readable).
+function vertexSize() {
+  const s = skel();
+  const e = s.edges.length ? meanEdgeLength() : Infinity;
+  return Math.min(sceneScale() * 0.008, 0.2 * e);
+}
+
+function drawSkeleton(points = skel().points) {
+  clear(groups.skeleton);
+  clear(groups.radii);
+  const s = skel();
+  const n = points.length;
+  vertexMesh = null; edgeLines = null;
+  if (n) {
+    const geo = new THREE.SphereGeometry(vertexSize(), 14, 10);
+    vertexMesh = new THREE.InstancedMesh(geo, new THREE.MeshPhongMaterial({ color: 0xffffff, depthTest: false }), n);
+    const classes = st.analysis && st.analysis.vertex_class?.length === n ? st.analysis.vertex_class : null;
+    const mtx = new THREE.Matrix4(), col = new THREE.Color();
+    const sel = new Set(st.selV);
+    for (let i = 0; i < n; i++) {
+      const big = sel.has(i) ? 1.6 : 1;
+      mtx.makeScale(big, big, big).setPosition(...points[i]);
+      vertexMesh.setMatrixAt(i, mtx);
+      col.setHex(sel.has(i) ? SELECT_COLOR : classes ? CLASS_COLORS[classes[i]] ?? 0x888888 : 0xaaaaaa);
+      vertexMesh.setColorAt(i, col);
+    }
+    vertexMesh.renderOrder = 20;
+    groups.skeleton.add(vertexMesh);
+  }
+  if (s.edges.length) {
+    const pos = [], colr = [];
+    const kinds = st.analysis && st.analysis.edge_kind?.length === s.edges.length ? st.analysis.edge_kind : null;
+    const selKey = st.selE ? M.edgeKey(...st.selE) : null;
+    s.edges.forEach((e, i) => {
+      pos.push(...points[e[0]], ...points[e[1]]);
+      const c = M.edgeKey(e[0], e[1]) === selKey ? [1, 1, 1]
+        : kinds?.[i] === 'branch' ? [1, 0.85, 0.3] : kinds?.[i] === 'fan' ? [0.6, 0.8, 0.4] : [0.4, 0.8, 1];
+      colr.push(...c, ...c);
+    });
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
+    g.setAttribute('color', new THREE.Float32BufferAttribute(colr, 3));
+    edgeLines = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false }));
+    edgeLines.renderOrder = 19;
+    groups.skeleton.add(edgeLines);
+  }
+  if (s.faces.length) {
+    const pos = [];
+    for (const f of s.faces)
+      for (let k = 1; k + 1 < f.length; k++) pos.push(...points[f[0]], ...points[f[k]], ...points[f[k + 1]]);
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
+    groups.skeleton.add(new THREE.Mesh(g, new THREE.MeshBasicMaterial({ color: 0x4fc3f7, transparent: true,
+      opacity: 0.25, side: THREE.DoubleSide, depthWrite: false })));
+  }
+  if ($('v-radii').checked && s.radii.length) {
+    const geo = new THREE.SphereGeometry(1, 20, 14);
+    const im = new THREE.InstancedMesh(geo, new THREE.MeshPhongMaterial({ color: 0xffcc66, transparent: true,
+      opacity: 0.18, depthWrite: false }), n);
+    const mtx = new THREE.Matrix4();
+    for (let i = 0; i < n; i++) { const r = s.radii[i]; mtx.makeScale(r, r, r).setPosition(...points[i]); im.setMatrixAt(i, mtx); }
+    groups.radii.add(im);
+  }
+  groups.skeleton.visible = $('v-skeleton').checked;
+  drawMirrorPlane();
+  updateLegend();
+  render();
+}
+
+// ---------------------------------------------------------------- mesh drawing
+let clipRange = null;
+
+function currentMeshResponse() {
+  return st.meshes[$('v-stage').value] || null;
+}
+
+function drawMesh() {
+  clear(groups.mesh); clear(groups.sing); clear(groups.conn);
+  const resp = currentMeshResponse();
+  const mesh = resp?.mesh;
+  updateStats();
+  if (!mesh || !V.hexCount(mesh)) { drawHistogram([]); render(); return; }
+  const sj = mesh.sj || [];
+  drawHistogram(sj);
+  const b = V.bounds(mesh.vertices);
+  clipRange = b;
+  let keep = null;
+  if ($('v-clip').checked) {
+    const axis = +$('v-clip-axis').value, flip = $('v-clip-flip').checked;
+    const t = +$('v-clip-pos').value;
+    const cut = b.min[axis] + t * (b.max[axis] - b.min[axis]);
+    const c = V.hexCentroids(mesh);
+    keep = (h) => (flip ? c[3 * h + axis] >= cut : c[3 * h + axis] <= cut);
+  }
+  const shrink = +$('v-shrink').value;
+  let quadPos, owner, cornerVerts = null;
+  if (shrink < 0.999) {
+    const r = V.shrunkQuads(mesh, shrink, keep);
+    quadPos = r.positions; owner = r.owner;
+  } else {
+    // Only the faces not shared by two shown hexes: the boundary (plus the cut when clipped).
+    const r = V.visibleQuads(mesh, keep);
+    owner = r.owner; cornerVerts = r.quads;
+    quadPos = new Float32Array(r.quads.length * 3);
+    r.quads.forEach((v, i) => { quadPos[3 * i] = mesh.vertices[3 * v]; quadPos[3 * i + 1] = mesh.vertices[3 * v + 1]; quadPos[3 * i + 2] = mesh.vertices[3 * v + 2]; });
+  }
+  const mode = $('v-color').value;
+  const nq = owner.length;
+  const colors = new Float32Array(nq * 12);
+  const dist = mesh.boundary_distance;
+  const maxDist = dist?.length ? dist.reduce((m, x) => Math.max(m, x), 0) : 0;
+  for (let q = 0; q < nq; q++)
+    for (let k = 0; k < 4; k++) {
+      let c;
+      if (mode === 'dist' && dist?.length && cornerVerts) c = V.distanceColor(dist[cornerVerts[4 * q + k]], maxDist);
+      else if (mode === 'plain' || (mode === 'dist')) c = [0.78, 0.8, 0.85];
+      else c = V.sjColor(sj[owner[q]]);
+      colors.set(c, 12 * q + 3 * k);
+    }
+  const tri = V.trianglesFromQuads(quadPos, colors);
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(tri.positions, 3));
+  g.setAttribute('color', new THREE.BufferAttribute(tri.colors, 3));
+  g.computeVertexNormals();
+  const meshObj = new THREE.Mesh(g, new THREE.MeshPhongMaterial({ vertexColors: true, side: THREE.DoubleSide,
+    flatShading: true, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
+  groups.mesh.add(meshObj);
+  if ($('v-wire').checked) {
+    const lp = new Float32Array(nq * 24);
+    for (let q = 0; q < nq; q++)
+      for (let k = 0; k < 4; k++) {
+        const a = 12 * q + 3 * k, bb = 12 * q + 3 * ((k + 1) % 4);
+        lp.set([quadPos[a], quadPos[a + 1], quadPos[a + 2], quadPos[bb], quadPos[bb + 1], quadPos[bb + 2]], 24 * q + 6 * k);
+      }
+    const lg = new THREE.BufferGeometry();
+    lg.setAttribute('position', new THREE.BufferAttribute(lp, 3));
+    groups.mesh.add(new THREE.LineSegments(lg, new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.5 })));
+  }
+  if ($('v-sing').checked && mesh.singular_edges?.length) {
+    const se = mesh.singular_edges, pos = [], col = [];
+    for (let i = 0; i + 2 < se.length; i += 3) {
+      const a = se[i], bb = se[i + 1];
+      pos.push(mesh.vertices[3 * a], mesh.vertices[3 * a + 1], mesh.vertices[3 * a + 2],
+        mesh.vertices[3 * bb], mesh.vertices[3 * bb + 1], mesh.vertices[3 * bb + 2]);
+      const c = V.valenceColor(se[i + 2]);
+      col.push(...c, ...c);
+    }
+    const sg = new THREE.BufferGeometry();
+    sg.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
+    sg.setAttribute('color', new THREE.Float32BufferAttribute(col, 3));
+    const lines = new THREE.LineSegments(sg, new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false }));
+    lines.renderOrder = 15;
+    groups.sing.add(lines);
+  }
+  const cs = resp.connection_surfaces;
+  if ($('v-conn').checked && cs?.quads?.length) {
+    const pos = [];
+    for (let i = 0; i + 3 < cs.quads.length; i += 4)
+      for (const k of [0, 1, 2, 0, 2, 3]) { const v = cs.quads[i + k]; pos.push(cs.vertices[3 * v], cs.vertices[3 * v + 1], cs.vertices[3 * v + 2]); }
+    const cg = new THREE.BufferGeometry();
+    cg.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
+    groups.conn.add(new THREE.Mesh(cg, new THREE.MeshBasicMaterial({ color: 0xff66cc, transparent: true, opacity: 0.35,
+      side: THREE.DoubleSide, depthWrite: false })));
+  }
+  groups.mesh.visible = $('v-mesh').checked;
+  render();
+}
+
+function drawHistogram(sj) {
+  const h = V.sjHistogram(sj, 10);
+  const max = Math.max(1, ...h.counts);
+  $('hist').innerHTML = '';
+  h.counts.forEach((c, i) => {
+    const bar = document.createElement('div');
+    bar.className = 'bar';
+    bar.title = `${h.labels[i]}: ${c} hexes`;
+    const fill = document.createElement('div');
+    const col = i === 0 ? V.sjColor(0) : V.sjColor((i - 0.5) / 10);
+    fill.style.background = `rgb(${col.map((x) => Math.round(255 * x)).join(',')})`;
+    fill.style.height = `${c ? Math.max(3, (88 * c) / max) : 1}%`;
+    const lab = document.createElement('span');
+    lab.textContent = i === 0 ? '≤0' : i % 2 ? '' : (i / 10).toFixed(1);
+    bar.append(fill, lab);
+    bar.dataset.count = c;
+    bar.dataset.label = h.labels[i];
+    $('hist').append(bar);
+  });
+}
+
+function updateStats() {
+  const rows = [];
+  const resp = currentMeshResponse();
+  const mesh = resp?.mesh;
+  const stage = $('v-stage').value;
+  if (mesh) {
+    const q = V.sjStats(mesh.sj || []);
+    rows.push([`${stage} hexes`, `<span id="hexcount">${V.hexCount(mesh)}</span>`]);
+    rows.push(['min / avg SJ', `${q.min.toFixed(3)} / ${q.avg.toFixed(3)}`]);
+    rows.push(['SJ ≤ 0', q.inverted]);
+    rows.push(['singular edges', (mesh.singular_edges?.length || 0) / 3]);
+    if (mesh.boundary_distance?.length && st.domain) {
+      const d = mesh.boundary_distance.reduce((m, x) => Math.max(m, x), 0);
+      rows.push(['Hausdorff (boundary)', `${d.toPrecision(3)} (${((100 * d) / st.domain.bbox_diagonal).toFixed(2)} % diag)`]);
+    }
+    if (resp.server_ms !== undefined) rows.push(['server / round trip', `${(+resp.server_ms).toFixed(1)} / ${st.lastRoundTripMs.toFixed(0)} ms`]);
+  } else rows.push([`${stage} hexes`, `<span id="hexcount">–</span>`]);
+  const a = st.analysis;
+  if (a?.predicted) {
+    rows.push(['predicted hexes', `<span id="predicted">${a.predicted.hexes}</span>`]);
+    const irr = (o) => Object.entries(o || {}).map(([k, v]) => `${v}×v${k}`).join(' ') || 'none';
+    rows.push(['irregular (interior)', irr(a.predicted.irregular_edges?.interior)]);
+    rows.push(['irregular (boundary)', irr(a.predicted.irregular_edges?.boundary)]);
+  }
+  $('stats').innerHTML = rows.map(([k, v]) => `<tr><td>${k}</td><td>${v}</td></tr>`).join('');
+}
+
+function updateLegend() {
+  const used = new Set(st.analysis?.vertex_class || []);
+  const items = Object.entries(CLASS_COLORS).filter(([k]) => used.size === 0 || used.has(k))
+    .map(([k, c]) => `<div><span class="sw" style="background:#${c.toString(16).padStart(6, '0')}"></span>${k}</div>`);
+  items.push('<div style="margin-top:4px">singular edges: <span class="sw" style="background:#e61a1a"></span>3 ' +
+    '<span class="sw" style="background:#1abf1a"></span>5 <span class="sw" style="background:#264cf2"></span>≥6 ' +
+    '<span class="sw" style="background:#ff9900"></span>1 (boundary)</div>');
+  items.push('<div>hexes: <span class="sw" style="background:#bf00bf"></span>SJ ≤ 0 ' +
+    '<span class="sw" style="background:#e62619"></span>0 <span class="sw" style="background:#e6e61a"></span>0.5 ' +
+    '<span class="sw" style="background:#1ae64d"></span>1</div>');
+  $('legend').innerHTML = items.join('');
+}
+
+// ---------------------------------------------------------------- status, errors
+function setStatus(state, text) {
+  const s = $('status');
+  s.dataset.state = state;
+  s.textContent = text;
+}
+
+let toastTimer = null;
+function toast(msg) {
+  const t = $('toast');
+  t.textContent = msg;
+  t.hidden = false;
+  clearTimeout(toastTimer);
+  toastTimer = setTimeout(() => { t.hidden = true; }, 5000);
+}
+
+let errorAnchor = null;
+function showError(err) {
+  clear(groups.error);
+  errorAnchor = null;
+  $('errorlabel').hidden = true;
+  st.error = err;
+  if (!err) { render(); return; }
+  const s = skel(), w = err.where || {};
+  const mat = new THREE.MeshBasicMaterial({ color: 0xff2020, transparent: true, opacity: 0.6, side: THREE.DoubleSide, depthTest: false });
+  const r = vertexSize() * 3;
+  if (w.kind === 'skeleton_vertex' && s.points[w.index]) {
+    const m = new THREE.Mesh(new THREE.SphereGeometry(r, 16, 12), mat);
+    m.position.set(...s.points[w.index]);
+    groups.error.add(m);
+    errorAnchor = s.points[w.index];
+  } else if (w.kind === 'skeleton_edge' && s.edges[w.index]) {
+    const [a, b] = s.edges[w.index];
+    const pa = new THREE.Vector3(...s.points[a]), pb = new THREE.Vector3(...s.points[b]);
+    const len = pa.distanceTo(pb);
+    const m = new THREE.Mesh(new THREE.CylinderGeometry(r / 2, r / 2, len, 10), mat);
+    m.position.copy(pa).add(pb).multiplyScalar(0.5);
+    m.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), pb.clone().sub(pa).normalize());
+    groups.error.add(m);
+    errorAnchor = m.position.toArray();
+  } else if (w.kind === 'skeleton_face' && s.faces[w.index]) {
+    const f = s.faces[w.index], pos = [];
+    for (let k = 1; k + 1 < f.length; k++) pos.push(...s.points[f[0]], ...s.points[f[k]], ...s.points[f[k + 1]]);
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
+    groups.error.add(new THREE.Mesh(g, mat));
+    errorAnchor = [0, 1, 2].map((d) => f.reduce((acc, v) => acc + s.points[v][d], 0) / f.length);
+  }
+  groups.error.renderOrder = 30;
+  const label = $('errorlabel');
+  label.textContent = `${w.kind && w.kind !== 'none' ? `${w.kind.replace('skeleton_', '')} ${w.index}: ` : ''}${err.message}`;
+  label.hidden = false;
+  if (!errorAnchor) { label.style.left = '8px'; label.style.top = '40px'; }
+  render();
+}
+
+function placeErrorLabel() {
+  if (!errorAnchor || $('errorlabel').hidden) return;
+  const p = toScreen(errorAnchor);
+  const w = canvas.getBoundingClientRect().width;
+  const l = $('errorlabel');
+  // Keep the label inside the view: to the left of the element when it is near the right border.
+  l.style.left = `${Math.max(0, p.x > w - 360 ? p.x - 360 : p.x)}px`;
+  l.style.top = `${p.y}px`;
+}
+
+function toScreen(p) {
+  const v = new THREE.Vector3(...p).project(camera);
+  const r = canvas.getBoundingClientRect();
+  return { x: ((v.x + 1) / 2) * r.width, y: ((1 - v.y) / 2) * r.height, behind: v.z > 1 };
+}
+
+// ---------------------------------------------------------------- live mesh
+let meshTimer = null, meshAbort = null;
+
+function scheduleMesh() {
+  clearTimeout(meshTimer);
+  if (!skel().points.length) {
+    st.meshes.raw = null; st.analysis = null; showError(null); drawMesh();
+    setStatus('empty', 'no skeleton: load one, take the curve skeleton of the domain, or press N');
+    return;
+  }
+  setStatus('stale', 'mesh is stale: updating…');
+  meshTimer = setTimeout(runMesh, 60);
+}
+
+async function runMesh() {
+  meshAbort?.abort();
+  const ctl = new AbortController();
+  meshAbort = ctl;
+  const version = st.version;
+  const t0 = performance.now();
+  try {
+    const resp = await api.mesh(M.toObj(skel()), 'raw', ctl.signal);
+    if (version !== st.version) return; // a newer edit is on its way
+    st.lastRoundTripMs = performance.now() - t0;
+    st.meshes.raw = resp;
+    st.analysis = resp.analysis || null;
+    st.meshedVersion = version;
+    st.meshRequests++;
+    showError(null);
+    setStatus('ok', `raw mesh up to date: ${V.hexCount(resp.mesh)} hexes (${st.lastRoundTripMs.toFixed(0)} ms)`);
+    drawSkeleton();
+    if ($('v-stage').value === 'raw' || !st.meshes.final) { $('v-stage').value = 'raw'; }
+    drawMesh();
+  } catch (e) {
+    if (e.name === 'AbortError' || version !== st.version) return;
+    st.meshRequests++;
+    if (e instanceof api.ApiError) {
+      showError({ message: e.message, where: e.where });
+      setStatus('error', `skeleton rejected (${e.code}): the mesh shown is the last valid one (stale)`);
+      // Keep the vertex classes only if they still fit.
+      if (st.analysis && st.analysis.vertex_class?.length !== skel().points.length) st.analysis = null;
+      drawSkeleton();
+    } else {
+      setStatus('error', `server unreachable: ${e.message}`);
+    }
+  }
+}
+
+// ---------------------------------------------------------------- finish job
+async function finish() {
+  if (!skel().points.length) return;
+  await cancelJob();
+  const version = st.version;
+  try {
+    const { job } = await api.startJob(M.toObj(skel()));
+    st.job = { id: job, version };
+    $('progress').hidden = false;
+    $('progress').value = 0;
+    $('jobinfo').textContent = `job ${job}: queued`;
+    pollJob(job);
+  } catch (e) {
+    $('jobinfo').textContent = `finish failed: ${e.message}`;
+    if (e.where && e.where.kind !== 'none') showError({ message: e.message, where: e.where });
+  }
+}
+
+async function pollJob(id) {
+  while (st.job && st.job.id === id) {
+    let j;
+    try { j = await api.job(id); } catch (e) { $('jobinfo').textContent = `job ${id}: ${e.message}`; break; }
+    if (!st.job || st.job.id !== id) break;
+    const p = j.progress || {};
+    $('progress').value = p.steps ? p.step / p.steps : 0;
+    $('jobinfo').textContent = `job ${id}: ${j.state}${p.stage ? ` (${p.stage} ${p.step ?? ''}/${p.steps ?? ''})` : ''}`;
+    if (j.state === 'done') {
+      st.meshes.final = j.result;
+      $('v-stage').value = 'final';
+      $('progress').value = 1;
+      st.job = null;
+      if (st.meshedVersion === st.version)
+        setStatus('ok', `final mesh of this skeleton: ${V.hexCount(j.result.mesh)} hexes (raw: ${V.hexCount(st.meshes.raw?.mesh)})`);
+      drawMesh();
+      break;
+    }
+    if (j.state === 'failed' || j.state === 'cancelled') {
+      if (j.error) {
+        $('jobinfo').textContent += `: ${j.error.message}`;
+        if (j.error.where && j.error.where.kind !== 'none') showError(j.error);
+      }
+      st.job = null;
+      break;
+    }
+    await new Promise((r) => setTimeout(r, 250));
+  }
+}
+
+async function cancelJob() {
+  if (!st.job) return;
+  const id = st.job.id;
+  st.job = null;
+  $('jobinfo').textContent = `job ${id}: cancelled by the edit`;
+  $('progress').hidden = true;
+  await api.cancelJob(id);
+}
+
+// ---------------------------------------------------------------- editing
+function changed({ frame = false } = {}) {
+  st.version++;
+  st.meshes.final = null; // a final mesh belongs to the skeleton it was made for
+  if ($('v-stage').value === 'final') $('v-stage').value = 'raw';
+  cancelJob();
+  const n = skel().points.length;
+  st.selV = st.selV.filter((v) => v < n);
+  if (st.selE && (st.selE[0] >= n || st.selE[1] >= n || M.findEdge(skel(), ...st.selE) < 0)) st.selE = null;
+  drawSkeleton();
+  updateSelection();
+  updateCounts();
+  if (frame) frameAll();
+  scheduleMesh();
+}
+
+function commit(next, label) {
+  st.undo.push(next, label);
+  changed();
+}
+
+function edit(kind, args) {
+  try {
+    const r = M.applyEdit(skel(), kind, args, mirrorPlane(), sceneScale() * 1e-4);
+    commit(r.skeleton, kind);
+    return r;
+  } catch (e) {
+    toast(e.message);
+    return null;
+  }
+}
+
+function mirrorPlane() {
+  const a = $('mirror').value;
+  if (a === '') return null;
+  const axis = +a;
+  const flat = st.domain ? st.domain.vertices : skel().points.flat();
+  const b = V.bounds(flat);
+  return { axis, c: b.diagonal > 0 || flat.length ? (b.min[axis] + b.max[axis]) / 2 : 0 };
+}
+
+function drawMirrorPlane() {
+  clear(groups.mirror);
+  const p = mirrorPlane();
+  if (!p) return;
+  const size = sceneScale() * 1.1;
+  const m = new THREE.Mesh(new THREE.PlaneGeometry(size, size), new THREE.MeshBasicMaterial({ color: 0xffffff,
+    transparent: true, opacity: 0.06, side: THREE.DoubleSide, depthWrite: false }));
+  const flat = st.domain ? st.domain.vertices : skel().points.flat();
+  const b = V.bounds(flat);
+  if (b.diagonal > 0) m.position.set(...b.min.map((x, i) => (x + b.max[i]) / 2));
+  if (p.axis === 0) m.rotation.y = Math.PI / 2;
+  if (p.axis === 1) m.rotation.x = Math.PI / 2;
+  groups.mirror.add(m);
+}
+
+const sub3 = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+const len3 = (a) => Math.hypot(a[0], a[1], a[2]);
+const norm3 = (a) => { const l = len3(a) || 1; return [a[0] / l, a[1] / l, a[2] / l]; };
+
+function meanEdgeLength() {
+  const s = skel();
+  if (!s.edges.length) return sceneScale() * 0.1;
+  return s.edges.reduce((acc, [a, b]) => acc + len3(sub3(s.points[a], s.points[b])), 0) / s.edges.length;
+}
+
+function extrude() {
+  const s = skel();
+  const e = selectedEdge();
+  if (e) {
+    const [a, b] = e;
+    const fs = M.facesOfEdge(s, a, b);
+    const mid = s.points[a].map((x, i) => (x + s.points[b][i]) / 2);
+    let dir;
+    if (fs.length === 1) {
+      const f = s.faces[fs[0]];
+      const c = [0, 1, 2].map((d) => f.reduce((acc, v) => acc + s.points[v][d], 0) / f.length);
+      const ab = norm3(sub3(s.points[b], s.points[a]));
+      const out = sub3(mid, c);
+      const along = out[0] * ab[0] + out[1] * ab[1] + out[2] * ab[2];
+      dir = norm3(out.map((x, i) => x - along * ab[i]));
+    } else {
+      const ab = norm3(sub3(s.points[b], s.points[a]));
+      dir = norm3(Math.abs(ab[2]) < 0.9 ? [ab[1], -ab[0], 0] : [0, ab[2], -ab[1]]);
+    }
+    const l = len3(sub3(s.points[a], s.points[b]));
+    const r = edit('extrudeEdge', { a, b, offset: dir.map((x) => x * l) });
+    if (r) { st.selV = r.created.slice(0, 2); st.selE = null; updateSelection(); drawSkeleton(); }
+    return;
+  }
+  if (st.selV.length !== 1) { toast('extrude: select one vertex (branch) or one edge (quad)'); return; }
+  const v = st.selV[0];
+  const nb = M.neighbours(s, v);
+  let dir = [0, 0, 1];
+  if (nb.length) {
+    const away = nb.reduce((acc, u) => acc.map((x, i) => x + s.points[v][i] - s.points[u][i]), [0, 0, 0]);
+    if (len3(away) > 1e-12) dir = norm3(away);
+    else dir = norm3(sub3(s.points[v], s.points[nb[0]]));
+  }
+  const l = meanEdgeLength();
+  const r = edit('extrudeVertex', { vertex: v, offset: dir.map((x) => x * l) });
+  if (r) { st.selV = [r.created[0]]; updateSelection(); drawSkeleton(); }
+}
+
+function selectedEdge() {
+  if (st.selE) return st.selE;
+  if (st.selV.length === 2 && M.findEdge(skel(), st.selV[0], st.selV[1]) >= 0) return st.selV.slice();
+  return null;
+}
+
+function op(name) {
+  const s = skel();
+  switch (name) {
+    case 'add': {
+      const p = orbit.target.toArray();
+      const r = M.addVertex(s, p, s.radii.length ? undefined : undefined);
+      commit(r.skeleton, 'add');
+      st.selV = [r.vertex]; st.selE = null;
+      updateSelection(); drawSkeleton();
+      break;
+    }
+    case 'extrude': extrude(); break;
+    case 'fill':
+      if (st.selV.length !== 4) { toast('fill: select exactly 4 vertices'); return; }
+      edit('fill', { vertices: st.selV.slice() });
+      break;
+    case 'connect':
+      if (st.selV.length !== 2) { toast('connect: select exactly 2 vertices'); return; }
+      edit('connect', { a: st.selV[0], b: st.selV[1] });
+      break;
+    case 'split': {
+      const e = selectedEdge();
+      if (!e) { toast('split: select an edge (click it, or select its 2 vertices)'); return; }
+      if (edit('split', { a: e[0], b: e[1] })) { st.selE = null; st.selV = []; changed(); }
+      break;
+    }
+    case 'merge':
+      if (st.selV.length !== 2) { toast('merge: select exactly 2 vertices (the first one is kept)'); return; }
+      if (edit('merge', { keep: st.selV[0], remove: st.selV[1] })) { st.selV = []; updateSelection(); drawSkeleton(); }
+      break;
+    case 'delete': {
+      if (!st.selV.length && !st.selE) return;
+      const args = { vertices: st.selV.slice(), edges: st.selE && !st.selV.length ? [st.selE] : [] };
+      if (edit('delete', args)) { st.selV = []; st.selE = null; updateSelection(); drawSkeleton(); }
+      break;
+    }
+  }
+}
+
+// ---------------------------------------------------------------- selection + gizmo
+function updateSelection() {
+  const s = skel();
+  const info = $('selinfo');
+  if (st.selE && !st.selV.length) info.textContent = `edge ${st.selE[0]}-${st.selE[1]}`;
+  else if (st.selV.length) info.textContent = `${st.selV.length} vert${st.selV.length > 1 ? 'ices' : 'ex'}: ${st.selV.slice(0, 8).join(', ')}${st.selV.length > 8 ? '…' : ''}`;
+  else info.textContent = 'nothing selected';
+  const vs = st.selV.length ? st.selV : st.selE || [];
+  if (vs.length && !$('brush').checked) {
+    const c = [0, 1, 2].map((d) => vs.reduce((acc, v) => acc + s.points[v][d], 0) / vs.length);
+    gizmoAnchor.position.set(...c);
+    gizmo.attach(gizmoAnchor);
+    ['x', 'y', 'z'].forEach((k, d) => { $(`pos-${k}`).value = +c[d].toPrecision(8); });
+    if (s.radii.length) $('radius').value = +s.radii[vs[0]].toPrecision(6);
+  } else {
+    gizmo.detach();
+    ['x', 'y', 'z'].forEach((k) => { $(`pos-${k}`).value = ''; });
+  }
+  render();
+}
+
+function selectedVertexSet() {
+  return st.selV.length ? st.selV.slice() : st.selE ? st.selE.slice() : [];
+}
+
+let dragStart = null;
+gizmo.addEventListener('dragging-changed', (ev) => {
+  orbit.enabled = !ev.value;
+  if (ev.value) { dragStart = gizmoAnchor.position.clone(); return; }
+  if (!dragStart) return;
+  const offset = gizmoAnchor.position.clone().sub(dragStart).toArray();
+  dragStart = null;
+  if (len3(offset) === 0) return;
+  moveSelection(offset);
+});
+gizmo.addEventListener('objectChange', () => {
+  if (!dragStart) return;
+  const offset = gizmoAnchor.position.clone().sub(dragStart).toArray();
+  try {
+    const r = M.applyEdit(skel(), 'move', { vertices: selectedVertexSet(), offset }, mirrorPlane(), sceneScale() * 1e-4);
+    drawSkeleton(r.skeleton.points);
+  } catch { /* preview only */ }
+});
+
+async function moveSelection(offset) {
+  const r = edit('move', { vertices: selectedVertexSet(), offset });
+  if (!r || !$('snap').checked || !st.domain) { updateSelection(); return; }
+  // Snap every vertex that moved to the medial position of the domain (one more undoable step).
+  const before = st.undo.past[st.undo.past.length - 1].state;
+  const moved = skel().points.map((p, i) => i).filter((i) => len3(sub3(skel().points[i], before.points[i])) > 0);
+  try {
+    const res = await api.snapMedial(moved.map((i) => skel().points[i]));
+    commit(M.moveVertices(skel(), moved, res.points).skeleton, 'snap');
+  } catch (e) { toast(`snap: ${e.message}`); }
+  updateSelection();
+}
+
+function moveTo(axis, value) {
+  const vs = selectedVertexSet();
+  if (!vs.length || !Number.isFinite(value)) return;
+  const s = skel();
+  const c = vs.reduce((acc, v) => acc + s.points[v][axis], 0) / vs.length;
+  const offset = [0, 0, 0];
+  offset[axis] = value - c;
+  if (offset[axis] !== 0) moveSelection(offset);
+}
+
+// Picking: vertices first (screen distance), then edges.
+function pick(ev) {
+  const r = canvas.getBoundingClientRect();
+  const x = ev.clientX - r.left, y = ev.clientY - r.top;
+  const s = skel();
+  let best = -1, bd = 10;
+  s.points.forEach((p, i) => {
+    const q = toScreen(p);
+    if (q.behind) return;
+    const d = Math.hypot(q.x - x, q.y - y);
+    if (d < bd) { bd = d; best = i; }
+  });
+  if (best >= 0) return { vertex: best };
+  let be = -1; bd = 6;
+  s.edges.forEach((e, i) => {
+    const a = toScreen(s.points[e[0]]), b = toScreen(s.points[e[1]]);
+    if (a.behind || b.behind) return;
+    const dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy || 1;
+    const t = Math.max(0, Math.min(1, ((x - a.x) * dx + (y - a.y) * dy) / l2));
+    const d = Math.hypot(a.x + t * dx - x, a.y + t * dy - y);
+    if (d < bd) { bd = d; be = i; }
+  });
+  if (be >= 0) return { edge: s.edges[be].slice() };
+  return null;
+}
+
+let down = null, brushStroke = null;
+canvas.addEventListener('pointerdown', (ev) => {
+  if (ev.button !== 0) return;
+  if (gizmo.dragging || (gizmo.axis && gizmo.object)) return; // the gizmo takes it
+  down = { x: ev.clientX, y: ev.clientY, shift: ev.shiftKey };
+  if (ev.shiftKey) orbit.enabled = false;
+  if ($('brush').checked && skel().radii.length) {
+    orbit.enabled = false;
+    brushStroke = { start: skel(), current: skel() };
+    brushAt(ev);
+  }
+});
+canvas.addEventListener('pointermove', (ev) => {
+  if (brushStroke) { brushAt(ev); return; }
+  if (!down || !down.shift) return;
+  const r = canvas.getBoundingClientRect();
+  const b = $('boxsel');
+  b.hidden = false;
+  b.style.left = `${Math.min(down.x, ev.clientX) - r.left}px`;
+  b.style.top = `${Math.min(down.y, ev.clientY) - r.top}px`;
+  b.style.width = `${Math.abs(ev.clientX - down.x)}px`;
+  b.style.height = `${Math.abs(ev.clientY - down.y)}px`;
+});
+window.addEventListener('pointerup', (ev) => {
+  if (brushStroke) {
+    const { start, current } = brushStroke;
+    brushStroke = null;
+    orbit.enabled = true;
+    down = null;
+    if (current !== start) { st.undo.push(current, 'brush'); changed(); }
+    return;
+  }
+  if (!down) return;
+  const d = down;
+  down = null;
+  orbit.enabled = true;
+  $('boxsel').hidden = true;
+  const moved = Math.hypot(ev.clientX - d.x, ev.clientY - d.y);
+  if (d.shift && moved > 4) { // box select
+    const r = canvas.getBoundingClientRect();
+    const x0 = Math.min(d.x, ev.clientX) - r.left, x1 = Math.max(d.x, ev.clientX) - r.left;
+    const y0 = Math.min(d.y, ev.clientY) - r.top, y1 = Math.max(d.y, ev.clientY) - r.top;
+    const add = skel().points.map((p, i) => [toScreen(p), i]).filter(([q]) => !q.behind && q.x >= x0 && q.x <= x1 && q.y >= y0 && q.y <= y1).map(([, i]) => i);
+    st.selV = [...new Set([...st.selV, ...add])];
+    st.selE = null;
+  } else if (moved <= 4 && ev.target === canvas) {
+    const p = pick(ev);
+    if (!p) { if (!d.shift) { st.selV = []; st.selE = null; } }
+    else if (p.vertex !== undefined) {
+      if (d.shift) st.selV = st.selV.includes(p.vertex) ? st.selV.filter((v) => v !== p.vertex) : [...st.selV, p.vertex];
+      else st.selV = [p.vertex];
+      st.selE = null;
+    } else { st.selE = p.edge; st.selV = []; }
+  } else return;
+  updateSelection();
+  drawSkeleton();
+});
+
+function brushAt(ev) {
+  const r = canvas.getBoundingClientRect();
+  const x = ev.clientX - r.left, y = ev.clientY - r.top;
+  const R = 40; // brush radius in pixels
+  const s = brushStroke.current;
+  const vs = [], ws = [];
+  s.points.forEach((p, i) => {
+    const q = toScreen(p);
+    const d = Math.hypot(q.x - x, q.y - y);
+    if (!q.behind && d < R) { vs.push(i); ws.push(1 - d / R); }
+  });
+  if (!vs.length) return;
+  try {
+    const res = M.applyEdit(s, 'brush', { vertices: vs, weights: ws, factor: +$('brush-dir').value }, mirrorPlane(), sceneScale() * 1e-4);
+    brushStroke.current = res.skeleton;
+    st.undo.present = res.skeleton; // preview; the stroke becomes one undo step on release
+    drawSkeleton();
+    st.undo.present = brushStroke.start;
+  } catch (e) { toast(e.message); }
+}
+
+// ---------------------------------------------------------------- file and server actions
+function setSkeleton(json, label, { frame = true } = {}) {
+  const s = M.fromJson(json);
+  st.selV = []; st.selE = null;
+  st.undo.push(s, label);
+  changed({ frame: frame === 'always' || (frame && !st.domain) });
+}
+
+function download(name, text, type = 'text/plain') {
+  const a = document.createElement('a');
+  a.href = typeof text === 'string' && text.startsWith('data:') ? text : URL.createObjectURL(new Blob([text], { type }));
+  a.download = name;
+  document.body.append(a);
+  a.click();
+  a.remove();
+}
+
+async function guarded(what, fn) {
+  try { await fn(); } catch (e) {
+    toast(`${what}: ${e.message}`);
+    if (e.where && e.where.kind !== 'none' && e.where.kind !== 'line') showError({ message: e.message, where: e.where });
+  }
+}
+
+$('btn-auto').onclick = () => guarded('curve skeleton', async () => {
+  const r = await api.autoSkeleton();
+  setSkeleton(r.skeleton, 'auto skeleton');
+});
+$('file').onchange = (ev) => guarded('load', async () => {
+  const f = ev.target.files[0];
+  if (!f) return;
+  const text = await f.text();
+  const ext = f.name.split('.').pop().toLowerCase();
+  const r = ext === 'ma' ? await api.importMa(text) : await api.parse(text, ext);
+  setSkeleton(r.skeleton, `load ${f.name}`, { frame: 'always' });
+  $('counts').dataset.file = f.name;
+  ev.target.value = '';
+});
+for (const fmt of ['obj', 'ig'])
+  $(`btn-save-${fmt}`).onclick = () => guarded(`save .${fmt}`, async () => {
+    const text = await api.serialize(skel(), fmt);
+    download(`skeleton.${fmt}`, text);
+  });
+$('btn-save').onclick = () => guarded('save', async () => {
+  const fmt = /\.ig$/i.test(st.saveTarget || '') ? 'ig' : 'obj';
+  const text = fmt === 'obj' ? M.toObj(skel()) : await api.serialize(skel(), 'ig');
+  await api.save(text, fmt);
+  toast(`saved to ${st.saveTarget}`);
+});
+$('btn-radius-domain').onclick = () => guarded('radius from the domain', async () => {
+  if (!skel().points.length) return;
+  const r = await api.radiusFromDomain(M.toObj(skel()));
+  commit(M.setAllRadii(skel(), r.radii).skeleton, 'radius from domain');
+});
+$('btn-radius').onclick = () => {
+  const vs = selectedVertexSet();
+  if (!vs.length) { toast('radius: select vertices'); return; }
+  edit('radius', { vertices: vs, r: +$('radius').value });
+};
+$('btn-undo').onclick = () => { if (st.undo.undo()) changed(); };
+$('btn-redo').onclick = () => { if (st.undo.redo()) changed(); };
+$('btn-finish').onclick = finish;
+$('btn-shot').onclick = () => { renderNow(); download('mesohex-studio.png', canvas.toDataURL('image/png')); };
+document.querySelectorAll('[data-op]').forEach((b) => { b.onclick = () => op(b.dataset.op); });
+['x', 'y', 'z'].forEach((k, d) => { $(`pos-${k}`).onchange = (ev) => { ev.target.blur(); moveTo(d, parseFloat(ev.target.value)); }; });
+for (const id of ['v-mesh', 'v-wire', 'v-color', 'v-sing', 'v-clip', 'v-clip-axis', 'v-clip-flip', 'v-clip-pos', 'v-shrink', 'v-stage', 'v-conn'])
+  $(id).addEventListener('input', drawMesh);
+$('v-domain').oninput = () => { groups.domain.visible = $('v-domain').checked; render(); };
+$('v-skeleton').oninput = () => drawSkeleton();
+$('v-radii').oninput = () => drawSkeleton();
+$('mirror').oninput = () => drawSkeleton();
+$('brush').oninput = () => updateSelection();
+
+window.addEventListener('keydown', (ev) => {
+  if (ev.target instanceof HTMLInputElement && ev.target.type !== 'checkbox' && ev.target.type !== 'range') return;
+  if (ev.target instanceof HTMLSelectElement) return;
+  const k = ev.key.toLowerCase();
+  if ((ev.ctrlKey || ev.metaKey) && k === 'z') { ev.preventDefault(); (ev.shiftKey ? $('btn-redo') : $('btn-undo')).click(); return; }
+  if ((ev.ctrlKey || ev.metaKey) && k === 'y') { ev.preventDefault(); $('btn-redo').click(); return; }
+  if (ev.ctrlKey || ev.metaKey || ev.altKey) return;
+  const map = { n: 'add', e: 'extrude', f: 'fill', c: 'connect', s: 'split', m: 'merge', delete: 'delete', backspace: 'delete' };
+  if (map[k]) { ev.preventDefault(); op(map[k]); return; }
+  if (k === 'b') { $('brush').checked = !$('brush').checked; updateSelection(); }
+  if (k === 'escape') { st.selV = []; st.selE = null; updateSelection(); drawSkeleton(); }
+});
+
+function updateCounts() {
+  const c = M.counts(skel());
+  $('counts').textContent = `${c.V} vertices, ${c.E} edges, ${c.F} faces${skel().radii.length ? '' : ' (no radii)'}`;
+  $('btn-undo').disabled = !st.undo.canUndo();
+  $('btn-redo').disabled = !st.undo.canRedo();
+}
+
+// ---------------------------------------------------------------- start
+async function start() {
+  resize();
+  updateLegend();
+  drawHistogram([]);
+  let sess = null;
+  try { sess = await api.session(); } catch (e) { setStatus('error', `no session: ${e.message}`); }
+  if (sess) {
+    st.domain = sess.domain || null;
+    st.saveTarget = sess.save_target || null;
+    $('btn-save').hidden = !st.saveTarget;
+    if (st.saveTarget) $('btn-save').textContent = `save (${st.saveTarget.split('/').pop()})`;
+    $('btn-auto').disabled = !st.domain;
+    $('btn-radius-domain').disabled = !st.domain;
+    $('snap').disabled = !st.domain;
+    drawDomain();
+    const sk = sess.skeleton || sess.medial;
+    st.undo = new M.UndoStack(sk ? M.fromJson(sk) : M.emptySkeleton());
+  }
+  frameAll();
+  changed({ frame: !st.domain });
+  st.ready = true;
+}
+
+// Test and scripting hooks (read-only views of the state, plus screen positions for clicking).
+window.studio = {
+  state: st,
+  skeleton: skel,
+  screenPosition: (v) => { const r = canvas.getBoundingClientRect(); const p = toScreen(skel().points[v]); return { x: r.left + p.x, y: r.top + p.y }; },
+  hexCount: () => V.hexCount(currentMeshResponse()?.mesh),
+  renderNow,
+  frameAll,
+};
+
+start();

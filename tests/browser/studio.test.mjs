@@ -1,0 +1,229 @@
+// End-to-end test of the studio page in headless Chromium (Debian's /usr/bin/chromium, WebGL through SwiftShader),
+// driven by playwright-core from apps/studio/web/node_modules (no browser download).
+//
+// Starts `mesohex studio data/tiny/tripod.obj --port 0`, reads the URL from its stdout, loads the page, checks the
+// canvas is not blank, loads a skeleton through the file input, extrudes a vertex, moves it, undoes both, and checks
+// each time that the raw mesh was updated and the hex count shown matches the mesh received. Writes a screenshot.
+//
+// Environment (set by CTest, see tests/browser/CMakeLists.txt): MESOHEX_CLI = the mesohex binary,
+// STUDIO_SCREENSHOT = where to write the screenshot (default: a temporary directory), CHROMIUM (default
+// /usr/bin/chromium).
+import test from 'node:test';
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const root = path.resolve(here, '../..');
+const { chromium } = await import(path.join(root, 'apps/studio/web/node_modules/playwright-core/index.mjs'));
+
+const cli = process.env.MESOHEX_CLI || path.join(root, 'build/bin/mesohex');
+const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'mesohex-studio-test-'));
+const screenshot = process.env.STUDIO_SCREENSHOT || path.join(tmp, 'studio.png');
+
+const CHROMIUM_ARGS = ['--headless', '--no-sandbox', '--disable-gpu', '--use-gl=angle', '--use-angle=swiftshader',
+  '--enable-unsafe-swiftshader', '--disable-background-networking', '--disable-component-update', '--disable-sync',
+  '--no-first-run', '--disable-quic'];
+
+// An L-shaped branch with radii: 0 (0,0,0) - 1 (0,0,1) - 2 (0,0,2) - 3 (1,0,2) - 4 (2,0,2). 5 V, 4 E.
+const L_OBJ = `# L-shaped branch
+v 0 0 0
+v 0 0 1
+v 0 0 2
+v 1 0 2
+v 2 0 2
+# mesohex radius 1 0.3
+# mesohex radius 2 0.3
+# mesohex radius 3 0.3
+# mesohex radius 4 0.3
+# mesohex radius 5 0.3
+l 1 2 3 4 5
+`;
+
+function startServer() {
+  const proc = spawn(cli, ['studio', path.join(root, 'data/tiny/tripod.obj'), '--port', '0'],
+    { stdio: ['ignore', 'pipe', 'pipe'] });
+  let err = '';
+  proc.stderr.on('data', (d) => { err += d; });
+  const url = new Promise((resolve, reject) => {
+    let out = '';
+    const timer = setTimeout(() => reject(new Error(`no URL from the server in 15 s; stderr: ${err}`)), 15000);
+    proc.stdout.on('data', (d) => {
+      out += d;
+      const m = out.match(/mesohex studio: (http:\/\/\S+)/);
+      if (m) { clearTimeout(timer); resolve(m[1]); }
+    });
+    proc.on('exit', (code) => { clearTimeout(timer); reject(new Error(`server exited (${code}): ${err}`)); });
+  });
+  return { proc, url };
+}
+
+// Waits until the raw mesh shown is the one of the current skeleton (no pending or failed request).
+async function meshSettled(page) {
+  await page.waitForFunction(() => {
+    const s = window.studio.state;
+    return s.meshedVersion === s.version && document.getElementById('status').dataset.state === 'ok';
+  }, null, { timeout: 15000 });
+  return page.evaluate(() => ({
+    shown: document.getElementById('hexcount').textContent,
+    hexes: window.studio.hexCount(),
+    predicted: window.studio.state.analysis?.predicted?.hexes,
+    requests: window.studio.state.meshRequests,
+    vertices: window.studio.state.meshes.raw.mesh.vertices.length / 3,
+    maxX: Math.max(...window.studio.state.meshes.raw.mesh.vertices.filter((x, i) => i % 3 === 0)),
+    skeleton: window.studio.skeleton(),
+  }));
+}
+
+// Fraction of canvas pixels that differ from the background colour (#1d2026).
+function nonBackgroundFraction(page) {
+  return page.evaluate(async () => {
+    window.studio.renderNow();
+    const src = document.getElementById('canvas');
+    const img = new Image();
+    img.src = src.toDataURL('image/png');
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.width; c.height = img.height;
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    const d = g.getImageData(0, 0, c.width, c.height).data;
+    let other = 0;
+    for (let i = 0; i < d.length; i += 4)
+      if (Math.abs(d[i] - 0x1d) + Math.abs(d[i + 1] - 0x20) + Math.abs(d[i + 2] - 0x26) > 24) other++;
+    return other / (d.length / 4);
+  });
+}
+
+test('studio page: load, extrude, move, undo with a live raw mesh (headless Chromium)', { timeout: 58000 }, async (t) => {
+  const t0 = Date.now();
+  const phase = (name) => t.diagnostic(`${name}: ${((Date.now() - t0) / 1000).toFixed(1)} s`);
+  assert.ok(fs.existsSync(cli), `mesohex binary not found at ${cli}`);
+  const server = startServer();
+  let browser = null;
+  try {
+    const url = await server.url;
+    assert.match(url, /^http:\/\/127\.0\.0\.1:\d+\/$/);
+    browser = await chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', args: CHROMIUM_ARGS });
+    const page = await browser.newPage({ viewport: { width: 1280, height: 760 } });
+    const pageErrors = [];
+    page.on('pageerror', (e) => pageErrors.push(e.message));
+    await page.goto(url);
+    // The page loads three.js (1.3 MB) from the studio: allow for a loaded machine.
+    await page.waitForFunction(() => window.studio?.state?.ready, null, { timeout: 35000 });
+    phase('page ready');
+
+    // WebGL through SwiftShader.
+    const gl = await page.evaluate(() => {
+      const c = document.createElement('canvas');
+      const g = c.getContext('webgl2') || c.getContext('webgl');
+      return g ? String(g.getParameter(g.VERSION)) : null;
+    });
+    assert.ok(gl && /WebGL/.test(gl), `no WebGL context: ${gl}`);
+
+    // The session's skeleton (tripod: 17 vertices, 16 edges) and its raw mesh are on screen.
+    const first = await meshSettled(page);
+    phase('first raw mesh');
+    assert.equal(first.skeleton.points.length, 17);
+    assert.equal(first.skeleton.edges.length, 16);
+    assert.ok(first.hexes > 0);
+    assert.equal(Number(first.shown), first.hexes);
+    assert.equal(first.predicted, first.hexes, 'the analysis predicts the raw hex count');
+    const filled = await nonBackgroundFraction(page);
+    assert.ok(filled > 0.02, `canvas is blank (${filled} of the pixels drawn)`);
+
+    // Load another skeleton through the file input.
+    const lpath = path.join(tmp, 'l_shape.obj');
+    fs.writeFileSync(lpath, L_OBJ);
+    await page.setInputFiles('#file', lpath);
+    await page.waitForFunction(() => window.studio.skeleton().points.length === 5, null, { timeout: 10000 });
+    const loaded = await meshSettled(page);
+    phase('skeleton loaded and meshed');
+    assert.deepEqual(loaded.skeleton.edges, [[0, 1], [1, 2], [2, 3], [3, 4]]);
+    assert.deepEqual(loaded.skeleton.radii, [0.3, 0.3, 0.3, 0.3, 0.3]);
+    assert.equal(Number(loaded.shown), loaded.hexes);
+    assert.ok(loaded.hexes > 0);
+    assert.ok(loaded.requests > first.requests);
+    assert.ok(await page.evaluate(() => document.getElementById('counts').textContent.startsWith('5 vertices, 4 edges')));
+
+    // Extrude vertex 4 (the end of the L, at x = 2): a new vertex one mean edge length further along +x.
+    const p4 = await page.evaluate(() => window.studio.screenPosition(4));
+    await page.mouse.click(p4.x, p4.y);
+    assert.deepEqual(await page.evaluate(() => window.studio.state.selV), [4]);
+    await page.keyboard.press('e');
+    const extruded = await meshSettled(page);
+    assert.equal(extruded.skeleton.points.length, 6);
+    assert.deepEqual(extruded.skeleton.points[5], [3, 0, 2]);
+    assert.deepEqual(extruded.skeleton.edges[4], [4, 5]);
+    assert.ok(extruded.hexes > loaded.hexes, `extruding adds hexes (${loaded.hexes} -> ${extruded.hexes})`);
+    assert.equal(Number(extruded.shown), extruded.hexes);
+    assert.ok(extruded.maxX > loaded.maxX + 0.5, 'the mesh reaches the new branch');
+
+    // Move the new vertex (selected after the extrusion) to x = 4 with the position field.
+    assert.deepEqual(await page.evaluate(() => window.studio.state.selV), [5]);
+    await page.fill('#pos-x', '4');
+    await page.press('#pos-x', 'Enter');
+    await page.waitForFunction(() => window.studio.skeleton().points[5]?.[0] === 4, null, { timeout: 5000 });
+    const moved = await meshSettled(page);
+    assert.deepEqual(moved.skeleton.points[5], [4, 0, 2]);
+    assert.ok(moved.maxX > extruded.maxX + 0.5, `the mesh follows the move (${extruded.maxX} -> ${moved.maxX})`);
+    assert.equal(Number(moved.shown), moved.hexes);
+
+    // Screenshot of the edited state (the docs' picture comes from here).
+    await page.evaluate(() => window.studio.renderNow());
+    fs.mkdirSync(path.dirname(screenshot), { recursive: true });
+    await page.screenshot({ path: screenshot });
+    assert.ok(fs.statSync(screenshot).size > 10000);
+
+    // Undo the move, then the extrusion: the loaded skeleton and its mesh come back; redo re-applies the extrusion.
+    await page.mouse.move(5, 5);
+    await page.keyboard.press('Control+z');
+    const undoMove = await meshSettled(page);
+    assert.deepEqual(undoMove.skeleton, extruded.skeleton);
+    assert.equal(undoMove.maxX, extruded.maxX);
+    await page.keyboard.press('Control+z');
+    const undoExtrude = await meshSettled(page);
+    assert.deepEqual(undoExtrude.skeleton, loaded.skeleton);
+    assert.equal(undoExtrude.hexes, loaded.hexes);
+    assert.equal(Number(undoExtrude.shown), loaded.hexes);
+    await page.keyboard.press('Control+Shift+z');
+    const redo = await meshSettled(page);
+    assert.deepEqual(redo.skeleton, extruded.skeleton);
+    assert.equal(redo.hexes, extruded.hexes);
+
+    // An invalid edit is shown on the element and the last valid mesh stays: moving vertex 5 onto vertex 4 makes
+    // edge 4 (4-5) zero-length, which the analysis rejects (422, where = skeleton_edge 4).
+    await page.evaluate(() => window.studio.frameAll()); // the whole skeleton in view (no domain: its bounds)
+    const p5 = await page.evaluate(() => window.studio.screenPosition(5));
+    await page.mouse.click(p5.x, p5.y);
+    assert.deepEqual(await page.evaluate(() => window.studio.state.selV), [5]);
+    await page.fill('#pos-x', '2');
+    await page.press('#pos-x', 'Enter');
+    await page.waitForFunction(() => document.getElementById('status').dataset.state === 'error', null, { timeout: 10000 });
+    const rejected = await page.evaluate(() => ({
+      label: document.getElementById('errorlabel').hidden ? null : document.getElementById('errorlabel').textContent,
+      where: window.studio.state.error?.where,
+      hexes: window.studio.hexCount(),
+      shown: document.getElementById('hexcount').textContent,
+      point: window.studio.skeleton().points[5],
+    }));
+    assert.deepEqual(rejected.point, [2, 0, 2]);
+    assert.deepEqual(rejected.where, { kind: 'skeleton_edge', index: 4 });
+    assert.match(rejected.label, /^edge 4: .*zero length/);
+    assert.equal(rejected.hexes, redo.hexes, 'the last valid mesh stays on screen');
+    assert.equal(Number(rejected.shown), redo.hexes);
+    // Undo: valid again, the error is gone.
+    await page.keyboard.press('Control+z');
+    const back = await meshSettled(page);
+    phase('done');
+    assert.deepEqual(back.skeleton, redo.skeleton);
+    assert.equal(await page.evaluate(() => document.getElementById('errorlabel').hidden), true);
+    assert.deepEqual(pageErrors, []);
+  } finally {
+    if (browser) await browser.close();
+    server.proc.kill('SIGTERM');
+  }
+});
