@@ -140,10 +140,12 @@ function vertexSize() {
   return Math.min(sceneScale() * 0.008, 0.2 * e);
 }
 
-function drawSkeleton(points = skel().points) {
+// Draws the current skeleton, or a preview (`s`: a skeleton not yet committed, e.g. during a gizmo drag or a brush
+// stroke).
+function drawSkeleton(s = skel()) {
   clear(groups.skeleton);
   clear(groups.radii);
-  const s = skel();
+  const points = s.points;
   const n = points.length;
   vertexMesh = null; edgeLines = null;
   if (n) {
@@ -654,7 +656,7 @@ function op(name) {
   switch (name) {
     case 'add': {
       const p = orbit.target.toArray();
-      const r = M.addVertex(s, p, s.radii.length ? undefined : undefined);
+      const r = M.addVertex(s, p);
       commit(r.skeleton, 'add');
       st.selV = [r.vertex]; st.selE = null;
       updateSelection(); drawSkeleton();
@@ -728,7 +730,7 @@ gizmo.addEventListener('objectChange', () => {
   const offset = gizmoAnchor.position.clone().sub(dragStart).toArray();
   try {
     const r = M.applyEdit(skel(), 'move', { vertices: selectedVertexSet(), offset }, mirrorPlane(), sceneScale() * 1e-4);
-    drawSkeleton(r.skeleton.points);
+    drawSkeleton(r.skeleton);
   } catch { /* preview only */ }
 });
 
@@ -787,6 +789,7 @@ canvas.addEventListener('pointerdown', (ev) => {
   if (gizmo.dragging || (gizmo.axis && gizmo.object)) return; // the gizmo takes it
   down = { x: ev.clientX, y: ev.clientY, shift: ev.shiftKey };
   if (ev.shiftKey) orbit.enabled = false;
+  if ($('brush').checked && !skel().radii.length) toast('radius brush: the skeleton has no radii (set one, or take them from the domain)');
   if ($('brush').checked && skel().radii.length) {
     orbit.enabled = false;
     brushStroke = { start: skel(), current: skel() };
@@ -853,10 +856,8 @@ function brushAt(ev) {
   if (!vs.length) return;
   try {
     const res = M.applyEdit(s, 'brush', { vertices: vs, weights: ws, factor: +$('brush-dir').value }, mirrorPlane(), sceneScale() * 1e-4);
-    brushStroke.current = res.skeleton;
-    st.undo.present = res.skeleton; // preview; the stroke becomes one undo step on release
-    drawSkeleton();
-    st.undo.present = brushStroke.start;
+    brushStroke.current = res.skeleton; // a preview: the stroke becomes one undo step on release
+    drawSkeleton(res.skeleton);
   } catch (e) { toast(e.message); }
 }
 
