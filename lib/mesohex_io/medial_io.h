@@ -14,4 +14,10 @@ namespace mesohex {
 // non-positive or non-finite radius or coordinate. Blank lines and lines starting with '#' are skipped.
 Skeleton read_medial_mesh(const std::string& path);
 
+// Writes `medial` (radii one per point, faces triangles, every face side in edges) as a .ma file that
+// read_medial_mesh reads back with the same points, radii (17 significant digits), edges and faces. Atomic (a
+// temporary file renamed). IoError when the file cannot be written; InvalidInput when radii are missing or a face is
+// not a triangle.
+void write_medial_mesh(const std::string& path, const Skeleton& medial);
+
 }  // namespace mesohex
