@@ -37,8 +37,10 @@ void register_auto(CLI::App& app, int* status) {
     cmd->add_option("surface", args->surface, "Closed surface (.off .obj .stl .ply), one component, manifold")
         ->required();
     cmd->add_option("-o,--output", args->job.output, "Output hex mesh (.mesh, .vtk, .vtu, .msh, .inp)")->required();
-    cmd->add_flag("--no-resample", args->job.no_resample, "Keep the skeleton's sampling (hexes = 4 x edges)");
-    cmd->add_flag("--raw", args->job.raw, "Stop after the raw mesh (no padding, subdivision or fitting)");
+    cmd->add_flag_callback("--no-resample", [args] { args->job.options.pipeline.resample = false; },
+                           "Keep the skeleton's sampling (hexes = 4 x edges)");
+    cmd->add_flag_callback("--raw", [args] { args->job.options.finish = false; },
+                           "Stop after the raw mesh (no padding, subdivision or fitting)");
     add_mesh_job_options(cmd, &args->job);
     cmd->footer("The skeleton used is written beside the mesh (OUT.skeleton.obj, with radii): edit it and re-run\n"
                 "  mesohex mesh OUT.skeleton.obj --surface SURFACE -o OUT.mesh\n"
@@ -85,7 +87,7 @@ void register_auto(CLI::App& app, int* status) {
             {"timings_ms",
              {{"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}}}};
         // The report's "read_skeleton" is the radius step only (the skeleton is in memory); "total" starts at t0.
-        *status = run_mesh_job(job, std::move(sk.skeleton), domain, t3, &extra, t0);
+        *status = run_mesh_job(job, sk.skeleton, domain, t3, &extra, t0);
         std::cout << "auto: total " << ms(t0, std::chrono::steady_clock::now()) << " ms\n";
     });
 }

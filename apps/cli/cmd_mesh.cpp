@@ -22,12 +22,14 @@ void register_mesh(CLI::App& app, int* status) {
     CLI::App* cmd = app.add_subcommand("mesh", "Mesh a skeleton: raw all-hex mesh guided by its branches.");
     cmd->add_option("skeleton", args->skeleton, "Skeleton file (.skel, .cg, .cgr, .ig, .obj)")->required();
     cmd->add_option("-o,--output", args->output, "Output hex mesh (.mesh, .vtk, .vtu, .msh, .inp)")->required();
-    cmd->add_option("--radius", args->radius,
+    cmd->add_option("--radius", args->options.pipeline.radius,
                     "Radius for skeletons without one (default: 0.25 x mean skeleton edge length)");
-    cmd->add_flag("--no-resample", args->no_resample, "Keep the input sampling (hexes = 4 x edges)");
+    cmd->add_flag_callback("--no-resample", [args] { args->options.pipeline.resample = false; },
+                           "Keep the input sampling (hexes = 4 x edges)");
     cmd->add_option("--surface", args->surface,
                     "Domain surface (.off .obj .stl .ply): pad, subdivide, fit the mesh to it, untangle if needed");
-    cmd->add_flag("--raw", args->raw, "Stop after the raw mesh even when --surface is given");
+    cmd->add_flag_callback("--raw", [args] { args->options.finish = false; },
+                           "Stop after the raw mesh even when --surface is given");
     add_mesh_job_options(cmd, args.get());
     cmd->footer("Examples:\n  mesohex mesh cactus.skel -o cactus_raw.mesh --report cactus.json\n"
                 "  mesohex mesh cactus.skel --surface cactus.obj -o cactus.mesh\n"
@@ -41,7 +43,7 @@ void register_mesh(CLI::App& app, int* status) {
         Skeleton skeleton = read_skeleton(args->skeleton);
         std::optional<TriangleMesh> domain;
         if (!args->surface.empty()) domain = read_surface(args->surface);
-        *status = run_mesh_job(*args, std::move(skeleton), domain, t0);
+        *status = run_mesh_job(*args, skeleton, domain, t0);
     });
 }
 

@@ -207,7 +207,7 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
             }
         };
         FitOptions fitting = options.fitting;
-        if (options.gap_goal > 0) fitting.gap_goal = options.gap_goal * query.bbox_diagonal();
+        if (options.gap_goal_relative > 0) fitting.gap_goal = options.gap_goal_relative * query.bbox_diagonal();
         FitResult fit = fit_to_surface(mesh, projector, fitting);
         mesh = std::move(fit.mesh);
         result.fit_iterations = fit.iterations;
@@ -250,7 +250,7 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     if (options.fit && options.smooth && result.stages.back().inverted == 0) {
         const Clock::time_point t = Clock::now();
         SmoothOptions so = options.smoothing;
-        if (options.smooth_gap > 0) so.max_gap = options.smooth_gap * query.bbox_diagonal();
+        if (options.smooth_gap_relative > 0) so.max_gap = options.smooth_gap_relative * query.bbox_diagonal();
         // Features are where the domain has a convex crease or corner, not wherever the fit left the boundary folded
         // (SmoothOptions::surface_normal): the domain's normal, its closest triangle's (the surface faces outward).
         if (!so.surface_normal)

@@ -68,8 +68,9 @@ struct FinishOptions {
     std::vector<char> chunk_hex;   // per raw hex: 1 for a chunk hex of a branch edge (RawMesh::hex_edge on a branch)
     bool fit = true;
     FitOptions fitting;            // progress callback passed through to fit_to_surface
-    double gap_goal = 0.005;       // > 0: fitting.gap_goal = this x the domain's bbox diagonal (tighten the pull only
-                                   // while the boundary is farther than that from the surface)
+    // > 0: fitting.gap_goal (a length) = this fraction of the domain's bbox diagonal: the fit tightens its pull only
+    // while the boundary is farther than that from the surface. Dimensionless.
+    double gap_goal_relative = 0.005;
     bool untangle = true;          // run only when some hex has scaled Jacobian <= 0 at that point
     UntangleOptions untangling;
     bool free_boundary_fallback = true;  // if hexes stay inverted with the boundary fixed, untangle again with the
@@ -85,8 +86,9 @@ struct FinishOptions {
     // at a vertex below the target.
     bool smooth = true;
     SmoothOptions smoothing;
-    double smooth_gap = 0.0025;    // > 0: smoothing.max_gap = this x the domain's bbox diagonal (boundary moves keep
-                                   // the boundary that close to the surface, or no farther than before)
+    // > 0: smoothing.max_gap (a length) = this fraction of the domain's bbox diagonal: boundary moves keep the
+    // boundary that close to the surface, or no farther than before. Dimensionless.
+    double smooth_gap_relative = 0.0025;
     bool measure_distance = true;  // two-sided Hausdorff distance of the final boundary to the domain
     SurfaceDistanceOptions distance;
 };

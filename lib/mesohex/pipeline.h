@@ -20,6 +20,7 @@ struct PipelineOptions {
     AdaptationOptions adaptation;
     AnalysisOptions analysis;
     ConnectionSurfaceOptions connection_surfaces;
+    RawMeshOptions raw_mesh;
 };
 
 struct StageTiming {

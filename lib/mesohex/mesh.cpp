@@ -1,0 +1,158 @@
+#include "mesohex/mesh.h"
+
+#include <chrono>
+#include <string>
+#include <utility>
+
+#include "mesohex/core/error.h"
+#include "mesohex/surface/radius_from_surface.h"
+#include "mesohex/surface/surface_query.h"
+
+namespace mesohex {
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Radii from the domain (factor x distance to its surface) when the skeleton has none or the options ask for it.
+// Returns the note the report gives as the radius source ("" when the domain was not used).
+std::string take_radii_from_domain(Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options) {
+    if (!skeleton.radii.empty() && !options.radius_from_surface) return "";
+    const SurfaceQuery query(domain);
+    RadiusFromSurfaceOptions ro;
+    ro.factor = options.radius_factor;
+    const RadiusFromSurface rs = radius_from_surface(skeleton, query, ro);
+    for (std::size_t v = 0; v < rs.radii.size(); ++v)
+        if (!(rs.radii[v] > 0))
+            throw Error(ErrorCode::InvalidInput,
+                        "skeleton vertex " + std::to_string(v) +
+                            " lies on or outside the domain surface: no radius can be taken from it",
+                        {ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
+    skeleton.radii = rs.radii;
+    return "surface (" + std::to_string(options.radius_factor) + " x distance)";
+}
+
+// Per raw hex: 1 when it is a chunk hex of a branch edge (what longitudinal / radial refinement splits).
+std::vector<char> branch_chunk_hexes(const PipelineResult& run) {
+    std::vector<char> chunk(run.raw.hex_edge.size(), 0);
+    for (std::size_t h = 0; h < run.raw.hex_edge.size(); ++h) {
+        const int e = run.raw.hex_edge[h];
+        chunk[h] = e >= 0 && run.analysis.edge_degree[static_cast<std::size_t>(e)] == 0;
+    }
+    return chunk;
+}
+
+// The finishing options with the stages' progress callbacks forwarded to options.progress.
+FinishOptions finishing_options(const MeshOptions& options, const PipelineResult& run) {
+    FinishOptions fo = options.finishing;
+    if (fo.refinement != FinishOptions::Refinement::Uniform && fo.chunk_hex.empty())
+        fo.chunk_hex = branch_chunk_hexes(run);
+    if (!options.progress) return fo;
+    const auto& report = options.progress;
+    const int fit_cap = fo.fitting.max_iterations;
+    fo.fitting.progress = [report, fit_cap](const FitProgress& p) {
+        report({"fit", p.iteration, fit_cap, p.sj_min, p.inverted});
+    };
+    const int untangle_cap = fo.untangling.max_rounds;
+    fo.untangling.progress = [report, untangle_cap](const UntangleProgress& p) {
+        report({"untangle", p.round, untangle_cap, 0, p.inverted});
+    };
+    const int improve_cap = fo.improving.max_rounds;
+    fo.improving.progress = [report, improve_cap](const UntangleProgress& p) {
+        report({"improve", p.round, improve_cap, 0, p.inverted});
+    };
+    const int smooth_cap = fo.smoothing.max_sweeps + fo.smoothing.resweeps;
+    fo.smoothing.progress = [report, smooth_cap](const SmoothProgress& p) {
+        report({"smooth", p.sweep, smooth_cap, 0, 0});
+    };
+    return fo;
+}
+
+MeshAttempt attempt_of(const AdaptationOptions& adaptation, const FinishResult& f, const MeshGoals& goals) {
+    MeshAttempt a;
+    a.free_branching_reach = adaptation.free_branching_reach;
+    a.hexes = f.quality.hexes;
+    a.sj_min = f.quality.sj_min;
+    a.sj_avg = f.quality.sj_avg;
+    a.inverted = f.quality.inverted;
+    a.missed_goals = missed_goals(f, goals);
+    a.distance_measured = f.distance_measured;
+    a.hausdorff_relative_max = f.distance.relative_max;
+    return a;
+}
+
+bool prediction_matches(const QualityReport& q, const RawMeshPrediction& p) {
+    return q.hexes == p.hexes && q.vertices == p.vertices &&
+           q.singular_interior_edges == p.interior_irregular_edges &&
+           q.singular_boundary_edges == p.boundary_irregular_edges;
+}
+
+// The second attempt's pipeline options: the first joints at the cautious reach at branching points.
+PipelineOptions cautious_options(const PipelineOptions& options) {
+    PipelineOptions cautious = options;
+    cautious.adaptation.free_branching_reach = options.adaptation.branching_reach;
+    return cautious;
+}
+
+bool retry_applies(const MeshOptions& options, const MeshRun& run) {
+    return options.retry && options.finishing.fit && options.pipeline.resample &&
+           missed_goals(*run.finish, options.goals) > 0 &&
+           options.pipeline.adaptation.branching_reach != options.pipeline.adaptation.free_branching_reach;
+}
+
+// Finishes the raw mesh of `run` in the domain; when the result misses a goal, a second attempt with the cautious
+// reach at branching points, keeping the better of the two.
+void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options) {
+    if (options.progress) options.progress({"attempt", 1, 2, 0, 0});
+    run.finish = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(options, run.pipeline));
+    run.attempts.push_back(attempt_of(run.options.adaptation, *run.finish, options.goals));
+    if (!retry_applies(options, run)) return;
+
+    const PipelineOptions cautious = cautious_options(run.options);
+    PipelineResult second = run_pipeline(skeleton, cautious);
+    if (second.skeleton == run.pipeline.skeleton) return;  // the same skeleton would give the same mesh
+    if (options.progress) options.progress({"attempt", 2, 2, 0, 0});
+    FinishResult finished = finish_mesh(second.raw.mesh, domain, finishing_options(options, second));
+    run.attempts.push_back(attempt_of(cautious.adaptation, finished, options.goals));
+    if (!better_finish(finished, *run.finish, options.goals)) return;
+    run.finish = std::move(finished);
+    run.pipeline = std::move(second);
+    run.options = cautious;
+    run.raw_quality = compute_quality(run.pipeline.raw.mesh);
+    run.prediction_exact = prediction_matches(run.raw_quality, run.pipeline.predicted);
+}
+
+}  // namespace
+
+int MeshRun::exit_status() const {
+    const QualityReport& q = quality();
+    return q.inverted > 0 || !q.validation.valid() ? 5 : 0;
+}
+
+MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const MeshOptions& options) {
+    MeshRun run;
+    Skeleton skeleton = input;
+    auto t = std::chrono::steady_clock::now();
+    if (domain) run.radius_note = take_radii_from_domain(skeleton, *domain, options);
+    run.radius_ms = ms_since(t);
+
+    t = std::chrono::steady_clock::now();
+    run.options = options.pipeline;
+    if (options.progress) options.progress({"raw", 1, 1, 0, 0});
+    run.pipeline = run_pipeline(skeleton, run.options);
+    run.pipeline_ms = ms_since(t);
+    t = std::chrono::steady_clock::now();
+    run.raw_quality = compute_quality(run.pipeline.raw.mesh);
+    run.raw_quality_ms = ms_since(t);
+    run.prediction_exact = prediction_matches(run.raw_quality, run.pipeline.predicted);
+    if (!domain || !options.finish) return run;
+
+    t = std::chrono::steady_clock::now();
+    finish_with_retry(run, skeleton, *domain, options);
+    run.finish_ms = ms_since(t);
+    return run;
+}
+
+}  // namespace mesohex

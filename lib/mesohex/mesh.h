@@ -1,0 +1,85 @@
+#pragma once
+// The one library call that meshes like `mesohex mesh`: radii (from the file, the domain, an option or the default)
+// -> run_pipeline (raw mesh) -> finish_mesh in the domain -> a second attempt with the cautious reach at branching
+// points when the first misses a goal -> the better of the two. `mesohex mesh`, `mesohex auto`, the studio and the
+// Python module all call mesh_skeleton; they only map their flags to MeshOptions and print or serialize MeshRun.
+// No printing; progress through MeshOptions::progress (which may throw to cancel a run).
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mesohex/core/hex_mesh.h"
+#include "mesohex/core/skeleton.h"
+#include "mesohex/finish.h"
+#include "mesohex/pipeline.h"
+#include "mesohex/post/quality.h"
+
+namespace mesohex {
+
+// Where a run is, for a progress display (and a point where a caller can cancel by throwing from the callback).
+struct MeshProgress {
+    std::string stage;  // "raw", "fit", "untangle", "improve", "smooth", "attempt"
+    int step = 0;       // iteration / round / sweep within the stage (attempt: 1 or 2)
+    int steps = 0;      // the stage's cap on `step` (0 when unknown)
+    double sj_min = 0;  // fit only: current min scaled Jacobian
+    long inverted = 0;  // fit, untangle, improve: hexes with scaled Jacobian <= 0
+};
+
+struct MeshOptions {
+    // Radius when the skeleton file has none (in skeleton units). With a domain: radius_factor x the distance of each
+    // skeleton vertex to the domain surface (radius_from_surface also replaces the file's radii). Without a domain:
+    // pipeline.radius when > 0, else pipeline.default_radius_factor x the mean skeleton edge length.
+    bool radius_from_surface = false;
+    double radius_factor = 0.5;  // x distance to the surface (dimensionless); < 1 leaves room for the padding layer
+    PipelineOptions pipeline;    // radius, resampling, adaptation, analysis, connection surfaces, raw mesh
+    // With a domain: pad, subdivide, fit, untangle, improve, smooth (finish_mesh). false = the raw mesh only.
+    bool finish = true;
+    FinishOptions finishing;     // finishing.chunk_hex is filled by mesh_skeleton for longitudinal / radial refinement
+    // Second attempt when the finished mesh misses one of `goals`: adapt again with the first joints at
+    // adaptation.branching_reach (instead of free_branching_reach) and keep the better result (better_finish).
+    // Only with resampling, a fit, and when that adaptation gives another skeleton.
+    bool retry = true;
+    MeshGoals goals;
+    std::function<void(const MeshProgress&)> progress;  // may be empty; may throw to cancel (the exception propagates)
+};
+
+// One finished attempt, as the report lists it.
+struct MeshAttempt {
+    double free_branching_reach = 0;  // AdaptationOptions::free_branching_reach used for this attempt
+    long hexes = 0;
+    double sj_min = 0, sj_avg = 0;
+    long inverted = 0;
+    int missed_goals = 0;
+    bool distance_measured = false;
+    double hausdorff_relative_max = 0;  // x the domain's bbox diagonal (when distance_measured)
+};
+
+struct MeshRun {
+    std::string radius_note;           // "" (radii as run_pipeline chose them) or "surface (F x distance)"
+    PipelineOptions options;           // the pipeline options of the kept attempt
+    PipelineResult pipeline;           // skeleton, analyses, prediction and raw mesh of the kept attempt
+    QualityReport raw_quality;         // compute_quality(pipeline.raw.mesh)
+    bool prediction_exact = false;     // raw counts and irregular edges equal the prediction
+    std::optional<FinishResult> finish;  // set when a domain was given and options.finish
+    std::vector<MeshAttempt> attempts;   // finished attempts, first the default adaptation
+    // Wall times (ms): radii from the domain, run_pipeline (the kept attempt's), raw-mesh quality, and everything
+    // after it (finishing of every attempt, the second attempt's pipeline).
+    double radius_ms = 0, pipeline_ms = 0, raw_quality_ms = 0, finish_ms = 0;
+
+    const HexMesh& mesh() const { return finish ? finish->mesh : pipeline.raw.mesh; }
+    const QualityReport& quality() const { return finish ? finish->quality : raw_quality; }
+    // 0 when the mesh is valid with no inverted hex; else 5 (the CLI's exit status for such a mesh).
+    int exit_status() const;
+};
+
+// Preconditions: none beyond the stages' (every error is a mesohex::Error naming the element: InvalidInput for a
+// skeleton vertex on or outside the domain when radii come from it). `domain` may be null (raw mesh only).
+MeshRun mesh_skeleton(const Skeleton& skeleton, const TriangleMesh* domain, const MeshOptions& options = {});
+
+// The same, with the domain required: raw mesh, then finish in it.
+inline MeshRun mesh_in_domain(const Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options = {}) {
+    return mesh_skeleton(skeleton, &domain, options);
+}
+
+}  // namespace mesohex

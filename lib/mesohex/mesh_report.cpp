@@ -1,0 +1,141 @@
+#include "mesohex/mesh_report.h"
+
+#include <map>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace mesohex {
+
+namespace {
+
+nlohmann::json xyz(const Vec3& p) { return nlohmann::json::array({p.x, p.y, p.z}); }
+
+nlohmann::json prediction_json(const RawMeshPrediction& p) {
+    return {{"hexes", p.hexes},
+            {"vertices", p.vertices},
+            {"irregular_edges",
+             {{"interior", valence_histogram_json(p.interior_irregular_edges)},
+              {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};
+}
+
+nlohmann::json attempts_json(const std::vector<MeshAttempt>& attempts) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const MeshAttempt& a : attempts) {
+        nlohmann::json j = {{"free_branching_reach", a.free_branching_reach},
+                            {"hexes", a.hexes},
+                            {"sj_min", a.sj_min},
+                            {"sj_avg", a.sj_avg},
+                            {"inverted", a.inverted},
+                            {"missed_goals", a.missed_goals}};
+        if (a.distance_measured) j["hausdorff_relative_max"] = a.hausdorff_relative_max;
+        list.push_back(j);
+    }
+    return list;
+}
+
+nlohmann::json stages_json(const std::vector<FinishStage>& stages) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const FinishStage& st : stages)
+        list.push_back({{"stage", st.stage},
+                        {"ms", st.ms},
+                        {"vertices", st.vertices},
+                        {"hexes", st.hexes},
+                        {"sj_min", st.sj_min},
+                        {"sj_avg", st.sj_avg},
+                        {"inverted", st.inverted}});
+    return list;
+}
+
+nlohmann::json hausdorff_json(const SurfaceDistance& d) {
+    return {{"max", d.max},
+            {"mean", d.mean},
+            {"relative_max", d.relative_max},
+            {"relative_mean", d.relative_mean},
+            {"mesh_to_surface_max", d.mesh_to_surface_max},
+            {"surface_to_mesh_max", d.surface_to_mesh_max},
+            {"mesh_to_surface_at", xyz(d.mesh_to_surface_at)},
+            {"surface_to_mesh_at", xyz(d.surface_to_mesh_at)},
+            {"bbox_diagonal", d.diagonal}};
+}
+
+nlohmann::json timings_json(const MeshRun& run, const ReportContext& context) {
+    nlohmann::json timings = nlohmann::json::object();
+    timings["read_skeleton"] = context.read_ms + run.radius_ms;
+    for (const StageTiming& t : run.pipeline.timings_ms) timings[t.stage] = t.ms;
+    timings["pipeline_total"] = run.pipeline_ms;
+    timings["quality"] = run.raw_quality_ms;
+    if (run.finish) {
+        for (const FinishStage& st : run.finish->stages)
+            if (st.stage != "input") timings[st.stage] = st.ms;
+        timings["hausdorff"] = run.finish->distance_ms;
+        timings["finish_total"] = run.finish->total_ms;
+    }
+    timings["write_and_finish"] = run.finish_ms + context.write_ms;
+    return timings;
+}
+
+}  // namespace
+
+nlohmann::json analysis_counts_json(const AnalysisCounts& c) {
+    return {{"vertices", c.vertices},
+            {"edges", c.edges},
+            {"faces", c.faces},
+            {"branches", c.branches},
+            {"branching_points", c.branching_points},
+            {"joints", c.joints},
+            {"extremities", c.extremities},
+            {"cycles", c.cycles},
+            {"components", c.components},
+            {"rings", c.rings},
+            {"leaflets", c.leaflets},
+            {"bl_joints", c.bl_joints},
+            {"ll_joints", c.ll_joints},
+            {"fan_edges", c.fan_edges},
+            {"boundary_edges", c.boundary_edges},
+            {"isolated_vertices", c.isolated},
+            {"euler_characteristic", c.vertices - c.edges + c.faces}};
+}
+
+nlohmann::json valence_histogram_json(const std::map<int, long>& histogram) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& [valence, count] : histogram) j[std::to_string(valence)] = count;
+    return j;
+}
+
+nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
+    const PipelineResult& res = run.pipeline;
+    nlohmann::json rep;
+    rep["input"] = context.input;
+    rep["output"] = context.output;
+    rep["skeleton"] = analysis_counts_json(res.input_analysis.counts);
+    rep["meshed_skeleton"] = analysis_counts_json(res.analysis.counts);
+    rep["resampled"] = run.options.resample;
+    rep["radius"] = {{"source", res.radius_source}, {"value", res.radius}};
+    if (res.radius_source == "default") {
+        std::ostringstream rule;
+        rule << run.options.default_radius_factor << " x mean skeleton edge length";
+        rep["radius"]["rule"] = rule.str();
+    }
+    rep["predicted"] = prediction_json(res.predicted);
+    rep["prediction_matches"] = run.prediction_exact;
+    rep["quality"] = nlohmann::json::parse(quality_to_json(run.quality()));
+    rep["raw_quality"] = nlohmann::json::parse(quality_to_json(run.raw_quality));
+    if (!run.radius_note.empty()) rep["radius"]["source"] = run.radius_note;
+    if (run.finish) {
+        const FinishResult& fin = *run.finish;
+        rep["stages"] = stages_json(fin.stages);
+        rep["surface"] = context.surface;
+        rep["subdivision_levels"] = fin.subdivision_levels;
+        rep["fit"] = {{"iterations", fin.fit_iterations}, {"converged", fin.fit_converged}};
+        rep["untangled"] = fin.untangled;
+        rep["attempts"] = attempts_json(run.attempts);  // first the default adaptation, then the cautious one
+        rep["free_branching_reach"] = run.options.adaptation.free_branching_reach;  // of the mesh written
+        if (fin.distance_measured) rep["hausdorff"] = hausdorff_json(fin.distance);
+    }
+    rep["timings_ms"] = timings_json(run, context);
+    return rep;
+}
+
+}  // namespace mesohex

@@ -1,0 +1,144 @@
+// mesh_skeleton, the library call behind `mesohex mesh`, and its report: checked on cases small enough to follow by
+// hand (a straight segment in a box, the generated shapes without a domain).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "mesohex/core/error.h"
+#include "mesohex/mesh.h"
+#include "mesohex/mesh_report.h"
+#include "mesohex/stages/generators.h"
+
+using namespace mesohex;
+
+namespace {
+
+// The box [0, sx] x [0, sy] x [0, sz] as 12 triangles, counter-clockwise seen from outside.
+TriangleMesh box_surface(double sx, double sy, double sz) {
+    TriangleMesh s;
+    s.points = {{0, 0, 0}, {sx, 0, 0}, {sx, sy, 0}, {0, sy, 0}, {0, 0, sz}, {sx, 0, sz}, {sx, sy, sz}, {0, sy, sz}};
+    const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+    for (const auto& q : quads) {
+        s.triangles.push_back({q[0], q[1], q[2]});
+        s.triangles.push_back({q[0], q[2], q[3]});
+    }
+    return s;
+}
+
+// A segment along the box's axis, 0.5 from both ends: every point is 0.5 from the nearest face.
+Skeleton axis_segment() {
+    Skeleton s;
+    s.points = {{0.5, 0.5, 0.5}, {3.5, 0.5, 0.5}};
+    s.edges = {{0, 1}};
+    return s;
+}
+
+std::set<std::string> keys(const nlohmann::json& j) {
+    std::set<std::string> k;
+    for (const auto& [key, value] : j.items()) k.insert(key);
+    return k;
+}
+
+}  // namespace
+
+TEST(MeshSkeleton, WithoutADomainItIsTheRawPipeline) {
+    for (const char* name : {"tfan", "hand", "pan"}) {
+        const Skeleton s = generate_skeleton(name);
+        const MeshRun run = mesh_skeleton(s, nullptr);
+        const PipelineResult direct = run_pipeline(s);
+        EXPECT_EQ(run.mesh(), direct.raw.mesh) << name;
+        EXPECT_FALSE(run.finish.has_value());
+        EXPECT_TRUE(run.attempts.empty());
+        EXPECT_TRUE(run.prediction_exact) << name;
+        EXPECT_EQ(run.quality().hexes, direct.predicted.hexes);
+        EXPECT_EQ(run.exit_status(), 0);
+        EXPECT_TRUE(run.radius_note.empty());
+    }
+}
+
+TEST(MeshSkeleton, RadiiComeFromTheDomain) {
+    // Both ends 0.5 from the nearest face: radius 0.5 x 0.5 = 0.25 there, and along the resampled segment too.
+    MeshOptions o;
+    o.finish = false;
+    const TriangleMesh box = box_surface(4, 1, 1);
+    const MeshRun run = mesh_in_domain(axis_segment(), box, o);
+    EXPECT_EQ(run.radius_note, "surface (0.500000 x distance)");
+    ASSERT_FALSE(run.pipeline.skeleton.radii.empty());
+    for (double r : run.pipeline.skeleton.radii) EXPECT_NEAR(r, 0.25, 1e-12);
+    EXPECT_FALSE(run.finish.has_value());
+    // A straight segment of E edges: 4 hexes per edge.
+    EXPECT_EQ(run.quality().hexes, 4 * static_cast<long>(run.pipeline.skeleton.edges.size()));
+}
+
+TEST(MeshSkeleton, AVertexOnTheSurfaceIsNamed) {
+    Skeleton s = axis_segment();
+    s.points[1] = {4.0, 0.5, 0.5};  // on the face x = 4: distance 0, no radius
+    try {
+        mesh_in_domain(s, box_surface(4, 1, 1));
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::InvalidInput);
+        EXPECT_EQ(e.where().kind, ElementRef::Kind::SkeletonVertex);
+        EXPECT_EQ(e.where().index, 1);
+    }
+}
+
+TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
+    const TriangleMesh box = box_surface(4, 1, 1);
+    MeshOptions o;
+    o.finishing.levels = 1;
+    const MeshRun run = mesh_in_domain(axis_segment(), box, o);
+    ASSERT_TRUE(run.finish.has_value());
+    ASSERT_FALSE(run.attempts.empty());
+    EXPECT_EQ(run.attempts.front().hexes, run.finish->quality.hexes);
+    // Padding adds one hex per boundary quad of the raw tube: a chunk's cross-section is a square cut into 4 quadrant
+    // squares, so 8 side quads per edge, and 4 quads on each end cap; one level multiplies by 8.
+    const long raw = run.raw_quality.hexes;
+    const long edges = static_cast<long>(run.pipeline.skeleton.edges.size());
+    EXPECT_EQ(run.quality().hexes, 8 * (raw + 8 * edges + 8));
+    EXPECT_EQ(&run.mesh(), &run.finish->mesh);
+    EXPECT_EQ(run.exit_status(), run.quality().inverted > 0 ? 5 : 0);
+
+    const nlohmann::json rep = mesh_report(run, {"segment.obj", "segment.mesh", "box.off", 1.0, 2.0});
+    const std::set<std::string> expected = {"input", "output", "skeleton", "meshed_skeleton", "resampled", "radius",
+                                            "predicted", "prediction_matches", "quality", "raw_quality", "stages",
+                                            "surface", "subdivision_levels", "fit", "untangled", "attempts",
+                                            "free_branching_reach", "hausdorff", "timings_ms"};
+    EXPECT_EQ(keys(rep), expected);
+    EXPECT_EQ(rep["quality"]["hexes"].get<long>(), run.quality().hexes);
+    EXPECT_EQ(rep["raw_quality"]["hexes"].get<long>(), raw);
+    EXPECT_EQ(rep["surface"], "box.off");
+    EXPECT_EQ(rep["radius"]["source"], "surface (0.500000 x distance)");
+    EXPECT_EQ(rep["subdivision_levels"].get<int>(), 1);
+    EXPECT_GE(rep["timings_ms"]["read_skeleton"].get<double>(), 1.0);
+    EXPECT_GE(rep["timings_ms"]["write_and_finish"].get<double>(), 2.0);
+}
+
+TEST(MeshSkeleton, RawReportSaysWhereTheRadiusCameFrom) {
+    const MeshRun run = mesh_skeleton(generate_skeleton("tfan"), nullptr);
+    const nlohmann::json rep = mesh_report(run, {"tfan.obj", "tfan.mesh", "", 0, 0});
+    EXPECT_EQ(rep.count("stages"), 0u);
+    EXPECT_EQ(rep.count("hausdorff"), 0u);
+    EXPECT_TRUE(rep["prediction_matches"].get<bool>());
+    EXPECT_EQ(rep["predicted"]["hexes"].get<long>(), run.pipeline.predicted.hexes);
+    EXPECT_EQ(rep["quality"]["hexes"].get<long>(), run.pipeline.predicted.hexes);
+}
+
+TEST(MeshSkeleton, TheProgressCallbackCanCancel) {
+    struct Cancelled : std::runtime_error {
+        Cancelled() : std::runtime_error("cancelled") {}
+    };
+    MeshOptions o;
+    std::set<std::string> seen;
+    o.progress = [&seen](const MeshProgress& p) {
+        seen.insert(p.stage);
+        if (p.stage == "fit") throw Cancelled();
+    };
+    EXPECT_THROW(mesh_in_domain(axis_segment(), box_surface(4, 1, 1), o), Cancelled);
+    EXPECT_EQ(seen, (std::set<std::string>{"raw", "attempt", "fit"}));
+}
