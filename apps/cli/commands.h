@@ -37,5 +37,6 @@ void register_skeletonize(CLI::App& app, int* status);
 void register_thicken(CLI::App& app, int* status);
 void register_auto(CLI::App& app, int* status);
 void register_studio(CLI::App& app, int* status);
+void register_medial(CLI::App& app, int* status);
 
 }  // namespace mesohex::cli

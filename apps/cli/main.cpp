@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     mesohex::cli::register_thicken(app, &status);
     mesohex::cli::register_auto(app, &status);
     mesohex::cli::register_studio(app, &status);
+    mesohex::cli::register_medial(app, &status);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

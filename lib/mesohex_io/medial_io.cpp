@@ -10,6 +10,7 @@
 
 #include "mesohex/core/error.h"
 #include "mesohex_io/text_input.h"
+#include "mesohex_io/hex_io.h"
 
 namespace mesohex {
 namespace {
@@ -130,6 +131,27 @@ Skeleton read_medial_mesh(const std::string& path) { return read_medial(path, re
 
 Skeleton read_medial_mesh_text(const std::string& content, const std::string& name) {
     return read_medial(name, content);
+}
+
+void write_medial_mesh(const std::string& path, const Skeleton& medial) {
+    if (medial.radii.size() != medial.points.size())
+        throw Error(ErrorCode::InvalidInput, path + ": medial mesh needs one radius per point");
+    std::ostringstream out;
+    out.precision(17);
+    out << medial.points.size() << ' ' << medial.edges.size() << ' ' << medial.faces.size() << '\n';
+    for (size_t v = 0; v < medial.points.size(); ++v) {
+        const Vec3& p = medial.points[v];
+        out << "v " << p.x << ' ' << p.y << ' ' << p.z << ' ' << medial.radii[v] << '\n';
+    }
+    for (const std::array<int, 2>& e : medial.edges) out << "e " << e[0] << ' ' << e[1] << '\n';
+    for (size_t f = 0; f < medial.faces.size(); ++f) {
+        const std::vector<int>& t = medial.faces[f];
+        if (t.size() != 3)
+            throw Error(ErrorCode::InvalidInput, path + ": medial face " + std::to_string(f) + " is not a triangle",
+                        {ElementRef::Kind::SkeletonFace, static_cast<int>(f)});
+        out << "f " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+    }
+    write_file_atomically(path, out.str());
 }
 
 }  // namespace mesohex

@@ -18,4 +18,10 @@ Skeleton read_medial_mesh(const std::string& path);
 // The same on the file's text held in memory; `name` stands for the file name in messages.
 Skeleton read_medial_mesh_text(const std::string& content, const std::string& name);
 
+// Writes `medial` (radii one per point, faces triangles, every face side in edges) as a .ma file that
+// read_medial_mesh reads back with the same points, radii (17 significant digits), edges and faces. Atomic (a
+// temporary file renamed). IoError when the file cannot be written; InvalidInput when radii are missing or a face is
+// not a triangle.
+void write_medial_mesh(const std::string& path, const Skeleton& medial);
+
 }  // namespace mesohex

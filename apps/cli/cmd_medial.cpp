@@ -1,0 +1,73 @@
+// `mesohex medial SURFACE -o OUT.ma`: simplified medial mesh (spheres, curve edges, triangle sheets) of a closed
+// surface from the inner Voronoi poles of dense samples (compute_medial_axis, docs/skeletons.md). `mesohex import`
+// turns the result into a meso-skeleton.
+#include <chrono>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "commands.h"
+#include "mesohex/surface/medial_axis.h"
+#include "mesohex_io/medial_io.h"
+#include "mesohex_io/surface_io.h"
+
+namespace mesohex::cli {
+
+namespace {
+
+struct MedialArgs {
+    std::string input;
+    std::string output;
+    MedialAxisOptions options;
+};
+
+}  // namespace
+
+void register_medial(CLI::App& app, int* status) {
+    auto args = std::make_shared<MedialArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "medial", "Medial mesh (.ma: spheres, curves, sheets) of a closed surface: inner Voronoi poles, angle filter, "
+                  "sphere-quadric edge collapse.");
+    cmd->add_option("surface", args->input, "Closed, manifold triangle surface (.off .obj .stl .ply)")->required();
+    cmd->add_option("-o,--output", args->output, "Output medial mesh (.ma)")->required();
+    MedialAxisOptions& o = args->options;
+    cmd->add_option("--sample-spacing", o.sample_spacing, "Largest gap between surface samples (x bbox diagonal)")
+        ->capture_default_str();
+    cmd->add_option("--max-samples", o.max_samples, "Surface samples at most (the spacing grows to fit)")
+        ->capture_default_str();
+    cmd->add_option("--min-angle", o.min_angle_deg, "Angle filter: a Voronoi face is medial when it sees its two "
+                                                    "samples under at least this angle (degrees)")
+        ->capture_default_str();
+    cmd->add_option("--target-vertices", o.target_vertices, "Simplify down to this many medial vertices")
+        ->capture_default_str();
+    cmd->add_option("--error-tolerance", o.error_tolerance,
+                    "... or stop earlier when a collapse costs more than (tolerance x diag)^2")
+        ->capture_default_str();
+    cmd->add_option("--max-vertices", o.max_vertices, "Never stop above this many vertices")->capture_default_str();
+    cmd->add_option("--sheet-width", o.sheet_width_factor,
+                    "A triangle is a sheet when its smallest height >= this x its mean radius; thinner ones become "
+                    "curves")
+        ->capture_default_str();
+    cmd->footer("Example: mesohex medial plate1.obj -o plate1.ma && mesohex import plate1.ma -o plate1_skel.obj");
+    cmd->callback([args, status]() {
+        auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+        const auto t0 = std::chrono::steady_clock::now();
+        const TriangleMesh surface = read_surface(args->input);
+        const auto t1 = std::chrono::steady_clock::now();
+        const MedialAxis m = compute_medial_axis(surface, args->options);
+        const auto t2 = std::chrono::steady_clock::now();
+        write_medial_mesh(args->output, m.medial);
+        std::cout << "medial " << args->input << ": " << m.samples << " samples, " << m.inner_poles
+                  << " inner poles, " << m.voronoi_faces << " Voronoi faces kept -> " << m.initial_vertices
+                  << " vertices, " << m.initial_triangles << " triangles; " << m.collapses << " collapses, "
+                  << m.thin_triangles_removed << " thin triangles to curves, " << m.pruned_tips
+                  << " tips pruned (read " << ms(t0, t1) << " ms, medial " << ms(t1, t2) << " ms)\n"
+                  << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size()
+                  << " edges, " << m.medial.faces.size() << " triangles; " << m.sheets << " sheets, " << m.curves
+                  << " curves, Euler characteristic " << m.euler << ", sheet fraction " << m.sheet_fraction << " -> "
+                  << args->output << "\n";
+        *status = 0;
+    });
+}
+
+}  // namespace mesohex::cli

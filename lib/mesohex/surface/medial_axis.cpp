@@ -1,0 +1,770 @@
+#include "mesohex/surface/medial_axis.h"
+
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Delaunay_triangulation_cell_base_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_cell_base_with_info_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <queue>
+#include <set>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "mesohex/core/error.h"
+#include "mesohex/core/union_find.h"
+#include "mesohex/surface/surface_check.h"
+#include "mesohex/surface/surface_query.h"
+
+namespace mesohex {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_with_info_3<int, K>;
+using Cb = CGAL::Triangulation_cell_base_with_info_3<int, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
+using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
+using Delaunay = CGAL::Delaunay_triangulation_3<K, Tds>;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// ---------------------------------------------------------------- sampling
+
+std::uint64_t splitmix64(std::uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+double unit_double(std::uint64_t h) { return static_cast<double>(h >> 11) * (1.0 / 9007199254740992.0); }
+
+std::vector<std::array<int, 2>> unique_edges(const TriangleMesh& m) {
+    std::vector<std::array<int, 2>> edges;
+    edges.reserve(m.triangles.size() * 3);
+    for (const std::array<int, 3>& t : m.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const int a = t[static_cast<size_t>(k)], b = t[static_cast<size_t>((k + 1) % 3)];
+            edges.push_back({std::min(a, b), std::max(a, b)});
+        }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    return edges;
+}
+
+// Surface vertices (referenced ones), points every <= h along every edge, and floor(area / h^2) points inside every
+// triangle at barycentric coordinates from a fixed hash of (triangle, k). Writes `h` used (grown until the count fits).
+std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_samples) {
+    const std::vector<std::array<int, 2>> edges = unique_edges(m);
+    std::vector<char> used(m.points.size(), 0);
+    for (const std::array<int, 3>& t : m.triangles)
+        for (int v : t) used[static_cast<size_t>(v)] = 1;
+    const long vertex_count = std::count(used.begin(), used.end(), 1);
+    auto count_for = [&](double step) {
+        long n = vertex_count;
+        for (const std::array<int, 2>& e : edges)
+            n += std::max(0L, static_cast<long>(std::ceil(distance(m.points[static_cast<size_t>(e[0])],
+                                                                   m.points[static_cast<size_t>(e[1])]) / step)) - 1);
+        for (const std::array<int, 3>& t : m.triangles) {
+            const Vec3& a = m.points[static_cast<size_t>(t[0])];
+            const double area = 0.5 * norm(cross(m.points[static_cast<size_t>(t[1])] - a,
+                                                 m.points[static_cast<size_t>(t[2])] - a));
+            n += static_cast<long>(std::floor(area / (step * step)));
+        }
+        return n;
+    };
+    for (int round = 0; round < 60 && count_for(h) > max_samples; ++round) h *= 1.15;
+
+    std::vector<Vec3> samples;
+    for (size_t v = 0; v < m.points.size(); ++v)
+        if (used[v]) samples.push_back(m.points[v]);
+    for (const std::array<int, 2>& e : edges) {
+        const Vec3& a = m.points[static_cast<size_t>(e[0])];
+        const Vec3& b = m.points[static_cast<size_t>(e[1])];
+        const int n = static_cast<int>(std::ceil(distance(a, b) / h));
+        for (int i = 1; i < n; ++i) samples.push_back(a + (b - a) * (static_cast<double>(i) / n));
+    }
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+        const Vec3& a = m.points[static_cast<size_t>(m.triangles[t][0])];
+        const Vec3 ab = m.points[static_cast<size_t>(m.triangles[t][1])] - a;
+        const Vec3 ac = m.points[static_cast<size_t>(m.triangles[t][2])] - a;
+        const long k = static_cast<long>(std::floor(0.5 * norm(cross(ab, ac)) / (h * h)));
+        for (long j = 0; j < k; ++j) {
+            const std::uint64_t key = splitmix64((static_cast<std::uint64_t>(t) << 24) ^ static_cast<std::uint64_t>(j));
+            double u = unit_double(key), w = unit_double(splitmix64(key));
+            if (u + w > 1) {
+                u = 1 - u;
+                w = 1 - w;
+            }
+            samples.push_back(a + u * ab + w * ac);
+        }
+    }
+    return samples;
+}
+
+// ---------------------------------------------------------------- sphere quadrics
+
+// E(x) = x^T A x - 2 b.x + c for x = (centre, radius); A symmetric 4 x 4.
+struct SphereQuadric {
+    std::array<double, 16> A{};
+    std::array<double, 4> b{};
+    double c = 0;
+
+    // Tangent plane through p with unit outward normal n: error (n . centre + r - n . p)^2.
+    void add_plane(const Vec3& n, const Vec3& p) {
+        const std::array<double, 4> m = {n.x, n.y, n.z, 1.0};
+        const double d = dot(n, p);
+        for (int i = 0; i < 4; ++i) {
+            for (int j = 0; j < 4; ++j) A[static_cast<size_t>(4 * i + j)] += m[static_cast<size_t>(i)] * m[static_cast<size_t>(j)];
+            b[static_cast<size_t>(i)] += d * m[static_cast<size_t>(i)];
+        }
+        c += d * d;
+    }
+    // w |x - x0|^2 (keeps the system definite where the planes leave a direction free).
+    void add_point(const std::array<double, 4>& x0, double w) {
+        for (int i = 0; i < 4; ++i) {
+            A[static_cast<size_t>(5 * i)] += w;
+            b[static_cast<size_t>(i)] += w * x0[static_cast<size_t>(i)];
+            c += w * x0[static_cast<size_t>(i)] * x0[static_cast<size_t>(i)];
+        }
+    }
+    SphereQuadric& operator+=(const SphereQuadric& o) {
+        for (size_t i = 0; i < 16; ++i) A[i] += o.A[i];
+        for (size_t i = 0; i < 4; ++i) b[i] += o.b[i];
+        c += o.c;
+        return *this;
+    }
+    double eval(const std::array<double, 4>& x) const {
+        double e = c;
+        for (size_t i = 0; i < 4; ++i) {
+            double row = 0;
+            for (size_t j = 0; j < 4; ++j) row += A[4 * i + j] * x[j];
+            e += x[i] * row - 2 * b[i] * x[i];
+        }
+        return std::max(0.0, e);
+    }
+    // Minimizer of E (Gaussian elimination with partial pivoting); false when singular.
+    bool minimize(std::array<double, 4>& x) const {
+        double M[4][5];
+        for (int i = 0; i < 4; ++i) {
+            for (int j = 0; j < 4; ++j) M[i][j] = A[static_cast<size_t>(4 * i + j)];
+            M[i][4] = b[static_cast<size_t>(i)];
+        }
+        const double scale = std::max(1e-300, std::abs(A[0]) + std::abs(A[5]) + std::abs(A[10]) + std::abs(A[15]));
+        for (int col = 0; col < 4; ++col) {
+            int piv = col;
+            for (int i = col + 1; i < 4; ++i)
+                if (std::abs(M[i][col]) > std::abs(M[piv][col])) piv = i;
+            if (std::abs(M[piv][col]) < 1e-12 * scale) return false;
+            if (piv != col)
+                for (int j = 0; j < 5; ++j) std::swap(M[piv][j], M[col][j]);
+            for (int i = col + 1; i < 4; ++i) {
+                const double f = M[i][col] / M[col][col];
+                for (int j = col; j < 5; ++j) M[i][j] -= f * M[col][j];
+            }
+        }
+        for (int i = 3; i >= 0; --i) {
+            double s = M[i][4];
+            for (int j = i + 1; j < 4; ++j) s -= M[i][j] * x[static_cast<size_t>(j)];
+            x[static_cast<size_t>(i)] = s / M[i][i];
+        }
+        return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && std::isfinite(x[3]);
+    }
+};
+
+// ---------------------------------------------------------------- medial complex
+
+// Vertices (spheres), triangles and the edge relation (sorted neighbour lists) of the medial mesh being simplified.
+struct MedialComplex {
+    std::vector<Vec3> centre;
+    std::vector<double> radius;
+    std::vector<SphereQuadric> quadric;
+    std::vector<char> alive;
+    std::vector<int> version;
+    std::vector<std::vector<int>> neighbours;   // sorted, unique
+    std::vector<std::vector<int>> vertex_triangles;
+    std::vector<std::array<int, 3>> triangles;
+    std::vector<char> triangle_alive;
+};
+
+void insert_sorted(std::vector<int>& v, int x) {
+    auto it = std::lower_bound(v.begin(), v.end(), x);
+    if (it == v.end() || *it != x) v.insert(it, x);
+}
+void erase_sorted(std::vector<int>& v, int x) {
+    auto it = std::lower_bound(v.begin(), v.end(), x);
+    if (it != v.end() && *it == x) v.erase(it);
+}
+bool contains(const std::array<int, 3>& t, int v) { return t[0] == v || t[1] == v || t[2] == v; }
+
+// Inner poles and angle-filtered Voronoi faces of the samples, fan-triangulated into a medial complex.
+MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const SurfaceQuery& query, double diag,
+                                     double min_angle_deg, MedialAxis& out) {
+    std::vector<std::pair<K::Point_3, int>> points;
+    points.reserve(samples.size());
+    for (size_t i = 0; i < samples.size(); ++i)
+        points.emplace_back(K::Point_3(samples[i].x, samples[i].y, samples[i].z), static_cast<int>(i));
+    Delaunay dt(points.begin(), points.end());
+    out.samples = static_cast<int>(dt.number_of_vertices());
+
+    std::vector<Vec3> centres;
+    std::vector<double> radii;
+    std::vector<std::array<int, 4>> cell_samples;
+    for (Delaunay::Cell_handle ch : dt.finite_cell_handles()) {
+        ch->info() = static_cast<int>(centres.size());
+        const K::Point_3 cc = CGAL::circumcenter(ch->vertex(0)->point(), ch->vertex(1)->point(),
+                                                 ch->vertex(2)->point(), ch->vertex(3)->point());
+        const Vec3 c{cc.x(), cc.y(), cc.z()};
+        centres.push_back(c);
+        radii.push_back(distance(c, samples[static_cast<size_t>(ch->vertex(0)->info())]));
+        cell_samples.push_back({ch->vertex(0)->info(), ch->vertex(1)->info(), ch->vertex(2)->info(),
+                                ch->vertex(3)->info()});
+    }
+    for (Delaunay::Cell_handle ch : dt.all_cell_handles())
+        if (dt.is_infinite(ch)) ch->info() = -1;
+    // Only cells of reasonable size can be inner poles (a flat cell on the hull has a huge circumsphere).
+    std::vector<int> candidates;
+    std::vector<Vec3> candidate_points;
+    for (size_t i = 0; i < centres.size(); ++i)
+        if (std::isfinite(radii[i]) && radii[i] < diag) {
+            candidates.push_back(static_cast<int>(i));
+            candidate_points.push_back(centres[i]);
+        }
+    const std::vector<char> inside_flags = query.inside(candidate_points);
+    std::vector<char> inside(centres.size(), 0);
+    for (size_t k = 0; k < candidates.size(); ++k) inside[static_cast<size_t>(candidates[k])] = inside_flags[k];
+    out.inner_poles = static_cast<int>(std::count(inside.begin(), inside.end(), 1));
+
+    // Voronoi faces: one per finite Delaunay edge whose incident cells are all inner and see its ends under a wide angle.
+    const double cos_min = std::cos(min_angle_deg * kPi / 180.0);
+    std::vector<std::vector<int>> faces;
+    for (const Delaunay::Edge& e : dt.finite_edges()) {
+        const int p = e.first->vertex(e.second)->info(), q = e.first->vertex(e.third)->info();
+        const Vec3& P = samples[static_cast<size_t>(p)];
+        const Vec3& Q = samples[static_cast<size_t>(q)];
+        std::vector<int> poly;
+        bool keep = true;
+        Delaunay::Cell_circulator cc = dt.incident_cells(e), done = cc;
+        do {
+            const int id = cc->info();
+            if (id < 0 || !inside[static_cast<size_t>(id)]) {
+                keep = false;
+                break;
+            }
+            const Vec3& C = centres[static_cast<size_t>(id)];
+            const double r2 = radii[static_cast<size_t>(id)] * radii[static_cast<size_t>(id)];
+            if (dot(P - C, Q - C) > cos_min * r2) {
+                keep = false;
+                break;
+            }
+            poly.push_back(id);
+        } while (++cc != done);
+        if (keep && poly.size() >= 3) faces.push_back(std::move(poly));
+    }
+    out.voronoi_faces = static_cast<int>(faces.size());
+
+    // Compact the cells used by kept faces into complex vertices (in cell order).
+    std::vector<int> cell_to_vertex(centres.size(), -1);
+    MedialComplex mc;
+    for (const std::vector<int>& f : faces)
+        for (int id : f) cell_to_vertex[static_cast<size_t>(id)] = 0;
+    for (size_t i = 0; i < centres.size(); ++i)
+        if (cell_to_vertex[i] == 0) {
+            cell_to_vertex[i] = static_cast<int>(mc.centre.size());
+            mc.centre.push_back(centres[i]);
+            mc.radius.push_back(radii[i]);
+            SphereQuadric q;
+            for (int s : cell_samples[i]) {
+                const Vec3& p = samples[static_cast<size_t>(s)];
+                q.add_plane(normalized(p - centres[i]), p);
+            }
+            // A light pull to the pole itself: 1e-3 of one tangent plane.
+            q.add_point({centres[i].x, centres[i].y, centres[i].z, radii[i]}, 1e-3);
+            mc.quadric.push_back(q);
+        }
+    const size_t nv = mc.centre.size();
+    mc.alive.assign(nv, 1);
+    mc.version.assign(nv, 0);
+    mc.neighbours.assign(nv, {});
+    mc.vertex_triangles.assign(nv, {});
+    for (const std::vector<int>& f : faces) {
+        const int v0 = cell_to_vertex[static_cast<size_t>(f[0])];
+        for (size_t k = 1; k + 1 < f.size(); ++k) {
+            const std::array<int, 3> t = {v0, cell_to_vertex[static_cast<size_t>(f[k])],
+                                          cell_to_vertex[static_cast<size_t>(f[k + 1])]};
+            const int id = static_cast<int>(mc.triangles.size());
+            mc.triangles.push_back(t);
+            for (int j = 0; j < 3; ++j) {
+                mc.vertex_triangles[static_cast<size_t>(t[static_cast<size_t>(j)])].push_back(id);
+                const int a = t[static_cast<size_t>(j)], b = t[static_cast<size_t>((j + 1) % 3)];
+                mc.neighbours[static_cast<size_t>(a)].push_back(b);
+                mc.neighbours[static_cast<size_t>(b)].push_back(a);
+            }
+        }
+    }
+    mc.triangle_alive.assign(mc.triangles.size(), 1);
+    for (std::vector<int>& n : mc.neighbours) {
+        std::sort(n.begin(), n.end());
+        n.erase(std::unique(n.begin(), n.end()), n.end());
+    }
+    return mc;
+}
+
+// Keeps only the connected component with the most vertices (ties: the one with the lowest vertex id).
+void keep_largest_component(MedialComplex& mc) {
+    const int nv = static_cast<int>(mc.centre.size());
+    UnionFind uf(nv);
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)])
+            for (int n : mc.neighbours[static_cast<size_t>(v)]) uf.unite(v, n);
+    std::vector<int> size(static_cast<size_t>(nv), 0);
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)]) ++size[static_cast<size_t>(uf.find(v))];
+    int best = -1;
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)] && (best < 0 || size[static_cast<size_t>(uf.find(v))] > size[static_cast<size_t>(best)]))
+            best = uf.find(v);
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)] && uf.find(v) != best) mc.alive[static_cast<size_t>(v)] = 0;
+    for (size_t t = 0; t < mc.triangles.size(); ++t)
+        if (mc.triangle_alive[t] && !mc.alive[static_cast<size_t>(mc.triangles[t][0])]) mc.triangle_alive[t] = 0;
+}
+
+// ---------------------------------------------------------------- edge collapse
+
+struct Candidate {
+    double cost;
+    int a, b;
+    int version_a, version_b;
+    std::array<double, 4> x;
+    bool operator>(const Candidate& o) const { return std::tie(cost, a, b) > std::tie(o.cost, o.a, o.b); }
+};
+
+Candidate make_candidate(const MedialComplex& mc, int a, int b) {
+    if (a > b) std::swap(a, b);
+    SphereQuadric q = mc.quadric[static_cast<size_t>(a)];
+    q += mc.quadric[static_cast<size_t>(b)];
+    const Vec3& ca = mc.centre[static_cast<size_t>(a)];
+    const Vec3& cb = mc.centre[static_cast<size_t>(b)];
+    const double ra = mc.radius[static_cast<size_t>(a)], rb = mc.radius[static_cast<size_t>(b)];
+    std::array<double, 4> x{};
+    const std::array<double, 4> mid = {0.5 * (ca.x + cb.x), 0.5 * (ca.y + cb.y), 0.5 * (ca.z + cb.z), 0.5 * (ra + rb)};
+    if (!q.minimize(x) || x[3] <= 0.05 * std::min(ra, rb)) {
+        // Fall back to the best of the two ends and the midpoint.
+        x = mid;
+        for (const std::array<double, 4>& y : {std::array<double, 4>{ca.x, ca.y, ca.z, ra},
+                                              std::array<double, 4>{cb.x, cb.y, cb.z, rb}})
+            if (q.eval(y) < q.eval(x)) x = y;
+    }
+    return {q.eval(x), a, b, mc.version[static_cast<size_t>(a)], mc.version[static_cast<size_t>(b)], x};
+}
+
+// Link condition for collapsing edge ab in a 2-complex: the common neighbours of a and b are exactly the third vertices
+// of the triangles on ab, and no two triangles acd, bcd exist. Then the collapse keeps the homotopy type.
+bool link_condition(const MedialComplex& mc, int a, int b) {
+    std::vector<int> common;
+    std::set_intersection(mc.neighbours[static_cast<size_t>(a)].begin(), mc.neighbours[static_cast<size_t>(a)].end(),
+                          mc.neighbours[static_cast<size_t>(b)].begin(), mc.neighbours[static_cast<size_t>(b)].end(),
+                          std::back_inserter(common));
+    std::vector<int> apex;
+    std::vector<std::array<int, 2>> opposite_a, opposite_b;
+    for (int t : mc.vertex_triangles[static_cast<size_t>(a)]) {
+        if (!mc.triangle_alive[static_cast<size_t>(t)]) continue;
+        const std::array<int, 3>& tri = mc.triangles[static_cast<size_t>(t)];
+        if (contains(tri, b)) {
+            for (int v : tri)
+                if (v != a && v != b) apex.push_back(v);
+        } else {
+            std::array<int, 2> e{};
+            int k = 0;
+            for (int v : tri)
+                if (v != a) e[static_cast<size_t>(k++)] = v;
+            opposite_a.push_back({std::min(e[0], e[1]), std::max(e[0], e[1])});
+        }
+    }
+    std::sort(apex.begin(), apex.end());
+    apex.erase(std::unique(apex.begin(), apex.end()), apex.end());
+    if (apex != common) return false;
+    for (int t : mc.vertex_triangles[static_cast<size_t>(b)]) {
+        if (!mc.triangle_alive[static_cast<size_t>(t)]) continue;
+        const std::array<int, 3>& tri = mc.triangles[static_cast<size_t>(t)];
+        if (contains(tri, a)) continue;
+        std::array<int, 2> e{};
+        int k = 0;
+        for (int v : tri)
+            if (v != b) e[static_cast<size_t>(k++)] = v;
+        opposite_b.push_back({std::min(e[0], e[1]), std::max(e[0], e[1])});
+    }
+    std::sort(opposite_a.begin(), opposite_a.end());
+    std::sort(opposite_b.begin(), opposite_b.end());
+    std::vector<std::array<int, 2>> both;
+    std::set_intersection(opposite_a.begin(), opposite_a.end(), opposite_b.begin(), opposite_b.end(),
+                          std::back_inserter(both));
+    return both.empty();
+}
+
+// No triangle of a or b (other than those on ab) turns by more than max_fold when a and b move to x.
+bool no_fold(const MedialComplex& mc, int a, int b, const Vec3& x, double cos_max_fold) {
+    for (int v : {a, b})
+        for (int t : mc.vertex_triangles[static_cast<size_t>(v)]) {
+            if (!mc.triangle_alive[static_cast<size_t>(t)]) continue;
+            const std::array<int, 3>& tri = mc.triangles[static_cast<size_t>(t)];
+            if (contains(tri, a) && contains(tri, b)) continue;
+            std::array<Vec3, 3> p{}, q{};
+            for (size_t k = 0; k < 3; ++k) {
+                p[k] = mc.centre[static_cast<size_t>(tri[k])];
+                q[k] = (tri[k] == a || tri[k] == b) ? x : p[k];
+            }
+            const Vec3 n0 = cross(p[1] - p[0], p[2] - p[0]);
+            const Vec3 n1 = cross(q[1] - q[0], q[2] - q[0]);
+            const double l0 = norm(n0), l1 = norm(n1);
+            if (l0 <= 0 || l1 <= 0) continue;  // degenerate before or after: no direction to keep
+            if (dot(n0, n1) < cos_max_fold * l0 * l1) return false;
+        }
+    return true;
+}
+
+void collapse(MedialComplex& mc, const Candidate& cand) {
+    const int a = cand.a, b = cand.b;
+    mc.centre[static_cast<size_t>(a)] = {cand.x[0], cand.x[1], cand.x[2]};
+    mc.radius[static_cast<size_t>(a)] = cand.x[3];
+    mc.quadric[static_cast<size_t>(a)] += mc.quadric[static_cast<size_t>(b)];
+    mc.alive[static_cast<size_t>(b)] = 0;
+    ++mc.version[static_cast<size_t>(a)];
+    ++mc.version[static_cast<size_t>(b)];
+    std::vector<int>& ta = mc.vertex_triangles[static_cast<size_t>(a)];
+    for (int t : mc.vertex_triangles[static_cast<size_t>(b)]) {
+        if (!mc.triangle_alive[static_cast<size_t>(t)]) continue;
+        std::array<int, 3>& tri = mc.triangles[static_cast<size_t>(t)];
+        if (contains(tri, a)) {
+            mc.triangle_alive[static_cast<size_t>(t)] = 0;
+            continue;
+        }
+        for (int& v : tri)
+            if (v == b) v = a;
+        ta.push_back(t);
+    }
+    std::vector<int> kept;
+    for (int t : ta)
+        if (mc.triangle_alive[static_cast<size_t>(t)]) kept.push_back(t);
+    std::sort(kept.begin(), kept.end());
+    kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+    ta = std::move(kept);
+    mc.vertex_triangles[static_cast<size_t>(b)].clear();
+    for (int n : mc.neighbours[static_cast<size_t>(b)]) {
+        erase_sorted(mc.neighbours[static_cast<size_t>(n)], b);
+        if (n != a) {
+            insert_sorted(mc.neighbours[static_cast<size_t>(n)], a);
+            insert_sorted(mc.neighbours[static_cast<size_t>(a)], n);
+        }
+    }
+    mc.neighbours[static_cast<size_t>(b)].clear();
+}
+
+int simplify(MedialComplex& mc, const MedialAxisOptions& o, double diag) {
+    std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap;
+    int alive = 0;
+    for (size_t v = 0; v < mc.centre.size(); ++v) {
+        if (!mc.alive[v]) continue;
+        ++alive;
+        for (int n : mc.neighbours[v])
+            if (static_cast<int>(v) < n) heap.push(make_candidate(mc, static_cast<int>(v), n));
+    }
+    const double tolerance2 = (o.error_tolerance * diag) * (o.error_tolerance * diag);
+    const double cos_fold = std::cos(o.max_fold_deg * kPi / 180.0);
+    int collapses = 0;
+    while (!heap.empty() && alive > o.target_vertices) {
+        const Candidate cand = heap.top();
+        heap.pop();
+        if (!mc.alive[static_cast<size_t>(cand.a)] || !mc.alive[static_cast<size_t>(cand.b)]) continue;
+        if (cand.version_a != mc.version[static_cast<size_t>(cand.a)] ||
+            cand.version_b != mc.version[static_cast<size_t>(cand.b)])
+            continue;
+        if (cand.cost > tolerance2 && alive <= o.max_vertices) break;
+        if (!link_condition(mc, cand.a, cand.b)) continue;
+        if (!no_fold(mc, cand.a, cand.b, {cand.x[0], cand.x[1], cand.x[2]}, cos_fold)) continue;
+        collapse(mc, cand);
+        --alive;
+        ++collapses;
+        for (int n : mc.neighbours[static_cast<size_t>(cand.a)]) heap.push(make_candidate(mc, cand.a, n));
+    }
+    return collapses;
+}
+
+// ---------------------------------------------------------------- curves and sheets
+
+struct SmallComplex {
+    std::vector<Vec3> centre;
+    std::vector<double> radius;
+    std::set<std::array<int, 2>> edges;        // a < b
+    std::vector<std::array<int, 3>> triangles;
+    std::vector<char> triangle_alive;
+};
+
+SmallComplex compact(const MedialComplex& mc) {
+    SmallComplex s;
+    std::vector<int> id(mc.centre.size(), -1);
+    for (size_t v = 0; v < mc.centre.size(); ++v)
+        if (mc.alive[v]) {
+            id[v] = static_cast<int>(s.centre.size());
+            s.centre.push_back(mc.centre[v]);
+            s.radius.push_back(mc.radius[v]);
+        }
+    for (size_t v = 0; v < mc.centre.size(); ++v)
+        if (mc.alive[v])
+            for (int n : mc.neighbours[v])
+                if (id[static_cast<size_t>(n)] >= 0 && static_cast<int>(v) < n)
+                    s.edges.insert({std::min(id[v], id[static_cast<size_t>(n)]), std::max(id[v], id[static_cast<size_t>(n)])});
+    for (size_t t = 0; t < mc.triangles.size(); ++t)
+        if (mc.triangle_alive[t]) {
+            const std::array<int, 3>& tri = mc.triangles[t];
+            s.triangles.push_back({id[static_cast<size_t>(tri[0])], id[static_cast<size_t>(tri[1])],
+                                   id[static_cast<size_t>(tri[2])]});
+        }
+    s.triangle_alive.assign(s.triangles.size(), 1);
+    return s;
+}
+
+std::array<int, 2> side(const std::array<int, 3>& t, int k) {
+    const int a = t[static_cast<size_t>(k)], b = t[static_cast<size_t>((k + 1) % 3)];
+    return {std::min(a, b), std::max(a, b)};
+}
+
+double triangle_area(const SmallComplex& s, const std::array<int, 3>& t) {
+    const Vec3& a = s.centre[static_cast<size_t>(t[0])];
+    return 0.5 * norm(cross(s.centre[static_cast<size_t>(t[1])] - a, s.centre[static_cast<size_t>(t[2])] - a));
+}
+
+bool is_wide(const SmallComplex& s, const std::array<int, 3>& t, double factor) {
+    double longest = 0, r = 0;
+    for (int k = 0; k < 3; ++k) {
+        const std::array<int, 2> e = side(t, k);
+        longest = std::max(longest, distance(s.centre[static_cast<size_t>(e[0])], s.centre[static_cast<size_t>(e[1])]));
+        r += s.radius[static_cast<size_t>(t[static_cast<size_t>(k)])] / 3;
+    }
+    return longest > 0 && 2 * triangle_area(s, t) / longest >= factor * r;
+}
+
+// Thin triangles with a free side go with their longest free side (elementary collapses) until none is left.
+int remove_thin_triangles(SmallComplex& s, double factor) {
+    int removed = 0;
+    for (bool changed = true; changed;) {
+        changed = false;
+        std::map<std::array<int, 2>, int> side_count;
+        for (size_t t = 0; t < s.triangles.size(); ++t)
+            if (s.triangle_alive[t])
+                for (int k = 0; k < 3; ++k) ++side_count[side(s.triangles[t], k)];
+        for (size_t t = 0; t < s.triangles.size(); ++t) {
+            if (!s.triangle_alive[t] || is_wide(s, s.triangles[t], factor)) continue;
+            int best = -1;
+            double best_len = -1;
+            for (int k = 0; k < 3; ++k) {
+                const std::array<int, 2> e = side(s.triangles[t], k);
+                if (side_count[e] != 1) continue;
+                const double len = distance(s.centre[static_cast<size_t>(e[0])], s.centre[static_cast<size_t>(e[1])]);
+                if (len > best_len) {
+                    best_len = len;
+                    best = k;
+                }
+            }
+            if (best < 0) continue;
+            const std::array<int, 2> e = side(s.triangles[t], best);
+            s.triangle_alive[t] = 0;
+            s.edges.erase(e);
+            for (int k = 0; k < 3; ++k) --side_count[side(s.triangles[t], k)];
+            ++removed;
+            changed = true;
+        }
+    }
+    return removed;
+}
+
+// Curve tips (one edge, no triangle) whose sphere lies within their neighbour's (stability) go, repeatedly.
+int prune_tips(SmallComplex& s, std::vector<char>& vertex_alive, double margin) {
+    int pruned = 0;
+    for (bool changed = true; changed;) {
+        changed = false;
+        std::vector<int> degree(s.centre.size(), 0);
+        std::vector<char> in_triangle(s.centre.size(), 0);
+        for (const std::array<int, 2>& e : s.edges) {
+            ++degree[static_cast<size_t>(e[0])];
+            ++degree[static_cast<size_t>(e[1])];
+        }
+        for (size_t t = 0; t < s.triangles.size(); ++t)
+            if (s.triangle_alive[t])
+                for (int v : s.triangles[t]) in_triangle[static_cast<size_t>(v)] = 1;
+        int total_edges = static_cast<int>(s.edges.size());
+        for (auto it = s.edges.begin(); it != s.edges.end() && total_edges > 1;) {
+            const std::array<int, 2> e = *it;
+            int tip = -1, other = -1;
+            for (int k = 0; k < 2; ++k) {
+                const int v = e[static_cast<size_t>(k)];
+                if (degree[static_cast<size_t>(v)] == 1 && !in_triangle[static_cast<size_t>(v)]) {
+                    tip = v;
+                    other = e[static_cast<size_t>(1 - k)];
+                    break;
+                }
+            }
+            if (tip >= 0 && distance(s.centre[static_cast<size_t>(tip)], s.centre[static_cast<size_t>(other)]) +
+                                    s.radius[static_cast<size_t>(tip)] <=
+                                (1 + margin) * s.radius[static_cast<size_t>(other)]) {
+                it = s.edges.erase(it);
+                vertex_alive[static_cast<size_t>(tip)] = 0;
+                --degree[static_cast<size_t>(other)];
+                degree[static_cast<size_t>(tip)] = 0;
+                --total_edges;
+                ++pruned;
+                changed = true;
+            } else {
+                ++it;
+            }
+        }
+    }
+    return pruned;
+}
+
+// Canonical output: live vertices sorted by (x, y, z, r), edges and faces sorted.
+Skeleton to_medial_mesh(const SmallComplex& s, const std::vector<char>& vertex_alive, double min_radius) {
+    std::vector<int> order;
+    for (size_t v = 0; v < s.centre.size(); ++v)
+        if (vertex_alive[v]) order.push_back(static_cast<int>(v));
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+        const Vec3& p = s.centre[static_cast<size_t>(a)];
+        const Vec3& q = s.centre[static_cast<size_t>(b)];
+        return std::tie(p.x, p.y, p.z, s.radius[static_cast<size_t>(a)], a) <
+               std::tie(q.x, q.y, q.z, s.radius[static_cast<size_t>(b)], b);
+    });
+    std::vector<int> id(s.centre.size(), -1);
+    Skeleton m;
+    for (int v : order) {
+        id[static_cast<size_t>(v)] = static_cast<int>(m.points.size());
+        m.points.push_back(s.centre[static_cast<size_t>(v)]);
+        m.radii.push_back(std::max(min_radius, s.radius[static_cast<size_t>(v)]));
+    }
+    for (const std::array<int, 2>& e : s.edges) {
+        const int a = id[static_cast<size_t>(e[0])], b = id[static_cast<size_t>(e[1])];
+        m.edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+    std::sort(m.edges.begin(), m.edges.end());
+    std::vector<std::array<int, 3>> faces;
+    for (size_t t = 0; t < s.triangles.size(); ++t)
+        if (s.triangle_alive[t]) {
+            std::array<int, 3> f = {id[static_cast<size_t>(s.triangles[t][0])], id[static_cast<size_t>(s.triangles[t][1])],
+                                    id[static_cast<size_t>(s.triangles[t][2])]};
+            std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+            faces.push_back(f);
+        }
+    std::sort(faces.begin(), faces.end());
+    for (const std::array<int, 3>& f : faces) m.faces.push_back({f[0], f[1], f[2]});
+    return m;
+}
+
+void measure(MedialAxis& out) {
+    const Skeleton& m = out.medial;
+    std::set<std::array<int, 2>> face_sides;
+    std::vector<char> in_triangle(m.points.size(), 0);
+    UnionFind sheets(static_cast<int>(m.faces.size()));
+    std::map<std::array<int, 2>, int> first_face;
+    out.sheet_area = 0;
+    for (size_t f = 0; f < m.faces.size(); ++f) {
+        const std::vector<int>& t = m.faces[f];
+        out.sheet_area += 0.5 * norm(cross(m.points[static_cast<size_t>(t[1])] - m.points[static_cast<size_t>(t[0])],
+                                           m.points[static_cast<size_t>(t[2])] - m.points[static_cast<size_t>(t[0])]));
+        for (size_t k = 0; k < 3; ++k) {
+            in_triangle[static_cast<size_t>(t[k])] = 1;
+            const int a = t[k], b = t[(k + 1) % 3];
+            const std::array<int, 2> e = {std::min(a, b), std::max(a, b)};
+            face_sides.insert(e);
+            auto [it, fresh] = first_face.emplace(e, static_cast<int>(f));
+            if (!fresh) sheets.unite(it->second, static_cast<int>(f));
+        }
+    }
+    out.sheets = 0;
+    for (size_t f = 0; f < m.faces.size(); ++f)
+        if (sheets.find(static_cast<int>(f)) == static_cast<int>(f)) ++out.sheets;
+    // Curve edges, and branches between nodes (vertices not on exactly two curve edges, or in a triangle).
+    std::vector<std::vector<int>> curve_adj(m.points.size());
+    out.curve_band_area = 0;
+    for (const std::array<int, 2>& e : m.edges) {
+        if (face_sides.count({std::min(e[0], e[1]), std::max(e[0], e[1])})) continue;
+        curve_adj[static_cast<size_t>(e[0])].push_back(e[1]);
+        curve_adj[static_cast<size_t>(e[1])].push_back(e[0]);
+        out.curve_band_area += distance(m.points[static_cast<size_t>(e[0])], m.points[static_cast<size_t>(e[1])]) *
+                               (m.radii[static_cast<size_t>(e[0])] + m.radii[static_cast<size_t>(e[1])]);
+    }
+    auto is_node = [&](int v) { return curve_adj[static_cast<size_t>(v)].size() != 2 || in_triangle[static_cast<size_t>(v)]; };
+    std::set<std::array<int, 2>> visited;
+    out.curves = 0;
+    auto walk = [&](int from, int to) {
+        int prev = from, cur = to;
+        visited.insert({std::min(prev, cur), std::max(prev, cur)});
+        while (!is_node(cur)) {
+            const std::vector<int>& adj = curve_adj[static_cast<size_t>(cur)];
+            const int next = adj[0] == prev ? adj[1] : adj[0];
+            if (!visited.insert({std::min(cur, next), std::max(cur, next)}).second) break;  // closed chain
+            prev = cur;
+            cur = next;
+        }
+    };
+    for (int v = 0; v < static_cast<int>(m.points.size()); ++v)
+        if (is_node(v))
+            for (int n : curve_adj[static_cast<size_t>(v)])
+                if (!visited.count({std::min(v, n), std::max(v, n)})) {
+                    ++out.curves;
+                    walk(v, n);
+                }
+    for (int v = 0; v < static_cast<int>(m.points.size()); ++v)
+        for (int n : curve_adj[static_cast<size_t>(v)])
+            if (!visited.count({std::min(v, n), std::max(v, n)})) {
+                ++out.curves;  // a closed chain without nodes
+                walk(v, n);
+            }
+    out.euler = euler_characteristic(m);
+    const double total = out.sheet_area + out.curve_band_area;
+    out.sheet_fraction = total > 0 ? out.sheet_area / total : 0;
+}
+
+}  // namespace
+
+MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOptions& options) {
+    const SurfaceCheck check = check_surface(surface);
+    if (!check.is_closed_manifold())
+        throw Error(ErrorCode::InvalidInput,
+                    "medial axis needs a closed, manifold, consistently oriented surface without degenerate "
+                    "triangles (boundary edges " + std::to_string(check.boundary_edges) + ", non-manifold edges " +
+                        std::to_string(check.non_manifold_edges) + ", non-manifold vertices " +
+                        std::to_string(check.non_manifold_vertices) + ", inconsistent edges " +
+                        std::to_string(check.inconsistent_edges) + ", degenerate triangles " +
+                        std::to_string(check.degenerate_triangles) + ")");
+    const SurfaceQuery query(surface);
+    MedialAxis out;
+    const double diag = query.bbox_diagonal();
+    out.bbox_diagonal = diag;
+    double h = options.sample_spacing * diag;
+    const std::vector<Vec3> samples = sample_surface(surface, h, options.max_samples);
+    MedialComplex mc = voronoi_medial_complex(samples, query, diag, options.min_angle_deg, out);
+    if (mc.centre.empty())
+        throw Error(ErrorCode::NumericalFailure,
+                    "medial axis: no Voronoi face passed the angle filter (" + std::to_string(out.inner_poles) +
+                        " inner poles from " + std::to_string(out.samples) + " samples)");
+    keep_largest_component(mc);
+    out.initial_vertices = static_cast<int>(std::count(mc.alive.begin(), mc.alive.end(), 1));
+    out.initial_triangles = static_cast<int>(std::count(mc.triangle_alive.begin(), mc.triangle_alive.end(), 1));
+    out.collapses = simplify(mc, options, diag);
+    SmallComplex s = compact(mc);
+    out.thin_triangles_removed = remove_thin_triangles(s, options.sheet_width_factor);
+    std::vector<char> vertex_alive(s.centre.size(), 1);
+    out.pruned_tips = prune_tips(s, vertex_alive, options.prune_margin);
+    out.medial = to_medial_mesh(s, vertex_alive, 1e-6 * diag);
+    measure(out);
+    return out;
+}
+
+}  // namespace mesohex

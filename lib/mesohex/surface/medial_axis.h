@@ -1,0 +1,74 @@
+#pragma once
+// Medial axis of a closed surface as a simplified medial mesh (issue 17): sphere vertices (centre + radius), curve
+// edges and triangle sheets, the input `import_medial_mesh` (stages/medial_import.h) turns into a meso-skeleton.
+// CGAL (3D Delaunay triangulation) is included only by medial_axis.cpp. Method (docs/skeletons.md, `mesohex medial`):
+//   1. sampling: the surface vertices, points every sample_spacing along every edge, and pseudo-random points (fixed
+//      hash of the triangle id) inside every triangle at a density of one per sample_spacing^2;
+//   2. inner Voronoi diagram: the Delaunay triangulation of the samples (CGAL::Delaunay_triangulation_3, inexact
+//      constructions kernel); a cell whose circumcentre lies inside the surface (SurfaceQuery::inside) gives a medial
+//      sphere (its circumcentre and circumradius);
+//   3. angle filter: the Voronoi face dual to the Delaunay edge pq is kept when all its Voronoi vertices c are inside
+//      and see p and q under an angle pcq of at least min_angle_deg (a noise face between two neighbouring samples
+//      sees them under a small angle; a face between the two sides of a plate under 180 degrees; the wedges going to
+//      90-degree edges of the surface, under 90 degrees: a sheet ends where the shape's edges begin, which trims it);
+//   4. simplification (in the spirit of Q-MAT, Li et al. 2015): every sphere carries the sphere quadric of the
+//      tangent planes at its touching samples (error of a sphere (c, r) against the plane through p with unit normal
+//      n: (n . (c - p) + r)^2); edges are collapsed cheapest first to the sphere minimizing the summed quadric, only
+//      when the link condition holds (homotopy type and Euler characteristic kept) and no sheet triangle flips, down
+//      to target_vertices (further while the error stays below error_tolerance);
+//   5. curves and sheets by measured geometry: a triangle is wide when its smallest height is at least
+//      sheet_width_factor x its mean radius; a thin triangle with a side in no other triangle is removed with that
+//      side (an elementary collapse: homotopy kept), until none is left: tubes become curve edges; curve tips whose
+//      sphere lies (almost) inside their neighbour's are pruned (stability); only the largest connected part is kept.
+// Deterministic: same surface and options, same output (the samples, the Delaunay insertion order and every later
+// loop are fixed; ties go to the lower id).
+#include <vector>
+
+#include "mesohex/core/hex_mesh.h"
+#include "mesohex/core/skeleton.h"
+
+namespace mesohex {
+
+struct MedialAxisOptions {
+    double sample_spacing = 0.01;   // x bounding-box diagonal: largest gap between surface samples
+    int max_samples = 60000;        // the spacing grows until the samples fit (memory and time of the Delaunay)
+    double min_angle_deg = 110;     // angle filter of step 3 (a surface edge of 90 degrees has no medial sheet)
+    int target_vertices = 60;       // simplification stops at this many medial vertices ...
+    double error_tolerance = 0.002; // ... or earlier when the next collapse costs more than (tolerance x diag)^2
+                                    //     and fewer than max_vertices are left
+    int max_vertices = 400;         // the simplification never stops above this many vertices
+    double max_fold_deg = 60;       // a collapse that turns a sheet triangle by more than this is refused
+    double sheet_width_factor = 0.75;  // a triangle is sheet-like when its smallest height >= this x mean radius
+    double prune_margin = 0.1;      // a curve tip goes when |c_tip - c_next| + r_tip <= (1 + margin) r_next
+};
+
+struct MedialAxis {
+    // The medial mesh: points = sphere centres, radii = sphere radii (> 0), faces = triangles (3 ids each), edges =
+    // every triangle side plus the curve edges (in no triangle). Points sorted by (x, y, z); edges {a, b} with a < b,
+    // sorted; faces with the smallest id first, sorted. A valid input for import_medial_mesh and write_medial_mesh.
+    Skeleton medial;
+    int samples = 0;                // surface samples (Delaunay vertices)
+    int inner_poles = 0;            // Delaunay cells with their circumcentre inside
+    int voronoi_faces = 0;          // Voronoi faces kept by the angle filter
+    int initial_vertices = 0, initial_triangles = 0;  // the medial complex before simplification
+    int collapses = 0;              // edge collapses performed
+    int thin_triangles_removed = 0; // triangles turned into curves (step 5)
+    int pruned_tips = 0;            // curve tips pruned
+    int sheets = 0;                 // triangle components through shared edges
+    int curves = 0;                 // curve branches: chains of curve edges between vertices that are not on exactly
+                                    // two curve edges and in no triangle (a closed chain counts once)
+    long euler = 0;                 // V - E + F of the medial mesh
+    double sheet_area = 0;          // total triangle area
+    double curve_band_area = 0;     // sum over curve edges of length x (sum of its two radii): the area of the band a
+                                    // curve would cover as wide as its spheres
+    double sheet_fraction = 0;      // sheet_area / (sheet_area + curve_band_area) (0 when both are 0)
+    double bbox_diagonal = 0;       // of the surface
+};
+
+// Preconditions (InvalidInput naming the element otherwise): a closed, edge- and vertex-manifold, consistently
+// oriented triangle surface with no degenerate triangle (check_surface). NumericalFailure when no medial sphere
+// survives the filter (a surface too thin for the sampling). Complexity: O(N log N) for N samples (Delaunay, inside
+// tests, simplification with a priority queue).
+MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOptions& options = {});
+
+}  // namespace mesohex

@@ -1,0 +1,209 @@
+// compute_medial_axis on closed surfaces whose medial axis is known, generated here (coarse samplings, fast):
+// a thick square plate (one sheet), a cylinder (one curve), an L-bracket (two plates meeting along a seam), a torus
+// (a closed curve), a disk with a hub (sheet + curve).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "mesohex/core/error.h"
+#include "mesohex/stages/medial_import.h"
+#include "mesohex/surface/medial_axis.h"
+#include "mesohex/surface/surface_check.h"
+
+namespace mesohex {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Prism over a polygon (counter-clockwise, star-shaped from its vertex mean) between z0 and z1; caps as fans from a
+// centre vertex. Outward oriented.
+TriangleMesh extrude(const std::vector<std::array<double, 2>>& poly, double z0, double z1) {
+    TriangleMesh m;
+    const int n = static_cast<int>(poly.size());
+    double cx = 0, cy = 0;
+    for (const std::array<double, 2>& p : poly) {
+        cx += p[0] / n;
+        cy += p[1] / n;
+    }
+    for (const std::array<double, 2>& p : poly) m.points.push_back({p[0], p[1], z0});
+    for (const std::array<double, 2>& p : poly) m.points.push_back({p[0], p[1], z1});
+    m.points.push_back({cx, cy, z0});
+    m.points.push_back({cx, cy, z1});
+    const int bottom = 2 * n, top = 2 * n + 1;
+    for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        m.triangles.push_back({i, j, n + j});
+        m.triangles.push_back({i, n + j, n + i});
+        m.triangles.push_back({bottom, j, i});
+        m.triangles.push_back({top, n + i, n + j});
+    }
+    return m;
+}
+
+// Surface of revolution about z of a profile (rho, z) that starts and ends on the axis (rho = 0), n segments.
+TriangleMesh revolve(const std::vector<std::array<double, 2>>& profile, int n) {
+    TriangleMesh m;
+    const int k = static_cast<int>(profile.size());
+    m.points.push_back({0, 0, profile.front()[1]});
+    for (int i = 1; i + 1 < k; ++i)
+        for (int s = 0; s < n; ++s) {
+            const double a = 2 * kPi * s / n;
+            m.points.push_back({profile[static_cast<size_t>(i)][0] * std::cos(a),
+                                profile[static_cast<size_t>(i)][0] * std::sin(a), profile[static_cast<size_t>(i)][1]});
+        }
+    m.points.push_back({0, 0, profile.back()[1]});
+    const int last = static_cast<int>(m.points.size()) - 1;
+    auto ring = [n](int i, int s) { return 1 + (i - 1) * n + (s % n); };
+    for (int s = 0; s < n; ++s) {
+        m.triangles.push_back({0, ring(1, s + 1), ring(1, s)});
+        for (int i = 1; i + 2 < k; ++i) {
+            m.triangles.push_back({ring(i, s), ring(i, s + 1), ring(i + 1, s + 1)});
+            m.triangles.push_back({ring(i, s), ring(i + 1, s + 1), ring(i + 1, s)});
+        }
+        m.triangles.push_back({last, ring(k - 2, s), ring(k - 2, s + 1)});
+    }
+    return m;
+}
+
+TriangleMesh torus(double R, double r, int nu, int nv) {
+    TriangleMesh m;
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+            const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
+            m.points.push_back({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
+        }
+    auto id = [&](int i, int j) { return (i % nu) * nv + (j % nv); };
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+            m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+            m.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        }
+    return m;
+}
+
+void expect_closed(const TriangleMesh& m) {
+    const SurfaceCheck c = check_surface(m);
+    ASSERT_TRUE(c.is_closed_manifold());
+    ASSERT_EQ(c.components.size(), 1u);
+}
+
+// Coarse options for fast tests: 2.5 % sample spacing.
+MedialAxisOptions coarse() {
+    MedialAxisOptions o;
+    o.sample_spacing = 0.025;
+    return o;
+}
+
+// Every medial radius is positive and every medial centre lies inside the surface's bounding box.
+void expect_sane(const MedialAxis& m, const TriangleMesh& s) {
+    ASSERT_EQ(m.medial.radii.size(), m.medial.points.size());
+    Vec3 lo = s.points[0], hi = s.points[0];
+    for (const Vec3& p : s.points)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], p[k]);
+            hi[k] = std::max(hi[k], p[k]);
+        }
+    for (size_t v = 0; v < m.medial.points.size(); ++v) {
+        EXPECT_GT(m.medial.radii[v], 0);
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_GE(m.medial.points[v][k], lo[k] - 1e-9);
+            EXPECT_LE(m.medial.points[v][k], hi[k] + 1e-9);
+        }
+    }
+}
+
+TEST(MedialAxis, ThickSquarePlateIsOneSheet) {
+    const TriangleMesh s = extrude({{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, -0.3, 0.3);
+    expect_closed(s);
+    const MedialAxis m = compute_medial_axis(s, coarse());
+    expect_sane(m, s);
+    EXPECT_EQ(m.sheets, 1);
+    EXPECT_EQ(m.curves, 0);
+    EXPECT_EQ(m.euler, 1);  // a disk
+    // The sheet is the mid-plane z = 0 (radius 0.3 = half the thickness) within the square shrunk by about the
+    // half-thickness (trimmed: the wedges going to the 90-degree edges are filtered out).
+    for (size_t v = 0; v < m.medial.points.size(); ++v) {
+        EXPECT_NEAR(m.medial.points[v].z, 0, 0.03);
+        EXPECT_NEAR(m.medial.radii[v], 0.3, 0.03);
+        EXPECT_LE(std::abs(m.medial.points[v].x), 1.8);
+        EXPECT_LE(std::abs(m.medial.points[v].y), 1.8);
+    }
+    EXPECT_GT(m.sheet_fraction, 0.9);
+}
+
+TEST(MedialAxis, CylinderIsOneCurve) {
+    const TriangleMesh s = revolve({{0, -2}, {0.5, -2}, {0.5, 2}, {0, 2}}, 32);
+    expect_closed(s);
+    const MedialAxis m = compute_medial_axis(s, coarse());
+    expect_sane(m, s);
+    EXPECT_EQ(m.sheets, 0);
+    EXPECT_EQ(m.curves, 1);
+    EXPECT_EQ(m.euler, 1);
+    // On the axis, between the cones going to the rims (z in [-1.5, 1.5]), radius 0.5.
+    for (size_t v = 0; v < m.medial.points.size(); ++v) {
+        EXPECT_LT(std::hypot(m.medial.points[v].x, m.medial.points[v].y), 0.05);
+        EXPECT_LE(std::abs(m.medial.points[v].z), 1.55);
+        EXPECT_NEAR(m.medial.radii[v], 0.5, 0.05);
+    }
+    EXPECT_LT(m.sheet_fraction, 0.05);
+}
+
+TEST(MedialAxis, TorusIsOneClosedCurve) {
+    const TriangleMesh s = torus(2, 0.5, 48, 16);
+    expect_closed(s);
+    const MedialAxis m = compute_medial_axis(s, coarse());
+    expect_sane(m, s);
+    EXPECT_EQ(m.sheets, 0);
+    EXPECT_EQ(m.curves, 1);
+    EXPECT_EQ(m.euler, 0);  // a circle
+    for (size_t v = 0; v < m.medial.points.size(); ++v) {
+        EXPECT_NEAR(std::hypot(m.medial.points[v].x, m.medial.points[v].y), 2, 0.05);
+        EXPECT_NEAR(m.medial.radii[v], 0.5, 0.05);
+    }
+}
+
+TEST(MedialAxis, LBracketIsTwoPlatesMeetingAlongASeam) {
+    // Cross-section: an L of two arms 3 long and 1 thick; extruded 3 deep.
+    const TriangleMesh s = extrude({{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 3);
+    expect_closed(s);
+    const MedialAxis m = compute_medial_axis(s, coarse());
+    expect_sane(m, s);
+    EXPECT_EQ(m.curves, 0);
+    EXPECT_EQ(m.sheets, 1);  // one component: the two plates' mid-sheets, bent by 90 degrees along the seam
+    EXPECT_EQ(m.euler, 1);
+    // Both plates are there: triangles whose normal is along y (the arm along x, mid-plane y = 0.5) and along x.
+    int along_x_arm = 0, along_y_arm = 0;
+    for (const std::vector<int>& f : m.medial.faces) {
+        const Vec3& a = m.medial.points[static_cast<size_t>(f[0])];
+        const Vec3 n = normalized(cross(m.medial.points[static_cast<size_t>(f[1])] - a,
+                                        m.medial.points[static_cast<size_t>(f[2])] - a));
+        if (std::abs(n.y) > 0.95) ++along_x_arm;
+        if (std::abs(n.x) > 0.95) ++along_y_arm;
+    }
+    EXPECT_GT(along_x_arm, 0);
+    EXPECT_GT(along_y_arm, 0);
+}
+
+TEST(MedialAxis, SameSurfaceSameMedialMesh) {
+    const TriangleMesh s = extrude({{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 3);
+    const MedialAxis a = compute_medial_axis(s, coarse());
+    const MedialAxis b = compute_medial_axis(s, coarse());
+    EXPECT_EQ(a.medial, b.medial);
+}
+
+TEST(MedialAxis, OpenSurfaceIsRefused) {
+    TriangleMesh s = extrude({{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, -0.3, 0.3);
+    s.triangles.pop_back();
+    try {
+        compute_medial_axis(s, coarse());
+        FAIL() << "an open surface was accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::InvalidInput);
+        EXPECT_NE(std::string(e.what()).find("boundary edges 3"), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+}  // namespace mesohex
