@@ -5,35 +5,25 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <numbers>
 #include <string>
 
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_convention.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/post/quality.h"
 
 namespace mesohex {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // The 9 normalized frame determinants of Verdict's hex scaled Jacobian (centre frame first); -1 for a degenerate one.
 std::array<double, 9> frame_values(const std::array<Vec3, 8>& p) {
     std::array<double, 9> q{};
-    auto ndet = [](const Vec3& a, const Vec3& b, const Vec3& c) {
-        const double la = squared_norm(a), lb = squared_norm(b), lc = squared_norm(c);
-        if (!(la > DBL_MIN && lb > DBL_MIN && lc > DBL_MIN)) return -1.0;
-        const double d = det3(a, b, c) / std::sqrt(la * lb * lc);
-        return std::isfinite(d) ? d : -1.0;
-    };
-    q[0] = ndet((p[1] + p[2] + p[5] + p[6]) - (p[0] + p[3] + p[4] + p[7]),
-                (p[2] + p[3] + p[6] + p[7]) - (p[0] + p[1] + p[4] + p[5]),
-                (p[4] + p[5] + p[6] + p[7]) - (p[0] + p[1] + p[2] + p[3]));
+    const std::array<Vec3, 3> c = hex_centre_frame(p);
+    q[0] = frame_det_over_lengths(c[0], c[1], c[2]);
     for (std::size_t lv = 0; lv < 8; ++lv) {
-        const std::array<int, 3>& nb = kHexCornerNeighbors[lv];
-        q[lv + 1] = ndet(p[static_cast<std::size_t>(nb[0])] - p[lv], p[static_cast<std::size_t>(nb[1])] - p[lv],
-                         p[static_cast<std::size_t>(nb[2])] - p[lv]);
+        const std::array<Vec3, 3> f = hex_corner_frame(p, lv);
+        q[lv + 1] = frame_det_over_lengths(f[0], f[1], f[2]);
     }
     return q;
 }
@@ -385,7 +375,7 @@ struct Smoother {
         crease.assign(nv, {-1, -1});
         corner.assign(nv, 0);
         if (!(options.worst_below > 0)) return;
-        const double cos_crease = std::cos(options.worst_crease_angle * kPi / 180.0);
+        const double cos_crease = std::cos(deg_to_rad(options.worst_crease_angle));
         std::vector<std::pair<int, int>> edges;  // (neighbour, quad) of the boundary edges at v
         for (std::size_t v = 0; v < nv; ++v) {
             if (!on_boundary[v]) continue;
@@ -557,13 +547,7 @@ struct Smoother {
 SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
                             const SmoothOptions& options) {
     const std::size_t nv = mesh.points.size();
-    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
-        for (int v : mesh.hexes[h])
-            if (v < 0 || static_cast<std::size_t>(v) >= nv)
-                throw Error(ErrorCode::InvalidInput,
-                            "smooth_quality: hex " + std::to_string(h) + " has vertex index " + std::to_string(v) +
-                                " out of range",
-                            {ElementRef::Kind::Hex, static_cast<int>(h)});
+    check_hex_indices(mesh, "smooth_quality");
     if (!options.frozen.empty() && options.frozen.size() != nv)
         throw Error(ErrorCode::InvalidInput, "smooth_quality: frozen must have one entry per vertex");
 
@@ -579,7 +563,7 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
     s.compute_edge_lengths();
     s.collect_boundary();
     s.slide = options.move_boundary && static_cast<bool>(project);
-    s.cos_feature = std::cos(options.feature_angle * kPi / 180.0);
+    s.cos_feature = std::cos(deg_to_rad(options.feature_angle));
     s.find_domain_features();
     s.fix_vertices();
     s.start = mesh.points;
