@@ -40,7 +40,7 @@ struct MeshOptions {
     // adaptation.branching_reach (instead of free_branching_reach) and keep the better result (better_finish).
     // Only with resampling, a fit, and when that adaptation gives another skeleton.
     bool retry = true;
-    MeshGoals goals;
+    MeshGoals goals;             // the goals a finished mesh must meet (else the second attempt)
     std::function<void(const MeshProgress&)> progress;  // may be empty; may throw to cancel (the exception propagates)
 };
 
