@@ -102,7 +102,7 @@ bool remove_irregular_fan_triangle(Skeleton& m) {
         for (int t : tris) roots.push_back(leaf.find(t));
         std::sort(roots.begin(), roots.end());
         if (std::adjacent_find(roots.begin(), roots.end()) == roots.end()) continue;  // regular: distinct leaflets
-        const auto [a, b] = side;
+        const int a = side.first, b = side.second;  // (not a structured binding: lambdas below capture them)
         for (int t : tris) {
             const int o = third_vertex({m.faces[static_cast<size_t>(t)][0], m.faces[static_cast<size_t>(t)][1],
                                         m.faces[static_cast<size_t>(t)][2]},
