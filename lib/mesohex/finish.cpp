@@ -54,35 +54,41 @@ std::size_t count_boundary_vertices(const HexMesh& mesh) {
     return n;
 }
 
-}  // namespace
+// The domain, oriented outward, with its query structure (the surface outlives the query that refers to it).
+struct Domain {
+    int flipped = 0;  // declared (and so initialised) before `surface`, whose initialiser sets it
+    TriangleMesh surface;
+    SurfaceQuery query;
+    static TriangleMesh oriented(const TriangleMesh& domain, int& flipped) {
+        TriangleMesh surface = domain;
+        if (check_surface(surface).signed_volume < 0) flipped = orient_outward(surface).flipped_triangles;
+        return surface;
+    }
+    explicit Domain(const TriangleMesh& domain) : surface(oriented(domain, flipped)), query(surface) {}
+};
 
-FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const FinishOptions& options) {
-    const Clock::time_point start_all = Clock::now();
-    FinishResult result;
-
-    TriangleMesh surface = domain;
-    if (check_surface(surface).signed_volume < 0) result.domain_flipped_triangles = orient_outward(surface).flipped_triangles;
-    const SurfaceQuery query(surface);
-
-    HexMesh mesh = raw;
-    result.stages.push_back(measure("input", 0, mesh));
+// finish_mesh's state: the mesh as it goes through the stages, and the result that records them; one member function
+// per stage.
+struct Finisher {
+    const FinishOptions& options;
+    const TriangleMesh& surface;
+    const SurfaceQuery& query;
+    FinishResult& result;
+    HexMesh mesh;
 
     // Two-sided distance between the boundary of m and the domain.
-    auto distance_to_domain = [&](const HexMesh& m) {
+    double distance_to_domain(const HexMesh& m) const {
         const BoundarySurface boundary = extract_boundary(m, compute_hex_topology(m));
         return surface_distance(boundary.surface, query, options.distance).max;
-    };
+    }
 
     // Quality pass (the untangling energy with a target scaled Jacobian) on the current mesh, recorded as stage
     // `name`; its result is kept (and `kept` set) only if it inverts no more hexes and raises the minimum.
     // on_surface (after the fit, no hex inverted): the energy holds boundary vertices only softly and can pull them
-    // into the domain or along it, away from the surface they covered (generated dualocta, the caps of its octahedron
-    // tips: Hausdorff 0.72 % -> 1.11 %). Its result is then also dropped if the two-sided distance to the domain grows
-    // beyond max(its value before, improve_distance_budget x diagonal); the smoothing, which keeps the boundary on the
-    // surface, is left to raise those hexes. (Putting the moved vertices back on the surface, or the pass with the
-    // boundary fixed, left dualocta's smoothing at a lower minimum: 0.43 instead of 0.52.)
-    auto quality_pass = [&](const char* name, double target_sj, const UntangleOptions& base, bool on_surface,
-                            bool& kept) {
+    // into the domain or along it, away from the surface they covered; its result is then also dropped if the
+    // two-sided distance to the domain grows beyond max(its value before, improve_distance_budget x diagonal). The
+    // smoothing, which keeps the boundary on the surface, is left to raise those hexes (docs/tuning.md).
+    void quality_pass(const char* name, double target_sj, const UntangleOptions& base, bool on_surface, bool& kept) {
         const Clock::time_point t = Clock::now();
         const FinishStage& before = result.stages.back();
         UntangleOptions uo = base;
@@ -102,19 +108,19 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         stage.stage = name;
         stage.ms = ms_since(t);
         result.stages.push_back(stage);
-    };
+    }
 
-    if (options.pad) {
+    void pad_step() {
         const Clock::time_point t = Clock::now();
         PaddingOptions padding = options.padding;
         if (options.pad_to_domain > 0 && !padding.offset_rule && padding.absolute_thickness == 0)
-            padding.offset_rule = [&query, &options](const Vec3& p, const Vec3& d, double t, double mean_edge) {
-                // Towards the domain: as far as the surface along d (from inside), at least t, at most
+            padding.offset_rule = [this](const Vec3& p, const Vec3& d, double th, double mean_edge) {
+                // Towards the domain: as far as the surface along d (from inside), at least th, at most
                 // pad_to_domain x the mean boundary edge at the vertex.
-                const double cap = std::max(t, options.pad_to_domain * mean_edge);
-                if (!(cap > t) || !query.inside(p)) return t;
+                const double cap = std::max(th, options.pad_to_domain * mean_edge);
+                if (!(cap > th) || !query.inside(p)) return th;
                 const std::optional<RayHit> hit = query.first_hit(p, d);
-                return hit ? std::clamp(hit->distance, t, cap) : t;
+                return hit ? std::clamp(hit->distance, th, cap) : th;
             };
         mesh = pad(mesh, padding).mesh;
         result.stages.push_back(measure("pad", ms_since(t), mesh));
@@ -124,8 +130,8 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
             quality_pass("pad-improve", options.pad_improve_sj, options.pad_improving, false, result.pad_improved);
     }
 
-    if (options.subdivide) {
-        const Clock::time_point t = Clock::now();
+    // Subdivision levels: given, from a target size, or from the domain size (one more for a poor raw mesh).
+    int subdivision_levels() const {
         int levels = 1;
         if (options.levels >= 0) {
             levels = options.levels;
@@ -139,6 +145,12 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
                 levels < options.max_auto_levels && hexes_after <= options.max_auto_hexes)
                 ++levels;
         }
+        return levels;
+    }
+
+    void subdivide_step() {
+        const Clock::time_point t = Clock::now();
+        const int levels = subdivision_levels();
         // Padding keeps the raw hexes first, so chunk_hex stays valid; children inherit their parent's flag.
         std::vector<char> chunk = options.chunk_hex;
         for (int i = 0; i < levels; ++i) {
@@ -163,15 +175,32 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         result.stages.push_back(measure("subdivide", ms_since(t), mesh));
     }
 
-    if (options.fit) {
+    // Two-sided fit: the domain's vertices and triangle centroids, matched with the current mesh boundary; on a
+    // surface much denser than the mesh boundary, every k-th of them (k from the count, deterministic).
+    std::vector<Vec3> domain_samples() const {
+        std::vector<Vec3> samples;
+        std::vector<Vec3> all = surface.points;
+        for (const std::array<int, 3>& t : surface.triangles)
+            all.push_back((surface.points[static_cast<std::size_t>(t[0])] +
+                           surface.points[static_cast<std::size_t>(t[1])] +
+                           surface.points[static_cast<std::size_t>(t[2])]) *
+                          (1.0 / 3.0));
+        const std::size_t wanted = std::max<std::size_t>(20000, 4 * count_boundary_vertices(mesh));
+        const std::size_t stride = std::max<std::size_t>(1, all.size() / wanted);
+        for (std::size_t i = 0; i < all.size(); i += stride) samples.push_back(all[i]);
+        return samples;
+    }
+
+    void fit_step() {
         const Clock::time_point t = Clock::now();
         SurfaceProjector projector;
         // The fit queries the same boundary vertices (and the same domain samples) step after step, each a little
         // moved: each query starts from the triangle it found last time (the results do not depend on the hints).
         std::vector<int> vertex_hints, sample_hints;
-        projector.closest_points = [&query, &vertex_hints](const std::vector<Vec3>& in, std::vector<Vec3>& closest) {
+        const SurfaceQuery& q = query;
+        projector.closest_points = [&q, &vertex_hints](const std::vector<Vec3>& in, std::vector<Vec3>& closest) {
             const std::vector<ClosestPoint> hits =
-                vertex_hints.size() == in.size() ? query.closest(in, vertex_hints) : query.closest(in);
+                vertex_hints.size() == in.size() ? q.closest(in, vertex_hints) : q.closest(in);
             closest.resize(hits.size());
             vertex_hints.resize(hits.size());
             for (std::size_t i = 0; i < hits.size(); ++i) {
@@ -179,19 +208,7 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
                 vertex_hints[i] = hits[i].triangle;
             }
         };
-        // Two-sided fit: the domain's vertices and triangle centroids, matched with the current mesh boundary; on a
-        // surface much denser than the mesh boundary, every k-th of them (k from the count, deterministic).
-        {
-            std::vector<Vec3> all = surface.points;
-            for (const std::array<int, 3>& t : surface.triangles)
-                all.push_back((surface.points[static_cast<std::size_t>(t[0])] +
-                               surface.points[static_cast<std::size_t>(t[1])] +
-                               surface.points[static_cast<std::size_t>(t[2])]) *
-                              (1.0 / 3.0));
-            const std::size_t wanted = std::max<std::size_t>(20000, 4 * count_boundary_vertices(mesh));
-            const std::size_t stride = std::max<std::size_t>(1, all.size() / wanted);
-            for (std::size_t i = 0; i < all.size(); i += stride) projector.samples.push_back(all[i]);
-        }
+        projector.samples = domain_samples();
         projector.samples_to_boundary = [&projector, &sample_hints](const TriangleMesh& boundary,
                                                                     std::vector<SurfaceProjector::Hit>& hits) {
             // The boundary's triangles keep their indices from call to call (only their corners move).
@@ -216,7 +233,7 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         result.stages.push_back(measure("fit", ms_since(t), mesh));
     }
 
-    if (options.untangle && result.stages.back().inverted > 0) {
+    void untangle_step() {
         const Clock::time_point t = Clock::now();
         UntangleResult u = untangle(mesh, options.untangling);
         mesh = std::move(u.mesh);
@@ -225,15 +242,13 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         result.stages.push_back(measure("untangle", ms_since(t), mesh));
     }
 
-    auto improve = [&]() {
+    void improve() {
         if (options.improve_sj > 0 && result.stages.back().sj_min < options.improve_sj)
             quality_pass("improve", options.improve_sj, options.improving, true, result.improved);
-    };
-    improve();
+    }
 
-    if (options.untangle && options.free_boundary_fallback && options.untangling.fix_boundary &&
-        result.stages.back().inverted > 0) {
-        // Some folds need the boundary to move: untangle again with boundary vertices softly attached where they are.
+    // Some folds need the boundary to move: untangle again with boundary vertices softly attached where they are.
+    void untangle_free_step() {
         const Clock::time_point t = Clock::now();
         UntangleOptions free = options.untangling;
         free.fix_boundary = false;
@@ -247,18 +262,20 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         if (kept) improve();
     }
 
-    if (options.fit && options.smooth && result.stages.back().inverted == 0) {
+    void smooth_step() {
         const Clock::time_point t = Clock::now();
         SmoothOptions so = options.smoothing;
         if (options.smooth_gap_relative > 0) so.max_gap = options.smooth_gap_relative * query.bbox_diagonal();
         // Features are where the domain has a convex crease or corner, not wherever the fit left the boundary folded
         // (SmoothOptions::surface_normal): the domain's normal, its closest triangle's (the surface faces outward).
+        const SurfaceQuery& q = query;
+        const TriangleMesh& surf = surface;
         if (!so.surface_normal)
-            so.surface_normal = [&query, &surface](const Vec3& p) {
-                const std::array<int, 3>& t = surface.triangles[static_cast<std::size_t>(query.closest(p).triangle)];
-                const Vec3& a = surface.points[static_cast<std::size_t>(t[0])];
-                return normalized(cross(surface.points[static_cast<std::size_t>(t[1])] - a,
-                                        surface.points[static_cast<std::size_t>(t[2])] - a));
+            so.surface_normal = [&q, &surf](const Vec3& p) {
+                const std::array<int, 3>& tr = surf.triangles[static_cast<std::size_t>(q.closest(p).triangle)];
+                const Vec3& a = surf.points[static_cast<std::size_t>(tr[0])];
+                return normalized(cross(surf.points[static_cast<std::size_t>(tr[1])] - a,
+                                        surf.points[static_cast<std::size_t>(tr[2])] - a));
             };
         // Smoothing projects points one after the other (sequentially), many times near the same places: each query
         // starts from the triangle found last in its cell of a grid (cells of 0.5 % of the diagonal), else from the
@@ -277,7 +294,7 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
             [&](const Vec3& p) {
                 const std::uint64_t key = cell_of(p);
                 const auto it = cell_triangle.find(key);
-                const ClosestPoint c = query.closest(p, it != cell_triangle.end() ? it->second : last_triangle);
+                const ClosestPoint c = q.closest(p, it != cell_triangle.end() ? it->second : last_triangle);
                 last_triangle = c.triangle;
                 cell_triangle[key] = c.triangle;
                 return c.point;
@@ -288,17 +305,36 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         result.stages.push_back(measure("smooth", ms_since(t), mesh));
     }
 
-    result.quality = compute_quality(mesh);
-
-    if (options.measure_distance) {
+    void measure_distance() {
         const Clock::time_point t = Clock::now();
         const BoundarySurface boundary = extract_boundary(mesh, compute_hex_topology(mesh));
         result.distance = surface_distance(boundary.surface, query, options.distance);
         result.distance_measured = true;
         result.distance_ms = ms_since(t);
     }
+};
 
-    result.mesh = std::move(mesh);
+}  // namespace
+
+FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const FinishOptions& options) {
+    const Clock::time_point start_all = Clock::now();
+    FinishResult result;
+    const Domain dom(domain);
+    result.domain_flipped_triangles = dom.flipped;
+    Finisher f{options, dom.surface, dom.query, result, raw};
+    result.stages.push_back(measure("input", 0, f.mesh));
+    if (options.pad) f.pad_step();
+    if (options.subdivide) f.subdivide_step();
+    if (options.fit) f.fit_step();
+    if (options.untangle && result.stages.back().inverted > 0) f.untangle_step();
+    f.improve();
+    if (options.untangle && options.free_boundary_fallback && options.untangling.fix_boundary &&
+        result.stages.back().inverted > 0)
+        f.untangle_free_step();
+    if (options.fit && options.smooth && result.stages.back().inverted == 0) f.smooth_step();
+    result.quality = compute_quality(f.mesh);
+    if (options.measure_distance) f.measure_distance();
+    result.mesh = std::move(f.mesh);
     result.total_ms = ms_since(start_all);
     return result;
 }

@@ -1,5 +1,5 @@
 #pragma once
-// Post-processing chain of a raw mesh (issue 5, items 5-8): pad -> subdivide -> fit to the domain surface ->
+// Post-processing chain of a raw mesh: pad -> subdivide -> fit to the domain surface ->
 // untangle (only if needed) -> final quality and two-sided Hausdorff distance to the domain. Times every stage and
 // records the quality after each one. No geometry of its own; no printing.
 #include <string>
@@ -31,7 +31,7 @@ inline UntangleOptions pad_improve_defaults() {
 }
 
 struct FinishOptions {
-    bool pad = true;
+    bool pad = true;                 // add one padding layer (padding) over the raw boundary first
     PaddingOptions padding;        // default: 1 layer
     // > 0 (and padding.offset_rule unset, padding.absolute_thickness 0): a boundary vertex inside the domain moves as
     // far as the domain surface along its padding direction, between the padding's own offset (thickness x shortest
@@ -43,36 +43,32 @@ struct FinishOptions {
     // hexes where the averaged normals of a concave junction or a high-valence vertex almost cross; the fit keeps
     // every hex near its start quality, so they would stay bad and hold the boundary off the surface): the untangling
     // energy over the hexes below it and one ring around, boundary vertices softly held (attachment 10 / h^2); kept
-    // only if min SJ rises and nothing is inverted. Stage "pad-improve" (only when it ran). 0 = off.
-    // Generated bird / turbine / dualocta: padding min SJ 0.004 / 0.001 / 0.082 -> 0.293 / 0.242 / 0.404.
+    // only if min SJ rises and nothing is inverted. Stage "pad-improve" (only when it ran). 0 = off. Scaled Jacobian.
     double pad_improve_sj = 0.2;
-    UntangleOptions pad_improving = pad_improve_defaults();
-    bool subdivide = true;
+    UntangleOptions pad_improving = pad_improve_defaults();  // energy and holds of that pass
+    bool subdivide = true;           // refine (levels / size / min_resolution below, refinement)
     int levels = -1;               // >= 0: this many 1 -> 8 levels; < 0: from `size` when > 0, else from min_resolution
     double size = 0;               // target mean edge length (levels_for_size on the padded mesh), used when levels < 0
     double min_resolution = 16;    // levels < 0, size <= 0: at least 1 level, more (up to max_auto_levels) while the
     int max_auto_levels = 2;       // mean edge length of the padded mesh exceeds the domain's bbox diagonal / this
     // levels < 0, size <= 0: one level more (up to max_auto_levels, if the result stays within max_auto_hexes) when
     // the raw mesh's mean scaled Jacobian is below this. A raw mesh of poor hexes (short, fat branches between
-    // crossings: generated dualocta, raw mean 0.41 against >= 0.55 for every other generated shape and real input)
-    // keeps much of that shape after one level and a fit (dualocta: mean 0.876); with one more level the distortion
-    // spreads over 8 times more hexes and the fitted mean reaches 0.96. Not when the padded mesh has inverted hexes:
-    // the untangling then has 8 times more to do and a finer mesh does not undo the folds (auto on the shared
-    // bracket_inches and bearing_plate, raw means 0.47 and below: 80 s -> over 300 s, 3 -> 7 hexes left inverted).
-    // 0 = off.
+    // crossings) keeps much of that shape after one level and a fit; with one more level the distortion spreads over
+    // 8 times more hexes. Not when the padded mesh has inverted hexes: the untangling then has 8 times more to do and
+    // a finer mesh does not undo the folds (measurements: docs/tuning.md). 0 = off.
     double poor_raw_sj_avg = 0.5;
-    long max_auto_hexes = 150000;
+    long max_auto_hexes = 150000;    // hexes after the extra level of poor_raw_sj_avg at most
     // Uniform: 1 -> 8 per level. Longitudinal / Radial: per level, split only the sheets of the branch chunks along
     // the branches / across them (select_branch_sheets); needs chunk_hex.
     enum class Refinement { Uniform, Longitudinal, Radial } refinement = Refinement::Uniform;
     std::vector<char> chunk_hex;   // per raw hex: 1 for a chunk hex of a branch edge (RawMesh::hex_edge on a branch)
-    bool fit = true;
-    FitOptions fitting;            // progress callback passed through to fit_to_surface
+    bool fit = true;                 // fit the boundary to the domain surface (fit_to_surface)
+    FitOptions fitting;            // the fit's options (gap_goal from gap_goal_relative when > 0)
     // > 0: fitting.gap_goal (a length) = this fraction of the domain's bbox diagonal: the fit tightens its pull only
     // while the boundary is farther than that from the surface. Dimensionless.
     double gap_goal_relative = 0.005;
     bool untangle = true;          // run only when some hex has scaled Jacobian <= 0 at that point
-    UntangleOptions untangling;
+    UntangleOptions untangling;      // the untangling after the fit (boundary fixed by default)
     bool free_boundary_fallback = true;  // if hexes stay inverted with the boundary fixed, untangle again with the
                                          // boundary vertices softly attached (untangling.boundary_attach)
     // Quality pass: when min SJ is below improve_sj after fitting, the vertices of the hexes below it and of their
@@ -80,17 +76,17 @@ struct FinishOptions {
     // 100 / h^2: they move a small fraction of an edge); kept only if min SJ rises and no hex got inverted. 0 = off.
     double improve_sj = 0.3;
     double improve_distance_budget = 0.01;  // x the domain's diagonal: see quality_pass in finish.cpp
-    UntangleOptions improving = improve_defaults();
+    UntangleOptions improving = improve_defaults();  // energy and holds of the quality pass
     // Smoothing pass (last, after a fit, on a mesh without inverted hexes): per-vertex scaled-Jacobian descent,
     // boundary vertices sliding on the domain surface (smooth_quality); never inverts a hex nor lowers the worst hex
     // at a vertex below the target.
     bool smooth = true;
-    SmoothOptions smoothing;
+    SmoothOptions smoothing;         // max_gap from smooth_gap_relative when > 0
     // > 0: smoothing.max_gap (a length) = this fraction of the domain's bbox diagonal: boundary moves keep the
     // boundary that close to the surface, or no farther than before. Dimensionless.
     double smooth_gap_relative = 0.0025;
     bool measure_distance = true;  // two-sided Hausdorff distance of the final boundary to the domain
-    SurfaceDistanceOptions distance;
+    SurfaceDistanceOptions distance;  // sampling of the Hausdorff estimate
 };
 
 struct FinishStage {

@@ -41,7 +41,7 @@ struct MeshOptions {
     // adaptation.branching_reach (instead of free_branching_reach) and keep the better result (better_finish).
     // Only with resampling, a fit, and when that adaptation gives another skeleton.
     bool retry = true;
-    MeshGoals goals;
+    MeshGoals goals;             // the goals a finished mesh must meet (else the second attempt)
     // Parts for MPI solvers: METIS k-way on the face adjacency of the hexes of the mesh kept (partition_hexes);
     // 0 = no partition. More parts than hexes is an InvalidInput error.
     int partitions = 0;

@@ -15,12 +15,12 @@ struct PipelineOptions {
     // Radius: the file's per-vertex radii when present; else `radius` when > 0; else the default
     // default_radius_factor x (mean length of all skeleton edges), the same for every vertex.
     double radius = 0;
-    double default_radius_factor = 0.25;
+    double default_radius_factor = 0.25;  // x the mean skeleton edge length (dimensionless)
     bool resample = true;  // paper step 1 (adapt_skeleton); false keeps the input sampling (hexes == 4 x edges)
-    AdaptationOptions adaptation;
-    AnalysisOptions analysis;
-    ConnectionSurfaceOptions connection_surfaces;
-    RawMeshOptions raw_mesh;
+    AdaptationOptions adaptation;                  // resampling against the radii
+    AnalysisOptions analysis;                      // classification and rejection rules
+    ConnectionSurfaceOptions connection_surfaces;  // junction surfaces
+    RawMeshOptions raw_mesh;                       // block layout and leaflet offsets
 };
 
 struct StageTiming {

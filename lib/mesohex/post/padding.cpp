@@ -8,6 +8,7 @@
 #include <string>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/post/quality.h"
 
@@ -20,13 +21,7 @@ void check_input(const HexMesh& mesh, const PaddingOptions& options) {
         throw Error(ErrorCode::InvalidInput, "pad: thickness must be a positive finite number");
     if (!(options.absolute_thickness >= 0) || !std::isfinite(options.absolute_thickness))
         throw Error(ErrorCode::InvalidInput, "pad: absolute_thickness must be >= 0");
-    const int n = static_cast<int>(mesh.points.size());
-    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
-        for (int v : mesh.hexes[h])
-            if (v < 0 || v >= n)
-                throw Error(ErrorCode::InvalidInput,
-                            "pad: hex " + std::to_string(h) + " has vertex index " + std::to_string(v) + " out of range",
-                            {ElementRef::Kind::Hex, static_cast<int>(h)});
+    check_hex_indices(mesh, "pad");
 }
 
 Vec3 quad_normal(const HexMesh& mesh, const std::array<int, 4>& q) {

@@ -9,10 +9,10 @@ namespace mesohex {
 
 struct PaddingOptions {
     int layers = 1;            // number of layers added, one after the other (each over the whole new boundary)
-    // Offset of the new outer vertices, x the SHORTEST boundary edge at the vertex: on a tube of long hexes (edges of
-    // 3 radii along the branch) the mean edge gave a layer as thick as the tube, which reached into the concave corners
-    // between branches and across the gap to a neighbouring tube, and the fit then left webs of hexes there (knight in
-    // its thickened domain: Hausdorff 3.45 % -> 1.42 %; auto cactus 4.2 % -> 0.67 % at the default adaptation).
+    // Offset of the new outer vertices, x the SHORTEST boundary edge at the vertex (dimensionless): on a tube of long
+    // hexes (edges of 3 radii along the branch) the mean edge gave a layer as thick as the tube, which reached into the
+    // concave corners between branches and across the gap to a neighbouring tube, and the fit then left webs of hexes
+    // there (measurements: docs/tuning.md).
     double thickness = 0.25;
     double absolute_thickness = 0;  // > 0: use this offset (model units) everywhere instead of `thickness`
     // Optional: the offset of a boundary vertex at p moving along the unit direction d, given the offset t from the

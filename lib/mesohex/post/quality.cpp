@@ -13,52 +13,17 @@
 #include <tbb/parallel_for.h>
 
 #include "mesohex/core/hex_convention.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 
 namespace mesohex {
-namespace {
-
-// det of the column-normalised frame (a, b, c); nullopt-like flag when a column is zero-length or not finite.
-bool normalised_det(const Vec3& a, const Vec3& b, const Vec3& c, double& out) {
-    const double la = squared_norm(a), lb = squared_norm(b), lc = squared_norm(c);
-    if (!(std::isfinite(la) && std::isfinite(lb) && std::isfinite(lc))) return false;
-    if (la <= DBL_MIN || lb <= DBL_MIN || lc <= DBL_MIN) return false;
-    out = det3(a / std::sqrt(la), b / std::sqrt(lb), c / std::sqrt(lc));
-    return std::isfinite(out);
-}
-
-bool indices_in_range(const HexMesh& mesh, const std::array<int, 8>& hex) {
-    for (int v : hex)
-        if (v < 0 || static_cast<std::size_t>(v) >= mesh.points.size()) return false;
-    return true;
-}
-
-}  // namespace
-
-double scaled_jacobian(const std::array<Vec3, 8>& p) {
-    double min_det = DBL_MAX, d = 0;
-    // Centre (principal-axes) frame, as Verdict's calc_hex_efg(1..3): sums of opposite face corners.
-    const Vec3 xi = (p[1] + p[2] + p[5] + p[6]) - (p[0] + p[3] + p[4] + p[7]);
-    const Vec3 eta = (p[2] + p[3] + p[6] + p[7]) - (p[0] + p[1] + p[4] + p[5]);
-    const Vec3 zeta = (p[4] + p[5] + p[6] + p[7]) - (p[0] + p[1] + p[2] + p[3]);
-    if (!normalised_det(xi, eta, zeta, d)) return -1.0;
-    min_det = std::min(min_det, d);
-    for (std::size_t lv = 0; lv < 8; ++lv) {
-        const std::array<int, 3>& nb = kHexCornerNeighbors[lv];
-        const Vec3& o = p[lv];
-        if (!normalised_det(p[static_cast<std::size_t>(nb[0])] - o, p[static_cast<std::size_t>(nb[1])] - o,
-                            p[static_cast<std::size_t>(nb[2])] - o, d))
-            return -1.0;
-        min_det = std::min(min_det, d);
-    }
-    return min_det;
-}
+double scaled_jacobian(const std::array<Vec3, 8>& p) { return hex_scaled_jacobian(p); }
 
 std::vector<double> scaled_jacobians(const HexMesh& mesh) {
     std::vector<double> sj(mesh.hexes.size(), -1.0);
     tbb::parallel_for(std::size_t{0}, mesh.hexes.size(), [&](std::size_t h) {
         const std::array<int, 8>& hex = mesh.hexes[h];
-        if (!indices_in_range(mesh, hex)) return;  // stays -1
+        if (!hex_indices_in_range(hex, mesh.points.size())) return;  // stays -1
         std::array<Vec3, 8> corners;
         for (std::size_t lv = 0; lv < 8; ++lv) corners[lv] = mesh.points[static_cast<std::size_t>(hex[lv])];
         sj[h] = scaled_jacobian(corners);
@@ -96,7 +61,7 @@ QualityReport compute_quality(const HexMesh& mesh) {
 
     // Topology needs every index in range.
     for (const std::array<int, 8>& hex : mesh.hexes) {
-        if (!indices_in_range(mesh, hex)) {
+        if (!hex_indices_in_range(hex, mesh.points.size())) {
             r.validation = validate(mesh);
             return r;
         }

@@ -9,6 +9,7 @@
 
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_convention.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/post/quality.h"
 
@@ -18,19 +19,11 @@ namespace {
 // The 9 normalized frame determinants of Verdict's hex scaled Jacobian (centre frame first); -1 for a degenerate one.
 std::array<double, 9> frame_values(const std::array<Vec3, 8>& p) {
     std::array<double, 9> q{};
-    auto ndet = [](const Vec3& a, const Vec3& b, const Vec3& c) {
-        const double la = squared_norm(a), lb = squared_norm(b), lc = squared_norm(c);
-        if (!(la > DBL_MIN && lb > DBL_MIN && lc > DBL_MIN)) return -1.0;
-        const double d = det3(a, b, c) / std::sqrt(la * lb * lc);
-        return std::isfinite(d) ? d : -1.0;
-    };
-    q[0] = ndet((p[1] + p[2] + p[5] + p[6]) - (p[0] + p[3] + p[4] + p[7]),
-                (p[2] + p[3] + p[6] + p[7]) - (p[0] + p[1] + p[4] + p[5]),
-                (p[4] + p[5] + p[6] + p[7]) - (p[0] + p[1] + p[2] + p[3]));
+    const std::array<Vec3, 3> c = hex_centre_frame(p);
+    q[0] = frame_det_over_lengths(c[0], c[1], c[2]);
     for (std::size_t lv = 0; lv < 8; ++lv) {
-        const std::array<int, 3>& nb = kHexCornerNeighbors[lv];
-        q[lv + 1] = ndet(p[static_cast<std::size_t>(nb[0])] - p[lv], p[static_cast<std::size_t>(nb[1])] - p[lv],
-                         p[static_cast<std::size_t>(nb[2])] - p[lv]);
+        const std::array<Vec3, 3> f = hex_corner_frame(p, lv);
+        q[lv + 1] = frame_det_over_lengths(f[0], f[1], f[2]);
     }
     return q;
 }
@@ -40,32 +33,46 @@ struct Local {
     double sj_min = 1;
 };
 
-}  // namespace
+// The smoothing's state: the mesh being moved (x), per-hex scaled Jacobians, vertex -> hexes and vertex -> boundary
+// quads, and the fixed / frozen flags; one member function per step of smooth_quality.
+struct Smoother {
+    const HexMesh& mesh;
+    const std::function<Vec3(const Vec3&)>& project;
+    const SmoothOptions& options;
+    SmoothResult& result;
+    std::vector<Vec3>& x;
+    std::size_t nv, nh;
+    std::vector<double> sj;
+    VertexHexes incident;
+    std::vector<double> edge_len;  // mean length of the edges at every vertex (at the start)
+    HexTopology topo;
+    std::vector<char> on_boundary;
+    std::vector<int> vq_begin, vq;  // vertex -> boundary quads (CSR)
+    bool slide = false;
+    double cos_feature = 1;
+    bool domain_normals = false;
+    std::vector<Vec3> quad_domain_normal, quad_domain_point;
+    std::vector<char> domain_feature, fixed, frozen;
+    std::vector<Vec3> start;
+    std::vector<double> worst_gap_limit, cover_limit;
+    std::vector<Vec3> quad_sample;
+    std::vector<char> quad_sampled;
+    std::vector<char> dirty;
+    std::vector<std::array<int, 2>> crease;  // the two sharp-edge neighbours
+    std::vector<char> corner;
+    std::vector<int> around;
+    std::vector<Vec3> x0, g, best;
 
-SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
-                            const SmoothOptions& options) {
-    const std::size_t nv = mesh.points.size();
-    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
-        for (int v : mesh.hexes[h])
-            if (v < 0 || static_cast<std::size_t>(v) >= nv)
-                throw Error(ErrorCode::InvalidInput,
-                            "smooth_quality: hex " + std::to_string(h) + " has vertex index " + std::to_string(v) +
-                                " out of range",
-                            {ElementRef::Kind::Hex, static_cast<int>(h)});
-    if (!options.frozen.empty() && options.frozen.size() != nv)
-        throw Error(ErrorCode::InvalidInput, "smooth_quality: frozen must have one entry per vertex");
+    Smoother(const HexMesh& m, const std::function<Vec3(const Vec3&)>& proj, const SmoothOptions& opt, SmoothResult& r)
+        : mesh(m), project(proj), options(opt), result(r), x(r.mesh.points), nv(m.points.size()), nh(m.hexes.size()),
+          sj(m.hexes.size()) {}
 
-    SmoothResult result;
-    result.mesh = mesh;
-    std::vector<Vec3>& x = result.mesh.points;
-    const std::size_t nh = mesh.hexes.size();
-    auto hex_corners = [&](std::size_t h) {
+    std::array<Vec3, 8> hex_corners(std::size_t h) const {
         std::array<Vec3, 8> c;
         for (std::size_t i = 0; i < 8; ++i) c[i] = x[static_cast<std::size_t>(mesh.hexes[h][i])];
         return c;
-    };
-    std::vector<double> sj(nh);
-    auto stats = [&](double& mn, double& avg) {
+    }
+    void stats(double& mn, double& avg) {
         mn = nh ? DBL_MAX : 0;
         double sum = 0;
         for (std::size_t h = 0; h < nh; ++h) {
@@ -74,19 +81,11 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
             sum += sj[h];
         }
         avg = nh ? sum / static_cast<double>(nh) : 0;
-    };
-    stats(result.sj_min_before, result.sj_avg_before);
-    result.sj_min_after = result.sj_min_before;
-    result.sj_avg_after = result.sj_avg_before;
-    if (nh == 0 || !(result.sj_min_before > 0)) return result;  // only for meshes without inverted hexes
+    }
 
-    // Vertex -> hexes (CSR).
-    const VertexHexes incident = vertex_hexes(mesh);
-    const std::vector<int>& vh_begin = incident.begin;
-    const std::vector<int>& vh = incident.hexes;
     // Mean length of the edges at every vertex (each edge seen from its hexes; the mean is what matters).
-    std::vector<double> edge_len(nv, 0.0);
-    {
+    void compute_edge_lengths() {
+        edge_len.assign(nv, 0.0);
         std::vector<int> count(nv, 0);
         for (const std::array<int, 8>& hex : mesh.hexes)
             for (const std::array<int, 2>& e : kHexEdges) {
@@ -101,42 +100,44 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         for (std::size_t v = 0; v < nv; ++v)
             if (count[v] > 0) edge_len[v] /= count[v];
     }
+
     // Boundary vertices and their quads.
-    const HexTopology topo = compute_hex_topology(mesh);
-    std::vector<char> on_boundary(nv, 0);
-    std::vector<int> vq_begin(nv + 1, 0), vq;
-    for (const std::array<int, 4>& q : topo.boundary_quads)
-        for (int v : q) {
-            on_boundary[static_cast<std::size_t>(v)] = 1;
-            ++vq_begin[static_cast<std::size_t>(v) + 1];
-        }
-    for (std::size_t v = 0; v < nv; ++v) vq_begin[v + 1] += vq_begin[v];
-    vq.resize(static_cast<std::size_t>(vq_begin.back()));
-    {
+    void collect_boundary() {
+        topo = compute_hex_topology(mesh);
+        on_boundary.assign(nv, 0);
+        vq_begin.assign(nv + 1, 0);
+        for (const std::array<int, 4>& q : topo.boundary_quads)
+            for (int v : q) {
+                on_boundary[static_cast<std::size_t>(v)] = 1;
+                ++vq_begin[static_cast<std::size_t>(v) + 1];
+            }
+        for (std::size_t v = 0; v < nv; ++v) vq_begin[v + 1] += vq_begin[v];
+        vq.resize(static_cast<std::size_t>(vq_begin.back()));
         std::vector<int> fill(vq_begin.begin(), vq_begin.end() - 1);
         for (std::size_t q = 0; q < topo.boundary_quads.size(); ++q)
             for (int v : topo.boundary_quads[q])
                 vq[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(q);
     }
-    const bool slide = options.move_boundary && static_cast<bool>(project);
-    const double cos_feature = std::cos(options.feature_angle * 3.14159265358979323846 / 180.0);
-    auto quad_normal = [&](int q) {
+
+    Vec3 quad_normal(int q) const {
         const std::array<int, 4>& f = topo.boundary_quads[static_cast<std::size_t>(q)];
         return normalized(cross(x[static_cast<std::size_t>(f[2])] - x[static_cast<std::size_t>(f[0])],
                                 x[static_cast<std::size_t>(f[3])] - x[static_cast<std::size_t>(f[1])]));
-    };
-    // The domain under every boundary quad (its point closest to the quad's start centroid, and its normal there), if
-    // its normals are given. Two quads are a convex-sharp pair of the domain when their domain normals are more than
-    // feature_angle apart and each one's domain point lies below the other's tangent plane.
-    const bool domain_normals = static_cast<bool>(options.surface_normal) && static_cast<bool>(project);
-    std::vector<Vec3> quad_domain_normal, quad_domain_point;
-    auto convex_sharp = [&](std::size_t a, std::size_t b, double cos_angle) {
+    }
+    // Two quads are a convex-sharp pair of the domain when their domain normals are more than the angle apart and
+    // each one's domain point lies below the other's tangent plane.
+    bool convex_sharp(std::size_t a, std::size_t b, double cos_angle) const {
         return !(dot(quad_domain_normal[a], quad_domain_normal[b]) >= cos_angle) &&
                dot(quad_domain_point[b] - quad_domain_point[a], quad_domain_normal[a]) +
                        dot(quad_domain_point[a] - quad_domain_point[b], quad_domain_normal[b]) < 0;
-    };
-    std::vector<char> domain_feature(nv, 1);
-    if (domain_normals) {
+    }
+
+    // The domain under every boundary quad (its point closest to the quad's start centroid, and its normal there), if
+    // its normals are given; a boundary vertex can be a feature only where a pair of its quads is convex-sharp.
+    void find_domain_features() {
+        domain_normals = static_cast<bool>(options.surface_normal) && static_cast<bool>(project);
+        domain_feature.assign(nv, 1);
+        if (!domain_normals) return;
         quad_domain_normal.resize(topo.boundary_quads.size());
         quad_domain_point.resize(topo.boundary_quads.size());
         for (std::size_t q = 0; q < topo.boundary_quads.size(); ++q) {
@@ -155,9 +156,10 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
                         domain_feature[v] = 1;
         }
     }
+
     // Boundary vertex normal; `feature` when a quad normal deviates more than feature_angle from it (and the domain
     // is sharp there too, when its normals are known).
-    auto boundary_normal = [&](std::size_t v, bool& feature) {
+    Vec3 boundary_normal(std::size_t v, bool& feature) const {
         Vec3 n;
         for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i) n += quad_normal(vq[static_cast<std::size_t>(i)]);
         n = normalized(n);
@@ -166,23 +168,27 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i)
             if (dot(n, quad_normal(vq[static_cast<std::size_t>(i)])) < cos_feature) feature = true;
         return n;
-    };
+    }
+
     // Boundary vertices that start on a feature stay fixed for the whole sweeps (the max-min pass may move them:
     // worst_moves_features); frozen vertices and, without sliding, all boundary vertices never move.
-    std::vector<char> fixed(nv, 0), frozen(nv, 0);
-    for (std::size_t v = 0; v < nv; ++v) {
-        if ((!options.frozen.empty() && options.frozen[v]) || (on_boundary[v] && !slide)) frozen[v] = 1;
-        fixed[v] = frozen[v];
-        if (on_boundary[v] && !fixed[v]) {
-            bool feature = false;
-            boundary_normal(v, feature);
-            if (feature) fixed[v] = 1;
+    void fix_vertices() {
+        fixed.assign(nv, 0);
+        frozen.assign(nv, 0);
+        for (std::size_t v = 0; v < nv; ++v) {
+            if ((!options.frozen.empty() && options.frozen[v]) || (on_boundary[v] && !slide)) frozen[v] = 1;
+            fixed[v] = frozen[v];
+            if (on_boundary[v] && !fixed[v]) {
+                bool feature = false;
+                boundary_normal(v, feature);
+                if (feature) fixed[v] = 1;
+            }
         }
     }
-    const std::vector<Vec3> start = mesh.points;
+
     // Chord gap of the boundary around v with the vertices at `pos`: largest distance of its boundary quads'
     // centroids and edge midpoints to the surface.
-    auto chord_gap_at = [&](std::size_t v, const std::vector<Vec3>& pos) {
+    double chord_gap_at(std::size_t v, const std::vector<Vec3>& pos) const {
         double gap = 0;
         for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i) {
             const std::array<int, 4>& f =
@@ -198,35 +204,30 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
                 }
         }
         return gap;
-    };
-    auto chord_gap = [&](std::size_t v) { return chord_gap_at(v, x); };
-    // Max-min pass: limits of the chord gap and of the cover gap (below) at v, max(worst_gap_factor x max_gap, the gap
-    // at the start), computed when first needed. Relative to the start (not to the position before the move): where
-    // the boundary is coarse for the curvature (gap above max_gap from the start), vertices can still slide, never
-    // farther from the surface than the fit left them.
-    std::vector<double> worst_gap_limit(nv, -1.0);
+    }
+    double chord_gap(std::size_t v) const { return chord_gap_at(v, x); }
+
+    // Distance of p to the boundary quads at v with the vertices at `pos` (each split as the distance measure splits
+    // them: (a, b, c), (a, c, d)).
+    double patch_distance(std::size_t v, const std::vector<Vec3>& pos, const Vec3& p) const {
+        double d = DBL_MAX;
+        for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i) {
+            const std::array<int, 4>& f =
+                topo.boundary_quads[static_cast<std::size_t>(vq[static_cast<std::size_t>(i)])];
+            const Vec3& a = pos[static_cast<std::size_t>(f[0])];
+            const Vec3& b = pos[static_cast<std::size_t>(f[1])];
+            const Vec3& c = pos[static_cast<std::size_t>(f[2])];
+            const Vec3& e = pos[static_cast<std::size_t>(f[3])];
+            d = std::min({d, distance(p, closest_point_on_triangle(p, a, b, c)),
+                          distance(p, closest_point_on_triangle(p, a, c, e))});
+        }
+        return d;
+    }
     // Cover gap at v with the vertices at `pos`: largest distance of the surface points near v (its start position and
-    // the surface points closest to the start centroids of its boundary quads) to its boundary quads (each split as
-    // the distance measure splits them: (a, b, c), (a, c, d)). Catches the boundary sliding away from a bump or tip
-    // of the surface, which the chord gap does not see.
-    std::vector<Vec3> quad_sample(topo.boundary_quads.size());
-    std::vector<char> quad_sampled(topo.boundary_quads.size(), 0);
-    auto cover_gap_at = [&](std::size_t v, const std::vector<Vec3>& pos) {
-        auto patch_distance = [&](const Vec3& p) {
-            double d = DBL_MAX;
-            for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i) {
-                const std::array<int, 4>& f =
-                    topo.boundary_quads[static_cast<std::size_t>(vq[static_cast<std::size_t>(i)])];
-                const Vec3& a = pos[static_cast<std::size_t>(f[0])];
-                const Vec3& b = pos[static_cast<std::size_t>(f[1])];
-                const Vec3& c = pos[static_cast<std::size_t>(f[2])];
-                const Vec3& e = pos[static_cast<std::size_t>(f[3])];
-                d = std::min({d, distance(p, closest_point_on_triangle(p, a, b, c)),
-                              distance(p, closest_point_on_triangle(p, a, c, e))});
-            }
-            return d;
-        };
-        double gap = patch_distance(start[v]);
+    // the surface points closest to the start centroids of its boundary quads) to its boundary quads. Catches the
+    // boundary sliding away from a bump or tip of the surface, which the chord gap does not see.
+    double cover_gap_at(std::size_t v, const std::vector<Vec3>& pos) {
+        double gap = patch_distance(v, pos, start[v]);
         for (int i = vq_begin[v]; i < vq_begin[v + 1]; ++i) {
             const std::size_t q = static_cast<std::size_t>(vq[static_cast<std::size_t>(i)]);
             if (!quad_sampled[q]) {
@@ -235,24 +236,28 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
                 quad_sample[q] = project(0.25 * c);
                 quad_sampled[q] = 1;
             }
-            gap = std::max(gap, patch_distance(quad_sample[q]));
+            gap = std::max(gap, patch_distance(v, pos, quad_sample[q]));
         }
         return gap;
-    };
-    std::vector<double> cover_limit(nv, -1.0);
-    auto worst_gap_ok = [&](std::size_t v) {
+    }
+    // Max-min pass: limits of the chord gap and of the cover gap at v, max(worst_gap_factor x max_gap, the gap at the
+    // start), computed when first needed. Relative to the start (not to the position before the move): where the
+    // boundary is coarse for the curvature (gap above max_gap from the start), vertices can still slide, never
+    // farther from the surface than the fit left them.
+    bool worst_gap_ok(std::size_t v) {
         if (!(on_boundary[v] && options.max_gap > 0)) return true;
         if (worst_gap_limit[v] < 0)
             worst_gap_limit[v] = std::max(options.worst_gap_factor * options.max_gap, chord_gap_at(v, start));
         if (cover_limit[v] < 0)
             cover_limit[v] = std::max(options.worst_gap_factor * options.max_gap, cover_gap_at(v, start));
         return cover_gap_at(v, x) <= cover_limit[v] && chord_gap(v) <= worst_gap_limit[v];
-    };
+    }
 
-    auto local = [&](std::size_t v) {
+    Local local(std::size_t v) const {
         Local l;
-        for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i) {
-            const std::array<Vec3, 8> c = hex_corners(static_cast<std::size_t>(vh[static_cast<std::size_t>(i)]));
+        for (int i = incident.begin[v]; i < incident.begin[v + 1]; ++i) {
+            const std::array<Vec3, 8> c =
+                hex_corners(static_cast<std::size_t>(incident.hexes[static_cast<std::size_t>(i)]));
             const std::array<double, 9> q = frame_values(c);
             double m = q[0];
             for (double s : q) {
@@ -263,108 +268,114 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
             l.sj_min = std::min(l.sj_min, m);
         }
         return l;
-    };
+    }
+
+    // After a move of v (or of a vertex set): the scaled Jacobians of the hexes at it, and their vertices to try again.
+    void moved_hex(std::size_t hh) {
+        sj[hh] = scaled_jacobian(hex_corners(hh));
+        for (int w : mesh.hexes[hh]) dirty[static_cast<std::size_t>(w)] = 1;
+    }
+
+    // One sweep's visit of v: a descent step on local(v) (boundary: tangential, then projected). Adds the energy
+    // before to `total` and, when a move is kept, the gain to `gain`; returns whether v moved.
+    bool sweep_vertex(std::size_t v, double& total, double& gain) {
+        dirty[v] = 0;
+        bool active = false;
+        for (int i = incident.begin[v]; i < incident.begin[v + 1] && !active; ++i)
+            active = sj[static_cast<std::size_t>(incident.hexes[static_cast<std::size_t>(i)])] <= options.skip_above;
+        if (!active) return false;
+        const Vec3 x0v = x[v];
+        const Local before = local(v);
+        total += before.energy;
+        // A boundary vertex on a feature (at its current position) stays; the others move tangentially.
+        Vec3 n;
+        if (on_boundary[v]) {
+            bool feature = false;
+            n = boundary_normal(v, feature);
+            if (feature) return false;
+        }
+        const double h = edge_len[v];
+        const double d = 1e-4 * h;
+        Vec3 gv;
+        for (int k = 0; k < 3; ++k) {
+            x[v] = x0v;
+            x[v][k] += d;
+            const double ep = local(v).energy;
+            x[v] = x0v;
+            x[v][k] -= d;
+            const double em = local(v).energy;
+            gv[k] = (ep - em) / (2 * d);
+        }
+        x[v] = x0v;
+        if (on_boundary[v]) gv -= dot(gv, n) * n;
+        const double gn = norm(gv);
+        if (!(gn > 0) || !std::isfinite(gn)) return false;
+        const Vec3 dir = gv / (-gn);
+        // The chord-gap limit needs the gap at x0 (a dozen projections): computed only once a candidate passes the
+        // other tests, most visits end before that.
+        double gap_limit = -1;
+        auto gap_ok = [&]() {
+            if (!(on_boundary[v] && options.max_gap > 0)) return true;
+            if (gap_limit < 0) {
+                const Vec3 cand = x[v];
+                x[v] = x0v;
+                gap_limit = std::max(options.max_gap, chord_gap(v));
+                x[v] = cand;
+            }
+            return chord_gap(v) <= gap_limit;
+        };
+        double step = 0.2 * h;
+        bool accepted = false;
+        double energy_after = before.energy;
+        for (int ls = 0; ls < 6 && !accepted; ++ls, step *= 0.5) {
+            Vec3 cand = x0v + step * dir;
+            if (on_boundary[v]) {
+                cand = project(cand);
+                if (!is_finite(cand) || distance(cand, start[v]) > options.max_slide * h) continue;
+            }
+            x[v] = cand;
+            const Local after = local(v);
+            if (after.energy < before.energy && after.sj_min >= std::min(before.sj_min, options.target_sj) &&
+                after.sj_min > 0 && gap_ok())
+                accepted = true;
+            energy_after = after.energy;
+        }
+        if (!accepted) {
+            x[v] = x0v;
+            return false;
+        }
+        gain += before.energy - energy_after;
+        for (int i = incident.begin[v]; i < incident.begin[v + 1]; ++i)
+            moved_hex(static_cast<std::size_t>(incident.hexes[static_cast<std::size_t>(i)]));
+        return true;
+    }
 
     // A vertex is tried again only after a vertex of one of its hexes moved (itself included). Sweeps are numbered
     // on from the last one when run again.
-    std::vector<char> dirty(nv, 1);
-    auto run_sweeps = [&](int max_sweeps) {
+    void run_sweeps(int max_sweeps) {
         const int first = result.sweeps + 1, last = result.sweeps + max_sweeps;
         for (int sweep = first; sweep <= last; ++sweep) {
             double total = 0, gain = 0;
             long moves = 0;
             for (std::size_t v = 0; v < nv; ++v) {
                 if (fixed[v] || !dirty[v]) continue;
-                dirty[v] = 0;
-                bool active = false;
-                for (int i = vh_begin[v]; i < vh_begin[v + 1] && !active; ++i)
-                    active = sj[static_cast<std::size_t>(vh[static_cast<std::size_t>(i)])] <= options.skip_above;
-                if (!active) continue;
-                const Vec3 x0 = x[v];
-                const Local before = local(v);
-                total += before.energy;
-                // A boundary vertex on a feature (at its current position) stays; the others move tangentially.
-                Vec3 n;
-                if (on_boundary[v]) {
-                    bool feature = false;
-                    n = boundary_normal(v, feature);
-                    if (feature) continue;
-                }
-                const double h = edge_len[v];
-                const double d = 1e-4 * h;
-                Vec3 g;
-                for (int k = 0; k < 3; ++k) {
-                    x[v] = x0;
-                    x[v][k] += d;
-                    const double ep = local(v).energy;
-                    x[v] = x0;
-                    x[v][k] -= d;
-                    const double em = local(v).energy;
-                    g[k] = (ep - em) / (2 * d);
-                }
-                x[v] = x0;
-                if (on_boundary[v]) g -= dot(g, n) * n;
-                const double gn = norm(g);
-                if (!(gn > 0) || !std::isfinite(gn)) continue;
-                const Vec3 dir = g / (-gn);
-                // The chord-gap limit needs the gap at x0 (a dozen projections): computed only once a candidate passes
-                // the other tests, most visits end before that.
-                double gap_limit = -1;
-                auto gap_ok = [&]() {
-                    if (!(on_boundary[v] && options.max_gap > 0)) return true;
-                    if (gap_limit < 0) {
-                        const Vec3 cand = x[v];
-                        x[v] = x0;
-                        gap_limit = std::max(options.max_gap, chord_gap(v));
-                        x[v] = cand;
-                    }
-                    return chord_gap(v) <= gap_limit;
-                };
-                double step = 0.2 * h;
-                bool accepted = false;
-                double energy_after = before.energy;
-                for (int ls = 0; ls < 6 && !accepted; ++ls, step *= 0.5) {
-                    Vec3 cand = x0 + step * dir;
-                    if (on_boundary[v]) {
-                        cand = project(cand);
-                        if (!is_finite(cand) || distance(cand, start[v]) > options.max_slide * h) continue;
-                    }
-                    x[v] = cand;
-                    const Local after = local(v);
-                    if (after.energy < before.energy && after.sj_min >= std::min(before.sj_min, options.target_sj) &&
-                        after.sj_min > 0 && gap_ok())
-                        accepted = true;
-                    energy_after = after.energy;
-                }
-                if (!accepted) {
-                    x[v] = x0;
-                    continue;
-                }
-                ++moves;
-                gain += before.energy - energy_after;
-                for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i) {
-                    const std::size_t hh = static_cast<std::size_t>(vh[static_cast<std::size_t>(i)]);
-                    sj[hh] = scaled_jacobian(hex_corners(hh));
-                    for (int w : mesh.hexes[hh]) dirty[static_cast<std::size_t>(w)] = 1;
-                }
+                if (sweep_vertex(v, total, gain)) ++moves;
             }
             result.sweeps = sweep;
             result.moves += moves;
             if (options.progress) options.progress({sweep, moves});
             if (moves == 0 || gain <= options.min_gain * total) break;
         }
-    };
-    run_sweeps(options.max_sweeps);
+    }
 
-    // Max-min pass. `local_min` / `soft_min` over the hexes at one vertex; a move of a vertex set changes the hexes at
-    // its vertices only.
     // Sharp boundary edges (their two boundary quads' normals more than worst_crease_angle apart, at the start): a
     // boundary vertex with none slides on the surface, one with two slides along them (along the line through its
     // two sharp-edge neighbours, then projected), any other (a corner, the end of a crease) stays where it is.
-    std::vector<std::array<int, 2>> crease(nv, {-1, -1});  // the two sharp-edge neighbours
-    std::vector<char> corner(nv, 0);
-    if (options.worst_below > 0) {
-        const double cos_crease = std::cos(options.worst_crease_angle * 3.14159265358979323846 / 180.0);
+    void find_creases() {
+        crease.assign(nv, {-1, -1});
+        corner.assign(nv, 0);
+        if (!(options.worst_below > 0)) return;
+        const double cos_crease = std::cos(deg_to_rad(options.worst_crease_angle));
         std::vector<std::pair<int, int>> edges;  // (neighbour, quad) of the boundary edges at v
         for (std::size_t v = 0; v < nv; ++v) {
             if (!on_boundary[v]) continue;
@@ -395,37 +406,32 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
             if (sharp != 2) crease[v] = {-1, -1};
         }
     }
-    auto movable = [&](std::size_t v) {
+
+    bool movable(std::size_t v) const {
         return !frozen[v] && !corner[v] && (!fixed[v] || options.worst_moves_features);
-    };
-    auto hexes_min = [&](const std::vector<int>& hexes) {
+    }
+    double hexes_min(const std::vector<int>& hexes) const {
         double m = 1;
         for (int hh : hexes)
             for (double q : frame_values(hex_corners(static_cast<std::size_t>(hh)))) m = std::min(m, q);
         return m;
-    };
-    auto soft_min = [&](std::size_t v, double m0) {
+    }
+    double soft_min(std::size_t v, double m0) const {
         double e = 0;
-        for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i)
-            for (double q : frame_values(hex_corners(static_cast<std::size_t>(vh[static_cast<std::size_t>(i)]))))
+        for (int i = incident.begin[v]; i < incident.begin[v + 1]; ++i)
+            for (double q :
+                 frame_values(hex_corners(static_cast<std::size_t>(incident.hexes[static_cast<std::size_t>(i)]))))
                 e += std::exp(-options.worst_sharpness * (q - m0));
         return e;
-    };
-    // Moves the vertices `set` (all movable, ascending) together if that raises the smallest frame value of the
-    // hexes around them; returns whether it did.
-    std::vector<int> around;
-    std::vector<Vec3> x0, g, best;
-    auto raise_min = [&](const std::vector<std::size_t>& set) {
-        around.clear();
-        for (std::size_t v : set)
-            for (int i = vh_begin[v]; i < vh_begin[v + 1]; ++i) around.push_back(vh[static_cast<std::size_t>(i)]);
-        std::sort(around.begin(), around.end());
-        around.erase(std::unique(around.begin(), around.end()), around.end());
-        const double m0 = hexes_min(around);
+    }
+
+    // Gradient g[i] of the soft minimum at set[i] (central differences), along its crease or tangential on the
+    // boundary; returns the largest |g[i]| and adds the mean edge lengths to `h`.
+    double soft_min_gradient(const std::vector<std::size_t>& set, double m0, double& h) {
         const std::size_t n = set.size();
         x0.assign(n, Vec3{});
         g.assign(n, Vec3{});
-        double gmax = 0, h = 0;
+        double gmax = 0;
         for (std::size_t i = 0; i < n; ++i) {
             const std::size_t v = set[i];
             x0[i] = x[v];
@@ -452,6 +458,22 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
             }
             gmax = std::max(gmax, norm(g[i]));
         }
+        return gmax;
+    }
+
+    // Moves the vertices `set` (all movable, ascending) together if that raises the smallest frame value of the
+    // hexes around them; returns whether it did.
+    bool raise_min(const std::vector<std::size_t>& set) {
+        around.clear();
+        for (std::size_t v : set)
+            for (int i = incident.begin[v]; i < incident.begin[v + 1]; ++i)
+                around.push_back(incident.hexes[static_cast<std::size_t>(i)]);
+        std::sort(around.begin(), around.end());
+        around.erase(std::unique(around.begin(), around.end()), around.end());
+        const double m0 = hexes_min(around);
+        const std::size_t n = set.size();
+        double h = 0;
+        const double gmax = soft_min_gradient(set, m0, h);
         if (!(gmax > 0) || !std::isfinite(gmax)) return false;
         h /= static_cast<double>(n);
         double best_min = m0 + 1e-5;
@@ -483,45 +505,80 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
         }
         if (best.empty()) return false;
         for (std::size_t i = 0; i < n; ++i) x[set[i]] = best[i];
-        for (int hh : around) {
-            sj[static_cast<std::size_t>(hh)] = scaled_jacobian(hex_corners(static_cast<std::size_t>(hh)));
-            for (int w : mesh.hexes[static_cast<std::size_t>(hh)]) dirty[static_cast<std::size_t>(w)] = 1;
-        }
+        for (int hh : around) moved_hex(static_cast<std::size_t>(hh));
         return true;
-    };
-    std::fill(dirty.begin(), dirty.end(), 0);  // from here on: marked by the max-min moves (for the sweeps after it)
-    std::vector<char> wanted(nv);
-    std::vector<std::size_t> bad, set;
-    for (int round = 1; options.worst_below > 0 && round <= options.worst_rounds; ++round) {
-        bad.clear();
-        for (std::size_t hh = 0; hh < nh; ++hh)
-            if (sj[hh] < options.worst_below) bad.push_back(hh);
-        if (bad.empty()) break;
-        long moves = 0;
-        std::fill(wanted.begin(), wanted.end(), 0);
-        for (std::size_t hh : bad)
-            for (int w : mesh.hexes[hh]) wanted[static_cast<std::size_t>(w)] = 1;
-        for (std::size_t v = 0; v < nv; ++v)
-            if (wanted[v] && movable(v) && raise_min({v})) ++moves;
-        // Joint moves, worst hex first (its SJ after the single moves; ties by id).
-        std::stable_sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) { return sj[a] < sj[b]; });
-        for (std::size_t hh : bad) {
-            if (!(sj[hh] < options.worst_below)) continue;
-            set.clear();
-            for (int w : mesh.hexes[hh])
-                if (movable(static_cast<std::size_t>(w))) set.push_back(static_cast<std::size_t>(w));
-            std::sort(set.begin(), set.end());
-            if (!set.empty() && raise_min(set)) ++moves;
-        }
-        result.worst_rounds = round;
-        result.worst_moves += moves;
-        if (moves == 0) break;
     }
 
+    // Max-min pass: rounds of single moves of every vertex of a hex below worst_below, then joint moves of each such
+    // hex's vertices, worst hex first (its SJ after the single moves; ties by id).
+    void max_min_pass() {
+        std::fill(dirty.begin(), dirty.end(), 0);  // from here on: marked by the max-min moves (for the sweeps after)
+        std::vector<char> wanted(nv);
+        std::vector<std::size_t> bad, set;
+        for (int round = 1; options.worst_below > 0 && round <= options.worst_rounds; ++round) {
+            bad.clear();
+            for (std::size_t hh = 0; hh < nh; ++hh)
+                if (sj[hh] < options.worst_below) bad.push_back(hh);
+            if (bad.empty()) break;
+            long moves = 0;
+            std::fill(wanted.begin(), wanted.end(), 0);
+            for (std::size_t hh : bad)
+                for (int w : mesh.hexes[hh]) wanted[static_cast<std::size_t>(w)] = 1;
+            for (std::size_t v = 0; v < nv; ++v)
+                if (wanted[v] && movable(v) && raise_min({v})) ++moves;
+            std::stable_sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) { return sj[a] < sj[b]; });
+            for (std::size_t hh : bad) {
+                if (!(sj[hh] < options.worst_below)) continue;
+                set.clear();
+                for (int w : mesh.hexes[hh])
+                    if (movable(static_cast<std::size_t>(w))) set.push_back(static_cast<std::size_t>(w));
+                std::sort(set.begin(), set.end());
+                if (!set.empty() && raise_min(set)) ++moves;
+            }
+            result.worst_rounds = round;
+            result.worst_moves += moves;
+            if (moves == 0) break;
+        }
+    }
+};
+
+}  // namespace
+
+SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
+                            const SmoothOptions& options) {
+    const std::size_t nv = mesh.points.size();
+    check_hex_indices(mesh, "smooth_quality");
+    if (!options.frozen.empty() && options.frozen.size() != nv)
+        throw Error(ErrorCode::InvalidInput, "smooth_quality: frozen must have one entry per vertex");
+
+    SmoothResult result;
+    result.mesh = mesh;
+    Smoother s(mesh, project, options, result);
+    s.stats(result.sj_min_before, result.sj_avg_before);
+    result.sj_min_after = result.sj_min_before;
+    result.sj_avg_after = result.sj_avg_before;
+    if (s.nh == 0 || !(result.sj_min_before > 0)) return result;  // only for meshes without inverted hexes
+
+    s.incident = vertex_hexes(mesh);
+    s.compute_edge_lengths();
+    s.collect_boundary();
+    s.slide = options.move_boundary && static_cast<bool>(project);
+    s.cos_feature = std::cos(deg_to_rad(options.feature_angle));
+    s.find_domain_features();
+    s.fix_vertices();
+    s.start = mesh.points;
+    s.worst_gap_limit.assign(nv, -1.0);
+    s.cover_limit.assign(nv, -1.0);
+    s.quad_sample.assign(s.topo.boundary_quads.size(), Vec3{});
+    s.quad_sampled.assign(s.topo.boundary_quads.size(), 0);
+    s.dirty.assign(nv, 1);
+    s.run_sweeps(options.max_sweeps);
+    s.find_creases();
+    s.max_min_pass();
     // The max-min moves may have lowered good hexes around them: a few sweeps from the vertices near them (never
     // below min(their worst hex, target_sj)).
-    if (result.worst_moves > 0) run_sweeps(options.resweeps);
-    stats(result.sj_min_after, result.sj_avg_after);
+    if (result.worst_moves > 0) s.run_sweeps(options.resweeps);
+    s.stats(result.sj_min_after, result.sj_avg_after);
     return result;
 }
 

@@ -18,7 +18,7 @@ struct SmoothOptions {
     double min_gain = 1e-4;       // after a vertex of its hexes moved); stops earlier when the moves of a sweep lower
                                   // the energy of the vertices tried by less than this relative amount
     double target_sj = 0.6;       // frame values below this are penalized strongly (weight below_weight)
-    double below_weight = 20;
+    double below_weight = 20;     // weight of max(0, target_sj - q)^2 against (1 - q)^2 (dimensionless)
     double skip_above = 0.97;     // vertices whose hexes all have scaled Jacobian above this are not moved
     bool move_boundary = true;    // boundary vertices slide on the surface (needs `project`); false: fixed
     double feature_angle = 35;    // degrees: a boundary vertex whose boundary quad normals deviate more than this from
@@ -35,8 +35,8 @@ struct SmoothOptions {
     // boundary vertices tangentially and projected; the best of 10 step lengths is kept if it raises m by more than
     // 1e-5 and passes the slide and gap limits (worst_max_slide, worst_gap_factor). 0 = off.
     double worst_below = 0.6;
-    int worst_rounds = 100;
-    double worst_sharpness = 40;
+    int worst_rounds = 100;            // at most this many rounds of the max-min pass
+    double worst_sharpness = 40;       // k of the soft minimum sum exp(-k (q - m)) (dimensionless)
     bool worst_moves_features = true;  // feature boundary vertices (fixed in the sweeps) may slide in that pass too:
     double worst_crease_angle = 70;    // degrees: that pass moves a boundary vertex with two sharp boundary edges
                                        // (normals of their quads more than this apart) only along them, and never one
@@ -56,10 +56,9 @@ struct SmoothOptions {
     // than the angle apart and each point lies below the other's tangent plane. A boundary vertex is a feature in the
     // sweeps only if some pair of its quads is (feature_angle), and a boundary edge is sharp for the max-min pass only
     // if its two quads are (worst_crease_angle). Why: a fit can leave the boundary folded where the domain is smooth,
-    // and along a concave crease of the domain the boundary folds back and forth (generated dualocta at two levels:
-    // convex 74° next to concave 108° edges where its tubes cross; those vertices all stayed fixed and its worst hexes
-    // stayed at 0.43). A concave crease is then rounded off within the gap limits instead; convex ones (a CAD edge,
-    // a cube's corner) stay. Without it, the quads' own normals alone decide.
+    // and along a concave crease of the domain the boundary folds back and forth; with every such vertex fixed the
+    // worst hexes there cannot be raised (docs/tuning.md). A concave crease is then rounded off within the gap limits
+    // instead; convex ones (a CAD edge, a cube's corner) stay. Without it, the quads' own normals alone decide.
     std::function<Vec3(const Vec3&)> surface_normal;
     std::vector<bool> frozen;     // optional, per vertex: never moved
     std::function<void(const SmoothProgress&)> progress;  // optional, called after every sweep

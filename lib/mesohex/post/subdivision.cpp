@@ -11,6 +11,7 @@
 #include <string>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/hex_convention.h"
 #include "mesohex/core/topology.h"
 
@@ -44,14 +45,7 @@ int local_face(std::array<int, 4> corners) {
 }
 
 void check_indices(const HexMesh& mesh, const char* who) {
-    const int n = static_cast<int>(mesh.points.size());
-    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
-        for (int v : mesh.hexes[h])
-            if (v < 0 || v >= n)
-                throw Error(ErrorCode::InvalidInput,
-                            std::string(who) + ": hex " + std::to_string(h) + " has vertex index " + std::to_string(v) +
-                                " out of range",
-                            {ElementRef::Kind::Hex, static_cast<int>(h)});
+    check_hex_indices(mesh, who);
 }
 
 struct LatticeSlot {

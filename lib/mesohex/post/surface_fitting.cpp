@@ -20,6 +20,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/hex_convention.h"
 #include "mesohex/core/topology.h"
 
@@ -901,15 +902,8 @@ void SurfaceFitter::Impl::solve() {
 
 SurfaceFitter::SurfaceFitter(const HexMesh& mesh, const SurfaceProjector& surface, const FitOptions& options)
     : impl_(std::make_unique<Impl>()) {
-    const int n = static_cast<int>(mesh.points.size());
     if (mesh.hexes.empty()) throw Error(ErrorCode::InvalidInput, "SurfaceFitter: the mesh has no hex");
-    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
-        for (int v : mesh.hexes[h])
-            if (v < 0 || v >= n)
-                throw Error(ErrorCode::InvalidInput,
-                            "SurfaceFitter: hex " + std::to_string(h) + " has vertex index " + std::to_string(v) +
-                                " out of range",
-                            {ElementRef::Kind::Hex, static_cast<int>(h)});
+    check_hex_indices(mesh, "SurfaceFitter");
     for (const Vec3& p : mesh.points)
         if (!is_finite(p)) throw Error(ErrorCode::InvalidInput, "SurfaceFitter: non-finite vertex coordinate");
     if (!(options.lambda > 0) || !std::isfinite(options.lambda))

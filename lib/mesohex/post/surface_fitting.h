@@ -57,7 +57,7 @@ struct FitOptions {
     int energy_window = 10;         //     last energy_window steps
     int refresh_every = 5;          // recompute the edge target lengths from the current geometry every this many
                                     // steps (then one refactorization); 0 = never (the matrix is factorized once)
-    FitSolver solver = FitSolver::Auto;
+    FitSolver solver = FitSolver::Auto;  // global step: direct (small meshes) or CG (see below)
     int cg_max_iterations = 100;    // ConjugateGradient: iteration cap per global step ...
     double cg_tolerance = 3e-2;     // ... and residual reduction per step (per coordinate, relative to the residual
                                     // of the warm start; a fixed point has residual 0 and does not move)
@@ -65,7 +65,7 @@ struct FitOptions {
     int max_backtracks = 6;         // halvings of a vertex's move before it stays where it was for this step
     double sj_guard = 0.2;          // no step may take a hex below min(floor_fraction x its SJ before the fit,
     double max_sj_drop = 0.1;       // sj_guard - max_sj_drop), nor invert a hex that was not inverted
-    double floor_fraction = 0.5;
+    double floor_fraction = 0.5;    // (see sj_guard; dimensionless)
     double two_sided_weight = 0.5;  // pull toward the surface samples (SurfaceProjector::samples), 0 = one-sided ...
     int two_sided_start = 50;       // ... from this step on (the boundary first settles on the surface), matching
     int two_sided_every = 2;        // the samples with the boundary again every this many steps

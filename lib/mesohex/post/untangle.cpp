@@ -15,6 +15,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/hex_convention.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/post/quality.h"
@@ -72,11 +73,10 @@ double hex_energy(const UntangleState& pb, int h, std::array<Vec3, 8>* grad) {
     for (int c = 0; c < 9; ++c) {
         Vec3 f0, f1, f2;
         if (c < 8) {
-            const std::array<int, 3>& nb = kHexCornerNeighbors[static_cast<std::size_t>(c)];
-            const Vec3& xc = p[static_cast<std::size_t>(c)];
-            f0 = (p[static_cast<std::size_t>(nb[0])] - xc) * inv_s;
-            f1 = (p[static_cast<std::size_t>(nb[1])] - xc) * inv_s;
-            f2 = (p[static_cast<std::size_t>(nb[2])] - xc) * inv_s;
+            const std::array<Vec3, 3> e = hex_corner_frame(p, static_cast<std::size_t>(c));
+            f0 = e[0] * inv_s;
+            f1 = e[1] * inv_s;
+            f2 = e[2] * inv_s;
         } else {
             const std::array<Vec3, 3> f = centre_frame(p, inv_s);
             f0 = f[0];
@@ -286,12 +286,7 @@ double inversion_sj(const HexMesh& mesh, const std::vector<Vec3>& x, int h) {
 
 UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
     const int nv = static_cast<int>(mesh.points.size());
-    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
-        for (int v : mesh.hexes[h])
-            if (v < 0 || v >= nv)
-                throw Error(ErrorCode::InvalidInput,
-                            "untangle: hex " + std::to_string(h) + " has vertex index " + std::to_string(v) + " out of range",
-                            {ElementRef::Kind::Hex, static_cast<int>(h)});
+    check_hex_indices(mesh, "untangle");
     if (!options.frozen.empty() && options.frozen.size() != mesh.points.size())
         throw Error(ErrorCode::InvalidInput, "untangle: frozen must have one entry per vertex");
     if (!(options.volume_weight > 0 && options.volume_weight < 1))

@@ -30,7 +30,7 @@ struct UntangleOptions {
                                   // makes this a quality pass: the region grows around the hexes below it, and the
                                   // state kept is the one with the fewest inverted hexes, then fewest below target,
                                   // then the largest min SJ (never more inverted hexes than at the start)
-    std::function<void(const UntangleProgress&)> progress;
+    std::function<void(const UntangleProgress&)> progress;  // optional, called after every round
 };
 
 struct UntangleResult {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <map>
 #include <numeric>
 #include <set>
@@ -523,7 +524,7 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const Adaptation
                 dirs_at[a].push_back(normalized(pos[b] - pos[a]));
                 dirs_at[b].push_back(normalized(pos[a] - pos[b]));
             }
-        const double pi = 3.14159265358979323846;
+        const double pi = std::numbers::pi;
         for (std::size_t bi = 0; bi < branches.size(); ++bi) {
             if (branches[bi].ring) continue;
             for (int side = 0; side < 2; ++side) {

@@ -27,29 +27,22 @@ struct AdaptationOptions {
     //           leaves towards the point of its original polyline at arc length min(2 r, its length)).
     // Joints violating it are removed (the end of the edge with the larger reach). An edge with no joint left to
     // remove (e.g. a short branch from a branching point to an extremity) stays as it is. 0 disables the criterion.
-    // With the defaults no raw hex is inverted on armadillo, aorta, bigbuddy, block, cactus, dino, dinopet, knight
-    // (min scaled Jacobian 0.07 .. 0.39); without the criterion 1-4 % are. branching_reach = 1.5 is a more cautious
-    // choice that was needed with earlier connection surfaces (fewer hexes, same result today).
+    // Both dimensionless (x radius). Measurements on the shared skeletons: docs/tuning.md.
     double turn_safety = 1.25;
-    double branching_reach = 1.0;
+    double branching_reach = 1.0;  // x radius at branching points with a leaflet (see above)
     // The same factor at branching points without a leaflet (both terms of the reach; branching_reach stays at leaflet
-    // vertices, where 0.7 drops turbine's minimum scaled Jacobian below 0.5). Fat branches leaving close together
-    // (dino: degree 4, r 0.22, branches 35 degrees apart) pushed their first joints about 3 r out with 1.0: the raw
-    // hexes there were 0.44 long against branches of radius 0.08 beyond, too coarse to follow the junction's blob.
-    // With 0.7, in their thickened domains: dino 3.16 -> 1.79 % Hausdorff, bigbuddy 2.27 -> 1.64 %, armadillo
-    // 1.72 -> 1.29 %, dinopet 2.83 -> 1.91 %, knight 4.18 -> 3.45 %; cactus.skel 0.682 / 0.930 -> 0.739 / 0.934 and
-    // aorta.skel 0.617 / 0.919 -> 0.733 / 0.930; no raw hex inverted on any shared skeleton (0.6 inverts 2 on
-    // armadillo). The generated shapes are unchanged. The mesh command retries with branching_reach here when the
-    // result misses its goals (MeshGoals, README step 8); knight and armadillo keep that second attempt.
+    // vertices). Dimensionless. Smaller keeps the first joints of fat branches leaving close together near the
+    // junction, so that the raw hexes there are fine enough to follow its shape; too small inverts raw hexes
+    // (docs/tuning.md). The mesh command retries with branching_reach here when the result misses its goals
+    // (MeshGoals, MeshOptions::retry).
     double free_branching_reach = 0.7;
     // A branch rooted on a leaflet's plates (inside the leaflet where 4 faces meet, or on its border: border_root in
     // skeleton_analysis.h) stands on a patch of faces about one leaflet edge wide: its end also reaches root_extent x
-    // the mean length of the leaflet edges at the vertex, so the first cross-section clears the patch (a pan with
-    // branches of radius 0.3 on unit quads: its arch's first joint 0.4 above the 2 x 2 patch inverted 4 raw hexes).
-    // It binds on none of the shared medial meshes nor on the generated pan. 0 disables.
+    // the mean length of the leaflet edges at the vertex (dimensionless), so the first cross-section clears the patch
+    // (docs/tuning.md). 0 disables.
     double root_extent = 0.5;
     // Radius floor used by the bisection test only (never written): max(r, min_radius_fraction * largest radius on the
-    // branch). Keeps a near-zero radius at an extremity (armadillo: 7e-5) from bisecting towards it forever.
+    // branch; dimensionless). Keeps a near-zero radius at an extremity from bisecting towards it forever.
     double min_radius_fraction = 0.25;
     // Bisection depth limit (at most 2^max_depth edges per branch), a guard against absurd radius/length ratios.
     int max_depth = 16;
@@ -59,11 +52,8 @@ struct AdaptationOptions {
     bool collapse_short_bridges = true;
     // A collapse is made only if every vertex merged into the new vertex (a bridge's two ends; more when bridges chain)
     // lies within collapse_spread x the merged radius of the merged position: for a pair, chord < collapse_spread x
-    // (r_a + r_b). Chains of bridges merged whole drift away from the balls at their ends: knight's head (three
-    // branching points, radii 0.075, bridges 0.127 and 0.134) became one 10-valent vertex 0.125 from the balls at
-    // both ends, and the mesh missed them (Hausdorff 6.6 % of the diagonal in its thickened domain; 4.2 % now). On
-    // cactus a pair at 0.8 (r_a + r_b) is now kept: cactus.skel in cactus.obj 0.537 / 0.917, 0.65 % ->
-    // 0.660 / 0.927, 0.57 %. No raw hex is inverted on any shared skeleton with 0.7 (nor with 1, the old rule).
+    // (r_a + r_b) (dimensionless). Chains of bridges merged whole drift away from the balls at their ends and the
+    // mesh then misses them (docs/tuning.md).
     double collapse_spread = 0.7;
     // Repairs of degenerate branch configurations, made first (they would stop the sphere partition with "directions
     // i and j coincide", or leave a zero direction):

@@ -38,7 +38,7 @@ struct MedialImportOptions {
     // roots the branch on the plates (root_interior_curves). Counts and Euler characteristic unchanged.
     bool root_interior_curves = true;
     // The former way, before everything else (paper limitation 1): re-attach such an end to the nearest boundary
-    // vertex of its sheet. On cup.ma it drags the handle's ends about two radii along the wall, out of the domain.
+    // vertex of its sheet. It can drag a handle's ends along the wall, out of the domain (docs/tuning.md).
     bool reattach_interior_curves = false;
     int min_sheet_triangles = 2;          // sheets with fewer triangles collapse to a curve
     double min_sheet_area_factor = 1.0;   // sheets with area < factor x (mean vertex radius)^2 collapse to a curve
@@ -51,27 +51,27 @@ struct MedialImportOptions {
     // boundary edges: the boundary then makes a corner there, the layout the mesher's BL-joint blocks need (on a
     // straight boundary their half-chunks fold). Topology and radii are unchanged.
     bool bl_joint_corners = true;
-    double bl_joint_max_angle_deg = 110;
+    double bl_joint_max_angle_deg = 110;  // degrees (see bl_joint_corners)
     // ... except a joint the mesher roots on the border's plates (border_root: a branch leaving a straight border
     // outward, or a branch along the normal where 2 faces meet), where no corner is needed.
     bool keep_rooted_bl_joints = true;
-    double bl_joint_push = 1.25;
+    double bl_joint_push = 1.25;          // x the mean of the two boundary edges at the joint
     // A joint whose branch heads back over the leaflet (angle to the inward direction below 90 degrees, cosine c > 0:
     // a plane between the branch and the leaflet's border edges needs a sharper corner) is pushed by
-    // bl_joint_push x (1 + bl_joint_back_push x c) x that length instead (cup.ma's re-attached handle: c = 0.78).
+    // bl_joint_push x (1 + bl_joint_back_push x c) x that length instead (dimensionless).
     double bl_joint_back_push = 1.0;
     // Finally, leaflet interior vertices (all incident edges in exactly two faces, no curve edge) are smoothed:
     // p <- p + smoothing_factor x (neighbour mean - p), smoothing_iterations Jacobi sweeps (0 = off). Evens out the
     // quads the split makes (corners up to 150 degrees) and the sheet's folds, over which the mesher's plates invert.
     int smoothing_iterations = 30;
-    double smoothing_factor = 0.5;
+    double smoothing_factor = 0.5;        // fraction of the way to the neighbour mean per sweep
     // In the same sweeps, regular leaflet boundary vertices (two boundary edges, no curve or fan edge) move along
     // their normal only, by smoothing_factor x the normal component of (neighbour mean - p): folds that reach the
     // border flatten (hand.ma's wrist), the outline stays. At a reflex corner (face angles at the vertex summing to
     // more than reflex_corner_deg: the sheet wraps around it) the vertex also moves by smoothing_factor x (midpoint of
     // its two boundary neighbours - p): the half-chunks the mesher puts outside such a corner converge and fold.
     bool smooth_boundary = true;
-    double reflex_corner_deg = 220;
+    double reflex_corner_deg = 220;       // degrees (sum of the face angles at the vertex)
 };
 
 struct MedialImport {

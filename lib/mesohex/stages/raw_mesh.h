@@ -9,9 +9,9 @@
 // edge, in branch-edge order), so blocks that share a connection-surface vertex or edge share the id: that is the
 // sewing. Both the hex loop and the geometry loop are oneTBB parallel loops over preallocated slots: the output is
 // bit-identical for any thread count.
-// Leaflets (first part of issue 4): a leaflet interior vertex owns 3 ids (centre, up, down), a regular leaflet
+// Leaflets: a leaflet interior vertex owns 3 ids (centre, up, down), a regular leaflet
 // boundary vertex 6 (centre, up, down, out, out-up, out-down); a plate of 2 hexes per leaflet face and a half-chunk of
-// 2 hexes per boundary edge (reference-notes §8.2-8.3) take the hex slots after the chunks. At a BL-joint the
+// 2 hexes per boundary edge (docs/design-basis.md) take the hex slots after the chunks. At a BL-joint the
 // leaflet's up/down/out vertices are the ids of its connection quad B (§8.5, rotation k = 0); at an LL-joint and at a
 // branching point with leaflets, of the leaflet's quad with the rotation ConnectionSurfaces::quad_rotation chosen
 // from the leaflet's own normal. A fan-edge vertex owns 1 + g ids (centre, one vertex per gap between the sorted
@@ -66,11 +66,10 @@ struct RawMeshOptions {
     // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
     // out-down) in the leaflet's plane towards the branch by border_root_turn x their angle there, then about the
     // border by border_root_tilt x the branch's tilt out of the plane (0, 0 = the column along the border's outward
-    // bisector and normal). airplane1.ma's nose branch, 36 degrees below its sheet, folded its first chunk (min SJ
-    // -0.50) without the tilt; hand.ma's fingers, 50 to 55 degrees off the outward direction at corners of 109 and
-    // 121 degrees, folded 3 hexes of their first chunks (min -0.37) without the turn.
+    // bisector and normal). Dimensionless fractions of the angle. Without them, branches leaving a border steeply
+    // out of the sheet's plane or far off its outward direction fold their first chunks (docs/tuning.md).
     double border_root_turn = 1.0;
-    double border_root_tilt = 1.0;
+    double border_root_tilt = 1.0;  // (see border_root_turn; fraction of the tilt, dimensionless)
 };
 
 // Preconditions: skeleton.radii has one finite radius > 0 per vertex (Error(InvalidInput) naming the vertex

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <cstddef>
 #include <functional>
 #include <map>
@@ -33,7 +34,7 @@
 namespace mesohex {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 constexpr double kMinSeparation = 1e-7;   // rad; closer directions are rejected as duplicates
 constexpr double kUnitTolerance = 1e-9;   // | |p| - 1 | allowed for partition points
 constexpr double kAngleTolerance = 1e-8;  // rad; slack on "angle <= 180°" and "angle > 0"

@@ -23,10 +23,10 @@ struct SkeletonizeOptions {
     double prune_factor = 2.0;        // a terminal branch is removed when its length + its extremity's radius is
                                       // below prune_factor x its branching point's radius (its tube barely leaves
                                       // the branching point's ball)
-    bool merge_branch_points = true;
+    bool merge_branch_points = true;  // merge branching points joined by a short branch
     double merge_factor = 1.0;        // two branching points joined by a branch shorter than
                                       // merge_factor x (larger of their radii) become one
-    bool extend_extremities = true;
+    bool extend_extremities = true;   // extend every extremity towards the surface
     double extension_gap = 0.5;       // an extended extremity stops extension_gap x (its radius) before the surface
 };
 

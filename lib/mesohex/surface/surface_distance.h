@@ -1,6 +1,6 @@
 #pragma once
-// Fidelity of a mesh boundary to the domain surface: two-sided Hausdorff distance estimated by sampling (issue 5,
-// item 7). Uses SurfaceQuery (CGAL AABB tree) for the closest-point queries in both directions.
+// Fidelity of a mesh boundary to the domain surface: two-sided Hausdorff distance estimated by sampling. Uses
+// SurfaceQuery (CGAL AABB tree) for the closest-point queries in both directions.
 #include "mesohex/core/hex_mesh.h"
 #include "mesohex/surface/surface_query.h"
 

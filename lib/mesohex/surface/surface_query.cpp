@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <iterator>
 #include <string>
 
@@ -25,7 +26,7 @@ using TriangleIterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<K, TriangleIterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 
 Point to_cgal(const Vec3& p) { return {p.x, p.y, p.z}; }
 Vec3 to_vec(const Point& p) { return {p.x(), p.y(), p.z()}; }

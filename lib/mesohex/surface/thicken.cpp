@@ -195,25 +195,36 @@ struct Crossing {
     Vec3 point;
 };
 
-}  // namespace
-
-TriangleMesh thicken(const Skeleton& skeleton, const ThickenOptions& options, ThickenStats* stats) {
-    const std::vector<double> radius = radii_of(skeleton, options);
-    if (!(options.cells_per_radius > 0)) throw Error(ErrorCode::InvalidInput, "thicken: cells_per_radius must be > 0");
-    if (options.max_grid_points < 1000) throw Error(ErrorCode::InvalidInput, "thicken: max_grid_points must be >= 1000");
-    const std::vector<Vec3>& P = skeleton.points;
-    auto R = [&](int v) { return radius[static_cast<std::size_t>(v)]; };
-    auto X = [&](int v) { return P[static_cast<std::size_t>(v)]; };
-
-    // Primitives.
-    std::vector<char> used(P.size(), 0);
+// The union of the primitives (spheres at unused points, round cones on edges, slabs on face triangles).
+struct Primitives {
     std::vector<Vec3> sphere_c;
     std::vector<double> sphere_r;
     std::vector<RoundCone> cones;
     std::vector<Slab> slabs;
+    std::vector<Primitive> prims;
+    std::vector<Box> boxes;
+
+    double sdf(std::size_t i, const Vec3& p) const {
+        const Primitive& pr = prims[i];
+        const std::size_t k = static_cast<std::size_t>(pr.index);
+        switch (pr.kind) {
+            case Primitive::Kind::Sphere: return distance(p, sphere_c[k]) - sphere_r[k];
+            case Primitive::Kind::Cone: return cones[k].sdf(p);
+            case Primitive::Kind::Slab: return slabs[k].sdf(p);
+        }
+        return 0.0;
+    }
+};
+
+Primitives build_primitives(const Skeleton& skeleton, const std::vector<double>& radius) {
+    const std::vector<Vec3>& P = skeleton.points;
+    auto R = [&](int v) { return radius[static_cast<std::size_t>(v)]; };
+    auto X = [&](int v) { return P[static_cast<std::size_t>(v)]; };
+    Primitives u;
+    std::vector<char> used(P.size(), 0);
     for (const std::array<int, 2>& e : skeleton.edges) {
         used[static_cast<std::size_t>(e[0])] = used[static_cast<std::size_t>(e[1])] = 1;
-        cones.emplace_back(X(e[0]), R(e[0]), X(e[1]), R(e[1]));
+        u.cones.emplace_back(X(e[0]), R(e[0]), X(e[1]), R(e[1]));
     }
     for (const std::vector<int>& f : skeleton.faces) {
         for (int v : f) used[static_cast<std::size_t>(v)] = 1;
@@ -223,107 +234,120 @@ TriangleMesh thicken(const Skeleton& skeleton, const ThickenOptions& options, Th
             const int o = d02 ? 0 : 1;
             const int a = f[static_cast<std::size_t>(o)], b = f[static_cast<std::size_t>(o + 1)],
                       c = f[static_cast<std::size_t>(o + 2)], d = f[static_cast<std::size_t>((o + 3) % 4)];
-            slabs.emplace_back(X(a), R(a), X(b), R(b), X(c), R(c));
-            slabs.emplace_back(X(a), R(a), X(c), R(c), X(d), R(d));
+            u.slabs.emplace_back(X(a), R(a), X(b), R(b), X(c), R(c));
+            u.slabs.emplace_back(X(a), R(a), X(c), R(c), X(d), R(d));
         } else {
             for (std::size_t i = 1; i + 1 < f.size(); ++i)
-                slabs.emplace_back(X(f[0]), R(f[0]), X(f[i]), R(f[i]), X(f[i + 1]), R(f[i + 1]));
+                u.slabs.emplace_back(X(f[0]), R(f[0]), X(f[i]), R(f[i]), X(f[i + 1]), R(f[i + 1]));
         }
     }
     for (std::size_t v = 0; v < P.size(); ++v)
         if (!used[v]) {
-            sphere_c.push_back(P[v]);
-            sphere_r.push_back(radius[v]);
+            u.sphere_c.push_back(P[v]);
+            u.sphere_r.push_back(radius[v]);
         }
-    std::vector<Primitive> prims;
-    std::vector<Box> boxes;
-    for (std::size_t i = 0; i < sphere_c.size(); ++i) {
-        prims.push_back({Primitive::Kind::Sphere, static_cast<int>(i)});
-        boxes.push_back(sphere_box(sphere_c[i], sphere_r[i]));
+    for (std::size_t i = 0; i < u.sphere_c.size(); ++i) {
+        u.prims.push_back({Primitive::Kind::Sphere, static_cast<int>(i)});
+        u.boxes.push_back(sphere_box(u.sphere_c[i], u.sphere_r[i]));
     }
-    for (std::size_t i = 0; i < cones.size(); ++i) {
-        prims.push_back({Primitive::Kind::Cone, static_cast<int>(i)});
-        boxes.push_back(cones[i].box());
+    for (std::size_t i = 0; i < u.cones.size(); ++i) {
+        u.prims.push_back({Primitive::Kind::Cone, static_cast<int>(i)});
+        u.boxes.push_back(u.cones[i].box());
     }
-    for (std::size_t i = 0; i < slabs.size(); ++i) {
-        prims.push_back({Primitive::Kind::Slab, static_cast<int>(i)});
-        boxes.push_back(slabs[i].box());
+    for (std::size_t i = 0; i < u.slabs.size(); ++i) {
+        u.prims.push_back({Primitive::Kind::Slab, static_cast<int>(i)});
+        u.boxes.push_back(u.slabs[i].box());
     }
-    auto sdf = [&](std::size_t i, const Vec3& p) {
-        const Primitive& pr = prims[i];
-        const std::size_t k = static_cast<std::size_t>(pr.index);
-        switch (pr.kind) {
-            case Primitive::Kind::Sphere: return distance(p, sphere_c[k]) - sphere_r[k];
-            case Primitive::Kind::Cone: return cones[k].sdf(p);
-            case Primitive::Kind::Slab: return slabs[k].sdf(p);
-        }
-        return 0.0;
-    };
+    return u;
+}
 
-    // Grid.
-    Box all = boxes[0];
-    for (const Box& b : boxes) all = merge(all, b);
-    const double r_min = *std::min_element(radius.begin(), radius.end());
-    double h = r_min / options.cells_per_radius;
-    int dims[3];
-    for (int iter = 0;; ++iter) {
-        double count = 1;
-        for (int i = 0; i < 3; ++i) {
-            dims[i] = static_cast<int>(std::ceil((all.hi[i] - all.lo[i]) / h)) + 7;  // 3 cells of margin each side
-            count *= dims[i];
-        }
-        if (count <= static_cast<double>(options.max_grid_points)) break;
-        h *= std::max(1.01, std::cbrt(count / static_cast<double>(options.max_grid_points)));
-        MESOHEX_CHECK(iter < 100, "grid sizing did not converge");
-    }
-    const int nx = dims[0], ny = dims[1], nz = dims[2];
-    const Vec3 origin = all.lo - Vec3{3 * h, 3 * h, 3 * h};
-    auto grid_point = [&](int i, int j, int k) {
+// The sampled distance grid and the marching-tetrahedra passes over it.
+struct Grid {
+    const Primitives& u;
+    double h = 0;
+    int dims[3] = {0, 0, 0};
+    int nx = 0, ny = 0, nz = 0;
+    Vec3 origin;
+    std::size_t slice = 0;
+    std::vector<float> value;
+    std::vector<std::array<int, 6>> range;      // index ranges of every primitive (box + 2 cells)
+    std::vector<std::vector<int>> slice_prims;  // the primitives of every z-slice
+    std::vector<long> slice_evals;
+    std::vector<std::vector<Crossing>> crossings;
+    std::vector<int> first_id;
+    std::vector<std::vector<std::array<int, 3>>> tris;
+
+    explicit Grid(const Primitives& prims) : u(prims) {}
+
+    Vec3 grid_point(int i, int j, int k) const {
         return origin + Vec3{static_cast<double>(i) * h, static_cast<double>(j) * h, static_cast<double>(k) * h};
-    };
-    const std::size_t slice = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
-    std::vector<float> value(slice * static_cast<std::size_t>(nz), FLT_MAX);
-
-    // Index ranges of every primitive (box + 2 cells), and the primitives of every z-slice.
-    std::vector<std::array<int, 6>> range(prims.size());
-    std::vector<std::vector<int>> slice_prims(static_cast<std::size_t>(nz));
-    for (std::size_t i = 0; i < prims.size(); ++i) {
-        for (int a = 0; a < 3; ++a) {
-            range[i][2 * a] = std::max(0, static_cast<int>(std::floor((boxes[i].lo[a] - origin[a]) / h)) - 2);
-            range[i][2 * a + 1] = std::min(dims[a] - 1, static_cast<int>(std::ceil((boxes[i].hi[a] - origin[a]) / h)) + 2);
-        }
-        for (int k = range[i][4]; k <= range[i][5]; ++k) slice_prims[static_cast<std::size_t>(k)].push_back(static_cast<int>(i));
     }
-    std::vector<long> slice_evals(static_cast<std::size_t>(nz), 0);
-    tbb::parallel_for(tbb::blocked_range<int>(0, nz), [&](const tbb::blocked_range<int>& rk) {
-        for (int k = rk.begin(); k != rk.end(); ++k) {
-            float* vals = value.data() + slice * static_cast<std::size_t>(k);
-            long evals = 0;
-            for (int pi : slice_prims[static_cast<std::size_t>(k)]) {
-                const std::array<int, 6>& rg = range[static_cast<std::size_t>(pi)];
-                for (int j = rg[2]; j <= rg[3]; ++j)
-                    for (int i = rg[0]; i <= rg[1]; ++i) {
-                        const double d = sdf(static_cast<std::size_t>(pi), grid_point(i, j, k));
-                        float& slot = vals[static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * static_cast<std::size_t>(j)];
-                        slot = std::min(slot, static_cast<float>(d));
-                        ++evals;
-                    }
-            }
-            slice_evals[static_cast<std::size_t>(k)] = evals;
-        }
-    });
-    auto val = [&](int i, int j, int k) {
+    float val(int i, int j, int k) const {
         return value[static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * static_cast<std::size_t>(j) +
                      slice * static_cast<std::size_t>(k)];
-    };
-    auto inside = [](float f) { return f < 0; };
+    }
+    static bool inside(float f) { return f < 0; }
+
+    // Grid step r_min / cells_per_radius, coarsened until the grid has at most max_grid_points points.
+    void size(double r_min, const ThickenOptions& options) {
+        Box all = u.boxes[0];
+        for (const Box& b : u.boxes) all = merge(all, b);
+        h = r_min / options.cells_per_radius;
+        for (int iter = 0;; ++iter) {
+            double count = 1;
+            for (int i = 0; i < 3; ++i) {
+                dims[i] = static_cast<int>(std::ceil((all.hi[i] - all.lo[i]) / h)) + 7;  // 3 cells of margin each side
+                count *= dims[i];
+            }
+            if (count <= static_cast<double>(options.max_grid_points)) break;
+            h *= std::max(1.01, std::cbrt(count / static_cast<double>(options.max_grid_points)));
+            MESOHEX_CHECK(iter < 100, "grid sizing did not converge");
+        }
+        nx = dims[0];
+        ny = dims[1];
+        nz = dims[2];
+        origin = all.lo - Vec3{3 * h, 3 * h, 3 * h};
+        slice = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+    }
+
+    // Distance of the union at every grid point near a primitive (FLT_MAX elsewhere), z-slices in parallel.
+    void sample() {
+        value.assign(slice * static_cast<std::size_t>(nz), FLT_MAX);
+        range.resize(u.prims.size());
+        slice_prims.assign(static_cast<std::size_t>(nz), {});
+        for (std::size_t i = 0; i < u.prims.size(); ++i) {
+            for (int a = 0; a < 3; ++a) {
+                range[i][2 * a] = std::max(0, static_cast<int>(std::floor((u.boxes[i].lo[a] - origin[a]) / h)) - 2);
+                range[i][2 * a + 1] = std::min(dims[a] - 1, static_cast<int>(std::ceil((u.boxes[i].hi[a] - origin[a]) / h)) + 2);
+            }
+            for (int k = range[i][4]; k <= range[i][5]; ++k) slice_prims[static_cast<std::size_t>(k)].push_back(static_cast<int>(i));
+        }
+        slice_evals.assign(static_cast<std::size_t>(nz), 0);
+        tbb::parallel_for(tbb::blocked_range<int>(0, nz), [&](const tbb::blocked_range<int>& rk) {
+            for (int k = rk.begin(); k != rk.end(); ++k) {
+                float* vals = value.data() + slice * static_cast<std::size_t>(k);
+                long evals = 0;
+                for (int pi : slice_prims[static_cast<std::size_t>(k)]) {
+                    const std::array<int, 6>& rg = range[static_cast<std::size_t>(pi)];
+                    for (int j = rg[2]; j <= rg[3]; ++j)
+                        for (int i = rg[0]; i <= rg[1]; ++i) {
+                            const double d = u.sdf(static_cast<std::size_t>(pi), grid_point(i, j, k));
+                            float& slot = vals[static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * static_cast<std::size_t>(j)];
+                            slot = std::min(slot, static_cast<float>(d));
+                            ++evals;
+                        }
+                }
+                slice_evals[static_cast<std::size_t>(k)] = evals;
+            }
+        });
+    }
 
     // The crossing on grid edge a-b: the linear-interpolation estimate t0 refined on the exact distance of the union
     // (Illinois regula falsi), so that surface vertices lie on the union's surface and not inside it (linear
     // interpolation of a convex distance is biased inward: -3 % of a sphere's volume at 4 cells per radius). The
     // primitives that can matter are those of the lower end's slice whose index box contains the lower end (the
     // boxes are expanded by 2 cells). Falls back to t0 when the exact values do not bracket a root.
-    auto refine_root = [&](int k, int i, int j, const Vec3& a, const Vec3& b, double t0) {
+    double refine_root(int k, int i, int j, const Vec3& a, const Vec3& b, double t0) const {
         int local[64];
         int nl = 0;
         for (int pi : slice_prims[static_cast<std::size_t>(k)]) {
@@ -335,7 +359,7 @@ TriangleMesh thicken(const Skeleton& skeleton, const ThickenOptions& options, Th
         auto g = [&](double t) {
             const Vec3 p = a + t * (b - a);
             double d = DBL_MAX;
-            for (int q = 0; q < nl; ++q) d = std::min(d, sdf(static_cast<std::size_t>(local[q]), p));
+            for (int q = 0; q < nl; ++q) d = std::min(d, u.sdf(static_cast<std::size_t>(local[q]), p));
             return d;
         };
         double lo = 0, hi = 1, glo = g(0), ghi = g(1);
@@ -359,38 +383,41 @@ TriangleMesh thicken(const Skeleton& skeleton, const ThickenOptions& options, Th
             }
         }
         return t;
-    };
+    }
 
     // Pass A: crossing points, one per grid edge with a sign change, owned by the slice of its lower end.
     // Edge key = 7 x (linear index of the lower end) + direction code (dx + 2 dy + 4 dz - 1).
-    std::vector<std::vector<Crossing>> crossings(static_cast<std::size_t>(nz));
-    tbb::parallel_for(tbb::blocked_range<int>(0, nz), [&](const tbb::blocked_range<int>& rk) {
-        for (int k = rk.begin(); k != rk.end(); ++k) {
-            std::vector<Crossing>& out = crossings[static_cast<std::size_t>(k)];
-            for (int j = 0; j < ny; ++j)
-                for (int i = 0; i < nx; ++i) {
-                    const float f0 = val(i, j, k);
-                    for (int code = 1; code < 8; ++code) {
-                        const int i1 = i + (code & 1), j1 = j + ((code >> 1) & 1), k1 = k + ((code >> 2) & 1);
-                        if (i1 >= nx || j1 >= ny || k1 >= nz) continue;
-                        const float f1 = val(i1, j1, k1);
-                        if (inside(f0) == inside(f1)) continue;
-                        const Vec3 a = grid_point(i, j, k), b = grid_point(i1, j1, k1);
-                        double t = static_cast<double>(f0) / (static_cast<double>(f0) - static_cast<double>(f1));
-                        t = refine_root(k, i, j, a, b, t);
-                        t = std::clamp(t, 0.01, 0.99);  // keeps surface vertices apart (at most 1 % of a cell moved)
-                        const std::uint64_t lin = static_cast<std::uint64_t>(i) + static_cast<std::uint64_t>(nx) *
-                                                      (static_cast<std::uint64_t>(j) + static_cast<std::uint64_t>(ny) * static_cast<std::uint64_t>(k));
-                        out.push_back({7 * lin + static_cast<std::uint64_t>(code - 1), a + t * (b - a)});
+    void find_crossings() {
+        crossings.assign(static_cast<std::size_t>(nz), {});
+        tbb::parallel_for(tbb::blocked_range<int>(0, nz), [&](const tbb::blocked_range<int>& rk) {
+            for (int k = rk.begin(); k != rk.end(); ++k) {
+                std::vector<Crossing>& out = crossings[static_cast<std::size_t>(k)];
+                for (int j = 0; j < ny; ++j)
+                    for (int i = 0; i < nx; ++i) {
+                        const float f0 = val(i, j, k);
+                        for (int code = 1; code < 8; ++code) {
+                            const int i1 = i + (code & 1), j1 = j + ((code >> 1) & 1), k1 = k + ((code >> 2) & 1);
+                            if (i1 >= nx || j1 >= ny || k1 >= nz) continue;
+                            const float f1 = val(i1, j1, k1);
+                            if (inside(f0) == inside(f1)) continue;
+                            const Vec3 a = grid_point(i, j, k), b = grid_point(i1, j1, k1);
+                            double t = static_cast<double>(f0) / (static_cast<double>(f0) - static_cast<double>(f1));
+                            t = refine_root(k, i, j, a, b, t);
+                            t = std::clamp(t, 0.01, 0.99);  // keeps surface vertices apart (at most 1 % of a cell moved)
+                            const std::uint64_t lin = static_cast<std::uint64_t>(i) + static_cast<std::uint64_t>(nx) *
+                                                          (static_cast<std::uint64_t>(j) + static_cast<std::uint64_t>(ny) * static_cast<std::uint64_t>(k));
+                            out.push_back({7 * lin + static_cast<std::uint64_t>(code - 1), a + t * (b - a)});
+                        }
                     }
-                }
-        }
-    });
-    std::vector<int> first_id(static_cast<std::size_t>(nz) + 1, 0);
-    for (int k = 0; k < nz; ++k)
-        first_id[static_cast<std::size_t>(k) + 1] = first_id[static_cast<std::size_t>(k)] +
-                                                    static_cast<int>(crossings[static_cast<std::size_t>(k)].size());
-    auto find_vertex = [&](int i, int j, int k, int code) {
+            }
+        });
+        first_id.assign(static_cast<std::size_t>(nz) + 1, 0);
+        for (int k = 0; k < nz; ++k)
+            first_id[static_cast<std::size_t>(k) + 1] = first_id[static_cast<std::size_t>(k)] +
+                                                        static_cast<int>(crossings[static_cast<std::size_t>(k)].size());
+    }
+
+    int find_vertex(int i, int j, int k, int code) const {
         const std::uint64_t lin = static_cast<std::uint64_t>(i) + static_cast<std::uint64_t>(nx) *
                                       (static_cast<std::uint64_t>(j) + static_cast<std::uint64_t>(ny) * static_cast<std::uint64_t>(k));
         const std::uint64_t key = 7 * lin + static_cast<std::uint64_t>(code - 1);
@@ -398,87 +425,109 @@ TriangleMesh thicken(const Skeleton& skeleton, const ThickenOptions& options, Th
         const auto it = std::lower_bound(c.begin(), c.end(), key, [](const Crossing& x, std::uint64_t kk) { return x.key < kk; });
         MESOHEX_CHECK(it != c.end() && it->key == key, "marching tetrahedra: crossing not found");
         return first_id[static_cast<std::size_t>(k)] + static_cast<int>(it - c.begin());
-    };
+    }
 
-    auto point_of = [&](int id) -> const Vec3& {
+    const Vec3& point_of(int id) const {
         const std::size_t k = static_cast<std::size_t>(std::upper_bound(first_id.begin(), first_id.end(), id) - first_id.begin()) - 1;
         return crossings[k][static_cast<std::size_t>(id - first_id[k])].point;
-    };
+    }
+
+    // The triangles of one Kuhn tetrahedron `tet` of cell (i, j, k) with corner values cf.
+    void tet_triangles(int i, int j, int k, const int* tet, const float* cf, std::vector<std::array<int, 3>>& out) const {
+        // Surface vertex on the tet edge between corners ca and cb (codes; one of them is <= the other componentwise
+        // since all Kuhn tet edges are monotone).
+        auto edge_vertex = [&](int ca, int cb) {
+            if ((ca & cb) != ca) std::swap(ca, cb);  // ca = lower end
+            return find_vertex(i + (ca & 1), j + ((ca >> 1) & 1), k + ((ca >> 2) & 1), cb - ca);
+        };
+        int neg[4], pos[4], nn = 0, np = 0;
+        for (int q = 0; q < 4; ++q) {
+            if (inside(cf[tet[q]])) neg[nn++] = q;
+            else pos[np++] = q;
+        }
+        if (nn == 0 || nn == 4) return;
+        if (nn == 1 || nn == 3) {
+            const int lone = nn == 1 ? neg[0] : pos[0];
+            int seq[4] = {lone, 0, 0, 0};
+            for (int q = 0, m = 1; q < 4; ++q)
+                if (q != lone) seq[m++] = q;
+            if (inversions(seq) % 2 == 1) std::swap(seq[2], seq[3]);
+            // (e_l1, e_l2, e_l3) faces away from `lone`: right for a lone inside corner.
+            if (nn == 3) std::swap(seq[2], seq[3]);
+            out.push_back({edge_vertex(tet[seq[0]], tet[seq[1]]), edge_vertex(tet[seq[0]], tet[seq[2]]),
+                           edge_vertex(tet[seq[0]], tet[seq[3]])});
+            return;
+        }
+        int seq[4] = {neg[0], neg[1], pos[0], pos[1]};
+        if (inversions(seq) % 2 == 1) std::swap(seq[2], seq[3]);
+        const int I = tet[seq[0]], J = tet[seq[1]], Kc = tet[seq[2]], L = tet[seq[3]];
+        const int q0 = edge_vertex(I, Kc), q1 = edge_vertex(I, L), q2 = edge_vertex(J, L), q3 = edge_vertex(J, Kc);
+        // Split the quad along its shorter diagonal.
+        if (squared_norm(point_of(q0) - point_of(q2)) <= squared_norm(point_of(q1) - point_of(q3))) {
+            out.push_back({q0, q1, q2});
+            out.push_back({q0, q2, q3});
+        } else {
+            out.push_back({q0, q1, q3});
+            out.push_back({q1, q2, q3});
+        }
+    }
 
     // Pass B: triangles, per cell slice.
-    static const TetTable table;
-    std::vector<std::vector<std::array<int, 3>>> tris(static_cast<std::size_t>(std::max(0, nz - 1)));
-    tbb::parallel_for(tbb::blocked_range<int>(0, std::max(0, nz - 1)), [&](const tbb::blocked_range<int>& rk) {
-        for (int k = rk.begin(); k != rk.end(); ++k) {
-            std::vector<std::array<int, 3>>& out = tris[static_cast<std::size_t>(k)];
-            for (int j = 0; j + 1 < ny; ++j)
-                for (int i = 0; i + 1 < nx; ++i) {
-                    float cf[8];
-                    int nin = 0;
-                    for (int c = 0; c < 8; ++c) {
-                        cf[c] = val(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
-                        nin += inside(cf[c]) ? 1 : 0;
+    void triangulate() {
+        static const TetTable table;
+        tris.assign(static_cast<std::size_t>(std::max(0, nz - 1)), {});
+        tbb::parallel_for(tbb::blocked_range<int>(0, std::max(0, nz - 1)), [&](const tbb::blocked_range<int>& rk) {
+            for (int k = rk.begin(); k != rk.end(); ++k) {
+                std::vector<std::array<int, 3>>& out = tris[static_cast<std::size_t>(k)];
+                for (int j = 0; j + 1 < ny; ++j)
+                    for (int i = 0; i + 1 < nx; ++i) {
+                        float cf[8];
+                        int nin = 0;
+                        for (int c = 0; c < 8; ++c) {
+                            cf[c] = val(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+                            nin += inside(cf[c]) ? 1 : 0;
+                        }
+                        if (nin == 0 || nin == 8) continue;
+                        for (const auto& tet : table.tet) tet_triangles(i, j, k, tet, cf, out);
                     }
-                    if (nin == 0 || nin == 8) continue;
-                    for (const auto& tet : table.tet) {
-                        // Surface vertex on the tet edge between corners ca and cb (codes; one of them is <= the
-                        // other componentwise since all Kuhn tet edges are monotone).
-                        auto edge_vertex = [&](int ca, int cb) {
-                            if ((ca & cb) != ca) std::swap(ca, cb);  // ca = lower end
-                            return find_vertex(i + (ca & 1), j + ((ca >> 1) & 1), k + ((ca >> 2) & 1), cb - ca);
-                        };
-                        int neg[4], pos[4], nn = 0, np = 0;
-                        for (int q = 0; q < 4; ++q) {
-                            if (inside(cf[tet[q]])) neg[nn++] = q;
-                            else pos[np++] = q;
-                        }
-                        if (nn == 0 || nn == 4) continue;
-                        if (nn == 1 || nn == 3) {
-                            const int lone = nn == 1 ? neg[0] : pos[0];
-                            int seq[4] = {lone, 0, 0, 0};
-                            for (int q = 0, m = 1; q < 4; ++q)
-                                if (q != lone) seq[m++] = q;
-                            if (inversions(seq) % 2 == 1) std::swap(seq[2], seq[3]);
-                            // (e_l1, e_l2, e_l3) faces away from `lone`: right for a lone inside corner.
-                            if (nn == 3) std::swap(seq[2], seq[3]);
-                            out.push_back({edge_vertex(tet[seq[0]], tet[seq[1]]), edge_vertex(tet[seq[0]], tet[seq[2]]),
-                                           edge_vertex(tet[seq[0]], tet[seq[3]])});
-                            continue;
-                        }
-                        int seq[4] = {neg[0], neg[1], pos[0], pos[1]};
-                        if (inversions(seq) % 2 == 1) std::swap(seq[2], seq[3]);
-                        const int I = tet[seq[0]], J = tet[seq[1]], Kc = tet[seq[2]], L = tet[seq[3]];
-                        const int q0 = edge_vertex(I, Kc), q1 = edge_vertex(I, L), q2 = edge_vertex(J, L), q3 = edge_vertex(J, Kc);
-                        // Split the quad along its shorter diagonal.
-                        if (squared_norm(point_of(q0) - point_of(q2)) <= squared_norm(point_of(q1) - point_of(q3))) {
-                            out.push_back({q0, q1, q2});
-                            out.push_back({q0, q2, q3});
-                        } else {
-                            out.push_back({q0, q1, q3});
-                            out.push_back({q1, q2, q3});
-                        }
-                    }
-                }
-        }
-    });
+            }
+        });
+    }
 
-    TriangleMesh mesh;
-    mesh.points.reserve(static_cast<std::size_t>(first_id.back()));
-    for (const std::vector<Crossing>& c : crossings)
-        for (const Crossing& x : c) mesh.points.push_back(x.point);
-    std::size_t nt = 0;
-    for (const auto& t : tris) nt += t.size();
-    mesh.triangles.reserve(nt);
-    for (const auto& t : tris) mesh.triangles.insert(mesh.triangles.end(), t.begin(), t.end());
+    TriangleMesh assemble() const {
+        TriangleMesh mesh;
+        mesh.points.reserve(static_cast<std::size_t>(first_id.back()));
+        for (const std::vector<Crossing>& c : crossings)
+            for (const Crossing& x : c) mesh.points.push_back(x.point);
+        std::size_t nt = 0;
+        for (const auto& t : tris) nt += t.size();
+        mesh.triangles.reserve(nt);
+        for (const auto& t : tris) mesh.triangles.insert(mesh.triangles.end(), t.begin(), t.end());
+        return mesh;
+    }
+};
 
+}  // namespace
+
+TriangleMesh thicken(const Skeleton& skeleton, const ThickenOptions& options, ThickenStats* stats) {
+    const std::vector<double> radius = radii_of(skeleton, options);
+    if (!(options.cells_per_radius > 0)) throw Error(ErrorCode::InvalidInput, "thicken: cells_per_radius must be > 0");
+    if (options.max_grid_points < 1000) throw Error(ErrorCode::InvalidInput, "thicken: max_grid_points must be >= 1000");
+    const Primitives prims = build_primitives(skeleton, radius);
+    Grid grid(prims);
+    grid.size(*std::min_element(radius.begin(), radius.end()), options);
+    grid.sample();
+    grid.find_crossings();
+    grid.triangulate();
+    TriangleMesh mesh = grid.assemble();
     if (stats) {
-        stats->cell_size = h;
-        stats->nx = nx;
-        stats->ny = ny;
-        stats->nz = nz;
-        stats->primitives = static_cast<int>(prims.size());
+        stats->cell_size = grid.h;
+        stats->nx = grid.nx;
+        stats->ny = grid.ny;
+        stats->nz = grid.nz;
+        stats->primitives = static_cast<int>(prims.prims.size());
         stats->evaluations = 0;
-        for (long e : slice_evals) stats->evaluations += e;
+        for (long e : grid.slice_evals) stats->evaluations += e;
     }
     return mesh;
 }

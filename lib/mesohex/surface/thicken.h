@@ -1,5 +1,5 @@
 #pragma once
-// Thickening (issue 5, item 9): the domain that a skeleton with radii describes, as a closed triangle surface.
+// Thickening: the domain that a skeleton with radii describes, as a closed triangle surface.
 // The domain is the union of
 //   - a sphere at every skeleton point that no edge or face uses,
 //   - a round cone along every edge (convex hull of its two end spheres),
