@@ -49,7 +49,10 @@ web_deps() {
 }
 
 build() {
-  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMESOHEX_WERROR=ON >/dev/null
+  # ccache, when the machine has it, makes rebuilds of unchanged files free (it is optional, not a dependency).
+  local launcher=()
+  command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMESOHEX_WERROR=ON "${launcher[@]}" >/dev/null
   cmake --build "$BUILD" -j "$JOBS"
 }
 
@@ -101,7 +104,6 @@ case "${1:-}" in
   deps) deps ;;
   build) deps; build ;;
   test) deps; build; run_tests; sanitizer_tests ;;
-
   demo) deps; build; demo ;;
   bench) deps; build; "$BUILD/bench/mesohex_bench" ;;
   *) echo "usage: $0 demo|test|deps|build|bench" >&2; exit 2 ;;
