@@ -222,7 +222,8 @@ void put_mesh(std::string& out, const Run& run, const Domain* domain) {
     std::vector<std::array<int, 3>> singular;
     for (std::size_t e = 0; e < topo.edges.size(); ++e) {
         const int regular = topo.edge_on_boundary[e] ? 2 : 4;
-        if (topo.edge_valence[e] != regular) singular.push_back({topo.edges[e][0], topo.edges[e][1], topo.edge_valence[e]});
+        if (topo.edge_valence[e] != regular)
+            singular.push_back({topo.edges[e][0], topo.edges[e][1], topo.edge_valence[e]});
     }
     out += '{';
     put_key(out, "vertices"), put_points(out, mesh.points), out += ',';
@@ -291,7 +292,8 @@ Skeleton skeleton_from_json(const nlohmann::json& j) {
         s.points.push_back({number(points[i][0], where), number(points[i][1], where), number(points[i][2], where)});
     }
     if (const nlohmann::json* radii = member("radii", false))
-        for (std::size_t i = 0; i < radii->size(); ++i) s.radii.push_back(number((*radii)[i], "radii[" + std::to_string(i) + "]"));
+        for (std::size_t i = 0; i < radii->size(); ++i)
+            s.radii.push_back(number((*radii)[i], "radii[" + std::to_string(i) + "]"));
     if (const nlohmann::json* edges = member("edges", false))
         for (std::size_t i = 0; i < edges->size(); ++i) {
             const std::string where = "edges[" + std::to_string(i) + "]";
@@ -336,9 +338,9 @@ std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const 
     std::string out;
     out.reserve(64 * run.mesh().hexes.size() + 4096);
     out += '{';
-    put_key(out, "report"), out += run.report.dump(), out += ',';
+    put_key(out, "report"), out += run.report.dump(-1, ' ', false, kUtf8Replace), out += ',';
     put_key(out, "mesh"), put_mesh(out, run, domain), out += ',';
-    put_key(out, "analysis"), out += analysis.dump(), out += ',';
+    put_key(out, "analysis"), out += analysis.dump(-1, ' ', false, kUtf8Replace), out += ',';
     put_key(out, "meshed_skeleton"), put_skeleton(out, run.run.pipeline.skeleton), out += ',';
     if (!run.run.finish) put_key(out, "connection_surfaces"), put_connection_surfaces(out, run), out += ',';
     put_key(out, "server_ms"), put(out, ms_since(t0));
