@@ -104,15 +104,21 @@ void register_studio(CLI::App& app, int* status) {
     CLI::App* cmd = app.add_subcommand(
         "studio", "Browser studio: model a meso-skeleton over its domain and see the hex mesh live (docs/studio.md).");
     cmd->add_option("skeleton", args->skeleton, "Skeleton to open (.skel, .cg, .cgr, .ig, .obj); default: empty");
-    cmd->add_option("--surface", args->surface, "Domain surface (.off .obj .stl .ply): shown, and the final mesh is fit to it");
+    cmd->add_option("--surface", args->surface,
+                    "Domain surface (.off .obj .stl .ply): shown, and the final mesh is fit to it");
     cmd->add_option("--medial", args->medial, "Medial mesh (.ma) to import as a starting meso-skeleton");
-    cmd->add_option("--port", args->port, "Port (0 = any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
-    cmd->add_option("--host", args->host, "Address to listen on (anything but 127.0.0.1 opens the studio to the network)")
+    cmd->add_option("--port", args->port, "Port (0 = any free port)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 65535));
+    cmd->add_option("--host", args->host,
+                    "Address to listen on (anything but 127.0.0.1 opens the studio to the network)")
         ->capture_default_str();
-    cmd->add_option("--save", args->save, "File the page's Save writes (.obj or .ig); without it the page only downloads");
+    cmd->add_option("--save", args->save,
+                    "File the page's Save writes (.obj or .ig); without it the page only downloads");
     cmd->add_option("--web-dir", args->web_dir, "Directory of the page (development)")->capture_default_str();
-    cmd->footer("Example: mesohex studio data/tiny/tripod.obj --save tripod_edited.obj\n"
-                "Then open the printed URL in a browser. Ctrl+C stops it.");
+    cmd->footer(
+        "Example: mesohex studio data/tiny/tripod.obj --save tripod_edited.obj\n"
+        "Then open the printed URL in a browser. Ctrl+C stops it.");
     cmd->callback([args, status]() { *status = run_studio(*args); });
 }
 

@@ -24,9 +24,9 @@ const char* to_string(JobState s);
 struct JobProgress {
     std::string stage;  // "raw", "attempt", "fit", "untangle", "improve", "smooth" ("" before the first report)
     int step = 0;
-    int steps = 0;       // the stage's cap on step (0 when unknown)
-    double sj_min = 0;   // fit: current min scaled Jacobian
-    long inverted = 0;   // fit, untangle, improve: hexes with scaled Jacobian <= 0
+    int steps = 0;      // the stage's cap on step (0 when unknown)
+    double sj_min = 0;  // fit: current min scaled Jacobian
+    long inverted = 0;  // fit, untangle, improve: hexes with scaled Jacobian <= 0
 };
 
 // Thrown from JobContext::progress once the job is cancelled; the worker catches it.
@@ -59,9 +59,9 @@ struct JobSnapshot {
 };
 
 struct JobLimits {
-    int kept_per_client = 8;   // finished jobs kept per client (oldest dropped)
-    int kept_total = 64;       // finished jobs kept over all clients
-    int max_queued = 32;       // queued jobs over all clients; submit beyond it fails (Busy)
+    int kept_per_client = 8;  // finished jobs kept per client (oldest dropped)
+    int kept_total = 64;      // finished jobs kept over all clients
+    int max_queued = 32;      // queued jobs over all clients; submit beyond it fails (Busy)
 };
 
 class JobManager {

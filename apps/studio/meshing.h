@@ -15,6 +15,10 @@
 
 namespace mesohex::studio {
 
+// For json::dump: invalid UTF-8 in a string (a request's bytes quoted in an error message) becomes U+FFFD instead of
+// an exception.
+inline constexpr nlohmann::json::error_handler_t kUtf8Replace = nlohmann::json::error_handler_t::replace;
+
 // The domain of a session: the surface, its name, and the query structure built once.
 struct Domain {
     std::string name;

@@ -105,7 +105,7 @@ void send_json(httplib::Response& res, const std::string& body, int status = 200
 
 void send_error(httplib::Response& res, std::exception_ptr ep) {
     const auto [status, error] = describe(ep);
-    send_json(res, json{{"error", error}}.dump(), status);
+    send_json(res, json{{"error", error}}.dump(-1, ' ', false, kUtf8Replace), status);
 }
 
 const char* status_code_name(int status) {
@@ -155,8 +155,8 @@ httplib::Server::HandlerWithContentReader with_body(std::size_t max_bytes, F f) 
                 return true;
             });
             if (too_large || res.status == 413)
-                throw HttpError(413, "PayloadTooLarge", "request body over the size limit (" +
-                                                            std::to_string(max_bytes) + " bytes)");
+                throw HttpError(413, "PayloadTooLarge",
+                                "request body over the size limit (" + std::to_string(max_bytes) + " bytes)");
             if (!ok) throw HttpError(400, "BadRequest", "could not read the request body");
             f(req, body, res);
         } catch (...) {
@@ -195,7 +195,7 @@ std::string job_json(const JobSnapshot& s, bool with_result) {
                              {"steps", s.progress.steps},
                              {"sj_min", s.progress.sj_min},
                              {"inverted", s.progress.inverted}}}}
-                          .dump();
+                          .dump(-1, ' ', false, kUtf8Replace);
     out.pop_back();  // '}'
     if (with_result && s.state == JobState::Done) out += ",\"result\":" + s.result;
     if (s.state == JobState::Failed) out += ",\"error\":" + s.error;
@@ -226,12 +226,13 @@ struct StudioServer::Impl {
         : session(std::move(s)),
           files(std::move(f)),
           options(std::move(o)),
-          jobs([](std::exception_ptr ep) { return describe(ep).second.dump(); },
+          jobs([](std::exception_ptr ep) { return describe(ep).second.dump(-1, ' ', false, kUtf8Replace); },
                JobLimits{std::max(1, options.kept_jobs_per_client), 64, 32}) {
         if (session.domain) {
             domain.emplace();
             domain->name = session.domain_name;
-            domain->surface = *session.domain;
+            domain->surface = std::move(*session.domain);  // the session's copy is not needed any more
+            session.domain.reset();
             domain->query.emplace(domain->surface);
         }
         session_body = build_session();
@@ -266,7 +267,7 @@ struct StudioServer::Impl {
         }
         j["save_target"] = session.save_target.empty() ? json(nullptr) : json(session.save_target);
         j["medial"] = session.medial ? skeleton_json(*session.medial) : json(nullptr);
-        return j.dump();
+        return j.dump(-1, ' ', false, kUtf8Replace);
     }
 
     void routes();
@@ -286,212 +287,229 @@ void StudioServer::Impl::routes() {
         const_cast<httplib::Request&>(req).headers.erase("Accept-Encoding");
         return httplib::Server::HandlerResponse::Unhandled;
     });
-    http.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
-        send_error(res, ep);
-    });
+    http.set_exception_handler(
+        [](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) { send_error(res, ep); });
     // Errors raised by httplib itself (no route, body too large, bad request line) get a JSON body too.
     http.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
         if (!res.body.empty()) return;
         std::string message = "HTTP " + std::to_string(res.status);
         if (res.status == 404) message = "no such resource: " + req.method + " " + req.path;
         if (res.status == 413) message = "request body over the size limit";
-        send_json(res, json{{"error", error_json(status_code_name(res.status), message)}}.dump(), res.status);
+        send_json(res,
+                  json{{"error", error_json(status_code_name(res.status), message)}}.dump(-1, ' ', false, kUtf8Replace),
+                  res.status);
     });
 
-    http.Get("/api/session", guarded([this](const httplib::Request&, httplib::Response& res) {
-        send_json(res, session_body);
-    }));
+    http.Get("/api/session",
+             guarded([this](const httplib::Request&, httplib::Response& res) { send_json(res, session_body); }));
 
     http.Post("/api/analyze", post_handler([this](const Req& req, const std::string& body, Res& res) {
-        const Skeleton s = body_skeleton(req, body);
-        SkeletonAnalysis an;
-        try {
-            an = analyze_skeleton(s);
-        } catch (const Error& e) {
-            throw library_error(e);
-        }
-        try {
-            send_json(res, analyze_response(s, domain_ptr()).dump());
-        } catch (const Error& e) {
-            // The analysis holds but the mesh cannot be built: the error, with the classes for the page.
-            const HttpError h = library_error(e);
-            send_json(res, json{{"error", error_json(h.code, h.what(), h.where)}, {"analysis", analysis_json(an)}}.dump(),
-                      h.status);
-        }
-    }));
+                  const Skeleton s = body_skeleton(req, body);
+                  SkeletonAnalysis an;
+                  try {
+                      an = analyze_skeleton(s);
+                  } catch (const Error& e) {
+                      throw library_error(e);
+                  }
+                  try {
+                      send_json(res, analyze_response(s, domain_ptr()).dump(-1, ' ', false, kUtf8Replace));
+                  } catch (const Error& e) {
+                      // The analysis holds but the mesh cannot be built: the error, with the classes for the page.
+                      const HttpError h = library_error(e);
+                      send_json(
+                          res,
+                          json{{"error", error_json(h.code, h.what(), h.where)}, {"analysis", analysis_json(an)}}.dump(
+                              -1, ' ', false, kUtf8Replace),
+                          h.status);
+                  }
+              }));
 
     http.Post("/api/mesh", post_handler([this](const Req& req, const std::string& body, Res& res) {
-        const std::string stage = req.has_param("stage") ? req.get_param_value("stage") : "raw";
-        if (stage != "raw" && stage != "final")
-            throw HttpError(400, "BadRequest", "stage must be raw or final, not '" + stage + "'");
-        if (stage == "final") require_domain("stage=final");
-        const Skeleton s = body_skeleton(req, body);
-        MeshRequest request;
-        request.finish = stage == "final";
-        try {
-            send_json(res, mesh_response(s, domain_ptr(), request));
-        } catch (const Error& e) {
-            throw library_error(e);
-        }
-    }));
+                  const std::string stage = req.has_param("stage") ? req.get_param_value("stage") : "raw";
+                  if (stage != "raw" && stage != "final")
+                      throw HttpError(400, "BadRequest", "stage must be raw or final, not '" + stage + "'");
+                  if (stage == "final") require_domain("stage=final");
+                  const Skeleton s = body_skeleton(req, body);
+                  MeshRequest request;
+                  request.finish = stage == "final";
+                  try {
+                      send_json(res, mesh_response(s, domain_ptr(), request));
+                  } catch (const Error& e) {
+                      throw library_error(e);
+                  }
+              }));
 
     http.Post("/api/jobs", post_handler([this](const Req& req, const std::string& body, Res& res) {
-        const Domain& d = require_domain("a finishing job");
-        std::string client = req.has_header("X-Studio-Client") ? req.get_header_value("X-Studio-Client") : "default";
-        if (client.empty() || client.size() > 200) throw HttpError(400, "BadRequest", "X-Studio-Client: 1 to 200 characters");
-        Skeleton s = body_skeleton(req, body);
-        const Domain* dp = &d;
-        const std::optional<long> id = jobs.submit(client, [s = std::move(s), dp](JobContext& ctx) {
-            MeshRequest request;
-            request.finish = true;
-            request.progress = [&ctx](const MeshProgress& p) {
-                ctx.progress({p.stage, p.step, p.steps, p.sj_min, p.inverted});
-            };
-            return mesh_response(s, dp, request);
-        });
-        if (!id) throw HttpError(409, "Busy", "too many jobs waiting; try again later");
-        send_json(res, json{{"job", *id}}.dump(), 202);
-    }));
+                  const Domain& d = require_domain("a finishing job");
+                  std::string client =
+                      req.has_header("X-Studio-Client") ? req.get_header_value("X-Studio-Client") : "default";
+                  if (client.empty() || client.size() > 200)
+                      throw HttpError(400, "BadRequest", "X-Studio-Client: 1 to 200 characters");
+                  Skeleton s = body_skeleton(req, body);
+                  const Domain* dp = &d;
+                  const std::optional<long> id = jobs.submit(client, [s = std::move(s), dp](JobContext& ctx) {
+                      MeshRequest request;
+                      request.finish = true;
+                      request.progress = [&ctx](const MeshProgress& p) {
+                          ctx.progress({p.stage, p.step, p.steps, p.sj_min, p.inverted});
+                      };
+                      return mesh_response(s, dp, request);
+                  });
+                  if (!id) throw HttpError(409, "Busy", "too many jobs waiting; try again later");
+                  send_json(res, json{{"job", *id}}.dump(-1, ' ', false, kUtf8Replace), 202);
+              }));
 
     http.Get(R"(/api/jobs/(\d{1,15}))", guarded([this](const httplib::Request& req, httplib::Response& res) {
-        const long id = std::stol(req.matches[1].str());
-        const std::optional<JobSnapshot> s = jobs.get(id);
-        if (!s) throw HttpError(404, "NotFound", "no job " + std::to_string(id) + " (unknown or dropped)");
-        send_json(res, job_json(*s, true));
-    }));
+                 const long id = std::stol(req.matches[1].str());
+                 const std::optional<JobSnapshot> s = jobs.get(id);
+                 if (!s) throw HttpError(404, "NotFound", "no job " + std::to_string(id) + " (unknown or dropped)");
+                 send_json(res, job_json(*s, true));
+             }));
 
     http.Delete(R"(/api/jobs/(\d{1,15}))", guarded([this](const httplib::Request& req, httplib::Response& res) {
-        const long id = std::stol(req.matches[1].str());
-        if (!jobs.cancel(id)) throw HttpError(404, "NotFound", "no job " + std::to_string(id) + " (unknown or dropped)");
-        send_json(res, job_json(*jobs.get(id), false));
-    }));
+                    const long id = std::stol(req.matches[1].str());
+                    if (!jobs.cancel(id))
+                        throw HttpError(404, "NotFound", "no job " + std::to_string(id) + " (unknown or dropped)");
+                    send_json(res, job_json(*jobs.get(id), false));
+                }));
 
     // Server-sent events: one "data: {job, state, progress}" event per change, until the job is finished.
     http.Get(R"(/api/jobs/(\d{1,15})/events)", guarded([this](const httplib::Request& req, httplib::Response& res) {
-        const long id = std::stol(req.matches[1].str());
-        if (!jobs.get(id)) throw HttpError(404, "NotFound", "no job " + std::to_string(id) + " (unknown or dropped)");
-        res.set_header("Cache-Control", "no-cache");
-        auto seen = std::make_shared<long>(-1);
-        res.set_chunked_content_provider("text/event-stream", [this, id, seen](std::size_t, httplib::DataSink& sink) {
-            if (stopping.load() || !sink.is_writable()) return false;
-            const std::optional<JobSnapshot> s = jobs.wait_change(id, *seen, std::chrono::milliseconds(500));
-            if (!s) {
-                sink.done();
-                return true;
-            }
-            if (s->version != *seen) {
-                *seen = s->version;
-                const std::string event = "data: " + job_json(*s, false) + "\n\n";
-                if (!sink.write(event.data(), event.size())) return false;
-            }
-            if (finished(s->state)) sink.done();
-            return true;
-        });
-    }));
+                 const long id = std::stol(req.matches[1].str());
+                 if (!jobs.get(id))
+                     throw HttpError(404, "NotFound", "no job " + std::to_string(id) + " (unknown or dropped)");
+                 res.set_header("Cache-Control", "no-cache");
+                 auto seen = std::make_shared<long>(-1);
+                 res.set_chunked_content_provider("text/event-stream", [this, id, seen](std::size_t,
+                                                                                        httplib::DataSink& sink) {
+                     if (stopping.load() || !sink.is_writable()) return false;
+                     const std::optional<JobSnapshot> s = jobs.wait_change(id, *seen, std::chrono::milliseconds(500));
+                     if (!s) {
+                         sink.done();
+                         return true;
+                     }
+                     if (s->version != *seen) {
+                         *seen = s->version;
+                         const std::string event = "data: " + job_json(*s, false) + "\n\n";
+                         if (!sink.write(event.data(), event.size())) return false;
+                     }
+                     if (finished(s->state)) sink.done();
+                     return true;
+                 });
+             }));
 
     http.Post("/api/auto-skeleton", post_handler([this](const Req&, const std::string&, Res& res) {
-        const Domain& d = require_domain("the curve skeleton");
-        const std::lock_guard<std::mutex> lock(auto_mutex);
-        if (!auto_body) {
-            Skeletonization sk;
-            try {
-                sk = skeletonize_surface(d.surface);
-            } catch (const Error& e) {
-                throw library_error(e);
-            }
-            auto_body = json{{"skeleton", skeleton_json(sk.skeleton)}, {"obj", skeleton_text(sk.skeleton, "obj", "skeleton")}}.dump();
-        }
-        send_json(res, *auto_body);
-    }));
+                  const Domain& d = require_domain("the curve skeleton");
+                  const std::lock_guard<std::mutex> lock(auto_mutex);
+                  if (!auto_body) {
+                      Skeletonization sk;
+                      try {
+                          sk = skeletonize_surface(d.surface);
+                      } catch (const Error& e) {
+                          throw library_error(e);
+                      }
+                      auto_body = json{{"skeleton", skeleton_json(sk.skeleton)},
+                                       {"obj", skeleton_text(sk.skeleton, "obj", "skeleton")}}
+                                      .dump(-1, ' ', false, kUtf8Replace);
+                  }
+                  send_json(res, *auto_body);
+              }));
 
     http.Post("/api/import", post_handler([](const Req& req, const std::string& body, Res& res) {
-        const std::string format = format_param(req, "ma");
-        if (format != "ma") throw HttpError(400, "BadRequest", "import reads format=ma only, not '" + format + "'");
-        Skeleton medial;
-        try {
-            medial = read_medial_mesh_text(body, "request body");
-        } catch (const Error& e) {
-            throw HttpError(400, code_name(e.code()), e.what(), e.where());
-        }
-        MedialImport imp;
-        try {
-            imp = import_medial_mesh(medial);
-        } catch (const Error& e) {
-            throw library_error(e);
-        }
-        send_json(res, json{{"skeleton", skeleton_json(imp.skeleton)}, {"obj", skeleton_text(imp.skeleton, "obj", "skeleton")}}.dump());
-    }));
+                  const std::string format = format_param(req, "ma");
+                  if (format != "ma")
+                      throw HttpError(400, "BadRequest", "import reads format=ma only, not '" + format + "'");
+                  Skeleton medial;
+                  try {
+                      medial = read_medial_mesh_text(body, "request body");
+                  } catch (const Error& e) {
+                      throw HttpError(400, code_name(e.code()), e.what(), e.where());
+                  }
+                  MedialImport imp;
+                  try {
+                      imp = import_medial_mesh(medial);
+                  } catch (const Error& e) {
+                      throw library_error(e);
+                  }
+                  send_json(res, json{{"skeleton", skeleton_json(imp.skeleton)},
+                                      {"obj", skeleton_text(imp.skeleton, "obj", "skeleton")}}
+                                     .dump(-1, ' ', false, kUtf8Replace));
+              }));
 
     http.Post("/api/parse", post_handler([](const Req& req, const std::string& body, Res& res) {
-        send_json(res, json{{"skeleton", skeleton_json(body_skeleton(req, body))}}.dump());
-    }));
+                  send_json(res, json{{"skeleton", skeleton_json(body_skeleton(req, body))}}.dump(-1, ' ', false,
+                                                                                                  kUtf8Replace));
+              }));
 
     http.Post("/api/serialize", post_handler([](const Req& req, const std::string& body, Res& res) {
-        const std::string format = format_param(req);
-        if (format != "obj" && format != "ig")
-            throw HttpError(400, "BadRequest", "serialize writes format=obj or ig, not '" + format + "'");
-        const Skeleton s = skeleton_from_json(body_json(body));
-        std::string text;
-        try {
-            text = skeleton_text(s, format, "skeleton");
-        } catch (const Error& e) {
-            throw HttpError(400, code_name(e.code()), e.what(), e.where());
-        }
-        res.set_content(text, "text/plain; charset=utf-8");
-    }));
+                  const std::string format = format_param(req);
+                  if (format != "obj" && format != "ig")
+                      throw HttpError(400, "BadRequest", "serialize writes format=obj or ig, not '" + format + "'");
+                  const Skeleton s = skeleton_from_json(body_json(body));
+                  std::string text;
+                  try {
+                      text = skeleton_text(s, format, "skeleton");
+                  } catch (const Error& e) {
+                      throw HttpError(400, code_name(e.code()), e.what(), e.where());
+                  }
+                  res.set_content(text, "text/plain; charset=utf-8");
+              }));
 
     http.Post("/api/radius-from-domain", post_handler([this](const Req& req, const std::string& body, Res& res) {
-        const Domain& d = require_domain("radius from the domain");
-        const Skeleton s = body_skeleton(req, body);
-        RadiusFromSurface rs;
-        try {
-            rs = radius_from_surface(s, *d.query);
-        } catch (const Error& e) {
-            throw library_error(e);
-        }
-        send_json(res, json{{"radii", rs.radii}, {"outside_vertices", rs.outside_vertices}}.dump());
-    }));
+                  const Domain& d = require_domain("radius from the domain");
+                  const Skeleton s = body_skeleton(req, body);
+                  RadiusFromSurface rs;
+                  try {
+                      rs = radius_from_surface(s, *d.query);
+                  } catch (const Error& e) {
+                      throw library_error(e);
+                  }
+                  send_json(res, json{{"radii", rs.radii}, {"outside_vertices", rs.outside_vertices}}.dump(
+                                     -1, ' ', false, kUtf8Replace));
+              }));
 
     http.Post("/api/snap-medial", post_handler([this](const Req&, const std::string& body, Res& res) {
-        const Domain& d = require_domain("snapping to the medial position");
-        const json request = body_json(body);
-        if (!request.is_object() || !request.contains("points") || !request["points"].is_array())
-            throw HttpError(400, "BadRequest", "expected {\"points\": [[x, y, z], ...]}");
-        json wrapped = {{"points", request["points"]}};
-        const Skeleton pts = skeleton_from_json(wrapped);
-        json out = json::array();
-        const double eps = 1e-9 * d.query->bbox_diagonal();
-        for (const Vec3& p : pts.points) {
-            // The closest surface point c, and the surface point h hit by the ray from c through p (from inside) or
-            // from c away from p (from outside): the medial position is their midpoint (exact in a tube).
-            const ClosestPoint c = d.query->closest(p);
-            Vec3 m = p;
-            const Vec3 dir = d.query->inside(p) ? p - c.point : c.point - p;
-            if (norm(dir) > eps) {
-                const std::optional<RayHit> h = d.query->first_hit(c.point, dir, eps);
-                if (h) m = 0.5 * (c.point + h->point);
-            }
-            out.push_back({m.x, m.y, m.z});
-        }
-        send_json(res, json{{"points", out}}.dump());
-    }));
+                  const Domain& d = require_domain("snapping to the medial position");
+                  const json request = body_json(body);
+                  if (!request.is_object() || !request.contains("points") || !request["points"].is_array())
+                      throw HttpError(400, "BadRequest", "expected {\"points\": [[x, y, z], ...]}");
+                  json wrapped = {{"points", request["points"]}};
+                  const Skeleton pts = skeleton_from_json(wrapped);
+                  json out = json::array();
+                  const double eps = 1e-9 * d.query->bbox_diagonal();
+                  for (const Vec3& p : pts.points) {
+                      // The closest surface point c, and the surface point h hit by the ray from c through p (from
+                      // inside) or from c away from p (from outside): the medial position is their midpoint (exact in a
+                      // tube).
+                      const ClosestPoint c = d.query->closest(p);
+                      Vec3 m = p;
+                      const Vec3 dir = d.query->inside(p) ? p - c.point : c.point - p;
+                      if (norm(dir) > eps) {
+                          const std::optional<RayHit> h = d.query->first_hit(c.point, dir, eps);
+                          if (h) m = 0.5 * (c.point + h->point);
+                      }
+                      out.push_back({m.x, m.y, m.z});
+                  }
+                  send_json(res, json{{"points", out}}.dump(-1, ' ', false, kUtf8Replace));
+              }));
 
     http.Post("/api/save", post_handler([this](const Req& req, const std::string& body, Res& res) {
-        if (session.save_target.empty())
-            throw HttpError(403, "Forbidden", "no save target: start the studio with --save PATH");
-        const Skeleton s = body_skeleton(req, body);
-        const std::lock_guard<std::mutex> lock(save_mutex);
-        try {
-            write_skeleton(session.save_target, s);
-        } catch (const Error& e) {
-            throw HttpError(e.code() == ErrorCode::IoError ? 500 : 422, code_name(e.code()), e.what(), e.where());
-        }
-        send_json(res, json{{"saved", session.save_target},
-                            {"vertices", s.points.size()},
-                            {"edges", s.edges.size()},
-                            {"faces", s.faces.size()}}
-                           .dump());
-    }));
+                  if (session.save_target.empty())
+                      throw HttpError(403, "Forbidden", "no save target: start the studio with --save PATH");
+                  const Skeleton s = body_skeleton(req, body);
+                  const std::lock_guard<std::mutex> lock(save_mutex);
+                  try {
+                      write_skeleton(session.save_target, s);
+                  } catch (const Error& e) {
+                      throw HttpError(e.code() == ErrorCode::IoError ? 500 : 422, code_name(e.code()), e.what(),
+                                      e.where());
+                  }
+                  send_json(res, json{{"saved", session.save_target},
+                                      {"vertices", s.points.size()},
+                                      {"edges", s.edges.size()},
+                                      {"faces", s.faces.size()}}
+                                     .dump(-1, ' ', false, kUtf8Replace));
+              }));
 
     static_routes();
 }
@@ -499,11 +517,11 @@ void StudioServer::Impl::routes() {
 // GET of anything else: a lookup in the in-memory table, never the file system.
 void StudioServer::Impl::static_routes() {
     http.Get(".*", guarded([this](const httplib::Request& req, httplib::Response& res) {
-        const auto it = files.by_url.find(req.path);
-        if (it == files.by_url.end()) throw HttpError(404, "NotFound", "no such resource: GET " + req.path);
-        res.set_header("Cache-Control", "no-cache");
-        res.set_content(it->second.body, it->second.content_type);
-    }));
+                 const auto it = files.by_url.find(req.path);
+                 if (it == files.by_url.end()) throw HttpError(404, "NotFound", "no such resource: GET " + req.path);
+                 res.set_header("Cache-Control", "no-cache");
+                 res.set_content(it->second.body, it->second.content_type);
+             }));
 }
 
 StudioServer::StudioServer(StudioSession session, StaticFiles files, StudioOptions options)
@@ -515,7 +533,8 @@ int StudioServer::bind() {
     if (impl_->port >= 0) return impl_->port;
     const std::string& host = impl_->options.host;
     const int port = impl_->options.port;
-    if (port < 0 || port > 65535) throw Error(ErrorCode::InvalidInput, "port " + std::to_string(port) + " out of range");
+    if (port < 0 || port > 65535)
+        throw Error(ErrorCode::InvalidInput, "port " + std::to_string(port) + " out of range");
     int bound = -1;
     if (port == 0) {
         bound = impl_->http.bind_to_any_port(host);
@@ -523,8 +542,8 @@ int StudioServer::bind() {
         bound = port;
     }
     if (bound <= 0)
-        throw Error(ErrorCode::IoError, "cannot listen on " + host + ":" + std::to_string(port) +
-                                            " (address in use or not available)");
+        throw Error(ErrorCode::IoError,
+                    "cannot listen on " + host + ":" + std::to_string(port) + " (address in use or not available)");
     impl_->port = bound;
     return bound;
 }
@@ -537,7 +556,8 @@ bool StudioServer::listen() {
 int StudioServer::start() {
     const int port = bind();
     impl_->thread = std::thread([this] { impl_->http.listen_after_bind(); });
-    while (!impl_->http.is_running() && !impl_->stopping.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    while (!impl_->http.is_running() && !impl_->stopping.load())
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
     return port;
 }
 

@@ -26,9 +26,9 @@ struct StudioSession {
 
 struct StudioOptions {
     std::string host = "127.0.0.1";
-    int port = 8080;                               // 0 = any free port
-    std::size_t max_body_bytes = 64u << 20;        // larger request bodies get 413
-    int kept_jobs_per_client = 8;                  // finished jobs kept for polling, per client
+    int port = 8080;                         // 0 = any free port
+    std::size_t max_body_bytes = 64u << 20;  // larger request bodies get 413
+    int kept_jobs_per_client = 8;            // finished jobs kept for polling, per client
 };
 
 class StudioServer {

@@ -34,7 +34,7 @@ inline RunningStudio start_studio(studio::StudioSession session, studio::StaticF
 inline nlohmann::json body_json(const httplib::Result& r) {
     if (!r) return nlohmann::json::object();
     return nlohmann::json::parse(r->body, nullptr, false).is_discarded() ? nlohmann::json::object()
-                                                                           : nlohmann::json::parse(r->body);
+                                                                         : nlohmann::json::parse(r->body);
 }
 
 }  // namespace mesohex::test

@@ -153,3 +153,28 @@ TEST_F(StudioFinal, JobsRunTheFinalMeshAndAreCancelled) {
     // The finished job is still there.
     EXPECT_EQ(body_json(s.client->Get(("/api/jobs/" + std::to_string(id2)).c_str()))["state"], "done");
 }
+
+// A skeleton without radii in a domain: the raw mesh takes them from the domain (0.5 x distance), as `mesohex mesh
+// --surface --raw` does: same report radius source, hexes and quality.
+TEST_F(StudioFinal, RawMeshInTheDomainTakesRadiiFromItLikeTheCli) {
+    const fs::path dir = fs::path(*skeleton_file).parent_path();
+    Skeleton plate = generate_skeleton("plate", {.n = 2, .m = 1});
+    plate.radii.clear();
+    const fs::path bare = dir / "plate_no_radii.obj", report = dir / "plate_raw.json";
+    write_skeleton(bare.string(), plate);
+    const auto m = run_cli("mesh " + bare.string() + " --surface " + *domain_file + " --raw -o " +
+                           (dir / "plate_raw.vtu").string() + " --report " + report.string() + " --quiet");
+    ASSERT_EQ(m.status, 0) << m.output;
+    json cli;
+    std::ifstream(report) >> cli;
+    auto s = studio();
+    const auto r = s.client->Post("/api/mesh?stage=raw", mesohex::skeleton_text(plate, "obj", "x"), "text/plain");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body.substr(0, 300);
+    const json rep = body_json(r)["report"];
+    EXPECT_EQ(rep["radius"], cli["radius"]);
+    EXPECT_EQ(rep["radius"]["source"], "surface (0.500000 x distance)");
+    EXPECT_EQ(rep["quality"]["hexes"], cli["quality"]["hexes"]);
+    EXPECT_EQ(rep["quality"]["sj_min"], cli["quality"]["sj_min"]);
+    EXPECT_EQ(rep["quality"]["sj_avg"], cli["quality"]["sj_avg"]);
+}

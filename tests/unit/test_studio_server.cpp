@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "cli_run.h"
+#include "meshing.h"
 #include "mesohex/core/error.h"
 #include "mesohex/pipeline.h"
 #include "mesohex/post/quality.h"
@@ -24,7 +25,6 @@
 #include "mesohex_io/medial_io.h"
 #include "mesohex_io/skeleton_io.h"
 #include "mesohex_io/surface_io.h"
-#include "meshing.h"
 #include "studio_fixtures.h"
 
 namespace fs = std::filesystem;
@@ -164,8 +164,9 @@ TEST(StudioServer, LoadsTheFixedFilesAndTheTopLevelModules) {
                                            "/vendor/three.module.js"}));
     EXPECT_EQ(f.by_url.at("/vendor/three.module.js").body, "three");
     EXPECT_EQ(f.by_url.at("/app/main.js").content_type, "text/javascript; charset=utf-8");
-    EXPECT_EQ(f.missing, (std::vector<std::string>{"studio.css", "node_modules/three/examples/jsm/controls/OrbitControls.js",
-                                                   "node_modules/three/examples/jsm/controls/TransformControls.js"}));
+    EXPECT_EQ(f.missing,
+              (std::vector<std::string>{"studio.css", "node_modules/three/examples/jsm/controls/OrbitControls.js",
+                                        "node_modules/three/examples/jsm/controls/TransformControls.js"}));
 }
 
 // Every generated shape: /api/mesh?stage=raw answers the raw mesh run_pipeline builds (same hexes, same points to the
@@ -195,8 +196,8 @@ TEST(StudioServer, RawMeshEqualsThePipelineOnGeneratedSkeletons) {
         }
         ASSERT_EQ(mesh["sj"].size(), q.sj.size()) << name;
         // One triple per irregular edge: the quality report's interior (valence != 4) and boundary (!= 2) counts.
-        EXPECT_EQ(mesh["singular_edges"].size(),
-                  3 * static_cast<std::size_t>(sum_counts(q.singular_interior_edges) + sum_counts(q.singular_boundary_edges)))
+        EXPECT_EQ(mesh["singular_edges"].size(), 3 * static_cast<std::size_t>(sum_counts(q.singular_interior_edges) +
+                                                                              sum_counts(q.singular_boundary_edges)))
             << name;
         EXPECT_EQ(mesh["boundary_quads"].size() % 4, 0u);
         EXPECT_FALSE(mesh.contains("boundary_distance"));
@@ -248,7 +249,9 @@ TEST(StudioServer, AnalyzeGivesTheClassesAndThePrediction) {
     const json j = body_json(r);
     ASSERT_EQ(j["vertex_class"].size(), 17u);
     for (int v = 0; v < 17; ++v) {
-        const std::string expected = v == 4 ? "BranchingPoint" : (v == 0 || v == 8 || v == 12 || v == 16) ? "Extremity" : "Joint";
+        const std::string expected = v == 4                                     ? "BranchingPoint"
+                                     : (v == 0 || v == 8 || v == 12 || v == 16) ? "Extremity"
+                                                                                : "Joint";
         EXPECT_EQ(j["vertex_class"][v], expected) << v;
     }
     EXPECT_EQ(j["edge_kind"], json(std::vector<std::string>(16, "branch")));
@@ -303,6 +306,7 @@ TEST(StudioServer, MalformedRequestsGet4xxJsonAndTheServerKeepsAnswering) {
         {"POST", "/api/mesh", "v 1 2\n", 400, "InvalidInput"},
         {"POST", "/api/mesh", std::string("v 0 0 0\0v 1 1 1\n", 16), 400, "InvalidInput"},
         {"POST", "/api/mesh", "v 0 0 0\nv 1 0 0\nl 1 7\n", 400, "InvalidInput"},
+        {"POST", "/api/mesh", "v 0 0 \xff\xfe\n", 400, "InvalidInput"},  // invalid UTF-8 quoted in the message
         {"POST", "/api/mesh?format=stl", "v 0 0 0\n", 400, "InvalidInput"},
         {"POST", "/api/mesh?stage=cooked", "v 0 0 0\n", 400, "BadRequest"},
         {"POST", "/api/mesh?stage=final", "v 0 0 0\n", 409, "BadRequest"},
@@ -367,8 +371,10 @@ TEST(StudioServer, OversizedBodyGets413AndTheServerKeepsAnswering) {
         "/api/mesh",
         [](std::size_t offset, httplib::DataSink& sink) {
             const std::string chunk(500, '#');
-            if (offset < 5000) sink.write(chunk.data(), chunk.size());
-            else sink.done();
+            if (offset < 5000)
+                sink.write(chunk.data(), chunk.size());
+            else
+                sink.done();
             return true;
         },
         "text/plain");
@@ -468,7 +474,8 @@ TEST(StudioServer, RadiusFromDomainAndSnapToTheMedialPosition) {
     EXPECT_NEAR(radii[0].get<double>(), 0.5, 1e-12);
     EXPECT_NEAR(radii[1].get<double>(), 0.25, 1e-12);
     EXPECT_NEAR(radii[2].get<double>(), 0.05, 1e-12);
-    const auto m = post(*s.client, "/api/snap-medial", R"({"points": [[0.5, 0.2, 0], [2, 0.2, 0]]})", "application/json");
+    const auto m =
+        post(*s.client, "/api/snap-medial", R"({"points": [[0.5, 0.2, 0], [2, 0.2, 0]]})", "application/json");
     ASSERT_TRUE(m);
     ASSERT_EQ(m->status, 200) << m->body;
     const json pts = body_json(m)["points"];
@@ -483,7 +490,8 @@ TEST(StudioServer, RadiusFromDomainAndSnapToTheMedialPosition) {
 // A .ma with a curve only (3 vertices, 2 edges): imported as one branch, radii kept.
 TEST(StudioServer, ImportsAMedialMeshFromTheBody) {
     auto s = start_studio({});
-    const auto r = post(*s.client, "/api/import?format=ma", "3 2 0\nv 0 0 0 0.1\nv 1 0 0 0.2\nv 2 0 0 0.3\ne 0 1\ne 1 2\n");
+    const auto r =
+        post(*s.client, "/api/import?format=ma", "3 2 0\nv 0 0 0 0.1\nv 1 0 0 0.2\nv 2 0 0 0.3\ne 0 1\ne 1 2\n");
     ASSERT_TRUE(r);
     ASSERT_EQ(r->status, 200) << r->body;
     const json j = body_json(r);
