@@ -149,39 +149,15 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Radii from the domain when the skeleton has none: what mesh_skeleton does (mesh.cpp, take_radii_from_domain: same
-// function, factor, error and report note), but with the session's surface query, built once, instead of one per
-// request (about 100 ms on a 27 k-triangle domain; an edit must take less than 50 ms). Returns the report's note.
-std::string radii_from_domain(Skeleton& skeleton, const Domain& domain, const MeshOptions& options) {
-    if (!skeleton.radii.empty() && !options.radius_from_surface) return "";
-    RadiusFromSurfaceOptions ro;
-    ro.factor = options.radius_factor;
-    const RadiusFromSurface rs = radius_from_surface(skeleton, *domain.query, ro);
-    for (std::size_t v = 0; v < rs.radii.size(); ++v)
-        if (!(rs.radii[v] > 0))
-            throw Error(ErrorCode::InvalidInput,
-                        "skeleton vertex " + std::to_string(v) +
-                            " lies on or outside the domain surface: no radius can be taken from it",
-                        {ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
-    skeleton.radii = rs.radii;
-    return "surface (" + std::to_string(options.radius_factor) + " x distance)";
-}
-
 Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& request) {
     MeshOptions options;  // the defaults of `mesohex mesh`
     options.finish = request.finish;
     options.progress = request.progress;
-    Skeleton skeleton = input;
-    const auto t0 = std::chrono::steady_clock::now();
-    std::string radius_note;
-    if (domain) radius_note = radii_from_domain(skeleton, *domain, options);
-    const double radius_ms = ms_since(t0);
     Run r;
-    r.run = mesh_skeleton(skeleton, domain ? &domain->surface : nullptr, options);
-    if (!radius_note.empty()) {
-        r.run.radius_note = radius_note;
-        r.run.radius_ms += radius_ms;
-    }
+    // The session's surface query, built once, instead of one per request (about 100 ms on a 27 k-triangle domain;
+    // an edit must take less than 50 ms).
+    r.run = mesh_skeleton(input, domain ? &domain->surface : nullptr,
+                          domain && domain->query ? &*domain->query : nullptr, options);
     ReportContext context;
     context.input = request.skeleton_name;
     if (r.run.finish && domain) context.surface = domain->name;

@@ -1,6 +1,7 @@
 #include "mesohex/mesh.h"
 
 #include <chrono>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -18,12 +19,14 @@ double ms_since(std::chrono::steady_clock::time_point t) {
 
 // Radii from the domain (factor x distance to its surface) when the skeleton has none or the options ask for it.
 // Returns the note the report gives as the radius source ("" when the domain was not used).
-std::string take_radii_from_domain(Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options) {
+std::string take_radii_from_domain(Skeleton& skeleton, const TriangleMesh& domain, const SurfaceQuery* domain_query,
+                                  const MeshOptions& options) {
     if (!skeleton.radii.empty() && !options.radius_from_surface) return "";
-    const SurfaceQuery query(domain);
+    std::optional<SurfaceQuery> own;
+    if (!domain_query) domain_query = &own.emplace(domain);
     RadiusFromSurfaceOptions ro;
     ro.factor = options.radius_factor;
-    const RadiusFromSurface rs = radius_from_surface(skeleton, query, ro);
+    const RadiusFromSurface rs = radius_from_surface(skeleton, *domain_query, ro);
     for (std::size_t v = 0; v < rs.radii.size(); ++v)
         if (!(rs.radii[v] > 0))
             throw Error(ErrorCode::InvalidInput,
@@ -132,10 +135,15 @@ int MeshRun::exit_status() const {
 }
 
 MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const MeshOptions& options) {
+    return mesh_skeleton(input, domain, nullptr, options);
+}
+
+MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const SurfaceQuery* domain_query,
+                      const MeshOptions& options) {
     MeshRun run;
     Skeleton skeleton = input;
     auto t = std::chrono::steady_clock::now();
-    if (domain) run.radius_note = take_radii_from_domain(skeleton, *domain, options);
+    if (domain) run.radius_note = take_radii_from_domain(skeleton, *domain, domain_query, options);
     run.radius_ms = ms_since(t);
 
     t = std::chrono::steady_clock::now();

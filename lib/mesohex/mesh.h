@@ -79,9 +79,16 @@ struct MeshRun {
     int exit_status() const;
 };
 
+class SurfaceQuery;
+
 // Preconditions: none beyond the stages' (every error is a mesohex::Error naming the element: InvalidInput for a
 // skeleton vertex on or outside the domain when radii come from it). `domain` may be null (raw mesh only).
 MeshRun mesh_skeleton(const Skeleton& skeleton, const TriangleMesh* domain, const MeshOptions& options = {});
+
+// The same with the domain's closest-point structure built by the caller (`domain_query` built on `*domain`, may be
+// null): a caller meshing many skeletons in one domain (the studio, one query per session) builds it once.
+MeshRun mesh_skeleton(const Skeleton& skeleton, const TriangleMesh* domain, const SurfaceQuery* domain_query,
+                      const MeshOptions& options);
 
 // The same, with the domain required: raw mesh, then finish in it.
 inline MeshRun mesh_in_domain(const Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options = {}) {
