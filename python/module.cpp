@@ -360,8 +360,9 @@ MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
                                          "levels", "size", "refine", "no_pad", "no_fit", "no_untangle", "no_smooth",
                                          "no_retry", "iterations", "fit_weight", "improve_below", "partitions",
                                          "threads"};
-    for (const auto& [key_handle, value] : kwargs) {
-        const std::string key = py::cast<std::string>(key_handle);
+    for (const auto& item : kwargs) {
+        const std::string key = py::cast<std::string>(item.first);
+        const py::handle value = item.second;
         if (!flags.count(key) || (key == "radius" && !with_radius)) {
             std::string valid;
             for (const std::string& f : flags)
