@@ -137,7 +137,7 @@ void register_auto(CLI::App& app, int* status) {
             {"skeleton_decision", decision},
             {"skeleton_used", used},
             {"timings_ms",
-             {{"read_surface", ms(t0, t1)}, {"skeleton", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}}}};
+             {{"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}}}};
         // The report's "read_skeleton" is the radius step only (the skeleton is in memory); "total" starts at t0.
         *status = run_mesh_job(job, chosen.skeleton, domain, t3, &extra, t0);
         std::cout << "auto: total " << ms(t0, std::chrono::steady_clock::now()) << " ms\n";

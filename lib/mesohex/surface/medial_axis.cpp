@@ -838,6 +838,9 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
                         std::to_string(check.non_manifold_vertices) + ", inconsistent edges " +
                         std::to_string(check.inconsistent_edges) + ", degenerate triangles " +
                         std::to_string(check.degenerate_triangles) + ")");
+    if (check.components.size() != 1)
+        throw Error(ErrorCode::InvalidInput, "medial axis needs a single connected surface (found " +
+                                                 std::to_string(check.components.size()) + " components)");
     const SurfaceQuery query(surface);
     MedialAxis out;
     const double diag = query.bbox_diagonal();

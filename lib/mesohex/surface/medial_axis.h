@@ -67,7 +67,7 @@ struct MedialAxis {
 };
 
 // Preconditions (InvalidInput naming the element otherwise): a closed, edge- and vertex-manifold, consistently
-// oriented triangle surface with no degenerate triangle (check_surface). NumericalFailure when no medial sphere
+// oriented triangle surface with no degenerate triangle, in one connected component (check_surface). NumericalFailure when no medial sphere
 // survives the filter (a surface too thin for the sampling). Complexity: O(N log N) for N samples (Delaunay, inside
 // tests, simplification with a priority queue).
 MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOptions& options = {});
