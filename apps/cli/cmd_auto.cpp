@@ -124,7 +124,8 @@ void register_auto(CLI::App& app, int* status) {
                                   {"euler_characteristic", m.euler},
                                   {"sheet_area", m.sheet_area},
                                   {"curve_band_area", m.curve_band_area},
-                                  {"sheet_fraction", m.sheet_fraction}};
+                                  {"sheet_fraction", m.sheet_fraction},
+                                  {"coverage_gap_relative", chosen.coverage_gap}};
         }
         if (chosen.raw_checked)
             decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},
