@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "mesohex/core/error.h"
@@ -12,6 +13,7 @@
 #include "mesohex/stages/medial_import.h"
 #include "mesohex/surface/medial_axis.h"
 #include "mesohex/surface/surface_check.h"
+#include "mesohex_io/medial_io.h"
 
 namespace mesohex {
 namespace {
@@ -219,6 +221,15 @@ TEST(MedialAxis, SameSurfaceSameMedialMesh) {
     const MedialAxis a = compute_medial_axis(s, coarse());
     const MedialAxis b = compute_medial_axis(s, coarse());
     EXPECT_EQ(a.medial, b.medial);
+}
+
+TEST(MedialAxis, WrittenMaReadsBackTheSame) {
+    const TriangleMesh s = extrude({{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, -0.3, 0.3);
+    const MedialAxis m = compute_medial_axis(s, coarse());
+    const std::string path = ::testing::TempDir() + "medial_axis_plate.ma";
+    write_medial_mesh(path, m.medial);
+    const Skeleton back = read_medial_mesh(path);
+    EXPECT_EQ(back, m.medial);  // 17 significant digits: doubles round-trip exactly
 }
 
 TEST(MedialAxis, OpenSurfaceIsRefused) {
