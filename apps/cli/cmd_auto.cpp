@@ -1,5 +1,6 @@
-// `mesohex auto SURFACE -o OUT [finishing options] [--report REPORT.json]`: surface -> curve skeleton by mean
-// curvature flow (skeletonize_surface) -> the same meshing job as `mesohex mesh SKELETON --surface SURFACE`. The
+// `mesohex auto SURFACE -o OUT [--skeleton auto|curve|meso] [finishing options] [--report REPORT.json]`: surface ->
+// skeleton chosen by choose_skeleton (curve skeleton by mean curvature flow for tubes, medial meso-skeleton where the
+// medial axis has sheets) -> the same meshing job as `mesohex mesh SKELETON --surface SURFACE`. The
 // skeleton is written beside the mesh (OUT with its extension replaced by .skeleton.obj) so the user can edit it and
 // re-run `mesohex mesh`. A surface that cannot be skeletonized is an error and nothing is written.
 #include <chrono>
@@ -15,7 +16,8 @@
 
 #include "commands.h"
 #include "mesh_job.h"
-#include "mesohex/surface/skeletonize.h"
+#include "mesohex/auto_skeleton.h"
+#include "mesohex_io/medial_io.h"
 #include "mesohex_io/skeleton_io.h"
 #include "mesohex_io/surface_io.h"
 
@@ -26,6 +28,8 @@ namespace {
 struct AutoArgs {
     MeshJob job;
     std::string surface;
+    std::string skeleton_kind = "auto";
+    AutoSkeletonOptions skeleton;
 };
 
 }  // namespace
@@ -33,7 +37,8 @@ struct AutoArgs {
 void register_auto(CLI::App& app, int* status) {
     auto args = std::make_shared<AutoArgs>();
     CLI::App* cmd = app.add_subcommand(
-        "auto", "Surface -> hex mesh in one step: skeletonize (mean curvature flow), then mesh with the surface.");
+        "auto", "Surface -> hex mesh in one step: a skeleton (curve skeleton for tubes, medial meso-skeleton for flat "
+                "or thin parts), then mesh with the surface.");
     cmd->add_option("surface", args->surface, "Closed surface (.off .obj .stl .ply), one component, manifold")
         ->required();
     cmd->add_option("-o,--output", args->job.output, "Output hex mesh (.mesh, .vtk, .vtu, .msh, .inp, .exo)")->required();
@@ -41,6 +46,14 @@ void register_auto(CLI::App& app, int* status) {
                            "Keep the skeleton's sampling (hexes = 4 x edges)");
     cmd->add_flag_callback("--raw", [args] { args->job.options.finish = false; },
                            "Stop after the raw mesh (no padding, subdivision or fitting)");
+    cmd->add_option("--skeleton", args->skeleton_kind,
+                    "auto: decide from the medial axis's sheet fraction; curve: mean-curvature-flow skeleton; meso: "
+                    "medial axis imported as branches + leaflets")
+        ->check(CLI::IsMember({"auto", "curve", "meso"}))
+        ->capture_default_str();
+    cmd->add_option("--min-sheet-fraction", args->skeleton.min_sheet_fraction,
+                    "auto: the meso-skeleton when the medial axis's sheet fraction is at least this")
+        ->capture_default_str();
     add_mesh_job_options(cmd, &args->job);
     cmd->footer("The skeleton used is written beside the mesh (OUT.skeleton.obj, with radii): edit it and re-run\n"
                 "  mesohex mesh OUT.skeleton.obj --surface SURFACE -o OUT.mesh\n"
@@ -57,39 +70,79 @@ void register_auto(CLI::App& app, int* status) {
         const auto t0 = std::chrono::steady_clock::now();
         std::optional<TriangleMesh> domain = read_surface(args->surface);
         const auto t1 = std::chrono::steady_clock::now();
+        AutoSkeletonOptions so = args->skeleton;
+        so.kind = args->skeleton_kind == "curve" ? SkeletonKind::Curve
+                  : args->skeleton_kind == "meso" ? SkeletonKind::Meso
+                                                  : SkeletonKind::Auto;
         // Throws (nothing written) when it cannot be done, naming the surface file.
-        Skeletonization sk = at_stage("skeletonize", args->surface, [&] { return skeletonize_surface(*domain); });
+        const AutoSkeleton chosen = at_stage("skeleton", args->surface, [&] { return choose_skeleton(*domain, so); });
         const auto t2 = std::chrono::steady_clock::now();
         const std::string skeleton_path =
             std::filesystem::path(args->job.output).replace_extension(".skeleton.obj").string();
-        write_skeleton(skeleton_path, sk.skeleton);
+        write_skeleton(skeleton_path, chosen.skeleton);
+        std::string medial_path;
+        if (chosen.medial_computed) {
+            medial_path = std::filesystem::path(args->job.output).replace_extension(".medial.ma").string();
+            write_medial_mesh(medial_path, chosen.medial.medial);
+        }
         const auto t3 = std::chrono::steady_clock::now();
 
-        std::cout << "skeletonize " << args->surface << ": " << sk.skeleton.points.size() << " vertices, "
-                  << sk.skeleton.edges.size() << " edges (MCF skeleton " << sk.mcf_vertices << " vertices; pruned "
-                  << sk.pruned_branches << " branches, merged " << sk.merged_branch_points
-                  << " branching points, extended " << sk.extended_extremities << " extremities) in " << ms(t1, t2)
-                  << " ms -> " << skeleton_path << "\n";
+        const char* kind = skeleton_kind_name(chosen.kind);
+        std::cout << "skeleton (" << kind << ") of " << args->surface << ": " << chosen.skeleton.points.size()
+                  << " vertices, " << chosen.skeleton.edges.size() << " edges, " << chosen.skeleton.faces.size()
+                  << " faces in " << ms(t1, t2) << " ms -> " << skeleton_path << "\n  " << chosen.reason << "\n";
 
         MeshJob job = args->job;
         job.skeleton = skeleton_path;
         job.surface = args->surface;
+        nlohmann::json used = {{"path", skeleton_path},
+                               {"vertices", chosen.skeleton.points.size()},
+                               {"edges", chosen.skeleton.edges.size()},
+                               {"faces", chosen.skeleton.faces.size()}};
+        if (chosen.kind == SkeletonKind::Curve) {
+            const Skeletonization& sk = chosen.curve;
+            used["source"] = "skeletonize_surface (mean curvature flow)";
+            used["mcf_vertices"] = sk.mcf_vertices;
+            used["pruned_branches"] = sk.pruned_branches;
+            used["merged_branch_points"] = sk.merged_branch_points;
+            used["extended_extremities"] = sk.extended_extremities;
+        } else {
+            used["source"] = "compute_medial_axis + import_medial_mesh (medial meso-skeleton)";
+            used["leaflets"] = chosen.import.leaflets;
+        }
+        nlohmann::json decision = {{"requested", args->skeleton_kind},
+                                   {"min_sheet_fraction", so.min_sheet_fraction},
+                                   {"reason", chosen.reason}};
+        if (chosen.medial_computed) {
+            const MedialAxis& m = chosen.medial;
+            decision["medial"] = {{"path", medial_path},
+                                  {"samples", m.samples},
+                                  {"vertices", m.medial.points.size()},
+                                  {"edges", m.medial.edges.size()},
+                                  {"triangles", m.medial.faces.size()},
+                                  {"sheets", m.sheets},
+                                  {"curves", m.curves},
+                                  {"euler_characteristic", m.euler},
+                                  {"sheet_area", m.sheet_area},
+                                  {"curve_band_area", m.curve_band_area},
+                                  {"sheet_fraction", m.sheet_fraction},
+                                  {"coverage_gap_relative", chosen.coverage_gap}};
+        }
+        if (chosen.raw_checked)
+            decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},
+                                         {"inverted", chosen.raw_inverted},
+                                         {"sj_min", chosen.raw_sj_min},
+                                         {"max_inverted", so.max_raw_inverted}};
         const nlohmann::json extra = {
             {"mode", "auto"},
-            {"skeleton_used",
-             {{"path", skeleton_path},
-              {"source", "skeletonize_surface (mean curvature flow)"},
-              {"vertices", sk.skeleton.points.size()},
-              {"edges", sk.skeleton.edges.size()},
-              {"mcf_vertices", sk.mcf_vertices},
-              {"pruned_branches", sk.pruned_branches},
-              {"merged_branch_points", sk.merged_branch_points},
-              {"extended_extremities", sk.extended_extremities}}},
+            {"skeleton_kind", kind},
+            {"skeleton_decision", decision},
+            {"skeleton_used", used},
             {"timings_ms",
              {{"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}}}};
         // The report's "read_skeleton" is the radius step only (the skeleton is in memory); "total" starts at t0.
         *status = at_stage("mesh", skeleton_path,
-                           [&] { return run_mesh_job(job, std::move(sk.skeleton), domain, t3, &extra, t0); }, false);
+                           [&] { return run_mesh_job(job, chosen.skeleton, domain, t3, &extra, t0); }, false);
         std::cout << "auto: total " << ms(t0, std::chrono::steady_clock::now()) << " ms\n";
     });
 }

@@ -3,6 +3,9 @@
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Delaunay_triangulation_cell_base_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Spatial_sort_traits_adapter_3.h>
+#include <CGAL/hilbert_sort.h>
+#include <CGAL/property_map.h>
 #include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
@@ -207,25 +210,46 @@ bool contains(const std::array<int, 3>& t, int v) { return t[0] == v || t[1] == 
 // Inner poles and angle-filtered Voronoi faces of the samples, fan-triangulated into a medial complex.
 MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const SurfaceQuery& query, double diag,
                                      double min_angle_deg, MedialAxis& out) {
-    std::vector<std::pair<K::Point_3, int>> points;
+    // Insertion in Hilbert order (no randomness: CGAL's range insertion shuffles with the global default random
+    // generator, so a second call in the same process gave another triangulation of the cospherical samples).
+    std::vector<K::Point_3> points;
     points.reserve(samples.size());
-    for (size_t i = 0; i < samples.size(); ++i)
-        points.emplace_back(K::Point_3(samples[i].x, samples[i].y, samples[i].z), static_cast<int>(i));
-    Delaunay dt(points.begin(), points.end());
+    for (const Vec3& p : samples) points.emplace_back(p.x, p.y, p.z);
+    std::vector<std::size_t> order(points.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    using SortTraits = CGAL::Spatial_sort_traits_adapter_3<K, CGAL::Pointer_property_map<K::Point_3>::type>;
+    CGAL::hilbert_sort(order.begin(), order.end(), SortTraits(CGAL::make_property_map(points)));
+    Delaunay dt;
+    Delaunay::Cell_handle hint;
+    for (std::size_t i : order) {
+        const std::size_t before = dt.number_of_vertices();
+        const Delaunay::Vertex_handle v = dt.insert(points[i], hint);
+        if (dt.number_of_vertices() > before) v->info() = static_cast<int>(i);
+        hint = v->cell();
+    }
     out.samples = static_cast<int>(dt.number_of_vertices());
 
+    // Cells numbered by their sorted sample ids (the TDS's storage order follows heap addresses: a second call in
+    // the same process stored the cells in another order).
+    std::vector<std::pair<std::array<int, 4>, Delaunay::Cell_handle>> cells;
+    for (Delaunay::Cell_handle ch : dt.finite_cell_handles()) {
+        std::array<int, 4> key = {ch->vertex(0)->info(), ch->vertex(1)->info(), ch->vertex(2)->info(),
+                                  ch->vertex(3)->info()};
+        std::sort(key.begin(), key.end());
+        cells.emplace_back(key, ch);
+    }
+    std::sort(cells.begin(), cells.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     std::vector<Vec3> centres;
     std::vector<double> radii;
     std::vector<std::array<int, 4>> cell_samples;
-    for (Delaunay::Cell_handle ch : dt.finite_cell_handles()) {
+    for (const auto& [key, ch] : cells) {
         ch->info() = static_cast<int>(centres.size());
         const K::Point_3 cc = CGAL::circumcenter(ch->vertex(0)->point(), ch->vertex(1)->point(),
                                                  ch->vertex(2)->point(), ch->vertex(3)->point());
         const Vec3 c{cc.x(), cc.y(), cc.z()};
         centres.push_back(c);
-        radii.push_back(distance(c, samples[static_cast<size_t>(ch->vertex(0)->info())]));
-        cell_samples.push_back({ch->vertex(0)->info(), ch->vertex(1)->info(), ch->vertex(2)->info(),
-                                ch->vertex(3)->info()});
+        radii.push_back(distance(c, samples[static_cast<size_t>(key[0])]));
+        cell_samples.push_back(key);
     }
     for (Delaunay::Cell_handle ch : dt.all_cell_handles())
         if (dt.is_infinite(ch)) ch->info() = -1;
@@ -244,7 +268,7 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
 
     // Voronoi faces: one per finite Delaunay edge whose incident cells are all inner and see its ends under a wide angle.
     const double cos_min = std::cos(min_angle_deg * kPi / 180.0);
-    std::vector<std::vector<int>> faces;
+    std::vector<std::pair<std::array<int, 2>, std::vector<int>>> keyed_faces;
     for (const Delaunay::Edge& e : dt.finite_edges()) {
         const int p = e.first->vertex(e.second)->info(), q = e.first->vertex(e.third)->info();
         const Vec3& P = samples[static_cast<size_t>(p)];
@@ -266,8 +290,16 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
             }
             poly.push_back(id);
         } while (++cc != done);
-        if (keep && poly.size() >= 3) faces.push_back(std::move(poly));
+        if (!keep || poly.size() < 3) continue;
+        // Canonical polygon: from its smallest cell id, towards the smaller of its two neighbours.
+        std::rotate(poly.begin(), std::min_element(poly.begin(), poly.end()), poly.end());
+        if (poly.back() < poly[1]) std::reverse(poly.begin() + 1, poly.end());
+        keyed_faces.push_back({{std::min(p, q), std::max(p, q)}, std::move(poly)});
     }
+    std::sort(keyed_faces.begin(), keyed_faces.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::vector<std::vector<int>> faces;
+    for (auto& kf : keyed_faces) faces.push_back(std::move(kf.second));
     out.voronoi_faces = static_cast<int>(faces.size());
 
     // Compact the cells used by kept faces into complex vertices (in cell order).
@@ -487,7 +519,7 @@ int simplify(MedialComplex& mc, const MedialAxisOptions& o, double diag) {
         if (cand.version_a != mc.version[static_cast<size_t>(cand.a)] ||
             cand.version_b != mc.version[static_cast<size_t>(cand.b)])
             continue;
-        if (cand.cost > tolerance2 && alive <= o.max_vertices) break;
+        if (o.error_tolerance > 0 && cand.cost > tolerance2 && alive <= o.max_vertices) break;
         if (!link_condition(mc, cand.a, cand.b)) continue;
         if (!no_fold(mc, cand.a, cand.b, {cand.x[0], cand.x[1], cand.x[2]}, cos_fold)) continue;
         collapse(mc, cand);
@@ -552,7 +584,7 @@ bool is_wide(const SmallComplex& s, const std::array<int, 3>& t, double factor) 
     return longest > 0 && 2 * triangle_area(s, t) / longest >= factor * r;
 }
 
-// Thin triangles with a free side go with their longest free side (elementary collapses) until none is left.
+// Thin (and lone) triangles with a free side go with their longest free side (elementary collapses) until none is left.
 int remove_thin_triangles(SmallComplex& s, double factor) {
     int removed = 0;
     for (bool changed = true; changed;) {
@@ -562,7 +594,11 @@ int remove_thin_triangles(SmallComplex& s, double factor) {
             if (s.triangle_alive[t])
                 for (int k = 0; k < 3; ++k) ++side_count[side(s.triangles[t], k)];
         for (size_t t = 0; t < s.triangles.size(); ++t) {
-            if (!s.triangle_alive[t] || is_wide(s, s.triangles[t], factor)) continue;
+            if (!s.triangle_alive[t]) continue;
+            // A lone triangle (no side shared) is no sheet either, however wide (as in import_medial_mesh).
+            const bool lone = side_count[side(s.triangles[t], 0)] == 1 && side_count[side(s.triangles[t], 1)] == 1 &&
+                              side_count[side(s.triangles[t], 2)] == 1;
+            if (!lone && is_wide(s, s.triangles[t], factor)) continue;
             int best = -1;
             double best_len = -1;
             for (int k = 0; k < 3; ++k) {
@@ -586,48 +622,107 @@ int remove_thin_triangles(SmallComplex& s, double factor) {
     return removed;
 }
 
-// Curve tips (one edge, no triangle) whose sphere lies within their neighbour's (stability) go, repeatedly.
-int prune_tips(SmallComplex& s, std::vector<char>& vertex_alive, double margin) {
+// Terminal curve branches (from a tip: one edge, no triangle, to the first vertex that is in a triangle or not on
+// exactly two edges) whose tube barely leaves the node's sphere (length + tip radius < prune_factor x node radius)
+// go, repeatedly, shortest first within a pass (elementary collapses: homotopy kept). A graph that is a single path
+// keeps its longest part.
+int prune_tips(SmallComplex& s, std::vector<char>& vertex_alive, double prune_factor) {
     int pruned = 0;
     for (bool changed = true; changed;) {
         changed = false;
-        std::vector<int> degree(s.centre.size(), 0);
+        std::vector<std::vector<int>> adj(s.centre.size());
         std::vector<char> in_triangle(s.centre.size(), 0);
         for (const std::array<int, 2>& e : s.edges) {
-            ++degree[static_cast<size_t>(e[0])];
-            ++degree[static_cast<size_t>(e[1])];
+            adj[static_cast<size_t>(e[0])].push_back(e[1]);
+            adj[static_cast<size_t>(e[1])].push_back(e[0]);
         }
         for (size_t t = 0; t < s.triangles.size(); ++t)
             if (s.triangle_alive[t])
                 for (int v : s.triangles[t]) in_triangle[static_cast<size_t>(v)] = 1;
-        int total_edges = static_cast<int>(s.edges.size());
-        for (auto it = s.edges.begin(); it != s.edges.end() && total_edges > 1;) {
-            const std::array<int, 2> e = *it;
-            int tip = -1, other = -1;
-            for (int k = 0; k < 2; ++k) {
-                const int v = e[static_cast<size_t>(k)];
-                if (degree[static_cast<size_t>(v)] == 1 && !in_triangle[static_cast<size_t>(v)]) {
-                    tip = v;
-                    other = e[static_cast<size_t>(1 - k)];
-                    break;
-                }
+        struct Branch {
+            double score;
+            std::vector<int> chain;  // tip first, node last
+        };
+        std::vector<Branch> branches;
+        for (size_t v = 0; v < s.centre.size(); ++v) {
+            if (!vertex_alive[v] || adj[v].size() != 1 || in_triangle[v]) continue;
+            std::vector<int> chain = {static_cast<int>(v)};
+            double length = 0;
+            int prev = -1, cur = static_cast<int>(v);
+            while (true) {
+                const std::vector<int>& a = adj[static_cast<size_t>(cur)];
+                int next = -1;
+                for (int n : a)
+                    if (n != prev) next = n;
+                if (next < 0) break;
+                length += distance(s.centre[static_cast<size_t>(cur)], s.centre[static_cast<size_t>(next)]);
+                chain.push_back(next);
+                prev = cur;
+                cur = next;
+                if (adj[static_cast<size_t>(cur)].size() != 2 || in_triangle[static_cast<size_t>(cur)]) break;
             }
-            if (tip >= 0 && distance(s.centre[static_cast<size_t>(tip)], s.centre[static_cast<size_t>(other)]) +
-                                    s.radius[static_cast<size_t>(tip)] <=
-                                (1 + margin) * s.radius[static_cast<size_t>(other)]) {
-                it = s.edges.erase(it);
-                vertex_alive[static_cast<size_t>(tip)] = 0;
-                --degree[static_cast<size_t>(other)];
-                degree[static_cast<size_t>(tip)] = 0;
-                --total_edges;
-                ++pruned;
-                changed = true;
-            } else {
-                ++it;
+            const int node = chain.back();
+            if (adj[static_cast<size_t>(node)].size() < 2 && !in_triangle[static_cast<size_t>(node)]) continue;  // a path
+            if (length + s.radius[v] < prune_factor * s.radius[static_cast<size_t>(node)])
+                branches.push_back({length, chain});
+        }
+        std::sort(branches.begin(), branches.end(), [](const Branch& x, const Branch& y) {
+            return std::tie(x.score, x.chain) < std::tie(y.score, y.chain);
+        });
+        if (!branches.empty()) {
+            const std::vector<int>& chain = branches.front().chain;
+            for (size_t k = 0; k + 1 < chain.size(); ++k) {
+                s.edges.erase({std::min(chain[k], chain[k + 1]), std::max(chain[k], chain[k + 1])});
+                vertex_alive[static_cast<size_t>(chain[k])] = 0;
             }
+            ++pruned;
+            changed = true;
         }
     }
     return pruned;
+}
+
+// Curve edges (in no triangle) shorter than min_length are contracted to their first end when the two ends have no
+// common neighbour (then the contraction keeps the homotopy type): two spheres the simplification put at one place.
+int merge_short_curve_edges(SmallComplex& s, std::vector<char>& vertex_alive, double min_length) {
+    int merged = 0;
+    for (bool changed = true; changed;) {
+        changed = false;
+        std::set<std::array<int, 2>> sides;
+        for (size_t t = 0; t < s.triangles.size(); ++t)
+            if (s.triangle_alive[t])
+                for (int k = 0; k < 3; ++k) sides.insert(side(s.triangles[t], k));
+        for (const std::array<int, 2>& e : s.edges) {
+            if (sides.count(e) ||
+                distance(s.centre[static_cast<size_t>(e[0])], s.centre[static_cast<size_t>(e[1])]) >= min_length)
+                continue;
+            std::set<int> na, nb;
+            for (const std::array<int, 2>& f : s.edges) {
+                if (f[0] == e[0] || f[1] == e[0]) na.insert(f[0] == e[0] ? f[1] : f[0]);
+                if (f[0] == e[1] || f[1] == e[1]) nb.insert(f[0] == e[1] ? f[1] : f[0]);
+            }
+            bool common = false;
+            for (int n : na)
+                if (nb.count(n)) common = true;
+            if (common) continue;
+            const int keep = e[0], gone = e[1];
+            std::set<std::array<int, 2>> edges;
+            for (const std::array<int, 2>& f : s.edges) {
+                if (f == e) continue;
+                const int a = f[0] == gone ? keep : f[0], b = f[1] == gone ? keep : f[1];
+                edges.insert({std::min(a, b), std::max(a, b)});
+            }
+            s.edges = std::move(edges);
+            for (size_t t = 0; t < s.triangles.size(); ++t)
+                for (int& v : s.triangles[t])
+                    if (v == gone) v = keep;
+            vertex_alive[static_cast<size_t>(gone)] = 0;
+            ++merged;
+            changed = true;
+            break;
+        }
+    }
+    return merged;
 }
 
 // Canonical output: live vertices sorted by (x, y, z, r), edges and faces sorted.
@@ -743,6 +838,9 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
                         std::to_string(check.non_manifold_vertices) + ", inconsistent edges " +
                         std::to_string(check.inconsistent_edges) + ", degenerate triangles " +
                         std::to_string(check.degenerate_triangles) + ")");
+    if (check.components.size() != 1)
+        throw Error(ErrorCode::InvalidInput, "medial axis needs a single connected surface (found " +
+                                                 std::to_string(check.components.size()) + " components)");
     const SurfaceQuery query(surface);
     MedialAxis out;
     const double diag = query.bbox_diagonal();
@@ -761,7 +859,8 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     SmallComplex s = compact(mc);
     out.thin_triangles_removed = remove_thin_triangles(s, options.sheet_width_factor);
     std::vector<char> vertex_alive(s.centre.size(), 1);
-    out.pruned_tips = prune_tips(s, vertex_alive, options.prune_margin);
+    out.pruned_tips = prune_tips(s, vertex_alive, options.prune_factor);
+    merge_short_curve_edges(s, vertex_alive, 1e-4 * diag);
     out.medial = to_medial_mesh(s, vertex_alive, 1e-6 * diag);
     measure(out);
     return out;

@@ -18,8 +18,8 @@
 //      to target_vertices (further while the error stays below error_tolerance);
 //   5. curves and sheets by measured geometry: a triangle is wide when its smallest height is at least
 //      sheet_width_factor x its mean radius; a thin triangle with a side in no other triangle is removed with that
-//      side (an elementary collapse: homotopy kept), until none is left: tubes become curve edges; curve tips whose
-//      sphere lies (almost) inside their neighbour's are pruned (stability); only the largest connected part is kept.
+//      side (an elementary collapse: homotopy kept), until none is left: tubes become curve edges; terminal curve
+//      branches that barely leave the sphere they start from are pruned (spurs); only the largest connected part is kept.
 // Deterministic: same surface and options, same output (the samples, the Delaunay insertion order and every later
 // loop are fixed; ties go to the lower id).
 #include <vector>
@@ -30,16 +30,17 @@
 namespace mesohex {
 
 struct MedialAxisOptions {
-    double sample_spacing = 0.01;   // x bounding-box diagonal: largest gap between surface samples
+    double sample_spacing = 0.015;  // x bounding-box diagonal: largest gap between surface samples
     int max_samples = 60000;        // the spacing grows until the samples fit (memory and time of the Delaunay)
     double min_angle_deg = 110;     // angle filter of step 3 (a surface edge of 90 degrees has no medial sheet)
     int target_vertices = 60;       // simplification stops at this many medial vertices ...
-    double error_tolerance = 0.002; // ... or earlier when the next collapse costs more than (tolerance x diag)^2
-                                    //     and fewer than max_vertices are left
+    double error_tolerance = 0;     // > 0: stop earlier, when the next collapse costs more than (tolerance x diag)^2
+                                    //     and fewer than max_vertices are left (0 = off: always target_vertices)
     int max_vertices = 400;         // the simplification never stops above this many vertices
     double max_fold_deg = 60;       // a collapse that turns a sheet triangle by more than this is refused
-    double sheet_width_factor = 0.75;  // a triangle is sheet-like when its smallest height >= this x mean radius
-    double prune_margin = 0.1;      // a curve tip goes when |c_tip - c_next| + r_tip <= (1 + margin) r_next
+    double sheet_width_factor = 0.25;  // a triangle is sheet-like when its smallest height >= this x mean radius
+    double prune_factor = 2.0;      // a terminal curve branch goes when its length + tip radius < this x the radius
+                                    // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
 };
 
 struct MedialAxis {
@@ -66,7 +67,7 @@ struct MedialAxis {
 };
 
 // Preconditions (InvalidInput naming the element otherwise): a closed, edge- and vertex-manifold, consistently
-// oriented triangle surface with no degenerate triangle (check_surface). NumericalFailure when no medial sphere
+// oriented triangle surface with no degenerate triangle, in one connected component (check_surface). NumericalFailure when no medial sphere
 // survives the filter (a surface too thin for the sampling). Complexity: O(N log N) for N samples (Delaunay, inside
 // tests, simplification with a priority queue).
 MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOptions& options = {});

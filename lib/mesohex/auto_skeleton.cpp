@@ -1,0 +1,130 @@
+#include "mesohex/auto_skeleton.h"
+
+#include <algorithm>
+#include <limits>
+#include <sstream>
+#include <vector>
+#include <utility>
+
+#include "mesohex/core/error.h"
+
+namespace mesohex {
+
+const char* skeleton_kind_name(SkeletonKind kind) {
+    switch (kind) {
+        case SkeletonKind::Auto: return "auto";
+        case SkeletonKind::Curve: return "curve";
+        case SkeletonKind::Meso: return "meso";
+    }
+    return "auto";
+}
+
+namespace {
+
+// Largest distance from a surface vertex to the union of the medial mesh's spheres, swept along its edges and
+// triangles (points every 1/8 of an edge, a 4 x 4 barycentric grid per triangle, radii interpolated): a part of the
+// shape the medial mesh lost (cut off by the angle filter and dropped as a smaller component) shows as a large gap.
+double medial_coverage_gap(const TriangleMesh& surface, const Skeleton& medial) {
+    std::vector<Vec3> centre;
+    std::vector<double> radius;
+    for (size_t v = 0; v < medial.points.size(); ++v) {
+        centre.push_back(medial.points[v]);
+        radius.push_back(medial.radii[v]);
+    }
+    for (const std::array<int, 2>& e : medial.edges)
+        for (int k = 1; k < 8; ++k) {
+            const double t = k / 8.0;
+            centre.push_back((1 - t) * medial.points[static_cast<size_t>(e[0])] + t * medial.points[static_cast<size_t>(e[1])]);
+            radius.push_back((1 - t) * medial.radii[static_cast<size_t>(e[0])] + t * medial.radii[static_cast<size_t>(e[1])]);
+        }
+    for (const std::vector<int>& f : medial.faces)
+        for (int i = 1; i < 4; ++i)
+            for (int j = 1; i + j < 4; ++j) {
+                const double a = i / 4.0, b = j / 4.0, c = 1 - a - b;
+                const size_t f0 = static_cast<size_t>(f[0]), f1 = static_cast<size_t>(f[1]), f2 = static_cast<size_t>(f[2]);
+                centre.push_back(a * medial.points[f0] + b * medial.points[f1] + c * medial.points[f2]);
+                radius.push_back(a * medial.radii[f0] + b * medial.radii[f1] + c * medial.radii[f2]);
+            }
+    double gap = 0;
+    for (const Vec3& p : surface.points) {
+        double best = std::numeric_limits<double>::infinity();
+        for (size_t s = 0; s < centre.size(); ++s) best = std::min(best, distance(p, centre[s]) - radius[s]);
+        gap = std::max(gap, best);
+    }
+    return gap;
+}
+
+void use_curve(AutoSkeleton& out, const TriangleMesh& surface, const AutoSkeletonOptions& options) {
+    out.curve = skeletonize_surface(surface, options.skeletonize);
+    out.skeleton = out.curve.skeleton;
+    out.kind = SkeletonKind::Curve;
+}
+
+}  // namespace
+
+AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOptions& options) {
+    AutoSkeleton out;
+    if (options.kind == SkeletonKind::Curve) {
+        use_curve(out, surface, options);
+        out.reason = "curve skeleton forced";
+        return out;
+    }
+    std::ostringstream why;
+    try {
+        out.medial = compute_medial_axis(surface, options.medial);
+        out.medial_computed = true;
+        why << "medial axis: sheet fraction " << out.medial.sheet_fraction << " (" << out.medial.sheets << " sheets, "
+            << out.medial.curves << " curves)";
+        if (options.kind == SkeletonKind::Auto && out.medial.sheet_fraction < options.min_sheet_fraction) {
+            why << " < " << options.min_sheet_fraction << ": tubular, curve skeleton";
+            out.reason = why.str();
+            use_curve(out, surface, options);
+            return out;
+        }
+        if (options.kind == SkeletonKind::Auto) {
+            out.coverage_gap = medial_coverage_gap(surface, out.medial.medial) / out.medial.bbox_diagonal;
+            why << "; coverage gap " << 100 * out.coverage_gap << " % of the diagonal";
+            if (out.coverage_gap > options.max_coverage_gap) {
+                why << " > " << 100 * options.max_coverage_gap << " %: the medial mesh misses a part, curve skeleton";
+                out.reason = why.str();
+                use_curve(out, surface, options);
+                return out;
+            }
+        }
+        out.import = import_medial_mesh(out.medial.medial, options.import);
+        if (options.kind == SkeletonKind::Auto) {
+            MeshOptions raw_options;
+            raw_options.finish = false;
+            const MeshRun raw = mesh_skeleton(out.import.skeleton, &surface, raw_options);
+            out.raw_checked = true;
+            out.raw_hexes = raw.raw_quality.hexes;
+            out.raw_inverted = raw.raw_quality.inverted;
+            out.raw_sj_min = raw.raw_quality.sj_min;
+            why << "; meso raw mesh " << out.raw_hexes << " hexes, " << out.raw_inverted << " inverted (min SJ "
+                << out.raw_sj_min << ")";
+            if (!raw.raw_quality.validation.valid() || out.raw_inverted > options.max_raw_inverted) {
+                why << " > " << options.max_raw_inverted << " inverted or invalid: curve skeleton instead";
+                out.reason = why.str();
+                use_curve(out, surface, options);
+                return out;
+            }
+        }
+        out.skeleton = out.import.skeleton;
+        out.kind = SkeletonKind::Meso;
+        if (options.kind == SkeletonKind::Meso)
+            why << ": meso-skeleton forced";
+        else
+            why << " >= " << options.min_sheet_fraction << ": flat or thin parts, medial meso-skeleton";
+        out.reason = why.str();
+        return out;
+    } catch (const Error& e) {
+        if (options.kind == SkeletonKind::Meso) throw;
+        why << (out.medial_computed ? "; import or raw mesh failed: " : "medial axis failed: ") << e.what()
+            << "; curve skeleton instead";
+        out.reason = why.str();
+    }
+    use_curve(out, surface, options);
+    return out;
+}
+
+}  // namespace mesohex
