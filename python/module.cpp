@@ -22,6 +22,7 @@
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_mesh.h"
 #include "mesohex/core/skeleton.h"
+#include "mesohex/auto_skeleton.h"
 #include "mesohex/mesh.h"
 #include "mesohex/mesh_report.h"
 #include "mesohex/post/partition.h"
@@ -30,6 +31,7 @@
 #include "mesohex/surface/skeletonize.h"
 #include "mesohex/surface/thicken.h"
 #include "mesohex_io/hex_io.h"
+#include "mesohex_io/medial_io.h"
 #include "mesohex_io/skeleton_io.h"
 #include "mesohex_io/surface_io.h"
 
@@ -488,7 +490,9 @@ MeshResult mesh_py(const py::object& skeleton_arg, const py::object& surface_arg
 }
 
 MeshResult auto_py(const py::object& surface_arg, const std::string& output, const std::string& report,
-                   const py::kwargs& kwargs) {
+                   const std::string& skeleton, const py::kwargs& kwargs) {
+    if (skeleton != "auto" && skeleton != "curve" && skeleton != "meso")
+        throw Error(ErrorCode::InvalidInput, "skeleton must be 'auto', 'curve' or 'meso', not '" + skeleton + "'");
     const MeshCall call = mesh_call(kwargs, false);
     ThreadLimit limit(call.threads);
     MeshNames names{"", "", output, report};
@@ -502,28 +506,26 @@ MeshResult auto_py(const py::object& surface_arg, const std::string& output, con
         const auto t0 = std::chrono::steady_clock::now();
         if (!names.surface.empty()) domain = read_surface(names.surface);
         const auto t1 = std::chrono::steady_clock::now();
-        const Skeletonization sk = skeletonize_surface(*domain);
+        AutoSkeletonOptions so;
+        so.kind = skeleton == "curve" ? SkeletonKind::Curve : skeleton == "meso" ? SkeletonKind::Meso : SkeletonKind::Auto;
+        const AutoSkeleton chosen = choose_skeleton(*domain, so);  // as `mesohex auto`: curve or medial meso-skeleton
         const auto t2 = std::chrono::steady_clock::now();
-        // As `mesohex auto`: the skeleton used is written beside the mesh (OUT.skeleton.obj) when there is a file.
+        // As `mesohex auto`: the skeleton used is written beside the mesh (OUT.skeleton.obj) when there is a file,
+        // and the medial mesh (OUT.medial.ma) when one was computed.
+        std::string medial_path;
         if (!output.empty()) {
             names.input = std::filesystem::path(output).replace_extension(".skeleton.obj").string();
-            write_skeleton(names.input, sk.skeleton);
+            write_skeleton(names.input, chosen.skeleton);
+            if (chosen.medial_computed) {
+                medial_path = std::filesystem::path(output).replace_extension(".medial.ma").string();
+                write_medial_mesh(medial_path, chosen.medial.medial);
+            }
         }
         const auto t3 = std::chrono::steady_clock::now();
-        const nlohmann::json extra = {
-            {"mode", "auto"},
-            {"skeleton_used",
-             {{"path", names.input},
-              {"source", "skeletonize_surface (mean curvature flow)"},
-              {"vertices", sk.skeleton.points.size()},
-              {"edges", sk.skeleton.edges.size()},
-              {"mcf_vertices", sk.mcf_vertices},
-              {"pruned_branches", sk.pruned_branches},
-              {"merged_branch_points", sk.merged_branch_points},
-              {"extended_extremities", sk.extended_extremities}}},
-            {"timings_ms", {{"read_surface", ms_between(t0, t1)}, {"skeletonize", ms_between(t1, t2)},
-                            {"write_skeleton", ms_between(t2, t3)}}}};
-        result = run_mesh(sk.skeleton, &*domain, call, names, t3, &extra, t0, report_text);
+        nlohmann::json extra = auto_skeleton_report(chosen, so, names.input, medial_path);
+        extra["timings_ms"] = {{"read_surface", ms_between(t0, t1)}, {"skeletonize", ms_between(t1, t2)},
+                               {"write_skeleton", ms_between(t2, t3)}};
+        result = run_mesh(chosen.skeleton, &*domain, call, names, t3, &extra, t0, report_text);
     }
     result.report = json_to_python(report_text);
     return result;
@@ -556,9 +558,11 @@ void bind_meshing(py::module_& m) {
           "no_untangle, no_smooth, no_retry, iterations, fit_weight, improve_below, partitions, threads). output / "
           "report: files to write (optional). Returns a MeshResult.");
     m.def("auto", &auto_py, py::arg("surface"), py::kw_only(), py::arg("output") = "", py::arg("report") = "",
-          "Surface -> hex mesh as `mesohex auto`: skeletonize the surface (a Surface or a path), then mesh in it. "
-          "The same keyword options as mesh() except radius. With an output file, the skeleton used is written "
-          "beside it (OUT.skeleton.obj). Returns a MeshResult.");
+          py::arg("skeleton") = "auto",
+          "Surface -> hex mesh as `mesohex auto`: a skeleton of the surface (a Surface or a path; skeleton='auto' "
+          "chooses the curve skeleton for tubes and the medial meso-skeleton for flat or thin parts, 'curve' / "
+          "'meso' force one), then mesh in it. The same keyword options as mesh() except radius. With an output "
+          "file, the skeleton used is written beside it (OUT.skeleton.obj). Returns a MeshResult.");
 }
 
 }  // namespace

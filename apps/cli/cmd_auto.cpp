@@ -17,6 +17,7 @@
 #include "commands.h"
 #include "mesh_job.h"
 #include "mesohex/auto_skeleton.h"
+#include "mesohex/mesh_report.h"
 #include "mesohex_io/medial_io.h"
 #include "mesohex_io/skeleton_io.h"
 #include "mesohex_io/surface_io.h"
@@ -95,51 +96,8 @@ void register_auto(CLI::App& app, int* status) {
         MeshJob job = args->job;
         job.skeleton = skeleton_path;
         job.surface = args->surface;
-        nlohmann::json used = {{"path", skeleton_path},
-                               {"vertices", chosen.skeleton.points.size()},
-                               {"edges", chosen.skeleton.edges.size()},
-                               {"faces", chosen.skeleton.faces.size()}};
-        if (chosen.kind == SkeletonKind::Curve) {
-            const Skeletonization& sk = chosen.curve;
-            used["source"] = "skeletonize_surface (mean curvature flow)";
-            used["mcf_vertices"] = sk.mcf_vertices;
-            used["pruned_branches"] = sk.pruned_branches;
-            used["merged_branch_points"] = sk.merged_branch_points;
-            used["extended_extremities"] = sk.extended_extremities;
-        } else {
-            used["source"] = "compute_medial_axis + import_medial_mesh (medial meso-skeleton)";
-            used["leaflets"] = chosen.import.leaflets;
-        }
-        nlohmann::json decision = {{"requested", args->skeleton_kind},
-                                   {"min_sheet_fraction", so.min_sheet_fraction},
-                                   {"reason", chosen.reason}};
-        if (chosen.medial_computed) {
-            const MedialAxis& m = chosen.medial;
-            decision["medial"] = {{"path", medial_path},
-                                  {"samples", m.samples},
-                                  {"vertices", m.medial.points.size()},
-                                  {"edges", m.medial.edges.size()},
-                                  {"triangles", m.medial.faces.size()},
-                                  {"sheets", m.sheets},
-                                  {"curves", m.curves},
-                                  {"euler_characteristic", m.euler},
-                                  {"sheet_area", m.sheet_area},
-                                  {"curve_band_area", m.curve_band_area},
-                                  {"sheet_fraction", m.sheet_fraction},
-                                  {"coverage_gap_relative", chosen.coverage_gap}};
-        }
-        if (chosen.raw_checked)
-            decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},
-                                         {"inverted", chosen.raw_inverted},
-                                         {"sj_min", chosen.raw_sj_min},
-                                         {"max_inverted", so.max_raw_inverted}};
-        const nlohmann::json extra = {
-            {"mode", "auto"},
-            {"skeleton_kind", kind},
-            {"skeleton_decision", decision},
-            {"skeleton_used", used},
-            {"timings_ms",
-             {{"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}}}};
+        nlohmann::json extra = auto_skeleton_report(chosen, so, skeleton_path, medial_path);
+        extra["timings_ms"] = {{"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}};
         // The report's "read_skeleton" is the radius step only (the skeleton is in memory); "total" starts at t0.
         *status = at_stage("mesh", skeleton_path,
                            [&] { return run_mesh_job(job, chosen.skeleton, domain, t3, &extra, t0); }, false);

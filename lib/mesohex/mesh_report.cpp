@@ -140,4 +140,50 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
     return rep;
 }
 
+nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkeletonOptions& options,
+                                    const std::string& skeleton_path, const std::string& medial_path) {
+    nlohmann::json used = {{"path", skeleton_path},
+                           {"vertices", chosen.skeleton.points.size()},
+                           {"edges", chosen.skeleton.edges.size()},
+                           {"faces", chosen.skeleton.faces.size()}};
+    if (chosen.kind == SkeletonKind::Curve) {
+        const Skeletonization& sk = chosen.curve;
+        used["source"] = "skeletonize_surface (mean curvature flow)";
+        used["mcf_vertices"] = sk.mcf_vertices;
+        used["pruned_branches"] = sk.pruned_branches;
+        used["merged_branch_points"] = sk.merged_branch_points;
+        used["extended_extremities"] = sk.extended_extremities;
+    } else {
+        used["source"] = "compute_medial_axis + import_medial_mesh (medial meso-skeleton)";
+        used["leaflets"] = chosen.import.leaflets;
+    }
+    nlohmann::json decision = {{"requested", skeleton_kind_name(options.kind)},
+                               {"min_sheet_fraction", options.min_sheet_fraction},
+                               {"reason", chosen.reason}};
+    if (chosen.medial_computed) {
+        const MedialAxis& m = chosen.medial;
+        decision["medial"] = {{"path", medial_path},
+                              {"samples", m.samples},
+                              {"vertices", m.medial.points.size()},
+                              {"edges", m.medial.edges.size()},
+                              {"triangles", m.medial.faces.size()},
+                              {"sheets", m.sheets},
+                              {"curves", m.curves},
+                              {"euler_characteristic", m.euler},
+                              {"sheet_area", m.sheet_area},
+                              {"curve_band_area", m.curve_band_area},
+                              {"sheet_fraction", m.sheet_fraction},
+                              {"coverage_gap_relative", chosen.coverage_gap}};
+    }
+    if (chosen.raw_checked)
+        decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},
+                                     {"inverted", chosen.raw_inverted},
+                                     {"sj_min", chosen.raw_sj_min},
+                                     {"max_inverted", options.max_raw_inverted}};
+    return {{"mode", "auto"},
+            {"skeleton_kind", skeleton_kind_name(chosen.kind)},
+            {"skeleton_decision", decision},
+            {"skeleton_used", used}};
+}
+
 }  // namespace mesohex

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "mesohex/auto_skeleton.h"
 #include "mesohex/mesh.h"
 
 namespace mesohex {
@@ -21,6 +22,12 @@ struct ReportContext {
 };
 
 nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context);
+
+// What `mesohex auto` adds to the report about the skeleton it chose: "mode", "skeleton_kind", "skeleton_decision"
+// (requested kind, thresholds, reason, the medial mesh's measures, the meso raw-mesh check) and "skeleton_used" (where
+// it was written and how it was made). `medial_path` may be empty (no medial mesh written).
+nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkeletonOptions& options,
+                                    const std::string& skeleton_path, const std::string& medial_path);
 
 // Skeleton counts as the report gives them ("skeleton", "meshed_skeleton"), and a valence histogram.
 nlohmann::json analysis_counts_json(const AnalysisCounts& counts);
