@@ -15,17 +15,13 @@ namespace {
 // leaflet frames of its neighbours (normals of their faces): everything within three edges.
 constexpr int kReach = 3;
 
-void check_radii(const Skeleton& s) {
+// One radius per vertex, each finite and > 0 (the pipeline fills missing radii; incremental remeshing does not).
+void check_all_radii(const Skeleton& s) {
     if (s.radii.size() != s.points.size())
         throw Error(ErrorCode::InvalidInput, "incremental remeshing needs one radius per skeleton vertex (" +
                                                  std::to_string(s.radii.size()) + " radii for " +
                                                  std::to_string(s.points.size()) + " vertices)");
-    for (std::size_t v = 0; v < s.radii.size(); ++v)
-        if (!(s.radii[v] > 0) || !std::isfinite(s.radii[v]))
-            throw Error(ErrorCode::InvalidInput,
-                        "skeleton vertex " + std::to_string(v) + " has radius " + std::to_string(s.radii[v]) +
-                            " (must be finite and > 0)",
-                        ElementRef{ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
+    check_radii(s);
 }
 
 bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(&a, &b, sizeof(Vec3)) == 0; }
@@ -51,7 +47,7 @@ RemeshStats rebuild(RemeshCache& cache, const Skeleton& skeleton, SkeletonAnalys
 }  // namespace
 
 RemeshStats remesh_full(RemeshCache& cache, const Skeleton& skeleton) {
-    check_radii(skeleton);
+    check_all_radii(skeleton);
     SkeletonAnalysis analysis = analyze_skeleton(skeleton, cache.analysis_options);
     RemeshStats stats = rebuild(cache, skeleton, std::move(analysis), nullptr);
     stats.changed_vertices = static_cast<int>(skeleton.points.size());
@@ -65,7 +61,7 @@ RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton) {
     if (static_cast<int>(old.points.size()) != nv || old.edges != skeleton.edges || old.faces != skeleton.faces ||
         old.radii.size() != old.points.size() || cache.analysis.vertex_class.size() != old.points.size())
         return remesh_full(cache, skeleton);
-    check_radii(skeleton);
+    check_all_radii(skeleton);
     SkeletonAnalysis analysis = analyze_skeleton(skeleton, cache.analysis_options);
     if (analysis.vertex_class != cache.analysis.vertex_class ||
         analysis.vertex_border_root != cache.analysis.vertex_border_root)

@@ -53,12 +53,7 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
         res.radius = options.radius > 0 ? options.radius : default_radius(s, options.default_radius_factor);
         s.radii.assign(s.points.size(), res.radius);
     }
-    for (std::size_t v = 0; v < s.radii.size(); ++v)
-        if (!(s.radii[v] > 0) || !std::isfinite(s.radii[v]))
-            throw Error(ErrorCode::InvalidInput,
-                        "skeleton vertex " + std::to_string(v) + " has radius " + std::to_string(s.radii[v]) +
-                            " (must be finite and > 0)",
-                        ElementRef{ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
+    check_radii(s);
 
     if (options.resample) {
         s = adapt_skeleton(s, options.adaptation);

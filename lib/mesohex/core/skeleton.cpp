@@ -1,6 +1,10 @@
 #include "mesohex/core/skeleton.h"
 
+#include "mesohex/core/error.h"
+
 #include <algorithm>
+#include <cmath>
+#include <string>
 #include <set>
 #include <utility>
 
@@ -20,6 +24,15 @@ int add_face_edges(Skeleton& s) {
         }
     }
     return added;
+}
+
+void check_radii(const Skeleton& s) {
+    for (std::size_t v = 0; v < s.radii.size(); ++v)
+        if (!(s.radii[v] > 0) || !std::isfinite(s.radii[v]))
+            throw Error(ErrorCode::InvalidInput,
+                        "skeleton vertex " + std::to_string(v) + " has radius " + std::to_string(s.radii[v]) +
+                            " (must be finite and > 0)",
+                        ElementRef{ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
 }
 
 }  // namespace mesohex
