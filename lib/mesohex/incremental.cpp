@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/skeleton_radii.h"
 
 namespace mesohex {
 

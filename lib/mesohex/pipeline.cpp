@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/skeleton_radii.h"
 #include "mesohex/stages/connection_surfaces.h"
 #include "mesohex/stages/frame_propagation.h"
 

@@ -1,6 +1,7 @@
 #include "mesohex/core/skeleton.h"
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/skeleton_radii.h"
 
 #include <algorithm>
 #include <cmath>

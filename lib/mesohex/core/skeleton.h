@@ -22,10 +22,6 @@ struct Skeleton {
 // Appends to s.edges every side of every face that is not already listed (in face order). Returns how many were added.
 int add_face_edges(Skeleton& s);
 
-// Checks that every radius is finite and > 0: Error(InvalidInput) naming the first vertex that is not. (An empty
-// radius list passes: no radius known.)
-void check_radii(const Skeleton& s);
-
 // Euler characteristic V - E + F of the skeleton as a cell complex (assumes edges are unique).
 inline long euler_characteristic(const Skeleton& s) {
     return static_cast<long>(s.points.size()) - static_cast<long>(s.edges.size()) + static_cast<long>(s.faces.size());
