@@ -48,7 +48,8 @@ void register_thicken(CLI::App& app, int* status) {
             throw Error(ErrorCode::InvalidInput, args->input + ": the skeleton has no radii; give one with --radius R");
         const auto t1 = std::chrono::steady_clock::now();
         ThickenStats stats;
-        const TriangleMesh surface = thicken(skeleton, args->options, &stats);
+        const TriangleMesh surface =
+            at_stage("thicken", args->input, [&] { return thicken(skeleton, args->options, &stats); }, false);
         const auto t2 = std::chrono::steady_clock::now();
         const SurfaceCheck check = check_surface(surface);
         write_surface(args->output, surface);

@@ -12,7 +12,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <new>
 #include <numeric>
+#include <stdexcept>
 #include <random>
 #include <string>
 #include <vector>
@@ -217,6 +219,18 @@ TEST(HostileInput, StaleTemporariesAreRemovedOnTheNextWrite) {
     std::getline(in, line);
     EXPECT_EQ(line, "content");
     fs::remove_all(dir);
+}
+
+// Foreign exceptions (std::bad_alloc, CGAL::Failure_exception which is a std::logic_error, Eigen, TBB) become
+// NumericalFailure naming the context, with the documented exit status 6.
+TEST(HostileInput, ForeignExceptionsBecomeDocumentedErrors) {
+    const Error oom = foreign_error(std::bad_alloc(), "in.off: skeletonize");
+    EXPECT_EQ(oom.code(), ErrorCode::NumericalFailure);
+    EXPECT_EQ(std::string(oom.what()), "in.off: skeletonize: out of memory");
+    EXPECT_EQ(exit_code(oom.code()), 6);
+    const Error cgal = foreign_error(std::logic_error("CGAL ERROR: precondition violation!"), "in.off: skeletonize");
+    EXPECT_EQ(cgal.code(), ErrorCode::NumericalFailure);
+    EXPECT_EQ(std::string(cgal.what()), "in.off: skeletonize: internal failure: CGAL ERROR: precondition violation!");
 }
 
 // ---------------------------------------------------------------------------------------------------------------
