@@ -9,6 +9,9 @@ cd "$(dirname "$0")"
 ROOT=$(pwd)
 BUILD=${MESOHEX_BUILD_DIR:-$ROOT/build}
 JOBS=${MESOHEX_JOBS:-$(nproc)}
+# When ccache is used (build, sanitizer_tests), paths below the project are hashed relative to it, so a clone in
+# another folder reuses what an earlier build compiled.
+export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$ROOT}
 
 # Every Debian package the project needs (build, tests, benchmarks).
 PACKAGES=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev

@@ -63,7 +63,8 @@ void register_generate(CLI::App& app, int* status) {
         if (random && !args->name.empty())
             throw Error(ErrorCode::InvalidInput, "generate: give either a shape NAME or --random SEED, not both");
         if (!random && args->name.empty())
-            throw Error(ErrorCode::InvalidInput, "generate: give a shape NAME (mesohex generate --list) or --random SEED");
+            throw Error(ErrorCode::InvalidInput,
+                        "generate: give a shape NAME (mesohex generate --list) or --random SEED");
         if (args->output.empty()) throw Error(ErrorCode::InvalidInput, "generate: give the output file with -o");
         const auto seed = static_cast<std::uint64_t>(args->random_seed);
         const Skeleton skeleton =

@@ -547,3 +547,23 @@ TEST(Adaptation, CoincidentBranchesMeshThroughSharedTrunk) {
         }
     }
 }
+
+// Degeneracies of lattice (voxel) graphs like the reference's 5 120-vertex sample: at c = (0,0,0) (parent (0,0,-1))
+// one child (0,0,2) and one (1,0,1) whose branch comes back to (0,0,1), the midpoint of the first child's edge; at
+// (0,0,-1) siblings (1,0,-1) and (2,0,-1) on one ray. Without the repairs the mesher stops; with them the whole run
+// works, the raw mesh has the predicted hex count, and no two edges at a vertex are closer than coincident_angle.
+TEST(Adaptation, LatticeGraphDegeneraciesMesh) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0, 0, 2}, {1, 0, 1}, {0, 0, 1}, {0, 0, -1}, {1, 0, -1}, {2, 0, -1}, {0, 0, -2}};
+    s.edges = {{0, 1}, {0, 2}, {2, 3}, {4, 0}, {4, 5}, {4, 6}, {4, 7}};
+    s.radii.assign(s.points.size(), 0.25);
+    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_GE(r.reattached_edges, 1);  // (4, 6) -> (5, 6)
+    EXPECT_GE(smallest_angle_at_vertices(r.skeleton), AdaptationOptions{}.coincident_angle);
+    const mesohex::PipelineResult res = mesohex::run_pipeline(s, {});
+    EXPECT_EQ(static_cast<long>(res.raw.mesh.hexes.size()), res.predicted.hexes);
+    EXPECT_EQ(static_cast<long>(res.raw.mesh.hexes.size()), 4 * static_cast<long>(res.skeleton.edges.size()));
+    mesohex::PipelineOptions no_repair;
+    no_repair.adaptation.coincident_angle = 0;
+    EXPECT_THROW((void)mesohex::run_pipeline(s, no_repair), mesohex::Error);
+}

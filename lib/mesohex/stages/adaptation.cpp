@@ -232,8 +232,8 @@ bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_bran
         if (!inside_branches && degree[e[0]] == 2 && degree[e[1]] == 2 && !on_face[e[0]] && !on_face[e[1]]) continue;
         const int a = uf.find(e[0]), b = uf.find(e[1]);
         if (a == b || (class_on_face[a] && class_on_face[b])) continue;
-        if (!(distance(s.points[e[0]], s.points[e[1]]) <= std::max(0.0, o.merge_distance) * std::min(s.radii[e[0]], s.radii[e[1]])))
-            continue;
+        const double limit = std::max(0.0, o.merge_distance) * std::min(s.radii[e[0]], s.radii[e[1]]);
+        if (!(distance(s.points[e[0]], s.points[e[1]]) <= limit)) continue;
         uf.unite(a, b);
         class_on_face[uf.find(a)] = class_on_face[a] || class_on_face[b];
         ++merged;

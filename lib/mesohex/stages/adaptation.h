@@ -98,7 +98,8 @@ struct AdaptationResult {
     int turn_removed_joints = 0;   // joints removed by the turn criterion (final branches only)
     int merged_vertices = 0;       // zero-length (merge_distance) branch edges contracted: one vertex and edge each
     int duplicate_edges = 0;       // repeated edges dropped (input repeats, or made by a merge or re-attachment)
-    int reattached_edges = 0;      // branch edges moved from a shared vertex to the nearer edge's end (coincident_angle)
+    int reattached_edges = 0;      // branch edges moved from a shared vertex to the nearer edge's end
+                                   // (coincident_angle)
 };
 AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOptions& o = {});
 

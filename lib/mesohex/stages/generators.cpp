@@ -589,7 +589,9 @@ struct RandomTree {
             const double len = r * rng.uniform(2.5, 4.5);  // 1-2 resampled edges (about 2 r each)
             bool placed = false;
             for (int attempt = 0; attempt < 12 && !placed; ++attempt) {
-                const Vec3 d = k == 0 && attempt == 0 ? dir : turned(dir, rng.uniform(0, max_turn), rng.uniform(0, 2 * kPi));
+                const Vec3 d = k == 0 && attempt == 0
+                                   ? dir
+                                   : turned(dir, rng.uniform(0, max_turn), rng.uniform(0, 2 * kPi));
                 const Vec3 p = s.points[cur] + len * d;
                 if (!clear(cur, p, r)) continue;
                 cur = add(cur, p, r);

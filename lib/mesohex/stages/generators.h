@@ -45,9 +45,9 @@ Skeleton generate_skeleton(const std::string& name, const GeneratorOptions& opti
 //     0.55..1 x their parent, never below a third of the root's (fat, close branches);
 //   - sheet (seed % 5 == 0 or 3): one quad leaflet of 2..4 x 2..4 faces, jittered, bent, and folded with probability
 //     1/2 by 0..120 degrees along an interior row (sheets meeting at a sharp angle), radius 0.1..0.3 x edge_length
-//     (thin), with branches: BL-joints at convex corners leaving along the outward corner diagonal (each corner with
-//     probability 0.4) and a branch rooted at an interior vertex within 30 degrees of the normal (probability 0.5),
-//     radius 1..1.7 x the sheet's, at most 0.5 x edge_length, segments of 2.5..4.5 radii.
+//     (thin), with branches: BL-joints at convex corners leaving within 15 degrees of the outward corner diagonal
+//     (each corner with probability 0.4) and a branch rooted at an interior vertex within 30 degrees of the normal
+//     (probability 0.5), radius 1..1.7 x the sheet's, at most 0.5 x edge_length, segments of 2.5..4.5 radii.
 // Segments keep 1.1 x the sum of their radii from every segment that does not share a vertex with them or their
 // branching point (else another direction is drawn, up to 12 times, then the branch ends), so distinct branches do
 // not merge in the thickened domain. Only supported configurations. Postconditions as generate_skeleton(); at least
