@@ -63,6 +63,7 @@ void use_curve(AutoSkeleton& out, const TriangleMesh& surface, const AutoSkeleto
 }  // namespace
 
 AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOptions& options) {
+    check_surface_for_skeleton(surface);  // either skeleton needs a closed solid: refuse a degenerate one first
     AutoSkeleton out;
     if (options.kind == SkeletonKind::Curve) {
         use_curve(out, surface, options);

@@ -1,4 +1,5 @@
 #include "mesohex/surface/medial_axis.h"
+#include "mesohex/surface/skeletonize.h"
 
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Delaunay_triangulation_cell_base_3.h>
@@ -841,6 +842,7 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     if (check.components.size() != 1)
         throw Error(ErrorCode::InvalidInput, "medial axis needs a single connected surface (found " +
                                                  std::to_string(check.components.size()) + " components)");
+    check_surface_for_skeleton(surface);  // degenerate geometry (flat, collapsed) never reaches CGAL's Delaunay
     const SurfaceQuery query(surface);
     MedialAxis out;
     const double diag = query.bbox_diagonal();

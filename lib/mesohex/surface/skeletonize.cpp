@@ -385,6 +385,8 @@ int extend_extremities(Graph& g, const AabbTree& tree, double gap, double spacin
 
 }  // namespace
 
+void check_surface_for_skeleton(const TriangleMesh& surface) { check_skeletonizable(surface); }
+
 Skeletonization skeletonize_surface(const TriangleMesh& surface, const SkeletonizeOptions& options) {
     check_skeletonizable(surface);
     if (!(options.prune_factor >= 0) || !(options.merge_factor >= 0) || !(options.extension_gap >= 0)

@@ -50,6 +50,11 @@ struct Skeletonization {
 // same input, same output bits. Output order is canonical: points sorted lexicographically by (x, y, z), every edge
 // {a, b} with a < b, edges sorted.
 // Complexity: dominated by the MCF (sparse Cholesky per iteration on the remeshed surface).
+// The checks skeletonize_surface and compute_medial_axis make before CGAL sees the surface: closed, manifold,
+// consistently oriented, one component, finite, no (near) zero-area triangle, a non-zero enclosed volume.
+// Error(InvalidInput) "surface cannot be skeletonized: <why>" otherwise.
+void check_surface_for_skeleton(const TriangleMesh& surface);
+
 Skeletonization skeletonize_surface(const TriangleMesh& surface, const SkeletonizeOptions& options = {});
 
 }  // namespace mesohex
