@@ -29,6 +29,7 @@
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/surface/skeletonize.h"
+#include "mesohex/surface/medial_axis.h"
 #include "mesohex/surface/thicken.h"
 #include "mesohex_io/hex_io.h"
 #include "mesohex_io/medial_io.h"
@@ -334,6 +335,34 @@ void bind_functions(py::module_& m) {
         py::arg("max_grid_points") = ThickenOptions{}.max_grid_points, py::arg("threads") = 0,
         "The closed surface of the domain a skeleton with radii describes, as `mesohex thicken --radius R "
         "--resolution C --max-grid-points N`.");
+    m.def(
+        "medial",
+        [](const TriangleMesh& surface, const std::string& output, int target_vertices, double sample_spacing) {
+            MedialAxisOptions o;
+            o.target_vertices = target_vertices;
+            o.sample_spacing = sample_spacing;
+            MedialAxis ma;
+            {
+                py::gil_scoped_release release;
+                ma = compute_medial_axis(surface, o);
+                if (!output.empty()) write_medial_mesh(output, ma.medial);
+            }
+            py::dict d;
+            d["medial"] = ma.medial;
+            d["samples"] = ma.samples;
+            d["sheets"] = ma.sheets;
+            d["curves"] = ma.curves;
+            d["euler_characteristic"] = ma.euler;
+            d["sheet_fraction"] = ma.sheet_fraction;
+            d["bbox_diagonal"] = ma.bbox_diagonal;
+            return d;
+        },
+        py::arg("surface"), py::kw_only(), py::arg("output") = "",
+        py::arg("target_vertices") = MedialAxisOptions{}.target_vertices,
+        py::arg("sample_spacing") = MedialAxisOptions{}.sample_spacing,
+        "The simplified medial mesh of a closed, manifold surface, as `mesohex medial SURFACE -o OUT.ma`: a dict with "
+        "'medial' (a Skeleton: sphere centres, radii, curve edges and triangles), 'sheets', 'curves', "
+        "'euler_characteristic', 'sheet_fraction', 'samples', 'bbox_diagonal'; written as .ma when output is given.");
 }
 
 // ---------------------------------------------------------------------------------------------------------------

@@ -18,6 +18,7 @@ from ._mesohex import (  # noqa: F401
     auto,
     generate,
     generator_names,
+    medial,
     mesh,
     partition,
     quality,

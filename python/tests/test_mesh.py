@@ -96,3 +96,17 @@ def test_auto_on_a_capsule(tmp_path):
     assert (tmp_path / "capsule.skeleton.obj").exists()
     assert mesohex.read_hex_mesh(str(out)) == r.mesh
     assert r.report["skeleton_used"]["vertices"] >= 2 and len(r.hexes) > 0
+
+
+def test_medial_of_a_capsule(tmp_path):
+    # A capsule (a thickened segment) is a ball topologically: its medial mesh is one curve along the axis, no
+    # sheet, Euler characteristic 1; the .ma file written has the header "V E F" of that mesh.
+    capsule = mesohex.thicken(mesohex.Skeleton(np.array([[0, 0, 0], [4, 0, 0]], dtype=float), np.array([[0, 1]]),
+                                               radii=np.array([0.6, 0.6])), resolution=3)
+    out = tmp_path / "capsule.ma"
+    m = mesohex.medial(capsule, output=str(out))
+    assert m["euler_characteristic"] == 1
+    assert m["sheets"] == 0 and m["curves"] == 1
+    header = out.read_text().split("\n", 1)[0].split()
+    medial = m["medial"]
+    assert [int(x) for x in header] == [len(medial.points), len(medial.edges), len(medial.faces)]
