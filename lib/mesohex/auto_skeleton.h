@@ -1,5 +1,5 @@
 #pragma once
-// The skeleton `mesohex auto` meshes a surface with (issue 17): the mean-curvature-flow curve skeleton for tubular
+// The skeleton `mesohex auto` meshes a surface with: the mean-curvature-flow curve skeleton for tubular
 // shapes, the medial meso-skeleton (compute_medial_axis -> import_medial_mesh: curve branches + quad leaflets) where
 // the shape has flat or thin parts. The choice is made from measured geometry: the medial axis's sheet fraction
 // (MedialAxis::sheet_fraction: the share of its measure that is sheet-like triangles rather than curves), then the
@@ -25,8 +25,7 @@ struct AutoSkeletonOptions {
     // give 0 to 0.1 (thin bundles become curves), plates and disks 0.9 and more.
     double min_sheet_fraction = 0.3;
     // Auto: the meso-skeleton only when every surface vertex is within this x diagonal of the medial mesh's swept
-    // spheres (a part lost by the angle filter leaves a larger gap: cylinder_plate.obj, which lost its cylinder, 43 %;
-    // plate1.obj, whose meso mesh meets the targets, 10 %).
+    // spheres (dimensionless, x diagonal): a part the angle filter lost leaves a larger gap (docs/tuning.md).
     double max_coverage_gap = 0.2;
     long max_raw_inverted = 0;      // Auto: the meso-skeleton's raw mesh may have at most this many inverted hexes
     MedialAxisOptions medial;

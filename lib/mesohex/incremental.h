@@ -1,5 +1,5 @@
 #pragma once
-// Incremental remeshing for the studio (issue 19): after an edit that moves k skeleton vertices (or changes their
+// Incremental remeshing for the studio: after an edit that moves k skeleton vertices (or changes their
 // radii) without changing the topology, only the connection surfaces within reach of those vertices are recomputed;
 // the analysis (O(V + E + F), cheap), the frames and the raw mesh are rebuilt whole (the raw stage runs at > 10 M
 // hex/s). The result is byte-identical to a full run on the new skeleton (tests/unit/test_incremental.cpp checks this

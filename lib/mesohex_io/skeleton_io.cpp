@@ -578,16 +578,12 @@ std::string format_obj(const Skeleton& s) {
     return out;
 }
 
-}  // namespace
+bool is_skeleton_format(const std::string& ext) {
+    return ext == "ig" || ext == "cg" || ext == "cgr" || ext == "skel" || ext == "obj";
+}
 
-Skeleton read_skeleton(const std::string& path) {
-    const std::string ext = lower_extension(path);
-    const Context ctx(path);
-    if (ext != "ig" && ext != "cg" && ext != "cgr" && ext != "skel" && ext != "obj")
-        throw Error(ErrorCode::InvalidInput,
-                    path + ": unknown skeleton format '." + ext + "' (expected .ig, .cg, .cgr, .skel or .obj)");
-    const std::string content = read_whole_file(path);
-    if (is_blank_content(content)) fail_empty_file(path, "expected a skeleton");
+// The text of a skeleton file in format `ext` (one of is_skeleton_format), named by `ctx` in messages.
+Skeleton parse_skeleton(const Context& ctx, const std::string& ext, const std::string& content) {
     if (content.find('\0') != std::string::npos) ctx.fail(1, "binary content (NUL byte) in a text format");
     const std::vector<TextLine> lines = split_lines(content);
     if (ext == "ig") return read_ig(ctx, lines);
@@ -595,6 +591,18 @@ Skeleton read_skeleton(const std::string& path) {
     if (ext == "cgr") return read_cg(ctx, lines, true);
     if (ext == "skel") return read_skel(ctx, lines);
     return read_obj(ctx, lines);
+}
+
+}  // namespace
+
+Skeleton read_skeleton(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    if (!is_skeleton_format(ext))
+        throw Error(ErrorCode::InvalidInput,
+                    path + ": unknown skeleton format '." + ext + "' (expected .ig, .cg, .cgr, .skel or .obj)");
+    const std::string content = read_whole_file(path);
+    if (is_blank_content(content)) fail_empty_file(path, "expected a skeleton");
+    return parse_skeleton(Context(path), ext, content);
 }
 
 void write_skeleton(const std::string& path, const Skeleton& skeleton) {
@@ -607,17 +615,10 @@ void write_skeleton(const std::string& path, const Skeleton& skeleton) {
 
 Skeleton read_skeleton_text(const std::string& content, const std::string& format, const std::string& name) {
     const std::string ext = lower_extension("." + format);
-    const Context ctx(name);
-    if (ext != "ig" && ext != "cg" && ext != "cgr" && ext != "skel" && ext != "obj")
+    if (!is_skeleton_format(ext))
         throw Error(ErrorCode::InvalidInput,
                     name + ": unknown skeleton format '" + format + "' (expected ig, cg, cgr, skel or obj)");
-    if (content.find('\0') != std::string::npos) ctx.fail(1, "binary content (NUL byte) in a text format");
-    const std::vector<TextLine> lines = split_lines(content);
-    if (ext == "ig") return read_ig(ctx, lines);
-    if (ext == "cg") return read_cg(ctx, lines, false);
-    if (ext == "cgr") return read_cg(ctx, lines, true);
-    if (ext == "skel") return read_skel(ctx, lines);
-    return read_obj(ctx, lines);
+    return parse_skeleton(Context(name), ext, content);
 }
 
 std::string skeleton_text(const Skeleton& skeleton, const std::string& format, const std::string& name) {

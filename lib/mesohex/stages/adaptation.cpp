@@ -206,6 +206,23 @@ struct Repaired {
     int merged_vertices = 0, duplicate_edges = 0, reattached_edges = 0;
 };
 
+// Which vertices lie on a leaflet face, and the faces' sides as sorted vertex pairs.
+struct FaceMembership {
+    std::vector<bool> on_face;
+    std::set<std::pair<int, int>> sides;
+};
+
+FaceMembership face_membership(const Skeleton& s) {
+    FaceMembership m;
+    m.on_face.assign(s.points.size(), false);
+    for (const std::vector<int>& f : s.faces)
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            m.on_face[static_cast<std::size_t>(f[i])] = true;
+            m.sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+        }
+    return m;
+}
+
 // Merges the two ends of every branch edge shorter than merge_distance x the smaller end radius (not both on a
 // leaflet face; the merged vertex takes the leaflet vertex's position, else the mean, and the larger radius), then drops
 // self-loops and repeated edges. Vertices are renumbered in order; unused vertex ids disappear only by merging.
@@ -214,13 +231,9 @@ struct Repaired {
 bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_branches = false) {
     const Skeleton& s = r.s;
     const int n = static_cast<int>(s.points.size());
-    std::vector<bool> on_face(n, false);
-    std::set<std::pair<int, int>> face_sides;
-    for (const std::vector<int>& f : s.faces)
-        for (std::size_t i = 0; i < f.size(); ++i) {
-            on_face[f[i]] = true;
-            face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
-        }
+    const FaceMembership faces = face_membership(s);
+    const std::vector<bool>& on_face = faces.on_face;
+    const std::set<std::pair<int, int>>& face_sides = faces.sides;
     std::vector<int> degree(n, 0);
     for (const std::array<int, 2>& e : s.edges) ++degree[e[0]], ++degree[e[1]];
     UnionFind uf(n);
@@ -283,13 +296,9 @@ bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_bran
 bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
     Skeleton& s = r.s;
     const int n = static_cast<int>(s.points.size());
-    std::vector<bool> on_face(n, false);
-    std::set<std::pair<int, int>> face_sides;
-    for (const std::vector<int>& f : s.faces)
-        for (std::size_t i = 0; i < f.size(); ++i) {
-            on_face[f[i]] = true;
-            face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
-        }
+    const FaceMembership faces = face_membership(s);
+    const std::vector<bool>& on_face = faces.on_face;
+    const std::set<std::pair<int, int>>& face_sides = faces.sides;
     std::set<std::pair<int, int>> links;
     for (const std::array<int, 2>& e : s.edges) links.insert(std::minmax(e[0], e[1]));
     std::vector<std::vector<int>> incident(n);
@@ -374,13 +383,9 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const Adaptation
     const int ne = static_cast<int>(s.edges.size());
 
     // Leaflet membership.
-    std::vector<bool> on_face(n, false);
-    std::set<std::pair<int, int>> face_sides;
-    for (const std::vector<int>& f : s.faces)
-        for (std::size_t i = 0; i < f.size(); ++i) {
-            on_face[f[i]] = true;
-            face_sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
-        }
+    const FaceMembership faces = face_membership(s);
+    const std::vector<bool>& on_face = faces.on_face;
+    const std::set<std::pair<int, int>>& face_sides = faces.sides;
     std::vector<std::vector<int>> incident(n);
     for (int e = 0; e < ne; ++e) {
         incident[s.edges[e][0]].push_back(e);

@@ -1,5 +1,5 @@
 #pragma once
-// Medial axis of a closed surface as a simplified medial mesh (issue 17): sphere vertices (centre + radius), curve
+// Medial axis of a closed surface as a simplified medial mesh: sphere vertices (centre + radius), curve
 // edges and triangle sheets, the input `import_medial_mesh` (stages/medial_import.h) turns into a meso-skeleton.
 // CGAL (3D Delaunay triangulation) is included only by medial_axis.cpp. Method (docs/skeletons.md, `mesohex medial`):
 //   1. sampling: the surface vertices, points every sample_spacing along every edge, and pseudo-random points (fixed
