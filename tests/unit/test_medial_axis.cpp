@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -14,11 +15,12 @@
 #include "mesohex/surface/medial_axis.h"
 #include "mesohex/surface/surface_check.h"
 #include "mesohex_io/medial_io.h"
+#include "surface_fixtures.h"
 
 namespace mesohex {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 
 // Prism over a polygon (counter-clockwise, star-shaped from its vertex mean) between z0 and z1; caps as fans from a
 // centre vertex. Outward oriented.
@@ -70,21 +72,7 @@ TriangleMesh revolve(const std::vector<std::array<double, 2>>& profile, int n) {
     return m;
 }
 
-TriangleMesh torus(double R, double r, int nu, int nv) {
-    TriangleMesh m;
-    for (int i = 0; i < nu; ++i)
-        for (int j = 0; j < nv; ++j) {
-            const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
-            m.points.push_back({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
-        }
-    auto id = [&](int i, int j) { return (i % nu) * nv + (j % nv); };
-    for (int i = 0; i < nu; ++i)
-        for (int j = 0; j < nv; ++j) {
-            m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-            m.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-        }
-    return m;
-}
+TriangleMesh torus(double R, double r, int nu, int nv) { return test::torus_surface(R, r, nu, nv); }
 
 void expect_closed(const TriangleMesh& m) {
     const SurfaceCheck c = check_surface(m);

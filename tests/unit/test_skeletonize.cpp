@@ -10,6 +10,7 @@
 
 #include "mesohex/core/error.h"
 #include "mesohex/surface/skeletonize.h"
+#include "surface_fixtures.h"
 
 namespace mesohex {
 namespace {
@@ -110,18 +111,7 @@ TriangleMesh bent_tube(double L, double b, double r) {
 }
 
 TriangleMesh torus(double R, double r, int nu, int nv) {
-    TriangleMesh m;
-    for (int i = 0; i < nu; ++i)
-        for (int j = 0; j < nv; ++j) {
-            const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
-            m.points.push_back({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
-        }
-    auto id = [&](int i, int j) { return (i % nu) * nv + (j % nv); };
-    for (int i = 0; i < nu; ++i)
-        for (int j = 0; j < nv; ++j) {
-            m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-            m.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-        }
+    TriangleMesh m = test::torus_surface(R, r, nu, nv);
     orient_outward(m);
     return m;
 }
