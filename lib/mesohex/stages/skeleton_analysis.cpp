@@ -145,14 +145,15 @@ BorderRoot border_root_at(const Skeleton& s, const SkeletonAnalysis& an, int v) 
     return border_root(to_border[0], to_border[1], inward, normal, branch, faces);
 }
 
-SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& options) {
-    validate_input(s, options);
+namespace {
+
+// The steps of analyze_skeleton, in the order it calls them: incidence, faces and their edges, leaflets, face
+// normals, vertex classes, the rooted-branch check, branches, counts. Each fills its part of the analysis.
+
+// Incidence (CSR, edges in increasing id per vertex).
+void build_incidence(const Skeleton& s, SkeletonAnalysis& an) {
     const int nv = static_cast<int>(s.points.size());
     const int ne = static_cast<int>(s.edges.size());
-    const int nf = static_cast<int>(s.faces.size());
-    SkeletonAnalysis an;
-
-    // Incidence (CSR, edges in increasing id per vertex).
     an.vertex_edge_begin.assign(nv + 1, 0);
     for (const std::array<int, 2>& ed : s.edges) {
         ++an.vertex_edge_begin[ed[0] + 1];
@@ -160,15 +161,23 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     }
     std::partial_sum(an.vertex_edge_begin.begin(), an.vertex_edge_begin.end(), an.vertex_edge_begin.begin());
     an.vertex_edges.resize(an.vertex_edge_begin[nv]);
-    {
-        std::vector<int> fill(an.vertex_edge_begin.begin(), an.vertex_edge_begin.end() - 1);
-        for (int e = 0; e < ne; ++e) {
-            an.vertex_edges[fill[s.edges[e][0]]++] = e;
-            an.vertex_edges[fill[s.edges[e][1]]++] = e;
-        }
+    std::vector<int> fill(an.vertex_edge_begin.begin(), an.vertex_edge_begin.end() - 1);
+    for (int e = 0; e < ne; ++e) {
+        an.vertex_edges[fill[s.edges[e][0]]++] = e;
+        an.vertex_edges[fill[s.edges[e][1]]++] = e;
     }
+}
 
-    // Faces: sides -> edges, edge degrees.
+// The faces of each edge (CSR over edges, faces in increasing id).
+struct EdgeFaces {
+    std::vector<int> begin, faces;
+};
+
+// Faces: sides -> edges, edge degrees; returns the faces of each edge. Throws Error(InvalidInput) naming a face whose
+// side is not an edge.
+EdgeFaces build_faces(const Skeleton& s, SkeletonAnalysis& an) {
+    const int ne = static_cast<int>(s.edges.size());
+    const int nf = static_cast<int>(s.faces.size());
     an.edge_degree.assign(ne, 0);
     an.face_vertices.resize(nf);
     an.face_edges.resize(nf);
@@ -186,17 +195,19 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
             ++an.edge_degree[e];
         }
     }
-    // Edge -> faces (CSR).
-    std::vector<int> edge_face_begin(ne + 1, 0), edge_faces;
-    for (int e = 0; e < ne; ++e) edge_face_begin[e + 1] = edge_face_begin[e] + an.edge_degree[e];
-    edge_faces.resize(edge_face_begin[ne]);
-    {
-        std::vector<int> fill(edge_face_begin.begin(), edge_face_begin.end() - 1);
-        for (int f = 0; f < nf; ++f)
-            for (int k = 0; k < 4; ++k) edge_faces[fill[an.face_edges[f][k]]++] = f;
-    }
+    EdgeFaces ef{std::vector<int>(ne + 1, 0), {}};
+    for (int e = 0; e < ne; ++e) ef.begin[e + 1] = ef.begin[e] + an.edge_degree[e];
+    ef.faces.resize(ef.begin[ne]);
+    std::vector<int> fill(ef.begin.begin(), ef.begin.end() - 1);
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 4; ++k) ef.faces[fill[an.face_edges[f][k]]++] = f;
+    return ef;
+}
 
-    // Leaflets: flood across degree-2 edges, orienting each new face against its neighbour.
+// Leaflets: flood across degree-2 edges, orienting each new face against its neighbour (face_vertices and
+// face_edges of a flipped face are reversed in place).
+void find_leaflets(const EdgeFaces& ef, SkeletonAnalysis& an) {
+    const int nf = static_cast<int>(an.face_vertices.size());
     an.face_leaflet.assign(nf, -1);
     std::vector<int> queue;
     for (int f0 = 0; f0 < nf; ++f0) {
@@ -213,8 +224,7 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
                 const int e = an.face_edges[f][k];
                 if (an.edge_degree[e] != 2) continue;
                 const int a = an.face_vertices[f][k], b = an.face_vertices[f][(k + 1) % 4];
-                const int g = edge_faces[edge_face_begin[e]] == f ? edge_faces[edge_face_begin[e] + 1]
-                                                                   : edge_faces[edge_face_begin[e]];
+                const int g = ef.faces[ef.begin[e]] == f ? ef.faces[ef.begin[e] + 1] : ef.faces[ef.begin[e]];
                 if (g == f) continue;  // a face glued to itself: cannot happen with 4 distinct vertices
                 std::array<int, 4>& gv = an.face_vertices[g];
                 int ia = 0;
@@ -236,6 +246,11 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
         }
         std::sort(L.faces.begin(), L.faces.end());
     }
+}
+
+// Unit normal of every (oriented) face; Error(InvalidInput) naming a face of zero area.
+void compute_face_normals(const Skeleton& s, SkeletonAnalysis& an) {
+    const int nf = static_cast<int>(an.face_vertices.size());
     an.face_normal.resize(nf);
     for (int f = 0; f < nf; ++f) {
         Vec3 n{};
@@ -246,10 +261,83 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
                  ElementRef::Kind::SkeletonFace, f);
         an.face_normal[f] = normalized(n);
     }
+}
 
-    // Vertex classification (pseudo-degree, reference-notes §4.1-4.2, plus explicit rejection of the unsupported).
-    // Per vertex: does some leaflet have faces at it but no boundary or fan edge at it (the vertex is inside that
-    // leaflet)? Serial in face order.
+// The edges at a vertex by face degree, and what its leaflets look like there.
+struct VertexStar {
+    int nb = 0, nbnd = 0, ninner = 0, nfan = 0;  // branch, boundary, interior leaflet and fan edges
+    std::vector<int> fan_degrees;
+    bool inside_a_leaflet = false;  // some leaflet has faces at it but no boundary or fan edge at it
+    int leaflets = 0;               // leaflets with faces at it
+    int faces = 0;                  // faces at it
+};
+
+// Fan-edge vertex: its class, or Error(UnsupportedConfiguration) for a branch edge on it or an irregular fan.
+VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, int v) {
+    if (st.nb > 0)
+        fail(ErrorCode::UnsupportedConfiguration,
+             vname + ": a branch edge on a fan-edge vertex is not supported (paper limitation 3)",
+             ElementRef::Kind::SkeletonVertex, v);
+    // A regular fan: at its end every leaflet around the fan edge leaves by one boundary edge; along it,
+    // every leaflet goes on across the vertex (paper limitation 2 otherwise: the fan stops inside a leaflet).
+    const bool regular =
+        !st.inside_a_leaflet && (st.nfan == 1 ? st.nbnd == st.fan_degrees[0]
+                                              : st.nfan == 2 && st.fan_degrees[0] == st.fan_degrees[1] && st.nbnd == 0);
+    if (!regular)
+        fail(ErrorCode::UnsupportedConfiguration,
+             vname + ": an irregular fan (a fan edge ending inside a leaflet, paper limitation 2, or " +
+                 std::to_string(st.nfan) + " fan edges of unequal degrees or not in one chain) is not supported",
+             ElementRef::Kind::SkeletonVertex, v);
+    return st.nfan == 1 ? VertexClass::FanEdgeEnd : VertexClass::FanEdgeVertex;
+}
+
+// The class of vertex v (pseudo-degree, reference-notes §4.1-4.2, plus explicit rejection of the unsupported); sets
+// vertex_border_root[v] at a border vertex with one branch.
+VertexClass classify_vertex(const Skeleton& s, const VertexStar& st, int v, SkeletonAnalysis& an) {
+    const std::string vname = "skeleton vertex " + std::to_string(v);
+    if (st.nfan > 0) return classify_fan_vertex(st, vname, v);
+    if (st.inside_a_leaflet && st.nb == 1 && st.nbnd == 0 && st.leaflets == 1 && st.ninner == 4 && st.faces == 4) {
+        // Beyond the paper's limitation 1: one branch leaving a regular interior vertex (4 faces of one
+        // leaflet). The branch's first chunk stands on the 2 x 2 plate faces around the vertex, on the side the
+        // branch leaves to (raw_mesh.cpp).
+        return VertexClass::LeafletInterior;
+    }
+    if (st.inside_a_leaflet && (st.nb > 0 || st.nbnd > 0)) {
+        if (st.nb > 0)
+            fail(ErrorCode::UnsupportedConfiguration, vname + ": " + branch_inside_leaflet(st.nb, st.faces),
+                 ElementRef::Kind::SkeletonVertex, v);
+        fail(ErrorCode::UnsupportedConfiguration,
+             vname + ": a leaflet touches the interior of another leaflet; not supported",
+             ElementRef::Kind::SkeletonVertex, v);
+    }
+    if (st.nbnd % 2 != 0)
+        fail(ErrorCode::UnsupportedConfiguration,
+             vname + " has an odd number (" + std::to_string(st.nbnd) + ") of leaflet boundary edges",
+             ElementRef::Kind::SkeletonVertex, v);
+    const int nl = st.nbnd / 2, nb = st.nb;
+    if (nl == 0 && st.ninner > 0) {
+        if (nb > 0)
+            fail(ErrorCode::UnsupportedConfiguration, vname + ": " + branch_inside_leaflet(nb, st.faces),
+                 ElementRef::Kind::SkeletonVertex, v);
+        return VertexClass::LeafletInterior;
+    }
+    if (nl + nb > 2) return VertexClass::BranchingPoint;
+    if (nl == 0 && nb == 1) return VertexClass::Extremity;
+    if (nl == 0 && nb == 2) return VertexClass::Joint;
+    if (nl == 1 && nb == 0) return VertexClass::LeafletBoundary;
+    if (nl == 1 && nb == 1) {
+        an.vertex_border_root[v] = border_root_at(s, an, v);
+        return an.vertex_border_root[v] != BorderRoot::None ? VertexClass::LeafletBoundary : VertexClass::BLJoint;
+    }
+    if (nl == 2 && nb == 0) return VertexClass::LLJoint;
+    return VertexClass::Isolated;
+}
+
+// Vertex classification. Per vertex: does some leaflet have faces at it but no boundary or fan edge at it (the vertex
+// is inside that leaflet)? Serial in face order.
+void classify_vertices(const Skeleton& s, SkeletonAnalysis& an) {
+    const int nv = static_cast<int>(s.points.size());
+    const int nf = static_cast<int>(an.face_vertices.size());
     std::vector<std::vector<std::pair<int, bool>>> leaflet_rim(nv);  // (leaflet, has a rim edge at the vertex)
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k) {
@@ -269,124 +357,73 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     an.vertex_branch_edges.assign(nv, 0);
     an.vertex_boundary_edges.assign(nv, 0);
     for (int v = 0; v < nv; ++v) {
-        int nb = 0, nbnd = 0, ninner = 0, nfan = 0;
-        std::vector<int> fan_degrees;
+        VertexStar st;
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
             const int d = an.edge_degree[an.vertex_edges[i]];
-            if (d == 0) ++nb;
-            else if (d == 1) ++nbnd;
-            else if (d == 2) ++ninner;
+            if (d == 0) ++st.nb;
+            else if (d == 1) ++st.nbnd;
+            else if (d == 2) ++st.ninner;
             else {
-                ++nfan;
-                fan_degrees.push_back(d);
+                ++st.nfan;
+                st.fan_degrees.push_back(d);
             }
         }
-        bool inside_a_leaflet = false;
-        for (const std::pair<int, bool>& x : leaflet_rim[v]) inside_a_leaflet = inside_a_leaflet || !x.second;
-        an.vertex_branch_edges[v] = nb;
-        an.vertex_boundary_edges[v] = nbnd;
-        const std::string vname = "skeleton vertex " + std::to_string(v);
-        VertexClass c = VertexClass::Isolated;
-        if (nfan > 0) {
-            if (nb > 0)
-                fail(ErrorCode::UnsupportedConfiguration,
-                     vname + ": a branch edge on a fan-edge vertex is not supported (paper limitation 3)",
-                     ElementRef::Kind::SkeletonVertex, v);
-            // A regular fan: at its end every leaflet around the fan edge leaves by one boundary edge; along it,
-            // every leaflet goes on across the vertex (paper limitation 2 otherwise: the fan stops inside a leaflet).
-            const bool regular = !inside_a_leaflet &&
-                                 (nfan == 1 ? nbnd == fan_degrees[0]
-                                            : nfan == 2 && fan_degrees[0] == fan_degrees[1] && nbnd == 0);
-            if (!regular)
-                fail(ErrorCode::UnsupportedConfiguration,
-                     vname + ": an irregular fan (a fan edge ending inside a leaflet, paper limitation 2, or " +
-                         std::to_string(nfan) + " fan edges of unequal degrees or not in one chain) is not supported",
-                     ElementRef::Kind::SkeletonVertex, v);
-            c = nfan == 1 ? VertexClass::FanEdgeEnd : VertexClass::FanEdgeVertex;
-        } else if (inside_a_leaflet && nb == 1 && nbnd == 0 && leaflet_rim[v].size() == 1 && ninner == 4 &&
-                   faces_at[v] == 4) {
-            // Beyond the paper's limitation 1: one branch leaving a regular interior vertex (4 faces of one
-            // leaflet). The branch's first chunk stands on the 2 x 2 plate faces around the vertex, on the side the
-            // branch leaves to (raw_mesh.cpp).
-            c = VertexClass::LeafletInterior;
-        } else if (inside_a_leaflet && (nb > 0 || nbnd > 0)) {
-            if (nb > 0)
-                fail(ErrorCode::UnsupportedConfiguration,
-                     vname + ": " + branch_inside_leaflet(nb, faces_at[v]), ElementRef::Kind::SkeletonVertex, v);
+        for (const std::pair<int, bool>& x : leaflet_rim[v]) st.inside_a_leaflet = st.inside_a_leaflet || !x.second;
+        st.leaflets = static_cast<int>(leaflet_rim[v].size());
+        st.faces = faces_at[v];
+        an.vertex_branch_edges[v] = st.nb;
+        an.vertex_boundary_edges[v] = st.nbnd;
+        an.vertex_class[v] = classify_vertex(s, st, v, an);
+    }
+}
+
+// Branches rooted on the plates: no two may stand on the same raw quad (a plate's up / down face, a half-chunk's
+// up / down face, or one of the two half-chunk out faces of a boundary edge). Keys: (kind, face or edge, side).
+// Error(UnsupportedConfiguration) naming the second vertex otherwise.
+void check_rooted_branches(const Skeleton& s, const SkeletonAnalysis& an) {
+    const int nv = static_cast<int>(s.points.size());
+    const int nf = static_cast<int>(an.face_vertices.size());
+    std::map<std::array<int, 3>, int> owner;  // key -> rooted vertex
+    auto claim = [&](int v, int kind, int id, int side) {
+        const auto [it, fresh] = owner.insert({{kind, id, side}, v});
+        if (!fresh)
             fail(ErrorCode::UnsupportedConfiguration,
-                 vname + ": a leaflet touches the interior of another leaflet; not supported",
+                 "skeleton vertex " + std::to_string(v) + ": its branch would stand on leaflet faces that the "
+                     "branch rooted at skeleton vertex " + std::to_string(it->second) +
+                     " stands on too (two branches rooted next to each other on the same side); move one of them",
                  ElementRef::Kind::SkeletonVertex, v);
-        } else {
-            if (nbnd % 2 != 0)
-                fail(ErrorCode::UnsupportedConfiguration,
-                     vname + " has an odd number (" + std::to_string(nbnd) + ") of leaflet boundary edges",
-                     ElementRef::Kind::SkeletonVertex, v);
-            const int nl = nbnd / 2;
-            if (nl == 0 && ninner > 0) {
-                if (nb > 0)
-                    fail(ErrorCode::UnsupportedConfiguration,
-                         vname + ": " + branch_inside_leaflet(nb, faces_at[v]), ElementRef::Kind::SkeletonVertex, v);
-                c = VertexClass::LeafletInterior;
-            } else if (nl + nb > 2) {
-                c = VertexClass::BranchingPoint;
-            } else if (nl == 0 && nb == 1) {
-                c = VertexClass::Extremity;
-            } else if (nl == 0 && nb == 2) {
-                c = VertexClass::Joint;
-            } else if (nl == 1 && nb == 0) {
-                c = VertexClass::LeafletBoundary;
-            } else if (nl == 1 && nb == 1) {
-                an.vertex_border_root[v] = border_root_at(s, an, v);
-                c = an.vertex_border_root[v] != BorderRoot::None ? VertexClass::LeafletBoundary : VertexClass::BLJoint;
-            } else if (nl == 2 && nb == 0) {
-                c = VertexClass::LLJoint;
-            }
-        }
-        an.vertex_class[v] = c;
-    }
-
-    // Branches rooted on the plates: no two may stand on the same raw quad (a plate's up / down face, a half-chunk's
-    // up / down face, or one of the two half-chunk out faces of a boundary edge). Keys: (kind, face or edge, side).
-    {
-        std::map<std::array<int, 3>, int> owner;  // key -> rooted vertex
-        auto claim = [&](int v, int kind, int id, int side) {
-            const auto [it, fresh] = owner.insert({{kind, id, side}, v});
-            if (!fresh)
-                fail(ErrorCode::UnsupportedConfiguration,
-                     "skeleton vertex " + std::to_string(v) + ": its branch would stand on leaflet faces that the "
-                         "branch rooted at skeleton vertex " + std::to_string(it->second) +
-                         " stands on too (two branches rooted next to each other on the same side); move one of them",
-                     ElementRef::Kind::SkeletonVertex, v);
-        };
-        for (int v = 0; v < nv; ++v) {
-            if (!roots_branch(an, v)) continue;
-            const int be = first_branch_edge(an, v);
-            const Vec3 branch = s.points[s.edges[be][0] == v ? s.edges[be][1] : s.edges[be][0]] - s.points[v];
-            Vec3 normal{};
-            std::vector<int> faces, border;
-            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
-                if (an.edge_degree[an.vertex_edges[i]] == 1) border.push_back(an.vertex_edges[i]);
-            for (int f = 0; f < nf; ++f)
-                for (int w : an.face_vertices[f])
-                    if (w == v) {
-                        faces.push_back(f);
-                        normal += an.face_normal[f];
-                    }
-            const int side = dot(branch, normal) >= 0 ? 0 : 1;
-            if (an.vertex_class[v] == VertexClass::LeafletInterior || an.vertex_border_root[v] == BorderRoot::Side) {
-                for (int f : faces) claim(v, 0, f, side);
-                for (int e : border) claim(v, 1, e, side);
-            } else {
-                for (int e : border) {
-                    claim(v, 2, e, 0);
-                    claim(v, 2, e, 1);
+    };
+    for (int v = 0; v < nv; ++v) {
+        if (!roots_branch(an, v)) continue;
+        const int be = first_branch_edge(an, v);
+        const Vec3 branch = s.points[s.edges[be][0] == v ? s.edges[be][1] : s.edges[be][0]] - s.points[v];
+        Vec3 normal{};
+        std::vector<int> faces, border;
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+            if (an.edge_degree[an.vertex_edges[i]] == 1) border.push_back(an.vertex_edges[i]);
+        for (int f = 0; f < nf; ++f)
+            for (int w : an.face_vertices[f])
+                if (w == v) {
+                    faces.push_back(f);
+                    normal += an.face_normal[f];
                 }
+        const int side = dot(branch, normal) >= 0 ? 0 : 1;
+        if (an.vertex_class[v] == VertexClass::LeafletInterior || an.vertex_border_root[v] == BorderRoot::Side) {
+            for (int f : faces) claim(v, 0, f, side);
+            for (int e : border) claim(v, 1, e, side);
+        } else {
+            for (int e : border) {
+                claim(v, 2, e, 0);
+                claim(v, 2, e, 1);
             }
         }
     }
+}
 
-    // Branches: walk from every non-joint vertex along each unvisited branch edge; what is left are closed rings.
-    an.edge_branch.assign(ne, -1);
+// Branches: walk from every non-joint vertex along each unvisited branch edge; what is left are closed rings.
+void extract_branches(const Skeleton& s, SkeletonAnalysis& an) {
+    const int nv = static_cast<int>(s.points.size());
+    an.edge_branch.assign(s.edges.size(), -1);
     auto other_end = [&](int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; };
     auto next_joint_edge = [&](int v, int e_in) {
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
@@ -412,28 +449,23 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
             if (e < 0 || an.edge_branch[e] >= 0) break;  // cannot happen for a joint; defensive against a hang
         }
     };
-    for (int v = 0; v < nv; ++v) {
-        if (an.vertex_class[v] == VertexClass::Joint) continue;
-        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-            const int e = an.vertex_edges[i];
-            if (an.edge_degree[e] == 0 && an.edge_branch[e] < 0) walk(v, e, false);
+    for (const bool rings : {false, true})
+        for (int v = 0; v < nv; ++v) {
+            if ((an.vertex_class[v] == VertexClass::Joint) != rings) continue;
+            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+                const int e = an.vertex_edges[i];
+                if (an.edge_degree[e] == 0 && an.edge_branch[e] < 0) walk(v, e, rings);
+            }
         }
-    }
-    for (int v = 0; v < nv; ++v) {
-        if (an.vertex_class[v] != VertexClass::Joint) continue;
-        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-            const int e = an.vertex_edges[i];
-            if (an.edge_degree[e] == 0 && an.edge_branch[e] < 0) walk(v, e, true);
-        }
-    }
+}
 
-    // Counts.
+// Counts, components and independent cycles, and the predicted hex count.
+void count_elements(const Skeleton& s, SkeletonAnalysis& an) {
     AnalysisCounts& c = an.counts;
-    c.vertices = nv;
-    c.edges = ne;
-    c.faces = nf;
-    for (int e = 0; e < ne; ++e) {
-        const int d = an.edge_degree[e];
+    c.vertices = static_cast<long>(s.points.size());
+    c.edges = static_cast<long>(s.edges.size());
+    c.faces = static_cast<long>(s.faces.size());
+    for (const int d : an.edge_degree) {
         if (d == 0) ++c.branch_edges;
         else if (d == 1) ++c.boundary_edges;
         else if (d >= 3) ++c.fan_edges;
@@ -455,14 +487,28 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
             case VertexClass::FanEdgeEnd: ++c.fan_edge_ends; break;
         }
     }
+    const int nv = static_cast<int>(s.points.size());
     UnionFind sets(nv);
-    for (const std::array<int, 2>& ed : s.edges) {
-        sets.unite(ed[0], ed[1]);
-    }
+    for (const std::array<int, 2>& ed : s.edges) sets.unite(ed[0], ed[1]);
     for (int v = 0; v < nv; ++v)
         if (an.vertex_class[v] != VertexClass::Isolated && sets.find(v) == v) ++c.components;
     c.cycles = c.components - ((c.vertices - c.isolated) - c.edges + c.faces);
     an.predicted_hexes = 4 * c.branch_edges + 2 * c.faces + 2 * c.boundary_edges;
+}
+
+}  // namespace
+
+SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& options) {
+    validate_input(s, options);
+    SkeletonAnalysis an;
+    build_incidence(s, an);
+    const EdgeFaces edge_faces = build_faces(s, an);
+    find_leaflets(edge_faces, an);
+    compute_face_normals(s, an);
+    classify_vertices(s, an);
+    check_rooted_branches(s, an);
+    extract_branches(s, an);
+    count_elements(s, an);
     return an;
 }
 
