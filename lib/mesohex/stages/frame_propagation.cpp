@@ -11,22 +11,6 @@ namespace mesohex {
 
 namespace {
 
-constexpr double kTiny = 1e-24;
-
-Vec3 any_perpendicular(const Vec3& t) {
-    const double ax = std::abs(t.x), ay = std::abs(t.y), az = std::abs(t.z);
-    const Vec3 axis = (ax <= ay && ax <= az) ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
-    return normalized(cross(t, axis));
-}
-
-// Frame with the given unit t and r as close as possible to r_hint.
-Frame orthonormal_frame(const Vec3& r_hint, const Vec3& t) {
-    Vec3 r = r_hint - dot(r_hint, t) * t;
-    const double n = norm(r);
-    r = n > 1e-12 ? r / n : any_perpendicular(t);
-    return {r, cross(t, r), t};
-}
-
 Frame reversed(const Frame& f) { return {f.r, -f.s, -f.t}; }
 
 Frame rotated(const Frame& f, double angle) {
@@ -51,21 +35,6 @@ Vec3 joint_tangent(const Vec3& prev, const Vec3& p, const Vec3& next) {
 }
 
 }  // namespace
-
-Frame rotation_minimizing_step(const Frame& f, const Vec3& x0, const Vec3& x1, const Vec3& t1) {
-    const Vec3 v1 = x1 - x0;
-    const double c1 = dot(v1, v1);
-    Vec3 rl = f.r, tl = f.t;
-    if (c1 > kTiny) {
-        rl = f.r - (2.0 / c1) * dot(v1, f.r) * v1;
-        tl = f.t - (2.0 / c1) * dot(v1, f.t) * v1;
-    }
-    const Vec3 v2 = t1 - tl;
-    const double c2 = dot(v2, v2);
-    Vec3 r1 = rl;
-    if (c2 > kTiny) r1 = rl - (2.0 / c2) * dot(v2, rl) * v2;
-    return orthonormal_frame(r1, t1);
-}
 
 BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                               const FrameOptions& /*options*/) {

@@ -12,16 +12,10 @@
 #include "mesohex/core/skeleton.h"
 #include "mesohex/core/vec.h"
 #include "mesohex/stages/connection_surfaces.h"
+#include "mesohex/stages/junction_geometry.h"
 #include "mesohex/stages/skeleton_analysis.h"
 
 namespace mesohex {
-
-// Orthonormal right-handed frame (r, s, t): t points from the vertex into the edge the frame is stored on.
-// The connection quad registered there is, from its start: (-s, +r, +s, -r) (reference-notes §6.1).
-struct Frame {
-    Vec3 r, s, t;
-    friend bool operator==(const Frame&, const Frame&) = default;
-};
 
 struct BranchFrames {
     // Per skeleton edge and side (0: edges[e][0], 1: edges[e][1]): the frame at that endpoint (t into the edge).
@@ -45,8 +39,5 @@ struct FrameOptions {};
 // the quarter-turn-snapped frame of the start quad. Parallel over branches (oneTBB), deterministic. O(branch edges).
 BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                               const ConnectionSurfaces& surfaces, const FrameOptions& options = {});
-
-// Double-reflection step: transports frame f from x0 to x1 and turns it to the unit tangent t1.
-Frame rotation_minimizing_step(const Frame& f, const Vec3& x0, const Vec3& x1, const Vec3& t1);
 
 }  // namespace mesohex

@@ -9,6 +9,8 @@
 
 #include "mesohex/core/error.h"
 #include "mesohex/core/union_find.h"
+#include "mesohex/stages/junction_geometry.h"
+#include "mesohex/stages/leaflet_geometry.h"
 
 namespace mesohex {
 
@@ -566,8 +568,8 @@ void write_branch_chunks(const Skeleton& skeleton, const ConnectionSurfaces& cs,
 // branching point u (edge length L, direction d from u) gets at most L sin(kappa m), m = margin of d inside u's
 // quad, so that its cross-section seen from u fits inside that quad: then every hex corner on u's sphere is positive
 // (see relax_partition in connection_surfaces.cpp).
-double margin_limited_radius(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
-                             const BranchFrames& frames, const RawMeshOptions& options, int v, double radius) {
+double branching_margin_radius(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                               const BranchFrames& frames, const RawMeshOptions& options, int v, double radius) {
     for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
         const int e = an.vertex_edges[i];
         if (an.edge_degree[e] != 0) continue;
@@ -580,7 +582,7 @@ double margin_limited_radius(const Skeleton& skeleton, const SkeletonAnalysis& a
         std::array<Vec3, 4> q;
         for (int k = 0; k < 4; ++k) q[k] = frames.directions[cs.point_begin[u] + cs.quads[gq][k]];
         const double m = spherical_quad_margin(q, d / L);
-        if (m > 0) radius = std::min(radius, L * std::sin(options.margin_fraction * m));
+        if (m > 0) radius = margin_limited_radius(radius, L, m, options.margin_fraction);
     }
     return radius;
 }
@@ -610,7 +612,7 @@ std::vector<double> effective_radii(const Skeleton& skeleton, const SkeletonAnal
     std::vector<double> radius(skeleton.radii);
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 512), [&](const tbb::blocked_range<int>& range) {
         for (int v = range.begin(); v != range.end(); ++v) {
-            radius[v] = margin_limited_radius(skeleton, an, cs, frames, options, v, radius[v]);
+            radius[v] = branching_margin_radius(skeleton, an, cs, frames, options, v, radius[v]);
             if (an.vertex_class[v] == VertexClass::Joint)
                 radius[v] = turn_limited_radius(skeleton, an, options, v, radius[v]);
         }

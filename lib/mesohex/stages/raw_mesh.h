@@ -58,7 +58,7 @@ struct RawMeshOptions {
     // A vertex adjacent to a branching point u by an edge of length L gets the radius min(r, L sin(margin_fraction *
     // m)), m = angular margin of the edge direction inside u's connection quad: its cross-section, seen from u, then
     // lies inside that quad and every raw hex corner on u's sphere is positive. 1 would allow flat corners.
-    double margin_fraction = 0.75;
+    double margin_fraction = kBranchMarginFraction;  // 0.75 (junction_geometry.h)
     // A joint turning by theta gets at most turn_fraction * (shorter incident edge) / (2 sin(theta / 2)): its
     // cross-section then reaches at most turn_fraction of half of each incident edge (the adaptation stage normally
     // guarantees this already; this only acts on inputs meshed with their own sampling).

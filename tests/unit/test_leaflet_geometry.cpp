@@ -1,0 +1,127 @@
+// Leaflet geometry (stages/leaflet_geometry): directions at leaflet vertices, out distances, rooted-branch patches, on
+// plates small enough to check by hand.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "mesohex/stages/leaflet_geometry.h"
+#include "skeleton_fixtures.h"
+
+using namespace mesohex;
+using mesohex::test::plate;
+
+namespace {
+
+void expect_vec(const Vec3& a, const Vec3& b, double tol) {
+    EXPECT_NEAR(a.x, b.x, tol);
+    EXPECT_NEAR(a.y, b.y, tol);
+    EXPECT_NEAR(a.z, b.z, tol);
+}
+
+// plate(2, 2) with one branch edge from vertex v to `tip` (added as vertex 9, edge id returned).
+int add_branch(Skeleton& s, int v, const Vec3& tip) {
+    s.points.push_back(tip);
+    s.edges.push_back({v, static_cast<int>(s.points.size()) - 1});
+    return static_cast<int>(s.edges.size()) - 1;
+}
+
+// An L of three unit quads: (0,0)-(2,0)-(2,1)-(1,1)-(1,2)-(0,2); the reflex border corner is (1,1) = vertex 4.
+Skeleton l_shape() {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}};
+    s.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}, {3, 4, 7, 6}};
+    add_face_edges(s);
+    return s;
+}
+
+}  // namespace
+
+TEST(LeafletGeometry, PlateNormalsAndOutwardBisectors) {
+    const Skeleton s = plate(2, 2);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const LeafletVertexFrames lf = leaflet_vertex_frames(s, an);
+    ASSERT_EQ(lf.normal.size(), 9u);
+    for (int w = 0; w < 9; ++w) expect_vec(lf.normal[w], {0, 0, 1}, 1e-15);
+    // Straight border: the outward normal of the border; corner: the exterior bisector; interior: none.
+    expect_vec(lf.out[1], {0, -1, 0}, 1e-15);
+    expect_vec(lf.out[3], {-1, 0, 0}, 1e-15);
+    expect_vec(lf.out[5], {1, 0, 0}, 1e-15);
+    expect_vec(lf.out[7], {0, 1, 0}, 1e-15);
+    expect_vec(lf.out[0], {-std::sqrt(0.5), -std::sqrt(0.5), 0}, 1e-15);
+    expect_vec(lf.out[8], {std::sqrt(0.5), std::sqrt(0.5), 0}, 1e-15);
+    expect_vec(lf.out[4], {0, 0, 0}, 0);
+    // Normal sum: 4 faces at the centre, 1 at a corner (not normalized).
+    expect_vec(leaflet_normal_sum(an, 4), {0, 0, 4}, 1e-15);
+    expect_vec(leaflet_normal_sum(an, 0), {0, 0, 1}, 1e-15);
+}
+
+TEST(LeafletGeometry, NoFacesNoFrames) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}};
+    s.edges = {{0, 1}};
+    const LeafletVertexFrames lf = leaflet_vertex_frames(s, analyze_skeleton(s));
+    EXPECT_TRUE(lf.normal.empty());
+    EXPECT_TRUE(lf.out.empty());
+}
+
+TEST(LeafletGeometry, OutDistanceShrinksOnlyAtAReflexCorner) {
+    const Skeleton p = plate(2, 2);
+    const SkeletonAnalysis pa = analyze_skeleton(p);
+    const LeafletVertexFrames pf = leaflet_vertex_frames(p, pa);
+    EXPECT_EQ(leaflet_out_distance(p, pa, pf, 1, 0.7), 0.7);  // straight border
+    EXPECT_EQ(leaflet_out_distance(p, pa, pf, 0, 0.7), 0.7);  // convex corner
+    EXPECT_EQ(leaflet_out_distance(p, pa, pf, 4, 0.7), 0.7);  // interior vertex
+    // Reflex corner (1, 1) of the L: out = unit(1, 1, 0), 45 degrees to both unit boundary edges, so the distance is
+    // at most kReflexOutFraction x 1 / cos 45.
+    const Skeleton s = l_shape();
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const LeafletVertexFrames lf = leaflet_vertex_frames(s, an);
+    expect_vec(lf.out[4], {std::sqrt(0.5), std::sqrt(0.5), 0}, 1e-15);
+    EXPECT_NEAR(leaflet_out_distance(s, an, lf, 4, 1.0), kReflexOutFraction * std::sqrt(2.0), 1e-12);
+    EXPECT_EQ(leaflet_out_distance(s, an, lf, 4, 0.2), 0.2);  // already within the fraction
+}
+
+TEST(LeafletGeometry, InteriorPatchIsCounterClockwiseSeenFromTheBranch) {
+    for (const double side : {1.0, -1.0}) {
+        Skeleton s = plate(2, 2);
+        const int e = add_branch(s, 4, {1, 1, side});
+        const SkeletonAnalysis an = analyze_skeleton(s);
+        ASSERT_EQ(an.vertex_class[4], VertexClass::LeafletInterior);
+        const LeafletPatch p = leaflet_patch(s, an, 4, e);
+        EXPECT_EQ(p.up, side > 0);
+        EXPECT_EQ(std::set<int>(p.neighbour.begin(), p.neighbour.end()), (std::set<int>{1, 3, 5, 7}));
+        const Vec3& c = s.points[4];
+        for (int k = 0; k < 4; ++k) {
+            const std::array<int, 4>& fv = an.face_vertices[p.face[k]];
+            EXPECT_EQ(fv[p.corner_centre[k]], 4);
+            EXPECT_EQ(fv[p.corner_point[k]], p.neighbour[k]);
+            const int diagonal = fv[p.corner_diagonal[k]];
+            EXPECT_TRUE(diagonal == 0 || diagonal == 2 || diagonal == 6 || diagonal == 8);
+            // points k and k + 1 bound face k, counter-clockwise about the branch direction
+            EXPECT_NE(std::find(fv.begin(), fv.end(), p.neighbour[(k + 1) & 3]), fv.end());
+            const Vec3 turn = cross(s.points[p.neighbour[k]] - c, s.points[p.neighbour[(k + 1) & 3]] - c);
+            EXPECT_GT(side * turn.z, 0.5);
+        }
+    }
+}
+
+TEST(LeafletGeometry, OutPatchOfAStraightBorder) {
+    // Vertex 1 = (1, 0) on the straight bottom border; the branch leaves outward in the plane: an Out root.
+    Skeleton s = plate(2, 2);
+    const int e = add_branch(s, 1, {1, -1, 0});
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ASSERT_EQ(an.vertex_border_root[1], BorderRoot::Out);
+    const BorderPatch p = border_patch(s, an, 1, e);
+    EXPECT_EQ(p.kind, BorderRoot::Out);
+    EXPECT_EQ(std::set<int>(p.border.begin(), p.border.end()), (std::set<int>{0, 2}));
+    EXPECT_LT(p.border_edge[0], p.border_edge[1]);
+    for (int i = 0; i < 2; ++i) {
+        const std::array<int, 2>& ed = s.edges[p.border_edge[i]];
+        EXPECT_EQ(std::set<int>(ed.begin(), ed.end()), (std::set<int>{1, p.border[i]}));
+    }
+    // Seen from the branch (along -y), counter-clockwise from border[0]: the next point is v's out-up copy (+z)
+    // exactly when border[0] is the vertex at +x.
+    EXPECT_EQ(p.up_first, p.border[0] == 2);
+}
