@@ -37,12 +37,6 @@
 namespace mesohex {
 namespace {
 
-struct Chain {
-    std::vector<int> verts;  // ordered; front == back for rings and loops
-    std::vector<int> edges;  // original edge ids, verts[i] -> verts[i+1]
-    bool ring = false;       // no end vertex at all (every vertex is a joint); verts.front() is the anchor
-};
-
 // The original polyline of a branch, parametrised by arc length.
 struct Polyline {
     std::vector<Vec3> x;
@@ -370,7 +364,7 @@ struct BranchView {
     std::vector<std::vector<int>> incident;           // per vertex: its edges, in edge order
     std::vector<bool> branch_edge;                    // per edge: not a side of a leaflet face
     std::map<std::pair<int, int>, int> side_count;    // per face side (sorted vertex pair): number of faces
-    std::vector<Chain> branches;                      // in order of each branch's first edge id
+    std::vector<Branch> branches;                      // in order of each branch's first edge id
     // Vertex positions and radii as the branches see them: the input, then merged bridge ends after collapses.
     std::vector<Vec3> pos;
     std::vector<double> rad;
@@ -382,56 +376,42 @@ struct BranchView {
     int other(int e, int v) const { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; }
 };
 
-// Walks from vertex `start` away from edge `prev` through joints, marking the edges it takes; appends the vertices
-// reached and the edges taken. Stops at a non-joint or at a visited edge (a closed ring).
-void walk_through_joints(const BranchView& view, int start, int prev, std::vector<bool>& visited,
-                         std::vector<int>& verts, std::vector<int>& edges) {
-    for (int cur = start; view.is_joint(cur);) {
-        const int f = view.incident[cur][0] == prev ? view.incident[cur][1] : view.incident[cur][0];
-        if (visited[f]) break;  // closed ring
-        visited[f] = true;
-        cur = view.other(f, cur);
-        verts.push_back(cur);
-        edges.push_back(f);
-        prev = f;
-    }
-}
-
-// Branch extraction, in order of each branch's first edge id. A ring (every vertex a joint) starts and ends at its
-// smallest vertex id.
-std::vector<Chain> extract_branches(const BranchView& view) {
+// The branches of the analysis's extraction (extract_branches) in the order and direction adaptation resamples and
+// numbers them: by their smallest edge id e0, each chain traversing e0 from edges[e0][0] to edges[e0][1]; a closed
+// ring starts and ends at its smallest vertex id.
+std::vector<Branch> branches_in_resampling_order(const BranchView& view) {
     const Skeleton& s = view.s;
-    const int ne = static_cast<int>(s.edges.size());
-    std::vector<Chain> branches;
-    std::vector<bool> visited(ne, false);
-    for (int e0 = 0; e0 < ne; ++e0) {
-        if (!view.branch_edge[e0] || visited[e0]) continue;
-        visited[e0] = true;
-        std::vector<int> fwd_v{s.edges[e0][0], s.edges[e0][1]}, fwd_e{e0};
-        walk_through_joints(view, fwd_v.back(), e0, visited, fwd_v, fwd_e);  // forward from edges[e0][1]
-        Chain b;
-        const bool ring = fwd_v.front() == fwd_v.back() && view.is_joint(fwd_v.front());
-        if (!ring) {
-            std::vector<int> back_v, back_e;
-            walk_through_joints(view, fwd_v.front(), e0, visited, back_v, back_e);  // backward from edges[e0][0]
-            b.verts.assign(back_v.rbegin(), back_v.rend());
-            b.verts.insert(b.verts.end(), fwd_v.begin(), fwd_v.end());
-            b.edges.assign(back_e.rbegin(), back_e.rend());
-            b.edges.insert(b.edges.end(), fwd_e.begin(), fwd_e.end());
-        } else {
-            // Rotate so that the smallest vertex id is the anchor (first and last).
-            fwd_v.pop_back();
-            const std::size_t k = static_cast<std::size_t>(std::min_element(fwd_v.begin(), fwd_v.end()) - fwd_v.begin());
-            std::rotate(fwd_v.begin(), fwd_v.begin() + static_cast<std::ptrdiff_t>(k), fwd_v.end());
-            std::rotate(fwd_e.begin(), fwd_e.begin() + static_cast<std::ptrdiff_t>(k), fwd_e.end());
-            fwd_v.push_back(fwd_v.front());
-            b.verts = std::move(fwd_v);
-            b.edges = std::move(fwd_e);
-            b.ring = true;
-        }
-        branches.push_back(std::move(b));
+    const int n = static_cast<int>(s.points.size());
+    std::vector<int> vertex_edge_begin(n + 1, 0), vertex_edges;
+    std::vector<char> branch_edge(view.branch_edge.begin(), view.branch_edge.end()), joint(n);
+    for (int v = 0; v < n; ++v) {
+        vertex_edge_begin[v + 1] = vertex_edge_begin[v] + static_cast<int>(view.incident[v].size());
+        vertex_edges.insert(vertex_edges.end(), view.incident[v].begin(), view.incident[v].end());
+        joint[v] = view.is_joint(v);
     }
-    return branches;
+    std::vector<int> edge_branch;
+    std::vector<Branch> branches = extract_branches(s, vertex_edge_begin, vertex_edges, branch_edge, joint, edge_branch);
+    std::vector<std::pair<int, std::size_t>> order;  // (smallest edge id, branch)
+    for (std::size_t bi = 0; bi < branches.size(); ++bi) {
+        Branch& b = branches[bi];
+        const std::size_t i0 =
+            static_cast<std::size_t>(std::min_element(b.edges.begin(), b.edges.end()) - b.edges.begin());
+        order.push_back({b.edges[i0], bi});
+        if (b.vertices[i0] != s.edges[b.edges[i0]][0]) {  // edge i joins vertices i and i + 1
+            std::reverse(b.vertices.begin(), b.vertices.end());
+            std::reverse(b.edges.begin(), b.edges.end());
+        }
+        if (!b.ring) continue;
+        b.vertices.pop_back();
+        const std::ptrdiff_t k = std::min_element(b.vertices.begin(), b.vertices.end()) - b.vertices.begin();
+        std::rotate(b.vertices.begin(), b.vertices.begin() + k, b.vertices.end());
+        std::rotate(b.edges.begin(), b.edges.begin() + k, b.edges.end());
+        b.vertices.push_back(b.vertices.front());
+    }
+    std::sort(order.begin(), order.end());
+    std::vector<Branch> sorted;
+    for (const auto& [e0, bi] : order) sorted.push_back(std::move(branches[bi]));
+    return sorted;
 }
 
 void build_polylines(BranchView& view) {
@@ -440,8 +420,8 @@ void build_polylines(BranchView& view) {
         Polyline& pl = view.polylines[i];
         pl = Polyline{};
         double acc = 0;
-        for (std::size_t k = 0; k < view.branches[i].verts.size(); ++k) {
-            const int v = view.branches[i].verts[k];
+        for (std::size_t k = 0; k < view.branches[i].vertices.size(); ++k) {
+            const int v = view.branches[i].vertices[k];
             if (k > 0) acc += distance(pl.x.back(), view.pos[v]);
             pl.x.push_back(view.pos[v]);
             pl.r.push_back(view.rad[v]);
@@ -465,7 +445,7 @@ BranchView make_branch_view(const Skeleton& s) {
         view.branch_edge[e] = !view.faces.sides.count(std::minmax(s.edges[e][0], s.edges[e][1]));
     for (const std::vector<int>& f : s.faces)
         for (std::size_t i = 0; i < f.size(); ++i) ++view.side_count[std::minmax(f[i], f[(i + 1) % f.size()])];
-    view.branches = extract_branches(view);
+    view.branches = branches_in_resampling_order(view);
     build_polylines(view);
     return view;
 }
@@ -513,7 +493,7 @@ double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
 // connection quad extends about gamma = beta / 2 from the branch direction (clamped to [15, 60] degrees).
 void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
     const Skeleton& s = view.s;
-    const std::vector<Chain>& branches = view.branches;
+    const std::vector<Branch>& branches = view.branches;
     view.end_reach.assign(branches.size(), {});
     std::vector<std::vector<Vec3>> dirs_at(s.points.size());  // every direction leaving each vertex
     std::vector<std::array<Vec3, 2>> end_dir(branches.size());
@@ -521,7 +501,7 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
         if (branches[bi].ring) continue;
         const Polyline& pl = view.polylines[bi];
         for (int side = 0; side < 2; ++side) {
-            const int v = side == 0 ? branches[bi].verts.front() : branches[bi].verts.back();
+            const int v = side == 0 ? branches[bi].vertices.front() : branches[bi].vertices.back();
             const double d = std::min(2.0 * view.rad[v], pl.length());
             const Vec3 target = pl.at(side == 0 ? d : pl.length() - d).first;
             end_dir[bi][side] = normalized(target - view.pos[v]);
@@ -538,7 +518,7 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
     for (std::size_t bi = 0; bi < branches.size(); ++bi) {
         if (branches[bi].ring) continue;
         for (int side = 0; side < 2; ++side) {
-            const int v = side == 0 ? branches[bi].verts.front() : branches[bi].verts.back();
+            const int v = side == 0 ? branches[bi].vertices.front() : branches[bi].vertices.back();
             if (view.incident[v].size() == 1 && !view.faces.on_face[v]) continue;  // extremity: flat, no demand
             double beta = pi;
             bool skipped_self = false;
@@ -560,7 +540,7 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
 // turn criterion; adds the joints the criterion removed to *removed when given.
 std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edges, const Vec3& xa, const Vec3& xb,
                              const AdaptationOptions& o, int* removed) {
-    const Chain& b = view.branches[bi];
+    const Branch& b = view.branches[bi];
     const Polyline& pl = view.polylines[bi];
     const std::vector<double> t = sample_branch(pl, min_edges, o);
     std::vector<Vec3> x{xa};
@@ -592,8 +572,8 @@ std::vector<std::pair<double, std::size_t>> bridge_candidates(const BranchView& 
     const Skeleton& s = view.s;
     std::vector<std::pair<double, std::size_t>> candidates;
     for (std::size_t bi = 0; bi < view.branches.size(); ++bi) {
-        const Chain& b = view.branches[bi];
-        const int a = b.verts.front(), c = b.verts.back();
+        const Branch& b = view.branches[bi];
+        const int a = b.vertices.front(), c = b.vertices.back();
         if (b.ring || a == c || !view.is_free_branching_point(a) || !view.is_free_branching_point(c)) continue;
         const double chord = distance(s.points[a], s.points[c]);
         if (!(s.radii[a] + s.radii[c] > chord)) continue;
@@ -621,7 +601,7 @@ bool merge_drifts(const Skeleton& s, const std::vector<int>& merged, const Adapt
 // loop) or the merged vertex drifts (merge_drifts).
 Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions& o) {
     const int n = static_cast<int>(view.s.points.size());
-    const std::vector<Chain>& branches = view.branches;
+    const std::vector<Branch>& branches = view.branches;
     Collapses col{UnionFind(n), std::vector<bool>(branches.size(), false), 0};
     if (!o.collapse_short_bridges) return col;
     UnionFind& classes = col.classes;
@@ -630,11 +610,11 @@ Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions
     std::vector<std::vector<int>> branches_at(n), members(n);
     for (std::size_t bj = 0; bj < branches.size(); ++bj)
         if (!branches[bj].ring) {
-            branches_at[branches[bj].verts.front()].push_back(static_cast<int>(bj));
-            branches_at[branches[bj].verts.back()].push_back(static_cast<int>(bj));
+            branches_at[branches[bj].vertices.front()].push_back(static_cast<int>(bj));
+            branches_at[branches[bj].vertices.back()].push_back(static_cast<int>(bj));
         }
     for (const auto& [chord, bi] : candidates) {
-        const int ca = classes.find(branches[bi].verts.front()), cc = classes.find(branches[bi].verts.back());
+        const int ca = classes.find(branches[bi].vertices.front()), cc = classes.find(branches[bi].vertices.back());
         if (ca == cc) continue;
         if (members[ca].empty()) members[ca] = {ca};
         if (members[cc].empty()) members[cc] = {cc};
@@ -642,7 +622,7 @@ Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions
         for (const int v : members[ca])
             for (const int bj : branches_at[v]) {
                 if (bj == static_cast<int>(bi) || col.collapsed[bj]) continue;
-                const int x = classes.find(branches[bj].verts.front()), y = classes.find(branches[bj].verts.back());
+                const int x = classes.find(branches[bj].vertices.front()), y = classes.find(branches[bj].vertices.back());
                 other_link = other_link || (x == ca && y == cc) || (x == cc && y == ca);
             }
         if (other_link) continue;
@@ -689,8 +669,8 @@ void write_kept_vertices(const BranchView& view, Collapses& col, std::vector<int
     const int n = static_cast<int>(s.points.size());
     std::vector<bool> kept(n, false);
     for (int v = 0; v < n; ++v) kept[v] = !view.is_joint(v) && col.classes.find(v) == v;
-    for (const Chain& b : view.branches)
-        if (b.ring) kept[b.verts.front()] = true;
+    for (const Branch& b : view.branches)
+        if (b.ring) kept[b.vertices.front()] = true;
     new_id.assign(n, -1);
     for (int v = 0; v < n; ++v) {
         if (!kept[v]) continue;
@@ -716,8 +696,8 @@ void write_resampled_branches(const BranchView& view, Collapses& col, const std:
     for (const std::array<int, 2>& e : out.edges) single_edge_links.insert(std::minmax(e[0], e[1]));
     for (std::size_t bi = 0; bi < view.branches.size(); ++bi) {
         if (col.collapsed[bi]) continue;
-        const Chain& b = view.branches[bi];
-        const int a = id_of(b.verts.front()), c = id_of(b.verts.back());
+        const Branch& b = view.branches[bi];
+        const int a = id_of(b.vertices.front()), c = id_of(b.vertices.back());
         int min_edges = (b.ring || a == c) ? 3 : 1;
         if (min_edges == 1 && single_edge_links.count(std::minmax(a, c))) min_edges = 2;
         std::vector<double> t =

@@ -420,45 +420,6 @@ void check_rooted_branches(const Skeleton& s, const SkeletonAnalysis& an) {
     }
 }
 
-// Branches: walk from every non-joint vertex along each unvisited branch edge; what is left are closed rings.
-void extract_branches(const Skeleton& s, SkeletonAnalysis& an) {
-    const int nv = static_cast<int>(s.points.size());
-    an.edge_branch.assign(s.edges.size(), -1);
-    auto other_end = [&](int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; };
-    auto next_joint_edge = [&](int v, int e_in) {
-        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-            const int e = an.vertex_edges[i];
-            if (e != e_in && an.edge_degree[e] == 0) return e;
-        }
-        return -1;
-    };
-    auto walk = [&](int start, int e0, bool ring) {
-        const int b = static_cast<int>(an.branches.size());
-        an.branches.push_back({});
-        Branch& br = an.branches.back();
-        br.ring = ring;
-        br.vertices.push_back(start);
-        int cur = start, e = e0;
-        while (true) {
-            an.edge_branch[e] = b;
-            br.edges.push_back(e);
-            cur = other_end(e, cur);
-            br.vertices.push_back(cur);
-            if (cur == start || an.vertex_class[cur] != VertexClass::Joint) break;
-            e = next_joint_edge(cur, e);
-            if (e < 0 || an.edge_branch[e] >= 0) break;  // cannot happen for a joint; defensive against a hang
-        }
-    };
-    for (const bool rings : {false, true})
-        for (int v = 0; v < nv; ++v) {
-            if ((an.vertex_class[v] == VertexClass::Joint) != rings) continue;
-            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-                const int e = an.vertex_edges[i];
-                if (an.edge_degree[e] == 0 && an.edge_branch[e] < 0) walk(v, e, rings);
-            }
-        }
-}
-
 // Counts, components and independent cycles, and the predicted hex count.
 void count_elements(const Skeleton& s, SkeletonAnalysis& an) {
     AnalysisCounts& c = an.counts;
@@ -498,6 +459,48 @@ void count_elements(const Skeleton& s, SkeletonAnalysis& an) {
 
 }  // namespace
 
+std::vector<Branch> extract_branches(const Skeleton& s, const std::vector<int>& vertex_edge_begin,
+                                     const std::vector<int>& vertex_edges, const std::vector<char>& branch_edge,
+                                     const std::vector<char>& joint, std::vector<int>& edge_branch) {
+    const int nv = static_cast<int>(s.points.size());
+    std::vector<Branch> branches;
+    edge_branch.assign(s.edges.size(), -1);
+    auto other_end = [&](int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; };
+    auto next_joint_edge = [&](int v, int e_in) {
+        for (int i = vertex_edge_begin[v]; i < vertex_edge_begin[v + 1]; ++i) {
+            const int e = vertex_edges[i];
+            if (e != e_in && branch_edge[e]) return e;
+        }
+        return -1;
+    };
+    auto walk = [&](int start, int e0, bool ring) {
+        const int b = static_cast<int>(branches.size());
+        branches.push_back({});
+        Branch& br = branches.back();
+        br.ring = ring;
+        br.vertices.push_back(start);
+        int cur = start, e = e0;
+        while (true) {
+            edge_branch[e] = b;
+            br.edges.push_back(e);
+            cur = other_end(e, cur);
+            br.vertices.push_back(cur);
+            if (cur == start || !joint[cur]) break;
+            e = next_joint_edge(cur, e);
+            if (e < 0 || edge_branch[e] >= 0) break;  // cannot happen for a joint; defensive against a hang
+        }
+    };
+    for (const bool rings : {false, true})
+        for (int v = 0; v < nv; ++v) {
+            if ((joint[v] != 0) != rings) continue;
+            for (int i = vertex_edge_begin[v]; i < vertex_edge_begin[v + 1]; ++i) {
+                const int e = vertex_edges[i];
+                if (branch_edge[e] && edge_branch[e] < 0) walk(v, e, rings);
+            }
+        }
+    return branches;
+}
+
 SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& options) {
     validate_input(s, options);
     SkeletonAnalysis an;
@@ -507,7 +510,10 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     compute_face_normals(s, an);
     classify_vertices(s, an);
     check_rooted_branches(s, an);
-    extract_branches(s, an);
+    std::vector<char> branch_edge(s.edges.size()), joint(s.points.size());
+    for (std::size_t e = 0; e < branch_edge.size(); ++e) branch_edge[e] = an.edge_degree[e] == 0;
+    for (std::size_t v = 0; v < joint.size(); ++v) joint[v] = an.vertex_class[v] == VertexClass::Joint;
+    an.branches = extract_branches(s, an.vertex_edge_begin, an.vertex_edges, branch_edge, joint, an.edge_branch);
     count_elements(s, an);
     return an;
 }

@@ -125,6 +125,17 @@ struct AnalysisOptions {
 // Complexity: O(V + E log E + F).
 SkeletonAnalysis analyze_skeleton(const Skeleton& skeleton, const AnalysisOptions& options = {});
 
+// The branch extraction of analyze_skeleton over plain data, also for a skeleton the analysis would refuse
+// (adaptation resamples the branches of skeletons before they are meshable). vertex_edge_begin / vertex_edges: the
+// incidence (CSR, edges in increasing id per vertex); branch_edge[e] != 0: e is a branch edge; joint[v] != 0: v has
+// exactly two incident edges, both branch edges (a walk goes on through it). Branches are walked from every non-joint
+// vertex, in vertex order, along each of its branch edges not taken yet, in edge order; the edges left form closed
+// rings (ring = true), each walked from its smallest vertex along its smaller edge id. edge_branch: per edge, its
+// branch or -1. O(V + E).
+std::vector<Branch> extract_branches(const Skeleton& skeleton, const std::vector<int>& vertex_edge_begin,
+                                     const std::vector<int>& vertex_edges, const std::vector<char>& branch_edge,
+                                     const std::vector<char>& joint, std::vector<int>& edge_branch);
+
 // Does v root a branch on the plates (a leaflet interior or boundary vertex with exactly one branch edge)?
 inline bool roots_branch(const SkeletonAnalysis& an, int v) {
     return (an.vertex_class[v] == VertexClass::LeafletInterior || an.vertex_class[v] == VertexClass::LeafletBoundary) &&
