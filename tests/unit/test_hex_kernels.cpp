@@ -2,6 +2,7 @@
 // them on random hexes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "mesohex/core/error.h"
@@ -94,4 +95,38 @@ TEST(HexKernels, VectorisedFittingKernelMatchesTheCoreOne) {
         if (core <= 0) ++inverted;
     }
     EXPECT_GT(inverted, 10);  // the sample covers inverted hexes too
+}
+
+// The smoothing's nine frame values and the junction model's corner value: 1 on the unit cube, -1 on a degenerate
+// frame, and on random hexes the same numbers as the normalized determinant up to rounding (their minimum is the
+// scaled Jacobian).
+TEST(HexKernels, FrameValuesAndCornerValueAgreeWithTheNormalizedDeterminant) {
+    const std::array<Vec3, 8> cube = unit_cube();
+    for (double q : hex_frame_values(cube)) EXPECT_DOUBLE_EQ(q, 1.0);
+    for (std::size_t lv = 0; lv < 8; ++lv) EXPECT_DOUBLE_EQ(hex_corner_value(cube, lv), 1.0);
+    std::array<Vec3, 8> flat = cube;
+    flat[1] = flat[0];  // corner 0 loses its x edge, corner 1 its -x edge
+    EXPECT_EQ(hex_frame_values(flat)[1], -1.0);
+    EXPECT_EQ(hex_corner_value(flat, 0), -1.0);
+    EXPECT_EQ(hex_corner_value(flat, 1), -1.0);
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<double> u(-0.6, 0.6);
+    for (int i = 0; i < 500; ++i) {
+        std::array<Vec3, 8> p = unit_cube();
+        for (Vec3& q : p) q += Vec3{u(rng), u(rng), u(rng)};
+        const std::array<double, 9> values = hex_frame_values(p);
+        double d = 0;
+        const std::array<Vec3, 3> c = hex_centre_frame(p);
+        ASSERT_TRUE(normalized_frame_det(c[0], c[1], c[2], d));
+        EXPECT_NEAR(values[0], d, 1e-14);
+        double lowest = values[0];
+        for (std::size_t lv = 0; lv < 8; ++lv) {
+            const std::array<Vec3, 3> f = hex_corner_frame(p, lv);
+            ASSERT_TRUE(normalized_frame_det(f[0], f[1], f[2], d));
+            EXPECT_NEAR(values[lv + 1], d, 1e-14);
+            EXPECT_NEAR(hex_corner_value(p, lv), d, 1e-14);
+            lowest = std::min(lowest, values[lv + 1]);
+        }
+        EXPECT_NEAR(lowest, hex_scaled_jacobian(p), 1e-14);
+    }
 }

@@ -1,6 +1,8 @@
 #pragma once
 // The small numerical kernels several stages share, in one place: the check of a hex mesh's vertex indices, the nine
-// frames of Verdict's hex scaled Jacobian, the normalized frame determinant, and degrees -> radians.
+// frames of Verdict's hex scaled Jacobian, the normalized frame determinant (and the two other forms in use: over the
+// product of squared lengths, for the smoothing; over the product of lengths, for the junction model of the
+// connection surfaces), and degrees -> radians.
 // (post/surface_fitting.cpp evaluates the same scaled Jacobian vectorised, on blocks of hexes; test_hex_kernels checks
 // it against hex_scaled_jacobian here on random hexes.)
 #include <algorithm>
@@ -74,6 +76,30 @@ inline double frame_det_over_lengths(const Vec3& a, const Vec3& b, const Vec3& c
     if (!(la > DBL_MIN && lb > DBL_MIN && lc > DBL_MIN)) return -1.0;
     const double d = det3(a, b, c) / std::sqrt(la * lb * lc);
     return std::isfinite(d) ? d : -1.0;
+}
+
+// The 9 normalized frame determinants of Verdict's hex scaled Jacobian in the frame_det_over_lengths form (centre
+// frame first, then corners 0-7); -1 for a degenerate frame. Their minimum is hex_scaled_jacobian up to rounding (the
+// smoothing's energy and its max-min pass use every value).
+inline std::array<double, 9> hex_frame_values(const std::array<Vec3, 8>& p) {
+    std::array<double, 9> q{};
+    const std::array<Vec3, 3> c = hex_centre_frame(p);
+    q[0] = frame_det_over_lengths(c[0], c[1], c[2]);
+    for (std::size_t lv = 0; lv < 8; ++lv) {
+        const std::array<Vec3, 3> f = hex_corner_frame(p, lv);
+        q[lv + 1] = frame_det_over_lengths(f[0], f[1], f[2]);
+    }
+    return q;
+}
+
+// The determinant of the frame at corner lv divided by the product of its three edge lengths (each length from its
+// own square root): the connection surfaces' junction model evaluates its hex corners in this form. -1 when the
+// product is not > 1e-300. Equal to normalized_frame_det up to rounding.
+inline double hex_corner_value(const std::array<Vec3, 8>& p, std::size_t lv) {
+    const std::array<Vec3, 3> f = hex_corner_frame(p, lv);
+    const double l = norm(f[0]) * norm(f[1]) * norm(f[2]);
+    if (!(l > 1e-300)) return -1;
+    return det3(f[0], f[1], f[2]) / l;
 }
 
 // Verdict's hex scaled Jacobian: the smallest normalized determinant of the centre frame and the 8 corner frames;

@@ -16,18 +16,6 @@
 namespace mesohex {
 namespace {
 
-// The 9 normalized frame determinants of Verdict's hex scaled Jacobian (centre frame first); -1 for a degenerate one.
-std::array<double, 9> frame_values(const std::array<Vec3, 8>& p) {
-    std::array<double, 9> q{};
-    const std::array<Vec3, 3> c = hex_centre_frame(p);
-    q[0] = frame_det_over_lengths(c[0], c[1], c[2]);
-    for (std::size_t lv = 0; lv < 8; ++lv) {
-        const std::array<Vec3, 3> f = hex_corner_frame(p, lv);
-        q[lv + 1] = frame_det_over_lengths(f[0], f[1], f[2]);
-    }
-    return q;
-}
-
 struct Local {
     double energy = 0;
     double sj_min = 1;
@@ -258,7 +246,7 @@ struct Smoother {
         for (int i = incident.begin[v]; i < incident.begin[v + 1]; ++i) {
             const std::array<Vec3, 8> c =
                 hex_corners(static_cast<std::size_t>(incident.hexes[static_cast<std::size_t>(i)]));
-            const std::array<double, 9> q = frame_values(c);
+            const std::array<double, 9> q = hex_frame_values(c);
             double m = q[0];
             for (double s : q) {
                 m = std::min(m, s);
@@ -413,14 +401,14 @@ struct Smoother {
     double hexes_min(const std::vector<int>& hexes) const {
         double m = 1;
         for (int hh : hexes)
-            for (double q : frame_values(hex_corners(static_cast<std::size_t>(hh)))) m = std::min(m, q);
+            for (double q : hex_frame_values(hex_corners(static_cast<std::size_t>(hh)))) m = std::min(m, q);
         return m;
     }
     double soft_min(std::size_t v, double m0) const {
         double e = 0;
         for (int i = incident.begin[v]; i < incident.begin[v + 1]; ++i)
             for (double q :
-                 frame_values(hex_corners(static_cast<std::size_t>(incident.hexes[static_cast<std::size_t>(i)]))))
+                 hex_frame_values(hex_corners(static_cast<std::size_t>(incident.hexes[static_cast<std::size_t>(i)]))))
                 e += std::exp(-options.worst_sharpness * (q - m0));
         return e;
     }

@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/stages/junction_geometry.h"
 #include "mesohex/stages/leaflet_geometry.h"
 #include "mesohex/stages/sphere_partition.h"
@@ -129,16 +130,6 @@ struct JunctionModel {
 // model alone would (measured on the generated shapes: 0.5 gives the best minimum scaled Jacobian of 0.25 / 0.5 / 1).
 constexpr double kBranchMarginWeight = 0.5;
 
-// Normalised corner determinant (the scaled Jacobian of one corner), -1 for a degenerate corner.
-double corner_value(const std::array<Vec3, 8>& x, int c) {
-    static constexpr int nb[8][3] = {{1, 3, 4}, {2, 0, 5}, {3, 1, 6}, {0, 2, 7},
-                                     {7, 5, 0}, {4, 6, 1}, {5, 7, 2}, {6, 4, 3}};
-    const Vec3 a = x[nb[c][0]] - x[c], b = x[nb[c][1]] - x[c], d = x[nb[c][2]] - x[c];
-    const double l = norm(a) * norm(b) * norm(d);
-    if (!(l > 1e-300)) return -1;
-    return det3(a, b, d) / l;
-}
-
 // The terms of the junction objective (each roughly the sine of an angle; all must be positive): sin(margin) of
 // every direction in its quad (-1 for a non-convex quad; leaflet directions only need to stay inside), and the
 // corner values of the model hexes.
@@ -190,7 +181,7 @@ void junction_terms(const JunctionModel& m, const std::vector<Vec3>& pts, std::v
                                         w + rw * fd[k],
                                         w + rw * normalized(fd[k] + fd[k1]),
                                         w + rw * fd[k1]};
-            for (int corner = 0; corner < 8; ++corner) terms.push_back(corner_value(x, corner));
+            for (std::size_t corner = 0; corner < 8; ++corner) terms.push_back(hex_corner_value(x, corner));
         }
     }
     for (const ModelHex& h : m.hexes) {
@@ -209,7 +200,7 @@ void junction_terms(const JunctionModel& m, const std::vector<Vec3>& pts, std::v
             }
         }
         for (int k = 0; k < 8; ++k)
-            if (h.on_sphere[k]) terms.push_back(corner_value(x, k));
+            if (h.on_sphere[k]) terms.push_back(hex_corner_value(x, static_cast<std::size_t>(k)));
     }
 }
 
