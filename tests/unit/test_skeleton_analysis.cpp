@@ -207,3 +207,37 @@ TEST(SkeletonAnalysis, RejectsBadInput) {
     zero.points[1] = zero.points[0];
     EXPECT_THROW(analyze_skeleton(zero), Error);
 }
+
+// extract_branches over plain data: a star with one two-edge arm (0-1-2), two one-edge arms and a separate ring of
+// three joints (ids 5, 6, 7 listed as 5-6, 6-7, 7-5), plus an isolated vertex 8. Walks start at the non-joints in
+// vertex order (0: its edges 0, 2, 3 in order), then the ring from its smallest vertex along its smaller edge id.
+TEST(SkeletonAnalysis, ExtractBranchesFromPlainFlags) {
+    Skeleton s;
+    for (int i = 0; i < 9; ++i) s.points.push_back({double(i), double(i * i % 5), 0});
+    s.edges = {{0, 1}, {1, 2}, {0, 3}, {0, 4}, {5, 6}, {6, 7}, {7, 5}};
+    const std::vector<int> begin{0, 3, 5, 6, 7, 8, 10, 12, 14, 14};
+    const std::vector<int> vertex_edges{0, 2, 3, 0, 1, 1, 2, 3, 4, 6, 4, 5, 5, 6};
+    const std::vector<char> branch_edge(7, 1);
+    const std::vector<char> joint{0, 1, 0, 0, 0, 1, 1, 1, 0};
+    std::vector<int> edge_branch;
+    const std::vector<Branch> b = extract_branches(s, begin, vertex_edges, branch_edge, joint, edge_branch);
+    ASSERT_EQ(b.size(), 4u);
+    EXPECT_EQ(b[0], (Branch{{0, 1, 2}, {0, 1}, false}));
+    EXPECT_EQ(b[1], (Branch{{0, 3}, {2}, false}));
+    EXPECT_EQ(b[2], (Branch{{0, 4}, {3}, false}));
+    EXPECT_EQ(b[3], (Branch{{5, 6, 7, 5}, {4, 5, 6}, true}));
+    EXPECT_EQ(edge_branch, (std::vector<int>{0, 0, 1, 2, 3, 3, 3}));
+    // The analysis gives the same branches (its joints and branch edges are these flags).
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    EXPECT_EQ(an.branches, b);
+    EXPECT_EQ(an.vertex_edge_begin, begin);
+    EXPECT_EQ(an.vertex_edges, vertex_edges);
+    // Without branch edge 1, vertex 1 is an end: the arm ends there and vertex 2 is isolated.
+    std::vector<char> fewer = branch_edge;
+    fewer[1] = 0;
+    const std::vector<char> no_joint_1{0, 0, 0, 0, 0, 1, 1, 1, 0};
+    const std::vector<Branch> c = extract_branches(s, begin, vertex_edges, fewer, no_joint_1, edge_branch);
+    ASSERT_EQ(c.size(), 4u);
+    EXPECT_EQ(c[0], (Branch{{0, 1}, {0}, false}));
+    EXPECT_EQ(edge_branch[1], -1);
+}
