@@ -177,24 +177,68 @@ double orange_margin(const OrangeFrame& f) {
     return margin;
 }
 
-// quality_score of the orange on this frame (n >= 3), computed directly: lune angle w at both poles, margin ratio.
-double orange_quality(const OrangeFrame& f, const std::vector<double>& bound) {
-    const int n = static_cast<int>(f.order.size());
-    double quality = kPi;
-    for (int k = 0; k < n; ++k) {
-        const int i = f.order[k];
-        const double before = orange_gap(f, (k + n - 1) % n), after = orange_gap(f, k);
-        const double width = 0.5 * (before + after);
-        const double side = std::cos(f.elevation[i]) * std::sin(std::min({0.5 * before, 0.5 * after, kPi / 2}));
-        const double margin = std::asin(std::clamp(side, -1.0, 1.0));
-        quality = std::min({quality, width, kPi - width, kPi / 2 * margin / bound[i]});
+// quality_score of the orange around an axis (n >= 3), computed directly: lune width w at both poles, margin ratio.
+// Evaluated on hundreds of axes per partition, so without allocating (the arrays are reused), and the elevations
+// (asin) and margins only while the quality can still exceed a threshold (callers only ask "is it above t?" or "which
+// are the top three"). The exact value, when returned, is the same for any threshold: min() does not depend on the
+// order of its arguments.
+struct OrangeEvaluator {
+    const std::vector<Vec3>& d;
+    const std::vector<double>& bound;
+    std::vector<double> azimuth;
+    std::vector<int> order;
+    std::vector<double> gap;  // gap[k] = orange_gap(frame, k)
+
+    OrangeEvaluator(const std::vector<Vec3>& dirs, const std::vector<double>& bounds)
+        : d(dirs), bound(bounds), azimuth(dirs.size()), order(dirs.size()), gap(dirs.size()) {}
+
+    // Returns the exact quality and sets `valid` (orange_margin > 0) when the quality is > threshold; otherwise some
+    // value <= threshold (valid unset).
+    double quality(const Vec3& axis, double threshold, bool& valid) {
+        const int n = static_cast<int>(d.size());
+        const Vec3 u = any_orthogonal(axis);
+        const Vec3 w = cross(axis, u);
+        for (int i = 0; i < n; ++i) azimuth[i] = std::atan2(dot(d[i], w), dot(d[i], u));
+        // The same order as orange_frame's std::sort: (azimuth, index) is a strict total order.
+        for (int i = 0; i < n; ++i) {
+            int k = i;
+            while (k > 0 && (azimuth[order[k - 1]] > azimuth[i] ||
+                             (azimuth[order[k - 1]] == azimuth[i] && order[k - 1] > i))) {
+                order[k] = order[k - 1];
+                --k;
+            }
+            order[k] = i;
+        }
+        for (int k = 0; k < n; ++k) {
+            double g = azimuth[order[(k + 1) % n]] - azimuth[order[k]];
+            if (k + 1 >= n) g += 2 * kPi;
+            gap[k] = g;
+        }
+        double q = kPi;
+        for (int k = 0; k < n; ++k) {
+            const double width = 0.5 * (gap[(k + n - 1) % n] + gap[k]);
+            q = std::min({q, width, kPi - width});
+        }
+        if (q <= threshold) return q;
+        valid = true;
+        for (int k = 0; k < n; ++k) {
+            const int i = order[k];
+            const double before = gap[(k + n - 1) % n], after = gap[k];
+            const double elevation = std::asin(std::clamp(dot(d[i], axis), -1.0, 1.0));
+            const double side = std::cos(elevation) * std::sin(std::min({0.5 * before, 0.5 * after, kPi / 2}));
+            if (!(side > 0)) valid = false;
+            const double margin = std::asin(std::clamp(side, -1.0, 1.0));
+            q = std::min(q, kPi / 2 * margin / bound[i]);
+            if (q <= threshold) return q;
+        }
+        return q;
     }
-    return quality;
-}
+};
 
 // Local search on the axis (8 tangent directions, halving steps, bounded) maximising orange_quality.
-Vec3 refine_orange_axis(const std::vector<Vec3>& d, const std::vector<double>& bound, Vec3 axis) {
-    double best = orange_quality(orange_frame(d, axis), bound);
+Vec3 refine_orange_axis(OrangeEvaluator& eval, Vec3 axis) {
+    bool valid = false;
+    double best = eval.quality(axis, -1e300, valid);
     double step = 0.05;
     for (int iteration = 0; iteration < 100 && step > 1e-4; ++iteration) {
         const Vec3 t1 = any_orthogonal(axis), t2 = cross(axis, t1);
@@ -202,7 +246,7 @@ Vec3 refine_orange_axis(const std::vector<Vec3>& d, const std::vector<double>& b
         for (int k = 0; k < 8; ++k) {
             const double phi = kPi * k / 4;
             const Vec3 trial = normalized(axis + step * (std::cos(phi) * t1 + std::sin(phi) * t2));
-            const double q = orange_quality(orange_frame(d, trial), bound);
+            const double q = eval.quality(trial, best + 1e-12, valid);
             if (q > best + 1e-12) {
                 best = q;
                 best_axis = trial;
@@ -1136,16 +1180,23 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
         // A map lookup (.at) found an inconsistent structure: cannot happen for a verified base map; if it does, the
         // hull path simply contributes nothing and the oranges below remain.
     }
-    std::vector<std::pair<double, int>> ranked;
+    // The three best axes by (quality, index), as a sort of every valid axis would rank them.
     const std::vector<Vec3> axes = candidate_axes(d);
     const std::vector<double> bound = margin_bounds(d);
+    OrangeEvaluator eval(d, bound);
+    std::array<std::pair<double, int>, 3> top;  // (-quality, axis), ascending
+    int top_count = 0;
     for (int a = 0; a < static_cast<int>(axes.size()); ++a) {
-        const OrangeFrame frame = orange_frame(d, axes[a]);
-        if (orange_margin(frame) > 0) ranked.push_back({-orange_quality(frame, bound), a});
+        const double threshold = top_count == 3 ? -top[2].first : -1e300;
+        bool valid = false;
+        const double q = eval.quality(axes[a], threshold, valid);
+        if (!(q > threshold) || !valid) continue;
+        int k = top_count < 3 ? top_count++ : 2;
+        top[k] = {-q, a};
+        for (; k > 0 && top[k] < top[k - 1]; --k) std::swap(top[k], top[k - 1]);
     }
-    std::sort(ranked.begin(), ranked.end());
-    for (int r = 0; r < static_cast<int>(ranked.size()) && r < 3; ++r) {
-        const OrangeFrame frame = orange_frame(d, refine_orange_axis(d, bound, axes[ranked[r].second]));
+    for (int r = 0; r < top_count; ++r) {
+        const OrangeFrame frame = orange_frame(d, refine_orange_axis(eval, axes[top[r].second]));
         if (orange_margin(frame) > 0) candidates.push_back(build_orange(frame));
     }
     std::optional<SpherePartition> best;
