@@ -46,9 +46,13 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
         for (int k = 0; k < 4; ++k) q[k] = cur.points[part.quads[i][k]];
         return spherical_quad_margin(q, dirs[i]);
     };
-    auto local_min = [&](int x) {
+    // The smallest margin of the quads around x; stops once it is <= `floor` (a trial that cannot win).
+    auto local_min = [&](int x, double floor = -1e300) {
         double m = 10;
-        for (int i : incident[x]) m = std::min(m, margin_of(i));
+        for (int i : incident[x]) {
+            m = std::min(m, margin_of(i));
+            if (m <= floor) break;
+        }
         return m;
     };
     double worst = 10;
@@ -69,7 +73,7 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
                 const double a = k * 0.7853981633974483;
                 const Vec3 dir = std::cos(a) * u + std::sin(a) * w;
                 cur.points[x] = normalized(std::cos(step) * p + std::sin(step) * dir);
-                const double m = local_min(x);
+                const double m = local_min(x, best + 1e-9);
                 if (m > best + 1e-9) {
                     best = m;
                     best_p = cur.points[x];

@@ -892,6 +892,36 @@ struct Relaxer {
         return {violation, energy};
     }
 
+    // For a trial move in the energy phase: true when the local violation is 0 and the local energy is < threshold
+    // (then `energy` is local_terms(v).second, bit for bit). Stops at the first violated constraint or as soon as the
+    // partial energy reaches the threshold: the terms are >= 0 and floating-point sums only grow when adding them.
+    bool local_energy_below(int v, double threshold, double& energy) const {
+        energy = 0;
+        for (int q : quads_of[v]) {
+            const std::array<int, 4>& quad = p.quads[q];
+            double e = 0;
+            for (int k = 0; k < 4; ++k) {
+                const int u = quad[k];
+                const Vec3& b = p.points[u];
+                const Vec3& c = p.points[quad[(k + 1) % 4]];
+                if (valence[u] >= 3) {
+                    double angle = corner_angle(p.points[quad[(k + 3) % 4]], b, c);
+                    if (angle < 0) angle = 0;
+                    if (kMinCorner - angle > 0 || angle - (kPi - kMinCorner) > 0) return false;
+                    e += std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+                }
+                const Vec3 nrm = cross(b, c);
+                const double len = norm(nrm);
+                const double side = len > 1e-15 ? dot(d[q], nrm) / len : -1;
+                if (kMinSide - side > 0) return false;
+                e += std::exp(-kSharpness * kPi / 2 * std::asin(std::clamp(side, -1.0, 1.0)) / bound[q]);
+                if (energy + e >= threshold) return false;
+            }
+            energy += e;
+        }
+        return true;
+    }
+
     double total_violation() const {
         double x = 0;
         for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) x += quad_terms(q, false).first;
@@ -925,11 +955,19 @@ struct Relaxer {
                     const double phi = kPi * k / 4;
                     p.points[v] = normalized(origin + step[v] * (std::cos(phi) * t1 + std::sin(phi) * t2));
                     if (!place_chains(v)) continue;
-                    const auto [x, e] = local_terms(v, !repair);
-                    const double score = repair ? x : e;
-                    if ((repair || x == 0) && score < best_score - 1e-6 * best_score - 1e-12) {
-                        best_score = score;
-                        best_pos = p.points[v];
+                    const double threshold = best_score - 1e-6 * best_score - 1e-12;
+                    if (repair) {
+                        const double x = local_terms(v, false).first;
+                        if (x < threshold) {
+                            best_score = x;
+                            best_pos = p.points[v];
+                        }
+                    } else {
+                        double e = 0;
+                        if (local_energy_below(v, threshold, e)) {
+                            best_score = e;
+                            best_pos = p.points[v];
+                        }
                     }
                 }
                 p.points[v] = best_pos;
