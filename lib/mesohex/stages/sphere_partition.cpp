@@ -195,9 +195,12 @@ struct OrangeEvaluator {
     // Returns the exact quality and sets `valid` (orange_margin > 0) when the quality is > threshold; otherwise some
     // value <= threshold (valid unset).
     double quality(const Vec3& axis, double threshold, bool& valid) {
-        const int n = static_cast<int>(d.size());
         const Vec3 u = any_orthogonal(axis);
-        const Vec3 w = cross(axis, u);
+        return quality(axis, u, cross(axis, u), threshold, valid);
+    }
+    // Same with the frame (u = any_orthogonal(axis), w = axis x u) given.
+    double quality(const Vec3& axis, const Vec3& u, const Vec3& w, double threshold, bool& valid) {
+        const int n = static_cast<int>(d.size());
         for (int i = 0; i < n; ++i) azimuth[i] = std::atan2(dot(d[i], w), dot(d[i], u));
         // The same order as orange_frame's std::sort: (azimuth, index) is a strict total order.
         for (int i = 0; i < n; ++i) {
@@ -275,31 +278,53 @@ SpherePartition build_orange(const OrangeFrame& f) {
     return p;
 }
 
-// Deterministic, roughly uniform axis candidates (Fibonacci points on the upper hemisphere; -axis is the same orange).
-std::vector<Vec3> candidate_axes(const std::vector<Vec3>& d) {
-    std::vector<Vec3> axes;
-    axes.push_back(best_fit_plane_normal(d));
-    const int count = 400;
-    const double golden = kPi * (3 - std::sqrt(5.0));
-    for (int k = 0; k < count; ++k) {
-        const double z = 1 - (k + 0.5) / count;
-        const double r = std::sqrt(std::max(0.0, 1 - z * z));
-        axes.push_back(Vec3{r * std::cos(golden * k), r * std::sin(golden * k), z});
-    }
+// An axis to try with its orange frame (u = any_orthogonal(axis), w = axis x u).
+struct ScanAxis {
+    Vec3 axis, u, w;
+};
+
+ScanAxis scan_axis(const Vec3& axis) {
+    const Vec3 u = any_orthogonal(axis);
+    return {axis, u, cross(axis, u)};
+}
+
+// 400 roughly uniform axes (Fibonacci points on the upper hemisphere; -axis is the same orange) with their frames:
+// the same for every partition, so computed once (an immutable table; thread-safe initialisation).
+const std::vector<ScanAxis>& fibonacci_axes() {
+    static const std::vector<ScanAxis> table = [] {
+        std::vector<ScanAxis> axes;
+        const int count = 400;
+        const double golden = kPi * (3 - std::sqrt(5.0));
+        for (int k = 0; k < count; ++k) {
+            const double z = 1 - (k + 0.5) / count;
+            const double r = std::sqrt(std::max(0.0, 1 - z * z));
+            axes.push_back(scan_axis(Vec3{r * std::cos(golden * k), r * std::sin(golden * k), z}));
+        }
+        return axes;
+    }();
+    return table;
+}
+
+// Deterministic axis candidates: the best-fit plane normal, the Fibonacci axes, pair normals, circle centres, mean.
+std::vector<ScanAxis> candidate_axes(const std::vector<Vec3>& d) {
+    std::vector<ScanAxis> axes;
+    axes.push_back(scan_axis(best_fit_plane_normal(d)));
+    const std::vector<ScanAxis>& fib = fibonacci_axes();
+    axes.insert(axes.end(), fib.begin(), fib.end());
     const int n = static_cast<int>(d.size());
     for (int i = 0; i < n && i < 40; ++i)
         for (int j = i + 1; j < n && j < 40; ++j) {
             const Vec3 c = cross(d[i], d[j]);
-            if (norm(c) > 1e-6) axes.push_back(normalized(c));
+            if (norm(c) > 1e-6) axes.push_back(scan_axis(normalized(c)));
             // Centres of circles through three directions (hull face normals: for a cluster, the axis through it).
             for (int k = j + 1; k < n && k < 16; ++k) {
                 const Vec3 t = cross(d[j] - d[i], d[k] - d[i]);
-                if (norm(t) > 1e-12) axes.push_back(normalized(t));
+                if (norm(t) > 1e-12) axes.push_back(scan_axis(normalized(t)));
             }
         }
     Vec3 mean{};
     for (const Vec3& v : d) mean += v;
-    if (norm(mean) > 1e-9) axes.push_back(normalized(mean));
+    if (norm(mean) > 1e-9) axes.push_back(scan_axis(normalized(mean)));
     return axes;
 }
 
@@ -1219,7 +1244,7 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
         // hull path simply contributes nothing and the oranges below remain.
     }
     // The three best axes by (quality, index), as a sort of every valid axis would rank them.
-    const std::vector<Vec3> axes = candidate_axes(d);
+    const std::vector<ScanAxis> axes = candidate_axes(d);
     const std::vector<double> bound = margin_bounds(d);
     OrangeEvaluator eval(d, bound);
     std::array<std::pair<double, int>, 3> top;  // (-quality, axis), ascending
@@ -1227,14 +1252,14 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
     for (int a = 0; a < static_cast<int>(axes.size()); ++a) {
         const double threshold = top_count == 3 ? -top[2].first : -1e300;
         bool valid = false;
-        const double q = eval.quality(axes[a], threshold, valid);
+        const double q = eval.quality(axes[a].axis, axes[a].u, axes[a].w, threshold, valid);
         if (!(q > threshold) || !valid) continue;
         int k = top_count < 3 ? top_count++ : 2;
         top[k] = {-q, a};
         for (; k > 0 && top[k] < top[k - 1]; --k) std::swap(top[k], top[k - 1]);
     }
     for (int r = 0; r < top_count; ++r) {
-        const OrangeFrame frame = orange_frame(d, refine_orange_axis(eval, axes[top[r].second]));
+        const OrangeFrame frame = orange_frame(d, refine_orange_axis(eval, axes[top[r].second].axis));
         if (orange_margin(frame) > 0) candidates.push_back(build_orange(frame));
     }
     std::optional<SpherePartition> best;
