@@ -1011,7 +1011,21 @@ struct Relaxer {
 
 // Candidates from the hull path (possibly invalid: the caller verifies). Successive halving: up to 8 duals of the
 // cheapest assignments get a short relaxation, the 2 best (by quality_score) a long one.
-std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d) {
+// The highest quality_score any verified partition with p's topology can have: at a vertex of valence k >= 3 the k
+// angles sum to 360° (verify allows kSumTolerance), so its largest angle is >= 360°/k and its smallest <= 360°/k.
+double quality_cap(const SpherePartition& p) {
+    std::vector<int> valence(p.points.size(), 0);
+    for (const std::array<int, 4>& quad : p.quads)
+        for (int v : quad) ++valence[v];
+    double cap = kPi;
+    for (int k : valence)
+        if (k >= 3) cap = std::min(cap, std::min(2 * kPi / k, kPi - 2 * kPi / k) + kSumTolerance);
+    return cap;
+}
+
+// `beat`: the best score of the candidates found so far. When no candidate can reach it (quality_cap; the winner
+// needs a strictly higher score or an earlier place), none is relaxed and none is returned: the result is the same.
+std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double beat) {
     std::vector<SpherePartition> out;
     const int n = static_cast<int>(d.size());
     if (n < 3 || n > 64) return out;
@@ -1029,6 +1043,9 @@ std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d) {
         }
         break;
     }
+    bool may_win = false;
+    for (const SpherePartition& p : out) may_win = may_win || quality_cap(p) >= beat;
+    if (!may_win) return {};
     std::vector<std::pair<double, int>> ranked;  // (-score, candidate)
     std::vector<char> relaxable(out.size(), 0);
     for (int c = 0; c < static_cast<int>(out.size()); ++c) {
@@ -1225,25 +1242,20 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
     }
     double planarity = 0;
     for (const Vec3& p : d) planarity = std::max(planarity, std::abs(dot(p, normal)));
-    std::vector<SpherePartition> candidates;
+    // Candidates in the order that breaks ties (the first of the best wins): planar orange, hull, axis oranges.
+    std::vector<SpherePartition> planar, hull, oranges;
     if (n == 2 || planarity <= options.planarity_tolerance) {
         const OrangeFrame frame = orange_frame(d, normal);
         if (orange_margin(frame) > 0) {
             SpherePartition p = build_orange(frame);
             // A tight cluster is "planar" too, but its lunes are slivers: then let the general path compete.
             if (verify_sphere_partition(p, d).empty() && (n == 2 || quality_score(p, d) >= kGoodOrange)) return p;
-            candidates.push_back(std::move(p));
+            planar.push_back(std::move(p));
         }
     }
 
-    // 2. Hull -> 4-regular map -> dual -> relaxation, and oranges around the best axes; the best verified one wins.
-    try {
-        for (SpherePartition& p : hull_candidates(d)) candidates.push_back(std::move(p));
-    } catch (const std::out_of_range&) {
-        // A map lookup (.at) found an inconsistent structure: cannot happen for a verified base map; if it does, the
-        // hull path simply contributes nothing and the oranges below remain.
-    }
-    // The three best axes by (quality, index), as a sort of every valid axis would rank them.
+    // 2. Oranges around the best axes: the three best axes by (quality, index), as a sort of every valid axis would
+    // rank them, refined.
     const std::vector<ScanAxis> axes = candidate_axes(d);
     const std::vector<double> bound = margin_bounds(d);
     OrangeEvaluator eval(d, bound);
@@ -1260,18 +1272,40 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
     }
     for (int r = 0; r < top_count; ++r) {
         const OrangeFrame frame = orange_frame(d, refine_orange_axis(eval, axes[top[r].second].axis));
-        if (orange_margin(frame) > 0) candidates.push_back(build_orange(frame));
+        if (orange_margin(frame) > 0) oranges.push_back(build_orange(frame));
     }
+    // Scores of the verified candidates (-1e300: not valid).
+    const auto scores_of = [&](const std::vector<SpherePartition>& list) {
+        std::vector<double> scores;
+        for (const SpherePartition& p : list)
+            scores.push_back(verify_sphere_partition(p, d).empty() ? quality_score(p, d) : -1e300);
+        return scores;
+    };
+    const std::vector<double> planar_scores = scores_of(planar), orange_scores = scores_of(oranges);
+    double beat = -1e300;
+    for (double x : planar_scores) beat = std::max(beat, x);
+    for (double x : orange_scores) beat = std::max(beat, x);
+
+    // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
+    try {
+        hull = hull_candidates(d, beat);
+    } catch (const std::out_of_range&) {
+        // A map lookup (.at) found an inconsistent structure: cannot happen for a verified base map; if it does, the
+        // hull path simply contributes nothing and the oranges remain.
+        hull.clear();
+    }
+    const std::vector<double> hull_scores = scores_of(hull);
     std::optional<SpherePartition> best;
     double best_score = -1;
-    for (SpherePartition& p : candidates) {
-        if (!verify_sphere_partition(p, d).empty()) continue;
-        const double score = quality_score(p, d);
-        if (!best || score > best_score) {
-            best = std::move(p);
-            best_score = score;
+    for (const auto& [list, scores] : {std::pair{&planar, &planar_scores}, std::pair{&hull, &hull_scores},
+                                       std::pair{&oranges, &orange_scores}})
+        for (std::size_t c = 0; c < list->size(); ++c) {
+            if ((*scores)[c] == -1e300) continue;
+            if (!best || (*scores)[c] > best_score) {
+                best = std::move((*list)[c]);
+                best_score = (*scores)[c];
+            }
         }
-    }
     if (best) return *best;
     throw Error(ErrorCode::NumericalFailure,
                 "sphere partition: no valid quad partition found for " + std::to_string(n) + " directions");
