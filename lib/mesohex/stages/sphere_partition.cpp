@@ -80,6 +80,24 @@ Vec3 any_orthogonal(const Vec3& a) {
     return normalized(cross(a, e));
 }
 
+// cos and sin of the 8 pattern-search directions phi = k x 45° (tables computed once with std::cos / std::sin).
+const std::array<double, 8>& trial_cos() {
+    static const std::array<double, 8> table = [] {
+        std::array<double, 8> t;
+        for (int k = 0; k < 8; ++k) t[k] = std::cos(kPi * k / 4);
+        return t;
+    }();
+    return table;
+}
+const std::array<double, 8>& trial_sin() {
+    static const std::array<double, 8> table = [] {
+        std::array<double, 8> t;
+        for (int k = 0; k < 8; ++k) t[k] = std::sin(kPi * k / 4);
+        return t;
+    }();
+    return table;
+}
+
 // Eigenvector of the smallest eigenvalue of the symmetric 3x3 matrix m (cyclic Jacobi, bounded sweeps).
 Vec3 smallest_eigenvector(double m[3][3]) {
     double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
@@ -247,8 +265,7 @@ Vec3 refine_orange_axis(OrangeEvaluator& eval, Vec3 axis) {
         const Vec3 t1 = any_orthogonal(axis), t2 = cross(axis, t1);
         Vec3 best_axis = axis;
         for (int k = 0; k < 8; ++k) {
-            const double phi = kPi * k / 4;
-            const Vec3 trial = normalized(axis + step * (std::cos(phi) * t1 + std::sin(phi) * t2));
+            const Vec3 trial = normalized(axis + step * (trial_cos()[k] * t1 + trial_sin()[k] * t2));
             const double q = eval.quality(trial, best + 1e-12, valid);
             if (q > best + 1e-12) {
                 best = q;
@@ -977,8 +994,7 @@ struct Relaxer {
                 double best_score = repair ? x0 : e0;
                 Vec3 best_pos = origin;
                 for (int k = 0; k < 8; ++k) {
-                    const double phi = kPi * k / 4;
-                    p.points[v] = normalized(origin + step[v] * (std::cos(phi) * t1 + std::sin(phi) * t2));
+                    p.points[v] = normalized(origin + step[v] * (trial_cos()[k] * t1 + trial_sin()[k] * t2));
                     if (!place_chains(v)) continue;
                     const double threshold = best_score - 1e-6 * best_score - 1e-12;
                     if (repair) {
