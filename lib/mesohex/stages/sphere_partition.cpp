@@ -829,6 +829,7 @@ struct Relaxer {
     // supplement, and 90° x (distance of the direction to each quad edge / its bound): a smooth "maximise the minimum".
     static constexpr double kSharpness = 14;
     std::vector<double> bound;
+    std::vector<double> trial_energy, best_energy;  // scratch of descend (per quad around the moved vertex)
 
     Relaxer(const std::vector<Vec3>& dirs, SpherePartition& part) : d(dirs), p(part), bound(margin_bounds(dirs)) {
         const int nv = static_cast<int>(p.points.size());
@@ -937,8 +938,10 @@ struct Relaxer {
     // For a trial move in the energy phase: true when the local violation is 0 and the local energy is < threshold
     // (then `energy` is local_terms(v).second, bit for bit). Stops at the first violated constraint or as soon as the
     // partial energy reaches the threshold: the terms are >= 0 and floating-point sums only grow when adding them.
-    bool local_energy_below(int v, double threshold, double& energy) const {
+    // `per_quad` gets the energy of each quad around v (in quads_of[v] order) when the result is true.
+    bool local_energy_below(int v, double threshold, double& energy, std::vector<double>& per_quad) const {
         energy = 0;
+        per_quad.clear();
         for (int q : quads_of[v]) {
             const std::array<int, 4>& quad = p.quads[q];
             double e = 0;
@@ -960,6 +963,7 @@ struct Relaxer {
                 if (energy + e >= threshold) return false;
             }
             energy += e;
+            per_quad.push_back(e);
         }
         return true;
     }
@@ -969,26 +973,38 @@ struct Relaxer {
         for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) x += quad_terms(q, false).first;
         return x;
     }
-    double total_energy() const {
-        double e = 0;
-        for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) e += quad_terms(q).second;
-        return e;
-    }
 
     // One phase of coordinate descent with a step per vertex (grown on success, halved on failure); `repair`:
     // minimise the violation, else the energy while the violation stays 0. Stops after max_sweeps sweeps, when every
     // step is tiny, or when a sweep lowers the energy by less than 0.1 %.
+    // In the energy phase the energy of every quad is kept (quad_energy, = quad_terms(q).second at the current
+    // points): a move of v changes only the quads around v (its chains' points lie in them too), whose energies the
+    // accepted trial has just computed. The sums below add the same values in the same order as local_terms and
+    // total_energy, so the result is bit for bit the same as recomputing them.
     void descend(bool repair, int max_sweeps) {
         const int nv = static_cast<int>(p.points.size());
+        const int nq = static_cast<int>(p.quads.size());
         std::vector<double> step(nv, 0.05);
-        double energy = repair ? 0 : total_energy();
+        std::vector<double> quad_energy(repair ? 0 : nq);
+        for (int q = 0; q < nq && !repair; ++q) quad_energy[q] = quad_terms(q).second;
+        const auto cached_total = [&] {
+            double e = 0;
+            for (int q = 0; q < nq; ++q) e += quad_energy[q];
+            return e;
+        };
+        double energy = repair ? 0 : cached_total();
         for (int sweep = 0; sweep < max_sweeps; ++sweep) {
             bool active = false;
             for (int v = 0; v < nv; ++v) {
                 if (valence[v] < 3 || step[v] < 1e-4) continue;
                 active = true;
                 const Vec3 origin = p.points[v];
-                const auto [x0, e0] = local_terms(v, !repair);
+                double x0 = 0, e0 = 0;
+                if (repair) {
+                    x0 = local_terms(v, false).first;
+                } else {
+                    for (int q : quads_of[v]) e0 += quad_energy[q];
+                }
                 if (repair && x0 == 0) continue;
                 const Vec3 t1 = any_orthogonal(origin), t2 = cross(origin, t1);
                 double best_score = repair ? x0 : e0;
@@ -1005,19 +1021,22 @@ struct Relaxer {
                         }
                     } else {
                         double e = 0;
-                        if (local_energy_below(v, threshold, e)) {
+                        if (local_energy_below(v, threshold, e, trial_energy)) {
                             best_score = e;
                             best_pos = p.points[v];
+                            best_energy.assign(trial_energy.begin(), trial_energy.end());
                         }
                     }
                 }
                 p.points[v] = best_pos;
                 place_chains(v);
+                if (!repair && !(best_pos == origin))
+                    for (std::size_t j = 0; j < quads_of[v].size(); ++j) quad_energy[quads_of[v][j]] = best_energy[j];
                 step[v] = best_pos == origin ? 0.5 * step[v] : std::min(0.2, 1.25 * step[v]);
             }
             if (!active || (repair && total_violation() == 0)) return;
             if (!repair) {
-                const double now = total_energy();
+                const double now = cached_total();
                 if (now > energy * (1 - 1e-3)) return;
                 energy = now;
             }
