@@ -12,6 +12,8 @@
 //      measures without ever leaving the valid set;
 //   3. oranges around the best axes of a fixed candidate set (grid, pair normals, circle centres), refined by local
 //      search: valid whenever the directions have distinct azimuths about the axis, so this is the fallback.
+// Ties go to the earlier candidate in this order. The oranges are computed before the hull path, whose candidates
+// are not relaxed when their topology caps their score below the best orange (quality_cap): same result, less work.
 // Every loop is bounded (search nodes, sweeps, iterations); no randomness; no unordered containers.
 #include "mesohex/stages/sphere_partition.h"
 
@@ -343,6 +345,31 @@ std::vector<ScanAxis> candidate_axes(const std::vector<Vec3>& d) {
     for (const Vec3& v : d) mean += v;
     if (norm(mean) > 1e-9) axes.push_back(scan_axis(normalized(mean)));
     return axes;
+}
+
+// Oranges around the three best candidate axes by (quality, index), as a sort of every valid axis would rank them,
+// each refined by local search.
+std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d) {
+    const std::vector<ScanAxis> axes = candidate_axes(d);
+    const std::vector<double> bound = margin_bounds(d);
+    OrangeEvaluator eval(d, bound);
+    std::array<std::pair<double, int>, 3> top;  // (-quality, axis), ascending
+    int top_count = 0;
+    for (int a = 0; a < static_cast<int>(axes.size()); ++a) {
+        const double threshold = top_count == 3 ? -top[2].first : -1e300;
+        bool valid = false;
+        const double q = eval.quality(axes[a].axis, axes[a].u, axes[a].w, threshold, valid);
+        if (!(q > threshold) || !valid) continue;
+        int k = top_count < 3 ? top_count++ : 2;
+        top[k] = {-q, a};
+        for (; k > 0 && top[k] < top[k - 1]; --k) std::swap(top[k], top[k - 1]);
+    }
+    std::vector<SpherePartition> oranges;
+    for (int r = 0; r < top_count; ++r) {
+        const OrangeFrame frame = orange_frame(d, refine_orange_axis(eval, axes[top[r].second].axis));
+        if (orange_margin(frame) > 0) oranges.push_back(build_orange(frame));
+    }
+    return oranges;
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -1278,7 +1305,7 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
     double planarity = 0;
     for (const Vec3& p : d) planarity = std::max(planarity, std::abs(dot(p, normal)));
     // Candidates in the order that breaks ties (the first of the best wins): planar orange, hull, axis oranges.
-    std::vector<SpherePartition> planar, hull, oranges;
+    std::vector<SpherePartition> planar, hull;
     if (n == 2 || planarity <= options.planarity_tolerance) {
         const OrangeFrame frame = orange_frame(d, normal);
         if (orange_margin(frame) > 0) {
@@ -1289,26 +1316,8 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
         }
     }
 
-    // 2. Oranges around the best axes: the three best axes by (quality, index), as a sort of every valid axis would
-    // rank them, refined.
-    const std::vector<ScanAxis> axes = candidate_axes(d);
-    const std::vector<double> bound = margin_bounds(d);
-    OrangeEvaluator eval(d, bound);
-    std::array<std::pair<double, int>, 3> top;  // (-quality, axis), ascending
-    int top_count = 0;
-    for (int a = 0; a < static_cast<int>(axes.size()); ++a) {
-        const double threshold = top_count == 3 ? -top[2].first : -1e300;
-        bool valid = false;
-        const double q = eval.quality(axes[a].axis, axes[a].u, axes[a].w, threshold, valid);
-        if (!(q > threshold) || !valid) continue;
-        int k = top_count < 3 ? top_count++ : 2;
-        top[k] = {-q, a};
-        for (; k > 0 && top[k] < top[k - 1]; --k) std::swap(top[k], top[k - 1]);
-    }
-    for (int r = 0; r < top_count; ++r) {
-        const OrangeFrame frame = orange_frame(d, refine_orange_axis(eval, axes[top[r].second].axis));
-        if (orange_margin(frame) > 0) oranges.push_back(build_orange(frame));
-    }
+    // 2. Oranges around the best axes.
+    std::vector<SpherePartition> oranges = axis_oranges(d);
     // Scores of the verified candidates (-1e300: not valid).
     const auto scores_of = [&](const std::vector<SpherePartition>& list) {
         std::vector<double> scores;
