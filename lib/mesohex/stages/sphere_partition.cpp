@@ -233,20 +233,20 @@ struct OrangeEvaluator {
             order[k] = i;
         }
         for (int k = 0; k < n; ++k) {
-            double g = azimuth[order[(k + 1) % n]] - azimuth[order[k]];
+            double g = azimuth[order[k + 1 < n ? k + 1 : 0]] - azimuth[order[k]];
             if (k + 1 >= n) g += 2 * kPi;
             gap[k] = g;
         }
         double q = kPi;
         for (int k = 0; k < n; ++k) {
-            const double width = 0.5 * (gap[(k + n - 1) % n] + gap[k]);
+            const double width = 0.5 * (gap[k > 0 ? k - 1 : n - 1] + gap[k]);
             q = std::min({q, width, kPi - width});
         }
         if (q <= threshold) return q;
         valid = true;
         for (int k = 0; k < n; ++k) {
             const int i = order[k];
-            const double before = gap[(k + n - 1) % n], after = gap[k];
+            const double before = gap[k > 0 ? k - 1 : n - 1], after = gap[k];
             const double elevation = std::asin(std::clamp(dot(d[i], axis), -1.0, 1.0));
             const double side = std::cos(elevation) * std::sin(std::min({0.5 * before, 0.5 * after, kPi / 2}));
             if (!(side > 0)) valid = false;
