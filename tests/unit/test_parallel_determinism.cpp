@@ -1,16 +1,20 @@
 // The skeleton -> raw mesh pipeline gives the same bits for any thread count (STYLE.md rule 8): meshes built with
 // 1 and 2 threads (tbb::global_control) are compared byte for byte, on a random tree (many branching points of
-// degree 3-6, so the connection surfaces are split over tasks) and on generated shapes with leaflets.
+// degree 3-6, so the connection surfaces are split over tasks) and on generated shapes with leaflets; sphere
+// partitions computed concurrently are compared with serial ones.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <random>
 #include <string>
 
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include "bench_inputs.h"
 #include "mesohex/pipeline.h"
 #include "mesohex/stages/generators.h"
+#include "mesohex/stages/sphere_partition.h"
 
 using namespace mesohex;
 
@@ -52,5 +56,30 @@ TEST(ParallelDeterminism, GeneratedShapesOneVersusTwoThreads) {
         SCOPED_TRACE(name);
         const Skeleton s = generate_skeleton(name);
         expect_same_bits(run_with_threads(s, 1), run_with_threads(s, 2));
+    }
+}
+
+// partition_sphere called concurrently (as build_connection_surfaces does, one branching point per task) gives the
+// same bits as serial calls: no shared mutable state, the scan tables are initialised once and thread-safely.
+TEST(ParallelDeterminism, ConcurrentSpherePartitionsGiveTheSameBits) {
+    std::mt19937 rng(11);
+    std::vector<std::vector<Vec3>> sets;
+    for (int k = 0; k < 48; ++k) {
+        std::vector<Vec3> d;
+        for (int i = 0; i < 3 + k % 4; ++i) d.push_back(bench::random_direction(rng));
+        sets.push_back(d);
+    }
+    std::vector<SpherePartition> serial, parallel(sets.size());
+    for (const std::vector<Vec3>& d : sets) serial.push_back(partition_sphere(d));
+    {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+        tbb::parallel_for(0, static_cast<int>(sets.size()), [&](int k) { parallel[k] = partition_sphere(sets[k]); });
+    }
+    for (std::size_t k = 0; k < sets.size(); ++k) {
+        ASSERT_EQ(serial[k].quads, parallel[k].quads);
+        ASSERT_EQ(serial[k].points.size(), parallel[k].points.size());
+        EXPECT_EQ(0, std::memcmp(serial[k].points.data(), parallel[k].points.data(),
+                                 serial[k].points.size() * sizeof(Vec3)))
+            << "set " << k;
     }
 }

@@ -227,6 +227,26 @@ TEST(SpherePartition, RandomDirections) {
     std::printf("%d random cases\n", cases);
 }
 
+// For n = 3 every partition has 5 points and 12 quad corners, no vertex twice in a quad, so no vertex in more than
+// 3 quads: two vertices of valence 3 and three of valence 2. The three angles at a valence-3 vertex sum to 360°, so
+// the largest is >= 120° and min(smallest angle, 180° - largest angle) <= 60°. (partition_sphere skips relaxing
+// hull candidates whose topology caps their score below the best orange; this is the cap for n = 3.)
+TEST(SpherePartition, ThreeDirectionsHaveTwoValenceThreeVerticesAndScoreAtMostSixtyDegrees) {
+    for (int run = 0; run < 20; ++run) {
+        const std::vector<Vec3> d = random_directions(3, 7000 + run);
+        const SpherePartition p = partition_sphere(d);
+        ASSERT_EQ(mesohex::verify_sphere_partition(p, d), "");
+        std::vector<int> valence(p.points.size(), 0);
+        for (const std::array<int, 4>& q : p.quads)
+            for (int v : q) ++valence[v];
+        std::sort(valence.begin(), valence.end());
+        EXPECT_EQ(valence, (std::vector<int>{2, 2, 2, 3, 3}));
+        const mesohex::SpherePartitionStats s = mesohex::sphere_partition_stats(p, d);
+        EXPECT_GE(s.max_angle, 120 * kDeg - 1e-6);
+        EXPECT_LE(std::min(s.min_angle, kPi - s.max_angle), 60 * kDeg + 1e-6);
+    }
+}
+
 TEST(SpherePartition, BadInputIsRejected) {
     EXPECT_THROW(partition_sphere({{1, 0, 0}}), mesohex::Error);
     EXPECT_THROW(partition_sphere({{1, 0, 0}, {0, 0, 0}}), mesohex::Error);

@@ -43,22 +43,52 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
         for (int x : part.quads[i]) incident[x].push_back(i);
     SpherePartition cur = part;
     for (Vec3& p : cur.points) p = normalized(p);
-    auto margin_of = [&](int i) {
+    // spherical_quad_margin of quad i; with floor >= -1 it may stop early with some value <= floor once the margin
+    // cannot exceed floor (a -1 from a later side would be <= floor too).
+    auto margin_of = [&](int i, double floor = -1e300) {
         std::array<Vec3, 4> q;
         for (int k = 0; k < 4; ++k) q[k] = cur.points[part.quads[i][k]];
-        return spherical_quad_margin(q, dirs[i]);
-    };
-    auto local_min = [&](int x) {
+        if (floor < -1) return spherical_quad_margin(q, dirs[i]);
         double m = 10;
-        for (int i : incident[x]) m = std::min(m, margin_of(i));
+        for (int k = 0; k < 4; ++k) {
+            const Vec3 n = cross(q[k], q[(k + 1) % 4]);
+            const double nn = norm(n);
+            if (!(nn > 1e-12)) return -1.0;
+            if (dot(n, q[(k + 2) % 4]) < -1e-12 * nn) return -1.0;
+            m = std::min(m, std::asin(std::clamp(dot(n, dirs[i]) / nn, -1.0, 1.0)));
+            if (m <= floor) return m;
+        }
+        return m;
+    };
+    // The smallest margin of the quads around x (the same value in any order); stops once it is <= `floor` (a trial
+    // that cannot win), starting with the quad that stopped the previous trial at x.
+    std::vector<int> first(np, 0);
+    auto local_min = [&](int x, double floor = -1e300) {
+        double m = 10;
+        const int count = static_cast<int>(incident[x].size());
+        for (int j = 0; j < count; ++j) {
+            const int at = (first[x] + j) % count;
+            m = std::min(m, margin_of(incident[x][at], floor));
+            if (m <= floor) {
+                first[x] = at;
+                break;
+            }
+        }
         return m;
     };
     double worst = 10;
     for (int i = 0; i < nq; ++i) worst = std::min(worst, margin_of(i));
     if (worst >= good_margin) return part;  // already comfortable: most junctions of degree <= 6 stop here
+    std::array<double, 8> cos_a, sin_a;  // the 8 trial directions (a = k x 45 deg)
+    for (int k = 0; k < 8; ++k) {
+        const double a = k * 0.7853981633974483;
+        cos_a[k] = std::cos(a);
+        sin_a[k] = std::sin(a);
+    }
     double step = 0.25;
     for (int round = 0; round < 64 && step > 2e-3; ++round) {
         bool improved = false;
+        const double cos_step = std::cos(step), sin_step = std::sin(step);
         for (int x = 0; x < np; ++x) {
             const Vec3 p = cur.points[x];
             Vec3 u = cross(p, Vec3{1, 0, 0});
@@ -68,10 +98,9 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
             double best = local_min(x);
             Vec3 best_p = p;
             for (int k = 0; k < 8; ++k) {
-                const double a = k * 0.7853981633974483;
-                const Vec3 dir = std::cos(a) * u + std::sin(a) * w;
-                cur.points[x] = normalized(std::cos(step) * p + std::sin(step) * dir);
-                const double m = local_min(x);
+                const Vec3 dir = cos_a[k] * u + sin_a[k] * w;
+                cur.points[x] = normalized(cos_step * p + sin_step * dir);
+                const double m = local_min(x, best + 1e-9);
                 if (m > best + 1e-9) {
                     best = m;
                     best_p = cur.points[x];

@@ -12,6 +12,8 @@
 //      measures without ever leaving the valid set;
 //   3. oranges around the best axes of a fixed candidate set (grid, pair normals, circle centres), refined by local
 //      search: valid whenever the directions have distinct azimuths about the axis, so this is the fallback.
+// Ties go to the earlier candidate in this order. The oranges are computed before the hull path, whose candidates
+// are not relaxed when their topology caps their score below the best orange (quality_cap): same result, less work.
 // Every loop is bounded (search nodes, sweeps, iterations); no randomness; no unordered containers.
 #include "mesohex/stages/sphere_partition.h"
 
@@ -78,6 +80,24 @@ Vec3 any_orthogonal(const Vec3& a) {
     const double ax = std::abs(a.x), ay = std::abs(a.y), az = std::abs(a.z);
     const Vec3 e = (ax <= ay && ax <= az) ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
     return normalized(cross(a, e));
+}
+
+// cos and sin of the 8 pattern-search directions phi = k x 45° (tables computed once with std::cos / std::sin).
+const std::array<double, 8>& trial_cos() {
+    static const std::array<double, 8> table = [] {
+        std::array<double, 8> t;
+        for (int k = 0; k < 8; ++k) t[k] = std::cos(kPi * k / 4);
+        return t;
+    }();
+    return table;
+}
+const std::array<double, 8>& trial_sin() {
+    static const std::array<double, 8> table = [] {
+        std::array<double, 8> t;
+        for (int k = 0; k < 8; ++k) t[k] = std::sin(kPi * k / 4);
+        return t;
+    }();
+    return table;
 }
 
 // Eigenvector of the smallest eigenvalue of the symmetric 3x3 matrix m (cyclic Jacobi, bounded sweeps).
@@ -177,32 +197,78 @@ double orange_margin(const OrangeFrame& f) {
     return margin;
 }
 
-// quality_score of the orange on this frame (n >= 3), computed directly: lune angle w at both poles, margin ratio.
-double orange_quality(const OrangeFrame& f, const std::vector<double>& bound) {
-    const int n = static_cast<int>(f.order.size());
-    double quality = kPi;
-    for (int k = 0; k < n; ++k) {
-        const int i = f.order[k];
-        const double before = orange_gap(f, (k + n - 1) % n), after = orange_gap(f, k);
-        const double width = 0.5 * (before + after);
-        const double side = std::cos(f.elevation[i]) * std::sin(std::min({0.5 * before, 0.5 * after, kPi / 2}));
-        const double margin = std::asin(std::clamp(side, -1.0, 1.0));
-        quality = std::min({quality, width, kPi - width, kPi / 2 * margin / bound[i]});
+// quality_score of the orange around an axis (n >= 3), computed directly: lune width w at both poles, margin ratio.
+// Evaluated on hundreds of axes per partition, so without allocating (the arrays are reused), and the elevations
+// (asin) and margins only while the quality can still exceed a threshold (callers only ask "is it above t?" or "which
+// are the top three"). The exact value, when returned, is the same for any threshold: min() does not depend on the
+// order of its arguments.
+struct OrangeEvaluator {
+    const std::vector<Vec3>& d;
+    const std::vector<double>& bound;
+    std::vector<double> azimuth;
+    std::vector<int> order;
+    std::vector<double> gap;  // gap[k] = orange_gap(frame, k)
+
+    OrangeEvaluator(const std::vector<Vec3>& dirs, const std::vector<double>& bounds)
+        : d(dirs), bound(bounds), azimuth(dirs.size()), order(dirs.size()), gap(dirs.size()) {}
+
+    // Returns the exact quality and sets `valid` (orange_margin > 0) when the quality is > threshold; otherwise some
+    // value <= threshold (valid unset).
+    double quality(const Vec3& axis, double threshold, bool& valid) {
+        const Vec3 u = any_orthogonal(axis);
+        return quality(axis, u, cross(axis, u), threshold, valid);
     }
-    return quality;
-}
+    // Same with the frame (u = any_orthogonal(axis), w = axis x u) given.
+    double quality(const Vec3& axis, const Vec3& u, const Vec3& w, double threshold, bool& valid) {
+        const int n = static_cast<int>(d.size());
+        for (int i = 0; i < n; ++i) azimuth[i] = std::atan2(dot(d[i], w), dot(d[i], u));
+        // The same order as orange_frame's std::sort: (azimuth, index) is a strict total order.
+        for (int i = 0; i < n; ++i) {
+            int k = i;
+            while (k > 0 && (azimuth[order[k - 1]] > azimuth[i] ||
+                             (azimuth[order[k - 1]] == azimuth[i] && order[k - 1] > i))) {
+                order[k] = order[k - 1];
+                --k;
+            }
+            order[k] = i;
+        }
+        for (int k = 0; k < n; ++k) {
+            double g = azimuth[order[k + 1 < n ? k + 1 : 0]] - azimuth[order[k]];
+            if (k + 1 >= n) g += 2 * kPi;
+            gap[k] = g;
+        }
+        double q = kPi;
+        for (int k = 0; k < n; ++k) {
+            const double width = 0.5 * (gap[k > 0 ? k - 1 : n - 1] + gap[k]);
+            q = std::min({q, width, kPi - width});
+        }
+        if (q <= threshold) return q;
+        valid = true;
+        for (int k = 0; k < n; ++k) {
+            const int i = order[k];
+            const double before = gap[k > 0 ? k - 1 : n - 1], after = gap[k];
+            const double elevation = std::asin(std::clamp(dot(d[i], axis), -1.0, 1.0));
+            const double side = std::cos(elevation) * std::sin(std::min({0.5 * before, 0.5 * after, kPi / 2}));
+            if (!(side > 0)) valid = false;
+            const double margin = std::asin(std::clamp(side, -1.0, 1.0));
+            q = std::min(q, kPi / 2 * margin / bound[i]);
+            if (q <= threshold) return q;
+        }
+        return q;
+    }
+};
 
 // Local search on the axis (8 tangent directions, halving steps, bounded) maximising orange_quality.
-Vec3 refine_orange_axis(const std::vector<Vec3>& d, const std::vector<double>& bound, Vec3 axis) {
-    double best = orange_quality(orange_frame(d, axis), bound);
+Vec3 refine_orange_axis(OrangeEvaluator& eval, Vec3 axis) {
+    bool valid = false;
+    double best = eval.quality(axis, -1e300, valid);
     double step = 0.05;
     for (int iteration = 0; iteration < 100 && step > 1e-4; ++iteration) {
         const Vec3 t1 = any_orthogonal(axis), t2 = cross(axis, t1);
         Vec3 best_axis = axis;
         for (int k = 0; k < 8; ++k) {
-            const double phi = kPi * k / 4;
-            const Vec3 trial = normalized(axis + step * (std::cos(phi) * t1 + std::sin(phi) * t2));
-            const double q = orange_quality(orange_frame(d, trial), bound);
+            const Vec3 trial = normalized(axis + step * (trial_cos()[k] * t1 + trial_sin()[k] * t2));
+            const double q = eval.quality(trial, best + 1e-12, valid);
             if (q > best + 1e-12) {
                 best = q;
                 best_axis = trial;
@@ -231,32 +297,79 @@ SpherePartition build_orange(const OrangeFrame& f) {
     return p;
 }
 
-// Deterministic, roughly uniform axis candidates (Fibonacci points on the upper hemisphere; -axis is the same orange).
-std::vector<Vec3> candidate_axes(const std::vector<Vec3>& d) {
-    std::vector<Vec3> axes;
-    axes.push_back(best_fit_plane_normal(d));
-    const int count = 400;
-    const double golden = kPi * (3 - std::sqrt(5.0));
-    for (int k = 0; k < count; ++k) {
-        const double z = 1 - (k + 0.5) / count;
-        const double r = std::sqrt(std::max(0.0, 1 - z * z));
-        axes.push_back(Vec3{r * std::cos(golden * k), r * std::sin(golden * k), z});
-    }
+// An axis to try with its orange frame (u = any_orthogonal(axis), w = axis x u).
+struct ScanAxis {
+    Vec3 axis, u, w;
+};
+
+ScanAxis scan_axis(const Vec3& axis) {
+    const Vec3 u = any_orthogonal(axis);
+    return {axis, u, cross(axis, u)};
+}
+
+// 400 roughly uniform axes (Fibonacci points on the upper hemisphere; -axis is the same orange) with their frames:
+// the same for every partition, so computed once (an immutable table; thread-safe initialisation).
+const std::vector<ScanAxis>& fibonacci_axes() {
+    static const std::vector<ScanAxis> table = [] {
+        std::vector<ScanAxis> axes;
+        const int count = 400;
+        const double golden = kPi * (3 - std::sqrt(5.0));
+        for (int k = 0; k < count; ++k) {
+            const double z = 1 - (k + 0.5) / count;
+            const double r = std::sqrt(std::max(0.0, 1 - z * z));
+            axes.push_back(scan_axis(Vec3{r * std::cos(golden * k), r * std::sin(golden * k), z}));
+        }
+        return axes;
+    }();
+    return table;
+}
+
+// Deterministic axis candidates: the best-fit plane normal, the Fibonacci axes, pair normals, circle centres, mean.
+std::vector<ScanAxis> candidate_axes(const std::vector<Vec3>& d) {
+    std::vector<ScanAxis> axes;
+    axes.push_back(scan_axis(best_fit_plane_normal(d)));
+    const std::vector<ScanAxis>& fib = fibonacci_axes();
+    axes.insert(axes.end(), fib.begin(), fib.end());
     const int n = static_cast<int>(d.size());
     for (int i = 0; i < n && i < 40; ++i)
         for (int j = i + 1; j < n && j < 40; ++j) {
             const Vec3 c = cross(d[i], d[j]);
-            if (norm(c) > 1e-6) axes.push_back(normalized(c));
+            if (norm(c) > 1e-6) axes.push_back(scan_axis(normalized(c)));
             // Centres of circles through three directions (hull face normals: for a cluster, the axis through it).
             for (int k = j + 1; k < n && k < 16; ++k) {
                 const Vec3 t = cross(d[j] - d[i], d[k] - d[i]);
-                if (norm(t) > 1e-12) axes.push_back(normalized(t));
+                if (norm(t) > 1e-12) axes.push_back(scan_axis(normalized(t)));
             }
         }
     Vec3 mean{};
     for (const Vec3& v : d) mean += v;
-    if (norm(mean) > 1e-9) axes.push_back(normalized(mean));
+    if (norm(mean) > 1e-9) axes.push_back(scan_axis(normalized(mean)));
     return axes;
+}
+
+// Oranges around the three best candidate axes by (quality, index), as a sort of every valid axis would rank them,
+// each refined by local search.
+std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d) {
+    const std::vector<ScanAxis> axes = candidate_axes(d);
+    const std::vector<double> bound = margin_bounds(d);
+    OrangeEvaluator eval(d, bound);
+    std::array<std::pair<double, int>, 3> top;  // (-quality, axis), ascending
+    int top_count = 0;
+    for (int a = 0; a < static_cast<int>(axes.size()); ++a) {
+        const double threshold = top_count == 3 ? -top[2].first : -1e300;
+        bool valid = false;
+        const double q = eval.quality(axes[a].axis, axes[a].u, axes[a].w, threshold, valid);
+        if (!(q > threshold) || !valid) continue;
+        int k = top_count < 3 ? top_count++ : 2;
+        top[k] = {-q, a};
+        for (; k > 0 && top[k] < top[k - 1]; --k) std::swap(top[k], top[k - 1]);
+    }
+    std::vector<SpherePartition> oranges;
+    for (int r = 0; r < top_count; ++r) {
+        const OrangeFrame frame = orange_frame(d, refine_orange_axis(eval, axes[top[r].second].axis));
+        if (orange_margin(frame) > 0) oranges.push_back(build_orange(frame));
+    }
+    return oranges;
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -743,6 +856,7 @@ struct Relaxer {
     // supplement, and 90° x (distance of the direction to each quad edge / its bound): a smooth "maximise the minimum".
     static constexpr double kSharpness = 14;
     std::vector<double> bound;
+    std::vector<double> trial_energy, best_energy;  // scratch of descend (per quad around the moved vertex)
 
     Relaxer(const std::vector<Vec3>& dirs, SpherePartition& part) : d(dirs), p(part), bound(margin_bounds(dirs)) {
         const int nv = static_cast<int>(p.points.size());
@@ -848,53 +962,108 @@ struct Relaxer {
         return {violation, energy};
     }
 
+    // For a trial move in the energy phase: true when the local violation is 0 and the local energy is < threshold
+    // (then `energy` is local_terms(v).second, bit for bit). Stops at the first violated constraint or as soon as the
+    // partial energy reaches the threshold: the terms are >= 0 and floating-point sums only grow when adding them.
+    // `per_quad` gets the energy of each quad around v (in quads_of[v] order) when the result is true.
+    bool local_energy_below(int v, double threshold, double& energy, std::vector<double>& per_quad) const {
+        energy = 0;
+        per_quad.clear();
+        for (int q : quads_of[v]) {
+            const std::array<int, 4>& quad = p.quads[q];
+            double e = 0;
+            for (int k = 0; k < 4; ++k) {
+                const int u = quad[k];
+                const Vec3& b = p.points[u];
+                const Vec3& c = p.points[quad[(k + 1) % 4]];
+                if (valence[u] >= 3) {
+                    double angle = corner_angle(p.points[quad[(k + 3) % 4]], b, c);
+                    if (angle < 0) angle = 0;
+                    if (kMinCorner - angle > 0 || angle - (kPi - kMinCorner) > 0) return false;
+                    e += std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+                }
+                const Vec3 nrm = cross(b, c);
+                const double len = norm(nrm);
+                const double side = len > 1e-15 ? dot(d[q], nrm) / len : -1;
+                if (kMinSide - side > 0) return false;
+                e += std::exp(-kSharpness * kPi / 2 * std::asin(std::clamp(side, -1.0, 1.0)) / bound[q]);
+                if (energy + e >= threshold) return false;
+            }
+            energy += e;
+            per_quad.push_back(e);
+        }
+        return true;
+    }
+
     double total_violation() const {
         double x = 0;
         for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) x += quad_terms(q, false).first;
         return x;
     }
-    double total_energy() const {
-        double e = 0;
-        for (int q = 0; q < static_cast<int>(p.quads.size()); ++q) e += quad_terms(q).second;
-        return e;
-    }
 
     // One phase of coordinate descent with a step per vertex (grown on success, halved on failure); `repair`:
     // minimise the violation, else the energy while the violation stays 0. Stops after max_sweeps sweeps, when every
     // step is tiny, or when a sweep lowers the energy by less than 0.1 %.
+    // In the energy phase the energy of every quad is kept (quad_energy, = quad_terms(q).second at the current
+    // points): a move of v changes only the quads around v (its chains' points lie in them too), whose energies the
+    // accepted trial has just computed. The sums below add the same values in the same order as local_terms and
+    // total_energy, so the result is bit for bit the same as recomputing them.
     void descend(bool repair, int max_sweeps) {
         const int nv = static_cast<int>(p.points.size());
+        const int nq = static_cast<int>(p.quads.size());
         std::vector<double> step(nv, 0.05);
-        double energy = repair ? 0 : total_energy();
+        std::vector<double> quad_energy(repair ? 0 : nq);
+        for (int q = 0; q < nq && !repair; ++q) quad_energy[q] = quad_terms(q).second;
+        const auto cached_total = [&] {
+            double e = 0;
+            for (int q = 0; q < nq; ++q) e += quad_energy[q];
+            return e;
+        };
+        double energy = repair ? 0 : cached_total();
         for (int sweep = 0; sweep < max_sweeps; ++sweep) {
             bool active = false;
             for (int v = 0; v < nv; ++v) {
                 if (valence[v] < 3 || step[v] < 1e-4) continue;
                 active = true;
                 const Vec3 origin = p.points[v];
-                const auto [x0, e0] = local_terms(v, !repair);
+                double x0 = 0, e0 = 0;
+                if (repair) {
+                    x0 = local_terms(v, false).first;
+                } else {
+                    for (int q : quads_of[v]) e0 += quad_energy[q];
+                }
                 if (repair && x0 == 0) continue;
                 const Vec3 t1 = any_orthogonal(origin), t2 = cross(origin, t1);
                 double best_score = repair ? x0 : e0;
                 Vec3 best_pos = origin;
                 for (int k = 0; k < 8; ++k) {
-                    const double phi = kPi * k / 4;
-                    p.points[v] = normalized(origin + step[v] * (std::cos(phi) * t1 + std::sin(phi) * t2));
+                    p.points[v] = normalized(origin + step[v] * (trial_cos()[k] * t1 + trial_sin()[k] * t2));
                     if (!place_chains(v)) continue;
-                    const auto [x, e] = local_terms(v, !repair);
-                    const double score = repair ? x : e;
-                    if ((repair || x == 0) && score < best_score - 1e-6 * best_score - 1e-12) {
-                        best_score = score;
-                        best_pos = p.points[v];
+                    const double threshold = best_score - 1e-6 * best_score - 1e-12;
+                    if (repair) {
+                        const double x = local_terms(v, false).first;
+                        if (x < threshold) {
+                            best_score = x;
+                            best_pos = p.points[v];
+                        }
+                    } else {
+                        double e = 0;
+                        if (local_energy_below(v, threshold, e, trial_energy)) {
+                            best_score = e;
+                            best_pos = p.points[v];
+                            best_energy.assign(trial_energy.begin(), trial_energy.end());
+                        }
                     }
                 }
                 p.points[v] = best_pos;
                 place_chains(v);
+                if (!repair && !(best_pos == origin))
+                    for (std::size_t j = 0; j < quads_of[v].size(); ++j) quad_energy[quads_of[v][j]] = best_energy[j];
                 step[v] = best_pos == origin ? 0.5 * step[v] : std::min(0.2, 1.25 * step[v]);
             }
             if (!active || (repair && total_violation() == 0)) return;
             if (!repair) {
-                const double now = total_energy();
+                const double now = cached_total();
                 if (now > energy * (1 - 1e-3)) return;
                 energy = now;
             }
@@ -904,7 +1073,21 @@ struct Relaxer {
 
 // Candidates from the hull path (possibly invalid: the caller verifies). Successive halving: up to 8 duals of the
 // cheapest assignments get a short relaxation, the 2 best (by quality_score) a long one.
-std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d) {
+// The highest quality_score any verified partition with p's topology can have: at a vertex of valence k >= 3 the k
+// angles sum to 360° (verify allows kSumTolerance), so its largest angle is >= 360°/k and its smallest <= 360°/k.
+double quality_cap(const SpherePartition& p) {
+    std::vector<int> valence(p.points.size(), 0);
+    for (const std::array<int, 4>& quad : p.quads)
+        for (int v : quad) ++valence[v];
+    double cap = kPi;
+    for (int k : valence)
+        if (k >= 3) cap = std::min(cap, std::min(2 * kPi / k, kPi - 2 * kPi / k) + kSumTolerance);
+    return cap;
+}
+
+// `beat`: the best score of the candidates found so far. When no candidate can reach it (quality_cap; the winner
+// needs a strictly higher score or an earlier place), none is relaxed and none is returned: the result is the same.
+std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double beat) {
     std::vector<SpherePartition> out;
     const int n = static_cast<int>(d.size());
     if (n < 3 || n > 64) return out;
@@ -922,6 +1105,9 @@ std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d) {
         }
         break;
     }
+    bool may_win = false;
+    for (const SpherePartition& p : out) may_win = may_win || quality_cap(p) >= beat;
+    if (!may_win) return {};
     std::vector<std::pair<double, int>> ranked;  // (-score, candidate)
     std::vector<char> relaxable(out.size(), 0);
     for (int c = 0; c < static_cast<int>(out.size()); ++c) {
@@ -1118,46 +1304,52 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
     }
     double planarity = 0;
     for (const Vec3& p : d) planarity = std::max(planarity, std::abs(dot(p, normal)));
-    std::vector<SpherePartition> candidates;
+    // Candidates in the order that breaks ties (the first of the best wins): planar orange, hull, axis oranges.
+    std::vector<SpherePartition> planar, hull;
     if (n == 2 || planarity <= options.planarity_tolerance) {
         const OrangeFrame frame = orange_frame(d, normal);
         if (orange_margin(frame) > 0) {
             SpherePartition p = build_orange(frame);
             // A tight cluster is "planar" too, but its lunes are slivers: then let the general path compete.
             if (verify_sphere_partition(p, d).empty() && (n == 2 || quality_score(p, d) >= kGoodOrange)) return p;
-            candidates.push_back(std::move(p));
+            planar.push_back(std::move(p));
         }
     }
 
-    // 2. Hull -> 4-regular map -> dual -> relaxation, and oranges around the best axes; the best verified one wins.
+    // 2. Oranges around the best axes.
+    std::vector<SpherePartition> oranges = axis_oranges(d);
+    // Scores of the verified candidates (-1e300: not valid).
+    const auto scores_of = [&](const std::vector<SpherePartition>& list) {
+        std::vector<double> scores;
+        for (const SpherePartition& p : list)
+            scores.push_back(verify_sphere_partition(p, d).empty() ? quality_score(p, d) : -1e300);
+        return scores;
+    };
+    const std::vector<double> planar_scores = scores_of(planar), orange_scores = scores_of(oranges);
+    double beat = -1e300;
+    for (double x : planar_scores) beat = std::max(beat, x);
+    for (double x : orange_scores) beat = std::max(beat, x);
+
+    // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
     try {
-        for (SpherePartition& p : hull_candidates(d)) candidates.push_back(std::move(p));
+        hull = hull_candidates(d, beat);
     } catch (const std::out_of_range&) {
         // A map lookup (.at) found an inconsistent structure: cannot happen for a verified base map; if it does, the
-        // hull path simply contributes nothing and the oranges below remain.
+        // hull path simply contributes nothing and the oranges remain.
+        hull.clear();
     }
-    std::vector<std::pair<double, int>> ranked;
-    const std::vector<Vec3> axes = candidate_axes(d);
-    const std::vector<double> bound = margin_bounds(d);
-    for (int a = 0; a < static_cast<int>(axes.size()); ++a) {
-        const OrangeFrame frame = orange_frame(d, axes[a]);
-        if (orange_margin(frame) > 0) ranked.push_back({-orange_quality(frame, bound), a});
-    }
-    std::sort(ranked.begin(), ranked.end());
-    for (int r = 0; r < static_cast<int>(ranked.size()) && r < 3; ++r) {
-        const OrangeFrame frame = orange_frame(d, refine_orange_axis(d, bound, axes[ranked[r].second]));
-        if (orange_margin(frame) > 0) candidates.push_back(build_orange(frame));
-    }
+    const std::vector<double> hull_scores = scores_of(hull);
     std::optional<SpherePartition> best;
     double best_score = -1;
-    for (SpherePartition& p : candidates) {
-        if (!verify_sphere_partition(p, d).empty()) continue;
-        const double score = quality_score(p, d);
-        if (!best || score > best_score) {
-            best = std::move(p);
-            best_score = score;
+    for (const auto& [list, scores] : {std::pair{&planar, &planar_scores}, std::pair{&hull, &hull_scores},
+                                       std::pair{&oranges, &orange_scores}})
+        for (std::size_t c = 0; c < list->size(); ++c) {
+            if ((*scores)[c] == -1e300) continue;
+            if (!best || (*scores)[c] > best_score) {
+                best = std::move((*list)[c]);
+                best_score = (*scores)[c];
+            }
         }
-    }
     if (best) return *best;
     throw Error(ErrorCode::NumericalFailure,
                 "sphere partition: no valid quad partition found for " + std::to_string(n) + " directions");
