@@ -51,9 +51,10 @@ int main(int argc, char** argv) {
     PipelineOptions po;
     if (argc > 3) po.adaptation.free_branching_reach = std::atof(argv[3]);
     if (argc > 4) po.repair.trunks = std::atoi(argv[4]) != 0;
+    if (argc > 5) po.repair.absorb_stubs = std::atoi(argv[5]) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
-    std::printf("seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks unseparated\n");
+    std::printf("seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks stubs unseparated\n");
     for (long seed = first; seed <= last; ++seed) {
         const Skeleton in = generate_random_skeleton(static_cast<std::uint64_t>(seed));
         try {
@@ -99,9 +100,10 @@ int main(int argc, char** argv) {
                               : vertex_kind(s, adj, on_face, s.edges[e][0]) + "-" +
                                     vertex_kind(s, adj, on_face, s.edges[e][1]);
             }
-            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d\n", seed, random_skeleton_kind(seed),
+            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d %d\n", seed, random_skeleton_kind(seed),
                         s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(), q.sj_min, q.sj_avg, q.inverted,
-                        off, where.c_str(), res.trunks, res.unseparated_pairs);
+                        off, where.c_str(), res.trunks, res.absorbed_stubs,
+                        res.unseparated_pairs);
             mins.push_back(q.sj_min);
             offs.push_back(off);
             inverted_seeds += q.inverted > 0;

@@ -59,6 +59,7 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
     if (options.resample) {
         SkeletonRepairResult repaired = repair_skeleton(s, options.repair);
         res.trunks = repaired.trunks;
+        res.absorbed_stubs = repaired.absorbed_stubs;
         res.unseparated_pairs = repaired.unseparated;
         s = adapt_skeleton(repaired.skeleton, options.adaptation);
         clock.lap("adaptation");

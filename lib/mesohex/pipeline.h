@@ -35,6 +35,7 @@ struct PipelineResult {
     double radius = 0;          // the uniform radius used when radius_source != "file" (else 0)
     SkeletonAnalysis input_analysis;  // analysis of the input skeleton (before adaptation)
     int trunks = 0;                   // trunk vertices the repair inserted (SkeletonRepairResult)
+    int absorbed_stubs = 0;           // stubs the repair absorbed into a trunk vertex
     int unseparated_pairs = 0;        // close branch pairs the repair left (a branch ends inside the other's tube)
     Skeleton skeleton;                // the skeleton actually meshed (radii filled, adapted when resampling)
     SkeletonAnalysis analysis;        // analysis of `skeleton`

@@ -94,7 +94,11 @@ struct Candidate {
     double sep = 0;    // l*: arc length where the tubes separate
     Vec3 t;
     double rt = 0;
+    bool absorb = false;  // ej is a stub (ends at an extremity inside ei's tube): it disappears into t
 };
+
+bool is_extremity(const Graph& g, int v) { return g.degree[v] == 1 && !g.on_face[v]; }
+bool is_joint(const Graph& g, int v) { return g.degree[v] == 2 && g.inc[v].size() == 2 && !g.on_face[v]; }
 
 // The arc length where the tubes of walks i and j separate, or -1 if they do not before the shorter one ends.
 double separation(const Skeleton& s, const Walk& wi, const Walk& wj) {
@@ -154,14 +158,22 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
                     if (dot(di, dj) <= 0) continue;  // 90 degrees or more apart: the tubes part at the ball
                     const double sep = separation(s, wi, wj);
                     if (sep < 0) {
-                        // Would the pair qualify had it separated at the shorter end?
-                        const double len = std::min(wi.length(), wj.length());
-                        const AtArc a = at_arc(s, wi, len), b = at_arc(s, wj, len);
-                        const double r = 0.5 * (a.r + b.r), sin_a = std::min(r / len, 0.99);
-                        const double x = (len - r) / (1 + sin_a);
-                        if (x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a))
+                        // The tubes do not separate before the shorter walk ends. A stub (the shorter walk ends at an
+                        // extremity) is absorbed: t at the midpoint of its end and the other walk's point at the same
+                        // arc length, with a radius covering both tubes there; otherwise the pair stays.
+                        const bool i_short = wi.length() <= wj.length();
+                        const Walk &stub = i_short ? wi : wj, &keep = i_short ? wj : wi;
+                        const double len = stub.length();
+                        if (!o.absorb_stubs || !is_extremity(g, stub.verts.back())) {
                             unseparated.insert({c, std::min(wi.verts[1], wj.verts[1]) * n +
                                                        std::max(wi.verts[1], wj.verts[1])});
+                            continue;
+                        }
+                        const AtArc a = at_arc(s, stub, len), b = at_arc(s, keep, len);
+                        const double score = len / s.radii[c];
+                        if (score > best.score)
+                            best = {score, c, i_short ? inc[j] : inc[i], i_short ? inc[i] : inc[j], len,
+                                    0.5 * (a.x + b.x), 0.5 * distance(a.x, b.x) + std::max(a.r, b.r), true};
                         continue;
                     }
                     const AtArc a = at_arc(s, wi, sep), b = at_arc(s, wj, sep);
@@ -173,7 +185,8 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
                     const Vec3 dir = normalized(m - s.points[c]);
                     if (dir == Vec3{}) continue;
                     const double score = x / s.radii[c];
-                    if (score > best.score) best = {score, c, inc[i], inc[j], sep, s.points[c] + x * dir, r + x * sin_a};
+                    if (score > best.score)
+                        best = {score, c, inc[i], inc[j], sep, s.points[c] + x * dir, r + x * sin_a, false};
                 }
         }
         if (best.c < 0) break;
@@ -189,15 +202,31 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
         new_edges.push_back({c, t});
         for (const int e0 : {best.ei, best.ej}) {
             const Walk w = walk(s, g, c, e0);
+            if (best.absorb && e0 == best.ej) {  // the stub: every vertex after c and every edge go
+                int cur = e0;
+                for (std::size_t q = 1; q < w.verts.size(); ++q) {
+                    drop_edge[cur] = true;
+                    const int v = w.verts[q];
+                    drop_vertex[v] = true;
+                    if (q + 1 < w.verts.size()) cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
+                }
+                continue;
+            }
             const AtArc p = at_arc(s, w, best.sep);
             // Segment k holds l*: vertices 1..k are dropped (joints), edges 0..k too; a new vertex at p unless p is
-            // (almost) verts[k + 1], then that vertex is the re-attachment.
-            const bool at_end = p.u > 1 - 1e-9;
-            const std::size_t k = p.k;
+            // (almost) verts[k + 1], then that vertex is the re-attachment. Absorbing a stub, the walk re-attaches
+            // at t itself, to its first vertex after l* farther than r_t from t (joints closer than that go too).
+            const bool at_end = p.u > 1 - 1e-9 || best.absorb;
+            std::size_t k = p.k;
             int cur = e0;
-            for (std::size_t q = 0; q <= k; ++q) {
+            for (std::size_t q = 0;; ++q) {
                 drop_edge[cur] = true;
-                if (q == k) break;
+                const bool more = q < k || (best.absorb && q + 2 < w.verts.size() && is_joint(g, w.verts[q + 1]) &&
+                                            distance(best.t, s.points[w.verts[q + 1]]) < best.rt);
+                if (!more) {
+                    k = q;
+                    break;
+                }
                 const int v = w.verts[q + 1];  // a joint: two branch edges
                 drop_vertex[v] = true;
                 cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
@@ -232,7 +261,7 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
         for (int& v : res.vertex_map)
             if (v >= 0) v = id[v];
         s = std::move(out);
-        ++res.trunks;
+        ++(best.absorb ? res.absorbed_stubs : res.trunks);
     }
     res.unseparated = static_cast<int>(unseparated.size());
     return res;

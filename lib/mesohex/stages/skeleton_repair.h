@@ -29,13 +29,20 @@ struct SkeletonRepairOptions {
     // one vertex by adaptation (a short bridge). For two straight branches of the branching point's radius this means
     // beta below about 35 degrees.
     double trunk_clearance = 0.7;
+    // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
+    // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
+    // the same arc length, radius half their distance + the larger radius there (a ball covering both tubes); the
+    // stub's vertices and edges go, the other branch leaves t (joints nearer t than r_t go too). A branching point
+    // of degree 3 becomes a joint: the bump is meshed as a thicker stretch of tube, without a junction.
+    bool absorb_stubs = true;
 };
 
 struct SkeletonRepairResult {
     Skeleton skeleton;
     // Per input vertex: its output vertex, or -1 for a joint inside a trunk (dropped).
     std::vector<int> vertex_map;
-    int trunks = 0;       // trunk vertices inserted (one per repaired pair)
+    int trunks = 0;          // trunk vertices inserted (one per repaired pair)
+    int absorbed_stubs = 0;  // stubs absorbed (one vertex t each)
     int unseparated = 0;  // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
                           // separate
 };
