@@ -98,7 +98,6 @@ struct Candidate {
 };
 
 bool is_extremity(const Graph& g, int v) { return g.degree[v] == 1 && !g.on_face[v]; }
-bool is_joint(const Graph& g, int v) { return g.degree[v] == 2 && g.inc[v].size() == 2 && !g.on_face[v]; }
 
 // The arc length where the tubes of walks i and j separate, or -1 if they do not before the shorter one ends.
 double separation(const Skeleton& s, const Walk& wi, const Walk& wj) {
@@ -215,18 +214,13 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
             const AtArc p = at_arc(s, w, best.sep);
             // Segment k holds l*: vertices 1..k are dropped (joints), edges 0..k too; a new vertex at p unless p is
             // (almost) verts[k + 1], then that vertex is the re-attachment. Absorbing a stub, the walk re-attaches
-            // at t itself, to its first vertex after l* farther than r_t from t (joints closer than that go too).
+            // at t itself, to its first vertex after l* (the joints after it keep the branch's shape for adaptation).
             const bool at_end = p.u > 1 - 1e-9 || best.absorb;
-            std::size_t k = p.k;
+            const std::size_t k = p.k;
             int cur = e0;
             for (std::size_t q = 0;; ++q) {
                 drop_edge[cur] = true;
-                const bool more = q < k || (best.absorb && q + 2 < w.verts.size() && is_joint(g, w.verts[q + 1]) &&
-                                            distance(best.t, s.points[w.verts[q + 1]]) < best.rt);
-                if (!more) {
-                    k = q;
-                    break;
-                }
+                if (q == k) break;
                 const int v = w.verts[q + 1];  // a joint: two branch edges
                 drop_vertex[v] = true;
                 cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];

@@ -32,8 +32,8 @@ struct SkeletonRepairOptions {
     // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
     // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
     // the same arc length, radius half their distance + the larger radius there (a ball covering both tubes); the
-    // stub's vertices and edges go, the other branch leaves t (joints nearer t than r_t go too). A branching point
-    // of degree 3 becomes a joint: the bump is meshed as a thicker stretch of tube, without a junction.
+    // stub's vertices and edges go, the other branch leaves t towards its first vertex after that arc length. A
+    // branching point of degree 3 becomes a joint: the bump is meshed as a thicker stretch of tube, no junction.
     bool absorb_stubs = true;
 };
 
