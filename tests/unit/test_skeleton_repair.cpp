@@ -107,12 +107,19 @@ TEST(SkeletonRepair, LeafletsUntouched) {
     EXPECT_EQ(res.skeleton.edges, s.edges);
 }
 
-// Seeds of the random set (bench/random_set.sh) whose raw mesh the repair fixes. Seed 72: a stub 14 degrees from its
-// sibling (radius 0.155, length 0.56) inverted a raw hex (min SJ -0.133); absorbed, the junction is gone. Seed 37: a
-// stub 24 degrees from its sibling, raw min SJ 0.035.
+// Seeds of the random set (bench/random_set.sh) whose raw mesh the repair fixes (raw min SJ before -> after, measured):
+// seed 72, a stub 14 degrees from its sibling (radius 0.155, length 0.56), -0.133 (one inverted hex) -> 0.619; seed 37,
+// a stub 24 degrees from its sibling, 0.035 -> 0.630; seed 17, a short fat branch beside a long one, 0.060 -> 0.512;
+// seed 12, two stubs, 0.009 -> 0.288. Finished in their domains they went from missing the targets to 0.618 / 0.918 /
+// 1.17 % (37), 0.688 / 0.929 / 0.85 % (17), 0.619 / 0.929 / 0.70 % (12, 1 inverted hex before) (docs/tuning.md).
 TEST(SkeletonRepair, RandomSeedsWithStubs) {
-    for (const auto& [seed, bound] : std::vector<std::pair<int, double>>{{72, 0.5}, {37, 0.5}}) {
-        const Skeleton in = mesohex::generate_random_skeleton(static_cast<std::uint64_t>(seed));
+    struct Case {
+        int seed, stubs;
+        double bound;
+        int joints_now;  // branching points of degree 3 that lost their stub and became joints
+    };
+    for (const Case& c : std::vector<Case>{{72, 1, 0.55, 1}, {37, 1, 0.55, 1}, {17, 1, 0.45, 1}, {12, 2, 0.25, 1}}) {
+        const Skeleton in = mesohex::generate_random_skeleton(static_cast<std::uint64_t>(c.seed));
         mesohex::PipelineOptions without;
         without.repair.trunks = false;
         without.repair.absorb_stubs = false;
@@ -120,12 +127,13 @@ TEST(SkeletonRepair, RandomSeedsWithStubs) {
         const mesohex::PipelineResult after = mesohex::run_pipeline(in);
         const mesohex::QualityReport qb = mesohex::compute_quality(before.raw.mesh);
         const mesohex::QualityReport qa = mesohex::compute_quality(after.raw.mesh);
-        EXPECT_EQ(after.absorbed_stubs, 1) << seed;
-        EXPECT_EQ(after.trunks, 0) << seed;
-        EXPECT_LT(qb.sj_min, 0.1) << seed;
-        EXPECT_EQ(qa.inverted, 0) << seed;
-        EXPECT_GT(qa.sj_min, bound) << seed;
-        // The branching point of the pair is gone: one branching point less.
-        EXPECT_EQ(after.analysis.counts.branching_points + 1, before.analysis.counts.branching_points) << seed;
+        EXPECT_EQ(after.absorbed_stubs, c.stubs) << c.seed;
+        EXPECT_EQ(after.trunks, 0) << c.seed;
+        EXPECT_LT(qb.sj_min, 0.1) << c.seed;
+        EXPECT_EQ(qa.inverted, 0) << c.seed;
+        EXPECT_GT(qa.sj_min, c.bound) << c.seed;
+        // Seed 12: one of its two stubs left a branching point of degree 4 (3 now).
+        EXPECT_EQ(after.analysis.counts.branching_points + c.joints_now, before.analysis.counts.branching_points)
+            << c.seed;
     }
 }
