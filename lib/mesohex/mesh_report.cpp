@@ -113,6 +113,10 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
     rep["skeleton"] = analysis_counts_json(res.input_analysis.counts);
     rep["meshed_skeleton"] = analysis_counts_json(res.analysis.counts);
     rep["resampled"] = run.options.resample;
+    if (run.options.resample)  // structural repairs before adaptation (stages/skeleton_repair.h)
+        rep["repairs"] = {{"trunks", res.trunks},
+                           {"absorbed_stubs", res.absorbed_stubs},
+                           {"unseparated_pairs", res.unseparated_pairs}};
     rep["radius"] = {{"source", res.radius_source}, {"value", res.radius}};
     if (res.radius_source == "default") {
         std::ostringstream rule;

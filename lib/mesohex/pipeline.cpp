@@ -57,7 +57,11 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
     check_radii(s);
 
     if (options.resample) {
-        s = adapt_skeleton(s, options.adaptation);
+        SkeletonRepairResult repaired = repair_skeleton(s, options.repair);
+        res.trunks = repaired.trunks;
+        res.absorbed_stubs = repaired.absorbed_stubs;
+        res.unseparated_pairs = repaired.unseparated;
+        s = adapt_skeleton(repaired.skeleton, options.adaptation);
         clock.lap("adaptation");
         res.analysis = analyze_skeleton(s, options.analysis);
         clock.lap("analysis");

@@ -8,6 +8,7 @@
 #include "mesohex/stages/adaptation.h"
 #include "mesohex/stages/raw_mesh.h"
 #include "mesohex/stages/skeleton_analysis.h"
+#include "mesohex/stages/skeleton_repair.h"
 
 namespace mesohex {
 
@@ -17,6 +18,7 @@ struct PipelineOptions {
     double radius = 0;
     double default_radius_factor = 0.25;  // x the mean skeleton edge length (dimensionless)
     bool resample = true;  // paper step 1 (adapt_skeleton); false keeps the input sampling (hexes == 4 x edges)
+    SkeletonRepairOptions repair;                  // trunks for close branches (before adaptation, with resample)
     AdaptationOptions adaptation;                  // resampling against the radii
     AnalysisOptions analysis;                      // classification and rejection rules
     ConnectionSurfaceOptions connection_surfaces;  // junction surfaces
@@ -32,6 +34,9 @@ struct PipelineResult {
     std::string radius_source;  // "file", "option" or "default"
     double radius = 0;          // the uniform radius used when radius_source != "file" (else 0)
     SkeletonAnalysis input_analysis;  // analysis of the input skeleton (before adaptation)
+    int trunks = 0;                   // trunk vertices the repair inserted (SkeletonRepairResult)
+    int absorbed_stubs = 0;           // stubs the repair absorbed into a trunk vertex
+    int unseparated_pairs = 0;        // close branch pairs the repair left (a branch ends inside the other's tube)
     Skeleton skeleton;                // the skeleton actually meshed (radii filled, adapted when resampling)
     SkeletonAnalysis analysis;        // analysis of `skeleton`
     RawMeshPrediction predicted;

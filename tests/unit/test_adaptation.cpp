@@ -536,12 +536,20 @@ TEST(Adaptation, CoincidentBranchesMeshThroughSharedTrunk) {
         EXPECT_EQ(r.reattached_edges, 1) << y;
         EXPECT_EQ(r.skeleton.edges.size(), 8u) << y;
         EXPECT_EQ(r.vertex_map[1], -1) << y;  // a is a joint now, resampled away
-        const mesohex::PipelineResult res = mesohex::run_pipeline(s, {});
+        // (0, 1) is a stub of (0, 2) (it ends inside its tube): by default skeleton_repair absorbs it before
+        // adaptation; here adaptation's own repair is under test.
+        mesohex::PipelineOptions adaptation_only;
+        adaptation_only.repair.absorb_stubs = false;
+        const mesohex::PipelineResult res = mesohex::run_pipeline(s, adaptation_only);
         EXPECT_EQ(res.raw.mesh.hexes.size(), 32u) << y;
         EXPECT_EQ(res.predicted.hexes, 32) << y;
         EXPECT_EQ(mesohex::compute_quality(res.raw.mesh).inverted, 0) << y;
+        const mesohex::PipelineResult absorbed = mesohex::run_pipeline(s, {});
+        EXPECT_EQ(absorbed.absorbed_stubs, 1) << y;
+        EXPECT_EQ(mesohex::compute_quality(absorbed.raw.mesh).inverted, 0) << y;
+        EXPECT_EQ(absorbed.analysis.counts.branching_points, 1) << y;  // t's degree: the other three branches
         if (y == 0.0) {
-            mesohex::PipelineOptions no_repair;
+            mesohex::PipelineOptions no_repair = adaptation_only;
             no_repair.adaptation.coincident_angle = 0;
             EXPECT_THROW((void)mesohex::run_pipeline(s, no_repair), mesohex::Error);
         }
@@ -565,5 +573,7 @@ TEST(Adaptation, LatticeGraphDegeneraciesMesh) {
     EXPECT_EQ(static_cast<long>(res.raw.mesh.hexes.size()), 4 * static_cast<long>(res.skeleton.edges.size()));
     mesohex::PipelineOptions no_repair;
     no_repair.adaptation.coincident_angle = 0;
+    no_repair.repair.absorb_stubs = false;  // (4, 5) is a stub of (4, 6): skeleton_repair would absorb it
+    no_repair.repair.trunks = false;
     EXPECT_THROW((void)mesohex::run_pipeline(s, no_repair), mesohex::Error);
 }

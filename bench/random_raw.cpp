@@ -1,0 +1,123 @@
+// The raw meshes of the random evaluation set (issue 16), fast (no fit): per seed, the adapted skeleton's size, how
+// far the input's joints lie off it (corner cutting), the raw mesh's min / mean scaled Jacobian and inverted count,
+// and the skeleton element of the worst raw hex. Not a test, not a Google benchmark: a measuring tool.
+//
+//   mesohex_random_raw FIRST LAST [free_branching_reach [trunks 0/1]]
+//
+// One line per seed, then the distribution. The worst raw hex is named by the adapted skeleton edge of its chunk
+// (a plate hex: "plate"), and by the kind of that edge's ends: bp = branching point without leaflet, lf = leaflet
+// vertex, ex = extremity, jt = joint (with its turn in degrees).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "mesohex/core/error.h"
+#include "mesohex/pipeline.h"
+#include "mesohex/post/quality.h"
+#include "mesohex/stages/generators.h"
+
+using namespace mesohex;
+
+namespace {
+
+double segment_point_distance(const Vec3& a, const Vec3& b, const Vec3& p) {
+    const Vec3 d = b - a;
+    const double l2 = dot(d, d);
+    const double t = l2 > 0 ? std::clamp(dot(p - a, d) / l2, 0.0, 1.0) : 0.0;
+    return distance(a + t * d, p);
+}
+
+std::string vertex_kind(const Skeleton& s, const std::vector<std::vector<int>>& adj, const std::vector<bool>& on_face,
+                        int v) {
+    if (on_face[v]) return "lf";
+    if (adj[v].size() == 1) return "ex";
+    if (adj[v].size() >= 3) return "bp" + std::to_string(adj[v].size());
+    const Vec3 u = normalized(s.points[v] - s.points[adj[v][0]]), w = normalized(s.points[adj[v][1]] - s.points[v]);
+    const double turn = std::acos(std::clamp(dot(u, w), -1.0, 1.0)) * 180 / 3.141592653589793;
+    return "jt" + std::to_string(static_cast<int>(std::lround(turn)));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 3) {
+        std::fprintf(stderr, "usage: mesohex_random_raw FIRST LAST [free_branching_reach [trunks 0/1]]\n");
+        return 2;
+    }
+    const long first = std::atol(argv[1]), last = std::atol(argv[2]);
+    PipelineOptions po;
+    if (argc > 3) po.adaptation.free_branching_reach = std::atof(argv[3]);
+    if (argc > 4) po.repair.trunks = std::atoi(argv[4]) != 0;
+    if (argc > 5) po.repair.absorb_stubs = std::atoi(argv[5]) != 0;
+    std::vector<double> mins, offs;
+    int inverted_seeds = 0;
+    std::printf("seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks stubs unseparated\n");
+    for (long seed = first; seed <= last; ++seed) {
+        const Skeleton in = generate_random_skeleton(static_cast<std::uint64_t>(seed));
+        try {
+            const PipelineResult res = run_pipeline(in, po);
+            const Skeleton& s = res.skeleton;
+            // Corner cutting: every input vertex off every face, distance to the nearest adapted branch edge / r.
+            std::vector<bool> in_face(in.points.size(), false);
+            for (const auto& f : in.faces)
+                for (int v : f) in_face[v] = true;
+            double off = 0;
+            for (std::size_t v = 0; v < in.points.size(); ++v) {
+                if (in_face[v]) continue;
+                double best = 1e300;
+                for (const auto& e : s.edges)
+                    best = std::min(best, segment_point_distance(s.points[e[0]], s.points[e[1]], in.points[v]));
+                off = std::max(off, best / in.radii[v]);
+            }
+            const QualityReport q = compute_quality(res.raw.mesh);
+            if (std::getenv("DUMP")) {  // the meshed skeleton: vertex, radius, neighbours
+                for (std::size_t v = 0; v < s.points.size(); ++v) {
+                    std::printf("  v%zu (%.3f %.3f %.3f) r %.3f:", v, s.points[v].x, s.points[v].y, s.points[v].z,
+                                s.radii[v]);
+                    for (const auto& e : s.edges)
+                        if (e[0] == static_cast<int>(v) || e[1] == static_cast<int>(v))
+                            std::printf(" %d", e[0] == static_cast<int>(v) ? e[1] : e[0]);
+                    std::printf("\n");
+                }
+                for (int k = 0; k < 5 && k < static_cast<int>(q.worst_hexes.size()); ++k) {
+                    const int h = q.worst_hexes[k], e = res.raw.hex_edge[h];
+                    std::printf("  worst hex %d sj %.3f edge %d (%d %d)\n", h, q.sj[h], e, e < 0 ? -1 : s.edges[e][0],
+                                e < 0 ? -1 : s.edges[e][1]);
+                }
+            }
+            std::vector<std::vector<int>> adj(s.points.size());
+            for (const auto& e : s.edges) adj[e[0]].push_back(e[1]), adj[e[1]].push_back(e[0]);
+            std::vector<bool> on_face(s.points.size(), false);
+            for (const auto& f : s.faces)
+                for (int v : f) on_face[v] = true;
+            std::string where = "none";
+            if (!q.worst_hexes.empty()) {
+                const int e = res.raw.hex_edge[q.worst_hexes[0]];
+                where = e < 0 ? "plate"
+                              : vertex_kind(s, adj, on_face, s.edges[e][0]) + "-" +
+                                    vertex_kind(s, adj, on_face, s.edges[e][1]);
+            }
+            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d %d\n", seed, random_skeleton_kind(seed),
+                        s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(), q.sj_min, q.sj_avg, q.inverted,
+                        off, where.c_str(), res.trunks, res.absorbed_stubs,
+                        res.unseparated_pairs);
+            mins.push_back(q.sj_min);
+            offs.push_back(off);
+            inverted_seeds += q.inverted > 0;
+        } catch (const Error& e) {
+            std::printf("%ld %s error %s\n", seed, random_skeleton_kind(seed), e.what());
+        }
+    }
+    if (mins.empty()) return 1;
+    std::sort(mins.begin(), mins.end());
+    std::sort(offs.begin(), offs.end());
+    const auto pick = [](const std::vector<double>& a, double q) { return a[static_cast<std::size_t>(q * (a.size() - 1))]; };
+    std::printf("raw min SJ worst %.3f p5 %.3f median %.3f; seeds with inverted raw hexes %d; corner offset / r "
+                "median %.2f p95 %.2f max %.2f; seeds with offset >= 0.3 r: %ld\n",
+                mins.front(), pick(mins, 0.05), pick(mins, 0.5), inverted_seeds, pick(offs, 0.5), pick(offs, 0.95),
+                offs.back(), static_cast<long>(std::count_if(offs.begin(), offs.end(), [](double x) { return x >= 0.3; })));
+    return 0;
+}

@@ -1,0 +1,61 @@
+#pragma once
+// Structural repair of a skeleton's curve branches before adaptation: a shared trunk for close branches.
+//
+// Two branches leaving a branching point (no leaflet there) at a small angle beta have tubes (the balls swept along
+// their polylines) that overlap far beyond the branching point's ball: for straight branches of radius r up to
+// l* = r / sin(beta / 2), where the two tubes separate (the crotch of the domain). The branching point's connection
+// quads then cover only a cone of about beta / 2 around each branch: the first cross-sections shrink (RawMeshOptions::
+// margin_fraction) and the fit has to inflate two thin tubes into one fat one, crushing hexes in the crotch. The
+// repair moves the junction of the pair to where the domain has it: a trunk vertex t on the pair's medial axis,
+//   t = c + x unit(m - c),  x = (l* - r) / (1 + sin a),  radius r_t = r + x sin a,
+// with l* the arc length where the tubes separate (|P_i(s) - P_j(s)| >= R_i(s) + R_j(s), found on the polylines, so
+// turning branches and varying radii count), r the mean of the two radii there, sin a = r / l*, and m the midpoint of
+// the two polyline points at l*. (For straight branches of equal radius: the ball at t touches both outer walls and
+// the crotch, the branching point of the medial axis of the two overlapping tubes.) The edge (c, t) becomes the
+// trunk; both branches leave t towards their polyline point at l* (a new vertex unless one is there) and continue as
+// before; their joints before l* are dropped. At t the two branches are about 2 atan(1/2) = 53 degrees apart for
+// straight branches, whatever beta was. Design note: ../shared/design/beyond-the-paper.md section E.
+#include <vector>
+
+#include "mesohex/core/skeleton.h"
+
+namespace mesohex {
+
+struct SkeletonRepairOptions {
+    // Build trunks for close branch pairs (see above).
+    bool trunks = true;
+    // A pair gets a trunk only if the trunk edge is long against the balls at its ends: x >= trunk_clearance x (r_c +
+    // r_t) (dimensionless). 0.7 is AdaptationOptions::collapse_spread: a shorter trunk would be collapsed back into
+    // one vertex by adaptation (a short bridge). For two straight branches of the branching point's radius this means
+    // beta below about 35 degrees.
+    double trunk_clearance = 0.7;
+    // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
+    // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
+    // the same arc length, radius half their distance + the larger radius there (a ball covering both tubes); the
+    // stub's vertices and edges go, the other branch leaves t towards its first vertex after that arc length. A
+    // branching point of degree 3 becomes a joint: the bump is meshed as a thicker stretch of tube, no junction.
+    bool absorb_stubs = true;
+};
+
+struct SkeletonRepairResult {
+    Skeleton skeleton;
+    // Per input vertex: its output vertex, or -1 for a joint inside a trunk (dropped).
+    std::vector<int> vertex_map;
+    int trunks = 0;          // trunk vertices inserted (one per repaired pair)
+    int absorbed_stubs = 0;  // stubs absorbed (one vertex t each)
+    int unseparated = 0;  // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
+                          // separate
+};
+
+// Preconditions: one finite radius > 0 per vertex, edge indices in range (as after analyze_skeleton and check_radii;
+// violations are not repaired but skipped). Pairs with a branch edge shorter than 1e-9 x its radius are skipped
+// (adaptation's degenerate repairs handle them).
+// Postconditions: V - E + F unchanged (each trunk adds t, the two crotch vertices and the trunk edge, and removes the
+// dropped joints with one edge each, the two first edges of the pair replaced); leaflet faces and their edges
+// unchanged; every output edge joins two distinct vertices. Output order: the kept input vertices in their order,
+// then per trunk t and the new crotch vertices; edges: the kept input edges in their order, then per trunk its edges.
+// Repairs are made one pair at a time, the most overlapping first (largest x / r_c), until no pair qualifies (at most
+// one per input branch edge). Deterministic. Complexity O(trunks x (pairs at branching points) x polyline length).
+SkeletonRepairResult repair_skeleton(const Skeleton& s, const SkeletonRepairOptions& o = {});
+
+}  // namespace mesohex

@@ -1,0 +1,139 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "mesohex/pipeline.h"
+#include "mesohex/post/quality.h"
+#include "mesohex/stages/generators.h"
+#include "mesohex/stages/skeleton_repair.h"
+
+using mesohex::Skeleton;
+using mesohex::Vec3;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+int degree(const Skeleton& s, int v) {
+    int d = 0;
+    for (const auto& e : s.edges) d += (e[0] == v) + (e[1] == v);
+    return d;
+}
+
+// Parent (0,0,-1) -> c = (0,0,0) -> two straight children of length `len` at +-half_angle from +z in the xz plane;
+// radius r everywhere. Vertices: 0 parent end, 1 c, 2 child +x, 3 child -x.
+Skeleton y_pair(double half_angle, double len, double r) {
+    Skeleton s;
+    s.points = {{0, 0, -1}, {0, 0, 0}, {len * std::sin(half_angle), 0, len * std::cos(half_angle)},
+                {-len * std::sin(half_angle), 0, len * std::cos(half_angle)}};
+    s.radii = {r, r, r, r};
+    s.edges = {{0, 1}, {1, 2}, {1, 3}};
+    return s;
+}
+
+}  // namespace
+
+// Two straight branches 20 degrees apart, radius 0.1: the tubes separate at l* = 0.1 / sin(10 deg) = 0.5759; the
+// trunk vertex lies on the bisector at x = (l* - r) / (1 + r / l*) = 0.4055 with radius r + x r / l* = 0.1704; the
+// branches leave it towards their points at l*.
+TEST(SkeletonRepair, TrunkForTwoStraightBranches20DegreesApart) {
+    const double r = 0.1, half = 10 * kDeg;
+    const Skeleton in = y_pair(half, 2.0, r);
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in);
+    EXPECT_EQ(res.trunks, 1);
+    EXPECT_EQ(res.absorbed_stubs, 0);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 7u);  // 4 + t + 2 crotch points
+    ASSERT_EQ(s.edges.size(), 6u);   // V - E unchanged (1)
+    for (int v = 0; v < 4; ++v) EXPECT_EQ(res.vertex_map[v], v);
+    const double l = r / std::sin(half), x = (l - r) / (1 + r / l);
+    EXPECT_NEAR(s.points[4].x, 0, 1e-9);
+    EXPECT_NEAR(s.points[4].z, x, 1e-7);
+    EXPECT_NEAR(s.radii[4], r + x * r / l, 1e-7);
+    EXPECT_NEAR(s.points[5].x, r, 1e-7);  // the crotch point of the +x branch: l* (sin 10, 0, cos 10)
+    EXPECT_NEAR(s.points[5].z, l * std::cos(half), 1e-7);
+    EXPECT_EQ(degree(s, 1), 2);  // c is a joint now: parent -> c -> t
+    EXPECT_EQ(degree(s, 4), 3);  // t branches
+    // At t the branches are 2 atan((l* sin 10) / (l* cos 10 - x)) = 61 degrees apart instead of 20.
+    const Vec3 a = normalized(s.points[5] - s.points[4]), b = normalized(s.points[6] - s.points[4]);
+    EXPECT_GT(std::acos(dot(a, b)), 55 * kDeg);
+}
+
+// 60 degrees apart: l* = 0.2, x = 0.067 < 0.7 (r_c + r_t) = 0.163: no trunk (the adaptation would collapse it again).
+TEST(SkeletonRepair, NoTrunkForBranchesFarApart) {
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(y_pair(30 * kDeg, 2.0, 0.1));
+    EXPECT_EQ(res.trunks, 0);
+    EXPECT_EQ(res.absorbed_stubs, 0);
+    EXPECT_EQ(res.skeleton.points.size(), 4u);
+    EXPECT_EQ(res.skeleton.edges.size(), 3u);
+}
+
+// A stub of length 0.3 at 20 degrees from a long branch (radius 0.1: the tubes separate only at 0.576): absorbed
+// into t = midpoint of its end (0.1026, 0, 0.2819) and (0, 0, 0.3), radius 0.1042 / 2 + 0.1 = 0.1521. c becomes a
+// joint: the skeleton is one branch, no junction.
+TEST(SkeletonRepair, StubAbsorbed) {
+    Skeleton in;
+    const double r = 0.1;
+    in.points = {{0, 0, -1}, {0, 0, 0}, {0, 0, 2}, {0.3 * std::sin(20 * kDeg), 0, 0.3 * std::cos(20 * kDeg)}};
+    in.radii = {r, r, r, r};
+    in.edges = {{0, 1}, {1, 2}, {1, 3}};
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in);
+    EXPECT_EQ(res.trunks, 0);
+    EXPECT_EQ(res.absorbed_stubs, 1);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 4u);  // parent end, c, long end, t (the stub's end is gone)
+    ASSERT_EQ(s.edges.size(), 3u);
+    EXPECT_EQ(res.vertex_map[3], -1);
+    const Vec3 e = in.points[3], p{0, 0, 0.3};
+    const Vec3 t = s.points[3];
+    EXPECT_NEAR(distance(t, 0.5 * (e + p)), 0, 1e-9);
+    EXPECT_NEAR(s.radii[3], 0.5 * distance(e, p) + r, 1e-9);
+    for (int v = 0; v < 4; ++v) EXPECT_LE(degree(s, v), 2);
+    EXPECT_FALSE(mesohex::repair_skeleton(in, {.trunks = true, .trunk_clearance = 0.7, .absorb_stubs = false})
+                     .absorbed_stubs);
+}
+
+// Leaflet vertices are never branching points of the repair; faces and their edges stay as they are.
+TEST(SkeletonRepair, LeafletsUntouched) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.1, -0.3, 0.0}, {-0.1, -0.3, 0.05}};
+    s.radii.assign(6, 0.1);
+    s.edges = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 4}, {0, 5}};
+    s.faces = {{0, 1, 2, 3}};
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(s);
+    EXPECT_EQ(res.trunks + res.absorbed_stubs, 0);
+    EXPECT_EQ(res.skeleton.edges, s.edges);
+}
+
+// Seeds of the random set (bench/random_set.sh) whose raw mesh the repair fixes (raw min SJ before -> after, measured):
+// seed 72, a stub 14 degrees from its sibling (radius 0.155, length 0.56), -0.133 (one inverted hex) -> 0.619; seed 37,
+// a stub 24 degrees from its sibling, 0.035 -> 0.630; seed 17, a short fat branch beside a long one, 0.060 -> 0.512;
+// seed 12, two stubs, 0.009 -> 0.288. Finished in their domains they went from missing the targets to 0.618 / 0.918 /
+// 1.17 % (37), 0.688 / 0.929 / 0.85 % (17), 0.619 / 0.929 / 0.70 % (12, 1 inverted hex before) (docs/tuning.md).
+TEST(SkeletonRepair, RandomSeedsWithStubs) {
+    struct Case {
+        int seed, stubs;
+        double bound;
+        int joints_now;  // branching points of degree 3 that lost their stub and became joints
+    };
+    for (const Case& c : std::vector<Case>{{72, 1, 0.55, 1}, {37, 1, 0.55, 1}, {17, 1, 0.45, 1}, {12, 2, 0.25, 1}}) {
+        const Skeleton in = mesohex::generate_random_skeleton(static_cast<std::uint64_t>(c.seed));
+        mesohex::PipelineOptions without;
+        without.repair.trunks = false;
+        without.repair.absorb_stubs = false;
+        const mesohex::PipelineResult before = mesohex::run_pipeline(in, without);
+        const mesohex::PipelineResult after = mesohex::run_pipeline(in);
+        const mesohex::QualityReport qb = mesohex::compute_quality(before.raw.mesh);
+        const mesohex::QualityReport qa = mesohex::compute_quality(after.raw.mesh);
+        EXPECT_EQ(after.absorbed_stubs, c.stubs) << c.seed;
+        EXPECT_EQ(after.trunks, 0) << c.seed;
+        EXPECT_LT(qb.sj_min, 0.1) << c.seed;
+        EXPECT_EQ(qa.inverted, 0) << c.seed;
+        EXPECT_GT(qa.sj_min, c.bound) << c.seed;
+        // Seed 12: one of its two stubs left a branching point of degree 4 (3 now).
+        EXPECT_EQ(after.analysis.counts.branching_points + c.joints_now, before.analysis.counts.branching_points)
+            << c.seed;
+    }
+}
