@@ -106,7 +106,7 @@ TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
 
     const nlohmann::json rep = mesh_report(run, {"segment.obj", "segment.mesh", "box.off", 1.0, 2.0});
     const std::set<std::string> expected = {"input", "output", "skeleton", "meshed_skeleton", "resampled", "radius",
-                                            "predicted", "prediction_matches", "quality", "raw_quality", "stages",
+                                            "predicted", "prediction_matches", "quality", "raw_quality", "repairs", "stages",
                                             "surface", "subdivision_levels", "fit", "untangled", "attempts",
                                             "free_branching_reach", "hausdorff", "timings_ms"};
     EXPECT_EQ(keys(rep), expected);
