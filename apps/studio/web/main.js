@@ -22,7 +22,9 @@ const st = {
   error: null,         // {message, where} of the last rejected skeleton
   meshRequests: 0,     // completed raw mesh updates (for tests)
   job: null,           // {id, version}
-  lastRoundTripMs: 0,
+  lastRoundTripMs: 0,   // request sent -> answer decoded
+  editAt: 0,            // performance.now() of the last edit
+  lastEditToMeshMs: 0,  // last edit -> its raw mesh drawn
 };
 const skel = () => st.undo.current;
 
@@ -229,6 +231,14 @@ function drawMesh() {
     const c = V.hexCentroids(mesh);
     keep = (h) => (flip ? c[3 * h + axis] >= cut : c[3 * h + axis] <= cut);
   }
+  // Peel: hide the outer `peel` layers of hexes (layers counted from the boundary, computed once per mesh).
+  const peel = +$('v-peel').value;
+  $('v-peel-val').textContent = String(peel);
+  if (peel > 0) {
+    const layers = resp.layers ??= V.hexLayers(mesh);
+    const clipKeep = keep;
+    keep = (h) => layers[h] >= peel && (!clipKeep || clipKeep(h));
+  }
   const shrink = +$('v-shrink').value;
   let quadPos, owner, cornerVerts = null;
   if (shrink < 0.999) {
@@ -339,7 +349,8 @@ function updateStats() {
       const d = mesh.boundary_distance.reduce((m, x) => Math.max(m, x), 0);
       rows.push(['Hausdorff (boundary)', `${d.toPrecision(3)} (${((100 * d) / st.domain.bbox_diagonal).toFixed(2)} % diag)`]);
     }
-    if (resp.server_ms !== undefined) rows.push(['server / round trip', `${(+resp.server_ms).toFixed(1)} / ${st.lastRoundTripMs.toFixed(0)} ms`]);
+    if (resp.server_ms !== undefined && stage === 'raw')
+      rows.push(['edit → mesh', `<span title="server ${(+resp.server_ms).toFixed(1)} ms, round trip ${st.lastRoundTripMs.toFixed(1)} ms">${st.lastEditToMeshMs.toFixed(0)} ms (server ${(+resp.server_ms).toFixed(0)})</span>`]);
   } else rows.push([`${stage} hexes`, `<span id="hexcount">–</span>`]);
   const a = st.analysis;
   if (a?.predicted) {
@@ -437,40 +448,46 @@ function toScreen(p) {
 }
 
 // ---------------------------------------------------------------- live mesh
-let meshTimer = null, meshAbort = null;
+// One raw-mesh request at a time: an edit sends the skeleton at once when none is in flight; edits made while one is
+// in flight are coalesced into one request for the latest skeleton, sent when the answer arrives (the older answer is
+// then not drawn). No debounce: a gizmo drag, a brush stroke or a typed coordinate is one edit when it ends.
+// The answer comes in binary form (float32 / uint32 arrays, binary_answer.js): the same content as the JSON API.
+let meshInFlight = false;
 
 function scheduleMesh() {
-  clearTimeout(meshTimer);
   if (!skel().points.length) {
     st.meshes.raw = null; st.analysis = null; showError(null); drawMesh();
     setStatus('empty', 'no skeleton: load one, take the curve skeleton of the domain, or press N');
     return;
   }
   setStatus('stale', 'mesh is stale: updating…');
-  meshTimer = setTimeout(runMesh, 60);
+  if (!meshInFlight) runMesh();
 }
 
 async function runMesh() {
-  meshAbort?.abort();
-  const ctl = new AbortController();
-  meshAbort = ctl;
+  meshInFlight = true;
   const version = st.version;
+  const editAt = st.editAt;
   const t0 = performance.now();
   try {
-    const resp = await api.mesh(M.toObj(skel()), 'raw', ctl.signal);
-    if (version !== st.version) return; // a newer edit is on its way
+    const resp = await api.meshBinary(M.toObj(skel()), 'raw');
+    if (version !== st.version) return; // a newer edit: its request goes out below
     st.lastRoundTripMs = performance.now() - t0;
     st.meshes.raw = resp;
     st.analysis = resp.analysis || null;
     st.meshedVersion = version;
-    st.meshRequests++;
     showError(null);
-    setStatus('ok', `raw mesh up to date: ${V.hexCount(resp.mesh)} hexes (${st.lastRoundTripMs.toFixed(0)} ms)`);
     drawSkeleton();
     if ($('v-stage').value === 'raw' || !st.meshes.final) { $('v-stage').value = 'raw'; }
     drawMesh();
+    renderNow();
+    // Edit -> updated mesh on screen: request, server, decoding, geometry and the draw call.
+    st.lastEditToMeshMs = performance.now() - editAt;
+    st.meshRequests++;
+    setStatus('ok', `raw mesh up to date: ${V.hexCount(resp.mesh)} hexes (${st.lastEditToMeshMs.toFixed(0)} ms)`);
+    updateStats();
   } catch (e) {
-    if (e.name === 'AbortError' || version !== st.version) return;
+    if (version !== st.version) return;
     st.meshRequests++;
     if (e instanceof api.ApiError) {
       showError({ message: e.message, where: e.where });
@@ -481,6 +498,9 @@ async function runMesh() {
     } else {
       setStatus('error', `server unreachable: ${e.message}`);
     }
+  } finally {
+    meshInFlight = false;
+    if (version !== st.version && skel().points.length) runMesh();
   }
 }
 
@@ -502,32 +522,60 @@ async function finish() {
   }
 }
 
-async function pollJob(id) {
+// Progress is streamed from the server (/api/jobs/ID/events, server-sent events); the result is fetched once the
+// job is finished. Polling every 250 ms takes over if the stream fails.
+function showJobProgress(id, j) {
+  const p = j.progress || {};
+  $('progress').value = p.steps ? p.step / p.steps : 0;
+  $('jobinfo').textContent = `job ${id}: ${j.state}${p.stage ? ` (${p.stage} ${p.step ?? ''}/${p.steps ?? ''})` : ''}`;
+  st.jobEvents = (st.jobEvents || 0) + 1;
+}
+
+function jobFinished(id, j) {
+  if (j.state === 'done') {
+    st.meshes.final = j.result;
+    $('v-stage').value = 'final';
+    $('progress').value = 1;
+    st.job = null;
+    if (st.meshedVersion === st.version)
+      setStatus('ok', `final mesh of this skeleton: ${V.hexCount(j.result.mesh)} hexes (raw: ${V.hexCount(st.meshes.raw?.mesh)})`);
+    drawMesh();
+    return;
+  }
+  if (j.error) {
+    $('jobinfo').textContent += `: ${j.error.message}`;
+    if (j.error.where && j.error.where.kind !== 'none') showError(j.error);
+  }
+  st.job = null;
+}
+
+const finishedState = (state) => state === 'done' || state === 'failed' || state === 'cancelled';
+
+function pollJob(id) {
+  if (typeof EventSource === 'undefined') { pollJobByRequests(id); return; }
+  const es = new EventSource(`/api/jobs/${id}/events`);
+  st.jobStream = es;
+  es.onmessage = async (ev) => {
+    if (!st.job || st.job.id !== id) { es.close(); return; }
+    const j = JSON.parse(ev.data);
+    showJobProgress(id, j);
+    if (!finishedState(j.state)) return;
+    es.close();
+    try { jobFinished(id, await api.job(id)); } catch (e) { $('jobinfo').textContent = `job ${id}: ${e.message}`; }
+  };
+  es.onerror = () => {
+    es.close();
+    if (st.job && st.job.id === id) pollJobByRequests(id);
+  };
+}
+
+async function pollJobByRequests(id) {
   while (st.job && st.job.id === id) {
     let j;
     try { j = await api.job(id); } catch (e) { $('jobinfo').textContent = `job ${id}: ${e.message}`; break; }
     if (!st.job || st.job.id !== id) break;
-    const p = j.progress || {};
-    $('progress').value = p.steps ? p.step / p.steps : 0;
-    $('jobinfo').textContent = `job ${id}: ${j.state}${p.stage ? ` (${p.stage} ${p.step ?? ''}/${p.steps ?? ''})` : ''}`;
-    if (j.state === 'done') {
-      st.meshes.final = j.result;
-      $('v-stage').value = 'final';
-      $('progress').value = 1;
-      st.job = null;
-      if (st.meshedVersion === st.version)
-        setStatus('ok', `final mesh of this skeleton: ${V.hexCount(j.result.mesh)} hexes (raw: ${V.hexCount(st.meshes.raw?.mesh)})`);
-      drawMesh();
-      break;
-    }
-    if (j.state === 'failed' || j.state === 'cancelled') {
-      if (j.error) {
-        $('jobinfo').textContent += `: ${j.error.message}`;
-        if (j.error.where && j.error.where.kind !== 'none') showError(j.error);
-      }
-      st.job = null;
-      break;
-    }
+    showJobProgress(id, j);
+    if (finishedState(j.state)) { jobFinished(id, j); break; }
     await new Promise((r) => setTimeout(r, 250));
   }
 }
@@ -536,6 +584,7 @@ async function cancelJob() {
   if (!st.job) return;
   const id = st.job.id;
   st.job = null;
+  st.jobStream?.close();
   $('jobinfo').textContent = `job ${id}: cancelled by the edit`;
   $('progress').hidden = true;
   await api.cancelJob(id);
@@ -544,6 +593,7 @@ async function cancelJob() {
 // ---------------------------------------------------------------- editing
 function changed({ frame = false } = {}) {
   st.version++;
+  st.editAt = performance.now();
   st.meshes.final = null; // a final mesh belongs to the skeleton it was made for
   if ($('v-stage').value === 'final') $('v-stage').value = 'raw';
   cancelJob();
@@ -926,7 +976,7 @@ $('btn-finish').onclick = finish;
 $('btn-shot').onclick = () => { renderNow(); download('mesohex-studio.png', canvas.toDataURL('image/png')); };
 document.querySelectorAll('[data-op]').forEach((b) => { b.onclick = () => op(b.dataset.op); });
 ['x', 'y', 'z'].forEach((k, d) => { $(`pos-${k}`).onchange = (ev) => { ev.target.blur(); moveTo(d, parseFloat(ev.target.value)); }; });
-for (const id of ['v-mesh', 'v-wire', 'v-color', 'v-sing', 'v-clip', 'v-clip-axis', 'v-clip-flip', 'v-clip-pos', 'v-shrink', 'v-stage', 'v-conn'])
+for (const id of ['v-mesh', 'v-wire', 'v-color', 'v-sing', 'v-clip', 'v-clip-axis', 'v-clip-flip', 'v-clip-pos', 'v-shrink', 'v-peel', 'v-stage', 'v-conn'])
   $(id).addEventListener('input', drawMesh);
 $('v-domain').oninput = () => { groups.domain.visible = $('v-domain').checked; render(); };
 $('v-skeleton').oninput = () => drawSkeleton();
@@ -984,6 +1034,7 @@ window.studio = {
   skeleton: skel,
   screenPosition: (v) => { const r = canvas.getBoundingClientRect(); const p = toScreen(skel().points[v]); return { x: r.left + p.x, y: r.top + p.y }; },
   hexCount: () => V.hexCount(currentMeshResponse()?.mesh),
+  select: (vertices) => { st.selV = vertices.slice(); st.selE = null; updateSelection(); drawSkeleton(); },
   renderNow,
   frameAll,
 };
