@@ -10,6 +10,7 @@
 // the field's change event to the frame drawn after the status says the mesh is up to date (so it works with any
 // version of the page): request, server, transfer, decoding, geometry and the draw call. Prints the median, mean,
 // min and max, the page's own split where it gives one (server_ms of the answer), and the load average.
+// --uncheck v-skeleton,v-wire,... turns view checkboxes off first (to see what drawing costs).
 // --web-dir serves another copy of the page (e.g. an older one, for before / after figures).
 import { spawn, execFileSync } from 'node:child_process';
 import fs from 'node:fs';
@@ -26,6 +27,7 @@ const arg = (name, fallback) => {
 const cli = path.resolve(arg('--cli', path.join(root, 'build/bin/mesohex')));
 const edits = Number(arg('--edits', '30'));
 const webDir = arg('--web-dir', null);
+const uncheck = (arg('--uncheck', '') || '').split(',').filter(Boolean);  // view checkboxes to turn off first
 const { chromium } = await import(path.join(root, 'apps/studio/web/node_modules/playwright-core/index.mjs'));
 
 const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'mesohex-studio-latency-'));
@@ -58,6 +60,7 @@ try {
     return s.meshedVersion === s.version && document.getElementById('status').dataset.state === 'ok';
   }, null, { timeout: 60000 });
   await settled();
+  for (const id of uncheck) await page.uncheck(`#${id}`);
   const hexes = await page.evaluate(() => window.studio.hexCount());
   const v = 0;
   // Select vertex 0 (by its screen position: the test hook `select` may not exist in an older page).
@@ -69,7 +72,7 @@ try {
   if (sel.length !== 1) throw new Error(`could not select one vertex (${sel})`);
   const x0 = await page.evaluate((i) => window.studio.skeleton().points[i][0], sel[0]);
 
-  const times = [], servers = [];
+  const times = [], servers = [], phases = [];
   for (let k = 0; k < edits; k++) {
     const x = x0 + (k % 2 === 0 ? 0.02 : 0);
     const r = await page.evaluate((xv) => new Promise((resolve) => {
@@ -81,13 +84,15 @@ try {
       const version = st.version;
       const poll = () => {
         if (st.meshedVersion >= version && document.getElementById('status').dataset.state === 'ok')
-          requestAnimationFrame(() => resolve({ ms: performance.now() - t0, server: st.meshes.raw?.server_ms }));
+          requestAnimationFrame(() => resolve({ ms: performance.now() - t0, server: st.meshes.raw?.server_ms,
+            phases: st.lastPhasesMs }));
         else setTimeout(poll, 0);
       };
       poll();
     }), x);
     times.push(r.ms);
     if (r.server !== undefined) servers.push(r.server);
+    if (r.phases) phases.push(r.phases);
     const h = await page.evaluate(() => window.studio.hexCount());
     if (h !== hexes) throw new Error(`hex count changed: ${hexes} -> ${h}`);
   }
@@ -99,6 +104,8 @@ try {
   console.log(`raw hexes: ${hexes}; edits: ${edits}; load average: ${os.loadavg().map((x) => x.toFixed(2)).join(' ')}`);
   console.log(`edit -> mesh drawn (ms): ${f(stats(times))}`);
   if (servers.length) console.log(`server_ms: ${f(stats(servers))}`);
+  if (phases.length)
+    for (const k of Object.keys(phases[0])) console.log(`page ${k} (ms): ${f(stats(phases.map((x) => x[k])))}`);
 } finally {
   await browser.close();
   proc.kill('SIGTERM');

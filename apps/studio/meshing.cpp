@@ -177,6 +177,7 @@ Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& req
 struct DrawArrays {
     std::vector<std::array<int, 3>> singular_edges;  // a, b, valence
     std::vector<std::array<int, 4>> boundary_quads;
+    std::vector<std::array<int, 1>> boundary_hexes;  // the hex of each boundary quad
     bool has_distance = false;
     std::vector<double> boundary_distance;  // per mesh vertex (final meshes in a domain)
     bool has_connection_surfaces = false;
@@ -234,6 +235,8 @@ DrawArrays draw_arrays(const Run& run, const Domain* domain, MeshTimings& timing
             out.singular_edges.push_back({topo.edges[e][0], topo.edges[e][1], topo.edge_valence[e]});
     }
     out.boundary_quads = topo.boundary_quads;
+    out.boundary_hexes.reserve(topo.boundary_face.size());
+    for (const int f : topo.boundary_face) out.boundary_hexes.push_back({topo.face_hexes[f][0]});
     timings.topology_ms = ms_since(t);
     if (run.run.finish && domain) {
         t = std::chrono::steady_clock::now();
@@ -265,7 +268,8 @@ void put_mesh(std::string& out, const Run& run, const DrawArrays& arrays) {
     put_key(out, "hexes"), put_ints(out, mesh.hexes), out += ',';
     put_key(out, "sj"), put_doubles(out, run.quality().sj), out += ',';
     put_key(out, "singular_edges"), put_ints(out, arrays.singular_edges), out += ',';
-    put_key(out, "boundary_quads"), put_ints(out, arrays.boundary_quads);
+    put_key(out, "boundary_quads"), put_ints(out, arrays.boundary_quads), out += ',';
+    put_key(out, "boundary_hexes"), put_ints(out, arrays.boundary_hexes);
     if (arrays.has_distance) out += ',', put_key(out, "boundary_distance"), put_doubles(out, arrays.boundary_distance);
     out += '}';
 }
@@ -380,6 +384,7 @@ std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const 
         append_f32(bin, "mesh.sj", run.quality().sj);
         append_u32_cells(bin, "mesh.singular_edges", arrays.singular_edges);
         append_u32_cells(bin, "mesh.boundary_quads", arrays.boundary_quads);
+        append_u32_cells(bin, "mesh.boundary_hexes", arrays.boundary_hexes);
         if (arrays.has_distance) append_f32(bin, "mesh.boundary_distance", arrays.boundary_distance);
         if (arrays.has_connection_surfaces) {
             append_f32(bin, "connection_surfaces.vertices", arrays.cs_points);

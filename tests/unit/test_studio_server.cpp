@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -201,6 +202,14 @@ TEST(StudioServer, RawMeshEqualsThePipelineOnGeneratedSkeletons) {
                                                                               sum_counts(q.singular_boundary_edges)))
             << name;
         EXPECT_EQ(mesh["boundary_quads"].size() % 4, 0u);
+        // One hex per boundary quad, and the quad's corners are corners of that hex.
+        ASSERT_EQ(4 * mesh["boundary_hexes"].size(), mesh["boundary_quads"].size()) << name;
+        for (std::size_t q = 0; q < mesh["boundary_hexes"].size(); ++q) {
+            const std::array<int, 8>& hex = res.raw.mesh.hexes[mesh["boundary_hexes"][q].get<std::size_t>()];
+            for (int k = 0; k < 4; ++k)
+                ASSERT_NE(std::find(hex.begin(), hex.end(), mesh["boundary_quads"][4 * q + k].get<int>()), hex.end())
+                    << name << " quad " << q;
+        }
         EXPECT_FALSE(mesh.contains("boundary_distance"));
         EXPECT_EQ(j["analysis"]["predicted"]["hexes"].get<long>(), res.predicted.hexes) << name;
         EXPECT_EQ(j["analysis"]["vertex_class"].size(), skeleton.points.size()) << name;
@@ -251,10 +260,11 @@ TEST(StudioServer, BinaryMeshIsTheJsonMeshInFloat32) {
         same_floats("mesh.sj", j["mesh"]["sj"]);
         same_ints("mesh.singular_edges", j["mesh"]["singular_edges"]);
         same_ints("mesh.boundary_quads", j["mesh"]["boundary_quads"]);
+        same_ints("mesh.boundary_hexes", j["mesh"]["boundary_hexes"]);
         same_floats("connection_surfaces.vertices", j["connection_surfaces"]["vertices"]);
         same_ints("connection_surfaces.quads", j["connection_surfaces"]["quads"]);
         EXPECT_FALSE(b.has("mesh.boundary_distance"));
-        EXPECT_EQ(b.names.size(), 7u);
+        EXPECT_EQ(b.names.size(), 8u);
     }
     // The default torus, a closed leaflet of 24 x 8 quads: one hex on each side of each quad (384 hexes), the mesh a
     // thick torus shell whose boundary is its two skins, one quad per hex (2 x 192).

@@ -132,6 +132,9 @@ const CLASS_COLORS = {
   BLJoint: 0xff9800, LLJoint: 0xba68c8, FanEdgeVertex: 0x9ccc65, FanEdgeEnd: 0x558b2f, Isolated: 0x888888,
 };
 const SELECT_COLOR = 0xffffff;
+const EDGE_SELECTED = [1, 1, 1], EDGE_BRANCH = [1, 0.85, 0.3], EDGE_FAN = [0.6, 0.8, 0.4], EDGE_LEAFLET = [0.4, 0.8, 1];
+// Above this many vertices the skeleton's vertices are drawn as points instead of spheres.
+const MANY_VERTICES = 400;
 let vertexMesh = null, edgeLines = null, previewPoints = null;
 
 // Vertex markers: small against the scene, and against the skeleton's own edges (a fine skeleton, e.g. an imported
@@ -150,7 +153,29 @@ function drawSkeleton(s = skel()) {
   const points = s.points;
   const n = points.length;
   vertexMesh = null; edgeLines = null;
-  if (n) {
+  if (n > MANY_VERTICES) {
+    // A large skeleton (e.g. an imported medial mesh): pixel-sized points, cheap to draw; the selection on top.
+    const classes = st.analysis && st.analysis.vertex_class?.length === n ? st.analysis.vertex_class : null;
+    const pos = new Float32Array(3 * n), col = new Float32Array(3 * n), c = new THREE.Color();
+    for (let i = 0; i < n; i++) {
+      pos[3 * i] = points[i][0]; pos[3 * i + 1] = points[i][1]; pos[3 * i + 2] = points[i][2];
+      c.setHex(classes ? CLASS_COLORS[classes[i]] ?? 0x888888 : 0xaaaaaa);
+      col[3 * i] = c.r; col[3 * i + 1] = c.g; col[3 * i + 2] = c.b;
+    }
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+    g.setAttribute('color', new THREE.BufferAttribute(col, 3));
+    const pts = new THREE.Points(g, new THREE.PointsMaterial({ size: 5, sizeAttenuation: false, vertexColors: true, depthTest: false }));
+    pts.renderOrder = 20;
+    groups.skeleton.add(pts);
+    if (st.selV.length) {
+      const sg = new THREE.BufferGeometry();
+      sg.setAttribute('position', new THREE.Float32BufferAttribute(st.selV.flatMap((v) => points[v] || []), 3));
+      const sel = new THREE.Points(sg, new THREE.PointsMaterial({ size: 9, sizeAttenuation: false, color: SELECT_COLOR, depthTest: false }));
+      sel.renderOrder = 21;
+      groups.skeleton.add(sel);
+    }
+  } else if (n) {
     const geo = new THREE.SphereGeometry(vertexSize(), 14, 10);
     vertexMesh = new THREE.InstancedMesh(geo, new THREE.MeshPhongMaterial({ color: 0xffffff, depthTest: false }), n);
     const classes = st.analysis && st.analysis.vertex_class?.length === n ? st.analysis.vertex_class : null;
@@ -167,18 +192,19 @@ function drawSkeleton(s = skel()) {
     groups.skeleton.add(vertexMesh);
   }
   if (s.edges.length) {
-    const pos = [], colr = [];
-    const kinds = st.analysis && st.analysis.edge_kind?.length === s.edges.length ? st.analysis.edge_kind : null;
+    const ne = s.edges.length;
+    const pos = new Float32Array(6 * ne), colr = new Float32Array(6 * ne);
+    const kinds = st.analysis && st.analysis.edge_kind?.length === ne ? st.analysis.edge_kind : null;
     const selKey = st.selE ? M.edgeKey(...st.selE) : null;
     s.edges.forEach((e, i) => {
-      pos.push(...points[e[0]], ...points[e[1]]);
-      const c = M.edgeKey(e[0], e[1]) === selKey ? [1, 1, 1]
-        : kinds?.[i] === 'branch' ? [1, 0.85, 0.3] : kinds?.[i] === 'fan' ? [0.6, 0.8, 0.4] : [0.4, 0.8, 1];
-      colr.push(...c, ...c);
+      pos.set(points[e[0]], 6 * i); pos.set(points[e[1]], 6 * i + 3);
+      const c = selKey !== null && M.edgeKey(e[0], e[1]) === selKey ? EDGE_SELECTED
+        : kinds?.[i] === 'branch' ? EDGE_BRANCH : kinds?.[i] === 'fan' ? EDGE_FAN : EDGE_LEAFLET;
+      colr.set(c, 6 * i); colr.set(c, 6 * i + 3);
     });
     const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
-    g.setAttribute('color', new THREE.Float32BufferAttribute(colr, 3));
+    g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+    g.setAttribute('color', new THREE.BufferAttribute(colr, 3));
     edgeLines = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false }));
     edgeLines.renderOrder = 19;
     groups.skeleton.add(edgeLines);
@@ -245,42 +271,45 @@ function drawMesh() {
     const r = V.shrunkQuads(mesh, shrink, keep);
     quadPos = r.positions; owner = r.owner;
   } else {
-    // Only the faces not shared by two shown hexes: the boundary (plus the cut when clipped).
-    const r = V.visibleQuads(mesh, keep);
-    owner = r.owner; cornerVerts = r.quads;
-    quadPos = new Float32Array(r.quads.length * 3);
-    r.quads.forEach((v, i) => { quadPos[3 * i] = mesh.vertices[3 * v]; quadPos[3 * i + 1] = mesh.vertices[3 * v + 1]; quadPos[3 * i + 2] = mesh.vertices[3 * v + 2]; });
+    // Only the faces not shared by two shown hexes: the boundary (plus the cut when clipped). With every hex shown,
+    // the server's boundary quads and their hexes.
+    if (!keep && mesh.boundary_quads && mesh.boundary_hexes?.length * 4 === mesh.boundary_quads.length) {
+      cornerVerts = mesh.boundary_quads; owner = mesh.boundary_hexes;
+    } else {
+      const r = V.visibleQuads(mesh, keep);
+      owner = r.owner; cornerVerts = r.quads;
+    }
+    const P = mesh.vertices, nc = cornerVerts.length;
+    quadPos = new Float32Array(nc * 3);
+    for (let i = 0; i < nc; i++) {
+      const v = 3 * cornerVerts[i];
+      quadPos[3 * i] = P[v]; quadPos[3 * i + 1] = P[v + 1]; quadPos[3 * i + 2] = P[v + 2];
+    }
   }
   const mode = $('v-color').value;
   const nq = owner.length;
   const colors = new Float32Array(nq * 12);
   const dist = mesh.boundary_distance;
   const maxDist = dist?.length ? dist.reduce((m, x) => Math.max(m, x), 0) : 0;
-  for (let q = 0; q < nq; q++)
-    for (let k = 0; k < 4; k++) {
-      let c;
-      if (mode === 'dist' && dist?.length && cornerVerts) c = V.distanceColor(dist[cornerVerts[4 * q + k]], maxDist);
-      else if (mode === 'plain' || (mode === 'dist')) c = [0.78, 0.8, 0.85];
-      else c = V.sjColor(sj[owner[q]]);
-      colors.set(c, 12 * q + 3 * k);
-    }
-  const tri = V.trianglesFromQuads(quadPos, colors);
+  const byDistance = mode === 'dist' && dist?.length && cornerVerts;
+  const plain = [0.78, 0.8, 0.85];
+  for (let q = 0; q < nq; q++) {
+    const hexColor = byDistance ? null : mode === 'sj' ? V.sjColor(sj[owner[q]]) : plain;
+    for (let k = 0; k < 4; k++) colors.set(hexColor || V.distanceColor(dist[cornerVerts[4 * q + k]], maxDist), 12 * q + 3 * k);
+  }
+  const position = new THREE.BufferAttribute(quadPos instanceof Float32Array ? quadPos : new Float32Array(quadPos), 3);
   const g = new THREE.BufferGeometry();
-  g.setAttribute('position', new THREE.BufferAttribute(tri.positions, 3));
-  g.setAttribute('color', new THREE.BufferAttribute(tri.colors, 3));
-  g.computeVertexNormals();
+  g.setAttribute('position', position);
+  g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+  g.setIndex(new THREE.BufferAttribute(V.quadTriangleIndex(nq), 1));
+  // Flat shading takes the normal from the screen-space derivatives: no normals needed.
   const meshObj = new THREE.Mesh(g, new THREE.MeshPhongMaterial({ vertexColors: true, side: THREE.DoubleSide,
     flatShading: true, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
   groups.mesh.add(meshObj);
   if ($('v-wire').checked) {
-    const lp = new Float32Array(nq * 24);
-    for (let q = 0; q < nq; q++)
-      for (let k = 0; k < 4; k++) {
-        const a = 12 * q + 3 * k, bb = 12 * q + 3 * ((k + 1) % 4);
-        lp.set([quadPos[a], quadPos[a + 1], quadPos[a + 2], quadPos[bb], quadPos[bb + 1], quadPos[bb + 2]], 24 * q + 6 * k);
-      }
     const lg = new THREE.BufferGeometry();
-    lg.setAttribute('position', new THREE.BufferAttribute(lp, 3));
+    lg.setAttribute('position', position);
+    lg.setIndex(new THREE.BufferAttribute(V.quadLineIndex(nq), 1));
     groups.mesh.add(new THREE.LineSegments(lg, new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.5 })));
   }
   if ($('v-sing').checked && mesh.singular_edges?.length) {
@@ -472,15 +501,20 @@ async function runMesh() {
   try {
     const resp = await api.meshBinary(M.toObj(skel()), 'raw');
     if (version !== st.version) return; // a newer edit: its request goes out below
-    st.lastRoundTripMs = performance.now() - t0;
+    const t1 = performance.now();
+    st.lastRoundTripMs = t1 - t0;
     st.meshes.raw = resp;
     st.analysis = resp.analysis || null;
     st.meshedVersion = version;
     showError(null);
     drawSkeleton();
+    const t2 = performance.now();
     if ($('v-stage').value === 'raw' || !st.meshes.final) { $('v-stage').value = 'raw'; }
     drawMesh();
+    const t3 = performance.now();
     renderNow();
+    const t4 = performance.now();
+    st.lastPhasesMs = { queued: t0 - editAt, roundTrip: t1 - t0, skeleton: t2 - t1, mesh: t3 - t2, render: t4 - t3 };
     // Edit -> updated mesh on screen: request, server, decoding, geometry and the draw call.
     st.lastEditToMeshMs = performance.now() - editAt;
     st.meshRequests++;

@@ -180,18 +180,23 @@ export function bounds(flat) {
   return { min, max, diagonal };
 }
 
-// Per quad colours from a per-hex value or per-vertex value, expanded to the 6 triangle corners of each quad
-// (two triangles a,b,c / a,c,d), with positions. quadsPos: flat positions, 4 corners per quad.
-export function trianglesFromQuads(quadPositions, cornerColors) {
-  const nq = quadPositions.length / 12;
-  const pos = new Float32Array(nq * 18), col = new Float32Array(nq * 18);
-  const order = [0, 1, 2, 0, 2, 3];
-  for (let q = 0; q < nq; q++)
-    order.forEach((k, j) => {
-      for (let d = 0; d < 3; d++) {
-        pos[18 * q + 3 * j + d] = quadPositions[12 * q + 3 * k + d];
-        col[18 * q + 3 * j + d] = cornerColors[12 * q + 3 * k + d];
-      }
-    });
-  return { positions: pos, colors: col };
+// Index buffers over quad corners (4 per quad, in order): two triangles a,b,c / a,c,d per quad, and the 4 sides as
+// line segments. The corners' positions and colours are shared by both.
+export function quadTriangleIndex(nq) {
+  const idx = new Uint32Array(6 * nq);
+  for (let q = 0; q < nq; q++) {
+    const b = 4 * q, i = 6 * q;
+    idx[i] = b; idx[i + 1] = b + 1; idx[i + 2] = b + 2; idx[i + 3] = b; idx[i + 4] = b + 2; idx[i + 5] = b + 3;
+  }
+  return idx;
+}
+
+export function quadLineIndex(nq) {
+  const idx = new Uint32Array(8 * nq);
+  for (let q = 0; q < nq; q++) {
+    const b = 4 * q, i = 8 * q;
+    idx[i] = b; idx[i + 1] = b + 1; idx[i + 2] = b + 1; idx[i + 3] = b + 2;
+    idx[i + 4] = b + 2; idx[i + 5] = b + 3; idx[i + 6] = b + 3; idx[i + 7] = b;
+  }
+  return idx;
 }

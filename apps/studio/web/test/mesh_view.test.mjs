@@ -50,8 +50,14 @@ test('shrunk quads: every face of every hex, moved towards the hex centre', () =
   assert.equal(r.positions.length, 12 * 12);
   // Hex 0's corners are at 0.25 / 0.75 in every coordinate.
   for (let i = 0; i < 6 * 12; i++) assert.ok([0.25, 0.75].includes(r.positions[i]), `${r.positions[i]}`);
-  const t = V.trianglesFromQuads(r.positions, new Float32Array(r.positions.length).fill(0.5));
-  assert.equal(t.positions.length, 12 * 18);
+  const nq = r.positions.length / 12;
+  assert.equal(nq, 12);
+  const tri = V.quadTriangleIndex(nq), lines = V.quadLineIndex(nq);
+  assert.equal(tri.length, 6 * nq);
+  assert.deepEqual([...tri.slice(6, 12)], [4, 5, 6, 4, 6, 7]);
+  assert.equal(lines.length, 8 * nq);
+  assert.deepEqual([...lines.slice(8, 16)], [4, 5, 5, 6, 6, 7, 7, 4]);
+  assert.equal(Math.max(...tri), 4 * nq - 1);
 });
 
 test('scaled-Jacobian histogram has a <= 0 bin; stats count the inverted', () => {
