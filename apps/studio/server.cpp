@@ -141,6 +141,13 @@ httplib::Server::HandlerWithContentReader with_body(std::size_t max_bytes, F f) 
             std::string body;
             bool too_large = false;
             bool ok = false;
+            // No Content-Length and not chunked: no body (RFC 9112, 6.3); httplib would wait for the connection to
+            // close (`curl -X POST` without data).
+            if (!req.has_header("Content-Length") &&
+                req.get_header_value("Transfer-Encoding").find("chunked") == std::string::npos) {
+                f(req, body, res);
+                return;
+            }
             if (req.is_multipart_form_data()) {
                 reader([](const httplib::MultipartFormData&) { return true; },
                        [](const char*, std::size_t) { return true; });

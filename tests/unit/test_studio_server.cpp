@@ -53,8 +53,14 @@ httplib::Result post(httplib::Client& c, const std::string& path, const std::str
     return c.Post(path.c_str(), body, type);
 }
 
+int raw_request_status(int port, const std::string& request);
+
 // The raw bytes of a request sent as-is on a socket (no client-side path normalization); the status line's code.
 int raw_get_status(int port, const std::string& target) {
+    return raw_request_status(port, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+}
+
+int raw_request_status(int port, const std::string& req) {
     const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
     sockaddr_in addr{};
     addr.sin_family = AF_INET;
@@ -64,7 +70,6 @@ int raw_get_status(int port, const std::string& target) {
         ::close(fd);
         return -1;
     }
-    const std::string req = "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
     if (::send(fd, req.data(), req.size(), 0) != static_cast<ssize_t>(req.size())) {
         ::close(fd);
         return -1;
@@ -384,6 +389,15 @@ TEST(StudioServer, RejectedSkeletonsNameTheElement) {
 }
 
 // Bad requests of every kind get a 4xx JSON error, and the server keeps answering.
+// A POST without Content-Length (and not chunked) has no body (`curl -X POST`): read as empty instead of waiting for
+// the connection to close and failing with 400 "could not read the request body".
+TEST(StudioServer, PostWithoutContentLengthHasAnEmptyBody) {
+    auto s = start_studio({});
+    const std::string head = " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+    EXPECT_EQ(raw_request_status(s.port, "POST /api/auto-skeleton" + head), 409);  // needs a domain
+    EXPECT_EQ(raw_request_status(s.port, "POST /api/save" + head), 403);           // no --save target
+}
+
 TEST(StudioServer, MalformedRequestsGet4xxJsonAndTheServerKeepsAnswering) {
     auto s = start_studio({});
     struct Case {
