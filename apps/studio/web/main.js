@@ -383,7 +383,7 @@ function updateStats() {
   } else rows.push([`${stage} hexes`, `<span id="hexcount">–</span>`]);
   const a = st.analysis;
   if (a?.predicted) {
-    rows.push(['predicted hexes', `<span id="predicted">${a.predicted.hexes}</span>`]);
+    rows.push(['predicted raw hexes', `<span id="predicted">${a.predicted.hexes}</span>`]);
     const irr = (o) => Object.entries(o || {}).map(([k, v]) => `${v}×v${k}`).join(' ') || 'none';
     rows.push(['irregular (interior)', irr(a.predicted.irregular_edges?.interior)]);
     rows.push(['irregular (boundary)', irr(a.predicted.irregular_edges?.boundary)]);
