@@ -493,6 +493,11 @@ function scheduleMesh() {
   if (!meshInFlight) runMesh();
 }
 
+function sameAnalysis(a, b) {
+  const same = (x, y) => x && y && x.length === y.length && x.every((v, i) => v === y[i]);
+  return !!(a && b && same(a.vertex_class, b.vertex_class) && same(a.edge_kind, b.edge_kind));
+}
+
 async function runMesh() {
   meshInFlight = true;
   const version = st.version;
@@ -504,10 +509,12 @@ async function runMesh() {
     const t1 = performance.now();
     st.lastRoundTripMs = t1 - t0;
     st.meshes.raw = resp;
+    // The skeleton is redrawn only when its colours (vertex classes, edge kinds) changed or an error was shown.
+    const recolour = !sameAnalysis(st.analysis, resp.analysis) || st.error;
     st.analysis = resp.analysis || null;
     st.meshedVersion = version;
     showError(null);
-    drawSkeleton();
+    if (recolour) drawSkeleton();
     const t2 = performance.now();
     if ($('v-stage').value === 'raw' || !st.meshes.final) { $('v-stage').value = 'raw'; }
     drawMesh();
@@ -631,6 +638,8 @@ function changed({ frame = false } = {}) {
   st.meshes.final = null; // a final mesh belongs to the skeleton it was made for
   if ($('v-stage').value === 'final') $('v-stage').value = 'raw';
   cancelJob();
+  // The request first: the server meshes while the page redraws the skeleton.
+  scheduleMesh();
   const n = skel().points.length;
   st.selV = st.selV.filter((v) => v < n);
   if (st.selE && (st.selE[0] >= n || st.selE[1] >= n || M.findEdge(skel(), ...st.selE) < 0)) st.selE = null;
@@ -638,7 +647,6 @@ function changed({ frame = false } = {}) {
   updateSelection();
   updateCounts();
   if (frame) frameAll();
-  scheduleMesh();
 }
 
 function commit(next, label) {
