@@ -43,8 +43,16 @@ void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector
 }
 
 std::string binary_answer(nlohmann::json header, const BinaryArrays& arrays) {
-    header["arrays"] = arrays.list;
-    std::string text = header.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    header.erase("arrays");
+    return binary_answer_text(header.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), arrays);
+}
+
+std::string binary_answer_text(std::string text, const BinaryArrays& arrays) {
+    while (!text.empty() && text.back() != '}') text.pop_back();
+    if (text.size() < 2 || text.front() != '{') throw std::invalid_argument("binary answer: header is not an object");
+    text.pop_back();
+    if (text.find_first_not_of(" \t\r\n", 1) != std::string::npos) text += ',';
+    text += "\"arrays\":" + arrays.list.dump() + '}';
     text.append((4 - text.size() % 4) % 4, ' ');
     std::string out;
     out.reserve(12 + text.size() + arrays.bytes.size());

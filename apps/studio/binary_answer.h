@@ -36,6 +36,9 @@ void append_u32_cells(BinaryArrays& arrays, const std::string& name, const Cells
 
 // The whole answer: header (an object; "arrays" is set from `arrays`) then the arrays.
 std::string binary_answer(nlohmann::json header, const BinaryArrays& arrays);
+// The same with the header given as the text of a JSON object without "arrays" (`{...}`, e.g. written by hand so that
+// large members are serialized once); "arrays" is appended as its last member.
+std::string binary_answer_text(std::string header_object, const BinaryArrays& arrays);
 
 // Reading it back (tests, scripts): the header and every array as doubles (f32) or uint32 (u32), by name.
 // Throws std::invalid_argument on a malformed answer (bad magic or version, sizes that do not add up).

@@ -390,13 +390,13 @@ std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const 
             append_f32(bin, "connection_surfaces.vertices", arrays.cs_points);
             append_u32_cells(bin, "connection_surfaces.quads", arrays.cs_quads);
         }
+        std::string header = "{\"report\":" + run.report.dump(-1, ' ', false, kUtf8Replace);
+        header += ",\"analysis\":" + analysis.dump(-1, ' ', false, kUtf8Replace);
         tm.encode_ms = ms_since(t);
         tm.total_ms = ms_since(t0);
-        out = binary_answer({{"report", run.report},
-                             {"analysis", std::move(analysis)},
-                             {"server_ms", tm.total_ms},
-                             {"server_phases_ms", timings_json(tm)}},
-                            bin);
+        header += ",\"server_ms\":", put(header, tm.total_ms);
+        header += ",\"server_phases_ms\":" + timings_json(tm).dump() + '}';
+        out = binary_answer_text(std::move(header), bin);
     } else {
         out.reserve(64 * run.mesh().hexes.size() + 4096);
         out += '{';

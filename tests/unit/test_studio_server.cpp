@@ -303,6 +303,12 @@ TEST(StudioServer, BinaryAnswerReaderRejectsTruncatedBodies) {
     EXPECT_THROW(studio::decode_binary_answer(full + "zzzz"), std::invalid_argument);
     EXPECT_THROW(studio::decode_binary_answer("MHXA" + full.substr(4)), std::invalid_argument);
     EXPECT_THROW(studio::decode_binary_answer(""), std::invalid_argument);
+    // A header written as text: "arrays" appended as its last member, also to an empty object.
+    EXPECT_EQ(studio::decode_binary_answer(studio::binary_answer_text("{\"x\": 1}", arrays)).header["x"], 1);
+    const studio::DecodedAnswer e = studio::decode_binary_answer(studio::binary_answer_text("{}", arrays));
+    EXPECT_EQ(e.header.size(), 1u);
+    EXPECT_EQ(e.reals("a").size(), 2u);
+    EXPECT_THROW(studio::binary_answer_text("[1]", arrays), std::invalid_argument);
 }
 
 // The bundled example: the same report keys and quality as `mesohex mesh --report` (raw mesh, no domain).
