@@ -1,9 +1,11 @@
 // Studio latency: the raw mesh the page asks for after every edit (POST /api/mesh?stage=raw), at about 10 k hexes.
-//   BM_StudioRawServer       mesh_response alone: parse nothing, run the raw pipeline, build the JSON body (the
-//                            server's share of an edit)
-//   BM_StudioRawRoundTrip    the full HTTP round trip over loopback: OBJ text up, JSON body down, through a studio
-//                            server started in-process on a free port (httplib::Client; the browser's JSON.parse
-//                            and drawing are not included). Counter server_ms = the server time the body reports.
+//   BM_StudioRawServer/E       mesh_response alone: run the raw pipeline, build the body (the server's share of an
+//                              edit). Counters: the phases of MeshTimings (ms per run, averaged).
+//   BM_StudioRawRoundTrip/E    the full HTTP round trip over loopback: OBJ text up, body down, through a studio
+//                              server started in-process on a free port (httplib::Client; the browser's decoding
+//                              and drawing are not included: bench/studio_page_latency.mjs measures those).
+//                              Counter server_ms = the server time the body reports.
+// E: 0 = JSON body (the documented API), 1 = binary body (encoding=binary, what the page asks for).
 // Skeleton: generated torus 128 x 40 quads, 10240 raw hexes (2 per leaflet face, no boundary).
 #include <benchmark/benchmark.h>
 
@@ -12,6 +14,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "binary_answer.h"
 #include "meshing.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex_io/skeleton_io.h"
@@ -26,18 +29,37 @@ Skeleton torus_10k() { return generate_skeleton("torus", {.n = 128, .m = 40}); }
 void BM_StudioRawServer(benchmark::State& state) {
     const Skeleton s = torus_10k();
     studio::MeshRequest request;
+    request.encoding = state.range(0) ? studio::Encoding::Binary : studio::Encoding::Json;
     std::size_t bytes = 0;
+    studio::MeshTimings sum;
+    long runs = 0;
     for (auto _ : state) {
-        const std::string body = studio::mesh_response(s, nullptr, request);
+        studio::MeshTimings t;
+        const std::string body = studio::mesh_response(s, nullptr, request, &t);
         bytes = body.size();
         benchmark::DoNotOptimize(body.data());
+        sum.mesh_ms += t.mesh_ms, sum.pipeline_ms += t.pipeline_ms, sum.quality_ms += t.quality_ms;
+        sum.report_ms += t.report_ms, sum.topology_ms += t.topology_ms;
+        sum.connection_surfaces_ms += t.connection_surfaces_ms, sum.encode_ms += t.encode_ms;
+        sum.total_ms += t.total_ms;
+        ++runs;
     }
+    const double n = runs ? static_cast<double>(runs) : 1.0;
     state.counters["hexes"] = 2.0 * 128 * 40;
     state.counters["body_MB"] = static_cast<double>(bytes) / 1e6;
+    state.counters["mesh"] = sum.mesh_ms / n;
+    state.counters["pipeline"] = sum.pipeline_ms / n;
+    state.counters["quality"] = sum.quality_ms / n;
+    state.counters["report"] = sum.report_ms / n;
+    state.counters["topology"] = sum.topology_ms / n;
+    state.counters["conn_surf"] = sum.connection_surfaces_ms / n;
+    state.counters["encode"] = sum.encode_ms / n;
+    state.counters["total"] = sum.total_ms / n;
 }
-BENCHMARK(BM_StudioRawServer)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StudioRawServer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_StudioRawRoundTrip(benchmark::State& state) {
+    const bool binary = state.range(0) != 0;
     const std::string text = skeleton_text(torus_10k(), "obj", "torus");
     studio::StudioOptions options;
     options.port = 0;
@@ -45,16 +67,18 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
     const int port = server.start();
     httplib::Client client("127.0.0.1", port);
     client.set_read_timeout(60, 0);
+    const std::string path = binary ? "/api/mesh?stage=raw&encoding=binary" : "/api/mesh?stage=raw";
     double server_ms = 0;
     long runs = 0;
     for (auto _ : state) {
-        const auto r = client.Post("/api/mesh?stage=raw", text, "text/plain");
+        const auto r = client.Post(path, text, "text/plain");
         if (!r || r->status != 200) {
             state.SkipWithError("request failed");
             break;
         }
         state.PauseTiming();
-        server_ms += nlohmann::json::parse(r->body)["server_ms"].get<double>();
+        const nlohmann::json j = binary ? studio::decode_binary_answer(r->body).header : nlohmann::json::parse(r->body);
+        server_ms += j["server_ms"].get<double>();
         ++runs;
         state.ResumeTiming();
     }
@@ -62,6 +86,6 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
     state.counters["hexes"] = 2.0 * 128 * 40;
     server.stop();
 }
-BENCHMARK(BM_StudioRawRoundTrip)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StudioRawRoundTrip)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

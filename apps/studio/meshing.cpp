@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "binary_answer.h"
 #include "mesohex/core/error.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/mesh.h"
@@ -149,65 +150,96 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& request) {
+Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& request, MeshTimings& tm) {
     MeshOptions options;  // the defaults of `mesohex mesh`
     options.finish = request.finish;
     options.progress = request.progress;
+    options.keep_raw_topology = !request.finish;  // drawn from (singular edges, boundary quads)
     Run r;
     // The session's surface query, built once, instead of one per request (about 100 ms on a 27 k-triangle domain;
     // an edit must take less than 50 ms).
+    auto t = std::chrono::steady_clock::now();
     r.run = mesh_skeleton(input, domain ? &domain->surface : nullptr,
                           domain && domain->query ? &*domain->query : nullptr, options);
+    tm.mesh_ms = ms_since(t);
+    tm.pipeline_ms = r.run.pipeline_ms;
+    tm.quality_ms = r.run.raw_quality_ms;
+    t = std::chrono::steady_clock::now();
     ReportContext context;
     context.input = request.skeleton_name;
     if (r.run.finish && domain) context.surface = domain->name;
     r.report = mesh_report(r.run, context);
+    tm.report_ms = ms_since(t);
     return r;
+}
+
+// The arrays the page draws, computed once and then written as JSON or binary.
+struct DrawArrays {
+    std::vector<std::array<int, 3>> singular_edges;  // a, b, valence
+    std::vector<std::array<int, 4>> boundary_quads;
+    std::vector<std::array<int, 1>> boundary_hexes;  // the hex of each boundary quad
+    bool has_distance = false;
+    std::vector<double> boundary_distance;  // per mesh vertex (final meshes in a domain)
+    bool has_connection_surfaces = false;
+    std::vector<Vec3> cs_points;
+    std::vector<std::array<int, 4>> cs_quads;
+};
+
+nlohmann::json timings_json(const MeshTimings& t) {
+    return {{"mesh", t.mesh_ms},
+            {"pipeline", t.pipeline_ms},
+            {"quality", t.quality_ms},
+            {"report", t.report_ms},
+            {"topology", t.topology_ms},
+            {"connection_surfaces", t.connection_surfaces_ms},
+            {"distance", t.distance_ms},
+            {"encode", t.encode_ms},
+            {"total", t.total_ms}};
 }
 
 // Connection surfaces of the meshed skeleton, drawn with the raw mesh's own vertices: the point x of the surface of
 // skeleton vertex v is raw vertex vertex_base[v] + 1 + x (raw_mesh.h).
-void put_connection_surfaces(std::string& out, const Run& run) {
+void connection_surface_arrays(const Run& run, DrawArrays& out) {
     const PipelineResult& res = run.run.pipeline;
     const ConnectionSurfaces cs =
         build_connection_surfaces(res.skeleton, res.analysis, run.run.options.connection_surfaces);
-    std::vector<Vec3> points;
-    std::vector<std::array<int, 4>> quads;
     const int nv = static_cast<int>(res.skeleton.points.size());
     const auto& mesh_points = res.raw.mesh.points;
+    out.has_connection_surfaces = true;
     for (int v = 0; v < nv; ++v) {
         const int p0 = cs.point_begin[v], p1 = cs.point_begin[v + 1];
         const int base = res.raw.vertex_base[v];
         if (p1 == p0 || base < 0 || base + 1 + (p1 - p0) > static_cast<int>(mesh_points.size())) continue;
-        const int first = static_cast<int>(points.size());
-        for (int x = 0; x < p1 - p0; ++x) points.push_back(mesh_points[base + 1 + x]);
+        const int first = static_cast<int>(out.cs_points.size());
+        for (int x = 0; x < p1 - p0; ++x) out.cs_points.push_back(mesh_points[base + 1 + x]);
         for (int q = cs.quad_begin[v]; q < cs.quad_begin[v + 1]; ++q) {
             const std::array<int, 4>& local = cs.quads[q];
-            quads.push_back({first + local[0], first + local[1], first + local[2], first + local[3]});
+            out.cs_quads.push_back({first + local[0], first + local[1], first + local[2], first + local[3]});
         }
     }
-    out += '{';
-    put_key(out, "vertices"), put_points(out, points), out += ',';
-    put_key(out, "quads"), put_ints(out, quads);
-    out += '}';
 }
 
-void put_mesh(std::string& out, const Run& run, const Domain* domain) {
+DrawArrays draw_arrays(const Run& run, const Domain* domain, MeshTimings& timings) {
+    auto t = std::chrono::steady_clock::now();
     const HexMesh& mesh = run.mesh();
-    const HexTopology topo = compute_hex_topology(mesh);
-    std::vector<std::array<int, 3>> singular;
+    // The raw mesh's topology comes with its quality (MeshOptions::keep_raw_topology); a final mesh's is computed.
+    const bool raw = !run.run.finish;
+    const bool kept = raw && run.run.raw_topology.hex_faces.size() == mesh.hexes.size();
+    HexTopology computed;
+    if (!kept) computed = compute_hex_topology(mesh);
+    const HexTopology& topo = kept ? run.run.raw_topology : computed;
+    DrawArrays out;
     for (std::size_t e = 0; e < topo.edges.size(); ++e) {
         const int regular = topo.edge_on_boundary[e] ? 2 : 4;
         if (topo.edge_valence[e] != regular)
-            singular.push_back({topo.edges[e][0], topo.edges[e][1], topo.edge_valence[e]});
+            out.singular_edges.push_back({topo.edges[e][0], topo.edges[e][1], topo.edge_valence[e]});
     }
-    out += '{';
-    put_key(out, "vertices"), put_points(out, mesh.points), out += ',';
-    put_key(out, "hexes"), put_ints(out, mesh.hexes), out += ',';
-    put_key(out, "sj"), put_doubles(out, run.quality().sj), out += ',';
-    put_key(out, "singular_edges"), put_ints(out, singular), out += ',';
-    put_key(out, "boundary_quads"), put_ints(out, topo.boundary_quads);
+    out.boundary_quads = topo.boundary_quads;
+    out.boundary_hexes.reserve(topo.boundary_face.size());
+    for (const int f : topo.boundary_face) out.boundary_hexes.push_back({topo.face_hexes[f][0]});
+    timings.topology_ms = ms_since(t);
     if (run.run.finish && domain) {
+        t = std::chrono::steady_clock::now();
         std::vector<char> on_boundary(mesh.points.size(), 0);
         for (const std::array<int, 4>& q : topo.boundary_quads)
             for (const int v : q) on_boundary[v] = 1;
@@ -216,11 +248,36 @@ void put_mesh(std::string& out, const Run& run, const Domain* domain) {
         for (std::size_t v = 0; v < mesh.points.size(); ++v)
             if (on_boundary[v]) boundary_points.push_back(mesh.points[v]), boundary_ids.push_back(static_cast<int>(v));
         const std::vector<double> d2 = domain->query->squared_distances(boundary_points);
-        std::vector<double> distance(mesh.points.size(), 0.0);
-        for (std::size_t i = 0; i < boundary_ids.size(); ++i) distance[boundary_ids[i]] = std::sqrt(d2[i]);
-        out += ',';
-        put_key(out, "boundary_distance"), put_doubles(out, distance);
+        out.has_distance = true;
+        out.boundary_distance.assign(mesh.points.size(), 0.0);
+        for (std::size_t i = 0; i < boundary_ids.size(); ++i) out.boundary_distance[boundary_ids[i]] = std::sqrt(d2[i]);
+        timings.distance_ms = ms_since(t);
     }
+    if (!run.run.finish) {
+        t = std::chrono::steady_clock::now();
+        connection_surface_arrays(run, out);
+        timings.connection_surfaces_ms = ms_since(t);
+    }
+    return out;
+}
+
+void put_mesh(std::string& out, const Run& run, const DrawArrays& arrays) {
+    const HexMesh& mesh = run.mesh();
+    out += '{';
+    put_key(out, "vertices"), put_points(out, mesh.points), out += ',';
+    put_key(out, "hexes"), put_ints(out, mesh.hexes), out += ',';
+    put_key(out, "sj"), put_doubles(out, run.quality().sj), out += ',';
+    put_key(out, "singular_edges"), put_ints(out, arrays.singular_edges), out += ',';
+    put_key(out, "boundary_quads"), put_ints(out, arrays.boundary_quads), out += ',';
+    put_key(out, "boundary_hexes"), put_ints(out, arrays.boundary_hexes);
+    if (arrays.has_distance) out += ',', put_key(out, "boundary_distance"), put_doubles(out, arrays.boundary_distance);
+    out += '}';
+}
+
+void put_connection_surfaces(std::string& out, const DrawArrays& arrays) {
+    out += '{';
+    put_key(out, "vertices"), put_points(out, arrays.cs_points), out += ',';
+    put_key(out, "quads"), put_ints(out, arrays.cs_quads);
     out += '}';
 }
 
@@ -298,29 +355,63 @@ nlohmann::json analysis_json(const SkeletonAnalysis& an) {
 
 nlohmann::json analyze_response(const Skeleton& skeleton, const Domain* domain) {
     MeshRequest request;
-    const Run run = run_mesh(skeleton, domain, request);
+    MeshTimings tm;
+    const Run run = run_mesh(skeleton, domain, request, tm);
     nlohmann::json j = analysis_json(run.run.pipeline.input_analysis);
     j["predicted"] = predicted_json(run.run.pipeline.predicted);
     return j;
 }
 
-std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request) {
+std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request,
+                          MeshTimings* timings_out) {
     const auto t0 = std::chrono::steady_clock::now();
     if (request.finish && !domain)
         throw std::logic_error("mesh_response: stage=final needs a domain");  // the server answers 409 before
-    const Run run = run_mesh(skeleton, domain, request);
+    MeshTimings tm;
+    const Run run = run_mesh(skeleton, domain, request, tm);
+    auto t = std::chrono::steady_clock::now();
     nlohmann::json analysis = analysis_json(run.run.pipeline.input_analysis);
     analysis["predicted"] = predicted_json(run.run.pipeline.predicted);
+    tm.report_ms += ms_since(t);
+    const DrawArrays arrays = draw_arrays(run, domain, tm);
+    t = std::chrono::steady_clock::now();
     std::string out;
-    out.reserve(64 * run.mesh().hexes.size() + 4096);
-    out += '{';
-    put_key(out, "report"), out += run.report.dump(-1, ' ', false, kUtf8Replace), out += ',';
-    put_key(out, "mesh"), put_mesh(out, run, domain), out += ',';
-    put_key(out, "analysis"), out += analysis.dump(-1, ' ', false, kUtf8Replace), out += ',';
-    put_key(out, "meshed_skeleton"), put_skeleton(out, run.run.pipeline.skeleton), out += ',';
-    if (!run.run.finish) put_key(out, "connection_surfaces"), put_connection_surfaces(out, run), out += ',';
-    put_key(out, "server_ms"), put(out, ms_since(t0));
-    out += '}';
+    if (request.encoding == Encoding::Binary) {
+        BinaryArrays bin;
+        const HexMesh& mesh = run.mesh();
+        append_f32(bin, "mesh.vertices", mesh.points);
+        append_u32_cells(bin, "mesh.hexes", mesh.hexes);
+        append_f32(bin, "mesh.sj", run.quality().sj);
+        append_u32_cells(bin, "mesh.singular_edges", arrays.singular_edges);
+        append_u32_cells(bin, "mesh.boundary_quads", arrays.boundary_quads);
+        append_u32_cells(bin, "mesh.boundary_hexes", arrays.boundary_hexes);
+        if (arrays.has_distance) append_f32(bin, "mesh.boundary_distance", arrays.boundary_distance);
+        if (arrays.has_connection_surfaces) {
+            append_f32(bin, "connection_surfaces.vertices", arrays.cs_points);
+            append_u32_cells(bin, "connection_surfaces.quads", arrays.cs_quads);
+        }
+        std::string header = "{\"report\":" + run.report.dump(-1, ' ', false, kUtf8Replace);
+        header += ",\"analysis\":" + analysis.dump(-1, ' ', false, kUtf8Replace);
+        tm.encode_ms = ms_since(t);
+        tm.total_ms = ms_since(t0);
+        header += ",\"server_ms\":", put(header, tm.total_ms);
+        header += ",\"server_phases_ms\":" + timings_json(tm).dump() + '}';
+        out = binary_answer_text(std::move(header), bin);
+    } else {
+        out.reserve(64 * run.mesh().hexes.size() + 4096);
+        out += '{';
+        put_key(out, "report"), out += run.report.dump(-1, ' ', false, kUtf8Replace), out += ',';
+        put_key(out, "mesh"), put_mesh(out, run, arrays), out += ',';
+        put_key(out, "analysis"), out += analysis.dump(-1, ' ', false, kUtf8Replace), out += ',';
+        put_key(out, "meshed_skeleton"), put_skeleton(out, run.run.pipeline.skeleton), out += ',';
+        if (arrays.has_connection_surfaces)
+            put_key(out, "connection_surfaces"), put_connection_surfaces(out, arrays), out += ',';
+        tm.encode_ms = ms_since(t);
+        tm.total_ms = ms_since(t0);
+        put_key(out, "server_ms"), put(out, tm.total_ms), out += ',';
+        put_key(out, "server_phases_ms"), out += timings_json(tm).dump(), out += '}';
+    }
+    if (timings_out) *timings_out = tm;
     return out;
 }
 

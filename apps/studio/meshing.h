@@ -26,18 +26,38 @@ struct Domain {
     std::optional<SurfaceQuery> query;  // built from surface
 };
 
+// How the /api/mesh body is written: JSON text, or the binary answer of binary_answer.h (the same content with the
+// arrays as float32 / uint32 and without "meshed_skeleton").
+enum class Encoding { Json, Binary };
+
 struct MeshRequest {
     std::string skeleton_name = "request";  // "input" in the report
     bool finish = false;                    // stage=final (needs a domain)
+    Encoding encoding = Encoding::Json;
     // Progress of the run (MeshOptions::progress: "raw", "attempt", "fit", "untangle", "improve", "smooth"); may
     // throw to cancel it.
     std::function<void(const MeshProgress&)> progress;
 };
 
+// Where the server's time goes (wall ms), answered as "server_phases_ms".
+struct MeshTimings {
+    double mesh_ms = 0;        // mesh_skeleton: radii, pipeline, raw quality and (final) finishing
+    double pipeline_ms = 0;    //   of which run_pipeline (analysis, adaptation, connection surfaces, raw mesh)
+    double quality_ms = 0;     //   of which compute_quality of the raw mesh
+    double report_ms = 0;      // mesh_report and the analysis JSON
+    double topology_ms = 0;    // singular edges and boundary quads of the mesh (compute_hex_topology)
+    double connection_surfaces_ms = 0;  // raw only: the connection surfaces drawn with the raw mesh's vertices
+    double distance_ms = 0;    // final only: distance of the boundary vertices to the domain
+    double encode_ms = 0;      // writing the body (JSON text or binary)
+    double total_ms = 0;       // = "server_ms"
+};
+
 // Meshes `skeleton` (in `domain` when given) and answers the /api/mesh body: {"report", "mesh", "analysis",
-// "meshed_skeleton", "connection_surfaces" (raw only), "server_ms"} as JSON text. Errors: mesohex::Error from the
-// library (naming the element), or whatever `progress` throws.
-std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request);
+// "meshed_skeleton", "connection_surfaces" (raw only), "server_ms", "server_phases_ms"} as JSON text, or as a binary
+// answer (request.encoding). `timings` (may be null) receives the phases. Errors: mesohex::Error from the library
+// (naming the element), or whatever `progress` throws.
+std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request,
+                          MeshTimings* timings = nullptr);
 
 // The /api/analyze body for `skeleton`: {"vertex_class", "edge_kind", "counts", "predicted"} (the prediction of the
 // raw mesh /api/mesh?stage=raw builds, with the same radii). Errors: mesohex::Error.

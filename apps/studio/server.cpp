@@ -141,6 +141,13 @@ httplib::Server::HandlerWithContentReader with_body(std::size_t max_bytes, F f) 
             std::string body;
             bool too_large = false;
             bool ok = false;
+            // No Content-Length and not chunked: no body (RFC 9112, 6.3); httplib would wait for the connection to
+            // close (`curl -X POST` without data).
+            if (!req.has_header("Content-Length") &&
+                req.get_header_value("Transfer-Encoding").find("chunked") == std::string::npos) {
+                f(req, body, res);
+                return;
+            }
             if (req.is_multipart_form_data()) {
                 reader([](const httplib::MultipartFormData&) { return true; },
                        [](const char*, std::size_t) { return true; });
@@ -329,11 +336,21 @@ void StudioServer::Impl::routes() {
                   if (stage != "raw" && stage != "final")
                       throw HttpError(400, "BadRequest", "stage must be raw or final, not '" + stage + "'");
                   if (stage == "final") require_domain("stage=final");
+                  const std::string encoding = req.has_param("encoding") ? req.get_param_value("encoding") : "json";
+                  if (encoding != "json" && encoding != "binary")
+                      throw HttpError(400, "BadRequest", "encoding must be json or binary, not '" + encoding + "'");
                   const Skeleton s = body_skeleton(req, body);
                   MeshRequest request;
                   request.finish = stage == "final";
+                  request.encoding = encoding == "binary" ? Encoding::Binary : Encoding::Json;
                   try {
-                      send_json(res, mesh_response(s, domain_ptr(), request));
+                      std::string answer = mesh_response(s, domain_ptr(), request);
+                      if (request.encoding == Encoding::Binary) {
+                          res.status = 200;
+                          res.set_content(std::move(answer), "application/octet-stream");
+                      } else {
+                          send_json(res, answer);
+                      }
                   } catch (const Error& e) {
                       throw library_error(e);
                   }

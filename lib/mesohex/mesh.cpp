@@ -99,6 +99,14 @@ PipelineOptions cautious_options(const PipelineOptions& options) {
     return cautious;
 }
 
+// The raw mesh's quality and whether it matches the prediction; its topology kept when asked for.
+void set_raw_quality(MeshRun& run, const MeshOptions& options) {
+    HexTopology topology;
+    run.raw_quality = compute_quality(run.pipeline.raw.mesh, topology);
+    run.raw_topology = options.keep_raw_topology ? std::move(topology) : HexTopology{};
+    run.prediction_exact = prediction_matches(run.raw_quality, run.pipeline.predicted);
+}
+
 bool retry_applies(const MeshOptions& options, const MeshRun& run) {
     return options.retry && options.finishing.fit && options.pipeline.resample &&
            missed_goals(*run.finish, options.goals) > 0 &&
@@ -123,8 +131,7 @@ void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMes
     run.finish = std::move(finished);
     run.pipeline = std::move(second);
     run.options = cautious;
-    run.raw_quality = compute_quality(run.pipeline.raw.mesh);
-    run.prediction_exact = prediction_matches(run.raw_quality, run.pipeline.predicted);
+    set_raw_quality(run, options);
 }
 
 }  // namespace
@@ -152,9 +159,8 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const S
     run.pipeline = run_pipeline(skeleton, run.options);
     run.pipeline_ms = ms_since(t);
     t = std::chrono::steady_clock::now();
-    run.raw_quality = compute_quality(run.pipeline.raw.mesh);
+    set_raw_quality(run, options);
     run.raw_quality_ms = ms_since(t);
-    run.prediction_exact = prediction_matches(run.raw_quality, run.pipeline.predicted);
     if (domain && options.finish) {
         t = std::chrono::steady_clock::now();
         finish_with_retry(run, skeleton, *domain, options);

@@ -45,6 +45,9 @@ struct MeshOptions {
     // Parts for MPI solvers: METIS k-way on the face adjacency of the hexes of the mesh kept (partition_hexes);
     // 0 = no partition. More parts than hexes is an InvalidInput error.
     int partitions = 0;
+    // Keep the raw mesh's topology (computed for its quality anyway) in MeshRun::raw_topology: for a caller that
+    // draws its singular edges and boundary (the studio). false = dropped after the quality (memory).
+    bool keep_raw_topology = false;
     std::function<void(const MeshProgress&)> progress;  // may be empty; may throw to cancel (the exception propagates)
 };
 
@@ -64,6 +67,7 @@ struct MeshRun {
     PipelineOptions options;           // the pipeline options of the kept attempt
     PipelineResult pipeline;           // skeleton, analyses, prediction and raw mesh of the kept attempt
     QualityReport raw_quality;         // compute_quality(pipeline.raw.mesh)
+    HexTopology raw_topology;          // of pipeline.raw.mesh when MeshOptions::keep_raw_topology, else empty
     bool prediction_exact = false;     // raw counts and irregular edges equal the prediction
     std::optional<FinishResult> finish;  // set when a domain was given and options.finish
     std::vector<MeshAttempt> attempts;   // finished attempts, first the default adaptation

@@ -3,7 +3,9 @@
 //
 // Starts `mesohex studio data/tiny/tripod.obj --port 0`, reads the URL from its stdout, loads the page, checks the
 // canvas is not blank, loads a skeleton through the file input, extrudes a vertex, moves it, undoes both, and checks
-// each time that the raw mesh was updated and the hex count shown matches the mesh received. Writes a screenshot.
+// each time that the raw mesh was updated and the hex count shown matches the mesh received; then checks the mesh
+// drawn (binary answer) against the JSON API, peels, and makes keyboard edits (connect, split, merge, delete) with
+// exact V / E / F, each undone to the identical skeleton. Writes a screenshot.
 //
 // Environment (set by CTest, see tests/browser/CMakeLists.txt): MESOHEX_CLI = the mesohex binary,
 // STUDIO_SCREENSHOT = where to write the screenshot (default: a temporary directory), CHROMIUM (default
@@ -42,6 +44,15 @@ v 2 0 2
 # mesohex radius 5 0.3
 l 1 2 3 4 5
 `;
+
+// OBJ text of a skeleton as the page writes it (vertices, radius comments, edges, faces; 1-based).
+function toObj(s) {
+  const out = s.points.map((p) => `v ${p.join(' ')}`);
+  s.radii.forEach((r, i) => out.push(`# mesohex radius ${i + 1} ${r}`));
+  s.edges.forEach((e) => out.push(`l ${e[0] + 1} ${e[1] + 1}`));
+  s.faces.forEach((f) => out.push(`f ${f.map((v) => v + 1).join(' ')}`));
+  return out.join('\n') + '\n';
+}
 
 function startServer() {
   const proc = spawn(cli, ['studio', path.join(root, 'data/tiny/tripod.obj'), '--port', '0'],
@@ -98,7 +109,7 @@ function nonBackgroundFraction(page) {
   });
 }
 
-test('studio page: load, extrude, move, undo with a live raw mesh (headless Chromium)', { timeout: 58000 }, async (t) => {
+test('studio page: load, extrude, move, undo with a live raw mesh (headless Chromium)', { timeout: 110000 }, async (t) => {
   const t0 = Date.now();
   const phase = (name) => t.diagnostic(`${name}: ${((Date.now() - t0) / 1000).toFixed(1)} s`);
   assert.ok(fs.existsSync(cli), `mesohex binary not found at ${cli}`);
@@ -221,6 +232,73 @@ test('studio page: load, extrude, move, undo with a live raw mesh (headless Chro
     phase('done');
     assert.deepEqual(back.skeleton, redo.skeleton);
     assert.equal(await page.evaluate(() => document.getElementById('errorlabel').hidden), true);
+
+    // The page draws from the binary answer (float32 / uint32): the same mesh as the JSON API gives for the same
+    // skeleton (indices exact, coordinates and scaled Jacobians to float32 rounding).
+    const shown = await page.evaluate(() => {
+      const m = window.studio.state.meshes.raw.mesh;
+      return { binary: m.vertices instanceof Float32Array && m.hexes instanceof Uint32Array,
+        vertices: Array.from(m.vertices), hexes: Array.from(m.hexes), sj: Array.from(m.sj),
+        boundary: Array.from(m.boundary_quads), owners: Array.from(m.boundary_hexes) };
+    });
+    assert.ok(shown.binary, 'the page asks for the binary answer');
+    const json = await (await fetch(new URL('/api/mesh?stage=raw', url), { method: 'POST', body: toObj(back.skeleton) })).json();
+    assert.deepEqual(shown.hexes, json.mesh.hexes);
+    assert.deepEqual(shown.boundary, json.mesh.boundary_quads);
+    assert.deepEqual(shown.owners, json.mesh.boundary_hexes);
+    assert.equal(shown.vertices.length, json.mesh.vertices.length);
+    shown.vertices.forEach((x, i) => assert.equal(x, Math.fround(json.mesh.vertices[i])));
+    shown.sj.forEach((x, i) => assert.equal(x, Math.fround(json.mesh.sj[i])));
+
+    // Peel 1 layer: every hex of this raw mesh (one hex across each branch) touches the boundary, so none is left.
+    await page.fill('#v-peel', '1');
+    await page.dispatchEvent('#v-peel', 'input');
+    assert.equal(await page.evaluate(() => Math.min(...window.studio.state.meshes.raw.layers)), 0);
+    assert.equal(await page.evaluate(() => document.getElementById('v-peel-val').textContent), '1');
+    await page.fill('#v-peel', '0');
+    await page.dispatchEvent('#v-peel', 'input');
+
+    // Keyboard edits on the 6-vertex path 0-1-2-3-4-5 (exact V / E / F after each; Ctrl+Z gives back the identical
+    // skeleton and its mesh).
+    const base = back.skeleton;
+    const select = async (...vs) => {
+      await page.keyboard.press('Escape');
+      for (const [k, v] of vs.entries()) {
+        const p = await page.evaluate((i) => window.studio.screenPosition(i), v);
+        if (k > 0) await page.keyboard.down('Shift');
+        await page.mouse.click(p.x, p.y);
+        if (k > 0) await page.keyboard.up('Shift');
+      }
+      assert.deepEqual(await page.evaluate(() => window.studio.state.selV), vs);
+      await page.mouse.move(5, 5);
+    };
+    const counts = () => page.evaluate(() => {
+      const s = window.studio.skeleton();
+      return { V: s.points.length, E: s.edges.length, F: s.faces.length };
+    });
+    const answered = (before) => page.waitForFunction((n) => {
+      const s = window.studio.state;
+      return s.meshRequests > n && document.getElementById('status').dataset.state !== 'stale';
+    }, before, { timeout: 15000 });
+    const undoToBase = async () => {
+      await page.keyboard.press('Control+z');
+      const u = await meshSettled(page);
+      assert.deepEqual(u.skeleton, base);
+      assert.equal(u.hexes, redo.hexes);
+    };
+    for (const [keys, sel, expected] of [
+      ['c', [0, 5], { V: 6, E: 6, F: 0 }], // connect the ends: a loop
+      ['s', [1, 2], { V: 7, E: 6, F: 0 }], // split edge 1-2 at its middle
+      ['m', [4, 5], { V: 5, E: 4, F: 0 }], // merge the last two vertices
+      ['Delete', [3], { V: 5, E: 3, F: 0 }], // delete a vertex with its 2 edges
+    ]) {
+      await select(...sel);
+      const n = await page.evaluate(() => window.studio.state.meshRequests);
+      await page.keyboard.press(keys);
+      assert.deepEqual(await counts(), expected, `${keys} on ${sel}`);
+      await answered(n);
+      await undoToBase();
+    }
     assert.deepEqual(pageErrors, []);
   } finally {
     if (browser) await browser.close();

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/topology.h"
 #include "mesohex/mesh.h"
 #include "mesohex/mesh_report.h"
 #include "mesohex/stages/generators.h"
@@ -59,6 +60,23 @@ TEST(MeshSkeleton, WithoutADomainItIsTheRawPipeline) {
         EXPECT_EQ(run.exit_status(), 0);
         EXPECT_TRUE(run.radius_note.empty());
     }
+}
+
+// keep_raw_topology: the raw mesh's topology comes with the run (the one its quality was computed from); without
+// it, none is kept.
+TEST(MeshSkeleton, KeepsTheRawTopologyWhenAsked) {
+    const Skeleton s = generate_skeleton("tfan");
+    MeshOptions options;
+    options.keep_raw_topology = true;
+    const MeshRun kept = mesh_skeleton(s, nullptr, options);
+    const HexTopology direct = compute_hex_topology(kept.pipeline.raw.mesh);
+    EXPECT_EQ(kept.raw_topology.faces, direct.faces);
+    EXPECT_EQ(kept.raw_topology.edge_valence, direct.edge_valence);
+    EXPECT_EQ(kept.raw_topology.boundary_quads, direct.boundary_quads);
+    EXPECT_EQ(kept.raw_topology.hex_faces.size(), kept.pipeline.raw.mesh.hexes.size());
+    const MeshRun dropped = mesh_skeleton(s, nullptr);
+    EXPECT_TRUE(dropped.raw_topology.faces.empty());
+    EXPECT_EQ(dropped.raw_quality.sj, kept.raw_quality.sj);
 }
 
 TEST(MeshSkeleton, RadiiComeFromTheDomain) {

@@ -151,6 +151,32 @@ TEST(Quality, Block2x2x2) {
     EXPECT_EQ(r.worst_hexes, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
 }
 
+// The overload handing over its topology: the same report, and the topology compute_hex_topology gives (ring8: 32
+// vertices, 8 hexes, 48 - 8 shared = 40 faces of which 32 on the boundary: 8 top, 8 bottom, 12 outer, 4 inner; 64
+// edges); empty when an index is out of range.
+TEST(Quality, HandsOverTheTopologyItComputed) {
+    const HexMesh m = mesohex::test::make_ring8();
+    HexTopology topo;
+    const QualityReport r = compute_quality(m, topo);
+    const QualityReport plain = compute_quality(m);
+    EXPECT_EQ(r.sj, plain.sj);
+    EXPECT_EQ(r.singular_boundary_edges, plain.singular_boundary_edges);
+    EXPECT_EQ(r.euler_characteristic, plain.euler_characteristic);
+    const HexTopology direct = compute_hex_topology(m);
+    EXPECT_EQ(topo.faces, direct.faces);
+    EXPECT_EQ(topo.edges, direct.edges);
+    EXPECT_EQ(topo.edge_valence, direct.edge_valence);
+    EXPECT_EQ(topo.boundary_quads, direct.boundary_quads);
+    EXPECT_EQ(topo.faces.size(), 40u);
+    EXPECT_EQ(topo.boundary_quads.size(), 32u);
+    EXPECT_EQ(topo.edges.size(), 64u);
+    HexMesh bad = m;
+    bad.hexes[2][5] = 1000;
+    compute_quality(bad, topo);
+    EXPECT_TRUE(topo.faces.empty());
+    EXPECT_TRUE(topo.hex_faces.empty());
+}
+
 TEST(Quality, Ring8IsASolidTorus) {
     const QualityReport r = compute_quality(mesohex::test::make_ring8());
     EXPECT_EQ(r.hexes, 8);

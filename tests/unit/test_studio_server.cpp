@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include <string>
 #include <thread>
 
+#include "binary_answer.h"
 #include "cli_run.h"
 #include "meshing.h"
 #include "mesohex/core/error.h"
@@ -51,8 +53,14 @@ httplib::Result post(httplib::Client& c, const std::string& path, const std::str
     return c.Post(path.c_str(), body, type);
 }
 
+int raw_request_status(int port, const std::string& request);
+
 // The raw bytes of a request sent as-is on a socket (no client-side path normalization); the status line's code.
 int raw_get_status(int port, const std::string& target) {
+    return raw_request_status(port, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+}
+
+int raw_request_status(int port, const std::string& req) {
     const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
     sockaddr_in addr{};
     addr.sin_family = AF_INET;
@@ -62,7 +70,6 @@ int raw_get_status(int port, const std::string& target) {
         ::close(fd);
         return -1;
     }
-    const std::string req = "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
     if (::send(fd, req.data(), req.size(), 0) != static_cast<ssize_t>(req.size())) {
         ::close(fd);
         return -1;
@@ -200,6 +207,14 @@ TEST(StudioServer, RawMeshEqualsThePipelineOnGeneratedSkeletons) {
                                                                               sum_counts(q.singular_boundary_edges)))
             << name;
         EXPECT_EQ(mesh["boundary_quads"].size() % 4, 0u);
+        // One hex per boundary quad, and the quad's corners are corners of that hex.
+        ASSERT_EQ(4 * mesh["boundary_hexes"].size(), mesh["boundary_quads"].size()) << name;
+        for (std::size_t q = 0; q < mesh["boundary_hexes"].size(); ++q) {
+            const std::array<int, 8>& hex = res.raw.mesh.hexes[mesh["boundary_hexes"][q].get<std::size_t>()];
+            for (int k = 0; k < 4; ++k)
+                ASSERT_NE(std::find(hex.begin(), hex.end(), mesh["boundary_quads"][4 * q + k].get<int>()), hex.end())
+                    << name << " quad " << q;
+        }
         EXPECT_FALSE(mesh.contains("boundary_distance"));
         EXPECT_EQ(j["analysis"]["predicted"]["hexes"].get<long>(), res.predicted.hexes) << name;
         EXPECT_EQ(j["analysis"]["vertex_class"].size(), skeleton.points.size()) << name;
@@ -209,6 +224,91 @@ TEST(StudioServer, RawMeshEqualsThePipelineOnGeneratedSkeletons) {
         EXPECT_EQ(j["connection_surfaces"]["quads"].size() % 4, 0u);
         EXPECT_GE(j["server_ms"].get<double>(), 0.0);
     }
+}
+
+// encoding=binary: the same answer as the JSON one, arrays as uint32 (exact) and float32 (each value the JSON double
+// rounded to float), without meshed_skeleton; the report, analysis and phases in the header.
+TEST(StudioServer, BinaryMeshIsTheJsonMeshInFloat32) {
+    auto s = start_studio({});
+    for (const char* name : {"torus", "hand", "tfan"}) {
+        const std::string text = obj_text(generate_skeleton(name));
+        const auto rj = post(*s.client, "/api/mesh?stage=raw", text);
+        const auto rb = post(*s.client, "/api/mesh?stage=raw&encoding=binary", text);
+        ASSERT_TRUE(rj && rb) << name;
+        ASSERT_EQ(rj->status, 200) << name;
+        ASSERT_EQ(rb->status, 200) << name << ": " << rb->body.substr(0, 300);
+        EXPECT_EQ(rb->get_header_value("Content-Type"), "application/octet-stream");
+        const json j = body_json(rj);
+        const studio::DecodedAnswer b = studio::decode_binary_answer(rb->body);
+        EXPECT_EQ(b.header["report"]["quality"], j["report"]["quality"]) << name;
+        EXPECT_EQ(b.header["report"]["predicted"], j["report"]["predicted"]) << name;
+        EXPECT_EQ(b.header["analysis"], j["analysis"]) << name;
+        EXPECT_FALSE(b.header.contains("meshed_skeleton"));
+        EXPECT_GE(b.header["server_ms"].get<double>(), 0.0);
+        EXPECT_TRUE(b.header["server_phases_ms"].contains("pipeline"));
+        EXPECT_TRUE(j["server_phases_ms"].contains("encode"));
+        const auto same_ints = [&](const char* key, const json& expected) {
+            const std::vector<std::uint32_t>& got = b.ints(key);
+            ASSERT_EQ(got.size(), expected.size()) << name << " " << key;
+            for (std::size_t i = 0; i < got.size(); ++i)
+                ASSERT_EQ(static_cast<long long>(got[i]), expected[i].get<long long>()) << name << " " << key << " " << i;
+        };
+        const auto same_floats = [&](const char* key, const json& expected) {
+            const std::vector<double>& got = b.reals(key);
+            ASSERT_EQ(got.size(), expected.size()) << name << " " << key;
+            for (std::size_t i = 0; i < got.size(); ++i)
+                ASSERT_EQ(got[i], static_cast<double>(static_cast<float>(expected[i].get<double>())))
+                    << name << " " << key << " " << i;
+        };
+        same_floats("mesh.vertices", j["mesh"]["vertices"]);
+        same_ints("mesh.hexes", j["mesh"]["hexes"]);
+        same_floats("mesh.sj", j["mesh"]["sj"]);
+        same_ints("mesh.singular_edges", j["mesh"]["singular_edges"]);
+        same_ints("mesh.boundary_quads", j["mesh"]["boundary_quads"]);
+        same_ints("mesh.boundary_hexes", j["mesh"]["boundary_hexes"]);
+        same_floats("connection_surfaces.vertices", j["connection_surfaces"]["vertices"]);
+        same_ints("connection_surfaces.quads", j["connection_surfaces"]["quads"]);
+        EXPECT_FALSE(b.has("mesh.boundary_distance"));
+        EXPECT_EQ(b.names.size(), 8u);
+    }
+    // The default torus, a closed leaflet of 24 x 8 quads: one hex on each side of each quad (384 hexes), the mesh a
+    // thick torus shell whose boundary is its two skins, one quad per hex (2 x 192).
+    const auto rb = post(*s.client, "/api/mesh?stage=raw&encoding=binary", obj_text(generate_skeleton("torus")));
+    const studio::DecodedAnswer b = studio::decode_binary_answer(rb->body);
+    EXPECT_EQ(b.ints("mesh.hexes").size(), 8u * 384);
+    EXPECT_EQ(b.ints("mesh.boundary_quads").size(), 4u * 2 * 192);
+    // A bad encoding is a 400 and a rejected skeleton answers JSON whatever the encoding.
+    const auto bad = post(*s.client, "/api/mesh?stage=raw&encoding=xml", obj_text(generate_skeleton("tfan")));
+    ASSERT_TRUE(bad);
+    EXPECT_EQ(bad->status, 400);
+    EXPECT_EQ(body_json(bad)["error"]["code"], "BadRequest");
+    const auto rejected = post(*s.client, "/api/mesh?stage=raw&encoding=binary", "v 0 0 0\nv 0 0 0\nl 1 2\n");
+    ASSERT_TRUE(rejected);
+    EXPECT_EQ(rejected->status, 422);
+    EXPECT_EQ(body_json(rejected)["error"]["where"]["kind"], "skeleton_edge");
+}
+
+// The binary reader refuses what is not a whole answer.
+TEST(StudioServer, BinaryAnswerReaderRejectsTruncatedBodies) {
+    studio::BinaryArrays arrays;
+    studio::append_f32(arrays, "a", std::vector<double>{1.5, -2.0});
+    studio::append_u32_cells(arrays, "b", std::vector<std::array<int, 2>>{{3, 4}});
+    const std::string full = studio::binary_answer({{"x", 1}}, arrays);
+    const studio::DecodedAnswer d = studio::decode_binary_answer(full);
+    EXPECT_EQ(d.reals("a"), (std::vector<double>{1.5, -2.0}));
+    EXPECT_EQ(d.ints("b"), (std::vector<std::uint32_t>{3, 4}));
+    EXPECT_EQ(d.header["x"], 1);
+    EXPECT_EQ(full.size() % 4, 0u);
+    EXPECT_THROW(studio::decode_binary_answer(full.substr(0, full.size() - 4)), std::invalid_argument);
+    EXPECT_THROW(studio::decode_binary_answer(full + "zzzz"), std::invalid_argument);
+    EXPECT_THROW(studio::decode_binary_answer("MHXA" + full.substr(4)), std::invalid_argument);
+    EXPECT_THROW(studio::decode_binary_answer(""), std::invalid_argument);
+    // A header written as text: "arrays" appended as its last member, also to an empty object.
+    EXPECT_EQ(studio::decode_binary_answer(studio::binary_answer_text("{\"x\": 1}", arrays)).header["x"], 1);
+    const studio::DecodedAnswer e = studio::decode_binary_answer(studio::binary_answer_text("{}", arrays));
+    EXPECT_EQ(e.header.size(), 1u);
+    EXPECT_EQ(e.reals("a").size(), 2u);
+    EXPECT_THROW(studio::binary_answer_text("[1]", arrays), std::invalid_argument);
 }
 
 // The bundled example: the same report keys and quality as `mesohex mesh --report` (raw mesh, no domain).
@@ -295,6 +395,15 @@ TEST(StudioServer, RejectedSkeletonsNameTheElement) {
 }
 
 // Bad requests of every kind get a 4xx JSON error, and the server keeps answering.
+// A POST without Content-Length (and not chunked) has no body (`curl -X POST`): read as empty instead of waiting for
+// the connection to close and failing with 400 "could not read the request body".
+TEST(StudioServer, PostWithoutContentLengthHasAnEmptyBody) {
+    auto s = start_studio({});
+    const std::string head = " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+    EXPECT_EQ(raw_request_status(s.port, "POST /api/auto-skeleton" + head), 409);  // needs a domain
+    EXPECT_EQ(raw_request_status(s.port, "POST /api/save" + head), 403);           // no --save target
+}
+
 TEST(StudioServer, MalformedRequestsGet4xxJsonAndTheServerKeepsAnswering) {
     auto s = start_studio({});
     struct Case {

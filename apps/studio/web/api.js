@@ -1,5 +1,6 @@
 // Thin wrappers over the studio server's JSON API (docs/studio.md). Every failure becomes an ApiError carrying the
 // server's {code, message, where} and the HTTP status.
+import { decodeBinaryAnswer } from '/app/binary_answer.js';
 
 export class ApiError extends Error {
   constructor(status, body) {
@@ -25,11 +26,15 @@ async function call(method, path, body, { signal, type = 'text/plain', expect = 
     try { b = await res.json(); } catch { /* not JSON */ }
     throw new ApiError(res.status, b);
   }
+  if (expect === 'binary') return decodeBinaryAnswer(await res.arrayBuffer());
   return expect === 'text' ? res.text() : res.json();
 }
 
 export const session = () => call('GET', '/api/session');
 export const mesh = (obj, stage, signal) => call('POST', `/api/mesh?stage=${stage}&format=obj`, obj, { signal });
+// The same answer in binary form (float32 / uint32 typed arrays, no meshed_skeleton): what the page draws from.
+export const meshBinary = (obj, stage, signal) =>
+  call('POST', `/api/mesh?stage=${stage}&format=obj&encoding=binary`, obj, { signal, expect: 'binary' });
 export const analyze = (obj, signal) => call('POST', '/api/analyze?format=obj', obj, { signal });
 export const autoSkeleton = () => call('POST', '/api/auto-skeleton', '');
 export const importMa = (text) => call('POST', '/api/import?format=ma', text);

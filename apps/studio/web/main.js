@@ -22,7 +22,9 @@ const st = {
   error: null,         // {message, where} of the last rejected skeleton
   meshRequests: 0,     // completed raw mesh updates (for tests)
   job: null,           // {id, version}
-  lastRoundTripMs: 0,
+  lastRoundTripMs: 0,   // request sent -> answer decoded
+  editAt: 0,            // performance.now() of the last edit
+  lastEditToMeshMs: 0,  // last edit -> its raw mesh drawn
 };
 const skel = () => st.undo.current;
 
@@ -130,6 +132,9 @@ const CLASS_COLORS = {
   BLJoint: 0xff9800, LLJoint: 0xba68c8, FanEdgeVertex: 0x9ccc65, FanEdgeEnd: 0x558b2f, Isolated: 0x888888,
 };
 const SELECT_COLOR = 0xffffff;
+const EDGE_SELECTED = [1, 1, 1], EDGE_BRANCH = [1, 0.85, 0.3], EDGE_FAN = [0.6, 0.8, 0.4], EDGE_LEAFLET = [0.4, 0.8, 1];
+// Above this many vertices the skeleton's vertices are drawn as points instead of spheres.
+const MANY_VERTICES = 400;
 let vertexMesh = null, edgeLines = null, previewPoints = null;
 
 // Vertex markers: small against the scene, and against the skeleton's own edges (a fine skeleton, e.g. an imported
@@ -148,7 +153,29 @@ function drawSkeleton(s = skel()) {
   const points = s.points;
   const n = points.length;
   vertexMesh = null; edgeLines = null;
-  if (n) {
+  if (n > MANY_VERTICES) {
+    // A large skeleton (e.g. an imported medial mesh): pixel-sized points, cheap to draw; the selection on top.
+    const classes = st.analysis && st.analysis.vertex_class?.length === n ? st.analysis.vertex_class : null;
+    const pos = new Float32Array(3 * n), col = new Float32Array(3 * n), c = new THREE.Color();
+    for (let i = 0; i < n; i++) {
+      pos[3 * i] = points[i][0]; pos[3 * i + 1] = points[i][1]; pos[3 * i + 2] = points[i][2];
+      c.setHex(classes ? CLASS_COLORS[classes[i]] ?? 0x888888 : 0xaaaaaa);
+      col[3 * i] = c.r; col[3 * i + 1] = c.g; col[3 * i + 2] = c.b;
+    }
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+    g.setAttribute('color', new THREE.BufferAttribute(col, 3));
+    const pts = new THREE.Points(g, new THREE.PointsMaterial({ size: 5, sizeAttenuation: false, vertexColors: true, depthTest: false }));
+    pts.renderOrder = 20;
+    groups.skeleton.add(pts);
+    if (st.selV.length) {
+      const sg = new THREE.BufferGeometry();
+      sg.setAttribute('position', new THREE.Float32BufferAttribute(st.selV.flatMap((v) => points[v] || []), 3));
+      const sel = new THREE.Points(sg, new THREE.PointsMaterial({ size: 9, sizeAttenuation: false, color: SELECT_COLOR, depthTest: false }));
+      sel.renderOrder = 21;
+      groups.skeleton.add(sel);
+    }
+  } else if (n) {
     const geo = new THREE.SphereGeometry(vertexSize(), 14, 10);
     vertexMesh = new THREE.InstancedMesh(geo, new THREE.MeshPhongMaterial({ color: 0xffffff, depthTest: false }), n);
     const classes = st.analysis && st.analysis.vertex_class?.length === n ? st.analysis.vertex_class : null;
@@ -165,18 +192,19 @@ function drawSkeleton(s = skel()) {
     groups.skeleton.add(vertexMesh);
   }
   if (s.edges.length) {
-    const pos = [], colr = [];
-    const kinds = st.analysis && st.analysis.edge_kind?.length === s.edges.length ? st.analysis.edge_kind : null;
+    const ne = s.edges.length;
+    const pos = new Float32Array(6 * ne), colr = new Float32Array(6 * ne);
+    const kinds = st.analysis && st.analysis.edge_kind?.length === ne ? st.analysis.edge_kind : null;
     const selKey = st.selE ? M.edgeKey(...st.selE) : null;
     s.edges.forEach((e, i) => {
-      pos.push(...points[e[0]], ...points[e[1]]);
-      const c = M.edgeKey(e[0], e[1]) === selKey ? [1, 1, 1]
-        : kinds?.[i] === 'branch' ? [1, 0.85, 0.3] : kinds?.[i] === 'fan' ? [0.6, 0.8, 0.4] : [0.4, 0.8, 1];
-      colr.push(...c, ...c);
+      pos.set(points[e[0]], 6 * i); pos.set(points[e[1]], 6 * i + 3);
+      const c = selKey !== null && M.edgeKey(e[0], e[1]) === selKey ? EDGE_SELECTED
+        : kinds?.[i] === 'branch' ? EDGE_BRANCH : kinds?.[i] === 'fan' ? EDGE_FAN : EDGE_LEAFLET;
+      colr.set(c, 6 * i); colr.set(c, 6 * i + 3);
     });
     const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
-    g.setAttribute('color', new THREE.Float32BufferAttribute(colr, 3));
+    g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+    g.setAttribute('color', new THREE.BufferAttribute(colr, 3));
     edgeLines = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false }));
     edgeLines.renderOrder = 19;
     groups.skeleton.add(edgeLines);
@@ -229,48 +257,59 @@ function drawMesh() {
     const c = V.hexCentroids(mesh);
     keep = (h) => (flip ? c[3 * h + axis] >= cut : c[3 * h + axis] <= cut);
   }
+  // Peel: hide the outer `peel` layers of hexes (layers counted from the boundary, computed once per mesh).
+  const peel = +$('v-peel').value;
+  $('v-peel-val').textContent = String(peel);
+  if (peel > 0) {
+    const layers = resp.layers ??= V.hexLayers(mesh);
+    const clipKeep = keep;
+    keep = (h) => layers[h] >= peel && (!clipKeep || clipKeep(h));
+  }
   const shrink = +$('v-shrink').value;
   let quadPos, owner, cornerVerts = null;
   if (shrink < 0.999) {
     const r = V.shrunkQuads(mesh, shrink, keep);
     quadPos = r.positions; owner = r.owner;
   } else {
-    // Only the faces not shared by two shown hexes: the boundary (plus the cut when clipped).
-    const r = V.visibleQuads(mesh, keep);
-    owner = r.owner; cornerVerts = r.quads;
-    quadPos = new Float32Array(r.quads.length * 3);
-    r.quads.forEach((v, i) => { quadPos[3 * i] = mesh.vertices[3 * v]; quadPos[3 * i + 1] = mesh.vertices[3 * v + 1]; quadPos[3 * i + 2] = mesh.vertices[3 * v + 2]; });
+    // Only the faces not shared by two shown hexes: the boundary (plus the cut when clipped). With every hex shown,
+    // the server's boundary quads and their hexes.
+    if (!keep && mesh.boundary_quads && mesh.boundary_hexes?.length * 4 === mesh.boundary_quads.length) {
+      cornerVerts = mesh.boundary_quads; owner = mesh.boundary_hexes;
+    } else {
+      const r = V.visibleQuads(mesh, keep);
+      owner = r.owner; cornerVerts = r.quads;
+    }
+    const P = mesh.vertices, nc = cornerVerts.length;
+    quadPos = new Float32Array(nc * 3);
+    for (let i = 0; i < nc; i++) {
+      const v = 3 * cornerVerts[i];
+      quadPos[3 * i] = P[v]; quadPos[3 * i + 1] = P[v + 1]; quadPos[3 * i + 2] = P[v + 2];
+    }
   }
   const mode = $('v-color').value;
   const nq = owner.length;
   const colors = new Float32Array(nq * 12);
   const dist = mesh.boundary_distance;
   const maxDist = dist?.length ? dist.reduce((m, x) => Math.max(m, x), 0) : 0;
-  for (let q = 0; q < nq; q++)
-    for (let k = 0; k < 4; k++) {
-      let c;
-      if (mode === 'dist' && dist?.length && cornerVerts) c = V.distanceColor(dist[cornerVerts[4 * q + k]], maxDist);
-      else if (mode === 'plain' || (mode === 'dist')) c = [0.78, 0.8, 0.85];
-      else c = V.sjColor(sj[owner[q]]);
-      colors.set(c, 12 * q + 3 * k);
-    }
-  const tri = V.trianglesFromQuads(quadPos, colors);
+  const byDistance = mode === 'dist' && dist?.length && cornerVerts;
+  const plain = [0.78, 0.8, 0.85];
+  for (let q = 0; q < nq; q++) {
+    const hexColor = byDistance ? null : mode === 'sj' ? V.sjColor(sj[owner[q]]) : plain;
+    for (let k = 0; k < 4; k++) colors.set(hexColor || V.distanceColor(dist[cornerVerts[4 * q + k]], maxDist), 12 * q + 3 * k);
+  }
+  const position = new THREE.BufferAttribute(quadPos instanceof Float32Array ? quadPos : new Float32Array(quadPos), 3);
   const g = new THREE.BufferGeometry();
-  g.setAttribute('position', new THREE.BufferAttribute(tri.positions, 3));
-  g.setAttribute('color', new THREE.BufferAttribute(tri.colors, 3));
-  g.computeVertexNormals();
+  g.setAttribute('position', position);
+  g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+  g.setIndex(new THREE.BufferAttribute(V.quadTriangleIndex(nq), 1));
+  // Flat shading takes the normal from the screen-space derivatives: no normals needed.
   const meshObj = new THREE.Mesh(g, new THREE.MeshPhongMaterial({ vertexColors: true, side: THREE.DoubleSide,
     flatShading: true, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
   groups.mesh.add(meshObj);
   if ($('v-wire').checked) {
-    const lp = new Float32Array(nq * 24);
-    for (let q = 0; q < nq; q++)
-      for (let k = 0; k < 4; k++) {
-        const a = 12 * q + 3 * k, bb = 12 * q + 3 * ((k + 1) % 4);
-        lp.set([quadPos[a], quadPos[a + 1], quadPos[a + 2], quadPos[bb], quadPos[bb + 1], quadPos[bb + 2]], 24 * q + 6 * k);
-      }
     const lg = new THREE.BufferGeometry();
-    lg.setAttribute('position', new THREE.BufferAttribute(lp, 3));
+    lg.setAttribute('position', position);
+    lg.setIndex(new THREE.BufferAttribute(V.quadLineIndex(nq), 1));
     groups.mesh.add(new THREE.LineSegments(lg, new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.5 })));
   }
   if ($('v-sing').checked && mesh.singular_edges?.length) {
@@ -339,11 +378,12 @@ function updateStats() {
       const d = mesh.boundary_distance.reduce((m, x) => Math.max(m, x), 0);
       rows.push(['Hausdorff (boundary)', `${d.toPrecision(3)} (${((100 * d) / st.domain.bbox_diagonal).toFixed(2)} % diag)`]);
     }
-    if (resp.server_ms !== undefined) rows.push(['server / round trip', `${(+resp.server_ms).toFixed(1)} / ${st.lastRoundTripMs.toFixed(0)} ms`]);
+    if (resp.server_ms !== undefined && stage === 'raw')
+      rows.push(['edit → mesh', `<span title="server ${(+resp.server_ms).toFixed(1)} ms, round trip ${st.lastRoundTripMs.toFixed(1)} ms">${st.lastEditToMeshMs.toFixed(0)} ms (server ${(+resp.server_ms).toFixed(0)})</span>`]);
   } else rows.push([`${stage} hexes`, `<span id="hexcount">–</span>`]);
   const a = st.analysis;
   if (a?.predicted) {
-    rows.push(['predicted hexes', `<span id="predicted">${a.predicted.hexes}</span>`]);
+    rows.push(['predicted raw hexes', `<span id="predicted">${a.predicted.hexes}</span>`]);
     const irr = (o) => Object.entries(o || {}).map(([k, v]) => `${v}×v${k}`).join(' ') || 'none';
     rows.push(['irregular (interior)', irr(a.predicted.irregular_edges?.interior)]);
     rows.push(['irregular (boundary)', irr(a.predicted.irregular_edges?.boundary)]);
@@ -437,40 +477,58 @@ function toScreen(p) {
 }
 
 // ---------------------------------------------------------------- live mesh
-let meshTimer = null, meshAbort = null;
+// One raw-mesh request at a time: an edit sends the skeleton at once when none is in flight; edits made while one is
+// in flight are coalesced into one request for the latest skeleton, sent when the answer arrives (the older answer is
+// then not drawn). No debounce: a gizmo drag, a brush stroke or a typed coordinate is one edit when it ends.
+// The answer comes in binary form (float32 / uint32 arrays, binary_answer.js): the same content as the JSON API.
+let meshInFlight = false;
 
 function scheduleMesh() {
-  clearTimeout(meshTimer);
   if (!skel().points.length) {
     st.meshes.raw = null; st.analysis = null; showError(null); drawMesh();
     setStatus('empty', 'no skeleton: load one, take the curve skeleton of the domain, or press N');
     return;
   }
   setStatus('stale', 'mesh is stale: updating…');
-  meshTimer = setTimeout(runMesh, 60);
+  if (!meshInFlight) runMesh();
+}
+
+function sameAnalysis(a, b) {
+  const same = (x, y) => x && y && x.length === y.length && x.every((v, i) => v === y[i]);
+  return !!(a && b && same(a.vertex_class, b.vertex_class) && same(a.edge_kind, b.edge_kind));
 }
 
 async function runMesh() {
-  meshAbort?.abort();
-  const ctl = new AbortController();
-  meshAbort = ctl;
+  meshInFlight = true;
   const version = st.version;
+  const editAt = st.editAt;
   const t0 = performance.now();
   try {
-    const resp = await api.mesh(M.toObj(skel()), 'raw', ctl.signal);
-    if (version !== st.version) return; // a newer edit is on its way
-    st.lastRoundTripMs = performance.now() - t0;
+    const resp = await api.meshBinary(M.toObj(skel()), 'raw');
+    if (version !== st.version) return; // a newer edit: its request goes out below
+    const t1 = performance.now();
+    st.lastRoundTripMs = t1 - t0;
     st.meshes.raw = resp;
+    // The skeleton is redrawn only when its colours (vertex classes, edge kinds) changed or an error was shown.
+    const recolour = !sameAnalysis(st.analysis, resp.analysis) || st.error;
     st.analysis = resp.analysis || null;
     st.meshedVersion = version;
-    st.meshRequests++;
     showError(null);
-    setStatus('ok', `raw mesh up to date: ${V.hexCount(resp.mesh)} hexes (${st.lastRoundTripMs.toFixed(0)} ms)`);
-    drawSkeleton();
+    if (recolour) drawSkeleton();
+    const t2 = performance.now();
     if ($('v-stage').value === 'raw' || !st.meshes.final) { $('v-stage').value = 'raw'; }
     drawMesh();
+    const t3 = performance.now();
+    renderNow();
+    const t4 = performance.now();
+    st.lastPhasesMs = { queued: t0 - editAt, roundTrip: t1 - t0, skeleton: t2 - t1, mesh: t3 - t2, render: t4 - t3 };
+    // Edit -> updated mesh on screen: request, server, decoding, geometry and the draw call.
+    st.lastEditToMeshMs = performance.now() - editAt;
+    st.meshRequests++;
+    setStatus('ok', `raw mesh up to date: ${V.hexCount(resp.mesh)} hexes (${st.lastEditToMeshMs.toFixed(0)} ms)`);
+    updateStats();
   } catch (e) {
-    if (e.name === 'AbortError' || version !== st.version) return;
+    if (version !== st.version) return;
     st.meshRequests++;
     if (e instanceof api.ApiError) {
       showError({ message: e.message, where: e.where });
@@ -481,6 +539,9 @@ async function runMesh() {
     } else {
       setStatus('error', `server unreachable: ${e.message}`);
     }
+  } finally {
+    meshInFlight = false;
+    if (version !== st.version && skel().points.length) runMesh();
   }
 }
 
@@ -502,32 +563,60 @@ async function finish() {
   }
 }
 
-async function pollJob(id) {
+// Progress is streamed from the server (/api/jobs/ID/events, server-sent events); the result is fetched once the
+// job is finished. Polling every 250 ms takes over if the stream fails.
+function showJobProgress(id, j) {
+  const p = j.progress || {};
+  $('progress').value = p.steps ? p.step / p.steps : 0;
+  $('jobinfo').textContent = `job ${id}: ${j.state}${p.stage ? ` (${p.stage} ${p.step ?? ''}/${p.steps ?? ''})` : ''}`;
+  st.jobEvents = (st.jobEvents || 0) + 1;
+}
+
+function jobFinished(id, j) {
+  if (j.state === 'done') {
+    st.meshes.final = j.result;
+    $('v-stage').value = 'final';
+    $('progress').value = 1;
+    st.job = null;
+    if (st.meshedVersion === st.version)
+      setStatus('ok', `final mesh of this skeleton: ${V.hexCount(j.result.mesh)} hexes (raw: ${V.hexCount(st.meshes.raw?.mesh)})`);
+    drawMesh();
+    return;
+  }
+  if (j.error) {
+    $('jobinfo').textContent += `: ${j.error.message}`;
+    if (j.error.where && j.error.where.kind !== 'none') showError(j.error);
+  }
+  st.job = null;
+}
+
+const finishedState = (state) => state === 'done' || state === 'failed' || state === 'cancelled';
+
+function pollJob(id) {
+  if (typeof EventSource === 'undefined') { pollJobByRequests(id); return; }
+  const es = new EventSource(`/api/jobs/${id}/events`);
+  st.jobStream = es;
+  es.onmessage = async (ev) => {
+    if (!st.job || st.job.id !== id) { es.close(); return; }
+    const j = JSON.parse(ev.data);
+    showJobProgress(id, j);
+    if (!finishedState(j.state)) return;
+    es.close();
+    try { jobFinished(id, await api.job(id)); } catch (e) { $('jobinfo').textContent = `job ${id}: ${e.message}`; }
+  };
+  es.onerror = () => {
+    es.close();
+    if (st.job && st.job.id === id) pollJobByRequests(id);
+  };
+}
+
+async function pollJobByRequests(id) {
   while (st.job && st.job.id === id) {
     let j;
     try { j = await api.job(id); } catch (e) { $('jobinfo').textContent = `job ${id}: ${e.message}`; break; }
     if (!st.job || st.job.id !== id) break;
-    const p = j.progress || {};
-    $('progress').value = p.steps ? p.step / p.steps : 0;
-    $('jobinfo').textContent = `job ${id}: ${j.state}${p.stage ? ` (${p.stage} ${p.step ?? ''}/${p.steps ?? ''})` : ''}`;
-    if (j.state === 'done') {
-      st.meshes.final = j.result;
-      $('v-stage').value = 'final';
-      $('progress').value = 1;
-      st.job = null;
-      if (st.meshedVersion === st.version)
-        setStatus('ok', `final mesh of this skeleton: ${V.hexCount(j.result.mesh)} hexes (raw: ${V.hexCount(st.meshes.raw?.mesh)})`);
-      drawMesh();
-      break;
-    }
-    if (j.state === 'failed' || j.state === 'cancelled') {
-      if (j.error) {
-        $('jobinfo').textContent += `: ${j.error.message}`;
-        if (j.error.where && j.error.where.kind !== 'none') showError(j.error);
-      }
-      st.job = null;
-      break;
-    }
+    showJobProgress(id, j);
+    if (finishedState(j.state)) { jobFinished(id, j); break; }
     await new Promise((r) => setTimeout(r, 250));
   }
 }
@@ -536,6 +625,7 @@ async function cancelJob() {
   if (!st.job) return;
   const id = st.job.id;
   st.job = null;
+  st.jobStream?.close();
   $('jobinfo').textContent = `job ${id}: cancelled by the edit`;
   $('progress').hidden = true;
   await api.cancelJob(id);
@@ -544,9 +634,12 @@ async function cancelJob() {
 // ---------------------------------------------------------------- editing
 function changed({ frame = false } = {}) {
   st.version++;
+  st.editAt = performance.now();
   st.meshes.final = null; // a final mesh belongs to the skeleton it was made for
   if ($('v-stage').value === 'final') $('v-stage').value = 'raw';
   cancelJob();
+  // The request first: the server meshes while the page redraws the skeleton.
+  scheduleMesh();
   const n = skel().points.length;
   st.selV = st.selV.filter((v) => v < n);
   if (st.selE && (st.selE[0] >= n || st.selE[1] >= n || M.findEdge(skel(), ...st.selE) < 0)) st.selE = null;
@@ -554,7 +647,6 @@ function changed({ frame = false } = {}) {
   updateSelection();
   updateCounts();
   if (frame) frameAll();
-  scheduleMesh();
 }
 
 function commit(next, label) {
@@ -926,7 +1018,7 @@ $('btn-finish').onclick = finish;
 $('btn-shot').onclick = () => { renderNow(); download('mesohex-studio.png', canvas.toDataURL('image/png')); };
 document.querySelectorAll('[data-op]').forEach((b) => { b.onclick = () => op(b.dataset.op); });
 ['x', 'y', 'z'].forEach((k, d) => { $(`pos-${k}`).onchange = (ev) => { ev.target.blur(); moveTo(d, parseFloat(ev.target.value)); }; });
-for (const id of ['v-mesh', 'v-wire', 'v-color', 'v-sing', 'v-clip', 'v-clip-axis', 'v-clip-flip', 'v-clip-pos', 'v-shrink', 'v-stage', 'v-conn'])
+for (const id of ['v-mesh', 'v-wire', 'v-color', 'v-sing', 'v-clip', 'v-clip-axis', 'v-clip-flip', 'v-clip-pos', 'v-shrink', 'v-peel', 'v-stage', 'v-conn'])
   $(id).addEventListener('input', drawMesh);
 $('v-domain').oninput = () => { groups.domain.visible = $('v-domain').checked; render(); };
 $('v-skeleton').oninput = () => drawSkeleton();
@@ -984,6 +1076,7 @@ window.studio = {
   skeleton: skel,
   screenPosition: (v) => { const r = canvas.getBoundingClientRect(); const p = toScreen(skel().points[v]); return { x: r.left + p.x, y: r.top + p.y }; },
   hexCount: () => V.hexCount(currentMeshResponse()?.mesh),
+  select: (vertices) => { st.selV = vertices.slice(); st.selE = null; updateSelection(); drawSkeleton(); },
   renderNow,
   frameAll,
 };

@@ -64,6 +64,50 @@ export function visibleQuads(mesh, keep = null) {
   return { quads, owner };
 }
 
+// Peeling (HexaLab's "peel"): the layer of each hex counted from the boundary. Hexes with a face on the boundary are
+// layer 0, their face neighbours not yet numbered layer 1, and so on (breadth-first over shared faces). Returns an
+// Int32Array per hex (-1 for a hex no boundary reaches, which cannot happen in a mesh with a boundary).
+export function hexLayers(mesh) {
+  const n = hexCount(mesh), H = mesh.hexes;
+  const nv = mesh.vertices.length / 3;
+  const nf = 6 * n;
+  const sorted = new Int32Array(4 * nf);
+  const head = new Int32Array(nv).fill(-1), next = new Int32Array(nf).fill(-1);
+  const twinOf = new Int32Array(nf).fill(-1);
+  for (let f = 0; f < nf; f++) {
+    const h = (f / 6) | 0, face = HEX_FACES[f % 6];
+    let a = H[8 * h + face[0]], b = H[8 * h + face[1]], c = H[8 * h + face[2]], d = H[8 * h + face[3]], x;
+    if (a > b) { x = a; a = b; b = x; }
+    if (c > d) { x = c; c = d; d = x; }
+    if (a > c) { x = a; a = c; c = x; }
+    if (b > d) { x = b; b = d; d = x; }
+    if (b > c) { x = b; b = c; c = x; }
+    sorted[4 * f] = a; sorted[4 * f + 1] = b; sorted[4 * f + 2] = c; sorted[4 * f + 3] = d;
+    let g = head[a];
+    while (g >= 0) {
+      if (twinOf[g] < 0 && sorted[4 * g + 1] === b && sorted[4 * g + 2] === c && sorted[4 * g + 3] === d) break;
+      g = next[g];
+    }
+    if (g >= 0) { twinOf[g] = f; twinOf[f] = g; } else { next[f] = head[a]; head[a] = f; }
+  }
+  const layer = new Int32Array(n).fill(-1);
+  let front = [];
+  for (let h = 0; h < n; h++)
+    for (let k = 0; k < 6; k++) if (twinOf[6 * h + k] < 0) { layer[h] = 0; front.push(h); break; }
+  for (let depth = 1; front.length; depth++) {
+    const nextFront = [];
+    for (const h of front)
+      for (let k = 0; k < 6; k++) {
+        const t = twinOf[6 * h + k];
+        if (t < 0) continue;
+        const g = (t / 6) | 0;
+        if (layer[g] < 0) { layer[g] = depth; nextFront.push(g); }
+      }
+    front = nextFront;
+  }
+  return layer;
+}
+
 // Every face of every kept hex, each hex shrunk towards its centroid by `factor` (1 = no shrink). Returns flat
 // corner positions (4 per quad, 3 numbers each) and the owner hex per quad.
 export function shrunkQuads(mesh, factor, keep = null) {
@@ -136,18 +180,23 @@ export function bounds(flat) {
   return { min, max, diagonal };
 }
 
-// Per quad colours from a per-hex value or per-vertex value, expanded to the 6 triangle corners of each quad
-// (two triangles a,b,c / a,c,d), with positions. quadsPos: flat positions, 4 corners per quad.
-export function trianglesFromQuads(quadPositions, cornerColors) {
-  const nq = quadPositions.length / 12;
-  const pos = new Float32Array(nq * 18), col = new Float32Array(nq * 18);
-  const order = [0, 1, 2, 0, 2, 3];
-  for (let q = 0; q < nq; q++)
-    order.forEach((k, j) => {
-      for (let d = 0; d < 3; d++) {
-        pos[18 * q + 3 * j + d] = quadPositions[12 * q + 3 * k + d];
-        col[18 * q + 3 * j + d] = cornerColors[12 * q + 3 * k + d];
-      }
-    });
-  return { positions: pos, colors: col };
+// Index buffers over quad corners (4 per quad, in order): two triangles a,b,c / a,c,d per quad, and the 4 sides as
+// line segments. The corners' positions and colours are shared by both.
+export function quadTriangleIndex(nq) {
+  const idx = new Uint32Array(6 * nq);
+  for (let q = 0; q < nq; q++) {
+    const b = 4 * q, i = 6 * q;
+    idx[i] = b; idx[i + 1] = b + 1; idx[i + 2] = b + 2; idx[i + 3] = b; idx[i + 4] = b + 2; idx[i + 5] = b + 3;
+  }
+  return idx;
+}
+
+export function quadLineIndex(nq) {
+  const idx = new Uint32Array(8 * nq);
+  for (let q = 0; q < nq; q++) {
+    const b = 4 * q, i = 8 * q;
+    idx[i] = b; idx[i + 1] = b + 1; idx[i + 2] = b + 1; idx[i + 3] = b + 2;
+    idx[i + 4] = b + 2; idx[i + 5] = b + 3; idx[i + 6] = b + 3; idx[i + 7] = b;
+  }
+  return idx;
 }

@@ -32,6 +32,12 @@ std::vector<double> scaled_jacobians(const HexMesh& mesh) {
 }
 
 QualityReport compute_quality(const HexMesh& mesh) {
+    HexTopology topo;
+    return compute_quality(mesh, topo);
+}
+
+QualityReport compute_quality(const HexMesh& mesh, HexTopology& topo) {
+    topo = HexTopology{};
     QualityReport r;
     r.vertices = static_cast<long>(mesh.points.size());
     r.hexes = static_cast<long>(mesh.hexes.size());
@@ -66,7 +72,7 @@ QualityReport compute_quality(const HexMesh& mesh) {
             return r;
         }
     }
-    const HexTopology topo = compute_hex_topology(mesh);
+    topo = compute_hex_topology(mesh);
     r.validation = validate(mesh, topo);
 
     std::vector<char> used(mesh.points.size(), 0);

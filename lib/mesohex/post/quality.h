@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mesohex/core/hex_mesh.h"
+#include "mesohex/core/topology.h"
 #include "mesohex/core/validate.h"
 
 namespace mesohex {
@@ -32,6 +33,10 @@ struct QualityReport {
 };
 
 QualityReport compute_quality(const HexMesh& mesh);
+// The same, also handing over the topology it computed (a caller that needs it too, e.g. the studio drawing the
+// singular edges and the boundary, does not compute it twice). `topology` is left empty when a hex has an index out
+// of range (no topology is computed then).
+QualityReport compute_quality(const HexMesh& mesh, HexTopology& topology);
 
 // One JSON object (serialised text) with at least: vertices, hexes, sj_min, sj_avg, inverted, euler_characteristic,
 // singular_edges {interior: {valence: count}, boundary: {...}}, valid, problems. Implemented without exposing the

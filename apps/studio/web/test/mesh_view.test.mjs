@@ -50,8 +50,14 @@ test('shrunk quads: every face of every hex, moved towards the hex centre', () =
   assert.equal(r.positions.length, 12 * 12);
   // Hex 0's corners are at 0.25 / 0.75 in every coordinate.
   for (let i = 0; i < 6 * 12; i++) assert.ok([0.25, 0.75].includes(r.positions[i]), `${r.positions[i]}`);
-  const t = V.trianglesFromQuads(r.positions, new Float32Array(r.positions.length).fill(0.5));
-  assert.equal(t.positions.length, 12 * 18);
+  const nq = r.positions.length / 12;
+  assert.equal(nq, 12);
+  const tri = V.quadTriangleIndex(nq), lines = V.quadLineIndex(nq);
+  assert.equal(tri.length, 6 * nq);
+  assert.deepEqual([...tri.slice(6, 12)], [4, 5, 6, 4, 6, 7]);
+  assert.equal(lines.length, 8 * nq);
+  assert.deepEqual([...lines.slice(8, 16)], [4, 5, 5, 6, 6, 7, 7, 4]);
+  assert.equal(Math.max(...tri), 4 * nq - 1);
 });
 
 test('scaled-Jacobian histogram has a <= 0 bin; stats count the inverted', () => {
@@ -73,4 +79,37 @@ test('colours: valence 3 red, 5 green, >= 6 blue; SJ <= 0 is distinct from SJ ju
   assert.notDeepEqual(V.sjColor(0), V.sjColor(0.01));
   assert.deepEqual(V.sjColor(-1), V.sjColor(0));
   assert.deepEqual(V.bounds([0, 0, 0, 3, 4, 0]), { min: [0, 0, 0], max: [3, 4, 0], diagonal: 5 });
+});
+
+// An n x n x n block of unit cubes (VTK order), as typed arrays like the binary answer's.
+function block(n) {
+  const vertices = [];
+  for (let z = 0; z <= n; z++) for (let y = 0; y <= n; y++) for (let x = 0; x <= n; x++) vertices.push(x, y, z);
+  const id = (x, y, z) => (z * (n + 1) + y) * (n + 1) + x;
+  const hexes = [];
+  for (let z = 0; z < n; z++) for (let y = 0; y < n; y++) for (let x = 0; x < n; x++)
+    hexes.push(id(x, y, z), id(x + 1, y, z), id(x + 1, y + 1, z), id(x, y + 1, z),
+      id(x, y, z + 1), id(x + 1, y, z + 1), id(x + 1, y + 1, z + 1), id(x, y + 1, z + 1));
+  return { vertices: new Float32Array(vertices), hexes: new Uint32Array(hexes) };
+}
+
+test('peel layers: a 5x5x5 block has 98 hexes in layer 0, 26 in layer 1, 1 in layer 2', () => {
+  const m = block(5);
+  const layers = V.hexLayers(m);
+  assert.equal(layers.length, 125);
+  const count = (k) => layers.filter((x) => x === k).length;
+  // layer k: the shell of the (5-2k)^3 block: 125-27 = 98, 27-1 = 26, 1.
+  assert.equal(count(0), 98);
+  assert.equal(count(1), 26);
+  assert.equal(count(2), 1);
+  // The centre hex (2, 2, 2) is the deepest; a corner hex is on the boundary.
+  assert.equal(layers[2 * 25 + 2 * 5 + 2], 2);
+  assert.equal(layers[0], 0);
+  // Peeling 1 layer leaves the 3x3x3 core: its boundary is 6 x 9 = 54 quads.
+  const shown = V.visibleQuads(m, (h) => layers[h] >= 1);
+  assert.equal(shown.owner.length, 54);
+});
+
+test('peel layers: every hex of two cubes touches the boundary', () => {
+  assert.deepEqual([...V.hexLayers(twoCubes())], [0, 0]);
 });

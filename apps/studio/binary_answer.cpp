@@ -1,0 +1,119 @@
+#include "binary_answer.h"
+
+#include <bit>
+#include <stdexcept>
+
+namespace mesohex::studio {
+
+namespace {
+
+constexpr char kMagic[4] = {'M', 'H', 'X', 'B'};
+
+std::uint32_t get_u32_le(const std::string& in, std::size_t at) {
+    return static_cast<std::uint32_t>(static_cast<unsigned char>(in[at])) |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(in[at + 1])) << 8 |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(in[at + 2])) << 16 |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(in[at + 3])) << 24;
+}
+
+void put_f32_le(std::string& out, double x) { put_u32_le(out, std::bit_cast<std::uint32_t>(static_cast<float>(x))); }
+
+[[noreturn]] void malformed(const std::string& what) {
+    throw std::invalid_argument("binary answer: " + what);
+}
+
+}  // namespace
+
+void put_u32_le(std::string& out, std::uint32_t x) {
+    const char b[4] = {static_cast<char>(x & 0xffu), static_cast<char>((x >> 8) & 0xffu),
+                       static_cast<char>((x >> 16) & 0xffu), static_cast<char>((x >> 24) & 0xffu)};
+    out.append(b, 4);
+}
+
+void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector<double>& values) {
+    arrays.bytes.reserve(arrays.bytes.size() + 4 * values.size());
+    for (const double x : values) put_f32_le(arrays.bytes, x);
+    arrays.list.push_back({{"name", name}, {"type", "f32"}, {"count", values.size()}});
+}
+
+void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector<Vec3>& points) {
+    arrays.bytes.reserve(arrays.bytes.size() + 12 * points.size());
+    for (const Vec3& p : points) put_f32_le(arrays.bytes, p.x), put_f32_le(arrays.bytes, p.y), put_f32_le(arrays.bytes, p.z);
+    arrays.list.push_back({{"name", name}, {"type", "f32"}, {"count", 3 * points.size()}});
+}
+
+std::string binary_answer(nlohmann::json header, const BinaryArrays& arrays) {
+    header.erase("arrays");
+    return binary_answer_text(header.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), arrays);
+}
+
+std::string binary_answer_text(std::string text, const BinaryArrays& arrays) {
+    while (!text.empty() && text.back() != '}') text.pop_back();
+    if (text.size() < 2 || text.front() != '{') throw std::invalid_argument("binary answer: header is not an object");
+    text.pop_back();
+    if (text.find_first_not_of(" \t\r\n", 1) != std::string::npos) text += ',';
+    text += "\"arrays\":" + arrays.list.dump() + '}';
+    text.append((4 - text.size() % 4) % 4, ' ');
+    std::string out;
+    out.reserve(12 + text.size() + arrays.bytes.size());
+    out.append(kMagic, 4);
+    put_u32_le(out, kBinaryAnswerVersion);
+    put_u32_le(out, static_cast<std::uint32_t>(text.size()));
+    out += text;
+    out += arrays.bytes;
+    return out;
+}
+
+DecodedAnswer decode_binary_answer(const std::string& in) {
+    if (in.size() < 12 || in.compare(0, 4, kMagic, 4) != 0) malformed("no MHXB magic");
+    if (get_u32_le(in, 4) != kBinaryAnswerVersion) malformed("unknown version " + std::to_string(get_u32_le(in, 4)));
+    const std::size_t h = get_u32_le(in, 8);
+    if (h % 4 != 0 || 12 + h > in.size()) malformed("header size " + std::to_string(h));
+    DecodedAnswer d;
+    d.header = nlohmann::json::parse(in.substr(12, h), nullptr, false);
+    if (!d.header.is_object() || !d.header.contains("arrays") || !d.header["arrays"].is_array())
+        malformed("header is not an object with \"arrays\"");
+    std::size_t at = 12 + h;
+    for (const nlohmann::json& a : d.header["arrays"]) {
+        if (!a.is_object() || !a.contains("name") || !a.contains("type") || !a.contains("count") ||
+            !a["count"].is_number_unsigned())
+            malformed("array entry " + a.dump());
+        const std::size_t n = a["count"].get<std::size_t>();
+        if (n > (in.size() - at) / 4) malformed("array " + a.dump() + " runs past the end");
+        d.names.push_back(a["name"].get<std::string>());
+        d.f32.emplace_back();
+        d.u32.emplace_back();
+        if (a["type"] == "f32") {
+            d.f32.back().reserve(n);
+            for (std::size_t i = 0; i < n; ++i, at += 4)
+                d.f32.back().push_back(static_cast<double>(std::bit_cast<float>(get_u32_le(in, at))));
+        } else if (a["type"] == "u32") {
+            d.u32.back().reserve(n);
+            for (std::size_t i = 0; i < n; ++i, at += 4) d.u32.back().push_back(get_u32_le(in, at));
+        } else {
+            malformed("array type " + a["type"].dump());
+        }
+    }
+    if (at != in.size()) malformed(std::to_string(in.size() - at) + " bytes after the last array");
+    return d;
+}
+
+namespace {
+std::size_t index_of(const DecodedAnswer& d, const std::string& name) {
+    for (std::size_t i = 0; i < d.names.size(); ++i)
+        if (d.names[i] == name) return i;
+    throw std::invalid_argument("binary answer: no array \"" + name + "\"");
+}
+}  // namespace
+
+const std::vector<double>& DecodedAnswer::reals(const std::string& name) const { return f32[index_of(*this, name)]; }
+const std::vector<std::uint32_t>& DecodedAnswer::ints(const std::string& name) const {
+    return u32[index_of(*this, name)];
+}
+bool DecodedAnswer::has(const std::string& name) const {
+    for (const std::string& n : names)
+        if (n == name) return true;
+    return false;
+}
+
+}  // namespace mesohex::studio

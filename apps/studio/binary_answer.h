@@ -1,0 +1,70 @@
+#pragma once
+// The binary form of an answer (docs/studio.md, "Binary answers"): a JSON header and typed little-endian arrays, so
+// that the page gets a 10 k-hex mesh without printing and parsing megabytes of decimal text.
+//
+//   bytes 0-3    "MHXB"
+//   bytes 4-7    uint32 version (1)
+//   bytes 8-11   uint32 H: bytes of the header
+//   12 .. 12+H   the header, JSON text (UTF-8), padded with spaces so that H is a multiple of 4
+//   then         the arrays listed in header["arrays"] = [{"name", "type": "f32" | "u32", "count"}, ...], in that
+//                order, each count x 4 bytes, little-endian (so every array starts 4-byte aligned)
+//
+// Integers are uint32 (indices and valences are >= 0); reals are IEEE float32 (rounded to nearest).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "mesohex/core/vec.h"
+
+namespace mesohex::studio {
+
+inline constexpr std::uint32_t kBinaryAnswerVersion = 1;
+
+// The arrays of an answer, appended in order: names, types and counts, and the bytes already encoded.
+struct BinaryArrays {
+    nlohmann::json list = nlohmann::json::array();  // [{"name", "type", "count"}, ...]
+    std::string bytes;                              // the encoded arrays, one after the other
+};
+
+void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector<double>& values);
+void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector<Vec3>& points);  // x,y,z,...
+// Every int of every cell (cells: std::array<int, N> or std::vector<int>), flat. Precondition: all >= 0.
+template <typename Cells>
+void append_u32_cells(BinaryArrays& arrays, const std::string& name, const Cells& cells);
+
+// The whole answer: header (an object; "arrays" is set from `arrays`) then the arrays.
+std::string binary_answer(nlohmann::json header, const BinaryArrays& arrays);
+// The same with the header given as the text of a JSON object without "arrays" (`{...}`, e.g. written by hand so that
+// large members are serialized once); "arrays" is appended as its last member.
+std::string binary_answer_text(std::string header_object, const BinaryArrays& arrays);
+
+// Reading it back (tests, scripts): the header and every array as doubles (f32) or uint32 (u32), by name.
+// Throws std::invalid_argument on a malformed answer (bad magic or version, sizes that do not add up).
+struct DecodedAnswer {
+    nlohmann::json header;
+    std::vector<std::string> names;                          // in order
+    std::vector<std::vector<double>> f32;                    // per array (empty for u32 arrays)
+    std::vector<std::vector<std::uint32_t>> u32;             // per array (empty for f32 arrays)
+    const std::vector<double>& reals(const std::string& name) const;
+    const std::vector<std::uint32_t>& ints(const std::string& name) const;
+    bool has(const std::string& name) const;
+};
+DecodedAnswer decode_binary_answer(const std::string& bytes);
+
+// ------------------------------------------------------------------------------------------- implementation
+
+void put_u32_le(std::string& out, std::uint32_t x);
+
+template <typename Cells>
+void append_u32_cells(BinaryArrays& arrays, const std::string& name, const Cells& cells) {
+    std::size_t count = 0;
+    for (const auto& cell : cells) count += cell.size();
+    arrays.bytes.reserve(arrays.bytes.size() + 4 * count);
+    for (const auto& cell : cells)
+        for (const int v : cell) put_u32_le(arrays.bytes, static_cast<std::uint32_t>(v));
+    arrays.list.push_back({{"name", name}, {"type", "u32"}, {"count", count}});
+}
+
+}  // namespace mesohex::studio
