@@ -1058,6 +1058,7 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
             if (cs.quad_rotation[q] < 0) fail("degenerate leaflet quad");
         }
     }
+    apply_compatible_blocks(skeleton, an, options.blocks, cs);
     return cs;
 }
 

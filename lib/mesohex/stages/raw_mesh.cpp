@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mesohex/core/error.h"
+#include "mesohex/stages/compatible_blocks.h"
 
 namespace mesohex {
 
@@ -29,6 +30,9 @@ int expected_gaps(const SkeletonAnalysis& an, int v) {
     return 0;
 }
 
+// The compatible block at v (compatible_blocks.h), or -1.
+int block_at(const ConnectionSurfaces& cs, int v) { return cs.vertex_block.empty() ? -1 : cs.vertex_block[v]; }
+
 }  // namespace
 
 RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs) {
@@ -37,11 +41,12 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     for (int v = 0; v < nv; ++v) {
         const int np = cs.point_begin[v + 1] - cs.point_begin[v];
         const int ned = cs.edge_begin[v + 1] - cs.edge_begin[v];
-        if (np > 0 && !roots_branch(an, v)) p.vertices += 1 + np + ned;
+        if (np > 0 && !roots_branch(an, v)) p.vertices += block_at(cs, v) >= 0 ? kBlockVertices : 1 + np + ned;
         if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
         if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
         if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
-        if (an.vertex_class[v] != VertexClass::BranchingPoint || an.vertex_boundary_edges[v] > 0) continue;
+        if (an.vertex_class[v] != VertexClass::BranchingPoint || an.vertex_boundary_edges[v] > 0 || block_at(cs, v) >= 0)
+            continue;
         for (int x = cs.point_begin[v]; x < cs.point_begin[v + 1]; ++x)
             if (cs.point_valence[x] != 2) ++p.interior_irregular_edges[2 * cs.point_valence[x]];
     }
@@ -151,8 +156,12 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
         if (x[0] != 2) --p.boundary_irregular_edges[x[0]];
         if (x[0] + x[1] != 2) ++p.boundary_irregular_edges[x[0] + x[1]];
     }
+    // Compatible blocks: 27 vertices and 8 hexes each, no interior irregular edge; boundary valence 1 / 3 at the cube
+    // edges between two free / two docked faces.
+    for (const CubeBlock& b : cs.blocks) add_block_irregular_edges(b, p.boundary_irregular_edges);
     std::erase_if(p.boundary_irregular_edges, [](const auto& kv) { return kv.second == 0; });
-    p.hexes = an.predicted_hexes;
+    p.compatible_blocks = static_cast<long>(cs.blocks.size());
+    p.hexes = an.predicted_hexes + kBlockHexes * p.compatible_blocks;
     return p;
 }
 
@@ -180,7 +189,9 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
         const VertexClass c = an.vertex_class[v];
         if (has_surface(c)) {
             raw.vertex_base[v] = n_points;
-            n_points += 1 + (cs.point_begin[v + 1] - cs.point_begin[v]) + (cs.edge_begin[v + 1] - cs.edge_begin[v]);
+            n_points += block_at(cs, v) >= 0 ? kBlockVertices
+                                             : 1 + (cs.point_begin[v + 1] - cs.point_begin[v]) +
+                                                   (cs.edge_begin[v + 1] - cs.edge_begin[v]);
         } else if (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) {
             raw.vertex_base[v] = n_points;
             n_points += c == VertexClass::LeafletInterior ? 3 : 6;
@@ -323,11 +334,22 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             boundary_slot[e] = n_hex;
             n_hex += 2;
         }
-    MESOHEX_CHECK(n_hex == an.predicted_hexes, "hex slots differ from the analysis prediction");
+    const int block_slot0 = n_hex;  // 8 per compatible block, in block order
+    const int n_blocks = static_cast<int>(cs.blocks.size());
+    n_hex += kBlockHexes * n_blocks;
+    MESOHEX_CHECK(n_hex == an.predicted_hexes + kBlockHexes * n_blocks, "hex slots differ from the prediction");
 
     raw.mesh.points.resize(n_points);
     raw.mesh.hexes.resize(n_hex);
     raw.hex_edge.resize(n_hex);
+    // Compatible blocks: the 8 hexes of the 2 x 2 x 2 cube on the block vertex's 27 ids (no skeleton edge).
+    const std::array<std::array<int, 8>, 8> cube = block_hexes();
+    for (int b = 0; b < n_blocks; ++b)
+        for (int i = 0; i < kBlockHexes; ++i) {
+            const int h = block_slot0 + kBlockHexes * b + i, base = raw.vertex_base[cs.blocks[b].vertex];
+            for (int k = 0; k < 8; ++k) raw.mesh.hexes[h][k] = base + cube[i][k];
+            raw.hex_edge[h] = -1;
+        }
 
     // Leaflet blocks (reference-notes §8.2-8.3, VTK order). Ids at a leaflet vertex: base = centre, +1 up, +2 down,
     // +3 out, +4 out-up, +5 out-down; "up" is the side of the leaflet's oriented face normals.
@@ -469,11 +491,26 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             const std::array<int, 4>& eu = cs.quad_edges[qu];
             const std::array<int, 4>& av = cs.quads[qv];
             const std::array<int, 4>& ev = cs.quad_edges[qv];
-            // Ids of the centre, of surface point x and of surface edge j at an end (its own surface vertices, or
-            // the plate vertices of a rooted branch's patch).
-            auto centre = [&](int w, int b) { return rooted[w] ? rooted_ids[w][0] : b; };
-            auto point = [&](int w, int b, int x) { return rooted[w] ? rooted_ids[w][1 + x] : b + 1 + x; };
-            auto edge = [&](int w, int m, int j) { return rooted[w] ? rooted_ids[w][5 + j] : m + j; };
+            // Ids of the centre, of surface point x and of surface edge j at an end (its own surface vertices, the
+            // plate vertices of a rooted branch's patch, or the cube face of a compatible block: quad i's points and
+            // edges are 4i..4i+3, Q_k and M_k of its block_section).
+            const int blu = block_at(cs, u), blv = block_at(cs, v);
+            std::array<int, 9> su{}, sv{};
+            if (blu >= 0) su = block_section(cs.blocks[blu].labels[qu - cs.quad_begin[u]]);
+            if (blv >= 0) sv = block_section(cs.blocks[blv].labels[qv - cs.quad_begin[v]]);
+            auto section = [&](int w) -> const std::array<int, 9>* {
+                return w == u ? (blu >= 0 ? &su : nullptr) : (blv >= 0 ? &sv : nullptr);
+            };
+            auto centre = [&](int w, int b) {
+                return rooted[w] ? rooted_ids[w][0] : section(w) ? b + (*section(w))[0] : b;
+            };
+            auto point = [&](int w, int b, int x) {
+                return rooted[w] ? rooted_ids[w][1 + x] : section(w) ? b + (*section(w))[1 + (x & 3)] : b + 1 + x;
+            };
+            auto edge = [&](int w, int m, int j) {
+                const int b = raw.vertex_base[w];
+                return rooted[w] ? rooted_ids[w][5 + j] : section(w) ? b + (*section(w))[5 + (j & 3)] : m + j;
+            };
             for (int k = 0; k < 4; ++k) {
                 // a_k = au[(ru + k) & 3]; matched far vertex a'_k = b_{(2 - k) & 3} = av[(rv + 2 - k) & 3].
                 const int a0 = au[(ru + k) & 3], a1 = au[(ru + k + 1) & 3], ea = eu[(ru + k) & 3];
@@ -596,6 +633,17 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                     raw.mesh.points[base + 4] = out + m;
                     raw.mesh.points[base + 5] = out - m;
                 }
+                continue;
+            }
+            if (block_at(cs, v) >= 0) {
+                // Compatible block: K(i, j, k) = c + h (i F_x + j F_y + k F_z), h = min(r, half the shortest edge).
+                double h = r;
+                for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+                    const std::array<int, 2>& ed = skeleton.edges[an.vertex_edges[i]];
+                    h = std::min(h, 0.5 * distance(skeleton.points[ed[0]], skeleton.points[ed[1]]));
+                }
+                const CubeBlock& blk = cs.blocks[block_at(cs, v)];
+                for (int x = 0; x < kBlockVertices; ++x) raw.mesh.points[base + x] = block_point(blk, c, h, x);
                 continue;
             }
             const int p0 = cs.point_begin[v], np = cs.point_begin[v + 1] - p0;
