@@ -197,12 +197,11 @@ void add_block_irregular_edges(const CubeBlock& block, std::map<int, long>& boun
             }
 }
 
-void apply_compatible_blocks(const Skeleton& skeleton, const SkeletonAnalysis& an,
-                             const CompatibleBlockOptions& options, ConnectionSurfaces& cs) {
+std::vector<CubeBlock> find_compatible_blocks(const Skeleton& skeleton, const SkeletonAnalysis& an,
+                                              const CompatibleBlockOptions& options) {
+    std::vector<CubeBlock> blocks;
+    if (!options.enabled) return blocks;
     const int nv = static_cast<int>(an.vertex_class.size());
-    cs.blocks.clear();
-    cs.vertex_block.assign(nv, -1);
-    if (!options.enabled) return;
     std::vector<int> inc;
     std::vector<Vec3> dirs;
     for (int v = 0; v < nv; ++v) {
@@ -218,7 +217,6 @@ void apply_compatible_blocks(const Skeleton& skeleton, const SkeletonAnalysis& a
         }
         const int n = static_cast<int>(inc.size());
         if (!only_branches || n < options.min_branches || n > options.max_branches) continue;
-        if (cs.quad_begin[v + 1] - cs.quad_begin[v] != n) continue;  // not a plain partition (cannot happen)
         dirs.resize(n);
         for (int i = 0; i < n; ++i) {
             const int e = inc[i];
@@ -226,85 +224,34 @@ void apply_compatible_blocks(const Skeleton& skeleton, const SkeletonAnalysis& a
             dirs[i] = skeleton.points[w] - skeleton.points[v];
         }
         const CubeFit fit = fit_cube_frame(dirs, options);
-        if (!fit.accepted) continue;
-        cs.vertex_block[v] = static_cast<int>(cs.blocks.size());
-        cs.blocks.push_back({v, fit.axes, fit.labels});
+        if (fit.accepted) blocks.push_back({v, fit.axes, fit.labels});
     }
-    if (cs.blocks.empty()) return;
+    return blocks;
+}
 
-    // Rebuild the CSR arrays: a block vertex gets 4n points, n quads, 4n edges; every other vertex keeps its range.
-    ConnectionSurfaces out;
-    out.point_begin.assign(nv + 1, 0);
-    out.quad_begin.assign(nv + 1, 0);
-    out.edge_begin.assign(nv + 1, 0);
-    for (int v = 0; v < nv; ++v) {
-        const int b = cs.vertex_block[v];
-        const int nq = b >= 0 ? static_cast<int>(cs.blocks[b].labels.size()) : cs.quad_begin[v + 1] - cs.quad_begin[v];
-        const int np = b >= 0 ? 4 * nq : cs.point_begin[v + 1] - cs.point_begin[v];
-        const int ned = b >= 0 ? 4 * nq : cs.edge_begin[v + 1] - cs.edge_begin[v];
-        out.point_begin[v + 1] = out.point_begin[v] + np;
-        out.quad_begin[v + 1] = out.quad_begin[v] + nq;
-        out.edge_begin[v + 1] = out.edge_begin[v] + ned;
-    }
-    out.directions.resize(out.point_begin[nv]);
-    out.point_valence.resize(out.point_begin[nv]);
-    out.quads.resize(out.quad_begin[nv]);
-    out.quad_edges.resize(out.quad_begin[nv]);
-    out.quad_rotation.assign(out.quad_begin[nv], -1);
-    out.edges.resize(out.edge_begin[nv]);
-    out.face_corner_quad = cs.face_corner_quad;  // local indices: unchanged
-    out.edge_quad = cs.edge_quad;
-    out.blocks = cs.blocks;
-    out.vertex_block = cs.vertex_block;
-    for (int v = 0; v < nv; ++v) {
-        const int b = cs.vertex_block[v];
-        const int p0 = out.point_begin[v], q0 = out.quad_begin[v], e0 = out.edge_begin[v];
-        if (b < 0) {
-            const int op = cs.point_begin[v], oq = cs.quad_begin[v], oe = cs.edge_begin[v];
-            std::copy(cs.directions.begin() + op, cs.directions.begin() + cs.point_begin[v + 1],
-                      out.directions.begin() + p0);
-            std::copy(cs.point_valence.begin() + op, cs.point_valence.begin() + cs.point_begin[v + 1],
-                      out.point_valence.begin() + p0);
-            std::copy(cs.quads.begin() + oq, cs.quads.begin() + cs.quad_begin[v + 1], out.quads.begin() + q0);
-            std::copy(cs.quad_edges.begin() + oq, cs.quad_edges.begin() + cs.quad_begin[v + 1],
-                      out.quad_edges.begin() + q0);
-            std::copy(cs.quad_rotation.begin() + oq, cs.quad_rotation.begin() + cs.quad_begin[v + 1],
-                      out.quad_rotation.begin() + q0);
-            std::copy(cs.edges.begin() + oe, cs.edges.begin() + cs.edge_begin[v + 1], out.edges.begin() + e0);
-            continue;
-        }
-        const CubeBlock& blk = cs.blocks[b];
-        for (int i = 0; i < static_cast<int>(blk.labels.size()); ++i) {
-            const std::array<int, 9> sec = block_section(blk.labels[i]);
-            for (int k = 0; k < 4; ++k) {
-                const Vec3 p = block_point(blk, Vec3{}, 1.0, sec[1 + k]);
-                out.directions[p0 + 4 * i + k] = normalized(p);
-                out.point_valence[p0 + 4 * i + k] = 1;
-                out.edges[e0 + 4 * i + k] = {4 * i + k, 4 * i + ((k + 1) & 3)};
-                out.quads[q0 + i][k] = 4 * i + k;
-                out.quad_edges[q0 + i][k] = 4 * i + k;
-            }
+void set_block_surface(const Skeleton& skeleton, const SkeletonAnalysis& an, const CubeBlock& block,
+                       ConnectionSurfaces& cs) {
+    const int v = block.vertex, n = static_cast<int>(block.labels.size());
+    const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+    MESOHEX_CHECK(cs.point_begin[v + 1] - p0 == 4 * n && cs.quad_begin[v + 1] - q0 == n &&
+                      cs.edge_begin[v + 1] - e0 == 4 * n,
+                  "block surface ranges");
+    for (int i = 0; i < n; ++i) {
+        const std::array<int, 9> sec = block_section(block.labels[i]);
+        for (int k = 0; k < 4; ++k) {
+            cs.directions[p0 + 4 * i + k] = normalized(block_point(block, Vec3{}, 1.0, sec[1 + k]));
+            cs.point_valence[p0 + 4 * i + k] = 1;
+            cs.edges[e0 + 4 * i + k] = {4 * i + k, 4 * i + ((k + 1) & 3)};
+            cs.quads[q0 + i][k] = 4 * i + k;
+            cs.quad_edges[q0 + i][k] = 4 * i + k;
         }
     }
-    // Global quad indices of the edge registrations: block vertices register quad i on their i-th branch edge.
-    for (int e = 0; e < static_cast<int>(skeleton.edges.size()); ++e)
-        for (int side = 0; side < 2; ++side) {
-            const int v = skeleton.edges[e][side];
-            const int b = cs.vertex_block[v];
-            if (b < 0) {
-                if (cs.edge_quad[e][side] >= 0)
-                    out.edge_quad[e][side] = cs.edge_quad[e][side] - cs.quad_begin[v] + out.quad_begin[v];
-                continue;
-            }
-            int i = 0;
-            for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1]; ++j) {
-                const int x = an.vertex_edges[j];
-                if (x == e) break;
-                if (an.edge_degree[x] == 0) ++i;
-            }
-            out.edge_quad[e][side] = out.quad_begin[v] + i;
-        }
-    cs = std::move(out);
+    int i = 0;
+    for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1]; ++j) {
+        const int e = an.vertex_edges[j];
+        if (an.edge_degree[e] != 0) continue;
+        cs.edge_quad[e][skeleton.edges[e][0] == v ? 0 : 1] = q0 + i++;
+    }
 }
 
 }  // namespace mesohex

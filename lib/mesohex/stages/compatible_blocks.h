@@ -87,12 +87,17 @@ Vec3 block_point(const CubeBlock& block, const Vec3& c, double h, int x);
 // block hexes + 2 chunk hexes) and of a free face (2 block hexes, on the boundary).
 void add_block_irregular_edges(const CubeBlock& block, std::map<int, long>& boundary_irregular_edges);
 
-// Replaces the connection surface of every accepted branching point (only branch edges, min_branches..max_branches
-// of them, fit_cube_frame accepted) with n disjoint squares, one per branch edge (local quad i = points 4i..4i+3 =
-// the directions from the vertex to Q0..Q3 of block_section(label_i), edges 4i..4i+3 between Q_k and Q_k+1, every
-// point of valence 1), fills cs.blocks (in vertex order) and cs.vertex_block, and remaps the other vertices' global
-// quad indices. Nothing changes when options.enabled is false (cs.vertex_block all -1). Deterministic. O(size of cs).
-void apply_compatible_blocks(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
-                             const CompatibleBlockOptions& options, ConnectionSurfaces& cs);
+// The blocks of a skeleton, in vertex order: one per branching point with only branch edges, min_branches to
+// max_branches of them, whose directions (to the edges' other ends) fit_cube_frame accepts; labels per branch edge in
+// increasing edge id. None when options.enabled is false. Deterministic. O(V + E).
+std::vector<CubeBlock> find_compatible_blocks(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
+                                              const CompatibleBlockOptions& options);
+
+// The connection surface of a block vertex (build_connection_surfaces): n disjoint squares, local quad i on its i-th
+// branch edge = points 4i..4i+3, the unit directions from the vertex to Q0..Q3 of block_section(label_i), edges
+// 4i..4i+3 between Q_k and Q_k+1, every point of valence 1. Writes the vertex's CSR ranges (sized 4n, n, 4n) and the
+// edge_quad slots of its branch edges.
+void set_block_surface(const Skeleton& skeleton, const SkeletonAnalysis& analysis, const CubeBlock& block,
+                       ConnectionSurfaces& cs);
 
 }  // namespace mesohex

@@ -569,10 +569,16 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
     cs.point_begin.assign(nv + 1, 0);
     cs.quad_begin.assign(nv + 1, 0);
     cs.edge_begin.assign(nv + 1, 0);
+    // Compatible blocks (compatible_blocks.h) replace the partition of their branching point by one square per branch.
+    cs.blocks = find_compatible_blocks(skeleton, an, options.blocks);
+    cs.vertex_block.assign(nv, -1);
+    for (int b = 0; b < static_cast<int>(cs.blocks.size()); ++b) cs.vertex_block[cs.blocks[b].vertex] = b;
     for (int v = 0; v < nv; ++v) {
-        const SurfaceSize sz = roots_branch(an, v) ? SurfaceSize{4, 1, 4}
-                                      : surface_size(an.vertex_class[v],
-                                                     an.vertex_branch_edges[v] + an.vertex_boundary_edges[v] / 2);
+        const int nbr = an.vertex_branch_edges[v];
+        const SurfaceSize sz = roots_branch(an, v)         ? SurfaceSize{4, 1, 4}
+                               : cs.vertex_block[v] >= 0 ? SurfaceSize{4 * nbr, nbr, 4 * nbr}
+                                                         : surface_size(an.vertex_class[v],
+                                                                        nbr + an.vertex_boundary_edges[v] / 2);
         cs.point_begin[v + 1] = cs.point_begin[v] + sz.points;
         cs.quad_begin[v + 1] = cs.quad_begin[v] + sz.quads;
         cs.edge_begin[v + 1] = cs.edge_begin[v] + sz.edges;
@@ -832,6 +838,10 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
                 }
                 continue;
             }
+            if (cs.vertex_block[v] >= 0) {
+                set_block_surface(skeleton, an, cs.blocks[cs.vertex_block[v]], cs);
+                continue;
+            }
             inc.clear();
             for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
                 if (an.edge_degree[an.vertex_edges[i]] == 0) inc.push_back(an.vertex_edges[i]);
@@ -1058,7 +1068,6 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
             if (cs.quad_rotation[q] < 0) fail("degenerate leaflet quad");
         }
     }
-    apply_compatible_blocks(skeleton, an, options.blocks, cs);
     return cs;
 }
 

@@ -51,8 +51,8 @@ struct ConnectionSurfaceOptions {
     // hexes (half-chunk and plate corners at the junction, scaled-Jacobian-like values, and 0.5 sin(margin) of each
     // branch direction) when the smallest model value is below this (with relax_partitions).
     double relax_junctions_below = 0.5;
-    // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals (applied
-    // last, see apply_compatible_blocks); blocks.enabled = false keeps the paper's layout (`--no-blocks`).
+    // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
+    // (find_compatible_blocks); blocks.enabled = false keeps the paper's layout (`--no-blocks`).
     CompatibleBlockOptions blocks;
 };
 
@@ -76,7 +76,7 @@ struct ConnectionSurfaceOptions {
 // joints 4 / 2 / 4 (quad A = (0,1,2,3) on the vertex's first incident edge, quad B = (2,1,0,3) on the second), a
 // branching point of degree n has n + 2 points, n quads (quad i on its i-th incident edge in increasing edge id) and
 // 2n edges, except at an accepted compatible block (options.blocks; 4n points, n squares, 4n edges, see
-// apply_compatible_blocks). Throws Error(NumericalFailure) naming the vertex if no sphere partition can be built.
+// set_block_surface). Throws Error(NumericalFailure) naming the vertex if no sphere partition can be built.
 // Parallel over vertices (oneTBB), deterministic. Complexity: linear in the skeleton plus the partitions.
 ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                                              const ConnectionSurfaceOptions& options = {});
@@ -87,8 +87,8 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
 // did not change since `previous` was built with the same options: its position, its neighbours' positions and
 // radii, and the leaflet faces within three edges of it (incremental.cpp marks every vertex within three edges of a
 // moved one). When `previous` is null, recompute.size() != V, or the CSR layout differs (other topology or vertex
-// classes; also whenever `previous` has a compatible block, whose squares replace a partition), everything is
-// recomputed. LL-joint pillows (cheap, serial) are always recomputed. Blocks are always re-decided.
+// classes, or other compatible blocks), everything is recomputed. LL-joint pillows (cheap, serial) are always
+// recomputed; blocks are always re-decided (cheap), a block vertex's squares copied when it is not recomputed.
 ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                                                const ConnectionSurfaces* previous, const std::vector<char>& recompute,
                                                const ConnectionSurfaceOptions& options = {});
