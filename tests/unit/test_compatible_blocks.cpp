@@ -324,23 +324,34 @@ TEST(CompatibleBlocks, YAndTetrahedralStarsKeepThePaperLayout) {
     }
 }
 
-TEST(CompatibleBlocks, TwoBlocksJoinedByOneEdge) {
-    // Two 6-stars whose centres are joined by a single edge (both ends of that chunk on block faces).
-    Skeleton s;
-    s.points = {{0, 0, 0}, {2, 0, 0}};
-    s.edges = {{0, 1}};
-    for (int c = 0; c < 2; ++c)
-        for (const Vec3& d : {Y, -Y, Z, -Z, c == 0 ? -X : X}) {
-            s.points.push_back(s.points[c] + 2.0 * d);
-            s.edges.push_back({c, static_cast<int>(s.points.size()) - 1});
+TEST(CompatibleBlocks, TwoBlocksJoinedByABranch) {
+    // Two 6-stars whose centres are joined by a branch of `edges` edges. One edge: each centre's neighbour is a
+    // branching point, no block (the chunk between them would take the whole frame defect). Two edges: two blocks;
+    // the middle joint takes the defect.
+    for (int edges : {1, 2}) {
+        Skeleton s;
+        s.points = {{0, 0, 0}, {2, 0, 0}};
+        if (edges == 1) {
+            s.edges = {{0, 1}};
+        } else {
+            s.points.push_back({1, 0, 0});
+            s.edges = {{0, 2}, {2, 1}};
         }
-    s.radii.assign(s.points.size(), 0.4);
-    const RawRun r = mesh_raw(s, true);
-    EXPECT_EQ(r.predicted.compatible_blocks, 2);
-    EXPECT_EQ(r.quality.hexes, 4 * 11 + 16);
-    EXPECT_EQ(r.quality.vertices, 2 * 27 + 10 * 9);  // 10 extremities
-    EXPECT_TRUE(r.quality.singular_interior_edges.empty());
-    EXPECT_TRUE(r.valid);
-    EXPECT_EQ(r.quality.euler_characteristic, 1);
-    EXPECT_EQ(r.quality.inverted, 0);
+        for (int c = 0; c < 2; ++c)
+            for (const Vec3& d : {Y, -Y, Z, -Z, c == 0 ? -X : X}) {
+                s.points.push_back(s.points[c] + 2.0 * d);
+                s.edges.push_back({c, static_cast<int>(s.points.size()) - 1});
+            }
+        s.radii.assign(s.points.size(), 0.4);
+        const RawRun r = mesh_raw(s, true);
+        const long blocks = edges == 1 ? 0 : 2;
+        EXPECT_EQ(r.predicted.compatible_blocks, blocks);
+        EXPECT_EQ(r.quality.hexes, 4 * (10 + edges) + 8 * blocks);
+        // 10 extremities (9 ids), the middle joint (9), the centres: 27 each with a block, else 1 + 8 + 12.
+        EXPECT_EQ(r.quality.vertices, 10 * 9 + (edges - 1) * 9 + 2 * (blocks ? 27 : 21));
+        EXPECT_EQ(r.quality.singular_interior_edges.empty(), blocks > 0);
+        EXPECT_TRUE(r.valid);
+        EXPECT_EQ(r.quality.euler_characteristic, 1);
+        EXPECT_EQ(r.quality.inverted, 0);
+    }
 }

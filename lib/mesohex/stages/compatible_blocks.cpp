@@ -218,11 +218,15 @@ std::vector<CubeBlock> find_compatible_blocks(const Skeleton& skeleton, const Sk
         const int n = static_cast<int>(inc.size());
         if (!only_branches || n < options.min_branches || n > options.max_branches) continue;
         dirs.resize(n);
+        bool free_ends = true;  // every neighbour a joint or an extremity
         for (int i = 0; i < n; ++i) {
             const int e = inc[i];
             const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
             dirs[i] = skeleton.points[w] - skeleton.points[v];
+            free_ends = free_ends && (an.vertex_class[w] == VertexClass::Joint ||
+                                      an.vertex_class[w] == VertexClass::Extremity);
         }
+        if (!free_ends) continue;
         const CubeFit fit = fit_cube_frame(dirs, options);
         if (fit.accepted) blocks.push_back({v, fit.axes, fit.labels});
     }

@@ -88,8 +88,12 @@ Vec3 block_point(const CubeBlock& block, const Vec3& c, double h, int x);
 void add_block_irregular_edges(const CubeBlock& block, std::map<int, long>& boundary_irregular_edges);
 
 // The blocks of a skeleton, in vertex order: one per branching point with only branch edges, min_branches to
-// max_branches of them, whose directions (to the edges' other ends) fit_cube_frame accepts; labels per branch edge in
-// increasing edge id. None when options.enabled is false. Deterministic. O(V + E).
+// max_branches of them, each leading to a joint or an extremity, whose directions (to the edges' other ends)
+// fit_cube_frame accepts; labels per branch edge in increasing edge id. None when options.enabled is false.
+// Why the neighbours must be joints or extremities: a single edge from a block to another branching point (or any
+// vertex with its own fixed frame) takes the whole angular defect between the two ends (up to 45 degrees) in one
+// chunk that starts on a block face as wide as the tube; such chunks fold (measured: dinopet.skel, 3 inverted hexes).
+// Elsewhere frame propagation gives the chunk on a block face no twist. Deterministic. O(V + E).
 std::vector<CubeBlock> find_compatible_blocks(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                                               const CompatibleBlockOptions& options);
 
