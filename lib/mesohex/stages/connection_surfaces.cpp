@@ -392,7 +392,9 @@ BorderPatch border_patch(const Skeleton& skeleton, const SkeletonAnalysis& an, i
     }
     if (found != 2 || p.kind == BorderRoot::None)
         throw Error(ErrorCode::UnsupportedConfiguration,
-                    "skeleton vertex " + std::to_string(v) + " cannot root a branch on the leaflet border there",
+                    "skeleton vertex " + std::to_string(v) + " cannot root a branch on the leaflet border there; edit: "
+                        "start the branch at a convex corner of the border, or leave the border within 60 degrees "
+                        "of its outward direction",
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     const Vec3& c = skeleton.points[v];
     const Vec3 n = leaflet_normal_sum(an, v);
@@ -429,7 +431,8 @@ LeafletPatch leaflet_patch(const Skeleton& skeleton, const SkeletonAnalysis& an,
     const std::string where = "skeleton vertex " + std::to_string(v);
     if (fc.size() != 4)
         throw Error(ErrorCode::UnsupportedConfiguration,
-                    where + ": a branch rooted inside a leaflet needs 4 faces there, not " + std::to_string(fc.size()),
+                    where + ": a branch rooted inside a leaflet needs 4 faces there, not " + std::to_string(fc.size()) +
+                        "; edit: re-sample the leaflet so that 4 faces meet at the branch's first vertex",
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     // Counter-clockwise about the oriented normal, face f spans from its corner after v to its corner before v.
     std::array<std::array<int, 2>, 4> ccw{};
@@ -447,7 +450,8 @@ LeafletPatch leaflet_patch(const Skeleton& skeleton, const SkeletonAnalysis& an,
         }
         if (!found)
             throw Error(ErrorCode::UnsupportedConfiguration,
-                        where + ": the 4 faces around it do not form one consistently oriented fan",
+                        where + ": the 4 faces around it do not form one consistently oriented fan; edit: check the faces "
+                            "at it for a duplicate, a missing face or a fold",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
     }
     Vec3 normal{};
@@ -554,7 +558,8 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
             c != VertexClass::LLJoint)
             throw Error(ErrorCode::UnsupportedConfiguration,
                         "skeleton vertex " + std::to_string(v) + " is a " + to_string(c) +
-                            ": branching points with leaflets are not meshed yet",
+                            ": branching points with leaflets are not meshed yet; edit: attach the branches to "
+                            "vertices of the leaflets (inside or on the border) instead of to the junction",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
     }
 
@@ -562,7 +567,8 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
         if (!an.leaflets[l].orientable)
             throw Error(ErrorCode::UnsupportedConfiguration,
                         "leaflet " + std::to_string(l) + " (face " + std::to_string(an.leaflets[l].faces.front()) +
-                            ") is not orientable (Moebius-like): not supported",
+                            ") is not orientable (Moebius-like): not supported; edit: cut the leaflet along a "
+                            "row of edges across its twist (two borders instead of one)",
                         ElementRef{ElementRef::Kind::SkeletonFace, an.leaflets[l].faces.front()});
 
     ConnectionSurfaces cs;
@@ -653,7 +659,8 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
                 std::find(side.begin(), side.end(), nl - 1) == side.end())
                 throw Error(ErrorCode::UnsupportedConfiguration,
                             "skeleton vertex " + std::to_string(v) + ": its leaflet faces do not form " +
-                                std::to_string(nl) + " leaflet sides",
+                                std::to_string(nl) + " leaflet sides; edit: check the faces at it for a missing face or a "
+                                "leaflet that touches itself there",
                             ElementRef{ElementRef::Kind::SkeletonVertex, v});
             side_dir[v].assign(nl, Vec3{});
             side_nor[v].assign(nl, Vec3{});
@@ -673,7 +680,8 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
                 }
                 if (!(norm(side_dir[v][s]) > 1e-9))
                     throw Error(ErrorCode::UnsupportedConfiguration,
-                                "skeleton vertex " + std::to_string(v) + ": a leaflet at it has no mean direction",
+                                "skeleton vertex " + std::to_string(v) + ": a leaflet at it has no mean direction (its edges "
+                                    "there cancel out); edit: move the vertex or its leaflet neighbours",
                                 ElementRef{ElementRef::Kind::SkeletonVertex, v});
                 side_dir[v][s] = normalized(side_dir[v][s]);
             }
@@ -904,7 +912,8 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
                 if (!(norm(r) > 1e-12))
                     throw Error(ErrorCode::UnsupportedConfiguration,
                                 "BL-joint at skeleton vertex " + std::to_string(v) +
-                                    ": the leaflet direction is along its normal (degenerate corner)",
+                                    ": the leaflet direction is along its normal (degenerate corner); edit: move the "
+                                    "corner vertex so its two border edges make an angle below 180 degrees",
                                 ElementRef{ElementRef::Kind::SkeletonVertex, v});
                 r = normalized(r);
                 if (options.relax_partitions) {
@@ -1028,7 +1037,10 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
         const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
         const auto fail = [&](const std::string& what) {
             throw Error(ErrorCode::UnsupportedConfiguration, "leaflet junction at skeleton vertex " +
-                                                                 std::to_string(v) + ": " + what,
+                                                                 std::to_string(v) + ": " + what +
+                                                                 "; edit: move the vertex so the two leaflets leave "
+                                                                 "it in different directions, off each other's "
+                                                                 "planes",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
         };
         if (an.vertex_class[v] == VertexClass::LLJoint) {

@@ -290,7 +290,8 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                 throw Error(ErrorCode::UnsupportedConfiguration,
                             "skeleton vertex " + std::to_string(v) + " has " + std::to_string(n_gaps[v]) +
                                 " gaps between its fan leaflets instead of " + std::to_string(expected_gaps(an, v)) +
-                                ": irregular fans are not meshed yet",
+                                ": irregular fans are not meshed yet; edit: let every leaflet around its fan "
+                                "edges go on across it (or end with its own border edge at a fan-edge end)",
                             ElementRef{ElementRef::Kind::SkeletonVertex, v});
     }
     // Up and down vertex id of each face corner.
