@@ -252,3 +252,27 @@ TEST(MeshCli, PaddingOfTheGeneratedBirdInvertsNothing) {
     EXPECT_EQ(rep["stages"][2]["inverted"], 0);
     EXPECT_GE(rep["stages"][2]["sj_min"].get<double>(), 0.25);
 }
+
+// Compatible blocks (docs/blocks.md): `generate cubestar` (3 arms of 2 edges along x, y, z) gets one 8-hex block at its
+// branching point by default, counted in the report's prediction; `--no-blocks` keeps the paper's partition. Without
+// resampling: 4 x 6 = 24 chunk hexes (+ 8); 6 extremity and joint surfaces of 9 ids, the centre 27 ids (block) or
+// 1 + 5 + 6 (partition of 3 quads); no interior irregular edge with the block, two valence-6 rays without.
+TEST(MeshCli, CompatibleBlockAndNoBlocks) {
+    const fs::path skel = temp_dir() / "cubestar.obj";
+    ASSERT_EQ(run_cli("generate cubestar -o " + skel.string()).status, 0);
+    for (const bool blocks : {true, false}) {
+        SCOPED_TRACE(blocks ? "blocks" : "--no-blocks");
+        const fs::path out = temp_dir() / "cubestar.mesh", report = temp_dir() / "cubestar.json";
+        const auto r = run_cli("mesh " + skel.string() + " --no-resample -o " + out.string() + " --report " +
+                               report.string() + (blocks ? "" : " --no-blocks"));
+        ASSERT_EQ(r.status, 0) << r.output;
+        const nlohmann::json rep = read_json(report);
+        EXPECT_EQ(rep["predicted"]["compatible_blocks"], blocks ? 1 : 0);
+        EXPECT_EQ(rep["predicted"]["hexes"], blocks ? 32 : 24);
+        EXPECT_EQ(rep["predicted"]["vertices"], 6 * 9 + (blocks ? 27 : 12));
+        EXPECT_EQ(rep["predicted"]["irregular_edges"]["interior"].size(), blocks ? 0u : 1u);
+        EXPECT_EQ(rep["prediction_matches"], true);
+        EXPECT_EQ(rep["raw_quality"]["inverted"], 0);
+        EXPECT_EQ(r.output.find("compatible blocks") != std::string::npos, blocks);
+    }
+}
