@@ -98,6 +98,7 @@ void expect_rejected_at(const Skeleton& s, int v, const std::string& words) {
         const std::string m = e.what();
         EXPECT_NE(m.find("skeleton vertex " + std::to_string(v) + ":"), std::string::npos) << m;
         EXPECT_NE(m.find(words), std::string::npos) << m;
+        EXPECT_NE(m.find("; edit: "), std::string::npos) << m;  // issue 22 item 5: how to edit the skeleton
     }
 }
 

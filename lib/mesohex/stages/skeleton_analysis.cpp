@@ -366,7 +366,8 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
                 fail(ErrorCode::UnsupportedConfiguration,
                      "skeleton vertex " + std::to_string(v) + ": its branch would stand on leaflet faces that the "
                          "branch rooted at skeleton vertex " + std::to_string(it->second) +
-                         " stands on too (two branches rooted next to each other on the same side); move one of them",
+                         " stands on too (two branches rooted next to each other on the same side); edit: move one "
+                         "of them at least two vertices away, or to the other side",
                      ElementRef::Kind::SkeletonVertex, v);
         };
         for (int v = 0; v < nv; ++v) {
