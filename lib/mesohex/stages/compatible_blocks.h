@@ -28,7 +28,7 @@ struct CompatibleBlockOptions {
     double axis_tolerance_deg = 20;   // degrees: largest angle between a branch direction and its cube axis
     double pair_tolerance_deg = 25;   // degrees: largest error of a pair angle against the angle of its two axes
     int min_branches = 3;             // branching points with fewer or more branch edges keep the partition
-    int max_branches = 6;
+    int max_branches = 6;             // (see min_branches)
 };
 
 // Signed cube axes are numbered 2a + s: a = 0, 1, 2 (x, y, z of the block frame), s = 0 for +, 1 for -.
