@@ -524,8 +524,9 @@ TEST(Adaptation, ZeroLengthEdgeIsContracted) {
 // a = (2,0,0), b = (6, y, 0), d = (0,3.6,0), e = (0,-3.6,0). For y = 0 (collinear) and y = 0.1 (0.95 degrees) the
 // edges (c, a) and (c, b) leave c less than 2 degrees apart: (c, b) becomes (a, b), a becomes a joint of the branch
 // c -> a -> b (length ~6: bisected 6 -> 3 -> 1.5, 4 edges), d and e 2 edges each (3.6 -> 1.8). Raw mesh: 4 hexes per
-// branch edge = 4 x 8 = 32, as predicted, none inverted. Without the repair the collinear case stops in the sphere
-// partition (directions coincide).
+// branch edge = 4 x 8 = 32, plus 8 for the compatible block at c (a T: +x, +y, -y; docs/blocks.md) = 40, as
+// predicted, none inverted. Without the repair the collinear case stops in the sphere partition (directions
+// coincide).
 TEST(Adaptation, CoincidentBranchesMeshThroughSharedTrunk) {
     for (const double y : {0.0, 0.1}) {
         Skeleton s;
@@ -537,8 +538,9 @@ TEST(Adaptation, CoincidentBranchesMeshThroughSharedTrunk) {
         EXPECT_EQ(r.skeleton.edges.size(), 8u) << y;
         EXPECT_EQ(r.vertex_map[1], -1) << y;  // a is a joint now, resampled away
         const mesohex::PipelineResult res = mesohex::run_pipeline(s, {});
-        EXPECT_EQ(res.raw.mesh.hexes.size(), 32u) << y;
-        EXPECT_EQ(res.predicted.hexes, 32) << y;
+        EXPECT_EQ(res.predicted.compatible_blocks, 1) << y;
+        EXPECT_EQ(res.raw.mesh.hexes.size(), 40u) << y;
+        EXPECT_EQ(res.predicted.hexes, 40) << y;
         EXPECT_EQ(mesohex::compute_quality(res.raw.mesh).inverted, 0) << y;
         if (y == 0.0) {
             mesohex::PipelineOptions no_repair;
@@ -562,7 +564,8 @@ TEST(Adaptation, LatticeGraphDegeneraciesMesh) {
     EXPECT_GE(smallest_angle_at_vertices(r.skeleton), AdaptationOptions{}.coincident_angle);
     const mesohex::PipelineResult res = mesohex::run_pipeline(s, {});
     EXPECT_EQ(static_cast<long>(res.raw.mesh.hexes.size()), res.predicted.hexes);
-    EXPECT_EQ(static_cast<long>(res.raw.mesh.hexes.size()), 4 * static_cast<long>(res.skeleton.edges.size()));
+    EXPECT_EQ(static_cast<long>(res.raw.mesh.hexes.size()),
+              4 * static_cast<long>(res.skeleton.edges.size()) + 8 * res.predicted.compatible_blocks);
     mesohex::PipelineOptions no_repair;
     no_repair.adaptation.coincident_angle = 0;
     EXPECT_THROW((void)mesohex::run_pipeline(s, no_repair), mesohex::Error);
