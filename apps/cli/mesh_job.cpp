@@ -88,8 +88,9 @@ void print_summary(const MeshJob& job, const MeshRun& run) {
     std::cout << "\n";
     std::cout << "raw mesh: " << q.vertices << " vertices, " << q.hexes << " hexes, SJ min " << q.sj_min << " avg "
               << q.sj_avg << ", inverted " << q.inverted << ", " << (q.validation.valid() ? "valid" : "INVALID")
-              << ", Euler characteristic " << q.euler_characteristic
-              << (run.prediction_exact ? ", prediction exact" : ", PREDICTION MISMATCH")
+              << ", Euler characteristic " << q.euler_characteristic;
+    if (res.predicted.compatible_blocks > 0) std::cout << ", " << res.predicted.compatible_blocks << " compatible blocks";
+    std::cout << (run.prediction_exact ? ", prediction exact" : ", PREDICTION MISMATCH")
               << (run.finish ? "" : " -> " + job.output) << "\n";
     if (!run.finish) return;
     const FinishResult& fin = *run.finish;
@@ -135,6 +136,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "cross-sections), radial (only the cross-sections of the branches)")
         ->check(CLI::IsMember({"uniform", "longitudinal", "radial"}))
         ->capture_default_str();
+    cmd->add_flag_callback("--no-blocks",
+                           [job] { job->options.pipeline.connection_surfaces.blocks.enabled = false; },
+                           "No 8-hex compatible block at branching points whose branches are near a cube's face "
+                           "normals: the paper's layout (a quad partition of the sphere) everywhere");
     cmd->add_flag_callback("--no-pad", [job] { job->options.finishing.pad = false; }, "Skip the padding layer");
     cmd->add_flag_callback("--no-fit", [job] { job->options.finishing.fit = false; job->options.finishing.untangle = false; }, "Skip the surface fitting (and untangling)");
     cmd->add_flag_callback("--no-untangle", [job] { job->options.finishing.untangle = false; },

@@ -131,6 +131,7 @@ const char* edge_kind(int degree) {
 nlohmann::json predicted_json(const RawMeshPrediction& p) {
     return {{"hexes", p.hexes},
             {"vertices", p.vertices},
+            {"compatible_blocks", p.compatible_blocks},
             {"irregular_edges",
              {{"interior", valence_histogram_json(p.interior_irregular_edges)},
               {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};

@@ -15,6 +15,7 @@ nlohmann::json xyz(const Vec3& p) { return nlohmann::json::array({p.x, p.y, p.z}
 nlohmann::json prediction_json(const RawMeshPrediction& p) {
     return {{"hexes", p.hexes},
             {"vertices", p.vertices},
+            {"compatible_blocks", p.compatible_blocks},
             {"irregular_edges",
              {{"interior", valence_histogram_json(p.interior_irregular_edges)},
               {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};

@@ -524,8 +524,9 @@ TEST(Adaptation, ZeroLengthEdgeIsContracted) {
 // a = (2,0,0), b = (6, y, 0), d = (0,3.6,0), e = (0,-3.6,0). For y = 0 (collinear) and y = 0.1 (0.95 degrees) the
 // edges (c, a) and (c, b) leave c less than 2 degrees apart: (c, b) becomes (a, b), a becomes a joint of the branch
 // c -> a -> b (length ~6: bisected 6 -> 3 -> 1.5, 4 edges), d and e 2 edges each (3.6 -> 1.8). Raw mesh: 4 hexes per
-// branch edge = 4 x 8 = 32, as predicted, none inverted. Without the repair the collinear case stops in the sphere
-// partition (directions coincide).
+// branch edge = 4 x 8 = 32, plus 8 for the compatible block at c (a T: +x, +y, -y; docs/blocks.md) = 40, as
+// predicted, none inverted. Without the repair the collinear case stops in the sphere partition (directions
+// coincide).
 TEST(Adaptation, CoincidentBranchesMeshThroughSharedTrunk) {
     for (const double y : {0.0, 0.1}) {
         Skeleton s;
@@ -541,8 +542,9 @@ TEST(Adaptation, CoincidentBranchesMeshThroughSharedTrunk) {
         mesohex::PipelineOptions adaptation_only;
         adaptation_only.repair.absorb_stubs = false;
         const mesohex::PipelineResult res = mesohex::run_pipeline(s, adaptation_only);
-        EXPECT_EQ(res.raw.mesh.hexes.size(), 32u) << y;
-        EXPECT_EQ(res.predicted.hexes, 32) << y;
+        EXPECT_EQ(res.predicted.compatible_blocks, 1) << y;
+        EXPECT_EQ(res.raw.mesh.hexes.size(), 40u) << y;
+        EXPECT_EQ(res.predicted.hexes, 40) << y;
         EXPECT_EQ(mesohex::compute_quality(res.raw.mesh).inverted, 0) << y;
         const mesohex::PipelineResult absorbed = mesohex::run_pipeline(s, {});
         EXPECT_EQ(absorbed.absorbed_stubs, 1) << y;
@@ -570,7 +572,8 @@ TEST(Adaptation, LatticeGraphDegeneraciesMesh) {
     EXPECT_GE(smallest_angle_at_vertices(r.skeleton), AdaptationOptions{}.coincident_angle);
     const mesohex::PipelineResult res = mesohex::run_pipeline(s, {});
     EXPECT_EQ(static_cast<long>(res.raw.mesh.hexes.size()), res.predicted.hexes);
-    EXPECT_EQ(static_cast<long>(res.raw.mesh.hexes.size()), 4 * static_cast<long>(res.skeleton.edges.size()));
+    EXPECT_EQ(static_cast<long>(res.raw.mesh.hexes.size()),
+              4 * static_cast<long>(res.skeleton.edges.size()) + 8 * res.predicted.compatible_blocks);
     mesohex::PipelineOptions no_repair;
     no_repair.adaptation.coincident_angle = 0;
     no_repair.repair.absorb_stubs = false;  // (4, 5) is a stub of (4, 6): skeleton_repair would absorb it

@@ -106,6 +106,7 @@ struct Expected {
 //  torustwist (n = 24, arms m = 1): n + 4nm = 120 points, n + 8nm = 216 edges, 4nm = 96 faces; arm tips 4n = 96
 //    boundary edges; core: 24 fan edges of degree 4; 2 quarter turns -> 2 leaflets (opposite arms joined).
 //  dualocta (n = 2): 6 + 8 + 12 junctions + 48 half-edges x (n-1) = 74 points, 48n = 96 edges.
+//  cubestar (3 arms of 2 edges), ystar (3 x 2): 1 + 6 points, 6 edges; tetrastar (4 x 2): 1 + 8 points, 8 edges.
 //  turbine (8 quads per blade, 2 blades, shaft 3 + 8 + 1 edges): 13 + 2 x 16 = 45 points, 12 + 2 x (16 + 9) = 62
 //    edges, 16 faces; boundary 2 x 2(8 + 1); each blade closes a loop with the shaft: Euler 1 - 2 = -1.
 //  pan 6x4 (handle 3 edges, arch 6 edges between two plate vertices): 35 + 3 + 5 = 43 points, 6x5 + 7x4 + 3 + 6 = 67
@@ -123,6 +124,9 @@ const std::vector<Expected>& expected() {
         {"twist", 39, 62, 24, 1, 1, 0, 28, 0, 0},
         {"torustwist", 120, 216, 96, 0, 2, 0, 96, 24, 4},
         {"dualocta", 74, 96, 0, -22, 0, 96, 0, 0, 0},
+        {"cubestar", 7, 6, 0, 1, 0, 6, 0, 0, 0},
+        {"ystar", 7, 6, 0, 1, 0, 6, 0, 0, 0},
+        {"tetrastar", 9, 8, 0, 1, 0, 8, 0, 0, 0},
         {"turbine", 45, 62, 16, -1, 2, 12, 36, 0, 0},
         {"pan", 43, 67, 24, 0, 1, 9, 20, 0, 0},
     };
@@ -243,7 +247,7 @@ double min_point_distance(const Skeleton& s) {
 
 }  // namespace
 
-TEST(Generators, NamesAreTheThirteenShapesInOrder) {
+TEST(Generators, NamesAreTheSixteenShapesInOrder) {
     const std::vector<std::string> names = mesohex::generator_names();
     ASSERT_EQ(names.size(), expected().size());
     for (std::size_t k = 0; k < names.size(); ++k) EXPECT_EQ(names[k], expected()[k].name);

@@ -48,7 +48,8 @@ Built build(Skeleton s, double r) {
 void expect_good(const Skeleton& s, const Built& b, long hexes) {
     const QualityReport& q = b.quality;
     EXPECT_TRUE(q.validation.valid()) << (q.validation.problems.empty() ? "" : q.validation.problems[0].message);
-    EXPECT_EQ(static_cast<long>(b.raw.mesh.hexes.size()), hexes);
+    // 8 more per compatible block (docs/blocks.md) than the analysis' count
+    EXPECT_EQ(static_cast<long>(b.raw.mesh.hexes.size()), hexes + 8 * b.prediction.compatible_blocks);
     EXPECT_EQ(b.an.predicted_hexes, hexes);
     EXPECT_EQ(static_cast<long>(b.raw.mesh.points.size()), b.prediction.vertices);
     EXPECT_EQ(q.euler_characteristic, euler_characteristic(s));
@@ -98,6 +99,7 @@ void expect_rejected_at(const Skeleton& s, int v, const std::string& words) {
         const std::string m = e.what();
         EXPECT_NE(m.find("skeleton vertex " + std::to_string(v) + ":"), std::string::npos) << m;
         EXPECT_NE(m.find(words), std::string::npos) << m;
+        EXPECT_NE(m.find("; edit: "), std::string::npos) << m;  // issue 22 item 5: how to edit the skeleton
     }
 }
 

@@ -18,7 +18,8 @@ void expect_exact_valid(const PipelineResult& res, const std::string& name) {
     const QualityReport q = compute_quality(res.raw.mesh);
     EXPECT_TRUE(q.validation.valid());
     EXPECT_EQ(q.euler_characteristic, euler_characteristic(res.skeleton) - res.analysis.counts.isolated);
-    EXPECT_EQ(q.hexes, 4 * static_cast<long>(res.skeleton.edges.size()));
+    // 4 per branch edge, 8 per compatible block (docs/blocks.md; bigbuddy.skel has one when resampled)
+    EXPECT_EQ(q.hexes, 4 * static_cast<long>(res.skeleton.edges.size()) + 8 * res.predicted.compatible_blocks);
     EXPECT_EQ(q.hexes, res.predicted.hexes);
     EXPECT_EQ(q.vertices, res.predicted.vertices);
     EXPECT_EQ(q.singular_interior_edges, res.predicted.interior_irregular_edges);
@@ -36,7 +37,7 @@ TEST(PipelineData, RealCurveSkeletons) {
         raw_sampling.resample = false;
         const PipelineResult input = run_pipeline(s, raw_sampling);
         expect_exact_valid(input, std::string(name) + " --no-resample");
-        EXPECT_EQ(input.raw.mesh.hexes.size(), 4 * s.edges.size());
+        EXPECT_EQ(input.raw.mesh.hexes.size(), 4 * s.edges.size() + 8 * input.predicted.compatible_blocks);
 
         const PipelineResult res = run_pipeline(s);  // resampling on: no inverted hex on the real skeletons
         expect_exact_valid(res, name);

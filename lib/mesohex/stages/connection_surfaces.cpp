@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include <tbb/parallel_for.h>
 
@@ -410,27 +411,35 @@ void check_surface_support(const SkeletonAnalysis& an) {
             c != VertexClass::LLJoint)
             throw Error(ErrorCode::UnsupportedConfiguration,
                         "skeleton vertex " + std::to_string(v) + " is a " + to_string(c) +
-                            ": branching points with leaflets are not meshed yet",
+                            ": branching points with leaflets are not meshed yet; edit: attach the branches to "
+                            "vertices of the leaflets (inside or on the border) instead of to the junction",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
     }
     for (int l = 0; l < static_cast<int>(an.leaflets.size()); ++l)
         if (!an.leaflets[l].orientable)
             throw Error(ErrorCode::UnsupportedConfiguration,
                         "leaflet " + std::to_string(l) + " (face " + std::to_string(an.leaflets[l].faces.front()) +
-                            ") is not orientable (Moebius-like): not supported",
+                            ") is not orientable (Moebius-like): not supported; edit: cut the leaflet along a "
+                            "row of edges across its twist (two borders instead of one)",
                         ElementRef{ElementRef::Kind::SkeletonFace, an.leaflets[l].faces.front()});
 }
 
-// The CSR layout (sizes from surface_size) and every array sized, filled with zeros / -1.
-ConnectionSurfaces allocate_surfaces(const SkeletonAnalysis& an, int nv, int ne) {
+// The CSR layout (sizes from surface_size; a compatible block's vertex: one square per branch edge, see
+// set_block_surface) and every array sized, filled with zeros / -1.
+ConnectionSurfaces allocate_surfaces(const SkeletonAnalysis& an, int nv, int ne, std::vector<CubeBlock> blocks) {
     ConnectionSurfaces cs;
     cs.point_begin.assign(nv + 1, 0);
     cs.quad_begin.assign(nv + 1, 0);
     cs.edge_begin.assign(nv + 1, 0);
+    cs.blocks = std::move(blocks);
+    cs.vertex_block.assign(nv, -1);
+    for (int b = 0; b < static_cast<int>(cs.blocks.size()); ++b) cs.vertex_block[cs.blocks[b].vertex] = b;
     for (int v = 0; v < nv; ++v) {
-        const SurfaceSize sz = roots_branch(an, v) ? SurfaceSize{4, 1, 4}
-                                      : surface_size(an.vertex_class[v],
-                                                     an.vertex_branch_edges[v] + an.vertex_boundary_edges[v] / 2);
+        const int nbr = an.vertex_branch_edges[v];
+        const SurfaceSize sz = roots_branch(an, v)         ? SurfaceSize{4, 1, 4}
+                               : cs.vertex_block[v] >= 0 ? SurfaceSize{4 * nbr, nbr, 4 * nbr}
+                                                         : surface_size(an.vertex_class[v],
+                                                                        nbr + an.vertex_boundary_edges[v] / 2);
         cs.point_begin[v + 1] = cs.point_begin[v] + sz.points;
         cs.quad_begin[v + 1] = cs.quad_begin[v] + sz.quads;
         cs.edge_begin[v + 1] = cs.edge_begin[v] + sz.edges;
@@ -495,7 +504,8 @@ std::vector<int> group_leaflet_sides(const SkeletonAnalysis& an, const std::vect
         std::find(side.begin(), side.end(), nl - 1) == side.end())
         throw Error(ErrorCode::UnsupportedConfiguration,
                     "skeleton vertex " + std::to_string(v) + ": its leaflet faces do not form " + std::to_string(nl) +
-                        " leaflet sides",
+                        " leaflet sides; edit: check the faces at it for a missing face or a leaflet that "
+                        "touches itself there",
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     return side;
 }
@@ -520,7 +530,8 @@ void side_direction_and_normal(const Skeleton& skeleton, const SkeletonAnalysis&
     }
     if (!(norm(dir) > 1e-9))
         throw Error(ErrorCode::UnsupportedConfiguration,
-                    "skeleton vertex " + std::to_string(v) + ": a leaflet at it has no mean direction",
+                    "skeleton vertex " + std::to_string(v) + ": a leaflet at it has no mean direction (its edges "
+                    "there cancel out); edit: move the vertex or its leaflet neighbours",
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     dir = normalized(dir);
 }
@@ -805,7 +816,8 @@ void build_bl_joint_surface(const SurfaceInputs& in, int v, int e, ConnectionSur
     if (!(norm(r) > 1e-12))
         throw Error(ErrorCode::UnsupportedConfiguration,
                     "BL-joint at skeleton vertex " + std::to_string(v) +
-                        ": the leaflet direction is along its normal (degenerate corner)",
+                        ": the leaflet direction is along its normal (degenerate corner); edit: move the corner "
+                        "vertex so that its two border edges make an angle below 180 degrees",
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     r = normalized(r);
     if (in.options.relax_partitions) {
@@ -970,7 +982,9 @@ void build_ll_joint_pillow(const LeafletSides& sides, int v, ConnectionSurfaces&
     const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
     const auto fail = [&](const std::string& what) {
         throw Error(ErrorCode::UnsupportedConfiguration,
-                    "leaflet junction at skeleton vertex " + std::to_string(v) + ": " + what,
+                    "leaflet junction at skeleton vertex " + std::to_string(v) + ": " + what +
+                        "; edit: move the vertex so that the leaflets leave it in different directions, off each "
+                        "other's planes",
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     };
     const std::vector<Vec3>& dir = sides.dir[v];
@@ -1018,7 +1032,8 @@ void finish_leaflet_junctions(const SkeletonAnalysis& an, const LeafletSides& si
                 cs.quad_rotation[q] = leaflet_quad_rotation(qd, sides.dir[v][s], sides.nor[v][s]);
             if (cs.quad_rotation[q] < 0)
                 throw Error(ErrorCode::UnsupportedConfiguration,
-                            "leaflet junction at skeleton vertex " + std::to_string(v) + ": degenerate leaflet quad",
+                            "leaflet junction at skeleton vertex " + std::to_string(v) +
+                                ": degenerate leaflet quad; edit: move the vertex off its leaflets' planes",
                             ElementRef{ElementRef::Kind::SkeletonVertex, v});
         }
     }
@@ -1038,7 +1053,7 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
     const int ne = static_cast<int>(skeleton.edges.size());
     MESOHEX_CHECK(static_cast<int>(an.vertex_class.size()) == nv, "analysis does not match the skeleton");
     check_surface_support(an);
-    ConnectionSurfaces cs = allocate_surfaces(an, nv, ne);
+    ConnectionSurfaces cs = allocate_surfaces(an, nv, ne, find_compatible_blocks(skeleton, an, options.blocks));
     // Reuse needs the same CSR layout (same topology and vertex classes); else everything is recomputed.
     const bool reuse = previous != nullptr && static_cast<int>(recompute.size()) == nv &&
                        previous->point_begin == cs.point_begin && previous->quad_begin == cs.quad_begin &&
@@ -1065,6 +1080,8 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
                 continue;
             if (reuse && !recompute[v])  // copy the vertex's previous surface (its inputs did not change)
                 copy_previous_surface(in, *previous, v, cs);
+            else if (cs.vertex_block[v] >= 0)
+                set_block_surface(skeleton, an, cs.blocks[cs.vertex_block[v]], cs);
             else
                 build_vertex_surface(in, v, dirs, inc, cs);
         }

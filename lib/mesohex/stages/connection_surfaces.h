@@ -12,6 +12,7 @@
 
 #include "mesohex/core/skeleton.h"
 #include "mesohex/core/vec.h"
+#include "mesohex/stages/compatible_blocks.h"
 #include "mesohex/stages/skeleton_analysis.h"
 
 namespace mesohex {
@@ -34,6 +35,10 @@ struct ConnectionSurfaces {
     // the registration rotation k of reference-notes §8.5 (up = q_{k+1}, down = q_{k+3}), -1 for branch quads.
     std::vector<std::array<int, 4>> face_corner_quad;
     std::vector<int> quad_rotation;
+    // Compatible blocks (compatible_blocks.h): per skeleton vertex its block index or -1, and the blocks in vertex
+    // order. A block vertex's surface is one square per branch edge (not a partition of the sphere).
+    std::vector<int> vertex_block;
+    std::vector<CubeBlock> blocks;
 };
 
 struct ConnectionSurfaceOptions {
@@ -46,6 +51,9 @@ struct ConnectionSurfaceOptions {
     // hexes (half-chunk and plate corners at the junction, scaled-Jacobian-like values, and 0.5 sin(margin) of each
     // branch direction) when the smallest model value is below this (with relax_partitions).
     double relax_junctions_below = 0.5;
+    // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
+    // (find_compatible_blocks); blocks.enabled = false keeps the paper's layout (`--no-blocks`).
+    CompatibleBlockOptions blocks;
 };
 
 // Preconditions: `analysis` is analyze_skeleton(skeleton). Leaflet interior and regular boundary vertices need no
@@ -67,7 +75,8 @@ struct ConnectionSurfaceOptions {
 // Postconditions: every branch edge has a quad on both sides; extremity surfaces have 4 points / 1 quad / 4 edges,
 // joints 4 / 2 / 4 (quad A = (0,1,2,3) on the vertex's first incident edge, quad B = (2,1,0,3) on the second), a
 // branching point of degree n has n + 2 points, n quads (quad i on its i-th incident edge in increasing edge id) and
-// 2n edges. Throws Error(NumericalFailure) naming the vertex if no sphere partition can be built.
+// 2n edges, except at an accepted compatible block (options.blocks; 4n points, n squares, 4n edges, see
+// set_block_surface). Throws Error(NumericalFailure) naming the vertex if no sphere partition can be built.
 // Parallel over vertices (oneTBB), deterministic. Complexity: linear in the skeleton plus the partitions.
 ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                                              const ConnectionSurfaceOptions& options = {});
@@ -78,7 +87,8 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
 // did not change since `previous` was built with the same options: its position, its neighbours' positions and
 // radii, and the leaflet faces within three edges of it (incremental.cpp marks every vertex within three edges of a
 // moved one). When `previous` is null, recompute.size() != V, or the CSR layout differs (other topology or vertex
-// classes), everything is recomputed. LL-joint pillows (cheap, serial) are always recomputed.
+// classes, or other compatible blocks), everything is recomputed. LL-joint pillows (cheap, serial) are always
+// recomputed; blocks are always re-decided (cheap), a block vertex's squares copied when it is not recomputed.
 ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                                                const ConnectionSurfaces* previous, const std::vector<char>& recompute,
                                                const ConnectionSurfaceOptions& options = {});

@@ -65,7 +65,7 @@ BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& 
     tbb::parallel_for(tbb::blocked_range<int>(0, nb, 64), [&](const tbb::blocked_range<int>& range) {
         std::vector<int> verts, edges;
         std::vector<Frame> F;
-        std::vector<double> arc;
+        std::vector<double> arc, twist;
         for (int b = range.begin(); b != range.end(); ++b) {
             const Branch& br = an.branches[b];
             verts = br.vertices;
@@ -130,9 +130,19 @@ BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& 
                     std::atan2(dot(cross(arrival.r, g_best.r), arrival.t), dot(arrival.r, g_best.r));
                 out.edge_rotation[edges[m - 1]][side_m] = static_cast<std::uint8_t>(best);
                 out.branch_defect[b] = theta;
-                const double L = arc[m];
+                // Twist budget per edge: its length, except that an edge ending on a compatible block's face takes
+                // none while the branch has other edges (a block face is as wide as the tube and close to the next
+                // joint: a twisted first chunk folds; the partition's first chunks start from the centre and do not).
+                auto on_block = [&](int i) {
+                    return (i == 0 && !br.ring && cs.vertex_block[verts[0]] >= 0) ||
+                           (i == m - 1 && !br.ring && cs.vertex_block[verts[m]] >= 0);
+                };
+                twist.assign(m + 1, 0.0);
+                for (int i = 1; i <= m; ++i) twist[i] = twist[i - 1] + (on_block(i - 1) ? 0.0 : arc[i] - arc[i - 1]);
+                const std::vector<double>& share = twist[m] > 0 ? twist : arc;
+                const double L = share[m];
                 if (L > 0)
-                    for (int i = 1; i < m; ++i) F[i] = rotated(F[i], theta * arc[i] / L);
+                    for (int i = 1; i < m; ++i) F[i] = rotated(F[i], theta * share[i] / L);
                 arrival = rotated(arrival, theta);
             } else {
                 // Free far end: an extremity, placed from the arriving frame.

@@ -2,7 +2,8 @@
 // Paper step 4: geometry propagation. Rotation-minimizing frames (double reflection, Wang et al. 2008) along every
 // branch from its constrained end(s) (branching points, BL-joints, leaflet vertices rooting a branch); at a
 // second constrained end the far quad is relabelled by quarter turns to the closest match and the remaining angular
-// defect (|defect| <= 45 degrees) is distributed over all joints of the branch in proportion to arc length. Branches
+// defect (|defect| <= 45 degrees) is distributed over all joints of the branch in proportion to arc length (an edge
+// ending on a compatible block takes no share while the branch has other edges). Branches
 // without a constrained end (isolated polylines, closed rings) start from a free frame. The frames place the
 // extremity and joint connection surfaces.
 #include <array>

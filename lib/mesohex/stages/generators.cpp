@@ -381,6 +381,28 @@ Skeleton make_torustwist(const Params& p) {
 // every octahedron edge crosses one cube edge at right angles at their common midpoint. Branching points: 6
 // octahedron vertices (4 branches), 8 cube vertices (3 branches), 12 crossings (4 branches); each of the 48
 // half-edges is a branch of n edges. Curve-only.
+// A star: arms of p.m edges of length L from the origin along `dirs` (unit vectors).
+Skeleton make_star(const Params& p, const std::vector<Vec3>& dirs) {
+    Skeleton s;
+    const int c = add_point(s, {0, 0, 0}, p.r);
+    for (const Vec3& d : dirs) {
+        std::vector<Vec3> pts;
+        for (int k = 1; k <= p.m; ++k) pts.push_back((k * p.L) * normalized(d));
+        add_polyline(s, c, pts, std::vector<double>(pts.size(), p.r));
+    }
+    return s;
+}
+
+// Near-orthogonal stars (compatible blocks, compatible_blocks.h): 3 = the corner (x, y, z), 4 = the planar cross
+// (+-x, +-y), 5 = the cross and +z, 6 = +-x, +-y, +-z.
+Skeleton make_cubestar(const Params& p) {
+    if (p.n > 6)
+        throw Error(ErrorCode::InvalidInput, "generate cubestar: n = " + std::to_string(p.n) + " is out of range [3, 6]");
+    const Vec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+    const std::vector<std::vector<Vec3>> stars{{x, y, z}, {x, -x, y, -y}, {x, -x, y, -y, z}, {x, -x, y, -y, z, -z}};
+    return make_star(p, stars[static_cast<std::size_t>(p.n - 3)]);
+}
+
 Skeleton make_dualocta(const Params& p) {
     Skeleton s;
     const double c = 0.6 * p.n * p.L;  // cube half-edges have n edges of 0.6 L; octahedron half-edges 0.85 L
@@ -711,6 +733,17 @@ const std::vector<Shape>& shapes() {
                                         "is an orientable annulus", make_torustwist},
         {"dualocta", {2, 1}, {1, 1}, "curve frame: octahedron + dual cube edges crossing at their midpoints, n "
                                      "edges per half-edge (default 2); m unused", make_dualocta},
+        {"cubestar", {3, 2}, {3, 1}, "branching point whose n branches (3 to 6, default 3) leave along cube face "
+                                     "normals (3: x, y, z; 4: +-x, +-y; 5: and +z; 6: +-x, +-y, +-z), m edges each "
+                                     "(default 2): one compatible block", make_cubestar},
+        {"ystar", {1, 2}, {1, 1}, "planar Y: three branches of m edges (default 2) at 120 degrees (never a compatible "
+                                  "block); n unused",
+         [](const Params& p) {
+             return make_star(p, {{1, 0, 0}, {-0.5, 0.5 * std::sqrt(3.0), 0}, {-0.5, -0.5 * std::sqrt(3.0), 0}});
+         }},
+        {"tetrastar", {1, 2}, {1, 1}, "tetrahedral star: four branches of m edges (default 2) to the corners of a "
+                                      "regular tetrahedron (never a compatible block); n unused",
+         [](const Params& p) { return make_star(p, {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}}); }},
         {"turbine", {8, 2}, {2, 2}, "Darrieus turbine: shaft branch, m blades (2 or 3, default 2) of n quads "
                                     "(default 8) touching the shaft at two branching points by their corners",
          make_turbine},

@@ -26,7 +26,7 @@ struct GeneratorOptions {
 };
 
 // The valid shape names, in a fixed order: plate, box, torus, tfan, xfan, hand, chair, bird, twist, torustwist,
-// dualocta, turbine.
+// dualocta, cubestar, ystar, tetrastar, turbine, pan.
 std::vector<std::string> generator_names();
 
 // One line describing the shape and what n, m (and quarter_turns) mean for it, with their defaults.

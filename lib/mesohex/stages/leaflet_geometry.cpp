@@ -27,7 +27,9 @@ BorderPatch border_patch(const Skeleton& skeleton, const SkeletonAnalysis& an, i
     }
     if (found != 2 || p.kind == BorderRoot::None)
         throw Error(ErrorCode::UnsupportedConfiguration,
-                    "skeleton vertex " + std::to_string(v) + " cannot root a branch on the leaflet border there",
+                    "skeleton vertex " + std::to_string(v) + " cannot root a branch on the leaflet border there; edit: "
+                    "start the branch at a convex corner of the border, or leave the border within 60 degrees of its "
+                    "outward direction",
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     const Vec3& c = skeleton.points[v];
     const Vec3 n = leaflet_normal_sum(an, v);
@@ -64,7 +66,8 @@ LeafletPatch leaflet_patch(const Skeleton& skeleton, const SkeletonAnalysis& an,
     const std::string where = "skeleton vertex " + std::to_string(v);
     if (fc.size() != 4)
         throw Error(ErrorCode::UnsupportedConfiguration,
-                    where + ": a branch rooted inside a leaflet needs 4 faces there, not " + std::to_string(fc.size()),
+                    where + ": a branch rooted inside a leaflet needs 4 faces there, not " + std::to_string(fc.size()) +
+                        "; edit: re-sample the leaflet so that 4 faces meet at the branch's first vertex",
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     // Counter-clockwise about the oriented normal, face f spans from its corner after v to its corner before v.
     std::array<std::array<int, 2>, 4> ccw{};
@@ -82,7 +85,8 @@ LeafletPatch leaflet_patch(const Skeleton& skeleton, const SkeletonAnalysis& an,
         }
         if (!found)
             throw Error(ErrorCode::UnsupportedConfiguration,
-                        where + ": the 4 faces around it do not form one consistently oriented fan",
+                        where + ": the 4 faces around it do not form one consistently oriented fan; edit: check the "
+                            "faces at it for a duplicate, a missing face or a fold",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
     }
     Vec3 normal{};

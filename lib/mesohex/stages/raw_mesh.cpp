@@ -11,6 +11,7 @@
 #include "mesohex/core/union_find.h"
 #include "mesohex/stages/junction_geometry.h"
 #include "mesohex/stages/leaflet_geometry.h"
+#include "mesohex/stages/compatible_blocks.h"
 
 namespace mesohex {
 
@@ -23,6 +24,9 @@ bool has_surface(VertexClass c) {
 
 
 bool is_fan(VertexClass c) { return c == VertexClass::FanEdgeVertex || c == VertexClass::FanEdgeEnd; }
+
+// The compatible block at v (compatible_blocks.h), or -1.
+int block_at(const ConnectionSurfaces& cs, int v) { return cs.vertex_block.empty() ? -1 : cs.vertex_block[v]; }
 
 // Number of gaps expected at a fan-edge vertex: the number of faces around its first fan edge (every leaflet through
 // the fan continues across the vertex; build_raw_mesh checks this against the gaps it finds).
@@ -96,11 +100,12 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     for (int v = 0; v < nv; ++v) {
         const int np = cs.point_begin[v + 1] - cs.point_begin[v];
         const int ned = cs.edge_begin[v + 1] - cs.edge_begin[v];
-        if (np > 0 && !roots_branch(an, v)) p.vertices += 1 + np + ned;
+        if (np > 0 && !roots_branch(an, v)) p.vertices += block_at(cs, v) >= 0 ? kBlockVertices : 1 + np + ned;
         if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
         if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
         if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
-        if (an.vertex_class[v] != VertexClass::BranchingPoint || an.vertex_boundary_edges[v] > 0) continue;
+        if (an.vertex_class[v] != VertexClass::BranchingPoint || an.vertex_boundary_edges[v] > 0 || block_at(cs, v) >= 0)
+            continue;
         for (int x = cs.point_begin[v]; x < cs.point_begin[v + 1]; ++x)
             if (cs.point_valence[x] != 2) ++p.interior_irregular_edges[2 * cs.point_valence[x]];
     }
@@ -159,8 +164,12 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     }
     if (an.counts.boundary_edges > 0) p.boundary_irregular_edges[1] += 2 * an.counts.boundary_edges;
     count_rooted_patch_edges(skeleton, an, p);
+    // Compatible blocks: 27 vertices and 8 hexes each, no interior irregular edge; boundary valence 1 / 3 at the cube
+    // edges between two free / two docked faces.
+    for (const CubeBlock& b : cs.blocks) add_block_irregular_edges(b, p.boundary_irregular_edges);
     std::erase_if(p.boundary_irregular_edges, [](const auto& kv) { return kv.second == 0; });
-    p.hexes = an.predicted_hexes;
+    p.compatible_blocks = static_cast<long>(cs.blocks.size());
+    p.hexes = an.predicted_hexes + kBlockHexes * p.compatible_blocks;
     return p;
 }
 
@@ -193,7 +202,9 @@ int assign_vertex_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, 
         const VertexClass c = an.vertex_class[v];
         if (has_surface(c)) {
             vertex_base[v] = n_points;
-            n_points += 1 + (cs.point_begin[v + 1] - cs.point_begin[v]) + (cs.edge_begin[v + 1] - cs.edge_begin[v]);
+            n_points += block_at(cs, v) >= 0 ? kBlockVertices
+                                             : 1 + (cs.point_begin[v + 1] - cs.point_begin[v]) +
+                                                   (cs.edge_begin[v + 1] - cs.edge_begin[v]);
         } else if (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) {
             vertex_base[v] = n_points;
             n_points += c == VertexClass::LeafletInterior ? 3 : 6;
@@ -302,7 +313,8 @@ FanGaps find_fan_gaps(const Skeleton& skeleton, const SkeletonAnalysis& an) {
             throw Error(ErrorCode::UnsupportedConfiguration,
                         "skeleton vertex " + std::to_string(v) + " has " + std::to_string(n_gaps[v]) +
                             " gaps between its fan leaflets instead of " + std::to_string(expected_gaps(an, v)) +
-                            ": irregular fans are not meshed yet",
+                            ": irregular fans are not meshed yet; edit: let every leaflet around its fan edges "
+                            "go on across it (or end with its own border edge at a fan-edge end)",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
     return gaps;
 }
@@ -344,10 +356,11 @@ struct HexSlots {
     int face_slot0 = 0;                            // first plate hex
     std::vector<int> boundary_slot;                // per edge: first half-chunk hex, or -1
     std::vector<std::array<int, 2>> boundary_side;  // per boundary edge: (face, side index) traversing it
+    int block_slot0 = 0;                           // first compatible-block hex (8 per block, in block order)
     int n_hex = 0;
 };
 
-HexSlots reserve_hex_slots(const SkeletonAnalysis& an, int ne) {
+HexSlots reserve_hex_slots(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, int ne) {
     const int nf = static_cast<int>(an.face_vertices.size());
     HexSlots s;
     s.edge_slot.assign(ne, -1);
@@ -368,8 +381,22 @@ HexSlots reserve_hex_slots(const SkeletonAnalysis& an, int ne) {
             s.boundary_slot[e] = s.n_hex;
             s.n_hex += 2;
         }
-    MESOHEX_CHECK(s.n_hex == an.predicted_hexes, "hex slots differ from the analysis prediction");
+    s.block_slot0 = s.n_hex;
+    const int blocks = static_cast<int>(cs.blocks.size());
+    s.n_hex += kBlockHexes * blocks;
+    MESOHEX_CHECK(s.n_hex == an.predicted_hexes + kBlockHexes * blocks, "hex slots differ from the prediction");
     return s;
+}
+
+// Compatible blocks: the 8 hexes of the 2 x 2 x 2 cube on the block vertex's 27 ids (no skeleton edge).
+void write_block_hexes(const ConnectionSurfaces& cs, const HexSlots& slots, RawMesh& raw) {
+    const std::array<std::array<int, 8>, 8> cube = block_hexes();
+    for (int b = 0; b < static_cast<int>(cs.blocks.size()); ++b)
+        for (int i = 0; i < kBlockHexes; ++i) {
+            const int h = slots.block_slot0 + kBlockHexes * b + i, base = raw.vertex_base[cs.blocks[b].vertex];
+            for (int k = 0; k < 8; ++k) raw.mesh.hexes[h][k] = base + cube[i][k];
+            raw.hex_edge[h] = -1;
+        }
 }
 
 // Leaflet plates (reference-notes §8.2-8.3, VTK order). Ids at a leaflet vertex: base = centre, +1 up, +2 down,
@@ -547,11 +574,26 @@ void write_branch_chunks(const Skeleton& skeleton, const ConnectionSurfaces& cs,
             const std::array<int, 4>& eu = cs.quad_edges[qu];
             const std::array<int, 4>& av = cs.quads[qv];
             const std::array<int, 4>& ev = cs.quad_edges[qv];
-            // Ids of the centre, of surface point x and of surface edge j at an end (its own surface vertices, or
-            // the plate vertices of a rooted branch's patch).
-            auto centre = [&](int w, int b) { return rp.rooted[w] ? rp.ids[w][0] : b; };
-            auto point = [&](int w, int b, int x) { return rp.rooted[w] ? rp.ids[w][1 + x] : b + 1 + x; };
-            auto edge = [&](int w, int m, int j) { return rp.rooted[w] ? rp.ids[w][5 + j] : m + j; };
+            // Ids of the centre, of surface point x and of surface edge j at an end (its own surface vertices, the
+            // plate vertices of a rooted branch's patch, or the cube face of a compatible block: quad i's points and
+            // edges are 4i..4i+3, Q_k and M_k of its block_section).
+            const int blu = block_at(cs, u), blv = block_at(cs, v);
+            std::array<int, 9> su{}, sv{};
+            if (blu >= 0) su = block_section(cs.blocks[blu].labels[qu - cs.quad_begin[u]]);
+            if (blv >= 0) sv = block_section(cs.blocks[blv].labels[qv - cs.quad_begin[v]]);
+            auto section = [&](int w) -> const std::array<int, 9>* {
+                return w == u ? (blu >= 0 ? &su : nullptr) : (blv >= 0 ? &sv : nullptr);
+            };
+            auto centre = [&](int w, int b) {
+                return rp.rooted[w] ? rp.ids[w][0] : section(w) ? b + (*section(w))[0] : b;
+            };
+            auto point = [&](int w, int b, int x) {
+                return rp.rooted[w] ? rp.ids[w][1 + x] : section(w) ? b + (*section(w))[1 + (x & 3)] : b + 1 + x;
+            };
+            auto edge = [&](int w, int m, int j) {
+                const int b = raw.vertex_base[w];
+                return rp.rooted[w] ? rp.ids[w][5 + j] : section(w) ? b + (*section(w))[5 + (j & 3)] : m + j;
+            };
             for (int k = 0; k < 4; ++k) {
                 // a_k = au[(ru + k) & 3]; matched far vertex a'_k = b_{(2 - k) & 3} = av[(rv + 2 - k) & 3].
                 const int a0 = au[(ru + k) & 3], a1 = au[(ru + k + 1) & 3], ea = eu[(ru + k) & 3];
@@ -707,6 +749,17 @@ void place_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const 
                 place_leaflet_vertex(skeleton, an, leaf, options, v, r, raw);
                 continue;
             }
+            if (block_at(cs, v) >= 0) {
+                // Compatible block: K(i, j, k) = c + h (i F_x + j F_y + k F_z), h = min(r, half the shortest edge).
+                double h = r;
+                for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+                    const std::array<int, 2>& ed = skeleton.edges[an.vertex_edges[i]];
+                    h = std::min(h, 0.5 * distance(skeleton.points[ed[0]], skeleton.points[ed[1]]));
+                }
+                const CubeBlock& blk = cs.blocks[block_at(cs, v)];
+                for (int x = 0; x < kBlockVertices; ++x) raw.mesh.points[base + x] = block_point(blk, c, h, x);
+                continue;
+            }
             const int p0 = cs.point_begin[v], np = cs.point_begin[v + 1] - p0;
             raw.mesh.points[base] = c;
             for (int x = 0; x < np; ++x) raw.mesh.points[base + 1 + x] = c + r * frames.directions[p0 + x];
@@ -728,7 +781,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     const int n_points = assign_vertex_ids(an, cs, static_cast<int>(skeleton.points.size()), raw.vertex_base);
     const FanGaps gaps = find_fan_gaps(skeleton, an);
     const FaceSideIds sides = face_side_ids(an, cs, raw.vertex_base, gaps);
-    const HexSlots slots = reserve_hex_slots(an, static_cast<int>(skeleton.edges.size()));
+    const HexSlots slots = reserve_hex_slots(an, cs, static_cast<int>(skeleton.edges.size()));
     raw.mesh.points.resize(n_points);
     raw.mesh.hexes.resize(slots.n_hex);
     raw.hex_edge.resize(slots.n_hex);
@@ -737,6 +790,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     // Rooted branches read their patch from the plates and half-chunks written above.
     const RootedPatches rooted = rooted_patch_ids(skeleton, an, sides, slots, raw);
     write_branch_chunks(skeleton, cs, frames, slots, rooted, raw);
+    write_block_hexes(cs, slots, raw);
     const std::vector<double> radius = effective_radii(skeleton, an, cs, frames, options);
     place_fan_vertices(skeleton, an, gaps, radius, raw);
     place_vertices(skeleton, an, cs, frames, options, radius, raw);

@@ -42,6 +42,8 @@ struct RawMeshPrediction {
     // (to up and down) of valence (faces around it) + 2 at a boundary vertex, when that is not 4. A branch rooted on a
     // leaflet (LeafletPatch, BorderPatch) adds its first chunk's hex to each of its patch's 8 outer edges.
     std::map<int, long> boundary_irregular_edges;
+    // Compatible blocks (ConnectionSurfaces::blocks): 8 hexes and 27 vertices each, included in hexes / vertices.
+    long compatible_blocks = 0;
     friend bool operator==(const RawMeshPrediction&, const RawMeshPrediction&) = default;
 };
 
@@ -74,7 +76,9 @@ struct RawMeshOptions {
 
 // Preconditions: skeleton.radii has one finite radius > 0 per vertex (Error(InvalidInput) naming the vertex
 // otherwise); analysis, surfaces and frames computed from this skeleton.
-// Postconditions: mesh.hexes.size() == analysis.predicted_hexes, mesh.points.size() == predict_raw_mesh().vertices;
+// Postconditions: mesh.hexes.size() == analysis.predicted_hexes + 8 x surfaces.blocks.size() (== predict_raw_mesh().hexes),
+// mesh.points.size() == predict_raw_mesh().vertices; a compatible block's 8 hexes come last (hex_edge -1), its 27
+// vertices K(i, j, k) = c + h (i F_x + j F_y + k F_z), h = min(r_c, half its shortest edge), are the vertex's ids;
 // every hex in VTK order; positions: C_v at the skeleton vertex, Q_v(x) = c + r_v * d_x, M_v(x, y) =
 // c + r_v * unit(d_x + d_y) (on the sphere of local radius r_v, reduced next to branching points, see
 // RawMeshOptions::margin_fraction); leaflet vertex w: up/down = w +- r n (n = unit sum of incident face normals),

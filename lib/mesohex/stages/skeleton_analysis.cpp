@@ -42,7 +42,8 @@ double angle_between_deg(const Vec3& a, const Vec3& b) {
 std::string branch_inside_leaflet(int branch_edges, int faces) {
     return "a leaflet interior vertex carries a branch only where 4 faces of one leaflet meet and one branch leaves "
            "(here " + std::to_string(branch_edges) + " branch edge(s), " + std::to_string(faces) +
-           " faces; the paper's limitation 1 otherwise)";
+           " faces; the paper's limitation 1 otherwise); edit: keep one branch per vertex and re-sample the leaflet so "
+           "that 4 of its faces meet there, or start the branch from a vertex on the leaflet's border";
 }
 
 // Edge between a and b among a's incident edges (smallest id), or -1.
@@ -276,7 +277,10 @@ struct VertexStar {
 VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, int v) {
     if (st.nb > 0)
         fail(ErrorCode::UnsupportedConfiguration,
-             vname + ": a branch edge on a fan-edge vertex is not supported (paper limitation 3)",
+             vname + ": a branch edge on a fan-edge vertex (on an edge shared by 3 or more faces) is not "
+             "supported (paper limitation 3); edit: start the branch from a vertex where 4 faces of one "
+             "of the leaflets meet, or shorten the fan edge chain so the branch leaves from a leaflet "
+             "corner off the fan edge",
              ElementRef::Kind::SkeletonVertex, v);
     // A regular fan: at its end every leaflet around the fan edge leaves by one boundary edge; along it,
     // every leaflet goes on across the vertex (paper limitation 2 otherwise: the fan stops inside a leaflet).
@@ -286,7 +290,10 @@ VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, 
     if (!regular)
         fail(ErrorCode::UnsupportedConfiguration,
              vname + ": an irregular fan (a fan edge ending inside a leaflet, paper limitation 2, or " +
-                 std::to_string(st.nfan) + " fan edges of unequal degrees or not in one chain) is not supported",
+                 std::to_string(st.nfan) + " fan edges of unequal degrees or not in one chain) is not supported; "
+                 "edit: let every leaflet around the fan edge end with its own border edge at the chain's end "
+                 "(cut the leaflet that continues past it along the chain's line), or extend the fan edge "
+                 "chain to that leaflet's border",
              ElementRef::Kind::SkeletonVertex, v);
     return st.nfan == 1 ? VertexClass::FanEdgeEnd : VertexClass::FanEdgeVertex;
 }
@@ -307,12 +314,16 @@ VertexClass classify_vertex(const Skeleton& s, const VertexStar& st, int v, Skel
             fail(ErrorCode::UnsupportedConfiguration, vname + ": " + branch_inside_leaflet(st.nb, st.faces),
                  ElementRef::Kind::SkeletonVertex, v);
         fail(ErrorCode::UnsupportedConfiguration,
-             vname + ": a leaflet touches the interior of another leaflet; not supported",
+             vname + ": a leaflet touches the interior of another leaflet; not supported; edit: make the touching "
+                 "leaflet share a whole edge there (a fan edge, cutting the other leaflet's faces along it), "
+                 "or move its vertex off the other leaflet",
              ElementRef::Kind::SkeletonVertex, v);
     }
     if (st.nbnd % 2 != 0)
         fail(ErrorCode::UnsupportedConfiguration,
-             vname + " has an odd number (" + std::to_string(st.nbnd) + ") of leaflet boundary edges",
+             vname + " has an odd number (" + std::to_string(st.nbnd) + ") of leaflet boundary edges (a "
+                 "leaflet border must pass through it an even number of times); edit: look for a missing "
+                 "or extra face, or an edge listed without its face, at it",
              ElementRef::Kind::SkeletonVertex, v);
     const int nl = st.nbnd / 2, nb = st.nb;
     if (nl == 0 && st.ninner > 0) {
@@ -390,7 +401,8 @@ void check_rooted_branches(const Skeleton& s, const SkeletonAnalysis& an) {
             fail(ErrorCode::UnsupportedConfiguration,
                  "skeleton vertex " + std::to_string(v) + ": its branch would stand on leaflet faces that the "
                      "branch rooted at skeleton vertex " + std::to_string(it->second) +
-                     " stands on too (two branches rooted next to each other on the same side); move one of them",
+                     " stands on too (two branches rooted next to each other on the same side); edit: move one "
+                     "of them at least two vertices away, or to the other side",
                  ElementRef::Kind::SkeletonVertex, v);
     };
     for (int v = 0; v < nv; ++v) {
