@@ -7,10 +7,10 @@
 #include "mesohex_io/medial_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const std::string path = mesohex::fuzz::write_input(data, size, {"ma"});
-    if (path.empty()) return 0;
+    mesohex::fuzz::Input in;
+    if (!mesohex::fuzz::split_input(data, size, {"ma"}, in)) return 0;
     try {
-        const mesohex::Skeleton s = mesohex::read_medial_mesh(path);
+        const mesohex::Skeleton s = mesohex::read_medial_mesh_text(in.text, mesohex::fuzz::kInputName);
         if (s.radii.size() != s.points.size()) std::abort();
         for (const std::array<int, 2>& e : s.edges)
             if (e[0] < 0 || e[1] < 0 || static_cast<std::size_t>(e[0]) >= s.points.size() ||

@@ -7,10 +7,10 @@
 #include "mesohex_io/surface_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const std::string path = mesohex::fuzz::write_input(data, size, {"off", "obj", "stl", "ply"});
-    if (path.empty()) return 0;
+    mesohex::fuzz::Input in;
+    if (!mesohex::fuzz::split_input(data, size, {"off", "obj", "stl", "ply"}, in)) return 0;
     try {
-        const mesohex::TriangleMesh m = mesohex::read_surface(path);
+        const mesohex::TriangleMesh m = mesohex::read_surface_text(in.text, in.format, mesohex::fuzz::kInputName);
         if (m.triangles.empty()) std::abort();
         for (const std::array<int, 3>& t : m.triangles)
             for (const int v : t)

@@ -228,7 +228,7 @@ int medit_reference(const std::vector<int>& partition, std::size_t h) {
 // ---------------------------------------------------------------------------------------------------------------
 // MEDIT .mesh
 
-HexMesh read_medit(const std::string& path, const std::string& text) {
+HexMesh read_medit(const std::string& path, std::string_view text) {
     Lexer lex(path, text, 1, '#');
     HexMesh mesh;
     bool have_version = false, have_vertices = false, have_hexes = false, have_end = false;
@@ -323,7 +323,7 @@ std::string write_medit(const HexMesh& mesh, const std::vector<int>& partition) 
 // ---------------------------------------------------------------------------------------------------------------
 // Legacy VTK (.vtk), ASCII. Reads versions 2.0-4.2 (CELLS n size) and 5.1 (OFFSETS / CONNECTIVITY).
 
-HexMesh read_vtk(const std::string& path, const std::string& text) {
+HexMesh read_vtk(const std::string& path, std::string_view text) {
     Lexer lex(path, text);
     const std::string_view header = lex.rest_of_line();
     if (lower(header).rfind("# vtk datafile version", 0) != 0)
@@ -486,7 +486,7 @@ struct XmlTag {
     }
 };
 
-HexMesh read_vtu(const std::string& path, const std::string& text) {
+HexMesh read_vtu(const std::string& path, std::string_view text) {
     std::size_t pos = 0;
     int line = 1;
     std::size_t counted = 0;  // line number is valid for text[0, counted)
@@ -732,7 +732,7 @@ void skip_gmsh_section(Lexer& lex, const std::string& name) {
     }
 }
 
-HexMesh read_msh(const std::string& path, const std::string& text) {
+HexMesh read_msh(const std::string& path, std::string_view text) {
     Lexer lex(path, text);
     HexMesh mesh;
     std::vector<std::pair<long, int>> node_index;  // (tag, index), sorted by tag after $Nodes
@@ -931,19 +931,40 @@ std::string write_inp(const HexMesh& mesh, const std::vector<int>& partition) {
 
 }  // namespace
 
+namespace {
+
+bool is_readable_hex_extension(const std::string& ext) {
+    return ext == ".mesh" || ext == ".vtk" || ext == ".vtu" || ext == ".msh";
+}
+
+// `text` in the format of extension `ext` (one of is_readable_hex_extension), named `name` in messages.
+HexMesh parse_hex_mesh(const std::string& name, const std::string& ext, std::string_view text) {
+    if (is_blank_content(text)) fail_empty_file(name, "expected a hex mesh");
+    if (ext == ".mesh") return read_medit(name, text);
+    if (ext == ".vtk") return read_vtk(name, text);
+    if (ext == ".vtu") return read_vtu(name, text);
+    return read_msh(name, text);
+}
+
+}  // namespace
+
 HexMesh read_hex_mesh(const std::string& path) {
     const std::string ext = extension_of(path);
-    if (ext != ".mesh" && ext != ".vtk" && ext != ".vtu" && ext != ".msh") {
+    if (!is_readable_hex_extension(ext)) {
         throw Error(ErrorCode::UnsupportedConfiguration,
                     path + ": unknown hex mesh extension '" + ext + "' (readable: .mesh .vtk .vtu .msh)");
     }
-    const std::string text = read_whole_file(path);
-    if (is_blank_content(text)) fail_empty_file(path, "expected a hex mesh");
-    if (ext == ".mesh") return read_medit(path, text);
+    return parse_hex_mesh(path, ext, read_whole_file(path));
+}
 
-    if (ext == ".vtk") return read_vtk(path, text);
-    if (ext == ".vtu") return read_vtu(path, text);
-    return read_msh(path, text);
+HexMesh read_hex_mesh_text(std::string_view text, std::string_view format, std::string_view name) {
+    const std::string display(name);
+    const std::string ext = "." + lower(format);
+    if (!is_readable_hex_extension(ext)) {
+        throw Error(ErrorCode::UnsupportedConfiguration,
+                    display + ": unknown hex mesh format '" + quote_excerpt(format) + "' (readable: mesh vtk vtu msh)");
+    }
+    return parse_hex_mesh(display, ext, text);
 }
 
 void write_hex_mesh(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars,

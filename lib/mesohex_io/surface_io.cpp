@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <charconv>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -26,7 +27,7 @@ namespace {
 // Line-by-line reader over the file content with 1-based line numbers and error helpers.
 class Lines {
 public:
-    Lines(const std::string& file, const std::string& content) : file_(file), content_(content) {}
+    Lines(const std::string& file, std::string_view content) : file_(file), content_(content) {}
 
     // Next line (without '\n' / '\r'); false at the end.
     bool next(std::string_view& line) {
@@ -81,7 +82,7 @@ public:
 
 private:
     const std::string& file_;
-    const std::string& content_;
+    std::string_view content_;
     std::size_t pos_ = 0;
     int number_ = 0;
 };
@@ -93,7 +94,7 @@ void add_polygon(TriangleMesh& mesh, const std::vector<int>& poly) {
 
 // ------------------------------------------------------------------------------------------------ OFF
 
-TriangleMesh read_off(const std::string& path, const std::string& content) {
+TriangleMesh read_off(const std::string& path, std::string_view content) {
     Lines in(path, content);
     std::vector<std::string_view> tok;
     if (!in.next_tokens(tok)) in.fail("empty file (expected the OFF header)");
@@ -142,7 +143,7 @@ TriangleMesh read_off(const std::string& path, const std::string& content) {
 
 // ------------------------------------------------------------------------------------------------ OBJ
 
-TriangleMesh read_obj(const std::string& path, const std::string& content) {
+TriangleMesh read_obj(const std::string& path, std::string_view content) {
     Lines in(path, content);
     std::vector<std::string_view> tok;
     TriangleMesh mesh;
@@ -221,7 +222,7 @@ T load_le(const char* p) {
     return v;
 }
 
-TriangleMesh read_stl(const std::string& path, const std::string& content) {
+TriangleMesh read_stl(const std::string& path, std::string_view content) {
     const bool binary_size = content.size() >= 84 &&
                              content.size() == 84 + 50 * static_cast<std::size_t>(load_le<std::uint32_t>(content.data() + 80));
     // Binary files may start with "solid" too: a NUL byte early on also means binary.
@@ -322,7 +323,7 @@ struct PlyElement {
 // Sequential reader of the binary body.
 class PlyBinary {
 public:
-    PlyBinary(const std::string& path, const std::string& content, std::size_t pos, bool big_endian)
+    PlyBinary(const std::string& path, std::string_view content, std::size_t pos, bool big_endian)
         : path_(path), content_(content), pos_(pos), swap_(big_endian != (std::endian::native == std::endian::big)) {}
 
     double read(PlyType t, const std::string& what) {
@@ -351,12 +352,12 @@ public:
 
 private:
     const std::string& path_;
-    const std::string& content_;
+    std::string_view content_;
     std::size_t pos_;
     bool swap_;
 };
 
-TriangleMesh read_ply(const std::string& path, const std::string& content) {
+TriangleMesh read_ply(const std::string& path, std::string_view content) {
     Lines in(path, content);
     std::string_view line;
     if (!in.next(line) || line != "ply") in.fail("expected 'ply' on the first line");
@@ -591,21 +592,39 @@ std::string write_stl(const TriangleMesh& m) {
     return s;
 }
 
+bool is_readable_surface_format(const std::string& ext) {
+    return ext == "off" || ext == "obj" || ext == "stl" || ext == "ply";
+}
+
+// `content` in format `ext` (one of is_readable_surface_format), named `name` in messages.
+TriangleMesh parse_surface(const std::string& name, const std::string& ext, std::string_view content) {
+    if (is_blank_content(content)) fail_empty_file(name, "expected a triangle surface");
+    TriangleMesh mesh;
+    if (ext == "off") mesh = read_off(name, content);
+    else if (ext == "obj") mesh = read_obj(name, content);
+    else if (ext == "stl") mesh = read_stl(name, content);
+    else mesh = read_ply(name, content);
+    if (mesh.triangles.empty()) throw Error(ErrorCode::InvalidInput, name + ": the surface has no triangle");
+    return mesh;
+}
+
 }  // namespace
 
 TriangleMesh read_surface(const std::string& path) {
     const std::string ext = lower_extension(path);
-    if (ext != "off" && ext != "obj" && ext != "stl" && ext != "ply")
+    if (!is_readable_surface_format(ext))
         throw Error(ErrorCode::InvalidInput, path + ": unknown surface format '." + ext + "' (use .off, .obj, .stl or .ply)");
-    const std::string content = read_whole_file(path);
-    if (is_blank_content(content)) fail_empty_file(path, "expected a triangle surface");
-    TriangleMesh mesh;
-    if (ext == "off") mesh = read_off(path, content);
-    else if (ext == "obj") mesh = read_obj(path, content);
-    else if (ext == "stl") mesh = read_stl(path, content);
-    else mesh = read_ply(path, content);
-    if (mesh.triangles.empty()) throw Error(ErrorCode::InvalidInput, path + ": the surface has no triangle");
-    return mesh;
+    return parse_surface(path, ext, read_whole_file(path));
+}
+
+TriangleMesh read_surface_text(std::string_view text, std::string_view format, std::string_view name) {
+    const std::string display(name);
+    std::string ext(format);
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!is_readable_surface_format(ext))
+        throw Error(ErrorCode::InvalidInput,
+                    display + ": unknown surface format '" + quote_excerpt(format) + "' (use off, obj, stl or ply)");
+    return parse_surface(display, ext, text);
 }
 
 void write_surface(const std::string& path, const TriangleMesh& mesh) {
