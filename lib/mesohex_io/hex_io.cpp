@@ -379,7 +379,16 @@ HexMesh read_vtk(const std::string& path, std::string_view text) {
                 lex.next();
                 lex.expect("offsets type");
                 offsets.reserve(lex.reservable(a, 2));
-                for (long i = 0; i < a; ++i) offsets.push_back(lex.expect_int("offset"));
+                for (long i = 0; i < a; ++i) {
+                    // Each cell's vertices are connectivity[offsets[c], offsets[c + 1]): offsets start at 0, never
+                    // decrease and stay within the b connectivity entries (else a cell would index past them).
+                    const long o = lex.expect_int("offset");
+                    if ((i == 0 && o != 0) || (i > 0 && o < offsets.back()) || o > b)
+                        lex.fail("offset " + std::to_string(o) + " (entry " + std::to_string(i) +
+                                 "): OFFSETS must start at 0, never decrease and stay within the connectivity size " +
+                                 std::to_string(b));
+                    offsets.push_back(o);
+                }
                 lex.expect_keyword("CONNECTIVITY");
                 lex.expect("connectivity type");
                 connectivity.reserve(lex.reservable(b, 2));

@@ -165,6 +165,23 @@ TEST(HexIo, MissingFileAndUnknownExtension) {
                  ErrorCode::UnsupportedConfiguration);
 }
 
+// VTK 5.1 OFFSETS that leave the connectivity array (0 8 16 8 with 8 entries: a cell at 8..16) or decrease are
+// refused at their line; they used to make the reader index past the connectivity (found by review, fuzz/corpus/hex).
+TEST(HexIo, Vtk51OffsetsStayWithinTheConnectivity) {
+    const std::string head = "# vtk DataFile Version 5.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 8 double\n"
+                             "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
+    const std::string tail = "\nCONNECTIVITY vtktypeint64\n0 1 2 3 4 5 6 7\nCELL_TYPES 1\n12\n";
+    const HexMesh one = read_hex_mesh_text(head + "CELLS 2 8\nOFFSETS vtktypeint64\n0 8" + tail, "vtk", "ok.vtk");
+    ASSERT_EQ(one.hexes.size(), 1u);
+    EXPECT_EQ(one.hexes[0][7], 7);
+    expect_error([&] { read_hex_mesh_text(head + "CELLS 4 8\nOFFSETS vtktypeint64\n0 8 16 8" + tail, "vtk", "a.vtk"); },
+                 {"a.vtk:16: offset 16 (entry 2)"});
+    expect_error([&] { read_hex_mesh_text(head + "CELLS 3 8\nOFFSETS vtktypeint64\n0 8 0" + tail, "vtk", "b.vtk"); },
+                 {"b.vtk:16: offset 0 (entry 2)"});
+    expect_error([&] { read_hex_mesh_text(head + "CELLS 2 8\nOFFSETS vtktypeint64\n1 8" + tail, "vtk", "c.vtk"); },
+                 {"c.vtk:16: offset 1 (entry 0)"});
+}
+
 TEST(HexIo, FailedWriteLeavesNothingBehind) {
     const fs::path dir = temp_dir();
     // out-of-range index: rejected before anything is written
