@@ -349,6 +349,7 @@ HexMesh read_vtk(const std::string& path, std::string_view text) {
         }
         const std::string key = lower(tok);
         if (key == "points") {
+            if (have_points) lex.fail("second POINTS section");
             const long n = lex.expect_count("number of points");
             const std::string dtype = lower(lex.expect("point data type"));
             if (dtype != "float" && dtype != "double") lex.fail("unsupported point type '" + quote_excerpt(dtype) + "'");
@@ -369,6 +370,7 @@ HexMesh read_vtk(const std::string& path, std::string_view text) {
             }
         } else if (key == "cells") {
             if (!have_points) lex.fail("CELLS before POINTS");
+            if (have_cells) lex.fail("second CELLS section");
             const long a = lex.expect_count("number of cells");
             const long b = lex.expect_count("cell list size");
             const long np = static_cast<long>(mesh.points.size());

@@ -129,7 +129,8 @@ TriangleMesh read_off(const std::string& path, std::string_view content) {
         if (!in.next_tokens(tok)) in.fail("unexpected end of file: " + std::to_string(nf - f) + " faces missing");
         const long long n = in.integer(tok[0], "the face size");
         if (n < 3) in.fail("a face needs at least 3 vertices, got " + std::to_string(n));
-        if (static_cast<long long>(tok.size()) < n + 1) in.fail("face lists fewer than " + std::to_string(n) + " vertices");
+        if (n > static_cast<long long>(tok.size()) - 1)  // (not n + 1 > size: n may be the largest long long)
+            in.fail("face lists fewer than " + std::to_string(n) + " vertices");
         poly.clear();
         for (long long i = 1; i <= n; ++i) {
             const long long id = in.integer(tok[static_cast<std::size_t>(i)], "a vertex index");

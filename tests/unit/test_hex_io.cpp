@@ -180,6 +180,12 @@ TEST(HexIo, Vtk51OffsetsStayWithinTheConnectivity) {
                  {"b.vtk:16: offset 0 (entry 2)"});
     expect_error([&] { read_hex_mesh_text(head + "CELLS 2 8\nOFFSETS vtktypeint64\n1 8" + tail, "vtk", "c.vtk"); },
                  {"c.vtk:16: offset 1 (entry 0)"});
+    // A second CELLS or POINTS section is refused (the arrays of the first one are never mixed with it).
+    expect_error([&] { read_hex_mesh_text(head + "CELLS 2 8\nOFFSETS vtktypeint64\n0 8\nCONNECTIVITY vtktypeint64\n"
+                                                 "0 1 2 3 4 5 6 7\nCELLS 2 8\n", "vtk", "d.vtk"); },
+                 {"d.vtk:19: second CELLS section"});
+    expect_error([&] { read_hex_mesh_text(head + "POINTS 1 double\n0 0 0\n", "vtk", "e.vtk"); },
+                 {"e.vtk:14: second POINTS section"});
 }
 
 TEST(HexIo, FailedWriteLeavesNothingBehind) {
