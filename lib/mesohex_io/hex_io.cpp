@@ -189,11 +189,10 @@ private:
 // 0-based or 1-based vertex index read from a file, checked against the number of vertices.
 int read_vertex_index(Lexer& lex, long base, long num_points, long cell, const char* cell_name) {
     const long raw = lex.expect_int("vertex index");
-    const long v = raw - base;
-    if (v < 0 || v >= num_points)
+    if (raw < base || raw - base >= num_points)  // (raw - base only once raw >= base: no overflow at LONG_MIN)
         lex.fail(std::string(cell_name) + " " + std::to_string(cell + base) + ": vertex index " + std::to_string(raw) +
                  " out of range (" + std::to_string(base) + ".." + std::to_string(num_points - 1 + base) + ")");
-    return static_cast<int>(v);
+    return static_cast<int>(raw - base);
 }
 
 void check_writable(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars,
@@ -636,7 +635,7 @@ void assemble_vtu_hexes(const std::string& path, int line, const VtuArrays& a, H
         const std::size_t cu = static_cast<std::size_t>(c);
         if (a.types[cu] != 12)
             fail_at(path, line, "cell " + std::to_string(c) + " has VTK type " + std::to_string(a.types[cu]) + ", not a hexahedron (12)");
-        if (a.offsets[cu] - begin != 8 || a.offsets[cu] > static_cast<long>(a.connectivity.size()))
+        if (a.offsets[cu] < begin || a.offsets[cu] - begin != 8 || a.offsets[cu] > static_cast<long>(a.connectivity.size()))
             fail_at(path, line, "cell " + std::to_string(c) + " does not have 8 vertices in connectivity/offsets");
         for (std::size_t lv = 0; lv < 8; ++lv) {
             const long v = a.connectivity[static_cast<std::size_t>(begin) + lv];

@@ -117,8 +117,10 @@ bool parse_radius_comment(const Context& ctx, std::string_view comment, int line
     const std::vector<std::string_view> tok = split_whitespace(comment);
     if (tok.size() < 2 || tok[0] != "mesohex" || tok[1] != "radius") return false;
     if (tok.size() != 4) ctx.fail(line, "radius comment must be '# mesohex radius <vertex> <radius>'");
-    const long long idx = ctx.integer(tok[2], line, "radius vertex index") - index_base;
-    if (idx < 0 || idx > 2147483647LL) ctx.fail(line, "radius vertex index out of range: " + quote_excerpt(tok[2]));
+    const long long raw = ctx.integer(tok[2], line, "radius vertex index");
+    if (raw < index_base || raw - index_base > 2147483647LL)  // (no subtraction below index_base: no overflow)
+        ctx.fail(line, "radius vertex index out of range: " + quote_excerpt(tok[2]));
+    const long long idx = raw - index_base;
     const double r = ctx.number(tok[3], line, "radius");
     if (!radius_of.emplace(static_cast<int>(idx), std::make_pair(r, line)).second)
         ctx.fail(line, "second radius for vertex " + quote_excerpt(tok[2]));

@@ -188,6 +188,22 @@ TEST(HexIo, Vtk51OffsetsStayWithinTheConnectivity) {
                  {"e.vtk:14: second POINTS section"});
 }
 
+// Indices and offsets of the smallest long are out of range, not an overflow of "index - 1" or "offset - begin"
+// (UBSan findings; fuzz/corpus/hex/medit_index_min, vtu_offset_min).
+TEST(HexIo, SmallestLongIndicesAreOutOfRange) {
+    expect_error([] { read_hex_mesh_text("MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 0 0\nHexahedra\n1\n"
+                                         "-9223372036854775808 1 1 1 1 1 1 1 0\nEnd\n", "mesh", "m.mesh"); },
+                 {"m.mesh:8: hexahedron 1: vertex index -9223372036854775808 out of range (1..1)"});
+    expect_error([] { read_hex_mesh_text("<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>\n"
+                                         "<Piece NumberOfPoints=\"1\" NumberOfCells=\"2\"><Points>\n"
+                                         "<DataArray NumberOfComponents=\"3\" format=\"ascii\">0 0 0</DataArray></Points><Cells>\n"
+                                         "<DataArray Name=\"connectivity\" format=\"ascii\">0 0 0 0 0 0 0 0</DataArray>\n"
+                                         "<DataArray Name=\"offsets\" format=\"ascii\">8 -9223372036854775808</DataArray>\n"
+                                         "<DataArray Name=\"types\" format=\"ascii\">12 12</DataArray></Cells></Piece>\n"
+                                         "</UnstructuredGrid></VTKFile>\n", "vtu", "v.vtu"); },
+                 {"v.vtu:7: cell 1 does not have 8 vertices"});
+}
+
 TEST(HexIo, FailedWriteLeavesNothingBehind) {
     const fs::path dir = temp_dir();
     // out-of-range index: rejected before anything is written
