@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/union_find.h"
 
 // Section criterion (why AdaptationOptions::turn_safety and branching_reach exist).
 // Joints. The cross-section at a joint is the plane through it normal to the bisector of its two edge directions
@@ -59,22 +60,6 @@ struct Polyline {
         const double u = len > 0 ? (t - s[a]) / len : 0.0;
         return {x[a] + u * (x[i] - x[a]), r[a] + u * (r[i] - r[a])};
     }
-};
-
-class UnionFind {
-public:
-    explicit UnionFind(int n) : parent_(static_cast<std::size_t>(n)) { std::iota(parent_.begin(), parent_.end(), 0); }
-    int find(int v) {
-        while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
-        return v;
-    }
-    void unite(int a, int b) {  // the smaller id stays the representative
-        a = find(a), b = find(b);
-        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-    }
-
-private:
-    std::vector<int> parent_;
 };
 
 [[noreturn]] void invalid(const std::string& what, ElementRef where = {}) {
@@ -371,62 +356,64 @@ Repaired repair_degenerate_branches(const Skeleton& in, const AdaptationOptions&
 
 }  // namespace
 
-Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o) {
-    return adapt_skeleton_detailed(s, o).skeleton;
+namespace {
+
+// The steps of adapt_skeleton_detailed, in the order it calls them: the branches of the repaired skeleton, their
+// polylines and end demands, the short-bridge collapses, the resampled output, the repair of the output.
+
+// The repaired skeleton as the resampling sees it: leaflet membership, incidence, its branches (maximal chains of
+// branch edges through joints), and per branch its polyline over the current positions and radii and its ends'
+// demands.
+struct BranchView {
+    const Skeleton& s;
+    FaceMembership faces;
+    std::vector<std::vector<int>> incident;           // per vertex: its edges, in edge order
+    std::vector<bool> branch_edge;                    // per edge: not a side of a leaflet face
+    std::map<std::pair<int, int>, int> side_count;    // per face side (sorted vertex pair): number of faces
+    std::vector<Chain> branches;                      // in order of each branch's first edge id
+    // Vertex positions and radii as the branches see them: the input, then merged bridge ends after collapses.
+    std::vector<Vec3> pos;
+    std::vector<double> rad;
+    std::vector<Polyline> polylines;                  // per branch
+    std::vector<std::array<EndReach, 2>> end_reach;   // per branch and end
+
+    bool is_joint(int v) const { return incident[v].size() == 2 && !faces.on_face[v]; }
+    bool is_free_branching_point(int v) const { return incident[v].size() >= 3 && !faces.on_face[v]; }
+    int other(int e, int v) const { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; }
+};
+
+// Walks from vertex `start` away from edge `prev` through joints, marking the edges it takes; appends the vertices
+// reached and the edges taken. Stops at a non-joint or at a visited edge (a closed ring).
+void walk_through_joints(const BranchView& view, int start, int prev, std::vector<bool>& visited,
+                         std::vector<int>& verts, std::vector<int>& edges) {
+    for (int cur = start; view.is_joint(cur);) {
+        const int f = view.incident[cur][0] == prev ? view.incident[cur][1] : view.incident[cur][0];
+        if (visited[f]) break;  // closed ring
+        visited[f] = true;
+        cur = view.other(f, cur);
+        verts.push_back(cur);
+        edges.push_back(f);
+        prev = f;
+    }
 }
 
-AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const AdaptationOptions& o) {
-    validate(input, o);
-    Repaired repaired = repair_degenerate_branches(input, o);
-    const Skeleton& s = repaired.s;
-    const int n = static_cast<int>(s.points.size());
+// Branch extraction, in order of each branch's first edge id. A ring (every vertex a joint) starts and ends at its
+// smallest vertex id.
+std::vector<Chain> extract_branches(const BranchView& view) {
+    const Skeleton& s = view.s;
     const int ne = static_cast<int>(s.edges.size());
-
-    // Leaflet membership.
-    const FaceMembership faces = face_membership(s);
-    const std::vector<bool>& on_face = faces.on_face;
-    const std::set<std::pair<int, int>>& face_sides = faces.sides;
-    std::vector<std::vector<int>> incident(n);
-    for (int e = 0; e < ne; ++e) {
-        incident[s.edges[e][0]].push_back(e);
-        incident[s.edges[e][1]].push_back(e);
-    }
-    std::vector<bool> branch_edge(ne);
-    for (int e = 0; e < ne; ++e) branch_edge[e] = !face_sides.count(std::minmax(s.edges[e][0], s.edges[e][1]));
-    const auto is_joint = [&](int v) { return incident[v].size() == 2 && !on_face[v]; };
-    const auto other = [&](int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; };
-
-    // Branch extraction, in order of each branch's first edge id.
     std::vector<Chain> branches;
     std::vector<bool> visited(ne, false);
     for (int e0 = 0; e0 < ne; ++e0) {
-        if (!branch_edge[e0] || visited[e0]) continue;
+        if (!view.branch_edge[e0] || visited[e0]) continue;
         visited[e0] = true;
         std::vector<int> fwd_v{s.edges[e0][0], s.edges[e0][1]}, fwd_e{e0};
-        // forward from edges[e0][1]
-        for (int cur = fwd_v.back(), prev = e0; is_joint(cur);) {
-            const int f = incident[cur][0] == prev ? incident[cur][1] : incident[cur][0];
-            if (visited[f]) break;  // closed ring
-            visited[f] = true;
-            cur = other(f, cur);
-            fwd_v.push_back(cur);
-            fwd_e.push_back(f);
-            prev = f;
-        }
+        walk_through_joints(view, fwd_v.back(), e0, visited, fwd_v, fwd_e);  // forward from edges[e0][1]
         Chain b;
-        const bool ring = fwd_v.front() == fwd_v.back() && is_joint(fwd_v.front());
+        const bool ring = fwd_v.front() == fwd_v.back() && view.is_joint(fwd_v.front());
         if (!ring) {
-            // backward from edges[e0][0]
             std::vector<int> back_v, back_e;
-            for (int cur = fwd_v.front(), prev = e0; is_joint(cur);) {
-                const int f = incident[cur][0] == prev ? incident[cur][1] : incident[cur][0];
-                if (visited[f]) break;
-                visited[f] = true;
-                cur = other(f, cur);
-                back_v.push_back(cur);
-                back_e.push_back(f);
-                prev = f;
-            }
+            walk_through_joints(view, fwd_v.front(), e0, visited, back_v, back_e);  // backward from edges[e0][0]
             b.verts.assign(back_v.rbegin(), back_v.rend());
             b.verts.insert(b.verts.end(), fwd_v.begin(), fwd_v.end());
             b.edges.assign(back_e.rbegin(), back_e.rend());
@@ -444,250 +431,301 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const Adaptation
         }
         branches.push_back(std::move(b));
     }
+    return branches;
+}
 
-    // Vertex positions and radii as the branches see them: the input, then merged bridge ends after collapses.
-    std::vector<Vec3> pos = s.points;
-    std::vector<double> rad = s.radii;
-    std::vector<Polyline> polylines(branches.size());
-    const auto build_polylines = [&] {
-        for (std::size_t i = 0; i < branches.size(); ++i) {
-            Polyline& pl = polylines[i];
-            pl = Polyline{};
-            double acc = 0;
-            for (std::size_t k = 0; k < branches[i].verts.size(); ++k) {
-                const int v = branches[i].verts[k];
-                if (k > 0) acc += distance(pl.x.back(), pos[v]);
-                pl.x.push_back(pos[v]);
-                pl.r.push_back(rad[v]);
-                pl.s.push_back(acc);
-            }
+void build_polylines(BranchView& view) {
+    view.polylines.resize(view.branches.size());
+    for (std::size_t i = 0; i < view.branches.size(); ++i) {
+        Polyline& pl = view.polylines[i];
+        pl = Polyline{};
+        double acc = 0;
+        for (std::size_t k = 0; k < view.branches[i].verts.size(); ++k) {
+            const int v = view.branches[i].verts[k];
+            if (k > 0) acc += distance(pl.x.back(), view.pos[v]);
+            pl.x.push_back(view.pos[v]);
+            pl.r.push_back(view.rad[v]);
+            pl.s.push_back(acc);
         }
-    };
-    build_polylines();
+    }
+}
 
-    const auto is_free_branching_point = [&](int v) { return incident[v].size() >= 3 && !on_face[v]; };
-    // A leaflet vertex with one branch edge that the mesher roots on its plates (inside the leaflet, or border_root on
-    // its border): o.root_extent x the mean length of its leaflet edges; 0 elsewhere (BL-joint pillows, junctions).
-    std::map<std::pair<int, int>, int> side_count;
+// Leaflet membership, incidence, branches and their polylines over the input positions and radii (end_reach is
+// left to compute_end_reach).
+BranchView make_branch_view(const Skeleton& s) {
+    const int n = static_cast<int>(s.points.size());
+    const int ne = static_cast<int>(s.edges.size());
+    BranchView view{s, face_membership(s), std::vector<std::vector<int>>(n), std::vector<bool>(ne), {}, {}, s.points,
+                    s.radii, {}, {}};
+    for (int e = 0; e < ne; ++e) {
+        view.incident[s.edges[e][0]].push_back(e);
+        view.incident[s.edges[e][1]].push_back(e);
+    }
+    for (int e = 0; e < ne; ++e)
+        view.branch_edge[e] = !view.faces.sides.count(std::minmax(s.edges[e][0], s.edges[e][1]));
     for (const std::vector<int>& f : s.faces)
-        for (std::size_t i = 0; i < f.size(); ++i) ++side_count[std::minmax(f[i], f[(i + 1) % f.size()])];
-    const auto root_extent = [&](int v) -> double {
-        if (!on_face[v] || !(o.root_extent > 0)) return 0;
-        int branches_at = 0, faces_at = 0;
-        double length = 0;
-        std::vector<Vec3> to_border;
-        Vec3 inward{}, branch{}, normal{};
-        for (int e : incident[v]) {
-            const Vec3 d = pos[other(e, v)] - pos[v];
-            if (branch_edge[e]) {
-                ++branches_at;
-                branch = normalized(d);
-                continue;
-            }
-            const int c = side_count[std::minmax(s.edges[e][0], s.edges[e][1])];
-            if (c > 2) return 0;  // a fan edge
-            if (c == 1) to_border.push_back(normalized(d));
-            inward += normalized(d);
-            length += norm(d);
-        }
-        const int leaflet_edges = static_cast<int>(incident[v].size()) - branches_at;
-        if (branches_at != 1 || leaflet_edges == 0) return 0;
-        for (const std::vector<int>& f : s.faces) {
-            if (std::find(f.begin(), f.end(), v) == f.end()) continue;
-            Vec3 fn{};
-            for (std::size_t i = 0; i < f.size(); ++i) fn += cross(pos[f[i]], pos[f[(i + 1) % f.size()]]);
-            normal += dot(fn, normal) < 0 ? -1.0 * fn : fn;  // faces need not be oriented consistently yet
-            ++faces_at;
-        }
-        const bool rooted = to_border.empty() ||
-                            (to_border.size() == 2 &&
-                             border_root(to_border[0], to_border[1], inward, normal, branch, faces_at) !=
-                                 BorderRoot::None);
-        return rooted ? o.root_extent * length / leaflet_edges : 0.0;
-    };
-    // Per branch end: the direction it leaves its end vertex (towards the point of its original polyline at arc
-    // length min(2 r, L)), and the smallest angle beta to any other branch end or leaflet edge at that vertex. The
-    // end's connection quad extends about gamma = beta / 2 from the branch direction (clamped to [15, 60] degrees).
-    std::vector<std::array<EndReach, 2>> end_reach(branches.size());
-    const auto compute_end_reach = [&] {
-        std::vector<std::vector<Vec3>> dirs_at(n);  // every direction leaving each vertex
-        std::vector<std::array<Vec3, 2>> end_dir(branches.size());
-        for (std::size_t bi = 0; bi < branches.size(); ++bi) {
-            if (branches[bi].ring) continue;
-            const Polyline& pl = polylines[bi];
-            for (int side = 0; side < 2; ++side) {
-                const int v = side == 0 ? branches[bi].verts.front() : branches[bi].verts.back();
-                const double d = std::min(2.0 * rad[v], pl.length());
-                const Vec3 target = pl.at(side == 0 ? d : pl.length() - d).first;
-                end_dir[bi][side] = normalized(target - pos[v]);
-                dirs_at[v].push_back(end_dir[bi][side]);
-            }
-        }
-        for (int e = 0; e < ne; ++e)
-            if (!branch_edge[e]) {
-                const int a = s.edges[e][0], b = s.edges[e][1];
-                dirs_at[a].push_back(normalized(pos[b] - pos[a]));
-                dirs_at[b].push_back(normalized(pos[a] - pos[b]));
-            }
-        const double pi = std::numbers::pi;
-        for (std::size_t bi = 0; bi < branches.size(); ++bi) {
-            if (branches[bi].ring) continue;
-            for (int side = 0; side < 2; ++side) {
-                const int v = side == 0 ? branches[bi].verts.front() : branches[bi].verts.back();
-                if (incident[v].size() == 1 && !on_face[v]) continue;  // extremity: flat section, no demand
-                double beta = pi;
-                bool skipped_self = false;
-                for (const Vec3& d : dirs_at[v]) {
-                    if (!skipped_self && d == end_dir[bi][side]) {
-                        skipped_self = true;
-                        continue;
-                    }
-                    beta = std::min(beta, std::acos(std::clamp(dot(d, end_dir[bi][side]), -1.0, 1.0)));
-                }
-                const double gamma = std::clamp(0.5 * beta, pi / 24, pi / 3);
-                const double br = is_free_branching_point(v) ? o.free_branching_reach : o.branching_reach;
-                end_reach[bi][side] = {br, br / std::tan(gamma), root_extent(v)};
-            }
-        }
-    };
-    compute_end_reach();
+        for (std::size_t i = 0; i < f.size(); ++i) ++view.side_count[std::minmax(f[i], f[(i + 1) % f.size()])];
+    view.branches = extract_branches(view);
+    build_polylines(view);
+    return view;
+}
 
-    // Samples a branch whose ends are at positions xa, xb: joints' arc parameters after bisection, smoothing and the
-    // turn criterion.
-    const auto resample = [&](std::size_t bi, int min_edges, const Vec3& xa, const Vec3& xb, int* removed) {
-        const Chain& b = branches[bi];
-        const Polyline& pl = polylines[bi];
-        const std::vector<double> t = sample_branch(pl, min_edges, o);
-        std::vector<Vec3> x{xa};
-        std::vector<double> r{pl.r.front()};
-        for (const double ti : t) {
-            const auto [p, ri] = pl.at(ti);
-            x.push_back(p);
-            r.push_back(ri);
+// A leaflet vertex with one branch edge that the mesher roots on its plates (inside the leaflet, or border_root on
+// its border): o.root_extent x the mean length of its leaflet edges; 0 elsewhere (BL-joint pillows, junctions).
+double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
+    const Skeleton& s = view.s;
+    if (!view.faces.on_face[v] || !(o.root_extent > 0)) return 0;
+    int branches_at = 0, faces_at = 0;
+    double length = 0;
+    std::vector<Vec3> to_border;
+    Vec3 inward{}, branch{}, normal{};
+    for (int e : view.incident[v]) {
+        const Vec3 d = view.pos[view.other(e, v)] - view.pos[v];
+        if (view.branch_edge[e]) {
+            ++branches_at;
+            branch = normalized(d);
+            continue;
         }
-        x.push_back(xb);
-        r.push_back(pl.r.back());
-        const std::vector<int> keep = apply_turn_criterion(x, r, end_reach[bi], b.ring, min_edges, o);
-        if (removed) *removed += static_cast<int>(x.size() - keep.size());
-        std::vector<double> kept_t;
-        for (std::size_t k = 1; k + 1 < keep.size(); ++k) kept_t.push_back(t[keep[k] - 1]);
-        return kept_t;
-    };
+        const int c = view.side_count.at(std::minmax(s.edges[e][0], s.edges[e][1]));
+        if (c > 2) return 0;  // a fan edge
+        if (c == 1) to_border.push_back(normalized(d));
+        inward += normalized(d);
+        length += norm(d);
+    }
+    const int leaflet_edges = static_cast<int>(view.incident[v].size()) - branches_at;
+    if (branches_at != 1 || leaflet_edges == 0) return 0;
+    for (const std::vector<int>& f : s.faces) {
+        if (std::find(f.begin(), f.end(), v) == f.end()) continue;
+        Vec3 fn{};
+        for (std::size_t i = 0; i < f.size(); ++i) fn += cross(view.pos[f[i]], view.pos[f[(i + 1) % f.size()]]);
+        normal += dot(fn, normal) < 0 ? -1.0 * fn : fn;  // faces need not be oriented consistently yet
+        ++faces_at;
+    }
+    const bool rooted =
+        to_border.empty() ||
+        (to_border.size() == 2 &&
+         border_root(to_border[0], to_border[1], inward, normal, branch, faces_at) != BorderRoot::None);
+    return rooted ? o.root_extent * length / leaflet_edges : 0.0;
+}
 
-    // Short bridges between two free branching points: collapse candidates, shortest first.
-    UnionFind classes(n);
-    int result_collapsed = 0;
-    std::vector<bool> collapsed(branches.size(), false);
-    if (o.collapse_short_bridges) {
-        std::vector<std::pair<double, std::size_t>> candidates;
-        for (std::size_t bi = 0; bi < branches.size(); ++bi) {
-            const Chain& b = branches[bi];
-            const int a = b.verts.front(), c = b.verts.back();
-            if (b.ring || a == c || !is_free_branching_point(a) || !is_free_branching_point(c)) continue;
-            const double chord = distance(s.points[a], s.points[c]);
-            if (!(s.radii[a] + s.radii[c] > chord)) continue;
-            if (!resample(bi, 1, s.points[a], s.points[c], nullptr).empty()) continue;
-            candidates.push_back({chord, bi});
-        }
-        std::sort(candidates.begin(), candidates.end());
-        // Branches at each vertex, and the members of each class, to look only at branches touching a class.
-        std::vector<std::vector<int>> branches_at(n), members(n);
-        for (std::size_t bj = 0; bj < branches.size(); ++bj)
-            if (!branches[bj].ring) {
-                branches_at[branches[bj].verts.front()].push_back(static_cast<int>(bj));
-                branches_at[branches[bj].verts.back()].push_back(static_cast<int>(bj));
-            }
-        for (const auto& [chord, bi] : candidates) {
-            const int ca = classes.find(branches[bi].verts.front()), cc = classes.find(branches[bi].verts.back());
-            if (ca == cc) continue;
-            if (members[ca].empty()) members[ca] = {ca};
-            if (members[cc].empty()) members[cc] = {cc};
-            bool other_link = false;  // another branch between the two classes would become a loop
-            for (const int v : members[ca])
-                for (const int bj : branches_at[v]) {
-                    if (bj == static_cast<int>(bi) || collapsed[bj]) continue;
-                    const int x = classes.find(branches[bj].verts.front()), y = classes.find(branches[bj].verts.back());
-                    other_link = other_link || (x == ca && y == cc) || (x == cc && y == ca);
-                }
-            if (other_link) continue;
-            // The merged vertex (mean position and radius of both classes' members) must keep every member's centre
-            // within collapse_spread x its radius: a pair only when its chord < collapse_spread (r_a + r_b), and a
-            // chain of short bridges does not drift away from the balls at its ends.
-            std::vector<int> merged = members[ca];
-            merged.insert(merged.end(), members[cc].begin(), members[cc].end());
-            Vec3 mean;
-            double mean_r = 0;
-            for (const int v : merged) mean += s.points[v], mean_r += s.radii[v];
-            mean *= 1.0 / static_cast<double>(merged.size());
-            mean_r /= static_cast<double>(merged.size());
-            const bool drifts = std::any_of(merged.begin(), merged.end(), [&](int v) {
-                return !(distance(s.points[v], mean) < o.collapse_spread * mean_r);
-            });
-            if (drifts) continue;
-            const int keep_class = std::min(ca, cc), gone = std::max(ca, cc);
-            members[keep_class].insert(members[keep_class].end(), members[gone].begin(), members[gone].end());
-            members[gone].clear();
-            classes.unite(ca, cc);
-            collapsed[bi] = true;
-            ++result_collapsed;
+// Per branch end: the direction it leaves its end vertex (towards the point of its original polyline at arc length
+// min(2 r, L)), and the smallest angle beta to any other branch end or leaflet edge at that vertex. The end's
+// connection quad extends about gamma = beta / 2 from the branch direction (clamped to [15, 60] degrees).
+void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
+    const Skeleton& s = view.s;
+    const std::vector<Chain>& branches = view.branches;
+    view.end_reach.assign(branches.size(), {});
+    std::vector<std::vector<Vec3>> dirs_at(s.points.size());  // every direction leaving each vertex
+    std::vector<std::array<Vec3, 2>> end_dir(branches.size());
+    for (std::size_t bi = 0; bi < branches.size(); ++bi) {
+        if (branches[bi].ring) continue;
+        const Polyline& pl = view.polylines[bi];
+        for (int side = 0; side < 2; ++side) {
+            const int v = side == 0 ? branches[bi].verts.front() : branches[bi].verts.back();
+            const double d = std::min(2.0 * view.rad[v], pl.length());
+            const Vec3 target = pl.at(side == 0 ? d : pl.length() - d).first;
+            end_dir[bi][side] = normalized(target - view.pos[v]);
+            dirs_at[v].push_back(end_dir[bi][side]);
         }
     }
-
-    // Merged classes: mean position and radius of their members (for a pair: the midpoint). The branches attached to
-    // them start from the merged vertex: their polylines and end directions are rebuilt.
-    if (result_collapsed > 0) {
-        std::vector<Vec3> sum_x(n);
-        std::vector<double> sum_r(n, 0.0);
-        std::vector<int> count(n, 0);
-        for (int v = 0; v < n; ++v) {
-            const int c = classes.find(v);
-            sum_x[c] += s.points[v], sum_r[c] += s.radii[v], ++count[c];
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
+        if (!view.branch_edge[e]) {
+            const int a = s.edges[e][0], b = s.edges[e][1];
+            dirs_at[a].push_back(normalized(view.pos[b] - view.pos[a]));
+            dirs_at[b].push_back(normalized(view.pos[a] - view.pos[b]));
         }
-        for (int v = 0; v < n; ++v) {
-            const int c = classes.find(v);
-            if (count[c] < 2) continue;
-            pos[v] = sum_x[c] / count[c];
-            rad[v] = sum_r[c] / count[c];
+    const double pi = std::numbers::pi;
+    for (std::size_t bi = 0; bi < branches.size(); ++bi) {
+        if (branches[bi].ring) continue;
+        for (int side = 0; side < 2; ++side) {
+            const int v = side == 0 ? branches[bi].verts.front() : branches[bi].verts.back();
+            if (view.incident[v].size() == 1 && !view.faces.on_face[v]) continue;  // extremity: flat, no demand
+            double beta = pi;
+            bool skipped_self = false;
+            for (const Vec3& d : dirs_at[v]) {
+                if (!skipped_self && d == end_dir[bi][side]) {
+                    skipped_self = true;
+                    continue;
+                }
+                beta = std::min(beta, std::acos(std::clamp(dot(d, end_dir[bi][side]), -1.0, 1.0)));
+            }
+            const double gamma = std::clamp(0.5 * beta, pi / 24, pi / 3);
+            const double br = view.is_free_branching_point(v) ? o.free_branching_reach : o.branching_reach;
+            view.end_reach[bi][side] = {br, br / std::tan(gamma), root_extent(view, v, o)};
         }
-        build_polylines();
-        compute_end_reach();
     }
+}
 
-    // Kept vertices: every non-joint (merged classes once, at their smallest id), plus ring anchors.
+// Samples branch bi with its ends at positions xa, xb: the joints' arc parameters after bisection, smoothing and the
+// turn criterion; adds the joints the criterion removed to *removed when given.
+std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edges, const Vec3& xa, const Vec3& xb,
+                             const AdaptationOptions& o, int* removed) {
+    const Chain& b = view.branches[bi];
+    const Polyline& pl = view.polylines[bi];
+    const std::vector<double> t = sample_branch(pl, min_edges, o);
+    std::vector<Vec3> x{xa};
+    std::vector<double> r{pl.r.front()};
+    for (const double ti : t) {
+        const auto [p, ri] = pl.at(ti);
+        x.push_back(p);
+        r.push_back(ri);
+    }
+    x.push_back(xb);
+    r.push_back(pl.r.back());
+    const std::vector<int> keep = apply_turn_criterion(x, r, view.end_reach[bi], b.ring, min_edges, o);
+    if (removed) *removed += static_cast<int>(x.size() - keep.size());
+    std::vector<double> kept_t;
+    for (std::size_t k = 1; k + 1 < keep.size(); ++k) kept_t.push_back(t[keep[k] - 1]);
+    return kept_t;
+}
+
+// The short-bridge collapses: classes of merged vertices (smallest id as root) and the collapsed branches.
+struct Collapses {
+    UnionFind classes;
+    std::vector<bool> collapsed;  // per branch
+    int count = 0;
+};
+
+// Short bridges between two free branching points that resampling would leave as one edge: collapse candidates,
+// shortest first, as (chord, branch).
+std::vector<std::pair<double, std::size_t>> bridge_candidates(const BranchView& view, const AdaptationOptions& o) {
+    const Skeleton& s = view.s;
+    std::vector<std::pair<double, std::size_t>> candidates;
+    for (std::size_t bi = 0; bi < view.branches.size(); ++bi) {
+        const Chain& b = view.branches[bi];
+        const int a = b.verts.front(), c = b.verts.back();
+        if (b.ring || a == c || !view.is_free_branching_point(a) || !view.is_free_branching_point(c)) continue;
+        const double chord = distance(s.points[a], s.points[c]);
+        if (!(s.radii[a] + s.radii[c] > chord)) continue;
+        if (!resample(view, bi, 1, s.points[a], s.points[c], o, nullptr).empty()) continue;
+        candidates.push_back({chord, bi});
+    }
+    std::sort(candidates.begin(), candidates.end());
+    return candidates;
+}
+
+// Whether the merged vertex of members (their mean position and radius) keeps every member's centre within
+// collapse_spread x its radius: a pair only when its chord < collapse_spread (r_a + r_b), and a chain of short
+// bridges does not drift away from the balls at its ends.
+bool merge_drifts(const Skeleton& s, const std::vector<int>& merged, const AdaptationOptions& o) {
+    Vec3 mean;
+    double mean_r = 0;
+    for (const int v : merged) mean += s.points[v], mean_r += s.radii[v];
+    mean *= 1.0 / static_cast<double>(merged.size());
+    mean_r /= static_cast<double>(merged.size());
+    return std::any_of(merged.begin(), merged.end(),
+                       [&](int v) { return !(distance(s.points[v], mean) < o.collapse_spread * mean_r); });
+}
+
+// Collapses candidate bridges, shortest first, unless another branch joins the same two classes (it would become a
+// loop) or the merged vertex drifts (merge_drifts).
+Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions& o) {
+    const int n = static_cast<int>(view.s.points.size());
+    const std::vector<Chain>& branches = view.branches;
+    Collapses col{UnionFind(n), std::vector<bool>(branches.size(), false), 0};
+    if (!o.collapse_short_bridges) return col;
+    UnionFind& classes = col.classes;
+    const std::vector<std::pair<double, std::size_t>> candidates = bridge_candidates(view, o);
+    // Branches at each vertex, and the members of each class, to look only at branches touching a class.
+    std::vector<std::vector<int>> branches_at(n), members(n);
+    for (std::size_t bj = 0; bj < branches.size(); ++bj)
+        if (!branches[bj].ring) {
+            branches_at[branches[bj].verts.front()].push_back(static_cast<int>(bj));
+            branches_at[branches[bj].verts.back()].push_back(static_cast<int>(bj));
+        }
+    for (const auto& [chord, bi] : candidates) {
+        const int ca = classes.find(branches[bi].verts.front()), cc = classes.find(branches[bi].verts.back());
+        if (ca == cc) continue;
+        if (members[ca].empty()) members[ca] = {ca};
+        if (members[cc].empty()) members[cc] = {cc};
+        bool other_link = false;  // another branch between the two classes would become a loop
+        for (const int v : members[ca])
+            for (const int bj : branches_at[v]) {
+                if (bj == static_cast<int>(bi) || col.collapsed[bj]) continue;
+                const int x = classes.find(branches[bj].verts.front()), y = classes.find(branches[bj].verts.back());
+                other_link = other_link || (x == ca && y == cc) || (x == cc && y == ca);
+            }
+        if (other_link) continue;
+        std::vector<int> merged = members[ca];
+        merged.insert(merged.end(), members[cc].begin(), members[cc].end());
+        if (merge_drifts(view.s, merged, o)) continue;
+        const int keep_class = std::min(ca, cc), gone = std::max(ca, cc);
+        members[keep_class].insert(members[keep_class].end(), members[gone].begin(), members[gone].end());
+        members[gone].clear();
+        classes.unite(ca, cc);
+        col.collapsed[bi] = true;
+        ++col.count;
+    }
+    return col;
+}
+
+// Merged classes: mean position and radius of their members (for a pair: the midpoint). The branches attached to
+// them start from the merged vertex: their polylines and end directions are rebuilt.
+void move_merged_classes(BranchView& view, Collapses& col, const AdaptationOptions& o) {
+    if (col.count == 0) return;
+    const Skeleton& s = view.s;
+    const int n = static_cast<int>(s.points.size());
+    std::vector<Vec3> sum_x(n);
+    std::vector<double> sum_r(n, 0.0);
+    std::vector<int> count(n, 0);
+    for (int v = 0; v < n; ++v) {
+        const int c = col.classes.find(v);
+        sum_x[c] += s.points[v], sum_r[c] += s.radii[v], ++count[c];
+    }
+    for (int v = 0; v < n; ++v) {
+        const int c = col.classes.find(v);
+        if (count[c] < 2) continue;
+        view.pos[v] = sum_x[c] / count[c];
+        view.rad[v] = sum_r[c] / count[c];
+    }
+    build_polylines(view);
+    compute_end_reach(view, o);
+}
+
+// The output skeleton's kept vertices (every non-joint, merged classes once at their smallest id, plus ring
+// anchors), its leaflet edges and faces; new_id: per repaired vertex, its output id or -1.
+void write_kept_vertices(const BranchView& view, Collapses& col, std::vector<int>& new_id, Skeleton& out) {
+    const Skeleton& s = view.s;
+    const int n = static_cast<int>(s.points.size());
     std::vector<bool> kept(n, false);
-    for (int v = 0; v < n; ++v) kept[v] = !is_joint(v) && classes.find(v) == v;
-    for (const Chain& b : branches)
+    for (int v = 0; v < n; ++v) kept[v] = !view.is_joint(v) && col.classes.find(v) == v;
+    for (const Chain& b : view.branches)
         if (b.ring) kept[b.verts.front()] = true;
-    std::vector<int> new_id(n, -1);
-    AdaptationResult result;
-    Skeleton& out = result.skeleton;
+    new_id.assign(n, -1);
     for (int v = 0; v < n; ++v) {
         if (!kept[v]) continue;
         new_id[v] = static_cast<int>(out.points.size());
-        out.points.push_back(pos[v]);
-        out.radii.push_back(rad[v]);
+        out.points.push_back(view.pos[v]);
+        out.radii.push_back(view.rad[v]);
     }
-    const auto id_of = [&](int v) { return new_id[classes.find(v)]; };
-
-    for (int e = 0; e < ne; ++e)
-        if (!branch_edge[e]) out.edges.push_back({id_of(s.edges[e][0]), id_of(s.edges[e][1])});
+    const auto id_of = [&](int v) { return new_id[col.classes.find(v)]; };
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
+        if (!view.branch_edge[e]) out.edges.push_back({id_of(s.edges[e][0]), id_of(s.edges[e][1])});
     out.faces = s.faces;
     for (std::vector<int>& f : out.faces)
         for (int& v : f) v = id_of(v);
+}
 
+// Every branch not collapsed, resampled between its kept ends, appended to out (new joints and edges in branch
+// order). Two branches never both become one edge between the same two vertices.
+void write_resampled_branches(const BranchView& view, Collapses& col, const std::vector<int>& new_id,
+                              const AdaptationOptions& o, AdaptationResult& result) {
+    Skeleton& out = result.skeleton;
+    const auto id_of = [&](int v) { return new_id[col.classes.find(v)]; };
     std::set<std::pair<int, int>> single_edge_links;  // to never emit two edges joining the same two vertices
     for (const std::array<int, 2>& e : out.edges) single_edge_links.insert(std::minmax(e[0], e[1]));
-    for (std::size_t bi = 0; bi < branches.size(); ++bi) {
-        if (collapsed[bi]) continue;
-        const Chain& b = branches[bi];
+    for (std::size_t bi = 0; bi < view.branches.size(); ++bi) {
+        if (col.collapsed[bi]) continue;
+        const Chain& b = view.branches[bi];
         const int a = id_of(b.verts.front()), c = id_of(b.verts.back());
         int min_edges = (b.ring || a == c) ? 3 : 1;
         if (min_edges == 1 && single_edge_links.count(std::minmax(a, c))) min_edges = 2;
-        std::vector<double> t = resample(bi, min_edges, out.points[a], out.points[c], &result.turn_removed_joints);
+        std::vector<double> t =
+            resample(view, bi, min_edges, out.points[a], out.points[c], o, &result.turn_removed_joints);
         if (t.empty()) single_edge_links.insert(std::minmax(a, c));
         int prev = a;
         for (const double ti : t) {
-            const auto [p, r] = polylines[bi].at(ti);
+            const auto [p, r] = view.polylines[bi].at(ti);
             const int v = static_cast<int>(out.points.size());
             out.points.push_back(p);
             out.radii.push_back(r);
@@ -696,30 +734,54 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const Adaptation
         }
         out.edges.push_back({prev, c});
     }
-    // Resampled first edges can still be coincident (two branches whose first joints lie in one direction): the same
-    // repair on the output (a re-attachment that joins two coincident points is followed by their merge).
-    std::vector<int> post_map;
-    if (o.coincident_angle > 0) {
-        std::vector<int> identity(out.points.size());
-        Repaired post{std::move(out), std::move(identity), 0, 0, 0};
-        std::iota(post.map.begin(), post.map.end(), 0);
-        for (int round = 0; round < 8; ++round) {
-            const bool moved = reattach_coincident(post, o);
-            if (!merge_short_edges(post, o, true) && !moved) break;
-        }
-        out = std::move(post.s);
-        post_map = std::move(post.map);
-        repaired.reattached_edges += post.reattached_edges;
-        repaired.duplicate_edges += post.duplicate_edges;
-        repaired.merged_vertices += post.merged_vertices;
+}
+
+// Resampled first edges can still be coincident (two branches whose first joints lie in one direction): the same
+// repair on the output (a re-attachment that joins two coincident points is followed by their merge). Returns the map
+// from the resampled output's vertices to the repaired ones (empty when coincident_angle is off) and adds the repair
+// counts to `repaired`.
+std::vector<int> repair_output(Skeleton& out, Repaired& repaired, const AdaptationOptions& o) {
+    if (!(o.coincident_angle > 0)) return {};
+    std::vector<int> identity(out.points.size());
+    Repaired post{std::move(out), std::move(identity), 0, 0, 0};
+    std::iota(post.map.begin(), post.map.end(), 0);
+    for (int round = 0; round < 8; ++round) {
+        const bool moved = reattach_coincident(post, o);
+        if (!merge_short_edges(post, o, true) && !moved) break;
     }
-    result.collapsed_bridges = result_collapsed;
+    out = std::move(post.s);
+    repaired.reattached_edges += post.reattached_edges;
+    repaired.duplicate_edges += post.duplicate_edges;
+    repaired.merged_vertices += post.merged_vertices;
+    return std::move(post.map);
+}
+
+}  // namespace
+
+Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o) {
+    return adapt_skeleton_detailed(s, o).skeleton;
+}
+
+AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const AdaptationOptions& o) {
+    validate(input, o);
+    Repaired repaired = repair_degenerate_branches(input, o);
+    BranchView view = make_branch_view(repaired.s);
+    compute_end_reach(view, o);
+    Collapses col = collapse_short_bridges(view, o);
+    move_merged_classes(view, col, o);
+
+    AdaptationResult result;
+    std::vector<int> new_id;
+    write_kept_vertices(view, col, new_id, result.skeleton);
+    write_resampled_branches(view, col, new_id, o, result);
+    const std::vector<int> post_map = repair_output(result.skeleton, repaired, o);
+    result.collapsed_bridges = col.count;
     result.merged_vertices = repaired.merged_vertices;
     result.duplicate_edges = repaired.duplicate_edges;
     result.reattached_edges = repaired.reattached_edges;
     result.vertex_map.resize(input.points.size());
     for (std::size_t v = 0; v < input.points.size(); ++v) {
-        const int w = id_of(repaired.map[v]);
+        const int w = new_id[col.classes.find(repaired.map[v])];
         result.vertex_map[v] = w < 0 || post_map.empty() ? w : post_map[w];
     }
     return result;

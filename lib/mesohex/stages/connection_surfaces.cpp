@@ -535,17 +535,16 @@ double spherical_quad_margin(const std::array<Vec3, 4>& q, const Vec3& d) {
     return m;
 }
 
-ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& an,
-                                             const ConnectionSurfaceOptions& options) {
-    return rebuild_connection_surfaces(skeleton, an, nullptr, {}, options);
-}
+namespace {
 
-ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& an,
-                                               const ConnectionSurfaces* previous, const std::vector<char>& recompute,
-                                               const ConnectionSurfaceOptions& options) {
-    const int nv = static_cast<int>(skeleton.points.size());
-    const int ne = static_cast<int>(skeleton.edges.size());
-    MESOHEX_CHECK(static_cast<int>(an.vertex_class.size()) == nv, "analysis does not match the skeleton");
+// The steps of rebuild_connection_surfaces, in the order it calls them: checks, the CSR layout, the leaflet sides at
+// junctions, the hex model of a junction (for the relaxations), one surface per vertex (parallel), then the LL-joint
+// pillows and the leaflet quad rotations (serial).
+
+// Throws Error(UnsupportedConfiguration) naming the first vertex of a class without a surface rule, or the first
+// non-orientable leaflet.
+void check_surface_support(const SkeletonAnalysis& an) {
+    const int nv = static_cast<int>(an.vertex_class.size());
     for (int v = 0; v < nv; ++v) {
         const VertexClass c = an.vertex_class[v];
         if (c != VertexClass::Isolated && c != VertexClass::Extremity && c != VertexClass::Joint &&
@@ -557,14 +556,16 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
                             ": branching points with leaflets are not meshed yet",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
     }
-
     for (int l = 0; l < static_cast<int>(an.leaflets.size()); ++l)
         if (!an.leaflets[l].orientable)
             throw Error(ErrorCode::UnsupportedConfiguration,
                         "leaflet " + std::to_string(l) + " (face " + std::to_string(an.leaflets[l].faces.front()) +
                             ") is not orientable (Moebius-like): not supported",
                         ElementRef{ElementRef::Kind::SkeletonFace, an.leaflets[l].faces.front()});
+}
 
+// The CSR layout (sizes from surface_size) and every array sized, filled with zeros / -1.
+ConnectionSurfaces allocate_surfaces(const SkeletonAnalysis& an, int nv, int ne) {
     ConnectionSurfaces cs;
     cs.point_begin.assign(nv + 1, 0);
     cs.quad_begin.assign(nv + 1, 0);
@@ -583,6 +584,604 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
     cs.quad_edges.resize(cs.quad_begin[nv]);
     cs.edges.resize(cs.edge_begin[nv]);
     cs.edge_quad.assign(ne, {-1, -1});
+    cs.face_corner_quad.assign(an.face_vertices.size(), {-1, -1, -1, -1});
+    cs.quad_rotation.assign(cs.quad_begin[nv], -1);
+    return cs;
+}
+
+bool is_junction(const SkeletonAnalysis& an, int v) {
+    return an.vertex_class[v] == VertexClass::LLJoint ||
+           (an.vertex_class[v] == VertexClass::BranchingPoint && an.vertex_boundary_edges[v] > 0);
+}
+
+// The leaflet sides at every junction (LL-joint or branching point with leaflets) and the faces at every junction
+// and BL-joint.
+struct LeafletSides {
+    std::vector<std::vector<Vec3>> dir, nor;                    // per vertex and side: mean direction, normal sum
+    std::vector<std::vector<std::array<int, 3>>> junction_faces;  // per vertex: (face, corner, side)
+};
+
+// The side of each face (fl: (face, corner) at v, in face order) at junction v with nl leaflet sides: faces joined
+// through interior edges at v share a side, numbered by lowest face id. Throws Error(UnsupportedConfiguration) naming
+// v unless they form exactly nl sides.
+std::vector<int> group_leaflet_sides(const SkeletonAnalysis& an, const std::vector<std::pair<int, int>>& fl, int nl,
+                                     int v) {
+    const int n = static_cast<int>(fl.size());
+    auto edges_at = [&](int i) {
+        const auto [f, k] = fl[i];
+        return std::array<int, 2>{an.face_edges[f][k], an.face_edges[f][(k + 3) & 3]};
+    };
+    auto share = [&](int i, int j) {
+        for (int a : edges_at(i))
+            for (int b : edges_at(j))
+                if (a == b && an.edge_degree[a] == 2) return true;
+        return false;
+    };
+    std::vector<int> side(n, -1);
+    for (int s = 0; s < nl; ++s) {
+        int seed = -1;
+        for (int i = 0; i < n && seed < 0; ++i)
+            if (side[i] < 0) seed = i;
+        if (seed < 0) break;
+        side[seed] = s;
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j)
+                    if (side[i] == s && side[j] < 0 && share(i, j)) {
+                        side[j] = s;
+                        changed = true;
+                    }
+        }
+    }
+    if (std::find(side.begin(), side.end(), -1) != side.end() ||
+        std::find(side.begin(), side.end(), nl - 1) == side.end())
+        throw Error(ErrorCode::UnsupportedConfiguration,
+                    "skeleton vertex " + std::to_string(v) + ": its leaflet faces do not form " + std::to_string(nl) +
+                        " leaflet sides",
+                    ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    return side;
+}
+
+// Side s of junction v: the unit mean of the unit vectors to the neighbours across its faces' edges at v, and the sum
+// of its face normals.
+void side_direction_and_normal(const Skeleton& skeleton, const SkeletonAnalysis& an,
+                               const std::vector<std::pair<int, int>>& fl, const std::vector<int>& side, int v, int s,
+                               Vec3& dir, Vec3& nor) {
+    std::vector<int> es;
+    for (int i = 0; i < static_cast<int>(fl.size()); ++i) {
+        if (side[i] != s) continue;
+        const auto [f, k] = fl[i];
+        nor += an.face_normal[f];
+        for (int e : {an.face_edges[f][k], an.face_edges[f][(k + 3) & 3]}) es.push_back(e);
+    }
+    std::sort(es.begin(), es.end());
+    es.erase(std::unique(es.begin(), es.end()), es.end());
+    for (int e : es) {
+        const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+        dir += normalized(skeleton.points[w] - skeleton.points[v]);
+    }
+    if (!(norm(dir) > 1e-9))
+        throw Error(ErrorCode::UnsupportedConfiguration,
+                    "skeleton vertex " + std::to_string(v) + ": a leaflet at it has no mean direction",
+                    ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    dir = normalized(dir);
+}
+
+// Leaflet sides at LL-joints and branching points (reference-notes §6.3, §6.8): the faces at v connected through
+// interior edges at v form one side, numbered by lowest face id; side s is the vertex's local quad
+// (branch edges first), written to cs.face_corner_quad. Each side's direction is the unit mean of the unit vectors to
+// its neighbours, its normal the sum of its face normals. BL-joints: every face at the joint is on the leaflet's side
+// (quad 1). Serial in face order.
+LeafletSides find_leaflet_sides(const Skeleton& skeleton, const SkeletonAnalysis& an, ConnectionSurfaces& cs) {
+    const int nv = static_cast<int>(skeleton.points.size());
+    const int nf = static_cast<int>(an.face_vertices.size());
+    LeafletSides ls;
+    ls.dir.resize(nv);
+    ls.nor.resize(nv);
+    ls.junction_faces.resize(nv);
+    if (an.counts.ll_joints > 0 || an.counts.branching_points > 0) {
+        std::vector<std::vector<std::pair<int, int>>> vfaces(nv);  // (face, corner), in face order
+        for (int f = 0; f < nf; ++f)
+            for (int k = 0; k < 4; ++k)
+                if (is_junction(an, an.face_vertices[f][k])) vfaces[an.face_vertices[f][k]].push_back({f, k});
+        for (int v = 0; v < nv; ++v) {
+            if (!is_junction(an, v)) continue;
+            const std::vector<std::pair<int, int>>& fl = vfaces[v];
+            const int nl = an.vertex_boundary_edges[v] / 2;
+            const std::vector<int> side = group_leaflet_sides(an, fl, nl, v);
+            ls.dir[v].assign(nl, Vec3{});
+            ls.nor[v].assign(nl, Vec3{});
+            for (int s = 0; s < nl; ++s) side_direction_and_normal(skeleton, an, fl, side, v, s, ls.dir[v][s], ls.nor[v][s]);
+            const int nb = an.vertex_branch_edges[v];
+            for (int i = 0; i < static_cast<int>(fl.size()); ++i) {
+                cs.face_corner_quad[fl[i].first][fl[i].second] = nb + side[i];
+                ls.junction_faces[v].push_back({fl[i].first, fl[i].second, side[i]});
+            }
+        }
+    }
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 4; ++k)
+            if (an.vertex_class[an.face_vertices[f][k]] == VertexClass::BLJoint)
+                ls.junction_faces[an.face_vertices[f][k]].push_back({f, k, 0});
+    return ls;
+}
+
+// What the junction models read besides the skeleton and analysis.
+struct ModelInputs {
+    const Skeleton& skeleton;
+    const SkeletonAnalysis& an;
+    const LeafletSides& sides;
+    const LeafletVertexFrames& leaf;
+};
+
+// Radius of skeleton vertex w for the junction model: skeleton.radii when present, else a quarter of the mean
+// incident edge length, as the pipeline's default.
+double model_radius(const Skeleton& skeleton, const SkeletonAnalysis& an, int w) {
+    if (!skeleton.radii.empty()) return skeleton.radii[w];
+    double sum = 0;
+    const int deg = an.vertex_edge_begin[w + 1] - an.vertex_edge_begin[w];
+    for (int i = an.vertex_edge_begin[w]; i < an.vertex_edge_begin[w + 1]; ++i) {
+        const std::array<int, 2>& ed = skeleton.edges[an.vertex_edges[i]];
+        sum += distance(skeleton.points[ed[0]], skeleton.points[ed[1]]);
+    }
+    return deg > 0 ? 0.25 * sum / deg : 1.0;
+}
+
+// Chunks: the i-th branch quad is on the i-th incident branch edge of v (in increasing edge id); empty unless there
+// are nb of them.
+std::vector<JunctionModel::Chunk> model_chunks(const Skeleton& skeleton, const SkeletonAnalysis& an, int v,
+                                               const std::vector<Vec3>& dirs, int nb) {
+    std::vector<JunctionModel::Chunk> chunks;
+    const Vec3& c = skeleton.points[v];
+    int i = 0;
+    for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1] && i < nb; ++j) {
+        const int e = an.vertex_edges[j];
+        if (an.edge_degree[e] != 0) continue;
+        const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+        JunctionModel::Chunk ch;
+        ch.length = distance(skeleton.points[w], c);
+        ch.w_radius = model_radius(skeleton, an, w);
+        ch.w_tangent = dirs[i];
+        if (an.vertex_class[w] == VertexClass::Joint)
+            for (int jj = an.vertex_edge_begin[w]; jj < an.vertex_edge_begin[w + 1]; ++jj) {
+                const int e2 = an.vertex_edges[jj];
+                if (e2 == e || an.edge_degree[e2] != 0) continue;
+                const int x = skeleton.edges[e2][0] == w ? skeleton.edges[e2][1] : skeleton.edges[e2][0];
+                const Vec3 t = dirs[i] + normalized(skeleton.points[x] - skeleton.points[w]);
+                if (norm(t) > 1e-9) ch.w_tangent = normalized(t);
+            }
+        chunks.push_back(ch);
+        ++i;
+    }
+    if (i != nb) chunks.clear();
+    return chunks;
+}
+
+ModelVertex model_point(int a) { return ModelVertex{ModelVertex::Point, a, -1, {}}; }
+ModelVertex model_mid(int a, int b) { return ModelVertex{ModelVertex::Mid, a, b, {}}; }
+constexpr ModelVertex kModelCentre{ModelVertex::Centre, -1, -1, {}};
+
+// The two plate hexes of face f (corner kv at the junction v, quad q with rotation r): UP = (c0 c1 c2 c3 | up0..up3),
+// DOWN = (c0 c3 c2 c1 | dn0 dn3 dn2 dn1), the face's other corners placed as regular leaflet vertices.
+void add_plate_model_hexes(const ModelInputs& in, int v, int f, int kv, const std::array<int, 4>& q, int r,
+                           JunctionModel& m) {
+    const Vec3& c = in.skeleton.points[v];
+    auto fixed = [&](const Vec3& p) { return ModelVertex{ModelVertex::Fixed, -1, -1, p - c}; };
+    const std::array<int, 4>& fw = in.an.face_vertices[f];
+    ModelHex up, dn;
+    for (int j = 0; j < 4; ++j) {
+        const int w = fw[j], iu = j, id = (4 - j) & 3;
+        if (j == kv) {
+            up.v[iu] = dn.v[id] = kModelCentre;
+            up.v[iu + 4] = model_point(q[(r + 1) & 3]);
+            dn.v[id + 4] = model_point(q[(r + 3) & 3]);
+            up.on_sphere[iu] = up.on_sphere[iu + 4] = dn.on_sphere[id] = dn.on_sphere[id + 4] = true;
+        } else {
+            const Vec3& p = in.skeleton.points[w];
+            const Vec3 nn = model_radius(in.skeleton, in.an, w) * in.leaf.normal[w];
+            up.v[iu] = dn.v[id] = fixed(p);
+            up.v[iu + 4] = fixed(p + nn);
+            dn.v[id + 4] = fixed(p - nn);
+        }
+    }
+    m.hexes.push_back(up);
+    m.hexes.push_back(dn);
+}
+
+// The two half-chunk hexes of side ke of face f, a boundary edge at the junction v (reference-notes §8.3, §8.5):
+// UP = (a oa ob b | ua oua oub ub), DOWN = (a b ob oa | da db odb oda), the face traversing a -> b.
+void add_half_chunk_model_hexes(const ModelInputs& in, int v, int f, int ke, const std::array<int, 4>& q, int r,
+                                JunctionModel& m) {
+    const Skeleton& skeleton = in.skeleton;
+    const Vec3& c = skeleton.points[v];
+    auto fixed = [&](const Vec3& p) { return ModelVertex{ModelVertex::Fixed, -1, -1, p - c}; };
+    const std::array<int, 4>& fw = in.an.face_vertices[f];
+    const int wa = fw[ke], wb = fw[(ke + 1) & 3];
+    const bool at_a = wa == v;
+    const int w = at_a ? wb : wa;
+    const Vec3& p = skeleton.points[w];
+    const double rw = model_radius(skeleton, in.an, w);
+    const Vec3 nn = rw * in.leaf.normal[w];
+    Vec3 o = in.leaf.out[w];
+    double ow = rw;
+    if (!(norm(o) > 0.5))
+        o = cross(normalized(skeleton.points[wb] - skeleton.points[wa]), in.leaf.normal[w]);
+    else
+        ow = leaflet_out_distance(skeleton, in.an, in.leaf, w, rw);
+    o = ow * o;
+    // far end: centre, out, out-up, out-down, up, down
+    const std::array<ModelVertex, 6> far{fixed(p), fixed(p + o), fixed(p + o + nn), fixed(p + o - nn),
+                                         fixed(p + nn), fixed(p - nn)};
+    std::array<ModelVertex, 6> near;
+    if (at_a)  // e leaves v: out q_{k+2}, out-up mid(q_{k+1}, q_{k+2}), out-down mid(q_{k+2}, q_{k+3})
+        near = {kModelCentre, model_point(q[(r + 2) & 3]), model_mid(q[(r + 1) & 3], q[(r + 2) & 3]),
+                model_mid(q[(r + 2) & 3], q[(r + 3) & 3]), model_point(q[(r + 1) & 3]), model_point(q[(r + 3) & 3])};
+    else  // e arrives at v: out q_k, out-up mid(q_k, q_{k+1}), out-down mid(q_{k+3}, q_k)
+        near = {kModelCentre, model_point(q[r & 3]), model_mid(q[r & 3], q[(r + 1) & 3]),
+                model_mid(q[(r + 3) & 3], q[r & 3]), model_point(q[(r + 1) & 3]), model_point(q[(r + 3) & 3])};
+    const std::array<ModelVertex, 6>& A = at_a ? near : far;
+    const std::array<ModelVertex, 6>& B = at_a ? far : near;
+    ModelHex hu, hd;
+    hu.v = {A[0], A[1], B[1], B[0], A[4], A[2], B[2], B[4]};
+    hd.v = {A[0], B[0], B[1], A[1], A[5], B[5], B[3], A[3]};
+    using Corners = std::array<int, 4>;  // the corners at v
+    const Corners near_u = at_a ? Corners{0, 1, 4, 5} : Corners{2, 3, 6, 7};
+    const Corners near_d = at_a ? Corners{0, 3, 4, 7} : Corners{1, 2, 5, 6};
+    for (int i : near_u) hu.on_sphere[i] = true;
+    for (int i : near_d) hd.on_sphere[i] = true;
+    m.hexes.push_back(hu);
+    m.hexes.push_back(hd);
+}
+
+// The hex model of a junction with leaflets (see relax_junction), for the partition `part` of vertex v whose
+// quads [nb, n) are its leaflet sides; rot: per quad, the registration rotation of a leaflet quad (-1 for a branch
+// quad).
+JunctionModel junction_model(const ModelInputs& in, int v, const SpherePartition& part, const std::vector<Vec3>& dirs,
+                             int nb, const std::vector<int>& rot) {
+    JunctionModel m;
+    m.r = model_radius(in.skeleton, in.an, v);
+    m.quads = part.quads;
+    m.dirs = dirs;
+    m.branch_quads = nb;
+    if (nb > 0 && static_cast<int>(part.quads.size()) > nb) m.chunks = model_chunks(in.skeleton, in.an, v, dirs, nb);
+    for (const std::array<int, 3>& fks : in.sides.junction_faces[v]) {
+        const int f = fks[0], kv = fks[1], qi = nb + fks[2], r = rot[qi];
+        const std::array<int, 4>& q = part.quads[qi];
+        add_plate_model_hexes(in, v, f, kv, q, r, m);
+        for (const int ke : {kv, (kv + 3) & 3})
+            if (in.an.edge_degree[in.an.face_edges[f][ke]] == 1) add_half_chunk_model_hexes(in, v, f, ke, q, r, m);
+    }
+    return m;
+}
+
+// The inputs of the per-vertex surface steps.
+struct SurfaceInputs {
+    const Skeleton& skeleton;
+    const SkeletonAnalysis& an;
+    const ConnectionSurfaceOptions& options;
+    const ModelInputs& model;
+    const std::vector<Vec3>& vertex_normal_sum;  // per vertex (when there are BL-joints): sum of its face normals
+};
+
+void copy_previous_surface(const SurfaceInputs& in, const ConnectionSurfaces& previous, int v, ConnectionSurfaces& cs) {
+    const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+    std::copy(previous.directions.begin() + p0, previous.directions.begin() + cs.point_begin[v + 1],
+              cs.directions.begin() + p0);
+    std::copy(previous.point_valence.begin() + p0, previous.point_valence.begin() + cs.point_begin[v + 1],
+              cs.point_valence.begin() + p0);
+    std::copy(previous.quads.begin() + q0, previous.quads.begin() + cs.quad_begin[v + 1], cs.quads.begin() + q0);
+    std::copy(previous.quad_edges.begin() + q0, previous.quad_edges.begin() + cs.quad_begin[v + 1],
+              cs.quad_edges.begin() + q0);
+    std::copy(previous.quad_rotation.begin() + q0, previous.quad_rotation.begin() + cs.quad_begin[v + 1],
+              cs.quad_rotation.begin() + q0);
+    std::copy(previous.edges.begin() + e0, previous.edges.begin() + cs.edge_begin[v + 1], cs.edges.begin() + e0);
+    for (int i = in.an.vertex_edge_begin[v]; i < in.an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = in.an.vertex_edges[i];
+        const int side = in.skeleton.edges[e][0] == v ? 0 : 1;
+        cs.edge_quad[e][side] = previous.edge_quad[e][side];
+    }
+}
+
+int edge_side(const Skeleton& skeleton, int e, int v) { return skeleton.edges[e][0] == v ? 0 : 1; }
+
+// Branch rooted on the plates: one quad on the branch edge e, its points in the order of the patch (LeafletPatch
+// inside the leaflet, BorderPatch on its border), each pointing towards the skeleton vertex whose copy it is (the
+// frames start from it; raw_mesh.cpp takes the ids from the patch).
+void build_rooted_surface(const SurfaceInputs& in, int v, int e, ConnectionSurfaces& cs) {
+    const Skeleton& skeleton = in.skeleton;
+    const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+    set_square(cs, e0, q0);
+    cs.edge_quad[e][edge_side(skeleton, e, v)] = q0;
+    for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 1;
+    if (in.an.vertex_class[v] == VertexClass::LeafletInterior) {
+        const LeafletPatch patch = leaflet_patch(skeleton, in.an, v, e);
+        for (int k = 0; k < 4; ++k)
+            cs.directions[p0 + k] = normalized(skeleton.points[patch.neighbour[k]] - skeleton.points[v]);
+        return;
+    }
+    const BorderPatch patch = border_patch(skeleton, in.an, v, e);
+    auto to = [&](int x) { return normalized(skeleton.points[x] - skeleton.points[v]); };
+    if (patch.kind == BorderRoot::Out) {
+        const Vec3 n = normalized(leaflet_normal_sum(in.an, v));
+        const Vec3 side = patch.up_first ? n : -1.0 * n;
+        cs.directions[p0 + 0] = to(patch.border[0]);
+        cs.directions[p0 + 1] = side;
+        cs.directions[p0 + 2] = to(patch.border[1]);
+        cs.directions[p0 + 3] = -1.0 * side;
+    } else {
+        // Side: the out vertex lies opposite the middle neighbour.
+        const std::array<Vec3, 4> up{to(patch.border[patch.first]), to(patch.middle), to(patch.border[1 - patch.first]),
+                                     -1.0 * to(patch.middle)};
+        for (int k = 0; k < 4; ++k) cs.directions[p0 + k] = patch.up ? up[k] : up[(4 - k) & 3];
+    }
+}
+
+// Pillow: quad A = (0,1,2,3) on the branch edge e, quad B = (2,1,0,3) for the leaflet (registered on no edge).
+// Geometry from the leaflet frame (reference-notes §7.2): T into the leaflet (mean of the unit vectors to its
+// neighbours), R = leaflet normal made orthogonal to T, S = T x R; quad B shows (-S, R, S, -R) from its start, so its
+// q1 is "up" (the rotation k = 0 of §8.5).
+void build_bl_joint_surface(const SurfaceInputs& in, int v, int e, ConnectionSurfaces& cs) {
+    const Skeleton& skeleton = in.skeleton;
+    const SkeletonAnalysis& an = in.an;
+    const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+    set_square(cs, e0, q0);
+    cs.quads[q0 + 1] = {2, 1, 0, 3};
+    cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
+    cs.edge_quad[e][edge_side(skeleton, e, v)] = q0;
+    for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 2;
+    Vec3 t{};
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int le = an.vertex_edges[i];
+        if (an.edge_degree[le] == 0) continue;
+        const int w = skeleton.edges[le][0] == v ? skeleton.edges[le][1] : skeleton.edges[le][0];
+        t += normalized(skeleton.points[w] - skeleton.points[v]);
+    }
+    const Vec3 leaf_dir = normalized(t);
+    const int wb = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+    const Vec3 branch_dir = normalized(skeleton.points[wb] - skeleton.points[v]);
+    // The hemispheres split the leaflet from the branch: T starts halfway between the leaflet direction
+    // and the reversed branch (T = the leaflet direction for a branch along its outward diagonal).
+    t = leaf_dir - branch_dir;
+    t = norm(t) > 1e-6 ? normalized(t) : leaf_dir;
+    Vec3 r = in.vertex_normal_sum[v] - dot(in.vertex_normal_sum[v], t) * t;
+    if (!(norm(r) > 1e-12))
+        throw Error(ErrorCode::UnsupportedConfiguration,
+                    "BL-joint at skeleton vertex " + std::to_string(v) +
+                        ": the leaflet direction is along its normal (degenerate corner)",
+                    ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    r = normalized(r);
+    if (in.options.relax_partitions) {
+        SpherePartition pillow;
+        pillow.quads = {{0, 1, 2, 3}, {2, 1, 0, 3}};
+        const std::vector<Vec3> pd{branch_dir, leaf_dir};
+        const JunctionModel m = junction_model(in.model, v, pillow, pd, 1, {-1, 0});
+        relax_pillow_frame(m, t, r, in.options.relax_junctions_below);
+    }
+    const Vec3 sv = cross(t, r);
+    cs.directions[p0 + 2] = -sv;
+    cs.directions[p0 + 1] = r;
+    cs.directions[p0 + 0] = sv;
+    cs.directions[p0 + 3] = -r;
+}
+
+// Extremity: one quad on its edge; joint: quad A on its first edge, quad B = (2,1,0,3) on its second. Directions are
+// left zero (set by frame propagation).
+void build_curve_surface(const Skeleton& skeleton, int v, bool joint, const std::vector<int>& inc,
+                         ConnectionSurfaces& cs) {
+    const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+    set_square(cs, e0, q0);
+    cs.edge_quad[inc[0]][edge_side(skeleton, inc[0], v)] = q0;
+    for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 1;
+    if (!joint) return;
+    cs.quads[q0 + 1] = {2, 1, 0, 3};
+    cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
+    cs.edge_quad[inc[1]][edge_side(skeleton, inc[1], v)] = q0 + 1;
+    for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 2;
+}
+
+// The sphere partition of branching point v for directions dirs (nb branch edges, then its leaflet sides), relaxed
+// (relax_partition, then relax_junction on the junction's hex model, whose leaflet quad rotations are stored in
+// cs.quad_rotation). Any partition error becomes Error(NumericalFailure) naming v.
+SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const std::vector<Vec3>& dirs, int nb,
+                                          ConnectionSurfaces& cs) {
+    const ConnectionSurfaceOptions& options = in.options;
+    const int n = static_cast<int>(dirs.size()), q0 = cs.quad_begin[v];
+    const LeafletSides& sides = in.model.sides;
+    SpherePartition part;
+    try {
+        SpherePartitionOptions po;
+        po.planarity_tolerance = options.planarity_tolerance;
+        part = partition_sphere(dirs, po);
+        if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
+        if (options.relax_partitions && n > nb) {
+            std::vector<int> rot(n, -1);
+            bool ok = true;
+            for (int i = nb; i < n; ++i) {
+                std::array<Vec3, 4> qd;
+                for (int k = 0; k < 4; ++k) qd[k] = normalized(part.points[part.quads[i][k]]);
+                rot[i] = leaflet_quad_rotation(qd, sides.dir[v][i - nb], sides.nor[v][i - nb]);
+                ok = ok && rot[i] >= 0;
+            }
+            if (ok) {
+                part = relax_junction(part, junction_model(in.model, v, part, dirs, nb, rot),
+                                      options.relax_junctions_below);
+                // the rotations the model was relaxed with (the nearest vertex to the normal may change)
+                for (int i = nb; i < n; ++i) cs.quad_rotation[q0 + i] = rot[i];
+            }
+        }
+    } catch (const Error& err) {
+        throw Error(ErrorCode::NumericalFailure,
+                    "no connection surface at skeleton vertex " + std::to_string(v) + " (degree " +
+                        std::to_string(n) + "): " + err.what(),
+                    ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    }
+    return part;
+}
+
+// Stores partition `part` (n quads) as v's surface: directions, quads, their edges (numbered by first appearance),
+// valences, and quad i < nb on branch edge inc[i]. Throws Error(NumericalFailure) naming v unless it is a closed quad
+// surface with n + 2 points and 2n edges.
+void store_partition(const Skeleton& skeleton, int v, const SpherePartition& part, int n, const std::vector<int>& inc,
+                     ConnectionSurfaces& cs) {
+    const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+    const int nb = static_cast<int>(inc.size());
+    auto not_closed = [&]() {
+        return Error(ErrorCode::NumericalFailure,
+                     "sphere partition at skeleton vertex " + std::to_string(v) + " is not a closed quad surface",
+                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    };
+    if (static_cast<int>(part.quads.size()) != n || static_cast<int>(part.points.size()) != n + 2)
+        throw Error(ErrorCode::NumericalFailure,
+                    "sphere partition at skeleton vertex " + std::to_string(v) + " has " +
+                        std::to_string(part.quads.size()) + " quads and " + std::to_string(part.points.size()) +
+                        " points for degree " + std::to_string(n),
+                    ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    for (int k = 0; k < n + 2; ++k) cs.directions[p0 + k] = normalized(part.points[k]);
+    int n_edges = 0;
+    for (int i = 0; i < n; ++i) {
+        const std::array<int, 4>& q = part.quads[i];
+        cs.quads[q0 + i] = q;
+        for (int k = 0; k < 4; ++k) {
+            ++cs.point_valence[p0 + q[k]];
+            const int a = q[k], b = q[(k + 1) % 4];
+            int found = -1;
+            for (int j = 0; j < n_edges; ++j) {
+                const std::array<int, 2>& ed = cs.edges[e0 + j];
+                if ((ed[0] == a && ed[1] == b) || (ed[0] == b && ed[1] == a)) {
+                    found = j;
+                    break;
+                }
+            }
+            if (found < 0) {
+                if (n_edges == 2 * n) throw not_closed();
+                found = n_edges;
+                cs.edges[e0 + n_edges++] = {a, b};
+            }
+            cs.quad_edges[q0 + i][k] = found;
+        }
+        if (i < nb) cs.edge_quad[inc[i]][edge_side(skeleton, inc[i], v)] = q0 + i;
+    }
+    if (n_edges != 2 * n) throw not_closed();
+}
+
+// Branching point: partition of the sphere with one quad per incident branch direction (inc: the branch edges, in
+// increasing id). Leaflets count as virtual branches after the branch edges (reference-notes §6.8).
+void build_branching_surface(const SurfaceInputs& in, int v, const std::vector<int>& inc, std::vector<Vec3>& dirs,
+                             ConnectionSurfaces& cs) {
+    const Skeleton& skeleton = in.skeleton;
+    const std::vector<Vec3>& side_dir = in.model.sides.dir[v];
+    const int nb = static_cast<int>(inc.size());
+    const int n = nb + static_cast<int>(side_dir.size());
+    dirs.resize(n);
+    const Vec3& center = skeleton.points[v];
+    for (int i = 0; i < nb; ++i) {
+        const int e = inc[i];
+        const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+        dirs[i] = normalized(skeleton.points[w] - center);
+    }
+    for (int i = nb; i < n; ++i) dirs[i] = side_dir[i - nb];
+    const SpherePartition part = partition_branching_point(in, v, dirs, nb, cs);
+    store_partition(skeleton, v, part, n, inc, cs);
+}
+
+// The surface of one vertex (dirs, inc: scratch of the calling task). Writes only v's ranges and the (edge, side)
+// slots of v's own incident edges.
+void build_vertex_surface(const SurfaceInputs& in, int v, std::vector<Vec3>& dirs, std::vector<int>& inc,
+                          ConnectionSurfaces& cs) {
+    const SkeletonAnalysis& an = in.an;
+    const VertexClass c = an.vertex_class[v];
+    inc.clear();
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+        if (an.edge_degree[an.vertex_edges[i]] == 0) inc.push_back(an.vertex_edges[i]);
+    if (roots_branch(an, v))
+        build_rooted_surface(in, v, inc[0], cs);
+    else if (c == VertexClass::BLJoint)
+        build_bl_joint_surface(in, v, inc[0], cs);
+    else if (c == VertexClass::Extremity || c == VertexClass::Joint)
+        build_curve_surface(in.skeleton, v, c == VertexClass::Joint, inc, cs);
+    else
+        build_branching_surface(in, v, inc, dirs, cs);
+}
+
+// LL-joint pillow (reference-notes §6.3, §7.2, §8.5 with the flaw fixed): quad A = (0,1,2,3) for side 0, quad B =
+// (2,1,0,3) for side 1. T = unit(dir_0 - dir_1); R = the side-0 normal made orthogonal to T, turned about T by half
+// the residual angle between the two projected normals and the nearest multiple of 90 degrees, S = T x R; points
+// (-S, R, S, -R).
+void build_ll_joint_pillow(const LeafletSides& sides, int v, ConnectionSurfaces& cs) {
+    const double quarter = std::numbers::pi / 2;
+    const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+    const auto fail = [&](const std::string& what) {
+        throw Error(ErrorCode::UnsupportedConfiguration,
+                    "leaflet junction at skeleton vertex " + std::to_string(v) + ": " + what,
+                    ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    };
+    const std::vector<Vec3>& dir = sides.dir[v];
+    const std::vector<Vec3>& nor = sides.nor[v];
+    Vec3 t = dir[0] - dir[1];
+    if (!(norm(t) > 1e-9)) fail("both leaflets leave in the same direction");
+    t = normalized(t);
+    Vec3 a = nor[0] - dot(nor[0], t) * t, b = nor[1] - dot(nor[1], t) * t;
+    if (!(norm(a) > 1e-9) || !(norm(b) > 1e-9)) fail("a leaflet normal is along the joint direction");
+    a = normalized(a);
+    const Vec3 ta = cross(t, a);
+    const double phi = std::atan2(dot(b, ta), dot(b, a));
+    const double delta = phi - std::round(phi / quarter) * quarter;
+    const Vec3 r = normalized(std::cos(0.5 * delta) * a + std::sin(0.5 * delta) * ta);
+    const Vec3 sv = cross(t, r);
+    for (int k = 0; k < 4; ++k) {
+        cs.edges[e0 + k] = {k, (k + 1) & 3};
+        cs.point_valence[p0 + k] = 2;
+    }
+    cs.quads[q0] = {0, 1, 2, 3};
+    cs.quad_edges[q0] = {0, 1, 2, 3};
+    cs.quads[q0 + 1] = {2, 1, 0, 3};
+    cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
+    cs.directions[p0 + 0] = -sv;
+    cs.directions[p0 + 1] = r;
+    cs.directions[p0 + 2] = sv;
+    cs.directions[p0 + 3] = -r;
+}
+
+// LL-joint pillows, then every leaflet quad (LL-joint or branching point) not fixed by the junction relaxation picks
+// its own rotation k (§8.5): with its frame T = its direction, R = unit((q2 - q0) x T), S = T x R, the quad vertex
+// nearest to the side's own normal is its up vertex q_{k+1} (q1 ~ R, q2 ~ S, q3 ~ -R, q0 ~ -S). Serial.
+void finish_leaflet_junctions(const SkeletonAnalysis& an, const LeafletSides& sides, ConnectionSurfaces& cs) {
+    const int nv = static_cast<int>(an.vertex_class.size());
+    for (int v = 0; v < nv; ++v) {
+        if (!is_junction(an, v)) continue;
+        if (an.vertex_class[v] == VertexClass::LLJoint) build_ll_joint_pillow(sides, v, cs);
+        const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v];
+        const int nb = an.vertex_branch_edges[v];
+        for (int s = 0; s < static_cast<int>(sides.dir[v].size()); ++s) {
+            const int q = q0 + nb + s;
+            std::array<Vec3, 4> qd;
+            for (int k = 0; k < 4; ++k) qd[k] = cs.directions[p0 + cs.quads[q][k]];
+            if (cs.quad_rotation[q] < 0)  // not already fixed by the junction relaxation
+                cs.quad_rotation[q] = leaflet_quad_rotation(qd, sides.dir[v][s], sides.nor[v][s]);
+            if (cs.quad_rotation[q] < 0)
+                throw Error(ErrorCode::UnsupportedConfiguration,
+                            "leaflet junction at skeleton vertex " + std::to_string(v) + ": degenerate leaflet quad",
+                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
+        }
+    }
+}
+
+}  // namespace
+
+ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& an,
+                                             const ConnectionSurfaceOptions& options) {
+    return rebuild_connection_surfaces(skeleton, an, nullptr, {}, options);
+}
+
+ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& an,
+                                               const ConnectionSurfaces* previous, const std::vector<char>& recompute,
+                                               const ConnectionSurfaceOptions& options) {
+    const int nv = static_cast<int>(skeleton.points.size());
+    const int ne = static_cast<int>(skeleton.edges.size());
+    MESOHEX_CHECK(static_cast<int>(an.vertex_class.size()) == nv, "analysis does not match the skeleton");
+    check_surface_support(an);
+    ConnectionSurfaces cs = allocate_surfaces(an, nv, ne);
     // Reuse needs the same CSR layout (same topology and vertex classes); else everything is recomputed.
     const bool reuse = previous != nullptr && static_cast<int>(recompute.size()) == nv &&
                        previous->point_begin == cs.point_begin && previous->quad_begin == cs.quad_begin &&
@@ -593,471 +1192,27 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
     if (an.counts.bl_joints > 0)
         for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
             for (int w : an.face_vertices[f]) vertex_normal_sum[w] += an.face_normal[f];
-
-    // Leaflet sides at LL-joints and branching points (reference-notes §6.3, §6.8): the faces at v connected through
-    // interior edges at v form one side, numbered by lowest face id; side s is the vertex's local quad
-    // (branch edges first). Each side's direction is the unit mean of the unit vectors to its neighbours, its normal
-    // the sum of its face normals. Serial in face order.
-    const int nf = static_cast<int>(an.face_vertices.size());
-    cs.face_corner_quad.assign(nf, {-1, -1, -1, -1});
-    std::vector<std::vector<Vec3>> side_dir(nv), side_nor(nv);
-    std::vector<std::vector<std::array<int, 3>>> junction_faces(nv);  // (face, corner, side) at each junction
-    auto junction = [&](int v) {
-        return an.vertex_class[v] == VertexClass::LLJoint ||
-               (an.vertex_class[v] == VertexClass::BranchingPoint && an.vertex_boundary_edges[v] > 0);
-    };
-    if (an.counts.ll_joints > 0 || an.counts.branching_points > 0) {
-        std::vector<std::vector<std::pair<int, int>>> vfaces(nv);  // (face, corner), in face order
-        for (int f = 0; f < nf; ++f)
-            for (int k = 0; k < 4; ++k)
-                if (junction(an.face_vertices[f][k])) vfaces[an.face_vertices[f][k]].push_back({f, k});
-        for (int v = 0; v < nv; ++v) {
-            if (!junction(v)) continue;
-            const auto& fl = vfaces[v];
-            const int n = static_cast<int>(fl.size());
-            const int nl = an.vertex_boundary_edges[v] / 2;
-            auto edges_at = [&](int i) {
-                const auto [f, k] = fl[i];
-                return std::array<int, 2>{an.face_edges[f][k], an.face_edges[f][(k + 3) & 3]};
-            };
-            auto share = [&](int i, int j) {
-                for (int a : edges_at(i))
-                    for (int b : edges_at(j))
-                        if (a == b && an.edge_degree[a] == 2) return true;
-                return false;
-            };
-            std::vector<int> side(n, -1);
-            for (int s = 0; s < nl; ++s) {
-                int seed = -1;
-                for (int i = 0; i < n && seed < 0; ++i)
-                    if (side[i] < 0) seed = i;
-                if (seed < 0) break;
-                side[seed] = s;
-                for (bool changed = true; changed;) {
-                    changed = false;
-                    for (int i = 0; i < n; ++i)
-                        for (int j = 0; j < n; ++j)
-                            if (side[i] == s && side[j] < 0 && share(i, j)) {
-                                side[j] = s;
-                                changed = true;
-                            }
-                }
-            }
-            if (std::find(side.begin(), side.end(), -1) != side.end() ||
-                std::find(side.begin(), side.end(), nl - 1) == side.end())
-                throw Error(ErrorCode::UnsupportedConfiguration,
-                            "skeleton vertex " + std::to_string(v) + ": its leaflet faces do not form " +
-                                std::to_string(nl) + " leaflet sides",
-                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
-            side_dir[v].assign(nl, Vec3{});
-            side_nor[v].assign(nl, Vec3{});
-            const int nb = an.vertex_branch_edges[v];
-            for (int s = 0; s < nl; ++s) {
-                std::vector<int> es;
-                for (int i = 0; i < n; ++i) {
-                    if (side[i] != s) continue;
-                    side_nor[v][s] += an.face_normal[fl[i].first];
-                    for (int e : edges_at(i)) es.push_back(e);
-                }
-                std::sort(es.begin(), es.end());
-                es.erase(std::unique(es.begin(), es.end()), es.end());
-                for (int e : es) {
-                    const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
-                    side_dir[v][s] += normalized(skeleton.points[w] - skeleton.points[v]);
-                }
-                if (!(norm(side_dir[v][s]) > 1e-9))
-                    throw Error(ErrorCode::UnsupportedConfiguration,
-                                "skeleton vertex " + std::to_string(v) + ": a leaflet at it has no mean direction",
-                                ElementRef{ElementRef::Kind::SkeletonVertex, v});
-                side_dir[v][s] = normalized(side_dir[v][s]);
-            }
-            for (int i = 0; i < n; ++i) {
-                cs.face_corner_quad[fl[i].first][fl[i].second] = nb + side[i];
-                junction_faces[v].push_back({fl[i].first, fl[i].second, side[i]});
-            }
-        }
-    }
-
-    for (int f = 0; f < nf; ++f)  // BL-joints: every face at the joint is on the leaflet's side (quad 1)
-        for (int k = 0; k < 4; ++k)
-            if (an.vertex_class[an.face_vertices[f][k]] == VertexClass::BLJoint)
-                junction_faces[an.face_vertices[f][k]].push_back({f, k, 0});
-
-    // The hex model of a junction with leaflets (see relax_junction), for the partition `part` of vertex v whose
-    // quads [nb, n) are its leaflet sides.
+    const LeafletSides sides = find_leaflet_sides(skeleton, an, cs);
     const LeafletVertexFrames leaf = leaflet_vertex_frames(skeleton, an);
-    auto radius_at = [&](int w) {
-        if (!skeleton.radii.empty()) return skeleton.radii[w];
-        double sum = 0;  // no radii yet: a quarter of the mean incident edge length, as the pipeline's default
-        const int deg = an.vertex_edge_begin[w + 1] - an.vertex_edge_begin[w];
-        for (int i = an.vertex_edge_begin[w]; i < an.vertex_edge_begin[w + 1]; ++i) {
-            const std::array<int, 2>& ed = skeleton.edges[an.vertex_edges[i]];
-            sum += distance(skeleton.points[ed[0]], skeleton.points[ed[1]]);
-        }
-        return deg > 0 ? 0.25 * sum / deg : 1.0;
-    };
-    // rot: per quad, the registration rotation of a leaflet quad (-1 for a branch quad).
-    auto junction_model = [&](int v, const SpherePartition& part, const std::vector<Vec3>& dirs, int nb,
-                              const std::vector<int>& rot) {
-        JunctionModel m;
-        m.r = radius_at(v);
-        m.quads = part.quads;
-        m.dirs = dirs;
-        m.branch_quads = nb;
-        const Vec3& c = skeleton.points[v];
-        if (nb > 0 && static_cast<int>(part.quads.size()) > nb) {
-            // Chunks: the i-th branch quad is on the i-th incident branch edge (in increasing edge id).
-            int i = 0;
-            for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1] && i < nb; ++j) {
-                const int e = an.vertex_edges[j];
-                if (an.edge_degree[e] != 0) continue;
-                const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
-                JunctionModel::Chunk ch;
-                ch.length = distance(skeleton.points[w], c);
-                ch.w_radius = radius_at(w);
-                ch.w_tangent = dirs[i];
-                if (an.vertex_class[w] == VertexClass::Joint)
-                    for (int jj = an.vertex_edge_begin[w]; jj < an.vertex_edge_begin[w + 1]; ++jj) {
-                        const int e2 = an.vertex_edges[jj];
-                        if (e2 == e || an.edge_degree[e2] != 0) continue;
-                        const int x = skeleton.edges[e2][0] == w ? skeleton.edges[e2][1] : skeleton.edges[e2][0];
-                        const Vec3 t = dirs[i] + normalized(skeleton.points[x] - skeleton.points[w]);
-                        if (norm(t) > 1e-9) ch.w_tangent = normalized(t);
-                    }
-                m.chunks.push_back(ch);
-                ++i;
-            }
-            if (i != nb) m.chunks.clear();
-        }
-        auto point = [](int a) { return ModelVertex{ModelVertex::Point, a, -1, {}}; };
-        auto mid = [](int a, int b) { return ModelVertex{ModelVertex::Mid, a, b, {}}; };
-        auto fixed = [&](const Vec3& p) { return ModelVertex{ModelVertex::Fixed, -1, -1, p - c}; };
-        const ModelVertex centre{ModelVertex::Centre, -1, -1, {}};
-        for (const std::array<int, 3>& fks : junction_faces[v]) {
-            const int f = fks[0], kv = fks[1], qi = nb + fks[2], r = rot[qi];
-            const std::array<int, 4>& q = part.quads[qi];
-            const std::array<int, 4>& fw = an.face_vertices[f];
-            // Plates: UP = (c0 c1 c2 c3 | up0..up3), DOWN = (c0 c3 c2 c1 | dn0 dn3 dn2 dn1).
-            ModelHex up, dn;
-            for (int j = 0; j < 4; ++j) {
-                const int w = fw[j], iu = j, id = (4 - j) & 3;
-                if (j == kv) {
-                    up.v[iu] = dn.v[id] = centre;
-                    up.v[iu + 4] = point(q[(r + 1) & 3]);
-                    dn.v[id + 4] = point(q[(r + 3) & 3]);
-                    up.on_sphere[iu] = up.on_sphere[iu + 4] = dn.on_sphere[id] = dn.on_sphere[id + 4] = true;
-                } else {
-                    const Vec3& p = skeleton.points[w];
-                    const Vec3 nn = radius_at(w) * leaf.normal[w];
-                    up.v[iu] = dn.v[id] = fixed(p);
-                    up.v[iu + 4] = fixed(p + nn);
-                    dn.v[id + 4] = fixed(p - nn);
-                }
-            }
-            m.hexes.push_back(up);
-            m.hexes.push_back(dn);
-            // Half-chunks of the face's boundary edges at v (reference-notes §8.3, §8.5):
-            // UP = (a oa ob b | ua oua oub ub), DOWN = (a b ob oa | da db odb oda), the face traversing a -> b.
-            for (const int ke : {kv, (kv + 3) & 3}) {
-                if (an.edge_degree[an.face_edges[f][ke]] != 1) continue;
-                const int wa = fw[ke], wb = fw[(ke + 1) & 3];
-                const bool at_a = wa == v;
-                const int w = at_a ? wb : wa;
-                const Vec3& p = skeleton.points[w];
-                const double rw = radius_at(w);
-                const Vec3 nn = rw * leaf.normal[w];
-                Vec3 o = leaf.out[w];
-                double ow = rw;
-                if (!(norm(o) > 0.5))
-                    o = cross(normalized(skeleton.points[wb] - skeleton.points[wa]), leaf.normal[w]);
-                else
-                    ow = leaflet_out_distance(skeleton, an, leaf, w, rw);
-                o = ow * o;
-                // far end: centre, out, out-up, out-down, up, down
-                const std::array<ModelVertex, 6> far{fixed(p), fixed(p + o), fixed(p + o + nn), fixed(p + o - nn),
-                                                     fixed(p + nn), fixed(p - nn)};
-                std::array<ModelVertex, 6> near;
-                if (at_a)  // e leaves v: out q_{k+2}, out-up mid(q_{k+1}, q_{k+2}), out-down mid(q_{k+2}, q_{k+3})
-                    near = {centre, point(q[(r + 2) & 3]), mid(q[(r + 1) & 3], q[(r + 2) & 3]),
-                            mid(q[(r + 2) & 3], q[(r + 3) & 3]), point(q[(r + 1) & 3]), point(q[(r + 3) & 3])};
-                else  // e arrives at v: out q_k, out-up mid(q_k, q_{k+1}), out-down mid(q_{k+3}, q_k)
-                    near = {centre, point(q[r & 3]), mid(q[r & 3], q[(r + 1) & 3]), mid(q[(r + 3) & 3], q[r & 3]),
-                            point(q[(r + 1) & 3]), point(q[(r + 3) & 3])};
-                const std::array<ModelVertex, 6>& A = at_a ? near : far;
-                const std::array<ModelVertex, 6>& B = at_a ? far : near;
-                ModelHex hu, hd;
-                hu.v = {A[0], A[1], B[1], B[0], A[4], A[2], B[2], B[4]};
-                hd.v = {A[0], B[0], B[1], A[1], A[5], B[5], B[3], A[3]};
-                using Corners = std::array<int, 4>;  // the corners at v
-                const Corners near_u = at_a ? Corners{0, 1, 4, 5} : Corners{2, 3, 6, 7};
-                const Corners near_d = at_a ? Corners{0, 3, 4, 7} : Corners{1, 2, 5, 6};
-                for (int i : near_u) hu.on_sphere[i] = true;
-                for (int i : near_d) hd.on_sphere[i] = true;
-                m.hexes.push_back(hu);
-                m.hexes.push_back(hd);
-            }
-        }
-        return m;
-    };
+    const ModelInputs model{skeleton, an, sides, leaf};
+    const SurfaceInputs in{skeleton, an, options, model, vertex_normal_sum};
 
-    cs.quad_rotation.assign(cs.quad_begin[nv], -1);
     // Each task writes only its vertex's ranges and the (edge, side) slots of its own incident edges.
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256), [&](const tbb::blocked_range<int>& range) {
         std::vector<Vec3> dirs;
         std::vector<int> inc;
         for (int v = range.begin(); v != range.end(); ++v) {
             const VertexClass c = an.vertex_class[v];
-            const bool rooted = roots_branch(an, v);
             if (c != VertexClass::Extremity && c != VertexClass::Joint && c != VertexClass::BranchingPoint &&
-                c != VertexClass::BLJoint && !rooted)
+                c != VertexClass::BLJoint && !roots_branch(an, v))
                 continue;
-            const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
-            if (reuse && !recompute[v]) {  // copy the vertex's previous surface (its inputs did not change)
-                std::copy(previous->directions.begin() + p0, previous->directions.begin() + cs.point_begin[v + 1],
-                          cs.directions.begin() + p0);
-                std::copy(previous->point_valence.begin() + p0,
-                          previous->point_valence.begin() + cs.point_begin[v + 1], cs.point_valence.begin() + p0);
-                std::copy(previous->quads.begin() + q0, previous->quads.begin() + cs.quad_begin[v + 1],
-                          cs.quads.begin() + q0);
-                std::copy(previous->quad_edges.begin() + q0, previous->quad_edges.begin() + cs.quad_begin[v + 1],
-                          cs.quad_edges.begin() + q0);
-                std::copy(previous->quad_rotation.begin() + q0,
-                          previous->quad_rotation.begin() + cs.quad_begin[v + 1], cs.quad_rotation.begin() + q0);
-                std::copy(previous->edges.begin() + e0, previous->edges.begin() + cs.edge_begin[v + 1],
-                          cs.edges.begin() + e0);
-                for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-                    const int e = an.vertex_edges[i];
-                    const int side = skeleton.edges[e][0] == v ? 0 : 1;
-                    cs.edge_quad[e][side] = previous->edge_quad[e][side];
-                }
-                continue;
-            }
-            inc.clear();
-            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
-                if (an.edge_degree[an.vertex_edges[i]] == 0) inc.push_back(an.vertex_edges[i]);
-            auto side_of = [&](int e) { return skeleton.edges[e][0] == v ? 0 : 1; };
-            if (rooted) {
-                // Branch rooted on the plates: one quad on the branch edge, its points in the order of the patch
-                // (LeafletPatch inside the leaflet, BorderPatch on its border), each pointing towards the skeleton
-                // vertex whose copy it is (the frames start from it; raw_mesh.cpp takes the ids from the patch).
-                set_square(cs, e0, q0);
-                cs.edge_quad[inc[0]][side_of(inc[0])] = q0;
-                for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 1;
-                if (c == VertexClass::LeafletInterior) {
-                    const LeafletPatch patch = leaflet_patch(skeleton, an, v, inc[0]);
-                    for (int k = 0; k < 4; ++k)
-                        cs.directions[p0 + k] = normalized(skeleton.points[patch.neighbour[k]] - skeleton.points[v]);
-                } else {
-                    const BorderPatch patch = border_patch(skeleton, an, v, inc[0]);
-                    auto to = [&](int x) { return normalized(skeleton.points[x] - skeleton.points[v]); };
-                    if (patch.kind == BorderRoot::Out) {
-                        const Vec3 n = normalized(leaflet_normal_sum(an, v));
-                        const Vec3 side = patch.up_first ? n : -1.0 * n;
-                        cs.directions[p0 + 0] = to(patch.border[0]);
-                        cs.directions[p0 + 1] = side;
-                        cs.directions[p0 + 2] = to(patch.border[1]);
-                        cs.directions[p0 + 3] = -1.0 * side;
-                    } else {
-                        // Side: the out vertex lies opposite the middle neighbour.
-                        const std::array<Vec3, 4> up{to(patch.border[patch.first]), to(patch.middle),
-                                                     to(patch.border[1 - patch.first]), -1.0 * to(patch.middle)};
-                        for (int k = 0; k < 4; ++k) cs.directions[p0 + k] = patch.up ? up[k] : up[(4 - k) & 3];
-                    }
-                }
-                continue;
-            }
-            if (c == VertexClass::BLJoint) {
-                // Pillow: quad A = (0,1,2,3) on the branch edge, quad B = (2,1,0,3) for the leaflet (registered on
-                // no edge). Geometry from the leaflet frame (reference-notes §7.2): T into the leaflet (mean of the
-                // unit vectors to its neighbours), R = leaflet normal made orthogonal to T, S = T x R; quad B shows
-                // (-S, R, S, -R) from its start, so its q1 is "up" (the rotation k = 0 of §8.5).
-                set_square(cs, e0, q0);
-                cs.quads[q0 + 1] = {2, 1, 0, 3};
-                cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
-                cs.edge_quad[inc[0]][side_of(inc[0])] = q0;
-                for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 2;
-                Vec3 t{};
-                for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-                    const int e = an.vertex_edges[i];
-                    if (an.edge_degree[e] == 0) continue;
-                    const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
-                    t += normalized(skeleton.points[w] - skeleton.points[v]);
-                }
-                const Vec3 leaf_dir = normalized(t);
-                const int wb = skeleton.edges[inc[0]][0] == v ? skeleton.edges[inc[0]][1] : skeleton.edges[inc[0]][0];
-                const Vec3 branch_dir = normalized(skeleton.points[wb] - skeleton.points[v]);
-                // The hemispheres split the leaflet from the branch: T starts halfway between the leaflet direction
-                // and the reversed branch (T = the leaflet direction for a branch along its outward diagonal).
-                t = leaf_dir - branch_dir;
-                t = norm(t) > 1e-6 ? normalized(t) : leaf_dir;
-                Vec3 r = vertex_normal_sum[v] - dot(vertex_normal_sum[v], t) * t;
-                if (!(norm(r) > 1e-12))
-                    throw Error(ErrorCode::UnsupportedConfiguration,
-                                "BL-joint at skeleton vertex " + std::to_string(v) +
-                                    ": the leaflet direction is along its normal (degenerate corner)",
-                                ElementRef{ElementRef::Kind::SkeletonVertex, v});
-                r = normalized(r);
-                if (options.relax_partitions) {
-                    SpherePartition pillow;
-                    pillow.quads = {{0, 1, 2, 3}, {2, 1, 0, 3}};
-                    const std::vector<Vec3> pd{branch_dir, leaf_dir};
-                    const JunctionModel m = junction_model(v, pillow, pd, 1, {-1, 0});
-                    relax_pillow_frame(m, t, r, options.relax_junctions_below);
-                }
-                const Vec3 sv = cross(t, r);
-                cs.directions[p0 + 2] = -sv;
-                cs.directions[p0 + 1] = r;
-                cs.directions[p0 + 0] = sv;
-                cs.directions[p0 + 3] = -r;
-                continue;
-            }
-            if (c == VertexClass::Extremity || c == VertexClass::Joint) {
-                set_square(cs, e0, q0);
-                cs.edge_quad[inc[0]][side_of(inc[0])] = q0;
-                for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 1;
-                if (c == VertexClass::Joint) {
-                    cs.quads[q0 + 1] = {2, 1, 0, 3};
-                    cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
-                    cs.edge_quad[inc[1]][side_of(inc[1])] = q0 + 1;
-                    for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 2;
-                }
-                continue;
-            }
-            // Branching point: partition of the sphere with one quad per incident branch direction.
-            // Leaflets count as virtual branches after the branch edges (reference-notes §6.8).
-            const int nb = static_cast<int>(inc.size());
-            const int n = nb + static_cast<int>(side_dir[v].size());
-            dirs.resize(n);
-            const Vec3& center = skeleton.points[v];
-            for (int i = 0; i < nb; ++i) {
-                const int e = inc[i];
-                const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
-                dirs[i] = normalized(skeleton.points[w] - center);
-            }
-            for (int i = nb; i < n; ++i) dirs[i] = side_dir[v][i - nb];
-            SpherePartition part;
-            try {
-                SpherePartitionOptions po;
-                po.planarity_tolerance = options.planarity_tolerance;
-                part = partition_sphere(dirs, po);
-                if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
-                if (options.relax_partitions && n > nb) {
-                    std::vector<int> rot(n, -1);
-                    bool ok = true;
-                    for (int i = nb; i < n; ++i) {
-                        std::array<Vec3, 4> qd;
-                        for (int k = 0; k < 4; ++k) qd[k] = normalized(part.points[part.quads[i][k]]);
-                        rot[i] = leaflet_quad_rotation(qd, side_dir[v][i - nb], side_nor[v][i - nb]);
-                        ok = ok && rot[i] >= 0;
-                    }
-                    if (ok) {
-                        part = relax_junction(part, junction_model(v, part, dirs, nb, rot),
-                                              options.relax_junctions_below);
-                        // the rotations the model was relaxed with (the nearest vertex to the normal may change)
-                        for (int i = nb; i < n; ++i) cs.quad_rotation[q0 + i] = rot[i];
-                    }
-                }
-            } catch (const Error& err) {
-                throw Error(ErrorCode::NumericalFailure,
-                            "no connection surface at skeleton vertex " + std::to_string(v) + " (degree " +
-                                std::to_string(n) + "): " + err.what(),
-                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
-            }
-            if (static_cast<int>(part.quads.size()) != n || static_cast<int>(part.points.size()) != n + 2)
-                throw Error(ErrorCode::NumericalFailure,
-                            "sphere partition at skeleton vertex " + std::to_string(v) + " has " +
-                                std::to_string(part.quads.size()) + " quads and " +
-                                std::to_string(part.points.size()) + " points for degree " + std::to_string(n),
-                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
-            for (int k = 0; k < n + 2; ++k) cs.directions[p0 + k] = normalized(part.points[k]);
-            int n_edges = 0;
-            for (int i = 0; i < n; ++i) {
-                const std::array<int, 4>& q = part.quads[i];
-                cs.quads[q0 + i] = q;
-                for (int k = 0; k < 4; ++k) {
-                    ++cs.point_valence[p0 + q[k]];
-                    const int a = q[k], b = q[(k + 1) % 4];
-                    int found = -1;
-                    for (int j = 0; j < n_edges; ++j) {
-                        const std::array<int, 2>& ed = cs.edges[e0 + j];
-                        if ((ed[0] == a && ed[1] == b) || (ed[0] == b && ed[1] == a)) {
-                            found = j;
-                            break;
-                        }
-                    }
-                    if (found < 0) {
-                        if (n_edges == 2 * n)
-                            throw Error(ErrorCode::NumericalFailure,
-                                        "sphere partition at skeleton vertex " + std::to_string(v) +
-                                            " is not a closed quad surface",
-                                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
-                        found = n_edges;
-                        cs.edges[e0 + n_edges++] = {a, b};
-                    }
-                    cs.quad_edges[q0 + i][k] = found;
-                }
-                if (i < nb) cs.edge_quad[inc[i]][side_of(inc[i])] = q0 + i;
-            }
-            if (n_edges != 2 * n)
-                throw Error(ErrorCode::NumericalFailure,
-                            "sphere partition at skeleton vertex " + std::to_string(v) +
-                                " is not a closed quad surface",
-                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
+            if (reuse && !recompute[v])  // copy the vertex's previous surface (its inputs did not change)
+                copy_previous_surface(in, *previous, v, cs);
+            else
+                build_vertex_surface(in, v, dirs, inc, cs);
         }
     });
-
-    // LL-joints (reference-notes §6.3, §7.2, §8.5 with the flaw fixed): a pillow, quad A = (0,1,2,3) for side 0,
-    // quad B = (2,1,0,3) for side 1. T = unit(dir_0 - dir_1); R = the side-0 normal made orthogonal to T, turned about
-    // T by half the residual angle between the two projected normals and the nearest multiple of 90 degrees,
-    // S = T x R; points (-S, R, S, -R). Then every leaflet quad (LL-joint or branching point) not fixed by the
-    // junction relaxation picks its own rotation k (§8.5): with its frame T = its direction, R = unit((q2 - q0) x T), S = T x R, the quad vertex nearest to the
-    // side's own normal is its up vertex q_{k+1} (q1 ~ R, q2 ~ S, q3 ~ -R, q0 ~ -S). Serial.
-    const double quarter = std::numbers::pi / 2;
-    for (int v = 0; v < nv; ++v) {
-        if (!junction(v)) continue;
-        const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
-        const auto fail = [&](const std::string& what) {
-            throw Error(ErrorCode::UnsupportedConfiguration, "leaflet junction at skeleton vertex " +
-                                                                 std::to_string(v) + ": " + what,
-                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
-        };
-        if (an.vertex_class[v] == VertexClass::LLJoint) {
-            const std::vector<Vec3>& dir = side_dir[v];
-            const std::vector<Vec3>& nor = side_nor[v];
-            Vec3 t = dir[0] - dir[1];
-            if (!(norm(t) > 1e-9)) fail("both leaflets leave in the same direction");
-            t = normalized(t);
-            Vec3 a = nor[0] - dot(nor[0], t) * t, b = nor[1] - dot(nor[1], t) * t;
-            if (!(norm(a) > 1e-9) || !(norm(b) > 1e-9)) fail("a leaflet normal is along the joint direction");
-            a = normalized(a);
-            const Vec3 ta = cross(t, a);
-            const double phi = std::atan2(dot(b, ta), dot(b, a));
-            const double delta = phi - std::round(phi / quarter) * quarter;
-            const Vec3 r = normalized(std::cos(0.5 * delta) * a + std::sin(0.5 * delta) * ta);
-            const Vec3 sv = cross(t, r);
-            for (int k = 0; k < 4; ++k) {
-                cs.edges[e0 + k] = {k, (k + 1) & 3};
-                cs.point_valence[p0 + k] = 2;
-            }
-            cs.quads[q0] = {0, 1, 2, 3};
-            cs.quad_edges[q0] = {0, 1, 2, 3};
-            cs.quads[q0 + 1] = {2, 1, 0, 3};
-            cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
-            cs.directions[p0 + 0] = -sv;
-            cs.directions[p0 + 1] = r;
-            cs.directions[p0 + 2] = sv;
-            cs.directions[p0 + 3] = -r;
-        }
-        const int nb = an.vertex_branch_edges[v];
-        for (int s = 0; s < static_cast<int>(side_dir[v].size()); ++s) {
-            const int q = q0 + nb + s;
-            std::array<Vec3, 4> qd;
-            for (int k = 0; k < 4; ++k) qd[k] = cs.directions[p0 + cs.quads[q][k]];
-            if (cs.quad_rotation[q] < 0)  // not already fixed by the junction relaxation
-                cs.quad_rotation[q] = leaflet_quad_rotation(qd, side_dir[v][s], side_nor[v][s]);
-            if (cs.quad_rotation[q] < 0) fail("degenerate leaflet quad");
-        }
-    }
+    finish_leaflet_junctions(an, sides, cs);
     return cs;
 }
 

@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/union_find.h"
 
 namespace mesohex {
 
@@ -27,6 +28,62 @@ int expected_gaps(const SkeletonAnalysis& an, int v) {
     for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
         if (an.edge_degree[an.vertex_edges[i]] >= 3) return an.edge_degree[an.vertex_edges[i]];
     return 0;
+}
+
+// Rooted branches reuse the 9 vertices of their patch; each of the patch's 8 outer edges gets the first chunk's
+// hex on top of what it had: 2 hexes (plates, half-chunks), or 1 where it was a convex half-chunk edge. Patches of
+// neighbouring rooted vertices can share outer edges (fingers rooted at every other border vertex): counted per
+// edge, keyed by its family and skeleton vertices. Families: U / D = the up / down copies of a and b (plate tops);
+// OX / DX = x's out and out-up / out-down copies (base 2); XU / XD = x's up and out-up / down and out-down copies
+// (base 2); OU / OD = the out-up / out-down copies of a border vertex and its neighbour (base 1).
+void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& an, RawMeshPrediction& p) {
+    const int nv = static_cast<int>(an.vertex_class.size());
+    enum Family { U, D, OX, DX, XU, XD, OU, OD };
+    std::map<std::array<int, 3>, std::array<int, 2>> patch_edges;  // key -> (base hexes, patches)
+    auto add = [&](int family, int a, int b, int base) {
+        std::array<int, 2>& x = patch_edges[{family, std::min(a, b), std::max(a, b)}];
+        x[0] = base;
+        ++x[1];
+    };
+    for (int v = 0; v < nv; ++v) {
+        if (!roots_branch(an, v)) continue;
+        const int e = first_branch_edge(an, v);
+        if (an.vertex_class[v] == VertexClass::LeafletInterior) {
+            const LeafletPatch lp = leaflet_patch(skeleton, an, v, e);
+            for (int k = 0; k < 4; ++k) {
+                const std::array<int, 4>& fv = an.face_vertices[lp.face[k]];
+                const int c = lp.corner_centre[k], d = fv[(c + 2) & 3];
+                add(lp.up ? U : D, fv[(c + 1) & 3], d, 2);
+                add(lp.up ? U : D, d, fv[(c + 3) & 3], 2);
+            }
+        } else {
+            const BorderPatch bp = border_patch(skeleton, an, v, e);
+            if (bp.kind == BorderRoot::Out) {
+                for (int x : bp.border) {
+                    add(OX, x, x, 2);
+                    add(DX, x, x, 2);
+                    add(OU, v, x, 1);
+                    add(OD, v, x, 1);
+                }
+            } else {
+                const int s = bp.up ? U : D;
+                for (int i = 0; i < 2; ++i) {
+                    const std::array<int, 4>& fv = an.face_vertices[bp.face[i]];
+                    const int c = bp.corner[i], d = fv[(c + 2) & 3];
+                    add(s, fv[(c + 1) & 3], d, 2);
+                    add(s, d, fv[(c + 3) & 3], 2);
+                }
+                for (int x : bp.border) {
+                    add(bp.up ? XU : XD, x, x, 2);
+                    add(bp.up ? OU : OD, v, x, 1);
+                }
+            }
+        }
+    }
+    for (const auto& [key, x] : patch_edges) {
+        if (x[0] != 2) --p.boundary_irregular_edges[x[0]];
+        if (x[0] + x[1] != 2) ++p.boundary_irregular_edges[x[0] + x[1]];
+    }
 }
 
 }  // namespace
@@ -99,67 +156,19 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
         if (an.vertex_class[v] == VertexClass::BLJoint) p.interior_irregular_edges[4 + faces_at[v]] += 2;
     }
     if (an.counts.boundary_edges > 0) p.boundary_irregular_edges[1] += 2 * an.counts.boundary_edges;
-    // Rooted branches reuse the 9 vertices of their patch; each of the patch's 8 outer edges gets the first chunk's
-    // hex on top of what it had: 2 hexes (plates, half-chunks), or 1 where it was a convex half-chunk edge. Patches of
-    // neighbouring rooted vertices can share outer edges (fingers rooted at every other border vertex): counted per
-    // edge, keyed by its family and skeleton vertices. Families: U / D = the up / down copies of a and b (plate tops);
-    // OX / DX = x's out and out-up / out-down copies (base 2); XU / XD = x's up and out-up / down and out-down copies
-    // (base 2); OU / OD = the out-up / out-down copies of a border vertex and its neighbour (base 1).
-    enum Family { U, D, OX, DX, XU, XD, OU, OD };
-    std::map<std::array<int, 3>, std::array<int, 2>> patch_edges;  // key -> (base hexes, patches)
-    auto add = [&](int family, int a, int b, int base) {
-        std::array<int, 2>& x = patch_edges[{family, std::min(a, b), std::max(a, b)}];
-        x[0] = base;
-        ++x[1];
-    };
-    for (int v = 0; v < nv; ++v) {
-        if (!roots_branch(an, v)) continue;
-        const int e = first_branch_edge(an, v);
-        if (an.vertex_class[v] == VertexClass::LeafletInterior) {
-            const LeafletPatch lp = leaflet_patch(skeleton, an, v, e);
-            for (int k = 0; k < 4; ++k) {
-                const std::array<int, 4>& fv = an.face_vertices[lp.face[k]];
-                const int c = lp.corner_centre[k], d = fv[(c + 2) & 3];
-                add(lp.up ? U : D, fv[(c + 1) & 3], d, 2);
-                add(lp.up ? U : D, d, fv[(c + 3) & 3], 2);
-            }
-        } else {
-            const BorderPatch bp = border_patch(skeleton, an, v, e);
-            if (bp.kind == BorderRoot::Out) {
-                for (int x : bp.border) {
-                    add(OX, x, x, 2);
-                    add(DX, x, x, 2);
-                    add(OU, v, x, 1);
-                    add(OD, v, x, 1);
-                }
-            } else {
-                const int s = bp.up ? U : D;
-                for (int i = 0; i < 2; ++i) {
-                    const std::array<int, 4>& fv = an.face_vertices[bp.face[i]];
-                    const int c = bp.corner[i], d = fv[(c + 2) & 3];
-                    add(s, fv[(c + 1) & 3], d, 2);
-                    add(s, d, fv[(c + 3) & 3], 2);
-                }
-                for (int x : bp.border) {
-                    add(bp.up ? XU : XD, x, x, 2);
-                    add(bp.up ? OU : OD, v, x, 1);
-                }
-            }
-        }
-    }
-    for (const auto& [key, x] : patch_edges) {
-        if (x[0] != 2) --p.boundary_irregular_edges[x[0]];
-        if (x[0] + x[1] != 2) ++p.boundary_irregular_edges[x[0] + x[1]];
-    }
+    count_rooted_patch_edges(skeleton, an, p);
     std::erase_if(p.boundary_irregular_edges, [](const auto& kv) { return kv.second == 0; });
     p.hexes = an.predicted_hexes;
     return p;
 }
 
-RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
-                       const BranchFrames& frames, const RawMeshOptions& options) {
+namespace {
+
+// The steps of build_raw_mesh, in the order it calls them. Each is a free function over the stage's inputs and the
+// plain arrays the previous steps produced.
+
+void check_raw_mesh_inputs(const Skeleton& skeleton, const ConnectionSurfaces& cs, const BranchFrames& frames) {
     const int nv = static_cast<int>(skeleton.points.size());
-    const int ne = static_cast<int>(skeleton.edges.size());
     if (skeleton.radii.size() != skeleton.points.size())
         throw Error(ErrorCode::InvalidInput, "the skeleton needs one radius per vertex to build the raw mesh");
     for (int v = 0; v < nv; ++v)
@@ -170,294 +179,361 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
     MESOHEX_CHECK(static_cast<int>(cs.point_begin.size()) == nv + 1, "connection surfaces do not match the skeleton");
     MESOHEX_CHECK(frames.directions.size() == cs.directions.size(), "frames do not match the connection surfaces");
+}
 
-    RawMesh raw;
-    // Vertex ids: prefix sum of (1 + points + edges) over the connection surfaces.
-    raw.vertex_base.assign(nv, -1);
+// Vertex ids: prefix sum of (1 + points + edges) over the connection surfaces. Fills vertex_base (per skeleton
+// vertex, -1 when it owns no ids) and returns the number of raw-mesh vertices.
+// Leaflet vertices: interior -> centre, up, down; regular boundary -> also out, out-up, out-down.
+int assign_vertex_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, int nv, std::vector<int>& vertex_base) {
+    vertex_base.assign(nv, -1);
     int n_points = 0;
-    // Leaflet vertices: interior -> centre, up, down; regular boundary -> also out, out-up, out-down.
     for (int v = 0; v < nv; ++v) {
         const VertexClass c = an.vertex_class[v];
         if (has_surface(c)) {
-            raw.vertex_base[v] = n_points;
+            vertex_base[v] = n_points;
             n_points += 1 + (cs.point_begin[v + 1] - cs.point_begin[v]) + (cs.edge_begin[v + 1] - cs.edge_begin[v]);
         } else if (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) {
-            raw.vertex_base[v] = n_points;
+            vertex_base[v] = n_points;
             n_points += c == VertexClass::LeafletInterior ? 3 : 6;
         } else if (is_fan(c)) {
             // centre, one vertex per gap; at a fan end also O_w and one out-copy per gap
             const int g = expected_gaps(an, v);
-            raw.vertex_base[v] = n_points;
+            vertex_base[v] = n_points;
             n_points += c == VertexClass::FanEdgeEnd ? 2 + 2 * g : 1 + g;
         }
     }
-    const int nf = static_cast<int>(an.face_vertices.size());
+    return n_points;
+}
 
-    // Fan edges (reference-notes §6.9, §8.6): sort the faces around each fan edge by angle about t = unit(p1 - p0);
-    // gap i lies between sorted faces i and i+1; face f faces gap i with its up side iff it traverses the edge from
-    // p0 to p1. A (face, corner, side) node joins the gap it faces; faces sharing an interior edge at a fan-edge
-    // vertex share both sides. The gaps at vertex w are the resulting classes, numbered by first appearance in
-    // (face, corner, side) order.
-    std::vector<int> gap_of;  // per node f * 8 + corner * 2 + side (0 up, 1 down): local gap index, or -1
+// The gaps between the leaflets around fan edges, per (face, corner, side) node f * 8 + corner * 2 + side (0 up,
+// 1 down); both empty when the skeleton has no fan edge.
+struct FanGaps {
+    std::vector<int> gap_of;   // per node at a fan-edge vertex: local gap index, else -1
     std::vector<Vec3> gap_dir;  // per node: the face normal pointing into its gap
-    if (an.counts.fan_edges > 0) {
-        std::vector<int> parent(8 * nf);
-        for (int i = 0; i < 8 * nf; ++i) parent[i] = i;
-        auto find = [&](int x) {
-            while (parent[x] != x) x = parent[x] = parent[parent[x]];
-            return x;
-        };
-        auto unite = [&](int a, int b) {
-            a = find(a);
-            b = find(b);
-            if (a != b) parent[std::max(a, b)] = std::min(a, b);
-        };
-        auto corner = [&](int f, int w) {
-            for (int k = 0; k < 4; ++k)
-                if (an.face_vertices[f][k] == w) return k;
-            return -1;
-        };
-        std::vector<std::vector<std::pair<int, int>>> edge_faces(ne);  // (face, side index) in face order
-        for (int f = 0; f < nf; ++f)
-            for (int k = 0; k < 4; ++k) edge_faces[an.face_edges[f][k]].push_back({f, k});
-        for (int e = 0; e < ne; ++e) {
-            const int p0 = skeleton.edges[e][0], p1 = skeleton.edges[e][1];
-            if (an.edge_degree[e] == 2) {
-                for (int w : {p0, p1}) {
-                    if (!is_fan(an.vertex_class[w])) continue;
-                    const int f = edge_faces[e][0].first, g = edge_faces[e][1].first;
-                    for (int side = 0; side < 2; ++side) unite(f * 8 + corner(f, w) * 2 + side, g * 8 + corner(g, w) * 2 + side);
-                }
-                continue;
-            }
-            if (an.edge_degree[e] < 3) continue;
-            const Vec3 t = normalized(skeleton.points[p1] - skeleton.points[p0]);
-            const Vec3 m = 0.5 * (skeleton.points[p0] + skeleton.points[p1]);
-            std::vector<std::pair<double, int>> order;  // (angle, face)
-            Vec3 l1, l2;
-            for (const auto& [f, k] : edge_faces[e]) {
-                const std::array<int, 4>& fv = an.face_vertices[f];
-                Vec3 d = 0.5 * (skeleton.points[fv[(k + 2) & 3]] + skeleton.points[fv[(k + 3) & 3]]) - m;
-                d = d - dot(d, t) * t;
-                if (order.empty()) {
-                    l1 = normalized(d);
-                    l2 = cross(t, l1);
-                }
-                double a = std::atan2(dot(d, l2), dot(d, l1));
-                if (order.empty() || a < 0) a = order.empty() ? 0.0 : a + 2 * std::numbers::pi;
-                order.push_back({a, f});
-            }
-            std::sort(order.begin(), order.end());
-            const int d = static_cast<int>(order.size());
-            for (int i = 0; i < d; ++i) {
-                const int f = order[i].second, g = order[(i + 1) % d].second;
-                const bool bit_f = an.face_vertices[f][corner(f, p0)] != p0 ||
-                                   an.face_vertices[f][(corner(f, p0) + 1) & 3] != p1;
-                const bool bit_g = an.face_vertices[g][corner(g, p0)] != p0 ||
-                                   an.face_vertices[g][(corner(g, p0) + 1) & 3] != p1;
-                for (int w : {p0, p1})
-                    unite(f * 8 + corner(f, w) * 2 + (bit_f ? 1 : 0), g * 8 + corner(g, w) * 2 + (bit_g ? 0 : 1));
-            }
-        }
-        gap_of.assign(8 * nf, -1);
-        gap_dir.assign(8 * nf, Vec3{});
-        std::vector<int> n_gaps(nv, 0);
-        std::vector<int> root_gap(8 * nf, -1);
-        for (int f = 0; f < nf; ++f)
-            for (int k = 0; k < 4; ++k) {
-                const int w = an.face_vertices[f][k];
+};
+
+int face_corner_of(const SkeletonAnalysis& an, int f, int w) {
+    for (int k = 0; k < 4; ++k)
+        if (an.face_vertices[f][k] == w) return k;
+    return -1;
+}
+
+// Joins the (face, corner, side) nodes that face the same gap (see find_fan_gaps).
+void unite_fan_gap_nodes(const Skeleton& skeleton, const SkeletonAnalysis& an, UnionFind& nodes) {
+    const int ne = static_cast<int>(skeleton.edges.size());
+    const int nf = static_cast<int>(an.face_vertices.size());
+    std::vector<std::vector<std::pair<int, int>>> edge_faces(ne);  // (face, side index) in face order
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 4; ++k) edge_faces[an.face_edges[f][k]].push_back({f, k});
+    for (int e = 0; e < ne; ++e) {
+        const int p0 = skeleton.edges[e][0], p1 = skeleton.edges[e][1];
+        if (an.edge_degree[e] == 2) {
+            for (int w : {p0, p1}) {
                 if (!is_fan(an.vertex_class[w])) continue;
-                for (int side = 0; side < 2; ++side) {
-                    const int node = f * 8 + k * 2 + side, r = find(node);
-                    if (root_gap[r] < 0) root_gap[r] = n_gaps[w]++;
-                    gap_of[node] = root_gap[r];
-                    gap_dir[node] = side == 0 ? an.face_normal[f] : -1.0 * an.face_normal[f];
-                }
+                const int f = edge_faces[e][0].first, g = edge_faces[e][1].first;
+                for (int side = 0; side < 2; ++side)
+                    nodes.unite(f * 8 + face_corner_of(an, f, w) * 2 + side, g * 8 + face_corner_of(an, g, w) * 2 + side);
             }
-        for (int v = 0; v < nv; ++v)
-            if (is_fan(an.vertex_class[v]) && n_gaps[v] != expected_gaps(an, v))
-                throw Error(ErrorCode::UnsupportedConfiguration,
-                            "skeleton vertex " + std::to_string(v) + " has " + std::to_string(n_gaps[v]) +
-                                " gaps between its fan leaflets instead of " + std::to_string(expected_gaps(an, v)) +
-                                ": irregular fans are not meshed yet",
-                            ElementRef{ElementRef::Kind::SkeletonVertex, v});
+            continue;
+        }
+        if (an.edge_degree[e] < 3) continue;
+        const Vec3 t = normalized(skeleton.points[p1] - skeleton.points[p0]);
+        const Vec3 m = 0.5 * (skeleton.points[p0] + skeleton.points[p1]);
+        std::vector<std::pair<double, int>> order;  // (angle, face)
+        Vec3 l1, l2;
+        for (const auto& [f, k] : edge_faces[e]) {
+            const std::array<int, 4>& fv = an.face_vertices[f];
+            Vec3 d = 0.5 * (skeleton.points[fv[(k + 2) & 3]] + skeleton.points[fv[(k + 3) & 3]]) - m;
+            d = d - dot(d, t) * t;
+            if (order.empty()) {
+                l1 = normalized(d);
+                l2 = cross(t, l1);
+            }
+            double a = std::atan2(dot(d, l2), dot(d, l1));
+            if (order.empty() || a < 0) a = order.empty() ? 0.0 : a + 2 * std::numbers::pi;
+            order.push_back({a, f});
+        }
+        std::sort(order.begin(), order.end());
+        const int d = static_cast<int>(order.size());
+        for (int i = 0; i < d; ++i) {
+            const int f = order[i].second, g = order[(i + 1) % d].second;
+            const int cf = face_corner_of(an, f, p0), cg = face_corner_of(an, g, p0);
+            const bool bit_f = an.face_vertices[f][cf] != p0 || an.face_vertices[f][(cf + 1) & 3] != p1;
+            const bool bit_g = an.face_vertices[g][cg] != p0 || an.face_vertices[g][(cg + 1) & 3] != p1;
+            for (int w : {p0, p1})
+                nodes.unite(f * 8 + face_corner_of(an, f, w) * 2 + (bit_f ? 1 : 0),
+                            g * 8 + face_corner_of(an, g, w) * 2 + (bit_g ? 0 : 1));
+        }
     }
-    // Up and down vertex id of each face corner.
-    std::vector<std::array<int, 4>> face_up(nf), face_dn(nf);
+}
+
+// Fan edges (reference-notes §6.9, §8.6): sort the faces around each fan edge by angle about t = unit(p1 - p0);
+// gap i lies between sorted faces i and i+1; face f faces gap i with its up side iff it traverses the edge from
+// p0 to p1. A (face, corner, side) node joins the gap it faces; faces sharing an interior edge at a fan-edge
+// vertex share both sides. The gaps at vertex w are the resulting classes, numbered by first appearance in
+// (face, corner, side) order. Throws Error(UnsupportedConfiguration) naming a fan-edge vertex whose gap count differs
+// from expected_gaps.
+FanGaps find_fan_gaps(const Skeleton& skeleton, const SkeletonAnalysis& an) {
+    FanGaps gaps;
+    if (an.counts.fan_edges == 0) return gaps;
+    const int nv = static_cast<int>(skeleton.points.size());
+    const int nf = static_cast<int>(an.face_vertices.size());
+    UnionFind nodes(8 * nf);
+    unite_fan_gap_nodes(skeleton, an, nodes);
+    gaps.gap_of.assign(8 * nf, -1);
+    gaps.gap_dir.assign(8 * nf, Vec3{});
+    std::vector<int> n_gaps(nv, 0);
+    std::vector<int> root_gap(8 * nf, -1);
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k) {
             const int w = an.face_vertices[f][k];
-            const int c = raw.vertex_base[w];
-            const VertexClass vc = an.vertex_class[w];
-            if (is_fan(vc)) {
-                face_up[f][k] = c + 1 + gap_of[f * 8 + k * 2];
-                face_dn[f][k] = c + 1 + gap_of[f * 8 + k * 2 + 1];
-            } else if (cs.face_corner_quad[f][k] >= 0) {
-                const int q = cs.quad_begin[w] + cs.face_corner_quad[f][k], r = cs.quad_rotation[q];
-                face_up[f][k] = c + 1 + cs.quads[q][(r + 1) & 3];
-                face_dn[f][k] = c + 1 + cs.quads[q][(r + 3) & 3];
-            } else {
-                const bool bl = vc == VertexClass::BLJoint;
-                face_up[f][k] = c + (bl ? 2 : 1);
-                face_dn[f][k] = c + (bl ? 4 : 2);
+            if (!is_fan(an.vertex_class[w])) continue;
+            for (int side = 0; side < 2; ++side) {
+                const int node = f * 8 + k * 2 + side, r = nodes.find(node);
+                if (root_gap[r] < 0) root_gap[r] = n_gaps[w]++;
+                gaps.gap_of[node] = root_gap[r];
+                gaps.gap_dir[node] = side == 0 ? an.face_normal[f] : -1.0 * an.face_normal[f];
             }
         }
-    // Hex slots: 4 per branch edge, in edge order.
-    std::vector<int> edge_slot(ne, -1);
+    for (int v = 0; v < nv; ++v)
+        if (is_fan(an.vertex_class[v]) && n_gaps[v] != expected_gaps(an, v))
+            throw Error(ErrorCode::UnsupportedConfiguration,
+                        "skeleton vertex " + std::to_string(v) + " has " + std::to_string(n_gaps[v]) +
+                            " gaps between its fan leaflets instead of " + std::to_string(expected_gaps(an, v)) +
+                            ": irregular fans are not meshed yet",
+                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    return gaps;
+}
+
+// Up and down vertex id of each face corner.
+struct FaceSideIds {
+    std::vector<std::array<int, 4>> up, dn;
+};
+
+FaceSideIds face_side_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const std::vector<int>& vertex_base,
+                          const FanGaps& gaps) {
+    const int nf = static_cast<int>(an.face_vertices.size());
+    FaceSideIds ids{std::vector<std::array<int, 4>>(nf), std::vector<std::array<int, 4>>(nf)};
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 4; ++k) {
+            const int w = an.face_vertices[f][k];
+            const int c = vertex_base[w];
+            const VertexClass vc = an.vertex_class[w];
+            if (is_fan(vc)) {
+                ids.up[f][k] = c + 1 + gaps.gap_of[f * 8 + k * 2];
+                ids.dn[f][k] = c + 1 + gaps.gap_of[f * 8 + k * 2 + 1];
+            } else if (cs.face_corner_quad[f][k] >= 0) {
+                const int q = cs.quad_begin[w] + cs.face_corner_quad[f][k], r = cs.quad_rotation[q];
+                ids.up[f][k] = c + 1 + cs.quads[q][(r + 1) & 3];
+                ids.dn[f][k] = c + 1 + cs.quads[q][(r + 3) & 3];
+            } else {
+                const bool bl = vc == VertexClass::BLJoint;
+                ids.up[f][k] = c + (bl ? 2 : 1);
+                ids.dn[f][k] = c + (bl ? 4 : 2);
+            }
+        }
+    return ids;
+}
+
+// Hex slots: 4 per branch edge (chunks) in edge order, then 2 per leaflet face (plates) in face order, then 2 per
+// leaflet boundary edge (half-chunks) in edge order.
+struct HexSlots {
+    std::vector<int> edge_slot;                    // per edge: first chunk hex, or -1
+    int face_slot0 = 0;                            // first plate hex
+    std::vector<int> boundary_slot;                // per edge: first half-chunk hex, or -1
+    std::vector<std::array<int, 2>> boundary_side;  // per boundary edge: (face, side index) traversing it
     int n_hex = 0;
+};
+
+HexSlots reserve_hex_slots(const SkeletonAnalysis& an, int ne) {
+    const int nf = static_cast<int>(an.face_vertices.size());
+    HexSlots s;
+    s.edge_slot.assign(ne, -1);
     for (int e = 0; e < ne; ++e)
         if (an.edge_degree[e] == 0) {
-            edge_slot[e] = n_hex;
-            n_hex += 4;
+            s.edge_slot[e] = s.n_hex;
+            s.n_hex += 4;
         }
-    const int face_slot0 = n_hex;  // 2 per leaflet face (plates), in face order
-    n_hex += 2 * nf;
-    // Boundary edges (degree 1): slot, and the face side that traverses them.
-    std::vector<int> boundary_slot(ne, -1);
-    std::vector<std::array<int, 2>> boundary_side(ne, {-1, -1});
+    s.face_slot0 = s.n_hex;
+    s.n_hex += 2 * nf;
+    s.boundary_slot.assign(ne, -1);
+    s.boundary_side.assign(ne, {-1, -1});
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k)
-            if (an.edge_degree[an.face_edges[f][k]] == 1) boundary_side[an.face_edges[f][k]] = {f, k};
+            if (an.edge_degree[an.face_edges[f][k]] == 1) s.boundary_side[an.face_edges[f][k]] = {f, k};
     for (int e = 0; e < ne; ++e)
         if (an.edge_degree[e] == 1) {
-            boundary_slot[e] = n_hex;
-            n_hex += 2;
+            s.boundary_slot[e] = s.n_hex;
+            s.n_hex += 2;
         }
-    MESOHEX_CHECK(n_hex == an.predicted_hexes, "hex slots differ from the analysis prediction");
+    MESOHEX_CHECK(s.n_hex == an.predicted_hexes, "hex slots differ from the analysis prediction");
+    return s;
+}
 
-    raw.mesh.points.resize(n_points);
-    raw.mesh.hexes.resize(n_hex);
-    raw.hex_edge.resize(n_hex);
-
-    // Leaflet blocks (reference-notes §8.2-8.3, VTK order). Ids at a leaflet vertex: base = centre, +1 up, +2 down,
-    // +3 out, +4 out-up, +5 out-down; "up" is the side of the leaflet's oriented face normals.
+// Leaflet plates (reference-notes §8.2-8.3, VTK order). Ids at a leaflet vertex: base = centre, +1 up, +2 down,
+// +3 out, +4 out-up, +5 out-down; "up" is the side of the leaflet's oriented face normals.
+void write_leaflet_plates(const SkeletonAnalysis& an, const FaceSideIds& sides, const HexSlots& slots, RawMesh& raw) {
+    const int nf = static_cast<int>(an.face_vertices.size());
     tbb::parallel_for(tbb::blocked_range<int>(0, nf, 1024), [&](const tbb::blocked_range<int>& range) {
         for (int f = range.begin(); f != range.end(); ++f) {
             const std::array<int, 4>& w = an.face_vertices[f];
             std::array<int, 4> c;
             for (int k = 0; k < 4; ++k) c[k] = raw.vertex_base[w[k]];
-            const std::array<int, 4>& up = face_up[f];
-            const std::array<int, 4>& dn = face_dn[f];
-            const int h = face_slot0 + 2 * f;
+            const std::array<int, 4>& up = sides.up[f];
+            const std::array<int, 4>& dn = sides.dn[f];
+            const int h = slots.face_slot0 + 2 * f;
             raw.mesh.hexes[h] = {c[0], c[1], c[2], c[3], up[0], up[1], up[2], up[3]};
             raw.mesh.hexes[h + 1] = {c[0], c[3], c[2], c[1], dn[0], dn[3], dn[2], dn[1]};
             raw.hex_edge[h] = raw.hex_edge[h + 1] = -1;
         }
     });
+}
+
+// The two hexes of the half-chunk of leaflet boundary edge e (slot h, traversed by side k of face f).
+void write_half_chunk(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const FanGaps& gaps,
+                      const FaceSideIds& sides, int e, int h, int f, int k, RawMesh& raw) {
+    // The face traverses e from wa to wb. Offsets from each end's first id (a regular boundary vertex:
+    // centre, up, down, out, out-up, out-down; a BL-joint: its connection quad B = (q0..q3) = points
+    // (2, 1, 0, 3), with up = q1, down = q3, and §8.5 with k = 0: e arrives at wb -> out = q0,
+    // out-up = mid(q0, q1), out-down = mid(q3, q0); e leaves wa -> out = q2, out-up = mid(q1, q2),
+    // out-down = mid(q2, q3); ids: Q(x) = base + 1 + x, M(j) = base + 5 + j).
+    const int wa = an.face_vertices[f][k], wb = an.face_vertices[f][(k + 1) % 4];
+    const int a = raw.vertex_base[wa], b = raw.vertex_base[wb];
+    const bool bla = an.vertex_class[wa] == VertexClass::BLJoint;
+    const bool blb = an.vertex_class[wb] == VertexClass::BLJoint;
+    const int ua = sides.up[f][k], da = sides.dn[f][k];
+    const int ub = sides.up[f][(k + 1) % 4], db = sides.dn[f][(k + 1) % 4];
+    int oa = a + (bla ? 1 : 3), oua = a + (bla ? 5 : 4), oda = a + (bla ? 8 : 5);
+    int ob = b + 3, oub = b + (blb ? 6 : 4), odb = b + (blb ? 7 : 5);
+    // Fan-edge end (§8.6): out = O_w, out-up / out-down = out-copies of the gaps on the face's sides.
+    if (an.vertex_class[wa] == VertexClass::FanEdgeEnd) {
+        const int g = expected_gaps(an, wa);
+        oa = a + 1 + g;
+        oua = a + 2 + g + gaps.gap_of[f * 8 + k * 2];
+        oda = a + 2 + g + gaps.gap_of[f * 8 + k * 2 + 1];
+    }
+    // Leaflet junction (§8.5): e leaves wa (q_{k+2}, mid(q_{k+1}, q_{k+2}), mid(q_{k+2}, q_{k+3})) and
+    // arrives at wb (q_k, mid(q_k, q_{k+1}), mid(q_{k+3}, q_k)), with the rotation k of the face's quad.
+    if (cs.face_corner_quad[f][k] >= 0) {
+        const int q = cs.quad_begin[wa] + cs.face_corner_quad[f][k], r = cs.quad_rotation[q];
+        const int m0 = a + 1 + (cs.point_begin[wa + 1] - cs.point_begin[wa]);
+        oa = a + 1 + cs.quads[q][(r + 2) & 3];
+        oua = m0 + cs.quad_edges[q][(r + 1) & 3];
+        oda = m0 + cs.quad_edges[q][(r + 2) & 3];
+    }
+    if (cs.face_corner_quad[f][(k + 1) % 4] >= 0) {
+        const int q = cs.quad_begin[wb] + cs.face_corner_quad[f][(k + 1) % 4], r = cs.quad_rotation[q];
+        const int m0 = b + 1 + (cs.point_begin[wb + 1] - cs.point_begin[wb]);
+        ob = b + 1 + cs.quads[q][r & 3];
+        oub = m0 + cs.quad_edges[q][r & 3];
+        odb = m0 + cs.quad_edges[q][(r + 3) & 3];
+    }
+    if (an.vertex_class[wb] == VertexClass::FanEdgeEnd) {
+        const int kb = (k + 1) % 4, g = expected_gaps(an, wb);
+        ob = b + 1 + g;
+        oub = b + 2 + g + gaps.gap_of[f * 8 + kb * 2];
+        odb = b + 2 + g + gaps.gap_of[f * 8 + kb * 2 + 1];
+    }
+    raw.mesh.hexes[h] = {a, oa, ob, b, ua, oua, oub, ub};
+    raw.mesh.hexes[h + 1] = {a, b, ob, oa, da, db, odb, oda};
+    raw.hex_edge[h] = raw.hex_edge[h + 1] = e;
+}
+
+void write_half_chunks(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const FanGaps& gaps,
+                       const FaceSideIds& sides, const HexSlots& slots, RawMesh& raw) {
+    const int ne = static_cast<int>(slots.boundary_slot.size());
     tbb::parallel_for(tbb::blocked_range<int>(0, ne, 1024), [&](const tbb::blocked_range<int>& range) {
         for (int e = range.begin(); e != range.end(); ++e) {
-            const int h = boundary_slot[e];
+            const int h = slots.boundary_slot[e];
             if (h < 0) continue;
-            const auto [f, k] = boundary_side[e];
-            // The face traverses e from wa to wb. Offsets from each end's first id (a regular boundary vertex:
-            // centre, up, down, out, out-up, out-down; a BL-joint: its connection quad B = (q0..q3) = points
-            // (2, 1, 0, 3), with up = q1, down = q3, and §8.5 with k = 0: e arrives at wb -> out = q0,
-            // out-up = mid(q0, q1), out-down = mid(q3, q0); e leaves wa -> out = q2, out-up = mid(q1, q2),
-            // out-down = mid(q2, q3); ids: Q(x) = base + 1 + x, M(j) = base + 5 + j).
-            const int wa = an.face_vertices[f][k], wb = an.face_vertices[f][(k + 1) % 4];
-            const int a = raw.vertex_base[wa], b = raw.vertex_base[wb];
-            const bool bla = an.vertex_class[wa] == VertexClass::BLJoint;
-            const bool blb = an.vertex_class[wb] == VertexClass::BLJoint;
-            const int ua = face_up[f][k], da = face_dn[f][k];
-            const int ub = face_up[f][(k + 1) % 4], db = face_dn[f][(k + 1) % 4];
-            int oa = a + (bla ? 1 : 3), oua = a + (bla ? 5 : 4), oda = a + (bla ? 8 : 5);
-            int ob = b + 3, oub = b + (blb ? 6 : 4), odb = b + (blb ? 7 : 5);
-            // Fan-edge end (§8.6): out = O_w, out-up / out-down = out-copies of the gaps on the face's sides.
-            if (an.vertex_class[wa] == VertexClass::FanEdgeEnd) {
-                const int g = expected_gaps(an, wa);
-                oa = a + 1 + g;
-                oua = a + 2 + g + gap_of[f * 8 + k * 2];
-                oda = a + 2 + g + gap_of[f * 8 + k * 2 + 1];
-            }
-            // Leaflet junction (§8.5): e leaves wa (q_{k+2}, mid(q_{k+1}, q_{k+2}), mid(q_{k+2}, q_{k+3})) and
-            // arrives at wb (q_k, mid(q_k, q_{k+1}), mid(q_{k+3}, q_k)), with the rotation k of the face's quad.
-            if (cs.face_corner_quad[f][k] >= 0) {
-                const int q = cs.quad_begin[wa] + cs.face_corner_quad[f][k], r = cs.quad_rotation[q];
-                const int m0 = a + 1 + (cs.point_begin[wa + 1] - cs.point_begin[wa]);
-                oa = a + 1 + cs.quads[q][(r + 2) & 3];
-                oua = m0 + cs.quad_edges[q][(r + 1) & 3];
-                oda = m0 + cs.quad_edges[q][(r + 2) & 3];
-            }
-            if (cs.face_corner_quad[f][(k + 1) % 4] >= 0) {
-                const int q = cs.quad_begin[wb] + cs.face_corner_quad[f][(k + 1) % 4], r = cs.quad_rotation[q];
-                const int m0 = b + 1 + (cs.point_begin[wb + 1] - cs.point_begin[wb]);
-                ob = b + 1 + cs.quads[q][r & 3];
-                oub = m0 + cs.quad_edges[q][r & 3];
-                odb = m0 + cs.quad_edges[q][(r + 3) & 3];
-            }
-            if (an.vertex_class[wb] == VertexClass::FanEdgeEnd) {
-                const int kb = (k + 1) % 4, g = expected_gaps(an, wb);
-                ob = b + 1 + g;
-                oub = b + 2 + g + gap_of[f * 8 + kb * 2];
-                odb = b + 2 + g + gap_of[f * 8 + kb * 2 + 1];
-            }
-            raw.mesh.hexes[h] = {a, oa, ob, b, ua, oua, oub, ub};
-            raw.mesh.hexes[h + 1] = {a, b, ob, oa, da, db, odb, oda};
-            raw.hex_edge[h] = raw.hex_edge[h + 1] = e;
+            const auto [f, k] = slots.boundary_side[e];
+            write_half_chunk(an, cs, gaps, sides, e, h, f, k, raw);
         }
     });
+}
 
-    // Branches rooted on the plates: their connection quad's centre, 4 points and 4 edge midpoints are vertices the
-    // plates and half-chunks already have. Inside a leaflet (LeafletPatch): v's up (down) copy, its edge neighbours'
-    // and its diagonal neighbours' copies on the branch's side. On the border (BorderPatch), read from the half-chunks
-    // of v's two boundary edges: Out = v's out copy, its border neighbours' out copies and v's out-up / out-down, the
-    // neighbours' out-up / out-down; Side = v's up (down) copy, the plate copies of face[0] and face[1], v's and the
-    // neighbours' out-up (out-down).
-    std::vector<std::array<int, 9>> rooted_ids(nv, std::array<int, 9>{});
-    std::vector<char> rooted(nv, 0);
+// The 9 ids (centre, 4 points, 4 edge midpoints) of the connection quad of a branch rooted on the plates at
+// leaflet vertex v; rooted[v] = 1 for such vertices.
+struct RootedPatches {
+    std::vector<std::array<int, 9>> ids;
+    std::vector<char> rooted;
+};
+
+// Inside a leaflet (LeafletPatch): v's up (down) copy, its edge neighbours' and its diagonal neighbours' copies on the
+// branch's side.
+std::array<int, 9> leaflet_patch_ids(const Skeleton& skeleton, const SkeletonAnalysis& an, const FaceSideIds& sides,
+                                     int v, int e) {
+    const LeafletPatch patch = leaflet_patch(skeleton, an, v, e);
+    const std::vector<std::array<int, 4>>& side = patch.up ? sides.up : sides.dn;
+    std::array<int, 9> ids{};
+    ids[0] = side[patch.face[0]][patch.corner_centre[0]];
+    for (int k = 0; k < 4; ++k) {
+        ids[1 + k] = side[patch.face[k]][patch.corner_point[k]];
+        ids[5 + k] = side[patch.face[k]][patch.corner_diagonal[k]];
+    }
+    return ids;
+}
+
+// On the border (BorderPatch), read from the half-chunks of v's two boundary edges (written already): Out = v's out
+// copy, its border neighbours' out copies and v's out-up / out-down, the neighbours' out-up / out-down; Side = v's up
+// (down) copy, the plate copies of face[0] and face[1], v's and the neighbours' out-up (out-down).
+std::array<int, 9> border_patch_ids(const Skeleton& skeleton, const SkeletonAnalysis& an, const FaceSideIds& sides,
+                                    const HexSlots& slots, const RawMesh& raw, int v, int e) {
+    const BorderPatch patch = border_patch(skeleton, an, v, e);
+    const int base = raw.vertex_base[v];
+    std::array<int, 2> o{}, ou{}, od{};  // per border neighbour: its out, out-up, out-down copies
+    for (int i = 0; i < 2; ++i) {
+        const int be = patch.border_edge[i], h = slots.boundary_slot[be];
+        const auto [f, k] = slots.boundary_side[be];
+        const std::array<int, 8>& up = raw.mesh.hexes[h];
+        const std::array<int, 8>& dn = raw.mesh.hexes[h + 1];
+        const bool leaves = an.face_vertices[f][k] == v;  // the face traverses the edge from v
+        o[i] = leaves ? up[2] : up[1];
+        ou[i] = leaves ? up[6] : up[5];
+        od[i] = leaves ? dn[6] : dn[7];
+    }
+    const int wu = base + 4, wd = base + 5;
+    if (patch.kind == BorderRoot::Out)
+        return patch.up_first ? std::array<int, 9>{base + 3, o[0], wu, o[1], wd, ou[0], ou[1], od[1], od[0]}
+                              : std::array<int, 9>{base + 3, o[0], wd, o[1], wu, od[0], od[1], ou[1], ou[0]};
+    // Side: face[0] = (v, first border neighbour, its diagonal d0, middle), face[1] = (v, middle, d1, the other).
+    const int a = patch.first, b = 1 - patch.first;
+    const int f0 = patch.face[0], c0 = patch.corner[0], f1 = patch.face[1], c1 = patch.corner[1];
+    if (patch.up) {
+        const auto& U = sides.up;
+        return {base + 1, U[f0][(c0 + 1) & 3], U[f0][(c0 + 3) & 3], U[f1][(c1 + 3) & 3], wu,
+                U[f0][(c0 + 2) & 3], U[f1][(c1 + 2) & 3], ou[b], ou[a]};
+    }
+    const auto& D = sides.dn;
+    return {base + 2, D[f0][(c0 + 1) & 3], wd, D[f1][(c1 + 3) & 3], D[f0][(c0 + 3) & 3],
+            od[a], od[b], D[f1][(c1 + 2) & 3], D[f0][(c0 + 2) & 3]};
+}
+
+// Branches rooted on the plates: their connection quad's centre, 4 points and 4 edge midpoints are vertices the
+// plates and half-chunks already have.
+RootedPatches rooted_patch_ids(const Skeleton& skeleton, const SkeletonAnalysis& an, const FaceSideIds& sides,
+                               const HexSlots& slots, const RawMesh& raw) {
+    const int nv = static_cast<int>(skeleton.points.size());
+    RootedPatches rp{std::vector<std::array<int, 9>>(nv, std::array<int, 9>{}), std::vector<char>(nv, 0)};
     for (int v = 0; v < nv; ++v) {
         if (!roots_branch(an, v)) continue;
-        rooted[v] = 1;
+        rp.rooted[v] = 1;
         const int e = first_branch_edge(an, v);
-        if (an.vertex_class[v] == VertexClass::LeafletInterior) {
-            const LeafletPatch patch = leaflet_patch(skeleton, an, v, e);
-            const std::vector<std::array<int, 4>>& side = patch.up ? face_up : face_dn;
-            rooted_ids[v][0] = side[patch.face[0]][patch.corner_centre[0]];
-            for (int k = 0; k < 4; ++k) {
-                rooted_ids[v][1 + k] = side[patch.face[k]][patch.corner_point[k]];
-                rooted_ids[v][5 + k] = side[patch.face[k]][patch.corner_diagonal[k]];
-            }
-            continue;
-        }
-        const BorderPatch patch = border_patch(skeleton, an, v, e);
-        const int base = raw.vertex_base[v];
-        std::array<int, 2> o{}, ou{}, od{};  // per border neighbour: its out, out-up, out-down copies
-        for (int i = 0; i < 2; ++i) {
-            const int be = patch.border_edge[i], h = boundary_slot[be];
-            const auto [f, k] = boundary_side[be];
-            const std::array<int, 8>& up = raw.mesh.hexes[h];
-            const std::array<int, 8>& dn = raw.mesh.hexes[h + 1];
-            const bool leaves = an.face_vertices[f][k] == v;  // the face traverses the edge from v
-            o[i] = leaves ? up[2] : up[1];
-            ou[i] = leaves ? up[6] : up[5];
-            od[i] = leaves ? dn[6] : dn[7];
-        }
-        const int wu = base + 4, wd = base + 5;
-        if (patch.kind == BorderRoot::Out) {
-            rooted_ids[v] = patch.up_first
-                                ? std::array<int, 9>{base + 3, o[0], wu, o[1], wd, ou[0], ou[1], od[1], od[0]}
-                                : std::array<int, 9>{base + 3, o[0], wd, o[1], wu, od[0], od[1], ou[1], ou[0]};
-            continue;
-        }
-        // Side: face[0] = (v, first border neighbour, its diagonal d0, middle), face[1] = (v, middle, d1, the other).
-        const int a = patch.first, b = 1 - patch.first;
-        const int f0 = patch.face[0], c0 = patch.corner[0], f1 = patch.face[1], c1 = patch.corner[1];
-        if (patch.up) {
-            const auto& U = face_up;
-            rooted_ids[v] = {base + 1, U[f0][(c0 + 1) & 3], U[f0][(c0 + 3) & 3], U[f1][(c1 + 3) & 3], wu,
-                             U[f0][(c0 + 2) & 3], U[f1][(c1 + 2) & 3], ou[b], ou[a]};
-        } else {
-            const auto& D = face_dn;
-            rooted_ids[v] = {base + 2, D[f0][(c0 + 1) & 3], wd, D[f1][(c1 + 3) & 3], D[f0][(c0 + 3) & 3],
-                             od[a], od[b], D[f1][(c1 + 2) & 3], D[f0][(c0 + 2) & 3]};
-        }
+        rp.ids[v] = an.vertex_class[v] == VertexClass::LeafletInterior
+                        ? leaflet_patch_ids(skeleton, an, sides, v, e)
+                        : border_patch_ids(skeleton, an, sides, slots, raw, v, e);
     }
+    return rp;
+}
 
-    // Blocks: one chunk of 4 hexes per branch edge (reference-notes §8.1, written in VTK order: the kite at the
-    // first endpoint u, counter-clockwise around the direction u -> v, is the bottom face).
+// Blocks: one chunk of 4 hexes per branch edge (reference-notes §8.1, written in VTK order: the kite at the
+// first endpoint u, counter-clockwise around the direction u -> v, is the bottom face).
+void write_branch_chunks(const Skeleton& skeleton, const ConnectionSurfaces& cs, const BranchFrames& frames,
+                         const HexSlots& slots, const RootedPatches& rp, RawMesh& raw) {
+    const int ne = static_cast<int>(skeleton.edges.size());
     tbb::parallel_for(tbb::blocked_range<int>(0, ne, 1024), [&](const tbb::blocked_range<int>& range) {
         for (int e = range.begin(); e != range.end(); ++e) {
-            const int h0 = edge_slot[e];
+            const int h0 = slots.edge_slot[e];
             if (h0 < 0) continue;
             const int u = skeleton.edges[e][0], v = skeleton.edges[e][1];
             const int qu = cs.edge_quad[e][0], qv = cs.edge_quad[e][1];
@@ -471,9 +547,9 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             const std::array<int, 4>& ev = cs.quad_edges[qv];
             // Ids of the centre, of surface point x and of surface edge j at an end (its own surface vertices, or
             // the plate vertices of a rooted branch's patch).
-            auto centre = [&](int w, int b) { return rooted[w] ? rooted_ids[w][0] : b; };
-            auto point = [&](int w, int b, int x) { return rooted[w] ? rooted_ids[w][1 + x] : b + 1 + x; };
-            auto edge = [&](int w, int m, int j) { return rooted[w] ? rooted_ids[w][5 + j] : m + j; };
+            auto centre = [&](int w, int b) { return rp.rooted[w] ? rp.ids[w][0] : b; };
+            auto point = [&](int w, int b, int x) { return rp.rooted[w] ? rp.ids[w][1 + x] : b + 1 + x; };
+            auto edge = [&](int w, int m, int j) { return rp.rooted[w] ? rp.ids[w][5 + j] : m + j; };
             for (int k = 0; k < 4; ++k) {
                 // a_k = au[(ru + k) & 3]; matched far vertex a'_k = b_{(2 - k) & 3} = av[(rv + 2 - k) & 3].
                 const int a0 = au[(ru + k) & 3], a1 = au[(ru + k + 1) & 3], ea = eu[(ru + k) & 3];
@@ -484,84 +560,140 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             }
         }
     });
+}
 
-    // Leaflet vertex normals and outward directions (shared with the junction surfaces).
-    const LeafletVertexFrames leaf = leaflet_vertex_frames(skeleton, an);
+// Radius of v after the margin limit of the branch edges joining it to branching points: a vertex next to a
+// branching point u (edge length L, direction d from u) gets at most L sin(kappa m), m = margin of d inside u's
+// quad, so that its cross-section seen from u fits inside that quad: then every hex corner on u's sphere is positive
+// (see relax_partition in connection_surfaces.cpp).
+double margin_limited_radius(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                             const BranchFrames& frames, const RawMeshOptions& options, int v, double radius) {
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (an.edge_degree[e] != 0) continue;
+        const int side_u = skeleton.edges[e][0] == v ? 1 : 0;
+        const int u = skeleton.edges[e][side_u];
+        if (an.vertex_class[u] != VertexClass::BranchingPoint) continue;
+        const Vec3 d = skeleton.points[v] - skeleton.points[u];
+        const double L = norm(d);
+        const int gq = cs.edge_quad[e][side_u];
+        std::array<Vec3, 4> q;
+        for (int k = 0; k < 4; ++k) q[k] = frames.directions[cs.point_begin[u] + cs.quads[gq][k]];
+        const double m = spherical_quad_margin(q, d / L);
+        if (m > 0) radius = std::min(radius, L * std::sin(options.margin_fraction * m));
+    }
+    return radius;
+}
 
-    // Effective radius: a vertex next to a branching point u (edge length L, direction d from u) gets at most
-    // L sin(kappa m), m = margin of d inside u's quad, so that its cross-section seen from u fits inside that quad:
-    // then every hex corner on u's sphere is positive (see relax_partition in connection_surfaces.cpp).
+// Sharp turn at a joint v: its cross-section (normal to the bisector) reaches r sin(theta / 2) along each of its
+// edges; keep that within turn_fraction of half of each edge so that neighbouring cross-sections cannot cross.
+double turn_limited_radius(const Skeleton& skeleton, const SkeletonAnalysis& an, const RawMeshOptions& options, int v,
+                           double radius) {
+    const int e0 = an.vertex_edges[an.vertex_edge_begin[v]];
+    const int e1 = an.vertex_edges[an.vertex_edge_begin[v] + 1];
+    const Vec3& p = skeleton.points[v];
+    const int w0 = skeleton.edges[e0][0] == v ? skeleton.edges[e0][1] : skeleton.edges[e0][0];
+    const int w1 = skeleton.edges[e1][0] == v ? skeleton.edges[e1][1] : skeleton.edges[e1][0];
+    const Vec3 a = skeleton.points[w0] - p, b = skeleton.points[w1] - p;
+    const double la = norm(a), lb = norm(b);
+    // turn angle theta = pi - angle(a, b); sin(theta / 2) = cos(angle(a, b) / 2)
+    const double cos_ab = std::clamp(dot(a, b) / (la * lb), -1.0, 1.0);
+    const double reach = std::sqrt(0.5 * (1 + cos_ab));
+    if (reach > 1e-9) radius = std::min(radius, options.turn_fraction * 0.5 * std::min(la, lb) / reach);
+    return radius;
+}
+
+// Effective radius per skeleton vertex: the input radius, limited next to branching points and at sharp joints.
+std::vector<double> effective_radii(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                                    const BranchFrames& frames, const RawMeshOptions& options) {
+    const int nv = static_cast<int>(skeleton.points.size());
     std::vector<double> radius(skeleton.radii);
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 512), [&](const tbb::blocked_range<int>& range) {
         for (int v = range.begin(); v != range.end(); ++v) {
-            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-                const int e = an.vertex_edges[i];
-                if (an.edge_degree[e] != 0) continue;
-                const int side_u = skeleton.edges[e][0] == v ? 1 : 0;
-                const int u = skeleton.edges[e][side_u];
-                if (an.vertex_class[u] != VertexClass::BranchingPoint) continue;
-                const Vec3 d = skeleton.points[v] - skeleton.points[u];
-                const double L = norm(d);
-                const int gq = cs.edge_quad[e][side_u];
-                std::array<Vec3, 4> q;
-                for (int k = 0; k < 4; ++k) q[k] = frames.directions[cs.point_begin[u] + cs.quads[gq][k]];
-                const double m = spherical_quad_margin(q, d / L);
-                if (m > 0) radius[v] = std::min(radius[v], L * std::sin(options.margin_fraction * m));
-            }
-            // Sharp turn at a joint: its cross-section (normal to the bisector) reaches r sin(theta / 2) along each
-            // of its edges; keep that within turn_fraction of half of each edge so that neighbouring cross-sections
-            // cannot cross.
-            if (an.vertex_class[v] == VertexClass::Joint) {
-                const int e0 = an.vertex_edges[an.vertex_edge_begin[v]];
-                const int e1 = an.vertex_edges[an.vertex_edge_begin[v] + 1];
-                const Vec3& p = skeleton.points[v];
-                const int w0 = skeleton.edges[e0][0] == v ? skeleton.edges[e0][1] : skeleton.edges[e0][0];
-                const int w1 = skeleton.edges[e1][0] == v ? skeleton.edges[e1][1] : skeleton.edges[e1][0];
-                const Vec3 a = skeleton.points[w0] - p, b = skeleton.points[w1] - p;
-                const double la = norm(a), lb = norm(b);
-                // turn angle theta = pi - angle(a, b); sin(theta / 2) = cos(angle(a, b) / 2)
-                const double cos_ab = std::clamp(dot(a, b) / (la * lb), -1.0, 1.0);
-                const double reach = std::sqrt(0.5 * (1 + cos_ab));
-                if (reach > 1e-9)
-                    radius[v] = std::min(radius[v], options.turn_fraction * 0.5 * std::min(la, lb) / reach);
-            }
+            radius[v] = margin_limited_radius(skeleton, an, cs, frames, options, v, radius[v]);
+            if (an.vertex_class[v] == VertexClass::Joint)
+                radius[v] = turn_limited_radius(skeleton, an, options, v, radius[v]);
         }
     });
+    return radius;
+}
 
-    // Fan-edge vertices (reference-notes §10): gap vertex = w + r unit(sum of the normals of the faces around the
-    // gap, each flipped into the gap), the bisector; at a fan end also O_w = w + r e and gap out-copies = gap + r e,
-    // e = unit vector along the fan edge pointing away from it. Serial in face order: deterministic.
-    if (an.counts.fan_edges > 0) {
-        std::vector<Vec3> gap_sum(n_points);
-        for (int f = 0; f < nf; ++f)
-            for (int k = 0; k < 4; ++k) {
-                const int w = an.face_vertices[f][k];
-                if (!is_fan(an.vertex_class[w])) continue;
-                for (int side = 0; side < 2; ++side)
-                    gap_sum[raw.vertex_base[w] + 1 + gap_of[f * 8 + k * 2 + side]] += gap_dir[f * 8 + k * 2 + side];
-            }
-        for (int v = 0; v < nv; ++v) {
-            const VertexClass vc = an.vertex_class[v];
-            if (!is_fan(vc)) continue;
-            const int base = raw.vertex_base[v], g = expected_gaps(an, v);
-            const Vec3& c = skeleton.points[v];
-            const double r = radius[v];
-            raw.mesh.points[base] = c;
-            for (int j = 0; j < g; ++j) raw.mesh.points[base + 1 + j] = c + r * normalized(gap_sum[base + 1 + j]);
-            if (vc != VertexClass::FanEdgeEnd) continue;
-            Vec3 e{};
-            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-                const int fe = an.vertex_edges[i];
-                if (an.edge_degree[fe] < 3) continue;
-                const int o = skeleton.edges[fe][0] == v ? skeleton.edges[fe][1] : skeleton.edges[fe][0];
-                e = r * normalized(c - skeleton.points[o]);
-            }
-            raw.mesh.points[base + 1 + g] = c + e;
-            for (int j = 0; j < g; ++j) raw.mesh.points[base + 2 + g + j] = raw.mesh.points[base + 1 + j] + e;
+// Fan-edge vertices (reference-notes §10): gap vertex = w + r unit(sum of the normals of the faces around the
+// gap, each flipped into the gap), the bisector; at a fan end also O_w = w + r e and gap out-copies = gap + r e,
+// e = unit vector along the fan edge pointing away from it. Serial in face order: deterministic.
+void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const FanGaps& gaps,
+                        const std::vector<double>& radius, RawMesh& raw) {
+    if (an.counts.fan_edges == 0) return;
+    const int nv = static_cast<int>(skeleton.points.size());
+    const int nf = static_cast<int>(an.face_vertices.size());
+    std::vector<Vec3> gap_sum(raw.mesh.points.size());
+    for (int f = 0; f < nf; ++f)
+        for (int k = 0; k < 4; ++k) {
+            const int w = an.face_vertices[f][k];
+            if (!is_fan(an.vertex_class[w])) continue;
+            for (int side = 0; side < 2; ++side)
+                gap_sum[raw.vertex_base[w] + 1 + gaps.gap_of[f * 8 + k * 2 + side]] += gaps.gap_dir[f * 8 + k * 2 + side];
         }
+    for (int v = 0; v < nv; ++v) {
+        const VertexClass vc = an.vertex_class[v];
+        if (!is_fan(vc)) continue;
+        const int base = raw.vertex_base[v], g = expected_gaps(an, v);
+        const Vec3& c = skeleton.points[v];
+        const double r = radius[v];
+        raw.mesh.points[base] = c;
+        for (int j = 0; j < g; ++j) raw.mesh.points[base + 1 + j] = c + r * normalized(gap_sum[base + 1 + j]);
+        if (vc != VertexClass::FanEdgeEnd) continue;
+        Vec3 e{};
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+            const int fe = an.vertex_edges[i];
+            if (an.edge_degree[fe] < 3) continue;
+            const int o = skeleton.edges[fe][0] == v ? skeleton.edges[fe][1] : skeleton.edges[fe][0];
+            e = r * normalized(c - skeleton.points[o]);
+        }
+        raw.mesh.points[base + 1 + g] = c + e;
+        for (int j = 0; j < g; ++j) raw.mesh.points[base + 2 + g + j] = raw.mesh.points[base + 1 + j] + e;
     }
+}
 
-    // Geometry transfer: centre, surface points and surface-edge midpoints on the sphere of local radius.
+// Leaflet vertex v of radius r: centre, up and down; at a boundary vertex also its out column (out, out-up,
+// out-down).
+void place_leaflet_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an, const LeafletVertexFrames& leaf,
+                          const RawMeshOptions& options, int v, double r, RawMesh& raw) {
+    const int base = raw.vertex_base[v];
+    const Vec3& c = skeleton.points[v];
+    const Vec3 n = r * leaf.normal[v];
+    raw.mesh.points[base] = c;
+    raw.mesh.points[base + 1] = c + n;
+    raw.mesh.points[base + 2] = c - n;
+    if (an.vertex_class[v] != VertexClass::LeafletBoundary) return;
+    Vec3 o = leaf.out[v], m = n;
+    if (an.vertex_border_root[v] == BorderRoot::Out) {
+        // The out column of a vertex rooting a branch on its out patch turns in the leaflet's plane
+        // towards the branch (border_root_turn), then about the border by the branch's tilt out of
+        // that plane (border_root_tilt): the patch then faces the branch.
+        const int e = first_branch_edge(an, v);
+        const Vec3 b = skeleton.points[skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0]] - c;
+        const Vec3 un = leaf.normal[v];
+        const Vec3 side = cross(un, o);
+        const double psi = options.border_root_turn * std::atan2(dot(b, side), dot(b, o));
+        const Vec3 o1 = std::cos(psi) * o + std::sin(psi) * side;
+        const double phi = options.border_root_tilt * std::atan2(dot(b, un), dot(b, o1));
+        o = std::cos(phi) * o1 + std::sin(phi) * un;
+        m = r * (std::cos(phi) * un - std::sin(phi) * o1);
+    }
+    const Vec3 out = c + leaflet_out_distance(skeleton, an, leaf, v, r) * o;
+    raw.mesh.points[base + 3] = out;
+    raw.mesh.points[base + 4] = out + m;
+    raw.mesh.points[base + 5] = out - m;
+}
+
+// Geometry transfer: centre, surface points and surface-edge midpoints on the sphere of local radius; leaflet
+// vertices along the leaflet's normal and out directions (shared with the junction surfaces).
+void place_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                    const BranchFrames& frames, const RawMeshOptions& options, const std::vector<double>& radius,
+                    RawMesh& raw) {
+    const int nv = static_cast<int>(skeleton.points.size());
+    const LeafletVertexFrames leaf = leaflet_vertex_frames(skeleton, an);
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 512), [&](const tbb::blocked_range<int>& range) {
         for (int v = range.begin(); v != range.end(); ++v) {
             const int base = raw.vertex_base[v];
@@ -570,32 +702,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             const double r = radius[v];
             const VertexClass vc = an.vertex_class[v];
             if (vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary) {
-                const Vec3 n = r * leaf.normal[v];
-                raw.mesh.points[base] = c;
-                raw.mesh.points[base + 1] = c + n;
-                raw.mesh.points[base + 2] = c - n;
-                if (vc == VertexClass::LeafletBoundary) {
-                    Vec3 o = leaf.out[v], m = n;
-                    if (an.vertex_border_root[v] == BorderRoot::Out) {
-                        // The out column of a vertex rooting a branch on its out patch turns in the leaflet's plane
-                        // towards the branch (border_root_turn), then about the border by the branch's tilt out of
-                        // that plane (border_root_tilt): the patch then faces the branch.
-                        const int e = first_branch_edge(an, v);
-                        const Vec3 b = skeleton.points[skeleton.edges[e][0] == v ? skeleton.edges[e][1]
-                                                                                 : skeleton.edges[e][0]] - c;
-                        const Vec3 un = leaf.normal[v];
-                        const Vec3 side = cross(un, o);
-                        const double psi = options.border_root_turn * std::atan2(dot(b, side), dot(b, o));
-                        const Vec3 o1 = std::cos(psi) * o + std::sin(psi) * side;
-                        const double phi = options.border_root_tilt * std::atan2(dot(b, un), dot(b, o1));
-                        o = std::cos(phi) * o1 + std::sin(phi) * un;
-                        m = r * (std::cos(phi) * un - std::sin(phi) * o1);
-                    }
-                    const Vec3 out = c + leaflet_out_distance(skeleton, an, leaf, v, r) * o;
-                    raw.mesh.points[base + 3] = out;
-                    raw.mesh.points[base + 4] = out + m;
-                    raw.mesh.points[base + 5] = out - m;
-                }
+                place_leaflet_vertex(skeleton, an, leaf, options, v, r, raw);
                 continue;
             }
             const int p0 = cs.point_begin[v], np = cs.point_begin[v + 1] - p0;
@@ -608,6 +715,29 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
             }
         }
     });
+}
+
+}  // namespace
+
+RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                       const BranchFrames& frames, const RawMeshOptions& options) {
+    check_raw_mesh_inputs(skeleton, cs, frames);
+    RawMesh raw;
+    const int n_points = assign_vertex_ids(an, cs, static_cast<int>(skeleton.points.size()), raw.vertex_base);
+    const FanGaps gaps = find_fan_gaps(skeleton, an);
+    const FaceSideIds sides = face_side_ids(an, cs, raw.vertex_base, gaps);
+    const HexSlots slots = reserve_hex_slots(an, static_cast<int>(skeleton.edges.size()));
+    raw.mesh.points.resize(n_points);
+    raw.mesh.hexes.resize(slots.n_hex);
+    raw.hex_edge.resize(slots.n_hex);
+    write_leaflet_plates(an, sides, slots, raw);
+    write_half_chunks(an, cs, gaps, sides, slots, raw);
+    // Rooted branches read their patch from the plates and half-chunks written above.
+    const RootedPatches rooted = rooted_patch_ids(skeleton, an, sides, slots, raw);
+    write_branch_chunks(skeleton, cs, frames, slots, rooted, raw);
+    const std::vector<double> radius = effective_radii(skeleton, an, cs, frames, options);
+    place_fan_vertices(skeleton, an, gaps, radius, raw);
+    place_vertices(skeleton, an, cs, frames, options, radius, raw);
     return raw;
 }
 
