@@ -1,5 +1,5 @@
 // Fuzz target: skeleton readers (.ig, .cg, .cgr, .skel, .obj). A mesohex::Error is a correct refusal; anything else
-// is a finding. A skeleton that is read must satisfy the reader's postconditions (indices in range, radii positive).
+// is a finding. A skeleton that is read must satisfy the reader's postconditions (indices in range, radii positive, points finite).
 #include <cstdlib>
 
 #include "fuzz_common.h"
@@ -20,6 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 if (v < 0 || static_cast<std::size_t>(v) >= n) std::abort();
         for (const double r : s.radii)
             if (!(r > 0)) std::abort();
+        for (const mesohex::Vec3& p : s.points)
+            if (!mesohex::is_finite(p)) std::abort();
     } catch (const mesohex::Error&) {
     }
     return 0;
