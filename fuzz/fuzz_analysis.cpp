@@ -9,11 +9,11 @@
 #include "mesohex_io/skeleton_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const std::string path = mesohex::fuzz::write_input(data, size, {"ig", "cg", "cgr", "skel", "obj"});
-    if (path.empty()) return 0;
+    mesohex::fuzz::Input in;
+    if (!mesohex::fuzz::split_input(data, size, {"ig", "cg", "cgr", "skel", "obj"}, in)) return 0;
     mesohex::Skeleton s;
     try {
-        s = mesohex::read_skeleton(path);
+        s = mesohex::read_skeleton_text(in.text, in.format, mesohex::fuzz::kInputName);
     } catch (const mesohex::Error&) {
         return 0;
     }

@@ -1,16 +1,24 @@
 #pragma once
-// Shared by the fuzz targets: the readers take paths, so each input is written to a per-process temporary file
-// whose extension the first byte selects (the rest is the file's content).
+// Shared by the fuzz targets: every input is one format-selecting byte followed by the file's content, parsed in
+// memory by the readers' text forms (read_*_text): no file is written.
 #include <cstddef>
 #include <cstdint>
-#include <string>
-#include <vector>
+#include <initializer_list>
+#include <string_view>
 
 namespace mesohex::fuzz {
 
-// Writes data[1..size) to "<tmp>/mesohex_fuzz_<pid>.<ext>", ext = extensions[data[0] % n]; returns the path ("" when
-// size == 0). The file is overwritten by the next input.
-std::string write_input(const std::uint8_t* data, std::size_t size, const std::vector<std::string>& extensions);
+// One fuzz input: `format` = formats[data[0] % n] (an extension without the dot), `text` = data[1..size).
+struct Input {
+    std::string_view format;
+    std::string_view text;
+};
+
+// Splits data[0..size) as described above; false (nothing to run) when size == 0.
+bool split_input(const std::uint8_t* data, std::size_t size, std::initializer_list<std::string_view> formats, Input& out);
+
+// The name the readers give the input in their messages.
+inline constexpr std::string_view kInputName = "fuzz-input";
 
 }  // namespace mesohex::fuzz
 

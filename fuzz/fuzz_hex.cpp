@@ -7,10 +7,10 @@
 #include "mesohex_io/hex_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const std::string path = mesohex::fuzz::write_input(data, size, {"mesh", "vtk", "vtu", "msh"});
-    if (path.empty()) return 0;
+    mesohex::fuzz::Input in;
+    if (!mesohex::fuzz::split_input(data, size, {"mesh", "vtk", "vtu", "msh"}, in)) return 0;
     try {
-        const mesohex::HexMesh mesh = mesohex::read_hex_mesh(path);
+        const mesohex::HexMesh mesh = mesohex::read_hex_mesh_text(in.text, in.format, mesohex::fuzz::kInputName);
         for (const std::array<int, 8>& hex : mesh.hexes)
             for (const int v : hex)
                 if (v < 0 || static_cast<std::size_t>(v) >= mesh.points.size()) std::abort();  // reader postcondition

@@ -1,5 +1,5 @@
 // Fuzz target: skeleton readers (.ig, .cg, .cgr, .skel, .obj). A mesohex::Error is a correct refusal; anything else
-// is a finding. A skeleton that is read must satisfy the reader's postconditions (indices in range, radii positive).
+// is a finding. A skeleton that is read must satisfy the reader's postconditions (indices in range, radii positive, points finite).
 #include <cstdlib>
 
 #include "fuzz_common.h"
@@ -7,10 +7,10 @@
 #include "mesohex_io/skeleton_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const std::string path = mesohex::fuzz::write_input(data, size, {"ig", "cg", "cgr", "skel", "obj"});
-    if (path.empty()) return 0;
+    mesohex::fuzz::Input in;
+    if (!mesohex::fuzz::split_input(data, size, {"ig", "cg", "cgr", "skel", "obj"}, in)) return 0;
     try {
-        const mesohex::Skeleton s = mesohex::read_skeleton(path);
+        const mesohex::Skeleton s = mesohex::read_skeleton_text(in.text, in.format, mesohex::fuzz::kInputName);
         const std::size_t n = s.points.size();
         for (const std::array<int, 2>& e : s.edges)
             if (e[0] < 0 || e[1] < 0 || static_cast<std::size_t>(e[0]) >= n || static_cast<std::size_t>(e[1]) >= n)
@@ -20,6 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 if (v < 0 || static_cast<std::size_t>(v) >= n) std::abort();
         for (const double r : s.radii)
             if (!(r > 0)) std::abort();
+        for (const mesohex::Vec3& p : s.points)
+            if (!mesohex::is_finite(p)) std::abort();
     } catch (const mesohex::Error&) {
     }
     return 0;

@@ -22,8 +22,6 @@ cmake --build "$BUILD" -j "$JOBS" --target "${TARGETS[@]/#/fuzz_}"
 rm -rf "$BUILD/seeds"
 python3 "$ROOT/fuzz/make_seeds.py" "$ROOT" "$BUILD/seeds" >/dev/null
 mkdir -p "$BUILD/artifacts" "$BUILD/logs"
-# Each input is written to a file (the readers take paths): a RAM file system keeps that cheap.
-if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
 status=0
 for t in "${TARGETS[@]}"; do
   mkdir -p "$BUILD/corpus/$t"

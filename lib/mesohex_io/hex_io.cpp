@@ -189,11 +189,10 @@ private:
 // 0-based or 1-based vertex index read from a file, checked against the number of vertices.
 int read_vertex_index(Lexer& lex, long base, long num_points, long cell, const char* cell_name) {
     const long raw = lex.expect_int("vertex index");
-    const long v = raw - base;
-    if (v < 0 || v >= num_points)
+    if (raw < base || raw - base >= num_points)  // (raw - base only once raw >= base: no overflow at LONG_MIN)
         lex.fail(std::string(cell_name) + " " + std::to_string(cell + base) + ": vertex index " + std::to_string(raw) +
                  " out of range (" + std::to_string(base) + ".." + std::to_string(num_points - 1 + base) + ")");
-    return static_cast<int>(v);
+    return static_cast<int>(raw - base);
 }
 
 void check_writable(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars,
@@ -228,7 +227,7 @@ int medit_reference(const std::vector<int>& partition, std::size_t h) {
 // ---------------------------------------------------------------------------------------------------------------
 // MEDIT .mesh
 
-HexMesh read_medit(const std::string& path, const std::string& text) {
+HexMesh read_medit(const std::string& path, std::string_view text) {
     Lexer lex(path, text, 1, '#');
     HexMesh mesh;
     bool have_version = false, have_vertices = false, have_hexes = false, have_end = false;
@@ -323,7 +322,7 @@ std::string write_medit(const HexMesh& mesh, const std::vector<int>& partition) 
 // ---------------------------------------------------------------------------------------------------------------
 // Legacy VTK (.vtk), ASCII. Reads versions 2.0-4.2 (CELLS n size) and 5.1 (OFFSETS / CONNECTIVITY).
 
-HexMesh read_vtk(const std::string& path, const std::string& text) {
+HexMesh read_vtk(const std::string& path, std::string_view text) {
     Lexer lex(path, text);
     const std::string_view header = lex.rest_of_line();
     if (lower(header).rfind("# vtk datafile version", 0) != 0)
@@ -349,6 +348,7 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
         }
         const std::string key = lower(tok);
         if (key == "points") {
+            if (have_points) lex.fail("second POINTS section");
             const long n = lex.expect_count("number of points");
             const std::string dtype = lower(lex.expect("point data type"));
             if (dtype != "float" && dtype != "double") lex.fail("unsupported point type '" + quote_excerpt(dtype) + "'");
@@ -369,6 +369,7 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
             }
         } else if (key == "cells") {
             if (!have_points) lex.fail("CELLS before POINTS");
+            if (have_cells) lex.fail("second CELLS section");
             const long a = lex.expect_count("number of cells");
             const long b = lex.expect_count("cell list size");
             const long np = static_cast<long>(mesh.points.size());
@@ -379,7 +380,16 @@ HexMesh read_vtk(const std::string& path, const std::string& text) {
                 lex.next();
                 lex.expect("offsets type");
                 offsets.reserve(lex.reservable(a, 2));
-                for (long i = 0; i < a; ++i) offsets.push_back(lex.expect_int("offset"));
+                for (long i = 0; i < a; ++i) {
+                    // Each cell's vertices are connectivity[offsets[c], offsets[c + 1]): offsets start at 0, never
+                    // decrease and stay within the b connectivity entries (else a cell would index past them).
+                    const long o = lex.expect_int("offset");
+                    if ((i == 0 && o != 0) || (i > 0 && o < offsets.back()) || o > b)
+                        lex.fail("offset " + std::to_string(o) + " (entry " + std::to_string(i) +
+                                 "): OFFSETS must start at 0, never decrease and stay within the connectivity size " +
+                                 std::to_string(b));
+                    offsets.push_back(o);
+                }
                 lex.expect_keyword("CONNECTIVITY");
                 lex.expect("connectivity type");
                 connectivity.reserve(lex.reservable(b, 2));
@@ -486,82 +496,172 @@ struct XmlTag {
     }
 };
 
-HexMesh read_vtu(const std::string& path, const std::string& text) {
-    std::size_t pos = 0;
-    int line = 1;
-    std::size_t counted = 0;  // line number is valid for text[0, counted)
-    auto line_at = [&](std::size_t p) {
-        line += static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(counted), text.begin() + static_cast<std::ptrdiff_t>(p), '\n'));
-        counted = p;
-        return line;
-    };
-    auto last_line = [&] {
-        std::size_t end = text.size();
-        while (end > 0 && std::isspace(static_cast<unsigned char>(text[end - 1]))) --end;
-        return line_at(end);
-    };
-    // Next tag at or after pos; false at the end of the text.
-    auto next_tag = [&](XmlTag& tag) {
+// The tags of an XML text in order, with their line numbers; comments and declarations are skipped.
+class XmlScanner {
+public:
+    XmlScanner(const std::string& path, std::string_view text) : path_(path), text_(text) {}
+
+    // Next tag at or after the current position; false at the end of the text.
+    bool next(XmlTag& tag) {
         while (true) {
-            const std::size_t lt = text.find('<', pos);
-            if (lt == std::string::npos) return false;
+            const std::size_t lt = text_.find('<', pos_);
+            if (lt == std::string_view::npos) return false;
             tag = XmlTag{};
             tag.line = line_at(lt);
-            if (text.compare(lt, 4, "<!--") == 0 || text.compare(lt, 2, "<?") == 0) {
-                const std::string close = text.compare(lt, 4, "<!--") == 0 ? "-->" : "?>";
-                const std::size_t e = text.find(close, lt);
-                if (e == std::string::npos) fail_at(path, tag.line, "unterminated XML comment or declaration");
-                pos = e + close.size();
+            if (text_.compare(lt, 4, "<!--") == 0 || text_.compare(lt, 2, "<?") == 0) {
+                const std::string_view close = text_.compare(lt, 4, "<!--") == 0 ? "-->" : "?>";
+                const std::size_t e = text_.find(close, lt);
+                if (e == std::string_view::npos) fail_at(path_, tag.line, "unterminated XML comment or declaration");
+                pos_ = e + close.size();
                 continue;
             }
-            const std::size_t gt = text.find('>', lt);
-            if (gt == std::string::npos) fail_at(path, tag.line, "truncated XML tag");
-            std::string_view body(text.data() + lt + 1, gt - lt - 1);
-            if (!body.empty() && body.front() == '/') {
-                tag.closing = true;
-                body.remove_prefix(1);
-            }
-            if (!body.empty() && body.back() == '/') {
-                tag.self_closing = true;
-                body.remove_suffix(1);
-            }
-            std::size_t i = 0;
-            while (i < body.size() && !std::isspace(static_cast<unsigned char>(body[i]))) ++i;
-            tag.name = std::string(body.substr(0, i));
-            while (true) {
-                while (i < body.size() && std::isspace(static_cast<unsigned char>(body[i]))) ++i;
-                if (i >= body.size()) break;
-                const std::size_t eq = body.find('=', i);
-                if (eq == std::string_view::npos) fail_at(path, tag.line, "malformed attribute in <" + quote_excerpt(tag.name) + ">");
-                std::string key(body.substr(i, eq - i));
-                while (!key.empty() && std::isspace(static_cast<unsigned char>(key.back()))) key.pop_back();
-                std::size_t q = eq + 1;
-                while (q < body.size() && std::isspace(static_cast<unsigned char>(body[q]))) ++q;
-                if (q >= body.size() || (body[q] != '"' && body[q] != '\''))
-                    fail_at(path, tag.line, "malformed attribute '" + quote_excerpt(key) + "' in <" + quote_excerpt(tag.name) + ">");
-                const std::size_t qe = body.find(body[q], q + 1);
-                if (qe == std::string_view::npos) fail_at(path, tag.line, "unterminated attribute '" + quote_excerpt(key) + "'");
-                tag.attributes.emplace_back(key, std::string(body.substr(q + 1, qe - q - 1)));
-                i = qe + 1;
-            }
+            const std::size_t gt = text_.find('>', lt);
+            if (gt == std::string_view::npos) fail_at(path_, tag.line, "truncated XML tag");
+            parse_tag_body(text_.substr(lt + 1, gt - lt - 1), tag);
             tag.end = gt + 1;
-            pos = gt + 1;
+            pos_ = gt + 1;
             return true;
         }
-    };
+    }
+    // Line of position p (positions asked for never decrease).
+    int line_at(std::size_t p) {
+        line_ += static_cast<int>(std::count(text_.begin() + static_cast<std::ptrdiff_t>(counted_),
+                                             text_.begin() + static_cast<std::ptrdiff_t>(p), '\n'));
+        counted_ = p;
+        return line_;
+    }
+    // Line of the last character that is not white space.
+    int last_line() {
+        std::size_t end = text_.size();
+        while (end > 0 && std::isspace(static_cast<unsigned char>(text_[end - 1]))) --end;
+        return line_at(std::max(end, counted_));
+    }
+    void skip_to(std::size_t p) { pos_ = p; }
+    std::string_view text() const { return text_; }
 
+private:
+    // "name attr='v' ..." (between '<' and '>') into tag.
+    void parse_tag_body(std::string_view body, XmlTag& tag) const {
+        if (!body.empty() && body.front() == '/') {
+            tag.closing = true;
+            body.remove_prefix(1);
+        }
+        if (!body.empty() && body.back() == '/') {
+            tag.self_closing = true;
+            body.remove_suffix(1);
+        }
+        std::size_t i = 0;
+        while (i < body.size() && !std::isspace(static_cast<unsigned char>(body[i]))) ++i;
+        tag.name = std::string(body.substr(0, i));
+        while (true) {
+            while (i < body.size() && std::isspace(static_cast<unsigned char>(body[i]))) ++i;
+            if (i >= body.size()) break;
+            const std::size_t eq = body.find('=', i);
+            if (eq == std::string_view::npos) fail_at(path_, tag.line, "malformed attribute in <" + quote_excerpt(tag.name) + ">");
+            std::string key(body.substr(i, eq - i));
+            while (!key.empty() && std::isspace(static_cast<unsigned char>(key.back()))) key.pop_back();
+            std::size_t q = eq + 1;
+            while (q < body.size() && std::isspace(static_cast<unsigned char>(body[q]))) ++q;
+            if (q >= body.size() || (body[q] != '"' && body[q] != '\''))
+                fail_at(path_, tag.line, "malformed attribute '" + quote_excerpt(key) + "' in <" + quote_excerpt(tag.name) + ">");
+            const std::size_t qe = body.find(body[q], q + 1);
+            if (qe == std::string_view::npos) fail_at(path_, tag.line, "unterminated attribute '" + quote_excerpt(key) + "'");
+            tag.attributes.emplace_back(key, std::string(body.substr(q + 1, qe - q - 1)));
+            i = qe + 1;
+        }
+    }
+
+    const std::string& path_;
+    std::string_view text_;
+    std::size_t pos_ = 0;
+    int line_ = 1;
+    std::size_t counted_ = 0;  // line_ is the line of text_[counted_]
+};
+
+// The arrays of a VTU <Piece> that make the hex mesh.
+struct VtuArrays {
+    long num_points = -1, num_cells = -1;  // from <Piece>; -1 before it
+    bool have_points = false;
+    std::vector<long> connectivity, offsets, types;
+};
+
+// A non-negative integer attribute of <Piece>.
+long vtu_piece_count(const std::string& path, const XmlTag& tag, const char* key) {
+    const std::string s = tag.attribute(key);
+    long n = -1;
+    const std::from_chars_result r = std::from_chars(s.data(), s.data() + s.size(), n);
+    if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size() || n < 0)
+        fail_at(path, tag.line, std::string("missing or invalid ") + key + " in <Piece>");
+    return n;
+}
+
+// Reads the ASCII values of <DataArray> `tag` (child of `parent`) when it is one the mesh needs; moves past it.
+void read_vtu_data_array(const std::string& path, XmlScanner& xml, const XmlTag& tag, const std::string& parent,
+                         VtuArrays& a, HexMesh& mesh) {
+    const std::string name = tag.attribute("Name");
+    const std::string format = tag.attribute("format");
+    const bool wanted = parent == "Points" || (parent == "Cells" && (name == "connectivity" || name == "offsets" || name == "types"));
+    if (wanted && format != "ascii")
+        fail_at(path, tag.line, "DataArray format '" + quote_excerpt(format) + "' is not supported (only ascii)");
+    const std::size_t close = xml.text().find("</DataArray>", tag.end);
+    if (close == std::string_view::npos) fail_at(path, tag.line, "truncated file: </DataArray> missing");
+    if (wanted) {
+        Lexer lex(path, xml.text().substr(tag.end, close - tag.end), tag.line);
+        if (parent == "Points") {
+            if (a.num_points < 0) fail_at(path, tag.line, "<Points> outside <Piece>");
+            if (tag.attribute("NumberOfComponents") != "3")
+                fail_at(path, tag.line, "points must have NumberOfComponents=\"3\"");
+            mesh.points.resize(static_cast<std::size_t>(a.num_points));
+            for (long v = 0; v < a.num_points; ++v)
+                for (int c = 0; c < 3; ++c)
+                    mesh.points[static_cast<std::size_t>(v)][c] = lex.expect_double("coordinate of point " + std::to_string(v));
+            a.have_points = true;
+        } else {
+            std::vector<long>& dst = name == "connectivity" ? a.connectivity : name == "offsets" ? a.offsets : a.types;
+            while (!lex.at_end()) dst.push_back(lex.expect_int(name + " entry"));
+        }
+        if (!lex.at_end()) lex.fail("more values than declared in " + quote_excerpt(name.empty() ? parent : name));
+    }
+    xml.skip_to(close + std::strlen("</DataArray>"));
+}
+
+// The hexes from the cell arrays (every cell a VTK hexahedron, type 12, of 8 vertices in range); errors at `line`.
+void assemble_vtu_hexes(const std::string& path, int line, const VtuArrays& a, HexMesh& mesh) {
+    if (static_cast<long>(a.offsets.size()) != a.num_cells || static_cast<long>(a.types.size()) != a.num_cells)
+        fail_at(path, line, "VTU cell arrays do not match NumberOfCells=" + std::to_string(a.num_cells));
+    mesh.hexes.resize(static_cast<std::size_t>(a.num_cells));
+    long begin = 0;
+    for (long c = 0; c < a.num_cells; ++c) {
+        const std::size_t cu = static_cast<std::size_t>(c);
+        if (a.types[cu] != 12)
+            fail_at(path, line, "cell " + std::to_string(c) + " has VTK type " + std::to_string(a.types[cu]) + ", not a hexahedron (12)");
+        if (a.offsets[cu] < begin || a.offsets[cu] - begin != 8 || a.offsets[cu] > static_cast<long>(a.connectivity.size()))
+            fail_at(path, line, "cell " + std::to_string(c) + " does not have 8 vertices in connectivity/offsets");
+        for (std::size_t lv = 0; lv < 8; ++lv) {
+            const long v = a.connectivity[static_cast<std::size_t>(begin) + lv];
+            if (v < 0 || v >= a.num_points)
+                fail_at(path, line, "cell " + std::to_string(c) + ": vertex index " + std::to_string(v) + " out of range");
+            mesh.hexes[cu][lv] = static_cast<int>(v);
+        }
+        begin = a.offsets[cu];
+    }
+    if (begin != static_cast<long>(a.connectivity.size()))
+        fail_at(path, line, "connectivity has more entries than the offsets use");
+}
+
+HexMesh read_vtu(const std::string& path, std::string_view text) {
+    XmlScanner xml(path, text);
     XmlTag tag;
-    if (!next_tag(tag) || tag.name != "VTKFile") fail_at(path, tag.line, "not a VTK XML file: <VTKFile> expected");
+    if (!xml.next(tag) || tag.name != "VTKFile") fail_at(path, tag.line, "not a VTK XML file: <VTKFile> expected");
     if (tag.attribute("type") != "UnstructuredGrid")
         fail_at(path, tag.line, "VTK XML type '" + quote_excerpt(tag.attribute("type")) + "' is not supported (only UnstructuredGrid)");
     if (!tag.attribute("compressor").empty()) fail_at(path, tag.line, "compressed VTU files are not supported");
 
-    long num_points = -1, num_cells = -1;
+    VtuArrays arrays;
     std::vector<std::string> stack;
     HexMesh mesh;
-    std::vector<long> connectivity, offsets, types;
-    bool have_points = false, done = false;
-    while (!done && next_tag(tag)) {
+    bool done = false;
+    while (!done && xml.next(tag)) {
         if (tag.closing) {
             if (stack.empty() || stack.back() != tag.name)
                 fail_at(path, tag.line, "unexpected </" + quote_excerpt(tag.name) + ">");
@@ -570,73 +670,22 @@ HexMesh read_vtu(const std::string& path, const std::string& text) {
             continue;
         }
         if (tag.name == "Piece") {
-            if (num_points >= 0) fail_at(path, tag.line, "only one <Piece> is supported");
-            auto count = [&](const char* key) {
-                const std::string s = tag.attribute(key);
-                long n = -1;
-                const std::from_chars_result r = std::from_chars(s.data(), s.data() + s.size(), n);
-                if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size() || n < 0)
-                    fail_at(path, tag.line, std::string("missing or invalid ") + key + " in <Piece>");
-                return n;
-            };
-            num_points = count("NumberOfPoints");
-            num_cells = count("NumberOfCells");
-            if (static_cast<std::size_t>(num_points) > text.size() / 6 || static_cast<std::size_t>(num_cells) > text.size() / 4)
+            if (arrays.num_points >= 0) fail_at(path, tag.line, "only one <Piece> is supported");
+            arrays.num_points = vtu_piece_count(path, tag, "NumberOfPoints");
+            arrays.num_cells = vtu_piece_count(path, tag, "NumberOfCells");
+            if (static_cast<std::size_t>(arrays.num_points) > text.size() / 6 ||
+                static_cast<std::size_t>(arrays.num_cells) > text.size() / 4)
                 fail_at(path, tag.line, "NumberOfPoints / NumberOfCells larger than the file can hold");
         }
         if (tag.name == "DataArray" && !tag.self_closing) {
-            const std::string parent = stack.empty() ? "" : stack.back();
-            const std::string name = tag.attribute("Name");
-            const std::string format = tag.attribute("format");
-            const bool wanted = parent == "Points" || (parent == "Cells" && (name == "connectivity" || name == "offsets" || name == "types"));
-            if (wanted && format != "ascii")
-                fail_at(path, tag.line, "DataArray format '" + quote_excerpt(format) + "' is not supported (only ascii)");
-            const std::size_t close = text.find("</DataArray>", tag.end);
-            if (close == std::string::npos) fail_at(path, tag.line, "truncated file: </DataArray> missing");
-            if (wanted) {
-                Lexer lex(path, std::string_view(text).substr(tag.end, close - tag.end), tag.line);
-                if (parent == "Points") {
-                    if (num_points < 0) fail_at(path, tag.line, "<Points> outside <Piece>");
-                    if (tag.attribute("NumberOfComponents") != "3")
-                        fail_at(path, tag.line, "points must have NumberOfComponents=\"3\"");
-                    mesh.points.resize(static_cast<std::size_t>(num_points));
-                    for (long v = 0; v < num_points; ++v)
-                        for (int c = 0; c < 3; ++c)
-                            mesh.points[static_cast<std::size_t>(v)][c] = lex.expect_double("coordinate of point " + std::to_string(v));
-                    have_points = true;
-                } else {
-                    std::vector<long>& dst = name == "connectivity" ? connectivity : name == "offsets" ? offsets : types;
-                    while (!lex.at_end()) dst.push_back(lex.expect_int(name + " entry"));
-                }
-                if (!lex.at_end()) lex.fail("more values than declared in " + quote_excerpt(name.empty() ? parent : name));
-            }
-            pos = close + std::strlen("</DataArray>");
+            read_vtu_data_array(path, xml, tag, stack.empty() ? "" : stack.back(), arrays, mesh);
             continue;
         }
         if (!tag.self_closing) stack.push_back(tag.name);
     }
-    if (!done) fail_at(path, last_line(), "truncated VTU file: </Piece> missing");
-    if (!have_points) fail_at(path, last_line(), "VTU file has no <Points>");
-    if (static_cast<long>(offsets.size()) != num_cells || static_cast<long>(types.size()) != num_cells)
-        fail_at(path, last_line(), "VTU cell arrays do not match NumberOfCells=" + std::to_string(num_cells));
-    mesh.hexes.resize(static_cast<std::size_t>(num_cells));
-    long begin = 0;
-    for (long c = 0; c < num_cells; ++c) {
-        const std::size_t cu = static_cast<std::size_t>(c);
-        if (types[cu] != 12)
-            fail_at(path, last_line(), "cell " + std::to_string(c) + " has VTK type " + std::to_string(types[cu]) + ", not a hexahedron (12)");
-        if (offsets[cu] - begin != 8 || offsets[cu] > static_cast<long>(connectivity.size()))
-            fail_at(path, last_line(), "cell " + std::to_string(c) + " does not have 8 vertices in connectivity/offsets");
-        for (std::size_t lv = 0; lv < 8; ++lv) {
-            const long v = connectivity[static_cast<std::size_t>(begin) + lv];
-            if (v < 0 || v >= num_points)
-                fail_at(path, last_line(), "cell " + std::to_string(c) + ": vertex index " + std::to_string(v) + " out of range");
-            mesh.hexes[cu][lv] = static_cast<int>(v);
-        }
-        begin = offsets[cu];
-    }
-    if (begin != static_cast<long>(connectivity.size()))
-        fail_at(path, last_line(), "connectivity has more entries than the offsets use");
+    if (!done) fail_at(path, xml.last_line(), "truncated VTU file: </Piece> missing");
+    if (!arrays.have_points) fail_at(path, xml.last_line(), "VTU file has no <Points>");
+    assemble_vtu_hexes(path, xml.last_line(), arrays, mesh);
     return mesh;
 }
 
@@ -732,7 +781,7 @@ void skip_gmsh_section(Lexer& lex, const std::string& name) {
     }
 }
 
-HexMesh read_msh(const std::string& path, const std::string& text) {
+HexMesh read_msh(const std::string& path, std::string_view text) {
     Lexer lex(path, text);
     HexMesh mesh;
     std::vector<std::pair<long, int>> node_index;  // (tag, index), sorted by tag after $Nodes
@@ -931,19 +980,40 @@ std::string write_inp(const HexMesh& mesh, const std::vector<int>& partition) {
 
 }  // namespace
 
+namespace {
+
+bool is_readable_hex_extension(const std::string& ext) {
+    return ext == ".mesh" || ext == ".vtk" || ext == ".vtu" || ext == ".msh";
+}
+
+// `text` in the format of extension `ext` (one of is_readable_hex_extension), named `name` in messages.
+HexMesh parse_hex_mesh(const std::string& name, const std::string& ext, std::string_view text) {
+    if (is_blank_content(text)) fail_empty_file(name, "expected a hex mesh");
+    if (ext == ".mesh") return read_medit(name, text);
+    if (ext == ".vtk") return read_vtk(name, text);
+    if (ext == ".vtu") return read_vtu(name, text);
+    return read_msh(name, text);
+}
+
+}  // namespace
+
 HexMesh read_hex_mesh(const std::string& path) {
     const std::string ext = extension_of(path);
-    if (ext != ".mesh" && ext != ".vtk" && ext != ".vtu" && ext != ".msh") {
+    if (!is_readable_hex_extension(ext)) {
         throw Error(ErrorCode::UnsupportedConfiguration,
                     path + ": unknown hex mesh extension '" + ext + "' (readable: .mesh .vtk .vtu .msh)");
     }
-    const std::string text = read_whole_file(path);
-    if (is_blank_content(text)) fail_empty_file(path, "expected a hex mesh");
-    if (ext == ".mesh") return read_medit(path, text);
+    return parse_hex_mesh(path, ext, read_whole_file(path));
+}
 
-    if (ext == ".vtk") return read_vtk(path, text);
-    if (ext == ".vtu") return read_vtu(path, text);
-    return read_msh(path, text);
+HexMesh read_hex_mesh_text(std::string_view text, std::string_view format, std::string_view name) {
+    const std::string display(name);
+    const std::string ext = "." + lower(format);
+    if (!is_readable_hex_extension(ext)) {
+        throw Error(ErrorCode::UnsupportedConfiguration,
+                    display + ": unknown hex mesh format '" + quote_excerpt(format) + "' (readable: mesh vtk vtu msh)");
+    }
+    return parse_hex_mesh(display, ext, text);
 }
 
 void write_hex_mesh(const std::string& path, const HexMesh& mesh, const std::vector<double>& cell_scalars,

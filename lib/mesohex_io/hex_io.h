@@ -4,13 +4,18 @@
 // mesohex::Error naming file:line.
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mesohex/core/hex_mesh.h"
 
 namespace mesohex {
 
+// Reads the file (at most kMaxInputBytes of text_input.h) and parses it with read_hex_mesh_text.
 HexMesh read_hex_mesh(const std::string& path);
+// The same reader on a file's content held in memory: `format` is the extension without the dot (mesh, vtk, vtu, msh;
+// case-insensitive), `name` stands for the file name in error messages ("<name>:<line>: <what>").
+HexMesh read_hex_mesh_text(std::string_view text, std::string_view format, std::string_view name);
 
 // Writes to a temporary file beside `path`, then renames it: a failure never leaves a half-written file.
 // cell_scalars (may be empty): one value per hex, written as cell data named "scaled_jacobian" where the format allows

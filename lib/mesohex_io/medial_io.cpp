@@ -24,7 +24,7 @@ constexpr std::size_t kMinFaceLine = 8;
 // Line-by-line reader over the file content held in memory.
 class LineReader {
 public:
-    LineReader(const std::string& path, const std::string& content) : path_(path), content_(content) {}
+    LineReader(const std::string& path, std::string_view content) : path_(path), content_(content) {}
     // Next non-blank, non-comment line; false at end of file.
     bool next(std::istringstream& out) {
         while (pos_ < content_.size()) {
@@ -51,7 +51,7 @@ public:
 
 private:
     const std::string& path_;
-    const std::string& content_;
+    std::string_view content_;
     std::size_t pos_ = 0;
     int line_no_ = 0;
 };
@@ -68,7 +68,7 @@ void parse_record(LineReader& r, std::istringstream& ls, const char* tag, std::a
     if (ls >> extra) r.fail(std::string("trailing data on a '") + tag + "' line: '" + quote_excerpt(extra) + "'");
 }
 
-Skeleton read_medial(const std::string& path, const std::string& content) {
+Skeleton read_medial(const std::string& path, std::string_view content) {
     if (is_blank_content(content)) fail_empty_file(path, "expected the header 'nv ne nf'");
     LineReader r(path, content);
     std::istringstream ls;
@@ -129,8 +129,8 @@ Skeleton read_medial(const std::string& path, const std::string& content) {
 
 Skeleton read_medial_mesh(const std::string& path) { return read_medial(path, read_whole_file(path)); }
 
-Skeleton read_medial_mesh_text(const std::string& content, const std::string& name) {
-    return read_medial(name, content);
+Skeleton read_medial_mesh_text(std::string_view content, std::string_view name) {
+    return read_medial(std::string(name), content);
 }
 
 void write_medial_mesh(const std::string& path, const Skeleton& medial) {

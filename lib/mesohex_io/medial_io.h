@@ -2,6 +2,7 @@
 // Medial meshes (.ma, Q-MAT style): header `nv ne nf`, then nv lines `v x y z r`, ne lines `e i j`, nf lines
 // `f i j k` (0-based). The edge list includes the triangle sides; "curve-only" edges are those in no triangle.
 #include <string>
+#include <string_view>
 
 #include "mesohex/core/skeleton.h"
 
@@ -14,9 +15,10 @@ namespace mesohex {
 // match the lines present, a malformed line, an index out of range, a repeated vertex in an edge or triangle, a
 // duplicated edge, a non-positive or non-finite radius or coordinate. Blank lines and lines starting with '#' are
 // skipped. Time and memory are linear in the file size.
+// The file is read whole (at most kMaxInputBytes of text_input.h), then parsed as read_medial_mesh_text does.
 Skeleton read_medial_mesh(const std::string& path);
 // The same on the file's text held in memory; `name` stands for the file name in messages.
-Skeleton read_medial_mesh_text(const std::string& content, const std::string& name);
+Skeleton read_medial_mesh_text(std::string_view content, std::string_view name);
 
 // Writes `medial` (radii one per point, faces triangles, every face side in edges) as a .ma file that
 // read_medial_mesh reads back with the same points, radii (17 significant digits), edges and faces. Atomic (a

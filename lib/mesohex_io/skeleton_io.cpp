@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -31,7 +32,7 @@ struct TextLine {
 
 
 // Splits into lines ('\n', with a trailing '\r' removed). The views point into `content`.
-std::vector<TextLine> split_lines(const std::string& content) {
+std::vector<TextLine> split_lines(std::string_view content) {
     std::vector<TextLine> lines;
     std::size_t start = 0;
     int number = 1;
@@ -116,8 +117,10 @@ bool parse_radius_comment(const Context& ctx, std::string_view comment, int line
     const std::vector<std::string_view> tok = split_whitespace(comment);
     if (tok.size() < 2 || tok[0] != "mesohex" || tok[1] != "radius") return false;
     if (tok.size() != 4) ctx.fail(line, "radius comment must be '# mesohex radius <vertex> <radius>'");
-    const long long idx = ctx.integer(tok[2], line, "radius vertex index") - index_base;
-    if (idx < 0 || idx > 2147483647LL) ctx.fail(line, "radius vertex index out of range: " + quote_excerpt(tok[2]));
+    const long long raw = ctx.integer(tok[2], line, "radius vertex index");
+    if (raw < index_base || raw - index_base > 2147483647LL)  // (no subtraction below index_base: no overflow)
+        ctx.fail(line, "radius vertex index out of range: " + quote_excerpt(tok[2]));
+    const long long idx = raw - index_base;
     const double r = ctx.number(tok[3], line, "radius");
     if (!radius_of.emplace(static_cast<int>(idx), std::make_pair(r, line)).second)
         ctx.fail(line, "second radius for vertex " + quote_excerpt(tok[2]));
@@ -583,8 +586,9 @@ bool is_skeleton_format(const std::string& ext) {
 }
 
 // The text of a skeleton file in format `ext` (one of is_skeleton_format), named by `ctx` in messages.
-Skeleton parse_skeleton(const Context& ctx, const std::string& ext, const std::string& content) {
-    if (content.find('\0') != std::string::npos) ctx.fail(1, "binary content (NUL byte) in a text format");
+Skeleton parse_skeleton(const Context& ctx, const std::string& ext, std::string_view content) {
+    if (is_blank_content(content)) fail_empty_file(ctx.file(), "expected a skeleton");
+    if (content.find('\0') != std::string_view::npos) ctx.fail(1, "binary content (NUL byte) in a text format");
     const std::vector<TextLine> lines = split_lines(content);
     if (ext == "ig") return read_ig(ctx, lines);
     if (ext == "cg") return read_cg(ctx, lines, false);
@@ -600,9 +604,7 @@ Skeleton read_skeleton(const std::string& path) {
     if (!is_skeleton_format(ext))
         throw Error(ErrorCode::InvalidInput,
                     path + ": unknown skeleton format '." + ext + "' (expected .ig, .cg, .cgr, .skel or .obj)");
-    const std::string content = read_whole_file(path);
-    if (is_blank_content(content)) fail_empty_file(path, "expected a skeleton");
-    return parse_skeleton(Context(path), ext, content);
+    return parse_skeleton(Context(path), ext, read_whole_file(path));
 }
 
 void write_skeleton(const std::string& path, const Skeleton& skeleton) {
@@ -613,12 +615,13 @@ void write_skeleton(const std::string& path, const Skeleton& skeleton) {
     write_file_atomically(path, ext == "ig" ? format_ig(path, skeleton) : format_obj(skeleton));
 }
 
-Skeleton read_skeleton_text(const std::string& content, const std::string& format, const std::string& name) {
-    const std::string ext = lower_extension("." + format);
+Skeleton read_skeleton_text(std::string_view content, std::string_view format, std::string_view name) {
+    std::string ext(format);
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (!is_skeleton_format(ext))
-        throw Error(ErrorCode::InvalidInput,
-                    name + ": unknown skeleton format '" + format + "' (expected ig, cg, cgr, skel or obj)");
-    return parse_skeleton(Context(name), ext, content);
+        throw Error(ErrorCode::InvalidInput, std::string(name) + ": unknown skeleton format '" + quote_excerpt(format) +
+                                                 "' (expected ig, cg, cgr, skel or obj)");
+    return parse_skeleton(Context(std::string(name)), ext, content);
 }
 
 std::string skeleton_text(const Skeleton& skeleton, const std::string& format, const std::string& name) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <charconv>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -26,7 +27,7 @@ namespace {
 // Line-by-line reader over the file content with 1-based line numbers and error helpers.
 class Lines {
 public:
-    Lines(const std::string& file, const std::string& content) : file_(file), content_(content) {}
+    Lines(const std::string& file, std::string_view content) : file_(file), content_(content) {}
 
     // Next line (without '\n' / '\r'); false at the end.
     bool next(std::string_view& line) {
@@ -81,7 +82,7 @@ public:
 
 private:
     const std::string& file_;
-    const std::string& content_;
+    std::string_view content_;
     std::size_t pos_ = 0;
     int number_ = 0;
 };
@@ -93,7 +94,7 @@ void add_polygon(TriangleMesh& mesh, const std::vector<int>& poly) {
 
 // ------------------------------------------------------------------------------------------------ OFF
 
-TriangleMesh read_off(const std::string& path, const std::string& content) {
+TriangleMesh read_off(const std::string& path, std::string_view content) {
     Lines in(path, content);
     std::vector<std::string_view> tok;
     if (!in.next_tokens(tok)) in.fail("empty file (expected the OFF header)");
@@ -128,7 +129,8 @@ TriangleMesh read_off(const std::string& path, const std::string& content) {
         if (!in.next_tokens(tok)) in.fail("unexpected end of file: " + std::to_string(nf - f) + " faces missing");
         const long long n = in.integer(tok[0], "the face size");
         if (n < 3) in.fail("a face needs at least 3 vertices, got " + std::to_string(n));
-        if (static_cast<long long>(tok.size()) < n + 1) in.fail("face lists fewer than " + std::to_string(n) + " vertices");
+        if (n > static_cast<long long>(tok.size()) - 1)  // (not n + 1 > size: n may be the largest long long)
+            in.fail("face lists fewer than " + std::to_string(n) + " vertices");
         poly.clear();
         for (long long i = 1; i <= n; ++i) {
             const long long id = in.integer(tok[static_cast<std::size_t>(i)], "a vertex index");
@@ -142,7 +144,7 @@ TriangleMesh read_off(const std::string& path, const std::string& content) {
 
 // ------------------------------------------------------------------------------------------------ OBJ
 
-TriangleMesh read_obj(const std::string& path, const std::string& content) {
+TriangleMesh read_obj(const std::string& path, std::string_view content) {
     Lines in(path, content);
     std::vector<std::string_view> tok;
     TriangleMesh mesh;
@@ -221,7 +223,7 @@ T load_le(const char* p) {
     return v;
 }
 
-TriangleMesh read_stl(const std::string& path, const std::string& content) {
+TriangleMesh read_stl(const std::string& path, std::string_view content) {
     const bool binary_size = content.size() >= 84 &&
                              content.size() == 84 + 50 * static_cast<std::size_t>(load_le<std::uint32_t>(content.data() + 80));
     // Binary files may start with "solid" too: a NUL byte early on also means binary.
@@ -322,7 +324,7 @@ struct PlyElement {
 // Sequential reader of the binary body.
 class PlyBinary {
 public:
-    PlyBinary(const std::string& path, const std::string& content, std::size_t pos, bool big_endian)
+    PlyBinary(const std::string& path, std::string_view content, std::size_t pos, bool big_endian)
         : path_(path), content_(content), pos_(pos), swap_(big_endian != (std::endian::native == std::endian::big)) {}
 
     double read(PlyType t, const std::string& what) {
@@ -351,139 +353,189 @@ public:
 
 private:
     const std::string& path_;
-    const std::string& content_;
+    std::string_view content_;
     std::size_t pos_;
     bool swap_;
 };
 
-TriangleMesh read_ply(const std::string& path, const std::string& content) {
-    Lines in(path, content);
+enum class PlyFormat { Ascii, BinaryLE, BinaryBE };
+
+struct PlyHeader {
+    PlyFormat format = PlyFormat::Ascii;
+    std::vector<PlyElement> elements;
+};
+
+// One "property ..." header line (tokens) of the current element.
+PlyProperty parse_ply_property(const Lines& in, const std::vector<std::string_view>& tok) {
+    PlyProperty p;
+    if (tok.size() >= 5 && tok[1] == "list") {
+        p.is_list = true;
+        p.count_type = ply_type(tok[2]);
+        p.type = ply_type(tok[3]);
+        p.name = quote_excerpt(tok[4]);
+        if (p.count_type == PlyType::Invalid || p.type == PlyType::Invalid || p.count_type == PlyType::Float32 ||
+            p.count_type == PlyType::Float64)
+            in.fail("invalid list property types");
+    } else if (tok.size() >= 3 && tok[1] != "list") {
+        p.type = ply_type(tok[1]);
+        p.name = quote_excerpt(tok[2]);
+        if (p.type == PlyType::Invalid) in.fail("unknown property type '" + quote_excerpt(tok[1]) + "'");
+    } else {
+        in.fail("malformed 'property' line");
+    }
+    return p;
+}
+
+// The header, from the "ply" line to "end_header" (in is left at the first byte of the body).
+PlyHeader parse_ply_header(Lines& in) {
     std::string_view line;
     if (!in.next(line) || line != "ply") in.fail("expected 'ply' on the first line");
-    enum class Format { Ascii, BinaryLE, BinaryBE } format = Format::Ascii;
-    bool have_format = false;
-    std::vector<PlyElement> elements;
-    bool ended = false;
+    PlyHeader h;
+    bool have_format = false, ended = false;
     while (in.next(line)) {
         const std::vector<std::string_view> tok = split_whitespace(line);
-        if (tok.empty()) continue;
-        if (tok[0] == "comment" || tok[0] == "obj_info") continue;
+        if (tok.empty() || tok[0] == "comment" || tok[0] == "obj_info") continue;
         if (tok[0] == "end_header") {
             ended = true;
             break;
         }
         if (tok[0] == "format") {
             if (tok.size() < 2) in.fail("incomplete 'format' line");
-            if (tok[1] == "ascii") format = Format::Ascii;
-            else if (tok[1] == "binary_little_endian") format = Format::BinaryLE;
-            else if (tok[1] == "binary_big_endian") format = Format::BinaryBE;
+            if (tok[1] == "ascii") h.format = PlyFormat::Ascii;
+            else if (tok[1] == "binary_little_endian") h.format = PlyFormat::BinaryLE;
+            else if (tok[1] == "binary_big_endian") h.format = PlyFormat::BinaryBE;
             else in.fail("unknown PLY format '" + quote_excerpt(tok[1]) + "'");
             have_format = true;
         } else if (tok[0] == "element") {
             if (tok.size() < 3) in.fail("'element' needs a name and a count");
             const long long n = in.integer(tok[2], "the element count");
             if (n < 0 || n > 2'000'000'000) in.fail("invalid element count");
-            elements.push_back({quote_excerpt(tok[1]), n, in.number(), {}});
+            h.elements.push_back({quote_excerpt(tok[1]), n, in.number(), {}});
         } else if (tok[0] == "property") {
-            if (elements.empty()) in.fail("'property' before any 'element'");
-            PlyProperty p;
-            if (tok.size() >= 5 && tok[1] == "list") {
-                p.is_list = true;
-                p.count_type = ply_type(tok[2]);
-                p.type = ply_type(tok[3]);
-                p.name = quote_excerpt(tok[4]);
-                if (p.count_type == PlyType::Invalid || p.type == PlyType::Invalid ||
-                    p.count_type == PlyType::Float32 || p.count_type == PlyType::Float64)
-                    in.fail("invalid list property types");
-            } else if (tok.size() >= 3 && tok[1] != "list") {
-                p.type = ply_type(tok[1]);
-                p.name = quote_excerpt(tok[2]);
-                if (p.type == PlyType::Invalid) in.fail("unknown property type '" + quote_excerpt(tok[1]) + "'");
-            } else {
-                in.fail("malformed 'property' line");
-            }
-            elements.back().properties.push_back(p);
+            if (h.elements.empty()) in.fail("'property' before any 'element'");
+            h.elements.back().properties.push_back(parse_ply_property(in, tok));
         } else {
             in.fail("unexpected header keyword '" + quote_excerpt(tok[0]) + "'");
         }
     }
     if (!ended) in.fail("missing 'end_header'");
     if (!have_format) in.fail("missing 'format' line");
+    return h;
+}
 
-    TriangleMesh mesh;
-    long long nv = -1;
-    std::vector<int> poly;
-    // Locates x, y, z in the vertex element and the index list in the face element.
-    for (const PlyElement& el : elements) {
-        if (el.name == "vertex") nv = el.count;
-    }
-    if (nv < 0) in.fail_at(1, "no 'vertex' element in the header");
+// Which properties of an element hold the coordinates / the face list.
+struct PlyLayout {
+    bool is_vertex, is_face;
+    int ix, iy, iz, ilist;
+};
 
-    auto property_index = [](const PlyElement& el, const char* name) {
+// A vertex element without x, y, z or a face element without a vertex list is an error at its header line.
+PlyLayout ply_layout(const Lines& in, const PlyElement& el) {
+    const auto property_index = [&](const char* name) {
         for (std::size_t i = 0; i < el.properties.size(); ++i)
             if (el.properties[i].name == name) return static_cast<int>(i);
         return -1;
     };
-    // Which properties of an element hold the coordinates / the face list; a vertex element without x, y, z or a face
-    // element without a vertex list is an error at its header line.
-    struct ElementLayout {
-        bool is_vertex, is_face;
-        int ix, iy, iz, ilist;
-    };
-    auto layout_of = [&](const PlyElement& el) {
-        ElementLayout l{el.name == "vertex", el.name == "face", property_index(el, "x"), property_index(el, "y"),
-                        property_index(el, "z"), property_index(el, "vertex_indices")};
-        if (l.ilist < 0) l.ilist = property_index(el, "vertex_index");
-        if (l.is_vertex && (l.ix < 0 || l.iy < 0 || l.iz < 0)) in.fail_at(el.header_line, "vertex element without x, y, z");
-        if (l.is_face && l.ilist < 0) in.fail_at(el.header_line, "face element without 'vertex_indices'");
-        return l;
-    };
+    PlyLayout l{el.name == "vertex", el.name == "face", property_index("x"), property_index("y"), property_index("z"),
+                property_index("vertex_indices")};
+    if (l.ilist < 0) l.ilist = property_index("vertex_index");
+    if (l.is_vertex && (l.ix < 0 || l.iy < 0 || l.iz < 0)) in.fail_at(el.header_line, "vertex element without x, y, z");
+    if (l.is_face && l.ilist < 0) in.fail_at(el.header_line, "face element without 'vertex_indices'");
+    return l;
+}
 
-    if (format == Format::Ascii) {
-        std::vector<std::string_view> tok;
-        for (const PlyElement& el : elements) {
-            const auto [is_vertex, is_face, ix, iy, iz, ilist] = layout_of(el);
-            for (long long i = 0; i < el.count; ++i) {
-                if (!in.next_tokens(tok))
-                    in.fail("unexpected end of file: " + std::to_string(el.count - i) + " '" + el.name + "' missing");
-                std::size_t t = 0;
-                Vec3 p;
-                poly.clear();
-                for (std::size_t k = 0; k < el.properties.size(); ++k) {
-                    const PlyProperty& prop = el.properties[k];
-                    if (t >= tok.size()) in.fail("too few values for element '" + el.name + "'");
-                    if (!prop.is_list) {
-                        const double v = in.real(tok[t++], prop.name.c_str());
-                        if (is_vertex && static_cast<int>(k) == ix) p.x = v;
-                        if (is_vertex && static_cast<int>(k) == iy) p.y = v;
-                        if (is_vertex && static_cast<int>(k) == iz) p.z = v;
-                        continue;
-                    }
-                    const long long n = in.integer(tok[t++], "a list length");
-                    if (n < 0 || t + static_cast<std::size_t>(n) > tok.size()) in.fail("list longer than the line");
-                    for (long long j = 0; j < n; ++j) {
-                        const std::string_view s = tok[t++];
-                        if (is_face && static_cast<int>(k) == ilist) {
-                            const long long id = in.integer(s, "a vertex index");
-                            if (id < 0 || id >= nv)
-                                in.fail("vertex index " + std::to_string(id) + " out of range [0, " + std::to_string(nv) + ")");
-                            poly.push_back(static_cast<int>(id));
-                        }
-                    }
+// The ASCII body: one record per line; nv vertices are declared (face indices are checked against it).
+void read_ply_ascii(Lines& in, const std::vector<PlyElement>& elements, long long nv, TriangleMesh& mesh) {
+    std::vector<std::string_view> tok;
+    std::vector<int> poly;
+    for (const PlyElement& el : elements) {
+        const PlyLayout l = ply_layout(in, el);
+        for (long long i = 0; i < el.count; ++i) {
+            if (!in.next_tokens(tok))
+                in.fail("unexpected end of file: " + std::to_string(el.count - i) + " '" + el.name + "' missing");
+            std::size_t t = 0;
+            Vec3 p;
+            poly.clear();
+            for (std::size_t k = 0; k < el.properties.size(); ++k) {
+                const PlyProperty& prop = el.properties[k];
+                if (t >= tok.size()) in.fail("too few values for element '" + el.name + "'");
+                if (!prop.is_list) {
+                    const double v = in.real(tok[t++], prop.name.c_str());
+                    if (l.is_vertex && static_cast<int>(k) == l.ix) p.x = v;
+                    if (l.is_vertex && static_cast<int>(k) == l.iy) p.y = v;
+                    if (l.is_vertex && static_cast<int>(k) == l.iz) p.z = v;
+                    continue;
                 }
-                if (is_vertex) mesh.points.push_back(p);
-                if (is_face) {
-                    if (poly.size() < 3) in.fail("a face needs at least 3 vertices");
-                    add_polygon(mesh, poly);
+                const long long n = in.integer(tok[t++], "a list length");
+                if (n < 0 || t + static_cast<std::size_t>(n) > tok.size()) in.fail("list longer than the line");
+                for (long long j = 0; j < n; ++j) {
+                    const std::string_view s = tok[t++];
+                    if (l.is_face && static_cast<int>(k) == l.ilist) {
+                        const long long id = in.integer(s, "a vertex index");
+                        if (id < 0 || id >= nv)
+                            in.fail("vertex index " + std::to_string(id) + " out of range [0, " + std::to_string(nv) + ")");
+                        poly.push_back(static_cast<int>(id));
+                    }
                 }
             }
+            if (l.is_vertex) mesh.points.push_back(p);
+            if (l.is_face) {
+                if (poly.size() < 3) in.fail("a face needs at least 3 vertices");
+                add_polygon(mesh, poly);
+            }
         }
-        return mesh;
     }
+}
 
-    PlyBinary body(path, content, in.position(), format == Format::BinaryBE);
-    for (const PlyElement& el : elements) {
-        const auto [is_vertex, is_face, ix, iy, iz, ilist] = layout_of(el);
+// Record i of element `el`, read from the current position of `body`, into mesh (errors name its first byte).
+void read_ply_binary_record(const std::string& path, PlyBinary& body, const PlyElement& el, const PlyLayout& l,
+                            long long i, long long nv, std::vector<int>& poly, TriangleMesh& mesh) {
+    const std::size_t start = body.position();
+    Vec3 p;
+    poly.clear();
+    for (std::size_t k = 0; k < el.properties.size(); ++k) {
+        const PlyProperty& prop = el.properties[k];
+        if (!prop.is_list) {
+            const double v = body.read(prop.type, el.name + " " + std::to_string(i));
+            if (l.is_vertex && static_cast<int>(k) == l.ix) p.x = v;
+            if (l.is_vertex && static_cast<int>(k) == l.iy) p.y = v;
+            if (l.is_vertex && static_cast<int>(k) == l.iz) p.z = v;
+            continue;
+        }
+        const double n = body.read(prop.count_type, el.name + " " + std::to_string(i));
+        if (n < 0) throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": negative list length");
+        for (long long j = 0; j < static_cast<long long>(n); ++j) {
+            const double id = body.read(prop.type, el.name + " " + std::to_string(i));
+            if (l.is_face && static_cast<int>(k) == l.ilist) {
+                if (!(id >= 0 && id < static_cast<double>(nv)) || id != std::floor(id))
+                    throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": face " +
+                                                             std::to_string(i) + ": vertex index " + std::to_string(id) +
+                                                             " out of range");
+                poly.push_back(static_cast<int>(id));
+            }
+        }
+    }
+    if (l.is_vertex) {
+        if (!is_finite(p))
+            throw Error(ErrorCode::InvalidInput,
+                        path + ": byte " + std::to_string(start) + ": vertex " + std::to_string(i) + " is not finite");
+        mesh.points.push_back(p);
+    }
+    if (l.is_face) {
+        if (poly.size() < 3)
+            throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": face " + std::to_string(i) +
+                                                     " has fewer than 3 vertices");
+        add_polygon(mesh, poly);
+    }
+}
+
+// The binary body: from where the header (read by `in`) ends to the end of `content`.
+void read_ply_binary(const std::string& path, std::string_view content, const Lines& in, const PlyHeader& header,
+                     long long nv, TriangleMesh& mesh) {
+    PlyBinary body(path, content, in.position(), header.format == PlyFormat::BinaryBE);
+    std::vector<int> poly;
+    for (const PlyElement& el : header.elements) {
+        const PlyLayout l = ply_layout(in, el);
         // Each record takes at least the sizes of its scalars and list counts: a count the rest of the file cannot
         // hold is refused at once, and an element without properties (0 bytes per record) is skipped in O(1)
         // instead of being "read" count times (work stays linear in the file size).
@@ -492,46 +544,20 @@ TriangleMesh read_ply(const std::string& path, const std::string& content) {
         if (min_record == 0) continue;
         check_count_fits(path, el.header_line, el.count, content.size() - std::min(body.position(), content.size()),
                          min_record, "'" + quote_excerpt(el.name) + "' element count");
-        for (long long i = 0; i < el.count; ++i) {
-            const std::size_t start = body.position();
-            Vec3 p;
-            poly.clear();
-            for (std::size_t k = 0; k < el.properties.size(); ++k) {
-                const PlyProperty& prop = el.properties[k];
-                if (!prop.is_list) {
-                    const double v = body.read(prop.type, el.name + " " + std::to_string(i));
-                    if (is_vertex && static_cast<int>(k) == ix) p.x = v;
-                    if (is_vertex && static_cast<int>(k) == iy) p.y = v;
-                    if (is_vertex && static_cast<int>(k) == iz) p.z = v;
-                    continue;
-                }
-                const double n = body.read(prop.count_type, el.name + " " + std::to_string(i));
-                if (n < 0) throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": negative list length");
-                for (long long j = 0; j < static_cast<long long>(n); ++j) {
-                    const double id = body.read(prop.type, el.name + " " + std::to_string(i));
-                    if (is_face && static_cast<int>(k) == ilist) {
-                        if (!(id >= 0 && id < static_cast<double>(nv)) || id != std::floor(id))
-                            throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": face " +
-                                                                     std::to_string(i) + ": vertex index " +
-                                                                     std::to_string(id) + " out of range");
-                        poly.push_back(static_cast<int>(id));
-                    }
-                }
-            }
-            if (is_vertex) {
-                if (!is_finite(p))
-                    throw Error(ErrorCode::InvalidInput,
-                                path + ": byte " + std::to_string(start) + ": vertex " + std::to_string(i) + " is not finite");
-                mesh.points.push_back(p);
-            }
-            if (is_face) {
-                if (poly.size() < 3)
-                    throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": face " +
-                                                             std::to_string(i) + " has fewer than 3 vertices");
-                add_polygon(mesh, poly);
-            }
-        }
+        for (long long i = 0; i < el.count; ++i) read_ply_binary_record(path, body, el, l, i, nv, poly, mesh);
     }
+}
+
+TriangleMesh read_ply(const std::string& path, std::string_view content) {
+    Lines in(path, content);
+    const PlyHeader header = parse_ply_header(in);
+    long long nv = -1;
+    for (const PlyElement& el : header.elements)
+        if (el.name == "vertex") nv = el.count;
+    if (nv < 0) in.fail_at(1, "no 'vertex' element in the header");
+    TriangleMesh mesh;
+    if (header.format == PlyFormat::Ascii) read_ply_ascii(in, header.elements, nv, mesh);
+    else read_ply_binary(path, content, in, header, nv, mesh);
     return mesh;
 }
 
@@ -591,21 +617,39 @@ std::string write_stl(const TriangleMesh& m) {
     return s;
 }
 
+bool is_readable_surface_format(const std::string& ext) {
+    return ext == "off" || ext == "obj" || ext == "stl" || ext == "ply";
+}
+
+// `content` in format `ext` (one of is_readable_surface_format), named `name` in messages.
+TriangleMesh parse_surface(const std::string& name, const std::string& ext, std::string_view content) {
+    if (is_blank_content(content)) fail_empty_file(name, "expected a triangle surface");
+    TriangleMesh mesh;
+    if (ext == "off") mesh = read_off(name, content);
+    else if (ext == "obj") mesh = read_obj(name, content);
+    else if (ext == "stl") mesh = read_stl(name, content);
+    else mesh = read_ply(name, content);
+    if (mesh.triangles.empty()) throw Error(ErrorCode::InvalidInput, name + ": the surface has no triangle");
+    return mesh;
+}
+
 }  // namespace
 
 TriangleMesh read_surface(const std::string& path) {
     const std::string ext = lower_extension(path);
-    if (ext != "off" && ext != "obj" && ext != "stl" && ext != "ply")
+    if (!is_readable_surface_format(ext))
         throw Error(ErrorCode::InvalidInput, path + ": unknown surface format '." + ext + "' (use .off, .obj, .stl or .ply)");
-    const std::string content = read_whole_file(path);
-    if (is_blank_content(content)) fail_empty_file(path, "expected a triangle surface");
-    TriangleMesh mesh;
-    if (ext == "off") mesh = read_off(path, content);
-    else if (ext == "obj") mesh = read_obj(path, content);
-    else if (ext == "stl") mesh = read_stl(path, content);
-    else mesh = read_ply(path, content);
-    if (mesh.triangles.empty()) throw Error(ErrorCode::InvalidInput, path + ": the surface has no triangle");
-    return mesh;
+    return parse_surface(path, ext, read_whole_file(path));
+}
+
+TriangleMesh read_surface_text(std::string_view text, std::string_view format, std::string_view name) {
+    const std::string display(name);
+    std::string ext(format);
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!is_readable_surface_format(ext))
+        throw Error(ErrorCode::InvalidInput,
+                    display + ": unknown surface format '" + quote_excerpt(format) + "' (use off, obj, stl or ply)");
+    return parse_surface(display, ext, text);
 }
 
 void write_surface(const std::string& path, const TriangleMesh& mesh) {

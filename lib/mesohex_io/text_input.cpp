@@ -4,20 +4,35 @@
 #include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "mesohex/core/error.h"
 
 namespace mesohex {
 
-std::string read_whole_file(const std::string& path) {
+std::string read_whole_file(const std::string& path, std::size_t max_bytes) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorCode::IoError, path + ": cannot open for reading: " + std::strerror(errno));
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw Error(ErrorCode::IoError, path + ": read error");
-    return ss.str();
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);  // a hint only: devices and pipes have none
+    std::string out;
+    if (!ec) out.reserve(static_cast<std::size_t>(std::min<std::uintmax_t>(size, max_bytes)));
+    constexpr std::size_t kChunk = std::size_t{1} << 20;  // bytes read per call
+    std::size_t used = 0;
+    while (true) {
+        const std::size_t want = std::min(kChunk, max_bytes + 1 - used);
+        out.resize(used + want);
+        in.read(out.data() + used, static_cast<std::streamsize>(want));
+        used += static_cast<std::size_t>(in.gcount());
+        if (in.bad()) throw Error(ErrorCode::IoError, path + ": read error");
+        if (used > max_bytes)
+            throw Error(ErrorCode::IoError, path + ": larger than " + std::to_string(max_bytes) +
+                                                " bytes: not a mesohex input (or a device that never ends)");
+        if (!in) break;  // end of file
+    }
+    out.resize(used);
+    return out;
 }
 
 std::string lower_extension(const std::string& path) {

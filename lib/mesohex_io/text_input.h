@@ -6,8 +6,14 @@
 
 namespace mesohex {
 
-// The whole file as bytes. Error(IoError) "<path>: cannot open for reading: <reason>" or "<path>: read error".
-std::string read_whole_file(const std::string& path);
+// Largest input file a reader accepts, in bytes (just under 2^31: ids and line numbers are 32-bit ints, so no valid
+// input is larger, and no line count can overflow).
+inline constexpr std::size_t kMaxInputBytes = 2'000'000'000;
+
+// The whole file as bytes, read in chunks, at most `max_bytes` of them: a larger file, or a device or pipe that never
+// ends, is Error(IoError) "<path>: larger than <max_bytes> bytes" after reading max_bytes + 1 bytes, never more.
+// Error(IoError) "<path>: cannot open for reading: <reason>" or "<path>: read error" otherwise.
+std::string read_whole_file(const std::string& path, std::size_t max_bytes = kMaxInputBytes);
 
 // Lower-case extension without the dot ("mesh", "obj"); "" when the file name has none.
 std::string lower_extension(const std::string& path);

@@ -165,6 +165,45 @@ TEST(HexIo, MissingFileAndUnknownExtension) {
                  ErrorCode::UnsupportedConfiguration);
 }
 
+// VTK 5.1 OFFSETS that leave the connectivity array (0 8 16 8 with 8 entries: a cell at 8..16) or decrease are
+// refused at their line; they used to make the reader index past the connectivity (found by review, fuzz/corpus/hex).
+TEST(HexIo, Vtk51OffsetsStayWithinTheConnectivity) {
+    const std::string head = "# vtk DataFile Version 5.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 8 double\n"
+                             "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
+    const std::string tail = "\nCONNECTIVITY vtktypeint64\n0 1 2 3 4 5 6 7\nCELL_TYPES 1\n12\n";
+    const HexMesh one = read_hex_mesh_text(head + "CELLS 2 8\nOFFSETS vtktypeint64\n0 8" + tail, "vtk", "ok.vtk");
+    ASSERT_EQ(one.hexes.size(), 1u);
+    EXPECT_EQ(one.hexes[0][7], 7);
+    expect_error([&] { read_hex_mesh_text(head + "CELLS 4 8\nOFFSETS vtktypeint64\n0 8 16 8" + tail, "vtk", "a.vtk"); },
+                 {"a.vtk:16: offset 16 (entry 2)"});
+    expect_error([&] { read_hex_mesh_text(head + "CELLS 3 8\nOFFSETS vtktypeint64\n0 8 0" + tail, "vtk", "b.vtk"); },
+                 {"b.vtk:16: offset 0 (entry 2)"});
+    expect_error([&] { read_hex_mesh_text(head + "CELLS 2 8\nOFFSETS vtktypeint64\n1 8" + tail, "vtk", "c.vtk"); },
+                 {"c.vtk:16: offset 1 (entry 0)"});
+    // A second CELLS or POINTS section is refused (the arrays of the first one are never mixed with it).
+    expect_error([&] { read_hex_mesh_text(head + "CELLS 2 8\nOFFSETS vtktypeint64\n0 8\nCONNECTIVITY vtktypeint64\n"
+                                                 "0 1 2 3 4 5 6 7\nCELLS 2 8\n", "vtk", "d.vtk"); },
+                 {"d.vtk:19: second CELLS section"});
+    expect_error([&] { read_hex_mesh_text(head + "POINTS 1 double\n0 0 0\n", "vtk", "e.vtk"); },
+                 {"e.vtk:14: second POINTS section"});
+}
+
+// Indices and offsets of the smallest long are out of range, not an overflow of "index - 1" or "offset - begin"
+// (UBSan findings; fuzz/corpus/hex/medit_index_min, vtu_offset_min).
+TEST(HexIo, SmallestLongIndicesAreOutOfRange) {
+    expect_error([] { read_hex_mesh_text("MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 0 0\nHexahedra\n1\n"
+                                         "-9223372036854775808 1 1 1 1 1 1 1 0\nEnd\n", "mesh", "m.mesh"); },
+                 {"m.mesh:8: hexahedron 1: vertex index -9223372036854775808 out of range (1..1)"});
+    expect_error([] { read_hex_mesh_text("<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>\n"
+                                         "<Piece NumberOfPoints=\"1\" NumberOfCells=\"2\"><Points>\n"
+                                         "<DataArray NumberOfComponents=\"3\" format=\"ascii\">0 0 0</DataArray></Points><Cells>\n"
+                                         "<DataArray Name=\"connectivity\" format=\"ascii\">0 0 0 0 0 0 0 0</DataArray>\n"
+                                         "<DataArray Name=\"offsets\" format=\"ascii\">8 -9223372036854775808</DataArray>\n"
+                                         "<DataArray Name=\"types\" format=\"ascii\">12 12</DataArray></Cells></Piece>\n"
+                                         "</UnstructuredGrid></VTKFile>\n", "vtu", "v.vtu"); },
+                 {"v.vtu:7: cell 1 does not have 8 vertices"});
+}
+
 TEST(HexIo, FailedWriteLeavesNothingBehind) {
     const fs::path dir = temp_dir();
     // out-of-range index: rejected before anything is written

@@ -144,6 +144,17 @@ TEST(SkeletonIo, MalformedFilesNameFileAndLine) {
     expect_file_line("partial_radius.obj", 4, "1 of 2");
 }
 
+// A radius comment naming vertex -9223372036854775808 (OBJ, 1-based) is out of range, not an overflow of
+// "index - 1" (UBSan finding; fuzz/corpus/skeleton/obj_radius_index_min).
+TEST(SkeletonIo, SmallestRadiusIndexIsOutOfRange) {
+    try {
+        mesohex::read_skeleton_text("v 0 0 0\nv 1 0 0\nl 1 2\n# mesohex radius -9223372036854775808 1\n", "obj", "r.obj");
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()), "r.obj:4: radius vertex index out of range: -9223372036854775808");
+    }
+}
+
 // Every prefix of every good test file (a file cut at any byte) either reads or throws mesohex::Error; nothing else.
 TEST(SkeletonIo, TruncatedFilesNeverCrash) {
     for (const std::string name : {"path3.cg", "path3_variant.cgr", "sparse_ids.skel", "two_quads_branch.ig",

@@ -206,4 +206,8 @@ TEST_F(SurfaceIo, ErrorsNameFileAndLine) {
               std::string::npos);
     EXPECT_THROW(read_surface(write("a.xyz", "")), Error);
     EXPECT_THROW(read_surface(write("empty.obj", "v 0 0 0\n")), Error);  // no triangle
+    // A face size of the largest long long is "fewer vertices listed" at its line (it used to overflow n + 1: UBSan).
+    EXPECT_NE(error_of([] { read_surface_text("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n9223372036854775807 0 1 2\n", "off", "big"); })
+                  .find("big:6: face lists fewer than 9223372036854775807 vertices"),
+              std::string::npos);
 }
