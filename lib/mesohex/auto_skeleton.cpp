@@ -7,6 +7,8 @@
 #include <utility>
 
 #include "mesohex/core/error.h"
+#include "mesohex/surface/radius_from_surface.h"
+#include "mesohex/surface/surface_query.h"
 
 namespace mesohex {
 
@@ -93,6 +95,14 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
             }
         }
         out.import = import_medial_mesh(out.medial.medial, options.import);
+        if (options.meso_radius_factor > 0) {
+            const SurfaceQuery query(surface);
+            RadiusFromSurfaceOptions ro;
+            ro.factor = options.meso_radius_factor;
+            const RadiusFromSurface rs = radius_from_surface(out.import.skeleton, query, ro);
+            for (size_t v = 0; v < rs.radii.size(); ++v)
+                if (rs.radii[v] > 0) out.import.skeleton.radii[v] = rs.radii[v];  // a point on the surface keeps its own
+        }
         if (options.kind == SkeletonKind::Auto) {
             MeshOptions raw_options;
             raw_options.finish = false;

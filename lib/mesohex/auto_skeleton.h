@@ -28,6 +28,11 @@ struct AutoSkeletonOptions {
     // spheres (dimensionless, x diagonal): a part the angle filter lost leaves a larger gap (docs/tuning.md).
     double max_coverage_gap = 0.2;
     long max_raw_inverted = 0;      // Auto: the meso-skeleton's raw mesh may have at most this many inverted hexes
+    // The meso-skeleton's radii: meso_radius_factor x each vertex's distance to the surface (dimensionless; 0 keeps
+    // the medial radii, which are the full distance). The raw mesh then fills about half of the inscribed ball, as
+    // with `mesh --surface` on a skeleton without radii: room for the padding layer, and a leaflet's hex layers
+    // stay clear of the fold where a bent sheet's offset at the full radius meets itself (docs/tuning.md).
+    double meso_radius_factor = 0.5;
     MedialAxisOptions medial;
     MedialImportOptions import;
     SkeletonizeOptions skeletonize;

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <queue>
@@ -208,9 +209,110 @@ void erase_sorted(std::vector<int>& v, int x) {
 }
 bool contains(const std::array<int, 3>& t, int v) { return t[0] == v || t[1] == v || t[2] == v; }
 
+// Angle filter as an erosion that keeps the homotopy type (elementary collapses of the inner Voronoi complex, which
+// is homotopy equivalent to the solid): a face whose angle is below the threshold (cos_angle > cos_min) goes with one
+// free side (a side in no other face), smallest angle first; a side left in no face stays as a curve edge, and a curve
+// edge with an end on nothing else goes with that end. What stays: the wide-angle faces (the medial sheets and the
+// sliver bundles around tube axes) and whatever narrow-angle faces and edges hold them together (the ligature
+// where a disk's mid-sheet meets its hub's axis, the faces that close the holes noise would punch into a thin
+// plate's sheet). Returns the faces kept (in input order) and writes the curve edges left (cell ids, a < b, sorted).
+std::vector<std::vector<int>> erode_by_angle(const std::vector<std::vector<int>>& faces, const std::vector<double>& face_cos,
+                                             double cos_min, std::vector<std::array<int, 2>>& curve_edges) {
+    // Edges of the complex: sorted cell-id pairs, with their faces' count.
+    std::vector<std::array<int, 2>> edges;
+    for (const std::vector<int>& f : faces)
+        for (size_t k = 0; k < f.size(); ++k) {
+            const int a = f[k], b = f[(k + 1) % f.size()];
+            edges.push_back({std::min(a, b), std::max(a, b)});
+        }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    auto edge_id = [&](int a, int b) {
+        const std::array<int, 2> key = {std::min(a, b), std::max(a, b)};
+        return static_cast<int>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
+    };
+    std::vector<std::vector<int>> face_edges(faces.size());
+    std::vector<std::vector<int>> edge_faces(edges.size());
+    for (size_t f = 0; f < faces.size(); ++f)
+        for (size_t k = 0; k < faces[f].size(); ++k) {
+            const int e = edge_id(faces[f][k], faces[f][(k + 1) % faces[f].size()]);
+            face_edges[f].push_back(e);
+            edge_faces[static_cast<size_t>(e)].push_back(static_cast<int>(f));
+        }
+    std::vector<int> face_count(edges.size());
+    for (size_t e = 0; e < edges.size(); ++e) face_count[e] = static_cast<int>(edge_faces[e].size());
+    // Vertex -> edges (cell ids are sparse: a map keeps memory to the vertices used).
+    std::map<int, std::vector<int>> vertex_edges;
+    for (size_t e = 0; e < edges.size(); ++e)
+        for (int v : edges[e]) vertex_edges[v].push_back(static_cast<int>(e));
+    std::map<int, int> degree;
+    for (const auto& [v, es] : vertex_edges) degree[v] = static_cast<int>(es.size());
+    std::vector<char> face_alive(faces.size(), 1), edge_alive(edges.size(), 1);
+
+    std::vector<int> tips;  // vertices of degree 1 to check
+    auto erode_curves = [&]() {
+        while (!tips.empty()) {
+            const int v = tips.back();
+            tips.pop_back();
+            if (degree[v] != 1) continue;
+            int e = -1;
+            for (int x : vertex_edges[v])
+                if (edge_alive[static_cast<size_t>(x)]) e = x;
+            if (e < 0 || face_count[static_cast<size_t>(e)] != 0) continue;
+            edge_alive[static_cast<size_t>(e)] = 0;
+            for (int w : edges[static_cast<size_t>(e)])
+                if (--degree[w] == 1) tips.push_back(w);
+        }
+    };
+    using Item = std::pair<double, int>;  // (-cos angle: smallest angle first, face)
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    auto push_if_free = [&](int f) {
+        if (!face_alive[static_cast<size_t>(f)] || face_cos[static_cast<size_t>(f)] <= cos_min) return;
+        for (int e : face_edges[static_cast<size_t>(f)])
+            if (face_count[static_cast<size_t>(e)] == 1) {
+                heap.push({-face_cos[static_cast<size_t>(f)], f});
+                return;
+            }
+    };
+    for (size_t f = 0; f < faces.size(); ++f) push_if_free(static_cast<int>(f));
+    while (!heap.empty()) {
+        const int f = heap.top().second;
+        heap.pop();
+        if (!face_alive[static_cast<size_t>(f)]) continue;
+        int free_edge = -1;
+        for (int e : face_edges[static_cast<size_t>(f)])
+            if (face_count[static_cast<size_t>(e)] == 1) {
+                free_edge = e;
+                break;
+            }
+        if (free_edge < 0) continue;
+        face_alive[static_cast<size_t>(f)] = 0;
+        for (int e : face_edges[static_cast<size_t>(f)]) --face_count[static_cast<size_t>(e)];
+        edge_alive[static_cast<size_t>(free_edge)] = 0;
+        for (int w : edges[static_cast<size_t>(free_edge)])
+            if (--degree[w] == 1) tips.push_back(w);
+        for (int e : face_edges[static_cast<size_t>(f)]) {
+            if (!edge_alive[static_cast<size_t>(e)]) continue;
+            if (face_count[static_cast<size_t>(e)] == 1)
+                for (int g : edge_faces[static_cast<size_t>(e)]) push_if_free(g);
+            if (face_count[static_cast<size_t>(e)] == 0)
+                for (int w : edges[static_cast<size_t>(e)])
+                    if (degree[w] == 1) tips.push_back(w);
+        }
+        erode_curves();
+    }
+    std::vector<std::vector<int>> kept;
+    for (size_t f = 0; f < faces.size(); ++f)
+        if (face_alive[f]) kept.push_back(faces[f]);
+    curve_edges.clear();
+    for (size_t e = 0; e < edges.size(); ++e)
+        if (edge_alive[e] && face_count[e] == 0) curve_edges.push_back(edges[e]);
+    return kept;
+}
+
 // Inner poles and angle-filtered Voronoi faces of the samples, fan-triangulated into a medial complex.
 MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const SurfaceQuery& query, double diag,
-                                     double min_angle_deg, MedialAxis& out) {
+                                     double min_angle_deg, bool keep_topology, MedialAxis& out) {
     // Insertion in Hilbert order (no randomness: CGAL's range insertion shuffles with the global default random
     // generator, so a second call in the same process gave another triangulation of the cospherical samples).
     std::vector<K::Point_3> points;
@@ -267,15 +369,16 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
     for (size_t k = 0; k < candidates.size(); ++k) inside[static_cast<size_t>(candidates[k])] = inside_flags[k];
     out.inner_poles = static_cast<int>(std::count(inside.begin(), inside.end(), 1));
 
-    // Voronoi faces: one per finite Delaunay edge whose incident cells are all inner and see its ends under a wide angle.
-    const double cos_min = std::cos(min_angle_deg * kPi / 180.0);
-    std::vector<std::pair<std::array<int, 2>, std::vector<int>>> keyed_faces;
+    // Inner Voronoi faces: one per finite Delaunay edge pq whose incident cells are all inner, with its angle: the
+    // smallest angle pcq over its Voronoi vertices c (as a cosine: the largest cos pcq).
+    std::vector<std::tuple<std::array<int, 2>, std::vector<int>, double>> keyed_faces;
     for (const Delaunay::Edge& e : dt.finite_edges()) {
         const int p = e.first->vertex(e.second)->info(), q = e.first->vertex(e.third)->info();
         const Vec3& P = samples[static_cast<size_t>(p)];
         const Vec3& Q = samples[static_cast<size_t>(q)];
         std::vector<int> poly;
         bool keep = true;
+        double cos_angle = -1;
         Delaunay::Cell_circulator cc = dt.incident_cells(e), done = cc;
         do {
             const int id = cc->info();
@@ -285,22 +388,32 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
             }
             const Vec3& C = centres[static_cast<size_t>(id)];
             const double r2 = radii[static_cast<size_t>(id)] * radii[static_cast<size_t>(id)];
-            if (dot(P - C, Q - C) > cos_min * r2) {
-                keep = false;
-                break;
-            }
+            cos_angle = std::max(cos_angle, dot(P - C, Q - C) / std::max(1e-300, r2));
             poly.push_back(id);
         } while (++cc != done);
         if (!keep || poly.size() < 3) continue;
         // Canonical polygon: from its smallest cell id, towards the smaller of its two neighbours.
         std::rotate(poly.begin(), std::min_element(poly.begin(), poly.end()), poly.end());
         if (poly.back() < poly[1]) std::reverse(poly.begin() + 1, poly.end());
-        keyed_faces.push_back({{std::min(p, q), std::max(p, q)}, std::move(poly)});
+        keyed_faces.emplace_back(std::array<int, 2>{std::min(p, q), std::max(p, q)}, std::move(poly), cos_angle);
     }
     std::sort(keyed_faces.begin(), keyed_faces.end(),
-              [](const auto& x, const auto& y) { return x.first < y.first; });
+              [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
+    std::vector<std::vector<int>> all_faces;
+    std::vector<double> face_cos;
+    for (auto& kf : keyed_faces) {
+        all_faces.push_back(std::move(std::get<1>(kf)));
+        face_cos.push_back(std::get<2>(kf));
+    }
+    std::vector<std::array<int, 2>> curve_edges;
+    const double cos_min = std::cos(min_angle_deg * kPi / 180.0);
     std::vector<std::vector<int>> faces;
-    for (auto& kf : keyed_faces) faces.push_back(std::move(kf.second));
+    if (keep_topology) {
+        faces = erode_by_angle(all_faces, face_cos, cos_min, curve_edges);
+    } else {
+        for (size_t f = 0; f < all_faces.size(); ++f)
+            if (face_cos[f] <= cos_min) faces.push_back(std::move(all_faces[f]));
+    }
     out.voronoi_faces = static_cast<int>(faces.size());
 
     // Compact the cells used by kept faces into complex vertices (in cell order).
@@ -308,6 +421,8 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
     MedialComplex mc;
     for (const std::vector<int>& f : faces)
         for (int id : f) cell_to_vertex[static_cast<size_t>(id)] = 0;
+    for (const std::array<int, 2>& e : curve_edges)
+        for (int id : e) cell_to_vertex[static_cast<size_t>(id)] = 0;
     for (size_t i = 0; i < centres.size(); ++i)
         if (cell_to_vertex[i] == 0) {
             cell_to_vertex[i] = static_cast<int>(mc.centre.size());
@@ -343,11 +458,87 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
         }
     }
     mc.triangle_alive.assign(mc.triangles.size(), 1);
+    for (const std::array<int, 2>& e : curve_edges) {
+        const int a = cell_to_vertex[static_cast<size_t>(e[0])], b = cell_to_vertex[static_cast<size_t>(e[1])];
+        mc.neighbours[static_cast<size_t>(a)].push_back(b);
+        mc.neighbours[static_cast<size_t>(b)].push_back(a);
+    }
     for (std::vector<int>& n : mc.neighbours) {
         std::sort(n.begin(), n.end());
         n.erase(std::unique(n.begin(), n.end()), n.end());
     }
     return mc;
+}
+
+// The segment a-b lies inside the surface and its points keep at least clearance x the radius interpolated between
+// a's and b's spheres from the surface (points every quarter of the smaller radius, at most 64).
+bool segment_inside(const SurfaceQuery& query, const Vec3& a, double ra, const Vec3& b, double rb, double clearance) {
+    const int n = std::clamp(static_cast<int>(std::ceil(4 * distance(a, b) / std::max(1e-300, std::min(ra, rb)))), 2, 64);
+    std::vector<Vec3> points;
+    for (int i = 0; i <= n; ++i) points.push_back(a + (b - a) * (static_cast<double>(i) / n));
+    const std::vector<char> in = query.inside(points);
+    for (int i = 0; i <= n; ++i) {
+        if (!in[static_cast<size_t>(i)]) return false;
+        const double t = static_cast<double>(i) / n;
+        const double r = (1 - t) * ra + t * rb;
+        if (query.squared_distance(points[static_cast<size_t>(i)]) < clearance * clearance * r * r) return false;
+    }
+    return true;
+}
+
+// Parts the angle filter cut apart (a disk's mid-sheet from its hub's axis where the two meet, fins from a rim) are
+// joined back by one curve edge each: in decreasing size, a part of at least min_part_vertices vertices is joined to
+// the growing main part (the largest) through its closest vertex pair, when that pair is at most join_factor x the
+// larger of their radii apart and the segment between them stays inside (segment_inside, clearance 0.25). One edge
+// per part: the homotopy type is the disjoint union's, plus a tree. Returns the number of joins.
+int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_factor, int min_part_vertices) {
+    const int nv = static_cast<int>(mc.centre.size());
+    UnionFind uf(nv);
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)])
+            for (int n : mc.neighbours[static_cast<size_t>(v)]) uf.unite(v, n);
+    std::map<int, std::vector<int>> parts;
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)]) parts[uf.find(v)].push_back(v);
+    std::vector<std::vector<int>> order;
+    for (auto& [root, members] : parts) order.push_back(std::move(members));
+    std::stable_sort(order.begin(), order.end(), [](const std::vector<int>& x, const std::vector<int>& y) {
+        return x.size() > y.size();
+    });
+    if (order.size() < 2) return 0;
+    std::vector<int> main = order[0];
+    std::vector<char> joined(order.size(), 0);
+    joined[0] = 1;
+    int joins = 0;
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (size_t c = 1; c < order.size(); ++c) {
+            if (joined[c] || static_cast<int>(order[c].size()) < min_part_vertices) continue;
+            double best = std::numeric_limits<double>::infinity();
+            int ba = -1, bb = -1;
+            for (int a : order[c])
+                for (int b : main) {
+                    const double d = distance(mc.centre[static_cast<size_t>(a)], mc.centre[static_cast<size_t>(b)]) -
+                                     std::max(mc.radius[static_cast<size_t>(a)], mc.radius[static_cast<size_t>(b)]) * 1e-9;
+                    if (d < best) {
+                        best = d;
+                        ba = a;
+                        bb = b;
+                    }
+                }
+            const double ra = mc.radius[static_cast<size_t>(ba)], rb = mc.radius[static_cast<size_t>(bb)];
+            if (best > join_factor * std::max(ra, rb)) continue;
+            if (!segment_inside(query, mc.centre[static_cast<size_t>(ba)], ra, mc.centre[static_cast<size_t>(bb)], rb, 0.25))
+                continue;
+            insert_sorted(mc.neighbours[static_cast<size_t>(ba)], bb);
+            insert_sorted(mc.neighbours[static_cast<size_t>(bb)], ba);
+            main.insert(main.end(), order[c].begin(), order[c].end());
+            joined[c] = 1;
+            ++joins;
+            changed = true;
+        }
+    }
+    return joins;
 }
 
 // Keeps only the connected component with the most vertices (ties: the one with the lowest vertex id).
@@ -849,14 +1040,19 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     out.bbox_diagonal = diag;
     double h = options.sample_spacing * diag;
     const std::vector<Vec3> samples = sample_surface(surface, h, options.max_samples);
-    MedialComplex mc = voronoi_medial_complex(samples, query, diag, options.min_angle_deg, out);
+    MedialComplex mc = voronoi_medial_complex(samples, query, diag, options.min_angle_deg, options.keep_topology, out);
     if (mc.centre.empty())
         throw Error(ErrorCode::NumericalFailure,
                     "medial axis: no Voronoi face passed the angle filter (" + std::to_string(out.inner_poles) +
                         " inner poles from " + std::to_string(out.samples) + " samples)");
+    out.joined_parts = join_components(mc, query, options.join_factor, options.min_part_vertices);
     keep_largest_component(mc);
     out.initial_vertices = static_cast<int>(std::count(mc.alive.begin(), mc.alive.end(), 1));
     out.initial_triangles = static_cast<int>(std::count(mc.triangle_alive.begin(), mc.triangle_alive.end(), 1));
+    long initial_edges = 0;
+    for (size_t v = 0; v < mc.centre.size(); ++v)
+        if (mc.alive[v]) initial_edges += static_cast<long>(mc.neighbours[v].size());
+    out.initial_euler = out.initial_vertices - initial_edges / 2 + out.initial_triangles;
     out.collapses = simplify(mc, options, diag);
     SmallComplex s = compact(mc);
     out.thin_triangles_removed = remove_thin_triangles(s, options.sheet_width_factor);
