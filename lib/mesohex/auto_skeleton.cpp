@@ -112,9 +112,11 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
             out.raw_inverted = raw.raw_quality.inverted;
             out.raw_sj_min = raw.raw_quality.sj_min;
             why << "; meso raw mesh " << out.raw_hexes << " hexes, " << out.raw_inverted << " inverted (min SJ "
-                << out.raw_sj_min << ")";
-            if (!raw.raw_quality.validation.valid() || out.raw_inverted > options.max_raw_inverted) {
-                why << " > " << options.max_raw_inverted << " inverted or invalid: curve skeleton instead";
+                << out.raw_sj_min << ", radii " << options.meso_radius_factor << " x distance)";
+            if (!raw.raw_quality.validation.valid() || out.raw_inverted > options.max_raw_inverted ||
+                out.raw_sj_min < options.min_raw_sj) {
+                why << ": more than " << options.max_raw_inverted << " inverted, min SJ below " << options.min_raw_sj
+                    << " or invalid: curve skeleton instead";
                 out.reason = why.str();
                 use_curve(out, surface, options);
                 return out;

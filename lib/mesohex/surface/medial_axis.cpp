@@ -368,6 +368,23 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
     std::vector<char> inside(centres.size(), 0);
     for (size_t k = 0; k < candidates.size(); ++k) inside[static_cast<size_t>(candidates[k])] = inside_flags[k];
     out.inner_poles = static_cast<int>(std::count(inside.begin(), inside.end(), 1));
+    if (keep_topology) {
+        // The cells of the solid's tetrahedralization (centroid inside) whose circumcentre fell outside (flat cells
+        // at the surface, at thin places) still count: without their Voronoi vertices the inner complex has holes
+        // the solid has not. Their faces are narrow and go in the erosion unless the topology needs them.
+        std::vector<int> flat;
+        std::vector<Vec3> centroids;
+        for (size_t i = 0; i < centres.size(); ++i) {
+            if (inside[i] || !std::isfinite(radii[i]) || radii[i] >= diag) continue;
+            Vec3 g{0, 0, 0};
+            for (int v : cell_samples[i]) g = g + 0.25 * samples[static_cast<size_t>(v)];
+            flat.push_back(static_cast<int>(i));
+            centroids.push_back(g);
+        }
+        const std::vector<char> in = query.inside(centroids);
+        for (size_t k = 0; k < flat.size(); ++k)
+            if (in[k]) inside[static_cast<size_t>(flat[k])] = 1;
+    }
 
     // Inner Voronoi faces: one per finite Delaunay edge pq whose incident cells are all inner, with its angle: the
     // smallest angle pcq over its Voronoi vertices c (as a cosine: the largest cos pcq).
