@@ -558,6 +558,127 @@ int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_fa
     return joins;
 }
 
+// After the erosion (keep_topology): the triangle parts (vertices joined through triangles) whose extent (bounding-box
+// diagonal of their centres) is at least extent_factor x their largest radius are kept (sheets and tube bundles; the
+// small islands of wide faces at corners go), joined by the shortest curve paths (Dijkstra, edge length; free inside a
+// kept part) that link each kept part to the largest one, nearest first. Every other curve edge and triangle goes:
+// the curve debris the inner Voronoi complex leaves near the surface (cycles around its own holes, spurs to corners).
+// Returns the number of kept parts.
+int keep_parts_and_paths(MedialComplex& mc, double extent_factor) {
+    const int nv = static_cast<int>(mc.centre.size());
+    UnionFind uf(nv);
+    std::vector<char> in_triangle(static_cast<size_t>(nv), 0);
+    for (size_t t = 0; t < mc.triangles.size(); ++t)
+        if (mc.triangle_alive[t]) {
+            for (int v : mc.triangles[t]) in_triangle[static_cast<size_t>(v)] = 1;
+            uf.unite(mc.triangles[t][0], mc.triangles[t][1]);
+            uf.unite(mc.triangles[t][0], mc.triangles[t][2]);
+        }
+    std::map<int, std::vector<int>> parts;
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)] && in_triangle[static_cast<size_t>(v)]) parts[uf.find(v)].push_back(v);
+    std::vector<std::vector<int>> kept_parts;
+    for (const auto& [root, members] : parts) {
+        Vec3 lo = mc.centre[static_cast<size_t>(members[0])], hi = lo;
+        double rmax = 0;
+        for (int v : members) {
+            const Vec3& c = mc.centre[static_cast<size_t>(v)];
+            for (int k = 0; k < 3; ++k) {
+                lo[k] = std::min(lo[k], c[k]);
+                hi[k] = std::max(hi[k], c[k]);
+            }
+            rmax = std::max(rmax, mc.radius[static_cast<size_t>(v)]);
+        }
+        if (distance(lo, hi) >= extent_factor * rmax) kept_parts.push_back(members);
+    }
+    if (kept_parts.empty()) return 0;
+    std::stable_sort(kept_parts.begin(), kept_parts.end(),
+                     [](const std::vector<int>& x, const std::vector<int>& y) { return x.size() > y.size(); });
+    std::vector<int> part_of(static_cast<size_t>(nv), -1);
+    for (size_t p = 0; p < kept_parts.size(); ++p)
+        for (int v : kept_parts[p]) part_of[static_cast<size_t>(v)] = static_cast<int>(p);
+    // Edge weights: 0 between two vertices of one kept part, else the length.
+    auto weight = [&](int a, int b) {
+        const int pa = part_of[static_cast<size_t>(a)];
+        return pa >= 0 && pa == part_of[static_cast<size_t>(b)]
+                   ? 0.0
+                   : distance(mc.centre[static_cast<size_t>(a)], mc.centre[static_cast<size_t>(b)]);
+    };
+    std::set<std::array<int, 2>> kept_edges;
+    std::vector<char> connected(kept_parts.size(), 0);
+    connected[0] = 1;
+    std::vector<int> sources = kept_parts[0];
+    for (size_t round = 1; round < kept_parts.size(); ++round) {
+        std::vector<double> dist(static_cast<size_t>(nv), std::numeric_limits<double>::infinity());
+        std::vector<int> from(static_cast<size_t>(nv), -1);
+        using Item = std::pair<double, int>;
+        std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+        for (int v : sources) {
+            dist[static_cast<size_t>(v)] = 0;
+            heap.push({0.0, v});
+        }
+        int reached = -1;
+        while (!heap.empty()) {
+            const auto [d, v] = heap.top();
+            heap.pop();
+            if (d > dist[static_cast<size_t>(v)]) continue;
+            const int pv = part_of[static_cast<size_t>(v)];
+            if (pv >= 0 && !connected[static_cast<size_t>(pv)]) {
+                reached = v;
+                break;
+            }
+            for (int n : mc.neighbours[static_cast<size_t>(v)]) {
+                const double nd = d + weight(v, n);
+                if (nd < dist[static_cast<size_t>(n)]) {
+                    dist[static_cast<size_t>(n)] = nd;
+                    from[static_cast<size_t>(n)] = v;
+                    heap.push({nd, n});
+                }
+            }
+        }
+        if (reached < 0) break;  // the rest is not reachable: keep_largest_component drops it
+        for (int v = reached; from[static_cast<size_t>(v)] >= 0; v = from[static_cast<size_t>(v)]) {
+            const int u = from[static_cast<size_t>(v)];
+            if (weight(u, v) > 0) kept_edges.insert({std::min(u, v), std::max(u, v)});
+        }
+        const int p = part_of[static_cast<size_t>(reached)];
+        connected[static_cast<size_t>(p)] = 1;
+        sources.insert(sources.end(), kept_parts[static_cast<size_t>(p)].begin(), kept_parts[static_cast<size_t>(p)].end());
+        for (int v = reached; from[static_cast<size_t>(v)] >= 0; v = from[static_cast<size_t>(v)]) sources.push_back(v);
+    }
+    // Rebuild: triangles of connected parts, their sides and the kept path edges.
+    std::vector<std::vector<int>> neighbours(static_cast<size_t>(nv));
+    for (size_t t = 0; t < mc.triangles.size(); ++t) {
+        if (!mc.triangle_alive[t]) continue;
+        const int p = part_of[static_cast<size_t>(mc.triangles[t][0])];
+        if (p < 0 || !connected[static_cast<size_t>(p)]) {
+            mc.triangle_alive[t] = 0;
+            continue;
+        }
+        for (int k = 0; k < 3; ++k) {
+            const int a = mc.triangles[t][static_cast<size_t>(k)], b = mc.triangles[t][static_cast<size_t>((k + 1) % 3)];
+            neighbours[static_cast<size_t>(a)].push_back(b);
+            neighbours[static_cast<size_t>(b)].push_back(a);
+        }
+    }
+    for (const std::array<int, 2>& e : kept_edges) {
+        neighbours[static_cast<size_t>(e[0])].push_back(e[1]);
+        neighbours[static_cast<size_t>(e[1])].push_back(e[0]);
+    }
+    for (int v = 0; v < nv; ++v) {
+        std::vector<int>& n = neighbours[static_cast<size_t>(v)];
+        std::sort(n.begin(), n.end());
+        n.erase(std::unique(n.begin(), n.end()), n.end());
+        if (n.empty()) mc.alive[static_cast<size_t>(v)] = 0;
+        std::vector<int> tris;
+        for (int t : mc.vertex_triangles[static_cast<size_t>(v)])
+            if (mc.triangle_alive[static_cast<size_t>(t)]) tris.push_back(t);
+        mc.vertex_triangles[static_cast<size_t>(v)] = std::move(tris);
+    }
+    mc.neighbours = std::move(neighbours);
+    return static_cast<int>(std::count(connected.begin(), connected.end(), 1));
+}
+
 // Keeps only the connected component with the most vertices (ties: the one with the lowest vertex id).
 void keep_largest_component(MedialComplex& mc) {
     const int nv = static_cast<int>(mc.centre.size());
@@ -1063,6 +1184,7 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
                     "medial axis: no Voronoi face passed the angle filter (" + std::to_string(out.inner_poles) +
                         " inner poles from " + std::to_string(out.samples) + " samples)");
     out.joined_parts = join_components(mc, query, options.join_factor, options.min_part_vertices);
+    if (options.keep_topology) keep_parts_and_paths(mc, options.part_extent_factor);
     keep_largest_component(mc);
     out.initial_vertices = static_cast<int>(std::count(mc.alive.begin(), mc.alive.end(), 1));
     out.initial_triangles = static_cast<int>(std::count(mc.triangle_alive.begin(), mc.triangle_alive.end(), 1));

@@ -37,6 +37,9 @@ struct MedialAxisOptions {
     // side), which keeps its topology (no holes punched into thin sheets, no parts cut off) but leaves narrow strips
     // as curve edges; false: narrow faces are simply dropped (holes and cut-off parts possible).
     bool keep_topology = false;
+    // keep_topology: a part of wide faces is kept when its extent is at least this x its largest radius, with the
+    // shortest curve paths that link the kept parts; other curve edges (debris near the surface) go (x radius).
+    double part_extent_factor = 2.0;
     int target_vertices = 60;       // simplification stops at this many medial vertices ...
     double error_tolerance = 0;     // > 0: stop earlier, when the next collapse costs more than (tolerance x diag)^2
                                     //     and fewer than max_vertices are left (0 = off: always target_vertices)
