@@ -11,6 +11,9 @@
 //      and see p and q under an angle pcq of at least min_angle_deg (a noise face between two neighbouring samples
 //      sees them under a small angle; a face between the two sides of a plate under 180 degrees; the wedges going to
 //      90-degree edges of the surface, under 90 degrees: a sheet ends where the shape's edges begin, which trims it);
+//      with keep_topology the filter is an erosion by elementary collapses instead (narrow faces go only from a free
+//      side), followed by keep_parts_and_paths (wide-face parts of extent >= part_extent_factor x radius and the
+//      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off (both off by default);
 //   4. simplification (in the spirit of Q-MAT, Li et al. 2015): every sphere carries the sphere quadric of the
 //      tangent planes at its touching samples (error of a sphere (c, r) against the plane through p with unit normal
 //      n: (n . (c - p) + r)^2); edges are collapsed cheapest first to the sphere minimizing the summed quadric, only
