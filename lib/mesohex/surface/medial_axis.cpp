@@ -310,6 +310,48 @@ std::vector<std::vector<int>> erode_by_angle(const std::vector<std::vector<int>>
     return kept;
 }
 
+// keep_topology: the cells of the solid's tetrahedralization (centroid inside) whose circumcentre fell outside (flat
+// cells at the surface, at thin places) still count as inner: without their Voronoi vertices the inner complex has
+// holes the solid has not. Their faces are narrow and go in the erosion unless the topology needs them.
+void add_flat_inner_cells(const std::vector<Vec3>& samples, const SurfaceQuery& query, double diag,
+                          const std::vector<Vec3>& centres, const std::vector<double>& radii,
+                          const std::vector<std::array<int, 4>>& cell_samples, std::vector<char>& inside) {
+    std::vector<int> flat;
+    std::vector<Vec3> centroids;
+    for (size_t i = 0; i < centres.size(); ++i) {
+        if (inside[i] || !std::isfinite(radii[i]) || radii[i] >= diag) continue;
+        Vec3 g{0, 0, 0};
+        for (int v : cell_samples[i]) g = g + 0.25 * samples[static_cast<size_t>(v)];
+        flat.push_back(static_cast<int>(i));
+        centroids.push_back(g);
+    }
+    const std::vector<char> in = query.inside(centroids);
+    for (size_t k = 0; k < flat.size(); ++k)
+        if (in[k]) inside[static_cast<size_t>(flat[k])] = 1;
+}
+
+// The inner faces in Delaunay-edge order, filtered by angle (dropped, or eroded with keep_topology; see erode_by_angle).
+using KeyedFace = std::tuple<std::array<int, 2>, std::vector<int>, double>;
+std::vector<std::vector<int>> select_faces(std::vector<KeyedFace>& keyed_faces, double cos_min, bool keep_topology,
+                                           std::vector<std::array<int, 2>>& curve_edges) {
+    std::sort(keyed_faces.begin(), keyed_faces.end(),
+              [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
+    std::vector<std::vector<int>> all_faces;
+    std::vector<double> face_cos;
+    for (auto& kf : keyed_faces) {
+        all_faces.push_back(std::move(std::get<1>(kf)));
+        face_cos.push_back(std::get<2>(kf));
+    }
+    std::vector<std::vector<int>> faces;
+    if (keep_topology) {
+        faces = erode_by_angle(all_faces, face_cos, cos_min, curve_edges);
+    } else {
+        for (size_t f = 0; f < all_faces.size(); ++f)
+            if (face_cos[f] <= cos_min) faces.push_back(std::move(all_faces[f]));
+    }
+    return faces;
+}
+
 // Inner poles and angle-filtered Voronoi faces of the samples, fan-triangulated into a medial complex.
 MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const SurfaceQuery& query, double diag,
                                      double min_angle_deg, bool keep_topology, MedialAxis& out) {
@@ -368,27 +410,10 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
     std::vector<char> inside(centres.size(), 0);
     for (size_t k = 0; k < candidates.size(); ++k) inside[static_cast<size_t>(candidates[k])] = inside_flags[k];
     out.inner_poles = static_cast<int>(std::count(inside.begin(), inside.end(), 1));
-    if (keep_topology) {
-        // The cells of the solid's tetrahedralization (centroid inside) whose circumcentre fell outside (flat cells
-        // at the surface, at thin places) still count: without their Voronoi vertices the inner complex has holes
-        // the solid has not. Their faces are narrow and go in the erosion unless the topology needs them.
-        std::vector<int> flat;
-        std::vector<Vec3> centroids;
-        for (size_t i = 0; i < centres.size(); ++i) {
-            if (inside[i] || !std::isfinite(radii[i]) || radii[i] >= diag) continue;
-            Vec3 g{0, 0, 0};
-            for (int v : cell_samples[i]) g = g + 0.25 * samples[static_cast<size_t>(v)];
-            flat.push_back(static_cast<int>(i));
-            centroids.push_back(g);
-        }
-        const std::vector<char> in = query.inside(centroids);
-        for (size_t k = 0; k < flat.size(); ++k)
-            if (in[k]) inside[static_cast<size_t>(flat[k])] = 1;
-    }
-
+    if (keep_topology) add_flat_inner_cells(samples, query, diag, centres, radii, cell_samples, inside);
     // Inner Voronoi faces: one per finite Delaunay edge pq whose incident cells are all inner, with its angle: the
     // smallest angle pcq over its Voronoi vertices c (as a cosine: the largest cos pcq).
-    std::vector<std::tuple<std::array<int, 2>, std::vector<int>, double>> keyed_faces;
+    std::vector<KeyedFace> keyed_faces;
     for (const Delaunay::Edge& e : dt.finite_edges()) {
         const int p = e.first->vertex(e.second)->info(), q = e.first->vertex(e.third)->info();
         const Vec3& P = samples[static_cast<size_t>(p)];
@@ -414,23 +439,9 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
         if (poly.back() < poly[1]) std::reverse(poly.begin() + 1, poly.end());
         keyed_faces.emplace_back(std::array<int, 2>{std::min(p, q), std::max(p, q)}, std::move(poly), cos_angle);
     }
-    std::sort(keyed_faces.begin(), keyed_faces.end(),
-              [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
-    std::vector<std::vector<int>> all_faces;
-    std::vector<double> face_cos;
-    for (auto& kf : keyed_faces) {
-        all_faces.push_back(std::move(std::get<1>(kf)));
-        face_cos.push_back(std::get<2>(kf));
-    }
     std::vector<std::array<int, 2>> curve_edges;
-    const double cos_min = std::cos(min_angle_deg * kPi / 180.0);
-    std::vector<std::vector<int>> faces;
-    if (keep_topology) {
-        faces = erode_by_angle(all_faces, face_cos, cos_min, curve_edges);
-    } else {
-        for (size_t f = 0; f < all_faces.size(); ++f)
-            if (face_cos[f] <= cos_min) faces.push_back(std::move(all_faces[f]));
-    }
+    const std::vector<std::vector<int>> faces =
+        select_faces(keyed_faces, std::cos(min_angle_deg * kPi / 180.0), keep_topology, curve_edges);
     out.voronoi_faces = static_cast<int>(faces.size());
 
     // Compact the cells used by kept faces into complex vertices (in cell order).
