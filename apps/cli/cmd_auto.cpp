@@ -55,6 +55,12 @@ void register_auto(CLI::App& app, int* status) {
     cmd->add_option("--min-sheet-fraction", args->skeleton.min_sheet_fraction,
                     "auto: the meso-skeleton when the medial axis's sheet fraction is at least this")
         ->capture_default_str();
+    cmd->add_flag("--keep-topology", args->skeleton.medial.keep_topology,
+                  "medial axis: angle filter as a topology-keeping erosion (see mesohex medial --keep-topology)");
+    cmd->add_option("--meso-radius-factor", args->skeleton.meso_radius_factor,
+                    "meso-skeleton radii = this x the distance to the surface (0: keep the medial radii)")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
     add_mesh_job_options(cmd, &args->job);
     cmd->footer("The skeleton used is written beside the mesh (OUT.skeleton.obj, with radii): edit it and re-run\n"
                 "  mesohex mesh OUT.skeleton.obj --surface SURFACE -o OUT.mesh\n"

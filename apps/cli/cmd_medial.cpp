@@ -38,6 +38,8 @@ void register_medial(CLI::App& app, int* status) {
     cmd->add_option("--min-angle", o.min_angle_deg, "Angle filter: a Voronoi face is medial when it sees its two "
                                                     "samples under at least this angle (degrees)")
         ->capture_default_str();
+    cmd->add_flag("--keep-topology", o.keep_topology,
+                  "Angle filter as an erosion that keeps the inner Voronoi complex's topology (no holes, no cut-off parts)");
     cmd->add_option("--target-vertices", o.target_vertices, "Simplify down to this many medial vertices")
         ->capture_default_str();
     cmd->add_option("--error-tolerance", o.error_tolerance,
@@ -59,7 +61,7 @@ void register_medial(CLI::App& app, int* status) {
         write_medial_mesh(args->output, m.medial);
         std::cout << "medial " << args->input << ": " << m.samples << " samples, " << m.inner_poles
                   << " inner poles, " << m.voronoi_faces << " Voronoi faces kept -> " << m.initial_vertices
-                  << " vertices, " << m.initial_triangles << " triangles; " << m.collapses << " collapses, "
+                  << " vertices, " << m.initial_triangles << " triangles (Euler characteristic " << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.collapses << " collapses, "
                   << m.thin_triangles_removed << " thin triangles to curves, " << m.pruned_tips
                   << " tips pruned (read " << ms(t0, t1) << " ms, medial " << ms(t1, t2) << " ms)\n"
                   << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size()

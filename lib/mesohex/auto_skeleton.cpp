@@ -7,6 +7,8 @@
 #include <utility>
 
 #include "mesohex/core/error.h"
+#include "mesohex/surface/radius_from_surface.h"
+#include "mesohex/surface/surface_query.h"
 
 namespace mesohex {
 
@@ -93,6 +95,14 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
             }
         }
         out.import = import_medial_mesh(out.medial.medial, options.import);
+        if (options.meso_radius_factor > 0) {
+            const SurfaceQuery query(surface);
+            RadiusFromSurfaceOptions ro;
+            ro.factor = options.meso_radius_factor;
+            const RadiusFromSurface rs = radius_from_surface(out.import.skeleton, query, ro);
+            for (size_t v = 0; v < rs.radii.size(); ++v)
+                if (rs.radii[v] > 0) out.import.skeleton.radii[v] = rs.radii[v];  // a point on the surface keeps its own
+        }
         if (options.kind == SkeletonKind::Auto) {
             MeshOptions raw_options;
             raw_options.finish = false;
@@ -102,9 +112,11 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
             out.raw_inverted = raw.raw_quality.inverted;
             out.raw_sj_min = raw.raw_quality.sj_min;
             why << "; meso raw mesh " << out.raw_hexes << " hexes, " << out.raw_inverted << " inverted (min SJ "
-                << out.raw_sj_min << ")";
-            if (!raw.raw_quality.validation.valid() || out.raw_inverted > options.max_raw_inverted) {
-                why << " > " << options.max_raw_inverted << " inverted or invalid: curve skeleton instead";
+                << out.raw_sj_min << ", radii " << options.meso_radius_factor << " x distance)";
+            if (!raw.raw_quality.validation.valid() || out.raw_inverted > options.max_raw_inverted ||
+                out.raw_sj_min < options.min_raw_sj) {
+                why << ": more than " << options.max_raw_inverted << " inverted, min SJ below " << options.min_raw_sj
+                    << " or invalid: curve skeleton instead";
                 out.reason = why.str();
                 use_curve(out, surface, options);
                 return out;

@@ -184,7 +184,9 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
         decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},
                                      {"inverted", chosen.raw_inverted},
                                      {"sj_min", chosen.raw_sj_min},
-                                     {"max_inverted", options.max_raw_inverted}};
+                                     {"max_inverted", options.max_raw_inverted},
+                                     {"min_sj", options.min_raw_sj},
+                                     {"radius_factor", options.meso_radius_factor}};
     return {{"mode", "auto"},
             {"skeleton_kind", skeleton_kind_name(chosen.kind)},
             {"skeleton_decision", decision},

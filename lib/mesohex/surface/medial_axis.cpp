@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <queue>
@@ -208,9 +209,152 @@ void erase_sorted(std::vector<int>& v, int x) {
 }
 bool contains(const std::array<int, 3>& t, int v) { return t[0] == v || t[1] == v || t[2] == v; }
 
+// Angle filter as an erosion that keeps the homotopy type (elementary collapses of the inner Voronoi complex, which
+// is homotopy equivalent to the solid): a face whose angle is below the threshold (cos_angle > cos_min) goes with one
+// free side (a side in no other face), smallest angle first; a side left in no face stays as a curve edge, and a curve
+// edge with an end on nothing else goes with that end. What stays: the wide-angle faces (the medial sheets and the
+// sliver bundles around tube axes) and whatever narrow-angle faces and edges hold them together (the ligature
+// where a disk's mid-sheet meets its hub's axis, the faces that close the holes noise would punch into a thin
+// plate's sheet). Returns the faces kept (in input order) and writes the curve edges left (cell ids, a < b, sorted).
+std::vector<std::vector<int>> erode_by_angle(const std::vector<std::vector<int>>& faces, const std::vector<double>& face_cos,
+                                             double cos_min, std::vector<std::array<int, 2>>& curve_edges) {
+    // Edges of the complex: sorted cell-id pairs, with their faces' count.
+    std::vector<std::array<int, 2>> edges;
+    for (const std::vector<int>& f : faces)
+        for (size_t k = 0; k < f.size(); ++k) {
+            const int a = f[k], b = f[(k + 1) % f.size()];
+            edges.push_back({std::min(a, b), std::max(a, b)});
+        }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    auto edge_id = [&](int a, int b) {
+        const std::array<int, 2> key = {std::min(a, b), std::max(a, b)};
+        return static_cast<int>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
+    };
+    std::vector<std::vector<int>> face_edges(faces.size());
+    std::vector<std::vector<int>> edge_faces(edges.size());
+    for (size_t f = 0; f < faces.size(); ++f)
+        for (size_t k = 0; k < faces[f].size(); ++k) {
+            const int e = edge_id(faces[f][k], faces[f][(k + 1) % faces[f].size()]);
+            face_edges[f].push_back(e);
+            edge_faces[static_cast<size_t>(e)].push_back(static_cast<int>(f));
+        }
+    std::vector<int> face_count(edges.size());
+    for (size_t e = 0; e < edges.size(); ++e) face_count[e] = static_cast<int>(edge_faces[e].size());
+    // Vertex -> edges (cell ids are sparse: a map keeps memory to the vertices used).
+    std::map<int, std::vector<int>> vertex_edges;
+    for (size_t e = 0; e < edges.size(); ++e)
+        for (int v : edges[e]) vertex_edges[v].push_back(static_cast<int>(e));
+    std::map<int, int> degree;
+    for (const auto& [v, es] : vertex_edges) degree[v] = static_cast<int>(es.size());
+    std::vector<char> face_alive(faces.size(), 1), edge_alive(edges.size(), 1);
+
+    std::vector<int> tips;  // vertices of degree 1 to check
+    auto erode_curves = [&]() {
+        while (!tips.empty()) {
+            const int v = tips.back();
+            tips.pop_back();
+            if (degree[v] != 1) continue;
+            int e = -1;
+            for (int x : vertex_edges[v])
+                if (edge_alive[static_cast<size_t>(x)]) e = x;
+            if (e < 0 || face_count[static_cast<size_t>(e)] != 0) continue;
+            edge_alive[static_cast<size_t>(e)] = 0;
+            for (int w : edges[static_cast<size_t>(e)])
+                if (--degree[w] == 1) tips.push_back(w);
+        }
+    };
+    using Item = std::pair<double, int>;  // (-cos angle: smallest angle first, face)
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    auto push_if_free = [&](int f) {
+        if (!face_alive[static_cast<size_t>(f)] || face_cos[static_cast<size_t>(f)] <= cos_min) return;
+        for (int e : face_edges[static_cast<size_t>(f)])
+            if (face_count[static_cast<size_t>(e)] == 1) {
+                heap.push({-face_cos[static_cast<size_t>(f)], f});
+                return;
+            }
+    };
+    for (size_t f = 0; f < faces.size(); ++f) push_if_free(static_cast<int>(f));
+    while (!heap.empty()) {
+        const int f = heap.top().second;
+        heap.pop();
+        if (!face_alive[static_cast<size_t>(f)]) continue;
+        int free_edge = -1;
+        for (int e : face_edges[static_cast<size_t>(f)])
+            if (face_count[static_cast<size_t>(e)] == 1) {
+                free_edge = e;
+                break;
+            }
+        if (free_edge < 0) continue;
+        face_alive[static_cast<size_t>(f)] = 0;
+        for (int e : face_edges[static_cast<size_t>(f)]) --face_count[static_cast<size_t>(e)];
+        edge_alive[static_cast<size_t>(free_edge)] = 0;
+        for (int w : edges[static_cast<size_t>(free_edge)])
+            if (--degree[w] == 1) tips.push_back(w);
+        for (int e : face_edges[static_cast<size_t>(f)]) {
+            if (!edge_alive[static_cast<size_t>(e)]) continue;
+            if (face_count[static_cast<size_t>(e)] == 1)
+                for (int g : edge_faces[static_cast<size_t>(e)]) push_if_free(g);
+            if (face_count[static_cast<size_t>(e)] == 0)
+                for (int w : edges[static_cast<size_t>(e)])
+                    if (degree[w] == 1) tips.push_back(w);
+        }
+        erode_curves();
+    }
+    std::vector<std::vector<int>> kept;
+    for (size_t f = 0; f < faces.size(); ++f)
+        if (face_alive[f]) kept.push_back(faces[f]);
+    curve_edges.clear();
+    for (size_t e = 0; e < edges.size(); ++e)
+        if (edge_alive[e] && face_count[e] == 0) curve_edges.push_back(edges[e]);
+    return kept;
+}
+
+// keep_topology: the cells of the solid's tetrahedralization (centroid inside) whose circumcentre fell outside (flat
+// cells at the surface, at thin places) still count as inner: without their Voronoi vertices the inner complex has
+// holes the solid has not. Their faces are narrow and go in the erosion unless the topology needs them.
+void add_flat_inner_cells(const std::vector<Vec3>& samples, const SurfaceQuery& query, double diag,
+                          const std::vector<Vec3>& centres, const std::vector<double>& radii,
+                          const std::vector<std::array<int, 4>>& cell_samples, std::vector<char>& inside) {
+    std::vector<int> flat;
+    std::vector<Vec3> centroids;
+    for (size_t i = 0; i < centres.size(); ++i) {
+        if (inside[i] || !std::isfinite(radii[i]) || radii[i] >= diag) continue;
+        Vec3 g{0, 0, 0};
+        for (int v : cell_samples[i]) g = g + 0.25 * samples[static_cast<size_t>(v)];
+        flat.push_back(static_cast<int>(i));
+        centroids.push_back(g);
+    }
+    const std::vector<char> in = query.inside(centroids);
+    for (size_t k = 0; k < flat.size(); ++k)
+        if (in[k]) inside[static_cast<size_t>(flat[k])] = 1;
+}
+
+// The inner faces in Delaunay-edge order, filtered by angle (dropped, or eroded with keep_topology; see erode_by_angle).
+using KeyedFace = std::tuple<std::array<int, 2>, std::vector<int>, double>;
+std::vector<std::vector<int>> select_faces(std::vector<KeyedFace>& keyed_faces, double cos_min, bool keep_topology,
+                                           std::vector<std::array<int, 2>>& curve_edges) {
+    std::sort(keyed_faces.begin(), keyed_faces.end(),
+              [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
+    std::vector<std::vector<int>> all_faces;
+    std::vector<double> face_cos;
+    for (auto& kf : keyed_faces) {
+        all_faces.push_back(std::move(std::get<1>(kf)));
+        face_cos.push_back(std::get<2>(kf));
+    }
+    std::vector<std::vector<int>> faces;
+    if (keep_topology) {
+        faces = erode_by_angle(all_faces, face_cos, cos_min, curve_edges);
+    } else {
+        for (size_t f = 0; f < all_faces.size(); ++f)
+            if (face_cos[f] <= cos_min) faces.push_back(std::move(all_faces[f]));
+    }
+    return faces;
+}
+
 // Inner poles and angle-filtered Voronoi faces of the samples, fan-triangulated into a medial complex.
 MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const SurfaceQuery& query, double diag,
-                                     double min_angle_deg, MedialAxis& out) {
+                                     double min_angle_deg, bool keep_topology, MedialAxis& out) {
     // Insertion in Hilbert order (no randomness: CGAL's range insertion shuffles with the global default random
     // generator, so a second call in the same process gave another triangulation of the cospherical samples).
     std::vector<K::Point_3> points;
@@ -266,16 +410,17 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
     std::vector<char> inside(centres.size(), 0);
     for (size_t k = 0; k < candidates.size(); ++k) inside[static_cast<size_t>(candidates[k])] = inside_flags[k];
     out.inner_poles = static_cast<int>(std::count(inside.begin(), inside.end(), 1));
-
-    // Voronoi faces: one per finite Delaunay edge whose incident cells are all inner and see its ends under a wide angle.
-    const double cos_min = std::cos(min_angle_deg * kPi / 180.0);
-    std::vector<std::pair<std::array<int, 2>, std::vector<int>>> keyed_faces;
+    if (keep_topology) add_flat_inner_cells(samples, query, diag, centres, radii, cell_samples, inside);
+    // Inner Voronoi faces: one per finite Delaunay edge pq whose incident cells are all inner, with its angle: the
+    // smallest angle pcq over its Voronoi vertices c (as a cosine: the largest cos pcq).
+    std::vector<KeyedFace> keyed_faces;
     for (const Delaunay::Edge& e : dt.finite_edges()) {
         const int p = e.first->vertex(e.second)->info(), q = e.first->vertex(e.third)->info();
         const Vec3& P = samples[static_cast<size_t>(p)];
         const Vec3& Q = samples[static_cast<size_t>(q)];
         std::vector<int> poly;
         bool keep = true;
+        double cos_angle = -1;
         Delaunay::Cell_circulator cc = dt.incident_cells(e), done = cc;
         do {
             const int id = cc->info();
@@ -285,22 +430,18 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
             }
             const Vec3& C = centres[static_cast<size_t>(id)];
             const double r2 = radii[static_cast<size_t>(id)] * radii[static_cast<size_t>(id)];
-            if (dot(P - C, Q - C) > cos_min * r2) {
-                keep = false;
-                break;
-            }
+            cos_angle = std::max(cos_angle, dot(P - C, Q - C) / std::max(1e-300, r2));
             poly.push_back(id);
         } while (++cc != done);
         if (!keep || poly.size() < 3) continue;
         // Canonical polygon: from its smallest cell id, towards the smaller of its two neighbours.
         std::rotate(poly.begin(), std::min_element(poly.begin(), poly.end()), poly.end());
         if (poly.back() < poly[1]) std::reverse(poly.begin() + 1, poly.end());
-        keyed_faces.push_back({{std::min(p, q), std::max(p, q)}, std::move(poly)});
+        keyed_faces.emplace_back(std::array<int, 2>{std::min(p, q), std::max(p, q)}, std::move(poly), cos_angle);
     }
-    std::sort(keyed_faces.begin(), keyed_faces.end(),
-              [](const auto& x, const auto& y) { return x.first < y.first; });
-    std::vector<std::vector<int>> faces;
-    for (auto& kf : keyed_faces) faces.push_back(std::move(kf.second));
+    std::vector<std::array<int, 2>> curve_edges;
+    const std::vector<std::vector<int>> faces =
+        select_faces(keyed_faces, std::cos(min_angle_deg * kPi / 180.0), keep_topology, curve_edges);
     out.voronoi_faces = static_cast<int>(faces.size());
 
     // Compact the cells used by kept faces into complex vertices (in cell order).
@@ -308,6 +449,8 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
     MedialComplex mc;
     for (const std::vector<int>& f : faces)
         for (int id : f) cell_to_vertex[static_cast<size_t>(id)] = 0;
+    for (const std::array<int, 2>& e : curve_edges)
+        for (int id : e) cell_to_vertex[static_cast<size_t>(id)] = 0;
     for (size_t i = 0; i < centres.size(); ++i)
         if (cell_to_vertex[i] == 0) {
             cell_to_vertex[i] = static_cast<int>(mc.centre.size());
@@ -343,11 +486,208 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
         }
     }
     mc.triangle_alive.assign(mc.triangles.size(), 1);
+    for (const std::array<int, 2>& e : curve_edges) {
+        const int a = cell_to_vertex[static_cast<size_t>(e[0])], b = cell_to_vertex[static_cast<size_t>(e[1])];
+        mc.neighbours[static_cast<size_t>(a)].push_back(b);
+        mc.neighbours[static_cast<size_t>(b)].push_back(a);
+    }
     for (std::vector<int>& n : mc.neighbours) {
         std::sort(n.begin(), n.end());
         n.erase(std::unique(n.begin(), n.end()), n.end());
     }
     return mc;
+}
+
+// The segment a-b lies inside the surface and its points keep at least clearance x the radius interpolated between
+// a's and b's spheres from the surface (points every quarter of the smaller radius, at most 64).
+bool segment_inside(const SurfaceQuery& query, const Vec3& a, double ra, const Vec3& b, double rb, double clearance) {
+    const int n = std::clamp(static_cast<int>(std::ceil(4 * distance(a, b) / std::max(1e-300, std::min(ra, rb)))), 2, 64);
+    std::vector<Vec3> points;
+    for (int i = 0; i <= n; ++i) points.push_back(a + (b - a) * (static_cast<double>(i) / n));
+    const std::vector<char> in = query.inside(points);
+    for (int i = 0; i <= n; ++i) {
+        if (!in[static_cast<size_t>(i)]) return false;
+        const double t = static_cast<double>(i) / n;
+        const double r = (1 - t) * ra + t * rb;
+        if (query.squared_distance(points[static_cast<size_t>(i)]) < clearance * clearance * r * r) return false;
+    }
+    return true;
+}
+
+// Parts the angle filter cut apart (a disk's mid-sheet from its hub's axis where the two meet, fins from a rim) are
+// joined back by one curve edge each: in decreasing size, a part of at least min_part_vertices vertices is joined to
+// the growing main part (the largest) through its closest vertex pair, when that pair is at most join_factor x the
+// larger of their radii apart and the segment between them stays inside (segment_inside, clearance 0.25). One edge
+// per part: the homotopy type is the disjoint union's, plus a tree. Returns the number of joins.
+int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_factor, int min_part_vertices) {
+    const int nv = static_cast<int>(mc.centre.size());
+    UnionFind uf(nv);
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)])
+            for (int n : mc.neighbours[static_cast<size_t>(v)]) uf.unite(v, n);
+    std::map<int, std::vector<int>> parts;
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)]) parts[uf.find(v)].push_back(v);
+    std::vector<std::vector<int>> order;
+    for (auto& [root, members] : parts) order.push_back(std::move(members));
+    std::stable_sort(order.begin(), order.end(), [](const std::vector<int>& x, const std::vector<int>& y) {
+        return x.size() > y.size();
+    });
+    if (order.size() < 2) return 0;
+    std::vector<int> main = order[0];
+    std::vector<char> joined(order.size(), 0);
+    joined[0] = 1;
+    int joins = 0;
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (size_t c = 1; c < order.size(); ++c) {
+            if (joined[c] || static_cast<int>(order[c].size()) < min_part_vertices) continue;
+            double best = std::numeric_limits<double>::infinity();
+            int ba = -1, bb = -1;
+            for (int a : order[c])
+                for (int b : main) {
+                    const double d = distance(mc.centre[static_cast<size_t>(a)], mc.centre[static_cast<size_t>(b)]) -
+                                     std::max(mc.radius[static_cast<size_t>(a)], mc.radius[static_cast<size_t>(b)]) * 1e-9;
+                    if (d < best) {
+                        best = d;
+                        ba = a;
+                        bb = b;
+                    }
+                }
+            const double ra = mc.radius[static_cast<size_t>(ba)], rb = mc.radius[static_cast<size_t>(bb)];
+            if (best > join_factor * std::max(ra, rb)) continue;
+            if (!segment_inside(query, mc.centre[static_cast<size_t>(ba)], ra, mc.centre[static_cast<size_t>(bb)], rb, 0.25))
+                continue;
+            insert_sorted(mc.neighbours[static_cast<size_t>(ba)], bb);
+            insert_sorted(mc.neighbours[static_cast<size_t>(bb)], ba);
+            main.insert(main.end(), order[c].begin(), order[c].end());
+            joined[c] = 1;
+            ++joins;
+            changed = true;
+        }
+    }
+    return joins;
+}
+
+// After the erosion (keep_topology): the triangle parts (vertices joined through triangles) whose extent (bounding-box
+// diagonal of their centres) is at least extent_factor x their largest radius are kept (sheets and tube bundles; the
+// small islands of wide faces at corners go), joined by the shortest curve paths (Dijkstra, edge length; free inside a
+// kept part) that link each kept part to the largest one, nearest first. Every other curve edge and triangle goes:
+// the curve debris the inner Voronoi complex leaves near the surface (cycles around its own holes, spurs to corners).
+// Returns the number of kept parts.
+int keep_parts_and_paths(MedialComplex& mc, double extent_factor) {
+    const int nv = static_cast<int>(mc.centre.size());
+    UnionFind uf(nv);
+    std::vector<char> in_triangle(static_cast<size_t>(nv), 0);
+    for (size_t t = 0; t < mc.triangles.size(); ++t)
+        if (mc.triangle_alive[t]) {
+            for (int v : mc.triangles[t]) in_triangle[static_cast<size_t>(v)] = 1;
+            uf.unite(mc.triangles[t][0], mc.triangles[t][1]);
+            uf.unite(mc.triangles[t][0], mc.triangles[t][2]);
+        }
+    std::map<int, std::vector<int>> parts;
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)] && in_triangle[static_cast<size_t>(v)]) parts[uf.find(v)].push_back(v);
+    std::vector<std::vector<int>> kept_parts;
+    for (const auto& [root, members] : parts) {
+        Vec3 lo = mc.centre[static_cast<size_t>(members[0])], hi = lo;
+        double rmax = 0;
+        for (int v : members) {
+            const Vec3& c = mc.centre[static_cast<size_t>(v)];
+            for (int k = 0; k < 3; ++k) {
+                lo[k] = std::min(lo[k], c[k]);
+                hi[k] = std::max(hi[k], c[k]);
+            }
+            rmax = std::max(rmax, mc.radius[static_cast<size_t>(v)]);
+        }
+        if (distance(lo, hi) >= extent_factor * rmax) kept_parts.push_back(members);
+    }
+    if (kept_parts.empty()) return 0;
+    std::stable_sort(kept_parts.begin(), kept_parts.end(),
+                     [](const std::vector<int>& x, const std::vector<int>& y) { return x.size() > y.size(); });
+    std::vector<int> part_of(static_cast<size_t>(nv), -1);
+    for (size_t p = 0; p < kept_parts.size(); ++p)
+        for (int v : kept_parts[p]) part_of[static_cast<size_t>(v)] = static_cast<int>(p);
+    // Edge weights: 0 between two vertices of one kept part, else the length.
+    auto weight = [&](int a, int b) {
+        const int pa = part_of[static_cast<size_t>(a)];
+        return pa >= 0 && pa == part_of[static_cast<size_t>(b)]
+                   ? 0.0
+                   : distance(mc.centre[static_cast<size_t>(a)], mc.centre[static_cast<size_t>(b)]);
+    };
+    std::set<std::array<int, 2>> kept_edges;
+    std::vector<char> connected(kept_parts.size(), 0);
+    connected[0] = 1;
+    std::vector<int> sources = kept_parts[0];
+    for (size_t round = 1; round < kept_parts.size(); ++round) {
+        std::vector<double> dist(static_cast<size_t>(nv), std::numeric_limits<double>::infinity());
+        std::vector<int> from(static_cast<size_t>(nv), -1);
+        using Item = std::pair<double, int>;
+        std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+        for (int v : sources) {
+            dist[static_cast<size_t>(v)] = 0;
+            heap.push({0.0, v});
+        }
+        int reached = -1;
+        while (!heap.empty()) {
+            const auto [d, v] = heap.top();
+            heap.pop();
+            if (d > dist[static_cast<size_t>(v)]) continue;
+            const int pv = part_of[static_cast<size_t>(v)];
+            if (pv >= 0 && !connected[static_cast<size_t>(pv)]) {
+                reached = v;
+                break;
+            }
+            for (int n : mc.neighbours[static_cast<size_t>(v)]) {
+                const double nd = d + weight(v, n);
+                if (nd < dist[static_cast<size_t>(n)]) {
+                    dist[static_cast<size_t>(n)] = nd;
+                    from[static_cast<size_t>(n)] = v;
+                    heap.push({nd, n});
+                }
+            }
+        }
+        if (reached < 0) break;  // the rest is not reachable: keep_largest_component drops it
+        for (int v = reached; from[static_cast<size_t>(v)] >= 0; v = from[static_cast<size_t>(v)]) {
+            const int u = from[static_cast<size_t>(v)];
+            if (weight(u, v) > 0) kept_edges.insert({std::min(u, v), std::max(u, v)});
+        }
+        const int p = part_of[static_cast<size_t>(reached)];
+        connected[static_cast<size_t>(p)] = 1;
+        sources.insert(sources.end(), kept_parts[static_cast<size_t>(p)].begin(), kept_parts[static_cast<size_t>(p)].end());
+        for (int v = reached; from[static_cast<size_t>(v)] >= 0; v = from[static_cast<size_t>(v)]) sources.push_back(v);
+    }
+    // Rebuild: triangles of connected parts, their sides and the kept path edges.
+    std::vector<std::vector<int>> neighbours(static_cast<size_t>(nv));
+    for (size_t t = 0; t < mc.triangles.size(); ++t) {
+        if (!mc.triangle_alive[t]) continue;
+        const int p = part_of[static_cast<size_t>(mc.triangles[t][0])];
+        if (p < 0 || !connected[static_cast<size_t>(p)]) {
+            mc.triangle_alive[t] = 0;
+            continue;
+        }
+        for (int k = 0; k < 3; ++k) {
+            const int a = mc.triangles[t][static_cast<size_t>(k)], b = mc.triangles[t][static_cast<size_t>((k + 1) % 3)];
+            neighbours[static_cast<size_t>(a)].push_back(b);
+            neighbours[static_cast<size_t>(b)].push_back(a);
+        }
+    }
+    for (const std::array<int, 2>& e : kept_edges) {
+        neighbours[static_cast<size_t>(e[0])].push_back(e[1]);
+        neighbours[static_cast<size_t>(e[1])].push_back(e[0]);
+    }
+    for (int v = 0; v < nv; ++v) {
+        std::vector<int>& n = neighbours[static_cast<size_t>(v)];
+        std::sort(n.begin(), n.end());
+        n.erase(std::unique(n.begin(), n.end()), n.end());
+        if (n.empty()) mc.alive[static_cast<size_t>(v)] = 0;
+        std::vector<int> tris;
+        for (int t : mc.vertex_triangles[static_cast<size_t>(v)])
+            if (mc.triangle_alive[static_cast<size_t>(t)]) tris.push_back(t);
+        mc.vertex_triangles[static_cast<size_t>(v)] = std::move(tris);
+    }
+    mc.neighbours = std::move(neighbours);
+    return static_cast<int>(std::count(connected.begin(), connected.end(), 1));
 }
 
 // Keeps only the connected component with the most vertices (ties: the one with the lowest vertex id).
@@ -849,14 +1189,20 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     out.bbox_diagonal = diag;
     double h = options.sample_spacing * diag;
     const std::vector<Vec3> samples = sample_surface(surface, h, options.max_samples);
-    MedialComplex mc = voronoi_medial_complex(samples, query, diag, options.min_angle_deg, out);
+    MedialComplex mc = voronoi_medial_complex(samples, query, diag, options.min_angle_deg, options.keep_topology, out);
     if (mc.centre.empty())
         throw Error(ErrorCode::NumericalFailure,
                     "medial axis: no Voronoi face passed the angle filter (" + std::to_string(out.inner_poles) +
                         " inner poles from " + std::to_string(out.samples) + " samples)");
+    out.joined_parts = join_components(mc, query, options.join_factor, options.min_part_vertices);
+    if (options.keep_topology) keep_parts_and_paths(mc, options.part_extent_factor);
     keep_largest_component(mc);
     out.initial_vertices = static_cast<int>(std::count(mc.alive.begin(), mc.alive.end(), 1));
     out.initial_triangles = static_cast<int>(std::count(mc.triangle_alive.begin(), mc.triangle_alive.end(), 1));
+    long initial_edges = 0;
+    for (size_t v = 0; v < mc.centre.size(); ++v)
+        if (mc.alive[v]) initial_edges += static_cast<long>(mc.neighbours[v].size());
+    out.initial_euler = out.initial_vertices - initial_edges / 2 + out.initial_triangles;
     out.collapses = simplify(mc, options, diag);
     SmallComplex s = compact(mc);
     out.thin_triangles_removed = remove_thin_triangles(s, options.sheet_width_factor);

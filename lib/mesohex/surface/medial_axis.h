@@ -11,6 +11,9 @@
 //      and see p and q under an angle pcq of at least min_angle_deg (a noise face between two neighbouring samples
 //      sees them under a small angle; a face between the two sides of a plate under 180 degrees; the wedges going to
 //      90-degree edges of the surface, under 90 degrees: a sheet ends where the shape's edges begin, which trims it);
+//      with keep_topology the filter is an erosion by elementary collapses instead (narrow faces go only from a free
+//      side), followed by keep_parts_and_paths (wide-face parts of extent >= part_extent_factor x radius and the
+//      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off (both off by default);
 //   4. simplification (in the spirit of Q-MAT, Li et al. 2015): every sphere carries the sphere quadric of the
 //      tangent planes at its touching samples (error of a sphere (c, r) against the plane through p with unit normal
 //      n: (n . (c - p) + r)^2); edges are collapsed cheapest first to the sphere minimizing the summed quadric, only
@@ -33,12 +36,25 @@ struct MedialAxisOptions {
     double sample_spacing = 0.015;  // x bounding-box diagonal: largest gap between surface samples
     int max_samples = 60000;        // the spacing grows until the samples fit (memory and time of the Delaunay)
     double min_angle_deg = 110;     // angle filter of step 3 (a surface edge of 90 degrees has no medial sheet)
+    // true: the angle filter erodes the inner Voronoi complex by elementary collapses (narrow faces go only from a free
+    // side), which keeps its topology (no holes punched into thin sheets, no parts cut off) but leaves narrow strips
+    // as curve edges; false: narrow faces are simply dropped (holes and cut-off parts possible).
+    bool keep_topology = false;
+    // keep_topology: a part of wide faces is kept when its extent is at least this x its largest radius, with the
+    // shortest curve paths that link the kept parts; other curve edges (debris near the surface) go (x radius).
+    double part_extent_factor = 2.0;
     int target_vertices = 60;       // simplification stops at this many medial vertices ...
     double error_tolerance = 0;     // > 0: stop earlier, when the next collapse costs more than (tolerance x diag)^2
                                     //     and fewer than max_vertices are left (0 = off: always target_vertices)
     int max_vertices = 400;         // the simplification never stops above this many vertices
     double max_fold_deg = 60;       // a collapse that turns a sheet triangle by more than this is refused
     double sheet_width_factor = 0.25;  // a triangle is sheet-like when its smallest height >= this x mean radius
+    // Parts of the medial complex the angle filter cut apart (a hub's axis from its disk's mid-sheet) are joined back
+    // by a curve edge between their closest spheres when those are at most join_factor x the larger radius apart and
+    // the segment stays inside (0 = off: only the largest part is kept, as before); parts with fewer than
+    // min_part_vertices Voronoi vertices are noise and dropped.
+    double join_factor = 0;         // x sphere radius (off by default: it joins corner debris on a plate)
+    int min_part_vertices = 8;      // Voronoi vertices
     double prune_factor = 2.0;      // a terminal curve branch goes when its length + tip radius < this x the radius
                                     // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
 };
@@ -52,6 +68,8 @@ struct MedialAxis {
     int inner_poles = 0;            // Delaunay cells with their circumcentre inside
     int voronoi_faces = 0;          // Voronoi faces kept by the angle filter
     int initial_vertices = 0, initial_triangles = 0;  // the medial complex before simplification
+    long initial_euler = 0;         // V - E + F of the medial complex before simplification
+    int joined_parts = 0;           // parts joined back to the main part (join_factor)
     int collapses = 0;              // edge collapses performed
     int thin_triangles_removed = 0; // triangles turned into curves (step 5)
     int pruned_tips = 0;            // curve tips pruned
