@@ -185,10 +185,14 @@ struct Repaired {
     int merged_vertices = 0, duplicate_edges = 0, reattached_edges = 0;
 };
 
-// Which vertices lie on a leaflet face, and the faces' sides as sorted vertex pairs.
+// Which vertices lie on a leaflet face, and the faces' sides as sorted vertex pairs (sorted, without repeats:
+// membership by binary search, no node allocation per side).
 struct FaceMembership {
     std::vector<bool> on_face;
-    std::set<std::pair<int, int>> sides;
+    std::vector<std::pair<int, int>> sides;
+    bool is_side(int a, int b) const {
+        return std::binary_search(sides.begin(), sides.end(), std::pair<int, int>{std::min(a, b), std::max(a, b)});
+    }
 };
 
 FaceMembership face_membership(const Skeleton& s) {
@@ -197,8 +201,10 @@ FaceMembership face_membership(const Skeleton& s) {
     for (const std::vector<int>& f : s.faces)
         for (std::size_t i = 0; i < f.size(); ++i) {
             m.on_face[static_cast<std::size_t>(f[i])] = true;
-            m.sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+            m.sides.push_back(std::minmax(f[i], f[(i + 1) % f.size()]));
         }
+    std::sort(m.sides.begin(), m.sides.end());
+    m.sides.erase(std::unique(m.sides.begin(), m.sides.end()), m.sides.end());
     return m;
 }
 
@@ -212,14 +218,13 @@ bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_bran
     const int n = static_cast<int>(s.points.size());
     const FaceMembership faces = face_membership(s);
     const std::vector<bool>& on_face = faces.on_face;
-    const std::set<std::pair<int, int>>& face_sides = faces.sides;
     std::vector<int> degree(n, 0);
     for (const std::array<int, 2>& e : s.edges) ++degree[e[0]], ++degree[e[1]];
     UnionFind uf(n);
     std::vector<bool> class_on_face = on_face;
     int merged = 0;
     for (const std::array<int, 2>& e : s.edges) {
-        if (face_sides.count(std::minmax(e[0], e[1]))) continue;
+        if (faces.is_side(e[0], e[1])) continue;
         // Inside a branch (two joints) the resampling steps over a zero-length segment: nothing to repair.
         if (!inside_branches && degree[e[0]] == 2 && degree[e[1]] == 2 && !on_face[e[0]] && !on_face[e[1]]) continue;
         const int a = uf.find(e[0]), b = uf.find(e[1]);
@@ -249,11 +254,26 @@ bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_bran
         out.points.push_back(face_member[v] >= 0 ? s.points[face_member[v]] : sum[v] / members[v]);
         out.radii.push_back(rmax[v]);
     }
-    std::set<std::pair<int, int>> seen;
-    for (const std::array<int, 2>& e : s.edges) {
-        const int a = id[uf.find(e[0])], b = id[uf.find(e[1])];
+    // An edge is kept when it is the first (lowest index) of the edges joining its two new ends: sort the edge
+    // indices by (sorted end pair, index), mark all but the head of each run.
+    const std::size_t ne = s.edges.size();
+    std::vector<std::pair<int, int>> ends(ne);
+    for (std::size_t e = 0; e < ne; ++e) {
+        const int a = id[uf.find(s.edges[e][0])], b = id[uf.find(s.edges[e][1])];
+        ends[e] = {std::min(a, b), std::max(a, b)};
+    }
+    std::vector<int> by_ends(ne);
+    std::iota(by_ends.begin(), by_ends.end(), 0);
+    std::sort(by_ends.begin(), by_ends.end(), [&](int x, int y) {
+        return ends[x] != ends[y] ? ends[x] < ends[y] : x < y;
+    });
+    std::vector<bool> repeated(ne, false);
+    for (std::size_t k = 1; k < ne; ++k)
+        if (ends[by_ends[k]] == ends[by_ends[k - 1]]) repeated[by_ends[k]] = true;
+    for (std::size_t e = 0; e < ne; ++e) {
+        const int a = id[uf.find(s.edges[e][0])], b = id[uf.find(s.edges[e][1])];
         if (a == b) continue;  // the merged edge itself
-        if (!seen.insert(std::minmax(a, b)).second) {
+        if (repeated[e]) {
             ++r.duplicate_edges;
             continue;
         }
@@ -277,12 +297,11 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
     const int n = static_cast<int>(s.points.size());
     const FaceMembership faces = face_membership(s);
     const std::vector<bool>& on_face = faces.on_face;
-    const std::set<std::pair<int, int>>& face_sides = faces.sides;
     std::set<std::pair<int, int>> links;
     for (const std::array<int, 2>& e : s.edges) links.insert(std::minmax(e[0], e[1]));
     std::vector<std::vector<int>> incident(n);
     for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
-        if (!face_sides.count(std::minmax(s.edges[e][0], s.edges[e][1]))) {
+        if (!faces.is_side(s.edges[e][0], s.edges[e][1])) {
             incident[s.edges[e][0]].push_back(e);
             incident[s.edges[e][1]].push_back(e);
         }
@@ -442,7 +461,7 @@ BranchView make_branch_view(const Skeleton& s) {
         view.incident[s.edges[e][1]].push_back(e);
     }
     for (int e = 0; e < ne; ++e)
-        view.branch_edge[e] = !view.faces.sides.count(std::minmax(s.edges[e][0], s.edges[e][1]));
+        view.branch_edge[e] = !view.faces.is_side(s.edges[e][0], s.edges[e][1]);
     for (const std::vector<int>& f : s.faces)
         for (std::size_t i = 0; i < f.size(); ++i) ++view.side_count[std::minmax(f[i], f[(i + 1) % f.size()])];
     view.branches = branches_in_resampling_order(view);
