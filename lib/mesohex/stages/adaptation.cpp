@@ -185,26 +185,38 @@ struct Repaired {
     int merged_vertices = 0, duplicate_edges = 0, reattached_edges = 0;
 };
 
-// Which vertices lie on a leaflet face, and the faces' sides as sorted vertex pairs (sorted, without repeats:
-// membership by binary search, no node allocation per side).
+// Which vertices lie on a leaflet face, and the faces' sides as vertex pairs: per smaller vertex lo, the larger ends
+// of its sides in side_hi[side_begin[lo] .. side_begin[lo + 1]) (CSR, built by counting; repeats allowed).
 struct FaceMembership {
     std::vector<bool> on_face;
-    std::vector<std::pair<int, int>> sides;
+    std::vector<int> side_begin;  // #vertices + 1 entries
+    std::vector<int> side_hi;
     bool is_side(int a, int b) const {
-        return std::binary_search(sides.begin(), sides.end(), std::pair<int, int>{std::min(a, b), std::max(a, b)});
+        const int lo = std::min(a, b), hi = std::max(a, b);
+        for (int k = side_begin[lo]; k < side_begin[lo + 1]; ++k)
+            if (side_hi[k] == hi) return true;
+        return false;
     }
 };
 
 FaceMembership face_membership(const Skeleton& s) {
     FaceMembership m;
-    m.on_face.assign(s.points.size(), false);
+    const std::size_t n = s.points.size();
+    m.on_face.assign(n, false);
+    m.side_begin.assign(n + 1, 0);
     for (const std::vector<int>& f : s.faces)
         for (std::size_t i = 0; i < f.size(); ++i) {
             m.on_face[static_cast<std::size_t>(f[i])] = true;
-            m.sides.push_back(std::minmax(f[i], f[(i + 1) % f.size()]));
+            ++m.side_begin[static_cast<std::size_t>(std::min(f[i], f[(i + 1) % f.size()])) + 1];
         }
-    std::sort(m.sides.begin(), m.sides.end());
-    m.sides.erase(std::unique(m.sides.begin(), m.sides.end()), m.sides.end());
+    for (std::size_t v = 0; v < n; ++v) m.side_begin[v + 1] += m.side_begin[v];
+    m.side_hi.resize(static_cast<std::size_t>(m.side_begin[n]));
+    std::vector<int> fill(m.side_begin.begin(), m.side_begin.end() - 1);
+    for (const std::vector<int>& f : s.faces)
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            const int a = f[i], b = f[(i + 1) % f.size()];
+            m.side_hi[fill[std::min(a, b)]++] = std::max(a, b);
+        }
     return m;
 }
 
@@ -254,22 +266,28 @@ bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_bran
         out.points.push_back(face_member[v] >= 0 ? s.points[face_member[v]] : sum[v] / members[v]);
         out.radii.push_back(rmax[v]);
     }
-    // An edge is kept when it is the first (lowest index) of the edges joining its two new ends: sort the edge
-    // indices by (sorted end pair, index), mark all but the head of each run.
+    // An edge is kept when it is the first (lowest index) of the edges joining its two new ends: edges bucketed by
+    // their smaller new end in index order (counting sort), a stamp per larger end marks repeats inside a bucket.
     const std::size_t ne = s.edges.size();
-    std::vector<std::pair<int, int>> ends(ne);
+    const std::size_t nn = out.points.size();
+    std::vector<int> lo_of(ne), hi_of(ne), bucket(nn + 1, 0);
     for (std::size_t e = 0; e < ne; ++e) {
         const int a = id[uf.find(s.edges[e][0])], b = id[uf.find(s.edges[e][1])];
-        ends[e] = {std::min(a, b), std::max(a, b)};
+        lo_of[e] = std::min(a, b);
+        hi_of[e] = std::max(a, b);
+        ++bucket[static_cast<std::size_t>(lo_of[e]) + 1];
     }
-    std::vector<int> by_ends(ne);
-    std::iota(by_ends.begin(), by_ends.end(), 0);
-    std::sort(by_ends.begin(), by_ends.end(), [&](int x, int y) {
-        return ends[x] != ends[y] ? ends[x] < ends[y] : x < y;
-    });
+    for (std::size_t v = 0; v < nn; ++v) bucket[v + 1] += bucket[v];
+    std::vector<int> by_lo(ne);
+    for (std::size_t e = 0; e < ne; ++e) by_lo[bucket[lo_of[e]]++] = static_cast<int>(e);  // bucket[v] -> end of v
     std::vector<bool> repeated(ne, false);
-    for (std::size_t k = 1; k < ne; ++k)
-        if (ends[by_ends[k]] == ends[by_ends[k - 1]]) repeated[by_ends[k]] = true;
+    std::vector<int> stamp(nn, -1);
+    for (std::size_t k = 0; k < ne; ++k) {
+        const int e = by_lo[k];
+        int& st = stamp[hi_of[e]];
+        if (st == lo_of[e]) repeated[e] = true;
+        st = lo_of[e];
+    }
     for (std::size_t e = 0; e < ne; ++e) {
         const int a = id[uf.find(s.edges[e][0])], b = id[uf.find(s.edges[e][1])];
         if (a == b) continue;  // the merged edge itself
