@@ -315,8 +315,8 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
     const int n = static_cast<int>(s.points.size());
     const FaceMembership faces = face_membership(s);
     const std::vector<bool>& on_face = faces.on_face;
-    std::set<std::pair<int, int>> links;
-    for (const std::array<int, 2>& e : s.edges) links.insert(std::minmax(e[0], e[1]));
+    std::set<std::pair<int, int>> links;  // the current edges; built at the first re-attachment (most inputs have none)
+    bool links_built = false;
     std::vector<std::vector<int>> incident(n);
     for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
         if (!faces.is_side(s.edges[e][0], s.edges[e][1])) {
@@ -347,6 +347,10 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
                     const bool i_near = li < lj || (li == lj && wi < wj);
                     const int near = i_near ? wi : wj, far = i_near ? wj : wi, e_far = i_near ? ej : ei;
                     if (on_face[near]) continue;
+                    if (!links_built) {
+                        for (const std::array<int, 2>& e : s.edges) links.insert(std::minmax(e[0], e[1]));
+                        links_built = true;
+                    }
                     --budget;
                     changed = true;
                     ++r.reattached_edges;
