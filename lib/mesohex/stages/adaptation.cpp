@@ -185,19 +185,37 @@ struct Repaired {
     int merged_vertices = 0, duplicate_edges = 0, reattached_edges = 0;
 };
 
-// Which vertices lie on a leaflet face, and the faces' sides as sorted vertex pairs.
+// Which vertices lie on a leaflet face, and the faces' sides as vertex pairs: per smaller vertex lo, the larger ends
+// of its sides in side_hi[side_begin[lo] .. side_begin[lo + 1]) (CSR, built by counting; repeats allowed).
 struct FaceMembership {
     std::vector<bool> on_face;
-    std::set<std::pair<int, int>> sides;
+    std::vector<int> side_begin;  // #vertices + 1 entries
+    std::vector<int> side_hi;
+    bool is_side(int a, int b) const {
+        const int lo = std::min(a, b), hi = std::max(a, b);
+        for (int k = side_begin[lo]; k < side_begin[lo + 1]; ++k)
+            if (side_hi[k] == hi) return true;
+        return false;
+    }
 };
 
 FaceMembership face_membership(const Skeleton& s) {
     FaceMembership m;
-    m.on_face.assign(s.points.size(), false);
+    const std::size_t n = s.points.size();
+    m.on_face.assign(n, false);
+    m.side_begin.assign(n + 1, 0);
     for (const std::vector<int>& f : s.faces)
         for (std::size_t i = 0; i < f.size(); ++i) {
             m.on_face[static_cast<std::size_t>(f[i])] = true;
-            m.sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+            ++m.side_begin[static_cast<std::size_t>(std::min(f[i], f[(i + 1) % f.size()])) + 1];
+        }
+    for (std::size_t v = 0; v < n; ++v) m.side_begin[v + 1] += m.side_begin[v];
+    m.side_hi.resize(static_cast<std::size_t>(m.side_begin[n]));
+    std::vector<int> fill(m.side_begin.begin(), m.side_begin.end() - 1);
+    for (const std::vector<int>& f : s.faces)
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            const int a = f[i], b = f[(i + 1) % f.size()];
+            m.side_hi[fill[std::min(a, b)]++] = std::max(a, b);
         }
     return m;
 }
@@ -212,14 +230,13 @@ bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_bran
     const int n = static_cast<int>(s.points.size());
     const FaceMembership faces = face_membership(s);
     const std::vector<bool>& on_face = faces.on_face;
-    const std::set<std::pair<int, int>>& face_sides = faces.sides;
     std::vector<int> degree(n, 0);
     for (const std::array<int, 2>& e : s.edges) ++degree[e[0]], ++degree[e[1]];
     UnionFind uf(n);
     std::vector<bool> class_on_face = on_face;
     int merged = 0;
     for (const std::array<int, 2>& e : s.edges) {
-        if (face_sides.count(std::minmax(e[0], e[1]))) continue;
+        if (faces.is_side(e[0], e[1])) continue;
         // Inside a branch (two joints) the resampling steps over a zero-length segment: nothing to repair.
         if (!inside_branches && degree[e[0]] == 2 && degree[e[1]] == 2 && !on_face[e[0]] && !on_face[e[1]]) continue;
         const int a = uf.find(e[0]), b = uf.find(e[1]);
@@ -249,11 +266,32 @@ bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_bran
         out.points.push_back(face_member[v] >= 0 ? s.points[face_member[v]] : sum[v] / members[v]);
         out.radii.push_back(rmax[v]);
     }
-    std::set<std::pair<int, int>> seen;
-    for (const std::array<int, 2>& e : s.edges) {
-        const int a = id[uf.find(e[0])], b = id[uf.find(e[1])];
+    // An edge is kept when it is the first (lowest index) of the edges joining its two new ends: edges bucketed by
+    // their smaller new end in index order (counting sort), a stamp per larger end marks repeats inside a bucket.
+    const std::size_t ne = s.edges.size();
+    const std::size_t nn = out.points.size();
+    std::vector<int> lo_of(ne), hi_of(ne), bucket(nn + 1, 0);
+    for (std::size_t e = 0; e < ne; ++e) {
+        const int a = id[uf.find(s.edges[e][0])], b = id[uf.find(s.edges[e][1])];
+        lo_of[e] = std::min(a, b);
+        hi_of[e] = std::max(a, b);
+        ++bucket[static_cast<std::size_t>(lo_of[e]) + 1];
+    }
+    for (std::size_t v = 0; v < nn; ++v) bucket[v + 1] += bucket[v];
+    std::vector<int> by_lo(ne);
+    for (std::size_t e = 0; e < ne; ++e) by_lo[bucket[lo_of[e]]++] = static_cast<int>(e);  // bucket[v] -> end of v
+    std::vector<bool> repeated(ne, false);
+    std::vector<int> stamp(nn, -1);
+    for (std::size_t k = 0; k < ne; ++k) {
+        const int e = by_lo[k];
+        int& st = stamp[hi_of[e]];
+        if (st == lo_of[e]) repeated[e] = true;
+        st = lo_of[e];
+    }
+    for (std::size_t e = 0; e < ne; ++e) {
+        const int a = id[uf.find(s.edges[e][0])], b = id[uf.find(s.edges[e][1])];
         if (a == b) continue;  // the merged edge itself
-        if (!seen.insert(std::minmax(a, b)).second) {
+        if (repeated[e]) {
             ++r.duplicate_edges;
             continue;
         }
@@ -277,12 +315,11 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
     const int n = static_cast<int>(s.points.size());
     const FaceMembership faces = face_membership(s);
     const std::vector<bool>& on_face = faces.on_face;
-    const std::set<std::pair<int, int>>& face_sides = faces.sides;
-    std::set<std::pair<int, int>> links;
-    for (const std::array<int, 2>& e : s.edges) links.insert(std::minmax(e[0], e[1]));
+    std::set<std::pair<int, int>> links;  // the current edges; built at the first re-attachment (most inputs have none)
+    bool links_built = false;
     std::vector<std::vector<int>> incident(n);
     for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
-        if (!face_sides.count(std::minmax(s.edges[e][0], s.edges[e][1]))) {
+        if (!faces.is_side(s.edges[e][0], s.edges[e][1])) {
             incident[s.edges[e][0]].push_back(e);
             incident[s.edges[e][1]].push_back(e);
         }
@@ -310,6 +347,10 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
                     const bool i_near = li < lj || (li == lj && wi < wj);
                     const int near = i_near ? wi : wj, far = i_near ? wj : wi, e_far = i_near ? ej : ei;
                     if (on_face[near]) continue;
+                    if (!links_built) {
+                        for (const std::array<int, 2>& e : s.edges) links.insert(std::minmax(e[0], e[1]));
+                        links_built = true;
+                    }
                     --budget;
                     changed = true;
                     ++r.reattached_edges;
@@ -442,7 +483,7 @@ BranchView make_branch_view(const Skeleton& s) {
         view.incident[s.edges[e][1]].push_back(e);
     }
     for (int e = 0; e < ne; ++e)
-        view.branch_edge[e] = !view.faces.sides.count(std::minmax(s.edges[e][0], s.edges[e][1]));
+        view.branch_edge[e] = !view.faces.is_side(s.edges[e][0], s.edges[e][1]);
     for (const std::vector<int>& f : s.faces)
         for (std::size_t i = 0; i < f.size(); ++i) ++view.side_count[std::minmax(f[i], f[(i + 1) % f.size()])];
     view.branches = branches_in_resampling_order(view);
