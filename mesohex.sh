@@ -16,7 +16,7 @@ export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$ROOT}
 # Every Debian package the project needs (build, tests, benchmarks).
 PACKAGES=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
-          python3 python3-meshio python3-numpy clang libclang-rt-14-dev
+          python3 python3-meshio python3-numpy clang clang-format libclang-rt-14-dev
           libexodusii-dev netcdf-bin python3-netcdf4 libmetis-dev
           pybind11-dev python3-pybind11 python3-dev python3-pytest python3-distributed
           nodejs npm chromium)   # the studio page (apps/studio/web: three.js via npm) and its headless-browser test

@@ -26,7 +26,8 @@ HexMesh deformed_block(int n) {
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i)
                 m.hexes.push_back({vid(i, j, k), vid(i + 1, j, k), vid(i + 1, j + 1, k), vid(i, j + 1, k),
-                                   vid(i, j, k + 1), vid(i + 1, j, k + 1), vid(i + 1, j + 1, k + 1), vid(i, j + 1, k + 1)});
+                                   vid(i, j, k + 1), vid(i + 1, j, k + 1), vid(i + 1, j + 1, k + 1),
+                                   vid(i, j + 1, k + 1)});
     return m;
 }
 
@@ -58,7 +59,8 @@ void BM_FitStep(benchmark::State& state) {
     }
     state.SetItemsProcessed(state.iterations() * static_cast<long>(mesh.hexes.size()));
     state.counters["hexes"] = static_cast<double>(mesh.hexes.size());
-    state.counters["cg_iters_per_step"] = static_cast<double>(solver_iterations) / static_cast<double>(state.iterations());
+    state.counters["cg_iters_per_step"] =
+        static_cast<double>(solver_iterations) / static_cast<double>(state.iterations());
     state.counters["damped_steps"] = static_cast<double>(damped);
     state.counters["inverted"] = static_cast<double>(fitter.inverted());
     state.counters["sj_min"] = fitter.sj_min();
@@ -80,7 +82,13 @@ void BM_FitSetup(benchmark::State& state) {
     }
     state.counters["hexes"] = static_cast<double>(mesh.hexes.size());
 }
-BENCHMARK(BM_FitSetup)->Args({19, 0})->Args({19, 1})->Args({38, 1})->Args({80, 1})->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_FitSetup)
+    ->Args({19, 0})
+    ->Args({19, 1})
+    ->Args({38, 1})
+    ->Args({80, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 // Time to convergence (fit_to_surface with its progress rule) at 7k hexes, both solvers: throughput alone would favour
 // cheap inexact steps.

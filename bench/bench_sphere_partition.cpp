@@ -29,8 +29,8 @@ void BM_PartitionSphereRandom(benchmark::State& state) {
     const std::vector<std::vector<mesohex::Vec3>> sets = random_sets(static_cast<int>(state.range(0)), 16);
     for (auto _ : state)
         for (const std::vector<mesohex::Vec3>& d : sets) benchmark::DoNotOptimize(mesohex::partition_sphere(d));
-    state.counters["calls/s"] = benchmark::Counter(16.0 * static_cast<double>(state.iterations()),
-                                                   benchmark::Counter::kIsRate);
+    state.counters["calls/s"] =
+        benchmark::Counter(16.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_PartitionSphereRandom)->DenseRange(3, 8)->Arg(12)->Arg(16)->Unit(benchmark::kMillisecond);
 

@@ -101,9 +101,8 @@ int main(int argc, char** argv) {
                                     vertex_kind(s, adj, on_face, s.edges[e][1]);
             }
             std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d %d\n", seed, random_skeleton_kind(seed),
-                        s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(), q.sj_min, q.sj_avg, q.inverted,
-                        off, where.c_str(), res.trunks, res.absorbed_stubs,
-                        res.unseparated_pairs);
+                        s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(), q.sj_min, q.sj_avg, q.inverted, off,
+                        where.c_str(), res.trunks, res.absorbed_stubs, res.unseparated_pairs);
             mins.push_back(q.sj_min);
             offs.push_back(off);
             inverted_seeds += q.inverted > 0;
@@ -114,10 +113,13 @@ int main(int argc, char** argv) {
     if (mins.empty()) return 1;
     std::sort(mins.begin(), mins.end());
     std::sort(offs.begin(), offs.end());
-    const auto pick = [](const std::vector<double>& a, double q) { return a[static_cast<std::size_t>(q * (a.size() - 1))]; };
-    std::printf("raw min SJ worst %.3f p5 %.3f median %.3f; seeds with inverted raw hexes %d; corner offset / r "
-                "median %.2f p95 %.2f max %.2f; seeds with offset >= 0.3 r: %ld\n",
-                mins.front(), pick(mins, 0.05), pick(mins, 0.5), inverted_seeds, pick(offs, 0.5), pick(offs, 0.95),
-                offs.back(), static_cast<long>(std::count_if(offs.begin(), offs.end(), [](double x) { return x >= 0.3; })));
+    const auto pick = [](const std::vector<double>& a, double q) {
+        return a[static_cast<std::size_t>(q * (a.size() - 1))];
+    };
+    std::printf(
+        "raw min SJ worst %.3f p5 %.3f median %.3f; seeds with inverted raw hexes %d; corner offset / r "
+        "median %.2f p95 %.2f max %.2f; seeds with offset >= 0.3 r: %ld\n",
+        mins.front(), pick(mins, 0.05), pick(mins, 0.5), inverted_seeds, pick(offs, 0.5), pick(offs, 0.95), offs.back(),
+        static_cast<long>(std::count_if(offs.begin(), offs.end(), [](double x) { return x >= 0.3; })));
     return 0;
 }

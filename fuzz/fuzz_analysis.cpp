@@ -17,7 +17,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     } catch (const mesohex::Error&) {
         return 0;
     }
-    if (s.points.size() > 2000) return 0;  // keep each input fast: the analysis is near-linear, the reader is tested elsewhere
+    if (s.points.size() > 2000)
+        return 0;  // keep each input fast: the analysis is near-linear, the reader is tested elsewhere
     try {
         const mesohex::SkeletonAnalysis an = mesohex::analyze_skeleton(s);
         (void)mesohex::analysis_to_text(an);

@@ -15,7 +15,8 @@ struct Input {
 };
 
 // Splits data[0..size) as described above; false (nothing to run) when size == 0.
-bool split_input(const std::uint8_t* data, std::size_t size, std::initializer_list<std::string_view> formats, Input& out);
+bool split_input(const std::uint8_t* data, std::size_t size, std::initializer_list<std::string_view> formats,
+                 Input& out);
 
 // The name the readers give the input in their messages.
 inline constexpr std::string_view kInputName = "fuzz-input";

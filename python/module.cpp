@@ -19,17 +19,17 @@
 
 #include <tbb/global_control.h>
 
+#include "mesohex/auto_skeleton.h"
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_mesh.h"
 #include "mesohex/core/skeleton.h"
-#include "mesohex/auto_skeleton.h"
 #include "mesohex/mesh.h"
 #include "mesohex/mesh_report.h"
 #include "mesohex/post/partition.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
-#include "mesohex/surface/skeletonize.h"
 #include "mesohex/surface/medial_axis.h"
+#include "mesohex/surface/skeletonize.h"
 #include "mesohex/surface/thicken.h"
 #include "mesohex_io/hex_io.h"
 #include "mesohex_io/medial_io.h"
@@ -75,8 +75,8 @@ py::array_t<T> vector_to_numpy(const std::vector<T>& values) {
 
 std::vector<Vec3> points_from_numpy(const DoubleArray& a, const char* what) {
     if (a.ndim() != 2 || a.shape(1) != 3)
-        invalid(std::string(what) + ": expected an array of shape (n, 3), got " + std::to_string(a.ndim()) + " dimension(s)" +
-                (a.ndim() == 2 ? " with " + std::to_string(a.shape(1)) + " columns" : ""));
+        invalid(std::string(what) + ": expected an array of shape (n, 3), got " + std::to_string(a.ndim()) +
+                " dimension(s)" + (a.ndim() == 2 ? " with " + std::to_string(a.shape(1)) + " columns" : ""));
     std::vector<Vec3> points(static_cast<std::size_t>(a.shape(0)));
     auto r = a.unchecked<2>();
     for (std::size_t v = 0; v < points.size(); ++v) {
@@ -132,8 +132,8 @@ void register_errors(py::module_& m) {
     for (ErrorCode code : {ErrorCode::InvalidInput, ErrorCode::UnsupportedConfiguration, ErrorCode::IoError,
                            ErrorCode::NumericalFailure}) {
         const std::string name = exception_name(code);
-        py::object cls = py::reinterpret_steal<py::object>(
-            PyErr_NewException(("mesohex." + name).c_str(), base.ptr(), nullptr));
+        py::object cls =
+            py::reinterpret_steal<py::object>(PyErr_NewException(("mesohex." + name).c_str(), base.ptr(), nullptr));
         cls.attr("code") = exit_code(code);
         cls.attr("category") = name;
         m.attr(name.c_str()) = cls;
@@ -387,10 +387,11 @@ struct MeshCall {
 MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
     MeshCall call;
     MeshOptions& o = call.options;
-    const std::set<std::string> flags = {"radius", "no_resample", "raw", "radius_from_surface", "radius_factor",
-                                         "levels", "size", "refine", "no_pad", "no_fit", "no_untangle", "no_smooth",
-                                         "no_retry", "iterations", "fit_weight", "improve_below", "partitions",
-                                         "threads"};
+    const std::set<std::string> flags = {"radius",        "no_resample", "raw",         "radius_from_surface",
+                                         "radius_factor", "levels",      "size",        "refine",
+                                         "no_pad",        "no_fit",      "no_untangle", "no_smooth",
+                                         "no_retry",      "iterations",  "fit_weight",  "improve_below",
+                                         "partitions",    "threads"};
     for (const auto& item : kwargs) {
         const std::string key = py::cast<std::string>(item.first);
         const py::handle value = item.second;
@@ -401,27 +402,42 @@ MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
             invalid("unknown option '" + key + "' (valid: " + valid + ")");
         }
         auto flag = [&] { return py::cast<bool>(value); };
-        if (key == "radius") o.pipeline.radius = py::cast<double>(value);
-        else if (key == "no_resample") o.pipeline.resample = !flag();
-        else if (key == "raw") o.finish = !flag();
-        else if (key == "radius_from_surface") o.radius_from_surface = flag();
-        else if (key == "radius_factor") o.radius_factor = py::cast<double>(value);
-        else if (key == "levels") o.finishing.levels = py::cast<int>(value);
-        else if (key == "size") o.finishing.size = py::cast<double>(value);
+        if (key == "radius")
+            o.pipeline.radius = py::cast<double>(value);
+        else if (key == "no_resample")
+            o.pipeline.resample = !flag();
+        else if (key == "raw")
+            o.finish = !flag();
+        else if (key == "radius_from_surface")
+            o.radius_from_surface = flag();
+        else if (key == "radius_factor")
+            o.radius_factor = py::cast<double>(value);
+        else if (key == "levels")
+            o.finishing.levels = py::cast<int>(value);
+        else if (key == "size")
+            o.finishing.size = py::cast<double>(value);
         else if (key == "refine") {
             const std::string r = py::cast<std::string>(value);
-            if (r == "uniform") o.finishing.refinement = FinishOptions::Refinement::Uniform;
-            else if (r == "longitudinal") o.finishing.refinement = FinishOptions::Refinement::Longitudinal;
-            else if (r == "radial") o.finishing.refinement = FinishOptions::Refinement::Radial;
-            else invalid("refine: '" + r + "' is not one of uniform, longitudinal, radial");
-        } else if (key == "no_pad") o.finishing.pad = !flag();
+            if (r == "uniform")
+                o.finishing.refinement = FinishOptions::Refinement::Uniform;
+            else if (r == "longitudinal")
+                o.finishing.refinement = FinishOptions::Refinement::Longitudinal;
+            else if (r == "radial")
+                o.finishing.refinement = FinishOptions::Refinement::Radial;
+            else
+                invalid("refine: '" + r + "' is not one of uniform, longitudinal, radial");
+        } else if (key == "no_pad")
+            o.finishing.pad = !flag();
         else if (key == "no_fit") {
             if (flag()) o.finishing.fit = o.finishing.untangle = false;
         } else if (key == "no_untangle") {
             if (flag()) o.finishing.untangle = false;
-        } else if (key == "no_smooth") o.finishing.smooth = !flag();
-        else if (key == "no_retry") o.retry = !flag();
-        else if (key == "iterations") o.finishing.fitting.max_iterations = py::cast<int>(value);
+        } else if (key == "no_smooth")
+            o.finishing.smooth = !flag();
+        else if (key == "no_retry")
+            o.retry = !flag();
+        else if (key == "iterations")
+            o.finishing.fitting.max_iterations = py::cast<int>(value);
         else if (key == "fit_weight") {
             o.finishing.fitting.lambda = py::cast<double>(value);
             if (!(o.finishing.fitting.lambda > 0)) invalid("fit_weight must be > 0");
@@ -432,12 +448,15 @@ MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
         } else if (key == "partitions") {
             o.partitions = py::cast<int>(value);
             if (o.partitions < 0) invalid("partitions must be >= 1 (0 = no partition)");
-        } else if (key == "threads") call.threads = py::cast<int>(value);
+        } else if (key == "threads")
+            call.threads = py::cast<int>(value);
     }
     return call;
 }
 
-std::string path_of(const py::object& value) { return py::cast<std::string>(py::module_::import("os").attr("fspath")(value)); }
+std::string path_of(const py::object& value) {
+    return py::cast<std::string>(py::module_::import("os").attr("fspath")(value));
+}
 bool is_path(const py::object& value) { return py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__"); }
 
 double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
@@ -465,7 +484,8 @@ MeshResult run_mesh(const Skeleton& skeleton, const TriangleMesh* domain, const 
     MeshRun run = mesh_skeleton(skeleton, domain, options);
     const auto t_write = std::chrono::steady_clock::now();
     if (!names.output.empty())
-        write_hex_mesh(names.output, run.mesh(), run.quality().sj, run.partition ? run.partition->part : std::vector<int>{});
+        write_hex_mesh(names.output, run.mesh(), run.quality().sj,
+                       run.partition ? run.partition->part : std::vector<int>{});
     const auto t_end = std::chrono::steady_clock::now();
     nlohmann::json rep = mesh_report(run, ReportContext{names.input, names.output, names.surface,
                                                         ms_between(start, t_mesh), ms_between(t_write, t_end)});
@@ -498,11 +518,15 @@ MeshResult mesh_py(const py::object& skeleton_arg, const py::object& surface_arg
     {
         Skeleton skeleton;
         std::optional<TriangleMesh> domain;
-        if (is_path(skeleton_arg)) names.input = path_of(skeleton_arg);
-        else skeleton = py::cast<Skeleton>(skeleton_arg);
+        if (is_path(skeleton_arg))
+            names.input = path_of(skeleton_arg);
+        else
+            skeleton = py::cast<Skeleton>(skeleton_arg);
         if (!surface_arg.is_none()) {
-            if (is_path(surface_arg)) names.surface = path_of(surface_arg);
-            else domain = py::cast<TriangleMesh>(surface_arg);
+            if (is_path(surface_arg))
+                names.surface = path_of(surface_arg);
+            else
+                domain = py::cast<TriangleMesh>(surface_arg);
         }
         py::gil_scoped_release release;
         if (!names.input.empty()) skeleton = read_skeleton(names.input);
@@ -529,14 +553,18 @@ MeshResult auto_py(const py::object& surface_arg, const std::string& output, con
     MeshResult result;
     {
         std::optional<TriangleMesh> domain;
-        if (is_path(surface_arg)) names.surface = path_of(surface_arg);
-        else domain = py::cast<TriangleMesh>(surface_arg);
+        if (is_path(surface_arg))
+            names.surface = path_of(surface_arg);
+        else
+            domain = py::cast<TriangleMesh>(surface_arg);
         py::gil_scoped_release release;
         const auto t0 = std::chrono::steady_clock::now();
         if (!names.surface.empty()) domain = read_surface(names.surface);
         const auto t1 = std::chrono::steady_clock::now();
         AutoSkeletonOptions so;
-        so.kind = skeleton == "curve" ? SkeletonKind::Curve : skeleton == "meso" ? SkeletonKind::Meso : SkeletonKind::Auto;
+        so.kind = skeleton == "curve"  ? SkeletonKind::Curve
+                  : skeleton == "meso" ? SkeletonKind::Meso
+                                       : SkeletonKind::Auto;
         const AutoSkeleton chosen = choose_skeleton(*domain, so);  // as `mesohex auto`: curve or medial meso-skeleton
         const auto t2 = std::chrono::steady_clock::now();
         // As `mesohex auto`: the skeleton used is written beside the mesh (OUT.skeleton.obj) when there is a file,
@@ -552,7 +580,8 @@ MeshResult auto_py(const py::object& surface_arg, const std::string& output, con
         }
         const auto t3 = std::chrono::steady_clock::now();
         nlohmann::json extra = auto_skeleton_report(chosen, so, names.input, medial_path);
-        extra["timings_ms"] = {{"read_surface", ms_between(t0, t1)}, {"skeletonize", ms_between(t1, t2)},
+        extra["timings_ms"] = {{"read_surface", ms_between(t0, t1)},
+                               {"skeletonize", ms_between(t1, t2)},
                                {"write_skeleton", ms_between(t2, t3)}};
         result = run_mesh(chosen.skeleton, &*domain, call, names, t3, &extra, t0, report_text);
     }
@@ -567,11 +596,13 @@ void bind_meshing(py::module_& m) {
         .def_readonly("mesh", &MeshResult::mesh)
         .def_property_readonly("vertices", [](const MeshResult& r) { return points_to_numpy(r.mesh.points); })
         .def_property_readonly("hexes", [](const MeshResult& r) { return cells_to_numpy(r.mesh.hexes); })
-        .def_property_readonly("scaled_jacobian", [](const MeshResult& r) { return vector_to_numpy(r.scaled_jacobian); })
-        .def_property_readonly("partition", [](const MeshResult& r) -> py::object {
-            if (!r.partition) return py::none();
-            return vector_to_numpy(*r.partition);
-        })
+        .def_property_readonly("scaled_jacobian",
+                               [](const MeshResult& r) { return vector_to_numpy(r.scaled_jacobian); })
+        .def_property_readonly("partition",
+                               [](const MeshResult& r) -> py::object {
+                                   if (!r.partition) return py::none();
+                                   return vector_to_numpy(*r.partition);
+                               })
         .def_readonly("skeleton", &MeshResult::skeleton)
         .def_readonly("report", &MeshResult::report)
         .def_readonly("status", &MeshResult::status, "0, or 5 when the mesh has inverted hexes (the CLI's exit status)")
@@ -579,8 +610,8 @@ void bind_meshing(py::module_& m) {
             return "<mesohex.MeshResult: " + std::to_string(r.mesh.points.size()) + " vertices, " +
                    std::to_string(r.mesh.hexes.size()) + " hexes, status " + std::to_string(r.status) + ">";
         });
-    m.def("mesh", &mesh_py, py::arg("skeleton"), py::arg("surface") = py::none(), py::kw_only(),
-          py::arg("output") = "", py::arg("report") = "",
+    m.def("mesh", &mesh_py, py::arg("skeleton"), py::arg("surface") = py::none(), py::kw_only(), py::arg("output") = "",
+          py::arg("report") = "",
           "Meshes a skeleton (a Skeleton or a file path) as `mesohex mesh`: raw mesh, then, with a surface (a Surface "
           "or a path), pad, subdivide, fit, untangle, smooth. Keyword options are the CLI's flags with '_' for '-' "
           "(radius, no_resample, raw, radius_from_surface, radius_factor, levels, size, refine, no_pad, no_fit, "

@@ -25,16 +25,18 @@ struct AnalyzeArgs {
 
 void register_analyze(CLI::App& app, int* status) {
     auto args = std::make_shared<AnalyzeArgs>();
-    CLI::App* cmd = app.add_subcommand("analyze", "Classify a skeleton's vertices, count branches and leaflets, "
-                                                  "predict the raw hex count, and check that `mesh` accepts it.");
+    CLI::App* cmd = app.add_subcommand("analyze",
+                                       "Classify a skeleton's vertices, count branches and leaflets, "
+                                       "predict the raw hex count, and check that `mesh` accepts it.");
     cmd->add_option("skeleton", args->path, "Skeleton file (.skel, .cg, .cgr, .ig, .obj)")->required();
     cmd->add_option("--radius", args->radius, "As for `mesh`: radius for skeletons without one");
     cmd->add_flag("--no-resample", args->no_resample, "As for `mesh`: keep the input sampling");
     cmd->add_flag("--no-verdict", args->no_verdict, "Only the analysis: do not run the raw pipeline");
-    cmd->footer("Example: mesohex analyze cactus.skel\n"
-                "Exit status: 0 = `mesh` accepts the skeleton (the raw mesh was built and has the predicted counts); "
-                "otherwise the status `mesh` gives for it: 2 invalid input, 3 unsupported configuration, 4 file "
-                "error, 6 numerical failure (the message names the skeleton element).");
+    cmd->footer(
+        "Example: mesohex analyze cactus.skel\n"
+        "Exit status: 0 = `mesh` accepts the skeleton (the raw mesh was built and has the predicted counts); "
+        "otherwise the status `mesh` gives for it: 2 invalid input, 3 unsupported configuration, 4 file "
+        "error, 6 numerical failure (the message names the skeleton element).");
     cmd->callback([args, status]() {
         const Skeleton skeleton = read_skeleton(args->path);
         const SkeletonAnalysis an = analyze_skeleton(skeleton);

@@ -11,8 +11,8 @@
 #include <string>
 #include <utility>
 
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "mesh_job.h"
@@ -38,15 +38,19 @@ struct AutoArgs {
 void register_auto(CLI::App& app, int* status) {
     auto args = std::make_shared<AutoArgs>();
     CLI::App* cmd = app.add_subcommand(
-        "auto", "Surface -> hex mesh in one step: a skeleton (curve skeleton for tubes, medial meso-skeleton for flat "
-                "or thin parts), then mesh with the surface.");
+        "auto",
+        "Surface -> hex mesh in one step: a skeleton (curve skeleton for tubes, medial meso-skeleton for flat "
+        "or thin parts), then mesh with the surface.");
     cmd->add_option("surface", args->surface, "Closed surface (.off .obj .stl .ply), one component, manifold")
         ->required();
-    cmd->add_option("-o,--output", args->job.output, "Output hex mesh (.mesh, .vtk, .vtu, .msh, .inp, .exo)")->required();
-    cmd->add_flag_callback("--no-resample", [args] { args->job.options.pipeline.resample = false; },
-                           "Keep the skeleton's sampling (hexes = 4 x edges)");
-    cmd->add_flag_callback("--raw", [args] { args->job.options.finish = false; },
-                           "Stop after the raw mesh (no padding, subdivision or fitting)");
+    cmd->add_option("-o,--output", args->job.output, "Output hex mesh (.mesh, .vtk, .vtu, .msh, .inp, .exo)")
+        ->required();
+    cmd->add_flag_callback(
+        "--no-resample", [args] { args->job.options.pipeline.resample = false; },
+        "Keep the skeleton's sampling (hexes = 4 x edges)");
+    cmd->add_flag_callback(
+        "--raw", [args] { args->job.options.finish = false; },
+        "Stop after the raw mesh (no padding, subdivision or fitting)");
     cmd->add_option("--skeleton", args->skeleton_kind,
                     "auto: decide from the medial axis's sheet fraction; curve: mean-curvature-flow skeleton; meso: "
                     "medial axis imported as branches + leaflets")
@@ -62,23 +66,23 @@ void register_auto(CLI::App& app, int* status) {
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     add_mesh_job_options(cmd, &args->job);
-    cmd->footer("The skeleton used is written beside the mesh (OUT.skeleton.obj, with radii): edit it and re-run\n"
-                "  mesohex mesh OUT.skeleton.obj --surface SURFACE -o OUT.mesh\n"
-                "Examples:\n  mesohex auto cactus.obj -o cactus.mesh --report cactus.json\n"
-                "  mesohex auto aorta.stl -o aorta.vtu --levels 2\n"
-                "Exit status: 0 ok; 2 invalid input (e.g. a surface that is open, non-manifold or in several "
-                "components); 3 unsupported configuration; 4 file error; 5 the mesh written has inverted hexes.");
+    cmd->footer(
+        "The skeleton used is written beside the mesh (OUT.skeleton.obj, with radii): edit it and re-run\n"
+        "  mesohex mesh OUT.skeleton.obj --surface SURFACE -o OUT.mesh\n"
+        "Examples:\n  mesohex auto cactus.obj -o cactus.mesh --report cactus.json\n"
+        "  mesohex auto aorta.stl -o aorta.vtu --levels 2\n"
+        "Exit status: 0 ok; 2 invalid input (e.g. a surface that is open, non-manifold or in several "
+        "components); 3 unsupported configuration; 4 file error; 5 the mesh written has inverted hexes.");
     cmd->callback([args, status]() {
         std::optional<tbb::global_control> threads;
-        if (args->job.threads > 0)
-            threads.emplace(tbb::global_control::max_allowed_parallelism, args->job.threads);
+        if (args->job.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args->job.threads);
         auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
 
         const auto t0 = std::chrono::steady_clock::now();
         std::optional<TriangleMesh> domain = read_surface(args->surface);
         const auto t1 = std::chrono::steady_clock::now();
         AutoSkeletonOptions so = args->skeleton;
-        so.kind = args->skeleton_kind == "curve" ? SkeletonKind::Curve
+        so.kind = args->skeleton_kind == "curve"  ? SkeletonKind::Curve
                   : args->skeleton_kind == "meso" ? SkeletonKind::Meso
                                                   : SkeletonKind::Auto;
         // Throws (nothing written) when it cannot be done, naming the surface file.
@@ -103,10 +107,11 @@ void register_auto(CLI::App& app, int* status) {
         job.skeleton = skeleton_path;
         job.surface = args->surface;
         nlohmann::json extra = auto_skeleton_report(chosen, so, skeleton_path, medial_path);
-        extra["timings_ms"] = {{"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}};
+        extra["timings_ms"] = {
+            {"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}};
         // The report's "read_skeleton" is the radius step only (the skeleton is in memory); "total" starts at t0.
-        *status = at_stage("mesh", skeleton_path,
-                           [&] { return run_mesh_job(job, chosen.skeleton, domain, t3, &extra, t0); }, false);
+        *status = at_stage(
+            "mesh", skeleton_path, [&] { return run_mesh_job(job, chosen.skeleton, domain, t3, &extra, t0); }, false);
         std::cout << "auto: total " << ms(t0, std::chrono::steady_clock::now()) << " ms\n";
     });
 }

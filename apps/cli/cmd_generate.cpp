@@ -33,13 +33,15 @@ std::string shapes_footer() {
 
 void register_generate(CLI::App& app, int* status) {
     auto args = std::make_shared<GenerateArgs>();
-    CLI::App* cmd = app.add_subcommand("generate", "Write a procedural meso-skeleton (points with radii, branches, "
-                                                   "quad leaflets).");
+    CLI::App* cmd = app.add_subcommand("generate",
+                                       "Write a procedural meso-skeleton (points with radii, branches, "
+                                       "quad leaflets).");
     cmd->add_flag("--list", args->list, "Print the generator names, one per line, and exit");
     cmd->add_option("name", args->name, "Shape name (see --list)");
-    CLI::Option* random_option = cmd->add_option("--random", args->random_seed,
-                    "Random skeleton of the evaluation set (tree or sheet, chosen by the seed; bench/random_set.sh) "
-                    "instead of a named shape; SEED >= 0");
+    CLI::Option* random_option = cmd->add_option(
+        "--random", args->random_seed,
+        "Random skeleton of the evaluation set (tree or sheet, chosen by the seed; bench/random_set.sh) "
+        "instead of a named shape; SEED >= 0");
     cmd->add_option("-o,--output", args->output, "Output skeleton file (.obj or .ig)");
     cmd->add_option("-n", args->options.n, "Main resolution (meaning per shape, see below)");
     cmd->add_option("-m", args->options.m, "Second resolution (meaning per shape, see below)");
@@ -72,8 +74,8 @@ void register_generate(CLI::App& app, int* status) {
         write_skeleton(args->output, skeleton);
         const std::string title =
             random ? "--random " + std::to_string(seed) + " (" + random_skeleton_kind(seed) + ")" : args->name;
-        std::cout << "generate " << title << ": " << skeleton.points.size() << " points, "
-                  << skeleton.edges.size() << " edges, " << skeleton.faces.size() << " faces, Euler characteristic "
+        std::cout << "generate " << title << ": " << skeleton.points.size() << " points, " << skeleton.edges.size()
+                  << " edges, " << skeleton.faces.size() << " faces, Euler characteristic "
                   << euler_characteristic(skeleton) << " -> " << args->output << "\n";
         *status = 0;
     });

@@ -30,8 +30,9 @@ struct ImportArgs {
 
 void register_import(CLI::App& app, int* status) {
     auto args = std::make_shared<ImportArgs>();
-    CLI::App* cmd = app.add_subcommand("import", "Turn a medial mesh (.ma: curves + triangle sheets) into a "
-                                                 "meso-skeleton (branches + quad leaflets).");
+    CLI::App* cmd = app.add_subcommand("import",
+                                       "Turn a medial mesh (.ma: curves + triangle sheets) into a "
+                                       "meso-skeleton (branches + quad leaflets).");
     cmd->add_option("input", args->input, "Medial mesh (.ma)")->required();
     cmd->add_option("-o,--output", args->output, "Output skeleton file (.obj or .ig)")->required();
     cmd->add_option("--min-sheet-triangles", args->options.min_sheet_triangles,
@@ -82,19 +83,19 @@ void register_import(CLI::App& app, int* status) {
         args->options.reattach_interior_curves = args->reattach_interior_curves;
         args->options.smooth_boundary = !args->no_boundary_smoothing;
         const Skeleton medial = read_medial_mesh(args->input);
-        const MedialImport r =
-            at_stage("import", args->input, [&] { return import_medial_mesh(medial, args->options); }, false);
+        const MedialImport r = at_stage(
+            "import", args->input, [&] { return import_medial_mesh(medial, args->options); }, false);
         write_skeleton(args->output, r.skeleton);
         std::cout << "import " << args->input << ": " << medial.points.size() << " vertices, " << medial.edges.size()
                   << " edges, " << medial.faces.size() << " triangles in " << r.sheets << " sheet(s)\n"
-                  << "  irregular-fan triangles removed " << r.fan_triangles_removed << ", curve ends moved to a sheet boundary "
-                  << r.reattached_curve_ends << ", curve ends moved to a regular leaflet vertex " << r.rooted_curve_ends
-                  << ", collapsed sheets "
-                  << r.collapsed_sheets << ", leaflets " << r.leaflets << ", fan edges "
-                  << r.fan_edges << ", triangle pairs " << r.paired_quads << ", lone triangles " << r.split_triangles
-                  << ", BL-joints moved to a corner " << r.moved_bl_joints << ", smoothed vertices " << r.smoothed_vertices
-                  << "\n  skeleton: " << r.skeleton.points.size() << " points, " << r.skeleton.edges.size()
-                  << " edges, " << r.skeleton.faces.size() << " quads, Euler characteristic "
+                  << "  irregular-fan triangles removed " << r.fan_triangles_removed
+                  << ", curve ends moved to a sheet boundary " << r.reattached_curve_ends
+                  << ", curve ends moved to a regular leaflet vertex " << r.rooted_curve_ends << ", collapsed sheets "
+                  << r.collapsed_sheets << ", leaflets " << r.leaflets << ", fan edges " << r.fan_edges
+                  << ", triangle pairs " << r.paired_quads << ", lone triangles " << r.split_triangles
+                  << ", BL-joints moved to a corner " << r.moved_bl_joints << ", smoothed vertices "
+                  << r.smoothed_vertices << "\n  skeleton: " << r.skeleton.points.size() << " points, "
+                  << r.skeleton.edges.size() << " edges, " << r.skeleton.faces.size() << " quads, Euler characteristic "
                   << euler_characteristic(r.skeleton) << " (input " << euler_characteristic(medial) << ") -> "
                   << args->output << "\n";
         *status = 0;

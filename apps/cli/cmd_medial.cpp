@@ -26,8 +26,9 @@ struct MedialArgs {
 void register_medial(CLI::App& app, int* status) {
     auto args = std::make_shared<MedialArgs>();
     CLI::App* cmd = app.add_subcommand(
-        "medial", "Medial mesh (.ma: spheres, curves, sheets) of a closed surface: inner Voronoi poles, angle filter, "
-                  "sphere-quadric edge collapse.");
+        "medial",
+        "Medial mesh (.ma: spheres, curves, sheets) of a closed surface: inner Voronoi poles, angle filter, "
+        "sphere-quadric edge collapse.");
     cmd->add_option("surface", args->input, "Closed, manifold triangle surface (.off .obj .stl .ply)")->required();
     cmd->add_option("-o,--output", args->output, "Output medial mesh (.ma)")->required();
     MedialAxisOptions& o = args->options;
@@ -35,11 +36,13 @@ void register_medial(CLI::App& app, int* status) {
         ->capture_default_str();
     cmd->add_option("--max-samples", o.max_samples, "Surface samples at most (the spacing grows to fit)")
         ->capture_default_str();
-    cmd->add_option("--min-angle", o.min_angle_deg, "Angle filter: a Voronoi face is medial when it sees its two "
-                                                    "samples under at least this angle (degrees)")
+    cmd->add_option("--min-angle", o.min_angle_deg,
+                    "Angle filter: a Voronoi face is medial when it sees its two "
+                    "samples under at least this angle (degrees)")
         ->capture_default_str();
-    cmd->add_flag("--keep-topology", o.keep_topology,
-                  "Angle filter as an erosion that keeps the inner Voronoi complex's topology (no holes, no cut-off parts)");
+    cmd->add_flag(
+        "--keep-topology", o.keep_topology,
+        "Angle filter as an erosion that keeps the inner Voronoi complex's topology (no holes, no cut-off parts)");
     cmd->add_option("--target-vertices", o.target_vertices, "Simplify down to this many medial vertices")
         ->capture_default_str();
     cmd->add_option("--error-tolerance", o.error_tolerance,
@@ -59,13 +62,14 @@ void register_medial(CLI::App& app, int* status) {
         const MedialAxis m = compute_medial_axis(surface, args->options);
         const auto t2 = std::chrono::steady_clock::now();
         write_medial_mesh(args->output, m.medial);
-        std::cout << "medial " << args->input << ": " << m.samples << " samples, " << m.inner_poles
-                  << " inner poles, " << m.voronoi_faces << " Voronoi faces kept -> " << m.initial_vertices
-                  << " vertices, " << m.initial_triangles << " triangles (Euler characteristic " << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.collapses << " collapses, "
-                  << m.thin_triangles_removed << " thin triangles to curves, " << m.pruned_tips
-                  << " tips pruned (read " << ms(t0, t1) << " ms, medial " << ms(t1, t2) << " ms)\n"
-                  << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size()
-                  << " edges, " << m.medial.faces.size() << " triangles; " << m.sheets << " sheets, " << m.curves
+        std::cout << "medial " << args->input << ": " << m.samples << " samples, " << m.inner_poles << " inner poles, "
+                  << m.voronoi_faces << " Voronoi faces kept -> " << m.initial_vertices << " vertices, "
+                  << m.initial_triangles << " triangles (Euler characteristic " << m.initial_euler << "); "
+                  << m.joined_parts << " parts joined, " << m.collapses << " collapses, " << m.thin_triangles_removed
+                  << " thin triangles to curves, " << m.pruned_tips << " tips pruned (read " << ms(t0, t1)
+                  << " ms, medial " << ms(t1, t2) << " ms)\n"
+                  << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size() << " edges, "
+                  << m.medial.faces.size() << " triangles; " << m.sheets << " sheets, " << m.curves
                   << " curves, Euler characteristic " << m.euler << ", sheet fraction " << m.sheet_fraction << " -> "
                   << args->output << "\n";
         *status = 0;

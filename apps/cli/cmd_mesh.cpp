@@ -24,17 +24,19 @@ void register_mesh(CLI::App& app, int* status) {
     cmd->add_option("-o,--output", args->output, "Output hex mesh (.mesh, .vtk, .vtu, .msh, .inp, .exo)")->required();
     cmd->add_option("--radius", args->options.pipeline.radius,
                     "Radius for skeletons without one (default: 0.25 x mean skeleton edge length)");
-    cmd->add_flag_callback("--no-resample", [args] { args->options.pipeline.resample = false; },
-                           "Keep the input sampling (hexes = 4 x edges)");
+    cmd->add_flag_callback(
+        "--no-resample", [args] { args->options.pipeline.resample = false; },
+        "Keep the input sampling (hexes = 4 x edges)");
     cmd->add_option("--surface", args->surface,
                     "Domain surface (.off .obj .stl .ply): pad, subdivide, fit the mesh to it, untangle if needed");
-    cmd->add_flag_callback("--raw", [args] { args->options.finish = false; },
-                           "Stop after the raw mesh even when --surface is given");
+    cmd->add_flag_callback(
+        "--raw", [args] { args->options.finish = false; }, "Stop after the raw mesh even when --surface is given");
     add_mesh_job_options(cmd, args.get());
-    cmd->footer("Examples:\n  mesohex mesh cactus.skel -o cactus_raw.mesh --report cactus.json\n"
-                "  mesohex mesh cactus.skel --surface cactus.obj -o cactus.mesh\n"
-                "Exit status: 0 ok; 2 invalid input; 3 unsupported configuration; 4 file error; 5 the mesh written "
-                "has inverted hexes (said on stderr).");
+    cmd->footer(
+        "Examples:\n  mesohex mesh cactus.skel -o cactus_raw.mesh --report cactus.json\n"
+        "  mesohex mesh cactus.skel --surface cactus.obj -o cactus.mesh\n"
+        "Exit status: 0 ok; 2 invalid input; 3 unsupported configuration; 4 file error; 5 the mesh written "
+        "has inverted hexes (said on stderr).");
     cmd->callback([args, status]() {
         std::optional<tbb::global_control> threads;
         if (args->threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args->threads);
@@ -43,8 +45,8 @@ void register_mesh(CLI::App& app, int* status) {
         Skeleton skeleton = read_skeleton(args->skeleton);
         std::optional<TriangleMesh> domain;
         if (!args->surface.empty()) domain = read_surface(args->surface);
-        *status = at_stage("mesh", args->skeleton,
-                           [&] { return run_mesh_job(*args, std::move(skeleton), domain, t0); }, false);
+        *status = at_stage(
+            "mesh", args->skeleton, [&] { return run_mesh_job(*args, std::move(skeleton), domain, t0); }, false);
     });
 }
 

@@ -48,8 +48,10 @@ void register_quality(CLI::App& app, int* status) {
     sub->callback([opts, status] {
         const HexMesh mesh = read_hex_mesh(opts->mesh);
         const QualityReport report = compute_quality(mesh);
-        if (opts->json) std::cout << quality_to_json(report) << "\n";
-        else std::cout << quality_to_text(report);
+        if (opts->json)
+            std::cout << quality_to_json(report) << "\n";
+        else
+            std::cout << quality_to_text(report);
         *status = (report.validation.valid() && report.inverted == 0) ? 0 : kBadMeshStatus;
     });
 }
@@ -64,7 +66,8 @@ void register_convert(CLI::App& app, int* status) {
         "to .vtk, .vtu and .msh (an element variable in .exo). Prints the quality summary of the mesh.");
     sub->add_option("input", opts->input, "input hex mesh file")->required();
     sub->add_option("output", opts->output, "output file; written to a temporary file and renamed")->required();
-    sub->add_flag("--json", opts->json, "print the quality summary as JSON (with a 'partition' object when partitioned)");
+    sub->add_flag("--json", opts->json,
+                  "print the quality summary as JSON (with a 'partition' object when partitioned)");
     sub->add_option("--partitions", opts->partitions,
                     "split the hexes into N parts for MPI solvers (METIS k-way on the face adjacency of the hexes): "
                     "cell data 'partition' in .vtk .vtu .msh, one element block per part in .exo, the reference "
@@ -96,12 +99,11 @@ void register_convert(CLI::App& app, int* status) {
         const bool good = report.validation.valid() && report.inverted == 0;
         if (!good)
             std::cerr << "mesohex: warning: " << opts->input << ": "
-                      << (report.validation.valid() ? "the mesh has " + std::to_string(report.inverted) +
-                                                          " inverted hexes"
-                                                    : std::string("the mesh fails validation (see the report)"))
+                      << (report.validation.valid()
+                              ? "the mesh has " + std::to_string(report.inverted) + " inverted hexes"
+                              : std::string("the mesh fails validation (see the report)"))
                       << " (written anyway; exit status 5, as `quality` gives)\n";
         *status = good ? 0 : kBadMeshStatus;
-
     });
 }
 

@@ -26,8 +26,9 @@ struct SkeletonizeArgs {
 
 void register_skeletonize(CLI::App& app, int* status) {
     auto args = std::make_shared<SkeletonizeArgs>();
-    CLI::App* cmd = app.add_subcommand("skeletonize", "Curve skeleton with radii of a closed surface (CGAL mean "
-                                                      "curvature flow), cleaned for meshing.");
+    CLI::App* cmd = app.add_subcommand("skeletonize",
+                                       "Curve skeleton with radii of a closed surface (CGAL mean "
+                                       "curvature flow), cleaned for meshing.");
     cmd->add_option("surface", args->input, "Closed, manifold, single-component triangle surface")->required();
     cmd->add_option("-o,--output", args->output, "Output skeleton file (.obj or .ig)")->required();
     cmd->add_option("--min-edge-length", args->options.min_edge_length,

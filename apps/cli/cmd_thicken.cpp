@@ -27,8 +27,9 @@ struct ThickenArgs {
 
 void register_thicken(CLI::App& app, int* status) {
     auto args = std::make_shared<ThickenArgs>();
-    CLI::App* cmd = app.add_subcommand("thicken", "Closed triangle surface of the domain a skeleton with radii describes "
-                                                  "(spheres + round cones + thickened leaflets).");
+    CLI::App* cmd = app.add_subcommand("thicken",
+                                       "Closed triangle surface of the domain a skeleton with radii describes "
+                                       "(spheres + round cones + thickened leaflets).");
     cmd->add_option("skeleton", args->input, "Skeleton file (.ig, .cg, .cgr, .skel, .obj)")->required();
     cmd->add_option("-o,--output", args->output, "Output surface (.off, .obj or .stl)")->required();
     cmd->add_option("--radius", args->radius, "Radius of every point, used only when the skeleton file has none");
@@ -48,8 +49,8 @@ void register_thicken(CLI::App& app, int* status) {
             throw Error(ErrorCode::InvalidInput, args->input + ": the skeleton has no radii; give one with --radius R");
         const auto t1 = std::chrono::steady_clock::now();
         ThickenStats stats;
-        const TriangleMesh surface =
-            at_stage("thicken", args->input, [&] { return thicken(skeleton, args->options, &stats); }, false);
+        const TriangleMesh surface = at_stage(
+            "thicken", args->input, [&] { return thicken(skeleton, args->options, &stats); }, false);
         const auto t2 = std::chrono::steady_clock::now();
         const SurfaceCheck check = check_surface(surface);
         write_surface(args->output, surface);

@@ -26,7 +26,6 @@ auto at_stage(const std::string& stage, const std::string& file, F&& f, bool nam
     }
 }
 
-
 void register_quality(CLI::App& app, int* status);
 void register_mesh(CLI::App& app, int* status);
 void register_analyze(CLI::App& app, int* status);

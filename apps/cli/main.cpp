@@ -5,8 +5,9 @@
 #include "mesohex/core/error.h"
 
 int main(int argc, char** argv) {
-    CLI::App app{"mesohex: all-hex meshes guided by meso-skeletons (curve branches + quad leaflets).\n"
-                 "Example: mesohex quality out.mesh --json"};
+    CLI::App app{
+        "mesohex: all-hex meshes guided by meso-skeletons (curve branches + quad leaflets).\n"
+        "Example: mesohex quality out.mesh --json"};
     app.require_subcommand(1);
     int status = 0;
     mesohex::cli::register_mesh(app, &status);

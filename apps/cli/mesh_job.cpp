@@ -38,15 +38,14 @@ public:
             stage_ = p.stage;
             stage_start_ = std::chrono::steady_clock::now();
         }
-        const double elapsed =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start_).count();
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start_).count();
         if (elapsed < 1.0 || p.stage == "raw" || p.stage == "attempt") return;
         if (p.stage == "fit") {
             const int width = 30;
             const int filled = std::min(width, p.step * width / std::max(1, p.steps));
             std::cerr << "\rfit [" << std::string(static_cast<std::size_t>(filled), '#')
-                      << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << p.step << "/"
-                      << p.steps << "  SJ min " << p.sj_min << "  inverted " << p.inverted << "   " << std::flush;
+                      << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << p.step << "/" << p.steps
+                      << "  SJ min " << p.sj_min << "  inverted " << p.inverted << "   " << std::flush;
         } else {
             const char* unit = p.stage == "smooth" ? "sweep" : "round";
             std::cerr << "\r" << p.stage << " " << unit << " " << p.step << "/" << p.steps;
@@ -89,7 +88,8 @@ void print_summary(const MeshJob& job, const MeshRun& run) {
     std::cout << "raw mesh: " << q.vertices << " vertices, " << q.hexes << " hexes, SJ min " << q.sj_min << " avg "
               << q.sj_avg << ", inverted " << q.inverted << ", " << (q.validation.valid() ? "valid" : "INVALID")
               << ", Euler characteristic " << q.euler_characteristic;
-    if (res.predicted.compatible_blocks > 0) std::cout << ", " << res.predicted.compatible_blocks << " compatible blocks";
+    if (res.predicted.compatible_blocks > 0)
+        std::cout << ", " << res.predicted.compatible_blocks << " compatible blocks";
     std::cout << (run.prediction_exact ? ", prediction exact" : ", PREDICTION MISMATCH")
               << (run.finish ? "" : " -> " + job.output) << "\n";
     if (!run.finish) return;
@@ -110,11 +110,10 @@ void print_summary(const MeshJob& job, const MeshRun& run) {
     for (std::size_t i = 0; i < run.attempts.size(); ++i) {
         const MeshAttempt& a = run.attempts[i];
         std::cout << "attempt " << i + 1 << " (first joints at " << a.free_branching_reach
-                  << " x the reach at branching points): SJ min " << a.sj_min << " avg " << a.sj_avg
-                  << ", inverted " << a.inverted;
+                  << " x the reach at branching points): SJ min " << a.sj_min << " avg " << a.sj_avg << ", inverted "
+                  << a.inverted;
         if (a.distance_measured) std::cout << ", Hausdorff " << 100.0 * a.hausdorff_relative_max << " %";
-        std::cout << (a.free_branching_reach == run.options.adaptation.free_branching_reach ? " (kept)" : "")
-                  << "\n";
+        std::cout << (a.free_branching_reach == run.options.adaptation.free_branching_reach ? " (kept)" : "") << "\n";
     }
 }
 
@@ -127,29 +126,43 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_option("--radius-factor", job->options.radius_factor,
                     "Radius from the surface = factor x distance to the surface (room for the padding layer)")
         ->capture_default_str();
-    cmd->add_option("--levels", job->options.finishing.levels, "1->8 subdivision levels after padding (default: from --size, else 1, or 2 when the padded mesh's mean edge "
-                    "is longer than 1/16 of the domain's bounding-box diagonal or the raw mesh's mean scaled Jacobian is below 0.5, "
-                    "within 150000 hexes and if padding inverted nothing)");
+    cmd->add_option(
+        "--levels", job->options.finishing.levels,
+        "1->8 subdivision levels after padding (default: from --size, else 1, or 2 when the padded mesh's mean edge "
+        "is longer than 1/16 of the domain's bounding-box diagonal or the raw mesh's mean scaled Jacobian is below "
+        "0.5, "
+        "within 150000 hexes and if padding inverted nothing)");
     cmd->add_option("--size", job->options.finishing.size, "Target mean edge length; chooses the subdivision levels");
     cmd->add_option("--refine", job->refine,
                     "Subdivision per level: uniform (1->8), longitudinal (only the sheets along the branches: more "
                     "cross-sections), radial (only the cross-sections of the branches)")
         ->check(CLI::IsMember({"uniform", "longitudinal", "radial"}))
         ->capture_default_str();
-    cmd->add_flag_callback("--no-blocks",
-                           [job] { job->options.pipeline.connection_surfaces.blocks.enabled = false; },
-                           "No 8-hex compatible block at branching points whose branches are near a cube's face "
-                           "normals: the paper's layout (a quad partition of the sphere) everywhere");
-    cmd->add_flag_callback("--no-pad", [job] { job->options.finishing.pad = false; }, "Skip the padding layer");
-    cmd->add_flag_callback("--no-fit", [job] { job->options.finishing.fit = false; job->options.finishing.untangle = false; }, "Skip the surface fitting (and untangling)");
-    cmd->add_flag_callback("--no-untangle", [job] { job->options.finishing.untangle = false; },
-                  "Skip the untangling of inverted hexes after the fit (the report and exit status 5 still say so)");
-    cmd->add_flag_callback("--no-smooth", [job] { job->options.finishing.smooth = false; }, "Skip the final smoothing pass");
-    cmd->add_flag_callback("--no-retry", [job] { job->options.retry = false; },
-                  "One attempt only: no second adaptation with the first joints farther from the branching points "
-                  "when the mesh misses a goal (inverted hex, SJ min < 0.3, avg < 0.85, Hausdorff > 1 % of the "
-                  "diagonal)");
-    cmd->add_option("--iterations", job->options.finishing.fitting.max_iterations, "Iteration cap of the fitting loop")->capture_default_str();
+    cmd->add_flag_callback(
+        "--no-blocks", [job] { job->options.pipeline.connection_surfaces.blocks.enabled = false; },
+        "No 8-hex compatible block at branching points whose branches are near a cube's face "
+        "normals: the paper's layout (a quad partition of the sphere) everywhere");
+    cmd->add_flag_callback(
+        "--no-pad", [job] { job->options.finishing.pad = false; }, "Skip the padding layer");
+    cmd->add_flag_callback(
+        "--no-fit",
+        [job] {
+            job->options.finishing.fit = false;
+            job->options.finishing.untangle = false;
+        },
+        "Skip the surface fitting (and untangling)");
+    cmd->add_flag_callback(
+        "--no-untangle", [job] { job->options.finishing.untangle = false; },
+        "Skip the untangling of inverted hexes after the fit (the report and exit status 5 still say so)");
+    cmd->add_flag_callback(
+        "--no-smooth", [job] { job->options.finishing.smooth = false; }, "Skip the final smoothing pass");
+    cmd->add_flag_callback(
+        "--no-retry", [job] { job->options.retry = false; },
+        "One attempt only: no second adaptation with the first joints farther from the branching points "
+        "when the mesh misses a goal (inverted hex, SJ min < 0.3, avg < 0.85, Hausdorff > 1 % of the "
+        "diagonal)");
+    cmd->add_option("--iterations", job->options.finishing.fitting.max_iterations, "Iteration cap of the fitting loop")
+        ->capture_default_str();
     cmd->add_option("--fit-weight", job->options.finishing.fitting.lambda,
                     "Weight of the pull of the boundary onto the surface, relative to the shape terms")
         ->capture_default_str()

@@ -23,7 +23,7 @@ struct MeshJob {
     std::string refine = "uniform";  // uniform | longitudinal | radial -> options.finishing.refinement
     int threads = 0;                 // 0 = all cores
     bool quiet = false;
-    MeshOptions options;             // every meshing option; the flags write into it (library defaults)
+    MeshOptions options;  // every meshing option; the flags write into it (library defaults)
 };
 
 // Adds the options common to `mesh` and `auto` (from --radius-from-surface to --threads) to `cmd`.

@@ -18,9 +18,7 @@ std::uint32_t get_u32_le(const std::string& in, std::size_t at) {
 
 void put_f32_le(std::string& out, double x) { put_u32_le(out, std::bit_cast<std::uint32_t>(static_cast<float>(x))); }
 
-[[noreturn]] void malformed(const std::string& what) {
-    throw std::invalid_argument("binary answer: " + what);
-}
+[[noreturn]] void malformed(const std::string& what) { throw std::invalid_argument("binary answer: " + what); }
 
 }  // namespace
 
@@ -38,7 +36,8 @@ void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector
 
 void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector<Vec3>& points) {
     arrays.bytes.reserve(arrays.bytes.size() + 12 * points.size());
-    for (const Vec3& p : points) put_f32_le(arrays.bytes, p.x), put_f32_le(arrays.bytes, p.y), put_f32_le(arrays.bytes, p.z);
+    for (const Vec3& p : points)
+        put_f32_le(arrays.bytes, p.x), put_f32_le(arrays.bytes, p.y), put_f32_le(arrays.bytes, p.z);
     arrays.list.push_back({{"name", name}, {"type", "f32"}, {"count", 3 * points.size()}});
 }
 

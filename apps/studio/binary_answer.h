@@ -44,9 +44,9 @@ std::string binary_answer_text(std::string header_object, const BinaryArrays& ar
 // Throws std::invalid_argument on a malformed answer (bad magic or version, sizes that do not add up).
 struct DecodedAnswer {
     nlohmann::json header;
-    std::vector<std::string> names;                          // in order
-    std::vector<std::vector<double>> f32;                    // per array (empty for u32 arrays)
-    std::vector<std::vector<std::uint32_t>> u32;             // per array (empty for f32 arrays)
+    std::vector<std::string> names;               // in order
+    std::vector<std::vector<double>> f32;         // per array (empty for u32 arrays)
+    std::vector<std::vector<std::uint32_t>> u32;  // per array (empty for f32 arrays)
     const std::vector<double>& reals(const std::string& name) const;
     const std::vector<std::uint32_t>& ints(const std::string& name) const;
     bool has(const std::string& name) const;

@@ -187,15 +187,9 @@ struct DrawArrays {
 };
 
 nlohmann::json timings_json(const MeshTimings& t) {
-    return {{"mesh", t.mesh_ms},
-            {"pipeline", t.pipeline_ms},
-            {"quality", t.quality_ms},
-            {"report", t.report_ms},
-            {"topology", t.topology_ms},
-            {"connection_surfaces", t.connection_surfaces_ms},
-            {"distance", t.distance_ms},
-            {"encode", t.encode_ms},
-            {"total", t.total_ms}};
+    return {{"mesh", t.mesh_ms},         {"pipeline", t.pipeline_ms}, {"quality", t.quality_ms},
+            {"report", t.report_ms},     {"topology", t.topology_ms}, {"connection_surfaces", t.connection_surfaces_ms},
+            {"distance", t.distance_ms}, {"encode", t.encode_ms},     {"total", t.total_ms}};
 }
 
 // Connection surfaces of the meshed skeleton, drawn with the raw mesh's own vertices: the point x of the surface of

@@ -41,15 +41,15 @@ struct MeshRequest {
 
 // Where the server's time goes (wall ms), answered as "server_phases_ms".
 struct MeshTimings {
-    double mesh_ms = 0;        // mesh_skeleton: radii, pipeline, raw quality and (final) finishing
-    double pipeline_ms = 0;    //   of which run_pipeline (analysis, adaptation, connection surfaces, raw mesh)
-    double quality_ms = 0;     //   of which compute_quality of the raw mesh
-    double report_ms = 0;      // mesh_report and the analysis JSON
-    double topology_ms = 0;    // singular edges and boundary quads of the mesh (compute_hex_topology)
+    double mesh_ms = 0;                 // mesh_skeleton: radii, pipeline, raw quality and (final) finishing
+    double pipeline_ms = 0;             //   of which run_pipeline (analysis, adaptation, connection surfaces, raw mesh)
+    double quality_ms = 0;              //   of which compute_quality of the raw mesh
+    double report_ms = 0;               // mesh_report and the analysis JSON
+    double topology_ms = 0;             // singular edges and boundary quads of the mesh (compute_hex_topology)
     double connection_surfaces_ms = 0;  // raw only: the connection surfaces drawn with the raw mesh's vertices
-    double distance_ms = 0;    // final only: distance of the boundary vertices to the domain
-    double encode_ms = 0;      // writing the body (JSON text or binary)
-    double total_ms = 0;       // = "server_ms"
+    double distance_ms = 0;             // final only: distance of the boundary vertices to the domain
+    double encode_ms = 0;               // writing the body (JSON text or binary)
+    double total_ms = 0;                // = "server_ms"
 };
 
 // Meshes `skeleton` (in `domain` when given) and answers the /api/mesh body: {"report", "mesh", "analysis",

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <limits>
 #include <sstream>
-#include <vector>
 #include <utility>
+#include <vector>
 
 #include "mesohex/core/error.h"
 #include "mesohex/surface/radius_from_surface.h"
@@ -36,14 +36,17 @@ double medial_coverage_gap(const TriangleMesh& surface, const Skeleton& medial) 
     for (const std::array<int, 2>& e : medial.edges)
         for (int k = 1; k < 8; ++k) {
             const double t = k / 8.0;
-            centre.push_back((1 - t) * medial.points[static_cast<size_t>(e[0])] + t * medial.points[static_cast<size_t>(e[1])]);
-            radius.push_back((1 - t) * medial.radii[static_cast<size_t>(e[0])] + t * medial.radii[static_cast<size_t>(e[1])]);
+            centre.push_back((1 - t) * medial.points[static_cast<size_t>(e[0])] +
+                             t * medial.points[static_cast<size_t>(e[1])]);
+            radius.push_back((1 - t) * medial.radii[static_cast<size_t>(e[0])] +
+                             t * medial.radii[static_cast<size_t>(e[1])]);
         }
     for (const std::vector<int>& f : medial.faces)
         for (int i = 1; i < 4; ++i)
             for (int j = 1; i + j < 4; ++j) {
                 const double a = i / 4.0, b = j / 4.0, c = 1 - a - b;
-                const size_t f0 = static_cast<size_t>(f[0]), f1 = static_cast<size_t>(f[1]), f2 = static_cast<size_t>(f[2]);
+                const size_t f0 = static_cast<size_t>(f[0]), f1 = static_cast<size_t>(f[1]),
+                             f2 = static_cast<size_t>(f[2]);
                 centre.push_back(a * medial.points[f0] + b * medial.points[f1] + c * medial.points[f2]);
                 radius.push_back(a * medial.radii[f0] + b * medial.radii[f1] + c * medial.radii[f2]);
             }
@@ -101,7 +104,8 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
             ro.factor = options.meso_radius_factor;
             const RadiusFromSurface rs = radius_from_surface(out.import.skeleton, query, ro);
             for (size_t v = 0; v < rs.radii.size(); ++v)
-                if (rs.radii[v] > 0) out.import.skeleton.radii[v] = rs.radii[v];  // a point on the surface keeps its own
+                if (rs.radii[v] > 0)
+                    out.import.skeleton.radii[v] = rs.radii[v];  // a point on the surface keeps its own
         }
         if (options.kind == SkeletonKind::Auto) {
             MeshOptions raw_options;

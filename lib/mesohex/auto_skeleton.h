@@ -10,9 +10,9 @@
 
 #include "mesohex/core/hex_mesh.h"
 #include "mesohex/core/skeleton.h"
+#include "mesohex/mesh.h"
 #include "mesohex/stages/medial_import.h"
 #include "mesohex/surface/medial_axis.h"
-#include "mesohex/mesh.h"
 #include "mesohex/surface/skeletonize.h"
 
 namespace mesohex {
@@ -27,7 +27,7 @@ struct AutoSkeletonOptions {
     // Auto: the meso-skeleton only when every surface vertex is within this x diagonal of the medial mesh's swept
     // spheres (dimensionless, x diagonal): a part the angle filter lost leaves a larger gap (docs/tuning.md).
     double max_coverage_gap = 0.2;
-    long max_raw_inverted = 0;      // Auto: the meso-skeleton's raw mesh may have at most this many inverted hexes
+    long max_raw_inverted = 0;  // Auto: the meso-skeleton's raw mesh may have at most this many inverted hexes
     // Auto: ... and its minimum scaled Jacobian must be at least this (dimensionless): the finishing does not lift a
     // raw minimum much (sculpt: raw 0.097, finished 0.100 and 9.3 % Hausdorff; plate1: raw 0.43, finished 0.38).
     double min_raw_sj = 0.2;
@@ -42,15 +42,15 @@ struct AutoSkeletonOptions {
 };
 
 struct AutoSkeleton {
-    Skeleton skeleton;                 // with radii, one per point
+    Skeleton skeleton;                        // with radii, one per point
     SkeletonKind kind = SkeletonKind::Curve;  // Curve or Meso: the one returned
-    std::string reason;                // why this kind, in words, with the numbers
-    bool medial_computed = false;      // the medial axis was computed (Auto or Meso)
-    MedialAxis medial;                 // when medial_computed: the medial mesh and its measures
-    MedialImport import;               // when kind == Meso
-    Skeletonization curve;             // when kind == Curve
-    double coverage_gap = 0;           // Auto: largest surface-to-medial-spheres gap, x bbox diagonal
-    bool raw_checked = false;          // the meso-skeleton's raw mesh was built (Auto)
+    std::string reason;                       // why this kind, in words, with the numbers
+    bool medial_computed = false;             // the medial axis was computed (Auto or Meso)
+    MedialAxis medial;                        // when medial_computed: the medial mesh and its measures
+    MedialImport import;                      // when kind == Meso
+    Skeletonization curve;                    // when kind == Curve
+    double coverage_gap = 0;                  // Auto: largest surface-to-medial-spheres gap, x bbox diagonal
+    bool raw_checked = false;                 // the meso-skeleton's raw mesh was built (Auto)
     long raw_hexes = 0, raw_inverted = 0;
     double raw_sj_min = 0;
 };

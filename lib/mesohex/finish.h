@@ -31,8 +31,8 @@ inline UntangleOptions pad_improve_defaults() {
 }
 
 struct FinishOptions {
-    bool pad = true;                 // add one padding layer (padding) over the raw boundary first
-    PaddingOptions padding;        // default: 1 layer
+    bool pad = true;         // add one padding layer (padding) over the raw boundary first
+    PaddingOptions padding;  // default: 1 layer
     // > 0 (and padding.offset_rule unset, padding.absolute_thickness 0): a boundary vertex inside the domain moves as
     // far as the domain surface along its padding direction, between the padding's own offset (thickness x shortest
     // boundary edge) and pad_to_domain x the mean boundary edge at the vertex. A raw mesh inside its domain (radii
@@ -46,74 +46,75 @@ struct FinishOptions {
     // only if min SJ rises and nothing is inverted. Stage "pad-improve" (only when it ran). 0 = off. Scaled Jacobian.
     double pad_improve_sj = 0.2;
     UntangleOptions pad_improving = pad_improve_defaults();  // energy and holds of that pass
-    bool subdivide = true;           // refine (levels / size / min_resolution below, refinement)
-    int levels = -1;               // >= 0: this many 1 -> 8 levels; < 0: from `size` when > 0, else from min_resolution
-    double size = 0;               // target mean edge length (levels_for_size on the padded mesh), used when levels < 0
-    double min_resolution = 16;    // levels < 0, size <= 0: at least 1 level, more (up to max_auto_levels) while the
-    int max_auto_levels = 2;       // mean edge length of the padded mesh exceeds the domain's bbox diagonal / this
+    bool subdivide = true;       // refine (levels / size / min_resolution below, refinement)
+    int levels = -1;             // >= 0: this many 1 -> 8 levels; < 0: from `size` when > 0, else from min_resolution
+    double size = 0;             // target mean edge length (levels_for_size on the padded mesh), used when levels < 0
+    double min_resolution = 16;  // levels < 0, size <= 0: at least 1 level, more (up to max_auto_levels) while the
+    int max_auto_levels = 2;     // mean edge length of the padded mesh exceeds the domain's bbox diagonal / this
     // levels < 0, size <= 0: one level more (up to max_auto_levels, if the result stays within max_auto_hexes) when
     // the raw mesh's mean scaled Jacobian is below this. A raw mesh of poor hexes (short, fat branches between
     // crossings) keeps much of that shape after one level and a fit; with one more level the distortion spreads over
     // 8 times more hexes. Not when the padded mesh has inverted hexes: the untangling then has 8 times more to do and
     // a finer mesh does not undo the folds (measurements: docs/tuning.md). 0 = off.
     double poor_raw_sj_avg = 0.5;
-    long max_auto_hexes = 150000;    // hexes after the extra level of poor_raw_sj_avg at most
+    long max_auto_hexes = 150000;  // hexes after the extra level of poor_raw_sj_avg at most
     // Uniform: 1 -> 8 per level. Longitudinal / Radial: per level, split only the sheets of the branch chunks along
     // the branches / across them (select_branch_sheets); needs chunk_hex.
     enum class Refinement { Uniform, Longitudinal, Radial } refinement = Refinement::Uniform;
-    std::vector<char> chunk_hex;   // per raw hex: 1 for a chunk hex of a branch edge (RawMesh::hex_edge on a branch)
-    bool fit = true;                 // fit the boundary to the domain surface (fit_to_surface)
-    FitOptions fitting;            // the fit's options (gap_goal from gap_goal_relative when > 0)
+    std::vector<char> chunk_hex;  // per raw hex: 1 for a chunk hex of a branch edge (RawMesh::hex_edge on a branch)
+    bool fit = true;              // fit the boundary to the domain surface (fit_to_surface)
+    FitOptions fitting;           // the fit's options (gap_goal from gap_goal_relative when > 0)
     // > 0: fitting.gap_goal (a length) = this fraction of the domain's bbox diagonal: the fit tightens its pull only
     // while the boundary is farther than that from the surface. Dimensionless.
     double gap_goal_relative = 0.005;
-    bool untangle = true;          // run only when some hex has scaled Jacobian <= 0 at that point
-    UntangleOptions untangling;      // the untangling after the fit (boundary fixed by default)
+    bool untangle = true;                // run only when some hex has scaled Jacobian <= 0 at that point
+    UntangleOptions untangling;          // the untangling after the fit (boundary fixed by default)
     bool free_boundary_fallback = true;  // if hexes stay inverted with the boundary fixed, untangle again with the
                                          // boundary vertices softly attached (untangling.boundary_attach)
     // Quality pass: when min SJ is below improve_sj after fitting, the vertices of the hexes below it and of their
     // neighbours are optimized with the untangling energy, boundary vertices softly held where they are (attachment
     // 100 / h^2: they move a small fraction of an edge); kept only if min SJ rises and no hex got inverted. 0 = off.
     double improve_sj = 0.3;
-    double improve_distance_budget = 0.01;  // x the domain's diagonal: see quality_pass in finish.cpp
+    double improve_distance_budget = 0.01;           // x the domain's diagonal: see quality_pass in finish.cpp
     UntangleOptions improving = improve_defaults();  // energy and holds of the quality pass
     // Smoothing pass (last, after a fit, on a mesh without inverted hexes): per-vertex scaled-Jacobian descent,
     // boundary vertices sliding on the domain surface (smooth_quality); never inverts a hex nor lowers the worst hex
     // at a vertex below the target.
     bool smooth = true;
-    SmoothOptions smoothing;         // max_gap from smooth_gap_relative when > 0
+    SmoothOptions smoothing;  // max_gap from smooth_gap_relative when > 0
     // > 0: smoothing.max_gap (a length) = this fraction of the domain's bbox diagonal: boundary moves keep the
     // boundary that close to the surface, or no farther than before. Dimensionless.
     double smooth_gap_relative = 0.0025;
-    bool measure_distance = true;  // two-sided Hausdorff distance of the final boundary to the domain
+    bool measure_distance = true;     // two-sided Hausdorff distance of the final boundary to the domain
     SurfaceDistanceOptions distance;  // sampling of the Hausdorff estimate
 };
 
 struct FinishStage {
-    std::string stage;  // "input", "pad", "pad-improve", "subdivide", "fit", "untangle", "improve", "untangle-free", "smooth"
-    double ms = 0;      // wall time of the stage (0 for "input")
+    std::string
+        stage;  // "input", "pad", "pad-improve", "subdivide", "fit", "untangle", "improve", "untangle-free", "smooth"
+    double ms = 0;  // wall time of the stage (0 for "input")
     long vertices = 0, hexes = 0;
     double sj_min = 0, sj_avg = 0;  // scaled Jacobian after the stage
     long inverted = 0;              // hexes with scaled Jacobian <= 0 after the stage
 };
 
 struct FinishResult {
-    HexMesh mesh;                     // the final mesh
-    std::vector<FinishStage> stages;  // "input" first, then every stage that ran, in order
-    int domain_flipped_triangles = 0; // triangles of the domain reversed by orient_outward (inward-facing input)
-    int subdivision_levels = 0;       // levels actually applied
+    HexMesh mesh;                      // the final mesh
+    std::vector<FinishStage> stages;   // "input" first, then every stage that ran, in order
+    int domain_flipped_triangles = 0;  // triangles of the domain reversed by orient_outward (inward-facing input)
+    int subdivision_levels = 0;        // levels actually applied
     int fit_iterations = 0;
     bool fit_converged = false;
-    double fit_max_distance = 0;      // largest boundary-vertex distance to the surface at the end of the fit
-    bool untangled = false;           // untangle ran
+    double fit_max_distance = 0;  // largest boundary-vertex distance to the surface at the end of the fit
+    bool untangled = false;       // untangle ran
     int untangle_rounds = 0;
     bool untangled_boundary_moved = false;  // the free-boundary fallback of the untangle stage was kept
-    bool pad_improved = false;        // the quality pass on the padded mesh ran and its result was kept
-    bool improved = false;            // the quality pass ran and its result was kept
-    bool smoothed = false;            // the smoothing pass moved some vertex
-    QualityReport quality;            // compute_quality of the final mesh
+    bool pad_improved = false;              // the quality pass on the padded mesh ran and its result was kept
+    bool improved = false;                  // the quality pass ran and its result was kept
+    bool smoothed = false;                  // the smoothing pass moved some vertex
+    QualityReport quality;                  // compute_quality of the final mesh
     bool distance_measured = false;
-    SurfaceDistance distance;         // absolute (max, mean) and relative to the domain bbox diagonal
+    SurfaceDistance distance;  // absolute (max, mean) and relative to the domain bbox diagonal
     double distance_ms = 0;
     double total_ms = 0;
 };

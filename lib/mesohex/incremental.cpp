@@ -30,9 +30,9 @@ bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(&a, &b, sizeof
 RemeshStats rebuild(RemeshCache& cache, const Skeleton& skeleton, SkeletonAnalysis analysis,
                     const std::vector<char>* recompute) {
     RemeshStats stats;
-    ConnectionSurfaces cs = recompute ? rebuild_connection_surfaces(skeleton, analysis, &cache.surfaces, *recompute,
-                                                                    cache.surface_options)
-                                      : build_connection_surfaces(skeleton, analysis, cache.surface_options);
+    ConnectionSurfaces cs =
+        recompute ? rebuild_connection_surfaces(skeleton, analysis, &cache.surfaces, *recompute, cache.surface_options)
+                  : build_connection_surfaces(skeleton, analysis, cache.surface_options);
     BranchFrames frames = propagate_frames(skeleton, analysis, cs);
     RawMesh raw = build_raw_mesh(skeleton, analysis, cs, frames);
     // Everything built: commit (the cache stays unchanged if anything above threw).

@@ -29,9 +29,9 @@ struct RemeshCache {
 };
 
 struct RemeshStats {
-    bool full = true;              // everything was recomputed (first call, other topology, or options changed)
-    int changed_vertices = 0;      // vertices whose position or radius changed
-    int recomputed_surfaces = 0;   // vertices whose connection surface was recomputed (all when full)
+    bool full = true;             // everything was recomputed (first call, other topology, or options changed)
+    int changed_vertices = 0;     // vertices whose position or radius changed
+    int recomputed_surfaces = 0;  // vertices whose connection surface was recomputed (all when full)
 };
 
 // Meshes `skeleton` (radii required: one per vertex, finite and > 0) from scratch and fills the cache.

@@ -20,7 +20,7 @@ double ms_since(std::chrono::steady_clock::time_point t) {
 // Radii from the domain (factor x distance to its surface) when the skeleton has none or the options ask for it.
 // Returns the note the report gives as the radius source ("" when the domain was not used).
 std::string take_radii_from_domain(Skeleton& skeleton, const TriangleMesh& domain, const SurfaceQuery* domain_query,
-                                  const MeshOptions& options) {
+                                   const MeshOptions& options) {
     if (!skeleton.radii.empty() && !options.radius_from_surface) return "";
     std::optional<SurfaceQuery> own;
     if (!domain_query) domain_query = &own.emplace(domain);
@@ -87,8 +87,7 @@ MeshAttempt attempt_of(const AdaptationOptions& adaptation, const FinishResult& 
 }
 
 bool prediction_matches(const QualityReport& q, const RawMeshPrediction& p) {
-    return q.hexes == p.hexes && q.vertices == p.vertices &&
-           q.singular_interior_edges == p.interior_irregular_edges &&
+    return q.hexes == p.hexes && q.vertices == p.vertices && q.singular_interior_edges == p.interior_irregular_edges &&
            q.singular_boundary_edges == p.boundary_irregular_edges;
 }
 

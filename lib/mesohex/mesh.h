@@ -36,12 +36,12 @@ struct MeshOptions {
     PipelineOptions pipeline;    // radius, resampling, adaptation, analysis, connection surfaces, raw mesh
     // With a domain: pad, subdivide, fit, untangle, improve, smooth (finish_mesh). false = the raw mesh only.
     bool finish = true;
-    FinishOptions finishing;     // finishing.chunk_hex is filled by mesh_skeleton for longitudinal / radial refinement
+    FinishOptions finishing;  // finishing.chunk_hex is filled by mesh_skeleton for longitudinal / radial refinement
     // Second attempt when the finished mesh misses one of `goals`: adapt again with the first joints at
     // adaptation.branching_reach (instead of free_branching_reach) and keep the better result (better_finish).
     // Only with resampling, a fit, and when that adaptation gives another skeleton.
     bool retry = true;
-    MeshGoals goals;             // the goals a finished mesh must meet (else the second attempt)
+    MeshGoals goals;  // the goals a finished mesh must meet (else the second attempt)
     // Parts for MPI solvers: METIS k-way on the face adjacency of the hexes of the mesh kept (partition_hexes);
     // 0 = no partition. More parts than hexes is an InvalidInput error.
     int partitions = 0;
@@ -63,12 +63,12 @@ struct MeshAttempt {
 };
 
 struct MeshRun {
-    std::string radius_note;           // "" (radii as run_pipeline chose them) or "surface (F x distance)"
-    PipelineOptions options;           // the pipeline options of the kept attempt
-    PipelineResult pipeline;           // skeleton, analyses, prediction and raw mesh of the kept attempt
-    QualityReport raw_quality;         // compute_quality(pipeline.raw.mesh)
-    HexTopology raw_topology;          // of pipeline.raw.mesh when MeshOptions::keep_raw_topology, else empty
-    bool prediction_exact = false;     // raw counts and irregular edges equal the prediction
+    std::string radius_note;             // "" (radii as run_pipeline chose them) or "surface (F x distance)"
+    PipelineOptions options;             // the pipeline options of the kept attempt
+    PipelineResult pipeline;             // skeleton, analyses, prediction and raw mesh of the kept attempt
+    QualityReport raw_quality;           // compute_quality(pipeline.raw.mesh)
+    HexTopology raw_topology;            // of pipeline.raw.mesh when MeshOptions::keep_raw_topology, else empty
+    bool prediction_exact = false;       // raw counts and irregular edges equal the prediction
     std::optional<FinishResult> finish;  // set when a domain was given and options.finish
     std::vector<MeshAttempt> attempts;   // finished attempts, first the default adaptation
     std::optional<Partition> partition;  // of mesh(), set when options.partitions > 0

@@ -116,8 +116,8 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
     rep["resampled"] = run.options.resample;
     if (run.options.resample)  // structural repairs before adaptation (stages/skeleton_repair.h)
         rep["repairs"] = {{"trunks", res.trunks},
-                           {"absorbed_stubs", res.absorbed_stubs},
-                           {"unseparated_pairs", res.unseparated_pairs}};
+                          {"absorbed_stubs", res.absorbed_stubs},
+                          {"unseparated_pairs", res.unseparated_pairs}};
     rep["radius"] = {{"source", res.radius_source}, {"value", res.radius}};
     if (res.radius_source == "default") {
         std::ostringstream rule;
@@ -181,12 +181,9 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                               {"coverage_gap_relative", chosen.coverage_gap}};
     }
     if (chosen.raw_checked)
-        decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},
-                                     {"inverted", chosen.raw_inverted},
-                                     {"sj_min", chosen.raw_sj_min},
-                                     {"max_inverted", options.max_raw_inverted},
-                                     {"min_sj", options.min_raw_sj},
-                                     {"radius_factor", options.meso_radius_factor}};
+        decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},    {"inverted", chosen.raw_inverted},
+                                     {"sj_min", chosen.raw_sj_min},  {"max_inverted", options.max_raw_inverted},
+                                     {"min_sj", options.min_raw_sj}, {"radius_factor", options.meso_radius_factor}};
     return {{"mode", "auto"},
             {"skeleton_kind", skeleton_kind_name(chosen.kind)},
             {"skeleton_decision", decision},

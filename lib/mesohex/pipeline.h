@@ -17,10 +17,10 @@ struct PipelineOptions {
     // default_radius_factor x (mean length of all skeleton edges), the same for every vertex.
     double radius = 0;
     double default_radius_factor = 0.25;  // x the mean skeleton edge length (dimensionless)
-    bool resample = true;  // paper step 1 (adapt_skeleton); false keeps the input sampling (hexes == 4 x edges)
-    SkeletonRepairOptions repair;                  // trunks for close branches (before adaptation, with resample)
-    AdaptationOptions adaptation;                  // resampling against the radii
-    AnalysisOptions analysis;                      // classification and rejection rules
+    bool resample = true;          // paper step 1 (adapt_skeleton); false keeps the input sampling (hexes == 4 x edges)
+    SkeletonRepairOptions repair;  // trunks for close branches (before adaptation, with resample)
+    AdaptationOptions adaptation;  // resampling against the radii
+    AnalysisOptions analysis;      // classification and rejection rules
     ConnectionSurfaceOptions connection_surfaces;  // junction surfaces
     RawMeshOptions raw_mesh;                       // block layout and leaflet offsets
 };
@@ -31,8 +31,8 @@ struct StageTiming {
 };
 
 struct PipelineResult {
-    std::string radius_source;  // "file", "option" or "default"
-    double radius = 0;          // the uniform radius used when radius_source != "file" (else 0)
+    std::string radius_source;        // "file", "option" or "default"
+    double radius = 0;                // the uniform radius used when radius_source != "file" (else 0)
     SkeletonAnalysis input_analysis;  // analysis of the input skeleton (before adaptation)
     int trunks = 0;                   // trunk vertices the repair inserted (SkeletonRepairResult)
     int absorbed_stubs = 0;           // stubs the repair absorbed into a trunk vertex

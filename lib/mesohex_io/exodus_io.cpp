@@ -59,9 +59,9 @@ private:
 
 // Hexes in file order: grouped by part (stable, so hex order inside a part), or all hexes in order.
 struct ElementOrder {
-    std::vector<int> hex_of_element;     // file element e (0-based) -> hex
-    std::vector<int> element_of_hex;     // hex -> file element (0-based)
-    std::vector<long> block_size;        // elements per block; block b has id b + 1
+    std::vector<int> hex_of_element;  // file element e (0-based) -> hex
+    std::vector<int> element_of_hex;  // hex -> file element (0-based)
+    std::vector<long> block_size;     // elements per block; block b has id b + 1
 };
 
 ElementOrder element_order(std::size_t num_hexes, const std::vector<int>& partition) {
@@ -71,8 +71,9 @@ ElementOrder element_order(std::size_t num_hexes, const std::vector<int>& partit
     if (partition.empty()) {
         order.block_size.assign(1, static_cast<long>(num_hexes));
     } else {
-        std::stable_sort(order.hex_of_element.begin(), order.hex_of_element.end(),
-                         [&](int a, int b) { return partition[static_cast<std::size_t>(a)] < partition[static_cast<std::size_t>(b)]; });
+        std::stable_sort(order.hex_of_element.begin(), order.hex_of_element.end(), [&](int a, int b) {
+            return partition[static_cast<std::size_t>(a)] < partition[static_cast<std::size_t>(b)];
+        });
         const int parts = *std::max_element(partition.begin(), partition.end()) + 1;
         order.block_size.assign(static_cast<std::size_t>(parts), 0);
         for (int p : partition) ++order.block_size[static_cast<std::size_t>(p)];
@@ -101,14 +102,16 @@ void write_blocks(ExodusFile& file, const HexMesh& mesh, const ElementOrder& ord
     for (std::size_t b = 0; b < order.block_size.size(); ++b) {
         const ex_entity_id id = static_cast<ex_entity_id>(b + 1);
         const std::size_t n = static_cast<std::size_t>(order.block_size[b]);
-        file.check(ex_put_block(file.id(), EX_ELEM_BLOCK, id, "HEX8", static_cast<int64_t>(n), 8, 0, 0, 0), "ex_put_block");
+        file.check(ex_put_block(file.id(), EX_ELEM_BLOCK, id, "HEX8", static_cast<int64_t>(n), 8, 0, 0, 0),
+                   "ex_put_block");
         const std::string name = partitioned ? "partition_" + std::to_string(b) : "hexes";
         file.check(ex_put_name(file.id(), EX_ELEM_BLOCK, id, name.c_str()), "ex_put_name");
         if (n > 0) {
             std::vector<int> connectivity;
             connectivity.reserve(n * 8);
             for (std::size_t e = first; e < first + n; ++e)
-                for (int v : mesh.hexes[static_cast<std::size_t>(order.hex_of_element[e])]) connectivity.push_back(v + 1);
+                for (int v : mesh.hexes[static_cast<std::size_t>(order.hex_of_element[e])])
+                    connectivity.push_back(v + 1);
             file.check(ex_put_conn(file.id(), EX_ELEM_BLOCK, id, connectivity.data(), nullptr, nullptr), "ex_put_conn");
         }
         first += n;
@@ -149,7 +152,8 @@ void write_scaled_jacobian(ExodusFile& file, const std::vector<double>& cell_sca
         const std::size_t n = static_cast<std::size_t>(order.block_size[b]);
         if (n == 0) continue;
         std::vector<double> values(n);
-        for (std::size_t i = 0; i < n; ++i) values[i] = cell_scalars[static_cast<std::size_t>(order.hex_of_element[first + i])];
+        for (std::size_t i = 0; i < n; ++i)
+            values[i] = cell_scalars[static_cast<std::size_t>(order.hex_of_element[first + i])];
         file.check(ex_put_var(file.id(), 1, EX_ELEM_BLOCK, 1, static_cast<ex_entity_id>(b + 1), static_cast<int64_t>(n),
                               values.data()),
                    "ex_put_var");
@@ -166,10 +170,10 @@ void write_exodus(const std::string& path, const HexMesh& mesh, const std::vecto
     const ElementOrder order = element_order(mesh.hexes.size(), partition);
     write_atomically_via(path, [&](const std::string& temporary) {
         ExodusFile file(temporary, path);
-        file.check(ex_put_init(file.id(), "mesohex hex mesh", 3, static_cast<int64_t>(mesh.points.size()),
-                               static_cast<int64_t>(mesh.hexes.size()), static_cast<int64_t>(order.block_size.size()),
-                               0, 1),
-                   "ex_put_init");
+        file.check(
+            ex_put_init(file.id(), "mesohex hex mesh", 3, static_cast<int64_t>(mesh.points.size()),
+                        static_cast<int64_t>(mesh.hexes.size()), static_cast<int64_t>(order.block_size.size()), 0, 1),
+            "ex_put_init");
         write_nodes(file, mesh);
         write_blocks(file, mesh, order, !partition.empty());
         write_boundary_side_set(file, mesh, order);

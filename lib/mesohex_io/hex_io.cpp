@@ -54,7 +54,6 @@ std::string extension_of(const std::string& path) {
                 {ElementRef::Kind::FileLine, line});
 }
 
-
 void append_double(std::string& out, double x) {
     char buf[32];
     const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, x);  // shortest exact representation
@@ -79,7 +78,11 @@ void append_xyz(std::string& out, const Vec3& p) {
 class Lexer {
 public:
     Lexer(const std::string& path, std::string_view text, int first_line = 1, char comment = 0)
-        : path_(path), text_(text), line_(first_line), token_line_(first_line), last_content_line_(first_line),
+        : path_(path),
+          text_(text),
+          line_(first_line),
+          token_line_(first_line),
+          last_content_line_(first_line),
           comment_(comment) {}
 
     // Next token, or an empty view at the end of the text.
@@ -128,7 +131,8 @@ public:
     // How many of `n` items, each at least `min_bytes` bytes of text, the rest of the text can hold: what a reader
     // may reserve (memory stays a small multiple of the file size; a short file then fails where its data ends).
     std::size_t reservable(long n, std::size_t min_bytes) const {
-        return std::min(static_cast<std::size_t>(std::max(n, 0L)), (text_.size() - pos_) / std::max<std::size_t>(min_bytes, 1));
+        return std::min(static_cast<std::size_t>(std::max(n, 0L)),
+                        (text_.size() - pos_) / std::max<std::size_t>(min_bytes, 1));
     }
     double expect_double(const std::string& what) {
         const std::string_view t = expect(what);
@@ -136,7 +140,8 @@ public:
         const char* begin = t.data();
         if (!t.empty() && t[0] == '+') ++begin;  // from_chars does not accept a leading '+'
         const std::from_chars_result r = std::from_chars(begin, t.data() + t.size(), value);
-        if (r.ec == std::errc::result_out_of_range) fail("number out of range (" + what + "): '" + quote_excerpt(t) + "'");
+        if (r.ec == std::errc::result_out_of_range)
+            fail("number out of range (" + what + "): '" + quote_excerpt(t) + "'");
         if (r.ec != std::errc() || r.ptr != t.data() + t.size())
             fail("expected a number (" + what + "), found '" + quote_excerpt(t) + "'");
         if (!std::isfinite(value)) fail("non-finite " + what + " '" + quote_excerpt(t) + "'");
@@ -213,10 +218,10 @@ void check_writable(const std::string& path, const HexMesh& mesh, const std::vec
                                                  " partition ids for " + std::to_string(mesh.hexes.size()) + " hexes");
     for (std::size_t h = 0; h < partition.size(); ++h)
         if (partition[h] < 0)
-            throw Error(ErrorCode::InvalidInput,
-                        path + ": cannot write: hex " + std::to_string(h) + " has partition id " +
-                            std::to_string(partition[h]),
-                        {ElementRef::Kind::Hex, static_cast<int>(h)});
+            throw Error(
+                ErrorCode::InvalidInput,
+                path + ": cannot write: hex " + std::to_string(h) + " has partition id " + std::to_string(partition[h]),
+                {ElementRef::Kind::Hex, static_cast<int>(h)});
 }
 
 // Hex reference of MEDIT and partition cell data: part + 1 in MEDIT (0 = no partition), the part elsewhere.
@@ -280,7 +285,9 @@ HexMesh read_medit(const std::string& path, std::string_view text) {
         } else if (key == "tetrahedra" || key == "prisms" || key == "pyramids" || key == "hexahedra2" ||
                    key == "tetrahedra2") {
             const long n = lex.expect_count("number of " + key);
-            if (n > 0) fail_at(path, key_line, "the mesh contains " + quote_excerpt(key) + ": only hexahedral meshes are supported");
+            if (n > 0)
+                fail_at(path, key_line,
+                        "the mesh contains " + quote_excerpt(key) + ": only hexahedral meshes are supported");
         } else if (key == "end") {
             have_end = true;
             break;
@@ -290,8 +297,9 @@ HexMesh read_medit(const std::string& path, std::string_view text) {
     }
     if (!have_version) fail_at(path, 1, "not a MEDIT file: MeshVersionFormatted missing");
     if (!have_vertices || !have_hexes)
-        fail_at(path, lex.line(), std::string("truncated or incomplete MEDIT file: no ") +
-                                      (have_vertices ? "Hexahedra" : "Vertices") + " section");
+        fail_at(path, lex.line(),
+                std::string("truncated or incomplete MEDIT file: no ") + (have_vertices ? "Hexahedra" : "Vertices") +
+                    " section");
     if (!have_end) fail_at(path, lex.line(), "truncated MEDIT file: 'End' missing");
     return mesh;
 }
@@ -343,15 +351,17 @@ HexMesh read_vtk(const std::string& path, std::string_view text) {
     while (true) {
         const std::string_view tok = lex.next();
         if (tok.empty()) {
-            lex.fail(have_points ? (have_cells ? "truncated VTK file: CELL_TYPES missing" : "truncated VTK file: CELLS missing")
-                                 : "truncated VTK file: POINTS missing");
+            lex.fail(have_points
+                         ? (have_cells ? "truncated VTK file: CELL_TYPES missing" : "truncated VTK file: CELLS missing")
+                         : "truncated VTK file: POINTS missing");
         }
         const std::string key = lower(tok);
         if (key == "points") {
             if (have_points) lex.fail("second POINTS section");
             const long n = lex.expect_count("number of points");
             const std::string dtype = lower(lex.expect("point data type"));
-            if (dtype != "float" && dtype != "double") lex.fail("unsupported point type '" + quote_excerpt(dtype) + "'");
+            if (dtype != "float" && dtype != "double")
+                lex.fail("unsupported point type '" + quote_excerpt(dtype) + "'");
             mesh.points.reserve(lex.reservable(n, 6));  // "x y z " takes 6 bytes at least
             for (long v = 0; v < n; ++v) {
                 Vec3 p;
@@ -394,25 +404,32 @@ HexMesh read_vtk(const std::string& path, std::string_view text) {
                 lex.expect("connectivity type");
                 connectivity.reserve(lex.reservable(b, 2));
                 for (long i = 0; i < b; ++i) {
-                    const long cell = static_cast<long>(std::upper_bound(offsets.begin(), offsets.end(), i) - offsets.begin()) - 1;
+                    const long cell =
+                        static_cast<long>(std::upper_bound(offsets.begin(), offsets.end(), i) - offsets.begin()) - 1;
                     connectivity.push_back(read_vertex_index(lex, 0, np, cell, "cell"));
                 }
-                if (a < 1 || offsets.front() != 0 || offsets.back() != b) lex.fail("inconsistent OFFSETS / CONNECTIVITY");
+                if (a < 1 || offsets.front() != 0 || offsets.back() != b)
+                    lex.fail("inconsistent OFFSETS / CONNECTIVITY");
             } else {
                 offsets.assign(1, 0);
                 for (long c = 0; c < a; ++c) {
                     const long k = lex.expect_count("number of vertices of cell " + std::to_string(c), 1000);
-                    if (k != 8) lex.fail("cell " + std::to_string(c) + " has " + std::to_string(k) + " vertices, not a hexahedron (8)");
+                    if (k != 8)
+                        lex.fail("cell " + std::to_string(c) + " has " + std::to_string(k) +
+                                 " vertices, not a hexahedron (8)");
                     for (long i = 0; i < k; ++i) connectivity.push_back(read_vertex_index(lex, 0, np, c, "cell"));
                     offsets.push_back(static_cast<long>(connectivity.size()));
                 }
-                if (b != a * 9) lex.fail("CELLS size " + std::to_string(b) + " does not match " + std::to_string(a) + " hexahedra (expected " + std::to_string(a * 9) + ")");
+                if (b != a * 9)
+                    lex.fail("CELLS size " + std::to_string(b) + " does not match " + std::to_string(a) +
+                             " hexahedra (expected " + std::to_string(a * 9) + ")");
             }
             const std::size_t cells = offsets.size() - 1;
             mesh.hexes.resize(cells);
             for (std::size_t c = 0; c < cells; ++c) {
                 if (offsets[c + 1] - offsets[c] != 8)
-                    lex.fail("cell " + std::to_string(c) + " has " + std::to_string(offsets[c + 1] - offsets[c]) + " vertices, not a hexahedron (8)");
+                    lex.fail("cell " + std::to_string(c) + " has " + std::to_string(offsets[c + 1] - offsets[c]) +
+                             " vertices, not a hexahedron (8)");
                 for (std::size_t lv = 0; lv < 8; ++lv)
                     mesh.hexes[c][lv] = connectivity[static_cast<std::size_t>(offsets[c]) + lv];
             }
@@ -421,10 +438,13 @@ HexMesh read_vtk(const std::string& path, std::string_view text) {
             if (!have_cells) lex.fail("CELL_TYPES before CELLS");
             const long n = lex.expect_count("number of cell types");
             if (n != static_cast<long>(mesh.hexes.size()))
-                lex.fail("CELL_TYPES count " + std::to_string(n) + " differs from the number of cells " + std::to_string(mesh.hexes.size()));
+                lex.fail("CELL_TYPES count " + std::to_string(n) + " differs from the number of cells " +
+                         std::to_string(mesh.hexes.size()));
             for (long c = 0; c < n; ++c) {
                 const long t = lex.expect_int("cell type");
-                if (t != 12) lex.fail("cell " + std::to_string(c) + " has VTK type " + std::to_string(t) + ", not a hexahedron (12)");
+                if (t != 12)
+                    lex.fail("cell " + std::to_string(c) + " has VTK type " + std::to_string(t) +
+                             ", not a hexahedron (12)");
             }
             return mesh;  // point and cell data that follow are not needed
         } else {
@@ -557,15 +577,18 @@ private:
             while (i < body.size() && std::isspace(static_cast<unsigned char>(body[i]))) ++i;
             if (i >= body.size()) break;
             const std::size_t eq = body.find('=', i);
-            if (eq == std::string_view::npos) fail_at(path_, tag.line, "malformed attribute in <" + quote_excerpt(tag.name) + ">");
+            if (eq == std::string_view::npos)
+                fail_at(path_, tag.line, "malformed attribute in <" + quote_excerpt(tag.name) + ">");
             std::string key(body.substr(i, eq - i));
             while (!key.empty() && std::isspace(static_cast<unsigned char>(key.back()))) key.pop_back();
             std::size_t q = eq + 1;
             while (q < body.size() && std::isspace(static_cast<unsigned char>(body[q]))) ++q;
             if (q >= body.size() || (body[q] != '"' && body[q] != '\''))
-                fail_at(path_, tag.line, "malformed attribute '" + quote_excerpt(key) + "' in <" + quote_excerpt(tag.name) + ">");
+                fail_at(path_, tag.line,
+                        "malformed attribute '" + quote_excerpt(key) + "' in <" + quote_excerpt(tag.name) + ">");
             const std::size_t qe = body.find(body[q], q + 1);
-            if (qe == std::string_view::npos) fail_at(path_, tag.line, "unterminated attribute '" + quote_excerpt(key) + "'");
+            if (qe == std::string_view::npos)
+                fail_at(path_, tag.line, "unterminated attribute '" + quote_excerpt(key) + "'");
             tag.attributes.emplace_back(key, std::string(body.substr(q + 1, qe - q - 1)));
             i = qe + 1;
         }
@@ -600,7 +623,8 @@ void read_vtu_data_array(const std::string& path, XmlScanner& xml, const XmlTag&
                          VtuArrays& a, HexMesh& mesh) {
     const std::string name = tag.attribute("Name");
     const std::string format = tag.attribute("format");
-    const bool wanted = parent == "Points" || (parent == "Cells" && (name == "connectivity" || name == "offsets" || name == "types"));
+    const bool wanted =
+        parent == "Points" || (parent == "Cells" && (name == "connectivity" || name == "offsets" || name == "types"));
     if (wanted && format != "ascii")
         fail_at(path, tag.line, "DataArray format '" + quote_excerpt(format) + "' is not supported (only ascii)");
     const std::size_t close = xml.text().find("</DataArray>", tag.end);
@@ -614,7 +638,8 @@ void read_vtu_data_array(const std::string& path, XmlScanner& xml, const XmlTag&
             mesh.points.resize(static_cast<std::size_t>(a.num_points));
             for (long v = 0; v < a.num_points; ++v)
                 for (int c = 0; c < 3; ++c)
-                    mesh.points[static_cast<std::size_t>(v)][c] = lex.expect_double("coordinate of point " + std::to_string(v));
+                    mesh.points[static_cast<std::size_t>(v)][c] =
+                        lex.expect_double("coordinate of point " + std::to_string(v));
             a.have_points = true;
         } else {
             std::vector<long>& dst = name == "connectivity" ? a.connectivity : name == "offsets" ? a.offsets : a.types;
@@ -634,13 +659,17 @@ void assemble_vtu_hexes(const std::string& path, int line, const VtuArrays& a, H
     for (long c = 0; c < a.num_cells; ++c) {
         const std::size_t cu = static_cast<std::size_t>(c);
         if (a.types[cu] != 12)
-            fail_at(path, line, "cell " + std::to_string(c) + " has VTK type " + std::to_string(a.types[cu]) + ", not a hexahedron (12)");
-        if (a.offsets[cu] < begin || a.offsets[cu] - begin != 8 || a.offsets[cu] > static_cast<long>(a.connectivity.size()))
+            fail_at(path, line,
+                    "cell " + std::to_string(c) + " has VTK type " + std::to_string(a.types[cu]) +
+                        ", not a hexahedron (12)");
+        if (a.offsets[cu] < begin || a.offsets[cu] - begin != 8 ||
+            a.offsets[cu] > static_cast<long>(a.connectivity.size()))
             fail_at(path, line, "cell " + std::to_string(c) + " does not have 8 vertices in connectivity/offsets");
         for (std::size_t lv = 0; lv < 8; ++lv) {
             const long v = a.connectivity[static_cast<std::size_t>(begin) + lv];
             if (v < 0 || v >= a.num_points)
-                fail_at(path, line, "cell " + std::to_string(c) + ": vertex index " + std::to_string(v) + " out of range");
+                fail_at(path, line,
+                        "cell " + std::to_string(c) + ": vertex index " + std::to_string(v) + " out of range");
             mesh.hexes[cu][lv] = static_cast<int>(v);
         }
         begin = a.offsets[cu];
@@ -654,7 +683,8 @@ HexMesh read_vtu(const std::string& path, std::string_view text) {
     XmlTag tag;
     if (!xml.next(tag) || tag.name != "VTKFile") fail_at(path, tag.line, "not a VTK XML file: <VTKFile> expected");
     if (tag.attribute("type") != "UnstructuredGrid")
-        fail_at(path, tag.line, "VTK XML type '" + quote_excerpt(tag.attribute("type")) + "' is not supported (only UnstructuredGrid)");
+        fail_at(path, tag.line,
+                "VTK XML type '" + quote_excerpt(tag.attribute("type")) + "' is not supported (only UnstructuredGrid)");
     if (!tag.attribute("compressor").empty()) fail_at(path, tag.line, "compressed VTU files are not supported");
 
     VtuArrays arrays;
@@ -703,8 +733,9 @@ std::string write_vtu(const HexMesh& mesh, const std::vector<double>& cell_scala
         append_xyz(out, p);
         out += '\n';
     }
-    out += "        </DataArray>\n      </Points>\n      <Cells>\n"
-           "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    out +=
+        "        </DataArray>\n      </Points>\n      <Cells>\n"
+        "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
     for (const std::array<int, 8>& hex : mesh.hexes) {
         for (std::size_t lv = 0; lv < 8; ++lv) {
             append_int(out, hex[lv]);
@@ -720,7 +751,8 @@ std::string write_vtu(const HexMesh& mesh, const std::vector<double>& cell_scala
     for (std::size_t h = 0; h < mesh.hexes.size(); ++h) out += "12\n";
     out += "        </DataArray>\n      </Cells>\n";
     if (!cell_scalars.empty() || !partition.empty()) {
-        out += cell_scalars.empty() ? "      <CellData Scalars=\"partition\">\n" : "      <CellData Scalars=\"scaled_jacobian\">\n";
+        out += cell_scalars.empty() ? "      <CellData Scalars=\"partition\">\n"
+                                    : "      <CellData Scalars=\"scaled_jacobian\">\n";
         if (!cell_scalars.empty()) {
             out += "        <DataArray type=\"Float64\" Name=\"scaled_jacobian\" format=\"ascii\">\n";
             for (double s : cell_scalars) {
@@ -791,7 +823,8 @@ HexMesh read_msh(const std::string& path, std::string_view text) {
         const std::string key = lower(section);
         if (key == "$meshformat") {
             const std::string_view version = lex.expect("format version");
-            if (version != "4.1") lex.fail("Gmsh format version " + quote_excerpt(version) + " is not supported (only 4.1)");
+            if (version != "4.1")
+                lex.fail("Gmsh format version " + quote_excerpt(version) + " is not supported (only 4.1)");
             const long file_type = lex.expect_int("file type");
             if (file_type != 0) lex.fail("binary Gmsh files are not supported (only ASCII)");
             lex.expect_int("data size");
@@ -811,7 +844,8 @@ HexMesh read_msh(const std::string& path, std::string_view text) {
                 lex.expect_int("entity tag");
                 const long parametric = lex.expect_int("parametric flag");
                 const long n = lex.expect_count("number of nodes in block");
-                if (static_cast<long>(mesh.points.size()) + n > total) lex.fail("more nodes than declared (" + std::to_string(total) + ")");
+                if (static_cast<long>(mesh.points.size()) + n > total)
+                    lex.fail("more nodes than declared (" + std::to_string(total) + ")");
                 const std::size_t first = mesh.points.size();
                 for (long i = 0; i < n; ++i) {
                     const long tag = lex.expect_int("node tag");
@@ -826,11 +860,13 @@ HexMesh read_msh(const std::string& path, std::string_view text) {
                 }
             }
             if (static_cast<long>(mesh.points.size()) != total)
-                lex.fail("$Nodes declares " + std::to_string(total) + " nodes but has " + std::to_string(mesh.points.size()));
+                lex.fail("$Nodes declares " + std::to_string(total) + " nodes but has " +
+                         std::to_string(mesh.points.size()));
             lex.expect_keyword("$EndNodes");
             std::sort(node_index.begin(), node_index.end());
             for (std::size_t i = 1; i < node_index.size(); ++i)
-                if (node_index[i].first == node_index[i - 1].first) lex.fail("duplicate node tag " + std::to_string(node_index[i].first));
+                if (node_index[i].first == node_index[i - 1].first)
+                    lex.fail("duplicate node tag " + std::to_string(node_index[i].first));
             have_nodes = true;
         } else if (key == "$elements") {
             if (!have_nodes) lex.fail("$Elements before $Nodes");
@@ -847,22 +883,26 @@ HexMesh read_msh(const std::string& path, std::string_view text) {
                 const int per = gmsh_nodes_per_element(type);
                 if (per == 0) lex.fail("unknown Gmsh element type " + std::to_string(type));
                 if (dim == 3 && type != 5)
-                    lex.fail("element type " + std::to_string(type) + " is a volume element but not a hexahedron (type 5)");
+                    lex.fail("element type " + std::to_string(type) +
+                             " is a volume element but not a hexahedron (type 5)");
                 for (long i = 0; i < n; ++i) {
                     const long tag = lex.expect_int("element tag");
                     std::array<int, 8> hex{};
                     for (int k = 0; k < per; ++k) {
                         const long node = lex.expect_int("node tag");
-                        const auto it = std::lower_bound(node_index.begin(), node_index.end(), std::make_pair(node, -1));
+                        const auto it =
+                            std::lower_bound(node_index.begin(), node_index.end(), std::make_pair(node, -1));
                         if (it == node_index.end() || it->first != node)
-                            lex.fail("element " + std::to_string(tag) + " refers to unknown node " + std::to_string(node));
+                            lex.fail("element " + std::to_string(tag) + " refers to unknown node " +
+                                     std::to_string(node));
                         if (type == 5) hex[static_cast<std::size_t>(k)] = it->second;
                     }
                     if (type == 5) mesh.hexes.push_back(hex);  // lower-dimensional elements (boundary) are skipped
                 }
                 seen += n;
             }
-            if (seen != total) lex.fail("$Elements declares " + std::to_string(total) + " elements but has " + std::to_string(seen));
+            if (seen != total)
+                lex.fail("$Elements declares " + std::to_string(total) + " elements but has " + std::to_string(seen));
             lex.expect_keyword("$EndElements");
             have_elements = true;
         } else if (!section.empty() && section[0] == '$') {
@@ -873,7 +913,8 @@ HexMesh read_msh(const std::string& path, std::string_view text) {
     }
     if (!have_format) fail_at(path, 1, "not a Gmsh file: $MeshFormat missing");
     if (!have_nodes || !have_elements)
-        fail_at(path, lex.line(), std::string("truncated Gmsh file: ") + (have_nodes ? "$Elements" : "$Nodes") + " missing");
+        fail_at(path, lex.line(),
+                std::string("truncated Gmsh file: ") + (have_nodes ? "$Elements" : "$Nodes") + " missing");
     return mesh;
 }
 
@@ -888,8 +929,10 @@ void append_msh_element_data(std::string& out, const char* name, const std::vect
     for (std::size_t h = 0; h < values.size(); ++h) {
         append_int(out, static_cast<long>(h) + 1);
         out += ' ';
-        if constexpr (std::is_integral_v<T>) append_int(out, values[h]);
-        else append_double(out, values[h]);
+        if constexpr (std::is_integral_v<T>)
+            append_int(out, values[h]);
+        else
+            append_double(out, values[h]);
         out += '\n';
     }
     out += "$EndElementData\n";
@@ -1025,12 +1068,18 @@ void write_hex_mesh(const std::string& path, const HexMesh& mesh, const std::vec
                     path + ": unknown hex mesh extension '" + ext + "' (writable: .mesh .vtk .vtu .msh .inp .exo .e)");
     }
     check_writable(path, mesh, cell_scalars, partition);
-    if (ext == ".mesh") write_file_atomically(path, write_medit(mesh, partition));
-    else if (ext == ".vtk") write_file_atomically(path, write_vtk(mesh, cell_scalars, partition));
-    else if (ext == ".vtu") write_file_atomically(path, write_vtu(mesh, cell_scalars, partition));
-    else if (ext == ".msh") write_file_atomically(path, write_msh(mesh, cell_scalars, partition));
-    else if (ext == ".inp") write_file_atomically(path, write_inp(mesh, partition));
-    else write_exodus(path, mesh, cell_scalars, partition);
+    if (ext == ".mesh")
+        write_file_atomically(path, write_medit(mesh, partition));
+    else if (ext == ".vtk")
+        write_file_atomically(path, write_vtk(mesh, cell_scalars, partition));
+    else if (ext == ".vtu")
+        write_file_atomically(path, write_vtu(mesh, cell_scalars, partition));
+    else if (ext == ".msh")
+        write_file_atomically(path, write_msh(mesh, cell_scalars, partition));
+    else if (ext == ".inp")
+        write_file_atomically(path, write_inp(mesh, partition));
+    else
+        write_exodus(path, mesh, cell_scalars, partition);
 }
 
 namespace {
@@ -1043,7 +1092,8 @@ bool is_our_temporary(const std::string& entry, const std::string& name, long& p
     const std::size_t dot = rest.find('.');
     if (dot == std::string_view::npos || dot == 0 || dot + 1 >= rest.size()) return false;
     const auto all_digits = [](std::string_view s) {
-        return !s.empty() && s.size() <= 18 && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+        return !s.empty() && s.size() <= 18 &&
+               std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
     };
     if (!all_digits(rest.substr(0, dot)) || !all_digits(rest.substr(dot + 1))) return false;
     pid = std::stol(std::string(rest.substr(0, dot)));
@@ -1086,7 +1136,8 @@ std::pair<std::string, int> create_temporary_beside(const std::string& path) {
         fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd < 0 && errno != EEXIST) break;
     }
-    if (fd < 0) throw Error(ErrorCode::IoError, path + ": cannot create a temporary file beside it: " + std::strerror(errno));
+    if (fd < 0)
+        throw Error(ErrorCode::IoError, path + ": cannot create a temporary file beside it: " + std::strerror(errno));
     return {tmp, fd};
 }
 

@@ -9,8 +9,8 @@
 #include <utility>
 
 #include "mesohex/core/error.h"
-#include "mesohex_io/text_input.h"
 #include "mesohex_io/hex_io.h"
+#include "mesohex_io/text_input.h"
 
 namespace mesohex {
 namespace {
@@ -63,7 +63,8 @@ void parse_record(LineReader& r, std::istringstream& ls, const char* tag, std::a
     ls >> t;
     if (t != tag) r.fail(std::string("expected a '") + tag + "' line, found '" + quote_excerpt(t) + "'");
     for (size_t i = 0; i < N; ++i)
-        if (!(ls >> out[i])) r.fail(std::string("malformed '") + tag + "' line (expected " + std::to_string(N) + " values)");
+        if (!(ls >> out[i]))
+            r.fail(std::string("malformed '") + tag + "' line (expected " + std::to_string(N) + " values)");
     std::string extra;
     if (ls >> extra) r.fail(std::string("trailing data on a '") + tag + "' line: '" + quote_excerpt(extra) + "'");
 }
@@ -96,7 +97,8 @@ Skeleton read_medial(const std::string& path, std::string_view content) {
         s.radii.push_back(v[3]);
     }
     auto check_index = [&](long long i) {
-        if (i < 0 || i >= nv) r.fail("vertex index " + std::to_string(i) + " out of range [0, " + std::to_string(nv) + ")");
+        if (i < 0 || i >= nv)
+            r.fail("vertex index " + std::to_string(i) + " out of range [0, " + std::to_string(nv) + ")");
     };
     std::set<std::pair<long long, long long>> seen;
     s.edges.reserve(static_cast<size_t>(ne));

@@ -30,7 +30,6 @@ struct TextLine {
     std::string_view text;
 };
 
-
 // Splits into lines ('\n', with a trailing '\r' removed). The views point into `content`.
 std::vector<TextLine> split_lines(std::string_view content) {
     std::vector<TextLine> lines;
@@ -49,7 +48,6 @@ std::vector<TextLine> split_lines(std::string_view content) {
 }
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-
 
 bool is_blank(std::string_view s) {
     return std::all_of(s.begin(), s.end(), [](char c) { return is_space(c); });
@@ -137,8 +135,8 @@ void apply_radius_comments(const Context& ctx, const std::map<int, std::pair<dou
             ctx.fail(value.second, "radius given for vertex " + std::to_string(v + index_base) + " but the file has " +
                                        std::to_string(n) + " vertices");
     if (static_cast<int>(radius_of.size()) != n)
-        ctx.fail(last_line, "radius comments cover " + std::to_string(radius_of.size()) + " of " +
-                                std::to_string(n) + " vertices (give all or none)");
+        ctx.fail(last_line, "radius comments cover " + std::to_string(radius_of.size()) + " of " + std::to_string(n) +
+                                " vertices (give all or none)");
     p.s.radii.resize(n);
     p.radius_line.resize(n);
     for (const auto& [v, value] : radius_of) {
@@ -153,8 +151,8 @@ Skeleton finalize(const Context& ctx, Parsed p) {
     const int n = static_cast<int>(s.points.size());
     for (std::size_t v = 0; v < s.radii.size(); ++v)
         if (!(s.radii[v] > 0))
-            ctx.fail(p.radius_line[v], "radius of vertex " + std::to_string(v) + " must be positive, got " +
-                                           std::to_string(s.radii[v]));
+            ctx.fail(p.radius_line[v],
+                     "radius of vertex " + std::to_string(v) + " must be positive, got " + std::to_string(s.radii[v]));
     std::vector<std::array<int, 2>> edges;
     edges.reserve(s.edges.size());
     std::set<std::pair<int, int>> seen;
@@ -178,8 +176,7 @@ Skeleton finalize(const Context& ctx, Parsed p) {
                                    " vertices (0-based)");
         std::vector<int> sorted = face;
         std::sort(sorted.begin(), sorted.end());
-        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-            ctx.fail(line, "face repeats a vertex");
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) ctx.fail(line, "face repeats a vertex");
     }
     add_face_edges(s);
     return std::move(p.s);
@@ -207,8 +204,7 @@ Skeleton read_cg(const Context& ctx, const std::vector<TextLine>& lines, bool ra
     std::replace(h.begin(), h.end(), ':', ' ');
     const std::vector<std::string_view> ht = split_whitespace(h);
     int nv = -1, ne = -1;
-    if (ht.empty() || ht[0].front() != '#')
-        ctx.fail(header.number, "malformed header: expected '# D:3 NV:<n> NE:<m>'");
+    if (ht.empty() || ht[0].front() != '#') ctx.fail(header.number, "malformed header: expected '# D:3 NV:<n> NE:<m>'");
     for (std::size_t k = 0; k + 1 < ht.size(); ++k) {
         if (ht[k] == "NV") nv = ctx.non_negative(ht[k + 1], header.number, "NV");
         if (ht[k] == "NE") ne = ctx.non_negative(ht[k + 1], header.number, "NE");
@@ -228,8 +224,8 @@ Skeleton read_cg(const Context& ctx, const std::vector<TextLine>& lines, bool ra
             if (tok.size() != 4 && tok.size() != 5)
                 ctx.fail(l.number, radius_required ? "expected 'v x y z r'" : "expected 'v x y z [r]'");
             if (radius_required && tok.size() != 5) ctx.fail(l.number, "expected 'v x y z r' (radius missing)");
-            p.s.points.push_back(
-                {ctx.number(tok[1], l.number, "x"), ctx.number(tok[2], l.number, "y"), ctx.number(tok[3], l.number, "z")});
+            p.s.points.push_back({ctx.number(tok[1], l.number, "x"), ctx.number(tok[2], l.number, "y"),
+                                  ctx.number(tok[3], l.number, "z")});
             if (tok.size() == 5) {
                 p.s.radii.push_back(ctx.number(tok[4], l.number, "radius"));
                 p.radius_line.push_back(l.number);
@@ -301,8 +297,8 @@ Skeleton read_skel(const Context& ctx, const std::vector<TextLine>& lines) {
         nodes.push_back(std::move(node));
     }
     if (static_cast<int>(nodes.size()) != count)
-        ctx.fail(last_line_number(lines), "truncated file: the count says " + std::to_string(count) +
-                                              " nodes but " + std::to_string(nodes.size()) + " are listed");
+        ctx.fail(last_line_number(lines), "truncated file: the count says " + std::to_string(count) + " nodes but " +
+                                              std::to_string(nodes.size()) + " are listed");
     for (std::size_t v = 0; v < nodes.size(); ++v) {
         for (const long long nb : nodes[v].neighbours) {
             const auto it = row_of.find(nb);
@@ -348,8 +344,8 @@ std::vector<int> face_cycle(const Context& ctx, const std::vector<std::array<int
     std::vector<int> cycle{first[0], first[1]};
     int current = first[1];
     for (std::size_t step = 1; step < k; ++step) {
-        std::size_t i = static_cast<std::size_t>(
-            std::lower_bound(at.begin(), at.end(), std::make_pair(current, -1)) - at.begin());
+        std::size_t i =
+            static_cast<std::size_t>(std::lower_bound(at.begin(), at.end(), std::make_pair(current, -1)) - at.begin());
         const std::size_t group = i;
         i = std::max(i, cursor[group]);
         while (i < at.size() && at[i].first == current && used[static_cast<std::size_t>(at[i].second)]) ++i;
@@ -405,8 +401,8 @@ Skeleton read_ig(const Context& ctx, const std::vector<TextLine>& lines) {
     for (int e = 0; e < ne; ++e) {
         const Token& a = next("an edge vertex");
         const Token& b = next("an edge vertex");
-        p.s.edges.push_back({ctx.non_negative(a.text, a.line, "vertex index"),
-                             ctx.non_negative(b.text, b.line, "vertex index")});
+        p.s.edges.push_back(
+            {ctx.non_negative(a.text, a.line, "vertex index"), ctx.non_negative(b.text, b.line, "vertex index")});
         p.edge_line.push_back(b.line);
     }
     // Range-check edges now: faces refer to them.
@@ -465,8 +461,8 @@ Skeleton read_obj(const Context& ctx, const std::vector<TextLine>& lines) {
         const std::vector<std::string_view> tok = split_whitespace(t);
         if (tok[0] == "v") {
             if (tok.size() < 4) ctx.fail(l.number, "expected 'v x y z'");
-            p.s.points.push_back(
-                {ctx.number(tok[1], l.number, "x"), ctx.number(tok[2], l.number, "y"), ctx.number(tok[3], l.number, "z")});
+            p.s.points.push_back({ctx.number(tok[1], l.number, "x"), ctx.number(tok[2], l.number, "y"),
+                                  ctx.number(tok[3], l.number, "z")});
         } else if (tok[0] == "l") {
             if (tok.size() < 3) ctx.fail(l.number, "a polyline needs at least 2 vertices");
             int prev = index(tok[1], l.number);
@@ -503,7 +499,6 @@ Skeleton read_obj(const Context& ctx, const std::vector<TextLine>& lines) {
 }
 
 // ------------------------------------------------------------------------------------------------ writers
-
 
 // Shortest text that reads back to exactly the same double.
 void put(std::string& out, double x) {
@@ -555,8 +550,9 @@ std::string format_ig(const std::string& path, const Skeleton& s) {
         for (std::size_t i = 0; i < f.size(); ++i) {
             const auto it = edge_of.find(std::minmax(f[i], f[(i + 1) % f.size()]));
             if (it == edge_of.end())
-                throw Error(ErrorCode::InvalidInput, path + ": a face side is not in the edge list (.ig stores "
-                                                            "faces as edge indices)");
+                throw Error(ErrorCode::InvalidInput, path +
+                                                         ": a face side is not in the edge list (.ig stores "
+                                                         "faces as edge indices)");
             out += ' ' + std::to_string(it->second);
         }
         out += '\n';
@@ -572,7 +568,8 @@ std::string format_obj(const Skeleton& s) {
         out += '\n';
     }
     put_radius_comments(out, s, 1);
-    for (const std::array<int, 2>& e : s.edges) out += "l " + std::to_string(e[0] + 1) + " " + std::to_string(e[1] + 1) + "\n";
+    for (const std::array<int, 2>& e : s.edges)
+        out += "l " + std::to_string(e[0] + 1) + " " + std::to_string(e[1] + 1) + "\n";
     for (const std::vector<int>& f : s.faces) {
         out += 'f';
         for (const int v : f) out += ' ' + std::to_string(v + 1);

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <bit>
-#include <charconv>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -20,9 +20,6 @@
 
 namespace mesohex {
 namespace {
-
-
-
 
 // Line-by-line reader over the file content with 1-based line numbers and error helpers.
 class Lines {
@@ -134,7 +131,8 @@ TriangleMesh read_off(const std::string& path, std::string_view content) {
         poly.clear();
         for (long long i = 1; i <= n; ++i) {
             const long long id = in.integer(tok[static_cast<std::size_t>(i)], "a vertex index");
-            if (id < 0 || id >= nv) in.fail("vertex index " + std::to_string(id) + " out of range [0, " + std::to_string(nv) + ")");
+            if (id < 0 || id >= nv)
+                in.fail("vertex index " + std::to_string(id) + " out of range [0, " + std::to_string(nv) + ")");
             poly.push_back(static_cast<int>(id));
         }
         add_polygon(mesh, poly);
@@ -224,27 +222,31 @@ T load_le(const char* p) {
 }
 
 TriangleMesh read_stl(const std::string& path, std::string_view content) {
-    const bool binary_size = content.size() >= 84 &&
-                             content.size() == 84 + 50 * static_cast<std::size_t>(load_le<std::uint32_t>(content.data() + 80));
+    const bool binary_size =
+        content.size() >= 84 &&
+        content.size() == 84 + 50 * static_cast<std::size_t>(load_le<std::uint32_t>(content.data() + 80));
     // Binary files may start with "solid" too: a NUL byte early on also means binary.
     const bool has_nul = content.find('\0') < std::min<std::size_t>(content.size(), 1024);
     const bool starts_solid = content.compare(0, 5, "solid") == 0 && !has_nul;
     std::vector<Vec3> corners;
     if (binary_size || !starts_solid) {
-        if (content.size() < 84) throw Error(ErrorCode::InvalidInput, path + ": binary STL shorter than its 84-byte header");
+        if (content.size() < 84)
+            throw Error(ErrorCode::InvalidInput, path + ": binary STL shorter than its 84-byte header");
         const std::size_t n = load_le<std::uint32_t>(content.data() + 80);
         if (content.size() < 84 + 50 * n)
             throw Error(ErrorCode::InvalidInput, path + ": binary STL truncated: " + std::to_string(n) +
-                                                     " triangles announced, " + std::to_string((content.size() - 84) / 50) +
-                                                     " present");
+                                                     " triangles announced, " +
+                                                     std::to_string((content.size() - 84) / 50) + " present");
         corners.reserve(3 * n);
         for (std::size_t t = 0; t < n; ++t) {
             const char* rec = content.data() + 84 + 50 * t + 12;  // skip the normal
             for (int c = 0; c < 3; ++c) {
-                const Vec3 p{load_le<float>(rec + 12 * c), load_le<float>(rec + 12 * c + 4), load_le<float>(rec + 12 * c + 8)};
+                const Vec3 p{load_le<float>(rec + 12 * c), load_le<float>(rec + 12 * c + 4),
+                             load_le<float>(rec + 12 * c + 8)};
                 if (!is_finite(p))
                     throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(84 + 50 * t + 12 + 12 * c) +
-                                                             ": non-finite coordinate in triangle " + std::to_string(t));
+                                                             ": non-finite coordinate in triangle " +
+                                                             std::to_string(t));
                 corners.push_back(p);
             }
         }
@@ -298,9 +300,13 @@ PlyType ply_type(std::string_view s) {
 
 std::size_t ply_size(PlyType t) {
     switch (t) {
-        case PlyType::Int8: case PlyType::UInt8: return 1;
-        case PlyType::Int16: case PlyType::UInt16: return 2;
-        case PlyType::Int32: case PlyType::UInt32: case PlyType::Float32: return 4;
+        case PlyType::Int8:
+        case PlyType::UInt8: return 1;
+        case PlyType::Int16:
+        case PlyType::UInt16: return 2;
+        case PlyType::Int32:
+        case PlyType::UInt32:
+        case PlyType::Float32: return 4;
         case PlyType::Float64: return 8;
         case PlyType::Invalid: return 0;
     }
@@ -330,21 +336,53 @@ public:
     double read(PlyType t, const std::string& what) {
         const std::size_t n = ply_size(t);
         if (pos_ + n > content_.size())
-            throw Error(ErrorCode::InvalidInput, path_ + ": byte " + std::to_string(pos_) +
-                                                     ": unexpected end of file while reading " + what);
+            throw Error(ErrorCode::InvalidInput,
+                        path_ + ": byte " + std::to_string(pos_) + ": unexpected end of file while reading " + what);
         char b[8];
         std::memcpy(b, content_.data() + pos_, n);
         if (swap_) std::reverse(b, b + n);
         pos_ += n;
         switch (t) {
-            case PlyType::Int8: { std::int8_t v; std::memcpy(&v, b, 1); return v; }
-            case PlyType::UInt8: { std::uint8_t v; std::memcpy(&v, b, 1); return v; }
-            case PlyType::Int16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-            case PlyType::UInt16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-            case PlyType::Int32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-            case PlyType::UInt32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
-            case PlyType::Float32: { float v; std::memcpy(&v, b, 4); return v; }
-            case PlyType::Float64: { double v; std::memcpy(&v, b, 8); return v; }
+            case PlyType::Int8: {
+                std::int8_t v;
+                std::memcpy(&v, b, 1);
+                return v;
+            }
+            case PlyType::UInt8: {
+                std::uint8_t v;
+                std::memcpy(&v, b, 1);
+                return v;
+            }
+            case PlyType::Int16: {
+                std::int16_t v;
+                std::memcpy(&v, b, 2);
+                return v;
+            }
+            case PlyType::UInt16: {
+                std::uint16_t v;
+                std::memcpy(&v, b, 2);
+                return v;
+            }
+            case PlyType::Int32: {
+                std::int32_t v;
+                std::memcpy(&v, b, 4);
+                return v;
+            }
+            case PlyType::UInt32: {
+                std::uint32_t v;
+                std::memcpy(&v, b, 4);
+                return v;
+            }
+            case PlyType::Float32: {
+                float v;
+                std::memcpy(&v, b, 4);
+                return v;
+            }
+            case PlyType::Float64: {
+                double v;
+                std::memcpy(&v, b, 8);
+                return v;
+            }
             case PlyType::Invalid: break;
         }
         return 0;
@@ -401,10 +439,14 @@ PlyHeader parse_ply_header(Lines& in) {
         }
         if (tok[0] == "format") {
             if (tok.size() < 2) in.fail("incomplete 'format' line");
-            if (tok[1] == "ascii") h.format = PlyFormat::Ascii;
-            else if (tok[1] == "binary_little_endian") h.format = PlyFormat::BinaryLE;
-            else if (tok[1] == "binary_big_endian") h.format = PlyFormat::BinaryBE;
-            else in.fail("unknown PLY format '" + quote_excerpt(tok[1]) + "'");
+            if (tok[1] == "ascii")
+                h.format = PlyFormat::Ascii;
+            else if (tok[1] == "binary_little_endian")
+                h.format = PlyFormat::BinaryLE;
+            else if (tok[1] == "binary_big_endian")
+                h.format = PlyFormat::BinaryBE;
+            else
+                in.fail("unknown PLY format '" + quote_excerpt(tok[1]) + "'");
             have_format = true;
         } else if (tok[0] == "element") {
             if (tok.size() < 3) in.fail("'element' needs a name and a count");
@@ -436,8 +478,8 @@ PlyLayout ply_layout(const Lines& in, const PlyElement& el) {
             if (el.properties[i].name == name) return static_cast<int>(i);
         return -1;
     };
-    PlyLayout l{el.name == "vertex", el.name == "face", property_index("x"), property_index("y"), property_index("z"),
-                property_index("vertex_indices")};
+    PlyLayout l{el.name == "vertex", el.name == "face",   property_index("x"),
+                property_index("y"), property_index("z"), property_index("vertex_indices")};
     if (l.ilist < 0) l.ilist = property_index("vertex_index");
     if (l.is_vertex && (l.ix < 0 || l.iy < 0 || l.iz < 0)) in.fail_at(el.header_line, "vertex element without x, y, z");
     if (l.is_face && l.ilist < 0) in.fail_at(el.header_line, "face element without 'vertex_indices'");
@@ -473,7 +515,8 @@ void read_ply_ascii(Lines& in, const std::vector<PlyElement>& elements, long lon
                     if (l.is_face && static_cast<int>(k) == l.ilist) {
                         const long long id = in.integer(s, "a vertex index");
                         if (id < 0 || id >= nv)
-                            in.fail("vertex index " + std::to_string(id) + " out of range [0, " + std::to_string(nv) + ")");
+                            in.fail("vertex index " + std::to_string(id) + " out of range [0, " + std::to_string(nv) +
+                                    ")");
                         poly.push_back(static_cast<int>(id));
                     }
                 }
@@ -503,14 +546,15 @@ void read_ply_binary_record(const std::string& path, PlyBinary& body, const PlyE
             continue;
         }
         const double n = body.read(prop.count_type, el.name + " " + std::to_string(i));
-        if (n < 0) throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": negative list length");
+        if (n < 0)
+            throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": negative list length");
         for (long long j = 0; j < static_cast<long long>(n); ++j) {
             const double id = body.read(prop.type, el.name + " " + std::to_string(i));
             if (l.is_face && static_cast<int>(k) == l.ilist) {
                 if (!(id >= 0 && id < static_cast<double>(nv)) || id != std::floor(id))
                     throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": face " +
-                                                             std::to_string(i) + ": vertex index " + std::to_string(id) +
-                                                             " out of range");
+                                                             std::to_string(i) + ": vertex index " +
+                                                             std::to_string(id) + " out of range");
                 poly.push_back(static_cast<int>(id));
             }
         }
@@ -523,8 +567,8 @@ void read_ply_binary_record(const std::string& path, PlyBinary& body, const PlyE
     }
     if (l.is_face) {
         if (poly.size() < 3)
-            throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": face " + std::to_string(i) +
-                                                     " has fewer than 3 vertices");
+            throw Error(ErrorCode::InvalidInput, path + ": byte " + std::to_string(start) + ": face " +
+                                                     std::to_string(i) + " has fewer than 3 vertices");
         add_polygon(mesh, poly);
     }
 }
@@ -540,7 +584,8 @@ void read_ply_binary(const std::string& path, std::string_view content, const Li
         // hold is refused at once, and an element without properties (0 bytes per record) is skipped in O(1)
         // instead of being "read" count times (work stays linear in the file size).
         std::size_t min_record = 0;
-        for (const PlyProperty& prop : el.properties) min_record += ply_size(prop.is_list ? prop.count_type : prop.type);
+        for (const PlyProperty& prop : el.properties)
+            min_record += ply_size(prop.is_list ? prop.count_type : prop.type);
         if (min_record == 0) continue;
         check_count_fits(path, el.header_line, el.count, content.size() - std::min(body.position(), content.size()),
                          min_record, "'" + quote_excerpt(el.name) + "' element count");
@@ -556,8 +601,10 @@ TriangleMesh read_ply(const std::string& path, std::string_view content) {
         if (el.name == "vertex") nv = el.count;
     if (nv < 0) in.fail_at(1, "no 'vertex' element in the header");
     TriangleMesh mesh;
-    if (header.format == PlyFormat::Ascii) read_ply_ascii(in, header.elements, nv, mesh);
-    else read_ply_binary(path, content, in, header, nv, mesh);
+    if (header.format == PlyFormat::Ascii)
+        read_ply_ascii(in, header.elements, nv, mesh);
+    else
+        read_ply_binary(path, content, in, header, nv, mesh);
     return mesh;
 }
 
@@ -579,7 +626,8 @@ std::string write_off(const TriangleMesh& m) {
 
 std::string write_obj(const TriangleMesh& m) {
     std::string s = "# mesohex triangle surface\n";
-    for (const Vec3& p : m.points) s += "v " + format_real(p.x) + " " + format_real(p.y) + " " + format_real(p.z) + "\n";
+    for (const Vec3& p : m.points)
+        s += "v " + format_real(p.x) + " " + format_real(p.y) + " " + format_real(p.z) + "\n";
     for (const std::array<int, 3>& t : m.triangles)
         s += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
     return s;
@@ -625,10 +673,14 @@ bool is_readable_surface_format(const std::string& ext) {
 TriangleMesh parse_surface(const std::string& name, const std::string& ext, std::string_view content) {
     if (is_blank_content(content)) fail_empty_file(name, "expected a triangle surface");
     TriangleMesh mesh;
-    if (ext == "off") mesh = read_off(name, content);
-    else if (ext == "obj") mesh = read_obj(name, content);
-    else if (ext == "stl") mesh = read_stl(name, content);
-    else mesh = read_ply(name, content);
+    if (ext == "off")
+        mesh = read_off(name, content);
+    else if (ext == "obj")
+        mesh = read_obj(name, content);
+    else if (ext == "stl")
+        mesh = read_stl(name, content);
+    else
+        mesh = read_ply(name, content);
     if (mesh.triangles.empty()) throw Error(ErrorCode::InvalidInput, name + ": the surface has no triangle");
     return mesh;
 }
@@ -638,7 +690,8 @@ TriangleMesh parse_surface(const std::string& name, const std::string& ext, std:
 TriangleMesh read_surface(const std::string& path) {
     const std::string ext = lower_extension(path);
     if (!is_readable_surface_format(ext))
-        throw Error(ErrorCode::InvalidInput, path + ": unknown surface format '." + ext + "' (use .off, .obj, .stl or .ply)");
+        throw Error(ErrorCode::InvalidInput,
+                    path + ": unknown surface format '." + ext + "' (use .off, .obj, .stl or .ply)");
     return parse_surface(path, ext, read_whole_file(path));
 }
 
@@ -658,11 +711,15 @@ void write_surface(const std::string& path, const TriangleMesh& mesh) {
         for (int v : t)
             if (v < 0 || static_cast<std::size_t>(v) >= mesh.points.size())
                 throw Error(ErrorCode::InvalidInput, path + ": cannot write: a triangle index is out of range");
-    if (ext == "off") write_file_atomically(path, write_off(mesh));
-    else if (ext == "obj") write_file_atomically(path, write_obj(mesh));
-    else if (ext == "stl") write_file_atomically(path, write_stl(mesh));
+    if (ext == "off")
+        write_file_atomically(path, write_off(mesh));
+    else if (ext == "obj")
+        write_file_atomically(path, write_obj(mesh));
+    else if (ext == "stl")
+        write_file_atomically(path, write_stl(mesh));
     else
-        throw Error(ErrorCode::InvalidInput, path + ": cannot write surface format '." + ext + "' (use .off, .obj or .stl)");
+        throw Error(ErrorCode::InvalidInput,
+                    path + ": cannot write surface format '." + ext + "' (use .off, .obj or .stl)");
 }
 
 }  // namespace mesohex

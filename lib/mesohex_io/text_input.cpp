@@ -91,8 +91,8 @@ void fail_empty_file(const std::string& path, const std::string& expected) {
     throw Error(ErrorCode::InvalidInput, path + ":1: empty file (" + expected + ")", {ElementRef::Kind::FileLine, 1});
 }
 
-void check_count_fits(const std::string& path, int line, long long count, std::size_t bytes_left,
-                      std::size_t min_bytes, const std::string& what) {
+void check_count_fits(const std::string& path, int line, long long count, std::size_t bytes_left, std::size_t min_bytes,
+                      const std::string& what) {
     const std::size_t per = std::max<std::size_t>(min_bytes, 1);
     if (count < 0 || static_cast<unsigned long long>(count) > bytes_left / per)
         throw Error(ErrorCode::InvalidInput,

@@ -34,7 +34,7 @@ bool is_blank_content(std::string_view content);
 
 // Error(InvalidInput) "<path>:<line>: <what>" unless `count` items, each taking at least `min_bytes` bytes of the
 // file, fit in `bytes_left` bytes: a header count must never make a reader reserve more than the file can hold.
-void check_count_fits(const std::string& path, int line, long long count, std::size_t bytes_left,
-                      std::size_t min_bytes, const std::string& what);
+void check_count_fits(const std::string& path, int line, long long count, std::size_t bytes_left, std::size_t min_bytes,
+                      const std::string& what);
 
 }  // namespace mesohex

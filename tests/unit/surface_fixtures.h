@@ -14,7 +14,8 @@ inline TriangleMesh torus_surface(double R, double r, int nu, int nv) {
     for (int i = 0; i < nu; ++i)
         for (int j = 0; j < nv; ++j) {
             const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
-            m.points.push_back({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
+            m.points.push_back(
+                {(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
         }
     auto id = [&](int i, int j) { return (i % nu) * nv + (j % nv); };
     for (int i = 0; i < nu; ++i)

@@ -74,7 +74,7 @@ TEST(Adaptation, StraightConstantRadiusPowerOfTwo) {
     const Skeleton out = mesohex::adapt_skeleton(straight(16, 31, 1.0));
     ASSERT_EQ(out.points.size(), 9u);
     ASSERT_EQ(out.edges.size(), 8u);
-    EXPECT_EQ(out.points[0], (Vec3{0, 0, 0}));   // extremities keep their ids, first
+    EXPECT_EQ(out.points[0], (Vec3{0, 0, 0}));  // extremities keep their ids, first
     EXPECT_EQ(out.points[1], (Vec3{16, 0, 0}));
     for (const std::array<int, 2>& e : out.edges)
         EXPECT_NEAR(mesohex::distance(out.points[e[0]], out.points[e[1]]), 2.0, 1e-12);

@@ -1,8 +1,8 @@
 // End-to-end runs of the built `mesohex` binary: quality and convert on good and malformed files.
 #include <gtest/gtest.h>
 
-#include "cli_run.h"
 #include <sys/wait.h>
+#include "cli_run.h"
 
 #include <array>
 #include <cstdio>
@@ -115,7 +115,8 @@ TEST(Cli, ConvertRoundTrip) {
 // The import's shape options reject values outside their range before reading anything, naming the option; nothing
 // is written.
 TEST(Cli, ImportRejectsOutOfRangeOptions) {
-    const fs::path in = fs::temp_directory_path() / "mesohex_test_opt.ma", out = fs::temp_directory_path() / "mesohex_test_opt.obj";
+    const fs::path in = fs::temp_directory_path() / "mesohex_test_opt.ma",
+                   out = fs::temp_directory_path() / "mesohex_test_opt.obj";
     std::FILE* f = std::fopen(in.string().c_str(), "w");
     ASSERT_NE(f, nullptr);
     std::fputs("3 3 1\nv 0 0 0 0.1\nv 1 0 0 0.1\nv 0 1 0 0.1\ne 0 1\ne 1 2\ne 2 0\nf 0 1 2\n", f);

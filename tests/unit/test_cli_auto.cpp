@@ -41,8 +41,8 @@ void check_auto(const std::string& model, const std::string& file, double max_re
     const fs::path skeleton_path = temp_dir() / (model + ".skeleton.obj");
     fs::remove(out);
     fs::remove(skeleton_path);
-    const auto r = run_cli("auto " + surface.string() + " -o " + out.string() + " --report " + report.string() +
-                           " --quiet");
+    const auto r =
+        run_cli("auto " + surface.string() + " -o " + out.string() + " --report " + report.string() + " --quiet");
     ASSERT_EQ(r.status, 0) << r.output;
 
     const mesohex::QualityReport q = mesohex::compute_quality(mesohex::read_hex_mesh(out.string()));
@@ -113,7 +113,8 @@ void check_auto_reproducible(const std::string& model, const std::string& file) 
         const fs::path skeleton_path = temp_dir() / (model + "_repro_" + std::string(threads) + ".skeleton.obj");
         fs::remove(out);
         fs::remove(skeleton_path);
-        const auto r = run_cli("auto " + surface.string() + " -o " + out.string() + " --threads " + threads + " --quiet");
+        const auto r =
+            run_cli("auto " + surface.string() + " -o " + out.string() + " --threads " + threads + " --quiet");
         ASSERT_EQ(r.status, 0) << r.output;
         const std::string mesh = file_bytes(out), skeleton = file_bytes(skeleton_path);
         ASSERT_FALSE(mesh.empty());
@@ -124,8 +125,8 @@ void check_auto_reproducible(const std::string& model, const std::string& file) 
             continue;
         }
         EXPECT_TRUE(mesh == mesh0) << model << ": the mesh written with --threads " << threads << " differs";
-        EXPECT_TRUE(skeleton == skeleton0) << model << ": the skeleton written with --threads " << threads
-                                           << " differs";
+        EXPECT_TRUE(skeleton == skeleton0)
+            << model << ": the skeleton written with --threads " << threads << " differs";
     }
 }
 
@@ -140,13 +141,9 @@ TEST(AutoCli, SameSurfaceSameBytesWhateverTheThreadCount) {
 // that day): cactus 0.83 %, aorta 0.71 %, default options.
 constexpr double kHausdorffTarget = 0.02;
 
-TEST(AutoCli, CactusGivesAValidHexMeshCloseToTheSurface) {
-    check_auto("cactus", "cactus.obj", kHausdorffTarget);
-}
+TEST(AutoCli, CactusGivesAValidHexMeshCloseToTheSurface) { check_auto("cactus", "cactus.obj", kHausdorffTarget); }
 
-TEST(AutoCli, AortaGivesAValidHexMeshCloseToTheSurface) {
-    check_auto("aorta", "aorta.stl", kHausdorffTarget);
-}
+TEST(AutoCli, AortaGivesAValidHexMeshCloseToTheSurface) { check_auto("aorta", "aorta.stl", kHausdorffTarget); }
 
 // --no-retry: one attempt, with the default reach, whatever it gives; the report says so.
 TEST(AutoCli, NoRetryKeepsTheFirstAttempt) {

@@ -61,8 +61,8 @@ TEST(MeshCli, WholePipelineInAThickenedDomainMeetsTheQualityTargets) {
     const fs::path domain = temp_dir() / "tripod.off", out = temp_dir() / "tripod.vtu",
                    report = temp_dir() / "tripod.json";
     ASSERT_EQ(run_cli("thicken " + tripod() + " -o " + domain.string() + " --resolution 3").status, 0);
-    const auto r = run_cli("mesh " + tripod() + " --surface " + domain.string() + " -o " + out.string() +
-                           " --report " + report.string() + " --quiet");
+    const auto r = run_cli("mesh " + tripod() + " --surface " + domain.string() + " -o " + out.string() + " --report " +
+                           report.string() + " --quiet");
     ASSERT_EQ(r.status, 0) << r.output;
     const nlohmann::json rep = read_json(report);
     const long raw_hexes = rep["raw_quality"]["hexes"];

@@ -62,8 +62,7 @@ std::vector<Vec3> transformed(const std::vector<Vec3>& dirs, double max_jitter, 
 const Vec3 X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
 
 std::vector<std::vector<Vec3>> near_orthogonal_stars() {
-    return {{X, Y, Z},          {X, -X, Y},          {X, -X, Y, -Y},      {X, -X, Y, Z},
-            {X, -X, Y, -Y, Z},  {X, -X, Y, -Y, Z, -Z}};
+    return {{X, Y, Z}, {X, -X, Y}, {X, -X, Y, -Y}, {X, -X, Y, Z}, {X, -X, Y, -Y, Z}, {X, -X, Y, -Y, Z, -Z}};
 }
 
 std::vector<Vec3> planar_y() {
@@ -127,7 +126,7 @@ TEST(CompatibleBlocks, RejectsDegenerateAndBorderlineInput) {
     EXPECT_FALSE(fit_cube_frame({}).accepted);
     EXPECT_FALSE(fit_cube_frame({X}).accepted);
     EXPECT_FALSE(fit_cube_frame({X, Vec3{}, Y}).accepted);
-    EXPECT_FALSE(fit_cube_frame({X, 2.0 * X, -X}).accepted);                      // one line
+    EXPECT_FALSE(fit_cube_frame({X, 2.0 * X, -X}).accepted);  // one line
     EXPECT_FALSE(fit_cube_frame({X, Vec3{std::nan(""), 0, 0}, Y}).accepted);
     EXPECT_FALSE(fit_cube_frame({X, -X, Y, -Y, Z, -Z, Vec3{1, 1, 1}}).accepted);  // 7 directions: a label repeats
     // A 3-star (x, y, z) with one direction turned by 30 degrees towards another: pair angle 60 degrees, off by 30.
@@ -169,7 +168,8 @@ TEST(CompatibleBlocks, BlockNumbering) {
         const std::array<int, 9> s = block_section(label);
         EXPECT_EQ(block_point(blk, Vec3{}, 1, s[0]), t);
         for (int k = 0; k < 4; ++k) {
-            const Vec3 q = block_point(blk, Vec3{}, 1, s[1 + k]) - t, q1 = block_point(blk, Vec3{}, 1, s[1 + (k + 1) % 4]) - t;
+            const Vec3 q = block_point(blk, Vec3{}, 1, s[1 + k]) - t,
+                       q1 = block_point(blk, Vec3{}, 1, s[1 + (k + 1) % 4]) - t;
             const Vec3 m = block_point(blk, Vec3{}, 1, s[5 + k]) - t;
             EXPECT_NEAR(norm(q), 1.0, 1e-12);
             EXPECT_NEAR(dot(q, t), 0.0, 1e-12);
@@ -257,8 +257,8 @@ TEST(CompatibleBlocks, StarsWithAndWithoutBlocksByHand) {
     struct Case {
         const char* name;
         std::vector<Vec3> dirs;
-        std::map<int, long> paper_interior;   // the paper's layout
-        std::map<int, long> block_boundary;   // the block's own irregular boundary edges
+        std::map<int, long> paper_interior;  // the paper's layout
+        std::map<int, long> block_boundary;  // the block's own irregular boundary edges
     };
     const std::vector<Case> cases = {
         // 3 directions, not coplanar: 5 partition points, the 2 poles of valence 3.

@@ -45,11 +45,8 @@ void expect_closed_surface(const ConnectionSurfaces& cs, int v) {
     EXPECT_EQ(np - ne + nq, 2);
 }
 
-
 // Directions at least 0.35 rad (about 20 degrees) apart.
-std::vector<Vec3> random_directions(int n, unsigned seed) {
-    return mesohex::test::random_directions(n, seed, 0.35);
-}
+std::vector<Vec3> random_directions(int n, unsigned seed) { return mesohex::test::random_directions(n, seed, 0.35); }
 }  // namespace
 
 TEST(ConnectionSurfaces, OneEdgeHasTwoExtremityQuads) {

@@ -60,7 +60,12 @@ json dump(const fs::path& file) {
 
 // 1-based Exodus HEX8 node positions of each side, from the Exodus documentation's side table (not from our code).
 constexpr std::array<std::array<int, 4>, 6> kExodusSideNodes = {{
-    {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 4, 8, 7}, {1, 5, 8, 4}, {1, 4, 3, 2}, {5, 6, 7, 8},
+    {1, 2, 6, 5},
+    {2, 3, 7, 6},
+    {3, 4, 8, 7},
+    {1, 5, 8, 4},
+    {1, 4, 3, 2},
+    {5, 6, 7, 8},
 }};
 
 // Every (element, side) of the side set names a face on the boundary of the box [0, n]^3: its 4 nodes share one
@@ -77,13 +82,14 @@ std::size_t check_boundary_sides(const json& file, const json& side_set, const s
         if (side < 1 || side > 6) continue;
         std::array<int, 4> nodes;
         for (int k = 0; k < 4; ++k)
-            nodes[static_cast<std::size_t>(k)] =
-                conn[static_cast<std::size_t>(element - 1)][static_cast<std::size_t>(kExodusSideNodes[static_cast<std::size_t>(side - 1)][static_cast<std::size_t>(k)] - 1)];
+            nodes[static_cast<std::size_t>(k)] = conn[static_cast<std::size_t>(element - 1)][static_cast<std::size_t>(
+                kExodusSideNodes[static_cast<std::size_t>(side - 1)][static_cast<std::size_t>(k)] - 1)];
         bool on_boundary = false;
         for (int c = 0; c < 3; ++c) {
             const double x0 = coords[c][nodes[0] - 1].get<double>();
             bool same = x0 == 0.0 || x0 == n;
-            for (int k = 1; k < 4; ++k) same = same && coords[c][nodes[static_cast<std::size_t>(k)] - 1].get<double>() == x0;
+            for (int k = 1; k < 4; ++k)
+                same = same && coords[c][nodes[static_cast<std::size_t>(k)] - 1].get<double>() == x0;
             on_boundary = on_boundary || same;
         }
         EXPECT_TRUE(on_boundary) << "element " << element << " side " << side;
@@ -106,7 +112,12 @@ std::vector<std::vector<int>> all_connectivity(const json& file) {
 TEST(ExodusIo, SideNumberingMatchesTheExodusTable) {
     // kExodusSideOfHexFace maps our kHexFaces to Exodus sides: the same 4 corners (as a set) on both sides.
     const std::array<std::array<int, 4>, 6> our_faces = {{
-        {0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7},
+        {0, 3, 2, 1},
+        {4, 5, 6, 7},
+        {0, 1, 5, 4},
+        {1, 2, 6, 5},
+        {2, 3, 7, 6},
+        {3, 0, 4, 7},
     }};
     for (int lf = 0; lf < 6; ++lf) {
         std::array<int, 4> ours = our_faces[static_cast<std::size_t>(lf)];
@@ -254,7 +265,8 @@ TEST(ExodusIo, ConvertWritesExodusAndPartitions) {
     EXPECT_EQ(f["elem_vars"]["1"].size(), 64u);  // the scaled Jacobian (1 for unit cubes)
     EXPECT_EQ(f["elem_vars"]["1"][0], 1.0);
 
-    r = mesohex::test::run_cli("convert " + mesh + " " + (dir / "parts.exo").string() + " --partitions 4 --json", false);
+    r = mesohex::test::run_cli("convert " + mesh + " " + (dir / "parts.exo").string() + " --partitions 4 --json",
+                               false);
     ASSERT_EQ(r.status, 0) << r.output;
     const json report = json::parse(r.output);
     EXPECT_EQ(report["partition"]["parts"], 4);
@@ -266,10 +278,11 @@ TEST(ExodusIo, ConvertWritesExodusAndPartitions) {
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("partition: 4 parts"), std::string::npos) << r.output;
     int status = -1;
-    const std::string out = run("/usr/bin/python3 -c \"import meshio, sys; m = meshio.read(sys.argv[1]); "
-                                "p = m.cell_data['partition'][0]; print(len(p), sorted(set(p.tolist())))\" " +
-                                    (dir / "parts.vtu").string() + " 2>&1",
-                                &status);
+    const std::string out =
+        run("/usr/bin/python3 -c \"import meshio, sys; m = meshio.read(sys.argv[1]); "
+            "p = m.cell_data['partition'][0]; print(len(p), sorted(set(p.tolist())))\" " +
+                (dir / "parts.vtu").string() + " 2>&1",
+            &status);
     EXPECT_EQ(status, 0) << out;
     EXPECT_EQ(out, "64 [0, 1, 2, 3]\n");
 

@@ -207,7 +207,7 @@ TEST(Finish, GoalsAndTheBetterOfTwoResults) {
     const FinishResult inverted = result(2, -0.1, 0.95, 0.002);  // everything but the inversions is fine
     EXPECT_EQ(mesohex::missed_goals(meets), 0);
     EXPECT_EQ(mesohex::missed_goals(far), 2);
-    EXPECT_EQ(mesohex::missed_goals(inverted), 2);  // inverted, and min < 0.3
+    EXPECT_EQ(mesohex::missed_goals(inverted), 2);                    // inverted, and min < 0.3
     EXPECT_EQ(mesohex::missed_goals(result(0, 0.3, 0.85, 0.01)), 0);  // the goals are inclusive
     FinishResult unmeasured = far;
     unmeasured.distance_measured = false;

@@ -43,16 +43,17 @@ Case run_case(const std::string& label, Skeleton skeleton, const TriangleMesh& d
         std::printf("[finish_data]   %-9s %8ld hexes %8ld verts  SJ min %+.4f avg %.4f  inverted %6ld  %8.0f ms\n",
                     s.stage.c_str(), s.hexes, s.vertices, s.sj_min, s.sj_avg, s.inverted, s.ms);
     }
-    std::printf("[finish_data]   fit: %d iterations, converged %d, max boundary-vertex distance %.4g; untangle ran %d"
-                " (%d rounds)\n",
-                f.fit_iterations, f.fit_converged ? 1 : 0, f.fit_max_distance, f.untangled ? 1 : 0, f.untangle_rounds);
+    std::printf(
+        "[finish_data]   fit: %d iterations, converged %d, max boundary-vertex distance %.4g; untangle ran %d"
+        " (%d rounds)\n",
+        f.fit_iterations, f.fit_converged ? 1 : 0, f.fit_max_distance, f.untangled ? 1 : 0, f.untangle_rounds);
     std::printf("[finish_data]   final: SJ min %+.4f avg %.4f inverted %ld valid %d\n", f.quality.sj_min,
                 f.quality.sj_avg, f.quality.inverted, f.quality.validation.valid() ? 1 : 0);
-    std::printf("[finish_data]   Hausdorff: %.4g (%.3f %% of bbox diag %.4g); mesh->surface max %.4g, surface->mesh max"
-                " %.4g; mean %.4g (%.3f %%); %.0f ms; total finish %.0f ms\n",
-                f.distance.max, 100 * f.distance.relative_max, f.distance.diagonal, f.distance.mesh_to_surface_max,
-                f.distance.surface_to_mesh_max, f.distance.mean, 100 * f.distance.relative_mean, f.distance_ms,
-                f.total_ms);
+    std::printf(
+        "[finish_data]   Hausdorff: %.4g (%.3f %% of bbox diag %.4g); mesh->surface max %.4g, surface->mesh max"
+        " %.4g; mean %.4g (%.3f %%); %.0f ms; total finish %.0f ms\n",
+        f.distance.max, 100 * f.distance.relative_max, f.distance.diagonal, f.distance.mesh_to_surface_max,
+        f.distance.surface_to_mesh_max, f.distance.mean, 100 * f.distance.relative_mean, f.distance_ms, f.total_ms);
     std::fflush(stdout);
     return c;
 }

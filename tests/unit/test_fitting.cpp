@@ -35,8 +35,16 @@ SurfaceProjector box_surface(Vec3 lo, Vec3 hi) {
                 int best = 0;
                 double best_d = 1e300, best_v = 0;
                 for (int a = 0; a < 3; ++a) {
-                    if (p[a] - lo[a] < best_d) { best_d = p[a] - lo[a]; best = a; best_v = lo[a]; }
-                    if (hi[a] - p[a] < best_d) { best_d = hi[a] - p[a]; best = a; best_v = hi[a]; }
+                    if (p[a] - lo[a] < best_d) {
+                        best_d = p[a] - lo[a];
+                        best = a;
+                        best_v = lo[a];
+                    }
+                    if (hi[a] - p[a] < best_d) {
+                        best_d = hi[a] - p[a];
+                        best = a;
+                        best_v = hi[a];
+                    }
                 }
                 p[best] = best_v;
             }
@@ -80,7 +88,8 @@ TEST(Fitting, CubeAgainstItsOwnSurfaceStaysACube) {
         const FitResult r = fit_to_surface(cube, box_surface(0.0, 1.0), options);
         ASSERT_EQ(r.mesh.points.size(), cube.points.size());
         double worst = 0;
-        for (std::size_t v = 0; v < cube.points.size(); ++v) worst = std::max(worst, distance(r.mesh.points[v], cube.points[v]));
+        for (std::size_t v = 0; v < cube.points.size(); ++v)
+            worst = std::max(worst, distance(r.mesh.points[v], cube.points[v]));
         EXPECT_LT(worst, 1e-6) << "refresh=" << refresh;
         EXPECT_TRUE(r.converged);
         EXPECT_LE(r.iterations, 5);  // a fixed point: one step per lambda stage (3, 9, 27, 30) does not move it
@@ -352,8 +361,10 @@ TEST(Fitting, GuardDampsOnlyTheVerticesOfOffendingHexes) {
     const SurfaceProjector surface{[&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
         out = in;
         for (Vec3& p : out) {
-            if (distance(p, Vec3{2, 2, 1}) < 1e-9) p.z = -1.0;  // through the bottom: would invert its 4 hexes
-            else if (p.x < 0.5) p.x -= 0.2;                     // the x = 0 side moves out a little
+            if (distance(p, Vec3{2, 2, 1}) < 1e-9)
+                p.z = -1.0;  // through the bottom: would invert its 4 hexes
+            else if (p.x < 0.5)
+                p.x -= 0.2;  // the x = 0 side moves out a little
         }
     }};
     FitOptions options;

@@ -35,16 +35,16 @@ EdgeKey key(int a, int b) { return std::minmax(a, b); }
 
 // What the tests need to know about a skeleton, computed by brute force (independently of the mesher's analysis).
 struct Facts {
-    std::map<EdgeKey, int> face_count;           // faces around each edge of s.edges (0 = branch edge)
-    std::vector<int> leaflet_of_face;            // faces flooded across edges with exactly 2 faces
+    std::map<EdgeKey, int> face_count;  // faces around each edge of s.edges (0 = branch edge)
+    std::vector<int> leaflet_of_face;   // faces flooded across edges with exactly 2 faces
     int leaflets = 0;
     int branch_edges = 0, boundary_edges = 0, interior_edges = 0, fan_edges = 0;
-    std::map<int, int> fan_degree_histogram;     // degree -> number of fan edges
+    std::map<int, int> fan_degree_histogram;  // degree -> number of fan edges
 };
 
 int find(std::vector<int>& parent, int x) {
-    while (parent[static_cast<std::size_t>(x)] != x) x = parent[static_cast<std::size_t>(x)] =
-                                                         parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
+    while (parent[static_cast<std::size_t>(x)] != x)
+        x = parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
     return x;
 }
 
@@ -61,9 +61,12 @@ Facts facts_of(const Skeleton& s) {
         }
     }
     for (const auto& [e, count] : f.face_count) {
-        if (count == 0) ++f.branch_edges;
-        else if (count == 1) ++f.boundary_edges;
-        else if (count == 2) ++f.interior_edges;
+        if (count == 0)
+            ++f.branch_edges;
+        else if (count == 1)
+            ++f.boundary_edges;
+        else if (count == 2)
+            ++f.interior_edges;
         else {
             ++f.fan_edges;
             ++f.fan_degree_histogram[count];
@@ -113,22 +116,14 @@ struct Expected {
 //    edges, 24 faces; boundary 2(6 + 4); the arch closes a loop: Euler 1 - 1 = 0.
 const std::vector<Expected>& expected() {
     static const std::vector<Expected> table{
-        {"plate", 16, 24, 9, 1, 1, 0, 12, 0, 0},
-        {"box", 26, 48, 24, 2, 1, 0, 0, 0, 0},
-        {"torus", 192, 384, 192, 0, 1, 0, 0, 0, 0},
-        {"tfan", 21, 32, 12, 1, 3, 0, 18, 2, 3},
-        {"xfan", 27, 42, 16, 1, 4, 0, 24, 2, 4},
-        {"hand", 60, 91, 32, 1, 1, 15, 24, 0, 0},
-        {"chair", 61, 92, 32, 1, 3, 16, 28, 4, 3},
-        {"bird", 43, 62, 20, 1, 3, 6, 32, 0, 0},
-        {"twist", 39, 62, 24, 1, 1, 0, 28, 0, 0},
-        {"torustwist", 120, 216, 96, 0, 2, 0, 96, 24, 4},
-        {"dualocta", 74, 96, 0, -22, 0, 96, 0, 0, 0},
-        {"cubestar", 7, 6, 0, 1, 0, 6, 0, 0, 0},
-        {"ystar", 7, 6, 0, 1, 0, 6, 0, 0, 0},
-        {"tetrastar", 9, 8, 0, 1, 0, 8, 0, 0, 0},
-        {"turbine", 45, 62, 16, -1, 2, 12, 36, 0, 0},
-        {"pan", 43, 67, 24, 0, 1, 9, 20, 0, 0},
+        {"plate", 16, 24, 9, 1, 1, 0, 12, 0, 0},      {"box", 26, 48, 24, 2, 1, 0, 0, 0, 0},
+        {"torus", 192, 384, 192, 0, 1, 0, 0, 0, 0},   {"tfan", 21, 32, 12, 1, 3, 0, 18, 2, 3},
+        {"xfan", 27, 42, 16, 1, 4, 0, 24, 2, 4},      {"hand", 60, 91, 32, 1, 1, 15, 24, 0, 0},
+        {"chair", 61, 92, 32, 1, 3, 16, 28, 4, 3},    {"bird", 43, 62, 20, 1, 3, 6, 32, 0, 0},
+        {"twist", 39, 62, 24, 1, 1, 0, 28, 0, 0},     {"torustwist", 120, 216, 96, 0, 2, 0, 96, 24, 4},
+        {"dualocta", 74, 96, 0, -22, 0, 96, 0, 0, 0}, {"cubestar", 7, 6, 0, 1, 0, 6, 0, 0, 0},
+        {"ystar", 7, 6, 0, 1, 0, 6, 0, 0, 0},         {"tetrastar", 9, 8, 0, 1, 0, 8, 0, 0, 0},
+        {"turbine", 45, 62, 16, -1, 2, 12, 36, 0, 0}, {"pan", 43, 67, 24, 0, 1, 9, 20, 0, 0},
     };
     return table;
 }
@@ -167,8 +162,8 @@ std::string check_invariants(const Skeleton& s) {
     for (const auto& [e, count] : facts.face_count) {
         if (count != 2) continue;
         const int forward = directed.count({e.first, e.second}) ? directed.at({e.first, e.second}) : 0;
-        if (forward != 1) return "inconsistent orientation across edge " + std::to_string(e.first) + "-" +
-                                 std::to_string(e.second);
+        if (forward != 1)
+            return "inconsistent orientation across edge " + std::to_string(e.first) + "-" + std::to_string(e.second);
     }
     return "";
 }
@@ -221,16 +216,16 @@ std::string check_configuration(const Skeleton& s) {
         // A branch meets leaflets here: each leaflet must touch v at a convex ~90° corner.
         const Vec3 p = s.points[v];
         for (const auto& [l, ends] : rim[v]) {
-            if (ends.size() != 2) return name + ": leaflet touches a branch vertex through " +
-                                         std::to_string(ends.size()) + " boundary edges";
+            if (ends.size() != 2)
+                return name + ": leaflet touches a branch vertex through " + std::to_string(ends.size()) +
+                       " boundary edges";
             const Vec3 a = mesohex::normalized(s.points[static_cast<std::size_t>(ends[0])] - p);
             const Vec3 b = mesohex::normalized(s.points[static_cast<std::size_t>(ends[1])] - p);
             const double angle = std::acos(std::clamp(mesohex::dot(a, b), -1.0, 1.0)) * 180.0 / std::numbers::pi;
             if (angle < 80 || angle > 100) return name + ": leaflet corner angle " + std::to_string(angle);
             if (rim[v].size() == 1 && branch_nbrs[v].size() == 1) {  // BL-joint
                 const Vec3 out = -mesohex::normalized(a + b);
-                const Vec3 branch =
-                    mesohex::normalized(s.points[static_cast<std::size_t>(branch_nbrs[v][0])] - p);
+                const Vec3 branch = mesohex::normalized(s.points[static_cast<std::size_t>(branch_nbrs[v][0])] - p);
                 if (mesohex::dot(out, branch) < 0.5) return name + ": BL-joint branch not along the outward diagonal";
             }
         }
@@ -241,7 +236,8 @@ std::string check_configuration(const Skeleton& s) {
 double min_point_distance(const Skeleton& s) {
     double best = 1e300;
     for (std::size_t a = 0; a < s.points.size(); ++a)
-        for (std::size_t b = a + 1; b < s.points.size(); ++b) best = std::min(best, mesohex::distance(s.points[a], s.points[b]));
+        for (std::size_t b = a + 1; b < s.points.size(); ++b)
+            best = std::min(best, mesohex::distance(s.points[a], s.points[b]));
     return best;
 }
 
@@ -525,8 +521,7 @@ TEST(GenerateCli, WritesAnObjThatReadsBackAsTheSameSkeleton) {
 }
 
 TEST(GenerateCli, UnknownNameIsAnInputErrorAndWritesNothing) {
-    const std::filesystem::path path =
-        std::filesystem::path(testing::TempDir()) / "mesohex_test_generators_teapot.obj";
+    const std::filesystem::path path = std::filesystem::path(testing::TempDir()) / "mesohex_test_generators_teapot.obj";
     std::filesystem::remove(path);
     EXPECT_EQ(run_cli("generate teapot -o " + path.string()).status,
               mesohex::exit_code(mesohex::ErrorCode::InvalidInput));

@@ -60,7 +60,8 @@ void expect_error(Fn fn, std::initializer_list<std::string> parts, ErrorCode cod
         ADD_FAILURE() << "no error thrown";
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), code) << e.what();
-        for (const std::string& part : parts) EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+        for (const std::string& part : parts)
+            EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
     }
 }
 
@@ -72,7 +73,8 @@ TEST(HexIo, ReadsHandWrittenFiles) {
     ASSERT_EQ(cube.hexes.size(), 1u);
     EXPECT_EQ(cube.hexes[0], (std::array<int, 8>{0, 1, 2, 3, 4, 5, 6, 7}));
     EXPECT_EQ(cube.points[6], (Vec3{1, 1, 1}));
-    for (const char* name : {"two_hexes_crlf.mesh", "two_hexes.vtk", "two_hexes_v51.vtk", "two_hexes.vtu", "two_hexes.msh"}) {
+    for (const char* name :
+         {"two_hexes_crlf.mesh", "two_hexes.vtk", "two_hexes_v51.vtk", "two_hexes.vtu", "two_hexes.msh"}) {
         SCOPED_TRACE(name);
         EXPECT_EQ(read_hex_mesh(data(name)), two_hexes());
     }
@@ -103,10 +105,12 @@ TEST(HexIo, CellDataIsWritten) {
     write_hex_mesh((dir / "a.vtk").string(), m, sj);
     write_hex_mesh((dir / "a.vtu").string(), m, sj);
     write_hex_mesh((dir / "a.msh").string(), m, sj);
-    EXPECT_NE(slurp(dir / "a.vtk").find("CELL_DATA 2\nSCALARS scaled_jacobian double 1\nLOOKUP_TABLE default\n0.25\n-0.5\n"),
-              std::string::npos);
+    EXPECT_NE(
+        slurp(dir / "a.vtk").find("CELL_DATA 2\nSCALARS scaled_jacobian double 1\nLOOKUP_TABLE default\n0.25\n-0.5\n"),
+        std::string::npos);
     EXPECT_NE(slurp(dir / "a.vtu").find("Name=\"scaled_jacobian\""), std::string::npos);
-    EXPECT_NE(slurp(dir / "a.msh").find("$ElementData\n1\n\"scaled_jacobian\"\n1\n0\n3\n0\n1\n2\n1 0.25\n2 -0.5\n$EndElementData"),
+    EXPECT_NE(slurp(dir / "a.msh")
+                  .find("$ElementData\n1\n\"scaled_jacobian\"\n1\n0\n3\n0\n1\n2\n1 0.25\n2 -0.5\n$EndElementData"),
               std::string::npos);
     expect_error([&] { write_hex_mesh((dir / "b.vtk").string(), m, {1.0}); }, {"1 cell values for 2 hexes"});
     EXPECT_FALSE(fs::exists(dir / "b.vtk"));
@@ -168,8 +172,9 @@ TEST(HexIo, MissingFileAndUnknownExtension) {
 // VTK 5.1 OFFSETS that leave the connectivity array (0 8 16 8 with 8 entries: a cell at 8..16) or decrease are
 // refused at their line; they used to make the reader index past the connectivity (found by review, fuzz/corpus/hex).
 TEST(HexIo, Vtk51OffsetsStayWithinTheConnectivity) {
-    const std::string head = "# vtk DataFile Version 5.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 8 double\n"
-                             "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
+    const std::string head =
+        "# vtk DataFile Version 5.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 8 double\n"
+        "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
     const std::string tail = "\nCONNECTIVITY vtktypeint64\n0 1 2 3 4 5 6 7\nCELL_TYPES 1\n12\n";
     const HexMesh one = read_hex_mesh_text(head + "CELLS 2 8\nOFFSETS vtktypeint64\n0 8" + tail, "vtk", "ok.vtk");
     ASSERT_EQ(one.hexes.size(), 1u);
@@ -181,9 +186,14 @@ TEST(HexIo, Vtk51OffsetsStayWithinTheConnectivity) {
     expect_error([&] { read_hex_mesh_text(head + "CELLS 2 8\nOFFSETS vtktypeint64\n1 8" + tail, "vtk", "c.vtk"); },
                  {"c.vtk:16: offset 1 (entry 0)"});
     // A second CELLS or POINTS section is refused (the arrays of the first one are never mixed with it).
-    expect_error([&] { read_hex_mesh_text(head + "CELLS 2 8\nOFFSETS vtktypeint64\n0 8\nCONNECTIVITY vtktypeint64\n"
-                                                 "0 1 2 3 4 5 6 7\nCELLS 2 8\n", "vtk", "d.vtk"); },
-                 {"d.vtk:19: second CELLS section"});
+    expect_error(
+        [&] {
+            read_hex_mesh_text(head +
+                                   "CELLS 2 8\nOFFSETS vtktypeint64\n0 8\nCONNECTIVITY vtktypeint64\n"
+                                   "0 1 2 3 4 5 6 7\nCELLS 2 8\n",
+                               "vtk", "d.vtk");
+        },
+        {"d.vtk:19: second CELLS section"});
     expect_error([&] { read_hex_mesh_text(head + "POINTS 1 double\n0 0 0\n", "vtk", "e.vtk"); },
                  {"e.vtk:14: second POINTS section"});
 }
@@ -191,17 +201,27 @@ TEST(HexIo, Vtk51OffsetsStayWithinTheConnectivity) {
 // Indices and offsets of the smallest long are out of range, not an overflow of "index - 1" or "offset - begin"
 // (UBSan findings; fuzz/corpus/hex/medit_index_min, vtu_offset_min).
 TEST(HexIo, SmallestLongIndicesAreOutOfRange) {
-    expect_error([] { read_hex_mesh_text("MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 0 0\nHexahedra\n1\n"
-                                         "-9223372036854775808 1 1 1 1 1 1 1 0\nEnd\n", "mesh", "m.mesh"); },
-                 {"m.mesh:8: hexahedron 1: vertex index -9223372036854775808 out of range (1..1)"});
-    expect_error([] { read_hex_mesh_text("<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>\n"
-                                         "<Piece NumberOfPoints=\"1\" NumberOfCells=\"2\"><Points>\n"
-                                         "<DataArray NumberOfComponents=\"3\" format=\"ascii\">0 0 0</DataArray></Points><Cells>\n"
-                                         "<DataArray Name=\"connectivity\" format=\"ascii\">0 0 0 0 0 0 0 0</DataArray>\n"
-                                         "<DataArray Name=\"offsets\" format=\"ascii\">8 -9223372036854775808</DataArray>\n"
-                                         "<DataArray Name=\"types\" format=\"ascii\">12 12</DataArray></Cells></Piece>\n"
-                                         "</UnstructuredGrid></VTKFile>\n", "vtu", "v.vtu"); },
-                 {"v.vtu:7: cell 1 does not have 8 vertices"});
+    expect_error(
+        [] {
+            read_hex_mesh_text(
+                "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 0 0\nHexahedra\n1\n"
+                "-9223372036854775808 1 1 1 1 1 1 1 0\nEnd\n",
+                "mesh", "m.mesh");
+        },
+        {"m.mesh:8: hexahedron 1: vertex index -9223372036854775808 out of range (1..1)"});
+    expect_error(
+        [] {
+            read_hex_mesh_text(
+                "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>\n"
+                "<Piece NumberOfPoints=\"1\" NumberOfCells=\"2\"><Points>\n"
+                "<DataArray NumberOfComponents=\"3\" format=\"ascii\">0 0 0</DataArray></Points><Cells>\n"
+                "<DataArray Name=\"connectivity\" format=\"ascii\">0 0 0 0 0 0 0 0</DataArray>\n"
+                "<DataArray Name=\"offsets\" format=\"ascii\">8 -9223372036854775808</DataArray>\n"
+                "<DataArray Name=\"types\" format=\"ascii\">12 12</DataArray></Cells></Piece>\n"
+                "</UnstructuredGrid></VTKFile>\n",
+                "vtu", "v.vtu");
+        },
+        {"v.vtu:7: cell 1 does not have 8 vertices"});
 }
 
 TEST(HexIo, FailedWriteLeavesNothingBehind) {
@@ -257,15 +277,16 @@ TEST(HexIo, WeReadWhatMeshioWrites) {
         GTEST_SKIP() << "/usr/bin/python3 has no meshio";
     const fs::path dir = temp_dir();
     const fs::path script = dir / "write.py";
-    std::ofstream(script) << "import sys, meshio, numpy as np\n"
-                             "pts = np.array([[i, j, k] for k in range(2) for j in range(2) for i in range(3)], dtype=float)\n"
-                             "cells = [('hexahedron', np.array([[0, 1, 4, 3, 6, 7, 10, 9], [1, 2, 5, 4, 7, 8, 11, 10]]))]\n"
-                             "m = meshio.Mesh(pts, cells, cell_data={'q': [np.array([1.0, 2.0])]})\n"
-                             "d = sys.argv[1]\n"
-                             "m.write(d + '/m.vtk', binary=False)\n"
-                             "m.write(d + '/m.vtu', binary=False)\n"
-                             "m.write(d + '/m.msh', file_format='gmsh', binary=False)\n"
-                             "m.write(d + '/m.mesh')\n";
+    std::ofstream(script)
+        << "import sys, meshio, numpy as np\n"
+           "pts = np.array([[i, j, k] for k in range(2) for j in range(2) for i in range(3)], dtype=float)\n"
+           "cells = [('hexahedron', np.array([[0, 1, 4, 3, 6, 7, 10, 9], [1, 2, 5, 4, 7, 8, 11, 10]]))]\n"
+           "m = meshio.Mesh(pts, cells, cell_data={'q': [np.array([1.0, 2.0])]})\n"
+           "d = sys.argv[1]\n"
+           "m.write(d + '/m.vtk', binary=False)\n"
+           "m.write(d + '/m.vtu', binary=False)\n"
+           "m.write(d + '/m.msh', file_format='gmsh', binary=False)\n"
+           "m.write(d + '/m.mesh')\n";
     const std::string cmd = "/usr/bin/python3 " + script.string() + " " + dir.string() + " > /dev/null 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     for (const char* name : {"m.vtk", "m.vtu", "m.msh", "m.mesh"}) {

@@ -14,8 +14,8 @@
 #include <functional>
 #include <new>
 #include <numeric>
-#include <stdexcept>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -61,10 +61,14 @@ bool printable_ascii(const std::string& s) {
 // All the readers, by extension.
 void read_any(const std::string& path) {
     const std::string ext = path.substr(path.rfind('.') + 1);
-    if (ext == "mesh" || ext == "vtk" || ext == "vtu" || ext == "msh") (void)read_hex_mesh(path);
-    else if (ext == "ma") (void)read_medial_mesh(path);
-    else if (ext == "off" || ext == "stl" || ext == "ply") (void)read_surface(path);
-    else (void)read_skeleton(path);
+    if (ext == "mesh" || ext == "vtk" || ext == "vtu" || ext == "msh")
+        (void)read_hex_mesh(path);
+    else if (ext == "ma")
+        (void)read_medial_mesh(path);
+    else if (ext == "off" || ext == "stl" || ext == "ply")
+        (void)read_surface(path);
+    else
+        (void)read_skeleton(path);
 }
 
 // A face of 100 000 edges listed in random order: chained in O(k log k) (it took 13.8 s when each step rescanned the
@@ -89,8 +93,9 @@ TEST(HostileInput, IgLongFaceIsChainedInLinearTime) {
     for (int i = 0; i < n; ++i) EXPECT_EQ(s.faces[0][i], i) << i;  // 0, 1, 2, ... : edge 0 then edge 1
     EXPECT_EQ(static_cast<int>(s.edges.size()), n);
     // A face whose edges are not one cycle (two triangles) is still refused, naming the face's line.
-    const std::string bad = write_file("two.ig", "IG\n6 6 1\n0 0 0\n1 0 0\n0 1 0\n5 0 0\n6 0 0\n5 1 0\n"
-                                                 "0 1\n1 2\n2 0\n3 4\n4 5\n5 3\n6 0 1 2 3 4 5\n");
+    const std::string bad = write_file("two.ig",
+                                       "IG\n6 6 1\n0 0 0\n1 0 0\n0 1 0\n5 0 0\n6 0 0\n5 1 0\n"
+                                       "0 1\n1 2\n2 0\n3 4\n4 5\n5 3\n6 0 1 2 3 4 5\n");
     const Error e = expect_error([&] { (void)read_skeleton(bad); }, bad);
     EXPECT_NE(std::string(e.what()).find(bad + ":15: face edges do not form a single closed cycle"), std::string::npos)
         << e.what();
@@ -138,9 +143,12 @@ TEST(HostileInput, HeaderCountsBoundedByFileSize) {
         {"huge.ma", "2147483648 0 0\n", 1},
         {"huge.off", "OFF\n1000000000 1 0\n0 0 0\n", 3},  // reserves what 12 bytes hold, fails where data ends
         {"huge.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n999999999\n0 0 0 0\nEnd\n", 4},
-        {"huge.vtk", "# vtk DataFile Version 2.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 100000000 double\n0 0 0\n", 5},
-        {"huge.vtu", "<VTKFile type=\"UnstructuredGrid\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"1000000000\" "
-                     "NumberOfCells=\"1\">\n</Piece></UnstructuredGrid></VTKFile>\n", 3},
+        {"huge.vtk",
+         "# vtk DataFile Version 2.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 100000000 double\n0 0 0\n", 5},
+        {"huge.vtu",
+         "<VTKFile type=\"UnstructuredGrid\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"1000000000\" "
+         "NumberOfCells=\"1\">\n</Piece></UnstructuredGrid></VTKFile>\n",
+         3},
         {"huge.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 500000000 1 500000000\n", 5},
     };
     for (const Case& c : cases) {
@@ -182,8 +190,8 @@ TEST(HostileInput, LongAndBinaryTokensAreQuotedShortAndEscaped) {
 
 // An empty (or all-whitespace) file is named as such, never "line 0".
 TEST(HostileInput, EmptyFilesAreReportedAsEmpty) {
-    for (const char* name : {"e.ma", "e.off", "e.ply", "e.stl", "e.ig", "e.cg", "e.skel", "e.obj", "e.mesh", "e.vtk",
-                             "e.vtu", "e.msh"}) {
+    for (const char* name :
+         {"e.ma", "e.off", "e.ply", "e.stl", "e.ig", "e.cg", "e.skel", "e.obj", "e.mesh", "e.vtk", "e.vtu", "e.msh"}) {
         for (const char* text : {"", " \n\r\n\t"}) {
             const std::string path = write_file(name, text);
             const Error e = expect_error([&] { read_any(path); }, path);
@@ -300,8 +308,9 @@ TEST(HostileInputCli, AnalyzeGivesTheVerdictOfMesh) {
 
 // A hex whose 8 corners are the same vertex: quality calls it invalid (exit 5); convert writes it and exits 5 too.
 TEST(HostileInputCli, ConvertGivesTheVerdictOfQuality) {
-    const std::string in = write_file("collapsed.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 0 0\n"
-                                                        "Hexahedra\n1\n1 1 1 1 1 1 1 1 0\nEnd\n");
+    const std::string in = write_file("collapsed.mesh",
+                                      "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 0 0\n"
+                                      "Hexahedra\n1\n1 1 1 1 1 1 1 1 0\nEnd\n");
     const std::string out = (test_dir() / "collapsed.vtk").string();
     const test::CliRun q = test::run_cli("quality " + in);
     const test::CliRun c = test::run_cli("convert " + in + " " + out);

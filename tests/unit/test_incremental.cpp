@@ -18,8 +18,8 @@ namespace {
 void expect_same_mesh(const RemeshCache& a, const RemeshCache& b) {
     ASSERT_EQ(a.raw.mesh.hexes, b.raw.mesh.hexes);
     ASSERT_EQ(a.raw.mesh.points.size(), b.raw.mesh.points.size());
-    EXPECT_EQ(0, std::memcmp(a.raw.mesh.points.data(), b.raw.mesh.points.data(),
-                             a.raw.mesh.points.size() * sizeof(Vec3)));
+    EXPECT_EQ(0,
+              std::memcmp(a.raw.mesh.points.data(), b.raw.mesh.points.data(), a.raw.mesh.points.size() * sizeof(Vec3)));
     ASSERT_EQ(a.surfaces.directions.size(), b.surfaces.directions.size());
     EXPECT_EQ(0, std::memcmp(a.surfaces.directions.data(), b.surfaces.directions.data(),
                              a.surfaces.directions.size() * sizeof(Vec3)));

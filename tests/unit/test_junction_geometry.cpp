@@ -32,8 +32,8 @@ TEST(JunctionGeometry, MarginOfTheAxisInsideASymmetricQuad) {
 
 TEST(JunctionGeometry, MarginLimitedRadius) {
     const double pi = std::numbers::pi;
-    EXPECT_NEAR(margin_limited_radius(2.0, 2.0, pi / 6, 1.0), 1.0, 1e-15);   // 2 sin 30 deg
-    EXPECT_EQ(margin_limited_radius(0.25, 2.0, pi / 6, 1.0), 0.25);          // already smaller
+    EXPECT_NEAR(margin_limited_radius(2.0, 2.0, pi / 6, 1.0), 1.0, 1e-15);  // 2 sin 30 deg
+    EXPECT_EQ(margin_limited_radius(0.25, 2.0, pi / 6, 1.0), 0.25);         // already smaller
     EXPECT_NEAR(margin_limited_radius(2.0, 2.0, pi / 6, 0.5), 2 * std::sin(pi / 12), 1e-15);
     EXPECT_EQ(kBranchMarginFraction, 0.75);
 }
@@ -44,7 +44,7 @@ TEST(JunctionGeometry, OrthonormalFrames) {
     EXPECT_EQ(f.s, (Vec3{0, 1, 0}));
     EXPECT_EQ(f.t, (Vec3{0, 0, 1}));
     EXPECT_EQ(any_perpendicular({0, 0, 1}), (Vec3{0, 1, 0}));  // t x (1, 0, 0)
-    const Frame g = orthonormal_frame({0, 0, 3}, {0, 0, 1});  // hint along t: any perpendicular
+    const Frame g = orthonormal_frame({0, 0, 3}, {0, 0, 1});   // hint along t: any perpendicular
     EXPECT_NEAR(dot(g.r, g.t), 0.0, 1e-15);
     EXPECT_NEAR(norm(g.r), 1.0, 1e-15);
 }

@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <map>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -87,7 +87,6 @@ Skeleton fan(int n, int m, const std::vector<Vec3>& dirs) {
     add_face_edges(s);
     return s;
 }
-
 
 // Analysis must reject s with UnsupportedConfiguration naming skeleton vertex v (and the later stages never run).
 void expect_rejected_at(const Skeleton& s, int v, const std::string& words) {
@@ -239,7 +238,7 @@ TEST(LeafletJunctions, UnsupportedConfigurationsAreRejectedAtAnalysis) {
         expect_rejected_at(s, 0, "5 faces");
     }
     {  // limitation 2: a quad standing on the plate's interior edge 1-4 makes it a fan edge ending at vertex 4,
-       // inside the plate (vertex 1 is a regular fan end on the plate's border)
+        // inside the plate (vertex 1 is a regular fan end on the plate's border)
         Skeleton s = test::plate(2, 2);
         s.points.push_back({1, 1, 1});  // 9
         s.points.push_back({1, 0, 1});  // 10

@@ -197,8 +197,8 @@ TEST(MedialAxis, LBracketIsTwoPlatesMeetingAlongASeam) {
     int along_x_arm = 0, along_y_arm = 0;
     for (const std::vector<int>& f : m.medial.faces) {
         const Vec3& a = m.medial.points[static_cast<size_t>(f[0])];
-        const Vec3 n = normalized(cross(m.medial.points[static_cast<size_t>(f[1])] - a,
-                                        m.medial.points[static_cast<size_t>(f[2])] - a));
+        const Vec3 n = normalized(
+            cross(m.medial.points[static_cast<size_t>(f[1])] - a, m.medial.points[static_cast<size_t>(f[2])] - a));
         if (std::abs(n.y) > 0.95) ++along_x_arm;
         if (std::abs(n.x) > 0.95) ++along_y_arm;
     }

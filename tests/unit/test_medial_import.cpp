@@ -49,7 +49,8 @@ TEST(MedialImport, SquareOfTwoTrianglesPairsIntoOneQuadSplitInFour) {
     testing::expect_leaflets_oriented(r.skeleton, r.face_leaflet);
     // The centre vertex is the square's centre; the diagonal 0-2 is gone.
     EXPECT_NEAR(distance(r.skeleton.points[8], Vec3{0.5, 0.5, 0}), 0.0, 1e-12);
-    for (const std::array<int, 2>& e : r.skeleton.edges) EXPECT_FALSE(std::min(e[0], e[1]) == 0 && std::max(e[0], e[1]) == 2);
+    for (const std::array<int, 2>& e : r.skeleton.edges)
+        EXPECT_FALSE(std::min(e[0], e[1]) == 0 && std::max(e[0], e[1]) == 2);
     EXPECT_EQ(euler_characteristic(r.skeleton), 1);
 }
 
@@ -107,7 +108,8 @@ TEST(MedialImport, EdgeInThreeTrianglesBecomesFanEdges) {
     std::map<std::pair<int, int>, std::set<int>> edge_leaflets;
     for (size_t f = 0; f < r.skeleton.faces.size(); ++f)
         for (size_t i = 0; i < 4; ++i)
-            edge_leaflets[std::minmax(r.skeleton.faces[f][i], r.skeleton.faces[f][(i + 1) % 4])].insert(r.face_leaflet[f]);
+            edge_leaflets[std::minmax(r.skeleton.faces[f][i], r.skeleton.faces[f][(i + 1) % 4])].insert(
+                r.face_leaflet[f]);
     int fan_halves = 0;
     for (const auto& [e, leaflets] : edge_leaflets)
         if (leaflets.size() == 3) ++fan_halves;
@@ -128,8 +130,8 @@ TEST(MedialImport, IrregularFanLosesTheTriangleThatLeavesTheFlattestFan) {
         const double a = deg * std::numbers::pi / 180;
         return Vec3{std::cos(a), std::sin(a), 0.5};
     };
-    const Skeleton s = medial({{0, 0, 0}, {0, 0, 1}, at(0), at(90), at(200)}, {},
-                              {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}, {1, 2, 3}}, 0.001);
+    const Skeleton s =
+        medial({{0, 0, 0}, {0, 0, 1}, at(0), at(90), at(200)}, {}, {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}, {1, 2, 3}}, 0.001);
     MedialImportOptions unsmoothed;  // the midpoints checked below stay where the split puts them
     unsmoothed.smoothing_iterations = 0;
     const MedialImport r = import_medial_mesh(s, unsmoothed);
@@ -259,8 +261,8 @@ TEST(MedialImport, SingleTriangleSheetCollapsesToCentroidStar) {
 
 TEST(MedialImport, UnattachedCornerOfCollapsedSheetIsDropped) {
     // Corner 2 has no curve edge: the collapsed triangle becomes a path 3-0-c-1-4.
-    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {2, 0, 0}}, {{0, 3}, {1, 4}},
-                              {{0, 1, 2}}, 0.1);
+    const Skeleton s =
+        medial({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {2, 0, 0}}, {{0, 3}, {1, 4}}, {{0, 1, 2}}, 0.1);
     const MedialImport r = import_medial_mesh(s);
     EXPECT_EQ(r.collapsed_sheets, 1);
     EXPECT_EQ(r.skeleton.points.size(), 5u);
@@ -302,8 +304,8 @@ TEST(MedialImport, ReflexBorderCornerMovesTowardsItsBoundaryNeighbours) {
     // An L of three unit squares in the plane z = 0: the border vertex 4 = (1, 1) has face angles summing to 270
     // degrees. One sweep moves it by 0.5 x (midpoint of its boundary neighbours (1.5, 1) and (1, 1.5) - p) =
     // (0.125, 0.125); the sheet is flat, so nothing moves along the normal. Below reflex_corner_deg it stays.
-    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}}, {},
-                              {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7}, {3, 7, 6}});
+    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}},
+                              {}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7}, {3, 7, 6}});
     MedialImportOptions opt;
     opt.smoothing_iterations = 1;
     const MedialImport r = import_medial_mesh(s, opt);
@@ -420,8 +422,8 @@ std::string write_temp(const std::string& name, const std::string& text) {
 }
 
 TEST(MedialIo, ReadsCountsRadiiAndAddsMissingTriangleSides) {
-    const std::string path =
-        write_temp("ok.ma", "4 4 1\nv 0 0 0 0.5\nv 1 0 0 0.25\nv 0 1 0 0.5\n\nv 5 5 5 1\ne 0 1\ne 1 2\ne 2 0\ne 2 3\nf 0 1 2\n");
+    const std::string path = write_temp(
+        "ok.ma", "4 4 1\nv 0 0 0 0.5\nv 1 0 0 0.25\nv 0 1 0 0.5\n\nv 5 5 5 1\ne 0 1\ne 1 2\ne 2 0\ne 2 3\nf 0 1 2\n");
     const Skeleton s = read_medial_mesh(path);
     EXPECT_EQ(s.points.size(), 4u);
     EXPECT_EQ(s.edges.size(), 4u);
@@ -440,13 +442,13 @@ TEST(MedialIo, ErrorsNameFileAndLine) {
         int line;
     };
     const Case cases[] = {
-        {"2 1 0\nv 0 0 0 1\nv 1 0 0 1\ne 0 2\n", 4},              // index out of range
-        {"2 1 0\nv 0 0 0 1\nv 1 0 0 -1\ne 0 1\n", 3},             // negative radius
-        {"2 2 0\nv 0 0 0 1\nv 1 0 0 1\ne 0 1\n", 4},              // fewer edges than announced
-        {"2 1 0\nv 0 0 0 1\nv 1 0 0 1\ne 0 1\nf 0 1 1\n", 5},     // data after the announced counts
-        {"2 1 x\n", 1},                                           // bad header
-        {"2 1 0\nv 0 0 0 1\nv 1 0 0 1\ne 1 1\n", 4},              // loop edge
-        {"2 1 0\nv 0 0 1\nv 1 0 0 1\ne 0 1\n", 2},                // short vertex line
+        {"2 1 0\nv 0 0 0 1\nv 1 0 0 1\ne 0 2\n", 4},           // index out of range
+        {"2 1 0\nv 0 0 0 1\nv 1 0 0 -1\ne 0 1\n", 3},          // negative radius
+        {"2 2 0\nv 0 0 0 1\nv 1 0 0 1\ne 0 1\n", 4},           // fewer edges than announced
+        {"2 1 0\nv 0 0 0 1\nv 1 0 0 1\ne 0 1\nf 0 1 1\n", 5},  // data after the announced counts
+        {"2 1 x\n", 1},                                        // bad header
+        {"2 1 0\nv 0 0 0 1\nv 1 0 0 1\ne 1 1\n", 4},           // loop edge
+        {"2 1 0\nv 0 0 1\nv 1 0 0 1\ne 0 1\n", 2},             // short vertex line
     };
     int i = 0;
     for (const Case& c : cases) {

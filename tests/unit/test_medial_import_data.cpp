@@ -2,10 +2,10 @@
 // quad meso-skeleton (label shared_data).
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <sys/wait.h>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -56,7 +56,8 @@ TEST_P(MedialData, LoadsAndConverts) {
     testing::expect_leaflets_oriented(r.skeleton, r.face_leaflet);
     if (r.collapsed_sheets == 0) {
         EXPECT_EQ(euler_characteristic(r.skeleton), euler_characteristic(m));
-        EXPECT_EQ(r.skeleton.faces.size(), 4u * static_cast<size_t>(r.paired_quads) + 3u * static_cast<size_t>(r.split_triangles));
+        EXPECT_EQ(r.skeleton.faces.size(),
+                  4u * static_cast<size_t>(r.paired_quads) + 3u * static_cast<size_t>(r.split_triangles));
         EXPECT_EQ(2 * r.paired_quads + r.split_triangles, static_cast<int>(x.f) - r.fan_triangles_removed);
     }
 }
@@ -120,9 +121,9 @@ Meshed mesh_imported(const std::string& name, bool raw) {
     write_skeleton(skeleton_path, skeleton);
     std::filesystem::remove(mesh_path);
     std::filesystem::remove(report_path);
-    const auto run = test::run_cli("mesh " + skeleton_path + " --surface " + std::string(MESOHEX_SHARED_DATA_DIR) +
-                                   "/surfaces/" + name + ".off -o " + mesh_path + (raw ? " --raw" : "") +
-                                   " --quiet --report " + report_path);
+    const auto run =
+        test::run_cli("mesh " + skeleton_path + " --surface " + std::string(MESOHEX_SHARED_DATA_DIR) + "/surfaces/" +
+                      name + ".off -o " + mesh_path + (raw ? " --raw" : "") + " --quiet --report " + report_path);
     // 0, or 5 when the mesh written has inverted hexes (checked by the callers).
     EXPECT_TRUE(run.status == 0 || run.status == 5) << run.output;
     if (!std::filesystem::exists(mesh_path)) {
@@ -139,8 +140,8 @@ Meshed mesh_imported(const std::string& name, bool raw) {
         const nlohmann::json rep = nlohmann::json::parse(in);
         m.hausdorff = rep.at("hausdorff").at("relative_max").get<double>();
     }
-    std::cout << name << (raw ? " raw" : " finished") << ": " << m.q.hexes << " hexes, SJ min " << m.q.sj_min
-              << " avg " << m.q.sj_avg << ", inverted " << m.q.inverted;
+    std::cout << name << (raw ? " raw" : " finished") << ": " << m.q.hexes << " hexes, SJ min " << m.q.sj_min << " avg "
+              << m.q.sj_avg << ", inverted " << m.q.inverted;
     if (!raw) std::cout << ", Hausdorff " << 100 * m.hausdorff << " %";
     std::cout << "\n";
     std::filesystem::remove(skeleton_path);
@@ -201,7 +202,6 @@ TEST(MedialData, CupHandleIsRootedInsideTheSheet) {
     const SkeletonAnalysis an = analyze_skeleton(r.skeleton);
     for (int v : roots) EXPECT_EQ(an.vertex_class[static_cast<size_t>(v)], VertexClass::LeafletInterior) << v;
 }
-
 
 }  // namespace
 }  // namespace mesohex

@@ -23,7 +23,6 @@ PaddingOptions options(int layers, double thickness = 0.25) {
     return o;
 }
 
-
 // Number of boundary quads of each hex.
 std::vector<int> exposed_faces(const HexMesh& m) {
     const HexTopology t = compute_hex_topology(m);
@@ -196,9 +195,12 @@ TEST(Padding, NarrowSlotDoesNotInvert) {
     }
     u.hexes = kept;
     for (Vec3& p : u.points) {
-        if (p.x == 1) p.x = 0.9;
-        else if (p.x == 2) p.x = 1.1;
-        else if (p.x == 3) p.x = 2.1;
+        if (p.x == 1)
+            p.x = 0.9;
+        else if (p.x == 2)
+            p.x = 1.1;
+        else if (p.x == 3)
+            p.x = 2.1;
     }
     ASSERT_EQ(u.hexes.size(), 21u);
     ASSERT_EQ(compute_quality(u).inverted, 0);

@@ -30,8 +30,8 @@ void expect_same_bits(const PipelineResult& a, const PipelineResult& b) {
     ASSERT_EQ(a.skeleton, b.skeleton);
     ASSERT_EQ(a.raw.mesh.points.size(), b.raw.mesh.points.size());
     ASSERT_EQ(a.raw.mesh.hexes, b.raw.mesh.hexes);
-    EXPECT_EQ(0, std::memcmp(a.raw.mesh.points.data(), b.raw.mesh.points.data(),
-                             a.raw.mesh.points.size() * sizeof(Vec3)));
+    EXPECT_EQ(0,
+              std::memcmp(a.raw.mesh.points.data(), b.raw.mesh.points.data(), a.raw.mesh.points.size() * sizeof(Vec3)));
     EXPECT_EQ(a.raw.hex_edge, b.raw.hex_edge);
     EXPECT_EQ(a.raw.vertex_base, b.raw.vertex_base);
 }
@@ -78,8 +78,8 @@ TEST(ParallelDeterminism, ConcurrentSpherePartitionsGiveTheSameBits) {
     for (std::size_t k = 0; k < sets.size(); ++k) {
         ASSERT_EQ(serial[k].quads, parallel[k].quads);
         ASSERT_EQ(serial[k].points.size(), parallel[k].points.size());
-        EXPECT_EQ(0, std::memcmp(serial[k].points.data(), parallel[k].points.data(),
-                                 serial[k].points.size() * sizeof(Vec3)))
+        EXPECT_EQ(
+            0, std::memcmp(serial[k].points.data(), parallel[k].points.data(), serial[k].points.size() * sizeof(Vec3)))
             << "set " << k;
     }
 }

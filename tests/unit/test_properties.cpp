@@ -86,7 +86,8 @@ Skeleton random_star(Rng& rng) {
     for (int i = 0; i < k; ++i) {
         const int kind = static_cast<int>(rng() % 6);
         if (i > 0 && kind == 0) {
-            dirs.push_back(rotated_away(dirs[rng() % dirs.size()], std::pow(10.0, -9.0 + 7.0 * (rng() % 1000) / 1000.0), rng));
+            dirs.push_back(
+                rotated_away(dirs[rng() % dirs.size()], std::pow(10.0, -9.0 + 7.0 * (rng() % 1000) / 1000.0), rng));
         } else if (i > 0 && kind == 1) {
             dirs.push_back(-1.0 * dirs[rng() % dirs.size()]);
         } else if (i > 0 && kind == 2) {
@@ -158,8 +159,8 @@ void check_one(const Skeleton& s, bool resample, Tally& tally, const std::string
         EXPECT_TRUE(std::all_of(mesh.points.begin(), mesh.points.end(), [](const Vec3& p) { return is_finite(p); }))
             << what;
         const QualityReport q = compute_quality(mesh);
-        EXPECT_TRUE(q.validation.valid()) << what << ": "
-                                          << (q.validation.problems.empty() ? "" : q.validation.problems[0].message);
+        EXPECT_TRUE(q.validation.valid())
+            << what << ": " << (q.validation.problems.empty() ? "" : q.validation.problems[0].message);
         EXPECT_FALSE(std::isnan(q.sj_min)) << what;
         ++tally.built;
     } catch (const Error& e) {

@@ -18,9 +18,9 @@ namespace {
 // node triples (xxi, xet, xze) relative to the corner, and the centre Jacobian from the "efg" face sums; each
 // det / sqrt(|xxi|^2 |xet|^2 |xze|^2) with an explicitly expanded 3x3 determinant.
 double reference_scaled_jacobian(const std::array<Vec3, 8>& p) {
-    const int table[8][4] = {// corner, xxi, xet, xze
-                             {0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
-                             {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
+    const int table[8][4] = {
+        // corner, xxi, xet, xze
+        {0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7}, {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
     auto det = [](const double a[3], const double b[3], const double c[3]) {
         return a[0] * (b[1] * c[2] - b[2] * c[1]) - b[0] * (a[1] * c[2] - a[2] * c[1]) +
                c[0] * (a[1] * b[2] - a[2] * b[1]);
@@ -126,8 +126,10 @@ TEST(ScaledJacobian, PerHexVectorMatchesSingle) {
     const std::vector<double> sj = scaled_jacobians(m);
     ASSERT_EQ(sj.size(), m.hexes.size());
     for (std::size_t h = 0; h < m.hexes.size(); ++h) {
-        if (h == 3) EXPECT_EQ(sj[h], -1.0);
-        else EXPECT_EQ(sj[h], scaled_jacobian(corners_of(m, static_cast<int>(h))));
+        if (h == 3)
+            EXPECT_EQ(sj[h], -1.0);
+        else
+            EXPECT_EQ(sj[h], scaled_jacobian(corners_of(m, static_cast<int>(h))));
     }
 }
 
@@ -208,7 +210,7 @@ TEST(Quality, InvertedHexHistogramAndWorst) {
     HexMesh m = make_block(4, 1, 1);
     std::array<int, 8>& h = m.hexes[2];
     h = {h[4], h[5], h[6], h[7], h[0], h[1], h[2], h[3]};  // mirrored: -1
-    m.points[0].x = -0.5;                                   // hex 0 sheared a little
+    m.points[0].x = -0.5;                                  // hex 0 sheared a little
     const QualityReport r = compute_quality(m);
     EXPECT_EQ(r.inverted, 1);
     EXPECT_EQ(r.sj_min, -1.0);
@@ -225,9 +227,9 @@ TEST(Quality, JsonAndText) {
     HexMesh m = make_block(2, 2, 2);
     const QualityReport r = compute_quality(m);
     const std::string json = quality_to_json(r);
-    for (const char* key : {"\"vertices\": 27", "\"hexes\": 8", "\"sj_min\": 1.0", "\"sj_avg\": 1.0",
-                            "\"inverted\": 0", "\"euler_characteristic\": 1", "\"singular_edges\"",
-                            "\"interior\": {}", "\"valid\": true", "\"problems\": []"})
+    for (const char* key : {"\"vertices\": 27", "\"hexes\": 8", "\"sj_min\": 1.0", "\"sj_avg\": 1.0", "\"inverted\": 0",
+                            "\"euler_characteristic\": 1", "\"singular_edges\"", "\"interior\": {}", "\"valid\": true",
+                            "\"problems\": []"})
         EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
     const std::string text = quality_to_text(r);
     EXPECT_NE(text.find("hexes: 8"), std::string::npos) << text;

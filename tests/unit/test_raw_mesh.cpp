@@ -4,8 +4,8 @@
 
 #include "skeleton_fixtures.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numbers>
 #include <random>
@@ -53,9 +53,9 @@ void expect_good_raw_mesh(const Skeleton& s, const Built& b, bool expect_no_inve
     const QualityReport q = compute_quality(m);
     EXPECT_EQ(q.euler_characteristic, euler_characteristic(s) - b.an.counts.isolated);
     EXPECT_EQ(q.singular_interior_edges, (std::map<int, long>(b.prediction.interior_irregular_edges.begin(),
-                                                                b.prediction.interior_irregular_edges.end())));
+                                                              b.prediction.interior_irregular_edges.end())));
     EXPECT_EQ(q.singular_boundary_edges, (std::map<int, long>(b.prediction.boundary_irregular_edges.begin(),
-                                                                b.prediction.boundary_irregular_edges.end())));
+                                                              b.prediction.boundary_irregular_edges.end())));
     if (expect_no_inverted) {
         EXPECT_EQ(q.inverted, 0);
         EXPECT_GT(q.sj_min, 0.0);
@@ -203,8 +203,8 @@ TEST(RawMeshLeaflets, TFanOfThreeThreeByTwoStrips) {
 TEST(RawMeshLeaflets, ObliqueFanOfThreeStrips) {
     // Strips at 0, 60 and 200 degrees about the fan edge, mixed orientations: 3 x 2 faces + 3 x 4 boundary edges.
     const double a = std::numbers::pi / 3, c = 200 * std::numbers::pi / 180;
-    const Skeleton s = fan(2, 1, {{0, 1, 0}, {0, std::cos(a), std::sin(a)}, {0, std::cos(c), std::sin(c)}},
-                           {true, false, true});
+    const Skeleton s =
+        fan(2, 1, {{0, 1, 0}, {0, std::cos(a), std::sin(a)}, {0, std::cos(c), std::sin(c)}}, {true, false, true});
     const Built b = build(s, 0.25);
     expect_good_leaflet_mesh(s, b, 2 * 6 + 2 * 12);
 }
@@ -609,8 +609,7 @@ TEST(RawMesh, StarsOfDegree3To12WithRandomDirections) {
 TEST(RawMesh, TwoJunctionsWithABridgeAndAnIsolatedVertex) {
     const double c = std::cos(2 * M_PI / 3), sn = std::sin(2 * M_PI / 3);
     Skeleton s;
-    s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {c, sn, 0}, {c, -sn, 0}, {2 - c, 0, sn}, {2 - c, 0, -sn},
-                {9, 9, 9}};
+    s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {c, sn, 0}, {c, -sn, 0}, {2 - c, 0, sn}, {2 - c, 0, -sn}, {9, 9, 9}};
     s.edges = {{0, 1}, {1, 2}, {0, 3}, {0, 4}, {2, 5}, {2, 6}};
     const Built b = build(s, 0.2);
     EXPECT_EQ(b.an.counts.isolated, 1);

@@ -27,17 +27,17 @@ struct Facts {
 // From the "Files" table of ../shared/data/README.md (V, F, genus; all closed, manifold, oriented, 1 component).
 const std::map<std::string, Facts>& facts() {
     static const std::map<std::string, Facts> f = {
-        {"cactus.obj", {700, 1396, 0}},          {"aorta.stl", {6468, 12932, 0, 0, true}},
-        {"hand.off", {3497, 6990, 0}},           {"airplane1.off", {5400, 10796, 0}},
-        {"dtorus.off", {2521, 5046, 2}},         {"wrench.off", {12997, 25994, 1}},
-        {"cup.off", {10495, 20994, 2}},          {"plate1.obj", {1612, 3220, 0}},
-        {"plate3.obj", {2467, 4930, 0}},         {"bearing_plate.obj", {4907, 9830, 5}},
-        {"cylinder_plate.obj", {920, 1836, 0}},  {"bracket_inches.obj", {8301, 16622, 6}},
-        {"deckel.obj", {5000, 10012, 4}},        {"knob.obj", {6899, 13798, 1}},
-        {"pinion.ply", {21439, 42878, 1}},       {"torque.obj", {1652, 3300, 0}},
-        {"holes2.ply", {2922, 5848, 2}},         {"hand_loopycuts.obj", {2474, 4944, 0}},
-        {"sculpt.ply", {3669, 7342, 2}},         {"chair1.off", {11422, 22854, 4, 1}},
-        {"armchair.off", {12973, 25940, 0, 1}},  {"dualocta.off", {4930, 9856, 0}},
+        {"cactus.obj", {700, 1396, 0}},         {"aorta.stl", {6468, 12932, 0, 0, true}},
+        {"hand.off", {3497, 6990, 0}},          {"airplane1.off", {5400, 10796, 0}},
+        {"dtorus.off", {2521, 5046, 2}},        {"wrench.off", {12997, 25994, 1}},
+        {"cup.off", {10495, 20994, 2}},         {"plate1.obj", {1612, 3220, 0}},
+        {"plate3.obj", {2467, 4930, 0}},        {"bearing_plate.obj", {4907, 9830, 5}},
+        {"cylinder_plate.obj", {920, 1836, 0}}, {"bracket_inches.obj", {8301, 16622, 6}},
+        {"deckel.obj", {5000, 10012, 4}},       {"knob.obj", {6899, 13798, 1}},
+        {"pinion.ply", {21439, 42878, 1}},      {"torque.obj", {1652, 3300, 0}},
+        {"holes2.ply", {2922, 5848, 2}},        {"hand_loopycuts.obj", {2474, 4944, 0}},
+        {"sculpt.ply", {3669, 7342, 2}},        {"chair1.off", {11422, 22854, 4, 1}},
+        {"armchair.off", {12973, 25940, 0, 1}}, {"dualocta.off", {4930, 9856, 0}},
     };
     return f;
 }

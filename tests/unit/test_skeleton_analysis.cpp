@@ -16,8 +16,7 @@ Skeleton polyline(int n_edges, bool closed) {
     for (int i = 0; i < nv; ++i) s.points.push_back({double(i), double(i % 2) * 0.3, 0});
     if (closed) {
         s.points.clear();
-        for (int i = 0; i < nv; ++i)
-            s.points.push_back({std::cos(2 * M_PI * i / nv), std::sin(2 * M_PI * i / nv), 0});
+        for (int i = 0; i < nv; ++i) s.points.push_back({std::cos(2 * M_PI * i / nv), std::sin(2 * M_PI * i / nv), 0});
     }
     for (int i = 0; i < n_edges; ++i) s.edges.push_back({i, (i + 1) % nv});
     return s;
@@ -132,8 +131,9 @@ TEST(SkeletonAnalysis, LeafletFacesAreReorientedConsistently) {
     EXPECT_NEAR(an.face_normal[0].z, 1.0, 1e-12);
     EXPECT_NEAR(an.face_normal[1].z, 1.0, 1e-12);
     // Shared edge (1, 4): traversed 1->4 by one face and 4->1 by the other.
-    for (int k = 0; k < 4; ++k) EXPECT_EQ(s.edges[an.face_edges[1][k]][0] + s.edges[an.face_edges[1][k]][1],
-                                          an.face_vertices[1][k] + an.face_vertices[1][(k + 1) % 4]);
+    for (int k = 0; k < 4; ++k)
+        EXPECT_EQ(s.edges[an.face_edges[1][k]][0] + s.edges[an.face_edges[1][k]][1],
+                  an.face_vertices[1][k] + an.face_vertices[1][(k + 1) % 4]);
 }
 
 TEST(SkeletonAnalysis, MoebiusStripIsReportedNonOrientable) {

@@ -148,7 +148,8 @@ TEST(SkeletonIo, MalformedFilesNameFileAndLine) {
 // "index - 1" (UBSan finding; fuzz/corpus/skeleton/obj_radius_index_min).
 TEST(SkeletonIo, SmallestRadiusIndexIsOutOfRange) {
     try {
-        mesohex::read_skeleton_text("v 0 0 0\nv 1 0 0\nl 1 2\n# mesohex radius -9223372036854775808 1\n", "obj", "r.obj");
+        mesohex::read_skeleton_text("v 0 0 0\nv 1 0 0\nl 1 2\n# mesohex radius -9223372036854775808 1\n", "obj",
+                                    "r.obj");
         FAIL() << "no error";
     } catch (const Error& e) {
         EXPECT_EQ(std::string(e.what()), "r.obj:4: radius vertex index out of range: -9223372036854775808");
@@ -157,8 +158,8 @@ TEST(SkeletonIo, SmallestRadiusIndexIsOutOfRange) {
 
 // Every prefix of every good test file (a file cut at any byte) either reads or throws mesohex::Error; nothing else.
 TEST(SkeletonIo, TruncatedFilesNeverCrash) {
-    for (const std::string name : {"path3.cg", "path3_variant.cgr", "sparse_ids.skel", "two_quads_branch.ig",
-                                   "blender.obj"}) {
+    for (const std::string name :
+         {"path3.cg", "path3_variant.cgr", "sparse_ids.skel", "two_quads_branch.ig", "blender.obj"}) {
         std::ifstream in(data(name), std::ios::binary);
         const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         ASSERT_FALSE(text.empty()) << name;

@@ -26,7 +26,9 @@ int degree(const Skeleton& s, int v) {
 // radius r everywhere. Vertices: 0 parent end, 1 c, 2 child +x, 3 child -x.
 Skeleton y_pair(double half_angle, double len, double r) {
     Skeleton s;
-    s.points = {{0, 0, -1}, {0, 0, 0}, {len * std::sin(half_angle), 0, len * std::cos(half_angle)},
+    s.points = {{0, 0, -1},
+                {0, 0, 0},
+                {len * std::sin(half_angle), 0, len * std::cos(half_angle)},
                 {-len * std::sin(half_angle), 0, len * std::cos(half_angle)}};
     s.radii = {r, r, r, r};
     s.edges = {{0, 1}, {1, 2}, {1, 3}};
@@ -91,8 +93,8 @@ TEST(SkeletonRepair, StubAbsorbed) {
     EXPECT_NEAR(distance(t, 0.5 * (e + p)), 0, 1e-9);
     EXPECT_NEAR(s.radii[3], 0.5 * distance(e, p) + r, 1e-9);
     for (int v = 0; v < 4; ++v) EXPECT_LE(degree(s, v), 2);
-    EXPECT_FALSE(mesohex::repair_skeleton(in, {.trunks = true, .trunk_clearance = 0.7, .absorb_stubs = false})
-                     .absorbed_stubs);
+    EXPECT_FALSE(
+        mesohex::repair_skeleton(in, {.trunks = true, .trunk_clearance = 0.7, .absorb_stubs = false}).absorbed_stubs);
 }
 
 // Leaflet vertices are never branching points of the repair; faces and their edges stay as they are.

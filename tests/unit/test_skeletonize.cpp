@@ -163,9 +163,9 @@ TEST(Skeletonize, CapsuleGivesOneBranchWithTrueRadius) {
     ASSERT_EQ(s.radii.size(), s.points.size());
     EXPECT_TRUE(s.faces.empty());
     EXPECT_TRUE(connected(s));
-    EXPECT_EQ(count_degree(s, 1), 2);                 // two extremities
-    EXPECT_EQ(count_degree(s, 3, true), 0);           // no branching point
-    EXPECT_EQ(euler_characteristic(s), 1);            // a tree (path)
+    EXPECT_EQ(count_degree(s, 1), 2);        // two extremities
+    EXPECT_EQ(count_degree(s, 3, true), 0);  // no branching point
+    EXPECT_EQ(euler_characteristic(s), 1);   // a tree (path)
     int checked = 0;
     double zmax = -1e9, zmin = 1e9;
     for (size_t v = 0; v < s.points.size(); ++v) {
@@ -191,7 +191,7 @@ TEST(Skeletonize, TorusGivesOneCycle) {
     const Skeletonization sk = skeletonize_surface(torus(R, r, 64, 16));
     const Skeleton& s = sk.skeleton;
     EXPECT_TRUE(connected(s));
-    EXPECT_EQ(euler_characteristic(s), 0);  // V - E = 0: exactly one independent cycle
+    EXPECT_EQ(euler_characteristic(s), 0);                             // V - E = 0: exactly one independent cycle
     EXPECT_EQ(count_degree(s, 2), static_cast<int>(s.points.size()));  // a plain cycle: no spur left
     for (size_t v = 0; v < s.points.size(); ++v) {
         EXPECT_NEAR(std::hypot(s.points[v].x, s.points[v].y), R, 0.1 * r);

@@ -65,16 +65,15 @@ TEST_P(SkeletonizeData, TopologyAndRadii) {
 
 // Reference topologies: cactus.skel (4 leaves, 2 branch nodes), aorta.skel (one bifurcation), a hand (5 fingers +
 // wrist: 6 extremities, junctions in the palm), dtorus (genus 2: two cycles, no extremity).
-INSTANTIATE_TEST_SUITE_P(SharedData, SkeletonizeData,
-                         ::testing::Combine(::testing::Values(Expected{"cactus.obj", 4, 1, 2, 0},
-                                                              Expected{"aorta.stl", 3, 1, 1, 0},
-                                                              Expected{"hand.off", 6, 1, 4, 0},
-                                                              Expected{"dtorus.off", 0, 1, 2, 2}),
-                                            ::testing::Bool()),
-                         [](const ::testing::TestParamInfo<std::tuple<Expected, bool>>& i) {
-                             const std::string name = std::get<0>(i.param).file;
-                             return name.substr(0, name.find('.')) + (std::get<1>(i.param) ? "_inscribed" : "_median");
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    SharedData, SkeletonizeData,
+    ::testing::Combine(::testing::Values(Expected{"cactus.obj", 4, 1, 2, 0}, Expected{"aorta.stl", 3, 1, 1, 0},
+                                         Expected{"hand.off", 6, 1, 4, 0}, Expected{"dtorus.off", 0, 1, 2, 2}),
+                       ::testing::Bool()),
+    [](const ::testing::TestParamInfo<std::tuple<Expected, bool>>& i) {
+        const std::string name = std::get<0>(i.param).file;
+        return name.substr(0, name.find('.')) + (std::get<1>(i.param) ? "_inscribed" : "_median");
+    });
 
 }  // namespace
 }  // namespace mesohex

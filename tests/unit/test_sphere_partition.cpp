@@ -27,8 +27,7 @@ void expect_counts(const SpherePartition& p, int n) {
         for (int k = 0; k < 4; ++k) edges.insert(std::minmax(q[k], q[(k + 1) % 4]));
     EXPECT_EQ(static_cast<int>(edges.size()), 2 * n);
     EXPECT_EQ(static_cast<int>(p.points.size()), n + 2);
-    EXPECT_EQ(static_cast<int>(p.points.size()) - static_cast<int>(edges.size()) + static_cast<int>(p.quads.size()),
-              2);
+    EXPECT_EQ(static_cast<int>(p.points.size()) - static_cast<int>(edges.size()) + static_cast<int>(p.quads.size()), 2);
 }
 
 // Partitions, checks every postcondition, returns the stats; optionally checks that a second call gives the same bits.
@@ -95,8 +94,10 @@ TEST(SpherePartition, PlanarStarIsAnOrange) {
     expect_counts(p, 5);
     int poles = 0;
     for (const Vec3& v : p.points)
-        if (std::abs(std::abs(v.z) - 1) < 1e-12) ++poles;
-        else EXPECT_NEAR(v.z, 0, 1e-12);
+        if (std::abs(std::abs(v.z) - 1) < 1e-12)
+            ++poles;
+        else
+            EXPECT_NEAR(v.z, 0, 1e-12);
     EXPECT_EQ(poles, 2);
     const mesohex::SpherePartitionStats s = mesohex::sphere_partition_stats(p, d);
     EXPECT_EQ(s.max_valence, 5);
@@ -110,7 +111,7 @@ TEST(SpherePartition, PlanarFamilies) {
         std::vector<Vec3> even, bunched, tilted;
         for (int i = 0; i < n; ++i) {
             even.push_back(spherical(90, 360.0 * i / n + 7));
-            bunched.push_back(spherical(90, 100.0 * i / n));  // all within a 100° arc
+            bunched.push_back(spherical(90, 100.0 * i / n));                          // all within a 100° arc
             tilted.push_back(spherical(90 + ((i % 2) ? 2.0 : -2.0), 360.0 * i / n));  // nearly planar
         }
         check(even);
@@ -220,9 +221,10 @@ TEST(SpherePartition, RandomDirections) {
             worst_valence = std::max(worst_valence, s.max_valence);
             ++cases;
         }
-        std::printf("n=%2d runs=%2d worst min angle %6.1f, worst max angle %6.1f deg, worst margin ratio %.2f, "
-                    "max valence %d\n", n, runs, worst_min_angle / kDeg, worst_max_angle / kDeg, worst_ratio,
-                    worst_valence);
+        std::printf(
+            "n=%2d runs=%2d worst min angle %6.1f, worst max angle %6.1f deg, worst margin ratio %.2f, "
+            "max valence %d\n",
+            n, runs, worst_min_angle / kDeg, worst_max_angle / kDeg, worst_ratio, worst_valence);
     }
     std::printf("%d random cases\n", cases);
 }

@@ -251,7 +251,8 @@ TEST(StudioServer, BinaryMeshIsTheJsonMeshInFloat32) {
             const std::vector<std::uint32_t>& got = b.ints(key);
             ASSERT_EQ(got.size(), expected.size()) << name << " " << key;
             for (std::size_t i = 0; i < got.size(); ++i)
-                ASSERT_EQ(static_cast<long long>(got[i]), expected[i].get<long long>()) << name << " " << key << " " << i;
+                ASSERT_EQ(static_cast<long long>(got[i]), expected[i].get<long long>())
+                    << name << " " << key << " " << i;
         };
         const auto same_floats = [&](const char* key, const json& expected) {
             const std::vector<double>& got = b.reals(key);

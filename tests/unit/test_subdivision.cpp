@@ -84,7 +84,8 @@ TEST(Subdivision, OneToEightKeepsEulerAndValidity) {
 TEST(Subdivision, IsDeterministic) {
     const HexMesh m = mesohex::test::make_ring8();
     EXPECT_EQ(subdivide(m).mesh, subdivide(m).mesh);
-    EXPECT_EQ(subdivide(m).mesh, subdivide_sheets(m, std::vector<bool>(compute_hex_topology(m).edges.size(), true)).mesh);
+    EXPECT_EQ(subdivide(m).mesh,
+              subdivide_sheets(m, std::vector<bool>(compute_hex_topology(m).edges.size(), true)).mesh);
 }
 
 TEST(Subdivision, SheetAlongTheBarGivesSix) {

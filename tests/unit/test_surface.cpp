@@ -80,7 +80,9 @@ TEST(SurfaceCheck, OpenNonManifoldAndInconsistent) {
     for (const Vec3& p : other.points) two.points.push_back(p);
     for (auto t : other.triangles) {
         std::array<int, 3> u;
-        for (int k = 0; k < 3; ++k) u[static_cast<std::size_t>(k)] = t[static_cast<std::size_t>(k)] == 0 ? 7 : t[static_cast<std::size_t>(k)] + 8;
+        for (int k = 0; k < 3; ++k)
+            u[static_cast<std::size_t>(k)] =
+                t[static_cast<std::size_t>(k)] == 0 ? 7 : t[static_cast<std::size_t>(k)] + 8;
         two.triangles.push_back(u);
     }
     const SurfaceCheck tw = check_surface(two);
@@ -110,7 +112,7 @@ TEST(SurfaceCheck, OrientOutwardMakesConsistentAndKeepsCavityInward) {
     // Outer cube [0,3]^3 with a cavity cube [1,2]^3: the cavity's normals must point into the cavity (negative volume).
     TriangleMesh outer = make_cube(3.0);
     TriangleMesh cavity = make_cube(1.0, {1, 1, 1});
-    TriangleMesh m = append(outer, cavity);  // cavity wrongly outward
+    TriangleMesh m = append(outer, cavity);           // cavity wrongly outward
     std::swap(m.triangles[2][1], m.triangles[2][2]);  // and one outer triangle inconsistent
     const OrientResult r = orient_outward(m);
     EXPECT_EQ(r.reoriented_components, 1);
@@ -170,10 +172,10 @@ TEST(SurfaceQuery, HintsDoNotChangeTheClosestPoint) {
     const std::vector<ClosestPoint> expected = q.closest(points);
     std::vector<std::vector<int>> hint_sets(4, std::vector<int>(points.size()));
     for (std::size_t i = 0; i < points.size(); ++i) {
-        hint_sets[0][i] = expected[i].triangle;            // last answer
-        hint_sets[1][i] = static_cast<int>(i % 12);         // any triangle
-        hint_sets[2][i] = -1;                               // none
-        hint_sets[3][i] = i % 2 == 0 ? 12 : 99;             // degenerate, out of range: ignored
+        hint_sets[0][i] = expected[i].triangle;      // last answer
+        hint_sets[1][i] = static_cast<int>(i % 12);  // any triangle
+        hint_sets[2][i] = -1;                        // none
+        hint_sets[3][i] = i % 2 == 0 ? 12 : 99;      // degenerate, out of range: ignored
     }
     for (const std::vector<int>& hints : hint_sets)
         for (const SurfaceQuery* query : {&q, &plain}) {
@@ -243,7 +245,7 @@ TEST(SurfaceDistance, CubeAgainstScaledCube) {
     EXPECT_NEAR(d.mesh_to_surface_max, 0.05 * std::sqrt(3.0), 1e-12);
     EXPECT_NEAR(d.surface_to_mesh_max, 0.05, 1e-12);
     EXPECT_NEAR(d.max, 0.05 * std::sqrt(3.0), 1e-12);
-    EXPECT_NEAR(d.relative_max, 0.05, 1e-12);  // diagonal of the unit cube is sqrt(3)
+    EXPECT_NEAR(d.relative_max, 0.05, 1e-12);          // diagonal of the unit cube is sqrt(3)
     EXPECT_NEAR(d.surface_to_mesh_mean, 0.05, 1e-12);  // every point of the small cube is 0.05 from a big face
     EXPECT_GT(d.mesh_to_surface_mean, 0.05);
     EXPECT_LT(d.mesh_to_surface_mean, 0.05 * std::sqrt(3.0));

@@ -20,8 +20,9 @@ namespace {
 class SurfaceIo : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("mesohex_surface_io_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                                            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        dir_ = fs::temp_directory_path() /
+               ("mesohex_surface_io_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
         fs::create_directories(dir_);
     }
     void TearDown() override { fs::remove_all(dir_); }
@@ -88,7 +89,8 @@ std::string binary_ply(bool big) {
 }  // namespace
 
 TEST_F(SurfaceIo, OffWithQuadAndComments) {
-    const TriangleMesh m = read_surface(write("a.off", "OFF\n# comment\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0 # c\n4 0 1 2 3 255 0 0\n"));
+    const TriangleMesh m =
+        read_surface(write("a.off", "OFF\n# comment\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0 # c\n4 0 1 2 3 255 0 0\n"));
     ASSERT_EQ(m.points.size(), 4u);
     ASSERT_EQ(m.triangles.size(), 2u);
     EXPECT_EQ(m.triangles[0], (std::array<int, 3>{0, 1, 2}));
@@ -139,7 +141,8 @@ TEST_F(SurfaceIo, BinaryStlStartingWithSolidIsBinary) {
     }
     bytes.replace(0, 5, "solid");
     EXPECT_EQ(read_surface(write("s.stl", bytes)), t);
-    EXPECT_NE(error_of([&] { read_surface(write("trunc.stl", bytes.substr(0, 150))); }).find("truncated"), std::string::npos);
+    EXPECT_NE(error_of([&] { read_surface(write("trunc.stl", bytes.substr(0, 150))); }).find("truncated"),
+              std::string::npos);
 }
 
 TEST_F(SurfaceIo, OffAndObjRoundTrip) {
@@ -191,9 +194,11 @@ TEST_F(SurfaceIo, ErrorsNameFileAndLine) {
     const std::string r = write("bad2.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
     const std::string e = error_of([&] { read_surface(r); });
     EXPECT_NE(e.find(r + ":6:"), std::string::npos) << e;
-    EXPECT_NE(error_of([&] { read_surface(write("short.off", "OFF\n3 1 0\n0 0 0\n")); }).find("missing"), std::string::npos);
-    EXPECT_NE(error_of([&] { read_surface(write("x.ply", "ply\nformat ascii 1.0\nelement vertex 1\nend_header\n")); })
-                  .find(":3:"),
+    EXPECT_NE(error_of([&] { read_surface(write("short.off", "OFF\n3 1 0\n0 0 0\n")); }).find("missing"),
+              std::string::npos);
+    EXPECT_NE(error_of([&] {
+                  read_surface(write("x.ply", "ply\nformat ascii 1.0\nelement vertex 1\nend_header\n"));
+              }).find(":3:"),
               std::string::npos);
     try {
         read_surface(path("does_not_exist.off"));
@@ -207,7 +212,8 @@ TEST_F(SurfaceIo, ErrorsNameFileAndLine) {
     EXPECT_THROW(read_surface(write("a.xyz", "")), Error);
     EXPECT_THROW(read_surface(write("empty.obj", "v 0 0 0\n")), Error);  // no triangle
     // A face size of the largest long long is "fewer vertices listed" at its line (it used to overflow n + 1: UBSan).
-    EXPECT_NE(error_of([] { read_surface_text("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n9223372036854775807 0 1 2\n", "off", "big"); })
-                  .find("big:6: face lists fewer than 9223372036854775807 vertices"),
+    EXPECT_NE(error_of([] {
+                  read_surface_text("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n9223372036854775807 0 1 2\n", "off", "big");
+              }).find("big:6: face lists fewer than 9223372036854775807 vertices"),
               std::string::npos);
 }

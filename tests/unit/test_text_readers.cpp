@@ -141,7 +141,8 @@ TEST(TextReaders, SurfaceFormsAgreeOnCorpus) {
 
 TEST(TextReaders, SkeletonFormsAgreeOnTestFilesAndCorpus) {
     int accepted = 0, inputs = 0;
-    for (const fs::directory_entry& e : fs::recursive_directory_iterator(fs::path(MESOHEX_TEST_DATA_DIR) / "skeletons")) {
+    for (const fs::directory_entry& e :
+         fs::recursive_directory_iterator(fs::path(MESOHEX_TEST_DATA_DIR) / "skeletons")) {
         if (!e.is_regular_file()) continue;
         const std::string name = e.path().filename().string();
         const std::string format = name.substr(name.rfind('.') + 1);
@@ -192,7 +193,9 @@ TEST(TextReaders, TextFormsNameTheGivenNameAndLine) {
         }
         return std::string("no error");
     };
-    EXPECT_EQ(message([] { read_hex_mesh_text("MeshVersionFormatted 2\nDimension 2\n", "mesh", "m"); }).rfind("m:2: ", 0), 0u);
+    EXPECT_EQ(
+        message([] { read_hex_mesh_text("MeshVersionFormatted 2\nDimension 2\n", "mesh", "m"); }).rfind("m:2: ", 0),
+        0u);
     EXPECT_EQ(message([] { read_surface_text("OFF\n3 1 0\n0 0 0\n1 0 x\n", "off", "s"); }).rfind("s:4: ", 0), 0u);
     EXPECT_EQ(message([] { read_skeleton_text("v 0 0 0\nl 1 2\n", "obj", "k"); }).rfind("k:2: ", 0), 0u);
     EXPECT_EQ(message([] { read_medial_mesh_text("1 0 0\nv 0 0 0 -1\n", "a"); }).rfind("a:2: ", 0), 0u);

@@ -139,7 +139,9 @@ TEST(Topology, DeterministicAndIndependentOfRepeats) {
     EXPECT_EQ(a.boundary_quads, b.boundary_quads);
     // Euler characteristic of a box: V - E + F - C = 1
     const long V = static_cast<long>(m.points.size());
-    EXPECT_EQ(V - static_cast<long>(a.edges.size()) + static_cast<long>(a.faces.size()) - static_cast<long>(m.hexes.size()), 1);
+    EXPECT_EQ(
+        V - static_cast<long>(a.edges.size()) + static_cast<long>(a.faces.size()) - static_cast<long>(m.hexes.size()),
+        1);
 }
 
 TEST(Topology, EmptyMesh) {

@@ -156,7 +156,8 @@ TEST(Untangle, HexWithPositiveCornersAndANegativeCentreFrame) {
 // around it; the pass moves the interior vertices near them back toward the regular grid and keeps the boundary.
 TEST(Untangle, QualityPassRaisesTheMinimumAndKeepsTheBoundary) {
     HexMesh m = make_block(3, 3, 3);
-    m.points[static_cast<std::size_t>(vid(3, 1, 1, 1))] = {1.3, 1.32, 1.28};  // toward (2, 2, 2): SJ ~0.18, not inverted
+    m.points[static_cast<std::size_t>(vid(3, 1, 1, 1))] = {1.3, 1.32,
+                                                           1.28};  // toward (2, 2, 2): SJ ~0.18, not inverted
     const QualityReport before = compute_quality(m);
     ASSERT_EQ(before.inverted, 0);
     ASSERT_LT(before.sj_min, 0.5);

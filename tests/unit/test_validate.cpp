@@ -124,8 +124,8 @@ TEST(Validate, BoundaryEdgeOnFourQuads) {
         if (i == 0 && j == 0) return k == 0 ? 3 : 7;
         return base + i + 2 * (j + 2 * k);
     };
-    m.hexes.push_back({id(0, 0, 0), id(1, 0, 0), id(1, 1, 0), id(0, 1, 0), id(0, 0, 1), id(1, 0, 1), id(1, 1, 1),
-                       id(0, 1, 1)});
+    m.hexes.push_back(
+        {id(0, 0, 0), id(1, 0, 0), id(1, 1, 0), id(0, 1, 0), id(0, 0, 1), id(1, 0, 1), id(1, 1, 1), id(0, 1, 1)});
     const ValidationReport r = validate(m);
     // the two duplicate points (base+0, base+4) are unused; one nonmanifold boundary edge (3 7)
     EXPECT_EQ(count_kind(r, "unused_vertex"), 2);

@@ -18,16 +18,16 @@ TEST(Vec3, NormalizedZeroStaysZero) {
 TEST(Vec3, ClosestPointOnTriangle) {
     const Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
     auto closest = [&](const Vec3& p) { return mesohex::closest_point_on_triangle(p, a, b, c); };
-    const Vec3 inside = closest({0.2, 0.2, 1});              // above the interior: (0.2, 0.2, 0), up to rounding
+    const Vec3 inside = closest({0.2, 0.2, 1});  // above the interior: (0.2, 0.2, 0), up to rounding
     EXPECT_NEAR(inside.x, 0.2, 1e-15);
     EXPECT_NEAR(inside.y, 0.2, 1e-15);
     EXPECT_EQ(inside.z, 0.0);
-    EXPECT_EQ(closest({-1, -1, 0}), a);                       // corners
+    EXPECT_EQ(closest({-1, -1, 0}), a);  // corners
     EXPECT_EQ(closest({2, -1, 0}), b);
     EXPECT_EQ(closest({0, 2, 0.5}), c);
-    EXPECT_EQ(closest({0.5, -1, 3}), (Vec3{0.5, 0, 0}));      // edge ab
-    EXPECT_EQ(closest({-1, 0.25, 0}), (Vec3{0, 0.25, 0}));    // edge ca
-    const Vec3 on_bc = closest({1, 1, 0});                   // edge bc: its midpoint
+    EXPECT_EQ(closest({0.5, -1, 3}), (Vec3{0.5, 0, 0}));    // edge ab
+    EXPECT_EQ(closest({-1, 0.25, 0}), (Vec3{0, 0.25, 0}));  // edge ca
+    const Vec3 on_bc = closest({1, 1, 0});                  // edge bc: its midpoint
     EXPECT_NEAR(on_bc.x, 0.5, 1e-15);
     EXPECT_NEAR(on_bc.y, 0.5, 1e-15);
     EXPECT_EQ(on_bc.z, 0.0);

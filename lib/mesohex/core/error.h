@@ -51,10 +51,10 @@ inline int exit_code(ErrorCode c) {
 }  // namespace mesohex
 
 // Cheap invariant check that stays on in release builds. A failure is a bug, not bad input.
-#define MESOHEX_CHECK(cond, msg)                                                                        \
-    do {                                                                                                \
-        if (!(cond))                                                                                    \
-            throw ::mesohex::Error(::mesohex::ErrorCode::NumericalFailure,                              \
-                                   std::string("internal check failed: ") + (msg) + " [" #cond "] at " \
-                                       + __FILE__ + ":" + std::to_string(__LINE__));                    \
+#define MESOHEX_CHECK(cond, msg)                                                                                       \
+    do {                                                                                                               \
+        if (!(cond))                                                                                                   \
+            throw ::mesohex::Error(::mesohex::ErrorCode::NumericalFailure, std::string("internal check failed: ") +    \
+                                                                               (msg) + " [" #cond "] at " + __FILE__ + \
+                                                                               ":" + std::to_string(__LINE__));        \
     } while (0)

@@ -17,9 +17,18 @@
 namespace mesohex {
 
 inline constexpr std::array<std::array<int, 2>, 12> kHexEdges = {{
-    {0, 1}, {1, 2}, {2, 3}, {3, 0},  // bottom
-    {4, 5}, {5, 6}, {6, 7}, {7, 4},  // top
-    {0, 4}, {1, 5}, {2, 6}, {3, 7},  // vertical
+    {0, 1},
+    {1, 2},
+    {2, 3},
+    {3, 0},  // bottom
+    {4, 5},
+    {5, 6},
+    {6, 7},
+    {7, 4},  // top
+    {0, 4},
+    {1, 5},
+    {2, 6},
+    {3, 7},  // vertical
 }};
 
 inline constexpr std::array<std::array<int, 4>, 6> kHexFaces = {{
@@ -33,8 +42,14 @@ inline constexpr std::array<std::array<int, 4>, 6> kHexFaces = {{
 
 // For corner lv: its three neighbours (a, b, c) such that (a-lv, b-lv, c-lv) is right-handed on the unit cube.
 inline constexpr std::array<std::array<int, 3>, 8> kHexCornerNeighbors = {{
-    {1, 3, 4}, {2, 0, 5}, {3, 1, 6}, {0, 2, 7},
-    {7, 5, 0}, {4, 6, 1}, {5, 7, 2}, {6, 4, 3},
+    {1, 3, 4},
+    {2, 0, 5},
+    {3, 1, 6},
+    {0, 2, 7},
+    {7, 5, 0},
+    {4, 6, 1},
+    {5, 7, 2},
+    {6, 4, 3},
 }};
 
 }  // namespace mesohex

@@ -36,10 +36,10 @@ inline void check_hex_indices(const HexMesh& mesh, const std::string& who) {
     for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
         for (int v : mesh.hexes[h])
             if (v < 0 || static_cast<std::size_t>(v) >= mesh.points.size())
-                throw Error(ErrorCode::InvalidInput,
-                            who + ": hex " + std::to_string(h) + " has vertex index " + std::to_string(v) +
-                                " out of range",
-                            {ElementRef::Kind::Hex, static_cast<int>(h)});
+                throw Error(
+                    ErrorCode::InvalidInput,
+                    who + ": hex " + std::to_string(h) + " has vertex index " + std::to_string(v) + " out of range",
+                    {ElementRef::Kind::Hex, static_cast<int>(h)});
 }
 
 // The centre (principal-axes) frame of a hex, as Verdict's calc_hex_efg(1..3): differences of the sums of opposite

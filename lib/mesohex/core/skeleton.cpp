@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <set>
+#include <string>
 #include <utility>
 
 namespace mesohex {

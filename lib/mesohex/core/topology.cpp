@@ -5,8 +5,8 @@
 
 #include <algorithm>
 
-#include <tbb/parallel_for.h>
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_convention.h"
@@ -24,11 +24,12 @@ std::vector<int> sort_slots(const std::vector<std::array<int, N>>& keys, int num
     for (std::size_t b = 0; b < static_cast<std::size_t>(num_buckets); ++b) start[b + 1] += start[b];
     std::vector<int> order(keys.size());
     std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t s = 0; s < keys.size(); ++s) order[static_cast<std::size_t>(fill[static_cast<std::size_t>(keys[s][0])]++)] = static_cast<int>(s);
+    for (std::size_t s = 0; s < keys.size(); ++s)
+        order[static_cast<std::size_t>(fill[static_cast<std::size_t>(keys[s][0])]++)] = static_cast<int>(s);
     tbb::parallel_for(tbb::blocked_range<int>(0, num_buckets, 1024), [&](const tbb::blocked_range<int>& range) {
         for (int b = range.begin(); b != range.end(); ++b) {
-            std::sort(order.begin() + start[static_cast<std::size_t>(b)], order.begin() + start[static_cast<std::size_t>(b) + 1],
-                      [&](int x, int y) {
+            std::sort(order.begin() + start[static_cast<std::size_t>(b)],
+                      order.begin() + start[static_cast<std::size_t>(b) + 1], [&](int x, int y) {
                           const std::array<int, N>& kx = keys[static_cast<std::size_t>(x)];
                           const std::array<int, N>& ky = keys[static_cast<std::size_t>(y)];
                           return kx != ky ? kx < ky : x < y;
@@ -79,7 +80,8 @@ VertexHexes vertex_hexes(const HexMesh& mesh) {
     r.hexes.resize(static_cast<std::size_t>(r.begin[nv]));
     std::vector<int> fill(r.begin.begin(), r.begin.end() - 1);
     for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
-        for (int v : mesh.hexes[h]) r.hexes[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(h);
+        for (int v : mesh.hexes[h])
+            r.hexes[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = static_cast<int>(h);
     return r;
 }
 
@@ -166,8 +168,7 @@ HexTopology compute_hex_topology(const HexMesh& mesh) {
         topo.edge_valence[static_cast<std::size_t>(e)] = edge_valence_of_head[static_cast<std::size_t>(s)];
     }
     topo.hex_edges.resize(num_hexes);
-    for (std::size_t s = 0; s < edge_of_slot.size(); ++s)
-        topo.hex_edges[s / 12][s % 12] = edge_of_slot[s];
+    for (std::size_t s = 0; s < edge_of_slot.size(); ++s) topo.hex_edges[s / 12][s % 12] = edge_of_slot[s];
 
     // ---- boundary ----
     topo.edge_on_boundary.assign(static_cast<std::size_t>(num_edges), false);
@@ -181,8 +182,10 @@ HexTopology compute_hex_topology(const HexMesh& mesh) {
         for (int i = 0; i < 4; ++i) {
             const int la = lface[i], lb = lface[(i + 1) % 4];
             for (int le = 0; le < 12; ++le) {
-                if ((kHexEdges[le][0] == la && kHexEdges[le][1] == lb) || (kHexEdges[le][0] == lb && kHexEdges[le][1] == la))
-                    topo.edge_on_boundary[static_cast<std::size_t>(topo.hex_edges[h][static_cast<std::size_t>(le)])] = true;
+                if ((kHexEdges[le][0] == la && kHexEdges[le][1] == lb) ||
+                    (kHexEdges[le][0] == lb && kHexEdges[le][1] == la))
+                    topo.edge_on_boundary[static_cast<std::size_t>(topo.hex_edges[h][static_cast<std::size_t>(le)])] =
+                        true;
             }
         }
     }

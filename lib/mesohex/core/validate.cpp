@@ -32,7 +32,8 @@ std::array<int, 4> local_quad(const HexMesh& mesh, int h, int lf) {
     std::array<int, 4> q;
     for (int i = 0; i < 4; ++i)
         q[static_cast<std::size_t>(i)] =
-            mesh.hexes[static_cast<std::size_t>(h)][static_cast<std::size_t>(kHexFaces[static_cast<std::size_t>(lf)][static_cast<std::size_t>(i)])];
+            mesh.hexes[static_cast<std::size_t>(h)]
+                      [static_cast<std::size_t>(kHexFaces[static_cast<std::size_t>(lf)][static_cast<std::size_t>(i)])];
     return q;
 }
 
@@ -91,8 +92,8 @@ ValidationReport validate_impl(const HexMesh& mesh, const HexTopology* given_top
             }
         if (has_repeat)
             add(report, {"repeated_corner",
-                         "hex " + std::to_string(h) + " uses vertex " + std::to_string(repeated) + " more than once",
-                         h, -1, repeated});
+                         "hex " + std::to_string(h) + " uses vertex " + std::to_string(repeated) + " more than once", h,
+                         -1, repeated});
     }
     for (int v = 0; v < num_points; ++v) {
         if (!used[static_cast<std::size_t>(v)])
@@ -150,7 +151,8 @@ ValidationReport validate_impl(const HexMesh& mesh, const HexTopology* given_top
         for (std::size_t i = 0; i < 4; ++i) {
             const int la = lface[i], lb = lface[(i + 1) % 4];
             for (std::size_t le = 0; le < 12; ++le) {
-                if ((kHexEdges[le][0] == la && kHexEdges[le][1] == lb) || (kHexEdges[le][0] == lb && kHexEdges[le][1] == la)) {
+                if ((kHexEdges[le][0] == la && kHexEdges[le][1] == lb) ||
+                    (kHexEdges[le][0] == lb && kHexEdges[le][1] == la)) {
                     const std::size_t e = static_cast<std::size_t>(topo.hex_edges[static_cast<std::size_t>(h)][le]);
                     ++boundary_uses[e];
                     if (first_face[e] < 0) first_face[e] = f;
@@ -161,12 +163,12 @@ ValidationReport validate_impl(const HexMesh& mesh, const HexTopology* given_top
     for (std::size_t e = 0; e < topo.edges.size(); ++e) {
         if (boundary_uses[e] == 0 || boundary_uses[e] == 2) continue;
         const int f = first_face[e];
-        add(report, {"nonmanifold_boundary_edge",
-                     "boundary edge (" + std::to_string(topo.edges[e][0]) + " " + std::to_string(topo.edges[e][1]) +
-                         ") lies on " + std::to_string(boundary_uses[e]) +
-                         " boundary quads instead of 2 (e.g. boundary face " + std::to_string(f) + " of hex " +
-                         std::to_string(topo.face_hexes[static_cast<std::size_t>(f)][0]) + ")",
-                     topo.face_hexes[static_cast<std::size_t>(f)][0], f, topo.edges[e][0]});
+        add(report,
+            {"nonmanifold_boundary_edge",
+             "boundary edge (" + std::to_string(topo.edges[e][0]) + " " + std::to_string(topo.edges[e][1]) +
+                 ") lies on " + std::to_string(boundary_uses[e]) + " boundary quads instead of 2 (e.g. boundary face " +
+                 std::to_string(f) + " of hex " + std::to_string(topo.face_hexes[static_cast<std::size_t>(f)][0]) + ")",
+             topo.face_hexes[static_cast<std::size_t>(f)][0], f, topo.edges[e][0]});
     }
     return report;
 }

@@ -11,7 +11,7 @@ struct Problem {
     std::string kind;     // short machine-readable tag, e.g. "index_out_of_range", "nonmanifold_face"
     std::string message;  // human-readable, names the element
     int hex = -1;
-    int face = -1;    // face id in compute_hex_topology, or -1
+    int face = -1;  // face id in compute_hex_topology, or -1
     int vertex = -1;
 };
 

@@ -63,7 +63,8 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
             const std::size_t la = static_cast<std::size_t>(local[static_cast<std::size_t>(a)]);
             const std::size_t lb = static_cast<std::size_t>(local[static_cast<std::size_t>(b)]);
             normal_sum[la] += quad_normals[q];
-            const double len = distance(mesh.points[static_cast<std::size_t>(a)], mesh.points[static_cast<std::size_t>(b)]);
+            const double len =
+                distance(mesh.points[static_cast<std::size_t>(a)], mesh.points[static_cast<std::size_t>(b)]);
             shortest_edge[la] = std::min(shortest_edge[la], len);
             shortest_edge[lb] = std::min(shortest_edge[lb], len);
             edge_len_sum[la] += len;  // each edge is seen from its two quads: counted twice at both ends, as its count
@@ -87,13 +88,15 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
     std::vector<double> offset(nb);
     for (std::size_t i = 0; i < nb; ++i) {
         const int v = boundary_vertices[i];
-        const double t = options.absolute_thickness > 0 ? options.absolute_thickness : options.thickness * shortest_edge[i];
+        const double t =
+            options.absolute_thickness > 0 ? options.absolute_thickness : options.thickness * shortest_edge[i];
         const double mean_cos = cos_count[i] > 0 ? cos_sum[i] / cos_count[i] : 1.0;
         const double scale = mean_cos > 1.0 / 3.0 ? 1.0 / mean_cos : 3.0;
         offset[i] = t * scale;
         if (options.offset_rule) {
             const double mean_edge = edge_count[i] > 0 ? edge_len_sum[i] / edge_count[i] : 0.0;
-            offset[i] = options.offset_rule(mesh.points[static_cast<std::size_t>(v)], unit_normal[i], offset[i], mean_edge);
+            offset[i] =
+                options.offset_rule(mesh.points[static_cast<std::size_t>(v)], unit_normal[i], offset[i], mean_edge);
         }
         mesh.points[old_vertices + i] = mesh.points[static_cast<std::size_t>(v)] + unit_normal[i] * offset[i];
         origin.push_back(origin[static_cast<std::size_t>(v)]);

@@ -8,7 +8,7 @@
 namespace mesohex {
 
 struct PaddingOptions {
-    int layers = 1;            // number of layers added, one after the other (each over the whole new boundary)
+    int layers = 1;  // number of layers added, one after the other (each over the whole new boundary)
     // Offset of the new outer vertices, x the SHORTEST boundary edge at the vertex (dimensionless): on a tube of long
     // hexes (edges of 3 radii along the branch) the mean edge gave a layer as thick as the tube, which reached into the
     // concave corners between branches and across the gap to a neighbouring tube, and the fit then left webs of hexes

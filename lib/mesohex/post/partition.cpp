@@ -74,9 +74,9 @@ std::vector<int> run_metis(DualGraph& g, int parts, const PartitionOptions& opti
         g.adjncy.push_back(0);
         g.adjwgt.push_back(0);
     }
-    const int status = METIS_PartGraphKway(&nvtxs, &ncon, g.xadj.data(), g.adjncy.data(), nullptr, nullptr,
-                                           g.adjwgt.data(), &nparts, nullptr, nullptr, metis_options.data(), &objval,
-                                           part.data());
+    const int status =
+        METIS_PartGraphKway(&nvtxs, &ncon, g.xadj.data(), g.adjncy.data(), nullptr, nullptr, g.adjwgt.data(), &nparts,
+                            nullptr, nullptr, metis_options.data(), &objval, part.data());
     if (status != METIS_OK)
         throw Error(ErrorCode::NumericalFailure, "partition: METIS_PartGraphKway failed (status " +
                                                      std::to_string(status) + ") for " + std::to_string(nvtxs) +
@@ -128,9 +128,8 @@ Partition partition_hexes(const HexMesh& mesh, const PartitionOptions& options) 
         throw Error(ErrorCode::InvalidInput, "partition: cannot split " + std::to_string(nh) + " hexes into " +
                                                  std::to_string(parts) + " non-empty parts");
     if (!(options.imbalance_tolerance >= 0.001 && options.imbalance_tolerance <= 10.0))
-        throw Error(ErrorCode::InvalidInput,
-                    "partition: imbalance tolerance " + std::to_string(options.imbalance_tolerance) +
-                        " outside [0.001, 10]");
+        throw Error(ErrorCode::InvalidInput, "partition: imbalance tolerance " +
+                                                 std::to_string(options.imbalance_tolerance) + " outside [0.001, 10]");
     check_indices(mesh);
     const HexTopology topo = compute_hex_topology(mesh);
     std::vector<int> part(mesh.hexes.size(), 0);

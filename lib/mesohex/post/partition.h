@@ -9,10 +9,10 @@
 namespace mesohex {
 
 struct PartitionOptions {
-    int parts = 2;                        // number of parts N, 1 <= N <= #hexes
-    int seed = 1;                         // METIS random seed: the same seed gives the same partition
-    double imbalance_tolerance = 0.03;    // METIS balance target: largest part <= (1 + this) x #hexes / N
-                                          // (METIS' own default, 3 %; small meshes may miss it by one hex)
+    int parts = 2;                      // number of parts N, 1 <= N <= #hexes
+    int seed = 1;                       // METIS random seed: the same seed gives the same partition
+    double imbalance_tolerance = 0.03;  // METIS balance target: largest part <= (1 + this) x #hexes / N
+                                        // (METIS' own default, 3 %; small meshes may miss it by one hex)
 };
 
 struct Partition {

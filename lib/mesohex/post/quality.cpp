@@ -1,6 +1,6 @@
 // Quality report: Verdict's hex scaled Jacobian, Euler characteristics, boundary genus, singular edges.
-#include "mesohex/core/union_find.h"
 #include "mesohex/post/quality.h"
+#include "mesohex/core/union_find.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -9,8 +9,8 @@
 #include <numeric>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
+#include <nlohmann/json.hpp>
 
 #include "mesohex/core/hex_convention.h"
 #include "mesohex/core/hex_kernels.h"
@@ -58,10 +58,11 @@ QualityReport compute_quality(const HexMesh& mesh, HexTopology& topo) {
         std::vector<int> order(r.sj.size());
         std::iota(order.begin(), order.end(), 0);
         const std::size_t k = std::min<std::size_t>(10, order.size());
-        std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(), [&](int a, int b) {
-            const double sa = r.sj[static_cast<std::size_t>(a)], sb = r.sj[static_cast<std::size_t>(b)];
-            return sa != sb ? sa < sb : a < b;
-        });
+        std::partial_sort(
+            order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(), [&](int a, int b) {
+                const double sa = r.sj[static_cast<std::size_t>(a)], sb = r.sj[static_cast<std::size_t>(b)];
+                return sa != sb ? sa < sb : a < b;
+            });
         r.worst_hexes.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k));
     }
 
@@ -185,7 +186,8 @@ std::string quality_to_text(const QualityReport& r) {
         if (m.empty()) return std::string("none");
         std::string s;
         for (const auto& [valence, count] : m)
-            s += (s.empty() ? "" : ", ") + std::string("valence ") + std::to_string(valence) + ": " + std::to_string(count);
+            s += (s.empty() ? "" : ", ") + std::string("valence ") + std::to_string(valence) + ": " +
+                 std::to_string(count);
         return s;
     };
     os << "singular interior edges (valence != 4): " << valences(r.singular_interior_edges) << "\n";
@@ -195,8 +197,7 @@ std::string quality_to_text(const QualityReport& r) {
     os << "\n";
     for (const Problem& p : r.validation.problems) os << "  " << p.kind << ": " << p.message << "\n";
     if (r.validation.total_problems > static_cast<long>(r.validation.problems.size()))
-        os << "  ... " << (r.validation.total_problems - static_cast<long>(r.validation.problems.size()))
-           << " more\n";
+        os << "  ... " << (r.validation.total_problems - static_cast<long>(r.validation.problems.size())) << " more\n";
     return os.str();
 }
 

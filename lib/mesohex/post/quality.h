@@ -19,13 +19,13 @@ std::vector<double> scaled_jacobians(const HexMesh& mesh);  // parallel, determi
 struct QualityReport {
     long vertices = 0, hexes = 0;
     double sj_min = 0, sj_avg = 0;
-    long inverted = 0;  // hexes with scaled Jacobian <= 0
+    long inverted = 0;                    // hexes with scaled Jacobian <= 0
     std::array<long, 10> sj_histogram{};  // 10 bins over [-1, 1]
-    std::vector<int> worst_hexes;        // ids of the (up to) 10 worst hexes, worst first
-    long euler_characteristic = 0;       // V - E + F - C
+    std::vector<int> worst_hexes;         // ids of the (up to) 10 worst hexes, worst first
+    long euler_characteristic = 0;        // V - E + F - C
     long boundary_euler_characteristic = 0;
     long boundary_components = 0;
-    double boundary_genus = 0;           // per closed boundary: sum over components of (2 - chi_i) / 2
+    double boundary_genus = 0;                    // per closed boundary: sum over components of (2 - chi_i) / 2
     std::map<int, long> singular_interior_edges;  // valence -> count (valence != 4)
     std::map<int, long> singular_boundary_edges;  // valence -> count (valence != 2)
     ValidationReport validation;

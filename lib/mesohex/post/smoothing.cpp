@@ -52,7 +52,13 @@ struct Smoother {
     std::vector<Vec3> x0, g, best;
 
     Smoother(const HexMesh& m, const std::function<Vec3(const Vec3&)>& proj, const SmoothOptions& opt, SmoothResult& r)
-        : mesh(m), project(proj), options(opt), result(r), x(r.mesh.points), nv(m.points.size()), nh(m.hexes.size()),
+        : mesh(m),
+          project(proj),
+          options(opt),
+          result(r),
+          x(r.mesh.points),
+          nv(m.points.size()),
+          nh(m.hexes.size()),
           sj(m.hexes.size()) {}
 
     std::array<Vec3, 8> hex_corners(std::size_t h) const {
@@ -117,7 +123,8 @@ struct Smoother {
     bool convex_sharp(std::size_t a, std::size_t b, double cos_angle) const {
         return !(dot(quad_domain_normal[a], quad_domain_normal[b]) >= cos_angle) &&
                dot(quad_domain_point[b] - quad_domain_point[a], quad_domain_normal[a]) +
-                       dot(quad_domain_point[a] - quad_domain_point[b], quad_domain_normal[b]) < 0;
+                       dot(quad_domain_point[a] - quad_domain_point[b], quad_domain_normal[b]) <
+                   0;
     }
 
     // The domain under every boundary quad (its point closest to the quad's start centroid, and its normal there), if
@@ -436,8 +443,8 @@ struct Smoother {
             }
             x[v] = x0[i];
             if (crease[v][0] >= 0) {
-                const Vec3 t = normalized(x[static_cast<std::size_t>(crease[v][1])] -
-                                          x[static_cast<std::size_t>(crease[v][0])]);
+                const Vec3 t =
+                    normalized(x[static_cast<std::size_t>(crease[v][1])] - x[static_cast<std::size_t>(crease[v][0])]);
                 g[i] = dot(g[i], t) * t;
             } else if (on_boundary[v]) {
                 bool feature = false;

@@ -14,19 +14,19 @@ struct SmoothProgress {
 };
 
 struct SmoothOptions {
-    int max_sweeps = 20;          // Gauss-Seidel sweeps over the vertices (ascending ids; a vertex is tried again only
-    double min_gain = 1e-4;       // after a vertex of its hexes moved); stops earlier when the moves of a sweep lower
-                                  // the energy of the vertices tried by less than this relative amount
-    double target_sj = 0.6;       // frame values below this are penalized strongly (weight below_weight)
-    double below_weight = 20;     // weight of max(0, target_sj - q)^2 against (1 - q)^2 (dimensionless)
-    double skip_above = 0.97;     // vertices whose hexes all have scaled Jacobian above this are not moved
-    bool move_boundary = true;    // boundary vertices slide on the surface (needs `project`); false: fixed
-    double feature_angle = 35;    // degrees: a boundary vertex whose boundary quad normals deviate more than this from
-                                  // their mean (crease, corner, rim) stays fixed
-    double max_slide = 0.5;       // a boundary vertex moves at most this x its mean edge length from its start
-    double max_gap = 0;           // > 0: a boundary move is kept only if the chord gap at the vertex (the largest
-                                  // distance to the surface of the centroids and edge midpoints of its boundary quads)
-                                  // stays <= max(this, before)
+    int max_sweeps = 20;        // Gauss-Seidel sweeps over the vertices (ascending ids; a vertex is tried again only
+    double min_gain = 1e-4;     // after a vertex of its hexes moved); stops earlier when the moves of a sweep lower
+                                // the energy of the vertices tried by less than this relative amount
+    double target_sj = 0.6;     // frame values below this are penalized strongly (weight below_weight)
+    double below_weight = 20;   // weight of max(0, target_sj - q)^2 against (1 - q)^2 (dimensionless)
+    double skip_above = 0.97;   // vertices whose hexes all have scaled Jacobian above this are not moved
+    bool move_boundary = true;  // boundary vertices slide on the surface (needs `project`); false: fixed
+    double feature_angle = 35;  // degrees: a boundary vertex whose boundary quad normals deviate more than this from
+                                // their mean (crease, corner, rim) stays fixed
+    double max_slide = 0.5;     // a boundary vertex moves at most this x its mean edge length from its start
+    double max_gap = 0;         // > 0: a boundary move is kept only if the chord gap at the vertex (the largest
+                                // distance to the surface of the centroids and edge midpoints of its boundary quads)
+                                // stays <= max(this, before)
     // Max-min pass, after the sweeps: the sweeps lower a sum over all frames and stall where the worst hex needs a
     // move that lowers some other frame first (the fan of quads at a high-valence boundary vertex: its ring has to
     // turn as a whole). While a round raises something: every vertex of a hex below worst_below, then the 8 vertices
@@ -60,16 +60,16 @@ struct SmoothOptions {
     // worst hexes there cannot be raised (docs/tuning.md). A concave crease is then rounded off within the gap limits
     // instead; convex ones (a CAD edge, a cube's corner) stay. Without it, the quads' own normals alone decide.
     std::function<Vec3(const Vec3&)> surface_normal;
-    std::vector<bool> frozen;     // optional, per vertex: never moved
+    std::vector<bool> frozen;                             // optional, per vertex: never moved
     std::function<void(const SmoothProgress&)> progress;  // optional, called after every sweep
 };
 
 struct SmoothResult {
     HexMesh mesh;
-    int sweeps = 0;  // sweeps done, both runs (before and after the max-min pass)
-    long moves = 0;  // accepted vertex moves over all sweeps
-    int worst_rounds = 0;     // rounds of the max-min pass
-    long worst_moves = 0;     // accepted moves of the max-min pass (a joint move of a hex's vertices counts once)
+    int sweeps = 0;        // sweeps done, both runs (before and after the max-min pass)
+    long moves = 0;        // accepted vertex moves over all sweeps
+    int worst_rounds = 0;  // rounds of the max-min pass
+    long worst_moves = 0;  // accepted moves of the max-min pass (a joint move of a hex's vertices counts once)
     double sj_min_before = 0, sj_min_after = 0, sj_avg_before = 0, sj_avg_after = 0;
 };
 

@@ -2,8 +2,8 @@
 // 1 is the midpoint (present only if that axis is split). A lattice point with m coordinates equal to 1 is a corner
 // (m = 0), an edge midpoint (m = 1), a face centroid (m = 2) or the cell centroid (m = 3); its global id comes from the
 // topology element it lies on, so neighbouring hexes agree without any sewing.
-#include "mesohex/core/union_find.h"
 #include "mesohex/post/subdivision.h"
+#include "mesohex/core/union_find.h"
 
 #include <algorithm>
 #include <array>
@@ -11,8 +11,8 @@
 #include <string>
 
 #include "mesohex/core/error.h"
-#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/hex_convention.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 
 namespace mesohex {
@@ -44,9 +44,7 @@ int local_face(std::array<int, 4> corners) {
     return -1;
 }
 
-void check_indices(const HexMesh& mesh, const char* who) {
-    check_hex_indices(mesh, who);
-}
+void check_indices(const HexMesh& mesh, const char* who) { check_hex_indices(mesh, who); }
 
 struct LatticeSlot {
     int kind = 0;   // 0 corner, 1 edge midpoint, 2 face centroid, 3 cell centroid
@@ -75,10 +73,14 @@ std::array<LatticeSlot, 27> lattice_table() {
                             ++count;
                         }
                 LatticeSlot& slot = table[static_cast<std::size_t>(i + 3 * j + 9 * k)];
-                if (count == 1) slot = {0, corners[0]};
-                else if (count == 2) slot = {1, local_edge(corners[0], corners[1])};
-                else if (count == 4) slot = {2, local_face(corners)};
-                else slot = {3, 0};
+                if (count == 1)
+                    slot = {0, corners[0]};
+                else if (count == 2)
+                    slot = {1, local_edge(corners[0], corners[1])};
+                else if (count == 4)
+                    slot = {2, local_face(corners)};
+                else
+                    slot = {3, 0};
             }
     return table;
 }
@@ -137,8 +139,12 @@ SubdivisionResult split(const HexMesh& mesh, const HexTopology& topo, const std:
             const LatticeSlot& slot = table[static_cast<std::size_t>(i + 3 * j + 9 * k)];
             switch (slot.kind) {
                 case 0: return hex[static_cast<std::size_t>(slot.local)];
-                case 1: return edge_point[static_cast<std::size_t>(topo.hex_edges[h][static_cast<std::size_t>(slot.local)])];
-                case 2: return face_point[static_cast<std::size_t>(topo.hex_faces[h][static_cast<std::size_t>(slot.local)])];
+                case 1:
+                    return edge_point[static_cast<std::size_t>(
+                        topo.hex_edges[h][static_cast<std::size_t>(slot.local)])];
+                case 2:
+                    return face_point[static_cast<std::size_t>(
+                        topo.hex_faces[h][static_cast<std::size_t>(slot.local)])];
                 default: return cell_point[h];
             }
         };
@@ -156,9 +162,12 @@ SubdivisionResult split(const HexMesh& mesh, const HexTopology& topo, const std:
         for (int sk = 0; sk < segments[2]; ++sk)
             for (int sj = 0; sj < segments[1]; ++sj)
                 for (int si = 0; si < segments[0]; ++si) {
-                    const std::array<int, 2> ci = {ranges[0][static_cast<std::size_t>(si)], ranges[0][static_cast<std::size_t>(si + 1)]};
-                    const std::array<int, 2> cj = {ranges[1][static_cast<std::size_t>(sj)], ranges[1][static_cast<std::size_t>(sj + 1)]};
-                    const std::array<int, 2> ck = {ranges[2][static_cast<std::size_t>(sk)], ranges[2][static_cast<std::size_t>(sk + 1)]};
+                    const std::array<int, 2> ci = {ranges[0][static_cast<std::size_t>(si)],
+                                                   ranges[0][static_cast<std::size_t>(si + 1)]};
+                    const std::array<int, 2> cj = {ranges[1][static_cast<std::size_t>(sj)],
+                                                   ranges[1][static_cast<std::size_t>(sj + 1)]};
+                    const std::array<int, 2> ck = {ranges[2][static_cast<std::size_t>(sk)],
+                                                   ranges[2][static_cast<std::size_t>(sk + 1)]};
                     std::array<int, 8> child{};
                     for (int z = 0; z < 2; ++z)
                         for (int y = 0; y < 2; ++y)

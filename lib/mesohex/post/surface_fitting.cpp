@@ -7,21 +7,21 @@
 #include "mesohex/post/surface_fitting.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
-#include <cmath>
 #include <limits>
 #include <string>
 
-#include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
 
 #include "mesohex/core/error.h"
-#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/hex_convention.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 
 namespace mesohex {
@@ -37,7 +37,9 @@ constexpr std::array<std::array<int, 8>, 8> make_neighbor_index() {
     std::array<std::array<int, 8>, 8> t{};
     for (int c = 0; c < 8; ++c)
         for (int k = 0; k < 3; ++k)
-            t[static_cast<std::size_t>(c)][static_cast<std::size_t>(kHexCornerNeighbors[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)])] = k;
+            t[static_cast<std::size_t>(c)]
+             [static_cast<std::size_t>(kHexCornerNeighbors[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)])] =
+                 k;
     return t;
 }
 constexpr std::array<std::array<int, 8>, 8> kNeighborIndex = make_neighbor_index();
@@ -61,8 +63,10 @@ constexpr std::array<std::array<int, 8>, 8> make_edge_of() {
     std::array<std::array<int, 8>, 8> t{};
     for (auto& row : t) row.fill(-1);
     for (std::size_t le = 0; le < 12; ++le) {
-        t[static_cast<std::size_t>(kHexEdges[le][0])][static_cast<std::size_t>(kHexEdges[le][1])] = static_cast<int>(le);
-        t[static_cast<std::size_t>(kHexEdges[le][1])][static_cast<std::size_t>(kHexEdges[le][0])] = static_cast<int>(le);
+        t[static_cast<std::size_t>(kHexEdges[le][0])][static_cast<std::size_t>(kHexEdges[le][1])] =
+            static_cast<int>(le);
+        t[static_cast<std::size_t>(kHexEdges[le][1])][static_cast<std::size_t>(kHexEdges[le][0])] =
+            static_cast<int>(le);
     }
     return t;
 }
@@ -94,7 +98,8 @@ void hex_block(const Vec3* x, const std::array<int, 8>* const* hexes, double* sj
         nf[l] = 0;
     }
     for (std::size_t le = 0; le < 12; ++le) {
-        const std::size_t a = static_cast<std::size_t>(kHexEdges[le][0]), b = static_cast<std::size_t>(kHexEdges[le][1]);
+        const std::size_t a = static_cast<std::size_t>(kHexEdges[le][0]),
+                          b = static_cast<std::size_t>(kHexEdges[le][1]);
         for (std::size_t l = 0; l < L; ++l) {
             ex[le][l] = px[b][l] - px[a][l];
             ey[le][l] = py[b][l] - py[a][l];
@@ -126,8 +131,8 @@ void hex_block(const Vec3* x, const std::array<int, 8>* const* hexes, double* sj
             e[k] = static_cast<std::size_t>(kEdgeOf[lv][static_cast<std::size_t>(nb[k])]);
             s[k] = kHexEdges[e[k]][0] == static_cast<int>(lv) ? 1.0 : -1.0;  // x[nb] - x[lv] = s E
         }
-        frame(ex[e[0]], ey[e[0]], ez[e[0]], ex[e[1]], ey[e[1]], ez[e[1]], ex[e[2]], ey[e[2]], ez[e[2]], s[0], s[1], s[2],
-              len2[e[0]], len2[e[1]], len2[e[2]]);
+        frame(ex[e[0]], ey[e[0]], ez[e[0]], ex[e[1]], ey[e[1]], ez[e[1]], ex[e[2]], ey[e[2]], ez[e[2]], s[0], s[1],
+              s[2], len2[e[0]], len2[e[1]], len2[e[2]]);
     }
     // The centre frame: the three principal axes.
     alignas(64) double ax[3][L], ay[3][L], az[3][L], al[3][L];
@@ -137,9 +142,12 @@ void hex_block(const Vec3* x, const std::array<int, 8>* const* hexes, double* sj
         const std::size_t p0 = kPlus[d][0], p1 = kPlus[d][1], p2 = kPlus[d][2], p3 = kPlus[d][3];
         const std::size_t m0 = kMinus[d][0], m1 = kMinus[d][1], m2 = kMinus[d][2], m3 = kMinus[d][3];
         for (std::size_t l = 0; l < L; ++l) {
-            ax[d][l] = (px[p0][l] + px[p1][l] + px[p2][l] + px[p3][l]) - (px[m0][l] + px[m1][l] + px[m2][l] + px[m3][l]);
-            ay[d][l] = (py[p0][l] + py[p1][l] + py[p2][l] + py[p3][l]) - (py[m0][l] + py[m1][l] + py[m2][l] + py[m3][l]);
-            az[d][l] = (pz[p0][l] + pz[p1][l] + pz[p2][l] + pz[p3][l]) - (pz[m0][l] + pz[m1][l] + pz[m2][l] + pz[m3][l]);
+            ax[d][l] =
+                (px[p0][l] + px[p1][l] + px[p2][l] + px[p3][l]) - (px[m0][l] + px[m1][l] + px[m2][l] + px[m3][l]);
+            ay[d][l] =
+                (py[p0][l] + py[p1][l] + py[p2][l] + py[p3][l]) - (py[m0][l] + py[m1][l] + py[m2][l] + py[m3][l]);
+            az[d][l] =
+                (pz[p0][l] + pz[p1][l] + pz[p2][l] + pz[p3][l]) - (pz[m0][l] + pz[m1][l] + pz[m2][l] + pz[m3][l]);
             al[d][l] = ax[d][l] * ax[d][l] + ay[d][l] * ay[d][l] + az[d][l] * az[d][l];
             lo[l] = al[d][l] < lo[l] ? al[d][l] : lo[l];
             nf[l] += al[d][l] * 0.0;
@@ -180,15 +188,17 @@ struct EdgeBlockInput {
     std::size_t n;                    // its edges (the last block may have fewer than kLanes)
     const int* slots;                 // the block's slot table, K x 4 x kLanes vertices
     int k;
-    const double* weight;             // the block's first edge weight
+    const double* weight;  // the block's first edge weight
     double mean_target;
 };
 
 // The unit corner normal at v, in single precision, widened.
-__attribute__((always_inline)) inline void corner_normal(double vx, double vy, double vz, const Vec3& o1, const Vec3& o2,
-                                                         double& nx, double& ny, double& nz) {
-    const float a0 = static_cast<float>(o1.x - vx), a1 = static_cast<float>(o1.y - vy), a2 = static_cast<float>(o1.z - vz);
-    const float b0 = static_cast<float>(o2.x - vx), b1 = static_cast<float>(o2.y - vy), b2 = static_cast<float>(o2.z - vz);
+__attribute__((always_inline)) inline void corner_normal(double vx, double vy, double vz, const Vec3& o1,
+                                                         const Vec3& o2, double& nx, double& ny, double& nz) {
+    const float a0 = static_cast<float>(o1.x - vx), a1 = static_cast<float>(o1.y - vy),
+                a2 = static_cast<float>(o1.z - vz);
+    const float b0 = static_cast<float>(o2.x - vx), b1 = static_cast<float>(o2.y - vy),
+                b2 = static_cast<float>(o2.z - vz);
     const float n0 = a1 * b2 - a2 * b1, n1 = a2 * b0 - a0 * b2, n2 = a0 * b1 - a1 * b0;
     const float l2 = n0 * n0 + n1 * n1 + n2 * n2;
     const float inv = 1.0f / std::sqrt(l2 < std::numeric_limits<float>::min() ? std::numeric_limits<float>::min() : l2);
@@ -238,8 +248,8 @@ void edge_block(const EdgeBlockInput& in, Vec3* rhs, double* energy) {
         const int* o = in.slots + static_cast<std::size_t>(4 * k) * L;
         for (std::size_t l = 0; l < L; ++l) {
             double n1x, n1y, n1z, n2x, n2y, n2z;
-            corner_normal(ax[l], ay[l], az[l], in.x[static_cast<std::size_t>(o[l])], in.x[static_cast<std::size_t>(o[L + l])],
-                          n1x, n1y, n1z);
+            corner_normal(ax[l], ay[l], az[l], in.x[static_cast<std::size_t>(o[l])],
+                          in.x[static_cast<std::size_t>(o[L + l])], n1x, n1y, n1z);
             corner_normal(bx[l], by[l], bz[l], in.x[static_cast<std::size_t>(o[2 * L + l])],
                           in.x[static_cast<std::size_t>(o[3 * L + l])], n2x, n2y, n2z);
             const bool in1 = n1x * ex[l] + n1y * ey[l] + n1z * ez[l] > 0;
@@ -256,10 +266,12 @@ void edge_block(const EdgeBlockInput& in, Vec3* rhs, double* energy) {
     for (std::size_t l = 0; l < L; ++l) {
         const double a2 = s1x[l] * s1x[l] + s1y[l] * s1y[l] + s1z[l] * s1z[l];
         const double ia = 1.0 / std::sqrt(a2);
-        const double d1x = a2 > 0 ? s1x[l] * ia : 0.0, d1y = a2 > 0 ? s1y[l] * ia : 0.0, d1z = a2 > 0 ? s1z[l] * ia : 0.0;
+        const double d1x = a2 > 0 ? s1x[l] * ia : 0.0, d1y = a2 > 0 ? s1y[l] * ia : 0.0,
+                     d1z = a2 > 0 ? s1z[l] * ia : 0.0;
         const double b2 = s2x[l] * s2x[l] + s2y[l] * s2y[l] + s2z[l] * s2z[l];
         const double ib = 1.0 / std::sqrt(b2);
-        const double d2x = b2 > 0 ? s2x[l] * ib : 0.0, d2y = b2 > 0 ? s2y[l] * ib : 0.0, d2z = b2 > 0 ? s2z[l] * ib : 0.0;
+        const double d2x = b2 > 0 ? s2x[l] * ib : 0.0, d2y = b2 > 0 ? s2y[l] * ib : 0.0,
+                     d2z = b2 > 0 ? s2z[l] * ib : 0.0;
         const double wl = w[l] * in.mean_target;
         rx[l] = wl * (d1x - d2x);
         ry[l] = wl * (d1y - d2y);
@@ -298,7 +310,8 @@ __attribute__((always_inline)) inline void matrix_row(const CgMatrix& m, const V
                                                       Double4& s) {
     s = m.diag[v] * in[v].c;
     for (int k = m.begin[v] + 1; k < m.begin[v + 1]; ++k)
-        s += static_cast<double>(m.val[static_cast<std::size_t>(k)]) * in[static_cast<std::size_t>(m.col[static_cast<std::size_t>(k)])].c;
+        s += static_cast<double>(m.val[static_cast<std::size_t>(k)]) *
+             in[static_cast<std::size_t>(m.col[static_cast<std::size_t>(k)])].c;
 }
 
 // The kernels' arrays never overlap; their sums (in row order) are kept in locals and added to the caller's at the
@@ -306,7 +319,8 @@ __attribute__((always_inline)) inline void matrix_row(const CgMatrix& m, const V
 
 // Rows [b, e): r = rhs - M x, p = z = D^-1 r; adds r.z, rhs.rhs and r.r per lane.
 MESOHEX_SIMD_CLONES
-void cg_start(const CgMatrix& m, const V4* __restrict x, const V4* __restrict rhs, V4* __restrict r, V4* __restrict p, std::size_t b, std::size_t e, double* rz_out, double* bb_out, double* rr_out) {
+void cg_start(const CgMatrix& m, const V4* __restrict x, const V4* __restrict rhs, V4* __restrict r, V4* __restrict p,
+              std::size_t b, std::size_t e, double* rz_out, double* bb_out, double* rr_out) {
     Double4 rz{}, bb{}, rr{}, mx;
     for (std::size_t v = b; v < e; ++v) {
         matrix_row(m, x, v, mx);
@@ -341,8 +355,8 @@ void cg_product(const CgMatrix& m, const V4* __restrict p, V4* __restrict q, std
 // Rows [b, e): x += alpha p, r -= alpha q; adds r.z and r.r per lane with z = D^-1 r (not stored: cg_direction
 // computes it again, to the same bits).
 MESOHEX_SIMD_CLONES
-void cg_update(const CgMatrix& m, const V4& alpha_in, const V4* __restrict p, const V4* __restrict q,
-               V4* __restrict x, V4* __restrict r, std::size_t b, std::size_t e, double* rz_out, double* rr_out) {
+void cg_update(const CgMatrix& m, const V4& alpha_in, const V4* __restrict p, const V4* __restrict q, V4* __restrict x,
+               V4* __restrict r, std::size_t b, std::size_t e, double* rz_out, double* rr_out) {
     const Double4 alpha = alpha_in.c;
     Double4 rz{}, rr{};
     for (std::size_t v = b; v < e; ++v) {
@@ -374,11 +388,11 @@ struct SurfaceFitter::Impl {
     SurfaceProjector surface;
     FitOptions options;
     HexTopology topo;
-    std::vector<int> edge_slot_begin, edge_slots;      // per edge: its (h * 12 + le) slots
+    std::vector<int> edge_slot_begin, edge_slots;         // per edge: its (h * 12 + le) slots
     std::vector<int> edge_block_begin, edge_block_slots;  // per block of kLanes edges: its slot table (edge_block)
     std::vector<double> edge_energy;                      // per edge, at the last local step
-    std::vector<int> vertex_edge_begin, vertex_edges;  // per vertex: its edges, encoded 2 e (v first) or 2 e + 1
-    VertexHexes vertex_hex;                            // per vertex: the hexes that use it, ascending
+    std::vector<int> vertex_edge_begin, vertex_edges;     // per vertex: its edges, encoded 2 e (v first) or 2 e + 1
+    VertexHexes vertex_hex;                               // per vertex: the hexes that use it, ascending
     std::vector<int> boundary_vertices;
     std::vector<double> edge_weight;  // w_e = Lbar / t_e
     double mean_target = 1;           // Lbar
@@ -396,21 +410,21 @@ struct SurfaceFitter::Impl {
     std::vector<double> m_diag, inv_diag;
     std::vector<V4> cg_x, cg_b, cg_r, cg_p, cg_q;
     int last_cg_iterations = 0;
-    std::vector<Vec3> last_move;           // per vertex: its move in the last step (CG warm start)
+    std::vector<Vec3> last_move;          // per vertex: its move in the last step (CG warm start)
     std::vector<Vec3> cached_correction;  // the two-sided corrections of the last matching, per boundary vertex
     double cached_sample_gap = 0;
     double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
     // Per step buffers.
-    std::vector<Vec3> edge_rhs;      // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
-    std::vector<Vec3> targets;       // per boundary vertex
+    std::vector<Vec3> edge_rhs;  // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
+    std::vector<Vec3> targets;   // per boundary vertex
     std::vector<Vec3> rhs, work, solution;
     HexStats stats;
-    std::vector<double> hex_sj;      // scaled Jacobian of every hex at the current positions
-    std::vector<double> hex_floor;   // per hex: the guard's lower bound of its SJ
-    std::vector<int> boundary_index; // per vertex: its index in boundary_vertices, or -1
-    TriangleMesh boundary_tris;      // the boundary quads split in two (a, b, c), (a, c, d), over all mesh vertices
-    std::vector<double> step_scale;  // per vertex: the part of its global-step move that was accepted
-    std::vector<Vec3> old_points;    // step buffers: positions before the step, next scaled Jacobians, guard marks
+    std::vector<double> hex_sj;       // scaled Jacobian of every hex at the current positions
+    std::vector<double> hex_floor;    // per hex: the guard's lower bound of its SJ
+    std::vector<int> boundary_index;  // per vertex: its index in boundary_vertices, or -1
+    TriangleMesh boundary_tris;       // the boundary quads split in two (a, b, c), (a, c, d), over all mesh vertices
+    std::vector<double> step_scale;   // per vertex: the part of its global-step move that was accepted
+    std::vector<Vec3> old_points;     // step buffers: positions before the step, next scaled Jacobians, guard marks
     std::vector<double> sj_next;
     std::vector<std::uint8_t> halvings, marked, queued;
     int iteration = 0;
@@ -466,12 +480,16 @@ void SurfaceFitter::Impl::build_incidence() {
                 const std::array<int, 2>& corners = kHexEdges[static_cast<std::size_t>(slot % 12)];
                 for (std::size_t end = 0; end < 2; ++end) {
                     // The hex corner at edges[e][end], and the one at the other end.
-                    const std::size_t c = static_cast<std::size_t>(hex[static_cast<std::size_t>(corners[0])] == topo.edges[e][end] ? corners[0] : corners[1]);
-                    const std::size_t o = static_cast<std::size_t>(hex[static_cast<std::size_t>(corners[0])] == topo.edges[e][end] ? corners[1] : corners[0]);
+                    const std::size_t c = static_cast<std::size_t>(
+                        hex[static_cast<std::size_t>(corners[0])] == topo.edges[e][end] ? corners[0] : corners[1]);
+                    const std::size_t o = static_cast<std::size_t>(
+                        hex[static_cast<std::size_t>(corners[0])] == topo.edges[e][end] ? corners[1] : corners[0]);
                     const std::array<int, 3>& nb = kHexCornerNeighbors[c];
                     const int m = kNeighborIndex[c][o];
-                    edge_block_slots[base + (4 * j + 2 * end) * kLanes + l] = hex[static_cast<std::size_t>(nb[static_cast<std::size_t>((m + 1) % 3)])];
-                    edge_block_slots[base + (4 * j + 2 * end + 1) * kLanes + l] = hex[static_cast<std::size_t>(nb[static_cast<std::size_t>((m + 2) % 3)])];
+                    edge_block_slots[base + (4 * j + 2 * end) * kLanes + l] =
+                        hex[static_cast<std::size_t>(nb[static_cast<std::size_t>((m + 1) % 3)])];
+                    edge_block_slots[base + (4 * j + 2 * end + 1) * kLanes + l] =
+                        hex[static_cast<std::size_t>(nb[static_cast<std::size_t>((m + 2) % 3)])];
                 }
             }
         }
@@ -486,8 +504,10 @@ void SurfaceFitter::Impl::build_incidence() {
     vertex_edges.resize(static_cast<std::size_t>(vertex_edge_begin[nv]));
     std::vector<int> vfill(vertex_edge_begin.begin(), vertex_edge_begin.end() - 1);
     for (std::size_t e = 0; e < ne; ++e) {
-        vertex_edges[static_cast<std::size_t>(vfill[static_cast<std::size_t>(topo.edges[e][0])]++)] = static_cast<int>(2 * e);
-        vertex_edges[static_cast<std::size_t>(vfill[static_cast<std::size_t>(topo.edges[e][1])]++)] = static_cast<int>(2 * e + 1);
+        vertex_edges[static_cast<std::size_t>(vfill[static_cast<std::size_t>(topo.edges[e][0])]++)] =
+            static_cast<int>(2 * e);
+        vertex_edges[static_cast<std::size_t>(vfill[static_cast<std::size_t>(topo.edges[e][1])]++)] =
+            static_cast<int>(2 * e + 1);
     }
     std::vector<bool> on_boundary(nv, false);
     for (const std::array<int, 4>& q : topo.boundary_quads)
@@ -513,8 +533,10 @@ void SurfaceFitter::Impl::compute_targets() {
     tbb::parallel_for(std::size_t{0}, nh, [&](std::size_t h) {
         std::array<double, 3> sum{};
         for (int le = 0; le < 12; ++le) {
-            const Vec3& a = mesh.points[static_cast<std::size_t>(mesh.hexes[h][static_cast<std::size_t>(kHexEdges[le][0])])];
-            const Vec3& b = mesh.points[static_cast<std::size_t>(mesh.hexes[h][static_cast<std::size_t>(kHexEdges[le][1])])];
+            const Vec3& a =
+                mesh.points[static_cast<std::size_t>(mesh.hexes[h][static_cast<std::size_t>(kHexEdges[le][0])])];
+            const Vec3& b =
+                mesh.points[static_cast<std::size_t>(mesh.hexes[h][static_cast<std::size_t>(kHexEdges[le][1])])];
             sum[static_cast<std::size_t>(kEdgeAxis[static_cast<std::size_t>(le)])] += distance(a, b) / 4.0;
         }
         axis_len[h] = sum;
@@ -526,7 +548,8 @@ void SurfaceFitter::Impl::compute_targets() {
         const int b = edge_slot_begin[e], end = edge_slot_begin[e + 1];
         for (int i = b; i < end; ++i) {
             const int slot = edge_slots[static_cast<std::size_t>(i)];
-            s += axis_len[static_cast<std::size_t>(slot / 12)][static_cast<std::size_t>(kEdgeAxis[static_cast<std::size_t>(slot % 12)])];
+            s += axis_len[static_cast<std::size_t>(slot / 12)]
+                         [static_cast<std::size_t>(kEdgeAxis[static_cast<std::size_t>(slot % 12)])];
         }
         t[e] = end > b ? s / (end - b) : 0.0;
     });
@@ -608,8 +631,9 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
     std::vector<SurfaceProjector::Hit> hits;
     surface.samples_to_boundary(boundary_tris, hits);
     if (hits.size() != surface.samples.size())
-        throw Error(ErrorCode::InvalidInput, "SurfaceFitter: samples_to_boundary returned " + std::to_string(hits.size()) +
-                                                 " hits for " + std::to_string(surface.samples.size()) + " samples");
+        throw Error(ErrorCode::InvalidInput, "SurfaceFitter: samples_to_boundary returned " +
+                                                 std::to_string(hits.size()) + " hits for " +
+                                                 std::to_string(surface.samples.size()) + " samples");
     std::vector<double> weight(nb, 0.0);
     for (std::size_t i = 0; i < hits.size(); ++i) {
         const int t = hits[i].triangle;
@@ -687,10 +711,13 @@ double SurfaceFitter::Impl::local_step() {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 64), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
             const std::size_t e0 = b * kLanes;
-            const EdgeBlockInput in{x.data(), topo.edges.data() + e0, std::min(kLanes, ne - e0),
+            const EdgeBlockInput in{x.data(),
+                                    topo.edges.data() + e0,
+                                    std::min(kLanes, ne - e0),
                                     edge_block_slots.data() + edge_block_begin[b],
                                     (edge_block_begin[b + 1] - edge_block_begin[b]) / static_cast<int>(4 * kLanes),
-                                    edge_weight.data() + e0, mean_target};
+                                    edge_weight.data() + e0,
+                                    mean_target};
             edge_block(in, edge_rhs.data() + e0, edge_energy.data() + e0);
         }
     });
@@ -710,8 +737,9 @@ double SurfaceFitter::Impl::local_step() {
         targets.assign(nb, Vec3{});
         surface.closest_points(query, targets);
         if (targets.size() != nb)
-            throw Error(ErrorCode::InvalidInput, "SurfaceFitter: the projector returned " + std::to_string(targets.size()) +
-                                                     " points for " + std::to_string(nb) + " queries");
+            throw Error(ErrorCode::InvalidInput, "SurfaceFitter: the projector returned " +
+                                                     std::to_string(targets.size()) + " points for " +
+                                                     std::to_string(nb) + " queries");
         gap = 0;
         for (std::size_t i = 0; i < nb; ++i) gap = std::max(gap, distance(query[i], targets[i]));
         std::vector<Vec3> correction;
@@ -741,8 +769,10 @@ double SurfaceFitter::Impl::local_step() {
             for (int i = vertex_edge_begin[v]; i < vertex_edge_begin[v + 1]; ++i) {
                 const int code = vertex_edges[static_cast<std::size_t>(i)];
                 const Vec3& g = edge_rhs[static_cast<std::size_t>(code >> 1)];
-                if (code & 1) s += g;  // v is the second endpoint
-                else s -= g;
+                if (code & 1)
+                    s += g;  // v is the second endpoint
+                else
+                    s -= g;
             }
             rhs[v] = s;
         }
@@ -823,8 +853,8 @@ void SurfaceFitter::Impl::solve_cg() {
     const Init init = tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, n, kGrain), Init{},
         [&](const tbb::blocked_range<std::size_t>& r, Init acc) {
-            cg_start(m, cg_x.data(), cg_b.data(), cg_r.data(), cg_p.data(), r.begin(), r.end(), acc.rz.v,
-                     acc.bb.v, acc.rr.v);
+            cg_start(m, cg_x.data(), cg_b.data(), cg_r.data(), cg_p.data(), r.begin(), r.end(), acc.rz.v, acc.bb.v,
+                     acc.rr.v);
             return acc;
         },
         [](Init a, const Init& b) {
@@ -888,12 +918,16 @@ void SurfaceFitter::Impl::solve() {
     for (std::size_t k = 0; k < n; ++k) work[k] = rhs[static_cast<std::size_t>(perm[k])];
     for (std::size_t j = 0; j < n; ++j) {  // L y = b
         const Vec3 yj = work[j];
-        for (int i = l_begin[j]; i < l_begin[j + 1]; ++i) work[static_cast<std::size_t>(l_row[static_cast<std::size_t>(i)])] -= l_val[static_cast<std::size_t>(i)] * yj;
+        for (int i = l_begin[j]; i < l_begin[j + 1]; ++i)
+            work[static_cast<std::size_t>(l_row[static_cast<std::size_t>(i)])] -=
+                l_val[static_cast<std::size_t>(i)] * yj;
     }
     for (std::size_t j = 0; j < n; ++j) work[j] /= d[j];
     for (std::size_t j = n; j-- > 0;) {  // L^T x = y
         Vec3 s = work[j];
-        for (int i = l_begin[j]; i < l_begin[j + 1]; ++i) s -= l_val[static_cast<std::size_t>(i)] * work[static_cast<std::size_t>(l_row[static_cast<std::size_t>(i)])];
+        for (int i = l_begin[j]; i < l_begin[j + 1]; ++i)
+            s -=
+                l_val[static_cast<std::size_t>(i)] * work[static_cast<std::size_t>(l_row[static_cast<std::size_t>(i)])];
         work[j] = s;
     }
     solution.resize(n);
@@ -921,10 +955,11 @@ SurfaceFitter::SurfaceFitter(const HexMesh& mesh, const SurfaceProjector& surfac
     s.topo = compute_hex_topology(mesh);
     s.build_incidence();
     s.compute_targets();
-    s.direct = options.solver == FitSolver::Direct ||
-               (options.solver == FitSolver::Auto && mesh.points.size() <= 1000);
-    if (s.direct) s.factorize();
-    else s.assemble();
+    s.direct = options.solver == FitSolver::Direct || (options.solver == FitSolver::Auto && mesh.points.size() <= 1000);
+    if (s.direct)
+        s.factorize();
+    else
+        s.assemble();
     s.stats = s.measure_all(s.hex_sj);
     s.hex_floor.resize(s.hex_sj.size());
     for (std::size_t h = 0; h < s.hex_sj.size(); ++h)
@@ -937,14 +972,18 @@ FitProgress SurfaceFitter::step() {
     Impl& s = *impl_;
     if (s.options.refresh_every > 0 && s.iteration > 0 && s.iteration % s.options.refresh_every == 0) {
         s.compute_targets();
-        if (s.direct) s.factorize();
-        else s.assemble();
+        if (s.direct)
+            s.factorize();
+        else
+            s.assemble();
     }
     FitProgress progress;
     progress.iteration = ++s.iteration;
     progress.energy = s.local_step();
-    if (s.direct) s.solve();
-    else s.solve_cg();
+    if (s.direct)
+        s.solve();
+    else
+        s.solve_cg();
     progress.solver_iterations = s.direct ? 0 : s.last_cg_iterations;
     const std::size_t nv = s.mesh.points.size();
     std::vector<Vec3>& x = s.mesh.points;
@@ -1088,8 +1127,10 @@ void SurfaceFitter::set_lambda(double lambda) {
         throw Error(ErrorCode::InvalidInput, "SurfaceFitter: lambda must be a positive finite number");
     Impl& s = *impl_;
     s.options.lambda = lambda;
-    if (s.direct) s.factorize();
-    else s.assemble();
+    if (s.direct)
+        s.factorize();
+    else
+        s.assemble();
 }
 
 FitResult fit_to_surface(const HexMesh& mesh, const SurfaceProjector& surface, const FitOptions& options) {
@@ -1130,7 +1171,8 @@ FitResult fit_to_surface(const HexMesh& mesh, const SurfaceProjector& surface, c
             const double before = energies[energies.size() - 1 - w];
             if (std::abs(before - p.energy) <= options.energy_tolerance * before) settled = true;
         }
-        if (p.max_move < options.move_tolerance && (!(lambda < lambda_final) || fitter.surface_gap() <= options.gap_goal))
+        if (p.max_move < options.move_tolerance &&
+            (!(lambda < lambda_final) || fitter.surface_gap() <= options.gap_goal))
             settled = true;
         const bool late = p.iteration >= options.max_iterations - options.max_iterations / 5;
         if (settled || late) {

@@ -47,25 +47,25 @@ enum class FitSolver {
 };
 
 struct FitOptions {
-    double lambda = 3.0;            // weight of the boundary-to-surface rows, relative to the edge rows (reference: 1),
-    double lambda_final = 30.0;     // raised x 3 each time the fit settles while the surface gap (the largest
-    double gap_goal = 0;            // vertex-to-surface or sample-to-boundary distance) is above gap_goal
-                                    // (fit_to_surface; a looser pull keeps better hexes)
-    int max_iterations = 300;       // iteration cap of fit_to_surface
-    double move_tolerance = 1e-5;   // stop when the largest move of a step < move_tolerance x mean target length ...
-    double energy_tolerance = 1e-3; // ... or when the energy decreased by less than this relative amount over the
-    int energy_window = 10;         //     last energy_window steps
-    int refresh_every = 5;          // recompute the edge target lengths from the current geometry every this many
-                                    // steps (then one refactorization); 0 = never (the matrix is factorized once)
+    double lambda = 3.0;           // weight of the boundary-to-surface rows, relative to the edge rows (reference: 1),
+    double lambda_final = 30.0;    // raised x 3 each time the fit settles while the surface gap (the largest
+    double gap_goal = 0;           // vertex-to-surface or sample-to-boundary distance) is above gap_goal
+                                   // (fit_to_surface; a looser pull keeps better hexes)
+    int max_iterations = 300;      // iteration cap of fit_to_surface
+    double move_tolerance = 1e-5;  // stop when the largest move of a step < move_tolerance x mean target length ...
+    double energy_tolerance = 1e-3;      // ... or when the energy decreased by less than this relative amount over the
+    int energy_window = 10;              //     last energy_window steps
+    int refresh_every = 5;               // recompute the edge target lengths from the current geometry every this many
+                                         // steps (then one refactorization); 0 = never (the matrix is factorized once)
     FitSolver solver = FitSolver::Auto;  // global step: direct (small meshes) or CG (see below)
-    int cg_max_iterations = 100;    // ConjugateGradient: iteration cap per global step ...
-    double cg_tolerance = 3e-2;     // ... and residual reduction per step (per coordinate, relative to the residual
-                                    // of the warm start; a fixed point has residual 0 and does not move)
-    bool guard_inversions = true;   // per hex: damp the moves of the vertices of a hex the step would invert or collapse
-    int max_backtracks = 6;         // halvings of a vertex's move before it stays where it was for this step
-    double sj_guard = 0.2;          // no step may take a hex below min(floor_fraction x its SJ before the fit,
-    double max_sj_drop = 0.1;       // sj_guard - max_sj_drop), nor invert a hex that was not inverted
-    double floor_fraction = 0.5;    // (see sj_guard; dimensionless)
+    int cg_max_iterations = 100;         // ConjugateGradient: iteration cap per global step ...
+    double cg_tolerance = 3e-2;    // ... and residual reduction per step (per coordinate, relative to the residual
+                                   // of the warm start; a fixed point has residual 0 and does not move)
+    bool guard_inversions = true;  // per hex: damp the moves of the vertices of a hex the step would invert or collapse
+    int max_backtracks = 6;        // halvings of a vertex's move before it stays where it was for this step
+    double sj_guard = 0.2;         // no step may take a hex below min(floor_fraction x its SJ before the fit,
+    double max_sj_drop = 0.1;      // sj_guard - max_sj_drop), nor invert a hex that was not inverted
+    double floor_fraction = 0.5;   // (see sj_guard; dimensionless)
     double two_sided_weight = 0.5;  // pull toward the surface samples (SurfaceProjector::samples), 0 = one-sided ...
     int two_sided_start = 50;       // ... from this step on (the boundary first settles on the surface), matching
     int two_sided_every = 2;        // the samples with the boundary again every this many steps
@@ -79,11 +79,11 @@ struct FitOptions {
 struct FitResult {
     HexMesh mesh;
     int iterations = 0;
-    bool converged = false;    // stopped by the progress rule (not by the cap)
+    bool converged = false;  // stopped by the progress rule (not by the cap)
     long inverted_before = 0, inverted_after = 0;
     double sj_min_before = 0, sj_min_after = 0;
-    double energy = 0;         // last energy
-    double max_distance = 0;   // largest distance of a boundary vertex to the surface at the end (0 if !fit_boundary)
+    double energy = 0;        // last energy
+    double max_distance = 0;  // largest distance of a boundary vertex to the surface at the end (0 if !fit_boundary)
 };
 
 // The local-global optimizer. Builds the target lengths and the normal matrix A^T A once and factorizes it

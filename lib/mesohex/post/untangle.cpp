@@ -15,8 +15,8 @@
 #include <tbb/parallel_reduce.h>
 
 #include "mesohex/core/error.h"
-#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/hex_convention.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/post/quality.h"
 
@@ -25,13 +25,13 @@ namespace {
 
 struct UntangleState {
     const HexMesh* mesh = nullptr;
-    std::vector<Vec3> x;                 // current positions (all vertices)
-    std::vector<Vec3> x0;                // start positions (attachment)
-    std::vector<int> free_vertices;      // ascending
-    std::vector<bool> attached;          // per vertex: boundary vertex moving with the attachment term
-    std::vector<int> active_hexes;       // ascending: hexes with at least one free vertex
-    std::vector<double> hex_size;        // per hex: h_hex
-    std::vector<int> vh_begin, vh_slot;  // per vertex: its (h * 8 + lv) slots
+    std::vector<Vec3> x;                        // current positions (all vertices)
+    std::vector<Vec3> x0;                       // start positions (attachment)
+    std::vector<int> free_vertices;             // ascending
+    std::vector<bool> attached;                 // per vertex: boundary vertex moving with the attachment term
+    std::vector<int> active_hexes;              // ascending: hexes with at least one free vertex
+    std::vector<double> hex_size;               // per hex: h_hex
+    std::vector<int> vh_begin, vh_slot;         // per vertex: its (h * 8 + lv) slots
     std::vector<std::array<Vec3, 8>> hex_grad;  // per active hex (index in active_hexes)
     double theta = 0.5, eps = 1e-6, attach = 0, attach_scale = 1;
 };
@@ -64,7 +64,8 @@ double hex_energy(const UntangleState& pb, int h, std::array<Vec3, 8>* grad) {
     const std::array<int, 8>& hex = pb.mesh->hexes[static_cast<std::size_t>(h)];
     const double inv_s = 1.0 / pb.hex_size[static_cast<std::size_t>(h)];
     std::array<Vec3, 8> p;
-    for (int i = 0; i < 8; ++i) p[static_cast<std::size_t>(i)] = pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(i)])];
+    for (int i = 0; i < 8; ++i)
+        p[static_cast<std::size_t>(i)] = pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(i)])];
     if (grad) grad->fill(Vec3{});
     double energy = 0;
     const double eps2 = pb.eps * pb.eps;
@@ -139,7 +140,8 @@ double evaluate(UntangleState& pb, std::vector<Vec3>* grad) {
         for (int s = pb.vh_begin[static_cast<std::size_t>(v)]; s < pb.vh_begin[static_cast<std::size_t>(v) + 1]; ++s) {
             const int slot = pb.vh_slot[static_cast<std::size_t>(s)];
             const auto it = std::lower_bound(pb.active_hexes.begin(), pb.active_hexes.end(), slot / 8);
-            g += pb.hex_grad[static_cast<std::size_t>(it - pb.active_hexes.begin())][static_cast<std::size_t>(slot % 8)];
+            g +=
+                pb.hex_grad[static_cast<std::size_t>(it - pb.active_hexes.begin())][static_cast<std::size_t>(slot % 8)];
         }
         if (pb.attached[static_cast<std::size_t>(v)])
             g += (2 * k) * (pb.x[static_cast<std::size_t>(v)] - pb.x0[static_cast<std::size_t>(v)]);
@@ -159,9 +161,10 @@ double min_corner_det(const UntangleState& pb) {
                 for (int c = 0; c < 8; ++c) {
                     const std::array<int, 3>& nb = kHexCornerNeighbors[static_cast<std::size_t>(c)];
                     const Vec3& xc = pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(c)])];
-                    const double det = det3((pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(nb[0])])] - xc) * inv_s,
-                                            (pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(nb[1])])] - xc) * inv_s,
-                                            (pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(nb[2])])] - xc) * inv_s);
+                    const double det =
+                        det3((pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(nb[0])])] - xc) * inv_s,
+                             (pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(nb[1])])] - xc) * inv_s,
+                             (pb.x[static_cast<std::size_t>(hex[static_cast<std::size_t>(nb[2])])] - xc) * inv_s);
                     acc = std::min(acc, det);
                 }
                 std::array<Vec3, 8> p;
@@ -195,7 +198,9 @@ double minimize(UntangleState& pb, int max_iterations, double length_scale) {
             for (std::size_t i = 0; i < n; ++i) q[i] -= alpha[k] * history[k].second[i];
         }
         double gamma = 1;
-        if (!history.empty()) gamma = vdot(history.back().first, history.back().second) / vdot(history.back().second, history.back().second);
+        if (!history.empty())
+            gamma =
+                vdot(history.back().first, history.back().second) / vdot(history.back().second, history.back().second);
         for (Vec3& v : q) v *= gamma;
         for (std::size_t k = 0; k < history.size(); ++k) {
             const double rho = 1.0 / vdot(history[k].second, history[k].first);
@@ -220,7 +225,8 @@ double minimize(UntangleState& pb, int max_iterations, double length_scale) {
         double e_new = energy;
         bool accepted = false;
         for (int ls = 0; ls < 40; ++ls) {
-            for (std::size_t i = 0; i < n; ++i) pb.x[static_cast<std::size_t>(pb.free_vertices[i])] = x_start[i] + step * dir[i];
+            for (std::size_t i = 0; i < n; ++i)
+                pb.x[static_cast<std::size_t>(pb.free_vertices[i])] = x_start[i] + step * dir[i];
             e_new = evaluate(pb, nullptr);
             if (std::isfinite(e_new) && e_new <= energy + 1e-4 * step * slope) {
                 accepted = true;
@@ -261,7 +267,8 @@ Inversion inversion_of(const HexMesh& mesh, const std::vector<Vec3>& x, double t
     std::vector<double> sj(mesh.hexes.size());
     tbb::parallel_for(std::size_t{0}, mesh.hexes.size(), [&](std::size_t h) {
         std::array<Vec3, 8> c;
-        for (int i = 0; i < 8; ++i) c[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(mesh.hexes[h][static_cast<std::size_t>(i)])];
+        for (int i = 0; i < 8; ++i)
+            c[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(mesh.hexes[h][static_cast<std::size_t>(i)])];
         sj[h] = scaled_jacobian(c);
     });
     Inversion inv;
@@ -278,7 +285,8 @@ Inversion inversion_of(const HexMesh& mesh, const std::vector<Vec3>& x, double t
 double inversion_sj(const HexMesh& mesh, const std::vector<Vec3>& x, int h) {
     std::array<Vec3, 8> c;
     for (int i = 0; i < 8; ++i)
-        c[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(mesh.hexes[static_cast<std::size_t>(h)][static_cast<std::size_t>(i)])];
+        c[static_cast<std::size_t>(i)] =
+            x[static_cast<std::size_t>(mesh.hexes[static_cast<std::size_t>(h)][static_cast<std::size_t>(i)])];
     return scaled_jacobian(c);
 }
 
@@ -341,7 +349,8 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
         std::vector<int> fill(pb.vh_begin.begin(), pb.vh_begin.end() - 1);
         for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
             for (int lv = 0; lv < 8; ++lv)
-                pb.vh_slot[static_cast<std::size_t>(fill[static_cast<std::size_t>(mesh.hexes[h][static_cast<std::size_t>(lv)])]++)] =
+                pb.vh_slot[static_cast<std::size_t>(
+                    fill[static_cast<std::size_t>(mesh.hexes[h][static_cast<std::size_t>(lv)])]++)] =
                     static_cast<int>(h) * 8 + lv;
     }
 

@@ -10,26 +10,26 @@
 namespace mesohex {
 
 struct UntangleProgress {
-    int round = 0;        // 1-based epsilon round
-    double epsilon = 0;   // regularization of that round
-    double energy = 0;    // at the end of the round
-    double min_det = 0;   // smallest normalized corner determinant at the end of the round
-    long inverted = 0;    // hexes with scaled Jacobian <= 0 at the end of the round
+    int round = 0;       // 1-based epsilon round
+    double epsilon = 0;  // regularization of that round
+    double energy = 0;   // at the end of the round
+    double min_det = 0;  // smallest normalized corner determinant at the end of the round
+    long inverted = 0;   // hexes with scaled Jacobian <= 0 at the end of the round
 };
 
 struct UntangleOptions {
-    int max_rounds = 40;          // epsilon rounds (each ends with an L-BFGS minimization)
+    int max_rounds = 40;             // epsilon rounds (each ends with an L-BFGS minimization)
     int max_inner_iterations = 200;  // L-BFGS iterations per round
-    double volume_weight = 0.5;   // theta: f = (1 - theta) tr(J^T J) / chi^(2/3) + theta (det^2 + 1) / chi
-    int region_rings = 3;         // vertices moved: those within this many hex rings of an inverted hex; < 0 = all
-    bool fix_boundary = true;     // false: boundary vertices move too, softly attached to their start position
-    double boundary_attach = 10;  // weight of that attachment (x |x - x0|^2 / h^2, h = mean edge length)
-    std::vector<bool> frozen;     // optional, per vertex: never moved
-    int extra_rounds = 1;         // rounds run after the last inversion disappeared (improve the margin)
-    double target_sj = 0;         // the hexes worked on: SJ <= target_sj (0: the inverted ones). A positive value
-                                  // makes this a quality pass: the region grows around the hexes below it, and the
-                                  // state kept is the one with the fewest inverted hexes, then fewest below target,
-                                  // then the largest min SJ (never more inverted hexes than at the start)
+    double volume_weight = 0.5;      // theta: f = (1 - theta) tr(J^T J) / chi^(2/3) + theta (det^2 + 1) / chi
+    int region_rings = 3;            // vertices moved: those within this many hex rings of an inverted hex; < 0 = all
+    bool fix_boundary = true;        // false: boundary vertices move too, softly attached to their start position
+    double boundary_attach = 10;     // weight of that attachment (x |x - x0|^2 / h^2, h = mean edge length)
+    std::vector<bool> frozen;        // optional, per vertex: never moved
+    int extra_rounds = 1;            // rounds run after the last inversion disappeared (improve the margin)
+    double target_sj = 0;            // the hexes worked on: SJ <= target_sj (0: the inverted ones). A positive value
+                                     // makes this a quality pass: the region grows around the hexes below it, and the
+                                     // state kept is the one with the fewest inverted hexes, then fewest below target,
+                                     // then the largest min SJ (never more inverted hexes than at the start)
     std::function<void(const UntangleProgress&)> progress;  // optional, called after every round
 };
 

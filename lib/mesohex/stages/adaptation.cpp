@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <set>
 #include <string>
@@ -64,9 +64,8 @@ void validate(const Skeleton& s, const AdaptationOptions& o) {
     const int n = static_cast<int>(s.points.size());
     if (!(o.density > 0) || !std::isfinite(o.density)) invalid("density must be a positive number");
     if (s.radii.size() != s.points.size())
-        invalid("the skeleton (" + std::to_string(n) + " vertices, " + std::to_string(s.edges.size()) +
-                " edges) has " + std::to_string(s.radii.size()) +
-                " radii: adaptation needs one radius per vertex (fill radii first)");
+        invalid("the skeleton (" + std::to_string(n) + " vertices, " + std::to_string(s.edges.size()) + " edges) has " +
+                std::to_string(s.radii.size()) + " radii: adaptation needs one radius per vertex (fill radii first)");
     for (int v = 0; v < n; ++v) {
         if (!is_finite(s.points[v]))
             invalid("vertex " + std::to_string(v) + " has a non-finite position",
@@ -78,13 +77,15 @@ void validate(const Skeleton& s, const AdaptationOptions& o) {
     for (int e = 0; e < static_cast<int>(s.edges.size()); ++e) {
         const auto [a, b] = s.edges[e];
         const ElementRef where{ElementRef::Kind::SkeletonEdge, e};
-        if (a < 0 || a >= n || b < 0 || b >= n) invalid("edge " + std::to_string(e) + " has a vertex out of range", where);
+        if (a < 0 || a >= n || b < 0 || b >= n)
+            invalid("edge " + std::to_string(e) + " has a vertex out of range", where);
         if (a == b) invalid("edge " + std::to_string(e) + " is a self-loop", where);
     }
     for (int f = 0; f < static_cast<int>(s.faces.size()); ++f)
         for (const int v : s.faces[f])
             if (v < 0 || v >= n)
-                invalid("face " + std::to_string(f) + " has a vertex out of range", {ElementRef::Kind::SkeletonFace, f});
+                invalid("face " + std::to_string(f) + " has a vertex out of range",
+                        {ElementRef::Kind::SkeletonFace, f});
 }
 
 double sin_half_turn(const Vec3& prev, const Vec3& here, const Vec3& next) {
@@ -402,15 +403,15 @@ namespace {
 struct BranchView {
     const Skeleton& s;
     FaceMembership faces;
-    std::vector<std::vector<int>> incident;           // per vertex: its edges, in edge order
-    std::vector<bool> branch_edge;                    // per edge: not a side of a leaflet face
-    std::map<std::pair<int, int>, int> side_count;    // per face side (sorted vertex pair): number of faces
-    std::vector<Branch> branches;                      // in order of each branch's first edge id
+    std::vector<std::vector<int>> incident;         // per vertex: its edges, in edge order
+    std::vector<bool> branch_edge;                  // per edge: not a side of a leaflet face
+    std::map<std::pair<int, int>, int> side_count;  // per face side (sorted vertex pair): number of faces
+    std::vector<Branch> branches;                   // in order of each branch's first edge id
     // Vertex positions and radii as the branches see them: the input, then merged bridge ends after collapses.
     std::vector<Vec3> pos;
     std::vector<double> rad;
-    std::vector<Polyline> polylines;                  // per branch
-    std::vector<std::array<EndReach, 2>> end_reach;   // per branch and end
+    std::vector<Polyline> polylines;                 // per branch
+    std::vector<std::array<EndReach, 2>> end_reach;  // per branch and end
 
     bool is_joint(int v) const { return incident[v].size() == 2 && !faces.on_face[v]; }
     bool is_free_branching_point(int v) const { return incident[v].size() >= 3 && !faces.on_face[v]; }
@@ -431,7 +432,8 @@ std::vector<Branch> branches_in_resampling_order(const BranchView& view) {
         joint[v] = view.is_joint(v);
     }
     std::vector<int> edge_branch;
-    std::vector<Branch> branches = extract_branches(s, vertex_edge_begin, vertex_edges, branch_edge, joint, edge_branch);
+    std::vector<Branch> branches =
+        extract_branches(s, vertex_edge_begin, vertex_edges, branch_edge, joint, edge_branch);
     std::vector<std::pair<int, std::size_t>> order;  // (smallest edge id, branch)
     for (std::size_t bi = 0; bi < branches.size(); ++bi) {
         Branch& b = branches[bi];
@@ -476,14 +478,14 @@ void build_polylines(BranchView& view) {
 BranchView make_branch_view(const Skeleton& s) {
     const int n = static_cast<int>(s.points.size());
     const int ne = static_cast<int>(s.edges.size());
-    BranchView view{s, face_membership(s), std::vector<std::vector<int>>(n), std::vector<bool>(ne), {}, {}, s.points,
-                    s.radii, {}, {}};
+    BranchView view{
+        s, face_membership(s), std::vector<std::vector<int>>(n), std::vector<bool>(ne), {}, {}, s.points, s.radii, {},
+        {}};
     for (int e = 0; e < ne; ++e) {
         view.incident[s.edges[e][0]].push_back(e);
         view.incident[s.edges[e][1]].push_back(e);
     }
-    for (int e = 0; e < ne; ++e)
-        view.branch_edge[e] = !view.faces.is_side(s.edges[e][0], s.edges[e][1]);
+    for (int e = 0; e < ne; ++e) view.branch_edge[e] = !view.faces.is_side(s.edges[e][0], s.edges[e][1]);
     for (const std::vector<int>& f : s.faces)
         for (std::size_t i = 0; i < f.size(); ++i) ++view.side_count[std::minmax(f[i], f[(i + 1) % f.size()])];
     view.branches = branches_in_resampling_order(view);
@@ -522,10 +524,9 @@ double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
         normal += dot(fn, normal) < 0 ? -1.0 * fn : fn;  // faces need not be oriented consistently yet
         ++faces_at;
     }
-    const bool rooted =
-        to_border.empty() ||
-        (to_border.size() == 2 &&
-         border_root(to_border[0], to_border[1], inward, normal, branch, faces_at) != BorderRoot::None);
+    const bool rooted = to_border.empty() ||
+                        (to_border.size() == 2 &&
+                         border_root(to_border[0], to_border[1], inward, normal, branch, faces_at) != BorderRoot::None);
     return rooted ? o.root_extent * length / leaflet_edges : 0.0;
 }
 
@@ -663,7 +664,8 @@ Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions
         for (const int v : members[ca])
             for (const int bj : branches_at[v]) {
                 if (bj == static_cast<int>(bi) || col.collapsed[bj]) continue;
-                const int x = classes.find(branches[bj].vertices.front()), y = classes.find(branches[bj].vertices.back());
+                const int x = classes.find(branches[bj].vertices.front()),
+                          y = classes.find(branches[bj].vertices.back());
                 other_link = other_link || (x == ca && y == cc) || (x == cc && y == ca);
             }
         if (other_link) continue;

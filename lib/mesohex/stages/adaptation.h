@@ -94,12 +94,12 @@ struct AdaptationResult {
     // Per input vertex: its output vertex, or -1 for a branch joint that was resampled away. Both ends of a collapsed
     // bridge map to the merged vertex.
     std::vector<int> vertex_map;
-    int collapsed_bridges = 0;     // each one removes one branching point, one vertex and one edge
-    int turn_removed_joints = 0;   // joints removed by the turn criterion (final branches only)
-    int merged_vertices = 0;       // zero-length (merge_distance) branch edges contracted: one vertex and edge each
-    int duplicate_edges = 0;       // repeated edges dropped (input repeats, or made by a merge or re-attachment)
-    int reattached_edges = 0;      // branch edges moved from a shared vertex to the nearer edge's end
-                                   // (coincident_angle)
+    int collapsed_bridges = 0;    // each one removes one branching point, one vertex and one edge
+    int turn_removed_joints = 0;  // joints removed by the turn criterion (final branches only)
+    int merged_vertices = 0;      // zero-length (merge_distance) branch edges contracted: one vertex and edge each
+    int duplicate_edges = 0;      // repeated edges dropped (input repeats, or made by a merge or re-attachment)
+    int reattached_edges = 0;     // branch edges moved from a shared vertex to the nearer edge's end
+                                  // (coincident_angle)
 };
 AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOptions& o = {});
 

@@ -14,9 +14,7 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180;
 
-double angle_between(const Vec3& a, const Vec3& b) {
-    return std::atan2(norm(cross(a, b)), dot(a, b));
-}
+double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 
 // Eigenvector of the largest eigenvalue of a symmetric 4 x 4 matrix (cyclic Jacobi, fixed sweeps: deterministic).
 std::array<double, 4> top_eigenvector(std::array<std::array<double, 4>, 4> a) {
@@ -223,8 +221,8 @@ std::vector<CubeBlock> find_compatible_blocks(const Skeleton& skeleton, const Sk
             const int e = inc[i];
             const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
             dirs[i] = skeleton.points[w] - skeleton.points[v];
-            free_ends = free_ends && (an.vertex_class[w] == VertexClass::Joint ||
-                                      an.vertex_class[w] == VertexClass::Extremity);
+            free_ends =
+                free_ends && (an.vertex_class[w] == VertexClass::Joint || an.vertex_class[w] == VertexClass::Extremity);
         }
         if (!free_ends) continue;
         const CubeFit fit = fit_cube_frame(dirs, options);
@@ -237,9 +235,9 @@ void set_block_surface(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                        ConnectionSurfaces& cs) {
     const int v = block.vertex, n = static_cast<int>(block.labels.size());
     const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
-    MESOHEX_CHECK(cs.point_begin[v + 1] - p0 == 4 * n && cs.quad_begin[v + 1] - q0 == n &&
-                      cs.edge_begin[v + 1] - e0 == 4 * n,
-                  "block surface ranges");
+    MESOHEX_CHECK(
+        cs.point_begin[v + 1] - p0 == 4 * n && cs.quad_begin[v + 1] - q0 == n && cs.edge_begin[v + 1] - e0 == 4 * n,
+        "block surface ranges");
     for (int i = 0; i < n; ++i) {
         const std::array<int, 9> sec = block_section(block.labels[i]);
         for (int k = 0; k < 4; ++k) {

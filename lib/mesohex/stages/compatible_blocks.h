@@ -24,11 +24,11 @@ struct SkeletonAnalysis;
 struct ConnectionSurfaces;
 
 struct CompatibleBlockOptions {
-    bool enabled = true;              // false (`--no-blocks`): the paper's layout (sphere partition) everywhere
-    double axis_tolerance_deg = 20;   // degrees: largest angle between a branch direction and its cube axis
-    double pair_tolerance_deg = 25;   // degrees: largest error of a pair angle against the angle of its two axes
-    int min_branches = 3;             // branching points with fewer or more branch edges keep the partition
-    int max_branches = 6;             // (see min_branches)
+    bool enabled = true;             // false (`--no-blocks`): the paper's layout (sphere partition) everywhere
+    double axis_tolerance_deg = 20;  // degrees: largest angle between a branch direction and its cube axis
+    double pair_tolerance_deg = 25;  // degrees: largest error of a pair angle against the angle of its two axes
+    int min_branches = 3;            // branching points with fewer or more branch edges keep the partition
+    int max_branches = 6;            // (see min_branches)
 };
 
 // Signed cube axes are numbered 2a + s: a = 0, 1, 2 (x, y, z of the block frame), s = 0 for +, 1 for -.
@@ -37,10 +37,10 @@ Vec3 signed_axis(int label);
 // The frame fitted to a set of directions and its acceptance.
 struct CubeFit {
     bool accepted = false;
-    std::array<Vec3, 3> axes{};   // orthonormal, right-handed: the block's x, y, z in world coordinates
-    std::vector<int> labels;      // per direction: its signed axis
-    double max_axis_angle = 0;    // radians: largest angle between a direction and its axis
-    double max_pair_error = 0;    // radians: largest |pair angle - angle of the two axes|
+    std::array<Vec3, 3> axes{};  // orthonormal, right-handed: the block's x, y, z in world coordinates
+    std::vector<int> labels;     // per direction: its signed axis
+    double max_axis_angle = 0;   // radians: largest angle between a direction and its axis
+    double max_pair_error = 0;   // radians: largest |pair angle - angle of the two axes|
 };
 
 // Seeds the frame with d_0 and the direction most orthogonal to it (least |d_0 . d_j|, lowest j on ties), then 3

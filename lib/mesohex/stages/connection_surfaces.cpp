@@ -80,7 +80,7 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
     double worst = 10;
     for (int i = 0; i < nq; ++i) worst = std::min(worst, margin_of(i));
     if (worst >= good_margin) return part;  // already comfortable: most junctions of degree <= 6 stop here
-    std::array<double, 8> cos_a, sin_a;  // the 8 trial directions (a = k x 45 deg)
+    std::array<double, 8> cos_a, sin_a;     // the 8 trial directions (a = k x 45 deg)
     for (int k = 0; k < 8; ++k) {
         const double a = k * 0.7853981633974483;
         cos_a[k] = std::cos(a);
@@ -175,8 +175,9 @@ void junction_terms(const JunctionModel& m, const std::vector<Vec3>& pts, std::v
         if (static_cast<int>(i) >= m.branch_quads || m.chunks.empty()) {
             const double w = static_cast<int>(i) < m.branch_quads ? kBranchMarginWeight : 1.0;
             // leaflets: inside (by ~6 deg) is enough; branches without a chunk model: the margin itself
-            terms.push_back(mg <= -1 ? -1.0 : static_cast<int>(i) < m.branch_quads ? w * std::sin(mg)
-                                                                                  : std::min(1.0, 10 * std::sin(mg)));
+            terms.push_back(mg <= -1                               ? -1.0
+                            : static_cast<int>(i) < m.branch_quads ? w * std::sin(mg)
+                                                                   : std::min(1.0, 10 * std::sin(mg)));
             continue;
         }
         // Branch: its weighted margin, and the 8 corners of its first chunk's 4 hexes.
@@ -203,14 +204,8 @@ void junction_terms(const JunctionModel& m, const std::vector<Vec3>& pts, std::v
         const Vec3 w = c.length * d;
         for (int k = 0; k < 4; ++k) {
             const int k1 = (k + 1) & 3;
-            const std::array<Vec3, 8> x{Vec3{},
-                                        m.r * q[k],
-                                        m.r * normalized(q[k] + q[k1]),
-                                        m.r * q[k1],
-                                        w,
-                                        w + rw * fd[k],
-                                        w + rw * normalized(fd[k] + fd[k1]),
-                                        w + rw * fd[k1]};
+            const std::array<Vec3, 8> x{Vec3{}, m.r * q[k],     m.r * normalized(q[k] + q[k1]),      m.r * q[k1],
+                                        w,      w + rw * fd[k], w + rw * normalized(fd[k] + fd[k1]), w + rw * fd[k1]};
             for (std::size_t corner = 0; corner < 8; ++corner) terms.push_back(hex_corner_value(x, corner));
         }
     }
@@ -436,10 +431,10 @@ ConnectionSurfaces allocate_surfaces(const SkeletonAnalysis& an, int nv, int ne,
     for (int b = 0; b < static_cast<int>(cs.blocks.size()); ++b) cs.vertex_block[cs.blocks[b].vertex] = b;
     for (int v = 0; v < nv; ++v) {
         const int nbr = an.vertex_branch_edges[v];
-        const SurfaceSize sz = roots_branch(an, v)         ? SurfaceSize{4, 1, 4}
-                               : cs.vertex_block[v] >= 0 ? SurfaceSize{4 * nbr, nbr, 4 * nbr}
-                                                         : surface_size(an.vertex_class[v],
-                                                                        nbr + an.vertex_boundary_edges[v] / 2);
+        const SurfaceSize sz = roots_branch(an, v) ? SurfaceSize{4, 1, 4}
+                               : cs.vertex_block[v] >= 0
+                                   ? SurfaceSize{4 * nbr, nbr, 4 * nbr}
+                                   : surface_size(an.vertex_class[v], nbr + an.vertex_boundary_edges[v] / 2);
         cs.point_begin[v + 1] = cs.point_begin[v] + sz.points;
         cs.quad_begin[v + 1] = cs.quad_begin[v] + sz.quads;
         cs.edge_begin[v + 1] = cs.edge_begin[v] + sz.edges;
@@ -463,7 +458,7 @@ bool is_junction(const SkeletonAnalysis& an, int v) {
 // The leaflet sides at every junction (LL-joint or branching point with leaflets) and the faces at every junction
 // and BL-joint.
 struct LeafletSides {
-    std::vector<std::vector<Vec3>> dir, nor;                    // per vertex and side: mean direction, normal sum
+    std::vector<std::vector<Vec3>> dir, nor;                      // per vertex and side: mean direction, normal sum
     std::vector<std::vector<std::array<int, 3>>> junction_faces;  // per vertex: (face, corner, side)
 };
 
@@ -530,8 +525,9 @@ void side_direction_and_normal(const Skeleton& skeleton, const SkeletonAnalysis&
     }
     if (!(norm(dir) > 1e-9))
         throw Error(ErrorCode::UnsupportedConfiguration,
-                    "skeleton vertex " + std::to_string(v) + ": a leaflet at it has no mean direction (its edges "
-                    "there cancel out); edit: move the vertex or its leaflet neighbours",
+                    "skeleton vertex " + std::to_string(v) +
+                        ": a leaflet at it has no mean direction (its edges "
+                        "there cancel out); edit: move the vertex or its leaflet neighbours",
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     dir = normalized(dir);
 }
@@ -560,7 +556,8 @@ LeafletSides find_leaflet_sides(const Skeleton& skeleton, const SkeletonAnalysis
             const std::vector<int> side = group_leaflet_sides(an, fl, nl, v);
             ls.dir[v].assign(nl, Vec3{});
             ls.nor[v].assign(nl, Vec3{});
-            for (int s = 0; s < nl; ++s) side_direction_and_normal(skeleton, an, fl, side, v, s, ls.dir[v][s], ls.nor[v][s]);
+            for (int s = 0; s < nl; ++s)
+                side_direction_and_normal(skeleton, an, fl, side, v, s, ls.dir[v][s], ls.nor[v][s]);
             const int nb = an.vertex_branch_edges[v];
             for (int i = 0; i < static_cast<int>(fl.size()); ++i) {
                 cs.face_corner_quad[fl[i].first][fl[i].second] = nb + side[i];
@@ -679,15 +676,23 @@ void add_half_chunk_model_hexes(const ModelInputs& in, int v, int f, int ke, con
         ow = leaflet_out_distance(skeleton, in.an, in.leaf, w, rw);
     o = ow * o;
     // far end: centre, out, out-up, out-down, up, down
-    const std::array<ModelVertex, 6> far{fixed(p), fixed(p + o), fixed(p + o + nn), fixed(p + o - nn),
-                                         fixed(p + nn), fixed(p - nn)};
+    const std::array<ModelVertex, 6> far{fixed(p),          fixed(p + o),  fixed(p + o + nn),
+                                         fixed(p + o - nn), fixed(p + nn), fixed(p - nn)};
     std::array<ModelVertex, 6> near;
     if (at_a)  // e leaves v: out q_{k+2}, out-up mid(q_{k+1}, q_{k+2}), out-down mid(q_{k+2}, q_{k+3})
-        near = {kModelCentre, model_point(q[(r + 2) & 3]), model_mid(q[(r + 1) & 3], q[(r + 2) & 3]),
-                model_mid(q[(r + 2) & 3], q[(r + 3) & 3]), model_point(q[(r + 1) & 3]), model_point(q[(r + 3) & 3])};
+        near = {kModelCentre,
+                model_point(q[(r + 2) & 3]),
+                model_mid(q[(r + 1) & 3], q[(r + 2) & 3]),
+                model_mid(q[(r + 2) & 3], q[(r + 3) & 3]),
+                model_point(q[(r + 1) & 3]),
+                model_point(q[(r + 3) & 3])};
     else  // e arrives at v: out q_k, out-up mid(q_k, q_{k+1}), out-down mid(q_{k+3}, q_k)
-        near = {kModelCentre, model_point(q[r & 3]), model_mid(q[r & 3], q[(r + 1) & 3]),
-                model_mid(q[(r + 3) & 3], q[r & 3]), model_point(q[(r + 1) & 3]), model_point(q[(r + 3) & 3])};
+        near = {kModelCentre,
+                model_point(q[r & 3]),
+                model_mid(q[r & 3], q[(r + 1) & 3]),
+                model_mid(q[(r + 3) & 3], q[r & 3]),
+                model_point(q[(r + 1) & 3]),
+                model_point(q[(r + 3) & 3])};
     const std::array<ModelVertex, 6>& A = at_a ? near : far;
     const std::array<ModelVertex, 6>& B = at_a ? far : near;
     ModelHex hu, hd;
@@ -881,8 +886,8 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
         }
     } catch (const Error& err) {
         throw Error(ErrorCode::NumericalFailure,
-                    "no connection surface at skeleton vertex " + std::to_string(v) + " (degree " +
-                        std::to_string(n) + "): " + err.what(),
+                    "no connection surface at skeleton vertex " + std::to_string(v) + " (degree " + std::to_string(n) +
+                        "): " + err.what(),
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     }
     return part;

@@ -23,11 +23,11 @@ struct ConnectionSurfaces {
     std::vector<int> quad_begin;
     std::vector<int> edge_begin;
     // Flat arrays. Quad and edge entries hold point indices LOCAL to their vertex's surface.
-    std::vector<Vec3> directions;                 // unit direction per surface point (zero for extremity/joint)
-    std::vector<std::array<int, 4>> quads;        // local point indices, CCW seen from outside
-    std::vector<std::array<int, 4>> quad_edges;   // local edge index of quad side k = (q_k, q_{k+1})
-    std::vector<std::array<int, 2>> edges;        // local point indices of each surface edge
-    std::vector<int> point_valence;               // number of quads containing each point
+    std::vector<Vec3> directions;                // unit direction per surface point (zero for extremity/joint)
+    std::vector<std::array<int, 4>> quads;       // local point indices, CCW seen from outside
+    std::vector<std::array<int, 4>> quad_edges;  // local edge index of quad side k = (q_k, q_{k+1})
+    std::vector<std::array<int, 2>> edges;       // local point indices of each surface edge
+    std::vector<int> point_valence;              // number of quads containing each point
     // Per skeleton edge and side (0: edges[e][0], 1: edges[e][1]): the GLOBAL quad index registered there, or -1.
     std::vector<std::array<int, 2>> edge_quad;
     // Leaflets at LL-joints and branching points (virtual branches, after the branch quads of the vertex): per leaflet

@@ -126,8 +126,7 @@ BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& 
                         g_best = g;
                     }
                 }
-                const double theta =
-                    std::atan2(dot(cross(arrival.r, g_best.r), arrival.t), dot(arrival.r, g_best.r));
+                const double theta = std::atan2(dot(cross(arrival.r, g_best.r), arrival.t), dot(arrival.r, g_best.r));
                 out.edge_rotation[edges[m - 1]][side_m] = static_cast<std::uint8_t>(best);
                 out.branch_defect[b] = theta;
                 // Twist budget per edge: its length, except that an edge ending on a compatible block's face takes

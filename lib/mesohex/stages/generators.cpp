@@ -120,8 +120,12 @@ Params make_params(const std::string& shape, const GeneratorOptions& o, std::arr
 Skeleton make_plate(const Params& p) {
     Skeleton s;
     Lattice lat(p.n, p.m);
-    fill_lattice(s, lat, [&](int i, int j) { return Vec3{(i - 0.5 * p.n) * p.L, (j - 0.5 * p.m) * p.L, 0.0}; },
-                 p.r);
+    fill_lattice(
+        s, lat,
+        [&](int i, int j) {
+            return Vec3{(i - 0.5 * p.n) * p.L, (j - 0.5 * p.m) * p.L, 0.0};
+        },
+        p.r);
     add_lattice_quads(s, lat);
     return s;
 }
@@ -166,8 +170,9 @@ Skeleton make_box(const Params& p) {
 // have length L. Radius = 0.3 x the mean local edge length (edges are shorter on the inner side).
 Skeleton make_torus(const Params& p) {
     if (p.n < p.m + 4)
-        throw Error(ErrorCode::InvalidInput, "generate torus: n (around the axis) must be at least m + 4 so that "
-                                             "the hole stays open");
+        throw Error(ErrorCode::InvalidInput,
+                    "generate torus: n (around the axis) must be at least m + 4 so that "
+                    "the hole stays open");
     Skeleton s;
     const double big = p.n * p.L / (2 * kPi), small = p.m * p.L / (2 * kPi);
     std::vector<int> id(static_cast<std::size_t>(p.n * p.m));
@@ -198,8 +203,8 @@ Skeleton make_fan(const Params& p, const std::vector<double>& angles) {
         const Vec3 d{std::cos(angle), std::sin(angle), 0};
         Lattice lat(p.m, p.n);
         for (int j = 0; j <= p.n; ++j) lat.at(0, j) = fan[static_cast<std::size_t>(j)];
-        fill_lattice(s, lat, [&](int i, int j) { return s.points[fan[static_cast<std::size_t>(j)]] + i * p.L * d; },
-                     p.r);
+        fill_lattice(
+            s, lat, [&](int i, int j) { return s.points[fan[static_cast<std::size_t>(j)]] + i * p.L * d; }, p.r);
         add_lattice_quads(s, lat);
     }
     return s;
@@ -231,13 +236,14 @@ Skeleton make_hand(const Params& p) {
     const int cols = 8, rows = p.m;
     const double a = 0.75 * p.L;
     Lattice lat(cols, rows);
-    fill_lattice(s, lat,
-                 [&](int i, int j) {
-                     Vec3 pos{i * a, j * p.L, 0};
-                     if (j == rows) pos.y += (i % 2 == 1 ? 0.5 : -0.5) * a;
-                     return pos;
-                 },
-                 p.r);
+    fill_lattice(
+        s, lat,
+        [&](int i, int j) {
+            Vec3 pos{i * a, j * p.L, 0};
+            if (j == rows) pos.y += (i % 2 == 1 ? 0.5 : -0.5) * a;
+            return pos;
+        },
+        p.r);
     add_lattice_quads(s, lat);
     const std::array<double, 4> spread{0.12, 0.04, -0.04, -0.12};  // fingers fan out slightly (radians / edge)
     const std::array<double, 4> length{0.6, 0.75, 0.8, 0.7};       // edge length of each finger, x L
@@ -256,11 +262,21 @@ Skeleton make_chair(const Params& p) {
     const double leg_edge = 0.75 * p.L;
     const double height = leg_edge * (p.m - 1) + leg_edge * std::sqrt(0.5);
     Lattice seat(n, n);
-    fill_lattice(s, seat, [&](int i, int j) { return Vec3{i * p.L, j * p.L, height}; }, p.r);
+    fill_lattice(
+        s, seat,
+        [&](int i, int j) {
+            return Vec3{i * p.L, j * p.L, height};
+        },
+        p.r);
     add_lattice_quads(s, seat);
     Lattice back(n, n);
     for (int i = 0; i <= n; ++i) back.at(i, 0) = seat.at(i, n - 1);
-    fill_lattice(s, back, [&](int i, int k) { return Vec3{i * p.L, (n - 1) * p.L, height + k * p.L}; }, p.r);
+    fill_lattice(
+        s, back,
+        [&](int i, int k) {
+            return Vec3{i * p.L, (n - 1) * p.L, height + k * p.L};
+        },
+        p.r);
     add_lattice_quads(s, back);
     const std::array<std::array<int, 2>, 4> corners{{{0, 0}, {n, 0}, {n, n}, {0, n}}};
     for (const std::array<int, 2>& c : corners) {
@@ -289,8 +305,8 @@ Skeleton make_bird(const Params& p) {
     const int b = add_point(s, {0, 0, 0}, body_r);
     add_polyline(s, b, {{edge, 0, 0.1 * edge}, {2 * edge, 0, 0.3 * edge}, {3 * edge, 0, 0.6 * edge}},
                  {body_r, 0.9 * body_r, 0.8 * body_r});
-    const std::vector<int> body = add_polyline(s, b, {{-edge, 0, 0}, {-2 * edge, 0, 0}, {-3 * edge, 0, 0}},
-                                               {body_r, 0.9 * body_r, p.r});
+    const std::vector<int> body =
+        add_polyline(s, b, {{-edge, 0, 0}, {-2 * edge, 0, 0}, {-3 * edge, 0, 0}}, {body_r, 0.9 * body_r, p.r});
     const double h = std::sqrt(0.5);
     // Left wing: i along the chord (+x+y), j along the span (-x+y): normal +z. Right wing: mirrored.
     for (const double side : {1.0, -1.0}) {
@@ -298,20 +314,25 @@ Skeleton make_bird(const Params& p) {
         const bool left = side > 0;
         Lattice lat(left ? p.m : p.n, left ? p.n : p.m);
         lat.at(0, 0) = b;
-        fill_lattice(s, lat,
-                     [&](int i, int j) {
-                         const int c = left ? i : j, w = left ? j : i;
-                         return (c * p.L) * chord + (w * p.L) * span + Vec3{0, 0, 0.1 * w * p.L};
-                     },
-                     p.r);
+        fill_lattice(
+            s, lat,
+            [&](int i, int j) {
+                const int c = left ? i : j, w = left ? j : i;
+                return (c * p.L) * chord + (w * p.L) * span + Vec3{0, 0, 0.1 * w * p.L};
+            },
+            p.r);
         add_lattice_quads(s, lat);
     }
     const int tail_corner = body.back();
     const Vec3 t0 = s.points[static_cast<std::size_t>(tail_corner)];
     Lattice tail(2, 2);
     tail.at(0, 0) = tail_corner;
-    fill_lattice(s, tail, [&](int i, int j) { return t0 + (i * p.L) * Vec3{-h, h, 0} + (j * p.L) * Vec3{-h, -h, 0}; },
-                 p.r);
+    fill_lattice(
+        s, tail,
+        [&](int i, int j) {
+            return t0 + (i * p.L) * Vec3{-h, h, 0} + (j * p.L) * Vec3{-h, -h, 0};
+        },
+        p.r);
     add_lattice_quads(s, tail);
     return s;
 }
@@ -322,12 +343,13 @@ Skeleton make_twist(const Params& p) {
     Skeleton s;
     const double total = p.quarter_turns * 0.5 * kPi;
     Lattice lat(p.n, p.m);
-    fill_lattice(s, lat,
-                 [&](int i, int j) {
-                     const double angle = total * i / p.n, w = (j - 0.5 * p.m) * p.L;
-                     return Vec3{i * p.L, w * std::cos(angle), w * std::sin(angle)};
-                 },
-                 p.r);
+    fill_lattice(
+        s, lat,
+        [&](int i, int j) {
+            const double angle = total * i / p.n, w = (j - 0.5 * p.m) * p.L;
+            return Vec3{i * p.L, w * std::cos(angle), w * std::sin(angle)};
+        },
+        p.r);
     add_lattice_quads(s, lat);
     return s;
 }
@@ -339,8 +361,9 @@ Skeleton make_twist(const Params& p) {
 Skeleton make_torustwist(const Params& p) {
     const double big = p.n * p.L / (2 * kPi);
     if (big < (p.m + 0.5) * p.L)
-        throw Error(ErrorCode::InvalidInput, "generate torustwist: n must be at least 2 pi (m + 0.5) so that the "
-                                             "arms do not reach the axis");
+        throw Error(ErrorCode::InvalidInput,
+                    "generate torustwist: n must be at least 2 pi (m + 0.5) so that the "
+                    "arms do not reach the axis");
     Skeleton s;
     std::vector<int> core;
     for (int i = 0; i < p.n; ++i) {
@@ -356,9 +379,8 @@ Skeleton make_torustwist(const Params& p) {
             const double phi = 0.5 * kPi * (a + p.quarter_turns * static_cast<double>(i) / p.n);
             const Vec3 d = std::cos(phi) * radial + Vec3{0, 0, std::sin(phi)};
             for (int j = 1; j <= p.m; ++j)
-                arm[static_cast<std::size_t>((i * 4 + a) * p.m + j - 1)] =
-                    add_point(s, s.points[static_cast<std::size_t>(core[static_cast<std::size_t>(i)])] + j * p.L * d,
-                              p.r);
+                arm[static_cast<std::size_t>((i * 4 + a) * p.m + j - 1)] = add_point(
+                    s, s.points[static_cast<std::size_t>(core[static_cast<std::size_t>(i)])] + j * p.L * d, p.r);
         }
     }
     // Point j of arm a at ring position i, for i in [0, n]: position n is position 0 with the arms shifted.
@@ -397,7 +419,8 @@ Skeleton make_star(const Params& p, const std::vector<Vec3>& dirs) {
 // (+-x, +-y), 5 = the cross and +z, 6 = +-x, +-y, +-z.
 Skeleton make_cubestar(const Params& p) {
     if (p.n > 6)
-        throw Error(ErrorCode::InvalidInput, "generate cubestar: n = " + std::to_string(p.n) + " is out of range [3, 6]");
+        throw Error(ErrorCode::InvalidInput,
+                    "generate cubestar: n = " + std::to_string(p.n) + " is out of range [3, 6]");
     const Vec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
     const std::vector<std::vector<Vec3>> stars{{x, y, z}, {x, -x, y, -y}, {x, -x, y, -y, z}, {x, -x, y, -y, z, -z}};
     return make_star(p, stars[static_cast<std::size_t>(p.n - 3)]);
@@ -414,8 +437,7 @@ Skeleton make_dualocta(const Params& p) {
             v[axis] = 2 * c * sign;
             octa.push_back(add_point(s, v, r));
         }
-    for (int k = 0; k < 8; ++k)
-        cube.push_back(add_point(s, {(k & 1) ? c : -c, (k & 2) ? c : -c, (k & 4) ? c : -c}, r));
+    for (int k = 0; k < 8; ++k) cube.push_back(add_point(s, {(k & 1) ? c : -c, (k & 2) ? c : -c, (k & 4) ? c : -c}, r));
     auto half_edge = [&](int from, int to) {  // n edges from point `from` to point `to`
         std::vector<Vec3> pts;
         std::vector<double> radii;
@@ -455,8 +477,9 @@ Skeleton make_dualocta(const Params& p) {
 // shaft branches + m blade leaflets; no leaflet edge lies along the shaft.
 Skeleton make_turbine(const Params& p) {
     if (p.m > 3)
-        throw Error(ErrorCode::InvalidInput, "generate turbine: m (blades) must be 2 or 3 (more would make the blade "
-                                             "roots overlap at the shaft)");
+        throw Error(ErrorCode::InvalidInput,
+                    "generate turbine: m (blades) must be 2 or 3 (more would make the blade "
+                    "roots overlap at the shaft)");
     Skeleton s;
     const double radius_out = 2 * p.L, height = 5 * p.L, shaft_edge = 0.6 * p.L;
     const int below = 3, middle = 8, above = 1;
@@ -477,13 +500,14 @@ Skeleton make_turbine(const Params& p) {
         Lattice lat(p.n, 1);
         lat.at(0, 0) = low;
         lat.at(p.n, 0) = high;
-        fill_lattice(s, lat,
-                     [&](int i, int j) {
-                         const double t = kPi * i / p.n;
-                         return (radius_out * std::sin(t)) * radial + Vec3{0, 0, 0.5 * height * (1 - std::cos(t))} +
-                                (j * p.L) * tangent;
-                     },
-                     p.r);
+        fill_lattice(
+            s, lat,
+            [&](int i, int j) {
+                const double t = kPi * i / p.n;
+                return (radius_out * std::sin(t)) * radial + Vec3{0, 0, 0.5 * height * (1 - std::cos(t))} +
+                       (j * p.L) * tangent;
+            },
+            p.r);
         add_lattice_quads(s, lat);
     }
     return s;
@@ -503,14 +527,18 @@ Skeleton make_pan(const Params& p) {
     Skeleton s;
     Lattice lat(p.n, p.m);
     const double x0 = -0.5 * p.n * p.L, y0 = -0.5 * p.m * p.L;
-    fill_lattice(s, lat, [&](int i, int j) { return Vec3{x0 + i * p.L, y0 + j * p.L, 0.0}; }, p.r);
+    fill_lattice(
+        s, lat,
+        [&](int i, int j) {
+            return Vec3{x0 + i * p.L, y0 + j * p.L, 0.0};
+        },
+        p.r);
     add_lattice_quads(s, lat);
     const int mid = p.m / 2;
     const double y_mid = y0 + mid * p.L;
     const double tilt = 20 * kPi / 180;
     std::vector<Vec3> handle;
-    for (int k = 1; k <= 3; ++k)
-        handle.push_back({x0 - k * p.L * std::cos(tilt), y_mid, k * p.L * std::sin(tilt)});
+    for (int k = 1; k <= 3; ++k) handle.push_back({x0 - k * p.L * std::cos(tilt), y_mid, k * p.L * std::sin(tilt)});
     const double rb = p.r * 5 / 3;  // half a leaflet edge: the patches the branches stand on are 2 edges wide
     add_polyline(s, lat.at(0, mid), handle, std::vector<double>(3, rb));
     // Arch: a half circle from vertex (1, mid) to (n - 1, mid) (half their distance wide, at least 1.5 edges high).
@@ -611,9 +639,8 @@ struct RandomTree {
             const double len = r * rng.uniform(2.5, 4.5);  // 1-2 resampled edges (about 2 r each)
             bool placed = false;
             for (int attempt = 0; attempt < 12 && !placed; ++attempt) {
-                const Vec3 d = k == 0 && attempt == 0
-                                   ? dir
-                                   : turned(dir, rng.uniform(0, max_turn), rng.uniform(0, 2 * kPi));
+                const Vec3 d =
+                    k == 0 && attempt == 0 ? dir : turned(dir, rng.uniform(0, max_turn), rng.uniform(0, 2 * kPi));
                 const Vec3 p = s.points[cur] + len * d;
                 if (!clear(cur, p, r)) continue;
                 cur = add(cur, p, r);
@@ -655,22 +682,25 @@ Skeleton make_random_sheet(Random& rng, double L, double scale) {
     Skeleton s;
     const int nu = rng.integer(2, 4), nv = rng.integer(2, 4);
     const double r = L * scale * rng.uniform(0.1, 0.3);
-    const double bend = rng.uniform(-0.25, 0.25) * L;       // height of a sine bump across u
+    const double bend = rng.uniform(-0.25, 0.25) * L;  // height of a sine bump across u
     const bool fold = nu >= 2 && rng.chance(0.5);
-    const int fold_row = rng.integer(1, nu - 1);            // rows i > fold_row are turned about x = fold_row
+    const int fold_row = rng.integer(1, nu - 1);  // rows i > fold_row are turned about x = fold_row
     const double fold_angle = rng.uniform(0, 120) * kPi / 180;
     std::vector<Vec3> jitter(static_cast<std::size_t>((nu + 1) * (nv + 1)));
     for (Vec3& j : jitter) j = Vec3{rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05)} * L;
     Lattice lat(nu, nv);
-    fill_lattice(s, lat, [&](int i, int j) {
-        const double x = i * L, y = j * L;
-        Vec3 p{x, y, bend * std::sin(kPi * j / nv)};
-        if (fold && i > fold_row) {  // rotate about the line x = fold_row L (direction y) by fold_angle
-            const double dx = x - fold_row * L;
-            p = {fold_row * L + dx * std::cos(fold_angle), y, p.z + dx * std::sin(fold_angle)};
-        }
-        return p + jitter[static_cast<std::size_t>(i * (nv + 1) + j)];
-    }, r);
+    fill_lattice(
+        s, lat,
+        [&](int i, int j) {
+            const double x = i * L, y = j * L;
+            Vec3 p{x, y, bend * std::sin(kPi * j / nv)};
+            if (fold && i > fold_row) {  // rotate about the line x = fold_row L (direction y) by fold_angle
+                const double dx = x - fold_row * L;
+                p = {fold_row * L + dx * std::cos(fold_angle), y, p.z + dx * std::sin(fold_angle)};
+            }
+            return p + jitter[static_cast<std::size_t>(i * (nv + 1) + j)];
+        },
+        r);
     add_lattice_quads(s, lat);
     add_face_edges(s);
     RandomTree t{s, rng, L, rng.uniform(15, 45) * kPi / 180, r / 2, std::vector<int>(s.points.size(), -1), true};
@@ -712,43 +742,99 @@ const std::vector<Shape>& shapes() {
     static const std::vector<Shape> table{
         {"plate", {3, 3}, {1, 1}, "flat leaflet of n x m quads (default 3 x 3)", make_plate},
         {"box", {2, 1}, {1, 1}, "closed cube surface, n x n quads per side (default 2); m unused", make_box},
-        {"torus", {24, 8}, {7, 3}, "hollow torus surface, n quads around the axis x m around the tube "
-                                   "(default 24 x 8, n >= m + 4)", make_torus},
-        {"tfan", {2, 2}, {1, 1}, "T: three strips of m quads on one fan edge of n edges (default n 2, m 2)",
-         [](const Params& p) { return make_fan(p, {0.0, 0.5 * kPi, kPi}); }},
-        {"xfan", {2, 2}, {1, 1}, "X: four strips of m quads on one fan edge of n edges (default n 2, m 2)",
-         [](const Params& p) { return make_fan(p, {0.0, 0.5 * kPi, kPi, 1.5 * kPi}); }},
-        {"hand", {3, 4}, {1, 2}, "palm leaflet (8 x m quads, default m 4) with four fingers and a thumb of n edges "
-                                 "(default 3) at convex 90-degree border vertices (BL-joints)", make_hand},
-        {"chair", {4, 4}, {2, 1}, "seat (n x n quads, default 4) and back meeting at a degree-3 fan edge, four legs "
-                                  "of m edges (default 4) from the seat corners", make_chair},
-        {"bird", {4, 2}, {1, 1}, "two wings (n span x m chord quads, default 4 x 2) touching the body's branching "
-                                 "point by a corner, neck and body branches, a 2 x 2 tail leaflet (BL-joint)",
+        {"torus",
+         {24, 8},
+         {7, 3},
+         "hollow torus surface, n quads around the axis x m around the tube "
+         "(default 24 x 8, n >= m + 4)",
+         make_torus},
+        {"tfan",
+         {2, 2},
+         {1, 1},
+         "T: three strips of m quads on one fan edge of n edges (default n 2, m 2)",
+         [](const Params& p) {
+             return make_fan(p, {0.0, 0.5 * kPi, kPi});
+         }},
+        {"xfan",
+         {2, 2},
+         {1, 1},
+         "X: four strips of m quads on one fan edge of n edges (default n 2, m 2)",
+         [](const Params& p) {
+             return make_fan(p, {0.0, 0.5 * kPi, kPi, 1.5 * kPi});
+         }},
+        {"hand",
+         {3, 4},
+         {1, 2},
+         "palm leaflet (8 x m quads, default m 4) with four fingers and a thumb of n edges "
+         "(default 3) at convex 90-degree border vertices (BL-joints)",
+         make_hand},
+        {"chair",
+         {4, 4},
+         {2, 1},
+         "seat (n x n quads, default 4) and back meeting at a degree-3 fan edge, four legs "
+         "of m edges (default 4) from the seat corners",
+         make_chair},
+        {"bird",
+         {4, 2},
+         {1, 1},
+         "two wings (n span x m chord quads, default 4 x 2) touching the body's branching "
+         "point by a corner, neck and body branches, a 2 x 2 tail leaflet (BL-joint)",
          make_bird},
-        {"twist", {12, 2}, {1, 1}, "open strip of n x m quads (default 12 x 2) whose section turns by "
-                                   "quarter-turns x 90 degrees (default 2 = 180)", make_twist},
-        {"torustwist", {24, 1}, {4, 1}, "ring of n segments with an X section (arms of m quads, default 24 x 1) "
-                                        "turning by quarter-turns x 90 degrees (default 2: two intersecting "
-                                        "Moebius strips); the core is a closed degree-4 fan edge, so every leaflet "
-                                        "is an orientable annulus", make_torustwist},
-        {"dualocta", {2, 1}, {1, 1}, "curve frame: octahedron + dual cube edges crossing at their midpoints, n "
-                                     "edges per half-edge (default 2); m unused", make_dualocta},
-        {"cubestar", {3, 2}, {3, 1}, "branching point whose n branches (3 to 6, default 3) leave along cube face "
-                                     "normals (3: x, y, z; 4: +-x, +-y; 5: and +z; 6: +-x, +-y, +-z), m edges each "
-                                     "(default 2): one compatible block", make_cubestar},
-        {"ystar", {1, 2}, {1, 1}, "planar Y: three branches of m edges (default 2) at 120 degrees (never a compatible "
-                                  "block); n unused",
+        {"twist",
+         {12, 2},
+         {1, 1},
+         "open strip of n x m quads (default 12 x 2) whose section turns by "
+         "quarter-turns x 90 degrees (default 2 = 180)",
+         make_twist},
+        {"torustwist",
+         {24, 1},
+         {4, 1},
+         "ring of n segments with an X section (arms of m quads, default 24 x 1) "
+         "turning by quarter-turns x 90 degrees (default 2: two intersecting "
+         "Moebius strips); the core is a closed degree-4 fan edge, so every leaflet "
+         "is an orientable annulus",
+         make_torustwist},
+        {"dualocta",
+         {2, 1},
+         {1, 1},
+         "curve frame: octahedron + dual cube edges crossing at their midpoints, n "
+         "edges per half-edge (default 2); m unused",
+         make_dualocta},
+        {"cubestar",
+         {3, 2},
+         {3, 1},
+         "branching point whose n branches (3 to 6, default 3) leave along cube face "
+         "normals (3: x, y, z; 4: +-x, +-y; 5: and +z; 6: +-x, +-y, +-z), m edges each "
+         "(default 2): one compatible block",
+         make_cubestar},
+        {"ystar",
+         {1, 2},
+         {1, 1},
+         "planar Y: three branches of m edges (default 2) at 120 degrees (never a compatible "
+         "block); n unused",
          [](const Params& p) {
              return make_star(p, {{1, 0, 0}, {-0.5, 0.5 * std::sqrt(3.0), 0}, {-0.5, -0.5 * std::sqrt(3.0), 0}});
          }},
-        {"tetrastar", {1, 2}, {1, 1}, "tetrahedral star: four branches of m edges (default 2) to the corners of a "
-                                      "regular tetrahedron (never a compatible block); n unused",
-         [](const Params& p) { return make_star(p, {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}}); }},
-        {"turbine", {8, 2}, {2, 2}, "Darrieus turbine: shaft branch, m blades (2 or 3, default 2) of n quads "
-                                    "(default 8) touching the shaft at two branching points by their corners",
+        {"tetrastar",
+         {1, 2},
+         {1, 1},
+         "tetrahedral star: four branches of m edges (default 2) to the corners of a "
+         "regular tetrahedron (never a compatible block); n unused",
+         [](const Params& p) {
+             return make_star(p, {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}});
+         }},
+        {"turbine",
+         {8, 2},
+         {2, 2},
+         "Darrieus turbine: shaft branch, m blades (2 or 3, default 2) of n quads "
+         "(default 8) touching the shaft at two branching points by their corners",
          make_turbine},
-        {"pan", {6, 4}, {6, 2}, "plate of n x m quads (default 6 x 4) with its branches rooted on its plates: a "
-                                "handle leaving a straight border outward, a bucket arch rooted inside", make_pan},
+        {"pan",
+         {6, 4},
+         {6, 2},
+         "plate of n x m quads (default 6 x 4) with its branches rooted on its plates: a "
+         "handle leaving a straight border outward, a bucket arch rooted inside",
+         make_pan},
     };
     return table;
 }

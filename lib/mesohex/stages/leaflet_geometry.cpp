@@ -26,11 +26,13 @@ BorderPatch border_patch(const Skeleton& skeleton, const SkeletonAnalysis& an, i
         p.border[found++] = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
     }
     if (found != 2 || p.kind == BorderRoot::None)
-        throw Error(ErrorCode::UnsupportedConfiguration,
-                    "skeleton vertex " + std::to_string(v) + " cannot root a branch on the leaflet border there; edit: "
-                    "start the branch at a convex corner of the border, or leave the border within 60 degrees of its "
-                    "outward direction",
-                    ElementRef{ElementRef::Kind::SkeletonVertex, v});
+        throw Error(
+            ErrorCode::UnsupportedConfiguration,
+            "skeleton vertex " + std::to_string(v) +
+                " cannot root a branch on the leaflet border there; edit: "
+                "start the branch at a convex corner of the border, or leave the border within 60 degrees of its "
+                "outward direction",
+            ElementRef{ElementRef::Kind::SkeletonVertex, v});
     const Vec3& c = skeleton.points[v];
     const Vec3 n = leaflet_normal_sum(an, v);
     const int w = skeleton.edges[branch_edge][0] == v ? skeleton.edges[branch_edge][1] : skeleton.edges[branch_edge][0];
@@ -85,7 +87,8 @@ LeafletPatch leaflet_patch(const Skeleton& skeleton, const SkeletonAnalysis& an,
         }
         if (!found)
             throw Error(ErrorCode::UnsupportedConfiguration,
-                        where + ": the 4 faces around it do not form one consistently oriented fan; edit: check the "
+                        where +
+                            ": the 4 faces around it do not form one consistently oriented fan; edit: check the "
                             "faces at it for a duplicate, a missing face or a fold",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
     }

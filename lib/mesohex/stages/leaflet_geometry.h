@@ -37,10 +37,10 @@ LeafletPatch leaflet_patch(const Skeleton& skeleton, const SkeletonAnalysis& ana
 struct BorderPatch {
     BorderRoot kind = BorderRoot::None;
     std::array<int, 2> border{}, border_edge{};
-    bool up_first = true;                       // Out
-    bool up = true;                             // Side
-    int first = 0, middle = -1;                 // Side
-    std::array<int, 2> face{}, corner{};        // Side: the two faces and v's corner in each
+    bool up_first = true;                 // Out
+    bool up = true;                       // Side
+    int first = 0, middle = -1;           // Side
+    std::array<int, 2> face{}, corner{};  // Side: the two faces and v's corner in each
 };
 BorderPatch border_patch(const Skeleton& skeleton, const SkeletonAnalysis& analysis, int v, int branch_edge);
 // Sum of the oriented normals of the faces at v.

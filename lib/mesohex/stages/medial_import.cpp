@@ -1,5 +1,5 @@
-#include "mesohex/core/union_find.h"
 #include "mesohex/stages/medial_import.h"
+#include "mesohex/core/union_find.h"
 #include "mesohex/stages/skeleton_analysis.h"
 
 #include <algorithm>
@@ -46,7 +46,6 @@ int third_vertex(const std::array<int, 3>& t, int a, int b) {
         if (x != a && x != b) return x;
     return -1;
 }
-
 
 // (min, max) of an edge's ends, by value (std::minmax returns references).
 std::pair<int, int> side_key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
@@ -126,9 +125,9 @@ bool remove_irregular_fan_triangle(Skeleton& m) {
                         const std::vector<int>& f = m.faces[static_cast<size_t>(u)];
                         return m.points[static_cast<size_t>(third_vertex({f[0], f[1], f[2]}, a, b))];
                     };
-                    r.score = std::max(r.score, wing_angle_deg(m.points[static_cast<size_t>(a)],
-                                                               m.points[static_cast<size_t>(b)], opp(tris[i]),
-                                                               opp(tris[j])));
+                    r.score =
+                        std::max(r.score, wing_angle_deg(m.points[static_cast<size_t>(a)],
+                                                         m.points[static_cast<size_t>(b)], opp(tris[i]), opp(tris[j])));
                 }
             if (r.score > best.score || (r.score == best.score && best.tri >= 0 && r.tri < best.tri)) best = r;
         }
@@ -136,8 +135,7 @@ bool remove_irregular_fan_triangle(Skeleton& m) {
     if (best.tri < 0) return false;
     m.faces.erase(m.faces.begin() + best.tri);
     std::erase_if(m.edges, [&](const std::array<int, 2>& e) {
-        return std::find(best.drop_sides.begin(), best.drop_sides.end(), side_key(e[0], e[1]))
-               != best.drop_sides.end();
+        return std::find(best.drop_sides.begin(), best.drop_sides.end(), side_key(e[0], e[1])) != best.drop_sides.end();
     });
     if (best.drop_vertex >= 0) {
         const int d = best.drop_vertex;
@@ -160,7 +158,8 @@ int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
     for (const std::vector<int>& f : s.faces)
         for (size_t i = 0; i < f.size(); ++i) ++side_faces[side_key(f[i], f[(i + 1) % f.size()])];
     std::vector<int> curve_degree(static_cast<size_t>(nv), 0), curve_neighbour(static_cast<size_t>(nv), -1);
-    std::vector<std::vector<int>> leaflet_neighbours(static_cast<size_t>(nv)), boundary_neighbours(static_cast<size_t>(nv));
+    std::vector<std::vector<int>> leaflet_neighbours(static_cast<size_t>(nv)),
+        boundary_neighbours(static_cast<size_t>(nv));
     for (const std::array<int, 2>& e : s.edges) {
         const auto it = side_faces.find(side_key(e[0], e[1]));
         if (it == side_faces.end()) {
@@ -268,9 +267,9 @@ int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt) {
                                  prev[static_cast<size_t>(f[3 % k])] - prev[static_cast<size_t>(f[1])]);
             for (size_t i = 0; i < k; ++i) {
                 normal[static_cast<size_t>(f[i])] += n;
-                angle_sum[static_cast<size_t>(f[i])] += angle_deg(prev[static_cast<size_t>(f[i])],
-                                                                  prev[static_cast<size_t>(f[(i + 1) % k])],
-                                                                  prev[static_cast<size_t>(f[(i + k - 1) % k])]);
+                angle_sum[static_cast<size_t>(f[i])] +=
+                    angle_deg(prev[static_cast<size_t>(f[i])], prev[static_cast<size_t>(f[(i + 1) % k])],
+                              prev[static_cast<size_t>(f[(i + k - 1) % k])]);
             }
         }
         for (int v : rim) {
@@ -278,7 +277,8 @@ int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt) {
             const Vec3 n = normalized(normal[x]);
             Vec3 move = n * dot(mean_of_neighbours(prev, v) - prev[x], n);
             if (angle_sum[x] > opt.reflex_corner_deg)
-                move += 0.5 * (prev[static_cast<size_t>(boundary[x][0])] + prev[static_cast<size_t>(boundary[x][1])]) - prev[x];
+                move += 0.5 * (prev[static_cast<size_t>(boundary[x][0])] + prev[static_cast<size_t>(boundary[x][1])]) -
+                        prev[x];
             s.points[x] = prev[x] + move * factor;
         }
     }
@@ -319,7 +319,8 @@ int reattach_interior_curve_ends(Skeleton& m) {
             int best = -1;
             double best_d = std::numeric_limits<double>::infinity();
             for (int b = 0; b < nv; ++b) {
-                if (!rim[static_cast<size_t>(b)] || fan[static_cast<size_t>(b)] || vertex_sheet[static_cast<size_t>(b)] != sv)
+                if (!rim[static_cast<size_t>(b)] || fan[static_cast<size_t>(b)] ||
+                    vertex_sheet[static_cast<size_t>(b)] != sv)
                     continue;  // a boundary vertex of the same sheet, not on a fan edge (paper limitation 3)
                 const double d = distance(m.points[static_cast<size_t>(v)], m.points[static_cast<size_t>(b)]);
                 if (d < best_d) {
@@ -427,8 +428,13 @@ struct MedialImporter {
     std::vector<std::array<int, 4>> pair_quad;
 
     MedialImporter(const Skeleton& medial, const MedialImportOptions& options, MedialImport& r)
-        : m(medial), opt(options), result(r), out(r.skeleton), nv(static_cast<int>(medial.points.size())),
-          ne(static_cast<int>(medial.edges.size())), nt(static_cast<int>(medial.faces.size())) {}
+        : m(medial),
+          opt(options),
+          result(r),
+          out(r.skeleton),
+          nv(static_cast<int>(medial.points.size())),
+          ne(static_cast<int>(medial.edges.size())),
+          nt(static_cast<int>(medial.faces.size())) {}
 
     int edge_id(int a, int b) const {
         const std::pair<int, int> k = std::minmax(a, b);
@@ -445,11 +451,11 @@ struct MedialImporter {
     // ---- Validation (before anything is allocated for the output).
     void validate() {
         if (m.radii.size() != m.points.size())
-            throw bad("the medial mesh needs one radius per vertex (" + std::to_string(m.radii.size()) + " radii for "
-                      + std::to_string(nv) + " vertices)");
+            throw bad("the medial mesh needs one radius per vertex (" + std::to_string(m.radii.size()) + " radii for " +
+                      std::to_string(nv) + " vertices)");
         for (int v = 0; v < nv; ++v)
-            if (!is_finite(m.points[static_cast<size_t>(v)]) || !std::isfinite(m.radii[static_cast<size_t>(v)])
-                || !(m.radii[static_cast<size_t>(v)] > 0))
+            if (!is_finite(m.points[static_cast<size_t>(v)]) || !std::isfinite(m.radii[static_cast<size_t>(v)]) ||
+                !(m.radii[static_cast<size_t>(v)] > 0))
                 throw bad("vertex " + std::to_string(v) + " has a non-finite coordinate or a radius that is not > 0",
                           vertex_ref(v));
         keys.reserve(static_cast<size_t>(ne));
@@ -462,26 +468,29 @@ struct MedialImporter {
         std::sort(keys.begin(), keys.end());
         for (size_t i = 1; i < keys.size(); ++i)
             if (keys[i].first == keys[i - 1].first)
-                throw bad("edge " + std::to_string(keys[i].second) + " duplicates edge " + std::to_string(keys[i - 1].second),
-                          edge_ref(keys[i].second));
+                throw bad(
+                    "edge " + std::to_string(keys[i].second) + " duplicates edge " + std::to_string(keys[i - 1].second),
+                    edge_ref(keys[i].second));
         tri.resize(static_cast<size_t>(nt));
         tri_edge.resize(static_cast<size_t>(nt));
         for (int t = 0; t < nt; ++t) {
             const std::vector<int>& f = m.faces[static_cast<size_t>(t)];
             if (f.size() != 3)
-                throw bad("face " + std::to_string(t) + " has " + std::to_string(f.size())
-                              + " vertices (medial sheets are triangles)",
+                throw bad("face " + std::to_string(t) + " has " + std::to_string(f.size()) +
+                              " vertices (medial sheets are triangles)",
                           face_ref(t));
             for (int x : f)
-                if (x < 0 || x >= nv) throw bad("face " + std::to_string(t) + " has a vertex out of range", face_ref(t));
+                if (x < 0 || x >= nv)
+                    throw bad("face " + std::to_string(t) + " has a vertex out of range", face_ref(t));
             if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2])
                 throw bad("face " + std::to_string(t) + " has a repeated vertex", face_ref(t));
             tri[static_cast<size_t>(t)] = {f[0], f[1], f[2]};
             for (int i = 0; i < 3; ++i) {
                 const int e = edge_id(f[static_cast<size_t>(i)], f[static_cast<size_t>((i + 1) % 3)]);
                 if (e < 0)
-                    throw bad("side " + std::to_string(i) + " of face " + std::to_string(t) + " is not in the edge list",
-                              face_ref(t));
+                    throw bad(
+                        "side " + std::to_string(i) + " of face " + std::to_string(t) + " is not in the edge list",
+                        face_ref(t));
                 tri_edge[static_cast<size_t>(t)][static_cast<size_t>(i)] = e;
             }
         }
@@ -500,7 +509,8 @@ struct MedialImporter {
         std::vector<int> sheet_root_id(static_cast<size_t>(nt), -1);
         for (int t = 0; t < nt; ++t) {
             const int root = sheet_uf.find(t);
-            if (sheet_root_id[static_cast<size_t>(root)] < 0) sheet_root_id[static_cast<size_t>(root)] = result.sheets++;
+            if (sheet_root_id[static_cast<size_t>(root)] < 0)
+                sheet_root_id[static_cast<size_t>(root)] = result.sheets++;
             tri_sheet[static_cast<size_t>(t)] = sheet_root_id[static_cast<size_t>(root)];
         }
         ns = result.sheets;
@@ -524,11 +534,11 @@ struct MedialImporter {
             double mean_r = 0;
             for (int v : sv) mean_r += m.radii[static_cast<size_t>(v)];
             mean_r /= static_cast<double>(sv.size());
-            collapsed[static_cast<size_t>(s)] = sheet_tri_count[static_cast<size_t>(s)] < opt.min_sheet_triangles
-                                                || sheet_area[static_cast<size_t>(s)] < opt.min_sheet_area_factor * mean_r * mean_r;
+            collapsed[static_cast<size_t>(s)] =
+                sheet_tri_count[static_cast<size_t>(s)] < opt.min_sheet_triangles ||
+                sheet_area[static_cast<size_t>(s)] < opt.min_sheet_area_factor * mean_r * mean_r;
             if (collapsed[static_cast<size_t>(s)]) ++result.collapsed_sheets;
         }
-
     }
 
     // ---- Which vertices survive. A vertex is attached to sheet s if it has a curve edge or lies in another sheet.
@@ -556,7 +566,6 @@ struct MedialImporter {
                 if (!std::binary_search(star[static_cast<size_t>(s)].begin(), star[static_cast<size_t>(s)].end(), v))
                     keep[static_cast<size_t>(v)] = false;
         }
-
     }
 
     // Kept vertices, curve edges, collapsed sheets' centroids and star edges.
@@ -586,13 +595,13 @@ struct MedialImporter {
             const int cv = add_point(c / static_cast<double>(sv.size()), r / static_cast<double>(sv.size()));
             for (int v : star[static_cast<size_t>(s)]) out.edges.push_back({cv, new_id[static_cast<size_t>(v)]});
         }
-
     }
 
     // ---- Leaflets: components of kept triangles through manifold edges, oriented by breadth-first flips.
     void orient_leaflets() {
         for (int e = 0; e < ne; ++e)
-            if (edge_tris[static_cast<size_t>(e)].size() >= 3 && live(edge_tris[static_cast<size_t>(e)][0])) ++result.fan_edges;
+            if (edge_tris[static_cast<size_t>(e)].size() >= 3 && live(edge_tris[static_cast<size_t>(e)][0]))
+                ++result.fan_edges;
         tri_leaflet.assign(static_cast<size_t>(nt), -1);
         for (int t0 = 0; t0 < nt; ++t0) {
             if (!live(t0) || tri_leaflet[static_cast<size_t>(t0)] >= 0) continue;
@@ -616,14 +625,13 @@ struct MedialImporter {
                         queue.push(w);
                     } else if (has_directed(tri[static_cast<size_t>(w)], a, b) == u_ab) {
                         throw Error(ErrorCode::UnsupportedConfiguration,
-                                    "medial import: the sheet containing face " + std::to_string(w)
-                                        + " is not orientable (a Moebius band); cut it first",
+                                    "medial import: the sheet containing face " + std::to_string(w) +
+                                        " is not orientable (a Moebius band); cut it first",
                                     face_ref(w));
                     }
                 }
             }
         }
-
     }
 
     // ---- Greedy pairing of adjacent triangles into quads, best shape first.
@@ -649,7 +657,8 @@ struct MedialImporter {
                        &pc = m.points[static_cast<size_t>(c)], &pd = m.points[static_cast<size_t>(d)];
             // Quad (b, c, a, d); corners at a and b are the sums of the two triangle angles.
             const std::array<double, 4> corners = {angle_deg(pb, pc, pa) + angle_deg(pb, pa, pd), angle_deg(pc, pa, pb),
-                                                   angle_deg(pa, pb, pc) + angle_deg(pa, pd, pb), angle_deg(pd, pb, pa)};
+                                                   angle_deg(pa, pb, pc) + angle_deg(pa, pd, pb),
+                                                   angle_deg(pd, pb, pa)};
             double deviation = 0;
             for (double x : corners) deviation = std::max(deviation, std::abs(x - 90.0));
             const Vec3 n1 = normalized(cross(pb - pa, pc - pa)), n2 = normalized(cross(pa - pb, pd - pb));
@@ -658,8 +667,9 @@ struct MedialImporter {
             if (deviation <= opt.max_pair_corner_deviation_deg && fold <= opt.max_pair_fold_deg)
                 candidates.push_back({deviation + fold, e});
         }
-        std::sort(candidates.begin(), candidates.end(),
-                  [](const Candidate& x, const Candidate& y) { return std::tie(x.score, x.e) < std::tie(y.score, y.e); });
+        std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
+            return std::tie(x.score, x.e) < std::tie(y.score, y.e);
+        });
         for (const Candidate& cand : candidates) {
             const std::vector<int>& et = edge_tris[static_cast<size_t>(cand.e)];
             int t1 = et[0], t2 = et[1];

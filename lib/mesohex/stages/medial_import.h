@@ -40,11 +40,11 @@ struct MedialImportOptions {
     // The former way, before everything else (paper limitation 1): re-attach such an end to the nearest boundary
     // vertex of its sheet. It can drag a handle's ends along the wall, out of the domain (docs/tuning.md).
     bool reattach_interior_curves = false;
-    int min_sheet_triangles = 2;          // sheets with fewer triangles collapse to a curve
-    double min_sheet_area_factor = 1.0;   // sheets with area < factor x (mean vertex radius)^2 collapse to a curve
-    bool pair_triangles = true;           // pair triangles into quads before splitting (fewer irregular vertices)
+    int min_sheet_triangles = 2;         // sheets with fewer triangles collapse to a curve
+    double min_sheet_area_factor = 1.0;  // sheets with area < factor x (mean vertex radius)^2 collapse to a curve
+    bool pair_triangles = true;          // pair triangles into quads before splitting (fewer irregular vertices)
     double max_pair_corner_deviation_deg = 60;  // a pair quad is accepted if every corner is within this of 90 deg
-    double max_pair_fold_deg = 45;        // ... and the two triangle normals differ by at most this angle
+    double max_pair_fold_deg = 45;              // ... and the two triangle normals differ by at most this angle
     // After quadrangulation: a BL-joint (a leaflet boundary vertex with exactly one curve edge) where the leaflet
     // boundary is nearly straight (angle between its two boundary edges above bl_joint_max_angle_deg) is moved out of
     // the leaflet, against the mean direction to its leaflet neighbours, by bl_joint_push x the mean length of its two
@@ -55,7 +55,7 @@ struct MedialImportOptions {
     // ... except a joint the mesher roots on the border's plates (border_root: a branch leaving a straight border
     // outward, or a branch along the normal where 2 faces meet), where no corner is needed.
     bool keep_rooted_bl_joints = true;
-    double bl_joint_push = 1.25;          // x the mean of the two boundary edges at the joint
+    double bl_joint_push = 1.25;  // x the mean of the two boundary edges at the joint
     // A joint whose branch heads back over the leaflet (angle to the inward direction below 90 degrees, cosine c > 0:
     // a plane between the branch and the leaflet's border edges needs a sharper corner) is pushed by
     // bl_joint_push x (1 + bl_joint_back_push x c) x that length instead (dimensionless).
@@ -64,31 +64,31 @@ struct MedialImportOptions {
     // p <- p + smoothing_factor x (neighbour mean - p), smoothing_iterations Jacobi sweeps (0 = off). Evens out the
     // quads the split makes (corners up to 150 degrees) and the sheet's folds, over which the mesher's plates invert.
     int smoothing_iterations = 30;
-    double smoothing_factor = 0.5;        // fraction of the way to the neighbour mean per sweep
+    double smoothing_factor = 0.5;  // fraction of the way to the neighbour mean per sweep
     // In the same sweeps, regular leaflet boundary vertices (two boundary edges, no curve or fan edge) move along
     // their normal only, by smoothing_factor x the normal component of (neighbour mean - p): folds that reach the
     // border flatten (hand.ma's wrist), the outline stays. At a reflex corner (face angles at the vertex summing to
     // more than reflex_corner_deg: the sheet wraps around it) the vertex also moves by smoothing_factor x (midpoint of
     // its two boundary neighbours - p): the half-chunks the mesher puts outside such a corner converge and fold.
     bool smooth_boundary = true;
-    double reflex_corner_deg = 220;       // degrees (sum of the face angles at the vertex)
+    double reflex_corner_deg = 220;  // degrees (sum of the face angles at the vertex)
 };
 
 struct MedialImport {
-    Skeleton skeleton;                // all faces are quads; every face side is in edges; radii one per point
-    std::vector<int> face_leaflet;    // per output face, its leaflet id (0..leaflets-1); faces of one leaflet are
-                                      // consistently oriented
-    int sheets = 0;                   // triangle sheets in the input (components through shared edges)
+    Skeleton skeleton;              // all faces are quads; every face side is in edges; radii one per point
+    std::vector<int> face_leaflet;  // per output face, its leaflet id (0..leaflets-1); faces of one leaflet are
+                                    // consistently oriented
+    int sheets = 0;                 // triangle sheets in the input (components through shared edges)
     int collapsed_sheets = 0;
     int leaflets = 0;
-    int paired_quads = 0;             // triangle pairs merged into a quad before splitting
-    int split_triangles = 0;          // triangles left unpaired (each split into 3 quads)
-    int moved_bl_joints = 0;          // BL-joints moved to make a corner (bl_joint_corners)
-    int smoothed_vertices = 0;        // leaflet interior and regular boundary vertices moved by the smoothing
-    int reattached_curve_ends = 0;    // curve-edge ends moved from a sheet interior to its boundary
-    int rooted_curve_ends = 0;        // curve-edge ends moved inside a leaflet to a regular vertex
-    int fan_triangles_removed = 0;    // triangles removed to make irregular fans regular (resolve_irregular_fans)
-    int fan_edges = 0;                // input edges in 3 or more triangles (each becomes 2 fan edges when split)
+    int paired_quads = 0;           // triangle pairs merged into a quad before splitting
+    int split_triangles = 0;        // triangles left unpaired (each split into 3 quads)
+    int moved_bl_joints = 0;        // BL-joints moved to make a corner (bl_joint_corners)
+    int smoothed_vertices = 0;      // leaflet interior and regular boundary vertices moved by the smoothing
+    int reattached_curve_ends = 0;  // curve-edge ends moved from a sheet interior to its boundary
+    int rooted_curve_ends = 0;      // curve-edge ends moved inside a leaflet to a regular vertex
+    int fan_triangles_removed = 0;  // triangles removed to make irregular fans regular (resolve_irregular_fans)
+    int fan_edges = 0;              // input edges in 3 or more triangles (each becomes 2 fan edges when split)
 };
 
 // Preconditions (checked, InvalidInput naming the element): radii present (one per point, > 0), every face a

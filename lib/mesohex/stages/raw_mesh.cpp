@@ -9,9 +9,9 @@
 
 #include "mesohex/core/error.h"
 #include "mesohex/core/union_find.h"
+#include "mesohex/stages/compatible_blocks.h"
 #include "mesohex/stages/junction_geometry.h"
 #include "mesohex/stages/leaflet_geometry.h"
-#include "mesohex/stages/compatible_blocks.h"
 
 namespace mesohex {
 
@@ -21,7 +21,6 @@ bool has_surface(VertexClass c) {
     return c == VertexClass::Extremity || c == VertexClass::Joint || c == VertexClass::BranchingPoint ||
            c == VertexClass::BLJoint || c == VertexClass::LLJoint;
 }
-
 
 bool is_fan(VertexClass c) { return c == VertexClass::FanEdgeVertex || c == VertexClass::FanEdgeEnd; }
 
@@ -104,7 +103,8 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
         if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
         if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
         if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
-        if (an.vertex_class[v] != VertexClass::BranchingPoint || an.vertex_boundary_edges[v] > 0 || block_at(cs, v) >= 0)
+        if (an.vertex_class[v] != VertexClass::BranchingPoint || an.vertex_boundary_edges[v] > 0 ||
+            block_at(cs, v) >= 0)
             continue;
         for (int x = cs.point_begin[v]; x < cs.point_begin[v + 1]; ++x)
             if (cs.point_valence[x] != 2) ++p.interior_irregular_edges[2 * cs.point_valence[x]];
@@ -221,7 +221,7 @@ int assign_vertex_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, 
 // The gaps between the leaflets around fan edges, per (face, corner, side) node f * 8 + corner * 2 + side (0 up,
 // 1 down); both empty when the skeleton has no fan edge.
 struct FanGaps {
-    std::vector<int> gap_of;   // per node at a fan-edge vertex: local gap index, else -1
+    std::vector<int> gap_of;    // per node at a fan-edge vertex: local gap index, else -1
     std::vector<Vec3> gap_dir;  // per node: the face normal pointing into its gap
 };
 
@@ -245,7 +245,8 @@ void unite_fan_gap_nodes(const Skeleton& skeleton, const SkeletonAnalysis& an, U
                 if (!is_fan(an.vertex_class[w])) continue;
                 const int f = edge_faces[e][0].first, g = edge_faces[e][1].first;
                 for (int side = 0; side < 2; ++side)
-                    nodes.unite(f * 8 + face_corner_of(an, f, w) * 2 + side, g * 8 + face_corner_of(an, g, w) * 2 + side);
+                    nodes.unite(f * 8 + face_corner_of(an, f, w) * 2 + side,
+                                g * 8 + face_corner_of(an, g, w) * 2 + side);
             }
             continue;
         }
@@ -352,11 +353,11 @@ FaceSideIds face_side_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& 
 // Hex slots: 4 per branch edge (chunks) in edge order, then 2 per leaflet face (plates) in face order, then 2 per
 // leaflet boundary edge (half-chunks) in edge order.
 struct HexSlots {
-    std::vector<int> edge_slot;                    // per edge: first chunk hex, or -1
-    int face_slot0 = 0;                            // first plate hex
-    std::vector<int> boundary_slot;                // per edge: first half-chunk hex, or -1
+    std::vector<int> edge_slot;                     // per edge: first chunk hex, or -1
+    int face_slot0 = 0;                             // first plate hex
+    std::vector<int> boundary_slot;                 // per edge: first half-chunk hex, or -1
     std::vector<std::array<int, 2>> boundary_side;  // per boundary edge: (face, side index) traversing it
-    int block_slot0 = 0;                           // first compatible-block hex (8 per block, in block order)
+    int block_slot0 = 0;                            // first compatible-block hex (8 per block, in block order)
     int n_hex = 0;
 };
 
@@ -530,12 +531,20 @@ std::array<int, 9> border_patch_ids(const Skeleton& skeleton, const SkeletonAnal
     const int f0 = patch.face[0], c0 = patch.corner[0], f1 = patch.face[1], c1 = patch.corner[1];
     if (patch.up) {
         const auto& U = sides.up;
-        return {base + 1, U[f0][(c0 + 1) & 3], U[f0][(c0 + 3) & 3], U[f1][(c1 + 3) & 3], wu,
-                U[f0][(c0 + 2) & 3], U[f1][(c1 + 2) & 3], ou[b], ou[a]};
+        return {base + 1, U[f0][(c0 + 1) & 3], U[f0][(c0 + 3) & 3], U[f1][(c1 + 3) & 3],
+                wu,       U[f0][(c0 + 2) & 3], U[f1][(c1 + 2) & 3], ou[b],
+                ou[a]};
     }
     const auto& D = sides.dn;
-    return {base + 2, D[f0][(c0 + 1) & 3], wd, D[f1][(c1 + 3) & 3], D[f0][(c0 + 3) & 3],
-            od[a], od[b], D[f1][(c1 + 2) & 3], D[f0][(c0 + 2) & 3]};
+    return {base + 2,
+            D[f0][(c0 + 1) & 3],
+            wd,
+            D[f1][(c1 + 3) & 3],
+            D[f0][(c0 + 3) & 3],
+            od[a],
+            od[b],
+            D[f1][(c1 + 2) & 3],
+            D[f0][(c0 + 2) & 3]};
 }
 
 // Branches rooted on the plates: their connection quad's centre, 4 points and 4 edge midpoints are vertices the
@@ -676,7 +685,8 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
             const int w = an.face_vertices[f][k];
             if (!is_fan(an.vertex_class[w])) continue;
             for (int side = 0; side < 2; ++side)
-                gap_sum[raw.vertex_base[w] + 1 + gaps.gap_of[f * 8 + k * 2 + side]] += gaps.gap_dir[f * 8 + k * 2 + side];
+                gap_sum[raw.vertex_base[w] + 1 + gaps.gap_of[f * 8 + k * 2 + side]] +=
+                    gaps.gap_dir[f * 8 + k * 2 + side];
         }
     for (int v = 0; v < nv; ++v) {
         const VertexClass vc = an.vertex_class[v];

@@ -1,5 +1,5 @@
-#include "mesohex/core/union_find.h"
 #include "mesohex/stages/skeleton_analysis.h"
+#include "mesohex/core/union_find.h"
 
 #include <algorithm>
 #include <array>
@@ -41,7 +41,8 @@ double angle_between_deg(const Vec3& a, const Vec3& b) {
 
 std::string branch_inside_leaflet(int branch_edges, int faces) {
     return "a leaflet interior vertex carries a branch only where 4 faces of one leaflet meet and one branch leaves "
-           "(here " + std::to_string(branch_edges) + " branch edge(s), " + std::to_string(faces) +
+           "(here " +
+           std::to_string(branch_edges) + " branch edge(s), " + std::to_string(faces) +
            " faces; the paper's limitation 1 otherwise); edit: keep one branch per vertex and re-sample the leaflet so "
            "that 4 of its faces meet there, or start the branch from a vertex on the leaflet's border";
 }
@@ -277,10 +278,11 @@ struct VertexStar {
 VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, int v) {
     if (st.nb > 0)
         fail(ErrorCode::UnsupportedConfiguration,
-             vname + ": a branch edge on a fan-edge vertex (on an edge shared by 3 or more faces) is not "
-             "supported (paper limitation 3); edit: start the branch from a vertex where 4 faces of one "
-             "of the leaflets meet, or shorten the fan edge chain so the branch leaves from a leaflet "
-             "corner off the fan edge",
+             vname +
+                 ": a branch edge on a fan-edge vertex (on an edge shared by 3 or more faces) is not "
+                 "supported (paper limitation 3); edit: start the branch from a vertex where 4 faces of one "
+                 "of the leaflets meet, or shorten the fan edge chain so the branch leaves from a leaflet "
+                 "corner off the fan edge",
              ElementRef::Kind::SkeletonVertex, v);
     // A regular fan: at its end every leaflet around the fan edge leaves by one boundary edge; along it,
     // every leaflet goes on across the vertex (paper limitation 2 otherwise: the fan stops inside a leaflet).
@@ -290,7 +292,8 @@ VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, 
     if (!regular)
         fail(ErrorCode::UnsupportedConfiguration,
              vname + ": an irregular fan (a fan edge ending inside a leaflet, paper limitation 2, or " +
-                 std::to_string(st.nfan) + " fan edges of unequal degrees or not in one chain) is not supported; "
+                 std::to_string(st.nfan) +
+                 " fan edges of unequal degrees or not in one chain) is not supported; "
                  "edit: let every leaflet around the fan edge end with its own border edge at the chain's end "
                  "(cut the leaflet that continues past it along the chain's line), or extend the fan edge "
                  "chain to that leaflet's border",
@@ -314,14 +317,16 @@ VertexClass classify_vertex(const Skeleton& s, const VertexStar& st, int v, Skel
             fail(ErrorCode::UnsupportedConfiguration, vname + ": " + branch_inside_leaflet(st.nb, st.faces),
                  ElementRef::Kind::SkeletonVertex, v);
         fail(ErrorCode::UnsupportedConfiguration,
-             vname + ": a leaflet touches the interior of another leaflet; not supported; edit: make the touching "
+             vname +
+                 ": a leaflet touches the interior of another leaflet; not supported; edit: make the touching "
                  "leaflet share a whole edge there (a fan edge, cutting the other leaflet's faces along it), "
                  "or move its vertex off the other leaflet",
              ElementRef::Kind::SkeletonVertex, v);
     }
     if (st.nbnd % 2 != 0)
         fail(ErrorCode::UnsupportedConfiguration,
-             vname + " has an odd number (" + std::to_string(st.nbnd) + ") of leaflet boundary edges (a "
+             vname + " has an odd number (" + std::to_string(st.nbnd) +
+                 ") of leaflet boundary edges (a "
                  "leaflet border must pass through it an even number of times); edit: look for a missing "
                  "or extra face, or an edge listed without its face, at it",
              ElementRef::Kind::SkeletonVertex, v);
@@ -357,8 +362,10 @@ void classify_vertices(const Skeleton& s, SkeletonAnalysis& an) {
                 an.edge_degree[an.face_edges[f][k]] != 2 || an.edge_degree[an.face_edges[f][(k + 3) & 3]] != 2;
             auto it = std::find_if(leaflet_rim[w].begin(), leaflet_rim[w].end(),
                                    [&](const std::pair<int, bool>& x) { return x.first == l; });
-            if (it == leaflet_rim[w].end()) leaflet_rim[w].push_back({l, rim});
-            else it->second = it->second || rim;
+            if (it == leaflet_rim[w].end())
+                leaflet_rim[w].push_back({l, rim});
+            else
+                it->second = it->second || rim;
         }
     std::vector<int> faces_at(nv, 0);
     for (const std::array<int, 4>& fv : an.face_vertices)
@@ -371,9 +378,12 @@ void classify_vertices(const Skeleton& s, SkeletonAnalysis& an) {
         VertexStar st;
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
             const int d = an.edge_degree[an.vertex_edges[i]];
-            if (d == 0) ++st.nb;
-            else if (d == 1) ++st.nbnd;
-            else if (d == 2) ++st.ninner;
+            if (d == 0)
+                ++st.nb;
+            else if (d == 1)
+                ++st.nbnd;
+            else if (d == 2)
+                ++st.ninner;
             else {
                 ++st.nfan;
                 st.fan_degrees.push_back(d);
@@ -399,8 +409,10 @@ void check_rooted_branches(const Skeleton& s, const SkeletonAnalysis& an) {
         const auto [it, fresh] = owner.insert({{kind, id, side}, v});
         if (!fresh)
             fail(ErrorCode::UnsupportedConfiguration,
-                 "skeleton vertex " + std::to_string(v) + ": its branch would stand on leaflet faces that the "
-                     "branch rooted at skeleton vertex " + std::to_string(it->second) +
+                 "skeleton vertex " + std::to_string(v) +
+                     ": its branch would stand on leaflet faces that the "
+                     "branch rooted at skeleton vertex " +
+                     std::to_string(it->second) +
                      " stands on too (two branches rooted next to each other on the same side); edit: move one "
                      "of them at least two vertices away, or to the other side",
                  ElementRef::Kind::SkeletonVertex, v);
@@ -439,9 +451,12 @@ void count_elements(const Skeleton& s, SkeletonAnalysis& an) {
     c.edges = static_cast<long>(s.edges.size());
     c.faces = static_cast<long>(s.faces.size());
     for (const int d : an.edge_degree) {
-        if (d == 0) ++c.branch_edges;
-        else if (d == 1) ++c.boundary_edges;
-        else if (d >= 3) ++c.fan_edges;
+        if (d == 0)
+            ++c.branch_edges;
+        else if (d == 1)
+            ++c.boundary_edges;
+        else if (d >= 3)
+            ++c.fan_edges;
     }
     c.branches = static_cast<long>(an.branches.size());
     c.leaflets = static_cast<long>(an.leaflets.size());

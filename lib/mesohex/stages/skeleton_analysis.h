@@ -48,13 +48,13 @@ struct Leaflet {
 
 struct AnalysisCounts {
     long vertices = 0, edges = 0, faces = 0;
-    long branch_edges = 0;     // edges of degree 0
-    long boundary_edges = 0;   // leaflet edges of degree 1
-    long fan_edges = 0;        // degree >= 3
+    long branch_edges = 0;    // edges of degree 0
+    long boundary_edges = 0;  // leaflet edges of degree 1
+    long fan_edges = 0;       // degree >= 3
     long branches = 0, leaflets = 0;
     long extremities = 0, joints = 0, branching_points = 0, bl_joints = 0, ll_joints = 0;
     long leaflet_interior = 0, leaflet_boundary = 0, fan_edge_vertices = 0, fan_edge_ends = 0, isolated = 0;
-    long rings = 0;       // branches that are closed rings without a branching point
+    long rings = 0;  // branches that are closed rings without a branching point
     // components - (V - E + F), isolated vertices excluded: the number of independent cycles (first Betti number)
     // for curve skeletons and leaflets without closed surfaces.
     long cycles = 0;
@@ -86,13 +86,13 @@ struct SkeletonAnalysis {
     // Vertex -> incident edges, CSR, each list in increasing edge id: vertex_edges[vertex_edge_begin[v] ...].
     std::vector<int> vertex_edge_begin;  // size V + 1
     std::vector<int> vertex_edges;
-    std::vector<VertexClass> vertex_class;   // per vertex
-    std::vector<int> vertex_branch_edges;    // per vertex: number of incident branch (degree-0) edges
-    std::vector<int> vertex_boundary_edges;  // per vertex: number of incident degree-1 edges
+    std::vector<VertexClass> vertex_class;       // per vertex
+    std::vector<int> vertex_branch_edges;        // per vertex: number of incident branch (degree-0) edges
+    std::vector<int> vertex_boundary_edges;      // per vertex: number of incident degree-1 edges
     std::vector<BorderRoot> vertex_border_root;  // per vertex: how a branch is rooted on its leaflet border (None
                                                  // unless a LeafletBoundary vertex with a branch edge)
-    std::vector<int> edge_degree;            // per edge: number of incident faces (0 = branch edge)
-    std::vector<int> edge_branch;            // per edge: its branch, or -1
+    std::vector<int> edge_degree;                // per edge: number of incident faces (0 = branch edge)
+    std::vector<int> edge_branch;                // per edge: its branch, or -1
     std::vector<Branch> branches;
     // Leaflets. face_vertices is the face re-oriented consistently within its leaflet (the first face of each leaflet,
     // in face-id order, keeps the input orientation). face_normal: Newell normal of the oriented face, unit length.
@@ -110,7 +110,6 @@ struct AnalysisOptions {
     // Edges shorter than this (absolute) are rejected as degenerate.
     double min_edge_length = 1e-12;
 };
-
 
 // Preconditions (checked, Error(InvalidInput) naming the element otherwise): indices in range, no self-loop edge,
 // no zero-length edge, finite positions, every face a quad whose sides are all listed in skeleton.edges.

@@ -91,7 +91,7 @@ AtArc at_arc(const Skeleton& s, const Walk& w, double t) {
 struct Candidate {
     double score = 0;  // x / r_c
     int c = -1, ei = -1, ej = -1;
-    double sep = 0;    // l*: arc length where the tubes separate
+    double sep = 0;  // l*: arc length where the tubes separate
     Vec3 t;
     double rt = 0;
     bool absorb = false;  // ej is a stub (ends at an extremity inside ei's tube): it disappears into t
@@ -164,15 +164,21 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
                         const Walk &stub = i_short ? wi : wj, &keep = i_short ? wj : wi;
                         const double len = stub.length();
                         if (!o.absorb_stubs || !is_extremity(g, stub.verts.back())) {
-                            unseparated.insert({c, std::min(wi.verts[1], wj.verts[1]) * n +
-                                                       std::max(wi.verts[1], wj.verts[1])});
+                            unseparated.insert(
+                                {c, std::min(wi.verts[1], wj.verts[1]) * n + std::max(wi.verts[1], wj.verts[1])});
                             continue;
                         }
                         const AtArc a = at_arc(s, stub, len), b = at_arc(s, keep, len);
                         const double score = len / s.radii[c];
                         if (score > best.score)
-                            best = {score, c, i_short ? inc[j] : inc[i], i_short ? inc[i] : inc[j], len,
-                                    0.5 * (a.x + b.x), 0.5 * distance(a.x, b.x) + std::max(a.r, b.r), true};
+                            best = {score,
+                                    c,
+                                    i_short ? inc[j] : inc[i],
+                                    i_short ? inc[i] : inc[j],
+                                    len,
+                                    0.5 * (a.x + b.x),
+                                    0.5 * distance(a.x, b.x) + std::max(a.r, b.r),
+                                    true};
                         continue;
                     }
                     const AtArc a = at_arc(s, wi, sep), b = at_arc(s, wj, sep);

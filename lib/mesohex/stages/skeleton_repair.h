@@ -43,8 +43,8 @@ struct SkeletonRepairResult {
     std::vector<int> vertex_map;
     int trunks = 0;          // trunk vertices inserted (one per repaired pair)
     int absorbed_stubs = 0;  // stubs absorbed (one vertex t each)
-    int unseparated = 0;  // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
-                          // separate
+    int unseparated = 0;     // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
+                             // separate
 };
 
 // Preconditions: one finite radius > 0 per vertex, edge indices in range (as after analyze_skeleton and check_radii;

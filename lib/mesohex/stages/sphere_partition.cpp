@@ -19,10 +19,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <set>
@@ -37,11 +37,11 @@ namespace mesohex {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kMinSeparation = 1e-7;   // rad; closer directions are rejected as duplicates
-constexpr double kUnitTolerance = 1e-9;   // | |p| - 1 | allowed for partition points
-constexpr double kAngleTolerance = 1e-8;  // rad; slack on "angle <= 180°" and "angle > 0"
-constexpr double kSumTolerance = 1e-6;    // rad / sr; slack on vertex angle sums and the total area
-constexpr double kMinMargin = 1e-10;      // sin of the angular distance of a direction to its quad boundary
+constexpr double kMinSeparation = 1e-7;         // rad; closer directions are rejected as duplicates
+constexpr double kUnitTolerance = 1e-9;         // | |p| - 1 | allowed for partition points
+constexpr double kAngleTolerance = 1e-8;        // rad; slack on "angle <= 180°" and "angle > 0"
+constexpr double kSumTolerance = 1e-6;          // rad / sr; slack on vertex angle sums and the total area
+constexpr double kMinMargin = 1e-10;            // sin of the angular distance of a direction to its quad boundary
 constexpr double kGoodOrange = 15 * kPi / 180;  // a planar set's orange is used at once when its quality_score >= this
 
 double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
@@ -169,9 +169,8 @@ OrangeFrame orange_frame(const std::vector<Vec3>& d, const Vec3& axis) {
     }
     f.order.resize(n);
     std::iota(f.order.begin(), f.order.end(), 0);
-    std::sort(f.order.begin(), f.order.end(), [&](int a, int b) {
-        return f.azimuth[a] != f.azimuth[b] ? f.azimuth[a] < f.azimuth[b] : a < b;
-    });
+    std::sort(f.order.begin(), f.order.end(),
+              [&](int a, int b) { return f.azimuth[a] != f.azimuth[b] ? f.azimuth[a] < f.azimuth[b] : a < b; });
     return f;
 }
 
@@ -225,8 +224,8 @@ struct OrangeEvaluator {
         // The same order as orange_frame's std::sort: (azimuth, index) is a strict total order.
         for (int i = 0; i < n; ++i) {
             int k = i;
-            while (k > 0 && (azimuth[order[k - 1]] > azimuth[i] ||
-                             (azimuth[order[k - 1]] == azimuth[i] && order[k - 1] > i))) {
+            while (k > 0 &&
+                   (azimuth[order[k - 1]] > azimuth[i] || (azimuth[order[k - 1]] == azimuth[i] && order[k - 1] > i))) {
                 order[k] = order[k - 1];
                 --k;
             }
@@ -283,8 +282,8 @@ Vec3 refine_orange_axis(OrangeEvaluator& eval, Vec3 axis) {
 SpherePartition build_orange(const OrangeFrame& f) {
     const int n = static_cast<int>(f.order.size());
     SpherePartition p;
-    p.points.push_back(f.axis);   // 0: north pole
-    p.points.push_back(-f.axis);  // 1: south pole
+    p.points.push_back(f.axis);    // 0: north pole
+    p.points.push_back(-f.axis);   // 1: south pole
     for (int k = 0; k < n; ++k) {  // 2 + k: equator vertex between sorted directions k and k + 1
         const double phi = f.azimuth[f.order[k]] + 0.5 * orange_gap(f, k);
         p.points.push_back(normalized(std::cos(phi) * f.u + std::sin(phi) * f.w));
@@ -453,9 +452,12 @@ std::optional<BaseMap> hull_base_map(const std::vector<Vec3>& d, double eps) {
                 std::vector<int> members;
                 for (int m = 0; m < n; ++m) {
                     const double s = dot(nrm, d[m]) - h;
-                    if (s > eps) front = true;
-                    else if (s < -eps) back = true;
-                    else members.push_back(m);
+                    if (s > eps)
+                        front = true;
+                    else if (s < -eps)
+                        back = true;
+                    else
+                        members.push_back(m);
                 }
                 for (int side = 0; side < 2; ++side) {
                     if (side == 0 ? front : back) continue;
@@ -522,8 +524,8 @@ std::optional<BaseMap> hull_base_map(const std::vector<Vec3>& d, double eps) {
 // constant (no geometric change / a zero-length edge the relaxation opens).
 
 struct Item {
-    int a = -1, b = -1;   // endpoints
-    int face = -1;        // diagonal: its face; base edge: -1
+    int a = -1, b = -1;          // endpoints
+    int face = -1;               // diagonal: its face; base edge: -1
     int pos_a = -1, pos_b = -1;  // diagonal: corner positions in the face cycle
     double remove_cost = 0;      // base edge: cost of multiplicity 0
     int left = -1, right = -1;   // base edge: the faces left of a->b and of b->a
@@ -715,9 +717,9 @@ std::vector<Assignment> cheapest_factors(const std::vector<Item>& items, const B
                 ++doubles[it.a];
                 ++doubles[it.b];
             }
-            const bool feasible = doubles[it.a] <= max_doubles && doubles[it.b] <= max_doubles
-                                  && degree[it.a] <= 4 && degree[it.b] <= 4 && degree[it.a] + capacity[it.a] >= 4
-                                  && degree[it.b] + capacity[it.b] >= 4 && !(it.face >= 0 && x == 1 && crosses(item));
+            const bool feasible = doubles[it.a] <= max_doubles && doubles[it.b] <= max_doubles && degree[it.a] <= 4 &&
+                                  degree[it.b] <= 4 && degree[it.a] + capacity[it.a] >= 4 &&
+                                  degree[it.b] + capacity[it.b] >= 4 && !(it.face >= 0 && x == 1 && crosses(item));
             if (feasible) search(depth + 1, cost + costs[c]);
             degree[it.a] -= x;
             degree[it.b] -= x;
@@ -849,7 +851,7 @@ struct Relaxer {
     SpherePartition& p;
     std::vector<int> valence;
     std::vector<std::vector<int>> quads_of;
-    std::vector<std::vector<int>> chains;  // per chain: real start, valence-2 vertices..., real end
+    std::vector<std::vector<int>> chains;       // per chain: real start, valence-2 vertices..., real end
     static constexpr double kMinCorner = 2e-3;  // rad, kept from 0 and 180° at real corners
     static constexpr double kMinSide = 1e-3;    // sin-distance of a direction to its quad's edges
     // Energy = sum of exp(-kSharpness * q) over the quality measures q of quality_score: every real corner angle, its
@@ -1138,8 +1140,7 @@ std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double 
 std::vector<Vec3> validated_directions(const std::vector<Vec3>& directions) {
     const int n = static_cast<int>(directions.size());
     if (n < 2)
-        throw Error(ErrorCode::InvalidInput,
-                    "sphere partition: need at least 2 directions, got " + std::to_string(n));
+        throw Error(ErrorCode::InvalidInput, "sphere partition: need at least 2 directions, got " + std::to_string(n));
     std::vector<Vec3> d(n);
     for (int i = 0; i < n; ++i) {
         if (!is_finite(directions[i]) || norm(directions[i]) < 1e-300)
@@ -1150,11 +1151,10 @@ std::vector<Vec3> validated_directions(const std::vector<Vec3>& directions) {
     for (int i = 0; i < n; ++i)
         for (int j = i + 1; j < n; ++j)
             if (angle_between(d[i], d[j]) < kMinSeparation)
-                throw Error(ErrorCode::InvalidInput, "sphere partition: directions " + std::to_string(i) + " and "
-                                                         + std::to_string(j) + " coincide");
+                throw Error(ErrorCode::InvalidInput, "sphere partition: directions " + std::to_string(i) + " and " +
+                                                         std::to_string(j) + " coincide");
     return d;
 }
-
 
 }  // namespace
 
@@ -1196,7 +1196,7 @@ std::string verify_sphere_partition(const SpherePartition& p, const std::vector<
     }
     const int ne = edges2 / 2;
     if (nv - ne + n != 2) return "Euler characteristic " + std::to_string(nv - ne + n) + " != 2";
-    for (int v = 0; v < nv; ++v) {  // the quads around v form one cycle (prev-neighbour -> next-neighbour)
+    for (int v = 0; v < nv; ++v) {              // the quads around v form one cycle (prev-neighbour -> next-neighbour)
         std::vector<std::pair<int, int>> link;  // (previous vertex, next vertex) in each quad at v
         for (int q = 0; q < n; ++q)
             for (int k = 0; k < 4; ++k)
@@ -1240,8 +1240,8 @@ std::string verify_sphere_partition(const SpherePartition& p, const std::vector<
             const Vec3& c = p.points[quad[(k + 1) % 4]];
             const double angle = corner_angle(a, b, c);
             if (angle < kAngleTolerance || angle > kPi + kAngleTolerance)
-                return "quad " + std::to_string(q) + " is not convex at corner " + std::to_string(k) + " (angle "
-                       + std::to_string(angle * 180 / kPi) + " deg)";
+                return "quad " + std::to_string(q) + " is not convex at corner " + std::to_string(k) + " (angle " +
+                       std::to_string(angle * 180 / kPi) + " deg)";
             angle_sum[quad[k]] += angle;
             quad_angles += angle;
             const Vec3 edge_normal = cross(b, c);
@@ -1341,8 +1341,8 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
     const std::vector<double> hull_scores = scores_of(hull);
     std::optional<SpherePartition> best;
     double best_score = -1;
-    for (const auto& [list, scores] : {std::pair{&planar, &planar_scores}, std::pair{&hull, &hull_scores},
-                                       std::pair{&oranges, &orange_scores}})
+    for (const auto& [list, scores] :
+         {std::pair{&planar, &planar_scores}, std::pair{&hull, &hull_scores}, std::pair{&oranges, &orange_scores}})
         for (std::size_t c = 0; c < list->size(); ++c) {
             if ((*scores)[c] == -1e300) continue;
             if (!best || (*scores)[c] > best_score) {

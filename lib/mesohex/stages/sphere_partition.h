@@ -10,8 +10,8 @@
 namespace mesohex {
 
 struct SpherePartition {
-    std::vector<Vec3> points;                // unit vectors (the connection-surface vertices, centre at the origin)
-    std::vector<std::array<int, 4>> quads;   // quads[i] belongs to direction i; counter-clockwise seen from outside
+    std::vector<Vec3> points;               // unit vectors (the connection-surface vertices, centre at the origin)
+    std::vector<std::array<int, 4>> quads;  // quads[i] belongs to direction i; counter-clockwise seen from outside
 };
 
 struct SpherePartitionOptions {
@@ -50,7 +50,7 @@ struct SpherePartitionStats {
     double min_margin = 0;  // smallest angular distance from a direction to the boundary of its quad
     // Smallest ratio margin / (half the angle to the nearest other direction): 1 is the best possible, ~0.5 is good.
     double min_margin_ratio = 0;
-    int max_valence = 0;    // largest number of quads around one vertex
+    int max_valence = 0;  // largest number of quads around one vertex
 };
 SpherePartitionStats sphere_partition_stats(const SpherePartition& p, const std::vector<Vec3>& directions);
 

@@ -5,10 +5,10 @@
 #include <CGAL/Delaunay_triangulation_cell_base_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Spatial_sort_traits_adapter_3.h>
-#include <CGAL/hilbert_sort.h>
-#include <CGAL/property_map.h>
 #include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <CGAL/hilbert_sort.h>
+#include <CGAL/property_map.h>
 
 #include <algorithm>
 #include <array>
@@ -75,12 +75,14 @@ std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_sampl
     auto count_for = [&](double step) {
         long n = vertex_count;
         for (const std::array<int, 2>& e : edges)
-            n += std::max(0L, static_cast<long>(std::ceil(distance(m.points[static_cast<size_t>(e[0])],
-                                                                   m.points[static_cast<size_t>(e[1])]) / step)) - 1);
+            n += std::max(
+                0L, static_cast<long>(std::ceil(
+                        distance(m.points[static_cast<size_t>(e[0])], m.points[static_cast<size_t>(e[1])]) / step)) -
+                        1);
         for (const std::array<int, 3>& t : m.triangles) {
             const Vec3& a = m.points[static_cast<size_t>(t[0])];
-            const double area = 0.5 * norm(cross(m.points[static_cast<size_t>(t[1])] - a,
-                                                 m.points[static_cast<size_t>(t[2])] - a));
+            const double area =
+                0.5 * norm(cross(m.points[static_cast<size_t>(t[1])] - a, m.points[static_cast<size_t>(t[2])] - a));
             n += static_cast<long>(std::floor(area / (step * step)));
         }
         return n;
@@ -127,7 +129,8 @@ struct SphereQuadric {
         const std::array<double, 4> m = {n.x, n.y, n.z, 1.0};
         const double d = dot(n, p);
         for (int i = 0; i < 4; ++i) {
-            for (int j = 0; j < 4; ++j) A[static_cast<size_t>(4 * i + j)] += m[static_cast<size_t>(i)] * m[static_cast<size_t>(j)];
+            for (int j = 0; j < 4; ++j)
+                A[static_cast<size_t>(4 * i + j)] += m[static_cast<size_t>(i)] * m[static_cast<size_t>(j)];
             b[static_cast<size_t>(i)] += d * m[static_cast<size_t>(i)];
         }
         c += d * d;
@@ -193,7 +196,7 @@ struct MedialComplex {
     std::vector<SphereQuadric> quadric;
     std::vector<char> alive;
     std::vector<int> version;
-    std::vector<std::vector<int>> neighbours;   // sorted, unique
+    std::vector<std::vector<int>> neighbours;  // sorted, unique
     std::vector<std::vector<int>> vertex_triangles;
     std::vector<std::array<int, 3>> triangles;
     std::vector<char> triangle_alive;
@@ -216,8 +219,9 @@ bool contains(const std::array<int, 3>& t, int v) { return t[0] == v || t[1] == 
 // sliver bundles around tube axes) and whatever narrow-angle faces and edges hold them together (the ligature
 // where a disk's mid-sheet meets its hub's axis, the faces that close the holes noise would punch into a thin
 // plate's sheet). Returns the faces kept (in input order) and writes the curve edges left (cell ids, a < b, sorted).
-std::vector<std::vector<int>> erode_by_angle(const std::vector<std::vector<int>>& faces, const std::vector<double>& face_cos,
-                                             double cos_min, std::vector<std::array<int, 2>>& curve_edges) {
+std::vector<std::vector<int>> erode_by_angle(const std::vector<std::vector<int>>& faces,
+                                             const std::vector<double>& face_cos, double cos_min,
+                                             std::vector<std::array<int, 2>>& curve_edges) {
     // Edges of the complex: sorted cell-id pairs, with their faces' count.
     std::vector<std::array<int, 2>> edges;
     for (const std::vector<int>& f : faces)
@@ -389,8 +393,8 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
     std::vector<std::array<int, 4>> cell_samples;
     for (const auto& [key, ch] : cells) {
         ch->info() = static_cast<int>(centres.size());
-        const K::Point_3 cc = CGAL::circumcenter(ch->vertex(0)->point(), ch->vertex(1)->point(),
-                                                 ch->vertex(2)->point(), ch->vertex(3)->point());
+        const K::Point_3 cc = CGAL::circumcenter(ch->vertex(0)->point(), ch->vertex(1)->point(), ch->vertex(2)->point(),
+                                                 ch->vertex(3)->point());
         const Vec3 c{cc.x(), cc.y(), cc.z()};
         centres.push_back(c);
         radii.push_back(distance(c, samples[static_cast<size_t>(key[0])]));
@@ -501,7 +505,8 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
 // The segment a-b lies inside the surface and its points keep at least clearance x the radius interpolated between
 // a's and b's spheres from the surface (points every quarter of the smaller radius, at most 64).
 bool segment_inside(const SurfaceQuery& query, const Vec3& a, double ra, const Vec3& b, double rb, double clearance) {
-    const int n = std::clamp(static_cast<int>(std::ceil(4 * distance(a, b) / std::max(1e-300, std::min(ra, rb)))), 2, 64);
+    const int n =
+        std::clamp(static_cast<int>(std::ceil(4 * distance(a, b) / std::max(1e-300, std::min(ra, rb)))), 2, 64);
     std::vector<Vec3> points;
     for (int i = 0; i <= n; ++i) points.push_back(a + (b - a) * (static_cast<double>(i) / n));
     const std::vector<char> in = query.inside(points);
@@ -530,9 +535,8 @@ int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_fa
         if (mc.alive[static_cast<size_t>(v)]) parts[uf.find(v)].push_back(v);
     std::vector<std::vector<int>> order;
     for (auto& [root, members] : parts) order.push_back(std::move(members));
-    std::stable_sort(order.begin(), order.end(), [](const std::vector<int>& x, const std::vector<int>& y) {
-        return x.size() > y.size();
-    });
+    std::stable_sort(order.begin(), order.end(),
+                     [](const std::vector<int>& x, const std::vector<int>& y) { return x.size() > y.size(); });
     if (order.size() < 2) return 0;
     std::vector<int> main = order[0];
     std::vector<char> joined(order.size(), 0);
@@ -546,8 +550,9 @@ int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_fa
             int ba = -1, bb = -1;
             for (int a : order[c])
                 for (int b : main) {
-                    const double d = distance(mc.centre[static_cast<size_t>(a)], mc.centre[static_cast<size_t>(b)]) -
-                                     std::max(mc.radius[static_cast<size_t>(a)], mc.radius[static_cast<size_t>(b)]) * 1e-9;
+                    const double d =
+                        distance(mc.centre[static_cast<size_t>(a)], mc.centre[static_cast<size_t>(b)]) -
+                        std::max(mc.radius[static_cast<size_t>(a)], mc.radius[static_cast<size_t>(b)]) * 1e-9;
                     if (d < best) {
                         best = d;
                         ba = a;
@@ -556,7 +561,8 @@ int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_fa
                 }
             const double ra = mc.radius[static_cast<size_t>(ba)], rb = mc.radius[static_cast<size_t>(bb)];
             if (best > join_factor * std::max(ra, rb)) continue;
-            if (!segment_inside(query, mc.centre[static_cast<size_t>(ba)], ra, mc.centre[static_cast<size_t>(bb)], rb, 0.25))
+            if (!segment_inside(query, mc.centre[static_cast<size_t>(ba)], ra, mc.centre[static_cast<size_t>(bb)], rb,
+                                0.25))
                 continue;
             insert_sorted(mc.neighbours[static_cast<size_t>(ba)], bb);
             insert_sorted(mc.neighbours[static_cast<size_t>(bb)], ba);
@@ -654,7 +660,8 @@ int keep_parts_and_paths(MedialComplex& mc, double extent_factor) {
         }
         const int p = part_of[static_cast<size_t>(reached)];
         connected[static_cast<size_t>(p)] = 1;
-        sources.insert(sources.end(), kept_parts[static_cast<size_t>(p)].begin(), kept_parts[static_cast<size_t>(p)].end());
+        sources.insert(sources.end(), kept_parts[static_cast<size_t>(p)].begin(),
+                       kept_parts[static_cast<size_t>(p)].end());
         for (int v = reached; from[static_cast<size_t>(v)] >= 0; v = from[static_cast<size_t>(v)]) sources.push_back(v);
     }
     // Rebuild: triangles of connected parts, their sides and the kept path edges.
@@ -667,7 +674,8 @@ int keep_parts_and_paths(MedialComplex& mc, double extent_factor) {
             continue;
         }
         for (int k = 0; k < 3; ++k) {
-            const int a = mc.triangles[t][static_cast<size_t>(k)], b = mc.triangles[t][static_cast<size_t>((k + 1) % 3)];
+            const int a = mc.triangles[t][static_cast<size_t>(k)],
+                      b = mc.triangles[t][static_cast<size_t>((k + 1) % 3)];
             neighbours[static_cast<size_t>(a)].push_back(b);
             neighbours[static_cast<size_t>(b)].push_back(a);
         }
@@ -702,7 +710,8 @@ void keep_largest_component(MedialComplex& mc) {
         if (mc.alive[static_cast<size_t>(v)]) ++size[static_cast<size_t>(uf.find(v))];
     int best = -1;
     for (int v = 0; v < nv; ++v)
-        if (mc.alive[static_cast<size_t>(v)] && (best < 0 || size[static_cast<size_t>(uf.find(v))] > size[static_cast<size_t>(best)]))
+        if (mc.alive[static_cast<size_t>(v)] &&
+            (best < 0 || size[static_cast<size_t>(uf.find(v))] > size[static_cast<size_t>(best)]))
             best = uf.find(v);
     for (int v = 0; v < nv; ++v)
         if (mc.alive[static_cast<size_t>(v)] && uf.find(v) != best) mc.alive[static_cast<size_t>(v)] = 0;
@@ -732,8 +741,8 @@ Candidate make_candidate(const MedialComplex& mc, int a, int b) {
     if (!q.minimize(x) || x[3] <= 0.05 * std::min(ra, rb)) {
         // Fall back to the best of the two ends and the midpoint.
         x = mid;
-        for (const std::array<double, 4>& y : {std::array<double, 4>{ca.x, ca.y, ca.z, ra},
-                                              std::array<double, 4>{cb.x, cb.y, cb.z, rb}})
+        for (const std::array<double, 4>& y :
+             {std::array<double, 4>{ca.x, ca.y, ca.z, ra}, std::array<double, 4>{cb.x, cb.y, cb.z, rb}})
             if (q.eval(y) < q.eval(x)) x = y;
     }
     return {q.eval(x), a, b, mc.version[static_cast<size_t>(a)], mc.version[static_cast<size_t>(b)], x};
@@ -876,7 +885,7 @@ int simplify(MedialComplex& mc, const MedialAxisOptions& o, double diag) {
 struct SmallComplex {
     std::vector<Vec3> centre;
     std::vector<double> radius;
-    std::set<std::array<int, 2>> edges;        // a < b
+    std::set<std::array<int, 2>> edges;  // a < b
     std::vector<std::array<int, 3>> triangles;
     std::vector<char> triangle_alive;
 };
@@ -894,12 +903,13 @@ SmallComplex compact(const MedialComplex& mc) {
         if (mc.alive[v])
             for (int n : mc.neighbours[v])
                 if (id[static_cast<size_t>(n)] >= 0 && static_cast<int>(v) < n)
-                    s.edges.insert({std::min(id[v], id[static_cast<size_t>(n)]), std::max(id[v], id[static_cast<size_t>(n)])});
+                    s.edges.insert(
+                        {std::min(id[v], id[static_cast<size_t>(n)]), std::max(id[v], id[static_cast<size_t>(n)])});
     for (size_t t = 0; t < mc.triangles.size(); ++t)
         if (mc.triangle_alive[t]) {
             const std::array<int, 3>& tri = mc.triangles[t];
-            s.triangles.push_back({id[static_cast<size_t>(tri[0])], id[static_cast<size_t>(tri[1])],
-                                   id[static_cast<size_t>(tri[2])]});
+            s.triangles.push_back(
+                {id[static_cast<size_t>(tri[0])], id[static_cast<size_t>(tri[1])], id[static_cast<size_t>(tri[2])]});
         }
     s.triangle_alive.assign(s.triangles.size(), 1);
     return s;
@@ -1003,7 +1013,8 @@ int prune_tips(SmallComplex& s, std::vector<char>& vertex_alive, double prune_fa
                 if (adj[static_cast<size_t>(cur)].size() != 2 || in_triangle[static_cast<size_t>(cur)]) break;
             }
             const int node = chain.back();
-            if (adj[static_cast<size_t>(node)].size() < 2 && !in_triangle[static_cast<size_t>(node)]) continue;  // a path
+            if (adj[static_cast<size_t>(node)].size() < 2 && !in_triangle[static_cast<size_t>(node)])
+                continue;  // a path
             if (length + s.radius[v] < prune_factor * s.radius[static_cast<size_t>(node)])
                 branches.push_back({length, chain});
         }
@@ -1092,7 +1103,8 @@ Skeleton to_medial_mesh(const SmallComplex& s, const std::vector<char>& vertex_a
     std::vector<std::array<int, 3>> faces;
     for (size_t t = 0; t < s.triangles.size(); ++t)
         if (s.triangle_alive[t]) {
-            std::array<int, 3> f = {id[static_cast<size_t>(s.triangles[t][0])], id[static_cast<size_t>(s.triangles[t][1])],
+            std::array<int, 3> f = {id[static_cast<size_t>(s.triangles[t][0])],
+                                    id[static_cast<size_t>(s.triangles[t][1])],
                                     id[static_cast<size_t>(s.triangles[t][2])]};
             std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
             faces.push_back(f);
@@ -1135,7 +1147,9 @@ void measure(MedialAxis& out) {
         out.curve_band_area += distance(m.points[static_cast<size_t>(e[0])], m.points[static_cast<size_t>(e[1])]) *
                                (m.radii[static_cast<size_t>(e[0])] + m.radii[static_cast<size_t>(e[1])]);
     }
-    auto is_node = [&](int v) { return curve_adj[static_cast<size_t>(v)].size() != 2 || in_triangle[static_cast<size_t>(v)]; };
+    auto is_node = [&](int v) {
+        return curve_adj[static_cast<size_t>(v)].size() != 2 || in_triangle[static_cast<size_t>(v)];
+    };
     std::set<std::array<int, 2>> visited;
     out.curves = 0;
     auto walk = [&](int from, int to) {
@@ -1174,7 +1188,8 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     if (!check.is_closed_manifold())
         throw Error(ErrorCode::InvalidInput,
                     "medial axis needs a closed, manifold, consistently oriented surface without degenerate "
-                    "triangles (boundary edges " + std::to_string(check.boundary_edges) + ", non-manifold edges " +
+                    "triangles (boundary edges " +
+                        std::to_string(check.boundary_edges) + ", non-manifold edges " +
                         std::to_string(check.non_manifold_edges) + ", non-manifold vertices " +
                         std::to_string(check.non_manifold_vertices) + ", inconsistent edges " +
                         std::to_string(check.inconsistent_edges) + ", degenerate triangles " +
@@ -1191,9 +1206,9 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     const std::vector<Vec3> samples = sample_surface(surface, h, options.max_samples);
     MedialComplex mc = voronoi_medial_complex(samples, query, diag, options.min_angle_deg, options.keep_topology, out);
     if (mc.centre.empty())
-        throw Error(ErrorCode::NumericalFailure,
-                    "medial axis: no Voronoi face passed the angle filter (" + std::to_string(out.inner_poles) +
-                        " inner poles from " + std::to_string(out.samples) + " samples)");
+        throw Error(ErrorCode::NumericalFailure, "medial axis: no Voronoi face passed the angle filter (" +
+                                                     std::to_string(out.inner_poles) + " inner poles from " +
+                                                     std::to_string(out.samples) + " samples)");
     out.joined_parts = join_components(mc, query, options.join_factor, options.min_part_vertices);
     if (options.keep_topology) keep_parts_and_paths(mc, options.part_extent_factor);
     keep_largest_component(mc);

@@ -43,20 +43,20 @@ struct MedialAxisOptions {
     // keep_topology: a part of wide faces is kept when its extent is at least this x its largest radius, with the
     // shortest curve paths that link the kept parts; other curve edges (debris near the surface) go (x radius).
     double part_extent_factor = 2.0;
-    int target_vertices = 60;       // simplification stops at this many medial vertices ...
-    double error_tolerance = 0;     // > 0: stop earlier, when the next collapse costs more than (tolerance x diag)^2
-                                    //     and fewer than max_vertices are left (0 = off: always target_vertices)
-    int max_vertices = 400;         // the simplification never stops above this many vertices
-    double max_fold_deg = 60;       // a collapse that turns a sheet triangle by more than this is refused
+    int target_vertices = 60;          // simplification stops at this many medial vertices ...
+    double error_tolerance = 0;        // > 0: stop earlier, when the next collapse costs more than (tolerance x diag)^2
+                                       //     and fewer than max_vertices are left (0 = off: always target_vertices)
+    int max_vertices = 400;            // the simplification never stops above this many vertices
+    double max_fold_deg = 60;          // a collapse that turns a sheet triangle by more than this is refused
     double sheet_width_factor = 0.25;  // a triangle is sheet-like when its smallest height >= this x mean radius
     // Parts of the medial complex the angle filter cut apart (a hub's axis from its disk's mid-sheet) are joined back
     // by a curve edge between their closest spheres when those are at most join_factor x the larger radius apart and
     // the segment stays inside (0 = off: only the largest part is kept, as before); parts with fewer than
     // min_part_vertices Voronoi vertices are noise and dropped.
-    double join_factor = 0;         // x sphere radius (off by default: it joins corner debris on a plate)
-    int min_part_vertices = 8;      // Voronoi vertices
-    double prune_factor = 2.0;      // a terminal curve branch goes when its length + tip radius < this x the radius
-                                    // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
+    double join_factor = 0;     // x sphere radius (off by default: it joins corner debris on a plate)
+    int min_part_vertices = 8;  // Voronoi vertices
+    double prune_factor = 2.0;  // a terminal curve branch goes when its length + tip radius < this x the radius
+                                // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
 };
 
 struct MedialAxis {
@@ -64,24 +64,24 @@ struct MedialAxis {
     // every triangle side plus the curve edges (in no triangle). Points sorted by (x, y, z); edges {a, b} with a < b,
     // sorted; faces with the smallest id first, sorted. A valid input for import_medial_mesh and write_medial_mesh.
     Skeleton medial;
-    int samples = 0;                // surface samples (Delaunay vertices)
-    int inner_poles = 0;            // Delaunay cells with their circumcentre inside
-    int voronoi_faces = 0;          // Voronoi faces kept by the angle filter
+    int samples = 0;                                  // surface samples (Delaunay vertices)
+    int inner_poles = 0;                              // Delaunay cells with their circumcentre inside
+    int voronoi_faces = 0;                            // Voronoi faces kept by the angle filter
     int initial_vertices = 0, initial_triangles = 0;  // the medial complex before simplification
-    long initial_euler = 0;         // V - E + F of the medial complex before simplification
-    int joined_parts = 0;           // parts joined back to the main part (join_factor)
-    int collapses = 0;              // edge collapses performed
-    int thin_triangles_removed = 0; // triangles turned into curves (step 5)
-    int pruned_tips = 0;            // curve tips pruned
-    int sheets = 0;                 // triangle components through shared edges
-    int curves = 0;                 // curve branches: chains of curve edges between vertices that are not on exactly
-                                    // two curve edges and in no triangle (a closed chain counts once)
-    long euler = 0;                 // V - E + F of the medial mesh
-    double sheet_area = 0;          // total triangle area
-    double curve_band_area = 0;     // sum over curve edges of length x (sum of its two radii): the area of the band a
-                                    // curve would cover as wide as its spheres
-    double sheet_fraction = 0;      // sheet_area / (sheet_area + curve_band_area) (0 when both are 0)
-    double bbox_diagonal = 0;       // of the surface
+    long initial_euler = 0;                           // V - E + F of the medial complex before simplification
+    int joined_parts = 0;                             // parts joined back to the main part (join_factor)
+    int collapses = 0;                                // edge collapses performed
+    int thin_triangles_removed = 0;                   // triangles turned into curves (step 5)
+    int pruned_tips = 0;                              // curve tips pruned
+    int sheets = 0;                                   // triangle components through shared edges
+    int curves = 0;              // curve branches: chains of curve edges between vertices that are not on exactly
+                                 // two curve edges and in no triangle (a closed chain counts once)
+    long euler = 0;              // V - E + F of the medial mesh
+    double sheet_area = 0;       // total triangle area
+    double curve_band_area = 0;  // sum over curve edges of length x (sum of its two radii): the area of the band a
+                                 // curve would cover as wide as its spheres
+    double sheet_fraction = 0;   // sheet_area / (sheet_area + curve_band_area) (0 when both are 0)
+    double bbox_diagonal = 0;    // of the surface
 };
 
 // Preconditions (InvalidInput naming the element otherwise): a closed, edge- and vertex-manifold, consistently

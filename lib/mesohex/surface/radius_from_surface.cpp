@@ -10,10 +10,12 @@ namespace mesohex {
 RadiusFromSurface radius_from_surface(const Skeleton& skeleton, const SurfaceQuery& surface,
                                       const RadiusFromSurfaceOptions& options) {
     if (!(options.factor > 0) || !std::isfinite(options.factor))
-        throw Error(ErrorCode::InvalidInput, "radius from surface: the factor must be > 0, got " + std::to_string(options.factor));
+        throw Error(ErrorCode::InvalidInput,
+                    "radius from surface: the factor must be > 0, got " + std::to_string(options.factor));
     for (std::size_t v = 0; v < skeleton.points.size(); ++v)
         if (!is_finite(skeleton.points[v]))
-            throw Error(ErrorCode::InvalidInput, "radius from surface: skeleton point " + std::to_string(v) + " is not finite",
+            throw Error(ErrorCode::InvalidInput,
+                        "radius from surface: skeleton point " + std::to_string(v) + " is not finite",
                         ElementRef{ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
     RadiusFromSurface r;
     const std::vector<double> d2 = surface.squared_distances(skeleton.points);

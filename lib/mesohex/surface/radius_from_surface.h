@@ -16,9 +16,9 @@ struct RadiusFromSurfaceOptions {
 };
 
 struct RadiusFromSurface {
-    std::vector<double> radii;         // one per skeleton point: factor x distance (0 for a point on the surface)
-    std::vector<double> distance;      // distance of each skeleton point to the surface
-    std::vector<int> outside_vertices; // skeleton points outside the closed surface, ascending
+    std::vector<double> radii;              // one per skeleton point: factor x distance (0 for a point on the surface)
+    std::vector<double> distance;           // distance of each skeleton point to the surface
+    std::vector<int> outside_vertices;      // skeleton points outside the closed surface, ascending
     std::vector<int> zero_radius_vertices;  // points on the surface (radius 0), ascending
 };
 

@@ -1,6 +1,6 @@
 // Mean-curvature-flow skeleton + radii + cleaning. The only file that includes CGAL's MCF header (heavy).
-#include "mesohex/core/union_find.h"
 #include "mesohex/surface/skeletonize.h"
+#include "mesohex/core/union_find.h"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -41,9 +41,7 @@ using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 template <>
 struct std::less<boost::graph_traits<mesohex::skeletonize_cgal::Mcf::Meso_skeleton>::edge_descriptor> {
     using Edge = boost::graph_traits<mesohex::skeletonize_cgal::Mcf::Meso_skeleton>::edge_descriptor;
-    static std::size_t key(const Edge& e) {
-        return std::min(e.halfedge()->id(), e.halfedge()->opposite()->id());
-    }
+    static std::size_t key(const Edge& e) { return std::min(e.halfedge()->id(), e.halfedge()->opposite()->id()); }
     bool operator()(const Edge& a, const Edge& b) const { return key(a) < key(b); }
 };
 
@@ -99,7 +97,6 @@ void check_geometry(const TriangleMesh& m) {
 
 // Throws InvalidInput unless the surface is a closed, manifold, consistently oriented, single-component triangle mesh.
 void check_skeletonizable(const TriangleMesh& m) {
-
     const int nv = static_cast<int>(m.points.size());
     const int nt = static_cast<int>(m.triangles.size());
     if (nt < 4) throw invalid("it has " + std::to_string(nt) + " triangles (a closed surface needs at least 4)");
@@ -107,8 +104,8 @@ void check_skeletonizable(const TriangleMesh& m) {
         const std::array<int, 3>& tri = m.triangles[static_cast<size_t>(t)];
         for (int i = 0; i < 3; ++i)
             if (tri[i] < 0 || tri[i] >= nv)
-                throw invalid("triangle " + std::to_string(t) + " has vertex index " + std::to_string(tri[i])
-                                  + " out of range");
+                throw invalid("triangle " + std::to_string(t) + " has vertex index " + std::to_string(tri[i]) +
+                              " out of range");
         if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
             throw invalid("triangle " + std::to_string(t) + " is degenerate (repeated vertex)");
     }
@@ -136,15 +133,14 @@ void check_skeletonizable(const TriangleMesh& m) {
         while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) ++j;
         const std::string edge = "edge (" + std::to_string(half[i].lo) + ", " + std::to_string(half[i].hi) + ")";
         if (j - i == 1)
-            throw invalid("the surface is open: " + edge + " belongs to triangle " + std::to_string(half[i].tri)
-                              + " only");
+            throw invalid("the surface is open: " + edge + " belongs to triangle " + std::to_string(half[i].tri) +
+                          " only");
         if (j - i > 2)
-            throw invalid("the surface is not manifold: " + edge + " belongs to " + std::to_string(j - i)
-                              + " triangles");
+            throw invalid("the surface is not manifold: " + edge + " belongs to " + std::to_string(j - i) +
+                          " triangles");
         if (half[i].from == half[i + 1].from)
-            throw invalid("the surface is not consistently oriented: triangles " + std::to_string(half[i].tri)
-                              + " and " + std::to_string(half[i + 1].tri) + " traverse " + edge
-                              + " in the same direction");
+            throw invalid("the surface is not consistently oriented: triangles " + std::to_string(half[i].tri) +
+                          " and " + std::to_string(half[i + 1].tri) + " traverse " + edge + " in the same direction");
         i = j;
     }
     // Vertex-manifold: the link of every vertex (opposite edges of its triangles) is one cycle.
@@ -175,14 +171,14 @@ void check_skeletonizable(const TriangleMesh& m) {
         UnionFind uf(static_cast<int>(link_vertices.size()));
         int components = static_cast<int>(link_vertices.size());
         auto local = [&](int x) {
-            return static_cast<int>(std::lower_bound(link_vertices.begin(), link_vertices.end(), x)
-                                    - link_vertices.begin());
+            return static_cast<int>(std::lower_bound(link_vertices.begin(), link_vertices.end(), x) -
+                                    link_vertices.begin());
         };
         for (const std::array<int, 2>& le : link_edges)
             if (uf.unite(local(le[0]), local(le[1]))) --components;
         if (components != 1)
-            throw invalid("the surface is not manifold at vertex " + std::to_string(v) + " (" + std::to_string(components)
-                              + " cones of triangles meet there)");
+            throw invalid("the surface is not manifold at vertex " + std::to_string(v) + " (" +
+                          std::to_string(components) + " cones of triangles meet there)");
     }
     // One connected component (over referenced vertices).
     UnionFind uf(nv);
@@ -194,8 +190,8 @@ void check_skeletonizable(const TriangleMesh& m) {
     for (int v = 0; v < nv; ++v)
         if (start[static_cast<size_t>(v)] != start[static_cast<size_t>(v) + 1] && uf.find(v) == v) ++components;
     if (components != 1)
-        throw invalid("the surface has " + std::to_string(components)
-                      + " connected components (skeletonize each one separately)");
+        throw invalid("the surface has " + std::to_string(components) +
+                      " connected components (skeletonize each one separately)");
     check_geometry(m);
 }
 
@@ -292,11 +288,11 @@ int merge_branch_points(Graph& g, double merge_factor) {
                 std::vector<int> path = walk_branch(g, a, n);
                 const int b = path.back();
                 if (b <= a || g.degree(b) < 3) continue;  // each junction-junction branch once, a < b
-                const double limit = merge_factor * std::max(g.radii[static_cast<size_t>(a)],
-                                                             g.radii[static_cast<size_t>(b)]);
+                const double limit =
+                    merge_factor * std::max(g.radii[static_cast<size_t>(a)], g.radii[static_cast<size_t>(b)]);
                 const double ratio = path_length(g, path) / limit;
-                if (ratio < 1 && ratio < best_ratio
-                    && std::find(rejected.begin(), rejected.end(), path) == rejected.end()) {
+                if (ratio < 1 && ratio < best_ratio &&
+                    std::find(rejected.begin(), rejected.end(), path) == rejected.end()) {
                     best_ratio = ratio;
                     best = std::move(path);
                 }
@@ -389,10 +385,11 @@ void check_surface_for_skeleton(const TriangleMesh& surface) { check_skeletoniza
 
 Skeletonization skeletonize_surface(const TriangleMesh& surface, const SkeletonizeOptions& options) {
     check_skeletonizable(surface);
-    if (!(options.prune_factor >= 0) || !(options.merge_factor >= 0) || !(options.extension_gap >= 0)
-        || options.max_iterations < 1 || !(options.min_edge_length >= 0))
-        throw Error(ErrorCode::InvalidInput, "skeletonize: options out of range (factors must be >= 0, "
-                                             "max_iterations >= 1)");
+    if (!(options.prune_factor >= 0) || !(options.merge_factor >= 0) || !(options.extension_gap >= 0) ||
+        options.max_iterations < 1 || !(options.min_edge_length >= 0))
+        throw Error(ErrorCode::InvalidInput,
+                    "skeletonize: options out of range (factors must be >= 0, "
+                    "max_iterations >= 1)");
 
     // Referenced vertices only, in input order.
     CgalMesh mesh;
@@ -403,9 +400,8 @@ Skeletonization skeletonize_surface(const TriangleMesh& surface, const Skeletoni
         if (vmap[v] != CgalMesh::null_vertex()) vmap[v] = mesh.add_vertex(to_point(surface.points[v]));
     for (size_t t = 0; t < surface.triangles.size(); ++t) {
         const std::array<int, 3>& tri = surface.triangles[t];
-        const CgalMesh::Face_index f = mesh.add_face(vmap[static_cast<size_t>(tri[0])],
-                                                     vmap[static_cast<size_t>(tri[1])],
-                                                     vmap[static_cast<size_t>(tri[2])]);
+        const CgalMesh::Face_index f = mesh.add_face(
+            vmap[static_cast<size_t>(tri[0])], vmap[static_cast<size_t>(tri[1])], vmap[static_cast<size_t>(tri[2])]);
         if (f == CgalMesh::null_face())
             throw invalid("triangle " + std::to_string(t) + " cannot be added to a manifold halfedge mesh");
     }
@@ -452,8 +448,8 @@ Skeletonization skeletonize_surface(const TriangleMesh& surface, const Skeletoni
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](int a, int b) {
         const Vec3 &pa = raw_points[static_cast<size_t>(a)], &pb = raw_points[static_cast<size_t>(b)];
-        return std::tie(pa.x, pa.y, pa.z, raw_radii[static_cast<size_t>(a)], a)
-               < std::tie(pb.x, pb.y, pb.z, raw_radii[static_cast<size_t>(b)], b);
+        return std::tie(pa.x, pa.y, pa.z, raw_radii[static_cast<size_t>(a)], a) <
+               std::tie(pb.x, pb.y, pb.z, raw_radii[static_cast<size_t>(b)], b);
     });
     std::vector<int> rank(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) rank[static_cast<size_t>(order[static_cast<size_t>(i)])] = i;

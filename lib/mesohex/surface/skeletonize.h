@@ -9,9 +9,9 @@ namespace mesohex {
 struct SkeletonizeOptions {
     // Mean curvature flow. 0 keeps CGAL's default, which is already relative to the model size
     // (min_edge_length = 0.002 x bounding-box diagonal).
-    double min_edge_length = 0;             // absolute length; 0 = CGAL default
-    int max_iterations = 500;               // contraction iterations at most (CGAL default)
-    double quality_speed_tradeoff = 0.1;    // CGAL omega_H
+    double min_edge_length = 0;                     // absolute length; 0 = CGAL default
+    int max_iterations = 500;                       // contraction iterations at most (CGAL default)
+    double quality_speed_tradeoff = 0.1;            // CGAL omega_H
     double medially_centered_speed_tradeoff = 0.2;  // CGAL omega_P
     // Radius of each flow-skeleton vertex: the median distance to the surface vertices the flow maps to it (default;
     // the mean size of the cross-section), or, with inscribed_radii, its distance to the surface (the radius of
@@ -31,10 +31,10 @@ struct SkeletonizeOptions {
 };
 
 struct Skeletonization {
-    Skeleton skeleton;              // curve only (no faces); radii always present, one per point
-    int mcf_vertices = 0;           // vertices of the raw MCF skeleton
+    Skeleton skeleton;     // curve only (no faces); radii always present, one per point
+    int mcf_vertices = 0;  // vertices of the raw MCF skeleton
     int pruned_branches = 0;
-    int merged_branch_points = 0;   // merges performed (each removes one branching point)
+    int merged_branch_points = 0;  // merges performed (each removes one branching point)
     int extended_extremities = 0;
 };
 

@@ -48,8 +48,8 @@ void validate_indices(const TriangleMesh& mesh) {
         for (int v : mesh.triangles[f])
             if (v < 0 || v >= nv)
                 throw Error(ErrorCode::InvalidInput,
-                            "triangle " + std::to_string(f) + ": vertex index " + std::to_string(v) + " out of range [0, " +
-                                std::to_string(nv) + ")",
+                            "triangle " + std::to_string(f) + ": vertex index " + std::to_string(v) +
+                                " out of range [0, " + std::to_string(nv) + ")",
                             ElementRef{ElementRef::Kind::None, static_cast<int>(f)});
 }
 
@@ -142,7 +142,8 @@ SurfaceCheck check_surface(const TriangleMesh& mesh) {
             const HalfEdge& b = he[i + 1];
             if (a.forward == b.forward) {
                 ++r.inconsistent_edges;
-                tri_inconsistent[static_cast<std::size_t>(a.tri)] = tri_inconsistent[static_cast<std::size_t>(b.tri)] = 1;
+                tri_inconsistent[static_cast<std::size_t>(a.tri)] = tri_inconsistent[static_cast<std::size_t>(b.tri)] =
+                    1;
             }
             corners.unite(corner_of(a.tri, a.lo), corner_of(b.tri, a.lo));
             corners.unite(corner_of(a.tri, a.hi), corner_of(b.tri, a.hi));
@@ -163,10 +164,14 @@ SurfaceCheck check_surface(const TriangleMesh& mesh) {
         for (int k = 0; k < 3; ++k) {
             const std::size_t v = static_cast<std::size_t>(t[static_cast<std::size_t>(k)]);
             const int fan = corners.find(3 * static_cast<int>(f) + k);
-            if (first_fan[v] < 0) first_fan[v] = fan;
-            else if (first_fan[v] != fan) vertex_bad[v] = 1;
-            if (first_tri[v] < 0) first_tri[v] = static_cast<int>(f);
-            else tris.unite(first_tri[v], static_cast<int>(f));
+            if (first_fan[v] < 0)
+                first_fan[v] = fan;
+            else if (first_fan[v] != fan)
+                vertex_bad[v] = 1;
+            if (first_tri[v] < 0)
+                first_tri[v] = static_cast<int>(f);
+            else
+                tris.unite(first_tri[v], static_cast<int>(f));
         }
     }
     r.non_manifold_vertices = static_cast<int>(std::count(vertex_bad.begin(), vertex_bad.end(), 1));
@@ -197,11 +202,13 @@ SurfaceCheck check_surface(const TriangleMesh& mesh) {
     const Vec3 origin = bbox_centre(mesh);
     for (std::size_t f = 0; f < nt; ++f) {
         const int c = r.triangle_component[f];
-        if (c >= 0) r.components[static_cast<std::size_t>(c)].signed_volume += tri_volume(mesh, mesh.triangles[f], origin);
+        if (c >= 0)
+            r.components[static_cast<std::size_t>(c)].signed_volume += tri_volume(mesh, mesh.triangles[f], origin);
     }
     for (std::size_t v = 0; v < mesh.points.size(); ++v) {
         if (first_tri[v] < 0) continue;
-        SurfaceComponent& comp = r.components[static_cast<std::size_t>(r.triangle_component[static_cast<std::size_t>(first_tri[v])])];
+        SurfaceComponent& comp =
+            r.components[static_cast<std::size_t>(r.triangle_component[static_cast<std::size_t>(first_tri[v])])];
         ++comp.vertices;
         if (vertex_bad[v]) comp.manifold = false;
     }
@@ -256,7 +263,8 @@ OrientResult orient_outward(TriangleMesh& mesh) {
             const int f = q.front();
             q.pop();
             for (const auto& [g, same] : adj[static_cast<std::size_t>(f)]) {
-                const signed char want = static_cast<signed char>(same ? 1 - flip[static_cast<std::size_t>(f)] : flip[static_cast<std::size_t>(f)]);
+                const signed char want = static_cast<signed char>(same ? 1 - flip[static_cast<std::size_t>(f)]
+                                                                       : flip[static_cast<std::size_t>(f)]);
                 if (flip[static_cast<std::size_t>(g)] < 0) {
                     flip[static_cast<std::size_t>(g)] = want;
                     q.push(g);
@@ -307,7 +315,8 @@ OrientResult orient_outward(TriangleMesh& mesh) {
     for (std::size_t c = 0; c < nc; ++c) closed_ok[c] = comp_ok[c] && check.components[c].closed;
     for (std::size_t c = 0; c < nc; ++c) {
         if (!closed_ok[c]) continue;
-        const Vec3 p = mesh.points[static_cast<std::size_t>(mesh.triangles[static_cast<std::size_t>(comp_tris[c][0])][0])];
+        const Vec3 p =
+            mesh.points[static_cast<std::size_t>(mesh.triangles[static_cast<std::size_t>(comp_tris[c][0])][0])];
         int depth = 0;
         for (std::size_t d = 0; d < nc; ++d) {
             if (d == c || !closed_ok[d]) continue;
@@ -317,7 +326,8 @@ OrientResult orient_outward(TriangleMesh& mesh) {
             double omega = 0;
             for (int f : comp_tris[d]) {
                 const std::array<int, 3> t = oriented(static_cast<std::size_t>(f));
-                omega += solid_angle(p, mesh.points[static_cast<std::size_t>(t[0])], mesh.points[static_cast<std::size_t>(t[1])],
+                omega += solid_angle(p, mesh.points[static_cast<std::size_t>(t[0])],
+                                     mesh.points[static_cast<std::size_t>(t[1])],
                                      mesh.points[static_cast<std::size_t>(t[2])]);
             }
             if (std::abs(omega) > 2.0 * kPi) ++depth;  // |winding number| > 1/2
@@ -325,7 +335,8 @@ OrientResult orient_outward(TriangleMesh& mesh) {
         const bool want_positive = depth % 2 == 0;
         if ((volume[c] > 0) != want_positive && volume[c] != 0) {
             ++result.inverted_components;
-            for (int f : comp_tris[c]) flip[static_cast<std::size_t>(f)] = static_cast<signed char>(1 - flip[static_cast<std::size_t>(f)]);
+            for (int f : comp_tris[c])
+                flip[static_cast<std::size_t>(f)] = static_cast<signed char>(1 - flip[static_cast<std::size_t>(f)]);
         }
     }
     for (std::size_t f = 0; f < nt; ++f) {

@@ -9,25 +9,25 @@ namespace mesohex {
 
 struct SurfaceComponent {
     int vertices = 0, edges = 0, triangles = 0;
-    bool closed = false;        // every edge of the component in exactly two triangles
-    bool manifold = false;      // edge- and vertex-manifold
-    bool oriented = false;      // every two-triangle edge traversed in opposite directions
-    int genus = -1;             // (2 - V + E - F) / 2 when closed, manifold and oriented; -1 otherwise
-    double signed_volume = 0;   // > 0: normals point outward (triangles counter-clockwise seen from outside)
+    bool closed = false;       // every edge of the component in exactly two triangles
+    bool manifold = false;     // edge- and vertex-manifold
+    bool oriented = false;     // every two-triangle edge traversed in opposite directions
+    int genus = -1;            // (2 - V + E - F) / 2 when closed, manifold and oriented; -1 otherwise
+    double signed_volume = 0;  // > 0: normals point outward (triangles counter-clockwise seen from outside)
 };
 
 struct SurfaceCheck {
     int vertices = 0, edges = 0, triangles = 0;
-    int unreferenced_vertices = 0;    // vertices that no triangle uses (tolerated)
-    int degenerate_triangles = 0;     // a vertex index repeated in one triangle (ignored by every other count)
-    int boundary_edges = 0;           // edges in exactly one triangle
-    int non_manifold_edges = 0;       // edges in three or more triangles
-    int non_manifold_vertices = 0;    // referenced vertices whose triangles form more than one fan
-    int inconsistent_edges = 0;       // two-triangle edges traversed twice in the same direction
+    int unreferenced_vertices = 0;  // vertices that no triangle uses (tolerated)
+    int degenerate_triangles = 0;   // a vertex index repeated in one triangle (ignored by every other count)
+    int boundary_edges = 0;         // edges in exactly one triangle
+    int non_manifold_edges = 0;     // edges in three or more triangles
+    int non_manifold_vertices = 0;  // referenced vertices whose triangles form more than one fan
+    int inconsistent_edges = 0;     // two-triangle edges traversed twice in the same direction
     bool closed = false, edge_manifold = false, vertex_manifold = false, consistently_oriented = false;
-    double signed_volume = 0;         // sum over the components
-    std::vector<SurfaceComponent> components;   // vertex-connected components, ordered by their smallest triangle id
-    std::vector<int> triangle_component;        // per triangle (-1 for degenerate triangles)
+    double signed_volume = 0;                  // sum over the components
+    std::vector<SurfaceComponent> components;  // vertex-connected components, ordered by their smallest triangle id
+    std::vector<int> triangle_component;       // per triangle (-1 for degenerate triangles)
 
     // Closed, edge- and vertex-manifold, consistently oriented, no degenerate triangle.
     bool is_closed_manifold() const {

@@ -76,7 +76,8 @@ SurfaceDistance surface_distance(const TriangleMesh& boundary, const SurfaceQuer
     return r;
 }
 
-SurfaceDistance surface_distance(const QuadMesh& boundary, const SurfaceQuery& domain, const SurfaceDistanceOptions& options) {
+SurfaceDistance surface_distance(const QuadMesh& boundary, const SurfaceQuery& domain,
+                                 const SurfaceDistanceOptions& options) {
     TriangleMesh tri;
     tri.points = boundary.points;
     tri.triangles.reserve(2 * boundary.quads.size());

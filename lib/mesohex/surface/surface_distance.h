@@ -15,13 +15,13 @@ struct SurfaceDistanceOptions {
 struct SurfaceDistance {
     double mesh_to_surface_max = 0, mesh_to_surface_mean = 0;  // over the samples of the mesh boundary
     double surface_to_mesh_max = 0, surface_to_mesh_mean = 0;  // over the samples of the domain surface
-    Vec3 mesh_to_surface_at{};  // the mesh boundary sample farthest from the surface
-    Vec3 surface_to_mesh_at{};  // the surface sample farthest from the mesh boundary
-    double max = 0;             // two-sided Hausdorff distance: max of both maxima
-    double mean = 0;            // average of the two means (each unweighted over its samples)
-    double diagonal = 0;        // bounding-box diagonal of the domain surface
-    double relative_max = 0;    // max / diagonal
-    double relative_mean = 0;   // mean / diagonal
+    Vec3 mesh_to_surface_at{};                                 // the mesh boundary sample farthest from the surface
+    Vec3 surface_to_mesh_at{};                                 // the surface sample farthest from the mesh boundary
+    double max = 0;                                            // two-sided Hausdorff distance: max of both maxima
+    double mean = 0;           // average of the two means (each unweighted over its samples)
+    double diagonal = 0;       // bounding-box diagonal of the domain surface
+    double relative_max = 0;   // max / diagonal
+    double relative_mean = 0;  // mean / diagonal
     long mesh_samples = 0, surface_samples = 0;
 };
 

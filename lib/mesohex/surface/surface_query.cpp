@@ -10,8 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <iterator>
+#include <numbers>
 #include <string>
 
 #include "mesohex/core/error.h"
@@ -32,7 +32,7 @@ Point to_cgal(const Vec3& p) { return {p.x, p.y, p.z}; }
 Vec3 to_vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
 // Ray directions for the parity test: fixed, far from the axes and from each other.
-constexpr Vec3 kDirections[8] = {{0.5773, 0.4817, 0.6596},  {-0.3624, 0.8211, -0.4410}, {0.7071, -0.5123, 0.4877},
+constexpr Vec3 kDirections[8] = {{0.5773, 0.4817, 0.6596},   {-0.3624, 0.8211, -0.4410}, {0.7071, -0.5123, 0.4877},
                                  {-0.6012, -0.3317, 0.7270}, {0.2231, -0.9012, -0.3716}, {-0.8123, 0.1979, -0.5486},
                                  {0.4349, 0.3201, -0.8416},  {-0.1387, -0.6521, -0.7453}};
 
@@ -112,8 +112,10 @@ struct SurfaceQuery::Impl {
             for (const TriangleIterator& it : candidates(p, d)) {
                 double t = 0;
                 const Crossing c = ray_triangle(p, d, to_vec((*it)[0]), to_vec((*it)[1]), to_vec((*it)[2]), scale, t);
-                if (c == Crossing::Clean) ++count;
-                else if (c == Crossing::OnSurface) return true;
+                if (c == Crossing::Clean)
+                    ++count;
+                else if (c == Crossing::OnSurface)
+                    return true;
                 else if (c == Crossing::Ambiguous) {
                     ambiguous = true;
                     break;
@@ -136,8 +138,8 @@ SurfaceQuery::SurfaceQuery(const TriangleMesh& surface, bool accelerate) : impl_
         const std::array<int, 3>& t = surface.triangles[f];
         for (int v : t)
             if (v < 0 || v >= nv)
-                throw Error(ErrorCode::InvalidInput, "surface query: triangle " + std::to_string(f) + " has vertex index " +
-                                                         std::to_string(v) + " out of range");
+                throw Error(ErrorCode::InvalidInput, "surface query: triangle " + std::to_string(f) +
+                                                         " has vertex index " + std::to_string(v) + " out of range");
         const Vec3& a = surface.points[static_cast<std::size_t>(t[0])];
         const Vec3& b = surface.points[static_cast<std::size_t>(t[1])];
         const Vec3& c = surface.points[static_cast<std::size_t>(t[2])];
@@ -145,7 +147,8 @@ SurfaceQuery::SurfaceQuery(const TriangleMesh& surface, bool accelerate) : impl_
         m.triangles.emplace_back(to_cgal(a), to_cgal(b), to_cgal(c));
         m.triangle_id.push_back(static_cast<int>(f));
     }
-    if (m.triangles.empty()) throw Error(ErrorCode::InvalidInput, "surface query: the surface has no non-degenerate triangle");
+    if (m.triangles.empty())
+        throw Error(ErrorCode::InvalidInput, "surface query: the surface has no non-degenerate triangle");
     m.lo = m.hi = to_vec(m.triangles[0][0]);
     for (const Triangle& t : m.triangles)
         for (int k = 0; k < 3; ++k)
@@ -157,8 +160,10 @@ SurfaceQuery::SurfaceQuery(const TriangleMesh& surface, bool accelerate) : impl_
     m.tree.insert(m.triangles.cbegin(), m.triangles.cend());
     m.tree.build();
     // The search kd-tree is built now or never: later queries are read-only (thread-safe).
-    if (accelerate) m.tree.accelerate_distance_queries();
-    else m.tree.do_not_accelerate_distance_queries();
+    if (accelerate)
+        m.tree.accelerate_distance_queries();
+    else
+        m.tree.do_not_accelerate_distance_queries();
     m.primitive_of.assign(surface.triangles.size(), -1);
     for (std::size_t i = 0; i < m.triangle_id.size(); ++i)
         m.primitive_of[static_cast<std::size_t>(m.triangle_id[i])] = static_cast<int>(i);
@@ -210,11 +215,15 @@ std::optional<RayHit> SurfaceQuery::first_hit(const Vec3& origin, const Vec3& di
     for (const TriangleIterator& it : impl_->candidates(origin, d)) {
         double t = 0;
         const Crossing c = ray_triangle(origin, d, to_vec((*it)[0]), to_vec((*it)[1]), to_vec((*it)[2]), scale, t);
-        if (c == Crossing::OnSurface) t = 0;
-        else if (c == Crossing::None) continue;
+        if (c == Crossing::OnSurface)
+            t = 0;
+        else if (c == Crossing::None)
+            continue;
         if (t <= min_distance) continue;
-        if (!best || t < best->distance) best = RayHit{origin + t * d, impl_->id_of(it), t};
-        else if (t == best->distance) best->triangle = std::min(best->triangle, impl_->id_of(it));  // deterministic
+        if (!best || t < best->distance)
+            best = RayHit{origin + t * d, impl_->id_of(it), t};
+        else if (t == best->distance)
+            best->triangle = std::min(best->triangle, impl_->id_of(it));  // deterministic
     }
     return best;
 }
@@ -223,9 +232,10 @@ bool SurfaceQuery::inside(const Vec3& p) const { return impl_->inside(p); }
 
 std::vector<ClosestPoint> SurfaceQuery::closest(const std::vector<Vec3>& points) const {
     std::vector<ClosestPoint> out(points.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = closest(points[i]);
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = closest(points[i]);
+                      });
     return out;
 }
 
@@ -235,25 +245,29 @@ std::vector<ClosestPoint> SurfaceQuery::closest(const std::vector<Vec3>& points,
         throw Error(ErrorCode::InvalidInput, "surface query: " + std::to_string(hint_triangles.size()) + " hints for " +
                                                  std::to_string(points.size()) + " points");
     std::vector<ClosestPoint> out(points.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = closest(points[i], hint_triangles[i]);
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i)
+                              out[i] = closest(points[i], hint_triangles[i]);
+                      });
     return out;
 }
 
 std::vector<double> SurfaceQuery::squared_distances(const std::vector<Vec3>& points) const {
     std::vector<double> out(points.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = squared_distance(points[i]);
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = squared_distance(points[i]);
+                      });
     return out;
 }
 
 std::vector<char> SurfaceQuery::inside(const std::vector<Vec3>& points) const {
     std::vector<char> out(points.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = inside(points[i]) ? 1 : 0;
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = inside(points[i]) ? 1 : 0;
+                      });
     return out;
 }
 

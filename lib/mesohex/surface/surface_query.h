@@ -12,14 +12,14 @@ namespace mesohex {
 
 struct ClosestPoint {
     Vec3 point;
-    int triangle = -1;          // id in the TriangleMesh the query was built from
+    int triangle = -1;  // id in the TriangleMesh the query was built from
     double squared_distance = 0;
 };
 
 struct RayHit {
     Vec3 point;
     int triangle = -1;
-    double distance = 0;        // from the ray origin, along the (normalized) direction
+    double distance = 0;  // from the ray origin, along the (normalized) direction
 };
 
 class SurfaceQuery {

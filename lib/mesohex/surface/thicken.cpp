@@ -128,8 +128,8 @@ std::vector<double> radii_of(const Skeleton& s, const ThickenOptions& o) {
     std::vector<double> r;
     if (!s.radii.empty()) {
         if (s.radii.size() != nv)
-            throw Error(ErrorCode::InvalidInput, "thicken: " + std::to_string(s.radii.size()) + " radii for " +
-                                                     std::to_string(nv) + " points");
+            throw Error(ErrorCode::InvalidInput,
+                        "thicken: " + std::to_string(s.radii.size()) + " radii for " + std::to_string(nv) + " points");
         r = s.radii;
     } else {
         if (!(o.radius > 0) || !std::isfinite(o.radius))
@@ -138,24 +138,27 @@ std::vector<double> radii_of(const Skeleton& s, const ThickenOptions& o) {
     }
     for (std::size_t v = 0; v < nv; ++v)
         if (!(r[v] > 0) || !std::isfinite(r[v]))
-            throw Error(ErrorCode::InvalidInput, "thicken: skeleton point " + std::to_string(v) + " has radius " +
-                                                     std::to_string(r[v]) + " (must be > 0)",
+            throw Error(ErrorCode::InvalidInput,
+                        "thicken: skeleton point " + std::to_string(v) + " has radius " + std::to_string(r[v]) +
+                            " (must be > 0)",
                         ElementRef{ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
     for (std::size_t e = 0; e < s.edges.size(); ++e)
         for (int v : s.edges[e])
             if (v < 0 || static_cast<std::size_t>(v) >= nv)
-                throw Error(ErrorCode::InvalidInput, "thicken: edge " + std::to_string(e) + " has point index " +
-                                                         std::to_string(v) + " out of range",
-                            ElementRef{ElementRef::Kind::SkeletonEdge, static_cast<int>(e)});
+                throw Error(
+                    ErrorCode::InvalidInput,
+                    "thicken: edge " + std::to_string(e) + " has point index " + std::to_string(v) + " out of range",
+                    ElementRef{ElementRef::Kind::SkeletonEdge, static_cast<int>(e)});
     for (std::size_t f = 0; f < s.faces.size(); ++f) {
         if (s.faces[f].size() < 3)
             throw Error(ErrorCode::InvalidInput, "thicken: face " + std::to_string(f) + " has fewer than 3 points",
                         ElementRef{ElementRef::Kind::SkeletonFace, static_cast<int>(f)});
         for (int v : s.faces[f])
             if (v < 0 || static_cast<std::size_t>(v) >= nv)
-                throw Error(ErrorCode::InvalidInput, "thicken: face " + std::to_string(f) + " has point index " +
-                                                         std::to_string(v) + " out of range",
-                            ElementRef{ElementRef::Kind::SkeletonFace, static_cast<int>(f)});
+                throw Error(
+                    ErrorCode::InvalidInput,
+                    "thicken: face " + std::to_string(f) + " has point index " + std::to_string(v) + " out of range",
+                    ElementRef{ElementRef::Kind::SkeletonFace, static_cast<int>(f)});
     }
     return r;
 }
@@ -177,7 +180,8 @@ struct TetTable {
             }
             auto corner = [](int c) { return Vec3{double(c & 1), double((c >> 1) & 1), double((c >> 2) & 1)}; };
             const Vec3 o = corner(tet[t][0]);
-            if (det3(corner(tet[t][1]) - o, corner(tet[t][2]) - o, corner(tet[t][3]) - o) < 0) std::swap(tet[t][2], tet[t][3]);
+            if (det3(corner(tet[t][1]) - o, corner(tet[t][2]) - o, corner(tet[t][3]) - o) < 0)
+                std::swap(tet[t][2], tet[t][3]);
         }
     }
 };
@@ -318,9 +322,11 @@ struct Grid {
         for (std::size_t i = 0; i < u.prims.size(); ++i) {
             for (int a = 0; a < 3; ++a) {
                 range[i][2 * a] = std::max(0, static_cast<int>(std::floor((u.boxes[i].lo[a] - origin[a]) / h)) - 2);
-                range[i][2 * a + 1] = std::min(dims[a] - 1, static_cast<int>(std::ceil((u.boxes[i].hi[a] - origin[a]) / h)) + 2);
+                range[i][2 * a + 1] =
+                    std::min(dims[a] - 1, static_cast<int>(std::ceil((u.boxes[i].hi[a] - origin[a]) / h)) + 2);
             }
-            for (int k = range[i][4]; k <= range[i][5]; ++k) slice_prims[static_cast<std::size_t>(k)].push_back(static_cast<int>(i));
+            for (int k = range[i][4]; k <= range[i][5]; ++k)
+                slice_prims[static_cast<std::size_t>(k)].push_back(static_cast<int>(i));
         }
         slice_evals.assign(static_cast<std::size_t>(nz), 0);
         tbb::parallel_for(tbb::blocked_range<int>(0, nz), [&](const tbb::blocked_range<int>& rk) {
@@ -332,7 +338,8 @@ struct Grid {
                     for (int j = rg[2]; j <= rg[3]; ++j)
                         for (int i = rg[0]; i <= rg[1]; ++i) {
                             const double d = u.sdf(static_cast<std::size_t>(pi), grid_point(i, j, k));
-                            float& slot = vals[static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * static_cast<std::size_t>(j)];
+                            float& slot = vals[static_cast<std::size_t>(i) +
+                                               static_cast<std::size_t>(nx) * static_cast<std::size_t>(j)];
                             slot = std::min(slot, static_cast<float>(d));
                             ++evals;
                         }
@@ -403,9 +410,13 @@ struct Grid {
                             const Vec3 a = grid_point(i, j, k), b = grid_point(i1, j1, k1);
                             double t = static_cast<double>(f0) / (static_cast<double>(f0) - static_cast<double>(f1));
                             t = refine_root(k, i, j, a, b, t);
-                            t = std::clamp(t, 0.01, 0.99);  // keeps surface vertices apart (at most 1 % of a cell moved)
-                            const std::uint64_t lin = static_cast<std::uint64_t>(i) + static_cast<std::uint64_t>(nx) *
-                                                          (static_cast<std::uint64_t>(j) + static_cast<std::uint64_t>(ny) * static_cast<std::uint64_t>(k));
+                            t = std::clamp(t, 0.01,
+                                           0.99);  // keeps surface vertices apart (at most 1 % of a cell moved)
+                            const std::uint64_t lin =
+                                static_cast<std::uint64_t>(i) +
+                                static_cast<std::uint64_t>(nx) *
+                                    (static_cast<std::uint64_t>(j) +
+                                     static_cast<std::uint64_t>(ny) * static_cast<std::uint64_t>(k));
                             out.push_back({7 * lin + static_cast<std::uint64_t>(code - 1), a + t * (b - a)});
                         }
                     }
@@ -413,27 +424,32 @@ struct Grid {
         });
         first_id.assign(static_cast<std::size_t>(nz) + 1, 0);
         for (int k = 0; k < nz; ++k)
-            first_id[static_cast<std::size_t>(k) + 1] = first_id[static_cast<std::size_t>(k)] +
-                                                        static_cast<int>(crossings[static_cast<std::size_t>(k)].size());
+            first_id[static_cast<std::size_t>(k) + 1] =
+                first_id[static_cast<std::size_t>(k)] + static_cast<int>(crossings[static_cast<std::size_t>(k)].size());
     }
 
     int find_vertex(int i, int j, int k, int code) const {
-        const std::uint64_t lin = static_cast<std::uint64_t>(i) + static_cast<std::uint64_t>(nx) *
-                                      (static_cast<std::uint64_t>(j) + static_cast<std::uint64_t>(ny) * static_cast<std::uint64_t>(k));
+        const std::uint64_t lin =
+            static_cast<std::uint64_t>(i) +
+            static_cast<std::uint64_t>(nx) *
+                (static_cast<std::uint64_t>(j) + static_cast<std::uint64_t>(ny) * static_cast<std::uint64_t>(k));
         const std::uint64_t key = 7 * lin + static_cast<std::uint64_t>(code - 1);
         const std::vector<Crossing>& c = crossings[static_cast<std::size_t>(k)];
-        const auto it = std::lower_bound(c.begin(), c.end(), key, [](const Crossing& x, std::uint64_t kk) { return x.key < kk; });
+        const auto it =
+            std::lower_bound(c.begin(), c.end(), key, [](const Crossing& x, std::uint64_t kk) { return x.key < kk; });
         MESOHEX_CHECK(it != c.end() && it->key == key, "marching tetrahedra: crossing not found");
         return first_id[static_cast<std::size_t>(k)] + static_cast<int>(it - c.begin());
     }
 
     const Vec3& point_of(int id) const {
-        const std::size_t k = static_cast<std::size_t>(std::upper_bound(first_id.begin(), first_id.end(), id) - first_id.begin()) - 1;
+        const std::size_t k =
+            static_cast<std::size_t>(std::upper_bound(first_id.begin(), first_id.end(), id) - first_id.begin()) - 1;
         return crossings[k][static_cast<std::size_t>(id - first_id[k])].point;
     }
 
     // The triangles of one Kuhn tetrahedron `tet` of cell (i, j, k) with corner values cf.
-    void tet_triangles(int i, int j, int k, const int* tet, const float* cf, std::vector<std::array<int, 3>>& out) const {
+    void tet_triangles(int i, int j, int k, const int* tet, const float* cf,
+                       std::vector<std::array<int, 3>>& out) const {
         // Surface vertex on the tet edge between corners ca and cb (codes; one of them is <= the other componentwise
         // since all Kuhn tet edges are monotone).
         auto edge_vertex = [&](int ca, int cb) {
@@ -442,8 +458,10 @@ struct Grid {
         };
         int neg[4], pos[4], nn = 0, np = 0;
         for (int q = 0; q < 4; ++q) {
-            if (inside(cf[tet[q]])) neg[nn++] = q;
-            else pos[np++] = q;
+            if (inside(cf[tet[q]]))
+                neg[nn++] = q;
+            else
+                pos[np++] = q;
         }
         if (nn == 0 || nn == 4) return;
         if (nn == 1 || nn == 3) {
@@ -512,7 +530,8 @@ struct Grid {
 TriangleMesh thicken(const Skeleton& skeleton, const ThickenOptions& options, ThickenStats* stats) {
     const std::vector<double> radius = radii_of(skeleton, options);
     if (!(options.cells_per_radius > 0)) throw Error(ErrorCode::InvalidInput, "thicken: cells_per_radius must be > 0");
-    if (options.max_grid_points < 1000) throw Error(ErrorCode::InvalidInput, "thicken: max_grid_points must be >= 1000");
+    if (options.max_grid_points < 1000)
+        throw Error(ErrorCode::InvalidInput, "thicken: max_grid_points must be >= 1000");
     const Primitives prims = build_primitives(skeleton, radius);
     Grid grid(prims);
     grid.size(*std::min_element(radius.begin(), radius.end()), options);

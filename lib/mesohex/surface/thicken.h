@@ -17,16 +17,16 @@
 namespace mesohex {
 
 struct ThickenOptions {
-    double radius = 0;              // radius of every point when the skeleton has none (must then be > 0)
-    double cells_per_radius = 4;    // grid step = smallest radius / cells_per_radius (4: volume within ~1 %) ...
+    double radius = 0;                // radius of every point when the skeleton has none (must then be > 0)
+    double cells_per_radius = 4;      // grid step = smallest radius / cells_per_radius (4: volume within ~1 %) ...
     long max_grid_points = 1L << 24;  // ... enlarged until the grid has at most this many points (memory: 4 bytes each)
 };
 
 struct ThickenStats {
-    double cell_size = 0;           // grid step h actually used
-    int nx = 0, ny = 0, nz = 0;     // grid points per axis
-    int primitives = 0;             // spheres + round cones + triangle slabs
-    long evaluations = 0;           // primitive distance evaluations
+    double cell_size = 0;        // grid step h actually used
+    int nx = 0, ny = 0, nz = 0;  // grid points per axis
+    int primitives = 0;          // spheres + round cones + triangle slabs
+    long evaluations = 0;        // primitive distance evaluations
 };
 
 // Preconditions (InvalidInput naming the element otherwise): at least one point; finite points; radii either absent
