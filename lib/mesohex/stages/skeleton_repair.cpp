@@ -179,6 +179,12 @@ double cut_from(const Cut& c, int x) { return c.from == x ? c.t : 1 - c.t; }
 
 // Splits every marked edge and every face crossed by a marked strip (see the header's output order).
 void apply_cuts(Skeleton& s, std::map<EdgeKey, Cut>& cuts) {
+    const auto place = [&s](Cut& c, int b) {  // the new point of edge (c.from, b)
+        const int a = c.from;
+        c.vertex = static_cast<int>(s.points.size());
+        s.points.push_back(s.points[a] + c.t * (s.points[b] - s.points[a]));
+        s.radii.push_back(s.radii[a] + c.t * (s.radii[b] - s.radii[a]));
+    };
     std::vector<std::array<int, 2>> edges;
     for (const std::array<int, 2>& e : s.edges) {
         const auto it = cuts.find(std::minmax(e[0], e[1]));
@@ -187,15 +193,12 @@ void apply_cuts(Skeleton& s, std::map<EdgeKey, Cut>& cuts) {
             continue;
         }
         Cut& c = it->second;
-        if (c.vertex < 0) {
-            const int a = c.from, b = a == e[0] ? e[1] : e[0];
-            c.vertex = static_cast<int>(s.points.size());
-            s.points.push_back(s.points[a] + c.t * (s.points[b] - s.points[a]));
-            s.radii.push_back(s.radii[a] + c.t * (s.radii[b] - s.radii[a]));
-        }
+        if (c.vertex < 0) place(c, c.from == e[0] ? e[1] : e[0]);
         edges.push_back({e[0], c.vertex});
         edges.push_back({c.vertex, e[1]});
     }
+    for (auto& [key, c] : cuts)  // a side missing from s.edges (not from the readers): its point all the same
+        if (c.vertex < 0) place(c, c.from == key.first ? key.second : key.first);
     const auto cut = [&](int x, int y) -> const Cut* {
         const auto it = cuts.find(std::minmax(x, y));
         return it == cuts.end() || it->second.vertex < 0 ? nullptr : &it->second;
