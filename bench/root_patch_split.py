@@ -8,7 +8,8 @@
 #
 #   bench/root_patch_split.py SKEL.obj OUT.obj [K=1.2]
 #
-# A measuring tool (not part of the pipeline); the structural fix would do the same in stages/skeleton_repair.
+# A measuring tool; the library does the same now (stages/skeleton_repair, SkeletonRepairOptions::root_patch_factor),
+# so run it on a skeleton with that step off to reproduce the measurement.
 import math
 import sys
 

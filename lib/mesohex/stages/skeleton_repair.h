@@ -1,5 +1,6 @@
 #pragma once
-// Structural repair of a skeleton's curve branches before adaptation: a shared trunk for close branches.
+// Structural repair of a skeleton before adaptation: a shared trunk for close branches (below), and root patches of
+// branches rooted inside a leaflet (SkeletonRepairOptions::root_patch_factor).
 //
 // Two branches leaving a branching point (no leaflet there) at a small angle beta have tubes (the balls swept along
 // their polylines) that overlap far beyond the branching point's ball: for straight branches of radius r up to
