@@ -61,6 +61,7 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
         res.trunks = repaired.trunks;
         res.absorbed_stubs = repaired.absorbed_stubs;
         res.unseparated_pairs = repaired.unseparated;
+        res.root_strip_splits = repaired.root_strip_splits;
         s = adapt_skeleton(repaired.skeleton, options.adaptation);
         clock.lap("adaptation");
         res.analysis = analyze_skeleton(s, options.analysis);

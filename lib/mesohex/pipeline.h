@@ -17,10 +17,10 @@ struct PipelineOptions {
     // default_radius_factor x (mean length of all skeleton edges), the same for every vertex.
     double radius = 0;
     double default_radius_factor = 0.25;  // x the mean skeleton edge length (dimensionless)
-    bool resample = true;          // paper step 1 (adapt_skeleton); false keeps the input sampling (hexes == 4 x edges)
-    SkeletonRepairOptions repair;  // trunks for close branches (before adaptation, with resample)
-    AdaptationOptions adaptation;  // resampling against the radii
-    AnalysisOptions analysis;      // classification and rejection rules
+    bool resample = true;  // paper step 1 (adapt_skeleton); false keeps the input sampling (hexes == 4 x edges)
+    SkeletonRepairOptions repair;                  // trunks, root patches (before adaptation, with resample)
+    AdaptationOptions adaptation;                  // resampling against the radii
+    AnalysisOptions analysis;                      // classification and rejection rules
     ConnectionSurfaceOptions connection_surfaces;  // junction surfaces
     RawMeshOptions raw_mesh;                       // block layout and leaflet offsets
 };
@@ -37,6 +37,7 @@ struct PipelineResult {
     int trunks = 0;                   // trunk vertices the repair inserted (SkeletonRepairResult)
     int absorbed_stubs = 0;           // stubs the repair absorbed into a trunk vertex
     int unseparated_pairs = 0;        // close branch pairs the repair left (a branch ends inside the other's tube)
+    int root_strip_splits = 0;        // leaflet face strips the repair split around rooted branches
     Skeleton skeleton;                // the skeleton actually meshed (radii filled, adapted when resampling)
     SkeletonAnalysis analysis;        // analysis of `skeleton`
     RawMeshPrediction predicted;

@@ -112,9 +112,10 @@ TEST(FinishData, Cactus) {
 
 // The shared medial meshes imported (mesohex import) and finished in their own surfaces: real pairs with leaflets.
 // Measured 2026-12-02 (raw hexes / inverted -> finished: min / avg SJ, Hausdorff):
-//   cup:       1488 / 0 -> 0.690 / 0.971, 0.39 %  (its handle rooted inside the sheet; with the handle's ends moved
-//              to the rim, the former import: 12 raw inverted hexes, 0.050 / 0.961, 7.0 %: the handle ran along the
-//              wall outside the domain);
+//   cup:       1768 / 0 -> 0.714 / 0.974, 0.38 %  (its handle rooted inside the sheet, 3 strips split around its
+//              root by SkeletonRepairOptions::root_patch_factor; without: 1488 / 0 -> 0.690 / 0.971, 0.39 %; with
+//              the handle's ends moved to the rim, the former import: 12 raw inverted hexes, 0.050 / 0.961, 7.0 %:
+//              the handle ran along the wall outside the domain);
 //   hand:      314 / 1 -> 0.580 / 0.928, 0.86 %   (fingers rooted on the palm's border: out patches turned towards
 //              the branch; with BL-joint pillows on corners pushed out by the import: 12 raw inverted, 0.094 / 0.901,
 //              2.45 %);

@@ -139,3 +139,136 @@ TEST(SkeletonRepair, RandomSeedsWithStubs) {
             << c.seed;
     }
 }
+
+namespace {
+
+// A 4 x 4 plate of unit quads in z = 0 (vertex y * 5 + x at (x, y, 0), radius 0.1 + 0.01 x) with a branch rooted at
+// its centre (vertex 12): 25 at (2, 2, 1), 26 at (2, 2, 2), both of radius `branch_r`.
+Skeleton rooted_plate(double branch_r) {
+    Skeleton s;
+    for (int y = 0; y <= 4; ++y)
+        for (int x = 0; x <= 4; ++x) {
+            s.points.push_back({double(x), double(y), 0});
+            s.radii.push_back(0.1 + 0.01 * x);
+        }
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+            const int a = y * 5 + x;
+            s.faces.push_back({a, a + 1, a + 6, a + 5});
+        }
+    s.points.push_back({2, 2, 1});
+    s.points.push_back({2, 2, 2});
+    s.radii.push_back(branch_r);
+    s.radii.push_back(branch_r);
+    s.edges = {{12, 25}, {25, 26}};
+    mesohex::add_face_edges(s);
+    return s;
+}
+
+std::vector<int> side_neighbours(const Skeleton& s, int v) {
+    std::vector<int> nb;
+    for (const std::vector<int>& f : s.faces)
+        for (std::size_t i = 0; i < f.size(); ++i)
+            if (f[i] == v) nb.push_back(f[(i + 1) % f.size()]);
+    return nb;
+}
+
+}  // namespace
+
+// Branch radius 0.25 (> the root's 0.12), factor 0.8: target 0.2 < the edge length 1, so the 4 strips crossing the
+// root's sides (columns x in [1, 2], [2, 3], rows y in [1, 2], [2, 3]) are split at 0.2 from the root. Each strip
+// crosses 5 edges (20 new points); the 4 faces around the root are crossed twice (4 quads and a centre each), the 8
+// other faces of the strips once: V = 27 + 20 + 4 = 51 (the plate a 7 x 7 grid, x and y in {0, 1, 1.8, 2, 2.2, 3, 4}),
+// F = 16 + 8 + 4 x 3 = 36 (6 x 6), E = 40 + 2 + 20 + 8 + 16 = 86 (2 x 7 x 6 + the branch's 2).
+TEST(SkeletonRepair, RootPatchSplitOnPlate) {
+    const Skeleton in = rooted_plate(0.25);
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in);
+    EXPECT_EQ(res.root_strip_splits, 4);
+    EXPECT_EQ(res.trunks + res.absorbed_stubs, 0);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 51u);
+    EXPECT_EQ(s.faces.size(), 36u);
+    EXPECT_EQ(s.edges.size(), 86u);
+    EXPECT_EQ(mesohex::euler_characteristic(s), mesohex::euler_characteristic(in));
+    for (int v = 0; v < 27; ++v) EXPECT_EQ(distance(s.points[v], in.points[v]), 0.0) << v;  // kept in place
+    const std::vector<double> grid{0, 1, 1.8, 2, 2.2, 3, 4};
+    for (std::size_t v = 27; v < s.points.size(); ++v) {
+        const Vec3 p = s.points[v];
+        const auto on_grid = [&](double c) {
+            for (const double g : grid)
+                if (std::abs(c - g) < 1e-12) return true;
+            return false;
+        };
+        EXPECT_TRUE(on_grid(p.x) && on_grid(p.y) && p.z == 0) << v;
+        EXPECT_NEAR(s.radii[v], 0.1 + 0.01 * p.x, 1e-12) << v;  // interpolated (linear in x: exact)
+    }
+    const std::vector<int> nb = side_neighbours(s, 12);
+    ASSERT_EQ(nb.size(), 4u);
+    for (const int u : nb) {
+        EXPECT_GE(u, 27);
+        EXPECT_NEAR(distance(s.points[u], s.points[12]), 0.8 * 0.25, 1e-12);
+    }
+    for (const std::vector<int>& f : s.faces) {  // every face a quad, normal +z (orientation kept), the smallest 0.2 x 0.2
+        ASSERT_EQ(f.size(), 4u);
+        const Vec3 n = cross(s.points[f[1]] - s.points[f[0]], s.points[f[3]] - s.points[f[0]]);
+        EXPECT_GT(n.z, 0.039);
+    }
+    // The raw mesh of the split plate: no inverted hex.
+    const mesohex::PipelineResult run = mesohex::run_pipeline(in);
+    EXPECT_EQ(run.root_strip_splits, 4);
+    EXPECT_EQ(mesohex::compute_quality(run.raw.mesh).inverted, 0);
+}
+
+// A patch that already fits is not refined: branch radius 1.25 puts the target at 0.8 x 1.25 = 1, the edge length;
+// factor 0 disables the split.
+TEST(SkeletonRepair, RootPatchThatFitsIsKept) {
+    const Skeleton fat = rooted_plate(1.25);
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(fat);
+    EXPECT_EQ(res.root_strip_splits, 0);
+    EXPECT_EQ(res.skeleton, fat);
+    mesohex::SkeletonRepairOptions off;
+    off.root_patch_factor = 0;
+    const Skeleton thin = rooted_plate(0.25);
+    EXPECT_EQ(mesohex::repair_skeleton(thin, off).root_strip_splits, 0);
+    EXPECT_EQ(mesohex::repair_skeleton(thin, off).skeleton, thin);
+}
+
+// An open cylinder of 6 x 4 unit quads (hexagonal section of side 1, rings z = 0..4), a branch rooted at ring 2: the
+// two strips crossing its axial sides go round the cylinder (closed loops of 6 faces, cut once each), the two crossing
+// its ring sides run along it (4 faces). Cut edges 2 x 6 + 2 x 5 = 22; faces crossed twice 2 x 2 = 4, once 12 + 8 - 8
+// = 12: V = 31 + 22 + 4 = 57 (an 8 x 7 grid on the cylinder and the branch's end), F = 24 + 12 + 12 = 48 (8 x 6),
+// E = 54 + 1 + 22 + 12 + 16 = 105 (8 x 7 + 8 x 6 and the branch edge).
+TEST(SkeletonRepair, RootPatchSplitLoopsOnce) {
+    Skeleton s;
+    for (int z = 0; z <= 4; ++z)
+        for (int k = 0; k < 6; ++k) {
+            const double a = k * std::numbers::pi / 3;
+            s.points.push_back({std::cos(a), std::sin(a), double(z)});
+            s.radii.push_back(0.1);
+        }
+    for (int z = 0; z < 4; ++z)
+        for (int k = 0; k < 6; ++k)
+            s.faces.push_back({z * 6 + k, z * 6 + (k + 1) % 6, (z + 1) * 6 + (k + 1) % 6, (z + 1) * 6 + k});
+    s.points.push_back({2, 0, 2});  // 30, rooted at vertex 12 = (1, 0, 2)
+    s.radii.push_back(0.25);
+    s.edges = {{12, 30}};
+    mesohex::add_face_edges(s);
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(s);
+    EXPECT_EQ(res.root_strip_splits, 4);
+    EXPECT_EQ(res.skeleton.points.size(), 31u + 22u + 4u);
+    EXPECT_EQ(res.skeleton.faces.size(), 48u);
+    EXPECT_EQ(res.skeleton.edges.size(), 105u);
+    for (const int u : side_neighbours(res.skeleton, 12))
+        EXPECT_NEAR(distance(res.skeleton.points[u], res.skeleton.points[12]), 0.2, 1e-12);
+}
+
+// Seeds of the random set with a branch rooted inside a leaflet (docs/tuning.md "Sheets: the rooted branch's patch"):
+// the 4 strips around the root are split, the raw mesh has no inverted hex.
+TEST(SkeletonRepair, RandomSeedsWithRootedBranch) {
+    for (const int seed : {25, 40}) {
+        const mesohex::PipelineResult run =
+            mesohex::run_pipeline(mesohex::generate_random_skeleton(static_cast<std::uint64_t>(seed)));
+        EXPECT_EQ(run.root_strip_splits, 4) << seed;
+        EXPECT_EQ(mesohex::compute_quality(run.raw.mesh).inverted, 0) << seed;
+    }
+}

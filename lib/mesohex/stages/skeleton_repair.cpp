@@ -1,7 +1,9 @@
 #include "mesohex/stages/skeleton_repair.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <set>
 #include <utility>
 #include <vector>
@@ -124,16 +126,167 @@ double separation(const Skeleton& s, const Walk& wi, const Walk& wj) {
     return -1;
 }
 
-}  // namespace
+// Root patch splits (SkeletonRepairOptions::root_patch_factor).
+using EdgeKey = std::pair<int, int>;  // (min, max) of a leaflet side
 
-SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepairOptions& o) {
-    SkeletonRepairResult res;
-    res.skeleton = input;
-    res.vertex_map.resize(input.points.size());
-    for (std::size_t v = 0; v < input.points.size(); ++v) res.vertex_map[v] = static_cast<int>(v);
-    Skeleton& s = res.skeleton;
-    if (!o.trunks || s.radii.size() != s.points.size()) return res;
-    const std::size_t budget = input.edges.size();
+// A strip's cut on one edge: the new point at t from vertex `from`.
+struct Cut {
+    int from = -1;
+    double t = 0;
+    int vertex = -1;  // index of the new point, once created
+};
+
+struct Leaflets {
+    std::map<EdgeKey, std::vector<int>> side_faces;  // side -> faces having it (quads only)
+    std::vector<int> faces_at;                       // per vertex: faces containing it
+};
+
+Leaflets make_leaflets(const Skeleton& s) {
+    Leaflets l;
+    l.faces_at.assign(s.points.size(), 0);
+    for (int f = 0; f < static_cast<int>(s.faces.size()); ++f)
+        for (int i = 0; i < 4; ++i) {
+            ++l.faces_at[s.faces[f][i]];
+            l.side_faces[std::minmax(s.faces[f][i], s.faces[f][(i + 1) % 4])].push_back(f);
+        }
+    return l;
+}
+
+// Marks the strip through the oriented edge (a, b) (cut at t from a): every edge reached through opposite sides of
+// quads, each with the same t from its vertex on a's side. Edges already cut keep their cut and stop the walk there.
+void mark_strip(const Skeleton& s, const Leaflets& l, int a, int b, double t, std::map<EdgeKey, Cut>& cuts) {
+    std::vector<std::pair<int, int>> todo{{a, b}};
+    while (!todo.empty()) {
+        const auto [p, q] = todo.back();
+        todo.pop_back();
+        const auto [it, fresh] = cuts.insert({std::minmax(p, q), Cut{p, t, -1}});
+        if (!fresh) continue;
+        const auto sf = l.side_faces.find(it->first);
+        if (sf == l.side_faces.end()) continue;
+        for (const int fi : sf->second) {
+            const std::vector<int>& f = s.faces[fi];
+            for (int i = 0; i < 4; ++i) {
+                const int x = f[i], y = f[(i + 1) % 4];
+                if (x == p && y == q) todo.push_back({f[(i + 3) % 4], f[(i + 2) % 4]});
+                if (x == q && y == p) todo.push_back({f[(i + 2) % 4], f[(i + 3) % 4]});
+            }
+        }
+    }
+}
+
+// Parameter of edge (x, y)'s cut measured from x.
+double cut_from(const Cut& c, int x) { return c.from == x ? c.t : 1 - c.t; }
+
+// Splits every marked edge and every face crossed by a marked strip (see the header's output order).
+void apply_cuts(Skeleton& s, std::map<EdgeKey, Cut>& cuts) {
+    const auto place = [&s](Cut& c, int b) {  // the new point of edge (c.from, b)
+        const int a = c.from;
+        c.vertex = static_cast<int>(s.points.size());
+        s.points.push_back(s.points[a] + c.t * (s.points[b] - s.points[a]));
+        s.radii.push_back(s.radii[a] + c.t * (s.radii[b] - s.radii[a]));
+    };
+    std::vector<std::array<int, 2>> edges;
+    for (const std::array<int, 2>& e : s.edges) {
+        const auto it = cuts.find(std::minmax(e[0], e[1]));
+        if (it == cuts.end() || e[0] == e[1]) {
+            edges.push_back(e);
+            continue;
+        }
+        Cut& c = it->second;
+        if (c.vertex < 0) place(c, c.from == e[0] ? e[1] : e[0]);
+        edges.push_back({e[0], c.vertex});
+        edges.push_back({c.vertex, e[1]});
+    }
+    for (auto& [key, c] : cuts)  // a side missing from s.edges (not from the readers): its point all the same
+        if (c.vertex < 0) place(c, c.from == key.first ? key.second : key.first);
+    const auto cut = [&](int x, int y) -> const Cut* {
+        const auto it = cuts.find(std::minmax(x, y));
+        return it == cuts.end() || it->second.vertex < 0 ? nullptr : &it->second;
+    };
+    const std::size_t nf = s.faces.size();
+    for (std::size_t fi = 0; fi < nf; ++fi) {
+        std::vector<int> f = s.faces[fi];
+        const bool along = cut(f[0], f[1]) && cut(f[3], f[2]);   // sides 0 and 2
+        const bool across = cut(f[1], f[2]) && cut(f[0], f[3]);  // sides 1 and 3
+        if (!along && !across) continue;
+        if (along != across) {
+            if (across) f = {f[1], f[2], f[3], f[0]};
+            const int m01 = cut(f[0], f[1])->vertex, m32 = cut(f[3], f[2])->vertex;
+            s.faces[fi] = {f[0], m01, m32, f[3]};
+            s.faces.push_back({m01, f[1], f[2], m32});
+            edges.push_back({m01, m32});
+            continue;
+        }
+        const Cut *c01 = cut(f[0], f[1]), *c32 = cut(f[3], f[2]), *c03 = cut(f[0], f[3]), *c12 = cut(f[1], f[2]);
+        const double u = 0.5 * (cut_from(*c01, f[0]) + cut_from(*c32, f[3]));
+        const double w = 0.5 * (cut_from(*c03, f[0]) + cut_from(*c12, f[1]));
+        const std::array<double, 4> k{(1 - u) * (1 - w), u * (1 - w), u * w, (1 - u) * w};  // bilinear weights
+        Vec3 x{};
+        double r = 0;
+        for (int i = 0; i < 4; ++i) {
+            x = x + k[i] * s.points[f[i]];
+            r += k[i] * s.radii[f[i]];
+        }
+        const int c = static_cast<int>(s.points.size());
+        s.points.push_back(x);
+        s.radii.push_back(r);
+        const int m01 = c01->vertex, m12 = c12->vertex, m32 = c32->vertex, m03 = c03->vertex;
+        s.faces[fi] = {f[0], m01, c, m03};
+        s.faces.push_back({m01, f[1], m12, c});
+        s.faces.push_back({c, m12, f[2], m32});
+        s.faces.push_back({m03, c, m32, f[3]});
+        for (const int m : {m01, m12, m32, m03}) edges.push_back({m, c});
+    }
+    s.edges = std::move(edges);
+}
+
+// Splits the strips around every interior leaflet vertex rooting one branch (SkeletonRepairOptions::
+// root_patch_factor). Returns the number of strips split.
+int split_root_patches(Skeleton& s, double factor) {
+    const int n = static_cast<int>(s.points.size());
+    if (!(factor > 0) || s.faces.empty() || s.radii.size() != s.points.size()) return 0;
+    for (const std::vector<int>& f : s.faces) {
+        if (f.size() != 4) return 0;  // analysis rejects other leaflet faces
+        for (const int v : f)
+            if (v < 0 || v >= n) return 0;
+    }
+    const Leaflets l = make_leaflets(s);
+    std::vector<std::vector<int>> side_nb(n), branch_nb(n);
+    for (const std::array<int, 2>& e : s.edges) {
+        if (e[0] < 0 || e[0] >= n || e[1] < 0 || e[1] >= n || e[0] == e[1]) continue;
+        const auto sf = l.side_faces.find(std::minmax(e[0], e[1]));
+        for (int k = 0; k < 2; ++k) {
+            if (sf == l.side_faces.end())
+                branch_nb[e[k]].push_back(e[1 - k]);
+            else if (sf->second.size() == 2)
+                side_nb[e[k]].push_back(e[1 - k]);
+            else
+                branch_nb[e[k]].push_back(-1);  // a border or non-manifold side: not interior
+        }
+    }
+    std::map<EdgeKey, Cut> cuts;
+    int strips = 0;
+    for (int v = 0; v < n; ++v) {
+        // Interior: 4 faces, 4 sides each between two faces, no border side (counted as -1 in branch_nb).
+        if (l.faces_at[v] != 4 || side_nb[v].size() != 4 || branch_nb[v].size() != 1 || branch_nb[v][0] < 0) continue;
+        const double target = factor * std::max(s.radii[v], s.radii[branch_nb[v][0]]);
+        std::vector<int> nb = side_nb[v];
+        std::sort(nb.begin(), nb.end());
+        for (const int u : nb) {
+            const double d = distance(s.points[u], s.points[v]);
+            if (!(d > target) || cuts.count(std::minmax(u, v))) continue;
+            mark_strip(s, l, v, u, std::min(0.5, target / d), cuts);
+            ++strips;
+        }
+    }
+    if (strips) apply_cuts(s, cuts);
+    return strips;
+}
+
+// The trunks and absorbed stubs (see the header), one pair at a time.
+void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairResult& res) {
+    if (!o.trunks || s.radii.size() != s.points.size()) return;
+    const std::size_t budget = s.edges.size();
     std::set<std::pair<int, int>> unseparated;  // of the last scan: (c, pair of first vertices)
     for (std::size_t round = 0; round < budget; ++round) {
         unseparated.clear();
@@ -264,7 +417,20 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
         ++(best.absorb ? res.absorbed_stubs : res.trunks);
     }
     res.unseparated = static_cast<int>(unseparated.size());
+}
+
+}  // namespace
+
+SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepairOptions& o) {
+    SkeletonRepairResult res;
+    res.skeleton = input;
+    res.vertex_map.resize(input.points.size());
+    for (std::size_t v = 0; v < input.points.size(); ++v) res.vertex_map[v] = static_cast<int>(v);
+    Skeleton& s = res.skeleton;
+    repair_trunks(s, o, res);
+    res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
     return res;
 }
+
 
 }  // namespace mesohex

@@ -1,5 +1,6 @@
 #pragma once
-// Structural repair of a skeleton's curve branches before adaptation: a shared trunk for close branches.
+// Structural repair of a skeleton before adaptation: a shared trunk for close branches (below), and root patches of
+// branches rooted inside a leaflet (SkeletonRepairOptions::root_patch_factor).
 //
 // Two branches leaving a branching point (no leaflet there) at a small angle beta have tubes (the balls swept along
 // their polylines) that overlap far beyond the branching point's ball: for straight branches of radius r up to
@@ -35,6 +36,16 @@ struct SkeletonRepairOptions {
     // stub's vertices and edges go, the other branch leaves t towards its first vertex after that arc length. A
     // branching point of degree 3 becomes a joint: the bump is meshed as a thicker stretch of tube, no junction.
     bool absorb_stubs = true;
+    // Root patches of branches standing inside a leaflet. A branch rooted at an interior leaflet vertex v (exactly 4
+    // faces around v, every leaflet edge at v shared by 2 faces, exactly one branch edge) stands on the 4 faces around
+    // v; its first chunk is as wide as that patch (about 2 leaflet edges) while its tube may be much thinner (a
+    // frustum sticking out of the plate). Every leaflet edge (v, u) longer than root_patch_factor x the branch radius
+    // (the larger radius of the branch edge's two ends) gets its face strip split (each face crossed by the strip cut
+    // in two quads, through the whole leaflet) at root_patch_factor x radius from v (at most half the edge), so u's
+    // replacement lies that far from v (dimensionless, x branch radius; 0 disables). A strip is split once (a strip
+    // that loops, crosses itself or was already split for another root keeps its first cut; a face crossed in both
+    // directions becomes 4 quads); new vertices get radii interpolated along their edge (bilinearly in a face).
+    double root_patch_factor = 0.8;
 };
 
 struct SkeletonRepairResult {
@@ -43,8 +54,9 @@ struct SkeletonRepairResult {
     std::vector<int> vertex_map;
     int trunks = 0;          // trunk vertices inserted (one per repaired pair)
     int absorbed_stubs = 0;  // stubs absorbed (one vertex t each)
-    int unseparated = 0;     // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
-                             // separate
+    int unseparated = 0;  // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
+                          // separate
+    int root_strip_splits = 0;  // face strips split for root patches (root_patch_factor)
 };
 
 // Preconditions: one finite radius > 0 per vertex, edge indices in range (as after analyze_skeleton and check_radii;
@@ -56,6 +68,11 @@ struct SkeletonRepairResult {
 // then per trunk t and the new crotch vertices; edges: the kept input edges in their order, then per trunk its edges.
 // Repairs are made one pair at a time, the most overlapping first (largest x / r_c), until no pair qualifies (at most
 // one per input branch edge). Deterministic. Complexity O(trunks x (pairs at branching points) x polyline length).
+// Root patch splits come after the trunks (they touch only leaflets): input vertices keep their indices, new vertices
+// are appended (cut points in edge order, then face centres in face order); a cut edge becomes its two halves in its
+// place; new edges inside split faces are appended in face order; a split face keeps its index for its first piece,
+// the others are appended. Each split adds per strip edge one vertex and one edge, per cut face one edge and one face
+// (4 edges and 3 faces and a centre vertex for a face cut twice): V - E + F unchanged. O(V + E + F) per root.
 SkeletonRepairResult repair_skeleton(const Skeleton& s, const SkeletonRepairOptions& o = {});
 
 }  // namespace mesohex
