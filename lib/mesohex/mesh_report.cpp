@@ -116,9 +116,9 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
     rep["resampled"] = run.options.resample;
     if (run.options.resample)  // structural repairs before adaptation (stages/skeleton_repair.h)
         rep["repairs"] = {{"trunks", res.trunks},
-                           {"absorbed_stubs", res.absorbed_stubs},
-                           {"unseparated_pairs", res.unseparated_pairs},
-                           {"root_strip_splits", res.root_strip_splits}};
+                          {"absorbed_stubs", res.absorbed_stubs},
+                          {"unseparated_pairs", res.unseparated_pairs},
+                          {"root_strip_splits", res.root_strip_splits}};
     rep["radius"] = {{"source", res.radius_source}, {"value", res.radius}};
     if (res.radius_source == "default") {
         std::ostringstream rule;

@@ -17,10 +17,10 @@ struct PipelineOptions {
     // default_radius_factor x (mean length of all skeleton edges), the same for every vertex.
     double radius = 0;
     double default_radius_factor = 0.25;  // x the mean skeleton edge length (dimensionless)
-    bool resample = true;  // paper step 1 (adapt_skeleton); false keeps the input sampling (hexes == 4 x edges)
-    SkeletonRepairOptions repair;                  // trunks, root patches (before adaptation, with resample)
-    AdaptationOptions adaptation;                  // resampling against the radii
-    AnalysisOptions analysis;                      // classification and rejection rules
+    bool resample = true;          // paper step 1 (adapt_skeleton); false keeps the input sampling (hexes == 4 x edges)
+    SkeletonRepairOptions repair;  // trunks, root patches (before adaptation, with resample)
+    AdaptationOptions adaptation;  // resampling against the radii
+    AnalysisOptions analysis;      // classification and rejection rules
     ConnectionSurfaceOptions connection_surfaces;  // junction surfaces
     RawMeshOptions raw_mesh;                       // block layout and leaflet offsets
 };

@@ -208,7 +208,8 @@ TEST(SkeletonRepair, RootPatchSplitOnPlate) {
         EXPECT_GE(u, 27);
         EXPECT_NEAR(distance(s.points[u], s.points[12]), 0.8 * 0.25, 1e-12);
     }
-    for (const std::vector<int>& f : s.faces) {  // every face a quad, normal +z (orientation kept), the smallest 0.2 x 0.2
+    for (const std::vector<int>& f :
+         s.faces) {  // every face a quad, normal +z (orientation kept), the smallest 0.2 x 0.2
         ASSERT_EQ(f.size(), 4u);
         const Vec3 n = cross(s.points[f[1]] - s.points[f[0]], s.points[f[3]] - s.points[f[0]]);
         EXPECT_GT(n.z, 0.039);

@@ -432,5 +432,4 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     return res;
 }
 
-
 }  // namespace mesohex

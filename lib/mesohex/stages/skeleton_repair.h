@@ -52,10 +52,10 @@ struct SkeletonRepairResult {
     Skeleton skeleton;
     // Per input vertex: its output vertex, or -1 for a joint inside a trunk (dropped).
     std::vector<int> vertex_map;
-    int trunks = 0;          // trunk vertices inserted (one per repaired pair)
-    int absorbed_stubs = 0;  // stubs absorbed (one vertex t each)
-    int unseparated = 0;  // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
-                          // separate
+    int trunks = 0;             // trunk vertices inserted (one per repaired pair)
+    int absorbed_stubs = 0;     // stubs absorbed (one vertex t each)
+    int unseparated = 0;        // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
+                                // separate
     int root_strip_splits = 0;  // face strips split for root patches (root_patch_factor)
 };
 
