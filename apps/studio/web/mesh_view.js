@@ -25,25 +25,31 @@ export function hexCentroids(mesh) {
 // when some hexes are clipped away, the cut). Returns {quads: [a,b,c,d,...] flat, owner: [hex per quad]}.
 // keep: null (all hexes) or a predicate on the hex index. Faces are matched by their sorted corners, chained per
 // smallest corner (typed arrays, no string keys: ~10k hexes in a few ms).
+// The 4 corner ids of face `face` (local corner indices) of hex h, sorted ascending into out (a sorting network).
+function sortFaceCorners(H, h, face, out) {
+  let a = H[8 * h + face[0]], b = H[8 * h + face[1]], c = H[8 * h + face[2]], d = H[8 * h + face[3]], x;
+  if (a > b) { x = a; a = b; b = x; }
+  if (c > d) { x = c; c = d; d = x; }
+  if (a > c) { x = a; a = c; c = x; }
+  if (b > d) { x = b; b = d; d = x; }
+  if (b > c) { x = b; b = c; c = x; }
+  out[0] = a; out[1] = b; out[2] = c; out[3] = d;
+}
+
 export function visibleQuads(mesh, keep = null) {
   const n = hexCount(mesh), H = mesh.hexes;
   const nv = mesh.vertices.length / 3;
   const kept = [];
   for (let h = 0; h < n; h++) if (!keep || keep(h)) kept.push(h);
   const nf = 6 * kept.length;
-  const sorted = new Int32Array(4 * nf);
+  const sorted = new Int32Array(4 * nf), q = new Int32Array(4);
   const head = new Int32Array(nv).fill(-1), next = new Int32Array(nf).fill(-1);
   const alive = new Uint8Array(nf);
   let f = 0;
   for (const h of kept)
     for (const face of HEX_FACES) {
-      // Sorting network for the 4 corners.
-      let a = H[8 * h + face[0]], b = H[8 * h + face[1]], c = H[8 * h + face[2]], d = H[8 * h + face[3]], x;
-      if (a > b) { x = a; a = b; b = x; }
-      if (c > d) { x = c; c = d; d = x; }
-      if (a > c) { x = a; a = c; c = x; }
-      if (b > d) { x = b; b = d; d = x; }
-      if (b > c) { x = b; b = c; c = x; }
+      sortFaceCorners(H, h, face, q);
+      const a = q[0], b = q[1], c = q[2], d = q[3];
       let g = head[a], twin = -1;
       while (g >= 0) {
         if (sorted[4 * g + 1] === b && sorted[4 * g + 2] === c && sorted[4 * g + 3] === d) { twin = g; break; }
@@ -71,17 +77,13 @@ export function hexLayers(mesh) {
   const n = hexCount(mesh), H = mesh.hexes;
   const nv = mesh.vertices.length / 3;
   const nf = 6 * n;
-  const sorted = new Int32Array(4 * nf);
+  const sorted = new Int32Array(4 * nf), q = new Int32Array(4);
   const head = new Int32Array(nv).fill(-1), next = new Int32Array(nf).fill(-1);
   const twinOf = new Int32Array(nf).fill(-1);
   for (let f = 0; f < nf; f++) {
     const h = (f / 6) | 0, face = HEX_FACES[f % 6];
-    let a = H[8 * h + face[0]], b = H[8 * h + face[1]], c = H[8 * h + face[2]], d = H[8 * h + face[3]], x;
-    if (a > b) { x = a; a = b; b = x; }
-    if (c > d) { x = c; c = d; d = x; }
-    if (a > c) { x = a; a = c; c = x; }
-    if (b > d) { x = b; b = d; d = x; }
-    if (b > c) { x = b; b = c; c = x; }
+    sortFaceCorners(H, h, face, q);
+    const a = q[0], b = q[1], c = q[2], d = q[3];
     sorted[4 * f] = a; sorted[4 * f + 1] = b; sorted[4 * f + 2] = c; sorted[4 * f + 3] = d;
     let g = head[a];
     while (g >= 0) {

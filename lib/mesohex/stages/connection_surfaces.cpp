@@ -803,19 +803,12 @@ void build_bl_joint_surface(const SurfaceInputs& in, int v, int e, ConnectionSur
     cs.quad_edges[q0 + 1] = {1, 0, 3, 2};
     cs.edge_quad[e][edge_side(skeleton, e, v)] = q0;
     for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 2;
-    Vec3 t{};
-    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-        const int le = an.vertex_edges[i];
-        if (an.edge_degree[le] == 0) continue;
-        const int w = skeleton.edges[le][0] == v ? skeleton.edges[le][1] : skeleton.edges[le][0];
-        t += normalized(skeleton.points[w] - skeleton.points[v]);
-    }
-    const Vec3 leaf_dir = normalized(t);
+    const Vec3 leaf_dir = normalized(leaflet_neighbour_direction_sum(skeleton, an, v));
     const int wb = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
     const Vec3 branch_dir = normalized(skeleton.points[wb] - skeleton.points[v]);
     // The hemispheres split the leaflet from the branch: T starts halfway between the leaflet direction
     // and the reversed branch (T = the leaflet direction for a branch along its outward diagonal).
-    t = leaf_dir - branch_dir;
+    Vec3 t = leaf_dir - branch_dir;
     t = norm(t) > 1e-6 ? normalized(t) : leaf_dir;
     Vec3 r = in.vertex_normal_sum[v] - dot(in.vertex_normal_sum[v], t) * t;
     if (!(norm(r) > 1e-12))

@@ -110,6 +110,17 @@ LeafletPatch leaflet_patch(const Skeleton& skeleton, const SkeletonAnalysis& an,
     return p;
 }
 
+Vec3 leaflet_neighbour_direction_sum(const Skeleton& skeleton, const SkeletonAnalysis& an, int v) {
+    Vec3 d{};
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (an.edge_degree[e] == 0) continue;
+        const int o = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+        d += normalized(skeleton.points[o] - skeleton.points[v]);
+    }
+    return d;
+}
+
 LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const SkeletonAnalysis& an) {
     const int nv = static_cast<int>(skeleton.points.size());
     const int nf = static_cast<int>(an.face_vertices.size());
@@ -136,13 +147,7 @@ LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const Skelet
             continue;
         }
         // Hairpin (the border turns back on itself): minus the mean of the unit vectors to the leaflet neighbours.
-        Vec3 d{};
-        for (int i = an.vertex_edge_begin[w]; i < an.vertex_edge_begin[w + 1]; ++i) {
-            const int e = an.vertex_edges[i];
-            if (an.edge_degree[e] == 0) continue;
-            const int o = skeleton.edges[e][0] == w ? skeleton.edges[e][1] : skeleton.edges[e][0];
-            d += normalized(skeleton.points[o] - skeleton.points[w]);
-        }
+        const Vec3 d = leaflet_neighbour_direction_sum(skeleton, an, w);
         lf.out[w] = norm(d) > 0 ? -1.0 * normalized(d) : Vec3{};
     }
     return lf;

@@ -45,6 +45,8 @@ struct BorderPatch {
 BorderPatch border_patch(const Skeleton& skeleton, const SkeletonAnalysis& analysis, int v, int branch_edge);
 // Sum of the oriented normals of the faces at v.
 Vec3 leaflet_normal_sum(const SkeletonAnalysis& analysis, int v);
+// Sum of the unit vectors from v to its neighbours along leaflet edges (edges with at least one face).
+Vec3 leaflet_neighbour_direction_sum(const Skeleton& skeleton, const SkeletonAnalysis& analysis, int v);
 
 // Directions of the raw-mesh vertices around every leaflet vertex (reference-notes §10), shared by the connection
 // surfaces (to place junction surfaces) and the raw mesh (to place the leaflet vertices):
