@@ -29,7 +29,7 @@ struct AutoSkeletonOptions {
     double max_coverage_gap = 0.2;
     long max_raw_inverted = 0;  // Auto: the meso-skeleton's raw mesh may have at most this many inverted hexes
     // Auto: ... and its minimum scaled Jacobian must be at least this (dimensionless): the finishing does not lift a
-    // raw minimum much (sculpt: raw 0.097, finished 0.100 and 9.3 % Hausdorff; plate1: raw 0.43, finished 0.38).
+    // raw minimum much (measurements: docs/tuning.md).
     double min_raw_sj = 0.2;
     // The meso-skeleton's radii: meso_radius_factor x each vertex's distance to the surface (dimensionless; 0 keeps
     // the medial radii, which are the full distance). The raw mesh then fills about half of the inscribed ball, as

@@ -92,7 +92,7 @@ void add_block_irregular_edges(const CubeBlock& block, std::map<int, long>& boun
 // fit_cube_frame accepts; labels per branch edge in increasing edge id. None when options.enabled is false.
 // Why the neighbours must be joints or extremities: a single edge from a block to another branching point (or any
 // vertex with its own fixed frame) takes the whole angular defect between the two ends (up to 45 degrees) in one
-// chunk that starts on a block face as wide as the tube; such chunks fold (measured: dinopet.skel, 3 inverted hexes).
+// chunk that starts on a block face as wide as the tube; such chunks fold (measured: docs/blocks.md).
 // Elsewhere frame propagation gives the chunk on a block face no twist. Deterministic. O(V + E).
 std::vector<CubeBlock> find_compatible_blocks(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                                               const CompatibleBlockOptions& options);
