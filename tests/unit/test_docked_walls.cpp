@@ -4,6 +4,7 @@
 // validity, Euler characteristic equal to the skeleton's, no inverted hex; the remaining refusals name the vertex.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <string>
 
@@ -165,6 +166,14 @@ TEST(DockedWalls, RemainingRefusalsNameTheVertex) {
         s.faces.push_back({3 * 7 + 3, 3 * 7 + 4, n0 + 2, n0 + 1});
         add_face_edges(s);
         expect_refused_at(s, 3 * 7 + 2, "same side");
+    }
+    {  // a wall leaning 60 degrees from the plate's normal (its first hexes would be wedges of 30 degrees: inverted)
+        Skeleton s = wall_plate({});
+        for (std::size_t v = 49; v < s.points.size(); ++v) {
+            const double h = s.points[v].z;
+            s.points[v].x += h * std::sqrt(3.0);
+        }
+        expect_refused_at(s, 3 * 7 + 2, "leans 60 degrees");
     }
     {  // a branch on a chain vertex
         Skeleton s = wall_plate({});

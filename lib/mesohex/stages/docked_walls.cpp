@@ -113,6 +113,13 @@ EdgeSplit split_fan_edge(const Skeleton& s, const SkeletonAnalysis& an, const st
         }
         sp.walls.push_back(f);
         ++sides[dot(dir[i], n) > 0 ? 0 : 1];
+        const double tilt = angle_deg(dir[i], dot(dir[i], n) > 0 ? n : -1.0 * n);
+        if (tilt > kDockWallTiltDeg) {
+            sp.why = name + ": its wall leans " + std::to_string(static_cast<int>(std::lround(tilt))) +
+                     " degrees from the plate's normal (at most " + std::to_string(static_cast<int>(kDockWallTiltDeg)) +
+                     " are docked)";
+            return sp;
+        }
     }
     if (sides[0] > 1 || sides[1] > 1) {
         sp.why = name + ": two walls stand on the same side of the plate";

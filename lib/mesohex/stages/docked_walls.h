@@ -5,7 +5,7 @@
 // Configuration: a chain of fan edges u_0 ... u_m where two faces of one leaflet P (the plate) continue across every
 // chain edge (their in-plane directions at least kDockPlateAngleDeg apart) and the other faces are walls: one wall
 // (degree 3) or one on each side of the plate (degree 4); at least one chain end lies inside P (P has no boundary
-// edge there). A chain whose ends are all on P's border is a regular fan and stays one (the paper's layout).
+// edge there); every wall within kDockWallTiltDeg of P's normal. A chain whose ends are all on P's border is a regular fan and stays one (the paper's layout).
 //
 // Scheme: the chain edges are ordinary interior edges of P (its vertices get P's ids only: centre, up, down, and at a
 // border end the out column). A wall has no vertex of its own on the chain: with X = P's up copies for a wall on P's
@@ -40,6 +40,12 @@ namespace mesohex {
 // Smallest angle (degrees) between the in-plane directions of the two plate faces at a chain edge (from the edge to
 // the opposite side of each face): 150 = a plate bent by at most 30 degrees across the chain.
 inline constexpr double kDockPlateAngleDeg = 150;
+
+// Largest angle (degrees) between a wall's direction from the chain (in-plane for the wall, perpendicular to the chain)
+// and the plate's normal on its side: the first wall hexes on the acute side are wedges of about that opening.
+// Measured on the 6 x 6 plate with a 2 x 2 wall (raw, radius 0.3 x edge): min scaled Jacobian 0.58 upright, 0.28 at
+// 30, 0.11 at 45, 0.01 at 55, 4 inverted hexes at 60 degrees.
+inline constexpr double kDockWallTiltDeg = 45;
 
 // Analysis step (after leaflets and face normals, before vertex classes): fills analysis.edge_docked and
 // analysis.vertex_plate. A fan chain with an end inside a leaflet that cannot be docked is refused here, naming the
