@@ -95,6 +95,7 @@ nlohmann::json analysis_counts_json(const AnalysisCounts& c) {
             {"bl_joints", c.bl_joints},
             {"ll_joints", c.ll_joints},
             {"fan_edges", c.fan_edges},
+            {"docked_edges", c.docked_edges},
             {"boundary_edges", c.boundary_edges},
             {"isolated_vertices", c.isolated},
             {"euler_characteristic", c.vertices - c.edges + c.faces}};

@@ -238,12 +238,18 @@ TEST(LeafletJunctions, UnsupportedConfigurationsAreRejectedAtAnalysis) {
         expect_rejected_at(s, 0, "5 faces");
     }
     {  // limitation 2: a quad standing on the plate's interior edge 1-4 makes it a fan edge ending at vertex 4,
-        // inside the plate (vertex 1 is a regular fan end on the plate's border)
+        // inside the plate (vertex 1 is a regular fan end on the plate's border). A wall docked on the plate now
+        // (docked_walls.h); a second quad tilted to the same side makes two walls on one side, still refused.
         Skeleton s = test::plate(2, 2);
         s.points.push_back({1, 1, 1});  // 9
         s.points.push_back({1, 0, 1});  // 10
         s.faces.push_back({1, 4, 9, 10});
         s.edges.clear();
+        add_face_edges(s);
+        EXPECT_EQ(analyze_skeleton(s).counts.docked_edges, 1);
+        s.points.push_back({1.7, 1, 0.7});  // 11
+        s.points.push_back({1.7, 0, 0.7});  // 12
+        s.faces.push_back({1, 4, 11, 12});
         add_face_edges(s);
         expect_rejected_at(s, 4, "limitation 2");
     }

@@ -552,6 +552,44 @@ Skeleton make_pan(const Params& p) {
     return s;
 }
 
+}  // namespace
+
+Skeleton make_wall_plate(const WallPlate& w, double edge_length, double radius) {
+    const int n = w.plate, c = w.column < 0 ? n / 2 : w.column, j0 = w.start < 0 ? (n - w.length) / 2 : w.start;
+    if (n < 2 || w.length < 1 || w.rows < 1 || c < 1 || c > n - 1 || j0 < 0 || j0 + w.length > n ||
+        (w.start < 0 && j0 == 0) || w.sides < 1 || w.sides > 2 || !(edge_length > 0) || !(radius > 0))
+        throw Error(ErrorCode::InvalidInput, "wall plate: the chain (column " + std::to_string(c) + ", rows " +
+                                                 std::to_string(j0) + " to " + std::to_string(j0 + w.length) +
+                                                 ") must lie on an interior grid line of the " + std::to_string(n) +
+                                                 " x " + std::to_string(n) + " plate, 1 or 2 sides");
+    Skeleton s;
+    Lattice lat(n, n);
+    const double h = 0.5 * n * edge_length;
+    fill_lattice(
+        s, lat,
+        [&](int i, int j) {
+            return Vec3{i * edge_length - h, j * edge_length - h, 0.0};
+        },
+        radius);
+    add_lattice_quads(s, lat);
+    for (int side = 0; side < w.sides; ++side) {
+        const double z = side == 0 ? edge_length : -edge_length;
+        Lattice wall(w.length, w.rows);  // (along the chain, up the wall)
+        for (int j = 0; j <= w.length; ++j) wall.at(j, 0) = lat.at(c, j0 + j);
+        fill_lattice(
+            s, wall,
+            [&](int j, int k) {
+                return Vec3{c * edge_length - h, (j0 + j) * edge_length - h, k * z};
+            },
+            radius);
+        add_lattice_quads(s, wall);
+    }
+    add_face_edges(s);
+    return s;
+}
+
+namespace {
+
 // ---------------------------------------------------------------------------------------------------------------
 // Random skeletons (evaluation set).
 
@@ -829,6 +867,28 @@ const std::vector<Shape>& shapes() {
          "Darrieus turbine: shaft branch, m blades (2 or 3, default 2) of n quads "
          "(default 8) touching the shaft at two branching points by their corners",
          make_turbine},
+        {"wall",
+         {6, 2},
+         {2, 1},
+         "plate of n x n quads (default 6) with a wall of m rows (default 2) standing on a chain of 2 fan edges "
+         "that ends inside the plate at both ends (docked on the plates)",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, -1, -1, 1}, p.L, p.r);
+         }},
+        {"wallboth",
+         {6, 2},
+         {2, 1},
+         "as wall, with a second wall of m rows below the plate on the same chain (fan edges of degree 4)",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, -1, -1, 2}, p.L, p.r);
+         }},
+        {"walledge",
+         {6, 2},
+         {2, 1},
+         "as wall, the chain of 2 fan edges running from the plate's border to an interior vertex",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, -1, 0, 1}, p.L, p.r);
+         }},
         {"pan",
          {6, 4},
          {6, 2},

@@ -1,6 +1,7 @@
 #pragma once
 // Procedural meso-skeletons: small parametric shapes (plates, shells, fans, a hand, a chair, a bird, twisted strips,
-// a frame, a turbine) used as test inputs and README examples. Each one is a configuration the paper supports:
+// a frame, a turbine) used as test inputs and README examples. Each one is a configuration the paper supports (except
+// wall, wallboth and walledge: walls docked on a plate, beyond the paper's limitation 2):
 //   - no branch on a leaflet interior vertex, no fan edge ending inside a leaflet, no branch at a fan-edge vertex;
 //   - BL-joints only at convex (~90°) leaflet corners, the branch leaving roughly along the outward corner diagonal;
 //   - leaflet edges about 2-4x the local radius (default radii are about 0.3 x the leaflet edge length).
@@ -26,7 +27,7 @@ struct GeneratorOptions {
 };
 
 // The valid shape names, in a fixed order: plate, box, torus, tfan, xfan, hand, chair, bird, twist, torustwist,
-// dualocta, cubestar, ystar, tetrastar, turbine, pan.
+// dualocta, cubestar, ystar, tetrastar, turbine, wall, wallboth, walledge, pan.
 std::vector<std::string> generator_names();
 
 // One line describing the shape and what n, m (and quarter_turns) mean for it, with their defaults.
@@ -36,6 +37,16 @@ std::string generator_help(const std::string& name);
 // Builds the named skeleton. Unknown name or out-of-range options -> Error(InvalidInput) (the message lists the valid
 // names, or the valid range of the option). O(size of the output).
 Skeleton generate_skeleton(const std::string& name, const GeneratorOptions& options = {});
+
+// A plate with walls standing on it (docked_walls.h, beyond the paper's limitation 2): `plate` x `plate` quads of
+// edge_length in the z = 0 plane (normal +z, centred on the origin); a chain of `length` edges on the grid line
+// x-index `column` (default plate / 2) from y-index `start` (default: centred, both ends inside; 0 = from the border);
+// a wall of `length` x `rows` quads standing on it at +z, and with sides = 2 a second one at -z. Radius `radius`
+// everywhere. Error(InvalidInput) unless the chain lies on an interior grid line of the plate.
+struct WallPlate {
+    int plate = 6, length = 2, rows = 2, column = -1, start = -1, sides = 1;
+};
+Skeleton make_wall_plate(const WallPlate& wall, double edge_length, double radius);
 
 // A random skeleton of the evaluation set (`mesohex generate --random SEED`, bench/random_set.sh), deterministic in
 // the seed (own 64-bit generator, no std:: distribution, so every platform gives the same skeleton). Two kinds:

@@ -11,7 +11,7 @@ Vec3 leaflet_normal_sum(const SkeletonAnalysis& an, int v) {
     Vec3 n{};
     for (std::size_t f = 0; f < an.face_vertices.size(); ++f)
         for (int w : an.face_vertices[f])
-            if (w == v) n += an.face_normal[f];
+            if (w == v && face_counts_at(an, f, w)) n += an.face_normal[f];
     return n;
 }
 
@@ -129,7 +129,8 @@ LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const Skelet
     lf.out.assign(nf > 0 ? nv : 0, Vec3{});
     if (nf == 0) return lf;
     for (int f = 0; f < nf; ++f)
-        for (int w : an.face_vertices[f]) lf.normal[w] += an.face_normal[f];
+        for (int w : an.face_vertices[f])
+            if (face_counts_at(an, f, w)) lf.normal[w] += an.face_normal[f];  // a docked chain vertex: its plate's
     for (Vec3& n : lf.normal)
         if (norm(n) > 0) n = normalized(n);
     for (int f = 0; f < nf; ++f)
@@ -138,7 +139,7 @@ LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const Skelet
             const int a = an.face_vertices[f][k], b = an.face_vertices[f][(k + 1) & 3];
             const Vec3 t = normalized(skeleton.points[b] - skeleton.points[a]);
             for (int w : {a, b})
-                if (an.vertex_boundary_edges[w] == 2) lf.out[w] += cross(t, lf.normal[w]);
+                if (an.vertex_boundary_edges[w] == 2 && face_counts_at(an, f, w)) lf.out[w] += cross(t, lf.normal[w]);
         }
     for (int w = 0; w < nv; ++w) {
         if (an.vertex_boundary_edges[w] != 2) continue;
@@ -160,7 +161,8 @@ double leaflet_out_distance(const Skeleton& skeleton, const SkeletonAnalysis& an
     const Vec3& c = skeleton.points[w];
     for (int i = an.vertex_edge_begin[w]; i < an.vertex_edge_begin[w + 1]; ++i) {
         const int e = an.vertex_edges[i];
-        if (an.edge_degree[e] != 1) continue;
+        if (an.edge_degree[e] != 1 || (!an.edge_docked.empty() && an.edge_docked[e] == 2 && an.vertex_plate[w] >= 0))
+            continue;  // (a wall's border edge at a docked chain vertex is not its plate's border)
         const int x = skeleton.edges[e][0] == w ? skeleton.edges[e][1] : skeleton.edges[e][0];
         const Vec3 ev = skeleton.points[x] - c;
         const double L = norm(ev);

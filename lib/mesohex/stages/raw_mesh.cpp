@@ -10,6 +10,7 @@
 #include "mesohex/core/error.h"
 #include "mesohex/core/union_find.h"
 #include "mesohex/stages/compatible_blocks.h"
+#include "mesohex/stages/docked_walls.h"
 #include "mesohex/stages/junction_geometry.h"
 #include "mesohex/stages/leaflet_geometry.h"
 
@@ -85,6 +86,38 @@ void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& 
             }
         }
     }
+    // Walls docked on a plate (docked_walls.h): each foot quad gets one wall hex. An edge under two hexes of the same
+    // wall (inside the foot) becomes interior with base + 2 hexes; an outline edge is a patch edge like the above.
+    std::map<std::array<int, 3>, std::array<int, 3>> foot;  // key -> (base hexes, wall, hexes of that wall)
+    auto add_foot = [&](int family, int a, int b, int base, int wall) {
+        const std::array<int, 3> key{family, std::min(a, b), std::max(a, b)};
+        std::array<int, 3>& x = foot[key];
+        if (x[2] > 0 && x[1] != wall) {  // two walls' feet touch along it: an outline edge of both
+            add(family, a, b, base);
+            return;
+        }
+        x = {base, wall, x[2] + 1};
+    };
+    for (const FootQuad& q : docked_foot_quads(skeleton, an)) {
+        if (q.kind == 0) {
+            const std::array<int, 4>& fv = an.face_vertices[q.id];
+            for (int k = 0; k < 4; ++k) add_foot(q.up ? U : D, fv[k], fv[(k + 1) & 3], 2, q.wall);
+            continue;
+        }
+        const int a = skeleton.edges[q.id][0], b = skeleton.edges[q.id][1];
+        add_foot(q.up ? U : D, a, b, 2, q.wall);
+        add_foot(q.up ? XU : XD, a, a, 2, q.wall);
+        add_foot(q.up ? XU : XD, b, b, 2, q.wall);
+        add_foot(q.up ? OU : OD, a, b, 1, q.wall);
+    }
+    for (const auto& [key, x] : foot) {
+        if (x[2] == 1) {
+            add(key[0], key[1], key[2], x[0]);
+            continue;
+        }
+        if (x[0] != 2) --p.boundary_irregular_edges[x[0]];
+        if (x[0] + 2 != 4) ++p.interior_irregular_edges[x[0] + 2];
+    }
     for (const auto& [key, x] : patch_edges) {
         if (x[0] != 2) --p.boundary_irregular_edges[x[0]];
         if (x[0] + x[1] != 2) ++p.boundary_irregular_edges[x[0] + x[1]];
@@ -112,9 +145,9 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     if (an.counts.branch_edges > 0) p.boundary_irregular_edges[1] += 4 * an.counts.branch_edges;
     // Leaflets: the edge from a leaflet vertex to its up (down) copy has one plate hex per incident face, plus the two
     // half-chunks at a boundary vertex; each boundary edge has two outer longitudinal edges with one hex.
-    std::vector<int> faces_at(nv, 0);
-    for (const std::array<int, 4>& f : an.face_vertices)
-        for (int w : f) ++faces_at[w];
+    std::vector<int> faces_at(nv, 0);  // leaflet faces (at a docked chain vertex: its plate's)
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        for (int w : an.face_vertices[f]) faces_at[w] += face_counts_at(an, f, w) ? 1 : 0;
     for (int v = 0; v < nv; ++v) {
         const VertexClass c = an.vertex_class[v];
         if (c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) continue;
@@ -125,7 +158,7 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     // one per half-chunk (also 2 per face); the ray from a fan-edge vertex to a gap vertex has the plates (and, at a
     // fan end, the half-chunks) facing that gap, (2 faces + 2 boundary edges at w) / gaps each when the fan is regular.
     for (int e = 0; e < static_cast<int>(an.edge_degree.size()); ++e)
-        if (an.edge_degree[e] >= 3) ++p.interior_irregular_edges[2 * an.edge_degree[e]];
+        if (an.edge_degree[e] >= 3 && an.edge_docked[e] != 1) ++p.interior_irregular_edges[2 * an.edge_degree[e]];
     for (int v = 0; v < nv; ++v) {
         if (!is_fan(an.vertex_class[v])) continue;
         const int g = expected_gaps(an, v);
@@ -250,7 +283,7 @@ void unite_fan_gap_nodes(const Skeleton& skeleton, const SkeletonAnalysis& an, U
             }
             continue;
         }
-        if (an.edge_degree[e] < 3) continue;
+        if (an.edge_degree[e] < 3 || an.edge_docked[e] == 1) continue;
         const Vec3 t = normalized(skeleton.points[p1] - skeleton.points[p0]);
         const Vec3 m = 0.5 * (skeleton.points[p0] + skeleton.points[p1]);
         std::vector<std::pair<double, int>> order;  // (angle, face)
@@ -320,19 +353,29 @@ FanGaps find_fan_gaps(const Skeleton& skeleton, const SkeletonAnalysis& an) {
     return gaps;
 }
 
-// Up and down vertex id of each face corner.
+// Centre, up and down vertex id of each face corner; docked: a wall's corner ids on a docked chain (docked_walls.h:
+// centre, up, down, out, out-up, out-down per face corner f * 4 + k; empty when nothing is docked).
 struct FaceSideIds {
-    std::vector<std::array<int, 4>> up, dn;
+    std::vector<std::array<int, 4>> centre, up, dn;
+    std::vector<std::array<int, 6>> docked;
 };
 
-FaceSideIds face_side_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const std::vector<int>& vertex_base,
-                          const FanGaps& gaps) {
+FaceSideIds face_side_ids(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                          const std::vector<int>& vertex_base, const FanGaps& gaps) {
     const int nf = static_cast<int>(an.face_vertices.size());
-    FaceSideIds ids{std::vector<std::array<int, 4>>(nf), std::vector<std::array<int, 4>>(nf)};
+    FaceSideIds ids{std::vector<std::array<int, 4>>(nf), std::vector<std::array<int, 4>>(nf),
+                    std::vector<std::array<int, 4>>(nf), docked_corner_ids(skeleton, an, vertex_base)};
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k) {
             const int w = an.face_vertices[f][k];
             const int c = vertex_base[w];
+            ids.centre[f][k] = c;
+            if (!ids.docked.empty() && ids.docked[4 * f + k][0] >= 0) {  // a wall's corner on a docked chain
+                ids.centre[f][k] = ids.docked[4 * f + k][0];
+                ids.up[f][k] = ids.docked[4 * f + k][1];
+                ids.dn[f][k] = ids.docked[4 * f + k][2];
+                continue;
+            }
             const VertexClass vc = an.vertex_class[w];
             if (is_fan(vc)) {
                 ids.up[f][k] = c + 1 + gaps.gap_of[f * 8 + k * 2];
@@ -406,9 +449,7 @@ void write_leaflet_plates(const SkeletonAnalysis& an, const FaceSideIds& sides, 
     const int nf = static_cast<int>(an.face_vertices.size());
     tbb::parallel_for(tbb::blocked_range<int>(0, nf, 1024), [&](const tbb::blocked_range<int>& range) {
         for (int f = range.begin(); f != range.end(); ++f) {
-            const std::array<int, 4>& w = an.face_vertices[f];
-            std::array<int, 4> c;
-            for (int k = 0; k < 4; ++k) c[k] = raw.vertex_base[w[k]];
+            const std::array<int, 4>& c = sides.centre[f];
             const std::array<int, 4>& up = sides.up[f];
             const std::array<int, 4>& dn = sides.dn[f];
             const int h = slots.face_slot0 + 2 * f;
@@ -428,7 +469,7 @@ void write_half_chunk(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, 
     // out-up = mid(q0, q1), out-down = mid(q3, q0); e leaves wa -> out = q2, out-up = mid(q1, q2),
     // out-down = mid(q2, q3); ids: Q(x) = base + 1 + x, M(j) = base + 5 + j).
     const int wa = an.face_vertices[f][k], wb = an.face_vertices[f][(k + 1) % 4];
-    const int a = raw.vertex_base[wa], b = raw.vertex_base[wb];
+    const int a = sides.centre[f][k], b = sides.centre[f][(k + 1) % 4];
     const bool bla = an.vertex_class[wa] == VertexClass::BLJoint;
     const bool blb = an.vertex_class[wb] == VertexClass::BLJoint;
     const int ua = sides.up[f][k], da = sides.dn[f][k];
@@ -463,6 +504,19 @@ void write_half_chunk(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, 
         ob = b + 1 + g;
         oub = b + 2 + g + gaps.gap_of[f * 8 + kb * 2];
         odb = b + 2 + g + gaps.gap_of[f * 8 + kb * 2 + 1];
+    }
+    // A wall's end on a docked chain (docked_walls.h): its out column is the plate's.
+    if (!sides.docked.empty() && sides.docked[4 * f + k][3] >= 0) {
+        const std::array<int, 6>& d = sides.docked[4 * f + k];
+        oa = d[3];
+        oua = d[4];
+        oda = d[5];
+    }
+    if (!sides.docked.empty() && sides.docked[4 * f + (k + 1) % 4][3] >= 0) {
+        const std::array<int, 6>& d = sides.docked[4 * f + (k + 1) % 4];
+        ob = d[3];
+        oub = d[4];
+        odb = d[5];
     }
     raw.mesh.hexes[h] = {a, oa, ob, b, ua, oua, oub, ub};
     raw.mesh.hexes[h + 1] = {a, b, ob, oa, da, db, odb, oda};
@@ -790,7 +844,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     RawMesh raw;
     const int n_points = assign_vertex_ids(an, cs, static_cast<int>(skeleton.points.size()), raw.vertex_base);
     const FanGaps gaps = find_fan_gaps(skeleton, an);
-    const FaceSideIds sides = face_side_ids(an, cs, raw.vertex_base, gaps);
+    const FaceSideIds sides = face_side_ids(skeleton, an, cs, raw.vertex_base, gaps);
     const HexSlots slots = reserve_hex_slots(an, cs, static_cast<int>(skeleton.edges.size()));
     raw.mesh.points.resize(n_points);
     raw.mesh.hexes.resize(slots.n_hex);

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "mesohex/core/error.h"
+#include "mesohex/stages/docked_walls.h"
 
 namespace mesohex {
 
@@ -375,6 +376,10 @@ void classify_vertices(const Skeleton& s, SkeletonAnalysis& an) {
     an.vertex_branch_edges.assign(nv, 0);
     an.vertex_boundary_edges.assign(nv, 0);
     for (int v = 0; v < nv; ++v) {
+        if (an.vertex_plate[v] >= 0) {  // a docked chain vertex: a vertex of its plate (docked_walls.h)
+            an.vertex_class[v] = docked_vertex_class(an, v, an.vertex_boundary_edges[v]);
+            continue;
+        }
         VertexStar st;
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
             const int d = an.edge_degree[an.vertex_edges[i]];
@@ -404,9 +409,27 @@ void classify_vertices(const Skeleton& s, SkeletonAnalysis& an) {
 void check_rooted_branches(const Skeleton& s, const SkeletonAnalysis& an) {
     const int nv = static_cast<int>(s.points.size());
     const int nf = static_cast<int>(an.face_vertices.size());
-    std::map<std::array<int, 3>, int> owner;  // key -> rooted vertex
+    std::map<std::array<int, 3>, int> owner;  // key -> rooted vertex (a wall's docked vertex: -1 - vertex)
+    for (const FootQuad& q : docked_foot_quads(s, an)) {
+        const auto [it, fresh] = owner.insert({{q.kind, q.id, q.up ? 0 : 1}, -1 - q.vertex});
+        if (!fresh)
+            fail(ErrorCode::UnsupportedConfiguration,
+                 "skeleton vertex " + std::to_string(q.vertex) + ": the foot of the wall docked there (leaflet " +
+                     std::to_string(q.wall) + ") would stand on plate " + (q.kind == 0 ? "face " : "border edge ") +
+                     std::to_string(q.id) + ", which the wall docked at skeleton vertex " +
+                     std::to_string(-1 - it->second) +
+                     " stands on too; edit: move the walls at least two plate faces apart, or to opposite sides",
+                 ElementRef::Kind::SkeletonVertex, q.vertex);
+    }
     auto claim = [&](int v, int kind, int id, int side) {
         const auto [it, fresh] = owner.insert({{kind, id, side}, v});
+        if (!fresh && it->second < 0)
+            fail(ErrorCode::UnsupportedConfiguration,
+                 "skeleton vertex " + std::to_string(v) +
+                     ": its branch would stand on plate faces that the foot of the wall docked at skeleton vertex " +
+                     std::to_string(-1 - it->second) +
+                     " stands on too; edit: start the branch at least one plate face away from the wall's foot",
+                 ElementRef::Kind::SkeletonVertex, v);
         if (!fresh)
             fail(ErrorCode::UnsupportedConfiguration,
                  "skeleton vertex " + std::to_string(v) +
@@ -455,9 +478,9 @@ void count_elements(const Skeleton& s, SkeletonAnalysis& an) {
             ++c.branch_edges;
         else if (d == 1)
             ++c.boundary_edges;
-        else if (d >= 3)
-            ++c.fan_edges;
     }
+    for (std::size_t e = 0; e < an.edge_degree.size(); ++e)
+        if (an.edge_degree[e] >= 3) ++(an.edge_docked[e] == 1 ? c.docked_edges : c.fan_edges);
     c.branches = static_cast<long>(an.branches.size());
     c.leaflets = static_cast<long>(an.leaflets.size());
     for (const Branch& b : an.branches) c.rings += b.ring ? 1 : 0;
@@ -535,6 +558,7 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     const EdgeFaces edge_faces = build_faces(s, an);
     find_leaflets(edge_faces, an);
     compute_face_normals(s, an);
+    find_docked_walls(s, an);
     classify_vertices(s, an);
     check_rooted_branches(s, an);
     std::vector<char> branch_edge(s.edges.size()), joint(s.points.size());
@@ -552,7 +576,9 @@ std::string analysis_to_text(const SkeletonAnalysis& an) {
     os << "branches " << c.branches << " (rings " << c.rings << "), leaflets " << c.leaflets << ", components "
        << c.components << ", independent cycles " << c.cycles << "\n";
     os << "branch edges " << c.branch_edges << ", leaflet boundary edges " << c.boundary_edges << ", fan edges "
-       << c.fan_edges << "\n";
+       << c.fan_edges;
+    if (c.docked_edges > 0) os << ", docked fan edges (walls on a plate) " << c.docked_edges;
+    os << "\n";
     os << "extremities " << c.extremities << ", joints " << c.joints << ", branching points " << c.branching_points
        << ", BL-joints " << c.bl_joints << ", LL-joints " << c.ll_joints << "\n";
     os << "leaflet interior " << c.leaflet_interior << ", leaflet boundary " << c.leaflet_boundary
@@ -568,6 +594,11 @@ std::string analysis_to_text(const SkeletonAnalysis& an) {
                                 : root == BorderRoot::Side ? "side patch of the border"
                                                            : "inside the leaflet";
             os << "vertex " << v << ": " << to_string(vc) << ", its branch rooted on the plates (" << where << ")\n";
+            continue;
+        }
+        if (an.vertex_plate[v] >= 0) {
+            os << "vertex " << v << ": " << to_string(vc) << " of leaflet " << an.vertex_plate[v]
+               << ", a wall docked on it (chain of fan edges ending inside the leaflet)\n";
             continue;
         }
         if (vc == VertexClass::Joint || vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary)

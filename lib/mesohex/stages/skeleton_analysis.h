@@ -50,7 +50,8 @@ struct AnalysisCounts {
     long vertices = 0, edges = 0, faces = 0;
     long branch_edges = 0;    // edges of degree 0
     long boundary_edges = 0;  // leaflet edges of degree 1
-    long fan_edges = 0;       // degree >= 3
+    long fan_edges = 0;       // degree >= 3, not docked
+    long docked_edges = 0;    // degree >= 3, docked: walls standing on a plate (docked_walls.h)
     long branches = 0, leaflets = 0;
     long extremities = 0, joints = 0, branching_points = 0, bl_joints = 0, ll_joints = 0;
     long leaflet_interior = 0, leaflet_boundary = 0, fan_edge_vertices = 0, fan_edge_ends = 0, isolated = 0;
@@ -93,6 +94,13 @@ struct SkeletonAnalysis {
                                                  // unless a LeafletBoundary vertex with a branch edge)
     std::vector<int> edge_degree;                // per edge: number of incident faces (0 = branch edge)
     std::vector<int> edge_branch;                // per edge: its branch, or -1
+    // Walls docked on a plate (beyond the paper's limitation 2, docked_walls.h). edge_docked per edge: 1 = a fan edge
+    // of a docked chain (no fan block; its plate continues across it, its walls stand on the plate's faces), 2 = a
+    // wall's boundary edge with an end on a docked chain (its half-chunk stands on the plate), 0 otherwise.
+    // vertex_plate per vertex: the plate leaflet of a docked chain vertex, else -1; such a vertex is classified,
+    // and its vertex_boundary_edges counted, by its plate alone (LeafletInterior or LeafletBoundary).
+    std::vector<char> edge_docked;
+    std::vector<int> vertex_plate;
     std::vector<Branch> branches;
     // Leaflets. face_vertices is the face re-oriented consistently within its leaflet (the first face of each leaflet,
     // in face-id order, keeps the input orientation). face_normal: Newell normal of the oriented face, unit length.
@@ -117,7 +125,8 @@ struct AnalysisOptions {
 // never reach the later stages): a branch edge on a vertex inside a leaflet (limitation 1), except one branch where
 // 4 faces of one leaflet meet (rooted on the plates, LeafletPatch), or on a fan-edge vertex
 // (limitation 3); an irregular fan (limitation 2): a fan edge ending inside a leaflet, i.e. a fan-edge end where not
-// every face around the fan edge leaves by its own boundary edge, a fan-edge chain vertex with a boundary edge, with
+// every face around the fan edge leaves by its own boundary edge, unless its chain is docked (walls standing on a
+// plate, docked_walls.h; refused there with a named vertex when the docking does not apply), a fan-edge chain vertex with a boundary edge, with
 // fan edges of unequal degrees or with more than two fan edges, or any fan-edge vertex inside a leaflet; a leaflet
 // touching the interior of another leaflet; a vertex with an odd number of leaflet boundary edges.
 // Postconditions: every branch edge is in exactly one branch; every face in exactly one leaflet.
@@ -134,6 +143,11 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& skeleton, const AnalysisOption
 std::vector<Branch> extract_branches(const Skeleton& skeleton, const std::vector<int>& vertex_edge_begin,
                                      const std::vector<int>& vertex_edges, const std::vector<char>& branch_edge,
                                      const std::vector<char>& joint, std::vector<int>& edge_branch);
+
+// Does face f count at its corner w as a leaflet face of w (false only for a wall's face at a docked chain vertex)?
+inline bool face_counts_at(const SkeletonAnalysis& an, int f, int w) {
+    return an.vertex_plate.empty() || an.vertex_plate[w] < 0 || an.face_leaflet[f] == an.vertex_plate[w];
+}
 
 // Does v root a branch on the plates (a leaflet interior or boundary vertex with exactly one branch edge)?
 inline bool roots_branch(const SkeletonAnalysis& an, int v) {

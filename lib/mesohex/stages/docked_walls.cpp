@@ -1,0 +1,494 @@
+#include "mesohex/stages/docked_walls.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "mesohex/core/error.h"
+
+namespace mesohex {
+
+namespace {
+
+[[noreturn]] void refuse(int v, const std::string& what) {
+    throw Error(ErrorCode::UnsupportedConfiguration, "skeleton vertex " + std::to_string(v) + ": " + what,
+                ElementRef{ElementRef::Kind::SkeletonVertex, v});
+}
+
+int other_end(const Skeleton& s, int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; }
+
+int corner_of(const SkeletonAnalysis& an, int f, int w) {
+    for (int k = 0; k < 4; ++k)
+        if (an.face_vertices[f][k] == w) return k;
+    return -1;
+}
+
+bool face_has_edge(const SkeletonAnalysis& an, int f, int e) {
+    return std::find(an.face_edges[f].begin(), an.face_edges[f].end(), e) != an.face_edges[f].end();
+}
+
+// Unit direction from edge e (side k of face f) into f, perpendicular to the edge: from the edge's midpoint to the
+// midpoint of the opposite side.
+Vec3 into_face(const Skeleton& s, const SkeletonAnalysis& an, int f, int e) {
+    int k = 0;
+    while (an.face_edges[f][k] != e) ++k;
+    const std::array<int, 4>& fv = an.face_vertices[f];
+    const Vec3 a = s.points[fv[k]], b = s.points[fv[(k + 1) & 3]];
+    const Vec3 t = normalized(b - a);
+    Vec3 d = 0.5 * (s.points[fv[(k + 2) & 3]] + s.points[fv[(k + 3) & 3]]) - 0.5 * (a + b);
+    d = d - dot(d, t) * t;
+    return norm(d) > 0 ? normalized(d) : d;
+}
+
+double angle_deg(const Vec3& a, const Vec3& b) {
+    return std::acos(std::clamp(dot(a, b), -1.0, 1.0)) * 180 / std::numbers::pi;
+}
+
+// Faces per edge (in face order), only for the edges of degree >= 3 and the edges at their vertices.
+struct LocalFaces {
+    std::vector<std::vector<int>> of_edge;    // per edge (empty unless needed)
+    std::vector<std::vector<int>> of_vertex;  // per vertex on a fan edge: its faces, in face order
+};
+
+LocalFaces local_faces(const Skeleton& s, const SkeletonAnalysis& an) {
+    const int nv = static_cast<int>(s.points.size()), ne = static_cast<int>(s.edges.size());
+    std::vector<char> on_fan(nv, 0);
+    for (int e = 0; e < ne; ++e)
+        if (an.edge_degree[e] >= 3) on_fan[s.edges[e][0]] = on_fan[s.edges[e][1]] = 1;
+    LocalFaces lf{std::vector<std::vector<int>>(ne), std::vector<std::vector<int>>(nv)};
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        for (int k = 0; k < 4; ++k) {
+            const int w = an.face_vertices[f][k], next = an.face_vertices[f][(k + 1) & 3];
+            if (on_fan[w]) lf.of_vertex[w].push_back(f);
+            if (on_fan[w] || on_fan[next]) lf.of_edge[an.face_edges[f][k]].push_back(f);
+        }
+    return lf;
+}
+
+// How fan edge e splits into a plate and walls: plate = the leaflet of the one pair of its faces that continue across
+// it (in-plane directions >= kDockPlateAngleDeg apart), walls on opposite sides (at most one per side). plate -1 and
+// `why` set when it does not.
+struct EdgeSplit {
+    int plate = -1;
+    std::array<int, 2> plate_faces{-1, -1};
+    std::vector<int> walls;  // wall faces
+    std::string why;
+};
+
+EdgeSplit split_fan_edge(const Skeleton& s, const SkeletonAnalysis& an, const std::vector<int>& faces, int e) {
+    EdgeSplit sp;
+    const int d = static_cast<int>(faces.size());
+    const std::string name = "fan edge (" + std::to_string(s.edges[e][0]) + ", " + std::to_string(s.edges[e][1]) + ")";
+    if (d > 4) {
+        sp.why = name + " has " + std::to_string(d) +
+                 " faces: a wall docks on a plate only with 3 (one wall) or 4 (one wall on each side of the plate)";
+        return sp;
+    }
+    std::vector<Vec3> dir(d);
+    for (int i = 0; i < d; ++i) dir[i] = into_face(s, an, faces[i], e);
+    int pairs = 0;
+    for (int i = 0; i < d; ++i)
+        for (int j = i + 1; j < d; ++j)
+            if (an.face_leaflet[faces[i]] == an.face_leaflet[faces[j]] &&
+                angle_deg(dir[i], dir[j]) >= kDockPlateAngleDeg) {
+                ++pairs;
+                sp.plate_faces = {faces[i], faces[j]};
+            }
+    if (pairs != 1) {
+        sp.why = name + (pairs == 0 ? ": no two faces of one leaflet continue across it (a plate bent by at most " +
+                                          std::to_string(static_cast<int>(180 - kDockPlateAngleDeg)) + " degrees)"
+                                    : ": two leaflets cross there");
+        return sp;
+    }
+    const int plate = an.face_leaflet[sp.plate_faces[0]];
+    const Vec3 n = an.face_normal[sp.plate_faces[0]];
+    int sides[2] = {0, 0};
+    for (int i = 0; i < d; ++i) {
+        const int f = faces[i];
+        if (f == sp.plate_faces[0] || f == sp.plate_faces[1]) continue;
+        if (an.face_leaflet[f] == plate) {
+            sp.why = name + ": a third face of the plate's leaflet stands on it";
+            return sp;
+        }
+        sp.walls.push_back(f);
+        ++sides[dot(dir[i], n) > 0 ? 0 : 1];
+        const double tilt = angle_deg(dir[i], dot(dir[i], n) > 0 ? n : -1.0 * n);
+        if (tilt > kDockWallTiltDeg) {
+            sp.why = name + ": its wall leans " + std::to_string(static_cast<int>(std::lround(tilt))) +
+                     " degrees from the plate's normal (at most " + std::to_string(static_cast<int>(kDockWallTiltDeg)) +
+                     " are docked)";
+            return sp;
+        }
+    }
+    if (sides[0] > 1 || sides[1] > 1) {
+        sp.why = name + ": two walls stand on the same side of the plate";
+        return sp;
+    }
+    sp.plate = plate;
+    return sp;
+}
+
+// The fan edges of the component of fan edge e0 (connected through shared vertices), in edge order.
+std::vector<int> fan_component(const Skeleton& s, const SkeletonAnalysis& an, int e0, std::vector<char>& seen) {
+    std::vector<int> comp{e0};
+    seen[e0] = 1;
+    for (std::size_t i = 0; i < comp.size(); ++i)
+        for (int w : s.edges[comp[i]])
+            for (int j = an.vertex_edge_begin[w]; j < an.vertex_edge_begin[w + 1]; ++j) {
+                const int e = an.vertex_edges[j];
+                if (an.edge_degree[e] >= 3 && !seen[e]) {
+                    seen[e] = 1;
+                    comp.push_back(e);
+                }
+            }
+    std::sort(comp.begin(), comp.end());
+    return comp;
+}
+
+// Edges at v by kind, for a chain vertex of plate P.
+struct ChainStar {
+    std::vector<int> chain;                       // chain (fan) edges at v
+    int plate_faces = 0, plate_border = 0;        // P's faces and boundary edges at v
+    std::vector<std::array<int, 3>> wall_counts;  // (wall leaflet, faces at v, boundary edges at v)
+};
+
+void count_wall(std::vector<std::array<int, 3>>& wc, int leaflet, int faces, int border) {
+    auto it = std::find_if(wc.begin(), wc.end(), [&](const std::array<int, 3>& x) { return x[0] == leaflet; });
+    if (it == wc.end()) {
+        wc.push_back({leaflet, faces, border});
+    } else {
+        (*it)[1] += faces;
+        (*it)[2] += border;
+    }
+}
+
+// The star of chain vertex v (plate P): refuses a branch, another leaflet, or a wall face off the chain.
+ChainStar chain_star(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf, int v, int P) {
+    ChainStar st;
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (an.edge_degree[e] == 0)
+            refuse(v,
+                   "a branch edge on the chain of a wall docked on a plate is not supported; edit: start the branch "
+                   "from a plate vertex at least one face away from the wall, or from a wall vertex off the plate");
+        if (an.edge_degree[e] >= 3) {
+            st.chain.push_back(e);
+            continue;
+        }
+        const int f = lf.of_edge[e].front();
+        if (an.face_leaflet[f] == P) {
+            st.plate_border += an.edge_degree[e] == 1 ? 1 : 0;
+        } else if (an.edge_degree[e] == 1) {
+            if (an.vertex_plate[other_end(s, e, v)] >= 0)
+                refuse(v,
+                       "a wall's border edge joins two vertices of the chain it stands on; edit: give the wall at "
+                       "least one row of faces above the plate");
+            count_wall(st.wall_counts, an.face_leaflet[f], 0, 1);
+        }
+    }
+    for (int f : lf.of_vertex[v]) {
+        if (an.face_leaflet[f] == P) {
+            ++st.plate_faces;
+            continue;
+        }
+        bool on_chain = false;
+        for (int c : st.chain) on_chain = on_chain || face_has_edge(an, f, c);
+        if (!on_chain)
+            refuse(v,
+                   "a face of the wall standing on the plate touches the chain only at this vertex (the wall must "
+                   "end at the chain with a border edge); edit: cut the wall's faces at the chain's end vertex");
+        count_wall(st.wall_counts, an.face_leaflet[f], 1, 0);
+    }
+    return st;
+}
+
+// Checks chain vertex v of a docked chain (plate P); refuses with an edit suggestion.
+void check_chain_vertex(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf, int v, int P) {
+    const ChainStar st = chain_star(s, an, lf, v, P);
+    const int nc = static_cast<int>(st.chain.size());
+    bool straight = true;
+    for (int f : lf.of_vertex[v]) {
+        if (an.face_leaflet[f] != P) continue;
+        int on = 0;
+        for (int c : st.chain) on += face_has_edge(an, f, c) ? 1 : 0;
+        straight = straight && on <= 1 && (nc == 1 || on == 1);
+    }
+    const bool ok = nc == 2   ? st.plate_faces == 4 && st.plate_border == 0 && straight
+                    : nc == 1 ? straight && ((st.plate_faces == 4 && st.plate_border == 0) ||
+                                             (st.plate_faces == 2 && st.plate_border == 2))
+                              : false;
+    if (!ok)
+        refuse(v,
+               "a wall docked on a plate needs the chain to run straight through the plate's grid: 4 plate faces at "
+               "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
+               "on the plate's border); here " +
+                   std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) +
+                   " chain edges; edit: re-sample the plate so that its grid lines follow the wall");
+    std::array<int, 2> side_wall{-1, -1};  // wall leaflet on the plate's up / down side at v
+    for (int c : st.chain) {
+        int g = -1;
+        for (int h : lf.of_edge[c])
+            if (an.face_leaflet[h] == P) g = h;
+        for (int h : lf.of_edge[c]) {
+            if (an.face_leaflet[h] == P) continue;
+            int& sw = side_wall[dot(into_face(s, an, h, c), an.face_normal[g]) > 0 ? 0 : 1];
+            if (sw >= 0 && sw != an.face_leaflet[h])
+                refuse(v,
+                       "two walls stand on the same side of the plate at this chain vertex; edit: join them into "
+                       "one wall, or move one to the plate's other side or at least two plate faces away");
+            sw = an.face_leaflet[h];
+        }
+    }
+    for (const std::array<int, 3>& w : st.wall_counts) {
+        int carried = 0;  // chain edges at v with a face of this wall
+        for (int c : st.chain)
+            for (int f : lf.of_edge[c]) carried += an.face_leaflet[f] == w[0] ? 1 : 0;
+        if (w[1] != carried || w[1] + w[2] != 2)
+            refuse(v, "the wall (leaflet " + std::to_string(w[0]) +
+                          ") standing on the plate must meet the chain vertex with its faces on the chain edges only "
+                          "and end there with one border edge; edit: cut the wall along the chain's line");
+    }
+}
+
+// The end vertices of a path of fan edges (vertices on one of them), or refusal naming a vertex on three or more.
+std::vector<int> chain_ends(const Skeleton& s, const std::vector<int>& comp, std::vector<int>& vertices) {
+    std::vector<std::pair<int, int>> count;  // (vertex, fan edges)
+    for (int e : comp)
+        for (int w : s.edges[e]) {
+            auto it =
+                std::find_if(count.begin(), count.end(), [&](const std::pair<int, int>& x) { return x.first == w; });
+            if (it == count.end())
+                count.push_back({w, 1});
+            else
+                ++it->second;
+        }
+    std::sort(count.begin(), count.end());
+    std::vector<int> ends;
+    vertices.clear();
+    for (const auto& [w, c] : count) {
+        vertices.push_back(w);
+        if (c == 1) ends.push_back(w);
+    }
+    return ends;
+}
+
+// Does the fan leave a leaflet going on past end vertex v (a leaflet with faces at the fan edge and no boundary edge
+// at v: the paper's limitation 2)?
+bool ends_inside(const SkeletonAnalysis& an, const LocalFaces& lf, int v, int fan_edge) {
+    for (int f : lf.of_edge[fan_edge]) {
+        bool border = false;
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+            const int e = an.vertex_edges[i];
+            if (an.edge_degree[e] != 1) continue;
+            for (int g : lf.of_edge[e]) border = border || an.face_leaflet[g] == an.face_leaflet[f];
+        }
+        if (!border) return true;
+    }
+    return false;
+}
+
+// Docks component comp if it is a chain with an end inside a leaflet; refuses such a chain when it cannot be docked.
+void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp) {
+    std::vector<int> vertices;
+    const std::vector<int> ends = chain_ends(s, comp, vertices);
+    int inside = -1;
+    for (int v : ends)
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1] && inside < 0; ++i) {
+            const int e = an.vertex_edges[i];
+            if (an.edge_degree[e] >= 3 && ends_inside(an, lf, v, e)) inside = v;
+        }
+    if (inside < 0) return;  // all ends on borders (or a closed chain): a regular fan, the paper's layout
+    int plate = -1;
+    for (int e : comp) {
+        const EdgeSplit sp = split_fan_edge(s, an, lf.of_edge[e], e);
+        if (sp.plate < 0 || (plate >= 0 && sp.plate != plate))
+            refuse(inside,
+                   "a fan edge chain ends inside a leaflet here (paper limitation 2) and cannot be docked as "
+                   "walls standing on a plate: " +
+                       (sp.plate < 0 ? sp.why : std::string("its edges stand on two different plates")) +
+                       "; edit: let one leaflet (the plate) continue straight across every chain edge with at "
+                       "most one wall on each side, or end every leaflet at the chain's end with its own "
+                       "border edge");
+        plate = sp.plate;
+    }
+    for (int v : vertices) {
+        int on = 0;
+        for (int e : comp) on += s.edges[e][0] == v || s.edges[e][1] == v ? 1 : 0;
+        if (on > 2)
+            refuse(v,
+                   "three or more fan edges of a wall's chain meet here; edit: split the walls so that each stands on "
+                   "one straight chain");
+    }
+    for (int e : comp) an.edge_docked[e] = 1;
+    for (int v : vertices) an.vertex_plate[v] = plate;
+    for (int v : vertices) check_chain_vertex(s, an, lf, v, plate);
+    for (int v : vertices)
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+            const int e = an.vertex_edges[i];
+            if (an.edge_degree[e] == 1 && an.face_leaflet[lf.of_edge[e].front()] != plate) an.edge_docked[e] = 2;
+        }
+}
+
+}  // namespace
+
+void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an) {
+    const int nv = static_cast<int>(s.points.size()), ne = static_cast<int>(s.edges.size());
+    an.edge_docked.assign(ne, 0);
+    an.vertex_plate.assign(nv, -1);
+    if (std::none_of(an.edge_degree.begin(), an.edge_degree.end(), [](int d) { return d >= 3; })) return;
+    const LocalFaces lf = local_faces(s, an);
+    std::vector<char> seen(ne, 0);
+    for (int e = 0; e < ne; ++e)
+        if (an.edge_degree[e] >= 3 && !seen[e]) dock_component(s, an, lf, fan_component(s, an, e, seen));
+}
+
+VertexClass docked_vertex_class(const SkeletonAnalysis& an, int v, int& plate_boundary_edges) {
+    plate_boundary_edges = 0;
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (an.edge_degree[e] == 1 && an.edge_docked[e] != 2) ++plate_boundary_edges;
+    }
+    return plate_boundary_edges == 2 ? VertexClass::LeafletBoundary : VertexClass::LeafletInterior;
+}
+
+namespace {
+
+// What a wall's face corner at a docked chain vertex w stands on: the chain edge c of face f at w, the wall's side of
+// the plate (up), the plate faces g+ / g- at c on the wall's +n / -n side and sigma+-, and at the wall's end its
+// boundary edge and what lies beyond: the plate's border (border) or the faces k+- with x, x+-.
+struct WallCorner {
+    int c = -1, end_edge = -1;
+    bool up = true, border = false;
+    int g_plus = -1, g_minus = -1, sigma_plus = -1, sigma_minus = -1;
+    int x = -1, x_plus = -1, x_minus = -1;
+    std::array<int, 2> beyond{-1, -1};  // kind-0 faces k+ / k- (inside) or kind-1 plate border edges at w (border)
+};
+
+// The corner of plate face g adjacent to w other than `not_this`.
+int adjacent_corner(const SkeletonAnalysis& an, int g, int w, int not_this) {
+    const int k = corner_of(an, g, w);
+    const int a = an.face_vertices[g][(k + 1) & 3], b = an.face_vertices[g][(k + 3) & 3];
+    return a == not_this ? b : a;
+}
+
+WallCorner wall_corner(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf, int f, int k) {
+    WallCorner wc;
+    const int w = an.face_vertices[f][k], P = an.vertex_plate[w];
+    const int e0 = an.face_edges[f][k], e1 = an.face_edges[f][(k + 3) & 3];
+    wc.c = an.edge_docked[e0] == 1 ? e0 : e1;
+    const int other = wc.c == e0 ? e1 : e0;
+    if (an.edge_docked[other] == 2) wc.end_edge = other;
+    std::array<int, 2> g{-1, -1};
+    int ng = 0;
+    for (int h : lf.of_edge[wc.c])
+        if (an.face_leaflet[h] == P && ng < 2) g[ng++] = h;
+    wc.up = dot(into_face(s, an, f, wc.c), an.face_normal[g[0]]) > 0;
+    const bool first_plus = dot(into_face(s, an, g[0], wc.c), an.face_normal[f]) > 0;
+    wc.g_plus = first_plus ? g[0] : g[1];
+    wc.g_minus = first_plus ? g[1] : g[0];
+    const int u = other_end(s, wc.c, w);
+    wc.sigma_plus = adjacent_corner(an, wc.g_plus, w, u);
+    wc.sigma_minus = adjacent_corner(an, wc.g_minus, w, u);
+    if (wc.end_edge < 0) return wc;
+    wc.border = an.vertex_class[w] == VertexClass::LeafletBoundary;
+    if (wc.border) {  // the plate's two border edges at w, (w, sigma+) first
+        for (int i = an.vertex_edge_begin[w]; i < an.vertex_edge_begin[w + 1]; ++i) {
+            const int e = an.vertex_edges[i];
+            if (an.edge_degree[e] != 1 || an.edge_docked[e] == 2) continue;
+            const int o = other_end(s, e, w);
+            if (o == wc.sigma_plus || o == wc.sigma_minus) wc.beyond[o == wc.sigma_plus ? 0 : 1] = e;
+        }
+        return wc;
+    }
+    // Inside: k+ / k- = the plate faces at w off the chain edge, sharing (w, sigma+) / (w, sigma-); x = their common
+    // neighbour of w, x+- their corners opposite w.
+    for (int h : lf.of_vertex[w]) {
+        if (an.face_leaflet[h] != P || face_has_edge(an, h, wc.c)) continue;
+        const int kh = corner_of(an, h, w);
+        const int a = an.face_vertices[h][(kh + 1) & 3], b = an.face_vertices[h][(kh + 3) & 3];
+        const int i = a == wc.sigma_plus || b == wc.sigma_plus     ? 0
+                      : a == wc.sigma_minus || b == wc.sigma_minus ? 1
+                                                                   : -1;
+        if (i < 0) continue;
+        const int sigma = i == 0 ? wc.sigma_plus : wc.sigma_minus;
+        wc.beyond[i] = h;
+        (i == 0 ? wc.x_plus : wc.x_minus) = an.face_vertices[h][(kh + 2) & 3];
+        wc.x = a == sigma ? b : a;
+    }
+    return wc;
+}
+
+// Calls fn(f, k, WallCorner) for every wall face corner at a docked chain vertex, in face order.
+template <class Fn>
+void for_wall_corners(const Skeleton& s, const SkeletonAnalysis& an, Fn&& fn) {
+    if (std::none_of(an.edge_docked.begin(), an.edge_docked.end(), [](char d) { return d == 1; })) return;
+    const LocalFaces lf = local_faces(s, an);
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        for (int k = 0; k < 4; ++k) {
+            const int w = an.face_vertices[f][k];
+            if (an.vertex_plate[w] < 0 || an.face_leaflet[f] == an.vertex_plate[w]) continue;
+            fn(f, k, wall_corner(s, an, lf, f, k));
+        }
+}
+
+}  // namespace
+
+std::vector<FootQuad> docked_foot_quads(const Skeleton& s, const SkeletonAnalysis& an) {
+    std::vector<FootQuad> quads;
+    auto check = [&](int v, int w) {
+        const VertexClass c = an.vertex_class[w];
+        if (c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary)
+            refuse(v, "the foot of the wall docked here (the plate faces next to the chain) reaches skeleton vertex " +
+                          std::to_string(w) + ", a " + to_string(c) +
+                          "; edit: keep junctions, fans and branch roots at least one plate face away from the wall");
+    };
+    for_wall_corners(s, an, [&](int f, int k, const WallCorner& wc) {
+        const int w = an.face_vertices[f][k], wall = an.face_leaflet[f];
+        // The wall's two plate hexes on the chain edge c stand on g+ and g-: counted once, at c's first end.
+        if (w == std::min(s.edges[wc.c][0], s.edges[wc.c][1]))
+            for (int g : {wc.g_plus, wc.g_minus}) {
+                for (int x : an.face_vertices[g]) check(w, x);
+                quads.push_back({0, g, wc.up, wall, w});
+            }
+        if (wc.end_edge < 0) return;
+        for (int b : wc.beyond) {
+            if (b < 0) refuse(w, "the plate beyond the wall's end is not a 2 x 2 patch of faces");
+            if (wc.border) {
+                for (int x : s.edges[b]) check(w, x);
+            } else {
+                for (int x : an.face_vertices[b]) check(w, x);
+            }
+            quads.push_back({wc.border ? 1 : 0, b, wc.up, wall, w});
+        }
+    });
+    return quads;
+}
+
+std::vector<std::array<int, 6>> docked_corner_ids(const Skeleton& s, const SkeletonAnalysis& an,
+                                                  const std::vector<int>& base) {
+    std::vector<std::array<int, 6>> ids;
+    for_wall_corners(s, an, [&](int f, int k, const WallCorner& wc) {
+        if (ids.empty()) ids.assign(4 * an.face_vertices.size(), std::array<int, 6>{-1, -1, -1, -1, -1, -1});
+        const int w = an.face_vertices[f][k];
+        const int x = wc.up ? 1 : 2;   // plate copy on the wall's side: up (+1) or down (+2)
+        const int xo = wc.up ? 4 : 5;  // out copy on that side: out-up (+4) or out-down (+5)
+        std::array<int, 6>& id = ids[4 * f + k];
+        id[0] = base[w] + x;
+        id[1] = base[wc.sigma_plus] + x;
+        id[2] = base[wc.sigma_minus] + x;
+        if (wc.end_edge < 0) return;
+        if (wc.border) {
+            id[3] = base[w] + xo;
+            id[4] = base[wc.sigma_plus] + xo;
+            id[5] = base[wc.sigma_minus] + xo;
+        } else {
+            id[3] = base[wc.x] + x;
+            id[4] = base[wc.x_plus] + x;
+            id[5] = base[wc.x_minus] + x;
+        }
+    });
+    return ids;
+}
+
+}  // namespace mesohex

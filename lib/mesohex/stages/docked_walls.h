@@ -1,0 +1,78 @@
+#pragma once
+// Walls docked on a plate: a fan edge chain ending inside another leaflet (beyond the paper's limitation 2; design
+// note ../shared/design/beyond-the-paper.md section B, docs/blocks.md "Docked walls").
+//
+// Configuration: a chain of fan edges u_0 ... u_m where two faces of one leaflet P (the plate) continue across every
+// chain edge (their in-plane directions at least kDockPlateAngleDeg apart) and the other faces are walls: one wall
+// (degree 3) or one on each side of the plate (degree 4); at least one chain end lies inside P (P has no boundary
+// edge there); every wall within kDockWallTiltDeg of P's normal. A chain whose ends are all on P's border is a regular fan and stays one (the paper's layout).
+//
+// Scheme: the chain edges are ordinary interior edges of P (its vertices get P's ids only: centre, up, down, and at a
+// border end the out column). A wall has no vertex of its own on the chain: with X = P's up copies for a wall on P's
+// up side (down copies otherwise), and sigma+ / sigma- the plate neighbours of u across the chain on the wall's +n /
+// -n side, its copies at a chain vertex u are
+//   centre -> X(u),  up -> X(sigma+),  down -> X(sigma-);
+// at the wall's end u_e (a wall boundary edge at u_e) its out column is
+//   inside P:       out -> X(x), out-up -> X(x+), out-down -> X(x-)   (x: P's neighbour continuing the chain beyond
+//                   u_e, x+- the diagonal corners of P's faces (u_e, sigma+-, x+-, x));
+//   on P's border:  out -> XO(u_e), out-up -> XO(sigma+), out-down -> XO(sigma-)   (XO: P's out-up / out-down copy).
+// The wall's first plate hexes then stand on the X faces of P's plates along the chain, its end half-chunks on the
+// plates (or half-chunks) beyond the end: the foot is a band two faces wide, one face longer than the chain at an end
+// inside P. Hexes: 2 per face + 2 per boundary edge (the standard count, so predicted_hexes is unchanged); no
+// interior irregular edge along the chain (a fan block has one of valence 2 x degree per fan edge); the foot's
+// outline edges become boundary edges with one more hex (valence 3 on P's plates).
+//
+// Conditions (else Error(UnsupportedConfiguration) naming the vertex, with an edit suggestion): the chain is a path;
+// at every chain vertex P has 4 faces, each containing a chain edge (the chain runs straight through P's grid), or at
+// an end 4 faces and no border (inside) or 2 faces and 2 border edges (on the border); no branch edge at a chain
+// vertex; each wall has only the faces on its chain edges at a chain vertex and ends there with one boundary edge; at
+// most one wall per side of the plate; every vertex of a foot is an ordinary leaflet vertex (interior or border); no
+// two feet (or a foot and a branch rooted on the plates) on the same plate face (checked by the analysis' rooted-patch
+// check, see docked_foot_quads).
+#include <array>
+#include <vector>
+
+#include "mesohex/core/skeleton.h"
+#include "mesohex/stages/skeleton_analysis.h"
+
+namespace mesohex {
+
+// Smallest angle (degrees) between the in-plane directions of the two plate faces at a chain edge (from the edge to
+// the opposite side of each face): 150 = a plate bent by at most 30 degrees across the chain.
+inline constexpr double kDockPlateAngleDeg = 150;
+
+// Largest angle (degrees) between a wall's direction from the chain (in-plane for the wall, perpendicular to the chain)
+// and the plate's normal on its side: the first wall hexes on the acute side are wedges of about that opening.
+// Measured on the 6 x 6 plate with a 2 x 2 wall (raw, radius 0.3 x edge): min scaled Jacobian 0.58 upright, 0.28 at
+// 30, 0.11 at 45, 0.01 at 55, 4 inverted hexes at 60 degrees.
+inline constexpr double kDockWallTiltDeg = 45;
+
+// Analysis step (after leaflets and face normals, before vertex classes): fills analysis.edge_docked and
+// analysis.vertex_plate. A fan chain with an end inside a leaflet that cannot be docked is refused here, naming the
+// vertex and why. Serial, O(E + F) plus the faces of the chain vertices.
+void find_docked_walls(const Skeleton& skeleton, SkeletonAnalysis& analysis);
+
+// The class of docked chain vertex v by its plate alone (LeafletInterior, or LeafletBoundary at a border end), and its
+// plate's boundary edges there (0 or 2).
+VertexClass docked_vertex_class(const SkeletonAnalysis& analysis, int v, int& plate_boundary_edges);
+
+// A quad of a plate's outer surface that a wall hex stands on: the X-side face of plate face `id` (kind 0), or of the
+// half-chunk of plate boundary edge `id` (kind 1); up = P's up side. wall = the wall's leaflet, vertex = the chain
+// vertex it is docked at (for messages).
+struct FootQuad {
+    int kind = 0, id = -1;
+    bool up = true;
+    int wall = -1, vertex = -1;
+};
+// Every foot quad, once per wall hex standing on it, in face order of the walls. Needs the full analysis (classes).
+// Throws Error(UnsupportedConfiguration) naming the chain vertex if a foot vertex is not an ordinary leaflet vertex.
+std::vector<FootQuad> docked_foot_quads(const Skeleton& skeleton, const SkeletonAnalysis& analysis);
+
+// Raw-mesh ids of a wall's face corner at a docked chain vertex: centre, up, down, and at the wall's end (a wall
+// boundary edge at the corner) out, out-up, out-down (-1 otherwise). vertex_base: the raw mesh's per skeleton vertex
+// first id (a leaflet vertex: centre, up, down, out, out-up, out-down). Per face corner f * 4 + k; all -1 except at
+// wall corners on docked chain vertices; empty when nothing is docked.
+std::vector<std::array<int, 6>> docked_corner_ids(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
+                                                  const std::vector<int>& vertex_base);
+
+}  // namespace mesohex
