@@ -33,6 +33,11 @@ struct AutoArgs {
     std::string surface;
     std::string skeleton_kind = "auto";
     bool best_effort = false;
+    // Work budget in hexes (deterministic, unlike a time limit): the finished mesh has at most this many hexes (the
+    // subdivision levels are lowered until it fits), and the second attempt runs only when the first finished at most
+    // half of it, so the finishing handles at most max_hexes hexes in all. The finishing's stages cost a bounded number
+    // of sweeps per hex: about 2 ms of CPU per hex per attempt on this machine (docs/skeletons.md).
+    long max_hexes = 24000;
     AutoSkeletonOptions skeleton;
 };
 
@@ -75,6 +80,11 @@ void register_auto(CLI::App& app, int* status) {
     cmd->add_flag("--best-effort", args->best_effort,
                   "auto: mesh even when no skeleton gives a raw mesh without inverted hexes (otherwise refused, exit "
                   "status 3, with the skeleton still written)");
+    cmd->add_option("--max-hexes", args->max_hexes,
+                    "Work budget: at most this many finished hexes over both attempts (fewer subdivision levels, no "
+                    "second attempt beyond half of it); 0 = no budget")
+        ->check(CLI::Range(0L, 1L << 40))
+        ->capture_default_str();
     cmd->add_option("--min-sheet-fraction", args->skeleton.min_sheet_fraction,
                     "auto: the meso-skeleton when the medial axis's sheet fraction is at least this")
         ->capture_default_str();
@@ -124,6 +134,10 @@ void register_auto(CLI::App& app, int* status) {
                   << " faces in " << ms(t1, t2) << " ms -> " << skeleton_path << "\n  " << chosen.reason << "\n";
 
         MeshJob job = args->job;
+        if (args->max_hexes > 0) {
+            job.options.finishing.max_hexes = args->max_hexes;
+            job.options.retry_max_hexes = args->max_hexes / 2;
+        }
         job.skeleton = skeleton_path;
         job.surface = args->surface;
         nlohmann::json extra = auto_skeleton_report(chosen, so, skeleton_path, medial_path);
