@@ -17,7 +17,9 @@
 #include "commands.h"
 #include "mesh_job.h"
 #include "mesohex/auto_skeleton.h"
+#include "mesohex/core/error.h"
 #include "mesohex/mesh_report.h"
+#include "mesohex_io/hex_io.h"
 #include "mesohex_io/medial_io.h"
 #include "mesohex_io/skeleton_io.h"
 #include "mesohex_io/surface_io.h"
@@ -30,8 +32,27 @@ struct AutoArgs {
     MeshJob job;
     std::string surface;
     std::string skeleton_kind = "auto";
+    bool best_effort = false;
+    // Work budget in hexes (deterministic, unlike a time limit): the finished mesh has at most this many hexes (the
+    // subdivision levels are lowered until it fits), and the second attempt runs only when the first finished at most
+    // half of it, so the finishing handles at most max_hexes hexes in all. The finishing's stages cost a bounded number
+    // of sweeps per hex: about 2 ms of CPU per hex per attempt on this machine (docs/skeletons.md).
+    long max_hexes = 24000;
     AutoSkeletonOptions skeleton;
 };
+
+// The refusal of --skeleton auto (AutoSkeleton::refusal): the skeleton and medial mesh stay written for editing, the
+// report (if asked for) says why, and the command fails with exit status 3 before any finishing.
+void refuse(const AutoArgs& args, const AutoSkeleton& chosen, nlohmann::json extra) {
+    if (!args.job.report.empty()) {
+        extra["refused"] = chosen.refusal;
+        write_file_atomically(args.job.report, extra.dump(2) + "\n");
+    }
+    throw Error(ErrorCode::UnsupportedConfiguration,
+                args.surface + ": auto refuses this surface: " + chosen.refusal +
+                    " (the finishing would have to untangle them and would miss the quality targets; --best-effort "
+                    "meshes it anyway, or edit the skeleton written beside the output)");
+}
 
 }  // namespace
 
@@ -56,6 +77,14 @@ void register_auto(CLI::App& app, int* status) {
                     "medial axis imported as branches + leaflets")
         ->check(CLI::IsMember({"auto", "curve", "meso"}))
         ->capture_default_str();
+    cmd->add_flag("--best-effort", args->best_effort,
+                  "auto: mesh even when no skeleton gives a raw mesh without inverted hexes (otherwise refused, exit "
+                  "status 3, with the skeleton still written)");
+    cmd->add_option("--max-hexes", args->max_hexes,
+                    "Work budget: at most this many finished hexes over both attempts (fewer subdivision levels, no "
+                    "second attempt beyond half of it); 0 = no budget")
+        ->check(CLI::Range(0L, 1L << 40))
+        ->capture_default_str();
     cmd->add_option("--min-sheet-fraction", args->skeleton.min_sheet_fraction,
                     "auto: the meso-skeleton when the medial axis's sheet fraction is at least this")
         ->capture_default_str();
@@ -72,7 +101,8 @@ void register_auto(CLI::App& app, int* status) {
         "Examples:\n  mesohex auto cactus.obj -o cactus.mesh --report cactus.json\n"
         "  mesohex auto aorta.stl -o aorta.vtu --levels 2\n"
         "Exit status: 0 ok; 2 invalid input (e.g. a surface that is open, non-manifold or in several "
-        "components); 3 unsupported configuration; 4 file error; 5 the mesh written has inverted hexes.");
+        "components); 3 unsupported configuration (also: auto refuses the surface, see --best-effort); 4 file error; 5 "
+        "the mesh written has inverted hexes.");
     cmd->callback([args, status]() {
         std::optional<tbb::global_control> threads;
         if (args->job.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args->job.threads);
@@ -104,11 +134,16 @@ void register_auto(CLI::App& app, int* status) {
                   << " faces in " << ms(t1, t2) << " ms -> " << skeleton_path << "\n  " << chosen.reason << "\n";
 
         MeshJob job = args->job;
+        if (args->max_hexes > 0) {
+            job.options.finishing.max_hexes = args->max_hexes;
+            job.options.retry_max_hexes = args->max_hexes / 2;
+        }
         job.skeleton = skeleton_path;
         job.surface = args->surface;
         nlohmann::json extra = auto_skeleton_report(chosen, so, skeleton_path, medial_path);
         extra["timings_ms"] = {
             {"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}};
+        if (!chosen.refusal.empty() && !args->best_effort) refuse(*args, chosen, extra);
         // The report's "read_skeleton" is the radius step only (the skeleton is in memory); "total" starts at t0.
         *status = at_stage(
             "mesh", skeleton_path, [&] { return run_mesh_job(job, chosen.skeleton, domain, t3, &extra, t0); }, false);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesohex/core/error.h"
+#include "mesohex/finish.h"
 #include "mesohex/surface/radius_from_surface.h"
 #include "mesohex/surface/surface_query.h"
 
@@ -59,10 +60,52 @@ double medial_coverage_gap(const TriangleMesh& surface, const Skeleton& medial) 
     return gap;
 }
 
+// The raw mesh (no finishing) of a skeleton with radii, in the surface; with `padded`, also the number of inverted
+// hexes after the finishing's padding layer alone (the first stage of finish_mesh, with its defaults).
+QualityReport raw_quality_of(const Skeleton& skeleton, const TriangleMesh& surface, long* padded_inverted = nullptr) {
+    MeshOptions raw_options;
+    raw_options.finish = false;
+    const MeshRun run = mesh_skeleton(skeleton, &surface, raw_options);
+    if (padded_inverted) {
+        FinishOptions pad_only;
+        pad_only.pad_improve_sj = 0;
+        pad_only.subdivide = pad_only.fit = pad_only.untangle = pad_only.smooth = false;
+        pad_only.improve_sj = 0;
+        pad_only.measure_distance = false;
+        *padded_inverted = finish_mesh(run.pipeline.raw.mesh, surface, pad_only).quality.inverted;
+    }
+    return run.raw_quality;
+}
+
 void use_curve(AutoSkeleton& out, const TriangleMesh& surface, const AutoSkeletonOptions& options) {
     out.curve = skeletonize_surface(surface, options.skeletonize);
     out.skeleton = out.curve.skeleton;
     out.kind = SkeletonKind::Curve;
+    if (options.kind != SkeletonKind::Auto) return;
+    const QualityReport q = raw_quality_of(out.skeleton, surface, &out.curve_padded_inverted);
+    out.curve_raw_checked = true;
+    out.curve_raw_valid = q.validation.valid();
+    out.curve_raw_hexes = q.hexes;
+    out.curve_raw_inverted = q.inverted;
+    out.curve_raw_sj_min = q.sj_min;
+}
+
+// Auto with the curve skeleton chosen: the refusal when its raw mesh cannot be finished without untangling.
+void judge_curve_answer(AutoSkeleton& out, const AutoSkeletonOptions& options) {
+    if (!out.curve_raw_checked) return;
+    if (out.curve_raw_valid && out.curve_raw_inverted <= options.max_answer_inverted &&
+        out.curve_padded_inverted <= options.max_answer_inverted)
+        return;
+    std::ostringstream why;
+    why << "no skeleton gives a raw mesh without inverted hexes: curve skeleton " << out.curve_raw_hexes
+        << " raw hexes, " << out.curve_raw_inverted << " inverted (min SJ " << out.curve_raw_sj_min << "), "
+        << out.curve_padded_inverted << " inverted after the padding layer" << (out.curve_raw_valid ? "" : ", invalid");
+    if (out.raw_checked)
+        why << "; medial meso-skeleton " << out.raw_hexes << " raw hexes, " << out.raw_inverted << " inverted (min SJ "
+            << out.raw_sj_min << ")";
+    else if (out.medial_computed)
+        why << "; medial meso-skeleton not tried (" << out.reason << ")";
+    out.refusal = why.str();
 }
 
 }  // namespace
@@ -85,6 +128,7 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
             why << " < " << options.min_sheet_fraction << ": tubular, curve skeleton";
             out.reason = why.str();
             use_curve(out, surface, options);
+            judge_curve_answer(out, options);
             return out;
         }
         if (options.kind == SkeletonKind::Auto) {
@@ -94,6 +138,7 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
                 why << " > " << 100 * options.max_coverage_gap << " %: the medial mesh misses a part, curve skeleton";
                 out.reason = why.str();
                 use_curve(out, surface, options);
+                judge_curve_answer(out, options);
                 return out;
             }
         }
@@ -108,21 +153,20 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
                     out.import.skeleton.radii[v] = rs.radii[v];  // a point on the surface keeps its own
         }
         if (options.kind == SkeletonKind::Auto) {
-            MeshOptions raw_options;
-            raw_options.finish = false;
-            const MeshRun raw = mesh_skeleton(out.import.skeleton, &surface, raw_options);
+            const QualityReport raw = raw_quality_of(out.import.skeleton, surface);
             out.raw_checked = true;
-            out.raw_hexes = raw.raw_quality.hexes;
-            out.raw_inverted = raw.raw_quality.inverted;
-            out.raw_sj_min = raw.raw_quality.sj_min;
+            out.raw_hexes = raw.hexes;
+            out.raw_inverted = raw.inverted;
+            out.raw_sj_min = raw.sj_min;
             why << "; meso raw mesh " << out.raw_hexes << " hexes, " << out.raw_inverted << " inverted (min SJ "
                 << out.raw_sj_min << ", radii " << options.meso_radius_factor << " x distance)";
-            if (!raw.raw_quality.validation.valid() || out.raw_inverted > options.max_raw_inverted ||
+            if (!raw.validation.valid() || out.raw_inverted > options.max_raw_inverted ||
                 out.raw_sj_min < options.min_raw_sj) {
                 why << ": more than " << options.max_raw_inverted << " inverted, min SJ below " << options.min_raw_sj
                     << " or invalid: curve skeleton instead";
                 out.reason = why.str();
                 use_curve(out, surface, options);
+                judge_curve_answer(out, options);
                 return out;
             }
         }
@@ -141,6 +185,7 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
         out.reason = why.str();
     }
     use_curve(out, surface, options);
+    judge_curve_answer(out, options);
     return out;
 }
 

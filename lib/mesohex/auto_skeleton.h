@@ -36,6 +36,12 @@ struct AutoSkeletonOptions {
     // with `mesh --surface` on a skeleton without radii: room for the padding layer, and a leaflet's hex layers
     // stay clear of the fold where a bent sheet's offset at the full radius meets itself (docs/tuning.md).
     double meso_radius_factor = 0.5;
+    // Auto: the answer. When the raw mesh of the curve skeleton Auto falls back to is invalid or has more than
+    // max_answer_inverted inverted hexes, raw or after the finishing's padding layer, `refusal` says so (a meso-skeleton
+    // is only chosen with a raw mesh that passed its own, stricter check): the finishing would have to
+    // untangle it, which spends its round caps (the slow part of `auto` on the shared plates with holes, and the
+    // result then misses the targets anyway; docs/skeletons.md). The CLI refuses such a surface unless --best-effort.
+    long max_answer_inverted = 0;
     MedialAxisOptions medial;
     MedialImportOptions import;
     SkeletonizeOptions skeletonize;
@@ -53,6 +59,15 @@ struct AutoSkeleton {
     bool raw_checked = false;                 // the meso-skeleton's raw mesh was built (Auto)
     long raw_hexes = 0, raw_inverted = 0;
     double raw_sj_min = 0;
+    // Auto, curve skeleton chosen: its raw mesh (mesh_skeleton without finishing, radii of the skeleton file).
+    bool curve_raw_checked = false;
+    bool curve_raw_valid = false;
+    long curve_raw_hexes = 0, curve_raw_inverted = 0;
+    double curve_raw_sj_min = 0;
+    long curve_padded_inverted = 0;  // inverted hexes after the finishing's padding layer on that raw mesh
+    // Auto: non-empty when the chosen skeleton's raw mesh is invalid or has more than max_answer_inverted inverted
+    // hexes; says why, with both skeletons' raw numbers (the skeleton is still returned, for editing).
+    std::string refusal;
 };
 
 // "curve" / "meso" (Auto: "auto").

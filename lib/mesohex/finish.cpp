@@ -145,6 +145,8 @@ struct Finisher {
                 levels < options.max_auto_levels && hexes_after <= options.max_auto_hexes)
                 ++levels;
         }
+        if (options.levels < 0 && options.max_hexes > 0)
+            while (levels > 0 && (static_cast<long>(mesh.hexes.size()) << (3 * levels)) > options.max_hexes) --levels;
         return levels;
     }
 

@@ -58,6 +58,10 @@ struct FinishOptions {
     // a finer mesh does not undo the folds (measurements: docs/tuning.md). 0 = off.
     double poor_raw_sj_avg = 0.5;
     long max_auto_hexes = 150000;  // hexes after the extra level of poor_raw_sj_avg at most
+    // > 0, levels < 0: a work budget in hexes. The levels chosen from size / min_resolution are lowered (down to 0)
+    // while the subdivided mesh would have more hexes than this: the finishing's stages cost a bounded number of
+    // sweeps per hex, so this bounds their time whatever the shape (`mesohex auto`, docs/skeletons.md). 0 = off.
+    long max_hexes = 0;
     // Uniform: 1 -> 8 per level. Longitudinal / Radial: per level, split only the sheets of the branch chunks along
     // the branches / across them (select_branch_sheets); needs chunk_hex.
     enum class Refinement { Uniform, Longitudinal, Radial } refinement = Refinement::Uniform;

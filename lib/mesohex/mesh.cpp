@@ -109,6 +109,7 @@ void set_raw_quality(MeshRun& run, const MeshOptions& options) {
 bool retry_applies(const MeshOptions& options, const MeshRun& run) {
     return options.retry && options.finishing.fit && options.pipeline.resample &&
            missed_goals(*run.finish, options.goals) > 0 &&
+           (options.retry_max_hexes <= 0 || run.finish->quality.hexes <= options.retry_max_hexes) &&
            options.pipeline.adaptation.branching_reach != options.pipeline.adaptation.free_branching_reach;
 }
 

@@ -41,6 +41,10 @@ struct MeshOptions {
     // adaptation.branching_reach (instead of free_branching_reach) and keep the better result (better_finish).
     // Only with resampling, a fit, and when that adaptation gives another skeleton.
     bool retry = true;
+    // > 0: a work budget for the second attempt: it runs only when the first attempt's finished mesh has at most this
+    // many hexes (with finishing.max_hexes = 2 x this, both attempts together finish at most that many; `mesohex
+    // auto`). 0 = no limit.
+    long retry_max_hexes = 0;
     MeshGoals goals;  // the goals a finished mesh must meet (else the second attempt)
     // Parts for MPI solvers: METIS k-way on the face adjacency of the hexes of the mesh kept (partition_hexes);
     // 0 = no partition. More parts than hexes is an InvalidInput error.

@@ -186,6 +186,14 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
         decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},    {"inverted", chosen.raw_inverted},
                                      {"sj_min", chosen.raw_sj_min},  {"max_inverted", options.max_raw_inverted},
                                      {"min_sj", options.min_raw_sj}, {"radius_factor", options.meso_radius_factor}};
+    if (chosen.curve_raw_checked)
+        decision["curve_raw_mesh"] = {{"hexes", chosen.curve_raw_hexes},
+                                      {"inverted", chosen.curve_raw_inverted},
+                                      {"sj_min", chosen.curve_raw_sj_min},
+                                      {"valid", chosen.curve_raw_valid},
+                                      {"padded_inverted", chosen.curve_padded_inverted},
+                                      {"max_answer_inverted", options.max_answer_inverted}};
+    if (!chosen.refusal.empty()) decision["refusal"] = chosen.refusal;
     return {{"mode", "auto"},
             {"skeleton_kind", skeleton_kind_name(chosen.kind)},
             {"skeleton_decision", decision},

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "mesohex/auto_skeleton.h"
 #include "mesohex/surface/radius_from_surface.h"
 #include "mesohex/surface/surface_query.h"
+#include "surface_fixtures.h"
 
 namespace mesohex {
 namespace {
@@ -48,6 +50,41 @@ TEST(AutoSkeleton, ZeroRadiusFactorKeepsTheMedialRadii) {
     EXPECT_EQ(a.skeleton.radii, a.import.skeleton.radii);
     // Medial radii of the plate's mid-sheet: about the half-thickness 0.3 (poles overestimate by up to 20 %).
     for (double r : a.skeleton.radii) EXPECT_NEAR(r, 0.3, 0.07);
+}
+
+// A torus (R 2, r 0.5) is a tube: Auto takes the curve skeleton and checks its raw mesh and the padding layer on it;
+// a clean closed tube of hexes has nothing inverted, so there is no refusal. With a budget of -1 inverted hexes (none
+// can pass) the same surface is refused, and the refusal gives the curve skeleton's numbers.
+TEST(AutoSkeleton, TorusTakesTheCurveSkeletonAndIsAnswered) {
+    const TriangleMesh s = test::torus_surface(2, 0.5, 48, 16);
+    AutoSkeletonOptions o;
+    const AutoSkeleton a = choose_skeleton(s, o);
+    ASSERT_EQ(a.kind, SkeletonKind::Curve) << a.reason;
+    ASSERT_TRUE(a.curve_raw_checked);
+    EXPECT_TRUE(a.curve_raw_valid);
+    EXPECT_GT(a.curve_raw_hexes, 0);
+    EXPECT_EQ(a.curve_raw_inverted, 0);
+    EXPECT_EQ(a.curve_padded_inverted, 0);
+    EXPECT_GT(a.curve_raw_sj_min, 0);
+    EXPECT_TRUE(a.refusal.empty()) << a.refusal;
+
+    o.max_answer_inverted = -1;
+    const AutoSkeleton r = choose_skeleton(s, o);
+    EXPECT_EQ(r.skeleton, a.skeleton);  // the skeleton is still returned, for editing
+    EXPECT_NE(r.refusal.find("curve skeleton " + std::to_string(a.curve_raw_hexes) + " raw hexes, 0 inverted"),
+              std::string::npos)
+        << r.refusal;
+}
+
+// Forced kinds are never refused (the user asked for that skeleton) and skip the raw checks.
+TEST(AutoSkeleton, ForcedCurveIsNotChecked) {
+    AutoSkeletonOptions o;
+    o.kind = SkeletonKind::Curve;
+    o.max_answer_inverted = -1;
+    const AutoSkeleton a = choose_skeleton(test::torus_surface(2, 0.5, 48, 16), o);
+    EXPECT_EQ(a.kind, SkeletonKind::Curve);
+    EXPECT_FALSE(a.curve_raw_checked);
+    EXPECT_TRUE(a.refusal.empty());
 }
 
 }  // namespace

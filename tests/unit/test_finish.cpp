@@ -133,6 +133,26 @@ TEST(Finish, LevelsFromTheDomainSize) {
     EXPECT_EQ(coarse.mesh.hexes.size(), 56u);
 }
 
+// The work budget max_hexes lowers the levels chosen from the domain size: the padded unit hex (7 hexes) asks for 2
+// levels (448 hexes); a budget of 447 leaves 1 level (56), of 55 none (7 hexes), of 448 both; given levels stay.
+TEST(Finish, HexBudgetLowersTheAutomaticLevels) {
+    FinishOptions o;
+    o.fit = false;
+    o.max_hexes = 447;
+    const FinishResult one = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_EQ(one.subdivision_levels, 1);
+    EXPECT_EQ(one.mesh.hexes.size(), 56u);
+    o.max_hexes = 55;
+    const FinishResult none = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_EQ(none.subdivision_levels, 0);
+    EXPECT_EQ(none.mesh.hexes.size(), 7u);
+    o.max_hexes = 448;
+    EXPECT_EQ(finish_mesh(unit_hex(), unit_cube_surface(), o).subdivision_levels, 2);
+    o.max_hexes = 55;
+    o.levels = 2;
+    EXPECT_EQ(finish_mesh(unit_hex(), unit_cube_surface(), o).subdivision_levels, 2);
+}
+
 // A raw mesh of poor hexes gets one level more: the unit hex sheared by 2 along x (every corner frame 1 / sqrt(5) =
 // 0.447, below poor_raw_sj_avg = 0.5) gets 2 levels where the domain size asks for 1 (min_resolution 0.01), 7 x 64 =
 // 448 hexes; not when 448 exceeds max_auto_hexes, nor with the rule off, nor for the unit hex itself, nor when a hex
