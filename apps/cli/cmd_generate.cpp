@@ -47,6 +47,8 @@ void register_generate(CLI::App& app, int* status) {
     cmd->add_option("-m", args->options.m, "Second resolution (meaning per shape, see below)");
     cmd->add_option("--quarter-turns", args->options.quarter_turns,
                     "twist, torustwist: turn of the section in quarter turns (default 2 = 180 degrees)");
+    cmd->add_option("--angle", args->options.angle_deg,
+                    "fold, vfan: angle between the two sheets in degrees, 10 to 170 (default 45)");
     cmd->add_option("--edge-length", args->options.edge_length, "Scale: typical leaflet edge length")
         ->capture_default_str();
     cmd->add_option("--radius-scale", args->options.radius_scale,

@@ -212,3 +212,38 @@ TEST(Padding, NarrowSlotDoesNotInvert) {
     EXPECT_TRUE(q.validation.valid());
     EXPECT_GT(q.sj_min, 0.0);
 }
+
+// A thin slab of 3 x 3 x 2 hexes of 1 x 1 x 0.1 (a plate of two layers, as a leaflet's up and down plates): the top
+// vertex (1, 1) sees boundary edges of length 1 and the edge of 0.1 down into the slab, so with inward_edges its new
+// vertex is 0.25 x 0.1 above it (the layer follows the slab's thickness), without it 0.25 x 1.
+TEST(Padding, ThinSlabLayerFollowsTheEdgeIntoTheMesh) {
+    HexMesh slab = make_block(3, 3, 2);
+    for (Vec3& p : slab.points) p.z *= 0.1;
+    auto new_top_height = [&](bool inward) {
+        PaddingOptions o = options(1);
+        o.inward_edges = inward;
+        const PaddingResult r = pad(slab, o);
+        for (std::size_t v = static_cast<std::size_t>(r.first_new_vertex); v < r.mesh.points.size(); ++v) {
+            const Vec3& from = slab.points[static_cast<std::size_t>(r.origin_vertex[v])];
+            if (from.x == 1 && from.y == 1 && from.z == 0.2) return r.mesh.points[v].z;
+        }
+        return -1.0;
+    };
+    EXPECT_NEAR(new_top_height(true), 0.2 + 0.025, 1e-12);
+    EXPECT_NEAR(new_top_height(false), 0.2 + 0.25, 1e-12);
+}
+
+// shorten_to_inward_edges on one hex of 2 x 3 x 0.5 whose bottom face (z = 0) is marked as the boundary: each bottom
+// corner's edge into the mesh is its vertical edge, 0.5; an unmarked vertex is left alone, and a shorter value stays.
+TEST(Padding, ShortestEdgeIntoTheMesh) {
+    HexMesh box = mesohex::test::make_unit_cube();
+    for (Vec3& p : box.points) p = {2 * p.x, 3 * p.y, 0.5 * p.z};
+    std::vector<int> local(8, -1);
+    int n = 0;
+    for (std::size_t v = 0; v < 8; ++v)
+        if (box.points[v].z == 0) local[v] = n++;
+    ASSERT_EQ(n, 4);
+    std::vector<double> shortest{10, 10, 10, 0.2};
+    shorten_to_inward_edges(box, local, shortest);
+    EXPECT_EQ(shortest, (std::vector<double>{0.5, 0.5, 0.5, 0.2}));
+}

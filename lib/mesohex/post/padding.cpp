@@ -8,6 +8,7 @@
 #include <string>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_convention.h"
 #include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/post/quality.h"
@@ -31,6 +32,22 @@ Vec3 quad_normal(const HexMesh& mesh, const std::array<int, 4>& q) {
     const Vec3& d = mesh.points[static_cast<std::size_t>(q[3])];
     return normalized(cross(c - a, d - b));  // diagonals: robust for non-planar quads
 }
+
+}  // namespace
+
+void shorten_to_inward_edges(const HexMesh& mesh, const std::vector<int>& local, std::vector<double>& shortest) {
+    for (const std::array<int, 8>& hex : mesh.hexes)
+        for (const std::array<int, 2>& e : kHexEdges) {
+            const int a = hex[static_cast<std::size_t>(e[0])], b = hex[static_cast<std::size_t>(e[1])];
+            const int la = local[static_cast<std::size_t>(a)], lb = local[static_cast<std::size_t>(b)];
+            if ((la >= 0) == (lb >= 0)) continue;  // both or neither on the boundary: not an edge into the mesh
+            const std::size_t l = static_cast<std::size_t>(la >= 0 ? la : lb);
+            shortest[l] = std::min(shortest[l], distance(mesh.points[static_cast<std::size_t>(a)],
+                                                         mesh.points[static_cast<std::size_t>(b)]));
+        }
+}
+
+namespace {
 
 // One layer over the whole boundary of `mesh` (in place); `origin` is extended for the new vertices.
 void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_of_hex, int layer,
@@ -73,6 +90,7 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
             ++edge_count[lb];
         }
     }
+    if (options.inward_edges) shorten_to_inward_edges(mesh, local, shortest_edge);
     std::vector<Vec3> unit_normal(nb);
     for (std::size_t i = 0; i < nb; ++i) unit_normal[i] = normalized(normal_sum[i]);
     std::vector<double> cos_sum(nb, 0.0);

@@ -14,6 +14,12 @@ struct PaddingOptions {
     // concave corners between branches and across the gap to a neighbouring tube, and the fit then left webs of hexes
     // there (measurements: docs/tuning.md).
     double thickness = 0.25;
+    // The shortest edge above also counts the edges from the vertex into the mesh (one end on the boundary, the other
+    // not): on a thin sheet (plate hexes of edge L and height r << L) the layer is then thickness x r, not
+    // thickness x L, which on a sheet of thickness 2r reached past the opposite side of a sharp crease and across the
+    // gap between two sheets, where the fit could not pull it back (docs/sheets.md). false: boundary edges only.
+    // Off by default until it is measured on the whole random set (docs/sheets.md: it changes every leaflet model).
+    bool inward_edges = false;
     double absolute_thickness = 0;  // > 0: use this offset (model units) everywhere instead of `thickness`
     // Optional: the offset of a boundary vertex at p moving along the unit direction d, given the offset t from the
     // rules above and the mean boundary edge length at the vertex (called once per boundary vertex and layer,
@@ -35,7 +41,7 @@ struct PaddingResult {
 // For every boundary quad (a, b, c, d) (outward) adds the hex (a, b, c, d, a', b', c', d'), where v' is a new vertex
 // per boundary vertex v, at p_v + t_v * m_v: m_v is the unit mean of the unit normals of the boundary quads at v,
 // scaled by 1 / (mean over those quads of m_v . n_q) (clamped to at most 3) so that a planar face moves by t_v and a
-// convex cube corner moves to the corner of the offset cube; t_v = thickness x (shortest boundary edge at v)
+// convex cube corner moves to the corner of the offset cube; t_v = thickness x (shortest boundary edge at v, or edge into the mesh with inward_edges)
 // or absolute_thickness. A new hex that would be inverted gets the offsets of its outer vertices halved (up to 6 times);
 // if it stays inverted, the directions of its vertices are tilted toward their worst-facing quad normal and the
 // offsets restored, then halved again (up to 20 times). Every boundary component is padded; new vertices are numbered in order of first appearance in
@@ -46,5 +52,10 @@ struct PaddingResult {
 // Preconditions: indices in range (InvalidInput otherwise); layers >= 0; thickness > 0.
 // Complexity: O(#hexes log #hexes) per layer.
 PaddingResult pad(const HexMesh& mesh, const PaddingOptions& options = {});
+
+// For every vertex v with local[v] >= 0 (local: per vertex of `mesh`, its index among the boundary vertices, -1 if
+// none): shortest[local[v]] = min(itself, the length of every hex edge from v to a vertex with local = -1).
+// O(hexes). (PaddingOptions::inward_edges)
+void shorten_to_inward_edges(const HexMesh& mesh, const std::vector<int>& local, std::vector<double>& shortest);
 
 }  // namespace mesohex

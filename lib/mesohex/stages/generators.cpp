@@ -82,8 +82,9 @@ Vec3 rotate_z(const Vec3& d, double angle) {
 
 struct Params {
     int n = 0, m = 0, quarter_turns = 0;
-    double L = 1.0;  // leaflet edge length
-    double r = 0.3;  // default radius: 0.3 x L x radius_scale
+    double angle = 0;  // radians (fold, vfan)
+    double L = 1.0;    // leaflet edge length
+    double r = 0.3;    // default radius: 0.3 x L x radius_scale
 };
 
 int resolution(const std::string& shape, const char* what, int value, int fallback, int min_value) {
@@ -108,6 +109,11 @@ Params make_params(const std::string& shape, const GeneratorOptions& o, std::arr
     if (p.quarter_turns < 0 || p.quarter_turns > 64)
         throw Error(ErrorCode::InvalidInput, "generate " + shape + ": quarter turns = " +
                                                  std::to_string(p.quarter_turns) + " is out of range [0, 64]");
+    const double angle_deg = o.angle_deg == 0 ? 45 : o.angle_deg;
+    if (!(angle_deg >= 10 && angle_deg <= 170))
+        throw Error(ErrorCode::InvalidInput, "generate " + shape + ": angle = " + std::to_string(angle_deg) +
+                                                 " degrees is out of range [10, 170]");
+    p.angle = angle_deg * kPi / 180;
     p.L = o.edge_length;
     p.r = 0.3 * o.edge_length * o.radius_scale;
     return p;
@@ -591,6 +597,94 @@ Skeleton make_wall_plate(const WallPlate& w, double edge_length, double radius) 
 namespace {
 
 // ---------------------------------------------------------------------------------------------------------------
+// Thin sheets (issue 16 item 3): sheet radius 1/3 of the default (0.1 x the edge length at radius_scale 1), sharp
+// angles. The sheet radius of these shapes is p.r / 3.
+
+// One leaflet of 2n x m quads (n across the crease on each side, m along it) folded along its middle row: the two
+// halves make the angle `angle` (radians) between them (a sharp crease for small angles).
+Skeleton make_fold(const Params& p) {
+    Skeleton s;
+    Lattice lat(2 * p.n, p.m);
+    const double turn = kPi - p.angle;  // the second half turns about the crease (the y axis) by this
+    fill_lattice(
+        s, lat,
+        [&](int i, int j) {
+            const double u = (i - p.n) * p.L, y = j * p.L;
+            if (u <= 0) return Vec3{u, y, 0.0};
+            return Vec3{u * std::cos(turn), y, u * std::sin(turn)};
+        },
+        p.r / 3);
+    add_lattice_quads(s, lat);
+    return s;
+}
+
+// Three strips of m quads on one fan edge of n edges along z: two `angle` apart (a sharp wedge), the third opposite
+// their bisector.
+Skeleton make_vfan(const Params& p) {
+    Params thin = p;
+    thin.r = p.r / 3;
+    return make_fan(thin, {0.0, p.angle, kPi + 0.5 * p.angle});
+}
+
+// A plane: one leaflet of m chord quads (along x) x 2n span quads (along y), swept back by 0.3 x the span and with a
+// dihedral of 0.05; the fuselage is its middle row (y = 0) with the default radius p.r, the wings have the thin
+// radius p.r / 3. A nose (3 edges, -x) and a tail boom (3 edges, +x) are rooted on the border at the middle row's
+// ends (out patches).
+Skeleton make_airplane(const Params& p) {
+    Skeleton s;
+    Lattice lat(p.m, 2 * p.n);
+    for (int i = 0; i <= p.m; ++i)
+        for (int j = 0; j <= 2 * p.n; ++j) {
+            const double y = (j - p.n) * p.L;
+            lat.at(i, j) = add_point(s, {i * p.L + 0.3 * std::abs(y), y, 0.05 * std::abs(y)}, j == p.n ? p.r : p.r / 3);
+        }
+    add_lattice_quads(s, lat);
+    const double edge = 0.8 * p.L;
+    std::vector<Vec3> nose, tail;
+    std::vector<double> nose_r, tail_r;
+    for (int k = 1; k <= 3; ++k) {
+        nose.push_back({-k * edge, 0, 0});
+        nose_r.push_back(p.r * (1 - 0.1 * k));
+        tail.push_back({p.m * p.L + k * edge, 0, 0.05 * k * edge});
+        tail_r.push_back(p.r * (1 - 0.15 * k));
+    }
+    add_polyline(s, lat.at(0, p.n), nose, nose_r);
+    add_polyline(s, lat.at(p.m, p.n), tail, tail_r);
+    return s;
+}
+
+// A thin plate of n x m quads (n >= 4, m >= 2) with wires of its own radius: an arch over the middle row rooted
+// inside the plate one quad in from each short side, and a wire of 3 edges leaving the corner (0, 0) along its
+// outward diagonal (a BL-joint).
+Skeleton make_wireplate(const Params& p) {
+    Skeleton s;
+    const double r = p.r / 3;
+    Lattice lat(p.n, p.m);
+    const double x0 = -0.5 * p.n * p.L, y0 = -0.5 * p.m * p.L;
+    fill_lattice(
+        s, lat,
+        [&](int i, int j) {
+            return Vec3{x0 + i * p.L, y0 + j * p.L, 0.0};
+        },
+        r);
+    add_lattice_quads(s, lat);
+    const int mid = p.m / 2;
+    const double xa = x0 + p.L, xb = x0 + (p.n - 1) * p.L, rc = 0.5 * (xb - xa), xc = 0.5 * (xa + xb);
+    std::vector<Vec3> arch;
+    const int pieces = 2 * (p.n - 2);  // arch edges about 0.8 L long
+    for (int k = 1; k < pieces; ++k) {
+        const double a = kPi * (1 - static_cast<double>(k) / pieces);
+        arch.push_back({xc + rc * std::cos(a), y0 + mid * p.L, rc * std::sin(a)});
+    }
+    add_polyline_between(s, lat.at(1, mid), lat.at(p.n - 1, mid), arch, std::vector<double>(arch.size(), r));
+    const double h = std::sqrt(0.5);
+    std::vector<Vec3> wire;
+    for (int k = 1; k <= 3; ++k) wire.push_back(Vec3{x0, y0, 0} + (k * 0.8 * p.L) * Vec3{-h, -h, 0});
+    add_polyline(s, lat.at(0, 0), wire, std::vector<double>(3, r));
+    return s;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
 // Random skeletons (evaluation set).
 
 // splitmix64: a tiny deterministic generator; uniform() uses the top 53 bits, so results are the same everywhere.
@@ -895,6 +989,30 @@ const std::vector<Shape>& shapes() {
          "plate of n x m quads (default 6 x 4) with its branches rooted on its plates: a "
          "handle leaving a straight border outward, a bucket arch rooted inside",
          make_pan},
+        {"fold",
+         {3, 3},
+         {1, 1},
+         "thin leaflet (radius 0.1 x edge) of 2n x m quads (default n 3, m 3) folded along its middle row so that "
+         "its halves meet at --angle degrees (default 45)",
+         make_fold},
+        {"vfan",
+         {2, 2},
+         {1, 1},
+         "thin strips (radius 0.1 x edge) of m quads on a fan edge of n edges (default 2, 2): two --angle degrees "
+         "apart (default 45), the third opposite",
+         make_vfan},
+        {"airplane",
+         {4, 3},
+         {1, 1},
+         "one swept leaflet of m chord x 2n span quads (default 3 x 8): fuselage row of radius 0.3 x edge, thin wings "
+         "(0.1 x edge), nose and tail booms rooted on its border",
+         make_airplane},
+        {"wireplate",
+         {5, 3},
+         {4, 2},
+         "thin plate (radius 0.1 x edge) of n x m quads (default 5 x 3) with wires of its radius: an arch rooted "
+         "inside, one wire from a corner",
+         make_wireplate},
     };
     return table;
 }

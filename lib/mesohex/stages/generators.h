@@ -24,10 +24,13 @@ struct GeneratorOptions {
                                 // (90°); -1 = the shape's default (2, i.e. 180°)
     double edge_length = 1.0;   // overall scale: the typical leaflet edge length
     double radius_scale = 1.0;  // multiplies every radius
+    double angle_deg = 0;       // fold, vfan: the angle between the two sheets, degrees in [10, 170]; 0 = 45
 };
 
 // The valid shape names, in a fixed order: plate, box, torus, tfan, xfan, hand, chair, bird, twist, torustwist,
-// dualocta, cubestar, ystar, tetrastar, turbine, wall, wallboth, walledge, pan.
+// dualocta, cubestar, ystar, tetrastar, turbine, wall, wallboth, walledge, pan, fold, vfan, airplane, wireplate. The
+// last four are thin sheets (issue 16 item 3): their sheet radius is 0.1 x the edge length (x radius_scale), not the
+// 0.3 stated above.
 std::vector<std::string> generator_names();
 
 // One line describing the shape and what n, m (and quarter_turns) mean for it, with their defaults.
