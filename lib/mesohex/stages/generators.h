@@ -1,6 +1,7 @@
 #pragma once
 // Procedural meso-skeletons: small parametric shapes (plates, shells, fans, a hand, a chair, a bird, twisted strips,
-// a frame, a turbine) used as test inputs and README examples. Each one is a configuration the paper supports:
+// a frame, a turbine) used as test inputs and README examples. Each one but fanend (a branch on a fan-edge end, the
+// paper's limitation 3, meshed after the skeleton repair retracts the fan edge) is a configuration the paper supports:
 //   - no branch on a leaflet interior vertex, no fan edge ending inside a leaflet, no branch at a fan-edge vertex;
 //   - BL-joints only at convex (~90°) leaflet corners, the branch leaving roughly along the outward corner diagonal;
 //   - leaflet edges about 2-4x the local radius (default radii are about 0.3 x the leaflet edge length).
@@ -25,7 +26,7 @@ struct GeneratorOptions {
     double radius_scale = 1.0;  // multiplies every radius
 };
 
-// The valid shape names, in a fixed order: plate, box, torus, tfan, xfan, hand, chair, bird, twist, torustwist,
+// The valid shape names, in a fixed order: plate, box, torus, tfan, xfan, fanend, hand, chair, bird, twist, torustwist,
 // dualocta, cubestar, ystar, tetrastar, turbine, pan.
 std::vector<std::string> generator_names();
 
