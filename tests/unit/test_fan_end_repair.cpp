@@ -59,11 +59,12 @@ void expect_refused(const Skeleton& s, int v, const std::string& words) {
 // 3 unit edges from w = 2 along +z, radius 0.3: V 24, E 35, F 12. Every face's corner direction at w makes 45 degrees
 // with +z: a tie, the carrier is the lowest face on the fan edge (1, 2): face 1 (strip +x). t = clamp(2 x 0.3 / 1,
 // 0.3, 0.7) = 0.6 along every top border: w moves to (0.6, 0, 1); faces 5 (+y) and 9 (-x) get w_5 = (0, 0.6, 1) =
-// vertex 24, w_9 = (-0.6, 0, 1) = vertex 25. Repaired: V 26, E 37, F 12 (Euler 1 kept); boundary edges 18 + (1, 2) +
+// vertex 24, w_9 = (-0.6, 0, 1) = vertex 25; u = 1 slides to w + clamp(2 x 0.3 / 1, 0.5, 1) (u - w) = (0, 0, 0.4).
+// Repaired: V 26, E 37, F 12 (Euler 1 kept); boundary edges 18 + (1, 2) +
 // (1, 24) + (1, 25) = 21, branch edges 3, one fan edge left (0, 1); hexes 4 x 3 + 2 x 12 + 2 x 21 = 78. Vertex 1 is a
 // regular fan end (3 border edges for 3 faces); vertex 2 roots the branch on the carrier's border: its borders (to
-// (0,0,0) and to (1,0,1)) make 121 degrees (>= 100: nearly straight) and the branch towards (0,0,2) leaves within 2
-// degrees of the outward direction, so it stands on the out patch (BorderRoot::Out).
+// (0,0,0.4) and to (1,0,1)) make 135 degrees (>= 100: nearly straight) and the branch towards (0,0,2) leaves 9 degrees
+// off the outward direction, so it stands on the out patch (BorderRoot::Out).
 TEST(FanEndRepair, TFanBranchContinuingTheFanLine) {
     Skeleton s = fan_end(3, 1);
     ASSERT_EQ(s.points.size(), 24u);
@@ -75,6 +76,7 @@ TEST(FanEndRepair, TFanBranchContinuingTheFanLine) {
     EXPECT_EQ(s.edges.size(), 37u);
     EXPECT_EQ(s.faces.size(), 12u);
     EXPECT_NEAR(distance(s.points[2], Vec3{0.6, 0, 1}), 0.0, 1e-12);
+    EXPECT_NEAR(distance(s.points[1], Vec3{0, 0, 0.4}), 0.0, 1e-12);
     EXPECT_NEAR(distance(s.points[24], Vec3{0, 0.6, 1}), 0.0, 1e-12);
     EXPECT_NEAR(distance(s.points[25], Vec3{-0.6, 0, 1}), 0.0, 1e-12);
     EXPECT_EQ(s.radii[24], 0.3);

@@ -115,6 +115,9 @@ FanEndRetraction retract(Skeleton& s, const Candidate& c) {
     FanEndRetraction r{c.w, c.u, carrier(s, c), {}};
     const Vec3 pw = s.points[c.w];
     const double rw = s.radii[c.w];
+    // u slides along the fan line towards w (its fan-end cap then covers the notch the retraction opens).
+    const double len = distance(pw, s.points[c.u]);
+    s.points[c.u] = pw + std::clamp(kRetractionRadii * rw / len, 0.5, 1.0) * (s.points[c.u] - pw);
     for (const int f : c.faces) {
         const int x = corner_neighbour(s.faces[f], c.w, c.u);
         const double t = std::clamp(kRetractionRadii * rw / distance(s.points[x], pw), 0.3, 0.7);
