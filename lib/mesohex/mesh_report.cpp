@@ -119,7 +119,8 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
         rep["repairs"] = {{"trunks", res.trunks},
                           {"absorbed_stubs", res.absorbed_stubs},
                           {"unseparated_pairs", res.unseparated_pairs},
-                          {"root_strip_splits", res.root_strip_splits}};
+                          {"root_strip_splits", res.root_strip_splits},
+                          {"fan_end_retractions", res.fan_end_retractions}};
     rep["radius"] = {{"source", res.radius_source}, {"value", res.radius}};
     if (res.radius_source == "default") {
         std::ostringstream rule;

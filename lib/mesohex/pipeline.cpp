@@ -41,7 +41,11 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
     StageClock clock(res.timings_ms);
 
     // Validates indices and geometry before anything else (the default radius reads edge lengths).
-    res.input_analysis = analyze_skeleton(input, options.analysis);
+    // A branch on a fan-edge end is accepted here when the repair below retracts the fan edge from it (the analysis
+    // after the repair refuses what is left).
+    AnalysisOptions input_options = options.analysis;
+    input_options.fan_end_branches = options.resample && options.repair.fan_end_retraction;
+    res.input_analysis = analyze_skeleton(input, input_options);
     clock.lap("analysis_input");
     if (input.edges.empty() && input.faces.empty())
         throw Error(ErrorCode::InvalidInput, "the skeleton has no edge and no face: nothing to mesh");
@@ -62,6 +66,7 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
         res.absorbed_stubs = repaired.absorbed_stubs;
         res.unseparated_pairs = repaired.unseparated;
         res.root_strip_splits = repaired.root_strip_splits;
+        for (const FanEndRetraction& r : repaired.fan_end_retractions) res.fan_end_retractions.push_back(r.vertex);
         s = adapt_skeleton(repaired.skeleton, options.adaptation);
         clock.lap("adaptation");
         res.analysis = analyze_skeleton(s, options.analysis);

@@ -31,15 +31,16 @@ struct StageTiming {
 };
 
 struct PipelineResult {
-    std::string radius_source;        // "file", "option" or "default"
-    double radius = 0;                // the uniform radius used when radius_source != "file" (else 0)
-    SkeletonAnalysis input_analysis;  // analysis of the input skeleton (before adaptation)
-    int trunks = 0;                   // trunk vertices the repair inserted (SkeletonRepairResult)
-    int absorbed_stubs = 0;           // stubs the repair absorbed into a trunk vertex
-    int unseparated_pairs = 0;        // close branch pairs the repair left (a branch ends inside the other's tube)
-    int root_strip_splits = 0;        // leaflet face strips the repair split around rooted branches
-    Skeleton skeleton;                // the skeleton actually meshed (radii filled, adapted when resampling)
-    SkeletonAnalysis analysis;        // analysis of `skeleton`
+    std::string radius_source;             // "file", "option" or "default"
+    double radius = 0;                     // the uniform radius used when radius_source != "file" (else 0)
+    SkeletonAnalysis input_analysis;       // analysis of the input skeleton (before adaptation)
+    int trunks = 0;                        // trunk vertices the repair inserted (SkeletonRepairResult)
+    int absorbed_stubs = 0;                // stubs the repair absorbed into a trunk vertex
+    int unseparated_pairs = 0;             // close branch pairs the repair left (a branch ends inside the other's tube)
+    int root_strip_splits = 0;             // leaflet face strips the repair split around rooted branches
+    std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners
+    Skeleton skeleton;                     // the skeleton actually meshed (radii filled, adapted when resampling)
+    SkeletonAnalysis analysis;             // analysis of `skeleton`
     RawMeshPrediction predicted;
     RawMesh raw;
     std::vector<StageTiming> timings_ms;  // in pipeline order

@@ -17,6 +17,7 @@
 #include "mesohex/core/error.h"
 #include "mesohex/pipeline.h"
 #include "mesohex/post/quality.h"
+#include "mesohex/stages/fan_end_repair.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/raw_mesh.h"
 
@@ -109,7 +110,8 @@ void expect_rejected_at(const Skeleton& s, int v, const std::string& words) {
 TEST(LeafletJunctions, EveryGeneratedShapeHasNoInvertedHex) {
     for (const std::string& name : generator_names()) {
         SCOPED_TRACE(name);
-        const Skeleton s = generate_skeleton(name);
+        Skeleton s = generate_skeleton(name);
+        (void)retract_fan_ends(s);  // fanend: its fan-end branch moved to a leaflet corner (no change elsewhere)
         const Built b = build(s, 0.0);
         expect_good(s, b, b.an.predicted_hexes);
         const PipelineResult p = run_pipeline(s);
@@ -261,5 +263,77 @@ TEST(LeafletJunctions, UnsupportedConfigurationsAreRejectedAtAnalysis) {
     }
     {  // the regular versions of the last two are accepted and meshed
         EXPECT_NO_THROW((void)build(fan(1, 1, {{0, 1, 0}, {0, -1, 0}, {0, 0, 1}}), 0.25));
+    }
+}
+
+// Issue 22 item 5: every other refusal class names its element and says how to edit the skeleton.
+TEST(LeafletJunctions, EveryRefusalClassNamesTheElementAndSaysHowToEdit) {
+    {  // a quad standing on the interior vertex 4 of a 2 x 2 plate by one corner
+        Skeleton s = test::plate(2, 2);
+        s.points.push_back({1.5, 1, 1});  // 9
+        s.points.push_back({1, 1, 2});    // 10
+        s.points.push_back({0.5, 1, 1});  // 11
+        s.faces.push_back({4, 9, 10, 11});
+        s.edges.clear();
+        add_face_edges(s);
+        expect_rejected_at(s, 4, "touches the interior of another leaflet");
+    }
+    {  // fan edges of degrees 3 (0-1) and 4 (1-2) meeting at vertex 1: a fourth strip on the second fan edge only
+        Skeleton s = fan(2, 1, {{0, 1, 0}, {0, -1, 0}, {0, 0, 1}});
+        const int a = static_cast<int>(s.points.size());
+        s.points.push_back({1, 0, -1});
+        s.points.push_back({2, 0, -1});
+        s.faces.push_back({1, 2, a + 1, a});
+        s.edges.clear();
+        add_face_edges(s);
+        expect_rejected_at(s, 1, "irregular fan");
+    }
+    {  // branches rooted at the neighbouring interior vertices 6 and 7 of a 4 x 4 plate, both up
+        Skeleton s = test::plate(4, 4);
+        s.points.push_back({1, 1, 1});
+        s.points.push_back({2, 1, 1});
+        s.edges.push_back({6, 25});
+        s.edges.push_back({7, 26});
+        expect_rejected_at(s, 7, "stands on too");
+    }
+    {  // a Moebius strip of 6 quads (the section turns by 180 degrees around the ring): named by leaflet and face
+        Skeleton s;
+        for (int i = 0; i < 6; ++i) {
+            const double t = 2 * std::numbers::pi * i / 6;
+            const Vec3 c{3 * std::cos(t), 3 * std::sin(t), 0};
+            const Vec3 d = std::cos(t / 2) * Vec3{std::cos(t), std::sin(t), 0} + std::sin(t / 2) * Vec3{0, 0, 1};
+            s.points.push_back(c - 0.5 * d);
+            s.points.push_back(c + 0.5 * d);
+        }
+        for (int i = 0; i < 6; ++i) {
+            const int a = 2 * i, b = 2 * i + 1;
+            const int na = i < 5 ? 2 * i + 2 : 1, nb = i < 5 ? 2 * i + 3 : 0;  // the twist swaps the sides
+            s.faces.push_back({a, na, nb, b});
+        }
+        add_face_edges(s);
+        try {
+            (void)build(s, 0.25);
+            FAIL() << "accepted";
+        } catch (const Error& e) {
+            const std::string m = e.what();
+            EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
+            EXPECT_NE(m.find("leaflet 0 (face "), std::string::npos) << m;
+            EXPECT_NE(m.find("not orientable"), std::string::npos) << m;
+            EXPECT_NE(m.find("; edit: "), std::string::npos) << m;
+        }
+    }
+    {  // two branches leaving branching point 0 in the same direction (edges 0-1 and 0-2 along +x): no partition
+        Skeleton s;
+        s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}};
+        s.edges = {{0, 1}, {0, 2}, {0, 3}};
+        try {
+            (void)build(s, 0.25);
+            FAIL() << "accepted";
+        } catch (const Error& e) {
+            const std::string m = e.what();
+            EXPECT_NE(m.find("skeleton vertex 0 "), std::string::npos) << m;
+            EXPECT_NE(m.find("coincide"), std::string::npos) << m;
+            EXPECT_NE(m.find("; edit: "), std::string::npos) << m;
+        }
     }
 }

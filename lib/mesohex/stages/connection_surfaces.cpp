@@ -880,7 +880,9 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
     } catch (const Error& err) {
         throw Error(ErrorCode::NumericalFailure,
                     "no connection surface at skeleton vertex " + std::to_string(v) + " (degree " + std::to_string(n) +
-                        "): " + err.what(),
+                        "): " + err.what() +
+                        "; edit: let its branches and leaflets leave it in distinct directions (no two parallel), or "
+                        "move some of them to a neighbouring vertex",
                     ElementRef{ElementRef::Kind::SkeletonVertex, v});
     }
     return part;

@@ -216,6 +216,28 @@ Skeleton make_fan(const Params& p, const std::vector<double>& angles) {
     return s;
 }
 
+// A T (n = 3) or X (n = 4) fan (2 x 2-quad strips on a fan edge of 2 edges, as tfan / xfan) with a 3-edge branch on
+// the fan's upper end w = (0, 0, L): continuing the fan line (+z, m = 1) or perpendicular to it (m = 2), horizontal,
+// into the middle of the widest gap between strips (T: -y; X: 45 degrees, between the +x and +y strips). Branch
+// edges of length L, radius that of the fan. The configuration of the paper's limitation 3: the analysis refuses it,
+// the skeleton repair retracts the fan edge when the branch continues the fan line (stages/fan_end_repair.h).
+Skeleton make_fan_end(const Params& p) {
+    if (p.n > 4) throw Error(ErrorCode::InvalidInput, "generate fanend: n (strips) must be 3 or 4");
+    if (p.m > 2) throw Error(ErrorCode::InvalidInput, "generate fanend: m (branch direction) must be 1 or 2");
+    Params fan = p;
+    fan.n = 2;
+    fan.m = 2;
+    const std::vector<double> angles =
+        p.n == 3 ? std::vector<double>{0.0, 0.5 * kPi, kPi} : std::vector<double>{0.0, 0.5 * kPi, kPi, 1.5 * kPi};
+    Skeleton s = make_fan(fan, angles);
+    const int w = 2;  // the fan line's points come first, bottom to top
+    const Vec3 d = p.m == 1 ? Vec3{0, 0, 1} : rotate_z({1, 0, 0}, p.n == 3 ? 1.5 * kPi : 0.25 * kPi);
+    std::vector<Vec3> pts;
+    for (int k = 1; k <= 3; ++k) pts.push_back(s.points[w] + k * p.L * d);
+    add_polyline(s, w, pts, std::vector<double>(3, p.r));
+    return s;
+}
+
 // A finger (or thumb): n branch edges leaving `start` along `first`, then turning by `turn` radians per edge
 // (in the z = 0 plane); the radius tapers linearly from the joint's to 0.7 of it.
 void add_finger(Skeleton& s, int start, Vec3 first, double turn, double edge, int n) {
@@ -894,6 +916,13 @@ const std::vector<Shape>& shapes() {
          [](const Params& p) {
              return make_fan(p, {0.0, 0.5 * kPi, kPi, 1.5 * kPi});
          }},
+        {"fanend",
+         {3, 1},
+         {3, 1},
+         "T (n = 3, default) or X (n = 4) fan of 2 x 2-quad strips with a 3-edge branch on a fan-edge end, "
+         "continuing the fan line (m = 1, default: meshed after the skeleton repair retracts the fan edge from the "
+         "branch) or perpendicular to it (m = 2: refused, naming the vertex)",
+         make_fan_end},
         {"hand",
          {3, 4},
          {1, 2},

@@ -1,7 +1,8 @@
 #pragma once
 // Procedural meso-skeletons: small parametric shapes (plates, shells, fans, a hand, a chair, a bird, twisted strips,
-// a frame, a turbine) used as test inputs and README examples. Each one is a configuration the paper supports (except
-// wall, wallboth and walledge: walls docked on a plate, beyond the paper's limitation 2):
+// a frame, a turbine) used as test inputs and README examples. Each one is a configuration the paper supports, except
+// wall, wallboth and walledge (walls docked on a plate, beyond the paper's limitation 2) and fanend (a branch on a
+// fan-edge end, the paper's limitation 3, meshed after the skeleton repair retracts the fan edge):
 //   - no branch on a leaflet interior vertex, no fan edge ending inside a leaflet, no branch at a fan-edge vertex;
 //   - BL-joints only at convex (~90°) leaflet corners, the branch leaving roughly along the outward corner diagonal;
 //   - leaflet edges about 2-4x the local radius (default radii are about 0.3 x the leaflet edge length).
@@ -27,7 +28,7 @@ struct GeneratorOptions {
     double angle_deg = 0;       // fold, vfan: the angle between the two sheets, degrees in [10, 170]; 0 = 45
 };
 
-// The valid shape names, in a fixed order: plate, box, torus, tfan, xfan, hand, chair, bird, twist, torustwist,
+// The valid shape names, in a fixed order: plate, box, torus, tfan, xfan, fanend, hand, chair, bird, twist, torustwist,
 // dualocta, cubestar, ystar, tetrastar, turbine, wall, wallboth, walledge, pan, fold, vfan, airplane, wireplate. The
 // last four are thin sheets (issue 16 item 3): their sheet radius is 0.1 x the edge length (x radius_scale), not the
 // 0.3 stated above.

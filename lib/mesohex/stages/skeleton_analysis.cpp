@@ -275,15 +275,28 @@ struct VertexStar {
     int faces = 0;                  // faces at it
 };
 
-// Fan-edge vertex: its class, or Error(UnsupportedConfiguration) for a branch edge on it or an irregular fan.
-VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, int v) {
-    if (st.nb > 0)
+// Fan-edge vertex: its class, or Error(UnsupportedConfiguration) for a branch edge on it (accepted on a fan-edge end
+// with fan_end_branches) or an irregular fan.
+VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, int v, bool fan_end_branches) {
+    if (st.nb > 0 && st.nfan == 1 && !fan_end_branches)
         fail(ErrorCode::UnsupportedConfiguration,
-             vname +
-                 ": a branch edge on a fan-edge vertex (on an edge shared by 3 or more faces) is not "
-                 "supported (paper limitation 3); edit: start the branch from a vertex where 4 faces of one "
-                 "of the leaflets meet, or shorten the fan edge chain so the branch leaves from a leaflet "
-                 "corner off the fan edge",
+             vname + ": a branch on a fan-edge end (the end of a fan edge shared by " +
+                 std::to_string(st.fan_degrees[0]) +
+                 " faces; the paper's limitation 3) is meshed only after the repair that retracts the fan edge "
+                 "from it (mesh with resampling on), and only where each leaflet around the fan edge meets the "
+                 "vertex with one face (here " +
+                 std::to_string(st.faces) +
+                 " faces), the fan-edge chain is longer than one edge and the branch leaves within 45 degrees of "
+                 "the fan line's continuation; edit: mesh with resampling, make every leaflet there end with one "
+                 "corner face, split a single fan edge and its faces in two, turn the branch's first edge towards "
+                 "the fan line's continuation, or start the branch from a corner of one leaflet off the fan edge",
+             ElementRef::Kind::SkeletonVertex, v);
+    if (st.nb > 0 && st.nfan != 1)
+        fail(ErrorCode::UnsupportedConfiguration,
+             vname + ": a branch on a vertex inside a fan-edge chain (on " + std::to_string(st.nfan) +
+                 " fan edges, edges shared by 3 or more faces; the paper's limitation 3) is not supported; edit: "
+                 "start the branch from a vertex where 4 faces of one of the leaflets meet, or from an end of the "
+                 "fan edge chain",
              ElementRef::Kind::SkeletonVertex, v);
     // A regular fan: at its end every leaflet around the fan edge leaves by one boundary edge; along it,
     // every leaflet goes on across the vertex (paper limitation 2 otherwise: the fan stops inside a leaflet).
@@ -304,9 +317,10 @@ VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, 
 
 // The class of vertex v (pseudo-degree, reference-notes §4.1-4.2, plus explicit rejection of the unsupported); sets
 // vertex_border_root[v] at a border vertex with one branch.
-VertexClass classify_vertex(const Skeleton& s, const VertexStar& st, int v, SkeletonAnalysis& an) {
+VertexClass classify_vertex(const Skeleton& s, const VertexStar& st, int v, bool fan_end_branches,
+                            SkeletonAnalysis& an) {
     const std::string vname = "skeleton vertex " + std::to_string(v);
-    if (st.nfan > 0) return classify_fan_vertex(st, vname, v);
+    if (st.nfan > 0) return classify_fan_vertex(st, vname, v, fan_end_branches);
     if (st.inside_a_leaflet && st.nb == 1 && st.nbnd == 0 && st.leaflets == 1 && st.ninner == 4 && st.faces == 4) {
         // Beyond the paper's limitation 1: one branch leaving a regular interior vertex (4 faces of one
         // leaflet). The branch's first chunk stands on the 2 x 2 plate faces around the vertex, on the side the
@@ -352,7 +366,7 @@ VertexClass classify_vertex(const Skeleton& s, const VertexStar& st, int v, Skel
 
 // Vertex classification. Per vertex: does some leaflet have faces at it but no boundary or fan edge at it (the vertex
 // is inside that leaflet)? Serial in face order.
-void classify_vertices(const Skeleton& s, SkeletonAnalysis& an) {
+void classify_vertices(const Skeleton& s, bool fan_end_branches, SkeletonAnalysis& an) {
     const int nv = static_cast<int>(s.points.size());
     const int nf = static_cast<int>(an.face_vertices.size());
     std::vector<std::vector<std::pair<int, bool>>> leaflet_rim(nv);  // (leaflet, has a rim edge at the vertex)
@@ -399,7 +413,7 @@ void classify_vertices(const Skeleton& s, SkeletonAnalysis& an) {
         st.faces = faces_at[v];
         an.vertex_branch_edges[v] = st.nb;
         an.vertex_boundary_edges[v] = st.nbnd;
-        an.vertex_class[v] = classify_vertex(s, st, v, an);
+        an.vertex_class[v] = classify_vertex(s, st, v, fan_end_branches, an);
     }
 }
 
@@ -559,7 +573,7 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     find_leaflets(edge_faces, an);
     compute_face_normals(s, an);
     find_docked_walls(s, an);
-    classify_vertices(s, an);
+    classify_vertices(s, options.fan_end_branches, an);
     check_rooted_branches(s, an);
     std::vector<char> branch_edge(s.edges.size()), joint(s.points.size());
     for (std::size_t e = 0; e < branch_edge.size(); ++e) branch_edge[e] = an.edge_degree[e] == 0;

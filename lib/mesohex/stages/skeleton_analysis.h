@@ -117,6 +117,9 @@ struct SkeletonAnalysis {
 struct AnalysisOptions {
     // Edges shorter than this (absolute) are rejected as degenerate.
     double min_edge_length = 1e-12;
+    // Accept branch edges on a fan-edge end (classified FanEdgeEnd; the raw mesh cannot build them): for the analysis
+    // of an input that repair_skeleton's fan-end retraction turns into a leaflet corner (pipeline.cpp).
+    bool fan_end_branches = false;
 };
 
 // Preconditions (checked, Error(InvalidInput) naming the element otherwise): indices in range, no self-loop edge,

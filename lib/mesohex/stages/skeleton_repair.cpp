@@ -427,6 +427,7 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     res.vertex_map.resize(input.points.size());
     for (std::size_t v = 0; v < input.points.size(); ++v) res.vertex_map[v] = static_cast<int>(v);
     Skeleton& s = res.skeleton;
+    if (o.fan_end_retraction) res.fan_end_retractions = retract_fan_ends(s);
     repair_trunks(s, o, res);
     res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
     return res;

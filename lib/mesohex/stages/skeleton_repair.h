@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "mesohex/core/skeleton.h"
+#include "mesohex/stages/fan_end_repair.h"
 
 namespace mesohex {
 
@@ -46,6 +47,9 @@ struct SkeletonRepairOptions {
     // that loops, crosses itself or was already split for another root keeps its first cut; a face crossed in both
     // directions becomes 4 quads); new vertices get radii interpolated along their edge (bilinearly in a face).
     double root_patch_factor = 0.8;
+    // Branches on fan-edge ends (the paper's limitation 3): the fan edge is retracted from the branch's vertex, which
+    // becomes a leaflet corner (stages/fan_end_repair.h). Done first, on the input skeleton.
+    bool fan_end_retraction = true;
 };
 
 struct SkeletonRepairResult {
@@ -57,6 +61,7 @@ struct SkeletonRepairResult {
     int unseparated = 0;        // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
                                 // separate
     int root_strip_splits = 0;  // face strips split for root patches (root_patch_factor)
+    std::vector<FanEndRetraction> fan_end_retractions;  // fan_end_retraction, in the input's vertex numbering
 };
 
 // Preconditions: one finite radius > 0 per vertex, edge indices in range (as after analyze_skeleton and check_radii;
@@ -68,6 +73,7 @@ struct SkeletonRepairResult {
 // then per trunk t and the new crotch vertices; edges: the kept input edges in their order, then per trunk its edges.
 // Repairs are made one pair at a time, the most overlapping first (largest x / r_c), until no pair qualifies (at most
 // one per input branch edge). Deterministic. Complexity O(trunks x (pairs at branching points) x polyline length).
+// Fan-end retractions (fan_end_repair.h) come first: input vertices keep their indices, new ones are appended.
 // Root patch splits come after the trunks (they touch only leaflets): input vertices keep their indices, new vertices
 // are appended (cut points in edge order, then face centres in face order); a cut edge becomes its two halves in its
 // place; new edges inside split faces are appended in face order; a split face keeps its index for its first piece,

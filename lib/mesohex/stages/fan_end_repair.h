@@ -1,0 +1,66 @@
+#pragma once
+// Skeleton repair for a branch on a fan-edge end (the paper's limitation 3; design note
+// ../shared/design/beyond-the-paper.md, section C2 "Retract the fan edge"). Called by repair_skeleton
+// (SkeletonRepairOptions::fan_end_retraction), before adaptation.
+//
+// Configuration: a vertex w on exactly one fan edge (u, w) (an edge shared by g >= 3 faces) and on at least one branch
+// edge, where every face at w is one of the g faces around (u, w) and leaves w by its own border side (w, x_i) (one
+// face of each fan leaflet at w: the leaflet corner there), and the branches leave w within 45 degrees of the fan
+// line's direction e = unit(w - u) (d . e >= kFanEndBranchCos, d = unit(sum of the unit branch directions at w)), and
+// the fan-edge chain goes on past u (u on two fan edges).
+// The analysis refuses it: the fan end has no cap for a branch to stand on. The repair pulls every face back from the
+// fan line at w along its border side (w, x_i), by t_i = clamp(kRetractionRadii r_w / |x_i - w|, 0.3, 0.7), and
+// slides u along the fan line towards w, to w + clamp(kRetractionRadii r_w / |u - w|, 0.5, 1) (u - w):
+//   - the carrier, the face maximising d . o_i, o_i = unit(unit(w - u) + unit(w - x_i)) (its outward corner direction
+//     at w; ties within 1e-9 go to the lowest face id), keeps w, which moves to w + t_k (x_k - w);
+//   - every other face f_i = (.. u, w, x_i ..) gets a new vertex w_i = w + t_i (x_i - w) of radius r_w in w's place
+//     (same corner, so the orientation is kept); the border side (w, x_i) becomes (w_i, x_i) in place, the side
+//     (u, w_i) is appended.
+// Result: (u, w) has one face (a border side of the carrier); w is a corner of the carrier carrying the branch (a
+// BL-joint, a border root or a branching point with several branches); the w_i are plain border corners; u is a
+// regular fan end (every fan leaflet leaves it by a border side). The shape changes on the fan's faces at u and w only
+// (w by t_k |x_k - w|, with the branch's root; u by at most half the fan edge, along the fan line, so every face stays
+// in its plane).
+// Deviation from the design note (which keeps w in place): the carrier's border (u, w) would then continue the fan
+// line at u, where a fan end puts the out vertex of every half-chunk on the fan line (u + r e): the carrier's half-
+// chunk on (u, w) is flat there (raw min SJ -0.40 on the T fan, measured); moving w turns that border by
+// atan(t_k |x_k - w| / |w - u|) away from the fan line, like the others. Sliding u (not in the note): the faces pulled
+// back leave a notch between the leaflets above u's fan-end cap (which reaches r_u above u) that the finished mesh
+// cannot fill (Hausdorff 4.9 % of the diagonal on the T in its thickened domain, measured); with u within 2 r_w of w
+// the cap covers most of it (0.83 %), and the borders at u turn farther off the fan line.
+// Branches far from the fan line (perpendicular to it) stay refused: the moved corner then has the branch more than 60
+// degrees off its outward direction and folds its first hexes for most radii; so does a chain of one fan edge, whose
+// other end u would become a leaflet-only branching point (docs/blocks.md, "Branches on fan-edge ends").
+// Raw hexes: the standard count on the repaired skeleton, i.e. +2 (g - 1) (one border side more per retracted face).
+
+#include <vector>
+
+#include "mesohex/core/skeleton.h"
+
+namespace mesohex {
+
+// The branches' mean direction must make at most 45 degrees with the fan line's direction (cos 45 degrees).
+inline constexpr double kFanEndBranchCos = 0.70710678118654752;
+// Retraction length along each border side at w, and the fan edge's length left between u and w, x the radius at w
+// (clamped to [0.3, 0.7] x the side's length, and to [0.5, 1] x the fan edge's): 2 turns the borders at u by
+// atan(0.6 / 0.6) = 45 degrees off the fan line for leaflet edges of 3.3 radii (the generators' default); 1.5 (the
+// design note's, u fixed) leaves the retracted faces' half-chunks at u flat (raw min SJ -0.01, measured).
+inline constexpr double kRetractionRadii = 2.0;
+
+struct FanEndRetraction {
+    int vertex = -1;                // w: the fan-edge end carrying the branch (keeps its index)
+    int fan_neighbour = -1;         // u: the other end of the former fan edge (u, w)
+    int carrier_face = -1;          // the face that keeps w, moved along its border (its leaflet carries the branch)
+    std::vector<int> new_vertices;  // w_i, one per retracted face, in face id order
+    friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
+};
+
+// Preconditions: one radius > 0 per vertex, faces quads, indices in range (else nothing is done: analysis reports
+// the input). Postconditions: V - E + F unchanged (each retracted face adds w_i and the side (u, w_i)); input vertices,
+// edges and faces keep their indices (new vertices and edges appended, in retraction order); no fan-edge end with a
+// branch of the configuration above is left. Retractions are made one vertex at a time, in increasing vertex index
+// (a fan edge with branches at both ends is retracted at its lower end only: the other end is then no longer on a fan
+// edge). Deterministic. O(retractions x (V + E + F) log E).
+std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s);
+
+}  // namespace mesohex
