@@ -80,9 +80,9 @@ struct FinishOptions {
     // invert or take below min(inherit_guard_sj, that hex's scaled Jacobian before). A fit from scratch costs about 8x
     // per level and decides no more of the shape (docs/performance.md). < 0: fit at the finest level.
     int fit_levels = 2;
-    int inherit_rings = 3;          // layers of vertices (count)
+    int inherit_rings = 6;          // layers of vertices (count)
     double inherit_guard_sj = 0.3;  // scaled Jacobian
-    bool inherit_smooth = true;     // the smoothing pass (smooth) again after the inherited levels
+    bool inherit_smooth = false;    // the smoothing pass (smooth) again after the inherited levels (all vertices)
     bool fit = true;                // fit the boundary to the domain surface (fit_to_surface)
     FitOptions fitting;             // the fit's options (gap_goal from gap_goal_relative when > 0)
     // > 0: fitting.gap_goal (a length) = this fraction of the domain's bbox diagonal: the fit tightens its pull only
