@@ -133,6 +133,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "0.5, "
         "within 150000 hexes and if padding inverted nothing)");
     cmd->add_option("--size", job->options.finishing.size, "Target mean edge length; chooses the subdivision levels");
+    cmd->add_option("--fit-levels", job->options.finishing.fit_levels,
+                    "Fit, untangle and smooth after this many of the levels; the finer levels inherit that shape "
+                    "(subdivision, boundary projected onto the surface); -1 = fit at the finest level")
+        ->capture_default_str();
     cmd->add_option("--refine", job->refine,
                     "Subdivision per level: uniform (1->8), longitudinal (only the sheets along the branches: more "
                     "cross-sections), radial (only the cross-sections of the branches)")

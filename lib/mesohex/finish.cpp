@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "mesohex/core/topology.h"
+#include "mesohex/post/boundary_projection.h"
 #include "mesohex/post/subdivision.h"
 #include "mesohex/surface/surface_check.h"
 #include "mesohex/surface/surface_query.h"
@@ -75,6 +76,12 @@ struct Finisher {
     const SurfaceQuery& query;
     FinishResult& result;
     HexMesh mesh;
+    std::vector<char> chunk;  // per hex of `mesh`: FinishOptions::chunk_hex, inherited by the children
+
+    void record(const FinishStage& stage) {
+        result.stages.push_back(stage);
+        if (options.stage_done) options.stage_done(result.stages.back());
+    }
 
     // Two-sided distance between the boundary of m and the domain.
     double distance_to_domain(const HexMesh& m) const {
@@ -107,7 +114,7 @@ struct Finisher {
         }
         stage.stage = name;
         stage.ms = ms_since(t);
-        result.stages.push_back(stage);
+        record(stage);
     }
 
     void pad_step() {
@@ -123,7 +130,7 @@ struct Finisher {
                 return hit ? std::clamp(hit->distance, th, cap) : th;
             };
         mesh = pad(mesh, padding).mesh;
-        result.stages.push_back(measure("pad", ms_since(t), mesh));
+        record(measure("pad", ms_since(t), mesh));
         // Near-flat padding hexes: relax them on the coarse padded mesh (FinishOptions::pad_improve_sj).
         if (options.pad_improve_sj > 0 && result.stages.back().inverted == 0 &&
             result.stages.back().sj_min < options.pad_improve_sj)
@@ -150,31 +157,61 @@ struct Finisher {
         return levels;
     }
 
-    void subdivide_step() {
-        const Clock::time_point t = Clock::now();
-        const int levels = subdivision_levels();
-        // Padding keeps the raw hexes first, so chunk_hex stays valid; children inherit their parent's flag.
-        std::vector<char> chunk = options.chunk_hex;
-        for (int i = 0; i < levels; ++i) {
-            if (options.refinement == FinishOptions::Refinement::Uniform) {
-                mesh = subdivide(mesh).mesh;
-                continue;
-            }
-            const SheetDirection dir = options.refinement == FinishOptions::Refinement::Longitudinal
-                                           ? SheetDirection::Longitudinal
-                                           : SheetDirection::Radial;
-            SubdivisionResult sub =
-                subdivide_sheets(mesh, select_branch_sheets(mesh, compute_hex_topology(mesh), chunk, dir));
-            std::vector<char> child_chunk(sub.mesh.hexes.size(), 0);
-            for (std::size_t h = 0; h < child_chunk.size(); ++h) {
-                const std::size_t parent = static_cast<std::size_t>(sub.parent_hex[h]);
-                child_chunk[h] = parent < chunk.size() ? chunk[parent] : 0;
-            }
+    // One level of subdivision (uniform, or the branch sheets of FinishOptions::refinement); returns which points of
+    // the new mesh lie on its boundary.
+    std::vector<char> subdivide_level() {
+        if (options.refinement == FinishOptions::Refinement::Uniform) {
+            SubdivisionResult sub = subdivide(mesh);
             mesh = std::move(sub.mesh);
-            chunk = std::move(child_chunk);
+            return std::move(sub.on_boundary);
         }
-        result.subdivision_levels = levels;
-        result.stages.push_back(measure("subdivide", ms_since(t), mesh));
+        const SheetDirection dir = options.refinement == FinishOptions::Refinement::Longitudinal
+                                       ? SheetDirection::Longitudinal
+                                       : SheetDirection::Radial;
+        SubdivisionResult sub =
+            subdivide_sheets(mesh, select_branch_sheets(mesh, compute_hex_topology(mesh), chunk, dir));
+        std::vector<char> child_chunk(sub.mesh.hexes.size(), 0);
+        for (std::size_t h = 0; h < child_chunk.size(); ++h) {
+            const std::size_t parent = static_cast<std::size_t>(sub.parent_hex[h]);
+            child_chunk[h] = parent < chunk.size() ? chunk[parent] : 0;
+        }
+        mesh = std::move(sub.mesh);
+        chunk = std::move(child_chunk);
+        return std::move(sub.on_boundary);
+    }
+
+    // The levels fitted (all of them when the fit does not run); the others are inherited (refine_step).
+    int fitted_levels(int levels) const {
+        if (!options.fit || options.fit_levels < 0) return levels;
+        return std::min(levels, options.fit_levels);
+    }
+
+    void subdivide_step(int levels) {
+        const Clock::time_point t = Clock::now();
+        // Padding keeps the raw hexes first, so chunk_hex stays valid; children inherit their parent's flag.
+        chunk = options.chunk_hex;
+        for (int i = 0; i < levels; ++i) subdivide_level();
+        record(measure("subdivide", ms_since(t), mesh));
+    }
+
+    // The inherited levels: subdivide, then project the new boundary onto the domain (project_boundary).
+    void refine_step(int levels) {
+        const Clock::time_point t = Clock::now();
+        ProjectionOptions po;
+        po.rings = options.inherit_rings;
+        po.guard_sj = options.inherit_guard_sj;
+        const SurfaceQuery& q = query;
+        const ClosestPointsFn closest = [&q](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
+            const std::vector<ClosestPoint> hits = q.closest(in);
+            out.resize(hits.size());
+            for (std::size_t i = 0; i < hits.size(); ++i) out[i] = hits[i].point;
+        };
+        for (int i = 0; i < levels; ++i) {
+            const std::vector<char> on_boundary = subdivide_level();
+            project_boundary(mesh, on_boundary, closest, po);
+        }
+        result.inherited_levels = levels;
+        record(measure("refine", ms_since(t), mesh));
     }
 
     // Two-sided fit: the domain's vertices and triangle centroids, matched with the current mesh boundary; on a
@@ -232,7 +269,7 @@ struct Finisher {
         result.fit_iterations = fit.iterations;
         result.fit_converged = fit.converged;
         result.fit_max_distance = fit.max_distance;
-        result.stages.push_back(measure("fit", ms_since(t), mesh));
+        record(measure("fit", ms_since(t), mesh));
     }
 
     void untangle_step() {
@@ -241,7 +278,7 @@ struct Finisher {
         mesh = std::move(u.mesh);
         result.untangled = true;
         result.untangle_rounds = u.rounds;
-        result.stages.push_back(measure("untangle", ms_since(t), mesh));
+        record(measure("untangle", ms_since(t), mesh));
     }
 
     void improve() {
@@ -260,7 +297,7 @@ struct Finisher {
             mesh = std::move(u.mesh);
             result.untangled_boundary_moved = true;
         }
-        result.stages.push_back(measure("untangle-free", ms_since(t), mesh));
+        record(measure("untangle-free", ms_since(t), mesh));
         if (kept) improve();
     }
 
@@ -304,12 +341,13 @@ struct Finisher {
             so);
         mesh = std::move(sm.mesh);
         result.smoothed = sm.moves > 0;
-        result.stages.push_back(measure("smooth", ms_since(t), mesh));
+        record(measure("smooth", ms_since(t), mesh));
     }
 
-    void measure_distance() {
+    // `topo`: the final mesh's topology (computed once, for the quality report too).
+    void measure_distance(const HexTopology& topo) {
         const Clock::time_point t = Clock::now();
-        const BoundarySurface boundary = extract_boundary(mesh, compute_hex_topology(mesh));
+        const BoundarySurface boundary = extract_boundary(mesh, topo);
         result.distance = surface_distance(boundary.surface, query, options.distance);
         result.distance_measured = true;
         result.distance_ms = ms_since(t);
@@ -323,10 +361,13 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     FinishResult result;
     const Domain dom(domain);
     result.domain_flipped_triangles = dom.flipped;
-    Finisher f{options, dom.surface, dom.query, result, raw};
-    result.stages.push_back(measure("input", 0, f.mesh));
+    Finisher f{options, dom.surface, dom.query, result, raw, {}};
+    f.record(measure("input", 0, f.mesh));
     if (options.pad) f.pad_step();
-    if (options.subdivide) f.subdivide_step();
+    const int levels = options.subdivide ? f.subdivision_levels() : 0;
+    const int fitted = f.fitted_levels(levels);
+    result.subdivision_levels = levels;
+    if (options.subdivide) f.subdivide_step(fitted);
     if (options.fit) f.fit_step();
     if (options.untangle && result.stages.back().inverted > 0) f.untangle_step();
     f.improve();
@@ -334,8 +375,17 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
         result.stages.back().inverted > 0)
         f.untangle_free_step();
     if (options.fit && options.smooth && result.stages.back().inverted == 0) f.smooth_step();
-    result.quality = compute_quality(f.mesh);
-    if (options.measure_distance) f.measure_distance();
+    if (levels > fitted) {
+        f.refine_step(levels - fitted);
+        if (options.fit && options.smooth && options.inherit_smooth && result.stages.back().inverted == 0)
+            f.smooth_step();
+    }
+    {
+        HexTopology topo;
+        result.quality = compute_quality(f.mesh, topo);
+        if (topo.hex_faces.size() != f.mesh.hexes.size()) topo = compute_hex_topology(f.mesh);  // (bad indices)
+        if (options.measure_distance) f.measure_distance(topo);
+    }
     result.mesh = std::move(f.mesh);
     result.total_ms = ms_since(start_all);
     return result;

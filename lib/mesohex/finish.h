@@ -2,6 +2,7 @@
 // Post-processing chain of a raw mesh: pad -> subdivide -> fit to the domain surface ->
 // untangle (only if needed) -> final quality and two-sided Hausdorff distance to the domain. Times every stage and
 // records the quality after each one. No geometry of its own; no printing.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,16 @@ inline UntangleOptions pad_improve_defaults() {
     o.boundary_attach = 10;
     return o;
 }
+
+struct FinishStage {
+    std::string
+        stage;  // "input", "pad", "pad-improve", "subdivide", "fit", "untangle", "improve", "untangle-free", "smooth",
+                // "refine"
+    double ms = 0;  // wall time of the stage (0 for "input")
+    long vertices = 0, hexes = 0;
+    double sj_min = 0, sj_avg = 0;  // scaled Jacobian after the stage
+    long inverted = 0;              // hexes with scaled Jacobian <= 0 after the stage
+};
 
 struct FinishOptions {
     bool pad = true;         // add one padding layer (padding) over the raw boundary first
@@ -66,8 +77,18 @@ struct FinishOptions {
     // the branches / across them (select_branch_sheets); needs chunk_hex.
     enum class Refinement { Uniform, Longitudinal, Radial } refinement = Refinement::Uniform;
     std::vector<char> chunk_hex;  // per raw hex: 1 for a chunk hex of a branch edge (RawMesh::hex_edge on a branch)
-    bool fit = true;              // fit the boundary to the domain surface (fit_to_surface)
-    FitOptions fitting;           // the fit's options (gap_goal from gap_goal_relative when > 0)
+    // Levels past fit_levels are inherited, not fitted: the fit, untangling, quality passes and smoothing run on the
+    // mesh after min(levels, fit_levels) levels, and every further level is a subdivision whose boundary vertices are
+    // projected onto the domain (stage "refine"): the move spreads, decreasing linearly, over inherit_rings layers of
+    // vertices beneath the boundary, and is halved (up to 6 times, then dropped) at the vertices of a hex it would
+    // invert or take below min(inherit_guard_sj, that hex's scaled Jacobian before). A fit from scratch costs about 8x
+    // per level and decides no more of the shape (docs/performance.md). < 0: fit at the finest level.
+    int fit_levels = 2;
+    int inherit_rings = 6;          // layers of vertices (count)
+    double inherit_guard_sj = 0.3;  // scaled Jacobian
+    bool inherit_smooth = false;    // the smoothing pass (smooth) again after the inherited levels (all vertices)
+    bool fit = true;                // fit the boundary to the domain surface (fit_to_surface)
+    FitOptions fitting;             // the fit's options (gap_goal from gap_goal_relative when > 0)
     // > 0: fitting.gap_goal (a length) = this fraction of the domain's bbox diagonal: the fit tightens its pull only
     // while the boundary is farther than that from the surface. Dimensionless.
     double gap_goal_relative = 0.005;
@@ -91,22 +112,17 @@ struct FinishOptions {
     double smooth_gap_relative = 0.0025;
     bool measure_distance = true;     // two-sided Hausdorff distance of the final boundary to the domain
     SurfaceDistanceOptions distance;  // sampling of the Hausdorff estimate
-};
-
-struct FinishStage {
-    std::string
-        stage;  // "input", "pad", "pad-improve", "subdivide", "fit", "untangle", "improve", "untangle-free", "smooth"
-    double ms = 0;  // wall time of the stage (0 for "input")
-    long vertices = 0, hexes = 0;
-    double sj_min = 0, sj_avg = 0;  // scaled Jacobian after the stage
-    long inverted = 0;              // hexes with scaled Jacobian <= 0 after the stage
+    // Optional: called after every stage is recorded (FinishResult::stages.back()), from the calling thread; e.g. a
+    // benchmark measuring each stage's memory.
+    std::function<void(const FinishStage&)> stage_done;
 };
 
 struct FinishResult {
     HexMesh mesh;                      // the final mesh
     std::vector<FinishStage> stages;   // "input" first, then every stage that ran, in order
     int domain_flipped_triangles = 0;  // triangles of the domain reversed by orient_outward (inward-facing input)
-    int subdivision_levels = 0;        // levels actually applied
+    int subdivision_levels = 0;        // levels actually applied (fitted and inherited)
+    int inherited_levels = 0;          // of them, levels refined after the fit (FinishOptions::fit_levels)
     int fit_iterations = 0;
     bool fit_converged = false;
     double fit_max_distance = 0;  // largest boundary-vertex distance to the surface at the end of the fit

@@ -137,6 +137,7 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
         rep["stages"] = stages_json(fin.stages);
         rep["surface"] = context.surface;
         rep["subdivision_levels"] = fin.subdivision_levels;
+        rep["inherited_levels"] = fin.inherited_levels;
         rep["fit"] = {{"iterations", fin.fit_iterations}, {"converged", fin.fit_converged}};
         rep["untangled"] = fin.untangled;
         rep["attempts"] = attempts_json(run.attempts);  // first the default adaptation, then the cautious one

@@ -71,6 +71,35 @@ TEST(Finish, UnitHexInItsCube) {
     EXPECT_LT(r.distance.relative_max, 0.02);
 }
 
+// Two levels with one fitted: the second is inherited (stage "refine" after the smoothing): 56 x 8 hexes, the fit ran
+// on the 56-hex mesh, nothing inverted, the boundary still within the level-1 bound of the cube.
+TEST(Finish, InheritedLevelIsRefinedNotFitted) {
+    FinishOptions o;
+    o.levels = 2;
+    o.fit_levels = 1;
+    const FinishResult r = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_EQ(r.subdivision_levels, 2);
+    EXPECT_EQ(r.inherited_levels, 1);
+    ASSERT_EQ(r.stages.size(), 6u);
+    EXPECT_EQ(r.stages[2].stage, "subdivide");
+    EXPECT_EQ(r.stages[2].hexes, 56);
+    EXPECT_EQ(r.stages[3].stage, "fit");
+    EXPECT_EQ(r.stages[3].hexes, 56);
+    EXPECT_EQ(r.stages[4].stage, "smooth");
+    EXPECT_EQ(r.stages[5].stage, "refine");
+    EXPECT_EQ(r.stages[5].hexes, 448);
+    EXPECT_EQ(r.mesh.hexes.size(), 448u);
+    EXPECT_TRUE(r.quality.validation.valid());
+    EXPECT_EQ(r.quality.inverted, 0);
+    ASSERT_TRUE(r.distance_measured);
+    EXPECT_LT(r.distance.relative_max, 0.02);
+    // fit_levels < 0: every level fitted, as before.
+    o.fit_levels = -1;
+    const FinishResult all = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_EQ(all.inherited_levels, 0);
+    EXPECT_EQ(all.stages[2].hexes, 448);
+}
+
 // With a 100x larger surface weight the boundary lands on the cube (every boundary vertex projects onto the face,
 // edge or corner it is pushed to, so the boundary quads tile the cube surface): the distance shrinks ~100x.
 // The progress callback is passed through: one call per fit step.

@@ -158,3 +158,20 @@ TEST(Subdivision, RejectsBadInput) {
     m.hexes[0][0] = -1;
     EXPECT_THROW(subdivide(m), Error);
 }
+
+TEST(Subdivision, MarksTheBoundaryPoints) {
+    // One cube: 8 corners, 12 edge midpoints and 6 face centroids lie on the boundary, the cell centroid does not.
+    const SubdivisionResult one = subdivide(mesohex::test::make_unit_cube());
+    ASSERT_EQ(one.on_boundary.size(), 27u);
+    EXPECT_EQ(std::count(one.on_boundary.begin(), one.on_boundary.end(), 1), 26);
+    EXPECT_EQ(one.on_boundary[26], 0);
+    // A 2 x 2 x 2 block subdivided is the 4 x 4 x 4 lattice: 5^3 - 3^3 = 98 boundary points of 125.
+    const SubdivisionResult block = subdivide(make_block(2, 2, 2));
+    ASSERT_EQ(block.on_boundary.size(), 125u);
+    EXPECT_EQ(std::count(block.on_boundary.begin(), block.on_boundary.end(), 1), 98);
+    for (std::size_t v = 0; v < 125; ++v) {
+        const Vec3& p = block.mesh.points[v];
+        const bool outer = p.x == 0 || p.y == 0 || p.z == 0 || p.x == 2 || p.y == 2 || p.z == 2;
+        EXPECT_EQ(block.on_boundary[v] != 0, outer) << v;
+    }
+}

@@ -247,8 +247,7 @@ TEST(SurfaceDistance, CubeAgainstScaledCube) {
     EXPECT_NEAR(d.max, 0.05 * std::sqrt(3.0), 1e-12);
     EXPECT_NEAR(d.relative_max, 0.05, 1e-12);          // diagonal of the unit cube is sqrt(3)
     EXPECT_NEAR(d.surface_to_mesh_mean, 0.05, 1e-12);  // every point of the small cube is 0.05 from a big face
-    EXPECT_GT(d.mesh_to_surface_mean, 0.05);
-    EXPECT_LT(d.mesh_to_surface_mean, 0.05 * std::sqrt(3.0));
+    EXPECT_NEAR(d.mesh_to_surface_mean, 0.05 * std::sqrt(3.0), 1e-12);  // the mean is over vertices: all corners
     // Same surface given as quads: the small cube against itself is at distance 0.
     QuadMesh quads;
     quads.points = make_cube().points;
@@ -272,6 +271,35 @@ TEST(SurfaceDistance, ReportsWhereTheMaximaAre) {
     EXPECT_NEAR(std::sqrt(SurfaceQuery(pulled).closest(d.surface_to_mesh_at).squared_distance), d.surface_to_mesh_max,
                 1e-12);
     EXPECT_GT(d.surface_to_mesh_max, 0.0);
+}
+
+// The maxima skip samples the vertex distances rule out (1-Lipschitz bound): they must equal the maxima over every
+// sample (vertices and the barycentric grid of step 1/3 on every triangle), computed here query by query.
+TEST(SurfaceDistance, PrunedMaximaEqualEverySample) {
+    auto brute = [](const TriangleMesh& from, const SurfaceQuery& to) {
+        double mx = 0;
+        for (const Vec3& p : from.points) mx = std::max(mx, std::sqrt(to.closest(p).squared_distance));
+        for (const std::array<int, 3>& t : from.triangles)
+            for (int i = 0; i <= 3; ++i)
+                for (int j = 0; i + j <= 3; ++j) {
+                    const Vec3 s = (static_cast<double>(i) * from.points[static_cast<std::size_t>(t[0])] +
+                                    static_cast<double>(j) * from.points[static_cast<std::size_t>(t[1])] +
+                                    static_cast<double>(3 - i - j) * from.points[static_cast<std::size_t>(t[2])]) /
+                                   3.0;
+                    mx = std::max(mx, std::sqrt(to.closest(s).squared_distance));
+                }
+        return mx;
+    };
+    const TriangleMesh cube = make_cube();
+    TriangleMesh bent = make_cube(1.1, {-0.05, -0.05, -0.05});
+    bent.points[7] = {1.3, 1.2, 1.25};
+    bent.points[0] = {0.1, 0.05, -0.2};
+    const SurfaceQuery domain(cube), mesh(bent);
+    const SurfaceDistance d = surface_distance(bent, domain);
+    // Equal up to the rounding of closest points found from different triangles (a pruning error would be ~0.01).
+    EXPECT_NEAR(d.mesh_to_surface_max, brute(bent, domain), 1e-14);
+    EXPECT_NEAR(d.surface_to_mesh_max, brute(cube, mesh), 1e-14);
+    EXPECT_EQ(d.mesh_samples, 8 + 12 * 7);  // vertices + 7 grid points per triangle (10 minus its corners)
 }
 
 TEST(RadiusFromSurface, HalfTheDistanceAndOutsideCheck) {

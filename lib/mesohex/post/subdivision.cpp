@@ -85,6 +85,20 @@ std::array<LatticeSlot, 27> lattice_table() {
     return table;
 }
 
+// SubdivisionResult::on_boundary of every output point (cell centroids are interior).
+void mark_boundary_points(const HexTopology& topo, const std::vector<int>& edge_point,
+                          const std::vector<int>& face_point, SubdivisionResult& result) {
+    std::vector<char>& on = result.on_boundary;
+    on.assign(result.mesh.points.size(), 0);
+    for (const std::array<int, 4>& q : topo.boundary_quads)
+        for (int v : q) on[static_cast<std::size_t>(v)] = 1;
+    for (std::size_t e = 0; e < topo.edges.size(); ++e)
+        if (topo.edge_on_boundary[e] && edge_point[e] >= 0) on[static_cast<std::size_t>(edge_point[e])] = 1;
+    for (int f : topo.boundary_face)
+        if (face_point[static_cast<std::size_t>(f)] >= 0)
+            on[static_cast<std::size_t>(face_point[static_cast<std::size_t>(f)])] = 1;
+}
+
 SubdivisionResult split(const HexMesh& mesh, const HexTopology& topo, const std::vector<bool>& edge_split) {
     const std::size_t num_hexes = mesh.hexes.size();
     SubdivisionResult result;
@@ -130,6 +144,7 @@ SubdivisionResult split(const HexMesh& mesh, const HexTopology& topo, const std:
         }
     }
 
+    mark_boundary_points(topo, edge_point, face_point, result);
     const std::array<LatticeSlot, 27> table = lattice_table();
     out.hexes.reserve(num_hexes * 8);
     result.parent_hex.reserve(num_hexes * 8);

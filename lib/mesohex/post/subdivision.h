@@ -9,6 +9,9 @@ namespace mesohex {
 struct SubdivisionResult {
     HexMesh mesh;
     std::vector<int> parent_hex;  // per new hex: the input hex it lies in
+    // Per new point: 1 when it lies on the boundary of the mesh (an input boundary vertex, the midpoint of a boundary
+    // edge or the centroid of a boundary face), else 0.
+    std::vector<char> on_boundary;
 };
 
 // Directional refinement. `edge_selected` is indexed by the edge ids of compute_hex_topology(mesh) (size = its edge
