@@ -60,6 +60,7 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
         SkeletonRepairResult repaired = repair_skeleton(s, options.repair);
         res.trunks = repaired.trunks;
         res.absorbed_stubs = repaired.absorbed_stubs;
+        res.merged_ends = repaired.merged_ends;
         res.unseparated_pairs = repaired.unseparated;
         res.root_strip_splits = repaired.root_strip_splits;
         s = adapt_skeleton(repaired.skeleton, options.adaptation);
