@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
     if (argc > 5) po.repair.absorb_stubs = std::atoi(argv[5]) != 0;
     if (argc > 6) po.repair.keep_sibling_joints = std::atoi(argv[6]) != 0;
     if (argc > 7) po.repair.merge_branching_ends = std::atoi(argv[7]) != 0;
+    if (argc > 8) po.repair.joint_trunks = std::atoi(argv[8]) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf("seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks stubs merged unseparated\n");

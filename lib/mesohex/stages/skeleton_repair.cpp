@@ -360,7 +360,10 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
     const double r = 0.5 * (a.r + b.r);
     const double sin_a = std::min(r / sep, 0.99);
     const double x = (sep - r) / (1 + sin_a);
-    if (!(x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a))) return;
+    // c of degree 3 becomes a joint (parent, t): no bridge for adaptation to collapse; t only has to lie outside c's
+    // ball (joint_trunks). Otherwise c stays a branching point and the trunk must be a long enough bridge.
+    const bool c_joint = o.joint_trunks && inc.size() == 3 && g.degree[c] == 3;
+    if (c_joint ? !(x > s.radii[c]) : !(x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a))) return;
     const Vec3 m = 0.5 * (a.x + b.x);
     const Vec3 dir = normalized(m - s.points[c]);
     if (dir == Vec3{}) return;

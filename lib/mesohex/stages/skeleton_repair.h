@@ -30,6 +30,11 @@ struct SkeletonRepairOptions {
     // one vertex by adaptation (a short bridge). For two straight branches of the branching point's radius this means
     // beta below about 35 degrees.
     double trunk_clearance = 0.7;
+    // At a branching point of degree 3 (no leaflet), a trunk makes c a joint between its third branch and t: no short
+    // bridge for adaptation to collapse, so trunk_clearance is not needed there; the trunk is built when t lies
+    // outside c's ball (x > r_c: the junction of the two tubes, the branching point of their medial axis, is not at
+    // c). false: trunk_clearance everywhere.
+    bool joint_trunks = true;
     // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
     // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
     // the same arc length, radius half their distance + the larger radius there (a ball covering both tubes); the
