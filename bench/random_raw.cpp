@@ -45,7 +45,9 @@ std::string vertex_kind(const Skeleton& s, const std::vector<std::vector<int>>& 
 
 int main(int argc, char** argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints [merge]]]]] (0/1)\n");
+        std::fprintf(stderr,
+                     "usage: mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints "
+                     "[merge]]]]] (0/1)\n");
         return 2;
     }
     const long first = std::atol(argv[1]), last = std::atol(argv[2]);

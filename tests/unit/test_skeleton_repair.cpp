@@ -73,6 +73,33 @@ TEST(SkeletonRepair, NoTrunkForBranchesFarApart) {
     EXPECT_EQ(res.skeleton.edges.size(), 3u);
 }
 
+// 40 degrees apart, radius 0.1: l* = 0.1 / sin 20 = 0.2924, sin a = 0.342, x = 0.1924 / 1.342 = 0.1434, radius 0.1 +
+// 0.1434 x 0.342 = 0.1490. x is below trunk_clearance x (r_c + r_t) = 0.174, but c has degree 3 and becomes a joint
+// (no bridge to collapse): with joint_trunks the trunk is built because t lies outside c's ball (x > r_c = 0.1). With a
+// fourth branch at c (it stays a branching point) the clearance rule applies: no trunk.
+TEST(SkeletonRepair, JointTrunkAtDegreeThree) {
+    const double r = 0.1, half = 20 * kDeg;
+    const Skeleton in = y_pair(half, 2.0, r);
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in);
+    EXPECT_EQ(res.trunks, 1);
+    const double l = r / std::sin(half), x = (l - r) / (1 + r / l);
+    EXPECT_NEAR(x, 0.1434, 1e-4);
+    ASSERT_EQ(res.skeleton.points.size(), 7u);
+    EXPECT_NEAR(res.skeleton.points[4].z, x, 1e-7);
+    EXPECT_NEAR(res.skeleton.radii[4], 0.1490, 1e-4);
+    EXPECT_EQ(degree(res.skeleton, 1), 2);
+    mesohex::SkeletonRepairOptions old;
+    old.joint_trunks = false;
+    EXPECT_EQ(mesohex::repair_skeleton(in, old).trunks, 0);
+    Skeleton four = in;
+    four.points.push_back({0, 1, 0});
+    four.radii.push_back(r);
+    four.edges.push_back({1, 4});
+    const mesohex::SkeletonRepairResult res4 = mesohex::repair_skeleton(four);
+    EXPECT_EQ(res4.trunks, 0);
+    EXPECT_EQ(res4.skeleton, four);
+}
+
 // A stub of length 0.3 at 20 degrees from a long branch (radius 0.1: the tubes separate only at 0.576): absorbed
 // into t = midpoint of its end (0.1026, 0, 0.2819) and (0, 0, 0.3), radius 0.1042 / 2 + 0.1 = 0.1521. c becomes a
 // joint: the skeleton is one branch, no junction.

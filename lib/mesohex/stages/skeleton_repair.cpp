@@ -98,7 +98,7 @@ enum class PairRepair {
 };
 
 struct Candidate {
-    double score = 0;  // x / r_c (trunk), length of the absorbed walk / r_c (stub, merge)
+    double score = 0;              // x / r_c (trunk), length of the absorbed walk / r_c (stub, merge)
     int c = -1, ei = -1, ej = -1;  // ej: the absorbed walk (stub, merge)
     double sep = 0;                // l*: arc length where the tubes separate (trunk); the absorbed walk's length
     Vec3 t;
