@@ -131,7 +131,7 @@ TEST(SkeletonRepair, StubAbsorbed) {
 // 0.1056 apart (< 0.2): no separation, a stub. t is their midpoint (0.1526, 0, 0.5685), radius 0.0528 + 0.1. The
 // sibling's joint stays, moved to the midpoint of j and the stub's point at arc 0.4, (0.1368, 0, 0.3759): (0.0684, 0,
 // 0.3879), radius 0.1389 / 2 + 0.1 = 0.1695. Edges: parent-c, c-j, j-t, t-end (the chord c-t would leave j 0.11 = 1.1
-// radii off the skeleton; without keep_sibling_joints j goes).
+// radii off the skeleton; without keep_sibling_joints, the default, j goes).
 TEST(SkeletonRepair, StubAbsorbedKeepsSiblingJoint) {
     Skeleton in;
     const double r = 0.1, s20 = std::sin(20 * kDeg), c20 = std::cos(20 * kDeg);
@@ -139,7 +139,9 @@ TEST(SkeletonRepair, StubAbsorbedKeepsSiblingJoint) {
     in.points = {{0, 0, -1}, {0, 0, 0}, j, j + 1.6 * turn, {0.6 * s20, 0, 0.6 * c20}};
     in.radii.assign(5, r);
     in.edges = {{0, 1}, {1, 2}, {2, 3}, {1, 4}};
-    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in);
+    mesohex::SkeletonRepairOptions keep;
+    keep.keep_sibling_joints = true;
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, keep);
     EXPECT_EQ(res.absorbed_stubs, 1);
     EXPECT_EQ(res.trunks + res.merged_ends, 0);
     const Skeleton& s = res.skeleton;
@@ -153,10 +155,8 @@ TEST(SkeletonRepair, StubAbsorbedKeepsSiblingJoint) {
     EXPECT_NEAR(s.radii[4], 0.5 * distance(stub_end, sib_at_06) + r, 1e-12);
     const std::vector<std::array<int, 2>> edges{{0, 1}, {1, 2}, {2, 4}, {4, 3}};
     EXPECT_EQ(s.edges, edges);
-    // Without: j goes, t joins c and the sibling's end directly (the previous construction).
-    mesohex::SkeletonRepairOptions drop;
-    drop.keep_sibling_joints = false;
-    const mesohex::SkeletonRepairResult old = mesohex::repair_skeleton(in, drop);
+    // Without (the default): j goes, t joins c and the sibling's end directly.
+    const mesohex::SkeletonRepairResult old = mesohex::repair_skeleton(in);
     ASSERT_EQ(old.skeleton.points.size(), 4u);
     EXPECT_EQ(old.vertex_map[2], -1);
     const std::vector<std::array<int, 2>> old_edges{{0, 1}, {1, 3}, {3, 2}};
