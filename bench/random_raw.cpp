@@ -2,7 +2,8 @@
 // far the input's joints lie off it (corner cutting), the raw mesh's min / mean scaled Jacobian and inverted count,
 // and the skeleton element of the worst raw hex. Not a test, not a Google benchmark: a measuring tool.
 //
-//   mesohex_random_raw FIRST LAST [free_branching_reach [trunks 0/1]]
+//   mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints [merge]]]]]   (the last four 0/1:
+//   SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends)
 //
 // One line per seed, then the distribution. The worst raw hex is named by the adapted skeleton edge of its chunk
 // (a plate hex: "plate"), and by the kind of that edge's ends: bp = branching point without leaflet, lf = leaflet
@@ -44,7 +45,9 @@ std::string vertex_kind(const Skeleton& s, const std::vector<std::vector<int>>& 
 
 int main(int argc, char** argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: mesohex_random_raw FIRST LAST [free_branching_reach [trunks 0/1]]\n");
+        std::fprintf(stderr,
+                     "usage: mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints "
+                     "[merge]]]]] (0/1)\n");
         return 2;
     }
     const long first = std::atol(argv[1]), last = std::atol(argv[2]);
@@ -52,9 +55,12 @@ int main(int argc, char** argv) {
     if (argc > 3) po.adaptation.free_branching_reach = std::atof(argv[3]);
     if (argc > 4) po.repair.trunks = std::atoi(argv[4]) != 0;
     if (argc > 5) po.repair.absorb_stubs = std::atoi(argv[5]) != 0;
+    if (argc > 6) po.repair.keep_sibling_joints = std::atoi(argv[6]) != 0;
+    if (argc > 7) po.repair.merge_branching_ends = std::atoi(argv[7]) != 0;
+    if (argc > 8) po.repair.joint_trunks = std::atoi(argv[8]) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
-    std::printf("seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks stubs unseparated\n");
+    std::printf("seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks stubs merged unseparated\n");
     for (long seed = first; seed <= last; ++seed) {
         const Skeleton in = generate_random_skeleton(static_cast<std::uint64_t>(seed));
         try {
@@ -100,9 +106,9 @@ int main(int argc, char** argv) {
                               : vertex_kind(s, adj, on_face, s.edges[e][0]) + "-" +
                                     vertex_kind(s, adj, on_face, s.edges[e][1]);
             }
-            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d %d\n", seed, random_skeleton_kind(seed),
+            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d %d %d\n", seed, random_skeleton_kind(seed),
                         s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(), q.sj_min, q.sj_avg, q.inverted, off,
-                        where.c_str(), res.trunks, res.absorbed_stubs, res.unseparated_pairs);
+                        where.c_str(), res.trunks, res.absorbed_stubs, res.merged_ends, res.unseparated_pairs);
             mins.push_back(q.sj_min);
             offs.push_back(off);
             inverted_seeds += q.inverted > 0;

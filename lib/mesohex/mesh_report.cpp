@@ -118,6 +118,7 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
     if (run.options.resample)  // structural repairs before adaptation (stages/skeleton_repair.h)
         rep["repairs"] = {{"trunks", res.trunks},
                           {"absorbed_stubs", res.absorbed_stubs},
+                          {"merged_ends", res.merged_ends},
                           {"unseparated_pairs", res.unseparated_pairs},
                           {"root_strip_splits", res.root_strip_splits},
                           {"fan_end_retractions", res.fan_end_retractions}};

@@ -64,6 +64,7 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
         SkeletonRepairResult repaired = repair_skeleton(s, options.repair);
         res.trunks = repaired.trunks;
         res.absorbed_stubs = repaired.absorbed_stubs;
+        res.merged_ends = repaired.merged_ends;
         res.unseparated_pairs = repaired.unseparated;
         res.root_strip_splits = repaired.root_strip_splits;
         for (const FanEndRetraction& r : repaired.fan_end_retractions) res.fan_end_retractions.push_back(r.vertex);

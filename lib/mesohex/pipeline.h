@@ -31,11 +31,12 @@ struct StageTiming {
 };
 
 struct PipelineResult {
-    std::string radius_source;             // "file", "option" or "default"
-    double radius = 0;                     // the uniform radius used when radius_source != "file" (else 0)
-    SkeletonAnalysis input_analysis;       // analysis of the input skeleton (before adaptation)
-    int trunks = 0;                        // trunk vertices the repair inserted (SkeletonRepairResult)
-    int absorbed_stubs = 0;                // stubs the repair absorbed into a trunk vertex
+    std::string radius_source;        // "file", "option" or "default"
+    double radius = 0;                // the uniform radius used when radius_source != "file" (else 0)
+    SkeletonAnalysis input_analysis;  // analysis of the input skeleton (before adaptation)
+    int trunks = 0;                   // trunk vertices the repair inserted (SkeletonRepairResult)
+    int absorbed_stubs = 0;           // stubs the repair absorbed into a trunk vertex
+    int merged_ends = 0;  // close-pair branches ending at a branching point, absorbed (their children re-attached)
     int unseparated_pairs = 0;             // close branch pairs the repair left (a branch ends inside the other's tube)
     int root_strip_splits = 0;             // leaflet face strips the repair split around rooted branches
     std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -72,6 +73,33 @@ TEST(SkeletonRepair, NoTrunkForBranchesFarApart) {
     EXPECT_EQ(res.skeleton.edges.size(), 3u);
 }
 
+// 40 degrees apart, radius 0.1: l* = 0.1 / sin 20 = 0.2924, sin a = 0.342, x = 0.1924 / 1.342 = 0.1434, radius 0.1 +
+// 0.1434 x 0.342 = 0.1490. x is below trunk_clearance x (r_c + r_t) = 0.174, but c has degree 3 and becomes a joint
+// (no bridge to collapse): with joint_trunks the trunk is built because t lies outside c's ball (x > r_c = 0.1). With a
+// fourth branch at c (it stays a branching point) the clearance rule applies: no trunk.
+TEST(SkeletonRepair, JointTrunkAtDegreeThree) {
+    const double r = 0.1, half = 20 * kDeg;
+    const Skeleton in = y_pair(half, 2.0, r);
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in);
+    EXPECT_EQ(res.trunks, 1);
+    const double l = r / std::sin(half), x = (l - r) / (1 + r / l);
+    EXPECT_NEAR(x, 0.1434, 1e-4);
+    ASSERT_EQ(res.skeleton.points.size(), 7u);
+    EXPECT_NEAR(res.skeleton.points[4].z, x, 1e-7);
+    EXPECT_NEAR(res.skeleton.radii[4], 0.1490, 1e-4);
+    EXPECT_EQ(degree(res.skeleton, 1), 2);
+    mesohex::SkeletonRepairOptions old;
+    old.joint_trunks = false;
+    EXPECT_EQ(mesohex::repair_skeleton(in, old).trunks, 0);
+    Skeleton four = in;
+    four.points.push_back({0, 1, 0});
+    four.radii.push_back(r);
+    four.edges.push_back({1, 4});
+    const mesohex::SkeletonRepairResult res4 = mesohex::repair_skeleton(four);
+    EXPECT_EQ(res4.trunks, 0);
+    EXPECT_EQ(res4.skeleton, four);
+}
+
 // A stub of length 0.3 at 20 degrees from a long branch (radius 0.1: the tubes separate only at 0.576): absorbed
 // into t = midpoint of its end (0.1026, 0, 0.2819) and (0, 0, 0.3), radius 0.1042 / 2 + 0.1 = 0.1521. c becomes a
 // joint: the skeleton is one branch, no junction.
@@ -95,6 +123,80 @@ TEST(SkeletonRepair, StubAbsorbed) {
     for (int v = 0; v < 4; ++v) EXPECT_LE(degree(s, v), 2);
     EXPECT_FALSE(
         mesohex::repair_skeleton(in, {.trunks = true, .trunk_clearance = 0.7, .absorb_stubs = false}).absorbed_stubs);
+}
+
+// A stub whose sibling turns inside the absorbed stretch. c = (0, 0, 0), parent (0, 0, -1); the sibling goes up to its
+// joint j = (0, 0, 0.4), then turns by 30 degrees towards +x (to j + 1.6 (sin 30, 0, cos 30)); the stub, 0.6 long,
+// leaves c at 20 degrees towards +x. Radius 0.1: at arc 0.6 the points are (0.2052, 0, 0.5638) and (0.1, 0, 0.5732),
+// 0.1056 apart (< 0.2): no separation, a stub. t is their midpoint (0.1526, 0, 0.5685), radius 0.0528 + 0.1. The
+// sibling's joint stays, moved to the midpoint of j and the stub's point at arc 0.4, (0.1368, 0, 0.3759): (0.0684, 0,
+// 0.3879), radius 0.1389 / 2 + 0.1 = 0.1695. Edges: parent-c, c-j, j-t, t-end (the chord c-t would leave j 0.11 = 1.1
+// radii off the skeleton; without keep_sibling_joints, the default, j goes).
+TEST(SkeletonRepair, StubAbsorbedKeepsSiblingJoint) {
+    Skeleton in;
+    const double r = 0.1, s20 = std::sin(20 * kDeg), c20 = std::cos(20 * kDeg);
+    const Vec3 j{0, 0, 0.4}, turn{0.5, 0, std::sqrt(0.75)};
+    in.points = {{0, 0, -1}, {0, 0, 0}, j, j + 1.6 * turn, {0.6 * s20, 0, 0.6 * c20}};
+    in.radii.assign(5, r);
+    in.edges = {{0, 1}, {1, 2}, {2, 3}, {1, 4}};
+    mesohex::SkeletonRepairOptions keep;
+    keep.keep_sibling_joints = true;
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, keep);
+    EXPECT_EQ(res.absorbed_stubs, 1);
+    EXPECT_EQ(res.trunks + res.merged_ends, 0);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 5u);  // 0, 1, j, end kept; the stub's end (4) gone; t appended (4)
+    EXPECT_EQ(res.vertex_map[4], -1);
+    const Vec3 stub_at_04{0.4 * s20, 0, 0.4 * c20}, stub_end = in.points[4], sib_at_06 = j + 0.2 * turn;
+    EXPECT_NEAR(distance(s.points[2], 0.5 * (j + stub_at_04)), 0, 1e-12);
+    EXPECT_NEAR(s.points[2].x, 0.0684, 1e-4);
+    EXPECT_NEAR(s.radii[2], 0.5 * distance(j, stub_at_04) + r, 1e-12);
+    EXPECT_NEAR(distance(s.points[4], 0.5 * (stub_end + sib_at_06)), 0, 1e-12);
+    EXPECT_NEAR(s.radii[4], 0.5 * distance(stub_end, sib_at_06) + r, 1e-12);
+    const std::vector<std::array<int, 2>> edges{{0, 1}, {1, 2}, {2, 4}, {4, 3}};
+    EXPECT_EQ(s.edges, edges);
+    // Without (the default): j goes, t joins c and the sibling's end directly.
+    const mesohex::SkeletonRepairResult old = mesohex::repair_skeleton(in);
+    ASSERT_EQ(old.skeleton.points.size(), 4u);
+    EXPECT_EQ(old.vertex_map[2], -1);
+    const std::vector<std::array<int, 2>> old_edges{{0, 1}, {1, 3}, {3, 2}};
+    EXPECT_EQ(old.skeleton.edges, old_edges);
+}
+
+// A close pair whose shorter branch ends at a branching point b inside the other's tube: the long branch goes up the
+// z axis from c = (0, 0, 0) to (0, 0, 2); the short one leaves at 20 degrees towards +x, 0.3 long, to b = (0.1026, 0,
+// 0.2819), where two children leave sideways (to b + (1, 0, -0.2) and b + (0, 1, -0.2)). Radius 0.1: b and the long
+// branch's point at 0.3 are 0.1042 apart: merged into t = their midpoint, radius 0.1521; the children leave t, c is a
+// joint, t has degree 4 (c, the long branch's end, the two children).
+TEST(SkeletonRepair, BranchingEndMerged) {
+    Skeleton in;
+    const double r = 0.1;
+    const Vec3 b{0.3 * std::sin(20 * kDeg), 0, 0.3 * std::cos(20 * kDeg)};
+    in.points = {{0, 0, -1}, {0, 0, 0}, {0, 0, 2}, b, b + Vec3{1, 0, -0.2}, b + Vec3{0, 1, -0.2}};
+    in.radii.assign(6, r);
+    in.edges = {{0, 1}, {1, 2}, {1, 3}, {3, 4}, {3, 5}};
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in);
+    EXPECT_EQ(res.merged_ends, 1);
+    EXPECT_EQ(res.trunks + res.absorbed_stubs + res.unseparated, 0);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 6u);  // b (3) gone, t appended (5)
+    EXPECT_EQ(res.vertex_map[3], -1);
+    EXPECT_EQ(res.vertex_map[4], 3);
+    const Vec3 p{0, 0, 0.3};
+    EXPECT_NEAR(distance(s.points[5], 0.5 * (b + p)), 0, 1e-12);
+    EXPECT_NEAR(s.radii[5], 0.5 * distance(b, p) + r, 1e-12);
+    EXPECT_NEAR(s.radii[5], 0.1521, 1e-4);
+    const std::vector<std::array<int, 2>> edges{{0, 1}, {5, 3}, {5, 4}, {1, 5}, {5, 2}};
+    EXPECT_EQ(s.edges, edges);
+    EXPECT_EQ(degree(s, 1), 2);
+    EXPECT_EQ(degree(s, 5), 4);
+    // Disabled: the pair stays, counted as unseparated.
+    mesohex::SkeletonRepairOptions off;
+    off.merge_branching_ends = false;
+    const mesohex::SkeletonRepairResult kept = mesohex::repair_skeleton(in, off);
+    EXPECT_EQ(kept.merged_ends, 0);
+    EXPECT_EQ(kept.unseparated, 1);
+    EXPECT_EQ(kept.skeleton, in);
 }
 
 // Leaflet vertices are never branching points of the repair; faces and their edges stay as they are.

@@ -90,13 +90,20 @@ AtArc at_arc(const Skeleton& s, const Walk& w, double t) {
     return {s.points[a] + u * (s.points[b] - s.points[a]), s.radii[a] + u * (s.radii[b] - s.radii[a]), k, u};
 }
 
+// What a repair does to a close pair (see the header).
+enum class PairRepair {
+    trunk,  // the tubes separate: a trunk vertex on the pair's medial axis
+    stub,   // the shorter branch ends at an extremity inside the other's tube: absorbed
+    merge,  // the shorter branch ends at a branching point inside the other's tube: absorbed, its children leave t
+};
+
 struct Candidate {
-    double score = 0;  // x / r_c
-    int c = -1, ei = -1, ej = -1;
-    double sep = 0;  // l*: arc length where the tubes separate
+    double score = 0;              // x / r_c (trunk), length of the absorbed walk / r_c (stub, merge)
+    int c = -1, ei = -1, ej = -1;  // ej: the absorbed walk (stub, merge)
+    double sep = 0;                // l*: arc length where the tubes separate (trunk); the absorbed walk's length
     Vec3 t;
     double rt = 0;
-    bool absorb = false;  // ej is a stub (ends at an extremity inside ei's tube): it disappears into t
+    PairRepair kind = PairRepair::trunk;
 };
 
 bool is_extremity(const Graph& g, int v) { return g.degree[v] == 1 && !g.on_face[v]; }
@@ -283,7 +290,228 @@ int split_root_patches(Skeleton& s, double factor) {
     return strips;
 }
 
-// The trunks and absorbed stubs (see the header), one pair at a time.
+// The shorter walk of a close pair whose tubes do not separate before it ends: a stub (ends at an extremity), a
+// merge (ends at a branching point without leaflet whose other edges lead elsewhere than to the pair), or neither.
+bool absorbable(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& o, const Walk& shorter,
+                const Walk& keep, PairRepair& kind) {
+    const int b = shorter.verts.back();
+    if (is_extremity(g, b)) {
+        kind = PairRepair::stub;
+        return o.absorb_stubs;
+    }
+    kind = PairRepair::merge;
+    if (!o.merge_branching_ends || g.on_face[b] || g.inc[b].size() < 3 ||
+        g.degree[b] != static_cast<int>(g.inc[b].size()) || !(keep.length() > shorter.length()))
+        return false;
+    // b's other edges must lead away from the pair (no cycle through c, the other walk or this one).
+    std::set<int> pair(keep.verts.begin(), keep.verts.end());
+    pair.insert(shorter.verts.begin(), shorter.verts.end());
+    bool own_edge = false;  // the walk's last edge, into b
+    for (const int e : g.inc[b]) {
+        const int u = s.edges[e][0] == b ? s.edges[e][1] : s.edges[e][0];
+        if (u == shorter.verts[shorter.verts.size() - 2] && !own_edge)
+            own_edge = true;
+        else if (pair.count(u))
+            return false;
+    }
+    return true;
+}
+
+// The close pair (walks i, j at c): updates best when its repair scores higher; records it in `unseparated` when
+// its tubes do not separate and the shorter walk is not absorbable.
+void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& o, int c,
+                   const std::vector<int>& inc, const std::vector<Walk>& walks, std::size_t i, std::size_t j,
+                   Candidate& best, std::set<std::pair<int, int>>& unseparated) {
+    const Walk &wi = walks[i], &wj = walks[j];
+    if (wi.loop || wj.loop || wi.verts[1] == wj.verts[1]) return;
+    const double li = wi.s[1], lj = wj.s[1];
+    const double ri = s.radii[wi.verts[1]], rj = s.radii[wj.verts[1]];
+    if (!(li > 1e-9 * ri) || !(lj > 1e-9 * rj)) return;
+    const Vec3 di = (s.points[wi.verts[1]] - s.points[c]) / li;
+    const Vec3 dj = (s.points[wj.verts[1]] - s.points[c]) / lj;
+    if (dot(di, dj) <= 0) return;  // 90 degrees or more apart: the tubes part at the ball
+    const double sep = separation(s, wi, wj);
+    if (sep < 0) {
+        // The tubes do not separate before the shorter walk ends. A stub or a merge is absorbed: t at the midpoint of
+        // its end and the other walk's point at the same arc length, with a radius covering both tubes there.
+        const bool i_short = wi.length() <= wj.length();
+        const Walk &shorter = i_short ? wi : wj, &keep = i_short ? wj : wi;
+        PairRepair kind = PairRepair::stub;
+        if (!absorbable(s, g, o, shorter, keep, kind)) {
+            const int n = static_cast<int>(s.points.size());
+            unseparated.insert({c, std::min(wi.verts[1], wj.verts[1]) * n + std::max(wi.verts[1], wj.verts[1])});
+            return;
+        }
+        const double len = shorter.length();
+        const AtArc a = at_arc(s, shorter, len), b = at_arc(s, keep, len);
+        const double score = len / s.radii[c];
+        if (score > best.score)
+            best = {score,
+                    c,
+                    i_short ? inc[j] : inc[i],
+                    i_short ? inc[i] : inc[j],
+                    len,
+                    0.5 * (a.x + b.x),
+                    0.5 * distance(a.x, b.x) + std::max(a.r, b.r),
+                    kind};
+        return;
+    }
+    const AtArc a = at_arc(s, wi, sep), b = at_arc(s, wj, sep);
+    const double r = 0.5 * (a.r + b.r);
+    const double sin_a = std::min(r / sep, 0.99);
+    const double x = (sep - r) / (1 + sin_a);
+    // c of degree 3 becomes a joint (parent, t): no bridge for adaptation to collapse; t only has to lie outside c's
+    // ball (joint_trunks). Otherwise c stays a branching point and the trunk must be a long enough bridge.
+    const bool c_joint = o.joint_trunks && inc.size() == 3 && g.degree[c] == 3;
+    if (c_joint ? !(x > s.radii[c]) : !(x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a))) return;
+    const Vec3 m = 0.5 * (a.x + b.x);
+    const Vec3 dir = normalized(m - s.points[c]);
+    if (dir == Vec3{}) return;
+    const double score = x / s.radii[c];
+    if (score > best.score)
+        best = {score, c, inc[i], inc[j], sep, s.points[c] + x * dir, r + x * sin_a, PairRepair::trunk};
+}
+
+// The pair to repair first: the highest score over every pair of branches at every branching point without leaflet.
+Candidate best_candidate(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& o,
+                         std::set<std::pair<int, int>>& unseparated) {
+    Candidate best;
+    for (int c = 0; c < static_cast<int>(s.points.size()); ++c) {
+        if (g.on_face[c] || g.inc[c].size() < 3 || !(s.radii[c] > 0)) continue;
+        const std::vector<int>& inc = g.inc[c];
+        std::vector<Walk> walks;
+        for (const int e : inc) walks.push_back(walk(s, g, c, e));
+        for (std::size_t i = 0; i < inc.size(); ++i)
+            for (std::size_t j = i + 1; j < inc.size(); ++j)
+                consider_pair(s, g, o, c, inc, walks, i, j, best, unseparated);
+    }
+    return best;
+}
+
+// Edits of one repair, applied by `rebuild`.
+struct Edit {
+    std::vector<bool> drop_vertex, drop_edge;
+    std::vector<std::array<int, 2>> new_edges;
+};
+
+// The absorbed walk: every vertex after c and every edge go; a merged branching point's other edges leave t.
+void drop_absorbed(Skeleton& s, const Graph& g, const Walk& w, int e0, int t, Edit& ed) {
+    int cur = e0;
+    for (std::size_t q = 1; q < w.verts.size(); ++q) {
+        ed.drop_edge[cur] = true;
+        const int v = w.verts[q];
+        ed.drop_vertex[v] = true;
+        if (q + 1 < w.verts.size()) cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
+    }
+    const int b = w.verts.back();
+    if (is_extremity(g, b)) return;
+    for (const int e : g.inc[b])
+        if (e != cur)
+            for (int& v : s.edges[e])
+                if (v == b) v = t;
+}
+
+// The kept walk of an absorbed pair: t joins it at arc length len. Its joints before len become balls covering both
+// tubes at their arc length (midpoint of the two polyline points, radius half their distance + the larger radius),
+// so its first turns stay in the skeleton (keep_joints; otherwise they go and t joins the first vertex after len).
+void join_kept(Skeleton& s, const Graph& g, const Walk& keep, const Walk& absorbed, int e0, int t, bool keep_joints,
+               Edit& ed) {
+    const double len = absorbed.length();
+    const std::size_t k = at_arc(s, keep, len).k;
+    std::vector<std::pair<Vec3, double>> moved;
+    for (std::size_t q = 1; q <= k; ++q) {
+        const AtArc a = at_arc(s, absorbed, keep.s[q]);
+        const Vec3 p = s.points[keep.verts[q]];
+        moved.push_back({0.5 * (a.x + p), 0.5 * distance(a.x, p) + std::max(a.r, s.radii[keep.verts[q]])});
+    }
+    int cur = e0;
+    for (std::size_t q = 0;; ++q) {
+        if (q == k || !keep_joints) ed.drop_edge[cur] = true;
+        if (q == k) break;
+        const int v = keep.verts[q + 1];
+        if (keep_joints) {
+            s.points[v] = moved[q].first;
+            s.radii[v] = moved[q].second;
+        } else {
+            ed.drop_vertex[v] = true;
+        }
+        cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
+    }
+    if (keep_joints && k > 0) ed.new_edges.push_back({keep.verts[k], t});
+    ed.new_edges.push_back({t, keep.verts[k + 1]});
+}
+
+// A trunk's walk: vertices before l* (joints) and their edges go; the walk leaves t towards its point at l* (a new
+// vertex unless it is (almost) the next vertex).
+void join_trunk(Skeleton& s, const Graph& g, const Walk& w, int e0, double sep, int t, Edit& ed) {
+    const AtArc p = at_arc(s, w, sep);
+    const std::size_t k = p.k;
+    int cur = e0;
+    for (std::size_t q = 0;; ++q) {
+        ed.drop_edge[cur] = true;
+        if (q == k) break;
+        const int v = w.verts[q + 1];  // a joint: two branch edges
+        ed.drop_vertex[v] = true;
+        cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
+    }
+    const int after = w.verts[k + 1];
+    if (p.u > 1 - 1e-9) {
+        ed.new_edges.push_back({t, after});
+        return;
+    }
+    const int pv = static_cast<int>(s.points.size());
+    s.points.push_back(p.x);
+    s.radii.push_back(p.r);
+    ed.new_edges.push_back({t, pv});
+    ed.new_edges.push_back({pv, after});
+}
+
+// Drops the marked vertices and edges, appends the new edges, renumbers (faces and the vertex map too).
+void rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResult& res) {
+    const int total = static_cast<int>(s.points.size());
+    std::vector<int> id(total, -1);
+    Skeleton out;
+    for (int v = 0; v < total; ++v) {
+        if (v < n && ed.drop_vertex[v]) continue;
+        id[v] = static_cast<int>(out.points.size());
+        out.points.push_back(s.points[v]);
+        out.radii.push_back(s.radii[v]);
+    }
+    for (std::size_t e = 0; e < s.edges.size(); ++e)
+        if (!ed.drop_edge[e]) out.edges.push_back({id[s.edges[e][0]], id[s.edges[e][1]]});
+    for (const std::array<int, 2>& e : ed.new_edges) out.edges.push_back({id[e[0]], id[e[1]]});
+    out.faces = s.faces;
+    for (std::vector<int>& f : out.faces)
+        for (int& v : f) v = id[v];
+    for (int& v : res.vertex_map)
+        if (v >= 0) v = id[v];
+    s = std::move(out);
+}
+
+// Applies one repair: t, the edge (c, t), and per walk its edits.
+void apply_candidate(Skeleton& s, const Graph& g, const Candidate& best, const SkeletonRepairOptions& o,
+                     SkeletonRepairResult& res) {
+    const int n = static_cast<int>(s.points.size()), c = best.c, t = n;
+    const Walk wi = walk(s, g, c, best.ei), wj = walk(s, g, c, best.ej);
+    Edit ed{std::vector<bool>(n, false), std::vector<bool>(s.edges.size(), false), {}};
+    s.points.push_back(best.t);
+    s.radii.push_back(best.rt);
+    if (best.kind == PairRepair::trunk) {
+        ed.new_edges.push_back({c, t});
+        join_trunk(s, g, wi, best.ei, best.sep, t, ed);
+        join_trunk(s, g, wj, best.ej, best.sep, t, ed);
+        ++res.trunks;
+    } else {
+        const bool keep_joints = o.keep_sibling_joints;
+        if (!keep_joints || at_arc(s, wi, best.sep).k == 0) ed.new_edges.push_back({c, t});
+        join_kept(s, g, wi, wj, best.ei, t, keep_joints, ed);
+        drop_absorbed(s, g, wj, best.ej, t, ed);
+        ++(best.kind == PairRepair::stub ? res.absorbed_stubs : res.merged_ends);
+    }
+    rebuild(s, n, ed, res);
+}
+
+// The trunks and absorbed walks (see the header), one pair at a time.
 void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairResult& res) {
     if (!o.trunks || s.radii.size() != s.points.size()) return;
     const std::size_t budget = s.edges.size();
@@ -291,130 +519,9 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
     for (std::size_t round = 0; round < budget; ++round) {
         unseparated.clear();
         const Graph g = make_graph(s);
-        const int n = static_cast<int>(s.points.size());
-        Candidate best;
-        for (int c = 0; c < n; ++c) {
-            if (g.on_face[c] || g.inc[c].size() < 3 || !(s.radii[c] > 0)) continue;
-            const std::vector<int>& inc = g.inc[c];
-            std::vector<Walk> walks;
-            for (const int e : inc) walks.push_back(walk(s, g, c, e));
-            for (std::size_t i = 0; i < inc.size(); ++i)
-                for (std::size_t j = i + 1; j < inc.size(); ++j) {
-                    const Walk &wi = walks[i], &wj = walks[j];
-                    if (wi.loop || wj.loop || wi.verts[1] == wj.verts[1]) continue;
-                    const double li = wi.s[1], lj = wj.s[1];
-                    const double ri = s.radii[wi.verts[1]], rj = s.radii[wj.verts[1]];
-                    if (!(li > 1e-9 * ri) || !(lj > 1e-9 * rj)) continue;
-                    const Vec3 di = (s.points[wi.verts[1]] - s.points[c]) / li;
-                    const Vec3 dj = (s.points[wj.verts[1]] - s.points[c]) / lj;
-                    if (dot(di, dj) <= 0) continue;  // 90 degrees or more apart: the tubes part at the ball
-                    const double sep = separation(s, wi, wj);
-                    if (sep < 0) {
-                        // The tubes do not separate before the shorter walk ends. A stub (the shorter walk ends at an
-                        // extremity) is absorbed: t at the midpoint of its end and the other walk's point at the same
-                        // arc length, with a radius covering both tubes there; otherwise the pair stays.
-                        const bool i_short = wi.length() <= wj.length();
-                        const Walk &stub = i_short ? wi : wj, &keep = i_short ? wj : wi;
-                        const double len = stub.length();
-                        if (!o.absorb_stubs || !is_extremity(g, stub.verts.back())) {
-                            unseparated.insert(
-                                {c, std::min(wi.verts[1], wj.verts[1]) * n + std::max(wi.verts[1], wj.verts[1])});
-                            continue;
-                        }
-                        const AtArc a = at_arc(s, stub, len), b = at_arc(s, keep, len);
-                        const double score = len / s.radii[c];
-                        if (score > best.score)
-                            best = {score,
-                                    c,
-                                    i_short ? inc[j] : inc[i],
-                                    i_short ? inc[i] : inc[j],
-                                    len,
-                                    0.5 * (a.x + b.x),
-                                    0.5 * distance(a.x, b.x) + std::max(a.r, b.r),
-                                    true};
-                        continue;
-                    }
-                    const AtArc a = at_arc(s, wi, sep), b = at_arc(s, wj, sep);
-                    const double r = 0.5 * (a.r + b.r);
-                    const double sin_a = std::min(r / sep, 0.99);
-                    const double x = (sep - r) / (1 + sin_a);
-                    if (!(x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a))) continue;
-                    const Vec3 m = 0.5 * (a.x + b.x);
-                    const Vec3 dir = normalized(m - s.points[c]);
-                    if (dir == Vec3{}) continue;
-                    const double score = x / s.radii[c];
-                    if (score > best.score)
-                        best = {score, c, inc[i], inc[j], sep, s.points[c] + x * dir, r + x * sin_a, false};
-                }
-        }
+        const Candidate best = best_candidate(s, g, o, unseparated);
         if (best.c < 0) break;
-
-        // Apply: drop both walks' vertices before l*, add t, the crotch points (or reuse a vertex there), and the
-        // edges (c, t), (t, p), (p, next vertex).
-        const int c = best.c;
-        std::vector<bool> drop_vertex(n, false), drop_edge(s.edges.size(), false);
-        std::vector<std::array<int, 2>> new_edges;
-        const int t = n;
-        s.points.push_back(best.t);
-        s.radii.push_back(best.rt);
-        new_edges.push_back({c, t});
-        for (const int e0 : {best.ei, best.ej}) {
-            const Walk w = walk(s, g, c, e0);
-            if (best.absorb && e0 == best.ej) {  // the stub: every vertex after c and every edge go
-                int cur = e0;
-                for (std::size_t q = 1; q < w.verts.size(); ++q) {
-                    drop_edge[cur] = true;
-                    const int v = w.verts[q];
-                    drop_vertex[v] = true;
-                    if (q + 1 < w.verts.size()) cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
-                }
-                continue;
-            }
-            const AtArc p = at_arc(s, w, best.sep);
-            // Segment k holds l*: vertices 1..k are dropped (joints), edges 0..k too; a new vertex at p unless p is
-            // (almost) verts[k + 1], then that vertex is the re-attachment. Absorbing a stub, the walk re-attaches
-            // at t itself, to its first vertex after l* (the joints after it keep the branch's shape for adaptation).
-            const bool at_end = p.u > 1 - 1e-9 || best.absorb;
-            const std::size_t k = p.k;
-            int cur = e0;
-            for (std::size_t q = 0;; ++q) {
-                drop_edge[cur] = true;
-                if (q == k) break;
-                const int v = w.verts[q + 1];  // a joint: two branch edges
-                drop_vertex[v] = true;
-                cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
-            }
-            const int after = w.verts[k + 1];
-            if (at_end) {
-                new_edges.push_back({t, after});
-            } else {
-                const int pv = static_cast<int>(s.points.size());
-                s.points.push_back(p.x);
-                s.radii.push_back(p.r);
-                new_edges.push_back({t, pv});
-                new_edges.push_back({pv, after});
-            }
-        }
-        // Compact.
-        const int total = static_cast<int>(s.points.size());
-        std::vector<int> id(total, -1);
-        Skeleton out;
-        for (int v = 0; v < total; ++v) {
-            if (v < n && drop_vertex[v]) continue;
-            id[v] = static_cast<int>(out.points.size());
-            out.points.push_back(s.points[v]);
-            out.radii.push_back(s.radii[v]);
-        }
-        for (std::size_t e = 0; e < s.edges.size(); ++e)
-            if (!drop_edge[e]) out.edges.push_back({id[s.edges[e][0]], id[s.edges[e][1]]});
-        for (const std::array<int, 2>& e : new_edges) out.edges.push_back({id[e[0]], id[e[1]]});
-        out.faces = s.faces;
-        for (std::vector<int>& f : out.faces)
-            for (int& v : f) v = id[v];
-        for (int& v : res.vertex_map)
-            if (v >= 0) v = id[v];
-        s = std::move(out);
-        ++(best.absorb ? res.absorbed_stubs : res.trunks);
+        apply_candidate(s, g, best, o, res);
     }
     res.unseparated = static_cast<int>(unseparated.size());
 }

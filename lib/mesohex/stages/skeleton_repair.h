@@ -31,12 +31,28 @@ struct SkeletonRepairOptions {
     // one vertex by adaptation (a short bridge). For two straight branches of the branching point's radius this means
     // beta below about 35 degrees.
     double trunk_clearance = 0.7;
+    // At a branching point of degree 3 (no leaflet), a trunk makes c a joint between its third branch and t: no short
+    // bridge for adaptation to collapse, so trunk_clearance is not needed there; the trunk is built when t lies
+    // outside c's ball (x > r_c: the junction of the two tubes, the branching point of their medial axis, is not at
+    // c). false: trunk_clearance everywhere.
+    bool joint_trunks = true;
     // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
     // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
     // the same arc length, radius half their distance + the larger radius there (a ball covering both tubes); the
     // stub's vertices and edges go, the other branch leaves t towards its first vertex after that arc length. A
     // branching point of degree 3 becomes a joint: the bump is meshed as a thicker stretch of tube, no junction.
     bool absorb_stubs = true;
+    // Absorbing a walk (stub or merge), the other branch's joints before t stay: each moves to the midpoint of its
+    // point and the absorbed walk's point at the same arc length, radius half their distance + the larger radius (a
+    // ball covering both tubes there, as t's), so a turn of the other branch inside the absorbed stretch is not cut
+    // off by a chord from c to t. false: they go, and the other branch leaves t towards its first vertex after t.
+    // Off by default: on the random set it changed 4 seeds, mixed (docs/tuning.md, "Joint trunks, kept joints").
+    bool keep_sibling_joints = false;
+    // A merge: the shorter branch of a close pair ends at a branching point b (no leaflet) before the tubes separate.
+    // It is absorbed like a stub (t at the midpoint of b and the other branch's point at the same arc length, radius
+    // covering both); b's other branches leave t. c loses a branch (degree 3: a joint), t gets b's. Not when b's
+    // other edges lead back to the pair (a cycle).
+    bool merge_branching_ends = true;
     // Root patches of branches standing inside a leaflet. A branch rooted at an interior leaflet vertex v (exactly 4
     // faces around v, every leaflet edge at v shared by 2 faces, exactly one branch edge) stands on the 4 faces around
     // v; its first chunk is as wide as that patch (about 2 leaflet edges) while its tube may be much thinner (a
@@ -58,6 +74,7 @@ struct SkeletonRepairResult {
     std::vector<int> vertex_map;
     int trunks = 0;             // trunk vertices inserted (one per repaired pair)
     int absorbed_stubs = 0;     // stubs absorbed (one vertex t each)
+    int merged_ends = 0;        // walks ending at a branching point absorbed (merge_branching_ends; one t each)
     int unseparated = 0;        // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
                                 // separate
     int root_strip_splits = 0;  // face strips split for root patches (root_patch_factor)
