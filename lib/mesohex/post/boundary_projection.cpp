@@ -12,6 +12,7 @@
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_convention.h"
 #include "mesohex/core/hex_kernels.h"
+#include "mesohex/core/move_backtracking.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/post/quality.h"
 
@@ -130,40 +131,21 @@ ProjectionResult project_boundary(HexMesh& mesh, const std::vector<char>& on_bou
         const double b = before[static_cast<std::size_t>(h)], a = now[static_cast<std::size_t>(h)];
         return !(a > 0) || (a < b && a < options.guard_sj);
     };
-    std::vector<double> scale(nv, 1.0);
-    std::vector<std::uint8_t> halvings(nv, 0), marked(nv, 0), queued(nh, 0);
-    std::vector<int> check, changed;
+    MoveBacktracking st{std::vector<double>(nv, 1.0), std::vector<std::uint8_t>(nv, 0),
+                        std::vector<std::uint8_t>(nv, 0), std::vector<std::uint8_t>(nh, 0), options.max_backtracks};
+    std::vector<int> check;
     for (int h : hexes)
         if (bad(h)) check.push_back(h);
-    while (!check.empty()) {
-        changed.clear();
-        for (int h : check)
-            if (bad(h))
-                for (int v : mesh.hexes[static_cast<std::size_t>(h)]) {
-                    const std::size_t vi = static_cast<std::size_t>(v);
-                    if (marked[vi] || scale[vi] == 0 || squared_norm(move[vi]) == 0) continue;
-                    marked[vi] = 1;
-                    changed.push_back(v);
-                }
-        if (changed.empty()) break;
-        check.clear();
-        for (int v : changed) {
+    back_off_bad_hexes(
+        mesh.hexes, vh, st, std::move(check), [&](int h, bool) { return bad(h); },
+        [&](int v) { return squared_norm(move[static_cast<std::size_t>(v)]) != 0; },
+        [&](int v) {
             const std::size_t vi = static_cast<std::size_t>(v);
-            marked[vi] = 0;
-            scale[vi] = ++halvings[vi] > options.max_backtracks ? 0.0 : 0.5 * scale[vi];
-            mesh.points[vi] = start[vi] + scale[vi] * move[vi];
-            for (int i = vh.begin[vi]; i < vh.begin[vi + 1]; ++i) {
-                const int h = vh.hexes[static_cast<std::size_t>(i)];
-                if (!queued[static_cast<std::size_t>(h)]) {
-                    queued[static_cast<std::size_t>(h)] = 1;
-                    check.push_back(h);
-                }
-            }
-        }
-        std::sort(check.begin(), check.end());
-        for (int h : check) queued[static_cast<std::size_t>(h)] = 0;
-        measure(check, now);
-    }
+            mesh.points[vi] = start[vi] + st.scale[vi] * move[vi];
+        },
+        [&](const std::vector<int>& list) { measure(list, now); });
+    const std::vector<double>& scale = st.scale;
+    const std::vector<std::uint8_t>& halvings = st.halvings;
     for (int v : moved) {
         const std::size_t vi = static_cast<std::size_t>(v);
         if (squared_norm(move[vi]) > 0 && scale[vi] > 0) ++result.moved_vertices;

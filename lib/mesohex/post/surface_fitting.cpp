@@ -22,6 +22,7 @@
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_convention.h"
 #include "mesohex/core/hex_kernels.h"
+#include "mesohex/core/move_backtracking.h"
 #include "mesohex/core/topology.h"
 
 namespace mesohex {
@@ -423,10 +424,9 @@ struct SurfaceFitter::Impl {
     std::vector<double> hex_floor;    // per hex: the guard's lower bound of its SJ
     std::vector<int> boundary_index;  // per vertex: its index in boundary_vertices, or -1
     TriangleMesh boundary_tris;       // the boundary quads split in two (a, b, c), (a, c, d), over all mesh vertices
-    std::vector<double> step_scale;   // per vertex: the part of its global-step move that was accepted
-    std::vector<Vec3> old_points;     // step buffers: positions before the step, next scaled Jacobians, guard marks
+    MoveBacktracking backtrack;       // the inversion guard's state; scale: the part of each vertex's move accepted
+    std::vector<Vec3> old_points;     // step buffers: positions before the step, next scaled Jacobians
     std::vector<double> sj_next;
-    std::vector<std::uint8_t> halvings, marked, queued;
     int iteration = 0;
 
     template <class Id>
@@ -1002,7 +1002,7 @@ FitProgress SurfaceFitter::step() {
     // max_backtracks halvings they stay where they were. Only the hexes around vertices whose move changed are
     // re-checked. A hex whose 8 vertices all stay is unchanged, so the loop ends. Sequential marking in hex order:
     // deterministic.
-    std::vector<double>& scale = s.step_scale;
+    std::vector<double>& scale = s.backtrack.scale;
     scale.assign(nv, 1.0);
     std::vector<double>& sj_new = s.sj_next;
     HexStats stats = s.measure_all(sj_new);
@@ -1026,44 +1026,23 @@ FitProgress SurfaceFitter::step() {
                 return a;
             });
         const bool any_bad = !check.empty();
-        std::vector<std::uint8_t>& halvings = s.halvings;
-        std::vector<std::uint8_t>& marked = s.marked;
-        std::vector<std::uint8_t>& queued = s.queued;
         if (any_bad) {
-            halvings.assign(nv, 0);
-            marked.assign(nv, 0);
-            queued.assign(s.mesh.hexes.size(), 0);
-        }
-        std::vector<int> changed;
-        for (bool first = true; !check.empty(); first = false) {
-            changed.clear();
-            for (int h : check)
-                if (first || bad(static_cast<std::size_t>(h)))
-                    for (int v : s.mesh.hexes[static_cast<std::size_t>(h)]) {
-                        const std::size_t vi = static_cast<std::size_t>(v);
-                        if (marked[vi] || scale[vi] == 0) continue;
-                        marked[vi] = 1;
-                        changed.push_back(v);
-                    }
-            if (changed.empty()) break;
-            check.clear();
-            for (int v : changed) {
-                const std::size_t vi = static_cast<std::size_t>(v);
-                marked[vi] = 0;
-                scale[vi] = ++halvings[vi] > s.options.max_backtracks ? 0.0 : 0.5 * scale[vi];
-                x[vi] = old[vi] + scale[vi] * (s.solution[vi] - old[vi]);
-                for (int i = s.vertex_hex.begin[vi]; i < s.vertex_hex.begin[vi + 1]; ++i) {
-                    const int h = s.vertex_hex.hexes[static_cast<std::size_t>(i)];
-                    if (!queued[static_cast<std::size_t>(h)]) {
-                        queued[static_cast<std::size_t>(h)] = 1;
-                        check.push_back(h);
-                    }
-                }
-            }
-            std::sort(check.begin(), check.end());
-            for (int h : check) queued[static_cast<std::size_t>(h)] = 0;
-            // Their corners moved: new scaled Jacobians.
-            s.measure([&](std::size_t i) { return static_cast<std::size_t>(check[i]); }, 0, check.size(), sj_new);
+            MoveBacktracking& st = s.backtrack;
+            st.halvings.assign(nv, 0);
+            st.marked.assign(nv, 0);
+            st.queued.assign(s.mesh.hexes.size(), 0);
+            st.max_backtracks = s.options.max_backtracks;
+            back_off_bad_hexes(
+                s.mesh.hexes, s.vertex_hex, st, std::move(check),
+                [&](int h, bool first) { return first || bad(static_cast<std::size_t>(h)); }, [](int) { return true; },
+                [&](int v) {
+                    const std::size_t vi = static_cast<std::size_t>(v);
+                    x[vi] = old[vi] + scale[vi] * (s.solution[vi] - old[vi]);
+                },
+                // Their corners moved: new scaled Jacobians.
+                [&](const std::vector<int>& list) {
+                    s.measure([&](std::size_t i) { return static_cast<std::size_t>(list[i]); }, 0, list.size(), sj_new);
+                });
         }
         if (any_bad)
             stats = tbb::parallel_deterministic_reduce(
