@@ -124,16 +124,27 @@ TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
     EXPECT_EQ(run.exit_status(), run.quality().inverted > 0 ? 5 : 0);
 
     const nlohmann::json rep = mesh_report(run, {"segment.obj", "segment.mesh", "box.off", 1.0, 2.0});
-    const std::set<std::string> expected = {"input",     "output",
-                                            "skeleton",  "meshed_skeleton",
-                                            "resampled", "radius",
-                                            "predicted", "prediction_matches",
-                                            "quality",   "raw_quality",
-                                            "repairs",   "stages",
-                                            "surface",   "subdivision_levels",
-                                            "fit",       "untangled",
-                                            "attempts",  "free_branching_reach",
-                                            "hausdorff", "timings_ms"};
+    const std::set<std::string> expected = {"input",
+                                            "output",
+                                            "skeleton",
+                                            "meshed_skeleton",
+                                            "resampled",
+                                            "radius",
+                                            "predicted",
+                                            "prediction_matches",
+                                            "quality",
+                                            "raw_quality",
+                                            "repairs",
+                                            "stages",
+                                            "surface",
+                                            "subdivision_levels",
+                                            "fit",
+                                            "untangled",
+                                            "attempts",
+                                            "free_branching_reach",
+                                            "hausdorff",
+                                            "timings_ms",
+                                            "inherited_levels"};
     EXPECT_EQ(keys(rep), expected);
     EXPECT_EQ(rep["quality"]["hexes"].get<long>(), run.quality().hexes);
     EXPECT_EQ(rep["raw_quality"]["hexes"].get<long>(), raw);

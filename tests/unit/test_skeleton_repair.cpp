@@ -175,7 +175,9 @@ TEST(SkeletonRepair, BranchingEndMerged) {
     in.points = {{0, 0, -1}, {0, 0, 0}, {0, 0, 2}, b, b + Vec3{1, 0, -0.2}, b + Vec3{0, 1, -0.2}};
     in.radii.assign(6, r);
     in.edges = {{0, 1}, {1, 2}, {1, 3}, {3, 4}, {3, 5}};
-    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in);
+    mesohex::SkeletonRepairOptions on;  // off by default (it cascades on dense trees)
+    on.merge_branching_ends = true;
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, on);
     EXPECT_EQ(res.merged_ends, 1);
     EXPECT_EQ(res.trunks + res.absorbed_stubs + res.unseparated, 0);
     const Skeleton& s = res.skeleton;

@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <numbers>
+#include <utility>
 
 #include "mesohex/core/error.h"
 
@@ -892,132 +893,9 @@ struct Shape {
     std::function<Skeleton(const Params&)> make;
 };
 
-const std::vector<Shape>& shapes() {
-    static const std::vector<Shape> table{
-        {"plate", {3, 3}, {1, 1}, "flat leaflet of n x m quads (default 3 x 3)", make_plate},
-        {"box", {2, 1}, {1, 1}, "closed cube surface, n x n quads per side (default 2); m unused", make_box},
-        {"torus",
-         {24, 8},
-         {7, 3},
-         "hollow torus surface, n quads around the axis x m around the tube "
-         "(default 24 x 8, n >= m + 4)",
-         make_torus},
-        {"tfan",
-         {2, 2},
-         {1, 1},
-         "T: three strips of m quads on one fan edge of n edges (default n 2, m 2)",
-         [](const Params& p) {
-             return make_fan(p, {0.0, 0.5 * kPi, kPi});
-         }},
-        {"xfan",
-         {2, 2},
-         {1, 1},
-         "X: four strips of m quads on one fan edge of n edges (default n 2, m 2)",
-         [](const Params& p) {
-             return make_fan(p, {0.0, 0.5 * kPi, kPi, 1.5 * kPi});
-         }},
-        {"fanend",
-         {3, 1},
-         {3, 1},
-         "T (n = 3, default) or X (n = 4) fan of 2 x 2-quad strips with a 3-edge branch on a fan-edge end, "
-         "continuing the fan line (m = 1, default: meshed after the skeleton repair retracts the fan edge from the "
-         "branch) or perpendicular to it (m = 2: refused, naming the vertex)",
-         make_fan_end},
-        {"hand",
-         {3, 4},
-         {1, 2},
-         "palm leaflet (8 x m quads, default m 4) with four fingers and a thumb of n edges "
-         "(default 3) at convex 90-degree border vertices (BL-joints)",
-         make_hand},
-        {"chair",
-         {4, 4},
-         {2, 1},
-         "seat (n x n quads, default 4) and back meeting at a degree-3 fan edge, four legs "
-         "of m edges (default 4) from the seat corners",
-         make_chair},
-        {"bird",
-         {4, 2},
-         {1, 1},
-         "two wings (n span x m chord quads, default 4 x 2) touching the body's branching "
-         "point by a corner, neck and body branches, a 2 x 2 tail leaflet (BL-joint)",
-         make_bird},
-        {"twist",
-         {12, 2},
-         {1, 1},
-         "open strip of n x m quads (default 12 x 2) whose section turns by "
-         "quarter-turns x 90 degrees (default 2 = 180)",
-         make_twist},
-        {"torustwist",
-         {24, 1},
-         {4, 1},
-         "ring of n segments with an X section (arms of m quads, default 24 x 1) "
-         "turning by quarter-turns x 90 degrees (default 2: two intersecting "
-         "Moebius strips); the core is a closed degree-4 fan edge, so every leaflet "
-         "is an orientable annulus",
-         make_torustwist},
-        {"dualocta",
-         {2, 1},
-         {1, 1},
-         "curve frame: octahedron + dual cube edges crossing at their midpoints, n "
-         "edges per half-edge (default 2); m unused",
-         make_dualocta},
-        {"cubestar",
-         {3, 2},
-         {3, 1},
-         "branching point whose n branches (3 to 6, default 3) leave along cube face "
-         "normals (3: x, y, z; 4: +-x, +-y; 5: and +z; 6: +-x, +-y, +-z), m edges each "
-         "(default 2): one compatible block",
-         make_cubestar},
-        {"ystar",
-         {1, 2},
-         {1, 1},
-         "planar Y: three branches of m edges (default 2) at 120 degrees (never a compatible "
-         "block); n unused",
-         [](const Params& p) {
-             return make_star(p, {{1, 0, 0}, {-0.5, 0.5 * std::sqrt(3.0), 0}, {-0.5, -0.5 * std::sqrt(3.0), 0}});
-         }},
-        {"tetrastar",
-         {1, 2},
-         {1, 1},
-         "tetrahedral star: four branches of m edges (default 2) to the corners of a "
-         "regular tetrahedron (never a compatible block); n unused",
-         [](const Params& p) {
-             return make_star(p, {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}});
-         }},
-        {"turbine",
-         {8, 2},
-         {2, 2},
-         "Darrieus turbine: shaft branch, m blades (2 or 3, default 2) of n quads "
-         "(default 8) touching the shaft at two branching points by their corners",
-         make_turbine},
-        {"wall",
-         {6, 2},
-         {2, 1},
-         "plate of n x n quads (default 6) with a wall of m rows (default 2) standing on a chain of 2 fan edges "
-         "that ends inside the plate at both ends (docked on the plates)",
-         [](const Params& p) {
-             return make_wall_plate({p.n, 2, p.m, -1, -1, 1}, p.L, p.r);
-         }},
-        {"wallboth",
-         {6, 2},
-         {2, 1},
-         "as wall, with a second wall of m rows below the plate on the same chain (fan edges of degree 4)",
-         [](const Params& p) {
-             return make_wall_plate({p.n, 2, p.m, -1, -1, 2}, p.L, p.r);
-         }},
-        {"walledge",
-         {6, 2},
-         {2, 1},
-         "as wall, the chain of 2 fan edges running from the plate's border to an interior vertex",
-         [](const Params& p) {
-             return make_wall_plate({p.n, 2, p.m, -1, 0, 1}, p.L, p.r);
-         }},
-        {"pan",
-         {6, 4},
-         {6, 2},
-         "plate of n x m quads (default 6 x 4) with its branches rooted on its plates: a "
-         "handle leaving a straight border outward, a bucket arch rooted inside",
-         make_pan},
+// The thin-sheet shapes (issue 16 item 3), last in the table.
+std::vector<Shape> thin_sheet_shapes() {
+    return {
         {"fold",
          {3, 3},
          {1, 1},
@@ -1043,6 +921,139 @@ const std::vector<Shape>& shapes() {
          "inside, one wire from a corner",
          make_wireplate},
     };
+}
+
+const std::vector<Shape>& shapes() {
+    static const std::vector<Shape> table = [] {
+        std::vector<Shape> t{
+            {"plate", {3, 3}, {1, 1}, "flat leaflet of n x m quads (default 3 x 3)", make_plate},
+            {"box", {2, 1}, {1, 1}, "closed cube surface, n x n quads per side (default 2); m unused", make_box},
+            {"torus",
+             {24, 8},
+             {7, 3},
+             "hollow torus surface, n quads around the axis x m around the tube "
+             "(default 24 x 8, n >= m + 4)",
+             make_torus},
+            {"tfan",
+             {2, 2},
+             {1, 1},
+             "T: three strips of m quads on one fan edge of n edges (default n 2, m 2)",
+             [](const Params& p) {
+                 return make_fan(p, {0.0, 0.5 * kPi, kPi});
+             }},
+            {"xfan",
+             {2, 2},
+             {1, 1},
+             "X: four strips of m quads on one fan edge of n edges (default n 2, m 2)",
+             [](const Params& p) {
+                 return make_fan(p, {0.0, 0.5 * kPi, kPi, 1.5 * kPi});
+             }},
+            {"fanend",
+             {3, 1},
+             {3, 1},
+             "T (n = 3, default) or X (n = 4) fan of 2 x 2-quad strips with a 3-edge branch on a fan-edge end, "
+             "continuing the fan line (m = 1, default: meshed after the skeleton repair retracts the fan edge from the "
+             "branch) or perpendicular to it (m = 2: refused, naming the vertex)",
+             make_fan_end},
+            {"hand",
+             {3, 4},
+             {1, 2},
+             "palm leaflet (8 x m quads, default m 4) with four fingers and a thumb of n edges "
+             "(default 3) at convex 90-degree border vertices (BL-joints)",
+             make_hand},
+            {"chair",
+             {4, 4},
+             {2, 1},
+             "seat (n x n quads, default 4) and back meeting at a degree-3 fan edge, four legs "
+             "of m edges (default 4) from the seat corners",
+             make_chair},
+            {"bird",
+             {4, 2},
+             {1, 1},
+             "two wings (n span x m chord quads, default 4 x 2) touching the body's branching "
+             "point by a corner, neck and body branches, a 2 x 2 tail leaflet (BL-joint)",
+             make_bird},
+            {"twist",
+             {12, 2},
+             {1, 1},
+             "open strip of n x m quads (default 12 x 2) whose section turns by "
+             "quarter-turns x 90 degrees (default 2 = 180)",
+             make_twist},
+            {"torustwist",
+             {24, 1},
+             {4, 1},
+             "ring of n segments with an X section (arms of m quads, default 24 x 1) "
+             "turning by quarter-turns x 90 degrees (default 2: two intersecting "
+             "Moebius strips); the core is a closed degree-4 fan edge, so every leaflet "
+             "is an orientable annulus",
+             make_torustwist},
+            {"dualocta",
+             {2, 1},
+             {1, 1},
+             "curve frame: octahedron + dual cube edges crossing at their midpoints, n "
+             "edges per half-edge (default 2); m unused",
+             make_dualocta},
+            {"cubestar",
+             {3, 2},
+             {3, 1},
+             "branching point whose n branches (3 to 6, default 3) leave along cube face "
+             "normals (3: x, y, z; 4: +-x, +-y; 5: and +z; 6: +-x, +-y, +-z), m edges each "
+             "(default 2): one compatible block",
+             make_cubestar},
+            {"ystar",
+             {1, 2},
+             {1, 1},
+             "planar Y: three branches of m edges (default 2) at 120 degrees (never a compatible "
+             "block); n unused",
+             [](const Params& p) {
+                 return make_star(p, {{1, 0, 0}, {-0.5, 0.5 * std::sqrt(3.0), 0}, {-0.5, -0.5 * std::sqrt(3.0), 0}});
+             }},
+            {"tetrastar",
+             {1, 2},
+             {1, 1},
+             "tetrahedral star: four branches of m edges (default 2) to the corners of a "
+             "regular tetrahedron (never a compatible block); n unused",
+             [](const Params& p) {
+                 return make_star(p, {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}});
+             }},
+            {"turbine",
+             {8, 2},
+             {2, 2},
+             "Darrieus turbine: shaft branch, m blades (2 or 3, default 2) of n quads "
+             "(default 8) touching the shaft at two branching points by their corners",
+             make_turbine},
+            {"wall",
+             {6, 2},
+             {2, 1},
+             "plate of n x n quads (default 6) with a wall of m rows (default 2) standing on a chain of 2 fan edges "
+             "that ends inside the plate at both ends (docked on the plates)",
+             [](const Params& p) {
+                 return make_wall_plate({p.n, 2, p.m, -1, -1, 1}, p.L, p.r);
+             }},
+            {"wallboth",
+             {6, 2},
+             {2, 1},
+             "as wall, with a second wall of m rows below the plate on the same chain (fan edges of degree 4)",
+             [](const Params& p) {
+                 return make_wall_plate({p.n, 2, p.m, -1, -1, 2}, p.L, p.r);
+             }},
+            {"walledge",
+             {6, 2},
+             {2, 1},
+             "as wall, the chain of 2 fan edges running from the plate's border to an interior vertex",
+             [](const Params& p) {
+                 return make_wall_plate({p.n, 2, p.m, -1, 0, 1}, p.L, p.r);
+             }},
+            {"pan",
+             {6, 4},
+             {6, 2},
+             "plate of n x m quads (default 6 x 4) with its branches rooted on its plates: a "
+             "handle leaving a straight border outward, a bucket arch rooted inside",
+             make_pan},
+        };
+        for (Shape& shape : thin_sheet_shapes()) t.push_back(std::move(shape));
+        return t;
+    }();
     return table;
 }
 
