@@ -136,6 +136,7 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_option("--fit-levels", job->options.finishing.fit_levels,
                     "Fit, untangle and smooth after this many of the levels; the finer levels inherit that shape "
                     "(subdivision, boundary projected onto the surface); -1 = fit at the finest level")
+        ->check(CLI::Range(-1, 8))
         ->capture_default_str();
     cmd->add_option("--refine", job->refine,
                     "Subdivision per level: uniform (1->8), longitudinal (only the sheets along the branches: more "
