@@ -43,8 +43,7 @@ inline constexpr double kDockPlateAngleDeg = 150;
 
 // Largest angle (degrees) between a wall's direction from the chain (in-plane for the wall, perpendicular to the chain)
 // and the plate's normal on its side: the first wall hexes on the acute side are wedges of about that opening.
-// Measured on the 6 x 6 plate with a 2 x 2 wall (raw, radius 0.3 x edge): min scaled Jacobian 0.58 upright, 0.28 at
-// 30, 0.11 at 45, 0.01 at 55, 4 inverted hexes at 60 degrees.
+// The raw minimum scaled Jacobian falls as the wall leans (measurements: docs/blocks.md, "Docked walls").
 inline constexpr double kDockWallTiltDeg = 45;
 
 // Analysis step (after leaflets and face normals, before vertex classes): fills analysis.edge_docked and

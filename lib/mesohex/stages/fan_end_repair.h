@@ -23,11 +23,11 @@
 // in its plane).
 // Deviation from the design note (which keeps w in place): the carrier's border (u, w) would then continue the fan
 // line at u, where a fan end puts the out vertex of every half-chunk on the fan line (u + r e): the carrier's half-
-// chunk on (u, w) is flat there (raw min SJ -0.40 on the T fan, measured); moving w turns that border by
+// chunk on (u, w) is flat there (inverted raw hexes; docs/blocks.md); moving w turns that border by
 // atan(t_k |x_k - w| / |w - u|) away from the fan line, like the others. Sliding u (not in the note): the faces pulled
 // back leave a notch between the leaflets above u's fan-end cap (which reaches r_u above u) that the finished mesh
-// cannot fill (Hausdorff 4.9 % of the diagonal on the T in its thickened domain, measured); with u within 2 r_w of w
-// the cap covers most of it (0.83 %), and the borders at u turn farther off the fan line.
+// cannot fill (a large Hausdorff distance there; docs/blocks.md); with u within 2 r_w of w the cap covers most of it,
+// and the borders at u turn farther off the fan line.
 // Branches far from the fan line (perpendicular to it) stay refused: the moved corner then has the branch more than 60
 // degrees off its outward direction and folds its first hexes for most radii; so does a chain of one fan edge, whose
 // other end u would become a leaflet-only branching point (docs/blocks.md, "Branches on fan-edge ends").

@@ -52,7 +52,7 @@ struct SkeletonRepairOptions {
     // It is absorbed like a stub (t at the midpoint of b and the other branch's point at the same arc length, radius
     // covering both); b's other branches leave t. c loses a branch (degree 3: a joint), t gets b's. Not when b's
     // other edges lead back to the pair (a cycle). Off: it cascades on dense trees whose tubes overlap along whole
-    // branches (a 1 500-vertex tree of unit edges and radius 0.5 collapses to 65 vertices; docs/tuning.md).
+    // branches, absorbing most of the tree (docs/tuning.md).
     bool merge_branching_ends = false;
     // Root patches of branches standing inside a leaflet. A branch rooted at an interior leaflet vertex v (exactly 4
     // faces around v, every leaflet edge at v shared by 2 faces, exactly one branch edge) stands on the 4 faces around
