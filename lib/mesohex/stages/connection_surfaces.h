@@ -13,6 +13,7 @@
 #include "mesohex/core/skeleton.h"
 #include "mesohex/core/vec.h"
 #include "mesohex/stages/compatible_blocks.h"
+#include "mesohex/stages/fan_blocks.h"
 #include "mesohex/stages/skeleton_analysis.h"
 
 namespace mesohex {
@@ -39,6 +40,9 @@ struct ConnectionSurfaces {
     // order. A block vertex's surface is one square per branch edge (not a partition of the sphere).
     std::vector<int> vertex_block;
     std::vector<CubeBlock> blocks;
+    // Fan blocks (fan_blocks.h): chains of fan edges with a square section per vertex and 4 hexes per edge and per
+    // open end (the same options: blocks.enabled = false keeps the paper's gap vertices).
+    FanBlocks fan_blocks;
 };
 
 struct ConnectionSurfaceOptions {
@@ -52,7 +56,8 @@ struct ConnectionSurfaceOptions {
     // branch direction) when the smallest model value is below this (with relax_partitions).
     double relax_junctions_below = 0.5;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
-    // (find_compatible_blocks); blocks.enabled = false keeps the paper's layout (`--no-blocks`).
+    // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
+    // blocks.enabled = false keeps the paper's layout (`--no-blocks`).
     CompatibleBlockOptions blocks;
 };
 

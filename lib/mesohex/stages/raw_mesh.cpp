@@ -28,6 +28,11 @@ bool is_fan(VertexClass c) { return c == VertexClass::FanEdgeVertex || c == Vert
 // The compatible block at v (compatible_blocks.h), or -1.
 int block_at(const ConnectionSurfaces& cs, int v) { return cs.vertex_block.empty() ? -1 : cs.vertex_block[v]; }
 
+// The fan-block chain through v (fan_blocks.h), or -1.
+int fan_block_at(const ConnectionSurfaces& cs, int v) {
+    return cs.fan_blocks.vertex_chain.empty() ? -1 : cs.fan_blocks.vertex_chain[v];
+}
+
 // Number of gaps expected at a fan-edge vertex: the number of faces around its first fan edge (every leaflet through
 // the fan continues across the vertex; build_raw_mesh checks this against the gaps it finds).
 int expected_gaps(const SkeletonAnalysis& an, int v) {
@@ -157,10 +162,16 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     // Fan edges (reference-notes §8.6): the fan edge has 2 hexes per face, the extension edge w -> O_w at a fan end
     // one per half-chunk (also 2 per face); the ray from a fan-edge vertex to a gap vertex has the plates (and, at a
     // fan end, the half-chunks) facing that gap, (2 faces + 2 boundary edges at w) / gaps each when the fan is regular.
+    // A fan edge with a fan block (fan_blocks.h) has none of these.
     for (int e = 0; e < static_cast<int>(an.edge_degree.size()); ++e)
-        if (an.edge_degree[e] >= 3 && an.edge_docked[e] != 1) ++p.interior_irregular_edges[2 * an.edge_degree[e]];
+        if (an.edge_degree[e] >= 3 && an.edge_docked[e] != 1 && fan_block_at(cs, skeleton.edges[e][0]) < 0)
+            ++p.interior_irregular_edges[2 * an.edge_degree[e]];
     for (int v = 0; v < nv; ++v) {
         if (!is_fan(an.vertex_class[v])) continue;
+        if (fan_block_at(cs, v) >= 0) {
+            p.vertices += fan_block_vertex_ids(cs.fan_blocks, v);
+            continue;
+        }
         const int g = expected_gaps(an, v);
         const bool end = an.vertex_class[v] == VertexClass::FanEdgeEnd;
         p.vertices += end ? 2 + 2 * g : 1 + g;
@@ -200,9 +211,14 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     // Compatible blocks: 27 vertices and 8 hexes each, no interior irregular edge; boundary valence 1 / 3 at the cube
     // edges between two free / two docked faces.
     for (const CubeBlock& b : cs.blocks) add_block_irregular_edges(b, p.boundary_irregular_edges);
+    // Fan blocks: 4 hexes per fan edge and per open chain end, no interior irregular edge.
+    for (const FanBlockChain& c : cs.fan_blocks.chains) add_fan_block_irregular_edges(c, p.boundary_irregular_edges);
     std::erase_if(p.boundary_irregular_edges, [](const auto& kv) { return kv.second == 0; });
-    p.compatible_blocks = static_cast<long>(cs.blocks.size());
-    p.hexes = an.predicted_hexes + kBlockHexes * p.compatible_blocks;
+    p.fan_blocks = fan_block_edges(cs.fan_blocks);
+    p.fan_block_caps = fan_block_caps(cs.fan_blocks);
+    p.compatible_blocks = static_cast<long>(cs.blocks.size()) + p.fan_blocks;
+    p.hexes = an.predicted_hexes + kBlockHexes * static_cast<long>(cs.blocks.size()) +
+              kFanChunkHexes * (p.fan_blocks + p.fan_block_caps);
     return p;
 }
 
@@ -242,10 +258,13 @@ int assign_vertex_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, 
             vertex_base[v] = n_points;
             n_points += c == VertexClass::LeafletInterior ? 3 : 6;
         } else if (is_fan(c)) {
-            // centre, one vertex per gap; at a fan end also O_w and one out-copy per gap
+            // centre, one vertex per gap; at a fan end also O_w and one out-copy per gap; on a fan-block chain its
+            // section (and cap section)
             const int g = expected_gaps(an, v);
             vertex_base[v] = n_points;
-            n_points += c == VertexClass::FanEdgeEnd ? 2 + 2 * g : 1 + g;
+            n_points += fan_block_at(cs, v) >= 0       ? fan_block_vertex_ids(cs.fan_blocks, v)
+                        : c == VertexClass::FanEdgeEnd ? 2 + 2 * g
+                                                       : 1 + g;
         }
     }
     return n_points;
@@ -377,7 +396,11 @@ FaceSideIds face_side_ids(const Skeleton& skeleton, const SkeletonAnalysis& an, 
                 continue;
             }
             const VertexClass vc = an.vertex_class[w];
-            if (is_fan(vc)) {
+            if (fan_block_at(cs, w) >= 0) {  // fan block: Q_a, and the section corners M next to it
+                ids.centre[f][k] = c + 1 + cs.fan_blocks.corner_axis[f][k];
+                ids.up[f][k] = c + 5 + cs.fan_blocks.corner_up[f][k];
+                ids.dn[f][k] = c + 5 + cs.fan_blocks.corner_down[f][k];
+            } else if (is_fan(vc)) {
                 ids.up[f][k] = c + 1 + gaps.gap_of[f * 8 + k * 2];
                 ids.dn[f][k] = c + 1 + gaps.gap_of[f * 8 + k * 2 + 1];
             } else if (cs.face_corner_quad[f][k] >= 0) {
@@ -401,6 +424,7 @@ struct HexSlots {
     std::vector<int> boundary_slot;                 // per edge: first half-chunk hex, or -1
     std::vector<std::array<int, 2>> boundary_side;  // per boundary edge: (face, side index) traversing it
     int block_slot0 = 0;                            // first compatible-block hex (8 per block, in block order)
+    int fan_slot0 = 0;                              // first fan-block hex (fan_chain_hexes, in chain order)
     int n_hex = 0;
 };
 
@@ -428,7 +452,10 @@ HexSlots reserve_hex_slots(const SkeletonAnalysis& an, const ConnectionSurfaces&
     s.block_slot0 = s.n_hex;
     const int blocks = static_cast<int>(cs.blocks.size());
     s.n_hex += kBlockHexes * blocks;
-    MESOHEX_CHECK(s.n_hex == an.predicted_hexes + kBlockHexes * blocks, "hex slots differ from the prediction");
+    s.fan_slot0 = s.n_hex;
+    const long fan = kFanChunkHexes * (fan_block_edges(cs.fan_blocks) + fan_block_caps(cs.fan_blocks));
+    s.n_hex += static_cast<int>(fan);
+    MESOHEX_CHECK(s.n_hex == an.predicted_hexes + kBlockHexes * blocks + fan, "hex slots differ from the prediction");
     return s;
 }
 
@@ -440,6 +467,16 @@ void write_block_hexes(const ConnectionSurfaces& cs, const HexSlots& slots, RawM
             const int h = slots.block_slot0 + kBlockHexes * b + i, base = raw.vertex_base[cs.blocks[b].vertex];
             for (int k = 0; k < 8; ++k) raw.mesh.hexes[h][k] = base + cube[i][k];
             raw.hex_edge[h] = -1;
+        }
+}
+
+// Fan blocks: the chunks and caps of every chain (fan_chain_hexes) on its vertices' section ids (no skeleton edge).
+void write_fan_block_hexes(const ConnectionSurfaces& cs, const HexSlots& slots, RawMesh& raw) {
+    int h = slots.fan_slot0;
+    for (const FanBlockChain& c : cs.fan_blocks.chains)
+        for (const std::array<std::array<int, 2>, 8>& hex : fan_chain_hexes(c)) {
+            for (int k = 0; k < 8; ++k) raw.mesh.hexes[h][k] = raw.vertex_base[c.vertices[hex[k][0]]] + hex[k][1];
+            raw.hex_edge[h++] = -1;
         }
 }
 
@@ -476,8 +513,14 @@ void write_half_chunk(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, 
     const int ub = sides.up[f][(k + 1) % 4], db = sides.dn[f][(k + 1) % 4];
     int oa = a + (bla ? 1 : 3), oua = a + (bla ? 5 : 4), oda = a + (bla ? 8 : 5);
     int ob = b + 3, oub = b + (blb ? 6 : 4), odb = b + (blb ? 7 : 5);
-    // Fan-edge end (§8.6): out = O_w, out-up / out-down = out-copies of the gaps on the face's sides.
-    if (an.vertex_class[wa] == VertexClass::FanEdgeEnd) {
+    // Fan-edge end (§8.6): out = O_w, out-up / out-down = out-copies of the gaps on the face's sides; on a fan block,
+    // the cap section's Q_a, M (fan_blocks.h).
+    if (fan_block_at(cs, wa) >= 0) {
+        const int c = raw.vertex_base[wa] + kFanSectionIds;
+        oa = c + 1 + cs.fan_blocks.corner_axis[f][k];
+        oua = c + 5 + cs.fan_blocks.corner_up[f][k];
+        oda = c + 5 + cs.fan_blocks.corner_down[f][k];
+    } else if (an.vertex_class[wa] == VertexClass::FanEdgeEnd) {
         const int g = expected_gaps(an, wa);
         oa = a + 1 + g;
         oua = a + 2 + g + gaps.gap_of[f * 8 + k * 2];
@@ -499,7 +542,12 @@ void write_half_chunk(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, 
         oub = m0 + cs.quad_edges[q][r & 3];
         odb = m0 + cs.quad_edges[q][(r + 3) & 3];
     }
-    if (an.vertex_class[wb] == VertexClass::FanEdgeEnd) {
+    if (fan_block_at(cs, wb) >= 0) {
+        const int c = raw.vertex_base[wb] + kFanSectionIds, kb = (k + 1) % 4;
+        ob = c + 1 + cs.fan_blocks.corner_axis[f][kb];
+        oub = c + 5 + cs.fan_blocks.corner_up[f][kb];
+        odb = c + 5 + cs.fan_blocks.corner_down[f][kb];
+    } else if (an.vertex_class[wb] == VertexClass::FanEdgeEnd) {
         const int kb = (k + 1) % 4, g = expected_gaps(an, wb);
         ob = b + 1 + g;
         oub = b + 2 + g + gaps.gap_of[f * 8 + kb * 2];
@@ -725,11 +773,26 @@ std::vector<double> effective_radii(const Skeleton& skeleton, const SkeletonAnal
     return radius;
 }
 
+// A fan-block chain vertex (fan_blocks.h): its section (and cap section) with half size h = min(r, half its shortest
+// incident edge), so that the leaflet corners Q_a = v + h a stay inside every incident edge.
+void place_fan_block_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                            double r, int v, RawMesh& raw) {
+    double h = r;
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const std::array<int, 2>& ed = skeleton.edges[an.vertex_edges[i]];
+        h = std::min(h, 0.5 * distance(skeleton.points[ed[0]], skeleton.points[ed[1]]));
+    }
+    const FanBlockChain& c = cs.fan_blocks.chains[fan_block_at(cs, v)];
+    std::vector<Vec3> pts;
+    fan_section_points(c, cs.fan_blocks.vertex_index[v], skeleton.points[v], h, pts);
+    for (std::size_t x = 0; x < pts.size(); ++x) raw.mesh.points[raw.vertex_base[v] + static_cast<int>(x)] = pts[x];
+}
+
 // Fan-edge vertices (reference-notes §10): gap vertex = w + r unit(sum of the normals of the faces around the
 // gap, each flipped into the gap), the bisector; at a fan end also O_w = w + r e and gap out-copies = gap + r e,
 // e = unit vector along the fan edge pointing away from it. Serial in face order: deterministic.
-void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const FanGaps& gaps,
-                        const std::vector<double>& radius, RawMesh& raw) {
+void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                        const FanGaps& gaps, const std::vector<double>& radius, RawMesh& raw) {
     if (an.counts.fan_edges == 0) return;
     const int nv = static_cast<int>(skeleton.points.size());
     const int nf = static_cast<int>(an.face_vertices.size());
@@ -737,7 +800,7 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k) {
             const int w = an.face_vertices[f][k];
-            if (!is_fan(an.vertex_class[w])) continue;
+            if (!is_fan(an.vertex_class[w]) || fan_block_at(cs, w) >= 0) continue;
             for (int side = 0; side < 2; ++side)
                 gap_sum[raw.vertex_base[w] + 1 + gaps.gap_of[f * 8 + k * 2 + side]] +=
                     gaps.gap_dir[f * 8 + k * 2 + side];
@@ -745,6 +808,10 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
     for (int v = 0; v < nv; ++v) {
         const VertexClass vc = an.vertex_class[v];
         if (!is_fan(vc)) continue;
+        if (fan_block_at(cs, v) >= 0) {
+            place_fan_block_vertex(skeleton, an, cs, radius[v], v, raw);
+            continue;
+        }
         const int base = raw.vertex_base[v], g = expected_gaps(an, v);
         const Vec3& c = skeleton.points[v];
         const double r = radius[v];
@@ -855,8 +922,9 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     const RootedPatches rooted = rooted_patch_ids(skeleton, an, sides, slots, raw);
     write_branch_chunks(skeleton, cs, frames, slots, rooted, raw);
     write_block_hexes(cs, slots, raw);
+    write_fan_block_hexes(cs, slots, raw);
     const std::vector<double> radius = effective_radii(skeleton, an, cs, frames, options);
-    place_fan_vertices(skeleton, an, gaps, radius, raw);
+    place_fan_vertices(skeleton, an, cs, gaps, radius, raw);
     place_vertices(skeleton, an, cs, frames, options, radius, raw);
     return raw;
 }

@@ -42,8 +42,12 @@ struct RawMeshPrediction {
     // (to up and down) of valence (faces around it) + 2 at a boundary vertex, when that is not 4. A branch rooted on a
     // leaflet (LeafletPatch, BorderPatch) adds its first chunk's hex to each of its patch's 8 outer edges.
     std::map<int, long> boundary_irregular_edges;
-    // Compatible blocks (ConnectionSurfaces::blocks): 8 hexes and 27 vertices each, included in hexes / vertices.
+    // Compatible blocks: the 8-hex blocks (ConnectionSurfaces::blocks: 8 hexes and 27 vertices each) plus the fan edges
+    // with a fan block (ConnectionSurfaces::fan_blocks: 4 hexes per fan edge and per open chain end, fan_block_caps;
+    // 9 vertices per chain vertex, 18 at an open end), included in hexes / vertices.
     long compatible_blocks = 0;
+    long fan_blocks = 0;      // fan edges with a fan block (counted in compatible_blocks)
+    long fan_block_caps = 0;  // open fan-block chain ends (a cap of 4 hexes each)
     friend bool operator==(const RawMeshPrediction&, const RawMeshPrediction&) = default;
 };
 

@@ -1,0 +1,104 @@
+#pragma once
+// Fan blocks (paper §4 remark; ../shared/design/beyond-the-paper.md section D2): along a chain of fan edges of degree
+// 3 or 4 whose leaflets meet at near 90 / 180 degrees (a T or an X), a square 2 x 2 section at every chain vertex and
+// a chunk of 4 hexes per fan edge replace the paper's gap vertices; each open chain end gets a cap chunk of 4 hexes.
+// Each leaflet stands on the block's side face of its axis: its corner at a chain vertex v moves to Q_a(v) = v + h a,
+// its up / down copies are the section corners next to it. The paper's layout has one valence-2g interior edge per fan
+// edge and per chain end; the block has no interior irregular edge.
+//
+// Section at chain vertex v with frame (t, u, w) (t along the chain, u and w = t x u the block axes), axes
+// A_k = cos(k pi / 2) u + sin(k pi / 2) w (k = 0..3: +u, +w, -u, -w, counter-clockwise about t), half size h:
+// id 0 = C (v), 1 + k = Q_k (v + h A_k), 5 + k = M_k (v + h (A_k + A_k+1)). A chain end has a second section (ids
+// 9..17) at v + h e, e = the chain's outward direction there. The chunk of a fan edge (and a cap) between section S
+// (start, lower along t) and S' is, for k = 0..3, [S(C) S(Q_k) S(M_k) S(Q_k+1) | S'(C) S'(Q_k) S'(M_k) S'(Q_k+1)].
+//
+// Acceptance by measured angles only (fit_square_frame, the 2D version of compatible_blocks' fit_cube_frame): per fan
+// edge, the directions of its faces perpendicular to the edge get distinct signed axes of a frame fitted to them,
+// every direction within axis_tolerance of its axis and every pair angle within pair_tolerance of the angle of its two
+// axes (90 or 180 degrees). A 120-degree Y fan is never accepted: 3 distinct labels among 4 signed axes in a plane
+// always contain an opposite pair, which needs >= 155 degrees (the tolerance 25 included), and a Y has no pair above
+// 120 + 2 x jitter. Along the chain: every fan edge passes (frame carried over from the previous edge, so the labels
+// follow the chain), each leaflet keeps its label (the two faces of a leaflet at an interior chain vertex carry the same
+// label, also across the closing vertex of a closed chain), the chain's inner vertices have no branch and only the 2g
+// faces of its fan edges, its ends are fan-edge ends (g faces, g border edges, no branch) or the chain is closed, and
+// no edge is docked (docked_walls.h).
+#include <array>
+#include <map>
+#include <vector>
+
+#include "mesohex/core/skeleton.h"
+#include "mesohex/core/vec.h"
+
+namespace mesohex {
+
+struct SkeletonAnalysis;
+struct CompatibleBlockOptions;
+
+// The 2D frame fitted to directions perpendicular to a line t.
+struct SquareFit {
+    bool accepted = false;
+    Vec3 u{};                   // the fitted first axis (unit, perpendicular to t); the second is cross(t, u)
+    std::vector<int> labels;    // per direction: k = 0..3 (+u, +w, -u, -w)
+    double max_axis_angle = 0;  // radians
+    double max_pair_error = 0;  // radians
+};
+
+// Directions are projected onto the plane perpendicular to unit t and normalised. The frame is seeded with `seed`
+// (projected; the first direction when seed is zero or parallel to t), then 3 rounds of: label every direction with
+// the nearest signed axis, refit the frame's angle (closed form: the angle maximising sum d_i . A_{l_i}). Accepted iff
+// the labels are distinct and both tolerances (options.axis_tolerance_deg, pair_tolerance_deg) hold. Fewer than 2
+// directions, zero or non-finite ones are rejected (never throws). Deterministic. O(n).
+SquareFit fit_square_frame(const Vec3& t, const std::vector<Vec3>& directions, const Vec3& seed,
+                           const CompatibleBlockOptions& options);
+
+inline constexpr int kFanSectionIds = 9;  // ids per section: C, Q_0..Q_3, M_0..M_3
+inline constexpr int kFanChunkHexes = 4;  // hexes per fan edge and per cap
+
+// One fan chain with a block.
+struct FanBlockChain {
+    std::vector<int> vertices;  // in chain order; a closed chain does not repeat its first vertex
+    std::vector<int> edges;     // edges[i] joins vertices[i] and vertices[(i + 1) % n]
+    bool closed = false;
+    std::vector<Vec3> tangent;   // per vertex: t (unit, along the chain order)
+    std::vector<Vec3> axis_u;    // per vertex: u (unit, perpendicular to t); the second axis is cross(t, u)
+    int degree = 0;              // faces around each fan edge (3 or 4)
+    std::vector<char> labelled;  // per axis k = 0..3: a leaflet stands on it (else that side stays boundary)
+    friend bool operator==(const FanBlockChain&, const FanBlockChain&) = default;
+};
+
+struct FanBlocks {
+    std::vector<FanBlockChain> chains;
+    // Per skeleton vertex: its chain and position there, or -1 (empty vectors when there is no chain).
+    std::vector<int> vertex_chain, vertex_index;
+    // Per face and corner at a chain vertex: the axis k of the face's leaflet there and the section corners M of its up
+    // and down side (k or k - 1 mod 4: the one on the side of the face normal is up); -1 elsewhere.
+    std::vector<std::array<int, 4>> corner_axis, corner_up, corner_down;
+    friend bool operator==(const FanBlocks&, const FanBlocks&) = default;
+};
+
+// The chains of the skeleton that get a block (none when options.enabled is false), in order of their smallest fan
+// edge; an open chain runs from its end with the smaller vertex id. Deterministic. O(V + E + F).
+FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
+                          const CompatibleBlockOptions& options);
+
+// Fan edges and caps with a block (their hex count is 4 x (edges + caps)).
+long fan_block_edges(const FanBlocks& blocks);
+long fan_block_caps(const FanBlocks& blocks);
+
+// Raw-mesh ids at a chain vertex: 9 (18 at an open end).
+int fan_block_vertex_ids(const FanBlocks& blocks, int v);
+
+// The chunk hexes of a chain (4 per edge in edge order, then 4 for the cap at vertices.front() and 4 for the one at
+// vertices.back() of an open chain) as section ids: for each hex 8 pairs (chain position, section id 0..17).
+std::vector<std::array<std::array<int, 2>, 8>> fan_chain_hexes(const FanBlockChain& chain);
+
+// Positions of the ids of chain vertex position i (9 or 18) with half size h, centre c.
+void fan_section_points(const FanBlockChain& chain, int i, const Vec3& c, double h, std::vector<Vec3>& out);
+
+// Boundary edges of valence != 2 that the chain's chunks and caps add (the chain has no interior irregular edge):
+// per fan edge and per cap, the longitudinal edge through M_k has 1 block hex plus one plate (half-chunk) per labelled
+// neighbouring axis: valence 3 between two labelled axes, 1 between two free ones; on a cap's end face, the two rim
+// edges at a free axis' Q_k have 1 hex.
+void add_fan_block_irregular_edges(const FanBlockChain& chain, std::map<int, long>& boundary_irregular_edges);
+
+}  // namespace mesohex
