@@ -1,0 +1,259 @@
+// Fan blocks (issue 22 item 3, second half; ../shared/design/beyond-the-paper.md D2): the 2D acceptance by measured
+// angles, and raw meshes of T and X fans with and without blocks: exact hex / vertex / irregular-edge counts derived by
+// hand, validity, Euler characteristic, no inverted hex, fewer interior irregular edges than the paper's layout; Y
+// fans and wider stars never get a block.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "mesohex/core/validate.h"
+#include "mesohex/post/quality.h"
+#include "mesohex/stages/fan_blocks.h"
+#include "mesohex/stages/generators.h"
+#include "mesohex/stages/raw_mesh.h"
+
+using namespace mesohex;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180;
+
+struct RawRun {
+    RawMeshPrediction predicted;
+    QualityReport quality;
+    long fan_chains = 0;
+    bool valid = false;
+};
+
+RawRun mesh_raw(const Skeleton& s, bool blocks) {
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ConnectionSurfaceOptions o;
+    o.blocks.enabled = blocks;
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, o);
+    RawRun r;
+    r.predicted = predict_raw_mesh(s, an, cs);
+    r.fan_chains = static_cast<long>(cs.fan_blocks.chains.size());
+    const RawMesh raw = build_raw_mesh(s, an, cs, propagate_frames(s, an, cs));
+    r.quality = compute_quality(raw.mesh);
+    r.valid = validate(raw.mesh).valid();
+    EXPECT_EQ(r.quality.hexes, r.predicted.hexes);
+    EXPECT_EQ(r.quality.vertices, r.predicted.vertices);
+    EXPECT_EQ(r.quality.singular_interior_edges, r.predicted.interior_irregular_edges);
+    EXPECT_EQ(r.quality.singular_boundary_edges, r.predicted.boundary_irregular_edges);
+    return r;
+}
+
+long total(const std::map<int, long>& m) {
+    long n = 0;
+    for (const auto& [k, c] : m) n += c;
+    return n;
+}
+
+// A random rotation (three Euler angles), as its three columns.
+std::array<Vec3, 3> random_rotation(std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(0, 2 * kPi);
+    const double a = u(rng), b = u(rng), c = u(rng);
+    auto rz = [](double t, const Vec3& p) {
+        return Vec3{std::cos(t) * p.x - std::sin(t) * p.y, std::sin(t) * p.x + std::cos(t) * p.y, p.z};
+    };
+    auto rx = [](double t, const Vec3& p) {
+        return Vec3{p.x, std::cos(t) * p.y - std::sin(t) * p.z, std::sin(t) * p.y + std::cos(t) * p.z};
+    };
+    std::array<Vec3, 3> f{Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
+    for (Vec3& e : f) e = rz(c, rx(b, rz(a, e)));
+    return f;
+}
+
+Vec3 apply(const std::array<Vec3, 3>& f, const Vec3& p) { return p.x * f[0] + p.y * f[1] + p.z * f[2]; }
+
+// Strips of m x 1 quads (edge 1, radius 0.3) on a fan line of n edges along z, strip k leaving at angle angles[k] about
+// z (plus twist[j] at line vertex j when given); the whole skeleton rotated by f.
+Skeleton fan(const std::vector<double>& angles, int n, int m, const std::array<Vec3, 3>& f,
+             const std::vector<double>& twist = {}) {
+    Skeleton s;
+    auto add = [&](const Vec3& p) {
+        s.points.push_back(apply(f, p));
+        s.radii.push_back(0.3);
+        return static_cast<int>(s.points.size()) - 1;
+    };
+    std::vector<int> line;
+    for (int j = 0; j <= n; ++j) line.push_back(add({0, 0, static_cast<double>(j)}));
+    for (int j = 0; j < n; ++j) s.edges.push_back({line[j], line[j + 1]});
+    for (const double a : angles) {
+        std::vector<std::vector<int>> id(m + 1, std::vector<int>(n + 1));
+        for (int j = 0; j <= n; ++j) id[0][j] = line[j];
+        for (int i = 1; i <= m; ++i)
+            for (int j = 0; j <= n; ++j) {
+                const double b = a + (twist.empty() ? 0.0 : twist[j]);
+                id[i][j] = add({i * std::cos(b), i * std::sin(b), static_cast<double>(j)});
+            }
+        for (int i = 1; i <= m; ++i)
+            for (int j = 0; j <= n; ++j) {
+                s.edges.push_back({id[i - 1][j], id[i][j]});
+                if (j < n) s.edges.push_back({id[i][j], id[i][j + 1]});
+            }
+        for (int i = 0; i < m; ++i)
+            for (int j = 0; j < n; ++j) s.faces.push_back({id[i][j], id[i + 1][j], id[i + 1][j + 1], id[i][j + 1]});
+    }
+    return s;
+}
+
+const std::array<Vec3, 3> kIdentity{Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
+
+long chains_found(const Skeleton& s) {
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    return static_cast<long>(find_fan_blocks(s, an, CompatibleBlockOptions{}).chains.size());
+}
+
+}  // namespace
+
+TEST(FanBlocks, SquareFitAcceptsTAndXRejectsY) {
+    const Vec3 t{0, 0, 1};
+    CompatibleBlockOptions o;
+    auto dirs = [](const std::vector<double>& angles, double turn) {
+        std::vector<Vec3> d;
+        for (const double a : angles) d.push_back({std::cos(a + turn), std::sin(a + turn), 0.3});  // off-plane: ignored
+        return d;
+    };
+    const SquareFit T = fit_square_frame(t, dirs({0, 0.5 * kPi, kPi}, 0.4), {}, o);
+    ASSERT_TRUE(T.accepted);
+    EXPECT_NEAR(T.max_axis_angle, 0, 1e-9);
+    EXPECT_NEAR(T.max_pair_error, 0, 1e-9);
+    EXPECT_EQ((T.labels[2] - T.labels[0]) & 3, 2);  // the straight plate: opposite axes
+    EXPECT_TRUE(fit_square_frame(t, dirs({0, 0.5 * kPi, kPi, 1.5 * kPi}, 1.0), {}, o).accepted);
+    EXPECT_FALSE(fit_square_frame(t, dirs({0, 2 * kPi / 3, 4 * kPi / 3}, 0.2), {}, o).accepted);     // Y
+    EXPECT_FALSE(fit_square_frame(t, dirs({0, 0.25 * kPi, kPi + 0.125 * kPi}, 0), {}, o).accepted);  // vfan 45
+    // The seed decides the labels' rotation: seeded with -u, the T's first strip gets axis 2.
+    const SquareFit seeded = fit_square_frame(t, dirs({0, 0.5 * kPi, kPi}, 0), {-1, 0, 0}, o);
+    ASSERT_TRUE(seeded.accepted);
+    EXPECT_EQ(seeded.labels[0], 2);
+    EXPECT_FALSE(fit_square_frame(t, {Vec3{0, 0, 1}, Vec3{1, 0, 0}}, {}, o).accepted);  // along t: rejected
+    // Jitter: every direction within 10 degrees of a T / X is accepted; a Y with 15 degrees per direction never is
+    // (3 distinct labels contain an opposite pair, which needs >= 155 degrees; the Y's pairs are <= 150).
+    std::mt19937 rng(22);
+    std::uniform_real_distribution<double> u(-1, 1), turn(0, 2 * kPi);
+    auto jittered = [&](const std::vector<double>& angles, double max) {
+        std::vector<double> a;
+        for (const double x : angles) a.push_back(x + max * u(rng));
+        return dirs(a, turn(rng));
+    };
+    for (int trial = 0; trial < 1000; ++trial) {
+        EXPECT_TRUE(fit_square_frame(t, jittered({0, 0.5 * kPi, kPi}, 10 * kDeg), {}, o).accepted);
+        EXPECT_TRUE(fit_square_frame(t, jittered({0, 0.5 * kPi, kPi, 1.5 * kPi}, 10 * kDeg), {}, o).accepted);
+        EXPECT_FALSE(fit_square_frame(t, jittered({0, 2 * kPi / 3, 4 * kPi / 3}, 15 * kDeg), {}, o).accepted);
+    }
+}
+
+// T (g = 3) and X (g = 4) fans of strips of m x n quads on a fan line of n edges, by hand:
+//   faces g n m, border edges g (n + 2 m): hexes 2 g n m + 2 g (n + 2 m) (paper), + 4 n + 4 x 2 caps (block);
+//   leaflet vertices per strip (n + 1) m, (n - 1)(m - 1) of them inside (3 ids), the others on the border (6 ids);
+//   fan line: paper 1 + g ids inside, 2 + 2 g at the ends; block 9 inside, 18 at the ends;
+//   interior irregular: the strips' 2 outer corners have 2 valence-3 edges each (both layouts); the paper's fan edges
+//   and end extension edges valence 2 g (n + 2 of them), the block none;
+//   boundary valence 1: 2 per border edge; the block adds per row (n fan edges + 2 caps) a valence-3 crease between
+//   two labelled axes (T: 2, X: 4) and, for the T's free axis, 2 valence-1 rim edges on each cap.
+TEST(FanBlocks, TAndXFansWithAndWithoutBlocksByHand) {
+    for (const int g : {3, 4})
+        for (const auto& [n, m] : {std::pair{2, 2}, std::pair{3, 1}, std::pair{1, 2}}) {
+            SCOPED_TRACE(testing::Message() << "g " << g << " n " << n << " m " << m);
+            const std::vector<double> angles =
+                g == 3 ? std::vector<double>{0, 0.5 * kPi, kPi} : std::vector<double>{0, 0.5 * kPi, kPi, 1.5 * kPi};
+            const Skeleton s = fan(angles, n, m, kIdentity);
+            const RawRun paper = mesh_raw(s, false), block = mesh_raw(s, true);
+            EXPECT_EQ(paper.fan_chains, 0);
+            EXPECT_EQ(block.fan_chains, 1);
+            EXPECT_EQ(block.predicted.compatible_blocks, n);
+            EXPECT_EQ(block.predicted.fan_blocks, n);
+            EXPECT_EQ(block.predicted.fan_block_caps, 2);
+            const long hexes = 2L * g * n * m + 2L * g * (n + 2 * m);
+            EXPECT_EQ(paper.quality.hexes, hexes);
+            EXPECT_EQ(block.quality.hexes, hexes + 4L * n + 8);
+            const long inside = (n - 1L) * (m - 1L), leaflet = g * (3 * inside + 6 * ((n + 1L) * m - inside));
+            EXPECT_EQ(paper.quality.vertices, leaflet + (n - 1L) * (1 + g) + 2 * (2 + 2 * g));
+            EXPECT_EQ(block.quality.vertices, leaflet + 9 * (n - 1L) + 36);
+            EXPECT_EQ(paper.quality.singular_interior_edges, (std::map<int, long>{{3, 4L * g}, {2 * g, n + 2L}}));
+            EXPECT_EQ(block.quality.singular_interior_edges, (std::map<int, long>{{3, 4L * g}}));
+            EXPECT_LT(total(block.quality.singular_interior_edges), total(paper.quality.singular_interior_edges));
+            const long border = 2L * g * (n + 2 * m);
+            EXPECT_EQ(paper.quality.singular_boundary_edges, (std::map<int, long>{{1, border}}));
+            EXPECT_EQ(block.quality.singular_boundary_edges,
+                      g == 3 ? (std::map<int, long>{{1, border + 4}, {3, 2 * (n + 2L)}})
+                             : (std::map<int, long>{{1, border}, {3, 4 * (n + 2L)}}));
+            for (const RawRun* r : {&paper, &block}) {
+                EXPECT_TRUE(r->valid);
+                EXPECT_EQ(r->quality.euler_characteristic, 1);
+                EXPECT_EQ(r->quality.inverted, 0);
+            }
+            // Every block hex is a cuboid; the worst raw hex is then a strip's outer corner half-chunk, whose out
+            // column leaves along the corner's diagonal: sin 45 degrees (tolerance 1e-6).
+            EXPECT_NEAR(block.quality.sj_min, std::sqrt(0.5), 1e-6);
+            EXPECT_GT(block.quality.sj_avg, paper.quality.sj_avg);
+        }
+}
+
+TEST(FanBlocks, RotatedJitteredTAndXAcceptedYAndStarsNever) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1, 1);
+    auto jittered = [&](const std::vector<double>& angles, double max) {
+        std::vector<double> a;
+        for (const double x : angles) a.push_back(x + max * u(rng));
+        return a;
+    };
+    for (int trial = 0; trial < 100; ++trial) {
+        const std::array<Vec3, 3> f = random_rotation(rng);
+        EXPECT_EQ(chains_found(fan(jittered({0, 0.5 * kPi, kPi}, 10 * kDeg), 2, 1, f)), 1);
+        EXPECT_EQ(chains_found(fan(jittered({0, 0.5 * kPi, kPi, 1.5 * kPi}, 10 * kDeg), 2, 1, f)), 1);
+        EXPECT_EQ(chains_found(fan(jittered({0, 2 * kPi / 3, 4 * kPi / 3}, 15 * kDeg), 2, 1, f)), 0);  // Y
+        EXPECT_EQ(chains_found(fan(jittered({0, 0.4 * kPi, 0.8 * kPi, 1.2 * kPi, 1.6 * kPi}, 5 * kDeg), 2, 1, f)), 0);
+        EXPECT_EQ(
+            chains_found(fan(jittered({0, kPi / 3, 2 * kPi / 3, kPi, 4 * kPi / 3, 5 * kPi / 3}, 5 * kDeg), 2, 1, f)),
+            0);
+        // An X squashed to 60 / 120 degrees between neighbours.
+        EXPECT_EQ(chains_found(fan(jittered({0, kPi / 3, kPi, 4 * kPi / 3}, 5 * kDeg), 2, 1, f)), 0);
+    }
+    // The generated Y-star, tetrahedral star and the 45-degree vfan: no fan block.
+    for (const char* name : {"ystar", "tetrastar", "vfan"}) EXPECT_EQ(chains_found(generate_skeleton(name)), 0) << name;
+}
+
+// A closed degree-4 fan line (torustwist): accepted when the X comes back to itself with the same labels (0 or 4
+// quarter turns: every leaflet keeps its axis), refused at 1, 2, 3 quarter turns (the labels arrive rotated). The
+// closed chain has n fan edges and no cap: 4 n hexes more, no valence-8 interior edge.
+TEST(FanBlocks, ClosedChainsKeepTheirLabels) {
+    for (const int q : {0, 1, 2, 3, 4}) {
+        SCOPED_TRACE(q);
+        GeneratorOptions o;
+        o.quarter_turns = q;
+        o.n = 16;
+        const Skeleton s = generate_skeleton("torustwist", o);
+        const bool accepted = q % 4 == 0;
+        EXPECT_EQ(chains_found(s), accepted ? 1 : 0);
+        if (!accepted) continue;
+        const RawRun paper = mesh_raw(s, false), block = mesh_raw(s, true);
+        EXPECT_EQ(block.predicted.fan_block_caps, 0);
+        EXPECT_EQ(block.quality.hexes, paper.quality.hexes + 4 * 16);
+        EXPECT_EQ(paper.quality.singular_interior_edges.at(8), 16);
+        EXPECT_EQ(block.quality.singular_interior_edges.count(8), 0u);
+        EXPECT_TRUE(block.valid);
+        EXPECT_EQ(block.quality.euler_characteristic, paper.quality.euler_characteristic);
+        EXPECT_EQ(block.quality.inverted, 0);
+    }
+}
+
+// Chain conditions: a fan line whose T turns by 90 degrees from one fan edge to the next (each fan edge alone an exact
+// T, but every leaflet changes its axis) gets no block; the same T turning by 20 degrees does.
+TEST(FanBlocks, ConditionsAlongTheChain) {
+    // Strip vertices at angle a, a + 45, a + 135 degrees (j = 0, 1, 2): face directions a + 22.5 and a + 90.
+    EXPECT_EQ(chains_found(fan({0, 0.5 * kPi, kPi}, 2, 1, kIdentity, {0, 0.25 * kPi, 0.75 * kPi})), 0);
+    EXPECT_EQ(chains_found(fan({0, 0.5 * kPi, kPi}, 2, 1, kIdentity, {0, 10 * kDeg, 30 * kDeg})), 1);
+    EXPECT_EQ(chains_found(fan({0, 0.5 * kPi, kPi}, 2, 1, kIdentity)), 1);
+    // --no-blocks: nothing.
+    const Skeleton t = fan({0, 0.5 * kPi, kPi}, 2, 1, kIdentity);
+    CompatibleBlockOptions off;
+    off.enabled = false;
+    EXPECT_TRUE(find_fan_blocks(t, analyze_skeleton(t), off).chains.empty());
+}
