@@ -148,6 +148,11 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "No 8-hex compatible block at branching points whose branches are near a cube's face "
         "normals: the paper's layout (a quad partition of the sphere) everywhere");
     cmd->add_flag_callback(
+        "--fan-blocks", [job] { job->options.pipeline.connection_surfaces.blocks.fan_blocks = true; },
+        "4-hex fan blocks along T and X fan-edge chains whose leaflets meet near 90 / 180 degrees (no valence-6 or "
+        "-8 edge on the fan line; off by default: the finished meshes measured no better, docs/blocks.md); "
+        "--no-blocks wins");
+    cmd->add_flag_callback(
         "--no-pad", [job] { job->options.finishing.pad = false; }, "Skip the padding layer");
     cmd->add_flag_callback(
         "--no-fit",

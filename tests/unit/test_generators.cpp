@@ -124,6 +124,8 @@ struct Expected {
 //    edges, 24 faces; boundary 2(3 + 8).
 //  wireplate 5x3 (arch of 2(n - 2) = 6 edges between two plate vertices, corner wire 3 edges): 24 + 5 + 3 = 32 points,
 //    5 x 4 + 6 x 3 + 6 + 3 = 47 edges, 15 faces; boundary 2(5 + 3); the arch closes a loop: Euler 0.
+//  fanblock (T: 3 strips of 2 x m quads, m = 3), yfan (the same with 3 strips): m + 1 + 3 x 2(m + 1) = 28 points,
+//    m + 3 (2(m + 1) + 2m) = 45 edges, 3 x 2m = 18 faces; boundary 3 (m + 2 x 2) = 21; m = 3 fan edges of degree 3.
 const std::vector<Expected>& expected() {
     static const std::vector<Expected> table{
         {"plate", 16, 24, 9, 1, 1, 0, 12, 0, 0},          {"box", 26, 48, 24, 2, 1, 0, 0, 0, 0},
@@ -138,6 +140,7 @@ const std::vector<Expected>& expected() {
         {"walledge", 55, 94, 40, 1, 2, 0, 30, 2, 3},      {"pan", 43, 67, 24, 0, 1, 9, 20, 0, 0},
         {"fold", 28, 45, 18, 1, 1, 0, 18, 0, 0},          {"vfan", 21, 32, 12, 1, 3, 0, 18, 2, 3},
         {"airplane", 42, 65, 24, 1, 1, 6, 22, 0, 0},      {"wireplate", 32, 47, 15, 0, 1, 9, 16, 0, 0},
+        {"fanblock", 28, 45, 18, 1, 3, 0, 21, 3, 3},      {"yfan", 28, 45, 18, 1, 3, 0, 21, 3, 3},
     };
     return table;
 }

@@ -282,7 +282,7 @@ SquareFit fit_square_frame(const Vec3& t_in, const std::vector<Vec3>& directions
 
 FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& an, const CompatibleBlockOptions& options) {
     FanBlocks fb;
-    if (!options.enabled || an.counts.fan_edges == 0) return fb;
+    if (!options.enabled || !options.fan_blocks || an.counts.fan_edges == 0) return fb;
     const int nv = static_cast<int>(an.vertex_class.size()), ne = static_cast<int>(an.edge_degree.size());
     const int nf = static_cast<int>(an.face_vertices.size());
     std::vector<char> taken(ne, 0);

@@ -76,8 +76,9 @@ struct FanBlocks {
     friend bool operator==(const FanBlocks&, const FanBlocks&) = default;
 };
 
-// The chains of the skeleton that get a block (none when options.enabled is false), in order of their smallest fan
-// edge; an open chain runs from its end with the smaller vertex id. Deterministic. O(V + E + F).
+// The chains of the skeleton that get a block (none unless options.enabled and options.fan_blocks): first the open
+// chains, each from its end with the smaller vertex id, in the order of those ends, then the closed chains in the
+// order of their smallest fan edge, each from that edge's first vertex. Deterministic. O(V + E + F).
 FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                           const CompatibleBlockOptions& options);
 

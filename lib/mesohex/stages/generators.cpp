@@ -217,6 +217,43 @@ Skeleton make_fan(const Params& p, const std::vector<double>& angles) {
     return s;
 }
 
+// Fan-block test shapes (fan_blocks.h): strips of 2 quads on a straight fan line of m edges along z, strip k leaving
+// at angles[k] + offset[k] about z and turning by twist[k] radians per fan-line vertex (its quads slightly warped).
+Skeleton make_turned_fan(const Params& p, const std::vector<double>& angles, const std::vector<double>& offset,
+                         const std::vector<double>& twist) {
+    Skeleton s;
+    std::vector<int> fan;
+    for (int j = 0; j <= p.m; ++j) fan.push_back(add_point(s, {0, 0, (j - 0.5 * p.m) * p.L}, p.r));
+    for (std::size_t k = 0; k < angles.size(); ++k) {
+        Lattice lat(2, p.m);
+        for (int j = 0; j <= p.m; ++j) lat.at(0, j) = fan[static_cast<std::size_t>(j)];
+        fill_lattice(
+            s, lat,
+            [&](int i, int j) {
+                const double a = angles[k] + offset[k] + twist[k] * j;
+                return s.points[fan[static_cast<std::size_t>(j)]] + i * p.L * Vec3{std::cos(a), std::sin(a), 0};
+            },
+            p.r);
+        add_lattice_quads(s, lat);
+    }
+    return s;
+}
+
+// T (n = 3) or X (n = 4) whose strips are off the right angles by 4 to 9 degrees and turn by up to 3 degrees per
+// fan-line vertex (m fan edges): accepted by the fan-block test everywhere.
+Skeleton make_fan_block(const Params& p) {
+    if (p.n > 4) throw Error(ErrorCode::InvalidInput, "generate fanblock: n (strips) must be 3 or 4");
+    const std::vector<double> angles =
+        p.n == 3 ? std::vector<double>{0.0, 0.5 * kPi, kPi} : std::vector<double>{0.0, 0.5 * kPi, kPi, 1.5 * kPi};
+    const double deg = kPi / 180;
+    return make_turned_fan(p, angles, {7 * deg, -4 * deg, 9 * deg, -6 * deg}, {3 * deg, 2 * deg, 3 * deg, 1 * deg});
+}
+
+// Y: three strips 120 degrees apart (never a fan block: 3 distinct axes contain an opposite pair).
+Skeleton make_y_fan(const Params& p) {
+    return make_turned_fan(p, {0.0, 2 * kPi / 3, 4 * kPi / 3}, {0, 0, 0}, {0, 0, 0});
+}
+
 // A T (n = 3) or X (n = 4) fan (2 x 2-quad strips on a fan edge of 2 edges, as tfan / xfan) with a 3-edge branch on
 // the fan's upper end w = (0, 0, L): continuing the fan line (+z, m = 1) or perpendicular to it (m = 2), horizontal,
 // into the middle of the widest gap between strips (T: -y; X: 45 degrees, between the +x and +y strips). Branch
@@ -893,6 +930,23 @@ struct Shape {
     std::function<Skeleton(const Params&)> make;
 };
 
+// The fan-block shapes (issue 22 item 3, design note D2), after the thin sheets.
+std::vector<Shape> fan_block_shapes() {
+    return {
+        {"fanblock",
+         {3, 3},
+         {3, 1},
+         "T (n = 3, default) or X (n = 4) of 2-quad strips on a fan line of m edges (default 3), each strip 4 to 9 "
+         "degrees off the right angles and turning by up to 3 degrees per fan edge (a fan block with --fan-blocks)",
+         make_fan_block},
+        {"yfan",
+         {3, 3},
+         {1, 1},
+         "Y: three 2-quad strips 120 degrees apart on a fan line of m edges (default 3; never a fan block); n unused",
+         make_y_fan},
+    };
+}
+
 // The thin-sheet shapes (issue 16 item 3), last in the table.
 std::vector<Shape> thin_sheet_shapes() {
     return {
@@ -1052,6 +1106,7 @@ const std::vector<Shape>& shapes() {
              make_pan},
         };
         for (Shape& shape : thin_sheet_shapes()) t.push_back(std::move(shape));
+        for (Shape& shape : fan_block_shapes()) t.push_back(std::move(shape));
         return t;
     }();
     return table;
