@@ -80,7 +80,9 @@ struct RawMeshOptions {
 
 // Preconditions: skeleton.radii has one finite radius > 0 per vertex (Error(InvalidInput) naming the vertex
 // otherwise); analysis, surfaces and frames computed from this skeleton.
-// Postconditions: mesh.hexes.size() == analysis.predicted_hexes + 8 x surfaces.blocks.size() (== predict_raw_mesh().hexes),
+// Postconditions: mesh.hexes.size() == analysis.predicted_hexes + 8 x surfaces.blocks.size() + 4 x (fan-block edges +
+// open fan-block chain ends) (== predict_raw_mesh().hexes); the fan blocks' hexes after the 8-hex blocks (hex_edge -1),
+// a fan-block chain vertex's ids its section (fan_blocks.h),
 // mesh.points.size() == predict_raw_mesh().vertices; a compatible block's 8 hexes come last (hex_edge -1), its 27
 // vertices K(i, j, k) = c + h (i F_x + j F_y + k F_z), h = min(r_c, half its shortest edge), are the vertex's ids;
 // every hex in VTK order; positions: C_v at the skeleton vertex, Q_v(x) = c + r_v * d_x, M_v(x, y) =
