@@ -132,6 +132,7 @@ nlohmann::json predicted_json(const RawMeshPrediction& p) {
     return {{"hexes", p.hexes},
             {"vertices", p.vertices},
             {"compatible_blocks", p.compatible_blocks},
+            {"fan_blocks", {{"edges", p.fan_blocks}, {"caps", p.fan_block_caps}}},
             {"irregular_edges",
              {{"interior", valence_histogram_json(p.interior_irregular_edges)},
               {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};
