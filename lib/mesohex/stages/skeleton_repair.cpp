@@ -8,6 +8,9 @@
 #include <utility>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace mesohex {
 namespace {
 
@@ -479,6 +482,9 @@ std::vector<int> rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResul
     const int total = static_cast<int>(s.points.size());
     std::vector<int> id(total, -1);
     Skeleton out;
+    out.points.reserve(s.points.size());
+    out.radii.reserve(s.radii.size());
+    out.edges.reserve(s.edges.size() + ed.new_edges.size());
     for (int v = 0; v < total; ++v) {
         if (v < n && ed.drop_vertex[v]) continue;
         id[v] = static_cast<int>(out.points.size());
@@ -499,7 +505,14 @@ std::vector<int> rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResul
 
 // Vertices whose surroundings a repair changed, by their new ids: new vertices, moved ones (position or radius),
 // and both ends of every dropped, re-attached or new edge.
-std::vector<bool> touched_vertices(const Skeleton& before, const Skeleton& edited, const Edit& ed,
+// The parts of a skeleton a repair edits in place (faces are only renumbered).
+struct Geometry {
+    std::vector<Vec3> points;
+    std::vector<double> radii;
+    std::vector<std::array<int, 2>> edges;
+};
+
+std::vector<bool> touched_vertices(const Geometry& before, const Geometry& edited, const Edit& ed,
                                    const std::vector<int>& id, int new_count) {
     std::vector<bool> touched(static_cast<std::size_t>(new_count), false);
     auto mark = [&](int v) {
@@ -520,7 +533,7 @@ std::vector<bool> touched_vertices(const Skeleton& before, const Skeleton& edite
 // every vertex before the repair (-1: dropped) and sets `touched` (touched_vertices).
 std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& best, const SkeletonRepairOptions& o,
                                  SkeletonRepairResult& res, std::vector<bool>& touched) {
-    const Skeleton before = s;
+    const Geometry before{s.points, s.radii, s.edges};
     const int n = static_cast<int>(s.points.size()), c = best.c, t = n;
     const Walk wi = walk(s, g, c, best.ei), wj = walk(s, g, c, best.ej);
     Edit ed{std::vector<bool>(n, false), std::vector<bool>(s.edges.size(), false), {}};
@@ -538,7 +551,7 @@ std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& b
         drop_absorbed(s, g, wj, best.ej, t, ed);
         ++(best.kind == PairRepair::stub ? res.absorbed_stubs : res.merged_ends);
     }
-    const Skeleton edited = s;
+    const Geometry edited{s.points, s.radii, s.edges};
     const std::vector<int> id = rebuild(s, n, ed, res);
     touched = touched_vertices(before, edited, ed, id, static_cast<int>(s.points.size()));
     return id;
@@ -581,10 +594,15 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
         make_graph(s, g);
         if (round > 0) stale = stale_points(s, g, stale);
         const int n = static_cast<int>(s.points.size());
+        if (round == 0)  // every point: in parallel (each task writes its own scans[c]; the same bits for any count)
+            tbb::parallel_for(tbb::blocked_range<int>(0, n, 64), [&](const tbb::blocked_range<int>& range) {
+                for (int c = range.begin(); c < range.end(); ++c)
+                    if (scanned(s, g, c)) scans[c] = scan_point(s, g, o, c);
+            });
         Candidate best;
         for (int c = 0; c < n; ++c) {
             if (!scanned(s, g, c)) continue;
-            if (stale[c]) scans[c] = scan_point(s, g, o, c);
+            if (round > 0 && stale[c]) scans[c] = scan_point(s, g, o, c);
             if (scans[c].best.score > best.score) {
                 best = scans[c].best;
                 best.c = c;  // the scan may come from an earlier numbering
@@ -597,10 +615,9 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
         if (best.c < 0) break;
         best.ei = g.inc[best.c][best.ei], best.ej = g.inc[best.c][best.ej];
         const std::vector<int> id = apply_candidate(s, g, best, o, res, stale);
-        std::vector<PointScan> moved(s.points.size());
-        for (int v = 0; v < n; ++v)
-            if (id[v] >= 0) moved[id[v]] = std::move(scans[v]);
-        scans = std::move(moved);
+        for (int v = 0; v < n; ++v)  // id keeps the order of the kept vertices: id[v] <= v, in place
+            if (id[v] >= 0 && id[v] != v) scans[id[v]] = std::move(scans[v]);
+        scans.resize(s.points.size());
     }
     res.unseparated = static_cast<int>(unseparated.size());
 }
