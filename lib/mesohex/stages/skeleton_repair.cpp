@@ -522,7 +522,7 @@ std::vector<bool> touched_vertices(const Geometry& before, const Geometry& edite
     for (int v = 0; v < static_cast<int>(edited.points.size()); ++v)
         if (v >= n || !(edited.points[v] == before.points[v]) || !(edited.radii[v] == before.radii[v])) mark(v);
     for (std::size_t e = 0; e < before.edges.size(); ++e)
-        if (ed.drop_edge[e] || edited.edges[e] != before.edges[e])
+        if (ed.drop_edge[e] || edited.edges[e][0] != before.edges[e][0] || edited.edges[e][1] != before.edges[e][1])
             for (const int v : {before.edges[e][0], before.edges[e][1], edited.edges[e][0], edited.edges[e][1]})
                 mark(v);
     for (const std::array<int, 2>& e : ed.new_edges) mark(e[0]), mark(e[1]);
@@ -578,6 +578,20 @@ std::vector<bool> stale_points(const Skeleton& s, const Graph& g, const std::vec
     return stale;
 }
 
+// Distinct unseparated pairs of the current scans: (c, pair of the pair's first vertices).
+int count_unseparated(const Skeleton& s, const Graph& g, const std::vector<PointScan>& scans) {
+    std::set<std::pair<int, int>> unseparated;
+    const int n = static_cast<int>(s.points.size());
+    for (int c = 0; c < n; ++c) {
+        if (!scanned(s, g, c)) continue;
+        const std::vector<int>& inc = g.inc[c];
+        const auto first = [&](int i) { return s.edges[inc[i]][0] == c ? s.edges[inc[i]][1] : s.edges[inc[i]][0]; };
+        for (const auto& [i, j] : scans[c].unseparated)
+            unseparated.insert({c, std::min(first(i), first(j)) * n + std::max(first(i), first(j))});
+    }
+    return static_cast<int>(unseparated.size());
+}
+
 // The trunks and absorbed walks (see the header), one pair at a time: the pair with the highest score over every
 // pair of branches at every scanned branching point (the first in vertex and pair order among equals). A point's
 // scan depends only on its walks (positions, radii, the degrees at their ends), so after a repair only the stale
@@ -585,12 +599,10 @@ std::vector<bool> stale_points(const Skeleton& s, const Graph& g, const std::vec
 void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairResult& res) {
     if (!o.trunks || s.radii.size() != s.points.size()) return;
     const std::size_t budget = s.edges.size();
-    std::set<std::pair<int, int>> unseparated;  // of the last scan: (c, pair of first vertices)
     std::vector<PointScan> scans(s.points.size());
     std::vector<bool> stale(s.points.size(), true);
     Graph g;
     for (std::size_t round = 0; round < budget; ++round) {
-        unseparated.clear();
         make_graph(s, g);
         if (round > 0) stale = stale_points(s, g, stale);
         const int n = static_cast<int>(s.points.size());
@@ -607,11 +619,8 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
                 best = scans[c].best;
                 best.c = c;  // the scan may come from an earlier numbering
             }
-            const std::vector<int>& inc = g.inc[c];
-            const auto first = [&](int i) { return s.edges[inc[i]][0] == c ? s.edges[inc[i]][1] : s.edges[inc[i]][0]; };
-            for (const auto& [i, j] : scans[c].unseparated)
-                unseparated.insert({c, std::min(first(i), first(j)) * n + std::max(first(i), first(j))});
         }
+        if (best.c < 0 || round + 1 == budget) res.unseparated = count_unseparated(s, g, scans);
         if (best.c < 0) break;
         best.ei = g.inc[best.c][best.ei], best.ej = g.inc[best.c][best.ej];
         const std::vector<int> id = apply_candidate(s, g, best, o, res, stale);
@@ -619,7 +628,6 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
             if (id[v] >= 0 && id[v] != v) scans[id[v]] = std::move(scans[v]);
         scans.resize(s.points.size());
     }
-    res.unseparated = static_cast<int>(unseparated.size());
 }
 
 }  // namespace
