@@ -614,7 +614,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
         Candidate best;
         for (int c = 0; c < n; ++c) {
             if (!scanned(s, g, c)) continue;
-            if (round > 0 && stale[c]) scans[c] = scan_point(s, g, o, c);
+            if (round > 0 && (stale[c] || o.rescan_all)) scans[c] = scan_point(s, g, o, c);
             if (scans[c].best.score > best.score) {
                 best = scans[c].best;
                 best.c = c;  // the scan may come from an earlier numbering
