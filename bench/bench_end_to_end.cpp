@@ -3,6 +3,7 @@
 //   BM_EndToEndRandomTree/<threads>  a 5 120-vertex random tree (branchy: about a quarter of its vertices branch,
 //                                    degrees 3-6), about 20 k raw hexes
 //   BM_EndToEndStar/<threads>        a 256-vertex three-branch star (one branching point, three bent chains)
+//   BM_SkeletonRepairRandomTree      repair_skeleton alone on the 5 120-vertex tree (106 repairs, serial rounds)
 // Threads are limited with tbb::global_control. The inputs are generated here (random_tree, three_branch_star).
 #include <benchmark/benchmark.h>
 
@@ -15,6 +16,7 @@
 
 #include "bench_inputs.h"
 #include "mesohex/pipeline.h"
+#include "mesohex/stages/skeleton_repair.h"
 
 using namespace mesohex;
 
@@ -42,7 +44,16 @@ void BM_EndToEndStar(benchmark::State& state) {
     run_end_to_end(state, s);
 }
 
+void BM_SkeletonRepairRandomTree(benchmark::State& state) {
+    static const Skeleton s = bench::random_tree(5120, 1);  // radii 0.5 (as run_pipeline takes them from the input)
+    for (auto _ : state) {
+        SkeletonRepairResult res = repair_skeleton(s, {});
+        benchmark::DoNotOptimize(res.skeleton.points.data());
+    }
+}
+
 }  // namespace
 
+BENCHMARK(BM_SkeletonRepairRandomTree)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EndToEndRandomTree)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_EndToEndStar)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

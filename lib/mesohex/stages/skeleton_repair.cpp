@@ -8,6 +8,9 @@
 #include <utility>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace mesohex {
 namespace {
 
@@ -26,28 +29,29 @@ struct Graph {
     std::vector<int> degree;  // all edges, leaflet sides included
 };
 
-Graph make_graph(const Skeleton& s) {
+// Fills g for s, reusing g's arrays (called once per repair round).
+void make_graph(const Skeleton& s, Graph& g) {
     const int n = static_cast<int>(s.points.size());
-    Graph g;
-    g.inc.assign(n, {});
+    g.inc.resize(n);
+    for (std::vector<int>& inc : g.inc) inc.clear();
     g.on_face.assign(n, false);
     g.degree.assign(n, 0);
-    std::set<std::pair<int, int>> sides;
+    std::vector<std::pair<int, int>> sides;  // sorted: binary search
     for (const std::vector<int>& f : s.faces)
         for (std::size_t i = 0; i < f.size(); ++i) {
             if (f[i] < 0 || f[i] >= n) continue;
             g.on_face[f[i]] = true;
-            sides.insert(std::minmax(f[i], f[(i + 1) % f.size()]));
+            sides.push_back(std::minmax(f[i], f[(i + 1) % f.size()]));
         }
+    std::sort(sides.begin(), sides.end());
     for (int e = 0; e < static_cast<int>(s.edges.size()); ++e) {
         const auto [a, b] = s.edges[e];
         if (a < 0 || a >= n || b < 0 || b >= n || a == b) continue;
         ++g.degree[a], ++g.degree[b];
-        if (sides.count(std::minmax(a, b))) continue;
+        if (std::binary_search(sides.begin(), sides.end(), std::pair<int, int>(std::minmax(a, b)))) continue;
         g.inc[a].push_back(e);
         g.inc[b].push_back(e);
     }
-    return g;
 }
 
 Walk walk(const Skeleton& s, const Graph& g, int c, int e0) {
@@ -317,12 +321,19 @@ bool absorbable(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& 
     return true;
 }
 
-// The close pair (walks i, j at c): updates best when its repair scores higher; records it in `unseparated` when
-// its tubes do not separate and the shorter walk is not absorbable.
+// One branching point's scan: its best repair (ei, ej hold positions in g.inc[c], not edge ids, so the scan stays
+// valid when a repair elsewhere renumbers the edges) and its unseparated pairs (positions i < j in g.inc[c]).
+struct PointScan {
+    Candidate best;
+    std::vector<std::pair<int, int>> unseparated;
+};
+
+// The close pair (walks i, j at c): updates scan.best when its repair scores higher; records it in
+// scan.unseparated when its tubes do not separate and the shorter walk is not absorbable.
 void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& o, int c,
-                   const std::vector<int>& inc, const std::vector<Walk>& walks, std::size_t i, std::size_t j,
-                   Candidate& best, std::set<std::pair<int, int>>& unseparated) {
-    const Walk &wi = walks[i], &wj = walks[j];
+                   const std::vector<int>& inc, const std::vector<Walk>& walks, int i, int j, PointScan& scan) {
+    Candidate& best = scan.best;
+    const Walk &wi = walks[static_cast<std::size_t>(i)], &wj = walks[static_cast<std::size_t>(j)];
     if (wi.loop || wj.loop || wi.verts[1] == wj.verts[1]) return;
     const double li = wi.s[1], lj = wj.s[1];
     const double ri = s.radii[wi.verts[1]], rj = s.radii[wj.verts[1]];
@@ -338,8 +349,7 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
         const Walk &shorter = i_short ? wi : wj, &keep = i_short ? wj : wi;
         PairRepair kind = PairRepair::stub;
         if (!absorbable(s, g, o, shorter, keep, kind)) {
-            const int n = static_cast<int>(s.points.size());
-            unseparated.insert({c, std::min(wi.verts[1], wj.verts[1]) * n + std::max(wi.verts[1], wj.verts[1])});
+            scan.unseparated.push_back({i, j});
             return;
         }
         const double len = shorter.length();
@@ -348,8 +358,8 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
         if (score > best.score)
             best = {score,
                     c,
-                    i_short ? inc[j] : inc[i],
-                    i_short ? inc[i] : inc[j],
+                    i_short ? j : i,
+                    i_short ? i : j,
                     len,
                     0.5 * (a.x + b.x),
                     0.5 * distance(a.x, b.x) + std::max(a.r, b.r),
@@ -368,24 +378,24 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
     const Vec3 dir = normalized(m - s.points[c]);
     if (dir == Vec3{}) return;
     const double score = x / s.radii[c];
-    if (score > best.score)
-        best = {score, c, inc[i], inc[j], sep, s.points[c] + x * dir, r + x * sin_a, PairRepair::trunk};
+    if (score > best.score) best = {score, c, i, j, sep, s.points[c] + x * dir, r + x * sin_a, PairRepair::trunk};
 }
 
-// The pair to repair first: the highest score over every pair of branches at every branching point without leaflet.
-Candidate best_candidate(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& o,
-                         std::set<std::pair<int, int>>& unseparated) {
-    Candidate best;
-    for (int c = 0; c < static_cast<int>(s.points.size()); ++c) {
-        if (g.on_face[c] || g.inc[c].size() < 3 || !(s.radii[c] > 0)) continue;
-        const std::vector<int>& inc = g.inc[c];
-        std::vector<Walk> walks;
-        for (const int e : inc) walks.push_back(walk(s, g, c, e));
-        for (std::size_t i = 0; i < inc.size(); ++i)
-            for (std::size_t j = i + 1; j < inc.size(); ++j)
-                consider_pair(s, g, o, c, inc, walks, i, j, best, unseparated);
-    }
-    return best;
+// Branching points whose pairs are scanned: no leaflet, 3 or more branch edges, a radius.
+bool scanned(const Skeleton& s, const Graph& g, int c) {
+    return !g.on_face[c] && g.inc[c].size() >= 3 && s.radii[c] > 0;
+}
+
+// Every pair of branches at c (first best by score, in pair order).
+PointScan scan_point(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& o, int c) {
+    PointScan scan;
+    const std::vector<int>& inc = g.inc[c];
+    std::vector<Walk> walks;
+    for (const int e : inc) walks.push_back(walk(s, g, c, e));
+    const int k = static_cast<int>(inc.size());
+    for (int i = 0; i < k; ++i)
+        for (int j = i + 1; j < k; ++j) consider_pair(s, g, o, c, inc, walks, i, j, scan);
+    return scan;
 }
 
 // Edits of one repair, applied by `rebuild`.
@@ -466,11 +476,15 @@ void join_trunk(Skeleton& s, const Graph& g, const Walk& w, int e0, double sep, 
     ed.new_edges.push_back({pv, after});
 }
 
-// Drops the marked vertices and edges, appends the new edges, renumbers (faces and the vertex map too).
-void rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResult& res) {
+// Drops the marked vertices and edges, appends the new edges, renumbers (faces and the vertex map too). Returns the
+// new id of every vertex before the renumbering (-1: dropped).
+std::vector<int> rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResult& res) {
     const int total = static_cast<int>(s.points.size());
     std::vector<int> id(total, -1);
     Skeleton out;
+    out.points.reserve(s.points.size());
+    out.radii.reserve(s.radii.size());
+    out.edges.reserve(s.edges.size() + ed.new_edges.size());
     for (int v = 0; v < total; ++v) {
         if (v < n && ed.drop_vertex[v]) continue;
         id[v] = static_cast<int>(out.points.size());
@@ -486,11 +500,40 @@ void rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResult& res) {
     for (int& v : res.vertex_map)
         if (v >= 0) v = id[v];
     s = std::move(out);
+    return id;
 }
 
-// Applies one repair: t, the edge (c, t), and per walk its edits.
-void apply_candidate(Skeleton& s, const Graph& g, const Candidate& best, const SkeletonRepairOptions& o,
-                     SkeletonRepairResult& res) {
+// Vertices whose surroundings a repair changed, by their new ids: new vertices, moved ones (position or radius),
+// and both ends of every dropped, re-attached or new edge.
+// The parts of a skeleton a repair edits in place (faces are only renumbered).
+struct Geometry {
+    std::vector<Vec3> points;
+    std::vector<double> radii;
+    std::vector<std::array<int, 2>> edges;
+};
+
+std::vector<bool> touched_vertices(const Geometry& before, const Geometry& edited, const Edit& ed,
+                                   const std::vector<int>& id, int new_count) {
+    std::vector<bool> touched(static_cast<std::size_t>(new_count), false);
+    auto mark = [&](int v) {
+        if (v >= 0 && v < static_cast<int>(id.size()) && id[v] >= 0) touched[id[v]] = true;
+    };
+    const int n = static_cast<int>(before.points.size());
+    for (int v = 0; v < static_cast<int>(edited.points.size()); ++v)
+        if (v >= n || !(edited.points[v] == before.points[v]) || !(edited.radii[v] == before.radii[v])) mark(v);
+    for (std::size_t e = 0; e < before.edges.size(); ++e)
+        if (ed.drop_edge[e] || edited.edges[e][0] != before.edges[e][0] || edited.edges[e][1] != before.edges[e][1])
+            for (const int v : {before.edges[e][0], before.edges[e][1], edited.edges[e][0], edited.edges[e][1]})
+                mark(v);
+    for (const std::array<int, 2>& e : ed.new_edges) mark(e[0]), mark(e[1]);
+    return touched;
+}
+
+// Applies one repair (best.ei, best.ej: edge ids): t, the edge (c, t), and per walk its edits. Returns the new id of
+// every vertex before the repair (-1: dropped) and sets `touched` (touched_vertices).
+std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& best, const SkeletonRepairOptions& o,
+                                 SkeletonRepairResult& res, std::vector<bool>& touched) {
+    const Geometry before{s.points, s.radii, s.edges};
     const int n = static_cast<int>(s.points.size()), c = best.c, t = n;
     const Walk wi = walk(s, g, c, best.ei), wj = walk(s, g, c, best.ej);
     Edit ed{std::vector<bool>(n, false), std::vector<bool>(s.edges.size(), false), {}};
@@ -508,22 +551,83 @@ void apply_candidate(Skeleton& s, const Graph& g, const Candidate& best, const S
         drop_absorbed(s, g, wj, best.ej, t, ed);
         ++(best.kind == PairRepair::stub ? res.absorbed_stubs : res.merged_ends);
     }
-    rebuild(s, n, ed, res);
+    const Geometry edited{s.points, s.radii, s.edges};
+    const std::vector<int> id = rebuild(s, n, ed, res);
+    touched = touched_vertices(before, edited, ed, id, static_cast<int>(s.points.size()));
+    return id;
 }
 
-// The trunks and absorbed walks (see the header), one pair at a time.
+// Branching points whose scan a repair may have changed: every scanned vertex whose walks (from it through joints to
+// the next non-joint vertex) meet a touched vertex, i.e. the non-joint vertices reached from a touched vertex through
+// joints, and the touched vertices themselves.
+std::vector<bool> stale_points(const Skeleton& s, const Graph& g, const std::vector<bool>& touched) {
+    std::vector<bool> stale = touched;
+    const auto joint = [&](int v) { return g.degree[v] == 2 && g.inc[v].size() == 2 && !g.on_face[v]; };
+    for (int x = 0; x < static_cast<int>(touched.size()); ++x) {
+        if (!touched[x]) continue;
+        for (const int e0 : g.inc[x]) {
+            int prev_e = e0, cur = s.edges[e0][0] == x ? s.edges[e0][1] : s.edges[e0][0];
+            for (std::size_t guard = 0; guard <= s.points.size() && cur != x && joint(cur); ++guard) {
+                const int next_e = g.inc[cur][0] == prev_e ? g.inc[cur][1] : g.inc[cur][0];
+                prev_e = next_e;
+                cur = s.edges[next_e][0] == cur ? s.edges[next_e][1] : s.edges[next_e][0];
+            }
+            stale[cur] = true;
+        }
+    }
+    return stale;
+}
+
+// Distinct unseparated pairs of the current scans: (c, pair of the pair's first vertices).
+int count_unseparated(const Skeleton& s, const Graph& g, const std::vector<PointScan>& scans) {
+    std::set<std::pair<int, int>> unseparated;
+    const int n = static_cast<int>(s.points.size());
+    for (int c = 0; c < n; ++c) {
+        if (!scanned(s, g, c)) continue;
+        const std::vector<int>& inc = g.inc[c];
+        const auto first = [&](int i) { return s.edges[inc[i]][0] == c ? s.edges[inc[i]][1] : s.edges[inc[i]][0]; };
+        for (const auto& [i, j] : scans[c].unseparated)
+            unseparated.insert({c, std::min(first(i), first(j)) * n + std::max(first(i), first(j))});
+    }
+    return static_cast<int>(unseparated.size());
+}
+
+// The trunks and absorbed walks (see the header), one pair at a time: the pair with the highest score over every
+// pair of branches at every scanned branching point (the first in vertex and pair order among equals). A point's
+// scan depends only on its walks (positions, radii, the degrees at their ends), so after a repair only the stale
+// points (stale_points) are scanned again; the others keep their scan, carried to the new numbering.
 void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairResult& res) {
     if (!o.trunks || s.radii.size() != s.points.size()) return;
     const std::size_t budget = s.edges.size();
-    std::set<std::pair<int, int>> unseparated;  // of the last scan: (c, pair of first vertices)
+    std::vector<PointScan> scans(s.points.size());
+    std::vector<bool> stale(s.points.size(), true);
+    Graph g;
     for (std::size_t round = 0; round < budget; ++round) {
-        unseparated.clear();
-        const Graph g = make_graph(s);
-        const Candidate best = best_candidate(s, g, o, unseparated);
+        make_graph(s, g);
+        if (round > 0) stale = stale_points(s, g, stale);
+        const int n = static_cast<int>(s.points.size());
+        if (round == 0)  // every point: in parallel (each task writes its own scans[c]; the same bits for any count)
+            tbb::parallel_for(tbb::blocked_range<int>(0, n, 64), [&](const tbb::blocked_range<int>& range) {
+                for (int c = range.begin(); c < range.end(); ++c)
+                    if (scanned(s, g, c)) scans[c] = scan_point(s, g, o, c);
+            });
+        Candidate best;
+        for (int c = 0; c < n; ++c) {
+            if (!scanned(s, g, c)) continue;
+            if (round > 0 && (stale[c] || o.rescan_all)) scans[c] = scan_point(s, g, o, c);
+            if (scans[c].best.score > best.score) {
+                best = scans[c].best;
+                best.c = c;  // the scan may come from an earlier numbering
+            }
+        }
+        if (best.c < 0 || round + 1 == budget) res.unseparated = count_unseparated(s, g, scans);
         if (best.c < 0) break;
-        apply_candidate(s, g, best, o, res);
+        best.ei = g.inc[best.c][best.ei], best.ej = g.inc[best.c][best.ej];
+        const std::vector<int> id = apply_candidate(s, g, best, o, res, stale);
+        for (int v = 0; v < n; ++v)  // id keeps the order of the kept vertices: id[v] <= v, in place
+            if (id[v] >= 0 && id[v] != v) scans[id[v]] = std::move(scans[v]);
+        scans.resize(s.points.size());
     }
-    res.unseparated = static_cast<int>(unseparated.size());
 }
 
 }  // namespace

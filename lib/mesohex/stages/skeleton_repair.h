@@ -67,6 +67,10 @@ struct SkeletonRepairOptions {
     // Branches on fan-edge ends (the paper's limitation 3): the fan edge is retracted from the branch's vertex, which
     // becomes a leaflet corner (stages/fan_end_repair.h). Done first, on the input skeleton.
     bool fan_end_retraction = true;
+    // Checking aid, not a tuning knob: after each trunk or absorption, scan every branching point again instead of
+    // only those whose walks the repair touched. The result is the same (test SkeletonRepair.
+    // IncrementalScanEqualsFullRescan); only slower (the full rescan is quadratic in the number of repairs).
+    bool rescan_all = false;
 };
 
 struct SkeletonRepairResult {

@@ -1,0 +1,102 @@
+// Skeleton -> raw mesh (run_pipeline defaults, no file IO in the timed part): a measuring and checking tool for issue
+// 19 target 1, not a Google benchmark. Per input one line: name, raw hex count, FNV-1a hash of the raw mesh (the
+// points' bits and the hexes' vertex ids), the skeleton repair's counts (trunks / absorbed stubs / merged ends /
+// unseparated pairs), CPU ms per run of this thread. Two builds print the same hashes when their
+// raw meshes are identical bit for bit; one build prints the same hashes for any --threads.
+//
+//   mesohex_raw_chain [--threads T] [--reps R] INPUT...
+//     INPUT: tree:VERTICES:SEED (bench::random_tree), star:VERTICES, gen:NAME (generate_skeleton), random:SEED
+//            (generate_random_skeleton), or a skeleton file path; gen:all = every generator, random:A-B = seeds A..B
+//   Run under valgrind --tool=callgrind for instruction counts (one rep).
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include <tbb/global_control.h>
+
+#include "bench_inputs.h"
+#include "mesohex/core/error.h"
+#include "mesohex/pipeline.h"
+#include "mesohex/stages/generators.h"
+#include "mesohex_io/skeleton_io.h"
+
+using namespace mesohex;
+
+namespace {
+
+std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ULL;
+    return h;
+}
+
+std::uint64_t raw_hash(const RawMesh& raw) {
+    std::uint64_t h = 14695981039346656037ULL;
+    for (const Vec3& p : raw.mesh.points) h = fnv(h, &p, sizeof p);
+    for (const auto& hex : raw.mesh.hexes) h = fnv(h, hex.data(), sizeof hex);
+    return h;
+}
+
+Skeleton make_input(const std::string& spec) {
+    auto field = [&](int k) {
+        std::size_t start = 0;
+        for (int i = 0; i < k; ++i) start = spec.find(':', start) + 1;
+        return spec.substr(start, spec.find(':', start) - start);
+    };
+    if (spec.rfind("tree:", 0) == 0)
+        return bench::random_tree(std::atoi(field(1).c_str()), static_cast<std::uint32_t>(std::atol(field(2).c_str())));
+    if (spec.rfind("star:", 0) == 0) return bench::three_branch_star(std::atoi(field(1).c_str()));
+    if (spec.rfind("gen:", 0) == 0) return generate_skeleton(field(1));
+    if (spec.rfind("random:", 0) == 0) return generate_random_skeleton(std::strtoull(field(1).c_str(), nullptr, 10));
+    return read_skeleton(spec);
+}
+
+double cpu_ms() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int threads = 1, reps = 1;
+    std::vector<std::string> inputs;
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--threads") && i + 1 < argc)
+            threads = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
+            reps = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "gen:all"))
+            for (const std::string& name : generator_names()) inputs.push_back("gen:" + name);
+        else if (!std::strncmp(argv[i], "random:", 7) && std::strchr(argv[i], '-')) {
+            const long first = std::atol(argv[i] + 7), last = std::atol(std::strchr(argv[i], '-') + 1);
+            for (long seed = first; seed <= last; ++seed) inputs.push_back("random:" + std::to_string(seed));
+        } else
+            inputs.emplace_back(argv[i]);
+    }
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    for (const std::string& spec : inputs) {
+        try {
+            const Skeleton s = make_input(spec);
+            double best = 1e300;
+            PipelineResult res;
+            for (int r = 0; r < reps; ++r) {
+                const double t0 = cpu_ms();
+                res = run_pipeline(s);
+                const double t = cpu_ms() - t0;
+                best = t < best ? t : best;
+            }
+            std::printf("%s %zu %016llx repairs %d/%d/%d/%d %.2f\n", spec.c_str(), res.raw.mesh.hexes.size(),
+                        static_cast<unsigned long long>(raw_hash(res.raw)), res.trunks, res.absorbed_stubs,
+                        res.merged_ends, res.unseparated_pairs, best);
+        } catch (const Error& e) {
+            std::printf("%s error: %s\n", spec.c_str(), e.what());
+        }
+    }
+    return 0;
+}
