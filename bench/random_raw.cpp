@@ -2,8 +2,9 @@
 // far the input's joints lie off it (corner cutting), the raw mesh's min / mean scaled Jacobian and inverted count,
 // and the skeleton element of the worst raw hex. Not a test, not a Google benchmark: a measuring tool.
 //
-//   mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints [merge]]]]]   (the last four 0/1:
-//   SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends)
+//   mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints [merge [joint [wide]]]]]]]   (the
+//   others 0/1: SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends, joint_trunks,
+//   wide_junction_trunks)
 //
 // One line per seed, then the distribution. The worst raw hex is named by the adapted skeleton edge of its chunk
 // (a plate hex: "plate"), and by the kind of that edge's ends: bp = branching point without leaflet, lf = leaflet
@@ -47,7 +48,7 @@ int main(int argc, char** argv) {
     if (argc < 3) {
         std::fprintf(stderr,
                      "usage: mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints "
-                     "[merge]]]]] (0/1)\n");
+                     "[merge [joint [wide]]]]]]] (0/1)\n");
         return 2;
     }
     const long first = std::atol(argv[1]), last = std::atol(argv[2]);
@@ -58,6 +59,7 @@ int main(int argc, char** argv) {
     if (argc > 6) po.repair.keep_sibling_joints = std::atoi(argv[6]) != 0;
     if (argc > 7) po.repair.merge_branching_ends = std::atoi(argv[7]) != 0;
     if (argc > 8) po.repair.joint_trunks = std::atoi(argv[8]) != 0;
+    if (argc > 9) po.repair.wide_junction_trunks = std::atoi(argv[9]) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf("seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks stubs merged unseparated\n");

@@ -7,6 +7,8 @@
 #   FIRST=101 bench/random_set.sh 200         seeds 101..200
 #   MESOHEX=path/to/mesohex OUT=dir THICKEN_ARGS="--resolution 3" MESH_ARGS="..." bench/random_set.sh 100
 #   SUMMARY_ONLY=1 bench/random_set.sh N      summarise the seeds of OUT already run (a partial run too)
+#   SEEDS="3 5 8" bench/random_set.sh 0       only these seeds (N ignored; e.g. the seeds a change touches)
+#   DOMAINS=dir                               take skel.obj / domain.off from dir/SEED when there (no regeneration)
 #
 # Prints one line per seed (sorted), then: worst, 5th percentile, median of each measure; the seeds with an inverted
 # hex; the fraction meeting every target (min SJ >= 0.3, avg >= 0.85, Hausdorff <= 1 %, 0 inverted); the seeds
@@ -24,14 +26,22 @@ MESH_ARGS=${MESH_ARGS:-}
 command -v jq >/dev/null || { echo "random_set.sh: needs jq" >&2; exit 2; }
 [ -x "$MESOHEX" ] || { echo "random_set.sh: no mesohex binary at $MESOHEX (build mesohex_cli)" >&2; exit 2; }
 mkdir -p "$OUT"
+SEED_LIST=${SEEDS:-$(seq "$FIRST" "$N")}
+DOMAINS=${DOMAINS:-}
 
 run_seed() {
     local seed=$1 d="$OUT/$1" start end
     mkdir -p "$d"
     start=$(date +%s.%N)
-    "$MESOHEX" generate --random "$seed" -o "$d/skel.obj" >"$d/generate.log" 2>&1 &&
-        "$MESOHEX" thicken "$d/skel.obj" -o "$d/domain.off" $THICKEN_ARGS >"$d/thicken.log" 2>&1
-    local rc=$?
+    local rc
+    if [ -n "$DOMAINS" ] && [ -s "$DOMAINS/$seed/domain.off" ]; then
+        cp "$DOMAINS/$seed/skel.obj" "$DOMAINS/$seed/domain.off" "$DOMAINS/$seed/generate.log" "$d/"
+        rc=$?
+    else
+        "$MESOHEX" generate --random "$seed" -o "$d/skel.obj" >"$d/generate.log" 2>&1 &&
+            "$MESOHEX" thicken "$d/skel.obj" -o "$d/domain.off" $THICKEN_ARGS >"$d/thicken.log" 2>&1
+        rc=$?
+    fi
     if [ $rc -eq 0 ]; then
         # shellcheck disable=SC2086
         "$MESOHEX" mesh "$d/skel.obj" --surface "$d/domain.off" -o "$d/mesh.mesh" --report "$d/report.json" \
@@ -42,15 +52,15 @@ run_seed() {
     echo "$rc $(echo "$end - $start" | bc)" >"$d/status"
 }
 export -f run_seed
-export MESOHEX OUT THICKEN_ARGS MESH_ARGS
+export MESOHEX OUT THICKEN_ARGS MESH_ARGS DOMAINS
 
 t0=$(date +%s)
-[ -n "${SUMMARY_ONLY:-}" ] || seq "$FIRST" "$N" | xargs -P "$JOBS" -I{} bash -c 'run_seed {}'
+[ -n "${SUMMARY_ONLY:-}" ] || printf '%s\n' $SEED_LIST | xargs -P "$JOBS" -I{} bash -c 'run_seed {}'
 t1=$(date +%s)
 
 rows="$OUT/rows.txt"  # seed kind raw_hexes hexes min avg hausdorff% inverted rc seconds
 : >"$rows"
-for seed in $(seq "$FIRST" "$N"); do
+for seed in $SEED_LIST; do
     d="$OUT/$seed"
     [ -f "$d/status" ] || continue  # not run (yet)
     read -r rc secs <"$d/status"
@@ -92,7 +102,7 @@ END {
     printf "missing seeds:%s\n", missed
     printf "failed seeds:%s\n", failed
 }' "$rows"
-for seed in $(seq "$FIRST" "$N"); do
+for seed in $SEED_LIST; do
     [ -f "$OUT/$seed/status" ] || continue
     read -r rc _ <"$OUT/$seed/status"
     if [ "$rc" != 0 ] && [ "$rc" != 5 ]; then

@@ -154,6 +154,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "--no-blocks wins");
     cmd->add_flag_callback(
         "--no-pad", [job] { job->options.finishing.pad = false; }, "Skip the padding layer");
+    cmd->add_flag(
+        "--pad-inward-edges", job->options.finishing.padding.inward_edges,
+        "Padding layer thickness from the shortest boundary edge OR edge into the mesh at each vertex (thin sheets: "
+        "the sheet's height, not its leaflet edge; docs/sheets.md)");
     cmd->add_flag_callback(
         "--no-fit",
         [job] {

@@ -78,7 +78,7 @@ TEST(SkeletonRepair, NoTrunkForBranchesFarApart) {
 // 40 degrees apart, radius 0.1: l* = 0.1 / sin 20 = 0.2924, sin a = 0.342, x = 0.1924 / 1.342 = 0.1434, radius 0.1 +
 // 0.1434 x 0.342 = 0.1490. x is below trunk_clearance x (r_c + r_t) = 0.174, but c has degree 3 and becomes a joint
 // (no bridge to collapse): with joint_trunks the trunk is built because t lies outside c's ball (x > r_c = 0.1). With a
-// fourth branch at c (it stays a branching point) the clearance rule applies: no trunk.
+// fourth branch at c (it stays a branching point) the clearance rule applies without wide_junction_trunks: no trunk.
 TEST(SkeletonRepair, JointTrunkAtDegreeThree) {
     const double r = 0.1, half = 20 * kDeg;
     const Skeleton in = y_pair(half, 2.0, r);
@@ -97,9 +97,50 @@ TEST(SkeletonRepair, JointTrunkAtDegreeThree) {
     four.points.push_back({0, 1, 0});
     four.radii.push_back(r);
     four.edges.push_back({1, 4});
-    const mesohex::SkeletonRepairResult res4 = mesohex::repair_skeleton(four);
+    mesohex::SkeletonRepairOptions clearance;
+    clearance.wide_junction_trunks = false;
+    const mesohex::SkeletonRepairResult res4 = mesohex::repair_skeleton(four, clearance);
     EXPECT_EQ(res4.trunks, 0);
     EXPECT_EQ(res4.skeleton, four);
+}
+
+// The same pair (40 degrees, radius 0.1) with a fourth branch at c towards +y: with wide_junction_trunks the ball rule
+// of degree 3 applies (x = 0.1434 > r_c = 0.1): one trunk. x is below 0.7 (r_c + r_t) = 0.174, so t moves out to
+// x' = 0.7 (0.1 + 0.1) / (1 - 0.7 sin a) = 0.14 / 0.7606 = 0.1841 (sin a = 0.342; below 0.9 l* = 0.263), radius 0.1 +
+// 0.1841 x 0.342 = 0.1630, where adaptation keeps the trunk (x' = 0.7 (r_c + r_t)). c keeps the parent, the fourth
+// branch and the trunk (degree 3), t = vertex 5 (after the 5 input vertices) gets the pair; the crotch points 6 and 7
+// lie at l* = 0.2924 on the two branches. V = 5 + 3 = 8, E = 4 - 2 + 5 = 7 (V - E = 1 as before).
+TEST(SkeletonRepair, WideJunctionTrunkAtDegreeFour) {
+    const double r = 0.1, half = 20 * kDeg;
+    Skeleton four = y_pair(half, 2.0, r);
+    four.points.push_back({0, 1, 0});
+    four.radii.push_back(r);
+    four.edges.push_back({1, 4});
+    mesohex::SkeletonRepairOptions wide;
+    wide.wide_junction_trunks = true;
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(four, wide);
+    EXPECT_EQ(res.trunks, 1);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 8u);
+    ASSERT_EQ(s.edges.size(), 7u);
+    const double l = r / std::sin(half), sin_a = r / l, xt = 0.7 * 2 * r / (1 - 0.7 * sin_a);
+    EXPECT_NEAR(xt, 0.1841, 1e-4);
+    EXPECT_NEAR(s.points[5].x, 0, 1e-9);
+    EXPECT_NEAR(s.points[5].y, 0, 1e-9);
+    EXPECT_NEAR(s.points[5].z, xt, 1e-6);
+    EXPECT_NEAR(s.radii[5], 0.1630, 1e-4);
+    EXPECT_NEAR(s.points[5].z, 0.7 * (s.radii[1] + s.radii[5]), 1e-6);  // just long enough to stay
+    EXPECT_NEAR(s.points[6].x, l * std::sin(half), 1e-7);
+    EXPECT_NEAR(s.points[6].z, l * std::cos(half), 1e-7);
+    EXPECT_EQ(degree(s, 1), 3);  // parent, the fourth branch, the trunk
+    EXPECT_EQ(degree(s, 5), 3);  // the trunk and the pair
+    EXPECT_EQ(degree(s, 4), 1);
+    // 60 degrees apart (x = 0.067 < r_c): no trunk, with or without the fourth branch.
+    Skeleton wide_pair = y_pair(30 * kDeg, 2.0, r);
+    wide_pair.points.push_back({0, 1, 0});
+    wide_pair.radii.push_back(r);
+    wide_pair.edges.push_back({1, 4});
+    EXPECT_EQ(mesohex::repair_skeleton(wide_pair, wide).trunks, 0);
 }
 
 // A stub of length 0.3 at 20 degrees from a long branch (radius 0.1: the tubes separate only at 0.576): absorbed

@@ -328,6 +328,16 @@ struct PointScan {
     std::vector<std::pair<int, int>> unseparated;
 };
 
+// The trunk length at a branching point that stays one (degree 4 and more, wide_junction_trunks): x, or, when x is
+// below trunk_clearance x (r_c + r_t), the length x' = k (r_c + r) / (1 - k sin a) (k = trunk_clearance) at which
+// the trunk edge is just long enough for adaptation to keep it (r_t = r + x' sin a), at most 0.9 l*: the junction
+// becomes two branching points of degree 3 (c and t) instead of one of degree 4 and more.
+double survivable_trunk(double x, double rc, double r, double sin_a, double sep, const SkeletonRepairOptions& o) {
+    const double k = o.trunk_clearance * (1 + 1e-6);  // strictly above: adaptation collapses chord < 0.7 (r_a + r_b)
+    if (!o.wide_junction_trunks || x >= k * (rc + r + x * sin_a) || !(k * sin_a < 1)) return x;
+    return std::max(x, std::min(k * (rc + r) / (1 - k * sin_a), 0.9 * sep));
+}
+
 // The close pair (walks i, j at c): updates scan.best when its repair scores higher; records it in
 // scan.unseparated when its tubes do not separate and the shorter walk is not absorbable.
 void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& o, int c,
@@ -371,14 +381,18 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
     const double sin_a = std::min(r / sep, 0.99);
     const double x = (sep - r) / (1 + sin_a);
     // c of degree 3 becomes a joint (parent, t): no bridge for adaptation to collapse; t only has to lie outside c's
-    // ball (joint_trunks). Otherwise c stays a branching point and the trunk must be a long enough bridge.
+    // ball (joint_trunks). At degree 4 and more c stays a branching point: the same rule with wide_junction_trunks
+    // (adaptation may collapse a short trunk, moving the junction towards the pair), else a long enough bridge.
     const bool c_joint = o.joint_trunks && inc.size() == 3 && g.degree[c] == 3;
-    if (c_joint ? !(x > s.radii[c]) : !(x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a))) return;
+    const bool ball_rule =
+        c_joint || (o.wide_junction_trunks && inc.size() >= 4 && g.degree[c] == static_cast<int>(inc.size()));
+    if (ball_rule ? !(x > s.radii[c]) : !(x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a))) return;
     const Vec3 m = 0.5 * (a.x + b.x);
     const Vec3 dir = normalized(m - s.points[c]);
     if (dir == Vec3{}) return;
     const double score = x / s.radii[c];
-    if (score > best.score) best = {score, c, i, j, sep, s.points[c] + x * dir, r + x * sin_a, PairRepair::trunk};
+    const double xt = c_joint ? x : survivable_trunk(x, s.radii[c], r, sin_a, sep, o);
+    if (score > best.score) best = {score, c, i, j, sep, s.points[c] + xt * dir, r + xt * sin_a, PairRepair::trunk};
 }
 
 // Branching points whose pairs are scanned: no leaflet, 3 or more branch edges, a radius.

@@ -36,6 +36,13 @@ struct SkeletonRepairOptions {
     // outside c's ball (x > r_c: the junction of the two tubes, the branching point of their medial axis, is not at
     // c). false: trunk_clearance everywhere.
     bool joint_trunks = true;
+    // At a branching point of degree 4 or more (no leaflet), the same rule as joint_trunks: a close pair gets its trunk
+    // when t lies outside c's ball (x > r_c), even when x is below trunk_clearance x (r_c + r_t). c keeps its other
+    // branches and the trunk, t the pair: two junctions of lower degree instead of one of degree 4 and more, whose
+    // sphere partition has flat (180 degree) corners and narrow quads for fat branches. A trunk below the clearance
+    // is lengthened along the same direction to x' = trunk_clearance (r_c + r_t) (at most 0.9 l*), so that adaptation
+    // keeps it (it collapses shorter bridges back into one vertex). docs/junctions.md, docs/tuning.md.
+    bool wide_junction_trunks = true;
     // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
     // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
     // the same arc length, radius half their distance + the larger radius there (a ball covering both tubes); the
