@@ -353,8 +353,15 @@ nlohmann::json analyze_response(const Skeleton& skeleton, const Domain* domain) 
     MeshTimings tm;
     const Run run = run_mesh(skeleton, domain, request, tm);
     nlohmann::json j = analysis_json(run.run.pipeline.input_analysis);
+    j["repairs"] = repairs_json(run.run.pipeline);
     j["predicted"] = predicted_json(run.run.pipeline.predicted);
     return j;
+}
+
+PipelineResult prepare_for_mesh(const Skeleton& skeleton, const Domain* domain) {
+    const MeshOptions options;  // the defaults of `mesohex mesh`, as run_mesh
+    return prepare_mesh_skeleton(skeleton, domain ? &domain->surface : nullptr,
+                                 domain && domain->query ? &*domain->query : nullptr, options);
 }
 
 std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request,

@@ -47,8 +47,19 @@ struct PipelineResult {
     std::vector<StageTiming> timings_ms;  // in pipeline order
 };
 
+// The first half of run_pipeline: the input analysis (accepting the configurations the repairs below fix, e.g. a
+// branch on a fan-edge end), the radii, and with `resample` the structural repairs (repair_skeleton), adaptation and
+// the analysis of the result. Fills everything in PipelineResult up to `analysis` (not predicted, raw). `mesohex
+// analyze` and the studio's analyze call it (or run_pipeline), so every subcommand judges the skeleton `mesh`
+// meshes, after the same repairs. Errors: as run_pipeline's analyses and repairs.
+PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& options = {});
+
 // Errors: whatever the stages throw (mesohex::Error naming the element), before anything is built.
 PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& options = {});
+
+// The repairs prepare_skeleton made, one line each ("repairs: none" when there were none; "repairs: not run (no
+// resampling)" when `resample` was off), for `mesohex analyze`.
+std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& options);
 
 // The default uniform radius: factor x mean edge length (1.0 for a skeleton without edges).
 double default_radius(const Skeleton& skeleton, double factor);
