@@ -132,6 +132,7 @@ nlohmann::json predicted_json(const RawMeshPrediction& p) {
     return {{"hexes", p.hexes},
             {"vertices", p.vertices},
             {"compatible_blocks", p.compatible_blocks},
+            {"virtual_branches", p.virtual_branches},
             {"irregular_edges",
              {{"interior", valence_histogram_json(p.interior_irregular_edges)},
               {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};

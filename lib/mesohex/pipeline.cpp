@@ -71,6 +71,11 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         for (const FanEndRetraction& r : repaired.fan_end_retractions) res.fan_end_retractions.push_back(r.vertex);
         s = adapt_skeleton(repaired.skeleton, options.adaptation);
         clock.lap("adaptation");
+    }
+    // After adaptation, which would collapse their short edges; new vertices and edges are appended.
+    res.virtual_branches = static_cast<int>(
+        add_virtual_branches(s, options.virtual_branches, &options.connection_surfaces.blocks).at.size());
+    if (options.resample || res.virtual_branches > 0) {
         res.analysis = analyze_skeleton(s, options.analysis);
         clock.lap("analysis");
     } else {
@@ -85,6 +90,7 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
     StageClock clock(res.timings_ms);
     const ConnectionSurfaces cs = build_connection_surfaces(res.skeleton, res.analysis, options.connection_surfaces);
     res.predicted = predict_raw_mesh(res.skeleton, res.analysis, cs);
+    res.predicted.virtual_branches = res.virtual_branches;  // their 4 hexes each are branch chunks, in hexes
     clock.lap("connection_surfaces");
     const BranchFrames frames = propagate_frames(res.skeleton, res.analysis, cs);
     clock.lap("frames");

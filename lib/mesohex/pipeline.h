@@ -9,6 +9,7 @@
 #include "mesohex/stages/raw_mesh.h"
 #include "mesohex/stages/skeleton_analysis.h"
 #include "mesohex/stages/skeleton_repair.h"
+#include "mesohex/stages/virtual_branches.h"
 
 namespace mesohex {
 
@@ -23,6 +24,9 @@ struct PipelineOptions {
     AnalysisOptions analysis;      // classification and rejection rules
     ConnectionSurfaceOptions connection_surfaces;  // junction surfaces
     RawMeshOptions raw_mesh;                       // block layout and leaflet offsets
+    // One-edge virtual branches at branching points with an empty cap (stages/virtual_branches.h), added to the
+    // meshed skeleton after adaptation. Off by default.
+    VirtualBranchOptions virtual_branches;
 };
 
 struct StageTiming {
@@ -40,8 +44,9 @@ struct PipelineResult {
     int unseparated_pairs = 0;             // close branch pairs the repair left (a branch ends inside the other's tube)
     int root_strip_splits = 0;             // leaflet face strips the repair split around rooted branches
     std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners
-    Skeleton skeleton;                     // the skeleton actually meshed (radii filled, adapted when resampling)
-    SkeletonAnalysis analysis;             // analysis of `skeleton`
+    int virtual_branches = 0;   // virtual branches added to the meshed skeleton (PipelineOptions::virtual_branches)
+    Skeleton skeleton;          // the skeleton actually meshed (radii filled, adapted when resampling)
+    SkeletonAnalysis analysis;  // analysis of `skeleton`
     RawMeshPrediction predicted;
     RawMesh raw;
     std::vector<StageTiming> timings_ms;  // in pipeline order

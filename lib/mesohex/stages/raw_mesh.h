@@ -44,6 +44,9 @@ struct RawMeshPrediction {
     std::map<int, long> boundary_irregular_edges;
     // Compatible blocks (ConnectionSurfaces::blocks): 8 hexes and 27 vertices each, included in hexes / vertices.
     long compatible_blocks = 0;
+    // Virtual branches (stages/virtual_branches.h): ordinary one-edge branches of the meshed skeleton, 4 hexes each,
+    // included in hexes / vertices (set by run_pipeline).
+    long virtual_branches = 0;
     friend bool operator==(const RawMeshPrediction&, const RawMeshPrediction&) = default;
 };
 
