@@ -1,6 +1,7 @@
-// `mesohex analyze SKELETON`: prints the skeleton analysis (paper step 2): counts, vertex classes, predicted hexes;
-// then the verdict of `mesh` on the same skeleton (the raw pipeline is run, nothing is written), so that a skeleton
-// analyze approves is one mesh accepts, with the same exit status when it does not.
+// `mesohex analyze SKELETON`: prints the skeleton analysis (paper step 2): counts, vertex classes, predicted hexes,
+// the repairs `mesh` makes before meshing (pipeline.h prepare_skeleton: e.g. a fan edge retracted from a branch on its
+// end); then the verdict of `mesh` on the same skeleton (the raw pipeline is run, nothing is written), so that a
+// skeleton analyze approves is one mesh accepts, with the same exit status when it does not.
 #include <iostream>
 #include <memory>
 #include <string>
@@ -39,15 +40,17 @@ void register_analyze(CLI::App& app, int* status) {
         "error, 6 numerical failure (the message names the skeleton element).");
     cmd->callback([args, status]() {
         const Skeleton skeleton = read_skeleton(args->path);
-        const SkeletonAnalysis an = analyze_skeleton(skeleton);
-        std::cout << args->path << "\n" << analysis_to_text(an);
-        *status = 0;
-        if (args->no_verdict) return;
-        // The same call `mesh` makes (mesh_job.cpp) with the same options: same input, same verdict.
+        // The calls `mesh` makes (mesh_job.cpp, pipeline.h) with the same options: the same repairs before the
+        // analysis, the same verdict. --no-verdict stops after the repairs and the analysis of their result.
         PipelineOptions options;
         options.radius = args->radius;
         options.resample = !args->no_resample;
-        const PipelineResult res = at_stage("mesh", args->path, [&] { return run_pipeline(skeleton, options); });
+        const PipelineResult res =
+            args->no_verdict ? at_stage("analysis", args->path, [&] { return prepare_skeleton(skeleton, options); })
+                             : at_stage("mesh", args->path, [&] { return run_pipeline(skeleton, options); });
+        std::cout << args->path << "\n" << analysis_to_text(res.input_analysis) << repairs_to_text(res, options);
+        *status = 0;
+        if (args->no_verdict) return;
         std::cout << "verdict: mesh accepts it: raw mesh of " << res.raw.mesh.hexes.size() << " hexes, "
                   << res.raw.mesh.points.size() << " vertices\n";
     });

@@ -144,6 +144,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         ->check(CLI::IsMember({"uniform", "longitudinal", "radial"}))
         ->capture_default_str();
     cmd->add_flag_callback(
+        "--virtual-branches", [job] { job->options.pipeline.virtual_branches.enabled = true; },
+        "Virtual branches at branching points whose branches leave an empty cap of more than 100 degrees (all "
+        "inside a narrow cone): one extra 4-hex chunk each (off by default, docs/blocks.md)");
+    cmd->add_flag_callback(
         "--no-blocks", [job] { job->options.pipeline.connection_surfaces.blocks.enabled = false; },
         "No 8-hex compatible block at branching points whose branches are near a cube's face "
         "normals: the paper's layout (a quad partition of the sphere) everywhere");

@@ -133,6 +133,7 @@ nlohmann::json predicted_json(const RawMeshPrediction& p) {
             {"vertices", p.vertices},
             {"compatible_blocks", p.compatible_blocks},
             {"fan_blocks", {{"edges", p.fan_blocks}, {"caps", p.fan_block_caps}}},
+            {"virtual_branches", p.virtual_branches},
             {"irregular_edges",
              {{"interior", valence_histogram_json(p.interior_irregular_edges)},
               {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};
@@ -354,8 +355,15 @@ nlohmann::json analyze_response(const Skeleton& skeleton, const Domain* domain) 
     MeshTimings tm;
     const Run run = run_mesh(skeleton, domain, request, tm);
     nlohmann::json j = analysis_json(run.run.pipeline.input_analysis);
+    j["repairs"] = repairs_json(run.run.pipeline);
     j["predicted"] = predicted_json(run.run.pipeline.predicted);
     return j;
+}
+
+PipelineResult prepare_for_mesh(const Skeleton& skeleton, const Domain* domain) {
+    const MeshOptions options;  // the defaults of `mesohex mesh`, as run_mesh
+    return prepare_mesh_skeleton(skeleton, domain ? &domain->surface : nullptr,
+                                 domain && domain->query ? &*domain->query : nullptr, options);
 }
 
 std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request,

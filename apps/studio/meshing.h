@@ -59,9 +59,15 @@ struct MeshTimings {
 std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request,
                           MeshTimings* timings = nullptr);
 
-// The /api/analyze body for `skeleton`: {"vertex_class", "edge_kind", "counts", "predicted"} (the prediction of the
-// raw mesh /api/mesh?stage=raw builds, with the same radii). Errors: mesohex::Error.
+// The /api/analyze body for `skeleton`: {"vertex_class", "edge_kind", "counts", "repairs", "predicted"} (the input
+// analysis, the repairs /api/mesh makes before meshing, and the prediction of the raw mesh /api/mesh?stage=raw builds,
+// with the same radii). Errors: mesohex::Error.
 nlohmann::json analyze_response(const Skeleton& skeleton, const Domain* domain);
+
+// The input analysis /api/mesh makes (after the radii from the domain; accepting what its repairs fix, e.g. a branch
+// on a fan-edge end) and its repairs: mesohex::prepare_mesh_skeleton with the defaults of /api/mesh. Errors: the
+// mesohex::Error /api/mesh gives for the skeleton up to its analysis.
+PipelineResult prepare_for_mesh(const Skeleton& skeleton, const Domain* domain);
 
 // Per-vertex classes and per-edge kinds of an analysis, with the counts (no prediction).
 nlohmann::json analysis_json(const SkeletonAnalysis& analysis);

@@ -312,9 +312,10 @@ void StudioServer::Impl::routes() {
 
     http.Post("/api/analyze", post_handler([this](const Req& req, const std::string& body, Res& res) {
                   const Skeleton s = body_skeleton(req, body);
+                  // The analysis and repairs /api/mesh makes: it refuses what /api/mesh refuses, no more.
                   SkeletonAnalysis an;
                   try {
-                      an = analyze_skeleton(s);
+                      an = prepare_for_mesh(s, domain_ptr()).input_analysis;
                   } catch (const Error& e) {
                       throw library_error(e);
                   }

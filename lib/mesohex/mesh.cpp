@@ -141,6 +141,13 @@ int MeshRun::exit_status() const {
     return q.inverted > 0 || !q.validation.valid() ? 5 : 0;
 }
 
+PipelineResult prepare_mesh_skeleton(const Skeleton& input, const TriangleMesh* domain,
+                                     const SurfaceQuery* domain_query, const MeshOptions& options) {
+    Skeleton skeleton = input;
+    if (domain) take_radii_from_domain(skeleton, *domain, domain_query, options);
+    return prepare_skeleton(skeleton, options.pipeline);
+}
+
 MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const MeshOptions& options) {
     return mesh_skeleton(input, domain, nullptr, options);
 }

@@ -98,6 +98,13 @@ MeshRun mesh_skeleton(const Skeleton& skeleton, const TriangleMesh* domain, cons
 MeshRun mesh_skeleton(const Skeleton& skeleton, const TriangleMesh* domain, const SurfaceQuery* domain_query,
                       const MeshOptions& options);
 
+// What mesh_skeleton does before the raw mesh, and nothing after: radii from the domain (when it would take them), then
+// prepare_skeleton (pipeline.h: input analysis, repairs, adaptation, analysis) with options.pipeline. The studio's
+// analyze calls it, so it judges the skeleton mesh_skeleton meshes, after the same repairs. Errors: as mesh_skeleton's
+// up to the analysis.
+PipelineResult prepare_mesh_skeleton(const Skeleton& skeleton, const TriangleMesh* domain,
+                                     const SurfaceQuery* domain_query, const MeshOptions& options);
+
 // The same, with the domain required: raw mesh, then finish in it.
 inline MeshRun mesh_in_domain(const Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options = {}) {
     return mesh_skeleton(skeleton, &domain, options);

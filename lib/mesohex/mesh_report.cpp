@@ -17,6 +17,7 @@ nlohmann::json prediction_json(const RawMeshPrediction& p) {
             {"vertices", p.vertices},
             {"compatible_blocks", p.compatible_blocks},
             {"fan_blocks", {{"edges", p.fan_blocks}, {"caps", p.fan_block_caps}}},
+            {"virtual_branches", p.virtual_branches},
             {"irregular_edges",
              {{"interior", valence_histogram_json(p.interior_irregular_edges)},
               {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};
@@ -108,6 +109,15 @@ nlohmann::json valence_histogram_json(const std::map<int, long>& histogram) {
     return j;
 }
 
+nlohmann::json repairs_json(const PipelineResult& res) {
+    return {{"trunks", res.trunks},
+            {"absorbed_stubs", res.absorbed_stubs},
+            {"merged_ends", res.merged_ends},
+            {"unseparated_pairs", res.unseparated_pairs},
+            {"root_strip_splits", res.root_strip_splits},
+            {"fan_end_retractions", res.fan_end_retractions}};
+}
+
 nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
     const PipelineResult& res = run.pipeline;
     nlohmann::json rep;
@@ -117,12 +127,7 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
     rep["meshed_skeleton"] = analysis_counts_json(res.analysis.counts);
     rep["resampled"] = run.options.resample;
     if (run.options.resample)  // structural repairs before adaptation (stages/skeleton_repair.h)
-        rep["repairs"] = {{"trunks", res.trunks},
-                          {"absorbed_stubs", res.absorbed_stubs},
-                          {"merged_ends", res.merged_ends},
-                          {"unseparated_pairs", res.unseparated_pairs},
-                          {"root_strip_splits", res.root_strip_splits},
-                          {"fan_end_retractions", res.fan_end_retractions}};
+        rep["repairs"] = repairs_json(res);
     rep["radius"] = {{"source", res.radius_source}, {"value", res.radius}};
     if (res.radius_source == "default") {
         std::ostringstream rule;

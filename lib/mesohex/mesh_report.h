@@ -31,6 +31,8 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
 
 // Skeleton counts as the report gives them ("skeleton", "meshed_skeleton"), and a valence histogram.
 nlohmann::json analysis_counts_json(const AnalysisCounts& counts);
+// The report's "repairs" object: the structural repairs prepare_skeleton made (pipeline.h; with resampling only).
+nlohmann::json repairs_json(const PipelineResult& res);
 nlohmann::json valence_histogram_json(const std::map<int, long>& histogram);
 
 }  // namespace mesohex

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -36,7 +37,7 @@ double default_radius(const Skeleton& s, double factor) {
     return s.edges.empty() || !(total > 0) ? 1.0 : factor * total / static_cast<double>(s.edges.size());
 }
 
-PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& options) {
+PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& options) {
     PipelineResult res;
     StageClock clock(res.timings_ms);
 
@@ -70,21 +71,52 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
         for (const FanEndRetraction& r : repaired.fan_end_retractions) res.fan_end_retractions.push_back(r.vertex);
         s = adapt_skeleton(repaired.skeleton, options.adaptation);
         clock.lap("adaptation");
+    }
+    // After adaptation, which would collapse their short edges; new vertices and edges are appended.
+    res.virtual_branches = static_cast<int>(
+        add_virtual_branches(s, options.virtual_branches, &options.connection_surfaces.blocks).at.size());
+    if (options.resample || res.virtual_branches > 0) {
         res.analysis = analyze_skeleton(s, options.analysis);
         clock.lap("analysis");
     } else {
         res.analysis = res.input_analysis;
     }
     res.skeleton = std::move(s);
+    return res;
+}
 
+PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& options) {
+    PipelineResult res = prepare_skeleton(input, options);
+    StageClock clock(res.timings_ms);
     const ConnectionSurfaces cs = build_connection_surfaces(res.skeleton, res.analysis, options.connection_surfaces);
     res.predicted = predict_raw_mesh(res.skeleton, res.analysis, cs);
+    res.predicted.virtual_branches = res.virtual_branches;  // their 4 hexes each are branch chunks, in hexes
     clock.lap("connection_surfaces");
     const BranchFrames frames = propagate_frames(res.skeleton, res.analysis, cs);
     clock.lap("frames");
     res.raw = build_raw_mesh(res.skeleton, res.analysis, cs, frames, options.raw_mesh);
     clock.lap("raw_mesh");
     return res;
+}
+
+std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& options) {
+    if (!options.resample) return "repairs: not run (no resampling)\n";
+    std::ostringstream out;
+    const auto line = [&out](const char* what, long n) {
+        if (n > 0) out << "repairs: " << what << ": " << n << "\n";
+    };
+    line("trunks for close branch pairs", res.trunks);
+    line("absorbed stubs", res.absorbed_stubs);
+    line("merged branching ends", res.merged_ends);
+    line("close pairs left unseparated", res.unseparated_pairs);
+    line("leaflet strips split around rooted branches", res.root_strip_splits);
+    if (!res.fan_end_retractions.empty()) {
+        out << "repairs: fan edges retracted from branches on fan-edge ends: at input vertices";
+        for (const int v : res.fan_end_retractions) out << " " << v;
+        out << "\n";
+    }
+    const std::string text = out.str();
+    return text.empty() ? "repairs: none\n" : text;
 }
 
 }  // namespace mesohex

@@ -9,6 +9,7 @@
 #include "mesohex/stages/raw_mesh.h"
 #include "mesohex/stages/skeleton_analysis.h"
 #include "mesohex/stages/skeleton_repair.h"
+#include "mesohex/stages/virtual_branches.h"
 
 namespace mesohex {
 
@@ -23,6 +24,9 @@ struct PipelineOptions {
     AnalysisOptions analysis;      // classification and rejection rules
     ConnectionSurfaceOptions connection_surfaces;  // junction surfaces
     RawMeshOptions raw_mesh;                       // block layout and leaflet offsets
+    // One-edge virtual branches at branching points with an empty cap (stages/virtual_branches.h), added to the
+    // meshed skeleton after adaptation. Off by default.
+    VirtualBranchOptions virtual_branches;
 };
 
 struct StageTiming {
@@ -40,15 +44,27 @@ struct PipelineResult {
     int unseparated_pairs = 0;             // close branch pairs the repair left (a branch ends inside the other's tube)
     int root_strip_splits = 0;             // leaflet face strips the repair split around rooted branches
     std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners
-    Skeleton skeleton;                     // the skeleton actually meshed (radii filled, adapted when resampling)
-    SkeletonAnalysis analysis;             // analysis of `skeleton`
+    int virtual_branches = 0;   // virtual branches added to the meshed skeleton (PipelineOptions::virtual_branches)
+    Skeleton skeleton;          // the skeleton actually meshed (radii filled, adapted when resampling)
+    SkeletonAnalysis analysis;  // analysis of `skeleton`
     RawMeshPrediction predicted;
     RawMesh raw;
     std::vector<StageTiming> timings_ms;  // in pipeline order
 };
 
+// The first half of run_pipeline: the input analysis (accepting the configurations the repairs below fix, e.g. a
+// branch on a fan-edge end), the radii, and with `resample` the structural repairs (repair_skeleton), adaptation and
+// the analysis of the result. Fills everything in PipelineResult up to `analysis` (not predicted, raw). `mesohex
+// analyze` and the studio's analyze call it (or run_pipeline), so every subcommand judges the skeleton `mesh`
+// meshes, after the same repairs. Errors: as run_pipeline's analyses and repairs.
+PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& options = {});
+
 // Errors: whatever the stages throw (mesohex::Error naming the element), before anything is built.
 PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& options = {});
+
+// The repairs prepare_skeleton made, one line each ("repairs: none" when there were none; "repairs: not run (no
+// resampling)" when `resample` was off), for `mesohex analyze`.
+std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& options);
 
 // The default uniform radius: factor x mean edge length (1.0 for a skeleton without edges).
 double default_radius(const Skeleton& skeleton, double factor);

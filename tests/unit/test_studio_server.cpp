@@ -361,6 +361,40 @@ TEST(StudioServer, AnalyzeGivesTheClassesAndThePrediction) {
     EXPECT_EQ(j["predicted"]["hexes"], 176);
 }
 
+// A branch on a fan-edge end (generator fanend): /api/mesh meshes it after retracting the fan edge, so /api/analyze
+// accepts it too and lists the repair (the input vertex of the branch, a fan-edge end); with the branch perpendicular to
+// the fan line both refuse it, naming the same vertex.
+TEST(StudioServer, AnalyzeAcceptsWhatMeshRepairs) {
+    auto s = start_studio({});
+    GeneratorOptions o;
+    o.m = 1;
+    const std::string continuing = obj_text(generate_skeleton("fanend", o));
+    const auto a = post(*s.client, "/api/analyze", continuing);
+    ASSERT_TRUE(a);
+    ASSERT_EQ(a->status, 200) << a->body;
+    const json j = body_json(a);
+    ASSERT_EQ(j["repairs"]["fan_end_retractions"].size(), 1u) << a->body;
+    const int v = j["repairs"]["fan_end_retractions"][0];
+    EXPECT_EQ(j["vertex_class"][v], "FanEdgeEnd") << a->body;
+    const auto m = post(*s.client, "/api/mesh?stage=raw", continuing);
+    ASSERT_TRUE(m);
+    EXPECT_EQ(m->status, 200) << m->body.substr(0, 300);
+    EXPECT_EQ(body_json(m)["report"]["predicted"]["hexes"], j["predicted"]["hexes"]);
+    o.m = 2;
+    const std::string perpendicular = obj_text(generate_skeleton("fanend", o));
+    json where[2];
+    int k = 0;
+    for (const char* endpoint : {"/api/analyze", "/api/mesh?stage=raw"}) {
+        const auto r = post(*s.client, endpoint, perpendicular);
+        ASSERT_TRUE(r);
+        EXPECT_EQ(r->status, 422) << endpoint << ": " << r->body;
+        EXPECT_EQ(body_json(r)["error"]["code"], "UnsupportedConfiguration") << r->body;
+        where[k++] = body_json(r)["error"]["where"];
+    }
+    EXPECT_EQ(where[0], where[1]);
+    EXPECT_EQ(where[0]["kind"], "skeleton_vertex");
+}
+
 // A plate (3 x 3 quads) with two branch edges on one interior vertex: analysis rejects it (paper limitation 1) and
 // names the vertex; the page gets 422 with where = that vertex. A zero-length edge is named as an edge.
 TEST(StudioServer, RejectedSkeletonsNameTheElement) {

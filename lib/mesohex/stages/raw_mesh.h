@@ -48,6 +48,9 @@ struct RawMeshPrediction {
     long compatible_blocks = 0;
     long fan_blocks = 0;      // fan edges with a fan block (counted in compatible_blocks)
     long fan_block_caps = 0;  // open fan-block chain ends (a cap of 4 hexes each)
+    // Virtual branches (stages/virtual_branches.h): ordinary one-edge branches of the meshed skeleton, 4 hexes each,
+    // included in hexes / vertices (set by run_pipeline).
+    long virtual_branches = 0;
     friend bool operator==(const RawMeshPrediction&, const RawMeshPrediction&) = default;
 };
 

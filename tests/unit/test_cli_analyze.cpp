@@ -1,0 +1,129 @@
+// `mesohex analyze` gives the verdict of `mesohex mesh` (exit statuses) on every generated shape, on skeletons whose
+// configurations mesh repairs before meshing (branches on fan-edge ends, walls docked on plates) and on ones it
+// refuses: analyze runs the same repairs (pipeline.h prepare_skeleton) before its analysis.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_run.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using mesohex::test::CliRun;
+using mesohex::test::run_cli;
+
+fs::path test_dir() {
+    const fs::path d = fs::temp_directory_path() / ("mesohex_cli_analyze_" + std::to_string(::getpid()));
+    fs::create_directories(d);
+    return d;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// mesh's exit status as a verdict: 0 and 5 (a mesh written, with inverted hexes) are both "accepted".
+int mesh_verdict(int status) { return status == 5 ? 0 : status; }
+
+struct Verdicts {
+    CliRun analyze, analyze_only, mesh;
+};
+
+// analyze (with and without the verdict) and mesh (raw mesh, nothing else) of `skeleton` with `flags`.
+Verdicts verdicts(const std::string& skeleton, const std::string& flags) {
+    const std::string out = (test_dir() / "raw.mesh").string();
+    fs::remove(out);
+    return {run_cli("analyze " + skeleton + flags), run_cli("analyze " + skeleton + flags + " --no-verdict"),
+            run_cli("mesh " + skeleton + flags + " -q -o " + out)};
+}
+
+// Checks the agreement and returns the shared verdict (-1 when they disagree).
+int expect_same_verdict(const std::string& what, const Verdicts& v) {
+    const int m = mesh_verdict(v.mesh.status);
+    EXPECT_EQ(v.analyze.status, m) << what << "\nanalyze:\n" << v.analyze.output << "\nmesh:\n" << v.mesh.output;
+    // Without the verdict analyze stops after the repairs and the analysis: it may accept a skeleton that mesh
+    // refuses later (connection surfaces, raw mesh), never refuse one mesh accepts.
+    if (m == 0) {
+        EXPECT_EQ(v.analyze_only.status, 0) << what << "\nanalyze --no-verdict:\n" << v.analyze_only.output;
+    }
+    return v.analyze.status == m ? m : -1;
+}
+
+std::vector<std::string> generator_names() {
+    const CliRun list = run_cli("generate --list", false);
+    std::vector<std::string> names;
+    std::istringstream in(list.output);
+    for (std::string line; std::getline(in, line);)
+        if (!line.empty()) names.push_back(line);
+    return names;
+}
+
+std::string generate(const std::string& file, const std::string& args) {
+    const std::string path = (test_dir() / file).string();
+    const CliRun g = run_cli("generate " + args + " -o " + path);
+    EXPECT_EQ(g.status, 0) << args << ": " << g.output;
+    return path;
+}
+
+}  // namespace
+
+// Every generated shape, resampled (the default) and with its input sampling: same exit status. Most are accepted;
+// the count is a fact of the generator list (every shape meshes with resampling, docs/generators).
+TEST(CliAnalyze, SameVerdictAsMeshOnEveryGeneratedShape) {
+    const std::vector<std::string> names = generator_names();
+    ASSERT_GE(names.size(), 20u);
+    int accepted = 0;
+    for (const std::string& name : names) {
+        const std::string path = generate(name + ".obj", name);
+        for (const char* flags : {"", " --no-resample"}) {
+            const int v = expect_same_verdict(name + flags, verdicts(path, flags));
+            if (v == 0 && flags[0] == '\0') ++accepted;
+        }
+    }
+    EXPECT_EQ(accepted, static_cast<int>(names.size()));  // every shape meshes with the defaults
+}
+
+// Branches on fan-edge ends: the T and X fans with a branch continuing the fan line are meshed after the retraction
+// (analyze says so and names the input vertex); perpendicular branches, the input sampling (no repair without
+// resampling) and a branch on the end of a single fan edge are refused by both with status 3 (unsupported). Docked
+// walls (inside the plate, on both sides, from the border) are accepted by both.
+TEST(CliAnalyze, SameVerdictAsMeshOnRepairedConfigurations) {
+    for (const char* n : {"3", "4"}) {
+        const std::string cont = generate(std::string("fanend") + n + "c.obj", std::string("fanend -n ") + n + " -m 1");
+        const Verdicts c = verdicts(cont, "");
+        EXPECT_EQ(expect_same_verdict(cont, c), 0);
+        EXPECT_TRUE(contains(c.analyze.output,
+                             "repairs: fan edges retracted from branches on fan-edge ends: at input "
+                             "vertices "))
+            << c.analyze.output;
+        EXPECT_TRUE(contains(c.analyze_only.output, "repairs: fan edges retracted")) << c.analyze_only.output;
+        EXPECT_EQ(expect_same_verdict(cont + " --no-resample", verdicts(cont, " --no-resample")), 3);
+        const std::string perp = generate(std::string("fanend") + n + "p.obj", std::string("fanend -n ") + n + " -m 2");
+        EXPECT_EQ(expect_same_verdict(perp, verdicts(perp, "")), 3);
+    }
+    // T fan on a single fan edge (0,0,0)-(1,0,0), three 1 x 1 strips, a 2-edge branch from (1,0,0) along +x.
+    const std::string single = (test_dir() / "single_fan_edge.obj").string();
+    std::ofstream(single) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 -1 0\nv 1 -1 0\nv 0 0 1\nv 1 0 1\n"
+                             "v 2 0 0\nv 3 0 0\nf 1 2 4 3\nf 2 1 5 6\nf 1 2 8 7\nl 2 9\nl 9 10\n";
+    const Verdicts s = verdicts(single, " --radius 0.3");
+    EXPECT_EQ(expect_same_verdict(single, s), 3);
+    EXPECT_TRUE(contains(s.analyze.output, "skeleton vertex 1")) << s.analyze.output;
+    for (const char* wall : {"wall", "wallboth", "walledge"}) {
+        const std::string path = generate(std::string(wall) + ".obj", wall);
+        EXPECT_EQ(expect_same_verdict(path, verdicts(path, "")), 0);
+        EXPECT_EQ(expect_same_verdict(path + " --no-resample", verdicts(path, " --no-resample")), 0);
+    }
+}
+
+// The random evaluation set's first seeds (trees and sheets): same verdict.
+TEST(CliAnalyze, SameVerdictAsMeshOnRandomSkeletons) {
+    for (int seed = 1; seed <= 8; ++seed) {
+        const std::string path = generate("random" + std::to_string(seed) + ".obj", "--random " + std::to_string(seed));
+        expect_same_verdict(path, verdicts(path, ""));
+    }
+}
