@@ -12,6 +12,24 @@
 
 namespace mesohex::test {
 
+// A random rotation (three Euler angles, uniform enough for coverage), as its three columns.
+inline std::array<Vec3, 3> random_rotation(std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(0, 2 * 3.14159265358979323846);
+    const double a = u(rng), b = u(rng), c = u(rng);
+    auto rz = [](double t, const Vec3& p) {
+        return Vec3{std::cos(t) * p.x - std::sin(t) * p.y, std::sin(t) * p.x + std::cos(t) * p.y, p.z};
+    };
+    auto rx = [](double t, const Vec3& p) {
+        return Vec3{p.x, std::cos(t) * p.y - std::sin(t) * p.z, std::sin(t) * p.y + std::cos(t) * p.z};
+    };
+    std::array<Vec3, 3> f{Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
+    for (Vec3& e : f) e = rz(c, rx(b, rz(a, e)));
+    return f;
+}
+
+// p expressed in the frame f (columns): p.x f[0] + p.y f[1] + p.z f[2].
+inline Vec3 apply(const std::array<Vec3, 3>& f, const Vec3& p) { return p.x * f[0] + p.y * f[1] + p.z * f[2]; }
+
 // The surface of the cube [0, 2]^3 with 2 x 2 unit quads per side (26 vertices, 24 faces, 48 edges). outward: every
 // face counter-clockwise seen from outside; otherwise the faces on the sides x, y, z = 0 are listed the other way
 // round (inconsistent orientations, which the analysis must fix).

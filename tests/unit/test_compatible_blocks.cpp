@@ -15,6 +15,7 @@
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/compatible_blocks.h"
 #include "mesohex/stages/raw_mesh.h"
+#include "skeleton_fixtures.h"
 
 using namespace mesohex;
 
@@ -23,22 +24,8 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180;
 
-// A random rotation (uniform enough for coverage: three Euler angles), as its three columns.
-std::array<Vec3, 3> random_rotation(std::mt19937& rng) {
-    std::uniform_real_distribution<double> u(0, 2 * kPi);
-    const double a = u(rng), b = u(rng), c = u(rng);
-    auto rz = [](double t, const Vec3& p) {
-        return Vec3{std::cos(t) * p.x - std::sin(t) * p.y, std::sin(t) * p.x + std::cos(t) * p.y, p.z};
-    };
-    auto rx = [](double t, const Vec3& p) {
-        return Vec3{p.x, std::cos(t) * p.y - std::sin(t) * p.z, std::sin(t) * p.y + std::cos(t) * p.z};
-    };
-    std::array<Vec3, 3> f{Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
-    for (Vec3& e : f) e = rz(c, rx(b, rz(a, e)));
-    return f;
-}
-
-Vec3 apply(const std::array<Vec3, 3>& f, const Vec3& p) { return p.x * f[0] + p.y * f[1] + p.z * f[2]; }
+using test::apply;
+using test::random_rotation;
 
 // d turned by an angle drawn in [0, max_angle] about a random axis orthogonal to it: the result is at most
 // max_angle away from d.

@@ -15,6 +15,7 @@
 #include "mesohex/stages/fan_blocks.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/raw_mesh.h"
+#include "skeleton_fixtures.h"
 
 using namespace mesohex;
 
@@ -55,22 +56,8 @@ long total(const std::map<int, long>& m) {
     return n;
 }
 
-// A random rotation (three Euler angles), as its three columns.
-std::array<Vec3, 3> random_rotation(std::mt19937& rng) {
-    std::uniform_real_distribution<double> u(0, 2 * kPi);
-    const double a = u(rng), b = u(rng), c = u(rng);
-    auto rz = [](double t, const Vec3& p) {
-        return Vec3{std::cos(t) * p.x - std::sin(t) * p.y, std::sin(t) * p.x + std::cos(t) * p.y, p.z};
-    };
-    auto rx = [](double t, const Vec3& p) {
-        return Vec3{p.x, std::cos(t) * p.y - std::sin(t) * p.z, std::sin(t) * p.y + std::cos(t) * p.z};
-    };
-    std::array<Vec3, 3> f{Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
-    for (Vec3& e : f) e = rz(c, rx(b, rz(a, e)));
-    return f;
-}
-
-Vec3 apply(const std::array<Vec3, 3>& f, const Vec3& p) { return p.x * f[0] + p.y * f[1] + p.z * f[2]; }
+using test::apply;
+using test::random_rotation;
 
 // Strips of m x 1 quads (edge 1, radius 0.3) on a fan line of n edges along z, strip k leaving at angle angles[k] about
 // z (plus twist[j] at line vertex j when given); the whole skeleton rotated by f.
