@@ -15,6 +15,7 @@
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/compatible_blocks.h"
 #include "mesohex/stages/raw_mesh.h"
+#include "raw_run.h"
 #include "skeleton_fixtures.h"
 
 using namespace mesohex;
@@ -205,33 +206,13 @@ Skeleton star(const std::vector<Vec3>& dirs, int edges_per_arm, double arm_lengt
     return s;
 }
 
-struct RawRun {
-    RawMeshPrediction predicted;
-    QualityReport quality;
-    bool valid = false;
-};
+using test::RawRun;
+using test::total;
 
 RawRun mesh_raw(const Skeleton& s, bool blocks) {
-    const SkeletonAnalysis an = analyze_skeleton(s);
     ConnectionSurfaceOptions o;
     o.blocks.enabled = blocks;
-    const ConnectionSurfaces cs = build_connection_surfaces(s, an, o);
-    RawRun r;
-    r.predicted = predict_raw_mesh(s, an, cs);
-    const RawMesh raw = build_raw_mesh(s, an, cs, propagate_frames(s, an, cs));
-    r.quality = compute_quality(raw.mesh);
-    r.valid = validate(raw.mesh).valid();
-    EXPECT_EQ(r.quality.hexes, r.predicted.hexes);
-    EXPECT_EQ(r.quality.vertices, r.predicted.vertices);
-    EXPECT_EQ(r.quality.singular_interior_edges, r.predicted.interior_irregular_edges);
-    EXPECT_EQ(r.quality.singular_boundary_edges, r.predicted.boundary_irregular_edges);
-    return r;
-}
-
-long total(const std::map<int, long>& m) {
-    long n = 0;
-    for (const auto& [k, c] : m) n += c;
-    return n;
+    return test::checked_raw_mesh(s, o);
 }
 
 }  // namespace

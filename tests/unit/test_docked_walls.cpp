@@ -14,33 +14,15 @@
 #include "mesohex/stages/docked_walls.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/raw_mesh.h"
+#include "raw_run.h"
 
 using namespace mesohex;
 
 namespace {
 
-struct RawRun {
-    SkeletonAnalysis analysis;
-    RawMeshPrediction predicted;
-    QualityReport quality;
-    bool valid = false;
-};
+using test::RawRun;
 
-// The raw mesh of s (its own sampling, no adaptation), checked against its prediction.
-RawRun mesh_raw(const Skeleton& s) {
-    RawRun r;
-    r.analysis = analyze_skeleton(s);
-    const ConnectionSurfaces cs = build_connection_surfaces(s, r.analysis);
-    r.predicted = predict_raw_mesh(s, r.analysis, cs);
-    const RawMesh raw = build_raw_mesh(s, r.analysis, cs, propagate_frames(s, r.analysis, cs));
-    r.quality = compute_quality(raw.mesh);
-    r.valid = validate(raw.mesh).valid();
-    EXPECT_EQ(r.quality.hexes, r.predicted.hexes);
-    EXPECT_EQ(r.quality.vertices, r.predicted.vertices);
-    EXPECT_EQ(r.quality.singular_interior_edges, r.predicted.interior_irregular_edges);
-    EXPECT_EQ(r.quality.singular_boundary_edges, r.predicted.boundary_irregular_edges);
-    return r;
-}
+RawRun mesh_raw(const Skeleton& s) { return test::checked_raw_mesh(s); }
 
 Skeleton wall_plate(const WallPlate& w) { return make_wall_plate(w, 1.0, 0.3); }
 
