@@ -1,7 +1,7 @@
 // Studio latency in the browser: edit -> updated raw mesh on screen, for a 10 k-hex raw mesh (issue 15's target:
 // <= 50 ms). Not a test (timings are not pass/fail): run it by hand,
 //
-//   node bench/studio_page_latency.mjs [--cli build/bin/mesohex] [--edits 30] [--web-dir DIR]
+//   node bench/studio_page_latency.mjs [--cli build/bin/mesohex] [--edits 30] [--gap 500] [--web-dir DIR]
 //
 // Starts `mesohex studio torus.obj --port 0` on the generated torus 128 x 40 (10 240 raw hexes), opens the page in
 // Debian's headless Chromium (playwright-core from apps/studio/web/node_modules, WebGL through SwiftShader), waits for
@@ -26,6 +26,7 @@ const arg = (name, fallback) => {
 };
 const cli = path.resolve(arg('--cli', path.join(root, 'build/bin/mesohex')));
 const edits = Number(arg('--edits', '30'));
+const gap = Number(arg('--gap', '500')); // ms of quiet before each edit: a user edits a settled page
 const webDir = arg('--web-dir', null);
 const uncheck = (arg('--uncheck', '') || '').split(',').filter(Boolean);  // view checkboxes to turn off first
 const { chromium } = await import(path.join(root, 'apps/studio/web/node_modules/playwright-core/index.mjs'));
@@ -74,6 +75,7 @@ try {
 
   const times = [], servers = [], phases = [];
   for (let k = 0; k < edits; k++) {
+    await page.waitForTimeout(gap);
     const x = x0 + (k % 2 === 0 ? 0.02 : 0);
     const r = await page.evaluate((xv) => new Promise((resolve) => {
       const st = window.studio.state;

@@ -30,7 +30,19 @@ const skel = () => st.undo.current;
 
 // ---------------------------------------------------------------- three.js set-up
 const canvas = $('canvas');
-const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+// Multisampling only on a hardware renderer: a software WebGL (SwiftShader, llvmpipe: virtual machines, remote
+// desktops, headless tests) rasterizes every sample on the CPU, and MSAA doubled the frame time there (measured with
+// bench/studio_page_latency.mjs on a 10 k-hex mesh).
+function softwareWebGL() {
+  try {
+    const gl = document.createElement('canvas').getContext('webgl');
+    const info = gl?.getExtension('WEBGL_debug_renderer_info');
+    const name = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : '';
+    gl?.getExtension('WEBGL_lose_context')?.loseContext();
+    return /swiftshader|llvmpipe|software/i.test(name);
+  } catch { return false; }
+}
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: !softwareWebGL(), preserveDrawingBuffer: true });
 renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
 renderer.localClippingEnabled = true;
 const scene = new THREE.Scene();
@@ -60,25 +72,51 @@ const groups = {
 };
 for (const g of Object.values(groups)) scene.add(g);
 
+// Materials are made once per kind and kept: disposing a material releases its shader program, and the next draw
+// would compile it again (hundreds of milliseconds per edit in a software WebGL, measured in
+// bench/studio_page_latency.mjs). `clear` disposes the geometry only.
+const materials = new Map();
+function material(kind, make) {
+  let m = materials.get(kind);
+  if (!m) { m = make(); materials.set(kind, m); }
+  return m;
+}
+
 function clear(group) {
   for (const c of [...group.children]) {
     group.remove(c);
     c.geometry?.dispose();
-    if (c.material) (Array.isArray(c.material) ? c.material : [c.material]).forEach((m) => m.dispose());
   }
 }
 
-let renderQueued = false;
+// While a raw mesh is on its way (asked less than MESH_WAIT_MS milliseconds ago), a redraw waits for it, so that one
+// frame shows the edit with its mesh: a frame of a large scene costs hundreds of milliseconds in a software WebGL and
+// would hold the answer back. If the answer is late, the edit is drawn alone when the wait ends.
+const MESH_WAIT_MS = 100;
+let meshAskedAt = -Infinity;
+let meshInFlight = false; // a raw-mesh request is on its way (see runMesh)
+let deferredRender = null;
+let queuedFrame = null; // requestAnimationFrame id of the queued redraw
 function render() {
-  if (renderQueued) return;
-  renderQueued = true;
-  requestAnimationFrame(() => {
-    renderQueued = false;
+  if (queuedFrame !== null || deferredRender) return;
+  const waited = performance.now() - meshAskedAt;
+  if (meshInFlight && waited < MESH_WAIT_MS) {
+    deferredRender = setTimeout(() => { deferredRender = null; render(); }, MESH_WAIT_MS - waited);
+    return;
+  }
+  queuedFrame = requestAnimationFrame(() => {
+    queuedFrame = null;
     placeErrorLabel();
     renderer.render(scene, camera);
   });
 }
-function renderNow() { placeErrorLabel(); renderer.render(scene, camera); }
+// Draws at once; a redraw already queued or deferred is then not needed.
+function renderNow() {
+  if (deferredRender) { clearTimeout(deferredRender); deferredRender = null; }
+  if (queuedFrame !== null) { cancelAnimationFrame(queuedFrame); queuedFrame = null; }
+  placeErrorLabel();
+  renderer.render(scene, camera);
+}
 
 function resize() {
   const r = canvas.parentElement.getBoundingClientRect();
@@ -120,8 +158,8 @@ function drawDomain() {
   g.setAttribute('position', new THREE.Float32BufferAttribute(st.domain.vertices, 3));
   g.setIndex(st.domain.triangles);
   g.computeVertexNormals();
-  const m = new THREE.Mesh(g, new THREE.MeshPhongMaterial({ color: 0x8fb3ff, transparent: true, opacity: 0.22,
-    depthWrite: false, side: THREE.DoubleSide }));
+  const m = new THREE.Mesh(g, material('domain', () => new THREE.MeshPhongMaterial({ color: 0x8fb3ff, transparent: true, opacity: 0.22,
+    depthWrite: false, side: THREE.DoubleSide })));
   m.renderOrder = 10;
   groups.domain.add(m);
 }
@@ -165,19 +203,19 @@ function drawSkeleton(s = skel()) {
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
     g.setAttribute('color', new THREE.BufferAttribute(col, 3));
-    const pts = new THREE.Points(g, new THREE.PointsMaterial({ size: 5, sizeAttenuation: false, vertexColors: true, depthTest: false }));
+    const pts = new THREE.Points(g, material('skeleton-points', () => new THREE.PointsMaterial({ size: 5, sizeAttenuation: false, vertexColors: true, depthTest: false })));
     pts.renderOrder = 20;
     groups.skeleton.add(pts);
     if (st.selV.length) {
       const sg = new THREE.BufferGeometry();
       sg.setAttribute('position', new THREE.Float32BufferAttribute(st.selV.flatMap((v) => points[v] || []), 3));
-      const sel = new THREE.Points(sg, new THREE.PointsMaterial({ size: 9, sizeAttenuation: false, color: SELECT_COLOR, depthTest: false }));
+      const sel = new THREE.Points(sg, material('skeleton-selected-points', () => new THREE.PointsMaterial({ size: 9, sizeAttenuation: false, color: SELECT_COLOR, depthTest: false })));
       sel.renderOrder = 21;
       groups.skeleton.add(sel);
     }
   } else if (n) {
     const geo = new THREE.SphereGeometry(vertexSize(), 14, 10);
-    vertexMesh = new THREE.InstancedMesh(geo, new THREE.MeshPhongMaterial({ color: 0xffffff, depthTest: false }), n);
+    vertexMesh = new THREE.InstancedMesh(geo, material('skeleton-vertices', () => new THREE.MeshPhongMaterial({ color: 0xffffff, depthTest: false })), n);
     const classes = st.analysis && st.analysis.vertex_class?.length === n ? st.analysis.vertex_class : null;
     const mtx = new THREE.Matrix4(), col = new THREE.Color();
     const sel = new Set(st.selV);
@@ -205,7 +243,7 @@ function drawSkeleton(s = skel()) {
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
     g.setAttribute('color', new THREE.BufferAttribute(colr, 3));
-    edgeLines = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false }));
+    edgeLines = new THREE.LineSegments(g, material('skeleton-edges', () => new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false })));
     edgeLines.renderOrder = 19;
     groups.skeleton.add(edgeLines);
   }
@@ -215,13 +253,13 @@ function drawSkeleton(s = skel()) {
       for (let k = 1; k + 1 < f.length; k++) pos.push(...points[f[0]], ...points[f[k]], ...points[f[k + 1]]);
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
-    groups.skeleton.add(new THREE.Mesh(g, new THREE.MeshBasicMaterial({ color: 0x4fc3f7, transparent: true,
-      opacity: 0.25, side: THREE.DoubleSide, depthWrite: false })));
+    groups.skeleton.add(new THREE.Mesh(g, material('skeleton-faces', () => new THREE.MeshBasicMaterial({ color: 0x4fc3f7, transparent: true,
+      opacity: 0.25, side: THREE.DoubleSide, depthWrite: false }))));
   }
   if ($('v-radii').checked && s.radii.length) {
     const geo = new THREE.SphereGeometry(1, 20, 14);
-    const im = new THREE.InstancedMesh(geo, new THREE.MeshPhongMaterial({ color: 0xffcc66, transparent: true,
-      opacity: 0.18, depthWrite: false }), n);
+    const im = new THREE.InstancedMesh(geo, material('radii', () => new THREE.MeshPhongMaterial({ color: 0xffcc66, transparent: true,
+      opacity: 0.18, depthWrite: false })), n);
     const mtx = new THREE.Matrix4();
     for (let i = 0; i < n; i++) { const r = s.radii[i]; mtx.makeScale(r, r, r).setPosition(...points[i]); im.setMatrixAt(i, mtx); }
     groups.radii.add(im);
@@ -303,14 +341,14 @@ function drawMesh() {
   g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
   g.setIndex(new THREE.BufferAttribute(V.quadTriangleIndex(nq), 1));
   // Flat shading takes the normal from the screen-space derivatives: no normals needed.
-  const meshObj = new THREE.Mesh(g, new THREE.MeshPhongMaterial({ vertexColors: true, side: THREE.DoubleSide,
-    flatShading: true, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
+  const meshObj = new THREE.Mesh(g, material('mesh-faces', () => new THREE.MeshPhongMaterial({ vertexColors: true, side: THREE.DoubleSide,
+    flatShading: true, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 })));
   groups.mesh.add(meshObj);
   if ($('v-wire').checked) {
     const lg = new THREE.BufferGeometry();
     lg.setAttribute('position', position);
     lg.setIndex(new THREE.BufferAttribute(V.quadLineIndex(nq), 1));
-    groups.mesh.add(new THREE.LineSegments(lg, new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.5 })));
+    groups.mesh.add(new THREE.LineSegments(lg, material('mesh-wire', () => new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.5 }))));
   }
   if ($('v-sing').checked && mesh.singular_edges?.length) {
     const se = mesh.singular_edges, pos = [], col = [];
@@ -324,7 +362,7 @@ function drawMesh() {
     const sg = new THREE.BufferGeometry();
     sg.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
     sg.setAttribute('color', new THREE.Float32BufferAttribute(col, 3));
-    const lines = new THREE.LineSegments(sg, new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false }));
+    const lines = new THREE.LineSegments(sg, material('singular-edges', () => new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false })));
     lines.renderOrder = 15;
     groups.sing.add(lines);
   }
@@ -335,8 +373,8 @@ function drawMesh() {
       for (const k of [0, 1, 2, 0, 2, 3]) { const v = cs.quads[i + k]; pos.push(cs.vertices[3 * v], cs.vertices[3 * v + 1], cs.vertices[3 * v + 2]); }
     const cg = new THREE.BufferGeometry();
     cg.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
-    groups.conn.add(new THREE.Mesh(cg, new THREE.MeshBasicMaterial({ color: 0xff66cc, transparent: true, opacity: 0.35,
-      side: THREE.DoubleSide, depthWrite: false })));
+    groups.conn.add(new THREE.Mesh(cg, material('connection-surfaces', () => new THREE.MeshBasicMaterial({ color: 0xff66cc, transparent: true, opacity: 0.35,
+      side: THREE.DoubleSide, depthWrite: false }))));
   }
   groups.mesh.visible = $('v-mesh').checked;
   render();
@@ -428,7 +466,7 @@ function showError(err) {
   st.error = err;
   if (!err) { render(); return; }
   const s = skel(), w = err.where || {};
-  const mat = new THREE.MeshBasicMaterial({ color: 0xff2020, transparent: true, opacity: 0.6, side: THREE.DoubleSide, depthTest: false });
+  const mat = material('error', () => new THREE.MeshBasicMaterial({ color: 0xff2020, transparent: true, opacity: 0.6, side: THREE.DoubleSide, depthTest: false }));
   const r = vertexSize() * 3;
   if (w.kind === 'skeleton_vertex' && s.points[w.index]) {
     const m = new THREE.Mesh(new THREE.SphereGeometry(r, 16, 12), mat);
@@ -481,7 +519,6 @@ function toScreen(p) {
 // in flight are coalesced into one request for the latest skeleton, sent when the answer arrives (the older answer is
 // then not drawn). No debounce: a gizmo drag, a brush stroke or a typed coordinate is one edit when it ends.
 // The answer comes in binary form (float32 / uint32 arrays, binary_answer.js): the same content as the JSON API.
-let meshInFlight = false;
 
 function scheduleMesh() {
   if (!skel().points.length) {
@@ -500,6 +537,7 @@ function sameAnalysis(a, b) {
 
 async function runMesh() {
   meshInFlight = true;
+  meshAskedAt = performance.now();
   const version = st.version;
   const editAt = st.editAt;
   const t0 = performance.now();
@@ -542,6 +580,7 @@ async function runMesh() {
   } finally {
     meshInFlight = false;
     if (version !== st.version && skel().points.length) runMesh();
+    else if (deferredRender) { clearTimeout(deferredRender); deferredRender = null; render(); }
   }
 }
 
@@ -679,8 +718,8 @@ function drawMirrorPlane() {
   const p = mirrorPlane();
   if (!p) return;
   const size = sceneScale() * 1.1;
-  const m = new THREE.Mesh(new THREE.PlaneGeometry(size, size), new THREE.MeshBasicMaterial({ color: 0xffffff,
-    transparent: true, opacity: 0.06, side: THREE.DoubleSide, depthWrite: false }));
+  const m = new THREE.Mesh(new THREE.PlaneGeometry(size, size), material('mirror-plane', () => new THREE.MeshBasicMaterial({ color: 0xffffff,
+    transparent: true, opacity: 0.06, side: THREE.DoubleSide, depthWrite: false })));
   const flat = st.domain ? st.domain.vertices : skel().points.flat();
   const b = V.bounds(flat);
   if (b.diagonal > 0) m.position.set(...b.min.map((x, i) => (x + b.max[i]) / 2));
