@@ -287,6 +287,9 @@ struct StudioServer::Impl {
 
 void StudioServer::Impl::routes() {
     http.set_payload_max_length(options.max_body_bytes);
+    // No Nagle delay: an answer goes out as its header and then its body (two writes); with Nagle the body's last
+    // partial segment waits for the client's (delayed) acknowledgement of the earlier ones.
+    http.set_tcp_nodelay(true);
     // No compression: answers travel over loopback, where compressing saves nothing and costs a lot (httplib picks
     // brotli at its top quality when the client accepts it: 20 s for the 2.6 MB body of a 10 k-hex raw mesh on a busy
     // 2-core machine; gzip 0.4 s). The request is httplib's own (non-const) object, handed to us as const.
