@@ -343,8 +343,11 @@ void StudioServer::Impl::routes() {
                   const std::string encoding = req.has_param("encoding") ? req.get_param_value("encoding") : "json";
                   if (encoding != "json" && encoding != "binary")
                       throw HttpError(400, "BadRequest", "encoding must be json or binary, not '" + encoding + "'");
+                  const auto t0 = std::chrono::steady_clock::now();
                   const Skeleton s = body_skeleton(req, body);
                   MeshRequest request;
+                  request.parse_ms =
+                      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
                   request.finish = stage == "final";
                   request.encoding = encoding == "binary" ? Encoding::Binary : Encoding::Json;
                   try {
