@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/unordered_pairs.h"
 #include "mesohex_io/hex_io.h"
 
 // Formats and the exact rules each reader follows are documented in docs/formats.md ("Skeleton formats").
@@ -144,15 +145,9 @@ void apply_radius_comments(const Context& ctx, const std::map<int, std::pair<dou
     }
 }
 
-// The edges without the repeats (either direction) of an earlier one, in their order.
-std::vector<std::array<int, 2>> without_repeated_edges(const std::vector<std::array<int, 2>>& edges) {
-    std::vector<std::pair<std::pair<int, int>, int>> keyed(edges.size());  // ((min, max), index)
-    for (std::size_t e = 0; e < edges.size(); ++e)
-        keyed[e] = {std::minmax(edges[e][0], edges[e][1]), static_cast<int>(e)};
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<char> first(edges.size(), 0);
-    for (std::size_t i = 0; i < keyed.size(); ++i)
-        first[static_cast<std::size_t>(keyed[i].second)] = i == 0 || keyed[i].first != keyed[i - 1].first;
+// The edges without the repeats (either direction) of an earlier one, in their order. Ids in [0, n).
+std::vector<std::array<int, 2>> without_repeated_edges(const std::vector<std::array<int, 2>>& edges, int n) {
+    const std::vector<char> first = first_of_each_pair(edges, n);
     std::vector<std::array<int, 2>> out;
     out.reserve(edges.size());
     for (std::size_t e = 0; e < edges.size(); ++e)
@@ -188,7 +183,7 @@ Skeleton finalize(const Context& ctx, Parsed p) {
                                std::to_string(n) + " vertices (0-based)");
         if (a == b) ctx.fail(line, "self-loop edge on vertex " + std::to_string(a));
     }
-    s.edges = without_repeated_edges(s.edges);
+    s.edges = without_repeated_edges(s.edges, n);
     for (std::size_t f = 0; f < s.faces.size(); ++f) {
         const std::vector<int>& face = s.faces[f];
         const int line = p.face_line[f];
