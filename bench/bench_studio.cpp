@@ -1,6 +1,7 @@
 // Studio latency: the raw mesh the page asks for after every edit (POST /api/mesh?stage=raw), at about 10 k hexes.
-//   BM_StudioRawServer/E       mesh_response alone: run the raw pipeline, build the body (the server's share of an
-//                              edit). Counters: the phases of MeshTimings (ms per run, averaged).
+//   BM_StudioRawServer/E       the server's share of an edit without HTTP: read the skeleton from the OBJ text the
+//                              page sends, then mesh_response (run the raw pipeline, build the body). Counters: the
+//                              phases of MeshTimings (ms per run, averaged; parse = reading the OBJ text).
 //   BM_StudioRawRoundTrip/E    the full HTTP round trip over loopback: OBJ text up, body down, through a studio
 //                              server started in-process on a free port (httplib::Client; the browser's decoding
 //                              and drawing are not included: bench/studio_page_latency.mjs measures those).
@@ -9,6 +10,7 @@
 // Skeleton: generated torus 128 x 40 quads, 10240 raw hexes (2 per leaflet face, no boundary).
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <string>
 
 #include <httplib.h>
@@ -27,17 +29,21 @@ namespace {
 Skeleton torus_10k() { return generate_skeleton("torus", {.n = 128, .m = 40}); }
 
 void BM_StudioRawServer(benchmark::State& state) {
-    const Skeleton s = torus_10k();
+    const std::string text = skeleton_text(torus_10k(), "obj", "torus");
     studio::MeshRequest request;
     request.encoding = state.range(0) ? studio::Encoding::Binary : studio::Encoding::Json;
     std::size_t bytes = 0;
     studio::MeshTimings sum;
     long runs = 0;
     for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Skeleton s = read_skeleton_text(text, "obj", "request body");
+        request.parse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         studio::MeshTimings t;
         const std::string body = studio::mesh_response(s, nullptr, request, &t);
         bytes = body.size();
         benchmark::DoNotOptimize(body.data());
+        sum.parse_ms += t.parse_ms;
         sum.mesh_ms += t.mesh_ms, sum.pipeline_ms += t.pipeline_ms, sum.quality_ms += t.quality_ms;
         sum.report_ms += t.report_ms, sum.topology_ms += t.topology_ms;
         sum.connection_surfaces_ms += t.connection_surfaces_ms, sum.encode_ms += t.encode_ms;
@@ -47,6 +53,7 @@ void BM_StudioRawServer(benchmark::State& state) {
     const double n = runs ? static_cast<double>(runs) : 1.0;
     state.counters["hexes"] = 2.0 * 128 * 40;
     state.counters["body_MB"] = static_cast<double>(bytes) / 1e6;
+    state.counters["parse"] = sum.parse_ms / n;
     state.counters["mesh"] = sum.mesh_ms / n;
     state.counters["pipeline"] = sum.pipeline_ms / n;
     state.counters["quality"] = sum.quality_ms / n;

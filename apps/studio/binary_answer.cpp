@@ -16,7 +16,7 @@ std::uint32_t get_u32_le(const std::string& in, std::size_t at) {
            static_cast<std::uint32_t>(static_cast<unsigned char>(in[at + 3])) << 24;
 }
 
-void put_f32_le(std::string& out, double x) { put_u32_le(out, std::bit_cast<std::uint32_t>(static_cast<float>(x))); }
+std::uint32_t f32_bits(double x) { return std::bit_cast<std::uint32_t>(static_cast<float>(x)); }
 
 [[noreturn]] void malformed(const std::string& what) { throw std::invalid_argument("binary answer: " + what); }
 
@@ -28,16 +28,24 @@ void put_u32_le(std::string& out, std::uint32_t x) {
     out.append(b, 4);
 }
 
+char* grow(std::string& out, std::size_t n) {
+    const std::size_t at = out.size();
+    out.resize(at + n);
+    return out.data() + at;
+}
+
 void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector<double>& values) {
-    arrays.bytes.reserve(arrays.bytes.size() + 4 * values.size());
-    for (const double x : values) put_f32_le(arrays.bytes, x);
+    char* at = grow(arrays.bytes, 4 * values.size());
+    for (const double x : values) store_u32_le(at, f32_bits(x)), at += 4;
     arrays.list.push_back({{"name", name}, {"type", "f32"}, {"count", values.size()}});
 }
 
 void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector<Vec3>& points) {
-    arrays.bytes.reserve(arrays.bytes.size() + 12 * points.size());
-    for (const Vec3& p : points)
-        put_f32_le(arrays.bytes, p.x), put_f32_le(arrays.bytes, p.y), put_f32_le(arrays.bytes, p.z);
+    char* at = grow(arrays.bytes, 12 * points.size());
+    for (const Vec3& p : points) {
+        store_u32_le(at, f32_bits(p.x)), store_u32_le(at + 4, f32_bits(p.y)), store_u32_le(at + 8, f32_bits(p.z));
+        at += 12;
+    }
     arrays.list.push_back({{"name", name}, {"type", "f32"}, {"count", 3 * points.size()}});
 }
 

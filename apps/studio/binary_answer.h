@@ -57,13 +57,24 @@ DecodedAnswer decode_binary_answer(const std::string& bytes);
 
 void put_u32_le(std::string& out, std::uint32_t x);
 
+// x as 4 little-endian bytes at `at` (compilers make this one store on a little-endian machine).
+inline void store_u32_le(char* at, std::uint32_t x) {
+    at[0] = static_cast<char>(x & 0xffu);
+    at[1] = static_cast<char>((x >> 8) & 0xffu);
+    at[2] = static_cast<char>((x >> 16) & 0xffu);
+    at[3] = static_cast<char>((x >> 24) & 0xffu);
+}
+
+// Appends n bytes (zeros) to `out`; returns where they start.
+char* grow(std::string& out, std::size_t n);
+
 template <typename Cells>
 void append_u32_cells(BinaryArrays& arrays, const std::string& name, const Cells& cells) {
     std::size_t count = 0;
     for (const auto& cell : cells) count += cell.size();
-    arrays.bytes.reserve(arrays.bytes.size() + 4 * count);
+    char* at = grow(arrays.bytes, 4 * count);
     for (const auto& cell : cells)
-        for (const int v : cell) put_u32_le(arrays.bytes, static_cast<std::uint32_t>(v));
+        for (const int v : cell) store_u32_le(at, static_cast<std::uint32_t>(v)), at += 4;
     arrays.list.push_back({{"name", name}, {"type", "u32"}, {"count", count}});
 }
 

@@ -34,6 +34,7 @@ struct MeshRequest {
     std::string skeleton_name = "request";  // "input" in the report
     bool finish = false;                    // stage=final (needs a domain)
     Encoding encoding = Encoding::Json;
+    double parse_ms = 0;  // the caller's time reading the skeleton from the request body (counted in "server_ms")
     // Progress of the run (MeshOptions::progress: "raw", "attempt", "fit", "untangle", "improve", "smooth"); may
     // throw to cancel it.
     std::function<void(const MeshProgress&)> progress;
@@ -41,6 +42,7 @@ struct MeshRequest {
 
 // Where the server's time goes (wall ms), answered as "server_phases_ms".
 struct MeshTimings {
+    double parse_ms = 0;                // reading the request body (MeshRequest::parse_ms)
     double mesh_ms = 0;                 // mesh_skeleton: radii, pipeline, raw quality and (final) finishing
     double pipeline_ms = 0;             //   of which run_pipeline (analysis, adaptation, connection surfaces, raw mesh)
     double quality_ms = 0;              //   of which compute_quality of the raw mesh
@@ -49,7 +51,7 @@ struct MeshTimings {
     double connection_surfaces_ms = 0;  // raw only: the connection surfaces drawn with the raw mesh's vertices
     double distance_ms = 0;             // final only: distance of the boundary vertices to the domain
     double encode_ms = 0;               // writing the body (JSON text or binary)
-    double total_ms = 0;                // = "server_ms"
+    double total_ms = 0;                // = "server_ms": parse_ms and everything after
 };
 
 // Meshes `skeleton` (in `domain` when given) and answers the /api/mesh body: {"report", "mesh", "analysis",

@@ -8,13 +8,13 @@
 #include <cmath>
 #include <fstream>
 #include <map>
-#include <set>
 #include <sstream>
 #include <string_view>
 #include <utility>
 #include <vector>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/unordered_pairs.h"
 #include "mesohex_io/hex_io.h"
 
 // Formats and the exact rules each reader follows are documented in docs/formats.md ("Skeleton formats").
@@ -109,10 +109,10 @@ struct Parsed {
 };
 
 // "# mesohex radius <index> <r>" comment lines (index base given by the format). Returns true if `comment` (the text
-// after '#') is such a line, and stores the value.
+// after '#') is such a line, and stores the value. `tok`: scratch for the tokens.
 bool parse_radius_comment(const Context& ctx, std::string_view comment, int line, int index_base,
-                          std::map<int, std::pair<double, int>>& radius_of) {
-    const std::vector<std::string_view> tok = split_whitespace(comment);
+                          std::map<int, std::pair<double, int>>& radius_of, std::vector<std::string_view>& tok) {
+    split_whitespace(comment, tok);
     if (tok.size() < 2 || tok[0] != "mesohex" || tok[1] != "radius") return false;
     if (tok.size() != 4) ctx.fail(line, "radius comment must be '# mesohex radius <vertex> <radius>'");
     const long long raw = ctx.integer(tok[2], line, "radius vertex index");
@@ -145,6 +145,28 @@ void apply_radius_comments(const Context& ctx, const std::map<int, std::pair<dou
     }
 }
 
+// The edges without the repeats (either direction) of an earlier one, in their order. Ids in [0, n).
+std::vector<std::array<int, 2>> without_repeated_edges(const std::vector<std::array<int, 2>>& edges, int n) {
+    const std::vector<char> first = first_of_each_pair(edges, n);
+    std::vector<std::array<int, 2>> out;
+    out.reserve(edges.size());
+    for (std::size_t e = 0; e < edges.size(); ++e)
+        if (first[e]) out.push_back(edges[e]);
+    return out;
+}
+
+bool repeats_a_vertex(const std::vector<int>& face) {
+    if (face.size() <= 8) {  // the usual quad or triangle: no copy
+        for (std::size_t i = 0; i < face.size(); ++i)
+            for (std::size_t j = i + 1; j < face.size(); ++j)
+                if (face[i] == face[j]) return true;
+        return false;
+    }
+    std::vector<int> sorted = face;
+    std::sort(sorted.begin(), sorted.end());
+    return std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+}
+
 // Checks shared by every reader; drops duplicate edges (documented); adds missing face sides.
 Skeleton finalize(const Context& ctx, Parsed p) {
     Skeleton& s = p.s;
@@ -153,9 +175,6 @@ Skeleton finalize(const Context& ctx, Parsed p) {
         if (!(s.radii[v] > 0))
             ctx.fail(p.radius_line[v],
                      "radius of vertex " + std::to_string(v) + " must be positive, got " + std::to_string(s.radii[v]));
-    std::vector<std::array<int, 2>> edges;
-    edges.reserve(s.edges.size());
-    std::set<std::pair<int, int>> seen;
     for (std::size_t e = 0; e < s.edges.size(); ++e) {
         const auto [a, b] = s.edges[e];
         const int line = p.edge_line[e];
@@ -163,9 +182,8 @@ Skeleton finalize(const Context& ctx, Parsed p) {
             ctx.fail(line, "edge names vertex " + std::to_string(a < 0 || a >= n ? a : b) + " but there are " +
                                std::to_string(n) + " vertices (0-based)");
         if (a == b) ctx.fail(line, "self-loop edge on vertex " + std::to_string(a));
-        if (seen.insert(std::minmax(a, b)).second) edges.push_back({a, b});
     }
-    s.edges = std::move(edges);
+    s.edges = without_repeated_edges(s.edges, n);
     for (std::size_t f = 0; f < s.faces.size(); ++f) {
         const std::vector<int>& face = s.faces[f];
         const int line = p.face_line[f];
@@ -174,9 +192,7 @@ Skeleton finalize(const Context& ctx, Parsed p) {
             if (v < 0 || v >= n)
                 ctx.fail(line, "face names vertex " + std::to_string(v) + " but there are " + std::to_string(n) +
                                    " vertices (0-based)");
-        std::vector<int> sorted = face;
-        std::sort(sorted.begin(), sorted.end());
-        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) ctx.fail(line, "face repeats a vertex");
+        if (repeats_a_vertex(face)) ctx.fail(line, "face repeats a vertex");
     }
     add_face_edges(s);
     return std::move(p.s);
@@ -215,11 +231,12 @@ Skeleton read_cg(const Context& ctx, const std::vector<TextLine>& lines, bool ra
     // .cgr: a radius on every 'v' line. .cg: a 4th value is taken as the radius only if every 'v' line has one (real
     // .cg files mix 3- and 4-value lines; then the 4th values are ignored).
     bool all_have_radius = true;
+    std::vector<std::string_view> tok;  // the tokens of the current line
     for (; i < lines.size(); ++i) {
         const TextLine& l = lines[i];
         const std::string_view t = trim_left(l.text);
         if (t.empty() || t.front() == '#') continue;
-        const std::vector<std::string_view> tok = split_whitespace(t);
+        split_whitespace(t, tok);
         if (tok[0] == "v") {
             if (tok.size() != 4 && tok.size() != 5)
                 ctx.fail(l.number, radius_required ? "expected 'v x y z r'" : "expected 'v x y z [r]'");
@@ -365,11 +382,12 @@ Skeleton read_ig(const Context& ctx, const std::vector<TextLine>& lines) {
     require_content(ctx, lines);
     std::vector<Token> tokens;
     std::map<int, std::pair<double, int>> radius_of;
+    std::vector<std::string_view> scratch;
     for (const TextLine& l : lines) {
         std::string_view t = l.text;
         const std::size_t hash = t.find('#');
         if (hash != std::string_view::npos) {
-            parse_radius_comment(ctx, t.substr(hash + 1), l.number, 0, radius_of);
+            parse_radius_comment(ctx, t.substr(hash + 1), l.number, 0, radius_of, scratch);
             t = t.substr(0, hash);
         }
         for (const std::string_view tok : split_whitespace(t)) tokens.push_back({tok, l.number});
@@ -451,14 +469,15 @@ Skeleton read_obj(const Context& ctx, const std::vector<TextLine>& lines) {
             ctx.fail(line, "vertex index " + quote_excerpt(head) + " does not name a vertex");
         return static_cast<int>(v);
     };
+    std::vector<std::string_view> tok;  // the tokens of the current line
     for (const TextLine& l : lines) {
         const std::string_view t = trim_left(l.text);
         if (t.empty()) continue;
         if (t.front() == '#') {
-            parse_radius_comment(ctx, t.substr(1), l.number, 1, radius_of);
+            parse_radius_comment(ctx, t.substr(1), l.number, 1, radius_of, tok);
             continue;
         }
-        const std::vector<std::string_view> tok = split_whitespace(t);
+        split_whitespace(t, tok);
         if (tok[0] == "v") {
             if (tok.size() < 4) ctx.fail(l.number, "expected 'v x y z'");
             p.s.points.push_back({ctx.number(tok[1], l.number, "x"), ctx.number(tok[2], l.number, "y"),
@@ -475,6 +494,7 @@ Skeleton read_obj(const Context& ctx, const std::vector<TextLine>& lines) {
         } else if (tok[0] == "f") {
             if (tok.size() < 4) ctx.fail(l.number, "a face needs at least 3 vertices");
             std::vector<int> face;
+            face.reserve(tok.size() - 1);
             for (std::size_t j = 1; j < tok.size(); ++j) face.push_back(index(tok[j], l.number));
             p.s.faces.push_back(std::move(face));
             p.face_line.push_back(l.number);

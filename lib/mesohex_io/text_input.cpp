@@ -50,6 +50,12 @@ bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' |
 
 std::vector<std::string_view> split_whitespace(std::string_view s) {
     std::vector<std::string_view> out;
+    split_whitespace(s, out);
+    return out;
+}
+
+void split_whitespace(std::string_view s, std::vector<std::string_view>& out) {
+    out.clear();
     std::size_t i = 0;
     while (i < s.size()) {
         while (i < s.size() && is_space(s[i])) ++i;
@@ -57,7 +63,6 @@ std::vector<std::string_view> split_whitespace(std::string_view s) {
         while (i < s.size() && !is_space(s[i])) ++i;
         if (i > b) out.push_back(s.substr(b, i - b));
     }
-    return out;
 }
 
 std::string quote_excerpt(std::string_view s, std::size_t max_chars) {

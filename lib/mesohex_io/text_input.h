@@ -20,6 +20,8 @@ std::string lower_extension(const std::string& path);
 
 // Whitespace (space, tab, CR, FF, VT) separated tokens; the views point into `s`.
 std::vector<std::string_view> split_whitespace(std::string_view s);
+// The same into `out` (cleared first): a reader splitting line after line reuses one vector.
+void split_whitespace(std::string_view s, std::vector<std::string_view>& out);
 
 // Text from a file made safe to print inside an error message: at most `max_chars` characters of `s` (then "..."
 // and the full length in bytes), every byte outside printable ASCII written as \xNN, a backslash as \\. A 20 MB

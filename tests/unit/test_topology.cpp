@@ -7,7 +7,9 @@
 
 #include "hex_fixtures.h"
 #include "mesohex/core/hex_convention.h"
+#include "mesohex/core/skeleton.h"
 #include "mesohex/core/topology.h"
+#include "mesohex/core/unordered_pairs.h"
 
 using namespace mesohex;
 using mesohex::test::make_block;
@@ -165,4 +167,40 @@ TEST(Topology, VertexHexesOfBlock2x2x2) {
     EXPECT_EQ(of(13), (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
     EXPECT_EQ(of(0), (std::vector<int>{0}));
     EXPECT_EQ(of(4), (std::vector<int>{0, 1, 2, 3}));
+}
+
+TEST(Topology, FaceSideEdgesTable) {
+    // Bottom face 0-3-2-1: sides (0,3) (3,2) (2,1) (1,0) are edges 3, 2, 1, 0; top face 4-5-6-7: edges 4, 5, 6, 7.
+    EXPECT_EQ(kHexFaceSideEdges[0], (std::array<int, 4>{3, 2, 1, 0}));
+    EXPECT_EQ(kHexFaceSideEdges[1], (std::array<int, 4>{4, 5, 6, 7}));
+    for (std::size_t lf = 0; lf < 6; ++lf)
+        for (std::size_t i = 0; i < 4; ++i) {
+            const std::array<int, 2>& e = kHexEdges[static_cast<std::size_t>(kHexFaceSideEdges[lf][i])];
+            const int a = kHexFaces[lf][i], b = kHexFaces[lf][(i + 1) % 4];
+            EXPECT_TRUE((e[0] == a && e[1] == b) || (e[0] == b && e[1] == a)) << lf << " " << i;
+        }
+}
+
+// Repeated unordered pairs (core/unordered_pairs.h, skeleton.h), counts by hand.
+TEST(SkeletonPairs, FirstOfEachPair) {
+    const std::vector<std::array<int, 2>> pairs{{1, 2}, {2, 1}, {0, 3}, {1, 2}, {3, 0}, {2, 2}};
+    EXPECT_EQ(first_of_each_pair(pairs, 4), (std::vector<char>{1, 0, 1, 0, 0, 1}));
+    const std::vector<std::array<int, 2>> wild{{1, 2}, {-5, 7}, {2, 1}, {7, -5}};  // ids outside [0, 4): sorted
+    EXPECT_EQ(first_of_each_pair(wild, 4), (std::vector<char>{1, 1, 0, 0}));
+}
+
+TEST(SkeletonPairs, FanSidesBranchEdgesAndAddedFaceSides) {
+    Skeleton s;
+    s.points.assign(9, Vec3{0, 0, 0});
+    s.faces = {{0, 1, 2, 3}, {1, 4, 5, 2}};
+    EXPECT_EQ(add_face_edges(s), 7);  // 4 + 3: side (2, 1) of the second face is (1, 2) of the first
+    EXPECT_EQ(s.edges[4], (std::array<int, 2>{1, 4}));
+    EXPECT_EQ(s.edges[6], (std::array<int, 2>{5, 2}));
+    EXPECT_FALSE(has_side_of_three_faces(s));  // side (1, 2) on two faces
+    EXPECT_FALSE(has_edge_off_faces(s));
+    s.faces.push_back({1, 2, 7, 6});  // a third face on (1, 2): a fan
+    EXPECT_EQ(add_face_edges(s), 3);
+    EXPECT_TRUE(has_side_of_three_faces(s));
+    s.edges.push_back({0, 8});  // a branch
+    EXPECT_TRUE(has_edge_off_faces(s));
 }

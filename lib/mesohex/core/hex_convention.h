@@ -40,6 +40,21 @@ inline constexpr std::array<std::array<int, 4>, 6> kHexFaces = {{
     {3, 0, 4, 7},  // left   (-x)
 }};
 
+// For local face lf and its side i (corners kHexFaces[lf][i] and kHexFaces[lf][(i + 1) % 4]): the local edge
+// (index into kHexEdges) along that side.
+inline constexpr std::array<std::array<int, 4>, 6> kHexFaceSideEdges = [] {
+    std::array<std::array<int, 4>, 6> table{};
+    for (std::size_t lf = 0; lf < 6; ++lf)
+        for (std::size_t i = 0; i < 4; ++i) {
+            const int a = kHexFaces[lf][i], b = kHexFaces[lf][(i + 1) % 4];
+            for (std::size_t le = 0; le < 12; ++le)
+                if ((kHexEdges[le][0] == a && kHexEdges[le][1] == b) ||
+                    (kHexEdges[le][0] == b && kHexEdges[le][1] == a))
+                    table[lf][i] = static_cast<int>(le);
+        }
+    return table;
+}();
+
 // For corner lv: its three neighbours (a, b, c) such that (a-lv, b-lv, c-lv) is right-handed on the unit cube.
 inline constexpr std::array<std::array<int, 3>, 8> kHexCornerNeighbors = {{
     {1, 3, 4},

@@ -22,6 +22,11 @@ struct Skeleton {
 // Appends to s.edges every side of every face that is not already listed (in face order). Returns how many were added.
 int add_face_edges(Skeleton& s);
 
+// Cheap exact tests for the repairs that need a configuration (a stage can skip its incidence maps without one).
+// A side of k faces counts k times (a face repeating a vertex can count twice on one side).
+bool has_side_of_three_faces(const Skeleton& s);  // some face side lies on >= 3 faces (a fan edge)
+bool has_edge_off_faces(const Skeleton& s);  // some edge (ends in range, distinct) is the side of no face (a branch)
+
 // Euler characteristic V - E + F of the skeleton as a cell complex (assumes edges are unique).
 inline long euler_characteristic(const Skeleton& s) {
     return static_cast<long>(s.points.size()) - static_cast<long>(s.edges.size()) + static_cast<long>(s.faces.size());

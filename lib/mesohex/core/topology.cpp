@@ -5,7 +5,6 @@
 
 #include <algorithm>
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "mesohex/core/error.h"
@@ -14,29 +13,44 @@
 namespace mesohex {
 namespace {
 
-// Slot ids sorted by (key, slot), where key[0] is the smallest vertex of the key: a counting sort by key[0] (stable,
-// so slots stay increasing inside a bucket), then a small sort inside each vertex bucket. O(n) plus tiny sorts;
-// the order is a total order, hence the same for any thread count.
+// Slot ids sorted by (key, slot): a least-significant-digit radix sort, one stable counting sort per key component
+// from the last to the first, each O(#slots + num_buckets). Keys are vertex ids in [0, num_buckets). The order is a
+// total order, hence the same for any thread count.
 template <std::size_t N>
 std::vector<int> sort_slots(const std::vector<std::array<int, N>>& keys, int num_buckets) {
-    std::vector<int> start(static_cast<std::size_t>(num_buckets) + 1, 0);
-    for (const std::array<int, N>& k : keys) ++start[static_cast<std::size_t>(k[0]) + 1];
-    for (std::size_t b = 0; b < static_cast<std::size_t>(num_buckets); ++b) start[b + 1] += start[b];
-    std::vector<int> order(keys.size());
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t s = 0; s < keys.size(); ++s)
-        order[static_cast<std::size_t>(fill[static_cast<std::size_t>(keys[s][0])]++)] = static_cast<int>(s);
-    tbb::parallel_for(tbb::blocked_range<int>(0, num_buckets, 1024), [&](const tbb::blocked_range<int>& range) {
-        for (int b = range.begin(); b != range.end(); ++b) {
-            std::sort(order.begin() + start[static_cast<std::size_t>(b)],
-                      order.begin() + start[static_cast<std::size_t>(b) + 1], [&](int x, int y) {
-                          const std::array<int, N>& kx = keys[static_cast<std::size_t>(x)];
-                          const std::array<int, N>& ky = keys[static_cast<std::size_t>(y)];
-                          return kx != ky ? kx < ky : x < y;
-                      });
+    const std::size_t n = keys.size();
+    std::vector<int> order(n), next(n);
+    std::vector<int> start(static_cast<std::size_t>(num_buckets) + 1);
+    for (std::size_t c = N; c-- > 0;) {
+        std::fill(start.begin(), start.end(), 0);
+        for (const std::array<int, N>& k : keys) ++start[static_cast<std::size_t>(k[c]) + 1];
+        for (std::size_t b = 0; b < static_cast<std::size_t>(num_buckets); ++b) start[b + 1] += start[b];
+        if (c == N - 1) {  // first pass: the slots in their own order
+            for (std::size_t s = 0; s < n; ++s)
+                next[static_cast<std::size_t>(start[static_cast<std::size_t>(keys[s][c])]++)] = static_cast<int>(s);
+        } else {
+            for (const int s : order)
+                next[static_cast<std::size_t>(
+                    start[static_cast<std::size_t>(keys[static_cast<std::size_t>(s)][c])]++)] = s;
         }
-    });
+        order.swap(next);
+    }
     return order;
+}
+
+// Ascending order of 4 ints: a sorting network of 5 compare-exchanges.
+void sort4(std::array<int, 4>& k) {
+    const auto exchange = [&k](std::size_t i, std::size_t j) {
+        if (k[j] < k[i]) std::swap(k[i], k[j]);
+    };
+    exchange(0, 1), exchange(2, 3), exchange(0, 2), exchange(1, 3), exchange(1, 2);
+}
+
+template <std::size_t N>
+bool same_key(const std::array<int, N>& a, const std::array<int, N>& b) {
+    for (std::size_t i = 0; i < N; ++i)
+        if (a[i] != b[i]) return false;
+    return true;
 }
 
 // Groups of equal keys in the sorted slot order, numbered by the smallest slot of each group (= first appearance).
@@ -50,7 +64,7 @@ int number_groups(const std::vector<std::array<int, N>>& keys, const std::vector
     while (i < n) {
         const std::array<int, N>& key = keys[static_cast<std::size_t>(order[i])];
         std::size_t j = i + 1;
-        while (j < n && keys[static_cast<std::size_t>(order[j])] == key) ++j;
+        while (j < n && same_key(keys[static_cast<std::size_t>(order[j])], key)) ++j;
         for (std::size_t k = i; k < j; ++k) group_head[static_cast<std::size_t>(order[k])] = order[i];
         i = j;
     }
@@ -102,7 +116,7 @@ HexTopology compute_hex_topology(const HexMesh& mesh) {
         for (std::size_t lf = 0; lf < 6; ++lf) {
             std::array<int, 4>& key = face_keys[h * 6 + lf];
             for (std::size_t i = 0; i < 4; ++i) key[i] = hex[static_cast<std::size_t>(kHexFaces[lf][i])];
-            std::sort(key.begin(), key.end());
+            sort4(key);
         }
     });
     std::vector<int> face_of_slot, face_first_slot;
@@ -147,7 +161,7 @@ HexTopology compute_hex_topology(const HexMesh& mesh) {
         const std::array<int, 2>& key = edge_keys[static_cast<std::size_t>(edge_order[i])];
         std::size_t j = i + 1;
         int distinct = 1;
-        while (j < edge_order.size() && edge_keys[static_cast<std::size_t>(edge_order[j])] == key) {
+        while (j < edge_order.size() && same_key(edge_keys[static_cast<std::size_t>(edge_order[j])], key)) {
             if (edge_order[j] / 12 != edge_order[j - 1] / 12) ++distinct;
             ++j;
         }
@@ -178,16 +192,8 @@ HexTopology compute_hex_topology(const HexMesh& mesh) {
         topo.boundary_face.push_back(f);
         const int s = face_first_slot[static_cast<std::size_t>(f)];
         const std::size_t h = static_cast<std::size_t>(s / 6);
-        const std::array<int, 4>& lface = kHexFaces[s % 6];
-        for (int i = 0; i < 4; ++i) {
-            const int la = lface[i], lb = lface[(i + 1) % 4];
-            for (int le = 0; le < 12; ++le) {
-                if ((kHexEdges[le][0] == la && kHexEdges[le][1] == lb) ||
-                    (kHexEdges[le][0] == lb && kHexEdges[le][1] == la))
-                    topo.edge_on_boundary[static_cast<std::size_t>(topo.hex_edges[h][static_cast<std::size_t>(le)])] =
-                        true;
-            }
-        }
+        for (const int le : kHexFaceSideEdges[static_cast<std::size_t>(s % 6)])
+            topo.edge_on_boundary[static_cast<std::size_t>(topo.hex_edges[h][static_cast<std::size_t>(le)])] = true;
     }
     return topo;
 }

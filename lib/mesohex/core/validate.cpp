@@ -147,17 +147,11 @@ ValidationReport validate_impl(const HexMesh& mesh, const HexTopology* given_top
         int lf0 = -1;
         for (int lf = 0; lf < 6; ++lf)
             if (topo.hex_faces[static_cast<std::size_t>(h)][static_cast<std::size_t>(lf)] == f) lf0 = lf;
-        const std::array<int, 4>& lface = kHexFaces[static_cast<std::size_t>(lf0)];
-        for (std::size_t i = 0; i < 4; ++i) {
-            const int la = lface[i], lb = lface[(i + 1) % 4];
-            for (std::size_t le = 0; le < 12; ++le) {
-                if ((kHexEdges[le][0] == la && kHexEdges[le][1] == lb) ||
-                    (kHexEdges[le][0] == lb && kHexEdges[le][1] == la)) {
-                    const std::size_t e = static_cast<std::size_t>(topo.hex_edges[static_cast<std::size_t>(h)][le]);
-                    ++boundary_uses[e];
-                    if (first_face[e] < 0) first_face[e] = f;
-                }
-            }
+        for (const int le : kHexFaceSideEdges[static_cast<std::size_t>(lf0)]) {
+            const std::size_t e =
+                static_cast<std::size_t>(topo.hex_edges[static_cast<std::size_t>(h)][static_cast<std::size_t>(le)]);
+            ++boundary_uses[e];
+            if (first_face[e] < 0) first_face[e] = f;
         }
     }
     for (std::size_t e = 0; e < topo.edges.size(); ++e) {

@@ -141,7 +141,7 @@ FanEndRetraction retract(Skeleton& s, const Candidate& c) {
 
 std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
     std::vector<FanEndRetraction> done;
-    if (s.faces.empty() || !well_formed(s)) return done;
+    if (s.faces.empty() || !well_formed(s) || !has_side_of_three_faces(s)) return done;  // a candidate needs a fan edge
     const int n = static_cast<int>(s.points.size());
     for (int round = 0; round < n; ++round) {
         const Incidence in = make_incidence(s);

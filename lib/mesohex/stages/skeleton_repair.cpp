@@ -261,6 +261,7 @@ int split_root_patches(Skeleton& s, double factor) {
         for (const int v : f)
             if (v < 0 || v >= n) return 0;
     }
+    if (!has_edge_off_faces(s)) return 0;  // a root has a branch edge
     const Leaflets l = make_leaflets(s);
     std::vector<std::vector<int>> side_nb(n), branch_nb(n);
     for (const std::array<int, 2>& e : s.edges) {
