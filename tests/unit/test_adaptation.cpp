@@ -140,6 +140,7 @@ TEST(Adaptation, PinnedJointSplitsTheResampling) {
     EXPECT_EQ(out.points[5], (Vec3{5, 0, 0}));  // the pin itself, not a resampled point near it
     // Out of range, extremities and branching points are ignored: the same output as without pins.
     EXPECT_EQ(mesohex::adapt_skeleton(in, {}, {-1, 0, 1, 99}), mesohex::adapt_skeleton(in));
+    EXPECT_EQ(mesohex::adapt_skeleton(in, {}, {11, 11}), out);
 }
 
 // A radius bump (an absorbed stub's ball, SkeletonRepairResult::absorbed_balls): (0,0,0) r 0.1 -> (1,0,0) r 0.3 ->

@@ -113,7 +113,8 @@ void bisect(const Polyline& pl, double t0, double t1, int depth, double r_floor,
 // order. Empty when the pieces give fewer than min_edges edges (the caller then samples the branch as a whole).
 std::vector<double> sample_pinned(const Polyline& pl, int min_edges, double r_floor, const AdaptationOptions& o) {
     std::vector<double> bounds{0.0};
-    bounds.insert(bounds.end(), pl.pinned.begin(), pl.pinned.end());
+    for (const double p : pl.pinned)  // strictly inside and increasing: no zero-length piece (coincident vertices)
+        if (p > bounds.back() && p < pl.length()) bounds.push_back(p);
     bounds.push_back(pl.length());
     std::vector<double> t;
     for (std::size_t i = 0; i + 1 < bounds.size(); ++i) {
