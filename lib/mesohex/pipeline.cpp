@@ -69,7 +69,8 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         res.unseparated_pairs = repaired.unseparated;
         res.root_strip_splits = repaired.root_strip_splits;
         for (const FanEndRetraction& r : repaired.fan_end_retractions) res.fan_end_retractions.push_back(r.vertex);
-        s = adapt_skeleton(repaired.skeleton, options.adaptation);
+        s = adapt_skeleton(repaired.skeleton, options.adaptation,
+                           options.repair.pin_absorbed_balls ? repaired.absorbed_balls : std::vector<int>{});
         clock.lap("adaptation");
     }
     // After adaptation, which would collapse their short edges; new vertices and edges are appended.

@@ -125,6 +125,41 @@ TEST(Adaptation, SamplesLieOnOriginalPolylineWithInterpolatedRadius) {
     EXPECT_LT(len_at(0.1), len_at(19.9));
 }
 
+// A pinned joint at x = 5 of the straight branch of length 16, radius 1 (vertex 11): the pieces [0, 5] and [5, 16]
+// are bisected separately (r0 + r1 = 2 < length): [0, 5] -> 2.5 -> 1.25, 3.75 (edges of 1.25); [5, 16] -> 10.5 ->
+// 7.75, 13.25 -> 6.375, 9.125, 11.875, 14.625 (edges of 1.375); the smoothing keeps uniform samples. 11 joints, 12
+// edges, one joint exactly at the pin. Without the pin: 8 edges of 2 (StraightConstantRadiusPowerOfTwo).
+TEST(Adaptation, PinnedJointSplitsTheResampling) {
+    const Skeleton in = straight(16, 31, 1.0);
+    ASSERT_EQ(in.points[11], (Vec3{5, 0, 0}));
+    const Skeleton out = mesohex::adapt_skeleton(in, {}, {11});
+    ASSERT_EQ(out.points.size(), 13u);
+    ASSERT_EQ(out.edges.size(), 12u);
+    const std::vector<double> xs{1.25, 2.5, 3.75, 5, 6.375, 7.75, 9.125, 10.5, 11.875, 13.25, 14.625};
+    for (std::size_t k = 0; k < xs.size(); ++k) EXPECT_NEAR(out.points[2 + k].x, xs[k], 1e-12) << k;
+    EXPECT_EQ(out.points[5], (Vec3{5, 0, 0}));  // the pin itself, not a resampled point near it
+    // Out of range, extremities and branching points are ignored: the same output as without pins.
+    EXPECT_EQ(mesohex::adapt_skeleton(in, {}, {-1, 0, 1, 99}), mesohex::adapt_skeleton(in));
+    EXPECT_EQ(mesohex::adapt_skeleton(in, {}, {11, 11}), out);
+}
+
+// A radius bump (an absorbed stub's ball, SkeletonRepairResult::absorbed_balls): (0,0,0) r 0.1 -> (1,0,0) r 0.3 ->
+// (3,0,0) r 0.1. The bisection samples [0, 3] at dyadic fractions of 3, never at 1: without the pin every output
+// radius is below the bump's 0.3 (the bump is tapered away); pinned, the joint (1,0,0) keeps radius 0.3.
+TEST(Adaptation, PinnedRadiusPeakIsKept) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {3, 0, 0}, {1, 0, 0}};
+    s.radii = {0.1, 0.1, 0.3};
+    s.edges = {{0, 2}, {2, 1}};
+    const Skeleton free = mesohex::adapt_skeleton(s);
+    EXPECT_LT(*std::max_element(free.radii.begin(), free.radii.end()), 0.3 - 1e-3);
+    const Skeleton pinned = mesohex::adapt_skeleton(s, {}, {2});
+    const auto at = std::find(pinned.points.begin(), pinned.points.end(), Vec3{1, 0, 0});
+    ASSERT_NE(at, pinned.points.end());
+    EXPECT_DOUBLE_EQ(pinned.radii[static_cast<std::size_t>(at - pinned.points.begin())], 0.3);
+    EXPECT_EQ(mesohex::euler_characteristic(pinned), 1);
+}
+
 // An L-shaped polyline: every new joint lies on one of the two original segments.
 TEST(Adaptation, SamplesOnBentPolyline) {
     Skeleton s;

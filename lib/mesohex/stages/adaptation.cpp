@@ -42,6 +42,8 @@ struct Polyline {
     std::vector<Vec3> x;
     std::vector<double> r;
     std::vector<double> s;  // cumulative arc length, s[0] = 0
+    // Arc lengths of its pinned joints (adapt_skeleton_detailed's `pinned`), increasing: samples the resampling keeps.
+    std::vector<double> pinned;
 
     double length() const { return s.back(); }
     // Linear interpolation of position and radius at arc length t (clamped to [0, length]).
@@ -107,9 +109,36 @@ void bisect(const Polyline& pl, double t0, double t1, int depth, double r_floor,
     bisect(pl, tm, t1, depth + 1, r_floor, o, out);
 }
 
+// Bisection + smoothing of each piece between pinned joints (the pins stay where they are); the pins included, in
+// order. Empty when the pieces give fewer than min_edges edges (the caller then samples the branch as a whole).
+std::vector<double> sample_pinned(const Polyline& pl, int min_edges, double r_floor, const AdaptationOptions& o) {
+    std::vector<double> bounds{0.0};
+    for (const double p : pl.pinned)  // strictly inside and increasing: no zero-length piece (coincident vertices)
+        if (p > bounds.back() && p < pl.length()) bounds.push_back(p);
+    bounds.push_back(pl.length());
+    std::vector<double> t;
+    for (std::size_t i = 0; i + 1 < bounds.size(); ++i) {
+        std::vector<double> piece;
+        bisect(pl, bounds[i], bounds[i + 1], 0, r_floor, o, piece);
+        for (std::size_t k = 0; k < piece.size() && o.smooth; ++k) {  // Jacobi, as sample_branch
+            const double before = k == 0 ? bounds[i] : piece[k - 1];
+            const double after = k + 1 == piece.size() ? bounds[i + 1] : piece[k + 1];
+            t.push_back(0.5 * (before + after));
+        }
+        if (!o.smooth) t.insert(t.end(), piece.begin(), piece.end());
+        if (i + 2 < bounds.size()) t.push_back(bounds[i + 1]);
+    }
+    if (static_cast<int>(t.size()) + 1 < min_edges) t.clear();
+    return t;
+}
+
 // Bisection + minimum edge count + smoothing; returns the joints' arc parameters.
 std::vector<double> sample_branch(const Polyline& pl, int min_edges, const AdaptationOptions& o) {
     const double r_max = *std::max_element(pl.r.begin(), pl.r.end());
+    if (!pl.pinned.empty()) {
+        std::vector<double> t = sample_pinned(pl, min_edges, o.min_radius_fraction * r_max, o);
+        if (!t.empty()) return t;
+    }
     std::vector<double> t;
     bisect(pl, 0.0, pl.length(), 0, o.min_radius_fraction * r_max, o, t);
     if (static_cast<int>(t.size()) + 1 < min_edges) {
@@ -140,10 +169,11 @@ struct EndReach {
 
 // Removes joints that violate the section criterion. x/r hold the whole sampled chain (ends included); end_reach gives
 // the demands of each end (zero at an extremity); ring: x.front() == x.back() is the anchor, a joint that stays.
-// Never leaves fewer than min_edges edges. Returns the kept chain indices.
+// Never leaves fewer than min_edges edges, never removes a pinned joint (pinned: per chain index). Returns the kept
+// chain indices.
 std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vector<double>& r,
                                       const std::array<EndReach, 2>& end_reach, bool ring, int min_edges,
-                                      const AdaptationOptions& o) {
+                                      const std::vector<bool>& pinned, const AdaptationOptions& o) {
     std::vector<int> keep(x.size());
     std::iota(keep.begin(), keep.end(), 0);
     if (!(o.turn_safety > 0)) return keep;
@@ -166,7 +196,7 @@ std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vec
         const double ra = reach(j), rb = reach(j + 1);
         const bool violated = chord < o.turn_safety * (ra + rb);
         const bool can_remove = static_cast<int>(keep.size()) - 2 >= min_edges;  // edges after removing one joint
-        const bool a_joint = j > 0, b_joint = j + 2 < keep.size();
+        const bool a_joint = j > 0 && !pinned[keep[j]], b_joint = j + 2 < keep.size() && !pinned[keep[j + 1]];
         if (violated && can_remove && (a_joint || b_joint)) {
             const std::size_t victim = !a_joint ? j + 1 : (!b_joint ? j : (rb > ra ? j + 1 : j));
             keep.erase(keep.begin() + static_cast<std::ptrdiff_t>(victim));
@@ -411,6 +441,7 @@ struct BranchView {
     std::vector<Vec3> pos;
     std::vector<double> rad;
     std::vector<Polyline> polylines;                 // per branch
+    std::vector<bool> pinned;                        // per vertex: a joint the resampling keeps (may be empty)
     std::vector<std::array<EndReach, 2>> end_reach;  // per branch and end
 
     bool is_joint(int v) const { return incident[v].size() == 2 && !faces.on_face[v]; }
@@ -469,18 +500,28 @@ void build_polylines(BranchView& view) {
             pl.x.push_back(view.pos[v]);
             pl.r.push_back(view.rad[v]);
             pl.s.push_back(acc);
+            const bool interior = k > 0 && k + 1 < view.branches[i].vertices.size();
+            if (interior && v < static_cast<int>(view.pinned.size()) && view.pinned[v]) pl.pinned.push_back(acc);
         }
     }
 }
 
 // Leaflet membership, incidence, branches and their polylines over the input positions and radii (end_reach is
-// left to compute_end_reach).
-BranchView make_branch_view(const Skeleton& s) {
+// left to compute_end_reach); pinned: per vertex of s, or empty.
+BranchView make_branch_view(const Skeleton& s, std::vector<bool> pinned) {
     const int n = static_cast<int>(s.points.size());
     const int ne = static_cast<int>(s.edges.size());
-    BranchView view{
-        s, face_membership(s), std::vector<std::vector<int>>(n), std::vector<bool>(ne), {}, {}, s.points, s.radii, {},
-        {}};
+    BranchView view{s,
+                    face_membership(s),
+                    std::vector<std::vector<int>>(n),
+                    std::vector<bool>(ne),
+                    {},
+                    {},
+                    s.points,
+                    s.radii,
+                    {},
+                    {},
+                    {}};
     for (int e = 0; e < ne; ++e) {
         view.incident[s.edges[e][0]].push_back(e);
         view.incident[s.edges[e][1]].push_back(e);
@@ -489,6 +530,7 @@ BranchView make_branch_view(const Skeleton& s) {
     for (const std::vector<int>& f : s.faces)
         for (std::size_t i = 0; i < f.size(); ++i) ++view.side_count[std::minmax(f[i], f[(i + 1) % f.size()])];
     view.branches = branches_in_resampling_order(view);
+    view.pinned = std::move(pinned);
     build_polylines(view);
     return view;
 }
@@ -587,14 +629,17 @@ std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edg
     const std::vector<double> t = sample_branch(pl, min_edges, o);
     std::vector<Vec3> x{xa};
     std::vector<double> r{pl.r.front()};
+    std::vector<bool> pinned{false};
     for (const double ti : t) {
         const auto [p, ri] = pl.at(ti);
         x.push_back(p);
         r.push_back(ri);
+        pinned.push_back(std::binary_search(pl.pinned.begin(), pl.pinned.end(), ti));
     }
     x.push_back(xb);
     r.push_back(pl.r.back());
-    const std::vector<int> keep = apply_turn_criterion(x, r, view.end_reach[bi], b.ring, min_edges, o);
+    pinned.push_back(false);
+    const std::vector<int> keep = apply_turn_criterion(x, r, view.end_reach[bi], b.ring, min_edges, pinned, o);
     if (removed) *removed += static_cast<int>(x.size() - keep.size());
     std::vector<double> kept_t;
     for (std::size_t k = 1; k + 1 < keep.size(); ++k) kept_t.push_back(t[keep[k] - 1]);
@@ -781,14 +826,21 @@ std::vector<int> repair_output(Skeleton& out, Repaired& repaired, const Adaptati
 
 }  // namespace
 
-Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o) {
-    return adapt_skeleton_detailed(s, o).skeleton;
+Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o, const std::vector<int>& pinned) {
+    return adapt_skeleton_detailed(s, o, pinned).skeleton;
 }
 
-AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const AdaptationOptions& o) {
+AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const AdaptationOptions& o,
+                                         const std::vector<int>& pinned) {
     validate(input, o);
     Repaired repaired = repair_degenerate_branches(input, o);
-    BranchView view = make_branch_view(repaired.s);
+    std::vector<bool> pinned_repaired;  // in the numbering of repaired.s
+    for (const int v : pinned) {
+        if (v < 0 || v >= static_cast<int>(repaired.map.size()) || repaired.map[v] < 0) continue;
+        pinned_repaired.resize(repaired.s.points.size(), false);
+        pinned_repaired[repaired.map[v]] = true;
+    }
+    BranchView view = make_branch_view(repaired.s, std::move(pinned_repaired));
     compute_end_reach(view, o);
     Collapses col = collapse_short_bridges(view, o);
     move_merged_classes(view, col, o);

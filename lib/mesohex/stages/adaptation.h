@@ -86,7 +86,11 @@ struct AdaptationOptions {
 // that is not a branch joint, plus one anchor per ring: its smallest vertex id) in their original order, then the new
 // joints branch by branch; edges: leaflet edges in their original order, then branch edges branch by branch; faces in
 // their original order. Deterministic. Complexity O(V + E + output size) (a few log factors).
-Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o = {});
+// pinned: input vertices that stay joints of the output wherever they are joints of a resampled branch (its pieces
+// between them are resampled separately and the section criterion removes their neighbours instead): the balls that
+// repair_skeleton puts where a stub was absorbed (SkeletonRepairResult::absorbed_balls), a radius peak that the
+// bisection's samples would step over. Ids out of range and vertices that are no joints are ignored.
+Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o = {}, const std::vector<int>& pinned = {});
 
 // The same, with what happened (for reports and tests).
 struct AdaptationResult {
@@ -101,6 +105,7 @@ struct AdaptationResult {
     int reattached_edges = 0;     // branch edges moved from a shared vertex to the nearer edge's end
                                   // (coincident_angle)
 };
-AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOptions& o = {});
+AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOptions& o = {},
+                                         const std::vector<int>& pinned = {});
 
 }  // namespace mesohex

@@ -373,7 +373,7 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
                     i_short ? i : j,
                     len,
                     0.5 * (a.x + b.x),
-                    0.5 * distance(a.x, b.x) + std::max(a.r, b.r),
+                    o.absorbed_ball_width * distance(a.x, b.x) + std::max(a.r, b.r),
                     kind};
         return;
     }
@@ -436,18 +436,19 @@ void drop_absorbed(Skeleton& s, const Graph& g, const Walk& w, int e0, int t, Ed
                 if (v == b) v = t;
 }
 
-// The kept walk of an absorbed pair: t joins it at arc length len. Its joints before len become balls covering both
-// tubes at their arc length (midpoint of the two polyline points, radius half their distance + the larger radius),
-// so its first turns stay in the skeleton (keep_joints; otherwise they go and t joins the first vertex after len).
+// The kept walk of an absorbed pair: t joins it at arc length len. Its joints before len become balls over both
+// tubes at their arc length (midpoint of the two polyline points, radius width x their distance + the larger radius,
+// as t's), so its first turns stay in the skeleton (keep_joints; otherwise they go and t joins the first vertex after
+// len).
 void join_kept(Skeleton& s, const Graph& g, const Walk& keep, const Walk& absorbed, int e0, int t, bool keep_joints,
-               Edit& ed) {
+               double width, Edit& ed) {
     const double len = absorbed.length();
     const std::size_t k = at_arc(s, keep, len).k;
     std::vector<std::pair<Vec3, double>> moved;
     for (std::size_t q = 1; q <= k; ++q) {
         const AtArc a = at_arc(s, absorbed, keep.s[q]);
         const Vec3 p = s.points[keep.verts[q]];
-        moved.push_back({0.5 * (a.x + p), 0.5 * distance(a.x, p) + std::max(a.r, s.radii[keep.verts[q]])});
+        moved.push_back({0.5 * (a.x + p), width * distance(a.x, p) + std::max(a.r, s.radii[keep.verts[q]])});
     }
     int cur = e0;
     for (std::size_t q = 0;; ++q) {
@@ -514,6 +515,10 @@ std::vector<int> rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResul
         for (int& v : f) v = id[v];
     for (int& v : res.vertex_map)
         if (v >= 0) v = id[v];
+    std::vector<int> balls;  // a later trunk may drop a ball lying on its walk as a joint
+    for (const int v : res.absorbed_balls)
+        if (id[v] >= 0) balls.push_back(id[v]);
+    res.absorbed_balls = std::move(balls);
     s = std::move(out);
     return id;
 }
@@ -562,9 +567,10 @@ std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& b
     } else {
         const bool keep_joints = o.keep_sibling_joints;
         if (!keep_joints || at_arc(s, wi, best.sep).k == 0) ed.new_edges.push_back({c, t});
-        join_kept(s, g, wi, wj, best.ei, t, keep_joints, ed);
+        join_kept(s, g, wi, wj, best.ei, t, keep_joints, o.absorbed_ball_width, ed);
         drop_absorbed(s, g, wj, best.ej, t, ed);
         ++(best.kind == PairRepair::stub ? res.absorbed_stubs : res.merged_ends);
+        res.absorbed_balls.push_back(t);
     }
     const Geometry edited{s.points, s.radii, s.edges};
     const std::vector<int> id = rebuild(s, n, ed, res);

@@ -45,19 +45,32 @@ struct SkeletonRepairOptions {
     bool wide_junction_trunks = true;
     // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
     // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
-    // the same arc length, radius half their distance + the larger radius there (a ball covering both tubes); the
-    // stub's vertices and edges go, the other branch leaves t towards its first vertex after that arc length. A
-    // branching point of degree 3 becomes a joint: the bump is meshed as a thicker stretch of tube, no junction.
+    // the same arc length, radius absorbed_ball_width x their distance + the larger radius there (a ball over both
+    // tubes); the stub's vertices and edges go, the other branch leaves t towards its first vertex after that arc
+    // length. A branching point of degree 3 becomes a joint: the bump is meshed as a thicker stretch of tube, no
+    // junction.
     bool absorb_stubs = true;
+    // The radius of a ball over two overlapping tubes (an absorbed stub's t, a kept joint): the larger of the two radii
+    // r + absorbed_ball_width x d, d the distance between the two tubes' centres there (dimensionless). The union of
+    // the two balls reaches d / 2 + r from their midpoint in the pair's plane and r across it: 0.5 covers it whole (a
+    // round tube d / 2 too fat across the pair), 0.25 is the round cross-section closest to it (at most d / 4 off,
+    // too thin in the plane and too fat across by the same amount), which the fit bends into the union's shape. On the
+    // random set 0.25 meets the targets on more of the seeds with a stub (docs/junctions.md).
+    double absorbed_ball_width = 0.25;
+    // The ball t of an absorbed stub (or merged end) is a radius peak on the kept branch: the adaptation's
+    // resampling, which evaluates its samples on the polyline at arc lengths of its own choosing, would step over it
+    // and taper the bump away (the stub's tip uncovered, the tube after it too fat). true: the pipeline pins every t
+    // (SkeletonRepairResult::absorbed_balls, adapt_skeleton's `pinned`), so it stays a joint of the meshed skeleton.
+    bool pin_absorbed_balls = true;
     // Absorbing a walk (stub or merge), the other branch's joints before t stay: each moves to the midpoint of its
-    // point and the absorbed walk's point at the same arc length, radius half their distance + the larger radius (a
-    // ball covering both tubes there, as t's), so a turn of the other branch inside the absorbed stretch is not cut
+    // point and the absorbed walk's point at the same arc length, radius absorbed_ball_width x their distance + the larger
+    // radius (a ball over both tubes there, as t's; not pinned), so a turn of the other branch inside the absorbed stretch is not cut
     // off by a chord from c to t. false: they go, and the other branch leaves t towards its first vertex after t.
     // Off by default: on the random set it changed 4 seeds, mixed (docs/tuning.md, "Joint trunks, kept joints").
     bool keep_sibling_joints = false;
     // A merge: the shorter branch of a close pair ends at a branching point b (no leaflet) before the tubes separate.
-    // It is absorbed like a stub (t at the midpoint of b and the other branch's point at the same arc length, radius
-    // covering both); b's other branches leave t. c loses a branch (degree 3: a joint), t gets b's. Not when b's
+    // It is absorbed like a stub (t at the midpoint of b and the other branch's point at the same arc length, radius as
+    // a stub's); b's other branches leave t. c loses a branch (degree 3: a joint), t gets b's. Not when b's
     // other edges lead back to the pair (a cycle). Off: it cascades on dense trees whose tubes overlap along whole
     // branches, absorbing most of the tree (docs/tuning.md).
     bool merge_branching_ends = false;
@@ -90,6 +103,9 @@ struct SkeletonRepairResult {
     int unseparated = 0;        // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
                                 // separate
     int root_strip_splits = 0;  // face strips split for root patches (root_patch_factor)
+    // The ball t of every absorbed stub or merged end, by output id: a radius peak the adaptation keeps as a joint
+    // (adapt_skeleton's `pinned`), so that the resampling does not step over it and taper the bump away.
+    std::vector<int> absorbed_balls;
     std::vector<FanEndRetraction> fan_end_retractions;  // fan_end_retraction, in the input's vertex numbering
 };
 
