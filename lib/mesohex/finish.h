@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesohex/core/hex_mesh.h"
+#include "mesohex/post/pad_selection.h"
 #include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/post/sheet_selection.h"
@@ -44,6 +45,10 @@ struct FinishStage {
 struct FinishOptions {
     bool pad = true;         // add one padding layer (padding) over the raw boundary first
     PaddingOptions padding;  // default: 1 layer
+    // Selective padding (pad, and padding.bare_quads empty): the regions of the raw boundary whose sharp rims already
+    // land on matching sharp rims of the domain stay bare (select_bare_regions, pad_selection.h); the rest is padded.
+    bool pad_selective = false;
+    PadSelectionOptions pad_selection;  // the criterion (angles in degrees)
     // > 0 (and padding.offset_rule unset, padding.absolute_thickness 0): a boundary vertex inside the domain moves as
     // far as the domain surface along its padding direction, between the padding's own offset (thickness x shortest
     // boundary edge) and pad_to_domain x the mean boundary edge at the vertex. A raw mesh inside its domain (radii
@@ -129,6 +134,12 @@ struct FinishResult {
     bool untangled = false;       // untangle ran
     int untangle_rounds = 0;
     bool untangled_boundary_moved = false;  // the free-boundary fallback of the untangle stage was kept
+    // Selective padding (FinishOptions::pad_selective): boundary quads of the raw mesh, those left bare, regions of
+    // them between sharp raw edges and of those the bare ones (PadSelection). 0 when it did not run.
+    std::string pad_mode = "none";  // "none", "all" or "selective": FinishOptions::pad and pad_selective
+    long pad_boundary_quads = 0, pad_bare_quads = 0;
+    int pad_regions = 0, pad_bare_regions = 0;
+    long pad_sharp_edges = 0, pad_matched_edges = 0;  // sharp raw boundary edges, and of them those matched
     bool pad_improved = false;              // the quality pass on the padded mesh ran and its result was kept
     bool improved = false;                  // the quality pass ran and its result was kept
     bool smoothed = false;                  // the smoothing pass moved some vertex
