@@ -7,8 +7,6 @@
 #include <cstddef>
 #include <numbers>
 #include <tuple>
-#include <cstdio>
-#include <cstdlib>
 
 #include "mesohex/core/topology.h"
 #include "mesohex/core/union_find.h"
@@ -169,19 +167,6 @@ std::vector<char> bare_candidates(const HexMesh& m, const std::vector<std::array
         if (!ok[r]) continue;
         const Landing l = land(centres[q], normals[q]);
         if (dot(l.normal, normals[q]) < min_cos) ok[r] = 0;
-    }
-    if (std::getenv("SELPAD_DEBUG")) {
-        std::vector<int> n(quads.size(), 0), unm(quads.size(), 0), irr(quads.size(), 0), nf(quads.size(), 0);
-        for (const RawEdge& e : edges) if (e.sharp && !e.matched) { for (int q : {e.q0, e.q1}) if (q >= 0) ++unm[at(region[at(q)])]; }
-        for (std::size_t q = 0; q < quads.size(); ++q) {
-            const std::size_t r = at(region[q]);
-            ++n[r];
-            for (int v : quads[q]) if (!on_sharp[at(v)] && quad_count[at(v)] != 4) ++irr[r];
-            const Landing l = land(centres[q], normals[q]);
-            if (dot(l.normal, normals[q]) < min_cos) ++nf[r];
-        }
-        for (const RawEdge& e : edges) if (e.sharp && !e.matched && e.q1 >= 0 && (n[at(region[at(e.q0)])] > 40 || n[at(region[at(e.q1)])] > 40)) std::fprintf(stderr, "bigregion unmatched %d-%d angle %.1f convex %d len %.3f regions %d %d\n", e.a, e.b, e.angle, e.convex, distance(m.points[at(e.a)], m.points[at(e.b)]), region[at(e.q0)], region[at(e.q1)]);
-        for (std::size_t r = 0; r < quads.size(); ++r) if (n[r]) std::fprintf(stderr, "region %zu quads %d bounded %d unmatched %d irregular %d normalfail %d\n", r, n[r], bounded[r], unm[r], irr[r], nf[r]);
     }
     for (std::size_t r = 0; r < quads.size(); ++r) ok[r] = ok[r] && bounded[r];
     return ok;
