@@ -71,6 +71,32 @@ TEST(Finish, UnitHexInItsCube) {
     EXPECT_LT(r.distance.relative_max, 0.02);
 }
 
+// Selective padding: the unit hex fills its cube, every rim of the raw boundary (12 edges, normal angle 90) lands on
+// the cube's rim, so the 6 faces stay bare and the pad stage adds nothing; one level gives 8 hexes, already on the
+// cube (a fixed point of the fit: scaled Jacobian 1 up to the solver's tolerance).
+TEST(Finish, SelectivePaddingLeavesAMatchingBoxBare) {
+    FinishOptions o;
+    o.levels = 1;
+    o.pad_selective = true;
+    const FinishResult r = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_EQ(r.pad_mode, "selective");
+    EXPECT_EQ(r.pad_boundary_quads, 6);
+    EXPECT_EQ(r.pad_bare_quads, 6);
+    EXPECT_EQ(r.pad_regions, 6);
+    EXPECT_EQ(r.pad_bare_regions, 6);
+    EXPECT_EQ(r.pad_sharp_edges, 12);
+    EXPECT_EQ(r.pad_matched_edges, 12);
+    ASSERT_GE(r.stages.size(), 2u);
+    EXPECT_EQ(r.stages[1].stage, "pad");
+    EXPECT_EQ(r.stages[1].hexes, 1);
+    EXPECT_EQ(r.stages[1].vertices, 8);
+    EXPECT_EQ(r.mesh.hexes.size(), 8u);
+    EXPECT_EQ(r.quality.inverted, 0);
+    EXPECT_GT(r.quality.sj_min, 0.99);
+    ASSERT_TRUE(r.distance_measured);
+    EXPECT_LT(r.distance.relative_max, 1e-3);
+}
+
 // Two levels with one fitted: the second is inherited (stage "refine" after the smoothing): 56 x 8 hexes, the fit ran
 // on the 56-hex mesh, nothing inverted, the boundary still within the level-1 bound of the cube.
 TEST(Finish, InheritedLevelIsRefinedNotFitted) {

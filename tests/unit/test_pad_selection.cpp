@@ -87,6 +87,23 @@ LandingFn convex_landing(const Convex& c) {
     };
 }
 
+// The mesh without its unused vertices (ids renumbered in order).
+HexMesh compacted(const HexMesh& m) {
+    std::vector<int> id(m.points.size(), -1);
+    HexMesh c;
+    for (std::array<int, 8> h : m.hexes) {
+        for (int& v : h) {
+            if (id[static_cast<std::size_t>(v)] < 0) {
+                id[static_cast<std::size_t>(v)] = static_cast<int>(c.points.size());
+                c.points.push_back(m.points[static_cast<std::size_t>(v)]);
+            }
+            v = id[static_cast<std::size_t>(v)];
+        }
+        c.hexes.push_back(h);
+    }
+    return c;
+}
+
 long count_bare(const PadSelection& s) { return static_cast<long>(std::count(s.bare.begin(), s.bare.end(), 1)); }
 
 }  // namespace
@@ -175,4 +192,49 @@ TEST(PadSelection, PaddingEndsOnTheBoundaryAroundABareFace) {
     EXPECT_EQ(q.inverted, 0);
     EXPECT_EQ(q.boundary_euler_characteristic, 2);
     EXPECT_EQ(q.euler_characteristic, 1);
+}
+
+// The L-shaped block (hexes (0,0,0), (1,0,0), (0,0,1) of the 2 x 1 x 2 block) in a domain equal to its own boundary:
+// all 22 sharp raw edges (8 on each L-shaped side, 6 across, one of them concave: the step's inner corner) match.
+// The landing is made to disagree with the floor of the step (the domain's normal there flipped), so the floor is
+// padded; the wall above it meets the padded floor along the concave edge (the padding's side face would lie on the
+// wall) and is padded too. The other 6 regions (12 quads) stay bare: 3 + 2 padding hexes.
+TEST(PadSelection, ConcaveEdgeNextToAPaddedRegionIsPadded) {
+    HexMesh block = make_block(2, 1, 2);
+    block.hexes.erase(block.hexes.begin() + 3);  // hex (1, 0, 1)
+    const HexMesh raw = compacted(block);
+    TriangleMesh domain;
+    domain.points = raw.points;
+    for (const std::array<int, 4>& q : compute_hex_topology(raw).boundary_quads)
+        add_quad(domain, q[0], q[1], q[2], q[3]);
+    const LandingFn on_itself = [](const Vec3& p, const Vec3& d) {
+        const bool floor = p.z == 1 && p.x > 1 && d.z > 0.9;
+        return Landing{p, floor ? -d : d};
+    };
+    const PadSelection sel = select_bare_regions(raw, domain, on_itself);
+    EXPECT_EQ(sel.sharp_edges, 22);
+    EXPECT_EQ(sel.matched_edges, 22);
+    EXPECT_EQ(sel.domain_sharp_edges, 22);
+    EXPECT_EQ(sel.regions, 8);
+    EXPECT_EQ(sel.bare_regions, 6);
+    EXPECT_EQ(count_bare(sel), 12);
+    const HexTopology topo = compute_hex_topology(raw);
+    ASSERT_EQ(sel.bare.size(), topo.boundary_quads.size());
+    for (std::size_t q = 0; q < sel.bare.size(); ++q) {
+        const std::array<int, 4>& quad = topo.boundary_quads[q];
+        double x = 0, z = 0;
+        for (int v : quad) {
+            x += raw.points[static_cast<std::size_t>(v)].x / 4;
+            z += raw.points[static_cast<std::size_t>(v)].z / 4;
+        }
+        const bool floor_or_wall = (z == 1 && x == 1.5) || (x == 1 && z == 1.5);
+        EXPECT_EQ(sel.bare[q] == 0, floor_or_wall) << "quad centre x " << x << " z " << z;
+    }
+    PaddingOptions po;
+    po.bare_quads = sel.bare_quads;
+    const PaddingResult r = pad(raw, po);
+    EXPECT_EQ(r.mesh.hexes.size(), 5u);
+    const QualityReport q = compute_quality(r.mesh);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.inverted, 0);
 }
