@@ -47,7 +47,9 @@ struct FinishOptions {
     PaddingOptions padding;  // default: 1 layer
     // Selective padding (pad, and padding.bare_quads empty): the regions of the raw boundary whose sharp rims already
     // land on matching sharp rims of the domain stay bare (select_bare_regions, pad_selection.h); the rest is padded.
-    bool pad_selective = false;
+    // On by default: where nothing matches (smooth domains) the output is the full padding's, byte for byte
+    // (measurements: docs/tuning.md, "Selective padding").
+    bool pad_selective = true;
     PadSelectionOptions pad_selection;  // the criterion (angles in degrees)
     // > 0 (and padding.offset_rule unset, padding.absolute_thickness 0): a boundary vertex inside the domain moves as
     // far as the domain surface along its padding direction, between the padding's own offset (thickness x shortest
