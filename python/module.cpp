@@ -387,11 +387,11 @@ struct MeshCall {
 MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
     MeshCall call;
     MeshOptions& o = call.options;
-    const std::set<std::string> flags = {"radius",        "no_resample", "raw",         "radius_from_surface",
-                                         "radius_factor", "levels",      "size",        "refine",
-                                         "pad",           "no_pad",      "no_fit",      "no_untangle", "no_smooth",
-                                         "no_retry",      "iterations",  "fit_weight",  "improve_below",
-                                         "partitions",    "threads"};
+    const std::set<std::string> flags = {"radius",        "no_resample", "raw",        "radius_from_surface",
+                                         "radius_factor", "levels",      "size",       "refine",
+                                         "pad",           "no_pad",      "no_fit",     "no_untangle",
+                                         "no_smooth",     "no_retry",    "iterations", "fit_weight",
+                                         "improve_below", "partitions",  "threads"};
     for (const auto& item : kwargs) {
         const std::string key = py::cast<std::string>(item.first);
         const py::handle value = item.second;

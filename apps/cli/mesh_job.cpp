@@ -166,7 +166,8 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
            },
            "Padding layer: all (over the whole raw boundary), selective (not over the regions of the raw boundary "
            "whose sharp rims already land on matching sharp rims of the domain: one hex corner on such a rim instead "
-           "of two 45-degree hexes; the report's 'padding' says how many boundary quads stayed bare; the default), none")
+           "of two 45-degree hexes; the report's 'padding' says how many boundary quads stayed bare; the default), "
+           "none")
         ->check(CLI::IsMember({"all", "selective", "none"}));
     cmd->add_flag(
         "--pad-inward-edges", job->options.finishing.padding.inward_edges,

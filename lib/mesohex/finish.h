@@ -136,12 +136,6 @@ struct FinishResult {
     bool untangled = false;       // untangle ran
     int untangle_rounds = 0;
     bool untangled_boundary_moved = false;  // the free-boundary fallback of the untangle stage was kept
-    // Selective padding (FinishOptions::pad_selective): boundary quads of the raw mesh, those left bare, regions of
-    // them between sharp raw edges and of those the bare ones (PadSelection). 0 when it did not run.
-    std::string pad_mode = "none";  // "none", "all" or "selective": FinishOptions::pad and pad_selective
-    long pad_boundary_quads = 0, pad_bare_quads = 0;
-    int pad_regions = 0, pad_bare_regions = 0;
-    long pad_sharp_edges = 0, pad_matched_edges = 0;  // sharp raw boundary edges, and of them those matched
     bool pad_improved = false;              // the quality pass on the padded mesh ran and its result was kept
     bool improved = false;                  // the quality pass ran and its result was kept
     bool smoothed = false;                  // the smoothing pass moved some vertex
@@ -150,6 +144,13 @@ struct FinishResult {
     SurfaceDistance distance;  // absolute (max, mean) and relative to the domain bbox diagonal
     double distance_ms = 0;
     double total_ms = 0;
+    // Selective padding (FinishOptions::pad_selective): boundary quads of the raw mesh, those left bare, regions of
+    // them between sharp raw edges and of those the bare ones (PadSelection). 0 when it did not run.
+    std::string pad_mode = "none";  // "none", "all" or "selective": FinishOptions::pad and pad_selective
+    long pad_boundary_quads = 0, pad_bare_quads = 0;
+    int pad_regions = 0, pad_bare_regions = 0;
+    // Sharp raw boundary edges, and of them those matched to a sharp edge of the domain.
+    long pad_sharp_edges = 0, pad_matched_edges = 0;
 };
 
 // What a finished mesh is judged by when the mesh command weighs a second attempt (another adaptation of the same

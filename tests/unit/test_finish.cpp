@@ -32,9 +32,9 @@ TriangleMesh unit_cube_surface() {
     return s;
 }
 
-// The chain with the padding layer over the whole boundary. The unit hex fills its cube and the stretched block its
-// box, so the selective padding (the default) would leave every face bare (SelectivePaddingLeavesAMatchingBoxBare);
-// the cases below count the padding hexes.
+// The chain with the padding layer over the whole boundary. The unit hex fills its cube (and the stretched block's
+// rims land on its box's rims), so the selective padding (the default) would leave faces bare
+// (SelectivePaddingLeavesAMatchingBoxBare); the cases below count the padding hexes.
 FinishOptions full_padding() {
     FinishOptions o;
     o.pad_selective = false;

@@ -85,8 +85,8 @@ Vec3 quad_normal(const HexMesh& m, const std::array<int, 4>& q) {
 }
 
 // The boundary edges with their quads, sharpness, convexity and normal angle.
-std::vector<RawEdge> raw_edges(const std::vector<std::array<int, 4>>& quads,
-                               const std::vector<Vec3>& normals, const std::vector<Vec3>& centres, double sharp_angle) {
+std::vector<RawEdge> raw_edges(const std::vector<std::array<int, 4>>& quads, const std::vector<Vec3>& normals,
+                               const std::vector<Vec3>& centres, double sharp_angle) {
     std::vector<std::array<int, 3>> half;  // (min vertex, max vertex, quad)
     for (std::size_t q = 0; q < quads.size(); ++q)
         for (int i = 0; i < 4; ++i) {

@@ -45,9 +45,9 @@ struct PadSelection {
     // Per boundary quad of compute_hex_topology(mesh) (same order): 1 = bare (no padding hex), 0 = padded.
     std::vector<char> bare;
     std::vector<std::array<int, 4>> bare_quads;  // the bare boundary quads themselves (PaddingOptions::bare_quads)
-    int regions = 0;       // regions of boundary quads between sharp raw edges
-    int bare_regions = 0;  // of them, left bare
-    long sharp_edges = 0;  // sharp raw boundary edges
+    int regions = 0;                             // regions of boundary quads between sharp raw edges
+    int bare_regions = 0;                        // of them, left bare
+    long sharp_edges = 0;                        // sharp raw boundary edges
     long matched_edges = 0;
     long domain_sharp_edges = 0;  // sharp edges of the domain's triangles
 };

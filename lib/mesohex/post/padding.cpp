@@ -75,7 +75,8 @@ void project_on_bare(const HexMesh& mesh, const std::vector<std::array<int, 4>>&
     for (const std::array<int, 4>& q : bare) {
         const Vec3 n = quad_normal(mesh, q);
         for (int v : q)
-            if (local[static_cast<std::size_t>(v)] >= 0) bare_sum[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] += n;
+            if (local[static_cast<std::size_t>(v)] >= 0)
+                bare_sum[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] += n;
     }
     for (std::size_t i = 0; i < unit_normal.size(); ++i) {
         if (squared_norm(bare_sum[i]) == 0) continue;
