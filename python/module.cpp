@@ -387,11 +387,11 @@ struct MeshCall {
 MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
     MeshCall call;
     MeshOptions& o = call.options;
-    const std::set<std::string> flags = {"radius",        "no_resample", "raw",         "radius_from_surface",
-                                         "radius_factor", "levels",      "size",        "refine",
-                                         "no_pad",        "no_fit",      "no_untangle", "no_smooth",
-                                         "no_retry",      "iterations",  "fit_weight",  "improve_below",
-                                         "partitions",    "threads"};
+    const std::set<std::string> flags = {"radius",        "no_resample", "raw",        "radius_from_surface",
+                                         "radius_factor", "levels",      "size",       "refine",
+                                         "pad",           "no_pad",      "no_fit",     "no_untangle",
+                                         "no_smooth",     "no_retry",    "iterations", "fit_weight",
+                                         "improve_below", "partitions",  "threads"};
     for (const auto& item : kwargs) {
         const std::string key = py::cast<std::string>(item.first);
         const py::handle value = item.second;
@@ -426,6 +426,12 @@ MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
                 o.finishing.refinement = FinishOptions::Refinement::Radial;
             else
                 invalid("refine: '" + r + "' is not one of uniform, longitudinal, radial");
+        } else if (key == "pad") {
+            const std::string m = py::cast<std::string>(value);
+            if (m != "all" && m != "selective" && m != "none")
+                invalid("pad: '" + m + "' is not one of all, selective, none");
+            o.finishing.pad = m != "none";
+            o.finishing.pad_selective = m == "selective";
         } else if (key == "no_pad")
             o.finishing.pad = !flag();
         else if (key == "no_fit") {
@@ -614,7 +620,7 @@ void bind_meshing(py::module_& m) {
           py::arg("report") = "",
           "Meshes a skeleton (a Skeleton or a file path) as `mesohex mesh`: raw mesh, then, with a surface (a Surface "
           "or a path), pad, subdivide, fit, untangle, smooth. Keyword options are the CLI's flags with '_' for '-' "
-          "(radius, no_resample, raw, radius_from_surface, radius_factor, levels, size, refine, no_pad, no_fit, "
+          "(radius, no_resample, raw, radius_from_surface, radius_factor, levels, size, refine, pad, no_pad, no_fit, "
           "no_untangle, no_smooth, no_retry, iterations, fit_weight, improve_below, partitions, threads). output / "
           "report: files to write (optional). Returns a MeshResult.");
     m.def("auto", &auto_py, py::arg("surface"), py::kw_only(), py::arg("output") = "", py::arg("report") = "",

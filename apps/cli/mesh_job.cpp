@@ -157,7 +157,18 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "-8 edge on the fan line; off by default: the finished meshes measured no better, docs/blocks.md); "
         "--no-blocks wins");
     cmd->add_flag_callback(
-        "--no-pad", [job] { job->options.finishing.pad = false; }, "Skip the padding layer");
+        "--no-pad", [job] { job->options.finishing.pad = false; }, "Skip the padding layer (= --pad none)");
+    cmd->add_option_function<std::string>(
+           "--pad",
+           [job](const std::string& mode) {
+               job->options.finishing.pad = mode != "none";
+               job->options.finishing.pad_selective = mode == "selective";
+           },
+           "Padding layer: all (over the whole raw boundary), selective (not over the regions of the raw boundary "
+           "whose sharp rims already land on matching sharp rims of the domain: one hex corner on such a rim instead "
+           "of two 45-degree hexes; the report's 'padding' says how many boundary quads stayed bare; the default), "
+           "none")
+        ->check(CLI::IsMember({"all", "selective", "none"}));
     cmd->add_flag(
         "--pad-inward-edges", job->options.finishing.padding.inward_edges,
         "Padding layer thickness from the shortest boundary edge OR edge into the mesh at each vertex (thin sheets: "

@@ -117,6 +117,41 @@ struct Finisher {
         record(stage);
     }
 
+    // Where a point lands on the domain along d: the first hit from inside, else the closest point; with the normal
+    // of the triangle it lands on (the domain is oriented outward).
+    Landing land(const Vec3& p, const Vec3& d) const {
+        std::optional<RayHit> hit;
+        if (query.inside(p)) hit = query.first_hit(p, d);
+        Landing l;
+        int triangle = 0;
+        if (hit) {
+            l.point = hit->point;
+            triangle = hit->triangle;
+        } else {
+            const ClosestPoint c = query.closest(p);
+            l.point = c.point;
+            triangle = c.triangle;
+        }
+        const std::array<int, 3>& tr = surface.triangles[static_cast<std::size_t>(triangle)];
+        const Vec3& a = surface.points[static_cast<std::size_t>(tr[0])];
+        l.normal = normalized(cross(surface.points[static_cast<std::size_t>(tr[1])] - a,
+                                    surface.points[static_cast<std::size_t>(tr[2])] - a));
+        return l;
+    }
+
+    // Selective padding: the bare regions of the raw boundary (FinishOptions::pad_selective).
+    void select_bare(PaddingOptions& padding) {
+        const PadSelection sel = select_bare_regions(
+            mesh, surface, [this](const Vec3& p, const Vec3& d) { return land(p, d); }, options.pad_selection);
+        padding.bare_quads = sel.bare_quads;
+        result.pad_boundary_quads = static_cast<long>(sel.bare.size());
+        result.pad_bare_quads = static_cast<long>(sel.bare_quads.size());
+        result.pad_regions = sel.regions;
+        result.pad_bare_regions = sel.bare_regions;
+        result.pad_sharp_edges = sel.sharp_edges;
+        result.pad_matched_edges = sel.matched_edges;
+    }
+
     void pad_step() {
         const Clock::time_point t = Clock::now();
         PaddingOptions padding = options.padding;
@@ -129,6 +164,7 @@ struct Finisher {
                 const std::optional<RayHit> hit = query.first_hit(p, d);
                 return hit ? std::clamp(hit->distance, th, cap) : th;
             };
+        if (options.pad_selective && padding.bare_quads.empty()) select_bare(padding);
         mesh = pad(mesh, padding).mesh;
         record(measure("pad", ms_since(t), mesh));
         // Near-flat padding hexes: relax them on the coarse padded mesh (FinishOptions::pad_improve_sj).
@@ -363,7 +399,10 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     result.domain_flipped_triangles = dom.flipped;
     Finisher f{options, dom.surface, dom.query, result, raw, {}};
     f.record(measure("input", 0, f.mesh));
-    if (options.pad) f.pad_step();
+    if (options.pad) {
+        result.pad_mode = options.pad_selective ? "selective" : "all";
+        f.pad_step();
+    }
     const int levels = options.subdivide ? f.subdivision_levels() : 0;
     const int fitted = f.fitted_levels(levels);
     result.subdivision_levels = levels;

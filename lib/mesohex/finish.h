@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesohex/core/hex_mesh.h"
+#include "mesohex/post/pad_selection.h"
 #include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/post/sheet_selection.h"
@@ -44,6 +45,12 @@ struct FinishStage {
 struct FinishOptions {
     bool pad = true;         // add one padding layer (padding) over the raw boundary first
     PaddingOptions padding;  // default: 1 layer
+    // Selective padding (pad, and padding.bare_quads empty): the regions of the raw boundary whose sharp rims already
+    // land on matching sharp rims of the domain stay bare (select_bare_regions, pad_selection.h); the rest is padded.
+    // On by default: where nothing matches (smooth domains) the output is the full padding's, byte for byte
+    // (measurements: docs/tuning.md, "Selective padding").
+    bool pad_selective = true;
+    PadSelectionOptions pad_selection;  // the criterion (angles in degrees)
     // > 0 (and padding.offset_rule unset, padding.absolute_thickness 0): a boundary vertex inside the domain moves as
     // far as the domain surface along its padding direction, between the padding's own offset (thickness x shortest
     // boundary edge) and pad_to_domain x the mean boundary edge at the vertex. A raw mesh inside its domain (radii
@@ -137,6 +144,13 @@ struct FinishResult {
     SurfaceDistance distance;  // absolute (max, mean) and relative to the domain bbox diagonal
     double distance_ms = 0;
     double total_ms = 0;
+    // Selective padding (FinishOptions::pad_selective): boundary quads of the raw mesh, those left bare, regions of
+    // them between sharp raw edges and of those the bare ones (PadSelection). 0 when it did not run.
+    std::string pad_mode = "none";  // "none", "all" or "selective": FinishOptions::pad and pad_selective
+    long pad_boundary_quads = 0, pad_bare_quads = 0;
+    int pad_regions = 0, pad_bare_regions = 0;
+    // Sharp raw boundary edges, and of them those matched to a sharp edge of the domain.
+    long pad_sharp_edges = 0, pad_matched_edges = 0;
 };
 
 // What a finished mesh is judged by when the mesh command weighs a second attempt (another adaptation of the same

@@ -147,6 +147,13 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
         rep["inherited_levels"] = fin.inherited_levels;
         rep["fit"] = {{"iterations", fin.fit_iterations}, {"converged", fin.fit_converged}};
         rep["untangled"] = fin.untangled;
+        rep["padding"] = {{"mode", fin.pad_mode},
+                          {"boundary_quads", fin.pad_boundary_quads},
+                          {"bare_quads", fin.pad_bare_quads},
+                          {"regions", fin.pad_regions},
+                          {"bare_regions", fin.pad_bare_regions},
+                          {"sharp_edges", fin.pad_sharp_edges},
+                          {"matched_edges", fin.pad_matched_edges}};
         rep["attempts"] = attempts_json(run.attempts);  // first the default adaptation, then the cautious one
         rep["free_branching_reach"] = run.options.adaptation.free_branching_reach;  // of the mesh written
         if (fin.distance_measured) rep["hausdorff"] = hausdorff_json(fin.distance);

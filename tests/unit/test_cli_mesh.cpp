@@ -280,3 +280,33 @@ TEST(MeshCli, CompatibleBlockAndNoBlocks) {
         EXPECT_EQ(r.output.find("compatible blocks") != std::string::npos, blocks);
     }
 }
+
+// --pad all | selective | none: the report's "padding" says which ran and how many raw boundary quads stayed bare; the
+// pad stage adds one hex per padded boundary quad (selective: the boundary quads but the bare ones). A mode that does
+// not exist is an argument error.
+TEST(MeshCli, PadModesAreReported) {
+    const fs::path domain = temp_dir() / "tripod_pad.off";
+    ASSERT_EQ(run_cli("thicken " + tripod() + " -o " + domain.string() + " --resolution 2").status, 0);
+    auto run = [&](const std::string& mode) {
+        const fs::path out = temp_dir() / "tripod_pad.mesh", report = temp_dir() / "tripod_pad.json";
+        const auto r = run_cli("mesh " + tripod() + " --surface " + domain.string() + " --levels 0 --no-fit -o " +
+                               out.string() + " --report " + report.string() + " --quiet --pad " + mode);
+        EXPECT_EQ(r.status, 0) << r.output;
+        return read_json(report);
+    };
+    const nlohmann::json all = run("all"), selective = run("selective"), none = run("none");
+    EXPECT_EQ(all["padding"]["mode"], "all");
+    EXPECT_EQ(selective["padding"]["mode"], "selective");
+    EXPECT_EQ(none["padding"]["mode"], "none");
+    ASSERT_EQ(all["stages"][1]["stage"], "pad");
+    EXPECT_NE(none["stages"][1]["stage"], "pad");
+    const long raw = all["stages"][0]["hexes"].get<long>();
+    const long boundary = selective["padding"]["boundary_quads"].get<long>();
+    const long bare = selective["padding"]["bare_quads"].get<long>();
+    EXPECT_GT(boundary, 0);
+    EXPECT_LE(bare, boundary);
+    EXPECT_EQ(all["stages"][1]["hexes"].get<long>(), raw + boundary);  // the same raw mesh, all quads padded
+    ASSERT_EQ(selective["stages"][1]["stage"], "pad");
+    EXPECT_EQ(selective["stages"][1]["hexes"].get<long>(), raw + boundary - bare);
+    EXPECT_NE(run_cli("mesh " + tripod() + " -o " + (temp_dir() / "x.mesh").string() + " --pad some").status, 0);
+}

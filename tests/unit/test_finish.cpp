@@ -32,10 +32,19 @@ TriangleMesh unit_cube_surface() {
     return s;
 }
 
+// The chain with the padding layer over the whole boundary. The unit hex fills its cube (and the stretched block's
+// rims land on its box's rims), so the selective padding (the default) would leave faces bare
+// (SelectivePaddingLeavesAMatchingBoxBare); the cases below count the padding hexes.
+FinishOptions full_padding() {
+    FinishOptions o;
+    o.pad_selective = false;
+    return o;
+}
+
 }  // namespace
 
 TEST(Finish, UnitHexInItsCube) {
-    FinishOptions o;
+    FinishOptions o = full_padding();
     o.levels = 1;  // the default would choose 2 here (see LevelsFromTheDomainSize)
     const FinishResult r = finish_mesh(unit_hex(), unit_cube_surface(), o);
     // input, pad, subdivide, fit, smooth (no untangle: nothing inverted; no quality pass: min SJ above 0.3).
@@ -71,10 +80,36 @@ TEST(Finish, UnitHexInItsCube) {
     EXPECT_LT(r.distance.relative_max, 0.02);
 }
 
+// Selective padding: the unit hex fills its cube, every rim of the raw boundary (12 edges, normal angle 90) lands on
+// the cube's rim, so the 6 faces stay bare and the pad stage adds nothing; one level gives 8 hexes, already on the
+// cube (a fixed point of the fit: scaled Jacobian 1 up to the solver's tolerance).
+TEST(Finish, SelectivePaddingLeavesAMatchingBoxBare) {
+    FinishOptions o;
+    o.levels = 1;
+    o.pad_selective = true;
+    const FinishResult r = finish_mesh(unit_hex(), unit_cube_surface(), o);
+    EXPECT_EQ(r.pad_mode, "selective");
+    EXPECT_EQ(r.pad_boundary_quads, 6);
+    EXPECT_EQ(r.pad_bare_quads, 6);
+    EXPECT_EQ(r.pad_regions, 6);
+    EXPECT_EQ(r.pad_bare_regions, 6);
+    EXPECT_EQ(r.pad_sharp_edges, 12);
+    EXPECT_EQ(r.pad_matched_edges, 12);
+    ASSERT_GE(r.stages.size(), 2u);
+    EXPECT_EQ(r.stages[1].stage, "pad");
+    EXPECT_EQ(r.stages[1].hexes, 1);
+    EXPECT_EQ(r.stages[1].vertices, 8);
+    EXPECT_EQ(r.mesh.hexes.size(), 8u);
+    EXPECT_EQ(r.quality.inverted, 0);
+    EXPECT_GT(r.quality.sj_min, 0.99);
+    ASSERT_TRUE(r.distance_measured);
+    EXPECT_LT(r.distance.relative_max, 1e-3);
+}
+
 // Two levels with one fitted: the second is inherited (stage "refine" after the smoothing): 56 x 8 hexes, the fit ran
 // on the 56-hex mesh, nothing inverted, the boundary still within the level-1 bound of the cube.
 TEST(Finish, InheritedLevelIsRefinedNotFitted) {
-    FinishOptions o;
+    FinishOptions o = full_padding();
     o.levels = 2;
     o.fit_levels = 1;
     const FinishResult r = finish_mesh(unit_hex(), unit_cube_surface(), o);
@@ -104,7 +139,7 @@ TEST(Finish, InheritedLevelIsRefinedNotFitted) {
 // edge or corner it is pushed to, so the boundary quads tile the cube surface): the distance shrinks ~100x.
 // The progress callback is passed through: one call per fit step.
 TEST(Finish, SurfaceWeightAndProgress) {
-    FinishOptions o;
+    FinishOptions o = full_padding();
     int calls = 0;
     o.fitting.progress = [&calls](const FitProgress&) { ++calls; };
     const FinishResult soft = finish_mesh(unit_hex(), unit_cube_surface(), o);
@@ -151,7 +186,7 @@ TEST(Finish, LevelsFromSize) {
 // 4 halvings, capped at max_auto_levels = 2 (7 x 64 = 448 hexes); min_resolution 1 asks for <= 1.732: no halving,
 // at least 1 level (56 hexes).
 TEST(Finish, LevelsFromTheDomainSize) {
-    FinishOptions o;
+    FinishOptions o = full_padding();
     o.fit = false;
     const FinishResult fine = finish_mesh(unit_hex(), unit_cube_surface(), o);
     EXPECT_EQ(fine.subdivision_levels, 2);
@@ -165,7 +200,7 @@ TEST(Finish, LevelsFromTheDomainSize) {
 // The work budget max_hexes lowers the levels chosen from the domain size: the padded unit hex (7 hexes) asks for 2
 // levels (448 hexes); a budget of 447 leaves 1 level (56), of 55 none (7 hexes), of 448 both; given levels stay.
 TEST(Finish, HexBudgetLowersTheAutomaticLevels) {
-    FinishOptions o;
+    FinishOptions o = full_padding();
     o.fit = false;
     o.max_hexes = 447;
     const FinishResult one = finish_mesh(unit_hex(), unit_cube_surface(), o);
@@ -190,7 +225,7 @@ TEST(Finish, PoorRawMeshGetsOneLevelMore) {
     HexMesh sheared = unit_hex();
     for (Vec3& p : sheared.points) p.x += 2 * p.z;
     ASSERT_NEAR(scaled_jacobians(sheared)[0], 1 / std::sqrt(5.0), 1e-12);
-    FinishOptions o;
+    FinishOptions o = full_padding();
     o.fit = false;
     o.min_resolution = 0.01;
     const FinishResult poor = finish_mesh(sheared, unit_cube_surface(), o);
@@ -282,7 +317,7 @@ TEST(Finish, PaddingReachesTowardsTheDomain) {
     const auto padded_y = [&](double h, double pad_to_domain) {
         TriangleMesh box = unit_cube_surface();
         for (Vec3& p : box.points) p = Vec3{-1 + 4 * p.x, -h + (2 + 2 * h) * p.y, -1 + 8 * p.z};
-        FinishOptions o;
+        FinishOptions o = full_padding();
         o.subdivide = false;
         o.fit = false;
         o.smooth = false;

@@ -115,11 +115,15 @@ TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
     ASSERT_TRUE(run.finish.has_value());
     ASSERT_FALSE(run.attempts.empty());
     EXPECT_EQ(run.attempts.front().hexes, run.finish->quality.hexes);
-    // Padding adds one hex per boundary quad of the raw tube: a chunk's cross-section is a square cut into 4 quadrant
-    // squares, so 8 side quads per edge, and 4 quads on each end cap; one level multiplies by 8.
+    // The raw tube's boundary: a chunk's cross-section is a square cut into 4 quadrant squares, so 8 side quads per
+    // edge, and 4 quads on each end cap. The end caps are flat squares whose 90-degree rims land on the rims of the
+    // box's end faces: the selective padding (the default) leaves them bare (8 quads) and adds one hex per side quad;
+    // one level multiplies by 8.
     const long raw = run.raw_quality.hexes;
     const long edges = static_cast<long>(run.pipeline.skeleton.edges.size());
-    EXPECT_EQ(run.quality().hexes, 8 * (raw + 8 * edges + 8));
+    EXPECT_EQ(run.finish->pad_bare_quads, 8);
+    EXPECT_EQ(run.finish->pad_bare_regions, 2);
+    EXPECT_EQ(run.quality().hexes, 8 * (raw + 8 * edges));
     EXPECT_EQ(&run.mesh(), &run.finish->mesh);
     EXPECT_EQ(run.exit_status(), run.quality().inverted > 0 ? 5 : 0);
 
@@ -144,7 +148,8 @@ TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
                                             "free_branching_reach",
                                             "hausdorff",
                                             "timings_ms",
-                                            "inherited_levels"};
+                                            "inherited_levels",
+                                            "padding"};
     EXPECT_EQ(keys(rep), expected);
     EXPECT_EQ(rep["quality"]["hexes"].get<long>(), run.quality().hexes);
     EXPECT_EQ(rep["raw_quality"]["hexes"].get<long>(), raw);

@@ -50,13 +50,51 @@ void shorten_to_inward_edges(const HexMesh& mesh, const std::vector<int>& local,
 namespace {
 
 // One layer over the whole boundary of `mesh` (in place); `origin` is extended for the new vertices.
+std::array<int, 4> sorted_quad(std::array<int, 4> q) {
+    std::sort(q.begin(), q.end());
+    return q;
+}
+
+// The boundary quads to pad (those not in options.bare_quads, in boundary-quad order); the bare ones go to `bare`.
+std::vector<std::array<int, 4>> quads_to_pad(const HexTopology& topo, const PaddingOptions& options,
+                                             std::vector<std::array<int, 4>>& bare) {
+    std::vector<std::array<int, 4>> keys;
+    for (const std::array<int, 4>& q : options.bare_quads) keys.push_back(sorted_quad(q));
+    std::sort(keys.begin(), keys.end());
+    std::vector<std::array<int, 4>> padded;
+    for (const std::array<int, 4>& q : topo.boundary_quads)
+        (std::binary_search(keys.begin(), keys.end(), sorted_quad(q)) ? bare : padded).push_back(q);
+    return padded;
+}
+
+// At the vertices of bare quads: the direction projected onto the plane of their mean normal (the padding hex's side
+// face then continues the bare face); left as it is where the projection degenerates.
+void project_on_bare(const HexMesh& mesh, const std::vector<std::array<int, 4>>& bare, const std::vector<int>& local,
+                     std::vector<Vec3>& unit_normal) {
+    std::vector<Vec3> bare_sum(unit_normal.size());
+    for (const std::array<int, 4>& q : bare) {
+        const Vec3 n = quad_normal(mesh, q);
+        for (int v : q)
+            if (local[static_cast<std::size_t>(v)] >= 0)
+                bare_sum[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] += n;
+    }
+    for (std::size_t i = 0; i < unit_normal.size(); ++i) {
+        if (squared_norm(bare_sum[i]) == 0) continue;
+        const Vec3 nb = normalized(bare_sum[i]);
+        const Vec3 d = unit_normal[i] - nb * dot(unit_normal[i], nb);
+        if (squared_norm(d) > 1e-6) unit_normal[i] = normalized(d);
+    }
+}
+
 void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_of_hex, int layer,
-              const PaddingOptions& options) {
-    const HexTopology topo = compute_hex_topology(mesh);
+              const PaddingOptions& options, long& bare_count) {
+    std::vector<std::array<int, 4>> bare;
+    const std::vector<std::array<int, 4>> quads = quads_to_pad(compute_hex_topology(mesh), options, bare);
+    bare_count += static_cast<long>(bare.size());
     const std::size_t old_vertices = mesh.points.size();
     std::vector<int> new_id(old_vertices, -1);
     std::vector<int> boundary_vertices;
-    for (const std::array<int, 4>& q : topo.boundary_quads)
+    for (const std::array<int, 4>& q : quads)
         for (int v : q)
             if (new_id[static_cast<std::size_t>(v)] < 0) {
                 new_id[static_cast<std::size_t>(v)] = static_cast<int>(old_vertices + boundary_vertices.size());
@@ -71,9 +109,9 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
     std::vector<double> shortest_edge(nb, std::numeric_limits<double>::infinity());
     std::vector<double> edge_len_sum(nb, 0.0);
     std::vector<int> edge_count(nb, 0);
-    std::vector<Vec3> quad_normals(topo.boundary_quads.size());
-    for (std::size_t q = 0; q < topo.boundary_quads.size(); ++q) {
-        const std::array<int, 4>& quad = topo.boundary_quads[q];
+    std::vector<Vec3> quad_normals(quads.size());
+    for (std::size_t q = 0; q < quads.size(); ++q) {
+        const std::array<int, 4>& quad = quads[q];
         quad_normals[q] = quad_normal(mesh, quad);
         for (int i = 0; i < 4; ++i) {
             const int a = quad[static_cast<std::size_t>(i)], b = quad[static_cast<std::size_t>((i + 1) % 4)];
@@ -93,10 +131,11 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
     if (options.inward_edges) shorten_to_inward_edges(mesh, local, shortest_edge);
     std::vector<Vec3> unit_normal(nb);
     for (std::size_t i = 0; i < nb; ++i) unit_normal[i] = normalized(normal_sum[i]);
+    if (!bare.empty()) project_on_bare(mesh, bare, local, unit_normal);
     std::vector<double> cos_sum(nb, 0.0);
     std::vector<int> cos_count(nb, 0);
-    for (std::size_t q = 0; q < topo.boundary_quads.size(); ++q)
-        for (int v : topo.boundary_quads[q]) {
+    for (std::size_t q = 0; q < quads.size(); ++q)
+        for (int v : quads[q]) {
             const std::size_t l = static_cast<std::size_t>(local[static_cast<std::size_t>(v)]);
             cos_sum[l] += dot(unit_normal[l], quad_normals[q]);
             ++cos_count[l];
@@ -134,7 +173,7 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
     auto mark_inverted = [&](std::vector<char>& marked) {
         marked.assign(nb, 0);
         bool any = false;
-        for (const std::array<int, 4>& q : topo.boundary_quads)
+        for (const std::array<int, 4>& q : quads)
             if (!(new_hex_sj(q) > 0))
                 for (int v : q) {
                     marked[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
@@ -160,8 +199,8 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
     // one of the quads there. Tilt the direction of its vertices toward the normal of their worst-facing quad (a
     // quarter of it per step), back at the full offset, then shrink again; at most 20 times.
     std::vector<std::vector<int>> quads_at(nb);
-    for (std::size_t q = 0; q < topo.boundary_quads.size(); ++q)
-        for (int v : topo.boundary_quads[q])
+    for (std::size_t q = 0; q < quads.size(); ++q)
+        for (int v : quads[q])
             quads_at[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])].push_back(static_cast<int>(q));
     for (int tilt = 0; tilt < 20; ++tilt) {
         std::vector<char> bad;
@@ -184,8 +223,8 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
         }
         shrink_inverted();
     }
-    mesh.hexes.reserve(mesh.hexes.size() + topo.boundary_quads.size());
-    for (const std::array<int, 4>& q : topo.boundary_quads) {
+    mesh.hexes.reserve(mesh.hexes.size() + quads.size());
+    for (const std::array<int, 4>& q : quads) {
         // q is outward from the mesh, i.e. its right-hand normal points into the new hex: it is the hex's bottom 0-1-2-3.
         std::array<int, 8> hex{};
         for (int i = 0; i < 4; ++i) {
@@ -209,7 +248,7 @@ PaddingResult pad(const HexMesh& mesh, const PaddingOptions& options) {
     for (std::size_t v = 0; v < mesh.points.size(); ++v) result.origin_vertex[v] = static_cast<int>(v);
     result.layer_of_hex.assign(mesh.hexes.size(), 0);
     for (int layer = 1; layer <= options.layers; ++layer)
-        pad_once(result.mesh, result.origin_vertex, result.layer_of_hex, layer, options);
+        pad_once(result.mesh, result.origin_vertex, result.layer_of_hex, layer, options, result.bare_quads);
     return result;
 }
 

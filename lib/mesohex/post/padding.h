@@ -1,5 +1,6 @@
 #pragma once
 // Padding: one layer of hexes over every boundary component of a hex mesh (the reference pads only one component).
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -25,9 +26,16 @@ struct PaddingOptions {
     // rules above and the mean boundary edge length at the vertex (called once per boundary vertex and layer,
     // serially, in vertex order). finish_mesh uses it to reach the domain surface (FinishOptions::pad_to_domain).
     std::function<double(const Vec3& p, const Vec3& d, double t, double mean_edge)> offset_rule;
+    // Selective padding (pad_selection.h): boundary quads, matched by their vertex set (any order), that get no
+    // padding hex, in every layer. The layer then ends on the boundary around them: the side face of a padding hex on
+    // a padded quad next to a bare one becomes boundary. At a vertex of both, the new vertex moves along the padded
+    // quads' mean normal projected onto the bare quads' tangent plane (the side face continues the bare face), with
+    // the offset scaled as elsewhere. Empty: every boundary quad is padded.
+    std::vector<std::array<int, 4>> bare_quads;
 };
 
 struct PaddingResult {
+    long bare_quads = 0;  // boundary quads left without a padding hex (PaddingOptions::bare_quads), summed over layers
     HexMesh mesh;  // old vertices keep their ids, new vertices are appended; old hexes first, then the new layer(s)
     // Per vertex of `mesh`: the vertex of the INPUT mesh it stems from (itself for old vertices, the boundary vertex it
     // was pushed from for new ones; for layers > 1, followed through the previous layers).
