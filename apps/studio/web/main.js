@@ -833,6 +833,10 @@ function updateSelection() {
     const c = [0, 1, 2].map((d) => vs.reduce((acc, v) => acc + s.points[v][d], 0) / vs.length);
     gizmoAnchor.position.set(...c);
     gizmo.attach(gizmoAnchor);
+    // The gizmo's hover test (which decides whether a click is the gizmo's) uses its world matrices, otherwise only
+    // brought up to date by the next frame: a click before that frame hit the gizmo where it was.
+    gizmoAnchor.updateMatrixWorld();
+    gizmoHelper.updateMatrixWorld(true);
     ['x', 'y', 'z'].forEach((k, d) => { $(`pos-${k}`).value = +c[d].toPrecision(8); });
     if (s.radii.length) $('radius').value = +s.radii[vs[0]].toPrecision(6);
   } else {
