@@ -106,6 +106,14 @@ HexMesh compacted(const HexMesh& m) {
 
 long count_bare(const PadSelection& s) { return static_cast<long>(std::count(s.bare.begin(), s.bare.end(), 1)); }
 
+// The mesh's quality report, after checking that it is a valid mesh with no inverted hex.
+QualityReport expect_valid(const HexMesh& mesh) {
+    const QualityReport q = compute_quality(mesh);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.inverted, 0);
+    return q;
+}
+
 }  // namespace
 
 // The raw block fills the box domain exactly: every rim (12 edges x 2 raw edges, normal angle 90) lands on the
@@ -159,9 +167,7 @@ TEST(PadSelection, ChamferedTopIsPaddedBottomStaysBare) {
             EXPECT_NEAR(r.mesh.points[v].z, 0.0, 1e-12);
         }
     }
-    const QualityReport q = compute_quality(r.mesh);
-    EXPECT_TRUE(q.validation.valid());
-    EXPECT_EQ(q.inverted, 0);
+    const QualityReport q = expect_valid(r.mesh);
     EXPECT_EQ(q.euler_characteristic, 1);
     EXPECT_EQ(q.boundary_components, 1);
 }
@@ -187,9 +193,7 @@ TEST(PadSelection, PaddingEndsOnTheBoundaryAroundABareFace) {
     }
     const HexTopology t = compute_hex_topology(r.mesh);
     EXPECT_EQ(t.boundary_quads.size(), 10u);
-    const QualityReport q = compute_quality(r.mesh);
-    EXPECT_TRUE(q.validation.valid());
-    EXPECT_EQ(q.inverted, 0);
+    const QualityReport q = expect_valid(r.mesh);
     EXPECT_EQ(q.boundary_euler_characteristic, 2);
     EXPECT_EQ(q.euler_characteristic, 1);
 }
@@ -234,7 +238,5 @@ TEST(PadSelection, ConcaveEdgeNextToAPaddedRegionIsPadded) {
     po.bare_quads = sel.bare_quads;
     const PaddingResult r = pad(raw, po);
     EXPECT_EQ(r.mesh.hexes.size(), 5u);
-    const QualityReport q = compute_quality(r.mesh);
-    EXPECT_TRUE(q.validation.valid());
-    EXPECT_EQ(q.inverted, 0);
+    expect_valid(r.mesh);
 }

@@ -102,6 +102,13 @@ inline double hex_corner_value(const std::array<Vec3, 8>& p, std::size_t lv) {
     return det3(f[0], f[1], f[2]) / l;
 }
 
+// Unit normal of a quad of the mesh from its diagonals (robust for non-planar quads); its orientation follows the
+// vertex order.
+inline Vec3 quad_normal(const HexMesh& mesh, const std::array<int, 4>& q) {
+    const auto p = [&](int k) { return mesh.points[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])]; };
+    return normalized(cross(p(2) - p(0), p(3) - p(1)));
+}
+
 // Verdict's hex scaled Jacobian: the smallest normalized determinant of the centre frame and the 8 corner frames;
 // -1 when a frame is degenerate. 1 for a unit cube, -1 for its mirror image.
 inline double hex_scaled_jacobian(const std::array<Vec3, 8>& p) {

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <tuple>
 
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/core/union_find.h"
 
@@ -78,10 +79,6 @@ double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 Vec3 quad_centre(const HexMesh& m, const std::array<int, 4>& q) {
     return (m.points[at(q[0])] + m.points[at(q[1])] + m.points[at(q[2])] + m.points[at(q[3])]) * 0.25;
-}
-
-Vec3 quad_normal(const HexMesh& m, const std::array<int, 4>& q) {
-    return normalized(cross(m.points[at(q[2])] - m.points[at(q[0])], m.points[at(q[3])] - m.points[at(q[1])]));
 }
 
 // The boundary edges with their quads, sharpness, convexity and normal angle.

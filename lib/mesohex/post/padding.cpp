@@ -25,14 +25,6 @@ void check_input(const HexMesh& mesh, const PaddingOptions& options) {
     check_hex_indices(mesh, "pad");
 }
 
-Vec3 quad_normal(const HexMesh& mesh, const std::array<int, 4>& q) {
-    const Vec3& a = mesh.points[static_cast<std::size_t>(q[0])];
-    const Vec3& b = mesh.points[static_cast<std::size_t>(q[1])];
-    const Vec3& c = mesh.points[static_cast<std::size_t>(q[2])];
-    const Vec3& d = mesh.points[static_cast<std::size_t>(q[3])];
-    return normalized(cross(c - a, d - b));  // diagonals: robust for non-planar quads
-}
-
 }  // namespace
 
 void shorten_to_inward_edges(const HexMesh& mesh, const std::vector<int>& local, std::vector<double>& shortest) {
