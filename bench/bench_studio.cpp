@@ -1,12 +1,13 @@
 // Studio latency: the raw mesh the page asks for after every edit (POST /api/mesh?stage=raw), at about 10 k hexes.
 //   BM_StudioRawServer/E       the server's share of an edit without HTTP: read the skeleton from the OBJ text the
 //                              page sends, then mesh_response (run the raw pipeline, build the body). Counters: the
-//                              phases of MeshTimings (ms per run, averaged; parse = reading the OBJ text).
+//                              phases of MeshTimings (ms per run, averaged; parse = reading the body: OBJ text or MHSK bytes).
 //   BM_StudioRawRoundTrip/E    the full HTTP round trip over loopback: OBJ text up, body down, through a studio
 //                              server started in-process on a free port (httplib::Client; the browser's decoding
 //                              and drawing are not included: bench/studio_page_latency.mjs measures those).
 //                              Counter server_ms = the server time the body reports.
-// E: 0 = JSON body (the documented API), 1 = binary body (encoding=binary, what the page asks for).
+// E: 0 = OBJ text up, JSON body down (the documented API); 1 = OBJ text up, binary body down (encoding=binary);
+//    2 = binary skeleton up (format=mhsk), binary body down: what the page sends and asks for.
 // Skeleton: generated torus 128 x 40 quads, 10240 raw hexes (2 per leaflet face, no boundary).
 #include <benchmark/benchmark.h>
 
@@ -29,7 +30,8 @@ namespace {
 Skeleton torus_10k() { return generate_skeleton("torus", {.n = 128, .m = 40}); }
 
 void BM_StudioRawServer(benchmark::State& state) {
-    const std::string text = skeleton_text(torus_10k(), "obj", "torus");
+    const std::string format = state.range(0) == 2 ? "mhsk" : "obj";
+    const std::string text = format == "mhsk" ? skeleton_binary(torus_10k()) : skeleton_text(torus_10k(), "obj", "t");
     studio::MeshRequest request;
     request.encoding = state.range(0) ? studio::Encoding::Binary : studio::Encoding::Json;
     std::size_t bytes = 0;
@@ -37,7 +39,7 @@ void BM_StudioRawServer(benchmark::State& state) {
     long runs = 0;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
-        const Skeleton s = read_skeleton_text(text, "obj", "request body");
+        const Skeleton s = read_skeleton_text(text, format, "request body");
         request.parse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         studio::MeshTimings t;
         const std::string body = studio::mesh_response(s, nullptr, request, &t);
@@ -63,22 +65,25 @@ void BM_StudioRawServer(benchmark::State& state) {
     state.counters["encode"] = sum.encode_ms / n;
     state.counters["total"] = sum.total_ms / n;
 }
-BENCHMARK(BM_StudioRawServer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StudioRawServer)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_StudioRawRoundTrip(benchmark::State& state) {
     const bool binary = state.range(0) != 0;
-    const std::string text = skeleton_text(torus_10k(), "obj", "torus");
+    const bool mhsk = state.range(0) == 2;
+    const std::string text = mhsk ? skeleton_binary(torus_10k()) : skeleton_text(torus_10k(), "obj", "torus");
     studio::StudioOptions options;
     options.port = 0;
     studio::StudioServer server({}, {}, options);
     const int port = server.start();
     httplib::Client client("127.0.0.1", port);
     client.set_read_timeout(60, 0);
-    const std::string path = binary ? "/api/mesh?stage=raw&encoding=binary" : "/api/mesh?stage=raw";
+    const std::string path = mhsk     ? "/api/mesh?stage=raw&encoding=binary&format=mhsk"
+                             : binary ? "/api/mesh?stage=raw&encoding=binary"
+                                      : "/api/mesh?stage=raw";
     double server_ms = 0;
     long runs = 0;
     for (auto _ : state) {
-        const auto r = client.Post(path, text, "text/plain");
+        const auto r = client.Post(path, text, mhsk ? "application/octet-stream" : "text/plain");
         if (!r || r->status != 200) {
             state.SkipWithError("request failed");
             break;
@@ -93,6 +98,6 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
     state.counters["hexes"] = 2.0 * 128 * 40;
     server.stop();
 }
-BENCHMARK(BM_StudioRawRoundTrip)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StudioRawRoundTrip)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -3,9 +3,12 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -598,6 +601,144 @@ std::string format_obj(const Skeleton& s) {
     return out;
 }
 
+// ------------------------------------------------------------------------------------------------ binary (MHSK)
+
+constexpr char kBinaryMagic[4] = {'M', 'H', 'S', 'K'};
+constexpr std::uint32_t kBinaryVersion = 1;
+constexpr std::size_t kBinaryHeader = 32;  // magic + 7 uint32
+
+std::uint32_t load_u32(const char* at) {
+    std::uint32_t x = 0;
+    for (int k = 3; k >= 0; --k) x = x << 8 | static_cast<unsigned char>(at[k]);
+    return x;
+}
+
+double load_f64(const char* at) {
+    std::uint64_t x = 0;
+    for (int k = 7; k >= 0; --k) x = x << 8 | static_cast<unsigned char>(at[k]);
+    return std::bit_cast<double>(x);
+}
+
+void store_u32(std::string& out, std::uint32_t x) {
+    for (int k = 0; k < 4; ++k) out += static_cast<char>((x >> (8 * k)) & 0xffu);
+}
+
+void store_f64(std::string& out, double v) {
+    const std::uint64_t x = std::bit_cast<std::uint64_t>(v);
+    for (int k = 0; k < 8; ++k) out += static_cast<char>((x >> (8 * k)) & 0xffu);
+}
+
+[[noreturn]] void binary_fail(std::string_view name, const std::string& what, ElementRef where = {}) {
+    throw Error(ErrorCode::InvalidInput, std::string(name) + ": " + what, where);
+}
+
+// The counts of the header, checked against the length before anything is allocated.
+struct BinaryCounts {
+    std::uint32_t v = 0, r = 0, e = 0, f = 0, s = 0;
+};
+
+BinaryCounts binary_counts(std::string_view bytes, std::string_view name) {
+    if (bytes.size() < kBinaryHeader || std::memcmp(bytes.data(), kBinaryMagic, 4) != 0)
+        binary_fail(name, "not a binary skeleton (expected the 32-byte MHSK header)");
+    const char* h = bytes.data();
+    if (load_u32(h + 4) != kBinaryVersion)
+        binary_fail(name, "byte 4: unknown binary skeleton version " + std::to_string(load_u32(h + 4)));
+    BinaryCounts c{load_u32(h + 8), load_u32(h + 12), load_u32(h + 16), load_u32(h + 20), load_u32(h + 24)};
+    if (load_u32(h + 28) != 0) binary_fail(name, "byte 28: reserved word is not 0");
+    if (c.v > 2147483647u) binary_fail(name, "byte 8: vertex count out of range");
+    if (c.r != 0 && c.r != c.v)
+        binary_fail(name, "byte 12: " + std::to_string(c.r) + " radii for " + std::to_string(c.v) +
+                              " vertices (expected none or one per vertex)");
+    const std::uint64_t need = kBinaryHeader + 24ull * c.v + 8ull * c.r + 8ull * c.e + 4ull * c.f + 4ull * c.s;
+    if (need != bytes.size())
+        binary_fail(name, "length " + std::to_string(bytes.size()) + " bytes, the header's counts need " +
+                              std::to_string(need));
+    return c;
+}
+
+int binary_index(const char* at, std::uint32_t n_points, std::string_view name, const char* what, ElementRef where) {
+    const std::uint32_t i = load_u32(at);
+    if (i >= n_points)
+        binary_fail(name, std::string(what) + " names vertex " + std::to_string(i) + " but there are " +
+                              std::to_string(n_points) + " vertices (0-based)",
+                    where);
+    return static_cast<int>(i);
+}
+
+}  // namespace
+
+Skeleton read_skeleton_binary(std::string_view bytes, std::string_view name) {
+    const BinaryCounts c = binary_counts(bytes, name);
+    const char* at = bytes.data() + kBinaryHeader;
+    Skeleton s;
+    s.points.resize(c.v);
+    for (std::uint32_t v = 0; v < c.v; ++v, at += 24) {
+        const Vec3 p{load_f64(at), load_f64(at + 8), load_f64(at + 16)};
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            binary_fail(name, "vertex " + std::to_string(v) + " has a non-finite coordinate",
+                        {ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
+        s.points[v] = p;
+    }
+    s.radii.resize(c.r);
+    for (std::uint32_t v = 0; v < c.r; ++v, at += 8) {
+        s.radii[v] = load_f64(at);
+        if (!(s.radii[v] > 0) || !std::isfinite(s.radii[v]))
+            binary_fail(name, "radius of vertex " + std::to_string(v) + " must be positive and finite",
+                        {ElementRef::Kind::SkeletonVertex, static_cast<int>(v)});
+    }
+    s.edges.resize(c.e);
+    for (std::uint32_t e = 0; e < c.e; ++e, at += 8) {
+        const ElementRef where{ElementRef::Kind::SkeletonEdge, static_cast<int>(e)};
+        const std::string what = "edge " + std::to_string(e);
+        s.edges[e] = {binary_index(at, c.v, name, what.c_str(), where),
+                      binary_index(at + 4, c.v, name, what.c_str(), where)};
+        if (s.edges[e][0] == s.edges[e][1]) binary_fail(name, what + " is a self-loop", where);
+    }
+    s.edges = without_repeated_edges(s.edges, static_cast<int>(c.v));
+    const char* verts = at + 4ull * c.f;
+    std::uint64_t used = 0;
+    s.faces.resize(c.f);
+    for (std::uint32_t f = 0; f < c.f; ++f, at += 4) {
+        const ElementRef where{ElementRef::Kind::SkeletonFace, static_cast<int>(f)};
+        const std::string what = "face " + std::to_string(f);
+        const std::uint32_t size = load_u32(at);
+        if (size < 3) binary_fail(name, what + " has fewer than 3 vertices", where);
+        if (size > c.s - used) binary_fail(name, "face sizes add up to more than the header's " +
+                                                     std::to_string(c.s) + " face vertices", where);
+        s.faces[f].resize(size);
+        for (std::uint32_t k = 0; k < size; ++k) s.faces[f][k] = binary_index(verts + 4 * (used + k), c.v, name,
+                                                                              what.c_str(), where);
+        used += size;
+        if (repeats_a_vertex(s.faces[f])) binary_fail(name, what + " repeats a vertex", where);
+    }
+    if (used != c.s)
+        binary_fail(name, "face sizes add up to " + std::to_string(used) + ", the header says " + std::to_string(c.s));
+    add_face_edges(s);
+    return s;
+}
+
+std::string skeleton_binary(const Skeleton& skeleton) {
+    std::uint64_t corners = 0;
+    for (const std::vector<int>& f : skeleton.faces) corners += f.size();
+    std::string out(kBinaryMagic, 4);
+    out.reserve(kBinaryHeader + 24 * skeleton.points.size() + 8 * skeleton.radii.size() + 8 * skeleton.edges.size() +
+                4 * (skeleton.faces.size() + corners));
+    for (const std::uint64_t x : {std::uint64_t{kBinaryVersion}, std::uint64_t{skeleton.points.size()},
+                                  std::uint64_t{skeleton.radii.size()}, std::uint64_t{skeleton.edges.size()},
+                                  std::uint64_t{skeleton.faces.size()}, corners, std::uint64_t{0}})
+        store_u32(out, static_cast<std::uint32_t>(x));
+    for (const Vec3& p : skeleton.points) store_f64(out, p.x), store_f64(out, p.y), store_f64(out, p.z);
+    for (const double r : skeleton.radii) store_f64(out, r);
+    for (const std::array<int, 2>& e : skeleton.edges)
+        store_u32(out, static_cast<std::uint32_t>(e[0])), store_u32(out, static_cast<std::uint32_t>(e[1]));
+    for (const std::vector<int>& f : skeleton.faces) store_u32(out, static_cast<std::uint32_t>(f.size()));
+    for (const std::vector<int>& f : skeleton.faces)
+        for (const int v : f) store_u32(out, static_cast<std::uint32_t>(v));
+    return out;
+}
+
+namespace {
+
 bool is_skeleton_format(const std::string& ext) {
     return ext == "ig" || ext == "cg" || ext == "cgr" || ext == "skel" || ext == "obj";
 }
@@ -635,9 +776,10 @@ void write_skeleton(const std::string& path, const Skeleton& skeleton) {
 Skeleton read_skeleton_text(std::string_view content, std::string_view format, std::string_view name) {
     std::string ext(format);
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == "mhsk") return read_skeleton_binary(content, name);
     if (!is_skeleton_format(ext))
         throw Error(ErrorCode::InvalidInput, std::string(name) + ": unknown skeleton format '" + quote_excerpt(format) +
-                                                 "' (expected ig, cg, cgr, skel or obj)");
+                                                 "' (expected ig, cg, cgr, skel, obj or mhsk)");
     return parse_skeleton(Context(std::string(name)), ext, content);
 }
 

@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <string>
 
 #include "mesohex/core/error.h"
@@ -239,4 +241,91 @@ TEST(SkeletonIo, WriteFailuresLeaveNoFile) {
     EXPECT_THROW(mesohex::write_skeleton(path, bad), Error);
     EXPECT_FALSE(std::filesystem::exists(path));
     EXPECT_THROW(mesohex::write_skeleton(temp_path("x.cg"), bad), Error);
+}
+
+// ------------------------------------------------------------------------------------------------ binary (MHSK)
+
+namespace {
+
+// The error read_skeleton_text(bytes, "mhsk") throws (fails the test if nothing is thrown).
+Error binary_error(const std::string& bytes) {
+    try {
+        (void)mesohex::read_skeleton_text(bytes, "mhsk", "body");
+    } catch (const Error& e) {
+        return e;
+    }
+    ADD_FAILURE() << "accepted " << bytes.size() << " bytes";
+    return Error(ErrorCode::NumericalFailure, "not thrown");
+}
+
+void put_u32_at(std::string& bytes, std::size_t at, std::uint32_t x) {
+    for (int k = 0; k < 4; ++k) bytes[at + k] = static_cast<char>((x >> (8 * k)) & 0xffu);
+}
+
+}  // namespace
+
+TEST(SkeletonIo, BinaryLayoutOnAHandCheckedSkeleton) {
+    // 7 vertices with radii, 7 edges, one quad: 32 + 24 * 7 + 8 * 7 + 8 * 7 + 4 * 1 + 4 * 4 = 332 bytes.
+    const Skeleton s = sample_skeleton(true);
+    const std::string b = mesohex::skeleton_binary(s);
+    ASSERT_EQ(b.size(), 332u);
+    EXPECT_EQ(b.substr(0, 4), "MHSK");
+    EXPECT_EQ(b[8], 7);                                    // V
+    EXPECT_EQ(b[16], 7);                                   // E
+    EXPECT_EQ(b[24], 4);                                   // S, the quad's 4 corners
+    EXPECT_EQ(b[32 + 24 * 7 + 8 * 7 + 8 * 7], 4);          // the face's size
+    EXPECT_EQ(mesohex::read_skeleton_text(b, "MHSK", "body"), s);  // bit for bit, any case of the format name
+    const Skeleton no_radii = sample_skeleton(false);
+    EXPECT_EQ(mesohex::skeleton_binary(no_radii).size(), 332u - 8 * 7);
+    EXPECT_EQ(mesohex::read_skeleton_binary(mesohex::skeleton_binary(no_radii), "body"), no_radii);
+}
+
+TEST(SkeletonIo, BinaryReadsAsTheObjTextOfTheSameSkeleton) {
+    // Missing face sides are added and repeated edges dropped, as the text readers do: the binary of a skeleton with
+    // only its branch edges (and one repeated) reads as the OBJ text written from it.
+    Skeleton s = sample_skeleton(true);
+    s.edges = {{1, 4}, {4, 5}, {5, 4}, {6, 0}};
+    const Skeleton from_binary = mesohex::read_skeleton_binary(mesohex::skeleton_binary(s), "body");
+    EXPECT_EQ(from_binary.edges.size(), 3u + 4u);
+    EXPECT_EQ(from_binary, mesohex::read_skeleton_text(mesohex::skeleton_text(s, "obj", "s"), "obj", "s"));
+    const Skeleton ig = mesohex::read_skeleton(data("two_quads_branch.ig"));
+    EXPECT_EQ(mesohex::read_skeleton_binary(mesohex::skeleton_binary(ig), "body"), ig);
+}
+
+TEST(SkeletonIo, BinaryRefusalsNameTheByteOrTheElement) {
+    const std::string good = mesohex::skeleton_binary(sample_skeleton(true));
+    // Every truncation and one byte too many: a length error, nothing read past the end.
+    for (std::size_t n = 0; n < good.size(); ++n) EXPECT_EQ(binary_error(good.substr(0, n)).code(), ErrorCode::InvalidInput);
+    EXPECT_NE(std::string(binary_error(good + '\0').what()).find("length 333 bytes"), std::string::npos);
+    // Counts far beyond the body: refused before allocating.
+    std::string huge = good;
+    put_u32_at(huge, 8, 2000000000u), put_u32_at(huge, 12, 0);
+    EXPECT_NE(std::string(binary_error(huge).what()).find("need"), std::string::npos);
+    std::string version = good;
+    put_u32_at(version, 4, 2);
+    EXPECT_NE(std::string(binary_error(version).what()).find("version 2"), std::string::npos);
+    // An edge naming vertex 9 of 7: the edge's index in the body.
+    std::string edge = good;
+    put_u32_at(edge, 32 + 24 * 7 + 8 * 7 + 8 * 4 + 4, 9);
+    Error e = binary_error(edge);
+    EXPECT_EQ(e.where().kind, mesohex::ElementRef::Kind::SkeletonEdge);
+    EXPECT_EQ(e.where().index, 4);
+    EXPECT_NE(std::string(e.what()).find("names vertex 9 but there are 7"), std::string::npos);
+    // A zero radius (vertex 2), a self-loop (edge 1: 2-2), a face repeating a vertex.
+    Skeleton bad = sample_skeleton(true);
+    bad.radii[2] = 0;
+    e = binary_error(mesohex::skeleton_binary(bad));
+    EXPECT_EQ(e.where().kind, mesohex::ElementRef::Kind::SkeletonVertex);
+    EXPECT_EQ(e.where().index, 2);
+    bad = sample_skeleton(true);
+    bad.edges[1] = {2, 2};
+    EXPECT_EQ(binary_error(mesohex::skeleton_binary(bad)).where().index, 1);
+    bad = sample_skeleton(true);
+    bad.faces[0] = {0, 1, 1, 3};
+    e = binary_error(mesohex::skeleton_binary(bad));
+    EXPECT_EQ(e.where().kind, mesohex::ElementRef::Kind::SkeletonFace);
+    EXPECT_NE(std::string(e.what()).find("repeats a vertex"), std::string::npos);
+    bad = sample_skeleton(true);
+    bad.points[5].y = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(binary_error(mesohex::skeleton_binary(bad)).where().index, 5);
 }

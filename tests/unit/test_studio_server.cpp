@@ -289,6 +289,36 @@ TEST(StudioServer, BinaryMeshIsTheJsonMeshInFloat32) {
     EXPECT_EQ(body_json(rejected)["error"]["where"]["kind"], "skeleton_edge");
 }
 
+// The page uploads its skeleton as MHSK bytes (format=mhsk): the answer is the one the OBJ text of the same skeleton
+// gets, byte for byte apart from the timings; a malformed upload is a 400 naming the element, and the server goes on.
+TEST(StudioServer, BinarySkeletonUploadAnswersAsTheObjText) {
+    auto s = start_studio({});
+    for (const char* name : {"torus", "hand", "tfan", "chair"}) {
+        const Skeleton sk = read_skeleton_text(obj_text(generate_skeleton(name)), "obj", name);
+        const auto rt = post(*s.client, "/api/mesh?stage=raw", obj_text(sk));
+        const auto rb = post(*s.client, "/api/mesh?stage=raw&format=mhsk", skeleton_binary(sk),
+                             "application/octet-stream");
+        ASSERT_TRUE(rt && rb) << name;
+        ASSERT_EQ(rb->status, 200) << name << ": " << rb->body.substr(0, 300);
+        json jt = body_json(rt), jb = body_json(rb);
+        for (json* j : {&jt, &jb}) j->erase("server_ms"), j->erase("server_phases_ms"), (*j)["report"].erase("timings_ms");
+        EXPECT_EQ(jb, jt) << name << ": " << json::diff(jt, jb).dump().substr(0, 600);
+    }
+    std::string bad = skeleton_binary(generate_skeleton("tfan"));
+    bad.replace(32 + 24 * 3, 8, std::string("\x00\x00\x00\x00\x00\x00\xf8\x7f", 8));  // vertex 3's x = NaN
+    const auto r = post(*s.client, "/api/mesh?stage=raw&format=mhsk", bad, "application/octet-stream");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 400);
+    EXPECT_EQ(body_json(r)["error"]["where"]["kind"], "skeleton_vertex");
+    EXPECT_EQ(body_json(r)["error"]["where"]["index"], 3);
+    const auto cut = post(*s.client, "/api/mesh?stage=raw&format=mhsk", bad.substr(0, 40), "application/octet-stream");
+    ASSERT_TRUE(cut);
+    EXPECT_EQ(cut->status, 400);
+    const auto ok = post(*s.client, "/api/mesh?stage=raw", obj_text(generate_skeleton("tfan")));
+    ASSERT_TRUE(ok);
+    EXPECT_EQ(ok->status, 200);
+}
+
 // The binary reader refuses what is not a whole answer.
 TEST(StudioServer, BinaryAnswerReaderRejectsTruncatedBodies) {
     studio::BinaryArrays arrays;

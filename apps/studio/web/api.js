@@ -33,18 +33,22 @@ async function call(method, path, body, { signal, type = 'text/plain', expect = 
 export const session = () => call('GET', '/api/session');
 export const mesh = (obj, stage, signal) => call('POST', `/api/mesh?stage=${stage}&format=obj`, obj, { signal });
 // The same answer in binary form (float32 / uint32 typed arrays, no meshed_skeleton): what the page draws from.
-export const meshBinary = (obj, stage, signal) =>
-  call('POST', `/api/mesh?stage=${stage}&format=obj&encoding=binary`, obj, { signal, expect: 'binary' });
+// `bytes`: the skeleton as skeleton_model.toBinary writes it (format=mhsk).
+export const meshBinary = (bytes, stage, signal) =>
+  call('POST', `/api/mesh?stage=${stage}&format=mhsk&encoding=binary`, bytes,
+    { signal, expect: 'binary', type: 'application/octet-stream' });
 export const analyze = (obj, signal) => call('POST', '/api/analyze?format=obj', obj, { signal });
 export const autoSkeleton = () => call('POST', '/api/auto-skeleton', '');
 export const importMa = (text) => call('POST', '/api/import?format=ma', text);
 export const parse = (text, format) => call('POST', `/api/parse?format=${encodeURIComponent(format)}`, text);
 export const serialize = (skeletonJson, format) =>
   call('POST', `/api/serialize?format=${format}`, JSON.stringify(skeletonJson), { type: 'application/json', expect: 'text' });
-export const radiusFromDomain = (obj) => call('POST', '/api/radius-from-domain?format=obj', obj);
+export const radiusFromDomain = (bytes) =>
+  call('POST', '/api/radius-from-domain?format=mhsk', bytes, { type: 'application/octet-stream' });
 export const snapMedial = (points) =>
   call('POST', '/api/snap-medial', JSON.stringify({ points }), { type: 'application/json' });
 export const save = (text, format) => call('POST', `/api/save?format=${format}`, text, { expect: 'text' });
-export const startJob = (obj) => call('POST', '/api/jobs?format=obj', obj);
+export const startJob = (bytes) =>
+  call('POST', '/api/jobs?format=mhsk', bytes, { type: 'application/octet-stream' });
 export const job = (id) => call('GET', `/api/jobs/${id}`);
 export const cancelJob = (id) => call('DELETE', `/api/jobs/${id}`).catch(() => null);

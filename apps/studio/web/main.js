@@ -542,7 +542,7 @@ async function runMesh() {
   const editAt = st.editAt;
   const t0 = performance.now();
   try {
-    const resp = await api.meshBinary(M.toObj(skel()), 'raw');
+    const resp = await api.meshBinary(M.toBinary(skel()), 'raw');
     if (version !== st.version) return; // a newer edit: its request goes out below
     const t1 = performance.now();
     st.lastRoundTripMs = t1 - t0;
@@ -590,7 +590,7 @@ async function finish() {
   await cancelJob();
   const version = st.version;
   try {
-    const { job } = await api.startJob(M.toObj(skel()));
+    const { job } = await api.startJob(M.toBinary(skel()));
     st.job = { id: job, version };
     $('progress').hidden = false;
     $('progress').value = 0;
@@ -1047,7 +1047,7 @@ $('btn-save').onclick = () => guarded('save', async () => {
 });
 $('btn-radius-domain').onclick = () => guarded('radius from the domain', async () => {
   if (!skel().points.length) return;
-  const r = await api.radiusFromDomain(M.toObj(skel()));
+  const r = await api.radiusFromDomain(M.toBinary(skel()));
   commit(M.setAllRadii(skel(), r.radii).skeleton, 'radius from domain');
 });
 $('btn-radius').onclick = () => {

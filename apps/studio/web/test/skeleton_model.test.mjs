@@ -35,6 +35,25 @@ test('fromJson appends missing face sides; toObj writes every edge and 1-based f
   assert.throws(() => M.fromJson({ points: [[0, 0, 0]], radii: [1, 2], edges: [] }), M.ModelError);
 });
 
+test('toBinary: the MHSK layout (header counts, float64 values, -0 written as 0, uint32 indices)', () => {
+  // strip(): V 6, no radii, E 7, F 2, S 8: 32 + 24*6 + 8*7 + 4*2 + 4*8 = 272 bytes.
+  const b = M.toBinary(strip());
+  assert.equal(b.byteLength, 272);
+  const dv = new DataView(b);
+  assert.equal(String.fromCharCode(...new Uint8Array(b, 0, 4)), 'MHSK');
+  assert.deepEqual([1, 2, 3, 4, 5, 6, 7].map((i) => dv.getUint32(4 * i, true)), [1, 6, 0, 7, 2, 8, 0]);
+  assert.equal(dv.getFloat64(32 + 24 * 4 + 8, true), 1);  // vertex 4's y
+  assert.deepEqual([0, 1].map((i) => dv.getUint32(32 + 24 * 6 + 8 * 7 + 4 * i, true)), [4, 4]);  // face sizes
+  assert.equal(dv.getUint32(272 - 4, true), 4);  // the last corner of face 1-2-5-4
+  // path3 with radii and a -0: V 3, R 3, E 2: 32 + 72 + 24 + 16 = 144 bytes.
+  const p = path3();
+  p.points[0][1] = -0;
+  const c = M.toBinary(p);
+  assert.equal(c.byteLength, 144);
+  assert.ok(Object.is(new DataView(c).getFloat64(32 + 8, true), 0));
+  assert.equal(new DataView(c).getFloat64(32 + 72 + 16, true), 0.3);
+});
+
 test('operations never modify their input', () => {
   const s = strip();
   const copy = structuredClone(s);
