@@ -1,5 +1,6 @@
 #include "binary_answer.h"
 
+#include <algorithm>
 #include <bit>
 #include <stdexcept>
 
@@ -47,6 +48,18 @@ void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector
         at += 12;
     }
     arrays.list.push_back({{"name", name}, {"type", "f32"}, {"count", 3 * points.size()}});
+}
+
+void append_enum(BinaryArrays& arrays, const std::string& name, const std::vector<const char*>& strings) {
+    std::vector<std::string> names;
+    char* at = grow(arrays.bytes, 4 * strings.size());
+    for (const char* str : strings) {
+        std::size_t code = 0;
+        while (code < names.size() && names[code] != str) ++code;  // a handful of names
+        if (code == names.size()) names.emplace_back(str);
+        store_u32_le(at, static_cast<std::uint32_t>(code)), at += 4;
+    }
+    arrays.list.push_back({{"name", name}, {"type", "enum"}, {"count", strings.size()}, {"names", names}});
 }
 
 std::string binary_answer(nlohmann::json header, const BinaryArrays& arrays) {
@@ -97,6 +110,19 @@ DecodedAnswer decode_binary_answer(const std::string& in) {
         } else if (a["type"] == "u32") {
             d.u32.back().reserve(n);
             for (std::size_t i = 0; i < n; ++i, at += 4) d.u32.back().push_back(get_u32_le(in, at));
+        } else if (a["type"] == "enum") {
+            if (!a.contains("names") || !a["names"].is_array()) malformed("enum array without names " + a.dump());
+            const nlohmann::json& names = a["names"];
+            nlohmann::json strings = nlohmann::json::array();
+            for (std::size_t i = 0; i < n; ++i, at += 4) {
+                const std::uint32_t code = get_u32_le(in, at);
+                if (code >= names.size()) malformed("enum code " + std::to_string(code) + " in " + a["name"].dump());
+                d.u32.back().push_back(code);
+                strings.push_back(names[code]);
+            }
+            std::string pointer = "/" + d.names.back();  // "analysis.vertex_class" -> "/analysis/vertex_class"
+            std::replace(pointer.begin(), pointer.end(), '.', '/');
+            d.header[nlohmann::json::json_pointer(pointer)] = std::move(strings);
         } else {
             malformed("array type " + a["type"].dump());
         }

@@ -6,10 +6,12 @@
 //   bytes 4-7    uint32 version (1)
 //   bytes 8-11   uint32 H: bytes of the header
 //   12 .. 12+H   the header, JSON text (UTF-8), padded with spaces so that H is a multiple of 4
-//   then         the arrays listed in header["arrays"] = [{"name", "type": "f32" | "u32", "count"}, ...], in that
-//                order, each count x 4 bytes, little-endian (so every array starts 4-byte aligned)
+//   then         the arrays listed in header["arrays"] = [{"name", "type": "f32" | "u32" | "enum", "count"}, ...],
+//                in that order, each count x 4 bytes, little-endian (so every array starts 4-byte aligned)
 //
-// Integers are uint32 (indices and valences are >= 0); reals are IEEE float32 (rounded to nearest).
+// Integers are uint32 (indices and valences are >= 0); reals are IEEE float32 (rounded to nearest). An "enum" array
+// is an array of strings drawn from a few names (the analysis' vertex classes and edge kinds): its entry also has
+// "names": [...], and each value is the uint32 index of its string in "names".
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -30,6 +32,8 @@ struct BinaryArrays {
 
 void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector<double>& values);
 void append_f32(BinaryArrays& arrays, const std::string& name, const std::vector<Vec3>& points);  // x,y,z,...
+// Strings as an "enum" array: `names` in order of first appearance, one code per string.
+void append_enum(BinaryArrays& arrays, const std::string& name, const std::vector<const char*>& strings);
 // Every int of every cell (cells: std::array<int, N> or std::vector<int>), flat. Precondition: all >= 0.
 template <typename Cells>
 void append_u32_cells(BinaryArrays& arrays, const std::string& name, const Cells& cells);
@@ -40,13 +44,15 @@ std::string binary_answer(nlohmann::json header, const BinaryArrays& arrays);
 // large members are serialized once); "arrays" is appended as its last member.
 std::string binary_answer_text(std::string header_object, const BinaryArrays& arrays);
 
-// Reading it back (tests, scripts): the header and every array as doubles (f32) or uint32 (u32), by name.
+// Reading it back (tests, scripts): the header and every array as doubles (f32) or uint32 (u32, enum codes), by name;
+// an enum array is also written into the header at its dotted name as the JSON array of its strings, so that the
+// header has the JSON answer's members.
 // Throws std::invalid_argument on a malformed answer (bad magic or version, sizes that do not add up).
 struct DecodedAnswer {
     nlohmann::json header;
     std::vector<std::string> names;               // in order
     std::vector<std::vector<double>> f32;         // per array (empty for u32 arrays)
-    std::vector<std::vector<std::uint32_t>> u32;  // per array (empty for f32 arrays)
+    std::vector<std::vector<std::uint32_t>> u32;  // per array (empty for f32 arrays; the codes of an enum array)
     const std::vector<double>& reals(const std::string& name) const;
     const std::vector<std::uint32_t>& ints(const std::string& name) const;
     bool has(const std::string& name) const;

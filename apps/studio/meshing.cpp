@@ -1,5 +1,6 @@
 #include "meshing.h"
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -142,7 +143,9 @@ nlohmann::json predicted_json(const RawMeshPrediction& p) {
 // The "analysis" of the mesh answer: analysis_json(an) with "predicted", written directly, byte for byte what
 // nlohmann's dump of that object gives (keys in sorted order; the class and kind names need no escaping). A 10 k-hex
 // skeleton has thousands of vertices and edges: building the JSON object cost more than meshing the raw hexes.
-void put_analysis(std::string& out, const SkeletonAnalysis& an, const RawMeshPrediction& predicted) {
+// with_names = false leaves out "edge_kind" and "vertex_class" (the binary answer sends them as enum arrays).
+void put_analysis(std::string& out, const SkeletonAnalysis& an, const RawMeshPrediction& predicted,
+                  bool with_names = true) {
     const auto put_names = [&out](const auto& items, const auto& name_of) {
         out += '[';
         for (std::size_t i = 0; i < items.size(); ++i) {
@@ -155,12 +158,10 @@ void put_analysis(std::string& out, const SkeletonAnalysis& an, const RawMeshPre
     };
     out += "{\"counts\":";
     out += analysis_counts_json(an.counts).dump(-1, ' ', false, kUtf8Replace);
-    out += ",\"edge_kind\":";
-    put_names(an.edge_degree, edge_kind);
+    if (with_names) out += ",\"edge_kind\":", put_names(an.edge_degree, edge_kind);
     out += ",\"predicted\":";
     out += predicted_json(predicted).dump(-1, ' ', false, kUtf8Replace);
-    out += ",\"vertex_class\":";
-    put_names(an.vertex_class, class_name);
+    if (with_names) out += ",\"vertex_class\":", put_names(an.vertex_class, class_name);
     out += '}';
 }
 
@@ -408,7 +409,8 @@ std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const 
     const Run run = run_mesh(skeleton, domain, request, tm);
     auto t = std::chrono::steady_clock::now();
     std::string analysis;
-    put_analysis(analysis, run.run.pipeline.input_analysis, run.run.pipeline.predicted);
+    const SkeletonAnalysis& an = run.run.pipeline.input_analysis;
+    put_analysis(analysis, an, run.run.pipeline.predicted, request.encoding != Encoding::Binary);
     tm.report_ms += ms_since(t);
     const DrawArrays arrays = draw_arrays(run, domain, tm);
     t = std::chrono::steady_clock::now();
@@ -427,6 +429,12 @@ std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const 
             append_f32(bin, "connection_surfaces.vertices", arrays.cs_points);
             append_u32_cells(bin, "connection_surfaces.quads", arrays.cs_quads);
         }
+        std::vector<const char*> names(an.vertex_class.size());
+        std::transform(an.vertex_class.begin(), an.vertex_class.end(), names.begin(), class_name);
+        append_enum(bin, "analysis.vertex_class", names);
+        names.resize(an.edge_degree.size());
+        std::transform(an.edge_degree.begin(), an.edge_degree.end(), names.begin(), edge_kind);
+        append_enum(bin, "analysis.edge_kind", names);
         std::string header = "{\"report\":" + run.report.dump(-1, ' ', false, kUtf8Replace);
         header += ",\"analysis\":" + analysis;
         tm.encode_ms = ms_since(t);

@@ -270,7 +270,11 @@ TEST(StudioServer, BinaryMeshIsTheJsonMeshInFloat32) {
         same_floats("connection_surfaces.vertices", j["connection_surfaces"]["vertices"]);
         same_ints("connection_surfaces.quads", j["connection_surfaces"]["quads"]);
         EXPECT_FALSE(b.has("mesh.boundary_distance"));
-        EXPECT_EQ(b.names.size(), 8u);
+        // 8 mesh / connection-surface arrays and the analysis' classes and kinds as enum arrays (restored into the
+        // header above, so that its "analysis" equals the JSON answer's).
+        EXPECT_EQ(b.names.size(), 10u);
+        EXPECT_EQ(b.ints("analysis.vertex_class").size(), j["analysis"]["vertex_class"].size()) << name;
+        EXPECT_EQ(b.ints("analysis.edge_kind").size(), j["analysis"]["edge_kind"].size()) << name;
     }
     // The default torus, a closed leaflet of 24 x 8 quads: one hex on each side of each quad (384 hexes), the mesh a
     // thick torus shell whose boundary is its two skins, one quad per hex (2 x 192).

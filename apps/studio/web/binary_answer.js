@@ -32,6 +32,16 @@ export function decodeBinaryAnswer(buffer) {
     } else if (a.type === 'u32') {
       if (littleEndian) arr = new Uint32Array(buffer, at, n);
       else { arr = new Uint32Array(n); for (let i = 0; i < n; i++) arr[i] = dv.getUint32(at + 4 * i, true); }
+    } else if (a.type === 'enum') {
+      // Strings from a few names: each value the uint32 index of its string in a.names.
+      const names = a.names;
+      if (!Array.isArray(names)) throw new BinaryAnswerError(`binary answer: enum array ${a.name} without names`);
+      arr = new Array(n);
+      for (let i = 0; i < n; i++) {
+        const code = dv.getUint32(at + 4 * i, true);
+        if (code >= names.length) throw new BinaryAnswerError(`binary answer: enum code ${code} in ${a.name}`);
+        arr[i] = names[code];
+      }
     } else throw new BinaryAnswerError(`binary answer: array type ${a.type}`);
     at += 4 * n;
     const path = String(a.name).split('.');
@@ -43,9 +53,11 @@ export function decodeBinaryAnswer(buffer) {
   return header;
 }
 
-// The encoder, for tests and scripts (the server writes the same bytes): header object + [{name, type, values}].
+// The encoder, for tests and scripts (the server writes the same bytes): header object + [{name, type, values}]
+// (an enum array: {name, type: 'enum', names, values: codes}).
 export function encodeBinaryAnswer(header, arrays) {
-  const list = arrays.map((a) => ({ name: a.name, type: a.type, count: a.values.length }));
+  const list = arrays.map((a) => ({ name: a.name, type: a.type, count: a.values.length,
+    ...(a.type === 'enum' ? { names: a.names } : {}) }));
   let text = JSON.stringify({ ...header, arrays: list });
   let bytes = new TextEncoder().encode(text);
   while (bytes.length % 4) { text += ' '; bytes = new TextEncoder().encode(text); }

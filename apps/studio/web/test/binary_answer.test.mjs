@@ -42,3 +42,16 @@ test('binary answer: truncated, padded or foreign bodies are refused', () => {
   assert.throws(() => decodeBinaryAnswer(foreign.buffer), BinaryAnswerError);
   assert.throws(() => decodeBinaryAnswer(new ArrayBuffer(4)), BinaryAnswerError);
 });
+
+test('binary answer: an enum array becomes the array of its names at its dotted path', () => {
+  const buf = encodeBinaryAnswer({ analysis: { counts: { vertices: 4 } } }, [
+    { name: 'analysis.vertex_class', type: 'enum', names: ['joint', 'extremity'], values: [1, 0, 0, 1] },
+    { name: 'analysis.edge_kind', type: 'enum', names: ['branch'], values: [] },
+  ]);
+  const r = decodeBinaryAnswer(buf);
+  assert.deepEqual(r.analysis.vertex_class, ['extremity', 'joint', 'joint', 'extremity']);
+  assert.deepEqual(r.analysis.edge_kind, []);
+  assert.equal(r.analysis.counts.vertices, 4);
+  const bad = encodeBinaryAnswer({}, [{ name: 'k', type: 'enum', names: ['a'], values: [1] }]);
+  assert.throws(() => decodeBinaryAnswer(bad), BinaryAnswerError);
+});
