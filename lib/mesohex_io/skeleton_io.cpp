@@ -659,8 +659,9 @@ BinaryCounts binary_counts(std::string_view bytes, std::string_view name) {
 int binary_index(const char* at, std::uint32_t n_points, std::string_view name, const char* what, ElementRef where) {
     const std::uint32_t i = load_u32(at);
     if (i >= n_points)
-        binary_fail(name, std::string(what) + " names vertex " + std::to_string(i) + " but there are " +
-                              std::to_string(n_points) + " vertices (0-based)",
+        binary_fail(name,
+                    std::string(what) + " names vertex " + std::to_string(i) + " but there are " +
+                        std::to_string(n_points) + " vertices (0-based)",
                     where);
     return static_cast<int>(i);
 }
@@ -703,11 +704,12 @@ Skeleton read_skeleton_binary(std::string_view bytes, std::string_view name) {
         const std::string what = "face " + std::to_string(f);
         const std::uint32_t size = load_u32(at);
         if (size < 3) binary_fail(name, what + " has fewer than 3 vertices", where);
-        if (size > c.s - used) binary_fail(name, "face sizes add up to more than the header's " +
-                                                     std::to_string(c.s) + " face vertices", where);
+        if (size > c.s - used)
+            binary_fail(name, "face sizes add up to more than the header's " + std::to_string(c.s) + " face vertices",
+                        where);
         s.faces[f].resize(size);
-        for (std::uint32_t k = 0; k < size; ++k) s.faces[f][k] = binary_index(verts + 4 * (used + k), c.v, name,
-                                                                              what.c_str(), where);
+        for (std::uint32_t k = 0; k < size; ++k)
+            s.faces[f][k] = binary_index(verts + 4 * (used + k), c.v, name, what.c_str(), where);
         used += size;
         if (repeats_a_vertex(s.faces[f])) binary_fail(name, what + " repeats a vertex", where);
     }
@@ -723,9 +725,9 @@ std::string skeleton_binary(const Skeleton& skeleton) {
     std::string out(kBinaryMagic, 4);
     out.reserve(kBinaryHeader + 24 * skeleton.points.size() + 8 * skeleton.radii.size() + 8 * skeleton.edges.size() +
                 4 * (skeleton.faces.size() + corners));
-    for (const std::uint64_t x : {std::uint64_t{kBinaryVersion}, std::uint64_t{skeleton.points.size()},
-                                  std::uint64_t{skeleton.radii.size()}, std::uint64_t{skeleton.edges.size()},
-                                  std::uint64_t{skeleton.faces.size()}, corners, std::uint64_t{0}})
+    for (const std::uint64_t x :
+         {std::uint64_t{kBinaryVersion}, std::uint64_t{skeleton.points.size()}, std::uint64_t{skeleton.radii.size()},
+          std::uint64_t{skeleton.edges.size()}, std::uint64_t{skeleton.faces.size()}, corners, std::uint64_t{0}})
         store_u32(out, static_cast<std::uint32_t>(x));
     for (const Vec3& p : skeleton.points) store_f64(out, p.x), store_f64(out, p.y), store_f64(out, p.z);
     for (const double r : skeleton.radii) store_f64(out, r);

@@ -270,10 +270,10 @@ TEST(SkeletonIo, BinaryLayoutOnAHandCheckedSkeleton) {
     const std::string b = mesohex::skeleton_binary(s);
     ASSERT_EQ(b.size(), 332u);
     EXPECT_EQ(b.substr(0, 4), "MHSK");
-    EXPECT_EQ(b[8], 7);                                    // V
-    EXPECT_EQ(b[16], 7);                                   // E
-    EXPECT_EQ(b[24], 4);                                   // S, the quad's 4 corners
-    EXPECT_EQ(b[32 + 24 * 7 + 8 * 7 + 8 * 7], 4);          // the face's size
+    EXPECT_EQ(b[8], 7);                                            // V
+    EXPECT_EQ(b[16], 7);                                           // E
+    EXPECT_EQ(b[24], 4);                                           // S, the quad's 4 corners
+    EXPECT_EQ(b[32 + 24 * 7 + 8 * 7 + 8 * 7], 4);                  // the face's size
     EXPECT_EQ(mesohex::read_skeleton_text(b, "MHSK", "body"), s);  // bit for bit, any case of the format name
     const Skeleton no_radii = sample_skeleton(false);
     EXPECT_EQ(mesohex::skeleton_binary(no_radii).size(), 332u - 8 * 7);
@@ -295,7 +295,8 @@ TEST(SkeletonIo, BinaryReadsAsTheObjTextOfTheSameSkeleton) {
 TEST(SkeletonIo, BinaryRefusalsNameTheByteOrTheElement) {
     const std::string good = mesohex::skeleton_binary(sample_skeleton(true));
     // Every truncation and one byte too many: a length error, nothing read past the end.
-    for (std::size_t n = 0; n < good.size(); ++n) EXPECT_EQ(binary_error(good.substr(0, n)).code(), ErrorCode::InvalidInput);
+    for (std::size_t n = 0; n < good.size(); ++n)
+        EXPECT_EQ(binary_error(good.substr(0, n)).code(), ErrorCode::InvalidInput);
     EXPECT_NE(std::string(binary_error(good + '\0').what()).find("length 333 bytes"), std::string::npos);
     // Counts far beyond the body: refused before allocating.
     std::string huge = good;

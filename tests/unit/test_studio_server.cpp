@@ -300,12 +300,13 @@ TEST(StudioServer, BinarySkeletonUploadAnswersAsTheObjText) {
     for (const char* name : {"torus", "hand", "tfan", "chair"}) {
         const Skeleton sk = read_skeleton_text(obj_text(generate_skeleton(name)), "obj", name);
         const auto rt = post(*s.client, "/api/mesh?stage=raw", obj_text(sk));
-        const auto rb = post(*s.client, "/api/mesh?stage=raw&format=mhsk", skeleton_binary(sk),
-                             "application/octet-stream");
+        const auto rb =
+            post(*s.client, "/api/mesh?stage=raw&format=mhsk", skeleton_binary(sk), "application/octet-stream");
         ASSERT_TRUE(rt && rb) << name;
         ASSERT_EQ(rb->status, 200) << name << ": " << rb->body.substr(0, 300);
         json jt = body_json(rt), jb = body_json(rb);
-        for (json* j : {&jt, &jb}) j->erase("server_ms"), j->erase("server_phases_ms"), (*j)["report"].erase("timings_ms");
+        for (json* j : {&jt, &jb})
+            j->erase("server_ms"), j->erase("server_phases_ms"), (*j)["report"].erase("timings_ms");
         EXPECT_EQ(jb, jt) << name << ": " << json::diff(jt, jb).dump().substr(0, 600);
     }
     std::string bad = skeleton_binary(generate_skeleton("tfan"));
