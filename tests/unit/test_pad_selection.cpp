@@ -137,6 +137,38 @@ TEST(PadSelection, BlockInItsBoxStaysBare) {
     EXPECT_EQ(r.bare_quads, 24);
 }
 
+// A leaflet's convex corner in its box: the plate [0, 1]^2 and the half-chunks of its two border edges, which share
+// the corner's out column (2, 2), fill [0, 2]^2 with 3 quads meeting at (1, 1); extruded over [0, 2], 3 hexes fill
+// the box. The top and the bottom each have that inner vertex with 3 quads (the leaflet corner's up / down copy);
+// every rim (16 raw edges: 6 around the top, 6 around the bottom, 4 vertical) lands on the box's 12 edges: all 6
+// faces stay bare and the padding adds nothing. (Before inner vertices of 3 quads were allowed, the top and the
+// bottom were padded, and the corners where a padded face met two bare ones finished at min SJ 0.26 on the generated
+// plate in its box, 0.60 bare.)
+TEST(PadSelection, LeafletCornerInItsBoxStaysBare) {
+    const std::array<Vec3, 7> xy{Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{2, 0, 0}, Vec3{2, 2, 0},
+                                 Vec3{1, 1, 0}, Vec3{0, 1, 0}, Vec3{0, 2, 0}};
+    HexMesh raw;
+    for (double z : {0.0, 2.0})
+        for (const Vec3& p : xy) raw.points.push_back({p.x, p.y, z});
+    for (const std::array<int, 4>& q : {std::array<int, 4>{0, 1, 4, 5}, {1, 2, 3, 4}, {5, 4, 3, 6}})
+        raw.hexes.push_back({q[0], q[1], q[2], q[3], q[0] + 7, q[1] + 7, q[2] + 7, q[3] + 7});
+    expect_valid(raw);
+    const Convex box = chamfered_box(2, 0);
+    const PadSelection sel = select_bare_regions(raw, box.surface, convex_landing(box));
+    EXPECT_EQ(sel.domain_sharp_edges, 12);
+    EXPECT_EQ(sel.sharp_edges, 16);
+    EXPECT_EQ(sel.matched_edges, 16);
+    EXPECT_EQ(sel.regions, 6);
+    EXPECT_EQ(sel.bare_regions, 6);
+    EXPECT_EQ(count_bare(sel), 12);
+    PaddingOptions po;
+    po.bare_quads = sel.bare_quads;
+    const PaddingResult r = pad(raw, po);
+    EXPECT_EQ(r.mesh.hexes.size(), 3u);
+    EXPECT_EQ(r.mesh.points.size(), 14u);
+    EXPECT_EQ(r.bare_quads, 12);
+}
+
 // The same block in a box whose top rims are chamfered (two 45-degree edges instead of one 90-degree rim): the 8
 // raw top-rim edges match nothing, so the top and the 4 sides (each touching the top rim) are padded; the bottom's
 // 4 rims land on the domain's 90-degree bottom rim and the 8 vertical raw edges on its vertical edges: only the

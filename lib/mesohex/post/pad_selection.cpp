@@ -160,7 +160,10 @@ std::vector<char> bare_candidates(const HexMesh& m, const std::vector<std::array
         const std::size_t r = at(region[q]);
         if (!bounded[r] || !ok[r]) continue;
         for (int v : quads[q])
-            if (!on_sharp[at(v)] && quad_count[at(v)] != 4) ok[r] = 0;
+            // 3 quads: a leaflet's convex corner (its plate and the two half-chunks of its border edges around its
+            // up / down copy); its hexes keep that valence padded or not. 5 and more (a pinion's fin roots) need the
+            // padding's layer to spread their distortion (docs/tuning.md, "Selective padding").
+            if (!on_sharp[at(v)] && quad_count[at(v)] != 4 && quad_count[at(v)] != 3) ok[r] = 0;
         if (!ok[r]) continue;
         const Landing l = land(centres[q], normals[q]);
         if (dot(l.normal, normals[q]) < min_cos) ok[r] = 0;
