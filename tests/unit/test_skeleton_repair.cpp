@@ -183,6 +183,42 @@ TEST(SkeletonRepair, StubAbsorbed) {
         mesohex::repair_skeleton(in, {.trunks = true, .trunk_clearance = 0.7, .absorb_stubs = false}).absorbed_stubs);
 }
 
+// A stub whose end lies far off its sibling is kept as a side branch of it. c = (0, 0, 0), parent (0, 0, -1), the
+// sibling straight up to (0, 0, 2), the stub 0.3 long at 35 degrees towards +x, radius 0.1: at arc s the points are
+// 2 s sin 17.5 = 0.6014 s apart, below 0.2 up to s = 0.3326 > 0.3 (no separation: a stub). Its end e = (0.3 sin 35, 0,
+// 0.3 cos 35) = (0.17207, 0, 0.24575) lies 0.17207 = 1.72 r from the sibling's nearest point q = (0, 0, 0.24575)
+// (arc 0.246 > r_c = 0.1, before the sibling's end). side_stub_reach 1.5: q becomes a branching point of degree 3
+// with the edge (q, e) at a right angle to the sibling; c a joint. side_stub_reach 2 (1.72 < 2): absorbed as before.
+TEST(SkeletonRepair, StubKeptAsSideBranch) {
+    Skeleton in;
+    const double r = 0.1, sin35 = std::sin(35 * kDeg), cos35 = std::cos(35 * kDeg);
+    in.points = {{0, 0, -1}, {0, 0, 0}, {0, 0, 2}, {0.3 * sin35, 0, 0.3 * cos35}};
+    in.radii = {r, r, r, r};
+    in.edges = {{0, 1}, {1, 2}, {1, 3}};
+    mesohex::SkeletonRepairOptions o;
+    o.side_stub_reach = 1.5;
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, o);
+    EXPECT_EQ(res.side_stubs, 1);
+    EXPECT_EQ(res.absorbed_stubs + res.trunks, 0);
+    EXPECT_TRUE(res.absorbed_balls.empty());
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 5u);  // the 4 input vertices, then q
+    const std::vector<std::array<int, 2>> edges{{0, 1}, {1, 4}, {4, 2}, {4, 3}};
+    EXPECT_EQ(s.edges, edges);
+    EXPECT_NEAR(distance(s.points[4], Vec3{0, 0, 0.3 * cos35}), 0, 1e-12);
+    EXPECT_NEAR(s.radii[4], r, 1e-12);
+    EXPECT_NEAR(distance(s.points[3], in.points[3]), 0, 1e-12);  // e stays
+    EXPECT_NEAR(dot(s.points[3] - s.points[4], Vec3{0, 0, 1}), 0, 1e-12);
+    EXPECT_NEAR(distance(s.points[3], s.points[4]), 0.17207, 1e-5);
+    EXPECT_EQ(degree(s, 1), 2);
+    EXPECT_EQ(degree(s, 4), 3);
+    for (int v = 0; v < 4; ++v) EXPECT_EQ(res.vertex_map[v], v);
+    o.side_stub_reach = 2;
+    const mesohex::SkeletonRepairResult absorbed = mesohex::repair_skeleton(in, o);
+    EXPECT_EQ(absorbed.side_stubs, 0);
+    EXPECT_EQ(absorbed.absorbed_stubs, 1);
+}
+
 // A stub whose sibling turns inside the absorbed stretch. c = (0, 0, 0), parent (0, 0, -1); the sibling goes up to its
 // joint j = (0, 0, 0.4), then turns by 30 degrees towards +x (to j + 1.6 (sin 30, 0, cos 30)); the stub, 0.6 long,
 // leaves c at 20 degrees towards +x. Radius 0.1: at arc 0.6 the points are (0.2052, 0, 0.5638) and (0.1, 0, 0.5732),

@@ -57,6 +57,14 @@ struct SkeletonRepairOptions {
     // too thin in the plane and too fat across by the same amount), which the fit bends into the union's shape. On the
     // random set 0.25 meets the targets on more of the seeds with a stub (docs/junctions.md).
     double absorbed_ball_width = 0.25;
+    // A stub whose end e lies far off the other branch is not absorbed but kept as a short side branch of it: q, the
+    // point of the other branch's polyline nearest e (a new vertex on it), becomes a branching point of degree 3 with
+    // the edge (q, e) leaving it sideways (at a right angle when q lies inside a segment), and the stub's other
+    // vertices and edges go; c loses the stub (degree 3: a joint). Only when |e - q| >= side_stub_reach x r_q (r_q the
+    // other branch's radius at q; dimensionless) and q lies beyond c's ball and before the other branch's end. One
+    // round ball cannot follow two tubes whose centres are that far apart (docs/junctions.md, "Absorbed stubs").
+    // 0 disables (every stub absorbed).
+    double side_stub_reach = 0;
     // The ball t of an absorbed stub (or merged end) is a radius peak on the kept branch: the adaptation's
     // resampling, which evaluates its samples on the polyline at arc lengths of its own choosing, would step over it
     // and taper the bump away (the stub's tip uncovered, the tube after it too fat). true: the pipeline pins every t
@@ -99,6 +107,7 @@ struct SkeletonRepairResult {
     std::vector<int> vertex_map;
     int trunks = 0;             // trunk vertices inserted (one per repaired pair)
     int absorbed_stubs = 0;     // stubs absorbed (one vertex t each)
+    int side_stubs = 0;         // stubs kept as side branches of their sibling (side_stub_reach; one vertex q each)
     int merged_ends = 0;        // walks ending at a branching point absorbed (merge_branching_ends; one t each)
     int unseparated = 0;        // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
                                 // separate
