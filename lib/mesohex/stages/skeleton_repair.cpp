@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <map>
 #include <set>
 #include <utility>
@@ -27,7 +26,7 @@ struct Walk {
 struct Graph {
     std::vector<std::vector<int>> inc;  // per vertex: incident branch edges (not leaflet sides)
     std::vector<bool> on_face;
-    std::vector<int> degree;  // all edges, leaflet sides included
+    std::vector<int> degree;   // all edges, leaflet sides included
     std::vector<bool> frozen;  // not scanned: the roots of side stubs (their pairs are the stub's own repair)
 };
 
@@ -742,9 +741,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
 
 }  // namespace
 
-SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepairOptions& o_in) {
-    SkeletonRepairOptions o = o_in;  // EXPERIMENT-ONLY (remove before merge)
-    if (const char* k = std::getenv("MESOHEX_SIDE_STUB_REACH")) o.side_stub_reach = std::atof(k);
+SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepairOptions& o) {
     SkeletonRepairResult res;
     res.skeleton = input;
     res.vertex_map.resize(input.points.size());

@@ -57,14 +57,16 @@ struct SkeletonRepairOptions {
     // too thin in the plane and too fat across by the same amount), which the fit bends into the union's shape. On the
     // random set 0.25 meets the targets on more of the seeds with a stub (docs/junctions.md).
     double absorbed_ball_width = 0.25;
-    // A stub whose end e lies far off the other branch is not absorbed but kept as a short side branch of it: q, the
-    // point of the other branch's polyline nearest e (a new vertex on it), becomes a branching point of degree 3 with
-    // the edge (q, e) leaving it sideways (at a right angle when q lies inside a segment), and the stub's other
-    // vertices and edges go; c loses the stub (degree 3: a joint). Only when |e - q| >= side_stub_reach x r_q (r_q the
-    // other branch's radius at q; dimensionless) and q lies beyond c's ball and before the other branch's end. One
-    // round ball cannot follow two tubes whose centres are that far apart (docs/junctions.md, "Absorbed stubs").
-    // 0 disables (every stub absorbed).
-    double side_stub_reach = 0;
+    // A stub whose end e lies off the other branch is not absorbed but kept as a short side branch of it: q, the
+    // point of the other branch's polyline nearest e (a new vertex on it unless a joint is there), becomes a branching
+    // point of degree 3 with the edge (q, e) leaving it sideways (at a right angle when q lies inside a segment); the
+    // stub's other vertices and edges go and c loses the stub (degree 3: a joint). Only when |e - q| >= side_stub_reach
+    // x r_q (r_q the other branch's radius at q; dimensionless), q lies beyond c's ball (arc length > r_c) and before
+    // the other branch's end; otherwise the stub is absorbed. A round ball over the two tubes is off their union by
+    // about |e - q| / 4 (absorbed_ball_width), which the fit closes only when the end is near the other branch's axis
+    // (docs/junctions.md, "Absorbed stubs"). 0 disables (every stub absorbed). Measured on the random set (0.5, 1,
+    // 1.3, 1.6): docs/tuning.md, "Stubs as side branches".
+    double side_stub_reach = 0.5;
     // The ball t of an absorbed stub (or merged end) is a radius peak on the kept branch: the adaptation's
     // resampling, which evaluates its samples on the polyline at arc lengths of its own choosing, would step over it
     // and taper the bump away (the stub's tip uncovered, the tube after it too fat). true: the pipeline pins every t
