@@ -64,8 +64,8 @@ struct SkeletonRepairOptions {
     // x r_q (r_q the other branch's radius at q; dimensionless), q lies beyond c's ball (arc length > r_c) and before
     // the other branch's end; otherwise the stub is absorbed. A round ball over the two tubes is off their union by
     // about |e - q| / 4 (absorbed_ball_width), which the fit closes only when the end is near the other branch's axis
-    // (docs/junctions.md, "Absorbed stubs"). 0 disables (every stub absorbed). Measured on the random set (0.5, 1,
-    // 1.3, 1.6): docs/tuning.md, "Stubs as side branches".
+    // (docs/junctions.md, "Stubs as side branches"). Needs absorb_stubs. 0 disables (every stub absorbed). Measured on
+    // the random set (0.5 and 1): docs/tuning.md, "Stubs as side branches".
     double side_stub_reach = 0.5;
     // The ball t of an absorbed stub (or merged end) is a radius peak on the kept branch: the adaptation's
     // resampling, which evaluates its samples on the polyline at arc lengths of its own choosing, would step over it
@@ -124,9 +124,11 @@ struct SkeletonRepairResult {
 // violations are not repaired but skipped). Pairs with a branch edge shorter than 1e-9 x its radius are skipped
 // (adaptation's degenerate repairs handle them).
 // Postconditions: V - E + F unchanged (each trunk adds t, the two crotch vertices and the trunk edge, and removes the
-// dropped joints with one edge each, the two first edges of the pair replaced); leaflet faces and their edges
-// unchanged; every output edge joins two distinct vertices. Output order: the kept input vertices in their order,
-// then per trunk t and the new crotch vertices; edges: the kept input edges in their order, then per trunk its edges.
+// dropped joints with one edge each, the two first edges of the pair replaced; a side stub adds q and splits the
+// sibling's segment there unless a joint is at q, and replaces the stub's edges and joints by the edge (q, e));
+// leaflet faces and their edges unchanged; every output edge joins two distinct vertices. Output order: the kept
+// input vertices in their order, then per trunk t and the new crotch vertices (per side stub q); edges: the kept
+// input edges in their order, then per repair its new edges.
 // Repairs are made one pair at a time, the most overlapping first (largest x / r_c), until no pair qualifies (at most
 // one per input branch edge). Deterministic. Complexity O(trunks x (pairs at branching points) x polyline length).
 // Fan-end retractions (fan_end_repair.h) come first: input vertices keep their indices, new ones are appended.
