@@ -153,7 +153,7 @@ TEST(SkeletonRepair, StubAbsorbed) {
     in.points = {{0, 0, -1}, {0, 0, 0}, {0, 0, 2}, {0.3 * std::sin(20 * kDeg), 0, 0.3 * std::cos(20 * kDeg)}};
     in.radii = {r, r, r, r};
     in.edges = {{0, 1}, {1, 2}, {1, 3}};
-    // The stub's end lies 0.3 sin 20 = 0.1026 = 1.03 r off the sibling: by default (side_stub_reach 0.5) a side branch
+    // The stub's end lies 0.3 sin 20 = 0.1026 = 1.03 r off the sibling: by default (side_stub_reach 0.7) a side branch
     // (test StubKeptAsSideBranch); absorption is under test here.
     mesohex::PipelineOptions absorb;
     absorb.repair.side_stub_reach = 0;
@@ -321,16 +321,19 @@ TEST(SkeletonRepair, LeafletsUntouched) {
 // seed 12, two stubs, 0.009 -> 0.288. Finished in their domains they went from missing the targets to 0.618 / 0.918 /
 // 1.17 % (37), 0.688 / 0.929 / 0.85 % (17), 0.619 / 0.929 / 0.70 % (12, 1 inverted hex before) (docs/tuning.md).
 // Absorbed (side_stub_reach 0), with the pinned balls and absorbed_ball_width 0.25, the raw min SJ is 0.565 (72), 0.654
-// (37), 0.551 (17), 0.305 (12). By default their stub ends lie 0.5 r or more off the sibling: side branches, raw min SJ
-// 0.556 (72), 0.466 (37), 0.566 (17), 0.172 (12) (finished: 37 meets every target only this way, docs/tuning.md).
+// (37), 0.551 (17), 0.305 (12). By default (side_stub_reach 0.7) the stubs whose end lies 0.7 r or more off the sibling
+// are side branches: 37, 17 and one of 12's two (raw min SJ 0.466, 0.566, 0.179; finished, 37 meets every target only
+// this way, docs/tuning.md); 72's end lies nearer and its stub is absorbed.
 TEST(SkeletonRepair, RandomSeedsWithStubs) {
     struct Case {
-        int seed, stubs;
+        int seed, stubs, side;  // stubs: all; side: kept as side branches by default (the others absorbed)
         double bound, absorbed_bound;
         int joints_now;  // absorbed: branching points of degree 3 that lost their stub and became joints
     };
-    for (const Case& c : std::vector<Case>{
-             {72, 1, 0.5, 0.55, 1}, {37, 1, 0.45, 0.55, 1}, {17, 1, 0.5, 0.45, 1}, {12, 2, 0.15, 0.25, 1}}) {
+    for (const Case& c : std::vector<Case>{{72, 1, 0, 0.55, 0.55, 1},
+                                           {37, 1, 1, 0.45, 0.55, 1},
+                                           {17, 1, 1, 0.5, 0.45, 1},
+                                           {12, 2, 1, 0.15, 0.25, 1}}) {
         const Skeleton in = mesohex::generate_random_skeleton(static_cast<std::uint64_t>(c.seed));
         mesohex::PipelineOptions without;
         without.repair.trunks = false;
@@ -344,8 +347,9 @@ TEST(SkeletonRepair, RandomSeedsWithStubs) {
         const mesohex::QualityReport qa = mesohex::compute_quality(after.raw.mesh);
         const mesohex::QualityReport qab = mesohex::compute_quality(absorbed.raw.mesh);
         EXPECT_LT(qb.sj_min, 0.1) << c.seed;
-        EXPECT_EQ(after.side_stubs, c.stubs) << c.seed;
-        EXPECT_EQ(after.absorbed_stubs + after.trunks, 0) << c.seed;
+        EXPECT_EQ(after.side_stubs, c.side) << c.seed;
+        EXPECT_EQ(after.absorbed_stubs, c.stubs - c.side) << c.seed;
+        EXPECT_EQ(after.trunks, 0) << c.seed;
         EXPECT_EQ(qa.inverted, 0) << c.seed;
         EXPECT_GT(qa.sj_min, c.bound) << c.seed;
         EXPECT_EQ(absorbed.absorbed_stubs, c.stubs) << c.seed;
@@ -355,11 +359,9 @@ TEST(SkeletonRepair, RandomSeedsWithStubs) {
         // Seed 12: one of its two stubs left a branching point of degree 4 (3 now).
         EXPECT_EQ(absorbed.analysis.counts.branching_points + c.joints_now, before.analysis.counts.branching_points)
             << c.seed;
-        // A side stub moves the branching point from c to q on the sibling: each of c's stubs lowers its degree by
-        // one and adds q of degree 3, so the count rises by the number of stubs less the joints made.
-        EXPECT_EQ(after.analysis.counts.branching_points + c.joints_now,
-                  before.analysis.counts.branching_points + c.stubs)
-            << c.seed;
+        // A side stub moves the branching point from c to q on the sibling: c's degree falls by one and q of degree 3
+        // is added, so each side stub adds one branching point to the absorbed count.
+        EXPECT_EQ(after.analysis.counts.branching_points, absorbed.analysis.counts.branching_points + c.side) << c.seed;
     }
 }
 

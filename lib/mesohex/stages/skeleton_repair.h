@@ -65,8 +65,8 @@ struct SkeletonRepairOptions {
     // the other branch's end; otherwise the stub is absorbed. A round ball over the two tubes is off their union by
     // about |e - q| / 4 (absorbed_ball_width), which the fit closes only when the end is near the other branch's axis
     // (docs/junctions.md, "Stubs as side branches"). Needs absorb_stubs. 0 disables (every stub absorbed). Measured on
-    // the random set (0.5 and 1): docs/tuning.md, "Stubs as side branches".
-    double side_stub_reach = 0.5;
+    // the random set (0.5, 0.7 and 1; seeds 1-100 and 101-200): docs/tuning.md, "Stubs as side branches".
+    double side_stub_reach = 0.7;
     // The ball t of an absorbed stub (or merged end) is a radius peak on the kept branch: the adaptation's
     // resampling, which evaluates its samples on the polyline at arc lengths of its own choosing, would step over it
     // and taper the bump away (the stub's tip uncovered, the tube after it too fat). true: the pipeline pins every t
