@@ -4,13 +4,16 @@
 //
 //   mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints [merge [joint [wide]]]]]]]   (the
 //   others 0/1: SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends, joint_trunks,
-//   wide_junction_trunks)
+//   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every stub
+//   absorbed). The last two columns: stubs kept as side branches, and a hash of the raw mesh (compare two builds or
+//   option sets seed by seed to find the seeds a change touches).
 //
 // One line per seed, then the distribution. The worst raw hex is named by the adapted skeleton edge of its chunk
 // (a plate hex: "plate"), and by the kind of that edge's ends: bp = branching point without leaflet, lf = leaflet
 // vertex, ex = extremity, jt = joint (with its turn in degrees).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -42,6 +45,20 @@ std::string vertex_kind(const Skeleton& s, const std::vector<std::vector<int>>& 
     return "jt" + std::to_string(static_cast<int>(std::lround(turn)));
 }
 
+std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ULL;
+    return h;
+}
+
+// Hash of the raw mesh (points and hexes): compares runs of two builds or option sets seed by seed.
+std::uint64_t raw_hash(const RawMesh& raw) {
+    std::uint64_t h = 14695981039346656037ULL;
+    for (const Vec3& p : raw.mesh.points) h = fnv(h, &p, sizeof p);
+    for (const auto& hex : raw.mesh.hexes) h = fnv(h, hex.data(), sizeof hex);
+    return h;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -60,9 +77,12 @@ int main(int argc, char** argv) {
     if (argc > 7) po.repair.merge_branching_ends = std::atoi(argv[7]) != 0;
     if (argc > 8) po.repair.joint_trunks = std::atoi(argv[8]) != 0;
     if (argc > 9) po.repair.wide_junction_trunks = std::atoi(argv[9]) != 0;
+    if (const char* k = std::getenv("SIDE_STUB_REACH")) po.repair.side_stub_reach = std::atof(k);
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
-    std::printf("seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks stubs merged unseparated\n");
+    std::printf(
+        "seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks stubs merged unseparated side_stubs "
+        "raw_hash\n");
     for (long seed = first; seed <= last; ++seed) {
         const Skeleton in = generate_random_skeleton(static_cast<std::uint64_t>(seed));
         try {
@@ -108,9 +128,11 @@ int main(int argc, char** argv) {
                               : vertex_kind(s, adj, on_face, s.edges[e][0]) + "-" +
                                     vertex_kind(s, adj, on_face, s.edges[e][1]);
             }
-            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d %d %d\n", seed, random_skeleton_kind(seed),
-                        s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(), q.sj_min, q.sj_avg, q.inverted, off,
-                        where.c_str(), res.trunks, res.absorbed_stubs, res.merged_ends, res.unseparated_pairs);
+            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d %d %d %d %016llx\n", seed,
+                        random_skeleton_kind(seed), s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(),
+                        q.sj_min, q.sj_avg, q.inverted, off, where.c_str(), res.trunks, res.absorbed_stubs,
+                        res.merged_ends, res.unseparated_pairs, res.side_stubs,
+                        static_cast<unsigned long long>(raw_hash(res.raw)));
             mins.push_back(q.sj_min);
             offs.push_back(off);
             inverted_seeds += q.inverted > 0;

@@ -112,6 +112,7 @@ nlohmann::json valence_histogram_json(const std::map<int, long>& histogram) {
 nlohmann::json repairs_json(const PipelineResult& res) {
     return {{"trunks", res.trunks},
             {"absorbed_stubs", res.absorbed_stubs},
+            {"side_stubs", res.side_stubs},
             {"merged_ends", res.merged_ends},
             {"unseparated_pairs", res.unseparated_pairs},
             {"root_strip_splits", res.root_strip_splits},

@@ -26,7 +26,8 @@ struct Walk {
 struct Graph {
     std::vector<std::vector<int>> inc;  // per vertex: incident branch edges (not leaflet sides)
     std::vector<bool> on_face;
-    std::vector<int> degree;  // all edges, leaflet sides included
+    std::vector<int> degree;   // all edges, leaflet sides included
+    std::vector<bool> frozen;  // not scanned: the roots of side stubs (their pairs are the stub's own repair)
 };
 
 // Fills g for s, reusing g's arrays (called once per repair round).
@@ -99,6 +100,7 @@ enum class PairRepair {
     trunk,  // the tubes separate: a trunk vertex on the pair's medial axis
     stub,   // the shorter branch ends at an extremity inside the other's tube: absorbed
     merge,  // the shorter branch ends at a branching point inside the other's tube: absorbed, its children leave t
+    side,   // a stub whose end lies far off the other branch: kept as a side branch of it (side_stub_reach)
 };
 
 struct Candidate {
@@ -111,6 +113,26 @@ struct Candidate {
 };
 
 bool is_extremity(const Graph& g, int v) { return g.degree[v] == 1 && !g.on_face[v]; }
+
+// The point of walk w's polyline nearest p (the first of equals): its arc length and segment (AtArc::k, u).
+AtArc nearest_on_walk(const Skeleton& s, const Walk& w, const Vec3& p, double& arc) {
+    AtArc best;
+    double best_d = 1e300;
+    arc = 0;
+    for (std::size_t k = 0; k + 1 < w.verts.size(); ++k) {
+        const Vec3 a = s.points[w.verts[k]], b = s.points[w.verts[k + 1]];
+        const double l2 = dot(b - a, b - a);
+        const double u = l2 > 0 ? std::clamp(dot(p - a, b - a) / l2, 0.0, 1.0) : 0.0;
+        const Vec3 x = a + u * (b - a);
+        const double d = distance(x, p);
+        if (d < best_d) {
+            best_d = d;
+            best = {x, s.radii[w.verts[k]] + u * (s.radii[w.verts[k + 1]] - s.radii[w.verts[k]]), k, u};
+            arc = w.s[k] + u * (w.s[k + 1] - w.s[k]);
+        }
+    }
+    return best;
+}
 
 // The arc length where the tubes of walks i and j separate, or -1 if they do not before the shorter one ends.
 double separation(const Skeleton& s, const Walk& wi, const Walk& wj) {
@@ -364,8 +386,20 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
             return;
         }
         const double len = shorter.length();
-        const AtArc a = at_arc(s, shorter, len), b = at_arc(s, keep, len);
         const double score = len / s.radii[c];
+        if (kind == PairRepair::stub && o.side_stub_reach > 0) {
+            // Far off the other branch: a side branch from its nearest point q (beyond c's ball, before its end).
+            const Vec3 e = s.points[shorter.verts.back()];
+            double arc = 0;
+            const AtArc q = nearest_on_walk(s, keep, e, arc);
+            const bool at_end = q.k + 2 == keep.verts.size() && q.u > 1 - 1e-9;
+            if (arc > s.radii[c] && !at_end && distance(e, q.x) >= o.side_stub_reach * q.r) {
+                if (score > best.score)
+                    best = {score, c, i_short ? j : i, i_short ? i : j, arc, q.x, q.r, PairRepair::side};
+                return;
+            }
+        }
+        const AtArc a = at_arc(s, shorter, len), b = at_arc(s, keep, len);
         if (score > best.score)
             best = {score,
                     c,
@@ -398,6 +432,7 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
 
 // Branching points whose pairs are scanned: no leaflet, 3 or more branch edges, a radius.
 bool scanned(const Skeleton& s, const Graph& g, int c) {
+    if (static_cast<std::size_t>(c) < g.frozen.size() && g.frozen[c]) return false;
     return !g.on_face[c] && g.inc[c].size() >= 3 && s.radii[c] > 0;
 }
 
@@ -492,6 +527,42 @@ void join_trunk(Skeleton& s, const Graph& g, const Walk& w, int e0, double sep, 
     ed.new_edges.push_back({pv, after});
 }
 
+// A side stub: q (an existing joint of the kept walk, or a new vertex splitting its segment) gets the edge (q, e);
+// the stub's edges and vertices before e go. Returns q's id before the renumbering.
+int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const Walk& stub, int e_stub, Edit& ed) {
+    const int e = stub.verts.back();
+    double arc = 0;
+    const AtArc q = nearest_on_walk(s, keep, s.points[e], arc);
+    int cur = e_keep;
+    for (std::size_t k = 0; k < q.k; ++k) {
+        const int v = keep.verts[k + 1];
+        cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
+    }
+    int qv = -1;
+    if (q.u < 1e-9 && q.k > 0) {
+        qv = keep.verts[q.k];
+    } else if (q.u > 1 - 1e-9) {
+        qv = keep.verts[q.k + 1];
+    } else {
+        qv = static_cast<int>(s.points.size());
+        s.points.push_back(q.x);
+        s.radii.push_back(q.r);
+        ed.drop_edge[cur] = true;
+        ed.new_edges.push_back({keep.verts[q.k], qv});
+        ed.new_edges.push_back({qv, keep.verts[q.k + 1]});
+    }
+    cur = e_stub;
+    for (std::size_t k = 1; k < stub.verts.size(); ++k) {
+        ed.drop_edge[cur] = true;
+        const int v = stub.verts[k];
+        if (k + 1 == stub.verts.size()) break;
+        ed.drop_vertex[v] = true;
+        cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
+    }
+    ed.new_edges.push_back({qv, e});
+    return qv;
+}
+
 // Drops the marked vertices and edges, appends the new edges, renumbers (faces and the vertex map too). Returns the
 // new id of every vertex before the renumbering (-1: dropped).
 std::vector<int> rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResult& res) {
@@ -552,11 +623,20 @@ std::vector<bool> touched_vertices(const Geometry& before, const Geometry& edite
 // Applies one repair (best.ei, best.ej: edge ids): t, the edge (c, t), and per walk its edits. Returns the new id of
 // every vertex before the repair (-1: dropped) and sets `touched` (touched_vertices).
 std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& best, const SkeletonRepairOptions& o,
-                                 SkeletonRepairResult& res, std::vector<bool>& touched) {
+                                 SkeletonRepairResult& res, std::vector<bool>& touched, int& side_root) {
     const Geometry before{s.points, s.radii, s.edges};
     const int n = static_cast<int>(s.points.size()), c = best.c, t = n;
     const Walk wi = walk(s, g, c, best.ei), wj = walk(s, g, c, best.ej);
     Edit ed{std::vector<bool>(n, false), std::vector<bool>(s.edges.size(), false), {}};
+    if (best.kind == PairRepair::side) {
+        const int q = join_side(s, g, wi, best.ei, wj, best.ej, ed);
+        ++res.side_stubs;
+        const Geometry edited{s.points, s.radii, s.edges};
+        std::vector<int> id = rebuild(s, n, ed, res);
+        touched = touched_vertices(before, edited, ed, id, static_cast<int>(s.points.size()));
+        side_root = id[q];
+        return id;
+    }
     s.points.push_back(best.t);
     s.radii.push_back(best.rt);
     if (best.kind == PairRepair::trunk) {
@@ -622,9 +702,11 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
     const std::size_t budget = s.edges.size();
     std::vector<PointScan> scans(s.points.size());
     std::vector<bool> stale(s.points.size(), true);
+    std::vector<bool> frozen(s.points.size(), false);  // side stub roots (Graph::frozen)
     Graph g;
     for (std::size_t round = 0; round < budget; ++round) {
         make_graph(s, g);
+        g.frozen = frozen;
         if (round > 0) stale = stale_points(s, g, stale);
         const int n = static_cast<int>(s.points.size());
         if (round == 0)  // every point: in parallel (each task writes its own scans[c]; the same bits for any count)
@@ -644,10 +726,16 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
         if (best.c < 0 || round + 1 == budget) res.unseparated = count_unseparated(s, g, scans);
         if (best.c < 0) break;
         best.ei = g.inc[best.c][best.ei], best.ej = g.inc[best.c][best.ej];
-        const std::vector<int> id = apply_candidate(s, g, best, o, res, stale);
+        int side_root = -1;
+        const std::vector<int> id = apply_candidate(s, g, best, o, res, stale, side_root);
         for (int v = 0; v < n; ++v)  // id keeps the order of the kept vertices: id[v] <= v, in place
             if (id[v] >= 0 && id[v] != v) scans[id[v]] = std::move(scans[v]);
         scans.resize(s.points.size());
+        std::vector<bool> kept_frozen(s.points.size(), false);
+        for (int v = 0; v < n; ++v)
+            if (id[v] >= 0) kept_frozen[id[v]] = frozen[v];
+        if (side_root >= 0) kept_frozen[side_root] = true;
+        frozen = std::move(kept_frozen);
     }
 }
 

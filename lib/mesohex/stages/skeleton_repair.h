@@ -57,6 +57,16 @@ struct SkeletonRepairOptions {
     // too thin in the plane and too fat across by the same amount), which the fit bends into the union's shape. On the
     // random set 0.25 meets the targets on more of the seeds with a stub (docs/junctions.md).
     double absorbed_ball_width = 0.25;
+    // A stub whose end e lies off the other branch is not absorbed but kept as a short side branch of it: q, the
+    // point of the other branch's polyline nearest e (a new vertex on it unless a joint is there), becomes a branching
+    // point of degree 3 with the edge (q, e) leaving it sideways (at a right angle when q lies inside a segment); the
+    // stub's other vertices and edges go and c loses the stub (degree 3: a joint). Only when |e - q| >= side_stub_reach
+    // x r_q (r_q the other branch's radius at q; dimensionless), q lies beyond c's ball (arc length > r_c) and before
+    // the other branch's end; otherwise the stub is absorbed. A round ball over the two tubes is off their union by
+    // about |e - q| / 4 (absorbed_ball_width), which the fit closes only when the end is near the other branch's axis
+    // (docs/junctions.md, "Stubs as side branches"). Needs absorb_stubs. 0 disables (every stub absorbed). Measured on
+    // the random set (0.5, 0.7 and 1; seeds 1-100 and 101-200): docs/tuning.md, "Stubs as side branches".
+    double side_stub_reach = 0.7;
     // The ball t of an absorbed stub (or merged end) is a radius peak on the kept branch: the adaptation's
     // resampling, which evaluates its samples on the polyline at arc lengths of its own choosing, would step over it
     // and taper the bump away (the stub's tip uncovered, the tube after it too fat). true: the pipeline pins every t
@@ -99,6 +109,7 @@ struct SkeletonRepairResult {
     std::vector<int> vertex_map;
     int trunks = 0;             // trunk vertices inserted (one per repaired pair)
     int absorbed_stubs = 0;     // stubs absorbed (one vertex t each)
+    int side_stubs = 0;         // stubs kept as side branches of their sibling (side_stub_reach; one vertex q each)
     int merged_ends = 0;        // walks ending at a branching point absorbed (merge_branching_ends; one t each)
     int unseparated = 0;        // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
                                 // separate
@@ -113,9 +124,11 @@ struct SkeletonRepairResult {
 // violations are not repaired but skipped). Pairs with a branch edge shorter than 1e-9 x its radius are skipped
 // (adaptation's degenerate repairs handle them).
 // Postconditions: V - E + F unchanged (each trunk adds t, the two crotch vertices and the trunk edge, and removes the
-// dropped joints with one edge each, the two first edges of the pair replaced); leaflet faces and their edges
-// unchanged; every output edge joins two distinct vertices. Output order: the kept input vertices in their order,
-// then per trunk t and the new crotch vertices; edges: the kept input edges in their order, then per trunk its edges.
+// dropped joints with one edge each, the two first edges of the pair replaced; a side stub adds q and splits the
+// sibling's segment there unless a joint is at q, and replaces the stub's edges and joints by the edge (q, e));
+// leaflet faces and their edges unchanged; every output edge joins two distinct vertices. Output order: the kept
+// input vertices in their order, then per trunk t and the new crotch vertices (per side stub q); edges: the kept
+// input edges in their order, then per repair its new edges.
 // Repairs are made one pair at a time, the most overlapping first (largest x / r_c), until no pair qualifies (at most
 // one per input branch edge). Deterministic. Complexity O(trunks x (pairs at branching points) x polyline length).
 // Fan-end retractions (fan_end_repair.h) come first: input vertices keep their indices, new ones are appended.
