@@ -21,6 +21,8 @@
 //                                                 select it and type its new coordinates (one move per vertex)
 //   {"op": "auto"}                                the "curve skeleton from the domain" button (auto's first guess)
 //   {"op": "radius", "value": 0.3}                the radius field + "set" for the selection
+//   {"op": "radius_each", "js": "(p, i, s) => r or null"} for each vertex the function gives a radius: select it,
+//                                                 type the radius, "set" (one edit per vertex)
 //   {"op": "radius_from_domain"}                  the "radius from the domain" button
 //   {"op": "brush", "factor": "1.15"|"0.87", "strokes": [[vertex, ...], ...]} radius brush strokes over vertices
 //   {"op": "mirror", "axis": ""|"0"|"1"|"2"}      the mirror selector; {"op": "snap", "on": true} snap to medial
@@ -145,6 +147,19 @@ async function step(page, s) {
       return { moved: targets.length, ...(await settled(page)) };
     }
     case 'radius': await page.fill('#radius', String(s.value)); await page.click('#btn-radius'); break;
+    case 'radius_each': {
+      const targets = await page.evaluate((js) => {
+        const f = eval(js);
+        const sk = window.studio.skeleton();
+        return sk.points.map((p, i) => [i, f(p, i, sk)]).filter(([, r]) => r);
+      }, s.js);
+      for (const [v, r] of targets) {
+        await page.evaluate((i) => window.studio.select([i]), v);
+        await page.fill('#radius', String(+r.toPrecision(6)));
+        await page.click('#btn-radius');
+      }
+      return { set: targets.length, ...(await settled(page)) };
+    }
     case 'radius_from_domain': {
       const v = await page.evaluate(() => window.studio.state.version);
       await page.click('#btn-radius-domain');
