@@ -5,17 +5,24 @@
 //
 //   node examples/table1/studio_session.mjs SESSION.json
 //
-// SESSION.json: {"skeleton": "...", "surface": "...", "save": "...", "log": "...jsonl", "screenshot": "...png",
+// SESSION.json: {"skeleton": "..." (or "": start empty), "surface": "...", "save": "...", "log": "...jsonl", "screenshot": "...png",
 //                "steps": [STEP, ...]}
 // STEP is one page operation (what a user does with the mouse and keys):
 //   {"op": "select", "vertices": [..]}            select vertices (the page's selection, as clicks would)
 //   {"op": "select_where", "js": "(p, i, s) => bool"} select the vertices for which the predicate holds
-//   {"op": "key", "key": "s"}                     a shortcut (e extrude, s split, f fill, c connect, m merge, Delete);
+//   {"op": "select_by", "js": "(s) => [vertex, ...]"} select the vertices the function names (in that order)
+//   {"op": "key", "key": "s"}                     a shortcut (n add, e extrude: a vertex, an edge or a chain of 3+
+//                                                 vertices, s split, f fill, c connect, m merge, Delete);
 //                                                 "nowait": true goes on without waiting for the raw mesh
-//   {"op": "pos", "axis": "x", "value": 1.5}      type a coordinate of the selection's centre (then Enter)
+//   {"op": "pos", "axis": "x", "value": 1.5}      type a coordinate of the selection's centre (then Enter); with
+//                                                 "snap to medial" on, waits for the snap too; "by": d
+//                                                 instead of "value" types the shown value + d (a nudge)
 //   {"op": "move_each", "js": "(p, i, s) => [x, y, z] or null"} for each vertex the function maps to a new place:
 //                                                 select it and type its new coordinates (one move per vertex)
+//   {"op": "auto"}                                the "curve skeleton from the domain" button (auto's first guess)
 //   {"op": "radius", "value": 0.3}                the radius field + "set" for the selection
+//   {"op": "radius_each", "js": "(p, i, s) => r or null"} for each vertex the function gives a radius: select it,
+//                                                 type the radius, "set" (one edit per vertex)
 //   {"op": "radius_from_domain"}                  the "radius from the domain" button
 //   {"op": "brush", "factor": "1.15"|"0.87", "strokes": [[vertex, ...], ...]} radius brush strokes over vertices
 //   {"op": "mirror", "axis": ""|"0"|"1"|"2"}      the mirror selector; {"op": "snap", "on": true} snap to medial
@@ -23,6 +30,7 @@
 //   {"op": "finish"}                              the Finish button; waits for the final mesh
 //   {"op": "save"}                                the save button (writes the --save target)
 //   {"op": "screenshot"}                          a PNG of the page
+//   {"op": "dump", "path": "x.json"}              write the page's skeleton (JSON) to a file, to read it (no edit)
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -37,7 +45,9 @@ const CHROMIUM_ARGS = ['--headless', '--no-sandbox', '--disable-gpu', '--use-gl=
   '--enable-unsafe-swiftshader', '--disable-background-networking', '--disable-component-update', '--no-first-run'];
 
 function startServer() {
-  const args = ['studio', session.skeleton, '--surface', session.surface, '--port', '0', '--save', session.save];
+  // No skeleton: the page opens empty (then e.g. the "auto" step: the curve skeleton from the domain).
+  const args = ['studio', ...(session.skeleton ? [session.skeleton] : []), '--surface', session.surface, '--port', '0',
+    '--save', session.save];
   const proc = spawn(cli, args, { stdio: ['ignore', 'pipe', 'pipe'] });
   const url = new Promise((resolve, reject) => {
     let out = '';
@@ -63,7 +73,9 @@ async function settled(page) {
   await page.waitForFunction(() => {
     const s = window.studio.state;
     const st = document.getElementById('status').dataset.state;
-    return s.meshedVersion === s.version && (st === 'ok' || st === 'error');
+    if (!window.studio.skeleton().points.length) return true; // empty: nothing to mesh
+    // A rejected skeleton (e.g. one vertex, no edge yet) answers 'error' and leaves the last valid mesh shown.
+    return (s.meshedVersion === s.version && st === 'ok') || st === 'error';
   }, null, { timeout: 120000 });
   return page.evaluate(() => {
     const s = window.studio.skeleton();
@@ -93,12 +105,31 @@ async function step(page, s) {
         window.studio.select(sk.points.map((p, i) => (f(p, i, sk) ? i : -1)).filter((i) => i >= 0));
       }, s.js);
       return { selected: await page.evaluate(() => window.studio.state.selV.length) };
+    case 'select_by':
+      await page.evaluate((js) => window.studio.select(eval(js)(window.studio.skeleton())), s.js);
+      return { selected: await page.evaluate(() => window.studio.state.selV) };
     case 'key':
       await page.mouse.move(5, 5);
       await page.keyboard.press(s.key);
       if (s.nowait) return page.evaluate(() => ({ V: window.studio.skeleton().points.length }));
       break;
-    case 'pos': await typeInto(page, `pos-${s.axis}`, s.value); break;
+    case 'pos': {
+      const v = await page.evaluate(() => window.studio.state.version);
+      const snap = await page.evaluate(() => document.getElementById('snap').checked);
+      const cur = parseFloat(await page.inputValue(`#pos-${s.axis}`));
+      if (s.by !== undefined) s.value = +(cur + s.by).toPrecision(8);
+      if (cur === +s.value) break; // already there: nothing to type (the page would make no edit)
+      await typeInto(page, `pos-${s.axis}`, s.value);
+      // A move is one step, its snap to the medial position a second one.
+      await page.waitForFunction(([n, k]) => window.studio.state.version >= n + k, [v, snap ? 2 : 1], { timeout: 120000 });
+      break;
+    }
+    case 'auto': {
+      const v = await page.evaluate(() => window.studio.state.version);
+      await page.click('#btn-auto');
+      await page.waitForFunction((n) => window.studio.state.version > n, v, { timeout: 300000 });
+      break;
+    }
     case 'move_each': {
       const targets = await page.evaluate((js) => {
         const f = eval(js);
@@ -116,6 +147,19 @@ async function step(page, s) {
       return { moved: targets.length, ...(await settled(page)) };
     }
     case 'radius': await page.fill('#radius', String(s.value)); await page.click('#btn-radius'); break;
+    case 'radius_each': {
+      const targets = await page.evaluate((js) => {
+        const f = eval(js);
+        const sk = window.studio.skeleton();
+        return sk.points.map((p, i) => [i, f(p, i, sk)]).filter(([, r]) => r);
+      }, s.js);
+      for (const [v, r] of targets) {
+        await page.evaluate((i) => window.studio.select([i]), v);
+        await page.fill('#radius', String(+r.toPrecision(6)));
+        await page.click('#btn-radius');
+      }
+      return { set: targets.length, ...(await settled(page)) };
+    }
     case 'radius_from_domain': {
       const v = await page.evaluate(() => window.studio.state.version);
       await page.click('#btn-radius-domain');
@@ -164,6 +208,9 @@ async function step(page, s) {
       await page.evaluate(() => window.studio.renderNow());
       await page.screenshot({ path: s.path || session.screenshot });
       return { screenshot: s.path || session.screenshot };
+    case 'dump':
+      fs.writeFileSync(s.path, JSON.stringify(await page.evaluate(() => window.studio.skeleton())));
+      return { dumped: s.path };
     default: throw new Error(`unknown step ${s.op}`);
   }
   return settled(page);

@@ -4,8 +4,8 @@
 // Starts `mesohex studio data/tiny/tripod.obj --port 0`, reads the URL from its stdout, loads the page, checks the
 // canvas is not blank, loads a skeleton through the file input, extrudes a vertex, moves it, undoes both, and checks
 // each time that the raw mesh was updated and the hex count shown matches the mesh received; then checks the mesh
-// drawn (binary answer) against the JSON API, peels, and makes keyboard edits (connect, split, merge, delete) with
-// exact V / E / F, each undone to the identical skeleton. Writes a screenshot.
+// drawn (binary answer) against the JSON API, peels, and makes keyboard edits (connect, split, merge, delete)
+// and a chain extrusion, with exact V / E / F, each undone to the identical skeleton. Writes a screenshot.
 //
 // Environment (set by CTest, see tests/browser/CMakeLists.txt): MESOHEX_CLI = the mesohex binary,
 // STUDIO_SCREENSHOT = where to write the screenshot (default: a temporary directory), CHROMIUM (default
@@ -291,6 +291,7 @@ test('studio page: load, extrude, move, undo with a live raw mesh (headless Chro
       ['s', [1, 2], { V: 7, E: 6, F: 0 }], // split edge 1-2 at its middle
       ['m', [4, 5], { V: 5, E: 4, F: 0 }], // merge the last two vertices
       ['Delete', [3], { V: 5, E: 3, F: 0 }], // delete a vertex with its 2 edges
+      ['e', [1, 2, 3], { V: 9, E: 10, F: 2 }], // extrude the chain 1-2-3 into a strip: 3 copies, 3 rungs, 2 sides, 2 quads
     ]) {
       await select(...sel);
       const n = await page.evaluate(() => window.studio.state.meshRequests);

@@ -57,14 +57,18 @@ TEST(Table1Examples, Knob) {
     const nlohmann::json rep = check_example("knob", "knob.obj");
     ASSERT_FALSE(rep.is_null());
     // One closed leaflet band of F quads and no branch: 2 hexes per quad (one on each side) and 2 per boundary edge
-    // (the band's top and bottom rims, 2 x F edges): 6 F raw hexes.
+    // (the band's top and bottom rims, 2 x F edges): 6 F raw hexes. Designed in the studio page as a loop of 36
+    // vertices extruded into a band (examples/table1/design_log.md): F = 36, 216 raw hexes.
     const long faces = rep["meshed_skeleton"]["faces"].get<long>();
+    EXPECT_EQ(faces, 36);
+    EXPECT_EQ(rep["meshed_skeleton"]["vertices"], 72);
     EXPECT_EQ(rep["meshed_skeleton"]["branches"], 0);
     EXPECT_EQ(rep["meshed_skeleton"]["boundary_edges"].get<long>(), 2 * faces);
     EXPECT_EQ(rep["raw_quality"]["hexes"].get<long>(), 6 * faces);
     // The band's flat top and bottom (2 quads per rim edge each: 4 F quads) land with their 90-degree rims on the
     // knob's rims: the selective padding leaves them bare, so each rim is one hex corner, not two 45-degree padding
-    // hexes (min SJ 0.615 with the full padding, 0.938 measured with the selective one; the paper's 0.900).
+    // hexes (the script-made band: min SJ 0.615 with the full padding, 0.938 with the selective one; the studio-made
+    // band: 0.909 measured; the paper's 0.900).
     EXPECT_EQ(rep["padding"]["mode"], "selective");
     EXPECT_EQ(rep["padding"]["bare_regions"], 2);
     EXPECT_EQ(rep["padding"]["bare_quads"].get<long>(), 4 * faces);
@@ -75,6 +79,17 @@ TEST(Table1Examples, Pinion) { EXPECT_FALSE(check_example("pinion", "pinion.ply"
 
 TEST(Table1Examples, Holes) { EXPECT_FALSE(check_example("holes2", "holes2.ply").is_null()); }
 
-TEST(Table1Examples, Torque) { EXPECT_FALSE(check_example("torque", "torque.obj").is_null()); }
+TEST(Table1Examples, Torque) {
+    const nlohmann::json rep = check_example("torque", "torque.obj");
+    ASSERT_FALSE(rep.is_null());
+    // An open strip of 11 x 2 quads (12 x 3 vertices; designed in the studio page: a chain of 12 vertices along the
+    // bar, extruded into a strip on each side), no branch: 2 hexes per quad and 2 per boundary edge (2 x 11 along
+    // the sides, 2 x 2 across the ends: 26), the corners adding none: 2 x 22 + 2 x 26 = 96 raw hexes.
+    EXPECT_EQ(rep["meshed_skeleton"]["vertices"], 36);
+    EXPECT_EQ(rep["meshed_skeleton"]["faces"], 22);
+    EXPECT_EQ(rep["meshed_skeleton"]["branches"], 0);
+    EXPECT_EQ(rep["meshed_skeleton"]["boundary_edges"], 26);
+    EXPECT_EQ(rep["raw_quality"]["hexes"], 96);
+}
 
 TEST(Table1Examples, Hand) { EXPECT_FALSE(check_example("hand_loopycuts", "hand_loopycuts.obj").is_null()); }

@@ -762,7 +762,8 @@ function extrude() {
     if (r) { st.selV = r.created.slice(0, 2); st.selE = null; updateSelection(); drawSkeleton(); }
     return;
   }
-  if (st.selV.length !== 1) { toast('extrude: select one vertex (branch) or one edge (quad)'); return; }
+  if (st.selV.length >= 3) { extrudeChain(); return; }
+  if (st.selV.length !== 1) { toast('extrude: select one vertex (branch), one edge (quad) or a chain of vertices (strip)'); return; }
   const v = st.selV[0];
   const nb = M.neighbours(s, v);
   let dir = [0, 0, 1];
@@ -774,6 +775,36 @@ function extrude() {
   const l = meanEdgeLength();
   const r = edit('extrudeVertex', { vertex: v, offset: dir.map((x) => x * l) });
   if (r) { st.selV = [r.created[0]]; updateSelection(); drawSkeleton(); }
+}
+
+// Extrude the selected chain (a path or loop of edges) into a strip of quads: away from the faces its edges border,
+// else along the normal of the chain's plane (Newell's normal; a straight chain: a perpendicular), one mean length of
+// its edges. The new vertices are selected, to be moved on.
+function extrudeChain() {
+  const s = skel();
+  let chain;
+  try { chain = M.chainEdges(s, st.selV); } catch (e) { toast(`extrude: ${e.message}`); return; }
+  let dir = [0, 0, 0], n = [0, 0, 0], l = 0;
+  for (const [a, b] of chain) {
+    const pa = s.points[a], pb = s.points[b];
+    l += len3(sub3(pb, pa)) / chain.length;
+    n = n.map((x, i) => x + (pa[(i + 1) % 3] - pb[(i + 1) % 3]) * (pa[(i + 2) % 3] + pb[(i + 2) % 3]));
+    const fs = M.facesOfEdge(s, a, b);
+    if (fs.length !== 1) continue;
+    const f = s.faces[fs[0]];
+    const c = [0, 1, 2].map((d) => f.reduce((acc, v) => acc + s.points[v][d], 0) / f.length);
+    const mid = pa.map((x, i) => (x + pb[i]) / 2), ab = norm3(sub3(pb, pa)), out = sub3(mid, c);
+    const along = out[0] * ab[0] + out[1] * ab[1] + out[2] * ab[2];
+    dir = dir.map((x, i) => x + out[i] - along * ab[i]);
+  }
+  if (len3(dir) < 1e-12) dir = n;
+  if (len3(dir) < 1e-9 * l * l) {
+    const ab = norm3(sub3(s.points[chain[0][1]], s.points[chain[0][0]]));
+    dir = Math.abs(ab[2]) < 0.9 ? [ab[1], -ab[0], 0] : [0, ab[2], -ab[1]];
+  }
+  dir = norm3(dir);
+  const r = edit('extrudeChain', { vertices: st.selV.slice(), offset: dir.map((x) => x * l) });
+  if (r) { st.selV = r.created.slice(0, st.selV.length); st.selE = null; updateSelection(); drawSkeleton(); }
 }
 
 function selectedEdge() {

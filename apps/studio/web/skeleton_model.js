@@ -190,6 +190,67 @@ export function extrudeEdge(s, a, b, offset) {
   return { skeleton: t, vertices: [u2, v2] };
 }
 
+// The edges among the vertices vs (both ends in vs) ordered along their chains: a path or a closed loop (every vertex
+// on at most 2 of them). Returns [[u, v], ...] with each chain walked in one direction, or throws.
+export function chainEdges(s, vs) {
+  const inSel = new Set(vs);
+  const adj = new Map(vs.map((v) => [v, []]));
+  for (const [a, b] of s.edges)
+    if (a !== b && inSel.has(a) && inSel.has(b)) { adj.get(a).push(b); adj.get(b).push(a); }
+  for (const v of vs) {
+    if (adj.get(v).length === 0) throw new ModelError(`vertex ${v} has no edge to another selected vertex`);
+    if (adj.get(v).length > 2) throw new ModelError(`vertex ${v} has ${adj.get(v).length} selected edges: not a chain`);
+  }
+  const out = [];
+  const used = new Set();
+  // Open chains from their ends first, then the closed loops.
+  const starts = [...vs.filter((v) => adj.get(v).length === 1), ...vs];
+  for (const v0 of starts) {
+    let u = v0;
+    for (;;) {
+      const w = adj.get(u).find((x) => !used.has(edgeKey(u, x)));
+      if (w === undefined) break;
+      used.add(edgeKey(u, w));
+      out.push([u, w]);
+      u = w;
+    }
+  }
+  return out;
+}
+
+// Extrude a chain of edges (a path or a closed loop of branch edges or leaflet boundary edges: the selected vertices
+// vs and the edges among them) into a strip of quads: each vertex gets a copy at p + offset (radius copied), each edge
+// a quad. Quads follow the walk of the chain, turned to agree with the face an edge already borders.
+export function extrudeChain(s, vs, offset) {
+  vs.forEach((v) => checkVertex(s, v));
+  checkPoint(offset);
+  if (new Set(vs).size !== vs.length || vs.length < 2) throw new ModelError('extrude a chain: select 2 or more vertices');
+  const chain = chainEdges(s, vs);
+  for (const [a, b] of chain)
+    if (facesOfEdge(s, a, b).length >= 2) throw new ModelError(`edge ${a}-${b} is inside a leaflet: not extrudable`);
+  // Turn the whole walk when its first edge that borders a face runs along that face (the new quad runs against it).
+  const faced = chain.find(([a, b]) => facesOfEdge(s, a, b).length === 1);
+  let flip = false;
+  if (faced) {
+    const f = s.faces[facesOfEdge(s, faced[0], faced[1])[0]];
+    const i = f.indexOf(faced[0]);
+    flip = f[(i + 1) % f.length] === faced[1];
+  }
+  const t = clone(s);
+  const copy = new Map();
+  for (const v of vs) {
+    copy.set(v, t.points.push(add(s.points[v], offset)) - 1);
+    if (t.radii.length) t.radii.push(s.radii[v]);
+  }
+  for (const v of vs) t.edges.push([v, copy.get(v)]);
+  for (const [a, b] of chain) {
+    const [u, v] = flip ? [b, a] : [a, b];
+    t.edges.push([copy.get(u), copy.get(v)]);
+    t.faces.push([u, v, copy.get(v), copy.get(u)]);
+  }
+  return { skeleton: t, vertices: vs.map((v) => copy.get(v)) };
+}
+
 // Order 4 vertices into a quad cycle: along existing edges when they form a path/cycle, else by angle around their
 // centroid in their best plane.
 export function quadOrder(s, vs) {
@@ -460,6 +521,18 @@ export function applyEdit(s, kind, args, plane = null, tol = 1e-6) {
       const ma = partner(a), mb = partner(b);
       if (ma >= 0 && mb >= 0 && edgeKey(ma, mb) !== edgeKey(a, b)) {
         r = extrudeEdge(r.skeleton, ma, mb, mirrorVector(offset, plane));
+        created.push(...r.vertices);
+      }
+      return { skeleton: r.skeleton, created };
+    }
+    case 'extrudeChain': { // args: {vertices, offset}
+      const { vertices, offset } = args;
+      let r = extrudeChain(s, vertices, offset);
+      const created = [...r.vertices];
+      const ms = vertices.map(partner);
+      const key = (q) => [...q].sort((x, y) => x - y).join(',');
+      if (ms.every((m) => m >= 0) && ms.every((m) => !vertices.includes(m)) && key(ms) !== key(vertices)) {
+        r = extrudeChain(r.skeleton, ms, mirrorVector(offset, plane));
         created.push(...r.vertices);
       }
       return { skeleton: r.skeleton, created };

@@ -263,3 +263,41 @@ test('UndoStack: unbounded, a new edit clears redo', () => {
   assert.equal(u.redo(), null);
   assert.deepEqual(u.undo(), states[1]);
 });
+
+test('extrude a chain into a strip: an open path of branch edges, a closed loop, a leaflet border', () => {
+  // The path 0-1-2: +3 V, 3 rungs + 2 new sides = +5 E, +2 F; quads follow the walk from the first selected end,
+  // 2->1->0.
+  const s = path3();
+  const r = M.extrudeChain(s, [2, 0, 1], [0, 0, 1]);
+  assert.deepEqual(M.counts(r.skeleton), { V: 6, E: 7, F: 2 });
+  assert.deepEqual(r.vertices, [3, 4, 5]); // copies of 2, 0, 1 in the selection's order
+  assert.deepEqual(r.skeleton.points[4], [0, 0, 1]);
+  assert.deepEqual(r.skeleton.radii, [0.1, 0.2, 0.3, 0.3, 0.1, 0.2]);
+  assert.deepEqual(r.skeleton.faces, [[2, 1, 5, 3], [1, 0, 4, 5]]);
+  checkUndoRedo(s, r.skeleton);
+  // A closed loop of 4 branch edges (a square): a closed band of 4 quads, +4 V, +8 E.
+  const loop = M.fromJson({ points: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], radii: [],
+    edges: [[0, 1], [1, 2], [2, 3], [3, 0]], faces: [] });
+  const band = M.extrudeChain(loop, [0, 1, 2, 3], [0, 0, 2]);
+  assert.deepEqual(M.counts(band.skeleton), { V: 8, E: 12, F: 4 });
+  assert.equal(band.skeleton.edges.filter(([a, b]) => a >= 4 && b >= 4).length, 4);
+  // The strip's border 0-1-2 (faces 0-1-4-3 and 1-2-5-4 run 0->1->2): the new quads run against it (1->0, 2->1).
+  const st = strip();
+  const grown = M.extrudeChain(st, [0, 1, 2], [0, -1, 0]);
+  assert.deepEqual(M.counts(grown.skeleton), { V: 9, E: 12, F: 4 });
+  assert.deepEqual(grown.skeleton.faces.slice(2), [[1, 0, 6, 7], [2, 1, 7, 8]]);
+  // Refused: a vertex without a selected edge, a vertex on three selected edges, an edge inside the leaflet.
+  assert.throws(() => M.extrudeChain(s, [0, 2], [0, 0, 1]), /no edge to another selected vertex/);
+  const star = M.fromJson({ points: [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], radii: [], edges: [[0, 1], [0, 2], [0, 3]], faces: [] });
+  assert.throws(() => M.extrudeChain(star, [0, 1, 2, 3], [1, 1, 1]), /3 selected edges/);
+  assert.throws(() => M.extrudeChain(st, [1, 4], [0, 0, 1]), /inside a leaflet/);
+});
+
+test('extrude a chain with mirror editing: the mirrored chain is extruded too', () => {
+  // Two branch edges mirrored across x = 0: 0(-2,0,0)-1(-1,0,0) and 2(2,0,0)-3(1,0,0).
+  const s = M.fromJson({ points: [[-2, 0, 0], [-1, 0, 0], [2, 0, 0], [1, 0, 0]], radii: [], edges: [[0, 1], [2, 3]], faces: [] });
+  const r = M.applyEdit(s, 'extrudeChain', { vertices: [0, 1], offset: [-0.5, 1, 0] }, { axis: 0, c: 0 });
+  assert.deepEqual(M.counts(r.skeleton), { V: 8, E: 8, F: 2 });
+  assert.deepEqual(r.created, [4, 5, 6, 7]);
+  assert.deepEqual(r.skeleton.points[6], [2.5, 1, 0]);
+});
