@@ -37,9 +37,10 @@ struct MeshOptions {
     // With a domain: pad, subdivide, fit, untangle, improve, smooth (finish_mesh). false = the raw mesh only.
     bool finish = true;
     FinishOptions finishing;  // finishing.chunk_hex is filled by mesh_skeleton for longitudinal / radial refinement
-    // Second attempt when the finished mesh misses one of `goals`: adapt again with the first joints at
-    // adaptation.branching_reach (instead of free_branching_reach) and keep the better result (better_finish).
-    // Only with resampling, a fit, and when that adaptation gives another skeleton.
+    // Further attempts when the finished mesh misses one of `goals`, keeping the best (better_finish): first, if the
+    // selective padding left quads bare, the same raw mesh with every quad padded; then adapt again with the first
+    // joints at adaptation.branching_reach (instead of free_branching_reach), only with resampling, a fit, and when
+    // that adaptation gives another skeleton.
     bool retry = true;
     // > 0: a work budget for the second attempt: it runs only when the first attempt's finished mesh has at most this
     // many hexes (with finishing.max_hexes = 2 x this, both attempts together finish at most that many; `mesohex
@@ -58,6 +59,7 @@ struct MeshOptions {
 // One finished attempt, as the report lists it.
 struct MeshAttempt {
     double free_branching_reach = 0;  // AdaptationOptions::free_branching_reach used for this attempt
+    std::string padding;              // FinishResult::pad_mode of this attempt ("none", "all" or "selective")
     long hexes = 0;
     double sj_min = 0, sj_avg = 0;
     long inverted = 0;

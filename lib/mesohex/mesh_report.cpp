@@ -27,6 +27,7 @@ nlohmann::json attempts_json(const std::vector<MeshAttempt>& attempts) {
     nlohmann::json list = nlohmann::json::array();
     for (const MeshAttempt& a : attempts) {
         nlohmann::json j = {{"free_branching_reach", a.free_branching_reach},
+                            {"padding", a.padding},
                             {"hexes", a.hexes},
                             {"sj_min", a.sj_min},
                             {"sj_avg", a.sj_avg},
