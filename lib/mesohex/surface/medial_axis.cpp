@@ -17,6 +17,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <numeric>
 #include <queue>
 #include <set>
@@ -65,8 +66,10 @@ std::vector<std::array<int, 2>> unique_edges(const TriangleMesh& m) {
 }
 
 // Surface vertices (referenced ones), points every <= h along every edge, and floor(area / h^2) points inside every
-// triangle at barycentric coordinates from a fixed hash of (triangle, k). Writes `h` used (grown until the count fits).
-std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_samples) {
+// triangle at barycentric coordinates from a fixed hash of (triangle, k). Writes `h` used (grown until the count, with
+// extra_count(h) more samples, fits).
+std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_samples,
+                                 const std::function<long(double)>& extra_count) {
     const std::vector<std::array<int, 2>> edges = unique_edges(m);
     std::vector<char> used(m.points.size(), 0);
     for (const std::array<int, 3>& t : m.triangles)
@@ -87,7 +90,7 @@ std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_sampl
         }
         return n;
     };
-    for (int round = 0; round < 60 && count_for(h) > max_samples; ++round) h *= 1.15;
+    for (int round = 0; round < 60 && count_for(h) + extra_count(h) > max_samples; ++round) h *= 1.15;
 
     std::vector<Vec3> samples;
     for (size_t v = 0; v < m.points.size(); ++v)
@@ -114,6 +117,99 @@ std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_sampl
         }
     }
     return samples;
+}
+
+// ---------------------------------------------------------------- thin parts: samples where the solid is thin
+
+// Calls fn(a, b, c, index) for the k^2 triangles of the barycentric k-grid of triangle (A, B, C) (k >= 1), index
+// 0 .. k^2 - 1 in a fixed order.
+template <typename Fn>
+void for_each_grid_triangle(const Vec3& A, const Vec3& B, const Vec3& C, int k, Fn&& fn) {
+    auto at = [&](int i, int j) {
+        return A + (B - A) * (static_cast<double>(i) / k) + (C - A) * (static_cast<double>(j) / k);
+    };
+    int index = 0;
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; i + j < k; ++j) {
+            fn(at(i, j), at(i + 1, j), at(i, j + 1), index++);
+            if (i + j + 1 < k) fn(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1), index++);
+        }
+}
+
+// One cell of the thickness probe grid: a triangle of the k-grid of a surface triangle (k = ceil(longest edge /
+// sample spacing)), with the solid's thickness at its centroid along the inward normal (infinity when the ray misses).
+struct ProbeCell {
+    int triangle;  // surface triangle
+    int index;     // in that triangle's grid
+    std::array<Vec3, 3> corners;
+    double thickness;
+};
+
+// The probe cells of the surface and their thickness (first ray hit from the centroid along the inward normal: the
+// distance to the opposite side of the solid; on a plate its thickness, on a tube its diameter). Serial: a fixed order.
+std::vector<ProbeCell> probe_thickness(const TriangleMesh& m, const SurfaceQuery& query, double h, double diag) {
+    // Orientation: the signed volume says whether the triangles' normals point out (> 0) or in.
+    double volume6 = 0;
+    for (const std::array<int, 3>& t : m.triangles)
+        volume6 += dot(m.points[static_cast<size_t>(t[0])],
+                       cross(m.points[static_cast<size_t>(t[1])], m.points[static_cast<size_t>(t[2])]));
+    const double inward = volume6 > 0 ? -1.0 : 1.0;
+    std::vector<ProbeCell> cells;
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+        const Vec3& A = m.points[static_cast<size_t>(m.triangles[t][0])];
+        const Vec3& B = m.points[static_cast<size_t>(m.triangles[t][1])];
+        const Vec3& C = m.points[static_cast<size_t>(m.triangles[t][2])];
+        const Vec3 n = cross(B - A, C - A);
+        if (norm(n) <= 0) continue;
+        const Vec3 dir = normalized(n) * inward;
+        const double longest = std::max({distance(A, B), distance(B, C), distance(C, A)});
+        const int k = std::clamp(static_cast<int>(std::ceil(longest / h)), 1, 4096);
+        for_each_grid_triangle(A, B, C, k, [&](const Vec3& a, const Vec3& b, const Vec3& c, int index) {
+            const Vec3 g = (a + b + c) * (1.0 / 3.0);
+            const std::optional<RayHit> hit = query.first_hit(g, dir, 1e-9 * diag);
+            cells.push_back({static_cast<int>(t), index, {a, b, c},
+                             hit ? hit->distance : std::numeric_limits<double>::infinity()});
+        });
+    }
+    return cells;
+}
+
+// Extra samples in a probe cell: where the cell is thinner than thickness_samples x h0 (the base spacing asked for),
+// one per spacing^2 of its area, the local spacing being scale x thickness / thickness_samples, at least scale x h0 /
+// max_refinement; none elsewhere. scale (>= 1) is the factor the base spacing grew by to fit max_samples: the same
+// cells are refined, all spacings grow alike. The count is k^2 (k = sqrt(area) / spacing, rounded) when that is at
+// least 1, else 1 or 0 from a fixed hash of the cell (expected count area / spacing^2).
+std::uint64_t cell_key(const ProbeCell& c) {
+    return splitmix64((static_cast<std::uint64_t>(c.triangle) << 32) ^ static_cast<std::uint64_t>(c.index) ^
+                      0x5bd1e995ull);
+}
+double refinement_spacing(const ProbeCell& c, double h0, double scale, double thickness_samples,
+                          double max_refinement) {
+    return scale * std::max(c.thickness / thickness_samples, h0 / std::max(1.0, max_refinement));
+}
+int refinement_grid(const ProbeCell& c, double h0, double scale, double thickness_samples, double max_refinement) {
+    if (thickness_samples <= 0 || !(c.thickness < thickness_samples * h0)) return 0;
+    const double spacing = refinement_spacing(c, h0, scale, thickness_samples, max_refinement);
+    const double expected =
+        0.5 * norm(cross(c.corners[1] - c.corners[0], c.corners[2] - c.corners[0])) / (spacing * spacing);
+    if (expected < 1) return unit_double(cell_key(c)) < expected ? 1 : 0;
+    return std::min(4096, static_cast<int>(std::floor(std::sqrt(expected) + 0.5)));
+}
+
+// Stratified extra samples: one point per triangle of the cell's k-grid, at barycentric coordinates from a fixed hash
+// of (surface triangle, cell, grid triangle): no gaps wider than a grid triangle, no cospherical grid.
+void add_refinement_samples(const ProbeCell& c, int k, std::vector<Vec3>& samples) {
+    const std::uint64_t base = cell_key(c);
+    for_each_grid_triangle(c.corners[0], c.corners[1], c.corners[2], k,
+                           [&](const Vec3& a, const Vec3& b, const Vec3& d, int index) {
+                               const std::uint64_t key = splitmix64(base ^ (static_cast<std::uint64_t>(index) << 1));
+                               double u = unit_double(key), w = unit_double(splitmix64(key));
+                               if (u + w > 1) {
+                                   u = 1 - u;
+                                   w = 1 - w;
+                               }
+                               samples.push_back(a + (b - a) * u + (d - a) * w);
+                           });
 }
 
 // ---------------------------------------------------------------- sphere quadrics
@@ -1202,8 +1298,27 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     MedialAxis out;
     const double diag = query.bbox_diagonal();
     out.bbox_diagonal = diag;
-    double h = options.sample_spacing * diag;
-    const std::vector<Vec3> samples = sample_surface(surface, h, options.max_samples);
+    const double h0 = options.sample_spacing * diag;
+    double h = h0;
+    // Thin parts: the thickness probed on a grid of the base spacing; extra samples where it is below
+    // thickness_samples x the spacing (counted in max_samples: the spacing grows until both fit).
+    const std::vector<ProbeCell> probes = options.thickness_samples > 0
+                                              ? probe_thickness(surface, query, h, diag)
+                                              : std::vector<ProbeCell>{};
+    auto extra_count = [&](double step) {
+        long n = 0;
+        for (const ProbeCell& c : probes) {
+            const long k = refinement_grid(c, h0, step / h0, options.thickness_samples, options.max_refinement);
+            n += k * k;
+        }
+        return n;
+    };
+    std::vector<Vec3> samples = sample_surface(surface, h, options.max_samples, extra_count);
+    const size_t base_samples = samples.size();
+    for (const ProbeCell& c : probes)
+        if (const int k = refinement_grid(c, h0, h / h0, options.thickness_samples, options.max_refinement); k > 0)
+            add_refinement_samples(c, k, samples);
+    out.refinement_samples = static_cast<int>(samples.size() - base_samples);
     MedialComplex mc = voronoi_medial_complex(samples, query, diag, options.min_angle_deg, options.keep_topology, out);
     if (mc.centre.empty())
         throw Error(ErrorCode::NumericalFailure, "medial axis: no Voronoi face passed the angle filter (" +

@@ -35,6 +35,12 @@ namespace mesohex {
 struct MedialAxisOptions {
     double sample_spacing = 0.015;  // x bounding-box diagonal: largest gap between surface samples
     int max_samples = 60000;        // the spacing grows until the samples fit (memory and time of the Delaunay)
+    // Thin parts (step 1): where the solid, measured along the inward normal, is thinner than thickness_samples x the
+    // sample spacing, extra samples bring the local spacing down to thickness / thickness_samples (so the poles of a
+    // thin sheet's two sides see each other under wide angles and the angle filter keeps its mid-sheet); 0 = off
+    // (samples across the local thickness, dimensionless).
+    double thickness_samples = 4;
+    double max_refinement = 8;      // the local spacing never goes below sample_spacing / this (dimensionless)
     double min_angle_deg = 110;     // angle filter of step 3 (a surface edge of 90 degrees has no medial sheet)
     // true: the angle filter erodes the inner Voronoi complex by elementary collapses (narrow faces go only from a free
     // side), which keeps its topology (no holes punched into thin sheets, no parts cut off) but leaves narrow strips
@@ -65,6 +71,7 @@ struct MedialAxis {
     // sorted; faces with the smallest id first, sorted. A valid input for import_medial_mesh and write_medial_mesh.
     Skeleton medial;
     int samples = 0;                                  // surface samples (Delaunay vertices)
+    int refinement_samples = 0;                       // of the samples generated, those added in thin parts
     int inner_poles = 0;                              // Delaunay cells with their circumcentre inside
     int voronoi_faces = 0;                            // Voronoi faces kept by the angle filter
     int initial_vertices = 0, initial_triangles = 0;  // the medial complex before simplification
