@@ -17,8 +17,8 @@
 #include <functional>
 #include <limits>
 #include <map>
-#include <optional>
 #include <numeric>
+#include <optional>
 #include <queue>
 #include <set>
 #include <string>
@@ -167,8 +167,8 @@ std::vector<ProbeCell> probe_thickness(const TriangleMesh& m, const SurfaceQuery
         for_each_grid_triangle(A, B, C, k, [&](const Vec3& a, const Vec3& b, const Vec3& c, int index) {
             const Vec3 g = (a + b + c) * (1.0 / 3.0);
             const std::optional<RayHit> hit = query.first_hit(g, dir, 1e-9 * diag);
-            cells.push_back({static_cast<int>(t), index, {a, b, c},
-                             hit ? hit->distance : std::numeric_limits<double>::infinity()});
+            cells.push_back(
+                {static_cast<int>(t), index, {a, b, c}, hit ? hit->distance : std::numeric_limits<double>::infinity()});
         });
     }
     return cells;
@@ -1302,9 +1302,8 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     double h = h0;
     // Thin parts: the thickness probed on a grid of the base spacing; extra samples where it is below
     // thickness_samples x the spacing (counted in max_samples: the spacing grows until both fit).
-    const std::vector<ProbeCell> probes = options.thickness_samples > 0
-                                              ? probe_thickness(surface, query, h, diag)
-                                              : std::vector<ProbeCell>{};
+    const std::vector<ProbeCell> probes =
+        options.thickness_samples > 0 ? probe_thickness(surface, query, h, diag) : std::vector<ProbeCell>{};
     auto extra_count = [&](double step) {
         long n = 0;
         for (const ProbeCell& c : probes) {

@@ -3,7 +3,9 @@
 // edges and triangle sheets, the input `import_medial_mesh` (stages/medial_import.h) turns into a meso-skeleton.
 // CGAL (3D Delaunay triangulation) is included only by medial_axis.cpp. Method (docs/skeletons.md, `mesohex medial`):
 //   1. sampling: the surface vertices, points every sample_spacing along every edge, and pseudo-random points (fixed
-//      hash of the triangle id) inside every triangle at a density of one per sample_spacing^2;
+//      hash of the triangle id) inside every triangle at a density of one per sample_spacing^2; where the solid is thin
+//      (a ray along the inward normal from each cell of a grid of the spacing hits the other side within
+//      thickness_samples x the spacing), stratified extra samples at the local spacing thickness / thickness_samples;
 //   2. inner Voronoi diagram: the Delaunay triangulation of the samples (CGAL::Delaunay_triangulation_3, inexact
 //      constructions kernel); a cell whose circumcentre lies inside the surface (SurfaceQuery::inside) gives a medial
 //      sphere (its circumcentre and circumradius);
@@ -40,8 +42,8 @@ struct MedialAxisOptions {
     // thin sheet's two sides see each other under wide angles and the angle filter keeps its mid-sheet); 0 = off
     // (samples across the local thickness, dimensionless).
     double thickness_samples = 4;
-    double max_refinement = 8;      // the local spacing never goes below sample_spacing / this (dimensionless)
-    double min_angle_deg = 110;     // angle filter of step 3 (a surface edge of 90 degrees has no medial sheet)
+    double max_refinement = 8;   // the local spacing never goes below sample_spacing / this (dimensionless)
+    double min_angle_deg = 110;  // angle filter of step 3 (a surface edge of 90 degrees has no medial sheet)
     // true: the angle filter erodes the inner Voronoi complex by elementary collapses (narrow faces go only from a free
     // side), which keeps its topology (no holes punched into thin sheets, no parts cut off) but leaves narrow strips
     // as curve edges; false: narrow faces are simply dropped (holes and cut-off parts possible).
