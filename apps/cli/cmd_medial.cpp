@@ -70,12 +70,12 @@ void register_medial(CLI::App& app, int* status) {
         const auto t2 = std::chrono::steady_clock::now();
         write_medial_mesh(args->output, m.medial);
         std::cout << "medial " << args->input << ": " << m.samples << " samples (" << m.refinement_samples
-                  << " in thin parts), " << m.inner_poles << " inner poles, " << m.voronoi_faces
-                  << " Voronoi faces kept -> " << m.initial_vertices << " vertices, " << m.initial_triangles
-                  << " triangles (Euler characteristic " << m.initial_euler << "); " << m.joined_parts
-                  << " parts joined, " << m.collapses << " collapses, " << m.thin_triangles_removed
-                  << " thin triangles to curves, " << m.pruned_tips << " tips pruned (read " << ms(t0, t1)
-                  << " ms, medial " << ms(t1, t2) << " ms)\n"
+                  << " in thin parts, " << m.thin_faces << " thin-part faces"
+                  << "), " << m.inner_poles << " inner poles, " << m.voronoi_faces << " Voronoi faces kept -> "
+                  << m.initial_vertices << " vertices, " << m.initial_triangles << " triangles (Euler characteristic "
+                  << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.collapses << " collapses, "
+                  << m.thin_triangles_removed << " thin triangles to curves, " << m.pruned_tips << " tips pruned (read "
+                  << ms(t0, t1) << " ms, medial " << ms(t1, t2) << " ms)\n"
                   << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size() << " edges, "
                   << m.medial.faces.size() << " triangles; " << m.sheets << " sheets, " << m.curves
                   << " curves, Euler characteristic " << m.euler << ", sheet fraction " << m.sheet_fraction << " -> "

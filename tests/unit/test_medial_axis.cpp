@@ -171,25 +171,32 @@ TEST(MedialAxis, TorusIsOneClosedCurve) {
 // The disk (0.2 thick) is barely thicker than the base sample spacing (0.088): without the thin-part samples
 // (thickness_samples 0) many Voronoi faces between its two sides see them under less than min_angle_deg and are
 // dropped, the mid-sheet is punched full of holes (Euler characteristic -181 before simplification; with the erosion
-// -4, holes of the sparse inner Voronoi complex itself). With them (the default: local spacing thickness / 4 where the
-// solid is thinner than 4 x the spacing) the complex is whole, and the erosion (keep_topology) keeps the ligature
-// between the disk's sheet and the hub's axis inside the hub (the plain filter cuts it: see
-// KeepTopologyKeepsTheSolidsEulerCharacteristic).
+// -4, holes of the sparse inner Voronoi complex itself). With them (local spacing thickness / 4 where the solid is
+// thinner than 4 x the spacing) the sheet is whole, and the thin-part criterion (faces whose samples are at least
+// 0.85 x the local thickness apart) keeps the ligature inside the hub between the disk's sheet and the hub's axis,
+// which the angle filter alone cuts (an annulus: KeepTopologyKeepsTheSolidsEulerCharacteristic).
 // Expected: 1 sheet (a disk), 2 curves (the hub's axis above and below), Euler characteristic 1.
 TEST(MedialAxis, DiskWithHubIsSheetAndCurves) {
     const TriangleMesh s =
         revolve({{0, -0.8}, {0.3, -0.8}, {0.3, -0.1}, {2, -0.1}, {2, 0.1}, {0.3, 0.1}, {0.3, 0.8}, {0, 0.8}}, 32);
     expect_closed(s);
-    MedialAxisOptions o = coarse();
-    o.keep_topology = true;
-    const MedialAxis m = compute_medial_axis(s, o);
+    const MedialAxis m = compute_medial_axis(s, coarse());
     expect_sane(m, s);
     EXPECT_GT(m.refinement_samples, 0);
+    EXPECT_GT(m.thin_faces, 0);
     EXPECT_EQ(m.initial_euler, 1);
     EXPECT_EQ(m.sheets, 1);
     EXPECT_EQ(m.curves, 2);
     EXPECT_EQ(m.euler, 1);
     EXPECT_TRUE(raw_mesh_of(m, s).validation.valid());
+    // The same with the erosion (keep_topology).
+    MedialAxisOptions o = coarse();
+    o.keep_topology = true;
+    const MedialAxis k = compute_medial_axis(s, o);
+    EXPECT_EQ(k.initial_euler, 1);
+    EXPECT_EQ(k.sheets, 1);
+    EXPECT_EQ(k.curves, 2);
+    EXPECT_EQ(k.euler, 1);
 }
 
 // The thin-part samples go only where the solid is thin: the 0.6-thick plate (10 x 0.085 > 4 x the spacing) gets
@@ -264,10 +271,13 @@ TEST(MedialAxis, KeepTopologyKeepsTheSolidsEulerCharacteristic) {
     EXPECT_GE(d.initial_euler, -4);
     EXPECT_LE(d.initial_euler, 1);
     EXPECT_EQ(compute_medial_axis(hub, o).initial_euler, 1);
-    // The plain filter with the thin-part samples: no hole in the disk's sheet any more, but the ligature inside the hub
-    // (the sheet between the two reflex rims, seen under less than 110 degrees within 0.23 of the axis) is cut: an
-    // annulus (0), and the hub's axis is a separate, smaller part.
-    const MedialAxis plain = compute_medial_axis(hub, coarse());
+    // The plain filter with the thin-part samples but without the thin-part criterion (thin_separation 0): no hole in
+    // the disk's sheet any more, but the ligature inside the hub (the sheet between the two reflex rims, seen under less
+    // than 110 degrees within 0.23 of the axis) is cut: an annulus (0), the hub's axis a separate, smaller part.
+    MedialAxisOptions angle_only = coarse();
+    angle_only.thin_separation = 0;
+    const MedialAxis plain = compute_medial_axis(hub, angle_only);
+    EXPECT_GT(plain.refinement_samples, 0);
     EXPECT_EQ(plain.initial_euler, 0);
     EXPECT_EQ(plain.sheets, 1);
     EXPECT_EQ(plain.euler, 0);

@@ -68,8 +68,10 @@ std::vector<std::array<int, 2>> unique_edges(const TriangleMesh& m) {
 // Surface vertices (referenced ones), points every <= h along every edge, and floor(area / h^2) points inside every
 // triangle at barycentric coordinates from a fixed hash of (triangle, k). Writes `h` used (grown until the count, with
 // extra_count(h) more samples, fits).
+// source[i] = {0, vertex}, {1, index in unique_edges(m)} or {2, triangle}: where sample i was made.
 std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_samples,
-                                 const std::function<long(double)>& extra_count) {
+                                 const std::function<long(double)>& extra_count,
+                                 std::vector<std::array<int, 2>>& source) {
     const std::vector<std::array<int, 2>> edges = unique_edges(m);
     std::vector<char> used(m.points.size(), 0);
     for (const std::array<int, 3>& t : m.triangles)
@@ -94,12 +96,18 @@ std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_sampl
 
     std::vector<Vec3> samples;
     for (size_t v = 0; v < m.points.size(); ++v)
-        if (used[v]) samples.push_back(m.points[v]);
-    for (const std::array<int, 2>& e : edges) {
-        const Vec3& a = m.points[static_cast<size_t>(e[0])];
-        const Vec3& b = m.points[static_cast<size_t>(e[1])];
+        if (used[v]) {
+            samples.push_back(m.points[v]);
+            source.push_back({0, static_cast<int>(v)});
+        }
+    for (size_t e = 0; e < edges.size(); ++e) {
+        const Vec3& a = m.points[static_cast<size_t>(edges[e][0])];
+        const Vec3& b = m.points[static_cast<size_t>(edges[e][1])];
         const int n = static_cast<int>(std::ceil(distance(a, b) / h));
-        for (int i = 1; i < n; ++i) samples.push_back(a + (b - a) * (static_cast<double>(i) / n));
+        for (int i = 1; i < n; ++i) {
+            samples.push_back(a + (b - a) * (static_cast<double>(i) / n));
+            source.push_back({1, static_cast<int>(e)});
+        }
     }
     for (size_t t = 0; t < m.triangles.size(); ++t) {
         const Vec3& a = m.points[static_cast<size_t>(m.triangles[t][0])];
@@ -114,6 +122,7 @@ std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_sampl
                 w = 1 - w;
             }
             samples.push_back(a + u * ab + w * ac);
+            source.push_back({2, static_cast<int>(t)});
         }
     }
     return samples;
@@ -210,6 +219,28 @@ void add_refinement_samples(const ProbeCell& c, int k, std::vector<Vec3>& sample
                                }
                                samples.push_back(a + (b - a) * u + (d - a) * w);
                            });
+}
+
+// A sample's local thickness and spacing where it lies in a refined (thin) probe cell; infinity / 0 elsewhere.
+struct ThinSample {
+    double thickness = std::numeric_limits<double>::infinity();
+    double spacing = 0;
+};
+
+// The probe cell of triangle t (cells first[t] .. first[t] + k[t]^2 - 1, in for_each_grid_triangle order) that holds the
+// point x of that triangle (by its barycentric coordinates).
+int cell_at(const TriangleMesh& m, int t, int first, int k, const Vec3& x) {
+    const Vec3& A = m.points[static_cast<size_t>(m.triangles[static_cast<size_t>(t)][0])];
+    const Vec3 e1 = m.points[static_cast<size_t>(m.triangles[static_cast<size_t>(t)][1])] - A;
+    const Vec3 e2 = m.points[static_cast<size_t>(m.triangles[static_cast<size_t>(t)][2])] - A;
+    const Vec3 d = x - A;
+    const double a = dot(e1, e1), b = dot(e1, e2), c = dot(e2, e2), det = a * c - b * b;
+    const double u = det > 0 ? (c * dot(d, e1) - b * dot(d, e2)) / det : 0;
+    const double w = det > 0 ? (a * dot(d, e2) - b * dot(d, e1)) / det : 0;
+    const int i = std::clamp(static_cast<int>(std::floor(u * k)), 0, k - 1);
+    const int j = std::clamp(static_cast<int>(std::floor(w * k)), 0, k - 1 - i);
+    const bool up = (u * k - i) + (w * k - j) < 1 || i + j + 1 >= k;
+    return first + 2 * k * i - i * i + 2 * j + (up ? 0 : 1);
 }
 
 // ---------------------------------------------------------------- sphere quadrics
@@ -453,7 +484,12 @@ std::vector<std::vector<int>> select_faces(std::vector<KeyedFace>& keyed_faces, 
 }
 
 // Inner poles and angle-filtered Voronoi faces of the samples, fan-triangulated into a medial complex.
-MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const SurfaceQuery& query, double diag,
+// thin (per sample; empty = none): a face whose two samples both lie in thin parts is also kept when they are at least
+// thin_separation x the smaller local thickness and kThinNoiseSpacings x that sample's local spacing apart.
+constexpr double kThinNoiseSpacings = 2.5;  // x local spacing: faces between neighbouring samples (noise) are shorter
+
+MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const std::vector<ThinSample>& thin,
+                                     double thin_separation, const SurfaceQuery& query, double diag,
                                      double min_angle_deg, bool keep_topology, MedialAxis& out) {
     // Insertion in Hilbert order (no randomness: CGAL's range insertion shuffles with the global default random
     // generator, so a second call in the same process gave another triangulation of the cospherical samples).
@@ -534,6 +570,17 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
             poly.push_back(id);
         } while (++cc != done);
         if (!keep || poly.size() < 3) continue;
+        if (!thin.empty() && thin_separation > 0) {
+            const ThinSample& a = thin[static_cast<size_t>(p)];
+            const ThinSample& b = thin[static_cast<size_t>(q)];
+            const ThinSample& t = a.thickness <= b.thickness ? a : b;
+            const double pq = distance(P, Q);
+            if (std::isfinite(a.thickness) && std::isfinite(b.thickness) && pq >= thin_separation * t.thickness &&
+                pq >= kThinNoiseSpacings * t.spacing) {
+                if (cos_angle > std::cos(min_angle_deg * kPi / 180.0)) ++out.thin_faces;
+                cos_angle = -1;  // kept as if seen under 180 degrees
+            }
+        }
         // Canonical polygon: from its smallest cell id, towards the smaller of its two neighbours.
         std::rotate(poly.begin(), std::min_element(poly.begin(), poly.end()), poly.end());
         if (poly.back() < poly[1]) std::reverse(poly.begin() + 1, poly.end());
@@ -1312,13 +1359,59 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
         }
         return n;
     };
-    std::vector<Vec3> samples = sample_surface(surface, h, options.max_samples, extra_count);
+    std::vector<std::array<int, 2>> source;
+    std::vector<Vec3> samples = sample_surface(surface, h, options.max_samples, extra_count, source);
     const size_t base_samples = samples.size();
+    auto is_thin = [&](const ProbeCell& c) { return c.thickness < options.thickness_samples * h0; };
+    auto thin_of = [&](const ProbeCell& c) {
+        return ThinSample{c.thickness,
+                          refinement_spacing(c, h0, h / h0, options.thickness_samples, options.max_refinement)};
+    };
+    std::vector<ThinSample> thin(samples.size());
     for (const ProbeCell& c : probes)
-        if (const int k = refinement_grid(c, h0, h / h0, options.thickness_samples, options.max_refinement); k > 0)
+        if (const int k = refinement_grid(c, h0, h / h0, options.thickness_samples, options.max_refinement); k > 0) {
             add_refinement_samples(c, k, samples);
+            thin.resize(samples.size(), thin_of(c));
+        }
     out.refinement_samples = static_cast<int>(samples.size() - base_samples);
-    MedialComplex mc = voronoi_medial_complex(samples, query, diag, options.min_angle_deg, options.keep_topology, out);
+    thin.resize(samples.size());
+    if (std::any_of(probes.begin(), probes.end(), is_thin)) {
+        // Base samples in thin cells: the thinnest cell holding them over the triangles they lie on (a vertex or an
+        // edge sample lies on several: a reflex rim between a thin disk and its hub is thin).
+        std::vector<int> first(surface.triangles.size(), -1), grid(surface.triangles.size(), 0);
+        for (size_t i = 0; i < probes.size(); ++i) {
+            const size_t t = static_cast<size_t>(probes[i].triangle);
+            if (first[t] < 0) first[t] = static_cast<int>(i);
+            grid[t] = static_cast<int>(std::lround(std::sqrt(static_cast<double>(i + 1 - first[t]))));
+        }
+        const std::vector<std::array<int, 2>> edges = unique_edges(surface);
+        std::vector<std::vector<int>> vertex_triangles(surface.points.size());
+        std::map<std::array<int, 2>, std::vector<int>> edge_triangles;
+        for (size_t t = 0; t < surface.triangles.size(); ++t)
+            for (int k = 0; k < 3; ++k) {
+                const int a = surface.triangles[t][static_cast<size_t>(k)];
+                const int b = surface.triangles[t][static_cast<size_t>((k + 1) % 3)];
+                vertex_triangles[static_cast<size_t>(a)].push_back(static_cast<int>(t));
+                edge_triangles[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(t));
+            }
+        for (size_t i = 0; i < base_samples; ++i) {
+            const std::array<int, 2>& src = source[i];
+            const std::vector<int> one = {src[1]};
+            const std::vector<int>& triangles =
+                src[0] == 0 ? vertex_triangles[static_cast<size_t>(src[1])]
+                            : (src[0] == 1 ? edge_triangles[edges[static_cast<size_t>(src[1])]] : one);
+            for (int t : triangles) {
+                if (first[static_cast<size_t>(t)] < 0) continue;
+                const ProbeCell& c = probes[static_cast<size_t>(
+                    cell_at(surface, t, first[static_cast<size_t>(t)], grid[static_cast<size_t>(t)], samples[i]))];
+                if (is_thin(c) && c.thickness < thin[i].thickness) thin[i] = thin_of(c);
+            }
+        }
+    } else {
+        thin.clear();
+    }
+    MedialComplex mc = voronoi_medial_complex(samples, thin, options.thin_separation, query, diag,
+                                              options.min_angle_deg, options.keep_topology, out);
     if (mc.centre.empty())
         throw Error(ErrorCode::NumericalFailure, "medial axis: no Voronoi face passed the angle filter (" +
                                                      std::to_string(out.inner_poles) + " inner poles from " +

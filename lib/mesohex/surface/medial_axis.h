@@ -42,7 +42,13 @@ struct MedialAxisOptions {
     // thin sheet's two sides see each other under wide angles and the angle filter keeps its mid-sheet); 0 = off
     // (samples across the local thickness, dimensionless).
     double thickness_samples = 4;
-    double max_refinement = 8;   // the local spacing never goes below sample_spacing / this (dimensionless)
+    double max_refinement = 8;  // the local spacing never goes below sample_spacing / this (dimensionless)
+    // Thin parts (step 3): a Voronoi face whose two samples both lie in thin parts is also kept when they are at least
+    // this x the local thickness apart (and 2.5 x the local spacing): the lambda-medial criterion scaled to the
+    // thickness. It keeps the mid-sheet (samples one thickness apart) and its ligature into a thicker part (a disk's
+    // sheet inside its hub: the two reflex rims one thickness apart, seen under less than min_angle_deg), and drops the
+    // wedges going to 90-degree edges (at most 0.71 x the thickness apart). 0 = angle filter only (x local thickness).
+    double thin_separation = 0.85;
     double min_angle_deg = 110;  // angle filter of step 3 (a surface edge of 90 degrees has no medial sheet)
     // true: the angle filter erodes the inner Voronoi complex by elementary collapses (narrow faces go only from a free
     // side), which keeps its topology (no holes punched into thin sheets, no parts cut off) but leaves narrow strips
@@ -72,10 +78,11 @@ struct MedialAxis {
     // every triangle side plus the curve edges (in no triangle). Points sorted by (x, y, z); edges {a, b} with a < b,
     // sorted; faces with the smallest id first, sorted. A valid input for import_medial_mesh and write_medial_mesh.
     Skeleton medial;
-    int samples = 0;                                  // surface samples (Delaunay vertices)
-    int refinement_samples = 0;                       // of the samples generated, those added in thin parts
-    int inner_poles = 0;                              // Delaunay cells with their circumcentre inside
-    int voronoi_faces = 0;                            // Voronoi faces kept by the angle filter
+    int samples = 0;             // surface samples (Delaunay vertices)
+    int thin_faces = 0;          // Voronoi faces the thin-part criterion (thin_separation) keeps below min_angle_deg
+    int refinement_samples = 0;  // of the samples generated, those added in thin parts
+    int inner_poles = 0;         // Delaunay cells with their circumcentre inside
+    int voronoi_faces = 0;       // Voronoi faces kept by the angle filter
     int initial_vertices = 0, initial_triangles = 0;  // the medial complex before simplification
     long initial_euler = 0;                           // V - E + F of the medial complex before simplification
     int joined_parts = 0;                             // parts joined back to the main part (join_factor)
