@@ -43,6 +43,10 @@ void register_medial(CLI::App& app, int* status) {
     cmd->add_option("--max-refinement", o.max_refinement,
                     "Thin parts: the local spacing never goes below the sample spacing / this")
         ->capture_default_str();
+    cmd->add_option("--thin-separation", o.thin_separation,
+                    "Thin parts: a Voronoi face whose two samples lie in thin parts is also kept when they are at "
+                    "least this x the local thickness apart (0 = angle filter only)")
+        ->capture_default_str();
     cmd->add_option("--min-angle", o.min_angle_deg,
                     "Angle filter: a Voronoi face is medial when it sees its two "
                     "samples under at least this angle (degrees)")

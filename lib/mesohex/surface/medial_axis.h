@@ -13,6 +13,9 @@
 //      and see p and q under an angle pcq of at least min_angle_deg (a noise face between two neighbouring samples
 //      sees them under a small angle; a face between the two sides of a plate under 180 degrees; the wedges going to
 //      90-degree edges of the surface, under 90 degrees: a sheet ends where the shape's edges begin, which trims it);
+//      where both samples lie in thin parts, the face is also kept when they are at least thin_separation x the local
+//      thickness apart (a lambda-medial criterion scaled to the thickness: keeps a thin sheet's ligature into a thicker
+//      part, which the angle cuts);
 //      with keep_topology the filter is an erosion by elementary collapses instead (narrow faces go only from a free
 //      side), followed by keep_parts_and_paths (wide-face parts of extent >= part_extent_factor x radius and the
 //      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off (both off by default);
