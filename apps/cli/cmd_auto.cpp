@@ -90,6 +90,10 @@ void register_auto(CLI::App& app, int* status) {
         ->capture_default_str();
     cmd->add_flag("--keep-topology", args->skeleton.medial.keep_topology,
                   "medial axis: angle filter as a topology-keeping erosion (see mesohex medial --keep-topology)");
+    cmd->add_option("--thickness-samples", args->skeleton.medial.thickness_samples,
+                    "medial axis: samples across the local thickness in thin parts (see mesohex medial "
+                    "--thickness-samples; 0 = off)")
+        ->capture_default_str();
     cmd->add_option("--meso-radius-factor", args->skeleton.meso_radius_factor,
                     "meso-skeleton radii = this x the distance to the surface (0: keep the medial radii)")
         ->check(CLI::Range(0.0, 1.0))

@@ -36,6 +36,17 @@ void register_medial(CLI::App& app, int* status) {
         ->capture_default_str();
     cmd->add_option("--max-samples", o.max_samples, "Surface samples at most (the spacing grows to fit)")
         ->capture_default_str();
+    cmd->add_option("--thickness-samples", o.thickness_samples,
+                    "Thin parts: where the solid is thinner than this x the sample spacing, extra samples bring the "
+                    "local spacing down to thickness / this (0 = off)")
+        ->capture_default_str();
+    cmd->add_option("--max-refinement", o.max_refinement,
+                    "Thin parts: the local spacing never goes below the sample spacing / this")
+        ->capture_default_str();
+    cmd->add_option("--thin-separation", o.thin_separation,
+                    "Thin parts: a Voronoi face whose two samples lie in thin parts is also kept when they are at "
+                    "least this x the local thickness apart (0 = angle filter only)")
+        ->capture_default_str();
     cmd->add_option("--min-angle", o.min_angle_deg,
                     "Angle filter: a Voronoi face is medial when it sees its two "
                     "samples under at least this angle (degrees)")
@@ -62,12 +73,13 @@ void register_medial(CLI::App& app, int* status) {
         const MedialAxis m = compute_medial_axis(surface, args->options);
         const auto t2 = std::chrono::steady_clock::now();
         write_medial_mesh(args->output, m.medial);
-        std::cout << "medial " << args->input << ": " << m.samples << " samples, " << m.inner_poles << " inner poles, "
-                  << m.voronoi_faces << " Voronoi faces kept -> " << m.initial_vertices << " vertices, "
-                  << m.initial_triangles << " triangles (Euler characteristic " << m.initial_euler << "); "
-                  << m.joined_parts << " parts joined, " << m.collapses << " collapses, " << m.thin_triangles_removed
-                  << " thin triangles to curves, " << m.pruned_tips << " tips pruned (read " << ms(t0, t1)
-                  << " ms, medial " << ms(t1, t2) << " ms)\n"
+        std::cout << "medial " << args->input << ": " << m.samples << " samples (" << m.refinement_samples
+                  << " in thin parts, " << m.thin_faces << " thin-part faces"
+                  << "), " << m.inner_poles << " inner poles, " << m.voronoi_faces << " Voronoi faces kept -> "
+                  << m.initial_vertices << " vertices, " << m.initial_triangles << " triangles (Euler characteristic "
+                  << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.collapses << " collapses, "
+                  << m.thin_triangles_removed << " thin triangles to curves, " << m.pruned_tips << " tips pruned (read "
+                  << ms(t0, t1) << " ms, medial " << ms(t1, t2) << " ms)\n"
                   << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size() << " edges, "
                   << m.medial.faces.size() << " triangles; " << m.sheets << " sheets, " << m.curves
                   << " curves, Euler characteristic " << m.euler << ", sheet fraction " << m.sheet_fraction << " -> "

@@ -168,20 +168,59 @@ TEST(MedialAxis, TorusIsOneClosedCurve) {
     EXPECT_EQ(q.euler_characteristic, 0);
 }
 
-// KNOWN FAILURE (2026-12-02, measured): the disk (0.2 thick) is barely thicker than the sample spacing, so many Voronoi
-// faces between its two sides see them under less than min_angle_deg and are dropped: the mid-sheet is punched full
-// of holes before simplification (Euler characteristic -181; 127 vertices, 26 triangles, 249 curve pieces after).
-// With keep_topology (erosion instead of dropping) the complex keeps all but 5 cycles (-4; 1 sheet, 6 curves after):
-// the rest are holes of the inner Voronoi complex itself, left by cells whose circumcentre falls outside.
+// The disk (0.2 thick) is barely thicker than the base sample spacing (0.088): without the thin-part samples
+// (thickness_samples 0) many Voronoi faces between its two sides see them under less than min_angle_deg and are
+// dropped, the mid-sheet is punched full of holes (Euler characteristic -181 before simplification; with the erosion
+// -4, holes of the sparse inner Voronoi complex itself). With them (local spacing thickness / 4 where the solid is
+// thinner than 4 x the spacing) the sheet is whole, and the thin-part criterion (faces whose samples are at least
+// 0.85 x the local thickness apart) keeps the ligature inside the hub between the disk's sheet and the hub's axis,
+// which the angle filter alone cuts (an annulus: KeepTopologyKeepsTheSolidsEulerCharacteristic).
 // Expected: 1 sheet (a disk), 2 curves (the hub's axis above and below), Euler characteristic 1.
-TEST(MedialAxis, DISABLED_DiskWithHubIsSheetAndCurves) {
+TEST(MedialAxis, DiskWithHubIsSheetAndCurves) {
     const TriangleMesh s =
         revolve({{0, -0.8}, {0.3, -0.8}, {0.3, -0.1}, {2, -0.1}, {2, 0.1}, {0.3, 0.1}, {0.3, 0.8}, {0, 0.8}}, 32);
     expect_closed(s);
     const MedialAxis m = compute_medial_axis(s, coarse());
+    expect_sane(m, s);
+    EXPECT_GT(m.refinement_samples, 0);
+    EXPECT_GT(m.thin_faces, 0);
+    EXPECT_EQ(m.initial_euler, 1);
     EXPECT_EQ(m.sheets, 1);
     EXPECT_EQ(m.curves, 2);
     EXPECT_EQ(m.euler, 1);
+    EXPECT_TRUE(raw_mesh_of(m, s).validation.valid());
+    // The same with the erosion (keep_topology).
+    MedialAxisOptions o = coarse();
+    o.keep_topology = true;
+    const MedialAxis k = compute_medial_axis(s, o);
+    EXPECT_EQ(k.initial_euler, 1);
+    EXPECT_EQ(k.sheets, 1);
+    EXPECT_EQ(k.curves, 2);
+    EXPECT_EQ(k.euler, 1);
+}
+
+// The thin-part samples go only where the solid is thin: the 0.6-thick plate (10 x 0.085 > 4 x the spacing) gets
+// none, so its medial mesh is the one without them.
+TEST(MedialAxis, ThickPartsGetNoExtraSamples) {
+    const TriangleMesh plate = extrude({{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, -0.3, 0.3);
+    MedialAxisOptions off = coarse();
+    off.thickness_samples = 0;
+    const MedialAxis a = compute_medial_axis(plate, coarse());
+    const MedialAxis b = compute_medial_axis(plate, off);
+    EXPECT_EQ(a.refinement_samples, 0);
+    EXPECT_EQ(a.samples, b.samples);
+    EXPECT_EQ(a.medial, b.medial);
+}
+
+// max_samples bounds the samples with the thin-part ones: the spacing grows until both fit.
+TEST(MedialAxis, ThinPartSamplesStayWithinMaxSamples) {
+    const TriangleMesh s =
+        revolve({{0, -0.8}, {0.3, -0.8}, {0.3, -0.1}, {2, -0.1}, {2, 0.1}, {0.3, 0.1}, {0.3, 0.8}, {0, 0.8}}, 32);
+    MedialAxisOptions o = coarse();
+    o.max_samples = 8000;
+    const MedialAxis m = compute_medial_axis(s, o);
+    EXPECT_GT(m.refinement_samples, 0);
+    EXPECT_LE(m.samples, 8000);
 }
 
 TEST(MedialAxis, LBracketIsTwoPlatesMeetingAlongASeam) {
@@ -219,14 +258,29 @@ TEST(MedialAxis, KeepTopologyKeepsTheSolidsEulerCharacteristic) {
     const MedialAxis t = compute_medial_axis(torus(2, 0.5, 48, 16), o);
     EXPECT_EQ(t.initial_euler, 0);
     EXPECT_EQ(t.euler, 0);
-    // The disk with a hub (a ball: 1). Dropping the narrow faces leaves 182 independent cycles (Euler characteristic
-    // -181); the erosion keeps all but the few the inner Voronoi complex itself has (measured -4: not yet exact).
+    // The disk with a hub (a ball: 1), without the thin-part samples (thickness_samples 0): dropping the narrow faces
+    // leaves 182 independent cycles (Euler characteristic -181); the erosion keeps all but the few the inner Voronoi
+    // complex itself has (measured -4). With the thin-part samples (default) both give the ball's 1.
     const TriangleMesh hub =
         revolve({{0, -0.8}, {0.3, -0.8}, {0.3, -0.1}, {2, -0.1}, {2, 0.1}, {0.3, 0.1}, {0.3, 0.8}, {0, 0.8}}, 32);
-    const MedialAxis d = compute_medial_axis(hub, o);
+    MedialAxisOptions sparse = coarse();
+    sparse.thickness_samples = 0;
+    EXPECT_LT(compute_medial_axis(hub, sparse).initial_euler, -100);
+    sparse.keep_topology = true;
+    const MedialAxis d = compute_medial_axis(hub, sparse);
     EXPECT_GE(d.initial_euler, -4);
     EXPECT_LE(d.initial_euler, 1);
-    EXPECT_LT(compute_medial_axis(hub, coarse()).initial_euler, -100);
+    EXPECT_EQ(compute_medial_axis(hub, o).initial_euler, 1);
+    // The plain filter with the thin-part samples but without the thin-part criterion (thin_separation 0): no hole in
+    // the disk's sheet any more, but the ligature inside the hub (the sheet between the two reflex rims, seen under less
+    // than 110 degrees within 0.23 of the axis) is cut: an annulus (0), the hub's axis a separate, smaller part.
+    MedialAxisOptions angle_only = coarse();
+    angle_only.thin_separation = 0;
+    const MedialAxis plain = compute_medial_axis(hub, angle_only);
+    EXPECT_GT(plain.refinement_samples, 0);
+    EXPECT_EQ(plain.initial_euler, 0);
+    EXPECT_EQ(plain.sheets, 1);
+    EXPECT_EQ(plain.euler, 0);
 }
 
 TEST(MedialAxis, SameSurfaceSameMedialMesh) {

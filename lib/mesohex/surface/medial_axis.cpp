@@ -18,6 +18,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <queue>
 #include <set>
 #include <string>
@@ -65,8 +66,12 @@ std::vector<std::array<int, 2>> unique_edges(const TriangleMesh& m) {
 }
 
 // Surface vertices (referenced ones), points every <= h along every edge, and floor(area / h^2) points inside every
-// triangle at barycentric coordinates from a fixed hash of (triangle, k). Writes `h` used (grown until the count fits).
-std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_samples) {
+// triangle at barycentric coordinates from a fixed hash of (triangle, k). Writes `h` used (grown until the count, with
+// extra_count(h) more samples, fits).
+// source[i] = {0, vertex}, {1, index in unique_edges(m)} or {2, triangle}: where sample i was made.
+std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_samples,
+                                 const std::function<long(double)>& extra_count,
+                                 std::vector<std::array<int, 2>>& source) {
     const std::vector<std::array<int, 2>> edges = unique_edges(m);
     std::vector<char> used(m.points.size(), 0);
     for (const std::array<int, 3>& t : m.triangles)
@@ -87,16 +92,22 @@ std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_sampl
         }
         return n;
     };
-    for (int round = 0; round < 60 && count_for(h) > max_samples; ++round) h *= 1.15;
+    for (int round = 0; round < 60 && count_for(h) + extra_count(h) > max_samples; ++round) h *= 1.15;
 
     std::vector<Vec3> samples;
     for (size_t v = 0; v < m.points.size(); ++v)
-        if (used[v]) samples.push_back(m.points[v]);
-    for (const std::array<int, 2>& e : edges) {
-        const Vec3& a = m.points[static_cast<size_t>(e[0])];
-        const Vec3& b = m.points[static_cast<size_t>(e[1])];
+        if (used[v]) {
+            samples.push_back(m.points[v]);
+            source.push_back({0, static_cast<int>(v)});
+        }
+    for (size_t e = 0; e < edges.size(); ++e) {
+        const Vec3& a = m.points[static_cast<size_t>(edges[e][0])];
+        const Vec3& b = m.points[static_cast<size_t>(edges[e][1])];
         const int n = static_cast<int>(std::ceil(distance(a, b) / h));
-        for (int i = 1; i < n; ++i) samples.push_back(a + (b - a) * (static_cast<double>(i) / n));
+        for (int i = 1; i < n; ++i) {
+            samples.push_back(a + (b - a) * (static_cast<double>(i) / n));
+            source.push_back({1, static_cast<int>(e)});
+        }
     }
     for (size_t t = 0; t < m.triangles.size(); ++t) {
         const Vec3& a = m.points[static_cast<size_t>(m.triangles[t][0])];
@@ -111,9 +122,125 @@ std::vector<Vec3> sample_surface(const TriangleMesh& m, double& h, int max_sampl
                 w = 1 - w;
             }
             samples.push_back(a + u * ab + w * ac);
+            source.push_back({2, static_cast<int>(t)});
         }
     }
     return samples;
+}
+
+// ---------------------------------------------------------------- thin parts: samples where the solid is thin
+
+// Calls fn(a, b, c, index) for the k^2 triangles of the barycentric k-grid of triangle (A, B, C) (k >= 1), index
+// 0 .. k^2 - 1 in a fixed order.
+template <typename Fn>
+void for_each_grid_triangle(const Vec3& A, const Vec3& B, const Vec3& C, int k, Fn&& fn) {
+    auto at = [&](int i, int j) {
+        return A + (B - A) * (static_cast<double>(i) / k) + (C - A) * (static_cast<double>(j) / k);
+    };
+    int index = 0;
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; i + j < k; ++j) {
+            fn(at(i, j), at(i + 1, j), at(i, j + 1), index++);
+            if (i + j + 1 < k) fn(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1), index++);
+        }
+}
+
+// One cell of the thickness probe grid: a triangle of the k-grid of a surface triangle (k = ceil(longest edge /
+// sample spacing)), with the solid's thickness at its centroid along the inward normal (infinity when the ray misses).
+struct ProbeCell {
+    int triangle;  // surface triangle
+    int index;     // in that triangle's grid
+    std::array<Vec3, 3> corners;
+    double thickness;
+};
+
+// The probe cells of the surface and their thickness (first ray hit from the centroid along the inward normal: the
+// distance to the opposite side of the solid; on a plate its thickness, on a tube its diameter). Serial: a fixed order.
+std::vector<ProbeCell> probe_thickness(const TriangleMesh& m, const SurfaceQuery& query, double h, double diag) {
+    // Orientation: the signed volume says whether the triangles' normals point out (> 0) or in.
+    double volume6 = 0;
+    for (const std::array<int, 3>& t : m.triangles)
+        volume6 += dot(m.points[static_cast<size_t>(t[0])],
+                       cross(m.points[static_cast<size_t>(t[1])], m.points[static_cast<size_t>(t[2])]));
+    const double inward = volume6 > 0 ? -1.0 : 1.0;
+    std::vector<ProbeCell> cells;
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+        const Vec3& A = m.points[static_cast<size_t>(m.triangles[t][0])];
+        const Vec3& B = m.points[static_cast<size_t>(m.triangles[t][1])];
+        const Vec3& C = m.points[static_cast<size_t>(m.triangles[t][2])];
+        const Vec3 n = cross(B - A, C - A);
+        if (norm(n) <= 0) continue;
+        const Vec3 dir = normalized(n) * inward;
+        const double longest = std::max({distance(A, B), distance(B, C), distance(C, A)});
+        const int k = std::clamp(static_cast<int>(std::ceil(longest / h)), 1, 4096);
+        for_each_grid_triangle(A, B, C, k, [&](const Vec3& a, const Vec3& b, const Vec3& c, int index) {
+            const Vec3 g = (a + b + c) * (1.0 / 3.0);
+            const std::optional<RayHit> hit = query.first_hit(g, dir, 1e-9 * diag);
+            cells.push_back(
+                {static_cast<int>(t), index, {a, b, c}, hit ? hit->distance : std::numeric_limits<double>::infinity()});
+        });
+    }
+    return cells;
+}
+
+// Extra samples in a probe cell: where the cell is thinner than thickness_samples x h0 (the base spacing asked for),
+// one per spacing^2 of its area, the local spacing being scale x thickness / thickness_samples, at least scale x h0 /
+// max_refinement; none elsewhere. scale (>= 1) is the factor the base spacing grew by to fit max_samples: the same
+// cells are refined, all spacings grow alike. The count is k^2 (k = sqrt(area) / spacing, rounded) when that is at
+// least 1, else 1 or 0 from a fixed hash of the cell (expected count area / spacing^2).
+std::uint64_t cell_key(const ProbeCell& c) {
+    return splitmix64((static_cast<std::uint64_t>(c.triangle) << 32) ^ static_cast<std::uint64_t>(c.index) ^
+                      0x5bd1e995ull);
+}
+double refinement_spacing(const ProbeCell& c, double h0, double scale, double thickness_samples,
+                          double max_refinement) {
+    return scale * std::max(c.thickness / thickness_samples, h0 / std::max(1.0, max_refinement));
+}
+int refinement_grid(const ProbeCell& c, double h0, double scale, double thickness_samples, double max_refinement) {
+    if (thickness_samples <= 0 || !(c.thickness < thickness_samples * h0)) return 0;
+    const double spacing = refinement_spacing(c, h0, scale, thickness_samples, max_refinement);
+    const double expected =
+        0.5 * norm(cross(c.corners[1] - c.corners[0], c.corners[2] - c.corners[0])) / (spacing * spacing);
+    if (expected < 1) return unit_double(cell_key(c)) < expected ? 1 : 0;
+    return std::min(4096, static_cast<int>(std::floor(std::sqrt(expected) + 0.5)));
+}
+
+// Stratified extra samples: one point per triangle of the cell's k-grid, at barycentric coordinates from a fixed hash
+// of (surface triangle, cell, grid triangle): no gaps wider than a grid triangle, no cospherical grid.
+void add_refinement_samples(const ProbeCell& c, int k, std::vector<Vec3>& samples) {
+    const std::uint64_t base = cell_key(c);
+    for_each_grid_triangle(c.corners[0], c.corners[1], c.corners[2], k,
+                           [&](const Vec3& a, const Vec3& b, const Vec3& d, int index) {
+                               const std::uint64_t key = splitmix64(base ^ (static_cast<std::uint64_t>(index) << 1));
+                               double u = unit_double(key), w = unit_double(splitmix64(key));
+                               if (u + w > 1) {
+                                   u = 1 - u;
+                                   w = 1 - w;
+                               }
+                               samples.push_back(a + (b - a) * u + (d - a) * w);
+                           });
+}
+
+// A sample's local thickness and spacing where it lies in a refined (thin) probe cell; infinity / 0 elsewhere.
+struct ThinSample {
+    double thickness = std::numeric_limits<double>::infinity();
+    double spacing = 0;
+};
+
+// The probe cell of triangle t (cells first[t] .. first[t] + k[t]^2 - 1, in for_each_grid_triangle order) that holds the
+// point x of that triangle (by its barycentric coordinates).
+int cell_at(const TriangleMesh& m, int t, int first, int k, const Vec3& x) {
+    const Vec3& A = m.points[static_cast<size_t>(m.triangles[static_cast<size_t>(t)][0])];
+    const Vec3 e1 = m.points[static_cast<size_t>(m.triangles[static_cast<size_t>(t)][1])] - A;
+    const Vec3 e2 = m.points[static_cast<size_t>(m.triangles[static_cast<size_t>(t)][2])] - A;
+    const Vec3 d = x - A;
+    const double a = dot(e1, e1), b = dot(e1, e2), c = dot(e2, e2), det = a * c - b * b;
+    const double u = det > 0 ? (c * dot(d, e1) - b * dot(d, e2)) / det : 0;
+    const double w = det > 0 ? (a * dot(d, e2) - b * dot(d, e1)) / det : 0;
+    const int i = std::clamp(static_cast<int>(std::floor(u * k)), 0, k - 1);
+    const int j = std::clamp(static_cast<int>(std::floor(w * k)), 0, k - 1 - i);
+    const bool up = (u * k - i) + (w * k - j) < 1 || i + j + 1 >= k;
+    return first + 2 * k * i - i * i + 2 * j + (up ? 0 : 1);
 }
 
 // ---------------------------------------------------------------- sphere quadrics
@@ -357,7 +484,12 @@ std::vector<std::vector<int>> select_faces(std::vector<KeyedFace>& keyed_faces, 
 }
 
 // Inner poles and angle-filtered Voronoi faces of the samples, fan-triangulated into a medial complex.
-MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const SurfaceQuery& query, double diag,
+// thin (per sample; empty = none): a face whose two samples both lie in thin parts is also kept when they are at least
+// thin_separation x the smaller local thickness and kThinNoiseSpacings x that sample's local spacing apart.
+constexpr double kThinNoiseSpacings = 2.5;  // x local spacing: faces between neighbouring samples (noise) are shorter
+
+MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const std::vector<ThinSample>& thin,
+                                     double thin_separation, const SurfaceQuery& query, double diag,
                                      double min_angle_deg, bool keep_topology, MedialAxis& out) {
     // Insertion in Hilbert order (no randomness: CGAL's range insertion shuffles with the global default random
     // generator, so a second call in the same process gave another triangulation of the cospherical samples).
@@ -438,6 +570,17 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const Sur
             poly.push_back(id);
         } while (++cc != done);
         if (!keep || poly.size() < 3) continue;
+        if (!thin.empty() && thin_separation > 0) {
+            const ThinSample& a = thin[static_cast<size_t>(p)];
+            const ThinSample& b = thin[static_cast<size_t>(q)];
+            const ThinSample& t = a.thickness <= b.thickness ? a : b;
+            const double pq = distance(P, Q);
+            if (std::isfinite(a.thickness) && std::isfinite(b.thickness) && pq >= thin_separation * t.thickness &&
+                pq >= kThinNoiseSpacings * t.spacing) {
+                if (cos_angle > std::cos(min_angle_deg * kPi / 180.0)) ++out.thin_faces;
+                cos_angle = -1;  // kept as if seen under 180 degrees
+            }
+        }
         // Canonical polygon: from its smallest cell id, towards the smaller of its two neighbours.
         std::rotate(poly.begin(), std::min_element(poly.begin(), poly.end()), poly.end());
         if (poly.back() < poly[1]) std::reverse(poly.begin() + 1, poly.end());
@@ -1202,9 +1345,73 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     MedialAxis out;
     const double diag = query.bbox_diagonal();
     out.bbox_diagonal = diag;
-    double h = options.sample_spacing * diag;
-    const std::vector<Vec3> samples = sample_surface(surface, h, options.max_samples);
-    MedialComplex mc = voronoi_medial_complex(samples, query, diag, options.min_angle_deg, options.keep_topology, out);
+    const double h0 = options.sample_spacing * diag;
+    double h = h0;
+    // Thin parts: the thickness probed on a grid of the base spacing; extra samples where it is below
+    // thickness_samples x the spacing (counted in max_samples: the spacing grows until both fit).
+    const std::vector<ProbeCell> probes =
+        options.thickness_samples > 0 ? probe_thickness(surface, query, h, diag) : std::vector<ProbeCell>{};
+    auto extra_count = [&](double step) {
+        long n = 0;
+        for (const ProbeCell& c : probes) {
+            const long k = refinement_grid(c, h0, step / h0, options.thickness_samples, options.max_refinement);
+            n += k * k;
+        }
+        return n;
+    };
+    std::vector<std::array<int, 2>> source;
+    std::vector<Vec3> samples = sample_surface(surface, h, options.max_samples, extra_count, source);
+    const size_t base_samples = samples.size();
+    auto is_thin = [&](const ProbeCell& c) { return c.thickness < options.thickness_samples * h0; };
+    auto thin_of = [&](const ProbeCell& c) {
+        return ThinSample{c.thickness,
+                          refinement_spacing(c, h0, h / h0, options.thickness_samples, options.max_refinement)};
+    };
+    std::vector<ThinSample> thin(samples.size());
+    for (const ProbeCell& c : probes)
+        if (const int k = refinement_grid(c, h0, h / h0, options.thickness_samples, options.max_refinement); k > 0) {
+            add_refinement_samples(c, k, samples);
+            thin.resize(samples.size(), thin_of(c));
+        }
+    out.refinement_samples = static_cast<int>(samples.size() - base_samples);
+    thin.resize(samples.size());
+    if (std::any_of(probes.begin(), probes.end(), is_thin)) {
+        // Base samples in thin cells: the thinnest cell holding them over the triangles they lie on (a vertex or an
+        // edge sample lies on several: a reflex rim between a thin disk and its hub is thin).
+        std::vector<int> first(surface.triangles.size(), -1), grid(surface.triangles.size(), 0);
+        for (size_t i = 0; i < probes.size(); ++i) {
+            const size_t t = static_cast<size_t>(probes[i].triangle);
+            if (first[t] < 0) first[t] = static_cast<int>(i);
+            grid[t] = static_cast<int>(std::lround(std::sqrt(static_cast<double>(i + 1 - first[t]))));
+        }
+        const std::vector<std::array<int, 2>> edges = unique_edges(surface);
+        std::vector<std::vector<int>> vertex_triangles(surface.points.size());
+        std::map<std::array<int, 2>, std::vector<int>> edge_triangles;
+        for (size_t t = 0; t < surface.triangles.size(); ++t)
+            for (int k = 0; k < 3; ++k) {
+                const int a = surface.triangles[t][static_cast<size_t>(k)];
+                const int b = surface.triangles[t][static_cast<size_t>((k + 1) % 3)];
+                vertex_triangles[static_cast<size_t>(a)].push_back(static_cast<int>(t));
+                edge_triangles[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(t));
+            }
+        for (size_t i = 0; i < base_samples; ++i) {
+            const std::array<int, 2>& src = source[i];
+            const std::vector<int> one = {src[1]};
+            const std::vector<int>& triangles =
+                src[0] == 0 ? vertex_triangles[static_cast<size_t>(src[1])]
+                            : (src[0] == 1 ? edge_triangles[edges[static_cast<size_t>(src[1])]] : one);
+            for (int t : triangles) {
+                if (first[static_cast<size_t>(t)] < 0) continue;
+                const ProbeCell& c = probes[static_cast<size_t>(
+                    cell_at(surface, t, first[static_cast<size_t>(t)], grid[static_cast<size_t>(t)], samples[i]))];
+                if (is_thin(c) && c.thickness < thin[i].thickness) thin[i] = thin_of(c);
+            }
+        }
+    } else {
+        thin.clear();
+    }
+    MedialComplex mc = voronoi_medial_complex(samples, thin, options.thin_separation, query, diag,
+                                              options.min_angle_deg, options.keep_topology, out);
     if (mc.centre.empty())
         throw Error(ErrorCode::NumericalFailure, "medial axis: no Voronoi face passed the angle filter (" +
                                                      std::to_string(out.inner_poles) + " inner poles from " +

@@ -3,7 +3,9 @@
 // edges and triangle sheets, the input `import_medial_mesh` (stages/medial_import.h) turns into a meso-skeleton.
 // CGAL (3D Delaunay triangulation) is included only by medial_axis.cpp. Method (docs/skeletons.md, `mesohex medial`):
 //   1. sampling: the surface vertices, points every sample_spacing along every edge, and pseudo-random points (fixed
-//      hash of the triangle id) inside every triangle at a density of one per sample_spacing^2;
+//      hash of the triangle id) inside every triangle at a density of one per sample_spacing^2; where the solid is thin
+//      (a ray along the inward normal from each cell of a grid of the spacing hits the other side within
+//      thickness_samples x the spacing), stratified extra samples at the local spacing thickness / thickness_samples;
 //   2. inner Voronoi diagram: the Delaunay triangulation of the samples (CGAL::Delaunay_triangulation_3, inexact
 //      constructions kernel); a cell whose circumcentre lies inside the surface (SurfaceQuery::inside) gives a medial
 //      sphere (its circumcentre and circumradius);
@@ -11,6 +13,9 @@
 //      and see p and q under an angle pcq of at least min_angle_deg (a noise face between two neighbouring samples
 //      sees them under a small angle; a face between the two sides of a plate under 180 degrees; the wedges going to
 //      90-degree edges of the surface, under 90 degrees: a sheet ends where the shape's edges begin, which trims it);
+//      where both samples lie in thin parts, the face is also kept when they are at least thin_separation x the local
+//      thickness apart (a lambda-medial criterion scaled to the thickness: keeps a thin sheet's ligature into a thicker
+//      part, which the angle cuts);
 //      with keep_topology the filter is an erosion by elementary collapses instead (narrow faces go only from a free
 //      side), followed by keep_parts_and_paths (wide-face parts of extent >= part_extent_factor x radius and the
 //      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off (both off by default);
@@ -35,7 +40,19 @@ namespace mesohex {
 struct MedialAxisOptions {
     double sample_spacing = 0.015;  // x bounding-box diagonal: largest gap between surface samples
     int max_samples = 60000;        // the spacing grows until the samples fit (memory and time of the Delaunay)
-    double min_angle_deg = 110;     // angle filter of step 3 (a surface edge of 90 degrees has no medial sheet)
+    // Thin parts (step 1): where the solid, measured along the inward normal, is thinner than thickness_samples x the
+    // sample spacing, extra samples bring the local spacing down to thickness / thickness_samples (so the poles of a
+    // thin sheet's two sides see each other under wide angles and the angle filter keeps its mid-sheet); 0 = off
+    // (samples across the local thickness, dimensionless).
+    double thickness_samples = 4;
+    double max_refinement = 8;  // the local spacing never goes below sample_spacing / this (dimensionless)
+    // Thin parts (step 3): a Voronoi face whose two samples both lie in thin parts is also kept when they are at least
+    // this x the local thickness apart (and 2.5 x the local spacing): the lambda-medial criterion scaled to the
+    // thickness. It keeps the mid-sheet (samples one thickness apart) and its ligature into a thicker part (a disk's
+    // sheet inside its hub: the two reflex rims one thickness apart, seen under less than min_angle_deg), and drops the
+    // wedges going to 90-degree edges (at most 0.71 x the thickness apart). 0 = angle filter only (x local thickness).
+    double thin_separation = 0.85;
+    double min_angle_deg = 110;  // angle filter of step 3 (a surface edge of 90 degrees has no medial sheet)
     // true: the angle filter erodes the inner Voronoi complex by elementary collapses (narrow faces go only from a free
     // side), which keeps its topology (no holes punched into thin sheets, no parts cut off) but leaves narrow strips
     // as curve edges; false: narrow faces are simply dropped (holes and cut-off parts possible).
@@ -64,9 +81,11 @@ struct MedialAxis {
     // every triangle side plus the curve edges (in no triangle). Points sorted by (x, y, z); edges {a, b} with a < b,
     // sorted; faces with the smallest id first, sorted. A valid input for import_medial_mesh and write_medial_mesh.
     Skeleton medial;
-    int samples = 0;                                  // surface samples (Delaunay vertices)
-    int inner_poles = 0;                              // Delaunay cells with their circumcentre inside
-    int voronoi_faces = 0;                            // Voronoi faces kept by the angle filter
+    int samples = 0;             // surface samples (Delaunay vertices)
+    int thin_faces = 0;          // Voronoi faces the thin-part criterion (thin_separation) keeps below min_angle_deg
+    int refinement_samples = 0;  // of the samples generated, those added in thin parts
+    int inner_poles = 0;         // Delaunay cells with their circumcentre inside
+    int voronoi_faces = 0;       // Voronoi faces kept by the angle filter
     int initial_vertices = 0, initial_triangles = 0;  // the medial complex before simplification
     long initial_euler = 0;                           // V - E + F of the medial complex before simplification
     int joined_parts = 0;                             // parts joined back to the main part (join_factor)
