@@ -111,10 +111,12 @@ TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
     const TriangleMesh box = box_surface(4, 1, 1);
     MeshOptions o;
     o.finishing.levels = 1;
+    o.retry = false;  // the first attempt's counts (the retries: FullyPaddedAttemptWhenTheBareFinishMissesAGoal)
     const MeshRun run = mesh_in_domain(axis_segment(), box, o);
     ASSERT_TRUE(run.finish.has_value());
-    ASSERT_FALSE(run.attempts.empty());
+    ASSERT_EQ(run.attempts.size(), 1u);
     EXPECT_EQ(run.attempts.front().hexes, run.finish->quality.hexes);
+    EXPECT_EQ(run.attempts.front().padding, "selective");
     // The raw tube's boundary: a chunk's cross-section is a square cut into 4 quadrant squares, so 8 side quads per
     // edge, and 4 quads on each end cap. The end caps are flat squares whose 90-degree rims land on the rims of the
     // box's end faces: the selective padding (the default) leaves them bare (8 quads) and adds one hex per side quad;
@@ -158,6 +160,28 @@ TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
     EXPECT_EQ(rep["subdivision_levels"].get<int>(), 1);
     EXPECT_GE(rep["timings_ms"]["read_skeleton"].get<double>(), 1.0);
     EXPECT_GE(rep["timings_ms"]["write_and_finish"].get<double>(), 2.0);
+}
+
+// The same tube in its box with the retries on: the selectively padded finish (end caps bare) misses a goal here, so
+// the same raw mesh is finished again with every quad padded (one padding hex per raw boundary quad: 8 side quads per
+// edge and 4 per end cap), and the better of the two is kept; the attempts say which padding each had.
+TEST(MeshSkeleton, FullyPaddedAttemptWhenTheBareFinishMissesAGoal) {
+    const TriangleMesh box = box_surface(4, 1, 1);
+    MeshOptions o;
+    o.finishing.levels = 1;
+    const MeshRun run = mesh_in_domain(axis_segment(), box, o);
+    ASSERT_TRUE(run.finish.has_value());
+    ASSERT_GE(run.attempts.size(), 2u);
+    EXPECT_EQ(run.attempts[0].padding, "selective");
+    EXPECT_GT(run.attempts[0].missed_goals, 0);
+    EXPECT_EQ(run.attempts[1].padding, "all");
+    const long raw = run.raw_quality.hexes;
+    const long edges = static_cast<long>(run.pipeline.skeleton.edges.size());
+    EXPECT_EQ(run.attempts[0].hexes, 8 * (raw + 8 * edges));
+    EXPECT_EQ(run.attempts[1].hexes, 8 * (raw + 8 * edges + 8));
+    const MeshAttempt& kept = run.finish->pad_mode == "all" ? run.attempts[1] : run.attempts[0];
+    EXPECT_EQ(kept.hexes, run.quality().hexes);
+    EXPECT_LE(kept.missed_goals, std::min(run.attempts[0].missed_goals, run.attempts[1].missed_goals));
 }
 
 TEST(MeshSkeleton, RawReportSaysWhereTheRadiusCameFrom) {

@@ -488,6 +488,18 @@ std::vector<std::vector<int>> select_faces(std::vector<KeyedFace>& keyed_faces, 
 // thin_separation x the smaller local thickness and kThinNoiseSpacings x that sample's local spacing apart.
 constexpr double kThinNoiseSpacings = 2.5;  // x local spacing: faces between neighbouring samples (noise) are shorter
 
+// The thin-part rule of voronoi_medial_complex for the face between samples p and q (at P and Q).
+bool thin_pair_kept(const std::vector<ThinSample>& thin, double thin_separation, int p, int q, const Vec3& P,
+                    const Vec3& Q) {
+    if (thin.empty() || thin_separation <= 0) return false;
+    const ThinSample& a = thin[static_cast<size_t>(p)];
+    const ThinSample& b = thin[static_cast<size_t>(q)];
+    const ThinSample& t = a.thickness <= b.thickness ? a : b;
+    const double pq = distance(P, Q);
+    return std::isfinite(a.thickness) && std::isfinite(b.thickness) && pq >= thin_separation * t.thickness &&
+           pq >= kThinNoiseSpacings * t.spacing;
+}
+
 MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const std::vector<ThinSample>& thin,
                                      double thin_separation, const SurfaceQuery& query, double diag,
                                      double min_angle_deg, bool keep_topology, MedialAxis& out) {
@@ -570,16 +582,9 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const std
             poly.push_back(id);
         } while (++cc != done);
         if (!keep || poly.size() < 3) continue;
-        if (!thin.empty() && thin_separation > 0) {
-            const ThinSample& a = thin[static_cast<size_t>(p)];
-            const ThinSample& b = thin[static_cast<size_t>(q)];
-            const ThinSample& t = a.thickness <= b.thickness ? a : b;
-            const double pq = distance(P, Q);
-            if (std::isfinite(a.thickness) && std::isfinite(b.thickness) && pq >= thin_separation * t.thickness &&
-                pq >= kThinNoiseSpacings * t.spacing) {
-                if (cos_angle > std::cos(min_angle_deg * kPi / 180.0)) ++out.thin_faces;
-                cos_angle = -1;  // kept as if seen under 180 degrees
-            }
+        if (thin_pair_kept(thin, thin_separation, p, q, P, Q)) {
+            if (cos_angle > std::cos(min_angle_deg * kPi / 180.0)) ++out.thin_faces;
+            cos_angle = -1;  // kept as if seen under 180 degrees
         }
         // Canonical polygon: from its smallest cell id, towards the smaller of its two neighbours.
         std::rotate(poly.begin(), std::min_element(poly.begin(), poly.end()), poly.end());
