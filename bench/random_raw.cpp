@@ -23,10 +23,13 @@
 #include "mesohex/pipeline.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
+#include "raw_hash.h"
 
 using namespace mesohex;
 
 namespace {
+
+using bench::raw_hash;
 
 double segment_point_distance(const Vec3& a, const Vec3& b, const Vec3& p) {
     const Vec3 d = b - a;
@@ -43,20 +46,6 @@ std::string vertex_kind(const Skeleton& s, const std::vector<std::vector<int>>& 
     const Vec3 u = normalized(s.points[v] - s.points[adj[v][0]]), w = normalized(s.points[adj[v][1]] - s.points[v]);
     const double turn = std::acos(std::clamp(dot(u, w), -1.0, 1.0)) * 180 / 3.141592653589793;
     return "jt" + std::to_string(static_cast<int>(std::lround(turn)));
-}
-
-std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t bytes) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ULL;
-    return h;
-}
-
-// Hash of the raw mesh (points and hexes): compares runs of two builds or option sets seed by seed.
-std::uint64_t raw_hash(const RawMesh& raw) {
-    std::uint64_t h = 14695981039346656037ULL;
-    for (const Vec3& p : raw.mesh.points) h = fnv(h, &p, sizeof p);
-    for (const auto& hex : raw.mesh.hexes) h = fnv(h, hex.data(), sizeof hex);
-    return h;
 }
 
 }  // namespace

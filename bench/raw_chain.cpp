@@ -23,23 +23,13 @@
 #include "mesohex/pipeline.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex_io/skeleton_io.h"
+#include "raw_hash.h"
 
 using namespace mesohex;
 
 namespace {
 
-std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t bytes) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ULL;
-    return h;
-}
-
-std::uint64_t raw_hash(const RawMesh& raw) {
-    std::uint64_t h = 14695981039346656037ULL;
-    for (const Vec3& p : raw.mesh.points) h = fnv(h, &p, sizeof p);
-    for (const auto& hex : raw.mesh.hexes) h = fnv(h, hex.data(), sizeof hex);
-    return h;
-}
+using bench::raw_hash;
 
 Skeleton make_input(const std::string& spec) {
     auto field = [&](int k) {
