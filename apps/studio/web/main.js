@@ -542,7 +542,9 @@ async function runMesh() {
   const editAt = st.editAt;
   const t0 = performance.now();
   try {
-    const resp = await api.meshBinary(M.toBinary(skel()), 'raw');
+    const body = M.toBinary(skel());
+    const tEncoded = performance.now();
+    const resp = await api.meshBinary(body, 'raw');
     if (version !== st.version) return; // a newer edit: its request goes out below
     const t1 = performance.now();
     st.lastRoundTripMs = t1 - t0;
@@ -559,7 +561,8 @@ async function runMesh() {
     const t3 = performance.now();
     renderNow();
     const t4 = performance.now();
-    st.lastPhasesMs = { queued: t0 - editAt, roundTrip: t1 - t0, skeleton: t2 - t1, mesh: t3 - t2, render: t4 - t3 };
+    st.lastPhasesMs = { queued: t0 - editAt, roundTrip: t1 - t0, encode: tEncoded - t0, skeleton: t2 - t1, mesh: t3 - t2,
+      render: t4 - t3 };
     // Edit -> updated mesh on screen: request, server, decoding, geometry and the draw call.
     st.lastEditToMeshMs = performance.now() - editAt;
     st.meshRequests++;
