@@ -93,10 +93,11 @@ void register_auto(CLI::App& app, int* status) {
     cmd->add_option("--thickness-samples", args->skeleton.medial.thickness_samples,
                     "medial axis: samples across the local thickness in thin parts (see mesohex medial "
                     "--thickness-samples; 0 = off)")
+        ->check(finite_range(0, 64))
         ->capture_default_str();
     cmd->add_option("--meso-radius-factor", args->skeleton.meso_radius_factor,
                     "meso-skeleton radii = this x the distance to the surface (0: keep the medial radii)")
-        ->check(CLI::Range(0.0, 1.0))
+        ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
     add_mesh_job_options(cmd, &args->job);
     cmd->footer(

@@ -62,7 +62,7 @@ void register_import(CLI::App& app, int* status) {
                     "... times (1 + this x c) when the curve heads back over the leaflet (c = cosine of its angle to "
                     "the inward direction, > 0)")
         ->capture_default_str()
-        ->check(CLI::Range(0.0, 10.0));
+        ->check(finite_range(0.0, 10.0));
     cmd->add_option("--smoothing", args->options.smoothing_iterations,
                     "Smoothing sweeps over the leaflets: Laplacian on interior vertices, along the normal on boundary "
                     "vertices (0 = none)")
@@ -73,7 +73,7 @@ void register_import(CLI::App& app, int* status) {
                     "A leaflet boundary vertex whose face angles sum to more (degrees) also moves towards the midpoint "
                     "of its two boundary neighbours while smoothing")
         ->capture_default_str()
-        ->check(CLI::Range(0.0, 360.0));
+        ->check(finite_range(0.0, 360.0));
     cmd->footer("Method: docs/skeletons.md. Example: mesohex import hand.ma -o hand.obj");
     cmd->callback([args, status]() {
         args->options.pair_triangles = !args->no_pairing;

@@ -39,13 +39,16 @@ void register_medial(CLI::App& app, int* status) {
     cmd->add_option("--thickness-samples", o.thickness_samples,
                     "Thin parts: where the solid is thinner than this x the sample spacing, extra samples bring the "
                     "local spacing down to thickness / this (0 = off)")
+        ->check(finite_range(0, 64))
         ->capture_default_str();
     cmd->add_option("--max-refinement", o.max_refinement,
                     "Thin parts: the local spacing never goes below the sample spacing / this")
+        ->check(finite_range(1, 64))
         ->capture_default_str();
     cmd->add_option("--thin-separation", o.thin_separation,
                     "Thin parts: a Voronoi face whose two samples lie in thin parts is also kept when they are at "
                     "least this x the local thickness apart (0 = angle filter only)")
+        ->check(finite_range(0, 10))
         ->capture_default_str();
     cmd->add_option("--min-angle", o.min_angle_deg,
                     "Angle filter: a Voronoi face is medial when it sees its two "

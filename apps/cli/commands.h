@@ -2,7 +2,9 @@
 // Each subcommand lives in its own cmd_<name>.cpp and exposes one registration function. The callback it installs
 // returns the process exit status through *status; errors are mesohex::Error (mapped to exit codes in main.cpp).
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <exception>
+#include <sstream>
 #include <string>
 
 #include "mesohex/core/error.h"
@@ -24,6 +26,27 @@ auto at_stage(const std::string& stage, const std::string& file, F&& f, bool nam
     } catch (const std::exception& e) {
         throw foreign_error(e, file + ": " + stage);
     }
+}
+
+// A real option in [lo, hi]: CLI::Range lets NaN through (both comparisons are false); this refuses it, and infinities,
+// with the option's name in the message (exit status of a CLI11 validation error).
+inline CLI::Validator finite_range(double lo, double hi) {
+    std::ostringstream bounds;
+    bounds << "[" << lo << ", " << hi << "]";
+    return CLI::Validator(
+        [lo, hi, range = bounds.str()](std::string& text) -> std::string {
+            double x = 0;
+            try {
+                std::size_t used = 0;
+                x = std::stod(text, &used);
+                if (used != text.size()) return "'" + text + "' is not a number";
+            } catch (const std::exception&) {
+                return "'" + text + "' is not a number";
+            }
+            if (!std::isfinite(x) || x < lo || x > hi) return "'" + text + "' is not a finite number in " + range;
+            return {};
+        },
+        "FLOAT in " + bounds.str());
 }
 
 void register_quality(CLI::App& app, int* status);

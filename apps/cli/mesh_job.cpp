@@ -2,6 +2,8 @@
 // mesh_skeleton -> mesh file, summary lines, report.
 #include "mesh_job.h"
 
+#include "commands.h"
+
 #include <algorithm>
 #include <chrono>
 #include <iostream>
@@ -199,7 +201,7 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_option("--improve-below", job->options.finishing.improve_sj,
                     "Quality pass after fitting on the hexes whose scaled Jacobian is below this (0 = off)")
         ->capture_default_str()
-        ->check(CLI::Range(0.0, 0.99));
+        ->check(finite_range(0.0, 0.99));
     cmd->add_flag("-q,--quiet", job->quiet, "No progress bar");
     cmd->add_option("--report", job->report, "Write a JSON report (skeleton, predicted, quality, timings_ms)");
     cmd->add_option("--threads", job->threads, "Worker threads (0 = all cores)");

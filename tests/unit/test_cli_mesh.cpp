@@ -155,6 +155,26 @@ TEST(MeshCli, MissingSurfaceIsAFileErrorAndWritesNothing) {
     EXPECT_FALSE(fs::exists(out));
 }
 
+// Real-valued options with a range refuse NaN, infinities and values outside it (CLI::Range alone let NaN through),
+// naming the option, with CLI11's validation exit status (105), before anything is read or written.
+TEST(MeshCli, RealOptionsRefuseNonFiniteAndOutOfRangeValues) {
+    const fs::path out = temp_dir() / "never_nan.mesh";
+    fs::remove(out);
+    for (const char* value : {"nan", "inf", "-0.5", "1.5", "abc"}) {
+        const auto r = run_cli("mesh " + tripod() + " -o " + out.string() + " --improve-below " + value);
+        EXPECT_EQ(r.status, 105) << value << ": " << r.output;
+        EXPECT_NE(r.output.find("--improve-below"), std::string::npos) << value;
+    }
+    EXPECT_FALSE(fs::exists(out));
+    const auto medial =
+        run_cli("medial " + tripod() + " -o " + (temp_dir() / "never.ma").string() + " --thickness-samples nan");
+    EXPECT_EQ(medial.status, 105) << medial.output;
+    EXPECT_NE(medial.output.find("not a finite number in [0, 64]"), std::string::npos) << medial.output;
+    EXPECT_FALSE(fs::exists(temp_dir() / "never.ma"));
+    const auto ok = run_cli("mesh " + tripod() + " -o " + out.string() + " --improve-below 0.25");
+    EXPECT_EQ(ok.status, 0) << ok.output;
+}
+
 // Directional refinement: longitudinal and radial levels split only some sheets, so a level gives fewer hexes than
 // the 8x of a uniform level but more than the padded mesh, and the mesh stays valid with the skeleton's Euler
 // characteristic.
