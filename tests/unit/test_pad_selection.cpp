@@ -106,6 +106,26 @@ HexMesh compacted(const HexMesh& m) {
 
 long count_bare(const PadSelection& s) { return static_cast<long>(std::count(s.bare.begin(), s.bare.end(), 1)); }
 
+// The counts select_bare_regions reports, checked field by field.
+struct SelectionCounts {
+    long domain_sharp_edges, sharp_edges, matched_edges;
+    int regions, bare_regions;
+};
+void expect_counts(const PadSelection& sel, const SelectionCounts& c) {
+    EXPECT_EQ(sel.domain_sharp_edges, c.domain_sharp_edges);
+    EXPECT_EQ(sel.sharp_edges, c.sharp_edges);
+    EXPECT_EQ(sel.matched_edges, c.matched_edges);
+    EXPECT_EQ(sel.regions, c.regions);
+    EXPECT_EQ(sel.bare_regions, c.bare_regions);
+}
+
+// The padding of `raw` with the selection's bare quads left bare.
+PaddingResult pad_selected(const HexMesh& raw, const PadSelection& sel) {
+    PaddingOptions po;
+    po.bare_quads = sel.bare_quads;
+    return pad(raw, po);
+}
+
 // The mesh's quality report, after checking that it is a valid mesh with no inverted hex.
 QualityReport expect_valid(const HexMesh& mesh) {
     const QualityReport q = compute_quality(mesh);
@@ -122,16 +142,10 @@ TEST(PadSelection, BlockInItsBoxStaysBare) {
     const HexMesh raw = make_block(2, 2, 2);
     const Convex box = chamfered_box(2, 0);
     const PadSelection sel = select_bare_regions(raw, box.surface, convex_landing(box));
-    EXPECT_EQ(sel.domain_sharp_edges, 12);
-    EXPECT_EQ(sel.sharp_edges, 24);
-    EXPECT_EQ(sel.matched_edges, 24);
-    EXPECT_EQ(sel.regions, 6);
-    EXPECT_EQ(sel.bare_regions, 6);
+    expect_counts(sel, {12, 24, 24, 6, 6});
     EXPECT_EQ(count_bare(sel), 24);
     ASSERT_EQ(sel.bare_quads.size(), 24u);
-    PaddingOptions po;
-    po.bare_quads = sel.bare_quads;
-    const PaddingResult r = pad(raw, po);
+    const PaddingResult r = pad_selected(raw, sel);
     EXPECT_EQ(r.mesh.hexes.size(), 8u);
     EXPECT_EQ(r.mesh.points.size(), 27u);
     EXPECT_EQ(r.bare_quads, 24);
@@ -155,15 +169,9 @@ TEST(PadSelection, LeafletCornerInItsBoxStaysBare) {
     expect_valid(raw);
     const Convex box = chamfered_box(2, 0);
     const PadSelection sel = select_bare_regions(raw, box.surface, convex_landing(box));
-    EXPECT_EQ(sel.domain_sharp_edges, 12);
-    EXPECT_EQ(sel.sharp_edges, 16);
-    EXPECT_EQ(sel.matched_edges, 16);
-    EXPECT_EQ(sel.regions, 6);
-    EXPECT_EQ(sel.bare_regions, 6);
+    expect_counts(sel, {12, 16, 16, 6, 6});
     EXPECT_EQ(count_bare(sel), 12);
-    PaddingOptions po;
-    po.bare_quads = sel.bare_quads;
-    const PaddingResult r = pad(raw, po);
+    const PaddingResult r = pad_selected(raw, sel);
     EXPECT_EQ(r.mesh.hexes.size(), 3u);
     EXPECT_EQ(r.mesh.points.size(), 14u);
     EXPECT_EQ(r.bare_quads, 12);
@@ -178,17 +186,11 @@ TEST(PadSelection, ChamferedTopIsPaddedBottomStaysBare) {
     const HexMesh raw = make_block(2, 2, 2);
     const Convex box = chamfered_box(2, 0.5);
     const PadSelection sel = select_bare_regions(raw, box.surface, convex_landing(box));
-    EXPECT_EQ(sel.domain_sharp_edges, 20);
-    EXPECT_EQ(sel.sharp_edges, 24);
-    EXPECT_EQ(sel.matched_edges, 16);
-    EXPECT_EQ(sel.regions, 6);
-    EXPECT_EQ(sel.bare_regions, 1);
+    expect_counts(sel, {20, 24, 16, 6, 1});
     ASSERT_EQ(count_bare(sel), 4);
     for (const std::array<int, 4>& q : sel.bare_quads)
         for (int v : q) EXPECT_EQ(raw.points[static_cast<std::size_t>(v)].z, 0.0);
-    PaddingOptions po;
-    po.bare_quads = sel.bare_quads;
-    const PaddingResult r = pad(raw, po);
+    const PaddingResult r = pad_selected(raw, sel);
     // 8 raw hexes + one per padded quad (24 - 4); new vertices: the 26 boundary vertices but the bottom's centre.
     EXPECT_EQ(r.mesh.hexes.size(), 28u);
     EXPECT_EQ(r.mesh.points.size(), 27u + 25u);
@@ -248,11 +250,7 @@ TEST(PadSelection, ConcaveEdgeNextToAPaddedRegionIsPadded) {
         return Landing{p, floor ? -d : d};
     };
     const PadSelection sel = select_bare_regions(raw, domain, on_itself);
-    EXPECT_EQ(sel.sharp_edges, 22);
-    EXPECT_EQ(sel.matched_edges, 22);
-    EXPECT_EQ(sel.domain_sharp_edges, 22);
-    EXPECT_EQ(sel.regions, 8);
-    EXPECT_EQ(sel.bare_regions, 6);
+    expect_counts(sel, {22, 22, 22, 8, 6});
     EXPECT_EQ(count_bare(sel), 12);
     const HexTopology topo = compute_hex_topology(raw);
     ASSERT_EQ(sel.bare.size(), topo.boundary_quads.size());
@@ -266,9 +264,7 @@ TEST(PadSelection, ConcaveEdgeNextToAPaddedRegionIsPadded) {
         const bool floor_or_wall = (z == 1 && x == 1.5) || (x == 1 && z == 1.5);
         EXPECT_EQ(sel.bare[q] == 0, floor_or_wall) << "quad centre x " << x << " z " << z;
     }
-    PaddingOptions po;
-    po.bare_quads = sel.bare_quads;
-    const PaddingResult r = pad(raw, po);
+    const PaddingResult r = pad_selected(raw, sel);
     EXPECT_EQ(r.mesh.hexes.size(), 5u);
     expect_valid(r.mesh);
 }
