@@ -117,8 +117,8 @@ bool retry_applies(const MeshOptions& options, const MeshRun& run) {
 // The selective padding left regions of the raw boundary bare and the result misses a goal: the same raw mesh is
 // finished again with every quad padded, and the better of the two kept. Bare regions are chosen by how the raw
 // rims match the domain's, not by how far the fit must then move them; where the raw boundary lies well inside the
-// domain (radii from the domain, medial meso-skeletons) the bare hexes can be stretched too far (docs/tuning.md,
-// "Selective padding": auto on plate1 0.101 / 2.76 % bare, 0.383 / 0.90 % padded).
+// domain (radii from the domain, medial meso-skeletons) the bare hexes can be stretched too far (measurements:
+// docs/tuning.md, "Selective padding").
 void retry_fully_padded(MeshRun& run, const TriangleMesh& domain, const MeshOptions& options) {
     if (!options.retry || run.finish->pad_bare_quads == 0 || missed_goals(*run.finish, options.goals) == 0) return;
     MeshOptions padded = options;

@@ -159,10 +159,10 @@ TEST(AutoCli, NoRetryKeepsTheFirstAttempt) {
     EXPECT_EQ(r.output.find("attempt 2"), std::string::npos);
 }
 
-// plate1 (a plate with sharp rims): auto takes the medial meso-skeleton; the selective padding leaves 60 quads of its
-// raw boundary bare (their rims match the plate's) but that raw boundary lies halfway inside the plate (radii 0.5 x the
-// distance), so the fit stretches the bare hexes: 0.101 min SJ, 2.76 % (2026-12-03). The same raw mesh fully padded
-// meets every target (0.383 / 0.957, 0.90 %) and is kept; the report lists both attempts.
+// plate1 (a plate with sharp rims): auto takes the medial meso-skeleton; the selective padding leaves quads of its raw
+// boundary bare (their rims match the plate's) but that raw boundary lies halfway inside the plate (radii 0.5 x the
+// distance), so the fit stretches the bare hexes and a goal is missed. The same raw mesh fully padded meets every
+// target and is kept; the report lists both attempts (numbers: docs/tuning.md, "Selective padding").
 TEST(AutoCli, PlateFullyPaddedWhenTheBareFinishMissesAGoal) {
     const fs::path surface = fs::path(MESOHEX_SHARED_DATA_DIR) / "surfaces" / "plate1.obj";
     const fs::path out = temp_dir() / "plate1.mesh", report = temp_dir() / "plate1.json";
