@@ -219,8 +219,10 @@ int run_mesh_job(const MeshJob& job, const Skeleton& skeleton, const std::option
     MeshOptions options = options_of(job);
     ProgressDisplay display(!job.quiet && isatty(STDERR_FILENO));
     options.progress = [&display, &job](const MeshProgress& p) {
-        if (p.stage == "attempt" && p.step == 2 && !job.quiet)
-            std::cerr << "mesohex: the mesh misses a goal; second attempt with first joints farther from the "
+        if (p.stage == "attempt" && p.what == "fully padded" && !job.quiet)
+            std::cerr << "mesohex: the mesh misses a goal; another attempt with every boundary quad padded\n";
+        if (p.stage == "attempt" && p.what == "cautious joints" && !job.quiet)
+            std::cerr << "mesohex: the mesh misses a goal; another attempt with first joints farther from the "
                          "branching points\n";
         display.update(p);
     };

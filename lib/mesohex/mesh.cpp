@@ -56,19 +56,19 @@ FinishOptions finishing_options(const MeshOptions& options, const PipelineResult
     const auto& report = options.progress;
     const int fit_cap = fo.fitting.max_iterations;
     fo.fitting.progress = [report, fit_cap](const FitProgress& p) {
-        report({"fit", p.iteration, fit_cap, p.sj_min, p.inverted});
+        report({"fit", p.iteration, fit_cap, p.sj_min, p.inverted, ""});
     };
     const int untangle_cap = fo.untangling.max_rounds;
     fo.untangling.progress = [report, untangle_cap](const UntangleProgress& p) {
-        report({"untangle", p.round, untangle_cap, 0, p.inverted});
+        report({"untangle", p.round, untangle_cap, 0, p.inverted, ""});
     };
     const int improve_cap = fo.improving.max_rounds;
     fo.improving.progress = [report, improve_cap](const UntangleProgress& p) {
-        report({"improve", p.round, improve_cap, 0, p.inverted});
+        report({"improve", p.round, improve_cap, 0, p.inverted, ""});
     };
     const int smooth_cap = fo.smoothing.max_sweeps + fo.smoothing.resweeps;
     fo.smoothing.progress = [report, smooth_cap](const SmoothProgress& p) {
-        report({"smooth", p.sweep, smooth_cap, 0, 0});
+        report({"smooth", p.sweep, smooth_cap, 0, 0, ""});
     };
     return fo;
 }
@@ -107,11 +107,27 @@ void set_raw_quality(MeshRun& run, const MeshOptions& options) {
     run.prediction_exact = prediction_matches(run.raw_quality, run.pipeline.predicted);
 }
 
-bool retry_applies(const MeshOptions& options, const MeshRun& run) {
+// Whether the options allow a second skeleton with the cautious reach (before any result is known).
+bool cautious_retry_allowed(const MeshOptions& options) {
     return options.retry && options.finishing.fit && options.pipeline.resample &&
-           missed_goals(*run.finish, options.goals) > 0 &&
-           (options.retry_max_hexes <= 0 || run.finish->quality.hexes <= options.retry_max_hexes) &&
            options.pipeline.adaptation.branching_reach != options.pipeline.adaptation.free_branching_reach;
+}
+
+bool retry_applies(const MeshOptions& options, const MeshRun& run) {
+    return cautious_retry_allowed(options) && missed_goals(*run.finish, options.goals) > 0 &&
+           (options.retry_max_hexes <= 0 || run.finish->quality.hexes <= options.retry_max_hexes);
+}
+
+// The most finishing attempts the options allow: the first, the fully padded one, the cautious skeleton.
+int max_attempts(const MeshOptions& options) {
+    const bool padded = options.retry && options.finishing.pad && options.finishing.pad_selective;
+    return 1 + (padded ? 1 : 0) + (cautious_retry_allowed(options) ? 1 : 0);
+}
+
+// Reports the start of the next finishing attempt (numbered from 1 in the order they run).
+void report_attempt(const MeshRun& run, const MeshOptions& options, const char* what) {
+    if (options.progress)
+        options.progress({"attempt", static_cast<int>(run.attempts.size()) + 1, max_attempts(options), 0, 0, what});
 }
 
 // The selective padding left regions of the raw boundary bare and the result misses a goal: the same raw mesh is
@@ -123,7 +139,7 @@ void retry_fully_padded(MeshRun& run, const TriangleMesh& domain, const MeshOpti
     if (!options.retry || run.finish->pad_bare_quads == 0 || missed_goals(*run.finish, options.goals) == 0) return;
     MeshOptions padded = options;
     padded.finishing.pad_selective = false;
-    if (options.progress) options.progress({"attempt", 1, 2, 0, 0});
+    report_attempt(run, options, "fully padded");
     FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(padded, run.pipeline));
     run.attempts.push_back(attempt_of(run.options.adaptation, finished, options.goals));
     if (better_finish(finished, *run.finish, options.goals)) run.finish = std::move(finished);
@@ -133,7 +149,7 @@ void retry_fully_padded(MeshRun& run, const TriangleMesh& domain, const MeshOpti
 // selective padding left quads bare, then a second skeleton with the cautious reach at branching points, keeping the
 // best.
 void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options) {
-    if (options.progress) options.progress({"attempt", 1, 2, 0, 0});
+    report_attempt(run, options, "first");
     run.finish = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(options, run.pipeline));
     run.attempts.push_back(attempt_of(run.options.adaptation, *run.finish, options.goals));
     retry_fully_padded(run, domain, options);
@@ -142,7 +158,7 @@ void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMes
     const PipelineOptions cautious = cautious_options(run.options);
     PipelineResult second = run_pipeline(skeleton, cautious);
     if (second.skeleton == run.pipeline.skeleton) return;  // the same skeleton would give the same mesh
-    if (options.progress) options.progress({"attempt", 2, 2, 0, 0});
+    report_attempt(run, options, "cautious joints");
     FinishResult finished = finish_mesh(second.raw.mesh, domain, finishing_options(options, second));
     run.attempts.push_back(attempt_of(cautious.adaptation, finished, options.goals));
     if (!better_finish(finished, *run.finish, options.goals)) return;
@@ -180,7 +196,7 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const S
 
     t = std::chrono::steady_clock::now();
     run.options = options.pipeline;
-    if (options.progress) options.progress({"raw", 1, 1, 0, 0});
+    if (options.progress) options.progress({"raw", 1, 1, 0, 0, ""});
     run.pipeline = run_pipeline(skeleton, run.options);
     run.pipeline_ms = ms_since(t);
     t = std::chrono::steady_clock::now();

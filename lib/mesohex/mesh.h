@@ -21,10 +21,12 @@ namespace mesohex {
 // Where a run is, for a progress display (and a point where a caller can cancel by throwing from the callback).
 struct MeshProgress {
     std::string stage;  // "raw", "fit", "untangle", "improve", "smooth", "attempt"
-    int step = 0;       // iteration / round / sweep within the stage (attempt: 1 or 2)
-    int steps = 0;      // the stage's cap on `step` (0 when unknown)
+    int step = 0;       // iteration / round / sweep within the stage (attempt: its number, from 1)
+    int steps = 0;      // the stage's cap on `step` (0 when unknown; attempt: the most attempts the options allow)
     double sj_min = 0;  // fit only: current min scaled Jacobian
     long inverted = 0;  // fit, untangle, improve: hexes with scaled Jacobian <= 0
+    std::string what;   // attempt only: "first", "fully padded" (same raw mesh, every quad padded) or "cautious
+                        // joints" (a second skeleton, first joints farther from the branching points)
 };
 
 struct MeshOptions {

@@ -6,6 +6,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -169,9 +170,22 @@ TEST(MeshSkeleton, FullyPaddedAttemptWhenTheBareFinishMissesAGoal) {
     const TriangleMesh box = box_surface(4, 1, 1);
     MeshOptions o;
     o.finishing.levels = 1;
+    std::vector<MeshProgress> attempts;  // the progress reports of the attempts, in order
+    o.progress = [&attempts](const MeshProgress& p) {
+        if (p.stage == "attempt") attempts.push_back(p);
+    };
     const MeshRun run = mesh_in_domain(axis_segment(), box, o);
     ASSERT_TRUE(run.finish.has_value());
     ASSERT_GE(run.attempts.size(), 2u);
+    // Every attempt is announced once, numbered in the order they run, out of the 3 the default options allow (first,
+    // fully padded, cautious joints).
+    ASSERT_EQ(attempts.size(), run.attempts.size());
+    for (std::size_t i = 0; i < attempts.size(); ++i) {
+        EXPECT_EQ(attempts[i].step, static_cast<int>(i) + 1);
+        EXPECT_EQ(attempts[i].steps, 3);
+    }
+    EXPECT_EQ(attempts[0].what, "first");
+    EXPECT_EQ(attempts[1].what, "fully padded");
     EXPECT_EQ(run.attempts[0].padding, "selective");
     EXPECT_GT(run.attempts[0].missed_goals, 0);
     EXPECT_EQ(run.attempts[1].padding, "all");
