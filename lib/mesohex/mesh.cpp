@@ -173,6 +173,7 @@ bool better_layout(const FinishResult& a, const FinishResult& b, const MeshGoals
 void compare_fan_layouts(MeshRun& run, const Skeleton& skeleton, const TriangleMesh& domain,
                          const MeshOptions& options) {
     if (!options.compare_fan_layouts || run.pipeline.predicted.fan_blocks == 0 || !run.finish) return;
+    if (options.retry_max_hexes > 0 && run.finish->quality.hexes > options.retry_max_hexes) return;  // work budget
     MeshOptions paper = options;
     paper.pipeline.connection_surfaces.blocks.fan_blocks = false;
     MeshRun other;

@@ -52,7 +52,8 @@ struct MeshOptions {
     // kept only when it is better (better_layout: valid and not inverted, fewer missed goals, then a higher min SJ).
     // Neither layout finishes better on every domain: the block's concave crease (raw boundary valence 3) stays sharp
     // where the domain's rims are sharp and takes two 45-degree padding hexes where they are round (docs/blocks.md).
-    // false (`--fan-blocks`): fan blocks kept wherever accepted. Costs a second finish on skeletons with a fan block.
+    // false (`--fan-blocks`): fan blocks kept wherever accepted. Costs a second finish on skeletons with a fan block
+    // (skipped, like the second attempt, when the first finished mesh has more than retry_max_hexes hexes).
     bool compare_fan_layouts = true;
     // Parts for MPI solvers: METIS k-way on the face adjacency of the hexes of the mesh kept (partition_hexes);
     // 0 = no partition. More parts than hexes is an InvalidInput error.
