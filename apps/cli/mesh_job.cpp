@@ -151,8 +151,8 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "inside a narrow cone): one extra 4-hex chunk each (off by default, docs/blocks.md)");
     cmd->add_flag_callback(
         "--no-blocks", [job] { job->options.pipeline.connection_surfaces.blocks.enabled = false; },
-        "No 8-hex compatible block at branching points whose branches are near a cube's face "
-        "normals: the paper's layout (a quad partition of the sphere) everywhere");
+        "No compatible block: neither the 8-hex blocks at branching points whose branches are near a cube's face "
+        "normals nor the fan blocks: the paper's layout (sphere partitions, gap vertices) everywhere");
     cmd->add_flag_callback(
         "--fan-blocks", [job] { job->options.compare_fan_layouts = false; },
         "Keep the 4-hex fan blocks wherever accepted (T and X fan-edge chains whose leaflets meet near 90 / 180 "
