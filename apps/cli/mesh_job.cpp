@@ -151,13 +151,17 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "inside a narrow cone): one extra 4-hex chunk each (off by default, docs/blocks.md)");
     cmd->add_flag_callback(
         "--no-blocks", [job] { job->options.pipeline.connection_surfaces.blocks.enabled = false; },
-        "No 8-hex compatible block at branching points whose branches are near a cube's face "
-        "normals: the paper's layout (a quad partition of the sphere) everywhere");
+        "No compatible block: neither the 8-hex blocks at branching points whose branches are near a cube's face "
+        "normals nor the fan blocks: the paper's layout (sphere partitions, gap vertices) everywhere");
     cmd->add_flag_callback(
-        "--fan-blocks", [job] { job->options.pipeline.connection_surfaces.blocks.fan_blocks = true; },
-        "4-hex fan blocks along T and X fan-edge chains whose leaflets meet near 90 / 180 degrees (no valence-6 or "
-        "-8 edge on the fan line; off by default: the finished meshes measured no better, docs/blocks.md); "
-        "--no-blocks wins");
+        "--fan-blocks", [job] { job->options.compare_fan_layouts = false; },
+        "Keep the 4-hex fan blocks wherever accepted (T and X fan-edge chains whose leaflets meet near 90 / 180 "
+        "degrees: no valence-6 or -8 edge on the fan line). By default they are on where accepted, and with "
+        "--surface the paper's layout is finished too and kept when better (fewer missed goals, then a higher min "
+        "SJ; docs/blocks.md)");
+    cmd->add_flag_callback(
+        "--no-fan-blocks", [job] { job->options.pipeline.connection_surfaces.blocks.fan_blocks = false; },
+        "No fan block: the paper's gap vertices on every fan edge (8-hex blocks stay on; --no-blocks turns both off)");
     cmd->add_flag_callback(
         "--no-pad", [job] { job->options.finishing.pad = false; }, "Skip the padding layer (= --pad none)");
     cmd->add_option_function<std::string>(

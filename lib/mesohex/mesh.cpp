@@ -1,6 +1,7 @@
 #include "mesohex/mesh.h"
 
 #include <chrono>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -73,9 +74,11 @@ FinishOptions finishing_options(const MeshOptions& options, const PipelineResult
     return fo;
 }
 
-MeshAttempt attempt_of(const AdaptationOptions& adaptation, const FinishResult& f, const MeshGoals& goals) {
+MeshAttempt attempt_of(const PipelineOptions& pipeline, const PipelineResult& raw, const FinishResult& f,
+                       const MeshGoals& goals) {
     MeshAttempt a;
-    a.free_branching_reach = adaptation.free_branching_reach;
+    a.free_branching_reach = pipeline.adaptation.free_branching_reach;
+    a.fan_blocks = raw.predicted.fan_blocks;
     a.padding = f.pad_mode;
     a.hexes = f.quality.hexes;
     a.sj_min = f.quality.sj_min;
@@ -141,7 +144,7 @@ void retry_fully_padded(MeshRun& run, const TriangleMesh& domain, const MeshOpti
     padded.finishing.pad_selective = false;
     report_attempt(run, options, "fully padded");
     FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(padded, run.pipeline));
-    run.attempts.push_back(attempt_of(run.options.adaptation, finished, options.goals));
+    run.attempts.push_back(attempt_of(run.options, run.pipeline, finished, options.goals));
     if (better_finish(finished, *run.finish, options.goals)) run.finish = std::move(finished);
 }
 
@@ -151,7 +154,7 @@ void retry_fully_padded(MeshRun& run, const TriangleMesh& domain, const MeshOpti
 void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options) {
     report_attempt(run, options, "first");
     run.finish = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(options, run.pipeline));
-    run.attempts.push_back(attempt_of(run.options.adaptation, *run.finish, options.goals));
+    run.attempts.push_back(attempt_of(run.options, run.pipeline, *run.finish, options.goals));
     retry_fully_padded(run, domain, options);
     if (!retry_applies(options, run)) return;
 
@@ -160,12 +163,48 @@ void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMes
     if (second.skeleton == run.pipeline.skeleton) return;  // the same skeleton would give the same mesh
     report_attempt(run, options, "cautious joints");
     FinishResult finished = finish_mesh(second.raw.mesh, domain, finishing_options(options, second));
-    run.attempts.push_back(attempt_of(cautious.adaptation, finished, options.goals));
+    run.attempts.push_back(attempt_of(cautious, second, finished, options.goals));
     if (!better_finish(finished, *run.finish, options.goals)) return;
     run.finish = std::move(finished);
     run.pipeline = std::move(second);
     run.options = cautious;
     set_raw_quality(run, options);
+}
+
+// The layout comparison's order (MeshOptions::compare_fan_layouts): fewer inverted hexes (a valid mesh first), fewer
+// missed goals, then a higher min scaled Jacobian. Unlike better_finish, not the Hausdorff distance first: within the
+// goal, the block's sharp crease and the paper's chamfered one trade a little distance for the worst hex.
+bool better_layout(const FinishResult& a, const FinishResult& b, const MeshGoals& goals) {
+    const auto badness = [](const FinishResult& r) {
+        return r.quality.validation.valid() ? r.quality.inverted : std::numeric_limits<long>::max();
+    };
+    if (badness(a) != badness(b)) return badness(a) < badness(b);
+    const int ma = missed_goals(a, goals), mb = missed_goals(b, goals);
+    if (ma != mb) return ma < mb;
+    return a.quality.sj_min > b.quality.sj_min;
+}
+
+// The raw mesh kept has fan blocks: the same skeleton meshed and finished (with its own attempts) in the paper's layout
+// on the fan edges, kept when better_layout says so. The attempts of both are listed, the fan-block ones first.
+void compare_fan_layouts(MeshRun& run, const Skeleton& skeleton, const TriangleMesh& domain,
+                         const MeshOptions& options) {
+    if (!options.compare_fan_layouts || run.pipeline.predicted.fan_blocks == 0 || !run.finish) return;
+    if (options.retry_max_hexes > 0 && run.finish->quality.hexes > options.retry_max_hexes) return;  // work budget
+    MeshOptions paper = options;
+    paper.pipeline.connection_surfaces.blocks.fan_blocks = false;
+    MeshRun other;
+    other.options = paper.pipeline;
+    other.pipeline = run_pipeline(skeleton, other.options);
+    set_raw_quality(other, paper);
+    finish_with_retry(other, skeleton, domain, paper);
+    run.attempts.insert(run.attempts.end(), other.attempts.begin(), other.attempts.end());
+    if (!better_layout(*other.finish, *run.finish, options.goals)) return;
+    run.options = std::move(other.options);
+    run.pipeline = std::move(other.pipeline);
+    run.raw_quality = std::move(other.raw_quality);
+    run.raw_topology = std::move(other.raw_topology);
+    run.prediction_exact = other.prediction_exact;
+    run.finish = std::move(other.finish);
 }
 
 }  // namespace
@@ -205,6 +244,7 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const S
     if (domain && options.finish) {
         t = std::chrono::steady_clock::now();
         finish_with_retry(run, skeleton, *domain, options);
+        compare_fan_layouts(run, skeleton, *domain, options);
         run.finish_ms = ms_since(t);
     }
     if (options.partitions > 0) {

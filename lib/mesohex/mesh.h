@@ -49,6 +49,14 @@ struct MeshOptions {
     // auto`). 0 = no limit.
     long retry_max_hexes = 0;
     MeshGoals goals;  // the goals a finished mesh must meet (else the second attempt)
+    // With a domain, when the raw mesh has fan blocks (pipeline.connection_surfaces.blocks.fan_blocks): the skeleton
+    // is meshed and finished again (with the same attempts) in the paper's layout on the fan edges, and that result
+    // kept only when it is better (better_layout: valid and not inverted, fewer missed goals, then a higher min SJ).
+    // Neither layout finishes better on every domain: the block's concave crease (raw boundary valence 3) stays sharp
+    // where the domain's rims are sharp and takes two 45-degree padding hexes where they are round (docs/blocks.md).
+    // false (`--fan-blocks`): fan blocks kept wherever accepted. Costs a second finish on skeletons with a fan block
+    // (skipped, like the second attempt, when the first finished mesh has more than retry_max_hexes hexes).
+    bool compare_fan_layouts = true;
     // Parts for MPI solvers: METIS k-way on the face adjacency of the hexes of the mesh kept (partition_hexes);
     // 0 = no partition. More parts than hexes is an InvalidInput error.
     int partitions = 0;
@@ -62,6 +70,7 @@ struct MeshOptions {
 struct MeshAttempt {
     double free_branching_reach = 0;  // AdaptationOptions::free_branching_reach used for this attempt
     std::string padding;              // FinishResult::pad_mode of this attempt ("none", "all" or "selective")
+    long fan_blocks = 0;              // fan edges with a fan block in this attempt's raw mesh (0: the paper's layout)
     long hexes = 0;
     double sj_min = 0, sj_avg = 0;
     long inverted = 0;

@@ -226,6 +226,10 @@ TEST(FanBlocks, ConditionsAlongTheChain) {
     off.fan_blocks = true;
     off.enabled = false;
     EXPECT_TRUE(find_fan_blocks(t, analyze_skeleton(t), off).chains.empty());
-    // The default: off (the finished meshes measured no better, docs/blocks.md).
-    EXPECT_TRUE(find_fan_blocks(t, analyze_skeleton(t), CompatibleBlockOptions{}).chains.empty());
+    // The default: on where accepted (test_fan_layouts: with a domain, the better finished layout is kept);
+    // fan_blocks = false (`--no-fan-blocks`): nothing.
+    EXPECT_EQ(find_fan_blocks(t, analyze_skeleton(t), CompatibleBlockOptions{}).chains.size(), 1u);
+    CompatibleBlockOptions no_fan;
+    no_fan.fan_blocks = false;
+    EXPECT_TRUE(find_fan_blocks(t, analyze_skeleton(t), no_fan).chains.empty());
 }

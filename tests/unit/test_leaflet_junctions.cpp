@@ -49,8 +49,11 @@ Built build(Skeleton s, double r) {
 void expect_good(const Skeleton& s, const Built& b, long hexes) {
     const QualityReport& q = b.quality;
     EXPECT_TRUE(q.validation.valid()) << (q.validation.problems.empty() ? "" : q.validation.problems[0].message);
-    // 8 more per compatible block (docs/blocks.md) than the analysis' count
-    EXPECT_EQ(static_cast<long>(b.raw.mesh.hexes.size()), hexes + 8 * b.prediction.compatible_blocks);
+    // 8 more per 8-hex compatible block, 4 more per fan edge and per cap of a fan block (docs/blocks.md) than the
+    // analysis' count (compatible_blocks counts both the 8-hex blocks and the fan edges with a block)
+    const RawMeshPrediction& p = b.prediction;
+    EXPECT_EQ(static_cast<long>(b.raw.mesh.hexes.size()),
+              hexes + 8 * (p.compatible_blocks - p.fan_blocks) + 4 * (p.fan_blocks + p.fan_block_caps));
     EXPECT_EQ(b.an.predicted_hexes, hexes);
     EXPECT_EQ(static_cast<long>(b.raw.mesh.points.size()), b.prediction.vertices);
     EXPECT_EQ(q.euler_characteristic, euler_characteristic(s));

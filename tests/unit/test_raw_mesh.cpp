@@ -30,11 +30,14 @@ struct Built {
     RawMesh raw;
 };
 
-Built build(Skeleton s, double radius) {
+// fan_blocks = false: the paper's gap vertices on every fan edge (the default puts fan blocks where accepted).
+Built build(Skeleton s, double radius, bool fan_blocks = true) {
     if (s.radii.empty()) s.radii.assign(s.points.size(), radius);
     Built b;
     b.an = analyze_skeleton(s);
-    b.cs = build_connection_surfaces(s, b.an);
+    ConnectionSurfaceOptions co;
+    co.blocks.fan_blocks = fan_blocks;
+    b.cs = build_connection_surfaces(s, b.an, co);
     b.prediction = predict_raw_mesh(s, b.an, b.cs);
     const BranchFrames fr = propagate_frames(s, b.an, b.cs);
     b.raw = build_raw_mesh(s, b.an, b.cs, fr);
@@ -88,11 +91,11 @@ using mesohex::test::cube_surface;
 using mesohex::test::plate;
 using mesohex::test::random_directions;
 
-// Leaflet meshes: hexes = 2 per face + 2 per boundary edge, valid, Euler characteristic of the skeleton,
-// predicted irregular edges == measured, no inverted hex.
+// Leaflet meshes: hexes = 2 per face + 2 per boundary edge (+ 4 per fan edge and per cap of a fan block, docs/blocks.md),
+// valid, Euler characteristic of the skeleton, predicted irregular edges == measured, no inverted hex.
 void expect_good_leaflet_mesh(const Skeleton& s, const Built& b, long hexes) {
     const HexMesh& m = b.raw.mesh;
-    EXPECT_EQ(static_cast<long>(m.hexes.size()), hexes);
+    EXPECT_EQ(static_cast<long>(m.hexes.size()), hexes + 4 * (b.prediction.fan_blocks + b.prediction.fan_block_caps));
     EXPECT_EQ(static_cast<long>(m.hexes.size()), b.prediction.hexes);
     EXPECT_EQ(static_cast<long>(m.points.size()), b.prediction.vertices);
     const QualityReport q = compute_quality(m);
@@ -187,9 +190,9 @@ Skeleton fan(int n, int m, const std::vector<Vec3>& dirs, const std::vector<bool
 }
 
 TEST(RawMeshLeaflets, TFanOfThreeThreeByTwoStrips) {
-    // 18 faces (36 plate hexes) + 3 x 7 boundary edges (42 half-chunk hexes) = 78.
+    // The paper's layout: 18 faces (36 plate hexes) + 3 x 7 boundary edges (42 half-chunk hexes) = 78.
     const Skeleton s = fan(3, 2, {{0, 1, 0}, {0, -1, 0}, {0, 0, 1}}, {false, true, false});
-    const Built b = build(s, 0.25);
+    const Built b = build(s, 0.25, false);
     EXPECT_EQ(b.an.counts.fan_edges, 3);
     EXPECT_EQ(b.an.counts.fan_edge_ends, 2);
     EXPECT_EQ(b.an.counts.fan_edge_vertices, 2);

@@ -29,10 +29,11 @@ struct CompatibleBlockOptions {
     double pair_tolerance_deg = 25;  // degrees: largest error of a pair angle against the angle of its two axes
     int min_branches = 3;            // branching points with fewer or more branch edges keep the partition
     int max_branches = 6;            // (see min_branches)
-    // 4-hex fan blocks along T / X fan chains (fan_blocks.h; same two tolerances, 2D). Off by default: raw meshes
-    // gain (no valence-2g fan edge, higher min / avg SJ), finished meshes of the generated T and X fans did not
-    // (lower min SJ and larger Hausdorff distance in most cases; docs/blocks.md). `mesohex mesh --fan-blocks`.
-    bool fan_blocks = false;
+    // 4-hex fan blocks along T / X fan chains (fan_blocks.h; same two tolerances, 2D), on where accepted: no
+    // valence-2g interior edge on the fan line, higher raw min / avg SJ. With a domain, mesh_skeleton also finishes
+    // the paper's layout and keeps the better (MeshOptions::compare_fan_layouts; docs/blocks.md). false
+    // (`--no-fan-blocks`): the paper's gap vertices on every fan edge.
+    bool fan_blocks = true;
 };
 
 // Signed cube axes are numbered 2a + s: a = 0, 1, 2 (x, y, z of the block frame), s = 0 for +, 1 for -.
