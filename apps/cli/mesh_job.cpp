@@ -223,9 +223,12 @@ int run_mesh_job(const MeshJob& job, const Skeleton& skeleton, const std::option
     MeshOptions options = options_of(job);
     ProgressDisplay display(!job.quiet && isatty(STDERR_FILENO));
     options.progress = [&display, &job](const MeshProgress& p) {
-        if (p.stage == "attempt" && p.what == "fully padded" && !job.quiet)
+        if (p.stage == "attempt" && p.what == "paper's fan layout, first" && !job.quiet)
+            std::cerr
+                << "mesohex: the raw mesh has fan blocks; the paper's fan layout is finished too, the better kept\n";
+        if (p.stage == "attempt" && p.what.ends_with("fully padded") && !job.quiet)
             std::cerr << "mesohex: the mesh misses a goal; another attempt with every boundary quad padded\n";
-        if (p.stage == "attempt" && p.what == "cautious joints" && !job.quiet)
+        if (p.stage == "attempt" && p.what.ends_with("cautious joints") && !job.quiet)
             std::cerr << "mesohex: the mesh misses a goal; another attempt with first joints farther from the "
                          "branching points\n";
         display.update(p);

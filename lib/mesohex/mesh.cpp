@@ -121,16 +121,27 @@ bool retry_applies(const MeshOptions& options, const MeshRun& run) {
            (options.retry_max_hexes <= 0 || run.finish->quality.hexes <= options.retry_max_hexes);
 }
 
-// The most finishing attempts the options allow: the first, the fully padded one, the cautious skeleton.
-int max_attempts(const MeshOptions& options) {
-    const bool padded = options.retry && options.finishing.pad && options.finishing.pad_selective;
-    return 1 + (padded ? 1 : 0) + (cautious_retry_allowed(options) ? 1 : 0);
+// Whether the run finishes two layouts (compare_fan_layouts): its raw mesh has fan blocks, or it is the paper's
+// layout finished after them (its attempts start with theirs).
+bool two_layouts(const MeshRun& run, const MeshOptions& options) {
+    return (options.compare_fan_layouts && run.pipeline.predicted.fan_blocks > 0) ||
+           (!run.attempts.empty() && run.attempts.front().fan_blocks > 0);
 }
 
-// Reports the start of the next finishing attempt (numbered from 1 in the order they run).
-void report_attempt(const MeshRun& run, const MeshOptions& options, const char* what) {
-    if (options.progress)
-        options.progress({"attempt", static_cast<int>(run.attempts.size()) + 1, max_attempts(options), 0, 0, what});
+// The most finishing attempts the options allow: per layout the first, the fully padded one, the cautious skeleton.
+int max_attempts(const MeshRun& run, const MeshOptions& options) {
+    const bool padded = options.retry && options.finishing.pad && options.finishing.pad_selective;
+    const int per_layout = 1 + (padded ? 1 : 0) + (cautious_retry_allowed(options) ? 1 : 0);
+    return two_layouts(run, options) ? 2 * per_layout : per_layout;
+}
+
+// Reports the start of the next finishing attempt (numbered from 1 in the order they run, both layouts together).
+void report_attempt(const MeshRun& run, const MeshOptions& options, const std::string& what) {
+    if (!options.progress) return;
+    const bool paper_after_blocks = !run.attempts.empty() && run.attempts.front().fan_blocks > 0 &&
+                                    !options.pipeline.connection_surfaces.blocks.fan_blocks;
+    options.progress({"attempt", static_cast<int>(run.attempts.size()) + 1, max_attempts(run, options), 0, 0,
+                      paper_after_blocks ? "paper's fan layout, " + what : what});
 }
 
 // The selective padding left regions of the raw boundary bare and the result misses a goal: the same raw mesh is
@@ -196,8 +207,9 @@ void compare_fan_layouts(MeshRun& run, const Skeleton& skeleton, const TriangleM
     other.options = paper.pipeline;
     other.pipeline = run_pipeline(skeleton, other.options);
     set_raw_quality(other, paper);
+    other.attempts = run.attempts;  // numbers the progress reports on from the fan-block attempts
     finish_with_retry(other, skeleton, domain, paper);
-    run.attempts.insert(run.attempts.end(), other.attempts.begin(), other.attempts.end());
+    run.attempts = std::move(other.attempts);
     if (!better_layout(*other.finish, *run.finish, options.goals)) return;
     run.options = std::move(other.options);
     run.pipeline = std::move(other.pipeline);

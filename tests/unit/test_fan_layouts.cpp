@@ -162,9 +162,22 @@ TEST(FanLayouts, SharpRimmedTBeamKeepsTheBlock) {
     const Skeleton s = generate_skeleton("tfan");
     const TriangleMesh beam =
         box_union({{Vec3{-2.3, -0.3, -1.3}, Vec3{2.3, 0.3, 1.3}}, {Vec3{-0.3, 0, -1.3}, Vec3{0.3, 2.3, 1.3}}}, 0.1);
-    const MeshRun run = mesh_in_domain(s, beam);
+    MeshOptions o;
+    std::vector<MeshProgress> attempts;  // the attempts' progress reports
+    o.progress = [&attempts](const MeshProgress& p) {
+        if (p.stage == "attempt") attempts.push_back(p);
+    };
+    const MeshRun run = mesh_in_domain(s, beam, o);
     ASSERT_TRUE(run.finish);
     ASSERT_EQ(run.attempts.size(), 2u);
+    // Both layouts' attempts numbered together, out of 2 x 3 (first, fully padded, cautious joints per layout).
+    ASSERT_EQ(attempts.size(), 2u);
+    EXPECT_EQ(attempts[0].step, 1);
+    EXPECT_EQ(attempts[1].step, 2);
+    EXPECT_EQ(attempts[0].steps, 6);
+    EXPECT_EQ(attempts[1].steps, 6);
+    EXPECT_EQ(attempts[0].what, "first");
+    EXPECT_EQ(attempts[1].what, "paper's fan layout, first");
     EXPECT_EQ(run.pipeline.predicted.fan_blocks, 2);
     EXPECT_EQ(run.finish->pad_bare_quads, run.finish->pad_boundary_quads);
     EXPECT_EQ(run.quality().hexes, 76 * 8);  // no padding hex, one subdivision level
