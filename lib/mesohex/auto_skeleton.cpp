@@ -46,6 +46,10 @@ RawInversionSites locate_raw_inversions(const Skeleton& meshed, const RawMesh& r
     for (size_t h = 0; h < sj.size() && h < raw.hex_edge.size(); ++h) {
         if (sj[h] > 0) continue;
         const int e = raw.hex_edge[h];
+        if (e >= static_cast<int>(meshed.edges.size())) {
+            ++out.chunks;  // not an edge of `meshed` (precondition broken): counted, not placed
+            continue;
+        }
         if (e < 0) {
             ++out.plates;
             continue;
