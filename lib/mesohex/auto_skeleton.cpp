@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <utility>
 #include <vector>
 
 #include "mesohex/core/error.h"
 #include "mesohex/finish.h"
+#include "mesohex/post/quality.h"
 #include "mesohex/surface/radius_from_surface.h"
 #include "mesohex/surface/surface_query.h"
 
@@ -20,6 +22,43 @@ const char* skeleton_kind_name(SkeletonKind kind) {
         case SkeletonKind::Meso: return "meso";
     }
     return "auto";
+}
+
+RawInversionSites locate_raw_inversions(const Skeleton& meshed, const RawMesh& raw) {
+    RawInversionSites out;
+    std::set<std::array<int, 2>> sides;
+    std::vector<char> in_face(meshed.points.size(), 0), on_branch(meshed.points.size(), 0);
+    for (const std::vector<int>& f : meshed.faces)
+        for (size_t k = 0; k < f.size(); ++k) {
+            const int a = f[k], b = f[(k + 1) % f.size()];
+            sides.insert({std::min(a, b), std::max(a, b)});
+            in_face[static_cast<size_t>(a)] = 1;
+        }
+    std::vector<char> is_side(meshed.edges.size(), 0);
+    for (size_t e = 0; e < meshed.edges.size(); ++e) {
+        const int a = meshed.edges[e][0], b = meshed.edges[e][1];
+        is_side[e] = sides.count({std::min(a, b), std::max(a, b)}) ? 1 : 0;
+        if (!is_side[e]) on_branch[static_cast<size_t>(a)] = on_branch[static_cast<size_t>(b)] = 1;
+    }
+    auto join = [&](int v) { return in_face[static_cast<size_t>(v)] && on_branch[static_cast<size_t>(v)]; };
+    for (size_t v = 0; v < meshed.points.size(); ++v) out.joins += join(static_cast<int>(v)) ? 1 : 0;
+    const std::vector<double> sj = scaled_jacobians(raw.mesh);
+    for (size_t h = 0; h < sj.size() && h < raw.hex_edge.size(); ++h) {
+        if (sj[h] > 0) continue;
+        const int e = raw.hex_edge[h];
+        if (e >= static_cast<int>(meshed.edges.size())) {
+            ++out.chunks;  // not an edge of `meshed` (precondition broken): counted, not placed
+            continue;
+        }
+        if (e < 0) {
+            ++out.plates;
+            continue;
+        }
+        ++(is_side[static_cast<size_t>(e)] ? out.half_chunks : out.chunks);
+        if (join(meshed.edges[static_cast<size_t>(e)][0]) || join(meshed.edges[static_cast<size_t>(e)][1]))
+            ++out.at_joins;
+    }
+    return out;
 }
 
 namespace {
@@ -62,10 +101,13 @@ double medial_coverage_gap(const TriangleMesh& surface, const Skeleton& medial) 
 
 // The raw mesh (no finishing) of a skeleton with radii, in the surface; with `padded`, also the number of inverted
 // hexes after the finishing's padding layer alone (the first stage of finish_mesh, with its defaults).
-QualityReport raw_quality_of(const Skeleton& skeleton, const TriangleMesh& surface, long* padded_inverted = nullptr) {
+// With `sites`, also where its inverted hexes lie (locate_raw_inversions).
+QualityReport raw_quality_of(const Skeleton& skeleton, const TriangleMesh& surface, long* padded_inverted = nullptr,
+                             RawInversionSites* sites = nullptr) {
     MeshOptions raw_options;
     raw_options.finish = false;
     const MeshRun run = mesh_skeleton(skeleton, &surface, raw_options);
+    if (sites) *sites = locate_raw_inversions(run.pipeline.skeleton, run.pipeline.raw);
     if (padded_inverted) {
         FinishOptions pad_only;
         pad_only.pad_improve_sj = 0;
@@ -102,7 +144,8 @@ void judge_curve_answer(AutoSkeleton& out, const AutoSkeletonOptions& options) {
         << out.curve_padded_inverted << " inverted after the padding layer" << (out.curve_raw_valid ? "" : ", invalid");
     if (out.raw_checked)
         why << "; medial meso-skeleton " << out.raw_hexes << " raw hexes, " << out.raw_inverted << " inverted (min SJ "
-            << out.raw_sj_min << ")";
+            << out.raw_sj_min << "; " << out.raw_sites.at_joins << " of them next to the " << out.raw_sites.joins
+            << " joins where its curves meet its sheets)";
     else if (out.medial_computed)
         why << "; medial meso-skeleton not tried (" << out.reason << ")";
     out.refusal = why.str();
@@ -153,13 +196,19 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
                     out.import.skeleton.radii[v] = rs.radii[v];  // a point on the surface keeps its own
         }
         if (options.kind == SkeletonKind::Auto) {
-            const QualityReport raw = raw_quality_of(out.import.skeleton, surface);
+            const QualityReport raw = raw_quality_of(out.import.skeleton, surface, nullptr, &out.raw_sites);
             out.raw_checked = true;
             out.raw_hexes = raw.hexes;
             out.raw_inverted = raw.inverted;
             out.raw_sj_min = raw.sj_min;
             why << "; meso raw mesh " << out.raw_hexes << " hexes, " << out.raw_inverted << " inverted (min SJ "
                 << out.raw_sj_min << ", radii " << options.meso_radius_factor << " x distance)";
+            if (out.raw_inverted > 0) {
+                const RawInversionSites& w = out.raw_sites;
+                why << " [inverted: " << w.at_joins << " next to the " << w.joins << " joins where curves meet sheets; "
+                    << w.half_chunks << " along leaflet borders, " << w.chunks << " on branches, " << w.plates
+                    << " in plates or blocks]";
+            }
             if (!raw.validation.valid() || out.raw_inverted > options.max_raw_inverted ||
                 out.raw_sj_min < options.min_raw_sj) {
                 why << ": more than " << options.max_raw_inverted << " inverted, min SJ below " << options.min_raw_sj

@@ -12,12 +12,27 @@
 #include "mesohex/core/skeleton.h"
 #include "mesohex/mesh.h"
 #include "mesohex/stages/medial_import.h"
+#include "mesohex/stages/raw_mesh.h"
 #include "mesohex/surface/medial_axis.h"
 #include "mesohex/surface/skeletonize.h"
 
 namespace mesohex {
 
 enum class SkeletonKind { Auto, Curve, Meso };
+
+// Where the inverted hexes (scaled Jacobian <= 0) of a raw mesh lie, by the skeleton element that made each one
+// (RawMesh::hex_edge). A join is a skeleton vertex with both a leaflet face and a branch edge (a curve meeting a
+// sheet: BL-joint, branch rooted on a leaflet, branching point with leaflets).
+struct RawInversionSites {
+    long plates = 0;       // hex_edge -1: leaflet plates (and 8-hex or fan blocks)
+    long half_chunks = 0;  // on a leaflet edge (a face side): the half-chunks along a leaflet border
+    long chunks = 0;       // on a branch edge
+    long at_joins = 0;     // of the half-chunks and chunks, those whose edge has an end at a join
+    long joins = 0;        // joins in the skeleton
+};
+
+// Preconditions: raw was built from `meshed` (hex_edge indexes meshed.edges, one entry per hex). Deterministic.
+RawInversionSites locate_raw_inversions(const Skeleton& meshed, const RawMesh& raw);
 
 struct AutoSkeletonOptions {
     SkeletonKind kind = SkeletonKind::Auto;  // Curve / Meso force one; Auto decides
@@ -59,6 +74,7 @@ struct AutoSkeleton {
     bool raw_checked = false;                 // the meso-skeleton's raw mesh was built (Auto)
     long raw_hexes = 0, raw_inverted = 0;
     double raw_sj_min = 0;
+    RawInversionSites raw_sites;  // where the meso raw mesh's inverted hexes lie (when raw_checked)
     // Auto, curve skeleton chosen: its raw mesh (mesh_skeleton without finishing, radii of the skeleton file).
     bool curve_raw_checked = false;
     bool curve_raw_valid = false;

@@ -202,9 +202,18 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                               {"coverage_gap_relative", chosen.coverage_gap}};
     }
     if (chosen.raw_checked)
-        decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},    {"inverted", chosen.raw_inverted},
-                                     {"sj_min", chosen.raw_sj_min},  {"max_inverted", options.max_raw_inverted},
-                                     {"min_sj", options.min_raw_sj}, {"radius_factor", options.meso_radius_factor}};
+        decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},
+                                     {"inverted", chosen.raw_inverted},
+                                     {"sj_min", chosen.raw_sj_min},
+                                     {"max_inverted", options.max_raw_inverted},
+                                     {"min_sj", options.min_raw_sj},
+                                     {"radius_factor", options.meso_radius_factor},
+                                     {"inverted_at",
+                                      {{"joins", chosen.raw_sites.joins},
+                                       {"at_joins", chosen.raw_sites.at_joins},
+                                       {"half_chunks", chosen.raw_sites.half_chunks},
+                                       {"chunks", chosen.raw_sites.chunks},
+                                       {"plates", chosen.raw_sites.plates}}}};
     if (chosen.curve_raw_checked)
         decision["curve_raw_mesh"] = {{"hexes", chosen.curve_raw_hexes},
                                       {"inverted", chosen.curve_raw_inverted},

@@ -22,6 +22,29 @@ TriangleMesh box(double a, double t) {
     return m;
 }
 
+TEST(AutoSkeleton, InvertedRawHexesAreLocatedByTheirSkeletonElement) {
+    // A quad leaflet 0-1-2-3 with a branch 2-4: vertex 2 is the one join. Five hexes: the unit cube (positive, not
+    // counted) and four inverted ones (the cube with top and bottom swapped: scaled Jacobian -1), made by a plate
+    // (hex_edge -1), the border edge 0-1 (a half-chunk away from the join), the branch edge 2-4 (a chunk at the join)
+    // and the border edge 1-2 (a half-chunk at the join).
+    Skeleton sk;
+    sk.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 2, 0}};
+    sk.edges = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {2, 4}};
+    sk.faces = {{0, 1, 2, 3}};
+    RawMesh raw;
+    for (int k = 0; k < 8; ++k) raw.mesh.points.push_back({k & 1 ? 1.0 : 0.0, k & 2 ? 1.0 : 0.0, k & 4 ? 1.0 : 0.0});
+    const std::array<int, 8> cube = {0, 1, 3, 2, 4, 5, 7, 6};  // VTK order
+    const std::array<int, 8> flipped = {4, 5, 7, 6, 0, 1, 3, 2};
+    raw.mesh.hexes = {cube, flipped, flipped, flipped, flipped};
+    raw.hex_edge = {-1, -1, 0, 4, 1};
+    const RawInversionSites w = locate_raw_inversions(sk, raw);
+    EXPECT_EQ(w.joins, 1);
+    EXPECT_EQ(w.plates, 1);
+    EXPECT_EQ(w.half_chunks, 2);
+    EXPECT_EQ(w.chunks, 1);
+    EXPECT_EQ(w.at_joins, 2);
+}
+
 TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {
     const TriangleMesh s = box(2, 0.3);
     const AutoSkeletonOptions o;
@@ -29,6 +52,8 @@ TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {
     ASSERT_EQ(a.kind, SkeletonKind::Meso) << a.reason;
     ASSERT_TRUE(a.raw_checked);
     EXPECT_LE(a.raw_inverted, o.max_raw_inverted);
+    EXPECT_EQ(a.raw_sites.joins, 0);  // one sheet, no curve
+    EXPECT_EQ(a.raw_sites.plates + a.raw_sites.half_chunks + a.raw_sites.chunks, a.raw_inverted);
     EXPECT_GE(a.raw_sj_min, o.min_raw_sj);
     const SurfaceQuery q(s);
     const RadiusFromSurface d = radius_from_surface(a.skeleton, q, {1.0});

@@ -3,6 +3,7 @@
 // (a closed curve), a disk with a hub (sheet + curve).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -281,6 +282,32 @@ TEST(MedialAxis, KeepTopologyKeepsTheSolidsEulerCharacteristic) {
     EXPECT_EQ(plain.initial_euler, 0);
     EXPECT_EQ(plain.sheets, 1);
     EXPECT_EQ(plain.euler, 0);
+}
+
+TEST(MedialAxis, FringeCurvesAlongASheetAreRemoved) {
+    // A unit square sheet (0-3, 2 triangles) and a one-triangle sheet (7-9) 0.2 to its right, every radius 0.1 (the
+    // limit is 2 x 0.1). Curve chains: 1-4-2 runs along the square's edge x = 1 (4 is 0.112 from it): a fringe; the
+    // chord 1-3 lies in the square: a fringe; the handle 0-5-3 rises 1 above it (0.28 from it at a quarter of 0-5):
+    // kept; 2-6 ends at a tip: kept; 1-7 is near both sheets all along but is their only link: kept.
+    Skeleton m;
+    m.points = {{0, 0, 0},      {1, 0, 0},     {1, 1, 0},   {0, 1, 0}, {1.1, 0.5, 0.05},
+                {0.5, -0.5, 1}, {1.1, 1.1, 0}, {1.2, 0, 0}, {2, 0, 0}, {1.2, 1, 0}};
+    m.radii.assign(m.points.size(), 0.1);
+    m.faces = {{0, 1, 2}, {0, 2, 3}, {7, 8, 9}};
+    m.edges = {{0, 1}, {1, 2}, {0, 2}, {2, 3}, {0, 3}, {7, 8}, {8, 9}, {7, 9},
+               {1, 4}, {4, 2}, {1, 3}, {0, 5}, {5, 3}, {2, 6}, {1, 7}};
+    EXPECT_EQ(remove_fringe_curves(m, 2.0), 2);
+    ASSERT_EQ(m.points.size(), 9u);  // vertex 4 goes, the others keep their order
+    EXPECT_EQ(m.points[4], (Vec3{0.5, -0.5, 1}));
+    EXPECT_EQ(m.edges.size(), 12u);
+    EXPECT_EQ(m.faces.size(), 3u);
+    const auto has = [&](int a, int b) {
+        return std::count(m.edges.begin(), m.edges.end(), std::array<int, 2>{a, b}) == 1;
+    };
+    EXPECT_TRUE(has(0, 4) && has(4, 3) && has(2, 5) && has(1, 6));  // handle, tip, link (ids after vertex 4)
+    EXPECT_FALSE(has(1, 3));
+    EXPECT_EQ(euler_characteristic(m), 9 - 12 + 3);
+    EXPECT_EQ(remove_fringe_curves(m, 2.0), 0);  // nothing left to remove
 }
 
 TEST(MedialAxis, SameSurfaceSameMedialMesh) {

@@ -1331,6 +1331,126 @@ void measure(MedialAxis& out) {
 
 }  // namespace
 
+namespace {
+
+// Closest point to p on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
+Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    const Vec3 bp = p - b;
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+    const Vec3 cp = p - c;
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    const double denom = va + vb + vc;
+    if (denom == 0) return a;  // degenerate triangle
+    return a + ab * (vb / denom) + ac * (vc / denom);
+}
+
+}  // namespace
+
+int remove_fringe_curves(Skeleton& m, double factor) {
+    const int nv = static_cast<int>(m.points.size());
+    std::set<std::array<int, 2>> sides;
+    std::vector<char> in_triangle(static_cast<size_t>(nv), 0);
+    for (const std::vector<int>& f : m.faces)
+        for (size_t k = 0; k < f.size(); ++k) {
+            const int a = f[k], b = f[(k + 1) % f.size()];
+            sides.insert({std::min(a, b), std::max(a, b)});
+            in_triangle[static_cast<size_t>(a)] = 1;
+        }
+    std::vector<std::vector<int>> curve_adj(static_cast<size_t>(nv));
+    for (const std::array<int, 2>& e : m.edges)
+        if (!sides.count({std::min(e[0], e[1]), std::max(e[0], e[1])})) {
+            curve_adj[static_cast<size_t>(e[0])].push_back(e[1]);
+            curve_adj[static_cast<size_t>(e[1])].push_back(e[0]);
+        }
+    for (std::vector<int>& a : curve_adj) std::sort(a.begin(), a.end());
+    auto is_node = [&](int v) {
+        return curve_adj[static_cast<size_t>(v)].size() != 2 || in_triangle[static_cast<size_t>(v)];
+    };
+    auto key = [](int a, int b) { return std::array<int, 2>{std::min(a, b), std::max(a, b)}; };
+    auto near_sheet = [&](const Vec3& p, double r) {
+        const double limit = factor * r;
+        for (const std::vector<int>& f : m.faces) {
+            const Vec3 q =
+                closest_on_triangle(p, m.points[static_cast<size_t>(f[0])], m.points[static_cast<size_t>(f[1])],
+                                    m.points[static_cast<size_t>(f[2])]);
+            if (squared_norm(p - q) <= limit * limit) return true;
+        }
+        return false;
+    };
+    std::set<std::array<int, 2>> removed, visited;
+    int chains = 0;
+    for (int v = 0; v < nv; ++v) {
+        if (!is_node(v)) continue;
+        for (int n : curve_adj[static_cast<size_t>(v)]) {
+            if (visited.count(key(v, n))) continue;
+            std::vector<int> chain = {v, n};
+            visited.insert(key(v, n));
+            while (!is_node(chain.back())) {
+                const std::vector<int>& a = curve_adj[static_cast<size_t>(chain.back())];
+                const int next = a[0] == chain[chain.size() - 2] ? a[1] : a[0];
+                if (!visited.insert(key(chain.back(), next)).second) break;
+                chain.push_back(next);
+            }
+            if (!in_triangle[static_cast<size_t>(chain.front())] || !in_triangle[static_cast<size_t>(chain.back())])
+                continue;
+            bool along = true;
+            for (size_t k = 0; along && k + 1 < chain.size(); ++k)
+                for (double t : {0.25, 0.5, 0.75}) {
+                    const size_t a = static_cast<size_t>(chain[k]), b = static_cast<size_t>(chain[k + 1]);
+                    if (!near_sheet(m.points[a] + (m.points[b] - m.points[a]) * t,
+                                    (1 - t) * m.radii[a] + t * m.radii[b])) {
+                        along = false;
+                        break;
+                    }
+                }
+            if (!along) continue;
+            // The ends must stay connected without the chain (and without the chains removed before).
+            UnionFind uf(nv);
+            std::set<std::array<int, 2>> gone = removed;
+            for (size_t k = 0; k + 1 < chain.size(); ++k) gone.insert(key(chain[k], chain[k + 1]));
+            for (const std::array<int, 2>& e : m.edges)
+                if (!gone.count(key(e[0], e[1]))) uf.unite(e[0], e[1]);
+            if (uf.find(chain.front()) != uf.find(chain.back())) continue;
+            removed = std::move(gone);
+            ++chains;
+        }
+    }
+    if (chains == 0) return 0;
+    std::erase_if(m.edges, [&](const std::array<int, 2>& e) { return removed.count(key(e[0], e[1])) > 0; });
+    std::vector<char> used(static_cast<size_t>(nv), 0);
+    for (const std::array<int, 2>& e : m.edges) used[static_cast<size_t>(e[0])] = used[static_cast<size_t>(e[1])] = 1;
+    for (const std::vector<int>& f : m.faces)
+        for (int v : f) used[static_cast<size_t>(v)] = 1;
+    std::vector<int> id(static_cast<size_t>(nv), -1);
+    Skeleton out;
+    for (int v = 0; v < nv; ++v)
+        if (used[static_cast<size_t>(v)]) {
+            id[static_cast<size_t>(v)] = static_cast<int>(out.points.size());
+            out.points.push_back(m.points[static_cast<size_t>(v)]);
+            out.radii.push_back(m.radii[static_cast<size_t>(v)]);
+        }
+    for (const std::array<int, 2>& e : m.edges)
+        out.edges.push_back({id[static_cast<size_t>(e[0])], id[static_cast<size_t>(e[1])]});
+    for (const std::vector<int>& f : m.faces) {
+        std::vector<int> g;
+        for (int v : f) g.push_back(id[static_cast<size_t>(v)]);
+        out.faces.push_back(std::move(g));
+    }
+    m = std::move(out);
+    return chains;
+}
+
 MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOptions& options) {
     const SurfaceCheck check = check_surface(surface);
     if (!check.is_closed_manifold())
@@ -1437,6 +1557,7 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     out.pruned_tips = prune_tips(s, vertex_alive, options.prune_factor);
     merge_short_curve_edges(s, vertex_alive, 1e-4 * diag);
     out.medial = to_medial_mesh(s, vertex_alive, 1e-6 * diag);
+    if (options.fringe_factor > 0) out.fringe_curves = remove_fringe_curves(out.medial, options.fringe_factor);
     measure(out);
     return out;
 }

@@ -27,7 +27,8 @@
 //   5. curves and sheets by measured geometry: a triangle is wide when its smallest height is at least
 //      sheet_width_factor x its mean radius; a thin triangle with a side in no other triangle is removed with that
 //      side (an elementary collapse: homotopy kept), until none is left: tubes become curve edges; terminal curve
-//      branches that barely leave the sphere they start from are pruned (spurs); only the largest connected part is kept.
+//      branches that barely leave the sphere they start from are pruned (spurs); only the largest connected part is kept;
+//      curve chains between sheet vertices that run along a sheet (fringe_factor) are removed (remove_fringe_curves).
 // Deterministic: same surface and options, same output (the samples, the Delaunay insertion order and every later
 // loop are fixed; ties go to the lower id).
 #include <vector>
@@ -72,6 +73,12 @@ struct MedialAxisOptions {
     // min_part_vertices Voronoi vertices are noise and dropped.
     double join_factor = 0;     // x sphere radius (off by default: it joins corner debris on a plate)
     int min_part_vertices = 8;  // Voronoi vertices
+    // Curve chains with both ends on sheets that run along a sheet (every sampled point within fringe_factor x its
+    // radius of the sheet triangles: the chain's tube overlaps the sheet's slab all along) are removed when their ends
+    // stay connected without them (remove_fringe_curves; 0 = off). They are the remains of thin sheet triangles at
+    // a sheet's border and bridges over it, not limbs: they add cycles and joins where the mesher's half-chunks fold
+    // (x curve radius; docs/sheets.md).
+    double fringe_factor = 2.0;
     double prune_factor = 2.0;  // a terminal curve branch goes when its length + tip radius < this x the radius
                                 // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
 };
@@ -92,6 +99,7 @@ struct MedialAxis {
     int collapses = 0;                                // edge collapses performed
     int thin_triangles_removed = 0;                   // triangles turned into curves (step 5)
     int pruned_tips = 0;                              // curve tips pruned
+    int fringe_curves = 0;                            // curve chains removed by remove_fringe_curves
     int sheets = 0;                                   // triangle components through shared edges
     int curves = 0;              // curve branches: chains of curve edges between vertices that are not on exactly
                                  // two curve edges and in no triangle (a closed chain counts once)
@@ -108,5 +116,12 @@ struct MedialAxis {
 // survives the filter (a surface too thin for the sampling). Complexity: O(N log N) for N samples (Delaunay, inside
 // tests, simplification with a priority queue).
 MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOptions& options = {});
+
+// Step 5 of compute_medial_axis, on a medial mesh (points with radii, edges, triangle faces): every curve chain (curve
+// edges, in no triangle, between nodes: vertices in a triangle or not on exactly two curve edges) whose two ends are
+// triangle vertices and whose points at 1/4, 1/2 and 3/4 of each edge all lie within factor x their interpolated
+// radius of the nearest triangle is removed, with its inner vertices, if its ends stay connected without it (chains in
+// vertex order; ties to the lower id). Vertex order is kept (ids compacted). Returns the number of chains removed.
+int remove_fringe_curves(Skeleton& medial, double factor);
 
 }  // namespace mesohex
