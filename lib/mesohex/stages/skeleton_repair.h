@@ -84,6 +84,15 @@ struct SkeletonRepairOptions {
     // other edges lead back to the pair (a cycle). Off: it cascades on dense trees whose tubes overlap along whole
     // branches, absorbing most of the tree (docs/tuning.md).
     bool merge_branching_ends = false;
+    // Branching points of degree 4 (no leaflet) that the pair repairs left as they are and whose closest pair of
+    // branches is less than 90 degrees apart are split into two branching points of degree 3: the close pair leaves
+    // c' = c + h u, the other two branches c - h u (c moved), joined by an edge of length 2 h; u is the unit direction
+    // from the other pair's bisector to the close pair's, h = junction_split x r_c (dimensionless, x the branching
+    // point's radius), both radius r_c. A degree-4 junction's sphere partition (4 quads on 6 points) has flat corners
+    // and, for fat branches, narrow quads; two junctions of degree 3 have neither. 2 h must exceed
+    // AdaptationOptions::collapse_spread x 2 r_c (0.7) or adaptation collapses the edge back. 0 disables.
+    // docs/junctions.md ("Degree-4 junctions split"), docs/tuning.md.
+    double junction_split = 0.75;
     // Root patches of branches standing inside a leaflet. A branch rooted at an interior leaflet vertex v (exactly 4
     // faces around v, every leaflet edge at v shared by 2 faces, exactly one branch edge) stands on the 4 faces around
     // v; its first chunk is as wide as that patch (about 2 leaflet edges) while its tube may be much thinner (a
@@ -114,6 +123,7 @@ struct SkeletonRepairResult {
     int unseparated = 0;        // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
                                 // separate
     int root_strip_splits = 0;  // face strips split for root patches (root_patch_factor)
+    int junction_splits = 0;    // degree-4 branching points split in two (junction_split; one new vertex each)
     // The ball t of every absorbed stub or merged end, by output id: a radius peak the adaptation keeps as a joint
     // (adapt_skeleton's `pinned`), so that the resampling does not step over it and taper the bump away.
     std::vector<int> absorbed_balls;
