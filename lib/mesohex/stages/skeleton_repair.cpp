@@ -741,11 +741,9 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
 }
 
 // Splits every branching point of degree 4 left by the trunks (no leaflet, 4 branch edges) whose closest pair is less
-// than 90 degrees apart into two branching points of degree 3 (SkeletonRepairOptions::junction_split): c moves to
-// c - h u and keeps the other two branches, the new vertex c' = c + h u takes the close pair, u the unit direction
-// from the other pair's bisector to the close pair's, h = junction_split x r_c, both radius r_c, joined by the edge
-// (c, c'). Skipped where a branch edge would leave its new end backwards (its first vertex not beyond the split point
-// along u, resp. -u) or the bisectors coincide. Returns the number of points split.
+// than 90 degrees apart into two branching points of degree 3 (SkeletonRepairOptions::junction_split, placement and
+// radii there): the close pair moves to a new vertex c', the other two stay at c (moved), joined by the edge (c, c').
+// Returns the number of points split.
 int split_wide_junctions(Skeleton& s, double factor) {
     if (!(factor > 0) || s.radii.size() != s.points.size()) return 0;
     Graph g;

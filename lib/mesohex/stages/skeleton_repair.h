@@ -85,13 +85,17 @@ struct SkeletonRepairOptions {
     // branches, absorbing most of the tree (docs/tuning.md).
     bool merge_branching_ends = false;
     // Branching points of degree 4 (no leaflet) that the pair repairs left as they are and whose closest pair of
-    // branches is less than 90 degrees apart are split into two branching points of degree 3: the close pair leaves
-    // c' = c + h u, the other two branches c - h u (c moved), joined by an edge of length 2 h; u is the unit direction
-    // from the other pair's bisector to the close pair's, h = junction_split x r_c (dimensionless, x the branching
-    // point's radius), both radius r_c. A degree-4 junction's sphere partition (4 quads on 6 points) has flat corners
-    // and, for fat branches, narrow quads; two junctions of degree 3 have neither. 2 h must exceed
-    // AdaptationOptions::collapse_spread x 2 r_c (0.7) or adaptation collapses the edge back. 0 disables.
-    // docs/junctions.md ("Degree-4 junctions split"), docs/tuning.md.
+    // branches is less than 90 degrees apart are split into two branching points of degree 3: the close pair leaves a
+    // new vertex c' = c + a u, the other two branches stay at c, moved to c - b u, joined by the edge (c, c') of length
+    // a + b = 2 h, h = junction_split x r_c (dimensionless, x the branching point's radius); u is the unit direction
+    // from the other pair's bisector to the close pair's. Centred (a = b = h) unless a first edge is short: the split
+    // points then shift along u so that every first vertex lies at least m = min(h, (p1 + p2) / 2 - h) beyond its
+    // split point (p1, p2: the nearest first vertex's distance beyond c along u, resp. -u); no split when m <= 0.
+    // Radii: the largest of the moved branches' radii at that distance along their first edges. A degree-4
+    // junction's sphere partition (4 quads on 6 points) has flat corners and, with a close pair of fat branches,
+    // narrow quads; two junctions of degree 3 have neither. 2 h must exceed AdaptationOptions::collapse_spread x
+    // (r_c + r_c') (0.7 x 2) or adaptation collapses the edge back. 0 disables. docs/junctions.md ("Degree-4
+    // junctions split"), docs/tuning.md.
     double junction_split = 0.75;
     // Root patches of branches standing inside a leaflet. A branch rooted at an interior leaflet vertex v (exactly 4
     // faces around v, every leaflet edge at v shared by 2 faces, exactly one branch edge) stands on the 4 faces around
@@ -142,6 +146,8 @@ struct SkeletonRepairResult {
 // Repairs are made one pair at a time, the most overlapping first (largest x / r_c), until no pair qualifies (at most
 // one per input branch edge). Deterministic. Complexity O(trunks x (pairs at branching points) x polyline length).
 // Fan-end retractions (fan_end_repair.h) come first: input vertices keep their indices, new ones are appended.
+// Degree-4 splits (junction_split) come after the trunks: each moves c, appends c' and the edge (c, c') and re-attaches
+// the close pair's first edges to c' (V and E grow by one).
 // Root patch splits come after the trunks (they touch only leaflets): input vertices keep their indices, new vertices
 // are appended (cut points in edge order, then face centres in face order); a cut edge becomes its two halves in its
 // place; new edges inside split faces are appended in face order; a split face keeps its index for its first piece,
