@@ -160,10 +160,11 @@ Skeleton degree_four(double pair_len, double rest_len) {
     return s;
 }
 
-// The split (junction_split 0.75, h = 0.075): u = +z (from the other pair's bisector -z to the pair's +z); with long
-// first edges (p1 = cos 30 = 0.866, p2 = cos 50 = 0.643, both >= h + m, m = h) the split is centred: c moves to
-// (0, 0, -0.075), radius 0.1 (its branches' radius), the new vertex c' = (0, 0, 0.075) takes the pair, radius
-// 0.1 + 0.075 x (0.05 - 0.1) = 0.09625 (the pair's radius 0.075 along its edges). V and E grow by one.
+// The split (junction_split 0.75, h = 0.075): u = +z (from the other pair's bisector -z to the pair's +z). The first
+// vertices lie p1 = cos 30 = 0.8660 beyond c along u (the pair) and p2 = cos 50 = 0.6428 along -u (the others); the
+// split points sit m = (p1 + p2) / 2 - h = 0.6794 before them: c' = (0, 0, a), a = p1 - m = (p1 - p2) / 2 + h = 0.1866,
+// takes the pair, radius 0.1 + 0.1866 x (0.05 - 0.1) = 0.0907 (the pair's radius there); c moves to (0, 0, -b),
+// b = 2 h - a = -0.0366 (on the pair's side of its old place), radius 0.1. V and E grow by one.
 TEST(SkeletonRepair, DegreeFourJunctionSplit) {
     const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(degree_four(1.0, 1.0));
     EXPECT_EQ(res.trunks, 0);
@@ -171,12 +172,17 @@ TEST(SkeletonRepair, DegreeFourJunctionSplit) {
     const Skeleton& s = res.skeleton;
     ASSERT_EQ(s.points.size(), 6u);
     ASSERT_EQ(s.edges.size(), 5u);
-    EXPECT_NEAR(distance(s.points[0], Vec3{0, 0, -0.075}), 0, 1e-12);
+    const double p1 = std::cos(30 * kDeg), p2 = std::cos(50 * kDeg), a = 0.5 * (p1 - p2) + 0.075;
+    EXPECT_NEAR(a, 0.1866, 1e-4);
+    EXPECT_NEAR(distance(s.points[0], Vec3{0, 0, a - 0.15}), 0, 1e-12);
+    EXPECT_NEAR(s.points[0].z, 0.0366, 1e-4);
     EXPECT_NEAR(s.radii[0], 0.1, 1e-12);
-    EXPECT_NEAR(distance(s.points[5], Vec3{0, 0, 0.075}), 0, 1e-12);
-    EXPECT_NEAR(s.radii[5], 0.09625, 1e-12);
-    EXPECT_EQ(degree(s, 0), 3);  // the two others and the bridge
-    EXPECT_EQ(degree(s, 5), 3);  // the pair and the bridge
+    EXPECT_NEAR(distance(s.points[5], Vec3{0, 0, a}), 0, 1e-12);
+    EXPECT_NEAR(s.radii[5], 0.1 - 0.05 * a, 1e-12);
+    EXPECT_NEAR(s.radii[5], 0.0907, 1e-4);
+    EXPECT_NEAR(distance(s.points[0], s.points[5]), 0.15, 1e-12);  // 2 h
+    EXPECT_EQ(degree(s, 0), 3);                                    // the two others and the bridge
+    EXPECT_EQ(degree(s, 5), 3);                                    // the pair and the bridge
     for (const int v : {1, 2}) {
         bool to_split = false;
         for (const auto& e : s.edges) to_split |= (e[0] == v && e[1] == 5) || (e[0] == 5 && e[1] == v);
@@ -186,15 +192,15 @@ TEST(SkeletonRepair, DegreeFourJunctionSplit) {
     off.junction_split = 0;
     EXPECT_EQ(mesohex::repair_skeleton(degree_four(1.0, 1.0), off).junction_splits, 0);
 
-    // The other two first edges 0.1 long (p2 = 0.0643 < h + m): shifted along u until they lie m = h = 0.075 beyond
-    // c's new place: b = p2 - m = -0.0107 (c moves to +0.0107 z), a = 2 h - b = 0.1607.
+    // The other two first edges 0.1 long (p2 = 0.0643): the bridge moves towards the pair, into the middle of the
+    // room: a = (p1 - p2) / 2 + h = 0.4759, c at z = a - 2 h = 0.3259.
     const mesohex::SkeletonRepairResult shifted = mesohex::repair_skeleton(degree_four(1.0, 0.1));
     EXPECT_EQ(shifted.trunks + shifted.absorbed_stubs + shifted.side_stubs, 0);
     ASSERT_EQ(shifted.junction_splits, 1);
-    const double b = 0.1 * std::cos(50 * kDeg) - 0.075;
-    EXPECT_NEAR(b, -0.0107, 1e-4);
-    EXPECT_NEAR(shifted.skeleton.points[0].z, -b, 1e-12);
-    EXPECT_NEAR(shifted.skeleton.points[5].z, 0.15 - b, 1e-12);
+    const double a2 = 0.5 * (p1 - 0.1 * p2) + 0.075;
+    EXPECT_NEAR(a2, 0.4759, 1e-4);
+    EXPECT_NEAR(shifted.skeleton.points[5].z, a2, 1e-12);
+    EXPECT_NEAR(shifted.skeleton.points[0].z, a2 - 0.15, 1e-12);
     // Every first edge 0.08 long: p1 + p2 = 0.069 + 0.051 < 2 h, no room for the bridge: no split.
     EXPECT_EQ(mesohex::repair_skeleton(degree_four(0.08, 0.08)).junction_splits, 0);
     // No pair closer than 90 degrees (a planar cross): no split.
@@ -207,7 +213,7 @@ TEST(SkeletonRepair, DegreeFourJunctionSplit) {
 
 // Random seed 4 (issue 16's random set): a degree-4 branching point of radius 0.205 with a pair 63 degrees apart and
 // first edges 2.7 radii long (no trunk: the pair's tubes separate inside the ball). Split, its raw mesh's worst hex
-// (at that junction) rises from SJ 0.176 to 0.332 and the raw mesh gains 8 hexes (the bridge's chunk).
+// (at that junction) rises from SJ 0.176 to 0.324 and the raw mesh gains 8 hexes (the bridge's chunk).
 TEST(SkeletonRepair, RandomSeedWithDegreeFourJunction) {
     const Skeleton in = mesohex::generate_random_skeleton(4);
     mesohex::PipelineOptions unsplit;
@@ -224,7 +230,7 @@ TEST(SkeletonRepair, RandomSeedWithDegreeFourJunction) {
     EXPECT_TRUE(qa.validation.valid());
     EXPECT_EQ(qa.inverted, 0);
     EXPECT_NEAR(qb.sj_min, 0.176, 0.005);
-    EXPECT_NEAR(qa.sj_min, 0.332, 0.005);
+    EXPECT_NEAR(qa.sj_min, 0.324, 0.005);
 }
 
 // A stub of length 0.3 at 20 degrees from a long branch (radius 0.1: the tubes separate only at 0.576): absorbed

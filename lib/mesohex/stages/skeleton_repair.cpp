@@ -775,22 +775,22 @@ int split_wide_junctions(Skeleton& s, double factor) {
         const Vec3 u = normalized(normalized(d[bi] + d[bj]) - normalized(d[rest[0]] + d[rest[1]]));
         if (u == Vec3{}) continue;
         // p1, p2: how far the first vertices lie beyond c along u (the close pair, nearest of the two) and along -u
-        // (the other two). The split points c + a u and c - b u, a + b = 2 h, are centred on c (a = b = h) when every
-        // first vertex lies at least m = min(h, (p1 + p2) / 2 - h) beyond its split point along u (resp. -u), else
-        // shifted along u just enough for that (short first edges on one side); no split when m <= 0.
+        // (the other two). The split points c + a u and c - b u, a + b = 2 h, sit at the same distance m = (p1 + p2)
+        // / 2 - h before the nearest first vertex on either side (centred in the room the first edges leave); no
+        // split when m <= 0.
         const double h = factor * s.radii[c];
         double p1 = 1e300, p2 = 1e300;
         for (const int k : {bi, bj}) p1 = std::min(p1, dot(s.points[other[k]] - s.points[c], u));
         for (const int k : rest) p2 = std::min(p2, -dot(s.points[other[k]] - s.points[c], u));
-        const double m = std::min(h, 0.5 * (p1 + p2) - h);
+        const double m = 0.5 * (p1 + p2) - h;
         if (!(m > 0)) continue;
-        const double a = std::min(std::max(h, 2 * h - (p2 - m)), p1 - m), b = 2 * h - a;
+        const double a = p1 - m, b = 2 * h - a;
         // Radii: the largest of the edges' radii at that distance along them (linear from r_c to the first vertex's).
         const auto radius_at = [&](std::initializer_list<int> ks, double x) {
             double r = 0;
             for (const int k : ks) {
                 const double len = distance(s.points[other[k]], s.points[c]);
-                const double f = std::min(1.0, x / len);
+                const double f = std::clamp(x / len, 0.0, 1.0);  // x < 0: the split point lies on the other side
                 r = std::max(r, s.radii[c] + f * (s.radii[other[k]] - s.radii[c]));
             }
             return r;

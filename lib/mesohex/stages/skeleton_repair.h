@@ -88,9 +88,9 @@ struct SkeletonRepairOptions {
     // branches is less than 90 degrees apart are split into two branching points of degree 3: the close pair leaves a
     // new vertex c' = c + a u, the other two branches stay at c, moved to c - b u, joined by the edge (c, c') of length
     // a + b = 2 h, h = junction_split x r_c (dimensionless, x the branching point's radius); u is the unit direction
-    // from the other pair's bisector to the close pair's. Centred (a = b = h) unless a first edge is short: the split
-    // points then shift along u so that every first vertex lies at least m = min(h, (p1 + p2) / 2 - h) beyond its
-    // split point (p1, p2: the nearest first vertex's distance beyond c along u, resp. -u); no split when m <= 0.
+    // from the other pair's bisector to the close pair's. The split points sit at the same distance m = (p1 + p2) / 2 - h
+    // before the nearest first vertex on either side (p1, p2: that vertex's distance beyond c along u, resp. -u: the
+    // bridge is centred in the room the first edges leave, not on c); no split when m <= 0.
     // Radii: the largest of the moved branches' radii at that distance along their first edges. A degree-4
     // junction's sphere partition (4 quads on 6 points) has flat corners and, with a close pair of fat branches,
     // narrow quads; two junctions of degree 3 have neither. 2 h must exceed AdaptationOptions::collapse_spread x
