@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
     if (argc > 9) po.repair.wide_junction_trunks = std::atoi(argv[9]) != 0;
     if (const char* k = std::getenv("SIDE_STUB_REACH")) po.repair.side_stub_reach = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT")) po.repair.junction_split = std::atof(k);
+    if (const char* k = std::getenv("JUNCTION_SPLIT_GAP")) po.repair.junction_split_gap_deg = std::atof(k);
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf(

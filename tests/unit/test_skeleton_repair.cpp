@@ -201,6 +201,21 @@ TEST(SkeletonRepair, DegreeFourJunctionSplit) {
     EXPECT_NEAR(a2, 0.4759, 1e-4);
     EXPECT_NEAR(shifted.skeleton.points[5].z, a2, 1e-12);
     EXPECT_NEAR(shifted.skeleton.points[0].z, a2 - 0.15, 1e-12);
+    // An ambiguous pair: a third branch 95 degrees from +z in the xz plane lies 65 degrees from the pair's +x branch,
+    // only 5 degrees more than the pair's own 60 (junction_split_gap_deg 10): no split; with the gap at 0, split.
+    Skeleton ambiguous;
+    ambiguous.points = {{0, 0, 0},
+                        {std::sin(30 * kDeg), 0, std::cos(30 * kDeg)},
+                        {-std::sin(30 * kDeg), 0, std::cos(30 * kDeg)},
+                        {std::sin(95 * kDeg), 0, std::cos(95 * kDeg)},
+                        {0, 0, -1}};
+    ambiguous.radii = {0.1, 0.1, 0.1, 0.1, 0.1};
+    ambiguous.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    const mesohex::SkeletonRepairResult kept = mesohex::repair_skeleton(ambiguous);
+    EXPECT_EQ(kept.trunks + kept.absorbed_stubs + kept.side_stubs + kept.junction_splits, 0);
+    mesohex::SkeletonRepairOptions no_gap;
+    no_gap.junction_split_gap_deg = 0;
+    EXPECT_EQ(mesohex::repair_skeleton(ambiguous, no_gap).junction_splits, 1);
     // Every first edge 0.08 long: p1 + p2 = 0.069 + 0.051 < 2 h, no room for the bridge: no split.
     EXPECT_EQ(mesohex::repair_skeleton(degree_four(0.08, 0.08)).junction_splits, 0);
     // No pair closer than 90 degrees (a planar cross): no split.

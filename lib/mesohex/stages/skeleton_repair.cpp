@@ -5,6 +5,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <map>
+#include <numbers>
 #include <set>
 #include <utility>
 #include <vector>
@@ -744,7 +745,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
 // than 90 degrees apart into two branching points of degree 3 (SkeletonRepairOptions::junction_split, placement and
 // radii there): the close pair moves to a new vertex c', the other two stay at c (moved), joined by the edge (c, c').
 // Returns the number of points split.
-int split_wide_junctions(Skeleton& s, double factor) {
+int split_wide_junctions(Skeleton& s, double factor, double gap_deg) {
     if (!(factor > 0) || s.radii.size() != s.points.size()) return 0;
     Graph g;
     make_graph(s, g);
@@ -772,6 +773,11 @@ int split_wide_junctions(Skeleton& s, double factor) {
         std::array<int, 2> rest{};
         for (int k = 0, m = 0; k < 4; ++k)
             if (k != bi && k != bj) rest[m++] = k;
+        // An unambiguous pair: every angle across (a pair branch, another branch) exceeds the pair's by gap_deg.
+        const auto angle = [&](int x, int y) { return std::acos(std::clamp(dot(d[x], d[y]), -1.0, 1.0)); };
+        const double across =
+            std::min({angle(bi, rest[0]), angle(bi, rest[1]), angle(bj, rest[0]), angle(bj, rest[1])});
+        if (!(across - angle(bi, bj) >= gap_deg * std::numbers::pi / 180)) continue;
         const Vec3 u = normalized(normalized(d[bi] + d[bj]) - normalized(d[rest[0]] + d[rest[1]]));
         if (u == Vec3{}) continue;
         // p1, p2: how far the first vertices lie beyond c along u (the close pair, nearest of the two) and along -u
@@ -821,7 +827,7 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     Skeleton& s = res.skeleton;
     if (o.fan_end_retraction) res.fan_end_retractions = retract_fan_ends(s);
     repair_trunks(s, o, res);
-    res.junction_splits = split_wide_junctions(s, o.junction_split);
+    res.junction_splits = split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg);
     res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
     return res;
 }

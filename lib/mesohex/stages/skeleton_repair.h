@@ -97,6 +97,12 @@ struct SkeletonRepairOptions {
     // (r_c + r_c') (0.7 x 2) or adaptation collapses the edge back. 0 disables. docs/junctions.md ("Degree-4
     // junctions split"), docs/tuning.md.
     double junction_split = 0.75;
+    // The junction split needs an unambiguous close pair: every angle between one of its branches and one of the other
+    // two exceeds the pair's own angle by at least this (degrees). Below, a branch is about as close to a branch of the
+    // other pair as to its partner (e.g. three branches 74, 74 and 80 degrees apart in a row), the pairing and the
+    // split direction are arbitrary, and the split moved the junction the wrong way on the random set
+    // (docs/tuning.md, "Degree-4 junctions split").
+    double junction_split_gap_deg = 10;
     // Root patches of branches standing inside a leaflet. A branch rooted at an interior leaflet vertex v (exactly 4
     // faces around v, every leaflet edge at v shared by 2 faces, exactly one branch edge) stands on the 4 faces around
     // v; its first chunk is as wide as that patch (about 2 leaflet edges) while its tube may be much thinner (a
