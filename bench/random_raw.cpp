@@ -5,8 +5,9 @@
 //   mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints [merge [joint [wide]]]]]]]   (the
 //   others 0/1: SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends, joint_trunks,
 //   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every stub
-//   absorbed). The last two columns: stubs kept as side branches, and a hash of the raw mesh (compare two builds or
-//   option sets seed by seed to find the seeds a change touches).
+//   absorbed), JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off). The last three columns: stubs kept as
+//   side branches, degree-4 branching points split, and a hash of the raw mesh (compare two builds or option sets seed
+//   by seed to find the seeds a change touches).
 //
 // One line per seed, then the distribution. The worst raw hex is named by the adapted skeleton edge of its chunk
 // (a plate hex: "plate"), and by the kind of that edge's ends: bp = branching point without leaflet, lf = leaflet
@@ -67,11 +68,13 @@ int main(int argc, char** argv) {
     if (argc > 8) po.repair.joint_trunks = std::atoi(argv[8]) != 0;
     if (argc > 9) po.repair.wide_junction_trunks = std::atoi(argv[9]) != 0;
     if (const char* k = std::getenv("SIDE_STUB_REACH")) po.repair.side_stub_reach = std::atof(k);
+    if (const char* k = std::getenv("JUNCTION_SPLIT")) po.repair.junction_split = std::atof(k);
+    if (const char* k = std::getenv("JUNCTION_SPLIT_GAP")) po.repair.junction_split_gap_deg = std::atof(k);
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf(
         "seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks stubs merged unseparated side_stubs "
-        "raw_hash\n");
+        "junction_splits raw_hash\n");
     for (long seed = first; seed <= last; ++seed) {
         const Skeleton in = generate_random_skeleton(static_cast<std::uint64_t>(seed));
         try {
@@ -117,10 +120,10 @@ int main(int argc, char** argv) {
                               : vertex_kind(s, adj, on_face, s.edges[e][0]) + "-" +
                                     vertex_kind(s, adj, on_face, s.edges[e][1]);
             }
-            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d %d %d %d %016llx\n", seed,
+            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d %d %d %d %d %016llx\n", seed,
                         random_skeleton_kind(seed), s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(),
                         q.sj_min, q.sj_avg, q.inverted, off, where.c_str(), res.trunks, res.absorbed_stubs,
-                        res.merged_ends, res.unseparated_pairs, res.side_stubs,
+                        res.merged_ends, res.unseparated_pairs, res.side_stubs, res.junction_splits,
                         static_cast<unsigned long long>(raw_hash(res.raw)));
             mins.push_back(q.sj_min);
             offs.push_back(off);

@@ -69,6 +69,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         res.merged_ends = repaired.merged_ends;
         res.unseparated_pairs = repaired.unseparated;
         res.root_strip_splits = repaired.root_strip_splits;
+        res.junction_splits = repaired.junction_splits;
         for (const FanEndRetraction& r : repaired.fan_end_retractions) res.fan_end_retractions.push_back(r.vertex);
         s = adapt_skeleton(repaired.skeleton, options.adaptation,
                            options.repair.pin_absorbed_balls ? repaired.absorbed_balls : std::vector<int>{});
@@ -113,6 +114,7 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
     line("merged branching ends", res.merged_ends);
     line("close pairs left unseparated", res.unseparated_pairs);
     line("leaflet strips split around rooted branches", res.root_strip_splits);
+    line("degree-4 branching points split in two", res.junction_splits);
     if (!res.fan_end_retractions.empty()) {
         out << "repairs: fan edges retracted from branches on fan-edge ends: at input vertices";
         for (const int v : res.fan_end_retractions) out << " " << v;

@@ -44,6 +44,7 @@ struct PipelineResult {
     int merged_ends = 0;  // close-pair branches ending at a branching point, absorbed (their children re-attached)
     int unseparated_pairs = 0;             // close branch pairs the repair left (a branch ends inside the other's tube)
     int root_strip_splits = 0;             // leaflet face strips the repair split around rooted branches
+    int junction_splits = 0;               // degree-4 branching points the repair split into two of degree 3
     std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners
     int virtual_branches = 0;   // virtual branches added to the meshed skeleton (PipelineOptions::virtual_branches)
     Skeleton skeleton;          // the skeleton actually meshed (radii filled, adapted when resampling)

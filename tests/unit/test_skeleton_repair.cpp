@@ -99,6 +99,7 @@ TEST(SkeletonRepair, JointTrunkAtDegreeThree) {
     four.edges.push_back({1, 4});
     mesohex::SkeletonRepairOptions clearance;
     clearance.wide_junction_trunks = false;
+    clearance.junction_split = 0;  // the degree-4 split would take the pair (test DegreeFourJunctionSplit)
     const mesohex::SkeletonRepairResult res4 = mesohex::repair_skeleton(four, clearance);
     EXPECT_EQ(res4.trunks, 0);
     EXPECT_EQ(res4.skeleton, four);
@@ -141,6 +142,110 @@ TEST(SkeletonRepair, WideJunctionTrunkAtDegreeFour) {
     wide_pair.radii.push_back(r);
     wide_pair.edges.push_back({1, 4});
     EXPECT_EQ(mesohex::repair_skeleton(wide_pair, wide).trunks, 0);
+}
+
+// A branching point c = (0,0,0) of degree 4, radius 0.1: a close pair 60 degrees apart (+-30 degrees from +z in the xz
+// plane, length `pair_len`, end radius 0.05) and two branches +-50 degrees from -z in the yz plane (length `rest_len`,
+// radius 0.1; 100 degrees apart, not a close pair). No trunk (the pair's tubes separate inside c's ball). Vertices: 0 c, 1 2 the pair, 3 4 the others.
+Skeleton degree_four(double pair_len, double rest_len) {
+    Skeleton s;
+    const double a = 30 * kDeg, b = 50 * kDeg;
+    s.points = {{0, 0, 0},
+                {pair_len * std::sin(a), 0, pair_len * std::cos(a)},
+                {-pair_len * std::sin(a), 0, pair_len * std::cos(a)},
+                {0, rest_len * std::sin(b), -rest_len * std::cos(b)},
+                {0, -rest_len * std::sin(b), -rest_len * std::cos(b)}};
+    s.radii = {0.1, 0.05, 0.05, 0.1, 0.1};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    return s;
+}
+
+// The split (junction_split 0.75, h = 0.075): u = +z (from the other pair's bisector -z to the pair's +z). The first
+// vertices lie p1 = cos 30 = 0.8660 beyond c along u (the pair) and p2 = cos 50 = 0.6428 along -u (the others); the
+// split points sit m = (p1 + p2) / 2 - h = 0.6794 before them: c' = (0, 0, a), a = p1 - m = (p1 - p2) / 2 + h = 0.1866,
+// takes the pair, radius 0.1 + 0.1866 x (0.05 - 0.1) = 0.0907 (the pair's radius there); c moves to (0, 0, -b),
+// b = 2 h - a = -0.0366 (on the pair's side of its old place), radius 0.1. V and E grow by one.
+TEST(SkeletonRepair, DegreeFourJunctionSplit) {
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(degree_four(1.0, 1.0));
+    EXPECT_EQ(res.trunks, 0);
+    EXPECT_EQ(res.junction_splits, 1);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 6u);
+    ASSERT_EQ(s.edges.size(), 5u);
+    const double p1 = std::cos(30 * kDeg), p2 = std::cos(50 * kDeg), a = 0.5 * (p1 - p2) + 0.075;
+    EXPECT_NEAR(a, 0.1866, 1e-4);
+    EXPECT_NEAR(distance(s.points[0], Vec3{0, 0, a - 0.15}), 0, 1e-12);
+    EXPECT_NEAR(s.points[0].z, 0.0366, 1e-4);
+    EXPECT_NEAR(s.radii[0], 0.1, 1e-12);
+    EXPECT_NEAR(distance(s.points[5], Vec3{0, 0, a}), 0, 1e-12);
+    EXPECT_NEAR(s.radii[5], 0.1 - 0.05 * a, 1e-12);
+    EXPECT_NEAR(s.radii[5], 0.0907, 1e-4);
+    EXPECT_NEAR(distance(s.points[0], s.points[5]), 0.15, 1e-12);  // 2 h
+    EXPECT_EQ(degree(s, 0), 3);                                    // the two others and the bridge
+    EXPECT_EQ(degree(s, 5), 3);                                    // the pair and the bridge
+    for (const int v : {1, 2}) {
+        bool to_split = false;
+        for (const auto& e : s.edges) to_split |= (e[0] == v && e[1] == 5) || (e[0] == 5 && e[1] == v);
+        EXPECT_TRUE(to_split) << v;
+    }
+    mesohex::SkeletonRepairOptions off;
+    off.junction_split = 0;
+    EXPECT_EQ(mesohex::repair_skeleton(degree_four(1.0, 1.0), off).junction_splits, 0);
+
+    // The other two first edges 0.1 long (p2 = 0.0643): the bridge moves towards the pair, into the middle of the
+    // room: a = (p1 - p2) / 2 + h = 0.4759, c at z = a - 2 h = 0.3259.
+    const mesohex::SkeletonRepairResult shifted = mesohex::repair_skeleton(degree_four(1.0, 0.1));
+    EXPECT_EQ(shifted.trunks + shifted.absorbed_stubs + shifted.side_stubs, 0);
+    ASSERT_EQ(shifted.junction_splits, 1);
+    const double a2 = 0.5 * (p1 - 0.1 * p2) + 0.075;
+    EXPECT_NEAR(a2, 0.4759, 1e-4);
+    EXPECT_NEAR(shifted.skeleton.points[5].z, a2, 1e-12);
+    EXPECT_NEAR(shifted.skeleton.points[0].z, a2 - 0.15, 1e-12);
+    // An ambiguous pair: a third branch 95 degrees from +z in the xz plane lies 65 degrees from the pair's +x branch,
+    // only 5 degrees more than the pair's own 60 (junction_split_gap_deg 10): no split; with the gap at 0, split.
+    Skeleton ambiguous;
+    ambiguous.points = {{0, 0, 0},
+                        {std::sin(30 * kDeg), 0, std::cos(30 * kDeg)},
+                        {-std::sin(30 * kDeg), 0, std::cos(30 * kDeg)},
+                        {std::sin(95 * kDeg), 0, std::cos(95 * kDeg)},
+                        {0, 0, -1}};
+    ambiguous.radii = {0.1, 0.1, 0.1, 0.1, 0.1};
+    ambiguous.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    const mesohex::SkeletonRepairResult kept = mesohex::repair_skeleton(ambiguous);
+    EXPECT_EQ(kept.trunks + kept.absorbed_stubs + kept.side_stubs + kept.junction_splits, 0);
+    mesohex::SkeletonRepairOptions no_gap;
+    no_gap.junction_split_gap_deg = 0;
+    EXPECT_EQ(mesohex::repair_skeleton(ambiguous, no_gap).junction_splits, 1);
+    // Every first edge 0.08 long: p1 + p2 = 0.069 + 0.051 < 2 h, no room for the bridge: no split.
+    EXPECT_EQ(mesohex::repair_skeleton(degree_four(0.08, 0.08)).junction_splits, 0);
+    // No pair closer than 90 degrees (a planar cross): no split.
+    Skeleton cross;
+    cross.points = {{0, 0, 0}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+    cross.radii = {0.1, 0.1, 0.1, 0.1, 0.1};
+    cross.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    EXPECT_EQ(mesohex::repair_skeleton(cross).junction_splits, 0);
+}
+
+// Random seed 4 (issue 16's random set): a degree-4 branching point of radius 0.205 with a pair 63 degrees apart and
+// first edges 2.7 radii long (no trunk: the pair's tubes separate inside the ball). Split, its raw mesh's worst hex
+// (at that junction) rises from SJ 0.176 to 0.324 and the raw mesh gains 8 hexes (the bridge's chunk).
+TEST(SkeletonRepair, RandomSeedWithDegreeFourJunction) {
+    const Skeleton in = mesohex::generate_random_skeleton(4);
+    mesohex::PipelineOptions unsplit;
+    unsplit.repair.junction_split = 0;
+    const mesohex::PipelineResult before = mesohex::run_pipeline(in, unsplit);
+    const mesohex::PipelineResult after = mesohex::run_pipeline(in);
+    EXPECT_EQ(before.junction_splits, 0);
+    EXPECT_EQ(after.junction_splits, 1);
+    EXPECT_EQ(after.trunks + after.absorbed_stubs + after.side_stubs, 0);
+    EXPECT_EQ(after.analysis.counts.branching_points, before.analysis.counts.branching_points + 1);
+    EXPECT_EQ(after.raw.mesh.hexes.size(), before.raw.mesh.hexes.size() + 8);
+    const mesohex::QualityReport qb = mesohex::compute_quality(before.raw.mesh);
+    const mesohex::QualityReport qa = mesohex::compute_quality(after.raw.mesh);
+    EXPECT_TRUE(qa.validation.valid());
+    EXPECT_EQ(qa.inverted, 0);
+    EXPECT_NEAR(qb.sj_min, 0.176, 0.005);
+    EXPECT_NEAR(qa.sj_min, 0.324, 0.005);
 }
 
 // A stub of length 0.3 at 20 degrees from a long branch (radius 0.1: the tubes separate only at 0.576): absorbed
@@ -279,6 +384,7 @@ TEST(SkeletonRepair, BranchingEndMerged) {
     in.edges = {{0, 1}, {1, 2}, {1, 3}, {3, 4}, {3, 5}};
     mesohex::SkeletonRepairOptions on;  // off by default (it cascades on dense trees)
     on.merge_branching_ends = true;
+    on.junction_split = 0;  // t gets degree 4 (a merge is tested here, not the split after it)
     const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, on);
     EXPECT_EQ(res.merged_ends, 1);
     EXPECT_EQ(res.trunks + res.absorbed_stubs + res.unseparated, 0);
@@ -338,6 +444,7 @@ TEST(SkeletonRepair, RandomSeedsWithStubs) {
         mesohex::PipelineOptions without;
         without.repair.trunks = false;
         without.repair.absorb_stubs = false;
+        without.repair.junction_split = 0;
         mesohex::PipelineOptions absorb;
         absorb.repair.side_stub_reach = 0;
         const mesohex::PipelineResult before = mesohex::run_pipeline(in, without);

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <initializer_list>
 #include <map>
+#include <numbers>
 #include <set>
 #include <utility>
 #include <vector>
@@ -739,6 +741,82 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
     }
 }
 
+// Splits every branching point of degree 4 left by the trunks (no leaflet, 4 branch edges) whose closest pair is less
+// than 90 degrees apart into two branching points of degree 3 (SkeletonRepairOptions::junction_split, placement and
+// radii there): the close pair moves to a new vertex c', the other two stay at c (moved), joined by the edge (c, c').
+// Returns the number of points split.
+int split_wide_junctions(Skeleton& s, double factor, double gap_deg) {
+    if (!(factor > 0) || s.radii.size() != s.points.size()) return 0;
+    Graph g;
+    make_graph(s, g);
+    const int n = static_cast<int>(s.points.size());
+    int splits = 0;
+    for (int c = 0; c < n; ++c) {
+        if (g.on_face[c] || g.inc[c].size() != 4 || g.degree[c] != 4 || !(s.radii[c] > 0)) continue;
+        std::array<int, 4> other{};
+        std::array<Vec3, 4> d{};
+        bool ok = true;
+        for (int k = 0; k < 4; ++k) {
+            const std::array<int, 2>& e = s.edges[g.inc[c][k]];
+            other[k] = e[0] == c ? e[1] : e[0];
+            const double len = distance(s.points[other[k]], s.points[c]);
+            if (!(len > 1e-9 * s.radii[c])) ok = false;
+            d[k] = ok ? (s.points[other[k]] - s.points[c]) / len : Vec3{};
+        }
+        if (!ok) continue;
+        int bi = -1, bj = -1;
+        double best = 0;  // the closest pair: largest cosine, above 0 (less than 90 degrees apart)
+        for (int i = 0; i < 4; ++i)
+            for (int j = i + 1; j < 4; ++j)
+                if (dot(d[i], d[j]) > best) best = dot(d[i], d[j]), bi = i, bj = j;
+        if (bi < 0) continue;
+        std::array<int, 2> rest{};
+        for (int k = 0, m = 0; k < 4; ++k)
+            if (k != bi && k != bj) rest[m++] = k;
+        // An unambiguous pair: every angle across (a pair branch, another branch) exceeds the pair's by gap_deg.
+        const auto angle = [&](int x, int y) { return std::acos(std::clamp(dot(d[x], d[y]), -1.0, 1.0)); };
+        const double across =
+            std::min({angle(bi, rest[0]), angle(bi, rest[1]), angle(bj, rest[0]), angle(bj, rest[1])});
+        if (!(across - angle(bi, bj) >= gap_deg * std::numbers::pi / 180)) continue;
+        const Vec3 u = normalized(normalized(d[bi] + d[bj]) - normalized(d[rest[0]] + d[rest[1]]));
+        if (u == Vec3{}) continue;
+        // p1, p2: how far the first vertices lie beyond c along u (the close pair, nearest of the two) and along -u
+        // (the other two). The split points c + a u and c - b u, a + b = 2 h, sit at the same distance m = (p1 + p2)
+        // / 2 - h before the nearest first vertex on either side (centred in the room the first edges leave); no
+        // split when m <= 0.
+        const double h = factor * s.radii[c];
+        double p1 = 1e300, p2 = 1e300;
+        for (const int k : {bi, bj}) p1 = std::min(p1, dot(s.points[other[k]] - s.points[c], u));
+        for (const int k : rest) p2 = std::min(p2, -dot(s.points[other[k]] - s.points[c], u));
+        const double m = 0.5 * (p1 + p2) - h;
+        if (!(m > 0)) continue;
+        const double a = p1 - m, b = 2 * h - a;
+        // Radii: the largest of the edges' radii at that distance along them (linear from r_c to the first vertex's).
+        const auto radius_at = [&](std::initializer_list<int> ks, double x) {
+            double r = 0;
+            for (const int k : ks) {
+                const double len = distance(s.points[other[k]], s.points[c]);
+                const double f = std::clamp(x / len, 0.0, 1.0);  // x < 0: the split point lies on the other side
+                r = std::max(r, s.radii[c] + f * (s.radii[other[k]] - s.radii[c]));
+            }
+            return r;
+        };
+        const Vec3 near = s.points[c] + a * u, far = s.points[c] - b * u;
+        const double r_near = radius_at({bi, bj}, a), r_far = radius_at({rest[0], rest[1]}, b);
+        const int cp = static_cast<int>(s.points.size());
+        s.points.push_back(near);
+        s.radii.push_back(r_near);
+        s.points[c] = far;
+        s.radii[c] = r_far;
+        for (const int k : {bi, bj})
+            for (int& v : s.edges[g.inc[c][k]])
+                if (v == c) v = cp;
+        s.edges.push_back({c, cp});
+        ++splits;
+    }
+    return splits;
+}
+
 }  // namespace
 
 SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepairOptions& o) {
@@ -749,6 +827,7 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     Skeleton& s = res.skeleton;
     if (o.fan_end_retraction) res.fan_end_retractions = retract_fan_ends(s);
     repair_trunks(s, o, res);
+    res.junction_splits = split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg);
     res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
     return res;
 }

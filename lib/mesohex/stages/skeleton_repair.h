@@ -84,6 +84,25 @@ struct SkeletonRepairOptions {
     // other edges lead back to the pair (a cycle). Off: it cascades on dense trees whose tubes overlap along whole
     // branches, absorbing most of the tree (docs/tuning.md).
     bool merge_branching_ends = false;
+    // Branching points of degree 4 (no leaflet) that the pair repairs left as they are and whose closest pair of
+    // branches is less than 90 degrees apart are split into two branching points of degree 3: the close pair leaves a
+    // new vertex c' = c + a u, the other two branches stay at c, moved to c - b u, joined by the edge (c, c') of length
+    // a + b = 2 h, h = junction_split x r_c (dimensionless, x the branching point's radius); u is the unit direction
+    // from the other pair's bisector to the close pair's. The split points sit at the same distance m = (p1 + p2) / 2 - h
+    // before the nearest first vertex on either side (p1, p2: that vertex's distance beyond c along u, resp. -u: the
+    // bridge is centred in the room the first edges leave, not on c); no split when m <= 0.
+    // Radii: the largest of the moved branches' radii at that distance along their first edges. A degree-4
+    // junction's sphere partition (4 quads on 6 points) has flat corners and, with a close pair of fat branches,
+    // narrow quads; two junctions of degree 3 have neither. 2 h must exceed AdaptationOptions::collapse_spread x
+    // (r_c + r_c') (0.7 x 2) or adaptation collapses the edge back. 0 disables. docs/junctions.md ("Degree-4
+    // junctions split"), docs/tuning.md.
+    double junction_split = 0.75;
+    // The junction split needs an unambiguous close pair: every angle between one of its branches and one of the other
+    // two exceeds the pair's own angle by at least this (degrees). Below, a branch is about as close to a branch of the
+    // other pair as to its partner (e.g. three branches 74, 74 and 80 degrees apart in a row), the pairing and the
+    // split direction are arbitrary, and the split moved the junction the wrong way on the random set
+    // (docs/tuning.md, "Degree-4 junctions split").
+    double junction_split_gap_deg = 10;
     // Root patches of branches standing inside a leaflet. A branch rooted at an interior leaflet vertex v (exactly 4
     // faces around v, every leaflet edge at v shared by 2 faces, exactly one branch edge) stands on the 4 faces around
     // v; its first chunk is as wide as that patch (about 2 leaflet edges) while its tube may be much thinner (a
@@ -114,6 +133,7 @@ struct SkeletonRepairResult {
     int unseparated = 0;        // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
                                 // separate
     int root_strip_splits = 0;  // face strips split for root patches (root_patch_factor)
+    int junction_splits = 0;    // degree-4 branching points split in two (junction_split; one new vertex each)
     // The ball t of every absorbed stub or merged end, by output id: a radius peak the adaptation keeps as a joint
     // (adapt_skeleton's `pinned`), so that the resampling does not step over it and taper the bump away.
     std::vector<int> absorbed_balls;
@@ -132,6 +152,8 @@ struct SkeletonRepairResult {
 // Repairs are made one pair at a time, the most overlapping first (largest x / r_c), until no pair qualifies (at most
 // one per input branch edge). Deterministic. Complexity O(trunks x (pairs at branching points) x polyline length).
 // Fan-end retractions (fan_end_repair.h) come first: input vertices keep their indices, new ones are appended.
+// Degree-4 splits (junction_split) come after the trunks: each moves c, appends c' and the edge (c, c') and re-attaches
+// the close pair's first edges to c' (V and E grow by one).
 // Root patch splits come after the trunks (they touch only leaflets): input vertices keep their indices, new vertices
 // are appended (cut points in edge order, then face centres in face order); a cut edge becomes its two halves in its
 // place; new edges inside split faces are appended in face order; a split face keeps its index for its first piece,
