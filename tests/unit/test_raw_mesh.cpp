@@ -650,3 +650,54 @@ TEST(RawMesh, RejectsMissingOrBadRadius) {
         EXPECT_EQ(e.where().index, 1);
     }
 }
+
+// Issue 17 (docs/sheets.md, "BL-joint frames"): a branch leaving a convex corner off its bisector. 3 x 3 plate of unit
+// edges, radius 0.25, a 3-edge branch leaving corner 0 in the plate's plane at 225 + off degrees (off 0: the
+// outward bisector). The pillow's start frame T = unit(leaflet direction - branch) turns its in-plane corners
+// off / 2 towards a border edge (off 30: one corner 30 degrees outside the edge instead of 45, reaching
+// 0.25 cos 30 = 0.22 along it); the relaxation turns the frame back so that the corner's half-chunks are as good as
+// for a bisector branch. Measured (min scaled Jacobian of the 4 half-chunk hexes of the corner's two border edges):
+// relaxed 0.423 / 0.421 for off 0 / 30; unrelaxed 0.423 / 0.232. No raw hex inverts either way.
+TEST(RawMeshLeaflets, BLJointBranchOffTheCornerBisector) {
+    auto corner_min = [](bool relax, double off_deg, long& inverted) {
+        Skeleton s = plate(3, 3);
+        const double a = (225.0 + off_deg) * std::numbers::pi / 180;
+        int prev = 0;
+        for (int k = 1; k <= 3; ++k) {
+            s.points.push_back({k * std::cos(a), k * std::sin(a), 0});
+            const int cur = static_cast<int>(s.points.size()) - 1;
+            s.edges.push_back({prev, cur});
+            prev = cur;
+        }
+        s.radii.assign(s.points.size(), 0.25);
+        const SkeletonAnalysis an = analyze_skeleton(s);
+        EXPECT_EQ(an.vertex_class[0], VertexClass::BLJoint);
+        ConnectionSurfaceOptions co;
+        co.relax_partitions = relax;
+        const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+        const RawMesh raw = build_raw_mesh(s, an, cs, propagate_frames(s, an, cs));
+        const std::vector<double> sj = scaled_jacobians(raw.mesh);
+        inverted = std::count_if(sj.begin(), sj.end(), [](double x) { return x <= 0; });
+        double lo = 1;
+        int n = 0;
+        for (std::size_t h = 0; h < sj.size(); ++h) {
+            const int e = raw.hex_edge[h];
+            if (e < 0 || an.edge_degree[e] != 1) continue;  // the half-chunks of the corner's two border edges
+            if (s.edges[e][0] != 0 && s.edges[e][1] != 0) continue;
+            lo = std::min(lo, sj[h]);
+            ++n;
+        }
+        EXPECT_EQ(n, 4);
+        return lo;
+    };
+    long inv = -1;
+    const double bisector = corner_min(true, 0, inv);
+    EXPECT_EQ(inv, 0);
+    const double relaxed = corner_min(true, 30, inv);
+    EXPECT_EQ(inv, 0);
+    const double unrelaxed = corner_min(false, 30, inv);
+    EXPECT_EQ(inv, 0);
+    EXPECT_NEAR(bisector, 0.423, 0.01);
+    EXPECT_NEAR(relaxed, bisector, 0.01);
+    EXPECT_NEAR(unrelaxed, 0.232, 0.01);
+}
