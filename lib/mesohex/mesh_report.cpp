@@ -118,7 +118,8 @@ nlohmann::json repairs_json(const PipelineResult& res) {
             {"merged_ends", res.merged_ends},
             {"unseparated_pairs", res.unseparated_pairs},
             {"root_strip_splits", res.root_strip_splits},
-            {"fan_end_retractions", res.fan_end_retractions}};
+            {"fan_end_retractions", res.fan_end_retractions},
+            {"fan_edge_splits", res.fan_edge_splits}};
 }
 
 nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {

@@ -45,6 +45,7 @@ struct PipelineResult {
     int unseparated_pairs = 0;             // close branch pairs the repair left (a branch ends inside the other's tube)
     int root_strip_splits = 0;             // leaflet face strips the repair split around rooted branches
     std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners
+    int fan_edge_splits = 0;    // single fan edges split in two (with their leaflets' strips) before their retraction
     int virtual_branches = 0;   // virtual branches added to the meshed skeleton (PipelineOptions::virtual_branches)
     Skeleton skeleton;          // the skeleton actually meshed (radii filled, adapted when resampling)
     SkeletonAnalysis analysis;  // analysis of `skeleton`
