@@ -140,10 +140,10 @@ TEST(FanEndRepair, WholePipelineOnTAndX) {
 
 // A fan of `strips` strips of 2 quads on a single fan edge (tfan / xfan -n 1 -m 2: fan line (0,0,-0.5) = 0 to
 // (0,0,0.5) = 1, unit quads, radius 0.3) with a branch of 3 unit edges from 1 along +z (the fan line's continuation).
-Skeleton single_fan_edge_end(int strips) {
+Skeleton single_fan_edge_end(int strips, int length = 2) {
     GeneratorOptions o;
     o.n = 1;
-    o.m = 2;
+    o.m = length;
     Skeleton s = generate_skeleton(strips == 3 ? "tfan" : "xfan", o);
     for (int k = 1; k <= 3; ++k) {
         s.points.push_back({0, 0, 0.5 + k});
@@ -196,6 +196,17 @@ TEST(FanEndRepair, SingleFanEdgeIsSplitThenRetracted) {
 // the hex count and irregular edges exactly as predicted. With the repair off (or no resampling) it is refused,
 // naming vertex 1.
 TEST(FanEndRepair, SingleFanEdgeThroughThePipeline) {
+    for (const int length : {1, 2, 3})
+        for (const int strips : {3, 4}) {
+            SCOPED_TRACE(std::to_string(strips) + " strips of " + std::to_string(length));
+            Skeleton repaired = single_fan_edge_end(strips, length);
+            const std::vector<FanEndRetraction> r = retract_fan_ends(repaired);
+            ASSERT_EQ(r.size(), 1u);
+            EXPECT_EQ(r[0].strip_faces_split, length * strips);  // every face of every strip
+            const MeshRun raw = mesh_skeleton(repaired, nullptr);
+            EXPECT_TRUE(raw.prediction_exact);
+            EXPECT_EQ(raw.raw_quality.inverted, 0);
+        }
     for (const int strips : {3, 4}) {
         SCOPED_TRACE(strips);
         const Skeleton s = single_fan_edge_end(strips);

@@ -95,7 +95,8 @@ struct SkeletonRepairOptions {
     // directions becomes 4 quads); new vertices get radii interpolated along their edge (bilinearly in a face).
     double root_patch_factor = 0.8;
     // Branches on fan-edge ends (the paper's limitation 3): the fan edge is retracted from the branch's vertex, which
-    // becomes a leaflet corner (stages/fan_end_repair.h). Done first, on the input skeleton.
+    // becomes a leaflet corner (stages/fan_end_repair.h; a single fan edge is split in two first, with the face strips
+    // crossing it). Done first, on the input skeleton.
     bool fan_end_retraction = true;
     // Checking aid, not a tuning knob: after each trunk or absorption, scan every branching point again instead of
     // only those whose walks the repair touched. The result is the same (test SkeletonRepair.
@@ -131,7 +132,8 @@ struct SkeletonRepairResult {
 // input edges in their order, then per repair its new edges.
 // Repairs are made one pair at a time, the most overlapping first (largest x / r_c), until no pair qualifies (at most
 // one per input branch edge). Deterministic. Complexity O(trunks x (pairs at branching points) x polyline length).
-// Fan-end retractions (fan_end_repair.h) come first: input vertices keep their indices, new ones are appended.
+// Fan-end retractions (fan_end_repair.h) come first: input vertices, edges and faces keep their indices, new ones are
+// appended (a split single fan edge cuts faces too).
 // Root patch splits come after the trunks (they touch only leaflets): input vertices keep their indices, new vertices
 // are appended (cut points in edge order, then face centres in face order); a cut edge becomes its two halves in its
 // place; new edges inside split faces are appended in face order; a split face keeps its index for its first piece,
