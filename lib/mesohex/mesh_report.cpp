@@ -119,7 +119,8 @@ nlohmann::json repairs_json(const PipelineResult& res) {
             {"unseparated_pairs", res.unseparated_pairs},
             {"root_strip_splits", res.root_strip_splits},
             {"junction_splits", res.junction_splits},
-            {"fan_end_retractions", res.fan_end_retractions}};
+            {"fan_end_retractions", res.fan_end_retractions},
+            {"fan_edge_splits", res.fan_edge_splits}};
 }
 
 nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {

@@ -70,7 +70,10 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         res.unseparated_pairs = repaired.unseparated;
         res.root_strip_splits = repaired.root_strip_splits;
         res.junction_splits = repaired.junction_splits;
-        for (const FanEndRetraction& r : repaired.fan_end_retractions) res.fan_end_retractions.push_back(r.vertex);
+        for (const FanEndRetraction& r : repaired.fan_end_retractions) {
+            res.fan_end_retractions.push_back(r.vertex);
+            res.fan_edge_splits += r.fan_edge_split >= 0 ? 1 : 0;
+        }
         s = adapt_skeleton(repaired.skeleton, options.adaptation,
                            options.repair.pin_absorbed_balls ? repaired.absorbed_balls : std::vector<int>{});
         clock.lap("adaptation");
@@ -120,6 +123,7 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
         for (const int v : res.fan_end_retractions) out << " " << v;
         out << "\n";
     }
+    line("single fan edges split in two (with their leaflets' face strips) to be retracted", res.fan_edge_splits);
     const std::string text = out.str();
     return text.empty() ? "repairs: none\n" : text;
 }

@@ -90,8 +90,9 @@ TEST(CliAnalyze, SameVerdictAsMeshOnEveryGeneratedShape) {
 
 // Branches on fan-edge ends: the T and X fans with a branch continuing the fan line are meshed after the retraction
 // (analyze says so and names the input vertex); perpendicular branches, the input sampling (no repair without
-// resampling) and a branch on the end of a single fan edge are refused by both with status 3 (unsupported). Docked
-// walls (inside the plate, on both sides, from the border) are accepted by both.
+// resampling) are refused by both with status 3 (unsupported); a branch on the end of a single fan edge is meshed
+// after the repair splits the fan edge and retracts one half (refused without resampling). Docked walls (inside the
+// plate, on both sides, from the border) are accepted by both.
 TEST(CliAnalyze, SameVerdictAsMeshOnRepairedConfigurations) {
     for (const char* n : {"3", "4"}) {
         const std::string cont = generate(std::string("fanend") + n + "c.obj", std::string("fanend -n ") + n + " -m 1");
@@ -111,8 +112,13 @@ TEST(CliAnalyze, SameVerdictAsMeshOnRepairedConfigurations) {
     std::ofstream(single) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 -1 0\nv 1 -1 0\nv 0 0 1\nv 1 0 1\n"
                              "v 2 0 0\nv 3 0 0\nf 1 2 4 3\nf 2 1 5 6\nf 1 2 8 7\nl 2 9\nl 9 10\n";
     const Verdicts s = verdicts(single, " --radius 0.3");
-    EXPECT_EQ(expect_same_verdict(single, s), 3);
-    EXPECT_TRUE(contains(s.analyze.output, "skeleton vertex 1")) << s.analyze.output;
+    EXPECT_EQ(expect_same_verdict(single, s), 0);
+    EXPECT_EQ(s.mesh.status, 0) << s.mesh.output;  // no inverted raw hex
+    EXPECT_TRUE(contains(s.analyze.output, "repairs: single fan edges split in two")) << s.analyze.output;
+    EXPECT_TRUE(contains(s.analyze.output, "branches on fan-edge ends: at input vertices 1")) << s.analyze.output;
+    const Verdicts raw = verdicts(single, " --radius 0.3 --no-resample");
+    EXPECT_EQ(expect_same_verdict(single + " --no-resample", raw), 3);
+    EXPECT_TRUE(contains(raw.analyze.output, "skeleton vertex 1")) << raw.analyze.output;
     for (const char* wall : {"wall", "wallboth", "walledge"}) {
         const std::string path = generate(std::string(wall) + ".obj", wall);
         EXPECT_EQ(expect_same_verdict(path, verdicts(path, "")), 0);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesohex/core/error.h"
+#include "mesohex/mesh.h"
 #include "mesohex/pipeline.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/fan_end_repair.h"
@@ -39,10 +40,10 @@ void expect_valid(const PipelineResult& r, long euler) {
     EXPECT_GT(q.sj_min, 0.0);
 }
 
-// Analysis (strict, as after the repair) must refuse s naming vertex v, with the words and an edit suggestion.
-void expect_refused(const Skeleton& s, int v, const std::string& words) {
+// The pipeline with options o must refuse s naming vertex v, with the words and an edit suggestion.
+void expect_refused_with(const Skeleton& s, const PipelineOptions& o, int v, const std::string& words) {
     try {
-        (void)run_pipeline(s);
+        (void)run_pipeline(s, o);
         FAIL() << "accepted";
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
@@ -52,6 +53,9 @@ void expect_refused(const Skeleton& s, int v, const std::string& words) {
         EXPECT_NE(m.find("; edit: "), std::string::npos) << m;
     }
 }
+
+// Analysis (strict, as after the repair) must refuse s naming vertex v, with the words and an edit suggestion.
+void expect_refused(const Skeleton& s, int v, const std::string& words) { expect_refused_with(s, {}, v, words); }
 
 }  // namespace
 
@@ -134,27 +138,105 @@ TEST(FanEndRepair, WholePipelineOnTAndX) {
     }
 }
 
-// A single fan edge (0, 1) of three 1 x 1 strips (+y, -y, +z) with a branch at 0 along -x (the fan line's
-// continuation), radius 0.25: retracting it would make vertex 1 a leaflet-only branching point of 3 leaflets, whose
-// raw mesh folds (4 inverted hexes, min SJ -0.19, measured): not retracted, refused naming the vertex.
-TEST(FanEndRepair, SingleFanEdgeIsRefused) {
-    Skeleton s;
-    s.points = {{0, 0, 0}, {1, 0, 0}};
-    const std::vector<Vec3> dirs{{0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
-    for (const Vec3& d : dirs) {
-        const int b = static_cast<int>(s.points.size());
-        s.points.push_back(d);
-        s.points.push_back(Vec3{1, 0, 0} + d);
-        s.faces.push_back({0, 1, b + 1, b});
+// A fan of `strips` strips of 2 quads on a single fan edge (tfan / xfan -n 1 -m 2: fan line (0,0,-0.5) = 0 to
+// (0,0,0.5) = 1, unit quads, radius 0.3) with a branch of 3 unit edges from 1 along +z (the fan line's continuation).
+Skeleton single_fan_edge_end(int strips, int length = 2) {
+    GeneratorOptions o;
+    o.n = 1;
+    o.m = length;
+    Skeleton s = generate_skeleton(strips == 3 ? "tfan" : "xfan", o);
+    for (int k = 1; k <= 3; ++k) {
+        s.points.push_back({0, 0, 0.5 + k});
+        s.radii.push_back(0.3);
+        s.edges.push_back({k == 1 ? 1 : static_cast<int>(s.points.size()) - 2, static_cast<int>(s.points.size()) - 1});
     }
-    add_face_edges(s);
-    s.points.push_back({-1, 0, 0});
-    s.edges.push_back({0, 8});
-    s.radii.assign(s.points.size(), 0.25);
+    return s;
+}
+
+// Single fan edge with the branch at its end 1 (issue 22 item 2): the repair splits the fan edge at its midpoint
+// (0, 0, 0) = m and each strip of 2 faces across (g strips, 2g faces cut, 1 + 2g sides cut), then retracts (m, 1)
+// from 1 (u = m does not slide: clamp(2 x 0.3 / 0.5, 0.5, 1) = 1). T: V 14 + 3 = 17, E 19 + 3 = 22, F 6; split: V +7
+// = 24, E +7 (cut sides) +6 (cut faces) = 35, F 12; retraction (2 faces retracted): V 26, E 37, F 12, Euler 1 kept.
+// Boundary: 3 x 5 strip sides + 3 far sides cut + (m, 1) + 2 (m, w_i) = 21; branch edges 3; one fan edge left
+// (0, m); raw hexes 4 x 3 + 2 x 12 + 2 x 21 = 78. X: V 18 + 3 = 21, E 25 + 3 = 28, F 8; split: V 30, E 45, F 16;
+// retraction (3 faces): V 33, E 48; boundary 4 x 5 + 4 + 1 + 3 = 28; hexes 4 x 3 + 2 x 16 + 2 x 28 = 100.
+TEST(FanEndRepair, SingleFanEdgeIsSplitThenRetracted) {
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        Skeleton s = single_fan_edge_end(strips);
+        const long v0 = static_cast<long>(s.points.size()), e0 = static_cast<long>(s.edges.size());
+        ASSERT_EQ(v0, strips == 3 ? 17 : 21);
+        ASSERT_EQ(e0, strips == 3 ? 22 : 28);
+        const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+        ASSERT_EQ(r.size(), 1u);
+        EXPECT_EQ(r[0].vertex, 1);
+        EXPECT_EQ(r[0].fan_edge_split, v0);  // the fan edge's midpoint is the first new vertex
+        EXPECT_EQ(r[0].fan_neighbour, v0);
+        EXPECT_EQ(r[0].strip_faces_split, 2 * strips);
+        EXPECT_EQ(static_cast<int>(r[0].new_vertices.size()), strips - 1);
+        EXPECT_NEAR(distance(s.points[v0], Vec3{0, 0, 0}), 0.0, 1e-12);
+        EXPECT_EQ(s.points.size(), static_cast<std::size_t>(v0 + 1 + 2 * strips + strips - 1));
+        EXPECT_EQ(s.edges.size(), static_cast<std::size_t>(e0 + 1 + 2 * strips + 2 * strips + strips - 1));
+        EXPECT_EQ(s.faces.size(), static_cast<std::size_t>(4 * strips));
+        EXPECT_EQ(euler_characteristic(s), 1);
+        EXPECT_TRUE(retract_fan_ends(s).empty());  // nothing left to repair
+        const PipelineResult raw = raw_as_given(s);
+        EXPECT_EQ(raw.analysis.vertex_class[0], VertexClass::FanEdgeEnd);
+        EXPECT_EQ(raw.analysis.vertex_class[v0], VertexClass::FanEdgeEnd);
+        EXPECT_TRUE(roots_branch(raw.analysis, 1));
+        EXPECT_EQ(raw.analysis.counts.fan_edges, 1);
+        EXPECT_EQ(raw.analysis.counts.boundary_edges, strips == 3 ? 21 : 28);
+        EXPECT_EQ(raw.raw.mesh.hexes.size(), strips == 3 ? 78u : 100u);
+        expect_valid(raw, 1);
+    }
+}
+
+// The same through mesh_skeleton with its defaults (resampling, the repair, fan-block layout): the report counts the
+// split and names the vertex; the raw mesh is valid, with the skeleton's Euler characteristic 1, no inverted hex and
+// the hex count and irregular edges exactly as predicted. With the repair off (or no resampling) it is refused,
+// naming vertex 1.
+TEST(FanEndRepair, SingleFanEdgeThroughThePipeline) {
+    for (const int length : {1, 2, 3})
+        for (const int strips : {3, 4}) {
+            SCOPED_TRACE(std::to_string(strips) + " strips of " + std::to_string(length));
+            Skeleton repaired = single_fan_edge_end(strips, length);
+            const std::vector<FanEndRetraction> r = retract_fan_ends(repaired);
+            ASSERT_EQ(r.size(), 1u);
+            EXPECT_EQ(r[0].strip_faces_split, length * strips);  // every face of every strip
+            const MeshRun raw = mesh_skeleton(repaired, nullptr);
+            EXPECT_TRUE(raw.prediction_exact);
+            EXPECT_EQ(raw.raw_quality.inverted, 0);
+        }
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        const Skeleton s = single_fan_edge_end(strips);
+        const MeshRun run = mesh_skeleton(s, nullptr);
+        EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{1});
+        EXPECT_EQ(run.pipeline.fan_edge_splits, 1);
+        EXPECT_NE(repairs_to_text(run.pipeline, run.options).find("single fan edges split in two"), std::string::npos);
+        EXPECT_TRUE(run.prediction_exact);
+        EXPECT_EQ(static_cast<long>(run.pipeline.raw.mesh.hexes.size()), run.pipeline.predicted.hexes);
+        EXPECT_TRUE(run.raw_quality.validation.valid());
+        EXPECT_EQ(run.raw_quality.euler_characteristic, 1);
+        EXPECT_EQ(run.raw_quality.inverted, 0);
+        EXPECT_GT(run.raw_quality.sj_min, 0.0);
+        PipelineOptions off;
+        off.repair.fan_end_retraction = false;
+        expect_refused_with(s, off, 1, "split in two first");
+    }
+}
+
+// A single fan edge whose other end also carries a branch is not split (the split would leave the second branch on a
+// fan-edge end the retraction cannot reach): refused, naming the vertex.
+TEST(FanEndRepair, SingleFanEdgeWithBranchesAtBothEndsIsRefused) {
+    Skeleton s = single_fan_edge_end(3);
+    s.points.push_back({0, 0, -1.5});
+    s.radii.push_back(0.3);
+    s.edges.push_back({0, static_cast<int>(s.points.size()) - 1});
     const Skeleton before = s;
     EXPECT_TRUE(retract_fan_ends(s).empty());
     EXPECT_EQ(s, before);
-    expect_refused(s, 0, "split a single fan edge");
+    expect_refused(s, 0, "limitation 3");
 }
 
 // Configurations the repair does not handle stay refused, naming the vertex: a fan-edge end where one leaflet meets

@@ -70,31 +70,119 @@ struct Candidate {
     Vec3 branch{};
 };
 
-// Is w such a vertex? Fills c.
-bool is_candidate(const Skeleton& s, const Incidence& in, int w, Candidate& c) {
+// Is v a plain fan-edge end: on one fan edge and no branch, every face at v one of those around the fan edge, each
+// leaving v by its own border side?
+bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other) {
+    int fans = 0, border = 0;
+    for (const int e : in.vertex_edges[v]) {
+        const int d = faces_on(in, v, other_end(s, e, v));
+        if (d == 0 || d == 2) return false;
+        border += d == 1 ? 1 : 0;
+        fans += d >= 3 ? 1 : 0;
+    }
+    const std::vector<int>& around = in.side_faces.at(std::minmax(v, other));
+    const int g = static_cast<int>(around.size());
+    if (fans != 1 || border != g || static_cast<int>(in.vertex_faces[v].size()) != g) return false;
+    for (const int f : around)
+        if (faces_on(in, v, corner_neighbour(s.faces[f], v, other)) != 1) return false;
+    return true;
+}
+
+// What the repair does at w.
+enum class EndKind { None, Retract, Split };
+
+// Is w a vertex of the header's configuration (Retract), or one on a single fan edge whose other end u is a plain fan
+// end (Split)? Fills c.
+EndKind end_kind(const Skeleton& s, const Incidence& in, int w, Candidate& c) {
     int fan_edge = -1, fans = 0, border = 0;
     Vec3 branch{};
     for (const int e : in.vertex_edges[w]) {
         const int x = other_end(s, e, w), d = faces_on(in, w, x);
         if (d == 0) branch += normalized(s.points[x] - s.points[w]);
         if (d == 1) ++border;
-        if (d == 2) return false;
+        if (d == 2) return EndKind::None;
         if (d >= 3) fan_edge = e, ++fans;
     }
-    if (fans != 1 || !(norm(branch) > 1e-9)) return false;
+    if (fans != 1 || !(norm(branch) > 1e-9)) return EndKind::None;
     const int u = other_end(s, fan_edge, w);
-    if (dot(normalized(branch), normalized(s.points[w] - s.points[u])) < kFanEndBranchCos) return false;
-    int u_fans = 0;  // the chain must go on past u
-    for (const int e : in.vertex_edges[u]) u_fans += faces_on(in, u, other_end(s, e, u)) >= 3 ? 1 : 0;
-    if (u_fans != 2) return false;
+    if (dot(normalized(branch), normalized(s.points[w] - s.points[u])) < kFanEndBranchCos) return EndKind::None;
     const std::vector<int>& around = in.side_faces.at(std::minmax(u, w));
     const int g = static_cast<int>(around.size());
-    if (border != g || static_cast<int>(in.vertex_faces[w].size()) != g) return false;
+    if (border != g || static_cast<int>(in.vertex_faces[w].size()) != g) return EndKind::None;
     for (const int f : around)  // each face leaves w by its own border side
-        if (faces_on(in, w, corner_neighbour(s.faces[f], w, u)) != 1) return false;
+        if (faces_on(in, w, corner_neighbour(s.faces[f], w, u)) != 1) return EndKind::None;
     c = {w, u, around, normalized(branch)};
     std::sort(c.faces.begin(), c.faces.end());
-    return true;
+    int u_fans = 0;  // the chain must go on past u
+    for (const int e : in.vertex_edges[u]) u_fans += faces_on(in, u, other_end(s, e, u)) >= 3 ? 1 : 0;
+    if (u_fans == 2) return EndKind::Retract;
+    return u_fans == 1 && plain_fan_end(s, in, u, w) ? EndKind::Split : EndKind::None;
+}
+
+// One face crossed by a strip: the face and the position k of the side it is entered by (f[k], f[k + 1]).
+struct Crossing {
+    int face = -1, k = 0;
+};
+
+// The strips of the faces around the fan edge (u, w), each from its fan-edge side across the leaflet to a border
+// side (a side of one face), or empty when one strip meets a side of 3 or more faces, or a face twice.
+std::vector<Crossing> fan_edge_strips(const Skeleton& s, const Incidence& in, const Candidate& c) {
+    std::vector<Crossing> out;
+    std::vector<char> seen(s.faces.size(), 0);
+    const auto side_at = [&](int f, int a, int b) {
+        for (int k = 0; k < 4; ++k)
+            if (std::minmax(s.faces[f][k], s.faces[f][(k + 1) % 4]) == std::minmax(a, b)) return k;
+        return -1;
+    };
+    for (const int f0 : c.faces) {
+        int f = f0, k = side_at(f0, c.u, c.w);
+        while (true) {
+            if (seen[f]) return {};
+            seen[f] = 1;
+            out.push_back({f, k});
+            const int a = s.faces[f][(k + 2) % 4], b = s.faces[f][(k + 3) % 4];
+            const std::vector<int>& next = in.side_faces.at(std::minmax(a, b));
+            if (next.size() == 1) break;
+            if (next.size() != 2) return {};
+            f = next[0] == f ? next[1] : next[0];
+            k = side_at(f, a, b);
+        }
+    }
+    return out;
+}
+
+// Splits the fan edge (u, w) at its midpoint m and every strip crossing it (fan_edge_strips) through the midpoints of
+// the sides it crosses: each crossed face (a, b, c, d), entered by (a, b), becomes (a, m_ab, m_cd, d) in its place and
+// (m_ab, b, c, m_cd) appended; each cut edge [a, b] becomes [a, m_ab] in its place and [m_ab, b] appended, then the
+// edge [m_ab, m_cd] is appended. New vertices get the mean radius of their side's ends. Returns m.
+int split_fan_edge(Skeleton& s, const Candidate& c, const std::vector<Crossing>& strips) {
+    std::map<Side, int> edge_of;
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e) edge_of[std::minmax(s.edges[e][0], s.edges[e][1])] = e;
+    std::map<Side, int> mid;
+    const auto cut = [&](int a, int b) {
+        const Side side = std::minmax(a, b);
+        const auto it = mid.find(side);
+        if (it != mid.end()) return it->second;
+        const int m = static_cast<int>(s.points.size());
+        s.points.push_back(0.5 * (s.points[a] + s.points[b]));
+        s.radii.push_back(0.5 * (s.radii[a] + s.radii[b]));
+        std::array<int, 2>& e = s.edges[edge_of.at(side)];
+        const int far = e[1];
+        e[1] = m;
+        s.edges.push_back({m, far});
+        mid[side] = m;
+        return m;
+    };
+    const int m = cut(c.u, c.w);
+    for (const Crossing& x : strips) {
+        const std::vector<int> f = s.faces[x.face];
+        const int a = f[x.k], b = f[(x.k + 1) % 4], cc = f[(x.k + 2) % 4], d = f[(x.k + 3) % 4];
+        const int mab = cut(a, b), mcd = cut(cc, d);
+        s.faces[x.face] = {a, mab, mcd, d};
+        s.faces.push_back({mab, b, cc, mcd});
+        s.edges.push_back({mab, mcd});
+    }
+    return m;
 }
 
 // The carrier face: max of d . o_i (ties within 1e-9 to the first in id order).
@@ -146,10 +234,30 @@ std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
     for (int round = 0; round < n; ++round) {
         const Incidence in = make_incidence(s);
         Candidate c;
-        int w = 0;
-        while (w < n && !is_candidate(s, in, w, c)) ++w;
-        if (w == n) break;
-        done.push_back(retract(s, c));
+        int w = 0, split_at = -1;
+        Candidate split;
+        std::vector<Crossing> strips;
+        for (; w < n; ++w) {
+            const EndKind kind = end_kind(s, in, w, c);
+            if (kind == EndKind::Retract) break;
+            if (kind == EndKind::Split && split_at < 0) {
+                strips = fan_edge_strips(s, in, c);
+                if (!strips.empty()) split_at = w, split = c;
+            }
+        }
+        if (w < n) {
+            done.push_back(retract(s, c));
+            continue;
+        }
+        if (split_at < 0) break;
+        // A single fan edge: split in two (the chain then goes on past its middle), retracted from w in the next round.
+        const int m = split_fan_edge(s, split, strips);
+        const Incidence again = make_incidence(s);
+        if (end_kind(s, again, split_at, c) != EndKind::Retract) break;  // cannot happen: (m, w) continues past m
+        FanEndRetraction r = retract(s, c);
+        r.fan_edge_split = m;
+        r.strip_faces_split = static_cast<int>(strips.size());
+        done.push_back(std::move(r));
     }
     return done;
 }

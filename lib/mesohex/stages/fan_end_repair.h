@@ -29,9 +29,17 @@
 // cannot fill (a large Hausdorff distance there; docs/blocks.md); with u within 2 r_w of w the cap covers most of it,
 // and the borders at u turn farther off the fan line.
 // Branches far from the fan line (perpendicular to it) stay refused: the moved corner then has the branch more than 60
-// degrees off its outward direction and folds its first hexes for most radii; so does a chain of one fan edge, whose
-// other end u would become a leaflet-only branching point (docs/blocks.md, "Branches on fan-edge ends").
-// Raw hexes: the standard count on the repaired skeleton, i.e. +2 (g - 1) (one border side more per retracted face).
+// degrees off its outward direction and folds its first hexes for most radii.
+// A chain of one fan edge (u, w) is not retracted as it is (u would become a leaflet-only branching point whose raw
+// mesh folds; docs/blocks.md, "Branches on fan-edge ends"): when u is a plain fan end (no branch, every face there one
+// of the g around (u, w), each leaving u by its own border side) and every face around (u, w) starts a strip of faces
+// that crosses its leaflet to a border side (sides of 2 faces only, no face twice), the fan edge is first split at its
+// midpoint m and every face of those strips cut in two through the midpoints of the two sides it crosses (the edit the
+// analysis suggests); the chain u - m - w then has two fan edges and (m, w) is retracted from w as above.
+// Split counts: +1 vertex and +1 edge per cut side (the fan edge and 1 + strip length per strip), +1 edge and +1 face
+// per cut face: Euler unchanged.
+// Raw hexes: the standard count on the repaired skeleton, i.e. +2 (g - 1) (one border side more per retracted face),
+// plus, after a split, 2 per cut face and 2 per cut border side (one leaflet face and one border side more each).
 
 #include <vector>
 
@@ -52,15 +60,19 @@ struct FanEndRetraction {
     int fan_neighbour = -1;         // u: the other end of the former fan edge (u, w)
     int carrier_face = -1;          // the face that keeps w, moved along its border (its leaflet carries the branch)
     std::vector<int> new_vertices;  // w_i, one per retracted face, in face id order
+    int fan_edge_split = -1;        // a single fan edge split first: its midpoint (then u), else -1
+    int strip_faces_split = 0;      // faces cut in two by that split (the strips from the fan edge to the borders)
     friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
 };
 
 // Preconditions: one radius > 0 per vertex, faces quads, indices in range (else nothing is done: analysis reports
 // the input). Postconditions: V - E + F unchanged (each retracted face adds w_i and the side (u, w_i)); input vertices,
-// edges and faces keep their indices (new vertices and edges appended, in retraction order); no fan-edge end with a
-// branch of the configuration above is left. Retractions are made one vertex at a time, in increasing vertex index
-// (a fan edge with branches at both ends is retracted at its lower end only: the other end is then no longer on a fan
-// edge). Deterministic. O(retractions x (V + E + F) log E).
+// edges and faces keep their indices (new vertices, edges and faces appended in repair order: a split's midpoints, the
+// fan edge's first, then strip by strip in face id order, then the retraction's); no fan-edge end with a branch of the
+// configuration above is left. Retractions are made one vertex at a time, in increasing vertex index, each preceded by
+// its split when its fan edge is single (a fan edge with branches at both ends is retracted at its lower end only:
+// the other end is then no longer on a fan edge; a single one is not split: refused). Deterministic.
+// O(repairs x (V + E + F) log E).
 std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s);
 
 }  // namespace mesohex

@@ -279,18 +279,21 @@ struct VertexStar {
 // with fan_end_branches) or an irregular fan.
 VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, int v, bool fan_end_branches) {
     if (st.nb > 0 && st.nfan == 1 && !fan_end_branches)
-        fail(ErrorCode::UnsupportedConfiguration,
-             vname + ": a branch on a fan-edge end (the end of a fan edge shared by " +
-                 std::to_string(st.fan_degrees[0]) +
-                 " faces; the paper's limitation 3) is meshed only after the repair that retracts the fan edge "
-                 "from it (mesh with resampling on), and only where each leaflet around the fan edge meets the "
-                 "vertex with one face (here " +
-                 std::to_string(st.faces) +
-                 " faces), the fan-edge chain is longer than one edge and the branch leaves within 45 degrees of "
-                 "the fan line's continuation; edit: mesh with resampling, make every leaflet there end with one "
-                 "corner face, split a single fan edge and its faces in two, turn the branch's first edge towards "
-                 "the fan line's continuation, or start the branch from a corner of one leaflet off the fan edge",
-             ElementRef::Kind::SkeletonVertex, v);
+        fail(
+            ErrorCode::UnsupportedConfiguration,
+            vname + ": a branch on a fan-edge end (the end of a fan edge shared by " +
+                std::to_string(st.fan_degrees[0]) +
+                " faces; the paper's limitation 3) is meshed only after the repair that retracts the fan edge "
+                "from it (mesh with resampling on), and only where each leaflet around the fan edge meets the "
+                "vertex with one face (here " +
+                std::to_string(st.faces) +
+                " faces), the fan-edge chain is longer than one edge (a single fan edge is split in two first when its "
+                "other end is a fan end without branch and its faces' strips cross their leaflets to a border) and "
+                "the branch leaves within 45 degrees of the fan line's continuation; edit: mesh with resampling, make "
+                "every leaflet there end with one "
+                "corner face, split a single fan edge and its faces in two, turn the branch's first edge towards "
+                "the fan line's continuation, or start the branch from a corner of one leaflet off the fan edge",
+            ElementRef::Kind::SkeletonVertex, v);
     if (st.nb > 0 && st.nfan != 1)
         fail(ErrorCode::UnsupportedConfiguration,
              vname + ": a branch on a vertex inside a fan-edge chain (on " + std::to_string(st.nfan) +

@@ -114,7 +114,8 @@ struct SkeletonRepairOptions {
     // directions becomes 4 quads); new vertices get radii interpolated along their edge (bilinearly in a face).
     double root_patch_factor = 0.8;
     // Branches on fan-edge ends (the paper's limitation 3): the fan edge is retracted from the branch's vertex, which
-    // becomes a leaflet corner (stages/fan_end_repair.h). Done first, on the input skeleton.
+    // becomes a leaflet corner (stages/fan_end_repair.h; a single fan edge is split in two first, with the face strips
+    // crossing it). Done first, on the input skeleton.
     bool fan_end_retraction = true;
     // Checking aid, not a tuning knob: after each trunk or absorption, scan every branching point again instead of
     // only those whose walks the repair touched. The result is the same (test SkeletonRepair.
@@ -151,7 +152,8 @@ struct SkeletonRepairResult {
 // input edges in their order, then per repair its new edges.
 // Repairs are made one pair at a time, the most overlapping first (largest x / r_c), until no pair qualifies (at most
 // one per input branch edge). Deterministic. Complexity O(trunks x (pairs at branching points) x polyline length).
-// Fan-end retractions (fan_end_repair.h) come first: input vertices keep their indices, new ones are appended.
+// Fan-end retractions (fan_end_repair.h) come first: input vertices, edges and faces keep their indices, new ones are
+// appended (a split single fan edge cuts faces too).
 // Degree-4 splits (junction_split) come after the trunks: each moves c, appends c' and the edge (c, c') and re-attaches
 // the close pair's first edges to c' (V and E grow by one).
 // Root patch splits come after the trunks (they touch only leaflets): input vertices keep their indices, new vertices
