@@ -171,6 +171,7 @@ void put_analysis(std::string& out, const SkeletonAnalysis& an, const RawMeshPre
 struct Run {
     MeshRun run;
     nlohmann::json report;
+    const ConnectionSurfaces* surfaces = nullptr;  // of run.pipeline.skeleton when a raw-run cache holds them
     const HexMesh& mesh() const { return run.mesh(); }
     const QualityReport& quality() const { return run.quality(); }
 };
@@ -179,7 +180,8 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& request, MeshTimings& tm) {
+Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& request, MeshTimings& tm,
+             RawRunCache* cache = nullptr) {
     MeshOptions options;  // the defaults of `mesohex mesh`
     options.finish = request.finish;
     options.progress = request.progress;
@@ -188,8 +190,14 @@ Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& req
     // The session's surface query, built once, instead of one per request (about 100 ms on a 27 k-triangle domain;
     // an edit must take less than 50 ms).
     auto t = std::chrono::steady_clock::now();
-    r.run = mesh_skeleton(input, domain ? &domain->surface : nullptr,
-                          domain && domain->query ? &*domain->query : nullptr, options);
+    const TriangleMesh* surface = domain ? &domain->surface : nullptr;
+    const SurfaceQuery* query = domain && domain->query ? &*domain->query : nullptr;
+    if (cache && !request.finish) {
+        r.run = mesh_skeleton_raw(input, surface, query, options, *cache);
+        if (cache->valid) r.surfaces = &cache->remesh.surfaces;
+    } else {
+        r.run = mesh_skeleton(input, surface, query, options);
+    }
     tm.mesh_ms = ms_since(t);
     tm.pipeline_ms = r.run.pipeline_ms;
     tm.quality_ms = r.run.raw_quality_ms;
@@ -231,8 +239,9 @@ nlohmann::json timings_json(const MeshTimings& t) {
 // skeleton vertex v is raw vertex vertex_base[v] + 1 + x (raw_mesh.h).
 void connection_surface_arrays(const Run& run, DrawArrays& out) {
     const PipelineResult& res = run.run.pipeline;
-    const ConnectionSurfaces cs =
-        build_connection_surfaces(res.skeleton, res.analysis, run.run.options.connection_surfaces);
+    ConnectionSurfaces built;
+    if (!run.surfaces) built = build_connection_surfaces(res.skeleton, res.analysis, run.run.options.connection_surfaces);
+    const ConnectionSurfaces& cs = run.surfaces ? *run.surfaces : built;
     const int nv = static_cast<int>(res.skeleton.points.size());
     const auto& mesh_points = res.raw.mesh.points;
     out.has_connection_surfaces = true;
@@ -400,13 +409,13 @@ PipelineResult prepare_for_mesh(const Skeleton& skeleton, const Domain* domain) 
 }
 
 std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request,
-                          MeshTimings* timings_out) {
+                          MeshTimings* timings_out, RawRunCache* cache) {
     const auto t0 = std::chrono::steady_clock::now();
     if (request.finish && !domain)
         throw std::logic_error("mesh_response: stage=final needs a domain");  // the server answers 409 before
     MeshTimings tm;
     tm.parse_ms = request.parse_ms;
-    const Run run = run_mesh(skeleton, domain, request, tm);
+    const Run run = run_mesh(skeleton, domain, request, tm, cache);
     auto t = std::chrono::steady_clock::now();
     std::string analysis;
     const SkeletonAnalysis& an = run.run.pipeline.input_analysis;
