@@ -7,7 +7,9 @@
 //                              and drawing are not included: bench/studio_page_latency.mjs measures those).
 //                              Counter server_ms = the server time the body reports.
 // E: 0 = OBJ text up, JSON body down (the documented API); 1 = OBJ text up, binary body down (encoding=binary);
-//    2 = binary skeleton up (format=mhsk), binary body down: what the page sends and asks for.
+//    2 = binary skeleton up (format=mhsk), binary body down: what the page sent before sessions;
+//    3 = an editing session: one vertex moved (back and forth) sent as an MHSD delta (format=delta), remeshed
+//        incrementally, binary body down: what the page sends now after a move.
 // Skeleton: generated torus 128 x 40 quads, 10240 raw hexes (2 per leaflet face, no boundary).
 #include <benchmark/benchmark.h>
 
@@ -22,6 +24,7 @@
 #include "mesohex/stages/generators.h"
 #include "mesohex_io/skeleton_io.h"
 #include "server.h"
+#include "sessions.h"
 
 using namespace mesohex;
 
@@ -30,19 +33,30 @@ namespace {
 Skeleton torus_10k() { return generate_skeleton("torus", {.n = 128, .m = 40}); }
 
 void BM_StudioRawServer(benchmark::State& state) {
-    const std::string format = state.range(0) == 2 ? "mhsk" : "obj";
+    const std::string format = state.range(0) >= 2 ? "mhsk" : "obj";
     const std::string text = format == "mhsk" ? skeleton_binary(torus_10k()) : skeleton_text(torus_10k(), "obj", "t");
     studio::MeshRequest request;
     request.encoding = state.range(0) ? studio::Encoding::Binary : studio::Encoding::Json;
     std::size_t bytes = 0;
     studio::MeshTimings sum;
     long runs = 0;
+    // E = 3: the session's skeleton and cache, and the two deltas moving vertex 0 by +-0.02 along x.
+    const bool session = state.range(0) == 3;
+    const Skeleton base = torus_10k();
+    Skeleton moved = base;
+    moved.points[0].x += 0.02;
+    const std::string deltas[2] = {studio::skeleton_delta_binary(base, moved), studio::skeleton_delta_binary(moved, base)};
+    Skeleton current = base;
+    RawRunCache cache;
+    if (session) studio::mesh_response(base, nullptr, request, nullptr, &cache);
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
-        const Skeleton s = read_skeleton_text(text, format, "request body");
+        const Skeleton s = session ? studio::apply_skeleton_delta(current, deltas[runs % 2])
+                                   : read_skeleton_text(text, format, "request body");
         request.parse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         studio::MeshTimings t;
-        const std::string body = studio::mesh_response(s, nullptr, request, &t);
+        const std::string body = studio::mesh_response(s, nullptr, request, &t, session ? &cache : nullptr);
+        if (session) current = s;
         bytes = body.size();
         benchmark::DoNotOptimize(body.data());
         sum.parse_ms += t.parse_ms;
@@ -65,11 +79,12 @@ void BM_StudioRawServer(benchmark::State& state) {
     state.counters["encode"] = sum.encode_ms / n;
     state.counters["total"] = sum.total_ms / n;
 }
-BENCHMARK(BM_StudioRawServer)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StudioRawServer)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_StudioRawRoundTrip(benchmark::State& state) {
     const bool binary = state.range(0) != 0;
-    const bool mhsk = state.range(0) == 2;
+    const bool mhsk = state.range(0) >= 2;
+    const bool session = state.range(0) == 3;
     const std::string text = mhsk ? skeleton_binary(torus_10k()) : skeleton_text(torus_10k(), "obj", "torus");
     studio::StudioOptions options;
     options.port = 0;
@@ -82,8 +97,18 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
                                       : "/api/mesh?stage=raw";
     double server_ms = 0;
     long runs = 0;
+    // E = 3: the session opened with the full skeleton (revision 0), then deltas moving vertex 0 back and forth.
+    Skeleton moved = torus_10k();
+    moved.points[0].x += 0.02;
+    const std::string deltas[2] = {studio::skeleton_delta_binary(torus_10k(), moved),
+                                   studio::skeleton_delta_binary(moved, torus_10k())};
+    if (session && client.Post(path + "&session=bench&revision=0", text, "application/octet-stream")->status != 200)
+        state.SkipWithError("session request failed");
     for (auto _ : state) {
-        const auto r = client.Post(path, text, mhsk ? "application/octet-stream" : "text/plain");
+        const auto r = session ? client.Post("/api/mesh?stage=raw&encoding=binary&format=delta&session=bench&base=" +
+                                                 std::to_string(runs) + "&revision=" + std::to_string(runs + 1),
+                                             deltas[runs % 2], "application/octet-stream")
+                               : client.Post(path, text, mhsk ? "application/octet-stream" : "text/plain");
         if (!r || r->status != 200) {
             state.SkipWithError("request failed");
             break;
@@ -98,6 +123,6 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
     state.counters["hexes"] = 2.0 * 128 * 40;
     server.stop();
 }
-BENCHMARK(BM_StudioRawRoundTrip)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StudioRawRoundTrip)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

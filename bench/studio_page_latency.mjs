@@ -98,6 +98,7 @@ try {
     const h = await page.evaluate(() => window.studio.hexCount());
     if (h !== hexes) throw new Error(`hex count changed: ${hexes} -> ${h}`);
   }
+  const uploads = await page.evaluate(() => window.studio.meshUploads?.() ?? null);
   const stats = (a) => {
     const s = a.slice().sort((x, y) => x - y);
     return { median: s[Math.floor(s.length / 2)], mean: s.reduce((u, w) => u + w, 0) / s.length, min: s[0], max: s[s.length - 1] };
@@ -106,6 +107,7 @@ try {
   console.log(`raw hexes: ${hexes}; edits: ${edits}; load average: ${os.loadavg().map((x) => x.toFixed(2)).join(' ')}`);
   console.log(`edit -> mesh drawn (ms): ${f(stats(times))}`);
   if (servers.length) console.log(`server_ms: ${f(stats(servers))}`);
+  if (uploads) console.log(`uploads: ${uploads.deltas} deltas, ${uploads.full} whole skeletons; ${uploads.patches ?? 0} patch answers`);
   if (phases.length)
     for (const k of Object.keys(phases[0])) console.log(`page ${k} (ms): ${f(stats(phases.map((x) => x[k])))}`);
 } finally {

@@ -446,11 +446,17 @@ std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const 
         append_enum(bin, "analysis.edge_kind", names);
         std::string header = "{\"report\":" + run.report.dump(-1, ' ', false, kUtf8Replace);
         header += ",\"analysis\":" + analysis;
+        BinaryArrays patched;
+        if (request.patch_base) {
+            header += ",\"patch_of\":", put(header, static_cast<long long>(request.patch_of));
+            patched = patch_arrays(*request.patch_base, bin);
+        }
         tm.encode_ms = ms_since(t);
         tm.total_ms = tm.parse_ms + ms_since(t0);
         header += ",\"server_ms\":", put(header, tm.total_ms);
         header += ",\"server_phases_ms\":" + timings_json(tm).dump() + '}';
-        out = binary_answer_text(std::move(header), bin);
+        out = binary_answer_text(std::move(header), request.patch_base ? patched : bin);
+        if (request.arrays_out) *request.arrays_out = std::move(bin);
     } else {
         out.reserve(64 * run.mesh().hexes.size() + 4096);
         out += '{';

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "binary_answer.h"
 #include "mesohex/core/hex_mesh.h"
 #include "mesohex/core/skeleton.h"
 #include "mesohex/mesh.h"
@@ -38,6 +39,12 @@ struct MeshRequest {
     // Progress of the run (MeshOptions::progress: "raw", "attempt", "fit", "untangle", "improve", "smooth"); may
     // throw to cancel it.
     std::function<void(const MeshProgress&)> progress;
+    // Binary answers in an editing session: when patch_base is set, the answer patches those arrays (the previous
+    // answer's, which the reader holds; binary_answer.h, patch_arrays) and its header says "patch_of": patch_of.
+    // arrays_out (may be null) receives this answer's arrays, whole (the base of the next patch).
+    const BinaryArrays* patch_base = nullptr;
+    long long patch_of = -1;
+    BinaryArrays* arrays_out = nullptr;
 };
 
 // Where the server's time goes (wall ms), answered as "server_phases_ms".

@@ -368,6 +368,7 @@ void StudioServer::Impl::routes() {
                   std::shared_ptr<MeshSession> ms;
                   std::unique_lock<std::mutex> session_lock;
                   long long revision = -1;
+                  long long since = -1;  // the revision of the session's answer the reader holds (-1: none)
                   if (req.has_param("session") || delta) {
                       const std::string id = req.has_param("session") ? req.get_param_value("session") : "";
                       if (!valid_session_id(id))
@@ -375,6 +376,7 @@ void StudioServer::Impl::routes() {
                                           "session must be 1 to 64 characters of [A-Za-z0-9._-] (format=delta needs "
                                           "one)");
                       revision = integer_param(req, "revision");
+                      if (req.has_param("since")) since = integer_param(req, "since");
                       if (delta) {
                           const long long base = integer_param(req, "base");
                           ms = sessions.find(id);
@@ -413,8 +415,21 @@ void StudioServer::Impl::routes() {
                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
                   request.finish = stage == "final";
                   request.encoding = encoding == "binary" ? Encoding::Binary : Encoding::Json;
+                  // since=R: the reader holds the session's answer of revision R; a binary answer then patches it.
+                  BinaryArrays kept;
+                  if (ms && request.encoding == Encoding::Binary) {
+                      request.arrays_out = &kept;
+                      if (since >= 0 && since == ms->answer_revision) {
+                          request.patch_base = &ms->answer;
+                          request.patch_of = ms->answer_revision;
+                      }
+                  }
                   try {
                       std::string answer = mesh_response(s, domain_ptr(), request, nullptr, ms ? &ms->cache : nullptr);
+                      if (request.arrays_out) {
+                          ms->answer = std::move(kept);
+                          ms->answer_revision = revision;
+                      }
                       if (request.encoding == Encoding::Binary) {
                           res.status = 200;
                           res.set_content(std::move(answer), "application/octet-stream");

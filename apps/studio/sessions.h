@@ -11,6 +11,7 @@
 #include <string_view>
 #include <utility>
 
+#include "binary_answer.h"
 #include "mesohex/core/skeleton.h"
 #include "mesohex/mesh.h"
 
@@ -22,6 +23,9 @@ struct MeshSession {
     long long revision = -1;  // the page's number for `skeleton`
     Skeleton skeleton;        // the last skeleton received (read from the body, or the last one with a delta applied)
     RawRunCache cache;        // what the raw mesh of `skeleton` left (empty after an error)
+    // The arrays of the session's last binary answer (the base of a patch answer, `since=`), and its revision.
+    long long answer_revision = -1;
+    BinaryArrays answer;
 };
 
 class MeshSessions {
