@@ -247,3 +247,77 @@ TEST(StudioSessions, DeltaUploadsOverHttp) {
     // The server still answers.
     EXPECT_EQ(c.Get("/api/session")->status, 200);
 }
+
+// patch_arrays: unchanged arrays become "patch": 0, one changed value "patch": 1 with its index and value, arrays of
+// another length or changed in half their values or more stay whole.
+TEST(StudioSessions, PatchArrays) {
+    studio::BinaryArrays base, full;
+    studio::append_f32(base, "a", std::vector<double>{1, 2, 3, 4});
+    studio::append_f32(base, "b", std::vector<double>{1, 2});
+    studio::append_f32(base, "c", std::vector<double>{1, 2, 3, 4});
+    studio::append_f32(base, "d", std::vector<double>{1, 2, 3, 4});
+    studio::append_f32(full, "a", std::vector<double>{1, 2, 3, 4});
+    studio::append_f32(full, "b", std::vector<double>{1, 2, 3});
+    studio::append_f32(full, "c", std::vector<double>{1, 2, 3.5, 4});
+    studio::append_f32(full, "d", std::vector<double>{1, 0, 0, 4});
+    const studio::BinaryArrays p = studio::patch_arrays(base, full);
+    EXPECT_EQ(p.list[0]["patch"], 0);
+    EXPECT_FALSE(p.list[1].contains("patch"));
+    EXPECT_EQ(p.list[2]["patch"], 1);
+    EXPECT_FALSE(p.list[3].contains("patch"));
+    EXPECT_EQ(p.bytes.size(), 3 * 4 + 8 + 4 * 4u);
+    const studio::DecodedAnswer previous = studio::decode_binary_answer(studio::binary_answer(json::object(), base));
+    const studio::DecodedAnswer d = studio::decode_binary_answer(studio::binary_answer(json::object(), p), &previous);
+    const studio::DecodedAnswer whole = studio::decode_binary_answer(studio::binary_answer(json::object(), full));
+    EXPECT_EQ(d.f32, whole.f32);
+    EXPECT_THROW(studio::decode_binary_answer(studio::binary_answer(json::object(), p)), std::invalid_argument);
+}
+
+// Over HTTP: with since=R (the session's last answer) a binary answer is a patch of it, much smaller, decoding to
+// the whole answer; a since that is not the session's last answer gets a whole answer.
+TEST(StudioSessions, PatchAnswersOverHttp) {
+    auto studio = start_studio({});
+    httplib::Client& c = *studio.client;
+    const auto post = [&](const std::string& query, const std::string& body) {
+        return c.Post(("/api/mesh?stage=raw&encoding=binary&" + query).c_str(), body, "application/octet-stream");
+    };
+    const auto same = [](const studio::DecodedAnswer& a, const studio::DecodedAnswer& b) {
+        EXPECT_EQ(a.names, b.names);
+        EXPECT_EQ(a.f32, b.f32);
+        EXPECT_EQ(a.u32, b.u32);
+        EXPECT_EQ(a.header["analysis"], b.header["analysis"]);
+        EXPECT_EQ(a.header["report"]["quality"], b.header["report"]["quality"]);
+    };
+    Skeleton s = generate_skeleton("torus", {.n = 24, .m = 8});
+    auto r = post("format=mhsk&session=q&revision=1", skeleton_binary(s));
+    ASSERT_EQ(r->status, 200) << r->body;
+    studio::DecodedAnswer held = studio::decode_binary_answer(r->body);
+    std::mt19937 rng(11);
+    for (int i = 0; i < 3; ++i) {
+        const Skeleton next = random_edit(s, rng);
+        r = post("format=delta&session=q&base=" + std::to_string(i + 1) + "&revision=" + std::to_string(i + 2) +
+                     "&since=" + std::to_string(i + 1),
+                 studio::skeleton_delta_binary(s, next));
+        ASSERT_EQ(r->status, 200) << r->body;
+        const auto whole = post("format=mhsk", skeleton_binary(next));
+        EXPECT_LT(4 * r->body.size(), whole->body.size());
+        const studio::DecodedAnswer patched = studio::decode_binary_answer(r->body, &held);
+        EXPECT_EQ(patched.header["patch_of"], i + 1);
+        same(patched, studio::decode_binary_answer(whole->body));
+        held = patched;
+        s = next;
+    }
+    // since=2 while the session's last answer is revision 4: a whole answer.
+    r = post("format=delta&session=q&base=4&revision=5&since=2", studio::skeleton_delta_binary(s, s));
+    ASSERT_EQ(r->status, 200) << r->body;
+    const studio::DecodedAnswer whole = studio::decode_binary_answer(r->body);
+    EXPECT_FALSE(whole.header.contains("patch_of"));
+    same(whole, held);
+    // Another skeleton (other counts) in the same session with since=5: arrays of other lengths come whole.
+    const Skeleton other = generate_skeleton("torus", {.n = 20, .m = 8});
+    r = post("format=mhsk&session=q&revision=6&since=5", skeleton_binary(other));
+    ASSERT_EQ(r->status, 200) << r->body;
+    same(studio::decode_binary_answer(r->body, &whole),
+         studio::decode_binary_answer(post("format=mhsk", skeleton_binary(other))->body));
+    EXPECT_EQ(post("format=mhsk&session=q&revision=7&since=x", skeleton_binary(other))->status, 400);
+}
