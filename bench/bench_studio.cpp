@@ -45,7 +45,8 @@ void BM_StudioRawServer(benchmark::State& state) {
     const Skeleton base = torus_10k();
     Skeleton moved = base;
     moved.points[0].x += 0.02;
-    const std::string deltas[2] = {studio::skeleton_delta_binary(base, moved), studio::skeleton_delta_binary(moved, base)};
+    const std::string deltas[2] = {studio::skeleton_delta_binary(base, moved),
+                                   studio::skeleton_delta_binary(moved, base)};
     Skeleton current = base;
     RawRunCache cache;
     if (session) studio::mesh_response(base, nullptr, request, nullptr, &cache);

@@ -240,7 +240,8 @@ nlohmann::json timings_json(const MeshTimings& t) {
 void connection_surface_arrays(const Run& run, DrawArrays& out) {
     const PipelineResult& res = run.run.pipeline;
     ConnectionSurfaces built;
-    if (!run.surfaces) built = build_connection_surfaces(res.skeleton, res.analysis, run.run.options.connection_surfaces);
+    if (!run.surfaces)
+        built = build_connection_surfaces(res.skeleton, res.analysis, run.run.options.connection_surfaces);
     const ConnectionSurfaces& cs = run.surfaces ? *run.surfaces : built;
     const int nv = static_cast<int>(res.skeleton.points.size());
     const auto& mesh_points = res.raw.mesh.points;

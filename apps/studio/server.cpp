@@ -19,13 +19,13 @@
 
 #include "jobs.h"
 #include "meshing.h"
-#include "sessions.h"
 #include "mesohex/core/error.h"
 #include "mesohex/stages/medial_import.h"
 #include "mesohex/surface/radius_from_surface.h"
 #include "mesohex/surface/skeletonize.h"
 #include "mesohex_io/medial_io.h"
 #include "mesohex_io/skeleton_io.h"
+#include "sessions.h"
 
 namespace mesohex::studio {
 

@@ -68,7 +68,8 @@ std::uint32_t get_u32(std::string_view bytes, std::size_t at) {
 
 double get_f64(std::string_view bytes, std::size_t at) {
     std::uint64_t bits = 0;
-    for (int i = 0; i < 8; ++i) bits |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[at + i])) << (8 * i);
+    for (int i = 0; i < 8; ++i)
+        bits |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[at + i])) << (8 * i);
     double x;
     std::memcpy(&x, &bits, sizeof x);
     return x;
@@ -98,15 +99,16 @@ std::string skeleton_delta_binary(const Skeleton& base, const Skeleton& changed)
     put_u32(out, static_cast<std::uint32_t>(moved.size()));
     put_u32(out, radii ? 1u : 0u);
     for (const std::uint32_t v : moved) put_u32(out, v);
-    for (const std::uint32_t v : moved) put_f64(out, changed.points[v].x), put_f64(out, changed.points[v].y),
-        put_f64(out, changed.points[v].z);
+    for (const std::uint32_t v : moved)
+        put_f64(out, changed.points[v].x), put_f64(out, changed.points[v].y), put_f64(out, changed.points[v].z);
     if (radii)
         for (const std::uint32_t v : moved) put_f64(out, changed.radii[v]);
     return out;
 }
 
 Skeleton apply_skeleton_delta(const Skeleton& base, std::string_view bytes) {
-    if (bytes.size() < kHeaderBytes) fail("shorter than its 20-byte header (" + std::to_string(bytes.size()) + " bytes)");
+    if (bytes.size() < kHeaderBytes)
+        fail("shorter than its 20-byte header (" + std::to_string(bytes.size()) + " bytes)");
     if (bytes.substr(0, 4) != "MHSD") fail("does not start with MHSD");
     if (get_u32(bytes, 4) != 1) fail("version " + std::to_string(get_u32(bytes, 4)) + " (only 1 is read)");
     const std::uint64_t nv = get_u32(bytes, 8), k = get_u32(bytes, 12), flags = get_u32(bytes, 16);
@@ -116,7 +118,8 @@ Skeleton apply_skeleton_delta(const Skeleton& base, std::string_view bytes) {
     if (flags > 1) fail("unknown flags " + std::to_string(flags));
     const bool radii = flags == 1;
     if (radii != (base.radii.size() == base.points.size() && !base.radii.empty()))
-        fail(radii ? "radii given, the session's skeleton has none" : "no radii given, the session's skeleton has them");
+        fail(radii ? "radii given, the session's skeleton has none"
+                   : "no radii given, the session's skeleton has them");
     if (k > nv) fail(std::to_string(k) + " changed vertices of " + std::to_string(nv));
     const std::uint64_t expected = kHeaderBytes + 4 * k + 24 * k + (radii ? 8 * k : 0);
     if (bytes.size() != expected)

@@ -225,7 +225,8 @@ MeshRun mesh_skeleton_raw(const Skeleton& input, const TriangleMesh* domain, con
     rc.surface_options = run.options.connection_surfaces;
     rc.raw_options = run.options.raw_mesh;
     const HexMesh old_mesh = reuse ? rc.raw.mesh : HexMesh{};
-    cache.last = reuse ? remesh_incremental(rc, res.skeleton, &res.analysis) : remesh_full(rc, res.skeleton, &res.analysis);
+    cache.last =
+        reuse ? remesh_incremental(rc, res.skeleton, &res.analysis) : remesh_full(rc, res.skeleton, &res.analysis);
     res.predicted = predict_raw_mesh(res.skeleton, res.analysis, rc.surfaces);
     res.predicted.virtual_branches = res.virtual_branches;
     res.timings_ms.push_back({"connection_surfaces", ms_since(t_remesh)});
@@ -235,8 +236,8 @@ MeshRun mesh_skeleton_raw(const Skeleton& input, const TriangleMesh* domain, con
     run.pipeline_ms = ms_since(t);
 
     t = std::chrono::steady_clock::now();
-    const bool same_cells = reuse && old_mesh.points.size() == res.raw.mesh.points.size() &&
-                            old_mesh.hexes == res.raw.mesh.hexes;
+    const bool same_cells =
+        reuse && old_mesh.points.size() == res.raw.mesh.points.size() && old_mesh.hexes == res.raw.mesh.hexes;
     if (same_cells) {
         // The topology reads the cells only: the cached one is this mesh's.
         run.raw_quality = update_quality(cache.quality, old_mesh, res.raw.mesh, cache.topology);

@@ -110,8 +110,8 @@ PipelineResult prepare_mesh_skeleton(const Skeleton& skeleton, const TriangleMes
 
 // What a raw run leaves for the next one on a similar skeleton (the studio keeps one per editing session).
 struct RawRunCache {
-    bool valid = false;    // the members below belong to the last successful mesh_skeleton_raw
-    RemeshCache remesh;    // the prepared skeleton with its analysis, connection surfaces, frames and raw mesh
+    bool valid = false;     // the members below belong to the last successful mesh_skeleton_raw
+    RemeshCache remesh;     // the prepared skeleton with its analysis, connection surfaces, frames and raw mesh
     QualityReport quality;  // compute_quality(remesh.raw.mesh)
     HexTopology topology;   // its topology
     RemeshStats last;       // what the last run recomputed (full = everything)

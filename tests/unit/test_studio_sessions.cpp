@@ -161,7 +161,7 @@ TEST(StudioSessions, LeastRecentlyUsedSessionIsDropped) {
     const auto a = sessions.find_or_create("a");
     sessions.find_or_create("b");
     EXPECT_EQ(sessions.find("a"), a);  // a is now the most recent
-    sessions.find_or_create("c");     // drops b
+    sessions.find_or_create("c");      // drops b
     EXPECT_EQ(sessions.size(), 2u);
     EXPECT_EQ(sessions.find("b"), nullptr);
     EXPECT_EQ(sessions.find("a"), a);
@@ -187,9 +187,9 @@ TEST(StudioSessions, DeltaUploadsOverHttp) {
     long long revision = 1;
     for (int i = 0; i < 4; ++i) {
         const Skeleton next = random_edit(s, rng);
-        r = post("format=delta&session=p1&base=" + std::to_string(revision) + "&revision=" +
-                     std::to_string(revision + 1),
-                 studio::skeleton_delta_binary(s, next));
+        r = post(
+            "format=delta&session=p1&base=" + std::to_string(revision) + "&revision=" + std::to_string(revision + 1),
+            studio::skeleton_delta_binary(s, next));
         ASSERT_TRUE(r);
         ASSERT_EQ(r->status, 200) << r->body;
         EXPECT_EQ(without_times(r->body), without_times(post("format=mhsk", skeleton_binary(next))->body));
@@ -222,7 +222,7 @@ TEST(StudioSessions, DeltaUploadsOverHttp) {
     const auto neg = post(base + next, studio::skeleton_delta_binary(s, bad));
     expect_error(neg, 400, "InvalidInput");
     EXPECT_EQ(body_json(neg)["error"]["where"]["kind"], "skeleton_vertex");
-    expect_error(post(base, studio::skeleton_delta_binary(s, s)), 400, "BadRequest");                // no revision
+    expect_error(post(base, studio::skeleton_delta_binary(s, s)), 400, "BadRequest");  // no revision
     expect_error(post(base + "&revision=-3", studio::skeleton_delta_binary(s, s)), 400, "BadRequest");
     expect_error(post("format=delta&base=99&revision=100", studio::skeleton_delta_binary(s, s)), 400, "BadRequest");
     expect_error(post("format=delta&session=a%2Fb&base=99&revision=100", ""), 400, "BadRequest");

@@ -62,7 +62,6 @@ void sj_statistics(QualityReport& r) {
             });
         r.worst_hexes.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k));
     }
-
 }
 
 }  // namespace
