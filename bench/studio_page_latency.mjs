@@ -109,7 +109,10 @@ try {
   if (servers.length) console.log(`server_ms: ${f(stats(servers))}`);
   if (uploads) console.log(`uploads: ${uploads.deltas} deltas, ${uploads.full} whole skeletons; ${uploads.patches ?? 0} patch answers`);
   if (phases.length)
-    for (const k of Object.keys(phases[0])) console.log(`page ${k} (ms): ${f(stats(phases.map((x) => x[k])))}`);
+    for (const k of Object.keys(phases[0])) {
+      const values = phases.map((x) => x[k]).filter((x) => typeof x === 'number' && Number.isFinite(x));
+      if (values.length) console.log(`page ${k}${k === 'answerKB' ? '' : ' (ms)'}: ${f(stats(values))}`);
+    }
 } finally {
   await browser.close();
   proc.kill('SIGTERM');

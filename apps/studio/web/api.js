@@ -14,6 +14,20 @@ export class ApiError extends Error {
 
 export const clientId = 'page-' + Math.random().toString(36).slice(2, 10);
 
+// Where the last binary request's time went (ms, from the browser's resource timing): `send` from the fetch call to
+// the request leaving, `wait` from then to the answer's first byte (the server's time is in the answer), `download`
+// the body, `handover` from the body received to the page having it (arrayBuffer), `decode` decoding it; `bytes` the
+// body's size. null fields when the browser gives no timing.
+export let lastTiming = null;
+function requestTiming(path, received, decoded, bytes) {
+  const url = new URL(path, location.href).href;
+  const e = performance.getEntriesByName(url).pop();
+  performance.clearResourceTimings(); // the buffer holds 250 entries
+  if (!e || !e.responseStart) return { send: null, wait: null, download: null, handover: null, decode: decoded - received, bytes };
+  return { send: e.requestStart - e.startTime, wait: e.responseStart - e.requestStart, download: e.responseEnd - e.responseStart,
+    handover: received - e.responseEnd, decode: decoded - received, bytes };
+}
+
 async function call(method, path, body, { signal, type = 'text/plain', expect = 'json', previous = null } = {}) {
   const res = await fetch(path, {
     method,
@@ -26,7 +40,13 @@ async function call(method, path, body, { signal, type = 'text/plain', expect = 
     try { b = await res.json(); } catch { /* not JSON */ }
     throw new ApiError(res.status, b);
   }
-  if (expect === 'binary') return decodeBinaryAnswer(await res.arrayBuffer(), previous);
+  if (expect === 'binary') {
+    const buffer = await res.arrayBuffer();
+    const received = performance.now();
+    const answer = decodeBinaryAnswer(buffer, previous);
+    lastTiming = requestTiming(path, received, performance.now(), buffer.byteLength);
+    return answer;
+  }
   return expect === 'text' ? res.text() : res.json();
 }
 

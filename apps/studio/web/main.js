@@ -600,8 +600,10 @@ async function runMesh() {
     const t3 = performance.now();
     renderNow();
     const t4 = performance.now();
-    st.lastPhasesMs = { queued: t0 - editAt, roundTrip: t1 - t0, encode: tEncoded - t0, skeleton: t2 - t1, mesh: t3 - t2,
-      render: t4 - t3 };
+    const rt = api.lastTiming || {};
+    st.lastPhasesMs = { queued: t0 - editAt, roundTrip: t1 - t0, encode: tEncoded - t0, send: rt.send, wait: rt.wait,
+      download: rt.download, handover: rt.handover, decode: rt.decode, answerKB: rt.bytes / 1024, skeleton: t2 - t1,
+      mesh: t3 - t2, render: t4 - t3 };
     // Edit -> updated mesh on screen: request, server, decoding, geometry and the draw call.
     st.lastEditToMeshMs = performance.now() - editAt;
     st.meshRequests++;
