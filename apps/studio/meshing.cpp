@@ -172,6 +172,7 @@ struct Run {
     MeshRun run;
     nlohmann::json report;
     const ConnectionSurfaces* surfaces = nullptr;  // of run.pipeline.skeleton when a raw-run cache holds them
+    const HexTopology* topology = nullptr;         // of the raw mesh when a raw-run cache holds it
     const HexMesh& mesh() const { return run.mesh(); }
     const QualityReport& quality() const { return run.quality(); }
 };
@@ -193,8 +194,9 @@ Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& req
     const TriangleMesh* surface = domain ? &domain->surface : nullptr;
     const SurfaceQuery* query = domain && domain->query ? &*domain->query : nullptr;
     if (cache && !request.finish) {
+        options.keep_raw_topology = false;  // the cache holds it: no copy
         r.run = mesh_skeleton_raw(input, surface, query, options, *cache);
-        if (cache->valid) r.surfaces = &cache->remesh.surfaces;
+        if (cache->valid) r.surfaces = &cache->remesh.surfaces, r.topology = &cache->topology;
     } else {
         r.run = mesh_skeleton(input, surface, query, options);
     }
@@ -264,10 +266,11 @@ DrawArrays draw_arrays(const Run& run, const Domain* domain, MeshTimings& timing
     const HexMesh& mesh = run.mesh();
     // The raw mesh's topology comes with its quality (MeshOptions::keep_raw_topology); a final mesh's is computed.
     const bool raw = !run.run.finish;
-    const bool kept = raw && run.run.raw_topology.hex_faces.size() == mesh.hexes.size();
+    const HexTopology* kept = !raw ? nullptr : run.topology ? run.topology : &run.run.raw_topology;
+    if (kept && kept->hex_faces.size() != mesh.hexes.size()) kept = nullptr;
     HexTopology computed;
     if (!kept) computed = compute_hex_topology(mesh);
-    const HexTopology& topo = kept ? run.run.raw_topology : computed;
+    const HexTopology& topo = kept ? *kept : computed;
     DrawArrays out;
     for (std::size_t e = 0; e < topo.edges.size(); ++e) {
         const int regular = topo.edge_on_boundary[e] ? 2 : 4;

@@ -29,6 +29,16 @@ private:
     std::chrono::steady_clock::time_point start_;
 };
 
+// The input's analysis `a` (input_options: options.analysis with fan_end_branches possibly set) is what
+// options.analysis gives on the same skeleton when the flag is the same or no vertex has a branch on a fan-edge end
+// (the one case the flag decides: FanEdgeEnd with branch edges is accepted with it, an error without it).
+bool same_analysis(const SkeletonAnalysis& a, const AnalysisOptions& input_options, const AnalysisOptions& options) {
+    if (input_options.fan_end_branches == options.fan_end_branches) return true;
+    for (std::size_t v = 0; v < a.vertex_class.size(); ++v)
+        if (a.vertex_class[v] == VertexClass::FanEdgeEnd && a.vertex_branch_edges[v] > 0) return false;
+    return true;
+}
+
 }  // namespace
 
 double default_radius(const Skeleton& s, double factor) {
@@ -77,7 +87,12 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     // After adaptation, which would collapse their short edges; new vertices and edges are appended.
     res.virtual_branches = static_cast<int>(
         add_virtual_branches(s, options.virtual_branches, &options.connection_surfaces.blocks).at.size());
-    if (options.resample || res.virtual_branches > 0) {
+    if (res.virtual_branches == 0 && options.resample && !input.radii.empty() && s == input &&
+        same_analysis(res.input_analysis, input_options, options.analysis)) {
+        // Nothing repaired or resampled (e.g. no curve branch): the analysis of the skeleton meshed is the input's.
+        res.analysis = res.input_analysis;
+        clock.lap("analysis");
+    } else if (options.resample || res.virtual_branches > 0) {
         res.analysis = analyze_skeleton(s, options.analysis);
         clock.lap("analysis");
     } else {
