@@ -9,7 +9,8 @@
 // E: 0 = OBJ text up, JSON body down (the documented API); 1 = OBJ text up, binary body down (encoding=binary);
 //    2 = binary skeleton up (format=mhsk), binary body down: what the page sent before sessions;
 //    3 = an editing session: one vertex moved (back and forth) sent as an MHSD delta (format=delta), remeshed
-//        incrementally, binary body down: what the page sends now after a move.
+//        incrementally, binary body down (the round trip: a patch answer, since=): what the page sends now after a
+//        move.
 // Skeleton: generated torus 128 x 40 quads, 10240 raw hexes (2 per leaflet face, no boundary).
 #include <benchmark/benchmark.h>
 
@@ -103,11 +104,19 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
     moved.points[0].x += 0.02;
     const std::string deltas[2] = {studio::skeleton_delta_binary(torus_10k(), moved),
                                    studio::skeleton_delta_binary(moved, torus_10k())};
-    if (session && client.Post(path + "&session=bench&revision=0", text, "application/octet-stream")->status != 200)
-        state.SkipWithError("session request failed");
+    // and since = the previous revision: patch answers, decoded against the previous answer.
+    studio::DecodedAnswer held;
+    if (session) {
+        const auto first = client.Post(path + "&session=bench&revision=0", text, "application/octet-stream");
+        if (!first || first->status != 200)
+            state.SkipWithError("session request failed");
+        else
+            held = studio::decode_binary_answer(first->body);
+    }
     for (auto _ : state) {
         const auto r = session ? client.Post("/api/mesh?stage=raw&encoding=binary&format=delta&session=bench&base=" +
-                                                 std::to_string(runs) + "&revision=" + std::to_string(runs + 1),
+                                                 std::to_string(runs) + "&revision=" + std::to_string(runs + 1) +
+                                                 "&since=" + std::to_string(runs),
                                              deltas[runs % 2], "application/octet-stream")
                                : client.Post(path, text, mhsk ? "application/octet-stream" : "text/plain");
         if (!r || r->status != 200) {
@@ -115,7 +124,10 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
             break;
         }
         state.PauseTiming();
-        const nlohmann::json j = binary ? studio::decode_binary_answer(r->body).header : nlohmann::json::parse(r->body);
+        if (session) held = studio::decode_binary_answer(r->body, &held);
+        const nlohmann::json j = session  ? held.header
+                                 : binary ? studio::decode_binary_answer(r->body).header
+                                          : nlohmann::json::parse(r->body);
         server_ms += j["server_ms"].get<double>();
         ++runs;
         state.ResumeTiming();
