@@ -12,6 +12,11 @@
 //        incrementally, binary body down (the round trip: a patch answer, since=): what the page sends now after a
 //        move.
 // Skeleton: generated torus 128 x 40 quads, 10240 raw hexes (2 per leaflet face, no boundary).
+//   BM_StudioRawTree/S         the server's share of an edit on a skeleton with branches, where the repairs and the
+//                              adaptation run on every edit: a 2 600-vertex random tree (bench_inputs.h), one
+//                              branching point moved back and forth; S = 0 the whole skeleton read (MHSK), 1 an
+//                              MHSD delta in a session (incremental remesh when the adapted topology stays).
+//                              Counters: hexes, incremental (share of runs that were incremental).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -20,6 +25,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "bench_inputs.h"
 #include "binary_answer.h"
 #include "meshing.h"
 #include "mesohex/stages/generators.h"
@@ -137,5 +143,38 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
     server.stop();
 }
 BENCHMARK(BM_StudioRawRoundTrip)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_StudioRawTree(benchmark::State& state) {
+    const bool session = state.range(0) == 1;
+    const Skeleton base = bench::random_tree(2600, 5);
+    studio::MeshRequest request;
+    request.encoding = studio::Encoding::Binary;
+    RawRunCache cache;
+    const std::string first = studio::mesh_response(base, nullptr, request, nullptr, &cache);
+    int v = static_cast<int>(base.points.size()) / 2;
+    const SkeletonAnalysis an = analyze_skeleton(base);  // of the input (the cache's is of the adapted skeleton)
+    while (an.vertex_class[static_cast<std::size_t>(v)] != VertexClass::BranchingPoint) ++v;
+    Skeleton moved = base;
+    moved.points[static_cast<std::size_t>(v)] += Vec3{0.02, 0.01, 0};
+    const std::string deltas[2] = {studio::skeleton_delta_binary(base, moved),
+                                   studio::skeleton_delta_binary(moved, base)};
+    const std::string whole[2] = {skeleton_binary(moved), skeleton_binary(base)};
+    Skeleton current = base;
+    long runs = 0, incremental = 0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Skeleton s = session ? studio::apply_skeleton_delta(current, deltas[runs % 2])
+                                   : read_skeleton_text(whole[runs % 2], "mhsk", "request body");
+        request.parse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        const std::string body = studio::mesh_response(s, nullptr, request, nullptr, session ? &cache : nullptr);
+        benchmark::DoNotOptimize(body.data());
+        current = s;
+        incremental += session && !cache.last.full;
+        ++runs;
+    }
+    state.counters["hexes"] = static_cast<double>(cache.remesh.raw.mesh.hexes.size());
+    state.counters["incremental"] = runs ? static_cast<double>(incremental) / static_cast<double>(runs) : 0;
+}
+BENCHMARK(BM_StudioRawTree)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
