@@ -146,6 +146,24 @@ TEST(StudioSessions, DeltaRoundTripAndMalformedDeltas) {
     Skeleton zero = a;
     zero.radii[2] = 0;
     rejects(studio::skeleton_delta_binary(a, zero));
+    // Random byte flips and truncations: an error or a skeleton with a's topology, never anything else.
+    std::mt19937 rng(3);
+    int accepted = 0;
+    for (int i = 0; i < 2000; ++i) {
+        std::string bytes = d;
+        for (int k = 1 + static_cast<int>(rng() % 3); k > 0; --k)
+            bytes[rng() % bytes.size()] = static_cast<char>(rng() & 0xffu);
+        if (rng() % 4 == 0) bytes.resize(rng() % bytes.size());
+        try {
+            const Skeleton out = studio::apply_skeleton_delta(a, bytes);
+            EXPECT_EQ(out.edges, a.edges);
+            EXPECT_EQ(out.points.size(), a.points.size());
+            ++accepted;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::InvalidInput);
+        }
+    }
+    EXPECT_GT(accepted, 0);  // flips of coordinate bits give valid deltas too
 }
 
 TEST(StudioSessions, SessionIds) {
