@@ -7,8 +7,16 @@
 //                              and drawing are not included: bench/studio_page_latency.mjs measures those).
 //                              Counter server_ms = the server time the body reports.
 // E: 0 = OBJ text up, JSON body down (the documented API); 1 = OBJ text up, binary body down (encoding=binary);
-//    2 = binary skeleton up (format=mhsk), binary body down: what the page sends and asks for.
+//    2 = binary skeleton up (format=mhsk), binary body down: what the page sent before sessions;
+//    3 = an editing session: one vertex moved (back and forth) sent as an MHSD delta (format=delta), remeshed
+//        incrementally, binary body down (the round trip: a patch answer, since=): what the page sends now after a
+//        move.
 // Skeleton: generated torus 128 x 40 quads, 10240 raw hexes (2 per leaflet face, no boundary).
+//   BM_StudioRawTree/S         the server's share of an edit on a skeleton with branches, where the repairs and the
+//                              adaptation run on every edit: a 2 600-vertex random tree (bench_inputs.h), one
+//                              branching point moved back and forth; S = 0 the whole skeleton read (MHSK), 1 an
+//                              MHSD delta in a session (incremental remesh when the adapted topology stays).
+//                              Counters: hexes, incremental (share of runs that were incremental).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -17,11 +25,13 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "bench_inputs.h"
 #include "binary_answer.h"
 #include "meshing.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex_io/skeleton_io.h"
 #include "server.h"
+#include "sessions.h"
 
 using namespace mesohex;
 
@@ -30,19 +40,31 @@ namespace {
 Skeleton torus_10k() { return generate_skeleton("torus", {.n = 128, .m = 40}); }
 
 void BM_StudioRawServer(benchmark::State& state) {
-    const std::string format = state.range(0) == 2 ? "mhsk" : "obj";
+    const std::string format = state.range(0) >= 2 ? "mhsk" : "obj";
     const std::string text = format == "mhsk" ? skeleton_binary(torus_10k()) : skeleton_text(torus_10k(), "obj", "t");
     studio::MeshRequest request;
     request.encoding = state.range(0) ? studio::Encoding::Binary : studio::Encoding::Json;
     std::size_t bytes = 0;
     studio::MeshTimings sum;
     long runs = 0;
+    // E = 3: the session's skeleton and cache, and the two deltas moving vertex 0 by +-0.02 along x.
+    const bool session = state.range(0) == 3;
+    const Skeleton base = torus_10k();
+    Skeleton moved = base;
+    moved.points[0].x += 0.02;
+    const std::string deltas[2] = {studio::skeleton_delta_binary(base, moved),
+                                   studio::skeleton_delta_binary(moved, base)};
+    Skeleton current = base;
+    RawRunCache cache;
+    if (session) studio::mesh_response(base, nullptr, request, nullptr, &cache);
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
-        const Skeleton s = read_skeleton_text(text, format, "request body");
+        const Skeleton s = session ? studio::apply_skeleton_delta(current, deltas[runs % 2])
+                                   : read_skeleton_text(text, format, "request body");
         request.parse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         studio::MeshTimings t;
-        const std::string body = studio::mesh_response(s, nullptr, request, &t);
+        const std::string body = studio::mesh_response(s, nullptr, request, &t, session ? &cache : nullptr);
+        if (session) current = s;
         bytes = body.size();
         benchmark::DoNotOptimize(body.data());
         sum.parse_ms += t.parse_ms;
@@ -65,11 +87,12 @@ void BM_StudioRawServer(benchmark::State& state) {
     state.counters["encode"] = sum.encode_ms / n;
     state.counters["total"] = sum.total_ms / n;
 }
-BENCHMARK(BM_StudioRawServer)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StudioRawServer)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_StudioRawRoundTrip(benchmark::State& state) {
     const bool binary = state.range(0) != 0;
-    const bool mhsk = state.range(0) == 2;
+    const bool mhsk = state.range(0) >= 2;
+    const bool session = state.range(0) == 3;
     const std::string text = mhsk ? skeleton_binary(torus_10k()) : skeleton_text(torus_10k(), "obj", "torus");
     studio::StudioOptions options;
     options.port = 0;
@@ -82,14 +105,35 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
                                       : "/api/mesh?stage=raw";
     double server_ms = 0;
     long runs = 0;
+    // E = 3: the session opened with the full skeleton (revision 0), then deltas moving vertex 0 back and forth.
+    Skeleton moved = torus_10k();
+    moved.points[0].x += 0.02;
+    const std::string deltas[2] = {studio::skeleton_delta_binary(torus_10k(), moved),
+                                   studio::skeleton_delta_binary(moved, torus_10k())};
+    // and since = the previous revision: patch answers, decoded against the previous answer.
+    studio::DecodedAnswer held;
+    if (session) {
+        const auto first = client.Post(path + "&session=bench&revision=0", text, "application/octet-stream");
+        if (!first || first->status != 200)
+            state.SkipWithError("session request failed");
+        else
+            held = studio::decode_binary_answer(first->body);
+    }
     for (auto _ : state) {
-        const auto r = client.Post(path, text, mhsk ? "application/octet-stream" : "text/plain");
+        const auto r = session ? client.Post("/api/mesh?stage=raw&encoding=binary&format=delta&session=bench&base=" +
+                                                 std::to_string(runs) + "&revision=" + std::to_string(runs + 1) +
+                                                 "&since=" + std::to_string(runs),
+                                             deltas[runs % 2], "application/octet-stream")
+                               : client.Post(path, text, mhsk ? "application/octet-stream" : "text/plain");
         if (!r || r->status != 200) {
             state.SkipWithError("request failed");
             break;
         }
         state.PauseTiming();
-        const nlohmann::json j = binary ? studio::decode_binary_answer(r->body).header : nlohmann::json::parse(r->body);
+        if (session) held = studio::decode_binary_answer(r->body, &held);
+        const nlohmann::json j = session  ? held.header
+                                 : binary ? studio::decode_binary_answer(r->body).header
+                                          : nlohmann::json::parse(r->body);
         server_ms += j["server_ms"].get<double>();
         ++runs;
         state.ResumeTiming();
@@ -98,6 +142,39 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
     state.counters["hexes"] = 2.0 * 128 * 40;
     server.stop();
 }
-BENCHMARK(BM_StudioRawRoundTrip)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StudioRawRoundTrip)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_StudioRawTree(benchmark::State& state) {
+    const bool session = state.range(0) == 1;
+    const Skeleton base = bench::random_tree(2600, 5);
+    studio::MeshRequest request;
+    request.encoding = studio::Encoding::Binary;
+    RawRunCache cache;
+    const std::string first = studio::mesh_response(base, nullptr, request, nullptr, &cache);
+    int v = static_cast<int>(base.points.size()) / 2;
+    const SkeletonAnalysis an = analyze_skeleton(base);  // of the input (the cache's is of the adapted skeleton)
+    while (an.vertex_class[static_cast<std::size_t>(v)] != VertexClass::BranchingPoint) ++v;
+    Skeleton moved = base;
+    moved.points[static_cast<std::size_t>(v)] += Vec3{0.02, 0.01, 0};
+    const std::string deltas[2] = {studio::skeleton_delta_binary(base, moved),
+                                   studio::skeleton_delta_binary(moved, base)};
+    const std::string whole[2] = {skeleton_binary(moved), skeleton_binary(base)};
+    Skeleton current = base;
+    long runs = 0, incremental = 0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Skeleton s = session ? studio::apply_skeleton_delta(current, deltas[runs % 2])
+                                   : read_skeleton_text(whole[runs % 2], "mhsk", "request body");
+        request.parse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        const std::string body = studio::mesh_response(s, nullptr, request, nullptr, session ? &cache : nullptr);
+        benchmark::DoNotOptimize(body.data());
+        current = s;
+        incremental += session && !cache.last.full;
+        ++runs;
+    }
+    state.counters["hexes"] = static_cast<double>(cache.remesh.raw.mesh.hexes.size());
+    state.counters["incremental"] = runs ? static_cast<double>(incremental) / static_cast<double>(runs) : 0;
+}
+BENCHMARK(BM_StudioRawTree)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

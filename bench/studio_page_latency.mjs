@@ -98,6 +98,7 @@ try {
     const h = await page.evaluate(() => window.studio.hexCount());
     if (h !== hexes) throw new Error(`hex count changed: ${hexes} -> ${h}`);
   }
+  const uploads = await page.evaluate(() => window.studio.meshUploads?.() ?? null);
   const stats = (a) => {
     const s = a.slice().sort((x, y) => x - y);
     return { median: s[Math.floor(s.length / 2)], mean: s.reduce((u, w) => u + w, 0) / s.length, min: s[0], max: s[s.length - 1] };
@@ -106,8 +107,12 @@ try {
   console.log(`raw hexes: ${hexes}; edits: ${edits}; load average: ${os.loadavg().map((x) => x.toFixed(2)).join(' ')}`);
   console.log(`edit -> mesh drawn (ms): ${f(stats(times))}`);
   if (servers.length) console.log(`server_ms: ${f(stats(servers))}`);
+  if (uploads) console.log(`uploads: ${uploads.deltas} deltas, ${uploads.full} whole skeletons; ${uploads.patches ?? 0} patch answers`);
   if (phases.length)
-    for (const k of Object.keys(phases[0])) console.log(`page ${k} (ms): ${f(stats(phases.map((x) => x[k])))}`);
+    for (const k of Object.keys(phases[0])) {
+      const values = phases.map((x) => x[k]).filter((x) => typeof x === 'number' && Number.isFinite(x));
+      if (values.length) console.log(`page ${k}${k === 'answerKB' ? '' : ' (ms)'}: ${f(stats(values))}`);
+    }
 } finally {
   await browser.close();
   proc.kill('SIGTERM');

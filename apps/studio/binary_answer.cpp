@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstring>
 #include <stdexcept>
 
 namespace mesohex::studio {
@@ -84,7 +85,54 @@ std::string binary_answer_text(std::string text, const BinaryArrays& arrays) {
     return out;
 }
 
-DecodedAnswer decode_binary_answer(const std::string& in) {
+namespace {
+std::size_t index_of_name(const DecodedAnswer& d, const std::string& name) {
+    for (std::size_t i = 0; i < d.names.size(); ++i)
+        if (d.names[i] == name) return i;
+    return d.names.size();
+}
+}  // namespace
+
+BinaryArrays patch_arrays(const BinaryArrays& base, const BinaryArrays& full) {
+    // Byte offset of each array of base, by name.
+    std::vector<std::size_t> base_at;
+    std::size_t at = 0;
+    for (const nlohmann::json& a : base.list) base_at.push_back(at), at += 4 * a["count"].get<std::size_t>();
+    BinaryArrays out;
+    at = 0;
+    for (const nlohmann::json& a : full.list) {
+        const std::size_t n = a["count"].get<std::size_t>();
+        const char* values = full.bytes.data() + at;
+        at += 4 * n;
+        std::size_t b = 0;
+        while (b < base.list.size() && base.list[b]["name"] != a["name"]) ++b;
+        bool patch = b < base.list.size() && base.list[b]["type"] == a["type"] && base.list[b]["count"] == a["count"] &&
+                     base.list[b].value("names", nlohmann::json()) == a.value("names", nlohmann::json());
+        std::vector<std::uint32_t> changed;
+        if (patch) {
+            const char* old = base.bytes.data() + base_at[b];
+            for (std::size_t i = 0; i < n && patch; ++i)
+                if (std::memcmp(old + 4 * i, values + 4 * i, 4) != 0) {
+                    changed.push_back(static_cast<std::uint32_t>(i));
+                    patch = 2 * changed.size() < n;
+                }
+            if (n == 0) patch = true;
+        }
+        nlohmann::json entry = a;
+        if (!patch) {
+            out.bytes.append(values, 4 * n);
+        } else {
+            entry["patch"] = changed.size();
+            char* w = grow(out.bytes, 8 * changed.size());
+            for (const std::uint32_t i : changed) store_u32_le(w, i), w += 4;
+            for (const std::uint32_t i : changed) std::memcpy(w, values + 4 * static_cast<std::size_t>(i), 4), w += 4;
+        }
+        out.list.push_back(std::move(entry));
+    }
+    return out;
+}
+
+DecodedAnswer decode_binary_answer(const std::string& in, const DecodedAnswer* previous) {
     if (in.size() < 12 || in.compare(0, 4, kMagic, 4) != 0) malformed("no MHXB magic");
     if (get_u32_le(in, 4) != kBinaryAnswerVersion) malformed("unknown version " + std::to_string(get_u32_le(in, 4)));
     const std::size_t h = get_u32_le(in, 8);
@@ -99,10 +147,43 @@ DecodedAnswer decode_binary_answer(const std::string& in) {
             !a["count"].is_number_unsigned())
             malformed("array entry " + a.dump());
         const std::size_t n = a["count"].get<std::size_t>();
-        if (n > (in.size() - at) / 4) malformed("array " + a.dump() + " runs past the end");
         d.names.push_back(a["name"].get<std::string>());
         d.f32.emplace_back();
         d.u32.emplace_back();
+        if (a.contains("patch")) {  // the previous answer's array with M values replaced
+            if (!previous || !previous->has(d.names.back()) || !a["patch"].is_number_unsigned())
+                malformed("patch of an array the previous answer does not have: " + a.dump());
+            const std::size_t m = a["patch"].get<std::size_t>();
+            if (m > (in.size() - at) / 8) malformed("array " + a.dump() + " runs past the end");
+            const std::size_t p = index_of_name(*previous, d.names.back());
+            std::vector<double> reals = previous->f32[p];
+            std::vector<std::uint32_t> ints = previous->u32[p];
+            if ((a["type"] == "f32" ? reals.size() : ints.size()) != n) malformed("patch of another size: " + a.dump());
+            for (std::size_t k = 0; k < m; ++k) {
+                const std::uint32_t i = get_u32_le(in, at + 4 * k), bits = get_u32_le(in, at + 4 * (m + k));
+                if (i >= n) malformed("patch index out of range in " + a.dump());
+                if (a["type"] == "f32")
+                    reals[i] = static_cast<double>(std::bit_cast<float>(bits));
+                else
+                    ints[i] = bits;
+            }
+            at += 8 * m;
+            if (a["type"] == "enum") {
+                if (!a.contains("names") || !a["names"].is_array()) malformed("enum array without names " + a.dump());
+                nlohmann::json strings = nlohmann::json::array();
+                for (const std::uint32_t code : ints) {
+                    if (code >= a["names"].size()) malformed("enum code " + std::to_string(code) + " in " + a.dump());
+                    strings.push_back(a["names"][code]);
+                }
+                std::string pointer = "/" + d.names.back();
+                std::replace(pointer.begin(), pointer.end(), '.', '/');
+                d.header[nlohmann::json::json_pointer(pointer)] = std::move(strings);
+            }
+            d.f32.back() = std::move(reals);
+            d.u32.back() = std::move(ints);
+            continue;
+        }
+        if (n > (in.size() - at) / 4) malformed("array " + a.dump() + " runs past the end");
         if (a["type"] == "f32") {
             d.f32.back().reserve(n);
             for (std::size_t i = 0; i < n; ++i, at += 4)

@@ -44,6 +44,13 @@ std::string binary_answer(nlohmann::json header, const BinaryArrays& arrays);
 // large members are serialized once); "arrays" is appended as its last member.
 std::string binary_answer_text(std::string header_object, const BinaryArrays& arrays);
 
+// A patch answer (docs/studio.md, "Sessions and deltas"): `full` as changes to `base`, the arrays of the previous
+// answer the reader holds. Each array of `full` that `base` has with the same name, type, count (and names, for an
+// enum) and of which fewer than half the values differ becomes {"name", "type", "count", "patch": M} (+ "names"),
+// its data M uint32 value indices (increasing) then the M new values (4 bytes each); the others stay whole. The
+// header should say which answer it patches ("patch_of").
+BinaryArrays patch_arrays(const BinaryArrays& base, const BinaryArrays& full);
+
 // Reading it back (tests, scripts): the header and every array as doubles (f32) or uint32 (u32, enum codes), by name;
 // an enum array is also written into the header at its dotted name as the JSON array of its strings, so that the
 // header has the JSON answer's members.
@@ -57,7 +64,9 @@ struct DecodedAnswer {
     const std::vector<std::uint32_t>& ints(const std::string& name) const;
     bool has(const std::string& name) const;
 };
-DecodedAnswer decode_binary_answer(const std::string& bytes);
+// `previous`: the decoded answer a patch answer patches (required when an entry has "patch"; the patched arrays are
+// its arrays with the changes applied).
+DecodedAnswer decode_binary_answer(const std::string& bytes, const DecodedAnswer* previous = nullptr);
 
 // ------------------------------------------------------------------------------------------- implementation
 

@@ -171,6 +171,8 @@ void put_analysis(std::string& out, const SkeletonAnalysis& an, const RawMeshPre
 struct Run {
     MeshRun run;
     nlohmann::json report;
+    const ConnectionSurfaces* surfaces = nullptr;  // of run.pipeline.skeleton when a raw-run cache holds them
+    const HexTopology* topology = nullptr;         // of the raw mesh when a raw-run cache holds it
     const HexMesh& mesh() const { return run.mesh(); }
     const QualityReport& quality() const { return run.quality(); }
 };
@@ -179,7 +181,8 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& request, MeshTimings& tm) {
+Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& request, MeshTimings& tm,
+             RawRunCache* cache = nullptr) {
     MeshOptions options;  // the defaults of `mesohex mesh`
     options.finish = request.finish;
     options.progress = request.progress;
@@ -188,8 +191,15 @@ Run run_mesh(const Skeleton& input, const Domain* domain, const MeshRequest& req
     // The session's surface query, built once, instead of one per request (about 100 ms on a 27 k-triangle domain;
     // an edit must take less than 50 ms).
     auto t = std::chrono::steady_clock::now();
-    r.run = mesh_skeleton(input, domain ? &domain->surface : nullptr,
-                          domain && domain->query ? &*domain->query : nullptr, options);
+    const TriangleMesh* surface = domain ? &domain->surface : nullptr;
+    const SurfaceQuery* query = domain && domain->query ? &*domain->query : nullptr;
+    if (cache && !request.finish) {
+        options.keep_raw_topology = false;  // the cache holds it: no copy
+        r.run = mesh_skeleton_raw(input, surface, query, options, *cache);
+        if (cache->valid) r.surfaces = &cache->remesh.surfaces, r.topology = &cache->topology;
+    } else {
+        r.run = mesh_skeleton(input, surface, query, options);
+    }
     tm.mesh_ms = ms_since(t);
     tm.pipeline_ms = r.run.pipeline_ms;
     tm.quality_ms = r.run.raw_quality_ms;
@@ -231,8 +241,10 @@ nlohmann::json timings_json(const MeshTimings& t) {
 // skeleton vertex v is raw vertex vertex_base[v] + 1 + x (raw_mesh.h).
 void connection_surface_arrays(const Run& run, DrawArrays& out) {
     const PipelineResult& res = run.run.pipeline;
-    const ConnectionSurfaces cs =
-        build_connection_surfaces(res.skeleton, res.analysis, run.run.options.connection_surfaces);
+    ConnectionSurfaces built;
+    if (!run.surfaces)
+        built = build_connection_surfaces(res.skeleton, res.analysis, run.run.options.connection_surfaces);
+    const ConnectionSurfaces& cs = run.surfaces ? *run.surfaces : built;
     const int nv = static_cast<int>(res.skeleton.points.size());
     const auto& mesh_points = res.raw.mesh.points;
     out.has_connection_surfaces = true;
@@ -254,10 +266,11 @@ DrawArrays draw_arrays(const Run& run, const Domain* domain, MeshTimings& timing
     const HexMesh& mesh = run.mesh();
     // The raw mesh's topology comes with its quality (MeshOptions::keep_raw_topology); a final mesh's is computed.
     const bool raw = !run.run.finish;
-    const bool kept = raw && run.run.raw_topology.hex_faces.size() == mesh.hexes.size();
+    const HexTopology* kept = !raw ? nullptr : run.topology ? run.topology : &run.run.raw_topology;
+    if (kept && kept->hex_faces.size() != mesh.hexes.size()) kept = nullptr;
     HexTopology computed;
     if (!kept) computed = compute_hex_topology(mesh);
-    const HexTopology& topo = kept ? run.run.raw_topology : computed;
+    const HexTopology& topo = kept ? *kept : computed;
     DrawArrays out;
     for (std::size_t e = 0; e < topo.edges.size(); ++e) {
         const int regular = topo.edge_on_boundary[e] ? 2 : 4;
@@ -400,13 +413,13 @@ PipelineResult prepare_for_mesh(const Skeleton& skeleton, const Domain* domain) 
 }
 
 std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request,
-                          MeshTimings* timings_out) {
+                          MeshTimings* timings_out, RawRunCache* cache) {
     const auto t0 = std::chrono::steady_clock::now();
     if (request.finish && !domain)
         throw std::logic_error("mesh_response: stage=final needs a domain");  // the server answers 409 before
     MeshTimings tm;
     tm.parse_ms = request.parse_ms;
-    const Run run = run_mesh(skeleton, domain, request, tm);
+    const Run run = run_mesh(skeleton, domain, request, tm, cache);
     auto t = std::chrono::steady_clock::now();
     std::string analysis;
     const SkeletonAnalysis& an = run.run.pipeline.input_analysis;
@@ -437,11 +450,17 @@ std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const 
         append_enum(bin, "analysis.edge_kind", names);
         std::string header = "{\"report\":" + run.report.dump(-1, ' ', false, kUtf8Replace);
         header += ",\"analysis\":" + analysis;
+        BinaryArrays patched;
+        if (request.patch_base) {
+            header += ",\"patch_of\":", put(header, static_cast<long long>(request.patch_of));
+            patched = patch_arrays(*request.patch_base, bin);
+        }
         tm.encode_ms = ms_since(t);
         tm.total_ms = tm.parse_ms + ms_since(t0);
         header += ",\"server_ms\":", put(header, tm.total_ms);
         header += ",\"server_phases_ms\":" + timings_json(tm).dump() + '}';
-        out = binary_answer_text(std::move(header), bin);
+        out = binary_answer_text(std::move(header), request.patch_base ? patched : bin);
+        if (request.arrays_out) *request.arrays_out = std::move(bin);
     } else {
         out.reserve(64 * run.mesh().hexes.size() + 4096);
         out += '{';

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "binary_answer.h"
 #include "mesohex/core/hex_mesh.h"
 #include "mesohex/core/skeleton.h"
 #include "mesohex/mesh.h"
@@ -38,6 +39,12 @@ struct MeshRequest {
     // Progress of the run (MeshOptions::progress: "raw", "attempt", "fit", "untangle", "improve", "smooth"); may
     // throw to cancel it.
     std::function<void(const MeshProgress&)> progress;
+    // Binary answers in an editing session: when patch_base is set, the answer patches those arrays (the previous
+    // answer's, which the reader holds; binary_answer.h, patch_arrays) and its header says "patch_of": patch_of.
+    // arrays_out (may be null) receives this answer's arrays, whole (the base of the next patch).
+    const BinaryArrays* patch_base = nullptr;
+    long long patch_of = -1;
+    BinaryArrays* arrays_out = nullptr;
 };
 
 // Where the server's time goes (wall ms), answered as "server_phases_ms".
@@ -56,10 +63,12 @@ struct MeshTimings {
 
 // Meshes `skeleton` (in `domain` when given) and answers the /api/mesh body: {"report", "mesh", "analysis",
 // "meshed_skeleton", "connection_surfaces" (raw only), "server_ms", "server_phases_ms"} as JSON text, or as a binary
-// answer (request.encoding). `timings` (may be null) receives the phases. Errors: mesohex::Error from the library
-// (naming the element), or whatever `progress` throws.
+// answer (request.encoding). `timings` (may be null) receives the phases. `cache` (may be null; raw meshes only):
+// what the previous raw mesh of an editing session left (mesh_skeleton_raw), for an answer built faster and equal
+// byte for byte but for the times. Errors: mesohex::Error from the library (naming the element), or whatever
+// `progress` throws.
 std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const MeshRequest& request,
-                          MeshTimings* timings = nullptr);
+                          MeshTimings* timings = nullptr, RawRunCache* cache = nullptr);
 
 // The /api/analyze body for `skeleton`: {"vertex_class", "edge_kind", "counts", "repairs", "predicted"} (the input
 // analysis, the repairs /api/mesh makes before meshing, and the prediction of the raw mesh /api/mesh?stage=raw builds,

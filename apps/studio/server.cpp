@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <new>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 #include <utility>
 
@@ -22,6 +25,7 @@
 #include "mesohex/surface/skeletonize.h"
 #include "mesohex_io/medial_io.h"
 #include "mesohex_io/skeleton_io.h"
+#include "sessions.h"
 
 namespace mesohex::studio {
 
@@ -172,6 +176,18 @@ httplib::Server::HandlerWithContentReader with_body(std::size_t max_bytes, F f) 
     };
 }
 
+// A required integer query parameter in [0, 2^53) (a revision number).
+long long integer_param(const httplib::Request& req, const char* name) {
+    const std::string text = req.has_param(name) ? req.get_param_value(name) : "";
+    long long value = -1;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value < 0 ||
+        value > 9007199254740991LL)
+        throw HttpError(400, "BadRequest",
+                        std::string(name) + " must be an integer from 0 to 2^53 - 1, not '" + text + "'");
+    return value;
+}
+
 std::string format_param(const httplib::Request& req, const char* fallback = "obj") {
     return req.has_param("format") ? req.get_param_value("format") : fallback;
 }
@@ -225,6 +241,7 @@ struct StudioServer::Impl {
     std::mutex auto_mutex;
     std::optional<std::string> auto_body;  // /api/auto-skeleton, computed once
     std::mutex save_mutex;
+    MeshSessions sessions{static_cast<std::size_t>(std::max(1, options.mesh_sessions))};
     int port = -1;
     std::thread thread;
     std::atomic<bool> stopping{false};
@@ -339,19 +356,80 @@ void StudioServer::Impl::routes() {
                   const std::string stage = req.has_param("stage") ? req.get_param_value("stage") : "raw";
                   if (stage != "raw" && stage != "final")
                       throw HttpError(400, "BadRequest", "stage must be raw or final, not '" + stage + "'");
+                  const bool delta = format_param(req) == "delta";
+                  if ((req.has_param("session") || delta) && stage != "raw")
+                      throw HttpError(400, "BadRequest", "session and format=delta: stage=raw only");
                   if (stage == "final") require_domain("stage=final");
                   const std::string encoding = req.has_param("encoding") ? req.get_param_value("encoding") : "json";
                   if (encoding != "json" && encoding != "binary")
                       throw HttpError(400, "BadRequest", "encoding must be json or binary, not '" + encoding + "'");
+                  // An editing session (raw meshes only): the server keeps the skeleton and what its raw mesh left,
+                  // so the next request may send a delta (format=delta) and is remeshed incrementally.
+                  std::shared_ptr<MeshSession> ms;
+                  std::unique_lock<std::mutex> session_lock;
+                  long long revision = -1;
+                  long long since = -1;  // the revision of the session's answer the reader holds (-1: none)
+                  if (req.has_param("session") || delta) {
+                      const std::string id = req.has_param("session") ? req.get_param_value("session") : "";
+                      if (!valid_session_id(id))
+                          throw HttpError(400, "BadRequest",
+                                          "session must be 1 to 64 characters of [A-Za-z0-9._-] (format=delta needs "
+                                          "one)");
+                      revision = integer_param(req, "revision");
+                      if (req.has_param("since")) since = integer_param(req, "since");
+                      if (delta) {
+                          const long long base = integer_param(req, "base");
+                          ms = sessions.find(id);
+                          if (ms) session_lock = std::unique_lock<std::mutex>(ms->mutex);
+                          if (!ms || !ms->has_skeleton || ms->revision != base)
+                              throw HttpError(409, "SendFullSkeleton",
+                                              !ms || !ms->has_skeleton
+                                                  ? "unknown session '" + id +
+                                                        "' (never started, or dropped for newer ones): send the full "
+                                                        "skeleton"
+                                                  : "the session holds revision " + std::to_string(ms->revision) +
+                                                        ", not " + std::to_string(base) + ": send the full skeleton");
+                      } else {
+                          ms = sessions.find_or_create(id);
+                          session_lock = std::unique_lock<std::mutex>(ms->mutex);
+                      }
+                  }
                   const auto t0 = std::chrono::steady_clock::now();
-                  const Skeleton s = body_skeleton(req, body);
+                  Skeleton s;
+                  if (delta) {
+                      try {
+                          s = apply_skeleton_delta(ms->skeleton, body);
+                      } catch (const Error& e) {
+                          throw HttpError(400, code_name(e.code()), e.what(), e.where());
+                      }
+                  } else {
+                      s = body_skeleton(req, body);
+                  }
+                  if (ms) {  // the session's skeleton is now this one, meshed or not
+                      ms->skeleton = s;
+                      ms->revision = revision;
+                      ms->has_skeleton = true;
+                  }
                   MeshRequest request;
                   request.parse_ms =
                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
                   request.finish = stage == "final";
                   request.encoding = encoding == "binary" ? Encoding::Binary : Encoding::Json;
+                  // since=R: the reader holds the session's answer of revision R; a binary answer then patches it.
+                  BinaryArrays kept;
+                  if (ms && request.encoding == Encoding::Binary) {
+                      request.arrays_out = &kept;
+                      if (since >= 0 && since == ms->answer_revision) {
+                          request.patch_base = &ms->answer;
+                          request.patch_of = ms->answer_revision;
+                      }
+                  }
                   try {
-                      std::string answer = mesh_response(s, domain_ptr(), request);
+                      std::string answer = mesh_response(s, domain_ptr(), request, nullptr, ms ? &ms->cache : nullptr);
+                      if (request.arrays_out) {
+                          ms->answer = std::move(kept);
+                          ms->answer_revision = revision;
+                      }
                       if (request.encoding == Encoding::Binary) {
                           res.status = 200;
                           res.set_content(std::move(answer), "application/octet-stream");

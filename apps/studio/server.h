@@ -29,6 +29,9 @@ struct StudioOptions {
     int port = 8080;                         // 0 = any free port
     std::size_t max_body_bytes = 64u << 20;  // larger request bodies get 413
     int kept_jobs_per_client = 8;            // finished jobs kept for polling, per client
+    // Editing sessions kept for delta uploads (/api/mesh?session=; sessions.h), the least recently used dropped
+    // first. Each holds a skeleton, its raw mesh with topology and its last answer: about 16 MB at 10 k hexes.
+    int mesh_sessions = 4;
 };
 
 class StudioServer {

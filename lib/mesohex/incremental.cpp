@@ -34,7 +34,7 @@ RemeshStats rebuild(RemeshCache& cache, const Skeleton& skeleton, SkeletonAnalys
         recompute ? rebuild_connection_surfaces(skeleton, analysis, &cache.surfaces, *recompute, cache.surface_options)
                   : build_connection_surfaces(skeleton, analysis, cache.surface_options);
     BranchFrames frames = propagate_frames(skeleton, analysis, cs);
-    RawMesh raw = build_raw_mesh(skeleton, analysis, cs, frames);
+    RawMesh raw = build_raw_mesh(skeleton, analysis, cs, frames, cache.raw_options);
     // Everything built: commit (the cache stays unchanged if anything above threw).
     cache.skeleton = skeleton;
     cache.analysis = std::move(analysis);
@@ -47,26 +47,26 @@ RemeshStats rebuild(RemeshCache& cache, const Skeleton& skeleton, SkeletonAnalys
 
 }  // namespace
 
-RemeshStats remesh_full(RemeshCache& cache, const Skeleton& skeleton) {
+RemeshStats remesh_full(RemeshCache& cache, const Skeleton& skeleton, const SkeletonAnalysis* given) {
     check_all_radii(skeleton);
-    SkeletonAnalysis analysis = analyze_skeleton(skeleton, cache.analysis_options);
+    SkeletonAnalysis analysis = given ? *given : analyze_skeleton(skeleton, cache.analysis_options);
     RemeshStats stats = rebuild(cache, skeleton, std::move(analysis), nullptr);
     stats.changed_vertices = static_cast<int>(skeleton.points.size());
     stats.recomputed_surfaces = static_cast<int>(skeleton.points.size());
     return stats;
 }
 
-RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton) {
+RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton, const SkeletonAnalysis* given) {
     const Skeleton& old = cache.skeleton;
     const int nv = static_cast<int>(skeleton.points.size());
     if (static_cast<int>(old.points.size()) != nv || old.edges != skeleton.edges || old.faces != skeleton.faces ||
         old.radii.size() != old.points.size() || cache.analysis.vertex_class.size() != old.points.size())
-        return remesh_full(cache, skeleton);
+        return remesh_full(cache, skeleton, given);
     check_all_radii(skeleton);
-    SkeletonAnalysis analysis = analyze_skeleton(skeleton, cache.analysis_options);
+    SkeletonAnalysis analysis = given ? *given : analyze_skeleton(skeleton, cache.analysis_options);
     if (analysis.vertex_class != cache.analysis.vertex_class ||
         analysis.vertex_border_root != cache.analysis.vertex_border_root)
-        return remesh_full(cache, skeleton);
+        return remesh_full(cache, skeleton, &analysis);
 
     // Changed vertices, then everything within kReach edges of them (breadth-first over the incidence lists).
     std::vector<int> dist(nv, -1), frontier;

@@ -26,6 +26,7 @@ struct RemeshCache {
     RawMesh raw;
     AnalysisOptions analysis_options;
     ConnectionSurfaceOptions surface_options;
+    RawMeshOptions raw_options;
 };
 
 struct RemeshStats {
@@ -36,12 +37,15 @@ struct RemeshStats {
 
 // Meshes `skeleton` (radii required: one per vertex, finite and > 0) from scratch and fills the cache.
 // Errors: whatever analyze_skeleton and the stages throw, plus Error(InvalidInput) for missing or bad radii.
-RemeshStats remesh_full(RemeshCache& cache, const Skeleton& skeleton);
+// `analysis` (may be null): analyze_skeleton(skeleton, cache.analysis_options) when the caller has it already.
+RemeshStats remesh_full(RemeshCache& cache, const Skeleton& skeleton, const SkeletonAnalysis* analysis = nullptr);
 
 // Brings the cache to `skeleton`: when it has the same edges, faces and number of vertices as cache.skeleton, the
 // connection surfaces of the vertices within three edges of a changed vertex are recomputed and the others reused;
 // otherwise (or when the vertex classes change) this is remesh_full. Afterwards cache.raw equals (bit for bit) what
 // remesh_full(skeleton) gives. On error the cache is left unchanged. Cost: O(V + E + F) plus the recomputed surfaces.
-RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton);
+// `analysis` (may be null): as for remesh_full.
+RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton,
+                               const SkeletonAnalysis* analysis = nullptr);
 
 }  // namespace mesohex

@@ -269,4 +269,55 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const S
     return run;
 }
 
+MeshRun mesh_skeleton_raw(const Skeleton& input, const TriangleMesh* domain, const SurfaceQuery* domain_query,
+                          const MeshOptions& options, RawRunCache& cache) {
+    const bool raw_only = (!domain || !options.finish) && options.partitions <= 0 && options.pipeline.resample;
+    const bool reuse = cache.valid;
+    cache.valid = false;  // until this run succeeds
+    if (!raw_only) return mesh_skeleton(input, domain, domain_query, options);
+    MeshRun run;
+    Skeleton skeleton = input;
+    auto t = std::chrono::steady_clock::now();
+    if (domain) run.radius_note = take_radii_from_domain(skeleton, *domain, domain_query, options);
+    run.radius_ms = ms_since(t);
+
+    t = std::chrono::steady_clock::now();
+    run.options = options.pipeline;
+    if (options.progress) options.progress({"raw", 1, 1, 0, 0});
+    // run_pipeline with the stages after prepare_skeleton through the remesh cache (the same calls, the same options).
+    run.pipeline = prepare_skeleton(skeleton, run.options);
+    PipelineResult& res = run.pipeline;
+    const auto t_remesh = std::chrono::steady_clock::now();
+    RemeshCache& rc = cache.remesh;
+    rc.analysis_options = run.options.analysis;
+    rc.surface_options = run.options.connection_surfaces;
+    rc.raw_options = run.options.raw_mesh;
+    const HexMesh old_mesh = reuse ? rc.raw.mesh : HexMesh{};
+    cache.last =
+        reuse ? remesh_incremental(rc, res.skeleton, &res.analysis) : remesh_full(rc, res.skeleton, &res.analysis);
+    res.predicted = predict_raw_mesh(res.skeleton, res.analysis, rc.surfaces);
+    res.predicted.virtual_branches = res.virtual_branches;
+    res.timings_ms.push_back({"connection_surfaces", ms_since(t_remesh)});
+    res.timings_ms.push_back({"frames", 0.0});  // in the remesh above
+    res.timings_ms.push_back({"raw_mesh", 0.0});
+    res.raw = rc.raw;
+    run.pipeline_ms = ms_since(t);
+
+    t = std::chrono::steady_clock::now();
+    const bool same_cells =
+        reuse && old_mesh.points.size() == res.raw.mesh.points.size() && old_mesh.hexes == res.raw.mesh.hexes;
+    if (same_cells) {
+        // The topology reads the cells only: the cached one is this mesh's.
+        run.raw_quality = update_quality(cache.quality, old_mesh, res.raw.mesh, cache.topology);
+    } else {
+        run.raw_quality = compute_quality(res.raw.mesh, cache.topology);
+    }
+    run.prediction_exact = prediction_matches(run.raw_quality, res.predicted);
+    cache.quality = run.raw_quality;
+    if (options.keep_raw_topology) run.raw_topology = cache.topology;
+    run.raw_quality_ms = ms_since(t);
+    cache.valid = true;
+    return run;
+}
+
 }  // namespace mesohex

@@ -12,6 +12,7 @@
 #include "mesohex/core/hex_mesh.h"
 #include "mesohex/core/skeleton.h"
 #include "mesohex/finish.h"
+#include "mesohex/incremental.h"
 #include "mesohex/pipeline.h"
 #include "mesohex/post/partition.h"
 #include "mesohex/post/quality.h"
@@ -117,6 +118,26 @@ MeshRun mesh_skeleton(const Skeleton& skeleton, const TriangleMesh* domain, cons
 // up to the analysis.
 PipelineResult prepare_mesh_skeleton(const Skeleton& skeleton, const TriangleMesh* domain,
                                      const SurfaceQuery* domain_query, const MeshOptions& options);
+
+// What a raw run leaves for the next one on a similar skeleton (the studio keeps one per editing session).
+struct RawRunCache {
+    bool valid = false;     // the members below belong to the last successful mesh_skeleton_raw
+    RemeshCache remesh;     // the prepared skeleton with its analysis, connection surfaces, frames and raw mesh
+    QualityReport quality;  // compute_quality(remesh.raw.mesh)
+    HexTopology topology;   // its topology
+    RemeshStats last;       // what the last run recomputed (full = everything)
+};
+
+// mesh_skeleton(skeleton, domain, domain_query, options) for a run that stops at the raw mesh (options.finish false
+// or no domain, no partitions; else, and without resampling, this is mesh_skeleton and the cache is emptied), reusing
+// `cache`: the radii and prepare_skeleton (repairs, adaptation, analyses) run whole, then, when the prepared skeleton
+// has the edges and faces of the cached one, only the connection surfaces near moved vertices are rebuilt
+// (remesh_incremental) and only the scaled Jacobians of moved hexes recomputed (update_quality). The result equals
+// mesh_skeleton's bit for bit (tests/unit/test_mesh_incremental.cpp) except the stage times: the remesh is timed as
+// "connection_surfaces" ("frames" and "raw_mesh" 0). Use one cache with one set of options. On error the cache is
+// emptied and the error propagates as from mesh_skeleton.
+MeshRun mesh_skeleton_raw(const Skeleton& skeleton, const TriangleMesh* domain, const SurfaceQuery* domain_query,
+                          const MeshOptions& options, RawRunCache& cache);
 
 // The same, with the domain required: raw mesh, then finish in it.
 inline MeshRun mesh_in_domain(const Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options = {}) {

@@ -1,5 +1,7 @@
 #include "mesohex/pipeline.h"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -28,6 +30,30 @@ private:
     std::vector<StageTiming>& out_;
     std::chrono::steady_clock::time_point start_;
 };
+
+// Whether repair_skeleton or adapt_skeleton may change `s` (analysed as `an`): it has a branch edge (an edge on no
+// face) or two edges joining the same two vertices.
+bool curve_work(const Skeleton& s, const SkeletonAnalysis& an) {
+    if (std::find(an.edge_degree.begin(), an.edge_degree.end(), 0) != an.edge_degree.end()) return true;
+    for (std::size_t v = 0; v + 1 < an.vertex_edge_begin.size(); ++v)
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+            for (int j = an.vertex_edge_begin[v]; j < i; ++j) {
+                const std::array<int, 2>& a = s.edges[static_cast<std::size_t>(an.vertex_edges[i])];
+                const std::array<int, 2>& b = s.edges[static_cast<std::size_t>(an.vertex_edges[j])];
+                if (a[0] + a[1] == b[0] + b[1]) return true;  // both at v: the same other end
+            }
+    return false;
+}
+
+// The input's analysis `a` (input_options: options.analysis with fan_end_branches possibly set) is what
+// options.analysis gives on the same skeleton when the flag is the same or no vertex has a branch on a fan-edge end
+// (the one case the flag decides: FanEdgeEnd with branch edges is accepted with it, an error without it).
+bool same_analysis(const SkeletonAnalysis& a, const AnalysisOptions& input_options, const AnalysisOptions& options) {
+    if (input_options.fan_end_branches == options.fan_end_branches) return true;
+    for (std::size_t v = 0; v < a.vertex_class.size(); ++v)
+        if (a.vertex_class[v] == VertexClass::FanEdgeEnd && a.vertex_branch_edges[v] > 0) return false;
+    return true;
+}
 
 }  // namespace
 
@@ -61,7 +87,12 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     }
     check_radii(s);
 
-    if (options.resample) {
+    if (options.resample && !curve_work(input, res.input_analysis)) {
+        // Repairs and adaptation change curve branches only (skeleton_repair.h, adaptation.h: leaflet vertices, edges
+        // and faces are kept, in their order): without a branch edge (and a repeated edge, which the adaptation would
+        // drop) the skeleton is its own repaired and adapted form. Checked against the two calls in test_incremental.
+        clock.lap("adaptation");
+    } else if (options.resample) {
         SkeletonRepairResult repaired = repair_skeleton(s, options.repair);
         res.trunks = repaired.trunks;
         res.absorbed_stubs = repaired.absorbed_stubs;
@@ -81,7 +112,12 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     // After adaptation, which would collapse their short edges; new vertices and edges are appended.
     res.virtual_branches = static_cast<int>(
         add_virtual_branches(s, options.virtual_branches, &options.connection_surfaces.blocks).at.size());
-    if (options.resample || res.virtual_branches > 0) {
+    if (res.virtual_branches == 0 && options.resample && !input.radii.empty() && s == input &&
+        same_analysis(res.input_analysis, input_options, options.analysis)) {
+        // Nothing repaired or resampled (e.g. no curve branch): the analysis of the skeleton meshed is the input's.
+        res.analysis = res.input_analysis;
+        clock.lap("analysis");
+    } else if (options.resample || res.virtual_branches > 0) {
         res.analysis = analyze_skeleton(s, options.analysis);
         clock.lap("analysis");
     } else {

@@ -250,6 +250,23 @@ test('studio page: load, extrude, move, undo with a live raw mesh (headless Chro
     shown.vertices.forEach((x, i) => assert.equal(x, Math.fround(json.mesh.vertices[i])));
     shown.sj.forEach((x, i) => assert.equal(x, Math.fround(json.mesh.sj[i])));
 
+    // The moves and their undo went up as deltas (MHSD) and came back as patch answers: the mesh compared just now
+    // was built that way (docs/studio.md, "Sessions and deltas").
+    const uploads = await page.evaluate(() => window.studio.meshUploads());
+    assert.ok(uploads.deltas >= 3 && uploads.patches >= 3, JSON.stringify(uploads));
+    // A session the server no longer holds (here: a base revision it never had): the delta gets 409 and the page
+    // sends the whole skeleton at once; the mesh is the same as the undo gave.
+    await page.evaluate(() => window.studio.spoilSession());
+    await page.keyboard.press('Control+Shift+z'); // redo the rejected move: a delta, 409, then the whole skeleton
+    await page.waitForFunction(() => document.getElementById('status').dataset.state === 'error', null, { timeout: 10000 });
+    await page.keyboard.press('Control+z');
+    const recovered = await meshSettled(page);
+    assert.deepEqual(recovered.skeleton, back.skeleton);
+    assert.equal(recovered.maxX, back.maxX);
+    const after = await page.evaluate(() => window.studio.meshUploads());
+    assert.equal(after.full, uploads.full + 1, JSON.stringify([uploads, after]));
+    assert.equal(after.deltas, uploads.deltas + 1, JSON.stringify([uploads, after]));
+
     // Peel 1 layer: every hex of this raw mesh (one hex across each branch) touches the boundary, so none is left.
     await page.fill('#v-peel', '1');
     await page.dispatchEvent('#v-peel', 'input');

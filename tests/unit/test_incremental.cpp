@@ -2,6 +2,7 @@
 // falls back to a full run when the topology changes, and recomputes exactly the vertices within three edges.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <string>
@@ -9,7 +10,10 @@
 #include "bench_inputs.h"
 #include "mesohex/core/error.h"
 #include "mesohex/incremental.h"
+#include "mesohex/pipeline.h"
+#include "mesohex/stages/adaptation.h"
 #include "mesohex/stages/generators.h"
+#include "mesohex/stages/skeleton_repair.h"
 
 using namespace mesohex;
 
@@ -120,4 +124,36 @@ TEST(Incremental, MissingRadiiAreAnError) {
     s.radii.clear();
     RemeshCache cache;
     EXPECT_THROW(remesh_full(cache, s), Error);
+}
+
+// prepare_skeleton skips the repairs and the adaptation of a skeleton without a branch edge (pipeline.cpp,
+// curve_work): on every generated shape without one, before and after random moves, running the two gives the
+// skeleton back unchanged, and prepare_skeleton gives the same skeleton and analysis as with them.
+TEST(Incremental, BranchFreeSkeletonsAreTheirOwnAdaptation) {
+    std::mt19937 rng(5);
+    int shapes = 0;
+    for (const std::string& name : generator_names()) {
+        Skeleton s = generate_skeleton(name);
+        AnalysisOptions accept_fan_ends;  // as prepare_skeleton analyses its input (fanend has a branch on one)
+        accept_fan_ends.fan_end_branches = true;
+        const SkeletonAnalysis an = analyze_skeleton(s, accept_fan_ends);
+        if (std::find(an.edge_degree.begin(), an.edge_degree.end(), 0) != an.edge_degree.end()) continue;
+        SCOPED_TRACE(name);
+        ++shapes;
+        for (int edit = 0; edit < 3; ++edit) {
+            if (edit > 0)
+                for (int k = 0; k < 3; ++k) {
+                    const std::size_t v = rng() % s.points.size();
+                    s.points[v] += Vec3{0.05 * s.radii[v], -0.03 * s.radii[v], 0.02 * s.radii[v]};
+                }
+            const SkeletonRepairResult repaired = repair_skeleton(s);
+            EXPECT_EQ(adapt_skeleton(repaired.skeleton, {}, repaired.absorbed_balls), s);
+            const PipelineResult res = prepare_skeleton(s, {});
+            EXPECT_EQ(res.skeleton, s);
+            EXPECT_EQ(res.analysis.vertex_class, analyze_skeleton(s).vertex_class);
+            EXPECT_EQ(res.analysis.edge_degree, analyze_skeleton(s).edge_degree);
+            EXPECT_EQ(res.analysis.counts, analyze_skeleton(s).counts);
+        }
+    }
+    EXPECT_GE(shapes, 5);
 }

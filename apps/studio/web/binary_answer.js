@@ -4,12 +4,16 @@
 // The result is the header object with each array stored at its dotted name ("mesh.vertices" -> r.mesh.vertices) as
 // a Float32Array / Uint32Array (views on the buffer when the platform is little-endian, copies otherwise), so that
 // it has the shape of the JSON answer.
+// A patch answer (an editing session's, docs/studio.md "Sessions and deltas") has entries with "patch": M: its data
+// is M uint32 value indices then the M new values, applied to a copy of the same array of `previous` (the decoded
+// answer it patches: header.patch_of is its revision); an array with M = 0 is previous's own (arrays are never
+// modified after decoding).
 
 export class BinaryAnswerError extends Error {}
 
 const littleEndian = new Uint8Array(new Uint32Array([1]).buffer)[0] === 1;
 
-export function decodeBinaryAnswer(buffer) {
+export function decodeBinaryAnswer(buffer, previous = null) {
   if (!(buffer instanceof ArrayBuffer)) throw new BinaryAnswerError('binary answer: expected an ArrayBuffer');
   const dv = new DataView(buffer);
   const magic = buffer.byteLength >= 12 ? String.fromCharCode(...new Uint8Array(buffer, 0, 4)) : '';
@@ -21,8 +25,36 @@ export function decodeBinaryAnswer(buffer) {
   const header = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 12, h)));
   if (!header || !Array.isArray(header.arrays)) throw new BinaryAnswerError('binary answer: header without "arrays"');
   let at = 12 + h;
+  const get = (o, path) => { for (const k of path) o = o?.[k]; return o; };
   for (const a of header.arrays) {
     const n = a.count;
+    const path = String(a.name).split('.');
+    if (a.patch !== undefined) {
+      const m = a.patch, old = get(previous, path);
+      if (!Number.isInteger(m) || m < 0 || at + 8 * m > buffer.byteLength)
+        throw new BinaryAnswerError(`binary answer: patch of ${a.name} runs past the end`);
+      if (!old || old.length !== n) throw new BinaryAnswerError(`binary answer: patch of ${a.name} without its previous array`);
+      let arr = old;
+      if (m > 0) {
+        arr = a.type === 'enum' ? old.slice() : new old.constructor(old);
+        for (let k = 0; k < m; k++) {
+          const i = dv.getUint32(at + 4 * k, true), v = at + 4 * (m + k);
+          if (i >= n) throw new BinaryAnswerError(`binary answer: patch index ${i} in ${a.name}`);
+          if (a.type === 'f32') arr[i] = dv.getFloat32(v, true);
+          else if (a.type === 'u32') arr[i] = dv.getUint32(v, true);
+          else if (a.type === 'enum') {
+            const code = dv.getUint32(v, true);
+            if (!Array.isArray(a.names) || code >= a.names.length) throw new BinaryAnswerError(`binary answer: enum code ${code} in ${a.name}`);
+            arr[i] = a.names[code];
+          } else throw new BinaryAnswerError(`binary answer: array type ${a.type}`);
+        }
+      }
+      at += 8 * m;
+      let o = header;
+      for (const k of path.slice(0, -1)) o = o[k] ??= {};
+      o[path[path.length - 1]] = arr;
+      continue;
+    }
     if (!Number.isInteger(n) || n < 0 || at + 4 * n > buffer.byteLength)
       throw new BinaryAnswerError(`binary answer: array ${a.name} runs past the end`);
     let arr;
@@ -44,7 +76,6 @@ export function decodeBinaryAnswer(buffer) {
       }
     } else throw new BinaryAnswerError(`binary answer: array type ${a.type}`);
     at += 4 * n;
-    const path = String(a.name).split('.');
     let o = header;
     for (const k of path.slice(0, -1)) o = o[k] ??= {};
     o[path[path.length - 1]] = arr;

@@ -535,20 +535,59 @@ function sameAnalysis(a, b) {
   return !!(a && b && same(a.vertex_class, b.vertex_class) && same(a.edge_kind, b.edge_kind));
 }
 
+// The server keeps the page's last skeleton (its session, named by api.clientId): after an edit that moves vertices or
+// changes radii only the changed vertices go up (an MHSD delta, a few bytes instead of the whole skeleton), and the
+// server remeshes incrementally. Anything else, or a session the server does not hold (any more: 409
+// SendFullSkeleton), sends the whole skeleton. `session.base` is the skeleton the server holds as revision
+// `session.revision` (skeletons are never modified in place: every edit makes a new one).
+// `session.answer`: the answer drawn (st.meshes.raw) and its revision, when it came from this session: the server then
+// sends only the arrays' values that changed since (a patch answer).
+const session = { base: null, baseRevision: 0, revision: 0, answer: null, deltas: 0, full: 0, patches: 0 };
+async function meshInSession(s, encoded) {
+  const revision = ++session.revision;
+  const delta = M.toDelta(session.base, s);
+  const since = session.answer && session.answer.answer === st.meshes.raw ? session.answer : null;
+  const full = () => { const b = M.toBinary(s); encoded(performance.now()); session.full++; return api.meshSession(b, revision, since); };
+  const base = session.baseRevision;
+  session.base = null; // until the server has this one
+  try {
+    let resp;
+    if (delta) {
+      encoded(performance.now());
+      try {
+        resp = await api.meshDelta(delta, base, revision, since);
+        session.deltas++;
+      } catch (e) {
+        if (!(e instanceof api.ApiError && e.code === 'SendFullSkeleton')) throw e;
+        resp = await full();
+      }
+    } else {
+      resp = await full();
+    }
+    session.base = s; session.baseRevision = revision;
+    if (resp.patch_of !== undefined) session.patches++;
+    return { resp, revision };
+  } catch (e) {
+    // A skeleton the server read but could not mesh (422) is its session's skeleton all the same.
+    if (e instanceof api.ApiError && e.status === 422) { session.base = s; session.baseRevision = revision; }
+    throw e;
+  }
+}
+
 async function runMesh() {
   meshInFlight = true;
   meshAskedAt = performance.now();
   const version = st.version;
   const editAt = st.editAt;
   const t0 = performance.now();
+  let tEncoded = t0;
   try {
-    const body = M.toBinary(skel());
-    const tEncoded = performance.now();
-    const resp = await api.meshBinary(body, 'raw');
+    const { resp, revision } = await meshInSession(skel(), (t) => { tEncoded = t; });
     if (version !== st.version) return; // a newer edit: its request goes out below
     const t1 = performance.now();
     st.lastRoundTripMs = t1 - t0;
     st.meshes.raw = resp;
+    session.answer = { revision, answer: resp };
     // The skeleton is redrawn only when its colours (vertex classes, edge kinds) changed or an error was shown.
     const recolour = !sameAnalysis(st.analysis, resp.analysis) || st.error;
     st.analysis = resp.analysis || null;
@@ -561,8 +600,10 @@ async function runMesh() {
     const t3 = performance.now();
     renderNow();
     const t4 = performance.now();
-    st.lastPhasesMs = { queued: t0 - editAt, roundTrip: t1 - t0, encode: tEncoded - t0, skeleton: t2 - t1, mesh: t3 - t2,
-      render: t4 - t3 };
+    const rt = api.lastTiming || {};
+    st.lastPhasesMs = { queued: t0 - editAt, roundTrip: t1 - t0, encode: tEncoded - t0, send: rt.send, wait: rt.wait,
+      download: rt.download, handover: rt.handover, decode: rt.decode, answerKB: rt.bytes / 1024, skeleton: t2 - t1,
+      mesh: t3 - t2, render: t4 - t3 };
     // Edit -> updated mesh on screen: request, server, decoding, geometry and the draw call.
     st.lastEditToMeshMs = performance.now() - editAt;
     st.meshRequests++;
@@ -1156,6 +1197,10 @@ window.studio = {
   select: (vertices) => { st.selV = vertices.slice(); st.selE = null; updateSelection(); drawSkeleton(); },
   renderNow,
   frameAll,
+  // Raw-mesh requests sent as deltas and as whole skeletons (tests), and a way to forget the server's session (tests:
+  // the next request then sends a delta for a revision the server does not hold and must recover).
+  meshUploads: () => ({ deltas: session.deltas, full: session.full, patches: session.patches }),
+  spoilSession: () => { session.baseRevision += 1000; },
 };
 
 start();

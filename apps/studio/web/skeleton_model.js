@@ -78,6 +78,41 @@ export function toBinary(s) {
   return buffer;
 }
 
+// The MHSD delta from `base` to `s` (docs/formats.md): the vertices whose position or radius changed, with their new
+// values, for a server session holding `base` (/api/mesh?format=delta). null when the two differ in anything else
+// (vertex count, radii present or not, edges, faces): then the whole skeleton goes (toBinary).
+export function toDelta(base, s) {
+  const V = s.points.length;
+  if (!base || base.points.length !== V || base.radii.length !== s.radii.length || base.edges.length !== s.edges.length ||
+    base.faces.length !== s.faces.length) return null;
+  for (let i = 0; i < s.edges.length; i++) {
+    const a = base.edges[i], b = s.edges[i];
+    if (a[0] !== b[0] || a[1] !== b[1]) return null;
+  }
+  for (let i = 0; i < s.faces.length; i++) {
+    const a = base.faces[i], b = s.faces[i];
+    if (a.length !== b.length) return null;
+    for (let k = 0; k < a.length; k++) if (a[k] !== b[k]) return null;
+  }
+  const radii = s.radii.length > 0;
+  const moved = [];
+  for (let v = 0; v < V; v++) {
+    const p = base.points[v], q = s.points[v];
+    if (p[0] !== q[0] || p[1] !== q[1] || p[2] !== q[2] || (radii && base.radii[v] !== s.radii[v])) moved.push(v);
+  }
+  const K = moved.length;
+  const buffer = new ArrayBuffer(20 + 4 * K + 24 * K + (radii ? 8 * K : 0));
+  const dv = new DataView(buffer);
+  'MHSD'.split('').forEach((c, i) => dv.setUint8(i, c.charCodeAt(0)));
+  [1, V, K, radii ? 1 : 0].forEach((x, i) => dv.setUint32(4 + 4 * i, x, true));
+  let at = 20;
+  const f64 = (x) => { dv.setFloat64(at, x === 0 ? 0 : x, true); at += 8; };
+  for (const v of moved) { dv.setUint32(at, v, true); at += 4; }
+  for (const v of moved) { const q = s.points[v]; f64(q[0]); f64(q[1]); f64(q[2]); }
+  if (radii) for (const v of moved) f64(s.radii[v]);
+  return buffer;
+}
+
 // ---- queries ----
 
 export function edgeKey(a, b) {

@@ -6,6 +6,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <numeric>
 #include <sstream>
 
@@ -31,19 +32,15 @@ std::vector<double> scaled_jacobians(const HexMesh& mesh) {
     return sj;
 }
 
-QualityReport compute_quality(const HexMesh& mesh) {
-    HexTopology topo;
-    return compute_quality(mesh, topo);
-}
+namespace {
 
-QualityReport compute_quality(const HexMesh& mesh, HexTopology& topo) {
-    topo = HexTopology{};
-    QualityReport r;
-    r.vertices = static_cast<long>(mesh.points.size());
-    r.hexes = static_cast<long>(mesh.hexes.size());
-    r.sj = scaled_jacobians(mesh);
-
-    // Scaled Jacobian statistics (sequential sum: the same result for any thread count).
+// sj_min, sj_avg, inverted, the histogram and the worst hexes of r.sj (sequential sum: the same result for any thread
+// count).
+void sj_statistics(QualityReport& r) {
+    r.sj_min = r.sj_avg = 0;
+    r.inverted = 0;
+    r.sj_histogram.fill(0);
+    r.worst_hexes.clear();
     if (!r.sj.empty()) {
         double sum = 0;
         r.sj_min = r.sj[0];
@@ -65,6 +62,23 @@ QualityReport compute_quality(const HexMesh& mesh, HexTopology& topo) {
             });
         r.worst_hexes.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k));
     }
+}
+
+}  // namespace
+
+QualityReport compute_quality(const HexMesh& mesh) {
+    HexTopology topo;
+    return compute_quality(mesh, topo);
+}
+
+QualityReport compute_quality(const HexMesh& mesh, HexTopology& topo) {
+    topo = HexTopology{};
+    QualityReport r;
+    r.vertices = static_cast<long>(mesh.points.size());
+    r.hexes = static_cast<long>(mesh.hexes.size());
+    r.sj = scaled_jacobians(mesh);
+
+    sj_statistics(r);
 
     // Topology needs every index in range.
     for (const std::array<int, 8>& hex : mesh.hexes) {
@@ -119,6 +133,37 @@ QualityReport compute_quality(const HexMesh& mesh, HexTopology& topo) {
         r.boundary_euler_characteristic += c;
         r.boundary_genus += (2.0 - static_cast<double>(c)) / 2.0;
     }
+    return r;
+}
+
+QualityReport update_quality(const QualityReport& old, const HexMesh& old_mesh, const HexMesh& mesh,
+                             const HexTopology& topology) {
+    const bool same_cells = old_mesh.points.size() == mesh.points.size() && old_mesh.hexes == mesh.hexes &&
+                            old.sj.size() == mesh.hexes.size() && old.validation.valid() &&
+                            topology.hex_faces.size() == mesh.hexes.size();
+    const bool finite = std::all_of(mesh.points.begin(), mesh.points.end(), [](const Vec3& p) {
+        return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+    });
+    if (!same_cells || !finite) {
+        HexTopology fresh;
+        return compute_quality(mesh, fresh);
+    }
+    // Every check of validate() but the finite coordinates reads the cells only, and those passed before: the
+    // validation, Euler characteristics, boundary and singular edges stay; only the scaled Jacobians of hexes with a
+    // moved corner change.
+    std::vector<char> moved(mesh.points.size(), 0);
+    for (std::size_t v = 0; v < mesh.points.size(); ++v)
+        moved[v] = std::memcmp(&mesh.points[v], &old_mesh.points[v], sizeof(Vec3)) != 0;
+    QualityReport r = old;
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
+        const std::array<int, 8>& hex = mesh.hexes[h];
+        if (std::none_of(hex.begin(), hex.end(), [&](int v) { return moved[static_cast<std::size_t>(v)] != 0; }))
+            continue;
+        std::array<Vec3, 8> corners;
+        for (std::size_t lv = 0; lv < 8; ++lv) corners[lv] = mesh.points[static_cast<std::size_t>(hex[lv])];
+        r.sj[h] = scaled_jacobian(corners);
+    }
+    sj_statistics(r);
     return r;
 }
 

@@ -38,6 +38,14 @@ QualityReport compute_quality(const HexMesh& mesh);
 // of range (no topology is computed then).
 QualityReport compute_quality(const HexMesh& mesh, HexTopology& topology);
 
+// compute_quality(mesh) after only vertices moved (the studio's incremental raw mesh): `old` and `topology` are
+// compute_quality(old_mesh, topology)'s. When mesh has the hexes and vertex count of old_mesh, old_mesh was valid and
+// every coordinate is finite, the topology and everything read from it are reused and only the scaled Jacobians of
+// hexes with a moved corner (bit-wise) are recomputed; otherwise this is compute_quality(mesh). Either way the result
+// equals compute_quality(mesh) bit for bit (tests/unit/test_quality.cpp). Cost: O(V + H) plus the moved hexes.
+QualityReport update_quality(const QualityReport& old, const HexMesh& old_mesh, const HexMesh& mesh,
+                             const HexTopology& topology);
+
 // One JSON object (serialised text) with at least: vertices, hexes, sj_min, sj_avg, inverted, euler_characteristic,
 // singular_edges {interior: {valence: count}, boundary: {...}}, valid, problems. Implemented without exposing the
 // JSON library in this header.

@@ -55,3 +55,46 @@ test('binary answer: an enum array becomes the array of its names at its dotted 
   const bad = encodeBinaryAnswer({}, [{ name: 'k', type: 'enum', names: ['a'], values: [1] }]);
   assert.throws(() => decodeBinaryAnswer(bad), BinaryAnswerError);
 });
+
+// A patch answer written by hand: header {patch_of, arrays: [...]} with "patch": M entries (M indices, M values).
+function patchAnswer(header, entries) {
+  let text = JSON.stringify({ ...header, arrays: entries.map((e) => e.entry) });
+  while (text.length % 4) text += ' ';
+  const words = entries.flatMap((e) => e.words);
+  const buf = new ArrayBuffer(12 + text.length + 4 * words.length);
+  const dv = new DataView(buf);
+  new Uint8Array(buf, 0, 4).set([0x4d, 0x48, 0x58, 0x42]);
+  dv.setUint32(4, 1, true);
+  dv.setUint32(8, text.length, true);
+  new Uint8Array(buf, 12, text.length).set(new TextEncoder().encode(text));
+  words.forEach((w, i) => {
+    if (typeof w === 'object') dv.setFloat32(12 + text.length + 4 * i, w.f, true);
+    else dv.setUint32(12 + text.length + 4 * i, w, true);
+  });
+  return buf;
+}
+
+test('binary answer: a patch answer changes copies of the previous arrays, M = 0 keeps them', () => {
+  const previous = decodeBinaryAnswer(encodeBinaryAnswer({}, [
+    { name: 'mesh.vertices', type: 'f32', values: [1, 2, 3] },
+    { name: 'mesh.hexes', type: 'u32', values: [7, 8] },
+    { name: 'analysis.vertex_class', type: 'enum', names: ['Joint', 'Extremity'], values: [0, 1, 0] },
+  ]));
+  const buf = patchAnswer({ patch_of: 4 }, [
+    { entry: { name: 'mesh.vertices', type: 'f32', count: 3, patch: 1 }, words: [1, { f: 2.5 }] },
+    { entry: { name: 'mesh.hexes', type: 'u32', count: 2, patch: 0 }, words: [] },
+    { entry: { name: 'analysis.vertex_class', type: 'enum', count: 3, patch: 1, names: ['Joint', 'Extremity'] },
+      words: [2, 1] },
+  ]);
+  const r = decodeBinaryAnswer(buf, previous);
+  assert.equal(r.patch_of, 4);
+  assert.deepEqual([...r.mesh.vertices], [1, 2.5, 3]);
+  assert.deepEqual([...previous.mesh.vertices], [1, 2, 3]); // not modified
+  assert.equal(r.mesh.hexes, previous.mesh.hexes); // unchanged: the same array
+  assert.deepEqual(r.analysis.vertex_class, ['Joint', 'Extremity', 'Extremity']);
+  assert.throws(() => decodeBinaryAnswer(buf), BinaryAnswerError); // no previous answer
+  const bad = patchAnswer({}, [{ entry: { name: 'mesh.vertices', type: 'f32', count: 3, patch: 1 }, words: [3, { f: 1 }] }]);
+  assert.throws(() => decodeBinaryAnswer(bad, previous), BinaryAnswerError); // index out of range
+  const other = patchAnswer({}, [{ entry: { name: 'mesh.vertices', type: 'f32', count: 4, patch: 0 }, words: [] }]);
+  assert.throws(() => decodeBinaryAnswer(other, previous), BinaryAnswerError); // another length
+});

@@ -301,3 +301,22 @@ test('extrude a chain with mirror editing: the mirrored chain is extruded too', 
   assert.deepEqual(r.created, [4, 5, 6, 7]);
   assert.deepEqual(r.skeleton.points[6], [2.5, 1, 0]);
 });
+
+test('toDelta: the MHSD layout (moved vertices only, radii when present); null when the topology differs', () => {
+  const base = M.fromJson({ points: [[0, 0, 0], [1, 0, 0], [2, 0, 0]], radii: [0.5, 0.5, 0.5], edges: [[0, 1], [1, 2]], faces: [] });
+  const moved = M.setRadius(M.moveVertices(base, [1], [[1, -0, 0.25]]).skeleton, [2], 0.75).skeleton;
+  const buf = M.toDelta(base, moved);
+  const dv = new DataView(buf);
+  assert.equal(String.fromCharCode(...new Uint8Array(buf, 0, 4)), 'MHSD');
+  assert.deepEqual([1, 2, 3, 4].map((i) => dv.getUint32(4 * i, true)), [1, 3, 2, 1]); // version, V, K, radii
+  assert.equal(buf.byteLength, 20 + 2 * (4 + 24 + 8));
+  assert.deepEqual([dv.getUint32(20, true), dv.getUint32(24, true)], [1, 2]);
+  assert.deepEqual([0, 1, 2].map((k) => dv.getFloat64(28 + 8 * k, true)), [1, 0, 0.25]);
+  assert.ok(!Object.is(dv.getFloat64(36, true), -0)); // -0 written as 0
+  assert.deepEqual([dv.getFloat64(76, true), dv.getFloat64(84, true)], [0.5, 0.75]);
+  assert.equal(M.toDelta(base, base).byteLength, 20); // nothing changed
+  assert.equal(M.toDelta(null, base), null);
+  assert.equal(M.toDelta(base, M.extrudeVertex(base, 2, [0, 1, 0]).skeleton), null);
+  assert.equal(M.toDelta(base, { ...M.clone(base), edges: [[0, 1], [0, 2]] }), null);
+  assert.equal(M.toDelta(base, { ...M.clone(base), radii: [] }), null);
+});
