@@ -283,7 +283,7 @@ MeshRun mesh_skeleton_raw(const Skeleton& input, const TriangleMesh* domain, con
 
     t = std::chrono::steady_clock::now();
     run.options = options.pipeline;
-    if (options.progress) options.progress({"raw", 1, 1, 0, 0});
+    if (options.progress) options.progress({"raw", 1, 1, 0, 0, ""});
     // run_pipeline with the stages after prepare_skeleton through the remesh cache (the same calls, the same options).
     run.pipeline = prepare_skeleton(skeleton, run.options);
     PipelineResult& res = run.pipeline;
