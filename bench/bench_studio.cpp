@@ -15,8 +15,11 @@
 //   BM_StudioRawTree/S         the server's share of an edit on a skeleton with branches, where the repairs and the
 //                              adaptation run on every edit: a 2 600-vertex random tree (bench_inputs.h), one
 //                              branching point moved back and forth; S = 0 the whole skeleton read (MHSK), 1 an
-//                              MHSD delta in a session (incremental remesh when the adapted topology stays).
-//                              Counters: hexes, incremental (share of runs that were incremental).
+//                              MHSD delta in a session (incremental remesh when the adapted topology stays; when
+//                              the adaptation renumbers it, the content-keyed memo serves the unchanged branching
+//                              points), 2 the same session with the memo off (cache.remesh.memo_enabled = false).
+//                              Counters: hexes, incremental (share of runs that were incremental by index), memo
+//                              (branching-point surfaces taken from the memo per run), computed (those computed).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -145,11 +148,12 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
 BENCHMARK(BM_StudioRawRoundTrip)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_StudioRawTree(benchmark::State& state) {
-    const bool session = state.range(0) == 1;
+    const bool session = state.range(0) >= 1;
     const Skeleton base = bench::random_tree(2600, 5);
     studio::MeshRequest request;
     request.encoding = studio::Encoding::Binary;
     RawRunCache cache;
+    cache.remesh.memo_enabled = state.range(0) != 2;
     const std::string first = studio::mesh_response(base, nullptr, request, nullptr, &cache);
     int v = static_cast<int>(base.points.size()) / 2;
     const SkeletonAnalysis an = analyze_skeleton(base);  // of the input (the cache's is of the adapted skeleton)
@@ -160,7 +164,7 @@ void BM_StudioRawTree(benchmark::State& state) {
                                    studio::skeleton_delta_binary(moved, base)};
     const std::string whole[2] = {skeleton_binary(moved), skeleton_binary(base)};
     Skeleton current = base;
-    long runs = 0, incremental = 0;
+    long runs = 0, incremental = 0, memo = 0, computed = 0;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
         const Skeleton s = session ? studio::apply_skeleton_delta(current, deltas[runs % 2])
@@ -170,11 +174,16 @@ void BM_StudioRawTree(benchmark::State& state) {
         benchmark::DoNotOptimize(body.data());
         current = s;
         incremental += session && !cache.last.full;
+        memo += cache.last.memo_surfaces;
+        computed += cache.last.computed_partitions;
         ++runs;
     }
+    const double n = runs ? static_cast<double>(runs) : 1.0;
     state.counters["hexes"] = static_cast<double>(cache.remesh.raw.mesh.hexes.size());
-    state.counters["incremental"] = runs ? static_cast<double>(incremental) / static_cast<double>(runs) : 0;
+    state.counters["incremental"] = static_cast<double>(incremental) / n;
+    state.counters["memo"] = static_cast<double>(memo) / n;
+    state.counters["computed"] = static_cast<double>(computed) / n;
 }
-BENCHMARK(BM_StudioRawTree)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StudioRawTree)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -27,12 +27,16 @@ void check_all_radii(const Skeleton& s) {
 
 bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(&a, &b, sizeof(Vec3)) == 0; }
 
+// read_memo: look the surfaces to compute up in cache.memo first (not in remesh_full, which computes everything).
 RemeshStats rebuild(RemeshCache& cache, const Skeleton& skeleton, SkeletonAnalysis analysis,
-                    const std::vector<char>* recompute) {
+                    const std::vector<char>* recompute, bool read_memo) {
     RemeshStats stats;
+    SurfaceMemo memo;
+    const SurfaceMemo* memo_in = read_memo && cache.memo_enabled ? &cache.memo : nullptr;
     ConnectionSurfaces cs =
-        recompute ? rebuild_connection_surfaces(skeleton, analysis, &cache.surfaces, *recompute, cache.surface_options)
-                  : build_connection_surfaces(skeleton, analysis, cache.surface_options);
+        recompute ? rebuild_connection_surfaces(skeleton, analysis, &cache.surfaces, *recompute, cache.surface_options,
+                                                memo_in, &memo)
+                  : rebuild_connection_surfaces(skeleton, analysis, nullptr, {}, cache.surface_options, memo_in, &memo);
     BranchFrames frames = propagate_frames(skeleton, analysis, cs);
     RawMesh raw = build_raw_mesh(skeleton, analysis, cs, frames, cache.raw_options);
     // Everything built: commit (the cache stays unchanged if anything above threw).
@@ -42,18 +46,26 @@ RemeshStats rebuild(RemeshCache& cache, const Skeleton& skeleton, SkeletonAnalys
     cache.frames = std::move(frames);
     cache.raw = std::move(raw);
     stats.full = recompute == nullptr;
+    stats.memo_surfaces = memo.hits;
+    stats.computed_partitions = memo.misses;
+    cache.memo = std::move(memo);
+    return stats;
+}
+
+// Every surface rebuilt (none copied by index); read_memo: as for rebuild.
+RemeshStats full_run(RemeshCache& cache, const Skeleton& skeleton, const SkeletonAnalysis* given, bool read_memo) {
+    check_all_radii(skeleton);
+    SkeletonAnalysis analysis = given ? *given : analyze_skeleton(skeleton, cache.analysis_options);
+    RemeshStats stats = rebuild(cache, skeleton, std::move(analysis), nullptr, read_memo);
+    stats.changed_vertices = static_cast<int>(skeleton.points.size());
+    stats.recomputed_surfaces = static_cast<int>(skeleton.points.size());
     return stats;
 }
 
 }  // namespace
 
 RemeshStats remesh_full(RemeshCache& cache, const Skeleton& skeleton, const SkeletonAnalysis* given) {
-    check_all_radii(skeleton);
-    SkeletonAnalysis analysis = given ? *given : analyze_skeleton(skeleton, cache.analysis_options);
-    RemeshStats stats = rebuild(cache, skeleton, std::move(analysis), nullptr);
-    stats.changed_vertices = static_cast<int>(skeleton.points.size());
-    stats.recomputed_surfaces = static_cast<int>(skeleton.points.size());
-    return stats;
+    return full_run(cache, skeleton, given, false);
 }
 
 RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton, const SkeletonAnalysis* given) {
@@ -61,12 +73,12 @@ RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton, con
     const int nv = static_cast<int>(skeleton.points.size());
     if (static_cast<int>(old.points.size()) != nv || old.edges != skeleton.edges || old.faces != skeleton.faces ||
         old.radii.size() != old.points.size() || cache.analysis.vertex_class.size() != old.points.size())
-        return remesh_full(cache, skeleton, given);
+        return full_run(cache, skeleton, given, true);
     check_all_radii(skeleton);
     SkeletonAnalysis analysis = given ? *given : analyze_skeleton(skeleton, cache.analysis_options);
     if (analysis.vertex_class != cache.analysis.vertex_class ||
         analysis.vertex_border_root != cache.analysis.vertex_border_root)
-        return remesh_full(cache, skeleton, &analysis);
+        return full_run(cache, skeleton, &analysis, true);
 
     // Changed vertices, then everything within kReach edges of them (breadth-first over the incidence lists).
     std::vector<int> dist(nv, -1), frontier;
@@ -92,7 +104,7 @@ RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton, con
     }
     std::vector<char> recompute(nv, 0);
     for (int v : frontier) recompute[v] = 1;
-    RemeshStats stats = rebuild(cache, skeleton, std::move(analysis), &recompute);
+    RemeshStats stats = rebuild(cache, skeleton, std::move(analysis), &recompute, true);
     stats.changed_vertices = changed;
     stats.recomputed_surfaces = static_cast<int>(frontier.size());
     return stats;

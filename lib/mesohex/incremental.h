@@ -27,22 +27,31 @@ struct RemeshCache {
     AnalysisOptions analysis_options;
     ConnectionSurfaceOptions surface_options;
     RawMeshOptions raw_options;
+    // Content-keyed memo of the branching-point surfaces of `skeleton` (connection_surfaces.h): consulted for every
+    // surface that is not copied by index, so an edit that renumbers the skeleton (adaptation) still reuses the
+    // partitions of the branching points whose branch directions kept their bits. Holds this skeleton's entries only.
+    SurfaceMemo memo;
+    bool memo_enabled = true;  // false: the memo is filled but never read (to measure what it saves)
 };
 
 struct RemeshStats {
     bool full = true;             // everything was recomputed (first call, other topology, or options changed)
     int changed_vertices = 0;     // vertices whose position or radius changed
     int recomputed_surfaces = 0;  // vertices whose connection surface was recomputed (all when full)
+    int memo_surfaces = 0;        // of those, branching-point surfaces taken from the memo (bit-identical inputs)
+    int computed_partitions = 0;  // memo-able branching-point surfaces that were computed (memo misses)
 };
 
-// Meshes `skeleton` (radii required: one per vertex, finite and > 0) from scratch and fills the cache.
+// Meshes `skeleton` (radii required: one per vertex, finite and > 0) from scratch (cache.memo is not read) and fills
+// the cache.
 // Errors: whatever analyze_skeleton and the stages throw, plus Error(InvalidInput) for missing or bad radii.
 // `analysis` (may be null): analyze_skeleton(skeleton, cache.analysis_options) when the caller has it already.
 RemeshStats remesh_full(RemeshCache& cache, const Skeleton& skeleton, const SkeletonAnalysis* analysis = nullptr);
 
 // Brings the cache to `skeleton`: when it has the same edges, faces and number of vertices as cache.skeleton, the
 // connection surfaces of the vertices within three edges of a changed vertex are recomputed and the others reused;
-// otherwise (or when the vertex classes change) this is remesh_full. Afterwards cache.raw equals (bit for bit) what
+// otherwise (or when the vertex classes change) this is remesh_full. Either way the branching-point surfaces to
+// compute are first looked up in cache.memo by content (their branch directions' bits), whatever their numbering. Afterwards cache.raw equals (bit for bit) what
 // remesh_full(skeleton) gives. On error the cache is left unchanged. Cost: O(V + E + F) plus the recomputed surfaces.
 // `analysis` (may be null): as for remesh_full.
 RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton,

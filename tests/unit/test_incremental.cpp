@@ -28,6 +28,10 @@ void expect_same_mesh(const RemeshCache& a, const RemeshCache& b) {
     EXPECT_EQ(0, std::memcmp(a.surfaces.directions.data(), b.surfaces.directions.data(),
                              a.surfaces.directions.size() * sizeof(Vec3)));
     EXPECT_EQ(a.surfaces.quads, b.surfaces.quads);
+    EXPECT_EQ(a.surfaces.quad_edges, b.surfaces.quad_edges);
+    EXPECT_EQ(a.surfaces.edges, b.surfaces.edges);
+    EXPECT_EQ(a.surfaces.point_valence, b.surfaces.point_valence);
+    EXPECT_EQ(a.surfaces.point_begin, b.surfaces.point_begin);
     EXPECT_EQ(a.surfaces.edge_quad, b.surfaces.edge_quad);
     EXPECT_EQ(a.surfaces.quad_rotation, b.surfaces.quad_rotation);
     EXPECT_EQ(a.raw.hex_edge, b.raw.hex_edge);
@@ -117,6 +121,65 @@ TEST(Incremental, OtherTopologyIsAFullRun) {
     const RemeshStats stats = remesh_incremental(cache, s);
     EXPECT_TRUE(stats.full);
     EXPECT_EQ(cache.raw.mesh.hexes.size(), 4u * s.edges.size());
+}
+
+// Moving a branching point of a random tree by (0.02, 0.01, 0) before the adaptation can change the adapted vertex
+// count (adaptation re-samples whole branches): the remesh is then no incremental one by index (stats.full), but the
+// content-keyed memo serves every branching point whose branch directions kept their bits. Each result equals a
+// fresh remesh_full bit for bit; over the edits at least one renumbers the skeleton, and there the memo serves more
+// branching points than are computed (a 600-vertex tree has dozens; an edit changes a few branches).
+TEST(Incremental, MemoServesBranchingPointsAfterARenumberingEdit) {
+    const Skeleton base = bench::random_tree(600, 5);
+    const SkeletonAnalysis an = analyze_skeleton(base);
+    PipelineResult prepared = prepare_skeleton(base);
+    RemeshCache cache;
+    remesh_full(cache, prepared.skeleton, &prepared.analysis);
+    int renumbered = 0, v = 0;
+    for (int edit = 0; edit < 6; ++edit) {
+        while (an.vertex_class[static_cast<std::size_t>(v)] != VertexClass::BranchingPoint) ++v;
+        Skeleton moved = base;
+        moved.points[static_cast<std::size_t>(v)] += Vec3{0.02, 0.01, 0};
+        ++v;
+        const std::size_t before = cache.skeleton.points.size();
+        prepared = prepare_skeleton(moved);
+        const RemeshStats stats = remesh_incremental(cache, prepared.skeleton, &prepared.analysis);
+        RemeshCache full;
+        const RemeshStats fs = remesh_full(full, prepared.skeleton, &prepared.analysis);
+        EXPECT_EQ(fs.memo_surfaces, 0);
+        SCOPED_TRACE(edit);
+        expect_same_mesh(cache, full);
+        if (prepared.skeleton.points.size() != before) {
+            ++renumbered;
+            EXPECT_TRUE(stats.full);
+            EXPECT_EQ(stats.memo_surfaces + stats.computed_partitions, fs.computed_partitions);
+            EXPECT_GT(stats.memo_surfaces, stats.computed_partitions);
+        }
+    }
+    EXPECT_GE(renumbered, 1);
+}
+
+// The memo is keyed on content, not on vertex numbers: the same tree with its vertices numbered in reverse (edges
+// mapped, in the same order) is remeshed with every branching-point surface from the memo, nothing computed, and
+// equals a fresh run bit for bit.
+TEST(Incremental, MemoIgnoresVertexNumbers) {
+    const Skeleton s = bench::random_tree(300, 7);
+    RemeshCache cache;
+    const RemeshStats first = remesh_full(cache, s);
+    EXPECT_GT(first.computed_partitions, 0);
+    const int nv = static_cast<int>(s.points.size());
+    Skeleton r = s;
+    for (int v = 0; v < nv; ++v) {
+        r.points[static_cast<std::size_t>(nv - 1 - v)] = s.points[static_cast<std::size_t>(v)];
+        r.radii[static_cast<std::size_t>(nv - 1 - v)] = s.radii[static_cast<std::size_t>(v)];
+    }
+    for (std::array<int, 2>& e : r.edges) e = {nv - 1 - e[0], nv - 1 - e[1]};
+    const RemeshStats stats = remesh_incremental(cache, r);
+    EXPECT_TRUE(stats.full);
+    EXPECT_EQ(stats.computed_partitions, 0);
+    EXPECT_EQ(stats.memo_surfaces, first.computed_partitions);
+    RemeshCache full;
+    remesh_full(full, r);
+    expect_same_mesh(cache, full);
 }
 
 TEST(Incremental, MissingRadiiAreAnError) {

@@ -111,6 +111,33 @@ TEST(StudioSessions, IncrementalRawRunAfterATopologyChange) {
     EXPECT_EQ(without_times(studio::mesh_response(tree, nullptr, request, nullptr, &cache)), without_times(first));
 }
 
+// Branching points of a random tree moved by (0.02, 0.01, 0) one after the other, as the studio's drag sends them:
+// whenever the adaptation renumbers the prepared skeleton (the run is no incremental one by index), the memo still
+// serves most branching-point surfaces, and the answer equals the sessionless one byte for byte (but the times).
+TEST(StudioSessions, BranchingPointMovesThatRenumberTheAdaptedSkeleton) {
+    const Skeleton tree = bench::random_tree(600, 5);
+    studio::MeshRequest request;
+    RawRunCache cache;
+    studio::mesh_response(tree, nullptr, request, nullptr, &cache);
+    const SkeletonAnalysis an = analyze_skeleton(tree);
+    Skeleton s = tree;
+    int renumbered = 0, v = 0;
+    for (int edit = 0; edit < 5; ++edit) {
+        while (an.vertex_class[static_cast<std::size_t>(v)] != VertexClass::BranchingPoint) ++v;
+        s.points[static_cast<std::size_t>(v++)] += Vec3{0.02, 0.01, 0};
+        const std::size_t before = cache.remesh.skeleton.points.size();
+        const std::string incremental = studio::mesh_response(s, nullptr, request, nullptr, &cache);
+        EXPECT_EQ(without_times(incremental), without_times(studio::mesh_response(s, nullptr, request))) << edit;
+        ASSERT_TRUE(cache.valid);
+        if (cache.remesh.skeleton.points.size() != before) {
+            ++renumbered;
+            EXPECT_TRUE(cache.last.full);
+            EXPECT_GT(cache.last.memo_surfaces, cache.last.computed_partitions) << edit;
+        }
+    }
+    EXPECT_GE(renumbered, 1);
+}
+
 TEST(StudioSessions, DeltaRoundTripAndMalformedDeltas) {
     Skeleton a = generate_skeleton("torus", {.n = 12, .m = 6});
     Skeleton b = a;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -936,22 +937,126 @@ void store_partition(const Skeleton& skeleton, int v, const SpherePartition& par
 
 // Branching point: partition of the sphere with one quad per incident branch direction (inc: the branch edges, in
 // increasing id). Leaflets count as virtual branches after the branch edges (reference-notes §6.8).
-void build_branching_surface(const SurfaceInputs& in, int v, const std::vector<int>& inc, std::vector<Vec3>& dirs,
-                             ConnectionSurfaces& cs) {
-    const Skeleton& skeleton = in.skeleton;
-    const std::vector<Vec3>& side_dir = in.model.sides.dir[v];
+// v's branch edges (edge degree 0) in increasing id.
+void branch_edges(const SkeletonAnalysis& an, int v, std::vector<int>& inc) {
+    inc.clear();
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+        if (an.edge_degree[an.vertex_edges[i]] == 0) inc.push_back(an.vertex_edges[i]);
+}
+
+// dirs[i] = unit direction from v to the other end of branch edge inc[i] (dirs resized to inc.size()).
+void branch_directions(const Skeleton& skeleton, int v, const std::vector<int>& inc, std::vector<Vec3>& dirs) {
     const int nb = static_cast<int>(inc.size());
-    const int n = nb + static_cast<int>(side_dir.size());
-    dirs.resize(n);
+    dirs.resize(nb);
     const Vec3& center = skeleton.points[v];
     for (int i = 0; i < nb; ++i) {
         const int e = inc[i];
         const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
         dirs[i] = normalized(skeleton.points[w] - center);
     }
+}
+
+void build_branching_surface(const SurfaceInputs& in, int v, const std::vector<int>& inc, std::vector<Vec3>& dirs,
+                             ConnectionSurfaces& cs) {
+    const Skeleton& skeleton = in.skeleton;
+    const std::vector<Vec3>& side_dir = in.model.sides.dir[v];
+    const int nb = static_cast<int>(inc.size());
+    const int n = nb + static_cast<int>(side_dir.size());
+    branch_directions(skeleton, v, inc, dirs);
+    dirs.resize(n);
     for (int i = nb; i < n; ++i) dirs[i] = side_dir[i - nb];
     const SpherePartition part = partition_branching_point(in, v, dirs, nb, cs);
     store_partition(skeleton, v, part, n, inc, cs);
+}
+
+// ---- Content-keyed memo of branching-point surfaces (SurfaceMemo) ----
+
+// A branching point without leaflet sides and without a compatible block: its surface reads its branch directions and
+// the partition options only (partition_branching_point without a junction model, store_partition).
+bool memoable(const SkeletonAnalysis& an, const LeafletSides& sides, const ConnectionSurfaces& cs, int v) {
+    return an.vertex_class[v] == VertexClass::BranchingPoint && !roots_branch(an, v) && sides.dir[v].empty() &&
+           cs.vertex_block[v] < 0;
+}
+
+bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o) {
+    return std::memcmp(&m.planarity_tolerance, &o.planarity_tolerance, sizeof(double)) == 0 &&
+           m.relax_partitions == o.relax_partitions &&
+           std::memcmp(&m.relax_below_margin, &o.relax_below_margin, sizeof(double)) == 0;
+}
+
+// FNV-1a (64 bits) of the key's bytes.
+std::uint64_t memo_hash(const std::vector<Vec3>& key) {
+    std::uint64_t h = 14695981039346656037ULL;
+    const auto* p = reinterpret_cast<const unsigned char*>(key.data());
+    for (std::size_t i = 0; i < key.size() * sizeof(Vec3); ++i) h = (h ^ p[i]) * 1099511628211ULL;
+    return h;
+}
+
+bool same_key(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
+// The entry whose key equals `key` bit for bit, or null.
+const SurfaceMemo::Entry* find_memo_entry(const SurfaceMemo& m, const std::vector<Vec3>& key, std::uint64_t h) {
+    auto it = std::lower_bound(m.index.begin(), m.index.end(), std::pair<std::uint64_t, int>{h, -1});
+    for (; it != m.index.end() && it->first == h; ++it)
+        if (same_key(m.entries[it->second].key, key)) return &m.entries[it->second];
+    return nullptr;
+}
+
+// Writes a memo entry as v's surface (the sizes are those of v's CSR ranges: n + 2 points, n quads, 2n edges) and
+// registers quad i on branch edge inc[i], as store_partition does.
+void store_memo_entry(const Skeleton& skeleton, const SurfaceMemo::Entry& en, int v, const std::vector<int>& inc,
+                      ConnectionSurfaces& cs) {
+    const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+    MESOHEX_CHECK(static_cast<int>(en.directions.size()) == cs.point_begin[v + 1] - p0 &&
+                      static_cast<int>(en.quads.size()) == cs.quad_begin[v + 1] - q0 &&
+                      static_cast<int>(en.edges.size()) == cs.edge_begin[v + 1] - e0 && en.quads.size() == inc.size(),
+                  "memo entry does not fit the vertex's surface");
+    std::copy(en.directions.begin(), en.directions.end(), cs.directions.begin() + p0);
+    std::copy(en.point_valence.begin(), en.point_valence.end(), cs.point_valence.begin() + p0);
+    std::copy(en.quads.begin(), en.quads.end(), cs.quads.begin() + q0);
+    std::copy(en.quad_edges.begin(), en.quad_edges.end(), cs.quad_edges.begin() + q0);
+    std::copy(en.edges.begin(), en.edges.end(), cs.edges.begin() + e0);
+    for (int i = 0; i < static_cast<int>(inc.size()); ++i)
+        cs.edge_quad[inc[i]][edge_side(skeleton, inc[i], v)] = q0 + i;
+}
+
+SurfaceMemo::Entry memo_entry_of(const ConnectionSurfaces& cs, int v, const std::vector<Vec3>& key) {
+    SurfaceMemo::Entry en;
+    en.key = key;
+    en.directions.assign(cs.directions.begin() + cs.point_begin[v], cs.directions.begin() + cs.point_begin[v + 1]);
+    en.point_valence.assign(cs.point_valence.begin() + cs.point_begin[v],
+                            cs.point_valence.begin() + cs.point_begin[v + 1]);
+    en.quads.assign(cs.quads.begin() + cs.quad_begin[v], cs.quads.begin() + cs.quad_begin[v + 1]);
+    en.quad_edges.assign(cs.quad_edges.begin() + cs.quad_begin[v], cs.quad_edges.begin() + cs.quad_begin[v + 1]);
+    en.edges.assign(cs.edges.begin() + cs.edge_begin[v], cs.edges.begin() + cs.edge_begin[v + 1]);
+    return en;
+}
+
+// The memo of this skeleton: one entry per distinct key of its memo-able vertices (keys[v] non-empty), from cs.
+// Serial, in hash then vertex order.
+SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::vector<Vec3>>& keys,
+                         const ConnectionSurfaceOptions& options) {
+    SurfaceMemo m;
+    m.planarity_tolerance = options.planarity_tolerance;
+    m.relax_partitions = options.relax_partitions;
+    m.relax_below_margin = options.relax_below_margin;
+    std::vector<std::pair<std::uint64_t, int>> order;
+    for (int v = 0; v < static_cast<int>(keys.size()); ++v)
+        if (!keys[v].empty()) order.push_back({memo_hash(keys[v]), v});
+    std::sort(order.begin(), order.end());
+    std::size_t run = 0;  // first index entry with the current hash
+    for (const auto& [h, v] : order) {
+        if (m.index.empty() || m.index.back().first != h) run = m.index.size();
+        bool known = false;
+        for (std::size_t i = run; i < m.index.size() && !known; ++i)
+            known = same_key(m.entries[m.index[i].second].key, keys[v]);
+        if (known) continue;
+        m.index.push_back({h, static_cast<int>(m.entries.size())});
+        m.entries.push_back(memo_entry_of(cs, v, keys[v]));
+    }
+    return m;
 }
 
 // The surface of one vertex (dirs, inc: scratch of the calling task). Writes only v's ranges and the (edge, side)
@@ -960,9 +1065,7 @@ void build_vertex_surface(const SurfaceInputs& in, int v, std::vector<Vec3>& dir
                           ConnectionSurfaces& cs) {
     const SkeletonAnalysis& an = in.an;
     const VertexClass c = an.vertex_class[v];
-    inc.clear();
-    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
-        if (an.edge_degree[an.vertex_edges[i]] == 0) inc.push_back(an.vertex_edges[i]);
+    branch_edges(an, v, inc);
     if (roots_branch(an, v))
         build_rooted_surface(in, v, inc[0], cs);
     else if (c == VertexClass::BLJoint)
@@ -1048,7 +1151,8 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
 
 ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& an,
                                                const ConnectionSurfaces* previous, const std::vector<char>& recompute,
-                                               const ConnectionSurfaceOptions& options) {
+                                               const ConnectionSurfaceOptions& options, const SurfaceMemo* memo_in,
+                                               SurfaceMemo* memo_out) {
     const int nv = static_cast<int>(skeleton.points.size());
     const int ne = static_cast<int>(skeleton.edges.size());
     MESOHEX_CHECK(static_cast<int>(an.vertex_class.size()) == nv, "analysis does not match the skeleton");
@@ -1070,6 +1174,11 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
     const ModelInputs model{skeleton, an, sides, leaf};
     const SurfaceInputs in{skeleton, an, options, model, vertex_normal_sum};
 
+    // Memo keys (the branch directions of each memo-able vertex) and which vertices the memo served.
+    const SurfaceMemo* memo = memo_in && memo_out && memo_options_match(*memo_in, options) ? memo_in : nullptr;
+    std::vector<std::vector<Vec3>> keys(memo_out ? nv : 0);
+    std::vector<char> served(memo_out ? nv : 0, 0);
+
     // Each task writes only its vertex's ranges and the (edge, side) slots of its own incident edges.
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256), [&](const tbb::blocked_range<int>& range) {
         std::vector<Vec3> dirs;
@@ -1079,15 +1188,38 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
             if (c != VertexClass::Extremity && c != VertexClass::Joint && c != VertexClass::BranchingPoint &&
                 c != VertexClass::BLJoint && !roots_branch(an, v))
                 continue;
-            if (reuse && !recompute[v])  // copy the vertex's previous surface (its inputs did not change)
+            const bool keyed = memo_out && memoable(an, sides, cs, v);
+            if (keyed) {
+                branch_edges(an, v, inc);
+                branch_directions(skeleton, v, inc, keys[v]);
+            }
+            if (reuse && !recompute[v]) {  // copy the vertex's previous surface (its inputs did not change)
                 copy_previous_surface(in, *previous, v, cs);
-            else if (cs.vertex_block[v] >= 0)
+            } else if (cs.vertex_block[v] >= 0) {
                 set_block_surface(skeleton, an, cs.blocks[cs.vertex_block[v]], cs);
-            else
+            } else if (keyed) {
+                const SurfaceMemo::Entry* hit = memo ? find_memo_entry(*memo, keys[v], memo_hash(keys[v])) : nullptr;
+                if (hit) {
+                    store_memo_entry(skeleton, *hit, v, inc, cs);
+                    served[v] = 1;
+                } else {  // the key itself is the partition's input (build_branching_surface without leaflet sides)
+                    dirs = keys[v];
+                    const SpherePartition part =
+                        partition_branching_point(in, v, dirs, static_cast<int>(inc.size()), cs);
+                    store_partition(skeleton, v, part, static_cast<int>(inc.size()), inc, cs);
+                    served[v] = 2;
+                }
+            } else {
                 build_vertex_surface(in, v, dirs, inc, cs);
+            }
         }
     });
     finish_leaflet_junctions(an, sides, cs);
+    if (memo_out) {
+        *memo_out = collect_memo(cs, keys, options);
+        memo_out->hits = static_cast<int>(std::count(served.begin(), served.end(), 1));
+        memo_out->misses = static_cast<int>(std::count(served.begin(), served.end(), 2));
+    }
     return cs;
 }
 

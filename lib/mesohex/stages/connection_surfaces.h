@@ -8,6 +8,8 @@
 // directions from the vertex centre; branching-point directions come from partition_sphere, extremity and joint
 // directions are left zero here and set by frame propagation (they depend on the frames).
 #include <array>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "mesohex/core/skeleton.h"
@@ -61,6 +63,32 @@ struct ConnectionSurfaceOptions {
     CompatibleBlockOptions blocks;
 };
 
+// Content-keyed memo of branching-point surfaces (for remeshing after an edit, mesohex/incremental.h). The surface of
+// a branching point without leaflet sides and without a compatible block is a pure function of its branch directions
+// (unit(w - v) for its branch edges in increasing edge id, in that order) and of the options read by its partition
+// (planarity_tolerance, relax_partitions, relax_below_margin): an entry keyed on the exact bits of those directions
+// is reused whatever the vertex's number, so an edit that renumbers the skeleton (adaptation re-sampling a branch)
+// recomputes only the branching points whose directions changed. Keys are compared in full (no trust in the hash).
+struct SurfaceMemo {
+    struct Entry {
+        std::vector<Vec3> key;  // the branch directions, compared bit for bit
+        // The surface, local indices (as store_partition writes it; quad i is on the i-th branch edge).
+        std::vector<Vec3> directions;
+        std::vector<std::array<int, 4>> quads;
+        std::vector<std::array<int, 4>> quad_edges;
+        std::vector<std::array<int, 2>> edges;
+        std::vector<int> point_valence;
+    };
+    // The options the entries were computed with (another set: the memo is ignored and replaced).
+    double planarity_tolerance = 0;
+    bool relax_partitions = false;
+    double relax_below_margin = 0;
+    std::vector<Entry> entries;                        // one per distinct key
+    std::vector<std::pair<std::uint64_t, int>> index;  // (hash of the key, entry), sorted
+    int hits = 0;                                      // surfaces the last rebuild took from the memo it was given
+    int misses = 0;                                    // memo-able surfaces it computed
+};
+
 // Preconditions: `analysis` is analyze_skeleton(skeleton). Leaflet interior and regular boundary vertices need no
 // surface. A BL-joint gets a pillow like a joint: quad A = (0,1,2,3) on its branch edge, quad B = (2,1,0,3) for the
 // leaflet (on no edge), placed from a frame (T into the leaflet, R = leaflet normal made orthogonal to T): quad B from
@@ -94,8 +122,13 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
 // moved one). When `previous` is null, recompute.size() != V, or the CSR layout differs (other topology or vertex
 // classes, or other compatible blocks), everything is recomputed. LL-joint pillows (cheap, serial) are always
 // recomputed; blocks are always re-decided (cheap), a block vertex's squares copied when it is not recomputed.
+// With `memo_out` (may be null): every memo-able branching point (see SurfaceMemo) that is computed is first looked up
+// in `memo_in` (may be null) by its exact key, and taken from it when found; memo_out receives the entries of this
+// skeleton only (bounded: one per distinct key of its branching points) with hits and misses counted. The result is
+// the same, bit for bit.
 ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
                                                const ConnectionSurfaces* previous, const std::vector<char>& recompute,
-                                               const ConnectionSurfaceOptions& options = {});
+                                               const ConnectionSurfaceOptions& options = {},
+                                               const SurfaceMemo* memo_in = nullptr, SurfaceMemo* memo_out = nullptr);
 
 }  // namespace mesohex
