@@ -1,6 +1,7 @@
 // Incremental remeshing (mesohex/incremental.h) against a full run on the same skeleton, no adaptation.
 //   BM_RemeshMoveOneVertex   one vertex of a 2 600-vertex random tree (about 10 k raw hexes) moved back and forth,
-//                            remesh_incremental per iteration
+//                            remesh_incremental per iteration; /M: M = 1 with the content-keyed memo of
+//                            branching-point surfaces (RemeshCache::memo), 0 without (memo_enabled = false)
 //   BM_RemeshFull            remesh_full of the same tree (the figure the incremental run is compared with)
 // Counter "hexes" = raw hexes of the tree.
 #include <benchmark/benchmark.h>
@@ -20,6 +21,7 @@ const Skeleton& tree10k() {
 void BM_RemeshMoveOneVertex(benchmark::State& state) {
     Skeleton s = tree10k();
     RemeshCache cache;
+    cache.memo_enabled = state.range(0) != 0;
     remesh_full(cache, s);
     // A branching point in the middle of the id range (the worst kind: its partition is recomputed).
     int v = static_cast<int>(s.points.size()) / 2;
@@ -42,5 +44,5 @@ void BM_RemeshFull(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_RemeshMoveOneVertex)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RemeshMoveOneVertex)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RemeshFull)->Unit(benchmark::kMillisecond);

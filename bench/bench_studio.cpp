@@ -174,8 +174,10 @@ void BM_StudioRawTree(benchmark::State& state) {
         benchmark::DoNotOptimize(body.data());
         current = s;
         incremental += session && !cache.last.full;
-        memo += cache.last.memo_surfaces;
-        computed += cache.last.computed_partitions;
+        if (session) {
+            memo += cache.last.memo_surfaces;
+            computed += cache.last.computed_partitions;
+        }
         ++runs;
     }
     const double n = runs ? static_cast<double>(runs) : 1.0;
