@@ -160,7 +160,7 @@ TEST(Incremental, MemoServesBranchingPointsAfterARenumberingEdit) {
 
 // The memo is keyed on content, not on vertex numbers: the same tree with its vertices numbered in reverse (edges
 // mapped, in the same order) is remeshed with every branching-point surface from the memo, nothing computed, and
-// equals a fresh run bit for bit.
+// equals a fresh run bit for bit. Then other partition options: the memo is not read.
 TEST(Incremental, MemoIgnoresVertexNumbers) {
     const Skeleton s = bench::random_tree(300, 7);
     RemeshCache cache;
@@ -180,6 +180,15 @@ TEST(Incremental, MemoIgnoresVertexNumbers) {
     RemeshCache full;
     remesh_full(full, r);
     expect_same_mesh(cache, full);
+    // Other partition options: the memo (built with the old ones) is not read, everything is computed.
+    cache.surface_options.relax_below_margin = 0.3;
+    const RemeshStats other = remesh_incremental(cache, s);
+    EXPECT_EQ(other.memo_surfaces, 0);
+    EXPECT_EQ(other.computed_partitions, first.computed_partitions);
+    RemeshCache full_other;
+    full_other.surface_options.relax_below_margin = 0.3;
+    remesh_full(full_other, s);
+    expect_same_mesh(cache, full_other);
 }
 
 TEST(Incremental, MissingRadiiAreAnError) {
