@@ -158,6 +158,50 @@ TEST(Incremental, MemoServesBranchingPointsAfterARenumberingEdit) {
     EXPECT_GE(renumbered, 1);
 }
 
+// Random moves (1-2 vertices of the input, up to 0.03 per axis, before adaptation; 8 per tree) on three random trees: every
+// remesh equals a fresh remesh_full bit for bit, renumbering edits included, and those reuse memo surfaces.
+TEST(Incremental, MemoOnRandomMovesBeforeAdaptation) {
+    int renumbered = 0, checked = 0;
+    for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+        SCOPED_TRACE(seed);
+        std::mt19937 rng(seed);
+        Skeleton s = bench::random_tree(400, seed + 20);
+        PipelineResult prepared = prepare_skeleton(s);
+        RemeshCache cache;
+        remesh_full(cache, prepared.skeleton, &prepared.analysis);
+        for (int edit = 0; edit < 8; ++edit) {
+            Skeleton next = s;
+            for (int k = 0; k <= static_cast<int>(rng() % 2); ++k)
+                next.points[rng() % next.points.size()] +=
+                    Vec3{0.06 * bench::unit_draw(rng) - 0.03, 0.06 * bench::unit_draw(rng) - 0.03,
+                         0.06 * bench::unit_draw(rng) - 0.03};
+            try {
+                prepared = prepare_skeleton(next);
+            } catch (const Error&) {
+                continue;
+            }
+            const std::size_t before = cache.skeleton.points.size();
+            RemeshCache full;
+            try {
+                remesh_full(full, prepared.skeleton, &prepared.analysis);
+            } catch (const Error&) {
+                EXPECT_THROW(remesh_incremental(cache, prepared.skeleton, &prepared.analysis), Error);
+                continue;
+            }
+            const RemeshStats stats = remesh_incremental(cache, prepared.skeleton, &prepared.analysis);
+            expect_same_mesh(cache, full);
+            ++checked;
+            if (prepared.skeleton.points.size() != before) {
+                ++renumbered;
+                EXPECT_GT(stats.memo_surfaces, 0);
+            }
+            s = next;
+        }
+    }
+    EXPECT_GE(checked, 16);
+    EXPECT_GE(renumbered, 3);  // 24 checked, 6 renumbered when written
+}
+
 // The memo is keyed on content, not on vertex numbers: the same tree with its vertices numbered in reverse (edges
 // mapped, in the same order) is remeshed with every branching-point surface from the memo, nothing computed, and
 // equals a fresh run bit for bit. Then other partition options: the memo is not read.
