@@ -107,9 +107,8 @@ struct SkeletonRepairOptions {
     // junction_split_clearance x (r_split + r_f) from its new split point (dimensionless; the same rule as
     // AdaptationOptions::collapse_spread and trunk_clearance, 0.7). A first edge shorter than that lies within the new
     // junction's reach: adaptation's section criterion drops f's sample and the chord from the split point cuts the
-    // branch's corner at f (random seed 181: a first vertex turning by 60 degrees, 0.30 from c' = 0.70 x the radii sum,
-    // ends 0.96 of its radius off the adapted skeleton instead of 0.44). No split then (the point stays of degree 4).
-    // 0: no check. docs/junctions.md ("Split only with clear first edges").
+    // branch's corner at f. No split then (the point stays of degree 4). 0: no check. docs/junctions.md ("Split only
+    // with clear first edges").
     double junction_split_clearance = 0.7;
     // Root patches of branches standing inside a leaflet. A branch rooted at an interior leaflet vertex v (exactly 4
     // faces around v, every leaflet edge at v shared by 2 faces, exactly one branch edge) stands on the 4 faces around
