@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -224,6 +225,85 @@ TEST(SkeletonRepair, DegreeFourJunctionSplit) {
     cross.radii = {0.1, 0.1, 0.1, 0.1, 0.1};
     cross.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
     EXPECT_EQ(mesohex::repair_skeleton(cross).junction_splits, 0);
+}
+
+// A pair whose first edges are short against the room the other two leave (junction_split_clearance): c = origin,
+// radius 0.2; the pair at +-30 degrees from +z in the xz plane, length L, radius 0.1; the other two at +-80 degrees
+// from -z in the yz plane, length 1, radius 0.2 (angles across 98.7 degrees: unambiguous). Pair tubes separate at
+// arc length 0.222 (L = 0.25) resp. 0.267 (L = 0.4), inside c's ball: no trunk, no stub.
+Skeleton degree_four_short_pair(double len) {
+    Skeleton s;
+    const double a = 30 * kDeg, b = 80 * kDeg;
+    s.points = {{0, 0, 0},
+                {len * std::sin(a), 0, len * std::cos(a)},
+                {-len * std::sin(a), 0, len * std::cos(a)},
+                {0, std::sin(b), -std::cos(b)},
+                {0, -std::sin(b), -std::cos(b)}};
+    s.radii = {0.2, 0.1, 0.1, 0.2, 0.2};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    return s;
+}
+
+// L = 0.25: h = 0.15, p1 = 0.25 cos 30 = 0.2165, p2 = cos 80 = 0.1736, m = (p1 + p2) / 2 - h = 0.0451, c' = (0, 0, a),
+// a = p1 - m = 0.1714, radius 0.2 - 0.1 a / 0.25 = 0.1314. The pair's first vertices (+-0.125, 0, 0.2165) would lie
+// hypot(0.125, 0.0451) = 0.1329 from c', less than 0.7 x (0.1314 + 0.1) = 0.1620: no split (with the clearance at 0,
+// the split is made at exactly that c'). L = 0.4: a = 0.2364, radius 0.1409, the first vertices 0.2283 from c' >=
+// 0.7 x 0.2409 = 0.1686: split.
+TEST(SkeletonRepair, DegreeFourJunctionSplitKeepsFirstEdges) {
+    const mesohex::SkeletonRepairResult kept = mesohex::repair_skeleton(degree_four_short_pair(0.25));
+    EXPECT_EQ(kept.trunks + kept.absorbed_stubs + kept.side_stubs + kept.junction_splits, 0);
+    EXPECT_EQ(kept.skeleton.points.size(), 5u);
+    mesohex::SkeletonRepairOptions unchecked;
+    unchecked.junction_split_clearance = 0;
+    const mesohex::SkeletonRepairResult split = mesohex::repair_skeleton(degree_four_short_pair(0.25), unchecked);
+    EXPECT_EQ(split.trunks + split.absorbed_stubs + split.side_stubs, 0);
+    ASSERT_EQ(split.junction_splits, 1);
+    ASSERT_EQ(split.skeleton.points.size(), 6u);
+    const double p1 = 0.25 * std::cos(30 * kDeg), p2 = std::cos(80 * kDeg), a = p1 - (0.5 * (p1 + p2) - 0.15);
+    EXPECT_NEAR(a, 0.1714, 1e-4);
+    EXPECT_NEAR(distance(split.skeleton.points[5], Vec3{0, 0, a}), 0, 1e-12);
+    EXPECT_NEAR(split.skeleton.radii[5], 0.2 - 0.1 * a / 0.25, 1e-12);
+    const double first = distance(split.skeleton.points[5], split.skeleton.points[1]);
+    EXPECT_NEAR(first, 0.1329, 1e-4);
+    EXPECT_LT(first, 0.7 * (split.skeleton.radii[5] + 0.1));
+    const mesohex::SkeletonRepairResult longer = mesohex::repair_skeleton(degree_four_short_pair(0.4));
+    EXPECT_EQ(longer.trunks + longer.absorbed_stubs + longer.side_stubs, 0);
+    ASSERT_EQ(longer.junction_splits, 1);
+    EXPECT_NEAR(longer.skeleton.points[5].z, 0.2364, 1e-4);
+    EXPECT_NEAR(distance(longer.skeleton.points[5], longer.skeleton.points[1]), 0.2283, 1e-4);
+}
+
+// Random seed 181: two degree-4 points whose split would put a pair's first vertex within the new junction's reach
+// (input vertex 36: 0.26 from c' = 0.48 x the radii sum; vertex 15, turning by 60 degrees: 0.30 = 0.70 x, just below
+// the clearance). Split, adaptation drops vertex 15's sample and the chord from c' passes 0.96 of its radius from it
+// (0.44 unsplit); the finished mesh missed (min SJ 0.106, Hausdorff 1.61 %, docs/tuning.md). With the clearance
+// neither point is split and the raw mesh is the unsplit one.
+TEST(SkeletonRepair, RandomSeedSplitWouldCutFirstCorner) {
+    const Skeleton in = mesohex::generate_random_skeleton(181);
+    mesohex::PipelineOptions unsplit, unchecked;
+    unsplit.repair.junction_split = 0;
+    unchecked.repair.junction_split_clearance = 0;
+    const mesohex::PipelineResult def = mesohex::run_pipeline(in);
+    const mesohex::PipelineResult none = mesohex::run_pipeline(in, unsplit);
+    const mesohex::PipelineResult cut = mesohex::run_pipeline(in, unchecked);
+    EXPECT_EQ(def.junction_splits, 0);
+    EXPECT_EQ(cut.junction_splits, 2);
+    ASSERT_EQ(def.raw.mesh.hexes.size(), none.raw.mesh.hexes.size());
+    EXPECT_EQ(def.raw.mesh.hexes, none.raw.mesh.hexes);
+    EXPECT_EQ(def.raw.mesh.points, none.raw.mesh.points);
+    // How far input vertex 15 lies off the adapted skeleton, in its radius.
+    const auto off = [&](const Skeleton& s) {
+        double best = 1e300;
+        for (const auto& e : s.edges) {
+            const Vec3 p = s.points[e[0]], d = s.points[e[1]] - p;
+            const double t = std::clamp(dot(in.points[15] - p, d) / dot(d, d), 0.0, 1.0);
+            best = std::min(best, distance(p + t * d, in.points[15]));
+        }
+        return best / in.radii[15];
+    };
+    EXPECT_NEAR(in.radii[15], 0.178, 5e-4);
+    EXPECT_NEAR(off(def.skeleton), 0.44, 0.01);
+    EXPECT_NEAR(off(cut.skeleton), 0.96, 0.01);
 }
 
 // Random seed 4 (issue 16's random set): a degree-4 branching point of radius 0.205 with a pair 63 degrees apart and

@@ -745,7 +745,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
 // than 90 degrees apart into two branching points of degree 3 (SkeletonRepairOptions::junction_split, placement and
 // radii there): the close pair moves to a new vertex c', the other two stay at c (moved), joined by the edge (c, c').
 // Returns the number of points split.
-int split_wide_junctions(Skeleton& s, double factor, double gap_deg) {
+int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clearance) {
     if (!(factor > 0) || s.radii.size() != s.points.size()) return 0;
     Graph g;
     make_graph(s, g);
@@ -790,7 +790,6 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg) {
         for (const int k : rest) p2 = std::min(p2, -dot(s.points[other[k]] - s.points[c], u));
         const double m = 0.5 * (p1 + p2) - h;
         if (!(m > 0)) continue;
-        const double a = p1 - m, b = 2 * h - a;
         // Radii: the largest of the edges' radii at that distance along them (linear from r_c to the first vertex's).
         const auto radius_at = [&](std::initializer_list<int> ks, double x) {
             double r = 0;
@@ -801,8 +800,17 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg) {
             }
             return r;
         };
+        const double a = p1 - m, b = 2 * h - a;
         const Vec3 near = s.points[c] + a * u, far = s.points[c] - b * u;
         const double r_near = radius_at({bi, bj}, a), r_far = radius_at({rest[0], rest[1]}, b);
+        // Every moved first edge stays an edge (junction_split_clearance): else no split.
+        bool clear = true;
+        for (int k = 0; k < 4; ++k) {
+            const bool pair = k == bi || k == bj;
+            const double len = distance(s.points[other[k]], pair ? near : far);
+            clear = clear && len >= clearance * ((pair ? r_near : r_far) + s.radii[other[k]]);
+        }
+        if (!clear) continue;
         const int cp = static_cast<int>(s.points.size());
         s.points.push_back(near);
         s.radii.push_back(r_near);
@@ -827,7 +835,8 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     Skeleton& s = res.skeleton;
     if (o.fan_end_retraction) res.fan_end_retractions = retract_fan_ends(s);
     repair_trunks(s, o, res);
-    res.junction_splits = split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg);
+    res.junction_splits =
+        split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance);
     res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
     return res;
 }

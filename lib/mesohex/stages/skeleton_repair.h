@@ -103,6 +103,13 @@ struct SkeletonRepairOptions {
     // split direction are arbitrary, and the split moved the junction the wrong way on the random set
     // (docs/tuning.md, "Degree-4 junctions split").
     double junction_split_gap_deg = 10;
+    // The junction split keeps every moved branch's first edge: each first vertex f must lie at least
+    // junction_split_clearance x (r_split + r_f) from its new split point (dimensionless; the same rule as
+    // AdaptationOptions::collapse_spread and trunk_clearance, 0.7). A first edge shorter than that lies within the new
+    // junction's reach: adaptation's section criterion drops f's sample and the chord from the split point cuts the
+    // branch's corner at f. No split then (the point stays of degree 4). 0: no check. docs/junctions.md ("Split only
+    // with clear first edges").
+    double junction_split_clearance = 0.7;
     // Root patches of branches standing inside a leaflet. A branch rooted at an interior leaflet vertex v (exactly 4
     // faces around v, every leaflet edge at v shared by 2 faces, exactly one branch edge) stands on the 4 faces around
     // v; its first chunk is as wide as that patch (about 2 leaflet edges) while its tube may be much thinner (a
