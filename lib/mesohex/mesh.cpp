@@ -219,6 +219,19 @@ void compare_fan_layouts(MeshRun& run, const Skeleton& skeleton, const TriangleM
     run.finish = std::move(other.finish);
 }
 
+// The start shared by mesh_skeleton and mesh_skeleton_raw: the skeleton with its radii from the domain (when given,
+// timed in run.radius_ms), the pipeline options, and the "raw" progress report.
+Skeleton start_run(MeshRun& run, const Skeleton& input, const TriangleMesh* domain, const SurfaceQuery* domain_query,
+                   const MeshOptions& options) {
+    Skeleton skeleton = input;
+    const auto t = std::chrono::steady_clock::now();
+    if (domain) run.radius_note = take_radii_from_domain(skeleton, *domain, domain_query, options);
+    run.radius_ms = ms_since(t);
+    run.options = options.pipeline;
+    if (options.progress) options.progress({"raw", 1, 1, 0, 0, ""});
+    return skeleton;
+}
+
 }  // namespace
 
 int MeshRun::exit_status() const {
@@ -240,14 +253,8 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const M
 MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const SurfaceQuery* domain_query,
                       const MeshOptions& options) {
     MeshRun run;
-    Skeleton skeleton = input;
+    const Skeleton skeleton = start_run(run, input, domain, domain_query, options);
     auto t = std::chrono::steady_clock::now();
-    if (domain) run.radius_note = take_radii_from_domain(skeleton, *domain, domain_query, options);
-    run.radius_ms = ms_since(t);
-
-    t = std::chrono::steady_clock::now();
-    run.options = options.pipeline;
-    if (options.progress) options.progress({"raw", 1, 1, 0, 0, ""});
     run.pipeline = run_pipeline(skeleton, run.options);
     run.pipeline_ms = ms_since(t);
     t = std::chrono::steady_clock::now();
@@ -276,14 +283,8 @@ MeshRun mesh_skeleton_raw(const Skeleton& input, const TriangleMesh* domain, con
     cache.valid = false;  // until this run succeeds
     if (!raw_only) return mesh_skeleton(input, domain, domain_query, options);
     MeshRun run;
-    Skeleton skeleton = input;
+    const Skeleton skeleton = start_run(run, input, domain, domain_query, options);
     auto t = std::chrono::steady_clock::now();
-    if (domain) run.radius_note = take_radii_from_domain(skeleton, *domain, domain_query, options);
-    run.radius_ms = ms_since(t);
-
-    t = std::chrono::steady_clock::now();
-    run.options = options.pipeline;
-    if (options.progress) options.progress({"raw", 1, 1, 0, 0, ""});
     // run_pipeline with the stages after prepare_skeleton through the remesh cache (the same calls, the same options).
     run.pipeline = prepare_skeleton(skeleton, run.options);
     PipelineResult& res = run.pipeline;

@@ -1331,32 +1331,6 @@ void measure(MedialAxis& out) {
 
 }  // namespace
 
-namespace {
-
-// Closest point to p on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return a;
-    const Vec3 bp = p - b;
-    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return b;
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-    const Vec3 cp = p - c;
-    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return c;
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    const double denom = va + vb + vc;
-    if (denom == 0) return a;  // degenerate triangle
-    return a + ab * (vb / denom) + ac * (vc / denom);
-}
-
-}  // namespace
-
 int remove_fringe_curves(Skeleton& m, double factor) {
     const int nv = static_cast<int>(m.points.size());
     std::set<std::array<int, 2>> sides;
@@ -1382,8 +1356,8 @@ int remove_fringe_curves(Skeleton& m, double factor) {
         const double limit = factor * r;
         for (const std::vector<int>& f : m.faces) {
             const Vec3 q =
-                closest_on_triangle(p, m.points[static_cast<size_t>(f[0])], m.points[static_cast<size_t>(f[1])],
-                                    m.points[static_cast<size_t>(f[2])]);
+                closest_point_on_triangle(p, m.points[static_cast<size_t>(f[0])], m.points[static_cast<size_t>(f[1])],
+                                          m.points[static_cast<size_t>(f[2])]);
             if (squared_norm(p - q) <= limit * limit) return true;
         }
         return false;
