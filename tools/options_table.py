@@ -99,7 +99,8 @@ def main():
             return 1 if problems else 0
         body = []
         for p, default, meaning in want:
-            history = cells[p][3] if p in cells and len(cells[p]) > 3 else ''
+            # An unescaped '|' in the hand-written history splits it into several cells: keep them all.
+            history = ' \\| '.join(cells[p][3:]) if p in cells else ''
             body.append(f'| {p} | {default} | {meaning} | {history} |')
         open(doc, 'w').write('\n'.join(lines[:first] + body + lines[last:]))
         return 0

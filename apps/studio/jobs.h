@@ -27,6 +27,7 @@ struct JobProgress {
     int steps = 0;      // the stage's cap on step (0 when unknown)
     double sj_min = 0;  // fit: current min scaled Jacobian
     long inverted = 0;  // fit, untangle, improve: hexes with scaled Jacobian <= 0
+    std::string what;   // attempt only: what the attempt changes (MeshProgress::what: "first", "fully padded", ...)
 };
 
 // Thrown from JobContext::progress once the job is cancelled; the worker catches it.

@@ -217,7 +217,8 @@ std::string job_json(const JobSnapshot& s, bool with_result) {
                              {"step", s.progress.step},
                              {"steps", s.progress.steps},
                              {"sj_min", s.progress.sj_min},
-                             {"inverted", s.progress.inverted}}}}
+                             {"inverted", s.progress.inverted},
+                             {"what", s.progress.what}}}}
                           .dump(-1, ' ', false, kUtf8Replace);
     out.pop_back();  // '}'
     if (with_result && s.state == JobState::Done) out += ",\"result\":" + s.result;
@@ -453,7 +454,7 @@ void StudioServer::Impl::routes() {
                       MeshRequest request;
                       request.finish = true;
                       request.progress = [&ctx](const MeshProgress& p) {
-                          ctx.progress({p.stage, p.step, p.steps, p.sj_min, p.inverted});
+                          ctx.progress({p.stage, p.step, p.steps, p.sj_min, p.inverted, p.what});
                       };
                       return mesh_response(s, dp, request);
                   });

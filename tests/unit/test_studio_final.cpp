@@ -142,6 +142,10 @@ TEST_F(StudioFinal, JobsRunTheFinalMeshAndAreCancelled) {
     EXPECT_EQ(events->get_header_value("Content-Type"), "text/event-stream");
     ASSERT_EQ(events->body.rfind("data: ", 0), 0u) << events->body;
     EXPECT_NE(events->body.find("\"state\":\"done\""), std::string::npos) << events->body;
+    // The progress carries the attempt's description field (set for "attempt" reports, empty otherwise).
+    ASSERT_TRUE(done["progress"].contains("what")) << done["progress"].dump();
+    EXPECT_EQ(done["progress"]["what"].is_string(), true);
+    EXPECT_EQ(done["progress"]["what"] == "", done["progress"]["stage"] != "attempt") << done["progress"].dump();
 
     const auto r3 = s.client->Post("/api/jobs", skeleton_text(), "text/plain");  // client "default"
     ASSERT_TRUE(r3);

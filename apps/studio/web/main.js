@@ -651,7 +651,7 @@ async function finish() {
 function showJobProgress(id, j) {
   const p = j.progress || {};
   $('progress').value = p.steps ? p.step / p.steps : 0;
-  $('jobinfo').textContent = `job ${id}: ${j.state}${p.stage ? ` (${p.stage} ${p.step ?? ''}/${p.steps ?? ''})` : ''}`;
+  $('jobinfo').textContent = `job ${id}: ${j.state}${p.stage ? ` (${p.stage}${p.what ? ` "${p.what}"` : ''} ${p.step ?? ''}/${p.steps ?? ''})` : ''}`;
   st.jobEvents = (st.jobEvents || 0) + 1;
 }
 
