@@ -43,6 +43,11 @@ FinishStage measure(const std::string& name, double ms, const HexMesh& mesh) {
     return s;
 }
 
+FinishStage with_iterations(FinishStage stage, int iterations) {
+    stage.iterations = iterations;
+    return stage;
+}
+
 std::size_t count_boundary_vertices(const HexMesh& mesh) {
     std::vector<char> seen(mesh.points.size(), 0);
     std::size_t n = 0;
@@ -114,6 +119,7 @@ struct Finisher {
         }
         stage.stage = name;
         stage.ms = ms_since(t);
+        stage.iterations = u.rounds;
         record(stage);
     }
 
@@ -305,7 +311,7 @@ struct Finisher {
         result.fit_iterations = fit.iterations;
         result.fit_converged = fit.converged;
         result.fit_max_distance = fit.max_distance;
-        record(measure("fit", ms_since(t), mesh));
+        record(with_iterations(measure("fit", ms_since(t), mesh), fit.iterations));
     }
 
     void untangle_step() {
@@ -314,7 +320,7 @@ struct Finisher {
         mesh = std::move(u.mesh);
         result.untangled = true;
         result.untangle_rounds = u.rounds;
-        record(measure("untangle", ms_since(t), mesh));
+        record(with_iterations(measure("untangle", ms_since(t), mesh), u.rounds));
     }
 
     void improve() {
@@ -333,7 +339,7 @@ struct Finisher {
             mesh = std::move(u.mesh);
             result.untangled_boundary_moved = true;
         }
-        record(measure("untangle-free", ms_since(t), mesh));
+        record(with_iterations(measure("untangle-free", ms_since(t), mesh), u.rounds));
         if (kept) improve();
     }
 
@@ -377,7 +383,7 @@ struct Finisher {
             so);
         mesh = std::move(sm.mesh);
         result.smoothed = sm.moves > 0;
-        record(measure("smooth", ms_since(t), mesh));
+        record(with_iterations(measure("smooth", ms_since(t), mesh), sm.sweeps + sm.worst_rounds));
     }
 
     // `topo`: the final mesh's topology (computed once, for the quality report too).

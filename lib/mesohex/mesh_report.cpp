@@ -49,7 +49,8 @@ nlohmann::json stages_json(const std::vector<FinishStage>& stages) {
                         {"hexes", st.hexes},
                         {"sj_min", st.sj_min},
                         {"sj_avg", st.sj_avg},
-                        {"inverted", st.inverted}});
+                        {"inverted", st.inverted},
+                        {"iterations", st.iterations}});
     return list;
 }
 
