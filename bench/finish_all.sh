@@ -7,6 +7,7 @@
 #
 #   bench/finish_all.sh                  generated shapes (thickened, --resolution 3), shared pairs, table1 examples
 #   ONLY=generated|shared|table1 bench/finish_all.sh
+#   NAMES="torus bird" ONLY=generated bench/finish_all.sh    only these generated shapes
 #   MESOHEX=path/to/mesohex OUT=dir THREADS=2 bench/finish_all.sh
 #
 # Wall times are what a user waits; on a loaded machine read the CPU column (the run's threads summed). The shared
@@ -49,12 +50,15 @@ run() {
 
 printf 'input\trc\thexes\twall_s\tcpu_s\tB/hex\tfit_it\tfit_us/hex/it\tworst_stage\tus/hex/it\tminSJ\tavgSJ\tH%%\n'
 if [ -z "$ONLY" ] || [ "$ONLY" = generated ]; then
-    for g in $("$MESOHEX" generate --list); do
+    for g in ${NAMES:-$("$MESOHEX" generate --list)}; do
         d="$OUT/gen-$g"
         mkdir -p "$d"
-        "$MESOHEX" generate "$g" -o "$d/skel.obj" >/dev/null 2>&1 &&
-            "$MESOHEX" thicken "$d/skel.obj" -o "$d/domain.off" --resolution 3 >/dev/null 2>&1 &&
+        if "$MESOHEX" generate "$g" -o "$d/skel.obj" >/dev/null 2>&1 &&
+            "$MESOHEX" thicken "$d/skel.obj" -o "$d/domain.off" --resolution 3 >/dev/null 2>&1; then
             run "gen-$g" "$d/skel.obj" "$d/domain.off"
+        else
+            printf '%s\t-\tfail\tgenerate or thicken failed\n' "gen-$g"
+        fi
     done
 fi
 if [ -d "$SHARED" ] && { [ -z "$ONLY" ] || [ "$ONLY" = shared ]; }; then
@@ -67,7 +71,11 @@ if [ -d "$SHARED" ] && { [ -z "$ONLY" ] || [ "$ONLY" = shared ]; }; then
         d="$OUT/ma-$b"
         mkdir -p "$d"
         surf=$(ls "$SHARED"/surfaces/$b.* 2>/dev/null | head -1)
-        "$MESOHEX" import "$m" -o "$d/skel.obj" >/dev/null 2>&1 && run "ma-$b" "$d/skel.obj" "$surf"
+        if "$MESOHEX" import "$m" -o "$d/skel.obj" >/dev/null 2>&1; then
+            run "ma-$b" "$d/skel.obj" "$surf"
+        else
+            printf '%s\t-\tfail\timport failed\n' "ma-$b"
+        fi
     done
 fi
 if [ -d "$SHARED" ] && { [ -z "$ONLY" ] || [ "$ONLY" = table1 ]; }; then

@@ -43,7 +43,7 @@ FinishStage measure(const std::string& name, double ms, const HexMesh& mesh) {
     return s;
 }
 
-FinishStage with_iterations(FinishStage stage, int iterations) {
+FinishStage with_iterations(FinishStage stage, long iterations) {
     stage.iterations = iterations;
     return stage;
 }
@@ -119,7 +119,7 @@ struct Finisher {
         }
         stage.stage = name;
         stage.ms = ms_since(t);
-        stage.iterations = u.rounds;
+        stage.iterations = u.iterations;
         record(stage);
     }
 
@@ -320,7 +320,7 @@ struct Finisher {
         mesh = std::move(u.mesh);
         result.untangled = true;
         result.untangle_rounds = u.rounds;
-        record(with_iterations(measure("untangle", ms_since(t), mesh), u.rounds));
+        record(with_iterations(measure("untangle", ms_since(t), mesh), u.iterations));
     }
 
     void improve() {
@@ -339,7 +339,7 @@ struct Finisher {
             mesh = std::move(u.mesh);
             result.untangled_boundary_moved = true;
         }
-        record(with_iterations(measure("untangle-free", ms_since(t), mesh), u.rounds));
+        record(with_iterations(measure("untangle-free", ms_since(t), mesh), u.iterations));
         if (kept) improve();
     }
 

@@ -40,9 +40,10 @@ struct FinishStage {
     long vertices = 0, hexes = 0;
     double sj_min = 0, sj_avg = 0;  // scaled Jacobian after the stage
     long inverted = 0;              // hexes with scaled Jacobian <= 0 after the stage
-    // The stage's iterations: fit iterations; untangling / quality-pass rounds; smoothing sweeps + max-min rounds;
-    // 0 for the one-pass stages (input, pad, subdivide, refine). Time per hex and iteration: ms / (hexes x it).
-    int iterations = 0;
+    // The stage's iterations: fit iterations; untangling / quality passes: L-BFGS iterations over all rounds (on the
+    // bad region only); smoothing: sweeps + max-min rounds; 0 for the one-pass stages (input, pad, subdivide,
+    // refine). Time per hex and iteration: ms / (hexes x iterations).
+    long iterations = 0;
 };
 
 struct FinishOptions {

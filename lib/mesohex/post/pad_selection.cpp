@@ -217,7 +217,11 @@ PadSelection select_bare_regions(const HexMesh& mesh, const TriangleMesh& domain
         centres[q] = quad_centre(mesh, quads[q]);
     }
     std::vector<RawEdge> edges = raw_edges(quads, normals, centres, options.sharp_angle);
-    const std::vector<DomainEdge> features = domain_sharp_edges(domain, options.sharp_angle);
+    // The domain's sharp edges (a pass over all its triangles: the stage's largest cost on a dense domain) only when
+    // the raw boundary has a sharp edge to match; without one no region can be bare (condition 1 below).
+    std::vector<DomainEdge> features;
+    if (std::any_of(edges.begin(), edges.end(), [](const RawEdge& e) { return e.sharp; }))
+        features = domain_sharp_edges(domain, options.sharp_angle);
     sel.domain_sharp_edges = static_cast<long>(features.size());
     UnionFind regions(static_cast<int>(quads.size()));
     for (RawEdge& e : edges) {

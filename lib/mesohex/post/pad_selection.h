@@ -49,7 +49,7 @@ struct PadSelection {
     int bare_regions = 0;                        // of them, left bare
     long sharp_edges = 0;                        // sharp raw boundary edges
     long matched_edges = 0;
-    long domain_sharp_edges = 0;  // sharp edges of the domain's triangles
+    long domain_sharp_edges = 0;  // sharp edges of the domain's triangles (0, not counted, when no raw edge is sharp)
 };
 
 // The bare regions: a region of raw boundary quads is bare when (1) it is bounded by at least one sharp raw edge,

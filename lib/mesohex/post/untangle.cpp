@@ -177,8 +177,9 @@ double min_corner_det(const UntangleState& pb) {
         [](double a, double b) { return std::min(a, b); });
 }
 
-// L-BFGS (memory 8) with Armijo backtracking on the free vertices of pb. Returns the final energy.
-double minimize(UntangleState& pb, int max_iterations, double length_scale) {
+// L-BFGS (memory 8) with Armijo backtracking on the free vertices of pb. Returns the final energy; adds the
+// iterations it ran to `iterations`.
+double minimize(UntangleState& pb, int max_iterations, double length_scale, long& iterations) {
     const std::size_t n = pb.free_vertices.size();
     std::vector<Vec3> g, g_new, dir(n), x_start(n);
     double energy = evaluate(pb, &g);
@@ -189,6 +190,7 @@ double minimize(UntangleState& pb, int max_iterations, double length_scale) {
         return s;
     };
     for (int it = 0; it < max_iterations && std::isfinite(energy); ++it) {
+        ++iterations;
         // Two-loop recursion.
         std::vector<Vec3> q = g;
         std::vector<double> alpha(history.size());
@@ -402,7 +404,7 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
             pb.eps = std::sqrt(1e-12 + 0.04 * std::pow(std::min(detmin, 0.0), 2));
         }
         const double e_prev = evaluate(pb, nullptr);
-        const double energy = minimize(pb, options.max_inner_iterations, mean_size);
+        const double energy = minimize(pb, options.max_inner_iterations, mean_size, result.iterations);
         detmin = min_corner_det(pb);
         inv = inversion_of(mesh, pb.x, options.target_sj);
         result.rounds = round;

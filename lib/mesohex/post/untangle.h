@@ -38,6 +38,7 @@ struct UntangleResult {
     long inverted_before = 0, inverted_after = 0;  // scaled Jacobian <= 0
     double sj_min_before = 0, sj_min_after = 0;
     int rounds = 0;
+    long iterations = 0;  // L-BFGS iterations over all rounds (each evaluates the energy on the active hexes only)
     std::vector<int> inverted_hexes;  // the hexes still inverted at the end (ascending ids)
 };
 
