@@ -17,8 +17,10 @@
 //                              branching point moved back and forth; S = 0 the whole skeleton read (MHSK), 1 an
 //                              MHSD delta in a session (incremental remesh when the adapted topology stays; when
 //                              the adaptation renumbers it, the content-keyed memo serves the unchanged branching
-//                              points), 2 the same session with the memo off (cache.remesh.memo_enabled = false).
-//                              Counters: hexes, incremental (share of runs that were incremental by index), memo
+//                              points), 2 the same session with the memo off (cache.remesh.memo_enabled = false),
+//                              3 the session of 1 answering patches of the previous answer (since=, what the page
+//                              asks for; row patches when the mesh is renumbered).
+//                              Counters: hexes, answer_kb (bytes of the last answer / 1000), incremental (share of runs that were incremental by index), memo
 //                              (branching-point surfaces taken from the memo per run), computed (those computed).
 #include <benchmark/benchmark.h>
 
@@ -165,13 +167,25 @@ void BM_StudioRawTree(benchmark::State& state) {
     const std::string whole[2] = {skeleton_binary(moved), skeleton_binary(base)};
     Skeleton current = base;
     long runs = 0, incremental = 0, memo = 0, computed = 0;
+    studio::BinaryArrays answers[2];  // S = 3: the previous answer's arrays and this one's
+    if (state.range(0) == 3) {
+        request.arrays_out = &answers[0];
+        studio::mesh_response(base, nullptr, request, nullptr, &cache);
+    }
+    std::size_t answer_bytes = 0;
     for (auto _ : state) {
+        if (state.range(0) == 3) {
+            request.patch_base = &answers[runs % 2];
+            request.patch_of = runs;
+            request.arrays_out = &answers[(runs + 1) % 2];
+        }
         const auto t0 = std::chrono::steady_clock::now();
         const Skeleton s = session ? studio::apply_skeleton_delta(current, deltas[runs % 2])
                                    : read_skeleton_text(whole[runs % 2], "mhsk", "request body");
         request.parse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         const std::string body = studio::mesh_response(s, nullptr, request, nullptr, session ? &cache : nullptr);
         benchmark::DoNotOptimize(body.data());
+        answer_bytes = body.size();
         current = s;
         incremental += session && !cache.last.full;
         if (session) {
@@ -182,10 +196,11 @@ void BM_StudioRawTree(benchmark::State& state) {
     }
     const double n = runs ? static_cast<double>(runs) : 1.0;
     state.counters["hexes"] = static_cast<double>(cache.remesh.raw.mesh.hexes.size());
+    state.counters["answer_kb"] = static_cast<double>(answer_bytes) / 1000.0;
     state.counters["incremental"] = static_cast<double>(incremental) / n;
     state.counters["memo"] = static_cast<double>(memo) / n;
     state.counters["computed"] = static_cast<double>(computed) / n;
 }
-BENCHMARK(BM_StudioRawTree)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StudioRawTree)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
