@@ -89,10 +89,15 @@ function clear(group) {
   }
 }
 
-// While a raw mesh is on its way (asked less than MESH_WAIT_MS milliseconds ago), a redraw waits for it, so that one
+// While a raw mesh is on its way (asked less than meshWaitMs() milliseconds ago), a redraw waits for it, so that one
 // frame shows the edit with its mesh: a frame of a large scene costs hundreds of milliseconds in a software WebGL and
-// would hold the answer back. If the answer is late, the edit is drawn alone when the wait ends.
+// would hold the answer back. If the answer is late, the edit is drawn alone when the wait ends. The wait is
+// MESH_WAIT_MS, or 1.5 x the last round trip when that is longer (a busy machine, a large mesh), at most
+// MESH_WAIT_MAX_MS: on the 12 k-hex tree in SwiftShader at load 2-4 answers came at 80-120 ms, and each one after
+// 100 ms waited for the extra frame of the edit alone (200-300 ms) before its own.
 const MESH_WAIT_MS = 100;
+const MESH_WAIT_MAX_MS = 400;
+const meshWaitMs = () => Math.min(MESH_WAIT_MAX_MS, Math.max(MESH_WAIT_MS, 1.5 * (st.lastRoundTripMs || 0)));
 let meshAskedAt = -Infinity;
 let meshInFlight = false; // a raw-mesh request is on its way (see runMesh)
 let deferredRender = null;
@@ -100,8 +105,8 @@ let queuedFrame = null; // requestAnimationFrame id of the queued redraw
 function render() {
   if (queuedFrame !== null || deferredRender) return;
   const waited = performance.now() - meshAskedAt;
-  if (meshInFlight && waited < MESH_WAIT_MS) {
-    deferredRender = setTimeout(() => { deferredRender = null; render(); }, MESH_WAIT_MS - waited);
+  if (meshInFlight && waited < meshWaitMs()) {
+    deferredRender = setTimeout(() => { deferredRender = null; render(); }, meshWaitMs() - waited);
     return;
   }
   queuedFrame = requestAnimationFrame(() => {
@@ -347,7 +352,8 @@ function drawMesh() {
   if ($('v-wire').checked) {
     const lg = new THREE.BufferGeometry();
     lg.setAttribute('position', position);
-    lg.setIndex(new THREE.BufferAttribute(V.quadLineIndex(nq), 1));
+    // Each edge once when the quads share their corners (not when shrunk: every quad has its own).
+    lg.setIndex(new THREE.BufferAttribute(cornerVerts ? V.quadEdgeLineIndex(cornerVerts) : V.quadLineIndex(nq), 1));
     groups.mesh.add(new THREE.LineSegments(lg, material('mesh-wire', () => new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.5 }))));
   }
   if ($('v-sing').checked && mesh.singular_edges?.length) {
