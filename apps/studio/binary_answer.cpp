@@ -161,34 +161,49 @@ RowPatch row_patch(std::vector<std::uint32_t> old, const std::vector<std::uint32
         return std::memcmp(&old[s * w], &now[i * w], 4 * w) == 0;
     };
     // The translated base rows by content: an open-addressing table (linear probing) of row numbers, the first row
-    // of each content kept (an unordered_map took 8 ms for the 145 k rows of a 12 k-hex tree answer).
-    std::size_t slots = 2;
-    while (slots < 2 * old_rows) slots *= 2;
-    std::vector<std::uint32_t> table(slots, kNoRow);
-    const std::size_t mask = slots - 1;
-    for (std::size_t r = 0; r < old_rows; ++r)
-        for (std::size_t k = row_hash(&old[r * w], w) & mask;; k = (k + 1) & mask) {
-            if (table[k] == kNoRow) {
-                table[k] = static_cast<std::uint32_t>(r);
-                break;
+    // of each content kept (an unordered_map took 8 ms for the 145 k rows of a 12 k-hex tree answer); built at the
+    // first row the runs' own continuations do not find.
+    std::vector<std::uint32_t> table;
+    std::size_t mask = 0;
+    const auto build = [&] {
+        std::size_t slots = 2;
+        while (slots < 2 * old_rows) slots *= 2;
+        table.assign(slots, kNoRow);
+        mask = slots - 1;
+        for (std::size_t r = 0; r < old_rows; ++r)
+            for (std::size_t k = row_hash(&old[r * w], w) & mask;; k = (k + 1) & mask) {
+                if (table[k] == kNoRow) {
+                    table[k] = static_cast<std::uint32_t>(r);
+                    break;
+                }
+                if (std::memcmp(&old[table[k] * w], &old[r * w], 4 * w) == 0) break;  // the same: keep the first
             }
-            if (std::memcmp(&old[table[k] * w], &old[r * w], 4 * w) == 0) break;  // the same content: keep the first
-        }
+    };
     const auto find = [&](std::size_t i) {
+        if (table.empty()) build();
         for (std::size_t k = row_hash(&now[i * w], w) & mask;; k = (k + 1) & mask)
             if (table[k] == kNoRow || same(table[k], i)) return table[k];
     };
     RowPatch p;
     p.map.row_patched = true;
     p.map.to_new.assign(old_rows, kNoRow);
-    std::uint32_t previous = kNoRow;
+    std::uint32_t previous = kNoRow;  // the source of row i - 1
+    std::size_t last_copied = 0;      // the last row copied (when last_src is set) and its source
+    std::uint32_t last_src = kNoRow;
+    const auto fits = [&](std::size_t s, std::size_t i) { return s < old_rows && same(s, i); };
     for (std::size_t i = 0; i < new_rows; ++i) {
+        // The run goes on (previous + 1), or after literal rows it resumes as if they replaced as many base rows, or
+        // as if they were inserted; else the table.
         std::uint32_t src = kNoRow;
-        if (previous != kNoRow && previous + 1 < old_rows && same(previous + 1, i)) {
-            src = previous + 1;
-        } else {
-            src = find(i);
+        if (previous != kNoRow) {
+            if (fits(previous + std::size_t{1}, i)) src = previous + 1;
+        } else if (last_src != kNoRow) {
+            if (fits(last_src + (i - last_copied), i))
+                src = static_cast<std::uint32_t>(last_src + (i - last_copied));
+            else if (fits(last_src + std::size_t{1}, i))
+                src = last_src + 1;
         }
+        if (src == kNoRow) src = find(i);
         const std::size_t k = p.runs.size();
         const bool extends = k > 0 && (src == kNoRow ? p.runs[k - 1] == kNoRow
                                                      : p.runs[k - 1] != kNoRow && src == p.runs[k - 1] + p.runs[k - 2]);
@@ -198,11 +213,13 @@ RowPatch row_patch(std::vector<std::uint32_t> old, const std::vector<std::uint32
             p.runs.push_back(1);
             p.runs.push_back(src);
         }
-        if (src == kNoRow)
+        if (src == kNoRow) {
             p.literal.insert(p.literal.end(), now.begin() + static_cast<std::ptrdiff_t>(i * w),
                              now.begin() + static_cast<std::ptrdiff_t>((i + 1) * w));
-        else
+        } else {
             p.map.to_new[src] = static_cast<std::uint32_t>(i);
+            last_src = src, last_copied = i;
+        }
         previous = src;
     }
     return p;
