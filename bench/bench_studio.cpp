@@ -129,7 +129,8 @@ void BM_StudioRawRoundTrip(benchmark::State& state) {
         moved.points[static_cast<std::size_t>(tree_moved_vertex(base))] += Vec3{0.02, 0.01, 0};
     else
         moved.points[0].x += 0.02;
-    const std::string deltas[2] = {studio::skeleton_delta_binary(base, moved), studio::skeleton_delta_binary(moved, base)};
+    const std::string deltas[2] = {studio::skeleton_delta_binary(base, moved),
+                                   studio::skeleton_delta_binary(moved, base)};
     std::size_t answer_bytes = 0;
     // and since = the previous revision: patch answers, decoded against the previous answer.
     studio::DecodedAnswer held;

@@ -157,9 +157,7 @@ RowPatch row_patch(std::vector<std::uint32_t> old, const std::vector<std::uint32
     const std::size_t w = layout.width, old_rows = old.size() / w, new_rows = now.size() / w;
     for (std::size_t r = 0; r < old_rows; ++r)
         for (std::size_t c = 0; c < layout.ref_columns; ++c) old[r * w + c] = ref(old[r * w + c]);
-    const auto same = [&](std::size_t s, std::size_t i) {
-        return std::memcmp(&old[s * w], &now[i * w], 4 * w) == 0;
-    };
+    const auto same = [&](std::size_t s, std::size_t i) { return std::memcmp(&old[s * w], &now[i * w], 4 * w) == 0; };
     // The translated base rows by content: an open-addressing table (linear probing) of row numbers, the first row
     // of each content kept (an unordered_map took 8 ms for the 145 k rows of a 12 k-hex tree answer); built at the
     // first row the runs' own continuations do not find.
@@ -308,21 +306,24 @@ void read_row_patch(const std::string& in, std::size_t& at, const nlohmann::json
                     std::vector<std::pair<std::string, std::vector<std::uint32_t>>>& row_maps, DecodedAnswer& d) {
     const std::string& name = d.names.back();
     const auto number = [&](const char* key) {
-        if (!a.contains(key) || !a[key].is_number_unsigned()) malformed("row patch without \"" + std::string(key) + "\"");
+        if (!a.contains(key) || !a[key].is_number_unsigned())
+            malformed("row patch without \"" + std::string(key) + "\"");
         return a[key].get<std::size_t>();
     };
     const std::size_t n = number("count"), w = number("width"), k = number("rows"), lit = number("literal");
     const std::size_t r = a.contains("ref") ? number("ref_columns") : 0;
     const bool reals = a["type"] == "f32";
     if (!reals && a["type"] != "u32") malformed("row patch of a " + a["type"].dump() + " array");
-    if (!previous || !previous->has(name)) malformed("row patch of an array the previous answer does not have: " + name);
+    if (!previous || !previous->has(name))
+        malformed("row patch of an array the previous answer does not have: " + name);
     if (w == 0 || n % w != 0 || r > w || (reals && r > 0)) malformed("row patch layout " + a.dump());
     if (k > (in.size() - at) / 8 || lit > (in.size() - at - 8 * k) / (4 * w)) malformed(name + " runs past the end");
     const std::vector<std::uint32_t>* ref = nullptr;
     if (r > 0) {
         for (const auto& [m, map] : row_maps)
             if (a["ref"].is_string() && m == a["ref"].get<std::string>()) ref = &map;
-        if (!ref && !(a["ref"].is_string() && d.has(a["ref"].get<std::string>()))) malformed("row patch ref " + a.dump());
+        if (!ref && !(a["ref"].is_string() && d.has(a["ref"].get<std::string>())))
+            malformed("row patch ref " + a.dump());
     }
     const std::size_t p = index_of_name(*previous, name);
     const std::vector<double>& old_reals = previous->f32[p];

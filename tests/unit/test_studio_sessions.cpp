@@ -431,7 +431,8 @@ TEST(StudioSessions, TreePatchAnswersStaySmallWhenTheMeshIsRenumbered) {
         if (patched.ints("mesh.hexes").size() != held.ints("mesh.hexes").size()) {
             ++renumbered;
             bool rows = false;
-            for (const json& a : patched.header["arrays"]) rows = rows || (a["name"] == "mesh.hexes" && a.contains("rows"));
+            for (const json& a : patched.header["arrays"])
+                rows = rows || (a["name"] == "mesh.hexes" && a.contains("rows"));
             EXPECT_TRUE(rows) << edit;
         }
         held = patched;
