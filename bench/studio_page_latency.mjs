@@ -14,7 +14,8 @@
 // --uncheck v-skeleton,v-wire,... turns view checkboxes off first (to see what drawing costs).
 // --verbose prints each edit: edit -> drawn, and when the answer was drawn (the render call's end, after the edit).
 // --web-dir serves another copy of the page (e.g. an older one, for before / after figures).
-// --skeleton FILE opens that skeleton instead of the torus (e.g. a tree: bench/write_tree); --vertex N moves vertex N
+// --skeleton FILE opens that skeleton instead of the torus (e.g. a tree: build/bench/mesohex_write_tree 2600 5 tree.obj,
+// then --vertex 1305, one of its branching points); --vertex N moves vertex N
 // (default 0).
 import { spawn, execFileSync } from 'node:child_process';
 import fs from 'node:fs';
