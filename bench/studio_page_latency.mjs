@@ -12,8 +12,10 @@
 // version of the page): request, server, transfer, decoding, geometry and the draw call. Prints the median, mean,
 // min and max, the page's own split where it gives one (server_ms of the answer), and the load average.
 // --uncheck v-skeleton,v-wire,... turns view checkboxes off first (to see what drawing costs).
+// --verbose prints each edit: edit -> drawn, and when the answer was drawn (the render call's end, after the edit).
 // --web-dir serves another copy of the page (e.g. an older one, for before / after figures).
-// --skeleton FILE opens that skeleton instead of the torus (e.g. a tree: bench/write_tree); --vertex N moves vertex N
+// --skeleton FILE opens that skeleton instead of the torus (e.g. a tree: build/bench/mesohex_write_tree 2600 5 tree.obj,
+// then --vertex 1305, one of its branching points); --vertex N moves vertex N
 // (default 0).
 import { spawn, execFileSync } from 'node:child_process';
 import fs from 'node:fs';
@@ -98,6 +100,10 @@ try {
       poll();
     }), x);
     times.push(r.ms);
+    if (process.argv.includes('--verbose') && r.phases) {
+      const p = r.phases, drawn = p.queued + p.roundTrip + p.skeleton + p.mesh + p.render;
+      console.log(`edit ${k}: drawn ${r.ms.toFixed(1)} ms; render call ended at ${drawn.toFixed(1)} ms (round trip ${p.roundTrip.toFixed(1)}, server ${r.server?.toFixed(1)})`);
+    }
     if (r.server !== undefined) servers.push(r.server);
     if (r.phases) phases.push(r.phases);
     const h = await page.evaluate(() => window.studio.hexCount());

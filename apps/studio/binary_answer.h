@@ -49,7 +49,29 @@ std::string binary_answer_text(std::string header_object, const BinaryArrays& ar
 // enum) and of which fewer than half the values differ becomes {"name", "type", "count", "patch": M} (+ "names"),
 // its data M uint32 value indices (increasing) then the M new values (4 bytes each); the others stay whole. The
 // header should say which answer it patches ("patch_of").
-BinaryArrays patch_arrays(const BinaryArrays& base, const BinaryArrays& full);
+//
+// Row patches, for arrays of rows that `layouts` names (an edit that renumbers the mesh: a branch resampled with one
+// vertex more shifts every later vertex, hex and quad): the array is read as rows of `width` values, and the first
+// `ref_columns` values of a row are row numbers of the array `ref` (an earlier array). Its entry becomes
+// {"name", "type", "count", "width": W, "rows": K, "literal": L} (+ "ref", "ref_columns": R), its data K runs of
+// two uint32 (length, source: the first row of base copied, or 0xFFFFFFFF for literal rows) then the L literal rows
+// (L x W values), the new rows in order. A copied row is base's row with its first R values translated: v -> the last
+// new row copied from base's row v of `ref` when `ref` is row-patched (0xFFFFFFFF when none is), v itself
+// otherwise. The server finds runs by continuing the previous one or by a hash of the translated base rows, and keeps
+// a run only where the translated row equals the new one bit for bit: the result is exact. Of whole, value patch and
+// row patch the smallest is sent.
+struct RowLayout {
+    std::string name;
+    std::size_t width = 1;
+    std::string ref;  // empty: no column refers to another array
+    std::size_t ref_columns = 0;
+};
+// The row layouts of a raw mesh answer: mesh.vertices (3), mesh.hexes (8, all of mesh.vertices), mesh.sj (1),
+// mesh.singular_edges (3, 2 of mesh.vertices), mesh.boundary_quads (4 of mesh.vertices), mesh.boundary_hexes (1 of
+// mesh.hexes), connection_surfaces.vertices (3), connection_surfaces.quads (4 of connection_surfaces.vertices).
+const std::vector<RowLayout>& mesh_answer_row_layouts();
+BinaryArrays patch_arrays(const BinaryArrays& base, const BinaryArrays& full,
+                          const std::vector<RowLayout>& layouts = {});
 
 // Reading it back (tests, scripts): the header and every array as doubles (f32) or uint32 (u32, enum codes), by name;
 // an enum array is also written into the header at its dotted name as the JSON array of its strings, so that the
@@ -64,8 +86,8 @@ struct DecodedAnswer {
     const std::vector<std::uint32_t>& ints(const std::string& name) const;
     bool has(const std::string& name) const;
 };
-// `previous`: the decoded answer a patch answer patches (required when an entry has "patch"; the patched arrays are
-// its arrays with the changes applied).
+// `previous`: the decoded answer a patch answer patches (required when an entry has "patch" or "rows"; the patched
+// arrays are its arrays with the changes applied).
 DecodedAnswer decode_binary_answer(const std::string& bytes, const DecodedAnswer* previous = nullptr);
 
 // ------------------------------------------------------------------------------------------- implementation

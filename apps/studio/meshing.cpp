@@ -453,7 +453,7 @@ std::string mesh_response(const Skeleton& skeleton, const Domain* domain, const 
         BinaryArrays patched;
         if (request.patch_base) {
             header += ",\"patch_of\":", put(header, static_cast<long long>(request.patch_of));
-            patched = patch_arrays(*request.patch_base, bin);
+            patched = patch_arrays(*request.patch_base, bin, mesh_answer_row_layouts());
         }
         tm.encode_ms = ms_since(t);
         tm.total_ms = tm.parse_ms + ms_since(t0);

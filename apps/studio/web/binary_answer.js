@@ -8,6 +8,11 @@
 // is M uint32 value indices then the M new values, applied to a copy of the same array of `previous` (the decoded
 // answer it patches: header.patch_of is its revision); an array with M = 0 is previous's own (arrays are never
 // modified after decoding).
+// A row patch (entries with "rows": K, "width": W, "literal": L, and "ref", "ref_columns": R when the first R values of
+// a row are row numbers of the earlier array "ref"): K runs of two uint32 (length, source: the first row of the
+// previous array copied, 0xFFFFFFFF for literal rows), then the L literal rows. A copied row's first R values are
+// translated: v -> the last new row copied from row v of "ref" when "ref" was row-patched itself (0xFFFFFFFF when
+// none was), v otherwise (an edit that renumbers the mesh: every later row shifts).
 
 export class BinaryAnswerError extends Error {}
 
@@ -26,9 +31,18 @@ export function decodeBinaryAnswer(buffer, previous = null) {
   if (!header || !Array.isArray(header.arrays)) throw new BinaryAnswerError('binary answer: header without "arrays"');
   let at = 12 + h;
   const get = (o, path) => { for (const k of path) o = o?.[k]; return o; };
+  const rowMaps = new Map(); // name of a row-patched array -> Uint32Array: previous row -> new row
   for (const a of header.arrays) {
     const n = a.count;
     const path = String(a.name).split('.');
+    if (a.rows !== undefined) {
+      const arr = readRowPatch(dv, at, a, get(previous, path), rowMaps);
+      at += 8 * a.rows + 4 * a.width * a.literal;
+      let o = header;
+      for (const k of path.slice(0, -1)) o = o[k] ??= {};
+      o[path[path.length - 1]] = arr;
+      continue;
+    }
     if (a.patch !== undefined) {
       const m = a.patch, old = get(previous, path);
       if (!Number.isInteger(m) || m < 0 || at + 8 * m > buffer.byteLength)
@@ -82,6 +96,53 @@ export function decodeBinaryAnswer(buffer, previous = null) {
   }
   if (at !== buffer.byteLength) throw new BinaryAnswerError(`binary answer: ${buffer.byteLength - at} bytes after the last array`);
   return header;
+}
+
+const NO_ROW = 0xffffffff;
+
+function readRowPatch(dv, at, a, old, rowMaps) {
+  const { count: n, width: w, rows: k, literal: lit } = a;
+  const r = a.ref !== undefined ? a.ref_columns : 0;
+  const reals = a.type === 'f32';
+  const fail = (what) => { throw new BinaryAnswerError(`binary answer: row patch of ${a.name}: ${what}`); };
+  if (!reals && a.type !== 'u32') fail(`type ${a.type}`);
+  if (![n, w, k, lit, r].every((x) => Number.isInteger(x) && x >= 0) || w === 0 || n % w || r > w || (reals && r))
+    fail('layout');
+  if (at + 8 * k + 4 * w * lit > dv.byteLength) fail('runs past the end');
+  if (!old || !(reals ? old instanceof Float32Array : old instanceof Uint32Array)) fail('no previous array');
+  const ref = r ? rowMaps.get(a.ref) : undefined; // undefined: row numbers stay as they are
+  const oldRows = old.length / w;
+  const map = new Uint32Array(oldRows).fill(NO_ROW);
+  const arr = reals ? new Float32Array(n) : new Uint32Array(n);
+  let row = 0, literal = 0;
+  const literalAt = at + 8 * k;
+  for (let run = 0; run < k; run++) {
+    const len = dv.getUint32(at + 8 * run, true), src = dv.getUint32(at + 8 * run + 4, true);
+    if (len > n / w - row) fail('runs longer than the array');
+    if (src === NO_ROW) {
+      if (literal + len > lit) fail('more literal rows than given');
+      const from = literalAt + 4 * w * literal;
+      for (let x = 0; x < len * w; x++)
+        arr[row * w + x] = reals ? dv.getFloat32(from + 4 * x, true) : dv.getUint32(from + 4 * x, true);
+      literal += len;
+      row += len;
+      continue;
+    }
+    if (src + len > oldRows) fail('source row out of range');
+    arr.set(old.subarray(src * w, (src + len) * w), row * w);
+    for (let j = 0; j < len; j++) {
+      map[src + j] = row + j;
+      if (ref)
+        for (let c = 0; c < r; c++) {
+          const i = (row + j) * w + c, v = arr[i];
+          arr[i] = v < ref.length ? ref[v] : NO_ROW;
+        }
+    }
+    row += len;
+  }
+  if (row !== n / w || literal !== lit) fail('rows do not add up');
+  rowMaps.set(a.name, map);
+  return arr;
 }
 
 // The encoder, for tests and scripts (the server writes the same bytes): header object + [{name, type, values}]

@@ -89,10 +89,15 @@ function clear(group) {
   }
 }
 
-// While a raw mesh is on its way (asked less than MESH_WAIT_MS milliseconds ago), a redraw waits for it, so that one
+// While a raw mesh is on its way (asked less than meshWaitMs() milliseconds ago), a redraw waits for it, so that one
 // frame shows the edit with its mesh: a frame of a large scene costs hundreds of milliseconds in a software WebGL and
-// would hold the answer back. If the answer is late, the edit is drawn alone when the wait ends.
+// would hold the answer back. If the answer is late, the edit is drawn alone when the wait ends. The wait is
+// MESH_WAIT_MS, or 1.5 x the last round trip when that is longer (a busy machine, a large mesh), at most
+// MESH_WAIT_MAX_MS: on the 12 k-hex tree in SwiftShader at load 2-4 answers came at 80-120 ms, and each one after
+// 100 ms waited for the extra frame of the edit alone (200-300 ms) before its own.
 const MESH_WAIT_MS = 100;
+const MESH_WAIT_MAX_MS = 400;
+const meshWaitMs = () => Math.min(MESH_WAIT_MAX_MS, Math.max(MESH_WAIT_MS, 1.5 * (st.lastRoundTripMs || 0)));
 let meshAskedAt = -Infinity;
 let meshInFlight = false; // a raw-mesh request is on its way (see runMesh)
 let deferredRender = null;
@@ -100,8 +105,8 @@ let queuedFrame = null; // requestAnimationFrame id of the queued redraw
 function render() {
   if (queuedFrame !== null || deferredRender) return;
   const waited = performance.now() - meshAskedAt;
-  if (meshInFlight && waited < MESH_WAIT_MS) {
-    deferredRender = setTimeout(() => { deferredRender = null; render(); }, MESH_WAIT_MS - waited);
+  if (meshInFlight && waited < meshWaitMs()) {
+    deferredRender = setTimeout(() => { deferredRender = null; render(); }, meshWaitMs() - waited);
     return;
   }
   queuedFrame = requestAnimationFrame(() => {
@@ -277,6 +282,19 @@ function currentMeshResponse() {
   return st.meshes[$('v-stage').value] || null;
 }
 
+// Index buffers kept between redraws: the triangles of nq quads depend on nq only; the wireframe's lines on the
+// quads' corners, reused while the array is the same object (a patch answer leaves an unchanged array as it was:
+// binary_answer.js), e.g. after a move that changed positions only.
+let triangleIndexCache = null, lineIndexCache = null;
+function triangleIndex(nq) {
+  if (triangleIndexCache?.nq !== nq) triangleIndexCache = { nq, index: V.quadTriangleIndex(nq) };
+  return triangleIndexCache.index;
+}
+function edgeLineIndex(quads) {
+  if (lineIndexCache?.quads !== quads) lineIndexCache = { quads, index: V.quadEdgeLineIndex(quads) };
+  return lineIndexCache.index;
+}
+
 function drawMesh() {
   clear(groups.mesh); clear(groups.sing); clear(groups.conn);
   const resp = currentMeshResponse();
@@ -339,7 +357,7 @@ function drawMesh() {
   const g = new THREE.BufferGeometry();
   g.setAttribute('position', position);
   g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
-  g.setIndex(new THREE.BufferAttribute(V.quadTriangleIndex(nq), 1));
+  g.setIndex(new THREE.BufferAttribute(triangleIndex(nq), 1));
   // Flat shading takes the normal from the screen-space derivatives: no normals needed.
   const meshObj = new THREE.Mesh(g, material('mesh-faces', () => new THREE.MeshPhongMaterial({ vertexColors: true, side: THREE.DoubleSide,
     flatShading: true, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 })));
@@ -347,21 +365,23 @@ function drawMesh() {
   if ($('v-wire').checked) {
     const lg = new THREE.BufferGeometry();
     lg.setAttribute('position', position);
-    lg.setIndex(new THREE.BufferAttribute(V.quadLineIndex(nq), 1));
+    // Each edge once when the quads share their corners (not when shrunk: every quad has its own).
+    lg.setIndex(new THREE.BufferAttribute(cornerVerts ? edgeLineIndex(cornerVerts) : V.quadLineIndex(nq), 1));
     groups.mesh.add(new THREE.LineSegments(lg, material('mesh-wire', () => new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.5 }))));
   }
   if ($('v-sing').checked && mesh.singular_edges?.length) {
-    const se = mesh.singular_edges, pos = [], col = [];
-    for (let i = 0; i + 2 < se.length; i += 3) {
-      const a = se[i], bb = se[i + 1];
-      pos.push(mesh.vertices[3 * a], mesh.vertices[3 * a + 1], mesh.vertices[3 * a + 2],
-        mesh.vertices[3 * bb], mesh.vertices[3 * bb + 1], mesh.vertices[3 * bb + 2]);
-      const c = V.valenceColor(se[i + 2]);
-      col.push(...c, ...c);
+    const se = mesh.singular_edges, P = mesh.vertices, ns = Math.floor(se.length / 3);
+    const pos = new Float32Array(6 * ns), col = new Float32Array(6 * ns);
+    for (let e = 0; e < ns; e++) {
+      const a = 3 * se[3 * e], bb = 3 * se[3 * e + 1], o = 6 * e;
+      pos[o] = P[a]; pos[o + 1] = P[a + 1]; pos[o + 2] = P[a + 2];
+      pos[o + 3] = P[bb]; pos[o + 4] = P[bb + 1]; pos[o + 5] = P[bb + 2];
+      const c = V.valenceColor(se[3 * e + 2]);
+      col.set(c, o); col.set(c, o + 3);
     }
     const sg = new THREE.BufferGeometry();
-    sg.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
-    sg.setAttribute('color', new THREE.Float32BufferAttribute(col, 3));
+    sg.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+    sg.setAttribute('color', new THREE.BufferAttribute(col, 3));
     const lines = new THREE.LineSegments(sg, material('singular-edges', () => new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false })));
     lines.renderOrder = 15;
     groups.sing.add(lines);

@@ -98,3 +98,27 @@ test('binary answer: a patch answer changes copies of the previous arrays, M = 0
   const other = patchAnswer({}, [{ entry: { name: 'mesh.vertices', type: 'f32', count: 4, patch: 0 }, words: [] }]);
   assert.throws(() => decodeBinaryAnswer(other, previous), BinaryAnswerError); // another length
 });
+
+// The row patch of the C++ test StudioSessions.RowPatchOfAnInsertion: vertices A B C D -> A X B C D (runs: base row
+// 0, one literal row, base rows 1-3), edges (0 1) (2 3) -> (0 2) (3 4) (one run of both base rows, translated).
+test('binary answer: a row patch copies runs of previous rows and translates their row numbers', () => {
+  const previous = decodeBinaryAnswer(encodeBinaryAnswer({}, [
+    { name: 'mesh.vertices', type: 'f32', values: [1, 0, 0, 2, 0, 0, 3, 0, 0, 4, 0, 0] },
+    { name: 'mesh.hexes', type: 'u32', values: [0, 1, 2, 3] },
+  ]));
+  const NO = 0xffffffff;
+  const buf = patchAnswer({ patch_of: 1 }, [
+    { entry: { name: 'mesh.vertices', type: 'f32', count: 15, width: 3, rows: 3, literal: 1 },
+      words: [1, 0, 1, NO, 3, 1, { f: 9 }, { f: 9 }, { f: 9 }] },
+    { entry: { name: 'mesh.hexes', type: 'u32', count: 4, width: 2, rows: 1, literal: 0, ref: 'mesh.vertices',
+      ref_columns: 2 }, words: [2, 0] },
+  ]);
+  const r = decodeBinaryAnswer(buf, previous);
+  assert.deepEqual([...r.mesh.vertices], [1, 0, 0, 9, 9, 9, 2, 0, 0, 3, 0, 0, 4, 0, 0]);
+  assert.deepEqual([...r.mesh.hexes], [0, 2, 3, 4]);
+  assert.deepEqual([...previous.mesh.hexes], [0, 1, 2, 3]); // not modified
+  assert.throws(() => decodeBinaryAnswer(buf), BinaryAnswerError); // no previous answer
+  const long = patchAnswer({}, [{ entry: { name: 'mesh.vertices', type: 'f32', count: 6, width: 3, rows: 1, literal: 0 },
+    words: [2, 3] }]);
+  assert.throws(() => decodeBinaryAnswer(long, previous), BinaryAnswerError); // source rows out of range
+});

@@ -113,3 +113,21 @@ test('peel layers: a 5x5x5 block has 98 hexes in layer 0, 26 in layer 1, 1 in la
 test('peel layers: every hex of two cubes touches the boundary', () => {
   assert.deepEqual([...V.hexLayers(twoCubes())], [0, 0]);
 });
+
+// Two cubes sharing a face: a 2 x 1 x 1 box, 10 boundary quads (visibleQuads, 40 quad sides) on 12 vertices, so
+// 12 - E + 10 = 2 gives E = 20 edges, each drawn once.
+test('quad edge lines: each edge of the drawn quads once', () => {
+  const m = twoCubes();
+  const r = V.visibleQuads(m);
+  assert.equal(r.quads.length, 40);
+  const lines = V.quadEdgeLineIndex(r.quads);
+  assert.equal(lines.length, 2 * 20);
+  const seen = new Set();
+  for (let i = 0; i < lines.length; i += 2) {
+    const a = r.quads[lines[i]], b = r.quads[lines[i + 1]];
+    const key = `${Math.min(a, b)}-${Math.max(a, b)}`;
+    assert.ok(!seen.has(key), key);
+    seen.add(key);
+  }
+  assert.equal(seen.size, 20);
+});
