@@ -123,6 +123,8 @@ TEST(FanEndRepair, PerpendicularBranchIsRefused) {
         EXPECT_TRUE(retract_fan_ends(s).empty());
         EXPECT_EQ(s, before);
         expect_refused(s, 2, "within 45 degrees of the fan line");
+        expect_refused(s, 2, "the branch leaves 90 degrees off the fan line's continuation");
+        expect_refused(s, 2, "edit: turn the branch's first edge towards the fan line's continuation");
     }
 }
 
@@ -213,7 +215,7 @@ TEST(FanEndRepair, SingleFanEdgeThroughThePipeline) {
         const MeshRun run = mesh_skeleton(s, nullptr);
         EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{1});
         EXPECT_EQ(run.pipeline.fan_edge_splits, 1);
-        EXPECT_NE(repairs_to_text(run.pipeline, run.options).find("single fan edges split in two"), std::string::npos);
+        EXPECT_NE(repairs_to_text(run.pipeline, run.options).find("fan-edge chains split"), std::string::npos);
         EXPECT_TRUE(run.prediction_exact);
         EXPECT_EQ(static_cast<long>(run.pipeline.raw.mesh.hexes.size()), run.pipeline.predicted.hexes);
         EXPECT_TRUE(run.raw_quality.validation.valid());
@@ -241,8 +243,8 @@ void add_branch(Skeleton& s, Vec3 p, Vec3 d) {
 
 // Fan-edge chains with a branch continuing the fan line at both ends (strips of g = 3 or 4 leaflets, radius 0.3,
 // branches of 3 unit edges). Both ends are retracted after the chain is cut into at least 3 fan edges.
-// (a) `fanend -n g -m 1` (chain (0,0,-1)-(0,0,0)-(0,0,1) of 2 edges, strips of 2 x 2 unit quads) with a second branch
-// from (0,0,-1) along -z: each fan edge is halved with its g strips of 2 faces (per edge: 1 + 2g cut sides, 2g faces
+// (a) `fanend -n g -m 3` (chain (0,0,-1)-(0,0,0)-(0,0,1) of 2 edges, strips of 2 x 2 unit quads, the branch of -m 1
+// and a second one from (0,0,-1) along -z): each fan edge is halved with its g strips of 2 faces (per edge: 1 + 2g cut sides, 2g faces
 // cut). T: V 27 + 2 x 7 = 41, E 38 + 2 x 13 = 64, F 12 + 2 x 6 = 24; two retractions (g - 1 = 2 faces each): V 45,
 // E 68. Boundary: per leaflet 4 x 2 faces, 12 sides minus 4 on the fan line = 8, x 3 = 24, plus per end the fan edge
 // and g - 1 sides (u, w_i): 30. Fan edges left 2, branch edges 6: hexes 4 x 6 + 2 x 24 + 2 x 30 = 132. X: V 33 + 2 x 9
@@ -273,8 +275,7 @@ TEST(FanEndRepair, BranchesAtBothEndsOfAShortChain) {
             add_branch(s, {0, 0, 0.5}, {0, 0, 1});
             add_branch(s, {0, 0, -0.5}, {0, 0, -1});
         } else {
-            s = fan_end(c.strips, 1);
-            add_branch(s, {0, 0, -1}, {0, 0, -1});
+            s = fan_end(c.strips, 3);
         }
         const Skeleton input = s;
         const std::size_t v0 = s.points.size();
@@ -319,6 +320,7 @@ TEST(FanEndRepair, BothEndsWithOnePerpendicularBranch) {
     EXPECT_EQ(r[0].vertex, 0);
     EXPECT_EQ(r[0].fan_edge_split, -1);
     expect_refused(s, 2, "limitation 3");
+    expect_refused(s, 2, "the branch leaves 90 degrees off");
 }
 
 // Configurations the repair does not handle stay refused, naming the vertex: a fan-edge end where one leaflet meets
@@ -338,6 +340,7 @@ TEST(FanEndRepair, RefusalsNameTheVertexAndSayHowToEdit) {
         add_face_edges(s);
         expect_refused(s, 2, "limitation 3");
         expect_refused(s, 2, "fan-edge end");
+        expect_refused(s, 2, "meet the vertex with 4 faces and 3 border edges (the repair needs one corner face");
     }
     {
         Skeleton s = generate_skeleton("tfan");
