@@ -159,7 +159,10 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
         for (const int v : res.fan_end_retractions) out << " " << v;
         out << "\n";
     }
-    line("single fan edges split in two (with their leaflets' face strips) to be retracted", res.fan_edge_splits);
+    line(
+        "fan-edge chains split (with their leaflets' face strips) to be retracted: single fan edges in two, chains "
+        "of 1 or 2 fan edges with branches at both ends into 3 or 4",
+        res.fan_edge_splits);
     const std::string text = out.str();
     return text.empty() ? "repairs: none\n" : text;
 }

@@ -46,7 +46,9 @@ struct PipelineResult {
     int root_strip_splits = 0;             // leaflet face strips the repair split around rooted branches
     int junction_splits = 0;               // degree-4 branching points the repair split into two of degree 3
     std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners
-    int fan_edge_splits = 0;    // single fan edges split in two (with their leaflets' strips) before their retraction
+    // Fan-edge chains cut before their retraction: single fan edges in two, chains of 1-2 edges with branches at both
+    // ends into 3-4.
+    int fan_edge_splits = 0;
     int virtual_branches = 0;   // virtual branches added to the meshed skeleton (PipelineOptions::virtual_branches)
     Skeleton skeleton;          // the skeleton actually meshed (radii filled, adapted when resampling)
     SkeletonAnalysis analysis;  // analysis of `skeleton`

@@ -114,7 +114,7 @@ TEST(CliAnalyze, SameVerdictAsMeshOnRepairedConfigurations) {
     const Verdicts s = verdicts(single, " --radius 0.3");
     EXPECT_EQ(expect_same_verdict(single, s), 0);
     EXPECT_EQ(s.mesh.status, 0) << s.mesh.output;  // no inverted raw hex
-    EXPECT_TRUE(contains(s.analyze.output, "repairs: single fan edges split in two")) << s.analyze.output;
+    EXPECT_TRUE(contains(s.analyze.output, "repairs: fan-edge chains split")) << s.analyze.output;
     EXPECT_TRUE(contains(s.analyze.output, "branches on fan-edge ends: at input vertices 1")) << s.analyze.output;
     const Verdicts raw = verdicts(single, " --radius 0.3 --no-resample");
     EXPECT_EQ(expect_same_verdict(single + " --no-resample", raw), 3);

@@ -123,6 +123,25 @@ TEST(DockedWalls, WallEndingOnThePlateBorderByHand) {
     EXPECT_GT(r.quality.sj_min, 0.3);
 }
 
+// Walls on both sides of a chain from the plate's border (the two cases above together): hexes and vertices as walls
+// on both sides ending inside (160, 285: the same faces, boundary edges and ids); each foot is the border foot above
+// (boundary valence 3: 10 per foot = 20; valence 1: 72 - 2 x 2 = 68, the 2 out-up edges under each wall's border end
+// get a wall hex); interior valence 3 unchanged (16).
+TEST(DockedWalls, WallsOnBothSidesFromThePlateBorderByHand) {
+    WallPlate w;
+    w.start = 0;
+    w.sides = 2;
+    const RawRun r = mesh_raw(wall_plate(w));
+    EXPECT_EQ(r.analysis.counts.docked_edges, 2);
+    EXPECT_EQ(r.quality.hexes, 160);
+    EXPECT_EQ(r.quality.vertices, 285);
+    EXPECT_EQ(r.quality.singular_interior_edges, (std::map<int, long>{{3, 16}}));
+    EXPECT_EQ(r.quality.singular_boundary_edges, (std::map<int, long>{{1, 68}, {3, 20}}));
+    EXPECT_TRUE(r.valid);
+    EXPECT_EQ(r.quality.inverted, 0);
+    EXPECT_EQ(r.quality.euler_characteristic, 1);
+}
+
 // A chain whose ends are both on the plate's border splits the plate into two leaflets: a regular T fan, meshed with
 // the paper's layout as before (fan edges, not docked).
 TEST(DockedWalls, ChainAcrossThePlateStaysARegularFan) {

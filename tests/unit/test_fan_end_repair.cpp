@@ -123,6 +123,8 @@ TEST(FanEndRepair, PerpendicularBranchIsRefused) {
         EXPECT_TRUE(retract_fan_ends(s).empty());
         EXPECT_EQ(s, before);
         expect_refused(s, 2, "within 45 degrees of the fan line");
+        expect_refused(s, 2, "the branch leaves 90 degrees off the fan line's continuation");
+        expect_refused(s, 2, "edit: turn the branch's first edge towards the fan line's continuation");
     }
 }
 
@@ -213,7 +215,7 @@ TEST(FanEndRepair, SingleFanEdgeThroughThePipeline) {
         const MeshRun run = mesh_skeleton(s, nullptr);
         EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{1});
         EXPECT_EQ(run.pipeline.fan_edge_splits, 1);
-        EXPECT_NE(repairs_to_text(run.pipeline, run.options).find("single fan edges split in two"), std::string::npos);
+        EXPECT_NE(repairs_to_text(run.pipeline, run.options).find("fan-edge chains split"), std::string::npos);
         EXPECT_TRUE(run.prediction_exact);
         EXPECT_EQ(static_cast<long>(run.pipeline.raw.mesh.hexes.size()), run.pipeline.predicted.hexes);
         EXPECT_TRUE(run.raw_quality.validation.valid());
@@ -226,17 +228,99 @@ TEST(FanEndRepair, SingleFanEdgeThroughThePipeline) {
     }
 }
 
-// A single fan edge whose other end also carries a branch is not split (the split would leave the second branch on a
-// fan-edge end the retraction cannot reach): refused, naming the vertex.
-TEST(FanEndRepair, SingleFanEdgeWithBranchesAtBothEndsIsRefused) {
-    Skeleton s = single_fan_edge_end(3);
-    s.points.push_back({0, 0, -1.5});
-    s.radii.push_back(0.3);
-    s.edges.push_back({0, static_cast<int>(s.points.size()) - 1});
-    const Skeleton before = s;
-    EXPECT_TRUE(retract_fan_ends(s).empty());
-    EXPECT_EQ(s, before);
-    expect_refused(s, 0, "limitation 3");
+// Adds a branch of 3 unit edges (radius 0.3) from the vertex at p along d.
+void add_branch(Skeleton& s, Vec3 p, Vec3 d) {
+    int v = -1;
+    for (int i = 0; i < static_cast<int>(s.points.size()); ++i)
+        if (distance(s.points[i], p) < 1e-12) v = i;
+    ASSERT_GE(v, 0);
+    for (int k = 1; k <= 3; ++k) {
+        s.points.push_back(p + static_cast<double>(k) * d);
+        s.radii.push_back(0.3);
+        s.edges.push_back({k == 1 ? v : static_cast<int>(s.points.size()) - 2, static_cast<int>(s.points.size()) - 1});
+    }
+}
+
+// Fan-edge chains with a branch continuing the fan line at both ends (strips of g = 3 or 4 leaflets, radius 0.3,
+// branches of 3 unit edges). Both ends are retracted after the chain is cut into at least 3 fan edges.
+// (a) `fanend -n g -m 3` (chain (0,0,-1)-(0,0,0)-(0,0,1) of 2 edges, strips of 2 x 2 unit quads, the branch of -m 1
+// and a second one from (0,0,-1) along -z): each fan edge is halved with its g strips of 2 faces (per edge: 1 + 2g cut sides, 2g faces
+// cut). T: V 27 + 2 x 7 = 41, E 38 + 2 x 13 = 64, F 12 + 2 x 6 = 24; two retractions (g - 1 = 2 faces each): V 45,
+// E 68. Boundary: per leaflet 4 x 2 faces, 12 sides minus 4 on the fan line = 8, x 3 = 24, plus per end the fan edge
+// and g - 1 sides (u, w_i): 30. Fan edges left 2, branch edges 6: hexes 4 x 6 + 2 x 24 + 2 x 30 = 132. X: V 33 + 2 x 9
+// = 51, E 48 + 2 x 17 = 82, F 32; retractions: V 57, E 88; boundary 4 x 8 + 2 x 4 = 40; hexes 24 + 64 + 80 = 168.
+// (b) `tfan` / `xfan -n 1 -m 2` (one fan edge (0,0,-0.5)-(0,0,0.5), strips of 2 unit quads) with branches from both
+// ends: the fan edge is cut into thirds (two cuts, 1 + 2g sides and 2g faces each). T: V 20 + 14 = 34, E 25 + 26 = 51,
+// F 18; retractions: V 38, E 55; boundary 3 x 7 + 2 x 3 = 27, one fan edge left; hexes 24 + 36 + 54 = 114. X: V 24 +
+// 18 = 42, E 31 + 34 = 65, F 24; V 48, E 71; boundary 4 x 7 + 2 x 4 = 36; hexes 24 + 48 + 72 = 144.
+// Every raw mesh valid, Euler characteristic 1 (V - E + F kept by every step), no inverted hex, prediction exact; the
+// same through mesh_skeleton (resampling, defaults).
+TEST(FanEndRepair, BranchesAtBothEndsOfAShortChain) {
+    struct Case {
+        bool single;
+        int strips;
+        std::size_t v, e, f;
+        int boundary, fan_edges, faces_cut;
+        std::size_t hexes;
+    };
+    for (const Case& c : {Case{false, 3, 45, 68, 24, 30, 2, 12, 132}, Case{false, 4, 57, 88, 32, 40, 2, 16, 168},
+                          Case{true, 3, 38, 55, 18, 27, 1, 12, 114}, Case{true, 4, 48, 71, 24, 36, 1, 16, 144}}) {
+        SCOPED_TRACE(std::to_string(c.strips) + (c.single ? " strips, single fan edge" : " strips, 2 fan edges"));
+        Skeleton s;
+        if (c.single) {
+            GeneratorOptions o;
+            o.n = 1;
+            o.m = 2;
+            s = generate_skeleton(c.strips == 3 ? "tfan" : "xfan", o);
+            add_branch(s, {0, 0, 0.5}, {0, 0, 1});
+            add_branch(s, {0, 0, -0.5}, {0, 0, -1});
+        } else {
+            s = fan_end(c.strips, 3);
+        }
+        const Skeleton input = s;
+        const std::size_t v0 = s.points.size();
+        const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+        ASSERT_EQ(r.size(), 2u);
+        EXPECT_EQ(r[0].vertex, 0);  // the lower end first, with the cuts recorded
+        EXPECT_EQ(r[0].fan_edge_split, static_cast<int>(v0));
+        EXPECT_EQ(r[0].strip_faces_split, c.faces_cut);
+        EXPECT_EQ(r[1].vertex, c.single ? 1 : 2);
+        EXPECT_EQ(r[1].fan_edge_split, -1);
+        EXPECT_EQ(static_cast<int>(r[0].new_vertices.size() + r[1].new_vertices.size()), 2 * (c.strips - 1));
+        EXPECT_EQ(s.points.size(), c.v);
+        EXPECT_EQ(s.edges.size(), c.e);
+        EXPECT_EQ(s.faces.size(), c.f);
+        EXPECT_EQ(euler_characteristic(s), 1);
+        EXPECT_TRUE(retract_fan_ends(s).empty());  // nothing left to repair
+        const PipelineResult raw = raw_as_given(s);
+        EXPECT_TRUE(roots_branch(raw.analysis, r[0].vertex));
+        EXPECT_TRUE(roots_branch(raw.analysis, r[1].vertex));
+        EXPECT_EQ(raw.analysis.counts.fan_edges, c.fan_edges);
+        EXPECT_EQ(raw.analysis.counts.boundary_edges, c.boundary);
+        EXPECT_EQ(raw.raw.mesh.hexes.size(), c.hexes);
+        expect_valid(raw, 1);
+        const MeshRun run = mesh_skeleton(input, nullptr);
+        EXPECT_EQ(run.pipeline.fan_end_retractions, (std::vector<int>{0, c.single ? 1 : 2}));
+        EXPECT_EQ(run.pipeline.fan_edge_splits, 1);
+        EXPECT_TRUE(run.prediction_exact);
+        EXPECT_TRUE(run.raw_quality.validation.valid());
+        EXPECT_EQ(run.raw_quality.euler_characteristic, 1);
+        EXPECT_EQ(run.raw_quality.inverted, 0);
+    }
+}
+
+// One end retractable, the other not (its branch perpendicular to the fan line): no cut; the lower end is retracted
+// (the chain of 2 edges goes on past its neighbour), the other stays refused, naming it.
+TEST(FanEndRepair, BothEndsWithOnePerpendicularBranch) {
+    Skeleton s = fan_end(3, 2);  // perpendicular branch at vertex 2
+    add_branch(s, {0, 0, -1}, {0, 0, -1});
+    Skeleton repaired = s;
+    const std::vector<FanEndRetraction> r = retract_fan_ends(repaired);
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].vertex, 0);
+    EXPECT_EQ(r[0].fan_edge_split, -1);
+    expect_refused(s, 2, "limitation 3");
+    expect_refused(s, 2, "the branch leaves 90 degrees off");
 }
 
 // Configurations the repair does not handle stay refused, naming the vertex: a fan-edge end where one leaflet meets
@@ -256,6 +340,7 @@ TEST(FanEndRepair, RefusalsNameTheVertexAndSayHowToEdit) {
         add_face_edges(s);
         expect_refused(s, 2, "limitation 3");
         expect_refused(s, 2, "fan-edge end");
+        expect_refused(s, 2, "meet the vertex with 4 faces and 3 border edges (the repair needs one corner face");
     }
     {
         Skeleton s = generate_skeleton("tfan");

@@ -88,35 +88,65 @@ bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other) {
     return true;
 }
 
-// What the repair does at w.
-enum class EndKind { None, Retract, Split };
-
-// Is w a vertex of the header's configuration (Retract), or one on a single fan edge whose other end u is a plain fan
-// end (Split)? Fills c.
-EndKind end_kind(const Skeleton& s, const Incidence& in, int w, Candidate& c) {
+// Is w a fan-edge end carrying a branch that the retraction can take: on exactly one fan edge (u, w) and on branch
+// edges whose mean direction is within 45 degrees of the fan line's continuation, every face at w one of those around
+// (u, w) and leaving w by its own border side? Fills c (whatever u is).
+bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c) {
     int fan_edge = -1, fans = 0, border = 0;
     Vec3 branch{};
     for (const int e : in.vertex_edges[w]) {
         const int x = other_end(s, e, w), d = faces_on(in, w, x);
         if (d == 0) branch += normalized(s.points[x] - s.points[w]);
         if (d == 1) ++border;
-        if (d == 2) return EndKind::None;
+        if (d == 2) return false;
         if (d >= 3) fan_edge = e, ++fans;
     }
-    if (fans != 1 || !(norm(branch) > 1e-9)) return EndKind::None;
+    if (fans != 1 || !(norm(branch) > 1e-9)) return false;
     const int u = other_end(s, fan_edge, w);
-    if (dot(normalized(branch), normalized(s.points[w] - s.points[u])) < kFanEndBranchCos) return EndKind::None;
+    if (dot(normalized(branch), normalized(s.points[w] - s.points[u])) < kFanEndBranchCos) return false;
     const std::vector<int>& around = in.side_faces.at(std::minmax(u, w));
     const int g = static_cast<int>(around.size());
-    if (border != g || static_cast<int>(in.vertex_faces[w].size()) != g) return EndKind::None;
+    if (border != g || static_cast<int>(in.vertex_faces[w].size()) != g) return false;
     for (const int f : around)  // each face leaves w by its own border side
-        if (faces_on(in, w, corner_neighbour(s.faces[f], w, u)) != 1) return EndKind::None;
+        if (faces_on(in, w, corner_neighbour(s.faces[f], w, u)) != 1) return false;
     c = {w, u, around, normalized(branch)};
     std::sort(c.faces.begin(), c.faces.end());
-    int u_fans = 0;  // the chain must go on past u
-    for (const int e : in.vertex_edges[u]) u_fans += faces_on(in, u, other_end(s, e, u)) >= 3 ? 1 : 0;
+    return true;
+}
+
+int fan_edges_at(const Skeleton& s, const Incidence& in, int v) {
+    int fans = 0;
+    for (const int e : in.vertex_edges[v]) fans += faces_on(in, v, other_end(s, e, v)) >= 3 ? 1 : 0;
+    return fans;
+}
+
+// What the repair does at w.
+enum class EndKind { None, Retract, Split };
+
+// Is w a vertex of the header's configuration (Retract), or one on a single fan edge whose other end u is a plain fan
+// end (Split)? Fills c.
+EndKind end_kind(const Skeleton& s, const Incidence& in, int w, Candidate& c) {
+    if (!branch_end(s, in, w, c)) return EndKind::None;
+    const int u_fans = fan_edges_at(s, in, c.u);  // the chain must go on past u
     if (u_fans == 2) return EndKind::Retract;
-    return u_fans == 1 && plain_fan_end(s, in, u, w) ? EndKind::Split : EndKind::None;
+    return u_fans == 1 && plain_fan_end(s, in, c.u, c.w) ? EndKind::Split : EndKind::None;
+}
+
+// The fan-edge chain from the end w through its neighbour u: w, u, ... up to the first vertex not on exactly two fan
+// edges (the other end), or empty if it comes back to a vertex already seen.
+std::vector<int> chain_from(const Skeleton& s, const Incidence& in, int w, int u) {
+    std::vector<int> chain{w, u};
+    while (fan_edges_at(s, in, chain.back()) == 2) {
+        const int v = chain.back(), prev = chain[chain.size() - 2];
+        int next = -1;
+        for (const int e : in.vertex_edges[v]) {
+            const int x = other_end(s, e, v);
+            if (x != prev && faces_on(in, v, x) >= 3) next = x;
+        }
+        if (next < 0 || std::find(chain.begin(), chain.end(), next) != chain.end()) return {};
+        chain.push_back(next);
+    }
+    return chain;
 }
 
 // One face crossed by a strip: the face and the position k of the side it is entered by (f[k], f[k + 1]).
@@ -151,21 +181,22 @@ std::vector<Crossing> fan_edge_strips(const Skeleton& s, const Incidence& in, co
     return out;
 }
 
-// Splits the fan edge (u, w) at its midpoint m and every strip crossing it (fan_edge_strips) through the midpoints of
-// the sides it crosses: each crossed face (a, b, c, d), entered by (a, b), becomes (a, m_ab, m_cd, d) in its place and
+// Splits the fan edge (u, w) at m = u + t (w - u) and every strip crossing it (fan_edge_strips) through the points at
+// the same fraction t of the sides it crosses, measured from the side's end on u's side of the strip (t = 1/2: the
+// midpoints): each crossed face (a, b, c, d), entered by (a, b), becomes (a, m_ab, m_cd, d) in its place and
 // (m_ab, b, c, m_cd) appended; each cut edge [a, b] becomes [a, m_ab] in its place and [m_ab, b] appended, then the
-// edge [m_ab, m_cd] is appended. New vertices get the mean radius of their side's ends. Returns m.
-int split_fan_edge(Skeleton& s, const Candidate& c, const std::vector<Crossing>& strips) {
+// edge [m_ab, m_cd] is appended. New vertices get the radius interpolated at the same fraction. Returns m.
+int split_fan_edge(Skeleton& s, const Candidate& c, const std::vector<Crossing>& strips, double t = 0.5) {
     std::map<Side, int> edge_of;
     for (int e = 0; e < static_cast<int>(s.edges.size()); ++e) edge_of[std::minmax(s.edges[e][0], s.edges[e][1])] = e;
     std::map<Side, int> mid;
-    const auto cut = [&](int a, int b) {
-        const Side side = std::minmax(a, b);
+    const auto cut = [&](int from, int to) {  // the point at t from `from`
+        const Side side = std::minmax(from, to);
         const auto it = mid.find(side);
         if (it != mid.end()) return it->second;
         const int m = static_cast<int>(s.points.size());
-        s.points.push_back(0.5 * (s.points[a] + s.points[b]));
-        s.radii.push_back(0.5 * (s.radii[a] + s.radii[b]));
+        s.points.push_back((1 - t) * s.points[from] + t * s.points[to]);
+        s.radii.push_back((1 - t) * s.radii[from] + t * s.radii[to]);
         std::array<int, 2>& e = s.edges[edge_of.at(side)];
         const int far = e[1];
         e[1] = m;
@@ -174,15 +205,63 @@ int split_fan_edge(Skeleton& s, const Candidate& c, const std::vector<Crossing>&
         return m;
     };
     const int m = cut(c.u, c.w);
+    int from = c.u;  // the entered side's end on u's side of the strip
     for (const Crossing& x : strips) {
         const std::vector<int> f = s.faces[x.face];
         const int a = f[x.k], b = f[(x.k + 1) % 4], cc = f[(x.k + 2) % 4], d = f[(x.k + 3) % 4];
-        const int mab = cut(a, b), mcd = cut(cc, d);
+        if (std::minmax(a, b) == std::minmax(c.u, c.w)) from = c.u;  // a strip's first face
+        const int mab = from == a ? cut(a, b) : cut(b, a);
+        const int mcd = from == a ? cut(d, cc) : cut(cc, d);
+        from = from == a ? d : cc;
         s.faces[x.face] = {a, mab, mcd, d};
         s.faces.push_back({mab, b, cc, mcd});
         s.edges.push_back({mab, mcd});
     }
     return m;
+}
+
+// A fan-edge chain with a retractable branch at both ends (branch_end) and fewer than 3 fan edges: retracting both
+// ends needs a fan edge left between them (two retractions on a chain of 2 edges would leave its middle vertex a
+// leaflet-only branching point, whose raw mesh folds). Each of its k fan edges is cut into ceil(3 / k) equal pieces
+// (1 edge: thirds; 2 edges: halves, 4 in all) with the strips of its faces (split_fan_edge), when every fan edge's
+// faces start strips that cross their leaflets to a border. Returns, per chain done, its lower end, the first cut
+// point and the faces cut.
+struct ChainSplit {
+    int end = -1, first_cut = -1, faces_cut = 0;
+};
+
+std::vector<ChainSplit> split_short_chains_with_two_branches(Skeleton& s) {
+    std::vector<ChainSplit> done;
+    const int n = static_cast<int>(s.points.size());
+    for (int w = 0; w < n; ++w) {
+        Incidence in = make_incidence(s);
+        Candidate c, other;
+        if (!branch_end(s, in, w, c)) continue;
+        const std::vector<int> chain = chain_from(s, in, w, c.u);
+        const int k = static_cast<int>(chain.size()) - 1;
+        if (k < 1 || k >= 3 || chain.back() < w || !branch_end(s, in, chain.back(), other)) continue;
+        bool crossable = true;
+        for (int i = 0; i < k && crossable; ++i) {
+            Candidate edge{chain[i + 1], chain[i], in.side_faces.at(std::minmax(chain[i], chain[i + 1])), {}};
+            crossable = !fan_edge_strips(s, in, edge).empty();
+        }
+        if (!crossable) continue;
+        const int pieces = (3 + k - 1) / k;
+        ChainSplit cs{w, static_cast<int>(s.points.size()), 0};
+        for (int i = 0; i < k; ++i) {
+            int a = chain[i];
+            for (int j = 0; j + 1 < pieces; ++j) {  // cut the rest (a, chain[i + 1]) at 1 / (pieces - j) from a
+                Candidate edge{chain[i + 1], a, in.side_faces.at(std::minmax(a, chain[i + 1])), {}};
+                std::sort(edge.faces.begin(), edge.faces.end());
+                const std::vector<Crossing> strips = fan_edge_strips(s, in, edge);
+                cs.faces_cut += static_cast<int>(strips.size());
+                a = split_fan_edge(s, edge, strips, 1.0 / (pieces - j));
+                in = make_incidence(s);
+            }
+        }
+        done.push_back(cs);
+    }
+    return done;
 }
 
 // The carrier face: max of d . o_i (ties within 1e-9 to the first in id order).
@@ -230,6 +309,7 @@ FanEndRetraction retract(Skeleton& s, const Candidate& c) {
 std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
     std::vector<FanEndRetraction> done;
     if (s.faces.empty() || !well_formed(s) || !has_side_of_three_faces(s)) return done;  // a candidate needs a fan edge
+    const std::vector<ChainSplit> chains = split_short_chains_with_two_branches(s);
     const int n = static_cast<int>(s.points.size());
     for (int round = 0; round < n; ++round) {
         const Incidence in = make_incidence(s);
@@ -246,7 +326,10 @@ std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
             }
         }
         if (w < n) {
-            done.push_back(retract(s, c));
+            FanEndRetraction r = retract(s, c);
+            for (const ChainSplit& cs : chains)
+                if (cs.end == w) r.fan_edge_split = cs.first_cut, r.strip_faces_split = cs.faces_cut;
+            done.push_back(std::move(r));
             continue;
         }
         if (split_at < 0) break;

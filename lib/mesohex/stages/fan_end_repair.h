@@ -38,6 +38,11 @@
 // analysis suggests); the chain u - m - w then has two fan edges and (m, w) is retracted from w as above.
 // Split counts: +1 vertex and +1 edge per cut side (the fan edge and 1 + strip length per strip), +1 edge and +1 face
 // per cut face: Euler unchanged.
+// A chain of fewer than 3 fan edges with such a branch at both ends (each end of the configuration above but for u) is
+// first cut into at least 3 fan edges: each of its k edges into ceil(3 / k) equal pieces (one edge: thirds; two:
+// halves) with the strips of its faces, as above (the same conditions on the strips); both ends are then retracted
+// (the lower first), leaving the middle fan edges between two regular fan ends. Two retractions on a chain of 2 edges
+// would leave its middle vertex a leaflet-only branching point (see above); a chain of 3 or more needs no cut.
 // Raw hexes: the standard count on the repaired skeleton, i.e. +2 (g - 1) (one border side more per retracted face),
 // plus, after a split, 2 per cut face and 2 per cut border side (one leaflet face and one border side more each).
 
@@ -60,7 +65,8 @@ struct FanEndRetraction {
     int fan_neighbour = -1;         // u: the other end of the former fan edge (u, w)
     int carrier_face = -1;          // the face that keeps w, moved along its border (its leaflet carries the branch)
     std::vector<int> new_vertices;  // w_i, one per retracted face, in face id order
-    int fan_edge_split = -1;        // a single fan edge split first: its midpoint (then u), else -1
+    int fan_edge_split = -1;        // a single fan edge split first: its midpoint (then u); a short chain with branches
+                                    // at both ends cut first (recorded at its lower end): the first cut point; else -1
     int strip_faces_split = 0;      // faces cut in two by that split (the strips from the fan edge to the borders)
     friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
 };
@@ -70,8 +76,9 @@ struct FanEndRetraction {
 // edges and faces keep their indices (new vertices, edges and faces appended in repair order: a split's midpoints, the
 // fan edge's first, then strip by strip in face id order, then the retraction's); no fan-edge end with a branch of the
 // configuration above is left. Retractions are made one vertex at a time, in increasing vertex index, each preceded by
-// its split when its fan edge is single (a fan edge with branches at both ends is retracted at its lower end only:
-// the other end is then no longer on a fan edge; a single one is not split: refused). Deterministic.
+// its split when its fan edge is single; chains of 1 or 2 fan edges with branches at both ends are cut first (in
+// increasing index of their lower end), then retracted at both ends; such a chain whose strips do not cross to a
+// border is left (refused by the analysis). Deterministic.
 // O(repairs x (V + E + F) log E).
 std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s);
 
