@@ -40,7 +40,7 @@ JobWork until_cancelled(std::atomic<int>* started = nullptr) {
     return [started](JobContext& ctx) {
         if (started) ++*started;
         for (int i = 0; i < 20000; ++i) {
-            ctx.progress({"fit", i, 20000});
+            ctx.progress({"fit", i, 20000, 0, 0, ""});
             std::this_thread::sleep_for(1ms);
         }
         return std::string("\"not cancelled\"");
@@ -52,7 +52,7 @@ JobWork until_cancelled(std::atomic<int>* started = nullptr) {
 TEST(StudioJobs, AJobRunsAndKeepsItsResult) {
     JobManager m(error_text);
     const std::optional<long> id = m.submit("a", [](JobContext& ctx) {
-        ctx.progress({"fit", 1, 2});
+        ctx.progress({"fit", 1, 2, 0, 0, ""});
         return std::string("{\"x\":1}");
     });
     ASSERT_TRUE(id);
