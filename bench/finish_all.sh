@@ -2,7 +2,7 @@
 # Finishing time over every input the project meshes (issue 19 item 3: "every shared or generated input finishes in
 # <= 30 s; no stage above 10 us per hex per iteration"). One default `mesohex mesh --surface` run per input, one at
 # a time, under /usr/bin/time; prints per input the final hexes, wall and CPU (user + system) seconds, peak resident
-# memory per final hex, the fit's iterations and its wall microseconds per hex and iteration, the largest other
+# memory per final hex, the fit's iterations and its wall microseconds per hex and iteration, the largest
 # stage's wall microseconds per hex and iteration (the report's `stages[].iterations`; one for a one-pass stage), min / avg SJ and Hausdorff.
 #
 #   bench/finish_all.sh                  generated shapes (thickened, --resolution 3), shared pairs, table1 examples
@@ -20,6 +20,7 @@ THREADS=${THREADS:-2}
 ONLY=${ONLY:-}
 SHARED=${SHARED:-$HERE/../shared/data}
 command -v jq >/dev/null || { echo "finish_all.sh: needs jq" >&2; exit 2; }
+command -v bc >/dev/null || { echo "finish_all.sh: needs bc" >&2; exit 2; }
 [ -x "$MESOHEX" ] || { echo "finish_all.sh: no mesohex binary at $MESOHEX" >&2; exit 2; }
 mkdir -p "$OUT"
 
@@ -33,8 +34,8 @@ run() {
     read -r wall user sys peak_kb <"$d/time" 2>/dev/null || { wall=nan; user=0; sys=0; peak_kb=0; }
     if [ -s "$d/report.json" ]; then
         jq -r --arg n "$name" --arg rc "$rc" --arg w "$wall" --arg c "$(echo "$user + $sys" | bc)" --arg p "$peak_kb" '
-            .quality.hexes as $h | (.fit.iterations // 0) as $it |
-            ([.stages[] | select(.stage != "input")
+            ([.quality.hexes, 1] | max) as $h | (.fit.iterations // 0) as $it |
+            ([.stages[] | select(.stage != "input" and .hexes > 0)
               | {s: .stage, us: (1000 * .ms / (.hexes * ([.iterations // 0, 1] | max)))}]
              | max_by(.us) // {s: "-", us: 0}) as $worst |
             [$n, $rc, $h, $w, $c, (($p | tonumber) * 1024 / $h | floor),

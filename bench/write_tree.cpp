@@ -1,7 +1,7 @@
 // Writes bench::random_tree(VERTICES, SEED) (bench/bench_inputs.h, the benchmarks' synthetic tree, radius 0.5) as a
 // skeleton file with its radii, for measuring outside the benchmarks, e.g. the studio page on a tree:
 //
-//   mesohex_write_tree 2600 5 tree.obj      (the tree of BM_StudioRawTree: 12 748 raw hexes)
+//   mesohex_write_tree 2600 5 tree.obj      (the tree of BM_StudioRawTree: 12 564 raw hexes)
 //   node bench/studio_page_latency.mjs --skeleton tree.obj --vertex 1305
 //
 // Not a test, not a Google benchmark: a measuring tool.

@@ -140,6 +140,13 @@ std::vector<std::uint32_t> read_u32s(const char* at, std::size_t n) {
 std::uint64_t row_hash(const std::uint32_t* row, std::size_t w) {
     std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the words
     for (std::size_t c = 0; c < w; ++c) h = (h ^ row[c]) * 1099511628211ull;
+    // FNV's low bits depend only on the words' low bits, which are all zero for coordinates on a dyadic grid (a plate
+    // of unit quads): every row would probe from the same slot. A final avalanche (murmur3's fmix64) spreads them.
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ull;
+    h ^= h >> 33;
     return h;
 }
 
@@ -317,7 +324,8 @@ void read_row_patch(const std::string& in, std::size_t& at, const nlohmann::json
     if (!previous || !previous->has(name))
         malformed("row patch of an array the previous answer does not have: " + name);
     if (w == 0 || n % w != 0 || r > w || (reals && r > 0)) malformed("row patch layout " + a.dump());
-    if (k > (in.size() - at) / 8 || lit > (in.size() - at - 8 * k) / (4 * w)) malformed(name + " runs past the end");
+    // Divisions only (4 * w would wrap for a hostile width).
+    if (k > (in.size() - at) / 8 || lit > (in.size() - at - 8 * k) / 4 / w) malformed(name + " runs past the end");
     const std::vector<std::uint32_t>* ref = nullptr;
     if (r > 0) {
         for (const auto& [m, map] : row_maps)

@@ -146,15 +146,20 @@ TEST(Finish, SurfaceWeightAndProgress) {
     EXPECT_EQ(calls, soft.fit_iterations);
     EXPECT_GT(calls, 0);
     // Every stage records its iterations: the fit's are the fit's count, one-pass stages have none.
+    int fits = 0, smooths = 0;
     for (const FinishStage& st : soft.stages) {
         if (st.stage == "fit") {
+            ++fits;
             EXPECT_EQ(st.iterations, soft.fit_iterations);
         } else if (st.stage == "input" || st.stage == "pad" || st.stage == "subdivide") {
             EXPECT_EQ(st.iterations, 0);
         } else if (st.stage == "smooth") {
+            ++smooths;
             EXPECT_GE(st.iterations, 1);
         }
     }
+    EXPECT_EQ(fits, 1);
+    EXPECT_EQ(smooths, 1);
     o.fitting.lambda = 1000;
     const FinishResult hard = finish_mesh(unit_hex(), unit_cube_surface(), o);
     EXPECT_LT(hard.distance.max, 1e-4);

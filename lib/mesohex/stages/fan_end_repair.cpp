@@ -233,8 +233,8 @@ struct ChainSplit {
 std::vector<ChainSplit> split_short_chains_with_two_branches(Skeleton& s) {
     std::vector<ChainSplit> done;
     const int n = static_cast<int>(s.points.size());
+    Incidence in = make_incidence(s);  // rebuilt after every cut below
     for (int w = 0; w < n; ++w) {
-        Incidence in = make_incidence(s);
         Candidate c, other;
         if (!branch_end(s, in, w, c)) continue;
         const std::vector<int> chain = chain_from(s, in, w, c.u);

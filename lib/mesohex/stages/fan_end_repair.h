@@ -78,7 +78,8 @@ struct FanEndRetraction {
 // configuration above is left. Retractions are made one vertex at a time, in increasing vertex index, each preceded by
 // its split when its fan edge is single; chains of 1 or 2 fan edges with branches at both ends are cut first (in
 // increasing index of their lower end), then retracted at both ends; such a chain whose strips do not cross to a
-// border is left (refused by the analysis). Deterministic.
+// border is not cut (the rounds still retract an end where the configuration above allows; what is left is refused
+// by the analysis). Deterministic.
 // O(repairs x (V + E + F) log E).
 std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s);
 
