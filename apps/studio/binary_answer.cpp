@@ -167,7 +167,7 @@ RowPatch row_patch(std::vector<std::uint32_t> old, const std::vector<std::uint32
     const auto same = [&](std::size_t s, std::size_t i) { return std::memcmp(&old[s * w], &now[i * w], 4 * w) == 0; };
     // The translated base rows by content: an open-addressing table (linear probing) of row numbers, the first row
     // of each content kept (an unordered_map took 8 ms for the 145 k rows of a 12 k-hex tree answer); built at the
-    // first row the runs' own continuations do not find.
+    // first row the runs' own continuations do not find (row 0 always: there is no run to continue yet).
     std::vector<std::uint32_t> table;
     std::size_t mask = 0;
     const auto build = [&] {

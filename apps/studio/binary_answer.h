@@ -58,8 +58,8 @@ std::string binary_answer_text(std::string header_object, const BinaryArrays& ar
 // (L x W values), the new rows in order. A copied row is base's row with its first R values translated: v -> the last
 // new row copied from base's row v of `ref` when `ref` is row-patched (0xFFFFFFFF when none is), v itself
 // otherwise. The server finds runs by continuing the previous one or by a hash of the translated base rows, and keeps
-// a run only where the translated row equals the new one bit for bit: the result is exact. Of whole, value patch and
-// row patch the smallest is sent.
+// a run only where the translated row equals the new one bit for bit: the result is exact. A row patch is tried only
+// when the value patch is impossible or changes more than 1/64 of the values, and sent only when it is the smaller.
 struct RowLayout {
     std::string name;
     std::size_t width = 1;
