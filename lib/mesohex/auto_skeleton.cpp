@@ -45,14 +45,11 @@ int cap_leaflet_radii(Skeleton& skeleton, double factor) {
     for (const std::array<int, 2>& e : skeleton.edges)
         if (!sides.count({std::min(e[0], e[1]), std::max(e[0], e[1])}))
             on_curve[static_cast<size_t>(e[0])] = on_curve[static_cast<size_t>(e[1])] = 1;
-    std::vector<char> near(n, 0);  // a vertex of a face that has a join among its corners
-    for (const std::vector<int>& f : skeleton.faces) {
-        bool at_join = false;
-        for (const int x : f)
-            at_join = at_join || (in_face[static_cast<size_t>(x)] && on_curve[static_cast<size_t>(x)]);
-        if (at_join)
-            for (const int x : f) near[static_cast<size_t>(x)] = 1;
-    }
+    auto is_join = [&](int x) { return in_face[static_cast<size_t>(x)] && on_curve[static_cast<size_t>(x)]; };
+    std::vector<char> near(n, 0);  // a corner, not itself a join, of a face that has a join among its corners
+    for (const std::vector<int>& f : skeleton.faces)
+        if (std::any_of(f.begin(), f.end(), is_join))
+            for (const int x : f) near[static_cast<size_t>(x)] = is_join(x) ? 0 : 1;
     int capped = 0;
     for (size_t v = 0; v < n; ++v)
         if (near[v] && skeleton.radii[v] > factor * shortest[v]) {
