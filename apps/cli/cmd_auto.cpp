@@ -99,6 +99,10 @@ void register_auto(CLI::App& app, int* status) {
                     "meso-skeleton radii = this x the distance to the surface (0: keep the medial radii)")
         ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
+    cmd->add_option("--meso-leaflet-radius-factor", args->skeleton.meso_leaflet_radius_edge_factor,
+                    "meso-skeleton leaflet vertices: radius at most this x their shortest leaflet edge (0: no cap)")
+        ->check(finite_range(0.0, 10.0))
+        ->capture_default_str();
     add_mesh_job_options(cmd, &args->job);
     cmd->footer(
         "The skeleton used is written beside the mesh (OUT.skeleton.obj, with radii): edit it and re-run\n"

@@ -24,6 +24,41 @@ const char* skeleton_kind_name(SkeletonKind kind) {
     return "auto";
 }
 
+int cap_leaflet_radii(Skeleton& skeleton, double factor) {
+    MESOHEX_CHECK(skeleton.radii.size() == skeleton.points.size(), "cap_leaflet_radii: one radius per point");
+    if (!(factor > 0)) return 0;
+    const size_t n = skeleton.points.size();
+    std::set<std::array<int, 2>> sides;
+    std::vector<double> shortest(n, std::numeric_limits<double>::infinity());
+    std::vector<char> in_face(n, 0), on_curve(n, 0);
+    for (const std::vector<int>& f : skeleton.faces)
+        for (size_t k = 0; k < f.size(); ++k) {
+            const int a = f[k], b = f[(k + 1) % f.size()];
+            sides.insert({std::min(a, b), std::max(a, b)});
+            const double len =
+                distance(skeleton.points[static_cast<size_t>(a)], skeleton.points[static_cast<size_t>(b)]);
+            for (const int x : {a, b}) {
+                shortest[static_cast<size_t>(x)] = std::min(shortest[static_cast<size_t>(x)], len);
+                in_face[static_cast<size_t>(x)] = 1;
+            }
+        }
+    for (const std::array<int, 2>& e : skeleton.edges)
+        if (!sides.count({std::min(e[0], e[1]), std::max(e[0], e[1])}))
+            on_curve[static_cast<size_t>(e[0])] = on_curve[static_cast<size_t>(e[1])] = 1;
+    auto is_join = [&](int x) { return in_face[static_cast<size_t>(x)] && on_curve[static_cast<size_t>(x)]; };
+    std::vector<char> near(n, 0);  // a corner, not itself a join, of a face that has a join among its corners
+    for (const std::vector<int>& f : skeleton.faces)
+        if (std::any_of(f.begin(), f.end(), is_join))
+            for (const int x : f) near[static_cast<size_t>(x)] = is_join(x) ? 0 : 1;
+    int capped = 0;
+    for (size_t v = 0; v < n; ++v)
+        if (near[v] && skeleton.radii[v] > factor * shortest[v]) {
+            skeleton.radii[v] = factor * shortest[v];
+            ++capped;
+        }
+    return capped;
+}
+
 RawInversionSites locate_raw_inversions(const Skeleton& meshed, const RawMesh& raw) {
     RawInversionSites out;
     std::set<std::array<int, 2>> sides;
@@ -195,6 +230,7 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
                 if (rs.radii[v] > 0)
                     out.import.skeleton.radii[v] = rs.radii[v];  // a point on the surface keeps its own
         }
+        out.capped_leaflet_radii = cap_leaflet_radii(out.import.skeleton, options.meso_leaflet_radius_edge_factor);
         if (options.kind == SkeletonKind::Auto) {
             const QualityReport raw = raw_quality_of(out.import.skeleton, surface, nullptr, &out.raw_sites);
             out.raw_checked = true;
@@ -202,7 +238,11 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
             out.raw_inverted = raw.inverted;
             out.raw_sj_min = raw.sj_min;
             why << "; meso raw mesh " << out.raw_hexes << " hexes, " << out.raw_inverted << " inverted (min SJ "
-                << out.raw_sj_min << ", radii " << options.meso_radius_factor << " x distance)";
+                << out.raw_sj_min << ", radii " << options.meso_radius_factor << " x distance";
+            if (options.meso_leaflet_radius_edge_factor > 0)
+                why << ", " << out.capped_leaflet_radii << " leaflet radii at joins capped at "
+                    << options.meso_leaflet_radius_edge_factor << " x their shortest leaflet edge";
+            why << ")";
             if (out.raw_inverted > 0) {
                 const RawInversionSites& w = out.raw_sites;
                 why << " [inverted: " << w.at_joins << " next to the " << w.joins << " joins where curves meet sheets; "

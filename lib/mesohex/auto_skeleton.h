@@ -31,6 +31,11 @@ struct RawInversionSites {
     long joins = 0;        // joins in the skeleton
 };
 
+// Caps the radius of every corner of a face that has a join among its corners (a join: a vertex with both a face and
+// an edge that is no face side), except the joins themselves, at factor x the corner's shortest face side; returns how
+// many radii were lowered. Other vertices keep theirs. Preconditions: radii has one entry per point. Deterministic.
+int cap_leaflet_radii(Skeleton& skeleton, double factor);
+
 // Preconditions: raw was built from `meshed` (hex_edge indexes meshed.edges, one entry per hex). Deterministic.
 RawInversionSites locate_raw_inversions(const Skeleton& meshed, const RawMesh& raw);
 
@@ -51,6 +56,16 @@ struct AutoSkeletonOptions {
     // with `mesh --surface` on a skeleton without radii: room for the padding layer, and a leaflet's hex layers
     // stay clear of the fold where a bent sheet's offset at the full radius meets itself (docs/tuning.md).
     double meso_radius_factor = 0.5;
+    // The meso-skeleton's leaflet vertices next to a join (the corners of every face that has a join, a vertex with
+    // both faces and curve edges, among its corners; the join itself keeps its radius, which its branch's first chunk
+    // needs): radius at most this x the vertex's shortest leaflet edge (a side of one of its faces; dimensionless; 0:
+    // no cap). Where a sheet meets a curve the medial sheet is thick against its simplified triangles (torque, pinion,
+    // hand: border edges at the BL-joints 0.13 to 1.2 x the radius): the plate hexes there are taller than wide and the
+    // half-chunks at the leaflet corner fold whatever the joint's frame. Elsewhere the radii stay (capping every
+    // leaflet vertex lowers plate1 from 0.383 to 0.115 min SJ: the fit then has to stretch the padding across the
+    // thickness). Measured on the shared surfaces (docs/sheets.md, "Thick leaflets at joins"): 0.35 lowers the meso raw
+    // mesh's inverted hexes on 7 of the 8 surfaces whose joins invert (torque 88 -> 45), pinion 7 -> 9.
+    double meso_leaflet_radius_edge_factor = 0.35;
     // Auto: the answer. When the raw mesh of the curve skeleton Auto falls back to is invalid or has more than
     // max_answer_inverted inverted hexes, raw or after the finishing's padding layer, `refusal` says so (a meso-skeleton
     // is only chosen with a raw mesh that passed its own, stricter check): the finishing would have to
@@ -74,7 +89,8 @@ struct AutoSkeleton {
     bool raw_checked = false;                 // the meso-skeleton's raw mesh was built (Auto)
     long raw_hexes = 0, raw_inverted = 0;
     double raw_sj_min = 0;
-    RawInversionSites raw_sites;  // where the meso raw mesh's inverted hexes lie (when raw_checked)
+    int capped_leaflet_radii = 0;  // meso-skeleton radii lowered by meso_leaflet_radius_edge_factor
+    RawInversionSites raw_sites;   // where the meso raw mesh's inverted hexes lie (when raw_checked)
     // Auto, curve skeleton chosen: its raw mesh (mesh_skeleton without finishing, radii of the skeleton file).
     bool curve_raw_checked = false;
     bool curve_raw_valid = false;

@@ -211,6 +211,8 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                                      {"max_inverted", options.max_raw_inverted},
                                      {"min_sj", options.min_raw_sj},
                                      {"radius_factor", options.meso_radius_factor},
+                                     {"leaflet_radius_edge_factor", options.meso_leaflet_radius_edge_factor},
+                                     {"capped_leaflet_radii", chosen.capped_leaflet_radii},
                                      {"inverted_at",
                                       {{"joins", chosen.raw_sites.joins},
                                        {"at_joins", chosen.raw_sites.at_joins},

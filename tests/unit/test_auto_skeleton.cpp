@@ -45,6 +45,28 @@ TEST(AutoSkeleton, InvertedRawHexesAreLocatedByTheirSkeletonElement) {
     EXPECT_EQ(w.at_joins, 2);
 }
 
+TEST(AutoSkeleton, LeafletRadiiAreCappedOnlyOnTheFacesAtAJoin) {
+    // Two unit-wide quads in a strip: A = 0-1-2-3 (sides 1), B = 1-4-5-2 (sides 2, 1, 2, 1), and a curve edge 0-6:
+    // vertex 0 is the one join, so only A's other corners are capped, at 0.5 x their shortest side (1): 1 and 2 from
+    // 0.8 to 0.5; 3 (0.3) is below the cap; the join 0, 4 and 5 (only on B) and the curve vertex 6 keep 0.8.
+    Skeleton sk;
+    sk.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {3, 0, 0}, {3, 1, 0}, {-1, 0, 0}};
+    sk.edges = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {1, 4}, {4, 5}, {5, 2}, {0, 6}};
+    sk.faces = {{0, 1, 2, 3}, {1, 4, 5, 2}};
+    sk.radii = {0.8, 0.8, 0.8, 0.3, 0.8, 0.8, 0.8};
+    Skeleton none = sk;
+    EXPECT_EQ(cap_leaflet_radii(none, 0), 0);
+    EXPECT_EQ(none.radii, sk.radii);
+    EXPECT_EQ(cap_leaflet_radii(sk, 0.5), 2);
+    const std::vector<double> want = {0.8, 0.5, 0.5, 0.3, 0.8, 0.8, 0.8};
+    EXPECT_EQ(sk.radii, want);
+    Skeleton sheet = sk;  // without the curve edge there is no join: nothing changes
+    sheet.edges.pop_back();
+    sheet.points.pop_back();
+    sheet.radii = {0.8, 0.8, 0.8, 0.3, 0.8, 0.8};
+    EXPECT_EQ(cap_leaflet_radii(sheet, 0.5), 0);
+}
+
 TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {
     const TriangleMesh s = box(2, 0.3);
     const AutoSkeletonOptions o;
