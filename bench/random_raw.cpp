@@ -6,7 +6,8 @@
 //   others 0/1: SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends, joint_trunks,
 //   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every stub
 //   absorbed), JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and
-//   JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and junction_split_clearance. The last three columns: stubs
+//   JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and junction_split_clearance, PIN_TRUNK_JOINTS=0 turns
+//   SkeletonRepairOptions::pin_trunk_joints off. The last three columns: stubs
 //   kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare two builds or option
 //   sets seed by seed to find the seeds a change touches).
 //
@@ -25,6 +26,7 @@
 #include "mesohex/pipeline.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
+#include "mesohex/stages/skeleton_repair.h"
 #include "raw_hash.h"
 
 using namespace mesohex;
@@ -72,10 +74,12 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_SPLIT")) po.repair.junction_split = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_GAP")) po.repair.junction_split_gap_deg = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_CLEARANCE")) po.repair.junction_split_clearance = std::atof(k);
+    if (const char* k = std::getenv("PIN_TRUNK_JOINTS")) po.repair.pin_trunk_joints = std::atoi(k) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf(
-        "seed kind V E raw_hexes minSJ avgSJ inv corner_off/r worst_at trunks stubs merged unseparated side_stubs "
+        "seed kind V E raw_hexes minSJ avgSJ inv corner_off/r repair_off/r worst_at trunks stubs merged unseparated "
+        "side_stubs "
         "junction_splits raw_hash\n");
     for (long seed = first; seed <= last; ++seed) {
         const Skeleton in = generate_random_skeleton(static_cast<std::uint64_t>(seed));
@@ -86,14 +90,30 @@ int main(int argc, char** argv) {
             std::vector<bool> in_face(in.points.size(), false);
             for (const auto& f : in.faces)
                 for (int v : f) in_face[v] = true;
-            double off = 0;
-            for (std::size_t v = 0; v < in.points.size(); ++v) {
-                if (in_face[v]) continue;
-                double best = 1e300;
-                for (const auto& e : s.edges)
-                    best = std::min(best, segment_point_distance(s.points[e[0]], s.points[e[1]], in.points[v]));
-                off = std::max(off, best / in.radii[v]);
-            }
+            const auto corner_offset = [&](const Skeleton& m) {
+                double o = 0;
+                for (std::size_t v = 0; v < in.points.size(); ++v) {
+                    if (in_face[v]) continue;
+                    double best = 1e300;
+                    for (const auto& e : m.edges)
+                        best = std::min(best, segment_point_distance(m.points[e[0]], m.points[e[1]], in.points[v]));
+                    o = std::max(o, best / in.radii[v]);
+                }
+                return o;
+            };
+            const double off = corner_offset(s);
+            // The same against the repaired skeleton (before adaptation): the part of the offset the repairs make.
+            const Skeleton repaired = repair_skeleton(in, po.repair).skeleton;
+            const double repair_off = corner_offset(repaired);
+            if (std::getenv("DUMP_REPAIRED"))  // the repaired skeleton (before adaptation): vertex, radius, neighbours
+                for (std::size_t v = 0; v < repaired.points.size(); ++v) {
+                    std::printf("  r%zu (%.3f %.3f %.3f) r %.3f:", v, repaired.points[v].x, repaired.points[v].y,
+                                repaired.points[v].z, repaired.radii[v]);
+                    for (const auto& e : repaired.edges)
+                        if (e[0] == static_cast<int>(v) || e[1] == static_cast<int>(v))
+                            std::printf(" %d", e[0] == static_cast<int>(v) ? e[1] : e[0]);
+                    std::printf("\n");
+                }
             const QualityReport q = compute_quality(res.raw.mesh);
             if (std::getenv("DUMP")) {  // the meshed skeleton: vertex, radius, neighbours
                 for (std::size_t v = 0; v < s.points.size(); ++v) {
@@ -122,9 +142,9 @@ int main(int argc, char** argv) {
                               : vertex_kind(s, adj, on_face, s.edges[e][0]) + "-" +
                                     vertex_kind(s, adj, on_face, s.edges[e][1]);
             }
-            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %s %d %d %d %d %d %d %016llx\n", seed,
+            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %.2f %s %d %d %d %d %d %d %016llx\n", seed,
                         random_skeleton_kind(seed), s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(),
-                        q.sj_min, q.sj_avg, q.inverted, off, where.c_str(), res.trunks, res.absorbed_stubs,
+                        q.sj_min, q.sj_avg, q.inverted, off, repair_off, where.c_str(), res.trunks, res.absorbed_stubs,
                         res.merged_ends, res.unseparated_pairs, res.side_stubs, res.junction_splits,
                         static_cast<unsigned long long>(raw_hash(res.raw)));
             mins.push_back(q.sj_min);

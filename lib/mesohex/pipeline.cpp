@@ -105,8 +105,11 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
             res.fan_end_retractions.push_back(r.vertex);
             res.fan_edge_splits += r.fan_edge_split >= 0 ? 1 : 0;
         }
-        s = adapt_skeleton(repaired.skeleton, options.adaptation,
-                           options.repair.pin_absorbed_balls ? repaired.absorbed_balls : std::vector<int>{});
+        std::vector<int> pinned;
+        if (options.repair.pin_absorbed_balls) pinned = repaired.absorbed_balls;
+        if (options.repair.pin_trunk_joints)
+            pinned.insert(pinned.end(), repaired.trunk_joints.begin(), repaired.trunk_joints.end());
+        s = adapt_skeleton(repaired.skeleton, options.adaptation, pinned);
         clock.lap("adaptation");
     }
     // After adaptation, which would collapse their short edges; new vertices and edges are appended.

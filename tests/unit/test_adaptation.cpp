@@ -160,6 +160,24 @@ TEST(Adaptation, PinnedRadiusPeakIsKept) {
     EXPECT_EQ(mesohex::euler_characteristic(pinned), 1);
 }
 
+// A pin yields where its edges cannot meet the section criterion: extremity (0,0,0) -> pinned joint p = (d,0,0) ->
+// extremity (d,3,0), radius 0.1, a 90-degree turn at p: p's reach is 0.1 sin 45 = 0.0707, an extremity's 0, so the
+// edge (0, p) needs d >= turn_safety x 0.0707 = 0.0884. d = 1: the pin stays a vertex of the output. d = 0.05: the
+// edge violates the criterion and only the pin could go, so the pin yields and the branch is sampled as without pins
+// (the same output).
+TEST(Adaptation, PinYieldsWhenItsEdgeCannotClear) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {1, 3, 0}, {1, 0, 0}};
+    s.radii = {0.1, 0.1, 0.1};
+    s.edges = {{0, 2}, {2, 1}};
+    const Skeleton kept = mesohex::adapt_skeleton(s, {}, {2});
+    EXPECT_NE(std::find(kept.points.begin(), kept.points.end(), Vec3{1, 0, 0}), kept.points.end());
+    s.points = {{0, 0, 0}, {0.05, 3, 0}, {0.05, 0, 0}};
+    const Skeleton yielded = mesohex::adapt_skeleton(s, {}, {2});
+    EXPECT_EQ(std::find(yielded.points.begin(), yielded.points.end(), Vec3{0.05, 0, 0}), yielded.points.end());
+    EXPECT_EQ(yielded, mesohex::adapt_skeleton(s));
+}
+
 // An L-shaped polyline: every new joint lies on one of the two original segments.
 TEST(Adaptation, SamplesOnBentPolyline) {
     Skeleton s;

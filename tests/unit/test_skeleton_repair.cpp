@@ -91,6 +91,7 @@ TEST(SkeletonRepair, JointTrunkAtDegreeThree) {
     EXPECT_NEAR(res.skeleton.points[4].z, x, 1e-7);
     EXPECT_NEAR(res.skeleton.radii[4], 0.1490, 1e-4);
     EXPECT_EQ(degree(res.skeleton, 1), 2);
+    EXPECT_EQ(res.trunk_joints, std::vector<int>{1});  // c, now a joint: pinned by the pipeline (pin_trunk_joints)
     mesohex::SkeletonRepairOptions old;
     old.joint_trunks = false;
     EXPECT_EQ(mesohex::repair_skeleton(in, old).trunks, 0);
@@ -104,6 +105,7 @@ TEST(SkeletonRepair, JointTrunkAtDegreeThree) {
     const mesohex::SkeletonRepairResult res4 = mesohex::repair_skeleton(four, clearance);
     EXPECT_EQ(res4.trunks, 0);
     EXPECT_EQ(res4.skeleton, four);
+    EXPECT_TRUE(res4.trunk_joints.empty());
 }
 
 // The same pair (40 degrees, radius 0.1) with a fourth branch at c towards +y: with wide_junction_trunks the ball rule

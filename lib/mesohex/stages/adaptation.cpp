@@ -170,10 +170,12 @@ struct EndReach {
 // Removes joints that violate the section criterion. x/r hold the whole sampled chain (ends included); end_reach gives
 // the demands of each end (zero at an extremity); ring: x.front() == x.back() is the anchor, a joint that stays.
 // Never leaves fewer than min_edges edges, never removes a pinned joint (pinned: per chain index). Returns the kept
-// chain indices.
+// chain indices; *stuck (when given) gets the pinned chain indices left on an edge that still violates the criterion
+// (their neighbours could not be removed: a branch end, another pin, or min_edges).
 std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vector<double>& r,
                                       const std::array<EndReach, 2>& end_reach, bool ring, int min_edges,
-                                      const std::vector<bool>& pinned, const AdaptationOptions& o) {
+                                      const std::vector<bool>& pinned, const AdaptationOptions& o,
+                                      std::vector<int>* stuck = nullptr) {
     std::vector<int> keep(x.size());
     std::iota(keep.begin(), keep.end(), 0);
     if (!(o.turn_safety > 0)) return keep;
@@ -205,6 +207,10 @@ std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vec
         }
         ++j;
     }
+    for (std::size_t k = 0; stuck && k + 1 < keep.size(); ++k)
+        if (distance(x[keep[k]], x[keep[k + 1]]) < o.turn_safety * (reach(k) + reach(k + 1)))
+            for (const std::size_t m : {k, k + 1})
+                if (pinned[keep[m]]) stuck->push_back(keep[m]);
     return keep;
 }
 
@@ -625,21 +631,33 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
 std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edges, const Vec3& xa, const Vec3& xb,
                              const AdaptationOptions& o, int* removed) {
     const Branch& b = view.branches[bi];
-    const Polyline& pl = view.polylines[bi];
-    const std::vector<double> t = sample_branch(pl, min_edges, o);
-    std::vector<Vec3> x{xa};
-    std::vector<double> r{pl.r.front()};
-    std::vector<bool> pinned{false};
-    for (const double ti : t) {
-        const auto [p, ri] = pl.at(ti);
-        x.push_back(p);
-        r.push_back(ri);
-        pinned.push_back(std::binary_search(pl.pinned.begin(), pl.pinned.end(), ti));
+    Polyline pl = view.polylines[bi];
+    std::vector<double> t;
+    std::vector<Vec3> x;
+    std::vector<double> r;
+    std::vector<int> keep;
+    for (;;) {  // a pin whose edges cannot meet the section criterion yields: the branch is sampled again without it
+        t = sample_branch(pl, min_edges, o);
+        x = {xa};
+        r = {pl.r.front()};
+        std::vector<bool> pinned{false};
+        for (const double ti : t) {
+            const auto [p, ri] = pl.at(ti);
+            x.push_back(p);
+            r.push_back(ri);
+            pinned.push_back(std::binary_search(pl.pinned.begin(), pl.pinned.end(), ti));
+        }
+        x.push_back(xb);
+        r.push_back(pl.r.back());
+        pinned.push_back(false);
+        std::vector<int> stuck;
+        keep = apply_turn_criterion(x, r, view.end_reach[bi], b.ring, min_edges, pinned, o, &stuck);
+        if (stuck.empty()) break;
+        std::vector<double> yielded;
+        for (const int k : stuck) yielded.push_back(t[static_cast<std::size_t>(k) - 1]);
+        std::erase_if(pl.pinned,
+                      [&](double p) { return std::find(yielded.begin(), yielded.end(), p) != yielded.end(); });
     }
-    x.push_back(xb);
-    r.push_back(pl.r.back());
-    pinned.push_back(false);
-    const std::vector<int> keep = apply_turn_criterion(x, r, view.end_reach[bi], b.ring, min_edges, pinned, o);
     if (removed) *removed += static_cast<int>(x.size() - keep.size());
     std::vector<double> kept_t;
     for (std::size_t k = 1; k + 1 < keep.size(); ++k) kept_t.push_back(t[keep[k] - 1]);

@@ -89,7 +89,10 @@ struct AdaptationOptions {
 // pinned: input vertices that stay joints of the output wherever they are joints of a resampled branch (its pieces
 // between them are resampled separately and the section criterion removes their neighbours instead): the balls that
 // repair_skeleton puts where a stub was absorbed (SkeletonRepairResult::absorbed_balls), a radius peak that the
-// bisection's samples would step over. Ids out of range and vertices that are no joints are ignored.
+// bisection's samples would step over; the former branching points of trunks (SkeletonRepairResult::trunk_joints).
+// A pin yields where an edge at it still violates the section criterion after every other joint that could go has
+// gone (its neighbour is a branch end or another pin): the branch is then sampled again without that pin, so pins
+// never leave overlapping cross-sections. Ids out of range and vertices that are no joints are ignored.
 Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o = {}, const std::vector<int>& pinned = {});
 
 // The same, with what happened (for reports and tests).

@@ -588,10 +588,12 @@ std::vector<int> rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResul
         for (int& v : f) v = id[v];
     for (int& v : res.vertex_map)
         if (v >= 0) v = id[v];
-    std::vector<int> balls;  // a later trunk may drop a ball lying on its walk as a joint
-    for (const int v : res.absorbed_balls)
-        if (id[v] >= 0) balls.push_back(id[v]);
-    res.absorbed_balls = std::move(balls);
+    for (std::vector<int>* list : {&res.absorbed_balls, &res.trunk_joints}) {
+        std::vector<int> kept;  // a later trunk may drop a ball or a trunk joint lying on its walk as a joint
+        for (const int v : *list)
+            if (id[v] >= 0) kept.push_back(id[v]);
+        *list = std::move(kept);
+    }
     s = std::move(out);
     return id;
 }
@@ -646,6 +648,7 @@ std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& b
         join_trunk(s, g, wi, best.ei, best.sep, t, ed);
         join_trunk(s, g, wj, best.ej, best.sep, t, ed);
         ++res.trunks;
+        if (g.inc[c].size() == 3 && g.degree[c] == 3) res.trunk_joints.push_back(c);  // c becomes a joint
     } else {
         const bool keep_joints = o.keep_sibling_joints;
         if (!keep_joints || at_arc(s, wi, best.sep).k == 0) ed.new_edges.push_back({c, t});

@@ -72,6 +72,13 @@ struct SkeletonRepairOptions {
     // and taper the bump away (the stub's tip uncovered, the tube after it too fat). true: the pipeline pins every t
     // (SkeletonRepairResult::absorbed_balls, adapt_skeleton's `pinned`), so it stays a joint of the meshed skeleton.
     bool pin_absorbed_balls = true;
+    // A trunk at a branching point c of degree 3 makes c a joint between its parent and the trunk edge (c, t), with a
+    // turn wherever t does not lie straight ahead of the parent (the pair leaving to one side). c's ball is part of
+    // the domain, but adaptation resamples parent and trunk as one branch at arc lengths of its own choosing, and the
+    // chord between the samples around c cuts the turn. true: the pipeline pins c (SkeletonRepairResult::trunk_joints,
+    // adapt_skeleton's `pinned`), so it stays a joint of the meshed skeleton where the section criterion allows it (a
+    // pin whose edges cannot clear the criterion yields: adaptation.h). docs/junctions.md ("Trunk joints pinned").
+    bool pin_trunk_joints = true;
     // Absorbing a walk (stub or merge), the other branch's joints before t stay: each moves to the midpoint of its
     // point and the absorbed walk's point at the same arc length, radius absorbed_ball_width x their distance + the larger
     // radius (a ball over both tubes there, as t's; not pinned), so a turn of the other branch inside the absorbed stretch is not cut
@@ -145,6 +152,9 @@ struct SkeletonRepairResult {
     // The ball t of every absorbed stub or merged end, by output id: a radius peak the adaptation keeps as a joint
     // (adapt_skeleton's `pinned`), so that the resampling does not step over it and taper the bump away.
     std::vector<int> absorbed_balls;
+    // Every branching point that a joint trunk made a joint (joint_trunks), by output id: pinned by the pipeline when
+    // pin_trunk_joints (the turn from the parent into the trunk stays in the meshed skeleton).
+    std::vector<int> trunk_joints;
     std::vector<FanEndRetraction> fan_end_retractions;  // fan_end_retraction, in the input's vertex numbering
 };
 
