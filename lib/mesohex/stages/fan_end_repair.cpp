@@ -73,7 +73,11 @@ struct Candidate {
     Vec3 branch{};
 };
 
-// Sets *why (when given) to the failing condition and its edit; returns false.
+// The edit that avoids the fan end altogether.
+std::string off_fan() { return "start the branch from a corner of one leaflet off the fan edge"; }
+
+// Sets *why (when given) to the failing condition and its edit; returns false. Called as `why != nullptr && refuse(why,
+// ...)` where the repair's own loops call without why: the words are built only for fan_end_refusal.
 bool refuse(FanEndRefusal* why, std::string reason, std::string edit) {
     if (why != nullptr) *why = {std::move(reason), std::move(edit)};
     return false;
@@ -100,10 +104,11 @@ bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, Fan
         border += d == 1 ? 1 : 0;
         fans += d >= 3 ? 1 : 0;
     }
-    const std::string edit =
+    const char* const edit =
         "end the fan edge there with one corner face per leaflet, each with its own border side, or split the fan "
         "edge and the strips of its faces in two by hand";
     if (branches > 0) {
+        if (why == nullptr) return false;
         FanEndRefusal other_why;
         Candidate c;
         const bool taken = branch_end(s, in, v, c, &other_why);
@@ -114,9 +119,10 @@ bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, Fan
     }
     const std::vector<int>& around = in.side_faces.at(std::minmax(v, other));
     const int g = static_cast<int>(around.size()), faces = static_cast<int>(in.vertex_faces[v].size());
-    if (fans != 1) return refuse(why, "is on " + str(fans) + " fan edges", edit);
+    if (fans != 1) return why != nullptr && refuse(why, "is on " + str(fans) + " fan edges", edit);
     if (inner > 0 || border != g || faces != g)
-        return refuse(why,
+        return why != nullptr &&
+               refuse(why,
                       "is not a plain fan end: the leaflets meet it with " + str(faces) + " faces and " + str(border) +
                           " border edges (one corner face per leaflet needed, " + str(g) +
                           "; edges there inside a leaflet: " + str(inner) + ")",
@@ -124,7 +130,8 @@ bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, Fan
     for (const int f : around) {
         const int x = corner_neighbour(s.faces[f], v, other), d = faces_on(in, v, x);
         if (d != 1)
-            return refuse(why,
+            return why != nullptr &&
+                   refuse(why,
                           "is not a plain fan end: face " + str(f) + " leaves it by its side to skeleton vertex " +
                               str(x) + ", shared by " + str(d) + " faces (each face needs its own border side there)",
                           edit);
@@ -146,48 +153,53 @@ bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, Fan
         if (d == 2) ++inner;
         if (d >= 3) fan_edge = e, ++fans;
     }
-    const std::string off_fan = "start the branch from a corner of one leaflet off the fan edge";
     if (fans != 1)
-        return refuse(why, "the vertex is on " + str(fans) + " fan edges (the repair needs exactly one)", off_fan);
-    if (branches == 0) return refuse(why, "the vertex has no branch edge", "none needed (no branch to carry)");
+        return why != nullptr &&
+               refuse(why, "the vertex is on " + str(fans) + " fan edges (the repair needs exactly one)", off_fan());
+    if (branches == 0)
+        return why != nullptr && refuse(why, "the vertex has no branch edge", "none needed (no branch to carry)");
     const int u = other_end(s, fan_edge, w);
     const std::vector<int>& around = in.side_faces.at(std::minmax(u, w));
     const int g = static_cast<int>(around.size()), faces = static_cast<int>(in.vertex_faces[w].size());
     if (inner > 0 || border != g || faces != g)
-        return refuse(why,
+        return why != nullptr &&
+               refuse(why,
                       "the leaflets around the fan edge meet the vertex with " + str(faces) + " faces and " +
                           str(border) + " border edges (the repair needs one corner face per leaflet, " + str(g) +
                           (inner > 0 ? "; edges there inside a leaflet (2 faces each): " + str(inner) : "") + ")",
                       "make every leaflet there end with one corner face at this vertex (cut off the faces beyond the "
                       "fan edge's end, or end the fan edge where the leaflets' borders turn), or " +
-                          off_fan);
+                          off_fan());
     for (const int f : around) {  // each face leaves w by its own border side (implied by the counts above for quads)
         const int x = corner_neighbour(s.faces[f], w, u), d = faces_on(in, w, x);
         if (d != 1)
-            return refuse(why,
+            return why != nullptr &&
+                   refuse(why,
                           "face " + str(f) + " around the fan edge leaves the vertex by its side to skeleton vertex " +
                               str(x) + ", shared by " + str(d) +
                               " faces (the repair needs each face to leave it by its own border side)",
-                          "make that side a border of face " + str(f) + " alone, or " + off_fan);
+                          "make that side a border of face " + str(f) + " alone, or " + off_fan());
     }
     if (!(norm(branch) > 1e-9)) {
         std::ostringstream len;
         len << norm(branch);
-        return refuse(why,
+        return why != nullptr &&
+               refuse(why,
                       "the directions of its " + str(branches) + " branches cancel (their unit vectors sum to length " +
                           len.str() + ", no mean direction to compare with the fan line)",
-                      "remove one of the opposite branches, or " + off_fan);
+                      "remove one of the opposite branches, or " + off_fan());
     }
     const double cos = dot(normalized(branch), normalized(s.points[w] - s.points[u]));
     if (cos < kFanEndBranchCos)
-        return refuse(
-            why,
-            "the branch leaves " +
-                str(static_cast<int>(std::lround(std::acos(std::clamp(cos, -1.0, 1.0)) * 180 / std::numbers::pi))) +
-                " degrees off the fan line's continuation (the retraction takes branches within 45 degrees of the fan "
-                "line; one across it would need a fan-block cap, not built)",
-            "turn the branch's first edge towards the fan line's continuation, or " + off_fan +
-                " (e.g. the far corner of the leaflet it leans over)");
+        return why != nullptr && refuse(why,
+                                        "the branch leaves " +
+                                            str(static_cast<int>(std::lround(std::acos(std::clamp(cos, -1.0, 1.0)) *
+                                                                             180 / std::numbers::pi))) +
+                                            " degrees off the fan line's continuation (the retraction takes branches "
+                                            "within 45 degrees of the fan "
+                                            "line; one across it would need a fan-block cap, not built)",
+                                        "turn the branch's first edge towards the fan line's continuation, or " +
+                                            off_fan() + " (e.g. the far corner of the leaflet it leans over)");
     c = {w, u, around, normalized(branch)};
     std::sort(c.faces.begin(), c.faces.end());
     return true;
