@@ -3,6 +3,7 @@
 // skeleton's Euler characteristic and no inverted raw hex; what the repair cannot handle is refused naming the vertex.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -224,7 +225,10 @@ TEST(FanEndRepair, SingleFanEdgeThroughThePipeline) {
         EXPECT_GT(run.raw_quality.sj_min, 0.0);
         PipelineOptions off;
         off.repair.fan_end_retraction = false;
-        expect_refused_with(s, off, 1, "split in two first");
+        // The repair would split and retract it: the message says it did not run (not a condition that fails).
+        expect_refused_with(s, off, 1, "the skeleton repair that retracts the fan edge from it did not run");
+        expect_refused_with(s, off, 1, "fan_end_retraction");
+        EXPECT_EQ(fan_end_refusal(s, 1), std::nullopt);
     }
 }
 
@@ -360,4 +364,187 @@ TEST(FanEndRepair, RefusalsNameTheVertexAndSayHowToEdit) {
             EXPECT_NE(std::string(e.what()).find("; edit: mesh with resampling"), std::string::npos);
         }
     }
+}
+
+// Issue 22 item 5: fan_end_refusal walks the repair's own conditions and names the first that fails, with the value
+// measured and an edit; the analysis (after the repair) gives it as the reason. One hand-built skeleton per condition.
+namespace {
+
+// The vertex at p (exact position), or -1.
+int vertex_at(const Skeleton& s, Vec3 p) {
+    for (int i = 0; i < static_cast<int>(s.points.size()); ++i)
+        if (distance(s.points[i], p) < 1e-12) return i;
+    return -1;
+}
+
+// A new vertex at p, radius 0.3.
+int add_vertex(Skeleton& s, Vec3 p) {
+    s.points.push_back(p);
+    s.radii.push_back(0.3);
+    return static_cast<int>(s.points.size()) - 1;
+}
+
+// Unit quads (a, b, b + d, a + d) on the side (a, b), one per direction d, with new vertices; then the faces' edges.
+void add_faces_on(Skeleton& s, int a, int b, const std::vector<Vec3>& dirs) {
+    for (const Vec3& d : dirs) {
+        const int bd = add_vertex(s, s.points[b] + d), ad = add_vertex(s, s.points[a] + d);
+        s.faces.push_back({a, b, bd, ad});
+    }
+    add_face_edges(s);
+}
+
+// tfan -n 1 -m 2: the fan edge (0,0,-0.5) = 0 to (0,0,0.5) = 1 of the strips +x (faces 0 = (0, 2, 3, 1), 1 = (2, 4,
+// 5, 3)), +y (faces 2, 3) and -x (faces 4, 5), radius 0.3; with branches of 3 unit edges along the fan line from 1
+// (+z) and, when `both`, from 0 (-z).
+Skeleton single_edge(bool both) {
+    GeneratorOptions o;
+    o.n = 1;
+    o.m = 2;
+    Skeleton s = generate_skeleton("tfan", o);
+    add_branch(s, {0, 0, 0.5}, {0, 0, 1});
+    if (both) add_branch(s, {0, 0, -0.5}, {0, 0, -1});
+    return s;
+}
+
+// The repair's refusal at v contains every one of the words.
+void expect_reason(const Skeleton& s, int v, const std::vector<std::string>& words) {
+    const std::optional<FanEndRefusal> r = fan_end_refusal(s, v);
+    ASSERT_TRUE(r.has_value());
+    for (const std::string& w : words) EXPECT_NE(r->reason.find(w), std::string::npos) << r->reason;
+    EXPECT_FALSE(r->edit.empty());
+}
+
+}  // namespace
+
+// Taken configurations: no refusal (the T's retraction, the single fan edge's split).
+TEST(FanEndRefusal, NoneWhereTheRepairTakesTheBranch) {
+    EXPECT_EQ(fan_end_refusal(fan_end(3, 1), 2), std::nullopt);
+    EXPECT_EQ(fan_end_refusal(fan_end(4, 1), 2), std::nullopt);
+    EXPECT_EQ(fan_end_refusal(single_edge(false), 1), std::nullopt);
+    EXPECT_EQ(fan_end_refusal(single_edge(true), 0), std::nullopt);  // cut into thirds
+    EXPECT_EQ(fan_end_refusal(single_edge(true), 1), std::nullopt);
+}
+
+// Not a fan-edge end with a branch: vertex 1 of the T (inside the chain, 2 fan edges); vertex 1 of tfan (no branch).
+TEST(FanEndRefusal, NoFanEdgeEndWithABranch) {
+    expect_reason(fan_end(3, 1), 1, {"the vertex is on 2 fan edges (the repair needs exactly one)"});
+    GeneratorOptions o;
+    o.n = 1;
+    o.m = 2;
+    expect_reason(generate_skeleton("tfan", o), 1, {"the vertex has no branch edge"});
+}
+
+// A leaflet going on past w (RefusalsNameTheVertexAndSayHowToEdit's skeleton): 4 faces, 3 border edges, 1 inner edge.
+TEST(FanEndRefusal, LeafletGoingOnPastTheEnd) {
+    Skeleton s = fan_end(3, 1);
+    const int a = add_vertex(s, {0.5, 0, 2}), b = add_vertex(s, {1, 0, 2});
+    s.faces.push_back({2, s.faces[1][2], b, a});
+    add_face_edges(s);
+    expect_reason(s, 2,
+                  {"meet the vertex with 4 faces and 3 border edges (the repair needs one corner face per leaflet, 3; "
+                   "edges there inside a leaflet (2 faces each): 1)"});
+    expect_refused(s, 2, "edges there inside a leaflet (2 faces each): 1");
+}
+
+// Two branches from w in opposite directions (+x-y and -x+y, across the fan line): their unit vectors sum to 0.
+TEST(FanEndRefusal, BranchDirectionsCancel) {
+    GeneratorOptions o;
+    o.n = 1;
+    o.m = 2;
+    Skeleton s = generate_skeleton("tfan", o);
+    add_branch(s, {0, 0, 0.5}, {1, -1, 0});
+    add_branch(s, {0, 0, 0.5}, {-1, 1, 0});
+    expect_reason(s, 1, {"the directions of its 2 branches cancel (their unit vectors sum to length 0,"});
+    EXPECT_NE(fan_end_refusal(s, 1)->edit.find("remove one of the opposite branches"), std::string::npos);
+}
+
+// The fan edge's other end u = 0 on 3 fan edges: the T's chain going on below it, and a third fan edge (0, b) of 3
+// faces.
+TEST(FanEndRefusal, OtherEndOnThreeFanEdges) {
+    Skeleton s = single_edge(false);
+    const int a = add_vertex(s, {0, 0, -1.5}), b = add_vertex(s, {0, -1, -0.5});
+    add_faces_on(s, a, 0, {{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}});
+    add_faces_on(s, 0, b, {{0.5, 0, -0.5}, {-0.5, 0, -0.5}, {0, -0.5, -0.5}});
+    expect_reason(s, 1, {"the fan edge's other end, skeleton vertex 0, is on 3 fan edges"});
+    Skeleton repaired = s;
+    EXPECT_TRUE(retract_fan_ends(repaired).empty());
+}
+
+// A single fan edge whose other end u = 0 is no plain fan end: a face of the +x leaflet below it (4 faces, 3 border
+// edges, the side (0, 2) of 2 faces); or u carrying a branch across the fan line (-y: 90 degrees, refused itself).
+TEST(FanEndRefusal, SingleFanEdgeOtherEndNotPlain) {
+    {
+        Skeleton s = single_edge(false);
+        const int c = add_vertex(s, {1, 0, -1.5}), d = add_vertex(s, {0, 0, -1.5});
+        s.faces.push_back({0, d, c, 2});
+        add_face_edges(s);
+        const std::string words =
+            "the fan edge is a single one (its other end, skeleton vertex 0, is not a plain fan end: the leaflets meet "
+            "it with 4 faces and 3 border edges (one corner face per leaflet needed, 3; edges there inside a leaflet: "
+            "1));";
+        expect_reason(s, 1, {words});
+        Skeleton repaired = s;
+        EXPECT_TRUE(retract_fan_ends(repaired).empty());
+        expect_refused(s, 1, words);
+    }
+    {
+        Skeleton s = single_edge(false);
+        add_branch(s, {0, 0, -0.5}, {0, -1, 0});
+        expect_reason(s, 1,
+                      {"(its other end, skeleton vertex 0, carries a branch too that the repair does not take either "
+                       "(the branch leaves 90 degrees off the fan line's continuation"});
+        expect_refused(s, 0, "the branch leaves 90 degrees off the fan line's continuation");
+    }
+}
+
+// A single fan edge whose +x strip (faces 0, 1) ends on the side (4, 5) made a fan edge (2 more faces on it): not
+// split. With a branch at both ends, the chain of 1 fan edge is not cut into thirds either: both ends refused.
+TEST(FanEndRefusal, StripMeetsAFanEdge) {
+    for (const bool both : {false, true}) {
+        SCOPED_TRACE(both);
+        Skeleton s = single_edge(both);
+        add_faces_on(s, 4, 5, {{0, 1, 0}, {0, -1, 0}});
+        const std::string strip = "the strip of faces from face 0 meets the side (4, 5) of face 1, shared by 3 faces";
+        Skeleton repaired = s;
+        EXPECT_TRUE(retract_fan_ends(repaired).empty());
+        if (!both) {
+            expect_reason(s, 1,
+                          {"the fan edge is a single one (its other end, skeleton vertex 0, is a fan-edge end); a "
+                           "single fan edge is split in two first only when the strips of its faces cross",
+                           strip});
+            expect_refused(s, 1, strip);
+            continue;
+        }
+        expect_reason(s, 0,
+                      {"the fan-edge chain from it has 1 fan edge and a branch the repair takes at its other end "
+                       "too, skeleton vertex 1;",
+                       "on the fan edge (0, 1) " + strip});
+        expect_reason(s, 1, {"at its other end too, skeleton vertex 0;", "on the fan edge (1, 0) " + strip});
+        expect_refused(s, 0, "on the fan edge (0, 1) " + strip);
+    }
+}
+
+// A chain of 2 fan edges with branches at both ends (fanend -n 3 -m 3: 0 - 1 - 2) whose +x strip from (1, 2) ends on
+// the side (2,0,0)-(2,0,1) made a fan edge: not cut; the lower end 0 is retracted as it is (no refusal), the other
+// end 2 is refused: on the input, for the chain; after the repair, for its neighbour 1 (now a fan-edge end with the
+// retracted faces: 6 faces, 3 border and 3 inner edges).
+TEST(FanEndRefusal, ShortChainNotCut) {
+    Skeleton s = fan_end(3, 3);
+    const int a = vertex_at(s, {2, 0, 0}), b = vertex_at(s, {2, 0, 1});
+    ASSERT_GE(a, 0);
+    ASSERT_GE(b, 0);
+    add_faces_on(s, a, b, {{0, 1, 0}, {0, -1, 0}});
+    EXPECT_EQ(fan_end_refusal(s, 0), std::nullopt);
+    expect_reason(s, 2,
+                  {"the fan-edge chain from it has 2 fan edges and a branch the repair takes at its other end too, "
+                   "skeleton vertex 0;",
+                   "on the fan edge (2, 1) the strip of faces from face"});
+    Skeleton repaired = s;
+    const std::vector<FanEndRetraction> r = retract_fan_ends(repaired);
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].vertex, 0);
+    expect_reason(repaired, 2,
+                  {"(its other end, skeleton vertex 1, is not a plain fan end: the leaflets meet it with 6 faces and 3 "
+                   "border edges (one corner face per leaflet needed, 3; edges there inside a leaflet: 3))"});
+    expect_refused(s, 2, "its other end, skeleton vertex 1, is not a plain fan end");
 }

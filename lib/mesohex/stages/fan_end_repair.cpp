@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
+#include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -70,54 +73,136 @@ struct Candidate {
     Vec3 branch{};
 };
 
-// Is v a plain fan-edge end: on one fan edge and no branch, every face at v one of those around the fan edge, each
-// leaving v by its own border side?
-bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other) {
-    int fans = 0, border = 0;
-    for (const int e : in.vertex_edges[v]) {
-        const int d = faces_on(in, v, other_end(s, e, v));
-        if (d == 0 || d == 2) return false;
-        border += d == 1 ? 1 : 0;
-        fans += d >= 3 ? 1 : 0;
-    }
-    const std::vector<int>& around = in.side_faces.at(std::minmax(v, other));
-    const int g = static_cast<int>(around.size());
-    if (fans != 1 || border != g || static_cast<int>(in.vertex_faces[v].size()) != g) return false;
-    for (const int f : around)
-        if (faces_on(in, v, corner_neighbour(s.faces[f], v, other)) != 1) return false;
-    return true;
+// The edit that avoids the fan end altogether.
+std::string off_fan() { return "start the branch from a corner of one leaflet off the fan edge"; }
+
+// Sets *why (when given) to the failing condition and its edit; returns false. Called as `why != nullptr && refuse(why,
+// ...)` where the repair's own loops call without why: the words are built only for fan_end_refusal.
+bool refuse(FanEndRefusal* why, std::string reason, std::string edit) {
+    if (why != nullptr) *why = {std::move(reason), std::move(edit)};
+    return false;
 }
 
-// Is w a fan-edge end carrying a branch that the retraction can take: on exactly one fan edge (u, w) and on branch
-// edges whose mean direction is within 45 degrees of the fan line's continuation, every face at w one of those around
-// (u, w) and leaving w by its own border side? Fills c (whatever u is).
-bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c) {
-    int fan_edge = -1, fans = 0, border = 0;
-    Vec3 branch{};
-    for (const int e : in.vertex_edges[w]) {
-        const int x = other_end(s, e, w), d = faces_on(in, w, x);
-        if (d == 0) branch += normalized(s.points[x] - s.points[w]);
-        if (d == 1) ++border;
-        if (d == 2) return false;
-        if (d >= 3) fan_edge = e, ++fans;
-    }
-    if (fans != 1 || !(norm(branch) > 1e-9)) return false;
-    const int u = other_end(s, fan_edge, w);
-    if (dot(normalized(branch), normalized(s.points[w] - s.points[u])) < kFanEndBranchCos) return false;
-    const std::vector<int>& around = in.side_faces.at(std::minmax(u, w));
-    const int g = static_cast<int>(around.size());
-    if (border != g || static_cast<int>(in.vertex_faces[w].size()) != g) return false;
-    for (const int f : around)  // each face leaves w by its own border side
-        if (faces_on(in, w, corner_neighbour(s.faces[f], w, u)) != 1) return false;
-    c = {w, u, around, normalized(branch)};
-    std::sort(c.faces.begin(), c.faces.end());
-    return true;
-}
+std::string str(int i) { return std::to_string(i); }
 
 int fan_edges_at(const Skeleton& s, const Incidence& in, int v) {
     int fans = 0;
     for (const int e : in.vertex_edges[v]) fans += faces_on(in, v, other_end(s, e, v)) >= 3 ? 1 : 0;
     return fans;
+}
+
+bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, FanEndRefusal* why = nullptr);
+
+// Is v a plain fan-edge end: on one fan edge and no branch, every face at v one of those around the fan edge, each
+// leaving v by its own border side? Sets *why to the first condition that fails (worded after "skeleton vertex v").
+bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, FanEndRefusal* why = nullptr) {
+    int fans = 0, border = 0, inner = 0, branches = 0;
+    for (const int e : in.vertex_edges[v]) {
+        const int d = faces_on(in, v, other_end(s, e, v));
+        branches += d == 0 ? 1 : 0;
+        inner += d == 2 ? 1 : 0;
+        border += d == 1 ? 1 : 0;
+        fans += d >= 3 ? 1 : 0;
+    }
+    const char* const edit =
+        "end the fan edge there with one corner face per leaflet, each with its own border side, or split the fan "
+        "edge and the strips of its faces in two by hand";
+    if (branches > 0) {
+        if (why == nullptr) return false;
+        FanEndRefusal other_why;
+        Candidate c;
+        const bool taken = branch_end(s, in, v, c, &other_why);
+        return refuse(why,
+                      "carries a branch too" +
+                          (taken ? std::string() : " that the repair does not take either (" + other_why.reason + ")"),
+                      taken ? edit : other_why.edit);
+    }
+    const std::vector<int>& around = in.side_faces.at(std::minmax(v, other));
+    const int g = static_cast<int>(around.size()), faces = static_cast<int>(in.vertex_faces[v].size());
+    if (fans != 1) return why != nullptr && refuse(why, "is on " + str(fans) + " fan edges", edit);
+    if (inner > 0 || border != g || faces != g)
+        return why != nullptr &&
+               refuse(why,
+                      "is not a plain fan end: the leaflets meet it with " + str(faces) + " faces and " + str(border) +
+                          " border edges (one corner face per leaflet needed, " + str(g) +
+                          "; edges there inside a leaflet: " + str(inner) + ")",
+                      edit);
+    for (const int f : around) {
+        const int x = corner_neighbour(s.faces[f], v, other), d = faces_on(in, v, x);
+        if (d != 1)
+            return why != nullptr &&
+                   refuse(why,
+                          "is not a plain fan end: face " + str(f) + " leaves it by its side to skeleton vertex " +
+                              str(x) + ", shared by " + str(d) + " faces (each face needs its own border side there)",
+                          edit);
+    }
+    return true;
+}
+
+// Is w a fan-edge end carrying a branch that the retraction can take: on exactly one fan edge (u, w), every face at w
+// one of those around (u, w) and leaving w by its own border side, and on branch edges whose mean direction is within
+// 45 degrees of the fan line's continuation? Fills c (whatever u is); else sets *why to the first condition that
+// fails (fan_end_refusal).
+bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, FanEndRefusal* why) {
+    int fan_edge = -1, fans = 0, border = 0, inner = 0, branches = 0;
+    Vec3 branch{};
+    for (const int e : in.vertex_edges[w]) {
+        const int x = other_end(s, e, w), d = faces_on(in, w, x);
+        if (d == 0) branch += normalized(s.points[x] - s.points[w]), ++branches;
+        if (d == 1) ++border;
+        if (d == 2) ++inner;
+        if (d >= 3) fan_edge = e, ++fans;
+    }
+    if (fans != 1)
+        return why != nullptr &&
+               refuse(why, "the vertex is on " + str(fans) + " fan edges (the repair needs exactly one)", off_fan());
+    if (branches == 0)
+        return why != nullptr && refuse(why, "the vertex has no branch edge", "none needed (no branch to carry)");
+    const int u = other_end(s, fan_edge, w);
+    const std::vector<int>& around = in.side_faces.at(std::minmax(u, w));
+    const int g = static_cast<int>(around.size()), faces = static_cast<int>(in.vertex_faces[w].size());
+    if (inner > 0 || border != g || faces != g)
+        return why != nullptr &&
+               refuse(why,
+                      "the leaflets around the fan edge meet the vertex with " + str(faces) + " faces and " +
+                          str(border) + " border edges (the repair needs one corner face per leaflet, " + str(g) +
+                          (inner > 0 ? "; edges there inside a leaflet (2 faces each): " + str(inner) : "") + ")",
+                      "make every leaflet there end with one corner face at this vertex (cut off the faces beyond the "
+                      "fan edge's end, or end the fan edge where the leaflets' borders turn), or " +
+                          off_fan());
+    for (const int f : around) {  // each face leaves w by its own border side (implied by the counts above for quads)
+        const int x = corner_neighbour(s.faces[f], w, u), d = faces_on(in, w, x);
+        if (d != 1)
+            return why != nullptr &&
+                   refuse(why,
+                          "face " + str(f) + " around the fan edge leaves the vertex by its side to skeleton vertex " +
+                              str(x) + ", shared by " + str(d) +
+                              " faces (the repair needs each face to leave it by its own border side)",
+                          "make that side a border of face " + str(f) + " alone, or " + off_fan());
+    }
+    if (!(norm(branch) > 1e-9)) {
+        std::ostringstream len;
+        len << norm(branch);
+        return why != nullptr &&
+               refuse(why,
+                      "the directions of its " + str(branches) + " branches cancel (their unit vectors sum to length " +
+                          len.str() + ", no mean direction to compare with the fan line)",
+                      "remove one of the opposite branches, or " + off_fan());
+    }
+    const double cos = dot(normalized(branch), normalized(s.points[w] - s.points[u]));
+    if (cos < kFanEndBranchCos)
+        return why != nullptr && refuse(why,
+                                        "the branch leaves " +
+                                            str(static_cast<int>(std::lround(std::acos(std::clamp(cos, -1.0, 1.0)) *
+                                                                             180 / std::numbers::pi))) +
+                                            " degrees off the fan line's continuation (the retraction takes branches "
+                                            "within 45 degrees of the fan "
+                                            "line; one across it would need a fan-block cap, not built)",
+                                        "turn the branch's first edge towards the fan line's continuation, or " +
+                                            off_fan() + " (e.g. the far corner of the leaflet it leans over)");
+    c = {w, u, around, normalized(branch)};
+    std::sort(c.faces.begin(), c.faces.end());
+    return true;
 }
 
 // What the repair does at w.
@@ -155,8 +240,10 @@ struct Crossing {
 };
 
 // The strips of the faces around the fan edge (u, w), each from its fan-edge side across the leaflet to a border
-// side (a side of one face), or empty when one strip meets a side of 3 or more faces, or a face twice.
-std::vector<Crossing> fan_edge_strips(const Skeleton& s, const Incidence& in, const Candidate& c) {
+// side (a side of one face), or empty when one strip meets a side of 3 or more faces, or a face twice (then *why, when
+// given, says which).
+std::vector<Crossing> fan_edge_strips(const Skeleton& s, const Incidence& in, const Candidate& c,
+                                      FanEndRefusal* why = nullptr) {
     std::vector<Crossing> out;
     std::vector<char> seen(s.faces.size(), 0);
     const auto side_at = [&](int f, int a, int b) {
@@ -167,13 +254,22 @@ std::vector<Crossing> fan_edge_strips(const Skeleton& s, const Incidence& in, co
     for (const int f0 : c.faces) {
         int f = f0, k = side_at(f0, c.u, c.w);
         while (true) {
-            if (seen[f]) return {};
+            if (seen[f]) {
+                refuse(why, "the strip of faces from face " + str(f0) + " meets face " + str(f) + " a second time", "");
+                return {};
+            }
             seen[f] = 1;
             out.push_back({f, k});
             const int a = s.faces[f][(k + 2) % 4], b = s.faces[f][(k + 3) % 4];
             const std::vector<int>& next = in.side_faces.at(std::minmax(a, b));
             if (next.size() == 1) break;
-            if (next.size() != 2) return {};
+            if (next.size() != 2) {
+                refuse(why,
+                       "the strip of faces from face " + str(f0) + " meets the side (" + str(a) + ", " + str(b) +
+                           ") of face " + str(f) + ", shared by " + str(static_cast<int>(next.size())) + " faces",
+                       "");
+                return {};
+            }
             f = next[0] == f ? next[1] : next[0];
             k = side_at(f, a, b);
         }
@@ -305,6 +401,64 @@ FanEndRetraction retract(Skeleton& s, const Candidate& c) {
 }
 
 }  // namespace
+
+std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
+    const int n = static_cast<int>(s.points.size());
+    for (const std::array<int, 2>& e : s.edges)
+        if (e[0] < 0 || e[0] >= n || e[1] < 0 || e[1] >= n || e[0] == e[1])
+            return FanEndRefusal{"the skeleton has an edge with an index out of range or a loop", "fix the edge"};
+    for (const std::vector<int>& f : s.faces)
+        if (f.size() != 4 || std::any_of(f.begin(), f.end(), [n](int v) { return v < 0 || v >= n; }))
+            return FanEndRefusal{"the skeleton has a face that is not a quad of vertices in range", "fix the face"};
+    if (w < 0 || w >= n) return FanEndRefusal{"no such vertex", "name a vertex of the skeleton"};
+    const Incidence in = make_incidence(s);
+    Candidate c, other;
+    FanEndRefusal why;
+    if (!branch_end(s, in, w, c, &why)) return why;
+    const std::string u = "skeleton vertex " + str(c.u);
+    // A chain of 1 or 2 fan edges with a retractable branch at its other end too (split_short_chains_with_two_branches).
+    const std::vector<int> chain = chain_from(s, in, w, c.u);
+    const int k = static_cast<int>(chain.size()) - 1;
+    if (k >= 1 && k < 3 && branch_end(s, in, chain.back(), other)) {
+        for (int i = 0; i < k; ++i) {
+            Candidate edge{chain[i + 1], chain[i], in.side_faces.at(std::minmax(chain[i], chain[i + 1])), {}};
+            if (!fan_edge_strips(s, in, edge, &why).empty()) continue;
+            // Not cut: a chain of 2 is retracted at its lower end as it is (u goes on past it), the other end refused.
+            if (k == 2 && w < chain.back()) return std::nullopt;
+            return FanEndRefusal{
+                "the fan-edge chain from it has " + str(k) + " fan edge" + (k == 1 ? "" : "s") +
+                    " and a branch the repair takes at its other end too, skeleton vertex " + str(chain.back()) +
+                    "; such a chain is cut into 3 or more fan edges first (both ends retracted) only when the "
+                    "strips of faces from each of its fan edges cross the leaflets to a border, and on the fan edge (" +
+                    str(chain[i]) + ", " + str(chain[i + 1]) + ") " + why.reason,
+                "cut the chain into 3 fan edges by hand (with the strips of their faces), or make that strip reach a "
+                "border, or start one of the two branches from a corner of one leaflet off the fan edge"};
+        }
+        return std::nullopt;
+    }
+    const int u_fans = fan_edges_at(s, in, c.u);
+    if (u_fans == 2) return std::nullopt;  // retracted as it is
+    if (u_fans != 1)
+        return FanEndRefusal{
+            "the fan edge's other end, " + u + ", is on " + str(u_fans) +
+                " fan edges (the repair slides it along the fan line: the fan-edge chain must go on past it by one "
+                "fan edge, or end there)",
+            "start the branch from a corner of one leaflet off the fan edge, or make the fan edges at " + u +
+                " one chain"};
+    if (!plain_fan_end(s, in, c.u, w, &why))
+        return FanEndRefusal{"the fan edge is a single one (its other end, " + u + ", " + why.reason +
+                                 "); a single fan edge is split in two first only when every face at its other end "
+                                 "is one of the fan edge's faces with its own border side there",
+                             why.edit};
+    if (fan_edge_strips(s, in, c, &why).empty())
+        return FanEndRefusal{"the fan edge is a single one (its other end, " + u +
+                                 ", is a fan-edge end); a single fan edge is split in two first only when the strips "
+                                 "of its faces cross the leaflets to a border without meeting another fan edge, and " +
+                                 why.reason,
+                             "split the fan edge and the strips of its faces in two by hand, or make the leaflets' "
+                             "strips from the fan edge reach a border"};
+    return std::nullopt;  // split, then retracted
+}
 
 std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
     std::vector<FanEndRetraction> done;

@@ -46,6 +46,8 @@
 // Raw hexes: the standard count on the repaired skeleton, i.e. +2 (g - 1) (one border side more per retracted face),
 // plus, after a split, 2 per cut face and 2 per cut border side (one leaflet face and one border side more each).
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "mesohex/core/skeleton.h"
@@ -70,6 +72,22 @@ struct FanEndRetraction {
     int strip_faces_split = 0;      // faces cut in two by that split (the strips from the fan edge to the borders)
     friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
 };
+
+// Why the repair leaves the branch on vertex w as it is: the first of the repair's own conditions (the configuration
+// above, walked in the order the repair checks it) that fails at w, with the value measured (faces, border edges,
+// angle in degrees, fan edges at u, the strip that does not cross, ...) and an edit of the skeleton that removes the
+// obstacle. Worded to follow "skeleton vertex w: ... the fan-end repair does not take: " (skeleton_analysis.cpp).
+struct FanEndRefusal {
+    std::string reason;  // the failing condition and its measured value
+    std::string edit;    // a concrete edit suggestion
+};
+
+// std::nullopt when retract_fan_ends(s) would retract the fan edge from w (with its split or cut first), given the
+// skeleton as it is (radii are not read); a reason otherwise, also for a vertex that is no fan-edge end with a branch.
+// A chain of 2 fan edges with branches at both ends whose strips do not cross is retracted at its lower end only: the
+// higher end is refused (on the skeleton after that retraction, its reason is then that u is not a plain fan end).
+// O((V + E + F) log E).
+std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w);
 
 // Preconditions: one radius > 0 per vertex, faces quads, indices in range (else nothing is done: analysis reports
 // the input). Postconditions: V - E + F unchanged (each retracted face adds w_i and the side (u, w_i)); input vertices,

@@ -7,6 +7,7 @@
 #include <map>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "mesohex/core/error.h"
@@ -274,54 +275,25 @@ struct VertexStar {
     bool inside_a_leaflet = false;  // some leaflet has faces at it but no boundary or fan edge at it
     int leaflets = 0;               // leaflets with faces at it
     int faces = 0;                  // faces at it
-    // A branch on a fan-edge end (nb > 0, nfan == 1), for the refusal's reason: the fan edge's other end u, cos of the
-    // angle between the mean branch direction and the fan line's continuation, u's fan and branch edges.
-    int fan_neighbour = -1;
-    double branch_cos = 1;
-    int neighbour_fans = 0, neighbour_branches = 0;
 };
 
 // Fan-edge vertex: its class, or Error(UnsupportedConfiguration) for a branch edge on it (accepted on a fan-edge end
 // with fan_end_branches) or an irregular fan.
-VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, int v, bool fan_end_branches) {
+VertexClass classify_fan_vertex(const Skeleton& s, const VertexStar& st, const std::string& vname, int v,
+                                bool fan_end_branches) {
     if (st.nb > 0 && st.nfan == 1 && !fan_end_branches) {
-        // Why the fan-end repair (fan_end_repair.h) did not take it, the first condition that fails, and the edit.
+        // Why the fan-end repair (fan_end_repair.h) does not take it: the first of its conditions that fails, and
+        // the edit; none fails when the repair did not run.
         const int g = st.fan_degrees[0];
-        std::string why, edit;
-        if (st.faces != g || st.nbnd != g) {
-            why = "the leaflets around the fan edge meet the vertex with " + std::to_string(st.faces) + " faces and " +
-                  std::to_string(st.nbnd) + " border edges (the repair needs one corner face per leaflet, " +
-                  std::to_string(g) + ")";
-            edit =
-                "make every leaflet there end with one corner face at this vertex (cut off the faces beyond the fan "
-                "edge's end, or end the fan edge where the leaflets' borders turn), or start the branch from a "
-                "corner of one leaflet off the fan edge";
-        } else if (st.branch_cos < kFanEndBranchCos) {
-            why = "the branch leaves " +
-                  std::to_string(static_cast<int>(
-                      std::lround(std::acos(std::clamp(st.branch_cos, -1.0, 1.0)) * 180 / std::numbers::pi))) +
-                  " degrees off the fan line's continuation (the retraction takes branches within 45 degrees of the "
-                  "fan line; one across it would need a fan-block cap, not built)";
-            edit =
-                "turn the branch's first edge towards the fan line's continuation, or start the branch from a "
-                "corner of one leaflet off the fan edge (e.g. the far corner of the leaflet it leans over)";
-        } else if (st.neighbour_fans == 1) {
-            why = "the fan edge is a single one (its other end, skeleton vertex " + std::to_string(st.fan_neighbour) +
-                  (st.neighbour_branches > 0 ? ", carries a branch too" : ", is a fan-edge end") +
-                  "); a single fan edge is split in two first (into thirds with branches at both ends) only when "
-                  "every face at its other end is one of the fan edge's faces with its own border side there and "
-                  "their strips of faces cross the leaflets to a border without meeting another fan edge";
-            edit =
-                "split the fan edge and the strips of its faces in two by hand, or make the leaflets' strips from "
-                "the fan edge reach a border";
-        } else {
-            why =
-                "the skeleton repair that retracts the fan edge from it did not run (it runs with resampling only, and "
-                "when not turned off)";
-            edit =
-                "mesh with resampling (do not pass --no-resample), or start the branch from a corner of one "
-                "leaflet off the fan edge";
-        }
+        const std::optional<FanEndRefusal> refusal = fan_end_refusal(s, v);
+        const std::string why =
+            refusal ? refusal->reason
+                    : "the skeleton repair that retracts the fan edge from it did not run (it runs with resampling "
+                      "only, and when not turned off)";
+        const std::string edit = refusal ? refusal->edit
+                                         : "mesh with resampling (do not pass --no-resample) and the repair on "
+                                           "(SkeletonRepairOptions::fan_end_retraction), or start the branch from a "
+                                           "corner of one leaflet off the fan edge";
         fail(ErrorCode::UnsupportedConfiguration,
              vname + ": a branch on a fan-edge end (the end of a fan edge shared by " + std::to_string(g) +
                  " faces; the paper's limitation 3) that the fan-end repair does not take: " + why + "; edit: " + edit,
@@ -356,7 +328,7 @@ VertexClass classify_fan_vertex(const VertexStar& st, const std::string& vname, 
 VertexClass classify_vertex(const Skeleton& s, const VertexStar& st, int v, bool fan_end_branches,
                             SkeletonAnalysis& an) {
     const std::string vname = "skeleton vertex " + std::to_string(v);
-    if (st.nfan > 0) return classify_fan_vertex(st, vname, v, fan_end_branches);
+    if (st.nfan > 0) return classify_fan_vertex(s, st, vname, v, fan_end_branches);
     if (st.inside_a_leaflet && st.nb == 1 && st.nbnd == 0 && st.leaflets == 1 && st.ninner == 4 && st.faces == 4) {
         // Beyond the paper's limitation 1: one branch leaving a regular interior vertex (4 faces of one
         // leaflet). The branch's first chunk stands on the 2 x 2 plate faces around the vertex, on the side the
@@ -447,22 +419,6 @@ void classify_vertices(const Skeleton& s, bool fan_end_branches, SkeletonAnalysi
         for (const std::pair<int, bool>& x : leaflet_rim[v]) st.inside_a_leaflet = st.inside_a_leaflet || !x.second;
         st.leaflets = static_cast<int>(leaflet_rim[v].size());
         st.faces = faces_at[v];
-        if (st.nb > 0 && st.nfan == 1) {  // a branch on a fan-edge end: what the refusal's reason needs
-            Vec3 branch{};
-            for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
-                const std::array<int, 2>& e = s.edges[static_cast<std::size_t>(an.vertex_edges[i])];
-                const int x = e[0] == v ? e[1] : e[0], d = an.edge_degree[an.vertex_edges[i]];
-                if (d == 0) branch += normalized(s.points[x] - s.points[v]);
-                if (d >= 3) st.fan_neighbour = x;
-            }
-            const int u = st.fan_neighbour;
-            st.branch_cos = norm(branch) > 1e-9 ? dot(normalized(branch), normalized(s.points[v] - s.points[u])) : 1;
-            for (int i = an.vertex_edge_begin[u]; i < an.vertex_edge_begin[u + 1]; ++i) {
-                const int d = an.edge_degree[an.vertex_edges[i]];
-                st.neighbour_fans += d >= 3 ? 1 : 0;
-                st.neighbour_branches += d == 0 ? 1 : 0;
-            }
-        }
         an.vertex_branch_edges[v] = st.nb;
         an.vertex_boundary_edges[v] = st.nbnd;
         an.vertex_class[v] = classify_vertex(s, st, v, fan_end_branches, an);
