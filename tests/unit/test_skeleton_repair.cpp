@@ -491,6 +491,100 @@ TEST(SkeletonRepair, BranchingEndMerged) {
     EXPECT_EQ(kept.skeleton, in);
 }
 
+// Merges do not chain. The long branch goes up the z axis from c = (0, 0, 0) to (0, 0, 3) (and down to (0, 0, -1));
+// the short one leaves at 20 degrees towards +x, 0.3 long, to b1, as in BranchingEndMerged: merged into t1 = the
+// midpoint of b1 and (0, 0, 0.3) = (0.0513, 0, 0.2910), radius 0.1261. One of b1's children goes on up, 0.3 from t1 at
+// 20 degrees towards -x, to a second branching point b2 (two children sideways). At t1 the pair (the long branch's
+// rest, the branch to b2) is the same situation again (shown by the control, where t1 is an input vertex: merged),
+// but t1 was made by a merge and takes part in no further merge: 1 merge and 1 unseparated pair, not 2 merges.
+TEST(SkeletonRepair, MergedBallNotMergedAgain) {
+    const double r = 0.1;
+    const Vec3 b1{0.3 * std::sin(20 * kDeg), 0, 0.3 * std::cos(20 * kDeg)};
+    const Vec3 t1 = 0.5 * (b1 + Vec3{0, 0, 0.3});
+    const Vec3 b2 = t1 + Vec3{-0.3 * std::sin(20 * kDeg), 0, 0.3 * std::cos(20 * kDeg)};
+    Skeleton in;
+    in.points = {{0, 0, -1},
+                 {0, 0, 0},
+                 {0, 0, 3},
+                 b1,
+                 b1 + Vec3{1, 0, -0.2},
+                 b2,
+                 b2 + Vec3{-1, 0, -0.2},
+                 b2 + Vec3{0, -1, -0.2}};
+    in.radii.assign(in.points.size(), r);
+    in.edges = {{0, 1}, {1, 2}, {1, 3}, {3, 4}, {3, 5}, {5, 6}, {5, 7}};
+    mesohex::SkeletonRepairOptions o;
+    o.merge_branching_ends = true;
+    o.junction_split = 0;  // the merges are tested here, not the split after them
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, o);
+    EXPECT_EQ(res.merged_ends, 1);
+    EXPECT_EQ(res.unseparated, 1);
+    EXPECT_EQ(res.trunks + res.absorbed_stubs + res.side_stubs, 0);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 8u);  // b1 (3) gone, t1 appended (7)
+    EXPECT_EQ(res.vertex_map[3], -1);
+    EXPECT_EQ(res.vertex_map[5], 4);  // b2 stays
+    EXPECT_NEAR(distance(s.points[7], t1), 0, 1e-12);
+    EXPECT_NEAR(s.radii[7], 0.1261, 1e-4);
+    EXPECT_EQ(degree(s, 7), 4);  // c, the long branch's end, b1's two children
+    EXPECT_EQ(degree(s, 4), 3);  // b2 as it was
+    // Control: t1 (radius 0.1261) as an input branching point with the same branches; the pair at it is merged.
+    Skeleton ctrl;
+    ctrl.points = {{0, 0, -1},
+                   {0, 0, 0},
+                   {0, 0, 3},
+                   t1,
+                   b1 + Vec3{1, 0, -0.2},
+                   b2,
+                   b2 + Vec3{-1, 0, -0.2},
+                   b2 + Vec3{0, -1, -0.2}};
+    ctrl.radii.assign(ctrl.points.size(), r);
+    ctrl.radii[3] = s.radii[7];
+    ctrl.edges = {{0, 1}, {1, 3}, {3, 2}, {3, 4}, {3, 5}, {5, 6}, {5, 7}};
+    const mesohex::SkeletonRepairResult again = mesohex::repair_skeleton(ctrl, o);
+    EXPECT_EQ(again.merged_ends, 1);
+    EXPECT_EQ(again.vertex_map[5], -1);  // b2 merged
+}
+
+// Merged ends on real inputs (docs/junctions.md, "Merged ends"). Seed 62: the trunk's t is merged (its tubes do not
+// separate from c's third branch). Seeds 106 and 107: the shorter walk of the close pair ends at a side stub's root q,
+// which is not merged (q only carries the side stub; merging it re-rooted the stub at t, where it was absorbed after
+// all). The determinism test's random tree, whose tubes overlap along whole branches: without the guard against
+// chained merges 782 merges took the 1 500-vertex tree down to 65 vertices; with it 28 merges.
+TEST(SkeletonRepair, MergedEndsOnRandomInputs) {
+    mesohex::SkeletonRepairOptions o;
+    o.merge_branching_ends = true;
+    const auto seed_run = [&](int seed) {
+        return mesohex::repair_skeleton(mesohex::generate_random_skeleton(static_cast<std::uint64_t>(seed)), o);
+    };
+    const mesohex::SkeletonRepairResult s62 = seed_run(62);
+    EXPECT_EQ(s62.trunks, 1);
+    EXPECT_EQ(s62.merged_ends, 1);
+    EXPECT_EQ(s62.unseparated, 0);
+    for (const int seed : {106, 107}) {
+        const mesohex::SkeletonRepairResult r = seed_run(seed);
+        EXPECT_EQ(r.side_stubs, 1) << seed;
+        EXPECT_EQ(r.merged_ends, 0) << seed;
+        EXPECT_EQ(r.absorbed_stubs, 0) << seed;
+        EXPECT_EQ(r.unseparated, 1) << seed;
+    }
+    const auto branching = [](const Skeleton& s) {
+        int n = 0;
+        for (int v = 0; v < static_cast<int>(s.points.size()); ++v) n += degree(s, v) >= 3 ? 1 : 0;
+        return n;
+    };
+    const Skeleton tree = mesohex::bench::random_tree(1500, 7);
+    ASSERT_EQ(branching(tree), 237);
+    const mesohex::SkeletonRepairResult on = mesohex::repair_skeleton(tree, o);
+    EXPECT_EQ(on.merged_ends, 28);
+    EXPECT_EQ(on.skeleton.points.size(), 1517u);
+    EXPECT_EQ(branching(on.skeleton), 226);
+    o.merge_branching_ends = false;  // for comparison: 1 538 vertices, 249 branching points
+    const mesohex::SkeletonRepairResult off = mesohex::repair_skeleton(tree, o);
+    EXPECT_EQ(off.skeleton.points.size(), 1538u);
+    EXPECT_EQ(branching(off.skeleton), 249);
+}
+
 // Leaflet vertices are never branching points of the repair; faces and their edges stay as they are.
 TEST(SkeletonRepair, LeafletsUntouched) {
     Skeleton s;
@@ -709,7 +803,8 @@ TEST(SkeletonRepair, IncrementalScanEqualsFullRescan) {
             EXPECT_EQ(a.absorbed_stubs, b.absorbed_stubs);
             EXPECT_EQ(a.merged_ends, b.merged_ends);
             EXPECT_EQ(a.unseparated, b.unseparated);
-            repairs += a.trunks + a.absorbed_stubs + a.merged_ends;
+            EXPECT_EQ(a.side_stubs, b.side_stubs);
+            repairs += a.trunks + a.absorbed_stubs + a.merged_ends + a.side_stubs;
         }
     EXPECT_GT(repairs, 100);  // the trees do need many repairs (else the test checks nothing)
 }

@@ -30,6 +30,7 @@ struct Graph {
     std::vector<bool> on_face;
     std::vector<int> degree;   // all edges, leaflet sides included
     std::vector<bool> frozen;  // not scanned: the roots of side stubs (their pairs are the stub's own repair)
+    std::vector<bool> merged;  // balls t made by a merge: no further merge at them (as c or as b)
 };
 
 // Fills g for s, reusing g's arrays (called once per repair round).
@@ -329,8 +330,17 @@ bool absorbable(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& 
         return o.absorb_stubs;
     }
     kind = PairRepair::merge;
-    if (!o.merge_branching_ends || g.on_face[b] || g.inc[b].size() < 3 ||
-        g.degree[b] != static_cast<int>(g.inc[b].size()) || !(keep.length() > shorter.length()))
+    // A ball made by a merge takes part in no further merge, neither as the pair's point c nor as the merged end b:
+    // each merge moves a junction onto a pair's midpoint, and chained merges would walk it along whole branches.
+    // Nor is a side stub's root q merged: q lies on the other branch's polyline only to carry the side stub, the branch
+    // goes on through it, and merging q would re-root the stub at t, where its end, which side_stub_reach kept off
+    // the branch, is absorbed after all (docs/junctions.md, "Merged ends").
+    const auto marked = [&](const std::vector<bool>& m, int v) {
+        return static_cast<std::size_t>(v) < m.size() && m[v];
+    };
+    if (!o.merge_branching_ends || marked(g.merged, b) || marked(g.merged, shorter.verts[0]) || marked(g.frozen, b) ||
+        g.on_face[b] || g.inc[b].size() < 3 || g.degree[b] != static_cast<int>(g.inc[b].size()) ||
+        !(keep.length() > shorter.length()))
         return false;
     // b's other edges must lead away from the pair (no cycle through c, the other walk or this one).
     std::set<int> pair(keep.verts.begin(), keep.verts.end());
@@ -624,10 +634,16 @@ std::vector<bool> touched_vertices(const Geometry& before, const Geometry& edite
     return touched;
 }
 
+// What a repair made that later rounds must know about, by the ids before the renumbering (-1: none).
+struct Made {
+    int side_root = -1;  // a side stub's root q (frozen)
+    int merge_t = -1;    // a merge's ball t
+};
+
 // Applies one repair (best.ei, best.ej: edge ids): t, the edge (c, t), and per walk its edits. Returns the new id of
 // every vertex before the repair (-1: dropped) and sets `touched` (touched_vertices).
 std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& best, const SkeletonRepairOptions& o,
-                                 SkeletonRepairResult& res, std::vector<bool>& touched, int& side_root) {
+                                 SkeletonRepairResult& res, std::vector<bool>& touched, Made& made) {
     const Geometry before{s.points, s.radii, s.edges};
     const int n = static_cast<int>(s.points.size()), c = best.c, t = n;
     const Walk wi = walk(s, g, c, best.ei), wj = walk(s, g, c, best.ej);
@@ -638,7 +654,7 @@ std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& b
         const Geometry edited{s.points, s.radii, s.edges};
         std::vector<int> id = rebuild(s, n, ed, res);
         touched = touched_vertices(before, edited, ed, id, static_cast<int>(s.points.size()));
-        side_root = id[q];
+        made.side_root = q;
         return id;
     }
     s.points.push_back(best.t);
@@ -655,6 +671,7 @@ std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& b
         join_kept(s, g, wi, wj, best.ei, t, keep_joints, o.absorbed_ball_width, ed);
         drop_absorbed(s, g, wj, best.ej, t, ed);
         ++(best.kind == PairRepair::stub ? res.absorbed_stubs : res.merged_ends);
+        if (best.kind == PairRepair::merge) made.merge_t = t;
         res.absorbed_balls.push_back(t);
     }
     const Geometry edited{s.points, s.radii, s.edges};
@@ -708,10 +725,12 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
     std::vector<PointScan> scans(s.points.size());
     std::vector<bool> stale(s.points.size(), true);
     std::vector<bool> frozen(s.points.size(), false);  // side stub roots (Graph::frozen)
+    std::vector<bool> merged(s.points.size(), false);  // balls made by merges (Graph::merged)
     Graph g;
     for (std::size_t round = 0; round < budget; ++round) {
         make_graph(s, g);
         g.frozen = frozen;
+        g.merged = merged;
         if (round > 0) stale = stale_points(s, g, stale);
         const int n = static_cast<int>(s.points.size());
         if (round == 0)  // every point: in parallel (each task writes its own scans[c]; the same bits for any count)
@@ -731,16 +750,18 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
         if (best.c < 0 || round + 1 == budget) res.unseparated = count_unseparated(s, g, scans);
         if (best.c < 0) break;
         best.ei = g.inc[best.c][best.ei], best.ej = g.inc[best.c][best.ej];
-        int side_root = -1;
-        const std::vector<int> id = apply_candidate(s, g, best, o, res, stale, side_root);
+        Made made;
+        const std::vector<int> id = apply_candidate(s, g, best, o, res, stale, made);
         for (int v = 0; v < n; ++v)  // id keeps the order of the kept vertices: id[v] <= v, in place
             if (id[v] >= 0 && id[v] != v) scans[id[v]] = std::move(scans[v]);
         scans.resize(s.points.size());
-        std::vector<bool> kept_frozen(s.points.size(), false);
+        std::vector<bool> kept_frozen(s.points.size(), false), kept_merged(s.points.size(), false);
         for (int v = 0; v < n; ++v)
-            if (id[v] >= 0) kept_frozen[id[v]] = frozen[v];
-        if (side_root >= 0) kept_frozen[side_root] = true;
+            if (id[v] >= 0) kept_frozen[id[v]] = frozen[v], kept_merged[id[v]] = merged[v];
+        if (made.side_root >= 0) kept_frozen[id[made.side_root]] = true;
+        if (made.merge_t >= 0) kept_merged[id[made.merge_t]] = true;
         frozen = std::move(kept_frozen);
+        merged = std::move(kept_merged);
     }
 }
 

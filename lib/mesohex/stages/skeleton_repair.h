@@ -88,8 +88,10 @@ struct SkeletonRepairOptions {
     // A merge: the shorter branch of a close pair ends at a branching point b (no leaflet) before the tubes separate.
     // It is absorbed like a stub (t at the midpoint of b and the other branch's point at the same arc length, radius as
     // a stub's); b's other branches leave t. c loses a branch (degree 3: a joint), t gets b's. Not when b's
-    // other edges lead back to the pair (a cycle). Off: it cascades on dense trees whose tubes overlap along whole
-    // branches, absorbing most of the tree (docs/tuning.md).
+    // other edges lead back to the pair (a cycle), not when b is a side stub's root (the branch goes on through it),
+    // and a ball t made by a merge takes part in no further merge (as c or b): without that guard merges chained on
+    // dense trees whose tubes overlap along whole branches, absorbing most of the tree. Off: on the random set every
+    // merge left acts on a trunk's t, and on seeds 201-400 it is no net gain (docs/junctions.md, "Merged ends").
     bool merge_branching_ends = false;
     // Branching points of degree 4 (no leaflet) that the pair repairs left as they are and whose closest pair of
     // branches is less than 90 degrees apart are split into two branching points of degree 3: the close pair leaves a
