@@ -100,7 +100,7 @@ def main():
         body = []
         for p, default, meaning in want:
             # An unescaped '|' in the hand-written history splits it into several cells: keep them all.
-            history = ' \\| '.join(cells[p][3:]) if p in cells else ''
+            history = ' \\| '.join(c for c in cells[p][3:] if c) if p in cells else ''
             body.append(f'| {p} | {default} | {meaning} | {history} |')
         open(doc, 'w').write('\n'.join(lines[:first] + body + lines[last:]))
         return 0
