@@ -394,6 +394,75 @@ TEST(StudioSessions, RowPatchOfAnInsertion) {
     EXPECT_EQ(d.u32, whole.u32);
 }
 
+// Row b of abcd deleted: the points come as two runs (a; c d resumed after the gap), no literal row; the edges, whose
+// vertex numbers all shift past b, as one run translated by the points' row map: 3 runs of 8 bytes. A hostile copy
+// of that patch (a source row past the base, a width that wraps 4 x width) is refused with invalid_argument, never
+// a crash.
+TEST(StudioSessions, RowPatchOfADeletionAndHostileCopies) {
+    studio::BinaryArrays base, full;
+    studio::append_f32(base, "v", std::vector<Vec3>{{1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {4, 0, 0}});
+    studio::append_u32_cells(base, "e", std::vector<std::array<int, 2>>{{0, 2}, {2, 3}});
+    studio::append_f32(full, "v", std::vector<Vec3>{{1, 0, 0}, {3, 0, 0}, {4, 0, 0}});
+    studio::append_u32_cells(full, "e", std::vector<std::array<int, 2>>{{0, 1}, {1, 2}});
+    const std::vector<studio::RowLayout> layouts = {{"v", 3, "", 0}, {"e", 2, "v", 2}};
+    const studio::BinaryArrays p = studio::patch_arrays(base, full, layouts);
+    EXPECT_EQ(p.list[0]["rows"], 2);
+    EXPECT_EQ(p.list[0]["literal"], 0);
+    EXPECT_EQ(p.list[1]["rows"], 1);
+    EXPECT_EQ(p.list[1]["literal"], 0);
+    EXPECT_EQ(p.bytes.size(), 8 * 3u);
+    const studio::DecodedAnswer previous = studio::decode_binary_answer(studio::binary_answer(json::object(), base));
+    const studio::DecodedAnswer d = studio::decode_binary_answer(studio::binary_answer(json::object(), p), &previous);
+    const studio::DecodedAnswer whole = studio::decode_binary_answer(studio::binary_answer(json::object(), full));
+    EXPECT_EQ(d.f32, whole.f32);
+    EXPECT_EQ(d.u32, whole.u32);
+
+    studio::BinaryArrays far = p;  // the points' second run starts at base row 7 (the base has 4)
+    far.bytes[12] = 7;
+    EXPECT_THROW(studio::decode_binary_answer(studio::binary_answer(json::object(), far), &previous),
+                 std::invalid_argument);
+    studio::BinaryArrays wide = p;  // count 0 passes the layout checks; 4 x 2^62 wraps to 0
+    wide.list[0]["count"] = 0;
+    wide.list[0]["width"] = std::uint64_t{1} << 62;
+    wide.list[0]["literal"] = 1;
+    EXPECT_THROW(studio::decode_binary_answer(studio::binary_answer(json::object(), wide), &previous),
+                 std::invalid_argument);
+    // Without the base the patch means nothing: refused too.
+    EXPECT_THROW(studio::decode_binary_answer(studio::binary_answer(json::object(), p)), std::invalid_argument);
+}
+
+// A base with two equal rows (a a b) patched into (a b): the first copy of each content is the source, the decoded
+// arrays equal the whole ones. And a 100 x 100 grid of points on a dyadic lattice (every coordinate's low bits zero,
+// the case that once put every row in one hash slot) with one point inserted in front: one literal row, one run.
+TEST(StudioSessions, RowPatchOfRepeatedRowsAndAGrid) {
+    studio::BinaryArrays base, full;
+    studio::append_f32(base, "v", std::vector<Vec3>{{1, 0, 0}, {1, 0, 0}, {2, 0, 0}});
+    studio::append_f32(full, "v", std::vector<Vec3>{{1, 0, 0}, {2, 0, 0}});
+    const std::vector<studio::RowLayout> layouts = {{"v", 3, "", 0}};
+    const studio::BinaryArrays p = studio::patch_arrays(base, full, layouts);
+    ASSERT_TRUE(p.list[0].contains("rows"));
+    EXPECT_EQ(p.list[0]["rows"], 2);
+    EXPECT_EQ(p.list[0]["literal"], 0);
+    const studio::DecodedAnswer previous = studio::decode_binary_answer(studio::binary_answer(json::object(), base));
+    EXPECT_EQ(studio::decode_binary_answer(studio::binary_answer(json::object(), p), &previous).f32,
+              studio::decode_binary_answer(studio::binary_answer(json::object(), full)).f32);
+
+    std::vector<Vec3> grid;
+    for (int i = 0; i < 100; ++i)
+        for (int j = 0; j < 100; ++j) grid.push_back({0.5 * i, 0.25 * j, 0});
+    std::vector<Vec3> moved = grid;
+    moved.insert(moved.begin(), Vec3{-1, -1, -1});
+    studio::BinaryArrays gb, gf;
+    studio::append_f32(gb, "v", grid);
+    studio::append_f32(gf, "v", moved);
+    const studio::BinaryArrays gp = studio::patch_arrays(gb, gf, layouts);
+    EXPECT_EQ(gp.list[0]["rows"], 2);
+    EXPECT_EQ(gp.list[0]["literal"], 1);
+    const studio::DecodedAnswer gprev = studio::decode_binary_answer(studio::binary_answer(json::object(), gb));
+    EXPECT_EQ(studio::decode_binary_answer(studio::binary_answer(json::object(), gp), &gprev).f32,
+              studio::decode_binary_answer(studio::binary_answer(json::object(), gf)).f32);
+}
+
 // A session on a 600-vertex random tree over HTTP: branching points moved one after the other (a drag's edits; some
 // change the adapted vertex count, so the raw mesh is renumbered and arrays change length). Every patch answer
 // decodes to the arrays of the sessionless whole answer, and stays under 1/10 of its size (1/16 to 1/48 here; on the
