@@ -39,6 +39,20 @@ void expect_refused_at(const Skeleton& s, int vertex, const std::string& words) 
     }
 }
 
+// A docked wall's raw mesh as derived by hand: 2 docked fan edges, the hex / vertex counts and singular edges (valence
+// -> count), valid, nothing inverted, Euler characteristic 1 (a disc with fins).
+void expect_docked_raw(const RawRun& r, long hexes, long vertices, const std::map<int, long>& interior,
+                       const std::map<int, long>& boundary) {
+    EXPECT_EQ(r.analysis.counts.docked_edges, 2);
+    EXPECT_EQ(r.quality.hexes, hexes);
+    EXPECT_EQ(r.quality.vertices, vertices);
+    EXPECT_EQ(r.quality.singular_interior_edges, interior);
+    EXPECT_EQ(r.quality.singular_boundary_edges, boundary);
+    EXPECT_TRUE(r.valid);
+    EXPECT_EQ(r.quality.inverted, 0);
+    EXPECT_EQ(r.quality.euler_characteristic, 1);
+}
+
 }  // namespace
 
 // Plate 6 x 6 (49 vertices: 24 on the border with 6 ids, 25 inside with 3; 36 faces, 24 border edges), a wall of 2 x 2
@@ -93,14 +107,7 @@ TEST(DockedWalls, WallsOnBothSidesByHand) {
     WallPlate w;
     w.sides = 2;
     const RawRun r = mesh_raw(wall_plate(w));
-    EXPECT_EQ(r.analysis.counts.docked_edges, 2);
-    EXPECT_EQ(r.quality.hexes, 160);
-    EXPECT_EQ(r.quality.vertices, 285);
-    EXPECT_EQ(r.quality.singular_interior_edges, (std::map<int, long>{{3, 16}}));
-    EXPECT_EQ(r.quality.singular_boundary_edges, (std::map<int, long>{{1, 72}, {3, 24}}));
-    EXPECT_TRUE(r.valid);
-    EXPECT_EQ(r.quality.inverted, 0);
-    EXPECT_EQ(r.quality.euler_characteristic, 1);
+    expect_docked_raw(r, 160, 285, {{3, 16}}, {{1, 72}, {3, 24}});
 }
 
 // The chain runs from the plate's border (vertex (3, 0)) to an interior vertex (3, 2). Hexes and vertices as centred
@@ -112,14 +119,7 @@ TEST(DockedWalls, WallEndingOnThePlateBorderByHand) {
     WallPlate w;
     w.start = 0;
     const RawRun r = mesh_raw(wall_plate(w));
-    EXPECT_EQ(r.analysis.counts.docked_edges, 2);
-    EXPECT_EQ(r.quality.hexes, 140);
-    EXPECT_EQ(r.quality.vertices, 252);
-    EXPECT_EQ(r.quality.singular_interior_edges, (std::map<int, long>{{3, 12}}));
-    EXPECT_EQ(r.quality.singular_boundary_edges, (std::map<int, long>{{1, 58}, {3, 10}}));
-    EXPECT_TRUE(r.valid);
-    EXPECT_EQ(r.quality.inverted, 0);
-    EXPECT_EQ(r.quality.euler_characteristic, 1);
+    expect_docked_raw(r, 140, 252, {{3, 12}}, {{1, 58}, {3, 10}});
     EXPECT_GT(r.quality.sj_min, 0.3);
 }
 
@@ -132,14 +132,7 @@ TEST(DockedWalls, WallsOnBothSidesFromThePlateBorderByHand) {
     w.start = 0;
     w.sides = 2;
     const RawRun r = mesh_raw(wall_plate(w));
-    EXPECT_EQ(r.analysis.counts.docked_edges, 2);
-    EXPECT_EQ(r.quality.hexes, 160);
-    EXPECT_EQ(r.quality.vertices, 285);
-    EXPECT_EQ(r.quality.singular_interior_edges, (std::map<int, long>{{3, 16}}));
-    EXPECT_EQ(r.quality.singular_boundary_edges, (std::map<int, long>{{1, 68}, {3, 20}}));
-    EXPECT_TRUE(r.valid);
-    EXPECT_EQ(r.quality.inverted, 0);
-    EXPECT_EQ(r.quality.euler_characteristic, 1);
+    expect_docked_raw(r, 160, 285, {{3, 16}}, {{1, 68}, {3, 20}});
 }
 
 // A chain whose ends are both on the plate's border splits the plate into two leaflets: a regular T fan, meshed with

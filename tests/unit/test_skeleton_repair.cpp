@@ -530,14 +530,8 @@ TEST(SkeletonRepair, MergedBallNotMergedAgain) {
     EXPECT_EQ(degree(s, 4), 3);  // b2 as it was
     // Control: t1 (radius 0.1261) as an input branching point with the same branches; the pair at it is merged.
     Skeleton ctrl;
-    ctrl.points = {{0, 0, -1},
-                   {0, 0, 0},
-                   {0, 0, 3},
-                   t1,
-                   b1 + Vec3{1, 0, -0.2},
-                   b2,
-                   b2 + Vec3{-1, 0, -0.2},
-                   b2 + Vec3{0, -1, -0.2}};
+    ctrl.points = in.points;
+    ctrl.points[3] = t1;  // b1's place, its children kept
     ctrl.radii.assign(ctrl.points.size(), r);
     ctrl.radii[3] = s.radii[7];
     ctrl.edges = {{0, 1}, {1, 3}, {3, 2}, {3, 4}, {3, 5}, {5, 6}, {5, 7}};
