@@ -32,11 +32,13 @@ export function decodeBinaryAnswer(buffer, previous = null) {
   let at = 12 + h;
   const get = (o, path) => { for (const k of path) o = o?.[k]; return o; };
   const rowMaps = new Map(); // name of a row-patched array -> Uint32Array: previous row -> new row
+  const seen = new Set(); // the arrays decoded so far (a row patch's ref must be one of them)
   for (const a of header.arrays) {
     const n = a.count;
     const path = String(a.name).split('.');
     if (a.rows !== undefined) {
-      const arr = readRowPatch(dv, at, a, get(previous, path), rowMaps);
+      const arr = readRowPatch(dv, at, a, get(previous, path), rowMaps, seen);
+      seen.add(a.name);
       at += 8 * a.rows + 4 * a.width * a.literal;
       let o = header;
       for (const k of path.slice(0, -1)) o = o[k] ??= {};
@@ -67,6 +69,7 @@ export function decodeBinaryAnswer(buffer, previous = null) {
       let o = header;
       for (const k of path.slice(0, -1)) o = o[k] ??= {};
       o[path[path.length - 1]] = arr;
+      seen.add(a.name);
       continue;
     }
     if (!Number.isInteger(n) || n < 0 || at + 4 * n > buffer.byteLength)
@@ -93,6 +96,7 @@ export function decodeBinaryAnswer(buffer, previous = null) {
     let o = header;
     for (const k of path.slice(0, -1)) o = o[k] ??= {};
     o[path[path.length - 1]] = arr;
+    seen.add(a.name);
   }
   if (at !== buffer.byteLength) throw new BinaryAnswerError(`binary answer: ${buffer.byteLength - at} bytes after the last array`);
   return header;
@@ -100,7 +104,7 @@ export function decodeBinaryAnswer(buffer, previous = null) {
 
 const NO_ROW = 0xffffffff;
 
-function readRowPatch(dv, at, a, old, rowMaps) {
+function readRowPatch(dv, at, a, old, rowMaps, seen) {
   const { count: n, width: w, rows: k, literal: lit } = a;
   const r = a.ref !== undefined ? a.ref_columns : 0;
   const reals = a.type === 'f32';
@@ -110,8 +114,12 @@ function readRowPatch(dv, at, a, old, rowMaps) {
     fail('layout');
   if (at + 8 * k + 4 * w * lit > dv.byteLength) fail('runs past the end');
   if (!old || !(reals ? old instanceof Float32Array : old instanceof Uint32Array)) fail('no previous array');
+  if (r && !rowMaps.has(a.ref) && !seen.has(a.ref)) fail(`ref ${a.ref}`);
   const ref = r ? rowMaps.get(a.ref) : undefined; // undefined: row numbers stay as they are
+  if (old.length % w) fail('previous array not whole rows');
   const oldRows = old.length / w;
+  // Each run copies at most oldRows rows, literal rows are given: more rows cannot be (checked before allocating).
+  if (n / w > lit + k * oldRows) fail('more rows than the runs can give');
   const map = new Uint32Array(oldRows).fill(NO_ROW);
   const arr = reals ? new Float32Array(n) : new Uint32Array(n);
   let row = 0, literal = 0;

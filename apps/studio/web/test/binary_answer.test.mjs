@@ -121,4 +121,16 @@ test('binary answer: a row patch copies runs of previous rows and translates the
   const long = patchAnswer({}, [{ entry: { name: 'mesh.vertices', type: 'f32', count: 6, width: 3, rows: 1, literal: 0 },
     words: [2, 3] }]);
   assert.throws(() => decodeBinaryAnswer(long, previous), BinaryAnswerError); // source rows out of range
+  // Hostile layouts are BinaryAnswerErrors, never a RangeError from an allocation: a count the runs cannot give
+  // (3e12 values from one run of at most 4 rows), a ref to no array of this answer, a width that does not divide the
+  // previous array (12 values in rows of 5).
+  const huge = patchAnswer({}, [{ entry: { name: 'mesh.vertices', type: 'f32', count: 3e12, width: 3, rows: 1,
+    literal: 0 }, words: [1, 0] }]);
+  assert.throws(() => decodeBinaryAnswer(huge, previous), BinaryAnswerError);
+  const noRef = patchAnswer({}, [{ entry: { name: 'mesh.hexes', type: 'u32', count: 4, width: 2, rows: 1, literal: 0,
+    ref: 'mesh.nothing', ref_columns: 2 }, words: [2, 0] }]);
+  assert.throws(() => decodeBinaryAnswer(noRef, previous), BinaryAnswerError);
+  const ragged = patchAnswer({}, [{ entry: { name: 'mesh.vertices', type: 'f32', count: 10, width: 5, rows: 1,
+    literal: 0 }, words: [2, 0] }]);
+  assert.throws(() => decodeBinaryAnswer(ragged, previous), BinaryAnswerError);
 });
