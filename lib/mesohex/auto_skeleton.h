@@ -59,12 +59,11 @@ struct AutoSkeletonOptions {
     // The meso-skeleton's leaflet vertices next to a join (the corners of every face that has a join, a vertex with
     // both faces and curve edges, among its corners; the join itself keeps its radius, which its branch's first chunk
     // needs): radius at most this x the vertex's shortest leaflet edge (a side of one of its faces; dimensionless; 0:
-    // no cap). Where a sheet meets a curve the medial sheet is thick against its simplified triangles (torque, pinion,
-    // hand: border edges at the BL-joints 0.13 to 1.2 x the radius): the plate hexes there are taller than wide and the
-    // half-chunks at the leaflet corner fold whatever the joint's frame. Elsewhere the radii stay (capping every
-    // leaflet vertex lowers plate1 from 0.383 to 0.115 min SJ: the fit then has to stretch the padding across the
-    // thickness). Measured on the shared surfaces (docs/sheets.md, "Thick leaflets at joins"): 0.35 lowers the meso raw
-    // mesh's inverted hexes on 7 of the 8 surfaces whose joins invert (torque 88 -> 45), pinion 7 -> 9.
+    // no cap). Where a sheet meets a curve the medial sheet can be thick against its simplified triangles (border
+    // edges at the BL-joints shorter than the radius): the plate hexes there are taller than wide and the half-chunks
+    // at the leaflet corner fold whatever the joint's frame. Elsewhere the radii stay (capping every leaflet vertex
+    // makes the fit stretch the padding across the thickness). Measurements per surface: docs/sheets.md ("Thick
+    // leaflets at joins") and docs/tuning.md.
     double meso_leaflet_radius_edge_factor = 0.35;
     // Auto: the answer. When the raw mesh of the curve skeleton Auto falls back to is invalid or has more than
     // max_answer_inverted inverted hexes, raw or after the finishing's padding layer, `refusal` says so (a meso-skeleton

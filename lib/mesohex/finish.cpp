@@ -446,13 +446,18 @@ int missed_goals(const FinishResult& r, const MeshGoals& goals) {
     return missed;
 }
 
-bool better_finish(const FinishResult& a, const FinishResult& b, const MeshGoals& goals) {
+int compare_inverted_then_goals(const FinishResult& a, const FinishResult& b, const MeshGoals& goals) {
     const auto badness = [](const FinishResult& r) {
         return r.quality.validation.valid() ? r.quality.inverted : std::numeric_limits<long>::max();
     };
-    if (badness(a) != badness(b)) return badness(a) < badness(b);
+    if (badness(a) != badness(b)) return badness(a) < badness(b) ? -1 : 1;
     const int ma = missed_goals(a, goals), mb = missed_goals(b, goals);
-    if (ma != mb) return ma < mb;
+    if (ma != mb) return ma < mb ? -1 : 1;
+    return 0;
+}
+
+bool better_finish(const FinishResult& a, const FinishResult& b, const MeshGoals& goals) {
+    if (const int c = compare_inverted_then_goals(a, b, goals); c != 0) return c < 0;
     if (a.distance_measured && b.distance_measured && a.distance.relative_max != b.distance.relative_max)
         return a.distance.relative_max < b.distance.relative_max;
     return a.quality.sj_min > b.quality.sj_min;

@@ -168,6 +168,9 @@ struct MeshGoals {
 };
 // Number of goals missed (0..4: validity-and-inversion, min, average, distance).
 int missed_goals(const FinishResult& r, const MeshGoals& goals = {});
+// The first criteria of both comparisons below: < 0 when `a` has fewer inverted hexes (a valid mesh before an invalid
+// one), else fewer goals missed; > 0 when `b` has; 0 when they tie on both.
+int compare_inverted_then_goals(const FinishResult& a, const FinishResult& b, const MeshGoals& goals = {});
 // True when `a` is strictly better than `b`: fewer inverted hexes (a valid mesh before an invalid one), else fewer
 // goals missed, else a smaller relative Hausdorff distance (when both measured it), else a higher min scaled Jacobian.
 bool better_finish(const FinishResult& a, const FinishResult& b, const MeshGoals& goals = {});

@@ -186,12 +186,7 @@ void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMes
 // missed goals, then a higher min scaled Jacobian. Unlike better_finish, not the Hausdorff distance first: within the
 // goal, the block's sharp crease and the paper's chamfered one trade a little distance for the worst hex.
 bool better_layout(const FinishResult& a, const FinishResult& b, const MeshGoals& goals) {
-    const auto badness = [](const FinishResult& r) {
-        return r.quality.validation.valid() ? r.quality.inverted : std::numeric_limits<long>::max();
-    };
-    if (badness(a) != badness(b)) return badness(a) < badness(b);
-    const int ma = missed_goals(a, goals), mb = missed_goals(b, goals);
-    if (ma != mb) return ma < mb;
+    if (const int c = compare_inverted_then_goals(a, b, goals); c != 0) return c < 0;
     return a.quality.sj_min > b.quality.sj_min;
 }
 
