@@ -1,18 +1,22 @@
 // Skeleton -> raw mesh (run_pipeline defaults, no file IO in the timed part): a measuring and checking tool for issue
 // 19 target 1, not a Google benchmark. Per input one line: name, raw hex count, FNV-1a hash of the raw mesh (the
 // points' bits and the hexes' vertex ids), the skeleton repair's counts (trunks / absorbed stubs / merged ends /
-// unseparated pairs), CPU ms per run of this thread. Two builds print the same hashes when their
-// raw meshes are identical bit for bit; one build prints the same hashes for any --threads.
+// unseparated pairs), CPU ms per run of this thread (min over the reps), then wall ms per run (min and median) and,
+// with --stages, each stage's wall ms (min over the reps; run_pipeline's timings_ms). Two builds print the same hashes
+// when their raw meshes are identical bit for bit; one build prints the same hashes for any --threads.
 //
-//   mesohex_raw_chain [--threads T] [--reps R] INPUT...
+//   mesohex_raw_chain [--threads T] [--reps R] [--stages] INPUT...
 //     INPUT: tree:VERTICES:SEED (bench::random_tree), star:VERTICES, gen:NAME (generate_skeleton), random:SEED
 //            (generate_random_skeleton), or a skeleton file path; gen:all = every generator, random:A-B = seeds A..B
 //   Run under valgrind --tool=callgrind for instruction counts (one rep).
+#include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -55,12 +59,15 @@ double cpu_ms() {
 
 int main(int argc, char** argv) {
     int threads = 1, reps = 1;
+    bool stages = false;
     std::vector<std::string> inputs;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--threads") && i + 1 < argc)
             threads = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
             reps = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--stages"))
+            stages = true;
         else if (!std::strcmp(argv[i], "gen:all"))
             for (const std::string& name : generator_names()) inputs.push_back("gen:" + name);
         else if (!std::strncmp(argv[i], "random:", 7) && std::strchr(argv[i], '-')) {
@@ -74,16 +81,33 @@ int main(int argc, char** argv) {
         try {
             const Skeleton s = make_input(spec);
             double best = 1e300;
+            std::vector<double> walls;
+            std::vector<std::string> stage_order;
+            std::map<std::string, double> stage_best;  // stage -> min wall ms over the reps
             PipelineResult res;
             for (int r = 0; r < reps; ++r) {
                 const double t0 = cpu_ms();
+                const auto w0 = std::chrono::steady_clock::now();
                 res = run_pipeline(s);
+                walls.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count());
                 const double t = cpu_ms() - t0;
                 best = t < best ? t : best;
+                for (const StageTiming& st : res.timings_ms) {
+                    if (!stage_best.count(st.stage)) {
+                        stage_order.push_back(st.stage);
+                        stage_best[st.stage] = st.ms;
+                    }
+                    stage_best[st.stage] = std::min(stage_best[st.stage], st.ms);
+                }
             }
-            std::printf("%s %zu %016llx repairs %d/%d/%d/%d %.2f\n", spec.c_str(), res.raw.mesh.hexes.size(),
-                        static_cast<unsigned long long>(raw_hash(res.raw)), res.trunks, res.absorbed_stubs,
-                        res.merged_ends, res.unseparated_pairs, best);
+            std::sort(walls.begin(), walls.end());
+            std::printf("%s %zu %016llx repairs %d/%d/%d/%d %.2f wall %.2f/%.2f", spec.c_str(),
+                        res.raw.mesh.hexes.size(), static_cast<unsigned long long>(raw_hash(res.raw)), res.trunks,
+                        res.absorbed_stubs, res.merged_ends, res.unseparated_pairs, best, walls.front(),
+                        walls[walls.size() / 2]);
+            if (stages)
+                for (const std::string& name : stage_order) std::printf(" %s=%.3f", name.c_str(), stage_best[name]);
+            std::printf("\n");
         } catch (const Error& e) {
             std::printf("%s error: %s\n", spec.c_str(), e.what());
         }

@@ -94,6 +94,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         clock.lap("adaptation");
     } else if (options.resample) {
         SkeletonRepairResult repaired = repair_skeleton(s, options.repair);
+        clock.lap("skeleton_repair");
         res.trunks = repaired.trunks;
         res.absorbed_stubs = repaired.absorbed_stubs;
         res.side_stubs = repaired.side_stubs;

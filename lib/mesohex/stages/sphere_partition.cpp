@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <numeric>
@@ -200,16 +201,29 @@ double orange_margin(const OrangeFrame& f) {
 // Evaluated on hundreds of axes per partition, so without allocating (the arrays are reused), and the elevations
 // (asin) and margins only while the quality can still exceed a threshold (callers only ask "is it above t?" or "which
 // are the top three"). The exact value, when returned, is the same for any threshold: min() does not depend on the
-// order of its arguments.
+// order of its arguments. Before the exact evaluation, certainly_at_most rejects most axes without libm calls.
 struct OrangeEvaluator {
     const std::vector<Vec3>& d;
     const std::vector<double>& bound;
     std::vector<double> azimuth;
     std::vector<int> order;
     std::vector<double> gap;  // gap[k] = orange_gap(frame, k)
+    // certainly_at_most's scratch: unit projections, and its thresholds for `thresholds_for` (NaN: none yet).
+    std::vector<double> px, py, half_sin2;  // half_sin2[k] = sin(min(gap_k / 2, pi / 2))^2
+    double thresholds_for = std::numeric_limits<double>::quiet_NaN();
+    double cos_two_t = 0;
+    std::vector<double> side2_threshold;  // per direction: (sin(2 t bound / pi) - slack)^2, 2 = any side passes
 
     OrangeEvaluator(const std::vector<Vec3>& dirs, const std::vector<double>& bounds)
-        : d(dirs), bound(bounds), azimuth(dirs.size()), order(dirs.size()), gap(dirs.size()) {}
+        : d(dirs),
+          bound(bounds),
+          azimuth(dirs.size()),
+          order(dirs.size()),
+          gap(dirs.size()),
+          px(dirs.size()),
+          py(dirs.size()),
+          half_sin2(dirs.size()),
+          side2_threshold(dirs.size()) {}
 
     // Returns the exact quality and sets `valid` (orange_margin > 0) when the quality is > threshold; otherwise some
     // value <= threshold (valid unset).
@@ -219,6 +233,7 @@ struct OrangeEvaluator {
     }
     // Same with the frame (u = any_orthogonal(axis), w = axis x u) given.
     double quality(const Vec3& axis, const Vec3& u, const Vec3& w, double threshold, bool& valid) {
+        if (certainly_at_most(axis, u, w, threshold)) return threshold;
         const int n = static_cast<int>(d.size());
         for (int i = 0; i < n; ++i) azimuth[i] = std::atan2(dot(d[i], w), dot(d[i], u));
         // The same order as orange_frame's std::sort: (azimuth, index) is a strict total order.
@@ -254,6 +269,76 @@ struct OrangeEvaluator {
             if (q <= threshold) return q;
         }
         return q;
+    }
+
+    // True only when the exact quality above is <= threshold, decided without libm calls: most trial axes of the scan
+    // and of the refinement are rejected here (issue 19). Works on the directions' projections p_i = (d_i . u,
+    // d_i . w) (the very doubles the exact evaluation gives atan2), sorted by angle with the half-plane and cross
+    // product tests, and compares cosines and squared sines with thresholds computed once per `threshold`, each test
+    // widened by 1e-12 against the roundings of both evaluations (theirs and the exact one's are below 1e-14):
+    //   - a lune width w (half the angle theta from the previous direction to the next) is <= t or >= pi - t iff
+    //     cos theta >= cos 2t (for 0 < t < pi/2);
+    //   - a margin term pi/2 asin(side) / bound_i is <= t iff side <= sin(2 t bound_i / pi) (asin increases; when the
+    //     argument is >= pi/2 the term is always <= t), with side = cos(elevation) sin(min(g_before / 2, g_after / 2,
+    //     pi/2)), sin(g / 2)^2 = (1 - cos g) / 2 for a gap g <= pi (cross product >= 0), 1 above, and
+    //     cos(elevation)^2 = 1 - (d_i . axis)^2.
+    // False means "cannot tell" and the exact evaluation runs: thresholds outside (1e-6, pi/2 - 1e-6), a direction
+    // (nearly) on the axis or on the azimuth cut py = 0 (where atan2's sign of zero decides the order), or two
+    // consecutive directions less than ~1e-9 rad apart in azimuth (their exact order might differ from ours).
+    bool certainly_at_most(const Vec3& axis, const Vec3& u, const Vec3& w, double threshold) {
+        constexpr double kSlack = 1e-12;
+        const int n = static_cast<int>(d.size());
+        if (n < 3 || !(threshold > 1e-6 && threshold < kPi / 2 - 1e-6)) return false;
+        if (threshold != thresholds_for) {
+            thresholds_for = threshold;
+            cos_two_t = std::cos(2 * threshold);
+            for (int i = 0; i < n; ++i) {
+                const double arg = 2 * threshold * (1 - 1e-12) * bound[i] / kPi;
+                const double side = arg >= kPi / 2 ? 2.0 : std::sin(arg) - 1e-15 - 1e-13;  // 2: every side passes
+                side2_threshold[i] = side > 0 ? side * side : -1.0;                          // -1: no side passes
+            }
+        }
+        for (int i = 0; i < n; ++i) {
+            const double x = dot(d[i], u), y = dot(d[i], w);
+            const double r2 = x * x + y * y;
+            if (!(r2 > 1e-12) || y == 0) return false;
+            const double inv = 1 / std::sqrt(r2);
+            px[i] = x * inv;
+            py[i] = y * inv;
+        }
+        // Angle order in (-pi, pi] as atan2 gives it: lower half-plane (y < 0) first, then by cross product.
+        const auto before = [&](int a, int b) {
+            const bool lower_a = py[a] < 0, lower_b = py[b] < 0;
+            if (lower_a != lower_b) return lower_a;
+            return px[a] * py[b] - py[a] * px[b] > 0;
+        };
+        for (int i = 0; i < n; ++i) {
+            int k = i;
+            while (k > 0 && before(i, order[k - 1])) {
+                order[k] = order[k - 1];
+                --k;
+            }
+            order[k] = i;
+        }
+        // Per sorted position k, the gap to k + 1: its cosine and sin(min(gap / 2, pi / 2))^2.
+        for (int k = 0; k < n; ++k) {
+            const int a = order[k], b = order[k + 1 < n ? k + 1 : 0];
+            const double c = px[a] * px[b] + py[a] * py[b], s = px[a] * py[b] - py[a] * px[b];
+            if (c > 0 && s < 1e-9) return false;  // nearly equal azimuths (or a wrong order): cannot tell
+            half_sin2[k] = s >= 0 ? 0.5 * (1 - c) : 1.0;
+        }
+        for (int k = 0; k < n; ++k) {
+            const int prev = order[k > 0 ? k - 1 : n - 1], next = order[k + 1 < n ? k + 1 : 0];
+            if (px[prev] * px[next] + py[prev] * py[next] >= cos_two_t + kSlack) return true;
+        }
+        for (int k = 0; k < n; ++k) {
+            const int i = order[k];
+            if (side2_threshold[i] > 1) continue;
+            const double x = std::clamp(dot(d[i], axis), -1.0, 1.0);
+            const double side2 = (1 - x) * (1 + x) * std::min(half_sin2[k > 0 ? k - 1 : n - 1], half_sin2[k]);
+            if (side2 + kSlack <= side2_threshold[i]) return true;
+        }
+        return false;
     }
 };
 
