@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <numbers>
 #include <string>
@@ -62,6 +63,41 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
         }
         return m;
     };
+    // margin_of(i, floor) for floor >= -1 with fewer asin calls (the same value when it is > floor, else some value
+    // <= floor, as margin_of; the same quads stop early): a side whose sine v = n . d / |n| is <= sin(floor) - 1e-14
+    // has asin(v) <= floor (asin's slope is >= 1, libm's asin and sin are within an ulp), so it stops the quad without
+    // asin; a side above sin(floor) + 1e-14 cannot stop it and its asin is only needed when no side stops the quad.
+    // |floor| >= 1.5: no shortcut. The sines are kept for the last floor (a trial's floor is the vertex's best).
+    double sine_floor_for = std::numeric_limits<double>::quiet_NaN(), sine_lo = -2, sine_hi = 2;
+    auto margin_above = [&](int i, double floor) {
+        if (floor != sine_floor_for) {
+            sine_floor_for = floor;
+            const double s = std::abs(floor) < 1.5 ? std::sin(floor) : 0;
+            sine_lo = std::abs(floor) < 1.5 ? s - 1e-14 : -2;
+            sine_hi = std::abs(floor) < 1.5 ? s + 1e-14 : 2;
+        }
+        std::array<Vec3, 4> q;
+        for (int k = 0; k < 4; ++k) q[k] = cur.points[part.quads[i][k]];
+        double m = 10;
+        std::array<double, 4> deferred;  // sines whose asin is > floor
+        int count = 0;
+        for (int k = 0; k < 4; ++k) {
+            const Vec3 n = cross(q[k], q[(k + 1) % 4]);
+            const double nn = norm(n);
+            if (!(nn > 1e-12)) return -1.0;
+            if (dot(n, q[(k + 2) % 4]) < -1e-12 * nn) return -1.0;
+            const double v = std::clamp(dot(n, dirs[i]) / nn, -1.0, 1.0);
+            if (v <= sine_lo) return floor;
+            if (v > sine_hi) {
+                deferred[count++] = v;
+                continue;
+            }
+            m = std::min(m, std::asin(v));
+            if (m <= floor) return m;
+        }
+        for (int k = 0; k < count; ++k) m = std::min(m, std::asin(deferred[k]));
+        return m;
+    };
     // The smallest margin of the quads around x (the same value in any order); stops once it is <= `floor` (a trial
     // that cannot win), starting with the quad that stopped the previous trial at x.
     std::vector<int> first(np, 0);
@@ -70,7 +106,7 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
         const int count = static_cast<int>(incident[x].size());
         for (int j = 0; j < count; ++j) {
             const int at = (first[x] + j) % count;
-            m = std::min(m, margin_of(incident[x][at], floor));
+            m = std::min(m, floor < -1 ? margin_of(incident[x][at], floor) : margin_above(incident[x][at], floor));
             if (m <= floor) {
                 first[x] = at;
                 break;
