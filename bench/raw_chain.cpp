@@ -89,7 +89,8 @@ int main(int argc, char** argv) {
                 const double t0 = cpu_ms();
                 const auto w0 = std::chrono::steady_clock::now();
                 res = run_pipeline(s);
-                walls.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count());
+                walls.push_back(
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count());
                 const double t = cpu_ms() - t0;
                 best = t < best ? t : best;
                 for (const StageTiming& st : res.timings_ms) {

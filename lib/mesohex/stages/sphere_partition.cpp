@@ -295,7 +295,7 @@ struct OrangeEvaluator {
             for (int i = 0; i < n; ++i) {
                 const double arg = 2 * threshold * (1 - 1e-12) * bound[i] / kPi;
                 const double side = arg >= kPi / 2 ? 2.0 : std::sin(arg) - 1e-15 - 1e-13;  // 2: every side passes
-                side2_threshold[i] = side > 0 ? side * side : -1.0;                          // -1: no side passes
+                side2_threshold[i] = side > 0 ? side * side : -1.0;                        // -1: no side passes
             }
         }
         for (int i = 0; i < n; ++i) {
