@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <random>
 #include <set>
@@ -62,6 +63,37 @@ std::vector<Vec3> random_directions(int n, unsigned seed) {
         if (r > 0.1 && r <= 1) d.push_back(v / r);
     }
     return d;
+}
+
+// Direction sets of six kinds for n = 3..6, from a fixed 64-bit generator (portable: no std distributions).
+inline std::vector<std::vector<Vec3>> filter_check_sets() {
+    std::mt19937_64 g(20261203);
+    const auto uniform = [&g] { return static_cast<double>(g() >> 11) * 0x1.0p-53; };  // [0, 1)
+    const auto signed_unit = [&] { return 2 * uniform() - 1; };
+    std::vector<std::vector<Vec3>> sets;
+    for (int n = 3; n <= 6; ++n)
+        for (int kind = 0; kind < 6; ++kind)
+            for (int s = 0; s < 12; ++s) {
+                std::vector<Vec3> d;
+                while (static_cast<int>(d.size()) < n) {
+                    Vec3 v{signed_unit(), signed_unit(), signed_unit()};
+                    if (kind == 1) v.z *= 0.05;                      // nearly planar
+                    if (kind == 2) v.z = std::abs(v.z) + 1;          // in a hemisphere (clustered)
+                    if (kind == 3 && d.empty()) v = Vec3{0, 0, -1};  // tree-like: one back, the others forward
+                    if (kind == 3 && !d.empty()) v.z = std::abs(v.z) * 0.7;
+                    if (kind == 4)  // lattice directions: exact ties of azimuths, zero coordinates
+                        v = Vec3{std::floor(5 * uniform()) - 2, std::floor(5 * uniform()) - 2,
+                                 std::floor(5 * uniform()) - 2};
+                    if (kind == 5 && !d.empty()) v = d.back() + 1e-4 * v;  // close pairs
+                    if (!(norm(v) > 1e-9)) continue;
+                    v = normalized(v);
+                    bool distinct = true;
+                    for (const Vec3& o : d) distinct = distinct && (norm(cross(o, v)) > 1e-6 || dot(o, v) < 0);
+                    if (distinct) d.push_back(v);
+                }
+                sets.push_back(d);
+            }
+    return sets;
 }
 
 }  // namespace
@@ -269,4 +301,27 @@ TEST(SpherePartition, VerifyCatchesBrokenPartitions) {
     SpherePartition moved = p;
     moved.points[0] = -moved.points[0];  // fold
     EXPECT_NE(mesohex::verify_sphere_partition(moved, d), "");
+}
+
+// The orange search rejects most trial axes with a libm-free test (sphere_partition.cpp, certainly_at_most) that must
+// never reject an axis the exact evaluation would keep: the partitions of 288 direction sets (random, nearly planar,
+// clustered, tree-like, lattice directions with exact azimuth ties and zero coordinates, close pairs; n = 3-6) hash to
+// the value recorded with the code before the test existed (main e1f9b90: every axis evaluated with atan2 / asin).
+// A deliberate change of the partitions changes it (then record the new value and say why in docs/performance.md).
+TEST(SpherePartition, FilterCheckSetsGiveTheRecordedBits) {
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the points' bytes and the quads' vertex ids
+    const auto mix = [&h](const void* data, std::size_t size) {
+        for (std::size_t i = 0; i < size; ++i) {
+            h ^= static_cast<const unsigned char*>(data)[i];
+            h *= 1099511628211ull;
+        }
+    };
+    const std::vector<std::vector<Vec3>> sets = filter_check_sets();
+    ASSERT_EQ(sets.size(), 288u);
+    for (const std::vector<Vec3>& d : sets) {
+        const SpherePartition p = partition_sphere(d);
+        for (const Vec3& x : p.points) mix(&x, sizeof x);
+        for (const std::array<int, 4>& q : p.quads) mix(q.data(), sizeof(int) * 4);
+    }
+    EXPECT_EQ(h, 0xa057f5fc6452f815ull);
 }
