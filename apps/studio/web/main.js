@@ -25,6 +25,7 @@ const st = {
   lastRoundTripMs: 0,   // request sent -> answer decoded
   editAt: 0,            // performance.now() of the last edit
   lastEditToMeshMs: 0,  // last edit -> its raw mesh drawn
+  lastMeshFrameScale: 1, // pixel scale of the frame that drew the last raw mesh (see drawFrame)
 };
 const skel = () => st.undo.current;
 
@@ -42,15 +43,18 @@ function softwareWebGL() {
     return /swiftshader|llvmpipe|software/i.test(name);
   } catch { return false; }
 }
-const renderer = new THREE.WebGLRenderer({ canvas, antialias: !softwareWebGL(), preserveDrawingBuffer: true });
-renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
+const SOFTWARE_WEBGL = softwareWebGL();
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: !SOFTWARE_WEBGL, preserveDrawingBuffer: true });
+const FULL_PIXEL_RATIO = Math.min(2, window.devicePixelRatio || 1);
+renderer.setPixelRatio(FULL_PIXEL_RATIO);
 renderer.localClippingEnabled = true;
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0x1d2026);
 const camera = new THREE.PerspectiveCamera(40, 1, 0.001, 1000);
 camera.position.set(3, -6, 4);
 camera.up.set(0, 0, 1);
-scene.add(new THREE.HemisphereLight(0xffffff, 0x445566, 1.6));
+const hemi = new THREE.HemisphereLight(0xffffff, 0x445566, 1.6);
+scene.add(hemi);
 const sun = new THREE.DirectionalLight(0xffffff, 1.4);
 camera.add(sun);
 sun.position.set(1, 2, 3);
@@ -102,6 +106,38 @@ let meshAskedAt = -Infinity;
 let meshInFlight = false; // a raw-mesh request is on its way (see runMesh)
 let deferredRender = null;
 let queuedFrame = null; // requestAnimationFrame id of the queued redraw
+
+// Interactive resolution on a software renderer: there a frame of a large mesh is rasterized on the CPU (SwiftShader,
+// llvmpipe), and its cost grows with the pixels drawn (the 12 k-hex tree's faces and singular edges: about 40 % less
+// at half the pixel ratio, measured with bench/studio_page_latency.mjs), so the frames that follow an edit, an orbit
+// or a gizmo drag are drawn at INTERACTIVE_PIXEL_SCALE x the pixel ratio, and once nothing has been drawn for
+// IDLE_FULL_RESOLUTION_MS the scene is drawn again at full resolution. A hardware renderer always draws at full
+// resolution (no change for it).
+const INTERACTIVE_PIXEL_SCALE = 0.5; // fraction of the pixel ratio (per axis) of the interactive frames
+const IDLE_FULL_RESOLUTION_MS = 250; // quiet time after the last interactive frame before the full-resolution one
+let frameScale = 1; // pixel scale of the drawing buffer (1 full resolution)
+let fullResolutionTimer = null;
+function setFrameScale(scale) {
+  if (scale === frameScale) return;
+  frameScale = scale;
+  renderer.setPixelRatio(FULL_PIXEL_RATIO * scale); // resizes the drawing buffer, keeps the canvas' CSS size
+}
+// The one place that draws the scene. full: at full resolution whatever the renderer (the idle frame, screenshots).
+function drawFrame(full = false) {
+  const interactive = SOFTWARE_WEBGL && !full;
+  if (fullResolutionTimer) { clearTimeout(fullResolutionTimer); fullResolutionTimer = null; }
+  setFrameScale(interactive ? INTERACTIVE_PIXEL_SCALE : 1);
+  placeErrorLabel();
+  updateFaceLights();
+  renderer.render(scene, camera);
+  if (interactive) {
+    fullResolutionTimer = setTimeout(() => {
+      fullResolutionTimer = null;
+      // A redraw on its way (queued or waiting for a mesh) will re-arm the timer after drawing.
+      if (queuedFrame === null && !deferredRender) drawFrame(true);
+    }, IDLE_FULL_RESOLUTION_MS);
+  }
+}
 function render() {
   if (queuedFrame !== null || deferredRender) return;
   const waited = performance.now() - meshAskedAt;
@@ -111,16 +147,14 @@ function render() {
   }
   queuedFrame = requestAnimationFrame(() => {
     queuedFrame = null;
-    placeErrorLabel();
-    renderer.render(scene, camera);
+    drawFrame();
   });
 }
-// Draws at once; a redraw already queued or deferred is then not needed.
-function renderNow() {
+// Draws at once; a redraw already queued or deferred is then not needed. full: at full resolution (screenshots).
+function renderNow(full = false) {
   if (deferredRender) { clearTimeout(deferredRender); deferredRender = null; }
   if (queuedFrame !== null) { cancelAnimationFrame(queuedFrame); queuedFrame = null; }
-  placeErrorLabel();
-  renderer.render(scene, camera);
+  drawFrame(full);
 }
 
 function resize() {
@@ -282,17 +316,87 @@ function currentMeshResponse() {
   return st.meshes[$('v-stage').value] || null;
 }
 
-// Index buffers kept between redraws: the triangles of nq quads depend on nq only; the wireframe's lines on the
-// quads' corners, reused while the array is the same object (a patch answer leaves an unchanged array as it was:
-// binary_answer.js), e.g. after a move that changed positions only.
-let triangleIndexCache = null, lineIndexCache = null;
-function triangleIndex(nq) {
-  if (triangleIndexCache?.nq !== nq) triangleIndexCache = { nq, index: V.quadTriangleIndex(nq) };
-  return triangleIndexCache.index;
+// Buffers kept between redraws: the triangles of nq quads and their corner coordinates (the wireframe's) depend on nq
+// only, so a patch answer that moved vertices reuses them (three.js uploads an attribute once per WebGL buffer).
+let triangleIndexCache = null, cornerCoordsCache = null;
+// inverted: quad -> its hex is inverted (drawn from both sides, see V.quadTriangleIndex); null when none is.
+function triangleIndex(nq, inverted) {
+  if (inverted) return new THREE.BufferAttribute(V.quadTriangleIndex(nq, inverted), 1);
+  if (triangleIndexCache?.nq !== nq) triangleIndexCache = { nq, attr: new THREE.BufferAttribute(V.quadTriangleIndex(nq), 1) };
+  return triangleIndexCache.attr;
 }
-function edgeLineIndex(quads) {
-  if (lineIndexCache?.quads !== quads) lineIndexCache = { quads, index: V.quadEdgeLineIndex(quads) };
-  return lineIndexCache.index;
+function cornerCoords(nq) {
+  if (cornerCoordsCache?.nq !== nq) cornerCoordsCache = { nq, attr: new THREE.BufferAttribute(V.quadCornerCoords(nq), 2) };
+  return cornerCoordsCache.attr;
+}
+
+// The mesh's faces: lit per vertex with one normal per quad (V.quadNormals; the same lights as the scene's
+// MeshPhongMaterial had: the hemisphere light and the camera's sun, without its faint specular), and the wireframe
+// drawn in the fragment shader from the quads' corner coordinates (V.quadCornerCoords): each side is darkened within
+// about one pixel on both of its quads, anti-aliased, blended in sRGB as the transparent lines were. The colour is
+// converted to sRGB per vertex (the colours are flat per quad, or smooth in the distance view). No line primitives and
+// no per-pixel lighting nor colour conversion: in a software WebGL (SwiftShader) the Phong faces, their per-pixel
+// sRGB conversion (a pow per channel) and the 54 k wireframe lines of the 12 k-hex tree were most of a 130-280 ms
+// frame (measured with bench/studio_page_latency.mjs; docs/studio.md). On a GPU it also removes the lines' z-fighting.
+const MESH_WIRE_OPACITY = 0.5; // how dark the wireframe is: 0 off, 1 the wire colour
+const MESH_WIRE_COLOR = 0x111111;
+function meshFaceMaterial() {
+  return material('mesh-faces', () => {
+    const m = new THREE.ShaderMaterial({
+      vertexColors: true, side: THREE.FrontSide, // back faces culled: see V.quadTriangleIndex
+      uniforms: {
+        skyColor: { value: new THREE.Color(0xffffff) }, groundColor: { value: new THREE.Color(0x445566) },
+        sunColor: { value: new THREE.Color(0xffffff) }, sunDirection: { value: new THREE.Vector3(0, 0, 1) },
+        wireColor: { value: new THREE.Color(MESH_WIRE_COLOR).convertLinearToSRGB() }, wireOpacity: { value: MESH_WIRE_OPACITY },
+      },
+      vertexShader: `
+        uniform vec3 skyColor, groundColor, sunColor, sunDirection;
+        attribute vec2 corner;
+        varying vec3 vColor;
+        varying vec2 vCorner;
+        vec3 srgb(vec3 c) { // linear -> sRGB (the canvas' colour space, renderer.outputColorSpace)
+          c = clamp(c, 0.0, 1.0);
+          return mix(1.055 * pow(c, vec3(0.41666)) - 0.055, 12.92 * c, vec3(lessThanEqual(c, vec3(0.0031308))));
+        }
+        void main() {
+          vec4 world = modelMatrix * vec4(position, 1.0);
+          vec3 n = normal;
+          if (dot(n, cameraPosition - world.xyz) < 0.0) n = -n; // lit as seen (inverted hexes' faces, warped quads)
+          vec3 irradiance = mix(groundColor, skyColor, 0.5 * n.y + 0.5) + sunColor * max(dot(n, sunDirection), 0.0);
+          vColor = srgb(color * irradiance);
+          vCorner = corner;
+          gl_Position = projectionMatrix * viewMatrix * world;
+        }`,
+      fragmentShader: `
+        uniform vec3 wireColor;
+        uniform float wireOpacity;
+        varying vec3 vColor;
+        varying vec2 vCorner;
+        void main() {
+          gl_FragColor = vec4(vColor, 1.0);
+          if (wireOpacity > 0.0) {
+            vec2 px = min(vCorner, 1.0 - vCorner) / max(fwidth(vCorner), vec2(1e-6)); // pixels to the sides
+            float cover = clamp(1.0 - min(px.x, px.y), 0.0, 1.0);
+            gl_FragColor.rgb = mix(gl_FragColor.rgb, wireColor, wireOpacity * cover);
+          }
+        }`,
+    });
+    return m;
+  });
+}
+// The lights of the faces' shader follow the scene's (physically based units: irradiance / pi, as three.js's
+// Lambert term): the hemisphere light's sky (up = +y, three.js's default) and ground colours, and the sun's
+// direction from its target to it, updated per frame (the sun moves with the camera).
+function updateFaceLights() {
+  const m = materials.get('mesh-faces');
+  if (!m) return;
+  const u = m.uniforms;
+  u.skyColor.value.copy(hemi.color).multiplyScalar(hemi.intensity / Math.PI);
+  u.groundColor.value.copy(hemi.groundColor).multiplyScalar(hemi.intensity / Math.PI);
+  u.sunColor.value.copy(sun.color).multiplyScalar(sun.intensity / Math.PI);
+  const p = new THREE.Vector3(), t = new THREE.Vector3();
+  sun.getWorldPosition(p); sun.target.getWorldPosition(t);
+  u.sunDirection.value.copy(p).sub(t).normalize();
 }
 
 function drawMesh() {
@@ -357,18 +461,13 @@ function drawMesh() {
   const g = new THREE.BufferGeometry();
   g.setAttribute('position', position);
   g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
-  g.setIndex(new THREE.BufferAttribute(triangleIndex(nq), 1));
-  // Flat shading takes the normal from the screen-space derivatives: no normals needed.
-  const meshObj = new THREE.Mesh(g, material('mesh-faces', () => new THREE.MeshPhongMaterial({ vertexColors: true, side: THREE.DoubleSide,
-    flatShading: true, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 })));
-  groups.mesh.add(meshObj);
-  if ($('v-wire').checked) {
-    const lg = new THREE.BufferGeometry();
-    lg.setAttribute('position', position);
-    // Each edge once when the quads share their corners (not when shrunk: every quad has its own).
-    lg.setIndex(new THREE.BufferAttribute(cornerVerts ? edgeLineIndex(cornerVerts) : V.quadLineIndex(nq), 1));
-    groups.mesh.add(new THREE.LineSegments(lg, material('mesh-wire', () => new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.5 }))));
-  }
+  g.setAttribute('normal', new THREE.BufferAttribute(V.quadNormals(quadPos), 3));
+  g.setAttribute('corner', cornerCoords(nq));
+  const anyInverted = sj.length === V.hexCount(mesh) ? sj.some((x) => !(x > 0)) : true;
+  g.setIndex(triangleIndex(nq, anyInverted ? (q) => !(sj[owner[q]] > 0) : null));
+  const faces = meshFaceMaterial();
+  faces.uniforms.wireOpacity.value = $('v-wire').checked ? MESH_WIRE_OPACITY : 0;
+  groups.mesh.add(new THREE.Mesh(g, faces));
   if ($('v-sing').checked && mesh.singular_edges?.length) {
     const se = mesh.singular_edges, P = mesh.vertices, ns = Math.floor(se.length / 3);
     const pos = new Float32Array(6 * ns), col = new Float32Array(6 * ns);
@@ -619,6 +718,7 @@ async function runMesh() {
     drawMesh();
     const t3 = performance.now();
     renderNow();
+    st.lastMeshFrameScale = frameScale;
     const t4 = performance.now();
     const rt = api.lastTiming || {};
     st.lastPhasesMs = { queued: t0 - editAt, roundTrip: t1 - t0, encode: tEncoded - t0, send: rt.send, wait: rt.wait,
@@ -1153,7 +1253,7 @@ $('btn-radius').onclick = () => {
 $('btn-undo').onclick = () => { if (st.undo.undo()) changed(); };
 $('btn-redo').onclick = () => { if (st.undo.redo()) changed(); };
 $('btn-finish').onclick = finish;
-$('btn-shot').onclick = () => { renderNow(); download('mesohex-studio.png', canvas.toDataURL('image/png')); };
+$('btn-shot').onclick = () => { renderNow(true); download('mesohex-studio.png', canvas.toDataURL('image/png')); };
 document.querySelectorAll('[data-op]').forEach((b) => { b.onclick = () => op(b.dataset.op); });
 ['x', 'y', 'z'].forEach((k, d) => { $(`pos-${k}`).onchange = (ev) => { ev.target.blur(); moveTo(d, parseFloat(ev.target.value)); }; });
 for (const id of ['v-mesh', 'v-wire', 'v-color', 'v-sing', 'v-clip', 'v-clip-axis', 'v-clip-flip', 'v-clip-pos', 'v-shrink', 'v-peel', 'v-stage', 'v-conn'])
@@ -1217,6 +1317,12 @@ window.studio = {
   select: (vertices) => { st.selV = vertices.slice(); st.selE = null; updateSelection(); drawSkeleton(); },
   renderNow,
   frameAll,
+  // The drawing buffer's pixel scale (1 full resolution; INTERACTIVE_PIXEL_SCALE for the frames after an edit on a
+  // software renderer) and whether the renderer is one (tests).
+  frameScale: () => frameScale,
+  softwareWebGL: SOFTWARE_WEBGL,
+  _three: { renderer, scene, camera, groups, THREE },
+  _drawMesh: () => drawMesh(),
   // Raw-mesh requests sent as deltas and as whole skeletons (tests), and a way to forget the server's session (tests:
   // the next request then sends a delta for a revision the server does not hold and must recover).
   meshUploads: () => ({ deltas: session.deltas, full: session.full, patches: session.patches }),
