@@ -25,7 +25,6 @@ const st = {
   lastRoundTripMs: 0,   // request sent -> answer decoded
   editAt: 0,            // performance.now() of the last edit
   lastEditToMeshMs: 0,  // last edit -> its raw mesh drawn
-  lastMeshFrameScale: 1, // pixel scale of the frame that drew the last raw mesh (see drawFrame)
 };
 const skel = () => st.undo.current;
 
@@ -45,8 +44,7 @@ function softwareWebGL() {
 }
 const SOFTWARE_WEBGL = softwareWebGL();
 const renderer = new THREE.WebGLRenderer({ canvas, antialias: !SOFTWARE_WEBGL, preserveDrawingBuffer: true });
-const FULL_PIXEL_RATIO = Math.min(2, window.devicePixelRatio || 1);
-renderer.setPixelRatio(FULL_PIXEL_RATIO);
+renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
 renderer.localClippingEnabled = true;
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0x1d2026);
@@ -107,36 +105,10 @@ let meshInFlight = false; // a raw-mesh request is on its way (see runMesh)
 let deferredRender = null;
 let queuedFrame = null; // requestAnimationFrame id of the queued redraw
 
-// Interactive resolution on a software renderer: there a frame of a large mesh is rasterized on the CPU (SwiftShader,
-// llvmpipe), and its cost grows with the pixels drawn (the 12 k-hex tree's faces and singular edges: about 40 % less
-// at half the pixel ratio, measured with bench/studio_page_latency.mjs), so the frames that follow an edit, an orbit
-// or a gizmo drag are drawn at INTERACTIVE_PIXEL_SCALE x the pixel ratio, and once nothing has been drawn for
-// IDLE_FULL_RESOLUTION_MS the scene is drawn again at full resolution. A hardware renderer always draws at full
-// resolution (no change for it).
-const INTERACTIVE_PIXEL_SCALE = 0.5; // fraction of the pixel ratio (per axis) of the interactive frames
-const IDLE_FULL_RESOLUTION_MS = 250; // quiet time after the last interactive frame before the full-resolution one
-let frameScale = 1; // pixel scale of the drawing buffer (1 full resolution)
-let fullResolutionTimer = null;
-function setFrameScale(scale) {
-  if (scale === frameScale) return;
-  frameScale = scale;
-  renderer.setPixelRatio(FULL_PIXEL_RATIO * scale); // resizes the drawing buffer, keeps the canvas' CSS size
-}
-// The one place that draws the scene. full: at full resolution whatever the renderer (the idle frame, screenshots).
-function drawFrame(full = false) {
-  const interactive = SOFTWARE_WEBGL && !full;
-  if (fullResolutionTimer) { clearTimeout(fullResolutionTimer); fullResolutionTimer = null; }
-  setFrameScale(interactive ? INTERACTIVE_PIXEL_SCALE : 1);
+function drawFrame() {
   placeErrorLabel();
   updateFaceLights();
   renderer.render(scene, camera);
-  if (interactive) {
-    fullResolutionTimer = setTimeout(() => {
-      fullResolutionTimer = null;
-      // A redraw on its way (queued or waiting for a mesh) will re-arm the timer after drawing.
-      if (queuedFrame === null && !deferredRender) drawFrame(true);
-    }, IDLE_FULL_RESOLUTION_MS);
-  }
 }
 function render() {
   if (queuedFrame !== null || deferredRender) return;
@@ -150,11 +122,11 @@ function render() {
     drawFrame();
   });
 }
-// Draws at once; a redraw already queued or deferred is then not needed. full: at full resolution (screenshots).
-function renderNow(full = false) {
+// Draws at once; a redraw already queued or deferred is then not needed.
+function renderNow() {
   if (deferredRender) { clearTimeout(deferredRender); deferredRender = null; }
   if (queuedFrame !== null) { cancelAnimationFrame(queuedFrame); queuedFrame = null; }
-  drawFrame(full);
+  drawFrame();
 }
 
 function resize() {
@@ -319,10 +291,15 @@ function currentMeshResponse() {
 // Buffers kept between redraws: the triangles of nq quads and their corner coordinates (the wireframe's) depend on nq
 // only, so a patch answer that moved vertices reuses them (three.js uploads an attribute once per WebGL buffer).
 let triangleIndexCache = null, cornerCoordsCache = null;
-// inverted: quad -> its hex is inverted (drawn from both sides, see V.quadTriangleIndex); null when none is.
-function triangleIndex(nq, inverted) {
-  if (inverted) return new THREE.BufferAttribute(V.quadTriangleIndex(nq, inverted), 1);
-  if (triangleIndexCache?.nq !== nq) triangleIndexCache = { nq, attr: new THREE.BufferAttribute(V.quadTriangleIndex(nq), 1) };
+// With inverted hexes (their quads drawn from both sides, see V.quadTriangleIndex) the index also depends on the
+// quads' hexes (owner) and the hexes' scaled Jacobians (sj; missing: every quad from both sides): kept while both
+// arrays are the same objects (a patch answer leaves an unchanged array as it was: binary_answer.js).
+function triangleIndex(nq, owner, sj, nh) {
+  const c = triangleIndexCache;
+  if (c?.nq === nq && c.owner === owner && c.sj === sj) return c.attr;
+  const known = sj.length === nh;
+  const inverted = known && !sj.some((x) => !(x > 0)) ? null : (q) => !known || !(sj[owner[q]] > 0);
+  triangleIndexCache = { nq, owner, sj, attr: new THREE.BufferAttribute(V.quadTriangleIndex(nq, inverted), 1) };
   return triangleIndexCache.attr;
 }
 function cornerCoords(nq) {
@@ -454,8 +431,12 @@ function drawMesh() {
   const byDistance = mode === 'dist' && dist?.length && cornerVerts;
   const plain = [0.78, 0.8, 0.85];
   for (let q = 0; q < nq; q++) {
-    const hexColor = byDistance ? null : mode === 'sj' ? V.sjColor(sj[owner[q]]) : plain;
-    for (let k = 0; k < 4; k++) colors.set(hexColor || V.distanceColor(dist[cornerVerts[4 * q + k]], maxDist), 12 * q + 3 * k);
+    if (byDistance) {
+      for (let k = 0; k < 4; k++) colors.set(V.distanceColor(dist[cornerVerts[4 * q + k]], maxDist), 12 * q + 3 * k);
+      continue;
+    }
+    const c = mode === 'sj' ? V.sjColor(sj[owner[q]]) : plain, o = 12 * q;
+    for (let k = 0; k < 12; k += 3) { colors[o + k] = c[0]; colors[o + k + 1] = c[1]; colors[o + k + 2] = c[2]; }
   }
   const position = new THREE.BufferAttribute(quadPos instanceof Float32Array ? quadPos : new Float32Array(quadPos), 3);
   const g = new THREE.BufferGeometry();
@@ -463,10 +444,13 @@ function drawMesh() {
   g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
   g.setAttribute('normal', new THREE.BufferAttribute(V.quadNormals(quadPos), 3));
   g.setAttribute('corner', cornerCoords(nq));
-  const anyInverted = sj.length === V.hexCount(mesh) ? sj.some((x) => !(x > 0)) : true;
-  g.setIndex(triangleIndex(nq, anyInverted ? (q) => !(sj[owner[q]] > 0) : null));
+  g.setIndex(triangleIndex(nq, owner, sj, V.hexCount(mesh)));
   const faces = meshFaceMaterial();
   faces.uniforms.wireOpacity.value = $('v-wire').checked ? MESH_WIRE_OPACITY : 0;
+  // The mesh's bounding sphere from its bounds (three.js would compute one per new geometry, a pass over its corners,
+  // to cull and sort it): shrunk and clipped quads are inside it too, and so are the singular edges.
+  const sphere = new THREE.Sphere(new THREE.Vector3(...b.min.map((x, i) => (x + b.max[i]) / 2)), b.diagonal / 2);
+  g.boundingSphere = sphere;
   groups.mesh.add(new THREE.Mesh(g, faces));
   if ($('v-sing').checked && mesh.singular_edges?.length) {
     const se = mesh.singular_edges, P = mesh.vertices, ns = Math.floor(se.length / 3);
@@ -483,6 +467,7 @@ function drawMesh() {
     sg.setAttribute('color', new THREE.BufferAttribute(col, 3));
     const lines = new THREE.LineSegments(sg, material('singular-edges', () => new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false })));
     lines.renderOrder = 15;
+    sg.boundingSphere = sphere.clone();
     groups.sing.add(lines);
   }
   const cs = resp.connection_surfaces;
@@ -718,7 +703,6 @@ async function runMesh() {
     drawMesh();
     const t3 = performance.now();
     renderNow();
-    st.lastMeshFrameScale = frameScale;
     const t4 = performance.now();
     const rt = api.lastTiming || {};
     st.lastPhasesMs = { queued: t0 - editAt, roundTrip: t1 - t0, encode: tEncoded - t0, send: rt.send, wait: rt.wait,
@@ -1253,7 +1237,7 @@ $('btn-radius').onclick = () => {
 $('btn-undo').onclick = () => { if (st.undo.undo()) changed(); };
 $('btn-redo').onclick = () => { if (st.undo.redo()) changed(); };
 $('btn-finish').onclick = finish;
-$('btn-shot').onclick = () => { renderNow(true); download('mesohex-studio.png', canvas.toDataURL('image/png')); };
+$('btn-shot').onclick = () => { renderNow(); download('mesohex-studio.png', canvas.toDataURL('image/png')); };
 document.querySelectorAll('[data-op]').forEach((b) => { b.onclick = () => op(b.dataset.op); });
 ['x', 'y', 'z'].forEach((k, d) => { $(`pos-${k}`).onchange = (ev) => { ev.target.blur(); moveTo(d, parseFloat(ev.target.value)); }; });
 for (const id of ['v-mesh', 'v-wire', 'v-color', 'v-sing', 'v-clip', 'v-clip-axis', 'v-clip-flip', 'v-clip-pos', 'v-shrink', 'v-peel', 'v-stage', 'v-conn'])
@@ -1317,10 +1301,6 @@ window.studio = {
   select: (vertices) => { st.selV = vertices.slice(); st.selE = null; updateSelection(); drawSkeleton(); },
   renderNow,
   frameAll,
-  // The drawing buffer's pixel scale (1 full resolution; INTERACTIVE_PIXEL_SCALE for the frames after an edit on a
-  // software renderer) and whether the renderer is one (tests).
-  frameScale: () => frameScale,
-  softwareWebGL: SOFTWARE_WEBGL,
   _three: { renderer, scene, camera, groups, THREE },
   _drawMesh: () => drawMesh(),
   // Raw-mesh requests sent as deltas and as whole skeletons (tests), and a way to forget the server's session (tests:
