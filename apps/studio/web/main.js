@@ -42,8 +42,7 @@ function softwareWebGL() {
     return /swiftshader|llvmpipe|software/i.test(name);
   } catch { return false; }
 }
-const SOFTWARE_WEBGL = softwareWebGL();
-const renderer = new THREE.WebGLRenderer({ canvas, antialias: !SOFTWARE_WEBGL, preserveDrawingBuffer: true });
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: !softwareWebGL(), preserveDrawingBuffer: true });
 renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
 renderer.localClippingEnabled = true;
 const scene = new THREE.Scene();
@@ -105,6 +104,7 @@ let meshInFlight = false; // a raw-mesh request is on its way (see runMesh)
 let deferredRender = null;
 let queuedFrame = null; // requestAnimationFrame id of the queued redraw
 
+// Draws the scene (the faces' shader takes the lights as uniforms: updated first).
 function drawFrame() {
   placeErrorLabel();
   updateFaceLights();
@@ -288,8 +288,9 @@ function currentMeshResponse() {
   return st.meshes[$('v-stage').value] || null;
 }
 
-// Buffers kept between redraws: the triangles of nq quads and their corner coordinates (the wireframe's) depend on nq
-// only, so a patch answer that moved vertices reuses them (three.js uploads an attribute once per WebGL buffer).
+// Arrays kept between redraws: the triangles of nq quads and their corner coordinates (the wireframe's) depend on nq
+// only, so a patch answer that moved vertices reuses them (they are uploaded again with each new geometry: `clear`
+// disposes the old one).
 let triangleIndexCache = null, cornerCoordsCache = null;
 // With inverted hexes (their quads drawn from both sides, see V.quadTriangleIndex) the index also depends on the
 // quads' hexes (owner) and the hexes' scaled Jacobians (sj; missing: every quad from both sides): kept while both
@@ -314,12 +315,12 @@ function cornerCoords(nq) {
 // converted to sRGB per vertex (the colours are flat per quad, or smooth in the distance view). No line primitives and
 // no per-pixel lighting nor colour conversion: in a software WebGL (SwiftShader) the Phong faces, their per-pixel
 // sRGB conversion (a pow per channel) and the 54 k wireframe lines of the 12 k-hex tree were most of a 130-280 ms
-// frame (measured with bench/studio_page_latency.mjs; docs/studio.md). On a GPU it also removes the lines' z-fighting.
+// frame (measured with bench/studio_page_latency.mjs; docs/studio.md). On a GPU it also ends the lines' z-fighting.
 const MESH_WIRE_OPACITY = 0.5; // how dark the wireframe is: 0 off, 1 the wire colour
 const MESH_WIRE_COLOR = 0x111111;
 function meshFaceMaterial() {
   return material('mesh-faces', () => {
-    const m = new THREE.ShaderMaterial({
+    return new THREE.ShaderMaterial({
       vertexColors: true, side: THREE.FrontSide, // back faces culled: see V.quadTriangleIndex
       uniforms: {
         skyColor: { value: new THREE.Color(0xffffff) }, groundColor: { value: new THREE.Color(0x445566) },
@@ -358,7 +359,6 @@ function meshFaceMaterial() {
           }
         }`,
     });
-    return m;
   });
 }
 // The lights of the faces' shader follow the scene's (physically based units: irradiance / pi, as three.js's
@@ -1301,8 +1301,6 @@ window.studio = {
   select: (vertices) => { st.selV = vertices.slice(); st.selE = null; updateSelection(); drawSkeleton(); },
   renderNow,
   frameAll,
-  _three: { renderer, scene, camera, groups, THREE },
-  _drawMesh: () => drawMesh(),
   // Raw-mesh requests sent as deltas and as whole skeletons (tests), and a way to forget the server's session (tests:
   // the next request then sends a delta for a revision the server does not hold and must recover).
   meshUploads: () => ({ deltas: session.deltas, full: session.full, patches: session.patches }),
