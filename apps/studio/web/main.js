@@ -25,6 +25,7 @@ const st = {
   lastRoundTripMs: 0,   // request sent -> answer decoded
   editAt: 0,            // performance.now() of the last edit
   lastEditToMeshMs: 0,  // last edit -> its raw mesh drawn
+  framesDrawn: 0,       // frames drawn so far (tests: one per arriving mesh, none while idle)
 };
 const skel = () => st.undo.current;
 
@@ -106,6 +107,7 @@ let queuedFrame = null; // requestAnimationFrame id of the queued redraw
 
 // Draws the scene (the faces' shader takes the lights as uniforms: updated first).
 function drawFrame() {
+  st.framesDrawn++;
   placeErrorLabel();
   updateFaceLights();
   renderer.render(scene, camera);
