@@ -220,9 +220,9 @@ export function quadCornerCoords(nq) {
 }
 
 // One normal per quad, repeated at its 4 corners, for lighting the faces per vertex (flat per quad): the unit cross
-// product of the quad's diagonals (c - a) x (d - b), i.e. for a warped quad the normal of the plane through the midpoints
-// of its sides (their parallelogram has sides parallel to the diagonals), pointing to
-// the side from which a, b, c, d turn counterclockwise. positions: 12 numbers per quad (4 corners, xyz). A degenerate
+// product of the quad's diagonals (c - a) x (d - b), i.e. for a warped quad the normal of the plane through the
+// midpoints of its sides (their parallelogram has sides parallel to the diagonals), pointing to the side from which
+// a, b, c, d turn counterclockwise. positions: 12 numbers per quad (4 corners, xyz). A degenerate
 // quad (zero cross product) gets 0 0 0 (the shader then lights it by the ambient part only).
 export function quadNormals(positions) {
   const nq = Math.floor(positions.length / 12);
