@@ -309,7 +309,8 @@ function triangleIndex(nq, owner, sj, nh) {
   return triangleIndexCache.attr;
 }
 function cornerCoords(nq) {
-  if (cornerCoordsCache?.nq !== nq) cornerCoordsCache = { nq, attr: new THREE.BufferAttribute(V.quadCornerCoords(nq), 2) };
+  if (cornerCoordsCache?.nq !== nq)
+    cornerCoordsCache = { nq, attr: new THREE.BufferAttribute(V.quadCornerCoords(nq), 2) };
   return cornerCoordsCache.attr;
 }
 
@@ -330,7 +331,8 @@ function meshFaceMaterial() {
       uniforms: {
         skyColor: { value: new THREE.Color(0xffffff) }, groundColor: { value: new THREE.Color(0x445566) },
         sunColor: { value: new THREE.Color(0xffffff) }, sunDirection: { value: new THREE.Vector3(0, 0, 1) },
-        wireColor: { value: new THREE.Color(MESH_WIRE_COLOR).convertLinearToSRGB() }, wireOpacity: { value: MESH_WIRE_OPACITY },
+        wireColor: { value: new THREE.Color(MESH_WIRE_COLOR).convertLinearToSRGB() },
+        wireOpacity: { value: MESH_WIRE_OPACITY },
       },
       vertexShader: `
         uniform vec3 skyColor, groundColor, sunColor, sunDirection;
