@@ -183,6 +183,25 @@ test('studio page: load, extrude, move, undo with a live raw mesh (headless Chro
     assert.ok(moved.maxX > extruded.maxX + 0.5, `the mesh follows the move (${extruded.maxX} -> ${moved.maxX})`);
     assert.equal(Number(moved.shown), moved.hexes);
 
+    // Frames: the page draws on demand, no animation loop (a software renderer pays for every frame): none while idle,
+    // and a move draws its mesh in one frame (two when the answer comes after the redraw's wait for it, meshWaitMs).
+    const idleFrames = await page.evaluate(async () => {
+      const n0 = window.studio.state.framesDrawn;
+      await new Promise((r) => setTimeout(r, 600));
+      return window.studio.state.framesDrawn - n0;
+    });
+    assert.equal(idleFrames, 0, 'no frame drawn while idle');
+    const framesBefore = await page.evaluate(() => window.studio.state.framesDrawn);
+    await page.fill('#pos-x', '3.5');
+    await page.press('#pos-x', 'Enter');
+    await page.waitForFunction(() => window.studio.skeleton().points[5]?.[0] === 3.5, null, { timeout: 5000 });
+    await meshSettled(page);
+    await page.waitForTimeout(300);
+    const editFrames = await page.evaluate(() => window.studio.state.framesDrawn) - framesBefore;
+    assert.ok(editFrames >= 1 && editFrames <= 2, `frames drawn for one move: ${editFrames}`);
+    await page.keyboard.press('Control+z');
+    assert.deepEqual((await meshSettled(page)).skeleton, moved.skeleton);
+
     // Screenshot of the edited state (the docs' picture comes from here).
     await page.evaluate(() => window.studio.renderNow());
     fs.mkdirSync(path.dirname(screenshot), { recursive: true });

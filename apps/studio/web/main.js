@@ -25,6 +25,7 @@ const st = {
   lastRoundTripMs: 0,   // request sent -> answer decoded
   editAt: 0,            // performance.now() of the last edit
   lastEditToMeshMs: 0,  // last edit -> its raw mesh drawn
+  framesDrawn: 0,       // frames drawn so far (tests: one per arriving mesh, none while idle)
 };
 const skel = () => st.undo.current;
 
@@ -42,7 +43,10 @@ function softwareWebGL() {
     return /swiftshader|llvmpipe|software/i.test(name);
   } catch { return false; }
 }
-const renderer = new THREE.WebGLRenderer({ canvas, antialias: !softwareWebGL(), preserveDrawingBuffer: true });
+// The drawing buffer is not preserved after a frame is shown (the screenshot reads the canvas right after drawing it,
+// in the same task): the compositor can then take the buffer instead of copying it, 10 % of the tree's edit -> drawn
+// in a software WebGL (bench/studio_page_latency.mjs, 114 / 128 against 128 / 139 ms, load 4-6).
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: !softwareWebGL(), preserveDrawingBuffer: false });
 renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
 renderer.localClippingEnabled = true;
 const scene = new THREE.Scene();
@@ -50,7 +54,8 @@ scene.background = new THREE.Color(0x1d2026);
 const camera = new THREE.PerspectiveCamera(40, 1, 0.001, 1000);
 camera.position.set(3, -6, 4);
 camera.up.set(0, 0, 1);
-scene.add(new THREE.HemisphereLight(0xffffff, 0x445566, 1.6));
+const hemi = new THREE.HemisphereLight(0xffffff, 0x445566, 1.6);
+scene.add(hemi);
 const sun = new THREE.DirectionalLight(0xffffff, 1.4);
 camera.add(sun);
 sun.position.set(1, 2, 3);
@@ -102,6 +107,14 @@ let meshAskedAt = -Infinity;
 let meshInFlight = false; // a raw-mesh request is on its way (see runMesh)
 let deferredRender = null;
 let queuedFrame = null; // requestAnimationFrame id of the queued redraw
+
+// Draws the scene (the faces' shader takes the lights as uniforms: updated first).
+function drawFrame() {
+  st.framesDrawn++;
+  placeErrorLabel();
+  updateFaceLights();
+  renderer.render(scene, camera);
+}
 function render() {
   if (queuedFrame !== null || deferredRender) return;
   const waited = performance.now() - meshAskedAt;
@@ -111,16 +124,14 @@ function render() {
   }
   queuedFrame = requestAnimationFrame(() => {
     queuedFrame = null;
-    placeErrorLabel();
-    renderer.render(scene, camera);
+    drawFrame();
   });
 }
 // Draws at once; a redraw already queued or deferred is then not needed.
 function renderNow() {
   if (deferredRender) { clearTimeout(deferredRender); deferredRender = null; }
   if (queuedFrame !== null) { cancelAnimationFrame(queuedFrame); queuedFrame = null; }
-  placeErrorLabel();
-  renderer.render(scene, camera);
+  drawFrame();
 }
 
 function resize() {
@@ -282,17 +293,94 @@ function currentMeshResponse() {
   return st.meshes[$('v-stage').value] || null;
 }
 
-// Index buffers kept between redraws: the triangles of nq quads depend on nq only; the wireframe's lines on the
-// quads' corners, reused while the array is the same object (a patch answer leaves an unchanged array as it was:
-// binary_answer.js), e.g. after a move that changed positions only.
-let triangleIndexCache = null, lineIndexCache = null;
-function triangleIndex(nq) {
-  if (triangleIndexCache?.nq !== nq) triangleIndexCache = { nq, index: V.quadTriangleIndex(nq) };
-  return triangleIndexCache.index;
+// Arrays kept between redraws: the triangles of nq quads and their corner coordinates (the wireframe's) depend on nq
+// only, so a patch answer that moved vertices reuses them (they are uploaded again with each new geometry: `clear`
+// disposes the old one).
+let triangleIndexCache = null, cornerCoordsCache = null;
+// With inverted hexes (their quads drawn from both sides, see V.quadTriangleIndex) the index also depends on the
+// quads' hexes (owner) and the hexes' scaled Jacobians (sj; missing: every quad from both sides): kept while both
+// arrays are the same objects (a patch answer leaves an unchanged array as it was: binary_answer.js).
+function triangleIndex(nq, owner, sj, nh) {
+  const c = triangleIndexCache;
+  if (c?.nq === nq && c.owner === owner && c.sj === sj) return c.attr;
+  const known = sj.length === nh;
+  const inverted = known && !sj.some((x) => !(x > 0)) ? null : (q) => !known || !(sj[owner[q]] > 0);
+  triangleIndexCache = { nq, owner, sj, attr: new THREE.BufferAttribute(V.quadTriangleIndex(nq, inverted), 1) };
+  return triangleIndexCache.attr;
 }
-function edgeLineIndex(quads) {
-  if (lineIndexCache?.quads !== quads) lineIndexCache = { quads, index: V.quadEdgeLineIndex(quads) };
-  return lineIndexCache.index;
+function cornerCoords(nq) {
+  if (cornerCoordsCache?.nq !== nq)
+    cornerCoordsCache = { nq, attr: new THREE.BufferAttribute(V.quadCornerCoords(nq), 2) };
+  return cornerCoordsCache.attr;
+}
+
+// The mesh's faces: lit per vertex with one normal per quad (V.quadNormals; the same lights as the scene's
+// MeshPhongMaterial had: the hemisphere light and the camera's sun, without its faint specular), and the wireframe
+// drawn in the fragment shader from the quads' corner coordinates (V.quadCornerCoords): each side is darkened within
+// about one pixel on both of its quads, anti-aliased, blended in sRGB as the transparent lines were. The colour is
+// converted to sRGB per vertex (the colours are flat per quad, or smooth in the distance view). No line primitives and
+// no per-pixel lighting nor colour conversion: in a software WebGL (SwiftShader) the Phong faces, their per-pixel
+// sRGB conversion (a pow per channel) and the 54 k wireframe lines of the 12 k-hex tree were most of a 130-280 ms
+// frame (measured with bench/studio_page_latency.mjs; docs/studio.md). On a GPU it also ends the lines' z-fighting.
+const MESH_WIRE_OPACITY = 0.5; // how dark the wireframe is: 0 off, 1 the wire colour
+const MESH_WIRE_COLOR = 0x111111;
+function meshFaceMaterial() {
+  return material('mesh-faces', () => {
+    return new THREE.ShaderMaterial({
+      vertexColors: true, side: THREE.FrontSide, // back faces culled: see V.quadTriangleIndex
+      uniforms: {
+        skyColor: { value: new THREE.Color(0xffffff) }, groundColor: { value: new THREE.Color(0x445566) },
+        sunColor: { value: new THREE.Color(0xffffff) }, sunDirection: { value: new THREE.Vector3(0, 0, 1) },
+        wireColor: { value: new THREE.Color(MESH_WIRE_COLOR).convertLinearToSRGB() },
+        wireOpacity: { value: MESH_WIRE_OPACITY },
+      },
+      vertexShader: `
+        uniform vec3 skyColor, groundColor, sunColor, sunDirection;
+        attribute vec2 corner;
+        varying vec3 vColor;
+        varying vec2 vCorner;
+        vec3 srgb(vec3 c) { // linear -> sRGB (the canvas' colour space, renderer.outputColorSpace)
+          c = clamp(c, 0.0, 1.0);
+          return mix(1.055 * pow(c, vec3(0.41666)) - 0.055, 12.92 * c, vec3(lessThanEqual(c, vec3(0.0031308))));
+        }
+        void main() {
+          vec4 world = modelMatrix * vec4(position, 1.0);
+          vec3 n = normal;
+          if (dot(n, cameraPosition - world.xyz) < 0.0) n = -n; // lit as seen (inverted hexes' faces, warped quads)
+          vec3 irradiance = mix(groundColor, skyColor, 0.5 * n.y + 0.5) + sunColor * max(dot(n, sunDirection), 0.0);
+          vColor = srgb(color * irradiance);
+          vCorner = corner;
+          gl_Position = projectionMatrix * viewMatrix * world;
+        }`,
+      fragmentShader: `
+        uniform vec3 wireColor;
+        uniform float wireOpacity;
+        varying vec3 vColor;
+        varying vec2 vCorner;
+        void main() {
+          gl_FragColor = vec4(vColor, 1.0);
+          if (wireOpacity > 0.0) {
+            vec2 px = min(vCorner, 1.0 - vCorner) / max(fwidth(vCorner), vec2(1e-6)); // pixels to the sides
+            float cover = clamp(1.0 - min(px.x, px.y), 0.0, 1.0);
+            gl_FragColor.rgb = mix(gl_FragColor.rgb, wireColor, wireOpacity * cover);
+          }
+        }`,
+    });
+  });
+}
+// The lights of the faces' shader follow the scene's (physically based units: irradiance / pi, as three.js's
+// Lambert term): the hemisphere light's sky (up = +y, three.js's default) and ground colours, and the sun's
+// direction from its target to it, updated per frame (the sun moves with the camera).
+function updateFaceLights() {
+  const m = materials.get('mesh-faces');
+  if (!m) return;
+  const u = m.uniforms;
+  u.skyColor.value.copy(hemi.color).multiplyScalar(hemi.intensity / Math.PI);
+  u.groundColor.value.copy(hemi.groundColor).multiplyScalar(hemi.intensity / Math.PI);
+  u.sunColor.value.copy(sun.color).multiplyScalar(sun.intensity / Math.PI);
+  const p = new THREE.Vector3(), t = new THREE.Vector3();
+  sun.getWorldPosition(p); sun.target.getWorldPosition(t);
+  u.sunDirection.value.copy(p).sub(t).normalize();
 }
 
 function drawMesh() {
@@ -350,25 +438,27 @@ function drawMesh() {
   const byDistance = mode === 'dist' && dist?.length && cornerVerts;
   const plain = [0.78, 0.8, 0.85];
   for (let q = 0; q < nq; q++) {
-    const hexColor = byDistance ? null : mode === 'sj' ? V.sjColor(sj[owner[q]]) : plain;
-    for (let k = 0; k < 4; k++) colors.set(hexColor || V.distanceColor(dist[cornerVerts[4 * q + k]], maxDist), 12 * q + 3 * k);
+    if (byDistance) {
+      for (let k = 0; k < 4; k++) colors.set(V.distanceColor(dist[cornerVerts[4 * q + k]], maxDist), 12 * q + 3 * k);
+      continue;
+    }
+    const c = mode === 'sj' ? V.sjColor(sj[owner[q]]) : plain, o = 12 * q;
+    for (let k = 0; k < 12; k += 3) { colors[o + k] = c[0]; colors[o + k + 1] = c[1]; colors[o + k + 2] = c[2]; }
   }
   const position = new THREE.BufferAttribute(quadPos instanceof Float32Array ? quadPos : new Float32Array(quadPos), 3);
   const g = new THREE.BufferGeometry();
   g.setAttribute('position', position);
   g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
-  g.setIndex(new THREE.BufferAttribute(triangleIndex(nq), 1));
-  // Flat shading takes the normal from the screen-space derivatives: no normals needed.
-  const meshObj = new THREE.Mesh(g, material('mesh-faces', () => new THREE.MeshPhongMaterial({ vertexColors: true, side: THREE.DoubleSide,
-    flatShading: true, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 })));
-  groups.mesh.add(meshObj);
-  if ($('v-wire').checked) {
-    const lg = new THREE.BufferGeometry();
-    lg.setAttribute('position', position);
-    // Each edge once when the quads share their corners (not when shrunk: every quad has its own).
-    lg.setIndex(new THREE.BufferAttribute(cornerVerts ? edgeLineIndex(cornerVerts) : V.quadLineIndex(nq), 1));
-    groups.mesh.add(new THREE.LineSegments(lg, material('mesh-wire', () => new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.5 }))));
-  }
+  g.setAttribute('normal', new THREE.BufferAttribute(V.quadNormals(quadPos), 3));
+  g.setAttribute('corner', cornerCoords(nq));
+  g.setIndex(triangleIndex(nq, owner, sj, V.hexCount(mesh)));
+  const faces = meshFaceMaterial();
+  faces.uniforms.wireOpacity.value = $('v-wire').checked ? MESH_WIRE_OPACITY : 0;
+  // The mesh's bounding sphere from its bounds (three.js would compute one per new geometry, a pass over its corners,
+  // to cull and sort it): shrunk and clipped quads are inside it too, and so are the singular edges.
+  const sphere = new THREE.Sphere(new THREE.Vector3(...b.min.map((x, i) => (x + b.max[i]) / 2)), b.diagonal / 2);
+  g.boundingSphere = sphere;
+  groups.mesh.add(new THREE.Mesh(g, faces));
   if ($('v-sing').checked && mesh.singular_edges?.length) {
     const se = mesh.singular_edges, P = mesh.vertices, ns = Math.floor(se.length / 3);
     const pos = new Float32Array(6 * ns), col = new Float32Array(6 * ns);
@@ -384,6 +474,7 @@ function drawMesh() {
     sg.setAttribute('color', new THREE.BufferAttribute(col, 3));
     const lines = new THREE.LineSegments(sg, material('singular-edges', () => new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false })));
     lines.renderOrder = 15;
+    sg.boundingSphere = sphere.clone();
     groups.sing.add(lines);
   }
   const cs = resp.connection_surfaces;

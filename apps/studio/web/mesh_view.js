@@ -182,48 +182,61 @@ export function bounds(flat) {
   return { min, max, diagonal };
 }
 
-// Index buffers over quad corners (4 per quad, in order): two triangles a,b,c / a,c,d per quad, and the 4 sides as
-// line segments. The corners' positions and colours are shared by both.
-export function quadTriangleIndex(nq) {
-  const idx = new Uint32Array(6 * nq);
+// Index buffer over quad corners (4 per quad, in order): two triangles a,b,c / a,c,d per quad. (The wireframe is drawn
+// by the faces' fragment shader from quadCornerCoords: no line index.) The faces are drawn with back-face culling
+// (a closed, outward-oriented boundary shows only its front faces; a software WebGL then rasterizes half the
+// triangles), so a quad that may face inwards (its hex inverted: scaled Jacobian <= 0, whose faces can point either
+// way) is also drawn from behind: bothSides(q) true appends its triangles reversed, a,c,b / a,d,c, after all the
+// others. Returns a Uint32Array of 6 indices per quad plus 6 per quad drawn from both sides.
+export function quadTriangleIndex(nq, bothSides = null) {
+  let extra = 0;
+  if (bothSides) for (let q = 0; q < nq; q++) if (bothSides(q)) extra++;
+  const idx = new Uint32Array(6 * (nq + extra));
   for (let q = 0; q < nq; q++) {
     const b = 4 * q, i = 6 * q;
     idx[i] = b; idx[i + 1] = b + 1; idx[i + 2] = b + 2; idx[i + 3] = b; idx[i + 4] = b + 2; idx[i + 5] = b + 3;
   }
-  return idx;
-}
-
-export function quadLineIndex(nq) {
-  const idx = new Uint32Array(8 * nq);
-  for (let q = 0; q < nq; q++) {
-    const b = 4 * q, i = 8 * q;
-    idx[i] = b; idx[i + 1] = b + 1; idx[i + 2] = b + 1; idx[i + 3] = b + 2;
-    idx[i + 4] = b + 2; idx[i + 5] = b + 3; idx[i + 6] = b + 3; idx[i + 7] = b;
-  }
-  return idx;
-}
-
-// Line index of the quads' edges with each edge drawn once: `quads` gives the mesh vertex of each quad corner (4 per
-// quad, the corner i of quad q at position 4 q + i of the drawn positions), and an edge shared by two drawn quads
-// (every edge of a closed boundary) is one line, from its first quad. About half the lines of quadLineIndex: in a
-// software WebGL (SwiftShader) the wireframe of a 27 k-quad tree mesh was 40 % of the frame.
-export function quadEdgeLineIndex(quads) {
-  const nq = quads.length >> 2;
-  let slots = 2;
-  while (slots < 8 * nq) slots *= 2;
-  const keyA = new Int32Array(slots).fill(-1), keyB = new Int32Array(slots);
-  const mask = slots - 1;
-  const idx = new Uint32Array(8 * nq);
-  let n = 0;
-  for (let q = 0; q < nq; q++)
-    for (let k = 0; k < 4; k++) {
-      const u = quads[4 * q + k], w = quads[4 * q + ((k + 1) & 3)];
-      const a = u < w ? u : w, b = u < w ? w : u;
-      let h = (Math.imul(a, 0x9e3779b1) ^ Math.imul(b, 0x85ebca77)) & mask;
-      while (keyA[h] !== -1 && (keyA[h] !== a || keyB[h] !== b)) h = (h + 1) & mask;
-      if (keyA[h] !== -1) continue; // drawn from an earlier quad
-      keyA[h] = a; keyB[h] = b;
-      idx[n++] = 4 * q + k; idx[n++] = 4 * q + ((k + 1) & 3);
+  if (extra)
+    for (let q = 0, i = 6 * nq; q < nq; q++) {
+      if (!bothSides(q)) continue;
+      const b = 4 * q;
+      idx[i++] = b; idx[i++] = b + 2; idx[i++] = b + 1; idx[i++] = b; idx[i++] = b + 3; idx[i++] = b + 2;
     }
-  return idx.slice(0, n);
+  return idx;
+}
+
+// Quad-local corner coordinates for a wireframe drawn in the faces' fragment shader (no line primitives): corner k of
+// every quad gets (0,0), (1,0), (1,1), (0,1), so that, interpolated over the quad's two triangles (a,b,c / a,c,d of
+// quadTriangleIndex), a coordinate is 0 or 1 exactly along the quad's 4 sides and strictly between inside it (the
+// diagonal a-c included). The fragment's distance to the nearest side in pixels is then min(u, 1-u, v, 1-v) over the
+// screen-space derivative. Returns a Float32Array of 8 numbers per quad (2 per corner).
+export function quadCornerCoords(nq) {
+  const uv = new Float32Array(8 * nq);
+  for (let q = 0; q < nq; q++) {
+    const i = 8 * q;
+    uv[i + 2] = 1; uv[i + 4] = 1; uv[i + 5] = 1; uv[i + 7] = 1;
+  }
+  return uv;
+}
+
+// One normal per quad, repeated at its 4 corners, for lighting the faces per vertex (flat per quad): the unit cross
+// product of the quad's diagonals (c - a) x (d - b), i.e. for a warped quad the normal of the plane through the
+// midpoints of its sides (their parallelogram has sides parallel to the diagonals), pointing to the side from which
+// a, b, c, d turn counterclockwise. positions: 12 numbers per quad (4 corners, xyz). A degenerate
+// quad (zero cross product) gets 0 0 0 (the shader then lights it by the ambient part only).
+export function quadNormals(positions) {
+  const nq = Math.floor(positions.length / 12);
+  const n = new Float32Array(12 * nq);
+  const P = positions;
+  for (let q = 0; q < nq; q++) {
+    const o = 12 * q;
+    const ux = P[o + 6] - P[o], uy = P[o + 7] - P[o + 1], uz = P[o + 8] - P[o + 2];
+    const wx = P[o + 9] - P[o + 3], wy = P[o + 10] - P[o + 4], wz = P[o + 11] - P[o + 5];
+    let x = uy * wz - uz * wy, y = uz * wx - ux * wz, z = ux * wy - uy * wx;
+    const len = Math.hypot(x, y, z);
+    if (!(len > 0)) continue;
+    x /= len; y /= len; z /= len;
+    for (let k = 0; k < 4; k++) { n[o + 3 * k] = x; n[o + 3 * k + 1] = y; n[o + 3 * k + 2] = z; }
+  }
+  return n;
 }

@@ -52,11 +52,9 @@ test('shrunk quads: every face of every hex, moved towards the hex centre', () =
   for (let i = 0; i < 6 * 12; i++) assert.ok([0.25, 0.75].includes(r.positions[i]), `${r.positions[i]}`);
   const nq = r.positions.length / 12;
   assert.equal(nq, 12);
-  const tri = V.quadTriangleIndex(nq), lines = V.quadLineIndex(nq);
+  const tri = V.quadTriangleIndex(nq);
   assert.equal(tri.length, 6 * nq);
   assert.deepEqual([...tri.slice(6, 12)], [4, 5, 6, 4, 6, 7]);
-  assert.equal(lines.length, 8 * nq);
-  assert.deepEqual([...lines.slice(8, 16)], [4, 5, 5, 6, 6, 7, 7, 4]);
   assert.equal(Math.max(...tri), 4 * nq - 1);
 });
 
@@ -114,20 +112,77 @@ test('peel layers: every hex of two cubes touches the boundary', () => {
   assert.deepEqual([...V.hexLayers(twoCubes())], [0, 0]);
 });
 
-// Two cubes sharing a face: a 2 x 1 x 1 box, 10 boundary quads (visibleQuads, 40 quad sides) on 12 vertices, so
-// 12 - E + 10 = 2 gives E = 20 edges, each drawn once.
-test('quad edge lines: each edge of the drawn quads once', () => {
+// Back-face culling with inverted hexes: the quads of an inverted hex come a second time, reversed. Two cubes, hex 1
+// inverted (sj -0.2): of the 10 boundary quads 5 are hex 1's, so 6 x 10 + 6 x 5 = 90 indices, the last 30 being
+// hex 1's quads as a,c,b / a,d,c.
+test('triangle index: inverted hexes drawn from both sides (reversed copies after the others)', () => {
   const m = twoCubes();
   const r = V.visibleQuads(m);
-  assert.equal(r.quads.length, 40);
-  const lines = V.quadEdgeLineIndex(r.quads);
-  assert.equal(lines.length, 2 * 20);
-  const seen = new Set();
-  for (let i = 0; i < lines.length; i += 2) {
-    const a = r.quads[lines[i]], b = r.quads[lines[i + 1]];
-    const key = `${Math.min(a, b)}-${Math.max(a, b)}`;
-    assert.ok(!seen.has(key), key);
-    seen.add(key);
+  const nq = r.owner.length;
+  assert.equal(nq, 10);
+  const idx = V.quadTriangleIndex(nq, (q) => !(m.sj[r.owner[q]] > 0));
+  assert.equal(idx.length, 90);
+  assert.deepEqual([...idx.slice(0, 60)], [...V.quadTriangleIndex(nq)]);
+  const flipped = [];
+  for (let i = 60; i < 90; i += 6) {
+    const b = idx[i];
+    assert.equal(b % 4, 0);
+    assert.deepEqual([...idx.slice(i, i + 6)], [b, b + 2, b + 1, b, b + 3, b + 2]);
+    flipped.push(b / 4);
   }
-  assert.equal(seen.size, 20);
+  assert.deepEqual(flipped, [...Array(nq).keys()].filter((q) => r.owner[q] === 1));
+  assert.equal(V.quadTriangleIndex(nq, () => false).length, 60);
+});
+
+// The fragment-shader wireframe: along each triangle edge that is a side of its quad one corner coordinate is 0 or 1 at
+// both ends (so the interpolated distance to that side is 0 along it); along the diagonal a-c none is. 3 quads:
+// 6 triangles, 18 triangle edges = 12 sides (4 per quad, each once) + 6 diagonal edges (each quad's twice).
+test('quad corner coordinates: 0 or 1 along the 4 sides of each quad, never along its diagonal', () => {
+  const nq = 3;
+  const uv = V.quadCornerCoords(nq), tri = V.quadTriangleIndex(nq);
+  assert.equal(uv.length, 8 * nq);
+  assert.deepEqual([...uv.slice(8, 16)], [0, 0, 1, 0, 1, 1, 0, 1]);
+  let sides = 0, diagonals = 0;
+  const sideKeys = new Set();
+  for (let t = 0; t < tri.length; t += 3)
+    for (let k = 0; k < 3; k++) {
+      const i = tri[t + k], j = tri[t + (k + 1) % 3];
+      assert.equal(i >> 2, j >> 2, 'a triangle stays in its quad');
+      const onSide = [0, 1].some((d) => uv[2 * i + d] === uv[2 * j + d] && (uv[2 * i + d] === 0 || uv[2 * i + d] === 1));
+      const isSide = ((i - j) & 3) !== 2; // corners 0-2 / 1-3 are the diagonals
+      assert.equal(onSide, isSide, `edge ${i}-${j}`);
+      if (isSide) { sides++; sideKeys.add(`${Math.min(i, j)}-${Math.max(i, j)}`); } else diagonals++;
+    }
+  assert.equal(sides, 12);
+  assert.equal(sideKeys.size, 12);
+  assert.equal(diagonals, 6);
+});
+
+// Normals per quad: the two-cube box's 10 boundary quads are axis-aligned unit squares, so each normal is a unit axis
+// vector pointing away from the box's centre (1, 0.5, 0.5): -x 1, +x 1, -y 2, +y 2, -z 2, +z 2 (2 cubes per side
+// face), the same at the 4 corners. A warped quad gets the cross product of its diagonals; a degenerate one 0 0 0.
+test('quad normals: outward unit axes on the box, diagonals cross product when warped, zero when degenerate', () => {
+  const m = twoCubes();
+  const r = V.visibleQuads(m);
+  const pos = r.quads.flatMap((v) => m.vertices.slice(3 * v, 3 * v + 3));
+  const n = V.quadNormals(pos);
+  assert.equal(n.length, 10 * 12);
+  const count = {};
+  for (let q = 0; q < 10; q++) {
+    const c = [0, 1, 2].map((d) => (pos[12 * q + d] + pos[12 * q + 3 + d] + pos[12 * q + 6 + d] + pos[12 * q + 9 + d]) / 4);
+    const nq = [...n.slice(12 * q, 12 * q + 3)];
+    for (let k = 1; k < 4; k++) assert.deepEqual([...n.slice(12 * q + 3 * k, 12 * q + 3 * k + 3)], nq);
+    const axis = nq.findIndex((x) => x !== 0);
+    assert.equal(nq.filter((x) => x !== 0).length, 1);
+    assert.equal(Math.abs(nq[axis]), 1);
+    assert.ok(nq[axis] * (c[axis] - [1, 0.5, 0.5][axis]) > 0, `quad ${q} points inwards`);
+    const key = `${nq[axis] > 0 ? '+' : '-'}${'xyz'[axis]}`;
+    count[key] = (count[key] || 0) + 1;
+  }
+  assert.deepEqual(count, { '-x': 1, '+x': 1, '-y': 2, '+y': 2, '-z': 2, '+z': 2 });
+  // (c - a) x (d - b) = (1, 1, 1) x (-1, 1, 0) = (-1, -1, 2), over its length sqrt(6).
+  const warped = V.quadNormals([0, 0, 0, 1, 0, 0, 1, 1, 1, 0, 1, 0]);
+  const s6 = Math.sqrt(6);
+  [-1 / s6, -1 / s6, 2 / s6].forEach((x, i) => assert.ok(Math.abs(warped[i] - x) < 1e-7, `${warped[i]}`));
+  assert.deepEqual([...V.quadNormals([0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0])], new Array(12).fill(0));
 });
