@@ -32,6 +32,7 @@ struct UntangleState {
     std::vector<int> active_hexes;              // ascending: hexes with at least one free vertex
     std::vector<double> hex_size;               // per hex: h_hex
     std::vector<int> vh_begin, vh_slot;         // per vertex: its (h * 8 + lv) slots
+    std::vector<int> vh_active;                 // per slot: (position of h in active_hexes) * 8 + lv, -1 if inactive
     std::vector<std::array<Vec3, 8>> hex_grad;  // per active hex (index in active_hexes)
     double theta = 0.5, eps = 1e-6, attach = 0, attach_scale = 1;
 };
@@ -132,22 +133,33 @@ double evaluate(UntangleState& pb, std::vector<Vec3>* grad) {
         if (pb.attached[static_cast<std::size_t>(v)])
             energy += k * squared_norm(pb.x[static_cast<std::size_t>(v)] - pb.x0[static_cast<std::size_t>(v)]);
     if (!grad) return energy;
-    // Gather: slot (h, lv) -> position of h in active_hexes (binary search; active_hexes is ascending).
+    // Gather: every hex at a free vertex is active, so each of its slots has an active position (vh_active).
     grad->assign(pb.free_vertices.size(), Vec3{});
     tbb::parallel_for(std::size_t{0}, pb.free_vertices.size(), [&](std::size_t i) {
         const int v = pb.free_vertices[i];
         Vec3 g;
         for (int s = pb.vh_begin[static_cast<std::size_t>(v)]; s < pb.vh_begin[static_cast<std::size_t>(v) + 1]; ++s) {
-            const int slot = pb.vh_slot[static_cast<std::size_t>(s)];
-            const auto it = std::lower_bound(pb.active_hexes.begin(), pb.active_hexes.end(), slot / 8);
-            g +=
-                pb.hex_grad[static_cast<std::size_t>(it - pb.active_hexes.begin())][static_cast<std::size_t>(slot % 8)];
+            const int a = pb.vh_active[static_cast<std::size_t>(s)];
+            g += pb.hex_grad[static_cast<std::size_t>(a / 8)][static_cast<std::size_t>(a % 8)];
         }
         if (pb.attached[static_cast<std::size_t>(v)])
             g += (2 * k) * (pb.x[static_cast<std::size_t>(v)] - pb.x0[static_cast<std::size_t>(v)]);
         (*grad)[i] = g;
     });
     return energy;
+}
+
+// vh_active from active_hexes (ascending): the gradient gather's slot -> (active position, corner) table, built once
+// per round instead of a binary search per slot and evaluation.
+void set_active_slots(UntangleState& pb) {
+    std::vector<int> position(pb.mesh->hexes.size(), -1);
+    for (std::size_t i = 0; i < pb.active_hexes.size(); ++i)
+        position[static_cast<std::size_t>(pb.active_hexes[i])] = static_cast<int>(i);
+    pb.vh_active.resize(pb.vh_slot.size());
+    for (std::size_t s = 0; s < pb.vh_slot.size(); ++s) {
+        const int slot = pb.vh_slot[s], i = position[static_cast<std::size_t>(slot / 8)];
+        pb.vh_active[s] = i < 0 ? -1 : i * 8 + slot % 8;
+    }
 }
 
 double min_corner_det(const UntangleState& pb) {
@@ -397,6 +409,7 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
             for (int v : mesh.hexes[h]) any = any || is_free[static_cast<std::size_t>(v)];
             if (any) pb.active_hexes.push_back(static_cast<int>(h));
         }
+        set_active_slots(pb);
         if (pb.free_vertices.empty()) break;  // nothing can move
 
         if (round == 1) {
