@@ -371,6 +371,8 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
     std::vector<bool> in_region(mesh.points.size(), false);
     std::vector<Vec3> best_x = pb.x;  // the best state seen: fewest inverted hexes, then largest min SJ
     Inversion best = inv;
+    const double start_min = inv.sj_min;
+    bool rose = false;  // a round of a quality pass ended with min SJ above the start's
     double detmin = 0;
     int clean_rounds = 0;
     for (int round = 1; round <= options.max_rounds; ++round) {
@@ -427,6 +429,7 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
             best = inv;
             best_x = pb.x;
         }
+        rose = rose || inv.sj_min > start_min;
         if (options.progress) {
             UntangleProgress p;
             p.round = round;
@@ -441,6 +444,11 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
         const double chi_min = 0.5 * (detmin + std::sqrt(pb.eps * pb.eps + detmin * detmin));
         const double mu = (1 - sigma) * chi_min;
         pb.eps = detmin < mu ? 2 * std::sqrt(mu * (mu - detmin)) : 1e-10;
+        if (options.target_sj > 0 && options.quality_patience > 0 && round >= options.quality_patience && !rose) {
+            best_x = mesh.points;  // nothing the finishing would keep: the start is returned
+            best = inversion_of(mesh, best_x, options.target_sj);
+            break;
+        }
         if (inv.count == 0 && detmin > 0) {
             if (clean_rounds >= options.extra_rounds) break;
             ++clean_rounds;
