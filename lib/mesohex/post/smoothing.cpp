@@ -31,6 +31,10 @@ struct Smoother {
     std::vector<Vec3>& x;
     std::size_t nv, nh;
     std::vector<double> sj;
+    // Per hex: its 9 frame values (hex_frame_values) at the current positions, kept up to date by moved_hex. A trial
+    // move of v changes only the 5 frames that contain v (the centre and the corners at v and at its 3 neighbours);
+    // local() takes the other 4 from here, bit for bit what it would recompute.
+    std::vector<std::array<double, 9>> frames;
     VertexHexes incident;
     std::vector<double> edge_len;  // mean length of the edges at every vertex (at the start)
     HexTopology topo;
@@ -251,9 +255,8 @@ struct Smoother {
     Local local(std::size_t v) const {
         Local l;
         for (int i = incident.begin[v]; i < incident.begin[v + 1]; ++i) {
-            const std::array<Vec3, 8> c =
-                hex_corners(static_cast<std::size_t>(incident.hexes[static_cast<std::size_t>(i)]));
-            const std::array<double, 9> q = hex_frame_values(c);
+            const std::size_t hh = static_cast<std::size_t>(incident.hexes[static_cast<std::size_t>(i)]);
+            const std::array<double, 9> q = frames_with_moved(hh, v);
             double m = q[0];
             for (double s : q) {
                 m = std::min(m, s);
@@ -265,9 +268,32 @@ struct Smoother {
         return l;
     }
 
-    // After a move of v (or of a vertex set): the scaled Jacobians of the hexes at it, and their vertices to try again.
+    // The frame values of hex hh with only vertex v (one of its corners) moved since frames[hh] was set.
+    std::array<double, 9> frames_with_moved(std::size_t hh, std::size_t v) const {
+        const std::array<Vec3, 8> c = hex_corners(hh);
+        std::array<double, 9> q = frames[hh];
+        std::size_t lv = 0;
+        while (lv < 7 && static_cast<std::size_t>(mesh.hexes[hh][lv]) != v) ++lv;
+        const std::array<Vec3, 3> centre = hex_centre_frame(c);
+        q[0] = frame_det_over_lengths(centre[0], centre[1], centre[2]);
+        auto corner = [&](std::size_t k) {
+            const std::array<Vec3, 3> f = hex_corner_frame(c, k);
+            q[k + 1] = frame_det_over_lengths(f[0], f[1], f[2]);
+        };
+        corner(lv);
+        for (int k : kHexCornerNeighbors[lv]) corner(static_cast<std::size_t>(k));
+        return q;
+    }
+    void set_all_frames() {
+        frames.resize(nh);
+        for (std::size_t hh = 0; hh < nh; ++hh) frames[hh] = hex_frame_values(hex_corners(hh));
+    }
+
+    // After a move of v (or of a vertex set): the scaled Jacobians and frame values of the hexes at it, and their
+    // vertices to try again.
     void moved_hex(std::size_t hh) {
         sj[hh] = scaled_jacobian(hex_corners(hh));
+        frames[hh] = hex_frame_values(hex_corners(hh));
         for (int w : mesh.hexes[hh]) dirty[static_cast<std::size_t>(w)] = 1;
     }
 
@@ -567,6 +593,7 @@ SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const 
     s.quad_sample.assign(s.topo.boundary_quads.size(), Vec3{});
     s.quad_sampled.assign(s.topo.boundary_quads.size(), 0);
     s.dirty.assign(nv, 1);
+    s.set_all_frames();
     s.run_sweeps(options.max_sweeps);
     s.find_creases();
     s.max_min_pass();

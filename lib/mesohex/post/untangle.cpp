@@ -32,6 +32,7 @@ struct UntangleState {
     std::vector<int> active_hexes;              // ascending: hexes with at least one free vertex
     std::vector<double> hex_size;               // per hex: h_hex
     std::vector<int> vh_begin, vh_slot;         // per vertex: its (h * 8 + lv) slots
+    std::vector<int> vh_active;                 // per slot: (position of h in active_hexes) * 8 + lv, -1 if inactive
     std::vector<std::array<Vec3, 8>> hex_grad;  // per active hex (index in active_hexes)
     double theta = 0.5, eps = 1e-6, attach = 0, attach_scale = 1;
 };
@@ -132,22 +133,33 @@ double evaluate(UntangleState& pb, std::vector<Vec3>* grad) {
         if (pb.attached[static_cast<std::size_t>(v)])
             energy += k * squared_norm(pb.x[static_cast<std::size_t>(v)] - pb.x0[static_cast<std::size_t>(v)]);
     if (!grad) return energy;
-    // Gather: slot (h, lv) -> position of h in active_hexes (binary search; active_hexes is ascending).
+    // Gather: every hex at a free vertex is active, so each of its slots has an active position (vh_active).
     grad->assign(pb.free_vertices.size(), Vec3{});
     tbb::parallel_for(std::size_t{0}, pb.free_vertices.size(), [&](std::size_t i) {
         const int v = pb.free_vertices[i];
         Vec3 g;
         for (int s = pb.vh_begin[static_cast<std::size_t>(v)]; s < pb.vh_begin[static_cast<std::size_t>(v) + 1]; ++s) {
-            const int slot = pb.vh_slot[static_cast<std::size_t>(s)];
-            const auto it = std::lower_bound(pb.active_hexes.begin(), pb.active_hexes.end(), slot / 8);
-            g +=
-                pb.hex_grad[static_cast<std::size_t>(it - pb.active_hexes.begin())][static_cast<std::size_t>(slot % 8)];
+            const int a = pb.vh_active[static_cast<std::size_t>(s)];
+            g += pb.hex_grad[static_cast<std::size_t>(a / 8)][static_cast<std::size_t>(a % 8)];
         }
         if (pb.attached[static_cast<std::size_t>(v)])
             g += (2 * k) * (pb.x[static_cast<std::size_t>(v)] - pb.x0[static_cast<std::size_t>(v)]);
         (*grad)[i] = g;
     });
     return energy;
+}
+
+// vh_active from active_hexes (ascending): the gradient gather's slot -> (active position, corner) table, built once
+// per round instead of a binary search per slot and evaluation.
+void set_active_slots(UntangleState& pb) {
+    std::vector<int> position(pb.mesh->hexes.size(), -1);
+    for (std::size_t i = 0; i < pb.active_hexes.size(); ++i)
+        position[static_cast<std::size_t>(pb.active_hexes[i])] = static_cast<int>(i);
+    pb.vh_active.resize(pb.vh_slot.size());
+    for (std::size_t s = 0; s < pb.vh_slot.size(); ++s) {
+        const int slot = pb.vh_slot[s], i = position[static_cast<std::size_t>(slot / 8)];
+        pb.vh_active[s] = i < 0 ? -1 : i * 8 + slot % 8;
+    }
 }
 
 double min_corner_det(const UntangleState& pb) {
@@ -359,6 +371,8 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
     std::vector<bool> in_region(mesh.points.size(), false);
     std::vector<Vec3> best_x = pb.x;  // the best state seen: fewest inverted hexes, then largest min SJ
     Inversion best = inv;
+    const double start_min = inv.sj_min;
+    bool rose = false;  // a round of a quality pass ended with min SJ above the start's
     double detmin = 0;
     int clean_rounds = 0;
     for (int round = 1; round <= options.max_rounds; ++round) {
@@ -397,6 +411,7 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
             for (int v : mesh.hexes[h]) any = any || is_free[static_cast<std::size_t>(v)];
             if (any) pb.active_hexes.push_back(static_cast<int>(h));
         }
+        set_active_slots(pb);
         if (pb.free_vertices.empty()) break;  // nothing can move
 
         if (round == 1) {
@@ -414,6 +429,7 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
             best = inv;
             best_x = pb.x;
         }
+        rose = rose || inv.sj_min > start_min;
         if (options.progress) {
             UntangleProgress p;
             p.round = round;
@@ -428,6 +444,11 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
         const double chi_min = 0.5 * (detmin + std::sqrt(pb.eps * pb.eps + detmin * detmin));
         const double mu = (1 - sigma) * chi_min;
         pb.eps = detmin < mu ? 2 * std::sqrt(mu * (mu - detmin)) : 1e-10;
+        if (options.target_sj > 0 && options.quality_patience > 0 && round >= options.quality_patience && !rose) {
+            best_x = mesh.points;  // nothing the finishing would keep: the start is returned
+            best = inversion_of(mesh, best_x, options.target_sj);
+            break;
+        }
         if (inv.count == 0 && detmin > 0) {
             if (clean_rounds >= options.extra_rounds) break;
             ++clean_rounds;

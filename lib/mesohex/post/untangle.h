@@ -30,6 +30,11 @@ struct UntangleOptions {
                                      // makes this a quality pass: the region grows around the hexes below it, and the
                                      // state kept is the one with the fewest inverted hexes, then fewest below target,
                                      // then the largest min SJ (never more inverted hexes than at the start)
+    // Rounds: a quality pass (target_sj > 0) stops when none of its first quality_patience rounds ended with a min SJ
+    // above the start's; it then returns the start. (The finishing keeps a quality pass only when the min SJ rose; on
+    // the 43 inputs of bench/finish_all.sh and 20 random seeds every kept pass rose by round 2, docs/performance.md.)
+    // <= 0: never stop early.
+    int quality_patience = 5;
     std::function<void(const UntangleProgress&)> progress;  // optional, called after every round
 };
 
