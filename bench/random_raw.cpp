@@ -4,12 +4,12 @@
 //
 //   mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints [merge [joint [wide]]]]]]]   (the
 //   others 0/1: SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends, joint_trunks,
-//   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every stub
-//   absorbed), JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and
-//   JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and junction_split_clearance, PIN_TRUNK_JOINTS=0 turns
-//   SkeletonRepairOptions::pin_trunk_joints off. The last three columns: stubs
-//   kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare two builds or option
-//   sets seed by seed to find the seeds a change touches).
+//   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every
+//   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, JUNCTION_SPLIT=H SkeletonRepairOptions::
+//   junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
+//   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off. The last three
+//   columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare two
+//   builds or option sets seed by seed to find the seeds a change touches).
 //
 // One line per seed, then the distribution. The worst raw hex is named by the adapted skeleton edge of its chunk
 // (a plate hex: "plate"), and by the kind of that edge's ends: bp = branching point without leaflet, lf = leaflet
@@ -74,6 +74,7 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_SPLIT")) po.repair.junction_split = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_GAP")) po.repair.junction_split_gap_deg = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_CLEARANCE")) po.repair.junction_split_clearance = std::atof(k);
+    if (const char* k = std::getenv("SIDE_STUB_MIN_LENGTH")) po.repair.side_stub_min_length = std::atof(k);
     if (const char* k = std::getenv("PIN_TRUNK_JOINTS")) po.repair.pin_trunk_joints = std::atoi(k) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;

@@ -410,6 +410,51 @@ TEST(SkeletonRepair, StubKeptAsSideBranch) {
     EXPECT_EQ(absorbed.absorbed_stubs, 1);
 }
 
+// A side stub whose end lies inside its root's ball is lengthened. The sibling straight up from c = (0, 0, 0) (parent
+// (0, 0, -1)), the stub 0.3 long at theta = asin(0.85 / 3) = 16.46 degrees towards +x, radius 0.1 everywhere: at arc s
+// the branches are 2 s sin(theta / 2) = 0.2863 s apart, below 0.2 up to s = 0.70 > 0.3 (a stub); its end e = (0.085, 0,
+// 0.3 cos theta) lies 0.85 r off the sibling (>= side_stub_reach 0.7: a side branch from q = (0, 0, 0.2877)). The edge
+// (q, e), 0.085 long, is shorter than side_stub_min_length x max(r_q, r_e) = 0.1: e moves outwards to (0.1, 0, 0.2877),
+// radius kept. With side_stub_min_length 0, e stays.
+TEST(SkeletonRepair, ShortSideStubLengthened) {
+    Skeleton in;
+    const double r = 0.1, sin_t = 0.85 / 3, cos_t = std::sqrt(1 - sin_t * sin_t);
+    in.points = {{0, 0, -1}, {0, 0, 0}, {0, 0, 2}, {0.3 * sin_t, 0, 0.3 * cos_t}};
+    in.radii = {r, r, r, r};
+    in.edges = {{0, 1}, {1, 2}, {1, 3}};
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in);
+    EXPECT_EQ(res.side_stubs, 1);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 5u);  // the 4 input vertices, then q
+    EXPECT_NEAR(distance(s.points[4], Vec3{0, 0, 0.3 * cos_t}), 0, 1e-12);
+    EXPECT_NEAR(distance(s.points[3], Vec3{0.1, 0, 0.3 * cos_t}), 0, 1e-12);
+    EXPECT_EQ(s.radii[3], r);
+    mesohex::SkeletonRepairOptions kept;
+    kept.side_stub_min_length = 0;
+    const mesohex::SkeletonRepairResult res0 = mesohex::repair_skeleton(in, kept);
+    ASSERT_EQ(res0.skeleton.points.size(), 5u);
+    EXPECT_NEAR(distance(res0.skeleton.points[3], in.points[3]), 0, 1e-12);
+}
+
+// Held-out seed 251: the stub v3 -> v6 (0.55 long, 34 degrees from its sibling v3 -> v4) ends 0.208 = 0.86 r_q off the
+// sibling, inside q's ball (r_q 0.243, r_e 0.164). Kept at that length, the side edge has overlapping cross-sections
+// (no joint for the section criterion to remove) and 2 raw hexes invert next to it (min SJ -0.133); lengthened to
+// r_q, none (min SJ 0.152).
+TEST(SkeletonRepair, RandomSeedSideStubInsideRootBall) {
+    const Skeleton in = mesohex::generate_random_skeleton(251);
+    mesohex::PipelineOptions kept;
+    kept.repair.side_stub_min_length = 0;
+    const mesohex::PipelineResult def = mesohex::run_pipeline(in), short_side = mesohex::run_pipeline(in, kept);
+    EXPECT_EQ(def.side_stubs, 1);
+    EXPECT_EQ(short_side.side_stubs, 1);
+    const mesohex::QualityReport q = mesohex::compute_quality(def.raw.mesh);
+    const mesohex::QualityReport q0 = mesohex::compute_quality(short_side.raw.mesh);
+    EXPECT_EQ(q0.inverted, 2);
+    EXPECT_NEAR(q0.sj_min, -0.133, 1e-3);
+    EXPECT_EQ(q.inverted, 0);
+    EXPECT_NEAR(q.sj_min, 0.152, 1e-3);
+}
+
 // A stub whose sibling turns inside the absorbed stretch. c = (0, 0, 0), parent (0, 0, -1); the sibling goes up to its
 // joint j = (0, 0, 0.4), then turns by 30 degrees towards +x (to j + 1.6 (sin 30, 0, cos 30)); the stub, 0.6 long,
 // leaves c at 20 degrees towards +x. Radius 0.1: at arc 0.6 the points are (0.2052, 0, 0.5638) and (0.1, 0, 0.5732),

@@ -541,7 +541,8 @@ void join_trunk(Skeleton& s, const Graph& g, const Walk& w, int e0, double sep, 
 
 // A side stub: q (an existing joint of the kept walk, or a new vertex splitting its segment) gets the edge (q, e);
 // the stub's edges and vertices before e go. Returns q's id before the renumbering.
-int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const Walk& stub, int e_stub, Edit& ed) {
+int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const Walk& stub, int e_stub,
+              double min_length, Edit& ed) {
     const int e = stub.verts.back();
     double arc = 0;
     const AtArc q = nearest_on_walk(s, keep, s.points[e], arc);
@@ -571,6 +572,10 @@ int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const W
         ed.drop_vertex[v] = true;
         cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
     }
+    // The side edge is at least min_length x the larger radius of its ends long: e moves outwards along (e - q).
+    const double d = distance(s.points[e], s.points[qv]);
+    const double len = min_length * std::max(s.radii[qv], s.radii[e]);
+    if (d < len && d > 0) s.points[e] = s.points[qv] + (len / d) * (s.points[e] - s.points[qv]);
     ed.new_edges.push_back({qv, e});
     return qv;
 }
@@ -649,7 +654,7 @@ std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& b
     const Walk wi = walk(s, g, c, best.ei), wj = walk(s, g, c, best.ej);
     Edit ed{std::vector<bool>(n, false), std::vector<bool>(s.edges.size(), false), {}};
     if (best.kind == PairRepair::side) {
-        const int q = join_side(s, g, wi, best.ei, wj, best.ej, ed);
+        const int q = join_side(s, g, wi, best.ei, wj, best.ej, o.side_stub_min_length, ed);
         ++res.side_stubs;
         const Geometry edited{s.points, s.radii, s.edges};
         std::vector<int> id = rebuild(s, n, ed, res);

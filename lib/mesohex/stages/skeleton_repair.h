@@ -67,6 +67,14 @@ struct SkeletonRepairOptions {
     // (docs/junctions.md, "Stubs as side branches"). Needs absorb_stubs. 0 disables (every stub absorbed). Measured on
     // the random set (0.5, 0.7 and 1; seeds 1-100 and 101-200): docs/tuning.md, "Stubs as side branches".
     double side_stub_reach = 0.7;
+    // A side stub's edge (q, e) is at least side_stub_min_length x max(r_q, r_e) long (dimensionless): a shorter
+    // edge gets e moved outwards along (e - q) to that length (its radius kept). The edge from the branching point q
+    // to the extremity e has no joint for adaptation's section criterion to remove, so a shorter one keeps
+    // overlapping cross-sections (at a right-angle T the criterion asks for turn_safety x free_branching_reach x
+    // max(r_q, r_e), 0.875 x with the AdaptationOptions defaults), and raw hexes next to an end inside q's ball can
+    // invert. 1: e outside q's ball, with a margin over the criterion. 0: e stays. docs/junctions.md ("Side stubs
+    // inside their root's ball").
+    double side_stub_min_length = 1.0;
     // The ball t of an absorbed stub (or merged end) is a radius peak on the kept branch: the adaptation's
     // resampling, which evaluates its samples on the polyline at arc lengths of its own choosing, would step over it
     // and taper the bump away (the stub's tip uncovered, the tube after it too fat). true: the pipeline pins every t
@@ -165,7 +173,8 @@ struct SkeletonRepairResult {
 // (adaptation's degenerate repairs handle them).
 // Postconditions: V - E + F unchanged (each trunk adds t, the two crotch vertices and the trunk edge, and removes the
 // dropped joints with one edge each, the two first edges of the pair replaced; a side stub adds q and splits the
-// sibling's segment there unless a joint is at q, and replaces the stub's edges and joints by the edge (q, e));
+// sibling's segment there unless a joint is at q, and replaces the stub's edges and joints by the edge (q, e), e moved
+// outwards when that edge is short: side_stub_min_length);
 // leaflet faces and their edges unchanged; every output edge joins two distinct vertices. Output order: the kept
 // input vertices in their order, then per trunk t and the new crotch vertices (per side stub q); edges: the kept
 // input edges in their order, then per repair its new edges.
