@@ -304,6 +304,25 @@ double inversion_sj(const HexMesh& mesh, const std::vector<Vec3>& x, int h) {
     return scaled_jacobian(c);
 }
 
+// The vertices within `rings` hex rings of the given hexes (rings < 0: every vertex).
+std::vector<bool> region_around(const HexMesh& mesh, const std::vector<int>& hexes, int rings) {
+    std::vector<bool> seed(mesh.points.size(), rings < 0);
+    if (rings < 0) return seed;
+    for (int h : hexes)
+        for (int v : mesh.hexes[static_cast<std::size_t>(h)]) seed[static_cast<std::size_t>(v)] = true;
+    for (int ring = 0; ring < rings; ++ring) {
+        std::vector<bool> next = seed;
+        for (const std::array<int, 8>& hex : mesh.hexes) {
+            bool touches = false;
+            for (int v : hex) touches = touches || seed[static_cast<std::size_t>(v)];
+            if (touches)
+                for (int v : hex) next[static_cast<std::size_t>(v)] = true;
+        }
+        seed.swap(next);
+    }
+    return seed;
+}
+
 }  // namespace
 
 UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
@@ -377,23 +396,7 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
     int clean_rounds = 0;
     for (int round = 1; round <= options.max_rounds; ++round) {
         // Grow the region around the hexes inverted now.
-        std::vector<bool> seed(mesh.points.size(), false);
-        if (options.region_rings < 0) {
-            seed.assign(mesh.points.size(), true);
-        } else {
-            for (int h : inv.hexes)
-                for (int v : mesh.hexes[static_cast<std::size_t>(h)]) seed[static_cast<std::size_t>(v)] = true;
-            for (int ring = 0; ring < options.region_rings; ++ring) {
-                std::vector<bool> next = seed;
-                for (const std::array<int, 8>& hex : mesh.hexes) {
-                    bool touches = false;
-                    for (int v : hex) touches = touches || seed[static_cast<std::size_t>(v)];
-                    if (touches)
-                        for (int v : hex) next[static_cast<std::size_t>(v)] = true;
-                }
-                seed.swap(next);
-            }
-        }
+        const std::vector<bool> seed = region_around(mesh, inv.hexes, options.region_rings);
         for (std::size_t v = 0; v < seed.size(); ++v) in_region[v] = in_region[v] || seed[v];
         pb.free_vertices.clear();
         for (int v = 0; v < nv; ++v) {
