@@ -28,8 +28,8 @@
 // back leave a notch between the leaflets above u's fan-end cap (which reaches r_u above u) that the finished mesh
 // cannot fill (a large Hausdorff distance there; docs/blocks.md); with u within 2 r_w of w the cap covers most of it,
 // and the borders at u turn farther off the fan line.
-// Branches far from the fan line (perpendicular to it) stay refused: the moved corner then has the branch more than 60
-// degrees off its outward direction and folds its first hexes for most radii.
+// Branches far from the fan line (perpendicular to it) are not retracted: the moved corner would have the branch more
+// than 60 degrees off its outward direction and fold its first hexes for most radii; their root is moved (below).
 // A chain of one fan edge (u, w) is not retracted as it is (u would become a leaflet-only branching point whose raw
 // mesh folds; docs/blocks.md, "Branches on fan-edge ends"): when u is a plain fan end (no branch, every face there one
 // of the g around (u, w), each leaving u by its own border side) and every face around (u, w) starts a strip of faces
@@ -45,6 +45,20 @@
 // would leave its middle vertex a leaflet-only branching point (see above); a chain of 3 or more needs no cut.
 // Raw hexes: the standard count on the repaired skeleton, i.e. +2 (g - 1) (one border side more per retracted face),
 // plus, after a split, 2 per cut face and 2 per cut border side (one leaflet face and one border side more each).
+//
+// Branches far from the fan line (d . e < kFanEndBranchCos: perpendicular to it, or leaning back) are not retracted:
+// their root moves off the fan edge instead, onto the border of one leaflet there (the edit the analysis used to
+// suggest). The carrier is the face around (u, w) whose border side (w, x_k) points most towards the branch (max
+// d . unit(x_k - w); ties within 1e-9 to the lowest face id); the strip of faces from that side across its leaflet to
+// a border side (sides of 2 faces only, no face twice, as for a split) is cut in two at the fraction
+// t = clamp((b - w) . (x_k - w) / |x_k - w|^2, kRootMoveMin, kRootMoveMax) of every side it crosses (measured from the
+// side's end on w's side of the strip; b = the mean of the branches' first vertices: t puts the new root where the
+// branch's first edge is closest to perpendicular to the border), and every branch edge at w moves to the cut point m
+// on (w, x_k). w is then a plain fan end (the chain's fan block, if accepted, caps it), m a straight-border vertex of
+// the carrier's leaflet carrying the branch (a border root, rooted on the half-chunks there). Counts: as a split, +1
+// vertex and +1 edge per cut side, +1 edge and +1 face per cut face (Euler unchanged); raw hexes the standard formula
+// on the repaired skeleton (2 per cut face and 2 per cut border side more). Only the branch's first edge changes
+// direction (its root moves by t |x_k - w| along the border). Recorded as a FanEndRetraction with moved_root = m.
 
 #include <optional>
 #include <string>
@@ -61,6 +75,12 @@ inline constexpr double kFanEndBranchCos = 0.70710678118654752;
 // atan(0.6 / 0.6) = 45 degrees off the fan line for leaflet edges of 3.3 radii (the generators' default); 1.5 (the
 // design note's, u fixed) leaves the retracted faces' half-chunks at u flat (raw min SJ -0.01, measured).
 inline constexpr double kRetractionRadii = 2.0;
+// Range of the moved root's place on the carrier's border side, as a fraction of the side from w: at least 0.3 keeps
+// the root's border patch off the fan end's cap, at most 0.7 off the side's far end. Measured on generate fanend -m 2
+// (raw min SJ, radius scale 0.4 - 1.6, fixed fraction): T best at 0.3 (0.29 - 0.40), X at 0.7 (0.21 - 0.50), X
+// inverted at 0.3 (docs/blocks.md, "Perpendicular branches on fan-edge ends"); the projection rule picks these.
+inline constexpr double kRootMoveMin = 0.3;
+inline constexpr double kRootMoveMax = 0.7;
 
 struct FanEndRetraction {
     int vertex = -1;                // w: the fan-edge end carrying the branch (keeps its index)
@@ -70,6 +90,8 @@ struct FanEndRetraction {
     int fan_edge_split = -1;        // a single fan edge split first: its midpoint (then u); a short chain with branches
                                     // at both ends cut first (recorded at its lower end): the first cut point; else -1
     int strip_faces_split = 0;      // faces cut in two by that split (the strips from the fan edge to the borders)
+    int moved_root = -1;            // a branch far from the fan line moved off w: the cut point on the carrier's border
+                                    // side that now carries it (new_vertices then empty, w and u not moved); else -1
     friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
 };
 
