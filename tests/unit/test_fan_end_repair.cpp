@@ -114,18 +114,56 @@ TEST(FanEndRepair, XFanBranchContinuingTheFanLine) {
     expect_valid(raw, 1);
 }
 
-// A branch perpendicular to the fan line (T: into the empty side -y; X: at 45 degrees between two strips) is not
-// retracted (d . e = 0 < cos 45 degrees): the repair leaves the skeleton as it is and the pipeline refuses it, naming
-// the vertex and the 45-degree rule.
-TEST(FanEndRepair, PerpendicularBranchIsRefused) {
+// A branch perpendicular to the fan line (T: into the empty side -y; X: at 45 degrees between the +x and +y strips) is
+// not retracted (d . e = 0 < cos 45 degrees): its root moves onto the border of face 1 (strip +x, (1, 2, 4, 5)... its
+// side (2, 5) to x = 5 = (1, 0, 1); T: d . unit(x_i - w) = 0 for +x and -x, -1 for +y, a tie to the lowest face;
+// X: 0.707 for +x and +y, the same tie). t = clamp((b - w) . (x - w), lo, 0.7) with b the branch's first vertex and
+// lo = clamp(1.5 x 0.3 / 1, 0.3, 0.7) = 0.45: T (0, -1, 1): 0 -> 0.45; X (0.707, 0.707, 1): 0.707 -> 0.7. The strip from (2, 5) is faces 1 and 0 (across to the
+// bottom border (0, 3)): sides (2, 5), (1, 4), (0, 3) cut at t from the fan line, faces 1 and 0 cut in two, the branch
+// edge (2, b) moved to the cut point m on (2, 5). T: V 24 + 3 = 27, E 35 + 3 + 2 = 40, F 14, Euler 1; boundary edges
+// 18 + 2 (the top and bottom sides cut) = 20; 2 fan edges, w = 2 a plain fan end; raw hexes 4 x 3 + 2 x 14 + 2 x 20
+// = 80, + 4 x (2 fan edges + 2 caps) = 96 with the fan block (accepted: T). X: V 30 + 3 = 33, E 45 + 5 = 50, F 18;
+// boundary 24 + 2 = 26; 4 x 3 + 2 x 18 + 2 x 26 = 100, + 16 = 116. The moved root stands on the +x leaflet's side
+// (BorderRoot::Side): the branch leaves it 24 degrees (T) and 0.4 degrees (X) off the leaflet's normal.
+TEST(FanEndRepair, PerpendicularBranchRootMovesOntoALeafletBorder) {
     for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
         Skeleton s = fan_end(strips, 2);
-        const Skeleton before = s;
-        EXPECT_TRUE(retract_fan_ends(s).empty());
-        EXPECT_EQ(s, before);
-        expect_refused(s, 2, "within 45 degrees of the fan line");
-        expect_refused(s, 2, "the branch leaves 90 degrees off the fan line's continuation");
-        expect_refused(s, 2, "edit: turn the branch's first edge towards the fan line's continuation");
+        const int v0 = static_cast<int>(s.points.size()), e0 = static_cast<int>(s.edges.size());
+        const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+        ASSERT_EQ(r.size(), 1u);
+        FanEndRetraction expected{2, 1, 1, {}};
+        expected.strip_faces_split = 2;
+        expected.moved_root = v0;
+        EXPECT_EQ(r[0], expected);
+        const double t = strips == 3 ? 0.45 : 0.7;
+        EXPECT_NEAR(distance(s.points[v0], Vec3{t, 0, 1}), 0.0, 1e-12);
+        EXPECT_NEAR(distance(s.points[v0 + 1], Vec3{t, 0, 0}), 0.0, 1e-12);
+        EXPECT_NEAR(distance(s.points[v0 + 2], Vec3{t, 0, -1}), 0.0, 1e-12);
+        EXPECT_EQ(static_cast<int>(s.points.size()), v0 + 3);
+        EXPECT_EQ(static_cast<int>(s.edges.size()), e0 + 5);
+        EXPECT_EQ(s.faces.size(), strips == 3 ? 14u : 18u);
+        EXPECT_EQ(s.points[2], (Vec3{0, 0, 1}));  // w and u stay
+        EXPECT_EQ(s.points[1], (Vec3{0, 0, 0}));
+        EXPECT_EQ(euler_characteristic(s), 1);
+        EXPECT_TRUE(retract_fan_ends(s).empty());  // nothing left to repair
+        const PipelineResult raw = raw_as_given(s);
+        EXPECT_EQ(raw.analysis.vertex_class[2], VertexClass::FanEdgeEnd);
+        EXPECT_TRUE(roots_branch(raw.analysis, v0));
+        EXPECT_EQ(raw.analysis.vertex_border_root[v0], BorderRoot::Side);
+        EXPECT_EQ(raw.analysis.counts.boundary_edges, strips == 3 ? 20 : 26);
+        EXPECT_EQ(raw.analysis.counts.fan_edges, 2);
+        EXPECT_EQ(raw.predicted.fan_blocks, 2);
+        EXPECT_EQ(raw.raw.mesh.hexes.size(), strips == 3 ? 96u : 116u);
+        expect_valid(raw, 1);
+        const QualityReport q = compute_quality(raw.raw.mesh);  // irregular edges as predicted too
+        EXPECT_EQ(q.singular_boundary_edges, raw.predicted.boundary_irregular_edges);
+        EXPECT_EQ(q.singular_interior_edges, raw.predicted.interior_irregular_edges);
+        // Through mesh_skeleton (repair, resampling): prediction exact, valid, no inverted hex.
+        const MeshRun run = mesh_skeleton(fan_end(strips, 2), nullptr);
+        EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
+        EXPECT_TRUE(run.prediction_exact);
+        expect_valid(run.pipeline, 1);
     }
 }
 
@@ -313,18 +351,23 @@ TEST(FanEndRepair, BranchesAtBothEndsOfAShortChain) {
     }
 }
 
-// One end retractable, the other not (its branch perpendicular to the fan line): no cut; the lower end is retracted
-// (the chain of 2 edges goes on past its neighbour), the other stays refused, naming it.
+// One end retractable, the other with its branch perpendicular to the fan line: no cut; the lower end is retracted
+// (the chain of 2 edges goes on past its neighbour), then the other's root is moved onto the +x strip's border.
 TEST(FanEndRepair, BothEndsWithOnePerpendicularBranch) {
-    Skeleton s = fan_end(3, 2);  // perpendicular branch at vertex 2
+    Skeleton s = fan_end(3, 2);  // perpendicular branch at vertex 2: its root moved after the retraction at 0
     add_branch(s, {0, 0, -1}, {0, 0, -1});
-    Skeleton repaired = s;
-    const std::vector<FanEndRetraction> r = retract_fan_ends(repaired);
-    ASSERT_EQ(r.size(), 1u);
+    const Skeleton input = s;
+    const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+    ASSERT_EQ(r.size(), 2u);
     EXPECT_EQ(r[0].vertex, 0);
     EXPECT_EQ(r[0].fan_edge_split, -1);
-    expect_refused(s, 2, "limitation 3");
-    expect_refused(s, 2, "the branch leaves 90 degrees off");
+    EXPECT_EQ(r[0].moved_root, -1);
+    EXPECT_EQ(r[1].vertex, 2);
+    EXPECT_EQ(r[1].moved_root, 29);  // after the second branch's 3 vertices and the retraction's 2
+    const MeshRun run = mesh_skeleton(input, nullptr);
+    EXPECT_EQ(run.pipeline.fan_end_retractions, (std::vector<int>{0, 2}));
+    EXPECT_TRUE(run.prediction_exact);
+    expect_valid(run.pipeline, 1);
 }
 
 // Configurations the repair does not handle stay refused, naming the vertex: a fan-edge end where one leaflet meets
@@ -471,7 +514,7 @@ TEST(FanEndRefusal, OtherEndOnThreeFanEdges) {
 }
 
 // A single fan edge whose other end u = 0 is no plain fan end: a face of the +x leaflet below it (4 faces, 3 border
-// edges, the side (0, 2) of 2 faces); or u carrying a branch across the fan line (-y: 90 degrees, refused itself).
+// edges, the side (0, 2) of 2 faces). Not a refusal any more: u carrying a branch across the fan line (moved off).
 TEST(FanEndRefusal, SingleFanEdgeOtherEndNotPlain) {
     {
         Skeleton s = single_edge(false);
@@ -487,13 +530,21 @@ TEST(FanEndRefusal, SingleFanEdgeOtherEndNotPlain) {
         EXPECT_TRUE(retract_fan_ends(repaired).empty());
         expect_refused(s, 1, words);
     }
-    {
+    {  // u = 0 carrying a branch across the fan line (-y): 1's fan edge split and retracted, then 0's root moved
         Skeleton s = single_edge(false);
         add_branch(s, {0, 0, -0.5}, {0, -1, 0});
-        expect_reason(s, 1,
-                      {"(its other end, skeleton vertex 0, carries a branch too that the repair does not take either "
-                       "(the branch leaves 90 degrees off the fan line's continuation"});
-        expect_refused(s, 0, "the branch leaves 90 degrees off the fan line's continuation");
+        EXPECT_EQ(fan_end_refusal(s, 1), std::nullopt);
+        EXPECT_EQ(fan_end_refusal(s, 0), std::nullopt);
+        Skeleton repaired = s;
+        const std::vector<FanEndRetraction> r = retract_fan_ends(repaired);
+        ASSERT_EQ(r.size(), 2u);
+        EXPECT_EQ(r[0].vertex, 1);  // split and retracted first (0 counts as a plain fan end: its branch moves later)
+        EXPECT_GE(r[0].fan_edge_split, 0);
+        EXPECT_EQ(r[1].vertex, 0);
+        EXPECT_GE(r[1].moved_root, 0);
+        const MeshRun run = mesh_skeleton(s, nullptr);
+        EXPECT_TRUE(run.prediction_exact);
+        expect_valid(run.pipeline, 1);
     }
 }
 

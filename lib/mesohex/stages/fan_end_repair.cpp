@@ -95,7 +95,12 @@ bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, Fan
 
 // Is v a plain fan-edge end: on one fan edge and no branch, every face at v one of those around the fan edge, each
 // leaving v by its own border side? Sets *why to the first condition that fails (worded after "skeleton vertex v").
-bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, FanEndRefusal* why = nullptr) {
+// Does v carry a branch far from the fan line whose root the repair moves off (move_far_roots)?
+bool movable_far_branch(const Skeleton& s, const Incidence& in, int v);
+
+// With movable: a branch on v that the repair moves off later does not count (the fan end is plain after the move).
+bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, FanEndRefusal* why = nullptr,
+                   bool movable = false) {
     int fans = 0, border = 0, inner = 0, branches = 0;
     for (const int e : in.vertex_edges[v]) {
         const int d = faces_on(in, v, other_end(s, e, v));
@@ -107,7 +112,7 @@ bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, Fan
     const char* const edit =
         "end the fan edge there with one corner face per leaflet, each with its own border side, or split the fan "
         "edge and the strips of its faces in two by hand";
-    if (branches > 0) {
+    if (branches > 0 && !(movable && movable_far_branch(s, in, v))) {
         if (why == nullptr) return false;
         FanEndRefusal other_why;
         Candidate c;
@@ -229,7 +234,7 @@ EndKind end_kind(const Skeleton& s, const Incidence& in, int w, Candidate& c) {
     if (!branch_end(s, in, w, c)) return EndKind::None;
     const int u_fans = fan_edges_at(s, in, c.u);  // the chain must go on past u
     if (u_fans == 2) return EndKind::Retract;
-    return u_fans == 1 && plain_fan_end(s, in, c.u, c.w) ? EndKind::Split : EndKind::None;
+    return u_fans == 1 && plain_fan_end(s, in, c.u, c.w, nullptr, true) ? EndKind::Split : EndKind::None;
 }
 
 // The fan-edge chain from the end w through its neighbour u: w, u, ... up to the first vertex not on exactly two fan
@@ -452,10 +457,17 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
         if (faces_on(in, c.w, y) == 0) b += s.points[y], ++n;
     }
     const Vec3 side = s.points[mv.x] - pw;
-    mv.t = std::clamp(dot(b / static_cast<double>(n) - pw, side) / dot(side, side), kRootMoveMin, kRootMoveMax);
+    const double lo = std::clamp(kRootMoveRadii * s.radii[c.w] / norm(side), kRootMoveMin, kRootMoveMax);
+    mv.t = std::clamp(dot(b / static_cast<double>(n) - pw, side) / dot(side, side), lo, kRootMoveMax);
     std::vector<char> seen(s.faces.size(), 0);
     if (!walk_strip(s, in, mv.face, side_at(s, mv.face, c.w, mv.x), seen, mv.strip, why)) mv.strip.clear();
     return mv;
+}
+
+bool movable_far_branch(const Skeleton& s, const Incidence& in, int v) {
+    Candidate c;
+    return fan_end_branch(s, in, v, c, nullptr) && branch_cos(s, c) < kFanEndBranchCos &&
+           !root_move(s, in, c).strip.empty();
 }
 
 // Cuts the carrier's strip at mv.t (split_fan_edge from w's side) and moves every branch edge at c.w to the cut point
@@ -514,6 +526,14 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
             "make that strip reach a border, or turn the branch's first edge towards the fan line's continuation, or " +
                 off_fan()};
     }
+    {  // u carries a branch far from the fan line that the repair moves off: judge w after that move (the repair's
+       // rounds run again after the moves)
+        if (movable_far_branch(s, in, c.u)) {
+            Skeleton moved = s;
+            (void)move_far_roots(moved);
+            return fan_end_refusal(moved, w);
+        }
+    }
     const std::string u = "skeleton vertex " + str(c.u);
     // A chain of 1 or 2 fan edges with a retractable branch at its other end too (split_short_chains_with_two_branches).
     const std::vector<int> chain = chain_from(s, in, w, c.u);
@@ -559,11 +579,11 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
     return std::nullopt;  // split, then retracted
 }
 
-std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
-    std::vector<FanEndRetraction> done;
-    if (s.faces.empty() || !well_formed(s) || !has_side_of_three_faces(s)) return done;  // a candidate needs a fan edge
-    done = move_far_roots(s);
-    const std::vector<ChainSplit> chains = split_short_chains_with_two_branches(s);
+namespace {
+
+// The retraction rounds: one retraction (or a single fan edge's split and retraction) per round, the lowest vertex
+// first, until none is left; appended to done.
+void retraction_rounds(Skeleton& s, const std::vector<ChainSplit>& chains, std::vector<FanEndRetraction>& done) {
     const int n = static_cast<int>(s.points.size());
     for (int round = 0; round < n; ++round) {
         const Incidence in = make_incidence(s);
@@ -596,6 +616,21 @@ std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
         r.strip_faces_split = static_cast<int>(strips.size());
         done.push_back(std::move(r));
     }
+}
+
+}  // namespace
+
+std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
+    std::vector<FanEndRetraction> done;
+    if (s.faces.empty() || !well_formed(s) || !has_side_of_three_faces(s)) return done;  // a candidate needs a fan edge
+    const std::vector<ChainSplit> chains = split_short_chains_with_two_branches(s);
+    retraction_rounds(s, chains, done);
+    // Branches far from the fan line: roots moved; a fan end that carried one is then plain, so the other end of its
+    // chain may now be retracted (a single fan edge: split first).
+    const std::vector<FanEndRetraction> moved = move_far_roots(s);
+    if (moved.empty()) return done;
+    done.insert(done.end(), moved.begin(), moved.end());
+    retraction_rounds(s, {}, done);
     return done;
 }
 

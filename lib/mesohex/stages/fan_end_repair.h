@@ -51,7 +51,8 @@
 // suggest). The carrier is the face around (u, w) whose border side (w, x_k) points most towards the branch (max
 // d . unit(x_k - w); ties within 1e-9 to the lowest face id); the strip of faces from that side across its leaflet to
 // a border side (sides of 2 faces only, no face twice, as for a split) is cut in two at the fraction
-// t = clamp((b - w) . (x_k - w) / |x_k - w|^2, kRootMoveMin, kRootMoveMax) of every side it crosses (measured from the
+// t = clamp((b - w) . (x_k - w) / |x_k - w|^2, lo, kRootMoveMax), lo = clamp(kRootMoveRadii r_w / |x_k - w|,
+// kRootMoveMin, kRootMoveMax), of every side it crosses (measured from the
 // side's end on w's side of the strip; b = the mean of the branches' first vertices: t puts the new root where the
 // branch's first edge is closest to perpendicular to the border), and every branch edge at w moves to the cut point m
 // on (w, x_k). w is then a plain fan end (the chain's fan block, if accepted, caps it), m a straight-border vertex of
@@ -59,6 +60,10 @@
 // vertex and +1 edge per cut side, +1 edge and +1 face per cut face (Euler unchanged); raw hexes the standard formula
 // on the repaired skeleton (2 per cut face and 2 per cut border side more). Only the branch's first edge changes
 // direction (its root moves by t |x_k - w| along the border). Recorded as a FanEndRetraction with moved_root = m.
+// Moves are made after the retractions (in increasing w; a single fan edge whose other end u carries a branch to be
+// moved counts u as a plain fan end, so it is split and retracted first): a retraction at the chain's other end then sees uncut
+// leaflets (moved first, its carrier's border side would be the cut column's, 0.3 long: 4 inverted raw hexes); the
+// retraction rounds then run once more (an end whose other end carried a moved branch may now be taken).
 
 #include <optional>
 #include <string>
@@ -75,12 +80,16 @@ inline constexpr double kFanEndBranchCos = 0.70710678118654752;
 // atan(0.6 / 0.6) = 45 degrees off the fan line for leaflet edges of 3.3 radii (the generators' default); 1.5 (the
 // design note's, u fixed) leaves the retracted faces' half-chunks at u flat (raw min SJ -0.01, measured).
 inline constexpr double kRetractionRadii = 2.0;
-// Range of the moved root's place on the carrier's border side, as a fraction of the side from w: at least 0.3 keeps
-// the root's border patch off the fan end's cap, at most 0.7 off the side's far end. Measured on generate fanend -m 2
-// (raw min SJ, radius scale 0.4 - 1.6, fixed fraction): T best at 0.3 (0.29 - 0.40), X at 0.7 (0.21 - 0.50), X
-// inverted at 0.3 (docs/blocks.md, "Perpendicular branches on fan-edge ends"); the projection rule picks these.
+// Range of the moved root's place on the carrier's border side, as a fraction of the side from w: at least 0.3, and
+// at least kRootMoveRadii r_w / |x_k - w| (both clamped to 0.7), keeps the column of faces cut off beside the fan line
+// wider than the fan block's half size h = r (its leaflet corners stand at r from the fan line: a column of width r
+// flattens the plates there, 2 flat raw hexes measured with a retracted other end); at most 0.7 keeps it off the
+// side's far end. Measured on generate fanend -m 2 (raw min SJ at radius scale 0.4 - 1.6, fixed fraction): T best at
+// 0.3 (0.29 - 0.40), X at 0.7 (0.21 - 0.50; inverted hexes at 0.3); the projection rule picks these
+// (docs/blocks.md, "Branches across the fan line: the root moved").
 inline constexpr double kRootMoveMin = 0.3;
 inline constexpr double kRootMoveMax = 0.7;
+inline constexpr double kRootMoveRadii = 1.5;  // radii (at w) of plate left beside the fan line, at least
 
 struct FanEndRetraction {
     int vertex = -1;                // w: the fan-edge end carrying the branch (keeps its index)
