@@ -459,6 +459,24 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
     const Vec3 side = s.points[mv.x] - pw;
     const double lo = std::clamp(kRootMoveRadii * s.radii[c.w] / norm(side), kRootMoveMin, kRootMoveMax);
     mv.t = std::clamp(dot(b / static_cast<double>(n) - pw, side) / dot(side, side), lo, kRootMoveMax);
+    // The moved branch's first edge against the border there: within kMovedOutDeg of the outward in-plane direction
+    // (an out root), or more than kMovedSideOffOutDeg off it and within kMovedSideDeg of the leaflet's normal (a side
+    // root); else the move is not made (measured: inverted raw hexes in between and beyond).
+    const Vec3 along = normalized(side), into = normalized(s.points[c.u] - pw);
+    const Vec3 out = normalized(dot(into, along) * along - into);
+    const Vec3 v = normalized(b / static_cast<double>(n) - (pw + mv.t * side));
+    const double off_out = std::acos(std::clamp(dot(v, out), -1.0, 1.0)) * 180 / std::numbers::pi;
+    const double off_normal =
+        std::acos(std::clamp(std::abs(dot(v, normalized(cross(along, out)))), 0.0, 1.0)) * 180 / std::numbers::pi;
+    if (!(off_out <= kMovedOutDeg || (off_out > kMovedSideOffOutDeg && off_normal <= kMovedSideDeg))) {
+        refuse(why,
+               "its first edge, moved onto the border of face " + str(mv.face) + ", would leave it " +
+                   str(static_cast<int>(std::lround(off_out))) + " degrees off the border's outward direction and " +
+                   str(static_cast<int>(std::lround(off_normal))) + " off the leaflet's normal (a moved root takes at "
+                   "most 45 off the outward direction, or more than 60 off it and at most 45 off the normal)",
+               "");
+        return mv;
+    }
     std::vector<char> seen(s.faces.size(), 0);
     if (!walk_strip(s, in, mv.face, side_at(s, mv.face, c.w, mv.x), seen, mv.strip, why)) mv.strip.clear();
     return mv;

@@ -87,6 +87,16 @@ inline constexpr double kRetractionRadii = 2.0;
 // side's far end. Measured on generate fanend -m 2 (raw min SJ at radius scale 0.4 - 1.6, fixed fraction): T best at
 // 0.3 (0.29 - 0.40), X at 0.7 (0.21 - 0.50; inverted hexes at 0.3); the projection rule picks these
 // (docs/blocks.md, "Branches across the fan line: the root moved").
+// A moved branch's first edge (from the cut point to the mean of the branches' first vertices) must leave the border
+// within kMovedOutDeg of its outward in-plane direction (an out root), or more than kMovedSideOffOutDeg off it and
+// within kMovedSideDeg of the leaflet's normal (a side root); else the move is not made and the branch stays refused.
+// Measured on single T / X fans (raw min SJ; docs/blocks.md): branches 50 (T) and 60 (X) degrees off the fan line give
+// out roots 54 / 51 degrees off the outward direction with 3 / 2 inverted raw hexes, branches leaning back 135 degrees
+// side roots 50 / 55 degrees off the normal with 5 / 6; every other angle from 50 to 120 degrees meshed (min 0.04 -
+// 0.41). The analysis' own limits are 60 (out) and 45 (side): stricter here because the fan end is one face away.
+inline constexpr double kMovedOutDeg = 45;
+inline constexpr double kMovedSideOffOutDeg = 60;
+inline constexpr double kMovedSideDeg = 45;
 inline constexpr double kRootMoveMin = 0.3;
 inline constexpr double kRootMoveMax = 0.7;
 inline constexpr double kRootMoveRadii = 1.5;  // radii (at w) of plate left beside the fan line, at least
