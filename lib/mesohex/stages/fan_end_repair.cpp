@@ -472,7 +472,8 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
         refuse(why,
                "its first edge, moved onto the border of face " + str(mv.face) + ", would leave it " +
                    str(static_cast<int>(std::lround(off_out))) + " degrees off the border's outward direction and " +
-                   str(static_cast<int>(std::lround(off_normal))) + " off the leaflet's normal (a moved root takes at "
+                   str(static_cast<int>(std::lround(off_normal))) +
+                   " off the leaflet's normal (a moved root takes at "
                    "most 45 off the outward direction, or more than 60 off it and at most 45 off the normal)",
                "");
         return mv;
@@ -544,13 +545,12 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
             "make that strip reach a border, or turn the branch's first edge towards the fan line's continuation, or " +
                 off_fan()};
     }
-    {  // u carries a branch far from the fan line that the repair moves off: judge w after that move (the repair's
-       // rounds run again after the moves)
-        if (movable_far_branch(s, in, c.u)) {
-            Skeleton moved = s;
-            (void)move_far_roots(moved);
-            return fan_end_refusal(moved, w);
-        }
+    // u carries a branch far from the fan line that the repair moves off: judge w after that move (the repair's rounds
+    // run again after the moves).
+    if (movable_far_branch(s, in, c.u)) {
+        Skeleton moved = s;
+        (void)move_far_roots(moved);
+        return fan_end_refusal(moved, w);
     }
     const std::string u = "skeleton vertex " + str(c.u);
     // A chain of 1 or 2 fan edges with a retractable branch at its other end too (split_short_chains_with_two_branches).

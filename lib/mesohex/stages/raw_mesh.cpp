@@ -95,14 +95,17 @@ void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& 
                     const std::array<int, 4>& fv = an.face_vertices[f];
                     const int c = bp.corner[i], d = fv[(c + 2) & 3];
                     const bool on_chain = fan_block_at(cs, d) >= 0;
-                    add(s, fv[(c + 1) & 3], d, on_chain && fan_block_at(cs, fv[(c + 1) & 3]) >= 0 ? base(f, (c + 1) & 3) : 2);
-                    add(s, d, fv[(c + 3) & 3], on_chain && fan_block_at(cs, fv[(c + 3) & 3]) >= 0 ? base(f, (c + 3) & 3) : 2);
+                    add(s, fv[(c + 1) & 3], d,
+                        on_chain && fan_block_at(cs, fv[(c + 1) & 3]) >= 0 ? base(f, (c + 1) & 3) : 2);
+                    add(s, d, fv[(c + 3) & 3],
+                        on_chain && fan_block_at(cs, fv[(c + 3) & 3]) >= 0 ? base(f, (c + 3) & 3) : 2);
                 }
                 for (int x : bp.border) {
                     int b = 2;
                     for (int i = 0; i < 2; ++i)
                         for (int j = 0; j < 4; ++j)
-                            if (an.face_vertices[bp.face[i]][j] == x && fan_block_at(cs, x) >= 0) b = base(bp.face[i], j);
+                            if (an.face_vertices[bp.face[i]][j] == x && fan_block_at(cs, x) >= 0)
+                                b = base(bp.face[i], j);
                     add(bp.up ? XU : XD, x, x, b);
                     add(bp.up ? OU : OD, v, x, 1);
                 }
