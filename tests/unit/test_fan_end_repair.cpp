@@ -599,3 +599,43 @@ TEST(FanEndRefusal, ShortChainNotCut) {
                    "border edges (one corner face per leaflet needed, 3; edges there inside a leaflet: 3))"});
     expect_refused(s, 2, "its other end, skeleton vertex 1, is not a plain fan end");
 }
+
+// generate fanend -m 4 (T): perpendicular at the upper end (2), continuing at the lower (0). The retraction at 0 comes
+// first (u = 1 slides; faces 4 and 8 get new corners 27, 28), then 2's root moves onto the +x strip's top border at
+// 0.45 (vertex 29; the strip of faces 1, 0 cut). V 24 + 3 = 27 -> 29 -> 32, E 35 + 3 = 38 -> 40 -> 45, F 12 -> 14;
+// boundary edges 18 + 3 (the fan edge (0, 1) and (1, 27), (1, 28)) + 2 (the cut top and bottom sides) = 23; branch edges
+// 6; one fan edge (1, 2) left, no fan block (its end 1 is in the 3 retracted faces below too: not a chain end the block
+// takes, fan_blocks.h). Raw hexes 4 x 6 + 2 x 14 + 2 x 23 = 98.
+// generate fanend -m 5 (leaning back, 135 degrees): not moved (its first edge would leave the moved root 50 degrees
+// off the leaflet's normal), refused naming vertex 2 and the angles.
+TEST(FanEndRepair, GeneratorVariantsMixedAndLeaningBack) {
+    Skeleton s = fan_end(3, 4);
+    ASSERT_EQ(s.points.size(), 27u);
+    const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+    ASSERT_EQ(r.size(), 2u);
+    EXPECT_EQ(r[0], (FanEndRetraction{0, 1, 0, {27, 28}}));
+    EXPECT_EQ(r[1].vertex, 2);
+    EXPECT_EQ(r[1].moved_root, 29);
+    EXPECT_EQ(r[1].strip_faces_split, 2);
+    EXPECT_EQ(s.points.size(), 32u);
+    EXPECT_EQ(s.edges.size(), 45u);
+    EXPECT_EQ(s.faces.size(), 14u);
+    const PipelineResult raw = raw_as_given(s);
+    EXPECT_EQ(raw.analysis.counts.boundary_edges, 23);
+    EXPECT_EQ(raw.analysis.counts.fan_edges, 1);
+    EXPECT_EQ(raw.predicted.fan_blocks, 0);
+    EXPECT_EQ(raw.raw.mesh.hexes.size(), 98u);
+    expect_valid(raw, 1);
+    const MeshRun run = mesh_skeleton(fan_end(3, 4), nullptr);
+    EXPECT_TRUE(run.prediction_exact);
+    expect_valid(run.pipeline, 1);
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        Skeleton back = fan_end(strips, 5);
+        const Skeleton before = back;
+        EXPECT_TRUE(retract_fan_ends(back).empty());
+        EXPECT_EQ(back, before);
+        expect_refused(before, 2, "the branch leaves 135 degrees off the fan line's continuation (not retracted");
+        expect_refused(before, 2, "off the leaflet's normal (a moved root takes at most 45 off the outward direction");
+    }
+}
