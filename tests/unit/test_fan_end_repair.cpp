@@ -115,46 +115,55 @@ TEST(FanEndRepair, XFanBranchContinuingTheFanLine) {
 }
 
 // A branch perpendicular to the fan line (T: into the empty side -y; X: at 45 degrees between the +x and +y strips) is
-// not retracted (d . e = 0 < cos 45 degrees): its root moves onto the border of face 1 (strip +x, (1, 2, 4, 5)... its
-// side (2, 5) to x = 5 = (1, 0, 1); T: d . unit(x_i - w) = 0 for +x and -x, -1 for +y, a tie to the lowest face;
-// X: 0.707 for +x and +y, the same tie). t = clamp((b - w) . (x - w), lo, 0.7) with b the branch's first vertex and
-// lo = clamp(1.5 x 0.3 / 1, 0.3, 0.7) = 0.45: T (0, -1, 1): 0 -> 0.45; X (0.707, 0.707, 1): 0.707 -> 0.7. The strip from (2, 5) is faces 1 and 0 (across to the
-// bottom border (0, 3)): sides (2, 5), (1, 4), (0, 3) cut at t from the fan line, faces 1 and 0 cut in two, the branch
-// edge (2, b) moved to the cut point m on (2, 5). T: V 24 + 3 = 27, E 35 + 3 + 2 = 40, F 14, Euler 1; boundary edges
-// 18 + 2 (the top and bottom sides cut) = 20; 2 fan edges, w = 2 a plain fan end; raw hexes 4 x 3 + 2 x 14 + 2 x 20
-// = 80, + 4 x (2 fan edges + 2 caps) = 96 with the fan block (accepted: T). X: V 30 + 3 = 33, E 45 + 5 = 50, F 18;
-// boundary 24 + 2 = 26; 4 x 3 + 2 x 18 + 2 x 26 = 100, + 16 = 116. The moved root stands on the +x leaflet's side
-// (BorderRoot::Side): the branch leaves it 24 degrees (T) and 0.4 degrees (X) off the leaflet's normal.
+// not retracted (d . e = 0 < cos 45 degrees): its root moves onto a leaflet border. First the row under it: the fan
+// edge (1, 2) and the strips of its g faces (the top row, 2 faces each) cut at 1 x 0.3 from w = 2, i.e. at z = 0.7:
+// new vertex 24 (T; X 30) on the fan edge, then per strip its inner side and its far border side (1 + 2g new vertices,
+// 1 + 2g edges and 2g faces more, Euler kept). Then the carrier: the top face whose border side (2, 5) goes to
+// x = 5 = (1, 0, 1) (T: d . unit(x_i - w) = 0 for +x and -x, -1 for +y, a tie to the lowest face; X: 0.707 for +x and
+// +y, the same tie), t = clamp((b - w) . (x - w), lo, 0.7) with b the branch's first vertex and lo = clamp(1.5 x 0.3 /
+// 1, 0.3, 0.7) = 0.45: T (0, -1, 1): 0 -> 0.45; X (0.707, 0.707, 1): 0.707 -> 0.7. Its strip (the short top face,
+// the rest of face 1, face 0, down to the bottom border) is cut at t: sides (2, 5), the row cut's, (1, 4), (0, 3) ->
+// 4 vertices (the root m first), 4 + 3 edges, 3 faces; the branch edge (2, b) moves to m. T: V 24 + 7 + 4 = 35, E 35 +
+// 13 + 7 = 55, F 12 + 6 + 3 = 21, Euler 1; boundary edges 18 + 3 (row) + 2 (column) = 23; 3 fan edges, w = 2 a plain
+// fan end; raw hexes 4 x 3 + 2 x 21 + 2 x 23 = 100, + 4 x (3 fan edges + 2 caps) = 120 with the fan block. X: V 30 +
+// 9 + 4 = 43, E 45 + 17 + 7 = 69, F 16 + 8 + 3 = 27; boundary 24 + 4 + 2 = 30; 4 x 3 + 2 x 27 + 2 x 30 = 126, + 20 =
+// 146. The moved root stands on the +x leaflet's side (BorderRoot::Side): the branch leaves it 24 degrees (T) and 0.4
+// degrees (X) off the leaflet's normal.
 TEST(FanEndRepair, PerpendicularBranchRootMovesOntoALeafletBorder) {
     for (const int strips : {3, 4}) {
         SCOPED_TRACE(strips);
         Skeleton s = fan_end(strips, 2);
         const int v0 = static_cast<int>(s.points.size()), e0 = static_cast<int>(s.edges.size());
+        const int row = 1 + 2 * strips, m = v0 + row;
         const std::vector<FanEndRetraction> r = retract_fan_ends(s);
         ASSERT_EQ(r.size(), 1u);
-        FanEndRetraction expected{2, 1, 1, {}};
-        expected.strip_faces_split = 2;
-        expected.moved_root = v0;
-        EXPECT_EQ(r[0], expected);
+        EXPECT_EQ(r[0].vertex, 2);
+        EXPECT_EQ(r[0].fan_neighbour, v0);  // the row cut point: w's fan neighbour after the cut
+        EXPECT_TRUE(r[0].new_vertices.empty());
+        EXPECT_EQ(r[0].fan_edge_split, v0);
+        EXPECT_EQ(r[0].strip_faces_split, 3);
+        EXPECT_EQ(r[0].moved_root, m);
+        EXPECT_NEAR(distance(s.points[v0], Vec3{0, 0, 0.7}), 0.0, 1e-12);
         const double t = strips == 3 ? 0.45 : 0.7;
-        EXPECT_NEAR(distance(s.points[v0], Vec3{t, 0, 1}), 0.0, 1e-12);
-        EXPECT_NEAR(distance(s.points[v0 + 1], Vec3{t, 0, 0}), 0.0, 1e-12);
-        EXPECT_NEAR(distance(s.points[v0 + 2], Vec3{t, 0, -1}), 0.0, 1e-12);
-        EXPECT_EQ(static_cast<int>(s.points.size()), v0 + 3);
-        EXPECT_EQ(static_cast<int>(s.edges.size()), e0 + 5);
-        EXPECT_EQ(s.faces.size(), strips == 3 ? 14u : 18u);
+        EXPECT_NEAR(distance(s.points[m], Vec3{t, 0, 1}), 0.0, 1e-12);
+        EXPECT_NEAR(distance(s.points[m + 1], Vec3{t, 0, 0.7}), 0.0, 1e-12);
+        EXPECT_NEAR(distance(s.points[m + 2], Vec3{t, 0, 0}), 0.0, 1e-12);
+        EXPECT_NEAR(distance(s.points[m + 3], Vec3{t, 0, -1}), 0.0, 1e-12);
+        EXPECT_EQ(static_cast<int>(s.points.size()), m + 4);
+        EXPECT_EQ(static_cast<int>(s.edges.size()), e0 + 2 * row - 1 + 7);
+        EXPECT_EQ(s.faces.size(), strips == 3 ? 21u : 27u);
         EXPECT_EQ(s.points[2], (Vec3{0, 0, 1}));  // w and u stay
         EXPECT_EQ(s.points[1], (Vec3{0, 0, 0}));
         EXPECT_EQ(euler_characteristic(s), 1);
         EXPECT_TRUE(retract_fan_ends(s).empty());  // nothing left to repair
         const PipelineResult raw = raw_as_given(s);
         EXPECT_EQ(raw.analysis.vertex_class[2], VertexClass::FanEdgeEnd);
-        EXPECT_TRUE(roots_branch(raw.analysis, v0));
-        EXPECT_EQ(raw.analysis.vertex_border_root[v0], BorderRoot::Side);
-        EXPECT_EQ(raw.analysis.counts.boundary_edges, strips == 3 ? 20 : 26);
-        EXPECT_EQ(raw.analysis.counts.fan_edges, 2);
-        EXPECT_EQ(raw.predicted.fan_blocks, 2);
-        EXPECT_EQ(raw.raw.mesh.hexes.size(), strips == 3 ? 96u : 116u);
+        EXPECT_TRUE(roots_branch(raw.analysis, m));
+        EXPECT_EQ(raw.analysis.vertex_border_root[m], BorderRoot::Side);
+        EXPECT_EQ(raw.analysis.counts.boundary_edges, strips == 3 ? 23 : 30);
+        EXPECT_EQ(raw.analysis.counts.fan_edges, 3);
+        EXPECT_EQ(raw.predicted.fan_blocks, 3);
+        EXPECT_EQ(raw.raw.mesh.hexes.size(), strips == 3 ? 120u : 146u);
         expect_valid(raw, 1);
         const QualityReport q = compute_quality(raw.raw.mesh);  // irregular edges as predicted too
         EXPECT_EQ(q.singular_boundary_edges, raw.predicted.boundary_irregular_edges);
@@ -363,7 +372,7 @@ TEST(FanEndRepair, BothEndsWithOnePerpendicularBranch) {
     EXPECT_EQ(r[0].fan_edge_split, -1);
     EXPECT_EQ(r[0].moved_root, -1);
     EXPECT_EQ(r[1].vertex, 2);
-    EXPECT_EQ(r[1].moved_root, 29);  // after the second branch's 3 vertices and the retraction's 2
+    EXPECT_EQ(r[1].moved_root, 36);  // after the second branch's 3 vertices, the retraction's 2 and the row cut's 7
     const MeshRun run = mesh_skeleton(input, nullptr);
     EXPECT_EQ(run.pipeline.fan_end_retractions, (std::vector<int>{0, 2}));
     EXPECT_TRUE(run.prediction_exact);
@@ -601,11 +610,12 @@ TEST(FanEndRefusal, ShortChainNotCut) {
 }
 
 // generate fanend -m 4 (T): perpendicular at the upper end (2), continuing at the lower (0). The retraction at 0 comes
-// first (u = 1 slides; faces 4 and 8 get new corners 27, 28), then 2's root moves onto the +x strip's top border at
-// 0.45 (vertex 29; the strip of faces 1, 0 cut). V 24 + 3 = 27 -> 29 -> 32, E 35 + 3 = 38 -> 40 -> 45, F 12 -> 14;
-// boundary edges 18 + 3 (the fan edge (0, 1) and (1, 27), (1, 28)) + 2 (the cut top and bottom sides) = 23; branch edges
-// 6; one fan edge (1, 2) left, no fan block (its end 1 is in the 3 retracted faces below too: not a chain end the block
-// takes, fan_blocks.h). Raw hexes 4 x 6 + 2 x 14 + 2 x 23 = 98.
+// first (u = 1 slides to z = -0.4; faces 4 and 8 get new corners 27, 28), then the row under 2 is cut at z = 0.7
+// (vertices 29 - 35) and 2's root moves onto the +x strip's top border at 0.45 (vertex 36; a strip of 3 faces cut).
+// V 24 + 3 = 27 -> 29 -> 36 -> 40, E 35 + 3 = 38 -> 40 -> 53 -> 60, F 12 -> 18 -> 21; boundary edges 18 + 3 (the fan
+// edge (0, 1) and (1, 27), (1, 28)) + 3 (the row's far sides) + 2 (the cut top and bottom sides) = 26; branch edges 6;
+// fan edges (1, 29), (29, 2), no fan block (its end 1 is in the 3 retracted faces below too: not a chain end the block
+// takes, fan_blocks.h). Raw hexes 4 x 6 + 2 x 21 + 2 x 26 = 118.
 // generate fanend -m 5 (leaning back, 135 degrees): not moved (its first edge would leave the moved root 50 degrees
 // off the leaflet's normal), refused naming vertex 2 and the angles.
 TEST(FanEndRepair, GeneratorVariantsMixedAndLeaningBack) {
@@ -615,16 +625,17 @@ TEST(FanEndRepair, GeneratorVariantsMixedAndLeaningBack) {
     ASSERT_EQ(r.size(), 2u);
     EXPECT_EQ(r[0], (FanEndRetraction{0, 1, 0, {27, 28}}));
     EXPECT_EQ(r[1].vertex, 2);
-    EXPECT_EQ(r[1].moved_root, 29);
-    EXPECT_EQ(r[1].strip_faces_split, 2);
-    EXPECT_EQ(s.points.size(), 32u);
-    EXPECT_EQ(s.edges.size(), 45u);
-    EXPECT_EQ(s.faces.size(), 14u);
+    EXPECT_EQ(r[1].moved_root, 36);
+    EXPECT_EQ(r[1].fan_edge_split, 29);
+    EXPECT_EQ(r[1].strip_faces_split, 3);
+    EXPECT_EQ(s.points.size(), 40u);
+    EXPECT_EQ(s.edges.size(), 60u);
+    EXPECT_EQ(s.faces.size(), 21u);
     const PipelineResult raw = raw_as_given(s);
-    EXPECT_EQ(raw.analysis.counts.boundary_edges, 23);
-    EXPECT_EQ(raw.analysis.counts.fan_edges, 1);
+    EXPECT_EQ(raw.analysis.counts.boundary_edges, 26);
+    EXPECT_EQ(raw.analysis.counts.fan_edges, 2);
     EXPECT_EQ(raw.predicted.fan_blocks, 0);
-    EXPECT_EQ(raw.raw.mesh.hexes.size(), 98u);
+    EXPECT_EQ(raw.raw.mesh.hexes.size(), 118u);
     expect_valid(raw, 1);
     const MeshRun run = mesh_skeleton(fan_end(3, 4), nullptr);
     EXPECT_TRUE(run.prediction_exact);

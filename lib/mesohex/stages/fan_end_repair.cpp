@@ -511,9 +511,23 @@ std::vector<FanEndRetraction> move_far_roots(Skeleton& s) {
     for (int w = 0; w < n; ++w) {
         Candidate c;
         if (!fan_end_branch(s, in, w, c, nullptr) || branch_cos(s, c) >= kFanEndBranchCos) continue;
-        const RootMove mv = root_move(s, in, c);
+        RootMove mv = root_move(s, in, c);
         if (mv.strip.empty()) continue;
+        // The row under the root: the fan edge (u, w) and the strips of its faces cut at kRootRowRadii r_w from w (at
+        // least half the fan edge left below), when every strip crosses its leaflet; the root's patch then reaches
+        // that far below the border instead of the whole fan edge.
+        int row = -1;
+        const double len = distance(s.points[c.w], s.points[c.u]);
+        const std::vector<Crossing> rows = fan_edge_strips(s, in, c);
+        if (!rows.empty() && kRootRowRadii * s.radii[c.w] < 0.5 * len) {
+            row = split_fan_edge(s, c, rows, 1 - kRootRowRadii * s.radii[c.w] / len);
+            in = make_incidence(s);
+            if (!fan_end_branch(s, in, w, c, nullptr)) break;  // cannot happen: w keeps its configuration
+            mv = root_move(s, in, c);
+            if (mv.strip.empty()) break;  // cannot happen: the cut strips cross as before
+        }
         done.push_back(move_root(s, in, c, mv));
+        done.back().fan_edge_split = row;
         in = make_incidence(s);
     }
     return done;
