@@ -48,22 +48,27 @@
 //
 // Branches far from the fan line (d . e < kFanEndBranchCos: perpendicular to it, or leaning back) are not retracted:
 // their root moves off the fan edge instead, onto the border of one leaflet there (the edit the analysis used to
-// suggest). The carrier is the face around (u, w) whose border side (w, x_k) points most towards the branch (max
-// d . unit(x_k - w); ties within 1e-9 to the lowest face id); the strip of faces from that side across its leaflet to
-// a border side (sides of 2 faces only, no face twice, as for a split) is cut in two at the fraction
+// suggest). First the row under w: when kRootRowRadii r_w is less than half of |u - w| and every face around (u, w)
+// starts a strip that crosses its leaflet (as for a split), the fan edge and those strips are cut at kRootRowRadii r_w
+// from w (the cut point becomes w's fan neighbour u). Then the carrier: the face around (u, w) whose border side
+// (w, x_k) points most towards the branch (max d . unit(x_k - w); ties within 1e-9 to the lowest face id); the strip
+// of faces from that side across its leaflet to a border side is cut in two at the fraction
 // t = clamp((b - w) . (x_k - w) / |x_k - w|^2, lo, kRootMoveMax), lo = clamp(kRootMoveRadii r_w / |x_k - w|,
-// kRootMoveMin, kRootMoveMax), of every side it crosses (measured from the
-// side's end on w's side of the strip; b = the mean of the branches' first vertices: t puts the new root where the
-// branch's first edge is closest to perpendicular to the border), and every branch edge at w moves to the cut point m
-// on (w, x_k). w is then a plain fan end (the chain's fan block, if accepted, caps it), m a straight-border vertex of
-// the carrier's leaflet carrying the branch (a border root, rooted on the half-chunks there). Counts: as a split, +1
+// kRootMoveMin, kRootMoveMax), of every side it crosses (measured from the side's end on w's side of the strip; b =
+// the mean of the branches' first vertices: t puts the new root where the branch's first edge is closest to
+// perpendicular to the border), and every branch edge at w moves to the cut point m on (w, x_k). w is then a plain
+// fan end (the chain's fan block, if accepted, caps it), m a straight-border vertex of the carrier's leaflet carrying
+// the branch (a border root on the half-chunks and the two faces there: the row cut keeps those faces about as tall
+// as the branch's tube). The move is made only when the moved first edge is a clean out or side root (kMovedOutDeg,
+// kMovedSideOffOutDeg, kMovedSideDeg); else the branch stays refused with the angles measured. Counts: as a split, +1
 // vertex and +1 edge per cut side, +1 edge and +1 face per cut face (Euler unchanged); raw hexes the standard formula
 // on the repaired skeleton (2 per cut face and 2 per cut border side more). Only the branch's first edge changes
-// direction (its root moves by t |x_k - w| along the border). Recorded as a FanEndRetraction with moved_root = m.
+// direction (its root moves by t |x_k - w| along the border). Recorded as a FanEndRetraction with moved_root = m and
+// fan_edge_split = the row cut's point (or -1).
 // Moves are made after the retractions (in increasing w; a single fan edge whose other end u carries a branch to be
-// moved counts u as a plain fan end, so it is split and retracted first): a retraction at the chain's other end then sees uncut
-// leaflets (moved first, its carrier's border side would be the cut column's, 0.3 long: 4 inverted raw hexes); the
-// retraction rounds then run once more (an end whose other end carried a moved branch may now be taken).
+// moved counts u as a plain fan end, so it is split and retracted first): a retraction at the chain's other end then
+// sees uncut leaflets (moved first, its carrier's border side would be the cut column's, 0.3 long: 4 inverted raw
+// hexes); the retraction rounds then run once more (an end whose other end carried a moved branch may now be taken).
 
 #include <optional>
 #include <string>
@@ -144,8 +149,9 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w);
 // its split when its fan edge is single; chains of 1 or 2 fan edges with branches at both ends are cut first (in
 // increasing index of their lower end), then retracted at both ends; such a chain whose strips do not cross to a
 // border is not cut (the rounds still retract an end where the configuration above allows; what is left is refused
-// by the analysis). Deterministic.
-// O(repairs x (V + E + F) log E).
+// by the analysis). Then the roots of branches far from the fan line are moved (increasing w, each after its row
+// cut), then the retraction rounds run again. Edges keep their indices (a moved branch edge changes its end w to m).
+// Deterministic. O(repairs x (V + E + F) log E).
 std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s);
 
 }  // namespace mesohex
