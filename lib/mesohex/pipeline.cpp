@@ -165,7 +165,7 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
     }
     line(
         "fan-edge chains split (with their leaflets' face strips) to be retracted: single fan edges in two, chains "
-        "of 1 or 2 fan edges with branches at both ends into 3 or 4",
+        "of 1 or 2 fan edges with branches at both ends into 3 or 4, the row under a branch moved off the fan end",
         res.fan_edge_splits);
     const std::string text = out.str();
     return text.empty() ? "repairs: none\n" : text;

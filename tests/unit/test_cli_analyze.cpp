@@ -89,8 +89,9 @@ TEST(CliAnalyze, SameVerdictAsMeshOnEveryGeneratedShape) {
 }
 
 // Branches on fan-edge ends: the T and X fans with a branch continuing the fan line are meshed after the retraction
-// (analyze says so and names the input vertex); perpendicular branches, the input sampling (no repair without
-// resampling) are refused by both with status 3 (unsupported); a branch on the end of a single fan edge is meshed
+// (analyze says so and names the input vertex), perpendicular ones after the root moves onto a leaflet border; a
+// branch leaning back (135 degrees) and the input sampling (no repair without resampling) are refused by both with
+// status 3 (unsupported); a branch on the end of a single fan edge is meshed
 // after the repair splits the fan edge and retracts one half (refused without resampling). Docked walls (inside the
 // plate, on both sides, from the border) are accepted by both.
 TEST(CliAnalyze, SameVerdictAsMeshOnRepairedConfigurations) {
@@ -105,7 +106,9 @@ TEST(CliAnalyze, SameVerdictAsMeshOnRepairedConfigurations) {
         EXPECT_TRUE(contains(c.analyze_only.output, "repairs: fan edges retracted")) << c.analyze_only.output;
         EXPECT_EQ(expect_same_verdict(cont + " --no-resample", verdicts(cont, " --no-resample")), 3);
         const std::string perp = generate(std::string("fanend") + n + "p.obj", std::string("fanend -n ") + n + " -m 2");
-        EXPECT_EQ(expect_same_verdict(perp, verdicts(perp, "")), 3);
+        EXPECT_EQ(expect_same_verdict(perp, verdicts(perp, "")), 0);  // the root moved onto a leaflet border
+        const std::string back = generate(std::string("fanend") + n + "b.obj", std::string("fanend -n ") + n + " -m 5");
+        EXPECT_EQ(expect_same_verdict(back, verdicts(back, "")), 3);
     }
     // T fan on a single fan edge (0,0,0)-(1,0,0), three 1 x 1 strips, a 2-edge branch from (1,0,0) along +x.
     const std::string single = (test_dir() / "single_fan_edge.obj").string();

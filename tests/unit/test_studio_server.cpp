@@ -397,8 +397,8 @@ TEST(StudioServer, AnalyzeGivesTheClassesAndThePrediction) {
 }
 
 // A branch on a fan-edge end (generator fanend): /api/mesh meshes it after retracting the fan edge, so /api/analyze
-// accepts it too and lists the repair (the input vertex of the branch, a fan-edge end); with the branch perpendicular to
-// the fan line both refuse it, naming the same vertex.
+// accepts it too and lists the repair (the input vertex of the branch, a fan-edge end); with the branch leaning back
+// from the fan line (135 degrees) both refuse it, naming the same vertex.
 TEST(StudioServer, AnalyzeAcceptsWhatMeshRepairs) {
     auto s = start_studio({});
     GeneratorOptions o;
@@ -415,7 +415,7 @@ TEST(StudioServer, AnalyzeAcceptsWhatMeshRepairs) {
     ASSERT_TRUE(m);
     EXPECT_EQ(m->status, 200) << m->body.substr(0, 300);
     EXPECT_EQ(body_json(m)["report"]["predicted"]["hexes"], j["predicted"]["hexes"]);
-    o.m = 2;
+    o.m = 5;  // leaning back 135 degrees: refused (a perpendicular branch, m = 2, is meshed after its root moves)
     const std::string perpendicular = obj_text(generate_skeleton("fanend", o));
     json where[2];
     int k = 0;

@@ -95,7 +95,12 @@ bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, Fan
 
 // Is v a plain fan-edge end: on one fan edge and no branch, every face at v one of those around the fan edge, each
 // leaving v by its own border side? Sets *why to the first condition that fails (worded after "skeleton vertex v").
-bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, FanEndRefusal* why = nullptr) {
+// Does v carry a branch far from the fan line whose root the repair moves off (move_far_roots)?
+bool movable_far_branch(const Skeleton& s, const Incidence& in, int v);
+
+// With movable: a branch on v that the repair moves off later does not count (the fan end is plain after the move).
+bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, FanEndRefusal* why = nullptr,
+                   bool movable = false) {
     int fans = 0, border = 0, inner = 0, branches = 0;
     for (const int e : in.vertex_edges[v]) {
         const int d = faces_on(in, v, other_end(s, e, v));
@@ -107,7 +112,7 @@ bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, Fan
     const char* const edit =
         "end the fan edge there with one corner face per leaflet, each with its own border side, or split the fan "
         "edge and the strips of its faces in two by hand";
-    if (branches > 0) {
+    if (branches > 0 && !(movable && movable_far_branch(s, in, v))) {
         if (why == nullptr) return false;
         FanEndRefusal other_why;
         Candidate c;
@@ -143,7 +148,8 @@ bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, Fan
 // one of those around (u, w) and leaving w by its own border side, and on branch edges whose mean direction is within
 // 45 degrees of the fan line's continuation? Fills c (whatever u is); else sets *why to the first condition that
 // fails (fan_end_refusal).
-bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, FanEndRefusal* why) {
+// The configuration of branch_end but for the angle: fills c (c.branch the unit mean branch direction).
+bool fan_end_branch(const Skeleton& s, const Incidence& in, int w, Candidate& c, FanEndRefusal* why) {
     int fan_edge = -1, fans = 0, border = 0, inner = 0, branches = 0;
     Vec3 branch{};
     for (const int e : in.vertex_edges[w]) {
@@ -189,19 +195,33 @@ bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, Fan
                           len.str() + ", no mean direction to compare with the fan line)",
                       "remove one of the opposite branches, or " + off_fan());
     }
-    const double cos = dot(normalized(branch), normalized(s.points[w] - s.points[u]));
-    if (cos < kFanEndBranchCos)
-        return why != nullptr && refuse(why,
-                                        "the branch leaves " +
-                                            str(static_cast<int>(std::lround(std::acos(std::clamp(cos, -1.0, 1.0)) *
-                                                                             180 / std::numbers::pi))) +
-                                            " degrees off the fan line's continuation (the retraction takes branches "
-                                            "within 45 degrees of the fan "
-                                            "line; one across it would need a fan-block cap, not built)",
-                                        "turn the branch's first edge towards the fan line's continuation, or " +
-                                            off_fan() + " (e.g. the far corner of the leaflet it leans over)");
     c = {w, u, around, normalized(branch)};
     std::sort(c.faces.begin(), c.faces.end());
+    return true;
+}
+
+// The cosine of the angle between the branches' mean direction and the fan line's continuation at c.w.
+double branch_cos(const Skeleton& s, const Candidate& c) {
+    return dot(c.branch, normalized(s.points[c.w] - s.points[c.u]));
+}
+
+// "the branch leaves N degrees off the fan line's continuation", N from the cosine.
+std::string angle_words(double cos) {
+    return "the branch leaves " +
+           str(static_cast<int>(std::lround(std::acos(std::clamp(cos, -1.0, 1.0)) * 180 / std::numbers::pi))) +
+           " degrees off the fan line's continuation";
+}
+
+bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, FanEndRefusal* why) {
+    if (!fan_end_branch(s, in, w, c, why)) return false;
+    const double cos = branch_cos(s, c);
+    if (cos < kFanEndBranchCos)
+        return why != nullptr && refuse(why,
+                                        angle_words(cos) +
+                                            " (the retraction takes branches within 45 degrees of the fan line; one "
+                                            "across it has its root moved onto a leaflet border instead)",
+                                        "turn the branch's first edge towards the fan line's continuation, or " +
+                                            off_fan() + " (e.g. the far corner of the leaflet it leans over)");
     return true;
 }
 
@@ -214,7 +234,7 @@ EndKind end_kind(const Skeleton& s, const Incidence& in, int w, Candidate& c) {
     if (!branch_end(s, in, w, c)) return EndKind::None;
     const int u_fans = fan_edges_at(s, in, c.u);  // the chain must go on past u
     if (u_fans == 2) return EndKind::Retract;
-    return u_fans == 1 && plain_fan_end(s, in, c.u, c.w) ? EndKind::Split : EndKind::None;
+    return u_fans == 1 && plain_fan_end(s, in, c.u, c.w, nullptr, true) ? EndKind::Split : EndKind::None;
 }
 
 // The fan-edge chain from the end w through its neighbour u: w, u, ... up to the first vertex not on exactly two fan
@@ -242,38 +262,49 @@ struct Crossing {
 // The strips of the faces around the fan edge (u, w), each from its fan-edge side across the leaflet to a border
 // side (a side of one face), or empty when one strip meets a side of 3 or more faces, or a face twice (then *why, when
 // given, says which).
+int side_at(const Skeleton& s, int f, int a, int b) {
+    for (int k = 0; k < 4; ++k)
+        if (std::minmax(s.faces[f][k], s.faces[f][(k + 1) % 4]) == std::minmax(a, b)) return k;
+    return -1;
+}
+
+// Appends to out the strip of faces from face f0, entered by its side k0, across its leaflet to a border side (a side
+// of one face); false when it meets a side of 3 or more faces, or a face already seen (then *why, when given, says
+// which).
+bool walk_strip(const Skeleton& s, const Incidence& in, int f0, int k0, std::vector<char>& seen,
+                std::vector<Crossing>& out, FanEndRefusal* why) {
+    int f = f0, k = k0;
+    while (true) {
+        if (seen[f]) {
+            refuse(why, "the strip of faces from face " + str(f0) + " meets face " + str(f) + " a second time", "");
+            return false;
+        }
+        seen[f] = 1;
+        out.push_back({f, k});
+        const int a = s.faces[f][(k + 2) % 4], b = s.faces[f][(k + 3) % 4];
+        const std::vector<int>& next = in.side_faces.at(std::minmax(a, b));
+        if (next.size() == 1) return true;
+        if (next.size() != 2) {
+            refuse(why,
+                   "the strip of faces from face " + str(f0) + " meets the side (" + str(a) + ", " + str(b) +
+                       ") of face " + str(f) + ", shared by " + str(static_cast<int>(next.size())) + " faces",
+                   "");
+            return false;
+        }
+        f = next[0] == f ? next[1] : next[0];
+        k = side_at(s, f, a, b);
+    }
+}
+
+// The strips of the faces around the fan edge (u, w), each from its fan-edge side across the leaflet to a border
+// side (a side of one face), or empty when one strip meets a side of 3 or more faces, or a face twice (then *why, when
+// given, says which).
 std::vector<Crossing> fan_edge_strips(const Skeleton& s, const Incidence& in, const Candidate& c,
                                       FanEndRefusal* why = nullptr) {
     std::vector<Crossing> out;
     std::vector<char> seen(s.faces.size(), 0);
-    const auto side_at = [&](int f, int a, int b) {
-        for (int k = 0; k < 4; ++k)
-            if (std::minmax(s.faces[f][k], s.faces[f][(k + 1) % 4]) == std::minmax(a, b)) return k;
-        return -1;
-    };
-    for (const int f0 : c.faces) {
-        int f = f0, k = side_at(f0, c.u, c.w);
-        while (true) {
-            if (seen[f]) {
-                refuse(why, "the strip of faces from face " + str(f0) + " meets face " + str(f) + " a second time", "");
-                return {};
-            }
-            seen[f] = 1;
-            out.push_back({f, k});
-            const int a = s.faces[f][(k + 2) % 4], b = s.faces[f][(k + 3) % 4];
-            const std::vector<int>& next = in.side_faces.at(std::minmax(a, b));
-            if (next.size() == 1) break;
-            if (next.size() != 2) {
-                refuse(why,
-                       "the strip of faces from face " + str(f0) + " meets the side (" + str(a) + ", " + str(b) +
-                           ") of face " + str(f) + ", shared by " + str(static_cast<int>(next.size())) + " faces",
-                       "");
-                return {};
-            }
-            f = next[0] == f ? next[1] : next[0];
-            k = side_at(f, a, b);
-        }
-    }
+    for (const int f0 : c.faces)
+        if (!walk_strip(s, in, f0, side_at(s, f0, c.u, c.w), seen, out, why)) return {};
     return out;
 }
 
@@ -400,6 +431,108 @@ FanEndRetraction retract(Skeleton& s, const Candidate& c) {
     return r;
 }
 
+// A branch far from the fan line at c.w (branch_cos < kFanEndBranchCos), moved onto a leaflet border: the carrier face
+// (max d . unit(x_i - w), ties within 1e-9 to the lowest face id), its border neighbour x of w, the cut fraction t on
+// (w, x), and the strip of faces from that side across the leaflet to a border (empty when it does not cross: *why,
+// when given, says why).
+struct RootMove {
+    int face = -1, x = -1;
+    double t = 0;
+    std::vector<Crossing> strip;
+};
+
+RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why = nullptr) {
+    RootMove mv;
+    const Vec3& pw = s.points[c.w];
+    double best = -2;
+    for (const int f : c.faces) {
+        const int x = corner_neighbour(s.faces[f], c.w, c.u);
+        const double d = dot(c.branch, normalized(s.points[x] - pw));
+        if (d > best + 1e-9) best = d, mv.face = f, mv.x = x;
+    }
+    Vec3 b{};  // the mean of the branches' first vertices
+    int n = 0;
+    for (const int e : in.vertex_edges[c.w]) {
+        const int y = other_end(s, e, c.w);
+        if (faces_on(in, c.w, y) == 0) b += s.points[y], ++n;
+    }
+    const Vec3 side = s.points[mv.x] - pw;
+    const double lo = std::clamp(kRootMoveRadii * s.radii[c.w] / norm(side), kRootMoveMin, kRootMoveMax);
+    mv.t = std::clamp(dot(b / static_cast<double>(n) - pw, side) / dot(side, side), lo, kRootMoveMax);
+    // The moved branch's first edge against the border there: within kMovedOutDeg of the outward in-plane direction
+    // (an out root), or more than kMovedSideOffOutDeg off it and within kMovedSideDeg of the leaflet's normal (a side
+    // root); else the move is not made (measured: inverted raw hexes in between and beyond).
+    const Vec3 along = normalized(side), into = normalized(s.points[c.u] - pw);
+    const Vec3 out = normalized(dot(into, along) * along - into);
+    const Vec3 v = normalized(b / static_cast<double>(n) - (pw + mv.t * side));
+    const double off_out = std::acos(std::clamp(dot(v, out), -1.0, 1.0)) * 180 / std::numbers::pi;
+    const double off_normal =
+        std::acos(std::clamp(std::abs(dot(v, normalized(cross(along, out)))), 0.0, 1.0)) * 180 / std::numbers::pi;
+    if (!(off_out <= kMovedOutDeg || (off_out > kMovedSideOffOutDeg && off_normal <= kMovedSideDeg))) {
+        refuse(why,
+               "its first edge, moved onto the border of face " + str(mv.face) + ", would leave it " +
+                   str(static_cast<int>(std::lround(off_out))) + " degrees off the border's outward direction and " +
+                   str(static_cast<int>(std::lround(off_normal))) +
+                   " off the leaflet's normal (a moved root takes at "
+                   "most 45 off the outward direction, or more than 60 off it and at most 45 off the normal)",
+               "");
+        return mv;
+    }
+    std::vector<char> seen(s.faces.size(), 0);
+    if (!walk_strip(s, in, mv.face, side_at(s, mv.face, c.w, mv.x), seen, mv.strip, why)) mv.strip.clear();
+    return mv;
+}
+
+bool movable_far_branch(const Skeleton& s, const Incidence& in, int v) {
+    Candidate c;
+    return fan_end_branch(s, in, v, c, nullptr) && branch_cos(s, c) < kFanEndBranchCos &&
+           !root_move(s, in, c).strip.empty();
+}
+
+// Cuts the carrier's strip at mv.t (split_fan_edge from w's side) and moves every branch edge at c.w to the cut point
+// on (w, x).
+FanEndRetraction move_root(Skeleton& s, const Incidence& in, const Candidate& c, const RootMove& mv) {
+    std::vector<int> branches;
+    for (const int e : in.vertex_edges[c.w])
+        if (faces_on(in, c.w, other_end(s, e, c.w)) == 0) branches.push_back(e);
+    const int m = split_fan_edge(s, Candidate{mv.x, c.w, {}, {}}, mv.strip, mv.t);
+    for (const int e : branches) (s.edges[e][0] == c.w ? s.edges[e][0] : s.edges[e][1]) = m;
+    FanEndRetraction r{c.w, c.u, mv.face, {}};
+    r.strip_faces_split = static_cast<int>(mv.strip.size());
+    r.moved_root = m;
+    return r;
+}
+
+// Every branch far from the fan line on a fan-edge end whose carrier strip crosses its leaflet, moved (increasing w).
+std::vector<FanEndRetraction> move_far_roots(Skeleton& s) {
+    std::vector<FanEndRetraction> done;
+    const int n = static_cast<int>(s.points.size());
+    Incidence in = make_incidence(s);  // rebuilt after every move
+    for (int w = 0; w < n; ++w) {
+        Candidate c;
+        if (!fan_end_branch(s, in, w, c, nullptr) || branch_cos(s, c) >= kFanEndBranchCos) continue;
+        RootMove mv = root_move(s, in, c);
+        if (mv.strip.empty()) continue;
+        // The row under the root: the fan edge (u, w) and the strips of its faces cut at kRootRowRadii r_w from w (at
+        // least half the fan edge left below), when every strip crosses its leaflet; the root's patch then reaches
+        // that far below the border instead of the whole fan edge.
+        int row = -1;
+        const double len = distance(s.points[c.w], s.points[c.u]);
+        const std::vector<Crossing> rows = fan_edge_strips(s, in, c);
+        if (!rows.empty() && kRootRowRadii * s.radii[c.w] < 0.5 * len) {
+            row = split_fan_edge(s, c, rows, 1 - kRootRowRadii * s.radii[c.w] / len);
+            in = make_incidence(s);
+            if (!fan_end_branch(s, in, w, c, nullptr)) break;  // cannot happen: w keeps its configuration
+            mv = root_move(s, in, c);
+            if (mv.strip.empty()) break;  // cannot happen: the cut strips cross as before
+        }
+        done.push_back(move_root(s, in, c, mv));
+        done.back().fan_edge_split = row;
+        in = make_incidence(s);
+    }
+    return done;
+}
+
 }  // namespace
 
 std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
@@ -414,7 +547,25 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
     const Incidence in = make_incidence(s);
     Candidate c, other;
     FanEndRefusal why;
-    if (!branch_end(s, in, w, c, &why)) return why;
+    if (!fan_end_branch(s, in, w, c, &why)) return why;
+    if (branch_cos(s, c) < kFanEndBranchCos) {  // moved onto a leaflet border (move_far_roots)
+        const RootMove mv = root_move(s, in, c, &why);
+        if (!mv.strip.empty()) return std::nullopt;
+        return FanEndRefusal{
+            angle_words(branch_cos(s, c)) +
+                " (not retracted; its root is moved onto the border of the leaflet it leans over only when the strip "
+                "of faces from that border side, from face " +
+                str(mv.face) + ", crosses the leaflet to a border, and " + why.reason + ")",
+            "make that strip reach a border, or turn the branch's first edge towards the fan line's continuation, or " +
+                off_fan()};
+    }
+    // u carries a branch far from the fan line that the repair moves off: judge w after that move (the repair's rounds
+    // run again after the moves).
+    if (movable_far_branch(s, in, c.u)) {
+        Skeleton moved = s;
+        (void)move_far_roots(moved);
+        return fan_end_refusal(moved, w);
+    }
     const std::string u = "skeleton vertex " + str(c.u);
     // A chain of 1 or 2 fan edges with a retractable branch at its other end too (split_short_chains_with_two_branches).
     const std::vector<int> chain = chain_from(s, in, w, c.u);
@@ -460,10 +611,11 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
     return std::nullopt;  // split, then retracted
 }
 
-std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
-    std::vector<FanEndRetraction> done;
-    if (s.faces.empty() || !well_formed(s) || !has_side_of_three_faces(s)) return done;  // a candidate needs a fan edge
-    const std::vector<ChainSplit> chains = split_short_chains_with_two_branches(s);
+namespace {
+
+// The retraction rounds: one retraction (or a single fan edge's split and retraction) per round, the lowest vertex
+// first, until none is left; appended to done.
+void retraction_rounds(Skeleton& s, const std::vector<ChainSplit>& chains, std::vector<FanEndRetraction>& done) {
     const int n = static_cast<int>(s.points.size());
     for (int round = 0; round < n; ++round) {
         const Incidence in = make_incidence(s);
@@ -496,6 +648,21 @@ std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
         r.strip_faces_split = static_cast<int>(strips.size());
         done.push_back(std::move(r));
     }
+}
+
+}  // namespace
+
+std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
+    std::vector<FanEndRetraction> done;
+    if (s.faces.empty() || !well_formed(s) || !has_side_of_three_faces(s)) return done;  // a candidate needs a fan edge
+    const std::vector<ChainSplit> chains = split_short_chains_with_two_branches(s);
+    retraction_rounds(s, chains, done);
+    // Branches far from the fan line: roots moved; a fan end that carried one is then plain, so the other end of its
+    // chain may now be retracted (a single fan edge: split first).
+    const std::vector<FanEndRetraction> moved = move_far_roots(s);
+    if (moved.empty()) return done;
+    done.insert(done.end(), moved.begin(), moved.end());
+    retraction_rounds(s, {}, done);
     return done;
 }
 

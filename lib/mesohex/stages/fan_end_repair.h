@@ -28,8 +28,8 @@
 // back leave a notch between the leaflets above u's fan-end cap (which reaches r_u above u) that the finished mesh
 // cannot fill (a large Hausdorff distance there; docs/blocks.md); with u within 2 r_w of w the cap covers most of it,
 // and the borders at u turn farther off the fan line.
-// Branches far from the fan line (perpendicular to it) stay refused: the moved corner then has the branch more than 60
-// degrees off its outward direction and folds its first hexes for most radii.
+// Branches far from the fan line (perpendicular to it) are not retracted: the moved corner would have the branch more
+// than 60 degrees off its outward direction and fold its first hexes for most radii; their root is moved (below).
 // A chain of one fan edge (u, w) is not retracted as it is (u would become a leaflet-only branching point whose raw
 // mesh folds; docs/blocks.md, "Branches on fan-edge ends"): when u is a plain fan end (no branch, every face there one
 // of the g around (u, w), each leaving u by its own border side) and every face around (u, w) starts a strip of faces
@@ -45,6 +45,30 @@
 // would leave its middle vertex a leaflet-only branching point (see above); a chain of 3 or more needs no cut.
 // Raw hexes: the standard count on the repaired skeleton, i.e. +2 (g - 1) (one border side more per retracted face),
 // plus, after a split, 2 per cut face and 2 per cut border side (one leaflet face and one border side more each).
+//
+// Branches far from the fan line (d . e < kFanEndBranchCos: perpendicular to it, or leaning back) are not retracted:
+// their root moves off the fan edge instead, onto the border of one leaflet there (the edit the analysis used to
+// suggest). First the row under w: when kRootRowRadii r_w is less than half of |u - w| and every face around (u, w)
+// starts a strip that crosses its leaflet (as for a split), the fan edge and those strips are cut at kRootRowRadii r_w
+// from w (the cut point becomes w's fan neighbour u). Then the carrier: the face around (u, w) whose border side
+// (w, x_k) points most towards the branch (max d . unit(x_k - w); ties within 1e-9 to the lowest face id); the strip
+// of faces from that side across its leaflet to a border side is cut in two at the fraction
+// t = clamp((b - w) . (x_k - w) / |x_k - w|^2, lo, kRootMoveMax), lo = clamp(kRootMoveRadii r_w / |x_k - w|,
+// kRootMoveMin, kRootMoveMax), of every side it crosses (measured from the side's end on w's side of the strip; b =
+// the mean of the branches' first vertices: t puts the new root where the branch's first edge is closest to
+// perpendicular to the border), and every branch edge at w moves to the cut point m on (w, x_k). w is then a plain
+// fan end (the chain's fan block, if accepted, caps it), m a straight-border vertex of the carrier's leaflet carrying
+// the branch (a border root on the half-chunks and the two faces there: the row cut keeps those faces about as tall
+// as the branch's tube). The move is made only when the moved first edge is a clean out or side root (kMovedOutDeg,
+// kMovedSideOffOutDeg, kMovedSideDeg); else the branch stays refused with the angles measured. Counts: as a split, +1
+// vertex and +1 edge per cut side, +1 edge and +1 face per cut face (Euler unchanged); raw hexes the standard formula
+// on the repaired skeleton (2 per cut face and 2 per cut border side more). Only the branch's first edge changes
+// direction (its root moves by t |x_k - w| along the border). Recorded as a FanEndRetraction with moved_root = m and
+// fan_edge_split = the row cut's point (or -1).
+// Moves are made after the retractions (in increasing w; a single fan edge whose other end u carries a branch to be
+// moved counts u as a plain fan end, so it is split and retracted first): a retraction at the chain's other end then
+// sees uncut leaflets (moved first, its carrier's border side would be the cut column's, 0.3 long: 4 inverted raw
+// hexes); the retraction rounds then run once more (an end whose other end carried a moved branch may now be taken).
 
 #include <optional>
 #include <string>
@@ -61,6 +85,31 @@ inline constexpr double kFanEndBranchCos = 0.70710678118654752;
 // atan(0.6 / 0.6) = 45 degrees off the fan line for leaflet edges of 3.3 radii (the generators' default); 1.5 (the
 // design note's, u fixed) leaves the retracted faces' half-chunks at u flat (raw min SJ -0.01, measured).
 inline constexpr double kRetractionRadii = 2.0;
+// Range of the moved root's place on the carrier's border side, as a fraction of the side from w: at least 0.3, and
+// at least kRootMoveRadii r_w / |x_k - w| (both clamped to 0.7), keeps the column of faces cut off beside the fan line
+// wider than the fan block's half size h = r (its leaflet corners stand at r from the fan line: a column of width r
+// flattens the plates there, 2 flat raw hexes measured with a retracted other end); at most 0.7 keeps it off the
+// side's far end. Measured on generate fanend -m 2 (raw min SJ at radius scale 0.4 - 1.6, fixed fraction): T best at
+// 0.3 (0.29 - 0.40), X at 0.7 (0.21 - 0.50; inverted hexes at 0.3); the projection rule picks these
+// (docs/blocks.md, "Branches across the fan line: the root moved").
+// A moved branch's first edge (from the cut point to the mean of the branches' first vertices) must leave the border
+// within kMovedOutDeg of its outward in-plane direction (an out root), or more than kMovedSideOffOutDeg off it and
+// within kMovedSideDeg of the leaflet's normal (a side root); else the move is not made and the branch stays refused.
+// Measured on single T / X fans (raw min SJ; docs/blocks.md): branches 50 (T) and 60 (X) degrees off the fan line give
+// out roots 54 / 51 degrees off the outward direction with 3 / 2 inverted raw hexes, branches leaning back 135 degrees
+// side roots 50 / 55 degrees off the normal with 5 / 6; every other angle from 50 to 120 degrees meshed (min 0.04 -
+// 0.41). The analysis' own limits are 60 (out) and 45 (side): stricter here because the fan end is one face away.
+inline constexpr double kMovedOutDeg = 45;
+inline constexpr double kMovedSideOffOutDeg = 60;
+inline constexpr double kMovedSideDeg = 45;
+// Height of the row cut under a moved root, x r_w: the fan edge (u, w) and its faces' strips are cut at that distance
+// from w first (when the strips cross and it is less than half the fan edge), so that the root's side patch (its two
+// faces below the border) is about as tall as the branch's tube, not the whole fan edge (measured on fanend -n 4 -m 2,
+// finished: min SJ 0.10 -> 0.29, Hausdorff 6.1 -> 3.1 %; docs/blocks.md).
+inline constexpr double kRootRowRadii = 1.0;
+inline constexpr double kRootMoveMin = 0.3;
+inline constexpr double kRootMoveMax = 0.7;
+inline constexpr double kRootMoveRadii = 1.5;  // radii (at w) of plate left beside the fan line, at least
 
 struct FanEndRetraction {
     int vertex = -1;                // w: the fan-edge end carrying the branch (keeps its index)
@@ -70,6 +119,9 @@ struct FanEndRetraction {
     int fan_edge_split = -1;        // a single fan edge split first: its midpoint (then u); a short chain with branches
                                     // at both ends cut first (recorded at its lower end): the first cut point; else -1
     int strip_faces_split = 0;      // faces cut in two by that split (the strips from the fan edge to the borders)
+    int moved_root = -1;            // a branch far from the fan line moved off w: the cut point on the carrier's border
+                                    // side that now carries it (new_vertices then empty, w and u not moved; its row
+                                    // cut's point on the fan edge in fan_edge_split, or -1); else -1
     friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
 };
 
@@ -97,8 +149,9 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w);
 // its split when its fan edge is single; chains of 1 or 2 fan edges with branches at both ends are cut first (in
 // increasing index of their lower end), then retracted at both ends; such a chain whose strips do not cross to a
 // border is not cut (the rounds still retract an end where the configuration above allows; what is left is refused
-// by the analysis). Deterministic.
-// O(repairs x (V + E + F) log E).
+// by the analysis). Then the roots of branches far from the fan line are moved (increasing w, each after its row
+// cut), then the retraction rounds run again. Edges keep their indices (a moved branch edge changes its end w to m).
+// Deterministic. O(repairs x (V + E + F) log E).
 std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s);
 
 }  // namespace mesohex

@@ -260,10 +260,12 @@ Skeleton make_y_fan(const Params& p) {
 // edges of length L, radius that of the fan. The configuration of the paper's limitation 3: the analysis refuses it,
 // the skeleton repair retracts the fan edge when the branch continues the fan line (stages/fan_end_repair.h).
 // m = 3: continuing at both ends (a second branch from the lower end (0, 0, -L) along -z; the repair cuts the chain into
-// 4 fan edges, then retracts both ends).
+// 4 fan edges, then retracts both ends). m = 4: perpendicular at the upper end (as m = 2) and continuing at the lower
+// end (the repair retracts the lower end, then moves the upper branch's root onto a leaflet border). m = 5: leaning back,
+// 135 degrees off the fan line's continuation, in the plane of m = 2's direction and the fan line (refused: no repair).
 Skeleton make_fan_end(const Params& p) {
     if (p.n > 4) throw Error(ErrorCode::InvalidInput, "generate fanend: n (strips) must be 3 or 4");
-    if (p.m > 3) throw Error(ErrorCode::InvalidInput, "generate fanend: m (branch direction) must be 1, 2 or 3");
+    if (p.m > 5) throw Error(ErrorCode::InvalidInput, "generate fanend: m (branch direction) must be 1 to 5");
     Params fan = p;
     fan.n = 2;
     fan.m = 2;
@@ -271,13 +273,14 @@ Skeleton make_fan_end(const Params& p) {
         p.n == 3 ? std::vector<double>{0.0, 0.5 * kPi, kPi} : std::vector<double>{0.0, 0.5 * kPi, kPi, 1.5 * kPi};
     Skeleton s = make_fan(fan, angles);
     const int w = 2;  // the fan line's points come first, bottom to top
-    const Vec3 d = p.m != 2 ? Vec3{0, 0, 1} : rotate_z({1, 0, 0}, p.n == 3 ? 1.5 * kPi : 0.25 * kPi);
+    const Vec3 across = rotate_z({1, 0, 0}, p.n == 3 ? 1.5 * kPi : 0.25 * kPi);
+    const Vec3 d = p.m == 2 || p.m == 4 ? across : p.m == 5 ? std::sqrt(0.5) * (across - Vec3{0, 0, 1}) : Vec3{0, 0, 1};
     std::vector<Vec3> pts;
     for (int k = 1; k <= 3; ++k) pts.push_back(s.points[w] + k * p.L * d);
     add_polyline(s, w, pts, std::vector<double>(3, p.r));
-    if (p.m == 3) {  // a second branch from the lower end (0, 0, -L) along -z
+    if (p.m == 3 || p.m == 4) {  // a second branch from the lower end (0, 0, -L) along -z
         pts.clear();
-        for (int k = 1; k <= 3; ++k) pts.push_back(s.points[0] - k * p.L * d);
+        for (int k = 1; k <= 3; ++k) pts.push_back(s.points[0] - k * p.L * Vec3{0, 0, 1});
         add_polyline(s, 0, pts, std::vector<double>(3, p.r));
     }
     return s;
@@ -1014,8 +1017,10 @@ const std::vector<Shape>& shapes() {
              {3, 1},
              "T (n = 3, default) or X (n = 4) fan of 2 x 2-quad strips with a 3-edge branch on a fan-edge end, "
              "continuing the fan line (m = 1, default: meshed after the skeleton repair retracts the fan edge from the "
-             "branch), perpendicular to it (m = 2: refused, naming the vertex), or continuing it at both ends (m = 3: "
-             "the chain is cut into 4 fan edges, then retracted at both ends)",
+             "branch), perpendicular to it (m = 2: meshed after the repair moves the branch's root onto a leaflet "
+             "border), continuing it at both ends (m = 3: the chain is cut into 4 fan edges, then retracted at both "
+             "ends), perpendicular at the upper end and continuing at the lower (m = 4), or leaning back 135 degrees "
+             "(m = 5: refused, naming the vertex)",
              make_fan_end},
             {"hand",
              {3, 4},

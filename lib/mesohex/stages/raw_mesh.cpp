@@ -46,8 +46,12 @@ int expected_gaps(const SkeletonAnalysis& an, int v) {
 // neighbouring rooted vertices can share outer edges (fingers rooted at every other border vertex): counted per
 // edge, keyed by its family and skeleton vertices. Families: U / D = the up / down copies of a and b (plate tops);
 // OX / DX = x's out and out-up / out-down copies (base 2); XU / XD = x's up and out-up / down and out-down copies
-// (base 2); OU / OD = the out-up / out-down copies of a border vertex and its neighbour (base 1).
-void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& an, RawMeshPrediction& p) {
+// (base 2); OU / OD = the out-up / out-down copies of a border vertex and its neighbour (base 1). A side patch next to
+// a fan-block chain (a branch moved off a fan-edge end onto a leaflet border, fan_end_repair.h): its U / D edge along
+// the fan edge and its XU / XD edge at the chain end are the block's section-corner edges M(w) M(u) and M(w) M(cap),
+// whose base is the block's, 1 + the leaflets on M's two axes (add_fan_block_irregular_edges), not 2.
+void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                              RawMeshPrediction& p) {
     const int nv = static_cast<int>(an.vertex_class.size());
     enum Family { U, D, OX, DX, XU, XD, OU, OD };
     std::map<std::array<int, 3>, std::array<int, 2>> patch_edges;  // key -> (base hexes, patches)
@@ -78,14 +82,31 @@ void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& 
                 }
             } else {
                 const int s = bp.up ? U : D;
+                // The base of an edge at corner j of face f on a fan-block chain vertex (else 2).
+                const auto base = [&](int f, int j) {
+                    const int chain = fan_block_at(cs, an.face_vertices[f][j]);
+                    if (chain < 0) return 2;
+                    const FanBlockChain& c = cs.fan_blocks.chains[chain];
+                    const int m = (bp.up ? cs.fan_blocks.corner_up : cs.fan_blocks.corner_down)[f][j];
+                    return m < 0 ? 2 : 1 + c.labelled[m] + c.labelled[(m + 1) & 3];
+                };
                 for (int i = 0; i < 2; ++i) {
-                    const std::array<int, 4>& fv = an.face_vertices[bp.face[i]];
+                    const int f = bp.face[i];
+                    const std::array<int, 4>& fv = an.face_vertices[f];
                     const int c = bp.corner[i], d = fv[(c + 2) & 3];
-                    add(s, fv[(c + 1) & 3], d, 2);
-                    add(s, d, fv[(c + 3) & 3], 2);
+                    const bool on_chain = fan_block_at(cs, d) >= 0;
+                    add(s, fv[(c + 1) & 3], d,
+                        on_chain && fan_block_at(cs, fv[(c + 1) & 3]) >= 0 ? base(f, (c + 1) & 3) : 2);
+                    add(s, d, fv[(c + 3) & 3],
+                        on_chain && fan_block_at(cs, fv[(c + 3) & 3]) >= 0 ? base(f, (c + 3) & 3) : 2);
                 }
                 for (int x : bp.border) {
-                    add(bp.up ? XU : XD, x, x, 2);
+                    int b = 2;
+                    for (int i = 0; i < 2; ++i)
+                        for (int j = 0; j < 4; ++j)
+                            if (an.face_vertices[bp.face[i]][j] == x && fan_block_at(cs, x) >= 0)
+                                b = base(bp.face[i], j);
+                    add(bp.up ? XU : XD, x, x, b);
                     add(bp.up ? OU : OD, v, x, 1);
                 }
             }
@@ -207,7 +228,7 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
         if (an.vertex_class[v] == VertexClass::BLJoint) p.interior_irregular_edges[4 + faces_at[v]] += 2;
     }
     if (an.counts.boundary_edges > 0) p.boundary_irregular_edges[1] += 2 * an.counts.boundary_edges;
-    count_rooted_patch_edges(skeleton, an, p);
+    count_rooted_patch_edges(skeleton, an, cs, p);
     // Compatible blocks: 27 vertices and 8 hexes each, no interior irregular edge; boundary valence 1 / 3 at the cube
     // edges between two free / two docked faces.
     for (const CubeBlock& b : cs.blocks) add_block_irregular_edges(b, p.boundary_irregular_edges);
