@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
         if (!std::strcmp(argv[i], "--threads") && i + 1 < argc)
             threads = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
-            reps = std::atoi(argv[++i]);
+            reps = std::max(1, std::atoi(argv[++i]));  // at least one run (the min / median need one)
         else if (!std::strcmp(argv[i], "--stages"))
             stages = true;
         else if (!std::strcmp(argv[i], "gen:all"))

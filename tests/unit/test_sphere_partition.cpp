@@ -325,3 +325,36 @@ TEST(SpherePartition, FilterCheckSetsGiveTheRecordedBits) {
     }
     EXPECT_EQ(h, 0xa057f5fc6452f815ull);
 }
+
+// The orange search's filter (OrangeEvaluator::certainly_at_most) may only reject an axis whose exact quality is at
+// most the threshold. Random direction sets (n = 3..8) and axes, thresholds just below the exact quality q (q (1 -
+// 10^-k), k = 2..15): never rejected. Just above q it must reject some (else the filter is off and this test says
+// nothing). With the filter's 1e-12 / 1e-13 slack removed, the first set already fails (at q (1 - 1e-15); checked when
+// this test was written).
+TEST(SpherePartition, OrangeFilterNeverRejectsAnAxisAboveTheThreshold) {
+    std::mt19937_64 rng(20261203);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    const auto random_unit = [&]() {
+        const mesohex::Vec3 v{normal(rng), normal(rng), normal(rng)};
+        return v / mesohex::norm(v);
+    };
+    long checks = 0, rejected_above = 0;
+    for (int set = 0; set < 3000; ++set) {
+        const int n = 3 + set % 6;
+        std::vector<mesohex::Vec3> dirs;
+        for (int i = 0; i < n; ++i) dirs.push_back(random_unit());
+        const mesohex::Vec3 axis = random_unit();
+        const double q = mesohex::detail::orange_quality_exact(dirs, axis);
+        if (!(q > 1e-5 && q < kPi / 2 - 1e-5)) continue;
+        for (int k = 2; k <= 15; ++k) {
+            const double t = q * (1 - std::pow(10.0, -k));
+            ASSERT_FALSE(mesohex::detail::orange_certainly_at_most(dirs, axis, t))
+                << "set " << set << " n " << n << " q " << q << " threshold q(1 - 1e-" << k << ")";
+            ++checks;
+        }
+        if (mesohex::detail::orange_certainly_at_most(dirs, axis, q * 1.01)) ++rejected_above;
+    }
+    std::printf("%ld thresholds below q checked, %ld of the thresholds above q rejected\n", checks, rejected_above);
+    EXPECT_GT(checks, 10000);
+    EXPECT_GT(rejected_above, 1000);  // of 3000 sets: the filter decides most thresholds 1 % above q (2 871 here)
+}

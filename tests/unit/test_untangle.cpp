@@ -154,6 +154,34 @@ TEST(Untangle, HexWithPositiveCornersAndANegativeCentreFrame) {
 
 // Quality pass (target_sj > 0): no hex is inverted, but an interior vertex pushed toward a corner leaves thin hexes
 // around it; the pass moves the interior vertices near them back toward the regular grid and keeps the boundary.
+// A quality pass that cannot raise the minimum: in a 4 x 4 x 4 block the squeezed hex [1, 2]^3 has all 8 vertices
+// frozen, so its scaled Jacobian (the minimum) is fixed whatever the 19 other interior vertices do. The pass stops
+// after quality_patience rounds and returns the start; with quality_patience 0 it runs every round.
+TEST(Untangle, QualityPassThatCannotRaiseTheMinimumStopsAfterItsPatience) {
+    HexMesh m = make_block(4, 4, 4);
+    m.points[static_cast<std::size_t>(vid(4, 1, 1, 1))] = {1.3, 1.32, 1.28};
+    const QualityReport before = compute_quality(m);
+    ASSERT_EQ(before.inverted, 0);
+    ASSERT_LT(before.sj_min, 0.5);
+    UntangleOptions options;
+    options.target_sj = 0.8;
+    options.max_rounds = 12;
+    options.frozen.assign(m.points.size(), false);
+    for (int k = 1; k <= 2; ++k)
+        for (int j = 1; j <= 2; ++j)
+            for (int i = 1; i <= 2; ++i) options.frozen[static_cast<std::size_t>(vid(4, i, j, k))] = true;
+    const UntangleResult r = untangle(m, options);
+    EXPECT_EQ(r.rounds, 5);
+    EXPECT_GT(r.iterations, 0);  // the 19 free interior vertices did move in those rounds
+    EXPECT_EQ(r.mesh.points, m.points);
+    EXPECT_EQ(r.sj_min_after, r.sj_min_before);
+    EXPECT_NEAR(r.sj_min_before, before.sj_min, 1e-12);
+    options.quality_patience = 0;
+    const UntangleResult all = untangle(m, options);
+    EXPECT_EQ(all.rounds, 12);
+    EXPECT_EQ(all.sj_min_after, all.sj_min_before);  // the minimum is the frozen hex's in every state
+}
+
 TEST(Untangle, QualityPassRaisesTheMinimumAndKeepsTheBoundary) {
     HexMesh m = make_block(3, 3, 3);
     m.points[static_cast<std::size_t>(vid(3, 1, 1, 1))] = {1.3, 1.32,

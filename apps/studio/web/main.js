@@ -345,7 +345,7 @@ function meshFaceMaterial() {
         }
         void main() {
           vec4 world = modelMatrix * vec4(position, 1.0);
-          vec3 n = normal;
+          vec3 n = normal; // object space = world space: the mesh group is never transformed (identity matrix)
           if (dot(n, cameraPosition - world.xyz) < 0.0) n = -n; // lit as seen (inverted hexes' faces, warped quads)
           vec3 irradiance = mix(groundColor, skyColor, 0.5 * n.y + 0.5) + sunColor * max(dot(n, sunDirection), 0.0);
           vColor = srgb(color * irradiance);

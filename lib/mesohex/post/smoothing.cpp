@@ -3,6 +3,7 @@
 #include "mesohex/post/smoothing.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cfloat>
 #include <cmath>
 #include <string>
@@ -274,6 +275,7 @@ struct Smoother {
         std::array<double, 9> q = frames[hh];
         std::size_t lv = 0;
         while (lv < 7 && static_cast<std::size_t>(mesh.hexes[hh][lv]) != v) ++lv;
+        assert(static_cast<std::size_t>(mesh.hexes[hh][lv]) == v);  // v is a corner of hh (incident lists only)
         const std::array<Vec3, 3> centre = hex_centre_frame(c);
         q[0] = frame_det_over_lengths(centre[0], centre[1], centre[2]);
         auto corner = [&](std::size_t k) {

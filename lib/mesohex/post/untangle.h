@@ -32,7 +32,7 @@ struct UntangleOptions {
                                      // then the largest min SJ (never more inverted hexes than at the start)
     // Rounds: a quality pass (target_sj > 0) stops when none of its first quality_patience rounds ended with a min SJ
     // above the start's; it then returns the start. (The finishing keeps a quality pass only when the min SJ rose; on
-    // the 43 inputs of bench/finish_all.sh and 20 random seeds every kept pass rose by round 2, docs/performance.md.)
+    // 38 inputs of bench/finish_all.sh and 20 random seeds every pass that rose did so by round 2, docs/performance.md.)
     // <= 0: never stop early.
     int quality_patience = 5;
     std::function<void(const UntangleProgress&)> progress;  // optional, called after every round

@@ -1440,4 +1440,22 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
                 "sphere partition: no valid quad partition found for " + std::to_string(n) + " directions");
 }
 
+namespace detail {
+
+double orange_quality_exact(const std::vector<Vec3>& directions, const Vec3& axis) {
+    const std::vector<double> bound = margin_bounds(directions);
+    OrangeEvaluator eval(directions, bound);
+    bool valid = false;
+    return eval.quality(axis, -1e300, valid);
+}
+
+bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold) {
+    const std::vector<double> bound = margin_bounds(directions);
+    OrangeEvaluator eval(directions, bound);
+    const Vec3 u = any_orthogonal(axis);
+    return eval.certainly_at_most(axis, u, cross(axis, u), threshold);
+}
+
+}  // namespace detail
+
 }  // namespace mesohex

@@ -54,4 +54,12 @@ struct SpherePartitionStats {
 };
 SpherePartitionStats sphere_partition_stats(const SpherePartition& p, const std::vector<Vec3>& directions);
 
+// Test hooks of the orange axis search (partition_sphere's fallback and candidates): the exact orange quality of
+// `directions` (unit, n >= 3) around the unit `axis`, and whether the search's libm-free filter declares it certainly
+// <= threshold (it must never do so when the exact quality is above the threshold).
+namespace detail {
+double orange_quality_exact(const std::vector<Vec3>& directions, const Vec3& axis);
+bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold);
+}  // namespace detail
+
 }  // namespace mesohex
