@@ -109,11 +109,15 @@ void validate_input(const Skeleton& s, const AnalysisOptions& opt) {
 
 BorderRoot border_root(const Vec3& d1, const Vec3& d2, const Vec3& inward, const Vec3& normal, const Vec3& branch,
                        int faces) {
-    if (angle_between_deg(d1, d2) >= kBorderRootAngleDeg) {
+    const double border_angle = angle_between_deg(d1, d2);
+    if (border_angle >= kBorderRootAngleDeg) {
         Vec3 out = cross(normalized(d2 - d1), normal);
         if (norm(out) > 1e-12) {
             if (dot(out, inward) > 0) out = -1.0 * out;
-            if (angle_between_deg(out, branch) <= kBorderRootBranchDeg) return BorderRoot::Out;
+            const double off = angle_between_deg(out, branch);
+            const bool corner = faces == 1 && border_angle < kBorderCornerMaxDeg && off <= kBorderCornerBranchDeg;
+            if (corner) return BorderRoot::None;
+            if (off <= kBorderRootBranchDeg) return BorderRoot::Out;
         }
     }
     if (faces == 2 && norm(normal) > 0 &&
