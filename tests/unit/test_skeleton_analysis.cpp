@@ -187,16 +187,16 @@ TEST(SkeletonAnalysis, BranchAtOpenLeafletCorner) {
     }
 }
 
-// border_root on hand-made frames: border edges 120 degrees apart in the xy plane, inward along +x, normal +z.
+// border_root on hand-made frames: border edges 110 degrees apart in the xy plane, inward along +x, normal +z.
 TEST(SkeletonAnalysis, BorderRootAtCornersAndStraightBorders) {
     auto dir = [](double deg) { return Vec3{std::cos(deg * M_PI / 180), std::sin(deg * M_PI / 180), 0}; };
-    const Vec3 d1 = dir(60), d2 = dir(-60), in{1, 0, 0}, up{0, 0, 1};
+    const Vec3 d1 = dir(55), d2 = dir(-55), in{1, 0, 0}, up{0, 0, 1};
     EXPECT_EQ(border_root(d1, d2, in, up, dir(180), 1), BorderRoot::None);  // one-face corner, bisector branch
     EXPECT_EQ(border_root(d1, d2, in, up, dir(180 + 29), 1), BorderRoot::None);
     EXPECT_EQ(border_root(d1, d2, in, up, dir(180 + 31), 1), BorderRoot::Out);   // off the bisector: out patch
     EXPECT_EQ(border_root(d1, d2, in, 2.0 * up, dir(180), 2), BorderRoot::Out);  // two faces: out patch
-    // Border edges 160 degrees apart (>= kBorderCornerMaxDeg): the out patch even on one face.
-    EXPECT_EQ(border_root(dir(80), dir(-80), in, up, dir(180), 1), BorderRoot::Out);
+    // Border edges 130 degrees apart (>= kBorderCornerMaxDeg): the out patch even on one face.
+    EXPECT_EQ(border_root(dir(65), dir(-65), in, up, dir(180), 1), BorderRoot::Out);
     // Border edges 95 degrees apart (< kBorderRootAngleDeg): never the out patch.
     EXPECT_EQ(border_root(dir(47.5), dir(-47.5), in, up, dir(180 + 40), 1), BorderRoot::None);
 }

@@ -80,7 +80,7 @@ enum class BorderRoot : std::uint8_t { None, Out, Side };
 inline constexpr double kBorderRootAngleDeg = 100;    // degrees between the two border edges
 inline constexpr double kBorderRootBranchDeg = 60;    // degrees between the branch and the outward direction
 inline constexpr double kBorderRootSideDeg = 45;      // degrees between the branch and the normal
-inline constexpr double kBorderCornerMaxDeg = 150;    // degrees between the two border edges of a one-face corner
+inline constexpr double kBorderCornerMaxDeg = 120;    // degrees between the two border edges of a one-face corner
 inline constexpr double kBorderCornerBranchDeg = 30;  // degrees between the branch and the corner's outward bisector
 BorderRoot border_root(const Vec3& d1, const Vec3& d2, const Vec3& inward, const Vec3& normal, const Vec3& branch,
                        int faces);
