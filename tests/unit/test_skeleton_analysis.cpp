@@ -195,6 +195,9 @@ TEST(SkeletonAnalysis, BorderRootAtCornersAndStraightBorders) {
     EXPECT_EQ(border_root(d1, d2, in, up, dir(180 + 29), 1), BorderRoot::None);
     EXPECT_EQ(border_root(d1, d2, in, up, dir(180 + 31), 1), BorderRoot::Out);   // off the bisector: out patch
     EXPECT_EQ(border_root(d1, d2, in, 2.0 * up, dir(180), 2), BorderRoot::Out);  // two faces: out patch
+    // Radius 0.9 / 1.5 x the shorter border edge (kBorderCornerMaxRadiusEdge 1): a BL-joint / the out patch.
+    EXPECT_EQ(border_root(d1, d2, in, up, dir(180), 1, 0.9), BorderRoot::None);
+    EXPECT_EQ(border_root(d1, d2, in, up, dir(180), 1, 1.5), BorderRoot::Out);
     // Border edges 130 degrees apart (>= kBorderCornerMaxDeg): the out patch even on one face.
     EXPECT_EQ(border_root(dir(65), dir(-65), in, up, dir(180), 1), BorderRoot::Out);
     // Border edges 95 degrees apart (< kBorderRootAngleDeg): never the out patch.
