@@ -171,6 +171,39 @@ TEST(SkeletonAnalysis, BranchAtLeafletCornerIsBLJoint) {
     EXPECT_EQ(an.predicted_hexes, 14);
 }
 
+// A leaflet corner opened past kBorderRootAngleDeg (one quad, border edges 105 degrees apart: vertex 1 moved to
+// (1, -tan 15 deg)) with its branch along the outward bisector (217.5 degrees) stays a BL-joint; 40 degrees off
+// the bisector (inside kBorderRootBranchDeg, outside kBorderCornerBranchDeg) it is rooted on the out patch.
+TEST(SkeletonAnalysis, BranchAtOpenLeafletCorner) {
+    for (const double off_deg : {0.0, 40.0}) {
+        Skeleton s = plate(1, 1);
+        s.points[1] = {1, -std::tan(15 * M_PI / 180), 0};
+        const double a = (217.5 + off_deg) * M_PI / 180;
+        s.points.push_back({std::cos(a), std::sin(a), 0});
+        s.edges.push_back({0, 4});
+        const SkeletonAnalysis an = analyze_skeleton(s);
+        EXPECT_EQ(an.vertex_class[0], off_deg == 0 ? VertexClass::BLJoint : VertexClass::LeafletBoundary);
+        EXPECT_EQ(an.vertex_border_root[0], off_deg == 0 ? BorderRoot::None : BorderRoot::Out);
+    }
+}
+
+// border_root on hand-made frames: border edges 110 degrees apart in the xy plane, inward along +x, normal +z.
+TEST(SkeletonAnalysis, BorderRootAtCornersAndStraightBorders) {
+    auto dir = [](double deg) { return Vec3{std::cos(deg * M_PI / 180), std::sin(deg * M_PI / 180), 0}; };
+    const Vec3 d1 = dir(55), d2 = dir(-55), in{1, 0, 0}, up{0, 0, 1};
+    EXPECT_EQ(border_root(d1, d2, in, up, dir(180), 1), BorderRoot::None);  // one-face corner, bisector branch
+    EXPECT_EQ(border_root(d1, d2, in, up, dir(180 + 29), 1), BorderRoot::None);
+    EXPECT_EQ(border_root(d1, d2, in, up, dir(180 + 31), 1), BorderRoot::Out);   // off the bisector: out patch
+    EXPECT_EQ(border_root(d1, d2, in, 2.0 * up, dir(180), 2), BorderRoot::Out);  // two faces: out patch
+    // Radius 0.9 / 1.5 x the shorter border edge (kBorderCornerMaxRadiusEdge 1): a BL-joint / the out patch.
+    EXPECT_EQ(border_root(d1, d2, in, up, dir(180), 1, 0.9), BorderRoot::None);
+    EXPECT_EQ(border_root(d1, d2, in, up, dir(180), 1, 1.5), BorderRoot::Out);
+    // Border edges 130 degrees apart (>= kBorderCornerMaxDeg): the out patch even on one face.
+    EXPECT_EQ(border_root(dir(65), dir(-65), in, up, dir(180), 1), BorderRoot::Out);
+    // Border edges 95 degrees apart (< kBorderRootAngleDeg): never the out patch.
+    EXPECT_EQ(border_root(dir(47.5), dir(-47.5), in, up, dir(180 + 40), 1), BorderRoot::None);
+}
+
 TEST(SkeletonAnalysis, RejectsBadInput) {
     Skeleton loop = polyline(2, false);
     loop.edges.push_back({1, 1});

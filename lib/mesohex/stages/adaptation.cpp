@@ -547,7 +547,7 @@ double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
     const Skeleton& s = view.s;
     if (!view.faces.on_face[v] || !(o.root_extent > 0)) return 0;
     int branches_at = 0, faces_at = 0;
-    double length = 0;
+    double length = 0, border_edge = 0;  // sum of the leaflet edges at v; the shorter border edge
     std::vector<Vec3> to_border;
     Vec3 inward{}, branch{}, normal{};
     for (int e : view.incident[v]) {
@@ -559,7 +559,10 @@ double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
         }
         const int c = view.side_count.at(std::minmax(s.edges[e][0], s.edges[e][1]));
         if (c > 2) return 0;  // a fan edge
-        if (c == 1) to_border.push_back(normalized(d));
+        if (c == 1) {
+            border_edge = to_border.empty() ? norm(d) : std::min(border_edge, norm(d));
+            to_border.push_back(normalized(d));
+        }
         inward += normalized(d);
         length += norm(d);
     }
@@ -572,9 +575,10 @@ double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
         normal += dot(fn, normal) < 0 ? -1.0 * fn : fn;  // faces need not be oriented consistently yet
         ++faces_at;
     }
-    const bool rooted = to_border.empty() ||
-                        (to_border.size() == 2 &&
-                         border_root(to_border[0], to_border[1], inward, normal, branch, faces_at) != BorderRoot::None);
+    const bool rooted =
+        to_border.empty() ||
+        (to_border.size() == 2 && border_root(to_border[0], to_border[1], inward, normal, branch, faces_at,
+                                              border_edge > 0 ? view.rad[v] / border_edge : 0.0) != BorderRoot::None);
     return rooted ? o.root_extent * length / leaflet_edges : 0.0;
 }
 

@@ -200,7 +200,10 @@ int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
         // The mesher roots this branch on the border's plates (border_root: Out or Side): no corner needed.
         if (opt.keep_rooted_bl_joints &&
             border_root(normalized(a - p), normalized(b - p), inward, normal_sum[static_cast<size_t>(v)], branch,
-                        static_cast<int>(leaflet_neighbours[static_cast<size_t>(v)].size()) - 1) != BorderRoot::None)
+                        static_cast<int>(leaflet_neighbours[static_cast<size_t>(v)].size()) - 1,
+                        static_cast<size_t>(v) < s.radii.size()
+                            ? s.radii[static_cast<size_t>(v)] / std::min(distance(p, a), distance(p, b))
+                            : 0.0) != BorderRoot::None)
             continue;
         // A branch heading back over the leaflet (positive cosine of its angle to the inward direction) gets a
         // sharper corner: bl_joint_back_push x that cosine more.

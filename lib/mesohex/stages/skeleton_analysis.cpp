@@ -108,12 +108,17 @@ void validate_input(const Skeleton& s, const AnalysisOptions& opt) {
 }  // namespace
 
 BorderRoot border_root(const Vec3& d1, const Vec3& d2, const Vec3& inward, const Vec3& normal, const Vec3& branch,
-                       int faces) {
-    if (angle_between_deg(d1, d2) >= kBorderRootAngleDeg) {
+                       int faces, double radius_over_edge) {
+    const double border_angle = angle_between_deg(d1, d2);
+    if (border_angle >= kBorderRootAngleDeg) {
         Vec3 out = cross(normalized(d2 - d1), normal);
         if (norm(out) > 1e-12) {
             if (dot(out, inward) > 0) out = -1.0 * out;
-            if (angle_between_deg(out, branch) <= kBorderRootBranchDeg) return BorderRoot::Out;
+            const double off = angle_between_deg(out, branch);
+            const bool corner = faces == 1 && border_angle < kBorderCornerMaxDeg && off <= kBorderCornerBranchDeg &&
+                                radius_over_edge < kBorderCornerMaxRadiusEdge;
+            if (corner) return BorderRoot::None;
+            if (off <= kBorderRootBranchDeg) return BorderRoot::Out;
         }
     }
     if (faces == 2 && norm(normal) > 0 &&
@@ -126,10 +131,15 @@ BorderRoot border_root_at(const Skeleton& s, const SkeletonAnalysis& an, int v) 
     std::vector<Vec3> to_border;
     Vec3 inward{}, branch{}, normal{};
     int branches = 0;
+    double border_edge = 0;  // the shorter border edge at v
     for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
         const int e = an.vertex_edges[i];
         const int w = s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0];
         const Vec3 d = normalized(s.points[w] - s.points[v]);
+        if (an.edge_degree[e] == 1) {
+            const double len = distance(s.points[w], s.points[v]);
+            border_edge = to_border.empty() ? len : std::min(border_edge, len);
+        }
         if (an.edge_degree[e] == 0) {
             branch = d;
             ++branches;
@@ -147,7 +157,9 @@ BorderRoot border_root_at(const Skeleton& s, const SkeletonAnalysis& an, int v) 
                 normal += an.face_normal[f];
                 ++faces;
             }
-    return border_root(to_border[0], to_border[1], inward, normal, branch, faces);
+    const double r = static_cast<std::size_t>(v) < s.radii.size() ? s.radii[v] : 0.0;
+    return border_root(to_border[0], to_border[1], inward, normal, branch, faces,
+                       border_edge > 0 ? r / border_edge : 0.0);
 }
 
 namespace {

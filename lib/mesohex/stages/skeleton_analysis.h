@@ -72,12 +72,20 @@ struct AnalysisCounts {
 //         inward): the branch stands on the 4 half-chunk out faces around w's out vertex;
 //   Side: 2 faces meet at w and the branch leaves within kBorderRootSideDeg of the normal (either side): it stands on
 //         the 2 plate and 2 half-chunk faces around w's up (down) vertex.
+// Except a leaflet corner: w has one face, d1, d2 are less than kBorderCornerMaxDeg apart, the branch leaves within
+// kBorderCornerBranchDeg of that outward direction (the corner's outward bisector) and w's radius over its shorter
+// border edge (`radius_over_edge`, 0 when unknown) is below kBorderCornerMaxRadiusEdge: None (a BL-joint), whose
+// pillow wraps the corner, where the out patch would fold by 180 degrees minus the corner angle (docs/sheets.md,
+// "Leaflet corners rooted on the out patch").
 enum class BorderRoot : std::uint8_t { None, Out, Side };
-inline constexpr double kBorderRootAngleDeg = 100;
-inline constexpr double kBorderRootBranchDeg = 60;
-inline constexpr double kBorderRootSideDeg = 45;
+inline constexpr double kBorderRootAngleDeg = 100;       // degrees between the two border edges
+inline constexpr double kBorderRootBranchDeg = 60;       // degrees between the branch and the outward direction
+inline constexpr double kBorderRootSideDeg = 45;         // degrees between the branch and the normal
+inline constexpr double kBorderCornerMaxDeg = 120;       // degrees between the two border edges of a one-face corner
+inline constexpr double kBorderCornerBranchDeg = 30;     // degrees between the branch and the corner's outward bisector
+inline constexpr double kBorderCornerMaxRadiusEdge = 1;  // radius / shorter border edge (dimensionless)
 BorderRoot border_root(const Vec3& d1, const Vec3& d2, const Vec3& inward, const Vec3& normal, const Vec3& branch,
-                       int faces);
+                       int faces, double radius_over_edge = 0);
 struct SkeletonAnalysis;
 // The same for vertex v of an analysed skeleton (None unless v has exactly one branch edge, two boundary edges and no
 // fan edge). Needs only the analysis' incidence, edge degrees, faces and face normals.
