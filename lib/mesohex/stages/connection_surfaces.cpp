@@ -48,17 +48,27 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
     for (Vec3& p : cur.points) p = normalized(p);
     // spherical_quad_margin of quad i; with floor >= -1 it may stop early with some value <= floor once the margin
     // cannot exceed floor (a -1 from a later side would be <= floor too).
-    auto margin_of = [&](int i, double floor = -1e300) {
+    auto quad_of = [&](int i) {
         std::array<Vec3, 4> q;
         for (int k = 0; k < 4; ++k) q[k] = cur.points[part.quads[i][k]];
+        return q;
+    };
+    // The sine of the angle from side k of quad q (a great-circle arc) to direction d, in `v`; false when the side is
+    // degenerate or the quad is not convex there (its margin is then -1).
+    auto side_sine = [](const std::array<Vec3, 4>& q, int k, const Vec3& d, double& v) {
+        const Vec3 n = cross(q[k], q[(k + 1) % 4]);
+        const double nn = norm(n);
+        if (!(nn > 1e-12) || dot(n, q[(k + 2) % 4]) < -1e-12 * nn) return false;
+        v = std::clamp(dot(n, d) / nn, -1.0, 1.0);
+        return true;
+    };
+    auto margin_of = [&](int i, double floor = -1e300) {
+        const std::array<Vec3, 4> q = quad_of(i);
         if (floor < -1) return spherical_quad_margin(q, dirs[i]);
-        double m = 10;
+        double m = 10, v = 0;
         for (int k = 0; k < 4; ++k) {
-            const Vec3 n = cross(q[k], q[(k + 1) % 4]);
-            const double nn = norm(n);
-            if (!(nn > 1e-12)) return -1.0;
-            if (dot(n, q[(k + 2) % 4]) < -1e-12 * nn) return -1.0;
-            m = std::min(m, std::asin(std::clamp(dot(n, dirs[i]) / nn, -1.0, 1.0)));
+            if (!side_sine(q, k, dirs[i], v)) return -1.0;
+            m = std::min(m, std::asin(v));
             if (m <= floor) return m;
         }
         return m;
@@ -76,17 +86,12 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
             sine_lo = std::abs(floor) < 1.5 ? s - 1e-14 : -2;
             sine_hi = std::abs(floor) < 1.5 ? s + 1e-14 : 2;
         }
-        std::array<Vec3, 4> q;
-        for (int k = 0; k < 4; ++k) q[k] = cur.points[part.quads[i][k]];
-        double m = 10;
+        const std::array<Vec3, 4> q = quad_of(i);
+        double m = 10, v = 0;
         std::array<double, 4> deferred;  // sines whose asin is > floor
         int count = 0;
         for (int k = 0; k < 4; ++k) {
-            const Vec3 n = cross(q[k], q[(k + 1) % 4]);
-            const double nn = norm(n);
-            if (!(nn > 1e-12)) return -1.0;
-            if (dot(n, q[(k + 2) % 4]) < -1e-12 * nn) return -1.0;
-            const double v = std::clamp(dot(n, dirs[i]) / nn, -1.0, 1.0);
+            if (!side_sine(q, k, dirs[i], v)) return -1.0;
             if (v <= sine_lo) return floor;
             if (v > sine_hi) {
                 deferred[count++] = v;
