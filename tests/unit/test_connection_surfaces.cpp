@@ -3,6 +3,8 @@
 
 #include "skeleton_fixtures.h"
 
+#include <array>
+#include <cmath>
 #include <map>
 #include <random>
 #include <utility>
@@ -146,4 +148,48 @@ TEST(ConnectionSurfaces, NonOrientableLeafletIsRejected) {
         EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
         EXPECT_EQ(e.where().kind, ElementRef::Kind::SkeletonFace);
     }
+}
+
+// The relaxation's asin-skipping margin (quad_margin_above) against the plain one (quad_margin_to_floor), on random
+// convex spherical quads (4 points around a random centre, 20-60 degrees out) and directions near them, with floors at
+// the exact margin m times (1 +- 10^-k), k = 1..15, and at m: both give the exact margin (the same bits) when it is
+// above the floor, both give a value <= floor otherwise.
+TEST(ConnectionSurfaces, RelaxationMarginSkipsAsinOnlyWhereItCannotMatter) {
+    std::mt19937_64 rng(31);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    const auto unit = [](const mesohex::Vec3& v) { return v / mesohex::norm(v); };
+    long above = 0, below = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const mesohex::Vec3 c = unit({u01(rng) - 0.5, u01(rng) - 0.5, u01(rng) - 0.5});
+        const mesohex::Vec3 t1 =
+            unit(mesohex::cross(c, std::abs(c[0]) < 0.9 ? mesohex::Vec3{1, 0, 0} : mesohex::Vec3{0, 1, 0}));
+        const mesohex::Vec3 t2 = mesohex::cross(c, t1);
+        std::array<mesohex::Vec3, 4> q;
+        for (int k = 0; k < 4; ++k) {
+            const double a = (k + 0.3 * (u01(rng) - 0.5)) * 1.5707963267948966;
+            const double r = std::tan((20 + 40 * u01(rng)) * 0.017453292519943295);
+            q[static_cast<std::size_t>(k)] = unit(c + r * (std::cos(a) * t1 + std::sin(a) * t2));
+        }
+        const mesohex::Vec3 d = unit(c + 0.3 * (u01(rng) - 0.5) * t1 + 0.3 * (u01(rng) - 0.5) * t2);
+        const double m = mesohex::detail::quad_margin_to_floor(q, d, -1.0);
+        if (!(m > -1 && std::abs(m) > 1e-6)) continue;
+        std::vector<double> floors{m};
+        for (int k = 1; k <= 15; ++k) {
+            floors.push_back(m * (1 + std::pow(10.0, -k)));
+            floors.push_back(m * (1 - std::pow(10.0, -k)));
+        }
+        for (double f : floors) {
+            const double plain = mesohex::detail::quad_margin_to_floor(q, d, f);
+            const double fast = mesohex::detail::quad_margin_above(q, d, f);
+            if (plain > f) {
+                ASSERT_EQ(fast, plain) << "trial " << trial << " floor " << f;
+                ++above;
+            } else {
+                ASSERT_LE(fast, f) << "trial " << trial << " floor " << f;
+                ++below;
+            }
+        }
+    }
+    EXPECT_GT(above, 10000);
+    EXPECT_GT(below, 10000);
 }

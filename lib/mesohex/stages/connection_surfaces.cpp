@@ -32,6 +32,60 @@ struct SurfaceSize {
     int points = 0, quads = 0, edges = 0;
 };
 
+// The sine of the angle from side k of the spherical quad q (a great-circle arc) to direction d, in `v`; false when
+// the side is degenerate or the quad is not convex there (its margin is then -1).
+bool quad_side_sine(const std::array<Vec3, 4>& q, int k, const Vec3& d, double& v) {
+    const Vec3 n = cross(q[k], q[(k + 1) % 4]);
+    const double nn = norm(n);
+    if (!(nn > 1e-12) || dot(n, q[(k + 2) % 4]) < -1e-12 * nn) return false;
+    v = std::clamp(dot(n, d) / nn, -1.0, 1.0);
+    return true;
+}
+
+// The margin of d in quad q (the smallest asin of its side sines, -1 for a degenerate or non-convex quad), for
+// floor >= -1: it may stop early with some value <= floor once the margin cannot exceed floor.
+double quad_margin_to_floor(const std::array<Vec3, 4>& q, const Vec3& d, double floor) {
+    double m = 10, v = 0;
+    for (int k = 0; k < 4; ++k) {
+        if (!quad_side_sine(q, k, d, v)) return -1.0;
+        m = std::min(m, std::asin(v));
+        if (m <= floor) return m;
+    }
+    return m;
+}
+
+// quad_margin_to_floor with fewer asin calls (the same value when it is > floor, else some value <= floor; the same
+// quads stop early): a side whose sine v is <= sin(floor) - 1e-14 has asin(v) <= floor (asin's slope is >= 1, libm's
+// asin and sin are within an ulp), so it stops the quad without asin; a side above sin(floor) + 1e-14 cannot stop it
+// and its asin is only needed when no side stops the quad. |floor| >= 1.5: no shortcut. The sines are kept for the
+// last floor (a relaxation trial's floor is the vertex's best so far).
+struct QuadMarginAbove {
+    double sine_floor_for = std::numeric_limits<double>::quiet_NaN(), sine_lo = -2, sine_hi = 2;
+    double operator()(const std::array<Vec3, 4>& q, const Vec3& d, double floor) {
+        if (floor != sine_floor_for) {
+            sine_floor_for = floor;
+            const double s = std::abs(floor) < 1.5 ? std::sin(floor) : 0;
+            sine_lo = std::abs(floor) < 1.5 ? s - 1e-14 : -2;
+            sine_hi = std::abs(floor) < 1.5 ? s + 1e-14 : 2;
+        }
+        double m = 10, v = 0;
+        std::array<double, 4> deferred;  // sines whose asin is > floor
+        int count = 0;
+        for (int k = 0; k < 4; ++k) {
+            if (!quad_side_sine(q, k, d, v)) return -1.0;
+            if (v <= sine_lo) return floor;
+            if (v > sine_hi) {
+                deferred[count++] = v;
+                continue;
+            }
+            m = std::min(m, std::asin(v));
+            if (m <= floor) return m;
+        }
+        for (int k = 0; k < count; ++k) m = std::min(m, std::asin(deferred[k]));
+        return m;
+    }
+};
+
 // Moves the partition points on the sphere (topology unchanged) to increase, vertex by vertex, the smallest margin of
 // the quads around it: a deterministic pattern search with a halving step. Why: a raw hex of the first chunk of a
 // branch is positive at its sphere corners exactly when the first joint's cross-section, seen from the centre (a cap
@@ -53,56 +107,12 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
         for (int k = 0; k < 4; ++k) q[k] = cur.points[part.quads[i][k]];
         return q;
     };
-    // The sine of the angle from side k of quad q (a great-circle arc) to direction d, in `v`; false when the side is
-    // degenerate or the quad is not convex there (its margin is then -1).
-    auto side_sine = [](const std::array<Vec3, 4>& q, int k, const Vec3& d, double& v) {
-        const Vec3 n = cross(q[k], q[(k + 1) % 4]);
-        const double nn = norm(n);
-        if (!(nn > 1e-12) || dot(n, q[(k + 2) % 4]) < -1e-12 * nn) return false;
-        v = std::clamp(dot(n, d) / nn, -1.0, 1.0);
-        return true;
-    };
     auto margin_of = [&](int i, double floor = -1e300) {
         const std::array<Vec3, 4> q = quad_of(i);
-        if (floor < -1) return spherical_quad_margin(q, dirs[i]);
-        double m = 10, v = 0;
-        for (int k = 0; k < 4; ++k) {
-            if (!side_sine(q, k, dirs[i], v)) return -1.0;
-            m = std::min(m, std::asin(v));
-            if (m <= floor) return m;
-        }
-        return m;
+        return floor < -1 ? spherical_quad_margin(q, dirs[i]) : quad_margin_to_floor(q, dirs[i], floor);
     };
-    // margin_of(i, floor) for floor >= -1 with fewer asin calls (the same value when it is > floor, else some value
-    // <= floor, as margin_of; the same quads stop early): a side whose sine v = n . d / |n| is <= sin(floor) - 1e-14
-    // has asin(v) <= floor (asin's slope is >= 1, libm's asin and sin are within an ulp), so it stops the quad without
-    // asin; a side above sin(floor) + 1e-14 cannot stop it and its asin is only needed when no side stops the quad.
-    // |floor| >= 1.5: no shortcut. The sines are kept for the last floor (a trial's floor is the vertex's best).
-    double sine_floor_for = std::numeric_limits<double>::quiet_NaN(), sine_lo = -2, sine_hi = 2;
-    auto margin_above = [&](int i, double floor) {
-        if (floor != sine_floor_for) {
-            sine_floor_for = floor;
-            const double s = std::abs(floor) < 1.5 ? std::sin(floor) : 0;
-            sine_lo = std::abs(floor) < 1.5 ? s - 1e-14 : -2;
-            sine_hi = std::abs(floor) < 1.5 ? s + 1e-14 : 2;
-        }
-        const std::array<Vec3, 4> q = quad_of(i);
-        double m = 10, v = 0;
-        std::array<double, 4> deferred;  // sines whose asin is > floor
-        int count = 0;
-        for (int k = 0; k < 4; ++k) {
-            if (!side_sine(q, k, dirs[i], v)) return -1.0;
-            if (v <= sine_lo) return floor;
-            if (v > sine_hi) {
-                deferred[count++] = v;
-                continue;
-            }
-            m = std::min(m, std::asin(v));
-            if (m <= floor) return m;
-        }
-        for (int k = 0; k < count; ++k) m = std::min(m, std::asin(deferred[k]));
-        return m;
-    };
+    QuadMarginAbove above;
+    auto margin_above = [&](int i, double floor) { return above(quad_of(i), dirs[i], floor); };
     // The smallest margin of the quads around x (the same value in any order); stops once it is <= `floor` (a trial
     // that cannot win), starting with the quad that stopped the previous trial at x.
     std::vector<int> first(np, 0);
@@ -1263,5 +1273,18 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
     }
     return cs;
 }
+
+namespace detail {
+
+double quad_margin_to_floor(const std::array<Vec3, 4>& q, const Vec3& d, double floor) {
+    return mesohex::quad_margin_to_floor(q, d, floor);
+}
+
+double quad_margin_above(const std::array<Vec3, 4>& q, const Vec3& d, double floor) {
+    QuadMarginAbove above;
+    return above(q, d, floor);
+}
+
+}  // namespace detail
 
 }  // namespace mesohex

@@ -131,4 +131,12 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
                                                const ConnectionSurfaceOptions& options = {},
                                                const SurfaceMemo* memo_in = nullptr, SurfaceMemo* memo_out = nullptr);
 
+// Test hooks of the partition relaxation's margin evaluations (unit quad corners q, unit direction d, floor >= -1):
+// the plain one (stops once the margin is <= floor) and the one that skips asin calls; both return the exact margin
+// when it is > floor and some value <= floor otherwise.
+namespace detail {
+double quad_margin_to_floor(const std::array<Vec3, 4>& q, const Vec3& d, double floor);
+double quad_margin_above(const std::array<Vec3, 4>& q, const Vec3& d, double floor);
+}  // namespace detail
+
 }  // namespace mesohex
