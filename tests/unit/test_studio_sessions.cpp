@@ -85,6 +85,17 @@ int random_session(const Skeleton& start, int edits, std::uint32_t seed) {
     return incremental_runs;
 }
 
+// The decoded arrays of a binary answer made of `arrays` (a patch needs the previous answer's decoded arrays).
+studio::DecodedAnswer decoded(const studio::BinaryArrays& arrays, const studio::DecodedAnswer* previous = nullptr) {
+    return studio::decode_binary_answer(studio::binary_answer(json::object(), arrays), previous);
+}
+
+// Array i of a row patch came as `rows` runs of copied rows and `literal` literal rows.
+void expect_row_runs(const studio::BinaryArrays& patch, std::size_t i, int rows, int literal) {
+    EXPECT_EQ(patch.list[i]["rows"], rows) << "array " << i;
+    EXPECT_EQ(patch.list[i]["literal"], literal) << "array " << i;
+}
+
 }  // namespace
 
 TEST(StudioSessions, IncrementalRawRunEqualsFullRunOnRandomEdits) {
@@ -311,11 +322,11 @@ TEST(StudioSessions, PatchArrays) {
     EXPECT_EQ(p.list[2]["patch"], 1);
     EXPECT_FALSE(p.list[3].contains("patch"));
     EXPECT_EQ(p.bytes.size(), 3 * 4 + 8 + 4 * 4u);
-    const studio::DecodedAnswer previous = studio::decode_binary_answer(studio::binary_answer(json::object(), base));
-    const studio::DecodedAnswer d = studio::decode_binary_answer(studio::binary_answer(json::object(), p), &previous);
-    const studio::DecodedAnswer whole = studio::decode_binary_answer(studio::binary_answer(json::object(), full));
+    const studio::DecodedAnswer previous = decoded(base);
+    const studio::DecodedAnswer d = decoded(p, &previous);
+    const studio::DecodedAnswer whole = decoded(full);
     EXPECT_EQ(d.f32, whole.f32);
-    EXPECT_THROW(studio::decode_binary_answer(studio::binary_answer(json::object(), p)), std::invalid_argument);
+    EXPECT_THROW(decoded(p), std::invalid_argument);
 }
 
 // Over HTTP: with since=R (the session's last answer) a binary answer is a patch of it, much smaller, decoding to
@@ -380,16 +391,14 @@ TEST(StudioSessions, RowPatchOfAnInsertion) {
     studio::append_u32_cells(full, "e", std::vector<std::array<int, 2>>{{0, 2}, {3, 4}});
     const std::vector<studio::RowLayout> layouts = {{"v", 3, "", 0}, {"e", 2, "v", 2}};
     const studio::BinaryArrays p = studio::patch_arrays(base, full, layouts);
-    EXPECT_EQ(p.list[0]["rows"], 3);
-    EXPECT_EQ(p.list[0]["literal"], 1);
-    EXPECT_EQ(p.list[1]["rows"], 1);
-    EXPECT_EQ(p.list[1]["literal"], 0);
+    expect_row_runs(p, 0, 3, 1);
+    expect_row_runs(p, 1, 1, 0);
     EXPECT_EQ(p.bytes.size(), 4 * (2 * 3 + 3) + 4 * 2u);
     // Without layouts the arrays of other lengths stay whole.
     EXPECT_FALSE(studio::patch_arrays(base, full).list[0].contains("rows"));
-    const studio::DecodedAnswer previous = studio::decode_binary_answer(studio::binary_answer(json::object(), base));
-    const studio::DecodedAnswer d = studio::decode_binary_answer(studio::binary_answer(json::object(), p), &previous);
-    const studio::DecodedAnswer whole = studio::decode_binary_answer(studio::binary_answer(json::object(), full));
+    const studio::DecodedAnswer previous = decoded(base);
+    const studio::DecodedAnswer d = decoded(p, &previous);
+    const studio::DecodedAnswer whole = decoded(full);
     EXPECT_EQ(d.f32, whole.f32);
     EXPECT_EQ(d.u32, whole.u32);
 }
@@ -406,29 +415,25 @@ TEST(StudioSessions, RowPatchOfADeletionAndHostileCopies) {
     studio::append_u32_cells(full, "e", std::vector<std::array<int, 2>>{{0, 1}, {1, 2}});
     const std::vector<studio::RowLayout> layouts = {{"v", 3, "", 0}, {"e", 2, "v", 2}};
     const studio::BinaryArrays p = studio::patch_arrays(base, full, layouts);
-    EXPECT_EQ(p.list[0]["rows"], 2);
-    EXPECT_EQ(p.list[0]["literal"], 0);
-    EXPECT_EQ(p.list[1]["rows"], 1);
-    EXPECT_EQ(p.list[1]["literal"], 0);
+    expect_row_runs(p, 0, 2, 0);
+    expect_row_runs(p, 1, 1, 0);
     EXPECT_EQ(p.bytes.size(), 8 * 3u);
-    const studio::DecodedAnswer previous = studio::decode_binary_answer(studio::binary_answer(json::object(), base));
-    const studio::DecodedAnswer d = studio::decode_binary_answer(studio::binary_answer(json::object(), p), &previous);
-    const studio::DecodedAnswer whole = studio::decode_binary_answer(studio::binary_answer(json::object(), full));
+    const studio::DecodedAnswer previous = decoded(base);
+    const studio::DecodedAnswer d = decoded(p, &previous);
+    const studio::DecodedAnswer whole = decoded(full);
     EXPECT_EQ(d.f32, whole.f32);
     EXPECT_EQ(d.u32, whole.u32);
 
     studio::BinaryArrays far = p;  // the points' second run starts at base row 7 (the base has 4)
     far.bytes[12] = 7;
-    EXPECT_THROW(studio::decode_binary_answer(studio::binary_answer(json::object(), far), &previous),
-                 std::invalid_argument);
+    EXPECT_THROW(decoded(far, &previous), std::invalid_argument);
     studio::BinaryArrays wide = p;  // count 0 passes the layout checks; 4 x 2^62 wraps to 0
     wide.list[0]["count"] = 0;
     wide.list[0]["width"] = std::uint64_t{1} << 62;
     wide.list[0]["literal"] = 1;
-    EXPECT_THROW(studio::decode_binary_answer(studio::binary_answer(json::object(), wide), &previous),
-                 std::invalid_argument);
+    EXPECT_THROW(decoded(wide, &previous), std::invalid_argument);
     // Without the base the patch means nothing: refused too.
-    EXPECT_THROW(studio::decode_binary_answer(studio::binary_answer(json::object(), p)), std::invalid_argument);
+    EXPECT_THROW(decoded(p), std::invalid_argument);
 }
 
 // A base with two equal rows (a a b) patched into (a b): the first copy of each content is the source, the decoded
@@ -441,11 +446,9 @@ TEST(StudioSessions, RowPatchOfRepeatedRowsAndAGrid) {
     const std::vector<studio::RowLayout> layouts = {{"v", 3, "", 0}};
     const studio::BinaryArrays p = studio::patch_arrays(base, full, layouts);
     ASSERT_TRUE(p.list[0].contains("rows"));
-    EXPECT_EQ(p.list[0]["rows"], 2);
-    EXPECT_EQ(p.list[0]["literal"], 0);
-    const studio::DecodedAnswer previous = studio::decode_binary_answer(studio::binary_answer(json::object(), base));
-    EXPECT_EQ(studio::decode_binary_answer(studio::binary_answer(json::object(), p), &previous).f32,
-              studio::decode_binary_answer(studio::binary_answer(json::object(), full)).f32);
+    expect_row_runs(p, 0, 2, 0);
+    const studio::DecodedAnswer previous = decoded(base);
+    EXPECT_EQ(decoded(p, &previous).f32, decoded(full).f32);
 
     std::vector<Vec3> grid;
     for (int i = 0; i < 100; ++i)
@@ -456,11 +459,9 @@ TEST(StudioSessions, RowPatchOfRepeatedRowsAndAGrid) {
     studio::append_f32(gb, "v", grid);
     studio::append_f32(gf, "v", moved);
     const studio::BinaryArrays gp = studio::patch_arrays(gb, gf, layouts);
-    EXPECT_EQ(gp.list[0]["rows"], 2);
-    EXPECT_EQ(gp.list[0]["literal"], 1);
-    const studio::DecodedAnswer gprev = studio::decode_binary_answer(studio::binary_answer(json::object(), gb));
-    EXPECT_EQ(studio::decode_binary_answer(studio::binary_answer(json::object(), gp), &gprev).f32,
-              studio::decode_binary_answer(studio::binary_answer(json::object(), gf)).f32);
+    expect_row_runs(gp, 0, 2, 1);
+    const studio::DecodedAnswer gprev = decoded(gb);
+    EXPECT_EQ(decoded(gp, &gprev).f32, decoded(gf).f32);
 }
 
 // A session on a 600-vertex random tree over HTTP: branching points moved one after the other (a drag's edits; some

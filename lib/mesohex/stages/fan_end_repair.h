@@ -88,24 +88,20 @@ inline constexpr double kRetractionRadii = 2.0;
 // Range of the moved root's place on the carrier's border side, as a fraction of the side from w: at least 0.3, and
 // at least kRootMoveRadii r_w / |x_k - w| (both clamped to 0.7), keeps the column of faces cut off beside the fan line
 // wider than the fan block's half size h = r (its leaflet corners stand at r from the fan line: a column of width r
-// flattens the plates there, 2 flat raw hexes measured with a retracted other end); at most 0.7 keeps it off the
-// side's far end. Measured on generate fanend -m 2 (raw min SJ at radius scale 0.4 - 1.6, fixed fraction): T best at
-// 0.3 (0.29 - 0.40), X at 0.7 (0.21 - 0.50; inverted hexes at 0.3); the projection rule picks these
-// (docs/blocks.md, "Branches across the fan line: the root moved").
+// flattens the plates there); at most 0.7 keeps it off the side's far end. Within that range the place is the
+// branch's first vertex projected on the side (measurements: docs/blocks.md, "Branches across the fan line: the root
+// moved").
 // A moved branch's first edge (from the cut point to the mean of the branches' first vertices) must leave the border
-// within kMovedOutDeg of its outward in-plane direction (an out root), or more than kMovedSideOffOutDeg off it and
-// within kMovedSideDeg of the leaflet's normal (a side root); else the move is not made and the branch stays refused.
-// Measured on single T / X fans (raw min SJ; docs/blocks.md): branches 50 (T) and 60 (X) degrees off the fan line give
-// out roots 54 / 51 degrees off the outward direction with 3 / 2 inverted raw hexes, branches leaning back 135 degrees
-// side roots 50 / 55 degrees off the normal with 5 / 6; every other angle from 50 to 120 degrees meshed (min 0.04 -
-// 0.41). The analysis' own limits are 60 (out) and 45 (side): stricter here because the fan end is one face away.
+// within kMovedOutDeg degrees of its outward in-plane direction (an out root), or more than kMovedSideOffOutDeg off it
+// and within kMovedSideDeg of the leaflet's normal (a side root); else the move is not made and the branch stays
+// refused (the moved roots outside these limits gave inverted raw hexes: docs/blocks.md). The analysis' own limits
+// are 60 (out) and 45 (side): stricter here because the fan end is one face away.
 inline constexpr double kMovedOutDeg = 45;
 inline constexpr double kMovedSideOffOutDeg = 60;
 inline constexpr double kMovedSideDeg = 45;
 // Height of the row cut under a moved root, x r_w: the fan edge (u, w) and its faces' strips are cut at that distance
 // from w first (when the strips cross and it is less than half the fan edge), so that the root's side patch (its two
-// faces below the border) is about as tall as the branch's tube, not the whole fan edge (measured on fanend -n 4 -m 2,
-// finished: min SJ 0.10 -> 0.29, Hausdorff 6.1 -> 3.1 %; docs/blocks.md).
+// faces below the border) is about as tall as the branch's tube, not the whole fan edge (measured: docs/blocks.md).
 inline constexpr double kRootRowRadii = 1.0;
 inline constexpr double kRootMoveMin = 0.3;
 inline constexpr double kRootMoveMax = 0.7;
