@@ -405,22 +405,100 @@ int carrier(const Skeleton& s, const Candidate& c) {
     return best;
 }
 
+// The straight border run of a leaflet from the fan-edge end w through its border neighbour x: w, x, then the next
+// border vertex as long as the last one is a plain straight border vertex (on 2 faces and 3 edges: two border sides and
+// one inner edge; no branch, no fan edge) where the border turns by at most kBorderRunTurnDeg, not yet in the run.
+std::vector<int> border_run(const Skeleton& s, const Incidence& in, int w, int x) {
+    std::vector<int> run{w, x};
+    while (true) {
+        const int v = run.back(), prev = run[run.size() - 2];
+        if (in.vertex_faces[v].size() != 2 || in.vertex_edges[v].size() != 3) return run;
+        int next = -1, border = 0, inner = 0;
+        for (const int e : in.vertex_edges[v]) {
+            const int y = other_end(s, e, v), d = faces_on(in, v, y);
+            border += d == 1 ? 1 : 0;
+            inner += d == 2 ? 1 : 0;
+            if (d == 1 && y != prev) next = y;
+        }
+        if (border != 2 || inner != 1 || next < 0 || std::find(run.begin(), run.end(), next) != run.end()) return run;
+        const double turn = dot(normalized(s.points[v] - s.points[prev]), normalized(s.points[next] - s.points[v]));
+        if (turn < std::cos(kBorderRunTurnDeg * std::numbers::pi / 180)) return run;
+        run.push_back(next);
+    }
+}
+
+// The point at arc length a along the polyline pts (a in [0, its length]).
+Vec3 at_arc_length(const std::vector<Vec3>& pts, double a) {
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
+        const double len = distance(pts[j], pts[j + 1]);
+        if (a <= len || j + 2 == pts.size()) return pts[j] + std::clamp(a / len, 0.0, 1.0) * (pts[j + 1] - pts[j]);
+        a -= len;
+    }
+    return pts.back();
+}
+
+// The retraction along one face's border run (w, x, ...) from w: the retracted corner's place, and the run's inner
+// vertices slid along it (their new places, run[1] first) when the retraction goes past kRetractionMax of the first
+// side.
+struct RunRetraction {
+    Vec3 corner{};
+    std::vector<Vec3> slid;
+};
+
+RunRetraction retract_run(const Skeleton& s, const std::vector<int>& run, double rw) {
+    std::vector<Vec3> pts;
+    for (const int v : run) pts.push_back(s.points[v]);
+    const double first = distance(pts[0], pts[1]);
+    const double want = kRetractionRadii * rw;                // the retraction length along the border
+    if (run.size() == 2 || want <= kRetractionMax * first) {  // within the first side (the rule for thin radii)
+        const double t = std::clamp(want / first, kRetractionMin, kRetractionMax);
+        return {pts[0] + t * (pts[1] - pts[0]), {}};
+    }
+    // Thick radii: the corner goes `want` along the run (at most kRetractionMax of it), and every inner vertex of the
+    // run slides along it, its arc length a mapped to l + a (S - l) / S (S the run's length, l the corner's): the
+    // run's far end stays, its sides keep their proportions.
+    double total = 0;
+    std::vector<double> arc{0};
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) arc.push_back(total += distance(pts[j], pts[j + 1]));
+    const double l = std::min(want, kRetractionMax * total);
+    RunRetraction r{at_arc_length(pts, l), {}};
+    for (std::size_t j = 1; j + 1 < pts.size(); ++j)
+        r.slid.push_back(at_arc_length(pts, l + arc[j] * (total - l) / total));
+    return r;
+}
+
 FanEndRetraction retract(Skeleton& s, const Candidate& c) {
     FanEndRetraction r{c.w, c.u, carrier(s, c), {}};
     const Vec3 pw = s.points[c.w];
     const double rw = s.radii[c.w];
+    // The border runs first (on the skeleton before any move); a vertex in two runs (a leaflet that comes back to the
+    // fan edge) ends both before it.
+    const Incidence in = make_incidence(s);
+    std::vector<std::vector<int>> runs;
+    for (const int f : c.faces) runs.push_back(border_run(s, in, c.w, corner_neighbour(s.faces[f], c.w, c.u)));
+    for (std::size_t i = 0; i < runs.size(); ++i)
+        for (std::size_t j = 0; j < runs.size(); ++j)
+            for (std::size_t a = 1; i != j && a < runs[i].size(); ++a)
+                if (std::find(runs[j].begin() + 1, runs[j].end(), runs[i][a]) != runs[j].end()) {
+                    runs[i].resize(std::max<std::size_t>(a, 2));
+                    break;
+                }
+    std::vector<RunRetraction> moves;
+    for (const std::vector<int>& run : runs) moves.push_back(retract_run(s, run, rw));
     // u slides along the fan line towards w (its fan-end cap then covers the notch the retraction opens).
     const double len = distance(pw, s.points[c.u]);
     s.points[c.u] = pw + std::clamp(kRetractionRadii * rw / len, 0.5, 1.0) * (s.points[c.u] - pw);
-    for (const int f : c.faces) {
-        const int x = corner_neighbour(s.faces[f], c.w, c.u);
-        const double t = std::clamp(kRetractionRadii * rw / distance(s.points[x], pw), 0.3, 0.7);
+    for (std::size_t i = 0; i < c.faces.size(); ++i) {
+        const int f = c.faces[i];
+        const int x = runs[i][1];
+        for (std::size_t j = 0; j < moves[i].slid.size(); ++j) s.points[runs[i][j + 1]] = moves[i].slid[j];
+        r.border_vertices_slid += static_cast<int>(moves[i].slid.size());
         if (f == r.carrier_face) {  // w itself moves along the carrier's border
-            s.points[c.w] = pw + t * (s.points[x] - pw);
+            s.points[c.w] = moves[i].corner;
             continue;
         }
         const int wi = static_cast<int>(s.points.size());
-        s.points.push_back(pw + t * (s.points[x] - pw));
+        s.points.push_back(moves[i].corner);
         s.radii.push_back(rw);
         *std::find(s.faces[f].begin(), s.faces[f].end(), c.w) = wi;
         for (std::array<int, 2>& e : s.edges)

@@ -85,6 +85,14 @@ inline constexpr double kFanEndBranchCos = 0.70710678118654752;
 // atan(0.6 / 0.6) = 45 degrees off the fan line for leaflet edges of 3.3 radii (the generators' default); 1.5 (the
 // design note's, u fixed) leaves the retracted faces' half-chunks at u flat (raw min SJ -0.01, measured).
 inline constexpr double kRetractionRadii = 2.0;
+// The retraction along a border side at w, as a fraction of it: at least kRetractionMin, at most kRetractionMax (the
+// remaining side keeps 0.3 of its length). When kRetractionRadii r_w is longer than kRetractionMax of the first side
+// (thick radii: r_w > 0.35 x the leaflet edge) and the border goes on straight past it, the retraction goes on along
+// the straight run (up to kRetractionMax of the run) and the run's inner vertices slide along it (docs/blocks.md).
+inline constexpr double kRetractionMin = 0.3;
+inline constexpr double kRetractionMax = 0.7;
+// Largest turn of the border at a vertex that a straight run may pass, degrees.
+inline constexpr double kBorderRunTurnDeg = 5;
 // Range of the moved root's place on the carrier's border side, as a fraction of the side from w: at least 0.3, and
 // at least kRootMoveRadii r_w / |x_k - w| (both clamped to 0.7), keeps the column of faces cut off beside the fan line
 // wider than the fan block's half size h = r (its leaflet corners stand at r from the fan line: a column of width r
@@ -115,6 +123,7 @@ struct FanEndRetraction {
     int fan_edge_split = -1;        // a single fan edge split first: its midpoint (then u); a short chain with branches
                                     // at both ends cut first (recorded at its lower end): the first cut point; else -1
     int strip_faces_split = 0;      // faces cut in two by that split (the strips from the fan edge to the borders)
+    int border_vertices_slid = 0;   // thick radii: border vertices slid along their straight run by the retraction
     int moved_root = -1;            // a branch far from the fan line moved off w: the cut point on the carrier's border
                                     // side that now carries it (new_vertices then empty, w and u not moved; its row
                                     // cut's point on the fan edge in fan_edge_split, or -1); else -1
