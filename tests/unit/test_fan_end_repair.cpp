@@ -3,6 +3,8 @@
 // skeleton's Euler characteristic and no inverted raw hex; what the repair cannot handle is refused naming the vertex.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -186,6 +188,89 @@ TEST(FanEndRepair, WholePipelineOnTAndX) {
         EXPECT_EQ(r.input_analysis.vertex_class[2], VertexClass::FanEdgeEnd);
         expect_valid(r, 1);
     }
+}
+
+// The index of the skeleton vertex within 1e-9 of p, or -1.
+int vertex_near(const Skeleton& s, const Vec3& p) {
+    for (int v = 0; v < static_cast<int>(s.points.size()); ++v)
+        if (distance(s.points[v], p) < 1e-9) return v;
+    return -1;
+}
+
+// The unit vector at k quarter turns from +x about +z.
+Vec3 quarter_turns(int k) {
+    const double a = 0.5 * std::numbers::pi * k;
+    return {std::cos(a), std::sin(a), 0};
+}
+
+// Thick radii: the T and X fans of TFanBranchContinuingTheFanLine with radius 0.45 (radius scale 1.5). The retraction
+// length 2 x 0.45 = 0.9 is more than 0.7 of the top border side (w, x) = (0,0,1)-(1,0,1): the retraction goes on along
+// the strip's straight top border w, x, x2 = (2,0,1) (x a straight border vertex: 2 faces, 2 border sides and 1 inner
+// edge; x2 the strip's corner, 1 face, ends the run; length S = 2): the corner goes l = min(0.9, 0.7 x 2) = 0.9 along
+// it and x slides to l + 1 x (S - l) / S = 1.45. So w = 2 (carrier face 1, the tie) moves to (0.9, 0, 1), w_5 = 24 =
+// (0, 0.9, 1), w_9 = 25 = (-0.9, 0, 1); x to (1.45, 0, 1), (0, 1.45, 1), (-1.45, 0, 1); u = 1 slides to w + clamp(0.9 /
+// 1, 0.5, 1) (u - w) = (0, 0, 0.1). Topology as at radius 0.3 (only points move): V 26, E 37, F 12, boundary edges 21,
+// raw hexes 4 x 3 + 2 x 12 + 2 x 21 = 78 (X: 33 V, 48 E, 16 F, 28 boundary edges, 100 hexes, 4 border vertices slid).
+// Before (the corner clamped at 0.7 of (w, x), x fixed): the border half-chunks at u ran from u's cap (r above u) to
+// corners only 0.7 from the fan line, nearly along it: 1 (T) and 2 (X) inverted raw hexes at the cap's gap vertices.
+TEST(FanEndRepair, ThickRadiusRetractionSlidesTheStraightBorderRun) {
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        GeneratorOptions o;
+        o.n = strips;
+        o.m = 1;
+        o.radius_scale = 1.5;
+        Skeleton s = generate_skeleton("fanend", o);
+        ASSERT_EQ(s.radii[2], 0.3 * 1.5);
+        const int v0 = static_cast<int>(s.points.size());
+        std::vector<int> x;  // the strips' top border vertices next to w, in strip order (+x, +y, -x, -y)
+        for (int k = 0; k < strips; ++k) {
+            x.push_back(vertex_near(s, s.points[2] + quarter_turns(k)));
+            ASSERT_GE(x.back(), 0);
+        }
+        const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+        ASSERT_EQ(r.size(), 1u);
+        FanEndRetraction expected{2, 1, 1, {}};
+        for (int k = 1; k < strips; ++k) expected.new_vertices.push_back(v0 + k - 1);
+        expected.border_vertices_slid = strips;
+        EXPECT_EQ(r[0], expected);
+        EXPECT_EQ(static_cast<int>(s.points.size()), v0 + strips - 1);
+        EXPECT_EQ(s.edges.size(), strips == 3 ? 37u : 48u);
+        EXPECT_EQ(s.faces.size(), strips == 3 ? 12u : 16u);
+        EXPECT_NEAR(distance(s.points[1], Vec3{0, 0, 0.1}), 0.0, 1e-12);
+        for (int k = 0; k < strips; ++k) {
+            const Vec3 along = quarter_turns(k);
+            const int corner = k == 0 ? 2 : v0 + k - 1;
+            EXPECT_NEAR(distance(s.points[corner], Vec3{0, 0, 1} + 0.9 * along), 0.0, 1e-12);
+            EXPECT_NEAR(distance(s.points[x[k]], Vec3{0, 0, 1} + 1.45 * along), 0.0, 1e-12);
+        }
+        EXPECT_EQ(euler_characteristic(s), 1);
+        EXPECT_TRUE(retract_fan_ends(s).empty());
+        const PipelineResult raw = raw_as_given(s);
+        EXPECT_EQ(raw.analysis.counts.boundary_edges, strips == 3 ? 21 : 28);
+        EXPECT_EQ(raw.raw.mesh.hexes.size(), strips == 3 ? 78u : 100u);
+        expect_valid(raw, 1);
+    }
+}
+
+// The generator's retracted variants (continuing at one end, at both ends, mixed) at radius scale 1.5 and 1.8 through
+// mesh_skeleton (resampling, defaults): prediction exact (hexes and irregular edges), valid, Euler 1, no inverted raw
+// hex (before the run slide: 1 - 16 inverted raw hexes each).
+TEST(FanEndRepair, ThickRadiiMeshWithoutInvertedHexes) {
+    for (const int strips : {3, 4})
+        for (const int direction : {1, 3, 4})
+            for (const double scale : {1.5, 1.8}) {
+                SCOPED_TRACE(std::to_string(strips) + " " + std::to_string(direction) + " " + std::to_string(scale));
+                GeneratorOptions o;
+                o.n = strips;
+                o.m = direction;
+                o.radius_scale = scale;
+                const MeshRun run = mesh_skeleton(generate_skeleton("fanend", o), nullptr);
+                EXPECT_TRUE(run.prediction_exact);
+                expect_valid(run.pipeline, 1);
+                const QualityReport q = compute_quality(run.pipeline.raw.mesh);
+                EXPECT_EQ(q.singular_interior_edges, run.pipeline.predicted.interior_irregular_edges);
+            }
 }
 
 // A fan of `strips` strips of 2 quads on a single fan edge (tfan / xfan -n 1 -m 2: fan line (0,0,-0.5) = 0 to
