@@ -200,6 +200,89 @@ bool fan_end_branch(const Skeleton& s, const Incidence& in, int w, Candidate& c,
     return true;
 }
 
+// The straight border run of a leaflet from the fan-edge end w through its border neighbour x: w, x, then the next
+// border vertex as long as the last one is a plain straight border vertex (on 2 faces and 3 edges: two border sides and
+// one inner edge; no branch, no fan edge) where the border turns by at most kBorderRunTurnDeg, not yet in the run.
+std::vector<int> border_run(const Skeleton& s, const Incidence& in, int w, int x) {
+    std::vector<int> run{w, x};
+    while (true) {
+        const int v = run.back(), prev = run[run.size() - 2];
+        if (in.vertex_faces[v].size() != 2 || in.vertex_edges[v].size() != 3) return run;
+        int next = -1, border = 0, inner = 0;
+        for (const int e : in.vertex_edges[v]) {
+            const int y = other_end(s, e, v), d = faces_on(in, v, y);
+            border += d == 1 ? 1 : 0;
+            inner += d == 2 ? 1 : 0;
+            if (d == 1 && y != prev) next = y;
+        }
+        if (border != 2 || inner != 1 || next < 0 || std::find(run.begin(), run.end(), next) != run.end()) return run;
+        const double turn = dot(normalized(s.points[v] - s.points[prev]), normalized(s.points[next] - s.points[v]));
+        if (turn < std::cos(kBorderRunTurnDeg * std::numbers::pi / 180)) return run;
+        run.push_back(next);
+    }
+}
+
+// The point at arc length a along the polyline pts (a in [0, its length]).
+Vec3 at_arc_length(const std::vector<Vec3>& pts, double a) {
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
+        const double len = distance(pts[j], pts[j + 1]);
+        if (a <= len || j + 2 == pts.size()) return pts[j] + std::clamp(a / len, 0.0, 1.0) * (pts[j + 1] - pts[j]);
+        a -= len;
+    }
+    return pts.back();
+}
+
+// The border runs of the faces around (c.u, c.w) (c.faces order); a vertex in two runs (a leaflet that comes back to
+// the fan edge) ends both before it.
+std::vector<std::vector<int>> face_runs(const Skeleton& s, const Incidence& in, const Candidate& c) {
+    std::vector<std::vector<int>> runs;
+    for (const int f : c.faces) runs.push_back(border_run(s, in, c.w, corner_neighbour(s.faces[f], c.w, c.u)));
+    for (std::size_t i = 0; i < runs.size(); ++i)
+        for (std::size_t j = 0; j < runs.size(); ++j)
+            for (std::size_t a = 1; i != j && a < runs[i].size(); ++a)
+                if (std::find(runs[j].begin() + 1, runs[j].end(), runs[i][a]) != runs[j].end()) {
+                    runs[i].resize(std::max<std::size_t>(a, 2));
+                    break;
+                }
+    return runs;
+}
+
+// The longest retraction along a border run: kRetractionMaxAtCorner of a single side (the run ends at the side's far
+// end, which cannot slide), else kRetractionMax of the run's length.
+double retraction_reach(const Skeleton& s, const std::vector<int>& run) {
+    if (run.size() == 2) return kRetractionMaxAtCorner * distance(s.points[run[0]], s.points[run[1]]);
+    double total = 0;
+    for (std::size_t j = 0; j + 1 < run.size(); ++j) total += distance(s.points[run[j]], s.points[run[j + 1]]);
+    return kRetractionMax * total;
+}
+
+// Is there room to retract the fan edge from c.w: on every face's border run the longest retraction reaches at least
+// kRetractionMinRadii r_w (else *why, when given, names the first face short of it, its run and the ratio)?
+bool retraction_room(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why) {
+    const std::vector<std::vector<int>> runs = face_runs(s, in, c);
+    const double rw = s.radii[c.w];
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        const double reach = retraction_reach(s, runs[i]);
+        if (reach >= kRetractionMinRadii * rw) continue;
+        if (why == nullptr) return false;
+        std::ostringstream words;
+        words.precision(3);
+        words << "the branch's radius there, " << rw
+              << ", is too thick for the leaflets: the retraction can go at most " << reach
+              << " along the border of face " << c.faces[i] << " from the vertex (" << reach / rw
+              << " radii; the straight border from it, " << runs[i].size() - 1
+              << " side(s) long, ends at skeleton vertex " << runs[i].back() << "), at least " << kRetractionMinRadii
+              << " radii are needed (the border's hexes at the fan line fold)";
+        std::ostringstream edit;
+        edit.precision(3);
+        edit << "thin the branch at the vertex to at most " << reach / kRetractionMinRadii
+             << ", or make that leaflet's border from the vertex straight over more faces (at least "
+             << kRetractionMinRadii * rw / kRetractionMax << " long), or " << off_fan();
+        return refuse(why, words.str(), edit.str());
+    }
+    return true;
+}
+
 // The cosine of the angle between the branches' mean direction and the fan line's continuation at c.w.
 double branch_cos(const Skeleton& s, const Candidate& c) {
     return dot(c.branch, normalized(s.points[c.w] - s.points[c.u]));
@@ -222,7 +305,7 @@ bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, Fan
                                             "across it has its root moved onto a leaflet border instead)",
                                         "turn the branch's first edge towards the fan line's continuation, or " +
                                             off_fan() + " (e.g. the far corner of the leaflet it leans over)");
-    return true;
+    return retraction_room(s, in, c, why);
 }
 
 // What the repair does at w.
@@ -405,38 +488,6 @@ int carrier(const Skeleton& s, const Candidate& c) {
     return best;
 }
 
-// The straight border run of a leaflet from the fan-edge end w through its border neighbour x: w, x, then the next
-// border vertex as long as the last one is a plain straight border vertex (on 2 faces and 3 edges: two border sides and
-// one inner edge; no branch, no fan edge) where the border turns by at most kBorderRunTurnDeg, not yet in the run.
-std::vector<int> border_run(const Skeleton& s, const Incidence& in, int w, int x) {
-    std::vector<int> run{w, x};
-    while (true) {
-        const int v = run.back(), prev = run[run.size() - 2];
-        if (in.vertex_faces[v].size() != 2 || in.vertex_edges[v].size() != 3) return run;
-        int next = -1, border = 0, inner = 0;
-        for (const int e : in.vertex_edges[v]) {
-            const int y = other_end(s, e, v), d = faces_on(in, v, y);
-            border += d == 1 ? 1 : 0;
-            inner += d == 2 ? 1 : 0;
-            if (d == 1 && y != prev) next = y;
-        }
-        if (border != 2 || inner != 1 || next < 0 || std::find(run.begin(), run.end(), next) != run.end()) return run;
-        const double turn = dot(normalized(s.points[v] - s.points[prev]), normalized(s.points[next] - s.points[v]));
-        if (turn < std::cos(kBorderRunTurnDeg * std::numbers::pi / 180)) return run;
-        run.push_back(next);
-    }
-}
-
-// The point at arc length a along the polyline pts (a in [0, its length]).
-Vec3 at_arc_length(const std::vector<Vec3>& pts, double a) {
-    for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
-        const double len = distance(pts[j], pts[j + 1]);
-        if (a <= len || j + 2 == pts.size()) return pts[j] + std::clamp(a / len, 0.0, 1.0) * (pts[j + 1] - pts[j]);
-        a -= len;
-    }
-    return pts.back();
-}
-
 // The retraction along one face's border run (w, x, ...) from w: the retracted corner's place, and the run's inner
 // vertices slid along it (their new places, run[1] first) when the retraction goes past kRetractionMax of the first
 // side.
@@ -451,7 +502,8 @@ RunRetraction retract_run(const Skeleton& s, const std::vector<int>& run, double
     const double first = distance(pts[0], pts[1]);
     const double want = kRetractionRadii * rw;                // the retraction length along the border
     if (run.size() == 2 || want <= kRetractionMax * first) {  // within the first side (the rule for thin radii)
-        const double t = std::clamp(want / first, kRetractionMin, kRetractionMax);
+        const double t =
+            std::clamp(want / first, kRetractionMin, run.size() == 2 ? kRetractionMaxAtCorner : kRetractionMax);
         return {pts[0] + t * (pts[1] - pts[0]), {}};
     }
     // Thick radii: the corner goes `want` along the run (at most kRetractionMax of it), and every inner vertex of the
@@ -473,16 +525,7 @@ FanEndRetraction retract(Skeleton& s, const Candidate& c) {
     const double rw = s.radii[c.w];
     // The border runs first (on the skeleton before any move); a vertex in two runs (a leaflet that comes back to the
     // fan edge) ends both before it.
-    const Incidence in = make_incidence(s);
-    std::vector<std::vector<int>> runs;
-    for (const int f : c.faces) runs.push_back(border_run(s, in, c.w, corner_neighbour(s.faces[f], c.w, c.u)));
-    for (std::size_t i = 0; i < runs.size(); ++i)
-        for (std::size_t j = 0; j < runs.size(); ++j)
-            for (std::size_t a = 1; i != j && a < runs[i].size(); ++a)
-                if (std::find(runs[j].begin() + 1, runs[j].end(), runs[i][a]) != runs[j].end()) {
-                    runs[i].resize(std::max<std::size_t>(a, 2));
-                    break;
-                }
+    const std::vector<std::vector<int>> runs = face_runs(s, make_incidence(s), c);
     std::vector<RunRetraction> moves;
     for (const std::vector<int>& run : runs) moves.push_back(retract_run(s, run, rw));
     // u slides along the fan line towards w (its fan-end cap then covers the notch the retraction opens).
@@ -637,6 +680,7 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
             "make that strip reach a border, or turn the branch's first edge towards the fan line's continuation, or " +
                 off_fan()};
     }
+    if (!retraction_room(s, in, c, &why)) return why;
     // u carries a branch far from the fan line that the repair moves off: judge w after that move (the repair's rounds
     // run again after the moves).
     if (movable_far_branch(s, in, c.u)) {

@@ -91,6 +91,15 @@ inline constexpr double kRetractionRadii = 2.0;
 // the straight run (up to kRetractionMax of the run) and the run's inner vertices slide along it (docs/blocks.md).
 inline constexpr double kRetractionMin = 0.3;
 inline constexpr double kRetractionMax = 0.7;
+// A border side at w that ends at a vertex that cannot slide (a leaflet corner, a vertex with more faces or edges):
+// the retraction may go up to this fraction of it (the remaining side 0.1 of its length).
+inline constexpr double kRetractionMaxAtCorner = 0.9;
+// Least retraction length, x r_w: the border half-chunk at u runs from u's cap (its gap vertices r_w from the fan line,
+// lifted r_w along it) to the corner's out column (r_w inwards along the corner's out direction, about 0.55 r_w
+// towards the fan line): it folds when the corner is less than about (1 + 0.55) r_w from the fan line (measured: 1
+// inverted raw hex at 1.56 r_w, none at 1.67). A branch whose every border run cannot give this much is refused,
+// naming the ratio.
+inline constexpr double kRetractionMinRadii = 1.6;
 // Largest turn of the border at a vertex that a straight run may pass, degrees.
 inline constexpr double kBorderRunTurnDeg = 5;
 // Range of the moved root's place on the carrier's border side, as a fraction of the side from w: at least 0.3, and
