@@ -3,6 +3,7 @@
 // skeleton's Euler characteristic and no inverted raw hex; what the repair cannot handle is refused naming the vertex.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -286,6 +287,63 @@ Skeleton single_fan_edge_end(int strips, int length = 2) {
         s.edges.push_back({k == 1 ? 1 : static_cast<int>(s.points.size()) - 2, static_cast<int>(s.points.size()) - 1});
     }
     return s;
+}
+
+// Thick radii on strips of one face (tfan / xfan -n 1 -m 1 with the branch of single_fan_edge_end, every radius x
+// `scale`): the top border side (1, x) = (0,0,0.5)-(1,0,0.5) ends at the strip's corner x (one face), which cannot
+// slide, so the retraction may go up to kRetractionMaxAtCorner = 0.9 of it. T: V 8 + 3 = 11, E 10 + 3 = 13, F 3;
+// split at the midpoint m = (0,0,0) (each strip one face, its far side cut): V +1 +3 = 15, E +4 +3 = 20, F 6;
+// retraction from 1 (2 faces retracted): V 17, E 22, F 6; u = m stays (clamp(2 r / 0.5, 0.5, 1) = 1). Boundary:
+// per strip top, far (2 halves) and bottom = 12, + (m, 1) + 2 (m, w_i) = 15; raw hexes 4 x 3 + 2 x 6 + 2 x 15 = 54.
+// X: V 10 + 3 = 13, E 13 + 3 = 16, F 4; split V 18, E 25, F 8; retraction (3 faces) V 21, E 28; boundary 4 x 4 + 1 +
+// 3 = 20; hexes 12 + 16 + 40 = 68. Radius 0.45 (scale 1.5): the corners go 0.9 (= 2 r) along the top borders; before,
+// clamped at 0.7 = 1.56 r: 1 inverted raw hex (T; through mesh_skeleton). Radius 0.54 (scale 1.8): 0.9 = 1.67 r,
+// still meshed; radius 0.6 (scale 2): 0.9 = 1.5 r < 1.6 r, refused naming vertex 1 and the ratio.
+Skeleton thick_single_fan_edge_end(int strips, double scale) {
+    Skeleton s = single_fan_edge_end(strips, 1);
+    for (double& r : s.radii) r *= scale;
+    return s;
+}
+
+TEST(FanEndRepair, ThickRadiusOnOneFaceStripsRetractsUpToTheCorner) {
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        Skeleton s = thick_single_fan_edge_end(strips, 1.5);
+        ASSERT_EQ(s.points.size(), strips == 3 ? 11u : 13u);
+        const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+        ASSERT_EQ(r.size(), 1u);
+        EXPECT_EQ(r[0].vertex, 1);
+        EXPECT_EQ(r[0].strip_faces_split, strips);
+        EXPECT_EQ(r[0].border_vertices_slid, 0);
+        EXPECT_EQ(s.points.size(), strips == 3 ? 17u : 21u);
+        EXPECT_EQ(s.edges.size(), strips == 3 ? 22u : 28u);
+        EXPECT_EQ(s.faces.size(), strips == 3 ? 6u : 8u);
+        EXPECT_EQ(euler_characteristic(s), 1);
+        std::vector<int> corners = r[0].new_vertices;
+        corners.push_back(1);
+        for (int k = 0; k < strips; ++k) {
+            const Vec3 p = Vec3{0, 0, 0.5} + 0.9 * quarter_turns(k);
+            EXPECT_TRUE(std::any_of(corners.begin(), corners.end(), [&](int v) {
+                return distance(s.points[v], p) < 1e-12;
+            })) << k;
+        }
+        const PipelineResult raw = raw_as_given(s);
+        EXPECT_EQ(raw.analysis.counts.boundary_edges, strips == 3 ? 15 : 20);
+        EXPECT_EQ(raw.raw.mesh.hexes.size(), strips == 3 ? 54u : 68u);
+        expect_valid(raw, 1);
+        for (const double scale : {1.5, 1.8}) {
+            const MeshRun run = mesh_skeleton(thick_single_fan_edge_end(strips, scale), nullptr);
+            EXPECT_TRUE(run.prediction_exact);
+            expect_valid(run.pipeline, 1);
+        }
+        const Skeleton too_thick = thick_single_fan_edge_end(strips, 2.0);
+        const std::optional<FanEndRefusal> why = fan_end_refusal(too_thick, 1);
+        ASSERT_TRUE(why.has_value());
+        EXPECT_NE(why->reason.find("too thick"), std::string::npos) << why->reason;
+        EXPECT_NE(why->reason.find("(1.5 radii"), std::string::npos) << why->reason;
+        EXPECT_NE(why->edit.find("thin the branch at the vertex to at most 0.562"), std::string::npos) << why->edit;
+        expect_refused(too_thick, 1, "at least 1.6 radii are needed");
+    }
 }
 
 // Single fan edge with the branch at its end 1 (issue 22 item 2): the repair splits the fan edge at its midpoint
