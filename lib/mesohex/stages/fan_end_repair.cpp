@@ -257,8 +257,10 @@ double retraction_reach(const Skeleton& s, const std::vector<int>& run) {
 }
 
 // Is there room to retract the fan edge from c.w: on every face's border run the longest retraction reaches at least
-// kRetractionMinRadii r_w (else *why, when given, names the first face short of it, its run and the ratio)?
+// kRetractionMinRadii r_w (else *why, when given, names the first face short of it, its run and the ratio)? A skeleton
+// without one radius per vertex passes.
 bool retraction_room(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why) {
+    if (s.radii.size() != s.points.size()) return true;  // no radii yet (an analysis before they are set): not judged
     const std::vector<std::vector<int>> runs = face_runs(s, in, c);
     const double rw = s.radii[c.w];
     for (std::size_t i = 0; i < runs.size(); ++i) {

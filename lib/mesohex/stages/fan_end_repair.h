@@ -149,7 +149,8 @@ struct FanEndRefusal {
 };
 
 // std::nullopt when retract_fan_ends(s) would retract the fan edge from w (with its split or cut first), given the
-// skeleton as it is (radii are not read); a reason otherwise, also for a vertex that is no fan-edge end with a branch.
+// skeleton as it is (radii are read only for the room the retraction needs, kRetractionMinRadii, when there is one per
+// vertex); a reason otherwise, also for a vertex that is no fan-edge end with a branch.
 // A chain of 2 fan edges with branches at both ends whose strips do not cross is retracted at its lower end only: the
 // higher end is refused (on the skeleton after that retraction, its reason is then that u is not a plain fan end).
 // O((V + E + F) log E).
