@@ -16,6 +16,11 @@
 //   - every other face f_i = (.. u, w, x_i ..) gets a new vertex w_i = w + t_i (x_i - w) of radius r_w in w's place
 //     (same corner, so the orientation is kept); the border side (w, x_i) becomes (w_i, x_i) in place, the side
 //     (u, w_i) is appended.
+// Thick radii (kRetractionRadii r_w > kRetractionMax |x_i - w|): the corner goes kRetractionRadii r_w along the
+// leaflet's straight border run from w (w, x_i, and on through plain straight border vertices), at most kRetractionMax
+// of the run, and the run's inner vertices slide along it, keeping their proportions (the shape is unchanged); a run of
+// one side may be retracted up to kRetractionMaxAtCorner of it. A branch whose run on some face cannot give
+// kRetractionMinRadii r_w is not retracted (refused, with the ratio: fan_end_refusal).
 // Result: (u, w) has one face (a border side of the carrier); w is a corner of the carrier carrying the branch (a
 // BL-joint, a border root or a branching point with several branches); the w_i are plain border corners; u is a
 // regular fan end (every fan leaflet leaves it by a border side). The shape changes on the fan's faces at u and w only
