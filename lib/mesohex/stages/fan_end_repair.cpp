@@ -235,12 +235,13 @@ Vec3 at_arc_length(const std::vector<Vec3>& pts, double a) {
 // The border runs of the faces around (c.u, c.w) (c.faces order); a vertex in two runs (a leaflet that comes back to
 // the fan edge) ends both before it.
 std::vector<std::vector<int>> face_runs(const Skeleton& s, const Incidence& in, const Candidate& c) {
-    std::vector<std::vector<int>> runs;
-    for (const int f : c.faces) runs.push_back(border_run(s, in, c.w, corner_neighbour(s.faces[f], c.w, c.u)));
+    std::vector<std::vector<int>> whole;
+    for (const int f : c.faces) whole.push_back(border_run(s, in, c.w, corner_neighbour(s.faces[f], c.w, c.u)));
+    std::vector<std::vector<int>> runs = whole;
     for (std::size_t i = 0; i < runs.size(); ++i)
-        for (std::size_t j = 0; j < runs.size(); ++j)
+        for (std::size_t j = 0; j < whole.size(); ++j)
             for (std::size_t a = 1; i != j && a < runs[i].size(); ++a)
-                if (std::find(runs[j].begin() + 1, runs[j].end(), runs[i][a]) != runs[j].end()) {
+                if (std::find(whole[j].begin() + 1, whole[j].end(), runs[i][a]) != whole[j].end()) {
                     runs[i].resize(std::max<std::size_t>(a, 2));
                     break;
                 }

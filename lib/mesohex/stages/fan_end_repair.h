@@ -102,8 +102,8 @@ inline constexpr double kRetractionMaxAtCorner = 0.9;
 // Least retraction length, x r_w: the border half-chunk at u runs from u's cap (its gap vertices r_w from the fan line,
 // lifted r_w along it) to the corner's out column (r_w inwards along the corner's out direction, about 0.55 r_w
 // towards the fan line): it folds when the corner is less than about (1 + 0.55) r_w from the fan line (measured: 1
-// inverted raw hex at 1.56 r_w, none at 1.67). A branch whose every border run cannot give this much is refused,
-// naming the ratio.
+// inverted raw hex at 1.56 r_w, none at 1.67). A branch with a face whose border run cannot give this much is
+// refused, naming the ratio.
 inline constexpr double kRetractionMinRadii = 1.6;
 // Largest turn of the border at a vertex that a straight run may pass, degrees.
 inline constexpr double kBorderRunTurnDeg = 5;
