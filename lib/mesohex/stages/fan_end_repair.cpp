@@ -504,9 +504,10 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
     const auto [off_out, off_normal] = root_angles(v, out, normal);
     Vec3 dir{};
     // Bent only when the branch does not run on past the cut along the border (b projected within kRootMoveMax of the
-    // side): a branch close to the carrier's plane stays beside its plates after the bend (inverted raw hexes).
+    // side): a branch close to the carrier's plane stays beside its plates after the bend (inverted raw hexes); and
+    // only for radii up to kBendMaxRadius x the side.
     if (!clean_root({off_out, off_normal}) && n == 1 && along_side <= kRootMoveMax &&
-        bent_first_edge(v, out, normal, dir)) {
+        s.radii[c.w] <= kBendMaxRadius * norm(side) && bent_first_edge(v, out, normal, dir)) {
         mv.bent = true;
         mv.bend = m + std::min(kBendRadii * s.radii[c.w], distance(m, b / static_cast<double>(n))) * dir;
     } else if (!clean_root({off_out, off_normal})) {
@@ -516,7 +517,8 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
                    str(static_cast<int>(std::lround(off_normal))) +
                    " off the leaflet's normal (a moved root takes at "
                    "most 45 off the outward direction, or more than 60 off it and at most 45 off the normal; a single "
-                   "branch edge outside is bent where the branch then turns by at most 55 degrees)",
+                   "branch edge outside is bent where the branch then turns by at most 55 degrees, its radius at most 0.35 x the "
+                   "border side)",
                "");
         return mv;
     }

@@ -111,6 +111,9 @@ inline constexpr double kMovedSideDeg = 45;
 inline constexpr double kBendRadii = 2.0;
 inline constexpr double kBendOutDeg = 30;
 inline constexpr double kBendMaxTurnDeg = 55;
+// Nor when r_w exceeds kBendMaxRadius x the carrier's border side |x_k - w| (dimensionless): thicker tubes (2 r of
+// bent edge, the leaflets' plates as thick) fold between the leaflets (X fans at radius scale 1.3 - 1.5, measured).
+inline constexpr double kBendMaxRadius = 0.35;
 // Height of the row cut under a moved root, x r_w: the fan edge (u, w) and its faces' strips are cut at that distance
 // from w first (when the strips cross and it is less than half the fan edge), so that the root's side patch (its two
 // faces below the border) is about as tall as the branch's tube, not the whole fan edge (measured: docs/blocks.md).
