@@ -646,7 +646,7 @@ TEST(FanEndRepair, GeneratorVariantsMixedAndLeaningBack) {
     // carrier's strip cut at t = 0.45 (T: b = (0, -0.707, 0.293) projects to 0) or 0.5 (X: b = (0.5, 0.5, 0.293))),
     // then the moved first edge from m = (t, 0, 1) to b leans back: T 130 degrees off out (+z) and 50 off the normal
     // -y, X 145 and 55 off +y: no clean root, so it is bent at p = m + 0.6 (normal on b's side) (kBendRadii x 0.3,
-    // shorter than |b - m| = 1.10 / 0.87); the branch turns there by 50 (T) / 54.7 (X) degrees (<= kBendMaxTurnDeg).
+    // shorter than |b - m| = 1.10 / 0.87); v turns by 50 (T) / 54.7 (X) degrees onto it (<= kBendMaxTurnDeg).
     // Counts: the perpendicular case's (T 35 V, 55 E, 21 F; X 43, 69, 27) + p and the edge (p, b): T 36 / 56 / 21, X
     // 44 / 70 / 27; boundary 23 / 30, 3 fan edges; raw hexes + 4 (one branch edge more): T 124, X 150. Refused before
     // the bend (kMovedSideDeg).

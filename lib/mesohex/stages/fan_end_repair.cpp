@@ -517,7 +517,8 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
                    str(static_cast<int>(std::lround(off_normal))) +
                    " off the leaflet's normal (a moved root takes at "
                    "most 45 off the outward direction, or more than 60 off it and at most 45 off the normal; a single "
-                   "branch edge outside is bent where the branch then turns by at most 55 degrees, its radius at most 0.35 x the "
+                   "branch edge outside is bent where the branch then turns by at most 55 degrees, its radius at most "
+                   "0.35 x the "
                    "border side)",
                "");
         return mv;
