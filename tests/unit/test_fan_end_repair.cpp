@@ -618,8 +618,8 @@ TEST(FanEndRefusal, ShortChainNotCut) {
 // edge (0, 1) and (1, 27), (1, 28)) + 3 (the row's far sides) + 2 (the cut top and bottom sides) = 26; branch edges 6;
 // fan edges (1, 29), (29, 2), no fan block (its end 1 is in the 3 retracted faces below too: not a chain end the block
 // takes, fan_blocks.h). Raw hexes 4 x 6 + 2 x 21 + 2 x 26 = 118.
-// generate fanend -m 5 (leaning back, 135 degrees): not moved (its first edge would leave the moved root 50 degrees
-// off the leaflet's normal), refused naming vertex 2 and the angles.
+// generate fanend -m 5 (leaning back, 135 degrees): moved, its first edge bent (below; refused before the bend, its
+// first edge 50 degrees off the leaflet's normal).
 TEST(FanEndRepair, GeneratorVariantsMixedAndLeaningBack) {
     Skeleton s = fan_end(3, 4);
     ASSERT_EQ(s.points.size(), 27u);

@@ -60,7 +60,10 @@
 // fan end (the chain's fan block, if accepted, caps it), m a straight-border vertex of the carrier's leaflet carrying
 // the branch (a border root on the half-chunks and the two faces there: the row cut keeps those faces about as tall
 // as the branch's tube). The move is made only when the moved first edge is a clean out or side root (kMovedOutDeg,
-// kMovedSideOffOutDeg, kMovedSideDeg); else the branch stays refused with the angles measured. Counts: as a split, +1
+// kMovedSideOffOutDeg, kMovedSideDeg), or, for a single branch edge, when it can be bent at a new vertex p into one
+// (between the out and side limits: kBendOutDeg off out; leaning back: along the normal; kBendRadii, kBendMaxTurnDeg,
+// kBendMaxRadius; +1 vertex and +1 edge, p pinned for the resampling); else the branch stays refused with the angles
+// measured. Counts: as a split, +1
 // vertex and +1 edge per cut side, +1 edge and +1 face per cut face (Euler unchanged); raw hexes the standard formula
 // on the repaired skeleton (2 per cut face and 2 per cut border side more). Only the branch's first edge changes
 // direction (its root moves by t |x_k - w| along the border). Recorded as a FanEndRetraction with moved_root = m and
