@@ -563,7 +563,40 @@ struct RootMove {
     int face = -1, x = -1;
     double t = 0;
     std::vector<Crossing> strip;
+    bool bent = false;  // the first edge is bent: a new vertex at `bend` on it (bent_first_edge)
+    Vec3 bend{};
 };
+
+// The moved first edge from the cut point m towards v (unit) in the border's frame: along (the border side, unit),
+// out (its outward in-plane direction), normal (the leaflet's). Returns its angles (degrees) off out and off the
+// normal (either side).
+std::pair<double, double> root_angles(const Vec3& v, const Vec3& out, const Vec3& normal) {
+    const double deg = 180 / std::numbers::pi;
+    return {std::acos(std::clamp(dot(v, out), -1.0, 1.0)) * deg,
+            std::acos(std::clamp(std::abs(dot(v, normal)), 0.0, 1.0)) * deg};
+}
+
+bool clean_root(const std::pair<double, double>& off) {
+    return off.first <= kMovedOutDeg || (off.first > kMovedSideOffOutDeg && off.second <= kMovedSideDeg);
+}
+
+// The direction c of a moved first edge bent at a new vertex (v, unit, no clean root): between the out and side
+// limits, the outward direction turned towards v to kBendOutDeg off it; leaning back (more than kMovedSideOffOutDeg
+// off out, more than kMovedSideDeg off the normal), the normal on v's side. Returns false when there is none (v along
+// out or in the leaflet's plane), or when the branch would turn at the bend by more than kBendMaxTurnDeg.
+bool bent_first_edge(const Vec3& v, const Vec3& out, const Vec3& normal, Vec3& c) {
+    if (root_angles(v, out, normal).first <= kMovedSideOffOutDeg) {
+        const double vn = dot(v, normal);
+        if (!(std::abs(vn) > 1e-9)) return false;
+        const double a = kBendOutDeg * std::numbers::pi / 180;
+        c = std::cos(a) * out + std::sin(a) * (vn > 0 ? normal : -1.0 * normal);
+    } else {
+        const double vn = dot(v, normal);
+        if (!(std::abs(vn) > 1e-9)) return false;
+        c = vn > 0 ? normal : -1.0 * normal;
+    }
+    return std::acos(std::clamp(dot(c, v), -1.0, 1.0)) * 180 / std::numbers::pi <= kBendMaxTurnDeg;
+}
 
 RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why = nullptr) {
     RootMove mv;
@@ -582,23 +615,35 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
     }
     const Vec3 side = s.points[mv.x] - pw;
     const double lo = std::clamp(kRootMoveRadii * s.radii[c.w] / norm(side), kRootMoveMin, kRootMoveMax);
-    mv.t = std::clamp(dot(b / static_cast<double>(n) - pw, side) / dot(side, side), lo, kRootMoveMax);
+    const double along_side = dot(b / static_cast<double>(n) - pw, side) / dot(side, side);  // b projected, 0 at w
+    mv.t = std::clamp(along_side, lo, kRootMoveMax);
     // The moved branch's first edge against the border there: within kMovedOutDeg of the outward in-plane direction
     // (an out root), or more than kMovedSideOffOutDeg off it and within kMovedSideDeg of the leaflet's normal (a side
-    // root); else the move is not made (measured: inverted raw hexes in between and beyond).
+    // root); else (inverted raw hexes in between and beyond, measured) a single branch edge is bent at a new vertex
+    // (bent_first_edge), or the move is not made.
     const Vec3 along = normalized(side), into = normalized(s.points[c.u] - pw);
     const Vec3 out = normalized(dot(into, along) * along - into);
-    const Vec3 v = normalized(b / static_cast<double>(n) - (pw + mv.t * side));
-    const double off_out = std::acos(std::clamp(dot(v, out), -1.0, 1.0)) * 180 / std::numbers::pi;
-    const double off_normal =
-        std::acos(std::clamp(std::abs(dot(v, normalized(cross(along, out)))), 0.0, 1.0)) * 180 / std::numbers::pi;
-    if (!(off_out <= kMovedOutDeg || (off_out > kMovedSideOffOutDeg && off_normal <= kMovedSideDeg))) {
+    const Vec3 m = pw + mv.t * side, normal = normalized(cross(along, out));
+    const Vec3 v = normalized(b / static_cast<double>(n) - m);
+    const auto [off_out, off_normal] = root_angles(v, out, normal);
+    Vec3 dir{};
+    // Bent only when the branch does not run on past the cut along the border (b projected within kRootMoveMax of the
+    // side): a branch close to the carrier's plane stays beside its plates after the bend (inverted raw hexes); and
+    // only for radii up to kBendMaxRadius x the side.
+    if (!clean_root({off_out, off_normal}) && n == 1 && along_side <= kRootMoveMax &&
+        s.radii[c.w] <= kBendMaxRadius * norm(side) && bent_first_edge(v, out, normal, dir)) {
+        mv.bent = true;
+        mv.bend = m + std::min(kBendRadii * s.radii[c.w], distance(m, b / static_cast<double>(n))) * dir;
+    } else if (!clean_root({off_out, off_normal})) {
         refuse(why,
                "its first edge, moved onto the border of face " + str(mv.face) + ", would leave it " +
                    str(static_cast<int>(std::lround(off_out))) + " degrees off the border's outward direction and " +
                    str(static_cast<int>(std::lround(off_normal))) +
                    " off the leaflet's normal (a moved root takes at "
-                   "most 45 off the outward direction, or more than 60 off it and at most 45 off the normal)",
+                   "most 45 off the outward direction, or more than 60 off it and at most 45 off the normal; a single "
+                   "branch edge outside is bent where the branch then turns by at most 55 degrees, its radius at most "
+                   "0.35 x the "
+                   "border side)",
                "");
         return mv;
     }
@@ -622,6 +667,15 @@ FanEndRetraction move_root(Skeleton& s, const Incidence& in, const Candidate& c,
     const int m = split_fan_edge(s, Candidate{mv.x, c.w, {}, {}}, mv.strip, mv.t);
     for (const int e : branches) (s.edges[e][0] == c.w ? s.edges[e][0] : s.edges[e][1]) = m;
     FanEndRetraction r{c.w, c.u, mv.face, {}};
+    if (mv.bent) {  // one branch edge (m, y): becomes (m, p), (p, y) appended
+        const int p = static_cast<int>(s.points.size()), e = branches.front();
+        s.points.push_back(mv.bend);
+        s.radii.push_back(s.radii[c.w]);
+        int& end = s.edges[e][0] == m ? s.edges[e][1] : s.edges[e][0];
+        s.edges.push_back({p, end});
+        end = p;
+        r.bend = p;
+    }
     r.strip_faces_split = static_cast<int>(mv.strip.size());
     r.moved_root = m;
     return r;

@@ -65,7 +65,10 @@
 // fan end (the chain's fan block, if accepted, caps it), m a straight-border vertex of the carrier's leaflet carrying
 // the branch (a border root on the half-chunks and the two faces there: the row cut keeps those faces about as tall
 // as the branch's tube). The move is made only when the moved first edge is a clean out or side root (kMovedOutDeg,
-// kMovedSideOffOutDeg, kMovedSideDeg); else the branch stays refused with the angles measured. Counts: as a split, +1
+// kMovedSideOffOutDeg, kMovedSideDeg), or, for a single branch edge, when it can be bent at a new vertex p into one
+// (between the out and side limits: kBendOutDeg off out; leaning back: along the normal; kBendRadii, kBendMaxTurnDeg,
+// kBendMaxRadius; +1 vertex and +1 edge, p pinned for the resampling); else the branch stays refused with the angles
+// measured. Counts: as a split, +1
 // vertex and +1 edge per cut side, +1 edge and +1 face per cut face (Euler unchanged); raw hexes the standard formula
 // on the repaired skeleton (2 per cut face and 2 per cut border side more). Only the branch's first edge changes
 // direction (its root moves by t |x_k - w| along the border). Recorded as a FanEndRetraction with moved_root = m and
@@ -121,6 +124,21 @@ inline constexpr double kBorderRunTurnDeg = 5;
 inline constexpr double kMovedOutDeg = 45;
 inline constexpr double kMovedSideOffOutDeg = 60;
 inline constexpr double kMovedSideDeg = 45;
+// A single moved branch edge outside those limits is bent instead: a new vertex p on it, min(kBendRadii r_w, |b - m|)
+// from the cut point m (b its first vertex) in a clean direction c, where the branch then turns towards b. Between the
+// out and side limits c is kBendOutDeg off the outward direction, turned towards the branch; leaning back (more than
+// kMovedSideOffOutDeg off out and kMovedSideDeg off the normal), c is the normal on the branch's side. The pipeline
+// pins p (SkeletonRepairResult::fan_end_bends: the resampling keeps it). kBendRadii 2 keeps the edge (m, p) unbisected
+// by the adaptation (density 1: edges up to 2 r), so its first cross-section is p's; a longer edge is bisected and its
+// first section sits on the root's patch, a shorter one fails the section criterion and the pin yields (inverted raw
+// hexes either way, measured). A bend turning the branch by more than kBendMaxTurnDeg degrees is not made (the branch
+// stays refused): beyond it the pin yields or the tube meets the next leaflet (measured: docs/blocks.md).
+inline constexpr double kBendRadii = 2.0;
+inline constexpr double kBendOutDeg = 30;
+inline constexpr double kBendMaxTurnDeg = 55;
+// Nor when r_w exceeds kBendMaxRadius x the carrier's border side |x_k - w| (dimensionless): thicker tubes (2 r of
+// bent edge, the leaflets' plates as thick) fold between the leaflets (X fans at radius scale 1.3 - 1.5, measured).
+inline constexpr double kBendMaxRadius = 0.35;
 // Height of the row cut under a moved root, x r_w: the fan edge (u, w) and its faces' strips are cut at that distance
 // from w first (when the strips cross and it is less than half the fan edge), so that the root's side patch (its two
 // faces below the border) is about as tall as the branch's tube, not the whole fan edge (measured: docs/blocks.md).
@@ -141,6 +159,7 @@ struct FanEndRetraction {
     int moved_root = -1;            // a branch far from the fan line moved off w: the cut point on the carrier's border
                                     // side that now carries it (new_vertices then empty, w and u not moved; its row
                                     // cut's point on the fan edge in fan_edge_split, or -1); else -1
+    int bend = -1;                  // a moved first edge bent (kBendRadii): the new vertex p on it; else -1
     friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
 };
 
