@@ -284,8 +284,9 @@ TEST(MedialImport, BoundaryVerticesFlattenAFoldAlongTheirNormal) {
     // sweep: vertex 1 = (1, 0, 0) has the neighbours (0.5, 0, 0), (1, 0.5, 0), (1, 0, 0.5) (mean - p = (-1, 1, 1) / 6)
     // and the normal (-1, 0, 1) / sqrt 2 (two quads of equal area, normals +z and -x); it moves by
     // 0.5 x n (n . (mean - p)) = (-1, 0, 1) / 12. Vertex 0, a flat corner, does not move.
+    // Radius 1: the move (0.118 off the sheet) is within max_sheet_offset x radius (0.25), so it is kept.
     const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 1}, {1, 1, 1}}, {},
-                              {{0, 1, 2}, {0, 2, 3}, {2, 1, 4}, {2, 4, 5}});
+                              {{0, 1, 2}, {0, 2, 3}, {2, 1, 4}, {2, 4, 5}}, 1.0);
     MedialImportOptions opt;
     opt.smoothing_iterations = 1;
     const MedialImport r = import_medial_mesh(s, opt);
@@ -298,6 +299,47 @@ TEST(MedialImport, BoundaryVerticesFlattenAFoldAlongTheirNormal) {
     const MedialImport fixed = import_medial_mesh(s, opt);
     EXPECT_NEAR(distance(fixed.skeleton.points[1], Vec3{1, 0, 0}), 0.0, 1e-12);
     EXPECT_EQ(fixed.smoothed_vertices, 3);
+}
+
+TEST(MedialImport, SmoothingKeepsARingSheetOnItsCylinder) {
+    // The medial sheet of a thick ring (a tube of rectangular section 2 x 4 around the z axis, centre line radius 5):
+    // a band on the cylinder of radius 5, heights 0..2, 24 segments (48 triangles), medial radius 1. Laplacian
+    // smoothing alone pulls every vertex towards the axis (the band shrinks, and the hexes no longer reach the ring's
+    // outer side; knob's medial ring went in by 0.8 x its radius). Kept within max_sheet_offset (0.25)
+    // x radius of the input triangles, no vertex is farther than 0.25 from the cylinder's chords, whose distance to
+    // the axis is between 5 cos(pi / 24) and 5.
+    const int n = 24;
+    std::vector<Vec3> points;
+    std::vector<std::vector<int>> triangles;
+    for (int level = 0; level < 2; ++level)
+        for (int i = 0; i < n; ++i) {
+            const double a = 2 * std::numbers::pi * i / n;
+            points.push_back({5 * std::cos(a), 5 * std::sin(a), 2.0 * level});
+        }
+    for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        triangles.push_back({i, j, n + j});
+        triangles.push_back({i, n + j, n + i});
+    }
+    const Skeleton band = medial(points, {}, triangles, 1.0);
+    auto axis_distances = [](const Skeleton& s) {
+        double lo = 1e9, hi = 0;
+        for (const Vec3& p : s.points) {
+            lo = std::min(lo, std::hypot(p.x, p.y));
+            hi = std::max(hi, std::hypot(p.x, p.y));
+        }
+        return std::pair<double, double>{lo, hi};
+    };
+    MedialImportOptions opt;
+    const MedialImport kept = import_medial_mesh(band, opt);
+    // 24 pair quads split in 4: corners 48, side midpoints 24 x 3, centres 24.
+    ASSERT_EQ(kept.paired_quads, n);
+    ASSERT_EQ(kept.skeleton.points.size(), static_cast<size_t>(2 * n + 3 * n + n));
+    const auto [lo, hi] = axis_distances(kept.skeleton);
+    EXPECT_GE(lo, 5 * std::cos(std::numbers::pi / n) - 0.25 - 1e-9);
+    EXPECT_LE(hi, 5 + 1e-9);
+    opt.max_sheet_offset = -1;  // free smoothing: the band's vertices go 0.39 inside the chords (4.57 from the axis)
+    EXPECT_LT(axis_distances(import_medial_mesh(band, opt).skeleton).first, 5 * std::cos(std::numbers::pi / n) - 0.3);
 }
 
 TEST(MedialImport, ReflexBorderCornerMovesTowardsItsBoundaryNeighbours) {

@@ -72,6 +72,11 @@ struct MedialImportOptions {
     // its two boundary neighbours - p): the half-chunks the mesher puts outside such a corner converge and fold.
     bool smooth_boundary = true;
     double reflex_corner_deg = 220;  // degrees (sum of the face angles at the vertex)
+    // After every sweep, each smoothed vertex farther than max_sheet_offset x its radius from its leaflet's input
+    // triangles goes back to that distance from their closest point: the
+    // smoothing evens out the quads within the medial sheet instead of flattening a curved sheet and pulling its
+    // border in (off the medial axis, where the spheres no longer reach the surface; docs/sheets.md).
+    double max_sheet_offset = 0.25;  // x the vertex's medial radius; < 0: off (the smoothing moves freely)
 };
 
 struct MedialImport {
