@@ -48,9 +48,9 @@ struct AutoSkeletonOptions {
     // spheres (dimensionless, x diagonal): a part the angle filter lost leaves a larger gap (docs/tuning.md).
     double max_coverage_gap = 0.2;
     long max_raw_inverted = 0;  // Auto: the meso-skeleton's raw mesh may have at most this many inverted hexes
-    // Auto: ... and its minimum scaled Jacobian must be at least this (dimensionless): the finishing does not lift a
-    // raw minimum much (measurements: docs/tuning.md).
-    double min_raw_sj = 0.2;
+    // Auto: ... and its minimum scaled Jacobian must be at least this (dimensionless): the finishing lifts a raw
+    // minimum of 0.1 (sculpt 0.108 -> 0.477), not one of 0.01 (wrench 0.013 -> 1 inverted); docs/sheets.md.
+    double min_raw_sj = 0.05;
     // The meso-skeleton's radii: meso_radius_factor x each vertex's distance to the surface (dimensionless; 0 keeps
     // the medial radii, which are the full distance). The raw mesh then fills about half of the inscribed ball, as
     // with `mesh --surface` on a skeleton without radii: room for the padding layer, and a leaflet's hex layers
