@@ -284,9 +284,8 @@ TEST(MedialImport, BoundaryVerticesFlattenAFoldAlongTheirNormal) {
     // sweep: vertex 1 = (1, 0, 0) has the neighbours (0.5, 0, 0), (1, 0.5, 0), (1, 0, 0.5) (mean - p = (-1, 1, 1) / 6)
     // and the normal (-1, 0, 1) / sqrt 2 (two quads of equal area, normals +z and -x); it moves by
     // 0.5 x n (n . (mean - p)) = (-1, 0, 1) / 12. Vertex 0, a flat corner, does not move.
-    // Radius 1: the move (0.118 off the sheet) is within max_sheet_offset x radius (0.25), so it is kept.
     const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 1}, {1, 1, 1}}, {},
-                              {{0, 1, 2}, {0, 2, 3}, {2, 1, 4}, {2, 4, 5}}, 1.0);
+                              {{0, 1, 2}, {0, 2, 3}, {2, 1, 4}, {2, 4, 5}});
     MedialImportOptions opt;
     opt.smoothing_iterations = 1;
     const MedialImport r = import_medial_mesh(s, opt);
@@ -331,6 +330,7 @@ TEST(MedialImport, SmoothingKeepsARingSheetOnItsCylinder) {
         return std::pair<double, double>{lo, hi};
     };
     MedialImportOptions opt;
+    opt.max_sheet_offset = 0.25;  // as `auto` imports (meso_import_options)
     const MedialImport kept = import_medial_mesh(band, opt);
     // 24 pair quads split in 4: corners 48, side midpoints 24 x 3, centres 24.
     ASSERT_EQ(kept.paired_quads, n);
@@ -338,7 +338,8 @@ TEST(MedialImport, SmoothingKeepsARingSheetOnItsCylinder) {
     const auto [lo, hi] = axis_distances(kept.skeleton);
     EXPECT_GE(lo, 5 * std::cos(std::numbers::pi / n) - 0.25 - 1e-9);
     EXPECT_LE(hi, 5 + 1e-9);
-    opt.max_sheet_offset = -1;  // free smoothing: the band's vertices go 0.39 inside the chords (4.57 from the axis)
+    opt.max_sheet_offset =
+        -1;  // free smoothing (the default of `import`): the band's vertices go 0.39 inside the chords (4.57 from the axis)
     EXPECT_LT(axis_distances(import_medial_mesh(band, opt).skeleton).first, 5 * std::cos(std::numbers::pi / n) - 0.3);
 }
 
