@@ -226,9 +226,10 @@ struct LeafletSheets {
 // (exactly two boundary edges, every other edge in two faces, no curve or fan edge) p <- p + factor x ((m - p).n) n,
 // n = unit sum of the face normals at p (the sheet's fold flattens, its outline stays), and, at a reflex corner (sum
 // of the face angles at p above opt.reflex_corner_deg), also p <- p + factor x (midpoint of the two boundary
-// neighbours - p). With opt.smooth_on_sheet and `sheet` given, every smoothed vertex then goes to the closest point
-// of its leaflet's input triangles (sheet->triangles with sheet->leaflet equal to the leaflet of a face at the
-// vertex, `face_leaflet`). Returns the number of vertices smoothed.
+// neighbours - p). With opt.max_sheet_offset >= 0 and `sheet` given, every smoothed vertex then has its offset from
+// its leaflet's input triangles (sheet->triangles whose sheet->leaflet is the `face_leaflet` of a face at the vertex;
+// along the normal of the closest one) limited to opt.max_sheet_offset x its radius. Returns the number of vertices
+// smoothed.
 int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt, const LeafletSheets* sheet = nullptr,
                     const std::vector<int>* face_leaflet = nullptr) {
     const int nv = static_cast<int>(s.points.size());

@@ -18,7 +18,8 @@
 //   5. BL-joints on a straight stretch of leaflet boundary are pushed out to make a corner, further when their branch
 //      heads back over the leaflet (bl_joint_corners, bl_joint_back_push);
 //   6. leaflets are smoothed: interior vertices by Laplacian sweeps, boundary vertices along their normal (and along
-//      the border at reflex corners) (smoothing_iterations, smooth_boundary).
+//      the border at reflex corners) (smoothing_iterations, smooth_boundary), optionally kept near the input sheet
+//      (max_sheet_offset).
 // The Euler characteristic V - E + F is preserved by pairing, splitting and by collapsing a sheet whose vertices are
 // all attached.
 #include <vector>
@@ -101,7 +102,8 @@ struct MedialImport {
 // Preconditions (checked, InvalidInput naming the element): radii present (one per point, > 0), every face a
 // triangle with 3 distinct in-range vertices, edges in range with distinct ends and no duplicate, every triangle
 // side in edges. UnsupportedConfiguration if a leaflet is not orientable (a Moebius band).
-// Complexity: O((V + E + F) log(V + E + F)).
+// Complexity: O((V + E + F) log(V + E + F)), plus O(iterations x V x F) with max_sheet_offset >= 0 (each smoothed
+// vertex against its leaflet's input triangles; a few hundred of each in `auto`).
 MedialImport import_medial_mesh(const Skeleton& medial, const MedialImportOptions& options = {});
 
 }  // namespace mesohex
