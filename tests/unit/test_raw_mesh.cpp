@@ -701,3 +701,80 @@ TEST(RawMeshLeaflets, BLJointBranchOffTheCornerBisector) {
     EXPECT_NEAR(relaxed, bisector, 0.01);
     EXPECT_NEAR(unrelaxed, 0.232, 0.01);
 }
+
+// Crotch points (RawMeshOptions::crotch_min_degree, docs/junctions.md): a degree-4 point c (radius r = 0.1
+// everywhere, no adaptation) with a pair 50 degrees apart and two branches 100 degrees from both and 157 from each
+// other (one pair below 90 degrees), every first edge 1.0 long and straight (the first cross-sections are the planes
+// 1.0 from c normal to each branch). On paper: a ray from c at angle theta < 90 degrees to a straight branch leaves
+// that tube (radius r) at r / sin(theta); a ray in front of both branches of the pair starts inside both tubes, so a
+// point held by both their quads leaves their union at max(r, r / sin theta_i, r / sin theta_j), capped at
+// 0.5 / cos(theta_k) for every branch k whose quad holds it and lies in front of it (crotch_reach of the way to its
+// first cross-section). The balls sampled along a branch (spacing h = 1.0 / 40 = r / 4 here) cover the tube of radius
+// r' = sqrt(r^2 - h^2 / 4) and lie inside that of radius r, so the point lies between the values with r' and with r.
+// Every other point stays on c's sphere (r); every surface-edge midpoint lies at the mean distance of its two points.
+// The pair's crotch (here the pole on the bisector, 25 degrees from both: 2.37 r) lies beyond 2 r. Without crotch
+// points (crotch_min_degree 0) every point lies at r.
+TEST(RawMesh, CrotchPointsOfACloseDegreeFourPairLieOnTheTubes) {
+    const double half = 25 * std::numbers::pi / 180;
+    Skeleton s = star({{std::sin(half), 0, std::cos(half)},
+                       {-std::sin(half), 0, std::cos(half)},
+                       normalized(Vec3{0, 1, -0.2}),
+                       normalized(Vec3{0, -1, -0.2})},
+                      2, 2.0);
+    const double r = 0.1;
+    s.radii.assign(s.points.size(), r);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    // Star: two edges per arm; the first edges are 0, 2, 4, 6, points 1, 3, 5, 7 their unit directions.
+    const int np = cs.point_begin[1] - cs.point_begin[0];
+    const double h = 1.0 / 40, r_in = std::sqrt(r * r - h * h / 4);
+    double pair_crotch = 0, sj_off = 0, sj_on = 0;
+    for (int degree : {0, 4}) {
+        SCOPED_TRACE("crotch_min_degree " + std::to_string(degree));
+        RawMeshOptions o;
+        o.crotch_min_degree = degree;
+        const RawMesh raw = build_raw_mesh(s, an, cs, fr, o);
+        const int base = raw.vertex_base[0];
+        std::vector<double> dist(np);
+        for (int x = 0; x < np; ++x) {
+            const Vec3 p = raw.mesh.points[base + 1 + x];
+            dist[x] = norm(p);
+            double inner = r, outer = r, cap = 1e9;
+            std::array<bool, 4> held{};
+            std::array<double, 4> cos_t{};
+            for (int k = 0; k < 4; ++k) {
+                const std::array<int, 4>& q = cs.quads[cs.edge_quad[2 * k][0]];
+                held[k] = std::find(q.begin(), q.end(), x) != q.end();
+                cos_t[k] = dot(normalized(p), s.points[2 * k + 1]);
+                if (held[k] && cos_t[k] > 0) cap = std::min(cap, 0.5 / cos_t[k]);
+            }
+            const bool crotch = held[0] && held[1] && cos_t[0] > 0 && cos_t[1] > 0;
+            if (degree == 0 || !crotch) {
+                EXPECT_NEAR(dist[x], r, 1e-12);
+                continue;
+            }
+            for (int k : {0, 1}) {
+                const double sin_t = std::sqrt(1 - cos_t[k] * cos_t[k]);
+                inner = std::max(inner, r_in / sin_t);
+                outer = std::max(outer, r / sin_t);
+            }
+            EXPECT_GE(dist[x], std::min(inner, cap) - 1e-12);
+            EXPECT_LE(dist[x], std::min(outer, cap) + 1e-12);
+            pair_crotch = std::max(pair_crotch, dist[x]);
+        }
+        for (int j = cs.edge_begin[0]; j < cs.edge_begin[1]; ++j) {
+            const std::array<int, 2>& ed = cs.edges[j];
+            EXPECT_NEAR(norm(raw.mesh.points[base + 1 + np + (j - cs.edge_begin[0])]),
+                        0.5 * (dist[ed[0]] + dist[ed[1]]), 1e-12);
+        }
+        const QualityReport q = compute_quality(raw.mesh);
+        EXPECT_TRUE(q.validation.valid());
+        EXPECT_EQ(q.inverted, 0);
+        (degree == 0 ? sj_off : sj_on) = q.sj_min;
+    }
+    EXPECT_GT(pair_crotch, 2 * r);
+    EXPECT_GT(sj_on, sj_off + 0.03);  // measured: 0.157 -> 0.192 (the pair's chunks no longer pinch at c's sphere)
+    std::printf("the pair's crotch point at %.4f; raw min SJ without / with: %.4f / %.4f\n", pair_crotch, sj_off,
+                sj_on);
+}
