@@ -910,7 +910,10 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
     SpherePartition part;
     try {
         SpherePartitionOptions po;
-        po.planarity_tolerance = options.planarity_tolerance;
+        // Three branch edges and no leaflet side: the orange around the best-fit plane's normal (a tolerance of 1
+        // takes partition_sphere's planar path for any three directions), see plane_orange_at_degree_three.
+        const bool plane_orange = options.plane_orange_at_degree_three && n == 3 && nb == 3;
+        po.planarity_tolerance = plane_orange ? 1.0 : options.planarity_tolerance;
         part = partition_sphere(dirs, po);
         if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
         if (options.relax_partitions && n > nb) {
@@ -1032,7 +1035,8 @@ bool memoable(const SkeletonAnalysis& an, const LeafletSides& sides, const Conne
 bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o) {
     return std::memcmp(&m.planarity_tolerance, &o.planarity_tolerance, sizeof(double)) == 0 &&
            m.relax_partitions == o.relax_partitions &&
-           std::memcmp(&m.relax_below_margin, &o.relax_below_margin, sizeof(double)) == 0;
+           std::memcmp(&m.relax_below_margin, &o.relax_below_margin, sizeof(double)) == 0 &&
+           m.plane_orange_at_degree_three == o.plane_orange_at_degree_three;
 }
 
 // FNV-1a (64 bits) of the key's bytes.
@@ -1093,6 +1097,7 @@ SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::ve
     m.planarity_tolerance = options.planarity_tolerance;
     m.relax_partitions = options.relax_partitions;
     m.relax_below_margin = options.relax_below_margin;
+    m.plane_orange_at_degree_three = options.plane_orange_at_degree_three;
     std::vector<std::pair<std::uint64_t, int>> order;
     for (int v = 0; v < static_cast<int>(keys.size()); ++v)
         if (!keys[v].empty()) order.push_back({memo_hash(keys[v]), v});
