@@ -59,11 +59,10 @@ struct ConnectionSurfaceOptions {
     double relax_junctions_below = 0.5;
     // At a branching point with exactly three branch edges and no leaflet side, take the "orange" around the normal
     // of the branches' best-fit plane (partition_sphere's planar candidate, whatever the planarity): its two
-    // valence-3 poles lie as far from every branch as three directions allow and its three equator points in the
-    // gaps between them. Kept unless its lunes are slivers or it is invalid (then partition_sphere's general
-    // choice). partition_sphere's score alone prefers, where one gap exceeds 180 degrees, an axis tilted into the
-    // branches' plane, which puts a pole 18-25 degrees from a branch of a close pair and leaves the pair's first
-    // chunks with corners of SJ 0.02-0.1 at the crotch (docs/junctions.md, "Degree-3 partitions").
+    // valence-3 poles lie as far from every branch as three directions allow, its three equator points in the gaps
+    // between them. Kept unless its lunes are slivers or it is invalid (then partition_sphere's general choice, whose
+    // score prefers, where one gap exceeds 180 degrees, an axis tilted into the branches' plane with a pole next to a
+    // branch of a close pair: docs/junctions.md, "Degree-3 partitions").
     bool plane_orange_at_degree_three = true;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
