@@ -18,6 +18,7 @@
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/raw_mesh.h"
+#include "mesohex/stages/sphere_partition.h"
 
 using namespace mesohex;
 
@@ -609,6 +610,30 @@ TEST(RawMesh, FatDegreeThreeJunctionTakesThePlaneOrange) {
             EXPECT_NEAR(q.sj_min, 0.017, 0.01);
         }
     }
+}
+
+// The option leaves a degree-3 point alone when no gap between its branches exceeds 180 degrees: a Y whose branches
+// are 100, 120 and 140 degrees apart in azimuth, 10 degrees out of one plane (beyond planarity_tolerance), gets the
+// same surface with and without it.
+TEST(RawMesh, SpreadDegreeThreeJunctionKeepsItsPartition) {
+    const double e = 10 * std::numbers::pi / 180;
+    std::vector<Vec3> dirs;
+    for (const double az : {0.0, 100.0, 220.0}) {
+        const double a = az * std::numbers::pi / 180;
+        dirs.push_back(
+            {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), az == 100.0 ? -std::sin(e) : std::sin(e)});
+    }
+    // The plane's orange is not partition_sphere's choice here: only the gap rule keeps the surface.
+    SpherePartitionOptions any_planarity;
+    any_planarity.planarity_tolerance = 1;
+    EXPECT_NE(partition_sphere(dirs).points, partition_sphere(dirs, any_planarity).points);
+    const Skeleton s = star(dirs, 1, 1.0);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ConnectionSurfaceOptions off;
+    off.plane_orange_at_degree_three = false;
+    const ConnectionSurfaces a = build_connection_surfaces(s, an), b = build_connection_surfaces(s, an, off);
+    EXPECT_EQ(a.directions, b.directions);
+    EXPECT_EQ(a.quads, b.quads);
 }
 
 TEST(RawMesh, ClosedRingOfSixEdges) {

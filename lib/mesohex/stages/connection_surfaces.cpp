@@ -899,6 +899,22 @@ void build_curve_surface(const Skeleton& skeleton, int v, bool joint, const std:
     for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 2;
 }
 
+// Three unit directions whose projections on the plane through their tips leave a gap wider than 180 degrees between
+// two consecutive ones (a fat parent and two children leaving to one side): the configuration whose general
+// partition tilts its axis into that plane (ConnectionSurfaceOptions::plane_orange_at_degree_three).
+bool has_gap_over_half_turn(const std::vector<Vec3>& d) {
+    const Vec3 c = cross(d[1] - d[0], d[2] - d[0]);
+    if (norm(c) < 1e-12) return false;
+    const Vec3 m = normalized(c);
+    const Vec3 e1 = normalized(d[0] - dot(d[0], m) * m), e2 = cross(m, e1);
+    std::array<double, 3> az{};
+    for (int i = 0; i < 3; ++i) az[i] = std::atan2(dot(d[i], e2), dot(d[i], e1));
+    std::sort(az.begin(), az.end());
+    const double two_pi = 2 * std::numbers::pi;
+    const double gap = std::max({az[1] - az[0], az[2] - az[1], az[0] + two_pi - az[2]});
+    return gap > std::numbers::pi;
+}
+
 // The sphere partition of branching point v for directions dirs (nb branch edges, then its leaflet sides), relaxed
 // (relax_partition, then relax_junction on the junction's hex model, whose leaflet quad rotations are stored in
 // cs.quad_rotation). Any partition error becomes Error(NumericalFailure) naming v.
@@ -910,9 +926,11 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
     SpherePartition part;
     try {
         SpherePartitionOptions po;
-        // Three branch edges and no leaflet side: the orange around the best-fit plane's normal (a tolerance of 1
-        // takes partition_sphere's planar path for any three directions), see plane_orange_at_degree_three.
-        const bool plane_orange = options.plane_orange_at_degree_three && n == 3 && nb == 3;
+        // Three branch edges, no leaflet side, a gap over 180 degrees: the orange around the best-fit plane's normal
+        // (a tolerance of 1 takes partition_sphere's planar path for any three directions), see
+        // plane_orange_at_degree_three.
+        const bool plane_orange =
+            options.plane_orange_at_degree_three && n == 3 && nb == 3 && has_gap_over_half_turn(dirs);
         po.planarity_tolerance = plane_orange ? 1.0 : options.planarity_tolerance;
         part = partition_sphere(dirs, po);
         if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);

@@ -57,12 +57,13 @@ struct ConnectionSurfaceOptions {
     // hexes (half-chunk and plate corners at the junction, scaled-Jacobian-like values, and 0.5 sin(margin) of each
     // branch direction) when the smallest model value is below this (with relax_partitions).
     double relax_junctions_below = 0.5;
-    // At a branching point with exactly three branch edges and no leaflet side, take the "orange" around the normal
-    // of the branches' best-fit plane (partition_sphere's planar candidate, whatever the planarity): its two
-    // valence-3 poles lie as far from every branch as three directions allow, its three equator points in the gaps
-    // between them. Kept unless its lunes are slivers or it is invalid (then partition_sphere's general choice, whose
-    // score prefers, where one gap exceeds 180 degrees, an axis tilted into the branches' plane with a pole next to a
-    // branch of a close pair: docs/junctions.md, "Degree-3 partitions").
+    // At a branching point with exactly three branch edges, no leaflet side, and a gap wider than 180 degrees between
+    // two of them (seen in the plane through their tips: a parent and two children leaving to one side), take the
+    // "orange" around the normal of the branches' best-fit plane (partition_sphere's planar candidate, whatever the
+    // planarity): its two valence-3 poles lie as far from every branch as three directions allow, its three equator
+    // points in the gaps. Kept unless its lunes are slivers or it is invalid (then partition_sphere's general
+    // choice, whose score prefers there an axis tilted into the branches' plane, with a pole next to a branch of the
+    // close pair: docs/junctions.md, "Degree-3 partitions").
     bool plane_orange_at_degree_three = true;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
