@@ -18,6 +18,7 @@
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/raw_mesh.h"
+#include "mesohex/stages/sphere_partition.h"
 
 using namespace mesohex;
 
@@ -568,6 +569,71 @@ TEST(RawMesh, ThreeStarHasTwelveHexesAndPredictedIrregularEdges) {
     // valence 3 give two interior edges with 6 hexes.
     EXPECT_EQ(b.prediction.interior_irregular_edges, (std::map<int, long>{{6, 2}}));
     expect_good_raw_mesh(s, b);
+}
+
+// Seed 149's fat branching point as adaptation leaves it (docs/junctions.md, "Degree-3 partitions"): radius 0.381,
+// the parent (0.393) and two thin children (0.209, 0.244) 50 degrees apart, every gap but one below 180 degrees. The
+// orange around the branches' best-fit plane normal keeps both valence-3 poles 85 degrees from every branch (raw min
+// SJ 0.218); partition_sphere's own choice (plane_orange_at_degree_three off) tilts its axis into that plane, one pole
+// 17 degrees from a child, and the children's first chunks get a corner of SJ 0.017 (the pipeline's raw mesh of seed
+// 149: 0.020 -> 0.217).
+TEST(RawMesh, FatDegreeThreeJunctionTakesThePlaneOrange) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0.132, 0.034, -0.605}, {-0.615, 0.062, 0.365}, {-0.889, -0.063, -0.269}};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}};
+    s.radii = {0.381, 0.393, 0.209, 0.244};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    for (const bool on : {true, false}) {
+        SCOPED_TRACE(on ? "plane orange" : "partition_sphere's choice");
+        ConnectionSurfaceOptions co;
+        co.plane_orange_at_degree_three = on;
+        const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+        const BranchFrames fr = propagate_frames(s, an, cs);
+        double pole_to_branch = 180;  // degrees, smallest angle between a valence-3 point of c and a branch
+        int poles = 0;
+        for (int x = cs.point_begin[0]; x < cs.point_begin[1]; ++x) {
+            if (cs.point_valence[x] != 3) continue;
+            ++poles;
+            for (int w = 1; w < 4; ++w)
+                pole_to_branch = std::min(
+                    pole_to_branch, std::acos(std::clamp(dot(fr.directions[x], normalized(s.points[w])), -1.0, 1.0)) *
+                                        180 / std::numbers::pi);
+        }
+        EXPECT_EQ(poles, 2);
+        const QualityReport q = compute_quality(build_raw_mesh(s, an, cs, fr).mesh);
+        EXPECT_EQ(q.inverted, 0);
+        if (on) {
+            EXPECT_NEAR(pole_to_branch, 85.1, 0.5);
+            EXPECT_NEAR(q.sj_min, 0.218, 0.01);
+        } else {
+            EXPECT_NEAR(pole_to_branch, 17.4, 0.5);
+            EXPECT_NEAR(q.sj_min, 0.017, 0.01);
+        }
+    }
+}
+
+// The option leaves a degree-3 point alone when no gap between its branches exceeds 180 degrees: a Y whose branches
+// are 100, 120 and 140 degrees apart in azimuth, 10 degrees out of one plane (beyond planarity_tolerance), gets the
+// same surface with and without it.
+TEST(RawMesh, SpreadDegreeThreeJunctionKeepsItsPartition) {
+    const double e = 10 * std::numbers::pi / 180;
+    std::vector<Vec3> dirs;
+    for (const double az : {0.0, 100.0, 220.0}) {
+        const double a = az * std::numbers::pi / 180;
+        dirs.push_back(
+            {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), az == 100.0 ? -std::sin(e) : std::sin(e)});
+    }
+    // The plane's orange is not partition_sphere's choice here: only the gap rule keeps the surface.
+    SpherePartitionOptions any_planarity;
+    any_planarity.planarity_tolerance = 1;
+    EXPECT_NE(partition_sphere(dirs).points, partition_sphere(dirs, any_planarity).points);
+    const Skeleton s = star(dirs, 1, 1.0);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ConnectionSurfaceOptions off;
+    off.plane_orange_at_degree_three = false;
+    const ConnectionSurfaces a = build_connection_surfaces(s, an), b = build_connection_surfaces(s, an, off);
+    EXPECT_EQ(a.directions, b.directions);
+    EXPECT_EQ(a.quads, b.quads);
 }
 
 TEST(RawMesh, ClosedRingOfSixEdges) {
