@@ -41,8 +41,7 @@ RawInversionSites locate_raw_inversions(const Skeleton& meshed, const RawMesh& r
 
 // The import options `auto` uses for the medial meshes it computes: the defaults, with the leaflet smoothing kept
 // within 0.25 x the radius of the medial sheet (MedialImportOptions::max_sheet_offset): compute_medial_axis fits its
-// spheres to the surface, and smoothing them off the sheet leaves the hexes short of it (sculpt: 8.8 % -> 0.81 %
-// Hausdorff; docs/sheets.md).
+// spheres to the surface, and smoothing them off the sheet leaves the hexes short of it (docs/sheets.md).
 inline MedialImportOptions meso_import_options() {
     MedialImportOptions o;
     o.max_sheet_offset = 0.25;
@@ -58,8 +57,8 @@ struct AutoSkeletonOptions {
     // spheres (dimensionless, x diagonal): a part the angle filter lost leaves a larger gap (docs/tuning.md).
     double max_coverage_gap = 0.2;
     long max_raw_inverted = 0;  // Auto: the meso-skeleton's raw mesh may have at most this many inverted hexes
-    // Auto: ... and its minimum scaled Jacobian must be at least this (dimensionless): the finishing lifts a raw
-    // minimum of 0.1 (sculpt 0.108 -> 0.477), not one of 0.01 (wrench 0.013 -> 1 inverted); docs/sheets.md.
+    // Auto: ... and its minimum scaled Jacobian must be at least this (dimensionless): the lowest raw minimum the
+    // finishing was measured to lift above 0.3 (docs/sheets.md, "Smoothing on the medial sheet").
     double min_raw_sj = 0.05;
     // The meso-skeleton's radii: meso_radius_factor x each vertex's distance to the surface (dimensionless; 0 keeps
     // the medial radii, which are the full distance). The raw mesh then fills about half of the inscribed ball, as

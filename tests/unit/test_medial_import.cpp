@@ -338,8 +338,8 @@ TEST(MedialImport, SmoothingKeepsARingSheetOnItsCylinder) {
     const auto [lo, hi] = axis_distances(kept.skeleton);
     EXPECT_GE(lo, 5 * std::cos(std::numbers::pi / n) - 0.25 - 1e-9);
     EXPECT_LE(hi, 5 + 1e-9);
-    opt.max_sheet_offset =
-        -1;  // free smoothing (the default of `import`): the band's vertices go 0.39 inside the chords (4.57 from the axis)
+    // Free smoothing (the default of `import`): the band's vertices go 0.39 inside the chords (4.57 from the axis).
+    opt.max_sheet_offset = -1;
     EXPECT_LT(axis_distances(import_medial_mesh(band, opt).skeleton).first, 5 * std::cos(std::numbers::pi / n) - 0.3);
 }
 

@@ -74,9 +74,10 @@ struct ConnectionSurfaceOptions {
 // Content-keyed memo of branching-point surfaces (for remeshing after an edit, mesohex/incremental.h). The surface of
 // a branching point without leaflet sides and without a compatible block is a pure function of its branch directions
 // (unit(w - v) for its branch edges in increasing edge id, in that order) and of the options read by its partition
-// (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three): an entry keyed on the exact bits of those directions
-// is reused whatever the vertex's number, so an edit that renumbers the skeleton (adaptation re-sampling a branch)
-// recomputes only the branching points whose directions changed. Keys are compared in full (no trust in the hash).
+// (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three): an entry keyed on the
+// exact bits of those directions is reused whatever the vertex's number, so an edit that renumbers the skeleton
+// (adaptation re-sampling a branch) recomputes only the branching points whose directions changed. Keys are compared
+// in full (no trust in the hash).
 struct SurfaceMemo {
     struct Entry {
         std::vector<Vec3> key;  // the branch directions, compared bit for bit

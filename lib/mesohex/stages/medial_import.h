@@ -77,7 +77,7 @@ struct MedialImportOptions {
     // triangles (along the closest one's normal) goes back to that distance: the smoothing then evens out the quads
     // within the medial sheet instead of flattening a curved sheet and pulling its border in, off the medial axis,
     // where the spheres no longer reach the surface (docs/sheets.md, "Smoothing on the medial sheet"). Off by default
-    // for `import` (hand.ma's wrist fold needs the free smoothing: 1 -> 3 inverted raw hexes at 0.25); `auto`, whose
+    // for `import` (a folded sheet border needs the free smoothing; measurements in docs/sheets.md); `auto`, whose
     // medial meshes are fitted to the surface (sphere quadrics), uses 0.25 (meso_import_options).
     double max_sheet_offset = -1;  // x the vertex's medial radius; < 0: off (the smoothing moves freely)
 };
