@@ -222,10 +222,12 @@ std::vector<int> border_run(const Skeleton& s, const Incidence& in, int w, int x
     }
 }
 
-// The point at arc length a along the polyline pts (a in [0, its length]).
+// The point at arc length a along the polyline pts (a in [0, its length]); zero-length segments (coincident
+// vertices) are skipped.
 Vec3 at_arc_length(const std::vector<Vec3>& pts, double a) {
     for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
         const double len = distance(pts[j], pts[j + 1]);
+        if (!(len > 0)) continue;
         if (a <= len || j + 2 == pts.size()) return pts[j] + std::clamp(a / len, 0.0, 1.0) * (pts[j + 1] - pts[j]);
         a -= len;
     }
