@@ -882,15 +882,17 @@ TEST(FanEndRepair, MovedFirstEdgeBetweenTheLimitsIsBent) {
     }
 }
 
-// Not bent (refused as before, naming the vertex and both angles): a bend that would turn the branch by more than
-// kBendMaxTurnDeg (T leaning back 150 degrees towards -y: b = (0, -0.5, 0.134), v = b - (0.45, 0, 1) 61 degrees off
-// the normal -y), and the same branch at 50 degrees with radius 0.4 > kBendMaxRadius x the unit border side.
+// Not bent (refused as before, naming the vertex, both angles and the bend condition that failed with its value): a
+// bend that would turn the branch by more than kBendMaxTurnDeg (T leaning back 150 degrees towards -y: b = (0, -0.5,
+// 0.134), v = b - (0.45, 0, 1) 61 degrees off the normal -y), and the same branch at 50 degrees with radius 0.4 >
+// kBendMaxRadius x the unit border side.
 TEST(FanEndRepair, MovedFirstEdgeNotBent) {
     expect_refused(fan_end_towards(3, 150, -90), 2, "would leave it 146 degrees off the border's outward direction");
+    expect_refused(fan_end_towards(3, 150, -90), 2, "not bent: the bend would turn it by 61 degrees (at most 55)");
     Skeleton thick = fan_end_towards(3, 50, -90);
     for (double& r : thick.radii) r = 0.4;
     Skeleton before = thick;
     const std::vector<FanEndRetraction> r = retract_fan_ends(thick);
     EXPECT_TRUE(r.empty());
-    expect_refused(before, 2, "its radius at most 0.35 x the border side");
+    expect_refused(before, 2, "not bent: its radius is 0.40 x the border side (a bend takes at most 0.35)");
 }

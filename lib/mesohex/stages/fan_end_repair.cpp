@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -222,10 +223,12 @@ std::vector<int> border_run(const Skeleton& s, const Incidence& in, int w, int x
     }
 }
 
-// The point at arc length a along the polyline pts (a in [0, its length]).
+// The point at arc length a along the polyline pts (a in [0, its length]); zero-length segments (coincident
+// vertices) are skipped.
 Vec3 at_arc_length(const std::vector<Vec3>& pts, double a) {
     for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
         const double len = distance(pts[j], pts[j + 1]);
+        if (!(len > 0)) continue;
         if (a <= len || j + 2 == pts.size()) return pts[j] + std::clamp(a / len, 0.0, 1.0) * (pts[j + 1] - pts[j]);
         a -= len;
     }
@@ -584,18 +587,19 @@ bool clean_root(const std::pair<double, double>& off) {
 // limits, the outward direction turned towards v to kBendOutDeg off it; leaning back (more than kMovedSideOffOutDeg
 // off out, more than kMovedSideDeg off the normal), the normal on v's side. Returns false when there is none (v along
 // out or in the leaflet's plane), or when the branch would turn at the bend by more than kBendMaxTurnDeg.
-bool bent_first_edge(const Vec3& v, const Vec3& out, const Vec3& normal, Vec3& c) {
+// *turn_deg gets the turn of v onto c, degrees (-1 when v lies in the leaflet's plane: no side to bend to).
+bool bent_first_edge(const Vec3& v, const Vec3& out, const Vec3& normal, Vec3& c, double* turn_deg) {
+    *turn_deg = -1;
+    const double vn = dot(v, normal);
+    if (!(std::abs(vn) > 1e-9)) return false;
     if (root_angles(v, out, normal).first <= kMovedSideOffOutDeg) {
-        const double vn = dot(v, normal);
-        if (!(std::abs(vn) > 1e-9)) return false;
         const double a = kBendOutDeg * std::numbers::pi / 180;
         c = std::cos(a) * out + std::sin(a) * (vn > 0 ? normal : -1.0 * normal);
     } else {
-        const double vn = dot(v, normal);
-        if (!(std::abs(vn) > 1e-9)) return false;
         c = vn > 0 ? normal : -1.0 * normal;
     }
-    return std::acos(std::clamp(dot(c, v), -1.0, 1.0)) * 180 / std::numbers::pi <= kBendMaxTurnDeg;
+    *turn_deg = std::acos(std::clamp(dot(c, v), -1.0, 1.0)) * 180 / std::numbers::pi;
+    return *turn_deg <= kBendMaxTurnDeg;
 }
 
 RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why = nullptr) {
@@ -629,23 +633,38 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
     Vec3 dir{};
     // Bent only when the branch does not run on past the cut along the border (b projected within kRootMoveMax of the
     // side): a branch close to the carrier's plane stays beside its plates after the bend (inverted raw hexes); and
-    // only for radii up to kBendMaxRadius x the side.
-    if (!clean_root({off_out, off_normal}) && n == 1 && along_side <= kRootMoveMax &&
-        s.radii[c.w] <= kBendMaxRadius * norm(side) && bent_first_edge(v, out, normal, dir)) {
-        mv.bent = true;
-        mv.bend = m + std::min(kBendRadii * s.radii[c.w], distance(m, b / static_cast<double>(n))) * dir;
-    } else if (!clean_root({off_out, off_normal})) {
-        refuse(why,
-               "its first edge, moved onto the border of face " + str(mv.face) + ", would leave it " +
-                   str(static_cast<int>(std::lround(off_out))) + " degrees off the border's outward direction and " +
-                   str(static_cast<int>(std::lround(off_normal))) +
-                   " off the leaflet's normal (a moved root takes at "
-                   "most 45 off the outward direction, or more than 60 off it and at most 45 off the normal; a single "
-                   "branch edge outside is bent where the branch then turns by at most 55 degrees, its radius at most "
-                   "0.35 x the "
-                   "border side)",
-               "");
-        return mv;
+    // only for radii up to kBendMaxRadius x the side. The first condition that fails is named in the refusal.
+    if (!clean_root({off_out, off_normal})) {
+        const double radius_ratio = s.radii[c.w] / norm(side);
+        double turn = -1;
+        std::ostringstream no_bend;
+        if (n != 1)
+            no_bend << "the vertex has " << n << " branch edges (a bend takes a single one)";
+        else if (along_side > kRootMoveMax)
+            no_bend << "the branch runs on along the border side (its first vertex projects at "
+                    << std::lround(100 * along_side) << "% of it, past " << std::lround(100 * kRootMoveMax) << "%)";
+        else if (radius_ratio > kBendMaxRadius)
+            no_bend << "its radius is " << std::fixed << std::setprecision(2) << radius_ratio
+                    << " x the border side (a bend takes at most " << kBendMaxRadius << ")";
+        else if (!bent_first_edge(v, out, normal, dir, &turn))
+            no_bend << (turn < 0
+                            ? std::string("the branch lies in the leaflet's plane (no side to bend it to)")
+                            : "the bend would turn it by " + str(static_cast<int>(std::lround(turn))) +
+                                  " degrees (at most " + str(static_cast<int>(std::lround(kBendMaxTurnDeg))) + ")");
+        if (no_bend.tellp() == 0) {
+            mv.bent = true;
+            mv.bend = m + std::min(kBendRadii * s.radii[c.w], distance(m, b / static_cast<double>(n))) * dir;
+        } else {
+            std::ostringstream reason;
+            reason << "its first edge, moved onto the border of face " << mv.face << ", would leave it "
+                   << std::lround(off_out) << " degrees off the border's outward direction and "
+                   << std::lround(off_normal) << " off the leaflet's normal (a moved root takes at most "
+                   << kMovedOutDeg << " off the outward direction, or more than " << kMovedSideOffOutDeg
+                   << " off it and at most " << kMovedSideDeg
+                   << " off the normal), and it is not bent: " << no_bend.str();
+            refuse(why, reason.str(), "");
+            return mv;
+        }
     }
     std::vector<char> seen(s.faces.size(), 0);
     if (!walk_strip(s, in, mv.face, side_at(s, mv.face, c.w, mv.x), seen, mv.strip, why)) mv.strip.clear();

@@ -104,9 +104,9 @@ inline constexpr double kRetractionMax = 0.7;
 inline constexpr double kRetractionMaxAtCorner = 0.9;
 // Least retraction length, x r_w: the border half-chunk at u runs from u's cap (its gap vertices r_w from the fan line,
 // lifted r_w along it) to the corner's out column (r_w inwards along the corner's out direction, about 0.55 r_w
-// towards the fan line): it folds when the corner is less than about (1 + 0.55) r_w from the fan line (measured: 1
-// inverted raw hex at 1.56 r_w, none at 1.67). A branch with a face whose border run cannot give this much is
-// refused, naming the ratio.
+// towards the fan line): it folds when the corner is less than about (1 + 0.55) r_w from the fan line; 1.6 is that
+// bound with a margin (measurements: docs/blocks.md, "Thick radii at a retracted fan end"). A branch with a face whose
+// border run cannot give this much is refused, naming the ratio.
 inline constexpr double kRetractionMinRadii = 1.6;
 // Largest turn of the border at a vertex that a straight run may pass, degrees.
 inline constexpr double kBorderRunTurnDeg = 5;
@@ -137,7 +137,10 @@ inline constexpr double kBendRadii = 2.0;
 inline constexpr double kBendOutDeg = 30;
 inline constexpr double kBendMaxTurnDeg = 55;
 // Nor when r_w exceeds kBendMaxRadius x the carrier's border side |x_k - w| (dimensionless): thicker tubes (2 r of
-// bent edge, the leaflets' plates as thick) fold between the leaflets (X fans at radius scale 1.3 - 1.5, measured).
+// bent edge, the leaflets' plates as thick) fold between the leaflets (measurements: docs/blocks.md, "Moved first
+// edges bent"). A limit of its own, measured on the bent roots: independent of kRetractionMax / kRetractionRadii (the
+// retraction's thick-radius threshold, also 0.35 on those constants' current values, but set by another fold).
+// The refusal of a branch not bent names the first of these conditions that fails, with its value.
 inline constexpr double kBendMaxRadius = 0.35;
 // Height of the row cut under a moved root, x r_w: the fan edge (u, w) and its faces' strips are cut at that distance
 // from w first (when the strips cross and it is less than half the fan edge), so that the root's side patch (its two
