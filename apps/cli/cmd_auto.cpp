@@ -103,6 +103,11 @@ void register_auto(CLI::App& app, int* status) {
                     "meso-skeleton leaflet vertices: radius at most this x their shortest leaflet edge (0: no cap)")
         ->check(finite_range(0.0, 10.0))
         ->capture_default_str();
+    cmd->add_option("--meso-sheet-offset", args->skeleton.import.max_sheet_offset,
+                    "meso-skeleton import: while smoothing, a leaflet vertex stays within this x its radius of the "
+                    "medial sheet (0: on the sheet; negative: free)")
+        ->check(finite_range(-1.0, 100.0))
+        ->capture_default_str();
     add_mesh_job_options(cmd, &args->job);
     cmd->footer(
         "The skeleton used is written beside the mesh (OUT.skeleton.obj, with radii): edit it and re-run\n"

@@ -74,6 +74,11 @@ void register_import(CLI::App& app, int* status) {
                     "of its two boundary neighbours while smoothing")
         ->capture_default_str()
         ->check(finite_range(0.0, 360.0));
+    cmd->add_option("--max-sheet-offset", args->options.max_sheet_offset,
+                    "While smoothing, a leaflet vertex stays within this x its radius of the input sheet (0: on the "
+                    "sheet; negative: free)")
+        ->capture_default_str()
+        ->check(finite_range(-1.0, 100.0));
     cmd->footer("Method: docs/skeletons.md. Example: mesohex import hand.ma -o hand.obj");
     cmd->callback([args, status]() {
         args->options.pair_triangles = !args->no_pairing;

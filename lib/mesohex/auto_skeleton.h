@@ -39,6 +39,16 @@ int cap_leaflet_radii(Skeleton& skeleton, double factor);
 // Preconditions: raw was built from `meshed` (hex_edge indexes meshed.edges, one entry per hex). Deterministic.
 RawInversionSites locate_raw_inversions(const Skeleton& meshed, const RawMesh& raw);
 
+// The import options `auto` uses for the medial meshes it computes: the defaults, with the leaflet smoothing kept
+// within 0.25 x the radius of the medial sheet (MedialImportOptions::max_sheet_offset): compute_medial_axis fits its
+// spheres to the surface, and smoothing them off the sheet leaves the hexes short of it (sculpt: 8.8 % -> 0.81 %
+// Hausdorff; docs/sheets.md).
+inline MedialImportOptions meso_import_options() {
+    MedialImportOptions o;
+    o.max_sheet_offset = 0.25;
+    return o;
+}
+
 struct AutoSkeletonOptions {
     SkeletonKind kind = SkeletonKind::Auto;  // Curve / Meso force one; Auto decides
     // Auto: the meso-skeleton when the medial axis's sheet fraction is at least this (dimensionless, 0..1). Tubes
@@ -48,9 +58,9 @@ struct AutoSkeletonOptions {
     // spheres (dimensionless, x diagonal): a part the angle filter lost leaves a larger gap (docs/tuning.md).
     double max_coverage_gap = 0.2;
     long max_raw_inverted = 0;  // Auto: the meso-skeleton's raw mesh may have at most this many inverted hexes
-    // Auto: ... and its minimum scaled Jacobian must be at least this (dimensionless): the finishing does not lift a
-    // raw minimum much (measurements: docs/tuning.md).
-    double min_raw_sj = 0.2;
+    // Auto: ... and its minimum scaled Jacobian must be at least this (dimensionless): the finishing lifts a raw
+    // minimum of 0.1 (sculpt 0.108 -> 0.477), not one of 0.01 (wrench 0.013 -> 1 inverted); docs/sheets.md.
+    double min_raw_sj = 0.05;
     // The meso-skeleton's radii: meso_radius_factor x each vertex's distance to the surface (dimensionless; 0 keeps
     // the medial radii, which are the full distance). The raw mesh then fills about half of the inscribed ball, as
     // with `mesh --surface` on a skeleton without radii: room for the padding layer, and a leaflet's hex layers
@@ -72,7 +82,7 @@ struct AutoSkeletonOptions {
     // result then misses the targets anyway; docs/skeletons.md). The CLI refuses such a surface unless --best-effort.
     long max_answer_inverted = 0;
     MedialAxisOptions medial;
-    MedialImportOptions import;
+    MedialImportOptions import = meso_import_options();  // max_sheet_offset 0.25 (see meso_import_options)
     SkeletonizeOptions skeletonize;
 };
 

@@ -3,6 +3,9 @@
 // skeleton's Euler characteristic and no inverted raw hex; what the repair cannot handle is refused naming the vertex.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -188,6 +191,89 @@ TEST(FanEndRepair, WholePipelineOnTAndX) {
     }
 }
 
+// The index of the skeleton vertex within 1e-9 of p, or -1.
+int vertex_near(const Skeleton& s, const Vec3& p) {
+    for (int v = 0; v < static_cast<int>(s.points.size()); ++v)
+        if (distance(s.points[v], p) < 1e-9) return v;
+    return -1;
+}
+
+// The unit vector at k quarter turns from +x about +z.
+Vec3 quarter_turns(int k) {
+    const double a = 0.5 * std::numbers::pi * k;
+    return {std::cos(a), std::sin(a), 0};
+}
+
+// Thick radii: the T and X fans of TFanBranchContinuingTheFanLine with radius 0.45 (radius scale 1.5). The retraction
+// length 2 x 0.45 = 0.9 is more than 0.7 of the top border side (w, x) = (0,0,1)-(1,0,1): the retraction goes on along
+// the strip's straight top border w, x, x2 = (2,0,1) (x a straight border vertex: 2 faces, 2 border sides and 1 inner
+// edge; x2 the strip's corner, 1 face, ends the run; length S = 2): the corner goes l = min(0.9, 0.7 x 2) = 0.9 along
+// it and x slides to l + 1 x (S - l) / S = 1.45. So w = 2 (carrier face 1, the tie) moves to (0.9, 0, 1), w_5 = 24 =
+// (0, 0.9, 1), w_9 = 25 = (-0.9, 0, 1); x to (1.45, 0, 1), (0, 1.45, 1), (-1.45, 0, 1); u = 1 slides to w + clamp(0.9 /
+// 1, 0.5, 1) (u - w) = (0, 0, 0.1). Topology as at radius 0.3 (only points move): V 26, E 37, F 12, boundary edges 21,
+// raw hexes 4 x 3 + 2 x 12 + 2 x 21 = 78 (X: 33 V, 48 E, 16 F, 28 boundary edges, 100 hexes, 4 border vertices slid).
+// Before (the corner clamped at 0.7 of (w, x), x fixed): the border half-chunks at u ran from u's cap (r above u) to
+// corners only 0.7 from the fan line, nearly along it: 1 (T) and 2 (X) inverted raw hexes at the cap's gap vertices.
+TEST(FanEndRepair, ThickRadiusRetractionSlidesTheStraightBorderRun) {
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        GeneratorOptions o;
+        o.n = strips;
+        o.m = 1;
+        o.radius_scale = 1.5;
+        Skeleton s = generate_skeleton("fanend", o);
+        ASSERT_EQ(s.radii[2], 0.3 * 1.5);
+        const int v0 = static_cast<int>(s.points.size());
+        std::vector<int> x;  // the strips' top border vertices next to w, in strip order (+x, +y, -x, -y)
+        for (int k = 0; k < strips; ++k) {
+            x.push_back(vertex_near(s, s.points[2] + quarter_turns(k)));
+            ASSERT_GE(x.back(), 0);
+        }
+        const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+        ASSERT_EQ(r.size(), 1u);
+        FanEndRetraction expected{2, 1, 1, {}};
+        for (int k = 1; k < strips; ++k) expected.new_vertices.push_back(v0 + k - 1);
+        expected.border_vertices_slid = strips;
+        EXPECT_EQ(r[0], expected);
+        EXPECT_EQ(static_cast<int>(s.points.size()), v0 + strips - 1);
+        EXPECT_EQ(s.edges.size(), strips == 3 ? 37u : 48u);
+        EXPECT_EQ(s.faces.size(), strips == 3 ? 12u : 16u);
+        EXPECT_NEAR(distance(s.points[1], Vec3{0, 0, 0.1}), 0.0, 1e-12);
+        for (int k = 0; k < strips; ++k) {
+            const Vec3 along = quarter_turns(k);
+            const int corner = k == 0 ? 2 : v0 + k - 1;
+            EXPECT_NEAR(distance(s.points[corner], Vec3{0, 0, 1} + 0.9 * along), 0.0, 1e-12);
+            EXPECT_NEAR(distance(s.points[x[k]], Vec3{0, 0, 1} + 1.45 * along), 0.0, 1e-12);
+        }
+        EXPECT_EQ(euler_characteristic(s), 1);
+        EXPECT_TRUE(retract_fan_ends(s).empty());
+        const PipelineResult raw = raw_as_given(s);
+        EXPECT_EQ(raw.analysis.counts.boundary_edges, strips == 3 ? 21 : 28);
+        EXPECT_EQ(raw.raw.mesh.hexes.size(), strips == 3 ? 78u : 100u);
+        expect_valid(raw, 1);
+    }
+}
+
+// The generator's retracted variants (continuing at one end, at both ends, mixed) at radius scale 1.5 and 1.8 through
+// mesh_skeleton (resampling, defaults): prediction exact (hexes and irregular edges), valid, Euler 1, no inverted raw
+// hex (before the run slide: 1 - 16 inverted raw hexes each).
+TEST(FanEndRepair, ThickRadiiMeshWithoutInvertedHexes) {
+    for (const int strips : {3, 4})
+        for (const int direction : {1, 3, 4})
+            for (const double scale : {1.5, 1.8}) {
+                SCOPED_TRACE(std::to_string(strips) + " " + std::to_string(direction) + " " + std::to_string(scale));
+                GeneratorOptions o;
+                o.n = strips;
+                o.m = direction;
+                o.radius_scale = scale;
+                const MeshRun run = mesh_skeleton(generate_skeleton("fanend", o), nullptr);
+                EXPECT_TRUE(run.prediction_exact);
+                expect_valid(run.pipeline, 1);
+                const QualityReport q = compute_quality(run.pipeline.raw.mesh);
+                EXPECT_EQ(q.singular_interior_edges, run.pipeline.predicted.interior_irregular_edges);
+            }
+}
+
 // A fan of `strips` strips of 2 quads on a single fan edge (tfan / xfan -n 1 -m 2: fan line (0,0,-0.5) = 0 to
 // (0,0,0.5) = 1, unit quads, radius 0.3) with a branch of 3 unit edges from 1 along +z (the fan line's continuation).
 Skeleton single_fan_edge_end(int strips, int length = 2) {
@@ -201,6 +287,63 @@ Skeleton single_fan_edge_end(int strips, int length = 2) {
         s.edges.push_back({k == 1 ? 1 : static_cast<int>(s.points.size()) - 2, static_cast<int>(s.points.size()) - 1});
     }
     return s;
+}
+
+// Thick radii on strips of one face (tfan / xfan -n 1 -m 1 with the branch of single_fan_edge_end, every radius x
+// `scale`): the top border side (1, x) = (0,0,0.5)-(1,0,0.5) ends at the strip's corner x (one face), which cannot
+// slide, so the retraction may go up to kRetractionMaxAtCorner = 0.9 of it. T: V 8 + 3 = 11, E 10 + 3 = 13, F 3;
+// split at the midpoint m = (0,0,0) (each strip one face, its far side cut): V +1 +3 = 15, E +4 +3 = 20, F 6;
+// retraction from 1 (2 faces retracted): V 17, E 22, F 6; u = m stays (clamp(2 r / 0.5, 0.5, 1) = 1). Boundary:
+// per strip top, far (2 halves) and bottom = 12, + (m, 1) + 2 (m, w_i) = 15; raw hexes 4 x 3 + 2 x 6 + 2 x 15 = 54.
+// X: V 10 + 3 = 13, E 13 + 3 = 16, F 4; split V 18, E 25, F 8; retraction (3 faces) V 21, E 28; boundary 4 x 4 + 1 +
+// 3 = 20; hexes 12 + 16 + 40 = 68. Radius 0.45 (scale 1.5): the corners go 0.9 (= 2 r) along the top borders; before,
+// clamped at 0.7 = 1.56 r: 1 inverted raw hex (T; through mesh_skeleton). Radius 0.54 (scale 1.8): 0.9 = 1.67 r,
+// still meshed; radius 0.6 (scale 2): 0.9 = 1.5 r < 1.6 r, refused naming vertex 1 and the ratio.
+Skeleton thick_single_fan_edge_end(int strips, double scale) {
+    Skeleton s = single_fan_edge_end(strips, 1);
+    for (double& r : s.radii) r *= scale;
+    return s;
+}
+
+TEST(FanEndRepair, ThickRadiusOnOneFaceStripsRetractsUpToTheCorner) {
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        Skeleton s = thick_single_fan_edge_end(strips, 1.5);
+        ASSERT_EQ(s.points.size(), strips == 3 ? 11u : 13u);
+        const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+        ASSERT_EQ(r.size(), 1u);
+        EXPECT_EQ(r[0].vertex, 1);
+        EXPECT_EQ(r[0].strip_faces_split, strips);
+        EXPECT_EQ(r[0].border_vertices_slid, 0);
+        EXPECT_EQ(s.points.size(), strips == 3 ? 17u : 21u);
+        EXPECT_EQ(s.edges.size(), strips == 3 ? 22u : 28u);
+        EXPECT_EQ(s.faces.size(), strips == 3 ? 6u : 8u);
+        EXPECT_EQ(euler_characteristic(s), 1);
+        std::vector<int> corners = r[0].new_vertices;
+        corners.push_back(1);
+        for (int k = 0; k < strips; ++k) {
+            const Vec3 p = Vec3{0, 0, 0.5} + 0.9 * quarter_turns(k);
+            EXPECT_TRUE(std::any_of(corners.begin(), corners.end(), [&](int v) {
+                return distance(s.points[v], p) < 1e-12;
+            })) << k;
+        }
+        const PipelineResult raw = raw_as_given(s);
+        EXPECT_EQ(raw.analysis.counts.boundary_edges, strips == 3 ? 15 : 20);
+        EXPECT_EQ(raw.raw.mesh.hexes.size(), strips == 3 ? 54u : 68u);
+        expect_valid(raw, 1);
+        for (const double scale : {1.5, 1.8}) {
+            const MeshRun run = mesh_skeleton(thick_single_fan_edge_end(strips, scale), nullptr);
+            EXPECT_TRUE(run.prediction_exact);
+            expect_valid(run.pipeline, 1);
+        }
+        const Skeleton too_thick = thick_single_fan_edge_end(strips, 2.0);
+        const std::optional<FanEndRefusal> why = fan_end_refusal(too_thick, 1);
+        ASSERT_TRUE(why.has_value());
+        EXPECT_NE(why->reason.find("too thick"), std::string::npos) << why->reason;
+        EXPECT_NE(why->reason.find("(1.5 radii"), std::string::npos) << why->reason;
+        EXPECT_NE(why->edit.find("thin the branch at the vertex to at most 0.562"), std::string::npos) << why->edit;
+        expect_refused(too_thick, 1, "at least 1.6 radii are needed");
+    }
 }
 
 // Single fan edge with the branch at its end 1 (issue 22 item 2): the repair splits the fan edge at its midpoint
@@ -616,8 +759,8 @@ TEST(FanEndRefusal, ShortChainNotCut) {
 // edge (0, 1) and (1, 27), (1, 28)) + 3 (the row's far sides) + 2 (the cut top and bottom sides) = 26; branch edges 6;
 // fan edges (1, 29), (29, 2), no fan block (its end 1 is in the 3 retracted faces below too: not a chain end the block
 // takes, fan_blocks.h). Raw hexes 4 x 6 + 2 x 21 + 2 x 26 = 118.
-// generate fanend -m 5 (leaning back, 135 degrees): not moved (its first edge would leave the moved root 50 degrees
-// off the leaflet's normal), refused naming vertex 2 and the angles.
+// generate fanend -m 5 (leaning back, 135 degrees): moved, its first edge bent (below; refused before the bend, its
+// first edge 50 degrees off the leaflet's normal).
 TEST(FanEndRepair, GeneratorVariantsMixedAndLeaningBack) {
     Skeleton s = fan_end(3, 4);
     ASSERT_EQ(s.points.size(), 27u);
@@ -640,13 +783,114 @@ TEST(FanEndRepair, GeneratorVariantsMixedAndLeaningBack) {
     const MeshRun run = mesh_skeleton(fan_end(3, 4), nullptr);
     EXPECT_TRUE(run.prediction_exact);
     expect_valid(run.pipeline, 1);
+    // Leaning back 135 degrees (-m 5; T towards -y, X towards +x+y): moved as the perpendicular branch (row cut, the
+    // carrier's strip cut at t = 0.45 (T: b = (0, -0.707, 0.293) projects to 0) or 0.5 (X: b = (0.5, 0.5, 0.293))),
+    // then the moved first edge from m = (t, 0, 1) to b leans back: T 130 degrees off out (+z) and 50 off the normal
+    // -y, X 145 and 55 off +y: no clean root, so it is bent at p = m + 0.6 (normal on b's side) (kBendRadii x 0.3,
+    // shorter than |b - m| = 1.10 / 0.87); v turns by 50 (T) / 54.7 (X) degrees onto it (<= kBendMaxTurnDeg).
+    // Counts: the perpendicular case's (T 35 V, 55 E, 21 F; X 43, 69, 27) + p and the edge (p, b): T 36 / 56 / 21, X
+    // 44 / 70 / 27; boundary 23 / 30, 3 fan edges; raw hexes + 4 (one branch edge more): T 124, X 150. Refused before
+    // the bend (kMovedSideDeg).
     for (const int strips : {3, 4}) {
         SCOPED_TRACE(strips);
         Skeleton back = fan_end(strips, 5);
-        const Skeleton before = back;
-        EXPECT_TRUE(retract_fan_ends(back).empty());
-        EXPECT_EQ(back, before);
-        expect_refused(before, 2, "the branch leaves 135 degrees off the fan line's continuation (not retracted");
-        expect_refused(before, 2, "off the leaflet's normal (a moved root takes at most 45 off the outward direction");
+        const int v0 = static_cast<int>(back.points.size()), m = v0 + 1 + 2 * strips;
+        const std::vector<FanEndRetraction> moved = retract_fan_ends(back);
+        ASSERT_EQ(moved.size(), 1u);
+        EXPECT_EQ(moved[0].moved_root, m);
+        EXPECT_EQ(moved[0].bend, m + 4);
+        const double t = strips == 3 ? 0.45 : 0.5;
+        EXPECT_NEAR(distance(back.points[m], Vec3{t, 0, 1}), 0.0, 1e-12);
+        EXPECT_NEAR(distance(back.points[m + 4], Vec3{t, strips == 3 ? -0.6 : 0.6, 1}), 0.0, 1e-12);
+        EXPECT_EQ(back.points.size(), strips == 3 ? 36u : 44u);
+        EXPECT_EQ(back.edges.size(), strips == 3 ? 56u : 70u);
+        EXPECT_EQ(back.faces.size(), strips == 3 ? 21u : 27u);
+        EXPECT_EQ(euler_characteristic(back), 1);
+        const PipelineResult bent = raw_as_given(back);
+        EXPECT_EQ(bent.analysis.vertex_border_root[m], BorderRoot::Side);
+        EXPECT_EQ(bent.analysis.counts.boundary_edges, strips == 3 ? 23 : 30);
+        EXPECT_EQ(bent.analysis.counts.fan_edges, 3);
+        EXPECT_EQ(bent.raw.mesh.hexes.size(), strips == 3 ? 124u : 150u);
+        // As given, the X's branch turns at p by 98 degrees (straight down to b, 0.71 below); the pipeline's
+        // resampling (p pinned) runs from p towards the branch's farther points: checked below. The T's turns by 83.
+        if (strips == 3) expect_valid(bent, 1);
+        const MeshRun run = mesh_skeleton(fan_end(strips, 5), nullptr);
+        EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
+        EXPECT_TRUE(run.prediction_exact);
+        expect_valid(run.pipeline, 1);
     }
+}
+
+namespace {
+
+// fanend -n strips -m 1 with its branch turned theta degrees off +z towards the azimuth phi (degrees from +x).
+Skeleton fan_end_towards(int strips, double theta, double phi) {
+    Skeleton s = fan_end(strips, 1);
+    const double t = theta * std::numbers::pi / 180, f = phi * std::numbers::pi / 180;
+    const Vec3 d{std::sin(t) * std::cos(f), std::sin(t) * std::sin(f), std::cos(t)};
+    const std::size_t n = s.points.size();
+    for (int k = 1; k <= 3; ++k) s.points[n - 4 + static_cast<std::size_t>(k)] = s.points[2] + k * d;
+    return s;
+}
+
+}  // namespace
+
+// Branches between the out and side limits (refused before: the moved first edge 54 degrees off the border's
+// outward direction on the T, 51 on the X). T, 50 degrees off +z towards -y: b = (0, -0.766, 1.643), moved as the
+// perpendicular branch (row cut; carrier face 1 by the tie, b projects to 0 on (2, 5): t = 0.45, m = (0.45, 0, 1));
+// v = b - m = (-0.45, -0.766, 0.643) is 54 degrees off out = +z: bent at p = m + 0.6 c, c = cos 30 (+z) + sin 30 (-y)
+// (kBendOutDeg towards b's side of the leaflet), the branch turning there by 31 degrees. X, 60 degrees off +z towards
+// +x+y: b = (0.612, 0.612, 1.5), t = 0.612, v = (0, 0.612, 0.5) 51 degrees off +z; c = cos 30 (+z) + sin 30 (+y), a
+// turn of 21 degrees. Counts as the leaning-back branch: T 36 V / 56 E / 21 F, boundary 23, 3 fan edges, 4 x 4 + 2 x
+// 21 + 2 x 23 + 4 x 5 = 124 raw hexes; X 44 / 70 / 27, 30, 4 x 4 + 2 x 27 + 2 x 30 + 20 = 150. The bent first edge
+// (30 degrees off out) is an out root.
+TEST(FanEndRepair, MovedFirstEdgeBetweenTheLimitsIsBent) {
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        const double theta = strips == 3 ? 50 : 60, phi = strips == 3 ? -90 : 45;
+        Skeleton s = fan_end_towards(strips, theta, phi);
+        const int v0 = static_cast<int>(s.points.size()), m = v0 + 1 + 2 * strips;
+        const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+        ASSERT_EQ(r.size(), 1u);
+        EXPECT_EQ(r[0].vertex, 2);
+        EXPECT_EQ(r[0].carrier_face, 1);
+        EXPECT_EQ(r[0].moved_root, m);
+        EXPECT_EQ(r[0].bend, m + 4);
+        const double t = strips == 3 ? 0.45 : std::sin(theta * std::numbers::pi / 180) * std::sqrt(0.5);
+        EXPECT_NEAR(distance(s.points[m], Vec3{t, 0, 1}), 0.0, 1e-12);
+        const double side = strips == 3 ? -0.3 : 0.3, up = 1 + 0.6 * std::cos(std::numbers::pi / 6);
+        EXPECT_NEAR(distance(s.points[m + 4], Vec3{t, side, up}), 0.0, 1e-12);
+        EXPECT_EQ(s.radii[static_cast<std::size_t>(m + 4)], 0.3);
+        EXPECT_EQ(s.points.size(), strips == 3 ? 36u : 44u);
+        EXPECT_EQ(s.edges.size(), strips == 3 ? 56u : 70u);
+        EXPECT_EQ(s.faces.size(), strips == 3 ? 21u : 27u);
+        EXPECT_EQ(euler_characteristic(s), 1);
+        EXPECT_TRUE(retract_fan_ends(s).empty());  // nothing left to repair
+        const PipelineResult raw = raw_as_given(s);
+        EXPECT_EQ(raw.analysis.vertex_border_root[m], BorderRoot::Out);
+        EXPECT_EQ(raw.analysis.counts.boundary_edges, strips == 3 ? 23 : 30);
+        EXPECT_EQ(raw.analysis.counts.fan_edges, 3);
+        EXPECT_EQ(raw.raw.mesh.hexes.size(), strips == 3 ? 124u : 150u);
+        expect_valid(raw, 1);
+        const QualityReport q = compute_quality(raw.raw.mesh);
+        EXPECT_EQ(q.singular_boundary_edges, raw.predicted.boundary_irregular_edges);
+        EXPECT_EQ(q.singular_interior_edges, raw.predicted.interior_irregular_edges);
+        const MeshRun run = mesh_skeleton(fan_end_towards(strips, theta, phi), nullptr);
+        EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
+        EXPECT_TRUE(run.prediction_exact);
+        expect_valid(run.pipeline, 1);
+    }
+}
+
+// Not bent (refused as before, naming the vertex and both angles): a bend that would turn the branch by more than
+// kBendMaxTurnDeg (T leaning back 150 degrees towards -y: b = (0, -0.5, 0.134), v = b - (0.45, 0, 1) 61 degrees off
+// the normal -y), and the same branch at 50 degrees with radius 0.4 > kBendMaxRadius x the unit border side.
+TEST(FanEndRepair, MovedFirstEdgeNotBent) {
+    expect_refused(fan_end_towards(3, 150, -90), 2, "would leave it 146 degrees off the border's outward direction");
+    Skeleton thick = fan_end_towards(3, 50, -90);
+    for (double& r : thick.radii) r = 0.4;
+    Skeleton before = thick;
+    const std::vector<FanEndRetraction> r = retract_fan_ends(thick);
+    EXPECT_TRUE(r.empty());
+    expect_refused(before, 2, "its radius at most 0.35 x the border side");
 }

@@ -300,6 +300,49 @@ TEST(MedialImport, BoundaryVerticesFlattenAFoldAlongTheirNormal) {
     EXPECT_EQ(fixed.smoothed_vertices, 3);
 }
 
+TEST(MedialImport, SmoothingKeepsARingSheetOnItsCylinder) {
+    // The medial sheet of a thick ring (a tube of rectangular section 2 x 4 around the z axis, centre line radius 5):
+    // a band on the cylinder of radius 5, heights 0..2, 24 segments (48 triangles), medial radius 1. Laplacian
+    // smoothing alone pulls every vertex towards the axis (the band shrinks, and the hexes no longer reach the ring's
+    // outer side; knob's medial ring went in by 0.8 x its radius). Kept within max_sheet_offset (0.25)
+    // x radius of the input triangles, no vertex is farther than 0.25 from the cylinder's chords, whose distance to
+    // the axis is between 5 cos(pi / 24) and 5.
+    const int n = 24;
+    std::vector<Vec3> points;
+    std::vector<std::vector<int>> triangles;
+    for (int level = 0; level < 2; ++level)
+        for (int i = 0; i < n; ++i) {
+            const double a = 2 * std::numbers::pi * i / n;
+            points.push_back({5 * std::cos(a), 5 * std::sin(a), 2.0 * level});
+        }
+    for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        triangles.push_back({i, j, n + j});
+        triangles.push_back({i, n + j, n + i});
+    }
+    const Skeleton band = medial(points, {}, triangles, 1.0);
+    auto axis_distances = [](const Skeleton& s) {
+        double lo = 1e9, hi = 0;
+        for (const Vec3& p : s.points) {
+            lo = std::min(lo, std::hypot(p.x, p.y));
+            hi = std::max(hi, std::hypot(p.x, p.y));
+        }
+        return std::pair<double, double>{lo, hi};
+    };
+    MedialImportOptions opt;
+    opt.max_sheet_offset = 0.25;  // as `auto` imports (meso_import_options)
+    const MedialImport kept = import_medial_mesh(band, opt);
+    // 24 pair quads split in 4: corners 48, side midpoints 24 x 3, centres 24.
+    ASSERT_EQ(kept.paired_quads, n);
+    ASSERT_EQ(kept.skeleton.points.size(), static_cast<size_t>(2 * n + 3 * n + n));
+    const auto [lo, hi] = axis_distances(kept.skeleton);
+    EXPECT_GE(lo, 5 * std::cos(std::numbers::pi / n) - 0.25 - 1e-9);
+    EXPECT_LE(hi, 5 + 1e-9);
+    opt.max_sheet_offset =
+        -1;  // free smoothing (the default of `import`): the band's vertices go 0.39 inside the chords (4.57 from the axis)
+    EXPECT_LT(axis_distances(import_medial_mesh(band, opt).skeleton).first, 5 * std::cos(std::numbers::pi / n) - 0.3);
+}
+
 TEST(MedialImport, ReflexBorderCornerMovesTowardsItsBoundaryNeighbours) {
     // An L of three unit squares in the plane z = 0: the border vertex 4 = (1, 1) has face angles summing to 270
     // degrees. One sweep moves it by 0.5 x (midpoint of its boundary neighbours (1.5, 1) and (1, 1.5) - p) =

@@ -18,6 +18,7 @@
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/raw_mesh.h"
+#include "mesohex/stages/sphere_partition.h"
 
 using namespace mesohex;
 
@@ -570,6 +571,71 @@ TEST(RawMesh, ThreeStarHasTwelveHexesAndPredictedIrregularEdges) {
     expect_good_raw_mesh(s, b);
 }
 
+// Seed 149's fat branching point as adaptation leaves it (docs/junctions.md, "Degree-3 partitions"): radius 0.381,
+// the parent (0.393) and two thin children (0.209, 0.244) 50 degrees apart, every gap but one below 180 degrees. The
+// orange around the branches' best-fit plane normal keeps both valence-3 poles 85 degrees from every branch (raw min
+// SJ 0.218); partition_sphere's own choice (plane_orange_at_degree_three off) tilts its axis into that plane, one pole
+// 17 degrees from a child, and the children's first chunks get a corner of SJ 0.017 (the pipeline's raw mesh of seed
+// 149: 0.020 -> 0.217).
+TEST(RawMesh, FatDegreeThreeJunctionTakesThePlaneOrange) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0.132, 0.034, -0.605}, {-0.615, 0.062, 0.365}, {-0.889, -0.063, -0.269}};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}};
+    s.radii = {0.381, 0.393, 0.209, 0.244};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    for (const bool on : {true, false}) {
+        SCOPED_TRACE(on ? "plane orange" : "partition_sphere's choice");
+        ConnectionSurfaceOptions co;
+        co.plane_orange_at_degree_three = on;
+        const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+        const BranchFrames fr = propagate_frames(s, an, cs);
+        double pole_to_branch = 180;  // degrees, smallest angle between a valence-3 point of c and a branch
+        int poles = 0;
+        for (int x = cs.point_begin[0]; x < cs.point_begin[1]; ++x) {
+            if (cs.point_valence[x] != 3) continue;
+            ++poles;
+            for (int w = 1; w < 4; ++w)
+                pole_to_branch = std::min(
+                    pole_to_branch, std::acos(std::clamp(dot(fr.directions[x], normalized(s.points[w])), -1.0, 1.0)) *
+                                        180 / std::numbers::pi);
+        }
+        EXPECT_EQ(poles, 2);
+        const QualityReport q = compute_quality(build_raw_mesh(s, an, cs, fr).mesh);
+        EXPECT_EQ(q.inverted, 0);
+        if (on) {
+            EXPECT_NEAR(pole_to_branch, 85.1, 0.5);
+            EXPECT_NEAR(q.sj_min, 0.218, 0.01);
+        } else {
+            EXPECT_NEAR(pole_to_branch, 17.4, 0.5);
+            EXPECT_NEAR(q.sj_min, 0.017, 0.01);
+        }
+    }
+}
+
+// The option leaves a degree-3 point alone when no gap between its branches exceeds 180 degrees: a Y whose branches
+// are 100, 120 and 140 degrees apart in azimuth, 10 degrees out of one plane (beyond planarity_tolerance), gets the
+// same surface with and without it.
+TEST(RawMesh, SpreadDegreeThreeJunctionKeepsItsPartition) {
+    const double e = 10 * std::numbers::pi / 180;
+    std::vector<Vec3> dirs;
+    for (const double az : {0.0, 100.0, 220.0}) {
+        const double a = az * std::numbers::pi / 180;
+        dirs.push_back(
+            {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), az == 100.0 ? -std::sin(e) : std::sin(e)});
+    }
+    // The plane's orange is not partition_sphere's choice here: only the gap rule keeps the surface.
+    SpherePartitionOptions any_planarity;
+    any_planarity.planarity_tolerance = 1;
+    EXPECT_NE(partition_sphere(dirs).points, partition_sphere(dirs, any_planarity).points);
+    const Skeleton s = star(dirs, 1, 1.0);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ConnectionSurfaceOptions off;
+    off.plane_orange_at_degree_three = false;
+    const ConnectionSurfaces a = build_connection_surfaces(s, an), b = build_connection_surfaces(s, an, off);
+    EXPECT_EQ(a.directions, b.directions);
+    EXPECT_EQ(a.quads, b.quads);
+}
+
 TEST(RawMesh, ClosedRingOfSixEdges) {
     const Skeleton s = ring(6);
     const Built b = build(s, 0.25);
@@ -700,4 +766,81 @@ TEST(RawMeshLeaflets, BLJointBranchOffTheCornerBisector) {
     EXPECT_NEAR(bisector, 0.423, 0.01);
     EXPECT_NEAR(relaxed, bisector, 0.01);
     EXPECT_NEAR(unrelaxed, 0.232, 0.01);
+}
+
+// Crotch points (RawMeshOptions::crotch_min_degree, docs/junctions.md): a degree-4 point c (radius r = 0.1
+// everywhere, no adaptation) with a pair 50 degrees apart and two branches 100 degrees from both and 157 from each
+// other (one pair below 90 degrees), every first edge 1.0 long and straight (the first cross-sections are the planes
+// 1.0 from c normal to each branch). On paper: a ray from c at angle theta < 90 degrees to a straight branch leaves
+// that tube (radius r) at r / sin(theta); a ray in front of both branches of the pair starts inside both tubes, so a
+// point held by both their quads leaves their union at max(r, r / sin theta_i, r / sin theta_j), capped at
+// 0.5 / cos(theta_k) for every branch k whose quad holds it and lies in front of it (crotch_reach of the way to its
+// first cross-section). The balls sampled along a branch (spacing h = 1.0 / 40 = r / 4 here) cover the tube of radius
+// r' = sqrt(r^2 - h^2 / 4) and lie inside that of radius r, so the point lies between the values with r' and with r.
+// Every other point stays on c's sphere (r); every surface-edge midpoint lies at the mean distance of its two points.
+// The pair's crotch (here the pole on the bisector, 25 degrees from both: 2.37 r) lies beyond 2 r. Without crotch
+// points (crotch_min_degree 0) every point lies at r.
+TEST(RawMesh, CrotchPointsOfACloseDegreeFourPairLieOnTheTubes) {
+    const double half = 25 * std::numbers::pi / 180;
+    Skeleton s = star({{std::sin(half), 0, std::cos(half)},
+                       {-std::sin(half), 0, std::cos(half)},
+                       normalized(Vec3{0, 1, -0.2}),
+                       normalized(Vec3{0, -1, -0.2})},
+                      2, 2.0);
+    const double r = 0.1;
+    s.radii.assign(s.points.size(), r);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    // Star: two edges per arm; the first edges are 0, 2, 4, 6, points 1, 3, 5, 7 their unit directions.
+    const int np = cs.point_begin[1] - cs.point_begin[0];
+    const double h = 1.0 / 40, r_in = std::sqrt(r * r - h * h / 4);
+    double pair_crotch = 0, sj_off = 0, sj_on = 0;
+    for (int degree : {0, 4}) {
+        SCOPED_TRACE("crotch_min_degree " + std::to_string(degree));
+        RawMeshOptions o;
+        o.crotch_min_degree = degree;
+        const RawMesh raw = build_raw_mesh(s, an, cs, fr, o);
+        const int base = raw.vertex_base[0];
+        std::vector<double> dist(np);
+        for (int x = 0; x < np; ++x) {
+            const Vec3 p = raw.mesh.points[base + 1 + x];
+            dist[x] = norm(p);
+            double inner = r, outer = r, cap = 1e9;
+            std::array<bool, 4> held{};
+            std::array<double, 4> cos_t{};
+            for (int k = 0; k < 4; ++k) {
+                const std::array<int, 4>& q = cs.quads[cs.edge_quad[2 * k][0]];
+                held[k] = std::find(q.begin(), q.end(), x) != q.end();
+                cos_t[k] = dot(normalized(p), s.points[2 * k + 1]);
+                if (held[k] && cos_t[k] > 0) cap = std::min(cap, 0.5 / cos_t[k]);
+            }
+            const bool crotch = held[0] && held[1] && cos_t[0] > 0 && cos_t[1] > 0;
+            if (degree == 0 || !crotch) {
+                EXPECT_NEAR(dist[x], r, 1e-12);
+                continue;
+            }
+            for (int k : {0, 1}) {
+                const double sin_t = std::sqrt(1 - cos_t[k] * cos_t[k]);
+                inner = std::max(inner, r_in / sin_t);
+                outer = std::max(outer, r / sin_t);
+            }
+            EXPECT_GE(dist[x], std::min(inner, cap) - 1e-12);
+            EXPECT_LE(dist[x], std::min(outer, cap) + 1e-12);
+            pair_crotch = std::max(pair_crotch, dist[x]);
+        }
+        for (int j = cs.edge_begin[0]; j < cs.edge_begin[1]; ++j) {
+            const std::array<int, 2>& ed = cs.edges[j];
+            EXPECT_NEAR(norm(raw.mesh.points[base + 1 + np + (j - cs.edge_begin[0])]),
+                        0.5 * (dist[ed[0]] + dist[ed[1]]), 1e-12);
+        }
+        const QualityReport q = compute_quality(raw.mesh);
+        EXPECT_TRUE(q.validation.valid());
+        EXPECT_EQ(q.inverted, 0);
+        (degree == 0 ? sj_off : sj_on) = q.sj_min;
+    }
+    EXPECT_GT(pair_crotch, 2 * r);
+    EXPECT_GT(sj_on, sj_off + 0.03);  // measured: 0.157 -> 0.192 (the pair's chunks no longer pinch at c's sphere)
+    std::printf("the pair's crotch point at %.4f; raw min SJ without / with: %.4f / %.4f\n", pair_crotch, sj_off,
+                sj_on);
 }

@@ -439,12 +439,16 @@ TEST(SkeletonRepair, ShortSideStubLengthened) {
 // Held-out seed 251: the stub v3 -> v6 (0.55 long, 34 degrees from its sibling v3 -> v4) ends 0.208 = 0.86 r_q off the
 // sibling, inside q's ball (r_q 0.243, r_e 0.164). Kept at that length, the side edge has overlapping cross-sections
 // (no joint for the section criterion to remove) and 2 raw hexes invert next to it (min SJ -0.133); lengthened to
-// r_q, none (min SJ 0.152).
+// r_q, none (min SJ 0.152). Measured without the plane orange at degree 3 (ConnectionSurfaceOptions::
+// plane_orange_at_degree_three), which removes the inversion by itself: with it, 0.233 short and 0.363 lengthened.
 TEST(SkeletonRepair, RandomSeedSideStubInsideRootBall) {
     const Skeleton in = mesohex::generate_random_skeleton(251);
-    mesohex::PipelineOptions kept;
+    mesohex::PipelineOptions paper_partition;
+    paper_partition.connection_surfaces.plane_orange_at_degree_three = false;
+    mesohex::PipelineOptions kept = paper_partition;
     kept.repair.side_stub_min_length = 0;
-    const mesohex::PipelineResult def = mesohex::run_pipeline(in), short_side = mesohex::run_pipeline(in, kept);
+    const mesohex::PipelineResult def = mesohex::run_pipeline(in, paper_partition),
+                                  short_side = mesohex::run_pipeline(in, kept);
     EXPECT_EQ(def.side_stubs, 1);
     EXPECT_EQ(short_side.side_stubs, 1);
     const mesohex::QualityReport q = mesohex::compute_quality(def.raw.mesh);
@@ -453,6 +457,13 @@ TEST(SkeletonRepair, RandomSeedSideStubInsideRootBall) {
     EXPECT_NEAR(q0.sj_min, -0.133, 1e-3);
     EXPECT_EQ(q.inverted, 0);
     EXPECT_NEAR(q.sj_min, 0.152, 1e-3);
+    mesohex::PipelineOptions kept_plane;
+    kept_plane.repair.side_stub_min_length = 0;
+    const mesohex::QualityReport qp = mesohex::compute_quality(mesohex::run_pipeline(in).raw.mesh);
+    const mesohex::QualityReport qp0 = mesohex::compute_quality(mesohex::run_pipeline(in, kept_plane).raw.mesh);
+    EXPECT_EQ(qp0.inverted, 0);
+    EXPECT_NEAR(qp0.sj_min, 0.233, 1e-3);
+    EXPECT_NEAR(qp.sj_min, 0.363, 1e-3);
 }
 
 // A stub whose sibling turns inside the absorbed stretch. c = (0, 0, 0), parent (0, 0, -1); the sibling goes up to its

@@ -582,6 +582,47 @@ double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
     return rooted ? o.root_extent * length / leaflet_edges : 0.0;
 }
 
+// For branch end (bi, side) at v: its nearest other branch end there (ends: the branch ends at v, dir: their
+// directions), the bisector w of the two directions, and where the ray v + t w leaves the union of v's ball and the
+// balls along both branches' polylines (up to 4 r_v of arc length, a quarter of the smaller radius apart): that
+// distance times cos(beta / 2), the crotch of the two tubes projected on the branch.
+double crotch_along(const BranchView& view, const std::vector<std::array<int, 2>>& ends,
+                    const std::vector<std::array<Vec3, 2>>& dir, std::size_t bi, int side, int v) {
+    const Vec3 self = dir[bi][side];
+    int best = -1;
+    double best_cos = -2;
+    for (int k = 0; k < static_cast<int>(ends.size()); ++k) {
+        if (ends[k][0] == static_cast<int>(bi) && ends[k][1] == side) continue;
+        const double cs = dot(self, dir[ends[k][0]][ends[k][1]]);
+        if (cs > best_cos) best_cos = cs, best = k;
+    }
+    if (best < 0) return 0;
+    const Vec3 w = normalized(self + dir[ends[best][0]][ends[best][1]]);
+    const Vec3& c = view.pos[v];
+    const double rc = view.rad[v];
+    std::vector<std::pair<double, double>> spans;
+    const auto add_ball = [&](const Vec3& p, double r) {
+        const Vec3 q = p - c;
+        const double b = dot(w, q), disc = b * b - (dot(q, q) - r * r);
+        if (disc > 0) spans.emplace_back(b - std::sqrt(disc), b + std::sqrt(disc));
+    };
+    add_ball(c, rc);
+    for (const std::array<int, 2>& end : {std::array<int, 2>{static_cast<int>(bi), side}, ends[best]}) {
+        const Polyline& pl = view.polylines[end[0]];
+        const double reach = std::min(4 * rc, pl.length());
+        for (double t = 0; t <= reach;) {
+            const auto [p, r] = pl.at(end[1] == 0 ? t : pl.length() - t);
+            add_ball(p, r);
+            t += std::max(0.25 * r, 1e-3 * rc);
+        }
+    }
+    std::sort(spans.begin(), spans.end());
+    double exit = 0;
+    for (const auto& [a, b] : spans)
+        if (a <= exit && b > exit) exit = b;
+    return exit * dot(w, self);
+}
+
 // Per branch end: the direction it leaves its end vertex (towards the point of its original polyline at arc length
 // min(2 r, L)), and the smallest angle beta to any other branch end or leaflet edge at that vertex. The end's
 // connection quad extends about gamma = beta / 2 from the branch direction (clamped to [15, 60] degrees).
@@ -591,6 +632,7 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
     view.end_reach.assign(branches.size(), {});
     std::vector<std::vector<Vec3>> dirs_at(s.points.size());  // every direction leaving each vertex
     std::vector<std::array<Vec3, 2>> end_dir(branches.size());
+    std::vector<std::vector<std::array<int, 2>>> ends_at(s.points.size());  // (branch, side) per branch end
     for (std::size_t bi = 0; bi < branches.size(); ++bi) {
         if (branches[bi].ring) continue;
         const Polyline& pl = view.polylines[bi];
@@ -600,6 +642,7 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
             const Vec3 target = pl.at(side == 0 ? d : pl.length() - d).first;
             end_dir[bi][side] = normalized(target - view.pos[v]);
             dirs_at[v].push_back(end_dir[bi][side]);
+            ends_at[v].push_back({static_cast<int>(bi), side});
         }
     }
     for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
@@ -624,8 +667,15 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
                 beta = std::min(beta, std::acos(std::clamp(dot(d, end_dir[bi][side]), -1.0, 1.0)));
             }
             const double gamma = std::clamp(0.5 * beta, pi / 24, pi / 3);
-            const double br = view.is_free_branching_point(v) ? o.free_branching_reach : o.branching_reach;
-            view.end_reach[bi][side] = {br, br / std::tan(gamma), root_extent(view, v, o)};
+            const bool free = view.is_free_branching_point(v);
+            const double br = free ? o.free_branching_reach : o.branching_reach;
+            double extent = root_extent(view, v, o);
+            // Crotch (AdaptationOptions::crotch_extent): where the ray from v along the bisector of this branch and
+            // its nearest one leaves the union of v's ball and both tubes, projected on the branch.
+            if (free && o.crotch_min_degree > 0 && static_cast<int>(view.incident[v].size()) >= o.crotch_min_degree &&
+                beta < 0.5 * pi)
+                extent = std::max(extent, o.crotch_extent * crotch_along(view, ends_at[v], end_dir, bi, side, v));
+            view.end_reach[bi][side] = {br, br / std::tan(gamma), extent};
         }
     }
 }

@@ -41,6 +41,14 @@ struct AdaptationOptions {
     // the mean length of the leaflet edges at the vertex (dimensionless), so the first cross-section clears the patch
     // (docs/tuning.md). 0 disables.
     double root_extent = 0.5;
+    // At a branching point v without a leaflet of degree at least crotch_min_degree (0 = off), a branch whose nearest
+    // other branch leaves less than 90 degrees from it also reaches crotch_extent x its crotch with that branch (where
+    // the ray from v along the two directions' bisector leaves the union of v's ball and the balls along both original
+    // polylines, projected on the branch; r / tan(beta / 2) for two straight tubes of radius r, beta apart).
+    // Dimensionless factor. The first cross-section then lies beyond the crotch, so that the raw mesh can put the
+    // surface points between the two at the domain's crotch (RawMeshOptions::crotch_min_degree, docs/junctions.md).
+    int crotch_min_degree = 0;
+    double crotch_extent = 1.0;  // x the crotch's distance along the branch (see crotch_min_degree)
     // Radius floor used by the bisection test only (never written): max(r, min_radius_fraction * largest radius on the
     // branch; dimensionless). Keeps a near-zero radius at an extremity from bisecting towards it forever.
     double min_radius_fraction = 0.25;

@@ -899,6 +899,22 @@ void build_curve_surface(const Skeleton& skeleton, int v, bool joint, const std:
     for (int k = 0; k < 4; ++k) cs.point_valence[p0 + k] = 2;
 }
 
+// Three unit directions whose projections on the plane through their tips leave a gap wider than 180 degrees between
+// two consecutive ones (a fat parent and two children leaving to one side): the configuration whose general
+// partition tilts its axis into that plane (ConnectionSurfaceOptions::plane_orange_at_degree_three).
+bool has_gap_over_half_turn(const std::vector<Vec3>& d) {
+    const Vec3 c = cross(d[1] - d[0], d[2] - d[0]);
+    if (norm(c) < 1e-12) return false;
+    const Vec3 m = normalized(c);
+    const Vec3 e1 = normalized(d[0] - dot(d[0], m) * m), e2 = cross(m, e1);
+    std::array<double, 3> az{};
+    for (int i = 0; i < 3; ++i) az[i] = std::atan2(dot(d[i], e2), dot(d[i], e1));
+    std::sort(az.begin(), az.end());
+    const double two_pi = 2 * std::numbers::pi;
+    const double gap = std::max({az[1] - az[0], az[2] - az[1], az[0] + two_pi - az[2]});
+    return gap > std::numbers::pi;
+}
+
 // The sphere partition of branching point v for directions dirs (nb branch edges, then its leaflet sides), relaxed
 // (relax_partition, then relax_junction on the junction's hex model, whose leaflet quad rotations are stored in
 // cs.quad_rotation). Any partition error becomes Error(NumericalFailure) naming v.
@@ -910,7 +926,12 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
     SpherePartition part;
     try {
         SpherePartitionOptions po;
-        po.planarity_tolerance = options.planarity_tolerance;
+        // Three branch edges, no leaflet side, a gap over 180 degrees: the orange around the best-fit plane's normal
+        // (a tolerance of 1 takes partition_sphere's planar path for any three directions), see
+        // plane_orange_at_degree_three.
+        const bool plane_orange =
+            options.plane_orange_at_degree_three && n == 3 && nb == 3 && has_gap_over_half_turn(dirs);
+        po.planarity_tolerance = plane_orange ? 1.0 : options.planarity_tolerance;
         part = partition_sphere(dirs, po);
         if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
         if (options.relax_partitions && n > nb) {
@@ -1032,7 +1053,8 @@ bool memoable(const SkeletonAnalysis& an, const LeafletSides& sides, const Conne
 bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o) {
     return std::memcmp(&m.planarity_tolerance, &o.planarity_tolerance, sizeof(double)) == 0 &&
            m.relax_partitions == o.relax_partitions &&
-           std::memcmp(&m.relax_below_margin, &o.relax_below_margin, sizeof(double)) == 0;
+           std::memcmp(&m.relax_below_margin, &o.relax_below_margin, sizeof(double)) == 0 &&
+           m.plane_orange_at_degree_three == o.plane_orange_at_degree_three;
 }
 
 // FNV-1a (64 bits) of the key's bytes.
@@ -1093,6 +1115,7 @@ SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::ve
     m.planarity_tolerance = options.planarity_tolerance;
     m.relax_partitions = options.relax_partitions;
     m.relax_below_margin = options.relax_below_margin;
+    m.plane_orange_at_degree_three = options.plane_orange_at_degree_three;
     std::vector<std::pair<std::uint64_t, int>> order;
     for (int v = 0; v < static_cast<int>(keys.size()); ++v)
         if (!keys[v].empty()) order.push_back({memo_hash(keys[v]), v});

@@ -57,6 +57,14 @@ struct ConnectionSurfaceOptions {
     // hexes (half-chunk and plate corners at the junction, scaled-Jacobian-like values, and 0.5 sin(margin) of each
     // branch direction) when the smallest model value is below this (with relax_partitions).
     double relax_junctions_below = 0.5;
+    // At a branching point with exactly three branch edges, no leaflet side, and a gap wider than 180 degrees between
+    // two of them (seen in the plane through their tips: a parent and two children leaving to one side), take the
+    // "orange" around the normal of the branches' best-fit plane (partition_sphere's planar candidate, whatever the
+    // planarity): its two valence-3 poles lie as far from every branch as three directions allow, its three equator
+    // points in the gaps. Kept unless its lunes are slivers or it is invalid (then partition_sphere's general
+    // choice, whose score prefers there an axis tilted into the branches' plane, with a pole next to a branch of the
+    // close pair: docs/junctions.md, "Degree-3 partitions").
+    bool plane_orange_at_degree_three = true;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
     // blocks.enabled = false keeps the paper's layout (`--no-blocks`).
@@ -66,7 +74,7 @@ struct ConnectionSurfaceOptions {
 // Content-keyed memo of branching-point surfaces (for remeshing after an edit, mesohex/incremental.h). The surface of
 // a branching point without leaflet sides and without a compatible block is a pure function of its branch directions
 // (unit(w - v) for its branch edges in increasing edge id, in that order) and of the options read by its partition
-// (planarity_tolerance, relax_partitions, relax_below_margin): an entry keyed on the exact bits of those directions
+// (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three): an entry keyed on the exact bits of those directions
 // is reused whatever the vertex's number, so an edit that renumbers the skeleton (adaptation re-sampling a branch)
 // recomputes only the branching points whose directions changed. Keys are compared in full (no trust in the hash).
 struct SurfaceMemo {
@@ -83,6 +91,7 @@ struct SurfaceMemo {
     double planarity_tolerance = 0;
     bool relax_partitions = false;
     double relax_below_margin = 0;
+    bool plane_orange_at_degree_three = false;
     std::vector<Entry> entries;                        // one per distinct key
     std::vector<std::pair<std::uint64_t, int>> index;  // (hash of the key, entry), sorted
     int hits = 0;                                      // surfaces the last rebuild took from the memo it was given

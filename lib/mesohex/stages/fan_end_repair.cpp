@@ -200,6 +200,92 @@ bool fan_end_branch(const Skeleton& s, const Incidence& in, int w, Candidate& c,
     return true;
 }
 
+// The straight border run of a leaflet from the fan-edge end w through its border neighbour x: w, x, then the next
+// border vertex as long as the last one is a plain straight border vertex (on 2 faces and 3 edges: two border sides and
+// one inner edge; no branch, no fan edge) where the border turns by at most kBorderRunTurnDeg, not yet in the run.
+std::vector<int> border_run(const Skeleton& s, const Incidence& in, int w, int x) {
+    std::vector<int> run{w, x};
+    while (true) {
+        const int v = run.back(), prev = run[run.size() - 2];
+        if (in.vertex_faces[v].size() != 2 || in.vertex_edges[v].size() != 3) return run;
+        int next = -1, border = 0, inner = 0;
+        for (const int e : in.vertex_edges[v]) {
+            const int y = other_end(s, e, v), d = faces_on(in, v, y);
+            border += d == 1 ? 1 : 0;
+            inner += d == 2 ? 1 : 0;
+            if (d == 1 && y != prev) next = y;
+        }
+        if (border != 2 || inner != 1 || next < 0 || std::find(run.begin(), run.end(), next) != run.end()) return run;
+        const double turn = dot(normalized(s.points[v] - s.points[prev]), normalized(s.points[next] - s.points[v]));
+        if (turn < std::cos(kBorderRunTurnDeg * std::numbers::pi / 180)) return run;
+        run.push_back(next);
+    }
+}
+
+// The point at arc length a along the polyline pts (a in [0, its length]).
+Vec3 at_arc_length(const std::vector<Vec3>& pts, double a) {
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
+        const double len = distance(pts[j], pts[j + 1]);
+        if (a <= len || j + 2 == pts.size()) return pts[j] + std::clamp(a / len, 0.0, 1.0) * (pts[j + 1] - pts[j]);
+        a -= len;
+    }
+    return pts.back();
+}
+
+// The border runs of the faces around (c.u, c.w) (c.faces order); a vertex in two runs (a leaflet that comes back to
+// the fan edge) ends both before it.
+std::vector<std::vector<int>> face_runs(const Skeleton& s, const Incidence& in, const Candidate& c) {
+    std::vector<std::vector<int>> whole;
+    for (const int f : c.faces) whole.push_back(border_run(s, in, c.w, corner_neighbour(s.faces[f], c.w, c.u)));
+    std::vector<std::vector<int>> runs = whole;
+    for (std::size_t i = 0; i < runs.size(); ++i)
+        for (std::size_t j = 0; j < whole.size(); ++j)
+            for (std::size_t a = 1; i != j && a < runs[i].size(); ++a)
+                if (std::find(whole[j].begin() + 1, whole[j].end(), runs[i][a]) != whole[j].end()) {
+                    runs[i].resize(std::max<std::size_t>(a, 2));
+                    break;
+                }
+    return runs;
+}
+
+// The longest retraction along a border run: kRetractionMaxAtCorner of a single side (the run ends at the side's far
+// end, which cannot slide), else kRetractionMax of the run's length.
+double retraction_reach(const Skeleton& s, const std::vector<int>& run) {
+    if (run.size() == 2) return kRetractionMaxAtCorner * distance(s.points[run[0]], s.points[run[1]]);
+    double total = 0;
+    for (std::size_t j = 0; j + 1 < run.size(); ++j) total += distance(s.points[run[j]], s.points[run[j + 1]]);
+    return kRetractionMax * total;
+}
+
+// Is there room to retract the fan edge from c.w: on every face's border run the longest retraction reaches at least
+// kRetractionMinRadii r_w (else *why, when given, names the first face short of it, its run and the ratio)? A skeleton
+// without one radius per vertex passes.
+bool retraction_room(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why) {
+    if (s.radii.size() != s.points.size()) return true;  // no radii yet (an analysis before they are set): not judged
+    const std::vector<std::vector<int>> runs = face_runs(s, in, c);
+    const double rw = s.radii[c.w];
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        const double reach = retraction_reach(s, runs[i]);
+        if (reach >= kRetractionMinRadii * rw) continue;
+        if (why == nullptr) return false;
+        std::ostringstream words;
+        words.precision(3);
+        words << "the branch's radius there, " << rw
+              << ", is too thick for the leaflets: the retraction can go at most " << reach
+              << " along the border of face " << c.faces[i] << " from the vertex (" << reach / rw
+              << " radii; the straight border from it, " << runs[i].size() - 1
+              << " side(s) long, ends at skeleton vertex " << runs[i].back() << "), at least " << kRetractionMinRadii
+              << " radii are needed (the border's hexes at the fan line fold)";
+        std::ostringstream edit;
+        edit.precision(3);
+        edit << "thin the branch at the vertex to at most " << reach / kRetractionMinRadii
+             << ", or make that leaflet's border from the vertex straight over more faces (at least "
+             << kRetractionMinRadii * rw / kRetractionMax << " long), or " << off_fan();
+        return refuse(why, words.str(), edit.str());
+    }
+    return true;
+}
+
 // The cosine of the angle between the branches' mean direction and the fan line's continuation at c.w.
 double branch_cos(const Skeleton& s, const Candidate& c) {
     return dot(c.branch, normalized(s.points[c.w] - s.points[c.u]));
@@ -222,7 +308,7 @@ bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, Fan
                                             "across it has its root moved onto a leaflet border instead)",
                                         "turn the branch's first edge towards the fan line's continuation, or " +
                                             off_fan() + " (e.g. the far corner of the leaflet it leans over)");
-    return true;
+    return retraction_room(s, in, c, why);
 }
 
 // What the repair does at w.
@@ -405,22 +491,60 @@ int carrier(const Skeleton& s, const Candidate& c) {
     return best;
 }
 
+// The retraction along one face's border run (w, x, ...) from w: the retracted corner's place, and the run's inner
+// vertices slid along it (their new places, run[1] first) when the retraction goes past kRetractionMax of the first
+// side.
+struct RunRetraction {
+    Vec3 corner{};
+    std::vector<Vec3> slid;
+};
+
+RunRetraction retract_run(const Skeleton& s, const std::vector<int>& run, double rw) {
+    std::vector<Vec3> pts;
+    for (const int v : run) pts.push_back(s.points[v]);
+    const double first = distance(pts[0], pts[1]);
+    const double want = kRetractionRadii * rw;                // the retraction length along the border
+    if (run.size() == 2 || want <= kRetractionMax * first) {  // within the first side (the rule for thin radii)
+        const double t =
+            std::clamp(want / first, kRetractionMin, run.size() == 2 ? kRetractionMaxAtCorner : kRetractionMax);
+        return {pts[0] + t * (pts[1] - pts[0]), {}};
+    }
+    // Thick radii: the corner goes `want` along the run (at most kRetractionMax of it), and every inner vertex of the
+    // run slides along it, its arc length a mapped to l + a (S - l) / S (S the run's length, l the corner's): the
+    // run's far end stays, its sides keep their proportions.
+    double total = 0;
+    std::vector<double> arc{0};
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) arc.push_back(total += distance(pts[j], pts[j + 1]));
+    const double l = std::min(want, kRetractionMax * total);
+    RunRetraction r{at_arc_length(pts, l), {}};
+    for (std::size_t j = 1; j + 1 < pts.size(); ++j)
+        r.slid.push_back(at_arc_length(pts, l + arc[j] * (total - l) / total));
+    return r;
+}
+
 FanEndRetraction retract(Skeleton& s, const Candidate& c) {
     FanEndRetraction r{c.w, c.u, carrier(s, c), {}};
     const Vec3 pw = s.points[c.w];
     const double rw = s.radii[c.w];
+    // The border runs first (on the skeleton before any move); a vertex in two runs (a leaflet that comes back to the
+    // fan edge) ends both before it.
+    const std::vector<std::vector<int>> runs = face_runs(s, make_incidence(s), c);
+    std::vector<RunRetraction> moves;
+    for (const std::vector<int>& run : runs) moves.push_back(retract_run(s, run, rw));
     // u slides along the fan line towards w (its fan-end cap then covers the notch the retraction opens).
     const double len = distance(pw, s.points[c.u]);
     s.points[c.u] = pw + std::clamp(kRetractionRadii * rw / len, 0.5, 1.0) * (s.points[c.u] - pw);
-    for (const int f : c.faces) {
-        const int x = corner_neighbour(s.faces[f], c.w, c.u);
-        const double t = std::clamp(kRetractionRadii * rw / distance(s.points[x], pw), 0.3, 0.7);
+    for (std::size_t i = 0; i < c.faces.size(); ++i) {
+        const int f = c.faces[i];
+        const int x = runs[i][1];
+        for (std::size_t j = 0; j < moves[i].slid.size(); ++j) s.points[runs[i][j + 1]] = moves[i].slid[j];
+        r.border_vertices_slid += static_cast<int>(moves[i].slid.size());
         if (f == r.carrier_face) {  // w itself moves along the carrier's border
-            s.points[c.w] = pw + t * (s.points[x] - pw);
+            s.points[c.w] = moves[i].corner;
             continue;
         }
         const int wi = static_cast<int>(s.points.size());
-        s.points.push_back(pw + t * (s.points[x] - pw));
+        s.points.push_back(moves[i].corner);
         s.radii.push_back(rw);
         *std::find(s.faces[f].begin(), s.faces[f].end(), c.w) = wi;
         for (std::array<int, 2>& e : s.edges)
@@ -439,7 +563,40 @@ struct RootMove {
     int face = -1, x = -1;
     double t = 0;
     std::vector<Crossing> strip;
+    bool bent = false;  // the first edge is bent: a new vertex at `bend` on it (bent_first_edge)
+    Vec3 bend{};
 };
+
+// The moved first edge from the cut point m towards v (unit) in the border's frame: along (the border side, unit),
+// out (its outward in-plane direction), normal (the leaflet's). Returns its angles (degrees) off out and off the
+// normal (either side).
+std::pair<double, double> root_angles(const Vec3& v, const Vec3& out, const Vec3& normal) {
+    const double deg = 180 / std::numbers::pi;
+    return {std::acos(std::clamp(dot(v, out), -1.0, 1.0)) * deg,
+            std::acos(std::clamp(std::abs(dot(v, normal)), 0.0, 1.0)) * deg};
+}
+
+bool clean_root(const std::pair<double, double>& off) {
+    return off.first <= kMovedOutDeg || (off.first > kMovedSideOffOutDeg && off.second <= kMovedSideDeg);
+}
+
+// The direction c of a moved first edge bent at a new vertex (v, unit, no clean root): between the out and side
+// limits, the outward direction turned towards v to kBendOutDeg off it; leaning back (more than kMovedSideOffOutDeg
+// off out, more than kMovedSideDeg off the normal), the normal on v's side. Returns false when there is none (v along
+// out or in the leaflet's plane), or when the branch would turn at the bend by more than kBendMaxTurnDeg.
+bool bent_first_edge(const Vec3& v, const Vec3& out, const Vec3& normal, Vec3& c) {
+    if (root_angles(v, out, normal).first <= kMovedSideOffOutDeg) {
+        const double vn = dot(v, normal);
+        if (!(std::abs(vn) > 1e-9)) return false;
+        const double a = kBendOutDeg * std::numbers::pi / 180;
+        c = std::cos(a) * out + std::sin(a) * (vn > 0 ? normal : -1.0 * normal);
+    } else {
+        const double vn = dot(v, normal);
+        if (!(std::abs(vn) > 1e-9)) return false;
+        c = vn > 0 ? normal : -1.0 * normal;
+    }
+    return std::acos(std::clamp(dot(c, v), -1.0, 1.0)) * 180 / std::numbers::pi <= kBendMaxTurnDeg;
+}
 
 RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why = nullptr) {
     RootMove mv;
@@ -458,23 +615,35 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
     }
     const Vec3 side = s.points[mv.x] - pw;
     const double lo = std::clamp(kRootMoveRadii * s.radii[c.w] / norm(side), kRootMoveMin, kRootMoveMax);
-    mv.t = std::clamp(dot(b / static_cast<double>(n) - pw, side) / dot(side, side), lo, kRootMoveMax);
+    const double along_side = dot(b / static_cast<double>(n) - pw, side) / dot(side, side);  // b projected, 0 at w
+    mv.t = std::clamp(along_side, lo, kRootMoveMax);
     // The moved branch's first edge against the border there: within kMovedOutDeg of the outward in-plane direction
     // (an out root), or more than kMovedSideOffOutDeg off it and within kMovedSideDeg of the leaflet's normal (a side
-    // root); else the move is not made (measured: inverted raw hexes in between and beyond).
+    // root); else (inverted raw hexes in between and beyond, measured) a single branch edge is bent at a new vertex
+    // (bent_first_edge), or the move is not made.
     const Vec3 along = normalized(side), into = normalized(s.points[c.u] - pw);
     const Vec3 out = normalized(dot(into, along) * along - into);
-    const Vec3 v = normalized(b / static_cast<double>(n) - (pw + mv.t * side));
-    const double off_out = std::acos(std::clamp(dot(v, out), -1.0, 1.0)) * 180 / std::numbers::pi;
-    const double off_normal =
-        std::acos(std::clamp(std::abs(dot(v, normalized(cross(along, out)))), 0.0, 1.0)) * 180 / std::numbers::pi;
-    if (!(off_out <= kMovedOutDeg || (off_out > kMovedSideOffOutDeg && off_normal <= kMovedSideDeg))) {
+    const Vec3 m = pw + mv.t * side, normal = normalized(cross(along, out));
+    const Vec3 v = normalized(b / static_cast<double>(n) - m);
+    const auto [off_out, off_normal] = root_angles(v, out, normal);
+    Vec3 dir{};
+    // Bent only when the branch does not run on past the cut along the border (b projected within kRootMoveMax of the
+    // side): a branch close to the carrier's plane stays beside its plates after the bend (inverted raw hexes); and
+    // only for radii up to kBendMaxRadius x the side.
+    if (!clean_root({off_out, off_normal}) && n == 1 && along_side <= kRootMoveMax &&
+        s.radii[c.w] <= kBendMaxRadius * norm(side) && bent_first_edge(v, out, normal, dir)) {
+        mv.bent = true;
+        mv.bend = m + std::min(kBendRadii * s.radii[c.w], distance(m, b / static_cast<double>(n))) * dir;
+    } else if (!clean_root({off_out, off_normal})) {
         refuse(why,
                "its first edge, moved onto the border of face " + str(mv.face) + ", would leave it " +
                    str(static_cast<int>(std::lround(off_out))) + " degrees off the border's outward direction and " +
                    str(static_cast<int>(std::lround(off_normal))) +
                    " off the leaflet's normal (a moved root takes at "
-                   "most 45 off the outward direction, or more than 60 off it and at most 45 off the normal)",
+                   "most 45 off the outward direction, or more than 60 off it and at most 45 off the normal; a single "
+                   "branch edge outside is bent where the branch then turns by at most 55 degrees, its radius at most "
+                   "0.35 x the "
+                   "border side)",
                "");
         return mv;
     }
@@ -498,6 +667,15 @@ FanEndRetraction move_root(Skeleton& s, const Incidence& in, const Candidate& c,
     const int m = split_fan_edge(s, Candidate{mv.x, c.w, {}, {}}, mv.strip, mv.t);
     for (const int e : branches) (s.edges[e][0] == c.w ? s.edges[e][0] : s.edges[e][1]) = m;
     FanEndRetraction r{c.w, c.u, mv.face, {}};
+    if (mv.bent) {  // one branch edge (m, y): becomes (m, p), (p, y) appended
+        const int p = static_cast<int>(s.points.size()), e = branches.front();
+        s.points.push_back(mv.bend);
+        s.radii.push_back(s.radii[c.w]);
+        int& end = s.edges[e][0] == m ? s.edges[e][1] : s.edges[e][0];
+        s.edges.push_back({p, end});
+        end = p;
+        r.bend = p;
+    }
     r.strip_faces_split = static_cast<int>(mv.strip.size());
     r.moved_root = m;
     return r;
@@ -559,6 +737,7 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
             "make that strip reach a border, or turn the branch's first edge towards the fan line's continuation, or " +
                 off_fan()};
     }
+    if (!retraction_room(s, in, c, &why)) return why;
     // u carries a branch far from the fan line that the repair moves off: judge w after that move (the repair's rounds
     // run again after the moves).
     if (movable_far_branch(s, in, c.u)) {

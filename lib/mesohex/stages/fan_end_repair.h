@@ -16,6 +16,11 @@
 //   - every other face f_i = (.. u, w, x_i ..) gets a new vertex w_i = w + t_i (x_i - w) of radius r_w in w's place
 //     (same corner, so the orientation is kept); the border side (w, x_i) becomes (w_i, x_i) in place, the side
 //     (u, w_i) is appended.
+// Thick radii (kRetractionRadii r_w > kRetractionMax |x_i - w|): the corner goes kRetractionRadii r_w along the
+// leaflet's straight border run from w (w, x_i, and on through plain straight border vertices), at most kRetractionMax
+// of the run, and the run's inner vertices slide along it, keeping their proportions (the shape is unchanged); a run of
+// one side may be retracted up to kRetractionMaxAtCorner of it. A branch whose run on some face cannot give
+// kRetractionMinRadii r_w is not retracted (refused, with the ratio: fan_end_refusal).
 // Result: (u, w) has one face (a border side of the carrier); w is a corner of the carrier carrying the branch (a
 // BL-joint, a border root or a branching point with several branches); the w_i are plain border corners; u is a
 // regular fan end (every fan leaflet leaves it by a border side). The shape changes on the fan's faces at u and w only
@@ -60,7 +65,10 @@
 // fan end (the chain's fan block, if accepted, caps it), m a straight-border vertex of the carrier's leaflet carrying
 // the branch (a border root on the half-chunks and the two faces there: the row cut keeps those faces about as tall
 // as the branch's tube). The move is made only when the moved first edge is a clean out or side root (kMovedOutDeg,
-// kMovedSideOffOutDeg, kMovedSideDeg); else the branch stays refused with the angles measured. Counts: as a split, +1
+// kMovedSideOffOutDeg, kMovedSideDeg), or, for a single branch edge, when it can be bent at a new vertex p into one
+// (between the out and side limits: kBendOutDeg off out; leaning back: along the normal; kBendRadii, kBendMaxTurnDeg,
+// kBendMaxRadius; +1 vertex and +1 edge, p pinned for the resampling); else the branch stays refused with the angles
+// measured. Counts: as a split, +1
 // vertex and +1 edge per cut side, +1 edge and +1 face per cut face (Euler unchanged); raw hexes the standard formula
 // on the repaired skeleton (2 per cut face and 2 per cut border side more). Only the branch's first edge changes
 // direction (its root moves by t |x_k - w| along the border). Recorded as a FanEndRetraction with moved_root = m and
@@ -85,6 +93,23 @@ inline constexpr double kFanEndBranchCos = 0.70710678118654752;
 // atan(0.6 / 0.6) = 45 degrees off the fan line for leaflet edges of 3.3 radii (the generators' default); 1.5 (the
 // design note's, u fixed) leaves the retracted faces' half-chunks at u flat (raw min SJ -0.01, measured).
 inline constexpr double kRetractionRadii = 2.0;
+// The retraction along a border side at w, as a fraction of it: at least kRetractionMin, at most kRetractionMax (the
+// remaining side keeps 0.3 of its length). When kRetractionRadii r_w is longer than kRetractionMax of the first side
+// (thick radii: r_w > 0.35 x the leaflet edge) and the border goes on straight past it, the retraction goes on along
+// the straight run (up to kRetractionMax of the run) and the run's inner vertices slide along it (docs/blocks.md).
+inline constexpr double kRetractionMin = 0.3;
+inline constexpr double kRetractionMax = 0.7;
+// A border side at w that ends at a vertex that cannot slide (a leaflet corner, a vertex with more faces or edges):
+// the retraction may go up to this fraction of it (the remaining side 0.1 of its length).
+inline constexpr double kRetractionMaxAtCorner = 0.9;
+// Least retraction length, x r_w: the border half-chunk at u runs from u's cap (its gap vertices r_w from the fan line,
+// lifted r_w along it) to the corner's out column (r_w inwards along the corner's out direction, about 0.55 r_w
+// towards the fan line): it folds when the corner is less than about (1 + 0.55) r_w from the fan line (measured: 1
+// inverted raw hex at 1.56 r_w, none at 1.67). A branch with a face whose border run cannot give this much is
+// refused, naming the ratio.
+inline constexpr double kRetractionMinRadii = 1.6;
+// Largest turn of the border at a vertex that a straight run may pass, degrees.
+inline constexpr double kBorderRunTurnDeg = 5;
 // Range of the moved root's place on the carrier's border side, as a fraction of the side from w: at least 0.3, and
 // at least kRootMoveRadii r_w / |x_k - w| (both clamped to 0.7), keeps the column of faces cut off beside the fan line
 // wider than the fan block's half size h = r (its leaflet corners stand at r from the fan line: a column of width r
@@ -99,6 +124,21 @@ inline constexpr double kRetractionRadii = 2.0;
 inline constexpr double kMovedOutDeg = 45;
 inline constexpr double kMovedSideOffOutDeg = 60;
 inline constexpr double kMovedSideDeg = 45;
+// A single moved branch edge outside those limits is bent instead: a new vertex p on it, min(kBendRadii r_w, |b - m|)
+// from the cut point m (b its first vertex) in a clean direction c, where the branch then turns towards b. Between the
+// out and side limits c is kBendOutDeg off the outward direction, turned towards the branch; leaning back (more than
+// kMovedSideOffOutDeg off out and kMovedSideDeg off the normal), c is the normal on the branch's side. The pipeline
+// pins p (SkeletonRepairResult::fan_end_bends: the resampling keeps it). kBendRadii 2 keeps the edge (m, p) unbisected
+// by the adaptation (density 1: edges up to 2 r), so its first cross-section is p's; a longer edge is bisected and its
+// first section sits on the root's patch, a shorter one fails the section criterion and the pin yields (inverted raw
+// hexes either way, measured). A bend turning the branch by more than kBendMaxTurnDeg degrees is not made (the branch
+// stays refused): beyond it the pin yields or the tube meets the next leaflet (measured: docs/blocks.md).
+inline constexpr double kBendRadii = 2.0;
+inline constexpr double kBendOutDeg = 30;
+inline constexpr double kBendMaxTurnDeg = 55;
+// Nor when r_w exceeds kBendMaxRadius x the carrier's border side |x_k - w| (dimensionless): thicker tubes (2 r of
+// bent edge, the leaflets' plates as thick) fold between the leaflets (X fans at radius scale 1.3 - 1.5, measured).
+inline constexpr double kBendMaxRadius = 0.35;
 // Height of the row cut under a moved root, x r_w: the fan edge (u, w) and its faces' strips are cut at that distance
 // from w first (when the strips cross and it is less than half the fan edge), so that the root's side patch (its two
 // faces below the border) is about as tall as the branch's tube, not the whole fan edge (measured: docs/blocks.md).
@@ -115,9 +155,11 @@ struct FanEndRetraction {
     int fan_edge_split = -1;        // a single fan edge split first: its midpoint (then u); a short chain with branches
                                     // at both ends cut first (recorded at its lower end): the first cut point; else -1
     int strip_faces_split = 0;      // faces cut in two by that split (the strips from the fan edge to the borders)
+    int border_vertices_slid = 0;   // thick radii: border vertices slid along their straight run by the retraction
     int moved_root = -1;            // a branch far from the fan line moved off w: the cut point on the carrier's border
                                     // side that now carries it (new_vertices then empty, w and u not moved; its row
                                     // cut's point on the fan edge in fan_edge_split, or -1); else -1
+    int bend = -1;                  // a moved first edge bent (kBendRadii): the new vertex p on it; else -1
     friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
 };
 
@@ -131,7 +173,8 @@ struct FanEndRefusal {
 };
 
 // std::nullopt when retract_fan_ends(s) would retract the fan edge from w (with its split or cut first), given the
-// skeleton as it is (radii are not read); a reason otherwise, also for a vertex that is no fan-edge end with a branch.
+// skeleton as it is (radii are read only for the room the retraction needs, kRetractionMinRadii, when there is one per
+// vertex); a reason otherwise, also for a vertex that is no fan-edge end with a branch.
 // A chain of 2 fan edges with branches at both ends whose strips do not cross is retracted at its lower end only: the
 // higher end is refused (on the skeleton after that retraction, its reason is then that u is not a plain fan end).
 // O((V + E + F) log E).

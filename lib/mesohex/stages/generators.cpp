@@ -1020,7 +1020,7 @@ const std::vector<Shape>& shapes() {
              "branch), perpendicular to it (m = 2: meshed after the repair moves the branch's root onto a leaflet "
              "border), continuing it at both ends (m = 3: the chain is cut into 4 fan edges, then retracted at both "
              "ends), perpendicular at the upper end and continuing at the lower (m = 4), or leaning back 135 degrees "
-             "(m = 5: refused, naming the vertex)",
+             "(m = 5: the root moved, its first edge bent onto the leaflet's normal)",
              make_fan_end},
             {"hand",
              {3, 4},

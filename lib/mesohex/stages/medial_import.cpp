@@ -214,14 +214,24 @@ int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
     return moved;
 }
 
+// The input triangles of the leaflets (positions of the medial mesh), each with its leaflet id (-1: collapsed).
+struct LeafletSheets {
+    std::vector<std::array<Vec3, 3>> triangles;
+    std::vector<int> leaflet;
+};
+
 // Jacobi smoothing of the leaflets (see MedialImportOptions::smoothing_iterations), all vertices from the same
 // previous positions (order-independent): interior vertices (every incident edge in exactly two faces, no curve
 // edge) p <- p + factor x (m - p), m = mean of the neighbours; with opt.smooth_boundary, regular boundary vertices
 // (exactly two boundary edges, every other edge in two faces, no curve or fan edge) p <- p + factor x ((m - p).n) n,
 // n = unit sum of the face normals at p (the sheet's fold flattens, its outline stays), and, at a reflex corner (sum
 // of the face angles at p above opt.reflex_corner_deg), also p <- p + factor x (midpoint of the two boundary
-// neighbours - p). Returns the number of vertices smoothed.
-int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt) {
+// neighbours - p). With opt.max_sheet_offset >= 0 and `sheet` given, every smoothed vertex then has its offset from
+// its leaflet's input triangles (sheet->triangles whose sheet->leaflet is the `face_leaflet` of a face at the vertex;
+// along the normal of the closest one) limited to opt.max_sheet_offset x its radius. Returns the number of vertices
+// smoothed.
+int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt, const LeafletSheets* sheet = nullptr,
+                    const std::vector<int>* face_leaflet = nullptr) {
     const int nv = static_cast<int>(s.points.size());
     const int iterations = opt.smoothing_iterations;
     const double factor = opt.smoothing_factor;
@@ -256,6 +266,49 @@ int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt) {
         for (int u : neighbours[static_cast<size_t>(v)]) mean += prev[static_cast<size_t>(u)];
         return mean / static_cast<double>(neighbours[static_cast<size_t>(v)].size());
     };
+    // The leaflet of every vertex in a face (interior and regular boundary vertices are in one leaflet only).
+    const bool on_sheet = opt.max_sheet_offset >= 0 && sheet != nullptr && face_leaflet != nullptr &&
+                          face_leaflet->size() == s.faces.size() && !sheet->triangles.empty();
+    std::vector<int> vertex_leaflet(static_cast<size_t>(nv), -1);
+    std::vector<std::vector<int>> leaflet_triangles;
+    if (on_sheet) {
+        for (size_t f = 0; f < s.faces.size(); ++f)
+            for (int x : s.faces[f]) vertex_leaflet[static_cast<size_t>(x)] = (*face_leaflet)[f];
+        for (size_t t = 0; t < sheet->triangles.size(); ++t) {
+            const int leaf = sheet->leaflet[t];
+            if (leaf < 0) continue;
+            if (static_cast<size_t>(leaf) >= leaflet_triangles.size())
+                leaflet_triangles.resize(static_cast<size_t>(leaf) + 1);
+            leaflet_triangles[static_cast<size_t>(leaf)].push_back(static_cast<int>(t));
+        }
+    }
+    // Back onto the leaflet's input triangles: the medial sheet, where the spheres touch the surface (the smoothing
+    // alone flattens a curved sheet and pulls its border in, off the medial axis: the hexes then no longer reach
+    // the surface; docs/sheets.md, "Smoothing on the medial sheet").
+    auto project = [&](int v) {
+        const int leaf = vertex_leaflet[static_cast<size_t>(v)];
+        if (leaf < 0 || static_cast<size_t>(leaf) >= leaflet_triangles.size()) return;
+        const Vec3 p = s.points[static_cast<size_t>(v)];
+        int best = -1;
+        double best_d = std::numeric_limits<double>::infinity();
+        for (int t : leaflet_triangles[static_cast<size_t>(leaf)]) {
+            const std::array<Vec3, 3>& tr = sheet->triangles[static_cast<size_t>(t)];
+            const double d = squared_norm(p - closest_point_on_triangle(p, tr[0], tr[1], tr[2]));
+            if (d < best_d) {
+                best_d = d;
+                best = t;
+            }
+        }
+        if (best < 0) return;
+        // Only the offset along the closest triangle's normal is limited (to max_sheet_offset x the vertex's
+        // radius): moves within the sheet's plane stay, also past its border (a reflex corner's vertex moving
+        // towards the midpoint of its border neighbours leaves the triangles sideways).
+        const std::array<Vec3, 3>& tr = sheet->triangles[static_cast<size_t>(best)];
+        const Vec3 n = normalized(cross(tr[1] - tr[0], tr[2] - tr[0]));
+        const double off = dot(p - tr[0], n);
+        const double limit = opt.max_sheet_offset * s.radii[static_cast<size_t>(v)];
+        if (std::abs(off) > limit) s.points[static_cast<size_t>(v)] = p - n * (off - std::copysign(limit, off));
+    };
     for (int it = 0; it < iterations; ++it) {
         const std::vector<Vec3> prev = s.points;
         for (int v : movable)
@@ -283,6 +336,10 @@ int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt) {
                 move += 0.5 * (prev[static_cast<size_t>(boundary[x][0])] + prev[static_cast<size_t>(boundary[x][1])]) -
                         prev[x];
             s.points[x] = prev[x] + move * factor;
+        }
+        if (on_sheet) {
+            for (int v : movable) project(v);
+            for (int v : rim) project(v);
         }
     }
     return iterations > 0 ? static_cast<int>(movable.size() + rim.size()) : 0;
@@ -688,6 +745,19 @@ struct MedialImporter {
         }
     }
 
+    // The live input triangles with their leaflets (for smoothing on the sheet).
+    LeafletSheets leaflet_sheets() const {
+        LeafletSheets sh;
+        for (int t = 0; t < nt; ++t) {
+            if (!live(t)) continue;
+            const std::array<int, 3>& tr = tri[static_cast<size_t>(t)];
+            sh.triangles.push_back({m.points[static_cast<size_t>(tr[0])], m.points[static_cast<size_t>(tr[1])],
+                                    m.points[static_cast<size_t>(tr[2])]});
+            sh.leaflet.push_back(tri_leaflet[static_cast<size_t>(t)]);
+        }
+        return sh;
+    }
+
     // ---- Split every face (pair quad or lone triangle) at its centroid and edge midpoints into quads.
     void split_faces() {
         std::vector<int> midpoint(static_cast<size_t>(ne), -1);
@@ -759,7 +829,8 @@ MedialImport import_medial_mesh(const Skeleton& m, const MedialImportOptions& op
     add_face_edges(out);
     if (opt.root_interior_curves) result.rooted_curve_ends = root_interior_curve_ends(out);
     if (opt.bl_joint_corners) result.moved_bl_joints = make_bl_joint_corners(out, opt);
-    result.smoothed_vertices = smooth_leaflets(out, opt);
+    const LeafletSheets sheet = im.leaflet_sheets();
+    result.smoothed_vertices = smooth_leaflets(out, opt, &sheet, &result.face_leaflet);
     return result;
 }
 

@@ -18,7 +18,8 @@
 //   5. BL-joints on a straight stretch of leaflet boundary are pushed out to make a corner, further when their branch
 //      heads back over the leaflet (bl_joint_corners, bl_joint_back_push);
 //   6. leaflets are smoothed: interior vertices by Laplacian sweeps, boundary vertices along their normal (and along
-//      the border at reflex corners) (smoothing_iterations, smooth_boundary).
+//      the border at reflex corners) (smoothing_iterations, smooth_boundary), optionally kept near the input sheet
+//      (max_sheet_offset).
 // The Euler characteristic V - E + F is preserved by pairing, splitting and by collapsing a sheet whose vertices are
 // all attached.
 #include <vector>
@@ -72,6 +73,13 @@ struct MedialImportOptions {
     // its two boundary neighbours - p): the half-chunks the mesher puts outside such a corner converge and fold.
     bool smooth_boundary = true;
     double reflex_corner_deg = 220;  // degrees (sum of the face angles at the vertex)
+    // After every sweep, each smoothed vertex farther than max_sheet_offset x its radius from its leaflet's input
+    // triangles (along the closest one's normal) goes back to that distance: the smoothing then evens out the quads
+    // within the medial sheet instead of flattening a curved sheet and pulling its border in, off the medial axis,
+    // where the spheres no longer reach the surface (docs/sheets.md, "Smoothing on the medial sheet"). Off by default
+    // for `import` (hand.ma's wrist fold needs the free smoothing: 1 -> 3 inverted raw hexes at 0.25); `auto`, whose
+    // medial meshes are fitted to the surface (sphere quadrics), uses 0.25 (meso_import_options).
+    double max_sheet_offset = -1;  // x the vertex's medial radius; < 0: off (the smoothing moves freely)
 };
 
 struct MedialImport {
@@ -94,7 +102,8 @@ struct MedialImport {
 // Preconditions (checked, InvalidInput naming the element): radii present (one per point, > 0), every face a
 // triangle with 3 distinct in-range vertices, edges in range with distinct ends and no duplicate, every triangle
 // side in edges. UnsupportedConfiguration if a leaflet is not orientable (a Moebius band).
-// Complexity: O((V + E + F) log(V + E + F)).
+// Complexity: O((V + E + F) log(V + E + F)), plus O(iterations x V x F) with max_sheet_offset >= 0 (each smoothed
+// vertex against its leaflet's input triangles; a few hundred of each in `auto`).
 MedialImport import_medial_mesh(const Skeleton& medial, const MedialImportOptions& options = {});
 
 }  // namespace mesohex

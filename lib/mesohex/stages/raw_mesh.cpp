@@ -794,6 +794,117 @@ std::vector<double> effective_radii(const Skeleton& skeleton, const SkeletonAnal
     return radius;
 }
 
+// Distance along the ray c + t d (d unit, c inside the union) at which the ray leaves the union of the balls (p_k,
+// r_k) that contain c or overlap, along the ray, an interval already covered from c.
+double ray_exit(const Vec3& c, const Vec3& d, const std::vector<std::pair<Vec3, double>>& balls, double start) {
+    std::vector<std::pair<double, double>> spans;
+    for (const auto& [p, r] : balls) {
+        // |c + t d - p|^2 = r^2: t^2 - 2 t b + (|c - p|^2 - r^2) = 0, b = d . (p - c)
+        const Vec3 w = p - c;
+        const double b = dot(d, w), disc = b * b - (dot(w, w) - r * r);
+        if (disc <= 0) continue;
+        const double s = std::sqrt(disc);
+        spans.emplace_back(b - s, b + s);
+    }
+    std::sort(spans.begin(), spans.end());
+    double end = start;
+    for (const auto& [a, b] : spans)
+        if (a <= end && b > end) end = b;
+    return end;
+}
+
+// Balls along the branch leaving c by edge e, through joints, up to arc length `reach` (radii interpolated linearly;
+// at least 8 per segment and at most a quarter of the smaller end radius apart, up to 64: their union then lies within
+// r (1 - sqrt(1 - 1 / 64)) < 0.008 r of the tube): the tube of that branch near c.
+void branch_balls(const Skeleton& skeleton, const SkeletonAnalysis& an, int c, int e, double reach,
+                  std::vector<std::pair<Vec3, double>>& balls) {
+    int v = c;
+    double s = 0;
+    while (s < reach) {
+        const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+        const Vec3 &a = skeleton.points[v], &b = skeleton.points[w];
+        const double ra = skeleton.radii[v], rb = skeleton.radii[w];
+        const double len = distance(a, b);
+        const int n = std::clamp(static_cast<int>(std::ceil(len / (0.25 * std::min(ra, rb)))), 8, 64);
+        for (int k = 1; k <= n; ++k) {
+            const double t = static_cast<double>(k) / n;
+            balls.emplace_back(a + t * (b - a), ra + t * (rb - ra));
+        }
+        s += len;
+        if (an.vertex_class[w] != VertexClass::Joint) break;
+        const int i0 = an.vertex_edge_begin[w];
+        e = an.vertex_edges[i0] == e ? an.vertex_edges[i0 + 1] : an.vertex_edges[i0];
+        v = w;
+    }
+}
+
+// Per global surface point, the distance of its crotch placement from its vertex, or 0 (on the sphere of local
+// radius): RawMeshOptions::crotch_min_degree.
+std::vector<double> crotch_distances(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                                     const BranchFrames& frames, const RawMeshOptions& options,
+                                     const std::vector<double>& radius) {
+    std::vector<double> rho;
+    if (options.crotch_min_degree <= 0) return rho;
+    const int nv = static_cast<int>(skeleton.points.size());
+    const double cos_max = std::cos(options.crotch_max_angle_deg * std::numbers::pi / 180);
+    for (int c = 0; c < nv; ++c) {
+        if (an.vertex_class[c] != VertexClass::BranchingPoint || block_at(cs, c) >= 0) continue;
+        const int b0 = an.vertex_edge_begin[c], n = an.vertex_edge_begin[c + 1] - b0;
+        if (n < options.crotch_min_degree || an.vertex_branch_edges[c] != n) continue;
+        const Vec3& pc = skeleton.points[c];
+        // Per branch: its direction u, the normal t of its first cross-section (at the first vertex w: the joint's
+        // tangent, else u) and that section's distance from c along t.
+        std::vector<Vec3> u(n), t_first(n);
+        std::vector<double> plane(n);
+        std::vector<int> quad(n);
+        for (int i = 0; i < n; ++i) {
+            const int e = an.vertex_edges[b0 + i];
+            const int side = skeleton.edges[e][0] == c ? 0 : 1;
+            const int w = skeleton.edges[e][1 - side];
+            const Vec3 d = skeleton.points[w] - pc;
+            u[i] = normalized(d);
+            t_first[i] = u[i];
+            if (an.vertex_class[w] == VertexClass::Joint) {
+                const int i0 = an.vertex_edge_begin[w];
+                const int f = an.vertex_edges[i0] == e ? an.vertex_edges[i0 + 1] : an.vertex_edges[i0];
+                const int next = skeleton.edges[f][0] == w ? skeleton.edges[f][1] : skeleton.edges[f][0];
+                t_first[i] = normalized(u[i] + normalized(skeleton.points[next] - skeleton.points[w]));
+            }
+            plane[i] = dot(d, t_first[i]);
+            quad[i] = cs.edge_quad[e][side];
+        }
+        const int p0 = cs.point_begin[c];
+        const auto holds = [&](int k, int x) {
+            const std::array<int, 4>& q = cs.quads[quad[k]];
+            return std::find(q.begin(), q.end(), x) != q.end();
+        };
+        for (int i = 0; i < n; ++i)
+            for (int j = i + 1; j < n; ++j) {
+                if (dot(u[i], u[j]) <= cos_max) continue;
+                std::vector<std::pair<Vec3, double>> balls;
+                for (int x : cs.quads[quad[i]]) {
+                    const Vec3& d = frames.directions[p0 + x];
+                    if (!holds(j, x) || dot(d, u[i]) <= 0 || dot(d, u[j]) <= 0) continue;
+                    if (balls.empty()) {
+                        balls.emplace_back(pc, skeleton.radii[c]);
+                        for (int k : {i, j})
+                            branch_balls(skeleton, an, c, an.vertex_edges[b0 + k], 4 * skeleton.radii[c], balls);
+                    }
+                    double t = ray_exit(pc, d, balls, radius[c]);
+                    // Keep the point before the first cross-section of every branch whose quad holds it.
+                    for (int k = 0; k < n; ++k) {
+                        const double along = dot(d, t_first[k]);
+                        if (holds(k, x) && along > 0) t = std::min(t, options.crotch_reach * plane[k] / along);
+                    }
+                    if (t <= radius[c]) continue;
+                    if (rho.empty()) rho.assign(cs.directions.size(), 0.0);
+                    rho[p0 + x] = std::max(rho[p0 + x], t);
+                }
+            }
+    }
+    return rho;
+}
+
 // A fan-block chain vertex (fan_blocks.h): its section (and cap section) with half size h = min(r, half its shortest
 // incident edge), so that the leaflet corners Q_a = v + h a stay inside every incident edge.
 void place_fan_block_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
@@ -887,7 +998,7 @@ void place_leaflet_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an, 
 // vertices along the leaflet's normal and out directions (shared with the junction surfaces).
 void place_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                     const BranchFrames& frames, const RawMeshOptions& options, const std::vector<double>& radius,
-                    RawMesh& raw) {
+                    const std::vector<double>& crotch, RawMesh& raw) {
     const int nv = static_cast<int>(skeleton.points.size());
     const LeafletVertexFrames leaf = leaflet_vertex_frames(skeleton, an);
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 512), [&](const tbb::blocked_range<int>& range) {
@@ -914,11 +1025,15 @@ void place_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const 
             }
             const int p0 = cs.point_begin[v], np = cs.point_begin[v + 1] - p0;
             raw.mesh.points[base] = c;
-            for (int x = 0; x < np; ++x) raw.mesh.points[base + 1 + x] = c + r * frames.directions[p0 + x];
+            // Surface point x at distance r, or at its crotch distance (crotch_distances); an edge midpoint at the
+            // mean distance of its two points.
+            const auto dist = [&](int x) { return crotch.empty() || crotch[p0 + x] == 0 ? r : crotch[p0 + x]; };
+            for (int x = 0; x < np; ++x) raw.mesh.points[base + 1 + x] = c + dist(x) * frames.directions[p0 + x];
             for (int j = cs.edge_begin[v]; j < cs.edge_begin[v + 1]; ++j) {
                 const std::array<int, 2>& ed = cs.edges[j];
                 const Vec3 mid = normalized(frames.directions[p0 + ed[0]] + frames.directions[p0 + ed[1]]);
-                raw.mesh.points[base + 1 + np + (j - cs.edge_begin[v])] = c + r * mid;
+                const double dm = 0.5 * (dist(ed[0]) + dist(ed[1]));
+                raw.mesh.points[base + 1 + np + (j - cs.edge_begin[v])] = c + dm * mid;
             }
         }
     });
@@ -946,7 +1061,8 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     write_fan_block_hexes(cs, slots, raw);
     const std::vector<double> radius = effective_radii(skeleton, an, cs, frames, options);
     place_fan_vertices(skeleton, an, cs, gaps, radius, raw);
-    place_vertices(skeleton, an, cs, frames, options, radius, raw);
+    const std::vector<double> crotch = crotch_distances(skeleton, an, cs, frames, options, radius);
+    place_vertices(skeleton, an, cs, frames, options, radius, crotch, raw);
     return raw;
 }
 

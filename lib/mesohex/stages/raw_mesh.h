@@ -79,6 +79,18 @@ struct RawMeshOptions {
     // out of the sheet's plane or far off its outward direction fold their first chunks (docs/tuning.md).
     double border_root_turn = 1.0;
     double border_root_tilt = 1.0;  // (see border_root_turn; fraction of the tilt, dimensionless)
+    // Crotch points (docs/junctions.md, "Crotch points at degree-4 junctions"): at a branching point c without
+    // leaflets or block, of degree at least crotch_min_degree (0 = off), for every pair of branches less than
+    // crotch_max_angle_deg apart, each surface point held by both their quads and in front of both (less than 90
+    // degrees from each) moves outwards along its direction d to where the ray c + t d leaves the union of c's ball and
+    // the balls along the two branches (4 r_c of arc length; the domain's crotch between the two tubes), at most
+    // crotch_reach of the way to the first cross-section of every branch whose quad holds it (the plane through the
+    // branch's first vertex normal to its tangent there, measured along d), so that the chunks keep their
+    // orientation. Surface-edge midpoints move to the mean distance of their two points.
+    // AdaptationOptions::crotch_extent puts the first cross-sections beyond the crotch.
+    int crotch_min_degree = 0;
+    double crotch_max_angle_deg = 90;  // degrees between the pair's first edges
+    double crotch_reach = 0.5;         // fraction of the way to the first cross-section plane (dimensionless)
 };
 
 // Preconditions: skeleton.radii has one finite radius > 0 per vertex (Error(InvalidInput) naming the vertex

@@ -603,7 +603,7 @@ std::vector<int> rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResul
         for (int& v : f) v = id[v];
     for (int& v : res.vertex_map)
         if (v >= 0) v = id[v];
-    for (std::vector<int>* list : {&res.absorbed_balls, &res.trunk_joints}) {
+    for (std::vector<int>* list : {&res.absorbed_balls, &res.trunk_joints, &res.fan_end_bends}) {
         std::vector<int> kept;  // a later trunk may drop a ball or a trunk joint lying on its walk as a joint
         for (const int v : *list)
             if (id[v] >= 0) kept.push_back(id[v]);
@@ -863,6 +863,8 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     for (std::size_t v = 0; v < input.points.size(); ++v) res.vertex_map[v] = static_cast<int>(v);
     Skeleton& s = res.skeleton;
     if (o.fan_end_retraction) res.fan_end_retractions = retract_fan_ends(s);
+    for (const FanEndRetraction& r : res.fan_end_retractions)
+        if (r.bend >= 0) res.fan_end_bends.push_back(r.bend);
     repair_trunks(s, o, res);
     res.junction_splits =
         split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance);
