@@ -672,8 +672,8 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
 }
 
 // The facing test (FitOptions::facing_limit): a boundary vertex whose closest surface point faces away from it keeps
-// its place as its target (the edge rows and the two-sided pull still move it). Vertex normals: the sum of the
-// area-weighted normals of its boundary triangles at the current positions (outward: topology's boundary quads are).
+// its place as its target (the edge rows and the two-sided pull still move it). Vertex normals: the sum of the vector
+// areas of its boundary quads at the current positions (outward: topology's boundary quads are).
 void SurfaceFitter::Impl::ignore_facing_away(const std::vector<Vec3>& query) {
     if (!(options.facing_limit >= -1) || !surface.last_closest_normals) return;
     std::vector<Vec3> normals;
@@ -681,10 +681,10 @@ void SurfaceFitter::Impl::ignore_facing_away(const std::vector<Vec3>& query) {
     const std::size_t nb = boundary_vertices.size();
     if (normals.size() != nb) return;
     std::vector<Vec3> vertex_normal(nb, Vec3{});
-    for (const std::array<int, 3>& t : boundary_tris.triangles) {
-        const Vec3& a = mesh.points[static_cast<std::size_t>(t[0])];
-        const Vec3 n = cross(mesh.points[static_cast<std::size_t>(t[1])] - a, mesh.points[static_cast<std::size_t>(t[2])] - a);
-        for (int v : t) vertex_normal[static_cast<std::size_t>(boundary_index[static_cast<std::size_t>(v)])] += n;
+    const auto at = [&](int v) -> const Vec3& { return mesh.points[static_cast<std::size_t>(v)]; };
+    for (const std::array<int, 4>& q : topo.boundary_quads) {
+        const Vec3 n = cross(at(q[2]) - at(q[0]), at(q[3]) - at(q[1]));  // 2 x the quad's vector area
+        for (int v : q) vertex_normal[static_cast<std::size_t>(boundary_index[static_cast<std::size_t>(v)])] += n;
     }
     for (std::size_t i = 0; i < nb; ++i)
         if (dot(vertex_normal[i], normals[i]) < options.facing_limit * norm(vertex_normal[i])) targets[i] = query[i];
