@@ -322,8 +322,8 @@ struct Finisher {
             projector.last_closest_normals = [this, &vertex_hints](std::vector<Vec3>& normals) {
                 normals.resize(vertex_hints.size());
                 for (std::size_t i = 0; i < vertex_hints.size(); ++i)
-                    normals[i] = vertex_hints[i] >= 0 ? triangle_normals[static_cast<std::size_t>(vertex_hints[i])]
-                                                      : Vec3{};
+                    normals[i] =
+                        vertex_hints[i] >= 0 ? triangle_normals[static_cast<std::size_t>(vertex_hints[i])] : Vec3{};
             };
         domain_samples(projector.samples, projector.sample_normals);
         projector.samples_to_boundary = [&projector, &sample_hints](const TriangleMesh& boundary,

@@ -762,6 +762,8 @@ double SurfaceFitter::Impl::local_step() {
             throw Error(ErrorCode::InvalidInput, "SurfaceFitter: the projector returned " +
                                                      std::to_string(targets.size()) + " points for " +
                                                      std::to_string(nb) + " queries");
+        // The gap is measured to the targets kept: a vertex the facing test leaves in place has no target elsewhere
+        // (the report's Hausdorff distance, measured apart, still sees it).
         ignore_facing_away(query);
         gap = 0;
         for (std::size_t i = 0; i < nb; ++i) gap = std::max(gap, distance(query[i], targets[i]));

@@ -81,9 +81,9 @@ struct FitOptions {
     // step, and a sample whose normal is that far from its boundary triangle's does not pull the triangle. < -1: off
     // (also when the projector gives no normals).
     double facing_limit = -0.5;
-    bool fit_boundary = true;       // false: boundary rows pull to the CURRENT boundary positions (optimize inside
-                                    // the skin; the projector is then not called)
-    std::vector<bool> frozen;       // optional, per vertex: never moved (still in the solve)
+    bool fit_boundary = true;  // false: boundary rows pull to the CURRENT boundary positions (optimize inside
+                               // the skin; the projector is then not called)
+    std::vector<bool> frozen;  // optional, per vertex: never moved (still in the solve)
     std::function<void(const FitProgress&)> progress;  // called after every step, from the calling thread
 };
 
