@@ -256,20 +256,48 @@ struct Finisher {
         record(measure("refine", ms_since(t), mesh));
     }
 
+    // The domain's outward unit normals (the fit's facing test), per triangle and per vertex (area-weighted), computed
+    // on first use; both empty when the domain is not consistently oriented (then the test is off).
+    std::vector<Vec3> triangle_normals, vertex_normals;
+    bool normals_done = false;
+    void compute_normals() {
+        if (normals_done) return;
+        normals_done = true;
+        if (!check_surface(surface).consistently_oriented) return;
+        triangle_normals.reserve(surface.triangles.size());
+        vertex_normals.assign(surface.points.size(), Vec3{});
+        for (const std::array<int, 3>& t : surface.triangles) {
+            const Vec3& a = surface.points[static_cast<std::size_t>(t[0])];
+            const Vec3 n = cross(surface.points[static_cast<std::size_t>(t[1])] - a,
+                                 surface.points[static_cast<std::size_t>(t[2])] - a);
+            triangle_normals.push_back(normalized(n));
+            for (int v : t) vertex_normals[static_cast<std::size_t>(v)] += n;
+        }
+        for (Vec3& n : vertex_normals) n = normalized(n);
+    }
+
     // Two-sided fit: the domain's vertices and triangle centroids, matched with the current mesh boundary; on a
-    // surface much denser than the mesh boundary, every k-th of them (k from the count, deterministic).
-    std::vector<Vec3> domain_samples() const {
-        std::vector<Vec3> samples;
-        std::vector<Vec3> all = surface.points;
-        for (const std::array<int, 3>& t : surface.triangles)
-            all.push_back((surface.points[static_cast<std::size_t>(t[0])] +
-                           surface.points[static_cast<std::size_t>(t[1])] +
-                           surface.points[static_cast<std::size_t>(t[2])]) *
+    // surface much denser than the mesh boundary, every k-th of them (k from the count, deterministic). With their
+    // outward normals when the domain has them.
+    void domain_samples(std::vector<Vec3>& samples, std::vector<Vec3>& normals) {
+        compute_normals();
+        std::vector<Vec3> all = surface.points, all_normals = vertex_normals;
+        for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
+            const std::array<int, 3>& tri = surface.triangles[t];
+            all.push_back((surface.points[static_cast<std::size_t>(tri[0])] +
+                           surface.points[static_cast<std::size_t>(tri[1])] +
+                           surface.points[static_cast<std::size_t>(tri[2])]) *
                           (1.0 / 3.0));
+            if (!triangle_normals.empty()) all_normals.push_back(triangle_normals[t]);
+        }
         const std::size_t wanted = std::max<std::size_t>(20000, 4 * count_boundary_vertices(mesh));
         const std::size_t stride = std::max<std::size_t>(1, all.size() / wanted);
-        for (std::size_t i = 0; i < all.size(); i += stride) samples.push_back(all[i]);
-        return samples;
+        samples.clear();
+        normals.clear();
+        for (std::size_t i = 0; i < all.size(); i += stride) {
+            samples.push_back(all[i]);
+            if (all_normals.size() == all.size()) normals.push_back(all_normals[i]);
+        }
     }
 
     void fit_step() {
@@ -289,7 +317,15 @@ struct Finisher {
                 vertex_hints[i] = hits[i].triangle;
             }
         };
-        projector.samples = domain_samples();
+        compute_normals();
+        if (!triangle_normals.empty())
+            projector.last_closest_normals = [this, &vertex_hints](std::vector<Vec3>& normals) {
+                normals.resize(vertex_hints.size());
+                for (std::size_t i = 0; i < vertex_hints.size(); ++i)
+                    normals[i] =
+                        vertex_hints[i] >= 0 ? triangle_normals[static_cast<std::size_t>(vertex_hints[i])] : Vec3{};
+            };
+        domain_samples(projector.samples, projector.sample_normals);
         projector.samples_to_boundary = [&projector, &sample_hints](const TriangleMesh& boundary,
                                                                     std::vector<SurfaceProjector::Hit>& hits) {
             // The boundary's triangles keep their indices from call to call (only their corners move).
@@ -403,7 +439,7 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     FinishResult result;
     const Domain dom(domain);
     result.domain_flipped_triangles = dom.flipped;
-    Finisher f{options, dom.surface, dom.query, result, raw, {}};
+    Finisher f{options, dom.surface, dom.query, result, raw, {}, {}, {}, false};
     f.record(measure("input", 0, f.mesh));
     if (options.pad) {
         result.pad_mode = options.pad_selective ? "selective" : "all";

@@ -379,3 +379,81 @@ TEST(Fitting, GuardDampsOnlyTheVerticesOfOffendingHexes) {
     EXPECT_GT(fitter.points()[static_cast<std::size_t>(pulled)].z, 0.0);
     EXPECT_LT(fitter.points()[0].x, -0.01);  // far from the pulled vertex: the side did move out
 }
+
+// The unit cube [0, 1]^3 whose bottom vertices (z < 0.25) see their closest surface point 0.5 below, on a surface
+// facing up (+z: the other sheet across a gap), and the rest of whose boundary is on the surface (normal outward).
+// The bottom vertices' outward normals point down (-z, or -z mixed with one or two side normals: cosine with +z at most
+// -1/sqrt(3) < -0.5), so with the facing test no boundary vertex is pulled and the cube is a fixed point; without it,
+// the bottom is pulled down.
+TEST(Fitting, SurfaceFacingAwayDoesNotPullTheBoundary) {
+    const HexMesh cube = scaled_block(2, 0.0, 1.0);
+    for (const bool with_normals : {true, false})
+        for (const double limit : {-0.5, -2.0}) {
+            std::vector<Vec3> last_normals;
+            SurfaceProjector surface{[&](const std::vector<Vec3>& in, std::vector<Vec3>& out) {
+                out = in;
+                last_normals.assign(in.size(), Vec3{});
+                for (std::size_t i = 0; i < in.size(); ++i)
+                    if (in[i].z < 0.25) {
+                        out[i].z = -0.5;
+                        last_normals[i] = Vec3{0, 0, 1};
+                    } else {
+                        last_normals[i] = normalized(in[i] - Vec3{0.5, 0.5, 0.5});
+                    }
+            }};
+            if (with_normals) surface.last_closest_normals = [&](std::vector<Vec3>& n) { n = last_normals; };
+            FitOptions options;
+            options.max_iterations = 5;
+            options.facing_limit = limit;
+            const FitResult r = fit_to_surface(cube, surface, options);
+            double worst = 0, bottom_drop = 0;
+            for (std::size_t v = 0; v < cube.points.size(); ++v) {
+                worst = std::max(worst, distance(r.mesh.points[v], cube.points[v]));
+                if (cube.points[v].z == 0) bottom_drop = std::max(bottom_drop, -r.mesh.points[v].z);
+            }
+            if (with_normals && limit == -0.5) {
+                EXPECT_LT(worst, 1e-6);
+            } else {
+                EXPECT_GT(bottom_drop, 0.05) << "normals " << with_normals << " limit " << limit;
+            }
+        }
+}
+
+// The two-sided pull with the facing test: the unit cube lies on its own surface (identity closest points), and
+// samples 0.5 below its bottom face stand for a surface facing up (+z). Each sample's closest boundary triangle is on
+// the bottom face (outward normal -z: cosine -1 with +z), so with the test no sample pulls and the cube stays; without
+// it (limit below -1, or no sample normals) the bottom is pulled down.
+TEST(Fitting, SamplesOnASurfaceFacingAwayDoNotPull) {
+    const HexMesh cube = scaled_block(2, 0.0, 1.0);
+    for (const bool with_normals : {true, false})
+        for (const double limit : {-0.5, -2.0}) {
+            SurfaceProjector surface{[](const std::vector<Vec3>& in, std::vector<Vec3>& out) { out = in; }};
+            for (const double x : {0.25, 0.5, 0.75})
+                for (const double y : {0.25, 0.5, 0.75}) {
+                    surface.samples.push_back({x, y, -0.5});
+                    if (with_normals) surface.sample_normals.push_back({0, 0, 1});
+                }
+            surface.samples_to_boundary = [&surface](const TriangleMesh& boundary,
+                                                     std::vector<SurfaceProjector::Hit>& hits) {
+                hits.clear();
+                for (const ClosestPoint& c : SurfaceQuery(boundary).closest(surface.samples))
+                    hits.push_back({c.triangle, c.point});
+            };
+            FitOptions options;
+            options.max_iterations = 5;
+            options.two_sided_start = 0;
+            options.two_sided_every = 1;
+            options.facing_limit = limit;
+            const FitResult r = fit_to_surface(cube, surface, options);
+            double worst = 0, bottom_drop = 0;
+            for (std::size_t v = 0; v < cube.points.size(); ++v) {
+                worst = std::max(worst, distance(r.mesh.points[v], cube.points[v]));
+                if (cube.points[v].z == 0) bottom_drop = std::max(bottom_drop, -r.mesh.points[v].z);
+            }
+            if (with_normals && limit == -0.5) {
+                EXPECT_LT(worst, 1e-6);
+            } else {
+                EXPECT_GT(bottom_drop, 0.01) << "normals " << with_normals << " limit " << limit;
+            }
+        }
+}

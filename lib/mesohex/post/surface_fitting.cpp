@@ -434,6 +434,7 @@ struct SurfaceFitter::Impl {
     HexStats measure_all(std::vector<double>& sj);
     void build_incidence();
     void two_sided_corrections(std::vector<Vec3>& correction);
+    void ignore_facing_away(const std::vector<Vec3>& query);
     void compute_targets();
     void factorize();
     void assemble();
@@ -635,6 +636,7 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
                                                  std::to_string(hits.size()) + " hits for " +
                                                  std::to_string(surface.samples.size()) + " samples");
     std::vector<double> weight(nb, 0.0);
+    const bool facing = options.facing_limit >= -1 && surface.sample_normals.size() == hits.size();
     for (std::size_t i = 0; i < hits.size(); ++i) {
         const int t = hits[i].triangle;
         if (t < 0 || t >= static_cast<int>(boundary_tris.triangles.size())) continue;
@@ -652,6 +654,7 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
             bary[1] = std::clamp(dot(cross(c - p, a - p), n) / n2, 0.0, 1.0);
             bary[2] = std::clamp(1.0 - bary[0] - bary[1], 0.0, 1.0);
         }
+        if (facing && dot(n, surface.sample_normals[i]) < options.facing_limit * std::sqrt(n2)) continue;
         const Vec3 offset = surface.samples[i] - hits[i].point;
         sample_gap = std::max(sample_gap, norm(offset));
         for (int k = 0; k < 3; ++k) {
@@ -666,6 +669,25 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
     cached_correction = correction;
     cached_sample_gap = sample_gap;
     gap = std::max(gap, sample_gap);
+}
+
+// The facing test (FitOptions::facing_limit): a boundary vertex whose closest surface point faces away from it keeps
+// its place as its target (the edge rows and the two-sided pull still move it). Vertex normals: the sum of the vector
+// areas of its boundary quads at the current positions (outward: topology's boundary quads are).
+void SurfaceFitter::Impl::ignore_facing_away(const std::vector<Vec3>& query) {
+    if (!(options.facing_limit >= -1) || !surface.last_closest_normals) return;
+    std::vector<Vec3> normals;
+    surface.last_closest_normals(normals);
+    const std::size_t nb = boundary_vertices.size();
+    if (normals.size() != nb) return;
+    std::vector<Vec3> vertex_normal(nb, Vec3{});
+    const auto at = [&](int v) -> const Vec3& { return mesh.points[static_cast<std::size_t>(v)]; };
+    for (const std::array<int, 4>& q : topo.boundary_quads) {
+        const Vec3 n = cross(at(q[2]) - at(q[0]), at(q[3]) - at(q[1]));  // 2 x the quad's vector area
+        for (int v : q) vertex_normal[static_cast<std::size_t>(boundary_index[static_cast<std::size_t>(v)])] += n;
+    }
+    for (std::size_t i = 0; i < nb; ++i)
+        if (dot(vertex_normal[i], normals[i]) < options.facing_limit * norm(vertex_normal[i])) targets[i] = query[i];
 }
 
 // Measures the hexes id(i), i in [begin, end), in blocks of kLanes (the last block repeats its last hex): their scaled
@@ -740,6 +762,9 @@ double SurfaceFitter::Impl::local_step() {
             throw Error(ErrorCode::InvalidInput, "SurfaceFitter: the projector returned " +
                                                      std::to_string(targets.size()) + " points for " +
                                                      std::to_string(nb) + " queries");
+        // The gap is measured to the targets kept: a vertex the facing test leaves in place has no target elsewhere
+        // (the report's Hausdorff distance, measured apart, still sees it).
+        ignore_facing_away(query);
         gap = 0;
         for (std::size_t i = 0; i < nb; ++i) gap = std::max(gap, distance(query[i], targets[i]));
         std::vector<Vec3> correction;

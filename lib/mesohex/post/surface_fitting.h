@@ -26,6 +26,11 @@ struct SurfaceProjector {
         Vec3 point;
     };
     std::function<void(const TriangleMesh& boundary, std::vector<Hit>& hits)> samples_to_boundary;
+    // Optional, for the facing test (FitOptions::facing_limit): the surface's outward unit normal at every point the
+    // last closest_points call returned (same order), and at every sample. Leave unset / empty when the surface's
+    // orientation is not known: the test is then skipped.
+    std::function<void(std::vector<Vec3>& normals)> last_closest_normals;
+    std::vector<Vec3> sample_normals;
 };
 
 struct FitProgress {
@@ -70,9 +75,15 @@ struct FitOptions {
     int two_sided_start = 50;       // ... from this step on (the boundary first settles on the surface), matching
     int two_sided_every = 2;        // the samples with the boundary again every this many steps
     double reach = 0.5;             // a boundary target is at most reach x Lbar from its vertex (0 = no limit)
-    bool fit_boundary = true;       // false: boundary rows pull to the CURRENT boundary positions (optimize inside
-                                    // the skin; the projector is then not called)
-    std::vector<bool> frozen;       // optional, per vertex: never moved (still in the solve)
+    // Cosine (dimensionless): a closest surface point whose outward normal is more than acos(facing_limit) (120
+    // degrees) away from the boundary vertex's outward normal lies on a part of the surface that faces the other
+    // way (the other sheet across a sharp fold, the other side of a thin slab): it does not pull the vertex in that
+    // step, and a sample whose normal is that far from its boundary triangle's does not pull the triangle. < -1: off
+    // (also when the projector gives no normals).
+    double facing_limit = -0.5;
+    bool fit_boundary = true;  // false: boundary rows pull to the CURRENT boundary positions (optimize inside
+                               // the skin; the projector is then not called)
+    std::vector<bool> frozen;  // optional, per vertex: never moved (still in the solve)
     std::function<void(const FitProgress&)> progress;  // called after every step, from the calling thread
 };
 
