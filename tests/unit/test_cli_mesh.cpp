@@ -240,7 +240,8 @@ TEST(MeshCli, GeneratedShapesMeetTheQualityTargets) {
 
 // The generated dualocta (a cube frame and an octahedron frame crossing at their edges' midpoints, 4-valent
 // crossings, fat tubes) meets the targets too. With its 20 compatible blocks (docs/blocks.md; raw mean SJ 0.66) it
-// gets 1 level: measured 14336 hexes, SJ 0.504 / 0.909, Hausdorff 0.89 %. Without blocks (`--no-blocks`, raw mean SJ
+// gets 1 level: measured 14336 hexes, SJ 0.493 / 0.909, Hausdorff 0.89 % (0.504 before the fit's facing test,
+// docs/sheets.md: a guard 0.15 above the 0.3 target). Without blocks (`--no-blocks`, raw mean SJ
 // 0.41) the raw mesh is poor, so it gets 2 levels (1 level: 11520 hexes, average 0.876); the rest of this comment is
 // about that layout. At 2 levels the fit leaves the boundary folded back and forth along the concave creases
 // where the tubes cross; the smoothing irons those folds out only because they are not convex creases of the domain
@@ -254,7 +255,7 @@ TEST(MeshCli, GeneratedDualOctahedronMeetsTheTargets) {
     EXPECT_EQ(rep["subdivision_levels"], 1);
     EXPECT_EQ(rep["quality"]["hexes"], 14336);
     EXPECT_EQ(rep["quality"]["inverted"], 0);
-    EXPECT_GE(rep["quality"]["sj_min"].get<double>(), 0.5);
+    EXPECT_GE(rep["quality"]["sj_min"].get<double>(), 0.45);
     EXPECT_GE(rep["quality"]["sj_avg"].get<double>(), 0.9);
     EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), 0.01);
     EXPECT_EQ(rep["quality"]["euler_characteristic"], rep["skeleton"]["euler_characteristic"]);

@@ -397,8 +397,9 @@ TEST(StudioServer, AnalyzeGivesTheClassesAndThePrediction) {
 }
 
 // A branch on a fan-edge end (generator fanend): /api/mesh meshes it after retracting the fan edge, so /api/analyze
-// accepts it too and lists the repair (the input vertex of the branch, a fan-edge end); with the branch leaning back
-// from the fan line (135 degrees) both refuse it, naming the same vertex.
+// accepts it too and lists the repair (the input vertex of the branch, a fan-edge end); with a thick branch leaning
+// back from the fan line (135 degrees, radius 0.39 x the border side: too thick to be bent) both refuse it, naming the
+// same vertex.
 TEST(StudioServer, AnalyzeAcceptsWhatMeshRepairs) {
     auto s = start_studio({});
     GeneratorOptions o;
@@ -415,7 +416,8 @@ TEST(StudioServer, AnalyzeAcceptsWhatMeshRepairs) {
     ASSERT_TRUE(m);
     EXPECT_EQ(m->status, 200) << m->body.substr(0, 300);
     EXPECT_EQ(body_json(m)["report"]["predicted"]["hexes"], j["predicted"]["hexes"]);
-    o.m = 5;  // leaning back 135 degrees: refused (a perpendicular branch, m = 2, is meshed after its root moves)
+    o.m = 5;  // leaning back 135 degrees: bent at the default radius, refused when thick (a bend takes r <= 0.35 x side)
+    o.radius_scale = 1.3;
     const std::string perpendicular = obj_text(generate_skeleton("fanend", o));
     json where[2];
     int k = 0;
