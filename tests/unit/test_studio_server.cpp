@@ -416,7 +416,8 @@ TEST(StudioServer, AnalyzeAcceptsWhatMeshRepairs) {
     ASSERT_TRUE(m);
     EXPECT_EQ(m->status, 200) << m->body.substr(0, 300);
     EXPECT_EQ(body_json(m)["report"]["predicted"]["hexes"], j["predicted"]["hexes"]);
-    o.m = 5;  // leaning back 135 degrees: bent at the default radius, refused when thick (a bend takes r <= 0.35 x side)
+    o.m =
+        5;  // leaning back 135 degrees: bent at the default radius, refused when thick (a bend takes r <= 0.35 x side)
     o.radius_scale = 1.3;
     const std::string perpendicular = obj_text(generate_skeleton("fanend", o));
     json where[2];
