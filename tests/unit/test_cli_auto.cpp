@@ -159,6 +159,21 @@ TEST(AutoCli, NoRetryKeepsTheFirstAttempt) {
     EXPECT_EQ(r.output.find("attempt 2"), std::string::npos);
 }
 
+namespace {
+
+// The mesh written to `out` is valid, has no inverted hex and meets min SJ >= 0.3, avg >= 0.85 and the report's
+// Hausdorff distance <= 1 % of the bbox diagonal.
+void expect_every_target(const fs::path& out, const nlohmann::json& rep) {
+    const mesohex::QualityReport q = mesohex::compute_quality(mesohex::read_hex_mesh(out.string()));
+    EXPECT_EQ(q.inverted, 0);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_GE(q.sj_min, 0.3);
+    EXPECT_GE(q.sj_avg, 0.85);
+    EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), 0.01);
+}
+
+}  // namespace
+
 // plate1 (a plate with sharp rims): auto takes the medial meso-skeleton; the selective padding leaves quads of its raw
 // boundary bare (their rims match the plate's) but that raw boundary lies halfway inside the plate (radii 0.5 x the
 // distance), so the fit stretches the bare hexes and a goal is missed. The same raw mesh fully padded meets every
@@ -176,12 +191,7 @@ TEST(AutoCli, PlateFullyPaddedWhenTheBareFinishMissesAGoal) {
     EXPECT_GT(rep["attempts"][0]["missed_goals"].get<int>(), 0);
     EXPECT_EQ(rep["attempts"][1]["padding"], "all");
     EXPECT_EQ(rep["padding"]["mode"], "all");
-    const mesohex::QualityReport q = mesohex::compute_quality(mesohex::read_hex_mesh(out.string()));
-    EXPECT_EQ(q.inverted, 0);
-    EXPECT_TRUE(q.validation.valid());
-    EXPECT_GE(q.sj_min, 0.3);
-    EXPECT_GE(q.sj_avg, 0.85);
-    EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), 0.01);
+    expect_every_target(out, rep);
 }
 
 // sculpt (5 curved medial sheets): auto takes the medial meso-skeleton and meets every target. Before the import's
@@ -196,10 +206,5 @@ TEST(AutoCli, SculptsCurvedSheetsStayOnTheMedialAxisAndMeetTheTargets) {
     ASSERT_EQ(r.status, 0) << r.output;
     const nlohmann::json rep = read_json(report);
     EXPECT_EQ(rep["skeleton_kind"], "meso");
-    const mesohex::QualityReport q = mesohex::compute_quality(mesohex::read_hex_mesh(out.string()));
-    EXPECT_EQ(q.inverted, 0);
-    EXPECT_TRUE(q.validation.valid());
-    EXPECT_GE(q.sj_min, 0.3);
-    EXPECT_GE(q.sj_avg, 0.85);
-    EXPECT_LE(rep["hausdorff"]["relative_max"].get<double>(), 0.01);
+    expect_every_target(out, rep);
 }
