@@ -70,7 +70,22 @@ struct Domain {
         if (check_surface(surface).signed_volume < 0) flipped = orient_outward(surface).flipped_triangles;
         return surface;
     }
-    explicit Domain(const TriangleMesh& domain) : surface(oriented(domain, flipped)), query(surface) {}
+    // Outward unit normals (the fit's facing test), per triangle and per vertex (area-weighted); both empty when the
+    // oriented domain is still not consistently oriented (then the test is off).
+    std::vector<Vec3> triangle_normals, vertex_normals;
+    explicit Domain(const TriangleMesh& domain) : surface(oriented(domain, flipped)), query(surface) {
+        if (!check_surface(surface).consistently_oriented) return;
+        triangle_normals.reserve(surface.triangles.size());
+        vertex_normals.assign(surface.points.size(), Vec3{});
+        for (const std::array<int, 3>& t : surface.triangles) {
+            const Vec3& a = surface.points[static_cast<std::size_t>(t[0])];
+            const Vec3 n = cross(surface.points[static_cast<std::size_t>(t[1])] - a,
+                                 surface.points[static_cast<std::size_t>(t[2])] - a);
+            triangle_normals.push_back(normalized(n));
+            for (int v : t) vertex_normals[static_cast<std::size_t>(v)] += n;
+        }
+        for (Vec3& n : vertex_normals) n = normalized(n);
+    }
 };
 
 // finish_mesh's state: the mesh as it goes through the stages, and the result that records them; one member function
@@ -79,6 +94,8 @@ struct Finisher {
     const FinishOptions& options;
     const TriangleMesh& surface;
     const SurfaceQuery& query;
+    const std::vector<Vec3>& triangle_normals;  // Domain's (empty: no facing test)
+    const std::vector<Vec3>& vertex_normals;
     FinishResult& result;
     HexMesh mesh;
     std::vector<char> chunk;  // per hex of `mesh`: FinishOptions::chunk_hex, inherited by the children
@@ -256,31 +273,10 @@ struct Finisher {
         record(measure("refine", ms_since(t), mesh));
     }
 
-    // The domain's outward unit normals (the fit's facing test), per triangle and per vertex (area-weighted), computed
-    // on first use; both empty when the domain is not consistently oriented (then the test is off).
-    std::vector<Vec3> triangle_normals, vertex_normals;
-    bool normals_done = false;
-    void compute_normals() {
-        if (normals_done) return;
-        normals_done = true;
-        if (!check_surface(surface).consistently_oriented) return;
-        triangle_normals.reserve(surface.triangles.size());
-        vertex_normals.assign(surface.points.size(), Vec3{});
-        for (const std::array<int, 3>& t : surface.triangles) {
-            const Vec3& a = surface.points[static_cast<std::size_t>(t[0])];
-            const Vec3 n = cross(surface.points[static_cast<std::size_t>(t[1])] - a,
-                                 surface.points[static_cast<std::size_t>(t[2])] - a);
-            triangle_normals.push_back(normalized(n));
-            for (int v : t) vertex_normals[static_cast<std::size_t>(v)] += n;
-        }
-        for (Vec3& n : vertex_normals) n = normalized(n);
-    }
-
     // Two-sided fit: the domain's vertices and triangle centroids, matched with the current mesh boundary; on a
     // surface much denser than the mesh boundary, every k-th of them (k from the count, deterministic). With their
     // outward normals when the domain has them.
-    void domain_samples(std::vector<Vec3>& samples, std::vector<Vec3>& normals) {
-        compute_normals();
+    void domain_samples(std::vector<Vec3>& samples, std::vector<Vec3>& normals) const {
         std::vector<Vec3> all = surface.points, all_normals = vertex_normals;
         for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
             const std::array<int, 3>& tri = surface.triangles[t];
@@ -317,7 +313,6 @@ struct Finisher {
                 vertex_hints[i] = hits[i].triangle;
             }
         };
-        compute_normals();
         if (!triangle_normals.empty())
             projector.last_closest_normals = [this, &vertex_hints](std::vector<Vec3>& normals) {
                 normals.resize(vertex_hints.size());
@@ -439,7 +434,7 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     FinishResult result;
     const Domain dom(domain);
     result.domain_flipped_triangles = dom.flipped;
-    Finisher f{options, dom.surface, dom.query, result, raw, {}, {}, {}, false};
+    Finisher f{options, dom.surface, dom.query, dom.triangle_normals, dom.vertex_normals, result, raw, {}};
     f.record(measure("input", 0, f.mesh));
     if (options.pad) {
         result.pad_mode = options.pad_selective ? "selective" : "all";

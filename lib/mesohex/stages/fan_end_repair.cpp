@@ -251,13 +251,24 @@ std::vector<std::vector<int>> face_runs(const Skeleton& s, const Incidence& in, 
     return runs;
 }
 
+// The cumulative arc length at every point of a polyline (0 first, its length last).
+std::vector<double> arc_lengths(const std::vector<Vec3>& pts) {
+    std::vector<double> arc{0};
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) arc.push_back(arc.back() + distance(pts[j], pts[j + 1]));
+    return arc;
+}
+
+std::vector<Vec3> run_points(const Skeleton& s, const std::vector<int>& run) {
+    std::vector<Vec3> pts;
+    for (const int v : run) pts.push_back(s.points[v]);
+    return pts;
+}
+
 // The longest retraction along a border run: kRetractionMaxAtCorner of a single side (the run ends at the side's far
 // end, which cannot slide), else kRetractionMax of the run's length.
 double retraction_reach(const Skeleton& s, const std::vector<int>& run) {
-    if (run.size() == 2) return kRetractionMaxAtCorner * distance(s.points[run[0]], s.points[run[1]]);
-    double total = 0;
-    for (std::size_t j = 0; j + 1 < run.size(); ++j) total += distance(s.points[run[j]], s.points[run[j + 1]]);
-    return kRetractionMax * total;
+    const double total = arc_lengths(run_points(s, run)).back();
+    return (run.size() == 2 ? kRetractionMaxAtCorner : kRetractionMax) * total;
 }
 
 // Is there room to retract the fan edge from c.w: on every face's border run the longest retraction reaches at least
@@ -503,8 +514,7 @@ struct RunRetraction {
 };
 
 RunRetraction retract_run(const Skeleton& s, const std::vector<int>& run, double rw) {
-    std::vector<Vec3> pts;
-    for (const int v : run) pts.push_back(s.points[v]);
+    const std::vector<Vec3> pts = run_points(s, run);
     const double first = distance(pts[0], pts[1]);
     const double want = kRetractionRadii * rw;                // the retraction length along the border
     if (run.size() == 2 || want <= kRetractionMax * first) {  // within the first side (the rule for thin radii)
@@ -515,9 +525,8 @@ RunRetraction retract_run(const Skeleton& s, const std::vector<int>& run, double
     // Thick radii: the corner goes `want` along the run (at most kRetractionMax of it), and every inner vertex of the
     // run slides along it, its arc length a mapped to l + a (S - l) / S (S the run's length, l the corner's): the
     // run's far end stays, its sides keep their proportions.
-    double total = 0;
-    std::vector<double> arc{0};
-    for (std::size_t j = 0; j + 1 < pts.size(); ++j) arc.push_back(total += distance(pts[j], pts[j + 1]));
+    const std::vector<double> arc = arc_lengths(pts);
+    const double total = arc.back();
     const double l = std::min(want, kRetractionMax * total);
     RunRetraction r{at_arc_length(pts, l), {}};
     for (std::size_t j = 1; j + 1 < pts.size(); ++j)
