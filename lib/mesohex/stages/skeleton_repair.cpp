@@ -460,9 +460,9 @@ PointScan scan_point(const Skeleton& s, const Graph& g, const SkeletonRepairOpti
     return scan;
 }
 
-// Edits of one repair, applied by `rebuild`.
+// Edits of one repair, applied by `apply_edit` (a vertex or edge may be listed twice).
 struct Edit {
-    std::vector<bool> drop_vertex, drop_edge;
+    std::vector<int> drop_vertex, drop_edge;
     std::vector<std::array<int, 2>> new_edges;
 };
 
@@ -470,9 +470,9 @@ struct Edit {
 void drop_absorbed(Skeleton& s, const Graph& g, const Walk& w, int e0, int t, Edit& ed) {
     int cur = e0;
     for (std::size_t q = 1; q < w.verts.size(); ++q) {
-        ed.drop_edge[cur] = true;
+        ed.drop_edge.push_back(cur);
         const int v = w.verts[q];
-        ed.drop_vertex[v] = true;
+        ed.drop_vertex.push_back(v);
         if (q + 1 < w.verts.size()) cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
     }
     const int b = w.verts.back();
@@ -499,14 +499,14 @@ void join_kept(Skeleton& s, const Graph& g, const Walk& keep, const Walk& absorb
     }
     int cur = e0;
     for (std::size_t q = 0;; ++q) {
-        if (q == k || !keep_joints) ed.drop_edge[cur] = true;
+        if (q == k || !keep_joints) ed.drop_edge.push_back(cur);
         if (q == k) break;
         const int v = keep.verts[q + 1];
         if (keep_joints) {
             s.points[v] = moved[q].first;
             s.radii[v] = moved[q].second;
         } else {
-            ed.drop_vertex[v] = true;
+            ed.drop_vertex.push_back(v);
         }
         cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
     }
@@ -521,10 +521,10 @@ void join_trunk(Skeleton& s, const Graph& g, const Walk& w, int e0, double sep, 
     const std::size_t k = p.k;
     int cur = e0;
     for (std::size_t q = 0;; ++q) {
-        ed.drop_edge[cur] = true;
+        ed.drop_edge.push_back(cur);
         if (q == k) break;
         const int v = w.verts[q + 1];  // a joint: two branch edges
-        ed.drop_vertex[v] = true;
+        ed.drop_vertex.push_back(v);
         cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
     }
     const int after = w.verts[k + 1];
@@ -560,16 +560,16 @@ int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const W
         qv = static_cast<int>(s.points.size());
         s.points.push_back(q.x);
         s.radii.push_back(q.r);
-        ed.drop_edge[cur] = true;
+        ed.drop_edge.push_back(cur);
         ed.new_edges.push_back({keep.verts[q.k], qv});
         ed.new_edges.push_back({qv, keep.verts[q.k + 1]});
     }
     cur = e_stub;
     for (std::size_t k = 1; k < stub.verts.size(); ++k) {
-        ed.drop_edge[cur] = true;
+        ed.drop_edge.push_back(cur);
         const int v = stub.verts[k];
         if (k + 1 == stub.verts.size()) break;
-        ed.drop_vertex[v] = true;
+        ed.drop_vertex.push_back(v);
         cur = g.inc[v][0] == cur ? g.inc[v][1] : g.inc[v][0];
     }
     // The side edge is at least min_length x the larger radius of its ends long: e moves outwards along (e - q).
@@ -580,87 +580,136 @@ int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const W
     return qv;
 }
 
-// Drops the marked vertices and edges, appends the new edges, renumbers (faces and the vertex map too). Returns the
-// new id of every vertex before the renumbering (-1: dropped).
-std::vector<int> rebuild(Skeleton& s, int n, const Edit& ed, SkeletonRepairResult& res) {
-    const int total = static_cast<int>(s.points.size());
-    std::vector<int> id(total, -1);
-    Skeleton out;
-    out.points.reserve(s.points.size());
-    out.radii.reserve(s.radii.size());
-    out.edges.reserve(s.edges.size() + ed.new_edges.size());
-    for (int v = 0; v < total; ++v) {
-        if (v < n && ed.drop_vertex[v]) continue;
-        id[v] = static_cast<int>(out.points.size());
-        out.points.push_back(s.points[v]);
-        out.radii.push_back(s.radii[v]);
-    }
-    for (std::size_t e = 0; e < s.edges.size(); ++e)
-        if (!ed.drop_edge[e]) out.edges.push_back({id[s.edges[e][0]], id[s.edges[e][1]]});
-    for (const std::array<int, 2>& e : ed.new_edges) out.edges.push_back({id[e[0]], id[e[1]]});
-    out.faces = s.faces;
-    for (std::vector<int>& f : out.faces)
-        for (int& v : f) v = id[v];
-    for (int& v : res.vertex_map)
-        if (v >= 0) v = id[v];
-    for (std::vector<int>* list : {&res.absorbed_balls, &res.trunk_joints, &res.fan_end_bends}) {
-        std::vector<int> kept;  // a later trunk may drop a ball or a trunk joint lying on its walk as a joint
-        for (const int v : *list)
-            if (id[v] >= 0) kept.push_back(id[v]);
-        *list = std::move(kept);
-    }
-    s = std::move(out);
-    return id;
-}
-
-// Vertices whose surroundings a repair changed, by their new ids: new vertices, moved ones (position or radius),
-// and both ends of every dropped, re-attached or new edge.
-// The parts of a skeleton a repair edits in place (faces are only renumbered).
-struct Geometry {
-    std::vector<Vec3> points;
-    std::vector<double> radii;
-    std::vector<std::array<int, 2>> edges;
+// The repairs' rounds keep every vertex and edge id: dropped ones are only marked dead (tombstones), new ones are
+// appended, and the graph is updated where a repair changed it. `compact` renumbers once at the end, keeping the
+// order of the live vertices and edges, which is what renumbering after every round gave.
+struct Tombstones {
+    std::vector<char> vertex, edge;  // 1: dead
+    std::vector<std::pair<int, int>> sides;  // leaflet sides (min, max), sorted: the faces do not change
 };
 
-std::vector<bool> touched_vertices(const Geometry& before, const Geometry& edited, const Edit& ed,
-                                   const std::vector<int>& id, int new_count) {
-    std::vector<bool> touched(static_cast<std::size_t>(new_count), false);
-    auto mark = [&](int v) {
-        if (v >= 0 && v < static_cast<int>(id.size()) && id[v] >= 0) touched[id[v]] = true;
-    };
-    const int n = static_cast<int>(before.points.size());
-    for (int v = 0; v < static_cast<int>(edited.points.size()); ++v)
-        if (v >= n || !(edited.points[v] == before.points[v]) || !(edited.radii[v] == before.radii[v])) mark(v);
-    for (std::size_t e = 0; e < before.edges.size(); ++e)
-        if (ed.drop_edge[e] || edited.edges[e][0] != before.edges[e][0] || edited.edges[e][1] != before.edges[e][1])
-            for (const int v : {before.edges[e][0], before.edges[e][1], edited.edges[e][0], edited.edges[e][1]})
-                mark(v);
-    for (const std::array<int, 2>& e : ed.new_edges) mark(e[0]), mark(e[1]);
+bool is_side(const Tombstones& dead, int a, int b) {
+    return std::binary_search(dead.sides.begin(), dead.sides.end(), std::pair<int, int>(std::minmax(a, b)));
+}
+
+// Adds (sign 1) or removes (sign -1) edge e with ends (a, b) in g, by make_graph's rules; g.inc stays sorted by id.
+void graph_edge(const Skeleton& s, const Tombstones& dead, Graph& g, int e, int a, int b, int sign) {
+    const int n = static_cast<int>(s.points.size());
+    if (a < 0 || a >= n || b < 0 || b >= n || a == b) return;
+    g.degree[a] += sign, g.degree[b] += sign;
+    if (is_side(dead, a, b)) return;
+    for (const int v : {a, b}) {
+        std::vector<int>& inc = g.inc[v];
+        if (sign > 0)
+            inc.insert(std::lower_bound(inc.begin(), inc.end(), e), e);
+        else
+            inc.erase(std::find(inc.begin(), inc.end(), e));
+    }
+}
+
+// What a repair may edit in place, saved before it: the points and radii of its two walks' vertices and every
+// branch edge at them (the edges it drops or re-attaches are among these).
+struct Saved {
+    std::vector<std::pair<int, std::pair<Vec3, double>>> vertices;
+    std::vector<std::pair<int, std::array<int, 2>>> edges;
+};
+
+Saved save_walks(const Skeleton& s, const Graph& g, const Walk& wi, const Walk& wj) {
+    Saved saved;
+    for (const Walk* w : {&wi, &wj})
+        for (const int v : w->verts) {
+            saved.vertices.push_back({v, {s.points[v], s.radii[v]}});
+            for (const int e : g.inc[v]) saved.edges.push_back({e, s.edges[e]});
+        }
+    std::sort(saved.edges.begin(), saved.edges.end());
+    saved.edges.erase(std::unique(saved.edges.begin(), saved.edges.end()), saved.edges.end());
+    return saved;
+}
+
+// Marks the dropped vertices and edges dead, appends the new edges and updates g (its arrays grow to the new
+// vertices). Returns the vertices whose surroundings the repair changed (live ones, possibly repeated): new
+// vertices, moved ones (position or radius), and both ends (before and after) of every dropped, re-attached or new
+// edge.
+std::vector<int> apply_edit(Skeleton& s, Graph& g, Tombstones& dead, int n, const Saved& saved, const Edit& ed) {
+    const std::size_t total = s.points.size();
+    dead.vertex.resize(total, 0);
+    g.inc.resize(total);
+    g.on_face.resize(total, false);
+    g.degree.resize(total, 0);
+    g.frozen.resize(total, false);
+    g.merged.resize(total, false);
+    std::vector<int> touched;
+    for (int v = n; v < static_cast<int>(total); ++v) touched.push_back(v);
+    for (const auto& [v, before] : saved.vertices)
+        if (!(s.points[v] == before.first) || !(s.radii[v] == before.second)) touched.push_back(v);
+    std::vector<int> dropped = ed.drop_edge;
+    std::sort(dropped.begin(), dropped.end());
+    for (const auto& [e, before] : saved.edges) {
+        const std::array<int, 2>& now = s.edges[e];
+        const bool drop = std::binary_search(dropped.begin(), dropped.end(), e);
+        if (!drop && now == before) continue;
+        touched.insert(touched.end(), {before[0], before[1], now[0], now[1]});
+        graph_edge(s, dead, g, e, before[0], before[1], -1);
+        if (drop)
+            dead.edge[e] = 1;
+        else
+            graph_edge(s, dead, g, e, now[0], now[1], 1);
+    }
+    for (const std::array<int, 2>& e : ed.new_edges) {
+        s.edges.push_back(e);
+        dead.edge.push_back(0);
+        graph_edge(s, dead, g, static_cast<int>(s.edges.size()) - 1, e[0], e[1], 1);
+        touched.insert(touched.end(), {e[0], e[1]});
+    }
+    for (const int v : ed.drop_vertex) dead.vertex[v] = 1;
+    std::erase_if(touched, [&](int v) { return v < 0 || v >= static_cast<int>(total); });
     return touched;
 }
 
-// What a repair made that later rounds must know about, by the ids before the renumbering (-1: none).
+// Drops the dead vertices and edges, renumbering the rest in order (faces, the vertex map and the result's vertex
+// lists too; a list entry whose vertex died goes).
+void compact(Skeleton& s, const Tombstones& dead, SkeletonRepairResult& res) {
+    const int total = static_cast<int>(s.points.size());
+    std::vector<int> id(total, -1);
+    int kept = 0;
+    for (int v = 0; v < total; ++v) {
+        if (dead.vertex[v]) continue;
+        s.points[kept] = s.points[v];
+        s.radii[kept] = s.radii[v];
+        id[v] = kept++;
+    }
+    s.points.resize(kept);
+    s.radii.resize(kept);
+    std::size_t kept_edges = 0;
+    for (std::size_t e = 0; e < s.edges.size(); ++e)
+        if (!dead.edge[e]) s.edges[kept_edges++] = {id[s.edges[e][0]], id[s.edges[e][1]]};
+    s.edges.resize(kept_edges);
+    for (std::vector<int>& f : s.faces)
+        for (int& v : f) v = id[v];
+    for (int& v : res.vertex_map)
+        if (v >= 0) v = id[v];
+    for (std::vector<int>* list : {&res.absorbed_balls, &res.trunk_joints, &res.fan_end_bends})
+        std::erase_if(*list, [&](int& v) { return (v = id[v]) < 0; });
+}
+
+// What a repair made that later rounds must know about (-1: none).
 struct Made {
     int side_root = -1;  // a side stub's root q (frozen)
     int merge_t = -1;    // a merge's ball t
 };
 
-// Applies one repair (best.ei, best.ej: edge ids): t, the edge (c, t), and per walk its edits. Returns the new id of
-// every vertex before the repair (-1: dropped) and sets `touched` (touched_vertices).
-std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& best, const SkeletonRepairOptions& o,
-                                 SkeletonRepairResult& res, std::vector<bool>& touched, Made& made) {
-    const Geometry before{s.points, s.radii, s.edges};
+// Applies one repair (best.ei, best.ej: edge ids): t, the edge (c, t), and per walk its edits. Returns the touched
+// vertices (apply_edit).
+std::vector<int> apply_candidate(Skeleton& s, Graph& g, Tombstones& dead, const Candidate& best,
+                                 const SkeletonRepairOptions& o, SkeletonRepairResult& res, Made& made) {
     const int n = static_cast<int>(s.points.size()), c = best.c, t = n;
     const Walk wi = walk(s, g, c, best.ei), wj = walk(s, g, c, best.ej);
-    Edit ed{std::vector<bool>(n, false), std::vector<bool>(s.edges.size(), false), {}};
+    const Saved saved = save_walks(s, g, wi, wj);
+    Edit ed;
     if (best.kind == PairRepair::side) {
-        const int q = join_side(s, g, wi, best.ei, wj, best.ej, o.side_stub_min_length, ed);
+        made.side_root = join_side(s, g, wi, best.ei, wj, best.ej, o.side_stub_min_length, ed);
         ++res.side_stubs;
-        const Geometry edited{s.points, s.radii, s.edges};
-        std::vector<int> id = rebuild(s, n, ed, res);
-        touched = touched_vertices(before, edited, ed, id, static_cast<int>(s.points.size()));
-        made.side_root = q;
-        return id;
+        return apply_edit(s, g, dead, n, saved, ed);
     }
     s.points.push_back(best.t);
     s.radii.push_back(best.rt);
@@ -679,20 +728,21 @@ std::vector<int> apply_candidate(Skeleton& s, const Graph& g, const Candidate& b
         if (best.kind == PairRepair::merge) made.merge_t = t;
         res.absorbed_balls.push_back(t);
     }
-    const Geometry edited{s.points, s.radii, s.edges};
-    const std::vector<int> id = rebuild(s, n, ed, res);
-    touched = touched_vertices(before, edited, ed, id, static_cast<int>(s.points.size()));
-    return id;
+    return apply_edit(s, g, dead, n, saved, ed);
 }
 
 // Branching points whose scan a repair may have changed: every scanned vertex whose walks (from it through joints to
 // the next non-joint vertex) meet a touched vertex, i.e. the non-joint vertices reached from a touched vertex through
-// joints, and the touched vertices themselves.
-std::vector<bool> stale_points(const Skeleton& s, const Graph& g, const std::vector<bool>& touched) {
-    std::vector<bool> stale = touched;
+// joints, and the touched vertices themselves. Returned in vertex order, once each (`flag`: all 0, a scratch array).
+std::vector<int> mark_stale(const Skeleton& s, const Graph& g, const std::vector<int>& touched,
+                            std::vector<char>& flag) {
+    std::vector<int> stale;
+    const auto add = [&](int v) {
+        if (!flag[v]) stale.push_back(v), flag[v] = 1;
+    };
     const auto joint = [&](int v) { return g.degree[v] == 2 && g.inc[v].size() == 2 && !g.on_face[v]; };
-    for (int x = 0; x < static_cast<int>(touched.size()); ++x) {
-        if (!touched[x]) continue;
+    for (const int x : touched) {
+        add(x);
         for (const int e0 : g.inc[x]) {
             int prev_e = e0, cur = s.edges[e0][0] == x ? s.edges[e0][1] : s.edges[e0][0];
             for (std::size_t guard = 0; guard <= s.points.size() && cur != x && joint(cur); ++guard) {
@@ -700,9 +750,11 @@ std::vector<bool> stale_points(const Skeleton& s, const Graph& g, const std::vec
                 prev_e = next_e;
                 cur = s.edges[next_e][0] == cur ? s.edges[next_e][1] : s.edges[next_e][0];
             }
-            stale[cur] = true;
+            add(cur);
         }
     }
+    for (const int v : stale) flag[v] = 0;
+    std::sort(stale.begin(), stale.end());
     return stale;
 }
 
@@ -723,51 +775,63 @@ int count_unseparated(const Skeleton& s, const Graph& g, const std::vector<Point
 // The trunks and absorbed walks (see the header), one pair at a time: the pair with the highest score over every
 // pair of branches at every scanned branching point (the first in vertex and pair order among equals). A point's
 // scan depends only on its walks (positions, radii, the degrees at their ends), so after a repair only the stale
-// points (stale_points) are scanned again; the others keep their scan, carried to the new numbering.
+// points (mark_stale) are scanned again; the others keep their scan. Vertex and edge ids stay fixed over the rounds
+// (Tombstones); `compact` renumbers at the end.
 void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairResult& res) {
     if (!o.trunks || s.radii.size() != s.points.size()) return;
     const std::size_t budget = s.edges.size();
     std::vector<PointScan> scans(s.points.size());
-    std::vector<bool> stale(s.points.size(), true);
-    std::vector<bool> frozen(s.points.size(), false);  // side stub roots (Graph::frozen)
-    std::vector<bool> merged(s.points.size(), false);  // balls made by merges (Graph::merged)
     Graph g;
+    make_graph(s, g);
+    g.frozen.assign(s.points.size(), false);  // side stub roots
+    g.merged.assign(s.points.size(), false);  // balls made by merges
+    Tombstones dead{std::vector<char>(s.points.size(), 0), std::vector<char>(s.edges.size(), 0), {}};
+    const int n0 = static_cast<int>(s.points.size());
+    for (const std::vector<int>& f : s.faces)
+        for (std::size_t i = 0; i < f.size(); ++i)
+            if (f[i] >= 0 && f[i] < n0) dead.sides.push_back(std::minmax(f[i], f[(i + 1) % f.size()]));
+    std::sort(dead.sides.begin(), dead.sides.end());
+    // every point: in parallel (each task writes its own scans[c]; the same bits for any count)
+    tbb::parallel_for(tbb::blocked_range<int>(0, n0, 64), [&](const tbb::blocked_range<int>& range) {
+        for (int c = range.begin(); c < range.end(); ++c)
+            if (scanned(s, g, c)) scans[c] = scan_point(s, g, o, c);
+    });
+    // The scanned points whose best repair scores above 0, by (-score, c): the first is the highest score, the first
+    // in vertex order among equals. Only a stale point can change its scan or whether it is scanned at all (frozen,
+    // its branch edges and its radius change only where a repair touched it; a dropped point is stale too).
+    std::set<std::pair<double, int>> ranked;
+    std::vector<double> rank_key(s.points.size(), 0);  // the key a point is ranked by (0: not ranked)
+    const auto update = [&](int c, bool rescan) {
+        if (rank_key[c] > 0) ranked.erase({-rank_key[c], c});
+        rank_key[c] = 0;
+        if (!scanned(s, g, c)) return;
+        if (rescan) scans[c] = scan_point(s, g, o, c);
+        if (scans[c].best.score > 0) ranked.insert({-(rank_key[c] = scans[c].best.score), c});
+    };
+    for (int c = 0; c < n0; ++c) update(c, false);
+    std::vector<char> stale(s.points.size(), 0);
     for (std::size_t round = 0; round < budget; ++round) {
-        make_graph(s, g);
-        g.frozen = frozen;
-        g.merged = merged;
-        if (round > 0) stale = stale_points(s, g, stale);
-        const int n = static_cast<int>(s.points.size());
-        if (round == 0)  // every point: in parallel (each task writes its own scans[c]; the same bits for any count)
-            tbb::parallel_for(tbb::blocked_range<int>(0, n, 64), [&](const tbb::blocked_range<int>& range) {
-                for (int c = range.begin(); c < range.end(); ++c)
-                    if (scanned(s, g, c)) scans[c] = scan_point(s, g, o, c);
-            });
-        Candidate best;
-        for (int c = 0; c < n; ++c) {
-            if (!scanned(s, g, c)) continue;
-            if (round > 0 && (stale[c] || o.rescan_all)) scans[c] = scan_point(s, g, o, c);
-            if (scans[c].best.score > best.score) {
-                best = scans[c].best;
-                best.c = c;  // the scan may come from an earlier numbering
-            }
-        }
-        if (best.c < 0 || round + 1 == budget) res.unseparated = count_unseparated(s, g, scans);
-        if (best.c < 0) break;
-        best.ei = g.inc[best.c][best.ei], best.ej = g.inc[best.c][best.ej];
+        if (ranked.empty() || round + 1 == budget) res.unseparated = count_unseparated(s, g, scans);
+        if (ranked.empty()) break;
+        const int c = ranked.begin()->second;
+        Candidate best = scans[c].best;
+        best.c = c;
+        best.ei = g.inc[c][best.ei], best.ej = g.inc[c][best.ej];
         Made made;
-        const std::vector<int> id = apply_candidate(s, g, best, o, res, stale, made);
-        for (int v = 0; v < n; ++v)  // id keeps the order of the kept vertices: id[v] <= v, in place
-            if (id[v] >= 0 && id[v] != v) scans[id[v]] = std::move(scans[v]);
+        const std::vector<int> touched = apply_candidate(s, g, dead, best, o, res, made);
         scans.resize(s.points.size());
-        std::vector<bool> kept_frozen(s.points.size(), false), kept_merged(s.points.size(), false);
-        for (int v = 0; v < n; ++v)
-            if (id[v] >= 0) kept_frozen[id[v]] = frozen[v], kept_merged[id[v]] = merged[v];
-        if (made.side_root >= 0) kept_frozen[id[made.side_root]] = true;
-        if (made.merge_t >= 0) kept_merged[id[made.merge_t]] = true;
-        frozen = std::move(kept_frozen);
-        merged = std::move(kept_merged);
+        stale.resize(s.points.size(), 0);
+        rank_key.resize(s.points.size(), 0);
+        if (made.side_root >= 0) g.frozen[made.side_root] = true;
+        if (made.merge_t >= 0) g.merged[made.merge_t] = true;
+        const std::vector<int> points = mark_stale(s, g, touched, stale);
+        if (o.rescan_all) {
+            for (int v = 0; v < static_cast<int>(s.points.size()); ++v) update(v, true);
+        } else {
+            for (const int v : points) update(v, true);
+        }
     }
+    compact(s, dead, res);
 }
 
 // Splits every branching point of degree 4 left by the trunks (no leaflet, 4 branch edges) whose closest pair is less
