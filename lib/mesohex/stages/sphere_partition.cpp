@@ -306,6 +306,13 @@ struct OrangeEvaluator {
             px[i] = x * inv;
             py[i] = y * inv;
         }
+        // Three directions: the lune of each lies between the other two whatever the order (the width of one is half
+        // the angle between the other two, or pi minus it), so the width test needs no sort.
+        if (n == 3)
+            for (int a = 0; a < 3; ++a) {
+                const int b = a == 2 ? 0 : a + 1;
+                if (px[a] * px[b] + py[a] * py[b] >= cos_two_t + kSlack) return true;
+            }
         // Angle order in (-pi, pi] as atan2 gives it: lower half-plane (y < 0) first, then by cross product.
         const auto before = [&](int a, int b) {
             const bool lower_a = py[a] < 0, lower_b = py[b] < 0;
