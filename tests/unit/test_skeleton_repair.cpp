@@ -858,3 +858,47 @@ TEST(SkeletonRepair, IncrementalScanEqualsFullRescan) {
         }
     EXPECT_GT(repairs, 100);  // the trees do need many repairs (else the test checks nothing)
 }
+
+// The repair's rounds keep vertex and edge ids (dead ones marked, new ones appended) and renumber once at the end
+// (skeleton_repair.cpp, Tombstones). Random trees with the default repairs, with kept joints and merged ends, and with
+// every stub absorbed (side_stub_reach 0) give the bits recorded with the code that renumbered after every round (main
+// 15e8afe): the repaired skeleton (points, radii, edges, faces), the vertex map, the result's vertex lists and counts.
+// Checked to fail when a repair's stale points miss the far ends of its walks (another hash, 295 repairs instead of
+// 290).
+TEST(SkeletonRepair, RepairedTreesGiveTheRecordedBits) {
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+    const auto mix = [&h](const void* data, std::size_t size) {
+        for (std::size_t i = 0; i < size; ++i) {
+            h ^= static_cast<const unsigned char*>(data)[i];
+            h *= 1099511628211ull;
+        }
+    };
+    const auto mix_ints = [&](const std::vector<int>& v) {
+        mix(v.data(), v.size() * sizeof(int));
+        const int end = -7;
+        mix(&end, sizeof end);
+    };
+    int repairs = 0;
+    for (const std::uint32_t seed : {1u, 2u, 3u, 4u})
+        for (const int variant : {0, 1, 2}) {
+            const Skeleton s = mesohex::bench::random_tree(800, seed);
+            mesohex::SkeletonRepairOptions o;
+            o.keep_sibling_joints = variant == 1;
+            o.merge_branching_ends = variant == 1;
+            if (variant == 2) o.side_stub_reach = 0;
+            const mesohex::SkeletonRepairResult r = mesohex::repair_skeleton(s, o);
+            mix(r.skeleton.points.data(), r.skeleton.points.size() * sizeof(Vec3));
+            mix(r.skeleton.radii.data(), r.skeleton.radii.size() * sizeof(double));
+            mix(r.skeleton.edges.data(), r.skeleton.edges.size() * sizeof(std::array<int, 2>));
+            for (const std::vector<int>& f : r.skeleton.faces) mix_ints(f);
+            mix_ints(r.vertex_map);
+            mix_ints(r.absorbed_balls);
+            mix_ints(r.trunk_joints);
+            mix_ints(r.fan_end_bends);
+            const int counts[] = {r.trunks, r.absorbed_stubs, r.merged_ends, r.side_stubs, r.unseparated};
+            mix(counts, sizeof counts);
+            repairs += r.trunks + r.absorbed_stubs + r.merged_ends + r.side_stubs;
+        }
+    EXPECT_EQ(repairs, 290);  // 64 trunks, 69 absorbed stubs, 62 merged ends, 95 side stubs
+    EXPECT_EQ(h, 0xb17c958f7127dae8ull);
+}
