@@ -584,7 +584,7 @@ int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const W
 // appended, and the graph is updated where a repair changed it. `compact` renumbers once at the end, keeping the
 // order of the live vertices and edges, which is what renumbering after every round gave.
 struct Tombstones {
-    std::vector<char> vertex, edge;  // 1: dead
+    std::vector<char> vertex, edge;          // 1: dead
     std::vector<std::pair<int, int>> sides;  // leaflet sides (min, max), sorted: the faces do not change
 };
 
