@@ -680,16 +680,17 @@ void compact(Skeleton& s, const Tombstones& dead, SkeletonRepairResult& res) {
     }
     s.points.resize(kept);
     s.radii.resize(kept);
+    const auto new_id = [&](int v) { return v >= 0 && v < total ? id[v] : -1; };  // -1 too for an invalid id
     std::size_t kept_edges = 0;
     for (std::size_t e = 0; e < s.edges.size(); ++e)
-        if (!dead.edge[e]) s.edges[kept_edges++] = {id[s.edges[e][0]], id[s.edges[e][1]]};
+        if (!dead.edge[e]) s.edges[kept_edges++] = {new_id(s.edges[e][0]), new_id(s.edges[e][1])};
     s.edges.resize(kept_edges);
     for (std::vector<int>& f : s.faces)
-        for (int& v : f) v = id[v];
+        for (int& v : f) v = new_id(v);
     for (int& v : res.vertex_map)
-        if (v >= 0) v = id[v];
+        if (v >= 0) v = new_id(v);
     for (std::vector<int>* list : {&res.absorbed_balls, &res.trunk_joints, &res.fan_end_bends})
-        std::erase_if(*list, [&](int& v) { return (v = id[v]) < 0; });
+        std::erase_if(*list, [&](int& v) { return (v = new_id(v)) < 0; });
 }
 
 // What a repair made that later rounds must know about (-1: none).
@@ -810,9 +811,11 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
     };
     for (int c = 0; c < n0; ++c) update(c, false);
     std::vector<char> stale(s.points.size(), 0);
+    bool repaired = false;
     for (std::size_t round = 0; round < budget; ++round) {
         if (ranked.empty() || round + 1 == budget) res.unseparated = count_unseparated(s, g, scans);
         if (ranked.empty()) break;
+        repaired = true;
         const int c = ranked.begin()->second;
         Candidate best = scans[c].best;
         best.c = c;
@@ -831,7 +834,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
             for (const int v : points) update(v, true);
         }
     }
-    compact(s, dead, res);
+    if (repaired) compact(s, dead, res);  // without a repair the skeleton is as it came (no renumbering, as before)
 }
 
 // Splits every branching point of degree 4 left by the trunks (no leaflet, 4 branch edges) whose closest pair is less
