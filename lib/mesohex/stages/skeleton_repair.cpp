@@ -582,7 +582,10 @@ int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const W
 
 // The repairs' rounds keep every vertex and edge id: dropped ones are only marked dead (tombstones), new ones are
 // appended, and the graph is updated where a repair changed it. `compact` renumbers once at the end, keeping the
-// order of the live vertices and edges, which is what renumbering after every round gave.
+// order of the live vertices and edges, which is what renumbering after every round gave. A deliberate exception
+// to "derived topology is computed, not maintained" (STYLE.md): rebuilding the graph every round was a fifth of the
+// raw path's instructions on large trees (docs/performance.md, "Fifth pass"); the test
+// SkeletonRepair.RepairedTreesGiveTheRecordedBits holds the maintained graph to the rebuilt one's results.
 struct Tombstones {
     std::vector<char> vertex, edge;          // 1: dead
     std::vector<std::pair<int, int>> sides;  // leaflet sides (min, max), sorted: the faces do not change
@@ -682,15 +685,20 @@ void compact(Skeleton& s, const Tombstones& dead, SkeletonRepairResult& res) {
     s.radii.resize(kept);
     const auto new_id = [&](int v) { return v >= 0 && v < total ? id[v] : -1; };  // -1 too for an invalid id
     std::size_t kept_edges = 0;
-    for (std::size_t e = 0; e < s.edges.size(); ++e)
-        if (!dead.edge[e]) s.edges[kept_edges++] = {new_id(s.edges[e][0]), new_id(s.edges[e][1])};
+    for (std::size_t e = 0; e < s.edges.size(); ++e) {
+        const int a = new_id(s.edges[e][0]), b = new_id(s.edges[e][1]);
+        // A self-loop at a dropped joint (invalid input) loses both ends: it goes, no edge leaves with a -1 end.
+        if (!dead.edge[e] && a >= 0 && b >= 0) s.edges[kept_edges++] = {a, b};
+    }
     s.edges.resize(kept_edges);
     for (std::vector<int>& f : s.faces)
         for (int& v : f) v = new_id(v);
     for (int& v : res.vertex_map)
         if (v >= 0) v = new_id(v);
-    for (std::vector<int>* list : {&res.absorbed_balls, &res.trunk_joints, &res.fan_end_bends})
-        std::erase_if(*list, [&](int& v) { return (v = new_id(v)) < 0; });
+    for (std::vector<int>* list : {&res.absorbed_balls, &res.trunk_joints, &res.fan_end_bends}) {
+        for (int& v : *list) v = new_id(v);
+        std::erase(*list, -1);
+    }
 }
 
 // What a repair made that later rounds must know about (-1: none).
@@ -761,14 +769,14 @@ std::vector<int> mark_stale(const Skeleton& s, const Graph& g, const std::vector
 
 // Distinct unseparated pairs of the current scans: (c, pair of the pair's first vertices).
 int count_unseparated(const Skeleton& s, const Graph& g, const std::vector<PointScan>& scans) {
-    std::set<std::pair<int, int>> unseparated;
+    std::set<std::array<int, 3>> unseparated;  // (c, smaller first vertex, larger first vertex)
     const int n = static_cast<int>(s.points.size());
     for (int c = 0; c < n; ++c) {
         if (!scanned(s, g, c)) continue;
         const std::vector<int>& inc = g.inc[c];
         const auto first = [&](int i) { return s.edges[inc[i]][0] == c ? s.edges[inc[i]][1] : s.edges[inc[i]][0]; };
         for (const auto& [i, j] : scans[c].unseparated)
-            unseparated.insert({c, std::min(first(i), first(j)) * n + std::max(first(i), first(j))});
+            unseparated.insert({c, std::min(first(i), first(j)), std::max(first(i), first(j))});
     }
     return static_cast<int>(unseparated.size());
 }

@@ -307,7 +307,9 @@ struct OrangeEvaluator {
             py[i] = y * inv;
         }
         // Three directions: the lune of each lies between the other two whatever the order (the width of one is half
-        // the angle between the other two, or pi minus it), so the width test needs no sort.
+        // the angle between the other two, or pi minus it), so the width test needs no sort. It runs before the
+        // nearly-equal-azimuths bail-out below: it reads only pairwise dot products, which that ordering ambiguity
+        // does not touch, and kSlack covers their rounding, so a rejection here is as certain as the sorted test's.
         if (n == 3)
             for (int a = 0; a < 3; ++a) {
                 const int b = a == 2 ? 0 : a + 1;
