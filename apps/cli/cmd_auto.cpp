@@ -103,6 +103,11 @@ void register_auto(CLI::App& app, int* status) {
                     "meso-skeleton leaflet vertices: radius at most this x their shortest leaflet edge (0: no cap)")
         ->check(finite_range(0.0, 10.0))
         ->capture_default_str();
+    cmd->add_option("--meso-border-radius-factor", args->skeleton.meso_border_radius_edge_factor,
+                    "meso-skeleton leaflet border vertices: radius at most this x their shortest border side (0: no "
+                    "cap)")
+        ->check(finite_range(0.0, 10.0))
+        ->capture_default_str();
     cmd->add_option("--meso-sheet-offset", args->skeleton.import.max_sheet_offset,
                     "meso-skeleton import: while smoothing, a leaflet vertex stays within this x its radius of the "
                     "medial sheet (0: on the sheet; negative: free)")

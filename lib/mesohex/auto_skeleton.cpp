@@ -1,7 +1,9 @@
 #include "mesohex/auto_skeleton.h"
 
 #include <algorithm>
+#include <array>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -53,6 +55,31 @@ int cap_leaflet_radii(Skeleton& skeleton, double factor) {
     int capped = 0;
     for (size_t v = 0; v < n; ++v)
         if (near[v] && skeleton.radii[v] > factor * shortest[v]) {
+            skeleton.radii[v] = factor * shortest[v];
+            ++capped;
+        }
+    return capped;
+}
+
+int cap_border_radii(Skeleton& skeleton, double factor) {
+    MESOHEX_CHECK(skeleton.radii.size() == skeleton.points.size(), "cap_border_radii: one radius per point");
+    if (!(factor > 0)) return 0;
+    std::map<std::array<int, 2>, int> side_faces;  // face side (sorted ends) -> faces on it
+    for (const std::vector<int>& f : skeleton.faces)
+        for (size_t k = 0; k < f.size(); ++k) {
+            const int a = f[k], b = f[(k + 1) % f.size()];
+            ++side_faces[{std::min(a, b), std::max(a, b)}];
+        }
+    std::vector<double> shortest(skeleton.points.size(), std::numeric_limits<double>::infinity());
+    for (const auto& [side, faces] : side_faces) {
+        if (faces != 1) continue;  // not a border side
+        const double len =
+            distance(skeleton.points[static_cast<size_t>(side[0])], skeleton.points[static_cast<size_t>(side[1])]);
+        for (const int x : side) shortest[static_cast<size_t>(x)] = std::min(shortest[static_cast<size_t>(x)], len);
+    }
+    int capped = 0;
+    for (size_t v = 0; v < shortest.size(); ++v)
+        if (skeleton.radii[v] > factor * shortest[v]) {
             skeleton.radii[v] = factor * shortest[v];
             ++capped;
         }
@@ -231,6 +258,7 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
                     out.import.skeleton.radii[v] = rs.radii[v];  // a point on the surface keeps its own
         }
         out.capped_leaflet_radii = cap_leaflet_radii(out.import.skeleton, options.meso_leaflet_radius_edge_factor);
+        out.capped_border_radii = cap_border_radii(out.import.skeleton, options.meso_border_radius_edge_factor);
         if (options.kind == SkeletonKind::Auto) {
             const QualityReport raw = raw_quality_of(out.import.skeleton, surface, nullptr, &out.raw_sites);
             out.raw_checked = true;
@@ -242,6 +270,9 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
             if (options.meso_leaflet_radius_edge_factor > 0)
                 why << ", " << out.capped_leaflet_radii << " leaflet radii at joins capped at "
                     << options.meso_leaflet_radius_edge_factor << " x their shortest leaflet edge";
+            if (options.meso_border_radius_edge_factor > 0)
+                why << ", " << out.capped_border_radii << " leaflet border radii capped at "
+                    << options.meso_border_radius_edge_factor << " x their shortest border side";
             why << ")";
             if (out.raw_inverted > 0) {
                 const RawInversionSites& w = out.raw_sites;

@@ -36,6 +36,15 @@ struct RawInversionSites {
 // many radii were lowered. Other vertices keep theirs. Preconditions: radii has one entry per point. Deterministic.
 int cap_leaflet_radii(Skeleton& skeleton, double factor);
 
+// Caps the radius of every leaflet border vertex (an end of a face side that lies on exactly one face), joins
+// included, at factor x its shortest border side; returns how many radii were lowered. The mesher puts a half-chunk
+// of two hexes on every border side, between the two ends' columns (centre, up, down at +-r along the normal) and
+// their out columns (at about r along the border's outward bisector); where a border side is short against r next
+// to a corner of the border or a crease of the sheet, the two out columns cross within r and the half-chunk and its
+// plate fold (knob: sides of 0.12 to 0.34 against radii of 0.6 to 0.7; docs/sheets.md, "Short border sides").
+// Preconditions: radii has one entry per point. Deterministic.
+int cap_border_radii(Skeleton& skeleton, double factor);
+
 // Preconditions: raw was built from `meshed` (hex_edge indexes meshed.edges, one entry per hex). Deterministic.
 RawInversionSites locate_raw_inversions(const Skeleton& meshed, const RawMesh& raw);
 
@@ -74,6 +83,11 @@ struct AutoSkeletonOptions {
     // makes the fit stretch the padding across the thickness). Measurements per surface: docs/sheets.md ("Thick
     // leaflets at joins") and docs/tuning.md.
     double meso_leaflet_radius_edge_factor = 0.35;
+    // The meso-skeleton's leaflet border vertices (cap_border_radii): radius at most this x the vertex's shortest
+    // border side (dimensionless; 0: no cap). Off: at 0.5 it removes the raw inversions of knob (13 -> 0) and pinion
+    // (9 -> 0), but knob's finished meso mesh then misses by more than its curve answer (docs/sheets.md, "Short
+    // border sides").
+    double meso_border_radius_edge_factor = 0;
     // Auto: the answer. When the raw mesh of the curve skeleton Auto falls back to is invalid or has more than
     // max_answer_inverted inverted hexes, raw or after the finishing's padding layer, `refusal` says so (a meso-skeleton
     // is only chosen with a raw mesh that passed its own, stricter check): the finishing would have to
@@ -98,6 +112,7 @@ struct AutoSkeleton {
     long raw_hexes = 0, raw_inverted = 0;
     double raw_sj_min = 0;
     int capped_leaflet_radii = 0;  // meso-skeleton radii lowered by meso_leaflet_radius_edge_factor
+    int capped_border_radii = 0;   // meso-skeleton radii lowered by meso_border_radius_edge_factor
     RawInversionSites raw_sites;   // where the meso raw mesh's inverted hexes lie (when raw_checked)
     // Auto, curve skeleton chosen: its raw mesh (mesh_skeleton without finishing, radii of the skeleton file).
     bool curve_raw_checked = false;

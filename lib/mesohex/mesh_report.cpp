@@ -213,6 +213,8 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                                      {"radius_factor", options.meso_radius_factor},
                                      {"leaflet_radius_edge_factor", options.meso_leaflet_radius_edge_factor},
                                      {"capped_leaflet_radii", chosen.capped_leaflet_radii},
+                                     {"border_radius_edge_factor", options.meso_border_radius_edge_factor},
+                                     {"capped_border_radii", chosen.capped_border_radii},
                                      {"inverted_at",
                                       {{"joins", chosen.raw_sites.joins},
                                        {"at_joins", chosen.raw_sites.at_joins},

@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <string>
+#include <vector>
 
 #include "mesohex/auto_skeleton.h"
+#include "mesohex/mesh.h"
 #include "mesohex/surface/radius_from_surface.h"
 #include "mesohex/surface/surface_query.h"
 #include "surface_fixtures.h"
@@ -65,6 +68,56 @@ TEST(AutoSkeleton, LeafletRadiiAreCappedOnlyOnTheFacesAtAJoin) {
     sheet.points.pop_back();
     sheet.radii = {0.8, 0.8, 0.8, 0.3, 0.8, 0.8};
     EXPECT_EQ(cap_leaflet_radii(sheet, 0.5), 0);
+}
+
+// A creased strip like knob's ring band: two walls one quad tall (z = 0, 1) meeting along the crease x = y = 0 at an
+// interior angle of `angle` degrees (100: the band turns by 80 degrees, as at knob's six creases). Wall B has a
+// column at 1 and 2 along (cos angle, sin angle, 0), wall A at `short_side` and short_side + 1 along +x: the border
+// sides 2-3 and 7-8 next to the crease are short against the radius 0.45 of every vertex (knob after the leaflet
+// smoothing: sides of 0.12 to 0.34 against radii of 0.6 to 0.7).
+Skeleton creased_strip(double angle, double short_side) {
+    Skeleton sk;
+    const double c = std::cos(angle * std::numbers::pi / 180), s = std::sin(angle * std::numbers::pi / 180);
+    const std::vector<Vec3> base = {
+        {2 * c, 2 * s, 0}, {c, s, 0}, {0, 0, 0}, {short_side, 0, 0}, {1 + short_side, 0, 0}};
+    for (int z = 0; z < 2; ++z)
+        for (const Vec3& b : base) sk.points.push_back({b[0], b[1], static_cast<double>(z)});
+    for (int i = 0; i < 4; ++i) sk.faces.push_back({i, i + 1, i + 6, i + 5});
+    add_face_edges(sk);
+    sk.radii.assign(sk.points.size(), 0.45);
+    return sk;
+}
+
+long raw_inverted(const Skeleton& sk) {
+    MeshOptions o;
+    o.finish = false;
+    return mesh_skeleton(sk, nullptr, o).raw_quality.inverted;
+}
+
+TEST(AutoSkeleton, BorderRadiiAreCappedAtTheirShortestBorderSide) {
+    Skeleton sk = creased_strip(100, 0.15);
+    ASSERT_EQ(sk.points.size(), 10u);
+    ASSERT_EQ(sk.edges.size(), 13u);
+    Skeleton none = sk;
+    EXPECT_EQ(cap_border_radii(none, 0), 0);
+    EXPECT_EQ(none.radii, sk.radii);
+    // Every vertex is on the border. The ends of the short sides (2, 3, 7, 8) go to 0.5 x 0.15; the others' shortest
+    // border side is 1, and 0.5 x 1 is above their 0.45.
+    EXPECT_EQ(cap_border_radii(sk, 0.5), 4);
+    for (int v = 0; v < 10; ++v) {
+        const bool short_end = v == 2 || v == 3 || v == 7 || v == 8;
+        EXPECT_NEAR(sk.radii[static_cast<size_t>(v)], short_end ? 0.075 : 0.45, 1e-12) << v;
+    }
+}
+
+TEST(AutoSkeleton, CreasedStripWithShortBorderSidesMeshesWithoutInversionOnceCapped) {
+    // The short sides fold the raw mesh only at the crease: flat (180 degrees), the same strip has no inverted hex.
+    EXPECT_EQ(raw_inverted(creased_strip(180, 0.15)), 0);
+    const Skeleton sk = creased_strip(100, 0.15);
+    EXPECT_EQ(raw_inverted(sk), 3);
+    Skeleton capped = sk;
+    cap_border_radii(capped, 0.5);
+    EXPECT_EQ(raw_inverted(capped), 0);
 }
 
 TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {
