@@ -15,6 +15,8 @@ one thread) with `--report` and classifies the run:
   euler       Euler characteristic of the mesh differs from the skeleton's, or the mesh is not valid
   blocks      a block on a star that must not get one, or a block with no fewer irregular edges than the paper's layout
   refused     refused at analysis (exit status 3) with a message naming a skeleton vertex and an edit
+  refused-vague refused naming the vertex, but saying the repair "did not run" where it ran and refused on the input
+              sampling (the analysis judges the resampled skeleton, on which the failing condition does not show)
   refused-bad refused without naming the vertex or without an edit suggestion
   error       any other exit status (crash, invalid input)
 
@@ -117,7 +119,10 @@ def run(binary, out, idx, cfg):
     if m.returncode == 3:
         last = err.split("\n")[-1]
         ok = "vertex" in last and "edit" in last
-        return (cfg, "refused" if ok else "refused-bad", last[:400])
+        # "did not run": the repair ran on the input and refused, but the analysis judges the resampled skeleton,
+        # where the failing condition does not show (the message then names no measured condition).
+        vague = "did not run" in last
+        return (cfg, "refused" if ok and not vague else ("refused-vague" if ok else "refused-bad"), last[:400])
     if m.returncode not in (0, 5) or not os.path.exists(rep):
         return (cfg, "error", f"exit {m.returncode}: {err[-200:]}")
     r = json.load(open(rep))
@@ -161,12 +166,13 @@ def main():
     cfgs = configurations(set(a.families.split(",")), frange(a.scales), frange(a.angle_scales))
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as ex:
         results = list(ex.map(lambda ic: run(a.mesohex, a.out, *ic), enumerate(cfgs)))
-    classes = ["clean", "inverted", "predicted", "euler", "blocks", "refused", "refused-bad", "error", "gen-error"]
+    classes = ["clean", "inverted", "predicted", "euler", "blocks", "refused", "refused-vague", "refused-bad", "error",
+               "gen-error"]
     fams = sorted({c[0] for c in cfgs})
-    print("family     " + " ".join(f"{c:>11}" for c in classes))
+    print("family     " + " ".join(f"{c:>13}" for c in classes))
     for f in fams + ["all"]:
         row = [sum(1 for cfg, k, _ in results if k == c and (f == "all" or cfg[0] == f)) for c in classes]
-        print(f"{f:10} " + " ".join(f"{x:>11}" for x in row))
+        print(f"{f:10} " + " ".join(f"{x:>13}" for x in row))
     bad = [x for x in results if x[1] not in ("clean", "refused", "gen-error")]
     if a.list_refused:
         bad += [x for x in results if x[1] == "refused"]

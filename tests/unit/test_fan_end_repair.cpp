@@ -885,11 +885,12 @@ TEST(FanEndRepair, MovedFirstEdgeBetweenTheLimitsIsBent) {
 
 // Not bent (refused as before, naming the vertex, both angles and the bend condition that failed with its value): a
 // bend that would turn the branch by more than kBendMaxTurnDeg (T leaning back 150 degrees towards -y: b = (0, -0.5,
-// 0.134), v = b - (0.45, 0, 1) 61 degrees off the normal -y), and the same branch at 50 degrees with radius 0.4 >
+// 0.134), v = b - (0.45, 0, 1) = (-0.45, -0.5, -0.866): 142 degrees off out = +z, 63 off the normal -y, bent onto
+// -y it would turn by 63), and the same branch at 50 degrees with radius 0.4 >
 // kBendMaxRadius x the unit border side.
 TEST(FanEndRepair, MovedFirstEdgeNotBent) {
-    expect_refused(fan_end_towards(3, 150, -90), 2, "would leave it 146 degrees off the border's outward direction");
-    expect_refused(fan_end_towards(3, 150, -90), 2, "not bent: the bend would turn it by 61 degrees (at most 55)");
+    expect_refused(fan_end_towards(3, 150, -90), 2, "would leave it 142 degrees off the border's outward direction");
+    expect_refused(fan_end_towards(3, 150, -90), 2, "not bent: the bend would turn it by 63 degrees (at most 55)");
     Skeleton thick = fan_end_towards(3, 50, -90);
     for (double& r : thick.radii) r = 0.4;
     Skeleton before = thick;
@@ -938,16 +939,18 @@ TEST(FanEndRepair, SweepFailuresRefusedAtTheMovedRoot) {
                                         "line, 1.925 radii (at least 2 needed"),
                   std::string::npos)
             << in_plane->reason;
-        // Through the pipeline the refusal is worded on the resampled skeleton (other distances), the vertex the same.
-        expect_refused(fan_end_towards(strips, 60, 0), 2,
-                       "the branch runs on beside the border of face 1 past its moved root");
+        // Through the pipeline the same words: the repair's reason is measured on the input sampling
+        // (first_fan_end_refusal), not on the resampled branch.
+        expect_refused(fan_end_towards(strips, 60, 0), 2, "0.577 from the border line, 1.925 radii (at least 2 needed");
         expect_meshed_clean(fan_end_towards(strips, 50, 0));
         expect_refused(fan_end_scaled(strips, 2, 2.4), 2,
                        "its radius there, 0.720, is too thick for the border of face 1 (1.000 long): a moved root "
                        "needs 1.5 radii of plate beside the fan line within 70% of the border side, that is a radius "
                        "of at most 0.467");
-        expect_refused(fan_end_scaled(strips, 4, 1.8), 2, "its radius there, 0.540, is too thick for the border of face 1");
+        expect_refused(fan_end_scaled(strips, 4, 1.8), 2,
+                       "its radius there, 0.540, is too thick for the border of face 1");
     }
-    expect_refused(fan_end_scaled(4, 5, 1.1), 2, "not bent: its radius is 0.33 x the border side (a bend takes at most 0.30)");
+    expect_refused(fan_end_scaled(4, 5, 1.1), 2,
+                   "not bent: its radius is 0.33 x the border side (a bend takes at most 0.30)");
     expect_meshed_clean(fan_end_scaled(4, 5, 1.0));
 }

@@ -635,8 +635,8 @@ double run_on_clearance(const Skeleton& s, const Incidence& in, const Vec3& pw, 
         }
         if (in.vertex_edges[cur].size() != 2 || !in.vertex_faces[cur].empty()) break;
         const int e0 = in.vertex_edges[cur][0];
-        const int next = other_end(s, e0, cur) == prev ? other_end(s, in.vertex_edges[cur][1], cur)
-                                                       : other_end(s, e0, cur);
+        const int next =
+            other_end(s, e0, cur) == prev ? other_end(s, in.vertex_edges[cur][1], cur) : other_end(s, e0, cur);
         a = b, prev = cur, cur = next;
     }
     return std::numeric_limits<double>::infinity();
@@ -675,8 +675,9 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
     const double rw = s.radii[c.w], side_len = norm(side);
     if (kRootMoveRadii * rw > kRootMoveMax * side_len) {
         std::ostringstream reason;
-        reason << std::fixed << std::setprecision(3) << "its radius there, " << rw << ", is too thick for the border of face "
-               << mv.face << " (" << side_len << " long): a moved root needs " << std::defaultfloat << kRootMoveRadii
+        reason << std::fixed << std::setprecision(3) << "its radius there, " << rw
+               << ", is too thick for the border of face " << mv.face << " (" << side_len
+               << " long): a moved root needs " << std::defaultfloat << kRootMoveRadii
                << " radii of plate beside the fan line within " << std::lround(100 * kRootMoveMax)
                << "% of the border side, that is a radius of at most " << std::fixed
                << kRootMoveMax * side_len / kRootMoveRadii;
@@ -874,6 +875,23 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
                              "split the fan edge and the strips of its faces in two by hand, or make the leaflets' "
                              "strips from the fan edge reach a border"};
     return std::nullopt;  // split, then retracted
+}
+
+std::optional<FanEndRefusalAt> first_fan_end_refusal(const Skeleton& s) {
+    if (!well_formed(s)) return std::nullopt;  // the analysis reports the input
+    const Incidence in = make_incidence(s);
+    for (int v = 0; v < static_cast<int>(s.points.size()); ++v) {
+        int branches = 0, fans = 0, degree = 0;
+        for (const int e : in.vertex_edges[v]) {
+            const int f = faces_on(in, v, other_end(s, e, v));
+            branches += f == 0 ? 1 : 0;
+            if (f >= 3) ++fans, degree = f;
+        }
+        if (branches == 0 || fans != 1) continue;
+        std::optional<FanEndRefusal> why = fan_end_refusal(s, v);
+        if (why) return FanEndRefusalAt{v, degree, std::move(*why)};
+    }
+    return std::nullopt;
 }
 
 namespace {

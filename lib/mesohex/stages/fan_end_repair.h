@@ -199,6 +199,19 @@ struct FanEndRefusal {
 // O((V + E + F) log E).
 std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w);
 
+// The first vertex (increasing index) of s with a branch edge on exactly one fan edge (an edge of 3 or more faces), the
+// configuration the analysis refuses after the repair, with fan_end_refusal's reason and the fan edge's face count;
+// std::nullopt when there is none, or fan_end_refusal would take it. Called by the pipeline on the repaired input
+// sampling, before the resampling moves the branch's first vertices: the reason is then measured where the repair
+// measured it (on the resampled skeleton a failing condition may not show, and the analysis could only say that the
+// repair did not run). O(V + E + F) plus fan_end_refusal at each such vertex.
+struct FanEndRefusalAt {
+    int vertex = -1;
+    int fan_degree = 0;
+    FanEndRefusal why;
+};
+std::optional<FanEndRefusalAt> first_fan_end_refusal(const Skeleton& s);
+
 // Preconditions: one radius > 0 per vertex, faces quads, indices in range (else nothing is done: analysis reports
 // the input). Postconditions: V - E + F unchanged (each retracted face adds w_i and the side (u, w_i)); input vertices,
 // edges and faces keep their indices (new vertices, edges and faces appended in repair order: a split's midpoints, the
