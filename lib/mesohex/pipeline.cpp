@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -11,6 +12,7 @@
 #include "mesohex/core/error.h"
 #include "mesohex/core/skeleton_radii.h"
 #include "mesohex/stages/connection_surfaces.h"
+#include "mesohex/stages/fan_end_repair.h"
 #include "mesohex/stages/frame_propagation.h"
 
 namespace mesohex {
@@ -95,6 +97,17 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     } else if (options.resample) {
         SkeletonRepairResult repaired = repair_skeleton(s, options.repair);
         clock.lap("skeleton_repair");
+        // A branch on a fan-edge end that the repair left (the analysis refuses it after the resampling): named here,
+        // with the reason measured on the sampling the repair judged (fan_end_repair.h, first_fan_end_refusal).
+        if (options.repair.fan_end_retraction)
+            if (const std::optional<FanEndRefusalAt> left = first_fan_end_refusal(repaired.skeleton))
+                throw Error(ErrorCode::UnsupportedConfiguration,
+                            "skeleton vertex " + std::to_string(left->vertex) +
+                                ": a branch on a fan-edge end (the end of a fan edge shared by " +
+                                std::to_string(left->fan_degree) +
+                                " faces; the paper's limitation 3) that the fan-end repair does not take: " +
+                                left->why.reason + "; edit: " + left->why.edit,
+                            ElementRef{ElementRef::Kind::SkeletonVertex, left->vertex});
         res.trunks = repaired.trunks;
         res.absorbed_stubs = repaired.absorbed_stubs;
         res.side_stubs = repaired.side_stubs;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -271,6 +272,8 @@ double retraction_reach(const Skeleton& s, const std::vector<int>& run) {
     return (run.size() == 2 ? kRetractionMaxAtCorner : kRetractionMax) * total;
 }
 
+double branch_cos(const Skeleton& s, const Candidate& c);
+
 // Is there room to retract the fan edge from c.w: on every face's border run the longest retraction reaches at least
 // kRetractionMinRadii r_w (else *why, when given, names the first face short of it, its run and the ratio)? A skeleton
 // without one radius per vertex passes.
@@ -278,9 +281,11 @@ bool retraction_room(const Skeleton& s, const Incidence& in, const Candidate& c,
     if (s.radii.size() != s.points.size()) return true;  // no radii yet (an analysis before they are set): not judged
     const std::vector<std::vector<int>> runs = face_runs(s, in, c);
     const double rw = s.radii[c.w];
+    // A branch leaning off the fan line's continuation needs the full retraction (kRetractionAlignedCos).
+    const double need = branch_cos(s, c) >= kRetractionAlignedCos ? kRetractionMinRadii : kRetractionRadii;
     for (std::size_t i = 0; i < runs.size(); ++i) {
         const double reach = retraction_reach(s, runs[i]);
-        if (reach >= kRetractionMinRadii * rw) continue;
+        if (reach >= need * rw) continue;
         if (why == nullptr) return false;
         std::ostringstream words;
         words.precision(3);
@@ -288,13 +293,14 @@ bool retraction_room(const Skeleton& s, const Incidence& in, const Candidate& c,
               << ", is too thick for the leaflets: the retraction can go at most " << reach
               << " along the border of face " << c.faces[i] << " from the vertex (" << reach / rw
               << " radii; the straight border from it, " << runs[i].size() - 1
-              << " side(s) long, ends at skeleton vertex " << runs[i].back() << "), at least " << kRetractionMinRadii
-              << " radii are needed (the border's hexes at the fan line fold)";
+              << " side(s) long, ends at skeleton vertex " << runs[i].back() << "), at least " << need
+              << " radii are needed (the border's hexes at the fan line fold"
+              << (need == kRetractionMinRadii ? "" : "; the branch leans off the fan line's continuation") << ")";
         std::ostringstream edit;
         edit.precision(3);
-        edit << "thin the branch at the vertex to at most " << reach / kRetractionMinRadii
+        edit << "thin the branch at the vertex to at most " << reach / need
              << ", or make that leaflet's border from the vertex straight over more faces (at least "
-             << kRetractionMinRadii * rw / kRetractionMax << " long), or " << off_fan();
+             << need * rw / kRetractionMax << " long), or " << off_fan();
         return refuse(why, words.str(), edit.str());
     }
     return true;
@@ -611,6 +617,31 @@ bool bent_first_edge(const Vec3& v, const Vec3& out, const Vec3& normal, Vec3& c
     return *turn_deg <= kBendMaxTurnDeg;
 }
 
+// The distance from the border line (through pw, unit direction along) of a moved branch where it reaches the
+// border coordinate a0 (dot(p - pw, along) = a0): its polyline from the moved root m through cur (the branch edge
+// (prev, cur) at the fan end), then on through vertices of two edges and no face. Infinite when it never gets that
+// far along the border.
+double run_on_clearance(const Skeleton& s, const Incidence& in, const Vec3& pw, const Vec3& along, double a0,
+                        const Vec3& m, int prev, int cur) {
+    const auto coord = [&](const Vec3& p) { return dot(p - pw, along); };
+    Vec3 a = m;
+    for (int steps = 0; steps < static_cast<int>(s.points.size()); ++steps) {
+        const Vec3& b = s.points[cur];
+        if (coord(b) >= a0) {
+            const double ca = coord(a), cb = coord(b);
+            const double f = cb > ca ? std::clamp((a0 - ca) / (cb - ca), 0.0, 1.0) : 1.0;
+            const Vec3 p = a + f * (b - a);
+            return norm((p - pw) - coord(p) * along);
+        }
+        if (in.vertex_edges[cur].size() != 2 || !in.vertex_faces[cur].empty()) break;
+        const int e0 = in.vertex_edges[cur][0];
+        const int next =
+            other_end(s, e0, cur) == prev ? other_end(s, in.vertex_edges[cur][1], cur) : other_end(s, e0, cur);
+        a = b, prev = cur, cur = next;
+    }
+    return std::numeric_limits<double>::infinity();
+}
+
 RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why = nullptr) {
     RootMove mv;
     const Vec3& pw = s.points[c.w];
@@ -639,6 +670,34 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
     const Vec3 m = pw + mv.t * side, normal = normalized(cross(along, out));
     const Vec3 v = normalized(b / static_cast<double>(n) - m);
     const auto [off_out, off_normal] = root_angles(v, out, normal);
+    // Checked first, for clean and bent roots alike (issue 22: inverted raw hexes otherwise, measured by
+    // bench/fanend_sweep.py): the plate beside the fan line, and the branch's clearance where it runs on past the root.
+    const double rw = s.radii[c.w], side_len = norm(side);
+    if (kRootMoveRadii * rw > kRootMoveMax * side_len) {
+        std::ostringstream reason;
+        reason << std::fixed << std::setprecision(3) << "its radius there, " << rw
+               << ", is too thick for the border of face " << mv.face << " (" << side_len
+               << " long): a moved root needs " << std::defaultfloat << kRootMoveRadii
+               << " radii of plate beside the fan line within " << std::lround(100 * kRootMoveMax)
+               << "% of the border side, that is a radius of at most " << std::fixed
+               << kRootMoveMax * side_len / kRootMoveRadii;
+        refuse(why, reason.str(), "");
+        return mv;
+    }
+    for (const int e : in.vertex_edges[c.w]) {
+        int prev = c.w, cur = other_end(s, e, c.w);
+        if (faces_on(in, c.w, cur) != 0) continue;
+        const double clearance = run_on_clearance(s, in, pw, along, mv.t * side_len + rw, m, prev, cur);
+        if (clearance < kRunOnClearanceRadii * rw) {
+            std::ostringstream reason;
+            reason << std::fixed << std::setprecision(3) << "the branch runs on beside the border of face " << mv.face
+                   << " past its moved root: " << rw << " (one radius) beyond the root along the border it is "
+                   << clearance << " from the border line, " << clearance / rw << " radii (at least "
+                   << std::defaultfloat << kRunOnClearanceRadii << " needed: the branch's tube and the border's own)";
+            refuse(why, reason.str(), "");
+            return mv;
+        }
+    }
     Vec3 dir{};
     // Bent only when the branch does not run on past the cut along the border (b projected within kRootMoveMax of the
     // side): a branch close to the carrier's plane stays beside its plates after the bend (inverted raw hexes); and
@@ -816,6 +875,23 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
                              "split the fan edge and the strips of its faces in two by hand, or make the leaflets' "
                              "strips from the fan edge reach a border"};
     return std::nullopt;  // split, then retracted
+}
+
+std::optional<FanEndRefusalAt> first_fan_end_refusal(const Skeleton& s) {
+    if (!well_formed(s)) return std::nullopt;  // the analysis reports the input
+    const Incidence in = make_incidence(s);
+    for (int v = 0; v < static_cast<int>(s.points.size()); ++v) {
+        int branches = 0, fans = 0, degree = 0;
+        for (const int e : in.vertex_edges[v]) {
+            const int f = faces_on(in, v, other_end(s, e, v));
+            branches += f == 0 ? 1 : 0;
+            if (f >= 3) ++fans, degree = f;
+        }
+        if (branches == 0 || fans != 1) continue;
+        std::optional<FanEndRefusal> why = fan_end_refusal(s, v);
+        if (why) return FanEndRefusalAt{v, degree, std::move(*why)};
+    }
+    return std::nullopt;
 }
 
 namespace {

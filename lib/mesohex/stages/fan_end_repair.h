@@ -108,6 +108,11 @@ inline constexpr double kRetractionMaxAtCorner = 0.9;
 // bound with a margin (measurements: docs/blocks.md, "Thick radii at a retracted fan end"). A branch with a face whose
 // border run cannot give this much is refused, naming the ratio.
 inline constexpr double kRetractionMinRadii = 1.6;
+// ... for a branch within acos(kRetractionAlignedCos) = 5 degrees of the fan line's continuation; a branch leaning
+// further needs the full kRetractionRadii r_w (retracted 20 - 45 degrees off the fan line with 1.79 - 1.94 radii of
+// reach, radius 0.72 - 0.78 x the generators' unit leaflet edge: 1 - 2 inverted raw hexes; the aligned branch meshes
+// down to 1.67 radii; bench/fanend_sweep.py, docs/blocks.md "Sweep of the check configurations").
+inline constexpr double kRetractionAlignedCos = 0.99619469809174553;  // cos 5 degrees
 // Largest turn of the border at a vertex that a straight run may pass, degrees.
 inline constexpr double kBorderRunTurnDeg = 5;
 // Range of the moved root's place on the carrier's border side, as a fraction of the side from w: at least 0.3, and
@@ -139,9 +144,12 @@ inline constexpr double kBendMaxTurnDeg = 55;
 // Nor when r_w exceeds kBendMaxRadius x the carrier's border side |x_k - w| (dimensionless): thicker tubes (2 r of
 // bent edge, the leaflets' plates as thick) fold between the leaflets (measurements: docs/blocks.md, "Moved first
 // edges bent"). A limit of its own, measured on the bent roots: independent of kRetractionMax / kRetractionRadii (the
-// retraction's thick-radius threshold, also 0.35 on those constants' current values, but set by another fold).
+// retraction's thick-radius threshold, 0.35 on those constants' current values, set by another fold). 0.3 since issue
+// 22's sweep: at 0.303 - 0.35 the pin at p yields and the X leaning back (`fanend -n 4 -m 5`) gets 8 - 10 inverted raw
+// hexes, the T leaning back 130 - 135 degrees between two leaflets 10 (docs/blocks.md, "Sweep of the check
+// configurations").
 // The refusal of a branch not bent names the first of these conditions that fails, with its value.
-inline constexpr double kBendMaxRadius = 0.35;
+inline constexpr double kBendMaxRadius = 0.3;
 // Height of the row cut under a moved root, x r_w: the fan edge (u, w) and its faces' strips are cut at that distance
 // from w first (when the strips cross and it is less than half the fan edge), so that the root's side patch (its two
 // faces below the border) is about as tall as the branch's tube, not the whole fan edge (measured: docs/blocks.md).
@@ -149,6 +157,14 @@ inline constexpr double kRootRowRadii = 1.0;
 inline constexpr double kRootMoveMin = 0.3;
 inline constexpr double kRootMoveMax = 0.7;
 inline constexpr double kRootMoveRadii = 1.5;  // radii (at w) of plate left beside the fan line, at least
+// Where the moved branch runs on past its root along the carrier's border (its polyline reaching one radius r_w beyond
+// the moved root's border coordinate, past the root's patch), it must stand at least kRunOnClearanceRadii r_w off the
+// border line there (dimensionless: the branch's tube, r, over the border's own rounded plates, r); closer, the tube
+// folds against the plates (1 - 11 inverted raw hexes, measured with bench/fanend_sweep.py: branches in or near a
+// leaflet's plane 50 - 100 degrees off the fan line, docs/blocks.md "Sweep of the check configurations"). And a root
+// is not moved when kRootMoveRadii r_w exceeds kRootMoveMax of the border side (the clamp put the root closer to the
+// fan line than kRootMoveRadii radii: 1 - 8 inverted raw hexes from radius 0.63 x the side, measured there).
+inline constexpr double kRunOnClearanceRadii = 2.0;
 
 struct FanEndRetraction {
     int vertex = -1;                // w: the fan-edge end carrying the branch (keeps its index)
@@ -182,6 +198,19 @@ struct FanEndRefusal {
 // higher end is refused (on the skeleton after that retraction, its reason is then that u is not a plain fan end).
 // O((V + E + F) log E).
 std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w);
+
+// The first vertex (increasing index) of s with a branch edge on exactly one fan edge (an edge of 3 or more faces), the
+// configuration the analysis refuses after the repair, with fan_end_refusal's reason and the fan edge's face count;
+// std::nullopt when there is none, or fan_end_refusal would take it. Called by the pipeline on the repaired input
+// sampling, before the resampling moves the branch's first vertices: the reason is then measured where the repair
+// measured it (on the resampled skeleton a failing condition may not show, and the analysis could only say that the
+// repair did not run). O(V + E + F) plus fan_end_refusal at each such vertex.
+struct FanEndRefusalAt {
+    int vertex = -1;
+    int fan_degree = 0;
+    FanEndRefusal why;
+};
+std::optional<FanEndRefusalAt> first_fan_end_refusal(const Skeleton& s);
 
 // Preconditions: one radius > 0 per vertex, faces quads, indices in range (else nothing is done: analysis reports
 // the input). Postconditions: V - E + F unchanged (each retracted face adds w_i and the side (u, w_i)); input vertices,
