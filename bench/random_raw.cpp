@@ -27,6 +27,7 @@
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/skeleton_repair.h"
+#include "mesohex_io/skeleton_io.h"
 #include "raw_hash.h"
 
 using namespace mesohex;
@@ -83,7 +84,11 @@ int main(int argc, char** argv) {
         "side_stubs "
         "junction_splits raw_hash\n");
     for (long seed = first; seed <= last; ++seed) {
-        const Skeleton in = generate_random_skeleton(static_cast<std::uint64_t>(seed));
+        // SKEL=path in the environment: that skeleton file instead of the seeds (FIRST = LAST; e.g. the shared curve
+        // skeletons, which bring their radii).
+        const char* skel_path = std::getenv("SKEL");
+        const Skeleton in =
+            skel_path ? read_skeleton(skel_path) : generate_random_skeleton(static_cast<std::uint64_t>(seed));
         try {
             const PipelineResult res = run_pipeline(in, po);
             const Skeleton& s = res.skeleton;
@@ -125,7 +130,7 @@ int main(int argc, char** argv) {
                             std::printf(" %d", e[0] == static_cast<int>(v) ? e[1] : e[0]);
                     std::printf("\n");
                 }
-                for (int k = 0; k < 5 && k < static_cast<int>(q.worst_hexes.size()); ++k) {
+                for (int k = 0; k < 10 && k < static_cast<int>(q.worst_hexes.size()); ++k) {
                     const int h = q.worst_hexes[k], e = res.raw.hex_edge[h];
                     std::printf("  worst hex %d sj %.3f edge %d (%d %d)\n", h, q.sj[h], e, e < 0 ? -1 : s.edges[e][0],
                                 e < 0 ? -1 : s.edges[e][1]);
