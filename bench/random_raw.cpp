@@ -7,7 +7,8 @@
 //   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every
 //   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, JUNCTION_SPLIT=H SkeletonRepairOptions::
 //   junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
-//   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off. The last three
+//   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
+//   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair. The last three
 //   columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare two
 //   builds or option sets seed by seed to find the seeds a change touches).
 //
@@ -84,6 +85,8 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_SPLIT_CLEARANCE")) po.repair.junction_split_clearance = std::atof(k);
     if (const char* k = std::getenv("SIDE_STUB_MIN_LENGTH")) po.repair.side_stub_min_length = std::atof(k);
     if (const char* k = std::getenv("PIN_TRUNK_JOINTS")) po.repair.pin_trunk_joints = std::atoi(k) != 0;
+    if (const char* k = std::getenv("NO_FLAT_CROTCH"))
+        po.connection_surfaces.no_flat_point_in_close_pair = std::atoi(k) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf(

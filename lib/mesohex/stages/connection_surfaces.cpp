@@ -932,6 +932,7 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
         const bool plane_orange =
             options.plane_orange_at_degree_three && n == 3 && nb == 3 && has_gap_over_half_turn(dirs);
         po.planarity_tolerance = plane_orange ? 1.0 : options.planarity_tolerance;
+        po.no_flat_point_in_close_pair = options.no_flat_point_in_close_pair && n == 4 && nb == 4;
         part = partition_sphere(dirs, po);
         if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
         if (options.relax_partitions && n > nb) {
@@ -1054,7 +1055,8 @@ bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o)
     return std::memcmp(&m.planarity_tolerance, &o.planarity_tolerance, sizeof(double)) == 0 &&
            m.relax_partitions == o.relax_partitions &&
            std::memcmp(&m.relax_below_margin, &o.relax_below_margin, sizeof(double)) == 0 &&
-           m.plane_orange_at_degree_three == o.plane_orange_at_degree_three;
+           m.plane_orange_at_degree_three == o.plane_orange_at_degree_three &&
+           m.no_flat_point_in_close_pair == o.no_flat_point_in_close_pair;
 }
 
 // FNV-1a (64 bits) of the key's bytes.
@@ -1116,6 +1118,7 @@ SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::ve
     m.relax_partitions = options.relax_partitions;
     m.relax_below_margin = options.relax_below_margin;
     m.plane_orange_at_degree_three = options.plane_orange_at_degree_three;
+    m.no_flat_point_in_close_pair = options.no_flat_point_in_close_pair;
     std::vector<std::pair<std::uint64_t, int>> order;
     for (int v = 0; v < static_cast<int>(keys.size()); ++v)
         if (!keys[v].empty()) order.push_back({memo_hash(keys[v]), v});
