@@ -69,7 +69,9 @@ struct ConnectionSurfaceOptions {
     // (SpherePartitionOptions::close_pair_gap_deg) and less than 90 degrees apart: no partition with a valence-2
     // point (two quads at 180 degrees) held by just that pair's quads, i.e. in the pair's crotch, when partition_sphere
     // has a valid candidate without (SpherePartitionOptions::no_flat_point_in_close_pair; the orange has one between
-    // every two consecutive branches). docs/junctions.md, "The shared curve skeletons".
+    // every two consecutive branches). Kept only if the junction's first chunks do not get worse: the smallest hex
+    // corner value and weighted margin of the junction model (as relax_junction measures it) at least the default
+    // partition's. docs/junctions.md, "The shared curve skeletons".
     bool no_flat_point_in_close_pair = false;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
