@@ -72,7 +72,7 @@ struct ConnectionSurfaceOptions {
     // every two consecutive branches). Kept only if the junction's first chunks do not get worse: the smallest hex
     // corner value and weighted margin of the junction model (as relax_junction measures it) at least the default
     // partition's. docs/junctions.md, "The shared curve skeletons".
-    bool no_flat_point_in_close_pair = false;
+    bool no_flat_point_in_close_pair = true;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
     // blocks.enabled = false keeps the paper's layout (`--no-blocks`).
