@@ -7,9 +7,17 @@
 //   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every
 //   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, JUNCTION_SPLIT=H SkeletonRepairOptions::
 //   junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
-//   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off. The last three
+//   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
+//   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair. The last three
 //   columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare two
 //   builds or option sets seed by seed to find the seeds a change touches).
+//
+// SKEL=path meshes that skeleton file instead (FIRST = LAST, e.g. `SKEL=curve-skeletons/dino.skel
+// mesohex_random_raw 0 0`; the 3rd argument 1.0 gives the second attempt's adaptation). DUMP=1 also lists the meshed
+// skeleton (vertex, radius, the radius the raw mesh used: smaller next to branching points, see
+// RawMeshOptions::margin_fraction; neighbours), every branching point's partition points (raw hexes using each: 8 at a
+// valence-4 pole, 4 at a valence-2 point with its 180-degree corner; angle to each branch edge) and the 10 worst raw
+// hexes with their skeleton edge (docs/junctions.md, "The shared curve skeletons").
 //
 // One line per seed, then the distribution. The worst raw hex is named by the adapted skeleton edge of its chunk
 // (a plate hex: "plate"), and by the kind of that edge's ends: bp = branching point without leaflet, lf = leaflet
@@ -27,6 +35,7 @@
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/skeleton_repair.h"
+#include "mesohex_io/skeleton_io.h"
 #include "raw_hash.h"
 
 using namespace mesohex;
@@ -76,6 +85,8 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_SPLIT_CLEARANCE")) po.repair.junction_split_clearance = std::atof(k);
     if (const char* k = std::getenv("SIDE_STUB_MIN_LENGTH")) po.repair.side_stub_min_length = std::atof(k);
     if (const char* k = std::getenv("PIN_TRUNK_JOINTS")) po.repair.pin_trunk_joints = std::atoi(k) != 0;
+    if (const char* k = std::getenv("NO_FLAT_CROTCH"))
+        po.connection_surfaces.no_flat_point_in_close_pair = std::atoi(k) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf(
@@ -83,7 +94,11 @@ int main(int argc, char** argv) {
         "side_stubs "
         "junction_splits raw_hash\n");
     for (long seed = first; seed <= last; ++seed) {
-        const Skeleton in = generate_random_skeleton(static_cast<std::uint64_t>(seed));
+        // SKEL=path in the environment: that skeleton file instead of the seeds (FIRST = LAST; e.g. the shared curve
+        // skeletons, which bring their radii).
+        const char* skel_path = std::getenv("SKEL");
+        const Skeleton in =
+            skel_path ? read_skeleton(skel_path) : generate_random_skeleton(static_cast<std::uint64_t>(seed));
         try {
             const PipelineResult res = run_pipeline(in, po);
             const Skeleton& s = res.skeleton;
@@ -118,14 +133,46 @@ int main(int argc, char** argv) {
             const QualityReport q = compute_quality(res.raw.mesh);
             if (std::getenv("DUMP")) {  // the meshed skeleton: vertex, radius, neighbours
                 for (std::size_t v = 0; v < s.points.size(); ++v) {
-                    std::printf("  v%zu (%.3f %.3f %.3f) r %.3f:", v, s.points[v].x, s.points[v].y, s.points[v].z,
-                                s.radii[v]);
+                    // raw r: the distance of the vertex's first raw surface point from its centre (the effective
+                    // radius the raw mesh used: limited next to branching points and at sharp joints)
+                    const int b = res.raw.vertex_base[v];
+                    const double rr = b >= 0 && b + 1 < static_cast<int>(res.raw.mesh.points.size())
+                                          ? distance(res.raw.mesh.points[b + 1], res.raw.mesh.points[b])
+                                          : 0.0;
+                    std::printf("  v%zu (%.3f %.3f %.3f) r %.3f raw r %.3f:", v, s.points[v].x, s.points[v].y,
+                                s.points[v].z, s.radii[v], rr);
                     for (const auto& e : s.edges)
                         if (e[0] == static_cast<int>(v) || e[1] == static_cast<int>(v))
                             std::printf(" %d", e[0] == static_cast<int>(v) ? e[1] : e[0]);
                     std::printf("\n");
                 }
-                for (int k = 0; k < 5 && k < static_cast<int>(q.worst_hexes.size()); ++k) {
+                // Per branching point (a sphere partition: d quads on d + 2 points, ids after its centre): each
+                // surface point's raw hex count (2 per quad holding it) and its angle to each branch edge (degrees).
+                {
+                    std::vector<int> uses(res.raw.mesh.points.size(), 0);
+                    for (const auto& hx : res.raw.mesh.hexes)
+                        for (int x : hx) ++uses[static_cast<std::size_t>(x)];
+                    for (std::size_t v = 0; v < s.points.size(); ++v) {
+                        std::vector<int> nb;
+                        for (const auto& e : s.edges)
+                            if (e[0] == static_cast<int>(v) || e[1] == static_cast<int>(v))
+                                nb.push_back(e[0] == static_cast<int>(v) ? e[1] : e[0]);
+                        const int b = res.raw.vertex_base[v];
+                        if (nb.size() < 3 || b < 0) continue;
+                        for (std::size_t x = 1; x <= nb.size() + 2; ++x) {
+                            const Vec3 d = normalized(res.raw.mesh.points[b + x] - res.raw.mesh.points[b]);
+                            std::printf("  point v%zu.%zu hexes %d dir (%.3f %.3f %.3f) angles", v, x, uses[b + x], d.x,
+                                        d.y, d.z);
+                            for (int w : nb)
+                                std::printf(
+                                    " v%d:%.0f", w,
+                                    std::acos(std::clamp(dot(d, normalized(s.points[w] - s.points[v])), -1.0, 1.0)) *
+                                        180 / 3.141592653589793);
+                            std::printf("\n");
+                        }
+                    }
+                }
+                for (int k = 0; k < 10 && k < static_cast<int>(q.worst_hexes.size()); ++k) {
                     const int h = q.worst_hexes[k], e = res.raw.hex_edge[h];
                     std::printf("  worst hex %d sj %.3f edge %d (%d %d)\n", h, q.sj[h], e, e < 0 ? -1 : s.edges[e][0],
                                 e < 0 ? -1 : s.edges[e][1]);

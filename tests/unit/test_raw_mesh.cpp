@@ -636,6 +636,50 @@ TEST(RawMesh, SpreadDegreeThreeJunctionKeepsItsPartition) {
     EXPECT_EQ(a.quads, b.quads);
 }
 
+// Dino's hip as adaptation leaves it (docs/junctions.md, "The shared curve skeletons"): a branching point of radius
+// 0.223 with the body (0.221) and, in a cone opposite it, the tail (0.112) and two legs (0.100, 0.105) 46 degrees
+// apart, every other angle at a leg at least 79 degrees. partition_sphere's choice is an orange, whose valence-2
+// point between the two legs (their quads meeting at 180 degrees) sits in the legs' crotch: raw min SJ 0.070 (the
+// pipeline's raw mesh of dino, with its shoulders and tail beyond: 0.071). With no_flat_point_in_close_pair the hull
+// path's partition puts a valence-3 point there: 0.100 (dino's raw mesh: 0.161).
+TEST(RawMesh, CloseDegreeFourPairGetsNoFlatPointInItsCrotch) {
+    Skeleton s;
+    s.points = {
+        {0, 0, 0}, {0.219, 0.193, -0.035}, {0.212, -0.144, 0.149}, {-0.138, -0.305, 0.024}, {-0.002, -0.266, -0.197}};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    s.radii = {0.223, 0.221, 0.112, 0.100, 0.105};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    for (const bool on : {true, false}) {
+        SCOPED_TRACE(on ? "no flat point in the crotch" : "partition_sphere's choice");
+        ConnectionSurfaceOptions co;
+        co.no_flat_point_in_close_pair = on;
+        const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+        // Points of c held by exactly the legs' quads (quads 2 and 3: the branch edges in order).
+        const int q0 = cs.quad_begin[0], np = cs.point_begin[1] - cs.point_begin[0];
+        ASSERT_EQ(np, 6);
+        int flat_in_crotch = 0, flat = 0;
+        for (int x = 0; x < np; ++x) {
+            std::vector<int> holders;
+            for (int q = 0; q < 4; ++q)
+                if (std::ranges::find(cs.quads[q0 + q], x) != cs.quads[q0 + q].end()) holders.push_back(q);
+            flat += holders.size() == 2;
+            flat_in_crotch += holders == std::vector<int>{2, 3};
+        }
+        const BranchFrames fr = propagate_frames(s, an, cs);
+        const QualityReport q = compute_quality(build_raw_mesh(s, an, cs, fr).mesh);
+        EXPECT_EQ(q.inverted, 0);
+        if (on) {
+            EXPECT_EQ(flat, 2);  // a hull partition: four valence-3 points, two valence-2 ones elsewhere
+            EXPECT_EQ(flat_in_crotch, 0);
+            EXPECT_NEAR(q.sj_min, 0.100, 0.01);
+        } else {
+            EXPECT_EQ(flat, 4);  // the orange: four equator points
+            EXPECT_EQ(flat_in_crotch, 1);
+            EXPECT_NEAR(q.sj_min, 0.070, 0.01);
+        }
+    }
+}
+
 TEST(RawMesh, ClosedRingOfSixEdges) {
     const Skeleton s = ring(6);
     const Built b = build(s, 0.25);

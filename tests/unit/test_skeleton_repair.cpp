@@ -315,6 +315,11 @@ TEST(SkeletonRepair, RandomSeedWithDegreeFourJunction) {
     const Skeleton in = mesohex::generate_random_skeleton(4);
     mesohex::PipelineOptions unsplit;
     unsplit.repair.junction_split = 0;
+    // The degree-4 point as the paper partitions it (an orange); its close pair's crotch-free partition
+    // (no_flat_point_in_close_pair, on by default) already raises the unsplit raw mesh to 0.200.
+    mesohex::PipelineOptions unsplit_crotch_free = unsplit;
+    unsplit.connection_surfaces.no_flat_point_in_close_pair = false;
+    EXPECT_NEAR(mesohex::compute_quality(mesohex::run_pipeline(in, unsplit_crotch_free).raw.mesh).sj_min, 0.200, 0.005);
     const mesohex::PipelineResult before = mesohex::run_pipeline(in, unsplit);
     const mesohex::PipelineResult after = mesohex::run_pipeline(in);
     EXPECT_EQ(before.junction_splits, 0);

@@ -934,6 +934,28 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
         po.planarity_tolerance = plane_orange ? 1.0 : options.planarity_tolerance;
         part = partition_sphere(dirs, po);
         if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
+        if (options.no_flat_point_in_close_pair && n == 4 && nb == 4) {
+            // The partition without a flat point in the close pair's crotch, kept only if the junction's hexes do not
+            // get worse: the smallest value of the first chunks' corners and the weighted margins (junction_terms,
+            // the raw mesh's layout and radius reduction), the same measure relax_junction raises.
+            po.no_flat_point_in_close_pair = true;
+            SpherePartition other = partition_sphere(dirs, po);
+            if (options.relax_partitions) other = relax_partition(other, dirs, options.relax_below_margin);
+            if (other.points != part.points || other.quads != part.quads) {
+                JunctionModel m;
+                m.r = model_radius(in.skeleton, in.an, v);
+                m.dirs = dirs;
+                m.branch_quads = nb;
+                m.chunks = model_chunks(in.skeleton, in.an, v, dirs, nb);
+                const auto value = [&](const SpherePartition& p) {
+                    m.quads = p.quads;
+                    std::vector<Vec3> pts(p.points.size());
+                    for (std::size_t k = 0; k < pts.size(); ++k) pts[k] = normalized(p.points[k]);
+                    return hard_min(m, pts);
+                };
+                if (value(other) >= value(part)) part = std::move(other);
+            }
+        }
         if (options.relax_partitions && n > nb) {
             std::vector<int> rot(n, -1);
             bool ok = true;
@@ -1054,7 +1076,8 @@ bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o)
     return std::memcmp(&m.planarity_tolerance, &o.planarity_tolerance, sizeof(double)) == 0 &&
            m.relax_partitions == o.relax_partitions &&
            std::memcmp(&m.relax_below_margin, &o.relax_below_margin, sizeof(double)) == 0 &&
-           m.plane_orange_at_degree_three == o.plane_orange_at_degree_three;
+           m.plane_orange_at_degree_three == o.plane_orange_at_degree_three &&
+           m.no_flat_point_in_close_pair == o.no_flat_point_in_close_pair;
 }
 
 // FNV-1a (64 bits) of the key's bytes.
@@ -1116,6 +1139,7 @@ SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::ve
     m.relax_partitions = options.relax_partitions;
     m.relax_below_margin = options.relax_below_margin;
     m.plane_orange_at_degree_three = options.plane_orange_at_degree_three;
+    m.no_flat_point_in_close_pair = options.no_flat_point_in_close_pair;
     std::vector<std::pair<std::uint64_t, int>> order;
     for (int v = 0; v < static_cast<int>(keys.size()); ++v)
         if (!keys[v].empty()) order.push_back({memo_hash(keys[v]), v});

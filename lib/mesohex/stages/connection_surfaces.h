@@ -65,6 +65,14 @@ struct ConnectionSurfaceOptions {
     // choice, whose score prefers there an axis tilted into the branches' plane, with a pole next to a branch of the
     // close pair: docs/junctions.md, "Degree-3 partitions").
     bool plane_orange_at_degree_three = true;
+    // At a branching point with exactly four branch edges and no leaflet side whose closest pair is unambiguous
+    // (SpherePartitionOptions::close_pair_gap_deg) and less than 90 degrees apart: no partition with a valence-2
+    // point (two quads at 180 degrees) held by just that pair's quads, i.e. in the pair's crotch, when partition_sphere
+    // has a valid candidate without (SpherePartitionOptions::no_flat_point_in_close_pair; the orange has one between
+    // every two consecutive branches). Kept only if the junction's first chunks do not get worse: the smallest hex
+    // corner value and weighted margin of the junction model (as relax_junction measures it) at least the default
+    // partition's. docs/junctions.md, "The shared curve skeletons".
+    bool no_flat_point_in_close_pair = true;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
     // blocks.enabled = false keeps the paper's layout (`--no-blocks`).
@@ -74,7 +82,8 @@ struct ConnectionSurfaceOptions {
 // Content-keyed memo of branching-point surfaces (for remeshing after an edit, mesohex/incremental.h). The surface of
 // a branching point without leaflet sides and without a compatible block is a pure function of its branch directions
 // (unit(w - v) for its branch edges in increasing edge id, in that order) and of the options read by its partition
-// (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three): an entry keyed on the
+// (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three,
+// no_flat_point_in_close_pair): an entry keyed on the
 // exact bits of those directions is reused whatever the vertex's number, so an edit that renumbers the skeleton
 // (adaptation re-sampling a branch) recomputes only the branching points whose directions changed. Keys are compared
 // in full (no trust in the hash).
@@ -93,6 +102,7 @@ struct SurfaceMemo {
     bool relax_partitions = false;
     double relax_below_margin = 0;
     bool plane_orange_at_degree_three = false;
+    bool no_flat_point_in_close_pair = false;
     std::vector<Entry> entries;                        // one per distinct key
     std::vector<std::pair<std::uint64_t, int>> index;  // (hash of the key, entry), sorted
     int hits = 0;                                      // surfaces the last rebuild took from the memo it was given

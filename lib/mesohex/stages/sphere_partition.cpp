@@ -1386,6 +1386,44 @@ SpherePartitionStats sphere_partition_stats(const SpherePartition& p, const std:
     return s;
 }
 
+namespace {
+
+// SpherePartitionOptions::no_flat_point_in_close_pair: for four directions, the closest pair (i, j) when it is less
+// than 90 degrees apart and every angle from i or j to one of the other two exceeds its angle by gap_deg; else {-1, -1}.
+std::array<int, 2> close_pair_of_four(const std::vector<Vec3>& d, double gap_deg) {
+    if (d.size() != 4) return {-1, -1};
+    int ci = -1, cj = -1;
+    double best_cos = 0;
+    for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j)
+            if (dot(d[i], d[j]) > best_cos) best_cos = dot(d[i], d[j]), ci = i, cj = j;
+    if (ci < 0) return {-1, -1};
+    const double a = angle_between(d[ci], d[cj]);
+    for (int k = 0; k < 4; ++k)
+        if (k != ci && k != cj &&
+            std::min(angle_between(d[ci], d[k]), angle_between(d[cj], d[k])) - a < gap_deg * kPi / 180)
+            return {-1, -1};
+    return {ci, cj};
+}
+
+// Whether p has a point held by exactly two quads, pair[0]'s and pair[1]'s (false when pair[0] < 0).
+bool flat_point_between(const SpherePartition& p, const std::array<int, 2>& pair) {
+    if (pair[0] < 0) return false;
+    for (int x = 0; x < static_cast<int>(p.points.size()); ++x) {
+        int count = 0;
+        bool other = false;
+        for (int q = 0; q < static_cast<int>(p.quads.size()); ++q)
+            if (std::find(p.quads[q].begin(), p.quads[q].end(), x) != p.quads[q].end()) {
+                ++count;
+                other = other || (q != pair[0] && q != pair[1]);
+            }
+        if (count == 2 && !other) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
 SpherePartition partition_sphere(const std::vector<Vec3>& directions, const SpherePartitionOptions& options) {
     const std::vector<Vec3> d = validated_directions(directions);
     const int n = static_cast<int>(d.size());
@@ -1400,12 +1438,18 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
     for (const Vec3& p : d) planarity = std::max(planarity, std::abs(dot(p, normal)));
     // Candidates in the order that breaks ties (the first of the best wins): planar orange, hull, axis oranges.
     std::vector<SpherePartition> planar, hull;
+    const std::array<int, 2> pair = options.no_flat_point_in_close_pair
+                                        ? close_pair_of_four(d, options.close_pair_gap_deg)
+                                        : std::array<int, 2>{-1, -1};
+    const auto flat_in_pair = [&](const SpherePartition& p) { return flat_point_between(p, pair); };
     if (n == 2 || planarity <= options.planarity_tolerance) {
         const OrangeFrame frame = orange_frame(d, normal);
         if (orange_margin(frame) > 0) {
             SpherePartition p = build_orange(frame);
             // A tight cluster is "planar" too, but its lunes are slivers: then let the general path compete.
-            if (verify_sphere_partition(p, d).empty() && (n == 2 || quality_score(p, d) >= kGoodOrange)) return p;
+            if (verify_sphere_partition(p, d).empty() && (n == 2 || quality_score(p, d) >= kGoodOrange) &&
+                !flat_in_pair(p))
+                return p;
             planar.push_back(std::move(p));
         }
     }
@@ -1426,7 +1470,7 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
 
     // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
     try {
-        hull = hull_candidates(d, beat);
+        hull = hull_candidates(d, pair[0] >= 0 ? -1e300 : beat);
     } catch (const std::out_of_range&) {
         // A map lookup (.at) found an inconsistent structure: cannot happen for a verified base map; if it does, the
         // hull path simply contributes nothing and the oranges remain.
@@ -1435,10 +1479,16 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
     const std::vector<double> hull_scores = scores_of(hull);
     std::optional<SpherePartition> best;
     double best_score = -1;
+    // With a close pair (no_flat_point_in_close_pair): candidates with a flat point in its crotch only if all have one.
+    bool any_clear = false;
+    for (const auto& [list, scores] :
+         {std::pair{&planar, &planar_scores}, std::pair{&hull, &hull_scores}, std::pair{&oranges, &orange_scores}})
+        for (std::size_t c = 0; c < list->size(); ++c)
+            any_clear = any_clear || ((*scores)[c] != -1e300 && !flat_in_pair((*list)[c]));
     for (const auto& [list, scores] :
          {std::pair{&planar, &planar_scores}, std::pair{&hull, &hull_scores}, std::pair{&oranges, &orange_scores}})
         for (std::size_t c = 0; c < list->size(); ++c) {
-            if ((*scores)[c] == -1e300) continue;
+            if ((*scores)[c] == -1e300 || (any_clear && flat_in_pair((*list)[c]))) continue;
             if (!best || (*scores)[c] > best_score) {
                 best = std::move((*list)[c]);
                 best_score = (*scores)[c];

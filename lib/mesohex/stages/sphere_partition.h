@@ -18,6 +18,14 @@ struct SpherePartitionOptions {
     // Directions closer than this to a common great circle (max |dot(d, n)| for the best-fit plane normal n) are
     // treated as planar and get the "orange" partition (lunes between two poles).
     double planarity_tolerance = 0.05;
+    // Four directions with a close pair (less than 90 degrees apart, every angle from one of its two directions to
+    // one of the other two larger by at least close_pair_gap_deg): no candidate with a valence-2 point (two quads
+    // meeting at 180 degrees) held by exactly the pair's two quads, when a valid candidate without one exists (the
+    // hull path's candidates are then all built and relaxed, whatever the oranges score). An orange puts such a point
+    // in the gap between every two consecutive directions, so in the crotch of the pair; the hull path's partitions
+    // there have a valence-3 point instead (docs/junctions.md, "The shared curve skeletons"). false: the best score.
+    bool no_flat_point_in_close_pair = false;
+    double close_pair_gap_deg = 10;  // degrees (see no_flat_point_in_close_pair)
 };
 
 // Preconditions: n >= 2 pairwise distinct directions, in any configuration (antipodal pairs, clusters, coplanar or
