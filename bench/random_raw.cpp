@@ -7,7 +7,9 @@
 //   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every
 //   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, JUNCTION_SPLIT=H SkeletonRepairOptions::
 //   junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
-//   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off. The last three
+//   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, D3_BY_CHUNKS=0|1
+//   sets ConnectionSurfaceOptions::degree_three_partition_by_chunks, D3_NEXT_TO_BP=0|1 its
+//   degree_three_chunks_next_to_branching_points. The last three
 //   columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare two
 //   builds or option sets seed by seed to find the seeds a change touches).
 //
@@ -76,6 +78,10 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_SPLIT_CLEARANCE")) po.repair.junction_split_clearance = std::atof(k);
     if (const char* k = std::getenv("SIDE_STUB_MIN_LENGTH")) po.repair.side_stub_min_length = std::atof(k);
     if (const char* k = std::getenv("PIN_TRUNK_JOINTS")) po.repair.pin_trunk_joints = std::atoi(k) != 0;
+    if (const char* k = std::getenv("D3_BY_CHUNKS"))
+        po.connection_surfaces.degree_three_partition_by_chunks = std::atoi(k) != 0;
+    if (const char* k = std::getenv("D3_NEXT_TO_BP"))
+        po.connection_surfaces.degree_three_chunks_next_to_branching_points = std::atoi(k) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf(

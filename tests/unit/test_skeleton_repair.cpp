@@ -445,6 +445,7 @@ TEST(SkeletonRepair, RandomSeedSideStubInsideRootBall) {
     const Skeleton in = mesohex::generate_random_skeleton(251);
     mesohex::PipelineOptions paper_partition;
     paper_partition.connection_surfaces.plane_orange_at_degree_three = false;
+    paper_partition.connection_surfaces.degree_three_partition_by_chunks = false;
     mesohex::PipelineOptions kept = paper_partition;
     kept.repair.side_stub_min_length = 0;
     const mesohex::PipelineResult def = mesohex::run_pipeline(in, paper_partition),
