@@ -310,18 +310,17 @@ TEST(SkeletonRepair, RandomSeedSplitWouldCutFirstCorner) {
 
 // Random seed 4 (issue 16's random set): a degree-4 branching point of radius 0.205 with a pair 63 degrees apart and
 // first edges 2.7 radii long (no trunk: the pair's tubes separate inside the ball). Split, its raw mesh's worst hex
-// (at that junction) rises from SJ 0.176 to 0.324 and the raw mesh gains 8 hexes (the bridge's chunk). Measured with
-// the gap rule at degree 3 (ConnectionSurfaceOptions::degree_three_partition_by_chunks off); with the chunk choice
-// the split's two degree-3 points take the orange and the split raw mesh reaches 0.462.
+// (at that junction) rises from SJ 0.176 to 0.324 and the raw mesh gains 8 hexes (the bridge's chunk). The split's two
+// degree-3 points are each other's neighbours, so they keep the gap rule by default; with
+// ConnectionSurfaceOptions::degree_three_chunks_next_to_branching_points both take the orange: 0.462.
 TEST(SkeletonRepair, RandomSeedWithDegreeFourJunction) {
     const Skeleton in = mesohex::generate_random_skeleton(4);
-    mesohex::PipelineOptions split, unsplit;
-    split.connection_surfaces.degree_three_partition_by_chunks = false;
-    unsplit = split;
+    mesohex::PipelineOptions unsplit, next;
     unsplit.repair.junction_split = 0;
+    next.connection_surfaces.degree_three_chunks_next_to_branching_points = true;
     const mesohex::PipelineResult before = mesohex::run_pipeline(in, unsplit);
-    const mesohex::PipelineResult after = mesohex::run_pipeline(in, split);
-    EXPECT_NEAR(mesohex::compute_quality(mesohex::run_pipeline(in).raw.mesh).sj_min, 0.462, 0.005);
+    const mesohex::PipelineResult after = mesohex::run_pipeline(in);
+    EXPECT_NEAR(mesohex::compute_quality(mesohex::run_pipeline(in, next).raw.mesh).sj_min, 0.462, 0.005);
     EXPECT_EQ(before.junction_splits, 0);
     EXPECT_EQ(after.junction_splits, 1);
     EXPECT_EQ(after.trunks + after.absorbed_stubs + after.side_stubs, 0);

@@ -74,7 +74,7 @@ struct ConnectionSurfaceOptions {
     // With degree_three_partition_by_chunks: also choose at a degree-3 point one of whose branch edges ends at another
     // branching point (the chunk model then puts a square cross-section there, where the raw mesh has that point's
     // own partition quad). Off: such points keep the gap rule.
-    bool degree_three_chunks_next_to_branching_points = true;
+    bool degree_three_chunks_next_to_branching_points = false;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
     // blocks.enabled = false keeps the paper's layout (`--no-blocks`).
