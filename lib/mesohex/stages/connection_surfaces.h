@@ -65,7 +65,8 @@ struct ConnectionSurfaceOptions {
     // choice, whose score prefers there an axis tilted into the branches' plane, with a pole next to a branch of the
     // close pair: docs/junctions.md, "Degree-3 partitions").
     bool plane_orange_at_degree_three = true;
-    // At every branching point with exactly three branch edges and no leaflet side, build both the general partition
+    // At every branching point with exactly three branch edges, no leaflet side, and every branch edge ending at a
+    // joint or an extremity (see degree_three_chunks_next_to_branching_points), build both the general partition
     // and the orange around the branches' best-fit plane normal, and keep the one whose first chunks (the 4 hexes per
     // branch edge from the junction to the next vertex, modelled with the edges' lengths and the neighbours' radii as
     // the raw mesh builds them) have the larger smallest corner value (ties: the general one). Replaces the gap rule
