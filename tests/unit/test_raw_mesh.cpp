@@ -587,6 +587,7 @@ TEST(RawMesh, FatDegreeThreeJunctionTakesThePlaneOrange) {
         SCOPED_TRACE(on ? "plane orange" : "partition_sphere's choice");
         ConnectionSurfaceOptions co;
         co.plane_orange_at_degree_three = on;
+        co.degree_three_partition_by_chunks = false;  // the gap rule alone
         const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
         const BranchFrames fr = propagate_frames(s, an, cs);
         double pole_to_branch = 180;  // degrees, smallest angle between a valence-3 point of c and a branch
@@ -612,7 +613,48 @@ TEST(RawMesh, FatDegreeThreeJunctionTakesThePlaneOrange) {
     }
 }
 
-// The option leaves a degree-3 point alone when no gap between its branches exceeds 180 degrees: a Y whose branches
+// The same Y with its first arm ending at another branching point (two more arms there, 1 long, 60 degrees either
+// side of the first arm's direction): the chunk model puts a square cross-section at that point, where the raw mesh
+// has its partition quad. degree_three_chunks_next_to_branching_points on: the centre is still chosen by its chunks
+// (the orange, poles 84.7 degrees from every branch, as above); off: the gap rule (no gap over 180 degrees: poles
+// 45.2 degrees from a branch).
+TEST(RawMesh, DegreeThreeChoiceNextToABranchingPoint) {
+    const double e = 10 * std::numbers::pi / 180;
+    std::vector<Vec3> dirs;
+    for (const double az : {0.0, 100.0, 220.0}) {
+        const double a = az * std::numbers::pi / 180;
+        dirs.push_back(
+            {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), az == 100.0 ? -std::sin(e) : std::sin(e)});
+    }
+    Skeleton s = star(dirs, 1, 1.0);
+    const double c60 = 0.5, s60 = std::sqrt(3.0) / 2;
+    s.points.push_back(s.points[1] + Vec3{c60, s60, 0});
+    s.points.push_back(s.points[1] + Vec3{c60, -s60, 0});
+    s.edges.push_back({1, 4});
+    s.edges.push_back({1, 5});
+    s.radii = {0.4, 0.25, 0.25, 0.25, 0.2, 0.2};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ASSERT_EQ(an.vertex_class[1], VertexClass::BranchingPoint);
+    for (const bool next : {true, false}) {
+        SCOPED_TRACE(next ? "chosen next to a branching point" : "gap rule there");
+        ConnectionSurfaceOptions co;
+        co.degree_three_chunks_next_to_branching_points = next;
+        const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+        const BranchFrames fr = propagate_frames(s, an, cs);
+        double pole_to_branch = 180;  // degrees, smallest angle between a valence-3 point of the centre and a branch
+        for (int x = cs.point_begin[0]; x < cs.point_begin[1]; ++x)
+            if (cs.point_valence[x] == 3)
+                for (const Vec3& d : dirs)
+                    pole_to_branch =
+                        std::min(pole_to_branch,
+                                 std::acos(std::clamp(dot(fr.directions[x], d), -1.0, 1.0)) * 180 / std::numbers::pi);
+        EXPECT_NEAR(pole_to_branch, next ? 84.7 : 45.2, 0.5);
+        EXPECT_EQ(compute_quality(build_raw_mesh(s, an, cs, fr).mesh).inverted, 0);
+    }
+}
+
+// The gap rule (plane_orange_at_degree_three, without degree_three_partition_by_chunks) leaves a degree-3 point alone
+// when no gap between its branches exceeds 180 degrees: a Y whose branches
 // are 100, 120 and 140 degrees apart in azimuth, 10 degrees out of one plane (beyond planarity_tolerance), gets the
 // same surface with and without it.
 TEST(RawMesh, SpreadDegreeThreeJunctionKeepsItsPartition) {
@@ -629,9 +671,11 @@ TEST(RawMesh, SpreadDegreeThreeJunctionKeepsItsPartition) {
     EXPECT_NE(partition_sphere(dirs).points, partition_sphere(dirs, any_planarity).points);
     const Skeleton s = star(dirs, 1, 1.0);
     const SkeletonAnalysis an = analyze_skeleton(s);
-    ConnectionSurfaceOptions off;
+    ConnectionSurfaceOptions gap_rule, off;  // the gap rule alone (degree_three_partition_by_chunks off)
+    gap_rule.degree_three_partition_by_chunks = false;
+    off.degree_three_partition_by_chunks = false;
     off.plane_orange_at_degree_three = false;
-    const ConnectionSurfaces a = build_connection_surfaces(s, an), b = build_connection_surfaces(s, an, off);
+    const ConnectionSurfaces a = build_connection_surfaces(s, an, gap_rule), b = build_connection_surfaces(s, an, off);
     EXPECT_EQ(a.directions, b.directions);
     EXPECT_EQ(a.quads, b.quads);
 }
@@ -676,6 +720,47 @@ TEST(RawMesh, CloseDegreeFourPairGetsNoFlatPointInItsCrotch) {
             EXPECT_EQ(flat, 4);  // the orange: four equator points
             EXPECT_EQ(flat_in_crotch, 1);
             EXPECT_NEAR(q.sj_min, 0.070, 0.01);
+        }
+    }
+}
+
+// A fat Y without a gap over 180 degrees (azimuths 0, 100, 220 degrees, 10 degrees out of one plane, centre radius 0.4,
+// arms 1 long ending at radius 0.25): partition_sphere's general choice tilts its axis, a valence-3 pole 45.2 degrees
+// from a branch; the orange around the branches' best-fit plane normal keeps its poles 84.7 degrees from every branch.
+// degree_three_partition_by_chunks models both candidates' first chunks (4 hexes per arm) and keeps the orange: raw
+// min SJ 0.405 -> 0.558. Off, the gap rule keeps the general choice (no gap over 180 degrees here).
+TEST(RawMesh, DegreeThreePartitionChosenByItsChunks) {
+    const double e = 10 * std::numbers::pi / 180;
+    std::vector<Vec3> dirs;
+    for (const double az : {0.0, 100.0, 220.0}) {
+        const double a = az * std::numbers::pi / 180;
+        dirs.push_back(
+            {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), az == 100.0 ? -std::sin(e) : std::sin(e)});
+    }
+    Skeleton s = star(dirs, 1, 1.0);
+    s.radii = {0.4, 0.25, 0.25, 0.25};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    for (const bool on : {true, false}) {
+        SCOPED_TRACE(on ? "chosen by chunks" : "gap rule");
+        ConnectionSurfaceOptions co;
+        co.degree_three_partition_by_chunks = on;
+        const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+        const BranchFrames fr = propagate_frames(s, an, cs);
+        double pole_to_branch = 180;  // degrees, smallest angle between a valence-3 point of c and a branch
+        for (int x = cs.point_begin[0]; x < cs.point_begin[1]; ++x)
+            if (cs.point_valence[x] == 3)
+                for (const Vec3& d : dirs)
+                    pole_to_branch =
+                        std::min(pole_to_branch,
+                                 std::acos(std::clamp(dot(fr.directions[x], d), -1.0, 1.0)) * 180 / std::numbers::pi);
+        const QualityReport q = compute_quality(build_raw_mesh(s, an, cs, fr).mesh);
+        EXPECT_EQ(q.inverted, 0);
+        if (on) {
+            EXPECT_NEAR(pole_to_branch, 84.7, 0.5);
+            EXPECT_NEAR(q.sj_min, 0.558, 0.01);
+        } else {
+            EXPECT_NEAR(pole_to_branch, 45.2, 0.5);
+            EXPECT_NEAR(q.sj_min, 0.405, 0.01);
         }
     }
 }

@@ -206,6 +206,9 @@ struct JunctionModel {
         Vec3 w_tangent{};
     };
     std::vector<Chunk> chunks;
+    // Whether sin(margin) of each branch quad is a term of its own (relaxation: yes); the choice between two
+    // partitions of a degree-3 point (choose_degree_three_partition) compares the chunk corners alone.
+    bool margin_terms = true;
 };
 
 // Weight of sin(branch margin) against the hex corner values: makes narrow branch quads bind earlier than the chunk
@@ -233,7 +236,7 @@ void junction_terms(const JunctionModel& m, const std::vector<Vec3>& pts, std::v
             continue;
         }
         // Branch: its weighted margin, and the 8 corners of its first chunk's 4 hexes.
-        terms.push_back(mg <= -1 ? -1.0 : kBranchMarginWeight * std::sin(mg));
+        if (m.margin_terms || mg <= -1) terms.push_back(mg <= -1 ? -1.0 : kBranchMarginWeight * std::sin(mg));
         if (!(mg > 0)) {  // no chunk: as bad as a folded one (keeps the objective from jumping up here)
             terms.push_back(-1);
             continue;
@@ -915,6 +918,60 @@ bool has_gap_over_half_turn(const std::vector<Vec3>& d) {
     return gap > std::numbers::pi;
 }
 
+// The smallest corner value (hex_corner_value, a scaled-Jacobian-like sine) of the 4n hexes of the first chunks at
+// branching point v (n branch edges, no leaflet side) for partition part, built as junction_terms models them
+// (actual first-edge lengths and neighbour radii); -1 without a chunk model.
+double first_chunk_min(const ModelInputs& in, int v, const SpherePartition& part, const std::vector<Vec3>& dirs) {
+    const int n = static_cast<int>(dirs.size());
+    JunctionModel m;
+    m.r = model_radius(in.skeleton, in.an, v);
+    m.quads = part.quads;
+    m.dirs = dirs;
+    m.branch_quads = n;
+    m.chunks = model_chunks(in.skeleton, in.an, v, dirs, n);
+    m.margin_terms = false;
+    if (m.chunks.empty()) return -1;
+    return hard_min(m, part.points);
+}
+
+// Whether every branch edge of v ends at a joint or an extremity: the vertices whose cross-section (a square) the
+// chunk model of first_chunk_min places; at another branching point the far end of the chunk is that point's own
+// partition quad, unknown here.
+bool chunk_ends_modelled(const Skeleton& skeleton, const SkeletonAnalysis& an, int v) {
+    for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1]; ++j) {
+        const int e = an.vertex_edges[j];
+        const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
+        const VertexClass c = an.vertex_class[w];
+        if (c != VertexClass::Joint && c != VertexClass::Extremity) return false;
+    }
+    return true;
+}
+
+// Whether branching point v's partition is chosen by its first chunks (degree_three_partition_by_chunks): then it
+// depends on its neighbours' positions and radii, not on its branch directions alone (no memo entry).
+bool chosen_by_chunks(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaceOptions& options,
+                      int v) {
+    if (!options.degree_three_partition_by_chunks) return false;
+    int nb = 0;
+    for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1]; ++j)
+        nb += an.edge_degree[an.vertex_edges[j]] == 0;
+    return nb == 3 && an.vertex_edge_begin[v + 1] - an.vertex_edge_begin[v] == 3 &&
+           (options.degree_three_chunks_next_to_branching_points || chunk_ends_modelled(skeleton, an, v));
+}
+
+// Whether branching point v's partition may read more than its branch directions: chosen by its chunks (above), or
+// a degree-4 point without leaflet sides under no_flat_point_in_close_pair (its candidate is kept by the junction
+// model, which reads the neighbours' positions and radii). Such points get no memo entry.
+bool reads_neighbours(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaceOptions& options,
+                      int v) {
+    if (chosen_by_chunks(skeleton, an, options, v)) return true;
+    if (!options.no_flat_point_in_close_pair) return false;
+    int nb = 0;
+    for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1]; ++j)
+        nb += an.edge_degree[an.vertex_edges[j]] == 0;
+    return nb == 4 && an.vertex_edge_begin[v + 1] - an.vertex_edge_begin[v] == 4;
+}
+
 // The sphere partition of branching point v for directions dirs (nb branch edges, then its leaflet sides), relaxed
 // (relax_partition, then relax_junction on the junction's hex model, whose leaflet quad rotations are stored in
 // cs.quad_rotation). Any partition error becomes Error(NumericalFailure) naming v.
@@ -926,11 +983,12 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
     SpherePartition part;
     try {
         SpherePartitionOptions po;
-        // Three branch edges, no leaflet side, a gap over 180 degrees: the orange around the best-fit plane's normal
-        // (a tolerance of 1 takes partition_sphere's planar path for any three directions), see
-        // plane_orange_at_degree_three.
+        // Three branch edges, no leaflet side: with degree_three_partition_by_chunks both candidates below; else, at a
+        // gap over 180 degrees, the orange around the best-fit plane's normal (a tolerance of 1 takes
+        // partition_sphere's planar path for any three directions), see plane_orange_at_degree_three.
+        const bool by_chunks = n == 3 && nb == 3 && chosen_by_chunks(in.skeleton, in.an, options, v);
         const bool plane_orange =
-            options.plane_orange_at_degree_three && n == 3 && nb == 3 && has_gap_over_half_turn(dirs);
+            !by_chunks && options.plane_orange_at_degree_three && n == 3 && nb == 3 && has_gap_over_half_turn(dirs);
         po.planarity_tolerance = plane_orange ? 1.0 : options.planarity_tolerance;
         part = partition_sphere(dirs, po);
         if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
@@ -955,6 +1013,16 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
                 };
                 if (value(other) >= value(part)) part = std::move(other);
             }
+        }
+        if (by_chunks) {
+            // Both candidates, each relaxed as it would be kept: the general choice (above) and the orange around
+            // the branches' best-fit plane normal; the one whose first chunks have the better worst hex corner.
+            SpherePartitionOptions plane;
+            plane.planarity_tolerance = 1.0;
+            SpherePartition orange = partition_sphere(dirs, plane);
+            if (options.relax_partitions) orange = relax_partition(orange, dirs, options.relax_below_margin);
+            if (first_chunk_min(in.model, v, orange, dirs) > first_chunk_min(in.model, v, part, dirs))
+                part = std::move(orange);
         }
         if (options.relax_partitions && n > nb) {
             std::vector<int> rot(n, -1);
@@ -1077,7 +1145,9 @@ bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o)
            m.relax_partitions == o.relax_partitions &&
            std::memcmp(&m.relax_below_margin, &o.relax_below_margin, sizeof(double)) == 0 &&
            m.plane_orange_at_degree_three == o.plane_orange_at_degree_three &&
-           m.no_flat_point_in_close_pair == o.no_flat_point_in_close_pair;
+           m.no_flat_point_in_close_pair == o.no_flat_point_in_close_pair &&
+           m.degree_three_partition_by_chunks == o.degree_three_partition_by_chunks &&
+           m.degree_three_chunks_next_to_branching_points == o.degree_three_chunks_next_to_branching_points;
 }
 
 // FNV-1a (64 bits) of the key's bytes.
@@ -1140,6 +1210,8 @@ SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::ve
     m.relax_below_margin = options.relax_below_margin;
     m.plane_orange_at_degree_three = options.plane_orange_at_degree_three;
     m.no_flat_point_in_close_pair = options.no_flat_point_in_close_pair;
+    m.degree_three_partition_by_chunks = options.degree_three_partition_by_chunks;
+    m.degree_three_chunks_next_to_branching_points = options.degree_three_chunks_next_to_branching_points;
     std::vector<std::pair<std::uint64_t, int>> order;
     for (int v = 0; v < static_cast<int>(keys.size()); ++v)
         if (!keys[v].empty()) order.push_back({memo_hash(keys[v]), v});
@@ -1286,7 +1358,7 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
             if (c != VertexClass::Extremity && c != VertexClass::Joint && c != VertexClass::BranchingPoint &&
                 c != VertexClass::BLJoint && !roots_branch(an, v))
                 continue;
-            const bool keyed = memo_out && memoable(an, sides, cs, v);
+            const bool keyed = memo_out && memoable(an, sides, cs, v) && !reads_neighbours(skeleton, an, options, v);
             if (keyed) {
                 branch_edges(an, v, inc);
                 branch_directions(skeleton, v, inc, keys[v]);

@@ -73,6 +73,17 @@ struct ConnectionSurfaceOptions {
     // corner value and weighted margin of the junction model (as relax_junction measures it) at least the default
     // partition's. docs/junctions.md, "The shared curve skeletons".
     bool no_flat_point_in_close_pair = true;
+    // At every branching point with exactly three branch edges, no leaflet side, and every branch edge ending at a
+    // joint or an extremity (see degree_three_chunks_next_to_branching_points), build both the general partition
+    // and the orange around the branches' best-fit plane normal, and keep the one whose first chunks (the 4 hexes per
+    // branch edge from the junction to the next vertex, modelled with the edges' lengths and the neighbours' radii as
+    // the raw mesh builds them) have the larger smallest corner value (ties: the general one). Replaces the gap rule
+    // of plane_orange_at_degree_three where on (docs/junctions.md, "Degree-3 partitions chosen by their chunks").
+    bool degree_three_partition_by_chunks = true;
+    // With degree_three_partition_by_chunks: also choose at a degree-3 point one of whose branch edges ends at another
+    // branching point (the chunk model then puts a square cross-section there, where the raw mesh has that point's
+    // own partition quad). Off: such points keep the gap rule.
+    bool degree_three_chunks_next_to_branching_points = false;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
     // blocks.enabled = false keeps the paper's layout (`--no-blocks`).
@@ -83,7 +94,8 @@ struct ConnectionSurfaceOptions {
 // a branching point without leaflet sides and without a compatible block is a pure function of its branch directions
 // (unit(w - v) for its branch edges in increasing edge id, in that order) and of the options read by its partition
 // (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three,
-// no_flat_point_in_close_pair): an entry keyed on the
+// no_flat_point_in_close_pair, degree_three_partition_by_chunks; a point whose partition is chosen by its chunks,
+// which read the neighbours' positions and radii, is not memo-able): an entry keyed on the
 // exact bits of those directions is reused whatever the vertex's number, so an edit that renumbers the skeleton
 // (adaptation re-sampling a branch) recomputes only the branching points whose directions changed. Keys are compared
 // in full (no trust in the hash).
@@ -103,6 +115,8 @@ struct SurfaceMemo {
     double relax_below_margin = 0;
     bool plane_orange_at_degree_three = false;
     bool no_flat_point_in_close_pair = false;
+    bool degree_three_partition_by_chunks = false;
+    bool degree_three_chunks_next_to_branching_points = false;
     std::vector<Entry> entries;                        // one per distinct key
     std::vector<std::pair<std::uint64_t, int>> index;  // (hash of the key, entry), sorted
     int hits = 0;                                      // surfaces the last rebuild took from the memo it was given
