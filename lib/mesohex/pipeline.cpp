@@ -99,15 +99,21 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         clock.lap("skeleton_repair");
         // A branch on a fan-edge end that the repair left (the analysis refuses it after the resampling): named here,
         // with the reason measured on the sampling the repair judged (fan_end_repair.h, first_fan_end_refusal).
-        if (options.repair.fan_end_retraction)
-            if (const std::optional<FanEndRefusalAt> left = first_fan_end_refusal(repaired.skeleton))
+        // The vertex is named by its input id (the repair renumbers when it drops trunk joints); a vertex the repair
+        // made is named in the repaired numbering.
+        if (options.repair.fan_end_retraction && !options.analysis.fan_end_branches)
+            if (const std::optional<FanEndRefusalAt> left = first_fan_end_refusal(repaired.skeleton)) {
+                const auto input_id = std::ranges::find(repaired.vertex_map, left->vertex);
+                const bool is_input = input_id != repaired.vertex_map.end();
+                const int vertex = is_input ? static_cast<int>(input_id - repaired.vertex_map.begin()) : left->vertex;
                 throw Error(ErrorCode::UnsupportedConfiguration,
-                            "skeleton vertex " + std::to_string(left->vertex) +
+                            (is_input ? "skeleton vertex " : "repaired skeleton vertex ") + std::to_string(vertex) +
                                 ": a branch on a fan-edge end (the end of a fan edge shared by " +
                                 std::to_string(left->fan_degree) +
                                 " faces; the paper's limitation 3) that the fan-end repair does not take: " +
                                 left->why.reason + "; edit: " + left->why.edit,
-                            ElementRef{ElementRef::Kind::SkeletonVertex, left->vertex});
+                            ElementRef{ElementRef::Kind::SkeletonVertex, vertex});
+            }
         res.trunks = repaired.trunks;
         res.absorbed_stubs = repaired.absorbed_stubs;
         res.side_stubs = repaired.side_stubs;

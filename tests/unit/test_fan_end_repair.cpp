@@ -58,7 +58,8 @@ void expect_refused_with(const Skeleton& s, const PipelineOptions& o, int v, con
     }
 }
 
-// Analysis (strict, as after the repair) must refuse s naming vertex v, with the words and an edit suggestion.
+// The pipeline (its check of the repaired input sampling, first_fan_end_refusal, or the analysis after it) must
+// refuse s naming vertex v, with the words and an edit suggestion.
 void expect_refused(const Skeleton& s, int v, const std::string& words) { expect_refused_with(s, {}, v, words); }
 
 }  // namespace

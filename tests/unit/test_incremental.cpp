@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <numbers>
 #include <random>
 #include <string>
 
@@ -272,4 +274,57 @@ TEST(Incremental, BranchFreeSkeletonsAreTheirOwnAdaptation) {
         }
     }
     EXPECT_GE(shapes, 5);
+}
+
+// Renumbered in reverse (a full run that reads the memo), a star's centre is served by the memo only when its
+// partition depends on its branch directions alone (the memo's key). Not so for a partition chosen by the junction's
+// chunks, which read the neighbours' positions and radii: the fat Y of test_raw_mesh's
+// DegreeThreePartitionChosenByItsChunks (degree_three_partition_by_chunks) and dino's hip of
+// CloseDegreeFourPairGetsNoFlatPointInItsCrotch (no_flat_point_in_close_pair, a close pair); a tetrahedral star (no
+// pair closer than 90 degrees) is. Every run equals a fresh one bit for bit.
+namespace {
+
+int memo_surfaces_after_reversal(const Skeleton& s) {
+    RemeshCache cache;
+    remesh_full(cache, s);
+    const int nv = static_cast<int>(s.points.size());
+    Skeleton r = s;
+    for (int v = 0; v < nv; ++v) {
+        r.points[static_cast<std::size_t>(nv - 1 - v)] = s.points[static_cast<std::size_t>(v)];
+        r.radii[static_cast<std::size_t>(nv - 1 - v)] = s.radii[static_cast<std::size_t>(v)];
+    }
+    for (std::array<int, 2>& edge : r.edges) edge = {nv - 1 - edge[0], nv - 1 - edge[1]};
+    const RemeshStats stats = remesh_incremental(cache, r);
+    EXPECT_TRUE(stats.full);
+    RemeshCache full;
+    remesh_full(full, r);
+    expect_same_mesh(cache, full);
+    return stats.memo_surfaces;
+}
+
+}  // namespace
+
+TEST(Incremental, PartitionsReadingTheirNeighboursAreNotServedByTheMemo) {
+    const double e = 10 * std::numbers::pi / 180;
+    Skeleton y;
+    y.points.push_back({0, 0, 0});
+    for (const double az : {0.0, 100.0, 220.0}) {
+        const double a = az * std::numbers::pi / 180;
+        y.points.push_back(
+            {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), az == 100.0 ? -std::sin(e) : std::sin(e)});
+    }
+    y.edges = {{0, 1}, {0, 2}, {0, 3}};
+    y.radii = {0.4, 0.25, 0.25, 0.25};
+    EXPECT_EQ(memo_surfaces_after_reversal(y), 0);
+    Skeleton hip;
+    hip.points = {
+        {0, 0, 0}, {0.219, 0.193, -0.035}, {0.212, -0.144, 0.149}, {-0.138, -0.305, 0.024}, {-0.002, -0.266, -0.197}};
+    hip.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    hip.radii = {0.223, 0.221, 0.112, 0.100, 0.105};
+    EXPECT_EQ(memo_surfaces_after_reversal(hip), 0);
+    Skeleton tetra;
+    tetra.points = {{0, 0, 0}, {1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+    tetra.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    tetra.radii = {0.5, 0.3, 0.3, 0.3, 0.3};
+    EXPECT_EQ(memo_surfaces_after_reversal(tetra), 1);
 }

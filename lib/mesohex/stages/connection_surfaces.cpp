@@ -207,7 +207,8 @@ struct JunctionModel {
     };
     std::vector<Chunk> chunks;
     // Whether sin(margin) of each branch quad is a term of its own (relaxation: yes); the choice between two
-    // partitions of a degree-3 point (choose_degree_three_partition) compares the chunk corners alone.
+    // partitions of a degree-3 point (first_chunk_min, degree_three_partition_by_chunks) compares the chunk corners
+    // alone.
     bool margin_terms = true;
 };
 
@@ -959,17 +960,23 @@ bool chosen_by_chunks(const Skeleton& skeleton, const SkeletonAnalysis& an, cons
            (options.degree_three_chunks_next_to_branching_points || chunk_ends_modelled(skeleton, an, v));
 }
 
+void branch_edges(const SkeletonAnalysis& an, int v, std::vector<int>& inc);
+void branch_directions(const Skeleton& skeleton, int v, const std::vector<int>& inc, std::vector<Vec3>& dirs);
+
 // Whether branching point v's partition may read more than its branch directions: chosen by its chunks (above), or
-// a degree-4 point without leaflet sides under no_flat_point_in_close_pair (its candidate is kept by the junction
-// model, which reads the neighbours' positions and radii). Such points get no memo entry.
+// a degree-4 point without leaflet sides with a close pair under no_flat_point_in_close_pair (its candidate is kept by
+// the junction model, which reads the neighbours' positions and radii). Such points get no memo entry.
 bool reads_neighbours(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaceOptions& options,
                       int v) {
     if (chosen_by_chunks(skeleton, an, options, v)) return true;
-    if (!options.no_flat_point_in_close_pair) return false;
-    int nb = 0;
-    for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1]; ++j)
-        nb += an.edge_degree[an.vertex_edges[j]] == 0;
-    return nb == 4 && an.vertex_edge_begin[v + 1] - an.vertex_edge_begin[v] == 4;
+    if (!options.no_flat_point_in_close_pair || an.vertex_edge_begin[v + 1] - an.vertex_edge_begin[v] != 4)
+        return false;
+    std::vector<int> inc;
+    branch_edges(an, v, inc);
+    if (inc.size() != 4) return false;
+    std::vector<Vec3> dirs;
+    branch_directions(skeleton, v, inc, dirs);
+    return close_pair_of_four(dirs, SpherePartitionOptions{}.close_pair_gap_deg)[0] >= 0;
 }
 
 // The sphere partition of branching point v for directions dirs (nb branch edges, then its leaflet sides), relaxed
@@ -992,7 +999,8 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
         po.planarity_tolerance = plane_orange ? 1.0 : options.planarity_tolerance;
         part = partition_sphere(dirs, po);
         if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
-        if (options.no_flat_point_in_close_pair && n == 4 && nb == 4) {
+        if (options.no_flat_point_in_close_pair && n == 4 && nb == 4 &&
+            close_pair_of_four(dirs, po.close_pair_gap_deg)[0] >= 0) {
             // The partition without a flat point in the close pair's crotch, kept only if the junction's hexes do not
             // get worse: the smallest value of the first chunks' corners and the weighted margins (junction_terms,
             // the raw mesh's layout and radius reduction), the same measure relax_junction raises.

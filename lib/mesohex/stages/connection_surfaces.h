@@ -94,8 +94,9 @@ struct ConnectionSurfaceOptions {
 // a branching point without leaflet sides and without a compatible block is a pure function of its branch directions
 // (unit(w - v) for its branch edges in increasing edge id, in that order) and of the options read by its partition
 // (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three,
-// no_flat_point_in_close_pair, degree_three_partition_by_chunks; a point whose partition is chosen by its chunks,
-// which read the neighbours' positions and radii, is not memo-able): an entry keyed on the
+// no_flat_point_in_close_pair, degree_three_partition_by_chunks, degree_three_chunks_next_to_branching_points; a point
+// whose partition may read its neighbours' positions and radii, a degree-3 point chosen by its chunks or a degree-4
+// point under no_flat_point_in_close_pair, is not memo-able): an entry keyed on the
 // exact bits of those directions is reused whatever the vertex's number, so an edit that renumbers the skeleton
 // (adaptation re-sampling a branch) recomputes only the branching points whose directions changed. Keys are compared
 // in full (no trust in the hash).

@@ -275,7 +275,7 @@ double retraction_reach(const Skeleton& s, const std::vector<int>& run) {
 double branch_cos(const Skeleton& s, const Candidate& c);
 
 // Is there room to retract the fan edge from c.w: on every face's border run the longest retraction reaches at least
-// kRetractionMinRadii r_w (else *why, when given, names the first face short of it, its run and the ratio)? A skeleton
+// kRetractionMinRadii r_w, kRetractionRadii r_w for a branch leaning off the fan line (kRetractionAlignedCos; else *why, when given, names the first face short of it, its run and the ratio)? A skeleton
 // without one radius per vertex passes.
 bool retraction_room(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why) {
     if (s.radii.size() != s.points.size()) return true;  // no radii yet (an analysis before they are set): not judged
@@ -620,7 +620,8 @@ bool bent_first_edge(const Vec3& v, const Vec3& out, const Vec3& normal, Vec3& c
 // The distance from the border line (through pw, unit direction along) of a moved branch where it reaches the
 // border coordinate a0 (dot(p - pw, along) = a0): its polyline from the moved root m through cur (the branch edge
 // (prev, cur) at the fan end), then on through vertices of two edges and no face. Infinite when it never gets that
-// far along the border.
+// far along the border. Measured at that one coordinate only: a branch coming back to the border further on, or
+// past a vertex of another degree or with faces, is not checked here.
 double run_on_clearance(const Skeleton& s, const Incidence& in, const Vec3& pw, const Vec3& along, double a0,
                         const Vec3& m, int prev, int cur) {
     const auto coord = [&](const Vec3& p) { return dot(p - pw, along); };

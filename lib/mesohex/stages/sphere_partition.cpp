@@ -1386,10 +1386,6 @@ SpherePartitionStats sphere_partition_stats(const SpherePartition& p, const std:
     return s;
 }
 
-namespace {
-
-// SpherePartitionOptions::no_flat_point_in_close_pair: for four directions, the closest pair (i, j) when it is less
-// than 90 degrees apart and every angle from i or j to one of the other two exceeds its angle by gap_deg; else {-1, -1}.
 std::array<int, 2> close_pair_of_four(const std::vector<Vec3>& d, double gap_deg) {
     if (d.size() != 4) return {-1, -1};
     int ci = -1, cj = -1;
@@ -1405,6 +1401,8 @@ std::array<int, 2> close_pair_of_four(const std::vector<Vec3>& d, double gap_deg
             return {-1, -1};
     return {ci, cj};
 }
+
+namespace {
 
 // Whether p has a point held by exactly two quads, pair[0]'s and pair[1]'s (false when pair[0] < 0).
 bool flat_point_between(const SpherePartition& p, const std::array<int, 2>& pair) {

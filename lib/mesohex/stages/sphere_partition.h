@@ -47,6 +47,11 @@ struct SpherePartitionOptions {
 // Throws mesohex::Error(NumericalFailure) if no valid partition could be built (never crashes, never hangs).
 SpherePartition partition_sphere(const std::vector<Vec3>& directions, const SpherePartitionOptions& options = {});
 
+// SpherePartitionOptions::no_flat_point_in_close_pair's pair: for four unit directions, the closest pair (i, j), i < j,
+// when it is less than 90 degrees apart and every angle from i or j to one of the other two exceeds its angle by
+// gap_deg (degrees); else {-1, -1} (also for another count of directions). Without a pair the option changes nothing.
+std::array<int, 2> close_pair_of_four(const std::vector<Vec3>& d, double gap_deg);
+
 // Returns an empty string when `p` satisfies every postcondition above for `directions`, else what is wrong.
 std::string verify_sphere_partition(const SpherePartition& p, const std::vector<Vec3>& directions);
 
