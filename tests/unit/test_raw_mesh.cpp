@@ -110,6 +110,30 @@ void expect_good_leaflet_mesh(const Skeleton& s, const Built& b, long hexes) {
     ::testing::Test::RecordProperty("sj_min_" + std::to_string(n_recorded++), std::to_string(q.sj_min));
 }
 
+// The fat Y of the degree-3 partition tests: branches at azimuths 0, 100 and 220 degrees, the 100-degree one 10
+// degrees below the plane z = 0, the others 10 degrees above (beyond planarity_tolerance; no gap over 180 degrees).
+std::vector<Vec3> tilted_y_directions() {
+    const double e = 10 * std::numbers::pi / 180;
+    std::vector<Vec3> dirs;
+    for (const double az : {0.0, 100.0, 220.0}) {
+        const double a = az * std::numbers::pi / 180;
+        dirs.push_back(
+            {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), az == 100.0 ? -std::sin(e) : std::sin(e)});
+    }
+    return dirs;
+}
+
+// Smallest angle (degrees) between a valence-3 point of branching point c's surface and one of dirs.
+double pole_to_branch_deg(const ConnectionSurfaces& cs, const BranchFrames& fr, int c, const std::vector<Vec3>& dirs) {
+    double best = 180;
+    for (int x = cs.point_begin[c]; x < cs.point_begin[c + 1]; ++x)
+        if (cs.point_valence[x] == 3)
+            for (const Vec3& d : dirs)
+                best =
+                    std::min(best, std::acos(std::clamp(dot(fr.directions[x], d), -1.0, 1.0)) * 180 / std::numbers::pi);
+    return best;
+}
+
 }  // namespace
 
 TEST(RawMeshLeaflets, OneQuadIsOnePlateAndFourHalfChunks) {
@@ -619,13 +643,7 @@ TEST(RawMesh, FatDegreeThreeJunctionTakesThePlaneOrange) {
 // (the orange, poles 84.7 degrees from every branch, as above); off: the gap rule (no gap over 180 degrees: poles
 // 45.2 degrees from a branch).
 TEST(RawMesh, DegreeThreeChoiceNextToABranchingPoint) {
-    const double e = 10 * std::numbers::pi / 180;
-    std::vector<Vec3> dirs;
-    for (const double az : {0.0, 100.0, 220.0}) {
-        const double a = az * std::numbers::pi / 180;
-        dirs.push_back(
-            {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), az == 100.0 ? -std::sin(e) : std::sin(e)});
-    }
+    const std::vector<Vec3> dirs = tilted_y_directions();
     Skeleton s = star(dirs, 1, 1.0);
     const double c60 = 0.5, s60 = std::sqrt(3.0) / 2;
     s.points.push_back(s.points[1] + Vec3{c60, s60, 0});
@@ -641,13 +659,7 @@ TEST(RawMesh, DegreeThreeChoiceNextToABranchingPoint) {
         co.degree_three_chunks_next_to_branching_points = next;
         const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
         const BranchFrames fr = propagate_frames(s, an, cs);
-        double pole_to_branch = 180;  // degrees, smallest angle between a valence-3 point of the centre and a branch
-        for (int x = cs.point_begin[0]; x < cs.point_begin[1]; ++x)
-            if (cs.point_valence[x] == 3)
-                for (const Vec3& d : dirs)
-                    pole_to_branch =
-                        std::min(pole_to_branch,
-                                 std::acos(std::clamp(dot(fr.directions[x], d), -1.0, 1.0)) * 180 / std::numbers::pi);
+        const double pole_to_branch = pole_to_branch_deg(cs, fr, 0, dirs);
         EXPECT_NEAR(pole_to_branch, next ? 84.7 : 45.2, 0.5);
         EXPECT_EQ(compute_quality(build_raw_mesh(s, an, cs, fr).mesh).inverted, 0);
     }
@@ -658,13 +670,7 @@ TEST(RawMesh, DegreeThreeChoiceNextToABranchingPoint) {
 // are 100, 120 and 140 degrees apart in azimuth, 10 degrees out of one plane (beyond planarity_tolerance), gets the
 // same surface with and without it.
 TEST(RawMesh, SpreadDegreeThreeJunctionKeepsItsPartition) {
-    const double e = 10 * std::numbers::pi / 180;
-    std::vector<Vec3> dirs;
-    for (const double az : {0.0, 100.0, 220.0}) {
-        const double a = az * std::numbers::pi / 180;
-        dirs.push_back(
-            {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), az == 100.0 ? -std::sin(e) : std::sin(e)});
-    }
+    const std::vector<Vec3> dirs = tilted_y_directions();
     // The plane's orange is not partition_sphere's choice here: only the gap rule keeps the surface.
     SpherePartitionOptions any_planarity;
     any_planarity.planarity_tolerance = 1;
@@ -730,13 +736,7 @@ TEST(RawMesh, CloseDegreeFourPairGetsNoFlatPointInItsCrotch) {
 // degree_three_partition_by_chunks models both candidates' first chunks (4 hexes per arm) and keeps the orange: raw
 // min SJ 0.405 -> 0.558. Off, the gap rule keeps the general choice (no gap over 180 degrees here).
 TEST(RawMesh, DegreeThreePartitionChosenByItsChunks) {
-    const double e = 10 * std::numbers::pi / 180;
-    std::vector<Vec3> dirs;
-    for (const double az : {0.0, 100.0, 220.0}) {
-        const double a = az * std::numbers::pi / 180;
-        dirs.push_back(
-            {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), az == 100.0 ? -std::sin(e) : std::sin(e)});
-    }
+    const std::vector<Vec3> dirs = tilted_y_directions();
     Skeleton s = star(dirs, 1, 1.0);
     s.radii = {0.4, 0.25, 0.25, 0.25};
     const SkeletonAnalysis an = analyze_skeleton(s);
@@ -746,13 +746,7 @@ TEST(RawMesh, DegreeThreePartitionChosenByItsChunks) {
         co.degree_three_partition_by_chunks = on;
         const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
         const BranchFrames fr = propagate_frames(s, an, cs);
-        double pole_to_branch = 180;  // degrees, smallest angle between a valence-3 point of c and a branch
-        for (int x = cs.point_begin[0]; x < cs.point_begin[1]; ++x)
-            if (cs.point_valence[x] == 3)
-                for (const Vec3& d : dirs)
-                    pole_to_branch =
-                        std::min(pole_to_branch,
-                                 std::acos(std::clamp(dot(fr.directions[x], d), -1.0, 1.0)) * 180 / std::numbers::pi);
+        const double pole_to_branch = pole_to_branch_deg(cs, fr, 0, dirs);
         const QualityReport q = compute_quality(build_raw_mesh(s, an, cs, fr).mesh);
         EXPECT_EQ(q.inverted, 0);
         if (on) {
