@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <random>
 #include <set>
 #include <utility>
@@ -357,4 +358,39 @@ TEST(SpherePartition, OrangeFilterNeverRejectsAnAxisAboveTheThreshold) {
     std::printf("%ld thresholds below q checked, %ld of the thresholds above q rejected\n", checks, rejected_above);
     EXPECT_GT(checks, 10000);
     EXPECT_GT(rejected_above, 1000);  // of 3000 sets: the filter decides most thresholds 1 % above q (2 871 here)
+}
+
+// plane_orange_alternative gives, without a second search, what partition_sphere returns with planarity_tolerance 1
+// (the orange around the best-fit plane normal whenever it is good or the best candidate): on random triples (uniform,
+// and spread near one plane so that both answers occur) its result, or `chosen` when it has none, equals that call's
+// partition bit for bit.
+TEST(SpherePartition, PlaneOrangeAlternativeEqualsTheSecondCall) {
+    std::mt19937 rng(20261203);
+    std::normal_distribution<double> g(0, 1);
+    int alternatives = 0, same = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const double flat = trial % 2 == 0 ? 1.0 : 0.3;  // z spread: uniform, or near the plane z = 0
+        std::vector<Vec3> d;
+        for (int i = 0; i < 3; ++i) d.push_back(mesohex::normalized(Vec3{g(rng), g(rng), flat * g(rng)}));
+        SpherePartition chosen;
+        try {
+            chosen = partition_sphere(d);
+        } catch (const mesohex::Error&) {
+            continue;  // (nearly) coincident directions
+        }
+        mesohex::SpherePartitionOptions plane;
+        plane.planarity_tolerance = 1.0;
+        const SpherePartition second = partition_sphere(d, plane);
+        const std::optional<SpherePartition> alt = mesohex::plane_orange_alternative(d, chosen, {});
+        const SpherePartition& got = alt ? *alt : chosen;
+        ASSERT_EQ(got.quads, second.quads) << "trial " << trial;
+        ASSERT_EQ(got.points.size(), second.points.size());
+        for (std::size_t k = 0; k < got.points.size(); ++k)
+            ASSERT_TRUE(got.points[k].x == second.points[k].x && got.points[k].y == second.points[k].y &&
+                        got.points[k].z == second.points[k].z)
+                << "trial " << trial;
+        (alt ? alternatives : same) += 1;
+    }
+    EXPECT_GT(alternatives, 20);
+    EXPECT_GT(same, 20);
 }

@@ -998,6 +998,7 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
             !by_chunks && options.plane_orange_at_degree_three && n == 3 && nb == 3 && has_gap_over_half_turn(dirs);
         po.planarity_tolerance = plane_orange ? 1.0 : options.planarity_tolerance;
         part = partition_sphere(dirs, po);
+        const SpherePartition general = by_chunks ? part : SpherePartition{};  // before relaxation
         if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
         if (options.no_flat_point_in_close_pair && n == 4 && nb == 4 &&
             close_pair_of_four(dirs, po.close_pair_gap_deg)[0] >= 0) {
@@ -1022,16 +1023,15 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
                 if (value(other) >= value(part)) part = std::move(other);
             }
         }
-        if (by_chunks) {
+        if (by_chunks)
             // Both candidates, each relaxed as it would be kept: the general choice (above) and the orange around
-            // the branches' best-fit plane normal; the one whose first chunks have the better worst hex corner.
-            SpherePartitionOptions plane;
-            plane.planarity_tolerance = 1.0;
-            SpherePartition orange = partition_sphere(dirs, plane);
-            if (options.relax_partitions) orange = relax_partition(orange, dirs, options.relax_below_margin);
-            if (first_chunk_min(in.model, v, orange, dirs) > first_chunk_min(in.model, v, part, dirs))
-                part = std::move(orange);
-        }
+            // the branches' best-fit plane normal; the one whose first chunks have the better worst hex corner (when
+            // the orange is the general choice itself, nothing to compare).
+            if (std::optional<SpherePartition> orange = plane_orange_alternative(dirs, general, po)) {
+                if (options.relax_partitions) *orange = relax_partition(*orange, dirs, options.relax_below_margin);
+                if (first_chunk_min(in.model, v, *orange, dirs) > first_chunk_min(in.model, v, part, dirs))
+                    part = std::move(*orange);
+            }
         if (options.relax_partitions && n > nb) {
             std::vector<int> rot(n, -1);
             bool ok = true;

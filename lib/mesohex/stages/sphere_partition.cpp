@@ -1497,6 +1497,26 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
                 "sphere partition: no valid quad partition found for " + std::to_string(n) + " directions");
 }
 
+std::optional<SpherePartition> plane_orange_alternative(const std::vector<Vec3>& directions,
+                                                        const SpherePartition& chosen,
+                                                        const SpherePartitionOptions& options) {
+    const std::vector<Vec3> d = validated_directions(directions);
+    if (d.size() < 3 || options.no_flat_point_in_close_pair) return std::nullopt;
+    const Vec3 normal = best_fit_plane_normal(d);
+    double planarity = 0;
+    for (const Vec3& p : d) planarity = std::max(planarity, std::abs(dot(p, normal)));
+    // Planar within the tolerance: partition_sphere weighed this orange itself (same result at any tolerance above).
+    if (planarity <= options.planarity_tolerance) return std::nullopt;
+    const OrangeFrame frame = orange_frame(d, normal);
+    if (!(orange_margin(frame) > 0)) return std::nullopt;  // no planar candidate: the search is the chosen one's
+    SpherePartition p = build_orange(frame);
+    if (!verify_sphere_partition(p, d).empty()) return std::nullopt;
+    // Returned at once (a good orange), or first among the best of the candidates; else the search's winner, `chosen`.
+    const double score = quality_score(p, d);
+    if (score >= kGoodOrange || score >= quality_score(chosen, d)) return p;
+    return std::nullopt;
+}
+
 namespace detail {
 
 double orange_quality_exact(const std::vector<Vec3>& directions, const Vec3& axis) {

@@ -2,6 +2,7 @@
 // Quad partition of the unit sphere with one quad per given direction (paper step 3, the "connection surface" at a
 // branching point; VKB21's convex hull + valence-4 remeshing + dual, made robust).
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,14 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
 // when it is less than 90 degrees apart and every angle from i or j to one of the other two exceeds its angle by
 // gap_deg (degrees); else {-1, -1} (also for another count of directions). Without a pair the option changes nothing.
 std::array<int, 2> close_pair_of_four(const std::vector<Vec3>& d, double gap_deg);
+
+// What partition_sphere(directions, options with planarity_tolerance 1) returns, the orange around the directions'
+// best-fit plane normal, when it differs from `chosen` = partition_sphere(directions, options) (n >= 3, no close-pair
+// option); std::nullopt when both calls give `chosen`. Without the second call's candidate search: the orange is
+// built and scored, and compared with `chosen`'s score. Same preconditions and errors as partition_sphere.
+std::optional<SpherePartition> plane_orange_alternative(const std::vector<Vec3>& directions,
+                                                        const SpherePartition& chosen,
+                                                        const SpherePartitionOptions& options);
 
 // Returns an empty string when `p` satisfies every postcondition above for `directions`, else what is wrong.
 std::string verify_sphere_partition(const SpherePartition& p, const std::vector<Vec3>& directions);
