@@ -41,7 +41,7 @@ int cap_leaflet_radii(Skeleton& skeleton, double factor);
 // of two hexes on every border side, between the two ends' columns (centre, up, down at +-r along the normal) and
 // their out columns (at about r along the border's outward bisector); where a border side is short against r next
 // to a corner of the border or a crease of the sheet, the two out columns cross within r and the half-chunk and its
-// plate fold (knob: sides of 0.12 to 0.34 against radii of 0.6 to 0.7; docs/sheets.md, "Short border sides").
+// plate fold (docs/sheets.md, "Short border sides").
 // Preconditions: radii has one entry per point. Deterministic.
 int cap_border_radii(Skeleton& skeleton, double factor);
 
@@ -84,9 +84,9 @@ struct AutoSkeletonOptions {
     // leaflets at joins") and docs/tuning.md.
     double meso_leaflet_radius_edge_factor = 0.35;
     // The meso-skeleton's leaflet border vertices (cap_border_radii): radius at most this x the vertex's shortest
-    // border side (dimensionless; 0: no cap). Off: at 0.5 it removes the raw inversions of knob (13 -> 0) and pinion
-    // (9 -> 0), but knob's finished meso mesh then misses by more than its curve answer (docs/sheets.md, "Short
-    // border sides").
+    // border side (dimensionless; 0: no cap). Off by default: it removes raw inversions at short border sides but
+    // can make `auto` take a meso-skeleton that finishes worse than the curve answer (measurements: docs/sheets.md,
+    // "Short border sides", and docs/tuning.md).
     double meso_border_radius_edge_factor = 0;
     // Auto: the answer. When the raw mesh of the curve skeleton Auto falls back to is invalid or has more than
     // max_answer_inverted inverted hexes, raw or after the finishing's padding layer, `refusal` says so (a meso-skeleton

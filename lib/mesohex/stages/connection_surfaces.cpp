@@ -919,17 +919,23 @@ bool has_gap_over_half_turn(const std::vector<Vec3>& d) {
     return gap > std::numbers::pi;
 }
 
+// The hex model of branching point v's first chunks (nb branch edges, directions dirs), without quads yet: shared by
+// the two partition choices that read the neighbours (degree_three_partition_by_chunks, no_flat_point_in_close_pair).
+JunctionModel first_chunk_model(const ModelInputs& in, int v, const std::vector<Vec3>& dirs, int nb) {
+    JunctionModel m;
+    m.r = model_radius(in.skeleton, in.an, v);
+    m.dirs = dirs;
+    m.branch_quads = nb;
+    m.chunks = model_chunks(in.skeleton, in.an, v, dirs, nb);
+    return m;
+}
+
 // The smallest corner value (hex_corner_value, a scaled-Jacobian-like sine) of the 4n hexes of the first chunks at
 // branching point v (n branch edges, no leaflet side) for partition part, built as junction_terms models them
 // (actual first-edge lengths and neighbour radii); -1 without a chunk model.
 double first_chunk_min(const ModelInputs& in, int v, const SpherePartition& part, const std::vector<Vec3>& dirs) {
-    const int n = static_cast<int>(dirs.size());
-    JunctionModel m;
-    m.r = model_radius(in.skeleton, in.an, v);
+    JunctionModel m = first_chunk_model(in, v, dirs, static_cast<int>(dirs.size()));
     m.quads = part.quads;
-    m.dirs = dirs;
-    m.branch_quads = n;
-    m.chunks = model_chunks(in.skeleton, in.an, v, dirs, n);
     m.margin_terms = false;
     if (m.chunks.empty()) return -1;
     return hard_min(m, part.points);
@@ -950,13 +956,17 @@ bool chunk_ends_modelled(const Skeleton& skeleton, const SkeletonAnalysis& an, i
 
 // Whether branching point v's partition is chosen by its first chunks (degree_three_partition_by_chunks): then it
 // depends on its neighbours' positions and radii, not on its branch directions alone (no memo entry).
+// Whether v has exactly k edges, all branch edges (no leaflet side).
+bool only_branch_edges(const SkeletonAnalysis& an, int v, int k) {
+    if (an.vertex_edge_begin[v + 1] - an.vertex_edge_begin[v] != k) return false;
+    for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1]; ++j)
+        if (an.edge_degree[an.vertex_edges[j]] != 0) return false;
+    return true;
+}
+
 bool chosen_by_chunks(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaceOptions& options,
                       int v) {
-    if (!options.degree_three_partition_by_chunks) return false;
-    int nb = 0;
-    for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1]; ++j)
-        nb += an.edge_degree[an.vertex_edges[j]] == 0;
-    return nb == 3 && an.vertex_edge_begin[v + 1] - an.vertex_edge_begin[v] == 3 &&
+    return options.degree_three_partition_by_chunks && only_branch_edges(an, v, 3) &&
            (options.degree_three_chunks_next_to_branching_points || chunk_ends_modelled(skeleton, an, v));
 }
 
@@ -969,11 +979,9 @@ void branch_directions(const Skeleton& skeleton, int v, const std::vector<int>& 
 bool reads_neighbours(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaceOptions& options,
                       int v) {
     if (chosen_by_chunks(skeleton, an, options, v)) return true;
-    if (!options.no_flat_point_in_close_pair || an.vertex_edge_begin[v + 1] - an.vertex_edge_begin[v] != 4)
-        return false;
+    if (!options.no_flat_point_in_close_pair || !only_branch_edges(an, v, 4)) return false;
     std::vector<int> inc;
     branch_edges(an, v, inc);
-    if (inc.size() != 4) return false;
     std::vector<Vec3> dirs;
     branch_directions(skeleton, v, inc, dirs);
     return close_pair_of_four(dirs, SpherePartitionOptions{}.close_pair_gap_deg)[0] >= 0;
@@ -1009,11 +1017,7 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
             SpherePartition other = partition_sphere(dirs, po);
             if (options.relax_partitions) other = relax_partition(other, dirs, options.relax_below_margin);
             if (other.points != part.points || other.quads != part.quads) {
-                JunctionModel m;
-                m.r = model_radius(in.skeleton, in.an, v);
-                m.dirs = dirs;
-                m.branch_quads = nb;
-                m.chunks = model_chunks(in.skeleton, in.an, v, dirs, nb);
+                JunctionModel m = first_chunk_model(in.model, v, dirs, nb);
                 const auto value = [&](const SpherePartition& p) {
                     m.quads = p.quads;
                     std::vector<Vec3> pts(p.points.size());
