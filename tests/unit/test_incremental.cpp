@@ -39,6 +39,18 @@ void expect_same_mesh(const RemeshCache& a, const RemeshCache& b) {
     EXPECT_EQ(a.raw.hex_edge, b.raw.hex_edge);
 }
 
+// s with its vertices numbered in reverse (edges mapped, in the same order).
+Skeleton reversed_numbering(const Skeleton& s) {
+    const int nv = static_cast<int>(s.points.size());
+    Skeleton r = s;
+    for (int v = 0; v < nv; ++v) {
+        r.points[static_cast<std::size_t>(nv - 1 - v)] = s.points[static_cast<std::size_t>(v)];
+        r.radii[static_cast<std::size_t>(nv - 1 - v)] = s.radii[static_cast<std::size_t>(v)];
+    }
+    for (std::array<int, 2>& e : r.edges) e = {nv - 1 - e[0], nv - 1 - e[1]};
+    return r;
+}
+
 // Moves 1-3 random vertices by up to 8 % of their radius per axis (and sometimes scales a radius by 0.9-1.1), then
 // checks the incremental result against a full run; edits the full run rejects are skipped (and must be rejected
 // by the incremental run too, leaving the cache unchanged).
@@ -212,13 +224,7 @@ TEST(Incremental, MemoIgnoresVertexNumbers) {
     RemeshCache cache;
     const RemeshStats first = remesh_full(cache, s);
     EXPECT_GT(first.computed_partitions, 0);
-    const int nv = static_cast<int>(s.points.size());
-    Skeleton r = s;
-    for (int v = 0; v < nv; ++v) {
-        r.points[static_cast<std::size_t>(nv - 1 - v)] = s.points[static_cast<std::size_t>(v)];
-        r.radii[static_cast<std::size_t>(nv - 1 - v)] = s.radii[static_cast<std::size_t>(v)];
-    }
-    for (std::array<int, 2>& e : r.edges) e = {nv - 1 - e[0], nv - 1 - e[1]};
+    const Skeleton r = reversed_numbering(s);
     const RemeshStats stats = remesh_incremental(cache, r);
     EXPECT_TRUE(stats.full);
     EXPECT_EQ(stats.computed_partitions, 0);
@@ -287,13 +293,7 @@ namespace {
 int memo_surfaces_after_reversal(const Skeleton& s) {
     RemeshCache cache;
     remesh_full(cache, s);
-    const int nv = static_cast<int>(s.points.size());
-    Skeleton r = s;
-    for (int v = 0; v < nv; ++v) {
-        r.points[static_cast<std::size_t>(nv - 1 - v)] = s.points[static_cast<std::size_t>(v)];
-        r.radii[static_cast<std::size_t>(nv - 1 - v)] = s.radii[static_cast<std::size_t>(v)];
-    }
-    for (std::array<int, 2>& edge : r.edges) edge = {nv - 1 - edge[0], nv - 1 - edge[1]};
+    const Skeleton r = reversed_numbering(s);
     const RemeshStats stats = remesh_incremental(cache, r);
     EXPECT_TRUE(stats.full);
     RemeshCache full;
