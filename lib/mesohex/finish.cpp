@@ -25,13 +25,13 @@ double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-FinishStage measure(const std::string& name, double ms, const HexMesh& mesh) {
+// `sj`: scaled_jacobians(mesh).
+FinishStage measure(const std::string& name, double ms, const HexMesh& mesh, const std::vector<double>& sj) {
     FinishStage s;
     s.stage = name;
     s.ms = ms;
     s.vertices = static_cast<long>(mesh.points.size());
     s.hexes = static_cast<long>(mesh.hexes.size());
-    const std::vector<double> sj = scaled_jacobians(mesh);
     double sum = 0;
     s.sj_min = sj.empty() ? 0 : sj.front();
     for (double v : sj) {
@@ -41,6 +41,10 @@ FinishStage measure(const std::string& name, double ms, const HexMesh& mesh) {
     }
     s.sj_avg = sj.empty() ? 0 : sum / static_cast<double>(sj.size());
     return s;
+}
+
+FinishStage measure(const std::string& name, double ms, const HexMesh& mesh) {
+    return measure(name, ms, mesh, scaled_jacobians(mesh));
 }
 
 FinishStage with_iterations(FinishStage stage, long iterations) {
@@ -99,6 +103,9 @@ struct Finisher {
     FinishResult& result;
     HexMesh mesh;
     std::vector<char> chunk;  // per hex of `mesh`: FinishOptions::chunk_hex, inherited by the children
+    // Per hex of `mesh`: its scaled Jacobians as the inherited levels (refine, refine-smooth) leave it, for the
+    // quality report; empty when another stage moved it since.
+    std::vector<double> sj;
 
     void record(const FinishStage& stage) {
         result.stages.push_back(stage);
@@ -270,7 +277,8 @@ struct Finisher {
             project_boundary(mesh, on_boundary, closest, po);
         }
         result.inherited_levels = levels;
-        record(measure("refine", ms_since(t), mesh));
+        sj = scaled_jacobians(mesh);
+        record(measure("refine", ms_since(t), mesh, sj));
     }
 
     // Two-sided fit: the domain's vertices and triangle centroids, matched with the current mesh boundary; on a
@@ -374,8 +382,10 @@ struct Finisher {
         if (kept) improve();
     }
 
-    void smooth_step() {
-        const Clock::time_point t = Clock::now();
+    // The smoothing's options (max_gap, the domain's normals) and its projection onto the domain, handed to `run`
+    // (which calls smooth_quality or smooth_region with them).
+    SmoothResult smoothing(
+        const std::function<SmoothResult(const std::function<Vec3(const Vec3&)>&, const SmoothOptions&)>& run) const {
         SmoothOptions so = options.smoothing;
         if (options.smooth_gap_relative > 0) so.max_gap = options.smooth_gap_relative * query.bbox_diagonal();
         // Features are where the domain has a convex crease or corner, not wherever the fit left the boundary folded
@@ -401,20 +411,40 @@ struct Finisher {
             };
             return (c(p.x) << 42) | (c(p.y) << 21) | c(p.z);
         };
-        SmoothResult sm = smooth_quality(
-            mesh,
-            [&](const Vec3& p) {
-                const std::uint64_t key = cell_of(p);
-                const auto it = cell_triangle.find(key);
-                const ClosestPoint c = q.closest(p, it != cell_triangle.end() ? it->second : last_triangle);
-                last_triangle = c.triangle;
-                cell_triangle[key] = c.triangle;
-                return c.point;
-            },
-            so);
+        const std::function<Vec3(const Vec3&)> project = [&](const Vec3& p) {
+            const std::uint64_t key = cell_of(p);
+            const auto it = cell_triangle.find(key);
+            const ClosestPoint c = q.closest(p, it != cell_triangle.end() ? it->second : last_triangle);
+            last_triangle = c.triangle;
+            cell_triangle[key] = c.triangle;
+            return c.point;
+        };
+        return run(project, so);
+    }
+
+    void smooth_step() {
+        const Clock::time_point t = Clock::now();
+        SmoothResult sm = smoothing([this](const std::function<Vec3(const Vec3&)>& project, const SmoothOptions& so) {
+            return smooth_quality(mesh, project, so);
+        });
         mesh = std::move(sm.mesh);
+        sj.clear();
         result.smoothed = sm.moves > 0;
         record(with_iterations(measure("smooth", ms_since(t), mesh), sm.sweeps + sm.worst_rounds));
+    }
+
+    // After the inherited levels: the smoothing on the hexes below inherit_smooth_sj and the rings around them.
+    void refine_smooth_step() {
+        const Clock::time_point t = Clock::now();
+        SmoothResult sm = smoothing([this](const std::function<Vec3(const Vec3&)>& project, const SmoothOptions& so) {
+            return smooth_region(mesh, project, options.inherit_smooth_sj, options.inherit_smooth_rings, so, sj);
+        });
+        mesh = std::move(sm.mesh);
+        if (sm.moves > 0 || sm.worst_moves > 0) {
+            result.smoothed = true;
+            sj = scaled_jacobians(mesh);
+        }
+        record(with_iterations(measure("refine-smooth", ms_since(t), mesh, sj), sm.sweeps + sm.worst_rounds));
     }
 
     // `topo`: the final mesh's topology (computed once, for the quality report too).
@@ -434,7 +464,7 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     FinishResult result;
     const Domain dom(domain);
     result.domain_flipped_triangles = dom.flipped;
-    Finisher f{options, dom.surface, dom.query, dom.triangle_normals, dom.vertex_normals, result, raw, {}};
+    Finisher f{options, dom.surface, dom.query, dom.triangle_normals, dom.vertex_normals, result, raw, {}, {}};
     f.record(measure("input", 0, f.mesh));
     if (options.pad) {
         result.pad_mode = options.pad_selective ? "selective" : "all";
@@ -453,12 +483,16 @@ FinishResult finish_mesh(const HexMesh& raw, const TriangleMesh& domain, const F
     if (options.fit && options.smooth && result.stages.back().inverted == 0) f.smooth_step();
     if (levels > fitted) {
         f.refine_step(levels - fitted);
-        if (options.fit && options.smooth && options.inherit_smooth && result.stages.back().inverted == 0)
-            f.smooth_step();
+        if (options.fit && options.smooth && result.stages.back().inverted == 0) {
+            if (options.inherit_smooth)
+                f.smooth_step();
+            else if (options.inherit_smooth_sj > 0 && result.stages.back().sj_min < options.inherit_smooth_sj)
+                f.refine_smooth_step();
+        }
     }
     {
         HexTopology topo;
-        result.quality = compute_quality(f.mesh, topo);
+        result.quality = compute_quality(f.mesh, topo, std::move(f.sj));
         if (topo.hex_faces.size() != f.mesh.hexes.size()) topo = compute_hex_topology(f.mesh);  // (bad indices)
         if (options.measure_distance) f.measure_distance(topo);
     }

@@ -35,7 +35,7 @@ inline UntangleOptions pad_improve_defaults() {
 struct FinishStage {
     std::string
         stage;  // "input", "pad", "pad-improve", "subdivide", "fit", "untangle", "improve", "untangle-free", "smooth",
-                // "refine"
+                // "refine", "refine-smooth"
     double ms = 0;  // wall time of the stage (0 for "input")
     long vertices = 0, hexes = 0;
     double sj_min = 0, sj_avg = 0;  // scaled Jacobian after the stage
@@ -98,6 +98,13 @@ struct FinishOptions {
     int inherit_rings = 6;          // layers of vertices (count)
     double inherit_guard_sj = 0.3;  // scaled Jacobian
     bool inherit_smooth = false;    // the smoothing pass (smooth) again after the inherited levels (all vertices)
+    // Local smoothing after the inherited levels (unless inherit_smooth; stage "refine-smooth", when some hex is below
+    // inherit_smooth_sj): the smoothing pass's sweeps and max-min rounds (smoothing) on the hexes below
+    // inherit_smooth_sj and inherit_smooth_rings rings of hexes around them only (smooth_region); every other vertex
+    // keeps its coordinates bit for bit. The projection's guard leaves a few hexes near its floor where the boundary
+    // moved most; a whole smoothing pass at the finest level sweeps every vertex. 0 = off. Scaled Jacobian.
+    double inherit_smooth_sj = 0.8;
+    int inherit_smooth_rings = 2;  // rings of hexes around those below inherit_smooth_sj (count)
     bool fit = true;                // fit the boundary to the domain surface (fit_to_surface)
     FitOptions fitting;             // the fit's options (gap_goal from gap_goal_relative when > 0)
     // > 0: fitting.gap_goal (a length) = this fraction of the domain's bbox diagonal: the fit tightens its pull only

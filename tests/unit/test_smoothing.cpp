@@ -188,3 +188,44 @@ TEST(Smoothing, FeaturesAreConvexCreasesOfTheDomain) {
         }
     }
 }
+
+// smooth_region on a 10 x 2 x 2 block (vertex (i, j, k) has id i + 11 (j + 3 k)) whose interior vertex (2, 1, 1)
+// (id 46) is moved by (0.3, 0.2, 0.1): its 8 cubes (x in [1, 3]) have scaled Jacobians 0.65-0.95, all others 1.
+// Below 0.96 the seeds are those 8; `rings` rings reach the cubes up to x = 2 + rings, so the vertices at i >= 3 + rings are used by cubes
+// outside the region (frozen) or by those only: they keep their coordinates bit for bit. Boundary fixed (no projector).
+// rings 0: only the centre moves (every other vertex of a seed is also one of a cube outside, or on the boundary); no
+// hex below the threshold: nothing moves.
+TEST(Smoothing, RegionMovesOnlyTheRingsAroundTheBadHexes) {
+    HexMesh m = test::make_block(10, 2, 2);
+    const std::size_t centre = 2 + 11 * (1 + 3 * 1);
+    ASSERT_EQ(m.points[centre], (Vec3{2, 1, 1}));
+    m.points[centre] = {2.3, 1.2, 1.1};
+    const std::vector<double> sj = scaled_jacobians(m);
+    long seeds = 0;
+    for (double s : sj) seeds += s < 0.96 ? 1 : 0;
+    ASSERT_EQ(seeds, 8);
+    SmoothOptions o;
+    o.move_boundary = false;
+    for (int rings : {0, 1, 2}) {
+        const SmoothResult r = smooth_region(m, {}, 0.96, rings, o);
+        EXPECT_GT(r.moves, 0) << rings;
+        EXPECT_GT(min_sj(r.mesh), 0.97) << rings;
+        EXPECT_LT(distance(r.mesh.points[centre], Vec3{2, 1, 1}), 0.5 * distance(m.points[centre], Vec3{2, 1, 1}));
+        for (std::size_t v = 0; v < m.points.size(); ++v)
+            if (static_cast<int>(v % 11) >= 3 + rings) {
+                EXPECT_EQ(r.mesh.points[v], m.points[v]) << rings << " " << v;
+            }
+        EXPECT_EQ(r.mesh.hexes, m.hexes);
+        // The scaled Jacobians handed in give the same result as those computed.
+        EXPECT_EQ(smooth_region(m, {}, 0.96, rings, o, sj).mesh, r.mesh);
+    }
+    const SmoothResult seeds_only = smooth_region(m, {}, 0.96, 0, o);
+    for (std::size_t v = 0; v < m.points.size(); ++v)
+        if (v != centre) {
+            EXPECT_EQ(seeds_only.mesh.points[v], m.points[v]) << v;
+        }
+    const SmoothResult good = smooth_region(m, {}, 0.5, 2, o);
+    EXPECT_EQ(good.sweeps, 0);
+    EXPECT_EQ(good.mesh, m);
+    EXPECT_THROW(smooth_region(m, {}, 0.96, 1, o, std::vector<double>(3, 1.0)), Error);
+}

@@ -4,7 +4,9 @@
 #include "mesohex/core/topology.h"
 
 #include <algorithm>
+#include <utility>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "mesohex/core/error.h"
@@ -12,31 +14,6 @@
 
 namespace mesohex {
 namespace {
-
-// Slot ids sorted by (key, slot): a least-significant-digit radix sort, one stable counting sort per key component
-// from the last to the first, each O(#slots + num_buckets). Keys are vertex ids in [0, num_buckets). The order is a
-// total order, hence the same for any thread count.
-template <std::size_t N>
-std::vector<int> sort_slots(const std::vector<std::array<int, N>>& keys, int num_buckets) {
-    const std::size_t n = keys.size();
-    std::vector<int> order(n), next(n);
-    std::vector<int> start(static_cast<std::size_t>(num_buckets) + 1);
-    for (std::size_t c = N; c-- > 0;) {
-        std::fill(start.begin(), start.end(), 0);
-        for (const std::array<int, N>& k : keys) ++start[static_cast<std::size_t>(k[c]) + 1];
-        for (std::size_t b = 0; b < static_cast<std::size_t>(num_buckets); ++b) start[b + 1] += start[b];
-        if (c == N - 1) {  // first pass: the slots in their own order
-            for (std::size_t s = 0; s < n; ++s)
-                next[static_cast<std::size_t>(start[static_cast<std::size_t>(keys[s][c])]++)] = static_cast<int>(s);
-        } else {
-            for (const int s : order)
-                next[static_cast<std::size_t>(
-                    start[static_cast<std::size_t>(keys[static_cast<std::size_t>(s)][c])]++)] = s;
-        }
-        order.swap(next);
-    }
-    return order;
-}
 
 // Ascending order of 4 ints: a sorting network of 5 compare-exchanges.
 void sort4(std::array<int, 4>& k) {
@@ -46,32 +23,62 @@ void sort4(std::array<int, 4>& k) {
     exchange(0, 1), exchange(2, 3), exchange(0, 2), exchange(1, 3), exchange(1, 2);
 }
 
-template <std::size_t N>
-bool same_key(const std::array<int, N>& a, const std::array<int, N>& b) {
-    for (std::size_t i = 0; i < N; ++i)
-        if (a[i] != b[i]) return false;
-    return true;
+// Slot ids sorted by (key, slot), keys computed on the fly by key_of(slot) (sorted vertex ids in [0, num_buckets)):
+// a counting sort by the key's first (smallest) vertex, in slot order, then each vertex's bucket (a few dozen slots)
+// sorted by (key, slot), the buckets in parallel. No array of keys: 4 bytes per slot besides the result's own. The
+// order is a total order, hence the same for any thread count.
+template <class KeyOf>
+std::vector<int> sort_slots(std::size_t n, int num_buckets, const KeyOf& key_of) {
+    using Key = decltype(key_of(std::size_t{0}));
+    std::vector<int> start(static_cast<std::size_t>(num_buckets) + 1, 0);
+    for (std::size_t s = 0; s < n; ++s) ++start[static_cast<std::size_t>(key_of(s)[0]) + 1];
+    for (std::size_t b = 0; b < static_cast<std::size_t>(num_buckets); ++b) start[b + 1] += start[b];
+    std::vector<int> order(n);
+    {
+        std::vector<int> fill(start.begin(), start.end() - 1);
+        for (std::size_t s = 0; s < n; ++s)
+            order[static_cast<std::size_t>(fill[static_cast<std::size_t>(key_of(s)[0])]++)] = static_cast<int>(s);
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, static_cast<std::size_t>(num_buckets)),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          std::vector<std::pair<Key, int>> bucket;
+                          for (std::size_t b = range.begin(); b != range.end(); ++b) {
+                              const std::size_t begin = static_cast<std::size_t>(start[b]);
+                              const std::size_t end = static_cast<std::size_t>(start[b + 1]);
+                              if (end - begin < 2) continue;
+                              bucket.clear();
+                              for (std::size_t i = begin; i < end; ++i)
+                                  bucket.emplace_back(key_of(static_cast<std::size_t>(order[i])), order[i]);
+                              std::sort(bucket.begin(), bucket.end());
+                              for (std::size_t i = begin; i < end; ++i) order[i] = bucket[i - begin].second;
+                          }
+                      });
+    return order;
 }
 
-// Groups of equal keys in the sorted slot order, numbered by the smallest slot of each group (= first appearance).
-// Fills id per slot and `first_slot[id]` (the smallest slot of group id); `group_size[slot of head]` = group size.
-template <std::size_t N>
-int number_groups(const std::vector<std::array<int, N>>& keys, const std::vector<int>& order,
-                  std::vector<int>& id_of_slot, std::vector<int>& first_slot) {
+// Groups of equal keys (key_of(slot)) in the sorted slot order, numbered by the smallest slot of each group (= first
+// appearance). Fills id per slot and `first_slot[id]` (the smallest slot of group id). The order is by (key, slot), so
+// the first slot of a group in it is its smallest; id_of_slot holds that head slot first, then (in ascending slot
+// order, heads before the rest of their group) the group's id: no array besides the outputs.
+template <class KeyOf>
+int number_groups(const KeyOf& key_of, const std::vector<int>& order, std::vector<int>& id_of_slot,
+                  std::vector<int>& first_slot) {
     const std::size_t n = order.size();
-    std::vector<int> group_head(n);  // per slot: the smallest slot of its group
+    id_of_slot.assign(n, -1);
+    std::size_t groups = 0;
     std::size_t i = 0;
     while (i < n) {
-        const std::array<int, N>& key = keys[static_cast<std::size_t>(order[i])];
+        const auto key = key_of(static_cast<std::size_t>(order[i]));
         std::size_t j = i + 1;
-        while (j < n && same_key(keys[static_cast<std::size_t>(order[j])], key)) ++j;
-        for (std::size_t k = i; k < j; ++k) group_head[static_cast<std::size_t>(order[k])] = order[i];
+        while (j < n && key_of(static_cast<std::size_t>(order[j])) == key) ++j;
+        for (std::size_t k = i; k < j; ++k) id_of_slot[static_cast<std::size_t>(order[k])] = order[i];
+        ++groups;
         i = j;
     }
-    id_of_slot.assign(n, -1);
     first_slot.clear();
+    first_slot.reserve(groups);
     for (std::size_t s = 0; s < n; ++s) {
-        const int head = group_head[s];
+        const int head = id_of_slot[s];
         if (head == static_cast<int>(s)) {
             id_of_slot[s] = static_cast<int>(first_slot.size());
             first_slot.push_back(static_cast<int>(s));
@@ -110,18 +117,17 @@ HexTopology compute_hex_topology(const HexMesh& mesh) {
             MESOHEX_CHECK(v >= 0, "compute_hex_topology needs vertex indices in range");
             num_buckets = std::max(num_buckets, v + 1);
         }
-    std::vector<std::array<int, 4>> face_keys(num_hexes * 6);  // sorted vertex quadruple per (hex, local face)
-    tbb::parallel_for(std::size_t{0}, num_hexes, [&](std::size_t h) {
-        const std::array<int, 8>& hex = mesh.hexes[h];
-        for (std::size_t lf = 0; lf < 6; ++lf) {
-            std::array<int, 4>& key = face_keys[h * 6 + lf];
-            for (std::size_t i = 0; i < 4; ++i) key[i] = hex[static_cast<std::size_t>(kHexFaces[lf][i])];
-            sort4(key);
-        }
-    });
+    // Sorted vertex quadruple of a (hex, local face) slot.
+    const auto face_key = [&mesh](std::size_t s) {
+        const std::array<int, 8>& hex = mesh.hexes[s / 6];
+        std::array<int, 4> key;
+        for (std::size_t i = 0; i < 4; ++i) key[i] = hex[static_cast<std::size_t>(kHexFaces[s % 6][i])];
+        sort4(key);
+        return key;
+    };
     std::vector<int> face_of_slot, face_first_slot;
-    const int num_faces = number_groups(face_keys, sort_slots(face_keys, num_buckets), face_of_slot, face_first_slot);
-    face_keys = {};
+    const int num_faces =
+        number_groups(face_key, sort_slots(num_hexes * 6, num_buckets, face_key), face_of_slot, face_first_slot);
     topo.faces.resize(static_cast<std::size_t>(num_faces));
     topo.face_hexes.assign(static_cast<std::size_t>(num_faces), {-1, -1});
     topo.face_hex_count.assign(static_cast<std::size_t>(num_faces), 0);
@@ -136,6 +142,7 @@ HexTopology compute_hex_topology(const HexMesh& mesh) {
         if (count < 2) topo.face_hexes[fu][static_cast<std::size_t>(count)] = h;
         ++count;
     }
+    face_of_slot = {};
     for (int f = 0; f < num_faces; ++f) {
         const int s = face_first_slot[static_cast<std::size_t>(f)];
         const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(s / 6)];
@@ -145,44 +152,42 @@ HexTopology compute_hex_topology(const HexMesh& mesh) {
     }
 
     // ---- edges ----
-    std::vector<std::array<int, 2>> edge_keys(num_hexes * 12);  // (min, max) per (hex, local edge)
-    tbb::parallel_for(std::size_t{0}, num_hexes, [&](std::size_t h) {
-        const std::array<int, 8>& hex = mesh.hexes[h];
-        for (std::size_t le = 0; le < 12; ++le) {
-            const int a = hex[static_cast<std::size_t>(kHexEdges[le][0])];
-            const int b = hex[static_cast<std::size_t>(kHexEdges[le][1])];
-            edge_keys[h * 12 + le] = {std::min(a, b), std::max(a, b)};
-        }
-    });
-    const std::vector<int> edge_order = sort_slots(edge_keys, num_buckets);
-    // Valence = number of distinct hexes around the edge (slots of one group are sorted, so equal hexes are adjacent).
-    std::vector<int> edge_valence_of_head(num_hexes * 12, 0);
-    for (std::size_t i = 0; i < edge_order.size();) {
-        const std::array<int, 2>& key = edge_keys[static_cast<std::size_t>(edge_order[i])];
-        std::size_t j = i + 1;
-        int distinct = 1;
-        while (j < edge_order.size() && same_key(edge_keys[static_cast<std::size_t>(edge_order[j])], key)) {
-            if (edge_order[j] / 12 != edge_order[j - 1] / 12) ++distinct;
-            ++j;
-        }
-        edge_valence_of_head[static_cast<std::size_t>(edge_order[i])] = distinct;
-        i = j;
-    }
+    // (min, max) vertex of a (hex, local edge) slot.
+    const auto edge_key = [&mesh](std::size_t s) {
+        const std::array<int, 8>& hex = mesh.hexes[s / 12];
+        const int a = hex[static_cast<std::size_t>(kHexEdges[s % 12][0])];
+        const int b = hex[static_cast<std::size_t>(kHexEdges[s % 12][1])];
+        return std::array<int, 2>{std::min(a, b), std::max(a, b)};
+    };
     std::vector<int> edge_of_slot, edge_first_slot;
-    const int num_edges = number_groups(edge_keys, edge_order, edge_of_slot, edge_first_slot);
-    edge_keys = {};
+    const int num_edges =
+        number_groups(edge_key, sort_slots(num_hexes * 12, num_buckets, edge_key), edge_of_slot, edge_first_slot);
+    // Valence = number of distinct hexes around the edge: slots in ascending order visit the hexes in ascending order,
+    // so a hex is new for an edge when it differs from the last one counted there.
+    topo.edge_valence.assign(static_cast<std::size_t>(num_edges), 0);
+    {
+        std::vector<int> last_hex(static_cast<std::size_t>(num_edges), -1);
+        for (std::size_t s = 0; s < edge_of_slot.size(); ++s) {
+            const std::size_t e = static_cast<std::size_t>(edge_of_slot[s]);
+            const int h = static_cast<int>(s / 12);
+            if (last_hex[e] != h) {
+                last_hex[e] = h;
+                ++topo.edge_valence[e];
+            }
+        }
+    }
     topo.edges.resize(static_cast<std::size_t>(num_edges));
-    topo.edge_valence.resize(static_cast<std::size_t>(num_edges));
     for (int e = 0; e < num_edges; ++e) {
         const int s = edge_first_slot[static_cast<std::size_t>(e)];
         const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(s / 12)];
         const int a = hex[static_cast<std::size_t>(kHexEdges[s % 12][0])];
         const int b = hex[static_cast<std::size_t>(kHexEdges[s % 12][1])];
         topo.edges[static_cast<std::size_t>(e)] = {std::min(a, b), std::max(a, b)};
-        topo.edge_valence[static_cast<std::size_t>(e)] = edge_valence_of_head[static_cast<std::size_t>(s)];
     }
+    edge_first_slot = {};
     topo.hex_edges.resize(num_hexes);
     for (std::size_t s = 0; s < edge_of_slot.size(); ++s) topo.hex_edges[s / 12][s % 12] = edge_of_slot[s];
+    edge_of_slot = {};
 
     // ---- boundary ----
     topo.edge_on_boundary.assign(static_cast<std::size_t>(num_edges), false);

@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 #include <nlohmann/json.hpp>
 
+#include "mesohex/core/error.h"
 #include "mesohex/core/hex_convention.h"
 #include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
@@ -71,12 +72,15 @@ QualityReport compute_quality(const HexMesh& mesh) {
     return compute_quality(mesh, topo);
 }
 
-QualityReport compute_quality(const HexMesh& mesh, HexTopology& topo) {
+QualityReport compute_quality(const HexMesh& mesh, HexTopology& topo) { return compute_quality(mesh, topo, {}); }
+
+QualityReport compute_quality(const HexMesh& mesh, HexTopology& topo, std::vector<double> sj) {
+    MESOHEX_CHECK(sj.empty() || sj.size() == mesh.hexes.size(), "compute_quality: sj needs one entry per hex");
     topo = HexTopology{};
     QualityReport r;
     r.vertices = static_cast<long>(mesh.points.size());
     r.hexes = static_cast<long>(mesh.hexes.size());
-    r.sj = scaled_jacobians(mesh);
+    r.sj = sj.empty() ? scaled_jacobians(mesh) : std::move(sj);
 
     sj_statistics(r);
 

@@ -37,6 +37,9 @@ QualityReport compute_quality(const HexMesh& mesh);
 // singular edges and the boundary, does not compute it twice). `topology` is left empty when a hex has an index out
 // of range (no topology is computed then).
 QualityReport compute_quality(const HexMesh& mesh, HexTopology& topology);
+// The same with the scaled Jacobians a caller already has: `sj` is scaled_jacobians(mesh) (moved into the report), or
+// empty (then computed).
+QualityReport compute_quality(const HexMesh& mesh, HexTopology& topology, std::vector<double> sj);
 
 // compute_quality(mesh) after only vertices moved (the studio's incremental raw mesh): `old` and `topology` are
 // compute_quality(old_mesh, topology)'s. When mesh has the hexes and vertex count of old_mesh, old_mesh was valid and

@@ -565,7 +565,88 @@ struct Smoother {
     }
 };
 
+// smooth_region's region: per hex 1 when it is a seed (scaled Jacobian below below_sj) or within `rings` rings of one
+// (a ring: the hexes sharing a vertex with the region so far). `seeds`: the number of seeds.
+std::vector<char> select_region(const HexMesh& mesh, const std::vector<double>& sj, double below_sj, int rings,
+                                long& seeds) {
+    std::vector<char> in(mesh.hexes.size(), 0);
+    seeds = 0;
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
+        if (sj[h] < below_sj) {
+            in[h] = 1;
+            ++seeds;
+        }
+    if (seeds == 0) return in;
+    std::vector<char> marked(mesh.points.size());
+    for (int ring = 0; ring < rings; ++ring) {
+        std::fill(marked.begin(), marked.end(), 0);
+        for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
+            if (in[h])
+                for (int v : mesh.hexes[h]) marked[static_cast<std::size_t>(v)] = 1;
+        for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
+            for (std::size_t lv = 0; lv < 8 && !in[h]; ++lv)
+                if (marked[static_cast<std::size_t>(mesh.hexes[h][lv])]) in[h] = 1;
+    }
+    return in;
+}
+
+// The region's hexes as a mesh of their own: its vertices in ascending order of their id in `mesh` (vertex_of), and
+// frozen those that a hex outside the region uses (or that `frozen` freezes).
+struct Region {
+    HexMesh mesh;
+    std::vector<int> vertex_of;
+    std::vector<bool> frozen;
+};
+
+Region extract_region(const HexMesh& mesh, const std::vector<char>& in, const std::vector<bool>& frozen) {
+    constexpr char kInside = 1, kOutside = 2;
+    std::vector<char> used(mesh.points.size(), 0);
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h)
+        for (int v : mesh.hexes[h]) used[static_cast<std::size_t>(v)] |= in[h] ? kInside : kOutside;
+    Region r;
+    std::vector<int> local(mesh.points.size(), -1);
+    for (std::size_t v = 0; v < mesh.points.size(); ++v) {
+        if (!(used[v] & kInside)) continue;
+        local[v] = static_cast<int>(r.vertex_of.size());
+        r.vertex_of.push_back(static_cast<int>(v));
+        r.mesh.points.push_back(mesh.points[v]);
+        r.frozen.push_back((used[v] & kOutside) != 0 || (!frozen.empty() && frozen[v]));
+    }
+    for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
+        if (!in[h]) continue;
+        std::array<int, 8> hex;
+        for (std::size_t lv = 0; lv < 8; ++lv) hex[lv] = local[static_cast<std::size_t>(mesh.hexes[h][lv])];
+        r.mesh.hexes.push_back(hex);
+    }
+    return r;
+}
+
 }  // namespace
+
+SmoothResult smooth_region(const HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project, double below_sj,
+                           int rings, const SmoothOptions& options, const std::vector<double>& sj) {
+    check_hex_indices(mesh, "smooth_region");
+    if (!options.frozen.empty() && options.frozen.size() != mesh.points.size())
+        throw Error(ErrorCode::InvalidInput, "smooth_region: frozen must have one entry per vertex");
+    if (!sj.empty() && sj.size() != mesh.hexes.size())
+        throw Error(ErrorCode::InvalidInput, "smooth_region: sj must have one entry per hex");
+    SmoothResult result;
+    result.mesh = mesh;
+    if (rings < 0) return result;
+    long seeds = 0;
+    std::vector<double> computed;
+    const std::vector<double>& q = sj.empty() ? (computed = scaled_jacobians(mesh)) : sj;
+    const std::vector<char> in = select_region(mesh, q, below_sj, rings, seeds);
+    if (seeds == 0) return result;
+    Region region = extract_region(mesh, in, options.frozen);
+    SmoothOptions local = options;
+    local.frozen = std::move(region.frozen);
+    SmoothResult r = smooth_quality(region.mesh, project, local);
+    for (std::size_t i = 0; i < region.vertex_of.size(); ++i)
+        result.mesh.points[static_cast<std::size_t>(region.vertex_of[i])] = r.mesh.points[i];
+    r.mesh = std::move(result.mesh);
+    return r;
+}
 
 SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
                             const SmoothOptions& options) {

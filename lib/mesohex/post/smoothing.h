@@ -86,4 +86,17 @@ struct SmoothResult {
 SmoothResult smooth_quality(const HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project,
                             const SmoothOptions& options = {});
 
+// smooth_quality on the bad region only: the hexes with scaled Jacobian below `below_sj` (the seeds) and `rings` rings
+// of hexes around them (a ring: every hex sharing a vertex with the region). The region is smoothed as a mesh of its
+// own (vertices in ascending id order, so deterministic) with every vertex that a hex outside the region uses frozen:
+// the vertices of hexes outside the region keep their coordinates bit for bit, and a hex outside changes in nothing.
+// rings 0: only the vertices all of whose hexes are seeds can move; each ring more frees the vertices of the ring
+// before. `sj`: the scaled Jacobians of `mesh` per hex (scaled_jacobians), or empty (then computed).
+// Result: the whole mesh with the region's vertices moved; sweeps, moves and rounds those of the region's smoothing,
+// sj_min/avg before/after those of the region's hexes. No seed (or rings < 0): the mesh unchanged, sweeps 0.
+// Cost: O(#hexes x (rings + 1)) for the selection, smooth_quality's on the region. Preconditions as smooth_quality's
+// (options.frozen must be empty or have one entry per vertex of `mesh`; sj empty or one entry per hex).
+SmoothResult smooth_region(const HexMesh& mesh, const std::function<Vec3(const Vec3&)>& project, double below_sj,
+                           int rings, const SmoothOptions& options = {}, const std::vector<double>& sj = {});
+
 }  // namespace mesohex
