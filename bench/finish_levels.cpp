@@ -3,7 +3,8 @@
 // (per hex and iteration for the fit), and peak resident memory per hex of the stage's mesh. Not a test, not a Google
 // benchmark: a measuring tool (bench/finish_1m.sh runs it on the 1 M-hex cases).
 //
-//   mesohex_finish_levels SKELETON DOMAIN [--levels L] [--fit-levels F] [--rings R] [--guard SJ] [-o MESH]
+//   mesohex_finish_levels SKELETON DOMAIN [--levels L] [--fit-levels F] [--rings R] [--guard SJ] [--inherit-smooth 0|1]
+//                         [--smooth-sj SJ] [--smooth-rings R] [-o MESH]
 //
 // Memory: the peak resident set (VmHWM) is reset (/proc/self/clear_refs) when a stage starts and read when it ends;
 // large blocks are mmap-allocated (so freed memory leaves the process and the next stage's peak is its own).
@@ -67,7 +68,8 @@ void print_row(const char* stage, long hexes, double wall, double cpu, long peak
 int main(int argc, char** argv) {
     if (argc < 3) {
         std::fprintf(stderr,
-                     "usage: %s SKELETON DOMAIN [--levels L] [--fit-levels F] [--rings R] [--guard SJ] [-o MESH]\n",
+                     "usage: %s SKELETON DOMAIN [--levels L] [--fit-levels F] [--rings R] [--guard SJ] [--inherit-smooth 0|1] "
+                     "[--smooth-sj SJ] [--smooth-rings R] [-o MESH]\n",
                      argv[0]);
         return 2;
     }
@@ -83,6 +85,8 @@ int main(int argc, char** argv) {
         if (a == "--rings") options.finishing.inherit_rings = std::atoi(argv[i + 1]);
         if (a == "--guard") options.finishing.inherit_guard_sj = std::atof(argv[i + 1]);
         if (a == "--inherit-smooth") options.finishing.inherit_smooth = std::atoi(argv[i + 1]) != 0;
+        if (a == "--smooth-sj") options.finishing.inherit_smooth_sj = std::atof(argv[i + 1]);
+        if (a == "--smooth-rings") options.finishing.inherit_smooth_rings = std::atoi(argv[i + 1]);
         if (a == "-o") out = argv[i + 1];
     }
     try {

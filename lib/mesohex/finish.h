@@ -105,8 +105,8 @@ struct FinishOptions {
     // moved most; a whole smoothing pass at the finest level sweeps every vertex. 0 = off. Scaled Jacobian.
     double inherit_smooth_sj = 0.8;
     int inherit_smooth_rings = 2;  // rings of hexes around those below inherit_smooth_sj (count)
-    bool fit = true;                // fit the boundary to the domain surface (fit_to_surface)
-    FitOptions fitting;             // the fit's options (gap_goal from gap_goal_relative when > 0)
+    bool fit = true;               // fit the boundary to the domain surface (fit_to_surface)
+    FitOptions fitting;            // the fit's options (gap_goal from gap_goal_relative when > 0)
     // > 0: fitting.gap_goal (a length) = this fraction of the domain's bbox diagonal: the fit tightens its pull only
     // while the boundary is farther than that from the surface. Dimensionless.
     double gap_goal_relative = 0.005;
