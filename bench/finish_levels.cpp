@@ -67,10 +67,11 @@ void print_row(const char* stage, long hexes, double wall, double cpu, long peak
 
 int main(int argc, char** argv) {
     if (argc < 3) {
-        std::fprintf(stderr,
-                     "usage: %s SKELETON DOMAIN [--levels L] [--fit-levels F] [--rings R] [--guard SJ] [--inherit-smooth 0|1] "
-                     "[--smooth-sj SJ] [--smooth-rings R] [-o MESH]\n",
-                     argv[0]);
+        std::fprintf(
+            stderr,
+            "usage: %s SKELETON DOMAIN [--levels L] [--fit-levels F] [--rings R] [--guard SJ] [--inherit-smooth 0|1] "
+            "[--smooth-sj SJ] [--smooth-rings R] [-o MESH]\n",
+            argv[0]);
         return 2;
     }
     mallopt(M_MMAP_THRESHOLD, 1 << 20);  // fixed: blocks of 1 MB and more are mmap'ed and returned when freed
