@@ -1,6 +1,8 @@
 // finish_mesh on a case checkable on paper: one unit hex inside its own cube surface.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 
@@ -106,8 +108,9 @@ TEST(Finish, SelectivePaddingLeavesAMatchingBoxBare) {
     EXPECT_LT(r.distance.relative_max, 1e-3);
 }
 
-// Two levels with one fitted: the second is inherited (stage "refine" after the smoothing): 56 x 8 hexes, the fit ran
-// on the 56-hex mesh, nothing inverted, the boundary still within the level-1 bound of the cube.
+// Two levels with one fitted: the second is inherited (stage "refine" after the smoothing, then "refine-smooth"):
+// 56 x 8 hexes, the fit ran on the 56-hex mesh, nothing inverted, the boundary still within the level-1 bound of the
+// cube.
 TEST(Finish, InheritedLevelIsRefinedNotFitted) {
     FinishOptions o = full_padding();
     o.levels = 2;
@@ -115,7 +118,7 @@ TEST(Finish, InheritedLevelIsRefinedNotFitted) {
     const FinishResult r = finish_mesh(unit_hex(), unit_cube_surface(), o);
     EXPECT_EQ(r.subdivision_levels, 2);
     EXPECT_EQ(r.inherited_levels, 1);
-    ASSERT_EQ(r.stages.size(), 6u);
+    ASSERT_EQ(r.stages.size(), 7u);
     EXPECT_EQ(r.stages[2].stage, "subdivide");
     EXPECT_EQ(r.stages[2].hexes, 56);
     EXPECT_EQ(r.stages[3].stage, "fit");
@@ -123,11 +126,28 @@ TEST(Finish, InheritedLevelIsRefinedNotFitted) {
     EXPECT_EQ(r.stages[4].stage, "smooth");
     EXPECT_EQ(r.stages[5].stage, "refine");
     EXPECT_EQ(r.stages[5].hexes, 448);
+    // Hexes below inherit_smooth_sj (0.8) after the refinement: the local smoothing runs on them and their rings. It
+    // never takes the worst hex at a vertex below min(its value, the smoothing's target 0.6), and raises the average.
+    ASSERT_LT(r.stages[5].sj_min, o.inherit_smooth_sj);
+    EXPECT_EQ(r.stages[6].stage, "refine-smooth");
+    EXPECT_EQ(r.stages[6].hexes, 448);
+    EXPECT_GE(r.stages[6].sj_min, std::min(r.stages[5].sj_min, o.smoothing.target_sj));
+    EXPECT_GT(r.stages[6].sj_avg, r.stages[5].sj_avg);
+    EXPECT_EQ(r.quality.sj_min, r.stages[6].sj_min);
     EXPECT_EQ(r.mesh.hexes.size(), 448u);
     EXPECT_TRUE(r.quality.validation.valid());
     EXPECT_EQ(r.quality.inverted, 0);
     ASSERT_TRUE(r.distance_measured);
     EXPECT_LT(r.distance.relative_max, 0.02);
+    // Local smoothing off: the refinement is the last stage, the mesh its result.
+    FinishOptions no_smoothing = o;
+    no_smoothing.inherit_smooth_sj = 0;
+    const FinishResult refined = finish_mesh(unit_hex(), unit_cube_surface(), no_smoothing);
+    ASSERT_EQ(refined.stages.size(), 6u);
+    EXPECT_EQ(refined.stages[5].stage, "refine");
+    EXPECT_EQ(refined.stages[5].sj_min, r.stages[5].sj_min);
+    EXPECT_EQ(refined.quality.sj_min, r.stages[5].sj_min);
+    EXPECT_EQ(refined.mesh.hexes, r.mesh.hexes);
     // fit_levels < 0: every level fitted, as before.
     o.fit_levels = -1;
     const FinishResult all = finish_mesh(unit_hex(), unit_cube_surface(), o);
