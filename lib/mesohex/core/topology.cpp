@@ -23,58 +23,59 @@ void sort4(std::array<int, 4>& k) {
     exchange(0, 1), exchange(2, 3), exchange(0, 2), exchange(1, 3), exchange(1, 2);
 }
 
-// Slot ids sorted by (key, slot), keys computed on the fly by key_of(slot) (sorted vertex ids in [0, num_buckets)):
-// a counting sort by the key's first (smallest) vertex, in slot order, then each vertex's bucket (a few dozen slots)
-// sorted by (key, slot), the buckets in parallel. No array of keys: 4 bytes per slot besides the result's own. The
-// order is a total order, hence the same for any thread count.
-template <class KeyOf>
-std::vector<int> sort_slots(std::size_t n, int num_buckets, const KeyOf& key_of) {
-    using Key = decltype(key_of(std::size_t{0}));
-    std::vector<int> start(static_cast<std::size_t>(num_buckets) + 1, 0);
-    for (std::size_t s = 0; s < n; ++s) ++start[static_cast<std::size_t>(key_of(s)[0]) + 1];
-    for (std::size_t b = 0; b < static_cast<std::size_t>(num_buckets); ++b) start[b + 1] += start[b];
-    std::vector<int> order(n);
-    {
-        std::vector<int> fill(start.begin(), start.end() - 1);
-        for (std::size_t s = 0; s < n; ++s)
-            order[static_cast<std::size_t>(fill[static_cast<std::size_t>(key_of(s)[0])]++)] = static_cast<int>(s);
+// One bucket of number_groups: the slots order[begin, end) (ascending) sorted stably by key in `bucket`, and the
+// first slot of every run of equal keys written to id_of_slot of each slot of the run.
+template <class KeyOf, class Key>
+void heads_of_bucket(const std::vector<int>& order, int begin, int end, const KeyOf& key_of,
+                     std::vector<std::pair<Key, int>>& bucket, std::vector<int>& id_of_slot) {
+    bucket.clear();
+    for (int i = begin; i < end; ++i) {
+        const int s = order[static_cast<std::size_t>(i)];
+        const Key key = key_of(static_cast<std::size_t>(s));
+        std::size_t k = bucket.size();
+        bucket.emplace_back();
+        for (; k > 0 && key < bucket[k - 1].first; --k) bucket[k] = bucket[k - 1];
+        bucket[k] = {key, s};
     }
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, static_cast<std::size_t>(num_buckets)),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                          std::vector<std::pair<Key, int>> bucket;
-                          for (std::size_t b = range.begin(); b != range.end(); ++b) {
-                              const std::size_t begin = static_cast<std::size_t>(start[b]);
-                              const std::size_t end = static_cast<std::size_t>(start[b + 1]);
-                              if (end - begin < 2) continue;
-                              bucket.clear();
-                              for (std::size_t i = begin; i < end; ++i)
-                                  bucket.emplace_back(key_of(static_cast<std::size_t>(order[i])), order[i]);
-                              std::sort(bucket.begin(), bucket.end());
-                              for (std::size_t i = begin; i < end; ++i) order[i] = bucket[i - begin].second;
-                          }
-                      });
-    return order;
-}
-
-// Groups of equal keys (key_of(slot)) in the sorted slot order, numbered by the smallest slot of each group (= first
-// appearance). Fills id per slot and `first_slot[id]` (the smallest slot of group id). The order is by (key, slot), so
-// the first slot of a group in it is its smallest; id_of_slot holds that head slot first, then (in ascending slot
-// order, heads before the rest of their group) the group's id: no array besides the outputs.
-template <class KeyOf>
-int number_groups(const KeyOf& key_of, const std::vector<int>& order, std::vector<int>& id_of_slot,
-                  std::vector<int>& first_slot) {
-    const std::size_t n = order.size();
-    id_of_slot.assign(n, -1);
-    std::size_t groups = 0;
-    std::size_t i = 0;
-    while (i < n) {
-        const auto key = key_of(static_cast<std::size_t>(order[i]));
+    for (std::size_t i = 0; i < bucket.size();) {
         std::size_t j = i + 1;
-        while (j < n && key_of(static_cast<std::size_t>(order[j])) == key) ++j;
-        for (std::size_t k = i; k < j; ++k) id_of_slot[static_cast<std::size_t>(order[k])] = order[i];
-        ++groups;
+        while (j < bucket.size() && bucket[j].first == bucket[i].first) ++j;
+        for (std::size_t k = i; k < j; ++k) id_of_slot[static_cast<std::size_t>(bucket[k].second)] = bucket[i].second;
         i = j;
     }
+}
+
+// Groups of slots with equal keys, numbered by the smallest slot of each group (= first appearance): fills the group
+// id of every slot and `first_slot[id]` (the smallest slot of group id); returns the number of groups. Keys (sorted
+// vertex ids in [0, num_buckets)) are computed on the fly by key_of(slot), their first (smallest) vertex by
+// first_of(slot). No array of keys: a counting sort of the slots by their first vertex (in slot order), then each
+// vertex's bucket (a few dozen slots) sorted by key, stably (insertion sort: slot order within equal keys), and every
+// slot's group head (its group's first slot there) written to id_of_slot, the buckets in parallel (disjoint slots);
+// then, in ascending slot order (heads before the rest of their group), each head slot replaced by its group's id.
+// The same for any thread count.
+template <class FirstOf, class KeyOf>
+int number_groups(std::size_t n, int num_buckets, const FirstOf& first_of, const KeyOf& key_of,
+                  std::vector<int>& id_of_slot, std::vector<int>& first_slot) {
+    using Key = decltype(key_of(std::size_t{0}));
+    std::vector<int> start(static_cast<std::size_t>(num_buckets) + 1, 0);
+    for (std::size_t s = 0; s < n; ++s) ++start[static_cast<std::size_t>(first_of(s)) + 1];
+    for (std::size_t b = 0; b < static_cast<std::size_t>(num_buckets); ++b) start[b + 1] += start[b];
+    id_of_slot.assign(n, -1);
+    {
+        std::vector<int> order(n);
+        std::vector<int> fill(start.begin(), start.end() - 1);
+        for (std::size_t s = 0; s < n; ++s)
+            order[static_cast<std::size_t>(fill[static_cast<std::size_t>(first_of(s))]++)] = static_cast<int>(s);
+        fill = {};
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, static_cast<std::size_t>(num_buckets)),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                              std::vector<std::pair<Key, int>> bucket;
+                              for (std::size_t b = range.begin(); b != range.end(); ++b)
+                                  heads_of_bucket(order, start[b], start[b + 1], key_of, bucket, id_of_slot);
+                          });
+    }
+    std::size_t groups = 0;
+    for (std::size_t s = 0; s < n; ++s) groups += id_of_slot[s] == static_cast<int>(s) ? 1 : 0;
     first_slot.clear();
     first_slot.reserve(groups);
     for (std::size_t s = 0; s < n; ++s) {
@@ -125,9 +126,15 @@ HexTopology compute_hex_topology(const HexMesh& mesh) {
         sort4(key);
         return key;
     };
+    const auto face_first = [&mesh](std::size_t s) {
+        const std::array<int, 8>& hex = mesh.hexes[s / 6];
+        const std::array<int, 4>& lf = kHexFaces[s % 6];
+        return std::min(std::min(hex[static_cast<std::size_t>(lf[0])], hex[static_cast<std::size_t>(lf[1])]),
+                        std::min(hex[static_cast<std::size_t>(lf[2])], hex[static_cast<std::size_t>(lf[3])]));
+    };
     std::vector<int> face_of_slot, face_first_slot;
     const int num_faces =
-        number_groups(face_key, sort_slots(num_hexes * 6, num_buckets, face_key), face_of_slot, face_first_slot);
+        number_groups(num_hexes * 6, num_buckets, face_first, face_key, face_of_slot, face_first_slot);
     topo.faces.resize(static_cast<std::size_t>(num_faces));
     topo.face_hexes.assign(static_cast<std::size_t>(num_faces), {-1, -1});
     topo.face_hex_count.assign(static_cast<std::size_t>(num_faces), 0);
@@ -159,9 +166,10 @@ HexTopology compute_hex_topology(const HexMesh& mesh) {
         const int b = hex[static_cast<std::size_t>(kHexEdges[s % 12][1])];
         return std::array<int, 2>{std::min(a, b), std::max(a, b)};
     };
+    const auto edge_first = [&edge_key](std::size_t s) { return edge_key(s)[0]; };
     std::vector<int> edge_of_slot, edge_first_slot;
     const int num_edges =
-        number_groups(edge_key, sort_slots(num_hexes * 12, num_buckets, edge_key), edge_of_slot, edge_first_slot);
+        number_groups(num_hexes * 12, num_buckets, edge_first, edge_key, edge_of_slot, edge_first_slot);
     // Valence = number of distinct hexes around the edge: slots in ascending order visit the hexes in ascending order,
     // so a hex is new for an edge when it differs from the last one counted there.
     topo.edge_valence.assign(static_cast<std::size_t>(num_edges), 0);
