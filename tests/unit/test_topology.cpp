@@ -146,6 +146,28 @@ TEST(Topology, DeterministicAndIndependentOfRepeats) {
         1);
 }
 
+// One unit hex repeated 30 times (its own vertices, degenerate on purpose): vertex 0 is the smallest vertex of 3 faces
+// and 3 edges of every copy, 90 slots each, more than the buckets sorted by insertion (64). Ids by first appearance as
+// for the single hex; every face has 30 hexes (the first two recorded: 0 and 1), every edge valence 30.
+TEST(Topology, VertexOfManyHexesGroupsLikeOne) {
+    HexMesh m = mesohex::test::make_unit_cube();
+    const std::array<int, 8> hex = m.hexes[0];
+    for (int i = 1; i < 30; ++i) m.hexes.push_back(hex);
+    const HexTopology t = compute_hex_topology(m);
+    ASSERT_EQ(t.faces.size(), 6u);
+    ASSERT_EQ(t.edges.size(), 12u);
+    for (std::size_t h = 0; h < m.hexes.size(); ++h) {
+        for (int lf = 0; lf < 6; ++lf) EXPECT_EQ(t.hex_faces[h][lf], lf);
+        for (int le = 0; le < 12; ++le) EXPECT_EQ(t.hex_edges[h][le], le);
+    }
+    for (int lf = 0; lf < 6; ++lf) {
+        EXPECT_EQ(t.face_hex_count[lf], 30);
+        EXPECT_EQ(t.face_hexes[lf], (std::array<int, 2>{0, 1}));
+    }
+    for (int le = 0; le < 12; ++le) EXPECT_EQ(t.edge_valence[le], 30);
+    EXPECT_TRUE(t.boundary_quads.empty());
+}
+
 TEST(Topology, EmptyMesh) {
     const HexTopology t = compute_hex_topology(HexMesh{});
     EXPECT_TRUE(t.faces.empty());

@@ -23,19 +23,31 @@ void sort4(std::array<int, 4>& k) {
     exchange(0, 1), exchange(2, 3), exchange(0, 2), exchange(1, 3), exchange(1, 2);
 }
 
+// Buckets up to this many slots are sorted by insertion (a vertex of a regular mesh has up to 24 face slots and 24
+// edge slots with it as their smallest vertex); larger ones by std::sort.
+constexpr int kInsertionSortMax = 64;
+
 // One bucket of number_groups: the slots order[begin, end) (ascending) sorted stably by key in `bucket`, and the
 // first slot of every run of equal keys written to id_of_slot of each slot of the run.
 template <class KeyOf, class Key>
 void heads_of_bucket(const std::vector<int>& order, int begin, int end, const KeyOf& key_of,
                      std::vector<std::pair<Key, int>>& bucket, std::vector<int>& id_of_slot) {
     bucket.clear();
-    for (int i = begin; i < end; ++i) {
-        const int s = order[static_cast<std::size_t>(i)];
-        const Key key = key_of(static_cast<std::size_t>(s));
-        std::size_t k = bucket.size();
-        bucket.emplace_back();
-        for (; k > 0 && key < bucket[k - 1].first; --k) bucket[k] = bucket[k - 1];
-        bucket[k] = {key, s};
+    if (end - begin > kInsertionSortMax) {  // a vertex of very many hexes (degenerate input): no quadratic sort
+        for (int i = begin; i < end; ++i) {
+            const int s = order[static_cast<std::size_t>(i)];
+            bucket.emplace_back(key_of(static_cast<std::size_t>(s)), s);
+        }
+        std::sort(bucket.begin(), bucket.end());  // by (key, slot): the stable order by key
+    } else {
+        for (int i = begin; i < end; ++i) {
+            const int s = order[static_cast<std::size_t>(i)];
+            const Key key = key_of(static_cast<std::size_t>(s));
+            std::size_t k = bucket.size();
+            bucket.emplace_back();
+            for (; k > 0 && key < bucket[k - 1].first; --k) bucket[k] = bucket[k - 1];
+            bucket[k] = {key, s};
+        }
     }
     for (std::size_t i = 0; i < bucket.size();) {
         std::size_t j = i + 1;
