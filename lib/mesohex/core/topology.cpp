@@ -27,6 +27,20 @@ void sort4(std::array<int, 4>& k) {
 // edge slots with it as their smallest vertex); larger ones by std::sort.
 constexpr int kInsertionSortMax = 64;
 
+// Order and equality of two keys of one bucket (their first vertex is the bucket's): the other components only.
+template <std::size_t N>
+bool rest_less(const std::array<int, N>& a, const std::array<int, N>& b) {
+    for (std::size_t i = 1; i < N; ++i)
+        if (a[i] != b[i]) return a[i] < b[i];
+    return false;
+}
+template <std::size_t N>
+bool rest_equal(const std::array<int, N>& a, const std::array<int, N>& b) {
+    for (std::size_t i = 1; i < N; ++i)
+        if (a[i] != b[i]) return false;
+    return true;
+}
+
 // One bucket of number_groups: the slots order[begin, end) (ascending) sorted stably by key in `bucket`, and the
 // first slot of every run of equal keys written to id_of_slot of each slot of the run.
 template <class KeyOf, class Key>
@@ -38,20 +52,22 @@ void heads_of_bucket(const std::vector<int>& order, int begin, int end, const Ke
             const int s = order[static_cast<std::size_t>(i)];
             bucket.emplace_back(key_of(static_cast<std::size_t>(s)), s);
         }
-        std::sort(bucket.begin(), bucket.end());  // by (key, slot): the stable order by key
+        std::sort(bucket.begin(), bucket.end(), [](const std::pair<Key, int>& a, const std::pair<Key, int>& b) {
+            return rest_less(a.first, b.first) || (rest_equal(a.first, b.first) && a.second < b.second);
+        });  // by (key, slot): the stable order by key
     } else {
         for (int i = begin; i < end; ++i) {
             const int s = order[static_cast<std::size_t>(i)];
             const Key key = key_of(static_cast<std::size_t>(s));
             std::size_t k = bucket.size();
             bucket.emplace_back();
-            for (; k > 0 && key < bucket[k - 1].first; --k) bucket[k] = bucket[k - 1];
+            for (; k > 0 && rest_less(key, bucket[k - 1].first); --k) bucket[k] = bucket[k - 1];
             bucket[k] = {key, s};
         }
     }
     for (std::size_t i = 0; i < bucket.size();) {
         std::size_t j = i + 1;
-        while (j < bucket.size() && bucket[j].first == bucket[i].first) ++j;
+        while (j < bucket.size() && rest_equal(bucket[j].first, bucket[i].first)) ++j;
         for (std::size_t k = i; k < j; ++k) id_of_slot[static_cast<std::size_t>(bucket[k].second)] = bucket[i].second;
         i = j;
     }
@@ -79,9 +95,11 @@ int number_groups(std::size_t n, int num_buckets, const FirstOf& first_of, const
         for (std::size_t s = 0; s < n; ++s)
             order[static_cast<std::size_t>(fill[static_cast<std::size_t>(first_of(s))]++)] = static_cast<int>(s);
         fill = {};
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, static_cast<std::size_t>(num_buckets)),
+        // Ranges of at least 4096 buckets: one buffer (allocated once) per range.
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, static_cast<std::size_t>(num_buckets), 4096),
                           [&](const tbb::blocked_range<std::size_t>& range) {
                               std::vector<std::pair<Key, int>> bucket;
+                              bucket.reserve(2 * kInsertionSortMax);
                               for (std::size_t b = range.begin(); b != range.end(); ++b)
                                   heads_of_bucket(order, start[b], start[b + 1], key_of, bucket, id_of_slot);
                           });
