@@ -401,6 +401,55 @@ TEST(MedialImport, BLJointTheMesherRootsOnTheBorderStaysWhereItIs) {
     }
 }
 
+TEST(MedialImport, BLJointInASharpNotchBecomesALeafletCorner) {
+    // The L of three unit squares (above) with a curve from its notch vertex 4 = (1, 1) into the gap, towards
+    // (5, 5, 0) (length 4 sqrt 2). After the split the border neighbours are a = (1.5, 1), b = (1, 1.5): they make 90
+    // degrees (no straight stretch), the faces' angles sum to 270 (a notch). The join moves along the bisector
+    // (1, 1) / sqrt 2 past the chord of a and b (0.25 sqrt 2) and then 1.25 x 0.5 further: to 1.25 + 0.625 / sqrt 2
+    // on both axes, a convex corner (the chord's midpoint is (1.25, 1.25)). A curve towards (2, 2, 0) (length
+    // sqrt 2) caps the move at 0.2 x sqrt 2: the join lands at (1.2, 1.2). Without the option it stays.
+    for (const double far : {5.0, 2.0}) {
+        SCOPED_TRACE(far);
+        const Skeleton s =
+            medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}, {far, far, 0}},
+                   {{4, 8}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7}, {3, 7, 6}});
+        const MedialImport r = import_medial_mesh(s);
+        EXPECT_EQ(r.moved_bl_joints, 1);
+        EXPECT_EQ(r.notch_corners, 1);
+        EXPECT_EQ(r.branch_corners, 0);
+        const double at = far > 3 ? 1.25 + 0.625 / std::sqrt(2.0) : 1.2;
+        EXPECT_NEAR(distance(r.skeleton.points[4], Vec3{at, at, 0}), 0.0, 1e-12);
+        MedialImportOptions off;
+        off.bl_joint_reflex_corners = false;
+        const MedialImport kept = import_medial_mesh(s, off);
+        EXPECT_EQ(kept.moved_bl_joints, 0);
+        EXPECT_NEAR(distance(kept.skeleton.points[4], Vec3{1, 1, 0}), 0.0, 1e-12);
+    }
+}
+
+TEST(MedialImport, JoinOfSeveralCurvesOnAStraightBorderBecomesACornerAtMostAFifthOfItsShortestCurveOut) {
+    // Two unit squares; vertex 1 = (1, 0, 0) in the middle of the straight border y = 0 has two curves: one of two
+    // edges (to (1, -1, 0), then (1, -2, 0): length 2, through a plain joint) and one edge to (0, -3, 0) (length
+    // sqrt 10). The push on a straight border, 1.25 x 0.5 along -y, is capped at 0.2 x 2: the join lands at
+    // (1, -0.4, 0). Without the option it stays (a join of several curves is no BL-joint).
+    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, -1, 0},
+                               {1, -2, 0}, {0, -3, 0}},
+                              {{1, 6}, {6, 7}, {1, 8}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}});
+    const MedialImport r = import_medial_mesh(s);
+    EXPECT_EQ(r.moved_bl_joints, 1);
+    EXPECT_EQ(r.branch_corners, 1);
+    EXPECT_EQ(r.notch_corners, 0);
+    EXPECT_NEAR(distance(r.skeleton.points[1], Vec3{1, -0.4, 0}), 0.0, 1e-12);
+    MedialImportOptions wider;
+    wider.bl_joint_max_push_curve_fraction = 0.5;  // 1.0 > 0.625: the straight border's push itself
+    EXPECT_NEAR(distance(import_medial_mesh(s, wider).skeleton.points[1], Vec3{1, -0.625, 0}), 0.0, 1e-12);
+    MedialImportOptions off;
+    off.bl_joint_corners_with_branches = false;
+    const MedialImport kept = import_medial_mesh(s, off);
+    EXPECT_EQ(kept.moved_bl_joints, 0);
+    EXPECT_NEAR(distance(kept.skeleton.points[1], Vec3{1, 0, 0}), 0.0, 1e-12);
+}
+
 TEST(MedialImport, MoebiusBandIsRejected) {
     // 6 cross-sections t_i = (cos, sin, +w), b_i = (cos, sin, -w) around a circle, the last one glued twisted.
     const int n = 6;

@@ -230,8 +230,11 @@ void make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt, MedialIm
         const bool notch = !straight && opt.bl_joint_reflex_corners && st.angle_sum[v] > 180;
         if (!straight && !notch) continue;
         if (several && !notch && st.angle_sum[v] < kBranchCornerMinAngleSumDeg) continue;  // a corner already
+        // Into the leaflet: the mean direction to the leaflet neighbours; at a notch, against the bisector of the two
+        // border edges (which points into the notch's gap).
         Vec3 inward{};
         for (int u : st.leaflet[v]) inward += normalized(before[static_cast<size_t>(u)] - p);
+        if (notch) inward = -1.0 * (normalized(a - p) + normalized(b - p));
         inward = normalized(inward);
         if (squared_norm(inward) == 0) continue;
         const double length = 0.5 * (distance(p, a) + distance(p, b));
@@ -250,10 +253,7 @@ void make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt, MedialIm
             back = std::max(back, opt.bl_joint_back_push *
                                       dot(normalized(before[static_cast<size_t>(u)] - p), inward));
         double push = opt.bl_joint_push * (1 + back) * length;
-        // Out of the leaflet: against the inward direction; at a notch, along the bisector of the two border edges
-        // (into the notch's gap).
-        Vec3 out = -1.0 * inward;
-        if (notch) out = normalized(normalized(a - p) + normalized(b - p));
+        const Vec3 out = -1.0 * inward;
         if (several || notch) {
             // Past the chord of the two border neighbours first, then as far as on a straight border; at most
             // bl_joint_max_push_curve_fraction x the shortest curve leaving p.
