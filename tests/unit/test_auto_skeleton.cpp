@@ -2,9 +2,11 @@
 // meso_radius_factor x the distance to the surface, and the raw check's numbers are those its options require.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesohex/auto_skeleton.h"
@@ -118,6 +120,51 @@ TEST(AutoSkeleton, CreasedStripWithShortBorderSidesMeshesWithoutInversionOnceCap
     Skeleton capped = sk;
     cap_border_radii(capped, 0.5);
     EXPECT_EQ(raw_inverted(capped), 0);
+}
+
+// A medial mesh of unit squares in the plane z = 0 (each two triangles) with curve edges, every radius `radius`.
+Skeleton flat_medial(std::vector<Vec3> points, std::vector<std::array<int, 2>> curves,
+                     std::vector<std::vector<int>> triangles, double radius) {
+    Skeleton m;
+    m.points = std::move(points);
+    m.radii.assign(m.points.size(), radius);
+    m.edges = std::move(curves);
+    m.faces = std::move(triangles);
+    add_face_edges(m);
+    return m;
+}
+
+TEST(AutoSkeleton, NotchJoinMadeALeafletCornerMeshesWithoutInversion) {
+    // An L of three unit squares with a curve from its notch vertex (1, 1) into the gap (radius 0.1): the BL-joint's
+    // half-chunks inside the notch fold (4 inverted raw hexes); moved past the chord of its border neighbours (the
+    // long curve) or capped at 0.2 x the curve (the short one, to (1.2, 1.2)), none.
+    for (const Vec3& to : {Vec3{5, 5, 0.5}, Vec3{2, 2, 0}}) {
+        SCOPED_TRACE(to.x);
+        const Skeleton m =
+            flat_medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}, to},
+                        {{4, 8}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7}, {3, 7, 6}}, 0.1);
+        const MedialImport on = import_medial_mesh(m);
+        ASSERT_EQ(on.notch_corners, 1);
+        EXPECT_EQ(raw_inverted(on.skeleton), 0);
+        MedialImportOptions off;
+        off.bl_joint_reflex_corners = false;
+        EXPECT_EQ(raw_inverted(import_medial_mesh(m, off).skeleton), 4);
+    }
+}
+
+TEST(AutoSkeleton, JoinOfTwoCurvesMadeALeafletCornerMeshesWithoutInversion) {
+    // Two unit squares; from the middle of their straight border (1, 0, 0) a curve of two edges goes down and below
+    // the plane (to (1, -2, -1)), one edge goes to (0, -3, 0); radius 0.05. Left on the straight border, the join
+    // folds 4 raw hexes; pushed out to a corner (0.2 x the shorter curve), none.
+    const Skeleton m = flat_medial(
+        {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, -1, -1}, {1, -2, -1}, {0, -3, 0}},
+        {{1, 6}, {6, 7}, {1, 8}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}}, 0.05);
+    const MedialImport on = import_medial_mesh(m);
+    ASSERT_EQ(on.branch_corners, 1);
+    EXPECT_EQ(raw_inverted(on.skeleton), 0);
+    MedialImportOptions off;
+    off.bl_joint_corners_with_branches = false;
+    EXPECT_EQ(raw_inverted(import_medial_mesh(m, off).skeleton), 4);
 }
 
 TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {
