@@ -81,7 +81,8 @@ int main(int argc, char** argv) {
         const std::string a = argv[i];
         if (a == "--no-bl-notch-corners") o.import.bl_joint_reflex_corners = false;
         if (a == "--no-bl-branch-corners") o.import.bl_joint_corners_with_branches = false;
-        if (a == "--bl-corner-max-push" && i + 1 < argc) o.import.bl_joint_max_push_curve_fraction = std::atof(argv[++i]);
+        if (a == "--bl-corner-max-push" && i + 1 < argc)
+            o.import.bl_joint_max_push_curve_fraction = std::atof(argv[++i]);
     }
     const TriangleMesh surface = read_surface(argv[1]);
     MeshRun run;
@@ -115,20 +116,20 @@ int main(int argc, char** argv) {
         std::string element = "plate";
         if (e >= 0) {
             const int a = s.edges[static_cast<size_t>(e)][0], b = s.edges[static_cast<size_t>(e)][1];
-            site = is_join(an, a)   ? a
-                   : is_join(an, b) ? b
-                   : distance(s.points[static_cast<size_t>(a)], c) <= distance(s.points[static_cast<size_t>(b)], c)
-                       ? a
-                       : b;
+            site = is_join(an, a)                                                                                   ? a
+                   : is_join(an, b)                                                                                 ? b
+                   : distance(s.points[static_cast<size_t>(a)], c) <= distance(s.points[static_cast<size_t>(b)], c) ? a
+                                                                                                                    : b;
             element = (an.edge_degree[static_cast<size_t>(e)] == 0 ? "chunk e" : "half-chunk e") + std::to_string(e);
         }
         const std::string kind = site_kind(an, site);
         ++per_kind[kind];
         const Vec3& p = s.points[static_cast<size_t>(site)];
-        std::printf("hex %6zu sj %7.3f  %-16s site v%-5d %-9s %-15s curves %d corner %5.1f deg r %.4g at (%.4g %.4g %.4g)\n",
-                    h, sj[h], element.c_str(), site, kind.c_str(), to_string(an.vertex_class[static_cast<size_t>(site)]),
-                    an.vertex_branch_edges[static_cast<size_t>(site)], angle[static_cast<size_t>(site)],
-                    s.radii[static_cast<size_t>(site)], p.x, p.y, p.z);
+        std::printf(
+            "hex %6zu sj %7.3f  %-16s site v%-5d %-9s %-15s curves %d corner %5.1f deg r %.4g at (%.4g %.4g %.4g)\n", h,
+            sj[h], element.c_str(), site, kind.c_str(), to_string(an.vertex_class[static_cast<size_t>(site)]),
+            an.vertex_branch_edges[static_cast<size_t>(site)], angle[static_cast<size_t>(site)],
+            s.radii[static_cast<size_t>(site)], p.x, p.y, p.z);
     }
     std::printf("raw %zu hexes, %ld inverted, min SJ %.3f\n", sj.size(), inverted, run.raw_quality.sj_min);
     for (const auto& [k, n] : per_kind) std::printf("  %-9s %d\n", k.c_str(), n);

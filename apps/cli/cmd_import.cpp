@@ -110,10 +110,10 @@ void register_import(CLI::App& app, int* status) {
                   << ", curve ends moved to a regular leaflet vertex " << r.rooted_curve_ends << ", collapsed sheets "
                   << r.collapsed_sheets << ", leaflets " << r.leaflets << ", fan edges " << r.fan_edges
                   << ", triangle pairs " << r.paired_quads << ", lone triangles " << r.split_triangles
-                  << ", BL-joints moved to a corner " << r.moved_bl_joints << " (" << r.notch_corners
-                  << " at notches, " << r.branch_corners << " of several curves), smoothed vertices "
-                  << r.smoothed_vertices << "\n  skeleton: " << r.skeleton.points.size() << " points, "
-                  << r.skeleton.edges.size() << " edges, " << r.skeleton.faces.size() << " quads, Euler characteristic "
+                  << ", BL-joints moved to a corner " << r.moved_bl_joints << " (" << r.notch_corners << " at notches, "
+                  << r.branch_corners << " of several curves), smoothed vertices " << r.smoothed_vertices
+                  << "\n  skeleton: " << r.skeleton.points.size() << " points, " << r.skeleton.edges.size()
+                  << " edges, " << r.skeleton.faces.size() << " quads, Euler characteristic "
                   << euler_characteristic(r.skeleton) << " (input " << euler_characteristic(medial) << ") -> "
                   << args->output << "\n";
         *status = 0;

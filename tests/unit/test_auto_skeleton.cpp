@@ -2,17 +2,16 @@
 // meso_radius_factor x the distance to the surface, and the raw check's numbers are those its options require.
 #include <gtest/gtest.h>
 
-#include <array>
 #include <cmath>
 #include <numbers>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "mesohex/auto_skeleton.h"
 #include "mesohex/mesh.h"
 #include "mesohex/surface/radius_from_surface.h"
 #include "mesohex/surface/surface_query.h"
+#include "skeleton_fixtures.h"
 #include "surface_fixtures.h"
 
 namespace mesohex {
@@ -122,16 +121,14 @@ TEST(AutoSkeleton, CreasedStripWithShortBorderSidesMeshesWithoutInversionOnceCap
     EXPECT_EQ(raw_inverted(capped), 0);
 }
 
-// A medial mesh of unit squares in the plane z = 0 (each two triangles) with curve edges, every radius `radius`.
-Skeleton flat_medial(std::vector<Vec3> points, std::vector<std::array<int, 2>> curves,
-                     std::vector<std::vector<int>> triangles, double radius) {
-    Skeleton m;
-    m.points = std::move(points);
-    m.radii.assign(m.points.size(), radius);
-    m.edges = std::move(curves);
-    m.faces = std::move(triangles);
-    add_face_edges(m);
-    return m;
+// Inverted raw hexes of medial mesh m imported with `off`; asserts that the defaults' import moved exactly one join
+// of the kind `moved` reads and returns its raw inverted hexes in *on_inverted.
+long raw_inverted_without(const Skeleton& m, const MedialImportOptions& off, int MedialImport::*moved,
+                          long* on_inverted) {
+    const MedialImport on = import_medial_mesh(m);
+    EXPECT_EQ(on.*moved, 1);
+    *on_inverted = raw_inverted(on.skeleton);
+    return raw_inverted(import_medial_mesh(m, off).skeleton);
 }
 
 TEST(AutoSkeleton, NotchJoinMadeALeafletCornerMeshesWithoutInversion) {
@@ -140,15 +137,11 @@ TEST(AutoSkeleton, NotchJoinMadeALeafletCornerMeshesWithoutInversion) {
     // long curve) or capped at 0.2 x the curve (the short one, to (1.2, 1.2)), none.
     for (const Vec3& to : {Vec3{5, 5, 0.5}, Vec3{2, 2, 0}}) {
         SCOPED_TRACE(to.x);
-        const Skeleton m =
-            flat_medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}, to},
-                        {{4, 8}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7}, {3, 7, 6}}, 0.1);
-        const MedialImport on = import_medial_mesh(m);
-        ASSERT_EQ(on.notch_corners, 1);
-        EXPECT_EQ(raw_inverted(on.skeleton), 0);
         MedialImportOptions off;
         off.bl_joint_reflex_corners = false;
-        EXPECT_EQ(raw_inverted(import_medial_mesh(m, off).skeleton), 4);
+        long on = -1;
+        EXPECT_EQ(raw_inverted_without(test::notch_l_with_a_curve(to, 0.1), off, &MedialImport::notch_corners, &on), 4);
+        EXPECT_EQ(on, 0);
     }
 }
 
@@ -156,15 +149,13 @@ TEST(AutoSkeleton, JoinOfTwoCurvesMadeALeafletCornerMeshesWithoutInversion) {
     // Two unit squares; from the middle of their straight border (1, 0, 0) a curve of two edges goes down and below
     // the plane (to (1, -2, -1)), one edge goes to (0, -3, 0); radius 0.05. Left on the straight border, the join
     // folds 4 raw hexes; pushed out to a corner (0.2 x the shorter curve), none.
-    const Skeleton m = flat_medial(
-        {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, -1, -1}, {1, -2, -1}, {0, -3, 0}},
-        {{1, 6}, {6, 7}, {1, 8}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}}, 0.05);
-    const MedialImport on = import_medial_mesh(m);
-    ASSERT_EQ(on.branch_corners, 1);
-    EXPECT_EQ(raw_inverted(on.skeleton), 0);
     MedialImportOptions off;
     off.bl_joint_corners_with_branches = false;
-    EXPECT_EQ(raw_inverted(import_medial_mesh(m, off).skeleton), 4);
+    long on = -1;
+    EXPECT_EQ(raw_inverted_without(test::two_curves_on_a_straight_border({1, -1, -1}, {1, -2, -1}, {0, -3, 0}, 0.05),
+                                   off, &MedialImport::branch_corners, &on),
+              4);
+    EXPECT_EQ(on, 0);
 }
 
 TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {

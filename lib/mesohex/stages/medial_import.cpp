@@ -250,8 +250,7 @@ void make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt, MedialIm
         // sharper corner: bl_joint_back_push x that cosine more.
         double back = 0;
         for (int u : curves)
-            back = std::max(back, opt.bl_joint_back_push *
-                                      dot(normalized(before[static_cast<size_t>(u)] - p), inward));
+            back = std::max(back, opt.bl_joint_back_push * dot(normalized(before[static_cast<size_t>(u)] - p), inward));
         double push = opt.bl_joint_push * (1 + back) * length;
         const Vec3 out = -1.0 * inward;
         if (several || notch) {

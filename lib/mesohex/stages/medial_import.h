@@ -64,12 +64,15 @@ struct MedialImportOptions {
     // bl_joint_push x (1 + bl_joint_back_push x c) x that length instead (dimensionless).
     double bl_joint_back_push = 1.0;
     // A joint at a sharp notch of the border (the two boundary edges at most bl_joint_max_angle_deg apart, the
-    // faces' angles at the joint summing to more than 180 degrees: the leaflet wraps around it) is pushed out of the
-    // notch too: past the chord of its two border neighbours, then by the push above, so that the join becomes a
-    // convex leaflet corner instead of a join inside the notch, where the mesher's BL-joint half-chunks fold.
+    // faces' angles at the joint summing to more than 180 degrees: the leaflet wraps around it) is pushed into the
+    // notch's gap too, along the bisector of its two boundary edges: past the chord of its two border neighbours,
+    // then by the push above (the back push measured against the opposite of that bisector), so that the join
+    // becomes a convex leaflet corner instead of a join inside the notch, where the mesher's BL-joint half-chunks
+    // fold.
     bool bl_joint_reflex_corners = true;
     // A border vertex where several curves join (a branching point on the border) gets a corner the same way (a
-    // straight stretch: the push above; a sharp notch: as bl_joint_reflex_corners); no border_root exception.
+    // straight stretch: the push above; a sharp notch: as bl_joint_reflex_corners), unless it is a corner already
+    // (faces' angles summing to less than 150 degrees); no border_root exception.
     bool bl_joint_corners_with_branches = true;
     // The two moves above go at most this x the length of the shortest curve leaving the joint (curve edges up to
     // the next vertex that is not a plain curve joint; dimensionless): the curve's first chunk keeps its direction.
