@@ -20,6 +20,8 @@ struct ImportArgs {
     bool no_pairing = false;
     bool keep_fans = false;
     bool no_bl_corners = false;
+    bool no_bl_notch_corners = false;
+    bool no_bl_branch_corners = false;
     bool keep_interior_curves = false;
     bool reattach_interior_curves = false;
     bool no_boundary_smoothing = false;
@@ -63,6 +65,14 @@ void register_import(CLI::App& app, int* status) {
                     "the inward direction, > 0)")
         ->capture_default_str()
         ->check(finite_range(0.0, 10.0));
+    cmd->add_flag("--no-bl-notch-corners", args->no_bl_notch_corners,
+                  "Leave curve attachments in sharp notches of a leaflet boundary where they are");
+    cmd->add_flag("--no-bl-branch-corners", args->no_bl_branch_corners,
+                  "Leave leaflet boundary vertices where several curves attach where they are");
+    cmd->add_option("--bl-corner-max-push", args->options.bl_joint_max_push_curve_fraction,
+                    "Notch and several-curve attachments move at most this x their shortest curve's length")
+        ->capture_default_str()
+        ->check(finite_range(0.0, 1.0));
     cmd->add_option("--smoothing", args->options.smoothing_iterations,
                     "Smoothing sweeps over the leaflets: Laplacian on interior vertices, along the normal on boundary "
                     "vertices (0 = none)")
@@ -84,6 +94,8 @@ void register_import(CLI::App& app, int* status) {
         args->options.pair_triangles = !args->no_pairing;
         args->options.resolve_irregular_fans = !args->keep_fans;
         args->options.bl_joint_corners = !args->no_bl_corners;
+        args->options.bl_joint_reflex_corners = !args->no_bl_notch_corners;
+        args->options.bl_joint_corners_with_branches = !args->no_bl_branch_corners;
         args->options.root_interior_curves = !args->keep_interior_curves;
         args->options.reattach_interior_curves = args->reattach_interior_curves;
         args->options.smooth_boundary = !args->no_boundary_smoothing;
@@ -98,9 +110,10 @@ void register_import(CLI::App& app, int* status) {
                   << ", curve ends moved to a regular leaflet vertex " << r.rooted_curve_ends << ", collapsed sheets "
                   << r.collapsed_sheets << ", leaflets " << r.leaflets << ", fan edges " << r.fan_edges
                   << ", triangle pairs " << r.paired_quads << ", lone triangles " << r.split_triangles
-                  << ", BL-joints moved to a corner " << r.moved_bl_joints << ", smoothed vertices "
-                  << r.smoothed_vertices << "\n  skeleton: " << r.skeleton.points.size() << " points, "
-                  << r.skeleton.edges.size() << " edges, " << r.skeleton.faces.size() << " quads, Euler characteristic "
+                  << ", BL-joints moved to a corner " << r.moved_bl_joints << " (" << r.notch_corners << " at notches, "
+                  << r.branch_corners << " of several curves), smoothed vertices " << r.smoothed_vertices
+                  << "\n  skeleton: " << r.skeleton.points.size() << " points, " << r.skeleton.edges.size()
+                  << " edges, " << r.skeleton.faces.size() << " quads, Euler characteristic "
                   << euler_characteristic(r.skeleton) << " (input " << euler_characteristic(medial) << ") -> "
                   << args->output << "\n";
         *status = 0;

@@ -89,4 +89,32 @@ inline std::vector<Vec3> random_directions(int n, unsigned seed, double min_angl
     return d;
 }
 
+// A medial mesh (as read from a .ma file): points, curve edges (in no triangle) and triangles, every radius `radius`;
+// the triangle sides are added to the edges.
+inline Skeleton medial_mesh(std::vector<Vec3> points, std::vector<std::array<int, 2>> curve_edges,
+                            std::vector<std::vector<int>> triangles, double radius = 0.01) {
+    Skeleton s;
+    s.points = std::move(points);
+    s.radii.assign(s.points.size(), radius);
+    s.edges = std::move(curve_edges);
+    s.faces = std::move(triangles);
+    add_face_edges(s);
+    return s;
+}
+
+// An L of three unit squares in the plane z = 0 (two triangles each; vertex 4 = (1, 1, 0) is the notch, its faces'
+// angles sum to 270 degrees) with one curve edge from the notch to `to` (vertex 8).
+inline Skeleton notch_l_with_a_curve(const Vec3& to, double radius = 0.01) {
+    return medial_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}, to},
+                       {{4, 8}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7}, {3, 7, 6}}, radius);
+}
+
+// Two unit squares side by side (border y = 0) with two curves from the border's middle vertex 1 = (1, 0, 0): one of
+// two edges through `joint` to `end` (vertices 6, 7), one edge to `other` (vertex 8).
+inline Skeleton two_curves_on_a_straight_border(const Vec3& joint, const Vec3& end, const Vec3& other,
+                                                double radius = 0.01) {
+    return medial_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, joint, end, other},
+                       {{1, 6}, {6, 7}, {1, 8}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}}, radius);
+}
+
 }  // namespace mesohex::test

@@ -11,6 +11,7 @@
 #include "mesohex/mesh.h"
 #include "mesohex/surface/radius_from_surface.h"
 #include "mesohex/surface/surface_query.h"
+#include "skeleton_fixtures.h"
 #include "surface_fixtures.h"
 
 namespace mesohex {
@@ -118,6 +119,43 @@ TEST(AutoSkeleton, CreasedStripWithShortBorderSidesMeshesWithoutInversionOnceCap
     Skeleton capped = sk;
     cap_border_radii(capped, 0.5);
     EXPECT_EQ(raw_inverted(capped), 0);
+}
+
+// Inverted raw hexes of medial mesh m imported with `off`; asserts that the defaults' import moved exactly one join
+// of the kind `moved` reads and returns its raw inverted hexes in *on_inverted.
+long raw_inverted_without(const Skeleton& m, const MedialImportOptions& off, int MedialImport::*moved,
+                          long* on_inverted) {
+    const MedialImport on = import_medial_mesh(m);
+    EXPECT_EQ(on.*moved, 1);
+    *on_inverted = raw_inverted(on.skeleton);
+    return raw_inverted(import_medial_mesh(m, off).skeleton);
+}
+
+TEST(AutoSkeleton, NotchJoinMadeALeafletCornerMeshesWithoutInversion) {
+    // An L of three unit squares with a curve from its notch vertex (1, 1) into the gap (radius 0.1): the BL-joint's
+    // half-chunks inside the notch fold (4 inverted raw hexes); moved past the chord of its border neighbours (the
+    // long curve) or capped at 0.2 x the curve (the short one, to (1.2, 1.2)), none.
+    for (const Vec3& to : {Vec3{5, 5, 0.5}, Vec3{2, 2, 0}}) {
+        SCOPED_TRACE(to.x);
+        MedialImportOptions off;
+        off.bl_joint_reflex_corners = false;
+        long on = -1;
+        EXPECT_EQ(raw_inverted_without(test::notch_l_with_a_curve(to, 0.1), off, &MedialImport::notch_corners, &on), 4);
+        EXPECT_EQ(on, 0);
+    }
+}
+
+TEST(AutoSkeleton, JoinOfTwoCurvesMadeALeafletCornerMeshesWithoutInversion) {
+    // Two unit squares; from the middle of their straight border (1, 0, 0) a curve of two edges goes down and below
+    // the plane (to (1, -2, -1)), one edge goes to (0, -3, 0); radius 0.05. Left on the straight border, the join
+    // folds 4 raw hexes; pushed out to a corner (0.2 x the shorter curve), none.
+    MedialImportOptions off;
+    off.bl_joint_corners_with_branches = false;
+    long on = -1;
+    EXPECT_EQ(raw_inverted_without(test::two_curves_on_a_straight_border({1, -1, -1}, {1, -2, -1}, {0, -3, 0}, 0.05),
+                                   off, &MedialImport::branch_corners, &on),
+              4);
+    EXPECT_EQ(on, 0);
 }
 
 TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {

@@ -18,23 +18,15 @@
 #include "mesohex/stages/skeleton_analysis.h"
 #include "mesohex_io/medial_io.h"
 #include "quad_skeleton_checks.h"
+#include "skeleton_fixtures.h"
 
 namespace mesohex {
 namespace {
 
-Skeleton medial(std::vector<Vec3> points, std::vector<std::array<int, 2>> curve_edges,
-                std::vector<std::vector<int>> triangles, double radius = 0.01) {
-    Skeleton s;
-    s.points = std::move(points);
-    s.radii.assign(s.points.size(), radius);
-    s.edges = std::move(curve_edges);
-    s.faces = std::move(triangles);
-    add_face_edges(s);
-    return s;
-}
+using test::medial_mesh;
 
 // Unit square split along its diagonal 0-2 into two triangles, oriented the same way.
-Skeleton unit_square() { return medial({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {}, {{0, 1, 2}, {0, 2, 3}}); }
+Skeleton unit_square() { return medial_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {}, {{0, 1, 2}, {0, 2, 3}}); }
 
 TEST(MedialImport, SquareOfTwoTrianglesPairsIntoOneQuadSplitInFour) {
     const MedialImport r = import_medial_mesh(unit_square());
@@ -81,7 +73,7 @@ TEST(MedialImport, WithoutPairingEveryTriangleSplitsInThree) {
 
 TEST(MedialImport, InconsistentInputOrientationIsFixed) {
     // Same square, second triangle listed the other way round (traverses 0->2 like the first).
-    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {}, {{0, 1, 2}, {0, 3, 2}});
+    const Skeleton s = medial_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {}, {{0, 1, 2}, {0, 3, 2}});
     MedialImportOptions opt;
     opt.pair_triangles = false;
     const MedialImport r = import_medial_mesh(s, opt);
@@ -95,8 +87,8 @@ TEST(MedialImport, InconsistentInputOrientationIsFixed) {
 
 TEST(MedialImport, EdgeInThreeTrianglesBecomesFanEdges) {
     // Three triangles around edge 0-1 (like hand.ma's medial junction): three leaflets, nothing to pair.
-    const Skeleton s = medial({{0, 0, 0}, {0, 0, 1}, {1, 0, 0.5}, {-0.5, 0.87, 0.5}, {-0.5, -0.87, 0.5}}, {},
-                              {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}}, 0.001);
+    const Skeleton s = medial_mesh({{0, 0, 0}, {0, 0, 1}, {1, 0, 0.5}, {-0.5, 0.87, 0.5}, {-0.5, -0.87, 0.5}}, {},
+                                   {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}}, 0.001);
     const MedialImport r = import_medial_mesh(s);
     EXPECT_EQ(r.fan_edges, 1);
     EXPECT_EQ(r.leaflets, 3);
@@ -130,8 +122,8 @@ TEST(MedialImport, IrregularFanLosesTheTriangleThatLeavesTheFlattestFan) {
         const double a = deg * std::numbers::pi / 180;
         return Vec3{std::cos(a), std::sin(a), 0.5};
     };
-    const Skeleton s =
-        medial({{0, 0, 0}, {0, 0, 1}, at(0), at(90), at(200)}, {}, {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}, {1, 2, 3}}, 0.001);
+    const Skeleton s = medial_mesh({{0, 0, 0}, {0, 0, 1}, at(0), at(90), at(200)}, {},
+                                   {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}, {1, 2, 3}}, 0.001);
     MedialImportOptions unsmoothed;  // the midpoints checked below stay where the split puts them
     unsmoothed.smoothing_iterations = 0;
     const MedialImport r = import_medial_mesh(s, unsmoothed);
@@ -172,8 +164,8 @@ std::vector<std::pair<int, int>> curve_edges_of(const Skeleton& s) {
 
 // Square 0-1-2-3 fanned around interior vertex 4 = (1.2, 0.9); curve edge 4-5 goes up from it (cup.ma's handle).
 Skeleton fanned_square_with_a_curve() {
-    return medial({{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {1.2, 0.9, 0}, {1.2, 0.9, 1}}, {{4, 5}},
-                  {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}});
+    return medial_mesh({{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {1.2, 0.9, 0}, {1.2, 0.9, 1}}, {{4, 5}},
+                       {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}});
 }
 
 TEST(MedialImport, CurveOnASheetInteriorStaysWhereFourQuadsMeet) {
@@ -199,7 +191,7 @@ TEST(MedialImport, CurveOnASheetInteriorMovesToARegularNeighbour) {
     pts.push_back({0, 0, 1});
     std::vector<std::vector<int>> tris;
     for (int k = 0; k < 5; ++k) tris.push_back({0, 1 + k, 1 + (k + 1) % 5});
-    const Skeleton s = medial(pts, {{0, 6}}, tris);
+    const Skeleton s = medial_mesh(pts, {{0, 6}}, tris);
     MedialImportOptions split;
     split.pair_triangles = false;
     const MedialImport p = import_medial_mesh(s, split);
@@ -244,8 +236,8 @@ TEST(MedialImport, CurveOnASheetInteriorCanMoveToTheNearestBoundaryVertex) {
 
 TEST(MedialImport, SingleTriangleSheetCollapsesToCentroidStar) {
     // A triangle whose corners each continue as a curve edge (dtorus.ma's situation).
-    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {2, 0, 0}, {0, 2, 0}},
-                              {{0, 3}, {1, 4}, {2, 5}}, {{0, 1, 2}}, 0.1);
+    const Skeleton s = medial_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {2, 0, 0}, {0, 2, 0}},
+                                   {{0, 3}, {1, 4}, {2, 5}}, {{0, 1, 2}}, 0.1);
     const MedialImport r = import_medial_mesh(s);
     EXPECT_EQ(r.sheets, 1);
     EXPECT_EQ(r.collapsed_sheets, 1);
@@ -262,7 +254,7 @@ TEST(MedialImport, SingleTriangleSheetCollapsesToCentroidStar) {
 TEST(MedialImport, UnattachedCornerOfCollapsedSheetIsDropped) {
     // Corner 2 has no curve edge: the collapsed triangle becomes a path 3-0-c-1-4.
     const Skeleton s =
-        medial({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {2, 0, 0}}, {{0, 3}, {1, 4}}, {{0, 1, 2}}, 0.1);
+        medial_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {2, 0, 0}}, {{0, 3}, {1, 4}}, {{0, 1, 2}}, 0.1);
     const MedialImport r = import_medial_mesh(s);
     EXPECT_EQ(r.collapsed_sheets, 1);
     EXPECT_EQ(r.skeleton.points.size(), 5u);
@@ -284,8 +276,8 @@ TEST(MedialImport, BoundaryVerticesFlattenAFoldAlongTheirNormal) {
     // sweep: vertex 1 = (1, 0, 0) has the neighbours (0.5, 0, 0), (1, 0.5, 0), (1, 0, 0.5) (mean - p = (-1, 1, 1) / 6)
     // and the normal (-1, 0, 1) / sqrt 2 (two quads of equal area, normals +z and -x); it moves by
     // 0.5 x n (n . (mean - p)) = (-1, 0, 1) / 12. Vertex 0, a flat corner, does not move.
-    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 1}, {1, 1, 1}}, {},
-                              {{0, 1, 2}, {0, 2, 3}, {2, 1, 4}, {2, 4, 5}});
+    const Skeleton s = medial_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 1}, {1, 1, 1}}, {},
+                                   {{0, 1, 2}, {0, 2, 3}, {2, 1, 4}, {2, 4, 5}});
     MedialImportOptions opt;
     opt.smoothing_iterations = 1;
     const MedialImport r = import_medial_mesh(s, opt);
@@ -320,7 +312,7 @@ TEST(MedialImport, SmoothingKeepsARingSheetOnItsCylinder) {
         triangles.push_back({i, j, n + j});
         triangles.push_back({i, n + j, n + i});
     }
-    const Skeleton band = medial(points, {}, triangles, 1.0);
+    const Skeleton band = medial_mesh(points, {}, triangles, 1.0);
     auto axis_distances = [](const Skeleton& s) {
         double lo = 1e9, hi = 0;
         for (const Vec3& p : s.points) {
@@ -347,8 +339,9 @@ TEST(MedialImport, ReflexBorderCornerMovesTowardsItsBoundaryNeighbours) {
     // An L of three unit squares in the plane z = 0: the border vertex 4 = (1, 1) has face angles summing to 270
     // degrees. One sweep moves it by 0.5 x (midpoint of its boundary neighbours (1.5, 1) and (1, 1.5) - p) =
     // (0.125, 0.125); the sheet is flat, so nothing moves along the normal. Below reflex_corner_deg it stays.
-    const Skeleton s = medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}},
-                              {}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7}, {3, 7, 6}});
+    const Skeleton s =
+        medial_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}}, {},
+                    {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7}, {3, 7, 6}});
     MedialImportOptions opt;
     opt.smoothing_iterations = 1;
     const MedialImport r = import_medial_mesh(s, opt);
@@ -363,8 +356,8 @@ TEST(MedialImport, ReflexBorderCornerMovesTowardsItsBoundaryNeighbours) {
 // towards `to`. After the split its boundary neighbours are (0.5, 0, 0) and (1.5, 0, 0) (mean length 0.5), 2 quads
 // meet there and its inward direction is +y.
 Skeleton straight_border_with_a_curve(const Vec3& to) {
-    return medial({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, to}, {{1, 6}},
-                  {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}});
+    return medial_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, to}, {{1, 6}},
+                       {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}});
 }
 
 TEST(MedialImport, BLJointOnAStraightBorderIsPushedOutMoreWhenItsCurveHeadsBackOverTheLeaflet) {
@@ -401,6 +394,54 @@ TEST(MedialImport, BLJointTheMesherRootsOnTheBorderStaysWhereItIs) {
     }
 }
 
+// The import of s with `off`: no joint moved, vertex v still at p.
+void expect_join_stays(const Skeleton& s, const MedialImportOptions& off, int v, const Vec3& p) {
+    const MedialImport kept = import_medial_mesh(s, off);
+    EXPECT_EQ(kept.moved_bl_joints, 0);
+    EXPECT_NEAR(distance(kept.skeleton.points[static_cast<size_t>(v)], p), 0.0, 1e-12);
+}
+
+TEST(MedialImport, BLJointInASharpNotchBecomesALeafletCorner) {
+    // The L of three unit squares (above) with a curve from its notch vertex 4 = (1, 1) into the gap, towards
+    // (5, 5, 0) (length 4 sqrt 2). After the split the border neighbours are a = (1.5, 1), b = (1, 1.5): they make 90
+    // degrees (no straight stretch), the faces' angles sum to 270 (a notch). The join moves along the bisector
+    // (1, 1) / sqrt 2 past the chord of a and b (0.25 sqrt 2) and then 1.25 x 0.5 further: to 1.25 + 0.625 / sqrt 2
+    // on both axes, a convex corner (the chord's midpoint is (1.25, 1.25)). A curve towards (2, 2, 0) (length
+    // sqrt 2) caps the move at 0.2 x sqrt 2: the join lands at (1.2, 1.2). Without the option it stays.
+    for (const double far : {5.0, 2.0}) {
+        SCOPED_TRACE(far);
+        const Skeleton s = test::notch_l_with_a_curve({far, far, 0});
+        const MedialImport r = import_medial_mesh(s);
+        EXPECT_EQ(r.moved_bl_joints, 1);
+        EXPECT_EQ(r.notch_corners, 1);
+        EXPECT_EQ(r.branch_corners, 0);
+        const double at = far > 3 ? 1.25 + 0.625 / std::sqrt(2.0) : 1.2;
+        EXPECT_NEAR(distance(r.skeleton.points[4], Vec3{at, at, 0}), 0.0, 1e-12);
+        MedialImportOptions off;
+        off.bl_joint_reflex_corners = false;
+        expect_join_stays(s, off, 4, {1, 1, 0});
+    }
+}
+
+TEST(MedialImport, JoinOfSeveralCurvesOnAStraightBorderBecomesACornerAtMostAFifthOfItsShortestCurveOut) {
+    // Two unit squares; vertex 1 = (1, 0, 0) in the middle of the straight border y = 0 has two curves: one of two
+    // edges (to (1, -1, 0), then (1, -2, 0): length 2, through a plain joint) and one edge to (0, -3, 0) (length
+    // sqrt 10). The push on a straight border, 1.25 x 0.5 along -y, is capped at 0.2 x 2: the join lands at
+    // (1, -0.4, 0). Without the option it stays (a join of several curves is no BL-joint).
+    const Skeleton s = test::two_curves_on_a_straight_border({1, -1, 0}, {1, -2, 0}, {0, -3, 0});
+    const MedialImport r = import_medial_mesh(s);
+    EXPECT_EQ(r.moved_bl_joints, 1);
+    EXPECT_EQ(r.branch_corners, 1);
+    EXPECT_EQ(r.notch_corners, 0);
+    EXPECT_NEAR(distance(r.skeleton.points[1], Vec3{1, -0.4, 0}), 0.0, 1e-12);
+    MedialImportOptions wider;
+    wider.bl_joint_max_push_curve_fraction = 0.5;  // 1.0 > 0.625: the straight border's push itself
+    EXPECT_NEAR(distance(import_medial_mesh(s, wider).skeleton.points[1], Vec3{1, -0.625, 0}), 0.0, 1e-12);
+    MedialImportOptions off;
+    off.bl_joint_corners_with_branches = false;
+    expect_join_stays(s, off, 1, {1, 0, 0});
+}
+
 TEST(MedialImport, MoebiusBandIsRejected) {
     // 6 cross-sections t_i = (cos, sin, +w), b_i = (cos, sin, -w) around a circle, the last one glued twisted.
     const int n = 6;
@@ -419,7 +460,7 @@ TEST(MedialImport, MoebiusBandIsRejected) {
         tris.push_back({t0, b1, t1});
     }
     try {
-        import_medial_mesh(medial(pts, {}, tris));
+        import_medial_mesh(medial_mesh(pts, {}, tris));
         FAIL() << "a Moebius band must be rejected";
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
@@ -432,7 +473,7 @@ TEST(MedialImport, MoebiusBandIsRejected) {
         ring.push_back({t0, b0, b1});
         ring.push_back({t0, b1, t1});
     }
-    const MedialImport r = import_medial_mesh(medial(pts, {}, ring));
+    const MedialImport r = import_medial_mesh(medial_mesh(pts, {}, ring));
     testing::expect_valid_quad_skeleton(r.skeleton);
     testing::expect_leaflets_oriented(r.skeleton, r.face_leaflet);
     EXPECT_EQ(euler_characteristic(r.skeleton), 0);

@@ -149,69 +149,126 @@ bool remove_irregular_fan_triangle(Skeleton& m) {
     return true;
 }
 
-// BL-joints (a leaflet boundary vertex with one curve edge) on a nearly straight stretch of the leaflet boundary are
-// pushed out of the leaflet so that the boundary makes a corner there (see MedialImportOptions::bl_joint_corners).
-// Decisions use the positions before any move (each joint is judged on the unmoved skeleton). Returns the count moved.
-int make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt) {
-    const int nv = static_cast<int>(s.points.size());
+// The leaflet border around each vertex of a quad skeleton, for the BL-joint corners: curve neighbours, leaflet
+// neighbours, border neighbours (-1 for a fan edge), oriented face-normal sums and face-angle sums (degrees).
+struct JoinStars {
+    std::vector<std::vector<int>> curve, leaflet, border;
+    std::vector<Vec3> normal_sum;
+    std::vector<double> angle_sum;
+};
+
+JoinStars join_stars(const Skeleton& s) {
+    const size_t nv = s.points.size();
+    JoinStars st{std::vector<std::vector<int>>(nv), std::vector<std::vector<int>>(nv),
+                 std::vector<std::vector<int>>(nv), std::vector<Vec3>(nv), std::vector<double>(nv, 0.0)};
     std::map<std::pair<int, int>, int> side_faces;
     for (const std::vector<int>& f : s.faces)
         for (size_t i = 0; i < f.size(); ++i) ++side_faces[side_key(f[i], f[(i + 1) % f.size()])];
-    std::vector<int> curve_degree(static_cast<size_t>(nv), 0), curve_neighbour(static_cast<size_t>(nv), -1);
-    std::vector<std::vector<int>> leaflet_neighbours(static_cast<size_t>(nv)),
-        boundary_neighbours(static_cast<size_t>(nv));
     for (const std::array<int, 2>& e : s.edges) {
         const auto it = side_faces.find(side_key(e[0], e[1]));
-        if (it == side_faces.end()) {
-            for (int k = 0; k < 2; ++k) {
-                ++curve_degree[static_cast<size_t>(e[k])];
-                curve_neighbour[static_cast<size_t>(e[k])] = e[1 - k];
-            }
-            continue;
-        }
         for (int k = 0; k < 2; ++k) {
-            leaflet_neighbours[static_cast<size_t>(e[k])].push_back(e[1 - k]);
-            if (it->second == 1) boundary_neighbours[static_cast<size_t>(e[k])].push_back(e[1 - k]);
-            if (it->second >= 3) boundary_neighbours[static_cast<size_t>(e[k])].push_back(-1);  // fan: not a BL-joint
+            const size_t x = static_cast<size_t>(e[k]);
+            if (it == side_faces.end()) {
+                st.curve[x].push_back(e[1 - k]);
+                continue;
+            }
+            st.leaflet[x].push_back(e[1 - k]);
+            if (it->second == 1) st.border[x].push_back(e[1 - k]);
+            if (it->second >= 3) st.border[x].push_back(-1);  // fan: not a BL-joint
         }
     }
-    const std::vector<Vec3> before = s.points;
-    std::vector<Vec3> normal_sum(static_cast<size_t>(nv));  // oriented face normals (Newell) summed per vertex
     for (const std::vector<int>& f : s.faces) {
-        Vec3 n{};
+        Vec3 n{};  // Newell
         for (size_t i = 0; i < f.size(); ++i)
-            n += cross(before[static_cast<size_t>(f[i])], before[static_cast<size_t>(f[(i + 1) % f.size()])]);
-        for (int w : f) normal_sum[static_cast<size_t>(w)] += n;
+            n += cross(s.points[static_cast<size_t>(f[i])], s.points[static_cast<size_t>(f[(i + 1) % f.size()])]);
+        for (size_t i = 0; i < f.size(); ++i) {
+            const size_t w = static_cast<size_t>(f[i]);
+            st.normal_sum[w] += n;
+            st.angle_sum[w] += angle_deg(s.points[w], s.points[static_cast<size_t>(f[(i + 1) % f.size()])],
+                                         s.points[static_cast<size_t>(f[(i + f.size() - 1) % f.size()])]);
+        }
     }
-    int moved = 0;
-    for (int v = 0; v < nv; ++v) {
-        const std::vector<int>& bn = boundary_neighbours[static_cast<size_t>(v)];
-        if (curve_degree[static_cast<size_t>(v)] != 1 || bn.size() != 2 || bn[0] < 0 || bn[1] < 0) continue;
-        const Vec3& p = before[static_cast<size_t>(v)];
+    return st;
+}
+
+// Length of the curve that leaves v towards its curve neighbour u: curve edges followed through vertices with
+// exactly two curve edges and no leaflet edge, up to the next other vertex (or back to v on a loop).
+double curve_length(const std::vector<Vec3>& points, const JoinStars& st, int v, int u) {
+    double length = distance(points[static_cast<size_t>(v)], points[static_cast<size_t>(u)]);
+    int prev = v, cur = u;
+    while (cur != v && st.curve[static_cast<size_t>(cur)].size() == 2 && st.leaflet[static_cast<size_t>(cur)].empty()) {
+        const std::vector<int>& c = st.curve[static_cast<size_t>(cur)];
+        const int next = c[0] == prev ? c[1] : c[0];
+        length += distance(points[static_cast<size_t>(cur)], points[static_cast<size_t>(next)]);
+        prev = cur;
+        cur = next;
+    }
+    return length;
+}
+
+// A border vertex of several curves whose faces' angles sum to less than this (degrees) is a leaflet corner already
+// (a straight border: 180): bl_joint_corners_with_branches leaves it.
+constexpr double kBranchCornerMinAngleSumDeg = 150;
+
+// BL-joints (a leaflet boundary vertex with curve edges) are pushed out of the leaflet so that the boundary makes a
+// corner there (see MedialImportOptions::bl_joint_corners and bl_joint_reflex_corners). Decisions use the positions
+// before any move (each joint is judged on the unmoved skeleton). Counts the moves in `result`.
+void make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt, MedialImport& result) {
+    const JoinStars st = join_stars(s);
+    const std::vector<Vec3> before = s.points;
+    for (size_t v = 0; v < before.size(); ++v) {
+        const std::vector<int>& bn = st.border[v];
+        const std::vector<int>& curves = st.curve[v];
+        if (curves.empty() || bn.size() != 2 || bn[0] < 0 || bn[1] < 0) continue;
+        const bool several = curves.size() > 1;
+        if (several && !opt.bl_joint_corners_with_branches) continue;
+        const Vec3& p = before[v];
         const Vec3 &a = before[static_cast<size_t>(bn[0])], &b = before[static_cast<size_t>(bn[1])];
-        if (angle_deg(p, a, b) <= opt.bl_joint_max_angle_deg) continue;
+        // A sharp notch: the border turns by more than a straight stretch but the leaflet wraps around p (faces'
+        // angles above 180 degrees); a straight stretch: the border turns little.
+        const bool straight = angle_deg(p, a, b) > opt.bl_joint_max_angle_deg;
+        const bool notch = !straight && opt.bl_joint_reflex_corners && st.angle_sum[v] > 180;
+        if (!straight && !notch) continue;
+        if (several && !notch && st.angle_sum[v] < kBranchCornerMinAngleSumDeg) continue;  // a corner already
+        // Into the leaflet: the mean direction to the leaflet neighbours; at a notch, against the bisector of the two
+        // border edges (which points into the notch's gap).
         Vec3 inward{};
-        for (int u : leaflet_neighbours[static_cast<size_t>(v)])
-            inward += normalized(before[static_cast<size_t>(u)] - p);
+        for (int u : st.leaflet[v]) inward += normalized(before[static_cast<size_t>(u)] - p);
+        if (notch) inward = -1.0 * (normalized(a - p) + normalized(b - p));
         inward = normalized(inward);
         if (squared_norm(inward) == 0) continue;
         const double length = 0.5 * (distance(p, a) + distance(p, b));
-        const Vec3 branch = normalized(before[static_cast<size_t>(curve_neighbour[static_cast<size_t>(v)])] - p);
+        const Vec3 branch = normalized(before[static_cast<size_t>(curves[0])] - p);
         // The mesher roots this branch on the border's plates (border_root: Out or Side): no corner needed.
-        if (opt.keep_rooted_bl_joints &&
-            border_root(normalized(a - p), normalized(b - p), inward, normal_sum[static_cast<size_t>(v)], branch,
-                        static_cast<int>(leaflet_neighbours[static_cast<size_t>(v)].size()) - 1,
-                        static_cast<size_t>(v) < s.radii.size()
-                            ? s.radii[static_cast<size_t>(v)] / std::min(distance(p, a), distance(p, b))
-                            : 0.0) != BorderRoot::None)
+        if (!several && opt.keep_rooted_bl_joints &&
+            border_root(normalized(a - p), normalized(b - p), inward, st.normal_sum[v], branch,
+                        static_cast<int>(st.leaflet[v].size()) - 1,
+                        v < s.radii.size() ? s.radii[v] / std::min(distance(p, a), distance(p, b)) : 0.0) !=
+                BorderRoot::None)
             continue;
         // A branch heading back over the leaflet (positive cosine of its angle to the inward direction) gets a
         // sharper corner: bl_joint_back_push x that cosine more.
-        const double back = opt.bl_joint_back_push * std::max(0.0, dot(branch, inward));
-        s.points[static_cast<size_t>(v)] = p - inward * (opt.bl_joint_push * (1 + back) * length);
-        ++moved;
+        double back = 0;
+        for (int u : curves)
+            back = std::max(back, opt.bl_joint_back_push * dot(normalized(before[static_cast<size_t>(u)] - p), inward));
+        double push = opt.bl_joint_push * (1 + back) * length;
+        const Vec3 out = -1.0 * inward;
+        if (several || notch) {
+            // Past the chord of the two border neighbours first, then as far as on a straight border; at most
+            // bl_joint_max_push_curve_fraction x the shortest curve leaving p.
+            const double chord = std::max(0.0, dot(0.5 * (a + b) - p, out));
+            push += chord;
+            double shortest = std::numeric_limits<double>::infinity();
+            for (int u : curves) shortest = std::min(shortest, curve_length(before, st, static_cast<int>(v), u));
+            push = std::min(push, opt.bl_joint_max_push_curve_fraction * shortest);
+        }
+        s.points[v] = p + out * push;
+        ++result.moved_bl_joints;
+        if (several)
+            ++result.branch_corners;
+        else if (notch)
+            ++result.notch_corners;
     }
-    return moved;
 }
 
 // The input triangles of the leaflets (positions of the medial mesh), each with its leaflet id (-1: collapsed).
@@ -828,7 +885,7 @@ MedialImport import_medial_mesh(const Skeleton& m, const MedialImportOptions& op
     Skeleton& out = result.skeleton;
     add_face_edges(out);
     if (opt.root_interior_curves) result.rooted_curve_ends = root_interior_curve_ends(out);
-    if (opt.bl_joint_corners) result.moved_bl_joints = make_bl_joint_corners(out, opt);
+    if (opt.bl_joint_corners) make_bl_joint_corners(out, opt, result);
     const LeafletSheets sheet = im.leaflet_sheets();
     result.smoothed_vertices = smooth_leaflets(out, opt, &sheet, &result.face_leaflet);
     return result;

@@ -16,7 +16,9 @@
 //   4. curve edges (in no triangle) stay branch edges; one ending inside a leaflet where other than 4 quads meet moves
 //      to a regular neighbour (root_interior_curves). Radii are kept at input vertices, averaged at new ones;
 //   5. BL-joints on a straight stretch of leaflet boundary are pushed out to make a corner, further when their branch
-//      heads back over the leaflet (bl_joint_corners, bl_joint_back_push);
+//      heads back over the leaflet (bl_joint_corners, bl_joint_back_push); so are joints at a sharp notch of the
+//      border and joints of several curves, at most a fraction of their shortest curve (bl_joint_reflex_corners,
+//      bl_joint_corners_with_branches, bl_joint_max_push_curve_fraction);
 //   6. leaflets are smoothed: interior vertices by Laplacian sweeps, boundary vertices along their normal (and along
 //      the border at reflex corners) (smoothing_iterations, smooth_boundary), optionally kept near the input sheet
 //      (max_sheet_offset).
@@ -61,6 +63,20 @@ struct MedialImportOptions {
     // a plane between the branch and the leaflet's border edges needs a sharper corner) is pushed by
     // bl_joint_push x (1 + bl_joint_back_push x c) x that length instead (dimensionless).
     double bl_joint_back_push = 1.0;
+    // A joint at a sharp notch of the border (the two boundary edges at most bl_joint_max_angle_deg apart, the
+    // faces' angles at the joint summing to more than 180 degrees: the leaflet wraps around it) is pushed into the
+    // notch's gap too, along the bisector of its two boundary edges: past the chord of its two border neighbours,
+    // then by the push above (the back push measured against the opposite of that bisector), so that the join
+    // becomes a convex leaflet corner instead of a join inside the notch, where the mesher's BL-joint half-chunks
+    // fold.
+    bool bl_joint_reflex_corners = true;
+    // A border vertex where several curves join (a branching point on the border) gets a corner the same way (a
+    // straight stretch: the push above; a sharp notch: as bl_joint_reflex_corners), unless it is a corner already
+    // (faces' angles summing to less than 150 degrees); no border_root exception.
+    bool bl_joint_corners_with_branches = true;
+    // The two moves above go at most this x the length of the shortest curve leaving the joint (curve edges up to
+    // the next vertex that is not a plain curve joint; dimensionless): the curve's first chunk keeps its direction.
+    double bl_joint_max_push_curve_fraction = 0.2;
     // Finally, leaflet interior vertices (all incident edges in exactly two faces, no curve edge) are smoothed:
     // p <- p + smoothing_factor x (neighbour mean - p), smoothing_iterations Jacobi sweeps (0 = off). Evens out the
     // quads the split makes (corners up to 150 degrees) and the sheet's folds, over which the mesher's plates invert.
@@ -91,7 +107,9 @@ struct MedialImport {
     int leaflets = 0;
     int paired_quads = 0;           // triangle pairs merged into a quad before splitting
     int split_triangles = 0;        // triangles left unpaired (each split into 3 quads)
-    int moved_bl_joints = 0;        // BL-joints moved to make a corner (bl_joint_corners)
+    int moved_bl_joints = 0;        // BL-joints moved to make a corner (bl_joint_corners), all kinds
+    int notch_corners = 0;          // ... of them, one-curve joints at a sharp notch (bl_joint_reflex_corners)
+    int branch_corners = 0;         // ... joints of several curves (bl_joint_corners_with_branches)
     int smoothed_vertices = 0;      // leaflet interior and regular boundary vertices moved by the smoothing
     int reattached_curve_ends = 0;  // curve-edge ends moved from a sheet interior to its boundary
     int rooted_curve_ends = 0;      // curve-edge ends moved inside a leaflet to a regular vertex
