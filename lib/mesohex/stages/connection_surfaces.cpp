@@ -986,18 +986,6 @@ double first_chunk_min(const ModelInputs& in, int v, const SpherePartition& part
     return hard_min(m, part.points);
 }
 
-// The smallest angular margin (radians) of a branch direction inside its quad of partition part (-1 for a
-// degenerate or non-convex quad).
-double smallest_branch_margin(const SpherePartition& part, const std::vector<Vec3>& dirs) {
-    double lo = 10;
-    for (std::size_t i = 0; i < dirs.size(); ++i) {
-        std::array<Vec3, 4> q;
-        for (int k = 0; k < 4; ++k) q[k] = normalized(part.points[part.quads[i][k]]);
-        lo = std::min(lo, spherical_quad_margin(q, dirs[i]));
-    }
-    return lo;
-}
-
 // The number of v's neighbours of class BranchingPoint, or -1 when some neighbour is neither that nor a joint or an
 // extremity. A joint's or an extremity's cross-section is the square the chunk model of first_chunk_min places; a
 // branching point's is its own partition quad (degree_three_chunks_at_bridges).
@@ -1109,10 +1097,7 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
             // the orange is the general choice itself, nothing to compare).
             if (std::optional<SpherePartition> orange = plane_orange_alternative(dirs, general, po)) {
                 if (options.relax_partitions) *orange = relax_partition(*orange, dirs, options.relax_below_margin);
-                const bool margin_kept =
-                    !ends || smallest_branch_margin(*orange, dirs) >= options.bridge_choice_min_margin;
-                if (margin_kept &&
-                    first_chunk_min(in.model, v, *orange, dirs, ends) > first_chunk_min(in.model, v, part, dirs, ends))
+                if (first_chunk_min(in.model, v, *orange, dirs, ends) > first_chunk_min(in.model, v, part, dirs, ends))
                     part = std::move(*orange);
             }
         if (options.relax_partitions && n > nb) {
@@ -1277,8 +1262,7 @@ bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o)
            m.no_flat_point_in_close_pair == o.no_flat_point_in_close_pair &&
            m.degree_three_partition_by_chunks == o.degree_three_partition_by_chunks &&
            m.degree_three_chunks_next_to_branching_points == o.degree_three_chunks_next_to_branching_points &&
-           m.degree_three_chunks_at_bridges == o.degree_three_chunks_at_bridges &&
-           std::memcmp(&m.bridge_choice_min_margin, &o.bridge_choice_min_margin, sizeof(double)) == 0;
+           m.degree_three_chunks_at_bridges == o.degree_three_chunks_at_bridges;
 }
 
 // FNV-1a (64 bits) of the key's bytes.
@@ -1344,7 +1328,6 @@ SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::ve
     m.degree_three_partition_by_chunks = options.degree_three_partition_by_chunks;
     m.degree_three_chunks_next_to_branching_points = options.degree_three_chunks_next_to_branching_points;
     m.degree_three_chunks_at_bridges = options.degree_three_chunks_at_bridges;
-    m.bridge_choice_min_margin = options.bridge_choice_min_margin;
     std::vector<std::pair<std::uint64_t, int>> order;
     for (int v = 0; v < static_cast<int>(keys.size()); ++v)
         if (!keys[v].empty()) order.push_back({memo_hash(keys[v]), v});

@@ -88,14 +88,9 @@ struct ConnectionSurfaceOptions {
     // branching point (a bridge), with that chunk's far end modelled on the neighbour's own partition quad on the
     // bridge (for a neighbour that is itself such a point: the partition it would get without this option, so the
     // choice reads no result of the same pass) instead of a square; every other branch edge must end at a joint or an
-    // extremity (else, without degree_three_chunks_next_to_branching_points, the gap rule). The orange is taken there
-    // only if its smallest branch margin is at least bridge_choice_min_margin. docs/junctions.md, "Bridges chosen by
-    // their chunks".
+    // extremity (else, without degree_three_chunks_next_to_branching_points, the gap rule). docs/junctions.md,
+    // "Bridges chosen by their chunks".
     bool degree_three_chunks_at_bridges = true;
-    // With degree_three_chunks_at_bridges: the smallest angular margin (radians) of a branch direction inside its quad
-    // that the orange must keep to replace the general partition at such a point (a small margin shrinks the
-    // neighbours' cross-sections, RawMeshOptions::margin_fraction, which the first-chunk model does not penalise).
-    double bridge_choice_min_margin = 0.2;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
     // blocks.enabled = false keeps the paper's layout (`--no-blocks`).
@@ -107,7 +102,7 @@ struct ConnectionSurfaceOptions {
 // (unit(w - v) for its branch edges in increasing edge id, in that order) and of the options read by its partition
 // (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three,
 // no_flat_point_in_close_pair, degree_three_partition_by_chunks, degree_three_chunks_next_to_branching_points,
-// degree_three_chunks_at_bridges, bridge_choice_min_margin; a point whose partition may read its neighbours'
+// degree_three_chunks_at_bridges; a point whose partition may read its neighbours'
 // positions, radii and partitions, a degree-3 point chosen by its chunks (at a bridge too) or a degree-4 point under
 // no_flat_point_in_close_pair, is not memo-able): an entry keyed on the
 // exact bits of those directions is reused whatever the vertex's number, so an edit that renumbers the skeleton
@@ -132,7 +127,6 @@ struct SurfaceMemo {
     bool degree_three_partition_by_chunks = false;
     bool degree_three_chunks_next_to_branching_points = false;
     bool degree_three_chunks_at_bridges = false;
-    double bridge_choice_min_margin = 0;
     std::vector<Entry> entries;                        // one per distinct key
     std::vector<std::pair<std::uint64_t, int>> index;  // (hash of the key, entry), sorted
     int hits = 0;                                      // surfaces the last rebuild took from the memo it was given
