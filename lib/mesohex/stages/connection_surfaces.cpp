@@ -1207,11 +1207,21 @@ void build_branching_surface(const SurfaceInputs& in, int v, const std::vector<i
     store_partition(skeleton, v, part, n, inc, cs);
 }
 
-// The quad of branching point w on its branch edge e as it stands after the first pass (unit directions in its
-// stored order): read from cs, except at a point chosen at a bridge itself (not computed yet, or copied from a
-// previous build with its final choice), whose base partition (without degree_three_chunks_at_bridges) is computed
-// here; none at a compatible block (its chunk is modelled with a square).
-std::optional<std::array<Vec3, 4>> bridge_end_quad(const SurfaceInputs& in, int w, int e, ConnectionSurfaces& cs) {
+// Rounds of the choice at bridges: in round r a point models each bridge on its neighbour's partition of round r - 1
+// (round 0: without degree_three_chunks_at_bridges). Two rounds let two such points next to each other see each
+// other's choice (seeds 1-400: 17 raw meshes change from one round, min SJ up on 7, down on none; a third round
+// changes none).
+constexpr int kBridgeRounds = 2;
+
+SpherePartition bridge_partition(const SurfaceInputs& in, int v, int round, const std::vector<int>& inc,
+                                 const std::vector<Vec3>& dirs, ConnectionSurfaces& cs);
+
+// The quad of branching point w on its branch edge e (unit directions in its stored order) that a neighbour's round
+// `round` reads: from cs for a point not chosen at a bridge (computed in the first pass, or copied); for a point
+// chosen at a bridge, its own partition of that round (computed here, whether the point is computed or copied in this
+// rebuild: the same result either way); none at a compatible block (its chunk is modelled with a square).
+std::optional<std::array<Vec3, 4>> bridge_end_quad(const SurfaceInputs& in, int w, int e, int round,
+                                                   ConnectionSurfaces& cs) {
     if (cs.vertex_block[w] >= 0) return std::nullopt;
     std::array<Vec3, 4> q;
     if (!chosen_at_bridge(in.skeleton, in.an, in.options, w)) {
@@ -1223,26 +1233,55 @@ std::optional<std::array<Vec3, 4>> bridge_end_quad(const SurfaceInputs& in, int 
     std::vector<Vec3> dirs;
     branch_edges(in.an, w, inc);
     branch_directions(in.skeleton, w, inc, dirs);
-    const SpherePartition part = partition_branching_point(in, w, dirs, 3, cs);  // writes nothing (no leaflet)
+    const SpherePartition part = bridge_partition(in, w, round, inc, dirs, cs);
     const int i = static_cast<int>(std::find(inc.begin(), inc.end(), e) - inc.begin());
     for (int k = 0; k < 4; ++k) q[k] = normalized(part.points[part.quads[i][k]]);
     return q;
 }
 
-// Second pass: the surface of a point chosen at a bridge, its bridges modelled on the neighbours' quads
-// (bridge_end_quad; the points of this pass read none of each other's results).
+// The partition of a point v chosen at a bridge (branch edges inc, directions dirs) in round `round`: round 0 is the
+// partition without degree_three_chunks_at_bridges; round r chooses by the chunks with each bridge ending on the
+// neighbour's quad of round r - 1. Writes nothing (no leaflet side).
+SpherePartition bridge_partition(const SurfaceInputs& in, int v, int round, const std::vector<int>& inc,
+                                 const std::vector<Vec3>& dirs, ConnectionSurfaces& cs) {
+    if (round == 0) return partition_branching_point(in, v, dirs, 3, cs);
+    BridgeEnds ends;
+    for (int i = 0; i < 3; ++i) {
+        const int w = in.skeleton.edges[inc[i]][0] == v ? in.skeleton.edges[inc[i]][1] : in.skeleton.edges[inc[i]][0];
+        if (in.an.vertex_class[w] == VertexClass::BranchingPoint)
+            ends[i] = bridge_end_quad(in, w, inc[i], round - 1, cs);
+    }
+    return partition_branching_point(in, v, dirs, 3, cs, &ends);
+}
+
+// Second pass: the surface of a point chosen at a bridge, its partition of the last round (bridge_partition; the
+// points of this pass read none of each other's results).
 void build_bridge_surface(const SurfaceInputs& in, int v, ConnectionSurfaces& cs) {
     std::vector<int> inc;
     std::vector<Vec3> dirs;
     branch_edges(in.an, v, inc);
     branch_directions(in.skeleton, v, inc, dirs);
-    BridgeEnds ends;
-    for (int i = 0; i < 3; ++i) {
-        const int w = in.skeleton.edges[inc[i]][0] == v ? in.skeleton.edges[inc[i]][1] : in.skeleton.edges[inc[i]][0];
-        if (in.an.vertex_class[w] == VertexClass::BranchingPoint) ends[i] = bridge_end_quad(in, w, inc[i], cs);
+    store_partition(in.skeleton, v, bridge_partition(in, v, kBridgeRounds, inc, dirs, cs), 3, inc, cs);
+}
+
+// Whether a vertex within kBridgeRounds edges of v is marked in recompute: a point chosen at a bridge reads the
+// surfaces of its neighbours (round kBridgeRounds - 1 of those chosen at a bridge, which read their own neighbours'),
+// so it is recomputed with them.
+bool recompute_near(const Skeleton& skeleton, const SkeletonAnalysis& an, const std::vector<char>& recompute, int v) {
+    std::vector<int> ring{v};
+    for (int round = 0; round <= kBridgeRounds; ++round) {
+        std::vector<int> next;
+        for (const int x : ring) {
+            if (recompute[x]) return true;
+            if (round == kBridgeRounds) continue;
+            for (int j = an.vertex_edge_begin[x]; j < an.vertex_edge_begin[x + 1]; ++j) {
+                const std::array<int, 2>& e = skeleton.edges[an.vertex_edges[j]];
+                next.push_back(e[0] == x ? e[1] : e[0]);
+            }
+        }
+        ring = std::move(next);
     }
-    const SpherePartition part = partition_branching_point(in, v, dirs, 3, cs, &ends);
-    store_partition(in.skeleton, v, part, 3, inc, cs);
+    return false;
 }
 
 // ---- Content-keyed memo of branching-point surfaces (SurfaceMemo) ----
@@ -1480,11 +1519,13 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
                 branch_edges(an, v, inc);
                 branch_directions(skeleton, v, inc, keys[v]);
             }
-            if (reuse && !recompute[v]) {  // copy the vertex's previous surface (its inputs did not change)
+            const bool bridge = c == VertexClass::BranchingPoint && chosen_at_bridge(skeleton, an, options, v);
+            if (reuse && !(bridge ? recompute_near(skeleton, an, recompute, v) : recompute[v])) {
+                // copy the vertex's previous surface (its inputs did not change)
                 copy_previous_surface(in, *previous, v, cs);
             } else if (cs.vertex_block[v] >= 0) {
                 set_block_surface(skeleton, an, cs.blocks[cs.vertex_block[v]], cs);
-            } else if (c == VertexClass::BranchingPoint && chosen_at_bridge(skeleton, an, options, v)) {
+            } else if (bridge) {
                 at_bridge[v] = 1;
             } else if (keyed) {
                 const SurfaceMemo::Entry* hit = memo ? find_memo_entry(*memo, keys[v], memo_hash(keys[v])) : nullptr;
