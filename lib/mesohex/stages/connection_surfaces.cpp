@@ -1264,6 +1264,19 @@ void build_bridge_surface(const SurfaceInputs& in, int v, ConnectionSurfaces& cs
     store_partition(in.skeleton, v, bridge_partition(in, v, kBridgeRounds, inc, dirs, cs), 3, inc, cs);
 }
 
+// The second pass: the points with at_bridge[v] != 0, in parallel (each task writes only its vertex's ranges and
+// slots, and reads no surface of this pass).
+void build_bridge_surfaces(const SurfaceInputs& in, const std::vector<char>& at_bridge, ConnectionSurfaces& cs) {
+    std::vector<int> second;
+    for (int v = 0; v < static_cast<int>(at_bridge.size()); ++v)
+        if (at_bridge[v]) second.push_back(v);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, second.size(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t i = range.begin(); i != range.end(); ++i)
+                              build_bridge_surface(in, second[i], cs);
+                      });
+}
+
 // Whether a vertex within kBridgeRounds edges of v is marked in recompute: a point chosen at a bridge reads the
 // surfaces of its neighbours (round kBridgeRounds - 1 of those chosen at a bridge, which read their own neighbours'),
 // so it is recomputed with them.
@@ -1544,15 +1557,7 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
             }
         }
     });
-    std::vector<int> second;
-    for (int v = 0; v < nv; ++v)
-        if (at_bridge[v]) second.push_back(v);
-    // Each task writes only its vertex's ranges and slots, and reads no surface of this pass.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, second.size(), 16),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                          for (std::size_t i = range.begin(); i != range.end(); ++i)
-                              build_bridge_surface(in, second[i], cs);
-                      });
+    build_bridge_surfaces(in, at_bridge, cs);
     finish_leaflet_junctions(an, sides, cs);
     if (memo_out) {
         *memo_out = collect_memo(cs, keys, options);
