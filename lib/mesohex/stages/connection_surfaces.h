@@ -82,7 +82,9 @@ struct ConnectionSurfaceOptions {
     bool degree_three_partition_by_chunks = true;
     // With degree_three_partition_by_chunks: also choose at a degree-3 point one of whose branch edges ends at another
     // branching point (the chunk model then puts a square cross-section there, where the raw mesh has that point's
-    // own partition quad). Off: such points keep the gap rule.
+    // own partition quad), or at any vertex other than a joint or an extremity. Off: such points keep the gap rule,
+    // except those that degree_three_chunks_at_bridges chooses (it models a branching neighbour's quad, with this
+    // option on too).
     bool degree_three_chunks_next_to_branching_points = false;
     // With degree_three_partition_by_chunks: also choose at a degree-3 point one of whose branch edges ends at another
     // branching point (a bridge), with that chunk's far end modelled on the neighbour's own partition quad on the
