@@ -9,7 +9,8 @@
 //   junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
 //   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
-//   D3_NEXT_TO_BP=0|1 its degree_three_chunks_next_to_branching_points. The last three
+//   D3_NEXT_TO_BP=0|1 its degree_three_chunks_next_to_branching_points, D3_AT_BRIDGES=0|1 its
+//   degree_three_chunks_at_bridges. The last three
 //   columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare two
 //   builds or option sets seed by seed to find the seeds a change touches).
 //
@@ -92,6 +93,8 @@ int main(int argc, char** argv) {
         po.connection_surfaces.degree_three_partition_by_chunks = std::atoi(k) != 0;
     if (const char* k = std::getenv("D3_NEXT_TO_BP"))
         po.connection_surfaces.degree_three_chunks_next_to_branching_points = std::atoi(k) != 0;
+    if (const char* k = std::getenv("D3_AT_BRIDGES"))
+        po.connection_surfaces.degree_three_chunks_at_bridges = std::atoi(k) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf(

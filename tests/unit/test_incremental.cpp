@@ -94,6 +94,16 @@ void random_edits(const Skeleton& start, int edits, std::uint32_t seed) {
 
 TEST(Incremental, RandomEditsOnARandomTree) { random_edits(bench::random_tree(600, 11), 12, 1); }
 
+// Degree-3 points at bridges (ConnectionSurfaceOptions::degree_three_chunks_at_bridges) read their neighbours'
+// partitions: the meshed skeletons of random seeds 4 and 14 (their degree-3 points next to other branching points
+// change partition with the option), edited at random, equal full runs.
+TEST(Incremental, RandomEditsNextToBridges) {
+    for (const std::uint32_t seed : {4u, 14u}) {
+        SCOPED_TRACE(seed);
+        random_edits(run_pipeline(generate_random_skeleton(seed)).skeleton, 12, seed);
+    }
+}
+
 TEST(Incremental, RandomEditsOnGeneratedShapesWithLeaflets) {
     for (const char* name : {"hand", "dualocta", "turbine", "bird", "pan", "torustwist"}) {
         SCOPED_TRACE(name);
@@ -290,13 +300,15 @@ TEST(Incremental, BranchFreeSkeletonsAreTheirOwnAdaptation) {
 // pair closer than 90 degrees) is. Every run equals a fresh one bit for bit.
 namespace {
 
-int memo_surfaces_after_reversal(const Skeleton& s) {
+int memo_surfaces_after_reversal(const Skeleton& s, const ConnectionSurfaceOptions& options = {}) {
     RemeshCache cache;
+    cache.surface_options = options;
     remesh_full(cache, s);
     const Skeleton r = reversed_numbering(s);
     const RemeshStats stats = remesh_incremental(cache, r);
     EXPECT_TRUE(stats.full);
     RemeshCache full;
+    full.surface_options = options;
     remesh_full(full, r);
     expect_same_mesh(cache, full);
     return stats.memo_surfaces;
@@ -316,6 +328,18 @@ TEST(Incremental, PartitionsReadingTheirNeighboursAreNotServedByTheMemo) {
     y.edges = {{0, 1}, {0, 2}, {0, 3}};
     y.radii = {0.4, 0.25, 0.25, 0.25};
     EXPECT_EQ(memo_surfaces_after_reversal(y), 0);
+    // The same Y with a branching point at the end of its first arm: each of the two reads the other's partition
+    // (degree_three_chunks_at_bridges; both keep the gap rule and are memo-able with it off).
+    Skeleton bridged = y;
+    bridged.points.push_back(y.points[1] + Vec3{0.5, 0.8, 0});
+    bridged.points.push_back(y.points[1] + Vec3{0.5, -0.8, 0});
+    bridged.edges.push_back({1, 4});
+    bridged.edges.push_back({1, 5});
+    bridged.radii = {0.4, 0.25, 0.25, 0.25, 0.2, 0.2};
+    EXPECT_EQ(memo_surfaces_after_reversal(bridged), 0);
+    ConnectionSurfaceOptions gap_rule;
+    gap_rule.degree_three_chunks_at_bridges = false;
+    EXPECT_EQ(memo_surfaces_after_reversal(bridged, gap_rule), 2);
     Skeleton hip;
     hip.points = {
         {0, 0, 0}, {0.219, 0.193, -0.035}, {0.212, -0.144, 0.149}, {-0.138, -0.305, 0.024}, {-0.002, -0.266, -0.197}};

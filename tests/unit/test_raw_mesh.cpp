@@ -657,11 +657,61 @@ TEST(RawMesh, DegreeThreeChoiceNextToABranchingPoint) {
         SCOPED_TRACE(next ? "chosen next to a branching point" : "gap rule there");
         ConnectionSurfaceOptions co;
         co.degree_three_chunks_next_to_branching_points = next;
+        co.degree_three_chunks_at_bridges = false;  // the square model (BridgeEndsChosenByTheirChunks: the quad)
         const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
         const BranchFrames fr = propagate_frames(s, an, cs);
         const double pole_to_branch = pole_to_branch_deg(cs, fr, 0, dirs);
         EXPECT_NEAR(pole_to_branch, next ? 84.7 : 45.2, 0.5);
         EXPECT_EQ(compute_quality(build_raw_mesh(s, an, cs, fr).mesh).inverted, 0);
+    }
+}
+
+// The tilted Y of DegreeThreePartitionChosenByItsChunks (centre radius 0.4, arms 0.6 long) whose first arm ends at a
+// branching point with two arms 1 long, `spread_deg` either side of the first arm's direction in the plane through
+// it at angle phi_deg about it from (d0 x z) (radii 0.25 at the arms' ends, 0.2 at the far arms' ends).
+Skeleton bridged_y(double spread_deg, double phi_deg) {
+    const std::vector<Vec3> dirs = tilted_y_directions();
+    Skeleton s = star(dirs, 1, 0.6);
+    const Vec3 u = normalized(cross(dirs[0], Vec3{0, 0, 1})), w = cross(dirs[0], u);
+    const double a = phi_deg * std::numbers::pi / 180, sp = spread_deg * std::numbers::pi / 180;
+    const Vec3 n = std::cos(a) * u + std::sin(a) * w;
+    s.points.push_back(s.points[1] + std::cos(sp) * dirs[0] + std::sin(sp) * n);
+    s.points.push_back(s.points[1] + std::cos(sp) * dirs[0] - std::sin(sp) * n);
+    s.edges.push_back({1, 4});
+    s.edges.push_back({1, 5});
+    s.radii = {0.4, 0.25, 0.25, 0.25, 0.2, 0.2};
+    return s;
+}
+
+// degree_three_chunks_at_bridges: the centre of bridged_y chooses between the general partition (poles 45.2 degrees
+// from a branch) and the orange (84.7) by its first chunks, the bridge's chunk ending on the neighbour's own quad
+// (both ends are such points; each models the other's partition without the option). Spread 45 degrees, phi 0: the
+// orange, raw min SJ 0.490 where the gap rule (option off) leaves 0.238. Spread 80 degrees, phi 45: the general
+// partition, 0.323, as the gap rule; the square model there (degree_three_chunks_next_to_branching_points, the
+// bridge's far end a square) takes the orange and gets 0.221.
+TEST(RawMesh, BridgeEndsChosenByTheirChunks) {
+    const std::vector<Vec3> dirs = tilted_y_directions();
+    struct Case {
+        double spread, phi;
+        bool bridges, square;
+        double pole_to_branch, sj_min;
+    };
+    for (const Case& c : {Case{45, 0, true, false, 84.7, 0.490}, Case{45, 0, false, false, 45.2, 0.238},
+                          Case{80, 45, true, false, 45.2, 0.323}, Case{80, 45, false, true, 84.7, 0.221}}) {
+        SCOPED_TRACE(std::to_string(c.spread) + " / " + std::to_string(c.phi) + (c.bridges ? " quad model" : "") +
+                     (c.square ? " square model" : ""));
+        const Skeleton s = bridged_y(c.spread, c.phi);
+        const SkeletonAnalysis an = analyze_skeleton(s);
+        ASSERT_EQ(an.vertex_class[1], VertexClass::BranchingPoint);
+        ConnectionSurfaceOptions co;
+        co.degree_three_chunks_at_bridges = c.bridges;
+        co.degree_three_chunks_next_to_branching_points = c.square;
+        const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+        const BranchFrames fr = propagate_frames(s, an, cs);
+        const QualityReport q = compute_quality(build_raw_mesh(s, an, cs, fr).mesh);
+        EXPECT_NEAR(pole_to_branch_deg(cs, fr, 0, dirs), c.pole_to_branch, 0.5);
+        EXPECT_NEAR(q.sj_min, c.sj_min, 0.005);
+        EXPECT_EQ(q.inverted, 0);
     }
 }
 

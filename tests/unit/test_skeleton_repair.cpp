@@ -310,22 +310,24 @@ TEST(SkeletonRepair, RandomSeedSplitWouldCutFirstCorner) {
 
 // Random seed 4 (issue 16's random set): a degree-4 branching point of radius 0.205 with a pair 63 degrees apart and
 // first edges 2.7 radii long (no trunk: the pair's tubes separate inside the ball). Split, its raw mesh's worst hex
-// (at that junction) rises from SJ 0.176 to 0.324 and the raw mesh gains 8 hexes (the bridge's chunk). The split's two
-// degree-3 points are each other's neighbours, so they keep the gap rule by default; with
-// ConnectionSurfaceOptions::degree_three_chunks_next_to_branching_points both take the orange: 0.462.
+// (at that junction) rises from SJ 0.176 to 0.462 and the raw mesh gains 8 hexes (the bridge's chunk). The split's two
+// degree-3 points are each other's neighbours (a bridge): by default (ConnectionSurfaceOptions::
+// degree_three_chunks_at_bridges) each is chosen by its chunks, the bridge ending on the other's quad: the one the gap
+// rule left with the general partition takes the orange (the other has it already), 0.462, the value the square model
+// (degree_three_chunks_next_to_branching_points) gets too; with the gap rule at both (the option off) 0.324.
 TEST(SkeletonRepair, RandomSeedWithDegreeFourJunction) {
     const Skeleton in = mesohex::generate_random_skeleton(4);
-    mesohex::PipelineOptions unsplit, next;
+    mesohex::PipelineOptions unsplit, gap_rule;
     unsplit.repair.junction_split = 0;
     // The degree-4 point as the paper partitions it (an orange); its close pair's crotch-free partition
     // (no_flat_point_in_close_pair, on by default) already raises the unsplit raw mesh to 0.200.
     mesohex::PipelineOptions unsplit_crotch_free = unsplit;
     unsplit.connection_surfaces.no_flat_point_in_close_pair = false;
     EXPECT_NEAR(mesohex::compute_quality(mesohex::run_pipeline(in, unsplit_crotch_free).raw.mesh).sj_min, 0.200, 0.005);
-    next.connection_surfaces.degree_three_chunks_next_to_branching_points = true;
+    gap_rule.connection_surfaces.degree_three_chunks_at_bridges = false;
     const mesohex::PipelineResult before = mesohex::run_pipeline(in, unsplit);
     const mesohex::PipelineResult after = mesohex::run_pipeline(in);
-    EXPECT_NEAR(mesohex::compute_quality(mesohex::run_pipeline(in, next).raw.mesh).sj_min, 0.462, 0.005);
+    EXPECT_NEAR(mesohex::compute_quality(mesohex::run_pipeline(in, gap_rule).raw.mesh).sj_min, 0.324, 0.005);
     EXPECT_EQ(before.junction_splits, 0);
     EXPECT_EQ(after.junction_splits, 1);
     EXPECT_EQ(after.trunks + after.absorbed_stubs + after.side_stubs, 0);
@@ -336,7 +338,7 @@ TEST(SkeletonRepair, RandomSeedWithDegreeFourJunction) {
     EXPECT_TRUE(qa.validation.valid());
     EXPECT_EQ(qa.inverted, 0);
     EXPECT_NEAR(qb.sj_min, 0.176, 0.005);
-    EXPECT_NEAR(qa.sj_min, 0.324, 0.005);
+    EXPECT_NEAR(qa.sj_min, 0.462, 0.005);
 }
 
 // A stub of length 0.3 at 20 degrees from a long branch (radius 0.1: the tubes separate only at 0.576): absorbed

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -204,6 +205,11 @@ struct JunctionModel {
     struct Chunk {
         double length = 1, w_radius = 1;
         Vec3 w_tangent{};
+        // When w is a branching point whose quad on this edge is known (degree_three_chunks_at_bridges): that quad's
+        // unit directions from w in its stored order, matched to the branch quad by the quarter turn that
+        // propagate_frames snaps to; else the transported square above.
+        bool far_quad = false;
+        std::array<Vec3, 4> w_quad{};
     };
     std::vector<Chunk> chunks;
     // Whether sin(margin) of each branch quad is a term of its own (relaxation: yes); the choice between two
@@ -215,6 +221,27 @@ struct JunctionModel {
 // Weight of sin(branch margin) against the hex corner values: makes narrow branch quads bind earlier than the chunk
 // model alone would (measured on the generated shapes: 0.5 gives the best minimum scaled Jacobian of 0.25 / 0.5 / 1).
 constexpr double kBranchMarginWeight = 0.5;
+
+// The far quad Q of a chunk that ends at a branching point (unit directions from it, in its stored order), in the
+// order of the transported square (-s, r, s, -r) of the arriving frame f: fd[k] = Q[(rot + 2 - k) & 3], where the
+// quarter turn rot is the one propagate_frames snaps to (the frame of Q rotated by rot, seen along -f.t, closest to
+// f.r) and the pairing is write_branch_chunks' (a_k with b_{(2 - k) & 3}).
+std::array<Vec3, 4> matched_far_quad(const Frame& f, const std::array<Vec3, 4>& q) {
+    int best = 0;
+    double best_dot = -2;
+    for (int rot = 0; rot < 4; ++rot) {
+        const std::array<Vec3, 4> a{q[rot], q[(rot + 1) & 3], q[(rot + 2) & 3], q[(rot + 3) & 3]};
+        const Vec3 t = -1.0 * f.t;
+        const double x = dot(f.r, orthonormal_frame((a[1] - a[3]) + cross(a[2] - a[0], t), t).r);
+        if (x > best_dot) {
+            best_dot = x;
+            best = rot;
+        }
+    }
+    std::array<Vec3, 4> fd;
+    for (int k = 0; k < 4; ++k) fd[k] = q[(best + 2 - k) & 3];
+    return fd;
+}
 
 // The terms of the junction objective (each roughly the sine of an angle; all must be positive): sin(margin) of
 // every direction in its quad (-1 for a non-convex quad; leaflet directions only need to stay inside), and the
@@ -254,7 +281,8 @@ void junction_terms(const JunctionModel& m, const std::vector<Vec3>& pts, std::v
         fr = normalized(fr);
         const Frame f0{fr, cross(d, fr), d};
         const Frame f1 = rotation_minimizing_step(f0, Vec3{}, c.length * d, c.w_tangent);
-        const std::array<Vec3, 4> fd{-1.0 * f1.s, f1.r, f1.s, -1.0 * f1.r};
+        const std::array<Vec3, 4> fd =
+            c.far_quad ? matched_far_quad(f1, c.w_quad) : std::array<Vec3, 4>{-1.0 * f1.s, f1.r, f1.s, -1.0 * f1.r};
         // the radius reduction of the raw mesh with its default RawMeshOptions::margin_fraction
         const double rw = margin_limited_radius(c.w_radius, c.length, mg, kBranchMarginFraction);
         const Vec3 w = c.length * d;
@@ -930,28 +958,49 @@ JunctionModel first_chunk_model(const ModelInputs& in, int v, const std::vector<
     return m;
 }
 
+// Per branch edge of a degree-3 point chosen at a bridge (degree_three_chunks_at_bridges): the partition quad of the
+// neighbour on that edge when it is a branching point (unit directions from it, in its stored order), else none.
+using BridgeEnds = std::array<std::optional<std::array<Vec3, 4>>, 3>;
+
 // The smallest corner value (hex_corner_value, a scaled-Jacobian-like sine) of the 4n hexes of the first chunks at
 // branching point v (n branch edges, no leaflet side) for partition part, built as junction_terms models them
-// (actual first-edge lengths and neighbour radii); -1 without a chunk model.
-double first_chunk_min(const ModelInputs& in, int v, const SpherePartition& part, const std::vector<Vec3>& dirs) {
+// (actual first-edge lengths and neighbour radii); -1 without a chunk model. With ends (n = 3): a chunk ending at a
+// branching point ends on that point's quad, and v's radius is reduced as build_raw_mesh reduces it next to those
+// points (the margin of the bridge inside their quads).
+double first_chunk_min(const ModelInputs& in, int v, const SpherePartition& part, const std::vector<Vec3>& dirs,
+                       const BridgeEnds* ends = nullptr) {
     JunctionModel m = first_chunk_model(in, v, dirs, static_cast<int>(dirs.size()));
     m.quads = part.quads;
     m.margin_terms = false;
     if (m.chunks.empty()) return -1;
+    if (ends)
+        for (std::size_t i = 0; i < ends->size(); ++i) {
+            const std::optional<std::array<Vec3, 4>>& q = (*ends)[i];
+            if (!q) continue;
+            JunctionModel::Chunk& c = m.chunks[i];
+            c.far_quad = true;
+            c.w_quad = *q;
+            const double mw = spherical_quad_margin(*q, -1.0 * dirs[i]);
+            if (mw > 0) m.r = margin_limited_radius(m.r, c.length, mw, kBranchMarginFraction);
+        }
     return hard_min(m, part.points);
 }
 
-// Whether every branch edge of v ends at a joint or an extremity: the vertices whose cross-section (a square) the
-// chunk model of first_chunk_min places; at another branching point the far end of the chunk is that point's own
-// partition quad, unknown here.
-bool chunk_ends_modelled(const Skeleton& skeleton, const SkeletonAnalysis& an, int v) {
+// The number of v's neighbours of class BranchingPoint, or -1 when some neighbour is neither that nor a joint or an
+// extremity. A joint's or an extremity's cross-section is the square the chunk model of first_chunk_min places; a
+// branching point's is its own partition quad (degree_three_chunks_at_bridges).
+int branching_neighbours(const Skeleton& skeleton, const SkeletonAnalysis& an, int v) {
+    int count = 0;
     for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1]; ++j) {
         const int e = an.vertex_edges[j];
         const int w = skeleton.edges[e][0] == v ? skeleton.edges[e][1] : skeleton.edges[e][0];
         const VertexClass c = an.vertex_class[w];
-        if (c != VertexClass::Joint && c != VertexClass::Extremity) return false;
+        if (c == VertexClass::BranchingPoint)
+            ++count;
+        else if (c != VertexClass::Joint && c != VertexClass::Extremity)
+            return -1;
     }
-    return true;
+    return count;
 }
 
 // Whether branching point v's partition is chosen by its first chunks (degree_three_partition_by_chunks): then it
@@ -966,8 +1015,19 @@ bool only_branch_edges(const SkeletonAnalysis& an, int v, int k) {
 
 bool chosen_by_chunks(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaceOptions& options,
                       int v) {
-    return options.degree_three_partition_by_chunks && only_branch_edges(an, v, 3) &&
-           (options.degree_three_chunks_next_to_branching_points || chunk_ends_modelled(skeleton, an, v));
+    if (!options.degree_three_partition_by_chunks || !only_branch_edges(an, v, 3)) return false;
+    if (options.degree_three_chunks_next_to_branching_points) return true;
+    const int bp = branching_neighbours(skeleton, an, v);
+    return bp == 0 || (bp > 0 && options.degree_three_chunks_at_bridges);
+}
+
+// Whether v is chosen by its chunks with a bridge's far end modelled on the neighbour's quad
+// (degree_three_chunks_at_bridges): its partition waits for its neighbours' (the second pass of
+// rebuild_connection_surfaces).
+bool chosen_at_bridge(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaceOptions& options,
+                      int v) {
+    return options.degree_three_chunks_at_bridges && chosen_by_chunks(skeleton, an, options, v) &&
+           branching_neighbours(skeleton, an, v) != 0;
 }
 
 void branch_edges(const SkeletonAnalysis& an, int v, std::vector<int>& inc);
@@ -990,8 +1050,10 @@ bool reads_neighbours(const Skeleton& skeleton, const SkeletonAnalysis& an, cons
 // The sphere partition of branching point v for directions dirs (nb branch edges, then its leaflet sides), relaxed
 // (relax_partition, then relax_junction on the junction's hex model, whose leaflet quad rotations are stored in
 // cs.quad_rotation). Any partition error becomes Error(NumericalFailure) naming v.
+// At a point chosen at a bridge (chosen_at_bridge), `ends` holds its neighbours' quads; without them such a point
+// gets the partition it would have without degree_three_chunks_at_bridges (what its neighbours model it with).
 SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const std::vector<Vec3>& dirs, int nb,
-                                          ConnectionSurfaces& cs) {
+                                          ConnectionSurfaces& cs, const BridgeEnds* ends = nullptr) {
     const ConnectionSurfaceOptions& options = in.options;
     const int n = static_cast<int>(dirs.size()), q0 = cs.quad_begin[v];
     const LeafletSides& sides = in.model.sides;
@@ -1001,7 +1063,9 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
         // Three branch edges, no leaflet side: with degree_three_partition_by_chunks both candidates below; else, at a
         // gap over 180 degrees, the orange around the best-fit plane's normal (a tolerance of 1 takes
         // partition_sphere's planar path for any three directions), see plane_orange_at_degree_three.
-        const bool by_chunks = n == 3 && nb == 3 && chosen_by_chunks(in.skeleton, in.an, options, v);
+        const bool at_bridge = n == 3 && nb == 3 && chosen_at_bridge(in.skeleton, in.an, options, v);
+        const bool by_chunks = at_bridge ? ends != nullptr || options.degree_three_chunks_next_to_branching_points
+                                         : n == 3 && nb == 3 && chosen_by_chunks(in.skeleton, in.an, options, v);
         const bool plane_orange =
             !by_chunks && options.plane_orange_at_degree_three && n == 3 && nb == 3 && has_gap_over_half_turn(dirs);
         po.planarity_tolerance = plane_orange ? 1.0 : options.planarity_tolerance;
@@ -1033,7 +1097,7 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
             // the orange is the general choice itself, nothing to compare).
             if (std::optional<SpherePartition> orange = plane_orange_alternative(dirs, general, po)) {
                 if (options.relax_partitions) *orange = relax_partition(*orange, dirs, options.relax_below_margin);
-                if (first_chunk_min(in.model, v, *orange, dirs) > first_chunk_min(in.model, v, part, dirs))
+                if (first_chunk_min(in.model, v, *orange, dirs, ends) > first_chunk_min(in.model, v, part, dirs, ends))
                     part = std::move(*orange);
             }
         if (options.relax_partitions && n > nb) {
@@ -1143,6 +1207,96 @@ void build_branching_surface(const SurfaceInputs& in, int v, const std::vector<i
     store_partition(skeleton, v, part, n, inc, cs);
 }
 
+// Rounds of the choice at bridges: in round r a point models each bridge on its neighbour's partition of round r - 1
+// (round 0: without degree_three_chunks_at_bridges). Two rounds let two such points next to each other see each
+// other's choice (seeds 1-400: 17 raw meshes change from one round, min SJ up on 7, down on none; a third round
+// changes none).
+constexpr int kBridgeRounds = 2;
+
+SpherePartition bridge_partition(const SurfaceInputs& in, int v, int round, const std::vector<int>& inc,
+                                 const std::vector<Vec3>& dirs, ConnectionSurfaces& cs);
+
+// The quad of branching point w on its branch edge e (unit directions in its stored order) that a neighbour's round
+// `round` reads: from cs for a point not chosen at a bridge (computed in the first pass, or copied); for a point
+// chosen at a bridge, its own partition of that round (computed here, whether the point is computed or copied in this
+// rebuild: the same result either way); none at a compatible block (its chunk is modelled with a square).
+std::optional<std::array<Vec3, 4>> bridge_end_quad(const SurfaceInputs& in, int w, int e, int round,
+                                                   ConnectionSurfaces& cs) {
+    if (cs.vertex_block[w] >= 0) return std::nullopt;
+    std::array<Vec3, 4> q;
+    if (!chosen_at_bridge(in.skeleton, in.an, in.options, w)) {
+        const int gq = cs.edge_quad[e][edge_side(in.skeleton, e, w)];
+        for (int k = 0; k < 4; ++k) q[k] = cs.directions[cs.point_begin[w] + cs.quads[gq][k]];
+        return q;
+    }
+    std::vector<int> inc;
+    std::vector<Vec3> dirs;
+    branch_edges(in.an, w, inc);
+    branch_directions(in.skeleton, w, inc, dirs);
+    const SpherePartition part = bridge_partition(in, w, round, inc, dirs, cs);
+    const int i = static_cast<int>(std::find(inc.begin(), inc.end(), e) - inc.begin());
+    for (int k = 0; k < 4; ++k) q[k] = normalized(part.points[part.quads[i][k]]);
+    return q;
+}
+
+// The partition of a point v chosen at a bridge (branch edges inc, directions dirs) in round `round`: round 0 is the
+// partition without degree_three_chunks_at_bridges; round r chooses by the chunks with each bridge ending on the
+// neighbour's quad of round r - 1. Writes nothing (no leaflet side).
+SpherePartition bridge_partition(const SurfaceInputs& in, int v, int round, const std::vector<int>& inc,
+                                 const std::vector<Vec3>& dirs, ConnectionSurfaces& cs) {
+    if (round == 0) return partition_branching_point(in, v, dirs, 3, cs);
+    BridgeEnds ends;
+    for (int i = 0; i < 3; ++i) {
+        const int w = in.skeleton.edges[inc[i]][0] == v ? in.skeleton.edges[inc[i]][1] : in.skeleton.edges[inc[i]][0];
+        if (in.an.vertex_class[w] == VertexClass::BranchingPoint)
+            ends[i] = bridge_end_quad(in, w, inc[i], round - 1, cs);
+    }
+    return partition_branching_point(in, v, dirs, 3, cs, &ends);
+}
+
+// Second pass: the surface of a point chosen at a bridge, its partition of the last round (bridge_partition; the
+// points of this pass read none of each other's results).
+void build_bridge_surface(const SurfaceInputs& in, int v, ConnectionSurfaces& cs) {
+    std::vector<int> inc;
+    std::vector<Vec3> dirs;
+    branch_edges(in.an, v, inc);
+    branch_directions(in.skeleton, v, inc, dirs);
+    store_partition(in.skeleton, v, bridge_partition(in, v, kBridgeRounds, inc, dirs, cs), 3, inc, cs);
+}
+
+// The second pass: the points with at_bridge[v] != 0, in parallel (each task writes only its vertex's ranges and
+// slots, and reads no surface of this pass).
+void build_bridge_surfaces(const SurfaceInputs& in, const std::vector<char>& at_bridge, ConnectionSurfaces& cs) {
+    std::vector<int> second;
+    for (int v = 0; v < static_cast<int>(at_bridge.size()); ++v)
+        if (at_bridge[v]) second.push_back(v);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, second.size(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t i = range.begin(); i != range.end(); ++i)
+                              build_bridge_surface(in, second[i], cs);
+                      });
+}
+
+// Whether a vertex within kBridgeRounds edges of v is marked in recompute: a point chosen at a bridge reads the
+// surfaces of its neighbours (round kBridgeRounds - 1 of those chosen at a bridge, which read their own neighbours'),
+// so it is recomputed with them.
+bool recompute_near(const Skeleton& skeleton, const SkeletonAnalysis& an, const std::vector<char>& recompute, int v) {
+    std::vector<int> ring{v};
+    for (int round = 0; round <= kBridgeRounds; ++round) {
+        std::vector<int> next;
+        for (const int x : ring) {
+            if (recompute[x]) return true;
+            if (round == kBridgeRounds) continue;
+            for (int j = an.vertex_edge_begin[x]; j < an.vertex_edge_begin[x + 1]; ++j) {
+                const std::array<int, 2>& e = skeleton.edges[an.vertex_edges[j]];
+                next.push_back(e[0] == x ? e[1] : e[0]);
+            }
+        }
+        ring = std::move(next);
+    }
+    return false;
+}
+
 // ---- Content-keyed memo of branching-point surfaces (SurfaceMemo) ----
 
 // A branching point without leaflet sides and without a compatible block: its surface reads its branch directions and
@@ -1159,7 +1313,8 @@ bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o)
            m.plane_orange_at_degree_three == o.plane_orange_at_degree_three &&
            m.no_flat_point_in_close_pair == o.no_flat_point_in_close_pair &&
            m.degree_three_partition_by_chunks == o.degree_three_partition_by_chunks &&
-           m.degree_three_chunks_next_to_branching_points == o.degree_three_chunks_next_to_branching_points;
+           m.degree_three_chunks_next_to_branching_points == o.degree_three_chunks_next_to_branching_points &&
+           m.degree_three_chunks_at_bridges == o.degree_three_chunks_at_bridges;
 }
 
 // FNV-1a (64 bits) of the key's bytes.
@@ -1224,6 +1379,7 @@ SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::ve
     m.no_flat_point_in_close_pair = options.no_flat_point_in_close_pair;
     m.degree_three_partition_by_chunks = options.degree_three_partition_by_chunks;
     m.degree_three_chunks_next_to_branching_points = options.degree_three_chunks_next_to_branching_points;
+    m.degree_three_chunks_at_bridges = options.degree_three_chunks_at_bridges;
     std::vector<std::pair<std::uint64_t, int>> order;
     for (int v = 0; v < static_cast<int>(keys.size()); ++v)
         if (!keys[v].empty()) order.push_back({memo_hash(keys[v]), v});
@@ -1360,6 +1516,7 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
     const SurfaceMemo* memo = memo_in && memo_out && memo_options_match(*memo_in, options) ? memo_in : nullptr;
     std::vector<std::vector<Vec3>> keys(memo_out ? nv : 0);
     std::vector<char> served(memo_out ? nv : 0, 0);
+    std::vector<char> at_bridge(nv, 0);  // computed in the second pass (chosen_at_bridge)
 
     // Each task writes only its vertex's ranges and the (edge, side) slots of its own incident edges.
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256), [&](const tbb::blocked_range<int>& range) {
@@ -1375,10 +1532,14 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
                 branch_edges(an, v, inc);
                 branch_directions(skeleton, v, inc, keys[v]);
             }
-            if (reuse && !recompute[v]) {  // copy the vertex's previous surface (its inputs did not change)
+            const bool bridge = c == VertexClass::BranchingPoint && chosen_at_bridge(skeleton, an, options, v);
+            if (reuse && !(bridge ? recompute_near(skeleton, an, recompute, v) : recompute[v])) {
+                // copy the vertex's previous surface (its inputs did not change)
                 copy_previous_surface(in, *previous, v, cs);
             } else if (cs.vertex_block[v] >= 0) {
                 set_block_surface(skeleton, an, cs.blocks[cs.vertex_block[v]], cs);
+            } else if (bridge) {
+                at_bridge[v] = 1;
             } else if (keyed) {
                 const SurfaceMemo::Entry* hit = memo ? find_memo_entry(*memo, keys[v], memo_hash(keys[v])) : nullptr;
                 if (hit) {
@@ -1396,6 +1557,7 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
             }
         }
     });
+    build_bridge_surfaces(in, at_bridge, cs);
     finish_leaflet_junctions(an, sides, cs);
     if (memo_out) {
         *memo_out = collect_memo(cs, keys, options);

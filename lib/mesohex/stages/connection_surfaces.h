@@ -82,8 +82,17 @@ struct ConnectionSurfaceOptions {
     bool degree_three_partition_by_chunks = true;
     // With degree_three_partition_by_chunks: also choose at a degree-3 point one of whose branch edges ends at another
     // branching point (the chunk model then puts a square cross-section there, where the raw mesh has that point's
-    // own partition quad). Off: such points keep the gap rule.
+    // own partition quad), or at any vertex other than a joint or an extremity. Off: such points keep the gap rule,
+    // except those that degree_three_chunks_at_bridges chooses (it models a branching neighbour's quad, with this
+    // option on too).
     bool degree_three_chunks_next_to_branching_points = false;
+    // With degree_three_partition_by_chunks: also choose at a degree-3 point one of whose branch edges ends at another
+    // branching point (a bridge), with that chunk's far end modelled on the neighbour's own partition quad on the
+    // bridge instead of a square; every other branch edge must end at a joint or an extremity (else, without
+    // degree_three_chunks_next_to_branching_points, the gap rule). A neighbour that is itself such a point is modelled
+    // with its own choice made on its neighbours' partitions without this option (two rounds: no result of the same
+    // pass is read, the same for any thread count). docs/junctions.md, "Degree-3 points at bridges".
+    bool degree_three_chunks_at_bridges = true;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
     // blocks.enabled = false keeps the paper's layout (`--no-blocks`).
@@ -94,12 +103,12 @@ struct ConnectionSurfaceOptions {
 // a branching point without leaflet sides and without a compatible block is a pure function of its branch directions
 // (unit(w - v) for its branch edges in increasing edge id, in that order) and of the options read by its partition
 // (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three,
-// no_flat_point_in_close_pair, degree_three_partition_by_chunks, degree_three_chunks_next_to_branching_points; a point
-// whose partition may read its neighbours' positions and radii, a degree-3 point chosen by its chunks or a degree-4
-// point under no_flat_point_in_close_pair, is not memo-able): an entry keyed on the
-// exact bits of those directions is reused whatever the vertex's number, so an edit that renumbers the skeleton
-// (adaptation re-sampling a branch) recomputes only the branching points whose directions changed. Keys are compared
-// in full (no trust in the hash).
+// no_flat_point_in_close_pair, degree_three_partition_by_chunks, degree_three_chunks_next_to_branching_points,
+// degree_three_chunks_at_bridges; a point whose partition may read its neighbours' positions, radii and partitions, a
+// degree-3 point chosen by its chunks (at a bridge too) or a degree-4 point under no_flat_point_in_close_pair, is not
+// memo-able): an entry keyed on the exact bits of those directions is reused whatever the vertex's number, so an edit
+// that renumbers the skeleton (adaptation re-sampling a branch) recomputes only the branching points whose directions
+// changed. Keys are compared in full (no trust in the hash).
 struct SurfaceMemo {
     struct Entry {
         std::vector<Vec3> key;  // the branch directions, compared bit for bit
@@ -118,6 +127,7 @@ struct SurfaceMemo {
     bool no_flat_point_in_close_pair = false;
     bool degree_three_partition_by_chunks = false;
     bool degree_three_chunks_next_to_branching_points = false;
+    bool degree_three_chunks_at_bridges = false;
     std::vector<Entry> entries;                        // one per distinct key
     std::vector<std::pair<std::uint64_t, int>> index;  // (hash of the key, entry), sorted
     int hits = 0;                                      // surfaces the last rebuild took from the memo it was given
@@ -154,8 +164,10 @@ ConnectionSurfaces build_connection_surfaces(const Skeleton& skeleton, const Ske
 // only and copying every other vertex's surface from `previous`. The caller guarantees that a copied vertex's inputs
 // did not change since `previous` was built with the same options: its position, its neighbours' positions and
 // radii, and the leaflet faces within three edges of it (incremental.cpp marks every vertex within three edges of a
-// moved one). When `previous` is null, recompute.size() != V, or the CSR layout differs (other topology or vertex
-// classes, or other compatible blocks), everything is recomputed. LL-joint pillows (cheap, serial) are always
+// moved one); a degree-3 point chosen at a bridge (degree_three_chunks_at_bridges) reads its neighbours' surfaces and
+// theirs, and is recomputed whenever a vertex within two edges of it is. When `previous` is null, recompute.size() !=
+// V, or the CSR layout differs (other topology or vertex classes, or other compatible blocks), everything is
+// recomputed. LL-joint pillows (cheap, serial) are always
 // recomputed; blocks are always re-decided (cheap), a block vertex's squares copied when it is not recomputed.
 // With `memo_out` (may be null): every memo-able branching point (see SurfaceMemo) that is computed is first looked up
 // in `memo_in` (may be null) by its exact key, and taken from it when found; memo_out receives the entries of this
