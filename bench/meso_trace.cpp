@@ -9,18 +9,17 @@
 // For each site: its curve edges, its leaflet corner angle (sum of the face angles, degrees; above 180 a notch) and
 // its radius. Then the count per kind.
 //   mesohex_meso_trace SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F]
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <map>
-#include <numbers>
 #include <string>
 #include <vector>
 
 #include "mesohex/auto_skeleton.h"
 #include "mesohex/mesh.h"
 #include "mesohex/post/quality.h"
+#include "mesohex/stages/medial_import.h"
 #include "mesohex/stages/skeleton_analysis.h"
 #include "mesohex_io/surface_io.h"
 
@@ -28,23 +27,9 @@ namespace {
 
 using namespace mesohex;
 
-// Sum of the face angles at every vertex (degrees): 360 inside a flat leaflet, 180 on a straight border, more at a
-// notch.
-std::vector<double> face_angle_sums(const Skeleton& s) {
-    std::vector<double> sum(s.points.size(), 0.0);
-    for (const std::vector<int>& f : s.faces)
-        for (size_t i = 0; i < f.size(); ++i) {
-            const Vec3& p = s.points[static_cast<size_t>(f[i])];
-            const Vec3 u = normalized(s.points[static_cast<size_t>(f[(i + 1) % f.size()])] - p);
-            const Vec3 w = normalized(s.points[static_cast<size_t>(f[(i + f.size() - 1) % f.size()])] - p);
-            sum[static_cast<size_t>(f[i])] += std::acos(std::clamp(dot(u, w), -1.0, 1.0)) * 180 / std::numbers::pi;
-        }
-    return sum;
-}
-
 std::string site_kind(const SkeletonAnalysis& an, int v) {
     const VertexClass c = an.vertex_class[static_cast<size_t>(v)];
-    const bool faces = an.vertex_boundary_edges[static_cast<size_t>(v)] > 0 || c == VertexClass::LeafletInterior;
+    const bool faces = an.vertex_boundary_edges[static_cast<size_t>(v)] > 0;
     if (c == VertexClass::BLJoint) return "bl-joint";
     if ((c == VertexClass::BranchingPoint && faces) || roots_branch(an, v)) return "junction";
     if (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary || c == VertexClass::LLJoint ||
@@ -103,7 +88,7 @@ int main(int argc, char** argv) {
     const SkeletonAnalysis& an = run.pipeline.analysis;
     const HexMesh& mesh = run.pipeline.raw.mesh;
     const std::vector<double> sj = scaled_jacobians(mesh);
-    const std::vector<double> angle = face_angle_sums(s);
+    const std::vector<double> angle = face_angle_sums(s.points, s.faces);
     std::map<std::string, int> per_kind;
     long inverted = 0;
     for (size_t h = 0; h < sj.size(); ++h) {
@@ -129,7 +114,7 @@ int main(int argc, char** argv) {
             "hex %6zu sj %7.3f  %-16s site v%-5d %-9s %-15s curves %d corner %5.1f deg r %.4g at (%.4g %.4g %.4g)\n", h,
             sj[h], element.c_str(), site, kind.c_str(), to_string(an.vertex_class[static_cast<size_t>(site)]),
             an.vertex_branch_edges[static_cast<size_t>(site)], angle[static_cast<size_t>(site)],
-            s.radii[static_cast<size_t>(site)], p.x, p.y, p.z);
+            site < static_cast<int>(s.radii.size()) ? s.radii[static_cast<size_t>(site)] : 0.0, p.x, p.y, p.z);
     }
     std::printf("raw %zu hexes, %ld inverted, min SJ %.3f\n", sj.size(), inverted, run.raw_quality.sj_min);
     for (const auto& [k, n] : per_kind) std::printf("  %-9s %d\n", k.c_str(), n);

@@ -35,9 +35,12 @@ struct RemeshCache {
 };
 
 struct RemeshStats {
-    bool full = true;             // everything was recomputed (first call, other topology, or options changed)
-    int changed_vertices = 0;     // vertices whose position or radius changed
-    int recomputed_surfaces = 0;  // vertices whose connection surface was recomputed (all when full)
+    bool full = true;          // everything was recomputed (first call, other topology, or options changed)
+    int changed_vertices = 0;  // vertices whose position or radius changed
+    // Vertices whose connection surface was recomputed (all when full): those within three edges of a change; the
+    // degree-3 points at bridges recomputed because a neighbour within two edges is (degree_three_chunks_at_bridges)
+    // are not counted.
+    int recomputed_surfaces = 0;
     int memo_surfaces = 0;        // of those, branching-point surfaces taken from the memo (bit-identical inputs)
     int computed_partitions = 0;  // memo-able branching-point surfaces that were computed (memo misses)
 };

@@ -148,6 +148,7 @@ TEST(Finish, InheritedLevelIsRefinedNotFitted) {
     EXPECT_EQ(refined.stages[5].sj_min, r.stages[5].sj_min);
     EXPECT_EQ(refined.quality.sj_min, r.stages[5].sj_min);
     EXPECT_EQ(refined.mesh.hexes, r.mesh.hexes);
+    EXPECT_NE(refined.mesh.points, r.mesh.points);  // the local smoothing moved vertices
     // fit_levels < 0: every level fitted, as before.
     o.fit_levels = -1;
     const FinishResult all = finish_mesh(unit_hex(), unit_cube_surface(), o);

@@ -15,6 +15,7 @@
 #include "mesohex/pipeline.h"
 #include "mesohex/stages/adaptation.h"
 #include "mesohex/stages/generators.h"
+#include "mesohex/stages/skeleton_analysis.h"
 #include "mesohex/stages/skeleton_repair.h"
 
 using namespace mesohex;
@@ -101,6 +102,70 @@ TEST(Incremental, RandomEditsNextToBridges) {
     for (const std::uint32_t seed : {4u, 14u}) {
         SCOPED_TRACE(seed);
         random_edits(run_pipeline(generate_random_skeleton(seed)).skeleton, 12, seed);
+    }
+}
+
+// A degree-3 point chosen at a bridge (three branch edges, one neighbour or more a branching point, the others joints
+// or extremities): -1 when there is none.
+namespace {
+int first_bridge_point(const Skeleton& s, const SkeletonAnalysis& an) {
+    const int nv = static_cast<int>(an.vertex_class.size());
+    for (int v = 0; v < nv; ++v) {
+        if (an.vertex_class[v] != VertexClass::BranchingPoint ||
+            an.vertex_edge_begin[v + 1] - an.vertex_edge_begin[v] != 3)
+            continue;
+        int bridges = 0;
+        bool others_plain = true;
+        for (int j = an.vertex_edge_begin[v]; j < an.vertex_edge_begin[v + 1]; ++j) {
+            const int e = an.vertex_edges[j];
+            if (an.edge_degree[e] != 0) others_plain = false;
+            const int w = s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0];
+            const VertexClass c = an.vertex_class[w];
+            if (c == VertexClass::BranchingPoint)
+                ++bridges;
+            else if (c != VertexClass::Joint && c != VertexClass::Extremity)
+                others_plain = false;
+        }
+        if (bridges > 0 && others_plain) return v;
+    }
+    return -1;
+}
+}  // namespace
+
+// The same skeletons, each edited at one vertex 1, 2, ..., 5 edges from a bridge point (the lowest-numbered vertex at
+// that distance, moved by 5 % of its radius): the bridge point reads its neighbours' partitions, so it is recomputed
+// when a vertex within two edges of it is (whose surfaces are recomputed within three edges of the edit); each
+// incremental result equals a full run.
+TEST(Incremental, EditsAtEachDistanceFromABridgePoint) {
+    for (const std::uint32_t seed : {4u, 14u}) {
+        SCOPED_TRACE(seed);
+        const Skeleton start = run_pipeline(generate_random_skeleton(seed)).skeleton;
+        RemeshCache cache;
+        remesh_full(cache, start);
+        const int b = first_bridge_point(cache.skeleton, cache.analysis);
+        ASSERT_GE(b, 0);
+        std::vector<int> dist(start.points.size(), -1);
+        std::vector<int> queue = {b};
+        dist[b] = 0;
+        for (std::size_t q = 0; q < queue.size(); ++q)
+            for (const std::array<int, 2>& e : start.edges)
+                for (int k = 0; k < 2; ++k)
+                    if (e[k] == queue[q] && dist[e[1 - k]] < 0) {
+                        dist[e[1 - k]] = dist[e[k]] + 1;
+                        queue.push_back(e[1 - k]);
+                    }
+        Skeleton s = start;
+        for (int d = 1; d <= 5; ++d) {
+            SCOPED_TRACE(d);
+            const auto it = std::find(dist.begin(), dist.end(), d);
+            ASSERT_NE(it, dist.end());
+            const std::size_t v = static_cast<std::size_t>(it - dist.begin());
+            s.points[v] += Vec3{0.05, -0.03, 0.02} * s.radii[v];
+            RemeshCache full;
+            remesh_full(full, s);
+            EXPECT_FALSE(remesh_incremental(cache, s).full);
+            expect_same_mesh(cache, full);
+        }
     }
 }
 

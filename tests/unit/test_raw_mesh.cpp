@@ -685,10 +685,10 @@ Skeleton bridged_y(double spread_deg, double phi_deg) {
 
 // degree_three_chunks_at_bridges: the centre of bridged_y chooses between the general partition (poles 45.2 degrees
 // from a branch) and the orange (84.7) by its first chunks, the bridge's chunk ending on the neighbour's own quad
-// (both ends are such points; each models the other's partition without the option). Spread 45 degrees, phi 0: the
-// orange, raw min SJ 0.490 where the gap rule (option off) leaves 0.238. Spread 80 degrees, phi 45: the general
-// partition, 0.323, as the gap rule; the square model there (degree_three_chunks_next_to_branching_points, the
-// bridge's far end a square) takes the orange and gets 0.221.
+// (both ends are such points; in the second round each models the other's first-round choice). Spread 45 degrees,
+// phi 0: the orange, raw min SJ 0.490 where the gap rule (option off) leaves 0.238. Spread 80 degrees, phi 45: the
+// general partition, 0.323, as the gap rule; the square model there (degree_three_chunks_next_to_branching_points,
+// the bridge's far end a square) takes the orange and gets 0.221.
 TEST(RawMesh, BridgeEndsChosenByTheirChunks) {
     const std::vector<Vec3> dirs = tilted_y_directions();
     struct Case {

@@ -191,8 +191,9 @@ TEST(Smoothing, FeaturesAreConvexCreasesOfTheDomain) {
 
 // smooth_region on a 10 x 2 x 2 block (vertex (i, j, k) has id i + 11 (j + 3 k)) whose interior vertex (2, 1, 1)
 // (id 46) is moved by (0.3, 0.2, 0.1): its 8 cubes (x in [1, 3]) have scaled Jacobians 0.65-0.95, all others 1.
-// Below 0.96 the seeds are those 8; `rings` rings reach the cubes up to x = 2 + rings, so the vertices at i >= 3 + rings are used by cubes
-// outside the region (frozen) or by those only: they keep their coordinates bit for bit. Boundary fixed (no projector).
+// Below 0.96 the seeds are those 8; `rings` rings reach the cubes up to x = 2 + rings, so the vertices at
+// i >= 3 + rings are used by cubes outside the region (frozen) or by those only: they keep their coordinates bit for
+// bit. Boundary fixed (no projector).
 // rings 0: only the centre moves (every other vertex of a seed is also one of a cube outside, or on the boundary); no
 // hex below the threshold: nothing moves.
 TEST(Smoothing, RegionMovesOnlyTheRingsAroundTheBadHexes) {

@@ -1003,8 +1003,6 @@ int branching_neighbours(const Skeleton& skeleton, const SkeletonAnalysis& an, i
     return count;
 }
 
-// Whether branching point v's partition is chosen by its first chunks (degree_three_partition_by_chunks): then it
-// depends on its neighbours' positions and radii, not on its branch directions alone (no memo entry).
 // Whether v has exactly k edges, all branch edges (no leaflet side).
 bool only_branch_edges(const SkeletonAnalysis& an, int v, int k) {
     if (an.vertex_edge_begin[v + 1] - an.vertex_edge_begin[v] != k) return false;
@@ -1013,6 +1011,8 @@ bool only_branch_edges(const SkeletonAnalysis& an, int v, int k) {
     return true;
 }
 
+// Whether branching point v's partition is chosen by its first chunks (degree_three_partition_by_chunks): then it
+// depends on its neighbours' positions and radii, not on its branch directions alone (no memo entry).
 bool chosen_by_chunks(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaceOptions& options,
                       int v) {
     if (!options.degree_three_partition_by_chunks || !only_branch_edges(an, v, 3)) return false;
@@ -1027,7 +1027,7 @@ bool chosen_by_chunks(const Skeleton& skeleton, const SkeletonAnalysis& an, cons
 bool chosen_at_bridge(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaceOptions& options,
                       int v) {
     return options.degree_three_chunks_at_bridges && chosen_by_chunks(skeleton, an, options, v) &&
-           branching_neighbours(skeleton, an, v) != 0;
+           branching_neighbours(skeleton, an, v) > 0;
 }
 
 void branch_edges(const SkeletonAnalysis& an, int v, std::vector<int>& inc);
@@ -1209,8 +1209,7 @@ void build_branching_surface(const SurfaceInputs& in, int v, const std::vector<i
 
 // Rounds of the choice at bridges: in round r a point models each bridge on its neighbour's partition of round r - 1
 // (round 0: without degree_three_chunks_at_bridges). Two rounds let two such points next to each other see each
-// other's choice (seeds 1-400: 17 raw meshes change from one round, min SJ up on 7, down on none; a third round
-// changes none).
+// other's choice (measured: docs/junctions.md, "Degree-3 points at bridges").
 constexpr int kBridgeRounds = 2;
 
 SpherePartition bridge_partition(const SurfaceInputs& in, int v, int round, const std::vector<int>& inc,
@@ -1235,6 +1234,7 @@ std::optional<std::array<Vec3, 4>> bridge_end_quad(const SurfaceInputs& in, int 
     branch_directions(in.skeleton, w, inc, dirs);
     const SpherePartition part = bridge_partition(in, w, round, inc, dirs, cs);
     const int i = static_cast<int>(std::find(inc.begin(), inc.end(), e) - inc.begin());
+    MESOHEX_CHECK(i < static_cast<int>(inc.size()), "bridge edge not a branch edge of its end");
     for (int k = 0; k < 4; ++k) q[k] = normalized(part.points[part.quads[i][k]]);
     return q;
 }

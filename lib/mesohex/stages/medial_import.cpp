@@ -181,13 +181,9 @@ JoinStars join_stars(const Skeleton& s) {
         Vec3 n{};  // Newell
         for (size_t i = 0; i < f.size(); ++i)
             n += cross(s.points[static_cast<size_t>(f[i])], s.points[static_cast<size_t>(f[(i + 1) % f.size()])]);
-        for (size_t i = 0; i < f.size(); ++i) {
-            const size_t w = static_cast<size_t>(f[i]);
-            st.normal_sum[w] += n;
-            st.angle_sum[w] += angle_deg(s.points[w], s.points[static_cast<size_t>(f[(i + 1) % f.size()])],
-                                         s.points[static_cast<size_t>(f[(i + f.size() - 1) % f.size()])]);
-        }
+        for (int w : f) st.normal_sum[static_cast<size_t>(w)] += n;
     }
+    st.angle_sum = face_angle_sums(s.points, s.faces);
     return st;
 }
 
@@ -262,6 +258,7 @@ void make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt, MedialIm
             for (int u : curves) shortest = std::min(shortest, curve_length(before, st, static_cast<int>(v), u));
             push = std::min(push, opt.bl_joint_max_push_curve_fraction * shortest);
         }
+        if (push <= 0) continue;  // capped to nothing (bl_joint_max_push_curve_fraction 0)
         s.points[v] = p + out * push;
         ++result.moved_bl_joints;
         if (several)
@@ -373,18 +370,13 @@ int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt, const LeafletSh
                 prev[static_cast<size_t>(v)] + (mean_of_neighbours(prev, v) - prev[static_cast<size_t>(v)]) * factor;
         if (rim.empty()) continue;
         std::vector<Vec3> normal(static_cast<size_t>(nv), Vec3{});
-        std::vector<double> angle_sum(static_cast<size_t>(nv), 0.0);
         for (const std::vector<int>& f : s.faces) {
             const size_t k = f.size();
             const Vec3 n = cross(prev[static_cast<size_t>(f[2])] - prev[static_cast<size_t>(f[0])],
                                  prev[static_cast<size_t>(f[3 % k])] - prev[static_cast<size_t>(f[1])]);
-            for (size_t i = 0; i < k; ++i) {
-                normal[static_cast<size_t>(f[i])] += n;
-                angle_sum[static_cast<size_t>(f[i])] +=
-                    angle_deg(prev[static_cast<size_t>(f[i])], prev[static_cast<size_t>(f[(i + 1) % k])],
-                              prev[static_cast<size_t>(f[(i + k - 1) % k])]);
-            }
+            for (int w : f) normal[static_cast<size_t>(w)] += n;
         }
+        const std::vector<double> angle_sum = face_angle_sums(prev, s.faces);
         for (int v : rim) {
             const size_t x = static_cast<size_t>(v);
             const Vec3 n = normalized(normal[x]);
@@ -889,6 +881,16 @@ MedialImport import_medial_mesh(const Skeleton& m, const MedialImportOptions& op
     const LeafletSheets sheet = im.leaflet_sheets();
     result.smoothed_vertices = smooth_leaflets(out, opt, &sheet, &result.face_leaflet);
     return result;
+}
+
+std::vector<double> face_angle_sums(const std::vector<Vec3>& points, const std::vector<std::vector<int>>& faces) {
+    std::vector<double> sum(points.size(), 0.0);
+    for (const std::vector<int>& f : faces)
+        for (size_t i = 0, k = f.size(); i < k; ++i)
+            sum[static_cast<size_t>(f[i])] +=
+                angle_deg(points[static_cast<size_t>(f[i])], points[static_cast<size_t>(f[(i + 1) % k])],
+                          points[static_cast<size_t>(f[(i + k - 1) % k])]);
+    return sum;
 }
 
 }  // namespace mesohex

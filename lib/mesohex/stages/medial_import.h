@@ -124,4 +124,9 @@ struct MedialImport {
 // vertex against its leaflet's input triangles; a few hundred of each in `auto`).
 MedialImport import_medial_mesh(const Skeleton& medial, const MedialImportOptions& options = {});
 
+// Sum of the face angles at every vertex of the polygons `faces` over `points`, in degrees: 360 inside a flat
+// leaflet, 180 on a straight border, more at a notch (a reflex border corner). 0 at a vertex in no face. O(sum of
+// face sizes).
+std::vector<double> face_angle_sums(const std::vector<Vec3>& points, const std::vector<std::vector<int>>& faces);
+
 }  // namespace mesohex
