@@ -133,7 +133,7 @@ inline constexpr double kMovedSideDeg = 45;
 // from the cut point m (b its first vertex) in a clean direction c, where the branch then turns towards b. Between the
 // out and side limits c is kBendOutDeg off the outward direction, turned towards the branch; leaning back (more than
 // kMovedSideOffOutDeg off out and kMovedSideDeg off the normal), c is the normal on the branch's side. The pipeline
-// pins p (SkeletonRepairResult::fan_end_bends: the resampling keeps it). kBendRadii 2 keeps the edge (m, p) unbisected
+// pins p (SkeletonRepairResult::fan_end_pins: the resampling keeps it). kBendRadii 2 keeps the edge (m, p) unbisected
 // by the adaptation (density 1: edges up to 2 r), so its first cross-section is p's; a longer edge is bisected and its
 // first section sits on the root's patch, a shorter one fails the section criterion and the pin yields (inverted raw
 // hexes either way, measured). A bend turning the branch by more than kBendMaxTurnDeg degrees is not made (the branch
@@ -165,6 +165,15 @@ inline constexpr double kRootMoveRadii = 1.5;  // radii (at w) of plate left bes
 // is not moved when kRootMoveRadii r_w exceeds kRootMoveMax of the border side (the clamp put the root closer to the
 // fan line than kRootMoveRadii radii: 1 - 8 inverted raw hexes from radius 0.63 x the side, measured there).
 inline constexpr double kRunOnClearanceRadii = 2.0;
+// A moved root's first joint (the far end of its single branch edge, not bent), x r_w from the root along the edge,
+// pinned for the resampling (SkeletonRepairResult::fan_end_pins): like the bend's kBendRadii, the edge is then neither
+// bisected by the adaptation (density 1: edges up to 2 r) nor removed by its section criterion, so the branch's first
+// cross-section stands clear of the root's patch.
+inline constexpr double kFirstJointRadii = 2.0;
+// A moved root thicker than its first border side allows (kRootMoveRadii r_w > kRootMoveMax of the side) slides the
+// straight border run from w instead (like a thick retraction): the root kRootMoveRadii r_w from w along the run, at
+// least this many radii of the run left beyond it (the border's plates past the branch's tube); else refused.
+inline constexpr double kRootMoveRunRestRadii = 1.6;
 
 struct FanEndRetraction {
     int vertex = -1;                // w: the fan-edge end carrying the branch (keeps its index)
@@ -179,6 +188,8 @@ struct FanEndRetraction {
                                     // side that now carries it (new_vertices then empty, w and u not moved; its row
                                     // cut's point on the fan edge in fan_edge_split, or -1); else -1
     int bend = -1;                  // a moved first edge bent (kBendRadii): the new vertex p on it; else -1
+    int first_joint = -1;           // a moved root's single branch edge not bent: its first joint, moved to
+                                    // kFirstJointRadii r_w from the root along the edge; else -1
     friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
 };
 
