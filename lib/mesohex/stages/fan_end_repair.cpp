@@ -583,7 +583,7 @@ struct RootMove {
     std::vector<Crossing> strip;
     bool bent = false;  // the first edge is bent: a new vertex at `bend` on it (bent_first_edge)
     Vec3 bend{};
-    std::vector<int> run;   // thick radii (thick_root_run): the border run from w that slides, else empty
+    std::vector<int> run;    // thick radii (thick_root_run): the border run from w that slides, else empty
     std::vector<Vec3> slid;  // ... its inner vertices' new places (run[1] first)
 };
 
@@ -675,7 +675,8 @@ bool thick_root_run(const Skeleton& s, const Incidence& in, int w, RootMove& mv,
     const double a = std::clamp(proj, lo, hi);
     mv.run = run;
     mv.slid.clear();
-    for (std::size_t j = 1; j + 1 < pts.size(); ++j) mv.slid.push_back(at_arc_length(pts, a + arc[j] * (total - a) / total));
+    for (std::size_t j = 1; j + 1 < pts.size(); ++j)
+        mv.slid.push_back(at_arc_length(pts, a + arc[j] * (total - a) / total));
     mv.t = a / distance(pts[0], mv.slid.front());
     return true;
 }
@@ -716,6 +717,15 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
     const Vec3 m = pw + mv.t * side, normal = normalized(cross(along, out));
     const Vec3 v = normalized(b / static_cast<double>(n) - m);
     const auto [off_out, off_normal] = root_angles(v, out, normal);
+    if (!mv.slid.empty() && off_out > 90 + kThickRootBackDeg) {
+        std::ostringstream reason;
+        reason << "its radius there, " << std::fixed << std::setprecision(3) << rw << ", needs the border of face "
+               << mv.face << " slid, and its first edge leans back " << std::lround(off_out - 90)
+               << " degrees below the border's outward direction's plane (a thick moved "
+               << "root takes at most " << std::lround(kThickRootBackDeg) << ")";
+        refuse(why, reason.str(), "");
+        return mv;
+    }
     // Checked first, for clean and bent roots alike (issue 22: inverted raw hexes otherwise, measured by
     // bench/fanend_sweep.py): the branch's clearance where it runs on past the root.
     const double side_len = norm(side);
@@ -780,9 +790,9 @@ bool movable_far_branch(const Skeleton& s, const Incidence& in, int v) {
            !root_move(s, in, c).strip.empty();
 }
 
-// The first joint y of a moved root's branch edge e = (m, y), moved to kFirstJointRadii r_w from m along the edge:
-// y' = m + kFirstJointRadii r_w unit(y - m). Only for a plain joint (two edges, no face) whose next vertex z stays
-// farther than kFirstJointRadii r_w from m (the edge (y', z) then points away from m). Returns y, or -1 when not moved.
+// The first joint y of a moved root's branch edge e = (m, y), moved to y' = m + kFirstJointRadii r_w unit(y - m) along
+// the edge (in or out). Only for a plain joint (two edges, no face) whose next vertex z lies farther than
+// kFirstJointRadii r_w from m. Returns y, or -1 when not moved.
 int place_first_joint(Skeleton& s, int e, int m, double rw) {
     const int y = other_end(s, e, m);
     int z = -1, degree = 0;
@@ -794,9 +804,8 @@ int place_first_joint(Skeleton& s, int e, int m, double rw) {
     for (const std::vector<int>& face : s.faces)
         if (std::find(face.begin(), face.end(), y) != face.end()) return -1;
     const double reach = kFirstJointRadii * rw;
-    if (degree != 2 || z < 0 || !(distance(s.points[z], s.points[m]) > reach) ||
-        !(distance(s.points[y], s.points[m]) > 0))
-        return -1;
+    const double now = distance(s.points[y], s.points[m]);
+    if (degree != 2 || z < 0 || !(distance(s.points[z], s.points[m]) > reach) || !(now > 0)) return -1;
     s.points[y] = s.points[m] + reach * normalized(s.points[y] - s.points[m]);
     return y;
 }
