@@ -23,7 +23,10 @@ one thread) with `--report` and classifies the run:
 Prints the counts per class and per family, then a table of every run not clean or refused (and of bad refusals).
 
   bench/fanend_sweep.py [--mesohex build/bin/mesohex] [--out DIR] [--families fanend,angled,...] [--scales 0.5:2.6:0.05]
-                        [--jobs 2] [--list-refused]
+                        [--jobs 2] [--list-refused] [--tsv FILE]
+
+--tsv FILE writes one line per run (family, configuration, radius scale, class, detail), in configuration order, to
+compare two builds run by run.
 """
 import argparse
 import concurrent.futures
@@ -161,11 +164,16 @@ def main():
     ap.add_argument("--angle-scales", default="0.5:2.6:0.1", help="radius scales of the angled branches")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--list-refused", action="store_true", help="also list every refusal with its message")
+    ap.add_argument("--tsv", help="write one line per run (family, configuration, scale, class, detail) to this file")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     cfgs = configurations(set(a.families.split(",")), frange(a.scales), frange(a.angle_scales))
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as ex:
         results = list(ex.map(lambda ic: run(a.mesohex, a.out, *ic), enumerate(cfgs)))
+    if a.tsv:
+        with open(a.tsv, "w") as t:
+            for cfg, k, d in results:
+                t.write(f"{cfg[0]}\t{cfg[1]}\t{cfg[4]:g}\t{k}\t{d}\n")
     classes = ["clean", "inverted", "predicted", "euler", "blocks", "refused", "refused-vague", "refused-bad", "error",
                "gen-error"]
     fams = sorted({c[0] for c in cfgs})

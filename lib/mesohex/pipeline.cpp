@@ -129,7 +129,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         if (options.repair.pin_absorbed_balls) pinned = repaired.absorbed_balls;
         if (options.repair.pin_trunk_joints)
             pinned.insert(pinned.end(), repaired.trunk_joints.begin(), repaired.trunk_joints.end());
-        pinned.insert(pinned.end(), repaired.fan_end_bends.begin(), repaired.fan_end_bends.end());
+        pinned.insert(pinned.end(), repaired.fan_end_pins.begin(), repaired.fan_end_pins.end());
         s = adapt_skeleton(repaired.skeleton, options.adaptation, pinned);
         clock.lap("adaptation");
     }

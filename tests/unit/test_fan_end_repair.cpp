@@ -926,9 +926,10 @@ void expect_meshed_clean(const Skeleton& s) {
 // (0.7, 0, 1) and the branch, from b on along (0.866, 0, 0.5), reaches the border coordinate 0.7 + r = 1.0 at
 // z = 1.5 + (0.134 / 0.866) 0.5 = 1.5774: 0.577 from the border line, 1.925 radii < kRunOnClearanceRadii (2 inverted
 // raw hexes before). At 50 degrees (b = (0.766, 0, 1.643), the point at coordinate 1.0 is 1.839 - 1 = 0.839 = 2.80
-// radii off the border) it is still moved and meshed. (2) `fanend -n 4 -m 2` at radius scale 2.4 (r = 0.72): the
+// radii off the border) it is still moved and meshed. (2) `fanend -n 3|4 -m 2` at radius scale 2.4 (r = 0.72): the
 // moved root needs 1.5 r = 1.08 of plate beside the fan line, more than 0.7 of the unit side (2 inverted raw hexes
-// before): refused, the radius bound 0.7 / 1.5 = 0.467 named. (3) `fanend -n 4 -m 5` at radius scale 1.1 (r = 0.33 >
+// before), so the straight border run of 2 unit sides slides (kRootMoveRunRestRadii): it would need (1.5 + 1.6) r =
+// 2.232 > 2: refused, the radius bound 2 / 3.1 = 0.645 named. (3) `fanend -n 4 -m 5` at radius scale 1.1 (r = 0.33 >
 // kBendMaxRadius 0.3 x the unit side; 10 inverted raw hexes before).
 TEST(FanEndRepair, SweepFailuresRefusedAtTheMovedRoot) {
     for (const int strips : {3, 4}) {
@@ -945,13 +946,110 @@ TEST(FanEndRepair, SweepFailuresRefusedAtTheMovedRoot) {
         expect_refused(fan_end_towards(strips, 60, 0), 2, "0.577 from the border line, 1.925 radii (at least 2 needed");
         expect_meshed_clean(fan_end_towards(strips, 50, 0));
         expect_refused(fan_end_scaled(strips, 2, 2.4), 2,
-                       "its radius there, 0.720, is too thick for the border of face 1 (1.000 long): a moved root "
-                       "needs 1.5 radii of plate beside the fan line within 70% of the border side, that is a radius "
-                       "of at most 0.467");
-        expect_refused(fan_end_scaled(strips, 4, 1.8), 2,
-                       "its radius there, 0.540, is too thick for the border of face 1");
+                       "its radius there, 0.720, is too thick for the border of face 1: a moved root needs 1.5 radii "
+                       "of plate beside the fan line and 1.6 radii of border beyond it, along the straight border from "
+                       "the vertex (2.000 long, 2 side(s), ending at skeleton vertex 8), that is a radius of at most "
+                       "0.645");
     }
     expect_refused(fan_end_scaled(4, 5, 1.1), 2,
                    "not bent: its radius is 0.33 x the border side (a bend takes at most 0.30)");
     expect_meshed_clean(fan_end_scaled(4, 5, 1.0));
+}
+
+namespace {
+
+// The meshed skeleton (after the resampling) has a vertex at p (within 1e-9).
+bool meshed_has_vertex_at(const MeshRun& run, const Vec3& p) {
+    const std::vector<Vec3>& pts = run.pipeline.skeleton.points;
+    return std::any_of(pts.begin(), pts.end(), [&](const Vec3& q) { return distance(p, q) < 1e-9; });
+}
+
+}  // namespace
+
+// The first joint of a moved root's branch is moved to kFirstJointRadii r_w = 2.5 r_w from the root along its first
+// edge and pinned. T perpendicular (`fanend -n 3 -m 2`, r = 0.3): the root moves to m = (0.45, 0, 1) (t = 1.5 x 0.3,
+// the branch's first vertex y = (0, -1, 1) projecting to 0 on the border side); y, a plain joint (next vertex z = (0,
+// -2, 1), 2.05 from m > 0.75), goes to m + 0.75 (-0.45, -1, 0) / sqrt(1.2025). X (`-n 4 -m 2`): y = (0.7071, 0.7071,
+// 1) projects to 0.7071, clamped to 0.7: m = (0.7, 0, 1), y' = m + 0.75 unit(y - m). y keeps its index (21 on the T,
+// 27 on the X) and its radius; the repair lists it in fan_end_pins, and the resampled skeleton still has a vertex at
+// y' (the pin holds). Through mesh_skeleton: prediction exact, valid, no inverted hex.
+TEST(FanEndRepair, FirstJointOfAMovedRootKeptTwoRadiiOut) {
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        const Skeleton input = fan_end(strips, 2);
+        Skeleton s = input;
+        const int y = strips == 3 ? 21 : 27;
+        const Vec3 b = input.points[static_cast<std::size_t>(y)];
+        const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+        ASSERT_EQ(r.size(), 1u);
+        EXPECT_EQ(r[0].bend, -1);
+        EXPECT_EQ(r[0].first_joint, y);
+        const Vec3 m = strips == 3 ? Vec3{0.45, 0, 1} : Vec3{0.7, 0, 1};
+        EXPECT_NEAR(distance(s.points[static_cast<std::size_t>(r[0].moved_root)], m), 0.0, 1e-12);
+        const Vec3 expected = strips == 3 ? Vec3{0.45 - 0.75 * 0.45 / std::sqrt(1.2025), -0.75 / std::sqrt(1.2025), 1}
+                                          : m + 0.75 * normalized(b - m);
+        EXPECT_NEAR(distance(s.points[static_cast<std::size_t>(y)], expected), 0.0, 1e-12);
+        EXPECT_NEAR(distance(s.points[static_cast<std::size_t>(y)], m), 0.75, 1e-12);
+        EXPECT_EQ(s.radii[static_cast<std::size_t>(y)], input.radii[static_cast<std::size_t>(y)]);
+        const SkeletonRepairResult repaired = repair_skeleton(input);
+        ASSERT_EQ(repaired.fan_end_pins.size(), 1u);
+        EXPECT_NEAR(distance(repaired.skeleton.points[static_cast<std::size_t>(repaired.fan_end_pins[0])], expected),
+                    0.0, 1e-12);
+        const MeshRun run = mesh_skeleton(input, nullptr);
+        EXPECT_TRUE(meshed_has_vertex_at(run, expected));
+        EXPECT_TRUE(run.prediction_exact);
+        expect_valid(run.pipeline, 1);
+    }
+}
+
+// A moved root thicker than its first border side allows slides the straight border run. T perpendicular at radius
+// scale 2 (`fanend -n 3 -m 2`, r = 0.6): 1.5 r = 0.9 > 0.7 of the unit side (refused before); the run from w = (0, 0,
+// 1) through (1, 0, 1) to (2, 0, 1) is S = 2 long and leaves 2 - 0.9 = 1.1 = 1.83 r >= 1.6 r beyond the root: the root
+// goes to a = 0.9, m = (0.9, 0, 1), the run's inner vertex (1, 0, 1) (vertex 5) slides to 0.9 + 1 x (2 - 0.9) / 2 =
+// 1.45, and the strip is cut at t = 0.9 / 1.45 = 18 / 29 of each side it crosses: (t, 0, 0) on the middle side,
+// (t, 0, -1) on the bottom border. No row cut (1 r = 0.6 is more than half the unit fan edge). The first joint goes to
+// m + 1.5 unit(y - m). Counts as a moved root without row cut: +3 vertices, +3 + 2 edges, +2 faces. The first edge
+// leans back 0 degrees (kThickRootBackDeg). Through mesh_skeleton: prediction exact, valid, no inverted hex; the X
+// likewise (its branch projects to 0.7071 < 0.9).
+TEST(FanEndRepair, ThickMovedRootSlidesTheBorderRun) {
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        const Skeleton input = fan_end_scaled(strips, 2, 2.0);
+        Skeleton s = input;
+        const int v0 = static_cast<int>(s.points.size()), e0 = static_cast<int>(s.edges.size());
+        const std::vector<FanEndRetraction> r = retract_fan_ends(s);
+        ASSERT_EQ(r.size(), 1u);
+        EXPECT_EQ(r[0].fan_edge_split, -1);
+        EXPECT_EQ(r[0].border_vertices_slid, 1);
+        EXPECT_EQ(r[0].strip_faces_split, 2);
+        EXPECT_EQ(r[0].moved_root, v0);
+        const double t = 18.0 / 29.0;
+        EXPECT_NEAR(distance(s.points[5], Vec3{1.45, 0, 1}), 0.0, 1e-12);
+        EXPECT_NEAR(distance(s.points[static_cast<std::size_t>(v0)], Vec3{0.9, 0, 1}), 0.0, 1e-12);
+        EXPECT_NEAR(distance(s.points[static_cast<std::size_t>(v0 + 1)], Vec3{t, 0, 0}), 0.0, 1e-12);
+        EXPECT_NEAR(distance(s.points[static_cast<std::size_t>(v0 + 2)], Vec3{t, 0, -1}), 0.0, 1e-12);
+        EXPECT_EQ(static_cast<int>(s.points.size()), v0 + 3);
+        EXPECT_EQ(static_cast<int>(s.edges.size()), e0 + 5);
+        EXPECT_EQ(s.faces.size(), input.faces.size() + 2);
+        EXPECT_EQ(euler_characteristic(s), 1);
+        const int y = r[0].first_joint;
+        ASSERT_EQ(y, strips == 3 ? 21 : 27);
+        const Vec3 m{0.9, 0, 1}, b = input.points[static_cast<std::size_t>(y)];
+        EXPECT_NEAR(distance(s.points[static_cast<std::size_t>(y)], m + 1.5 * normalized(b - m)), 0.0, 1e-12);
+        EXPECT_TRUE(retract_fan_ends(s).empty());  // nothing left to repair
+        const MeshRun run = mesh_skeleton(input, nullptr);
+        EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
+        EXPECT_TRUE(run.prediction_exact);
+        expect_valid(run.pipeline, 1);
+    }
+}
+
+// A thick moved root whose first edge leans back more than kThickRootBackDeg is refused (inverted raw hexes on the
+// sweep): the T's branch turned 120 degrees off the fan line between two leaflets (phi 45) at radius 0.48 (scale 1.6):
+// b = (0.612, 0.612, 0.5); the root slides to a = max(0.612, 1.5 x 0.48) = 0.72, v = b - (0.72, 0, 1) = (-0.108,
+// 0.612, -0.5): 129 degrees off out = +z, 39 past the plane.
+TEST(FanEndRepair, ThickMovedRootLeaningBackRefused) {
+    Skeleton s = fan_end_towards(3, 120, 45);
+    for (double& r : s.radii) r = 0.48;
+    expect_refused(s, 2, "its first edge leans back 39 degrees below the border's outward direction's plane");
 }

@@ -906,7 +906,7 @@ TEST(SkeletonRepair, RepairedTreesGiveTheRecordedBits) {
             mix_ints(r.vertex_map);
             mix_ints(r.absorbed_balls);
             mix_ints(r.trunk_joints);
-            mix_ints(r.fan_end_bends);
+            mix_ints(r.fan_end_pins);
             const int counts[] = {r.trunks, r.absorbed_stubs, r.merged_ends, r.side_stubs, r.unseparated};
             mix(counts, sizeof counts);
             repairs += r.trunks + r.absorbed_stubs + r.merged_ends + r.side_stubs;

@@ -583,6 +583,8 @@ struct RootMove {
     std::vector<Crossing> strip;
     bool bent = false;  // the first edge is bent: a new vertex at `bend` on it (bent_first_edge)
     Vec3 bend{};
+    std::vector<int> run;    // thick radii (thick_root_run): the border run from w that slides, else empty
+    std::vector<Vec3> slid;  // ... its inner vertices' new places (run[1] first)
 };
 
 // The moved first edge from the cut point m towards v (unit) in the border's frame: along (the border side, unit),
@@ -643,6 +645,42 @@ double run_on_clearance(const Skeleton& s, const Incidence& in, const Vec3& pw, 
     return std::numeric_limits<double>::infinity();
 }
 
+// A moved root thicker than the first border side allows (kRootMoveRadii r_w > kRootMoveMax |x - w|): the root goes
+// along the straight border run from w through mv.x (border_run) to the arc length a = clamp(proj, kRootMoveRadii r_w,
+// min(kRootMoveMax S, S - kRootMoveRunRestRadii r_w)) (S the run's length, proj the branch's first vertex projected on
+// it), and the run's inner vertices slide along it, arc length l to a + l (S - a) / S (the run's far end stays, the
+// border keeps its line), so that the cut stays on the first side, at mv.t of it. Fills mv.run, mv.slid (the inner
+// vertices' new places, mv.x's first) and mv.t; false when the run is a single side (mv.x cannot slide) or too short
+// for both bounds (then *why, when given, says so).
+bool thick_root_run(const Skeleton& s, const Incidence& in, int w, RootMove& mv, double proj, FanEndRefusal* why) {
+    const double rw = s.radii[w];
+    const std::vector<int> run = border_run(s, in, w, mv.x);
+    const std::vector<Vec3> pts = run_points(s, run);
+    const std::vector<double> arc = arc_lengths(pts);
+    const double total = arc.back(), lo = kRootMoveRadii * rw;
+    const double hi = std::min(kRootMoveMax * total, total - kRootMoveRunRestRadii * rw);
+    if (run.size() == 2 || lo > hi) {
+        std::ostringstream reason;
+        reason << std::fixed << std::setprecision(3) << "its radius there, " << rw
+               << ", is too thick for the border of face " << mv.face << ": a moved root needs " << std::defaultfloat
+               << kRootMoveRadii << " radii of plate beside the fan line and " << kRootMoveRunRestRadii
+               << " radii of border beyond it, along the straight border from the vertex (" << std::fixed << total
+               << " long, " << run.size() - 1 << " side(s), ending at skeleton vertex " << run.back()
+               << "), that is a radius of at most "
+               << (run.size() == 2 ? kRootMoveMax * (arc[1] - arc[0]) / kRootMoveRadii
+                                   : std::min(kRootMoveMax * total / kRootMoveRadii,
+                                              total / (kRootMoveRadii + kRootMoveRunRestRadii)));
+        return refuse(why, reason.str(), "");
+    }
+    const double a = std::clamp(proj, lo, hi);
+    mv.run = run;
+    mv.slid.clear();
+    for (std::size_t j = 1; j + 1 < pts.size(); ++j)
+        mv.slid.push_back(at_arc_length(pts, a + arc[j] * (total - a) / total));
+    mv.t = a / distance(pts[0], mv.slid.front());
+    return true;
+}
+
 RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why = nullptr) {
     RootMove mv;
     const Vec3& pw = s.points[c.w];
@@ -658,10 +696,18 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
         const int y = other_end(s, e, c.w);
         if (faces_on(in, c.w, y) == 0) b += s.points[y], ++n;
     }
-    const Vec3 side = s.points[mv.x] - pw;
-    const double lo = std::clamp(kRootMoveRadii * s.radii[c.w] / norm(side), kRootMoveMin, kRootMoveMax);
-    const double along_side = dot(b / static_cast<double>(n) - pw, side) / dot(side, side);  // b projected, 0 at w
-    mv.t = std::clamp(along_side, lo, kRootMoveMax);
+    const double rw = s.radii[c.w];
+    Vec3 side = s.points[mv.x] - pw;
+    double along_side = dot(b / static_cast<double>(n) - pw, side) / dot(side, side);  // b projected, 0 at w
+    if (kRootMoveRadii * rw > kRootMoveMax * norm(side)) {
+        // Thick radii: the border run slides (thick_root_run); the cut stays on the first side, now longer.
+        if (!thick_root_run(s, in, c.w, mv, along_side * norm(side), why)) return mv;
+        side = mv.slid.front() - pw;
+        along_side = dot(b / static_cast<double>(n) - pw, side) / dot(side, side);
+    } else {
+        const double lo = std::clamp(kRootMoveRadii * rw / norm(side), kRootMoveMin, kRootMoveMax);
+        mv.t = std::clamp(along_side, lo, kRootMoveMax);
+    }
     // The moved branch's first edge against the border there: within kMovedOutDeg of the outward in-plane direction
     // (an out root), or more than kMovedSideOffOutDeg off it and within kMovedSideDeg of the leaflet's normal (a side
     // root); else (inverted raw hexes in between and beyond, measured) a single branch edge is bent at a new vertex
@@ -671,20 +717,18 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
     const Vec3 m = pw + mv.t * side, normal = normalized(cross(along, out));
     const Vec3 v = normalized(b / static_cast<double>(n) - m);
     const auto [off_out, off_normal] = root_angles(v, out, normal);
-    // Checked first, for clean and bent roots alike (issue 22: inverted raw hexes otherwise, measured by
-    // bench/fanend_sweep.py): the plate beside the fan line, and the branch's clearance where it runs on past the root.
-    const double rw = s.radii[c.w], side_len = norm(side);
-    if (kRootMoveRadii * rw > kRootMoveMax * side_len) {
+    if (!mv.slid.empty() && off_out > 90 + kThickRootBackDeg) {
         std::ostringstream reason;
-        reason << std::fixed << std::setprecision(3) << "its radius there, " << rw
-               << ", is too thick for the border of face " << mv.face << " (" << side_len
-               << " long): a moved root needs " << std::defaultfloat << kRootMoveRadii
-               << " radii of plate beside the fan line within " << std::lround(100 * kRootMoveMax)
-               << "% of the border side, that is a radius of at most " << std::fixed
-               << kRootMoveMax * side_len / kRootMoveRadii;
+        reason << "its radius there, " << std::fixed << std::setprecision(3) << rw << ", needs the border of face "
+               << mv.face << " slid, and its first edge leans back " << std::lround(off_out - 90)
+               << " degrees below the border's outward direction's plane (a thick moved "
+               << "root takes at most " << std::lround(kThickRootBackDeg) << ")";
         refuse(why, reason.str(), "");
         return mv;
     }
+    // Checked first, for clean and bent roots alike (issue 22: inverted raw hexes otherwise, measured by
+    // bench/fanend_sweep.py): the branch's clearance where it runs on past the root.
+    const double side_len = norm(side);
     for (const int e : in.vertex_edges[c.w]) {
         int prev = c.w, cur = other_end(s, e, c.w);
         if (faces_on(in, c.w, cur) != 0) continue;
@@ -746,15 +790,37 @@ bool movable_far_branch(const Skeleton& s, const Incidence& in, int v) {
            !root_move(s, in, c).strip.empty();
 }
 
+// The first joint y of a moved root's branch edge e = (m, y), moved to y' = m + kFirstJointRadii r_w unit(y - m) along
+// the edge (in or out). Only for a plain joint (two edges, no face) whose next vertex z lies farther than
+// kFirstJointRadii r_w from m. Returns y, or -1 when not moved.
+int place_first_joint(Skeleton& s, int e, int m, double rw) {
+    const int y = other_end(s, e, m);
+    int z = -1, degree = 0;
+    for (int f = 0; f < static_cast<int>(s.edges.size()); ++f)
+        if (s.edges[f][0] == y || s.edges[f][1] == y) {
+            ++degree;
+            if (f != e) z = other_end(s, f, y);
+        }
+    for (const std::vector<int>& face : s.faces)
+        if (std::find(face.begin(), face.end(), y) != face.end()) return -1;
+    const double reach = kFirstJointRadii * rw;
+    const double now = distance(s.points[y], s.points[m]);
+    if (degree != 2 || z < 0 || !(distance(s.points[z], s.points[m]) > reach) || !(now > 0)) return -1;
+    s.points[y] = s.points[m] + reach * normalized(s.points[y] - s.points[m]);
+    return y;
+}
+
 // Cuts the carrier's strip at mv.t (split_fan_edge from w's side) and moves every branch edge at c.w to the cut point
 // on (w, x).
 FanEndRetraction move_root(Skeleton& s, const Incidence& in, const Candidate& c, const RootMove& mv) {
     std::vector<int> branches;
     for (const int e : in.vertex_edges[c.w])
         if (faces_on(in, c.w, other_end(s, e, c.w)) == 0) branches.push_back(e);
+    for (std::size_t j = 0; j < mv.slid.size(); ++j) s.points[mv.run[j + 1]] = mv.slid[j];
     const int m = split_fan_edge(s, Candidate{mv.x, c.w, {}, {}}, mv.strip, mv.t);
     for (const int e : branches) (s.edges[e][0] == c.w ? s.edges[e][0] : s.edges[e][1]) = m;
     FanEndRetraction r{c.w, c.u, mv.face, {}};
+    r.border_vertices_slid = static_cast<int>(mv.slid.size());
     if (mv.bent) {  // one branch edge (m, y): becomes (m, p), (p, y) appended
         const int p = static_cast<int>(s.points.size()), e = branches.front();
         s.points.push_back(mv.bend);
@@ -763,6 +829,8 @@ FanEndRetraction move_root(Skeleton& s, const Incidence& in, const Candidate& c,
         s.edges.push_back({p, end});
         end = p;
         r.bend = p;
+    } else if (branches.size() == 1) {
+        r.first_joint = place_first_joint(s, branches.front(), m, s.radii[c.w]);
     }
     r.strip_faces_split = static_cast<int>(mv.strip.size());
     r.moved_root = m;

@@ -73,6 +73,12 @@
 // on the repaired skeleton (2 per cut face and 2 per cut border side more). Only the branch's first edge changes
 // direction (its root moves by t |x_k - w| along the border). Recorded as a FanEndRetraction with moved_root = m and
 // fan_edge_split = the row cut's point (or -1).
+// Thick radii (kRootMoveRadii r_w > kRootMoveMax |x_k - w|): the root goes kRootMoveRadii r_w (up to the branch's
+// projection) along the straight border run from w through x_k, leaving at least kRootMoveRunRestRadii r_w of the run
+// beyond it, and the run's inner vertices slide along it as for a thick retraction (the border keeps its line; the cut
+// stays on the first side, now longer); a run of one side or too short is refused, naming the radius bound.
+// A single branch edge that is not bent has its first joint y (a plain joint: two edges, no face) moved to
+// kFirstJointRadii r_w from m along the edge (FanEndRetraction::first_joint), pinned for the resampling like p.
 // Moves are made after the retractions (in increasing w; a single fan edge whose other end u carries a branch to be
 // moved counts u as a plain fan end, so it is split and retracted first): a retraction at the chain's other end then
 // sees uncut leaflets (moved first, its carrier's border side would be the cut column's, 0.3 long: 4 inverted raw
@@ -133,7 +139,7 @@ inline constexpr double kMovedSideDeg = 45;
 // from the cut point m (b its first vertex) in a clean direction c, where the branch then turns towards b. Between the
 // out and side limits c is kBendOutDeg off the outward direction, turned towards the branch; leaning back (more than
 // kMovedSideOffOutDeg off out and kMovedSideDeg off the normal), c is the normal on the branch's side. The pipeline
-// pins p (SkeletonRepairResult::fan_end_bends: the resampling keeps it). kBendRadii 2 keeps the edge (m, p) unbisected
+// pins p (SkeletonRepairResult::fan_end_pins: the resampling keeps it). kBendRadii 2 keeps the edge (m, p) unbisected
 // by the adaptation (density 1: edges up to 2 r), so its first cross-section is p's; a longer edge is bisected and its
 // first section sits on the root's patch, a shorter one fails the section criterion and the pin yields (inverted raw
 // hexes either way, measured). A bend turning the branch by more than kBendMaxTurnDeg degrees is not made (the branch
@@ -165,6 +171,22 @@ inline constexpr double kRootMoveRadii = 1.5;  // radii (at w) of plate left bes
 // is not moved when kRootMoveRadii r_w exceeds kRootMoveMax of the border side (the clamp put the root closer to the
 // fan line than kRootMoveRadii radii: 1 - 8 inverted raw hexes from radius 0.63 x the side, measured there).
 inline constexpr double kRunOnClearanceRadii = 2.0;
+// A moved root's first joint (the far end of its single branch edge, not bent), x r_w from the root along the edge
+// (moved in or out), pinned for the resampling (SkeletonRepairResult::fan_end_pins), so that the branch's first
+// cross-section stands clear of the root's patch and the section criterion does not drop the joint. 2.5, not the bend's
+// 2: the criterion at a border root asks 1.25 (r cot(beta / 2) + ...), about 1.9 - 2.1 r for a branch 60 - 70 degrees
+// off the border, where a pin at 2 r yields (the T's perpendicular branch); the midpoint that the bisection puts on a
+// 2.5 r edge fails the criterion and goes. Measured on the sweep (docs/blocks.md, "Moved roots: first joint and thick
+// radii"): 2.5 against 2.
+inline constexpr double kFirstJointRadii = 2.5;
+// A moved root thicker than its first border side allows (kRootMoveRadii r_w > kRootMoveMax of the side) slides the
+// straight border run from w instead (like a thick retraction): the root kRootMoveRadii r_w from w along the run, at
+// least this many radii of the run left beyond it (the border's plates past the branch's tube); else refused.
+inline constexpr double kRootMoveRunRestRadii = 1.6;
+// Such a thick moved root's first edge may lean back (towards the fan edge's other end) at most this many degrees past
+// the plane normal to the border's outward direction (off out <= 90 + this); leaning further it folds against the
+// leaflets' thick plates (measured: docs/blocks.md, "Moved roots: first joint and thick radii").
+inline constexpr double kThickRootBackDeg = 20;
 
 struct FanEndRetraction {
     int vertex = -1;                // w: the fan-edge end carrying the branch (keeps its index)
@@ -174,11 +196,13 @@ struct FanEndRetraction {
     int fan_edge_split = -1;        // a single fan edge split first: its midpoint (then u); a short chain with branches
                                     // at both ends cut first (recorded at its lower end): the first cut point; else -1
     int strip_faces_split = 0;      // faces cut in two by that split (the strips from the fan edge to the borders)
-    int border_vertices_slid = 0;   // thick radii: border vertices slid along their straight run by the retraction
+    int border_vertices_slid = 0;   // thick radii: border vertices slid along their straight run (either kind)
     int moved_root = -1;            // a branch far from the fan line moved off w: the cut point on the carrier's border
                                     // side that now carries it (new_vertices then empty, w and u not moved; its row
                                     // cut's point on the fan edge in fan_edge_split, or -1); else -1
     int bend = -1;                  // a moved first edge bent (kBendRadii): the new vertex p on it; else -1
+    int first_joint = -1;           // a moved root's single branch edge not bent: its first joint, moved to
+                                    // kFirstJointRadii r_w from the root along the edge; else -1
     friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
 };
 

@@ -695,7 +695,7 @@ void compact(Skeleton& s, const Tombstones& dead, SkeletonRepairResult& res) {
         for (int& v : f) v = new_id(v);
     for (int& v : res.vertex_map)
         if (v >= 0) v = new_id(v);
-    for (std::vector<int>* list : {&res.absorbed_balls, &res.trunk_joints, &res.fan_end_bends}) {
+    for (std::vector<int>* list : {&res.absorbed_balls, &res.trunk_joints, &res.fan_end_pins}) {
         for (int& v : *list) v = new_id(v);
         std::erase(*list, -1);
     }
@@ -939,7 +939,8 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     Skeleton& s = res.skeleton;
     if (o.fan_end_retraction) res.fan_end_retractions = retract_fan_ends(s);
     for (const FanEndRetraction& r : res.fan_end_retractions)
-        if (r.bend >= 0) res.fan_end_bends.push_back(r.bend);
+        for (const int v : {r.bend, r.first_joint})
+            if (v >= 0) res.fan_end_pins.push_back(v);
     repair_trunks(s, o, res);
     res.junction_splits =
         split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance);

@@ -166,9 +166,10 @@ struct SkeletonRepairResult {
     // pin_trunk_joints (the turn from the parent into the trunk stays in the meshed skeleton).
     std::vector<int> trunk_joints;
     std::vector<FanEndRetraction> fan_end_retractions;  // fan_end_retraction, in the input's vertex numbering
-    // Every bend of a moved root's first edge (FanEndRetraction::bend), by output id: pinned by the pipeline, so that
-    // the resampling keeps the clean first edge (else it cuts the bend and the first edge leans as before).
-    std::vector<int> fan_end_bends;
+    // Every bend of a moved root's first edge and every moved first joint (FanEndRetraction::bend, first_joint), by
+    // output id: pinned by the pipeline, so that the resampling keeps the clean first edge (else it cuts the bend and
+    // the first edge leans as before, or drops the joint by its section criterion and the hexes past it fold).
+    std::vector<int> fan_end_pins;
 };
 
 // Preconditions: one finite radius > 0 per vertex, edge indices in range (as after analyze_skeleton and check_radii;
