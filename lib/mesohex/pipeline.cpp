@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/skeleton_radii.h"
 #include "mesohex/stages/connection_surfaces.h"
 #include "mesohex/stages/fan_end_repair.h"
@@ -57,7 +58,45 @@ bool same_analysis(const SkeletonAnalysis& a, const AnalysisOptions& input_optio
     return true;
 }
 
+// A repaired skeleton's vertex as messages name it: its input id when it has one (the repair renumbers when it drops
+// trunk joints), else its repaired id; and whether it is an input id.
+std::pair<int, bool> named_vertex(const std::vector<int>& vertex_map, int v) {
+    const auto input_id = std::ranges::find(vertex_map, v);
+    if (input_id == vertex_map.end()) return {v, false};
+    return {static_cast<int>(input_id - vertex_map.begin()), true};
+}
+
 }  // namespace
+
+void check_moved_roots(const PipelineResult& res) {
+    if (res.moved_roots.empty()) return;
+    const HexMesh& mesh = res.raw.mesh;
+    for (const MovedRootPlace& root : res.moved_roots) {
+        long inverted = 0;
+        for (const std::array<int, 8>& h : mesh.hexes) {
+            std::array<Vec3, 8> p;
+            Vec3 centroid{};
+            for (std::size_t k = 0; k < 8; ++k) {
+                p[k] = mesh.points[static_cast<std::size_t>(h[k])];
+                centroid = centroid + p[k] / 8.0;
+            }
+            if (distance(centroid, root.point) <= kMovedRootCheckRadii * root.radius && hex_scaled_jacobian(p) <= 0)
+                ++inverted;
+        }
+        if (inverted == 0) continue;
+        std::ostringstream why;
+        why << (root.by_input ? "skeleton vertex " : "repaired skeleton vertex ") << root.vertex
+            << ": a branch on a fan-edge end far from the fan line, its root moved onto a leaflet border by the "
+               "fan-end repair (issue 22), gives "
+            << inverted << " inverted raw hex(es) within " << kMovedRootCheckRadii
+            << " radii of the moved root (radius " << root.radius
+            << "; such roots between two leaflets or near a leaflet's plane fold the branch's first chunk); edit: "
+               "turn the branch into one leaflet's plane or along the fan line, or root it on the leaflet's border "
+               "yourself (a vertex on the border side next to the fan edge), or change its radius there";
+        throw Error(ErrorCode::UnsupportedConfiguration, why.str(),
+                    ElementRef{ElementRef::Kind::SkeletonVertex, root.vertex});
+    }
+}
 
 double default_radius(const Skeleton& s, double factor) {
     double total = 0;
@@ -103,9 +142,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         // made is named in the repaired numbering.
         if (options.repair.fan_end_retraction && !options.analysis.fan_end_branches)
             if (const std::optional<FanEndRefusalAt> left = first_fan_end_refusal(repaired.skeleton)) {
-                const auto input_id = std::ranges::find(repaired.vertex_map, left->vertex);
-                const bool is_input = input_id != repaired.vertex_map.end();
-                const int vertex = is_input ? static_cast<int>(input_id - repaired.vertex_map.begin()) : left->vertex;
+                const auto [vertex, is_input] = named_vertex(repaired.vertex_map, left->vertex);
                 throw Error(ErrorCode::UnsupportedConfiguration,
                             (is_input ? "skeleton vertex " : "repaired skeleton vertex ") + std::to_string(vertex) +
                                 ": a branch on a fan-edge end (the end of a fan edge shared by " +
@@ -124,6 +161,10 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         for (const FanEndRetraction& r : repaired.fan_end_retractions) {
             res.fan_end_retractions.push_back(r.vertex);
             res.fan_edge_splits += r.fan_edge_split >= 0 ? 1 : 0;
+            if (r.moved_root < 0) continue;
+            const auto [vertex, is_input] = named_vertex(repaired.vertex_map, r.vertex);
+            res.moved_roots.push_back({vertex, is_input, repaired.skeleton.points[r.moved_root],
+                                       repaired.skeleton.radii[r.vertex]});
         }
         std::vector<int> pinned;
         if (options.repair.pin_absorbed_balls) pinned = repaired.absorbed_balls;

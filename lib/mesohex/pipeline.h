@@ -34,6 +34,15 @@ struct StageTiming {
     double ms = 0;
 };
 
+// A moved root (fan_end_repair.h): the fan-end vertex named in messages (its input id, or its repaired id when the
+// repair made it: by_input), the cut point m that carries the branch and the radius r_w there (model units).
+struct MovedRootPlace {
+    int vertex = -1;
+    bool by_input = true;
+    Vec3 point{};
+    double radius = 0;
+};
+
 struct PipelineResult {
     std::string radius_source;        // "file", "option" or "default"
     double radius = 0;                // the uniform radius used when radius_source != "file" (else 0)
@@ -49,6 +58,9 @@ struct PipelineResult {
     // Fan-edge chains cut before their retraction: single fan edges in two, chains of 1-2 edges with branches at both
     // ends into 3-4.
     int fan_edge_splits = 0;
+    // Branches far from the fan line whose root the repair moved onto a leaflet border (FanEndRetraction::moved_root):
+    // checked on the raw mesh (check_moved_roots).
+    std::vector<MovedRootPlace> moved_roots;
     int virtual_branches = 0;   // virtual branches added to the meshed skeleton (PipelineOptions::virtual_branches)
     Skeleton skeleton;          // the skeleton actually meshed (radii filled, adapted when resampling)
     SkeletonAnalysis analysis;  // analysis of `skeleton`
@@ -70,6 +82,13 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
 // The repairs prepare_skeleton made, one line each ("repairs: none" when there were none; "repairs: not run (no
 // resampling)" when `resample` was off), for `mesohex analyze`.
 std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& options);
+
+// Refuses a raw mesh with an inverted hex next to a moved root (its centroid within kMovedRootCheckRadii r_w of the
+// cut point m): throws UnsupportedConfiguration naming the fan-end vertex, the configuration and an edit. The moved
+// roots between two leaflets or near a leaflet's plane give 1 - 2 such hexes at scattered radii (issue 22's sweep,
+// docs/blocks.md "Moved roots: first joint and thick radii"), where no measured angle or radius ratio separates them
+// from their clean neighbours. O(hexes) when there is a moved root, else nothing.
+void check_moved_roots(const PipelineResult& res);
 
 // The default uniform radius: factor x mean edge length (1.0 for a skeleton without edges).
 double default_radius(const Skeleton& skeleton, double factor);

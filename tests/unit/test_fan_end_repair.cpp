@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -1052,4 +1053,70 @@ TEST(FanEndRepair, ThickMovedRootLeaningBackRefused) {
     Skeleton s = fan_end_towards(3, 120, 45);
     for (double& r : s.radii) r = 0.48;
     expect_refused(s, 2, "its first edge leans back 39 degrees below the border's outward direction's plane");
+}
+
+// A moved root between two leaflets whose branch's first chunk folds (issue 22's sweep, `angled` family: the T's
+// branch turned 50 degrees off the fan line at phi 45, radius 0.3, scale 1.0): the out root passes the repair's
+// angle limits (its first edge about 40 degrees off the border's outward direction) but the raw mesh has 1 inverted
+// hex next to it (min SJ -0.11): mesh_skeleton refuses the run naming vertex 2, the moved root and an edit. At radius
+// 0.33 (scale 1.1) the same branch meshes without an inverted hex: the check leaves it, 128 hexes (X: 154) as predicted
+// (4 fewer than at 0.3: the adaptation samples the thicker branch with one edge less).
+TEST(FanEndRepair, InvertedRawHexAtAMovedRootRefused) {
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        const Skeleton s = fan_end_towards(strips, 50, 45);
+        try {
+            (void)mesh_skeleton(s, nullptr);
+            FAIL() << "accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
+            const std::string m = e.what();
+            EXPECT_NE(m.find("skeleton vertex 2: a branch on a fan-edge end far from the fan line, its root moved"),
+                      std::string::npos)
+                << m;
+            EXPECT_NE(m.find("gives 1 inverted raw hex(es)"), std::string::npos) << m;
+            EXPECT_NE(m.find("; edit: "), std::string::npos) << m;
+        }
+        Skeleton thicker = s;
+        for (double& r : thicker.radii) r = 0.33;
+        const MeshRun run = mesh_skeleton(thicker, nullptr);
+        EXPECT_EQ(run.pipeline.moved_roots.size(), 1u);
+        EXPECT_EQ(run.raw_quality.hexes, strips == 3 ? 128 : 154);
+        EXPECT_TRUE(run.prediction_exact);
+        expect_valid(run.pipeline, 1);
+    }
+}
+
+// check_moved_roots on a hand-made raw mesh: a unit cube hex and its mirror image (inverted, SJ -1), centroids 0.5
+// and 3.5 from the moved root at the origin (radius 0.25: reach 4 x 0.25 = 1). The inverted hex 3.5 away is not the
+// root's; moved 0.5 away it is, and the run is refused naming the vertex (a repaired id: "repaired skeleton vertex").
+TEST(FanEndRepair, MovedRootCheckCountsOnlyNearbyInvertedHexes) {
+    PipelineResult res;
+    res.moved_roots.push_back({7, false, Vec3{0, 0, 0}, 0.25});
+    // Unit cube hexes centred at (x, 0, 0), mirrored in z when asked.
+    const auto cubes = [&res](const std::vector<std::pair<double, bool>>& at) {
+        res.raw.mesh = {};
+        for (const auto& [x, mirrored] : at) {
+            const int b = static_cast<int>(res.raw.mesh.points.size());
+            for (const Vec3& c : {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{1, 1, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1},
+                                  Vec3{1, 0, 1}, Vec3{1, 1, 1}, Vec3{0, 1, 1}})
+                res.raw.mesh.points.push_back(Vec3{x + c[0] - 0.5, c[1] - 0.5, mirrored ? 0.5 - c[2] : c[2] - 0.5});
+            res.raw.mesh.hexes.push_back({b, b + 1, b + 2, b + 3, b + 4, b + 5, b + 6, b + 7});
+        }
+    };
+    cubes({{0.5, false}, {3.5, true}});
+    std::array<Vec3, 8> mirrored{};
+    std::copy(res.raw.mesh.points.begin() + 8, res.raw.mesh.points.end(), mirrored.begin());
+    EXPECT_NEAR(scaled_jacobian(mirrored), -1.0, 1e-12);
+    EXPECT_NO_THROW(check_moved_roots(res));
+    cubes({{0.5, true}, {3.5, false}});
+    try {
+        check_moved_roots(res);
+        FAIL() << "accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
+        const std::string m = e.what();
+        EXPECT_NE(m.find("repaired skeleton vertex 7: "), std::string::npos) << m;
+        EXPECT_NE(m.find("gives 1 inverted raw hex(es) within 4 radii"), std::string::npos) << m;
+    }
 }

@@ -179,6 +179,10 @@ inline constexpr double kRunOnClearanceRadii = 2.0;
 // 2.5 r edge fails the criterion and goes. Measured on the sweep (docs/blocks.md, "Moved roots: first joint and thick
 // radii"): 2.5 against 2.
 inline constexpr double kFirstJointRadii = 2.5;
+// Reach of the raw-mesh check at a moved root (pipeline.h, check_moved_roots), x r_w from the cut point m: an inverted
+// raw hex whose centroid lies this close refuses the run. It covers the branch's first chunks (the first joint at
+// kFirstJointRadii r_w, a bend at kBendRadii r_w) and the root's half-chunks on the border.
+inline constexpr double kMovedRootCheckRadii = 4.0;
 // A moved root thicker than its first border side allows (kRootMoveRadii r_w > kRootMoveMax of the side) slides the
 // straight border run from w instead (like a thick retraction): the root kRootMoveRadii r_w from w along the run, at
 // least this many radii of the run left beyond it (the border's plates past the branch's tube); else refused.
