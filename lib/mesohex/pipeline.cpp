@@ -163,8 +163,8 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
             res.fan_edge_splits += r.fan_edge_split >= 0 ? 1 : 0;
             if (r.moved_root < 0) continue;
             const auto [vertex, is_input] = named_vertex(repaired.vertex_map, r.vertex);
-            res.moved_roots.push_back({vertex, is_input, repaired.skeleton.points[r.moved_root],
-                                       repaired.skeleton.radii[r.vertex]});
+            res.moved_roots.push_back(
+                {vertex, is_input, repaired.skeleton.points[r.moved_root], repaired.skeleton.radii[r.vertex]});
         }
         std::vector<int> pinned;
         if (options.repair.pin_absorbed_balls) pinned = repaired.absorbed_balls;
