@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -45,22 +46,26 @@ void expect_valid(const PipelineResult& r, long euler) {
     EXPECT_GT(q.sj_min, 0.0);
 }
 
-// The pipeline with options o must refuse s naming vertex v, with the words and an edit suggestion.
-void expect_refused_with(const Skeleton& s, const PipelineOptions& o, int v, const std::string& words) {
+// run must throw UnsupportedConfiguration whose message holds `named` (e.g. "skeleton vertex 2:"), the words and an
+// edit suggestion.
+void expect_refusal(const std::function<void()>& run, const std::string& named, const std::string& words) {
     try {
-        (void)run_pipeline(s, o);
+        run();
         FAIL() << "accepted";
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
         const std::string m = e.what();
-        EXPECT_NE(m.find("skeleton vertex " + std::to_string(v) + ":"), std::string::npos) << m;
+        EXPECT_NE(m.find(named), std::string::npos) << m;
         EXPECT_NE(m.find(words), std::string::npos) << m;
         EXPECT_NE(m.find("; edit: "), std::string::npos) << m;
     }
 }
 
-// The pipeline (its check of the repaired input sampling, first_fan_end_refusal, or the analysis after it) must
-// refuse s naming vertex v, with the words and an edit suggestion.
+// The pipeline with options o must refuse s naming vertex v, with the words and an edit suggestion.
+void expect_refused_with(const Skeleton& s, const PipelineOptions& o, int v, const std::string& words) {
+    expect_refusal([&] { (void)run_pipeline(s, o); }, "skeleton vertex " + std::to_string(v) + ":", words);
+}
+
 void expect_refused(const Skeleton& s, int v, const std::string& words) { expect_refused_with(s, {}, v, words); }
 
 }  // namespace
@@ -1065,18 +1070,9 @@ TEST(FanEndRepair, InvertedRawHexAtAMovedRootRefused) {
     for (const int strips : {3, 4}) {
         SCOPED_TRACE(strips);
         const Skeleton s = fan_end_towards(strips, 50, 45);
-        try {
-            (void)mesh_skeleton(s, nullptr);
-            FAIL() << "accepted";
-        } catch (const Error& e) {
-            EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
-            const std::string m = e.what();
-            EXPECT_NE(m.find("skeleton vertex 2: a branch on a fan-edge end far from the fan line, its root moved"),
-                      std::string::npos)
-                << m;
-            EXPECT_NE(m.find("gives 1 inverted raw hex(es)"), std::string::npos) << m;
-            EXPECT_NE(m.find("; edit: "), std::string::npos) << m;
-        }
+        expect_refusal([&] { (void)mesh_skeleton(s, nullptr); },
+                       "skeleton vertex 2: a branch on a fan-edge end far from the fan line, its root moved",
+                       "gives 1 inverted raw hex(es)");
         Skeleton thicker = s;
         for (double& r : thicker.radii) r = 0.33;
         const MeshRun run = mesh_skeleton(thicker, nullptr);
@@ -1110,13 +1106,6 @@ TEST(FanEndRepair, MovedRootCheckCountsOnlyNearbyInvertedHexes) {
     EXPECT_NEAR(scaled_jacobian(mirrored), -1.0, 1e-12);
     EXPECT_NO_THROW(check_moved_roots(res));
     cubes({{0.5, true}, {3.5, false}});
-    try {
-        check_moved_roots(res);
-        FAIL() << "accepted";
-    } catch (const Error& e) {
-        EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
-        const std::string m = e.what();
-        EXPECT_NE(m.find("repaired skeleton vertex 7: "), std::string::npos) << m;
-        EXPECT_NE(m.find("gives 1 inverted raw hex(es) within 4 radii"), std::string::npos) << m;
-    }
+    expect_refusal([&] { check_moved_roots(res); },
+                   "repaired skeleton vertex 7: ", "gives 1 inverted raw hex(es) within 4 radii");
 }
