@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
         if (a == "--no-bl-branch-corners") o.import.bl_joint_corners_with_branches = false;
         if (a == "--bl-corner-max-push" && i + 1 < argc)
             o.import.bl_joint_max_push_curve_fraction = std::atof(argv[++i]);
+        if (a == "--bl-corner-reach" && i + 1 < argc) o.import.bl_joint_corner_reach = std::atof(argv[++i]);
     }
     const TriangleMesh surface = read_surface(argv[1]);
     MeshRun run;
@@ -81,9 +82,11 @@ int main(int argc, char** argv) {
         std::printf("refused: %s\n", e.what());
         return 0;
     }
-    std::printf("import: %d leaflets, %d BL-joints moved to a corner (%d at notches, %d with several curves)\n",
-                chosen.import.leaflets, chosen.import.moved_bl_joints, chosen.import.notch_corners,
-                chosen.import.branch_corners);
+    std::printf(
+        "import: %d leaflets, %d BL-joints moved to a corner (%d at notches, %d with several curves), %d "
+        "joins moved onto a corner\n",
+        chosen.import.leaflets, chosen.import.moved_bl_joints, chosen.import.notch_corners,
+        chosen.import.branch_corners, chosen.import.joins_to_corners);
     const Skeleton& s = run.pipeline.skeleton;
     const SkeletonAnalysis& an = run.pipeline.analysis;
     const HexMesh& mesh = run.pipeline.raw.mesh;

@@ -124,6 +124,11 @@ void register_auto(CLI::App& app, int* status) {
                     "curve's length")
         ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
+    cmd->add_option("--bl-corner-reach", args->skeleton.import.bl_joint_corner_reach,
+                    "meso-skeleton import: a several-curve attachment cut short by --bl-corner-max-push hands its "
+                    "curves to a convex boundary corner at most this x its boundary edges away (0 = off)")
+        ->check(finite_range(0.0, 100.0))
+        ->capture_default_str();
     add_mesh_job_options(cmd, &args->job);
     cmd->footer(
         "The skeleton used is written beside the mesh (OUT.skeleton.obj, with radii): edit it and re-run\n"

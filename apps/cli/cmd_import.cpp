@@ -73,6 +73,11 @@ void register_import(CLI::App& app, int* status) {
                     "Notch and several-curve attachments move at most this x their shortest curve's length")
         ->capture_default_str()
         ->check(finite_range(0.0, 1.0));
+    cmd->add_option("--bl-corner-reach", args->options.bl_joint_corner_reach,
+                    "A several-curve attachment cut short by --bl-corner-max-push hands its curves to a convex "
+                    "boundary corner at most this x its boundary edges away (0 = off)")
+        ->capture_default_str()
+        ->check(finite_range(0.0, 100.0));
     cmd->add_option("--smoothing", args->options.smoothing_iterations,
                     "Smoothing sweeps over the leaflets: Laplacian on interior vertices, along the normal on boundary "
                     "vertices (0 = none)")
@@ -111,7 +116,8 @@ void register_import(CLI::App& app, int* status) {
                   << r.collapsed_sheets << ", leaflets " << r.leaflets << ", fan edges " << r.fan_edges
                   << ", triangle pairs " << r.paired_quads << ", lone triangles " << r.split_triangles
                   << ", BL-joints moved to a corner " << r.moved_bl_joints << " (" << r.notch_corners << " at notches, "
-                  << r.branch_corners << " of several curves), smoothed vertices " << r.smoothed_vertices
+                  << r.branch_corners << " of several curves; " << r.joins_to_corners
+                  << " handed their curves to a corner), smoothed vertices " << r.smoothed_vertices
                   << "\n  skeleton: " << r.skeleton.points.size() << " points, " << r.skeleton.edges.size()
                   << " edges, " << r.skeleton.faces.size() << " quads, Euler characteristic "
                   << euler_characteristic(r.skeleton) << " (input " << euler_characteristic(medial) << ") -> "

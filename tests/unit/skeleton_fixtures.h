@@ -117,4 +117,14 @@ inline Skeleton two_curves_on_a_straight_border(const Vec3& joint, const Vec3& e
                        {{1, 6}, {6, 7}, {1, 8}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}}, radius);
 }
 
+// Three unit squares in a row (border y = 0: vertices 0 to 3 at x = 0 to 3; 4 to 7 at y = 1) with two curves from
+// border vertex 1 = (1, 0, 0): one of two edges through `joint` to `end` (vertices 8, 9), one edge to `other`
+// (vertex 10). Vertex 0 is the nearest convex corner (1 away along the border; vertex 3 is 2 away).
+inline Skeleton two_curves_next_to_a_corner(const Vec3& joint, const Vec3& end, const Vec3& other,
+                                            double radius = 0.01) {
+    return medial_mesh(
+        {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {3, 1, 0}, joint, end, other},
+        {{1, 8}, {8, 9}, {1, 10}}, {{0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}}, radius);
+}
+
 }  // namespace mesohex::test

@@ -158,6 +158,19 @@ TEST(AutoSkeleton, JoinOfTwoCurvesMadeALeafletCornerMeshesWithoutInversion) {
     EXPECT_EQ(on, 0);
 }
 
+TEST(AutoSkeleton, JoinHandedToACornerMeshesWithoutInversion) {
+    // Three unit squares in a row; the two short curves of border vertex 1 move onto corner 0 (see
+    // MedialImport.ShortCurvesOfAJoinMoveOntoTheNearestConvexCorner); the raw mesh keeps 0 inverted hexes for thin to
+    // thick radii.
+    for (double r : {0.01, 0.05, 0.1}) {
+        SCOPED_TRACE(r);
+        const MedialImport im =
+            import_medial_mesh(test::two_curves_next_to_a_corner({1, -1, -1}, {1, -2, -1}, {0, -3, 0}, r));
+        EXPECT_EQ(im.joins_to_corners, 1);
+        EXPECT_EQ(raw_inverted(im.skeleton), 0);
+    }
+}
+
 TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {
     const TriangleMesh s = box(2, 0.3);
     const AutoSkeletonOptions o;

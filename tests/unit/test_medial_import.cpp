@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -440,6 +441,47 @@ TEST(MedialImport, JoinOfSeveralCurvesOnAStraightBorderBecomesACornerAtMostAFift
     MedialImportOptions off;
     off.bl_joint_corners_with_branches = false;
     expect_join_stays(s, off, 1, {1, 0, 0});
+}
+
+bool has_edge(const Skeleton& s, int a, int b) {
+    return std::any_of(s.edges.begin(), s.edges.end(), [&](const std::array<int, 2>& e) {
+        return (e[0] == a && e[1] == b) || (e[0] == b && e[1] == a);
+    });
+}
+
+TEST(MedialImport, ShortCurvesOfAJoinMoveOntoTheNearestConvexCorner) {
+    // Three unit squares in a row; border vertex 1 = (1, 0, 0) has a curve of two edges (through (1, -1, -1) to
+    // (1, -2, -1): length 1 + sqrt 2) and one to (0, -3, 0) (sqrt 10). Its push on the straight border, 1.25 along -y,
+    // is capped at 0.2 x (1 + sqrt 2) = 0.483: cut short, so both curves move onto the convex corner 0 (1 away along
+    // the border, reach 3 x 1) and vertex 1 still goes out by the cap, to (1, -0.2 (1 + sqrt 2), 0).
+    const Skeleton s = test::two_curves_next_to_a_corner({1, -1, -1}, {1, -2, -1}, {0, -3, 0});
+    const MedialImport r = import_medial_mesh(s);
+    EXPECT_EQ(r.joins_to_corners, 1);
+    EXPECT_EQ(r.moved_bl_joints, 1);
+    EXPECT_EQ(r.branch_corners, 1);
+    EXPECT_TRUE(has_edge(r.skeleton, 0, 8));
+    EXPECT_TRUE(has_edge(r.skeleton, 0, 10));
+    EXPECT_TRUE(has_edge(r.skeleton, 8, 9));
+    EXPECT_FALSE(has_edge(r.skeleton, 1, 8));
+    EXPECT_FALSE(has_edge(r.skeleton, 1, 10));
+    EXPECT_EQ(r.skeleton.edges.size(), 35u);  // 12 quads' 32 sides + 3 curve edges: none lost
+    EXPECT_NEAR(distance(r.skeleton.points[1], Vec3{1, -0.2 * (1 + std::sqrt(2.0)), 0}), 0.0, 1e-12);
+    EXPECT_EQ(r.skeleton.points[0], (Vec3{0, 0, 0}));
+    // Reach 0.9 (< 1): no corner in reach, the curves stay at vertex 1.
+    MedialImportOptions near;
+    near.bl_joint_corner_reach = 0.9;
+    const MedialImport kept = import_medial_mesh(s, near);
+    EXPECT_EQ(kept.joins_to_corners, 0);
+    EXPECT_TRUE(has_edge(kept.skeleton, 1, 8));
+    EXPECT_TRUE(has_edge(kept.skeleton, 1, 10));
+    EXPECT_EQ(kept.skeleton.points[1], r.skeleton.points[1]);
+    // A curve from the corner to the same end merges with the moved one: one curve edge fewer.
+    Skeleton twin = s;
+    twin.edges.push_back({0, 10});
+    const MedialImport merged = import_medial_mesh(twin);
+    EXPECT_EQ(merged.joins_to_corners, 1);
+    EXPECT_EQ(merged.skeleton.edges.size(), 35u);
+    EXPECT_FALSE(has_edge(merged.skeleton, 1, 10));
 }
 
 TEST(MedialImport, MoebiusBandIsRejected) {

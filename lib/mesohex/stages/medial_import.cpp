@@ -206,12 +206,85 @@ double curve_length(const std::vector<Vec3>& points, const JoinStars& st, int v,
 // (a straight border: 180): bl_joint_corners_with_branches leaves it.
 constexpr double kBranchCornerMinAngleSumDeg = 150;
 
+// The nearest convex leaflet corner along the border from v (a border vertex without curves, faces' angles below
+// kBranchCornerMinAngleSumDeg) at most `reach` away along the border, through plain border vertices; -1: none.
+int corner_within_reach(const std::vector<Vec3>& points, const JoinStars& st, int v, double reach) {
+    int best = -1;
+    double best_dist = reach;
+    for (int start : st.border[static_cast<size_t>(v)]) {
+        int prev = v, cur = start;
+        double dist = 0;
+        while (cur >= 0 && cur != v) {
+            const size_t c = static_cast<size_t>(cur);
+            dist += distance(points[static_cast<size_t>(prev)], points[c]);
+            const std::vector<int>& bn = st.border[c];
+            if (dist > best_dist || bn.size() != 2 || bn[0] < 0 || bn[1] < 0) break;
+            if (st.angle_sum[c] < kBranchCornerMinAngleSumDeg) {
+                best = cur;
+                best_dist = dist;
+                break;
+            }
+            if (!st.curve[c].empty()) break;
+            const int next = bn[0] == prev ? bn[1] : bn[0];
+            prev = cur;
+            cur = next;
+        }
+    }
+    return best;
+}
+
+// Moves the curve edges of v (to its curve neighbours `curves`) onto vertex c; an edge whose twin from c exists
+// already is dropped (the two curves merge). False (nothing changed) when c is one of the curve neighbours.
+bool move_curves(Skeleton& s, int v, const std::vector<int>& curves, int c) {
+    const auto has_edge = [&](int x, int y) {
+        return std::any_of(s.edges.begin(), s.edges.end(), [&](const std::array<int, 2>& e) {
+            return (e[0] == x && e[1] == y) || (e[0] == y && e[1] == x);
+        });
+    };
+    for (int u : curves)
+        if (u == c || !has_edge(v, u)) return false;
+    std::vector<std::array<int, 2>> edges;
+    for (const std::array<int, 2>& e : s.edges) {
+        const int k = e[0] == v ? 0 : e[1] == v ? 1 : -1;
+        const bool curve = k >= 0 && std::find(curves.begin(), curves.end(), e[1 - k]) != curves.end();
+        if (!curve) {
+            edges.push_back(e);
+            continue;
+        }
+        if (has_edge(c, e[1 - k])) continue;  // merged with c's curve
+        std::array<int, 2> moved = e;
+        moved[static_cast<size_t>(k)] = c;
+        edges.push_back(moved);
+    }
+    s.edges = std::move(edges);
+    return true;
+}
+
+// Moves the curves of the several-curve join v onto the nearest convex corner within `reach` along the border
+// (corner_within_reach), unless v, the corner or a curve neighbour took part in an earlier such move or the corner
+// was moved; marks them in `touched`. Returns 1 when moved, else 0.
+int join_to_corner(Skeleton& s, const std::vector<Vec3>& before, const JoinStars& st, int v, double reach,
+                   std::vector<bool>& touched) {
+    const int c = corner_within_reach(before, st, v, reach);
+    if (c < 0 || touched[static_cast<size_t>(v)] || touched[static_cast<size_t>(c)] ||
+        s.points[static_cast<size_t>(c)] != before[static_cast<size_t>(c)])
+        return 0;
+    const std::vector<int>& curves = st.curve[static_cast<size_t>(v)];
+    for (int u : curves)
+        if (touched[static_cast<size_t>(u)]) return 0;
+    if (!move_curves(s, v, curves, c)) return 0;
+    touched[static_cast<size_t>(v)] = touched[static_cast<size_t>(c)] = true;
+    for (int u : curves) touched[static_cast<size_t>(u)] = true;
+    return 1;
+}
+
 // BL-joints (a leaflet boundary vertex with curve edges) are pushed out of the leaflet so that the boundary makes a
 // corner there (see MedialImportOptions::bl_joint_corners and bl_joint_reflex_corners). Decisions use the positions
 // before any move (each joint is judged on the unmoved skeleton). Counts the moves in `result`.
 void make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt, MedialImport& result) {
     const JoinStars st = join_stars(s);
     const std::vector<Vec3> before = s.points;
+    std::vector<bool> touched(before.size(), false);  // corners and curve ends of moved joins: left alone after
     for (size_t v = 0; v < before.size(); ++v) {
         const std::vector<int>& bn = st.border[v];
         const std::vector<int>& curves = st.curve[v];
@@ -256,7 +329,13 @@ void make_bl_joint_corners(Skeleton& s, const MedialImportOptions& opt, MedialIm
             push += chord;
             double shortest = std::numeric_limits<double>::infinity();
             for (int u : curves) shortest = std::min(shortest, curve_length(before, st, static_cast<int>(v), u));
-            push = std::min(push, opt.bl_joint_max_push_curve_fraction * shortest);
+            const double cap = opt.bl_joint_max_push_curve_fraction * shortest;
+            // Capped short of the wanted push: the curves move onto a convex corner nearby if there is one; p still
+            // goes out as far as the cap allows (a shallower notch for the leaflet).
+            if (several && cap < push && opt.bl_joint_corner_reach > 0)
+                result.joins_to_corners +=
+                    join_to_corner(s, before, st, static_cast<int>(v), opt.bl_joint_corner_reach * length, touched);
+            push = std::min(push, cap);
         }
         if (push <= 0) continue;  // capped to nothing (bl_joint_max_push_curve_fraction 0)
         s.points[v] = p + out * push;

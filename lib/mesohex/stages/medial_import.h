@@ -18,7 +18,8 @@
 //   5. BL-joints on a straight stretch of leaflet boundary are pushed out to make a corner, further when their branch
 //      heads back over the leaflet (bl_joint_corners, bl_joint_back_push); so are joints at a sharp notch of the
 //      border and joints of several curves, at most a fraction of their shortest curve (bl_joint_reflex_corners,
-//      bl_joint_corners_with_branches, bl_joint_max_push_curve_fraction);
+//      bl_joint_corners_with_branches, bl_joint_max_push_curve_fraction); such a join of several curves cut short by
+//      that fraction hands its curves to a convex border corner nearby (bl_joint_corner_reach);
 //   6. leaflets are smoothed: interior vertices by Laplacian sweeps, boundary vertices along their normal (and along
 //      the border at reflex corners) (smoothing_iterations, smooth_boundary), optionally kept near the input sheet
 //      (max_sheet_offset).
@@ -77,6 +78,12 @@ struct MedialImportOptions {
     // The two moves above go at most this x the length of the shortest curve leaving the joint (curve edges up to
     // the next vertex that is not a plain curve joint; dimensionless): the curve's first chunk keeps its direction.
     double bl_joint_max_push_curve_fraction = 0.2;
+    // A join of several curves whose push that cap cuts short moves its curves onto the nearest convex leaflet corner
+    // (a border vertex whose faces' angles sum to less than 150 degrees, reached through border vertices without
+    // curves) at most this x the mean of its two boundary edges away along the border (dimensionless; 0 = off):
+    // the curves leave from a corner that is there already (a curve whose far end the corner reaches already merges
+    // with that edge); the join itself still goes out by the capped push.
+    double bl_joint_corner_reach = 3.0;
     // Finally, leaflet interior vertices (all incident edges in exactly two faces, no curve edge) are smoothed:
     // p <- p + smoothing_factor x (neighbour mean - p), smoothing_iterations Jacobi sweeps (0 = off). Evens out the
     // quads the split makes (corners up to 150 degrees) and the sheet's folds, over which the mesher's plates invert.
@@ -110,6 +117,7 @@ struct MedialImport {
     int moved_bl_joints = 0;        // BL-joints moved to make a corner (bl_joint_corners), all kinds
     int notch_corners = 0;          // ... of them, one-curve joints at a sharp notch (bl_joint_reflex_corners)
     int branch_corners = 0;         // ... joints of several curves (bl_joint_corners_with_branches)
+    int joins_to_corners = 0;       // joins of several curves whose curves moved onto a corner (bl_joint_corner_reach)
     int smoothed_vertices = 0;      // leaflet interior and regular boundary vertices moved by the smoothing
     int reattached_curve_ends = 0;  // curve-edge ends moved from a sheet interior to its boundary
     int rooted_curve_ends = 0;      // curve-edge ends moved inside a leaflet to a regular vertex
