@@ -113,22 +113,7 @@ void register_auto(CLI::App& app, int* status) {
                     "medial sheet (0: on the sheet; negative: free)")
         ->check(finite_range(-1.0, 100.0))
         ->capture_default_str();
-    cmd->add_flag_callback(
-        "--no-bl-notch-corners", [args] { args->skeleton.import.bl_joint_reflex_corners = false; },
-        "meso-skeleton import: leave curve attachments in sharp notches of a leaflet boundary where they are");
-    cmd->add_flag_callback(
-        "--no-bl-branch-corners", [args] { args->skeleton.import.bl_joint_corners_with_branches = false; },
-        "meso-skeleton import: leave leaflet boundary vertices where several curves attach where they are");
-    cmd->add_option("--bl-corner-max-push", args->skeleton.import.bl_joint_max_push_curve_fraction,
-                    "meso-skeleton import: notch and several-curve attachments move at most this x their shortest "
-                    "curve's length")
-        ->check(finite_range(0.0, 1.0))
-        ->capture_default_str();
-    cmd->add_option("--bl-corner-reach", args->skeleton.import.bl_joint_corner_reach,
-                    "meso-skeleton import: a several-curve attachment cut short by --bl-corner-max-push hands its "
-                    "curves to a convex boundary corner at most this x its boundary edges away (0 = off)")
-        ->check(finite_range(0.0, 100.0))
-        ->capture_default_str();
+    add_bl_corner_options(cmd, &args->skeleton.import, "meso-skeleton import: ");
     add_mesh_job_options(cmd, &args->job);
     cmd->footer(
         "The skeleton used is written beside the mesh (OUT.skeleton.obj, with radii): edit it and re-run\n"

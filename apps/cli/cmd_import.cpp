@@ -20,8 +20,6 @@ struct ImportArgs {
     bool no_pairing = false;
     bool keep_fans = false;
     bool no_bl_corners = false;
-    bool no_bl_notch_corners = false;
-    bool no_bl_branch_corners = false;
     bool keep_interior_curves = false;
     bool reattach_interior_curves = false;
     bool no_boundary_smoothing = false;
@@ -29,6 +27,26 @@ struct ImportArgs {
 };
 
 }  // namespace
+
+void add_bl_corner_options(CLI::App* cmd, MedialImportOptions* o, const std::string& help_prefix) {
+    cmd->add_flag_callback(
+        "--no-bl-notch-corners", [o] { o->bl_joint_reflex_corners = false; },
+        help_prefix + "leave curve attachments in sharp notches of a leaflet boundary where they are");
+    cmd->add_flag_callback(
+        "--no-bl-branch-corners", [o] { o->bl_joint_corners_with_branches = false; },
+        help_prefix + "leave leaflet boundary vertices where several curves attach where they are");
+    cmd->add_option(
+           "--bl-corner-max-push", o->bl_joint_max_push_curve_fraction,
+           help_prefix + "notch and several-curve attachments move at most this x their shortest curve's length")
+        ->capture_default_str()
+        ->check(finite_range(0.0, 1.0));
+    cmd->add_option("--bl-corner-reach", o->bl_joint_corner_reach,
+                    help_prefix +
+                        "a several-curve attachment cut short by --bl-corner-max-push hands its curves to a convex "
+                        "boundary corner at most this x its boundary edges away (0 = off)")
+        ->capture_default_str()
+        ->check(finite_range(0.0, 100.0));
+}
 
 void register_import(CLI::App& app, int* status) {
     auto args = std::make_shared<ImportArgs>();
@@ -65,19 +83,7 @@ void register_import(CLI::App& app, int* status) {
                     "the inward direction, > 0)")
         ->capture_default_str()
         ->check(finite_range(0.0, 10.0));
-    cmd->add_flag("--no-bl-notch-corners", args->no_bl_notch_corners,
-                  "Leave curve attachments in sharp notches of a leaflet boundary where they are");
-    cmd->add_flag("--no-bl-branch-corners", args->no_bl_branch_corners,
-                  "Leave leaflet boundary vertices where several curves attach where they are");
-    cmd->add_option("--bl-corner-max-push", args->options.bl_joint_max_push_curve_fraction,
-                    "Notch and several-curve attachments move at most this x their shortest curve's length")
-        ->capture_default_str()
-        ->check(finite_range(0.0, 1.0));
-    cmd->add_option("--bl-corner-reach", args->options.bl_joint_corner_reach,
-                    "A several-curve attachment cut short by --bl-corner-max-push hands its curves to a convex "
-                    "boundary corner at most this x its boundary edges away (0 = off)")
-        ->capture_default_str()
-        ->check(finite_range(0.0, 100.0));
+    add_bl_corner_options(cmd, &args->options, "");
     cmd->add_option("--smoothing", args->options.smoothing_iterations,
                     "Smoothing sweeps over the leaflets: Laplacian on interior vertices, along the normal on boundary "
                     "vertices (0 = none)")
@@ -99,8 +105,6 @@ void register_import(CLI::App& app, int* status) {
         args->options.pair_triangles = !args->no_pairing;
         args->options.resolve_irregular_fans = !args->keep_fans;
         args->options.bl_joint_corners = !args->no_bl_corners;
-        args->options.bl_joint_reflex_corners = !args->no_bl_notch_corners;
-        args->options.bl_joint_corners_with_branches = !args->no_bl_branch_corners;
         args->options.root_interior_curves = !args->keep_interior_curves;
         args->options.reattach_interior_curves = args->reattach_interior_curves;
         args->options.smooth_boundary = !args->no_boundary_smoothing;

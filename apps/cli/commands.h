@@ -9,6 +9,10 @@
 
 #include "mesohex/core/error.h"
 
+namespace mesohex {
+struct MedialImportOptions;
+}
+
 namespace mesohex::cli {
 
 // Runs f() as the stage `stage` on input `file`: a mesohex::Error gets "<file>: " in front when `name_file` (unless
@@ -48,6 +52,11 @@ inline CLI::Validator finite_range(double lo, double hi) {
         },
         "FLOAT in " + bounds.str());
 }
+
+// The import's flags for notch and several-curve leaflet corners (--no-bl-notch-corners, --no-bl-branch-corners,
+// --bl-corner-max-push, --bl-corner-reach), writing into *o (which must outlive the parse); each help text starts with
+// help_prefix. Shared by `import` and `auto` (cmd_import.cpp).
+void add_bl_corner_options(CLI::App* cmd, MedialImportOptions* o, const std::string& help_prefix);
 
 void register_quality(CLI::App& app, int* status);
 void register_mesh(CLI::App& app, int* status);
