@@ -1060,26 +1060,71 @@ TEST(FanEndRepair, ThickMovedRootLeaningBackRefused) {
     expect_refused(s, 2, "its first edge leans back 39 degrees below the border's outward direction's plane");
 }
 
-// A moved root between two leaflets whose branch's first chunk folds (issue 22's sweep, `angled` family: the T's
-// branch turned 50 degrees off the fan line at phi 45, radius 0.3, scale 1.0): the out root passes the repair's
-// angle limits (its first edge about 40 degrees off the border's outward direction) but the raw mesh has 1 inverted
-// hex next to it (min SJ -0.11): mesh_skeleton refuses the run naming vertex 2, the moved root and an edit. At radius
-// 0.33 (scale 1.1) the same branch meshes without an inverted hex: the check leaves it, 128 hexes (X: 154) as predicted
-// (4 fewer than at 0.3: the adaptation samples the thicker branch with one edge less).
+// A moved root near a leaflet's plane whose branch's first chunk folds (issue 22's sweep, `angled` family: the T's
+// branch turned 65 degrees off the fan line at phi 22.5, radius 0.3, scale 1.0): the out root passes the repair's
+// angle limits but the raw mesh has 1 inverted hex next to it (min SJ -0.016): mesh_skeleton refuses the run naming
+// vertex 2, the moved root and an edit. At radius 0.27 (scale 0.9) the same branch meshes without an inverted hex:
+// the check leaves it, 128 hexes (X: 154) as predicted.
 TEST(FanEndRepair, InvertedRawHexAtAMovedRootRefused) {
     for (const int strips : {3, 4}) {
         SCOPED_TRACE(strips);
-        const Skeleton s = fan_end_towards(strips, 50, 45);
+        const Skeleton s = fan_end_towards(strips, 65, 22.5);
         expect_refusal([&] { (void)mesh_skeleton(s, nullptr); },
                        "skeleton vertex 2: a branch on a fan-edge end far from the fan line, its root moved",
                        "gives 1 inverted raw hex(es)");
-        Skeleton thicker = s;
-        for (double& r : thicker.radii) r = 0.33;
-        const MeshRun run = mesh_skeleton(thicker, nullptr);
+        Skeleton thinner = s;
+        for (double& r : thinner.radii) r = 0.27;
+        const MeshRun run = mesh_skeleton(thinner, nullptr);
         EXPECT_EQ(run.pipeline.moved_roots.size(), 1u);
         EXPECT_EQ(run.raw_quality.hexes, strips == 3 ? 128 : 154);
         EXPECT_TRUE(run.prediction_exact);
         expect_valid(run.pipeline, 1);
+    }
+}
+
+// The first cross-section of a moved root clears its patch (AdaptationOptions::root_patch_clearance). The T's branch
+// turned 50 degrees off the fan line between two leaflets (phi 45), radius 0.3: the root moves to m = (t, 0, 1) on the
+// +x leaflet's top border and its first joint, pinned 2.5 r = 0.75 from m, lies in the plane x = t (the moved first
+// edge d = (0, sin 40, cos 40): 40 degrees off the border's outward direction +z, normal to the border). The border
+// neighbours' out-up vertices, r along +z and r along +y from the border, lie r (cos 40 + sin 40) = 0.4226 ahead of m
+// along d, beyond the section at 1.25 r = 0.375 that the bisection puts halfway (the root's reach max(r, extent) = 0.3
+// lets it stay: 0.375 = 1.25 x 0.3): the first chunk folds there (1 inverted hex, min SJ -0.110). With the patch's
+// reach the halfway joint goes (0.375 < 1.25 x 0.4226), the first edge is the pinned 0.75, no hex is inverted (min SJ
+// 0.263, the plates' own worst hex) and the branch has one chunk less: 128 hexes (X: 154) against 132 (158).
+TEST(FanEndRepair, FirstSectionOfAMovedRootClearsTheBorderCorners) {
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        const Skeleton s = fan_end_towards(strips, 50, 45);
+        for (const bool clearance : {false, true}) {
+            SCOPED_TRACE(clearance);
+            PipelineOptions options;
+            options.adaptation.root_patch_clearance = clearance;
+            const PipelineResult res = run_pipeline(s, options);
+            ASSERT_EQ(res.moved_roots.size(), 1u);
+            const Vec3 m = res.moved_roots[0].point;
+            // The branch's first joint: m's neighbour along the one edge at m that is no face's side.
+            const Skeleton& k = res.skeleton;
+            const auto is_side = [&k](int a, int b) {
+                for (const std::vector<int>& f : k.faces)
+                    for (std::size_t i = 0; i < f.size(); ++i)
+                        if (std::minmax(f[i], f[(i + 1) % f.size()]) == std::minmax(a, b)) return true;
+                return false;
+            };
+            double first = 0;
+            int branch_edges = 0;
+            for (const std::array<int, 2>& e : k.edges) {
+                const Vec3 a = k.points[static_cast<std::size_t>(e[0])], b = k.points[static_cast<std::size_t>(e[1])];
+                if (!(distance(a, m) < 1e-12 || distance(b, m) < 1e-12) || is_side(e[0], e[1])) continue;
+                first = distance(a, b);
+                ++branch_edges;
+            }
+            EXPECT_EQ(branch_edges, 1);
+            EXPECT_NEAR(first, clearance ? 0.75 : 0.375, 1e-9);
+            const QualityReport q = compute_quality(res.raw.mesh);
+            EXPECT_EQ(q.hexes, clearance ? (strips == 3 ? 128 : 154) : (strips == 3 ? 132 : 158));
+            EXPECT_EQ(q.inverted, clearance ? 0 : 1);
+            EXPECT_NEAR(q.sj_min, clearance ? 0.263 : -0.110, 0.002);
+        }
     }
 }
 

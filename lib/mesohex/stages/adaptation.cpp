@@ -165,6 +165,7 @@ struct EndReach {
     double sphere = 0;
     double cot_gamma = 0;
     double extent = 0;  // absolute: a branch rooted on a leaflet patch clears root_extent x the patch's edges
+    double patch = 0;   // absolute: ... and the raw-mesh points of that patch (patch_reach), unless a pin yields
 };
 
 // Removes joints that violate the section criterion. x/r hold the whole sampled chain (ends included); end_reach gives
@@ -188,7 +189,7 @@ std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vec
             }
             const EndReach& er = end_reach[k == 0 ? 0 : 1];
             const double r_near = r[keep[k == 0 ? 1 : last - 1]];
-            return std::max({er.sphere * r[keep[k]], er.cot_gamma * r_near, er.extent});
+            return std::max({er.sphere * r[keep[k]], er.cot_gamma * r_near, er.extent, er.patch});
         }
         return r[keep[k]] * sin_half_turn(x[keep[k - 1]], x[keep[k]], x[keep[k + 1]]);
     };
@@ -541,11 +542,58 @@ BranchView make_branch_view(const Skeleton& s, std::vector<bool> pinned) {
     return view;
 }
 
-// A leaflet vertex with one branch edge that the mesher roots on its plates (inside the leaflet, or border_root on
-// its border): o.root_extent x the mean length of its leaflet edges; 0 elsewhere (BL-joint pillows, junctions).
-double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
+// The outward direction of a leaflet border vertex u in the plane normal to n: from the centroid of the vertices of
+// u's faces towards u (unit); zero when u has no border edge (every leaflet edge at u shared by two faces).
+Vec3 border_out(const BranchView& view, int u, const Vec3& n) {
     const Skeleton& s = view.s;
-    if (!view.faces.on_face[v] || !(o.root_extent > 0)) return 0;
+    bool border = false;
+    for (const int e : view.incident[u]) {
+        if (view.branch_edge[e]) continue;
+        const auto it = view.side_count.find(std::minmax(s.edges[e][0], s.edges[e][1]));
+        border = border || (it != view.side_count.end() && it->second == 1);
+    }
+    if (!border) return {};
+    Vec3 centroid{};
+    int count = 0;
+    for (const std::vector<int>& f : s.faces) {
+        if (std::find(f.begin(), f.end(), u) == f.end()) continue;
+        for (const int w : f) centroid += view.pos[w];
+        count += static_cast<int>(f.size());
+    }
+    if (count == 0) return {};
+    Vec3 out = view.pos[u] - (1.0 / count) * centroid;
+    out -= dot(out, n) * n;
+    return norm(out) > 0 ? normalized(out) : Vec3{};
+}
+
+// How far ahead along the branch direction dir (unit) the raw-mesh points of the patch a branch rooted at v stands on
+// reach, from v: every vertex u of the leaflet faces at v puts its plate vertex at u +- r_u n (n = unit normal of v's
+// faces; the side the branch leaves) and, on the border, its out vertices r_u further along u's outward direction
+// (away from the centroid of u's faces, in their plane). The first cross-section must lie beyond the farthest of
+// them, or the hexes between the patch and that section fold there: a branch leaving a border 45 degrees off the
+// leaflet's plane sees the border's out-up corners sqrt(2) r_u ahead, beyond the r of its own section.
+double patch_reach(const BranchView& view, int v, const Vec3& dir, const Vec3& n) {
+    const Skeleton& s = view.s;
+    const double up = std::abs(dot(n, dir));
+    double reach = 0;
+    for (const std::vector<int>& f : s.faces) {
+        if (std::find(f.begin(), f.end(), v) == f.end()) continue;
+        for (const int u : f) {
+            double ahead = dot(view.pos[u] - view.pos[v], dir) + view.rad[u] * up;
+            const Vec3 out = border_out(view, u, n);
+            if (!(out == Vec3{})) ahead += view.rad[u] * std::max(0.0, dot(out, dir));
+            reach = std::max(reach, ahead);
+        }
+    }
+    return reach;
+}
+
+// A leaflet vertex with one branch edge that the mesher roots on its plates (inside the leaflet, or border_root on
+// its border): {o.root_extent x the mean length of its leaflet edges, with o.root_patch_clearance the patch's reach
+// along the branch (patch_reach), else 0}; {0, 0} elsewhere (BL-joint pillows, junctions).
+std::pair<double, double> root_extent(const BranchView& view, int v, const Vec3& dir, const AdaptationOptions& o) {
+    const Skeleton& s = view.s;
+    if (!view.faces.on_face[v] || !(o.root_extent > 0)) return {0, 0};
     int branches_at = 0, faces_at = 0;
     double length = 0, border_edge = 0;  // sum of the leaflet edges at v; the shorter border edge
     std::vector<Vec3> to_border;
@@ -558,7 +606,7 @@ double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
             continue;
         }
         const int c = view.side_count.at(std::minmax(s.edges[e][0], s.edges[e][1]));
-        if (c > 2) return 0;  // a fan edge
+        if (c > 2) return {0, 0};  // a fan edge
         if (c == 1) {
             border_edge = to_border.empty() ? norm(d) : std::min(border_edge, norm(d));
             to_border.push_back(normalized(d));
@@ -567,7 +615,7 @@ double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
         length += norm(d);
     }
     const int leaflet_edges = static_cast<int>(view.incident[v].size()) - branches_at;
-    if (branches_at != 1 || leaflet_edges == 0) return 0;
+    if (branches_at != 1 || leaflet_edges == 0) return {0, 0};
     for (const std::vector<int>& f : s.faces) {
         if (std::find(f.begin(), f.end(), v) == f.end()) continue;
         Vec3 fn{};
@@ -579,7 +627,10 @@ double root_extent(const BranchView& view, int v, const AdaptationOptions& o) {
         to_border.empty() ||
         (to_border.size() == 2 && border_root(to_border[0], to_border[1], inward, normal, branch, faces_at,
                                               border_edge > 0 ? view.rad[v] / border_edge : 0.0) != BorderRoot::None);
-    return rooted ? o.root_extent * length / leaflet_edges : 0.0;
+    if (!rooted) return {0, 0};
+    const double extent = o.root_extent * length / leaflet_edges;
+    if (!o.root_patch_clearance || !(norm(normal) > 0)) return {extent, 0};
+    return {extent, patch_reach(view, v, dir, normalized(normal))};
 }
 
 // Per branch end: the direction it leaves its end vertex (towards the point of its original polyline at arc length
@@ -625,7 +676,8 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
             }
             const double gamma = std::clamp(0.5 * beta, pi / 24, pi / 3);
             const double br = view.is_free_branching_point(v) ? o.free_branching_reach : o.branching_reach;
-            view.end_reach[bi][side] = {br, br / std::tan(gamma), root_extent(view, v, o)};
+            const auto [extent, patch] = root_extent(view, v, end_dir[bi][side], o);
+            view.end_reach[bi][side] = {br, br / std::tan(gamma), extent, patch};
         }
     }
 }
@@ -640,7 +692,11 @@ std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edg
     std::vector<Vec3> x;
     std::vector<double> r;
     std::vector<int> keep;
-    for (;;) {  // a pin whose edges cannot meet the section criterion yields: the branch is sampled again without it
+    std::array<EndReach, 2> ends = view.end_reach[bi];
+    // A pin whose edges cannot meet the section criterion yields: the branch is sampled again without it. The
+    // patch clearance yields first: a pin the repair placed (a bend, a moved root's first joint) is kept as long as
+    // the rest of the criterion allows it.
+    for (;;) {
         t = sample_branch(pl, min_edges, o);
         x = {xa};
         r = {pl.r.front()};
@@ -655,8 +711,12 @@ std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edg
         r.push_back(pl.r.back());
         pinned.push_back(false);
         std::vector<int> stuck;
-        keep = apply_turn_criterion(x, r, view.end_reach[bi], b.ring, min_edges, pinned, o, &stuck);
+        keep = apply_turn_criterion(x, r, ends, b.ring, min_edges, pinned, o, &stuck);
         if (stuck.empty()) break;
+        if (ends[0].patch > 0 || ends[1].patch > 0) {
+            ends[0].patch = ends[1].patch = 0;
+            continue;
+        }
         std::vector<double> yielded;
         for (const int k : stuck) yielded.push_back(t[static_cast<std::size_t>(k) - 1]);
         std::erase_if(pl.pinned,

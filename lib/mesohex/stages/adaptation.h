@@ -41,6 +41,10 @@ struct AdaptationOptions {
     // the mean length of the leaflet edges at the vertex (dimensionless), so the first cross-section clears the patch
     // (docs/tuning.md). 0 disables.
     double root_extent = 0.5;
+    // The same end also reaches as far along the branch as the raw-mesh points of its patch (the plate vertices r
+    // off the leaflet, the border's out vertices r beyond it), so that the first cross-section lies beyond them
+    // (adaptation.cpp, patch_reach; docs/blocks.md). Off: root_extent alone.
+    bool root_patch_clearance = true;
     // Radius floor used by the bisection test only (never written): max(r, min_radius_fraction * largest radius on the
     // branch; dimensionless). Keeps a near-zero radius at an extremity from bisecting towards it forever.
     double min_radius_fraction = 0.25;
