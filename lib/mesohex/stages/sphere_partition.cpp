@@ -1181,9 +1181,8 @@ double quality_cap(const SpherePartition& p) {
     return cap;
 }
 
-// `beat`: the best score of the candidates found so far. When no candidate can reach it (quality_cap; the winner
-// needs a strictly higher score or an earlier place), none is relaxed and none is returned: the result is the same.
-std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double beat) {
+// The hull path's candidates before relaxation (possibly none).
+std::vector<SpherePartition> hull_base_candidates(const std::vector<Vec3>& d) {
     std::vector<SpherePartition> out;
     const int n = static_cast<int>(d.size());
     if (n < 3 || n > 64) return out;
@@ -1201,9 +1200,11 @@ std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double 
         }
         break;
     }
-    bool may_win = false;
-    for (const SpherePartition& p : out) may_win = may_win || quality_cap(p) >= beat;
-    if (!may_win) return {};
+    return out;
+}
+
+// Relaxes the hull candidates `out` in place: each briefly, the 2 best (by quality_score) for 100 sweeps.
+void relax_hull_candidates(const std::vector<Vec3>& d, std::vector<SpherePartition>& out) {
     std::vector<std::pair<double, int>> ranked;  // (-score, candidate)
     std::vector<char> relaxable(out.size(), 0);
     for (int c = 0; c < static_cast<int>(out.size()); ++c) {
@@ -1226,7 +1227,39 @@ std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double 
         Relaxer r(d, out[c]);
         if (r.find_chains() && r.place_chains()) r.descend(false, 100);
     }
-    return out;
+}
+
+// What partition_sphere computes that does not depend on no_flat_point_in_close_pair, kept for a second call with the
+// other value (partition_sphere_close_pair_pair): the axis oranges with their scores, the hull candidates.
+struct PartitionWork {
+    bool have_oranges = false;
+    std::vector<SpherePartition> oranges;
+    std::vector<double> orange_scores;
+    enum class Hull { None, Base, Relaxed } hull = Hull::None;  // hull_base_candidates, then relaxed
+    std::vector<SpherePartition> hull_candidates;
+};
+
+// The hull candidates, relaxed, or none when no candidate can reach `beat` (quality_cap: the winner needs a strictly
+// higher score or an earlier place, so the result is the same). A map lookup (.at) that finds an inconsistent
+// structure cannot happen for a verified base map; if it does, the hull path simply contributes nothing.
+std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double beat, PartitionWork& work) {
+    try {
+        if (work.hull == PartitionWork::Hull::None) {
+            work.hull_candidates = hull_base_candidates(d);
+            work.hull = PartitionWork::Hull::Base;
+        }
+        if (work.hull == PartitionWork::Hull::Base) {
+            bool may_win = false;
+            for (const SpherePartition& p : work.hull_candidates) may_win = may_win || quality_cap(p) >= beat;
+            if (!may_win) return {};
+            relax_hull_candidates(d, work.hull_candidates);
+            work.hull = PartitionWork::Hull::Relaxed;
+        }
+    } catch (const std::out_of_range&) {
+        work.hull_candidates.clear();
+        work.hull = PartitionWork::Hull::Relaxed;
+    }
+    return work.hull_candidates;
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -1422,8 +1455,11 @@ bool flat_point_between(const SpherePartition& p, const std::array<int, 2>& pair
 
 }  // namespace
 
-SpherePartition partition_sphere(const std::vector<Vec3>& directions, const SpherePartitionOptions& options) {
-    const std::vector<Vec3> d = validated_directions(directions);
+namespace {
+
+// partition_sphere for validated directions d, with what a call with the same directions computed in `work`.
+SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartitionOptions& options,
+                                 PartitionWork& work) {
     const int n = static_cast<int>(d.size());
 
     // 1. Planar (always for n = 2): the orange around the best-fit plane normal.
@@ -1452,8 +1488,6 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
         }
     }
 
-    // 2. Oranges around the best axes.
-    std::vector<SpherePartition> oranges = axis_oranges(d);
     // Scores of the verified candidates (-1e300: not valid).
     const auto scores_of = [&](const std::vector<SpherePartition>& list) {
         std::vector<double> scores;
@@ -1461,19 +1495,20 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
             scores.push_back(verify_sphere_partition(p, d).empty() ? quality_score(p, d) : -1e300);
         return scores;
     };
-    const std::vector<double> planar_scores = scores_of(planar), orange_scores = scores_of(oranges);
+    // 2. Oranges around the best axes.
+    if (!work.have_oranges) {
+        work.oranges = axis_oranges(d);
+        work.orange_scores = scores_of(work.oranges);
+        work.have_oranges = true;
+    }
+    std::vector<SpherePartition> oranges = work.oranges;
+    const std::vector<double> planar_scores = scores_of(planar), &orange_scores = work.orange_scores;
     double beat = -1e300;
     for (double x : planar_scores) beat = std::max(beat, x);
     for (double x : orange_scores) beat = std::max(beat, x);
 
     // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
-    try {
-        hull = hull_candidates(d, pair[0] >= 0 ? -1e300 : beat);
-    } catch (const std::out_of_range&) {
-        // A map lookup (.at) found an inconsistent structure: cannot happen for a verified base map; if it does, the
-        // hull path simply contributes nothing and the oranges remain.
-        hull.clear();
-    }
+    hull = hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, work);
     const std::vector<double> hull_scores = scores_of(hull);
     std::optional<SpherePartition> best;
     double best_score = -1;
@@ -1495,6 +1530,23 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
     if (best) return *best;
     throw Error(ErrorCode::NumericalFailure,
                 "sphere partition: no valid quad partition found for " + std::to_string(n) + " directions");
+}
+
+}  // namespace
+
+SpherePartition partition_sphere(const std::vector<Vec3>& directions, const SpherePartitionOptions& options) {
+    PartitionWork work;
+    return choose_partition(validated_directions(directions), options, work);
+}
+
+std::array<SpherePartition, 2> partition_sphere_close_pair_pair(const std::vector<Vec3>& directions,
+                                                                SpherePartitionOptions options) {
+    const std::vector<Vec3> d = validated_directions(directions);
+    PartitionWork work;
+    options.no_flat_point_in_close_pair = false;
+    SpherePartition without = choose_partition(d, options, work);
+    options.no_flat_point_in_close_pair = true;
+    return {std::move(without), choose_partition(d, options, work)};
 }
 
 std::optional<SpherePartition> plane_orange_alternative(const std::vector<Vec3>& directions,
