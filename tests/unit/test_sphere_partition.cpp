@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -393,4 +394,46 @@ TEST(SpherePartition, PlaneOrangeAlternativeEqualsTheSecondCall) {
     }
     EXPECT_GT(alternatives, 20);
     EXPECT_GT(same, 20);
+}
+
+// partition_sphere_close_pair_pair shares the axis oranges and the hull candidates between the two calls: the same bits
+// as two partition_sphere calls, for four directions with a close pair (the two results differ on some) and without.
+TEST(SpherePartition, ClosePairPairEqualsTwoCalls) {
+    std::mt19937 rng(20261204);
+    std::normal_distribution<double> g(0, 1);
+    std::uniform_real_distribution<double> spread(0.15, 0.9);  // rad between the pair's directions
+    const auto same_bits = [](const SpherePartition& a, const SpherePartition& b) {
+        if (a.quads != b.quads || a.points.size() != b.points.size()) return false;
+        for (std::size_t k = 0; k < a.points.size(); ++k)
+            if (!(a.points[k].x == b.points[k].x && a.points[k].y == b.points[k].y && a.points[k].z == b.points[k].z))
+                return false;
+        return true;
+    };
+    int with_pair = 0, differing = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        std::vector<Vec3> d;
+        for (int i = 0; i < 4; ++i) d.push_back(mesohex::normalized(Vec3{g(rng), g(rng), g(rng)}));
+        if (trial % 4 != 3) {  // move d[1] next to d[0]: a close pair (unless the others come closer)
+            const Vec3 t = mesohex::normalized(mesohex::cross(d[0], d[1]));
+            const Vec3 s = mesohex::cross(t, d[0]);
+            const double a = spread(rng);
+            d[1] = std::cos(a) * d[0] + std::sin(a) * s;
+        }
+        mesohex::SpherePartitionOptions off, on;
+        on.no_flat_point_in_close_pair = true;
+        SpherePartition first, second;
+        try {
+            first = partition_sphere(d, off);
+            second = partition_sphere(d, on);
+        } catch (const mesohex::Error&) {
+            continue;  // (nearly) coincident directions
+        }
+        const std::array<SpherePartition, 2> both = mesohex::partition_sphere_close_pair_pair(d, {});
+        ASSERT_TRUE(same_bits(both[0], first)) << "trial " << trial;
+        ASSERT_TRUE(same_bits(both[1], second)) << "trial " << trial;
+        with_pair += mesohex::close_pair_of_four(d, on.close_pair_gap_deg)[0] >= 0;
+        differing += !same_bits(first, second);
+    }
+    EXPECT_GT(with_pair, 100);  // 155 of 200 (seed 20261204)
+    EXPECT_GT(differing, 60);   // 136
 }
