@@ -213,6 +213,7 @@ struct OrangeEvaluator {
     double thresholds_for = std::numeric_limits<double>::quiet_NaN();
     double cos_two_t = 0;
     std::vector<double> side2_threshold;  // per direction: (sin(2 t bound / pi) - slack)^2, 2 = any side passes
+    std::array<double, 3> pair_dot{};     // three directions: d_a . d_b for b = a + 1 (mod 3)
 
     OrangeEvaluator(const std::vector<Vec3>& dirs, const std::vector<double>& bounds)
         : d(dirs),
@@ -223,11 +224,15 @@ struct OrangeEvaluator {
           px(dirs.size()),
           py(dirs.size()),
           half_sin2(dirs.size()),
-          side2_threshold(dirs.size()) {}
+          side2_threshold(dirs.size()) {
+        if (d.size() == 3)
+            for (int a = 0; a < 3; ++a) pair_dot[a] = dot(d[a], d[a == 2 ? 0 : a + 1]);
+    }
 
     // Returns the exact quality and sets `valid` (orange_margin > 0) when the quality is > threshold; otherwise some
     // value <= threshold (valid unset).
     double quality(const Vec3& axis, double threshold, bool& valid) {
+        if (three_certainly_at_most(axis, threshold)) return threshold;
         const Vec3 u = any_orthogonal(axis);
         return quality(axis, u, cross(axis, u), threshold, valid);
     }
@@ -289,15 +294,8 @@ struct OrangeEvaluator {
         constexpr double kSlack = 1e-12;
         const int n = static_cast<int>(d.size());
         if (n < 3 || !(threshold > 1e-6 && threshold < kPi / 2 - 1e-6)) return false;
-        if (threshold != thresholds_for) {
-            thresholds_for = threshold;
-            cos_two_t = std::cos(2 * threshold);
-            for (int i = 0; i < n; ++i) {
-                const double arg = 2 * threshold * (1 - 1e-12) * bound[i] / kPi;
-                const double side = arg >= kPi / 2 ? 2.0 : std::sin(arg) - 1e-15 - 1e-13;  // 2: every side passes
-                side2_threshold[i] = side > 0 ? side * side : -1.0;                        // -1: no side passes
-            }
-        }
+        set_threshold(threshold);
+        if (three_certainly_at_most(axis, threshold)) return true;
         for (int i = 0; i < n; ++i) {
             const double x = dot(d[i], u), y = dot(d[i], w);
             const double r2 = x * x + y * y;
@@ -346,6 +344,41 @@ struct OrangeEvaluator {
             const double x = std::clamp(dot(d[i], axis), -1.0, 1.0);
             const double side2 = (1 - x) * (1 + x) * std::min(half_sin2[k > 0 ? k - 1 : n - 1], half_sin2[k]);
             if (side2 + kSlack <= side2_threshold[i]) return true;
+        }
+        return false;
+    }
+
+    // The constants of certainly_at_most's tests for `threshold`, computed once per threshold.
+    void set_threshold(double threshold) {
+        if (threshold == thresholds_for) return;
+        thresholds_for = threshold;
+        cos_two_t = std::cos(2 * threshold);
+        for (int i = 0; i < static_cast<int>(d.size()); ++i) {
+            const double arg = 2 * threshold * (1 - 1e-12) * bound[i] / kPi;
+            const double side = arg >= kPi / 2 ? 2.0 : std::sin(arg) - 1e-15 - 1e-13;  // 2: every side passes
+            side2_threshold[i] = side > 0 ? side * side : -1.0;                        // -1: no side passes
+        }
+    }
+
+    // certainly_at_most's width test for three directions without the axis's frame: the cosine of the angle between
+    // the projections of d_a and d_b on the plane normal to the axis is (d_a . d_b - z_a z_b) / sqrt((1 - z_a^2)
+    // (1 - z_b^2)) with z = d . axis. Only for directions at least ~0.6 degrees off the axis (1 - z^2 > 1e-4), where
+    // the roundings of this form stay below 1e-10, and with a slack of 1e-8 on the cosine: a rejection here is as
+    // certain as the frame's test (the lune of each direction lies between the other two whatever the order).
+    bool three_certainly_at_most(const Vec3& axis, double threshold) {
+        if (d.size() != 3 || !(threshold > 1e-6 && threshold < kPi / 2 - 1e-6)) return false;
+        set_threshold(threshold);
+        const double limit = cos_two_t + 1e-8;
+        if (!(limit < 1)) return false;
+        std::array<double, 3> z, s;
+        for (int i = 0; i < 3; ++i) {
+            z[i] = dot(d[i], axis);
+            s[i] = 1 - z[i] * z[i];
+            if (!(s[i] > 1e-4)) return false;
+        }
+        for (int a = 0; a < 3; ++a) {
+            const int b = a == 2 ? 0 : a + 1;
+            if (pair_dot[a] - z[a] * z[b] >= limit * std::sqrt(s[a] * s[b])) return true;
         }
         return false;
     }
