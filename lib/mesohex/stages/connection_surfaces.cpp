@@ -101,17 +101,22 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
         for (int x : part.quads[i]) incident[x].push_back(i);
     SpherePartition cur = part;
     for (Vec3& p : cur.points) p = normalized(p);
-    // spherical_quad_margin of quad i; with floor >= -1 it may stop early with some value <= floor once the margin
-    // cannot exceed floor (a -1 from a later side would be <= floor too).
     auto quad_of = [&](int i) {
         std::array<Vec3, 4> q;
         for (int k = 0; k < 4; ++k) q[k] = cur.points[part.quads[i][k]];
         return q;
     };
-    auto margin_of = [&](int i, double floor = -1e300) {
-        const std::array<Vec3, 4> q = quad_of(i);
-        return floor < -1 ? spherical_quad_margin(q, dirs[i]) : quad_margin_to_floor(q, dirs[i], floor);
+    // spherical_quad_margin of quad i at the current points, kept until one of its points moves.
+    std::vector<double> exact(nq, 0);
+    std::vector<char> known(nq, 0);
+    auto margin_of = [&](int i) {
+        if (!known[i]) {
+            exact[i] = spherical_quad_margin(quad_of(i), dirs[i]);
+            known[i] = 1;
+        }
+        return exact[i];
     };
+    // A trial's margin of quad i: the same value when it is > floor, else some value <= floor (QuadMarginAbove).
     QuadMarginAbove above;
     auto margin_above = [&](int i, double floor) { return above(quad_of(i), dirs[i], floor); };
     // The smallest margin of the quads around x (the same value in any order); stops once it is <= `floor` (a trial
@@ -122,7 +127,7 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
         const int count = static_cast<int>(incident[x].size());
         for (int j = 0; j < count; ++j) {
             const int at = (first[x] + j) % count;
-            m = std::min(m, floor < -1 ? margin_of(incident[x][at], floor) : margin_above(incident[x][at], floor));
+            m = std::min(m, floor < -1 ? margin_of(incident[x][at]) : margin_above(incident[x][at], floor));
             if (m <= floor) {
                 first[x] = at;
                 break;
@@ -161,6 +166,8 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
                 }
             }
             cur.points[x] = best_p;
+            if (!(best_p == p))
+                for (const int i : incident[x]) known[i] = 0;  // its quads' margins change
             improved = improved || !(best_p == p);
         }
         if (!improved) step *= 0.5;
