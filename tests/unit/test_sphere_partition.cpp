@@ -437,3 +437,44 @@ TEST(SpherePartition, ClosePairPairEqualsTwoCalls) {
     EXPECT_GT(with_pair, 100);  // 155 of 200 (seed 20261204)
     EXPECT_GT(differing, 60);   // 136
 }
+
+// Four directions, most with a close pair, partitioned with and without no_flat_point_in_close_pair: the bits of the
+// code before the two calls shared their search and before the hull candidates' long relaxations were left out where
+// the call cannot choose the candidate (main 3ad19aa).
+TEST(SpherePartition, ClosePairSetsGiveTheRecordedBits) {
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the points' bytes and the quads' vertex ids
+    const auto mix = [&h](const void* data, std::size_t size) {
+        for (std::size_t i = 0; i < size; ++i) {
+            h ^= static_cast<const unsigned char*>(data)[i];
+            h *= 1099511628211ull;
+        }
+    };
+    std::mt19937 rng(20261205);
+    std::normal_distribution<double> g(0, 1);
+    std::uniform_real_distribution<double> spread(0.15, 0.9);  // rad between the pair's directions
+    int partitions = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        std::vector<Vec3> d;
+        for (int i = 0; i < 4; ++i) d.push_back(mesohex::normalized(Vec3{g(rng), g(rng), g(rng)}));
+        if (trial % 4 != 3) {
+            const Vec3 t = mesohex::normalized(mesohex::cross(d[0], d[1]));
+            const double a = spread(rng);
+            d[1] = std::cos(a) * d[0] + std::sin(a) * mesohex::cross(t, d[0]);
+        }
+        for (const bool on : {false, true}) {
+            mesohex::SpherePartitionOptions o;
+            o.no_flat_point_in_close_pair = on;
+            SpherePartition p;
+            try {
+                p = partition_sphere(d, o);
+            } catch (const mesohex::Error&) {
+                continue;
+            }
+            for (const Vec3& x : p.points) mix(&x, sizeof x);
+            for (const std::array<int, 4>& q : p.quads) mix(q.data(), sizeof(int) * 4);
+            ++partitions;
+        }
+    }
+    EXPECT_EQ(partitions, 600);
+    EXPECT_EQ(h, 0x8860cbd7f4dd0ce4ull);
+}

@@ -1236,10 +1236,11 @@ std::vector<SpherePartition> hull_base_candidates(const std::vector<Vec3>& d) {
     return out;
 }
 
-// Relaxes the hull candidates `out` in place: each briefly, the 2 best (by quality_score) for 100 sweeps.
-void relax_hull_candidates(const std::vector<Vec3>& d, std::vector<SpherePartition>& out) {
+// Relaxes the hull candidates `out` in place, each briefly; returns per candidate whether it is one of the 2 best (by
+// quality_score) that get a long relaxation (relax_hull_candidate_long).
+std::vector<char> relax_hull_candidates_briefly(const std::vector<Vec3>& d, std::vector<SpherePartition>& out) {
     std::vector<std::pair<double, int>> ranked;  // (-score, candidate)
-    std::vector<char> relaxable(out.size(), 0);
+    std::vector<char> relaxable(out.size(), 0), long_pending(out.size(), 0);
     for (int c = 0; c < static_cast<int>(out.size()); ++c) {
         Relaxer r(d, out[c]);
         const SpherePartition original = out[c];
@@ -1254,12 +1255,15 @@ void relax_hull_candidates(const std::vector<Vec3>& d, std::vector<SpherePartiti
         ranked.push_back({valid ? -quality_score(out[c], d) : 1.0, c});
     }
     std::sort(ranked.begin(), ranked.end());
-    for (int k = 0; k < static_cast<int>(ranked.size()) && k < 2; ++k) {
-        const int c = ranked[k].second;
-        if (!relaxable[c] || ranked[k].first > 0) continue;
-        Relaxer r(d, out[c]);
-        if (r.find_chains() && r.place_chains()) r.descend(false, 100);
-    }
+    for (int k = 0; k < static_cast<int>(ranked.size()) && k < 2; ++k)
+        if (relaxable[ranked[k].second] && ranked[k].first <= 0) long_pending[ranked[k].second] = 1;
+    return long_pending;
+}
+
+// The long relaxation (100 sweeps) of a briefly relaxed hull candidate: it reads only the candidate itself.
+void relax_hull_candidate_long(const std::vector<Vec3>& d, SpherePartition& p) {
+    Relaxer r(d, p);
+    if (r.find_chains() && r.place_chains()) r.descend(false, 100);
 }
 
 // What partition_sphere computes that does not depend on no_flat_point_in_close_pair, kept for a second call with the
@@ -1268,14 +1272,16 @@ struct PartitionWork {
     bool have_oranges = false;
     std::vector<SpherePartition> oranges;
     std::vector<double> orange_scores;
-    enum class Hull { None, Base, Relaxed } hull = Hull::None;  // hull_base_candidates, then relaxed
+    enum class Hull { None, Base, Relaxed } hull = Hull::None;  // hull_base_candidates, then briefly relaxed
     std::vector<SpherePartition> hull_candidates;
+    std::vector<char> long_pending;  // per candidate: its long relaxation is due and not done yet
 };
 
-// The hull candidates, relaxed, or none when no candidate can reach `beat` (quality_cap: the winner needs a strictly
-// higher score or an earlier place, so the result is the same). A map lookup (.at) that finds an inconsistent
-// structure cannot happen for a verified base map; if it does, the hull path simply contributes nothing.
-std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double beat, PartitionWork& work) {
+// Makes work.hull_candidates the hull candidates, briefly relaxed (the long relaxations are left to the caller); false
+// when no candidate can reach `beat` (quality_cap: the winner needs a strictly higher score or an earlier place, so
+// the result is the same without them). A map lookup (.at) that finds an inconsistent structure cannot happen for a
+// verified base map; if it does, the hull path simply contributes nothing.
+bool hull_candidates(const std::vector<Vec3>& d, double beat, PartitionWork& work) {
     try {
         if (work.hull == PartitionWork::Hull::None) {
             work.hull_candidates = hull_base_candidates(d);
@@ -1284,15 +1290,16 @@ std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double 
         if (work.hull == PartitionWork::Hull::Base) {
             bool may_win = false;
             for (const SpherePartition& p : work.hull_candidates) may_win = may_win || quality_cap(p) >= beat;
-            if (!may_win) return {};
-            relax_hull_candidates(d, work.hull_candidates);
+            if (!may_win) return false;
+            work.long_pending = relax_hull_candidates_briefly(d, work.hull_candidates);
             work.hull = PartitionWork::Hull::Relaxed;
         }
     } catch (const std::out_of_range&) {
         work.hull_candidates.clear();
+        work.long_pending.clear();
         work.hull = PartitionWork::Hull::Relaxed;
     }
-    return work.hull_candidates;
+    return true;
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -1490,6 +1497,35 @@ bool flat_point_between(const SpherePartition& p, const std::array<int, 2>& pair
 
 namespace {
 
+// The long relaxations of the hull candidates that this call can choose (each runs once, in place, for the first call
+// that needs it; it reads only its candidate): without a close pair, a candidate whose quality_cap is below `beat`
+// cannot win; with one, a candidate with a flat point in the pair's crotch cannot once some candidate without one is
+// valid (known after the long relaxations of those).
+void finish_hull_candidates(const std::vector<Vec3>& d, double beat, const std::array<int, 2>& pair,
+                            const std::vector<SpherePartition>& planar, const std::vector<double>& planar_scores,
+                            const std::vector<SpherePartition>& oranges, const std::vector<double>& orange_scores,
+                            PartitionWork& work) {
+    std::vector<SpherePartition>& hull = work.hull_candidates;
+    const auto finish = [&](std::size_t c) {
+        relax_hull_candidate_long(d, hull[c]);
+        work.long_pending[c] = 0;
+    };
+    for (std::size_t c = 0; c < hull.size(); ++c)
+        if (work.long_pending[c] && (pair[0] < 0 ? quality_cap(hull[c]) >= beat : !flat_point_between(hull[c], pair)))
+            finish(c);
+    if (pair[0] < 0) return;
+    bool clear = false;
+    for (std::size_t c = 0; c < planar.size(); ++c)
+        clear = clear || (planar_scores[c] != -1e300 && !flat_point_between(planar[c], pair));
+    for (std::size_t c = 0; c < oranges.size(); ++c)
+        clear = clear || (orange_scores[c] != -1e300 && !flat_point_between(oranges[c], pair));
+    for (std::size_t c = 0; c < hull.size() && !clear; ++c)
+        clear = !flat_point_between(hull[c], pair) && verify_sphere_partition(hull[c], d).empty();
+    if (!clear)
+        for (std::size_t c = 0; c < hull.size(); ++c)
+            if (work.long_pending[c]) finish(c);
+}
+
 // partition_sphere for validated directions d, with what a call with the same directions computed in `work`.
 SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartitionOptions& options,
                                  PartitionWork& work) {
@@ -1541,7 +1577,10 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     for (double x : orange_scores) beat = std::max(beat, x);
 
     // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
-    hull = hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, work);
+    if (hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, work)) {
+        finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores, work);
+        hull = work.hull_candidates;
+    }
     const std::vector<double> hull_scores = scores_of(hull);
     std::optional<SpherePartition> best;
     double best_score = -1;
