@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -95,6 +96,36 @@ inline std::vector<std::vector<Vec3>> filter_check_sets() {
                 sets.push_back(d);
             }
     return sets;
+}
+
+// FNV-1a over partitions' point bytes and quads' vertex ids (tests of recorded bits).
+struct PartitionHash {
+    std::uint64_t h = 1469598103934665603ull;
+    void mix(const void* data, std::size_t size) {
+        for (std::size_t i = 0; i < size; ++i) {
+            h ^= static_cast<const unsigned char*>(data)[i];
+            h *= 1099511628211ull;
+        }
+    }
+    void add(const SpherePartition& p) {
+        for (const Vec3& x : p.points) mix(&x, sizeof x);
+        for (const std::array<int, 4>& q : p.quads) mix(q.data(), sizeof(int) * 4);
+    }
+};
+
+// Four random unit directions; unless `trial` % 4 == 3, d[1] moved to 0.15-0.9 rad from d[0] (a close pair, unless
+// the others come closer).
+std::vector<Vec3> four_with_close_pair(std::mt19937& rng, int trial) {
+    std::normal_distribution<double> g(0, 1);
+    std::uniform_real_distribution<double> spread(0.15, 0.9);
+    std::vector<Vec3> d;
+    for (int i = 0; i < 4; ++i) d.push_back(mesohex::normalized(Vec3{g(rng), g(rng), g(rng)}));
+    if (trial % 4 != 3) {
+        const Vec3 t = mesohex::normalized(mesohex::cross(d[0], d[1]));
+        const double a = spread(rng);
+        d[1] = std::cos(a) * d[0] + std::sin(a) * mesohex::cross(t, d[0]);
+    }
+    return d;
 }
 
 }  // namespace
@@ -310,21 +341,11 @@ TEST(SpherePartition, VerifyCatchesBrokenPartitions) {
 // the value recorded with the code before the test existed (main e1f9b90: every axis evaluated with atan2 / asin).
 // A deliberate change of the partitions changes it (then record the new value and say why in docs/performance.md).
 TEST(SpherePartition, FilterCheckSetsGiveTheRecordedBits) {
-    std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the points' bytes and the quads' vertex ids
-    const auto mix = [&h](const void* data, std::size_t size) {
-        for (std::size_t i = 0; i < size; ++i) {
-            h ^= static_cast<const unsigned char*>(data)[i];
-            h *= 1099511628211ull;
-        }
-    };
+    PartitionHash hash;
     const std::vector<std::vector<Vec3>> sets = filter_check_sets();
     ASSERT_EQ(sets.size(), 288u);
-    for (const std::vector<Vec3>& d : sets) {
-        const SpherePartition p = partition_sphere(d);
-        for (const Vec3& x : p.points) mix(&x, sizeof x);
-        for (const std::array<int, 4>& q : p.quads) mix(q.data(), sizeof(int) * 4);
-    }
-    EXPECT_EQ(h, 0xa057f5fc6452f815ull);
+    for (const std::vector<Vec3>& d : sets) hash.add(partition_sphere(d));
+    EXPECT_EQ(hash.h, 0xa057f5fc6452f815ull);
 }
 
 // The orange search's filter (OrangeEvaluator::certainly_at_most) may only reject an axis whose exact quality is at
@@ -393,4 +414,60 @@ TEST(SpherePartition, PlaneOrangeAlternativeEqualsTheSecondCall) {
     }
     EXPECT_GT(alternatives, 20);
     EXPECT_GT(same, 20);
+}
+
+// partition_sphere_close_pair_pair shares the axis oranges and the hull candidates between the two calls: the same bits
+// as two partition_sphere calls, for four directions with a close pair (the two results differ on some) and without.
+TEST(SpherePartition, ClosePairPairEqualsTwoCalls) {
+    std::mt19937 rng(20261204);
+    const auto same_bits = [](const SpherePartition& a, const SpherePartition& b) {
+        if (a.quads != b.quads || a.points.size() != b.points.size()) return false;
+        for (std::size_t k = 0; k < a.points.size(); ++k)
+            if (!(a.points[k].x == b.points[k].x && a.points[k].y == b.points[k].y && a.points[k].z == b.points[k].z))
+                return false;
+        return true;
+    };
+    int with_pair = 0, differing = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        const std::vector<Vec3> d = four_with_close_pair(rng, trial);
+        mesohex::SpherePartitionOptions off, on;
+        on.no_flat_point_in_close_pair = true;
+        SpherePartition first, second;
+        try {
+            first = partition_sphere(d, off);
+            second = partition_sphere(d, on);
+        } catch (const mesohex::Error&) {
+            continue;  // (nearly) coincident directions
+        }
+        const std::array<SpherePartition, 2> both = mesohex::partition_sphere_close_pair_pair(d, {});
+        ASSERT_TRUE(same_bits(both[0], first)) << "trial " << trial;
+        ASSERT_TRUE(same_bits(both[1], second)) << "trial " << trial;
+        with_pair += mesohex::close_pair_of_four(d, on.close_pair_gap_deg)[0] >= 0;
+        differing += !same_bits(first, second);
+    }
+    EXPECT_GT(with_pair, 100);  // 155 of 200 (seed 20261204)
+    EXPECT_GT(differing, 60);   // 136
+}
+
+// Four directions, most with a close pair, partitioned with and without no_flat_point_in_close_pair: the bits of the
+// code before the two calls shared their search and before the hull candidates' long relaxations were left out where
+// the call cannot choose the candidate (main 3ad19aa).
+TEST(SpherePartition, ClosePairSetsGiveTheRecordedBits) {
+    PartitionHash hash;
+    std::mt19937 rng(20261205);
+    int partitions = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const std::vector<Vec3> d = four_with_close_pair(rng, trial);
+        for (const bool on : {false, true}) {
+            mesohex::SpherePartitionOptions o;
+            o.no_flat_point_in_close_pair = on;
+            try {
+                hash.add(partition_sphere(d, o));
+                ++partitions;
+            } catch (const mesohex::Error&) {
+            }
+        }
+    }
+    EXPECT_EQ(partitions, 600);
+    EXPECT_EQ(hash.h, 0x8860cbd7f4dd0ce4ull);
 }

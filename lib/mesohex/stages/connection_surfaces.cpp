@@ -101,17 +101,22 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
         for (int x : part.quads[i]) incident[x].push_back(i);
     SpherePartition cur = part;
     for (Vec3& p : cur.points) p = normalized(p);
-    // spherical_quad_margin of quad i; with floor >= -1 it may stop early with some value <= floor once the margin
-    // cannot exceed floor (a -1 from a later side would be <= floor too).
     auto quad_of = [&](int i) {
         std::array<Vec3, 4> q;
         for (int k = 0; k < 4; ++k) q[k] = cur.points[part.quads[i][k]];
         return q;
     };
-    auto margin_of = [&](int i, double floor = -1e300) {
-        const std::array<Vec3, 4> q = quad_of(i);
-        return floor < -1 ? spherical_quad_margin(q, dirs[i]) : quad_margin_to_floor(q, dirs[i], floor);
+    // spherical_quad_margin of quad i at the current points, kept until one of its points moves.
+    std::vector<double> exact(nq, 0);
+    std::vector<char> known(nq, 0);
+    auto margin_of = [&](int i) {
+        if (!known[i]) {
+            exact[i] = spherical_quad_margin(quad_of(i), dirs[i]);
+            known[i] = 1;
+        }
+        return exact[i];
     };
+    // A trial's margin of quad i: the same value when it is > floor, else some value <= floor (QuadMarginAbove).
     QuadMarginAbove above;
     auto margin_above = [&](int i, double floor) { return above(quad_of(i), dirs[i], floor); };
     // The smallest margin of the quads around x (the same value in any order); stops once it is <= `floor` (a trial
@@ -122,7 +127,7 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
         const int count = static_cast<int>(incident[x].size());
         for (int j = 0; j < count; ++j) {
             const int at = (first[x] + j) % count;
-            m = std::min(m, floor < -1 ? margin_of(incident[x][at], floor) : margin_above(incident[x][at], floor));
+            m = std::min(m, floor < -1 ? margin_of(incident[x][at]) : margin_above(incident[x][at], floor));
             if (m <= floor) {
                 first[x] = at;
                 break;
@@ -161,6 +166,8 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
                 }
             }
             cur.points[x] = best_p;
+            if (!(best_p == p))
+                for (const int i : incident[x]) known[i] = 0;  // its quads' margins change
             improved = improved || !(best_p == p);
         }
         if (!improved) step *= 0.5;
@@ -1047,13 +1054,69 @@ bool reads_neighbours(const Skeleton& skeleton, const SkeletonAnalysis& an, cons
     return close_pair_of_four(dirs, SpherePartitionOptions{}.close_pair_gap_deg)[0] >= 0;
 }
 
+// The two candidates of a degree-3 point chosen by its chunks, each relaxed as it would be kept: the general choice
+// of partition_sphere and the orange around the branches' best-fit plane normal (none when that orange is the general
+// choice itself). Neither reads a bridge's far end: a point chosen at a bridge computes them once for all its rounds.
+struct ChunkCandidates {
+    SpherePartition general;
+    std::optional<SpherePartition> orange;
+};
+
+ChunkCandidates chunk_candidates(const ConnectionSurfaceOptions& options, const std::vector<Vec3>& dirs,
+                                 const SpherePartitionOptions& po) {
+    ChunkCandidates c;
+    c.general = partition_sphere(dirs, po);
+    c.orange = plane_orange_alternative(dirs, c.general, po);
+    if (options.relax_partitions) {
+        c.general = relax_partition(c.general, dirs, options.relax_below_margin);
+        if (c.orange) *c.orange = relax_partition(*c.orange, dirs, options.relax_below_margin);
+    }
+    return c;
+}
+
+// Of the candidates, the one whose first chunks have the better worst hex corner (the general one on a tie).
+const SpherePartition& chunk_choice(const ModelInputs& model, int v, const ChunkCandidates& c,
+                                    const std::vector<Vec3>& dirs, const BridgeEnds* ends) {
+    if (c.orange && first_chunk_min(model, v, *c.orange, dirs, ends) > first_chunk_min(model, v, c.general, dirs, ends))
+        return *c.orange;
+    return c.general;
+}
+
+// The error of a failed partition at branching point v (degree n), naming v.
+Error partition_failure(int v, int n, const Error& err) {
+    return Error(ErrorCode::NumericalFailure,
+                 "no connection surface at skeleton vertex " + std::to_string(v) + " (degree " + std::to_string(n) +
+                     "): " + err.what() +
+                     "; edit: let its branches and leaflets leave it in distinct directions (no two parallel), or "
+                     "move some of them to a neighbouring vertex",
+                 ElementRef{ElementRef::Kind::SkeletonVertex, v});
+}
+
+// Whether branching point v (directions dirs, nb of them branch edges) is chosen by its chunks (both candidates of
+// chunk_candidates), with its bridges' far ends when `with_ends`.
+bool by_chunks_at(const SurfaceInputs& in, int v, const std::vector<Vec3>& dirs, int nb, bool with_ends) {
+    const int n = static_cast<int>(dirs.size());
+    const bool at_bridge = n == 3 && nb == 3 && chosen_at_bridge(in.skeleton, in.an, in.options, v);
+    return at_bridge ? with_ends || in.options.degree_three_chunks_next_to_branching_points
+                     : n == 3 && nb == 3 && chosen_by_chunks(in.skeleton, in.an, in.options, v);
+}
+
+// Whether round 0 of a point chosen at a bridge (directions dirs) is one of its chunk candidates: chosen by its chunks
+// without the bridges' ends, or the general partition (not the plane orange of the gap rule).
+bool round_zero_reads_candidates(const SurfaceInputs& in, int v, const std::vector<Vec3>& dirs) {
+    return by_chunks_at(in, v, dirs, 3, false) ||
+           !(in.options.plane_orange_at_degree_three && has_gap_over_half_turn(dirs));
+}
+
 // The sphere partition of branching point v for directions dirs (nb branch edges, then its leaflet sides), relaxed
 // (relax_partition, then relax_junction on the junction's hex model, whose leaflet quad rotations are stored in
 // cs.quad_rotation). Any partition error becomes Error(NumericalFailure) naming v.
 // At a point chosen at a bridge (chosen_at_bridge), `ends` holds its neighbours' quads; without them such a point
 // gets the partition it would have without degree_three_chunks_at_bridges (what its neighbours model it with).
+// `candidates`: v's chunk_candidates when already computed (the second pass's points chosen at a bridge).
 SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const std::vector<Vec3>& dirs, int nb,
-                                          ConnectionSurfaces& cs, const BridgeEnds* ends = nullptr) {
+                                          ConnectionSurfaces& cs, const BridgeEnds* ends = nullptr,
+                                          const ChunkCandidates* candidates = nullptr) {
     const ConnectionSurfaceOptions& options = in.options;
     const int n = static_cast<int>(dirs.size()), q0 = cs.quad_begin[v];
     const LeafletSides& sides = in.model.sides;
@@ -1063,24 +1126,32 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
         // Three branch edges, no leaflet side: with degree_three_partition_by_chunks both candidates below; else, at a
         // gap over 180 degrees, the orange around the best-fit plane's normal (a tolerance of 1 takes
         // partition_sphere's planar path for any three directions), see plane_orange_at_degree_three.
-        const bool at_bridge = n == 3 && nb == 3 && chosen_at_bridge(in.skeleton, in.an, options, v);
-        const bool by_chunks = at_bridge ? ends != nullptr || options.degree_three_chunks_next_to_branching_points
-                                         : n == 3 && nb == 3 && chosen_by_chunks(in.skeleton, in.an, options, v);
+        const bool by_chunks = by_chunks_at(in, v, dirs, nb, ends != nullptr);
         const bool plane_orange =
             !by_chunks && options.plane_orange_at_degree_three && n == 3 && nb == 3 && has_gap_over_half_turn(dirs);
         po.planarity_tolerance = plane_orange ? 1.0 : options.planarity_tolerance;
-        part = partition_sphere(dirs, po);
-        const SpherePartition general = by_chunks ? part : SpherePartition{};  // before relaxation
-        if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
-        if (options.no_flat_point_in_close_pair && n == 4 && nb == 4 &&
-            close_pair_of_four(dirs, po.close_pair_gap_deg)[0] >= 0) {
+        if (by_chunks) {
+            // Both candidates, each relaxed as it would be kept: the general choice and the orange around the
+            // branches' best-fit plane normal; the one whose first chunks have the better worst hex corner.
+            if (candidates)
+                part = chunk_choice(in.model, v, *candidates, dirs, ends);
+            else
+                part = chunk_choice(in.model, v, chunk_candidates(options, dirs, po), dirs, ends);
+        } else if (candidates && !plane_orange) {
+            part = candidates->general;  // the same partition_sphere call, relaxed the same way (n = nb = 3)
+        } else if (options.no_flat_point_in_close_pair && n == 4 && nb == 4 &&
+                   close_pair_of_four(dirs, po.close_pair_gap_deg)[0] >= 0) {
             // The partition without a flat point in the close pair's crotch, kept only if the junction's hexes do not
             // get worse: the smallest value of the first chunks' corners and the weighted margins (junction_terms,
-            // the raw mesh's layout and radius reduction), the same measure relax_junction raises.
-            po.no_flat_point_in_close_pair = true;
-            SpherePartition other = partition_sphere(dirs, po);
-            if (options.relax_partitions) other = relax_partition(other, dirs, options.relax_below_margin);
-            if (other.points != part.points || other.quads != part.quads) {
+            // the raw mesh's layout and radius reduction), the same measure relax_junction raises. Both partitions
+            // come from one call that shares their search; equal ones stay equal after the (deterministic) relaxation.
+            std::array<SpherePartition, 2> both = partition_sphere_close_pair_pair(dirs, po);
+            const bool same = both[1].points == both[0].points && both[1].quads == both[0].quads;
+            part = std::move(both[0]);
+            if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
+            SpherePartition other = std::move(both[1]);
+            if (options.relax_partitions && !same) other = relax_partition(other, dirs, options.relax_below_margin);
+            if (!same && (other.points != part.points || other.quads != part.quads)) {
                 JunctionModel m = first_chunk_model(in.model, v, dirs, nb);
                 const auto value = [&](const SpherePartition& p) {
                     m.quads = p.quads;
@@ -1090,16 +1161,10 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
                 };
                 if (value(other) >= value(part)) part = std::move(other);
             }
+        } else {
+            part = partition_sphere(dirs, po);
+            if (options.relax_partitions) part = relax_partition(part, dirs, options.relax_below_margin);
         }
-        if (by_chunks)
-            // Both candidates, each relaxed as it would be kept: the general choice (above) and the orange around
-            // the branches' best-fit plane normal; the one whose first chunks have the better worst hex corner (when
-            // the orange is the general choice itself, nothing to compare).
-            if (std::optional<SpherePartition> orange = plane_orange_alternative(dirs, general, po)) {
-                if (options.relax_partitions) *orange = relax_partition(*orange, dirs, options.relax_below_margin);
-                if (first_chunk_min(in.model, v, *orange, dirs, ends) > first_chunk_min(in.model, v, part, dirs, ends))
-                    part = std::move(*orange);
-            }
         if (options.relax_partitions && n > nb) {
             std::vector<int> rot(n, -1);
             bool ok = true;
@@ -1117,12 +1182,7 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
             }
         }
     } catch (const Error& err) {
-        throw Error(ErrorCode::NumericalFailure,
-                    "no connection surface at skeleton vertex " + std::to_string(v) + " (degree " + std::to_string(n) +
-                        "): " + err.what() +
-                        "; edit: let its branches and leaflets leave it in distinct directions (no two parallel), or "
-                        "move some of them to a neighbouring vertex",
-                    ElementRef{ElementRef::Kind::SkeletonVertex, v});
+        throw partition_failure(v, n, err);
     }
     return part;
 }
@@ -1212,69 +1272,118 @@ void build_branching_surface(const SurfaceInputs& in, int v, const std::vector<i
 // other's choice (measured: docs/junctions.md, "Degree-3 points at bridges").
 constexpr int kBridgeRounds = 2;
 
-SpherePartition bridge_partition(const SurfaceInputs& in, int v, int round, const std::vector<int>& inc,
-                                 const std::vector<Vec3>& dirs, ConnectionSurfaces& cs);
+// A point chosen at a bridge that the second pass reads: its branch edges, their directions, its chunk candidates
+// (computed once for all rounds) and its partition of each round that some point reads.
+struct BridgePoint {
+    int vertex = -1;
+    std::vector<int> inc;
+    std::vector<Vec3> dirs;
+    ChunkCandidates candidates;
+    std::array<SpherePartition, kBridgeRounds + 1> round;
+};
 
-// The quad of branching point w on its branch edge e (unit directions in its stored order) that a neighbour's round
-// `round` reads: from cs for a point not chosen at a bridge (computed in the first pass, or copied); for a point
-// chosen at a bridge, its own partition of that round (computed here, whether the point is computed or copied in this
+// The neighbour across branch edge e of point v whose quad a round of v reads from its partition of the previous
+// round (a branching point without compatible block chosen at a bridge), or -1.
+int bridge_neighbour(const SurfaceInputs& in, const ConnectionSurfaces& cs, int v, int e) {
+    const int w = in.skeleton.edges[e][0] == v ? in.skeleton.edges[e][1] : in.skeleton.edges[e][0];
+    const bool read = in.an.vertex_class[w] == VertexClass::BranchingPoint && cs.vertex_block[w] < 0 &&
+                      chosen_at_bridge(in.skeleton, in.an, in.options, w);
+    return read ? w : -1;
+}
+
+// The ends of point v's bridges in round `round` > 0: per branch edge ending at a branching point w, w's quad on it
+// (unit directions in its stored order): from cs when w is not chosen at a bridge (computed in the first pass, or
+// copied), else from w's partition of round `round` - 1 (computed in this pass, whether w is computed or copied in this
 // rebuild: the same result either way); none at a compatible block (its chunk is modelled with a square).
-std::optional<std::array<Vec3, 4>> bridge_end_quad(const SurfaceInputs& in, int w, int e, int round,
-                                                   ConnectionSurfaces& cs) {
-    if (cs.vertex_block[w] >= 0) return std::nullopt;
-    std::array<Vec3, 4> q;
-    if (!chosen_at_bridge(in.skeleton, in.an, in.options, w)) {
-        const int gq = cs.edge_quad[e][edge_side(in.skeleton, e, w)];
-        for (int k = 0; k < 4; ++k) q[k] = cs.directions[cs.point_begin[w] + cs.quads[gq][k]];
-        return q;
-    }
-    std::vector<int> inc;
-    std::vector<Vec3> dirs;
-    branch_edges(in.an, w, inc);
-    branch_directions(in.skeleton, w, inc, dirs);
-    const SpherePartition part = bridge_partition(in, w, round, inc, dirs, cs);
-    const int i = static_cast<int>(std::find(inc.begin(), inc.end(), e) - inc.begin());
-    MESOHEX_CHECK(i < static_cast<int>(inc.size()), "bridge edge not a branch edge of its end");
-    for (int k = 0; k < 4; ++k) q[k] = normalized(part.points[part.quads[i][k]]);
-    return q;
-}
-
-// The partition of a point v chosen at a bridge (branch edges inc, directions dirs) in round `round`: round 0 is the
-// partition without degree_three_chunks_at_bridges; round r chooses by the chunks with each bridge ending on the
-// neighbour's quad of round r - 1. Writes nothing (no leaflet side).
-SpherePartition bridge_partition(const SurfaceInputs& in, int v, int round, const std::vector<int>& inc,
-                                 const std::vector<Vec3>& dirs, ConnectionSurfaces& cs) {
-    if (round == 0) return partition_branching_point(in, v, dirs, 3, cs);
+BridgeEnds bridge_ends(const SurfaceInputs& in, const ConnectionSurfaces& cs, int v, int round,
+                       const std::vector<BridgePoint>& points, const std::vector<int>& slot) {
     BridgeEnds ends;
+    const std::vector<int>& inc = points[slot[v]].inc;
     for (int i = 0; i < 3; ++i) {
-        const int w = in.skeleton.edges[inc[i]][0] == v ? in.skeleton.edges[inc[i]][1] : in.skeleton.edges[inc[i]][0];
-        if (in.an.vertex_class[w] == VertexClass::BranchingPoint)
-            ends[i] = bridge_end_quad(in, w, inc[i], round - 1, cs);
+        const int e = inc[i];
+        const int w = in.skeleton.edges[e][0] == v ? in.skeleton.edges[e][1] : in.skeleton.edges[e][0];
+        if (in.an.vertex_class[w] != VertexClass::BranchingPoint || cs.vertex_block[w] >= 0) continue;
+        std::array<Vec3, 4> q;
+        if (bridge_neighbour(in, cs, v, e) < 0) {
+            const int gq = cs.edge_quad[e][edge_side(in.skeleton, e, w)];
+            for (int k = 0; k < 4; ++k) q[k] = cs.directions[cs.point_begin[w] + cs.quads[gq][k]];
+        } else {
+            const BridgePoint& bw = points[slot[w]];
+            const int j = static_cast<int>(std::find(bw.inc.begin(), bw.inc.end(), e) - bw.inc.begin());
+            MESOHEX_CHECK(j < static_cast<int>(bw.inc.size()), "bridge edge not a branch edge of its end");
+            const SpherePartition& part = bw.round[round - 1];
+            for (int k = 0; k < 4; ++k) q[k] = normalized(part.points[part.quads[j][k]]);
+        }
+        ends[i] = q;
     }
-    return partition_branching_point(in, v, dirs, 3, cs, &ends);
+    return ends;
 }
 
-// Second pass: the surface of a point chosen at a bridge, its partition of the last round (bridge_partition; the
-// points of this pass read none of each other's results).
-void build_bridge_surface(const SurfaceInputs& in, int v, ConnectionSurfaces& cs) {
-    std::vector<int> inc;
-    std::vector<Vec3> dirs;
-    branch_edges(in.an, v, inc);
-    branch_directions(in.skeleton, v, inc, dirs);
-    store_partition(in.skeleton, v, bridge_partition(in, v, kBridgeRounds, inc, dirs, cs), 3, inc, cs);
-}
-
-// The second pass: the points with at_bridge[v] != 0, in parallel (each task writes only its vertex's ranges and
-// slots, and reads no surface of this pass).
+// The second pass: the points with at_bridge[v] != 0. Round r of a point chosen at a bridge models each bridge on the
+// neighbour's partition of round r - 1 (round 0: the partition without degree_three_chunks_at_bridges); the points
+// computed here need round kBridgeRounds, which reads round kBridgeRounds - 1 of their neighbours chosen at a bridge,
+// and so on. Each point's candidates are computed once (in parallel), then each round in parallel from the previous
+// one: every task writes only its point's slot (and, in the last round, its vertex's ranges and slots).
 void build_bridge_surfaces(const SurfaceInputs& in, const std::vector<char>& at_bridge, ConnectionSurfaces& cs) {
-    std::vector<int> second;
-    for (int v = 0; v < static_cast<int>(at_bridge.size()); ++v)
-        if (at_bridge[v]) second.push_back(v);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, second.size(), 16),
+    const int nv = static_cast<int>(at_bridge.size());
+    std::array<std::vector<int>, kBridgeRounds + 1> need;  // per round, the points whose partition of it is read
+    for (int v = 0; v < nv; ++v)
+        if (at_bridge[v]) need[kBridgeRounds].push_back(v);
+    if (need[kBridgeRounds].empty()) return;
+    std::vector<int> slot(nv, -1);
+    std::vector<BridgePoint> points;
+    const auto add = [&](int v) {
+        if (slot[v] >= 0) return;
+        slot[v] = static_cast<int>(points.size());
+        BridgePoint& p = points.emplace_back();
+        p.vertex = v;
+        branch_edges(in.an, v, p.inc);
+        branch_directions(in.skeleton, v, p.inc, p.dirs);
+    };
+    for (const int v : need[kBridgeRounds]) add(v);
+    for (int r = kBridgeRounds; r > 0; --r) {
+        std::vector<char> marked(nv, 0);
+        for (const int v : need[r])
+            for (const int e : points[slot[v]].inc)
+                if (const int w = bridge_neighbour(in, cs, v, e); w >= 0) marked[w] = 1;
+        for (int w = 0; w < nv; ++w)
+            if (marked[w]) {
+                need[r - 1].push_back(w);
+                add(w);
+            }
+    }
+    // The candidates of every point some round reads them at: the rounds after 0, and round 0 unless it takes the
+    // plane orange of the gap rule (then partition_branching_point computes that one alone, as before).
+    std::vector<char> wanted(points.size(), 0);
+    for (int r = 1; r <= kBridgeRounds; ++r)
+        for (const int v : need[r]) wanted[slot[v]] = 1;
+    const SpherePartitionOptions po{.planarity_tolerance = in.options.planarity_tolerance};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4),
                       [&](const tbb::blocked_range<std::size_t>& range) {
-                          for (std::size_t i = range.begin(); i != range.end(); ++i)
-                              build_bridge_surface(in, second[i], cs);
+                          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                              BridgePoint& p = points[i];
+                              const int v = p.vertex;
+                              if (!wanted[i] && !round_zero_reads_candidates(in, v, p.dirs)) continue;
+                              wanted[i] = 1;
+                              try {
+                                  p.candidates = chunk_candidates(in.options, p.dirs, po);
+                              } catch (const Error& err) {
+                                  throw partition_failure(v, 3, err);
+                              }
+                          }
                       });
+    for (int r = 0; r <= kBridgeRounds; ++r)
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, need[r].size(), 8), [&](const tbb::blocked_range<std::size_t>& range) {
+                for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                    const int v = need[r][i];
+                    BridgePoint& p = points[slot[v]];
+                    const BridgeEnds ends = r > 0 ? bridge_ends(in, cs, v, r, points, slot) : BridgeEnds{};
+                    p.round[r] = partition_branching_point(in, v, p.dirs, 3, cs, r > 0 ? &ends : nullptr,
+                                                           wanted[slot[v]] ? &p.candidates : nullptr);
+                    if (r == kBridgeRounds) store_partition(in.skeleton, v, p.round[r], 3, p.inc, cs);
+                }
+            });
 }
 
 // Whether a vertex within kBridgeRounds edges of v is marked in recompute: a point chosen at a bridge reads the

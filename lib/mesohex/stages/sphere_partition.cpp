@@ -213,6 +213,7 @@ struct OrangeEvaluator {
     double thresholds_for = std::numeric_limits<double>::quiet_NaN();
     double cos_two_t = 0;
     std::vector<double> side2_threshold;  // per direction: (sin(2 t bound / pi) - slack)^2, 2 = any side passes
+    std::array<double, 3> pair_dot{};     // three directions: d_a . d_b for b = a + 1 (mod 3)
 
     OrangeEvaluator(const std::vector<Vec3>& dirs, const std::vector<double>& bounds)
         : d(dirs),
@@ -223,11 +224,15 @@ struct OrangeEvaluator {
           px(dirs.size()),
           py(dirs.size()),
           half_sin2(dirs.size()),
-          side2_threshold(dirs.size()) {}
+          side2_threshold(dirs.size()) {
+        if (d.size() == 3)
+            for (int a = 0; a < 3; ++a) pair_dot[a] = dot(d[a], d[a == 2 ? 0 : a + 1]);
+    }
 
     // Returns the exact quality and sets `valid` (orange_margin > 0) when the quality is > threshold; otherwise some
     // value <= threshold (valid unset).
     double quality(const Vec3& axis, double threshold, bool& valid) {
+        if (three_certainly_at_most(axis, threshold)) return threshold;
         const Vec3 u = any_orthogonal(axis);
         return quality(axis, u, cross(axis, u), threshold, valid);
     }
@@ -289,15 +294,8 @@ struct OrangeEvaluator {
         constexpr double kSlack = 1e-12;
         const int n = static_cast<int>(d.size());
         if (n < 3 || !(threshold > 1e-6 && threshold < kPi / 2 - 1e-6)) return false;
-        if (threshold != thresholds_for) {
-            thresholds_for = threshold;
-            cos_two_t = std::cos(2 * threshold);
-            for (int i = 0; i < n; ++i) {
-                const double arg = 2 * threshold * (1 - 1e-12) * bound[i] / kPi;
-                const double side = arg >= kPi / 2 ? 2.0 : std::sin(arg) - 1e-15 - 1e-13;  // 2: every side passes
-                side2_threshold[i] = side > 0 ? side * side : -1.0;                        // -1: no side passes
-            }
-        }
+        set_threshold(threshold);
+        if (three_certainly_at_most(axis, threshold)) return true;
         for (int i = 0; i < n; ++i) {
             const double x = dot(d[i], u), y = dot(d[i], w);
             const double r2 = x * x + y * y;
@@ -346,6 +344,41 @@ struct OrangeEvaluator {
             const double x = std::clamp(dot(d[i], axis), -1.0, 1.0);
             const double side2 = (1 - x) * (1 + x) * std::min(half_sin2[k > 0 ? k - 1 : n - 1], half_sin2[k]);
             if (side2 + kSlack <= side2_threshold[i]) return true;
+        }
+        return false;
+    }
+
+    // The constants of certainly_at_most's tests for `threshold`, computed once per threshold.
+    void set_threshold(double threshold) {
+        if (threshold == thresholds_for) return;
+        thresholds_for = threshold;
+        cos_two_t = std::cos(2 * threshold);
+        for (int i = 0; i < static_cast<int>(d.size()); ++i) {
+            const double arg = 2 * threshold * (1 - 1e-12) * bound[i] / kPi;
+            const double side = arg >= kPi / 2 ? 2.0 : std::sin(arg) - 1e-15 - 1e-13;  // 2: every side passes
+            side2_threshold[i] = side > 0 ? side * side : -1.0;                        // -1: no side passes
+        }
+    }
+
+    // certainly_at_most's width test for three directions without the axis's frame: the cosine of the angle between
+    // the projections of d_a and d_b on the plane normal to the axis is (d_a . d_b - z_a z_b) / sqrt((1 - z_a^2)
+    // (1 - z_b^2)) with z = d . axis. Only for directions at least ~0.6 degrees off the axis (1 - z^2 > 1e-4), where
+    // the roundings of this form stay below 1e-10, and with a slack of 1e-8 on the cosine: a rejection here is as
+    // certain as the frame's test (the lune of each direction lies between the other two whatever the order).
+    bool three_certainly_at_most(const Vec3& axis, double threshold) {
+        if (d.size() != 3 || !(threshold > 1e-6 && threshold < kPi / 2 - 1e-6)) return false;
+        set_threshold(threshold);
+        const double limit = cos_two_t + 1e-8;
+        if (!(limit < 1)) return false;
+        std::array<double, 3> z, s;
+        for (int i = 0; i < 3; ++i) {
+            z[i] = dot(d[i], axis);
+            s[i] = 1 - z[i] * z[i];
+            if (!(s[i] > 1e-4)) return false;
+        }
+        for (int a = 0; a < 3; ++a) {
+            const int b = a == 2 ? 0 : a + 1;
+            if (pair_dot[a] - z[a] * z[b] >= limit * std::sqrt(s[a] * s[b])) return true;
         }
         return false;
     }
@@ -1181,9 +1214,8 @@ double quality_cap(const SpherePartition& p) {
     return cap;
 }
 
-// `beat`: the best score of the candidates found so far. When no candidate can reach it (quality_cap; the winner
-// needs a strictly higher score or an earlier place), none is relaxed and none is returned: the result is the same.
-std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double beat) {
+// The hull path's candidates before relaxation (possibly none).
+std::vector<SpherePartition> hull_base_candidates(const std::vector<Vec3>& d) {
     std::vector<SpherePartition> out;
     const int n = static_cast<int>(d.size());
     if (n < 3 || n > 64) return out;
@@ -1201,11 +1233,14 @@ std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double 
         }
         break;
     }
-    bool may_win = false;
-    for (const SpherePartition& p : out) may_win = may_win || quality_cap(p) >= beat;
-    if (!may_win) return {};
+    return out;
+}
+
+// Relaxes the hull candidates `out` in place, each briefly; returns per candidate whether it is one of the 2 best (by
+// quality_score) that get a long relaxation (relax_hull_candidate_long).
+std::vector<char> relax_hull_candidates_briefly(const std::vector<Vec3>& d, std::vector<SpherePartition>& out) {
     std::vector<std::pair<double, int>> ranked;  // (-score, candidate)
-    std::vector<char> relaxable(out.size(), 0);
+    std::vector<char> relaxable(out.size(), 0), long_pending(out.size(), 0);
     for (int c = 0; c < static_cast<int>(out.size()); ++c) {
         Relaxer r(d, out[c]);
         const SpherePartition original = out[c];
@@ -1220,13 +1255,51 @@ std::vector<SpherePartition> hull_candidates(const std::vector<Vec3>& d, double 
         ranked.push_back({valid ? -quality_score(out[c], d) : 1.0, c});
     }
     std::sort(ranked.begin(), ranked.end());
-    for (int k = 0; k < static_cast<int>(ranked.size()) && k < 2; ++k) {
-        const int c = ranked[k].second;
-        if (!relaxable[c] || ranked[k].first > 0) continue;
-        Relaxer r(d, out[c]);
-        if (r.find_chains() && r.place_chains()) r.descend(false, 100);
+    for (int k = 0; k < static_cast<int>(ranked.size()) && k < 2; ++k)
+        if (relaxable[ranked[k].second] && ranked[k].first <= 0) long_pending[ranked[k].second] = 1;
+    return long_pending;
+}
+
+// The long relaxation (100 sweeps) of a briefly relaxed hull candidate: it reads only the candidate itself.
+void relax_hull_candidate_long(const std::vector<Vec3>& d, SpherePartition& p) {
+    Relaxer r(d, p);
+    if (r.find_chains() && r.place_chains()) r.descend(false, 100);
+}
+
+// What partition_sphere computes that does not depend on no_flat_point_in_close_pair, kept for a second call with the
+// other value (partition_sphere_close_pair_pair): the axis oranges with their scores, the hull candidates.
+struct PartitionWork {
+    bool have_oranges = false;
+    std::vector<SpherePartition> oranges;
+    std::vector<double> orange_scores;
+    enum class Hull { None, Base, Relaxed } hull = Hull::None;  // hull_base_candidates, then briefly relaxed
+    std::vector<SpherePartition> hull_candidates;
+    std::vector<char> long_pending;  // per candidate: its long relaxation is due and not done yet
+};
+
+// Makes work.hull_candidates the hull candidates, briefly relaxed (the long relaxations are left to the caller); false
+// when no candidate can reach `beat` (quality_cap: the winner needs a strictly higher score or an earlier place, so
+// the result is the same without them). A map lookup (.at) that finds an inconsistent structure cannot happen for a
+// verified base map; if it does, the hull path simply contributes nothing.
+bool hull_candidates(const std::vector<Vec3>& d, double beat, PartitionWork& work) {
+    try {
+        if (work.hull == PartitionWork::Hull::None) {
+            work.hull_candidates = hull_base_candidates(d);
+            work.hull = PartitionWork::Hull::Base;
+        }
+        if (work.hull == PartitionWork::Hull::Base) {
+            bool may_win = false;
+            for (const SpherePartition& p : work.hull_candidates) may_win = may_win || quality_cap(p) >= beat;
+            if (!may_win) return false;
+            work.long_pending = relax_hull_candidates_briefly(d, work.hull_candidates);
+            work.hull = PartitionWork::Hull::Relaxed;
+        }
+    } catch (const std::out_of_range&) {
+        work.hull_candidates.clear();
+        work.long_pending.clear();
+        work.hull = PartitionWork::Hull::Relaxed;
     }
-    return out;
+    return true;
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -1422,8 +1495,40 @@ bool flat_point_between(const SpherePartition& p, const std::array<int, 2>& pair
 
 }  // namespace
 
-SpherePartition partition_sphere(const std::vector<Vec3>& directions, const SpherePartitionOptions& options) {
-    const std::vector<Vec3> d = validated_directions(directions);
+namespace {
+
+// The long relaxations of the hull candidates that this call can choose (each runs once, in place, for the first call
+// that needs it; it reads only its candidate): without a close pair, a candidate whose quality_cap is below `beat`
+// cannot win; with one, a candidate with a flat point in the pair's crotch cannot once some candidate without one is
+// valid (known after the long relaxations of those).
+void finish_hull_candidates(const std::vector<Vec3>& d, double beat, const std::array<int, 2>& pair,
+                            const std::vector<SpherePartition>& planar, const std::vector<double>& planar_scores,
+                            const std::vector<SpherePartition>& oranges, const std::vector<double>& orange_scores,
+                            PartitionWork& work) {
+    std::vector<SpherePartition>& hull = work.hull_candidates;
+    const auto finish = [&](std::size_t c) {
+        relax_hull_candidate_long(d, hull[c]);
+        work.long_pending[c] = 0;
+    };
+    for (std::size_t c = 0; c < hull.size(); ++c)
+        if (work.long_pending[c] && (pair[0] < 0 ? quality_cap(hull[c]) >= beat : !flat_point_between(hull[c], pair)))
+            finish(c);
+    if (pair[0] < 0) return;
+    bool clear = false;
+    for (std::size_t c = 0; c < planar.size(); ++c)
+        clear = clear || (planar_scores[c] != -1e300 && !flat_point_between(planar[c], pair));
+    for (std::size_t c = 0; c < oranges.size(); ++c)
+        clear = clear || (orange_scores[c] != -1e300 && !flat_point_between(oranges[c], pair));
+    for (std::size_t c = 0; c < hull.size() && !clear; ++c)
+        clear = !flat_point_between(hull[c], pair) && verify_sphere_partition(hull[c], d).empty();
+    if (!clear)
+        for (std::size_t c = 0; c < hull.size(); ++c)
+            if (work.long_pending[c]) finish(c);
+}
+
+// partition_sphere for validated directions d, with what a call with the same directions computed in `work`.
+SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartitionOptions& options,
+                                 PartitionWork& work) {
     const int n = static_cast<int>(d.size());
 
     // 1. Planar (always for n = 2): the orange around the best-fit plane normal.
@@ -1452,8 +1557,6 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
         }
     }
 
-    // 2. Oranges around the best axes.
-    std::vector<SpherePartition> oranges = axis_oranges(d);
     // Scores of the verified candidates (-1e300: not valid).
     const auto scores_of = [&](const std::vector<SpherePartition>& list) {
         std::vector<double> scores;
@@ -1461,18 +1564,22 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
             scores.push_back(verify_sphere_partition(p, d).empty() ? quality_score(p, d) : -1e300);
         return scores;
     };
-    const std::vector<double> planar_scores = scores_of(planar), orange_scores = scores_of(oranges);
+    // 2. Oranges around the best axes.
+    if (!work.have_oranges) {
+        work.oranges = axis_oranges(d);
+        work.orange_scores = scores_of(work.oranges);
+        work.have_oranges = true;
+    }
+    std::vector<SpherePartition> oranges = work.oranges;
+    const std::vector<double> planar_scores = scores_of(planar), &orange_scores = work.orange_scores;
     double beat = -1e300;
     for (double x : planar_scores) beat = std::max(beat, x);
     for (double x : orange_scores) beat = std::max(beat, x);
 
     // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
-    try {
-        hull = hull_candidates(d, pair[0] >= 0 ? -1e300 : beat);
-    } catch (const std::out_of_range&) {
-        // A map lookup (.at) found an inconsistent structure: cannot happen for a verified base map; if it does, the
-        // hull path simply contributes nothing and the oranges remain.
-        hull.clear();
+    if (hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, work)) {
+        finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores, work);
+        hull = work.hull_candidates;
     }
     const std::vector<double> hull_scores = scores_of(hull);
     std::optional<SpherePartition> best;
@@ -1495,6 +1602,23 @@ SpherePartition partition_sphere(const std::vector<Vec3>& directions, const Sphe
     if (best) return *best;
     throw Error(ErrorCode::NumericalFailure,
                 "sphere partition: no valid quad partition found for " + std::to_string(n) + " directions");
+}
+
+}  // namespace
+
+SpherePartition partition_sphere(const std::vector<Vec3>& directions, const SpherePartitionOptions& options) {
+    PartitionWork work;
+    return choose_partition(validated_directions(directions), options, work);
+}
+
+std::array<SpherePartition, 2> partition_sphere_close_pair_pair(const std::vector<Vec3>& directions,
+                                                                SpherePartitionOptions options) {
+    const std::vector<Vec3> d = validated_directions(directions);
+    PartitionWork work;
+    options.no_flat_point_in_close_pair = false;
+    SpherePartition without = choose_partition(d, options, work);
+    options.no_flat_point_in_close_pair = true;
+    return {std::move(without), choose_partition(d, options, work)};
 }
 
 std::optional<SpherePartition> plane_orange_alternative(const std::vector<Vec3>& directions,

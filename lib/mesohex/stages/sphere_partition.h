@@ -48,6 +48,11 @@ struct SpherePartitionOptions {
 // Throws mesohex::Error(NumericalFailure) if no valid partition could be built (never crashes, never hangs).
 SpherePartition partition_sphere(const std::vector<Vec3>& directions, const SpherePartitionOptions& options = {});
 
+// {partition_sphere(directions, options with no_flat_point_in_close_pair false), the same with it true}, bit for bit,
+// sharing the work both calls do (the axis oranges, the hull candidates and their relaxation).
+std::array<SpherePartition, 2> partition_sphere_close_pair_pair(const std::vector<Vec3>& directions,
+                                                                SpherePartitionOptions options);
+
 // SpherePartitionOptions::no_flat_point_in_close_pair's pair: for four unit directions, the closest pair (i, j), i < j,
 // when it is less than 90 degrees apart and every angle from i or j to one of the other two exceeds its angle by
 // gap_deg (degrees); else {-1, -1} (also for another count of directions). Without a pair the option changes nothing.
