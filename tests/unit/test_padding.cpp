@@ -82,7 +82,8 @@ TEST(Padding, CubeCornerMovesToTheOffsetCube) {
 
 // A hex of 1 x 1 x 3: the layer is thickness x the SHORTEST boundary edge at each vertex (1), so the new vertices are
 // the corners of [-0.25, 1.25]^2 x [-0.25, 3.25] (the mean edge at a corner, 5/3, would give 0.42). An offset rule
-// replaces that offset: it receives the corner's offset (0.25 sqrt(3) along the diagonal) and the mean edge 5/3.
+// replaces that offset: it receives the corner's offset (0.25 sqrt(3) along the diagonal, twice: no concave vertex)
+// and the mean edge 5/3.
 TEST(Padding, LayerFollowsTheShortestEdgeAndTheOffsetRule) {
     HexMesh tall = mesohex::test::make_unit_cube();
     for (Vec3& p : tall.points) p.z *= 3;
@@ -96,10 +97,11 @@ TEST(Padding, LayerFollowsTheShortestEdgeAndTheOffsetRule) {
     }
     PaddingOptions o = options(1);
     int calls = 0;
-    o.offset_rule = [&calls](const Vec3&, const Vec3& d, double t, double mean_edge) {
+    o.offset_rule = [&calls](const Vec3&, const Vec3& d, double t, double t_scaled, double mean_edge) {
         ++calls;
         EXPECT_NEAR(norm(d), 1.0, 1e-12);
         EXPECT_NEAR(t, 0.25 * std::sqrt(3.0), 1e-12);
+        EXPECT_EQ(t_scaled, t);  // planar quads: no vertex is concave
         EXPECT_NEAR(mean_edge, 5.0 / 3.0, 1e-12);
         return 0.1 * std::sqrt(3.0);
     };
@@ -246,4 +248,37 @@ TEST(Padding, ShortestEdgeIntoTheMesh) {
     std::vector<double> shortest{10, 10, 10, 0.2};
     shorten_to_inward_edges(box, local, shortest);
     EXPECT_EQ(shortest, (std::vector<double>{0.5, 0.5, 0.5, 0.2}));
+}
+
+// A dimple: the 2 x 2 x 1 block of unit hexes with the centre of its top face, (1, 1, 1), lowered by h = 0.5. Its four
+// top quads (diagonal-cross normals (-+0.5, -+0.5, 2) / sqrt(4.5)) fold into a valley through it: concave. Its padding
+// direction is +z by symmetry, the mean cosine 2 / sqrt(4.5), its shortest boundary edge sqrt(1 + h^2). With
+// concave_scale 1 the new vertex lies thickness x sqrt(1.25) = 0.279508 above it; with 3 (the convex rule) that times
+// sqrt(4.5) / 2 = 0.296464. The same vertex raised by h instead (a bump, convex) moves 0.296464 under both.
+TEST(Padding, ConcaveVertexIsNotScaledOutwards) {
+    for (const double h : {0.5, -0.5}) {
+        HexMesh m = make_block(2, 2, 1);
+        int centre = -1;
+        for (std::size_t v = 0; v < m.points.size(); ++v)
+            if (m.points[v] == Vec3{1, 1, 1}) centre = static_cast<int>(v);
+        ASSERT_GE(centre, 0);
+        m.points[static_cast<std::size_t>(centre)].z = 1 - h;
+        for (const double cap : {1.0, 3.0}) {
+            SCOPED_TRACE(h > 0 ? "dimple" : "bump");
+            PaddingOptions o;
+            o.concave_scale = cap;
+            const PaddingResult r = pad(m, o);
+            int moved = 0;
+            for (std::size_t v = static_cast<std::size_t>(r.first_new_vertex); v < r.mesh.points.size(); ++v) {
+                if (r.origin_vertex[v] != centre) continue;
+                ++moved;
+                const Vec3 d = r.mesh.points[v] - m.points[static_cast<std::size_t>(centre)];
+                EXPECT_NEAR(d.x, 0, 1e-12);
+                EXPECT_NEAR(d.y, 0, 1e-12);
+                EXPECT_NEAR(d.z, h > 0 && cap == 1.0 ? 0.25 * std::sqrt(1.25) : 0.25 * std::sqrt(1.25 * 4.5) / 2, 1e-9);
+            }
+            EXPECT_EQ(moved, 1);
+            EXPECT_EQ(compute_quality(r.mesh).inverted, 0);
+        }
+    }
 }

@@ -78,6 +78,29 @@ void project_on_bare(const HexMesh& mesh, const std::vector<std::array<int, 4>>&
     }
 }
 
+// Per boundary vertex (by local index): 1 when its quads fold into valleys through it on balance: the sum over its
+// quads q of n_q . (centroid_q - p) exceeds 1e-9 x the sum of |centroid_q - p| (n_q the quad's diagonal-cross normal,
+// so each term is half the height of q's two edge-neighbours of p above p's diagonal along n_q; 0 on a flat quad,
+// and the tolerance keeps flat and planar-faced vertices out whatever the rounding).
+std::vector<char> concave_vertices(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
+                                   const std::vector<Vec3>& quad_normals, const std::vector<int>& local,
+                                   std::size_t nb) {
+    std::vector<double> fold(nb, 0.0), size(nb, 0.0);
+    for (std::size_t q = 0; q < quads.size(); ++q) {
+        Vec3 centroid;
+        for (int v : quads[q]) centroid += mesh.points[static_cast<std::size_t>(v)] * 0.25;
+        for (int v : quads[q]) {
+            const std::size_t l = static_cast<std::size_t>(local[static_cast<std::size_t>(v)]);
+            const Vec3 arm = centroid - mesh.points[static_cast<std::size_t>(v)];
+            fold[l] += dot(quad_normals[q], arm);
+            size[l] += norm(arm);
+        }
+    }
+    std::vector<char> concave(nb, 0);
+    for (std::size_t i = 0; i < nb; ++i) concave[i] = fold[i] > 1e-9 * size[i] ? 1 : 0;
+    return concave;
+}
+
 void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_of_hex, int layer,
               const PaddingOptions& options, long& bare_count) {
     std::vector<std::array<int, 4>> bare;
@@ -133,6 +156,7 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
             ++cos_count[l];
         }
 
+    const std::vector<char> concave = concave_vertices(mesh, quads, quad_normals, local, nb);
     mesh.points.resize(old_vertices + nb);
     std::vector<double> offset(nb);
     for (std::size_t i = 0; i < nb; ++i) {
@@ -141,11 +165,11 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
             options.absolute_thickness > 0 ? options.absolute_thickness : options.thickness * shortest_edge[i];
         const double mean_cos = cos_count[i] > 0 ? cos_sum[i] / cos_count[i] : 1.0;
         const double scale = mean_cos > 1.0 / 3.0 ? 1.0 / mean_cos : 3.0;
-        offset[i] = t * scale;
+        offset[i] = concave[i] ? t * std::min(scale, options.concave_scale) : t * scale;
         if (options.offset_rule) {
             const double mean_edge = edge_count[i] > 0 ? edge_len_sum[i] / edge_count[i] : 0.0;
-            offset[i] =
-                options.offset_rule(mesh.points[static_cast<std::size_t>(v)], unit_normal[i], offset[i], mean_edge);
+            offset[i] = options.offset_rule(mesh.points[static_cast<std::size_t>(v)], unit_normal[i], offset[i],
+                                            t * scale, mean_edge);
         }
         mesh.points[old_vertices + i] = mesh.points[static_cast<std::size_t>(v)] + unit_normal[i] * offset[i];
         origin.push_back(origin[static_cast<std::size_t>(v)]);
