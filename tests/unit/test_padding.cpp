@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "hex_fixtures.h"
 #include "mesohex/core/error.h"
@@ -10,6 +11,10 @@
 #include "mesohex/core/validate.h"
 #include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
+#include "mesohex/stages/connection_surfaces.h"
+#include "mesohex/stages/frame_propagation.h"
+#include "mesohex/stages/raw_mesh.h"
+#include "mesohex/stages/skeleton_analysis.h"
 
 using namespace mesohex;
 using mesohex::test::make_block;
@@ -281,4 +286,59 @@ TEST(Padding, ConcaveVertexIsNotScaledOutwards) {
             EXPECT_EQ(compute_quality(r.mesh).inverted, 0);
         }
     }
+}
+
+// Dino's hip by hand (RawMesh.CloseDegreeFourPairGetsNoFlatPointInItsCrotch): a degree-4 point c of radius 0.223 with
+// body, tail and two legs 46 degrees apart. The raw boundary vertex on c's sphere closest to the legs' bisector (20
+// and 38 degrees from them) is the crotch's connection-surface point; the boundary is concave there, so concave_scale 1
+// moves it by thickness x its shortest boundary edge exactly, where the convex rule (3) carried it 1.67 x as far out
+// into the crotch. Only 6 boundary vertices are concave, all on c's sphere (between branches); the cross-sections of
+// the branches (convex tube walls) move as before, and neither padding inverts a hex.
+TEST(Padding, JunctionCrotchPointOfACloseLegPairIsNotScaledOutwards) {
+    Skeleton s;
+    s.points = {
+        {0, 0, 0}, {0.219, 0.193, -0.035}, {0.212, -0.144, 0.149}, {-0.138, -0.305, 0.024}, {-0.002, -0.266, -0.197}};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    s.radii = {0.223, 0.221, 0.112, 0.100, 0.105};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const HexMesh raw = build_raw_mesh(s, an, cs, propagate_frames(s, an, cs)).mesh;
+    const Vec3 leg1 = normalized(s.points[3]), leg2 = normalized(s.points[4]);
+    const Vec3 bisector = normalized(leg1 + leg2);
+    int crotch = -1;
+    for (std::size_t v = 0; v < raw.points.size(); ++v)
+        if (std::abs(norm(raw.points[v]) - 0.223) < 1e-9 &&
+            (crotch < 0 || dot(raw.points[v], bisector) > dot(raw.points[static_cast<std::size_t>(crotch)], bisector)))
+            crotch = static_cast<int>(v);
+    ASSERT_GE(crotch, 0);
+    const Vec3 p = raw.points[static_cast<std::size_t>(crotch)];
+    EXPECT_NEAR(std::acos(dot(normalized(p), leg1)) * 180 / std::numbers::pi, 19.7, 0.1);
+    EXPECT_NEAR(std::acos(dot(normalized(p), leg2)) * 180 / std::numbers::pi, 38.2, 0.1);
+    double shortest = 1e9;
+    for (const std::array<int, 4>& q : compute_hex_topology(raw).boundary_quads)
+        for (std::size_t i = 0; i < 4; ++i)
+            if (q[i] == crotch)
+                for (const std::size_t j : {(i + 1) % 4, (i + 3) % 4})
+                    shortest = std::min(shortest, distance(p, raw.points[static_cast<std::size_t>(q[j])]));
+    PaddingOptions convex_rule;
+    convex_rule.concave_scale = 3;
+    const PaddingResult r1 = pad(raw), r3 = pad(raw, convex_rule);
+    ASSERT_EQ(r1.mesh.points.size(), r3.mesh.points.size());
+    EXPECT_EQ(compute_quality(r1.mesh).inverted, 0);
+    EXPECT_EQ(compute_quality(r3.mesh).inverted, 0);
+    int differ = 0;
+    for (std::size_t v = static_cast<std::size_t>(r1.first_new_vertex); v < r1.mesh.points.size(); ++v) {
+        const int o = r1.origin_vertex[v];
+        const Vec3 q = raw.points[static_cast<std::size_t>(o)];
+        const double d1 = distance(r1.mesh.points[v], q), d3 = distance(r3.mesh.points[v], q);
+        if (o == crotch) {
+            EXPECT_NEAR(d1, 0.25 * shortest, 1e-12);
+            EXPECT_NEAR(d3 / d1, 1.67, 0.01);
+        }
+        if (d1 == d3) continue;
+        ++differ;
+        EXPECT_LT(d1, d3);
+        EXPECT_NEAR(norm(q), 0.223, 1e-9);  // on c's sphere
+    }
+    EXPECT_EQ(differ, 6);
 }

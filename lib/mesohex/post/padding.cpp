@@ -78,26 +78,27 @@ void project_on_bare(const HexMesh& mesh, const std::vector<std::array<int, 4>>&
     }
 }
 
-// Per boundary vertex (by local index): 1 when its quads fold into valleys through it on balance: the sum over its
-// quads q of n_q . (centroid_q - p) exceeds 1e-9 x the sum of |centroid_q - p| (n_q the quad's diagonal-cross normal,
-// so each term is half the height of q's two edge-neighbours of p above p's diagonal along n_q; 0 on a flat quad,
-// and the tolerance keeps flat and planar-faced vertices out whatever the rounding).
+// Per boundary vertex (by local index): 1 when the boundary is concave there in the mean: the mean of the centroids
+// of its quads lies outwards of it along its padding direction m (sum over its quads of m . (centroid_q - p) above
+// 1e-9 x the sum of |centroid_q - p|; 0 on a flat patch, and the tolerance keeps flat vertices out whatever the
+// rounding). A valley between two branches' chunks, the pit among three, count; a tube's wall and a convex corner
+// do not.
 std::vector<char> concave_vertices(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
-                                   const std::vector<Vec3>& quad_normals, const std::vector<int>& local,
-                                   std::size_t nb) {
-    std::vector<double> fold(nb, 0.0), size(nb, 0.0);
-    for (std::size_t q = 0; q < quads.size(); ++q) {
+                                   const std::vector<Vec3>& unit_normal, const std::vector<int>& local) {
+    const std::size_t nb = unit_normal.size();
+    std::vector<double> rise(nb, 0.0), size(nb, 0.0);
+    for (const std::array<int, 4>& q : quads) {
         Vec3 centroid;
-        for (int v : quads[q]) centroid += mesh.points[static_cast<std::size_t>(v)] * 0.25;
-        for (int v : quads[q]) {
+        for (int v : q) centroid += mesh.points[static_cast<std::size_t>(v)] * 0.25;
+        for (int v : q) {
             const std::size_t l = static_cast<std::size_t>(local[static_cast<std::size_t>(v)]);
             const Vec3 arm = centroid - mesh.points[static_cast<std::size_t>(v)];
-            fold[l] += dot(quad_normals[q], arm);
+            rise[l] += dot(unit_normal[l], arm);
             size[l] += norm(arm);
         }
     }
     std::vector<char> concave(nb, 0);
-    for (std::size_t i = 0; i < nb; ++i) concave[i] = fold[i] > 1e-9 * size[i] ? 1 : 0;
+    for (std::size_t i = 0; i < nb; ++i) concave[i] = rise[i] > 1e-9 * size[i] ? 1 : 0;
     return concave;
 }
 
@@ -156,7 +157,7 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
             ++cos_count[l];
         }
 
-    const std::vector<char> concave = concave_vertices(mesh, quads, quad_normals, local, nb);
+    const std::vector<char> concave = concave_vertices(mesh, quads, unit_normal, local);
     mesh.points.resize(old_vertices + nb);
     std::vector<double> offset(nb);
     for (std::size_t i = 0; i < nb; ++i) {
