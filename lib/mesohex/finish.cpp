@@ -186,8 +186,7 @@ struct Finisher {
         const Clock::time_point t = Clock::now();
         PaddingOptions padding = options.padding;
         if (options.pad_to_domain > 0 && !padding.offset_rule && padding.absolute_thickness == 0)
-            padding.offset_rule = [this](const Vec3& p, const Vec3& d, double th, double th_scaled,
-                                         double mean_edge) {
+            padding.offset_rule = [this](const Vec3& p, const Vec3& d, double th, double th_scaled, double mean_edge) {
                 // Towards the domain: as far as the surface along d (from inside), at least th, at most
                 // pad_to_domain x the mean boundary edge at the vertex or th_scaled (a concave vertex's convex
                 // scale, taken only up to the surface: PaddingOptions::concave_scale).

@@ -21,8 +21,9 @@ struct PaddingOptions {
     // gap between two sheets, where the fit could not pull it back (docs/sheets.md). false: boundary edges only.
     // Off by default until it is measured on the whole random set (docs/sheets.md: it changes every leaflet model).
     bool inward_edges = false;
-    // The largest scale of the offset (1 / mean cos, see pad below) at a concave boundary vertex: one whose quads fold
-    // into valleys through it on balance (concave_vertices in padding.cpp). The scale carries a convex corner to the
+    // The largest scale of the offset (1 / mean cos, see pad below) at a concave boundary vertex: one whose quads'
+    // centroids lie outwards of it along its direction m on average (concave_vertices in padding.cpp: the valley
+    // between two branches' chunks, the pit among three). The scale carries a convex corner to the
     // offset cube's corner; at a concave one (the crotch between branches of a junction, whose raw boundary already
     // touches the domain there) it carried the layer up to 3 x its thickness out into the crotch, outside the domain,
     // where the fit could not pull it back (docs/junctions.md, "The shared curve skeletons: the padding in the
