@@ -320,9 +320,11 @@ TEST(Padding, JunctionCrotchPointOfACloseLegPairIsNotScaledOutwards) {
             if (q[i] == crotch)
                 for (const std::size_t j : {(i + 1) % 4, (i + 3) % 4})
                     shortest = std::min(shortest, distance(p, raw.points[static_cast<std::size_t>(q[j])]));
-    PaddingOptions convex_rule;
+    PaddingOptions unscaled, convex_rule;
+    unscaled.concave_scale = 1;
     convex_rule.concave_scale = 3;
-    const PaddingResult r1 = pad(raw), r3 = pad(raw, convex_rule);
+    const PaddingResult r1 = pad(raw, unscaled), r3 = pad(raw, convex_rule);
+    EXPECT_EQ(pad(raw).mesh, r3.mesh);  // the default: the convex rule everywhere
     ASSERT_EQ(r1.mesh.points.size(), r3.mesh.points.size());
     EXPECT_EQ(compute_quality(r1.mesh).inverted, 0);
     EXPECT_EQ(compute_quality(r3.mesh).inverted, 0);

@@ -27,8 +27,9 @@ struct PaddingOptions {
     // offset cube's corner; at a concave one (the crotch between branches of a junction, whose raw boundary already
     // touches the domain there) it carried the layer up to 3 x its thickness out into the crotch, outside the domain,
     // where the fit could not pull it back (docs/junctions.md, "The shared curve skeletons: the padding in the
-    // crotch"). Dimensionless, > 0; 1: the layer's own thickness there; 3 or more: the same scale as at convex vertices.
-    double concave_scale = 1.0;
+    // crotch"). Dimensionless, > 0; 1: the layer's own thickness there; 3 or more: the same scale as at convex
+    // vertices, byte-identical to no rule (the default: 1 was mixed on the shared skeletons, docs/junctions.md).
+    double concave_scale = 3.0;
     double absolute_thickness = 0;  // > 0: use this offset (model units) everywhere instead of `thickness`
     // Optional: the offset of a boundary vertex at p moving along the unit direction d, given the offset t from the
     // rules above, the offset t_scaled with the convex scale even at a concave vertex (= t elsewhere; a rule that
