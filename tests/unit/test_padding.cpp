@@ -15,6 +15,7 @@
 #include "mesohex/stages/frame_propagation.h"
 #include "mesohex/stages/raw_mesh.h"
 #include "mesohex/stages/skeleton_analysis.h"
+#include "skeleton_fixtures.h"
 
 using namespace mesohex;
 using mesohex::test::make_block;
@@ -295,11 +296,7 @@ TEST(Padding, ConcaveVertexIsNotScaledOutwards) {
 // into the crotch. Only 6 boundary vertices are concave, all on c's sphere (between branches); the cross-sections of
 // the branches (convex tube walls) move as before, and neither padding inverts a hex.
 TEST(Padding, JunctionCrotchPointOfACloseLegPairIsNotScaledOutwards) {
-    Skeleton s;
-    s.points = {
-        {0, 0, 0}, {0.219, 0.193, -0.035}, {0.212, -0.144, 0.149}, {-0.138, -0.305, 0.024}, {-0.002, -0.266, -0.197}};
-    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
-    s.radii = {0.223, 0.221, 0.112, 0.100, 0.105};
+    const Skeleton s = mesohex::test::dino_hip();
     const SkeletonAnalysis an = analyze_skeleton(s);
     const ConnectionSurfaces cs = build_connection_surfaces(s, an);
     const HexMesh raw = build_raw_mesh(s, an, cs, propagate_frames(s, an, cs)).mesh;
