@@ -186,10 +186,11 @@ struct Finisher {
         const Clock::time_point t = Clock::now();
         PaddingOptions padding = options.padding;
         if (options.pad_to_domain > 0 && !padding.offset_rule && padding.absolute_thickness == 0)
-            padding.offset_rule = [this](const Vec3& p, const Vec3& d, double th, double mean_edge) {
+            padding.offset_rule = [this](const Vec3& p, const Vec3& d, double th, double th_scaled, double mean_edge) {
                 // Towards the domain: as far as the surface along d (from inside), at least th, at most
-                // pad_to_domain x the mean boundary edge at the vertex.
-                const double cap = std::max(th, options.pad_to_domain * mean_edge);
+                // pad_to_domain x the mean boundary edge at the vertex or th_scaled (a concave vertex's convex
+                // scale, taken only up to the surface: PaddingOptions::concave_scale).
+                const double cap = std::max({th, th_scaled, options.pad_to_domain * mean_edge});
                 if (!(cap > th) || !query.inside(p)) return th;
                 const std::optional<RayHit> hit = query.first_hit(p, d);
                 return hit ? std::clamp(hit->distance, th, cap) : th;

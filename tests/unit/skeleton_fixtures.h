@@ -127,4 +127,15 @@ inline Skeleton two_curves_next_to_a_corner(const Vec3& joint, const Vec3& end, 
         {{1, 8}, {8, 9}, {1, 10}}, {{0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}}, radius);
 }
 
+// Dino's hip by hand (the shared dino.skel's adapted hip, docs/junctions.md): a degree-4 point at the origin of
+// radius 0.223 with body (1), tail (2) and two legs (3, 4) 46 degrees apart, all three children opposite the body.
+inline Skeleton dino_hip() {
+    Skeleton s;
+    s.points = {
+        {0, 0, 0}, {0.219, 0.193, -0.035}, {0.212, -0.144, 0.149}, {-0.138, -0.305, 0.024}, {-0.002, -0.266, -0.197}};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    s.radii = {0.223, 0.221, 0.112, 0.100, 0.105};
+    return s;
+}
+
 }  // namespace mesohex::test

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "hex_fixtures.h"
 #include "mesohex/core/error.h"
@@ -10,6 +11,11 @@
 #include "mesohex/core/validate.h"
 #include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
+#include "mesohex/stages/connection_surfaces.h"
+#include "mesohex/stages/frame_propagation.h"
+#include "mesohex/stages/raw_mesh.h"
+#include "mesohex/stages/skeleton_analysis.h"
+#include "skeleton_fixtures.h"
 
 using namespace mesohex;
 using mesohex::test::make_block;
@@ -82,7 +88,8 @@ TEST(Padding, CubeCornerMovesToTheOffsetCube) {
 
 // A hex of 1 x 1 x 3: the layer is thickness x the SHORTEST boundary edge at each vertex (1), so the new vertices are
 // the corners of [-0.25, 1.25]^2 x [-0.25, 3.25] (the mean edge at a corner, 5/3, would give 0.42). An offset rule
-// replaces that offset: it receives the corner's offset (0.25 sqrt(3) along the diagonal) and the mean edge 5/3.
+// replaces that offset: it receives the corner's offset (0.25 sqrt(3) along the diagonal, twice: no concave vertex)
+// and the mean edge 5/3.
 TEST(Padding, LayerFollowsTheShortestEdgeAndTheOffsetRule) {
     HexMesh tall = mesohex::test::make_unit_cube();
     for (Vec3& p : tall.points) p.z *= 3;
@@ -96,10 +103,11 @@ TEST(Padding, LayerFollowsTheShortestEdgeAndTheOffsetRule) {
     }
     PaddingOptions o = options(1);
     int calls = 0;
-    o.offset_rule = [&calls](const Vec3&, const Vec3& d, double t, double mean_edge) {
+    o.offset_rule = [&calls](const Vec3&, const Vec3& d, double t, double t_scaled, double mean_edge) {
         ++calls;
         EXPECT_NEAR(norm(d), 1.0, 1e-12);
         EXPECT_NEAR(t, 0.25 * std::sqrt(3.0), 1e-12);
+        EXPECT_EQ(t_scaled, t);  // planar quads: no vertex is concave
         EXPECT_NEAR(mean_edge, 5.0 / 3.0, 1e-12);
         return 0.1 * std::sqrt(3.0);
     };
@@ -246,4 +254,90 @@ TEST(Padding, ShortestEdgeIntoTheMesh) {
     std::vector<double> shortest{10, 10, 10, 0.2};
     shorten_to_inward_edges(box, local, shortest);
     EXPECT_EQ(shortest, (std::vector<double>{0.5, 0.5, 0.5, 0.2}));
+}
+
+// A dimple: the 2 x 2 x 1 block of unit hexes with the centre of its top face, (1, 1, 1), lowered by h = 0.5. Its four
+// top quads (diagonal-cross normals (-+0.5, -+0.5, 2) / sqrt(4.5)) fold into a valley through it: concave. Its padding
+// direction is +z by symmetry, the mean cosine 2 / sqrt(4.5), its shortest boundary edge sqrt(1 + h^2). With
+// concave_scale 1 the new vertex lies thickness x sqrt(1.25) = 0.279508 above it; with 3 (the convex rule) that times
+// sqrt(4.5) / 2 = 0.296464. The same vertex raised by h instead (a bump, convex) moves 0.296464 under both.
+TEST(Padding, ConcaveVertexIsNotScaledOutwards) {
+    for (const double h : {0.5, -0.5}) {
+        HexMesh m = make_block(2, 2, 1);
+        int centre = -1;
+        for (std::size_t v = 0; v < m.points.size(); ++v)
+            if (m.points[v] == Vec3{1, 1, 1}) centre = static_cast<int>(v);
+        ASSERT_GE(centre, 0);
+        m.points[static_cast<std::size_t>(centre)].z = 1 - h;
+        for (const double cap : {1.0, 3.0}) {
+            SCOPED_TRACE(h > 0 ? "dimple" : "bump");
+            PaddingOptions o;
+            o.concave_scale = cap;
+            const PaddingResult r = pad(m, o);
+            int moved = 0;
+            for (std::size_t v = static_cast<std::size_t>(r.first_new_vertex); v < r.mesh.points.size(); ++v) {
+                if (r.origin_vertex[v] != centre) continue;
+                ++moved;
+                const Vec3 d = r.mesh.points[v] - m.points[static_cast<std::size_t>(centre)];
+                EXPECT_NEAR(d.x, 0, 1e-12);
+                EXPECT_NEAR(d.y, 0, 1e-12);
+                EXPECT_NEAR(d.z, h > 0 && cap == 1.0 ? 0.25 * std::sqrt(1.25) : 0.25 * std::sqrt(1.25 * 4.5) / 2, 1e-9);
+            }
+            EXPECT_EQ(moved, 1);
+            EXPECT_EQ(compute_quality(r.mesh).inverted, 0);
+        }
+    }
+}
+
+// Dino's hip by hand (RawMesh.CloseDegreeFourPairGetsNoFlatPointInItsCrotch): a degree-4 point c of radius 0.223 with
+// body, tail and two legs 46 degrees apart. The raw boundary vertex on c's sphere closest to the legs' bisector (20
+// and 38 degrees from them) is the crotch's connection-surface point; the boundary is concave there, so concave_scale 1
+// moves it by thickness x its shortest boundary edge exactly, where the convex rule (3) carried it 1.67 x as far out
+// into the crotch. Only 6 boundary vertices are concave, all on c's sphere (between branches); the cross-sections of
+// the branches (convex tube walls) move as before, and neither padding inverts a hex.
+TEST(Padding, JunctionCrotchPointOfACloseLegPairIsNotScaledOutwards) {
+    const Skeleton s = mesohex::test::dino_hip();
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const HexMesh raw = build_raw_mesh(s, an, cs, propagate_frames(s, an, cs)).mesh;
+    const Vec3 leg1 = normalized(s.points[3]), leg2 = normalized(s.points[4]);
+    const Vec3 bisector = normalized(leg1 + leg2);
+    int crotch = -1;
+    for (std::size_t v = 0; v < raw.points.size(); ++v)
+        if (std::abs(norm(raw.points[v]) - 0.223) < 1e-9 &&
+            (crotch < 0 || dot(raw.points[v], bisector) > dot(raw.points[static_cast<std::size_t>(crotch)], bisector)))
+            crotch = static_cast<int>(v);
+    ASSERT_GE(crotch, 0);
+    const Vec3 p = raw.points[static_cast<std::size_t>(crotch)];
+    EXPECT_NEAR(std::acos(dot(normalized(p), leg1)) * 180 / std::numbers::pi, 19.7, 0.1);
+    EXPECT_NEAR(std::acos(dot(normalized(p), leg2)) * 180 / std::numbers::pi, 38.2, 0.1);
+    double shortest = 1e9;
+    for (const std::array<int, 4>& q : compute_hex_topology(raw).boundary_quads)
+        for (std::size_t i = 0; i < 4; ++i)
+            if (q[i] == crotch)
+                for (const std::size_t j : {(i + 1) % 4, (i + 3) % 4})
+                    shortest = std::min(shortest, distance(p, raw.points[static_cast<std::size_t>(q[j])]));
+    PaddingOptions unscaled, convex_rule;
+    unscaled.concave_scale = 1;
+    convex_rule.concave_scale = 3;
+    const PaddingResult r1 = pad(raw, unscaled), r3 = pad(raw, convex_rule);
+    EXPECT_EQ(pad(raw).mesh, r3.mesh);  // the default: the convex rule everywhere
+    ASSERT_EQ(r1.mesh.points.size(), r3.mesh.points.size());
+    EXPECT_EQ(compute_quality(r1.mesh).inverted, 0);
+    EXPECT_EQ(compute_quality(r3.mesh).inverted, 0);
+    int differ = 0;
+    for (std::size_t v = static_cast<std::size_t>(r1.first_new_vertex); v < r1.mesh.points.size(); ++v) {
+        const int o = r1.origin_vertex[v];
+        const Vec3 q = raw.points[static_cast<std::size_t>(o)];
+        const double d1 = distance(r1.mesh.points[v], q), d3 = distance(r3.mesh.points[v], q);
+        if (o == crotch) {
+            EXPECT_NEAR(d1, 0.25 * shortest, 1e-12);
+            EXPECT_NEAR(d3 / d1, 1.67, 0.01);
+        }
+        if (d1 == d3) continue;
+        ++differ;
+        EXPECT_LT(d1, d3);
+        EXPECT_NEAR(norm(q), 0.223, 1e-9);  // on c's sphere
+    }
+    EXPECT_EQ(differ, 6);
 }

@@ -743,11 +743,7 @@ TEST(RawMesh, SpreadDegreeThreeJunctionKeepsItsPartition) {
 // pipeline's raw mesh of dino, with its shoulders and tail beyond: 0.071). With no_flat_point_in_close_pair the hull
 // path's partition puts a valence-3 point there: 0.100 (dino's raw mesh: 0.161).
 TEST(RawMesh, CloseDegreeFourPairGetsNoFlatPointInItsCrotch) {
-    Skeleton s;
-    s.points = {
-        {0, 0, 0}, {0.219, 0.193, -0.035}, {0.212, -0.144, 0.149}, {-0.138, -0.305, 0.024}, {-0.002, -0.266, -0.197}};
-    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
-    s.radii = {0.223, 0.221, 0.112, 0.100, 0.105};
+    const Skeleton s = mesohex::test::dino_hip();
     const SkeletonAnalysis an = analyze_skeleton(s);
     for (const bool on : {true, false}) {
         SCOPED_TRACE(on ? "no flat point in the crotch" : "partition_sphere's choice");

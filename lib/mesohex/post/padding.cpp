@@ -78,6 +78,30 @@ void project_on_bare(const HexMesh& mesh, const std::vector<std::array<int, 4>>&
     }
 }
 
+// Per boundary vertex (by local index): 1 when the boundary is concave there in the mean: the mean of the centroids
+// of its quads lies outwards of it along its padding direction m (sum over its quads of m . (centroid_q - p) above
+// 1e-9 x the sum of |centroid_q - p|; 0 on a flat patch, and the tolerance keeps flat vertices out whatever the
+// rounding). A valley between two branches' chunks, the pit among three, count; a tube's wall and a convex corner
+// do not.
+std::vector<char> concave_vertices(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
+                                   const std::vector<Vec3>& unit_normal, const std::vector<int>& local) {
+    const std::size_t nb = unit_normal.size();
+    std::vector<double> rise(nb, 0.0), size(nb, 0.0);
+    for (const std::array<int, 4>& q : quads) {
+        Vec3 centroid;
+        for (int v : q) centroid += mesh.points[static_cast<std::size_t>(v)] * 0.25;
+        for (int v : q) {
+            const std::size_t l = static_cast<std::size_t>(local[static_cast<std::size_t>(v)]);
+            const Vec3 arm = centroid - mesh.points[static_cast<std::size_t>(v)];
+            rise[l] += dot(unit_normal[l], arm);
+            size[l] += norm(arm);
+        }
+    }
+    std::vector<char> concave(nb, 0);
+    for (std::size_t i = 0; i < nb; ++i) concave[i] = rise[i] > 1e-9 * size[i] ? 1 : 0;
+    return concave;
+}
+
 void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_of_hex, int layer,
               const PaddingOptions& options, long& bare_count) {
     std::vector<std::array<int, 4>> bare;
@@ -133,6 +157,7 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
             ++cos_count[l];
         }
 
+    const std::vector<char> concave = concave_vertices(mesh, quads, unit_normal, local);
     mesh.points.resize(old_vertices + nb);
     std::vector<double> offset(nb);
     for (std::size_t i = 0; i < nb; ++i) {
@@ -141,11 +166,11 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
             options.absolute_thickness > 0 ? options.absolute_thickness : options.thickness * shortest_edge[i];
         const double mean_cos = cos_count[i] > 0 ? cos_sum[i] / cos_count[i] : 1.0;
         const double scale = mean_cos > 1.0 / 3.0 ? 1.0 / mean_cos : 3.0;
-        offset[i] = t * scale;
+        offset[i] = concave[i] ? t * std::min(scale, options.concave_scale) : t * scale;
         if (options.offset_rule) {
             const double mean_edge = edge_count[i] > 0 ? edge_len_sum[i] / edge_count[i] : 0.0;
-            offset[i] =
-                options.offset_rule(mesh.points[static_cast<std::size_t>(v)], unit_normal[i], offset[i], mean_edge);
+            offset[i] = options.offset_rule(mesh.points[static_cast<std::size_t>(v)], unit_normal[i], offset[i],
+                                            t * scale, mean_edge);
         }
         mesh.points[old_vertices + i] = mesh.points[static_cast<std::size_t>(v)] + unit_normal[i] * offset[i];
         origin.push_back(origin[static_cast<std::size_t>(v)]);

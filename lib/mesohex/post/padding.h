@@ -21,11 +21,22 @@ struct PaddingOptions {
     // gap between two sheets, where the fit could not pull it back (docs/sheets.md). false: boundary edges only.
     // Off by default until it is measured on the whole random set (docs/sheets.md: it changes every leaflet model).
     bool inward_edges = false;
+    // The largest scale of the offset (1 / mean cos, see pad below) at a concave boundary vertex: one whose quads'
+    // centroids lie outwards of it along its direction m on average (concave_vertices in padding.cpp: the valley
+    // between two branches' chunks, the pit among three). The scale carries a convex corner to the
+    // offset cube's corner; at a concave one (the crotch between branches of a junction, whose raw boundary already
+    // touches the domain there) it carried the layer up to 3 x its thickness out into the crotch, outside the domain,
+    // where the fit could not pull it back (docs/junctions.md, "The shared curve skeletons: the padding in the
+    // crotch"). Dimensionless, > 0; 1: the layer's own thickness there; 3 or more: the same scale as at convex
+    // vertices, byte-identical to no rule (the default: 1 was mixed on the shared skeletons, docs/junctions.md).
+    double concave_scale = 3.0;
     double absolute_thickness = 0;  // > 0: use this offset (model units) everywhere instead of `thickness`
     // Optional: the offset of a boundary vertex at p moving along the unit direction d, given the offset t from the
-    // rules above and the mean boundary edge length at the vertex (called once per boundary vertex and layer,
-    // serially, in vertex order). finish_mesh uses it to reach the domain surface (FinishOptions::pad_to_domain).
-    std::function<double(const Vec3& p, const Vec3& d, double t, double mean_edge)> offset_rule;
+    // rules above, the offset t_scaled with the convex scale even at a concave vertex (= t elsewhere; a rule that
+    // knows the layer stays inside the domain may go that far) and the mean boundary edge length at the vertex (called
+    // once per boundary vertex and layer, serially, in vertex order). finish_mesh uses it to reach the domain surface
+    // (FinishOptions::pad_to_domain).
+    std::function<double(const Vec3& p, const Vec3& d, double t, double t_scaled, double mean_edge)> offset_rule;
     // Selective padding (pad_selection.h): boundary quads, matched by their vertex set (any order), that get no
     // padding hex, in every layer. The layer then ends on the boundary around them: the side face of a padding hex on
     // a padded quad next to a bare one becomes boundary. At a vertex of both, the new vertex moves along the padded
@@ -48,8 +59,8 @@ struct PaddingResult {
 
 // For every boundary quad (a, b, c, d) (outward) adds the hex (a, b, c, d, a', b', c', d'), where v' is a new vertex
 // per boundary vertex v, at p_v + t_v * m_v: m_v is the unit mean of the unit normals of the boundary quads at v,
-// scaled by 1 / (mean over those quads of m_v . n_q) (clamped to at most 3) so that a planar face moves by t_v and a
-// convex cube corner moves to the corner of the offset cube; t_v = thickness x (shortest boundary edge at v, or edge into the mesh with inward_edges)
+// scaled by 1 / (mean over those quads of m_v . n_q) (clamped to at most 3, at a concave vertex to concave_scale) so
+// that a planar face moves by t_v and a convex cube corner moves to the corner of the offset cube; t_v = thickness x (shortest boundary edge at v, or edge into the mesh with inward_edges)
 // or absolute_thickness. A new hex that would be inverted gets the offsets of its outer vertices halved (up to 6 times);
 // if it stays inverted, the directions of its vertices are tilted toward their worst-facing quad normal and the
 // offsets restored, then halved again (up to 20 times). Every boundary component is padded; new vertices are numbered in order of first appearance in
