@@ -62,7 +62,7 @@ std::array<double, 2> curve_angles(const Skeleton& s, const SkeletonAnalysis& an
     for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
         const int e = an.vertex_edges[static_cast<size_t>(i)];
         const int w = s.edges[static_cast<size_t>(e)][0] == v ? s.edges[static_cast<size_t>(e)][1]
-                                                                : s.edges[static_cast<size_t>(e)][0];
+                                                              : s.edges[static_cast<size_t>(e)][0];
         const Vec3 d = normalized(s.points[static_cast<size_t>(w)] - s.points[static_cast<size_t>(v)]);
         if (an.edge_degree[static_cast<size_t>(e)] == 0)
             curves.push_back(d);
@@ -166,11 +166,12 @@ int main(int argc, char** argv) {
         const Vec3& p = s.points[static_cast<size_t>(site)];
         const std::array<double, 2> ca = curve_angles(s, an, site);
         std::printf(
-            "hex %6zu sj %7.3f  %-16s len %-7.4g site v%-5d %-9s %-15s curves %d corner %5.1f deg off-plane %5.1f off-out %5.1f r "
+            "hex %6zu sj %7.3f  %-16s len %-7.4g site v%-5d %-9s %-15s curves %d corner %5.1f deg off-plane %5.1f "
+            "off-out %5.1f r "
             "%.4g at (%.4g %.4g %.4g)\n",
             h, sj[h], element.c_str(), edge_length, site, kind.c_str(),
-            to_string(an.vertex_class[static_cast<size_t>(site)]),
-            an.vertex_branch_edges[static_cast<size_t>(site)], angle[static_cast<size_t>(site)], ca[0], ca[1],
+            to_string(an.vertex_class[static_cast<size_t>(site)]), an.vertex_branch_edges[static_cast<size_t>(site)],
+            angle[static_cast<size_t>(site)], ca[0], ca[1],
             site < static_cast<int>(s.radii.size()) ? s.radii[static_cast<size_t>(site)] : 0.0, p.x, p.y, p.z);
     }
     std::printf("raw %zu hexes, %ld inverted, min SJ %.3f\n", sj.size(), inverted, run.raw_quality.sj_min);

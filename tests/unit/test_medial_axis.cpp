@@ -330,7 +330,7 @@ TEST(MedialAxis, FringeChainsEndingAtACurveBranchingPointAreRemovedWithNodeEnds)
     EXPECT_EQ(std::count(m.edges.begin(), m.edges.end(), std::array<int, 2>{1, 4}), 0);
     for (const std::array<int, 2> e : {std::array<int, 2>{2, 4}, {4, 5}, {0, 6}, {2, 6}, {6, 7}})
         EXPECT_EQ(std::count(m.edges.begin(), m.edges.end(), e), 1) << e[0] << "-" << e[1];
-    EXPECT_EQ(euler_characteristic(m), 8 - 10 + 2);  // the cycle 1-2-4 is gone
+    EXPECT_EQ(euler_characteristic(m), 8 - 10 + 2);    // the cycle 1-2-4 is gone
     EXPECT_EQ(remove_fringe_curves(m, 3.0, true), 0);  // 2-4 is the only link left
 }
 

@@ -75,10 +75,10 @@ struct MedialAxisOptions {
     double join_factor = 0;     // x sphere radius (off by default: it joins corner debris on a plate)
     int min_part_vertices = 8;  // Voronoi vertices
     // Curve chains with both ends on sheets that run along a sheet (every sampled point within fringe_factor x its
-    // radius of the sheet triangles: the chain's tube overlaps the sheet's slab all along) are removed when their ends
-    // stay connected without them (remove_fringe_curves; 0 = off). They are the remains of thin sheet triangles at
-    // a sheet's border and bridges over it, not limbs: they add cycles and joins where the mesher's half-chunks fold
-    // (x curve radius; docs/sheets.md).
+    // radius of the sheet triangles: at 3 the chain's tube comes within one radius of the sheet's slab all along) are
+    // removed when their ends stay connected without them (remove_fringe_curves; 0 = off). They are the remains of
+    // thin sheet triangles at a sheet's border and bridges over it, not limbs: they add cycles and joins where the
+    // mesher's half-chunks fold (x curve radius; docs/sheets.md).
     double fringe_factor = 3.0;
     // ... and so are such chains that end where 3 or more curves branch off the sheet (not only at sheet vertices):
     // the webs of short chains between a sheet's border and the curves near it, whose border joins of several curves
