@@ -310,6 +310,30 @@ TEST(MedialAxis, FringeCurvesAlongASheetAreRemoved) {
     EXPECT_EQ(remove_fringe_curves(m, 2.0), 0);  // nothing left to remove
 }
 
+TEST(MedialAxis, FringeChainsEndingAtACurveBranchingPointAreRemovedWithNodeEnds) {
+    // A unit square sheet (0-3, 2 triangles), every radius 0.1 (the limit is 3 x 0.1). Node 4 at (1.1, 0.5, 0), 0.1
+    // off the square's edge x = 1, branches into 1-4, 2-4 (along that edge) and 4-5 (a limb to the tip 5, 1.4 away).
+    // Node 6, 2 above the square's centre, branches into 0-6, 2-6 and 6-7 (a tip). With node ends, 1-4 is a fringe
+    // (its samples 0.025 to 0.075 from the sheet; 1 and 4 stay connected through 1-2 and 2-4); 2-4 is then the only
+    // link of 4 and stays; 0-6 and 2-6 rise (0.5 above the sheet at a quarter); chains ending at a tip stay.
+    Skeleton m;
+    m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1.1, 0.5, 0}, {2.5, 0.5, 0}, {0.5, 0.5, 2}, {0.5, 0.5, 3}};
+    m.radii.assign(m.points.size(), 0.1);
+    m.faces = {{0, 1, 2}, {0, 2, 3}};
+    m.edges = {{0, 1}, {1, 2}, {0, 2}, {2, 3}, {0, 3}, {1, 4}, {2, 4}, {4, 5}, {0, 6}, {2, 6}, {6, 7}};
+    Skeleton without = m;
+    EXPECT_EQ(remove_fringe_curves(without, 3.0, false), 0);  // 4 is no sheet vertex: nothing ends on two sheets
+    EXPECT_EQ(euler_characteristic(without), 8 - 11 + 2);
+    EXPECT_EQ(remove_fringe_curves(m, 3.0, true), 1);
+    ASSERT_EQ(m.points.size(), 8u);  // every vertex keeps an edge: none goes
+    EXPECT_EQ(m.edges.size(), 10u);
+    EXPECT_EQ(std::count(m.edges.begin(), m.edges.end(), std::array<int, 2>{1, 4}), 0);
+    for (const std::array<int, 2> e : {std::array<int, 2>{2, 4}, {4, 5}, {0, 6}, {2, 6}, {6, 7}})
+        EXPECT_EQ(std::count(m.edges.begin(), m.edges.end(), e), 1) << e[0] << "-" << e[1];
+    EXPECT_EQ(euler_characteristic(m), 8 - 10 + 2);    // the cycle 1-2-4 is gone
+    EXPECT_EQ(remove_fringe_curves(m, 3.0, true), 0);  // 2-4 is the only link left
+}
+
 TEST(MedialAxis, SameSurfaceSameMedialMesh) {
     const TriangleMesh s = extrude({{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 3);
     const MedialAxis a = compute_medial_axis(s, coarse());

@@ -1331,7 +1331,7 @@ void measure(MedialAxis& out) {
 
 }  // namespace
 
-int remove_fringe_curves(Skeleton& m, double factor) {
+int remove_fringe_curves(Skeleton& m, double factor, bool node_ends) {
     const int nv = static_cast<int>(m.points.size());
     std::set<std::array<int, 2>> sides;
     std::vector<char> in_triangle(static_cast<size_t>(nv), 0);
@@ -1376,8 +1376,12 @@ int remove_fringe_curves(Skeleton& m, double factor) {
                 if (!visited.insert(key(chain.back(), next)).second) break;
                 chain.push_back(next);
             }
-            if (!in_triangle[static_cast<size_t>(chain.front())] || !in_triangle[static_cast<size_t>(chain.back())])
-                continue;
+            // A chain end on a sheet, or (node_ends) where 3 or more curves branch: a web of chains along the sheet.
+            const auto attached = [&](int x) {
+                return in_triangle[static_cast<size_t>(x)] ||
+                       (node_ends && curve_adj[static_cast<size_t>(x)].size() >= 3);
+            };
+            if (!attached(chain.front()) || !attached(chain.back())) continue;
             bool along = true;
             for (size_t k = 0; along && k + 1 < chain.size(); ++k)
                 for (double t : {0.25, 0.5, 0.75}) {
@@ -1531,7 +1535,8 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     out.pruned_tips = prune_tips(s, vertex_alive, options.prune_factor);
     merge_short_curve_edges(s, vertex_alive, 1e-4 * diag);
     out.medial = to_medial_mesh(s, vertex_alive, 1e-6 * diag);
-    if (options.fringe_factor > 0) out.fringe_curves = remove_fringe_curves(out.medial, options.fringe_factor);
+    if (options.fringe_factor > 0)
+        out.fringe_curves = remove_fringe_curves(out.medial, options.fringe_factor, options.fringe_node_ends);
     measure(out);
     return out;
 }

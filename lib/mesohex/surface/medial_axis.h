@@ -28,7 +28,8 @@
 //      sheet_width_factor x its mean radius; a thin triangle with a side in no other triangle is removed with that
 //      side (an elementary collapse: homotopy kept), until none is left: tubes become curve edges; terminal curve
 //      branches that barely leave the sphere they start from are pruned (spurs); only the largest connected part is kept;
-//      curve chains between sheet vertices that run along a sheet (fringe_factor) are removed (remove_fringe_curves).
+//      curve chains between sheet vertices (or curve branching points) that run along a sheet (fringe_factor) are
+//      removed (remove_fringe_curves).
 // Deterministic: same surface and options, same output (the samples, the Delaunay insertion order and every later
 // loop are fixed; ties go to the lower id).
 #include <vector>
@@ -74,11 +75,15 @@ struct MedialAxisOptions {
     double join_factor = 0;     // x sphere radius (off by default: it joins corner debris on a plate)
     int min_part_vertices = 8;  // Voronoi vertices
     // Curve chains with both ends on sheets that run along a sheet (every sampled point within fringe_factor x its
-    // radius of the sheet triangles: the chain's tube overlaps the sheet's slab all along) are removed when their ends
-    // stay connected without them (remove_fringe_curves; 0 = off). They are the remains of thin sheet triangles at
-    // a sheet's border and bridges over it, not limbs: they add cycles and joins where the mesher's half-chunks fold
-    // (x curve radius; docs/sheets.md).
-    double fringe_factor = 2.0;
+    // radius of the sheet triangles: at 3 the chain's tube comes within one radius of the sheet's slab all along) are
+    // removed when their ends stay connected without them (remove_fringe_curves; 0 = off). They are the remains of
+    // thin sheet triangles at a sheet's border and bridges over it, not limbs: they add cycles and joins where the
+    // mesher's half-chunks fold (x curve radius; docs/sheets.md).
+    double fringe_factor = 3.0;
+    // ... and so are such chains that end where 3 or more curves branch off the sheet (not only at sheet vertices):
+    // the webs of short chains between a sheet's border and the curves near it, whose border joins of several curves
+    // fold the mesher's half-chunks (docs/sheets.md, "Fringe webs"). A chain ending at a tip is never removed.
+    bool fringe_node_ends = true;
     double prune_factor = 2.0;  // a terminal curve branch goes when its length + tip radius < this x the radius
                                 // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
 };
@@ -119,9 +124,9 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
 
 // Step 5 of compute_medial_axis, on a medial mesh (points with radii, edges, triangle faces): every curve chain (curve
 // edges, in no triangle, between nodes: vertices in a triangle or not on exactly two curve edges) whose two ends are
-// triangle vertices and whose points at 1/4, 1/2 and 3/4 of each edge all lie within factor x their interpolated
+// triangle vertices (with node_ends: or vertices on 3 or more curve edges) and whose points at 1/4, 1/2 and 3/4 of each edge all lie within factor x their interpolated
 // radius of the nearest triangle is removed, with its inner vertices, if its ends stay connected without it (chains in
 // vertex order; ties to the lower id). Vertex order is kept (ids compacted). Returns the number of chains removed.
-int remove_fringe_curves(Skeleton& medial, double factor);
+int remove_fringe_curves(Skeleton& medial, double factor, bool node_ends = false);
 
 }  // namespace mesohex
