@@ -116,6 +116,7 @@ int main(int argc, char** argv) {
             o.import.bl_joint_max_push_curve_fraction = std::atof(argv[++i]);
         if (a == "--bl-corner-reach" && i + 1 < argc) o.import.bl_joint_corner_reach = std::atof(argv[++i]);
         if (a == "--fringe-factor" && i + 1 < argc) o.medial.fringe_factor = std::atof(argv[++i]);
+        if (a == "--fringe-node-ends") o.medial.fringe_node_ends = true;
     }
     const TriangleMesh surface = read_surface(argv[1]);
     MeshRun run;

@@ -71,9 +71,8 @@ void register_medial(CLI::App& app, int* status) {
                     "Curve chains within this x their radius of a sheet all along are removed when their ends stay "
                     "connected (0 = off)")
         ->capture_default_str();
-    cmd->add_flag_callback(
-        "--no-fringe-node-ends", [args] { args->options.fringe_node_ends = false; },
-        "remove only fringe chains whose two ends are sheet vertices (not those ending where curves branch)");
+    cmd->add_flag("--fringe-node-ends", args->options.fringe_node_ends,
+                  "Also remove the fringe chains that end where curves branch (not only those between sheet vertices)");
     cmd->footer("Example: mesohex medial plate1.obj -o plate1.ma && mesohex import plate1.ma -o plate1_skel.obj");
     cmd->callback([args, status]() {
         auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
