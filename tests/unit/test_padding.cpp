@@ -278,9 +278,9 @@ TEST(PadInset, CubeFillingItsDomainEndsAtTheSurface) {
     PaddingResult p = pad(cube, options(1));
     ASSERT_EQ(p.mesh.hexes.size(), 7u);
     const Vec3 lo{0, 0, 0}, hi{1, 1, 1};
-    const PadInsetResult r = inset_padding(
-        p.mesh, p.first_new_vertex, p.origin_vertex,
-        [&](const Vec3& q, const Vec3& u, double t) { return box_overshoot(lo, hi, q, u, t); }, {});
+    const PadInsetResult r =
+        inset_padding(p.mesh, p.first_new_vertex, p.origin_vertex,
+                      [&](const Vec3& q, const Vec3& u, double t) { return box_overshoot(lo, hi, q, u, t); }, {});
     EXPECT_EQ(r.moved_vertices, 8);
     EXPECT_NEAR(r.max_inset, 0.25 * std::sqrt(3.0), 1e-12);
     for (std::size_t v = 0; v < 8; ++v) {
@@ -329,8 +329,8 @@ TEST(PadInset, GuardKeepsTheRawHexValid) {
         }
 
     PaddingResult z = padded;
-    const PadInsetResult none = inset_padding(
-        z.mesh, z.first_new_vertex, z.origin_vertex, [](const Vec3&, const Vec3&, double) { return 0.0; }, {});
+    const PadInsetResult none = inset_padding(z.mesh, z.first_new_vertex, z.origin_vertex,
+                                              [](const Vec3&, const Vec3&, double) { return 0.0; }, {});
     EXPECT_EQ(none.moved_vertices, 0);
     EXPECT_EQ(z.mesh.points, padded.mesh.points);
 }

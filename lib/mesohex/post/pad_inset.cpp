@@ -35,11 +35,10 @@ void apply(HexMesh& mesh, const std::vector<Move>& moves, const std::vector<Vec3
                 start[static_cast<std::size_t>(v)] - moves[i].dir * (scale[i] * moves[i].length);
 }
 
-}  // namespace
-
-PadInsetResult inset_padding(HexMesh& mesh, int first_new_vertex, const std::vector<int>& origin_vertex,
-                             const std::function<double(const Vec3& p, const Vec3& u, double t)>& overshoot,
-                             const std::vector<char>& keep, const PadInsetOptions& options) {
+// The pairs whose padding vertex overshoots the domain, in padding-vertex order.
+std::vector<Move> overshooting(const HexMesh& mesh, int first_new_vertex, const std::vector<int>& origin_vertex,
+                               const std::function<double(const Vec3& p, const Vec3& u, double t)>& overshoot,
+                               const std::vector<char>& keep) {
     std::vector<Move> moves;
     for (std::size_t w = static_cast<std::size_t>(first_new_vertex); w < mesh.points.size(); ++w) {
         const int v = origin_vertex[w];
@@ -52,12 +51,13 @@ PadInsetResult inset_padding(HexMesh& mesh, int first_new_vertex, const std::vec
         const double s = std::clamp(overshoot(p, u, t), 0.0, t);
         if (s > 0) moves.push_back({v, static_cast<int>(w), u, s});
     }
-    PadInsetResult result;
-    if (moves.empty()) return result;
-    const std::vector<Vec3> start = mesh.points;
+    return moves;
+}
+
+// The hexes around the moved vertices (ascending); move_of[v] = the move of vertex v, -1 for none.
+std::vector<int> hexes_around(const HexMesh& mesh, const std::vector<Move>& moves, std::vector<int>& move_of) {
     const VertexHexes vh = vertex_hexes(mesh);
-    // The hexes around the moved vertices (ascending), their scaled Jacobians before, and per vertex its move.
-    std::vector<int> move_of(mesh.points.size(), -1);
+    move_of.assign(mesh.points.size(), -1);
     std::vector<int> touched;
     for (std::size_t i = 0; i < moves.size(); ++i)
         for (int v : {moves[i].raw, moves[i].outer}) {
@@ -67,14 +67,28 @@ PadInsetResult inset_padding(HexMesh& mesh, int first_new_vertex, const std::vec
         }
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    return touched;
+}
+
+}  // namespace
+
+PadInsetResult inset_padding(HexMesh& mesh, int first_new_vertex, const std::vector<int>& origin_vertex,
+                             const std::function<double(const Vec3& p, const Vec3& u, double t)>& overshoot,
+                             const std::vector<char>& keep, const PadInsetOptions& options) {
+    const std::vector<Move> moves = overshooting(mesh, first_new_vertex, origin_vertex, overshoot, keep);
+    PadInsetResult result;
+    if (moves.empty()) return result;
+    const std::vector<Vec3> start = mesh.points;
+    std::vector<int> move_of;
+    const std::vector<int> touched = hexes_around(mesh, moves, move_of);
     std::vector<double> floor(touched.size());
     for (std::size_t i = 0; i < touched.size(); ++i) floor[i] = std::min(options.guard_sj, hex_sj(mesh, touched[i]));
     std::vector<double> scale(moves.size(), 1.0);
     std::vector<int> halvings(moves.size(), 0);
     apply(mesh, moves, start, scale);
     // Halve the moves at every hex below its floor until none is (a move halved max_halvings times is dropped).
-    for (;;) {
-        bool changed = false;
+    for (bool changed = true; changed;) {
+        changed = false;
         for (std::size_t i = 0; i < touched.size(); ++i) {
             const double sj = hex_sj(mesh, touched[i]);
             if (sj > 0 && sj >= floor[i]) continue;
@@ -86,8 +100,7 @@ PadInsetResult inset_padding(HexMesh& mesh, int first_new_vertex, const std::vec
                 changed = true;
             }
         }
-        if (!changed) break;
-        apply(mesh, moves, start, scale);
+        if (changed) apply(mesh, moves, start, scale);
     }
     for (std::size_t i = 0; i < moves.size(); ++i)
         if (scale[i] > 0) {
