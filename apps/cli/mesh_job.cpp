@@ -180,10 +180,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "Padding layer thickness from the shortest boundary edge OR edge into the mesh at each vertex (thin sheets: "
         "the sheet's height, not its leaflet edge; docs/sheets.md)");
     cmd->add_flag_callback(
-        "--no-pad-inset", [job] { job->options.finishing.pad_inset = false; },
-        "Leave the padding layer where the padding puts it even where it reaches past the domain surface (by "
-        "default it is moved inward there, the raw hexes beneath giving up that thickness; the report's "
-        "'padding.inset_vertices')");
+        "--pad-inset", [job] { job->options.finishing.pad_inset = true; },
+        "Where the padding layer reaches past the domain surface, move it inward to end at the surface, the raw "
+        "hexes beneath giving up that thickness (the report's 'padding.inset_vertices'; off by default: "
+        "docs/junctions.md)");
     cmd->add_flag_callback(
         "--no-fit",
         [job] {
