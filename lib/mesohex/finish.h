@@ -65,10 +65,9 @@ struct FinishOptions {
     // Where the padding layer reaches past the domain surface (a raw mesh already at the surface: the skeleton's
     // radii are the domain's own), the layer is moved inward to end at the surface, the raw hexes beneath giving up
     // that thickness (inset_padding, pad_inset.h; one padding layer only; vertices of bare quads stay). The fit then
-    // starts with the boundary on the surface instead of pulling the whole layer back through the mesh. Off: it
-    // lowers the Hausdorff distance on most of the random set's misses but thins poor junction hexes (random set
-    // 1-300 no net gain; generated dualocta min SJ 0.493 -> 0.300; docs/junctions.md, "The fit side of the random
-    // set's misses").
+    // starts with the boundary on the surface instead of pulling the whole layer back through the mesh. Off: on the
+    // random set it lowers the Hausdorff distance on most misses but thins poor junction hexes, fewer seeds meet
+    // (measurements: docs/junctions.md, "The fit side of the random set's misses").
     bool pad_inset = false;
     PadInsetOptions pad_insetting;  // the inset's guard
     // Quality pass on the padded mesh (before subdivision) when its min SJ is below pad_improve_sj (near-flat padding
