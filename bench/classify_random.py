@@ -8,7 +8,13 @@ exists) and to its Hausdorff maximum.
 The nearest element is the input skeleton vertex whose ball (distance / radius) is nearest to the point, named by its
 kind: extremity, joint (with its turn angle), branching point (with the smallest angle between its edges and its
 largest radius over its shortest edge), leaflet vertex (interior, border, BL-joint = border with a branch edge, root =
-interior with a branch edge). One line per seed, then counts per kind. Pure Python (no numpy)."""
+interior with a branch edge). Also per seed: the min SJ after every finishing stage of the kept attempt (raw, pad,
+pad-improve, fit, improve, smooth), whether the worst final hex descends from a padding hex or a raw hex (uniform
+refinement: hex h of the final mesh descends from padded hex h / 8^levels), and where the Hausdorff maximum is: the
+domain uncovered (a domain point far from the mesh), the mesh bulging out of the domain, or a dent (a point of the
+mesh's boundary far from the surface but inside the domain: the mesh does not fill it; ray parity on domain.off).
+One line per seed, then counts per kind. Pure Python (no numpy).
+"""
 import json
 import math
 import os
@@ -156,6 +162,64 @@ def read_medit(path):
     return verts, hexes
 
 
+class Domain:
+    """Point inside a closed triangle surface (OFF): parity of the crossings of a ray along +x, triangles bucketed on
+    a y-z grid."""
+
+    def __init__(self, path, cells=64):
+        t = open(path).read().split()
+        nv, nf = int(t[1]), int(t[2])
+        i = 4
+        self.p = [tuple(float(x) for x in t[i + 3 * k:i + 3 * k + 3]) for k in range(nv)]
+        i += 3 * nv
+        self.f = []
+        for _ in range(nf):
+            n = int(t[i])
+            self.f.append(tuple(int(x) for x in t[i + 1:i + 1 + n]))
+            i += 1 + n
+        ys, zs = [q[1] for q in self.p], [q[2] for q in self.p]
+        self.y0, self.z0 = min(ys), min(zs)
+        self.hy, self.hz = (max(ys) - self.y0) / cells + 1e-12, (max(zs) - self.z0) / cells + 1e-12
+        self.grid = {}
+        for fi, f in enumerate(self.f):
+            a = [self.p[v] for v in f]
+            for iy in range(self.cell(min(q[1] for q in a), 1), self.cell(max(q[1] for q in a), 1) + 1):
+                for iz in range(self.cell(min(q[2] for q in a), 2), self.cell(max(q[2] for q in a), 2) + 1):
+                    self.grid.setdefault((iy, iz), []).append(fi)
+
+    def cell(self, x, axis):
+        return int((x - self.y0) / self.hy) if axis == 1 else int((x - self.z0) / self.hz)
+
+    def inside(self, x):
+        y, z = x[1] + 1.234567e-9, x[2] + 2.345678e-9  # off the triangles' edges
+        crossings = 0
+        for fi in self.grid.get((self.cell(x[1], 1), self.cell(x[2], 2)), []):
+            a, b, d = (self.p[v] for v in self.f[fi][:3])
+            det = (b[1] - a[1]) * (d[2] - a[2]) - (d[1] - a[1]) * (b[2] - a[2])
+            if det == 0:
+                continue
+            u = ((y - a[1]) * (d[2] - a[2]) - (d[1] - a[1]) * (z - a[2])) / det
+            v = ((b[1] - a[1]) * (z - a[2]) - (y - a[1]) * (b[2] - a[2])) / det
+            if u >= 0 and v >= 0 and u + v <= 1 and a[0] + u * (b[0] - a[0]) + v * (d[0] - a[0]) > x[0]:
+                crossings += 1
+        return crossings % 2 == 1
+
+
+def stage_chain(rep):
+    """The min SJ after each finishing stage of the kept attempt, and the origin of final hex h (padding or raw)."""
+    st = {s["stage"]: s for s in rep["stages"]}
+    names = [("input", "raw"), ("pad", "pad"), ("pad-improve", "padimp"), ("fit", "fit"), ("improve", "imp"),
+             ("untangle", "untangle"), ("smooth", "smooth")]
+    chain = " ".join("%s %.3f" % (short, st[n]["sj_min"]) for n, short in names if n in st)
+    raw_n = st["input"]["hexes"]
+    padded_n = st["pad"]["hexes"] if "pad" in st else raw_n
+    per = rep["stages"][-1]["hexes"] // padded_n
+
+    def origin(h):
+        return "pad" if h // per >= raw_n else "raw"
+    return chain, origin
+
+
 def worst_hex_centroid(mesh):
     q = json.loads(subprocess.run([MESOHEX, "quality", mesh, "--json"], capture_output=True, text=True).stdout)
     h = q["worst_hexes"][0]["hex"]
@@ -164,7 +228,7 @@ def worst_hex_centroid(mesh):
     for v in hexes[h]:
         for k in range(3):
             c[k] += verts[v][k] / 8
-    return tuple(c), q["sj_min"]
+    return tuple(c), q["sj_min"], h
 
 
 def main():
@@ -197,21 +261,24 @@ def main():
         sk = Skel(os.path.join(d, "skel.obj"))
         gen = open(os.path.join(d, "generate.log")).read()
         kind = "sheet" if "(sheet)" in gen else "tree"
-        c, sj = worst_hex_centroid(os.path.join(d, "mesh.mesh"))
+        c, sj, worst = worst_hex_centroid(os.path.join(d, "mesh.mesh"))
+        chain, origin = stage_chain(rep)
         v, dist = sk.nearest(c)
         wk = sk.kind(v)
         at = h["mesh_to_surface_at"] if h["mesh_to_surface_max"] >= h["surface_to_mesh_max"] else h["surface_to_mesh_at"]
-        side = "outside" if h["mesh_to_surface_max"] >= h["surface_to_mesh_max"] else "uncovered"
+        side = "uncovered"
+        if h["mesh_to_surface_max"] >= h["surface_to_mesh_max"]:
+            side = "dent" if Domain(os.path.join(d, "domain.off")).inside(at) else "bulge"
         hv, hdist = sk.nearest(tuple(at))
         raw = ""
         rawp = os.path.join(d, "raw.mesh")
         if os.path.exists(rawp):
-            rc, rsj = worst_hex_centroid(rawp)
+            rc, rsj, _ = worst_hex_centroid(rawp)
             rv, _ = sk.nearest(rc)
             raw = " | raw %.3f at v%d %s" % (rsj, rv, sk.kind(rv))
-        print("%3d %-5s miss %-10s minSJ %.3f avg %.3f H %.2f%% | worst at v%d %s (%s) %.1fr | H %s at v%d %s (%s)%s"
-              % (seed, kind, ",".join(miss), q["sj_min"], q["sj_avg"], hd, v, wk, sk.detail(v), dist, side, hv,
-                 sk.kind(hv), sk.detail(hv), raw))
+        print("%3d %-5s miss %-10s minSJ %.3f avg %.3f H %.2f%% | worst (%s hex) at v%d %s (%s) %.1fr | H %s at v%d %s "
+              "(%s)%s | %s" % (seed, kind, ",".join(miss), q["sj_min"], q["sj_avg"], hd, origin(worst), v, wk,
+                               sk.detail(v), dist, side, hv, sk.kind(hv), sk.detail(hv), raw, chain))
         key = ("minSJ" if "min" in miss or "inv" in miss else "H only", wk)
         counts[key] = counts.get(key, 0) + 1
         hkey = ("H", sk.kind(hv), side)

@@ -180,6 +180,11 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "Padding layer thickness from the shortest boundary edge OR edge into the mesh at each vertex (thin sheets: "
         "the sheet's height, not its leaflet edge; docs/sheets.md)");
     cmd->add_flag_callback(
+        "--pad-inset", [job] { job->options.finishing.pad_inset = true; },
+        "Where the padding layer reaches past the domain surface, move it inward to end at the surface, the raw "
+        "hexes beneath giving up that thickness (the report's 'padding.inset_vertices'; off by default: "
+        "docs/junctions.md)");
+    cmd->add_flag_callback(
         "--no-fit",
         [job] {
             job->options.finishing.fit = false;

@@ -11,6 +11,7 @@
 
 #include "mesohex/core/topology.h"
 #include "mesohex/post/boundary_projection.h"
+#include "mesohex/post/pad_inset.h"
 #include "mesohex/post/subdivision.h"
 #include "mesohex/surface/surface_check.h"
 #include "mesohex/surface/surface_query.h"
@@ -182,6 +183,23 @@ struct Finisher {
         result.pad_matched_edges = sel.matched_edges;
     }
 
+    // The padding layer moved inward where it reaches past the domain (FinishOptions::pad_inset); the vertices of
+    // bare quads stay.
+    void inset_step(PaddingResult& padded, const std::vector<std::array<int, 4>>& bare_quads) {
+        std::vector<char> keep(static_cast<std::size_t>(padded.first_new_vertex), 0);
+        for (const std::array<int, 4>& q : bare_quads)
+            for (int v : q) keep[static_cast<std::size_t>(v)] = 1;
+        const PadInsetResult r = inset_padding(
+            padded.mesh, padded.first_new_vertex, padded.origin_vertex,
+            [this](const Vec3& p, const Vec3& u, double t) {
+                if (!query.inside(p)) return t;
+                const std::optional<RayHit> hit = query.first_hit(p, u);
+                return hit && hit->distance < t ? t - hit->distance : 0.0;
+            },
+            keep, options.pad_insetting);
+        result.pad_inset_vertices = r.moved_vertices;
+    }
+
     void pad_step() {
         const Clock::time_point t = Clock::now();
         PaddingOptions padding = options.padding;
@@ -196,7 +214,9 @@ struct Finisher {
                 return hit ? std::clamp(hit->distance, th, cap) : th;
             };
         if (options.pad_selective && padding.bare_quads.empty()) select_bare(padding);
-        mesh = pad(mesh, padding).mesh;
+        PaddingResult padded = pad(mesh, padding);
+        if (options.pad_inset && padding.layers == 1) inset_step(padded, padding.bare_quads);
+        mesh = std::move(padded.mesh);
         record(measure("pad", ms_since(t), mesh));
         // Near-flat padding hexes: relax them on the coarse padded mesh (FinishOptions::pad_improve_sj).
         if (options.pad_improve_sj > 0 && result.stages.back().inverted == 0 &&

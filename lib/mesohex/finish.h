@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesohex/core/hex_mesh.h"
+#include "mesohex/post/pad_inset.h"
 #include "mesohex/post/pad_selection.h"
 #include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
@@ -61,6 +62,14 @@ struct FinishOptions {
     // 0.5 x the distance to the surface) then starts the fit with its boundary near the surface, while a raw mesh
     // already at the surface keeps a thin layer.
     double pad_to_domain = 0.25;
+    // Where the padding layer reaches past the domain surface (a raw mesh already at the surface: the skeleton's
+    // radii are the domain's own), the layer is moved inward to end at the surface, the raw hexes beneath giving up
+    // that thickness (inset_padding, pad_inset.h; one padding layer only; vertices of bare quads stay). The fit then
+    // starts with the boundary on the surface instead of pulling the whole layer back through the mesh. Off: on the
+    // random set it lowers the Hausdorff distance on most misses but thins poor junction hexes, fewer seeds meet
+    // (measurements: docs/junctions.md, "The fit side of the random set's misses").
+    bool pad_inset = false;
+    PadInsetOptions pad_insetting;  // the inset's guard
     // Quality pass on the padded mesh (before subdivision) when its min SJ is below pad_improve_sj (near-flat padding
     // hexes where the averaged normals of a concave junction or a high-valence vertex almost cross; the fit keeps
     // every hex near its start quality, so they would stay bad and hold the boundary off the surface): the untangling
@@ -162,6 +171,7 @@ struct FinishResult {
     int pad_regions = 0, pad_bare_regions = 0;
     // Sharp raw boundary edges, and of them those matched to a sharp edge of the domain.
     long pad_sharp_edges = 0, pad_matched_edges = 0;
+    long pad_inset_vertices = 0;  // raw boundary vertices moved inward with their padding vertex (pad_inset)
 };
 
 // What a finished mesh is judged by when the mesh command weighs a second attempt (another adaptation of the same

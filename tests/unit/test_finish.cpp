@@ -350,7 +350,7 @@ TEST(Finish, GoalsAndTheBetterOfTwoResults) {
 TEST(Finish, PaddingReachesTowardsTheDomain) {
     HexMesh block = mesohex::test::make_block(2, 2, 2);
     for (Vec3& p : block.points) p.z *= 3;
-    const auto padded_y = [&](double h, double pad_to_domain) {
+    const auto padded_y = [&](double h, double pad_to_domain, bool inset = false) {
         TriangleMesh box = unit_cube_surface();
         for (Vec3& p : box.points) p = Vec3{-1 + 4 * p.x, -h + (2 + 2 * h) * p.y, -1 + 8 * p.z};
         FinishOptions o = full_padding();
@@ -360,6 +360,7 @@ TEST(Finish, PaddingReachesTowardsTheDomain) {
         o.pad_improve_sj = 0;
         o.measure_distance = false;
         o.pad_to_domain = pad_to_domain;
+        o.pad_inset = inset;
         const FinishResult r = finish_mesh(block, box, o);
         double y = 1;
         for (std::size_t v = block.points.size(); v < r.mesh.points.size(); ++v)
@@ -372,4 +373,8 @@ TEST(Finish, PaddingReachesTowardsTheDomain) {
     EXPECT_NEAR(padded_y(1.0, 0.25), -0.5, 1e-12);   // the cap
     EXPECT_NEAR(padded_y(0.1, 0.25), -0.25, 1e-12);  // the layer's own offset
     EXPECT_NEAR(padded_y(1.0, 0.0), -0.25, 1e-12);   // off
+    // With the inset (pad_inset): the layer that reaches 0.15 past the face is moved back to end on it; where it does
+    // not reach past it, nothing moves.
+    EXPECT_NEAR(padded_y(0.1, 0.25, true), -0.1, 1e-12);
+    EXPECT_NEAR(padded_y(0.4, 0.25, true), -0.4, 1e-12);
 }

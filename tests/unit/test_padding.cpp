@@ -3,12 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "hex_fixtures.h"
 #include "mesohex/core/error.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/core/validate.h"
+#include "mesohex/post/pad_inset.h"
 #include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/connection_surfaces.h"
@@ -340,4 +342,89 @@ TEST(Padding, JunctionCrotchPointOfACloseLegPairIsNotScaledOutwards) {
         EXPECT_NEAR(norm(q), 0.223, 1e-9);  // on c's sphere
     }
     EXPECT_EQ(differ, 6);
+}
+
+// inset_padding (pad_inset.h) over padded boxes whose domain is the box itself: the overshoot of p + t u is the part of
+// that segment outside [lo, hi]^3 (all of it when p is on or outside the box).
+namespace {
+
+double box_overshoot(const Vec3& lo, const Vec3& hi, const Vec3& p, const Vec3& u, double t) {
+    double exit = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+        const double x = a == 0 ? p.x : a == 1 ? p.y : p.z, d = a == 0 ? u.x : a == 1 ? u.y : u.z;
+        const double l = a == 0 ? lo.x : a == 1 ? lo.y : lo.z, h = a == 0 ? hi.x : a == 1 ? hi.y : hi.z;
+        if (!(x > l && x < h)) return t;  // on or outside the box
+        if (d > 0) exit = std::min(exit, (h - x) / d);
+        if (d < 0) exit = std::min(exit, (l - x) / d);
+    }
+    return std::max(0.0, t - exit);
+}
+
+}  // namespace
+
+// The unit cube padded (thickness 0.25: each corner moves by 0.25 along every axis, offset 0.25 sqrt 3) in the unit
+// cube as its domain: the whole layer lies outside, so every raw corner moves 0.25 sqrt 3 inward along its diagonal
+// and its padding vertex lands on the raw corner's old place. The padded mesh then fills the cube exactly: inner cube
+// [0.25, 0.75]^3 (SJ 1), six frustum hexes whose worst corner frame has two square edges and the unit diagonal,
+// SJ 1 / sqrt 3.
+TEST(PadInset, CubeFillingItsDomainEndsAtTheSurface) {
+    const HexMesh cube = mesohex::test::make_unit_cube();
+    PaddingResult p = pad(cube, options(1));
+    ASSERT_EQ(p.mesh.hexes.size(), 7u);
+    const Vec3 lo{0, 0, 0}, hi{1, 1, 1};
+    const PadInsetResult r =
+        inset_padding(p.mesh, p.first_new_vertex, p.origin_vertex,
+                      [&](const Vec3& q, const Vec3& u, double t) { return box_overshoot(lo, hi, q, u, t); }, {});
+    EXPECT_EQ(r.moved_vertices, 8);
+    EXPECT_NEAR(r.max_inset, 0.25 * std::sqrt(3.0), 1e-12);
+    for (std::size_t v = 0; v < 8; ++v) {
+        const Vec3& c = cube.points[v];
+        const Vec3 inner{0.25 + 0.5 * c.x, 0.25 + 0.5 * c.y, 0.25 + 0.5 * c.z};
+        EXPECT_NEAR(distance(p.mesh.points[v], inner), 0, 1e-12);
+        const std::size_t w = 8 + v;  // the padding vertices, numbered in boundary-quad order
+        const Vec3& o = p.mesh.points[w];
+        EXPECT_NEAR(distance(o, cube.points[static_cast<std::size_t>(p.origin_vertex[w])]), 0, 1e-12);
+    }
+    const std::vector<double> sj = scaled_jacobians(p.mesh);
+    EXPECT_NEAR(sj[0], 1.0, 1e-12);
+    for (std::size_t h = 1; h < 7; ++h) EXPECT_NEAR(sj[h], 1 / std::sqrt(3.0), 1e-9) << h;
+}
+
+// A slab 1 x 1 x 0.1 padded by 0.2 in the slab as its domain: moving its corners 0.2 sqrt 3 inward would turn the raw
+// hex inside out, so the guard halves the moves until no hex is below min(0.2, its SJ before) (the raw hex keeps a
+// positive height); kept vertices (and their padding vertices) do not move, nor does anything when nothing overshoots.
+TEST(PadInset, GuardKeepsTheRawHexValid) {
+    HexMesh slab = mesohex::test::make_unit_cube();
+    for (Vec3& q : slab.points) q.z *= 0.1;
+    PaddingOptions o = options(1);
+    o.absolute_thickness = 0.2;
+    const PaddingResult padded = pad(slab, o);
+    const std::vector<double> before = scaled_jacobians(padded.mesh);
+    const Vec3 lo{0, 0, 0}, hi{1, 1, 0.1};
+    auto overshoot = [&](const Vec3& q, const Vec3& u, double t) { return box_overshoot(lo, hi, q, u, t); };
+
+    PaddingResult p = padded;
+    const PadInsetResult r = inset_padding(p.mesh, p.first_new_vertex, p.origin_vertex, overshoot, {});
+    const std::vector<double> after = scaled_jacobians(p.mesh);
+    for (std::size_t h = 0; h < after.size(); ++h) EXPECT_GE(after[h], std::min(0.2, before[h])) << h;
+    EXPECT_GT(after[0], 0);
+    const double full = distance(padded.mesh.points[8], padded.mesh.points[0]);  // every corner's offset
+    EXPECT_LT(r.max_inset, 0.5 * full);
+    EXPECT_GT(r.moved_vertices, 0);
+
+    std::vector<char> keep(8, 0);
+    keep[0] = 1;
+    PaddingResult k = padded;
+    inset_padding(k.mesh, k.first_new_vertex, k.origin_vertex, overshoot, keep);
+    EXPECT_EQ(k.mesh.points[0], padded.mesh.points[0]);
+    for (std::size_t w = 8; w < k.mesh.points.size(); ++w)
+        if (k.origin_vertex[w] == 0) {
+            EXPECT_EQ(k.mesh.points[w], padded.mesh.points[w]);
+        }
+
+    PaddingResult z = padded;
+    const PadInsetResult none = inset_padding(z.mesh, z.first_new_vertex, z.origin_vertex,
+                                              [](const Vec3&, const Vec3&, double) { return 0.0; }, {});
+    EXPECT_EQ(none.moved_vertices, 0);
+    EXPECT_EQ(z.mesh.points, padded.mesh.points);
 }
