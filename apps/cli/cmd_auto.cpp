@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -52,6 +53,48 @@ void refuse(const AutoArgs& args, const AutoSkeleton& chosen, nlohmann::json ext
                 args.surface + ": auto refuses this surface: " + chosen.refusal +
                     " (the finishing would have to untangle them and would miss the quality targets; --best-effort "
                     "meshes it anyway, or edit the skeleton written beside the output)");
+}
+
+// The numbers of a finished mesh in a reason: min / avg SJ, Hausdorff (% of the diagonal), goals missed.
+std::string finish_numbers(const FinishResult& f, const MeshGoals& goals) {
+    std::ostringstream out;
+    out << "min / avg SJ " << f.quality.sj_min << " / " << f.quality.sj_avg;
+    if (f.distance_measured) out << ", Hausdorff " << 100 * f.distance.relative_max << " %";
+    out << ", " << missed_goals(f, goals) << " goal(s) missed";
+    return out.str();
+}
+
+// Auto chose the meso-skeleton: when its finished mesh misses a goal, the curve skeleton is finished too and the
+// better of the two kept (better_finish: fewer inverted hexes, fewer goals missed, a smaller Hausdorff distance, a
+// higher min SJ); the skeleton file then holds the curve skeleton. The reason says what was compared.
+void keep_better_of_both(const MeshJob& job, const TriangleMesh& domain, const AutoSkeletonOptions& so,
+                         const std::string& skeleton_path, AutoSkeleton& chosen, MeshRun& run) {
+    const MeshGoals& goals = job.options.goals;
+    if (!run.finish || missed_goals(*run.finish, goals) == 0) return;
+    const std::string meso = finish_numbers(*run.finish, goals);
+    AutoSkeleton curve = at_stage("skeleton", job.surface, [&] {
+        return curve_instead(domain, so, chosen,
+                             "its finished mesh (" + meso + ") misses a goal: curve skeleton tried");
+    });
+    if (!curve.refusal.empty()) {
+        chosen.reason += "; its finished mesh (" + meso + ") misses a goal; the curve skeleton is refused (" +
+                         curve.refusal + "): meso-skeleton kept";
+        return;
+    }
+    MeshRun other = at_stage(
+        "mesh", skeleton_path, [&] { return mesh_job_run(job, curve.skeleton, domain); }, false);
+    const std::string alt = other.finish ? finish_numbers(*other.finish, goals) : "not finished";
+    if (!other.finish || !better_finish(*other.finish, *run.finish, goals)) {
+        chosen.reason += "; its finished mesh (" + meso + ") misses a goal; the curve skeleton's (" + alt +
+                         ") is not better: meso-skeleton kept";
+        return;
+    }
+    curve.reason += " (" + alt + "): better, curve skeleton kept";
+    chosen = std::move(curve);
+    run = std::move(other);
+    write_skeleton(skeleton_path, chosen.skeleton);
+    std::cout << "auto: the meso-skeleton's mesh (" << meso << ") misses a goal; the curve skeleton's (" << alt
+              << ") is better: kept, its skeleton -> " << skeleton_path << "\n";
 }
 
 }  // namespace
@@ -136,7 +179,7 @@ void register_auto(CLI::App& app, int* status) {
                   : args->skeleton_kind == "meso" ? SkeletonKind::Meso
                                                   : SkeletonKind::Auto;
         // Throws (nothing written) when it cannot be done, naming the surface file.
-        const AutoSkeleton chosen = at_stage("skeleton", args->surface, [&] { return choose_skeleton(*domain, so); });
+        AutoSkeleton chosen = at_stage("skeleton", args->surface, [&] { return choose_skeleton(*domain, so); });
         const auto t2 = std::chrono::steady_clock::now();
         const std::string skeleton_path =
             std::filesystem::path(args->job.output).replace_extension(".skeleton.obj").string();
@@ -160,13 +203,24 @@ void register_auto(CLI::App& app, int* status) {
         }
         job.skeleton = skeleton_path;
         job.surface = args->surface;
+        const auto timings = [&] {
+            return nlohmann::json{
+                {"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}};
+        };
+        if (!chosen.refusal.empty() && !args->best_effort) {
+            nlohmann::json extra = auto_skeleton_report(chosen, so, skeleton_path, medial_path);
+            extra["timings_ms"] = timings();
+            refuse(*args, chosen, extra);
+        }
+        const auto t_mesh = std::chrono::steady_clock::now();
+        MeshRun run = at_stage(
+            "mesh", skeleton_path, [&] { return mesh_job_run(job, chosen.skeleton, domain); }, false);
+        if (so.kind == SkeletonKind::Auto && chosen.kind == SkeletonKind::Meso)
+            keep_better_of_both(job, *domain, so, skeleton_path, chosen, run);
         nlohmann::json extra = auto_skeleton_report(chosen, so, skeleton_path, medial_path);
-        extra["timings_ms"] = {
-            {"read_surface", ms(t0, t1)}, {"skeletonize", ms(t1, t2)}, {"write_skeleton", ms(t2, t3)}};
-        if (!chosen.refusal.empty() && !args->best_effort) refuse(*args, chosen, extra);
+        extra["timings_ms"] = timings();
         // The report's "read_skeleton" is the radius step only (the skeleton is in memory); "total" starts at t0.
-        *status = at_stage(
-            "mesh", skeleton_path, [&] { return run_mesh_job(job, chosen.skeleton, domain, t3, &extra, t0); }, false);
+        *status = write_mesh_job(job, run, t3, t_mesh, &extra, t0);
         std::cout << "auto: total " << ms(t0, std::chrono::steady_clock::now()) << " ms\n";
     });
 }

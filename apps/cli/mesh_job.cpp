@@ -221,10 +221,7 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         ->check(CLI::Range(1, 1 << 30));
 }
 
-int run_mesh_job(const MeshJob& job, const Skeleton& skeleton, const std::optional<TriangleMesh>& domain,
-                 std::chrono::steady_clock::time_point start, const nlohmann::json* report_extra,
-                 std::optional<std::chrono::steady_clock::time_point> total_start) {
-    const auto t_mesh = std::chrono::steady_clock::now();
+MeshRun mesh_job_run(const MeshJob& job, const Skeleton& skeleton, const std::optional<TriangleMesh>& domain) {
     MeshOptions options = options_of(job);
     ProgressDisplay display(!job.quiet && isatty(STDERR_FILENO));
     options.progress = [&display, &job](const MeshProgress& p) {
@@ -238,12 +235,24 @@ int run_mesh_job(const MeshJob& job, const Skeleton& skeleton, const std::option
                          "branching points\n";
         display.update(p);
     };
-    MeshRun run;
     try {
-        run = mesh_skeleton(skeleton, domain ? &*domain : nullptr, options);
+        return mesh_skeleton(skeleton, domain ? &*domain : nullptr, options);
     } catch (const Error& e) {
         throw Error(e.code(), job.skeleton + ": " + e.what(), e.where());  // name the file the element is in
     }
+}
+
+int run_mesh_job(const MeshJob& job, const Skeleton& skeleton, const std::optional<TriangleMesh>& domain,
+                 std::chrono::steady_clock::time_point start, const nlohmann::json* report_extra,
+                 std::optional<std::chrono::steady_clock::time_point> total_start) {
+    const auto t_mesh = std::chrono::steady_clock::now();
+    const MeshRun run = mesh_job_run(job, skeleton, domain);
+    return write_mesh_job(job, run, start, t_mesh, report_extra, total_start);
+}
+
+int write_mesh_job(const MeshJob& job, const MeshRun& run, std::chrono::steady_clock::time_point start,
+                   std::chrono::steady_clock::time_point t_mesh, const nlohmann::json* report_extra,
+                   std::optional<std::chrono::steady_clock::time_point> total_start) {
     const auto t_write = std::chrono::steady_clock::now();
     write_hex_mesh(job.output, run.mesh(), run.quality().sj, run.partition ? run.partition->part : std::vector<int>{});
     const auto t_end = std::chrono::steady_clock::now();

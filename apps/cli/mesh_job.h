@@ -37,4 +37,12 @@ int run_mesh_job(const MeshJob& job, const Skeleton& skeleton, const std::option
                  std::chrono::steady_clock::time_point start, const nlohmann::json* report_extra = nullptr,
                  std::optional<std::chrono::steady_clock::time_point> total_start = std::nullopt);
 
+// run_mesh_job in two steps, for a caller that compares runs before writing one (`mesohex auto`): the meshing
+// (progress on stderr; errors name job.skeleton), then the writing, printing and report of the run kept (`t_mesh`:
+// when its meshing began).
+MeshRun mesh_job_run(const MeshJob& job, const Skeleton& skeleton, const std::optional<TriangleMesh>& domain);
+int write_mesh_job(const MeshJob& job, const MeshRun& run, std::chrono::steady_clock::time_point start,
+                   std::chrono::steady_clock::time_point t_mesh, const nlohmann::json* report_extra = nullptr,
+                   std::optional<std::chrono::steady_clock::time_point> total_start = std::nullopt);
+
 }  // namespace mesohex::cli

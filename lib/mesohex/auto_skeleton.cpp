@@ -309,4 +309,13 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
     return out;
 }
 
+AutoSkeleton curve_instead(const TriangleMesh& surface, const AutoSkeletonOptions& options, const AutoSkeleton& meso,
+                           const std::string& why) {
+    AutoSkeleton out = meso;
+    out.reason = meso.reason + "; " + why;
+    use_curve(out, surface, options);
+    judge_curve_answer(out, options);
+    return out;
+}
+
 }  // namespace mesohex

@@ -135,4 +135,11 @@ const char* skeleton_kind_name(SkeletonKind kind);
 // naming the element otherwise). Deterministic.
 AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOptions& options = {});
 
+// Auto chose the meso-skeleton (`meso`) and its finished mesh missed a goal (`why`, in words): the curve skeleton of
+// the same surface, with meso's medial measures and raw numbers kept and `why` added to its reason, judged like Auto's
+// own curve answer (`refusal` set when its raw mesh is invalid or inverted). The caller finishes it and keeps the better
+// of the two finished meshes (`mesohex auto`: better_finish). Deterministic.
+AutoSkeleton curve_instead(const TriangleMesh& surface, const AutoSkeletonOptions& options, const AutoSkeleton& meso,
+                           const std::string& why);
+
 }  // namespace mesohex

@@ -82,10 +82,8 @@ struct MedialAxisOptions {
     double fringe_factor = 3.0;
     // ... and so are such chains that end where 3 or more curves branch off the sheet (not only at sheet vertices):
     // the webs of short chains between a sheet's border and the curves near it, whose border joins of several curves
-    // fold the mesher's half-chunks (docs/sheets.md, "Fringe webs"). A chain ending at a tip is never removed. Off by
-    // default: it clears hand.off's meso raw mesh, which `auto` then takes and finishes worse than the curve skeleton
-    // (9.7 % against 3.4 % Hausdorff); on once `auto` keeps the better of both finished meshes (docs/sheets.md).
-    bool fringe_node_ends = false;
+    // fold the mesher's half-chunks (docs/sheets.md, "Fringe webs"). A chain ending at a tip is never removed.
+    bool fringe_node_ends = true;
     double prune_factor = 2.0;  // a terminal curve branch goes when its length + tip radius < this x the radius
                                 // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
 };
