@@ -72,23 +72,23 @@ void keep_better_of_both(const MeshJob& job, const TriangleMesh& domain, const A
     const MeshGoals& goals = job.options.goals;
     if (!run.finish || missed_goals(*run.finish, goals) == 0) return;
     const std::string meso = finish_numbers(*run.finish, goals);
-    AutoSkeleton curve = at_stage("skeleton", job.surface, [&] {
-        return curve_instead(domain, so, chosen,
-                             "its finished mesh (" + meso + ") misses a goal: curve skeleton tried");
-    });
-    if (!curve.refusal.empty()) {
-        chosen.reason += "; its finished mesh (" + meso + ") misses a goal; the curve skeleton is refused (" +
-                         curve.refusal + "): meso-skeleton kept";
-        return;
+    const auto keep_meso = [&](const std::string& why) {
+        chosen.reason += "; its finished mesh (" + meso + ") misses a goal; " + why + ": meso-skeleton kept";
+    };
+    // The comparison must not cost the meso answer: a curve skeleton that cannot be computed or meshed is noted.
+    AutoSkeleton curve;
+    MeshRun other;
+    try {
+        curve =
+            curve_instead(domain, so, chosen, "its finished mesh (" + meso + ") misses a goal: curve skeleton tried");
+        if (!curve.refusal.empty()) return keep_meso("the curve skeleton is refused (" + curve.refusal + ")");
+        other = mesh_job_run(job, curve.skeleton, domain);
+    } catch (const Error& e) {
+        return keep_meso(std::string("the curve skeleton failed (") + e.what() + ")");
     }
-    MeshRun other = at_stage(
-        "mesh", skeleton_path, [&] { return mesh_job_run(job, curve.skeleton, domain); }, false);
     const std::string alt = other.finish ? finish_numbers(*other.finish, goals) : "not finished";
-    if (!other.finish || !better_finish(*other.finish, *run.finish, goals)) {
-        chosen.reason += "; its finished mesh (" + meso + ") misses a goal; the curve skeleton's (" + alt +
-                         ") is not better: meso-skeleton kept";
-        return;
-    }
+    if (!other.finish || !better_finish(*other.finish, *run.finish, goals))
+        return keep_meso("the curve skeleton's (" + alt + ") is not better");
     curve.reason += " (" + alt + "): better, curve skeleton kept";
     chosen = std::move(curve);
     run = std::move(other);

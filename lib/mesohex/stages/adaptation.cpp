@@ -450,6 +450,7 @@ struct BranchView {
     std::vector<Polyline> polylines;                 // per branch
     std::vector<bool> pinned;                        // per vertex: a joint the resampling keeps (may be empty)
     std::vector<std::array<EndReach, 2>> end_reach;  // per branch and end
+    std::vector<std::vector<int>> vertex_faces;      // per vertex: the leaflet faces on it, in face order
 
     bool is_joint(int v) const { return incident[v].size() == 2 && !faces.on_face[v]; }
     bool is_free_branching_point(int v) const { return incident[v].size() >= 3 && !faces.on_face[v]; }
@@ -528,7 +529,11 @@ BranchView make_branch_view(const Skeleton& s, std::vector<bool> pinned) {
                     s.radii,
                     {},
                     {},
-                    {}};
+                    {},
+                    std::vector<std::vector<int>>(n)};
+    for (int f = 0; f < static_cast<int>(s.faces.size()); ++f)
+        for (const int v : s.faces[f])
+            if (view.vertex_faces[v].empty() || view.vertex_faces[v].back() != f) view.vertex_faces[v].push_back(f);
     for (int e = 0; e < ne; ++e) {
         view.incident[s.edges[e][0]].push_back(e);
         view.incident[s.edges[e][1]].push_back(e);
@@ -555,8 +560,8 @@ Vec3 border_out(const BranchView& view, int u, const Vec3& n) {
     if (!border) return {};
     Vec3 centroid{};
     int count = 0;
-    for (const std::vector<int>& f : s.faces) {
-        if (std::find(f.begin(), f.end(), u) == f.end()) continue;
+    for (const int fi : view.vertex_faces[u]) {
+        const std::vector<int>& f = s.faces[fi];
         for (const int w : f) centroid += view.pos[w];
         count += static_cast<int>(f.size());
     }
@@ -576,9 +581,8 @@ double patch_reach(const BranchView& view, int v, const Vec3& dir, const Vec3& n
     const Skeleton& s = view.s;
     const double up = std::abs(dot(n, dir));
     double reach = 0;
-    for (const std::vector<int>& f : s.faces) {
-        if (std::find(f.begin(), f.end(), v) == f.end()) continue;
-        for (const int u : f) {
+    for (const int f : view.vertex_faces[v]) {
+        for (const int u : s.faces[f]) {
             double ahead = dot(view.pos[u] - view.pos[v], dir) + view.rad[u] * up;
             const Vec3 out = border_out(view, u, n);
             if (!(out == Vec3{})) ahead += view.rad[u] * std::max(0.0, dot(out, dir));
@@ -616,8 +620,8 @@ std::pair<double, double> root_extent(const BranchView& view, int v, const Vec3&
     }
     const int leaflet_edges = static_cast<int>(view.incident[v].size()) - branches_at;
     if (branches_at != 1 || leaflet_edges == 0) return {0, 0};
-    for (const std::vector<int>& f : s.faces) {
-        if (std::find(f.begin(), f.end(), v) == f.end()) continue;
+    for (const int fi : view.vertex_faces[v]) {
+        const std::vector<int>& f = s.faces[fi];
         Vec3 fn{};
         for (std::size_t i = 0; i < f.size(); ++i) fn += cross(view.pos[f[i]], view.pos[f[(i + 1) % f.size()]]);
         normal += dot(fn, normal) < 0 ? -1.0 * fn : fn;  // faces need not be oriented consistently yet
