@@ -75,6 +75,19 @@ inline Skeleton plate(int n, int m) {
     return s;
 }
 
+// plate(n, m) with a wall of unit quads one row high standing at +z on `chain` (plate vertex ids, one grid edge per
+// step); the wall's top vertices are appended in chain order (ids from (n + 1)(m + 1)); radius 0.3 everywhere.
+inline Skeleton plate_with_wall(int n, int m, const std::vector<int>& chain) {
+    Skeleton s = plate(n, m);
+    const int top = static_cast<int>(s.points.size());
+    for (int v : chain) s.points.push_back(s.points[v] + Vec3{0, 0, 1});
+    for (int k = 0; k + 1 < static_cast<int>(chain.size()); ++k)
+        s.faces.push_back({chain[k], chain[k + 1], top + k + 1, top + k});
+    add_face_edges(s);
+    s.radii.assign(s.points.size(), 0.3);
+    return s;
+}
+
 // n seeded random unit directions, pairwise at least min_angle (radians) apart.
 inline std::vector<Vec3> random_directions(int n, unsigned seed, double min_angle) {
     std::mt19937 rng(seed);

@@ -6,11 +6,14 @@
 #include <cmath>
 #include <set>
 
+#include "mesohex/post/quality.h"
 #include "mesohex/stages/leaflet_geometry.h"
+#include "raw_run.h"
 #include "skeleton_fixtures.h"
 
 using namespace mesohex;
 using mesohex::test::plate;
+using mesohex::test::plate_with_wall;
 
 namespace {
 
@@ -124,4 +127,45 @@ TEST(LeafletGeometry, OutPatchOfAStraightBorder) {
     // Seen from the branch (along -y), counter-clockwise from border[0]: the next point is v's out-up copy (+z)
     // exactly when border[0] is the vertex at +x.
     EXPECT_EQ(p.up_first, p.border[0] == 2);
+}
+
+// A flange on part of a plate's border: plate(3, 2) with a wall quad standing on the border edge 1-2 (vertices 12, 13
+// on top). Its ends 1 and 2 have 2 plate faces (normal +z) and the wall's (normal +-y): the mean normal unit(2 z +- y)
+// is 63.4 degrees off the wall's, the narrowest cone's axis unit(z +- y) 45 degrees off both (kCreaseNormalGainDeg),
+// and the border edges' outward directions come from their own faces: -y from the plate's border edge 0-1, -x from
+// the wall's side 1-12, out[1] = unit(-x - y). The mean normal folded two of the wall's half-chunk hexes (raw min SJ
+// -0.089); with the cone none is inverted (raw 38 hexes = 2 x 7 faces + 2 x 12 boundary edges).
+TEST(LeafletGeometry, FlangeEndTakesTheNarrowestConeOfItsFaceNormals) {
+    const Skeleton s = plate_with_wall(3, 2, {1, 2});
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ASSERT_EQ(an.vertex_class[1], VertexClass::LeafletBoundary);
+    const LeafletVertexFrames lf = leaflet_vertex_frames(s, an);
+    for (int w : {1, 2}) {
+        SCOPED_TRACE(w);
+        EXPECT_NEAR(lf.normal[w].x, 0.0, 1e-12);
+        EXPECT_NEAR(std::abs(lf.normal[w].y), std::sqrt(0.5), 1e-12);
+        EXPECT_NEAR(std::abs(lf.normal[w].z), std::sqrt(0.5), 1e-12);
+        expect_vec(lf.out[w], {w == 1 ? -std::sqrt(0.5) : std::sqrt(0.5), -std::sqrt(0.5), 0}, 1e-12);
+    }
+    // Away from the flange the plate keeps its mean normal and in-plane out directions.
+    expect_vec(lf.normal[5], {0, 0, 1}, 1e-15);
+    expect_vec(lf.out[4], {-1, 0, 0}, 1e-15);
+    const test::RawRun r = test::checked_raw_mesh(s);
+    EXPECT_EQ(r.quality.hexes, 38);
+    EXPECT_TRUE(r.valid);
+    EXPECT_EQ(r.quality.inverted, 0);
+    EXPECT_GT(r.quality.sj_min, 0.3);  // measured 0.335
+}
+
+// A sheet folded evenly (the crease's vertices have as many faces on both sides) keeps its mean normal: plate(2, 2)
+// folded 90 degrees along its middle column (x = 1), the crease vertices' normal unit(z + ...) is the cone's axis.
+TEST(LeafletGeometry, EvenCreaseKeepsTheMeanNormal) {
+    Skeleton s = plate(2, 2);
+    for (Vec3& p : s.points)
+        if (p.x > 1.5) p = {1, p.y, -1};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const LeafletVertexFrames lf = leaflet_vertex_frames(s, an);
+    const Vec3 sum = leaflet_normal_sum(an, 4);
+    expect_vec(lf.normal[4], normalized(sum), 1e-15);
+    EXPECT_NEAR(std::abs(lf.normal[4].x), std::sqrt(0.5), 1e-12);
 }

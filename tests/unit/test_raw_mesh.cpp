@@ -19,6 +19,7 @@
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/raw_mesh.h"
 #include "mesohex/stages/sphere_partition.h"
+#include "raw_run.h"
 
 using namespace mesohex;
 
@@ -90,6 +91,7 @@ Skeleton ring(int n) {
 
 using mesohex::test::cube_surface;
 using mesohex::test::plate;
+using mesohex::test::plate_with_wall;
 using mesohex::test::random_directions;
 
 // Leaflet meshes: hexes = 2 per face + 2 per boundary edge (+ 4 per fan edge and per cap of a fan block, docs/blocks.md),
@@ -935,4 +937,21 @@ TEST(RawMeshLeaflets, BLJointBranchOffTheCornerBisector) {
     EXPECT_NEAR(bisector, 0.423, 0.01);
     EXPECT_NEAR(relaxed, bisector, 0.01);
     EXPECT_NEAR(unrelaxed, 0.232, 0.01);
+}
+
+// A fan line turning inside a plate (the paper's layout): plate(4, 4) cut by a wall one row high on the chain (2, 0)
+// -> (2, 2) -> (4, 2) (vertex (i, j) = 5 j + i), fan edges of degree 3. At the turn (2, 2) the plate's inner part has
+// 1 face and its outer part 3, the wall 2: the rays to the three gap vertices carry 1 + 2 = 3 (inner side and wall),
+// 3 + 2 = 5 (outer side and wall) and 1 + 3 = 4 hexes (below the plate), not (2 x 6) / 3 = 4 each. Interior
+// irregular edges: 6 of valence 6 (4 fan edges, 2 extension edges at the fan ends on the border), 13 of valence 3 (2
+// at each of the 6 one-face corners: 4 plate corners, 2 wall top corners; the turn's inner ray) and 1 of valence 5.
+// Hexes: 2 x 20 faces + 2 x 22 boundary edges = 84.
+TEST(RawMesh, FanLineTurningInsideAPlateIsPredicted) {
+    const Skeleton s = plate_with_wall(4, 4, {2, 7, 12, 13, 14});
+    const test::RawRun r = test::checked_raw_mesh(s);
+    EXPECT_EQ(r.analysis.counts.fan_edges, 4);
+    EXPECT_EQ(r.predicted.hexes, 84);
+    EXPECT_EQ(r.predicted.interior_irregular_edges, (std::map<int, long>{{3, 13}, {5, 1}, {6, 6}}));
+    EXPECT_TRUE(r.valid);
+    EXPECT_EQ(r.quality.inverted, 0);
 }

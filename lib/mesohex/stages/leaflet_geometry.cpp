@@ -1,11 +1,80 @@
 #include "mesohex/stages/leaflet_geometry.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <string>
+#include <vector>
 
 #include "mesohex/core/error.h"
 
 namespace mesohex {
+
+namespace {
+
+// Axis of the narrowest cone around the unit vectors ns (all within an open hemisphere): among the vectors, the
+// normalized sums of pairs and the circumcentres of triples, the one whose smallest dot product with any of them is
+// largest (the optimum is one of them). Candidates in index order, strict improvement only: deterministic.
+Vec3 narrowest_cone_axis(const std::vector<Vec3>& ns) {
+    const int n = static_cast<int>(ns.size());
+    Vec3 best{};
+    double best_min = -2;
+    const auto consider = [&](const Vec3& c) {
+        if (!(norm(c) > 1e-12)) return;
+        const Vec3 u = normalized(c);
+        double m = 2;
+        for (const Vec3& x : ns) m = std::min(m, dot(u, x));
+        if (m > best_min + 1e-12) {
+            best_min = m;
+            best = u;
+        }
+    };
+    for (int i = 0; i < n; ++i) {
+        consider(ns[i]);
+        for (int j = i + 1; j < n; ++j) {
+            consider(ns[i] + ns[j]);
+            for (int k = j + 1; k < n; ++k) {
+                const Vec3 c = cross(ns[j] - ns[i], ns[k] - ns[i]);
+                consider(dot(c, ns[i]) < 0 ? -1.0 * c : c);
+            }
+        }
+    }
+    return best;
+}
+
+// Largest angle (degrees) between the unit vector n and any of the unit vectors ns.
+double widest_angle_deg(const Vec3& n, const std::vector<Vec3>& ns) {
+    double m = 1;
+    for (const Vec3& x : ns) m = std::min(m, dot(n, x));
+    return std::acos(std::clamp(m, -1.0, 1.0)) * 180 / std::numbers::pi;
+}
+
+// Leaflet vertices (interior or boundary: one up / down column for all their faces) whose faces' normals the narrowest
+// cone serves better than the mean by more than kCreaseNormalGainDeg get its axis as their normal; returns them (1).
+std::vector<char> crease_normals(const SkeletonAnalysis& an, std::vector<Vec3>& normal) {
+    const int nv = static_cast<int>(normal.size());
+    std::vector<std::vector<Vec3>> face_normals(nv);
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        for (int w : an.face_vertices[f])
+            if (face_counts_at(an, f, w) && norm(an.face_normal[f]) > 0)
+                face_normals[w].push_back(normalized(an.face_normal[f]));
+    std::vector<char> crease(nv, 0);
+    for (int w = 0; w < nv; ++w) {
+        const VertexClass c = an.vertex_class[w];
+        if ((c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) || face_normals[w].size() < 2 ||
+            !(norm(normal[w]) > 0))
+            continue;
+        const Vec3 axis = narrowest_cone_axis(face_normals[w]);
+        if (widest_angle_deg(normal[w], face_normals[w]) - widest_angle_deg(axis, face_normals[w]) >
+            kCreaseNormalGainDeg) {
+            normal[w] = axis;
+            crease[w] = 1;
+        }
+    }
+    return crease;
+}
+
+}  // namespace
 
 Vec3 leaflet_normal_sum(const SkeletonAnalysis& an, int v) {
     Vec3 n{};
@@ -133,13 +202,15 @@ LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const Skelet
             if (face_counts_at(an, f, w)) lf.normal[w] += an.face_normal[f];  // a docked chain vertex: its plate's
     for (Vec3& n : lf.normal)
         if (norm(n) > 0) n = normalized(n);
+    const std::vector<char> crease = crease_normals(an, lf.normal);
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k) {
             if (an.edge_degree[an.face_edges[f][k]] != 1) continue;
             const int a = an.face_vertices[f][k], b = an.face_vertices[f][(k + 1) & 3];
             const Vec3 t = normalized(skeleton.points[b] - skeleton.points[a]);
             for (int w : {a, b})
-                if (an.vertex_boundary_edges[w] == 2 && face_counts_at(an, f, w)) lf.out[w] += cross(t, lf.normal[w]);
+                if (an.vertex_boundary_edges[w] == 2 && face_counts_at(an, f, w))
+                    lf.out[w] += cross(t, crease[w] ? normalized(an.face_normal[f]) : lf.normal[w]);
         }
     for (int w = 0; w < nv; ++w) {
         if (an.vertex_boundary_edges[w] != 2) continue;

@@ -50,14 +50,23 @@ Vec3 leaflet_neighbour_direction_sum(const Skeleton& skeleton, const SkeletonAna
 
 // Directions of the raw-mesh vertices around every leaflet vertex (reference-notes §10), shared by the connection
 // surfaces (to place junction surfaces) and the raw mesh (to place the leaflet vertices):
-//   normal[w] = unit sum of the oriented normals of the faces at w (zero for a vertex without faces);
+//   normal[w] = unit sum of the oriented normals of the faces at w (zero for a vertex without faces); at a leaflet
+//               interior or boundary vertex on a crease (see kCreaseNormalGainDeg) the axis of the narrowest cone
+//               around its faces' normals instead;
 //   out[w]    = at a vertex with exactly two leaflet boundary edges: the unit sum of the outward in-plane normals
-//               t x normal[w] of its two boundary edges (t = the edge's direction as its face traverses it; the face
+//               t x normal[w] of its two boundary edges (t = the edge's direction as its face traverses it, and at a
+//               crease vertex its face's own normal in place of normal[w]; the face
 //               lies to the left of t seen from its normal), i.e. the bisector of the EXTERIOR angle of the border,
 //               right at convex, straight and reflex corners alike (the mean of the unit vectors to all neighbours,
 //               negated, points into the leaflet at a reflex corner); falls back to that mean for a hairpin; zero for
 //               every other vertex.
 // Serial, in face order: deterministic. O(F + E).
+// A leaflet vertex's up / down copies serve every face at it, so the worst of its plate hexes is the one whose face
+// normal is farthest from normal[w]. Where the faces fold sharply and unevenly (a flange standing on part of a plate's
+// border: 2 plate faces and 1 wall face at its end, whose mean normal is 63 degrees off the wall's against 45 for the
+// narrowest cone), the cone's axis replaces the mean when it lowers that largest angle by more than this many degrees.
+// Smooth and evenly creased sheets (mean within this of the optimum) keep the mean normal.
+inline constexpr double kCreaseNormalGainDeg = 5.0;
 struct LeafletVertexFrames {
     std::vector<Vec3> normal;
     std::vector<Vec3> out;

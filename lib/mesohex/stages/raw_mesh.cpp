@@ -150,147 +150,6 @@ void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& 
     }
 }
 
-}  // namespace
-
-RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs) {
-    RawMeshPrediction p;
-    const int nv = static_cast<int>(an.vertex_class.size());
-    for (int v = 0; v < nv; ++v) {
-        const int np = cs.point_begin[v + 1] - cs.point_begin[v];
-        const int ned = cs.edge_begin[v + 1] - cs.edge_begin[v];
-        if (np > 0 && !roots_branch(an, v)) p.vertices += block_at(cs, v) >= 0 ? kBlockVertices : 1 + np + ned;
-        if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
-        if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
-        if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
-        if (an.vertex_class[v] != VertexClass::BranchingPoint || an.vertex_boundary_edges[v] > 0 ||
-            block_at(cs, v) >= 0)
-            continue;
-        for (int x = cs.point_begin[v]; x < cs.point_begin[v + 1]; ++x)
-            if (cs.point_valence[x] != 2) ++p.interior_irregular_edges[2 * cs.point_valence[x]];
-    }
-    if (an.counts.branch_edges > 0) p.boundary_irregular_edges[1] += 4 * an.counts.branch_edges;
-    // Leaflets: the edge from a leaflet vertex to its up (down) copy has one plate hex per incident face, plus the two
-    // half-chunks at a boundary vertex; each boundary edge has two outer longitudinal edges with one hex.
-    std::vector<int> faces_at(nv, 0);  // leaflet faces (at a docked chain vertex: its plate's)
-    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
-        for (int w : an.face_vertices[f]) faces_at[w] += face_counts_at(an, f, w) ? 1 : 0;
-    for (int v = 0; v < nv; ++v) {
-        const VertexClass c = an.vertex_class[v];
-        if (c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) continue;
-        const int k = faces_at[v] + (c == VertexClass::LeafletBoundary ? 2 : 0);
-        if (k != 4) p.interior_irregular_edges[k] += 2;
-    }
-    // Fan edges (reference-notes §8.6): the fan edge has 2 hexes per face, the extension edge w -> O_w at a fan end
-    // one per half-chunk (also 2 per face); the ray from a fan-edge vertex to a gap vertex has the plates (and, at a
-    // fan end, the half-chunks) facing that gap, (2 faces + 2 boundary edges at w) / gaps each when the fan is regular.
-    // A fan edge with a fan block (fan_blocks.h) has none of these.
-    for (int e = 0; e < static_cast<int>(an.edge_degree.size()); ++e)
-        if (an.edge_degree[e] >= 3 && an.edge_docked[e] != 1 && fan_block_at(cs, skeleton.edges[e][0]) < 0)
-            ++p.interior_irregular_edges[2 * an.edge_degree[e]];
-    for (int v = 0; v < nv; ++v) {
-        if (!is_fan(an.vertex_class[v])) continue;
-        if (fan_block_at(cs, v) >= 0) {
-            p.vertices += fan_block_vertex_ids(cs.fan_blocks, v);
-            continue;
-        }
-        const int g = expected_gaps(an, v);
-        const bool end = an.vertex_class[v] == VertexClass::FanEdgeEnd;
-        p.vertices += end ? 2 + 2 * g : 1 + g;
-        if (end) ++p.interior_irregular_edges[2 * g];
-        const int k = (2 * faces_at[v] + 2 * an.vertex_boundary_edges[v]) / g;
-        if (k != 4) p.interior_irregular_edges[k] += g;
-    }
-    // Leaflet junctions (LL-joints, branching points with leaflets): the ray to a surface point x has, per quad
-    // containing x, the 2 kites of a chunk for a branch quad; for a leaflet quad its plates + 2 half-chunks if x is
-    // that leaflet's up or down vertex, else the 2 half-chunks of the boundary edge whose out vertex it is.
-    {
-        std::vector<int> quad_faces(cs.quads.size(), 0);
-        for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
-            for (int k = 0; k < 4; ++k)
-                if (cs.face_corner_quad[f][k] >= 0)
-                    ++quad_faces[cs.quad_begin[an.face_vertices[f][k]] + cs.face_corner_quad[f][k]];
-        for (int v = 0; v < nv; ++v) {
-            const bool ll = an.vertex_class[v] == VertexClass::LLJoint;
-            if (!ll && !(an.vertex_class[v] == VertexClass::BranchingPoint && an.vertex_boundary_edges[v] > 0))
-                continue;
-            std::vector<int> ray(cs.point_begin[v + 1] - cs.point_begin[v], 0);
-            for (int q = cs.quad_begin[v]; q < cs.quad_begin[v + 1]; ++q) {
-                const int r = cs.quad_rotation[q];
-                for (int i = 0; i < 4; ++i)
-                    ray[cs.quads[q][i]] += r >= 0 && (((i - r) & 3) == 1 || ((i - r) & 3) == 3) ? quad_faces[q] + 2 : 2;
-            }
-            for (int k : ray)
-                if (k != 4) ++p.interior_irregular_edges[k];
-        }
-    }
-    for (int v = 0; v < nv; ++v) {
-        // BL-joint: its up and down rays carry the 2 chunk kites, the 2 half-chunks and one plate per face.
-        if (an.vertex_class[v] == VertexClass::BLJoint) p.interior_irregular_edges[4 + faces_at[v]] += 2;
-    }
-    if (an.counts.boundary_edges > 0) p.boundary_irregular_edges[1] += 2 * an.counts.boundary_edges;
-    count_rooted_patch_edges(skeleton, an, cs, p);
-    // Compatible blocks: 27 vertices and 8 hexes each, no interior irregular edge; boundary valence 1 / 3 at the cube
-    // edges between two free / two docked faces.
-    for (const CubeBlock& b : cs.blocks) add_block_irregular_edges(b, p.boundary_irregular_edges);
-    // Fan blocks: 4 hexes per fan edge and per open chain end, no interior irregular edge.
-    for (const FanBlockChain& c : cs.fan_blocks.chains) add_fan_block_irregular_edges(c, p.boundary_irregular_edges);
-    std::erase_if(p.boundary_irregular_edges, [](const auto& kv) { return kv.second == 0; });
-    p.fan_blocks = fan_block_edges(cs.fan_blocks);
-    p.fan_block_caps = fan_block_caps(cs.fan_blocks);
-    p.compatible_blocks = static_cast<long>(cs.blocks.size()) + p.fan_blocks;
-    p.hexes = an.predicted_hexes + kBlockHexes * static_cast<long>(cs.blocks.size()) +
-              kFanChunkHexes * (p.fan_blocks + p.fan_block_caps);
-    return p;
-}
-
-namespace {
-
-// The steps of build_raw_mesh, in the order it calls them. Each is a free function over the stage's inputs and the
-// plain arrays the previous steps produced.
-
-void check_raw_mesh_inputs(const Skeleton& skeleton, const ConnectionSurfaces& cs, const BranchFrames& frames) {
-    const int nv = static_cast<int>(skeleton.points.size());
-    if (skeleton.radii.size() != skeleton.points.size())
-        throw Error(ErrorCode::InvalidInput, "the skeleton needs one radius per vertex to build the raw mesh");
-    for (int v = 0; v < nv; ++v)
-        if (!(skeleton.radii[v] > 0) || !std::isfinite(skeleton.radii[v]))
-            throw Error(ErrorCode::InvalidInput,
-                        "skeleton vertex " + std::to_string(v) + " has radius " + std::to_string(skeleton.radii[v]) +
-                            " (must be finite and > 0)",
-                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
-    MESOHEX_CHECK(static_cast<int>(cs.point_begin.size()) == nv + 1, "connection surfaces do not match the skeleton");
-    MESOHEX_CHECK(frames.directions.size() == cs.directions.size(), "frames do not match the connection surfaces");
-}
-
-// Vertex ids: prefix sum of (1 + points + edges) over the connection surfaces. Fills vertex_base (per skeleton
-// vertex, -1 when it owns no ids) and returns the number of raw-mesh vertices.
-// Leaflet vertices: interior -> centre, up, down; regular boundary -> also out, out-up, out-down.
-int assign_vertex_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, int nv, std::vector<int>& vertex_base) {
-    vertex_base.assign(nv, -1);
-    int n_points = 0;
-    for (int v = 0; v < nv; ++v) {
-        const VertexClass c = an.vertex_class[v];
-        if (has_surface(c)) {
-            vertex_base[v] = n_points;
-            n_points += block_at(cs, v) >= 0 ? kBlockVertices
-                                             : 1 + (cs.point_begin[v + 1] - cs.point_begin[v]) +
-                                                   (cs.edge_begin[v + 1] - cs.edge_begin[v]);
-        } else if (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) {
-            vertex_base[v] = n_points;
-            n_points += c == VertexClass::LeafletInterior ? 3 : 6;
-        } else if (is_fan(c)) {
-            // centre, one vertex per gap; at a fan end also O_w and one out-copy per gap; on a fan-block chain its
-            // section (and cap section)
-            const int g = expected_gaps(an, v);
-            vertex_base[v] = n_points;
-            n_points += fan_block_at(cs, v) >= 0       ? fan_block_vertex_ids(cs.fan_blocks, v)
-                        : c == VertexClass::FanEdgeEnd ? 2 + 2 * g
-                                                       : 1 + g;
-        }
-    }
-    return n_points;
-}
-
 // The gaps between the leaflets around fan edges, per (face, corner, side) node f * 8 + corner * 2 + side (0 up,
 // 1 down); both empty when the skeleton has no fan edge.
 struct FanGaps {
@@ -391,6 +250,174 @@ FanGaps find_fan_gaps(const Skeleton& skeleton, const SkeletonAnalysis& an) {
                             "go on across it (or end with its own border edge at a fan-edge end)",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
     return gaps;
+}
+
+// Hexes on the ray from a fan-edge vertex w (without a fan block) to each of its gap vertices, counts[w][gap]: per
+// (face, corner, side) node at w the plate on that side, per leaflet boundary edge at w its two half-chunks (each on
+// its face's side of w). They sum to 2 faces + 2 boundary edges at w; each gap gets an equal share only when the
+// leaflets have as many faces on both sides of it (a fan line turning inside a leaflet has 1 face on the inner side
+// of the turn and 3 on the outer: rays of 3 and 5 hexes).
+std::vector<std::vector<int>> fan_gap_ray_hexes(const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                                                const FanGaps& gaps) {
+    const int nv = static_cast<int>(an.vertex_class.size());
+    std::vector<std::vector<int>> counts(nv);
+    if (gaps.gap_of.empty()) return counts;
+    for (int v = 0; v < nv; ++v)
+        if (is_fan(an.vertex_class[v]) && fan_block_at(cs, v) < 0) counts[v].assign(expected_gaps(an, v), 0);
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        for (int k = 0; k < 4; ++k) {
+            const bool boundary = an.edge_degree[an.face_edges[f][k]] == 1;  // from corner k to corner k + 1
+            for (int j : {k, (k + 1) & 3}) {
+                const int w = an.face_vertices[f][j];
+                if (counts[w].empty() || (j != k && !boundary) || !face_counts_at(an, f, w)) continue;
+                const int per_node = (j == k ? 1 : 0) + (boundary ? 1 : 0);
+                // corner k's plate once; a boundary side's half-chunk at both of its ends
+                for (int side = 0; side < 2; ++side) counts[w][gaps.gap_of[f * 8 + j * 2 + side]] += per_node;
+            }
+        }
+    return counts;
+}
+
+}  // namespace
+
+RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs) {
+    RawMeshPrediction p;
+    const int nv = static_cast<int>(an.vertex_class.size());
+    for (int v = 0; v < nv; ++v) {
+        const int np = cs.point_begin[v + 1] - cs.point_begin[v];
+        const int ned = cs.edge_begin[v + 1] - cs.edge_begin[v];
+        if (np > 0 && !roots_branch(an, v)) p.vertices += block_at(cs, v) >= 0 ? kBlockVertices : 1 + np + ned;
+        if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
+        if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
+        if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
+        if (an.vertex_class[v] != VertexClass::BranchingPoint || an.vertex_boundary_edges[v] > 0 ||
+            block_at(cs, v) >= 0)
+            continue;
+        for (int x = cs.point_begin[v]; x < cs.point_begin[v + 1]; ++x)
+            if (cs.point_valence[x] != 2) ++p.interior_irregular_edges[2 * cs.point_valence[x]];
+    }
+    if (an.counts.branch_edges > 0) p.boundary_irregular_edges[1] += 4 * an.counts.branch_edges;
+    // Leaflets: the edge from a leaflet vertex to its up (down) copy has one plate hex per incident face, plus the two
+    // half-chunks at a boundary vertex; each boundary edge has two outer longitudinal edges with one hex.
+    std::vector<int> faces_at(nv, 0);  // leaflet faces (at a docked chain vertex: its plate's)
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        for (int w : an.face_vertices[f]) faces_at[w] += face_counts_at(an, f, w) ? 1 : 0;
+    for (int v = 0; v < nv; ++v) {
+        const VertexClass c = an.vertex_class[v];
+        if (c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) continue;
+        const int k = faces_at[v] + (c == VertexClass::LeafletBoundary ? 2 : 0);
+        if (k != 4) p.interior_irregular_edges[k] += 2;
+    }
+    // Fan edges (reference-notes §8.6): the fan edge has 2 hexes per face, the extension edge w -> O_w at a fan end
+    // one per half-chunk (also 2 per face); the ray from a fan-edge vertex to a gap vertex has the plates (and, at a
+    // fan end, the half-chunks) facing that gap, (2 faces + 2 boundary edges at w) / gaps each when the fan is regular (fan_gap_ray_hexes).
+    // A fan edge with a fan block (fan_blocks.h) has none of these.
+    for (int e = 0; e < static_cast<int>(an.edge_degree.size()); ++e)
+        if (an.edge_degree[e] >= 3 && an.edge_docked[e] != 1 && fan_block_at(cs, skeleton.edges[e][0]) < 0)
+            ++p.interior_irregular_edges[2 * an.edge_degree[e]];
+    const std::vector<std::vector<int>> ray_hexes = fan_gap_ray_hexes(an, cs, find_fan_gaps(skeleton, an));
+    for (int v = 0; v < nv; ++v) {
+        if (!is_fan(an.vertex_class[v])) continue;
+        if (fan_block_at(cs, v) >= 0) {
+            p.vertices += fan_block_vertex_ids(cs.fan_blocks, v);
+            continue;
+        }
+        const int g = expected_gaps(an, v);
+        const bool end = an.vertex_class[v] == VertexClass::FanEdgeEnd;
+        p.vertices += end ? 2 + 2 * g : 1 + g;
+        if (end) ++p.interior_irregular_edges[2 * g];
+        for (int k : ray_hexes[v])
+            if (k != 4) ++p.interior_irregular_edges[k];
+    }
+    // Leaflet junctions (LL-joints, branching points with leaflets): the ray to a surface point x has, per quad
+    // containing x, the 2 kites of a chunk for a branch quad; for a leaflet quad its plates + 2 half-chunks if x is
+    // that leaflet's up or down vertex, else the 2 half-chunks of the boundary edge whose out vertex it is.
+    {
+        std::vector<int> quad_faces(cs.quads.size(), 0);
+        for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+            for (int k = 0; k < 4; ++k)
+                if (cs.face_corner_quad[f][k] >= 0)
+                    ++quad_faces[cs.quad_begin[an.face_vertices[f][k]] + cs.face_corner_quad[f][k]];
+        for (int v = 0; v < nv; ++v) {
+            const bool ll = an.vertex_class[v] == VertexClass::LLJoint;
+            if (!ll && !(an.vertex_class[v] == VertexClass::BranchingPoint && an.vertex_boundary_edges[v] > 0))
+                continue;
+            std::vector<int> ray(cs.point_begin[v + 1] - cs.point_begin[v], 0);
+            for (int q = cs.quad_begin[v]; q < cs.quad_begin[v + 1]; ++q) {
+                const int r = cs.quad_rotation[q];
+                for (int i = 0; i < 4; ++i)
+                    ray[cs.quads[q][i]] += r >= 0 && (((i - r) & 3) == 1 || ((i - r) & 3) == 3) ? quad_faces[q] + 2 : 2;
+            }
+            for (int k : ray)
+                if (k != 4) ++p.interior_irregular_edges[k];
+        }
+    }
+    for (int v = 0; v < nv; ++v) {
+        // BL-joint: its up and down rays carry the 2 chunk kites, the 2 half-chunks and one plate per face.
+        if (an.vertex_class[v] == VertexClass::BLJoint) p.interior_irregular_edges[4 + faces_at[v]] += 2;
+    }
+    if (an.counts.boundary_edges > 0) p.boundary_irregular_edges[1] += 2 * an.counts.boundary_edges;
+    count_rooted_patch_edges(skeleton, an, cs, p);
+    // Compatible blocks: 27 vertices and 8 hexes each, no interior irregular edge; boundary valence 1 / 3 at the cube
+    // edges between two free / two docked faces.
+    for (const CubeBlock& b : cs.blocks) add_block_irregular_edges(b, p.boundary_irregular_edges);
+    // Fan blocks: 4 hexes per fan edge and per open chain end, no interior irregular edge.
+    for (const FanBlockChain& c : cs.fan_blocks.chains) add_fan_block_irregular_edges(c, p.boundary_irregular_edges);
+    std::erase_if(p.boundary_irregular_edges, [](const auto& kv) { return kv.second == 0; });
+    p.fan_blocks = fan_block_edges(cs.fan_blocks);
+    p.fan_block_caps = fan_block_caps(cs.fan_blocks);
+    p.compatible_blocks = static_cast<long>(cs.blocks.size()) + p.fan_blocks;
+    p.hexes = an.predicted_hexes + kBlockHexes * static_cast<long>(cs.blocks.size()) +
+              kFanChunkHexes * (p.fan_blocks + p.fan_block_caps);
+    return p;
+}
+
+namespace {
+
+// The steps of build_raw_mesh, in the order it calls them. Each is a free function over the stage's inputs and the
+// plain arrays the previous steps produced.
+
+void check_raw_mesh_inputs(const Skeleton& skeleton, const ConnectionSurfaces& cs, const BranchFrames& frames) {
+    const int nv = static_cast<int>(skeleton.points.size());
+    if (skeleton.radii.size() != skeleton.points.size())
+        throw Error(ErrorCode::InvalidInput, "the skeleton needs one radius per vertex to build the raw mesh");
+    for (int v = 0; v < nv; ++v)
+        if (!(skeleton.radii[v] > 0) || !std::isfinite(skeleton.radii[v]))
+            throw Error(ErrorCode::InvalidInput,
+                        "skeleton vertex " + std::to_string(v) + " has radius " + std::to_string(skeleton.radii[v]) +
+                            " (must be finite and > 0)",
+                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
+    MESOHEX_CHECK(static_cast<int>(cs.point_begin.size()) == nv + 1, "connection surfaces do not match the skeleton");
+    MESOHEX_CHECK(frames.directions.size() == cs.directions.size(), "frames do not match the connection surfaces");
+}
+
+// Vertex ids: prefix sum of (1 + points + edges) over the connection surfaces. Fills vertex_base (per skeleton
+// vertex, -1 when it owns no ids) and returns the number of raw-mesh vertices.
+// Leaflet vertices: interior -> centre, up, down; regular boundary -> also out, out-up, out-down.
+int assign_vertex_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, int nv, std::vector<int>& vertex_base) {
+    vertex_base.assign(nv, -1);
+    int n_points = 0;
+    for (int v = 0; v < nv; ++v) {
+        const VertexClass c = an.vertex_class[v];
+        if (has_surface(c)) {
+            vertex_base[v] = n_points;
+            n_points += block_at(cs, v) >= 0 ? kBlockVertices
+                                             : 1 + (cs.point_begin[v + 1] - cs.point_begin[v]) +
+                                                   (cs.edge_begin[v + 1] - cs.edge_begin[v]);
+        } else if (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) {
+            vertex_base[v] = n_points;
+            n_points += c == VertexClass::LeafletInterior ? 3 : 6;
+        } else if (is_fan(c)) {
+            // centre, one vertex per gap; at a fan end also O_w and one out-copy per gap; on a fan-block chain its
+            // section (and cap section)
+            const int g = expected_gaps(an, v);
+            vertex_base[v] = n_points;
+            n_points += fan_block_at(cs, v) >= 0       ? fan_block_vertex_ids(cs.fan_blocks, v)
+                        : c == VertexClass::FanEdgeEnd ? 2 + 2 * g
+                                                       : 1 + g;
+        }
+    }
+    return n_points;
 }
 
 // Centre, up and down vertex id of each face corner; docked: a wall's corner ids on a docked chain (docked_walls.h:
