@@ -46,6 +46,12 @@ void add_bl_corner_options(CLI::App* cmd, MedialImportOptions* o, const std::str
                         "boundary corner at most this x its boundary edges away (0 = off)")
         ->capture_default_str()
         ->check(finite_range(0.0, 100.0));
+    cmd->add_option("--fill-pinch", o->fill_pinch_max_angle_deg,
+                    help_prefix +
+                        "two leaflets touching at one vertex get a triangle across the gap between them when it is "
+                        "narrower than this (degrees; 0 = off)")
+        ->capture_default_str()
+        ->check(finite_range(0.0, 180.0));
 }
 
 void register_import(CLI::App& app, int* status) {
