@@ -134,12 +134,12 @@ std::string hex_geometry(const std::array<Vec3, 8>& p, bool plate, bool b_second
         const Vec3 a = p[0], ob = p[2], ua = p[4];
         const Vec3 b = b_second ? p[1] : p[3], oa = b_second ? p[3] : p[1], ub = b_second ? p[5] : p[7];
         const double L = distance(a, b);
-        std::snprintf(buf, sizeof buf,
-                      "    half-chunk: J skeleton %.2f offset %.2f | side %.3g out %.3g %.3g r %.3g %.3g lean %.0f %.0f "
-                      "outs %.0f normals %.0f",
-                      jb, jt, L, distance(oa, a), distance(ob, b), distance(ua, a), distance(ub, b),
-                      angle_between(oa - a, b - a), angle_between(ob - b, a - b), angle_between(oa - a, ob - b),
-                      angle_between(ua - a, ub - b));
+        std::snprintf(
+            buf, sizeof buf,
+            "    half-chunk: J skeleton %.2f offset %.2f | side %.3g out %.3g %.3g r %.3g %.3g lean %.0f %.0f "
+            "outs %.0f normals %.0f",
+            jb, jt, L, distance(oa, a), distance(ob, b), distance(ua, a), distance(ub, b), angle_between(oa - a, b - a),
+            angle_between(ob - b, a - b), angle_between(oa - a, ob - b), angle_between(ua - a, ub - b));
     }
     return buf;
 }
@@ -239,7 +239,8 @@ int main(int argc, char** argv) {
             site < static_cast<int>(s.radii.size()) ? s.radii[static_cast<size_t>(site)] : 0.0, p.x, p.y, p.z);
         if (geometry && (e < 0 || an.edge_degree[static_cast<size_t>(e)] > 0)) {
             std::array<Vec3, 8> corners{};
-            for (int k = 0; k < 8; ++k) corners[static_cast<size_t>(k)] = mesh.points[static_cast<size_t>(mesh.hexes[h][k])];
+            for (int k = 0; k < 8; ++k)
+                corners[static_cast<size_t>(k)] = mesh.points[static_cast<size_t>(mesh.hexes[h][k])];
             const bool b_second = std::find(run.pipeline.raw.vertex_base.begin(), run.pipeline.raw.vertex_base.end(),
                                             mesh.hexes[h][1]) != run.pipeline.raw.vertex_base.end();
             std::printf("%s", hex_geometry(corners, e < 0, b_second).c_str());
@@ -251,8 +252,7 @@ int main(int argc, char** argv) {
                                    distance(a0, s.points[static_cast<size_t>(ends[1])]);
                 for (int w : {first ? ends[0] : ends[1], first ? ends[1] : ends[0]}) {
                     int faces = 0;
-                    for (const auto& f : an.face_vertices)
-                        faces += static_cast<int>(std::count(f.begin(), f.end(), w));
+                    for (const auto& f : an.face_vertices) faces += static_cast<int>(std::count(f.begin(), f.end(), w));
                     std::printf(" | v%d %s %.0f deg %d faces", w, to_string(an.vertex_class[static_cast<size_t>(w)]),
                                 angle[static_cast<size_t>(w)], faces);
                 }

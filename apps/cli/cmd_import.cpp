@@ -120,8 +120,8 @@ void register_import(CLI::App& app, int* status) {
         write_skeleton(args->output, r.skeleton);
         std::cout << "import " << args->input << ": " << medial.points.size() << " vertices, " << medial.edges.size()
                   << " edges, " << medial.faces.size() << " triangles in " << r.sheets << " sheet(s)\n"
-                  << "  irregular-fan triangles removed " << r.fan_triangles_removed
-                  << ", curve ends moved to a sheet boundary " << r.reattached_curve_ends
+                  << "  irregular-fan triangles removed " << r.fan_triangles_removed << ", pinches filled "
+                  << r.filled_pinches << ", curve ends moved to a sheet boundary " << r.reattached_curve_ends
                   << ", curve ends moved to a regular leaflet vertex " << r.rooted_curve_ends << ", collapsed sheets "
                   << r.collapsed_sheets << ", leaflets " << r.leaflets << ", fan edges " << r.fan_edges
                   << ", triangle pairs " << r.paired_quads << ", lone triangles " << r.split_triangles

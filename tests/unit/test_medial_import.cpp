@@ -192,7 +192,8 @@ TEST(MedialImport, PinchOfOneLeafletTouchingItselfIsNotFilled) {
     Skeleton m = test::pinch_of_two_fans(15);
     m.points.push_back({0.3, -0.3, -1.5});
     m.radii.push_back(m.radii[0]);
-    for (const std::vector<int>& t : std::vector<std::vector<int>>{{1, 2, 7}, {1, 7, 6}, {7, 5, 6}}) m.faces.push_back(t);
+    for (const std::vector<int>& t : std::vector<std::vector<int>>{{1, 2, 7}, {1, 7, 6}, {7, 5, 6}})
+        m.faces.push_back(t);
     add_face_edges(m);
     const MedialImport r = import_medial_mesh(m);
     EXPECT_EQ(r.filled_pinches, 0);
