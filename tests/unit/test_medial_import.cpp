@@ -158,7 +158,8 @@ TEST(MedialImport, PinchBetweenTwoLeafletsIsFilledAcrossItsNarrowGap) {
     // Euler characteristic 1 kept), one leaflet, no LL-joint. Below 10 degrees, or off, nothing changes.
     const Skeleton m = test::pinch_of_two_fans(15);
     ASSERT_EQ(euler_characteristic(m), 1);
-    const MedialImportOptions fill;
+    MedialImportOptions fill;
+    fill.fill_pinch_max_angle_deg = 60;
     const MedialImport on = import_medial_mesh(m, fill);
     EXPECT_EQ(on.filled_pinches, 1);
     EXPECT_EQ(on.leaflets, 1);
@@ -195,7 +196,9 @@ TEST(MedialImport, PinchOfOneLeafletTouchingItselfIsNotFilled) {
     for (const std::vector<int>& t : std::vector<std::vector<int>>{{1, 2, 7}, {1, 7, 6}, {7, 5, 6}})
         m.faces.push_back(t);
     add_face_edges(m);
-    const MedialImport r = import_medial_mesh(m);
+    MedialImportOptions fill;
+    fill.fill_pinch_max_angle_deg = 60;
+    const MedialImport r = import_medial_mesh(m, fill);
     EXPECT_EQ(r.filled_pinches, 0);
     EXPECT_EQ(r.leaflets, 1);
 }
