@@ -9,6 +9,8 @@
 // For each site: its curve edges, its leaflet corner angle (sum of the face angles, degrees; above 180 a notch) and
 // its radius. Then the count per kind, junctions also by layout (rooted branch / several curves on the border / inner).
 //   mesohex_meso_trace SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F]
+//                      [--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--geometry]
+// --geometry adds a line per inverted plate or half-chunk (hex_geometry; bench/classify_meso_trace.py counts them).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -162,7 +164,8 @@ int nearest_vertex(const Skeleton& s, const Vec3& p) {
 int main(int argc, char** argv) {
     if (argc < 2) {
         std::fprintf(stderr,
-                     "usage: %s SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F]\n",
+                     "usage: %s SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F] "
+                     "[--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--geometry]\n",
                      argv[0]);
         return 2;
     }
