@@ -9,6 +9,8 @@
 // For each site: its curve edges, its leaflet corner angle (sum of the face angles, degrees; above 180 a notch) and
 // its radius. Then the count per kind, junctions also by layout (rooted branch / several curves on the border / inner).
 //   mesohex_meso_trace SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F]
+//                      [--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--geometry]
+// --geometry adds a line per inverted plate or half-chunk (hex_geometry; bench/classify_meso_trace.py counts them).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -84,6 +86,66 @@ std::array<double, 2> curve_angles(const Skeleton& s, const SkeletonAnalysis& an
     return worst;
 }
 
+constexpr double kDeg = 180.0 / 3.14159265358979323846;
+
+double angle_between(const Vec3& a, const Vec3& b) {
+    const double na = norm(a), nb = norm(b);
+    if (na == 0 || nb == 0) return -1;
+    return std::acos(std::clamp(dot(a, b) / (na * nb), -1.0, 1.0)) * kDeg;
+}
+
+// Normalized corner Jacobians of a VTK hex (corner i: its three edges, right-handed).
+std::array<double, 8> corner_jacobians(const std::array<Vec3, 8>& p) {
+    static constexpr int nb[8][3] = {{1, 3, 4}, {2, 0, 5}, {3, 1, 6}, {0, 2, 7},
+                                     {7, 5, 0}, {4, 6, 1}, {5, 7, 2}, {6, 4, 3}};
+    std::array<double, 8> j{};
+    for (int i = 0; i < 8; ++i) {
+        const Vec3 a = p[nb[i][0]] - p[i], b = p[nb[i][1]] - p[i], c = p[nb[i][2]] - p[i];
+        const double l = norm(a) * norm(b) * norm(c);
+        j[i] = l > 0 ? dot(cross(a, b), c) / l : 0;
+    }
+    return j;
+}
+
+// Geometry of an inverted plate or half-chunk hex, from its corners (raw_mesh.cpp's layouts): the smallest corner
+// Jacobian on its skeleton level (corners 0-3) and on its offset level (4-7); a plate: the quad's largest corner angle
+// and twist (angle between the normals of its two diagonal splits), the largest angle between a corner's offset (up)
+// and the quad's corner normal, the largest radius over the shortest side; a half-chunk (a, out_a, out_b, b): the
+// side's length, out distances and radii, the angles of the out rays to the side (lean: 90 = square, below 90 towards
+// the other end), between the two out rays and between the two offsets (normals).
+std::string hex_geometry(const std::array<Vec3, 8>& p, bool plate, bool b_second) {
+    const std::array<double, 8> j = corner_jacobians(p);
+    const double jb = std::min({j[0], j[1], j[2], j[3]}), jt = std::min({j[4], j[5], j[6], j[7]});
+    char buf[400];
+    if (plate) {
+        double corner = 0, normal_off = 0, emin = 1e300, rmax = 0;
+        for (int k = 0; k < 4; ++k) {
+            const Vec3 &c = p[k], &n = p[(k + 1) % 4], &m = p[(k + 3) % 4];
+            corner = std::max(corner, angle_between(n - c, m - c));
+            normal_off = std::max(normal_off, angle_between(cross(n - c, m - c), p[k + 4] - c));
+            emin = std::min(emin, distance(c, n));
+            rmax = std::max(rmax, distance(p[k + 4], c));
+        }
+        const double twist = std::max(angle_between(cross(p[1] - p[0], p[2] - p[0]), cross(p[2] - p[0], p[3] - p[0])),
+                                      angle_between(cross(p[2] - p[1], p[3] - p[1]), cross(p[3] - p[1], p[0] - p[1])));
+        std::snprintf(buf, sizeof buf,
+                      "    plate: J skeleton %.2f offset %.2f | corner max %.0f twist %.0f normal-off %.0f r/e %.2f",
+                      jb, jt, corner, twist, normal_off, rmax / emin);
+    } else {
+        // Up: {a, oa, ob, b, ua, oua, oub, ub}; down: {a, b, ob, oa, da, db, odb, oda} (b_second: p[1] is b).
+        const Vec3 a = p[0], ob = p[2], ua = p[4];
+        const Vec3 b = b_second ? p[1] : p[3], oa = b_second ? p[3] : p[1], ub = b_second ? p[5] : p[7];
+        const double L = distance(a, b);
+        std::snprintf(
+            buf, sizeof buf,
+            "    half-chunk: J skeleton %.2f offset %.2f | side %.3g out %.3g %.3g r %.3g %.3g lean %.0f %.0f "
+            "outs %.0f normals %.0f",
+            jb, jt, L, distance(oa, a), distance(ob, b), distance(ua, a), distance(ub, b), angle_between(oa - a, b - a),
+            angle_between(ob - b, a - b), angle_between(oa - a, ob - b), angle_between(ua - a, ub - b));
+    }
+    return buf;
+}
+
 bool is_join(const SkeletonAnalysis& an, int v) {
     const std::string k = site_kind(an, v);
     return k == "bl-joint" || k == "junction";
@@ -102,12 +164,14 @@ int nearest_vertex(const Skeleton& s, const Vec3& p) {
 int main(int argc, char** argv) {
     if (argc < 2) {
         std::fprintf(stderr,
-                     "usage: %s SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F]\n",
+                     "usage: %s SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F] "
+                     "[--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--geometry]\n",
                      argv[0]);
         return 2;
     }
     AutoSkeletonOptions o;
     o.kind = SkeletonKind::Meso;
+    bool geometry = false;  // --geometry: a second line per hex (hex_geometry)
     for (int i = 2; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--no-bl-notch-corners") o.import.bl_joint_reflex_corners = false;
@@ -117,6 +181,8 @@ int main(int argc, char** argv) {
         if (a == "--bl-corner-reach" && i + 1 < argc) o.import.bl_joint_corner_reach = std::atof(argv[++i]);
         if (a == "--fringe-factor" && i + 1 < argc) o.medial.fringe_factor = std::atof(argv[++i]);
         if (a == "--fringe-node-ends") o.medial.fringe_node_ends = true;
+        if (a == "--geometry") geometry = true;
+        if (a == "--fill-pinch" && i + 1 < argc) o.import.fill_pinch_max_angle_deg = std::atof(argv[++i]);
     }
     const TriangleMesh surface = read_surface(argv[1]);
     MeshRun run;
@@ -132,9 +198,9 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "import: %d leaflets, %d BL-joints moved to a corner (%d at notches, %d with several curves), %d "
-        "joins moved onto a corner\n",
+        "joins moved onto a corner, %d pinches filled\n",
         chosen.import.leaflets, chosen.import.moved_bl_joints, chosen.import.notch_corners,
-        chosen.import.branch_corners, chosen.import.joins_to_corners);
+        chosen.import.branch_corners, chosen.import.joins_to_corners, chosen.import.filled_pinches);
     const Skeleton& s = run.pipeline.skeleton;
     const SkeletonAnalysis& an = run.pipeline.analysis;
     const HexMesh& mesh = run.pipeline.raw.mesh;
@@ -174,6 +240,28 @@ int main(int argc, char** argv) {
             to_string(an.vertex_class[static_cast<size_t>(site)]), an.vertex_branch_edges[static_cast<size_t>(site)],
             angle[static_cast<size_t>(site)], ca[0], ca[1],
             site < static_cast<int>(s.radii.size()) ? s.radii[static_cast<size_t>(site)] : 0.0, p.x, p.y, p.z);
+        if (geometry && (e < 0 || an.edge_degree[static_cast<size_t>(e)] > 0)) {
+            std::array<Vec3, 8> corners{};
+            for (int k = 0; k < 8; ++k)
+                corners[static_cast<size_t>(k)] = mesh.points[static_cast<size_t>(mesh.hexes[h][k])];
+            const bool b_second = std::find(run.pipeline.raw.vertex_base.begin(), run.pipeline.raw.vertex_base.end(),
+                                            mesh.hexes[h][1]) != run.pipeline.raw.vertex_base.end();
+            std::printf("%s", hex_geometry(corners, e < 0, b_second).c_str());
+            if (e >= 0) {
+                // The half-chunk's ends in the order of its hex (a first): id, class, faces' angle sum, faces.
+                const std::array<int, 2> ends = s.edges[static_cast<size_t>(e)];
+                const Vec3 a0 = mesh.points[static_cast<size_t>(mesh.hexes[h][0])];
+                const bool first = distance(a0, s.points[static_cast<size_t>(ends[0])]) <
+                                   distance(a0, s.points[static_cast<size_t>(ends[1])]);
+                for (int w : {first ? ends[0] : ends[1], first ? ends[1] : ends[0]}) {
+                    int faces = 0;
+                    for (const auto& f : an.face_vertices) faces += static_cast<int>(std::count(f.begin(), f.end(), w));
+                    std::printf(" | v%d %s %.0f deg %d faces", w, to_string(an.vertex_class[static_cast<size_t>(w)]),
+                                angle[static_cast<size_t>(w)], faces);
+                }
+            }
+            std::printf("\n");
+        }
     }
     std::printf("raw %zu hexes, %ld inverted, min SJ %.3f\n", sj.size(), inverted, run.raw_quality.sj_min);
     for (const auto& [k, n] : per_kind) std::printf("  %-16s %d\n", k.c_str(), n);

@@ -46,6 +46,12 @@ void add_bl_corner_options(CLI::App* cmd, MedialImportOptions* o, const std::str
                         "boundary corner at most this x its boundary edges away (0 = off)")
         ->capture_default_str()
         ->check(finite_range(0.0, 100.0));
+    cmd->add_option("--fill-pinch", o->fill_pinch_max_angle_deg,
+                    help_prefix +
+                        "two leaflets touching at one vertex get a triangle across the gap between them when it is "
+                        "narrower than this (degrees; 0 = off)")
+        ->capture_default_str()
+        ->check(finite_range(0.0, 180.0));
 }
 
 void register_import(CLI::App& app, int* status) {
@@ -114,8 +120,8 @@ void register_import(CLI::App& app, int* status) {
         write_skeleton(args->output, r.skeleton);
         std::cout << "import " << args->input << ": " << medial.points.size() << " vertices, " << medial.edges.size()
                   << " edges, " << medial.faces.size() << " triangles in " << r.sheets << " sheet(s)\n"
-                  << "  irregular-fan triangles removed " << r.fan_triangles_removed
-                  << ", curve ends moved to a sheet boundary " << r.reattached_curve_ends
+                  << "  irregular-fan triangles removed " << r.fan_triangles_removed << ", pinches filled "
+                  << r.filled_pinches << ", curve ends moved to a sheet boundary " << r.reattached_curve_ends
                   << ", curve ends moved to a regular leaflet vertex " << r.rooted_curve_ends << ", collapsed sheets "
                   << r.collapsed_sheets << ", leaflets " << r.leaflets << ", fan edges " << r.fan_edges
                   << ", triangle pairs " << r.paired_quads << ", lone triangles " << r.split_triangles

@@ -54,7 +54,7 @@ inline CLI::Validator finite_range(double lo, double hi) {
 }
 
 // The import's flags for notch and several-curve leaflet corners (--no-bl-notch-corners, --no-bl-branch-corners,
-// --bl-corner-max-push, --bl-corner-reach), writing into *o (which must outlive the parse); each help text starts with
+// --bl-corner-max-push, --bl-corner-reach) and the pinch fill (--fill-pinch), writing into *o (which must outlive the parse); each help text starts with
 // help_prefix. Shared by `import` and `auto` (cmd_import.cpp).
 void add_bl_corner_options(CLI::App* cmd, MedialImportOptions* o, const std::string& help_prefix);
 

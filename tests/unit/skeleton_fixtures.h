@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <random>
 #include <utility>
 #include <vector>
@@ -120,6 +121,18 @@ inline Skeleton medial_mesh(std::vector<Vec3> points, std::vector<std::array<int
 inline Skeleton notch_l_with_a_curve(const Vec3& to, double radius = 0.01) {
     return medial_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}, to},
                        {{4, 8}}, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7}, {3, 7, 6}}, radius);
+}
+
+// A pinch: two fans of two triangles each in the plane z = 0 around vertex 0 = (0, 0, 0), touching only there. Fan A
+// spans the directions 0 to 120 degrees (vertices 1, 2, 3 at 0, 60, 120, distance 1), fan B the directions
+// 120 + gap to 260 degrees (vertices 4, 5, 6 at 120 + gap, (380 + gap) / 2, 260): gaps of `gap` and 100 degrees.
+inline Skeleton pinch_of_two_fans(double gap_deg, double radius = 0.01) {
+    const auto at = [](double deg) {
+        const double a = deg * std::numbers::pi / 180;
+        return Vec3{std::cos(a), std::sin(a), 0};
+    };
+    return medial_mesh({{0, 0, 0}, at(0), at(60), at(120), at(120 + gap_deg), at((380 + gap_deg) / 2), at(260)}, {},
+                       {{0, 1, 2}, {0, 2, 3}, {0, 4, 5}, {0, 5, 6}}, radius);
 }
 
 // Two unit squares side by side (border y = 0) with two curves from the border's middle vertex 1 = (1, 0, 0): one of

@@ -171,6 +171,25 @@ TEST(AutoSkeleton, JoinHandedToACornerMeshesWithoutInversion) {
     }
 }
 
+TEST(AutoSkeleton, PinchFilledAcrossItsNarrowGapMeshesWithoutInversion) {
+    // Two leaflets touching at vertex 0 with gaps of 5 or 15 and 100 degrees between them (an LL-joint): the
+    // pillow's in-plane points lie in the gaps, so the half-chunks on both sides of the narrow gap stand on corners
+    // of at most half of it and invert, 2 hexes each (up and down) for radii from 0.1 (a tenth of the border sides).
+    // With the narrow gap filled (60 degrees, the default) the pinch is a plain border vertex: none.
+    MedialImportOptions off, fill;
+    off.fill_pinch_max_angle_deg = 0;
+    fill.fill_pinch_max_angle_deg = 60;
+    for (double gap : {5.0, 15.0})
+        for (double r : {0.1, 0.2, 0.3}) {
+            SCOPED_TRACE(testing::Message() << gap << " " << r);
+            const Skeleton m = test::pinch_of_two_fans(gap, r);
+            EXPECT_EQ(raw_inverted(import_medial_mesh(m, off).skeleton), 4);
+            const MedialImport on = import_medial_mesh(m, fill);
+            EXPECT_EQ(on.filled_pinches, 1);
+            EXPECT_EQ(raw_inverted(on.skeleton), 0);
+        }
+}
+
 TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {
     const TriangleMesh s = box(2, 0.3);
     const AutoSkeletonOptions o;

@@ -152,6 +152,57 @@ TEST(MedialImport, IrregularFanLosesTheTriangleThatLeavesTheFlattestFan) {
     EXPECT_EQ(kept.fan_edges, 1);
 }
 
+TEST(MedialImport, PinchBetweenTwoLeafletsIsFilledAcrossItsNarrowGap) {
+    // Fans A (0 to 120 degrees) and B (135 to 260) around vertex 0, touching only there: gaps of 15 and 100 degrees.
+    // Filled below 60 degrees (the default): triangle (0, 3, 4) and side 3-4 are added (V 7, E 10 + 1, F 4 + 1:
+    // Euler characteristic 1 kept), one leaflet, no LL-joint. Below 10 degrees, or off, nothing changes.
+    const Skeleton m = test::pinch_of_two_fans(15);
+    ASSERT_EQ(euler_characteristic(m), 1);
+    MedialImportOptions fill;
+    fill.fill_pinch_max_angle_deg = 60;
+    const MedialImport on = import_medial_mesh(m, fill);
+    EXPECT_EQ(on.filled_pinches, 1);
+    EXPECT_EQ(on.leaflets, 1);
+    EXPECT_EQ(euler_characteristic(on.skeleton), 1);
+    testing::expect_valid_quad_skeleton(on.skeleton);
+    testing::expect_leaflets_oriented(on.skeleton, on.face_leaflet);
+    EXPECT_EQ(analyze_skeleton(on.skeleton).counts.ll_joints, 0);
+    // The filled triangle is split in 3 quads around its centroid (0 + 3 + 4) / 3.
+    const Vec3 centroid = (m.points[0] + m.points[3] + m.points[4]) / 3.0;
+    MedialImportOptions unsmoothed = fill;
+    unsmoothed.smoothing_iterations = 0;
+    const MedialImport still = import_medial_mesh(m, unsmoothed);
+    EXPECT_EQ(std::count_if(still.skeleton.points.begin(), still.skeleton.points.end(),
+                            [&](const Vec3& p) { return distance(p, centroid) < 1e-12; }),
+              1);
+    for (double max_angle : {0.0, 10.0}) {
+        MedialImportOptions o;
+        o.fill_pinch_max_angle_deg = max_angle;
+        const MedialImport off = import_medial_mesh(m, o);
+        EXPECT_EQ(off.filled_pinches, 0);
+        EXPECT_EQ(off.leaflets, 2);
+        EXPECT_EQ(euler_characteristic(off.skeleton), 1);
+        EXPECT_EQ(analyze_skeleton(off.skeleton).counts.ll_joints, 1);
+    }
+}
+
+TEST(MedialImport, PinchOfOneLeafletTouchingItselfIsNotFilled) {
+    // The pinch above with fans A and B joined below the plane, far from vertex 0, through vertex 7 by the triangles
+    // (1, 2, 7), (1, 7, 6), (7, 5, 6) (sides 1-2, 1-7, 6-7, 5-6 manifold): one leaflet touching itself at vertex 0,
+    // left as it is.
+    Skeleton m = test::pinch_of_two_fans(15);
+    m.points.push_back({0.3, -0.3, -1.5});
+    m.radii.push_back(m.radii[0]);
+    for (const std::vector<int>& t : std::vector<std::vector<int>>{{1, 2, 7}, {1, 7, 6}, {7, 5, 6}})
+        m.faces.push_back(t);
+    add_face_edges(m);
+    MedialImportOptions fill;
+    fill.fill_pinch_max_angle_deg = 60;
+    const MedialImport r = import_medial_mesh(m, fill);
+    EXPECT_EQ(r.filled_pinches, 0);
+    EXPECT_EQ(r.leaflets, 1);
+}
+
 // Curve edges = edges in no face, as (min, max) pairs.
 std::vector<std::pair<int, int>> curve_edges_of(const Skeleton& s) {
     std::set<std::pair<int, int>> face_sides;

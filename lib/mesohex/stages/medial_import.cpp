@@ -10,6 +10,7 @@
 #include <numbers>
 #include <numeric>
 #include <queue>
+#include <set>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -147,6 +148,63 @@ bool remove_irregular_fan_triangle(Skeleton& m) {
             for (int& x : f) x -= x > d ? 1 : 0;
     }
     return true;
+}
+
+// One pinch of a medial mesh closed (see MedialImportOptions::fill_pinch_max_angle_deg): a vertex v with no curve
+// edge, no side in three or more triangles and four border sides (in one triangle each), two of them in each of two
+// components through manifold sides (two leaflets touching at v, not one touching itself, so the joined leaflet
+// stays orientable). The narrowest pair of border sides (v, a), (v, b) of different components, if their angle is
+// below max_angle_deg and a-b is no edge yet, gets the triangle (v, a, b) and the edge a-b: V same, E + 1, F + 1
+// (Euler characteristic kept), one leaflet through v instead of two touching at it. The first such vertex by index;
+// returns false when there is none.
+bool fill_pinch_gap(Skeleton& m, double max_angle_deg) {
+    const int nt = static_cast<int>(m.faces.size());
+    const std::map<std::pair<int, int>, std::vector<int>> side_tris = triangles_by_side(m);
+    UnionFind comp(nt);
+    for (const auto& [side, tris] : side_tris)
+        if (tris.size() == 2) comp.unite(tris[0], tris[1]);
+    std::set<std::pair<int, int>> edges;
+    std::vector<char> curve_end(m.points.size(), 0);
+    for (const std::array<int, 2>& e : m.edges) {
+        edges.insert(side_key(e[0], e[1]));
+        if (side_tris.find(side_key(e[0], e[1])) == side_tris.end()) curve_end[e[0]] = curve_end[e[1]] = 1;
+    }
+    std::vector<std::vector<std::pair<int, int>>> sides_at(m.points.size());  // (other end, triangles on the side)
+    for (const auto& [side, tris] : side_tris) {
+        sides_at[side.first].push_back({side.second, static_cast<int>(tris.size())});
+        sides_at[side.second].push_back({side.first, static_cast<int>(tris.size())});
+    }
+    for (int v = 0; v < static_cast<int>(m.points.size()); ++v) {
+        if (curve_end[v]) continue;
+        std::vector<int> border;  // border neighbours of v
+        bool regular = true;
+        for (const auto& [w, n] : sides_at[v]) {
+            if (n == 1) border.push_back(w);
+            regular = regular && n <= 2;
+        }
+        if (!regular || border.size() != 4) continue;
+        std::array<int, 4> root{};  // the component of each border side's triangle
+        for (size_t i = 0; i < 4; ++i) root[i] = comp.find(side_tris.at(side_key(v, border[i]))[0]);
+        std::array<int, 4> sorted = root;
+        std::sort(sorted.begin(), sorted.end());
+        if (sorted[0] != sorted[1] || sorted[2] != sorted[3] || sorted[1] == sorted[2]) continue;  // not 2 + 2
+        const Vec3& p = m.points[v];
+        double best = max_angle_deg;
+        std::array<int, 2> pair{-1, -1};
+        for (int i = 0; i < 4; ++i)
+            for (int j = i + 1; j < 4; ++j) {
+                const double angle = angle_deg(p, m.points[border[i]], m.points[border[j]]);
+                if (root[i] != root[j] && angle < best && !edges.contains(side_key(border[i], border[j]))) {
+                    best = angle;
+                    pair = {border[i], border[j]};
+                }
+            }
+        if (pair[0] < 0) continue;
+        m.faces.push_back({v, pair[0], pair[1]});
+        m.edges.push_back({pair[0], pair[1]});
+        return true;
+    }
+    return false;
 }
 
 // The leaflet border around each vertex of a quad skeleton, for the BL-joint corners: curve neighbours, leaflet
@@ -930,19 +988,23 @@ MedialImport import_medial_mesh(const Skeleton& m, const MedialImportOptions& op
     MedialImport result;
     MedialImporter im(m, opt, result);
     im.validate();
-    if (opt.resolve_irregular_fans || opt.reattach_interior_curves) {
+    if (opt.resolve_irregular_fans || opt.reattach_interior_curves || opt.fill_pinch_max_angle_deg > 0) {
         Skeleton reduced = m;
-        int removed = 0, reattached = 0;
+        int removed = 0, reattached = 0, filled = 0;
         if (opt.resolve_irregular_fans)
             while (remove_irregular_fan_triangle(reduced)) ++removed;
+        if (opt.fill_pinch_max_angle_deg > 0)
+            while (fill_pinch_gap(reduced, opt.fill_pinch_max_angle_deg)) ++filled;
         if (opt.reattach_interior_curves) reattached = reattach_interior_curve_ends(reduced);
-        if (removed > 0 || reattached > 0) {
+        if (removed > 0 || reattached > 0 || filled > 0) {
             MedialImportOptions rest = opt;
             rest.resolve_irregular_fans = false;
             rest.reattach_interior_curves = false;
+            rest.fill_pinch_max_angle_deg = 0;
             MedialImport r = import_medial_mesh(reduced, rest);
             r.fan_triangles_removed = removed;
             r.reattached_curve_ends = reattached;
+            r.filled_pinches = filled;
             return r;
         }
     }

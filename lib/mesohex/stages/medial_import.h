@@ -37,6 +37,13 @@ struct MedialImportOptions {
     // go without changing the Euler characteristic (one side free: the triangle and that side go; two sides free and
     // the third vertex in nothing else: the triangle, both sides and the vertex go).
     bool resolve_irregular_fans = true;
+    // Then: a pinch, a vertex where two leaflets touch through their borders only (an LL-joint for the mesher), whose
+    // nearest two border sides of different leaflets are less than this apart (degrees; 0 = off), gets the triangle
+    // across that gap (fill_pinch_gap): the two leaflets become one through the vertex. The mesher's LL-joint pillow
+    // puts one point in each gap between the leaflets, so a gap narrower than 60 degrees leaves its two half-chunks
+    // with corners below 30 degrees (they flatten or invert); the filled triangle's corner is the whole gap. Only
+    // between two leaflets (one leaflet touching itself is left: it stays orientable); Euler characteristic unchanged.
+    double fill_pinch_max_angle_deg = 60;
     // A curve edge ending inside a sheet (cup.ma's handle) stays there: after the quad split, an end at a vertex where
     // other than 4 faces meet moves to the regular (4-face) neighbour most in the curve's direction, where the mesher
     // roots the branch on the plates (root_interior_curves). Counts and Euler characteristic unchanged.
@@ -122,6 +129,7 @@ struct MedialImport {
     int reattached_curve_ends = 0;  // curve-edge ends moved from a sheet interior to its boundary
     int rooted_curve_ends = 0;      // curve-edge ends moved inside a leaflet to a regular vertex
     int fan_triangles_removed = 0;  // triangles removed to make irregular fans regular (resolve_irregular_fans)
+    int filled_pinches = 0;         // triangles added across narrow gaps at pinches (fill_pinch_max_angle_deg)
     int fan_edges = 0;              // input edges in 3 or more triangles (each becomes 2 fan edges when split)
 };
 
