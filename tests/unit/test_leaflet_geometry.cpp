@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <set>
 
 #include "mesohex/post/quality.h"
@@ -168,4 +169,51 @@ TEST(LeafletGeometry, EvenCreaseKeepsTheMeanNormal) {
     const Vec3 sum = leaflet_normal_sum(an, 4);
     expect_vec(lf.normal[4], normalized(sum), 1e-15);
     EXPECT_NEAR(std::abs(lf.normal[4].x), std::sqrt(0.5), 1e-12);
+}
+
+namespace {
+
+// plate(2, 2) folded along its middle column x = 1 so that its halves meet at `angle` degrees: the right half turns
+// up over the left one (its direction from the crease (cos phi, 0, sin phi), phi = 180 - angle).
+Skeleton folded_plate(double angle) {
+    Skeleton s = plate(2, 2);
+    const double phi = (180 - angle) * std::numbers::pi / 180;
+    for (Vec3& p : s.points)
+        if (p.x > 1.5) p = {1 + std::cos(phi), p.y, std::sin(phi)};
+    return s;
+}
+
+}  // namespace
+
+// The concave side of a sharp crease takes the miter (kMiterMaxFactor): halves meeting at 30 degrees, the crease
+// vertices' copy on the side the faces lean to goes r / sin 15 = 3.8637 r along the normal, and lies r from both
+// faces' planes; the convex copy stays at r. At 10 degrees the miter (11.5) is capped at 4; at 60 degrees (a miter of
+// 2 < kMiterMinFactor) and on a flat plate every copy stays at r.
+TEST(LeafletGeometry, SharpCreaseConcaveCopyTakesTheMiter) {
+    for (const double angle : {30.0, 10.0, 60.0}) {
+        SCOPED_TRACE(angle);
+        const Skeleton s = folded_plate(angle);
+        const SkeletonAnalysis an = analyze_skeleton(s);
+        const LeafletVertexFrames lf = leaflet_vertex_frames(s, an);
+        const double miter = 1 / std::sin(angle / 2 * std::numbers::pi / 180);
+        const double expected = angle == 60.0 ? 1.0 : std::min(kMiterMaxFactor, miter);
+        for (int w : {1, 4, 7}) {  // the crease: border, interior, border
+            SCOPED_TRACE(w);
+            EXPECT_NEAR(std::max(lf.up_scale[w], lf.down_scale[w]), expected, 1e-12);
+            EXPECT_EQ(std::min(lf.up_scale[w], lf.down_scale[w]), 1.0);
+            // The concave copy is on the side of the faces (the right half's far vertex 5 lies on it).
+            const double side = lf.up_scale[w] > 1 ? 1.0 : -1.0;
+            if (expected > 1) {
+                EXPECT_GT(side * dot(s.points[5] - s.points[4], lf.normal[w]), 0.0);
+            }
+        }
+        if (angle == 30.0)
+            for (int f = 0; f < 4; ++f) {  // r from both faces' planes: (miter n) . n_f = 1
+                const double up = std::max(lf.up_scale[4], lf.down_scale[4]);
+                EXPECT_NEAR(std::abs(dot(up * lf.normal[4], normalized(an.face_normal[f]))), 1.0, 1e-12);
+            }
+    }
+    const Skeleton flat = plate(2, 2);
+    const LeafletVertexFrames lf = leaflet_vertex_frames(flat, analyze_skeleton(flat));
+    for (int w = 0; w < 9; ++w) EXPECT_EQ(lf.up_scale[w] + lf.down_scale[w], 2.0);
 }

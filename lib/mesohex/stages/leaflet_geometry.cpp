@@ -74,6 +74,34 @@ std::vector<char> crease_normals(const SkeletonAnalysis& an, std::vector<Vec3>& 
     return crease;
 }
 
+// LeafletVertexFrames::up_scale / down_scale (kMiterMaxFactor): per leaflet vertex the smallest cosine between its
+// normal and its faces' normals, and on which side of it the faces' centroids lie.
+void crease_miters(const Skeleton& skeleton, const SkeletonAnalysis& an, LeafletVertexFrames& lf) {
+    const int nv = static_cast<int>(lf.normal.size());
+    lf.up_scale.assign(nv, 1.0);
+    lf.down_scale.assign(nv, 1.0);
+    std::vector<double> min_cos(nv, 1.0), rise(nv, 0.0);
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f) {
+        if (!(norm(an.face_normal[f]) > 0)) continue;
+        const Vec3 fn = normalized(an.face_normal[f]);
+        Vec3 centroid{};
+        for (int w : an.face_vertices[f]) centroid += 0.25 * skeleton.points[w];
+        for (int w : an.face_vertices[f]) {
+            if (!face_counts_at(an, f, w)) continue;
+            min_cos[w] = std::min(min_cos[w], dot(lf.normal[w], fn));
+            rise[w] += dot(centroid - skeleton.points[w], lf.normal[w]);
+        }
+    }
+    for (int w = 0; w < nv; ++w) {
+        const VertexClass c = an.vertex_class[w];
+        if ((c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) || !(min_cos[w] > 0)) continue;
+        const double k = std::min(kMiterMaxFactor, 1.0 / min_cos[w]);
+        if (k < kMiterMinFactor) continue;
+        if (rise[w] > 0) lf.up_scale[w] = k;
+        if (rise[w] < 0) lf.down_scale[w] = k;
+    }
+}
+
 }  // namespace
 
 Vec3 leaflet_normal_sum(const SkeletonAnalysis& an, int v) {
@@ -203,6 +231,7 @@ LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const Skelet
     for (Vec3& n : lf.normal)
         if (norm(n) > 0) n = normalized(n);
     const std::vector<char> crease = crease_normals(an, lf.normal);
+    crease_miters(skeleton, an, lf);
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k) {
             if (an.edge_degree[an.face_edges[f][k]] != 1) continue;

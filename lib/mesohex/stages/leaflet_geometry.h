@@ -67,9 +67,21 @@ Vec3 leaflet_neighbour_direction_sum(const Skeleton& skeleton, const SkeletonAna
 // narrowest cone), the cone's axis replaces the mean when it lowers that largest angle by more than this many degrees.
 // Smooth and evenly creased sheets (mean within this of the optimum) keep the mean normal.
 inline constexpr double kCreaseNormalGainDeg = 5.0;
+// The concave side of a sharp crease: the domain (balls swept over the faces) has its corner where the faces' offset
+// planes meet, r / cos(theta) along normal[w] (theta the largest angle between normal[w] and a face normal at w:
+// r / sin(a / 2) for two halves meeting at a degrees), while a copy r along normal[w] lies r cos(theta) from the
+// faces; the padding cannot fill that wedge when it is deep (a fold of 30 degrees missed its concave corner by 2.9 r).
+// The copy on the concave side (the faces' centroids lie on its side of w on the whole) goes the miter distance, at
+// most kMiterMaxFactor x r (a fold of 29 degrees), where the miter is at least kMiterMinFactor x r (a fold of 47
+// degrees or sharper; at milder creases the padding fills the wedge and the longer column only skews the hexes).
+inline constexpr double kMiterMaxFactor = 4.0;  // (see below; in units of r)
+inline constexpr double kMiterMinFactor = 2.5;  // (see above; in units of r)
 struct LeafletVertexFrames {
     std::vector<Vec3> normal;
     std::vector<Vec3> out;
+    // Distance of the up / down copy of a leaflet interior or boundary vertex in units of its radius: 1, or the miter
+    // factor on the concave side of a sharp crease (kMiterMaxFactor).
+    std::vector<double> up_scale, down_scale;
 };
 LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const SkeletonAnalysis& analysis);
 

@@ -886,8 +886,8 @@ void place_leaflet_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an, 
     const Vec3& c = skeleton.points[v];
     const Vec3 n = r * leaf.normal[v];
     raw.mesh.points[base] = c;
-    raw.mesh.points[base + 1] = c + n;
-    raw.mesh.points[base + 2] = c - n;
+    raw.mesh.points[base + 1] = c + leaf.up_scale[v] * n;
+    raw.mesh.points[base + 2] = c - leaf.down_scale[v] * n;
     if (an.vertex_class[v] != VertexClass::LeafletBoundary) return;
     Vec3 o = leaf.out[v], m = n;
     if (an.vertex_border_root[v] == BorderRoot::Out) {

@@ -90,7 +90,8 @@ struct RawMeshOptions {
 // vertices K(i, j, k) = c + h (i F_x + j F_y + k F_z), h = min(r_c, half its shortest edge), are the vertex's ids;
 // every hex in VTK order; positions: C_v at the skeleton vertex, Q_v(x) = c + r_v * d_x, M_v(x, y) =
 // c + r_v * unit(d_x + d_y) (on the sphere of local radius r_v, reduced next to branching points, see
-// RawMeshOptions::margin_fraction); leaflet vertex w: up/down = w +- r n (n = unit sum of incident face normals),
+// RawMeshOptions::margin_fraction); leaflet vertex w: up/down = w +- r n (n = LeafletVertexFrames::normal; on the
+// concave side of a sharp crease r x up_scale / down_scale, the miter),
 // out = w + d o (o = LeafletVertexFrames::out, the bisector of the exterior angle of the border; d = r, shortened at
 // reflex corners, see leaflet_out_distance),
 // out-up/out-down = out +- r n (at a border vertex rooting a branch on its out patch, the column out / out-up /
