@@ -17,6 +17,7 @@
 #include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/finish.h"
+#include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
 #include "mesohex_io/hex_io.h"
 #include "mesohex_io/surface_io.h"
@@ -60,35 +61,6 @@ std::array<Vec3, 8> corners(const HexMesh& m, const std::array<int, 8>& h) {
     return c;
 }
 
-// The unit vector maximising the smallest dot product with the unit vectors `n` (the axis of their smallest enclosing
-// cone): the best of the candidates each one, each pair's bisector and each triple's equidistant direction fix.
-Vec3 maximin_axis(const std::vector<Vec3>& n, double& value) {
-    Vec3 best;
-    value = -2;
-    auto consider = [&](Vec3 a) {
-        if (!(squared_norm(a) > 1e-24)) return;
-        a = normalized(a);
-        double lo = 2;
-        for (const Vec3& x : n) lo = std::min(lo, dot(a, x));
-        if (lo > value) {
-            value = lo;
-            best = a;
-        }
-    };
-    for (std::size_t i = 0; i < n.size(); ++i) {
-        consider(n[i]);
-        for (std::size_t j = i + 1; j < n.size(); ++j) {
-            consider(n[i] + n[j]);
-            for (std::size_t k = j + 1; k < n.size(); ++k) {
-                Vec3 a = cross(n[j] - n[i], n[k] - n[i]);
-                if (dot(a, n[i]) < 0) a = a * -1.0;
-                consider(a);
-            }
-        }
-    }
-    return best;
-}
-
 // The corner normals (sin-weighted: the raw quad's corner frame) of the boundary quads at boundary vertex v.
 void vertex_report(const HexMesh& m, const std::vector<std::array<int, 4>>& quads, int v, const Vec3& dir) {
     std::vector<Vec3> n;
@@ -111,7 +83,7 @@ void vertex_report(const HexMesh& m, const std::vector<std::array<int, 4>>& quad
         lo_dir = std::min(lo_dir, dot(x, dir));
         lo_mean = std::min(lo_mean, dot(x, mean));
     }
-    maximin_axis(n, best);
+    best = lowest_corner(n, maximin_direction(n, mean));
     std::printf("    vertex %d: %zu quads, worst sin %.3f, min cos: direction %.3f mean normal %.3f maximin %.3f\n", v,
                 n.size(), worst_sin, lo_dir, lo_mean, best);
 }
@@ -120,8 +92,7 @@ void report_hex(const HexMesh& m, std::size_t h, double sj) {
     const std::array<Vec3, 8> c = corners(m, m.hexes[h]);
     const std::array<double, 9> f = hex_frame_values(c);
     const std::size_t worst = static_cast<std::size_t>(std::min_element(f.begin(), f.end()) - f.begin());
-    std::printf("hex %zu sj %.4f worst frame %s", h, sj,
-                worst == 0 ? "centre" : (worst <= 4 ? "bottom" : "top"));
+    std::printf("hex %zu sj %.4f worst frame %s", h, sj, worst == 0 ? "centre" : (worst <= 4 ? "bottom" : "top"));
     double off[4];
     for (std::size_t i = 0; i < 4; ++i) off[i] = distance(c[i], c[i + 4]);
     double bottom_len = 0, top_len = 0;
@@ -162,9 +133,8 @@ int main(int argc, char** argv) {
         std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return sj[x] < sj[y]; });
         double raw_min = 1;
         for (std::size_t h = 0; h < raw.hexes.size(); ++h) raw_min = std::min(raw_min, sj[h]);
-        const int below = static_cast<int>(std::count_if(order.begin(), order.end(), [&](std::size_t h) {
-            return sj[h] < 0.2;
-        }));
+        const int below =
+            static_cast<int>(std::count_if(order.begin(), order.end(), [&](std::size_t h) { return sj[h] < 0.2; }));
         std::printf("raw min %.4f padded min %.4f (padding hexes %zu, below 0.2: %d)\n", raw_min,
                     order.empty() ? 1.0 : sj[order.front()], order.size(), below);
         const std::vector<std::array<int, 4>> quads = compute_hex_topology(raw).boundary_quads;
@@ -172,10 +142,12 @@ int main(int argc, char** argv) {
             const std::size_t h = order[static_cast<std::size_t>(i)];
             report_hex(r.mesh, h, sj[h]);
             const std::array<double, 9> f = hex_frame_values(corners(r.mesh, r.mesh.hexes[h]));
-            const std::size_t worst = static_cast<std::size_t>(std::min_element(f.begin() + 1, f.end()) - f.begin()) - 1;
+            const std::size_t worst =
+                static_cast<std::size_t>(std::min_element(f.begin() + 1, f.end()) - f.begin()) - 1;
             const int v = r.mesh.hexes[h][worst % 4];
-            vertex_report(raw, quads, v, normalized(r.mesh.points[static_cast<std::size_t>(r.mesh.hexes[h][worst % 4 + 4])] -
-                                                    raw.points[static_cast<std::size_t>(v)]));
+            vertex_report(raw, quads, v,
+                          normalized(r.mesh.points[static_cast<std::size_t>(r.mesh.hexes[h][worst % 4 + 4])] -
+                                     raw.points[static_cast<std::size_t>(v)]));
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "mesohex_pad_diag: %s\n", e.what());

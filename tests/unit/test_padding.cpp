@@ -47,6 +47,27 @@ HexMesh make_box_shell() {
     return m;
 }
 
+// A U: the 3 x 3 x 3 block without its middle column's upper two layers, the slot (open in y) squeezed to 0.2 wide
+// (x = 0.9 .. 1.1).
+HexMesh make_narrow_slot() {
+    HexMesh u = make_block(3, 3, 3);
+    std::vector<std::array<int, 8>> kept;
+    for (std::size_t h = 0; h < u.hexes.size(); ++h) {
+        const int i = static_cast<int>(h) % 3, k = static_cast<int>(h) / 9;
+        if (!(i == 1 && k >= 1)) kept.push_back(u.hexes[h]);
+    }
+    u.hexes = kept;
+    for (Vec3& p : u.points) {
+        if (p.x == 1)
+            p.x = 0.9;
+        else if (p.x == 2)
+            p.x = 1.1;
+        else if (p.x == 3)
+            p.x = 2.1;
+    }
+    return u;
+}
+
 }  // namespace
 
 TEST(Padding, SingleHexGivesSeven) {
@@ -193,26 +214,11 @@ TEST(Padding, RejectsBadInput) {
     EXPECT_THROW(pad(mesohex::test::make_unit_cube(), options(1, -1)), Error);
 }
 
-// A U: the 3 x 3 x 3 block without its middle column's upper two layers, the slot (open in y) squeezed to 0.2 wide
-// (x = 0.9 .. 1.1). At the slot's floor the two bottom corners' normals (45 degrees, toward each other) would carry
+// The narrow slot (make_narrow_slot). At the slot's floor the two bottom corners' normals (45 degrees, toward each other) would carry
 // their outer vertices past each other (offset ~0.25 each, half width 0.1) and invert the new hexes on the floor;
 // the padding pulls those outer vertices back instead.
 TEST(Padding, NarrowSlotDoesNotInvert) {
-    HexMesh u = make_block(3, 3, 3);
-    std::vector<std::array<int, 8>> kept;
-    for (std::size_t h = 0; h < u.hexes.size(); ++h) {
-        const int i = static_cast<int>(h) % 3, k = static_cast<int>(h) / 9;
-        if (!(i == 1 && k >= 1)) kept.push_back(u.hexes[h]);
-    }
-    u.hexes = kept;
-    for (Vec3& p : u.points) {
-        if (p.x == 1)
-            p.x = 0.9;
-        else if (p.x == 2)
-            p.x = 1.1;
-        else if (p.x == 3)
-            p.x = 2.1;
-    }
+    const HexMesh u = make_narrow_slot();
     ASSERT_EQ(u.hexes.size(), 21u);
     ASSERT_EQ(compute_quality(u).inverted, 0);
     const long boundary_quads = static_cast<long>(compute_hex_topology(u).boundary_quads.size());
@@ -489,14 +495,7 @@ TEST(Padding, CornerGuardTurnsTheDirectionAtAConcaveEdgeEnd) {
 // of 0.3 turns no direction; it only shrinks the offsets of the skewed hexes' vertices together (x 0.7 per round)
 // until every new hex is at least half of min(0.3, its worst bottom corner). The other new vertices stay.
 TEST(Padding, CornerGuardThinsTheLayerWhereDirectionsConverge) {
-    HexMesh u = make_block(3, 3, 3);
-    std::vector<std::array<int, 8>> kept;
-    for (std::size_t h = 0; h < u.hexes.size(); ++h) {
-        const int i = static_cast<int>(h) % 3, k = static_cast<int>(h) / 9;
-        if (!(i == 1 && k >= 1)) kept.push_back(u.hexes[h]);
-    }
-    u.hexes = kept;
-    for (Vec3& p : u.points) p.x = p.x == 1 ? 0.9 : p.x == 2 ? 1.1 : p.x == 3 ? 2.1 : p.x;
+    const HexMesh u = make_narrow_slot();
     // The smallest ratio of a new hex's scaled Jacobian to min(0.3, its worst bottom corner), and that corner.
     auto worst_ratio = [&](const PaddingResult& r, double& bottom_min) {
         double ratio = 1e9;
@@ -530,4 +529,19 @@ TEST(Padding, CornerGuardThinsTheLayerWhereDirectionsConverge) {
         if (norm(a) < norm(b)) ++shrunk;
     }
     EXPECT_GT(shrunk, 0);
+}
+
+// maximin_direction: for three orthonormal vectors the cone axis (1, 1, 1) / sqrt 3 (each dot 1 / sqrt 3); for (0, 0, 1)
+// and (0.5, 0, 0) (a right-angled corner next to one of sine 0.5) the direction where both dots are equal, m_z = 0.5
+// m_x: (2, 0, 1) / sqrt 5, value 1 / sqrt 5; neither vector's own direction does better than 0.
+TEST(Padding, MaximinDirectionOfCornerVectors) {
+    const std::vector<Vec3> axes{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const Vec3 a = maximin_direction(axes, Vec3{1, 0, 0});
+    EXPECT_NEAR(distance(a, Vec3{1, 1, 1} / std::sqrt(3.0)), 0, 1e-12);
+    EXPECT_NEAR(lowest_corner(axes, a), 1 / std::sqrt(3.0), 1e-12);
+    const std::vector<Vec3> uneven{{0, 0, 1}, {0.5, 0, 0}};
+    const Vec3 b = maximin_direction(uneven, Vec3{0, 0, 1});
+    EXPECT_NEAR(distance(b, Vec3{2, 0, 1} / std::sqrt(5.0)), 0, 1e-12);
+    EXPECT_NEAR(lowest_corner(uneven, b), 1 / std::sqrt(5.0), 1e-12);
+    EXPECT_EQ(lowest_corner(uneven, Vec3{0, 0, 1}), 0.0);
 }

@@ -102,18 +102,14 @@ std::vector<char> concave_vertices(const HexMesh& mesh, const std::vector<std::a
     return concave;
 }
 
-// The smallest of dot(w, m) over the corner vectors w.
+}  // namespace
+
 double lowest_corner(const std::vector<Vec3>& w, const Vec3& m) {
     double lo = std::numeric_limits<double>::infinity();
     for (const Vec3& x : w) lo = std::min(lo, dot(x, m));
     return lo;
 }
 
-// The unit vector m maximising the smallest dot(w, m) over `w` (a small linear program on the sphere). The optimum
-// is fixed by one, two or three active vectors: each w's own direction, each pair's direction in the plane where
-// their dots are equal (w_i projected onto the plane orthogonal to w_i - w_j) and each triple's equidistant direction
-// ((w_j - w_i) x (w_k - w_i), on the side of w_i); the best candidate is taken (first best in enumeration order).
-// O(k^4) for k vectors (k <= 8 on a hex boundary vertex of valence up to 8).
 Vec3 maximin_direction(const std::vector<Vec3>& w, const Vec3& fallback) {
     Vec3 best = fallback;
     double best_value = lowest_corner(w, fallback);
@@ -140,6 +136,8 @@ Vec3 maximin_direction(const std::vector<Vec3>& w, const Vec3& fallback) {
     return best;
 }
 
+namespace {
+
 // Per boundary vertex (by local index): the corner vectors of its padded quads, (next - p) x (previous - p) over the
 // product of the two edge lengths: the bottom corner of the new hex on that quad has scaled Jacobian dot(w, m) for the
 // unit direction m at the vertex (sin of the quad's corner angle x cos of m to the corner's normal).
@@ -152,8 +150,8 @@ std::vector<std::vector<Vec3>> corner_vectors(const HexMesh& mesh, const std::ve
             const Vec3 a = mesh.points[static_cast<std::size_t>(q[(i + 1) % 4])] - p;
             const Vec3 b = mesh.points[static_cast<std::size_t>(q[(i + 3) % 4])] - p;
             const double l = norm(a) * norm(b);
-            w[static_cast<std::size_t>(local[static_cast<std::size_t>(q[i])])].push_back(
-                l > 0 ? cross(a, b) / l : Vec3{});
+            w[static_cast<std::size_t>(local[static_cast<std::size_t>(q[i])])].push_back(l > 0 ? cross(a, b) / l
+                                                                                               : Vec3{});
         }
     return w;
 }
@@ -168,7 +166,8 @@ void guard_directions(const HexMesh& mesh, const std::vector<std::array<int, 4>>
     std::vector<char> on_bare(unit_normal.size(), 0);
     for (const std::array<int, 4>& q : bare)
         for (int v : q)
-            if (local[static_cast<std::size_t>(v)] >= 0) on_bare[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
+            if (local[static_cast<std::size_t>(v)] >= 0)
+                on_bare[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
     for (std::size_t i = 0; i < unit_normal.size(); ++i) {
         if (on_bare[i] || lowest_corner(w[i], unit_normal[i]) >= guard) continue;
         const Vec3 axis = maximin_direction(w[i], unit_normal[i]);
@@ -354,7 +353,7 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
 
     const std::vector<char> concave = concave_vertices(mesh, quads, unit_normal, local);
     mesh.points.resize(old_vertices + nb);
-    Layer lay{mesh, quads, new_id, local, boundary_vertices, std::move(unit_normal), std::vector<double>(nb),
+    Layer lay{mesh,        quads, new_id, local, boundary_vertices, std::move(unit_normal), std::vector<double>(nb),
               old_vertices};
     for (std::size_t i = 0; i < nb; ++i) {
         const int v = boundary_vertices[i];
