@@ -179,6 +179,15 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "--pad-inward-edges", job->options.finishing.padding.inward_edges,
         "Padding layer thickness from the shortest boundary edge OR edge into the mesh at each vertex (thin sheets: "
         "the sheet's height, not its leaflet edge; docs/sheets.md)");
+    cmd->add_option("--pad-corner-guard", job->options.finishing.padding.corner_guard,
+                    "Padding directions turned where the mean normal leaves a new hex's corner on the raw boundary "
+                    "below this scaled Jacobian, towards the direction that maximises the worst such corner "
+                    "(docs/junctions.md, \"The padding layer at junctions\")")
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--pad-overshoot-keep", job->options.finishing.pad_overshoot_keep,
+                    "Where the padding layer would reach past the domain surface, pad only to the surface but at "
+                    "least this share of the layer's own thickness (1: the full layer)")
+        ->check(CLI::Range(0.01, 1.0));
     cmd->add_flag_callback(
         "--pad-inset", [job] { job->options.finishing.pad_inset = true; },
         "Where the padding layer reaches past the domain surface, move it inward to end at the surface, the raw "

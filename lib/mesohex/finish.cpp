@@ -209,9 +209,13 @@ struct Finisher {
                 // pad_to_domain x the mean boundary edge at the vertex or th_scaled (a concave vertex's convex
                 // scale, taken only up to the surface: PaddingOptions::concave_scale).
                 const double cap = std::max({th, th_scaled, options.pad_to_domain * mean_edge});
-                if (!(cap > th) || !query.inside(p)) return th;
+                const double keep = options.pad_overshoot_keep;
+                if (!(cap > th) && !(keep < 1)) return th;
+                if (!query.inside(p)) return keep * th;
                 const std::optional<RayHit> hit = query.first_hit(p, d);
-                return hit ? std::clamp(hit->distance, th, cap) : th;
+                if (!hit) return th;
+                if (hit->distance < th) return std::max(hit->distance, keep * th);
+                return std::clamp(hit->distance, th, std::max(cap, th));
             };
         if (options.pad_selective && padding.bare_quads.empty()) select_bare(padding);
         PaddingResult padded = pad(mesh, padding);

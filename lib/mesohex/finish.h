@@ -62,6 +62,12 @@ struct FinishOptions {
     // 0.5 x the distance to the surface) then starts the fit with its boundary near the surface, while a raw mesh
     // already at the surface keeps a thin layer.
     double pad_to_domain = 0.25;
+    // With pad_to_domain: where the layer would reach past the domain surface (a raw boundary vertex outside the
+    // domain, or closer to the surface along its padding direction than the padding's own offset), the offset is
+    // only as far as the surface, but at least this share of the padding's own offset: the fit then pulls a thinner
+    // layer back to the surface instead of crushing a full one. 1: the padding's own offset (as without the rule).
+    // Dimensionless, in (0, 1].
+    double pad_overshoot_keep = 1.0;
     // Where the padding layer reaches past the domain surface (a raw mesh already at the surface: the skeleton's
     // radii are the domain's own), the layer is moved inward to end at the surface, the raw hexes beneath giving up
     // that thickness (inset_padding, pad_inset.h; one padding layer only; vertices of bare quads stay). The fit then

@@ -8,6 +8,7 @@
 
 #include "hex_fixtures.h"
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/core/validate.h"
 #include "mesohex/post/pad_inset.h"
@@ -44,6 +45,27 @@ HexMesh make_box_shell() {
     HexMesh m = make_block(3, 3, 3);
     m.hexes.erase(m.hexes.begin() + 13);  // hex (1, 1, 1)
     return m;
+}
+
+// A U: the 3 x 3 x 3 block without its middle column's upper two layers, the slot (open in y) squeezed to 0.2 wide
+// (x = 0.9 .. 1.1).
+HexMesh make_narrow_slot() {
+    HexMesh u = make_block(3, 3, 3);
+    std::vector<std::array<int, 8>> kept;
+    for (std::size_t h = 0; h < u.hexes.size(); ++h) {
+        const int i = static_cast<int>(h) % 3, k = static_cast<int>(h) / 9;
+        if (!(i == 1 && k >= 1)) kept.push_back(u.hexes[h]);
+    }
+    u.hexes = kept;
+    for (Vec3& p : u.points) {
+        if (p.x == 1)
+            p.x = 0.9;
+        else if (p.x == 2)
+            p.x = 1.1;
+        else if (p.x == 3)
+            p.x = 2.1;
+    }
+    return u;
 }
 
 }  // namespace
@@ -192,26 +214,11 @@ TEST(Padding, RejectsBadInput) {
     EXPECT_THROW(pad(mesohex::test::make_unit_cube(), options(1, -1)), Error);
 }
 
-// A U: the 3 x 3 x 3 block without its middle column's upper two layers, the slot (open in y) squeezed to 0.2 wide
-// (x = 0.9 .. 1.1). At the slot's floor the two bottom corners' normals (45 degrees, toward each other) would carry
+// The narrow slot (make_narrow_slot). At the slot's floor the two bottom corners' normals (45 degrees, toward each other) would carry
 // their outer vertices past each other (offset ~0.25 each, half width 0.1) and invert the new hexes on the floor;
 // the padding pulls those outer vertices back instead.
 TEST(Padding, NarrowSlotDoesNotInvert) {
-    HexMesh u = make_block(3, 3, 3);
-    std::vector<std::array<int, 8>> kept;
-    for (std::size_t h = 0; h < u.hexes.size(); ++h) {
-        const int i = static_cast<int>(h) % 3, k = static_cast<int>(h) / 9;
-        if (!(i == 1 && k >= 1)) kept.push_back(u.hexes[h]);
-    }
-    u.hexes = kept;
-    for (Vec3& p : u.points) {
-        if (p.x == 1)
-            p.x = 0.9;
-        else if (p.x == 2)
-            p.x = 1.1;
-        else if (p.x == 3)
-            p.x = 2.1;
-    }
+    const HexMesh u = make_narrow_slot();
     ASSERT_EQ(u.hexes.size(), 21u);
     ASSERT_EQ(compute_quality(u).inverted, 0);
     const long boundary_quads = static_cast<long>(compute_hex_topology(u).boundary_quads.size());
@@ -427,4 +434,114 @@ TEST(PadInset, GuardKeepsTheRawHexValid) {
                                               [](const Vec3&, const Vec3&, double) { return 0.0; }, {});
     EXPECT_EQ(none.moved_vertices, 0);
     EXPECT_EQ(z.mesh.points, padded.mesh.points);
+}
+
+// PaddingOptions::corner_guard on an L of three unit cubes (the 2 x 1 x 2 block without its cube at (1, 0, 1)). At
+// the two ends of the concave edge, (1, 0, 1) and (1, 1, 1), five quads meet: three on the side face (normal -y or
+// +y), the floor (+z) and the wall (+x). Their mean normal (1, -+3, 1) / sqrt 11 leaves the new hexes on the floor and
+// the wall a bottom corner of 1 / sqrt 11 = 0.3015 (the quads' corners are right angles: the value is the cosine to
+// the corner's normal). The direction that maximises the worst corner is (1, -+1, 1) / sqrt 3 (0.577); with the guard
+// at 0.5 the direction turns from the mean normal just far enough: (1, -+sqrt 2, 1) / 2, whose cosine to +x and +z is
+// 0.5. Every other boundary vertex is flat (1), on a convex edge (0.707) or a convex corner (0.577): untouched. So
+// every bottom corner of the layer is at least 0.5, and every new hex at least 0.25 (half of min(guard, its bottom
+// corners): the thickness guard).
+TEST(Padding, CornerGuardTurnsTheDirectionAtAConcaveEdgeEnd) {
+    HexMesh l = make_block(2, 1, 2);
+    l.hexes.erase(l.hexes.begin() + 3);  // the cube (1, 0, 1): hex index i + 2 k
+    auto worst_bottom_corner = [&](const PaddingResult& r) {
+        double lo = 1;
+        for (std::size_t h = static_cast<std::size_t>(r.first_new_hex); h < r.mesh.hexes.size(); ++h)
+            for (std::size_t lv = 0; lv < 4; ++lv)
+                lo = std::min(lo, hex_corner_value(mesohex::test::corners_of(r.mesh, static_cast<int>(h)), lv));
+        return lo;
+    };
+    auto worst_new_hex = [&](const PaddingResult& r) {
+        double lo = 1;
+        for (std::size_t h = static_cast<std::size_t>(r.first_new_hex); h < r.mesh.hexes.size(); ++h)
+            lo = std::min(lo, scaled_jacobian(mesohex::test::corners_of(r.mesh, static_cast<int>(h))));
+        return lo;
+    };
+    const PaddingResult plain = pad(l);
+    EXPECT_NEAR(worst_bottom_corner(plain), 1 / std::sqrt(11.0), 1e-12);
+    EXPECT_LE(worst_new_hex(plain), 1 / std::sqrt(11.0) + 1e-12);
+    PaddingOptions o;
+    o.corner_guard = 0.5;
+    const PaddingResult guarded = pad(l, o);
+    EXPECT_NEAR(worst_bottom_corner(guarded), 0.5, 1e-8);
+    EXPECT_GE(worst_new_hex(guarded), 0.25);
+    EXPECT_EQ(compute_quality(guarded.mesh).inverted, 0);
+    int turned = 0;
+    for (std::size_t v = static_cast<std::size_t>(guarded.first_new_vertex); v < guarded.mesh.points.size(); ++v) {
+        const Vec3& p = l.points[static_cast<std::size_t>(guarded.origin_vertex[v])];
+        const Vec3 d = normalized(guarded.mesh.points[v] - p);
+        const Vec3 d0 = normalized(plain.mesh.points[v] - p);
+        if (!(p.x == 1 && p.z == 1)) {
+            EXPECT_NEAR(distance(d, d0), 0, 1e-12);  // the same direction as without the guard
+            continue;
+        }
+        ++turned;
+        const double side = p.y == 0 ? -1 : 1;
+        EXPECT_NEAR(distance(d0, Vec3{1, 3 * side, 1} / std::sqrt(11.0)), 0, 1e-12);
+        EXPECT_NEAR(distance(d, Vec3{0.5, side * std::sqrt(0.5), 0.5}), 0, 1e-7);
+    }
+    EXPECT_EQ(turned, 2);
+}
+
+// The thickness guard where directions converge: the narrow slot of NarrowSlotDoesNotInvert (0.2 wide) under a layer
+// of 0.5 x the shortest edge. The slot's floor corners lean towards each other across it (their mean normals take in
+// the walls), so the new vertices over the floor slide towards the other wall and the floor's new hexes skew: the
+// worst is 0.139, below half of min(0.3, its worst bottom corner). Every bottom corner is at least 1 / sqrt 11 =
+// 0.3015 (the slot's ends, as the L's concave edge ends in CornerGuardTurnsTheDirectionAtAConcaveEdgeEnd), so a guard
+// of 0.3 turns no direction; it only shrinks the offsets of the skewed hexes' vertices together (x 0.7 per round)
+// until every new hex is at least half of min(0.3, its worst bottom corner). The other new vertices stay.
+TEST(Padding, CornerGuardThinsTheLayerWhereDirectionsConverge) {
+    const HexMesh u = make_narrow_slot();
+    // The smallest ratio of a new hex's scaled Jacobian to min(0.3, its worst bottom corner), and that corner.
+    auto worst_ratio = [&](const PaddingResult& r, double& bottom_min) {
+        double ratio = 1e9;
+        bottom_min = 1;
+        for (std::size_t h = static_cast<std::size_t>(r.first_new_hex); h < r.mesh.hexes.size(); ++h) {
+            const std::array<Vec3, 8> c = mesohex::test::corners_of(r.mesh, static_cast<int>(h));
+            double bottom = 1;
+            for (std::size_t lv = 0; lv < 4; ++lv) bottom = std::min(bottom, hex_corner_value(c, lv));
+            bottom_min = std::min(bottom_min, bottom);
+            ratio = std::min(ratio, scaled_jacobian(c) / std::min(0.3, bottom));
+        }
+        return ratio;
+    };
+    PaddingOptions o;
+    o.thickness = 0.5;
+    const PaddingResult plain = pad(u, o);
+    o.corner_guard = 0.3;
+    const PaddingResult guarded = pad(u, o);
+    double bottom_plain = 0, bottom_guarded = 0;
+    EXPECT_LT(worst_ratio(plain, bottom_plain), 0.47);
+    EXPECT_GE(worst_ratio(guarded, bottom_guarded), 0.5);
+    EXPECT_NEAR(bottom_plain, 1 / std::sqrt(11.0), 1e-12);
+    EXPECT_NEAR(bottom_guarded, 1 / std::sqrt(11.0), 1e-12);
+    EXPECT_EQ(compute_quality(guarded.mesh).inverted, 0);
+    int shrunk = 0;
+    for (std::size_t v = static_cast<std::size_t>(guarded.first_new_vertex); v < guarded.mesh.points.size(); ++v) {
+        const Vec3& p = u.points[static_cast<std::size_t>(guarded.origin_vertex[v])];
+        const Vec3 a = guarded.mesh.points[v] - p, b = plain.mesh.points[v] - p;
+        EXPECT_NEAR(distance(normalized(a), normalized(b)), 0, 1e-12);  // no direction turned
+        EXPECT_LE(norm(a), norm(b) + 1e-15);
+        if (norm(a) < norm(b)) ++shrunk;
+    }
+    EXPECT_GT(shrunk, 0);
+}
+
+// maximin_direction: for three orthonormal vectors the cone axis (1, 1, 1) / sqrt 3 (each dot 1 / sqrt 3); for (0, 0, 1)
+// and (0.5, 0, 0) (a right-angled corner next to one of sine 0.5) the direction where both dots are equal, m_z = 0.5
+// m_x: (2, 0, 1) / sqrt 5, value 1 / sqrt 5; neither vector's own direction does better than 0.
+TEST(Padding, MaximinDirectionOfCornerVectors) {
+    const std::vector<Vec3> axes{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const Vec3 a = maximin_direction(axes, Vec3{1, 0, 0});
+    EXPECT_NEAR(distance(a, Vec3{1, 1, 1} / std::sqrt(3.0)), 0, 1e-12);
+    EXPECT_NEAR(lowest_corner(axes, a), 1 / std::sqrt(3.0), 1e-12);
+    const std::vector<Vec3> uneven{{0, 0, 1}, {0.5, 0, 0}};
+    const Vec3 b = maximin_direction(uneven, Vec3{0, 0, 1});
+    EXPECT_NEAR(distance(b, Vec3{2, 0, 1} / std::sqrt(5.0)), 0, 1e-12);
+    EXPECT_NEAR(lowest_corner(uneven, b), 1 / std::sqrt(5.0), 1e-12);
+    EXPECT_EQ(lowest_corner(uneven, Vec3{0, 0, 1}), 0.0);
 }

@@ -102,6 +102,199 @@ std::vector<char> concave_vertices(const HexMesh& mesh, const std::vector<std::a
     return concave;
 }
 
+}  // namespace
+
+double lowest_corner(const std::vector<Vec3>& w, const Vec3& m) {
+    double lo = std::numeric_limits<double>::infinity();
+    for (const Vec3& x : w) lo = std::min(lo, dot(x, m));
+    return lo;
+}
+
+Vec3 maximin_direction(const std::vector<Vec3>& w, const Vec3& fallback) {
+    Vec3 best = fallback;
+    double best_value = lowest_corner(w, fallback);
+    auto consider = [&](const Vec3& a) {
+        if (!(squared_norm(a) > 1e-24)) return;
+        const Vec3 m = normalized(a);
+        const double value = lowest_corner(w, m);
+        if (value > best_value) {
+            best_value = value;
+            best = m;
+        }
+    };
+    for (std::size_t i = 0; i < w.size(); ++i) {
+        consider(w[i]);
+        for (std::size_t j = i + 1; j < w.size(); ++j) {
+            const Vec3 d = w[i] - w[j];
+            if (squared_norm(d) > 1e-24) consider(w[i] - d * (dot(w[i], d) / squared_norm(d)));
+            for (std::size_t k = j + 1; k < w.size(); ++k) {
+                const Vec3 a = cross(w[j] - w[i], w[k] - w[i]);
+                consider(dot(a, w[i]) < 0 ? a * -1.0 : a);
+            }
+        }
+    }
+    return best;
+}
+
+namespace {
+
+// Per boundary vertex (by local index): the corner vectors of its padded quads, (next - p) x (previous - p) over the
+// product of the two edge lengths: the bottom corner of the new hex on that quad has scaled Jacobian dot(w, m) for the
+// unit direction m at the vertex (sin of the quad's corner angle x cos of m to the corner's normal).
+std::vector<std::vector<Vec3>> corner_vectors(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
+                                              const std::vector<int>& local, std::size_t nb) {
+    std::vector<std::vector<Vec3>> w(nb);
+    for (const std::array<int, 4>& q : quads)
+        for (std::size_t i = 0; i < 4; ++i) {
+            const Vec3& p = mesh.points[static_cast<std::size_t>(q[i])];
+            const Vec3 a = mesh.points[static_cast<std::size_t>(q[(i + 1) % 4])] - p;
+            const Vec3 b = mesh.points[static_cast<std::size_t>(q[(i + 3) % 4])] - p;
+            const double l = norm(a) * norm(b);
+            w[static_cast<std::size_t>(local[static_cast<std::size_t>(q[i])])].push_back(l > 0 ? cross(a, b) / l
+                                                                                               : Vec3{});
+        }
+    return w;
+}
+
+// PaddingOptions::corner_guard: at a vertex whose mean normal leaves some new hex's bottom corner below the guard,
+// the direction turns along the great circle towards the maximin direction of its corner vectors, as little as
+// reaches min(guard, the maximin value) (bisection on the turn). Vertices of bare quads keep their direction.
+void guard_directions(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
+                      const std::vector<std::array<int, 4>>& bare, const std::vector<int>& local, double guard,
+                      std::vector<Vec3>& unit_normal) {
+    const std::vector<std::vector<Vec3>> w = corner_vectors(mesh, quads, local, unit_normal.size());
+    std::vector<char> on_bare(unit_normal.size(), 0);
+    for (const std::array<int, 4>& q : bare)
+        for (int v : q)
+            if (local[static_cast<std::size_t>(v)] >= 0)
+                on_bare[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
+    for (std::size_t i = 0; i < unit_normal.size(); ++i) {
+        if (on_bare[i] || lowest_corner(w[i], unit_normal[i]) >= guard) continue;
+        const Vec3 axis = maximin_direction(w[i], unit_normal[i]);
+        const double target = std::min(guard, lowest_corner(w[i], axis));
+        const Vec3 from = unit_normal[i];
+        auto at = [&](double t) { return normalized(from * (1 - t) + axis * t); };
+        double lo = 0, hi = 1;
+        if (!(squared_norm(from + axis) > 1e-12)) lo = hi = 1;  // opposite: no great circle to follow, take the axis
+        for (int step = 0; step < 40 && hi - lo > 1e-9; ++step) {
+            const double mid = 0.5 * (lo + hi);
+            (lowest_corner(w[i], at(mid)) >= target ? hi : lo) = mid;
+        }
+        unit_normal[i] = hi >= 1 ? axis : at(hi);
+    }
+}
+
+// One padding layer being placed: the new vertex of boundary vertex i (local index) lies at its point + unit_normal[i]
+// x offset[i], at mesh.points[old_vertices + i]; the new hex on padded quad q has q as its bottom and the new vertices
+// above as its top.
+struct Layer {
+    HexMesh& mesh;
+    const std::vector<std::array<int, 4>>& quads;
+    const std::vector<int>& new_id;             // per old vertex: its new vertex, -1 off the padded boundary
+    const std::vector<int>& local;              // per old vertex: its local index, -1 off the padded boundary
+    const std::vector<int>& boundary_vertices;  // per local index: the old vertex
+    std::vector<Vec3> unit_normal;
+    std::vector<double> offset;
+    std::size_t old_vertices = 0;
+
+    void place(std::size_t i) {
+        mesh.points[old_vertices + i] =
+            mesh.points[static_cast<std::size_t>(boundary_vertices[i])] + unit_normal[i] * offset[i];
+    }
+    std::array<Vec3, 8> corners(const std::array<int, 4>& q) const {
+        std::array<Vec3, 8> c;
+        for (std::size_t i = 0; i < 4; ++i) {
+            c[i] = mesh.points[static_cast<std::size_t>(q[i])];
+            c[i + 4] = mesh.points[static_cast<std::size_t>(new_id[static_cast<std::size_t>(q[i])])];
+        }
+        return c;
+    }
+    std::size_t local_of(int v) const { return static_cast<std::size_t>(local[static_cast<std::size_t>(v)]); }
+    // Marks (per boundary vertex) the 4 vertices of every padded quad whose new hex is not positive; false if none.
+    bool mark_inverted(std::vector<char>& marked) const {
+        marked.assign(offset.size(), 0);
+        bool any = false;
+        for (const std::array<int, 4>& q : quads)
+            if (!(scaled_jacobian(corners(q)) > 0))
+                for (int v : q) {
+                    marked[local_of(v)] = 1;
+                    any = true;
+                }
+        return any;
+    }
+    // The outer vertices of an inverted new hex are pulled back (offset halved, up to 6 times).
+    void shrink_inverted() {
+        for (int round = 0; round < 6; ++round) {
+            std::vector<char> shrink;
+            if (!mark_inverted(shrink)) break;
+            for (std::size_t i = 0; i < offset.size(); ++i)
+                if (shrink[i]) {
+                    offset[i] *= 0.5;
+                    place(i);
+                }
+        }
+    }
+    // Where the boundary folds sharply (thin plates, saddles), the averaged normals of neighbouring vertices can
+    // cross: shrink_inverted. A new hex still inverted then is inverted at any offset: the direction at one of its
+    // vertices points behind one of the quads there. Tilt the direction of its vertices toward the normal of their
+    // worst-facing quad (a quarter of it per step), back at the full offset, then shrink again; at most 20 times.
+    // Ascending order, no parallelism: deterministic.
+    void fix_inverted(const std::vector<Vec3>& quad_normals) {
+        const std::vector<double> full_offset = offset;
+        shrink_inverted();
+        std::vector<std::vector<int>> quads_at(offset.size());
+        for (std::size_t q = 0; q < quads.size(); ++q)
+            for (int v : quads[q]) quads_at[local_of(v)].push_back(static_cast<int>(q));
+        for (int tilt = 0; tilt < 20; ++tilt) {
+            std::vector<char> bad;
+            if (!mark_inverted(bad)) break;
+            for (std::size_t i = 0; i < offset.size(); ++i) {
+                if (!bad[i]) continue;
+                double worst = 2.0;
+                Vec3 worst_normal;
+                for (int q : quads_at[i]) {
+                    const double d = dot(unit_normal[i], quad_normals[static_cast<std::size_t>(q)]);
+                    if (d < worst) {
+                        worst = d;
+                        worst_normal = quad_normals[static_cast<std::size_t>(q)];
+                    }
+                }
+                unit_normal[i] = normalized(unit_normal[i] + 0.25 * worst_normal);
+                offset[i] = full_offset[i];
+                place(i);
+            }
+            shrink_inverted();
+        }
+    }
+    // PaddingOptions::corner_guard: a new hex below half of min(guard, its worst bottom corner) gets the offsets of
+    // its four outer vertices scaled by 0.7, up to 10 rounds. Its bottom corners depend on the directions only, and
+    // as a neighbourhood's offsets shrink together its top corners tend to them: the converging directions of a
+    // valley, the tangential slide of a steeply turned direction and the tilt of the top face between unequal
+    // offsets all vanish with the thickness.
+    void shrink_to_guard(double guard) {
+        for (int round = 0; round < kGuardRounds; ++round) {
+            std::vector<char> shrink(offset.size(), 0);
+            bool any = false;
+            for (const std::array<int, 4>& q : quads) {
+                const std::array<Vec3, 8> c = corners(q);
+                double bottom = 1;
+                for (std::size_t lv = 0; lv < 4; ++lv) bottom = std::min(bottom, hex_corner_value(c, lv));
+                if (!(scaled_jacobian(c) < kGuardShare * std::min(guard, bottom))) continue;
+                for (int v : q) shrink[local_of(v)] = 1;
+                any = true;
+            }
+            if (!any) break;
+            for (std::size_t i = 0; i < offset.size(); ++i)
+                if (shrink[i]) {
+                    offset[i] *= kGuardShrink;
+                    place(i);
+                }
+        }
+    }
+    static constexpr int kGuardRounds = 10;
+    static constexpr double kGuardShare = 0.5, kGuardShrink = 0.7;
+};
+
 void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_of_hex, int layer,
               const PaddingOptions& options, long& bare_count) {
     std::vector<std::array<int, 4>> bare;
@@ -148,6 +341,7 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
     std::vector<Vec3> unit_normal(nb);
     for (std::size_t i = 0; i < nb; ++i) unit_normal[i] = normalized(normal_sum[i]);
     if (!bare.empty()) project_on_bare(mesh, bare, local, unit_normal);
+    if (options.corner_guard > 0) guard_directions(mesh, quads, bare, local, options.corner_guard, unit_normal);
     std::vector<double> cos_sum(nb, 0.0);
     std::vector<int> cos_count(nb, 0);
     for (std::size_t q = 0; q < quads.size(); ++q)
@@ -159,87 +353,25 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
 
     const std::vector<char> concave = concave_vertices(mesh, quads, unit_normal, local);
     mesh.points.resize(old_vertices + nb);
-    std::vector<double> offset(nb);
+    Layer lay{mesh,        quads, new_id, local, boundary_vertices, std::move(unit_normal), std::vector<double>(nb),
+              old_vertices};
     for (std::size_t i = 0; i < nb; ++i) {
         const int v = boundary_vertices[i];
         const double t =
             options.absolute_thickness > 0 ? options.absolute_thickness : options.thickness * shortest_edge[i];
         const double mean_cos = cos_count[i] > 0 ? cos_sum[i] / cos_count[i] : 1.0;
         const double scale = mean_cos > 1.0 / 3.0 ? 1.0 / mean_cos : 3.0;
-        offset[i] = concave[i] ? t * std::min(scale, options.concave_scale) : t * scale;
+        lay.offset[i] = concave[i] ? t * std::min(scale, options.concave_scale) : t * scale;
         if (options.offset_rule) {
             const double mean_edge = edge_count[i] > 0 ? edge_len_sum[i] / edge_count[i] : 0.0;
-            offset[i] = options.offset_rule(mesh.points[static_cast<std::size_t>(v)], unit_normal[i], offset[i],
-                                            t * scale, mean_edge);
+            lay.offset[i] = options.offset_rule(mesh.points[static_cast<std::size_t>(v)], lay.unit_normal[i],
+                                                lay.offset[i], t * scale, mean_edge);
         }
-        mesh.points[old_vertices + i] = mesh.points[static_cast<std::size_t>(v)] + unit_normal[i] * offset[i];
+        lay.place(i);
         origin.push_back(origin[static_cast<std::size_t>(v)]);
     }
-    // Where the boundary folds sharply (thin plates, saddles), the averaged normals of neighbouring vertices can
-    // cross: the outer vertices of an inverted new hex are pulled back (offset halved, up to 6 times). Ascending
-    // order, no parallelism: deterministic.
-    auto new_hex_sj = [&](const std::array<int, 4>& q) {
-        std::array<Vec3, 8> c;
-        for (std::size_t i = 0; i < 4; ++i) {
-            c[i] = mesh.points[static_cast<std::size_t>(q[i])];
-            c[i + 4] = mesh.points[static_cast<std::size_t>(new_id[static_cast<std::size_t>(q[i])])];
-        }
-        return scaled_jacobian(c);
-    };
-    // Marks (per boundary vertex) the 4 vertices of every boundary quad whose new hex is not positive; false if none.
-    auto mark_inverted = [&](std::vector<char>& marked) {
-        marked.assign(nb, 0);
-        bool any = false;
-        for (const std::array<int, 4>& q : quads)
-            if (!(new_hex_sj(q) > 0))
-                for (int v : q) {
-                    marked[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
-                    any = true;
-                }
-        return any;
-    };
-    const std::vector<double> full_offset = offset;
-    auto shrink_inverted = [&]() {
-        for (int round = 0; round < 6; ++round) {
-            std::vector<char> shrink;
-            if (!mark_inverted(shrink)) break;
-            for (std::size_t i = 0; i < nb; ++i)
-                if (shrink[i]) {
-                    offset[i] *= 0.5;
-                    mesh.points[old_vertices + i] =
-                        mesh.points[static_cast<std::size_t>(boundary_vertices[i])] + unit_normal[i] * offset[i];
-                }
-        }
-    };
-    shrink_inverted();
-    // A new hex still inverted then is inverted at any offset: the direction at one of its vertices points behind
-    // one of the quads there. Tilt the direction of its vertices toward the normal of their worst-facing quad (a
-    // quarter of it per step), back at the full offset, then shrink again; at most 20 times.
-    std::vector<std::vector<int>> quads_at(nb);
-    for (std::size_t q = 0; q < quads.size(); ++q)
-        for (int v : quads[q])
-            quads_at[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])].push_back(static_cast<int>(q));
-    for (int tilt = 0; tilt < 20; ++tilt) {
-        std::vector<char> bad;
-        if (!mark_inverted(bad)) break;
-        for (std::size_t i = 0; i < nb; ++i) {
-            if (!bad[i]) continue;
-            double worst = 2.0;
-            Vec3 worst_normal;
-            for (int q : quads_at[i]) {
-                const double d = dot(unit_normal[i], quad_normals[static_cast<std::size_t>(q)]);
-                if (d < worst) {
-                    worst = d;
-                    worst_normal = quad_normals[static_cast<std::size_t>(q)];
-                }
-            }
-            unit_normal[i] = normalized(unit_normal[i] + 0.25 * worst_normal);
-            offset[i] = full_offset[i];
-            mesh.points[old_vertices + i] =
-                mesh.points[static_cast<std::size_t>(boundary_vertices[i])] + unit_normal[i] * offset[i];
-        }
-        shrink_inverted();
-    }
+    lay.fix_inverted(quad_normals);
+    if (options.corner_guard > 0) lay.shrink_to_guard(options.corner_guard);
     mesh.hexes.reserve(mesh.hexes.size() + quads.size());
     for (const std::array<int, 4>& q : quads) {
         // q is outward from the mesh, i.e. its right-hand normal points into the new hex: it is the hex's bottom 0-1-2-3.

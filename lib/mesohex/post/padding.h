@@ -30,6 +30,17 @@ struct PaddingOptions {
     // crotch"). Dimensionless, > 0; 1: the layer's own thickness there; 3 or more: the same scale as at convex
     // vertices, byte-identical to no rule (the default: 1 was mixed on the shared skeletons, docs/junctions.md).
     double concave_scale = 3.0;
+    // > 0: a guard on the new hexes' scaled Jacobians (a value in (0, 1]). Directions: at a boundary vertex where the
+    // mean normal leaves the bottom corner of some new hex below the guard (that corner's value is sin of the quad's
+    // corner angle x cos of the direction to the corner's normal: a valley or ridge whose quads turn steeply, a
+    // vertex whose quads lie mostly on one side), the direction turns towards the one that maximises the worst of
+    // those corners, as little as reaches min(guard, that maximum); the bottom corners are then at least
+    // min(guard, the best any direction allows there). Thickness: a new hex below half of min(guard, its worst bottom
+    // corner) (directions converging past each other's rays in a valley, a steeply turned direction sliding its top
+    // vertex sideways, unequal offsets tilting the top face) gets the offsets of its four vertices scaled by 0.7, up
+    // to 10 rounds: as a neighbourhood's offsets shrink together, its top corners tend to its bottom ones. Vertices of
+    // bare quads keep their direction. 0: neither (the mean normal, offsets as above).
+    double corner_guard = 0;
     double absolute_thickness = 0;  // > 0: use this offset (model units) everywhere instead of `thickness`
     // Optional: the offset of a boundary vertex at p moving along the unit direction d, given the offset t from the
     // rules above, the offset t_scaled with the convex scale even at a concave vertex (= t elsewhere; a rule that
@@ -71,6 +82,17 @@ struct PaddingResult {
 // Preconditions: indices in range (InvalidInput otherwise); layers >= 0; thickness > 0.
 // Complexity: O(#hexes log #hexes) per layer.
 PaddingResult pad(const HexMesh& mesh, const PaddingOptions& options = {});
+
+// The smallest of dot(x, m) over the vectors x of w (+infinity when w is empty).
+double lowest_corner(const std::vector<Vec3>& w, const Vec3& m);
+
+// The unit vector m that maximises lowest_corner(w, m) (a small linear program on the sphere; for unit vectors w, the
+// axis of their smallest enclosing cone), or `fallback` when no candidate beats it. The optimum is fixed by one, two
+// or three active vectors: each w's own direction, each pair's direction in the plane where their dots are equal (w_i
+// projected onto the plane orthogonal to w_i - w_j) and each triple's equidistant direction ((w_j - w_i) x (w_k -
+// w_i), on the side of w_i); the best candidate is taken (the first best in enumeration order). O(k^4) for k vectors
+// (PaddingOptions::corner_guard: k <= 8 corners at a boundary vertex).
+Vec3 maximin_direction(const std::vector<Vec3>& w, const Vec3& fallback);
 
 // For every vertex v with local[v] >= 0 (local: per vertex of `mesh`, its index among the boundary vertices, -1 if
 // none): shortest[local[v]] = min(itself, the length of every hex edge from v to a vertex with local = -1).
