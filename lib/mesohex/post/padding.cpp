@@ -104,38 +104,6 @@ std::vector<char> concave_vertices(const HexMesh& mesh, const std::vector<std::a
 
 }  // namespace
 
-double lowest_corner(const std::vector<Vec3>& w, const Vec3& m) {
-    double lo = std::numeric_limits<double>::infinity();
-    for (const Vec3& x : w) lo = std::min(lo, dot(x, m));
-    return lo;
-}
-
-Vec3 maximin_direction(const std::vector<Vec3>& w, const Vec3& fallback) {
-    Vec3 best = fallback;
-    double best_value = lowest_corner(w, fallback);
-    auto consider = [&](const Vec3& a) {
-        if (!(squared_norm(a) > 1e-24)) return;
-        const Vec3 m = normalized(a);
-        const double value = lowest_corner(w, m);
-        if (value > best_value) {
-            best_value = value;
-            best = m;
-        }
-    };
-    for (std::size_t i = 0; i < w.size(); ++i) {
-        consider(w[i]);
-        for (std::size_t j = i + 1; j < w.size(); ++j) {
-            const Vec3 d = w[i] - w[j];
-            if (squared_norm(d) > 1e-24) consider(w[i] - d * (dot(w[i], d) / squared_norm(d)));
-            for (std::size_t k = j + 1; k < w.size(); ++k) {
-                const Vec3 a = cross(w[j] - w[i], w[k] - w[i]);
-                consider(dot(a, w[i]) < 0 ? a * -1.0 : a);
-            }
-        }
-    }
-    return best;
-}
-
 namespace {
 
 // Per boundary vertex (by local index): the corner vectors of its padded quads, (next - p) x (previous - p) over the

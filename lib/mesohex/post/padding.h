@@ -4,6 +4,7 @@
 #include <functional>
 #include <vector>
 
+#include "mesohex/core/cone.h"
 #include "mesohex/core/hex_mesh.h"
 
 namespace mesohex {
@@ -83,16 +84,7 @@ struct PaddingResult {
 // Complexity: O(#hexes log #hexes) per layer.
 PaddingResult pad(const HexMesh& mesh, const PaddingOptions& options = {});
 
-// The smallest of dot(x, m) over the vectors x of w (+infinity when w is empty).
-double lowest_corner(const std::vector<Vec3>& w, const Vec3& m);
-
-// The unit vector m that maximises lowest_corner(w, m) (a small linear program on the sphere; for unit vectors w, the
-// axis of their smallest enclosing cone), or `fallback` when no candidate beats it. The optimum is fixed by one, two
-// or three active vectors: each w's own direction, each pair's direction in the plane where their dots are equal (w_i
-// projected onto the plane orthogonal to w_i - w_j) and each triple's equidistant direction ((w_j - w_i) x (w_k -
-// w_i), on the side of w_i); the best candidate is taken (the first best in enumeration order). O(k^4) for k vectors
-// (PaddingOptions::corner_guard: k <= 8 corners at a boundary vertex).
-Vec3 maximin_direction(const std::vector<Vec3>& w, const Vec3& fallback);
+// lowest_corner, maximin_direction: mesohex/core/cone.h (the corner guard of PaddingOptions).
 
 // For every vertex v with local[v] >= 0 (local: per vertex of `mesh`, its index among the boundary vertices, -1 if
 // none): shortest[local[v]] = min(itself, the length of every hex edge from v to a vertex with local = -1).

@@ -6,41 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "mesohex/core/cone.h"
 #include "mesohex/core/error.h"
 
 namespace mesohex {
 
 namespace {
-
-// Axis of the narrowest cone around the unit vectors ns (all within an open hemisphere): among the vectors, the
-// normalized sums of pairs and the circumcentres of triples, the one whose smallest dot product with any of them is
-// largest (the optimum is one of them). Candidates in index order, strict improvement only: deterministic.
-Vec3 narrowest_cone_axis(const std::vector<Vec3>& ns) {
-    const int n = static_cast<int>(ns.size());
-    Vec3 best{};
-    double best_min = -2;
-    const auto consider = [&](const Vec3& c) {
-        if (!(norm(c) > 1e-12)) return;
-        const Vec3 u = normalized(c);
-        double m = 2;
-        for (const Vec3& x : ns) m = std::min(m, dot(u, x));
-        if (m > best_min + 1e-12) {
-            best_min = m;
-            best = u;
-        }
-    };
-    for (int i = 0; i < n; ++i) {
-        consider(ns[i]);
-        for (int j = i + 1; j < n; ++j) {
-            consider(ns[i] + ns[j]);
-            for (int k = j + 1; k < n; ++k) {
-                const Vec3 c = cross(ns[j] - ns[i], ns[k] - ns[i]);
-                consider(dot(c, ns[i]) < 0 ? -1.0 * c : c);
-            }
-        }
-    }
-    return best;
-}
 
 // Largest angle (degrees) between the unit vector n and any of the unit vectors ns.
 double widest_angle_deg(const Vec3& n, const std::vector<Vec3>& ns) {
@@ -64,7 +35,7 @@ std::vector<char> crease_normals(const SkeletonAnalysis& an, std::vector<Vec3>& 
         if ((c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) || face_normals[w].size() < 2 ||
             !(norm(normal[w]) > 0))
             continue;
-        const Vec3 axis = narrowest_cone_axis(face_normals[w]);
+        const Vec3 axis = maximin_direction(face_normals[w], normal[w]);
         if (widest_angle_deg(normal[w], face_normals[w]) - widest_angle_deg(axis, face_normals[w]) >
             kCreaseNormalGainDeg) {
             normal[w] = axis;
