@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <cstdio>  // EXPERIMENT-ENV
+#include <cstdlib>  // EXPERIMENT-ENV
 
 #include <tbb/parallel_for.h>
 
@@ -947,6 +949,11 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     const std::vector<double> radius = effective_radii(skeleton, an, cs, frames, options);
     place_fan_vertices(skeleton, an, cs, gaps, radius, raw);
     place_vertices(skeleton, an, cs, frames, options, radius, raw);
+    JunctionCoverOptions cov = options.cover;  // EXPERIMENT-ENV
+    if (const char* ev = std::getenv("MESOHEX_COVER"))  // EXPERIMENT-ENV
+        std::sscanf(ev, "%lf,%lf,%d,%lf", &cov.fraction, &cov.sj_floor, &cov.min_degree, &cov.arc);  // EXPERIMENT-ENV
+    cover_junctions(skeleton, an, cs, frames, radius, raw.vertex_base, slots.edge_slot, raw.mesh.hexes,
+                    raw.mesh.points, cov);
     return raw;
 }
 
