@@ -4,6 +4,7 @@
 
 #include "commands.h"
 
+#include <cstdlib>  // EXPERIMENT-ENV
 #include <algorithm>
 #include <chrono>
 #include <iostream>
@@ -76,6 +77,7 @@ MeshOptions options_of(const MeshJob& job) {
     MeshOptions o = job.options;
     if (job.refine == "longitudinal") o.finishing.refinement = FinishOptions::Refinement::Longitudinal;
     if (job.refine == "radial") o.finishing.refinement = FinishOptions::Refinement::Radial;
+    if (const char* ev = std::getenv("MESOHEX_CONCAVE")) o.finishing.padding.concave_scale = std::atof(ev);  // EXPERIMENT-ENV
     return o;
 }
 

@@ -831,6 +831,30 @@ TEST(JunctionCover, PlaneCrossPointsMoveToTheArmsCapsules) {
     EXPECT_GE(qn.sj_min, std::min(0.3, qo.sj_min));
 }
 
+// The union comes from the domain skeleton when one is given (the pipeline passes its input): the same cross meshed
+// with r = 0.1 and a domain skeleton whose balls are 0.12 moves the equator points to 0.12 sqrt(2), not 0.1 sqrt(2).
+TEST(JunctionCover, UnionOfTheDomainSkeletonsBalls) {
+    const double r = 0.1;
+    const std::vector<Vec3> dirs{{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+    Skeleton s = star(dirs, 1, 5 * r);
+    s.radii.assign(s.points.size(), r);
+    Skeleton domain = s;
+    domain.radii.assign(s.points.size(), 1.2 * r);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ConnectionSurfaceOptions co;
+    co.blocks.enabled = false;
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    RawMeshOptions o;
+    o.cover.fraction = 1.0;
+    const RawMesh on = build_raw_mesh(s, an, cs, fr, o, &domain);
+    int at = 0;
+    for (int x = 0; x < cs.point_begin[1] - cs.point_begin[0]; ++x)
+        at += std::abs(distance(on.mesh.points[on.vertex_base[0] + 1 + x], s.points[0]) - 1.2 * std::sqrt(2.0) * r) <
+              1e-6 * r;
+    EXPECT_EQ(at, 4);
+}
+
 // The guard: the same cross with arms of r. Moved to sqrt(2) r, an equator point would lie r along each of its two
 // arms, level with their first cross-sections: the hexes between flatten below the floor (0.3). Every hex of the
 // junction stays at or above min(sj_floor, its value on the sphere), and the equator points stop between r and

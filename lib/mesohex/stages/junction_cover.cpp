@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>  // EXPERIMENT-ENV
+#include <cstdlib>  // EXPERIMENT-ENV
 
 #include "mesohex/core/hex_kernels.h"
 
@@ -31,22 +33,19 @@ bool inside_union(const std::vector<RoundCone>& cones, const Vec3& x) {
 
 int other_end(const Skeleton& s, int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; }
 
-// c's ball and the round cones of the branch edges whose start lies within arc_len of c along each branch.
-std::vector<RoundCone> junction_cones(const Skeleton& s, const SkeletonAnalysis& an, int c, double arc_len) {
-    std::vector<RoundCone> cones{{s.points[c], s.points[c], s.radii[c], s.radii[c]}};
-    for (int i = an.vertex_edge_begin[c]; i < an.vertex_edge_begin[c + 1]; ++i) {
-        int e = an.vertex_edges[i], from = c;
-        double arc = 0;
-        for (;;) {
-            const int to = other_end(s, e, from);
-            cones.push_back({s.points[from], s.points[to], s.radii[from], s.radii[to]});
-            arc += distance(s.points[from], s.points[to]);
-            if (to == c || an.vertex_class[to] != VertexClass::Joint || arc >= arc_len) break;
-            const int j = an.vertex_edge_begin[to];
-            const int next = an.vertex_edges[j] == e ? an.vertex_edges[j + 1] : an.vertex_edges[j];
-            from = to;
-            e = next;
-        }
+double segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
+    const Vec3 ab = b - a;
+    const double l2 = dot(ab, ab);
+    const double t = l2 > 0 ? std::clamp(dot(x - a, ab) / l2, 0.0, 1.0) : 0.0;
+    return distance(x, a + t * ab);
+}
+
+// c's ball (radius rc) and the round cones of the domain skeleton's edges that pass within reach of c.
+std::vector<RoundCone> junction_cones(const Skeleton& domain, const Vec3& c, double rc, double reach) {
+    std::vector<RoundCone> cones{{c, c, rc, rc}};
+    for (const std::array<int, 2>& e : domain.edges) {
+        const Vec3 &a = domain.points[e[0]], &b = domain.points[e[1]];
+        if (segment_distance(c, a, b) <= reach) cones.push_back({a, b, domain.radii[e[0]], domain.radii[e[1]]});
     }
     return cones;
 }
@@ -115,6 +114,7 @@ bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector
         const std::array<int, 8>& h = hexes[hs[i]];
         const double sj = hex_sj(h, points);
         if (sj >= floor[i]) continue;
+        if (std::getenv("MESOHEX_COVER_DEBUG")) std::fprintf(stderr, "  guard c%d hex %d sj %.3f floor %.3f\n", m.c, hs[i], sj, floor[i]);  // EXPERIMENT-ENV
         for (int id : h) {
             const int x = id - m.base - 1;
             if (x >= 0 && x < m.np && m.lambda[x] > 0) hit[x] = 1, any = true;
@@ -125,8 +125,8 @@ bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector
     return any;
 }
 
-int cover_junction(const Skeleton& s, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
-                   const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
+int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnalysis& an,
+                   const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
                    const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
                    std::vector<Vec3>& points, const JunctionCoverOptions& o, int c) {
     JunctionMove m;
@@ -135,7 +135,7 @@ int cover_junction(const Skeleton& s, const SkeletonAnalysis& an, const Connecti
     m.np = cs.point_begin[c + 1] - cs.point_begin[c];
     m.r = radius[c];
     const double rc = s.radii[c];
-    const std::vector<RoundCone> cones = junction_cones(s, an, c, o.arc * rc);
+    const std::vector<RoundCone> cones = junction_cones(domain, s.points[c], rc, o.arc * rc);
     int moved = 0;
     for (int x = 0; x < m.np; ++x) {
         const double t = ray_exit(cones, s.points[c], frames.directions[cs.point_begin[c] + x], 0.02 * rc,
@@ -155,6 +155,12 @@ int cover_junction(const Skeleton& s, const SkeletonAnalysis& an, const Connecti
         if (!guard_round(hexes, points, hs, floor, round == kRounds - 1, m)) break;
         if (round == kRounds - 1) place_junction(s, cs, frames, m, points);
     }
+    if (std::getenv("MESOHEX_COVER_DEBUG")) {  // EXPERIMENT-ENV
+        std::fprintf(stderr, "cover v%d r_c %.4f raw r %.3f r_c:", c, rc, m.r / rc);  // EXPERIMENT-ENV
+        for (int x = 0; x < m.np; ++x)  // EXPERIMENT-ENV
+            std::fprintf(stderr, " %d:%.2f->%.2f(l%.2f)", x, m.r / rc, (m.r + m.lambda[x] * (m.target[x] - m.r)) / rc, m.lambda[x]);  // EXPERIMENT-ENV
+        std::fprintf(stderr, "\n");  // EXPERIMENT-ENV
+    }  // EXPERIMENT-ENV
     return static_cast<int>(std::count_if(m.lambda.begin(), m.lambda.end(), [](double l) { return l > 0; }));
 }
 
@@ -177,7 +183,7 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
     }
 }
 
-int cover_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                     const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
                     const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
                     std::vector<Vec3>& points, const JunctionCoverOptions& options) {
@@ -186,7 +192,7 @@ int cover_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an, const 
     const int nv = static_cast<int>(skeleton.points.size());
     for (int c = 0; c < nv; ++c)
         if (coverable(skeleton, an, cs, vertex_base, options, c))
-            moved += cover_junction(skeleton, an, cs, frames, radius, vertex_base, edge_hex, hexes, points, options, c);
+            moved += cover_junction(skeleton, domain, an, cs, frames, radius, vertex_base, edge_hex, hexes, points, options, c);
     return moved;
 }
 

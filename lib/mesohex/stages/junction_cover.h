@@ -21,8 +21,8 @@ struct JunctionCoverOptions {
     // Fraction of the way from the sphere (the raw radius r of c) to the ray's exit t from the union of balls a
     // surface point moves: distance r + fraction x (t - r) when t > r. 0 = off (every point on the sphere).
     double fraction = 0.0;
-    // Branch edges whose start lies within arc x r_c of arc length from c (along each branch, through its joints)
-    // count as round cones of the union; r_c = c's input radius. Dimensionless.
+    // The domain skeleton's edges passing within arc x r_c of c count as round cones of the union; r_c = c's
+    // radius in the meshed skeleton. Dimensionless.
     double arc = 3.0;
     // Only branching points with at least this many branch edges (and no leaflet face) are covered.
     int min_degree = 3;
@@ -40,12 +40,14 @@ struct RoundCone {
 };
 double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& d, double step, double t_max);
 
+// domain: the skeleton whose balls make the union (the input before repairs and adaptation, whose round cones the
+// thickened domain is; or the meshed skeleton itself), with one radius per point.
 // Moves the surface points and surface-edge midpoints of every plain branching point (class BranchingPoint, all
 // incident edges branch edges, no compatible block, degree >= min_degree) of the raw mesh `points` (ids from
 // vertex_base, laid out as build_raw_mesh does), serially in vertex order. edge_hex[e]: the first of the 4 hexes of
 // branch edge e's chunk. radius: the effective radius each vertex was placed with. Deterministic.
 // Returns the number of surface points moved.
-int cover_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                     const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
                     const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
                     std::vector<Vec3>& points, const JunctionCoverOptions& options);

@@ -929,7 +929,7 @@ void place_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const 
 }  // namespace
 
 RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
-                       const BranchFrames& frames, const RawMeshOptions& options) {
+                       const BranchFrames& frames, const RawMeshOptions& options, const Skeleton* domain) {
     check_raw_mesh_inputs(skeleton, cs, frames);
     RawMesh raw;
     const int n_points = assign_vertex_ids(an, cs, static_cast<int>(skeleton.points.size()), raw.vertex_base);
@@ -952,7 +952,8 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     JunctionCoverOptions cov = options.cover;  // EXPERIMENT-ENV
     if (const char* ev = std::getenv("MESOHEX_COVER"))  // EXPERIMENT-ENV
         std::sscanf(ev, "%lf,%lf,%d,%lf", &cov.fraction, &cov.sj_floor, &cov.min_degree, &cov.arc);  // EXPERIMENT-ENV
-    cover_junctions(skeleton, an, cs, frames, radius, raw.vertex_base, slots.edge_slot, raw.mesh.hexes,
+    const bool own = domain == nullptr || domain->radii.size() != domain->points.size();
+    cover_junctions(skeleton, own ? skeleton : *domain, an, cs, frames, radius, raw.vertex_base, slots.edge_slot, raw.mesh.hexes,
                     raw.mesh.points, cov);
     return raw;
 }

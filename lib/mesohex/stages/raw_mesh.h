@@ -102,7 +102,10 @@ struct RawMeshOptions {
 // A branch rooted on a leaflet (LeafletPatch, BorderPatch) has no vertices of its own at its root: its first chunk's
 // bottom kites are the 4 plate / half-chunk faces of the patch.
 // Complexity: O(hexes + surface points), parallel.
+// domain: the skeleton whose round cones the junction cover fills (RawMeshOptions::cover; the input before repairs
+// and adaptation); null or without radii: the meshed skeleton.
 RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& analysis, const ConnectionSurfaces& surfaces,
-                       const BranchFrames& frames, const RawMeshOptions& options = {});
+                       const BranchFrames& frames, const RawMeshOptions& options = {},
+                       const Skeleton* domain = nullptr);
 
 }  // namespace mesohex
