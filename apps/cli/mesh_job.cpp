@@ -4,7 +4,6 @@
 
 #include "commands.h"
 
-#include <cstdlib>  // EXPERIMENT-ENV
 #include <algorithm>
 #include <chrono>
 #include <iostream>
@@ -77,7 +76,6 @@ MeshOptions options_of(const MeshJob& job) {
     MeshOptions o = job.options;
     if (job.refine == "longitudinal") o.finishing.refinement = FinishOptions::Refinement::Longitudinal;
     if (job.refine == "radial") o.finishing.refinement = FinishOptions::Refinement::Radial;
-    if (const char* ev = std::getenv("MESOHEX_CONCAVE")) o.finishing.padding.concave_scale = std::atof(ev);  // EXPERIMENT-ENV
     return o;
 }
 
@@ -181,6 +179,12 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "--pad-inward-edges", job->options.finishing.padding.inward_edges,
         "Padding layer thickness from the shortest boundary edge OR edge into the mesh at each vertex (thin sheets: "
         "the sheet's height, not its leaflet edge; docs/sheets.md)");
+    cmd->add_option("--junction-cover", job->options.pipeline.raw_mesh.cover.fraction,
+                    "Move the surface points of branching points out along their rays by this fraction of the way to "
+                    "where the union of the input's balls ends, guarded so no junction hex gets worse than min(0.3, "
+                    "before) (0 = off, the default: docs/junctions.md)")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
     cmd->add_flag_callback(
         "--pad-inset", [job] { job->options.finishing.pad_inset = true; },
         "Where the padding layer reaches past the domain surface, move it inward to end at the surface, the raw "

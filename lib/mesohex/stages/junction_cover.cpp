@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>  // EXPERIMENT-ENV
-#include <cstdlib>  // EXPERIMENT-ENV
 
 #include "mesohex/core/hex_kernels.h"
 
@@ -71,8 +69,8 @@ struct JunctionMove {
     std::vector<double> lambda;  // per surface point: the fraction of the move kept
 };
 
-void place_junction(const Skeleton& s, const ConnectionSurfaces& cs, const BranchFrames& frames,
-                    const JunctionMove& m, std::vector<Vec3>& points) {
+void place_junction(const Skeleton& s, const ConnectionSurfaces& cs, const BranchFrames& frames, const JunctionMove& m,
+                    std::vector<Vec3>& points) {
     const Vec3& c = s.points[m.c];
     const int p0 = cs.point_begin[m.c];
     std::vector<double> dist(m.np);
@@ -114,7 +112,6 @@ bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector
         const std::array<int, 8>& h = hexes[hs[i]];
         const double sj = hex_sj(h, points);
         if (sj >= floor[i]) continue;
-        if (std::getenv("MESOHEX_COVER_DEBUG")) std::fprintf(stderr, "  guard c%d hex %d sj %.3f floor %.3f\n", m.c, hs[i], sj, floor[i]);  // EXPERIMENT-ENV
         for (int id : h) {
             const int x = id - m.base - 1;
             if (x >= 0 && x < m.np && m.lambda[x] > 0) hit[x] = 1, any = true;
@@ -125,8 +122,8 @@ bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector
     return any;
 }
 
-int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnalysis& an,
-                   const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
+int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                   const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
                    const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
                    std::vector<Vec3>& points, const JunctionCoverOptions& o, int c) {
     JunctionMove m;
@@ -138,8 +135,8 @@ int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnal
     const std::vector<RoundCone> cones = junction_cones(domain, s.points[c], rc, o.arc * rc);
     int moved = 0;
     for (int x = 0; x < m.np; ++x) {
-        const double t = ray_exit(cones, s.points[c], frames.directions[cs.point_begin[c] + x], 0.02 * rc,
-                                  (o.arc + 1) * rc);
+        const double t =
+            ray_exit(cones, s.points[c], frames.directions[cs.point_begin[c] + x], 0.02 * rc, (o.arc + 1) * rc);
         const bool out = t > m.r;
         m.target.push_back(out ? m.r + o.fraction * (t - m.r) : m.r);
         m.lambda.push_back(out ? 1.0 : 0.0);
@@ -155,12 +152,6 @@ int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnal
         if (!guard_round(hexes, points, hs, floor, round == kRounds - 1, m)) break;
         if (round == kRounds - 1) place_junction(s, cs, frames, m, points);
     }
-    if (std::getenv("MESOHEX_COVER_DEBUG")) {  // EXPERIMENT-ENV
-        std::fprintf(stderr, "cover v%d r_c %.4f raw r %.3f r_c:", c, rc, m.r / rc);  // EXPERIMENT-ENV
-        for (int x = 0; x < m.np; ++x)  // EXPERIMENT-ENV
-            std::fprintf(stderr, " %d:%.2f->%.2f(l%.2f)", x, m.r / rc, (m.r + m.lambda[x] * (m.target[x] - m.r)) / rc, m.lambda[x]);  // EXPERIMENT-ENV
-        std::fprintf(stderr, "\n");  // EXPERIMENT-ENV
-    }  // EXPERIMENT-ENV
     return static_cast<int>(std::count_if(m.lambda.begin(), m.lambda.end(), [](double l) { return l > 0; }));
 }
 
@@ -183,16 +174,18 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
     }
 }
 
-int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
-                    const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
-                    const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
-                    std::vector<Vec3>& points, const JunctionCoverOptions& options) {
+int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
+                    const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
+                    const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
+                    const std::vector<std::array<int, 8>>& hexes, std::vector<Vec3>& points,
+                    const JunctionCoverOptions& options) {
     if (!(options.fraction > 0)) return 0;
     int moved = 0;
     const int nv = static_cast<int>(skeleton.points.size());
     for (int c = 0; c < nv; ++c)
         if (coverable(skeleton, an, cs, vertex_base, options, c))
-            moved += cover_junction(skeleton, domain, an, cs, frames, radius, vertex_base, edge_hex, hexes, points, options, c);
+            moved += cover_junction(skeleton, domain, an, cs, frames, radius, vertex_base, edge_hex, hexes, points,
+                                    options, c);
     return moved;
 }
 

@@ -47,9 +47,10 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
 // vertex_base, laid out as build_raw_mesh does), serially in vertex order. edge_hex[e]: the first of the 4 hexes of
 // branch edge e's chunk. radius: the effective radius each vertex was placed with. Deterministic.
 // Returns the number of surface points moved.
-int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
-                    const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
-                    const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
-                    std::vector<Vec3>& points, const JunctionCoverOptions& options);
+int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
+                    const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
+                    const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
+                    const std::vector<std::array<int, 8>>& hexes, std::vector<Vec3>& points,
+                    const JunctionCoverOptions& options);
 
 }  // namespace mesohex

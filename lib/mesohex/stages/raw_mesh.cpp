@@ -4,8 +4,6 @@
 #include <cmath>
 #include <numbers>
 #include <string>
-#include <cstdio>  // EXPERIMENT-ENV
-#include <cstdlib>  // EXPERIMENT-ENV
 
 #include <tbb/parallel_for.h>
 
@@ -949,12 +947,9 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     const std::vector<double> radius = effective_radii(skeleton, an, cs, frames, options);
     place_fan_vertices(skeleton, an, cs, gaps, radius, raw);
     place_vertices(skeleton, an, cs, frames, options, radius, raw);
-    JunctionCoverOptions cov = options.cover;  // EXPERIMENT-ENV
-    if (const char* ev = std::getenv("MESOHEX_COVER"))  // EXPERIMENT-ENV
-        std::sscanf(ev, "%lf,%lf,%d,%lf", &cov.fraction, &cov.sj_floor, &cov.min_degree, &cov.arc);  // EXPERIMENT-ENV
     const bool own = domain == nullptr || domain->radii.size() != domain->points.size();
-    cover_junctions(skeleton, own ? skeleton : *domain, an, cs, frames, radius, raw.vertex_base, slots.edge_slot, raw.mesh.hexes,
-                    raw.mesh.points, cov);
+    cover_junctions(skeleton, own ? skeleton : *domain, an, cs, frames, radius, raw.vertex_base, slots.edge_slot,
+                    raw.mesh.hexes, raw.mesh.points, options.cover);
     return raw;
 }
 
