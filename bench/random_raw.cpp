@@ -10,7 +10,8 @@
 //   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
 //   D3_NEXT_TO_BP=0|1 its degree_three_chunks_next_to_branching_points, D3_AT_BRIDGES=0|1 its
-//   degree_three_chunks_at_bridges. The last three
+//   degree_three_chunks_at_bridges, JUNCTION_COVER=F RawMeshOptions::cover.fraction (JUNCTION_COVER_MIN_DEGREE and
+//   JUNCTION_COVER_FLOOR its min_degree and sj_floor). The last three
 //   columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare two
 //   builds or option sets seed by seed to find the seeds a change touches).
 //
@@ -86,6 +87,9 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_SPLIT_GAP")) po.repair.junction_split_gap_deg = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_CLEARANCE")) po.repair.junction_split_clearance = std::atof(k);
     if (const char* k = std::getenv("SIDE_STUB_MIN_LENGTH")) po.repair.side_stub_min_length = std::atof(k);
+    if (const char* k = std::getenv("JUNCTION_COVER")) po.raw_mesh.cover.fraction = std::atof(k);
+    if (const char* k = std::getenv("JUNCTION_COVER_MIN_DEGREE")) po.raw_mesh.cover.min_degree = std::atoi(k);
+    if (const char* k = std::getenv("JUNCTION_COVER_FLOOR")) po.raw_mesh.cover.sj_floor = std::atof(k);
     if (const char* k = std::getenv("PIN_TRUNK_JOINTS")) po.repair.pin_trunk_joints = std::atoi(k) != 0;
     if (const char* k = std::getenv("NO_FLAT_CROTCH"))
         po.connection_surfaces.no_flat_point_in_close_pair = std::atoi(k) != 0;

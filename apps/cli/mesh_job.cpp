@@ -188,6 +188,12 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "Where the padding layer would reach past the domain surface, pad only to the surface but at "
                     "least this share of the layer's own thickness (1: the full layer)")
         ->check(CLI::Range(0.01, 1.0));
+    cmd->add_option("--junction-cover", job->options.pipeline.raw_mesh.cover.fraction,
+                    "Move the surface points of branching points out along their rays by this fraction of the way to "
+                    "where the union of the input's balls ends, guarded so no junction hex gets worse than min(0.3, "
+                    "before) (0 = off, the default: docs/junctions.md)")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
     cmd->add_flag_callback(
         "--pad-inset", [job] { job->options.finishing.pad_inset = true; },
         "Where the padding layer reaches past the domain surface, move it inward to end at the surface, the raw "

@@ -201,7 +201,7 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
     clock.lap("connection_surfaces");
     const BranchFrames frames = propagate_frames(res.skeleton, res.analysis, cs);
     clock.lap("frames");
-    res.raw = build_raw_mesh(res.skeleton, res.analysis, cs, frames, options.raw_mesh);
+    res.raw = build_raw_mesh(res.skeleton, res.analysis, cs, frames, options.raw_mesh, &input);
     clock.lap("raw_mesh");
     return res;
 }

@@ -778,6 +778,114 @@ TEST(RawMesh, CloseDegreeFourPairGetsNoFlatPointInItsCrotch) {
     }
 }
 
+// ray_exit on one round cone, derived on paper: balls from a = (0, 0, 0), radius 1, to b = (4, 0, 0), radius 0.5
+// (radius slope m = -1/8 per unit length). The union's boundary at axial position z touches the ball centred at
+// z_c = (z + r_a m) / (1 - m^2) of radius R = r_a + m z_c, at distance R sqrt(1 - m^2) from the axis: for the ray
+// from (2, 0, 0) along y, z_c = 1.875 / 0.984375 = 1.9047619, R = 0.7619048, exit = 0.7559289 = 2 / sqrt(7).
+TEST(JunctionCover, RayLeavesARoundConeOnItsTangentCone) {
+    const std::vector<RoundCone> cone{{{0, 0, 0}, {4, 0, 0}, 1.0, 0.5}};
+    EXPECT_NEAR(ray_exit(cone, {2, 0, 0}, {0, 1, 0}, 0.02, 10), 2 / std::sqrt(7.0), 1e-9);
+    EXPECT_NEAR(ray_exit(cone, {0, 0, 0}, {0, 0, 1}, 0.02, 10), 1.0, 1e-9);    // inside the first ball only
+    EXPECT_NEAR(ray_exit(cone, {0, 0, 0}, {1, 0, 0}, 0.02, 3.0), 3.0, 1e-12);  // never leaves before t_max
+    EXPECT_NEAR(ray_exit(cone, {0, 0, 0}, {-1, 0, 0}, 0.02, 10), 1.0, 1e-9);   // behind the cone: a's ball
+}
+
+// A plane cross for the junction cover: 4 arms along +-x, +-y of one edge of length arm, radius r everywhere, no
+// compatible block (the cross would get a cube, without a sphere surface).
+struct PlaneCross {
+    std::vector<Vec3> dirs{{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+    Skeleton s;
+    SkeletonAnalysis an;
+    ConnectionSurfaces cs;
+    BranchFrames fr;
+    PlaneCross(double r, double arm) : s(star(dirs, 1, arm)) {
+        s.radii.assign(s.points.size(), r);
+        an = analyze_skeleton(s);
+        ConnectionSurfaceOptions co;
+        co.blocks.enabled = false;
+        cs = build_connection_surfaces(s, an, co);
+        fr = propagate_frames(s, an, cs);
+    }
+    RawMesh raw(double fraction, const Skeleton* domain = nullptr) const {
+        RawMeshOptions o;
+        o.cover.fraction = fraction;
+        return build_raw_mesh(s, an, cs, fr, o, domain);
+    }
+};
+
+// A plane cross (4 arms of 5 r along +-x, +-y, one edge each, r = 0.1 everywhere): the arms' capsules hold a ray
+// from the centre at angle phi_k to arm k (cos phi_k > 0) out to r / sin phi_k (its axial reach r / tan phi_k < 5 r
+// for phi_k > 11.3 degrees), c's ball to r, so a surface point of direction d moves from r to
+// max(r, max_k r / sin phi_k); its surface edges' midpoints to the mean of their two points' distances. The
+// partition's equator points lie 45 degrees from two arms: sqrt(2) r. Off (fraction 0) every point stays at r.
+TEST(JunctionCover, PlaneCrossPointsMoveToTheArmsCapsules) {
+    const double r = 0.1;
+    const PlaneCross x4(r, 5 * r);
+    const Skeleton& s = x4.s;
+    const std::vector<Vec3>& dirs = x4.dirs;
+    const ConnectionSurfaces& cs = x4.cs;
+    const BranchFrames& fr = x4.fr;
+    const RawMesh off = x4.raw(0.0);
+    const RawMesh on = x4.raw(1.0);
+    const int np = cs.point_begin[1] - cs.point_begin[0];
+    int at_sqrt2 = 0;
+    std::vector<double> expected(np);
+    for (int x = 0; x < np; ++x) {
+        const Vec3 d = fr.directions[cs.point_begin[0] + x];
+        expected[x] = r;
+        for (const Vec3& u : dirs)
+            if (dot(d, u) > 0) expected[x] = std::max(expected[x], r / norm(cross(d, u)));
+        EXPECT_NEAR(distance(off.mesh.points[off.vertex_base[0] + 1 + x], s.points[0]), r, 1e-12);
+        EXPECT_NEAR(distance(on.mesh.points[on.vertex_base[0] + 1 + x], s.points[0]), expected[x], 1e-6 * r);
+        at_sqrt2 += std::abs(expected[x] - std::sqrt(2.0) * r) < 1e-3 * r;
+    }
+    EXPECT_EQ(at_sqrt2, 4);  // the orange's four equator points, on the arms' bisectors
+    for (int j = cs.edge_begin[0]; j < cs.edge_begin[1]; ++j) {
+        const int id = on.vertex_base[0] + 1 + np + (j - cs.edge_begin[0]);
+        EXPECT_NEAR(distance(on.mesh.points[id], s.points[0]),
+                    0.5 * (expected[cs.edges[j][0]] + expected[cs.edges[j][1]]), 1e-6 * r);
+    }
+    const QualityReport qo = compute_quality(off.mesh), qn = compute_quality(on.mesh);
+    EXPECT_EQ(qn.inverted, 0);
+    EXPECT_GE(qn.sj_min, std::min(0.3, qo.sj_min));
+}
+
+// The union comes from the domain skeleton when one is given (the pipeline passes its input): the same cross meshed
+// with r = 0.1 and a domain skeleton whose balls are 0.12 moves the equator points to 0.12 sqrt(2), not 0.1 sqrt(2).
+TEST(JunctionCover, UnionOfTheDomainSkeletonsBalls) {
+    const double r = 0.1;
+    const PlaneCross x4(r, 5 * r);
+    Skeleton domain = x4.s;
+    domain.radii.assign(domain.points.size(), 1.2 * r);
+    const RawMesh on = x4.raw(1.0, &domain);
+    int at = 0;
+    for (int x = 0; x < x4.cs.point_begin[1] - x4.cs.point_begin[0]; ++x)
+        at += std::abs(distance(on.mesh.points[on.vertex_base[0] + 1 + x], x4.s.points[0]) - 1.2 * std::sqrt(2.0) * r) <
+              1e-6 * r;
+    EXPECT_EQ(at, 4);
+}
+
+// The guard: the same cross with arms of r. Moved to sqrt(2) r, an equator point would lie r along each of its two
+// arms, level with their first cross-sections: the hexes between flatten below the floor (0.3). Every hex of the
+// junction stays at or above min(sj_floor, its value on the sphere), and the equator points stop between r and
+// sqrt(2) r (one halving: 1.207 r; with arms of 1.2 r they reach sqrt(2) r, min SJ 0.49 -> 0.48).
+TEST(JunctionCover, GuardKeepsTheChunksOfShortArms) {
+    const double r = 0.1;
+    const PlaneCross x4(r, r);
+    const Skeleton& s = x4.s;
+    const RawMesh off = x4.raw(0.0);
+    const RawMesh on = x4.raw(1.0);
+    const std::vector<double> before = scaled_jacobians(off.mesh), after = scaled_jacobians(on.mesh);
+    const double floor = JunctionCoverOptions{}.sj_floor;
+    for (std::size_t h = 0; h < after.size(); ++h) EXPECT_GE(after[h], std::min(floor, before[h]) - 1e-12);
+    const double rr = distance(off.mesh.points[off.vertex_base[0] + 1], s.points[0]);  // the raw radius (margin limit)
+    double farthest = 0;
+    for (int x = 0; x < x4.cs.point_begin[1] - x4.cs.point_begin[0]; ++x)
+        farthest = std::max(farthest, distance(on.mesh.points[on.vertex_base[0] + 1 + x], s.points[0]));
+    EXPECT_GT(farthest, rr);
+    EXPECT_LT(farthest, std::sqrt(2.0) * r - 1e-3 * r);
+}
+
 // A fat Y without a gap over 180 degrees (azimuths 0, 100, 220 degrees, 10 degrees out of one plane, centre radius 0.4,
 // arms 1 long ending at radius 0.25): partition_sphere's general choice tilts its axis, a valence-3 pole 45.2 degrees
 // from a branch; the orange around the branches' best-fit plane normal keeps its poles 84.7 degrees from every branch.

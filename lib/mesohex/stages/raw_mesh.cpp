@@ -954,7 +954,7 @@ void place_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const 
 }  // namespace
 
 RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
-                       const BranchFrames& frames, const RawMeshOptions& options) {
+                       const BranchFrames& frames, const RawMeshOptions& options, const Skeleton* domain) {
     check_raw_mesh_inputs(skeleton, cs, frames);
     RawMesh raw;
     const int n_points = assign_vertex_ids(an, cs, static_cast<int>(skeleton.points.size()), raw.vertex_base);
@@ -974,6 +974,9 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     const std::vector<double> radius = effective_radii(skeleton, an, cs, frames, options);
     place_fan_vertices(skeleton, an, cs, gaps, radius, raw);
     place_vertices(skeleton, an, cs, frames, options, radius, raw);
+    const bool own = domain == nullptr || domain->radii.size() != domain->points.size();
+    cover_junctions(skeleton, own ? skeleton : *domain, an, cs, frames, radius, raw.vertex_base, slots.edge_slot,
+                    raw.mesh.hexes, raw.mesh.points, options.cover);
     return raw;
 }
 

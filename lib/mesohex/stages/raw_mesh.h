@@ -25,6 +25,7 @@
 #include "mesohex/core/skeleton.h"
 #include "mesohex/stages/connection_surfaces.h"
 #include "mesohex/stages/frame_propagation.h"
+#include "mesohex/stages/junction_cover.h"
 #include "mesohex/stages/skeleton_analysis.h"
 
 namespace mesohex {
@@ -79,6 +80,9 @@ struct RawMeshOptions {
     // out of the sheet's plane or far off its outward direction fold their first chunks (docs/tuning.md).
     double border_root_turn = 1.0;
     double border_root_tilt = 1.0;  // (see border_root_turn; fraction of the tilt, dimensionless)
+    // Surface points of plain branching points moved out along their rays towards where the union of the skeleton's
+    // balls ends (junction_cover.h); cover.fraction 0 = every point on the sphere of the vertex's radius.
+    JunctionCoverOptions cover;
 };
 
 // Preconditions: skeleton.radii has one finite radius > 0 per vertex (Error(InvalidInput) naming the vertex
@@ -99,7 +103,10 @@ struct RawMeshOptions {
 // A branch rooted on a leaflet (LeafletPatch, BorderPatch) has no vertices of its own at its root: its first chunk's
 // bottom kites are the 4 plate / half-chunk faces of the patch.
 // Complexity: O(hexes + surface points), parallel.
+// domain: the skeleton whose round cones the junction cover fills (RawMeshOptions::cover; the input before repairs
+// and adaptation); null or without radii: the meshed skeleton.
 RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& analysis, const ConnectionSurfaces& surfaces,
-                       const BranchFrames& frames, const RawMeshOptions& options = {});
+                       const BranchFrames& frames, const RawMeshOptions& options = {},
+                       const Skeleton* domain = nullptr);
 
 }  // namespace mesohex

@@ -1,0 +1,192 @@
+#include "mesohex/stages/junction_cover.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesohex/core/hex_kernels.h"
+
+namespace mesohex {
+
+namespace {
+
+// Whether x lies in the union of the balls swept along the cone (radius linear in the arc parameter s): the
+// largest r(s) - |x - p(s)| over s in [0, 1] is attained at s* = (z - k rho / sqrt(1 - k^2)) / L with
+// k = (ra - rb) / L (z, rho: x's axial and radial coordinates), clamped (the function is concave in s).
+bool inside_cone(const RoundCone& k, const Vec3& x) {
+    const Vec3 ab = k.b - k.a;
+    const double len = norm(ab);
+    const double dr = k.rb - k.ra;
+    if (len < 1e-300 || std::abs(dr) >= len) return distance(x, k.a) <= k.ra || distance(x, k.b) <= k.rb;
+    const Vec3 u = ab / len;
+    const double z = dot(x - k.a, u);
+    const double rho = norm(x - k.a - z * u);
+    const double slope = -dr / len;
+    const double s = std::clamp((z - slope * rho / std::sqrt(1 - slope * slope)) / len, 0.0, 1.0);
+    return distance(x, k.a + s * ab) <= k.ra + s * dr;
+}
+
+bool inside_union(const std::vector<RoundCone>& cones, const Vec3& x) {
+    return std::any_of(cones.begin(), cones.end(), [&](const RoundCone& k) { return inside_cone(k, x); });
+}
+
+int other_end(const Skeleton& s, int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; }
+
+double segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
+    const Vec3 ab = b - a;
+    const double l2 = dot(ab, ab);
+    const double t = l2 > 0 ? std::clamp(dot(x - a, ab) / l2, 0.0, 1.0) : 0.0;
+    return distance(x, a + t * ab);
+}
+
+// c's ball (radius rc) and the round cones of the domain skeleton's edges that pass within reach of c.
+std::vector<RoundCone> junction_cones(const Skeleton& domain, const Vec3& c, double rc, double reach) {
+    std::vector<RoundCone> cones{{c, c, rc, rc}};
+    for (const std::array<int, 2>& e : domain.edges) {
+        const Vec3 &a = domain.points[e[0]], &b = domain.points[e[1]];
+        if (segment_distance(c, a, b) <= reach) cones.push_back({a, b, domain.radii[e[0]], domain.radii[e[1]]});
+    }
+    return cones;
+}
+
+bool coverable(const Skeleton& s, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+               const std::vector<int>& vertex_base, const JunctionCoverOptions& o, int c) {
+    if (an.vertex_class[c] != VertexClass::BranchingPoint || vertex_base[c] < 0) return false;
+    if (!cs.vertex_block.empty() && cs.vertex_block[c] >= 0) return false;
+    const int degree = an.vertex_edge_begin[c + 1] - an.vertex_edge_begin[c];
+    if (degree < o.min_degree) return false;
+    for (int i = an.vertex_edge_begin[c]; i < an.vertex_edge_begin[c + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (an.edge_degree[e] != 0 || other_end(s, e, c) == c) return false;
+    }
+    return true;
+}
+
+// One junction's surface points and edge midpoints at distance r + lambda_x (t_x - r) along their rays.
+struct JunctionMove {
+    int c = 0, base = 0, np = 0;
+    double r = 0;
+    std::vector<double> target;  // per surface point: the distance it moves to (r when it stays)
+    std::vector<double> lambda;  // per surface point: the fraction of the move kept
+};
+
+void place_junction(const Skeleton& s, const ConnectionSurfaces& cs, const BranchFrames& frames, const JunctionMove& m,
+                    std::vector<Vec3>& points) {
+    const Vec3& c = s.points[m.c];
+    const int p0 = cs.point_begin[m.c];
+    std::vector<double> dist(m.np);
+    for (int x = 0; x < m.np; ++x) {
+        dist[x] = m.r + m.lambda[x] * (m.target[x] - m.r);
+        points[m.base + 1 + x] = c + dist[x] * frames.directions[p0 + x];
+    }
+    for (int j = cs.edge_begin[m.c]; j < cs.edge_begin[m.c + 1]; ++j) {
+        const std::array<int, 2>& ed = cs.edges[j];
+        const Vec3 mid = normalized(frames.directions[p0 + ed[0]] + frames.directions[p0 + ed[1]]);
+        points[m.base + 1 + m.np + (j - cs.edge_begin[m.c])] = c + 0.5 * (dist[ed[0]] + dist[ed[1]]) * mid;
+    }
+}
+
+double hex_sj(const std::array<int, 8>& h, const std::vector<Vec3>& points) {
+    std::array<Vec3, 8> p;
+    for (int k = 0; k < 8; ++k) p[k] = points[h[k]];
+    return hex_scaled_jacobian(p);
+}
+
+// The hexes of c's chunks (4 per incident branch edge).
+std::vector<int> junction_hexes(const SkeletonAnalysis& an, const std::vector<int>& edge_hex, int c) {
+    std::vector<int> hs;
+    for (int i = an.vertex_edge_begin[c]; i < an.vertex_edge_begin[c + 1]; ++i) {
+        const int h0 = edge_hex[an.vertex_edges[i]];
+        if (h0 < 0) continue;
+        for (int k = 0; k < 4; ++k) hs.push_back(h0 + k);
+    }
+    return hs;
+}
+
+// Halves (or, in the last round, drops) the moves of the surface points of every hex below its floor; false when
+// no hex is below.
+bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector<Vec3>& points,
+                 const std::vector<int>& hs, const std::vector<double>& floor, bool last, JunctionMove& m) {
+    std::vector<char> hit(m.np, 0);
+    bool any = false;
+    for (std::size_t i = 0; i < hs.size(); ++i) {
+        const std::array<int, 8>& h = hexes[hs[i]];
+        const double sj = hex_sj(h, points);
+        if (sj >= floor[i]) continue;
+        for (int id : h) {
+            const int x = id - m.base - 1;
+            if (x >= 0 && x < m.np && m.lambda[x] > 0) hit[x] = 1, any = true;
+        }
+    }
+    for (int x = 0; x < m.np; ++x)
+        if (hit[x]) m.lambda[x] = last ? 0.0 : 0.5 * m.lambda[x];
+    return any;
+}
+
+int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                   const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
+                   const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
+                   std::vector<Vec3>& points, const JunctionCoverOptions& o, int c) {
+    JunctionMove m;
+    m.c = c;
+    m.base = vertex_base[c];
+    m.np = cs.point_begin[c + 1] - cs.point_begin[c];
+    m.r = radius[c];
+    const double rc = s.radii[c];
+    const std::vector<RoundCone> cones = junction_cones(domain, s.points[c], rc, o.arc * rc);
+    int moved = 0;
+    for (int x = 0; x < m.np; ++x) {
+        const double t =
+            ray_exit(cones, s.points[c], frames.directions[cs.point_begin[c] + x], 0.02 * rc, (o.arc + 1) * rc);
+        const bool out = t > m.r;
+        m.target.push_back(out ? m.r + o.fraction * (t - m.r) : m.r);
+        m.lambda.push_back(out ? 1.0 : 0.0);
+        moved += out ? 1 : 0;
+    }
+    if (moved == 0) return 0;
+    const std::vector<int> hs = junction_hexes(an, edge_hex, c);
+    std::vector<double> floor(hs.size());
+    for (std::size_t i = 0; i < hs.size(); ++i) floor[i] = std::min(o.sj_floor, hex_sj(hexes[hs[i]], points));
+    constexpr int kRounds = 7;
+    for (int round = 0; round < kRounds; ++round) {
+        place_junction(s, cs, frames, m, points);
+        if (!guard_round(hexes, points, hs, floor, round == kRounds - 1, m)) break;
+        if (round == kRounds - 1) place_junction(s, cs, frames, m, points);
+    }
+    return static_cast<int>(std::count_if(m.lambda.begin(), m.lambda.end(), [](double l) { return l > 0; }));
+}
+
+}  // namespace
+
+double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& d, double step, double t_max) {
+    double lo = 0;
+    for (double t = step;; t += step) {
+        if (t >= t_max) return t_max;
+        if (inside_union(cones, c + t * d)) {
+            lo = t;
+            continue;
+        }
+        double hi = t;
+        for (int k = 0; k < 40; ++k) {
+            const double mid = 0.5 * (lo + hi);
+            (inside_union(cones, c + mid * d) ? lo : hi) = mid;
+        }
+        return 0.5 * (lo + hi);
+    }
+}
+
+int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
+                    const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
+                    const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
+                    const std::vector<std::array<int, 8>>& hexes, std::vector<Vec3>& points,
+                    const JunctionCoverOptions& options) {
+    if (!(options.fraction > 0)) return 0;
+    int moved = 0;
+    const int nv = static_cast<int>(skeleton.points.size());
+    for (int c = 0; c < nv; ++c)
+        if (coverable(skeleton, an, cs, vertex_base, options, c))
+            moved += cover_junction(skeleton, domain, an, cs, frames, radius, vertex_base, edge_hex, hexes, points,
+                                    options, c);
+    return moved;
+}
+
+}  // namespace mesohex

@@ -1,0 +1,57 @@
+#pragma once
+// Junction cover (issue 16 item 1): the connection-surface points of a plain branching point placed from the
+// skeleton's balls instead of on the sphere of its radius.
+//
+// The raw mesh puts every surface point Q_c(x) of a branching point c on the sphere c + r d_x. Between two fat
+// branches the union of their balls reaches much farther (two tubes of radius r a angle 2 alpha apart overlap out to
+// r / sin alpha along their bisector), so that sphere leaves a dent the fit must inflate. Here each surface point
+// moves out along its ray to where the ray leaves the union of c's ball and the round cones of the branch edges
+// near c, guarded so that no hex of c's chunks gets worse than it was (or than a floor).
+#include <vector>
+
+#include "mesohex/core/hex_mesh.h"
+#include "mesohex/core/skeleton.h"
+#include "mesohex/stages/connection_surfaces.h"
+#include "mesohex/stages/frame_propagation.h"
+#include "mesohex/stages/skeleton_analysis.h"
+
+namespace mesohex {
+
+struct JunctionCoverOptions {
+    // Fraction of the way from the sphere (the raw radius r of c) to the ray's exit t from the union of balls a
+    // surface point moves: distance r + fraction x (t - r) when t > r. 0 = off (every point on the sphere).
+    double fraction = 0.0;
+    // The domain skeleton's edges passing within arc x r_c of c count as round cones of the union; r_c = c's
+    // radius in the meshed skeleton. Dimensionless.
+    double arc = 3.0;
+    // Only branching points with at least this many branch edges (and no leaflet face) are covered.
+    int min_degree = 3;
+    // Guard: a hex of c's chunks may not end below min(sj_floor, its scaled Jacobian with every point on the
+    // sphere), nor be inverted; otherwise the moves of its moved points are halved (6 times, then dropped).
+    double sj_floor = 0.3;
+};
+
+// Distance along the unit ray c + t d (t >= 0) at which it first leaves the union of the balls of `cones`
+// (each a segment a-b with radii ra, rb, the union of the balls swept along it with linear radius), found by
+// marching in steps of `step` up to t_max and bisecting; t_max when it never leaves.
+struct RoundCone {
+    Vec3 a, b;
+    double ra = 0, rb = 0;
+};
+double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& d, double step, double t_max);
+
+// domain: the skeleton whose balls make the union (the input before repairs and adaptation, whose round cones the
+// thickened domain is; or the meshed skeleton itself), with one radius per point.
+// Moves the surface points and surface-edge midpoints of every plain branching point (class BranchingPoint, all
+// incident edges branch edges, no compatible block, degree >= min_degree) of the raw mesh `points` (ids from
+// vertex_base, laid out as build_raw_mesh does), serially in vertex order. edge_hex[e]: the first of the 4 hexes of
+// branch edge e's chunk. radius: the effective radius each vertex was placed with. Deterministic.
+// Returns the number of surface points moved. Complexity: O(branching points x domain edges) for the cones, plus
+// O(surface points x cones x (arc + 1) / 0.02) for the rays; nothing when fraction is 0.
+int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
+                    const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
+                    const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
+                    const std::vector<std::array<int, 8>>& hexes, std::vector<Vec3>& points,
+                    const JunctionCoverOptions& options);
+
+}  // namespace mesohex
