@@ -1,5 +1,6 @@
 #pragma once
 // Small 3D vector value type used everywhere in mesohex (positions, directions, frames).
+#include <algorithm>
 #include <cmath>
 
 namespace mesohex {
@@ -55,6 +56,14 @@ inline Vec3 normalized(const Vec3& a) {
     const double n = norm(a);
     return n > 0 ? a / n : Vec3{};
 }
+// Distance from p to the segment ab (to a when the segment is a point).
+inline double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+    const Vec3 ab = b - a;
+    const double len2 = dot(ab, ab);
+    const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return distance(p, a + ab * t);
+}
+
 inline bool is_finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 // det of the 3x3 matrix with columns a, b, c.
 constexpr double det3(const Vec3& a, const Vec3& b, const Vec3& c) { return dot(a, cross(b, c)); }

@@ -70,13 +70,6 @@ std::vector<DomainEdge> domain_sharp_edges(const TriangleMesh& s, double sharp_a
     return sharp;
 }
 
-double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-    const Vec3 ab = b - a;
-    const double len2 = dot(ab, ab);
-    const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return distance(p, a + ab * t);
-}
-
 Vec3 quad_centre(const HexMesh& m, const std::array<int, 4>& q) {
     return (m.points[at(q[0])] + m.points[at(q[1])] + m.points[at(q[2])] + m.points[at(q[3])]) * 0.25;
 }

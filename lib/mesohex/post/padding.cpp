@@ -102,10 +102,6 @@ std::vector<char> concave_vertices(const HexMesh& mesh, const std::vector<std::a
     return concave;
 }
 
-}  // namespace
-
-namespace {
-
 // Per boundary vertex (by local index): the corner vectors of its padded quads, (next - p) x (previous - p) over the
 // product of the two edge lengths: the bottom corner of the new hex on that quad has scaled Jacobian dot(w, m) for the
 // unit direction m at the vertex (sin of the quad's corner angle x cos of m to the corner's normal).

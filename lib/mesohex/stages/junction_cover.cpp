@@ -31,19 +31,12 @@ bool inside_union(const std::vector<RoundCone>& cones, const Vec3& x) {
 
 int other_end(const Skeleton& s, int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; }
 
-double segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
-    const Vec3 ab = b - a;
-    const double l2 = dot(ab, ab);
-    const double t = l2 > 0 ? std::clamp(dot(x - a, ab) / l2, 0.0, 1.0) : 0.0;
-    return distance(x, a + t * ab);
-}
-
 // c's ball (radius rc) and the round cones of the domain skeleton's edges that pass within reach of c.
 std::vector<RoundCone> junction_cones(const Skeleton& domain, const Vec3& c, double rc, double reach) {
     std::vector<RoundCone> cones{{c, c, rc, rc}};
     for (const std::array<int, 2>& e : domain.edges) {
         const Vec3 &a = domain.points[e[0]], &b = domain.points[e[1]];
-        if (segment_distance(c, a, b) <= reach) cones.push_back({a, b, domain.radii[e[0]], domain.radii[e[1]]});
+        if (distance_to_segment(c, a, b) <= reach) cones.push_back({a, b, domain.radii[e[0]], domain.radii[e[1]]});
     }
     return cones;
 }

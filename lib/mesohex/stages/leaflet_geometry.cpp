@@ -15,26 +15,29 @@ namespace {
 
 // Largest angle (degrees) between the unit vector n and any of the unit vectors ns.
 double widest_angle_deg(const Vec3& n, const std::vector<Vec3>& ns) {
-    double m = 1;
-    for (const Vec3& x : ns) m = std::min(m, dot(n, x));
-    return std::acos(std::clamp(m, -1.0, 1.0)) * 180 / std::numbers::pi;
+    return std::acos(std::clamp(lowest_corner(ns, n), -1.0, 1.0)) * 180 / std::numbers::pi;
 }
 
-// Leaflet vertices (interior or boundary: one up / down column for all their faces) whose faces' normals the narrowest
-// cone serves better than the mean by more than kCreaseNormalGainDeg get its axis as their normal; returns them (1).
-std::vector<char> crease_normals(const SkeletonAnalysis& an, std::vector<Vec3>& normal) {
-    const int nv = static_cast<int>(normal.size());
+// Per vertex: the unit normals of the faces that count at it (face_counts_at), in face order.
+std::vector<std::vector<Vec3>> unit_face_normals(const SkeletonAnalysis& an, int nv) {
     std::vector<std::vector<Vec3>> face_normals(nv);
     for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
         for (int w : an.face_vertices[f])
             if (face_counts_at(an, f, w) && norm(an.face_normal[f]) > 0)
                 face_normals[w].push_back(normalized(an.face_normal[f]));
+    return face_normals;
+}
+
+bool leaflet_column(VertexClass c) { return c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary; }
+
+// Leaflet vertices (interior or boundary: one up / down column for all their faces) whose faces' normals the narrowest
+// cone serves better than the mean by more than kCreaseNormalGainDeg get its axis as their normal; returns them (1).
+std::vector<char> crease_normals(const SkeletonAnalysis& an, const std::vector<std::vector<Vec3>>& face_normals,
+                                 std::vector<Vec3>& normal) {
+    const int nv = static_cast<int>(normal.size());
     std::vector<char> crease(nv, 0);
     for (int w = 0; w < nv; ++w) {
-        const VertexClass c = an.vertex_class[w];
-        if ((c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) || face_normals[w].size() < 2 ||
-            !(norm(normal[w]) > 0))
-            continue;
+        if (!leaflet_column(an.vertex_class[w]) || face_normals[w].size() < 2 || !(norm(normal[w]) > 0)) continue;
         const Vec3 axis = maximin_direction(face_normals[w], normal[w]);
         if (widest_angle_deg(normal[w], face_normals[w]) - widest_angle_deg(axis, face_normals[w]) >
             kCreaseNormalGainDeg) {
@@ -47,26 +50,23 @@ std::vector<char> crease_normals(const SkeletonAnalysis& an, std::vector<Vec3>& 
 
 // LeafletVertexFrames::up_scale / down_scale (kMiterMaxFactor): per leaflet vertex the smallest cosine between its
 // normal and its faces' normals, and on which side of it the faces' centroids lie.
-void crease_miters(const Skeleton& skeleton, const SkeletonAnalysis& an, LeafletVertexFrames& lf) {
+void crease_miters(const Skeleton& skeleton, const SkeletonAnalysis& an,
+                   const std::vector<std::vector<Vec3>>& face_normals, LeafletVertexFrames& lf) {
     const int nv = static_cast<int>(lf.normal.size());
     lf.up_scale.assign(nv, 1.0);
     lf.down_scale.assign(nv, 1.0);
-    std::vector<double> min_cos(nv, 1.0), rise(nv, 0.0);
+    std::vector<double> rise(nv, 0.0);
     for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f) {
         if (!(norm(an.face_normal[f]) > 0)) continue;
-        const Vec3 fn = normalized(an.face_normal[f]);
         Vec3 centroid{};
         for (int w : an.face_vertices[f]) centroid += 0.25 * skeleton.points[w];
-        for (int w : an.face_vertices[f]) {
-            if (!face_counts_at(an, f, w)) continue;
-            min_cos[w] = std::min(min_cos[w], dot(lf.normal[w], fn));
-            rise[w] += dot(centroid - skeleton.points[w], lf.normal[w]);
-        }
+        for (int w : an.face_vertices[f])
+            if (face_counts_at(an, f, w)) rise[w] += dot(centroid - skeleton.points[w], lf.normal[w]);
     }
     for (int w = 0; w < nv; ++w) {
-        const VertexClass c = an.vertex_class[w];
-        if ((c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) || !(min_cos[w] > 0)) continue;
-        const double k = std::min(kMiterMaxFactor, 1.0 / min_cos[w]);
+        const double min_cos = lowest_corner(face_normals[w], lf.normal[w]);
+        if (!leaflet_column(an.vertex_class[w]) || !(min_cos > 0)) continue;
+        const double k = std::min(kMiterMaxFactor, 1.0 / min_cos);
         if (k < kMiterMinFactor) continue;
         if (rise[w] > 0) lf.up_scale[w] = k;
         if (rise[w] < 0) lf.down_scale[w] = k;
@@ -201,8 +201,9 @@ LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const Skelet
             if (face_counts_at(an, f, w)) lf.normal[w] += an.face_normal[f];  // a docked chain vertex: its plate's
     for (Vec3& n : lf.normal)
         if (norm(n) > 0) n = normalized(n);
-    const std::vector<char> crease = crease_normals(an, lf.normal);
-    crease_miters(skeleton, an, lf);
+    const std::vector<std::vector<Vec3>> face_normals = unit_face_normals(an, nv);
+    const std::vector<char> crease = crease_normals(an, face_normals, lf.normal);
+    crease_miters(skeleton, an, face_normals, lf);
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k) {
             if (an.edge_degree[an.face_edges[f][k]] != 1) continue;

@@ -310,7 +310,8 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     }
     // Fan edges (reference-notes §8.6): the fan edge has 2 hexes per face, the extension edge w -> O_w at a fan end
     // one per half-chunk (also 2 per face); the ray from a fan-edge vertex to a gap vertex has the plates (and, at a
-    // fan end, the half-chunks) facing that gap, (2 faces + 2 boundary edges at w) / gaps each when the fan is regular (fan_gap_ray_hexes).
+    // fan end, the half-chunks) facing that gap (fan_gap_ray_hexes; (2 faces + 2 boundary edges at w) / gaps each
+    // when the fan is regular).
     // A fan edge with a fan block (fan_blocks.h) has none of these.
     for (int e = 0; e < static_cast<int>(an.edge_degree.size()); ++e)
         if (an.edge_degree[e] >= 3 && an.edge_docked[e] != 1 && fan_block_at(cs, skeleton.edges[e][0]) < 0)
