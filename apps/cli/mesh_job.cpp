@@ -183,16 +183,16 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "Padding directions turned where the mean normal leaves a new hex's corner on the raw boundary "
                     "below this scaled Jacobian, towards the direction that maximises the worst such corner "
                     "(docs/junctions.md, \"The padding layer at junctions\")")
-        ->check(CLI::Range(0.0, 1.0));
+        ->check(finite_range(0.0, 1.0));
     cmd->add_option("--pad-overshoot-keep", job->options.finishing.pad_overshoot_keep,
                     "Where the padding layer would reach past the domain surface, pad only to the surface but at "
                     "least this share of the layer's own thickness (1: the full layer)")
-        ->check(CLI::Range(0.01, 1.0));
+        ->check(finite_range(0.01, 1.0));
     cmd->add_option("--junction-cover", job->options.pipeline.raw_mesh.cover.fraction,
                     "Move the surface points of branching points out along their rays by this fraction of the way to "
                     "where the union of the input's balls ends, guarded so no junction hex gets worse than min(0.3, "
                     "before) (0 = off, the default: docs/junctions.md)")
-        ->check(CLI::Range(0.0, 1.0))
+        ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
     cmd->add_flag_callback(
         "--pad-inset", [job] { job->options.finishing.pad_inset = true; },

@@ -160,11 +160,12 @@ TEST(MeshCli, MissingSurfaceIsAFileErrorAndWritesNothing) {
 TEST(MeshCli, RealOptionsRefuseNonFiniteAndOutOfRangeValues) {
     const fs::path out = temp_dir() / "never_nan.mesh";
     fs::remove(out);
-    for (const char* value : {"nan", "inf", "-0.5", "1.5", "abc"}) {
-        const auto r = run_cli("mesh " + tripod() + " -o " + out.string() + " --improve-below " + value);
-        EXPECT_EQ(r.status, 105) << value << ": " << r.output;
-        EXPECT_NE(r.output.find("--improve-below"), std::string::npos) << value;
-    }
+    for (const char* option : {"--improve-below", "--junction-cover", "--pad-corner-guard", "--pad-overshoot-keep"})
+        for (const char* value : {"nan", "inf", "-0.5", "1.5", "abc"}) {
+            const auto r = run_cli("mesh " + tripod() + " -o " + out.string() + " " + option + " " + value);
+            EXPECT_EQ(r.status, 105) << option << " " << value << ": " << r.output;
+            EXPECT_NE(r.output.find(option), std::string::npos) << option << " " << value;
+        }
     EXPECT_FALSE(fs::exists(out));
     const auto medial =
         run_cli("medial " + tripod() + " -o " + (temp_dir() / "never.ma").string() + " --thickness-samples nan");
