@@ -76,17 +76,27 @@ inline Skeleton plate(int n, int m) {
     return s;
 }
 
-// plate(n, m) with a wall of unit quads one row high standing at +z on `chain` (plate vertex ids, one grid edge per
-// step); the wall's top vertices are appended in chain order (ids from (n + 1)(m + 1)); radius 0.3 everywhere.
-inline Skeleton plate_with_wall(int n, int m, const std::vector<int>& chain) {
+// plate(n, m) with walls of unit quads one row high on `chain`: one standing at +z when `up`, one hanging at -z when
+// `down` (a flange when the chain runs on the plate's border); the walls' far vertices are appended in chain order,
+// the upper wall's first; radius 0.3 everywhere.
+inline Skeleton plate_with_walls(int n, int m, const std::vector<int>& chain, bool up, bool down) {
     Skeleton s = plate(n, m);
-    const int top = static_cast<int>(s.points.size());
-    for (int v : chain) s.points.push_back(s.points[v] + Vec3{0, 0, 1});
-    for (int k = 0; k + 1 < static_cast<int>(chain.size()); ++k)
-        s.faces.push_back({chain[k], chain[k + 1], top + k + 1, top + k});
+    for (double z : {1.0, -1.0}) {
+        if (!(z > 0 ? up : down)) continue;
+        const int far = static_cast<int>(s.points.size());
+        for (int v : chain) s.points.push_back(s.points[v] + Vec3{0, 0, z});
+        for (int k = 0; k + 1 < static_cast<int>(chain.size()); ++k)
+            s.faces.push_back({chain[k], chain[k + 1], far + k + 1, far + k});
+    }
     add_face_edges(s);
     s.radii.assign(s.points.size(), 0.3);
     return s;
+}
+
+// plate(n, m) with a wall of unit quads one row high standing at +z on `chain` (plate vertex ids, one grid edge per
+// step); the wall's top vertices are appended in chain order (ids from (n + 1)(m + 1)); radius 0.3 everywhere.
+inline Skeleton plate_with_wall(int n, int m, const std::vector<int>& chain) {
+    return plate_with_walls(n, m, chain, true, false);
 }
 
 // n seeded random unit directions, pairwise at least min_angle (radians) apart.
