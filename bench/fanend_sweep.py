@@ -3,9 +3,10 @@
 configurations").
 
 For every generated configuration (fan-edge ends `fanend -n 3|4 -m 1..5`, T / X fans, fan blocks, Y fans, walls on
-plates, cube stars, Y and tetrahedral stars, and T / X fans whose top fan end carries a 3-edge branch turned theta
-degrees off the fan line towards azimuth phi) at radius scales from 0.5 to 2.6, runs `mesohex mesh` (raw, defaults,
-one thread) with `--report` and classifies the run:
+plates, flanges (walls above, or above and below, a chain on part of a plate's border), cube stars, Y and
+tetrahedral stars, and T / X fans whose top fan end carries a 3-edge branch turned theta degrees off the fan line
+towards azimuth phi) at radius scales from 0.5 to 2.6, runs `mesohex mesh` (raw, defaults, one thread) with
+`--report` and classifies the run:
 
   clean       accepted, valid, Euler characteristic equal to the skeleton's, hex count and irregular edges exactly as
               predicted, no inverted hex (and where a block is accepted: fewer interior irregular edges than the
@@ -68,6 +69,11 @@ def configurations(families, scales, angle_scales):
                 for n in (4, 6):
                     for m in (1, 2, 3):
                         out.append(("walls", f"{name} -n {n} -m {m}", [name, "-n", str(n), "-m", str(m)], None, s))
+        if "flanges" in families:
+            for name in ("flange", "flangeup"):
+                for n in (4, 6):
+                    for m in (1, 2, 3):
+                        out.append(("flanges", f"{name} -n {n} -m {m}", [name, "-n", str(n), "-m", str(m)], None, s))
         if "stars" in families:
             for n in (3, 4, 5, 6):
                 for m in (1, 2, 3):
@@ -159,7 +165,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--mesohex", default=os.path.join(HERE, "build", "bin", "mesohex"))
     ap.add_argument("--out", default="/tmp/fanend_sweep")
-    ap.add_argument("--families", default="fanend,angled,fans,walls,stars")
+    ap.add_argument("--families", default="fanend,angled,fans,walls,flanges,stars")
     ap.add_argument("--scales", default="0.5:2.6:0.05", help="radius scales lo:hi:step")
     ap.add_argument("--angle-scales", default="0.5:2.6:0.1", help="radius scales of the angled branches")
     ap.add_argument("--jobs", type=int, default=2)

@@ -632,12 +632,12 @@ Skeleton make_pan(const Params& p) {
 
 Skeleton make_wall_plate(const WallPlate& w, double edge_length, double radius) {
     const int n = w.plate, c = w.column < 0 ? n / 2 : w.column, j0 = w.start < 0 ? (n - w.length) / 2 : w.start;
-    if (n < 2 || w.length < 1 || w.rows < 1 || c < 1 || c > n - 1 || j0 < 0 || j0 + w.length > n ||
+    if (n < 2 || w.length < 1 || w.rows < 1 || c < 0 || c > n - 1 || j0 < 0 || j0 + w.length > n ||
         (w.start < 0 && j0 == 0) || w.sides < 1 || w.sides > 2 || !(edge_length > 0) || !(radius > 0))
         throw Error(ErrorCode::InvalidInput, "wall plate: the chain (column " + std::to_string(c) + ", rows " +
                                                  std::to_string(j0) + " to " + std::to_string(j0 + w.length) +
-                                                 ") must lie on an interior grid line of the " + std::to_string(n) +
-                                                 " x " + std::to_string(n) + " plate, 1 or 2 sides");
+                                                 ") must lie on a grid line of the " + std::to_string(n) + " x " +
+                                                 std::to_string(n) + " plate (column 0 .. plate - 1), 1 or 2 sides");
     Skeleton s;
     Lattice lat(n, n);
     const double h = 0.5 * n * edge_length;
@@ -1110,6 +1110,21 @@ const std::vector<Shape>& shapes() {
              "as wall, the chain of 2 fan edges running from the plate's border to an interior vertex",
              [](const Params& p) {
                  return make_wall_plate({p.n, 2, p.m, -1, 0, 1}, p.L, p.r);
+             }},
+            {"flange",
+             {6, 2},
+             {2, 1},
+             "plate of n x n quads (default 6) with walls of m rows (default 2) above and below on a chain of 2 fan "
+             "edges along the middle of one border side (a flange: fan ends where the plate's border runs on)",
+             [](const Params& p) {
+                 return make_wall_plate({p.n, 2, p.m, 0, -1, 2}, p.L, p.r);
+             }},
+            {"flangeup",
+             {6, 2},
+             {2, 1},
+             "as flange, with the wall above the plate only",
+             [](const Params& p) {
+                 return make_wall_plate({p.n, 2, p.m, 0, -1, 1}, p.L, p.r);
              }},
             {"pan",
              {6, 4},

@@ -29,9 +29,9 @@ struct GeneratorOptions {
 };
 
 // The valid shape names, in a fixed order: plate, box, torus, tfan, xfan, fanend, hand, chair, bird, twist, torustwist,
-// dualocta, cubestar, ystar, tetrastar, turbine, wall, wallboth, walledge, pan, fold, vfan, airplane, wireplate. The
-// last four are thin sheets (issue 16 item 3): their sheet radius is 0.1 x the edge length (x radius_scale), not the
-// 0.3 stated above.
+// dualocta, cubestar, ystar, tetrastar, turbine, wall, wallboth, walledge, flange, flangeup, pan, fold, vfan, airplane,
+// wireplate. The last four are thin sheets (issue 16 item 3): their sheet radius is 0.1 x the edge length (x
+// radius_scale), not the 0.3 stated above.
 std::vector<std::string> generator_names();
 
 // One line describing the shape and what n, m (and quarter_turns) mean for it, with their defaults.
@@ -44,9 +44,10 @@ Skeleton generate_skeleton(const std::string& name, const GeneratorOptions& opti
 
 // A plate with walls standing on it (docked_walls.h, beyond the paper's limitation 2): `plate` x `plate` quads of
 // edge_length in the z = 0 plane (normal +z, centred on the origin); a chain of `length` edges on the grid line
-// x-index `column` (default plate / 2) from y-index `start` (default: centred, both ends inside; 0 = from the border);
-// a wall of `length` x `rows` quads standing on it at +z, and with sides = 2 a second one at -z. Radius `radius`
-// everywhere. Error(InvalidInput) unless the chain lies on an interior grid line of the plate.
+// x-index `column` (default plate / 2; 0 = on the plate's border, a regular fan: the flange) from y-index `start`
+// (default: centred, both ends inside; 0 = from the border); a wall of `length` x `rows` quads standing on it at +z,
+// and with sides = 2 a second one at -z. Radius `radius` everywhere. Error(InvalidInput) unless the chain lies on a
+// grid line x-index 0 .. plate - 1 of the plate.
 struct WallPlate {
     int plate = 6, length = 2, rows = 2, column = -1, start = -1, sides = 1;
 };
