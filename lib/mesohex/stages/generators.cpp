@@ -987,6 +987,50 @@ std::vector<Shape> thin_sheet_shapes() {
     };
 }
 
+// The walls on a plate (docked_walls.h, issue 22 item 1) and the flanges (a fan chain on part of a plate's border),
+// after the turbine.
+std::vector<Shape> wall_shapes() {
+    return {
+        {"wall",
+         {6, 2},
+         {2, 1},
+         "plate of n x n quads (default 6) with a wall of m rows (default 2) standing on a chain of 2 fan edges "
+         "that ends inside the plate at both ends (docked on the plates)",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, -1, -1, 1}, p.L, p.r);
+         }},
+        {"wallboth",
+         {6, 2},
+         {2, 1},
+         "as wall, with a second wall of m rows below the plate on the same chain (fan edges of degree 4)",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, -1, -1, 2}, p.L, p.r);
+         }},
+        {"walledge",
+         {6, 2},
+         {2, 1},
+         "as wall, the chain of 2 fan edges running from the plate's border to an interior vertex",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, -1, 0, 1}, p.L, p.r);
+         }},
+        {"flange",
+         {6, 2},
+         {2, 1},
+         "plate of n x n quads (default 6) with walls of m rows (default 2) above and below on a chain of 2 fan "
+         "edges along the middle of one border side (a flange: fan ends where the plate's border runs on)",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, 0, -1, 2}, p.L, p.r);
+         }},
+        {"flangeup",
+         {6, 2},
+         {2, 1},
+         "as flange, with the wall above the plate only",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, 0, -1, 1}, p.L, p.r);
+         }},
+    };
+}
+
 const std::vector<Shape>& shapes() {
     static const std::vector<Shape> table = [] {
         std::vector<Shape> t{
@@ -1089,50 +1133,14 @@ const std::vector<Shape>& shapes() {
              "Darrieus turbine: shaft branch, m blades (2 or 3, default 2) of n quads "
              "(default 8) touching the shaft at two branching points by their corners",
              make_turbine},
-            {"wall",
-             {6, 2},
-             {2, 1},
-             "plate of n x n quads (default 6) with a wall of m rows (default 2) standing on a chain of 2 fan edges "
-             "that ends inside the plate at both ends (docked on the plates)",
-             [](const Params& p) {
-                 return make_wall_plate({p.n, 2, p.m, -1, -1, 1}, p.L, p.r);
-             }},
-            {"wallboth",
-             {6, 2},
-             {2, 1},
-             "as wall, with a second wall of m rows below the plate on the same chain (fan edges of degree 4)",
-             [](const Params& p) {
-                 return make_wall_plate({p.n, 2, p.m, -1, -1, 2}, p.L, p.r);
-             }},
-            {"walledge",
-             {6, 2},
-             {2, 1},
-             "as wall, the chain of 2 fan edges running from the plate's border to an interior vertex",
-             [](const Params& p) {
-                 return make_wall_plate({p.n, 2, p.m, -1, 0, 1}, p.L, p.r);
-             }},
-            {"flange",
-             {6, 2},
-             {2, 1},
-             "plate of n x n quads (default 6) with walls of m rows (default 2) above and below on a chain of 2 fan "
-             "edges along the middle of one border side (a flange: fan ends where the plate's border runs on)",
-             [](const Params& p) {
-                 return make_wall_plate({p.n, 2, p.m, 0, -1, 2}, p.L, p.r);
-             }},
-            {"flangeup",
-             {6, 2},
-             {2, 1},
-             "as flange, with the wall above the plate only",
-             [](const Params& p) {
-                 return make_wall_plate({p.n, 2, p.m, 0, -1, 1}, p.L, p.r);
-             }},
-            {"pan",
-             {6, 4},
-             {6, 2},
-             "plate of n x m quads (default 6 x 4) with its branches rooted on its plates: a "
-             "handle leaving a straight border outward, a bucket arch rooted inside",
-             make_pan},
         };
+        for (Shape& shape : wall_shapes()) t.push_back(std::move(shape));
+        t.push_back({"pan",
+                     {6, 4},
+                     {6, 2},
+                     "plate of n x m quads (default 6 x 4) with its branches rooted on its plates: a "
+                     "handle leaving a straight border outward, a bucket arch rooted inside",
+                     make_pan});
         for (Shape& shape : thin_sheet_shapes()) t.push_back(std::move(shape));
         for (Shape& shape : fan_block_shapes()) t.push_back(std::move(shape));
         return t;
