@@ -392,6 +392,7 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
     Inversion best = inv;
     const double start_min = inv.sj_min;
     bool rose = false;  // a round of a quality pass ended with min SJ above the start's
+    int stale = 0;      // rounds since the best state last changed
     double detmin = 0;
     int clean_rounds = 0;
     for (int round = 1; round <= options.max_rounds; ++round) {
@@ -431,6 +432,9 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
              (inv.count < best.count || (inv.count == best.count && inv.sj_min > best.sj_min)))) {
             best = inv;
             best_x = pb.x;
+            stale = 0;
+        } else {
+            ++stale;
         }
         rose = rose || inv.sj_min > start_min;
         if (options.progress) {
@@ -452,6 +456,7 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
             best = inversion_of(mesh, best_x, options.target_sj);
             break;
         }
+        if (options.target_sj > 0 && options.quality_patience > 0 && stale >= options.quality_patience) break;
         if (inv.count == 0 && detmin > 0) {
             if (clean_rounds >= options.extra_rounds) break;
             ++clean_rounds;

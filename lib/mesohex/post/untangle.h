@@ -33,7 +33,8 @@ struct UntangleOptions {
     // Rounds: a quality pass (target_sj > 0) stops when none of its first quality_patience rounds ended with a min SJ
     // above the start's; it then returns the start. (The finishing keeps a quality pass only when the min SJ rose; on
     // 38 inputs of bench/finish_all.sh and 20 random seeds every pass that rose did so by round 2, docs/performance.md.)
-    // <= 0: never stop early.
+    // It also stops, returning its best state, after quality_patience rounds in a row that did not improve that state
+    // (fewest inverted, then fewest below target, then largest min SJ). <= 0: never stop early.
     int quality_patience = 5;
     std::function<void(const UntangleProgress&)> progress;  // optional, called after every round
 };
