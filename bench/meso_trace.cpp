@@ -165,7 +165,8 @@ int main(int argc, char** argv) {
     if (argc < 2) {
         std::fprintf(stderr,
                      "usage: %s SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F] "
-                     "[--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] [--geometry]\n",
+                     "[--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] "
+                     "[--geometry]\n",
                      argv[0]);
         return 2;
     }

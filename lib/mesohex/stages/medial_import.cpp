@@ -539,8 +539,8 @@ int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt, const LeafletSh
     for (const auto& [side, faces] : side_faces)
         if (faces == 1) {
             border_sides.push_back({side.first, side.second});
-            border_length0.push_back(distance(s.points[static_cast<size_t>(side.first)],
-                                              s.points[static_cast<size_t>(side.second)]));
+            border_length0.push_back(
+                distance(s.points[static_cast<size_t>(side.first)], s.points[static_cast<size_t>(side.second)]));
         }
     for (int it = 0; it < iterations; ++it) {
         const std::vector<Vec3> prev = s.points;
