@@ -9,7 +9,7 @@
 // For each site: its curve edges, its leaflet corner angle (sum of the face angles, degrees; above 180 a notch) and
 // its radius. Then the count per kind, junctions also by layout (rooted branch / several curves on the border / inner).
 //   mesohex_meso_trace SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F]
-//                      [--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--geometry]
+//                      [--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] [--geometry]
 // --geometry adds a line per inverted plate or half-chunk (hex_geometry; bench/classify_meso_trace.py counts them).
 #include <algorithm>
 #include <array>
@@ -165,7 +165,8 @@ int main(int argc, char** argv) {
     if (argc < 2) {
         std::fprintf(stderr,
                      "usage: %s SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F] "
-                     "[--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--geometry]\n",
+                     "[--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] "
+                     "[--geometry]\n",
                      argv[0]);
         return 2;
     }
@@ -183,6 +184,7 @@ int main(int argc, char** argv) {
         if (a == "--fringe-node-ends") o.medial.fringe_node_ends = true;
         if (a == "--geometry") geometry = true;
         if (a == "--fill-pinch" && i + 1 < argc) o.import.fill_pinch_max_angle_deg = std::atof(argv[++i]);
+        if (a == "--min-side" && i + 1 < argc) o.import.min_border_side_fraction = std::atof(argv[++i]);
     }
     const TriangleMesh surface = read_surface(argv[1]);
     MeshRun run;

@@ -52,6 +52,12 @@ void add_bl_corner_options(CLI::App* cmd, MedialImportOptions* o, const std::str
                         "narrower than this (degrees; 0 = off)")
         ->capture_default_str()
         ->check(finite_range(0.0, 180.0));
+    cmd->add_option("--min-border-side", o->min_border_side_fraction,
+                    help_prefix +
+                        "while smoothing, a leaflet border side stays at least this x its length before the smoothing, "
+                        "except at notches deeper than 270 degrees (0 = off)")
+        ->capture_default_str()
+        ->check(finite_range(0.0, 1.0));
 }
 
 void register_import(CLI::App& app, int* status) {

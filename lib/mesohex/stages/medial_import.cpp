@@ -411,6 +411,39 @@ struct LeafletSheets {
     std::vector<int> leaflet;
 };
 
+// A leaflet notch deeper than this (sum of the face angles at a border vertex, degrees) must open: its border sides
+// are less than 90 degrees apart, the out columns of its half-chunks lean below 45 degrees to them and fold unless the
+// smoothing's reflex move straightens the corner, which shortens its sides (keep_border_sides leaves them free).
+constexpr double kDeepNotchDeg = 270;
+
+// After a smoothing sweep from `prev` to `points`: every border side (ends `sides[k]`, length `length0[k]` before the
+// smoothing) shorter than fraction x length0[k] has the sweep's move of both its ends halved, at most 4 times per end,
+// then undone (back to `prev`), until no side is short (the positions before the sweep are not: by induction), except
+// sides at a deep notch (`angle_sum`, the faces' angles at each vertex before the sweep, above kDeepNotchDeg). The
+// smoothing then cannot slide a border vertex along the sheet onto its neighbour (knob: where it rounds the ring
+// band's creases, a border side 0.78 -> 0.125 against a radius 0.65: the half-chunks and plates there fold).
+// Deterministic (sides in key order). O(sweeps x sides) per call.
+void keep_border_sides(std::vector<Vec3>& points, const std::vector<Vec3>& prev,
+                       const std::vector<std::array<int, 2>>& sides, const std::vector<double>& length0,
+                       const std::vector<double>& angle_sum, double fraction) {
+    std::vector<int> halvings(points.size(), 0);
+    for (bool moved = true; moved;) {
+        moved = false;
+        for (size_t k = 0; k < sides.size(); ++k) {
+            const size_t a = static_cast<size_t>(sides[k][0]), b = static_cast<size_t>(sides[k][1]);
+            if (distance(points[a], points[b]) >= fraction * length0[k] || angle_sum[a] > kDeepNotchDeg ||
+                angle_sum[b] > kDeepNotchDeg)
+                continue;
+            for (const size_t x : {a, b}) {
+                if (points[x] == prev[x]) continue;
+                points[x] = halvings[x] < 4 ? 0.5 * (points[x] + prev[x]) : prev[x];
+                ++halvings[x];
+                moved = true;
+            }
+        }
+    }
+}
+
 // Jacobi smoothing of the leaflets (see MedialImportOptions::smoothing_iterations), all vertices from the same
 // previous positions (order-independent): interior vertices (every incident edge in exactly two faces, no curve
 // edge) p <- p + factor x (m - p), m = mean of the neighbours; with opt.smooth_boundary, regular boundary vertices
@@ -500,6 +533,15 @@ int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt, const LeafletSh
         const double limit = opt.max_sheet_offset * s.radii[static_cast<size_t>(v)];
         if (std::abs(off) > limit) s.points[static_cast<size_t>(v)] = p - n * (off - std::copysign(limit, off));
     };
+    // The border sides with their lengths before the smoothing (MedialImportOptions::min_border_side_fraction).
+    std::vector<std::array<int, 2>> border_sides;
+    std::vector<double> border_length0;
+    for (const auto& [side, faces] : side_faces)
+        if (faces == 1) {
+            border_sides.push_back({side.first, side.second});
+            border_length0.push_back(
+                distance(s.points[static_cast<size_t>(side.first)], s.points[static_cast<size_t>(side.second)]));
+        }
     for (int it = 0; it < iterations; ++it) {
         const std::vector<Vec3> prev = s.points;
         for (int v : movable)
@@ -527,6 +569,8 @@ int smooth_leaflets(Skeleton& s, const MedialImportOptions& opt, const LeafletSh
             for (int v : movable) project(v);
             for (int v : rim) project(v);
         }
+        if (opt.min_border_side_fraction > 0)
+            keep_border_sides(s.points, prev, border_sides, border_length0, angle_sum, opt.min_border_side_fraction);
     }
     return iterations > 0 ? static_cast<int>(movable.size() + rim.size()) : 0;
 }

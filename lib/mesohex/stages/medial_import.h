@@ -110,6 +110,13 @@ struct MedialImportOptions {
     // for `import` (a folded sheet border needs the free smoothing; measurements in docs/sheets.md); `auto`, whose
     // medial meshes are fitted to the surface (sphere quadrics), uses 0.25 (meso_import_options).
     double max_sheet_offset = -1;  // x the vertex's medial radius; < 0: off (the smoothing moves freely)
+    // After every sweep (and the sheet limit), a leaflet border side shorter than min_border_side_fraction x its
+    // length before the smoothing has the sweep's move of its two ends halved (then undone) until it is not, except at
+    // a notch deeper than 270 degrees, which must open (dimensionless; 0 = off): where the smoothing rounds a crease of
+    // the sheet it slides border vertices along the other wall onto their neighbours, until a side is a few times
+    // shorter than the radius, and the half-chunks and plates on it fold (knob: 0.78 -> 0.125 against r 0.65;
+    // docs/sheets.md, "Border sides kept").
+    double min_border_side_fraction = 0.5;
 };
 
 struct MedialImport {
