@@ -1,8 +1,6 @@
 #include "mesohex/stages/leaflet_geometry.h"
 
 #include <algorithm>
-#include <cmath>
-#include <numbers>
 #include <string>
 #include <vector>
 

@@ -900,9 +900,11 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
         const Vec3& c = skeleton.points[v];
         const double r = radius[v];
         raw.mesh.points[base] = c;
-        for (int j = 0; j < g; ++j)
+        for (int j = 0; j < g; ++j) {
+            const Vec3 bisector = normalized(gap_sum[base + 1 + j]);
             raw.mesh.points[base + 1 + j] =
-                c + r * narrower_cone_axis(gap_dirs[base + 1 + j], normalized(gap_sum[base + 1 + j]), kFanDirectionGainDeg);
+                c + r * narrower_cone_axis(gap_dirs[base + 1 + j], bisector, kFanDirectionGainDeg);
+        }
         if (vc != VertexClass::FanEdgeEnd) continue;
         Vec3 e{};
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
