@@ -866,9 +866,26 @@ Vec3 fan_end_out_direction(const Skeleton& skeleton, const SkeletonAnalysis& an,
     return narrower_cone_axis(outs, e, kFanDirectionGainDeg);
 }
 
+// Whether the leaflets around a gap at a fan vertex (`leaflets`: per face corner facing the gap, its face's leaflet)
+// have different numbers of faces there (a leaflet running on past a fan end, a fan line turning inside a plate).
+// A leaflet twisted or curved around a regular fan vertex has as many as its neighbour: its gap keeps the bisector.
+bool unequal_leaflet_faces(std::vector<int> leaflets) {
+    std::sort(leaflets.begin(), leaflets.end());
+    long fewest = -1, most = -1;
+    for (std::size_t i = 0; i < leaflets.size();) {
+        std::size_t next = i;
+        while (next < leaflets.size() && leaflets[next] == leaflets[i]) ++next;
+        const long n = static_cast<long>(next - i);
+        fewest = fewest < 0 ? n : std::min(fewest, n);
+        most = std::max(most, n);
+        i = next;
+    }
+    return fewest != most;
+}
+
 // Fan-edge vertices (reference-notes §10): gap vertex = w + r unit(sum of the normals of the faces around the
-// gap, each flipped into the gap), the bisector (narrower_cone_axis: or the axis of those normals' narrowest cone,
-// when one side of the gap has more faces at w than the other, as a plate running on past a fan end); at a fan end
+// gap, each flipped into the gap), the bisector (or, when one side of the gap has more faces at w than the other
+// (unequal_leaflet_faces), the axis of those normals' narrowest cone: narrower_cone_axis); at a fan end
 // also O_w = w + r e and gap out-copies = gap + r e, e = unit vector along the fan edge pointing away from it
 // (fan_end_out_direction: or the leaflets' own outs' axis). Serial in face order: deterministic.
 void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
@@ -878,6 +895,7 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
     const int nf = static_cast<int>(an.face_vertices.size());
     std::vector<Vec3> gap_sum(raw.mesh.points.size());
     std::vector<std::vector<Vec3>> gap_dirs(raw.mesh.points.size());
+    std::vector<std::vector<int>> gap_leaflets(raw.mesh.points.size());
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k) {
             const int w = an.face_vertices[f][k];
@@ -887,6 +905,7 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
                 const Vec3& n = gaps.gap_dir[f * 8 + k * 2 + side];  // unit, or 0 for a degenerate face
                 gap_sum[id] += n;
                 if (norm(n) > 0) gap_dirs[id].push_back(normalized(n));  // a zero normal bounds no cone
+                gap_leaflets[id].push_back(an.face_leaflet[f]);
             }
         }
     for (int v = 0; v < nv; ++v) {
@@ -902,8 +921,10 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
         raw.mesh.points[base] = c;
         for (int j = 0; j < g; ++j) {
             const Vec3 bisector = normalized(gap_sum[base + 1 + j]);
+            const bool uneven = unequal_leaflet_faces(gap_leaflets[base + 1 + j]);
             raw.mesh.points[base + 1 + j] =
-                c + r * narrower_cone_axis(gap_dirs[base + 1 + j], bisector, kFanDirectionGainDeg);
+                c +
+                r * (uneven ? narrower_cone_axis(gap_dirs[base + 1 + j], bisector, kFanDirectionGainDeg) : bisector);
         }
         if (vc != VertexClass::FanEdgeEnd) continue;
         Vec3 e{};
