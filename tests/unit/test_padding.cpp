@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "hex_fixtures.h"
+#include "mesohex/core/cone.h"
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
@@ -544,4 +545,30 @@ TEST(Padding, MaximinDirectionOfCornerVectors) {
     EXPECT_NEAR(distance(b, Vec3{2, 0, 1} / std::sqrt(5.0)), 0, 1e-12);
     EXPECT_NEAR(lowest_corner(uneven, b), 1 / std::sqrt(5.0), 1e-12);
     EXPECT_EQ(lowest_corner(uneven, Vec3{0, 0, 1}), 0.0);
+}
+
+// narrower_cone_axis (core/cone.h): the flange's outs at a fan end, -y (the plate's) and -x twice (the walls'), from
+// d = -x (widest angle 90 degrees) -> the axis (-1, -1, 0) / sqrt 2 (45 degrees); the gap above the flange's plate,
+// normals z, z and y from their unit sum (2z + y) / sqrt 5 (widest acos(1 / sqrt 5) = 63.4 degrees) -> (0, 1, 1) /
+// sqrt 2 (45). Two unit vectors 8 degrees apart from one of them: the axis halves the widest angle, a gain of 4 <= 5
+// degrees keeps d; 12 degrees apart gains 6 and takes the axis. No vectors: d, widest angle 0.
+TEST(Padding, NarrowerConeAxisOnlyWhenItGainsMoreThanTheThreshold) {
+    const double pi = std::numbers::pi;
+    const Vec3 flange = narrower_cone_axis({{0, -1, 0}, {-1, 0, 0}, {-1, 0, 0}}, Vec3{-1, 0, 0}, 5.0);
+    EXPECT_NEAR(distance(flange, Vec3{-1, -1, 0} / std::sqrt(2.0)), 0, 1e-12);
+    const std::vector<Vec3> gap{{0, 0, 1}, {0, 0, 1}, {0, 1, 0}};
+    const Vec3 sum = Vec3{0, 1, 2} / std::sqrt(5.0);
+    EXPECT_NEAR(widest_angle_deg(gap, sum), std::acos(1 / std::sqrt(5.0)) * 180 / pi, 1e-9);
+    EXPECT_NEAR(distance(narrower_cone_axis(gap, sum, 5.0), Vec3{0, 1, 1} / std::sqrt(2.0)), 0, 1e-12);
+    const Vec3 x{1, 0, 0};
+    for (double deg : {8.0, 12.0}) {
+        const std::vector<Vec3> two{x, {std::cos(deg * pi / 180), std::sin(deg * pi / 180), 0}};
+        const Vec3 m = narrower_cone_axis(two, x, 5.0);
+        EXPECT_NEAR(widest_angle_deg(two, m), deg > 10 ? deg / 2 : deg, 1e-9) << deg;
+        if (deg < 10) {
+            EXPECT_EQ(m, x);
+        }
+    }
+    EXPECT_EQ(narrower_cone_axis({}, x, 5.0), x);
+    EXPECT_EQ(widest_angle_deg({}, x), 0.0);
 }

@@ -1110,3 +1110,41 @@ TEST(RawMesh, FlangeWithWallsAboveAndBelowHasNoInvertedHex) {
     for (int j = 1; j <= 3; ++j) above += distance(raw.mesh.points[base + j], Vec3{1, q, q}) < 1e-12;
     EXPECT_EQ(above, 1);
 }
+
+// A T fan on the 2-edge fan line (0, 0, 0) -> (0, 0, 2): three strips of 2 unit quads at 120 degrees, strip A (along
+// +x) twisted, its far corners at y = -0.6, 0, 0.6. At the fan vertex (0, 0, 1) every gap has 2 faces of each of its
+// two leaflets, but A's two face normals differ (by 32 degrees), so the narrowest cone's axis around a gap's 4
+// normals is not their unit sum. The gap vertices stay on the unit sum (the bisector of the paper): the axis is for a
+// gap with more faces of one leaflet than the other (a plate running on past a fan end), not for a twisted leaflet.
+TEST(RawMesh, GapVertexOfABalancedGapStaysOnTheNormalSum) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0, 0, 1}, {0, 0, 2}, {1, -0.6, 0}, {1, 0, 1}, {1, 0.6, 2}};
+    const double c = -0.5, sn = std::sqrt(3.0) / 2;
+    for (double sy : {1.0, -1.0})
+        for (double z : {0.0, 1.0, 2.0}) s.points.push_back({c, sy * sn, z});
+    s.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}, {0, 1, 7, 6}, {1, 2, 8, 7}, {0, 1, 10, 9}, {1, 2, 11, 10}};
+    add_face_edges(s);
+    s.radii.assign(s.points.size(), 0.3);
+    const test::RawRun r = test::checked_raw_mesh(s);
+    EXPECT_TRUE(r.valid);
+    EXPECT_EQ(r.quality.inverted, 0);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const RawMesh raw = build_raw_mesh(s, an, cs, propagate_frames(s, an, cs));
+    ASSERT_EQ(an.vertex_class[1], VertexClass::FanEdgeVertex);  // its raw vertices: the centre, then its 3 gap vertices
+    // Each leaflet's 2 face normals at (0, 0, 1), summed; a gap's bisector is the unit sum of two leaflets' sums, each
+    // flipped into the gap: one of 3 pairs x 4 signs.
+    std::vector<Vec3> leaflet_sum(3);
+    for (int f = 0; f < 6; ++f) leaflet_sum[static_cast<std::size_t>(f / 2)] += an.face_normal[f];
+    for (int j = 1; j <= 3; ++j) {
+        const Vec3 d = (raw.mesh.points[raw.vertex_base[1] + j] - s.points[1]) / 0.3;
+        double best = 1;
+        for (int a = 0; a < 3; ++a)
+            for (double sa : {1.0, -1.0})
+                for (double sb : {1.0, -1.0}) {
+                    const Vec3 bisector = normalized(sa * leaflet_sum[a] + sb * leaflet_sum[(a + 1) % 3]);
+                    best = std::min(best, distance(d, bisector));
+                }
+        EXPECT_LT(best, 1e-12) << j;
+    }
+}

@@ -15,6 +15,19 @@ using mesohex::test::make_block;
 namespace {
 // Vertex (i, j, k) of make_block(n, n, n).
 int vid(int n, int i, int j, int k) { return i + (n + 1) * (j + (n + 1) * k); }
+
+// A quality pass (target SJ 0.8, max_rounds rounds) on a mesh of make_block(4, 4, 4)'s vertices with the 8 vertices of
+// the hex [1, 2]^3 frozen.
+UntangleOptions quality_pass_with_frozen_hex(const HexMesh& m, int max_rounds) {
+    UntangleOptions options;
+    options.target_sj = 0.8;
+    options.max_rounds = max_rounds;
+    options.frozen.assign(m.points.size(), false);
+    for (int k = 1; k <= 2; ++k)
+        for (int j = 1; j <= 2; ++j)
+            for (int i = 1; i <= 2; ++i) options.frozen[static_cast<std::size_t>(vid(4, i, j, k))] = true;
+    return options;
+}
 }  // namespace
 
 TEST(Untangle, CentreVertexPushedThroughAFace) {
@@ -152,8 +165,6 @@ TEST(Untangle, HexWithPositiveCornersAndANegativeCentreFrame) {
     EXPECT_GT(compute_quality(r.mesh).sj_min, 0);
 }
 
-// Quality pass (target_sj > 0): no hex is inverted, but an interior vertex pushed toward a corner leaves thin hexes
-// around it; the pass moves the interior vertices near them back toward the regular grid and keeps the boundary.
 // A quality pass that cannot raise the minimum: in a 4 x 4 x 4 block the squeezed hex [1, 2]^3 has all 8 vertices
 // frozen, so its scaled Jacobian (the minimum) is fixed whatever the 19 other interior vertices do. The pass stops
 // after quality_patience rounds and returns the start; with quality_patience 0 it runs every round.
@@ -163,13 +174,7 @@ TEST(Untangle, QualityPassThatCannotRaiseTheMinimumStopsAfterItsPatience) {
     const QualityReport before = compute_quality(m);
     ASSERT_EQ(before.inverted, 0);
     ASSERT_LT(before.sj_min, 0.5);
-    UntangleOptions options;
-    options.target_sj = 0.8;
-    options.max_rounds = 12;
-    options.frozen.assign(m.points.size(), false);
-    for (int k = 1; k <= 2; ++k)
-        for (int j = 1; j <= 2; ++j)
-            for (int i = 1; i <= 2; ++i) options.frozen[static_cast<std::size_t>(vid(4, i, j, k))] = true;
+    UntangleOptions options = quality_pass_with_frozen_hex(m, 12);
     const UntangleResult r = untangle(m, options);
     EXPECT_EQ(r.rounds, 5);
     EXPECT_GT(r.iterations, 0);  // the 19 free interior vertices did move in those rounds
@@ -183,10 +188,10 @@ TEST(Untangle, QualityPassThatCannotRaiseTheMinimumStopsAfterItsPatience) {
 }
 
 // A quality pass whose minimum rises once and then cannot rise further: the frozen squeezed hex [1, 2]^3 of the test
-// above, and the hex [2, 3]^3 squeezed harder by its free corner (3, 3, 3) moved about 0.32 towards (2, 2, 2) (scaled Jacobian 0.07 against the frozen hex's 0.18). Round 1
-// puts (3, 3, 3) back near its place, so the minimum rises to the frozen hex's scaled Jacobian, which no round can
-// change. The pass stops once quality_patience rounds in a row leave its best state unchanged and returns that state,
-// the same minimum as a pass that runs every round.
+// above, and the hex [2, 3]^3 squeezed harder by its free corner (3, 3, 3) moved about 0.32 towards (2, 2, 2) (scaled
+// Jacobian 0.07 against the frozen hex's 0.18). Round 1 puts (3, 3, 3) back near its place, so the minimum rises to
+// the frozen hex's scaled Jacobian, which no round can change. The pass stops once quality_patience rounds in a row
+// leave its best state unchanged and returns that state, the same minimum as a pass that runs every round.
 TEST(Untangle, QualityPassStopsWhenItsBestStateStopsImproving) {
     HexMesh m = make_block(4, 4, 4);
     m.points[static_cast<std::size_t>(vid(4, 1, 1, 1))] = {1.3, 1.32, 1.28};
@@ -195,13 +200,7 @@ TEST(Untangle, QualityPassStopsWhenItsBestStateStopsImproving) {
     const QualityReport before = compute_quality(m);
     ASSERT_EQ(before.inverted, 0);
     ASSERT_LT(before.sj_min, frozen_sj - 0.05);
-    UntangleOptions options;
-    options.target_sj = 0.8;
-    options.max_rounds = 30;
-    options.frozen.assign(m.points.size(), false);
-    for (int k = 1; k <= 2; ++k)
-        for (int j = 1; j <= 2; ++j)
-            for (int i = 1; i <= 2; ++i) options.frozen[static_cast<std::size_t>(vid(4, i, j, k))] = true;
+    UntangleOptions options = quality_pass_with_frozen_hex(m, 30);
     const UntangleResult r = untangle(m, options);
     EXPECT_NEAR(r.sj_min_after, frozen_sj, 1e-9);
     EXPECT_GE(r.rounds, options.quality_patience + 1);  // the round that rose, then the patience
@@ -212,6 +211,8 @@ TEST(Untangle, QualityPassStopsWhenItsBestStateStopsImproving) {
     EXPECT_NEAR(all.sj_min_after, r.sj_min_after, 1e-12);
 }
 
+// Quality pass (target_sj > 0): no hex is inverted, but an interior vertex pushed toward a corner leaves thin hexes
+// around it; the pass moves the interior vertices near them back toward the regular grid and keeps the boundary.
 TEST(Untangle, QualityPassRaisesTheMinimumAndKeepsTheBoundary) {
     HexMesh m = make_block(3, 3, 3);
     m.points[static_cast<std::size_t>(vid(3, 1, 1, 1))] = {1.3, 1.32,

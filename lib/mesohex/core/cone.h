@@ -1,8 +1,11 @@
 #pragma once
 // The narrowest cone around a few directions: the direction whose smallest dot product with given vectors is largest.
-// Shared by the padding's corner guard (post/padding.h) and the leaflet frames at creases (stages/leaflet_geometry.h).
+// Shared by the padding's corner guard (post/padding.h), the leaflet frames at creases (stages/leaflet_geometry.h) and
+// the fan vertices (stages/raw_mesh.cpp: gap vertices and a fan end's O_w).
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "mesohex/core/vec.h"
@@ -46,6 +49,19 @@ inline Vec3 maximin_direction(const std::vector<Vec3>& w, const Vec3& fallback) 
         }
     }
     return best;
+}
+
+// The widest angle (degrees) between the unit vector m and the unit vectors w (0 for no w).
+inline double widest_angle_deg(const std::vector<Vec3>& w, const Vec3& m) {
+    return std::acos(std::clamp(lowest_corner(w, m), -1.0, 1.0)) * 180 / std::numbers::pi;
+}
+
+// The axis of the narrowest cone around the unit vectors w (maximin_direction, fallback d) when it narrows their
+// widest angle from the unit vector d by more than min_gain_deg (degrees); otherwise d.
+inline Vec3 narrower_cone_axis(const std::vector<Vec3>& w, const Vec3& d, double min_gain_deg) {
+    if (w.empty()) return d;
+    const Vec3 axis = maximin_direction(w, d);
+    return widest_angle_deg(w, d) - widest_angle_deg(w, axis) > min_gain_deg ? axis : d;
 }
 
 }  // namespace mesohex

@@ -1,8 +1,6 @@
 #include "mesohex/stages/leaflet_geometry.h"
 
 #include <algorithm>
-#include <cmath>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -12,11 +10,6 @@
 namespace mesohex {
 
 namespace {
-
-// Largest angle (degrees) between the unit vector n and any of the unit vectors ns.
-double widest_angle_deg(const Vec3& n, const std::vector<Vec3>& ns) {
-    return std::acos(std::clamp(lowest_corner(ns, n), -1.0, 1.0)) * 180 / std::numbers::pi;
-}
 
 // Per vertex: the unit normals of the faces that count at it (face_counts_at), in face order.
 std::vector<std::vector<Vec3>> unit_face_normals(const SkeletonAnalysis& an, int nv) {
@@ -38,9 +31,8 @@ std::vector<char> crease_normals(const SkeletonAnalysis& an, const std::vector<s
     std::vector<char> crease(nv, 0);
     for (int w = 0; w < nv; ++w) {
         if (!leaflet_column(an.vertex_class[w]) || face_normals[w].size() < 2 || !(norm(normal[w]) > 0)) continue;
-        const Vec3 axis = maximin_direction(face_normals[w], normal[w]);
-        if (widest_angle_deg(normal[w], face_normals[w]) - widest_angle_deg(axis, face_normals[w]) >
-            kCreaseNormalGainDeg) {
+        const Vec3 axis = narrower_cone_axis(face_normals[w], normal[w], kCreaseNormalGainDeg);
+        if (!(axis == normal[w])) {
             normal[w] = axis;
             crease[w] = 1;
         }

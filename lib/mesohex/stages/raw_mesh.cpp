@@ -838,19 +838,9 @@ void place_fan_block_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an
     for (std::size_t x = 0; x < pts.size(); ++x) raw.mesh.points[raw.vertex_base[v] + static_cast<int>(x)] = pts[x];
 }
 
-// `d` (unit), or the axis of the narrowest cone around the unit vectors `ws` (maximin_direction) when that axis
-// narrows their widest angle by more than kFanDirectionGainDeg.
-Vec3 narrower_cone_axis(const std::vector<Vec3>& ws, const Vec3& d) {
-    if (ws.empty()) return d;
-    const Vec3 axis = maximin_direction(ws, d);
-    const double gain = std::acos(std::clamp(lowest_corner(ws, d), -1.0, 1.0)) -
-                        std::acos(std::clamp(lowest_corner(ws, axis), -1.0, 1.0));
-    return gain * 180 / std::numbers::pi > kFanDirectionGainDeg ? axis : d;
-}
-
 // The unit direction of O_w at fan end v whose fan edge continues along -e (unit): e, unless the leaflets' own out
 // directions at v (per border edge at v: in its face's plane, normal to the edge, away from the face) are served
-// better by their narrowest cone's axis (narrower_cone_axis); then that axis. Every
+// better by their narrowest cone's axis (narrower_cone_axis, kFanDirectionGainDeg); then that axis. Every
 // half-chunk at v has O_w as its out vertex there. At a T / X fan end whose leaflet borders leave v across the fan
 // line, every such out is e (gain 0). At a flange (the fan chain on part of a plate's border, walls above and below:
 // the plate's border runs on along the fan line past v) the plate's out there is normal to e, and O_w = v + r e put
@@ -873,14 +863,31 @@ Vec3 fan_end_out_direction(const Skeleton& skeleton, const SkeletonAnalysis& an,
                 if (norm(out) > 0) outs.push_back(normalized(out));
             }
         }
-    return narrower_cone_axis(outs, e);
+    return narrower_cone_axis(outs, e, kFanDirectionGainDeg);
+}
+
+// Whether the leaflets around a gap at a fan vertex (`leaflets`: per face corner facing the gap, its face's leaflet)
+// have different numbers of faces there (a leaflet running on past a fan end, a fan line turning inside a plate).
+// A leaflet twisted or curved around a regular fan vertex has as many as its neighbour: its gap keeps the bisector.
+bool unequal_leaflet_faces(std::vector<int> leaflets) {
+    std::sort(leaflets.begin(), leaflets.end());
+    long fewest = -1, most = -1;
+    for (std::size_t i = 0; i < leaflets.size();) {
+        std::size_t next = i;
+        while (next < leaflets.size() && leaflets[next] == leaflets[i]) ++next;
+        const long n = static_cast<long>(next - i);
+        fewest = fewest < 0 ? n : std::min(fewest, n);
+        most = std::max(most, n);
+        i = next;
+    }
+    return fewest != most;
 }
 
 // Fan-edge vertices (reference-notes §10): gap vertex = w + r unit(sum of the normals of the faces around the
-// gap, each flipped into the gap), the bisector (narrower_cone_axis: or the axis of those normals' narrowest cone,
-// when one side of the gap has more faces at w than the other, as a plate running on past a fan end); at a fan end also O_w = w + r e and gap out-copies = gap + r e,
-// e = unit vector along the fan edge pointing away from it (fan_end_out_direction: or the leaflets' own outs' axis).
-// Serial in face order: deterministic.
+// gap, each flipped into the gap), the bisector (or, when one side of the gap has more faces at w than the other
+// (unequal_leaflet_faces), the axis of those normals' narrowest cone: narrower_cone_axis); at a fan end
+// also O_w = w + r e and gap out-copies = gap + r e, e = unit vector along the fan edge pointing away from it
+// (fan_end_out_direction: or the leaflets' own outs' axis). Serial in face order: deterministic.
 void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                         const FanGaps& gaps, const std::vector<double>& radius, RawMesh& raw) {
     if (an.counts.fan_edges == 0) return;
@@ -888,14 +895,17 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
     const int nf = static_cast<int>(an.face_vertices.size());
     std::vector<Vec3> gap_sum(raw.mesh.points.size());
     std::vector<std::vector<Vec3>> gap_dirs(raw.mesh.points.size());
+    std::vector<std::vector<int>> gap_leaflets(raw.mesh.points.size());
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k) {
             const int w = an.face_vertices[f][k];
             if (!is_fan(an.vertex_class[w]) || fan_block_at(cs, w) >= 0) continue;
             for (int side = 0; side < 2; ++side) {
                 const int id = raw.vertex_base[w] + 1 + gaps.gap_of[f * 8 + k * 2 + side];
-                gap_sum[id] += gaps.gap_dir[f * 8 + k * 2 + side];
-                gap_dirs[id].push_back(normalized(gaps.gap_dir[f * 8 + k * 2 + side]));
+                const Vec3& n = gaps.gap_dir[f * 8 + k * 2 + side];  // unit, or 0 for a degenerate face
+                gap_sum[id] += n;
+                if (norm(n) > 0) gap_dirs[id].push_back(normalized(n));  // a zero normal bounds no cone
+                gap_leaflets[id].push_back(an.face_leaflet[f]);
             }
         }
     for (int v = 0; v < nv; ++v) {
@@ -909,9 +919,13 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
         const Vec3& c = skeleton.points[v];
         const double r = radius[v];
         raw.mesh.points[base] = c;
-        for (int j = 0; j < g; ++j)
+        for (int j = 0; j < g; ++j) {
+            const Vec3 bisector = normalized(gap_sum[base + 1 + j]);
+            const bool uneven = unequal_leaflet_faces(gap_leaflets[base + 1 + j]);
             raw.mesh.points[base + 1 + j] =
-                c + r * narrower_cone_axis(gap_dirs[base + 1 + j], normalized(gap_sum[base + 1 + j]));
+                c +
+                r * (uneven ? narrower_cone_axis(gap_dirs[base + 1 + j], bisector, kFanDirectionGainDeg) : bisector);
+        }
         if (vc != VertexClass::FanEdgeEnd) continue;
         Vec3 e{};
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
