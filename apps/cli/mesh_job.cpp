@@ -207,6 +207,14 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "hexes beneath giving up that thickness (the report's 'padding.inset_vertices'; off by default: "
         "docs/junctions.md)");
     cmd->add_flag_callback(
+        "--pad-inset-concave",
+        [job] {
+            job->options.finishing.pad_inset = true;
+            job->options.finishing.pad_insetting.concave_only = true;
+        },
+        "--pad-inset at concave raw boundary vertices only (the valleys between a junction's chunks; off by default: "
+        "docs/junctions.md, \"Junction inset\")");
+    cmd->add_flag_callback(
         "--no-fit",
         [job] {
             job->options.finishing.fit = false;

@@ -134,8 +134,7 @@ int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnal
         const double t =
             ray_exit(cones, s.points[c], frames.directions[cs.point_begin[c] + x], 0.02 * rc, (o.arc + 1) * rc);
         double target = t > m.r ? m.r + o.fraction * (t - m.r) : m.r;
-        if (o.inset > 0)
-            target = std::max(std::min(target, t - o.inset * shortest_edge[m.base + 1 + x]), 0.5 * m.r);
+        if (o.inset > 0) target = std::max(std::min(target, t - o.inset * shortest_edge[m.base + 1 + x]), 0.5 * m.r);
         const bool move = target != m.r;
         m.target.push_back(target);
         m.lambda.push_back(move ? 1.0 : 0.0);

@@ -27,10 +27,11 @@ struct JunctionCoverOptions {
     // Only branching points with at least this many branch edges (and no leaflet face) are covered.
     int min_degree = 3;
     // Junction inset (issue 16): each surface point's distance from c is also capped at t - inset x (its shortest
-    // raw boundary edge), t the ray's exit from the union above, so that the padding layer (PaddingOptions::
-    // thickness x the shortest boundary edge, 0.25) laid over the junction starts inside the domain and ends near
-    // its surface instead of starting on or beyond it (where the fit crushes it pulling it back). Points move
-    // inward as well as outward; never below half of r. Dimensionless (0.25 = one padding layer); 0 = off.
+    // raw boundary edge), t the ray's exit from the union above, so that the padding layer laid over the junction
+    // (the padding's thickness 0.25 x the shortest boundary edge) starts inside the domain and ends near its surface
+    // instead of starting on or beyond it, where the fit crushes it pulling it back. Points move inward as well as
+    // outward, never below half of r; the guard below holds. Dimensionless (0.25 = one padding layer); 0 = off
+    // (the default: mixed on the shared skeletons and the random set, docs/junctions.md, "Junction inset").
     double inset = 0.0;
     // Guard: a hex of c's chunks may not end below min(sj_floor, its scaled Jacobian with every point on the
     // sphere), nor be inverted; otherwise the moves of its moved points are halved (6 times, then dropped).
