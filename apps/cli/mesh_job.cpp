@@ -199,7 +199,7 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "balls ends minus this many x the point's shortest boundary edge (0.25: one padding layer), so the "
                     "padding layer starts inside the domain; guarded like --junction-cover (0 = off, the default: "
                     "docs/junctions.md)")
-        ->check(finite_range(0.0, 2.0))
+        ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
     cmd->add_flag_callback(
         "--pad-inset", [job] { job->options.finishing.pad_inset = true; },
