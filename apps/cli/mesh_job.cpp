@@ -194,11 +194,26 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "before) (0 = off, the default: docs/junctions.md)")
         ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
+    cmd->add_option("--junction-inset", job->options.pipeline.raw_mesh.cover.inset,
+                    "Cap the distance of each branching point's surface points at where the union of the input's "
+                    "balls ends minus this many x the point's shortest boundary edge (0.25: one padding layer), so the "
+                    "padding layer starts inside the domain; guarded like --junction-cover (0 = off, the default: "
+                    "docs/junctions.md)")
+        ->check(finite_range(0.0, 1.0))
+        ->capture_default_str();
     cmd->add_flag_callback(
         "--pad-inset", [job] { job->options.finishing.pad_inset = true; },
         "Where the padding layer reaches past the domain surface, move it inward to end at the surface, the raw "
         "hexes beneath giving up that thickness (the report's 'padding.inset_vertices'; off by default: "
         "docs/junctions.md)");
+    cmd->add_flag_callback(
+        "--pad-inset-concave",
+        [job] {
+            job->options.finishing.pad_inset = true;
+            job->options.finishing.pad_insetting.concave_only = true;
+        },
+        "--pad-inset at concave raw boundary vertices only (the valleys between a junction's chunks; off by default: "
+        "docs/junctions.md, \"Junction inset\")");
     cmd->add_flag_callback(
         "--no-fit",
         [job] {

@@ -437,6 +437,39 @@ TEST(PadInset, GuardKeepsTheRawHexValid) {
     EXPECT_EQ(z.mesh.points, padded.mesh.points);
 }
 
+// PadInsetOptions::concave_only on the dimple above (the 2 x 2 x 1 block, the centre of its top face lowered to
+// z = 0.5), with every padding vertex wholly outside the domain (overshoot t: a raw mesh lying on its domain's surface,
+// as the random set's skeletons give). Every boundary vertex overshoots; only the dimple's centre is concave, so only
+// it (with its padding vertex) moves, straight down by its whole offset 0.25 sqrt(1.25) sqrt(4.5) / 2 = 0.296464 (the
+// raw hexes beneath keep SJ >= 0.6: no halving); without concave_only more vertices move.
+TEST(PadInset, ConcaveOnlyMovesTheDimpleAlone) {
+    HexMesh m = make_block(2, 2, 1);
+    int centre = -1;
+    for (std::size_t v = 0; v < m.points.size(); ++v)
+        if (m.points[v] == Vec3{1, 1, 1}) centre = static_cast<int>(v);
+    ASSERT_GE(centre, 0);
+    m.points[static_cast<std::size_t>(centre)].z = 0.5;
+    const PaddingResult padded = pad(m, PaddingOptions{});
+    const std::vector<double> before = scaled_jacobians(padded.mesh);
+    auto all_outside = [](const Vec3&, const Vec3&, double t) { return t; };
+    PadInsetOptions o;
+    o.concave_only = true;
+    PaddingResult p = padded;
+    const PadInsetResult r = inset_padding(p.mesh, p.first_new_vertex, p.origin_vertex, all_outside, {}, o);
+    EXPECT_EQ(r.moved_vertices, 1);
+    const double offset = 0.25 * std::sqrt(1.25 * 4.5) / 2;
+    EXPECT_NEAR(r.max_inset, offset, 1e-9);
+    for (std::size_t v = 0; v < m.points.size(); ++v) {
+        const Vec3 want = static_cast<int>(v) == centre ? Vec3{1, 1, 0.5 - offset} : m.points[v];
+        EXPECT_NEAR(distance(p.mesh.points[v], want), 0, 1e-9) << v;
+    }
+    const std::vector<double> after = scaled_jacobians(p.mesh);
+    for (std::size_t h = 0; h < after.size(); ++h) EXPECT_GE(after[h], std::min(0.2, before[h])) << h;
+    PaddingResult every = padded;
+    EXPECT_GT(inset_padding(every.mesh, every.first_new_vertex, every.origin_vertex, all_outside, {}).moved_vertices,
+              1);
+}
+
 // PaddingOptions::corner_guard on an L of three unit cubes (the 2 x 1 x 2 block without its cube at (1, 0, 1)). At
 // the two ends of the concave edge, (1, 0, 1) and (1, 1, 1), five quads meet: three on the side face (normal -y or
 // +y), the floor (+z) and the wall (+x). Their mean normal (1, -+3, 1) / sqrt 11 leaves the new hexes on the floor and

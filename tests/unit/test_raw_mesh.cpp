@@ -14,6 +14,7 @@
 #include <tbb/global_control.h>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/topology.h"
 #include "mesohex/core/validate.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
@@ -807,9 +808,10 @@ struct PlaneCross {
         cs = build_connection_surfaces(s, an, co);
         fr = propagate_frames(s, an, cs);
     }
-    RawMesh raw(double fraction, const Skeleton* domain = nullptr) const {
+    RawMesh raw(double fraction, const Skeleton* domain = nullptr, double inset = 0) const {
         RawMeshOptions o;
         o.cover.fraction = fraction;
+        o.cover.inset = inset;
         return build_raw_mesh(s, an, cs, fr, o, domain);
     }
 };
@@ -885,6 +887,47 @@ TEST(JunctionCover, GuardKeepsTheChunksOfShortArms) {
         farthest = std::max(farthest, distance(on.mesh.points[on.vertex_base[0] + 1 + x], s.points[0]));
     EXPECT_GT(farthest, rr);
     EXPECT_LT(farthest, std::sqrt(2.0) * r - 1e-3 * r);
+}
+
+// The junction inset on the same cross (r 0.1, arms 5 r): a surface point of c whose shortest boundary edge on the
+// sphere is e_x goes to min(r + fraction (t_x - r), t_x - inset e_x), t_x its ray's exit from the arms' capsules
+// (max(r, max_k r / sin phi_k), as above). With the cover (fraction 1) every point ends one layer (0.25 e_x) inside
+// the union; without it (fraction 0) only the points whose sphere position lies within a layer of the union's surface
+// (the poles and every other point at r) move inward, the equator points (t = sqrt(2) r) stay at r.
+TEST(JunctionCover, InsetKeepsOneLayerInsideTheUnion) {
+    const double r = 0.1, inset = 0.25;
+    const PlaneCross x4(r, 5 * r);
+    const RawMesh off = x4.raw(0.0);
+    const HexTopology topo = compute_hex_topology(off.mesh);
+    std::vector<double> shortest(off.mesh.points.size(), 1e300);
+    for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+        if (!topo.edge_on_boundary[e]) continue;
+        const int a = topo.edges[e][0], b = topo.edges[e][1];
+        const double len = distance(off.mesh.points[a], off.mesh.points[b]);
+        shortest[a] = std::min(shortest[a], len);
+        shortest[b] = std::min(shortest[b], len);
+    }
+    const int np = x4.cs.point_begin[1] - x4.cs.point_begin[0];
+    for (const double fraction : {1.0, 0.0}) {
+        SCOPED_TRACE(fraction);
+        const RawMesh on = x4.raw(fraction, nullptr, inset);
+        int stayed = 0;
+        for (int x = 0; x < np; ++x) {
+            const int id = on.vertex_base[0] + 1 + x;
+            const Vec3 d = x4.fr.directions[x4.cs.point_begin[0] + x];
+            double t = r;
+            for (const Vec3& u : x4.dirs)
+                if (dot(d, u) > 0) t = std::max(t, r / norm(cross(d, u)));
+            ASSERT_LT(shortest[id], 1e300);  // every surface point of c lies on the boundary
+            const double want = std::min(r + fraction * (t - r), t - inset * shortest[id]);
+            EXPECT_NEAR(distance(on.mesh.points[id], x4.s.points[0]), want, 1e-6 * r);
+            stayed += std::abs(want - r) < 1e-12;
+        }
+        EXPECT_EQ(stayed, fraction == 0 ? 4 : 0);  // the equator points, a layer and more inside the union
+        const std::vector<double> before = scaled_jacobians(off.mesh), after = scaled_jacobians(on.mesh);
+        for (std::size_t h = 0; h < after.size(); ++h)
+            EXPECT_GE(after[h], std::min(JunctionCoverOptions{}.sj_floor, before[h]) - 1e-12);
+    }
 }
 
 // A fat Y without a gap over 180 degrees (azimuths 0, 100, 220 degrees, 10 degrees out of one plane, centre radius 0.4,

@@ -70,12 +70,45 @@ std::vector<int> hexes_around(const HexMesh& mesh, const std::vector<Move>& move
     return touched;
 }
 
+// Per vertex: 1 for a raw boundary vertex whose padding hexes' bottom quads (the raw boundary quads, hexes
+// (a, b, c, d, a', b', c', d') with a' >= first_new_vertex) have their centroids outwards of it along its padding
+// direction on average (the rise exceeds 1e-9 x the sum of the distances: flat vertices never count).
+std::vector<char> concave_raw_vertices(const HexMesh& mesh, int first_new_vertex,
+                                       const std::vector<int>& origin_vertex) {
+    std::vector<Vec3> dir(static_cast<std::size_t>(first_new_vertex));
+    for (std::size_t w = static_cast<std::size_t>(first_new_vertex); w < mesh.points.size(); ++w) {
+        const std::size_t v = static_cast<std::size_t>(origin_vertex[w]);
+        dir[v] = normalized(mesh.points[w] - mesh.points[v]);
+    }
+    std::vector<double> rise(dir.size(), 0.0), size(dir.size(), 0.0);
+    for (const std::array<int, 8>& h : mesh.hexes) {
+        if (h[4] < first_new_vertex) continue;
+        Vec3 centroid;
+        for (std::size_t k = 0; k < 4; ++k) centroid += mesh.points[static_cast<std::size_t>(h[k])] * 0.25;
+        for (std::size_t k = 0; k < 4; ++k) {
+            const std::size_t v = static_cast<std::size_t>(h[k]);
+            const Vec3 arm = centroid - mesh.points[v];
+            rise[v] += dot(dir[v], arm);
+            size[v] += norm(arm);
+        }
+    }
+    std::vector<char> concave(dir.size(), 0);
+    for (std::size_t v = 0; v < dir.size(); ++v) concave[v] = size[v] > 0 && rise[v] > 1e-9 * size[v] ? 1 : 0;
+    return concave;
+}
+
 }  // namespace
 
 PadInsetResult inset_padding(HexMesh& mesh, int first_new_vertex, const std::vector<int>& origin_vertex,
                              const std::function<double(const Vec3& p, const Vec3& u, double t)>& overshoot,
                              const std::vector<char>& keep, const PadInsetOptions& options) {
-    const std::vector<Move> moves = overshooting(mesh, first_new_vertex, origin_vertex, overshoot, keep);
+    std::vector<char> kept = keep;
+    if (options.concave_only) {
+        const std::vector<char> concave = concave_raw_vertices(mesh, first_new_vertex, origin_vertex);
+        kept.resize(concave.size(), 0);
+        for (std::size_t v = 0; v < concave.size(); ++v) kept[v] = kept[v] || !concave[v];
+    }
+    const std::vector<Move> moves = overshooting(mesh, first_new_vertex, origin_vertex, overshoot, kept);
     PadInsetResult result;
     if (moves.empty()) return result;
     const std::vector<Vec3> start = mesh.points;

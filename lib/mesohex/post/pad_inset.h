@@ -15,6 +15,11 @@ struct PadInsetOptions {
     // inverted: the moves of its vertices are halved (up to max_halvings times, then dropped). Scaled Jacobian.
     double guard_sj = 0.2;
     int max_halvings = 6;  // count
+    // Only concave raw boundary vertices move: those whose padded quads' centroids lie outwards of them along their
+    // padding direction on average (the valleys between a junction's chunks, where the directions converge and the
+    // fit crushes the layer it pulls back; the same test as PaddingOptions::concave_scale). A tube's wall and a
+    // convex corner keep the layer outside, which the fit pulls back without crushing it. false: every vertex.
+    bool concave_only = false;
 };
 
 struct PadInsetResult {

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "mesohex/core/hex_kernels.h"
+#include "mesohex/core/topology.h"
 
 namespace mesohex {
 
@@ -118,7 +120,8 @@ bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector
 int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                    const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
                    const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
-                   std::vector<Vec3>& points, const JunctionCoverOptions& o, int c) {
+                   std::vector<Vec3>& points, const std::vector<double>& shortest_edge, const JunctionCoverOptions& o,
+                   int c) {
     JunctionMove m;
     m.c = c;
     m.base = vertex_base[c];
@@ -130,10 +133,12 @@ int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnal
     for (int x = 0; x < m.np; ++x) {
         const double t =
             ray_exit(cones, s.points[c], frames.directions[cs.point_begin[c] + x], 0.02 * rc, (o.arc + 1) * rc);
-        const bool out = t > m.r;
-        m.target.push_back(out ? m.r + o.fraction * (t - m.r) : m.r);
-        m.lambda.push_back(out ? 1.0 : 0.0);
-        moved += out ? 1 : 0;
+        double target = t > m.r ? m.r + o.fraction * (t - m.r) : m.r;
+        if (o.inset > 0) target = std::max(std::min(target, t - o.inset * shortest_edge[m.base + 1 + x]), 0.5 * m.r);
+        const bool move = target != m.r;
+        m.target.push_back(target);
+        m.lambda.push_back(move ? 1.0 : 0.0);
+        moved += move ? 1 : 0;
     }
     if (moved == 0) return 0;
     const std::vector<int> hs = junction_hexes(an, edge_hex, c);
@@ -146,6 +151,24 @@ int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnal
         if (round == kRounds - 1) place_junction(s, cs, frames, m, points);
     }
     return static_cast<int>(std::count_if(m.lambda.begin(), m.lambda.end(), [](double l) { return l > 0; }));
+}
+
+// Per vertex: the length of its shortest boundary edge (infinity off the boundary).
+std::vector<double> shortest_boundary_edges(const std::vector<std::array<int, 8>>& hexes,
+                                            const std::vector<Vec3>& points) {
+    HexMesh mesh;
+    mesh.points = points;
+    mesh.hexes = hexes;
+    const HexTopology topo = compute_hex_topology(mesh);
+    std::vector<double> shortest(points.size(), std::numeric_limits<double>::infinity());
+    for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+        if (!topo.edge_on_boundary[e]) continue;
+        const auto [a, b] = topo.edges[e];
+        const double len = distance(points[a], points[b]);
+        shortest[a] = std::min(shortest[a], len);
+        shortest[b] = std::min(shortest[b], len);
+    }
+    return shortest;
 }
 
 }  // namespace
@@ -172,13 +195,16 @@ int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const Skel
                     const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
                     const std::vector<std::array<int, 8>>& hexes, std::vector<Vec3>& points,
                     const JunctionCoverOptions& options) {
-    if (!(options.fraction > 0)) return 0;
+    if (!(options.fraction > 0) && !(options.inset > 0)) return 0;
+    // Per raw vertex: its shortest boundary edge, every point still on its sphere (JunctionCoverOptions::inset).
+    std::vector<double> shortest_edge;
+    if (options.inset > 0) shortest_edge = shortest_boundary_edges(hexes, points);
     int moved = 0;
     const int nv = static_cast<int>(skeleton.points.size());
     for (int c = 0; c < nv; ++c)
         if (coverable(skeleton, an, cs, vertex_base, options, c))
             moved += cover_junction(skeleton, domain, an, cs, frames, radius, vertex_base, edge_hex, hexes, points,
-                                    options, c);
+                                    shortest_edge, options, c);
     return moved;
 }
 

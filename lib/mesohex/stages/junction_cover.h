@@ -26,6 +26,13 @@ struct JunctionCoverOptions {
     double arc = 3.0;
     // Only branching points with at least this many branch edges (and no leaflet face) are covered.
     int min_degree = 3;
+    // Junction inset (issue 16): each surface point's distance from c is also capped at t - inset x (its shortest
+    // raw boundary edge), t the ray's exit from the union above, so that the padding layer laid over the junction
+    // (the padding's thickness 0.25 x the shortest boundary edge) starts inside the domain and ends near its surface
+    // instead of starting on or beyond it, where the fit crushes it pulling it back. Points move inward as well as
+    // outward, never below half of r; the guard below holds. Dimensionless (0.25 = one padding layer); 0 = off
+    // (the default: mixed on the shared skeletons and the random set, docs/junctions.md, "Junction inset").
+    double inset = 0.0;
     // Guard: a hex of c's chunks may not end below min(sj_floor, its scaled Jacobian with every point on the
     // sphere), nor be inverted; otherwise the moves of its moved points are halved (6 times, then dropped).
     double sj_floor = 0.3;
@@ -47,7 +54,8 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
 // vertex_base, laid out as build_raw_mesh does), serially in vertex order. edge_hex[e]: the first of the 4 hexes of
 // branch edge e's chunk. radius: the effective radius each vertex was placed with. Deterministic.
 // Returns the number of surface points moved. Complexity: O(branching points x domain edges) for the cones, plus
-// O(surface points x cones x (arc + 1) / 0.02) for the rays; nothing when fraction is 0.
+// O(surface points x cones x (arc + 1) / 0.02) for the rays, plus the raw mesh's topology with inset; nothing when
+// fraction and inset are 0.
 int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
                     const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
                     const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
