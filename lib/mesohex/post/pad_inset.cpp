@@ -5,8 +5,10 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <numeric>
 
 #include "mesohex/core/topology.h"
+#include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
 
 namespace mesohex {
@@ -70,9 +72,9 @@ std::vector<int> hexes_around(const HexMesh& mesh, const std::vector<Move>& move
     return touched;
 }
 
-// Per vertex: 1 for a raw boundary vertex whose padding hexes' bottom quads (the raw boundary quads, hexes
-// (a, b, c, d, a', b', c', d') with a' >= first_new_vertex) have their centroids outwards of it along its padding
-// direction on average (the rise exceeds 1e-9 x the sum of the distances: flat vertices never count).
+// Per raw vertex (ids below first_new_vertex): concave_vertices (post/padding.h) over the padding hexes' bottom quads
+// (the raw boundary quads: hexes (a, b, c, d, a', b', c', d') with a' >= first_new_vertex), each vertex's direction
+// towards its padding copy.
 std::vector<char> concave_raw_vertices(const HexMesh& mesh, int first_new_vertex,
                                        const std::vector<int>& origin_vertex) {
     std::vector<Vec3> dir(static_cast<std::size_t>(first_new_vertex));
@@ -80,21 +82,12 @@ std::vector<char> concave_raw_vertices(const HexMesh& mesh, int first_new_vertex
         const std::size_t v = static_cast<std::size_t>(origin_vertex[w]);
         dir[v] = normalized(mesh.points[w] - mesh.points[v]);
     }
-    std::vector<double> rise(dir.size(), 0.0), size(dir.size(), 0.0);
-    for (const std::array<int, 8>& h : mesh.hexes) {
-        if (h[4] < first_new_vertex) continue;
-        Vec3 centroid;
-        for (std::size_t k = 0; k < 4; ++k) centroid += mesh.points[static_cast<std::size_t>(h[k])] * 0.25;
-        for (std::size_t k = 0; k < 4; ++k) {
-            const std::size_t v = static_cast<std::size_t>(h[k]);
-            const Vec3 arm = centroid - mesh.points[v];
-            rise[v] += dot(dir[v], arm);
-            size[v] += norm(arm);
-        }
-    }
-    std::vector<char> concave(dir.size(), 0);
-    for (std::size_t v = 0; v < dir.size(); ++v) concave[v] = size[v] > 0 && rise[v] > 1e-9 * size[v] ? 1 : 0;
-    return concave;
+    std::vector<std::array<int, 4>> bottoms;
+    for (const std::array<int, 8>& h : mesh.hexes)
+        if (h[4] >= first_new_vertex) bottoms.push_back({h[0], h[1], h[2], h[3]});
+    std::vector<int> local(dir.size());
+    std::iota(local.begin(), local.end(), 0);
+    return concave_vertices(mesh, bottoms, dir, local);
 }
 
 }  // namespace

@@ -27,6 +27,25 @@ void check_input(const HexMesh& mesh, const PaddingOptions& options) {
 
 }  // namespace
 
+std::vector<char> concave_vertices(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
+                                   const std::vector<Vec3>& unit_normal, const std::vector<int>& local) {
+    const std::size_t nb = unit_normal.size();
+    std::vector<double> rise(nb, 0.0), size(nb, 0.0);
+    for (const std::array<int, 4>& q : quads) {
+        Vec3 centroid;
+        for (int v : q) centroid += mesh.points[static_cast<std::size_t>(v)] * 0.25;
+        for (int v : q) {
+            const std::size_t l = static_cast<std::size_t>(local[static_cast<std::size_t>(v)]);
+            const Vec3 arm = centroid - mesh.points[static_cast<std::size_t>(v)];
+            rise[l] += dot(unit_normal[l], arm);
+            size[l] += norm(arm);
+        }
+    }
+    std::vector<char> concave(nb, 0);
+    for (std::size_t i = 0; i < nb; ++i) concave[i] = rise[i] > 1e-9 * size[i] ? 1 : 0;
+    return concave;
+}
+
 void shorten_to_inward_edges(const HexMesh& mesh, const std::vector<int>& local, std::vector<double>& shortest) {
     for (const std::array<int, 8>& hex : mesh.hexes)
         for (const std::array<int, 2>& e : kHexEdges) {
@@ -76,30 +95,6 @@ void project_on_bare(const HexMesh& mesh, const std::vector<std::array<int, 4>>&
         const Vec3 d = unit_normal[i] - nb * dot(unit_normal[i], nb);
         if (squared_norm(d) > 1e-6) unit_normal[i] = normalized(d);
     }
-}
-
-// Per boundary vertex (by local index): 1 when the boundary is concave there in the mean: the mean of the centroids
-// of its quads lies outwards of it along its padding direction m (sum over its quads of m . (centroid_q - p) above
-// 1e-9 x the sum of |centroid_q - p|; 0 on a flat patch, and the tolerance keeps flat vertices out whatever the
-// rounding). A valley between two branches' chunks, the pit among three, count; a tube's wall and a convex corner
-// do not.
-std::vector<char> concave_vertices(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
-                                   const std::vector<Vec3>& unit_normal, const std::vector<int>& local) {
-    const std::size_t nb = unit_normal.size();
-    std::vector<double> rise(nb, 0.0), size(nb, 0.0);
-    for (const std::array<int, 4>& q : quads) {
-        Vec3 centroid;
-        for (int v : q) centroid += mesh.points[static_cast<std::size_t>(v)] * 0.25;
-        for (int v : q) {
-            const std::size_t l = static_cast<std::size_t>(local[static_cast<std::size_t>(v)]);
-            const Vec3 arm = centroid - mesh.points[static_cast<std::size_t>(v)];
-            rise[l] += dot(unit_normal[l], arm);
-            size[l] += norm(arm);
-        }
-    }
-    std::vector<char> concave(nb, 0);
-    for (std::size_t i = 0; i < nb; ++i) concave[i] = rise[i] > 1e-9 * size[i] ? 1 : 0;
-    return concave;
 }
 
 // Per boundary vertex (by local index): the corner vectors of its padded quads, (next - p) x (previous - p) over the

@@ -23,7 +23,7 @@ struct PaddingOptions {
     // Off by default until it is measured on the whole random set (docs/sheets.md: it changes every leaflet model).
     bool inward_edges = false;
     // The largest scale of the offset (1 / mean cos, see pad below) at a concave boundary vertex: one whose quads'
-    // centroids lie outwards of it along its direction m on average (concave_vertices in padding.cpp: the valley
+    // centroids lie outwards of it along its direction m on average (concave_vertices below: the valley
     // between two branches' chunks, the pit among three). The scale carries a convex corner to the
     // offset cube's corner; at a concave one (the crotch between branches of a junction, whose raw boundary already
     // touches the domain there) it carried the layer up to 3 x its thickness out into the crotch, outside the domain,
@@ -85,6 +85,15 @@ struct PaddingResult {
 PaddingResult pad(const HexMesh& mesh, const PaddingOptions& options = {});
 
 // lowest_corner, maximin_direction: mesohex/core/cone.h (the corner guard of PaddingOptions).
+
+// Per boundary vertex (by local index: local[v] for every vertex v of `quads`; unit_normal has one entry per local
+// index): 1 when the boundary is concave there in the mean: the mean of the centroids of its quads lies outwards of
+// it along its unit direction unit_normal (sum over its quads of m . (centroid_q - p) above 1e-9 x the sum of
+// |centroid_q - p|; 0 on a flat patch, and the tolerance keeps flat vertices out whatever the rounding). A valley
+// between two branches' chunks, the pit among three, count; a tube's wall and a convex corner do not; a vertex in no
+// quad does not. (PaddingOptions::concave_scale; PadInsetOptions::concave_only.) O(quads).
+std::vector<char> concave_vertices(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
+                                   const std::vector<Vec3>& unit_normal, const std::vector<int>& local);
 
 // For every vertex v with local[v] >= 0 (local: per vertex of `mesh`, its index among the boundary vertices, -1 if
 // none): shortest[local[v]] = min(itself, the length of every hex edge from v to a vertex with local = -1).
