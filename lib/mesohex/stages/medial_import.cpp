@@ -420,8 +420,8 @@ constexpr double kDeepNotchDeg = 270;
 // smoothing) shorter than fraction x length0[k] has the sweep's move of both its ends halved, at most 4 times per end,
 // then undone (back to `prev`), until no side is short (the positions before the sweep are not: by induction), except
 // sides at a deep notch (`angle_sum`, the faces' angles at each vertex before the sweep, above kDeepNotchDeg). The
-// smoothing then cannot slide a border vertex along the sheet onto its neighbour (knob: where it rounds the ring
-// band's creases, a border side 0.78 -> 0.125 against a radius 0.65: the half-chunks and plates there fold).
+// smoothing then cannot slide a border vertex along the sheet onto its neighbour where it rounds a crease of the
+// sheet (a border side a few times shorter than the radius: the half-chunks and plates there fold).
 // Deterministic (sides in key order). O(sweeps x sides) per call.
 void keep_border_sides(std::vector<Vec3>& points, const std::vector<Vec3>& prev,
                        const std::vector<std::array<int, 2>>& sides, const std::vector<double>& length0,

@@ -114,8 +114,8 @@ struct MedialImportOptions {
     // length before the smoothing has the sweep's move of its two ends halved (then undone) until it is not, except at
     // a notch deeper than 270 degrees, which must open (dimensionless; 0 = off): where the smoothing rounds a crease of
     // the sheet it slides border vertices along the other wall onto their neighbours, until a side is a few times
-    // shorter than the radius, and the half-chunks and plates on it fold (knob: 0.78 -> 0.125 against r 0.65;
-    // docs/sheets.md, "Border sides kept").
+    // shorter than the radius, and the half-chunks and plates on it fold (measurements: docs/sheets.md, "Border sides
+    // kept").
     double min_border_side_fraction = 0.5;
 };
 

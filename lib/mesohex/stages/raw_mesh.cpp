@@ -844,7 +844,7 @@ void place_fan_block_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an
 // half-chunk at v has O_w as its out vertex there. At a T / X fan end whose leaflet borders leave v across the fan
 // line, every such out is e (gain 0). At a flange (the fan chain on part of a plate's border, walls above and below:
 // the plate's border runs on along the fan line past v) the plate's out there is normal to e, and O_w = v + r e put
-// the plate's border half-chunk's out vertex on its own edge (2 inverted raw hexes per fan end); the axis, 45 degrees
+// the plate's border half-chunk's out vertex on its own edge (those half-chunks folded); the axis, 45 degrees
 // between the walls' out (e) and the plate's, serves all of them.
 Vec3 fan_end_out_direction(const Skeleton& skeleton, const SkeletonAnalysis& an, int v, const Vec3& e) {
     std::vector<Vec3> outs;
