@@ -86,7 +86,7 @@ void register_medial(CLI::App& app, int* status) {
                   << " in thin parts, " << m.thin_faces << " thin-part faces"
                   << "), " << m.inner_poles << " inner poles, " << m.voronoi_faces << " Voronoi faces kept -> "
                   << m.initial_vertices << " vertices, " << m.initial_triangles << " triangles (Euler characteristic "
-                  << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.collapses << " collapses, "
+                  << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.limbs << " limbs kept (" << m.limb_branches << " branches), " << m.collapses << " collapses, "
                   << m.thin_triangles_removed << " thin triangles to curves, " << m.pruned_tips << " tips pruned (read "
                   << ms(t0, t1) << " ms, medial " << ms(t1, t2) << " ms)\n"
                   << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size() << " edges, "

@@ -73,7 +73,21 @@ struct MedialAxisOptions {
     // the segment stays inside (0 = off: only the largest part is kept, as before); parts with fewer than
     // min_part_vertices Voronoi vertices are noise and dropped.
     double join_factor = 0;     // x sphere radius (off by default: it joins corner debris on a plate)
-    int min_part_vertices = 8;  // Voronoi vertices
+    int min_part_vertices = 8;  // Voronoi vertices (also for limbs)
+    // Limbs: a part the angle filter cut off (a finger from the palm) whose spheres touch a surface sample farther than
+    // limb_gap x the bbox diagonal and limb_radius_factor x the radius of the nearest kept sphere from every kept
+    // sphere is kept as a tree of curves (shortest paths from its sphere nearest the kept ones to its spheres on such
+    // samples) joined by one curve edge; its triangles and other spheres go (no cycles; corner debris stays out: a
+    // 90-degree edge lies 0.41 x the sheet's radius from it). false: only the largest part is kept.
+    bool keep_limbs = true;
+    double limb_gap = 0.01;           // x bbox diagonal
+    double limb_radius_factor = 1.0;  // x radius of the nearest kept sphere
+    // ... when its centres' bounding-box diagonal is at least this x its largest radius (a limb is longer than thick;
+    // the islands of a plate's sheet and the corner debris are not).
+    double limb_extent_factor = 4.0;  // x largest radius of the part
+    // ... and only when its tree describes it: every sphere centre of the part lies within this x the radius of a tree
+    // sphere (a tube; the fragments of a sheet the filter cut apart lie wider and are dropped, as before).
+    double limb_width_factor = 1.0;  // x tree sphere radius
     // Curve chains with both ends on sheets that run along a sheet (every sampled point within fringe_factor x its
     // radius of the sheet triangles: at 3 the chain's tube comes within one radius of the sheet's slab all along) are
     // removed when their ends stay connected without them (remove_fringe_curves; 0 = off). They are the remains of
@@ -101,6 +115,8 @@ struct MedialAxis {
     int initial_vertices = 0, initial_triangles = 0;  // the medial complex before simplification
     long initial_euler = 0;                           // V - E + F of the medial complex before simplification
     int joined_parts = 0;                             // parts joined back to the main part (join_factor)
+    int limbs = 0;                                    // cut-off parts kept as trees (limb_gap)
+    int limb_branches = 0;                            // paths of those trees
     int collapses = 0;                                // edge collapses performed
     int thin_triangles_removed = 0;                   // triangles turned into curves (step 5)
     int pruned_tips = 0;                              // curve tips pruned
