@@ -14,8 +14,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <map>
@@ -755,7 +753,7 @@ void grid_insert(SphereGrid& g, const MedialComplex& mc, int v) {
 
 struct Gap {
     double gap = std::numeric_limits<double>::infinity();  // min over spheres of |p - c| - r
-    double radius = 0;                                      // of the sphere reaching it
+    double radius = 0;                                     // of the sphere reaching it
 };
 
 void update_gap(Gap& g, const MedialComplex& mc, int v, const Vec3& p) {
@@ -837,7 +835,8 @@ PartSamples part_samples(const MedialComplex& mc, const std::vector<int>& part, 
     for (int v : part)
         for (int s : mc.touching[static_cast<size_t>(v)]) {
             auto [it, fresh] = deepest.emplace(s, v);
-            if (!fresh && mc.radius[static_cast<size_t>(v)] > mc.radius[static_cast<size_t>(it->second)]) it->second = v;
+            if (!fresh && mc.radius[static_cast<size_t>(v)] > mc.radius[static_cast<size_t>(it->second)])
+                it->second = v;
         }
     PartSamples ps;
     for (const auto& [s, v] : deepest) {
@@ -898,8 +897,8 @@ bool uncovered(const Gap& g, const MedialAxisOptions& o, double diag) {
 // root to the largest sphere on the uncovered sample whose sphere is farthest (path length; ties: lower sample) joins
 // the tree and covers it. Returns the tree edges; branches counts the paths.
 std::vector<std::array<int, 2>> limb_tree(const MedialComplex& mc, const std::vector<int>& part, int root,
-                                          PartSamples& ps, const std::vector<Vec3>& samples,
-                                          const MedialAxisOptions& o, double diag, int& branches) {
+                                          PartSamples& ps, const std::vector<Vec3>& samples, const MedialAxisOptions& o,
+                                          double diag, int& branches) {
     std::vector<char> in_part(mc.centre.size(), 0), in_tree(mc.centre.size(), 0);
     for (int v : part) in_part[static_cast<size_t>(v)] = 1;
     std::vector<double> dist;
@@ -993,35 +992,16 @@ int keep_limb_trees(MedialComplex& mc, const std::vector<Vec3>& samples, const S
         if (static_cast<int>(part.size()) < o.min_part_vertices) break;  // sorted by size: the rest is noise too
         if (part_extent(mc, part) < o.limb_extent_factor * part_max_radius(mc, part)) continue;
         PartSamples ps = part_samples(mc, part, samples, kept);
-        if (std::getenv("LIMB_DEBUG")) {
-            double worst = 0, wr = 0, rmax = 0;
-            int n = 0;
-            for (const Gap& g : ps.gap) {
-                if (uncovered(g, o, diag)) ++n;
-                if (g.gap > worst) { worst = g.gap; wr = g.radius; }
-            }
-            for (int v : part) rmax = std::max(rmax, mc.radius[static_cast<size_t>(v)]);
-            const double hh = o.sample_spacing * diag;
-            std::fprintf(stderr, "part %zu: %zu vertices, rmax %.4g, %zu samples, %d uncovered, max gap %.4g (%.3g diag, %.3g x r %.3g) area/pi r2 %.3g\n",
-                         p, part.size(), rmax, ps.sample.size(), n, worst, worst / diag, worst / std::max(1e-300, wr), wr, n * hh * hh / (kPi * rmax * rmax));
-        }
         if (std::none_of(ps.gap.begin(), ps.gap.end(), [&](const Gap& g) { return uncovered(g, o, diag); })) continue;
         const std::array<int, 2> pair = closest_pair(mc, part, kept_vertices);
         const int root = pair[0], anchor = pair[1];
-        if (root < 0 || !segment_inside(query, mc.centre[static_cast<size_t>(root)], mc.radius[static_cast<size_t>(root)],
-                                        mc.centre[static_cast<size_t>(anchor)],
-                                        mc.radius[static_cast<size_t>(anchor)], 0.25))
+        if (root < 0 ||
+            !segment_inside(query, mc.centre[static_cast<size_t>(root)], mc.radius[static_cast<size_t>(root)],
+                            mc.centre[static_cast<size_t>(anchor)], mc.radius[static_cast<size_t>(anchor)], 0.25))
             continue;
         int part_branches = 0;
         const std::vector<std::array<int, 2>> edges = limb_tree(mc, part, root, ps, samples, o, diag, part_branches);
         const double width = tree_width(mc, part, edges, root);
-        if (std::getenv("LIMB_DEBUG")) {
-            double len = 0, rmax = 0; Vec3 lo = mc.centre[static_cast<size_t>(root)], hi = lo;
-            for (const auto& e : edges) len += distance(mc.centre[static_cast<size_t>(e[0])], mc.centre[static_cast<size_t>(e[1])]);
-            for (int v : part) { rmax = std::max(rmax, mc.radius[static_cast<size_t>(v)]); for (int k = 0; k < 3; ++k) { lo[k] = std::min(lo[k], mc.centre[static_cast<size_t>(v)][k]); hi[k] = std::max(hi[k], mc.centre[static_cast<size_t>(v)][k]);} }
-            std::fprintf(stderr, "   part %zu: %d branches, %zu tree edges, width %.3g, tree length / rmax %.3g, root r / rmax %.3g, at %.3g %.3g %.3g - %.3g %.3g %.3g\n", p, part_branches,
-                         edges.size(), width, len / rmax, mc.radius[static_cast<size_t>(root)] / rmax, lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
-        }
         if (width > o.limb_width_factor) continue;
         branches += part_branches;
         keep_tree_of_part(mc, part, edges, root, anchor);

@@ -18,7 +18,8 @@
 //      part, which the angle cuts);
 //      with keep_topology the filter is an erosion by elementary collapses instead (narrow faces go only from a free
 //      side), followed by keep_parts_and_paths (wide-face parts of extent >= part_extent_factor x radius and the
-//      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off (both off by default);
+//      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off; keep_limbs keeps the
+//      cut-off parts longer than thick that reach uncovered surface as trees of curves (all three off by default);
 //   4. simplification (in the spirit of Q-MAT, Li et al. 2015): every sphere carries the sphere quadric of the
 //      tangent planes at its touching samples (error of a sphere (c, r) against the plane through p with unit normal
 //      n: (n . (c - p) + r)^2); edges are collapsed cheapest first to the sphere minimizing the summed quadric, only
@@ -78,8 +79,9 @@ struct MedialAxisOptions {
     // limb_gap x the bbox diagonal and limb_radius_factor x the radius of the nearest kept sphere from every kept
     // sphere is kept as a tree of curves (shortest paths from its sphere nearest the kept ones to its spheres on such
     // samples) joined by one curve edge; its triangles and other spheres go (no cycles; corner debris stays out: a
-    // 90-degree edge lies 0.41 x the sheet's radius from it). false: only the largest part is kept.
-    bool keep_limbs = true;
+    // 90-degree edge lies 0.41 x the sheet's radius from it). false: only the largest part is kept (off by default: on
+    // the 22 shared surfaces it restores hand's fingers, but no `auto` answer changes; docs/sheets.md, "Limbs").
+    bool keep_limbs = false;
     double limb_gap = 0.01;           // x bbox diagonal
     double limb_radius_factor = 1.0;  // x radius of the nearest kept sphere
     // ... when its centres' bounding-box diagonal is at least this x its largest radius (a limb is longer than thick;
