@@ -670,24 +670,35 @@ bool segment_inside(const SurfaceQuery& query, const Vec3& a, double ra, const V
     return true;
 }
 
+// The connected parts of the complex (alive vertices, sorted), largest first (ties: lowest vertex id first).
+std::vector<std::vector<int>> complex_parts(const MedialComplex& mc) {
+    const int nv = static_cast<int>(mc.centre.size());
+    UnionFind uf(nv);
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)])
+            for (int n : mc.neighbours[static_cast<size_t>(v)]) uf.unite(v, n);
+    std::map<int, std::vector<int>> by_root;
+    std::vector<int> first_root;
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)]) {
+            std::vector<int>& part = by_root[uf.find(v)];
+            if (part.empty()) first_root.push_back(uf.find(v));
+            part.push_back(v);
+        }
+    std::vector<std::vector<int>> parts;
+    for (int root : first_root) parts.push_back(std::move(by_root[root]));
+    std::stable_sort(parts.begin(), parts.end(),
+                     [](const std::vector<int>& x, const std::vector<int>& y) { return x.size() > y.size(); });
+    return parts;
+}
+
 // Parts the angle filter cut apart (a disk's mid-sheet from its hub's axis where the two meet, fins from a rim) are
 // joined back by one curve edge each: in decreasing size, a part of at least min_part_vertices vertices is joined to
 // the growing main part (the largest) through its closest vertex pair, when that pair is at most join_factor x the
 // larger of their radii apart and the segment between them stays inside (segment_inside, clearance 0.25). One edge
 // per part: the homotopy type is the disjoint union's, plus a tree. Returns the number of joins.
 int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_factor, int min_part_vertices) {
-    const int nv = static_cast<int>(mc.centre.size());
-    UnionFind uf(nv);
-    for (int v = 0; v < nv; ++v)
-        if (mc.alive[static_cast<size_t>(v)])
-            for (int n : mc.neighbours[static_cast<size_t>(v)]) uf.unite(v, n);
-    std::map<int, std::vector<int>> parts;
-    for (int v = 0; v < nv; ++v)
-        if (mc.alive[static_cast<size_t>(v)]) parts[uf.find(v)].push_back(v);
-    std::vector<std::vector<int>> order;
-    for (auto& [root, members] : parts) order.push_back(std::move(members));
-    std::stable_sort(order.begin(), order.end(),
-                     [](const std::vector<int>& x, const std::vector<int>& y) { return x.size() > y.size(); });
+    const std::vector<std::vector<int>> order = complex_parts(mc);
     if (order.size() < 2) return 0;
     std::vector<int> main = order[0];
     std::vector<char> joined(order.size(), 0);
@@ -780,28 +791,6 @@ Gap union_gap(const SphereGrid& g, const MedialComplex& mc, const Vec3& p) {
         if (k > 0 && g.buckets.empty()) break;
     }
     return best;
-}
-
-// The connected parts of the complex (alive vertices, sorted), largest first (ties: lowest vertex id first).
-std::vector<std::vector<int>> complex_parts(const MedialComplex& mc) {
-    const int nv = static_cast<int>(mc.centre.size());
-    UnionFind uf(nv);
-    for (int v = 0; v < nv; ++v)
-        if (mc.alive[static_cast<size_t>(v)])
-            for (int n : mc.neighbours[static_cast<size_t>(v)]) uf.unite(v, n);
-    std::map<int, std::vector<int>> by_root;
-    std::vector<int> first_root;
-    for (int v = 0; v < nv; ++v)
-        if (mc.alive[static_cast<size_t>(v)]) {
-            std::vector<int>& part = by_root[uf.find(v)];
-            if (part.empty()) first_root.push_back(uf.find(v));
-            part.push_back(v);
-        }
-    std::vector<std::vector<int>> parts;
-    for (int root : first_root) parts.push_back(std::move(by_root[root]));
-    std::stable_sort(parts.begin(), parts.end(),
-                     [](const std::vector<int>& x, const std::vector<int>& y) { return x.size() > y.size(); });
-    return parts;
 }
 
 // Bounding-box diagonal of the part's sphere centres.
