@@ -133,6 +133,8 @@ void register_auto(CLI::App& app, int* status) {
         ->capture_default_str();
     cmd->add_flag("--keep-topology", args->skeleton.medial.keep_topology,
                   "medial axis: angle filter as a topology-keeping erosion (see mesohex medial --keep-topology)");
+    cmd->add_flag("--limbs", args->skeleton.medial.keep_limbs,
+                  "medial axis: keep the cut-off limbs as trees of curves (see mesohex medial --limbs)");
     cmd->add_option("--thickness-samples", args->skeleton.medial.thickness_samples,
                     "medial axis: samples across the local thickness in thin parts (see mesohex medial "
                     "--thickness-samples; 0 = off)")

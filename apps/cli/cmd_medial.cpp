@@ -57,6 +57,10 @@ void register_medial(CLI::App& app, int* status) {
     cmd->add_flag(
         "--keep-topology", o.keep_topology,
         "Angle filter as an erosion that keeps the inner Voronoi complex's topology (no holes, no cut-off parts)");
+    cmd->add_flag(
+        "--limbs", o.keep_limbs,
+        "Keep the parts the angle filter cut off that are longer than thick and reach surface the rest leaves "
+        "uncovered (a finger cut off the palm), as trees of curves joined by one edge each");
     cmd->add_option("--target-vertices", o.target_vertices, "Simplify down to this many medial vertices")
         ->capture_default_str();
     cmd->add_option("--error-tolerance", o.error_tolerance,
@@ -86,9 +90,10 @@ void register_medial(CLI::App& app, int* status) {
                   << " in thin parts, " << m.thin_faces << " thin-part faces"
                   << "), " << m.inner_poles << " inner poles, " << m.voronoi_faces << " Voronoi faces kept -> "
                   << m.initial_vertices << " vertices, " << m.initial_triangles << " triangles (Euler characteristic "
-                  << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.collapses << " collapses, "
-                  << m.thin_triangles_removed << " thin triangles to curves, " << m.pruned_tips << " tips pruned (read "
-                  << ms(t0, t1) << " ms, medial " << ms(t1, t2) << " ms)\n"
+                  << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.limbs << " limbs kept ("
+                  << m.limb_branches << " branches), " << m.collapses << " collapses, " << m.thin_triangles_removed
+                  << " thin triangles to curves, " << m.pruned_tips << " tips pruned (read " << ms(t0, t1)
+                  << " ms, medial " << ms(t1, t2) << " ms)\n"
                   << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size() << " edges, "
                   << m.medial.faces.size() << " triangles; " << m.sheets << " sheets, " << m.curves
                   << " curves, Euler characteristic " << m.euler << ", sheet fraction " << m.sheet_fraction << " -> "

@@ -203,6 +203,8 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                               {"sheet_area", m.sheet_area},
                               {"curve_band_area", m.curve_band_area},
                               {"sheet_fraction", m.sheet_fraction},
+                              {"limbs", m.limbs},
+                              {"limb_branches", m.limb_branches},
                               {"coverage_gap_relative", chosen.coverage_gap}};
     }
     if (chosen.raw_checked)

@@ -334,6 +334,52 @@ TEST(MedialAxis, FringeChainsEndingAtACurveBranchingPointAreRemovedWithNodeEnds)
     EXPECT_EQ(remove_fringe_curves(m, 3.0, true), 0);  // 2-4 is the only link left
 }
 
+// Limbs: a thick disk (radius 2, 1.2 thick) with a rod (radius 0.25) 1.5 long on each face. The angle filter cuts the
+// rods' axes off the disk's mid-sheet where they meet (the ligature from the reflex rim is seen under small angles):
+// without keep_limbs (the default) only the disk's sheet is left and the rods' ends lie 1.5 from every sphere; with it
+// both rods come back as one curve each, joined to the sheet (trees: the Euler characteristic stays).
+TEST(MedialAxis, RodsTheAngleFilterCutsOffAreKeptAsCurves) {
+    const TriangleMesh s =
+        revolve({{0, -2.1}, {0.25, -2.1}, {0.25, -0.6}, {2, -0.6}, {2, 0.6}, {0.25, 0.6}, {0.25, 2.1}, {0, 2.1}}, 32);
+    expect_closed(s);
+    MedialAxisOptions on = coarse();
+    on.keep_limbs = true;
+    const MedialAxis a = compute_medial_axis(s, coarse());
+    const MedialAxis b = compute_medial_axis(s, on);
+    auto reach = [](const MedialAxis& m) {  // {lowest, highest} z of a sphere centre
+        std::array<double, 2> z = {1e9, -1e9};
+        for (const Vec3& p : m.medial.points) z = {std::min(z[0], p.z), std::max(z[1], p.z)};
+        return z;
+    };
+    // Without: the disk's sheet alone, in its mid-plane (the rods' ends lie 1.5 beyond the disk's faces).
+    EXPECT_EQ(a.limbs, 0);
+    EXPECT_LT(reach(a)[1], 0.05);
+    EXPECT_GT(reach(a)[0], -0.05);
+    // With: both rods, one path each, as curves reaching beyond 1.2 of the 2.1 (their ends are 0.25 thick).
+    EXPECT_EQ(b.limbs, 2);
+    EXPECT_EQ(b.limb_branches, 2);
+    EXPECT_GT(reach(b)[1], 1.2);
+    EXPECT_LT(reach(b)[0], -1.2);
+    EXPECT_EQ(b.sheets, a.sheets);
+    EXPECT_EQ(b.curves, a.curves + 2);
+    EXPECT_EQ(b.initial_euler, a.initial_euler);  // trees joined by one edge each: no cycle added
+    EXPECT_EQ(b.euler, a.euler);
+    expect_sane(b, s);
+}
+
+// Plates have no limbs: the debris the angle filter leaves at their edges and corners is not longer than thick, and
+// a 90-degree edge lies within the sheet's radius of it, so keep_limbs changes nothing.
+TEST(MedialAxis, PlatesKeepNoLimbs) {
+    MedialAxisOptions on = coarse();
+    on.keep_limbs = true;
+    for (const TriangleMesh& s : {extrude({{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, -0.3, 0.3),
+                                  extrude({{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 3)}) {
+        const MedialAxis m = compute_medial_axis(s, on);
+        EXPECT_EQ(m.limbs, 0);
+        EXPECT_EQ(m.medial, compute_medial_axis(s, coarse()).medial);
+    }
+}
+
 TEST(MedialAxis, SameSurfaceSameMedialMesh) {
     const TriangleMesh s = extrude({{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 3);
     const MedialAxis a = compute_medial_axis(s, coarse());

@@ -23,6 +23,7 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -327,6 +328,7 @@ struct MedialComplex {
     std::vector<std::vector<int>> vertex_triangles;
     std::vector<std::array<int, 3>> triangles;
     std::vector<char> triangle_alive;
+    std::vector<std::array<int, 4>> touching;  // per vertex: the 4 surface samples on its sphere (Delaunay cell)
 };
 
 void insert_sorted(std::vector<int>& v, int x) {
@@ -616,6 +618,7 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const std
             // A light pull to the pole itself: 1e-3 of one tangent plane.
             q.add_point({centres[i].x, centres[i].y, centres[i].z, radii[i]}, 1e-3);
             mc.quadric.push_back(q);
+            mc.touching.push_back(cell_samples[i]);
         }
     const size_t nv = mc.centre.size();
     mc.alive.assign(nv, 1);
@@ -667,24 +670,35 @@ bool segment_inside(const SurfaceQuery& query, const Vec3& a, double ra, const V
     return true;
 }
 
+// The connected parts of the complex (alive vertices, sorted), largest first (ties: lowest vertex id first).
+std::vector<std::vector<int>> complex_parts(const MedialComplex& mc) {
+    const int nv = static_cast<int>(mc.centre.size());
+    UnionFind uf(nv);
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)])
+            for (int n : mc.neighbours[static_cast<size_t>(v)]) uf.unite(v, n);
+    std::map<int, std::vector<int>> by_root;
+    std::vector<int> first_root;
+    for (int v = 0; v < nv; ++v)
+        if (mc.alive[static_cast<size_t>(v)]) {
+            std::vector<int>& part = by_root[uf.find(v)];
+            if (part.empty()) first_root.push_back(uf.find(v));
+            part.push_back(v);
+        }
+    std::vector<std::vector<int>> parts;
+    for (int root : first_root) parts.push_back(std::move(by_root[root]));
+    std::stable_sort(parts.begin(), parts.end(),
+                     [](const std::vector<int>& x, const std::vector<int>& y) { return x.size() > y.size(); });
+    return parts;
+}
+
 // Parts the angle filter cut apart (a disk's mid-sheet from its hub's axis where the two meet, fins from a rim) are
 // joined back by one curve edge each: in decreasing size, a part of at least min_part_vertices vertices is joined to
 // the growing main part (the largest) through its closest vertex pair, when that pair is at most join_factor x the
 // larger of their radii apart and the segment between them stays inside (segment_inside, clearance 0.25). One edge
 // per part: the homotopy type is the disjoint union's, plus a tree. Returns the number of joins.
 int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_factor, int min_part_vertices) {
-    const int nv = static_cast<int>(mc.centre.size());
-    UnionFind uf(nv);
-    for (int v = 0; v < nv; ++v)
-        if (mc.alive[static_cast<size_t>(v)])
-            for (int n : mc.neighbours[static_cast<size_t>(v)]) uf.unite(v, n);
-    std::map<int, std::vector<int>> parts;
-    for (int v = 0; v < nv; ++v)
-        if (mc.alive[static_cast<size_t>(v)]) parts[uf.find(v)].push_back(v);
-    std::vector<std::vector<int>> order;
-    for (auto& [root, members] : parts) order.push_back(std::move(members));
-    std::stable_sort(order.begin(), order.end(),
-                     [](const std::vector<int>& x, const std::vector<int>& y) { return x.size() > y.size(); });
+    const std::vector<std::vector<int>> order = complex_parts(mc);
     if (order.size() < 2) return 0;
     std::vector<int> main = order[0];
     std::vector<char> joined(order.size(), 0);
@@ -721,6 +735,273 @@ int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_fa
         }
     }
     return joins;
+}
+
+// ---------------------------------------------------------------- limbs
+
+// The spheres of the kept medial complex bucketed by centre on a grid, for the gap of a surface point to their union.
+struct SphereGrid {
+    double cell = 1;        // grid step (length)
+    double max_radius = 0;  // of the spheres inserted
+    std::unordered_map<std::int64_t, std::vector<int>> buckets;
+};
+
+std::array<long, 3> grid_cell(const SphereGrid& g, const Vec3& p) {
+    return {static_cast<long>(std::floor(p.x / g.cell)), static_cast<long>(std::floor(p.y / g.cell)),
+            static_cast<long>(std::floor(p.z / g.cell))};
+}
+
+std::int64_t grid_key(long i, long j, long k) {
+    return ((static_cast<std::int64_t>(i) & 0x1FFFFF) << 42) | ((static_cast<std::int64_t>(j) & 0x1FFFFF) << 21) |
+           (static_cast<std::int64_t>(k) & 0x1FFFFF);
+}
+
+void grid_insert(SphereGrid& g, const MedialComplex& mc, int v) {
+    const std::array<long, 3> c = grid_cell(g, mc.centre[static_cast<size_t>(v)]);
+    g.buckets[grid_key(c[0], c[1], c[2])].push_back(v);
+    g.max_radius = std::max(g.max_radius, mc.radius[static_cast<size_t>(v)]);
+}
+
+struct Gap {
+    double gap = std::numeric_limits<double>::infinity();  // min over spheres of |p - c| - r
+    double radius = 0;                                     // of the sphere reaching it
+};
+
+void update_gap(Gap& g, const MedialComplex& mc, int v, const Vec3& p) {
+    const double d = distance(p, mc.centre[static_cast<size_t>(v)]) - mc.radius[static_cast<size_t>(v)];
+    if (d < g.gap) g = {d, mc.radius[static_cast<size_t>(v)]};
+}
+
+// Gap of p to the union of the grid's spheres: cells in rings of growing Chebyshev distance k around p's cell, until
+// no centre in ring k (at least (k - 1) x cell from p) can beat the best gap.
+Gap union_gap(const SphereGrid& g, const MedialComplex& mc, const Vec3& p) {
+    Gap best;
+    const std::array<long, 3> c = grid_cell(g, p);
+    for (long k = 0; k < 1000000; ++k) {
+        if (static_cast<double>(k - 1) * g.cell - g.max_radius >= best.gap) break;
+        for (long i = -k; i <= k; ++i)
+            for (long j = -k; j <= k; ++j) {
+                const bool rim = std::max(std::labs(i), std::labs(j)) == k;
+                for (long l = -k; l <= k; l += (rim || k == 0) ? 1 : 2 * k) {
+                    const auto it = g.buckets.find(grid_key(c[0] + i, c[1] + j, c[2] + l));
+                    if (it == g.buckets.end()) continue;
+                    for (int v : it->second) update_gap(best, mc, v, p);
+                }
+            }
+        if (k > 0 && g.buckets.empty()) break;
+    }
+    return best;
+}
+
+// Bounding-box diagonal of the part's sphere centres.
+double part_extent(const MedialComplex& mc, const std::vector<int>& part) {
+    Vec3 lo = mc.centre[static_cast<size_t>(part[0])], hi = lo;
+    for (int v : part)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], mc.centre[static_cast<size_t>(v)][k]);
+            hi[k] = std::max(hi[k], mc.centre[static_cast<size_t>(v)][k]);
+        }
+    return distance(lo, hi);
+}
+
+double part_max_radius(const MedialComplex& mc, const std::vector<int>& part) {
+    double r = 0;
+    for (int v : part) r = std::max(r, mc.radius[static_cast<size_t>(v)]);
+    return r;
+}
+
+// A cut-off part's surface: the samples on its spheres, with their gap to the kept spheres and the largest radius of
+// the part's spheres touching them (and that sphere).
+struct PartSamples {
+    std::vector<int> sample;
+    std::vector<Gap> gap;
+    std::vector<int> deepest;  // part vertex: the largest sphere on the sample
+};
+
+PartSamples part_samples(const MedialComplex& mc, const std::vector<int>& part, const std::vector<Vec3>& samples,
+                         const SphereGrid& kept) {
+    std::map<int, int> deepest;
+    for (int v : part)
+        for (int s : mc.touching[static_cast<size_t>(v)]) {
+            auto [it, fresh] = deepest.emplace(s, v);
+            if (!fresh && mc.radius[static_cast<size_t>(v)] > mc.radius[static_cast<size_t>(it->second)])
+                it->second = v;
+        }
+    PartSamples ps;
+    for (const auto& [s, v] : deepest) {
+        ps.sample.push_back(s);
+        ps.deepest.push_back(v);
+        ps.gap.push_back(union_gap(kept, mc, samples[static_cast<size_t>(s)]));
+    }
+    return ps;
+}
+
+// Shortest paths (edge length) from root inside the part: distance and predecessor per vertex (-1: none).
+void part_paths(const MedialComplex& mc, const std::vector<char>& in_part, int root, std::vector<double>& dist,
+                std::vector<int>& from) {
+    dist.assign(mc.centre.size(), std::numeric_limits<double>::infinity());
+    from.assign(mc.centre.size(), -1);
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    dist[static_cast<size_t>(root)] = 0;
+    heap.push({0.0, root});
+    while (!heap.empty()) {
+        const auto [d, v] = heap.top();
+        heap.pop();
+        if (d > dist[static_cast<size_t>(v)]) continue;
+        for (int n : mc.neighbours[static_cast<size_t>(v)]) {
+            if (!in_part[static_cast<size_t>(n)]) continue;
+            const double nd = d + distance(mc.centre[static_cast<size_t>(v)], mc.centre[static_cast<size_t>(n)]);
+            if (nd < dist[static_cast<size_t>(n)]) {
+                dist[static_cast<size_t>(n)] = nd;
+                from[static_cast<size_t>(n)] = v;
+                heap.push({nd, n});
+            }
+        }
+    }
+}
+
+// The closest pair (part vertex, kept vertex) by centre distance (ties: lower ids); {-1, -1} when none.
+std::array<int, 2> closest_pair(const MedialComplex& mc, const std::vector<int>& part, const std::vector<int>& kept) {
+    double best = std::numeric_limits<double>::infinity();
+    std::array<int, 2> pair = {-1, -1};
+    for (int a : part)
+        for (int b : kept) {
+            const double d = squared_norm(mc.centre[static_cast<size_t>(a)] - mc.centre[static_cast<size_t>(b)]);
+            if (d < best) {
+                best = d;
+                pair = {a, b};
+            }
+        }
+    return pair;
+}
+
+// A sample is uncovered when its gap to the kept spheres exceeds limb_gap x diag and limb_radius_factor x the radius
+// of the kept sphere nearest to it.
+bool uncovered(const Gap& g, const MedialAxisOptions& o, double diag) {
+    return g.gap > o.limb_gap * diag && g.gap > o.limb_radius_factor * g.radius;
+}
+
+// Grows the tree of a limb part from its root: while a sample of the part is uncovered, the shortest path from the
+// root to the largest sphere on the uncovered sample whose sphere is farthest (path length; ties: lower sample) joins
+// the tree and covers it. Returns the tree edges; branches counts the paths.
+std::vector<std::array<int, 2>> limb_tree(const MedialComplex& mc, const std::vector<int>& part, int root,
+                                          PartSamples& ps, const std::vector<Vec3>& samples, const MedialAxisOptions& o,
+                                          double diag, int& branches) {
+    std::vector<char> in_part(mc.centre.size(), 0), in_tree(mc.centre.size(), 0);
+    for (int v : part) in_part[static_cast<size_t>(v)] = 1;
+    std::vector<double> dist;
+    std::vector<int> from;
+    part_paths(mc, in_part, root, dist, from);
+    in_tree[static_cast<size_t>(root)] = 1;
+    std::vector<std::array<int, 2>> edges;
+    for (;;) {
+        int pick = -1;
+        for (size_t i = 0; i < ps.sample.size(); ++i)
+            if (uncovered(ps.gap[i], o, diag) &&
+                (pick < 0 || dist[static_cast<size_t>(ps.deepest[i])] >
+                                 dist[static_cast<size_t>(ps.deepest[static_cast<size_t>(pick)])]))
+                pick = static_cast<int>(i);
+        if (pick < 0) break;
+        std::vector<int> added;
+        for (int v = ps.deepest[static_cast<size_t>(pick)]; !in_tree[static_cast<size_t>(v)];
+             v = from[static_cast<size_t>(v)]) {
+            in_tree[static_cast<size_t>(v)] = 1;
+            added.push_back(v);
+            edges.push_back({std::min(v, from[static_cast<size_t>(v)]), std::max(v, from[static_cast<size_t>(v)])});
+        }
+        if (added.empty()) added.push_back(ps.deepest[static_cast<size_t>(pick)]);  // on the tree: the gap is stale
+        for (size_t i = 0; i < ps.sample.size(); ++i)
+            for (int v : added) update_gap(ps.gap[i], mc, v, samples[static_cast<size_t>(ps.sample[i])]);
+        ++branches;
+    }
+    return edges;
+}
+
+// How far the part's spheres lie from its tree: the largest, over the part's vertices, of the smallest distance to a
+// tree vertex's centre in units of that vertex's radius (at most 1: every centre inside a tree sphere, a tube; a sheet's
+// centres between the paths lie farther).
+double tree_width(const MedialComplex& mc, const std::vector<int>& part, const std::vector<std::array<int, 2>>& edges,
+                  int root) {
+    std::vector<int> tree = {root};
+    for (const std::array<int, 2>& e : edges) tree.insert(tree.end(), e.begin(), e.end());
+    std::sort(tree.begin(), tree.end());
+    tree.erase(std::unique(tree.begin(), tree.end()), tree.end());
+    double width = 0;
+    for (int v : part) {
+        double best = std::numeric_limits<double>::infinity();
+        for (int t : tree)
+            best = std::min(best, distance(mc.centre[static_cast<size_t>(v)], mc.centre[static_cast<size_t>(t)]) /
+                                      std::max(1e-300, mc.radius[static_cast<size_t>(t)]));
+        width = std::max(width, best);
+    }
+    return width;
+}
+
+// Replaces a limb part by its tree (curve edges; its triangles and other vertices go) joined to the kept vertex.
+void keep_tree_of_part(MedialComplex& mc, const std::vector<int>& part, const std::vector<std::array<int, 2>>& edges,
+                       int root, int anchor) {
+    for (int v : part) {
+        mc.alive[static_cast<size_t>(v)] = 0;
+        for (int t : mc.vertex_triangles[static_cast<size_t>(v)]) mc.triangle_alive[static_cast<size_t>(t)] = 0;
+        mc.vertex_triangles[static_cast<size_t>(v)].clear();
+        mc.neighbours[static_cast<size_t>(v)].clear();
+    }
+    mc.alive[static_cast<size_t>(root)] = 1;
+    for (const std::array<int, 2>& e : edges) {
+        mc.alive[static_cast<size_t>(e[0])] = mc.alive[static_cast<size_t>(e[1])] = 1;
+        insert_sorted(mc.neighbours[static_cast<size_t>(e[0])], e[1]);
+        insert_sorted(mc.neighbours[static_cast<size_t>(e[1])], e[0]);
+    }
+    insert_sorted(mc.neighbours[static_cast<size_t>(root)], anchor);
+    insert_sorted(mc.neighbours[static_cast<size_t>(anchor)], root);
+}
+
+// Limbs (docs/sheets.md, "Limbs the angle filter cut off"): every part the angle filter cut off the largest one, in
+// decreasing size, whose spheres touch a surface sample that the kept spheres (the largest part and the limbs kept
+// before) leave uncovered (gap above limb_gap x diag and limb_radius_factor x the nearest kept radius) is kept as a
+// tree of its curves: the shortest paths from its sphere closest to the kept ones to the spheres on its uncovered
+// samples, farthest first, until none is uncovered, joined by one curve edge (when that segment stays inside with
+// clearance 0.25 x radius). Its triangles and other spheres go: no cycles, no corner debris (a 90-degree edge of a
+// plate lies 0.41 x the sheet's radius from its spheres). Returns the number of limbs; branches counts their paths.
+int keep_limb_trees(MedialComplex& mc, const std::vector<Vec3>& samples, const SurfaceQuery& query,
+                    const MedialAxisOptions& o, double diag, int& branches) {
+    if (!o.keep_limbs) return 0;
+    std::vector<std::vector<int>> parts = complex_parts(mc);
+    if (parts.size() < 2) return 0;
+    SphereGrid kept;
+    double mean_radius = 0;
+    for (int v : parts[0]) mean_radius += mc.radius[static_cast<size_t>(v)] / static_cast<double>(parts[0].size());
+    kept.cell = std::max(mean_radius, 1e-3 * diag);
+    for (int v : parts[0]) grid_insert(kept, mc, v);
+    std::vector<int> kept_vertices = parts[0];
+    int limbs = 0;
+    for (size_t p = 1; p < parts.size(); ++p) {
+        const std::vector<int>& part = parts[p];
+        if (static_cast<int>(part.size()) < o.min_part_vertices) break;  // sorted by size: the rest is noise too
+        if (part_extent(mc, part) < o.limb_extent_factor * part_max_radius(mc, part)) continue;
+        PartSamples ps = part_samples(mc, part, samples, kept);
+        if (std::none_of(ps.gap.begin(), ps.gap.end(), [&](const Gap& g) { return uncovered(g, o, diag); })) continue;
+        const std::array<int, 2> pair = closest_pair(mc, part, kept_vertices);
+        const int root = pair[0], anchor = pair[1];
+        if (root < 0 ||
+            !segment_inside(query, mc.centre[static_cast<size_t>(root)], mc.radius[static_cast<size_t>(root)],
+                            mc.centre[static_cast<size_t>(anchor)], mc.radius[static_cast<size_t>(anchor)], 0.25))
+            continue;
+        int part_branches = 0;
+        const std::vector<std::array<int, 2>> edges = limb_tree(mc, part, root, ps, samples, o, diag, part_branches);
+        const double width = tree_width(mc, part, edges, root);
+        if (width > o.limb_width_factor) continue;
+        branches += part_branches;
+        keep_tree_of_part(mc, part, edges, root, anchor);
+        for (int v : part)
+            if (mc.alive[static_cast<size_t>(v)]) {
+                grid_insert(kept, mc, v);
+                kept_vertices.push_back(v);
+            }
+        ++limbs;
+    }
+    return limbs;
 }
 
 // After the erosion (keep_topology): the triangle parts (vertices joined through triangles) whose extent (bounding-box
@@ -1521,6 +1802,7 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
                                                      std::to_string(out.samples) + " samples)");
     out.joined_parts = join_components(mc, query, options.join_factor, options.min_part_vertices);
     if (options.keep_topology) keep_parts_and_paths(mc, options.part_extent_factor);
+    out.limbs = keep_limb_trees(mc, samples, query, options, diag, out.limb_branches);
     keep_largest_component(mc);
     out.initial_vertices = static_cast<int>(std::count(mc.alive.begin(), mc.alive.end(), 1));
     out.initial_triangles = static_cast<int>(std::count(mc.triangle_alive.begin(), mc.triangle_alive.end(), 1));

@@ -18,7 +18,8 @@
 //      part, which the angle cuts);
 //      with keep_topology the filter is an erosion by elementary collapses instead (narrow faces go only from a free
 //      side), followed by keep_parts_and_paths (wide-face parts of extent >= part_extent_factor x radius and the
-//      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off (both off by default);
+//      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off; keep_limbs keeps the
+//      cut-off parts longer than thick that reach uncovered surface as trees of curves (all three off by default);
 //   4. simplification (in the spirit of Q-MAT, Li et al. 2015): every sphere carries the sphere quadric of the
 //      tangent planes at its touching samples (error of a sphere (c, r) against the plane through p with unit normal
 //      n: (n . (c - p) + r)^2); edges are collapsed cheapest first to the sphere minimizing the summed quadric, only
@@ -73,7 +74,22 @@ struct MedialAxisOptions {
     // the segment stays inside (0 = off: only the largest part is kept, as before); parts with fewer than
     // min_part_vertices Voronoi vertices are noise and dropped.
     double join_factor = 0;     // x sphere radius (off by default: it joins corner debris on a plate)
-    int min_part_vertices = 8;  // Voronoi vertices
+    int min_part_vertices = 8;  // Voronoi vertices (also for limbs)
+    // Limbs: a part the angle filter cut off (a finger from the palm) whose spheres touch a surface sample farther than
+    // limb_gap x the bbox diagonal and limb_radius_factor x the radius of the nearest kept sphere from every kept
+    // sphere is kept as a tree of curves (shortest paths from its sphere nearest the kept ones to its spheres on such
+    // samples) joined by one curve edge; its triangles and other spheres go (no cycles; corner debris stays out: a
+    // 90-degree edge lies 0.41 x the sheet's radius from it). false: only the largest part is kept (off by default: on
+    // the 22 shared surfaces it restores hand's fingers, but no `auto` answer changes; docs/sheets.md, "Limbs").
+    bool keep_limbs = false;
+    double limb_gap = 0.01;           // x bbox diagonal
+    double limb_radius_factor = 1.0;  // x radius of the nearest kept sphere
+    // ... when its centres' bounding-box diagonal is at least this x its largest radius (a limb is longer than thick;
+    // the islands of a plate's sheet and the corner debris are not).
+    double limb_extent_factor = 4.0;  // x largest radius of the part
+    // ... and only when its tree describes it: every sphere centre of the part lies within this x the radius of a tree
+    // sphere (a tube; the fragments of a sheet the filter cut apart lie wider and are dropped, as before).
+    double limb_width_factor = 1.0;  // x tree sphere radius
     // Curve chains with both ends on sheets that run along a sheet (every sampled point within fringe_factor x its
     // radius of the sheet triangles: at 3 the chain's tube comes within one radius of the sheet's slab all along) are
     // removed when their ends stay connected without them (remove_fringe_curves; 0 = off). They are the remains of
@@ -101,6 +117,8 @@ struct MedialAxis {
     int initial_vertices = 0, initial_triangles = 0;  // the medial complex before simplification
     long initial_euler = 0;                           // V - E + F of the medial complex before simplification
     int joined_parts = 0;                             // parts joined back to the main part (join_factor)
+    int limbs = 0;                                    // cut-off parts kept as trees (limb_gap)
+    int limb_branches = 0;                            // paths of those trees
     int collapses = 0;                                // edge collapses performed
     int thin_triangles_removed = 0;                   // triangles turned into curves (step 5)
     int pruned_tips = 0;                              // curve tips pruned
