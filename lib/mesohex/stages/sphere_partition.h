@@ -27,6 +27,11 @@ struct SpherePartitionOptions {
     // there have a valence-3 point instead (docs/junctions.md, "The shared curve skeletons"). false: the best score.
     bool no_flat_point_in_close_pair = false;
     double close_pair_gap_deg = 10;  // degrees (see no_flat_point_in_close_pair)
+    // Three directions: the orange candidate is the one around the axis that maximises its score, found by the solver
+    // of orange_three.h from the three best axes of the scan (at least as good as the pattern search from the same
+    // axes on 12 000 random sets, docs/performance.md "Seventh pass"). false: the pattern search from those axes (the
+    // three refined oranges compete), as for n >= 4.
+    bool exact_three_orange = true;
 };
 
 // Preconditions: n >= 2 pairwise distinct directions, in any configuration (antipodal pairs, clusters, coplanar or
@@ -87,6 +92,10 @@ SpherePartitionStats sphere_partition_stats(const SpherePartition& p, const std:
 namespace detail {
 double orange_quality_exact(const std::vector<Vec3>& directions, const Vec3& axis);
 bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold);
+// The pattern search's axes for `directions` (n >= 3: the three best scan axes, each refined), and the axis of the
+// three-direction solver (n = 3, exact_three_orange; unit, the best start's when none gives a valid orange).
+std::vector<Vec3> searched_orange_axes(const std::vector<Vec3>& directions);
+Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions);
 }  // namespace detail
 
 }  // namespace mesohex
