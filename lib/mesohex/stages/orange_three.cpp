@@ -31,8 +31,8 @@ void tangent_frame(const Vec3& a, Vec3& t1, Vec3& t2) {
 // Values only (grads == false) or values and gradients. With the frame moved along the step (t_k -> t_k - s_k a, first
 // order), a direction's projection (x, y) = (d . t1, d . t2) moves by -z (s1, s2), z = d . a, so its azimuth
 // phi = atan2(y, x) has the gradient z (y, -x) / (x^2 + y^2) and z the gradient (x, y).
-void evaluate(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, const Vec3& axis, bool grads,
-              Pieces& p) {
+void evaluate(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, double margin_weight, const Vec3& axis,
+              bool grads, Pieces& p) {
     p.axis = axis;
     tangent_frame(axis, p.t1, p.t2);
     std::array<double, 3> x, y, z, phi, r;
@@ -89,7 +89,7 @@ void evaluate(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, 
         const double w1 = 0.5 * (dgap[kb][0] + dgap[k][0]), w2 = 0.5 * (dgap[kb][1] + dgap[k][1]);
         add(w, w1, w2);
         add(kPi - w, -w1, -w2);
-        const double scale = kPi / 2 / bound[i];
+        const double scale = margin_weight / bound[i];
         for (const int kg : {kb, k}) {
             const double sin_h = sin_half[kg], cos_h = cos_half[kg];
             const double s = std::clamp(r[i] * sin_h, -1.0, 1.0);
@@ -215,9 +215,10 @@ bool ridge_correction(const Pieces& p, const std::array<int, 3>& tight, int tigh
 }
 
 // One trust-region run from `start`.
-OrangeAxisThree climb(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, const Vec3& start) {
+OrangeAxisThree climb(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, double margin_weight,
+                      const Vec3& start) {
     Pieces here, trial, corrected;
-    evaluate(d, bound, start, true, here);
+    evaluate(d, bound, margin_weight, start, true, here);
     double radius = 0.1;  // rad
     for (int iteration = 0; iteration < 100 && radius > 1e-9; ++iteration) {
         double s1 = 0, s2 = 0;
@@ -225,10 +226,10 @@ OrangeAxisThree climb(const std::array<Vec3, 3>& d, const std::array<double, 3>&
         int tight_count = 0;
         const double predicted = best_linear_step(here, radius, s1, s2, tight, tight_count) - here.score;
         if (!(predicted > 1e-13)) break;
-        evaluate(d, bound, normalized(here.axis + s1 * here.t1 + s2 * here.t2), true, trial);
+        evaluate(d, bound, margin_weight, normalized(here.axis + s1 * here.t1 + s2 * here.t2), true, trial);
         double c1 = 0, c2 = 0;
         if (ridge_correction(trial, tight, tight_count, c1, c2) && std::max(std::abs(c1), std::abs(c2)) <= radius) {
-            evaluate(d, bound, normalized(trial.axis + c1 * trial.t1 + c2 * trial.t2), true, corrected);
+            evaluate(d, bound, margin_weight, normalized(trial.axis + c1 * trial.t1 + c2 * trial.t2), true, corrected);
             if (corrected.score > trial.score) std::swap(trial, corrected);
         }
         const double ratio = (trial.score - here.score) / predicted;
@@ -245,17 +246,18 @@ OrangeAxisThree climb(const std::array<Vec3, 3>& d, const std::array<double, 3>&
 
 }  // namespace
 
-double orange_score_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, const Vec3& axis) {
+double orange_score_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, double margin_weight,
+                          const Vec3& axis) {
     Pieces p;
-    evaluate(d, bound, axis, false, p);
+    evaluate(d, bound, margin_weight, axis, false, p);
     return p.score;
 }
 
 OrangeAxisThree best_orange_axis_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
-                                       const std::vector<Vec3>& starts) {
+                                       double margin_weight, const std::vector<Vec3>& starts) {
     OrangeAxisThree best;
     for (const Vec3& start : starts) {
-        const OrangeAxisThree end = climb(d, bound, start);
+        const OrangeAxisThree end = climb(d, bound, margin_weight, start);
         if (end.score > best.score) best = end;
     }
     return best;

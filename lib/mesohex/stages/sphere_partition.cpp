@@ -494,9 +494,15 @@ std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& ev
     return best;
 }
 
+// The margin weight of the three-direction orange's axis (orange_three.h): a margin ratio of 1 counts as 60 degrees,
+// the most a width term can be for three directions, instead of quality_score's 90 degrees (with which the maximum
+// trades margins for width: docs/performance.md, "Seventh pass").
+constexpr double kThreeMarginWeight = kPi / 3;
+
 // The three-direction solver's axis (orange_three.h) from the best scan axes; its score <= 0 when no start is valid.
 OrangeAxisThree exact_three_axis(const std::vector<Vec3>& d, const std::vector<double>& bound, OrangeEvaluator& eval) {
-    return best_orange_axis_three({d[0], d[1], d[2]}, {bound[0], bound[1], bound[2]}, best_scan_axes(d, eval));
+    return best_orange_axis_three({d[0], d[1], d[2]}, {bound[0], bound[1], bound[2]}, kThreeMarginWeight,
+                                  best_scan_axes(d, eval));
 }
 
 // Oranges around the best axes: for three directions with exact_three, the one around the solver's axis; else around
@@ -1678,6 +1684,12 @@ std::vector<Vec3> searched_orange_axes(const std::vector<Vec3>& directions) {
     std::vector<Vec3> out;
     for (const Vec3& start : best_scan_axes(directions, eval)) out.push_back(refine_orange_axis(eval, start));
     return out;
+}
+
+std::vector<Vec3> scanned_orange_axes(const std::vector<Vec3>& directions) {
+    const std::vector<double> bound = margin_bounds(directions);
+    OrangeEvaluator eval(directions, bound);
+    return best_scan_axes(directions, eval);
 }
 
 Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions) {
