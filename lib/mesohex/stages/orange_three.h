@@ -9,9 +9,11 @@
 //     elevation asin(d_i . a), bound_i half the angle from d_i to its nearest other direction, W the margin weight:
 //     the value of a margin ratio of 1 (the direction as far from its lune's sides as that neighbour allows).
 // With W = pi / 2 this is partition_sphere's quality_score of the built orange (the score the pattern search of
-// sphere_partition.cpp maximises). For three directions the width terms never exceed pi / 3 (the widths sum to 2 pi),
-// so with W = pi / 2 the maximum never asks a margin ratio above 2/3 and trades margins for width; W = pi / 3 (the
-// default of partition_sphere's three-direction orange) counts a margin ratio of 1 as the best width term.
+// sphere_partition.cpp maximises). For three directions the smallest width term never exceeds pi / 3 (the widths sum
+// to 2 pi), so with W = pi / 2 the maximum never asks a margin ratio above 2/3 and trades margins for width; W = pi / 3
+// (the default of partition_sphere's three-direction orange) counts a margin ratio of 1 as the best width term.
+// The solver is local: it converges to a maximum of the max-min from each start (to ~1e-9 rad), and the starts decide
+// which (partition_sphere gives it the scan's three best axes).
 // The score is a max-min over a 2-DOF axis: at a maximum two or three pieces are equal (a ridge where two meet with
 // opposite slopes, or a vertex where three meet). A sequential linear program with a trust region solves the pieces'
 // linearisation exactly (a 3-variable simplex), and a second-order correction brings steps along a ridge back onto
