@@ -8,7 +8,8 @@
 //   mesohex_raw_chain [--threads T] [--reps R] [--stages] INPUT...
 //     INPUT: tree:VERTICES:SEED (bench::random_tree), star:VERTICES, gen:NAME (generate_skeleton), random:SEED
 //            (generate_random_skeleton), or a skeleton file path; gen:all = every generator, random:A-B = seeds A..B
-//   Run under valgrind --tool=callgrind for instruction counts (one rep).
+//   Run under valgrind --tool=callgrind for instruction counts (one rep). EXACT_THREE=0|1 in the environment sets
+//   ConnectionSurfaceOptions::exact_three_orange.
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -85,10 +86,13 @@ int main(int argc, char** argv) {
             std::vector<std::string> stage_order;
             std::map<std::string, double> stage_best;  // stage -> min wall ms over the reps
             PipelineResult res;
+            PipelineOptions po;
+            if (const char* k = std::getenv("EXACT_THREE"))  // ConnectionSurfaceOptions::exact_three_orange
+                po.connection_surfaces.exact_three_orange = std::atoi(k) != 0;
             for (int r = 0; r < reps; ++r) {
                 const double t0 = cpu_ms();
                 const auto w0 = std::chrono::steady_clock::now();
-                res = run_pipeline(s);
+                res = run_pipeline(s, po);
                 walls.push_back(
                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count());
                 const double t = cpu_ms() - t0;

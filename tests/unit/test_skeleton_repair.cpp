@@ -314,7 +314,8 @@ TEST(SkeletonRepair, RandomSeedSplitWouldCutFirstCorner) {
 // degree-3 points are each other's neighbours (a bridge): by default (ConnectionSurfaceOptions::
 // degree_three_chunks_at_bridges) each is chosen by its chunks, the bridge ending on the other's quad: the one the gap
 // rule left with the general partition takes the orange (the other has it already), 0.462, the value the square model
-// (degree_three_chunks_next_to_branching_points) gets too; with the gap rule at both (the option off) 0.324.
+// (degree_three_chunks_next_to_branching_points) gets too; with the gap rule at both (the option off) 0.462 as well
+// (0.324 with the pattern search's degree-3 orange, before SpherePartitionOptions::exact_three_orange).
 TEST(SkeletonRepair, RandomSeedWithDegreeFourJunction) {
     const Skeleton in = mesohex::generate_random_skeleton(4);
     mesohex::PipelineOptions unsplit, gap_rule;
@@ -327,7 +328,7 @@ TEST(SkeletonRepair, RandomSeedWithDegreeFourJunction) {
     gap_rule.connection_surfaces.degree_three_chunks_at_bridges = false;
     const mesohex::PipelineResult before = mesohex::run_pipeline(in, unsplit);
     const mesohex::PipelineResult after = mesohex::run_pipeline(in);
-    EXPECT_NEAR(mesohex::compute_quality(mesohex::run_pipeline(in, gap_rule).raw.mesh).sj_min, 0.324, 0.005);
+    EXPECT_NEAR(mesohex::compute_quality(mesohex::run_pipeline(in, gap_rule).raw.mesh).sj_min, 0.462, 0.005);
     EXPECT_EQ(before.junction_splits, 0);
     EXPECT_EQ(after.junction_splits, 1);
     EXPECT_EQ(after.trunks + after.absorbed_stubs + after.side_stubs, 0);
@@ -451,12 +452,15 @@ TEST(SkeletonRepair, ShortSideStubLengthened) {
 // sibling, inside q's ball (r_q 0.243, r_e 0.164). Kept at that length, the side edge has overlapping cross-sections
 // (no joint for the section criterion to remove) and 2 raw hexes invert next to it (min SJ -0.133); lengthened to
 // r_q, none (min SJ 0.152). Measured without the plane orange at degree 3 (ConnectionSurfaceOptions::
-// plane_orange_at_degree_three), which removes the inversion by itself: with it, 0.233 short and 0.363 lengthened.
+// plane_orange_at_degree_three), which removes the inversion by itself: with it, 0.233 short and 0.363 lengthened; and
+// with the pattern search's degree-3 orange (exact_three_orange off): the solver's orange removes it too (0.009 short,
+// 0.233 lengthened).
 TEST(SkeletonRepair, RandomSeedSideStubInsideRootBall) {
     const Skeleton in = mesohex::generate_random_skeleton(251);
     mesohex::PipelineOptions paper_partition;
     paper_partition.connection_surfaces.plane_orange_at_degree_three = false;
     paper_partition.connection_surfaces.degree_three_partition_by_chunks = false;
+    paper_partition.connection_surfaces.exact_three_orange = false;
     mesohex::PipelineOptions kept = paper_partition;
     kept.repair.side_stub_min_length = 0;
     const mesohex::PipelineResult def = mesohex::run_pipeline(in, paper_partition),

@@ -1123,6 +1123,7 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
     SpherePartition part;
     try {
         SpherePartitionOptions po;
+        po.exact_three_orange = options.exact_three_orange;
         // Three branch edges, no leaflet side: with degree_three_partition_by_chunks both candidates below; else, at a
         // gap over 180 degrees, the orange around the best-fit plane's normal (a tolerance of 1 takes
         // partition_sphere's planar path for any three directions), see plane_orange_at_degree_three.
@@ -1357,7 +1358,8 @@ void build_bridge_surfaces(const SurfaceInputs& in, const std::vector<char>& at_
     std::vector<char> wanted(points.size(), 0);
     for (int r = 1; r <= kBridgeRounds; ++r)
         for (const int v : need[r]) wanted[slot[v]] = 1;
-    const SpherePartitionOptions po{.planarity_tolerance = in.options.planarity_tolerance};
+    const SpherePartitionOptions po{.planarity_tolerance = in.options.planarity_tolerance,
+                                    .exact_three_orange = in.options.exact_three_orange};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -1423,7 +1425,8 @@ bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o)
            m.no_flat_point_in_close_pair == o.no_flat_point_in_close_pair &&
            m.degree_three_partition_by_chunks == o.degree_three_partition_by_chunks &&
            m.degree_three_chunks_next_to_branching_points == o.degree_three_chunks_next_to_branching_points &&
-           m.degree_three_chunks_at_bridges == o.degree_three_chunks_at_bridges;
+           m.degree_three_chunks_at_bridges == o.degree_three_chunks_at_bridges &&
+           m.exact_three_orange == o.exact_three_orange;
 }
 
 // FNV-1a (64 bits) of the key's bytes.
@@ -1489,6 +1492,7 @@ SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::ve
     m.degree_three_partition_by_chunks = options.degree_three_partition_by_chunks;
     m.degree_three_chunks_next_to_branching_points = options.degree_three_chunks_next_to_branching_points;
     m.degree_three_chunks_at_bridges = options.degree_three_chunks_at_bridges;
+    m.exact_three_orange = options.exact_three_orange;
     std::vector<std::pair<std::uint64_t, int>> order;
     for (int v = 0; v < static_cast<int>(keys.size()); ++v)
         if (!keys[v].empty()) order.push_back({memo_hash(keys[v]), v});

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "mesohex/core/error.h"
+#include "mesohex/stages/orange_three.h"
 
 namespace mesohex {
 namespace {
@@ -473,12 +474,10 @@ std::vector<ScanAxis> candidate_axes(const std::vector<Vec3>& d) {
     return axes;
 }
 
-// Oranges around the three best candidate axes by (quality, index), as a sort of every valid axis would rank them,
-// each refined by local search.
-std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d) {
+// The three best candidate axes by (quality, index), as a sort of every valid axis would rank them (fewer when fewer
+// are valid).
+std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& eval) {
     const std::vector<ScanAxis> axes = candidate_axes(d);
-    const std::vector<double> bound = margin_bounds(d);
-    OrangeEvaluator eval(d, bound);
     std::array<std::pair<double, int>, 3> top;  // (-quality, axis), ascending
     int top_count = 0;
     for (int a = 0; a < static_cast<int>(axes.size()); ++a) {
@@ -490,9 +489,38 @@ std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d) {
         top[k] = {-q, a};
         for (; k > 0 && top[k] < top[k - 1]; --k) std::swap(top[k], top[k - 1]);
     }
+    std::vector<Vec3> best;
+    for (int r = 0; r < top_count; ++r) best.push_back(axes[top[r].second].axis);
+    return best;
+}
+
+// The margin weight of the three-direction orange's axis (orange_three.h): a margin ratio of 1 counts as 60 degrees,
+// the most a width term can be for three directions, instead of quality_score's 90 degrees (with which the maximum
+// trades margins for width: docs/performance.md, "Seventh pass").
+constexpr double kThreeMarginWeight = kPi / 3;
+
+// The three-direction solver's axis (orange_three.h) from the best scan axes; its score <= 0 when no start is valid.
+OrangeAxisThree exact_three_axis(const std::vector<Vec3>& d, const std::vector<double>& bound, OrangeEvaluator& eval) {
+    return best_orange_axis_three({d[0], d[1], d[2]}, {bound[0], bound[1], bound[2]}, kThreeMarginWeight,
+                                  best_scan_axes(d, eval));
+}
+
+// Oranges around the best axes: for three directions with exact_three, the one around the solver's axis; else around
+// the three best candidate axes, each refined by local search.
+std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d, bool exact_three) {
+    const std::vector<double> bound = margin_bounds(d);
+    OrangeEvaluator eval(d, bound);
     std::vector<SpherePartition> oranges;
-    for (int r = 0; r < top_count; ++r) {
-        const OrangeFrame frame = orange_frame(d, refine_orange_axis(eval, axes[top[r].second].axis));
+    if (exact_three && d.size() == 3) {
+        const OrangeAxisThree best = exact_three_axis(d, bound, eval);
+        if (best.score > 0) {
+            const OrangeFrame frame = orange_frame(d, best.axis);
+            if (orange_margin(frame) > 0) oranges.push_back(build_orange(frame));
+        }
+        return oranges;
+    }
+    for (const Vec3& start : best_scan_axes(d, eval)) {
+        const OrangeFrame frame = orange_frame(d, refine_orange_axis(eval, start));
         if (orange_margin(frame) > 0) oranges.push_back(build_orange(frame));
     }
     return oranges;
@@ -1566,7 +1594,7 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     };
     // 2. Oranges around the best axes.
     if (!work.have_oranges) {
-        work.oranges = axis_oranges(d);
+        work.oranges = axis_oranges(d, options.exact_three_orange);
         work.orange_scores = scores_of(work.oranges);
         work.have_oranges = true;
     }
@@ -1648,6 +1676,26 @@ double orange_quality_exact(const std::vector<Vec3>& directions, const Vec3& axi
     OrangeEvaluator eval(directions, bound);
     bool valid = false;
     return eval.quality(axis, -1e300, valid);
+}
+
+std::vector<Vec3> searched_orange_axes(const std::vector<Vec3>& directions) {
+    const std::vector<double> bound = margin_bounds(directions);
+    OrangeEvaluator eval(directions, bound);
+    std::vector<Vec3> out;
+    for (const Vec3& start : best_scan_axes(directions, eval)) out.push_back(refine_orange_axis(eval, start));
+    return out;
+}
+
+std::vector<Vec3> scanned_orange_axes(const std::vector<Vec3>& directions) {
+    const std::vector<double> bound = margin_bounds(directions);
+    OrangeEvaluator eval(directions, bound);
+    return best_scan_axes(directions, eval);
+}
+
+Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions) {
+    const std::vector<double> bound = margin_bounds(directions);
+    OrangeEvaluator eval(directions, bound);
+    return exact_three_axis(directions, bound, eval).axis;
 }
 
 bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold) {

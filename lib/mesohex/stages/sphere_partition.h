@@ -27,6 +27,12 @@ struct SpherePartitionOptions {
     // there have a valence-3 point instead (docs/junctions.md, "The shared curve skeletons"). false: the best score.
     bool no_flat_point_in_close_pair = false;
     double close_pair_gap_deg = 10;  // degrees (see no_flat_point_in_close_pair)
+    // Three directions: the orange candidate is the one around the axis that maximises min(width terms, 60 degrees x
+    // margin ratio), found by the solver of orange_three.h from the scan's three best axes: the margins count against
+    // the most a width term can be for three directions (quality_score's 90 degrees would trade margins for width).
+    // Raw min SJ of random seeds 1-400 up on 36, down on 5 (docs/performance.md, "Seventh pass"). false: the pattern
+    // search on quality_score from the same axes (three refined oranges compete), as for n >= 4.
+    bool exact_three_orange = true;
 };
 
 // Preconditions: n >= 2 pairwise distinct directions, in any configuration (antipodal pairs, clusters, coplanar or
@@ -87,6 +93,12 @@ SpherePartitionStats sphere_partition_stats(const SpherePartition& p, const std:
 namespace detail {
 double orange_quality_exact(const std::vector<Vec3>& directions, const Vec3& axis);
 bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold);
+// For `directions` (n >= 3): the three best scan axes (the searches' starts), the pattern search's axes (each of
+// them refined), and (n = 3) the axis of the three-direction solver that exact_three_orange uses (unit; the best
+// start's when none gives a valid orange).
+std::vector<Vec3> scanned_orange_axes(const std::vector<Vec3>& directions);
+std::vector<Vec3> searched_orange_axes(const std::vector<Vec3>& directions);
+Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions);
 }  // namespace detail
 
 }  // namespace mesohex

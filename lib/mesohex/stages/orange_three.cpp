@@ -1,0 +1,266 @@
+// The best orange axis of three directions: trust-region sequential linear programming on the score's pieces.
+#include "mesohex/stages/orange_three.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace mesohex {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr int kPieces = 12;  // per direction: width, pi - width, margin with the gap before, with the gap after
+
+// The pieces at one axis: values and gradients with respect to a tangent step (s1, s2) of the axis, a -> normalised
+// a + s1 t1 + s2 t2 (t1, t2 the frame below).
+struct Pieces {
+    Vec3 axis, t1, t2;
+    std::array<double, kPieces> value{};
+    std::array<std::array<double, 2>, kPieces> grad{};
+    double score = 0;  // min of value
+};
+
+// A unit vector orthogonal to the unit vector a, and a x it: the tangent frame of the steps.
+void tangent_frame(const Vec3& a, Vec3& t1, Vec3& t2) {
+    const double ax = std::abs(a.x), ay = std::abs(a.y), az = std::abs(a.z);
+    const Vec3 e = (ax <= ay && ax <= az) ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+    t1 = normalized(cross(a, e));
+    t2 = cross(a, t1);
+}
+
+// Values only (grads == false) or values and gradients. With the frame moved along the step (t_k -> t_k - s_k a, first
+// order), a direction's projection (x, y) = (d . t1, d . t2) moves by -z (s1, s2), z = d . a, so its azimuth
+// phi = atan2(y, x) has the gradient z (y, -x) / (x^2 + y^2) and z the gradient (x, y).
+void evaluate(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, double margin_weight, const Vec3& axis,
+              bool grads, Pieces& p) {
+    p.axis = axis;
+    tangent_frame(axis, p.t1, p.t2);
+    std::array<double, 3> x, y, z, phi, r;
+    std::array<std::array<double, 2>, 3> dphi{}, dr{};
+    for (int i = 0; i < 3; ++i) {
+        x[i] = dot(d[i], p.t1);
+        y[i] = dot(d[i], p.t2);
+        z[i] = dot(d[i], axis);
+        phi[i] = std::atan2(y[i], x[i]);
+        const double r2 = x[i] * x[i] + y[i] * y[i];
+        r[i] = std::sqrt(r2);
+        if (grads && r2 > 1e-300) {
+            dphi[i] = {z[i] * y[i] / r2, -z[i] * x[i] / r2};
+            dr[i] = {-z[i] * x[i] / r[i], -z[i] * y[i] / r[i]};
+        }
+    }
+    // Sorted by (azimuth, index), as partition_sphere's orange frame sorts them.
+    std::array<int, 3> order{0, 1, 2};
+    const auto before = [&](int a, int b) { return phi[a] != phi[b] ? phi[a] < phi[b] : a < b; };
+    if (before(order[1], order[0])) std::swap(order[0], order[1]);
+    if (before(order[2], order[1])) std::swap(order[1], order[2]);
+    if (before(order[1], order[0])) std::swap(order[0], order[1]);
+    // gap[k]: from sorted position k to k + 1; sin and cos of min(gap / 2, pi / 2) from the cosine of the gap (the
+    // half-angle formulas; the gap is below pi where the margin reads it).
+    std::array<double, 3> gap, sin_half, cos_half;
+    std::array<std::array<double, 2>, 3> dgap;
+    for (int k = 0; k < 3; ++k) {
+        const int a = order[k], b = order[k < 2 ? k + 1 : 0];
+        gap[k] = phi[b] - phi[a] + (k == 2 ? 2 * kPi : 0);
+        dgap[k] = {dphi[b][0] - dphi[a][0], dphi[b][1] - dphi[a][1]};
+        if (gap[k] < kPi) {
+            const double c = std::clamp((x[a] * x[b] + y[a] * y[b]) / (r[a] * r[b]), -1.0, 1.0);
+            sin_half[k] = std::sqrt(0.5 * (1 - c));
+            cos_half[k] = std::sqrt(0.5 * (1 + c));
+        } else {
+            sin_half[k] = 1;
+            cos_half[k] = 0;
+        }
+    }
+    // Pieces by direction (4 i + 0..3), not by sorted position: the position of a direction moves with the frame's
+    // azimuth origin, its before / after neighbours do not (while no two azimuths cross), so a piece keeps its index
+    // from one axis to the next (the second-order correction reads it at two axes).
+    p.score = kPi;
+    int piece = 0;
+    const auto add = [&](double v, double g1, double g2) {
+        p.value[piece] = v;
+        p.grad[piece] = {g1, g2};
+        p.score = std::min(p.score, v);
+        ++piece;
+    };
+    for (int i = 0; i < 3; ++i) {
+        const int k = order[0] == i ? 0 : (order[1] == i ? 1 : 2), kb = k > 0 ? k - 1 : 2;
+        const double w = 0.5 * (gap[kb] + gap[k]);
+        const double w1 = 0.5 * (dgap[kb][0] + dgap[k][0]), w2 = 0.5 * (dgap[kb][1] + dgap[k][1]);
+        add(w, w1, w2);
+        add(kPi - w, -w1, -w2);
+        const double scale = margin_weight / bound[i];
+        for (const int kg : {kb, k}) {
+            const double sin_h = sin_half[kg], cos_h = cos_half[kg];
+            const double s = std::clamp(r[i] * sin_h, -1.0, 1.0);
+            double g1 = 0, g2 = 0;
+            const double c2 = 1 - s * s;
+            if (grads && c2 > 1e-12) {
+                const double k1 = scale / std::sqrt(c2);
+                g1 = k1 * (dr[i][0] * sin_h + r[i] * cos_h * 0.5 * dgap[kg][0]);
+                g2 = k1 * (dr[i][1] * sin_h + r[i] * cos_h * 0.5 * dgap[kg][1]);
+            }
+            add(scale * std::asin(s), g1, g2);
+        }
+    }
+}
+
+// The step (s1, s2) in the box |s1|, |s2| <= radius that maximises the linearised score min_k (value_k + grad_k . s),
+// and that maximum: a linear program in (s1, s2, t) (max t, t <= value_k + grad_k . s), solved by the simplex method
+// in dictionary form with Bland's rule (no cycling; at most 50 pivots, 3-6 in practice). Shifted so that the origin
+// is a vertex: u = s + radius in [0, 2 radius], v = t - t0 >= 0 with t0 the model's lowest value at s = (-r, -r).
+double best_linear_step(const Pieces& p, double radius, double& s1, double& s2, std::array<int, 3>& tight,
+                        int& tight_count) {
+    constexpr int kCols = 3;  // columns: u1, u2, v; rows: the live pieces, then u1, u2 <= 2 radius
+    // Live pieces: those that can be the minimum somewhere in the box (lowest value there <= the model's upper bound).
+    double upper = 1e300, t0 = 1e300;
+    for (int k = 0; k < kPieces; ++k)
+        upper = std::min(upper, p.value[k] + radius * (std::abs(p.grad[k][0]) + std::abs(p.grad[k][1])));
+    std::array<int, kPieces> live;
+    int pieces = 0;
+    for (int k = 0; k < kPieces; ++k)
+        if (p.value[k] - radius * (std::abs(p.grad[k][0]) + std::abs(p.grad[k][1])) <= upper) {
+            live[pieces++] = k;
+            t0 = std::min(t0, p.value[k] - radius * (p.grad[k][0] + p.grad[k][1]));
+        }
+    const int rows = pieces + 2;
+    std::array<std::array<double, kCols>, kPieces + 2> a{};  // basic_i = b_i - sum_j a_ij nonbasic_j
+    std::array<double, kPieces + 2> b{};
+    std::array<int, kPieces + 2> basic{};
+    std::array<int, kCols> nonbasic{0, 1, 2};  // variable ids: 0 u1, 1 u2, 2 v, 3 + i the slack of row i
+    std::array<double, kCols> c{0, 0, 1};      // objective v = z + sum_j c_j nonbasic_j
+    double z = 0;
+    for (int i = 0; i < pieces; ++i) {
+        const int k = live[i];
+        a[i] = {-p.grad[k][0], -p.grad[k][1], 1};
+        b[i] = std::max(0.0, p.value[k] - radius * (p.grad[k][0] + p.grad[k][1]) - t0);
+        basic[i] = 3 + i;
+    }
+    for (int j = 0; j < 2; ++j) {
+        a[pieces + j][j] = 1;
+        b[pieces + j] = 2 * radius;
+        basic[pieces + j] = 3 + pieces + j;
+    }
+    for (int pivot = 0; pivot < 50; ++pivot) {
+        int e = -1;  // Bland: the entering variable of smallest id with a positive objective coefficient
+        for (int j = 0; j < kCols; ++j)
+            if (c[j] > 1e-15 && (e < 0 || nonbasic[j] < nonbasic[e])) e = j;
+        if (e < 0) break;
+        int r = -1;
+        double ratio = 0;
+        for (int i = 0; i < rows; ++i) {
+            if (!(a[i][e] > 1e-12)) continue;
+            const double q = b[i] / a[i][e];
+            if (r < 0 || q < ratio || (q == ratio && basic[i] < basic[r])) {
+                r = i;
+                ratio = q;
+            }
+        }
+        if (r < 0) break;  // unbounded: cannot happen (every piece row bounds v)
+        const double inv = 1 / a[r][e];
+        b[r] *= inv;
+        for (int j = 0; j < kCols; ++j) a[r][j] = j == e ? inv : a[r][j] * inv;
+        for (int i = 0; i < rows; ++i) {
+            if (i == r || a[i][e] == 0) continue;
+            const double f = a[i][e];
+            b[i] = std::max(0.0, b[i] - f * b[r]);
+            for (int j = 0; j < kCols; ++j) a[i][j] = j == e ? -f * a[r][e] : a[i][j] - f * a[r][j];
+        }
+        const double ce = c[e];
+        z += ce * b[r];
+        for (int j = 0; j < kCols; ++j) c[j] = j == e ? -ce * a[r][e] : c[j] - ce * a[r][j];
+        std::swap(basic[r], nonbasic[e]);
+    }
+    double u[2] = {0, 0};
+    for (int i = 0; i < rows; ++i)
+        if (basic[i] < 2) u[basic[i]] = b[i];
+    s1 = std::clamp(u[0] - radius, -radius, radius);
+    s2 = std::clamp(u[1] - radius, -radius, radius);
+    std::array<double, kPieces> at{};
+    double model = 1e300;
+    for (int i = 0; i < pieces; ++i) {
+        const int k = live[i];
+        at[i] = p.value[k] + p.grad[k][0] * s1 + p.grad[k][1] * s2;
+        model = std::min(model, at[i]);
+    }
+    // The pieces equal to the minimum there (within 1e-12 rad), at most 3, by index.
+    tight_count = 0;
+    for (int i = 0; i < pieces && tight_count < 3; ++i)
+        if (at[i] <= model + 1e-12) tight[tight_count++] = live[i];
+    return model;
+}
+
+// The second-order correction of a step that ends at `p`: the smallest tangent move that makes the `tight` pieces of
+// the step's linear program equal again in their linearisation at `p` (a step along a ridge of two pieces leaves it
+// by its curvature; this brings it back, so that the trust region need not shrink to the ridge's curvature). Returns
+// false when there is nothing to correct (one piece) or the pieces' gradients are (nearly) dependent.
+bool ridge_correction(const Pieces& p, const std::array<int, 3>& tight, int tight_count, double& c1, double& c2) {
+    if (tight_count < 2) return false;
+    const int a = tight[0], b = tight[1];
+    const double u1 = p.grad[a][0] - p.grad[b][0], u2 = p.grad[a][1] - p.grad[b][1], h = p.value[a] - p.value[b];
+    if (tight_count == 2) {
+        const double uu = u1 * u1 + u2 * u2;
+        if (!(uu > 1e-20)) return false;
+        c1 = -h * u1 / uu;
+        c2 = -h * u2 / uu;
+        return true;
+    }
+    const int c = tight[2];
+    const double v1 = p.grad[a][0] - p.grad[c][0], v2 = p.grad[a][1] - p.grad[c][1], e = p.value[a] - p.value[c];
+    const double det = u1 * v2 - u2 * v1;
+    if (!(std::abs(det) > 1e-20)) return false;
+    c1 = (-h * v2 + u2 * e) / det;
+    c2 = (-u1 * e + v1 * h) / det;
+    return true;
+}
+
+// One trust-region run from `start`.
+OrangeAxisThree climb(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, double margin_weight,
+                      const Vec3& start) {
+    Pieces here, trial, corrected;
+    evaluate(d, bound, margin_weight, start, true, here);
+    double radius = 0.1;  // rad
+    for (int iteration = 0; iteration < 100 && radius > 1e-9; ++iteration) {
+        double s1 = 0, s2 = 0;
+        std::array<int, 3> tight{};
+        int tight_count = 0;
+        const double predicted = best_linear_step(here, radius, s1, s2, tight, tight_count) - here.score;
+        if (!(predicted > 1e-13)) break;
+        evaluate(d, bound, margin_weight, normalized(here.axis + s1 * here.t1 + s2 * here.t2), true, trial);
+        double c1 = 0, c2 = 0;
+        if (ridge_correction(trial, tight, tight_count, c1, c2) && std::max(std::abs(c1), std::abs(c2)) <= radius) {
+            evaluate(d, bound, margin_weight, normalized(trial.axis + c1 * trial.t1 + c2 * trial.t2), true, corrected);
+            if (corrected.score > trial.score) std::swap(trial, corrected);
+        }
+        const double ratio = (trial.score - here.score) / predicted;
+        if (trial.score > here.score && ratio > 0.1) {
+            here = trial;
+            if (ratio > 0.75 && std::max(std::abs(s1), std::abs(s2)) >= radius * (1 - 1e-9))
+                radius = std::min(2 * radius, 0.5);
+        } else {
+            radius *= 0.25;
+        }
+    }
+    return {here.axis, here.score};
+}
+
+}  // namespace
+
+double orange_score_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, double margin_weight,
+                          const Vec3& axis) {
+    Pieces p;
+    evaluate(d, bound, margin_weight, axis, false, p);
+    return p.score;
+}
+
+OrangeAxisThree best_orange_axis_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
+                                       double margin_weight, const std::vector<Vec3>& starts) {
+    OrangeAxisThree best;
+    for (const Vec3& start : starts) {
+        const OrangeAxisThree end = climb(d, bound, margin_weight, start);
+        if (end.score > best.score) best = end;
+    }
+    return best;
+}
+
+}  // namespace mesohex
