@@ -134,7 +134,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         // drop) the skeleton is its own repaired and adapted form. Checked against the two calls in test_incremental.
         clock.lap("adaptation");
     } else if (options.resample) {
-        SkeletonRepairResult repaired = repair_skeleton(s, options.repair);
+        SkeletonRepairResult repaired = repair_skeleton(s, options.repair, &options.connection_surfaces.blocks);
         clock.lap("skeleton_repair");
         // A branch on a fan-edge end that the repair left (the analysis refuses it after the resampling): named here,
         // with the reason measured on the sampling the repair judged (fan_end_repair.h, first_fan_end_refusal).

@@ -848,8 +848,10 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
 // Splits every branching point of degree 4 left by the trunks (no leaflet, 4 branch edges) whose closest pair is less
 // than 90 degrees apart into two branching points of degree 3 (SkeletonRepairOptions::junction_split, placement and
 // radii there): the close pair moves to a new vertex c', the other two stay at c (moved), joined by the edge (c, c').
-// Returns the number of points split.
-int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clearance) {
+// A point whose directions fit_cube_frame accepts under `blocks` (when given and enabled) keeps its degree 4: it gets a
+// compatible block. Returns the number of points split.
+int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clearance,
+                         const CompatibleBlockOptions* blocks) {
     if (!(factor > 0) || s.radii.size() != s.points.size()) return 0;
     Graph g;
     make_graph(s, g);
@@ -868,6 +870,7 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clea
             d[k] = ok ? (s.points[other[k]] - s.points[c]) / len : Vec3{};
         }
         if (!ok) continue;
+        if (blocks && blocks->enabled && fit_cube_frame({d.begin(), d.end()}, *blocks).accepted) continue;
         int bi = -1, bj = -1;
         double best = 0;  // the closest pair: largest cosine, above 0 (less than 90 degrees apart)
         for (int i = 0; i < 4; ++i)
@@ -931,7 +934,8 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clea
 
 }  // namespace
 
-SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepairOptions& o) {
+SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepairOptions& o,
+                                     const CompatibleBlockOptions* blocks) {
     SkeletonRepairResult res;
     res.skeleton = input;
     res.vertex_map.resize(input.points.size());
@@ -943,7 +947,7 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
             if (v >= 0) res.fan_end_pins.push_back(v);
     repair_trunks(s, o, res);
     res.junction_splits =
-        split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance);
+        split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance, blocks);
     res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
     return res;
 }

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "mesohex/core/skeleton.h"
+#include "mesohex/stages/compatible_blocks.h"
 #include "mesohex/stages/fan_end_repair.h"
 
 namespace mesohex {
@@ -187,12 +188,16 @@ struct SkeletonRepairResult {
 // Fan-end retractions (fan_end_repair.h) come first: input vertices, edges and faces keep their indices, new ones are
 // appended (a split single fan edge cuts faces too).
 // Degree-4 splits (junction_split) come after the trunks: each moves c, appends c' and the edge (c, c') and re-attaches
-// the close pair's first edges to c' (V and E grow by one).
+// the close pair's first edges to c' (V and E grow by one). With `blocks` (may be null; the pipeline passes its
+// connection-surface block options) a point whose four directions fit_cube_frame accepts is not split when
+// blocks->enabled: it gets a compatible block (no irregular interior edge), which a split into two degree-3 points
+// (bridged by a branch edge) would rule out (docs/blocks.md, "Acceptance audit (session 24)").
 // Root patch splits come after the trunks (they touch only leaflets): input vertices keep their indices, new vertices
 // are appended (cut points in edge order, then face centres in face order); a cut edge becomes its two halves in its
 // place; new edges inside split faces are appended in face order; a split face keeps its index for its first piece,
 // the others are appended. Each split adds per strip edge one vertex and one edge, per cut face one edge and one face
 // (4 edges and 3 faces and a centre vertex for a face cut twice): V - E + F unchanged. O(V + E + F) per root.
-SkeletonRepairResult repair_skeleton(const Skeleton& s, const SkeletonRepairOptions& o = {});
+SkeletonRepairResult repair_skeleton(const Skeleton& s, const SkeletonRepairOptions& o = {},
+                                     const CompatibleBlockOptions* blocks = nullptr);
 
 }  // namespace mesohex
