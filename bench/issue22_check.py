@@ -197,20 +197,29 @@ def build_wall(rng, i):
     else:
         length, j0 = n, 0
     sides = rng.choice([1, 1, 2])
-    rows = [rng.randint(1, 2) for _ in range(sides)]
+    rows = [rng.randint(1, 3) for _ in range(sides)]
+    # The second side's wall over a part of the chain only (degree 3 and 4 on one chain), in a third of the cases.
+    sub = (0, length)
+    if sides == 2 and length > 1 and rng.random() < 0.33:
+        a = rng.randint(0, length - 1)
+        sub = (a, rng.randint(a + 1, length))
+    rw = r if rng.random() < 0.75 else round(rng.uniform(0.1, 0.4), 3)  # the walls' radius (the plate's: r)
     tilt = [rng.choice([0, 0, 0, 10, 20, 30]) for _ in range(sides)]
+    noise = rng.choice([0, 0, 0.05, 0.1])  # hand-drawn: plate vertices off the grid (in the plane), not on the chain
     s = Skel()
-    lat = [[s.point((x, y, 0.0), r) for y in range(n + 1)] for x in range(n + 1)]
+    lat = [[s.point((x + (rng.uniform(-noise, noise) if x != c else 0), y + rng.uniform(-noise, noise), 0.0), r)
+            for y in range(n + 1)] for x in range(n + 1)]
     lattice_quads(s, lat, n, n)
     for side in range(sides):
         up = 1.0 if side == 0 else -1.0
         t = math.radians(tilt[side])
-        w = [[lat[c][j0 + j]] for j in range(length + 1)]
-        for j in range(length + 1):
+        lo, hi = (0, length) if side == 0 else sub
+        w = [[lat[c][j0 + j]] for j in range(lo, hi + 1)]
+        for j in range(lo, hi + 1):
             for k in range(1, rows[side] + 1):
-                w[j].append(s.point((c + k * math.sin(t), j0 + j, up * k * math.cos(t)), r))
-        lattice_quads(s, w, length, rows[side])
-    name = f"wall n{n} c{c} {mode} j{j0}+{length} sides{sides} rows{rows} tilt{tilt} r{r}"
+                w[j - lo].append(s.point((c + k * math.sin(t), j0 + j, up * k * math.cos(t)), rw))
+        lattice_quads(s, w, hi - lo, rows[side])
+    name = f"wall n{n} c{c} {mode} j{j0}+{length} sides{sides} rows{rows} tilt{tilt} noise{noise} sub{sub} r{r}/{rw}"
     # Docked (not across): the raw mesh is the standard formula, 2 per face + 2 per boundary edge (docs/blocks.md).
     own = 2 * len(s.faces) + 2 * s.boundary_edges() if mode != "across" else None
     return s, {"kind": "wall", "name": name, "block": "fan-may" if mode == "across" else "none", "own_hexes": own}
@@ -261,10 +270,11 @@ def star(rng, dirs, r):
     s = Skel()
     c = s.point((0.0, 0.0, 0.0), r)
     arms = []
+    own = rng.random() < 0.25  # each arm its own radius (0.1 - 0.4 of the edge) in a quarter of the stars
     for d in dirs:
         n = rng.randint(1, 3)
         L = rng.uniform(0.8, 1.2)
-        s.polyline(c, [mul(q * L, d) for q in range(1, n + 1)], r)
+        s.polyline(c, [mul(q * L, d) for q in range(1, n + 1)], round(rng.uniform(0.1, 0.4), 3) if own else r)
         arms.append(n)
     return s, arms
 
@@ -474,7 +484,7 @@ def run_case(binary, out, idx, case):
     base = os.path.join(out, f"{d['kind']}_{idx:04d}")
     skel = base + ext
     (s.write_skel if ext == ".skel" else s.write_obj)(skel)
-    res = {"kind": d["kind"], "name": d["name"], "file": skel, "fails": [], "info": ""}
+    res = {"kind": d["kind"], "name": d["name"], "file": skel, "fails": [], "info": "", "euler": s.euler()}
     m, rep = run_mesh(binary, skel, base)
     err = m.stderr.strip()
     if m.returncode == 3:
@@ -550,21 +560,31 @@ def run_case(binary, out, idx, case):
 
 
 def finish_case(binary, out, res):
-    """Thicken the skeleton, mesh in the domain, check the final mesh (validity and Euler characteristic)."""
+    """Thicken the skeleton, mesh in the domain (1 subdivision level), check the final mesh (validity, Euler
+    characteristic); where the raw mesh had a block, the same with `--no-blocks`, to compare the finished meshes'
+    interior irregular edges (padding turns the raw boundary's valence-1 / 3 edges into interior valence-3 / 5 ones)."""
     skel = res["file"]
     base = os.path.splitext(skel)[0] + "_fin"
     t = subprocess.run([binary, "thicken", skel, "-o", base + ".off"], capture_output=True, text=True)
     if t.returncode != 0:
         return f"thicken exit {t.returncode}"
-    m = subprocess.run([binary, "mesh", skel, "--surface", base + ".off", "-o", base + ".mesh", "--report",
-                        base + ".json", "-q", "--threads", "1"], capture_output=True, text=True)
-    if m.returncode not in (0, 5):
-        return f"mesh exit {m.returncode}: {m.stderr.strip()[-200:]}"
-    q = check_mesh(*read_mesh(base + ".mesh"))
-    r = json.load(open(base + ".json"))
-    h = r["quality"].get("hausdorff", {})
-    return (f"{q['hexes']} hexes, SJ min {q['sj_min']:.3f}, inverted {q['inverted']}, Euler {q['euler']}, "
-            f"problems {q['problems'][:2]}, Hausdorff {json.dumps(h)[:80]}")
+    text = []
+    for tag, extra in (("", []), ("no-blocks ", ["--no-blocks"])):
+        if extra and not sum(res.get("blocks", (0, 0))):
+            break
+        m = subprocess.run([binary, "mesh", skel, "--surface", base + ".off", "-o", base + ".mesh", "--report",
+                            base + ".json", "--levels", "1", "-q", "--threads", "1", *extra],
+                           capture_output=True, text=True)
+        if m.returncode not in (0, 5):
+            text.append(f"{tag}mesh exit {m.returncode}: {m.stderr.strip()[-200:]}")
+            continue
+        q = check_mesh(*read_mesh(base + ".mesh"))
+        h = json.load(open(base + ".json")).get("hausdorff", {}).get("relative_max", float("nan"))
+        text.append(f"{tag}{q['hexes']} hexes, SJ min {q['sj_min']:.3f}, inverted {q['inverted']}, Euler {q['euler']}"
+                    f"{' (skeleton ' + str(res['euler']) + ')' if q['euler'] != res['euler'] else ''}, "
+                    f"problems {len(q['problems'])}, Hausdorff {100 * h:.2f} %, interior irregular "
+                    f"{sum(q['irregular']['interior'].values())} {q['irregular']['interior']}")
+    return "; ".join(text)
 
 
 def main():
