@@ -320,6 +320,58 @@ int split_root_patches(Skeleton& s, double factor) {
     return strips;
 }
 
+// Splits, beyond every fan-edge chain end inside a leaflet (a docked wall's inside end, docked_walls.h), the face
+// strip across the chain's continuation (SkeletonRepairOptions::docked_end_split). An inside end u: exactly one of
+// its sides is shared by 3 or more faces (the chain edge (u, w)), no branch edge at u, and exactly one side (u, x)
+// shared by 2 faces of which neither has the side (u, w): the plate edge continuing the chain. Returns the number of
+// strips split.
+int split_docked_ends(Skeleton& s, double factor) {
+    const int n = static_cast<int>(s.points.size());
+    if (!(factor > 0) || s.faces.empty() || s.radii.size() != s.points.size()) return 0;
+    for (const std::vector<int>& f : s.faces) {
+        if (f.size() != 4) return 0;  // analysis rejects other leaflet faces
+        for (const int v : f)
+            if (v < 0 || v >= n) return 0;
+    }
+    const Leaflets l = make_leaflets(s);
+    std::vector<std::vector<int>> sides(n);  // per vertex: its face sides' other ends
+    for (const auto& [key, fs] : l.side_faces) {
+        sides[key.first].push_back(key.second);
+        sides[key.second].push_back(key.first);
+    }
+    std::vector<char> branch(n, 0);
+    for (const std::array<int, 2>& e : s.edges)
+        if (e[0] >= 0 && e[0] < n && e[1] >= 0 && e[1] < n && !l.side_faces.count(std::minmax(e[0], e[1])))
+            branch[e[0]] = branch[e[1]] = 1;
+    const auto faces_of = [&](int a, int b) -> const std::vector<int>& { return l.side_faces.at(std::minmax(a, b)); };
+    std::map<EdgeKey, Cut> cuts;
+    int strips = 0;
+    for (int u = 0; u < n; ++u) {
+        if (branch[u]) continue;
+        int w = -1, fans = 0;
+        for (const int v : sides[u])
+            if (faces_of(u, v).size() >= 3) ++fans, w = v;
+        if (fans != 1) continue;
+        const std::vector<int>& chain_faces = faces_of(u, w);
+        int x = -1, candidates = 0;
+        for (const int v : sides[u]) {
+            const std::vector<int>& fs = faces_of(u, v);
+            if (fs.size() != 2) continue;
+            bool shares = false;
+            for (const int f : fs) shares |= std::find(chain_faces.begin(), chain_faces.end(), f) != chain_faces.end();
+            if (!shares) ++candidates, x = v;
+        }
+        if (candidates != 1 || cuts.count(std::minmax(u, x))) continue;
+        const double d = distance(s.points[u], s.points[x]);
+        const double target = factor * s.radii[u];
+        if (!(d > target)) continue;
+        mark_strip(s, l, u, x, std::min(0.5, target / d), cuts);
+        ++strips;
+    }
+    if (strips) apply_cuts(s, cuts);
+    return strips;
+}
+
 // The shorter walk of a close pair whose tubes do not separate before it ends: a stub (ends at an extremity), a
 // merge (ends at a branching point without leaflet whose other edges lead elsewhere than to the pair), or neither.
 bool absorbable(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& o, const Walk& shorter,
@@ -948,6 +1000,7 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     repair_trunks(s, o, res);
     res.junction_splits =
         split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance, blocks);
+    res.docked_end_splits = split_docked_ends(s, o.docked_end_split);
     res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
     return res;
 }
