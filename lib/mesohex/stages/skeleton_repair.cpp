@@ -276,16 +276,24 @@ void apply_cuts(Skeleton& s, std::map<EdgeKey, Cut>& cuts) {
     s.edges = std::move(edges);
 }
 
+// Whether a strip split by `factor` applies to s at all: factor > 0, radii, and only quads with valid vertex ids
+// (analysis rejects other leaflet faces).
+bool strips_splittable(const Skeleton& s, double factor) {
+    const int n = static_cast<int>(s.points.size());
+    if (!(factor > 0) || s.faces.empty() || s.radii.size() != s.points.size()) return false;
+    for (const std::vector<int>& f : s.faces) {
+        if (f.size() != 4) return false;
+        for (const int v : f)
+            if (v < 0 || v >= n) return false;
+    }
+    return true;
+}
+
 // Splits the strips around every interior leaflet vertex rooting one branch (SkeletonRepairOptions::
 // root_patch_factor). Returns the number of strips split.
 int split_root_patches(Skeleton& s, double factor) {
     const int n = static_cast<int>(s.points.size());
-    if (!(factor > 0) || s.faces.empty() || s.radii.size() != s.points.size()) return 0;
-    for (const std::vector<int>& f : s.faces) {
-        if (f.size() != 4) return 0;  // analysis rejects other leaflet faces
-        for (const int v : f)
-            if (v < 0 || v >= n) return 0;
-    }
+    if (!strips_splittable(s, factor)) return 0;
     if (!has_edge_off_faces(s)) return 0;  // a root has a branch edge
     const Leaflets l = make_leaflets(s);
     std::vector<std::vector<int>> side_nb(n), branch_nb(n);
@@ -327,12 +335,7 @@ int split_root_patches(Skeleton& s, double factor) {
 // strips split.
 int split_docked_ends(Skeleton& s, double factor) {
     const int n = static_cast<int>(s.points.size());
-    if (!(factor > 0) || s.faces.empty() || s.radii.size() != s.points.size()) return 0;
-    for (const std::vector<int>& f : s.faces) {
-        if (f.size() != 4) return 0;  // analysis rejects other leaflet faces
-        for (const int v : f)
-            if (v < 0 || v >= n) return 0;
-    }
+    if (!strips_splittable(s, factor)) return 0;
     const Leaflets l = make_leaflets(s);
     std::vector<std::vector<int>> sides(n);  // per vertex: its face sides' other ends
     for (const auto& [key, fs] : l.side_faces) {
