@@ -530,7 +530,7 @@ def run_case(binary, out, idx, case):
         res["fails"].append(f"blocks {blocks8} / fan blocks {fanb} where none was expected")
     if d.get("own_hexes") is not None:
         ms = r["meshed_skeleton"]
-        # The file's count, or the meshed skeleton's when a repair split plate strips (--docked-end-split).
+        # The file's count, or the meshed skeleton's when a repair split plate strips (--docked-foot-split).
         own = d["own_hexes"] if ms["faces"] == len(s.faces) else 2 * ms["faces"] + 2 * ms["boundary_edges"]
         if own != q["hexes"]:
             res["fails"].append(f"hexes {q['hexes']} vs 2 x faces + 2 x boundary edges {own}")
@@ -605,7 +605,7 @@ def main():
     ap.add_argument("--finish", type=int, default=0, help="finish the first K accepted cases of every kind")
     ap.add_argument("--tsv", help="one line per case: kind, name, class, failures / info")
     ap.add_argument("--keep-failing", help="copy the skeleton files of failing cases here")
-    ap.add_argument("--mesh-args", default="", help="extra options for every mesh run, e.g. '--docked-end-split 2'")
+    ap.add_argument("--mesh-args", default="", help="extra options for every mesh run, e.g. '--docked-foot-split 2'")
     a = ap.parse_args()
     MESH_ARGS.extend(a.mesh_args.split())
     os.makedirs(a.out, exist_ok=True)

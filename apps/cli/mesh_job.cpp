@@ -194,10 +194,11 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "before) (0 = off, the default: docs/junctions.md)")
         ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
-    cmd->add_option("--docked-end-split", job->options.pipeline.repair.docked_end_split,
-                    "Split the plate's face strip beyond every inside end of a docked wall at this many x the end's "
-                    "radius from it (the wall's end half-chunk then stands on a plate row that short, not a whole "
-                    "plate edge; with resampling; 0 = off, the default: docs/blocks.md)")
+    cmd->add_option(
+           "--docked-foot-split", job->options.pipeline.repair.docked_foot_split,
+           "Split the plate's face strips beside a docked wall's chain (both sides) and beyond its inside ends at this "
+           "many x the chain's radius from it, so the wall stands on a foot as wide as itself, not 2 plate "
+           "faces (with resampling; 0 = off: docs/blocks.md)")
         ->check(finite_range(0.0, 10.0))
         ->capture_default_str();
     cmd->add_option("--junction-inset", job->options.pipeline.raw_mesh.cover.inset,

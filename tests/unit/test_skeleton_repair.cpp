@@ -295,52 +295,57 @@ TEST(SkeletonRepair, NearOrthogonalCrossGetsItsBlockThroughThePipeline) {
     EXPECT_GT(q.sj_min, qp.sj_min);
 }
 
-// Docked walls' inside ends (docked_end_split, off by default; docs/blocks.md "Acceptance audit (session 24)"): the
+// Docked walls' feet (docked_foot_split, 2 by default; docs/blocks.md "Acceptance audit (session 24)"): the
 // generated wall (6 x 6 unit plate at z = 0, x and y from -3 to 3; a wall of 2 edges and 2 rows on x = 0 from y = -1
-// to 1), radius 0.1, split at 2 r = 0.2 beyond both inside ends: the plate rows y in [-2, -1] and [1, 2] are cut at
-// y = -1.2 and 1.2, each strip through the whole plate: +7 vertices, +13 edges (7 cut edges in two, 6 new), +6 faces.
-// V 55 -> 69, E 94 -> 120, F 40 -> 52 (Euler 1); boundary edges 30 -> 34 (the plate's left and right border edges of
-// both rows cut); raw hexes 2 F + 2 B = 172 (140 unsplit). From the border (walledge: chain from y = -3): one inside
-// end, one strip; across the whole plate (a T fan, both ends on the border): none.
-TEST(SkeletonRepair, DockedWallInsideEndsSplitTheirPlateStrips) {
+// to 1), radius 0.1, split at 2 r = 0.2 from the chain: the plate columns x in [-1, 0] and [0, 1] at x = -0.2 and 0.2
+// (beside the chain, through the whole plate), the rows y in [-2, -1] and [1, 2] at y = -1.2 and 1.2 (beyond both
+// inside ends, through the whole plate). 4 strips of 6 faces, 7 cut edges each: +28 vertices; the 4 faces crossed
+// twice become 4 quads (+3 faces, +1 centre vertex, +4 edges each), the 16 crossed once 2 quads (+1 face, +1 edge).
+// V 55 + 28 + 4 = 87, E 94 + 28 + 16 + 16 = 154, F 40 + 16 + 12 = 68 (Euler 1); boundary edges 30 + 8 = 38 (each
+// strip cuts 2 border edges); raw hexes 2 F + 2 B = 212 (140 unsplit). From the border (walledge: chain from y = -3):
+// 2 strips beside, 1 beyond its inside end; across the whole plate (a T fan, which cuts the plate in two): none.
+TEST(SkeletonRepair, DockedWallFeetSplitTheirPlateStrips) {
     mesohex::WallPlate w;
     const Skeleton in = mesohex::make_wall_plate(w, 1.0, 0.1);
     ASSERT_EQ(in.points.size(), 55u);
     mesohex::SkeletonRepairOptions o;
-    EXPECT_EQ(mesohex::repair_skeleton(in, o).skeleton, in);  // off by default
-    o.docked_end_split = 2;
+    EXPECT_EQ(o.docked_foot_split, 2);  // the default
+    mesohex::SkeletonRepairOptions off;
+    off.docked_foot_split = 0;
+    EXPECT_EQ(mesohex::repair_skeleton(in, off).skeleton, in);
     const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, o);
-    EXPECT_EQ(res.docked_end_splits, 2);
+    EXPECT_EQ(res.docked_foot_splits, 4);
     const Skeleton& s = res.skeleton;
-    EXPECT_EQ(s.points.size(), 69u);
-    EXPECT_EQ(s.edges.size(), 120u);
-    EXPECT_EQ(s.faces.size(), 52u);
-    int at_minus = 0, at_plus = 0;
+    EXPECT_EQ(s.points.size(), 87u);
+    EXPECT_EQ(s.edges.size(), 154u);
+    EXPECT_EQ(s.faces.size(), 68u);
+    int beside = 0, beyond = 0;
     for (std::size_t v = 55; v < s.points.size(); ++v) {
-        at_minus += std::abs(s.points[v].y + 1.2) < 1e-12 && s.points[v].z == 0;
-        at_plus += std::abs(s.points[v].y - 1.2) < 1e-12 && s.points[v].z == 0;
+        beside += std::abs(std::abs(s.points[v].x) - 0.2) < 1e-12 && std::abs(std::abs(s.points[v].y) - 1.2) > 1e-9;
+        beyond += std::abs(std::abs(s.points[v].y) - 1.2) < 1e-12 && std::abs(std::abs(s.points[v].x) - 0.2) > 1e-9;
+        EXPECT_EQ(s.points[v].z, 0.0);
         EXPECT_NEAR(s.radii[v], 0.1, 1e-12);
     }
-    EXPECT_EQ(at_minus, 7);
-    EXPECT_EQ(at_plus, 7);
-    mesohex::PipelineOptions po;
-    po.repair.docked_end_split = 2;
-    const mesohex::PipelineResult r = mesohex::run_pipeline(in, po);
-    EXPECT_EQ(r.docked_end_splits, 2);
-    EXPECT_EQ(r.analysis.counts.boundary_edges, 34);
-    EXPECT_EQ(r.predicted.hexes, 172);
+    EXPECT_EQ(beside, 2 * 7);
+    EXPECT_EQ(beyond, 2 * 7);
+    const mesohex::PipelineResult r = mesohex::run_pipeline(in);
+    EXPECT_EQ(r.docked_foot_splits, 4);
+    EXPECT_EQ(r.analysis.counts.boundary_edges, 38);
+    EXPECT_EQ(r.predicted.hexes, 212);
     const mesohex::QualityReport q = mesohex::compute_quality(r.raw.mesh);
-    EXPECT_EQ(q.hexes, 172);
+    EXPECT_EQ(q.hexes, 212);
     EXPECT_EQ(q.singular_interior_edges, r.predicted.interior_irregular_edges);
     EXPECT_EQ(q.singular_boundary_edges, r.predicted.boundary_irregular_edges);
     EXPECT_TRUE(q.validation.valid());
     EXPECT_EQ(q.euler_characteristic, 1);
     EXPECT_EQ(q.inverted, 0);
-    EXPECT_EQ(mesohex::compute_quality(mesohex::run_pipeline(in).raw.mesh).hexes, 140);
+    mesohex::PipelineOptions unsplit;
+    unsplit.repair.docked_foot_split = 0;
+    EXPECT_EQ(mesohex::compute_quality(mesohex::run_pipeline(in, unsplit).raw.mesh).hexes, 140);
     w.start = 0;  // from the border
-    EXPECT_EQ(mesohex::repair_skeleton(mesohex::make_wall_plate(w, 1.0, 0.1), o).docked_end_splits, 1);
+    EXPECT_EQ(mesohex::repair_skeleton(mesohex::make_wall_plate(w, 1.0, 0.1), o).docked_foot_splits, 3);
     w.length = 6;  // across: a T fan
-    EXPECT_EQ(mesohex::repair_skeleton(mesohex::make_wall_plate(w, 1.0, 0.1), o).docked_end_splits, 0);
+    EXPECT_EQ(mesohex::repair_skeleton(mesohex::make_wall_plate(w, 1.0, 0.1), o).docked_foot_splits, 0);
 }
 
 // A pair whose first edges are short against the room the other two leave (junction_split_clearance): c = origin,

@@ -328,15 +328,32 @@ int split_root_patches(Skeleton& s, double factor) {
     return strips;
 }
 
-// Splits, beyond every fan-edge chain end inside a leaflet (a docked wall's inside end, docked_walls.h), the face
-// strip across the chain's continuation (SkeletonRepairOptions::docked_end_split). An inside end u: exactly one of
-// its sides is shared by 3 or more faces (the chain edge (u, w)), no branch edge at u, and exactly one side (u, x)
-// shared by 2 faces of which neither has the side (u, w): the plate edge continuing the chain. Returns the number of
-// strips split.
-int split_docked_ends(Skeleton& s, double factor) {
+// Narrows the feet of docked walls (SkeletonRepairOptions::docked_foot_split). A chain vertex u: 1 or 2 of its sides
+// shared by 3 or more faces (the chain sides), no branch edge at u, on a chain with an inside end. Its plate P: the
+// leaflet (faces joined through sides of 2 faces) with 2 faces at a chain side (a regular fan, which cuts its
+// leaflets, has none). Every side (u, v) of 2 faces of P, v not on the chain, has its strip split at factor x r_u from
+// u: beside the chain when the side shares a face with a chain side, beyond an inside end otherwise. Returns the
+// number of strips split.
+int split_docked_feet(Skeleton& s, double factor) {
     const int n = static_cast<int>(s.points.size());
     if (!strips_splittable(s, factor)) return 0;
     const Leaflets l = make_leaflets(s);
+    std::vector<int> leaflet(s.faces.size(), -1);  // faces joined through sides of exactly 2 faces
+    for (std::size_t f0 = 0; f0 < s.faces.size(); ++f0) {
+        if (leaflet[f0] >= 0) continue;
+        std::vector<int> todo{static_cast<int>(f0)};
+        leaflet[f0] = static_cast<int>(f0);
+        while (!todo.empty()) {
+            const int f = todo.back();
+            todo.pop_back();
+            for (int i = 0; i < 4; ++i) {
+                const std::vector<int>& fs = l.side_faces.at(std::minmax(s.faces[f][i], s.faces[f][(i + 1) % 4]));
+                if (fs.size() != 2) continue;
+                for (const int g : fs)
+                    if (leaflet[g] < 0) leaflet[g] = static_cast<int>(f0), todo.push_back(g);
+            }
+        }
+    }
     std::vector<std::vector<int>> sides(n);  // per vertex: its face sides' other ends
     for (const auto& [key, fs] : l.side_faces) {
         sides[key.first].push_back(key.second);
@@ -347,29 +364,61 @@ int split_docked_ends(Skeleton& s, double factor) {
         if (e[0] >= 0 && e[0] < n && e[1] >= 0 && e[1] < n && !l.side_faces.count(std::minmax(e[0], e[1])))
             branch[e[0]] = branch[e[1]] = 1;
     const auto faces_of = [&](int a, int b) -> const std::vector<int>& { return l.side_faces.at(std::minmax(a, b)); };
+    // Per vertex: its chain sides' other ends, and its plate (-1: none).
+    std::vector<std::vector<int>> chain(n);
+    std::vector<int> plate(n, -1);
+    for (int u = 0; u < n; ++u) {
+        for (const int v : sides[u])
+            if (faces_of(u, v).size() >= 3) chain[u].push_back(v);
+        for (const int w : chain[u]) {
+            std::map<int, int> per_leaflet;
+            for (const int f : faces_of(u, w)) ++per_leaflet[leaflet[f]];
+            for (const auto& [id, count] : per_leaflet)
+                if (count == 2) plate[u] = id;
+        }
+    }
+    // Docked chains only: a chain (vertices joined by chain sides) with an inside end, a vertex on one chain side
+    // whose plate goes on past it (a side of 2 plate faces sharing no face with the chain side). Not a closed chain
+    // (e.g. torustwist's core, whose opposite arms are one leaflet) nor a fan cutting its leaflets.
+    const auto inside_end = [&](int u) {
+        if (chain[u].size() != 1 || plate[u] < 0) return false;
+        const std::vector<int>& cf = faces_of(u, chain[u][0]);
+        for (const int v : sides[u]) {
+            const std::vector<int>& fs = faces_of(u, v);
+            if (fs.size() != 2 || leaflet[fs[0]] != plate[u] || leaflet[fs[1]] != plate[u]) continue;
+            if (std::none_of(fs.begin(), fs.end(),
+                             [&](int f) { return std::find(cf.begin(), cf.end(), f) != cf.end(); }))
+                return true;
+        }
+        return false;
+    };
+    std::vector<char> docked(n, 0);
+    for (int e = 0; e < n; ++e) {
+        if (docked[e] || !inside_end(e)) continue;
+        std::vector<int> todo{e};
+        docked[e] = 1;
+        while (!todo.empty()) {
+            const int u = todo.back();
+            todo.pop_back();
+            for (const int w : chain[u])
+                if (!docked[w]) docked[w] = 1, todo.push_back(w);
+        }
+    }
     std::map<EdgeKey, Cut> cuts;
     int strips = 0;
     for (int u = 0; u < n; ++u) {
-        if (branch[u]) continue;
-        int w = -1, fans = 0;
-        for (const int v : sides[u])
-            if (faces_of(u, v).size() >= 3) ++fans, w = v;
-        if (fans != 1) continue;
-        const std::vector<int>& chain_faces = faces_of(u, w);
-        int x = -1, candidates = 0;
+        if (branch[u] || !docked[u] || chain[u].size() > 2 || plate[u] < 0) continue;
         for (const int v : sides[u]) {
             const std::vector<int>& fs = faces_of(u, v);
-            if (fs.size() != 2) continue;
-            bool shares = false;
-            for (const int f : fs) shares |= std::find(chain_faces.begin(), chain_faces.end(), f) != chain_faces.end();
-            if (!shares) ++candidates, x = v;
+            if (fs.size() != 2 || leaflet[fs[0]] != plate[u] || leaflet[fs[1]] != plate[u] ||
+                cuts.count(std::minmax(u, v)))
+                continue;
+            const double d = distance(s.points[u], s.points[v]);
+            const double target = factor * s.radii[u];
+            if (!(d > target)) continue;
+            mark_strip(s, l, u, v, std::min(0.5, target / d), cuts);
+            ++strips;
         }
-        if (candidates != 1 || cuts.count(std::minmax(u, x))) continue;
-        const double d = distance(s.points[u], s.points[x]);
-        const double target = factor * s.radii[u];
-        if (!(d > target)) continue;
-        mark_strip(s, l, u, x, std::min(0.5, target / d), cuts);
-        ++strips;
     }
     if (strips) apply_cuts(s, cuts);
     return strips;
@@ -1003,7 +1052,7 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     repair_trunks(s, o, res);
     res.junction_splits =
         split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance, blocks);
-    res.docked_end_splits = split_docked_ends(s, o.docked_end_split);
+    res.docked_foot_splits = split_docked_feet(s, o.docked_foot_split);
     res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
     return res;
 }
