@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
             };
             const double off = corner_offset(s);
             // The same against the repaired skeleton (before adaptation): the part of the offset the repairs make.
-            const Skeleton repaired = repair_skeleton(in, po.repair).skeleton;
+            const Skeleton repaired = repair_skeleton(in, po.repair, &po.connection_surfaces.blocks).skeleton;
             const double repair_off = corner_offset(repaired);
             if (std::getenv("DUMP_REPAIRED"))  // the repaired skeleton (before adaptation): vertex, radius, neighbours
                 for (std::size_t v = 0; v < repaired.points.size(); ++v) {

@@ -194,6 +194,13 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "before) (0 = off, the default: docs/junctions.md)")
         ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
+    cmd->add_option(
+           "--docked-foot-split", job->options.pipeline.repair.docked_foot_split,
+           "Split the plate's face strips beside a docked wall's chain (both sides) and beyond its inside ends at this "
+           "many x the chain's radius from it, so the wall stands on a foot as wide as itself, not 2 plate "
+           "faces (with resampling; 0 = off: docs/blocks.md)")
+        ->check(finite_range(0.0, 10.0))
+        ->capture_default_str();
     cmd->add_option("--junction-inset", job->options.pipeline.raw_mesh.cover.inset,
                     "Cap the distance of each branching point's surface points at where the union of the input's "
                     "balls ends minus this many x the point's shortest boundary edge (0.25: one padding layer), so the "

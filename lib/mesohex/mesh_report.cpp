@@ -119,6 +119,7 @@ nlohmann::json repairs_json(const PipelineResult& res) {
             {"merged_ends", res.merged_ends},
             {"unseparated_pairs", res.unseparated_pairs},
             {"root_strip_splits", res.root_strip_splits},
+            {"docked_foot_splits", res.docked_foot_splits},
             {"junction_splits", res.junction_splits},
             {"fan_end_retractions", res.fan_end_retractions},
             {"fan_edge_splits", res.fan_edge_splits}};

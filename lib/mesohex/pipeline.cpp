@@ -128,13 +128,14 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     }
     check_radii(s);
 
-    if (options.resample && !curve_work(input, res.input_analysis)) {
+    const bool docked_work = options.repair.docked_foot_split > 0 && res.input_analysis.counts.docked_edges > 0;
+    if (options.resample && !curve_work(input, res.input_analysis) && !docked_work) {
         // Repairs and adaptation change curve branches only (skeleton_repair.h, adaptation.h: leaflet vertices, edges
         // and faces are kept, in their order): without a branch edge (and a repeated edge, which the adaptation would
         // drop) the skeleton is its own repaired and adapted form. Checked against the two calls in test_incremental.
         clock.lap("adaptation");
     } else if (options.resample) {
-        SkeletonRepairResult repaired = repair_skeleton(s, options.repair);
+        SkeletonRepairResult repaired = repair_skeleton(s, options.repair, &options.connection_surfaces.blocks);
         clock.lap("skeleton_repair");
         // A branch on a fan-edge end that the repair left (the analysis refuses it after the resampling): named here,
         // with the reason measured on the sampling the repair judged (fan_end_repair.h, first_fan_end_refusal).
@@ -157,6 +158,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         res.merged_ends = repaired.merged_ends;
         res.unseparated_pairs = repaired.unseparated;
         res.root_strip_splits = repaired.root_strip_splits;
+        res.docked_foot_splits = repaired.docked_foot_splits;
         res.junction_splits = repaired.junction_splits;
         for (const FanEndRetraction& r : repaired.fan_end_retractions) {
             res.fan_end_retractions.push_back(r.vertex);
@@ -218,6 +220,7 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
     line("merged branching ends", res.merged_ends);
     line("close pairs left unseparated", res.unseparated_pairs);
     line("leaflet strips split around rooted branches", res.root_strip_splits);
+    line("plate strips split beside and beyond docked walls' chains", res.docked_foot_splits);
     line("degree-4 branching points split in two", res.junction_splits);
     if (!res.fan_end_retractions.empty()) {
         out << "repairs: fan edges retracted from branches on fan-edge ends: at input vertices";

@@ -53,6 +53,7 @@ struct PipelineResult {
     int merged_ends = 0;  // close-pair branches ending at a branching point, absorbed (their children re-attached)
     int unseparated_pairs = 0;             // close branch pairs the repair left (a branch ends inside the other's tube)
     int root_strip_splits = 0;             // leaflet face strips the repair split around rooted branches
+    int docked_foot_splits = 0;            // plate face strips split beside and beyond docked chains
     int junction_splits = 0;               // degree-4 branching points the repair split into two of degree 3
     std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners
     // Fan-edge chains cut before their retraction: single fan edges in two, chains of 1-2 edges with branches at both

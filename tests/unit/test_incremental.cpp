@@ -337,6 +337,9 @@ TEST(Incremental, BranchFreeSkeletonsAreTheirOwnAdaptation) {
         accept_fan_ends.fan_end_branches = true;
         const SkeletonAnalysis an = analyze_skeleton(s, accept_fan_ends);
         if (std::find(an.edge_degree.begin(), an.edge_degree.end(), 0) != an.edge_degree.end()) continue;
+        // Docked walls get their feet split (SkeletonRepairOptions::docked_foot_split; test
+        // SkeletonRepair.DockedWallFeetSplitTheirPlateStrips): repaired although branch-free.
+        if (an.counts.docked_edges > 0) continue;
         SCOPED_TRACE(name);
         ++shapes;
         for (int edit = 0; edit < 3; ++edit) {

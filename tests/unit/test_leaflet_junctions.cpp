@@ -290,6 +290,8 @@ TEST(LeafletJunctions, EveryRefusalClassNamesTheElementAndSaysHowToEdit) {
         s.edges.clear();
         add_face_edges(s);
         expect_rejected_at(s, 1, "irregular fan");
+        expect_rejected_at(s, 1, "2 fan edges shared by 3 and 4 faces meet here");
+        expect_rejected_at(s, 1, "let that leaflet run along the whole chain");
     }
     {  // branches rooted at the neighbouring interior vertices 6 and 7 of a 4 x 4 plate, both up
         Skeleton s = test::plate(4, 4);

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <numbers>
 #include <vector>
 
@@ -227,6 +228,124 @@ TEST(SkeletonRepair, DegreeFourJunctionSplit) {
     cross.radii = {0.1, 0.1, 0.1, 0.1, 0.1};
     cross.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
     EXPECT_EQ(mesohex::repair_skeleton(cross).junction_splits, 0);
+}
+
+// Issue 22's acceptance audit (bench/issue22_check.py, docs/blocks.md "Acceptance audit (session 24)"): a planar cross
+// +x, (cos 78, sin 78, 0), -x, -y (arms of 2 unit edges, radius 0.1) is near-orthogonal: pair angles 78, 90, 102,
+// 168, 180, 90 (errors 12 <= 25 degrees), each direction about 6 degrees off its axis, so fit_cube_frame accepts it.
+// Its closest pair (78 < 90) is unambiguous (the smallest angle across, 90, exceeds it by 12 >= 10), and the first
+// edges leave room (u at about 42 degrees: p1 = cos 42 = 0.743, p2 = sin 42 = 0.669, m = 0.631 > 0), so the degree-4
+// split takes it when no block is possible (no block options, or blocks off); with the pipeline's block options
+// (enabled) it is left for the block.
+Skeleton near_orthogonal_cross(double radius) {
+    Skeleton s;
+    const Vec3 dirs[4] = {{1, 0, 0}, {std::cos(78 * kDeg), std::sin(78 * kDeg), 0}, {-1, 0, 0}, {0, -1, 0}};
+    s.points.push_back({0, 0, 0});
+    for (const Vec3& d : dirs) {
+        const int first = static_cast<int>(s.points.size());
+        s.points.push_back(d);
+        s.points.push_back(2 * d);
+        s.edges.push_back({0, first});
+        s.edges.push_back({first, first + 1});
+    }
+    s.radii.assign(s.points.size(), radius);
+    return s;
+}
+
+TEST(SkeletonRepair, NearOrthogonalCrossKeptForItsBlock) {
+    const Skeleton in = near_orthogonal_cross(0.1);
+    EXPECT_EQ(mesohex::repair_skeleton(in).junction_splits, 1);  // no block options: split as before
+    mesohex::CompatibleBlockOptions blocks;
+    EXPECT_EQ(mesohex::repair_skeleton(in, {}, &blocks).junction_splits, 0);
+    EXPECT_EQ(mesohex::repair_skeleton(in, {}, &blocks).skeleton, in);
+    blocks.enabled = false;  // --no-blocks: the paper's layout, split
+    EXPECT_EQ(mesohex::repair_skeleton(in, {}, &blocks).junction_splits, 1);
+}
+
+// Through the pipeline (resampling; radius 0.25): one block, no interior irregular edge. Hexes 4 per meshed branch
+// edge E + 8; boundary irregular edges by hand: 4 corner edges per chunk (4 E) and 8 per extremity cap (4 x 8) of
+// valence 1; the cube's docked faces +-x, +-y meet at 4 cube edges (2 mesh edges each) of valence 3, its free faces
+// +-z are opposite (no valence-1 cube edge). Blocks off: split into two degree-3 points (2 branching points, interior
+// irregular edges at both partitions) and no block.
+TEST(SkeletonRepair, NearOrthogonalCrossGetsItsBlockThroughThePipeline) {
+    const Skeleton in = near_orthogonal_cross(0.25);
+    const mesohex::PipelineResult with = mesohex::run_pipeline(in);
+    EXPECT_EQ(with.junction_splits, 0);
+    EXPECT_EQ(with.predicted.compatible_blocks, 1);
+    EXPECT_EQ(with.analysis.counts.branching_points, 1);
+    const long e = static_cast<long>(with.skeleton.edges.size());
+    const mesohex::QualityReport q = mesohex::compute_quality(with.raw.mesh);
+    EXPECT_EQ(q.hexes, 4 * e + 8);
+    EXPECT_TRUE(q.singular_interior_edges.empty());
+    EXPECT_EQ(q.singular_boundary_edges, (std::map<int, long>{{1, 4 * e + 32}, {3, 8}}));
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.euler_characteristic, 1);
+    EXPECT_EQ(q.inverted, 0);
+    mesohex::PipelineOptions paper;
+    paper.connection_surfaces.blocks.enabled = false;
+    const mesohex::PipelineResult without = mesohex::run_pipeline(in, paper);
+    EXPECT_EQ(without.junction_splits, 1);
+    EXPECT_EQ(without.predicted.compatible_blocks, 0);
+    EXPECT_EQ(without.analysis.counts.branching_points, 2);
+    const mesohex::QualityReport qp = mesohex::compute_quality(without.raw.mesh);
+    EXPECT_EQ(qp.hexes, 4 * static_cast<long>(without.skeleton.edges.size()));
+    long interior = 0;
+    for (const auto& [valence, count] : qp.singular_interior_edges) interior += count;
+    EXPECT_GT(interior, 0);
+    EXPECT_GT(q.sj_min, qp.sj_min);
+}
+
+// Docked walls' feet (docked_foot_split, 2 by default; docs/blocks.md "Acceptance audit (session 24)"): the
+// generated wall (6 x 6 unit plate at z = 0, x and y from -3 to 3; a wall of 2 edges and 2 rows on x = 0 from y = -1
+// to 1), radius 0.1, split at 2 r = 0.2 from the chain: the plate columns x in [-1, 0] and [0, 1] at x = -0.2 and 0.2
+// (beside the chain, through the whole plate), the rows y in [-2, -1] and [1, 2] at y = -1.2 and 1.2 (beyond both
+// inside ends, through the whole plate). 4 strips of 6 faces, 7 cut edges each: +28 vertices; the 4 faces crossed
+// twice become 4 quads (+3 faces, +1 centre vertex, +4 edges each), the 16 crossed once 2 quads (+1 face, +1 edge).
+// V 55 + 28 + 4 = 87, E 94 + 28 + 16 + 16 = 154, F 40 + 16 + 12 = 68 (Euler 1); boundary edges 30 + 8 = 38 (each
+// strip cuts 2 border edges); raw hexes 2 F + 2 B = 212 (140 unsplit). From the border (walledge: chain from y = -3):
+// 2 strips beside, 1 beyond its inside end; across the whole plate (a T fan, which cuts the plate in two): none.
+TEST(SkeletonRepair, DockedWallFeetSplitTheirPlateStrips) {
+    mesohex::WallPlate w;
+    const Skeleton in = mesohex::make_wall_plate(w, 1.0, 0.1);
+    ASSERT_EQ(in.points.size(), 55u);
+    mesohex::SkeletonRepairOptions o;
+    EXPECT_EQ(o.docked_foot_split, 2);  // the default
+    mesohex::SkeletonRepairOptions off;
+    off.docked_foot_split = 0;
+    EXPECT_EQ(mesohex::repair_skeleton(in, off).skeleton, in);
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, o);
+    EXPECT_EQ(res.docked_foot_splits, 4);
+    const Skeleton& s = res.skeleton;
+    EXPECT_EQ(s.points.size(), 87u);
+    EXPECT_EQ(s.edges.size(), 154u);
+    EXPECT_EQ(s.faces.size(), 68u);
+    int beside = 0, beyond = 0;
+    for (std::size_t v = 55; v < s.points.size(); ++v) {
+        beside += std::abs(std::abs(s.points[v].x) - 0.2) < 1e-12 && std::abs(std::abs(s.points[v].y) - 1.2) > 1e-9;
+        beyond += std::abs(std::abs(s.points[v].y) - 1.2) < 1e-12 && std::abs(std::abs(s.points[v].x) - 0.2) > 1e-9;
+        EXPECT_EQ(s.points[v].z, 0.0);
+        EXPECT_NEAR(s.radii[v], 0.1, 1e-12);
+    }
+    EXPECT_EQ(beside, 2 * 7);
+    EXPECT_EQ(beyond, 2 * 7);
+    const mesohex::PipelineResult r = mesohex::run_pipeline(in);
+    EXPECT_EQ(r.docked_foot_splits, 4);
+    EXPECT_EQ(r.analysis.counts.boundary_edges, 38);
+    EXPECT_EQ(r.predicted.hexes, 212);
+    const mesohex::QualityReport q = mesohex::compute_quality(r.raw.mesh);
+    EXPECT_EQ(q.hexes, 212);
+    EXPECT_EQ(q.singular_interior_edges, r.predicted.interior_irregular_edges);
+    EXPECT_EQ(q.singular_boundary_edges, r.predicted.boundary_irregular_edges);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.euler_characteristic, 1);
+    EXPECT_EQ(q.inverted, 0);
+    mesohex::PipelineOptions unsplit;
+    unsplit.repair.docked_foot_split = 0;
+    EXPECT_EQ(mesohex::compute_quality(mesohex::run_pipeline(in, unsplit).raw.mesh).hexes, 140);
+    w.start = 0;  // from the border
+    EXPECT_EQ(mesohex::repair_skeleton(mesohex::make_wall_plate(w, 1.0, 0.1), o).docked_foot_splits, 3);
+    w.length = 6;  // across: a T fan
+    EXPECT_EQ(mesohex::repair_skeleton(mesohex::make_wall_plate(w, 1.0, 0.1), o).docked_foot_splits, 0);
 }
 
 // A pair whose first edges are short against the room the other two leave (junction_split_clearance): c = origin,

@@ -323,15 +323,38 @@ VertexClass classify_fan_vertex(const Skeleton& s, const VertexStar& st, const s
     const bool regular =
         !st.inside_a_leaflet && (st.nfan == 1 ? st.nbnd == st.fan_degrees[0]
                                               : st.nfan == 2 && st.fan_degrees[0] == st.fan_degrees[1] && st.nbnd == 0);
-    if (!regular)
+    if (!regular) {
+        // Which configuration: fan edges of unequal degrees meeting here (a leaflet along the chain stops here, e.g. a
+        // wall on one side of a plate shorter than the wall that cuts it), a chain branching here, a leaflet with
+        // border edges at an inner chain vertex, or a fan edge ending inside a leaflet.
+        std::string what, edit;
+        const bool unequal = st.nfan == 2 && st.fan_degrees[0] != st.fan_degrees[1];
+        if (unequal) {
+            what = "2 fan edges shared by " + std::to_string(std::min(st.fan_degrees[0], st.fan_degrees[1])) + " and " +
+                   std::to_string(std::max(st.fan_degrees[0], st.fan_degrees[1])) +
+                   " faces meet here (a leaflet along the fan-edge chain stops at this vertex while the chain goes on)";
+            edit =
+                "let that leaflet run along the whole chain (every fan edge of the chain shared by as many faces: "
+                "for a wall on a plate cut by another wall, as long as the plate)";
+        } else if (st.nfan > 2) {
+            what = std::to_string(st.nfan) + " fan edges meet here (the fan-edge chain branches)";
+            edit =
+                "make the fan edges one chain through this vertex (2 fan edges at every inner vertex), or cut the "
+                "leaflets so that each chain ends at this vertex with its own border edges";
+        } else {
+            what = st.nfan == 2 ? "a leaflet has border edges at this inner vertex of the fan-edge chain"
+                                : "the fan edge (shared by " + std::to_string(st.fan_degrees[0]) +
+                                      " faces) ends inside a leaflet or with " + std::to_string(st.nbnd) +
+                                      " border edges instead of one per face (the paper's limitation 2, not docked)";
+            edit =
+                "let every leaflet around the fan edge end with its own border edge at the chain's end (cut the "
+                "leaflet that continues past it along the chain's line), or extend the fan edge chain to that "
+                "leaflet's border";
+        }
         fail(ErrorCode::UnsupportedConfiguration,
-             vname + ": an irregular fan (a fan edge ending inside a leaflet, paper limitation 2, or " +
-                 std::to_string(st.nfan) +
-                 " fan edges of unequal degrees or not in one chain) is not supported; "
-                 "edit: let every leaflet around the fan edge end with its own border edge at the chain's end "
-                 "(cut the leaflet that continues past it along the chain's line), or extend the fan edge "
-                 "chain to that leaflet's border",
+             vname + ": an irregular fan is not supported: " + what + "; edit: " + edit,
              ElementRef::Kind::SkeletonVertex, v);
+    }
     return st.nfan == 1 ? VertexClass::FanEdgeEnd : VertexClass::FanEdgeVertex;
 }
 

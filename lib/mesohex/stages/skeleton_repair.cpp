@@ -276,16 +276,24 @@ void apply_cuts(Skeleton& s, std::map<EdgeKey, Cut>& cuts) {
     s.edges = std::move(edges);
 }
 
+// Whether a strip split by `factor` applies to s at all: factor > 0, radii, and only quads with valid vertex ids
+// (analysis rejects other leaflet faces).
+bool strips_splittable(const Skeleton& s, double factor) {
+    const int n = static_cast<int>(s.points.size());
+    if (!(factor > 0) || s.faces.empty() || s.radii.size() != s.points.size()) return false;
+    for (const std::vector<int>& f : s.faces) {
+        if (f.size() != 4) return false;
+        for (const int v : f)
+            if (v < 0 || v >= n) return false;
+    }
+    return true;
+}
+
 // Splits the strips around every interior leaflet vertex rooting one branch (SkeletonRepairOptions::
 // root_patch_factor). Returns the number of strips split.
 int split_root_patches(Skeleton& s, double factor) {
     const int n = static_cast<int>(s.points.size());
-    if (!(factor > 0) || s.faces.empty() || s.radii.size() != s.points.size()) return 0;
-    for (const std::vector<int>& f : s.faces) {
-        if (f.size() != 4) return 0;  // analysis rejects other leaflet faces
-        for (const int v : f)
-            if (v < 0 || v >= n) return 0;
-    }
+    if (!strips_splittable(s, factor)) return 0;
     if (!has_edge_off_faces(s)) return 0;  // a root has a branch edge
     const Leaflets l = make_leaflets(s);
     std::vector<std::vector<int>> side_nb(n), branch_nb(n);
@@ -313,6 +321,102 @@ int split_root_patches(Skeleton& s, double factor) {
             const double d = distance(s.points[u], s.points[v]);
             if (!(d > target) || cuts.count(std::minmax(u, v))) continue;
             mark_strip(s, l, v, u, std::min(0.5, target / d), cuts);
+            ++strips;
+        }
+    }
+    if (strips) apply_cuts(s, cuts);
+    return strips;
+}
+
+// Narrows the feet of docked walls (SkeletonRepairOptions::docked_foot_split). A chain vertex u: 1 or 2 of its sides
+// shared by 3 or more faces (the chain sides), no branch edge at u, on a chain with an inside end. Its plate P: the
+// leaflet (faces joined through sides of 2 faces) with 2 faces at a chain side (a regular fan, which cuts its
+// leaflets, has none). Every side (u, v) of 2 faces of P, v not on the chain, has its strip split at factor x r_u from
+// u: beside the chain when the side shares a face with a chain side, beyond an inside end otherwise. Returns the
+// number of strips split.
+int split_docked_feet(Skeleton& s, double factor) {
+    const int n = static_cast<int>(s.points.size());
+    if (!strips_splittable(s, factor)) return 0;
+    const Leaflets l = make_leaflets(s);
+    std::vector<int> leaflet(s.faces.size(), -1);  // faces joined through sides of exactly 2 faces
+    for (std::size_t f0 = 0; f0 < s.faces.size(); ++f0) {
+        if (leaflet[f0] >= 0) continue;
+        std::vector<int> todo{static_cast<int>(f0)};
+        leaflet[f0] = static_cast<int>(f0);
+        while (!todo.empty()) {
+            const int f = todo.back();
+            todo.pop_back();
+            for (int i = 0; i < 4; ++i) {
+                const std::vector<int>& fs = l.side_faces.at(std::minmax(s.faces[f][i], s.faces[f][(i + 1) % 4]));
+                if (fs.size() != 2) continue;
+                for (const int g : fs)
+                    if (leaflet[g] < 0) leaflet[g] = static_cast<int>(f0), todo.push_back(g);
+            }
+        }
+    }
+    std::vector<std::vector<int>> sides(n);  // per vertex: its face sides' other ends
+    for (const auto& [key, fs] : l.side_faces) {
+        sides[key.first].push_back(key.second);
+        sides[key.second].push_back(key.first);
+    }
+    std::vector<char> branch(n, 0);
+    for (const std::array<int, 2>& e : s.edges)
+        if (e[0] >= 0 && e[0] < n && e[1] >= 0 && e[1] < n && !l.side_faces.count(std::minmax(e[0], e[1])))
+            branch[e[0]] = branch[e[1]] = 1;
+    const auto faces_of = [&](int a, int b) -> const std::vector<int>& { return l.side_faces.at(std::minmax(a, b)); };
+    // Per vertex: its chain sides' other ends, and its plate (-1: none).
+    std::vector<std::vector<int>> chain(n);
+    std::vector<int> plate(n, -1);
+    for (int u = 0; u < n; ++u) {
+        for (const int v : sides[u])
+            if (faces_of(u, v).size() >= 3) chain[u].push_back(v);
+        for (const int w : chain[u]) {
+            std::map<int, int> per_leaflet;
+            for (const int f : faces_of(u, w)) ++per_leaflet[leaflet[f]];
+            for (const auto& [id, count] : per_leaflet)
+                if (count == 2) plate[u] = id;
+        }
+    }
+    // Docked chains only: a chain (vertices joined by chain sides) with an inside end, a vertex on one chain side
+    // whose plate goes on past it (a side of 2 plate faces sharing no face with the chain side). Not a closed chain
+    // (e.g. torustwist's core, whose opposite arms are one leaflet) nor a fan cutting its leaflets.
+    const auto inside_end = [&](int u) {
+        if (chain[u].size() != 1 || plate[u] < 0) return false;
+        const std::vector<int>& cf = faces_of(u, chain[u][0]);
+        for (const int v : sides[u]) {
+            const std::vector<int>& fs = faces_of(u, v);
+            if (fs.size() != 2 || leaflet[fs[0]] != plate[u] || leaflet[fs[1]] != plate[u]) continue;
+            if (std::none_of(fs.begin(), fs.end(),
+                             [&](int f) { return std::find(cf.begin(), cf.end(), f) != cf.end(); }))
+                return true;
+        }
+        return false;
+    };
+    std::vector<char> docked(n, 0);
+    for (int e = 0; e < n; ++e) {
+        if (docked[e] || !inside_end(e)) continue;
+        std::vector<int> todo{e};
+        docked[e] = 1;
+        while (!todo.empty()) {
+            const int u = todo.back();
+            todo.pop_back();
+            for (const int w : chain[u])
+                if (!docked[w]) docked[w] = 1, todo.push_back(w);
+        }
+    }
+    std::map<EdgeKey, Cut> cuts;
+    int strips = 0;
+    for (int u = 0; u < n; ++u) {
+        if (branch[u] || !docked[u] || chain[u].size() > 2 || plate[u] < 0) continue;
+        for (const int v : sides[u]) {
+            const std::vector<int>& fs = faces_of(u, v);
+            if (fs.size() != 2 || leaflet[fs[0]] != plate[u] || leaflet[fs[1]] != plate[u] ||
+                cuts.count(std::minmax(u, v)))
+                continue;
+            const double d = distance(s.points[u], s.points[v]);
+            const double target = factor * s.radii[u];
+            if (!(d > target)) continue;
+            mark_strip(s, l, u, v, std::min(0.5, target / d), cuts);
             ++strips;
         }
     }
@@ -848,8 +952,10 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
 // Splits every branching point of degree 4 left by the trunks (no leaflet, 4 branch edges) whose closest pair is less
 // than 90 degrees apart into two branching points of degree 3 (SkeletonRepairOptions::junction_split, placement and
 // radii there): the close pair moves to a new vertex c', the other two stay at c (moved), joined by the edge (c, c').
-// Returns the number of points split.
-int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clearance) {
+// A point whose directions fit_cube_frame accepts under `blocks` (when given and enabled) keeps its degree 4: it gets a
+// compatible block. Returns the number of points split.
+int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clearance,
+                         const CompatibleBlockOptions* blocks) {
     if (!(factor > 0) || s.radii.size() != s.points.size()) return 0;
     Graph g;
     make_graph(s, g);
@@ -868,6 +974,7 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clea
             d[k] = ok ? (s.points[other[k]] - s.points[c]) / len : Vec3{};
         }
         if (!ok) continue;
+        if (blocks && blocks->enabled && fit_cube_frame({d.begin(), d.end()}, *blocks).accepted) continue;
         int bi = -1, bj = -1;
         double best = 0;  // the closest pair: largest cosine, above 0 (less than 90 degrees apart)
         for (int i = 0; i < 4; ++i)
@@ -931,7 +1038,8 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clea
 
 }  // namespace
 
-SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepairOptions& o) {
+SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepairOptions& o,
+                                     const CompatibleBlockOptions* blocks) {
     SkeletonRepairResult res;
     res.skeleton = input;
     res.vertex_map.resize(input.points.size());
@@ -943,7 +1051,8 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
             if (v >= 0) res.fan_end_pins.push_back(v);
     repair_trunks(s, o, res);
     res.junction_splits =
-        split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance);
+        split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance, blocks);
+    res.docked_foot_splits = split_docked_feet(s, o.docked_foot_split);
     res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
     return res;
 }

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "mesohex/core/skeleton.h"
+#include "mesohex/stages/compatible_blocks.h"
 #include "mesohex/stages/fan_end_repair.h"
 
 namespace mesohex {
@@ -137,6 +138,15 @@ struct SkeletonRepairOptions {
     // that loops, crosses itself or was already split for another root keeps its first cut; a face crossed in both
     // directions becomes 4 quads); new vertices get radii interpolated along their edge (bilinearly in a face).
     double root_patch_factor = 0.8;
+    // Docked walls (docked_walls.h): the wall's first row of hexes stands on the plate faces beside the chain (the foot,
+    // 2 plate faces wide, one face longer than the chain at an inside end), so a thin wall (radius about 0.1 x the
+    // plate edge) starts from a base a whole plate edge wide and long; the fit leaves that flare in the crease (finished
+    // Hausdorff 1.2 - 6.6 % of the diagonal). The plate's face strips beside the chain (both sides, through the whole
+    // plate) and beyond every inside end are split at docked_foot_split x the chain vertex's radius from the chain (at
+    // most half the edge): the foot is then as wide as the wall. 0 disables (dimensionless, x radius; 2: measured on
+    // thin and default walls, finished Hausdorff 1.2 - 6.6 % -> 0.34 - 0.53 % on 14 of 15).
+    // docs/blocks.md ("Acceptance audit (session 24)").
+    double docked_foot_split = 2;
     // Branches on fan-edge ends (the paper's limitation 3): the fan edge is retracted from the branch's vertex, which
     // becomes a leaflet corner (stages/fan_end_repair.h; a single fan edge is split in two first, with the face strips
     // crossing it). Done first, on the input skeleton.
@@ -158,7 +168,8 @@ struct SkeletonRepairResult {
     int unseparated = 0;        // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
                                 // separate
     int root_strip_splits = 0;  // face strips split for root patches (root_patch_factor)
-    int junction_splits = 0;    // degree-4 branching points split in two (junction_split; one new vertex each)
+    int docked_foot_splits = 0;  // plate face strips split beside and beyond docked chains (docked_foot_split)
+    int junction_splits = 0;     // degree-4 branching points split in two (junction_split; one new vertex each)
     // The ball t of every absorbed stub or merged end, by output id: a radius peak the adaptation keeps as a joint
     // (adapt_skeleton's `pinned`), so that the resampling does not step over it and taper the bump away.
     std::vector<int> absorbed_balls;
@@ -187,12 +198,16 @@ struct SkeletonRepairResult {
 // Fan-end retractions (fan_end_repair.h) come first: input vertices, edges and faces keep their indices, new ones are
 // appended (a split single fan edge cuts faces too).
 // Degree-4 splits (junction_split) come after the trunks: each moves c, appends c' and the edge (c, c') and re-attaches
-// the close pair's first edges to c' (V and E grow by one).
+// the close pair's first edges to c' (V and E grow by one). With `blocks` (may be null; the pipeline passes its
+// connection-surface block options) a point whose four directions fit_cube_frame accepts is not split when
+// blocks->enabled: it gets a compatible block (no irregular interior edge), which a split into two degree-3 points
+// (bridged by a branch edge) would rule out (docs/blocks.md, "Acceptance audit (session 24)").
 // Root patch splits come after the trunks (they touch only leaflets): input vertices keep their indices, new vertices
 // are appended (cut points in edge order, then face centres in face order); a cut edge becomes its two halves in its
 // place; new edges inside split faces are appended in face order; a split face keeps its index for its first piece,
 // the others are appended. Each split adds per strip edge one vertex and one edge, per cut face one edge and one face
 // (4 edges and 3 faces and a centre vertex for a face cut twice): V - E + F unchanged. O(V + E + F) per root.
-SkeletonRepairResult repair_skeleton(const Skeleton& s, const SkeletonRepairOptions& o = {});
+SkeletonRepairResult repair_skeleton(const Skeleton& s, const SkeletonRepairOptions& o = {},
+                                     const CompatibleBlockOptions* blocks = nullptr);
 
 }  // namespace mesohex
