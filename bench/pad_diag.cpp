@@ -4,7 +4,7 @@
 // top corner on the new boundary) and why: at a bottom corner the value is sin(the raw quad's corner angle) x
 // cos(the padding direction, that corner's normal); at a top corner, how much the top edges shrank against the
 // bottom ones (converging directions) and how the offsets of the hex's four vertices differ.
-//   mesohex_pad_diag RAW.mesh DOMAIN.off [COUNT] [--no-pad-to-domain] [--guard SJ]
+//   mesohex_pad_diag RAW.mesh DOMAIN.off [COUNT] [--no-pad-to-domain] [--guard SJ] [--search COS]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -42,6 +42,8 @@ Args parse(int argc, char** argv) {
             a.options.pad_to_domain = 0;
         else if (s == "--guard" && i + 1 < argc)
             a.options.padding.corner_guard = std::atof(argv[++i]);
+        else if (s == "--search" && i + 1 < argc)
+            a.options.padding.search_cos = std::atof(argv[++i]);
         else
             a.count = std::atoi(argv[i]);
     }
