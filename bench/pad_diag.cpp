@@ -137,8 +137,12 @@ int main(int argc, char** argv) {
         for (std::size_t h = 0; h < raw.hexes.size(); ++h) raw_min = std::min(raw_min, sj[h]);
         const int below =
             static_cast<int>(std::count_if(order.begin(), order.end(), [&](std::size_t h) { return sj[h] < 0.2; }));
-        std::printf("raw min %.4f padded min %.4f (padding hexes %zu, below 0.2: %d)\n", raw_min,
-                    order.empty() ? 1.0 : sj[order.front()], order.size(), below);
+        double checksum = 0;  // tells two paddings of the same raw mesh apart (e.g. with and without an option)
+        for (std::size_t v = 0; v < r.mesh.points.size(); ++v)
+            checksum += static_cast<double>(v % 97 + 1) *
+                        (r.mesh.points[v].x + 2 * r.mesh.points[v].y + 3 * r.mesh.points[v].z);
+        std::printf("raw min %.4f padded min %.4f (padding hexes %zu, below 0.2: %d) checksum %.12g\n", raw_min,
+                    order.empty() ? 1.0 : sj[order.front()], order.size(), below, checksum);
         const std::vector<std::array<int, 4>> quads = compute_hex_topology(raw).boundary_quads;
         for (int i = 0; i < a.count && i < static_cast<int>(order.size()); ++i) {
             const std::size_t h = order[static_cast<std::size_t>(i)];
