@@ -470,6 +470,25 @@ TEST(PadInset, ConcaveOnlyMovesTheDimpleAlone) {
               1);
 }
 
+namespace {
+
+// The L of three unit cubes: the 2 x 1 x 2 block without its cube at (1, 0, 1) (hex index i + 2 k).
+HexMesh make_l_of_three_cubes() {
+    HexMesh l = make_block(2, 1, 2);
+    l.hexes.erase(l.hexes.begin() + 3);
+    return l;
+}
+
+// The smallest scaled Jacobian of the padding's new hexes.
+double worst_new_hex(const PaddingResult& r) {
+    double lo = 1;
+    for (std::size_t h = static_cast<std::size_t>(r.first_new_hex); h < r.mesh.hexes.size(); ++h)
+        lo = std::min(lo, scaled_jacobian(mesohex::test::corners_of(r.mesh, static_cast<int>(h))));
+    return lo;
+}
+
+}  // namespace
+
 // PaddingOptions::corner_guard on an L of three unit cubes (the 2 x 1 x 2 block without its cube at (1, 0, 1)). At
 // the two ends of the concave edge, (1, 0, 1) and (1, 1, 1), five quads meet: three on the side face (normal -y or
 // +y), the floor (+z) and the wall (+x). Their mean normal (1, -+3, 1) / sqrt 11 leaves the new hexes on the floor and
@@ -480,19 +499,12 @@ TEST(PadInset, ConcaveOnlyMovesTheDimpleAlone) {
 // every bottom corner of the layer is at least 0.5, and every new hex at least 0.25 (half of min(guard, its bottom
 // corners): the thickness guard).
 TEST(Padding, CornerGuardTurnsTheDirectionAtAConcaveEdgeEnd) {
-    HexMesh l = make_block(2, 1, 2);
-    l.hexes.erase(l.hexes.begin() + 3);  // the cube (1, 0, 1): hex index i + 2 k
+    const HexMesh l = make_l_of_three_cubes();
     auto worst_bottom_corner = [&](const PaddingResult& r) {
         double lo = 1;
         for (std::size_t h = static_cast<std::size_t>(r.first_new_hex); h < r.mesh.hexes.size(); ++h)
             for (std::size_t lv = 0; lv < 4; ++lv)
                 lo = std::min(lo, hex_corner_value(mesohex::test::corners_of(r.mesh, static_cast<int>(h)), lv));
-        return lo;
-    };
-    auto worst_new_hex = [&](const PaddingResult& r) {
-        double lo = 1;
-        for (std::size_t h = static_cast<std::size_t>(r.first_new_hex); h < r.mesh.hexes.size(); ++h)
-            lo = std::min(lo, scaled_jacobian(mesohex::test::corners_of(r.mesh, static_cast<int>(h))));
         return lo;
     };
     const PaddingResult plain = pad(l);
@@ -576,14 +588,7 @@ TEST(Padding, CornerGuardThinsTheLayerWhereDirectionsConverge) {
 // other new vertex stays where it was; the worst new hex of the layer goes from below 1 / sqrt 11 (the floor's and the
 // wall's bottom corner) to above 0.5 (at most 1 / sqrt 3, the new bottom corners).
 TEST(Padding, SearchTurnsTheDirectionAtAConcaveEdgeEndOnly) {
-    HexMesh l = make_block(2, 1, 2);
-    l.hexes.erase(l.hexes.begin() + 3);
-    auto worst_new_hex = [&](const PaddingResult& r) {
-        double lo = 1;
-        for (std::size_t h = static_cast<std::size_t>(r.first_new_hex); h < r.mesh.hexes.size(); ++h)
-            lo = std::min(lo, scaled_jacobian(mesohex::test::corners_of(r.mesh, static_cast<int>(h))));
-        return lo;
-    };
+    const HexMesh l = make_l_of_three_cubes();
     const PaddingResult plain = pad(l);
     PaddingOptions o;
     o.search_cos = 0.5;
