@@ -4,7 +4,7 @@
 // top corner on the new boundary) and why: at a bottom corner the value is sin(the raw quad's corner angle) x
 // cos(the padding direction, that corner's normal); at a top corner, how much the top edges shrank against the
 // bottom ones (converging directions) and how the offsets of the hex's four vertices differ.
-//   mesohex_pad_diag RAW.mesh DOMAIN.off [COUNT] [--no-pad-to-domain] [--guard SJ]
+//   mesohex_pad_diag RAW.mesh DOMAIN.off [COUNT] [--no-pad-to-domain] [--guard SJ] [--search COS]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -42,6 +42,8 @@ Args parse(int argc, char** argv) {
             a.options.pad_to_domain = 0;
         else if (s == "--guard" && i + 1 < argc)
             a.options.padding.corner_guard = std::atof(argv[++i]);
+        else if (s == "--search" && i + 1 < argc)
+            a.options.padding.search_cos = std::atof(argv[++i]);
         else
             a.count = std::atoi(argv[i]);
     }
@@ -135,8 +137,12 @@ int main(int argc, char** argv) {
         for (std::size_t h = 0; h < raw.hexes.size(); ++h) raw_min = std::min(raw_min, sj[h]);
         const int below =
             static_cast<int>(std::count_if(order.begin(), order.end(), [&](std::size_t h) { return sj[h] < 0.2; }));
-        std::printf("raw min %.4f padded min %.4f (padding hexes %zu, below 0.2: %d)\n", raw_min,
-                    order.empty() ? 1.0 : sj[order.front()], order.size(), below);
+        double checksum = 0;  // tells two paddings of the same raw mesh apart (e.g. with and without an option)
+        for (std::size_t v = 0; v < r.mesh.points.size(); ++v)
+            checksum += static_cast<double>(v % 97 + 1) *
+                        (r.mesh.points[v].x + 2 * r.mesh.points[v].y + 3 * r.mesh.points[v].z);
+        std::printf("raw min %.4f padded min %.4f (padding hexes %zu, below 0.2: %d) checksum %.12g\n", raw_min,
+                    order.empty() ? 1.0 : sj[order.front()], order.size(), below, checksum);
         const std::vector<std::array<int, 4>> quads = compute_hex_topology(raw).boundary_quads;
         for (int i = 0; i < a.count && i < static_cast<int>(order.size()); ++i) {
             const std::size_t h = order[static_cast<std::size_t>(i)];

@@ -184,6 +184,12 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "below this scaled Jacobian, towards the direction that maximises the worst such corner "
                     "(docs/junctions.md, \"The padding layer at junctions\")")
         ->check(finite_range(0.0, 1.0));
+    cmd->add_option("--pad-search-cos", job->options.finishing.padding.search_cos,
+                    "Padding directions searched where the direction leaves a quad corner's normal at a cosine below "
+                    "this (folded valleys): the best of five towards the narrowest cone's axis for the new hexes "
+                    "around the vertex (0 = off, the default: docs/junctions.md, \"Padding directions at folded "
+                    "valleys\")")
+        ->check(finite_range(0.0, 1.0));
     cmd->add_option("--pad-overshoot-keep", job->options.finishing.pad_overshoot_keep,
                     "Where the padding layer would reach past the domain surface, pad only to the surface but at "
                     "least this share of the layer's own thickness (1: the full layer)")

@@ -160,8 +160,8 @@ TEST(MeshCli, MissingSurfaceIsAFileErrorAndWritesNothing) {
 TEST(MeshCli, RealOptionsRefuseNonFiniteAndOutOfRangeValues) {
     const fs::path out = temp_dir() / "never_nan.mesh";
     fs::remove(out);
-    for (const char* option :
-         {"--improve-below", "--junction-cover", "--junction-inset", "--pad-corner-guard", "--pad-overshoot-keep"})
+    for (const char* option : {"--improve-below", "--junction-cover", "--junction-inset", "--pad-corner-guard",
+                               "--pad-search-cos", "--pad-overshoot-keep"})
         for (const char* value : {"nan", "inf", "-0.5", "1.5", "abc"}) {
             const auto r = run_cli("mesh " + tripod() + " -o " + out.string() + " " + option + " " + value);
             EXPECT_EQ(r.status, 105) << option << " " << value << ": " << r.output;

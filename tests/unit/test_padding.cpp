@@ -470,6 +470,25 @@ TEST(PadInset, ConcaveOnlyMovesTheDimpleAlone) {
               1);
 }
 
+namespace {
+
+// The L of three unit cubes: the 2 x 1 x 2 block without its cube at (1, 0, 1) (hex index i + 2 k).
+HexMesh make_l_of_three_cubes() {
+    HexMesh l = make_block(2, 1, 2);
+    l.hexes.erase(l.hexes.begin() + 3);
+    return l;
+}
+
+// The smallest scaled Jacobian of the padding's new hexes.
+double worst_new_hex(const PaddingResult& r) {
+    double lo = 1;
+    for (std::size_t h = static_cast<std::size_t>(r.first_new_hex); h < r.mesh.hexes.size(); ++h)
+        lo = std::min(lo, scaled_jacobian(mesohex::test::corners_of(r.mesh, static_cast<int>(h))));
+    return lo;
+}
+
+}  // namespace
+
 // PaddingOptions::corner_guard on an L of three unit cubes (the 2 x 1 x 2 block without its cube at (1, 0, 1)). At
 // the two ends of the concave edge, (1, 0, 1) and (1, 1, 1), five quads meet: three on the side face (normal -y or
 // +y), the floor (+z) and the wall (+x). Their mean normal (1, -+3, 1) / sqrt 11 leaves the new hexes on the floor and
@@ -480,19 +499,12 @@ TEST(PadInset, ConcaveOnlyMovesTheDimpleAlone) {
 // every bottom corner of the layer is at least 0.5, and every new hex at least 0.25 (half of min(guard, its bottom
 // corners): the thickness guard).
 TEST(Padding, CornerGuardTurnsTheDirectionAtAConcaveEdgeEnd) {
-    HexMesh l = make_block(2, 1, 2);
-    l.hexes.erase(l.hexes.begin() + 3);  // the cube (1, 0, 1): hex index i + 2 k
+    const HexMesh l = make_l_of_three_cubes();
     auto worst_bottom_corner = [&](const PaddingResult& r) {
         double lo = 1;
         for (std::size_t h = static_cast<std::size_t>(r.first_new_hex); h < r.mesh.hexes.size(); ++h)
             for (std::size_t lv = 0; lv < 4; ++lv)
                 lo = std::min(lo, hex_corner_value(mesohex::test::corners_of(r.mesh, static_cast<int>(h)), lv));
-        return lo;
-    };
-    auto worst_new_hex = [&](const PaddingResult& r) {
-        double lo = 1;
-        for (std::size_t h = static_cast<std::size_t>(r.first_new_hex); h < r.mesh.hexes.size(); ++h)
-            lo = std::min(lo, scaled_jacobian(mesohex::test::corners_of(r.mesh, static_cast<int>(h))));
         return lo;
     };
     const PaddingResult plain = pad(l);
@@ -568,6 +580,40 @@ TEST(Padding, CornerGuardThinsTheLayerWhereDirectionsConverge) {
 // maximin_direction: for three orthonormal vectors the cone axis (1, 1, 1) / sqrt 3 (each dot 1 / sqrt 3); for (0, 0, 1)
 // and (0.5, 0, 0) (a right-angled corner next to one of sine 0.5) the direction where both dots are equal, m_z = 0.5
 // m_x: (2, 0, 1) / sqrt 5, value 1 / sqrt 5; neither vector's own direction does better than 0.
+// PaddingOptions::search_cos on the L of CornerGuardTurnsTheDirectionAtAConcaveEdgeEnd: only the two ends of the
+// concave edge leave a quad corner's normal below 0.5 (1 / sqrt 11 = 0.3015 to the floor's and the wall's; a convex
+// corner leaves 1 / sqrt 3, an edge 1 / sqrt 2). There the direction is one of the five on the great circle from the
+// mean normal (1, -+3, 1) / sqrt 11 to the narrowest cone's axis (1, -+1, 1) / sqrt 3, chosen for the worst new hex
+// around the vertex: here the axis itself (the last candidate), whose cosine to every corner is 1 / sqrt 3. Every
+// other new vertex stays where it was; the worst new hex of the layer goes from below 1 / sqrt 11 (the floor's and the
+// wall's bottom corner) to above 0.5 (at most 1 / sqrt 3, the new bottom corners).
+TEST(Padding, SearchTurnsTheDirectionAtAConcaveEdgeEndOnly) {
+    const HexMesh l = make_l_of_three_cubes();
+    const PaddingResult plain = pad(l);
+    PaddingOptions o;
+    o.search_cos = 0.5;
+    const PaddingResult searched = pad(l, o);
+    EXPECT_LE(worst_new_hex(plain), 1 / std::sqrt(11.0) + 1e-12);
+    EXPECT_GT(worst_new_hex(searched), 0.5);
+    EXPECT_LE(worst_new_hex(searched), 1 / std::sqrt(3.0) + 1e-12);
+    int turned = 0;
+    for (std::size_t v = static_cast<std::size_t>(searched.first_new_vertex); v < searched.mesh.points.size(); ++v) {
+        const Vec3& p = l.points[static_cast<std::size_t>(searched.origin_vertex[v])];
+        const Vec3 d = normalized(searched.mesh.points[v] - p);
+        const Vec3 d0 = normalized(plain.mesh.points[v] - p);
+        if (!(p.x == 1 && p.z == 1)) {
+            EXPECT_EQ(distance(searched.mesh.points[v], plain.mesh.points[v]), 0);
+            continue;
+        }
+        ++turned;
+        const double side = p.y == 0 ? -1 : 1;
+        EXPECT_NEAR(distance(d0, Vec3{1, 3 * side, 1} / std::sqrt(11.0)), 0, 1e-12);
+        EXPECT_NEAR(distance(d, Vec3{1, side, 1} / std::sqrt(3.0)), 0, 1e-12);
+    }
+    EXPECT_EQ(turned, 2);
+    EXPECT_EQ(compute_quality(searched.mesh).inverted, 0);
+}
+
 TEST(Padding, MaximinDirectionOfCornerVectors) {
     const std::vector<Vec3> axes{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     const Vec3 a = maximin_direction(axes, Vec3{1, 0, 0});

@@ -250,9 +250,67 @@ struct Layer {
                 }
         }
     }
+    // PaddingOptions::search_cos: at every vertex i with search[i], the best of kSearchSteps + 1 directions on the
+    // great circle from its direction to axis[i] (the smallest scaled Jacobian of its new hexes, quads_at[i]; ties
+    // keep the earlier candidate, so a direction turns only where its hexes get strictly better).
+    void search_directions(const std::vector<char>& search, const std::vector<Vec3>& axis,
+                           const std::vector<std::vector<int>>& quads_at) {
+        auto worst_around = [&](std::size_t i) {
+            double lo = 2;
+            for (int q : quads_at[i]) lo = std::min(lo, scaled_jacobian(corners(quads[static_cast<std::size_t>(q)])));
+            return lo;
+        };
+        for (int sweep = 0; sweep < kSearchSweeps; ++sweep)
+            for (std::size_t i = 0; i < offset.size(); ++i) {
+                if (!search[i]) continue;
+                const Vec3 from = unit_normal[i];
+                Vec3 best = from;
+                double best_value = worst_around(i);
+                for (int step = 1; step <= kSearchSteps; ++step) {
+                    const double t = static_cast<double>(step) / kSearchSteps;
+                    const Vec3 d = from * (1 - t) + axis[i] * t;
+                    if (!(squared_norm(d) > 1e-12)) continue;
+                    unit_normal[i] = normalized(d);
+                    place(i);
+                    const double value = worst_around(i);
+                    if (value > best_value) {
+                        best_value = value;
+                        best = unit_normal[i];
+                    }
+                }
+                unit_normal[i] = best;
+                place(i);
+            }
+    }
+    static constexpr int kSearchSteps = 4, kSearchSweeps = 2;
     static constexpr int kGuardRounds = 10;
     static constexpr double kGuardShare = 0.5, kGuardShrink = 0.7;
 };
+
+// PaddingOptions::search_cos: the vertices (not of bare quads) whose direction leaves a unit corner normal of their
+// quads below search_cos, with the axis of the narrowest cone around those normals; then Layer::search_directions.
+void search_at_folds(const std::vector<std::array<int, 4>>& quads, const std::vector<std::array<int, 4>>& bare,
+                     const std::vector<int>& local, double search_cos, Layer& lay) {
+    const std::size_t nb = lay.unit_normal.size();
+    std::vector<std::vector<Vec3>> normals = corner_vectors(lay.mesh, quads, local, nb);
+    for (std::vector<Vec3>& w : normals)
+        for (Vec3& x : w)
+            if (squared_norm(x) > 0) x = normalized(x);
+    std::vector<char> search(nb, 0);
+    for (std::size_t i = 0; i < nb; ++i) search[i] = lowest_corner(normals[i], lay.unit_normal[i]) < search_cos;
+    for (const std::array<int, 4>& q : bare)
+        for (int v : q)
+            if (local[static_cast<std::size_t>(v)] >= 0)
+                search[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 0;
+    std::vector<Vec3> axis(nb);
+    std::vector<std::vector<int>> quads_at(nb);
+    for (std::size_t q = 0; q < quads.size(); ++q)
+        for (int v : quads[q])
+            quads_at[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])].push_back(static_cast<int>(q));
+    for (std::size_t i = 0; i < nb; ++i)
+        if (search[i]) axis[i] = maximin_direction(normals[i], lay.unit_normal[i]);
+    lay.search_directions(search, axis, quads_at);
+}
 
 void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_of_hex, int layer,
               const PaddingOptions& options, long& bare_count) {
@@ -329,6 +387,7 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
         lay.place(i);
         origin.push_back(origin[static_cast<std::size_t>(v)]);
     }
+    if (options.search_cos > 0) search_at_folds(quads, bare, local, options.search_cos, lay);
     lay.fix_inverted(quad_normals);
     if (options.corner_guard > 0) lay.shrink_to_guard(options.corner_guard);
     mesh.hexes.reserve(mesh.hexes.size() + quads.size());

@@ -42,6 +42,15 @@ struct PaddingOptions {
     // to 10 rounds: as a neighbourhood's offsets shrink together, its top corners tend to its bottom ones. Vertices of
     // bare quads keep their direction. 0: neither (the mean normal, offsets as above).
     double corner_guard = 0;
+    // > 0: a direction search at folded vertices (a cosine in (0, 1]). At a boundary vertex (not of a bare quad) where
+    // the direction leaves the unit normal of one of its quads' corners at a cosine below this (a valley whose quads
+    // fold past 270 degrees: the crotch between a junction's chunks), the direction is the best of five on the great
+    // circle from it to the axis of the narrowest cone around those corner normals (maximin_direction; a quarter of
+    // the way per step, the first candidate being the direction itself): the one whose new hexes around the vertex
+    // have the largest smallest scaled Jacobian, at the vertex's offset, the other new vertices where they are. Two
+    // sweeps in vertex order, before the inverted hexes are repaired. Unlike corner_guard the offsets stay and a
+    // direction turns only where its own hexes get better. 0: off (the mean normal).
+    double search_cos = 0;
     double absolute_thickness = 0;  // > 0: use this offset (model units) everywhere instead of `thickness`
     // Optional: the offset of a boundary vertex at p moving along the unit direction d, given the offset t from the
     // rules above, the offset t_scaled with the convex scale even at a concave vertex (= t elsewhere; a rule that
