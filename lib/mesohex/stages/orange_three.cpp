@@ -63,10 +63,13 @@ void evaluate(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, 
         const int a = order[k], b = order[k < 2 ? k + 1 : 0];
         gap[k] = phi[b] - phi[a] + (k == 2 ? 2 * kPi : 0);
         dgap[k] = {dphi[b][0] - dphi[a][0], dphi[b][1] - dphi[a][1]};
-        if (gap[k] < kPi) {
+        if (gap[k] < kPi && r[a] * r[b] > 0) {
             const double c = std::clamp((x[a] * x[b] + y[a] * y[b]) / (r[a] * r[b]), -1.0, 1.0);
             sin_half[k] = std::sqrt(0.5 * (1 - c));
             cos_half[k] = std::sqrt(0.5 * (1 + c));
+        } else if (gap[k] < kPi) {  // a direction on the axis (no projection): the gap of atan2's azimuths
+            sin_half[k] = std::sin(0.5 * gap[k]);
+            cos_half[k] = std::cos(0.5 * gap[k]);
         } else {
             sin_half[k] = 1;
             cos_half[k] = 0;
