@@ -30,8 +30,8 @@ struct SpherePartitionOptions {
     // Three directions: the orange candidate is the one around the axis that maximises min(width terms, 60 degrees x
     // margin ratio), found by the solver of orange_three.h from the scan's three best axes: the margins count against
     // the most a width term can be for three directions (quality_score's 90 degrees would trade margins for width).
-    // Raw min SJ of random seeds 1-400 up on 36, down on 5 (docs/performance.md, "Seventh pass"). false: the pattern
-    // search on quality_score from the same axes (three refined oranges compete), as for n >= 4.
+    // Measured in docs/performance.md, "Seventh pass". false: the pattern search on quality_score from the same axes
+    // (three refined oranges compete), as for n >= 4.
     bool exact_three_orange = true;
 };
 
