@@ -146,9 +146,9 @@ TEST(OrangeThree, AtLeastAsHighAsThePatternSearch) {
 
 // partition_sphere's three-direction orange (exact_three_orange, the default) is the one around the solver's axis with
 // the weight 60 degrees (point 0 of the orange is its axis, up to the rounding of partition_sphere normalising the
-// directions again), valid, and that axis scores at least as high on that
-// weight as the pattern search's axes (which maximise the 90-degree score); nearly planar triples, whose planar orange
-// partition_sphere returns at once, are skipped.
+// directions again), valid, and that axis scores at least as high on that weight as the pattern search's axes (which
+// maximise the 90-degree score); nearly planar triples, whose planar orange partition_sphere returns at once, are
+// skipped.
 TEST(OrangeThree, PartitionUsesTheSolversAxis) {
     std::mt19937_64 rng(20261207);
     int compared = 0;
