@@ -167,6 +167,11 @@ TEST(MeshCli, RealOptionsRefuseNonFiniteAndOutOfRangeValues) {
             EXPECT_EQ(r.status, 105) << option << " " << value << ": " << r.output;
             EXPECT_NE(r.output.find(option), std::string::npos) << option << " " << value;
         }
+    for (const char* value : {"nan", "inf", "-0.5", "10.5", "abc"}) {  // --docked-foot-split: [0, 10]
+        const auto r = run_cli("mesh " + tripod() + " -o " + out.string() + " --docked-foot-split " + value);
+        EXPECT_EQ(r.status, 105) << value << ": " << r.output;
+        EXPECT_NE(r.output.find("--docked-foot-split"), std::string::npos) << value;
+    }
     EXPECT_FALSE(fs::exists(out));
     const auto medial =
         run_cli("medial " + tripod() + " -o " + (temp_dir() / "never.ma").string() + " --thickness-samples nan");

@@ -293,6 +293,40 @@ TEST(LeafletJunctions, EveryRefusalClassNamesTheElementAndSaysHowToEdit) {
         expect_rejected_at(s, 1, "2 fan edges shared by 3 and 4 faces meet here");
         expect_rejected_at(s, 1, "let that leaflet run along the whole chain");
     }
+    // The inner vertex 1 of the fan-edge chain 0-1-2 (three 2 x 1 strips), touched there by another leaflet: its
+    // interior vertex (a 2 x 2 plate in the plane x = 1 centred on vertex 1), a corner of one quad (2 border edges),
+    // or the third fan edge of a fourth quad on the +z strip's edge 1-10 (the chain branches).
+    const auto touched = [](const std::vector<Vec3>& offsets, const std::vector<std::array<int, 4>>& quads) {
+        Skeleton s = fan(2, 1, {{0, 1, 0}, {0, -1, 0}, {0, 0, 1}});
+        const int a = static_cast<int>(s.points.size());
+        for (const Vec3& o : offsets) s.points.push_back(Vec3{1, 0, 0} + o);
+        for (const std::array<int, 4>& q : quads) {
+            std::vector<int> f;
+            for (const int i : q) f.push_back(i < 0 ? -1 - i : a + i);  // i < 0: the fan's vertex -1 - i
+            s.faces.push_back(f);
+        }
+        s.edges.clear();
+        add_face_edges(s);
+        return s;
+    };
+    {  // the plate's vertices (1, 0.3 (i + j), 0.3 (i - j)) for i, j in {-1, 0, 1}, its centre (0, 0) vertex 1 (-2)
+        std::vector<Vec3> ring;
+        for (int j = -1; j <= 1; ++j)
+            for (int i = -1; i <= 1; ++i)
+                if (i || j) ring.push_back({0, 0.3 * (i + j), 0.3 * (i - j)});
+        const auto at = [](int i, int j) {
+            const int k = 3 * (j + 1) + i + 1;  // 4: the centre
+            return k == 4 ? -2 : (k < 4 ? k : k - 1);
+        };
+        std::vector<std::array<int, 4>> quads;
+        for (int j = -1; j < 1; ++j)
+            for (int i = -1; i < 1; ++i) quads.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+        expect_rejected_at(touched(ring, quads), 1, "another leaflet touches this inner vertex of the fan-edge chain");
+    }
+    expect_rejected_at(touched({{0, -0.3, -0.3}, {0, 0, -0.6}, {0, 0.3, -0.3}}, {{-2, 0, 1, 2}}), 1,
+                       "a leaflet has border edges at this inner vertex of the fan-edge chain");
+    expect_rejected_at(touched({{0.3, 0.3, 0}, {0.3, 0.3, 1}}, {{-2, 0, 1, -11}}), 1,
+                       "3 fan edges meet here (the fan-edge chain branches)");
     {  // branches rooted at the neighbouring interior vertices 6 and 7 of a 4 x 4 plate, both up
         Skeleton s = test::plate(4, 4);
         s.points.push_back({1, 1, 1});

@@ -367,6 +367,21 @@ TEST(MedialAxis, RodsTheAngleFilterCutsOffAreKeptAsCurves) {
     expect_sane(b, s);
 }
 
+// keep_limbs with both coverage thresholds 0 (every sample not inside a kept sphere is uncovered, and a sample lies on
+// its own sphere only up to rounding): the tree growth ends (each sample picked at most once) and keeps at least the
+// two rods of RodsTheAngleFilterCutsOffAreKeptAsCurves.
+TEST(MedialAxis, LimbsWithZeroThresholdsEnd) {
+    const TriangleMesh s =
+        revolve({{0, -2.1}, {0.25, -2.1}, {0.25, -0.6}, {2, -0.6}, {2, 0.6}, {0.25, 0.6}, {0.25, 2.1}, {0, 2.1}}, 32);
+    MedialAxisOptions o = coarse();
+    o.keep_limbs = true;
+    o.limb_gap = 0;
+    o.limb_radius_factor = 0;
+    const MedialAxis m = compute_medial_axis(s, o);
+    EXPECT_GE(m.limbs, 2);
+    expect_sane(m, s);
+}
+
 // Plates have no limbs: the debris the angle filter leaves at their edges and corners is not longer than thick, and
 // a 90-degree edge lies within the sheet's radius of it, so keep_limbs changes nothing.
 TEST(MedialAxis, PlatesKeepNoLimbs) {

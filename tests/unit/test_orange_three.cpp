@@ -146,9 +146,9 @@ TEST(OrangeThree, AtLeastAsHighAsThePatternSearch) {
 
 // partition_sphere's three-direction orange (exact_three_orange, the default) is the one around the solver's axis with
 // the weight 60 degrees (point 0 of the orange is its axis, up to the rounding of partition_sphere normalising the
-// directions again), valid, and that axis scores at least as high on that
-// weight as the pattern search's axes (which maximise the 90-degree score); nearly planar triples, whose planar orange
-// partition_sphere returns at once, are skipped.
+// directions again), valid, and that axis scores at least as high on that weight as the pattern search's axes (which
+// maximise the 90-degree score); nearly planar triples, whose planar orange partition_sphere returns at once, are
+// skipped.
 TEST(OrangeThree, PartitionUsesTheSolversAxis) {
     std::mt19937_64 rng(20261207);
     int compared = 0;
@@ -166,4 +166,25 @@ TEST(OrangeThree, PartitionUsesTheSolversAxis) {
                 << "set " << set;
     }
     EXPECT_GT(compared, 200);
+}
+
+// An axis through a direction (its projection on the axis' tangent plane exactly zero): that direction lies on the
+// orange's poles, its margin is 0 (cos of its elevation), so the score is <= 0 and finite, as the exact evaluation's
+// (cos(pi / 2) ~ 6e-17 for its elevation); the gaps next to it are read from the azimuths (no 0 / 0: before, the
+// pieces reading them were NaN and dropped from the minimum, 0.279 here). A climb that starts there (partition_sphere
+// starts only from valid scan axes) has no slope to leave by and reports that score, not a valid orange's.
+TEST(OrangeThree, AxisThroughADirectionScoresZero) {
+    const std::array<Vec3, 3> d = {Vec3{0, 0, 1}, mesohex::normalized(Vec3{1, 0, 0.2}),
+                                   mesohex::normalized(Vec3{-0.5, 0.8, -0.3})};
+    const std::array<double, 3> b = bounds(d);
+    for (const double weight : {kScoreWeight, kThreeWeight}) {
+        const double at_pole = mesohex::orange_score_three(d, b, weight, d[0]);
+        EXPECT_TRUE(std::isfinite(at_pole));
+        EXPECT_LT(at_pole, 1e-12);
+        const mesohex::OrangeAxisThree best = mesohex::best_orange_axis_three(d, b, weight, {d[0]});
+        EXPECT_LT(best.score, 1e-12);
+        EXPECT_EQ(best.score, mesohex::orange_score_three(d, b, weight, best.axis));
+    }
+    const std::vector<Vec3> v(d.begin(), d.end());
+    EXPECT_LT(mesohex::detail::orange_quality_exact(v, d[0]), 1e-12);
 }

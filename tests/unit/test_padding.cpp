@@ -577,9 +577,6 @@ TEST(Padding, CornerGuardThinsTheLayerWhereDirectionsConverge) {
     EXPECT_GT(shrunk, 0);
 }
 
-// maximin_direction: for three orthonormal vectors the cone axis (1, 1, 1) / sqrt 3 (each dot 1 / sqrt 3); for (0, 0, 1)
-// and (0.5, 0, 0) (a right-angled corner next to one of sine 0.5) the direction where both dots are equal, m_z = 0.5
-// m_x: (2, 0, 1) / sqrt 5, value 1 / sqrt 5; neither vector's own direction does better than 0.
 // PaddingOptions::search_cos on the L of CornerGuardTurnsTheDirectionAtAConcaveEdgeEnd: only the two ends of the
 // concave edge leave a quad corner's normal below 0.5 (1 / sqrt 11 = 0.3015 to the floor's and the wall's; a convex
 // corner leaves 1 / sqrt 3, an edge 1 / sqrt 2). There the direction is one of the five on the great circle from the
@@ -614,6 +611,9 @@ TEST(Padding, SearchTurnsTheDirectionAtAConcaveEdgeEndOnly) {
     EXPECT_EQ(compute_quality(searched.mesh).inverted, 0);
 }
 
+// maximin_direction: for three orthonormal vectors the cone axis (1, 1, 1) / sqrt 3 (each dot 1 / sqrt 3); for (0, 0, 1)
+// and (0.5, 0, 0) (a right-angled corner next to one of sine 0.5) the direction where both dots are equal, m_z = 0.5
+// m_x: (2, 0, 1) / sqrt 5, value 1 / sqrt 5; neither vector's own direction does better than 0.
 TEST(Padding, MaximinDirectionOfCornerVectors) {
     const std::vector<Vec3> axes{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     const Vec3 a = maximin_direction(axes, Vec3{1, 0, 0});

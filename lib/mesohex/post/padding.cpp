@@ -115,6 +115,18 @@ std::vector<std::vector<Vec3>> corner_vectors(const HexMesh& mesh, const std::ve
     return w;
 }
 
+// Per boundary vertex (local index, nb of them): 1 when it is a vertex of a bare quad (such vertices keep their
+// direction: the corner guard and the direction search skip them).
+std::vector<char> on_bare_quads(const std::vector<std::array<int, 4>>& bare, const std::vector<int>& local,
+                                std::size_t nb) {
+    std::vector<char> on_bare(nb, 0);
+    for (const std::array<int, 4>& q : bare)
+        for (int v : q)
+            if (local[static_cast<std::size_t>(v)] >= 0)
+                on_bare[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
+    return on_bare;
+}
+
 // PaddingOptions::corner_guard: at a vertex whose mean normal leaves some new hex's bottom corner below the guard,
 // the direction turns along the great circle towards the maximin direction of its corner vectors, as little as
 // reaches min(guard, the maximin value) (bisection on the turn). Vertices of bare quads keep their direction.
@@ -122,11 +134,7 @@ void guard_directions(const HexMesh& mesh, const std::vector<std::array<int, 4>>
                       const std::vector<std::array<int, 4>>& bare, const std::vector<int>& local, double guard,
                       std::vector<Vec3>& unit_normal) {
     const std::vector<std::vector<Vec3>> w = corner_vectors(mesh, quads, local, unit_normal.size());
-    std::vector<char> on_bare(unit_normal.size(), 0);
-    for (const std::array<int, 4>& q : bare)
-        for (int v : q)
-            if (local[static_cast<std::size_t>(v)] >= 0)
-                on_bare[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 1;
+    const std::vector<char> on_bare = on_bare_quads(bare, local, unit_normal.size());
     for (std::size_t i = 0; i < unit_normal.size(); ++i) {
         if (on_bare[i] || lowest_corner(w[i], unit_normal[i]) >= guard) continue;
         const Vec3 axis = maximin_direction(w[i], unit_normal[i]);
@@ -296,12 +304,9 @@ void search_at_folds(const std::vector<std::array<int, 4>>& quads, const std::ve
     for (std::vector<Vec3>& w : normals)
         for (Vec3& x : w)
             if (squared_norm(x) > 0) x = normalized(x);
-    std::vector<char> search(nb, 0);
-    for (std::size_t i = 0; i < nb; ++i) search[i] = lowest_corner(normals[i], lay.unit_normal[i]) < search_cos;
-    for (const std::array<int, 4>& q : bare)
-        for (int v : q)
-            if (local[static_cast<std::size_t>(v)] >= 0)
-                search[static_cast<std::size_t>(local[static_cast<std::size_t>(v)])] = 0;
+    std::vector<char> search = on_bare_quads(bare, local, nb);
+    for (std::size_t i = 0; i < nb; ++i)
+        search[i] = !search[i] && lowest_corner(normals[i], lay.unit_normal[i]) < search_cos;
     std::vector<Vec3> axis(nb);
     std::vector<std::vector<int>> quads_at(nb);
     for (std::size_t q = 0; q < quads.size(); ++q)

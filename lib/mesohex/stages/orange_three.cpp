@@ -28,50 +28,73 @@ void tangent_frame(const Vec3& a, Vec3& t1, Vec3& t2) {
     t2 = cross(a, t1);
 }
 
-// Values only (grads == false) or values and gradients. With the frame moved along the step (t_k -> t_k - s_k a, first
-// order), a direction's projection (x, y) = (d . t1, d . t2) moves by -z (s1, s2), z = d . a, so its azimuth
-// phi = atan2(y, x) has the gradient z (y, -x) / (x^2 + y^2) and z the gradient (x, y).
+// The directions seen from an axis with the tangent frame (t1, t2): projections (x, y) = (d . t1, d . t2), heights
+// z = d . a, azimuths phi = atan2(y, x), projection lengths r, and (with grads) the gradients of phi and r with respect
+// to a tangent step. With the frame moved along the step (t_k -> t_k - s_k a, first order), a direction's projection
+// moves by -z (s1, s2), so phi has the gradient z (y, -x) / (x^2 + y^2) and r the gradient -z (x, y) / r.
+struct Projections {
+    std::array<double, 3> x, y, z, phi, r;
+    std::array<std::array<double, 2>, 3> dphi{}, dr{};
+};
+
+Projections project(const std::array<Vec3, 3>& d, const Pieces& p, bool grads) {
+    Projections pr;
+    for (int i = 0; i < 3; ++i) {
+        pr.x[i] = dot(d[i], p.t1);
+        pr.y[i] = dot(d[i], p.t2);
+        pr.z[i] = dot(d[i], p.axis);
+        pr.phi[i] = std::atan2(pr.y[i], pr.x[i]);
+        const double r2 = pr.x[i] * pr.x[i] + pr.y[i] * pr.y[i];
+        pr.r[i] = std::sqrt(r2);
+        if (grads && r2 > 1e-300) {
+            pr.dphi[i] = {pr.z[i] * pr.y[i] / r2, -pr.z[i] * pr.x[i] / r2};
+            pr.dr[i] = {-pr.z[i] * pr.x[i] / pr.r[i], -pr.z[i] * pr.y[i] / pr.r[i]};
+        }
+    }
+    return pr;
+}
+
+// The azimuth gaps: order sorts the directions by (azimuth, index), as partition_sphere's orange frame does; gap[k]
+// runs from sorted position k to k + 1 (with its gradient dgap[k]); sin and cos of min(gap / 2, pi / 2) from the
+// cosine of the gap (the half-angle formulas; the gap is below pi where the margin reads it).
+struct Gaps {
+    std::array<int, 3> order{0, 1, 2};
+    std::array<double, 3> gap, sin_half, cos_half;
+    std::array<std::array<double, 2>, 3> dgap;
+};
+
+Gaps azimuth_gaps(const Projections& pr) {
+    Gaps g;
+    const auto before = [&](int a, int b) { return pr.phi[a] != pr.phi[b] ? pr.phi[a] < pr.phi[b] : a < b; };
+    if (before(g.order[1], g.order[0])) std::swap(g.order[0], g.order[1]);
+    if (before(g.order[2], g.order[1])) std::swap(g.order[1], g.order[2]);
+    if (before(g.order[1], g.order[0])) std::swap(g.order[0], g.order[1]);
+    for (int k = 0; k < 3; ++k) {
+        const int a = g.order[k], b = g.order[k < 2 ? k + 1 : 0];
+        g.gap[k] = pr.phi[b] - pr.phi[a] + (k == 2 ? 2 * kPi : 0);
+        g.dgap[k] = {pr.dphi[b][0] - pr.dphi[a][0], pr.dphi[b][1] - pr.dphi[a][1]};
+        if (g.gap[k] < kPi && pr.r[a] * pr.r[b] > 0) {
+            const double c = std::clamp((pr.x[a] * pr.x[b] + pr.y[a] * pr.y[b]) / (pr.r[a] * pr.r[b]), -1.0, 1.0);
+            g.sin_half[k] = std::sqrt(0.5 * (1 - c));
+            g.cos_half[k] = std::sqrt(0.5 * (1 + c));
+        } else if (g.gap[k] < kPi) {  // a direction on the axis (no projection): the gap of atan2's azimuths
+            g.sin_half[k] = std::sin(0.5 * g.gap[k]);
+            g.cos_half[k] = std::cos(0.5 * g.gap[k]);
+        } else {
+            g.sin_half[k] = 1;
+            g.cos_half[k] = 0;
+        }
+    }
+    return g;
+}
+
+// Values only (grads == false) or values and gradients of the pieces at `axis`.
 void evaluate(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, double margin_weight, const Vec3& axis,
               bool grads, Pieces& p) {
     p.axis = axis;
     tangent_frame(axis, p.t1, p.t2);
-    std::array<double, 3> x, y, z, phi, r;
-    std::array<std::array<double, 2>, 3> dphi{}, dr{};
-    for (int i = 0; i < 3; ++i) {
-        x[i] = dot(d[i], p.t1);
-        y[i] = dot(d[i], p.t2);
-        z[i] = dot(d[i], axis);
-        phi[i] = std::atan2(y[i], x[i]);
-        const double r2 = x[i] * x[i] + y[i] * y[i];
-        r[i] = std::sqrt(r2);
-        if (grads && r2 > 1e-300) {
-            dphi[i] = {z[i] * y[i] / r2, -z[i] * x[i] / r2};
-            dr[i] = {-z[i] * x[i] / r[i], -z[i] * y[i] / r[i]};
-        }
-    }
-    // Sorted by (azimuth, index), as partition_sphere's orange frame sorts them.
-    std::array<int, 3> order{0, 1, 2};
-    const auto before = [&](int a, int b) { return phi[a] != phi[b] ? phi[a] < phi[b] : a < b; };
-    if (before(order[1], order[0])) std::swap(order[0], order[1]);
-    if (before(order[2], order[1])) std::swap(order[1], order[2]);
-    if (before(order[1], order[0])) std::swap(order[0], order[1]);
-    // gap[k]: from sorted position k to k + 1; sin and cos of min(gap / 2, pi / 2) from the cosine of the gap (the
-    // half-angle formulas; the gap is below pi where the margin reads it).
-    std::array<double, 3> gap, sin_half, cos_half;
-    std::array<std::array<double, 2>, 3> dgap;
-    for (int k = 0; k < 3; ++k) {
-        const int a = order[k], b = order[k < 2 ? k + 1 : 0];
-        gap[k] = phi[b] - phi[a] + (k == 2 ? 2 * kPi : 0);
-        dgap[k] = {dphi[b][0] - dphi[a][0], dphi[b][1] - dphi[a][1]};
-        if (gap[k] < kPi) {
-            const double c = std::clamp((x[a] * x[b] + y[a] * y[b]) / (r[a] * r[b]), -1.0, 1.0);
-            sin_half[k] = std::sqrt(0.5 * (1 - c));
-            cos_half[k] = std::sqrt(0.5 * (1 + c));
-        } else {
-            sin_half[k] = 1;
-            cos_half[k] = 0;
-        }
-    }
+    const Projections pr = project(d, p, grads);
+    const Gaps g = azimuth_gaps(pr);
     // Pieces by direction (4 i + 0..3), not by sorted position: the position of a direction moves with the frame's
     // azimuth origin, its before / after neighbours do not (while no two azimuths cross), so a piece keeps its index
     // from one axis to the next (the second-order correction reads it at two axes).
@@ -84,25 +107,72 @@ void evaluate(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, 
         ++piece;
     };
     for (int i = 0; i < 3; ++i) {
-        const int k = order[0] == i ? 0 : (order[1] == i ? 1 : 2), kb = k > 0 ? k - 1 : 2;
-        const double w = 0.5 * (gap[kb] + gap[k]);
-        const double w1 = 0.5 * (dgap[kb][0] + dgap[k][0]), w2 = 0.5 * (dgap[kb][1] + dgap[k][1]);
+        const int k = g.order[0] == i ? 0 : (g.order[1] == i ? 1 : 2), kb = k > 0 ? k - 1 : 2;
+        const double w = 0.5 * (g.gap[kb] + g.gap[k]);
+        const double w1 = 0.5 * (g.dgap[kb][0] + g.dgap[k][0]), w2 = 0.5 * (g.dgap[kb][1] + g.dgap[k][1]);
         add(w, w1, w2);
         add(kPi - w, -w1, -w2);
         const double scale = margin_weight / bound[i];
         for (const int kg : {kb, k}) {
-            const double sin_h = sin_half[kg], cos_h = cos_half[kg];
-            const double s = std::clamp(r[i] * sin_h, -1.0, 1.0);
+            const double sin_h = g.sin_half[kg], cos_h = g.cos_half[kg];
+            const double s = std::clamp(pr.r[i] * sin_h, -1.0, 1.0);
             double g1 = 0, g2 = 0;
             const double c2 = 1 - s * s;
             if (grads && c2 > 1e-12) {
                 const double k1 = scale / std::sqrt(c2);
-                g1 = k1 * (dr[i][0] * sin_h + r[i] * cos_h * 0.5 * dgap[kg][0]);
-                g2 = k1 * (dr[i][1] * sin_h + r[i] * cos_h * 0.5 * dgap[kg][1]);
+                g1 = k1 * (pr.dr[i][0] * sin_h + pr.r[i] * cos_h * 0.5 * g.dgap[kg][0]);
+                g2 = k1 * (pr.dr[i][1] * sin_h + pr.r[i] * cos_h * 0.5 * g.dgap[kg][1]);
             }
             add(scale * std::asin(s), g1, g2);
         }
     }
+}
+
+// A simplex dictionary over 3 nonbasic columns and up to kPieces + 2 rows: basic_i = b_i - sum_j a_ij nonbasic_j,
+// objective = const + sum_j c_j nonbasic_j; variable ids 0 u1, 1 u2, 2 v, 3 + i the slack of row i.
+struct Dictionary {
+    static constexpr int kCols = 3;
+    int rows = 0;
+    std::array<std::array<double, kCols>, kPieces + 2> a{};
+    std::array<double, kPieces + 2> b{};
+    std::array<int, kPieces + 2> basic{};
+    std::array<int, kCols> nonbasic{0, 1, 2};
+    std::array<double, kCols> c{0, 0, 1};
+};
+
+// One pivot by Bland's rule (the entering variable of smallest id with a positive objective coefficient, the leaving
+// row by the ratio test, ties by smallest basic id). False at the optimum, or when no row bounds the entering variable
+// (cannot happen in best_linear_step: every piece row bounds v).
+bool pivot(Dictionary& t) {
+    constexpr int kCols = Dictionary::kCols;
+    int e = -1;
+    for (int j = 0; j < kCols; ++j)
+        if (t.c[j] > 1e-15 && (e < 0 || t.nonbasic[j] < t.nonbasic[e])) e = j;
+    if (e < 0) return false;
+    int r = -1;
+    double ratio = 0;
+    for (int i = 0; i < t.rows; ++i) {
+        if (!(t.a[i][e] > 1e-12)) continue;
+        const double q = t.b[i] / t.a[i][e];
+        if (r < 0 || q < ratio || (q == ratio && t.basic[i] < t.basic[r])) {
+            r = i;
+            ratio = q;
+        }
+    }
+    if (r < 0) return false;
+    const double inv = 1 / t.a[r][e];
+    t.b[r] *= inv;
+    for (int j = 0; j < kCols; ++j) t.a[r][j] = j == e ? inv : t.a[r][j] * inv;
+    for (int i = 0; i < t.rows; ++i) {
+        if (i == r || t.a[i][e] == 0) continue;
+        const double f = t.a[i][e];
+        t.b[i] = std::max(0.0, t.b[i] - f * t.b[r]);
+        for (int j = 0; j < kCols; ++j) t.a[i][j] = j == e ? -f * t.a[r][e] : t.a[i][j] - f * t.a[r][j];
+    }
+    const double ce = t.c[e];
+    for (int j = 0; j < kCols; ++j) t.c[j] = j == e ? -ce * t.a[r][e] : t.c[j] - ce * t.a[r][j];
+    std::swap(t.basic[r], t.nonbasic[e]);
+    return true;
 }
 
 // The step (s1, s2) in the box |s1|, |s2| <= radius that maximises the linearised score min_k (value_k + grad_k . s),
@@ -111,7 +181,6 @@ void evaluate(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound, 
 // is a vertex: u = s + radius in [0, 2 radius], v = t - t0 >= 0 with t0 the model's lowest value at s = (-r, -r).
 double best_linear_step(const Pieces& p, double radius, double& s1, double& s2, std::array<int, 3>& tight,
                         int& tight_count) {
-    constexpr int kCols = 3;  // columns: u1, u2, v; rows: the live pieces, then u1, u2 <= 2 radius
     // Live pieces: those that can be the minimum somewhere in the box (lowest value there <= the model's upper bound).
     double upper = 1e300, t0 = 1e300;
     for (int k = 0; k < kPieces; ++k)
@@ -123,57 +192,24 @@ double best_linear_step(const Pieces& p, double radius, double& s1, double& s2, 
             live[pieces++] = k;
             t0 = std::min(t0, p.value[k] - radius * (p.grad[k][0] + p.grad[k][1]));
         }
-    const int rows = pieces + 2;
-    std::array<std::array<double, kCols>, kPieces + 2> a{};  // basic_i = b_i - sum_j a_ij nonbasic_j
-    std::array<double, kPieces + 2> b{};
-    std::array<int, kPieces + 2> basic{};
-    std::array<int, kCols> nonbasic{0, 1, 2};  // variable ids: 0 u1, 1 u2, 2 v, 3 + i the slack of row i
-    std::array<double, kCols> c{0, 0, 1};      // objective v = z + sum_j c_j nonbasic_j
-    double z = 0;
+    Dictionary t;  // rows: the live pieces, then u1, u2 <= 2 radius
+    t.rows = pieces + 2;
     for (int i = 0; i < pieces; ++i) {
         const int k = live[i];
-        a[i] = {-p.grad[k][0], -p.grad[k][1], 1};
-        b[i] = std::max(0.0, p.value[k] - radius * (p.grad[k][0] + p.grad[k][1]) - t0);
-        basic[i] = 3 + i;
+        t.a[i] = {-p.grad[k][0], -p.grad[k][1], 1};
+        t.b[i] = std::max(0.0, p.value[k] - radius * (p.grad[k][0] + p.grad[k][1]) - t0);
+        t.basic[i] = 3 + i;
     }
     for (int j = 0; j < 2; ++j) {
-        a[pieces + j][j] = 1;
-        b[pieces + j] = 2 * radius;
-        basic[pieces + j] = 3 + pieces + j;
+        t.a[pieces + j][j] = 1;
+        t.b[pieces + j] = 2 * radius;
+        t.basic[pieces + j] = 3 + pieces + j;
     }
-    for (int pivot = 0; pivot < 50; ++pivot) {
-        int e = -1;  // Bland: the entering variable of smallest id with a positive objective coefficient
-        for (int j = 0; j < kCols; ++j)
-            if (c[j] > 1e-15 && (e < 0 || nonbasic[j] < nonbasic[e])) e = j;
-        if (e < 0) break;
-        int r = -1;
-        double ratio = 0;
-        for (int i = 0; i < rows; ++i) {
-            if (!(a[i][e] > 1e-12)) continue;
-            const double q = b[i] / a[i][e];
-            if (r < 0 || q < ratio || (q == ratio && basic[i] < basic[r])) {
-                r = i;
-                ratio = q;
-            }
-        }
-        if (r < 0) break;  // unbounded: cannot happen (every piece row bounds v)
-        const double inv = 1 / a[r][e];
-        b[r] *= inv;
-        for (int j = 0; j < kCols; ++j) a[r][j] = j == e ? inv : a[r][j] * inv;
-        for (int i = 0; i < rows; ++i) {
-            if (i == r || a[i][e] == 0) continue;
-            const double f = a[i][e];
-            b[i] = std::max(0.0, b[i] - f * b[r]);
-            for (int j = 0; j < kCols; ++j) a[i][j] = j == e ? -f * a[r][e] : a[i][j] - f * a[r][j];
-        }
-        const double ce = c[e];
-        z += ce * b[r];
-        for (int j = 0; j < kCols; ++j) c[j] = j == e ? -ce * a[r][e] : c[j] - ce * a[r][j];
-        std::swap(basic[r], nonbasic[e]);
-    }
+    for (int k = 0; k < 50; ++k)  // at most 50 pivots
+        if (!pivot(t)) break;
     double u[2] = {0, 0};
-    for (int i = 0; i < rows; ++i)
-        if (basic[i] < 2) u[basic[i]] = b[i];
+    for (int i = 0; i < t.rows; ++i)
+        if (t.basic[i] < 2) u[t.basic[i]] = t.b[i];
     s1 = std::clamp(u[0] - radius, -radius, radius);
     s2 = std::clamp(u[1] - radius, -radius, radius);
     std::array<double, kPieces> at{};

@@ -289,6 +289,44 @@ struct VertexStar {
     int faces = 0;                  // faces at it
 };
 
+// Why the fan at a fan-edge vertex with star `st` is irregular (classify_fan_vertex), and the edit, as "WHAT; edit:
+// EDIT": fan edges of unequal degrees meeting here (a leaflet along the chain stops here, e.g. a wall on one side of a
+// plate shorter than the wall that cuts it), a chain branching here, another leaflet touching an inner chain vertex
+// with an interior vertex, a leaflet with border edges at an inner chain vertex, or a fan edge ending inside a
+// leaflet.
+std::string irregular_fan_reason(const VertexStar& st) {
+    std::string what, edit;
+    const bool unequal = st.nfan == 2 && st.fan_degrees[0] != st.fan_degrees[1];
+    if (unequal) {
+        what = "2 fan edges shared by " + std::to_string(std::min(st.fan_degrees[0], st.fan_degrees[1])) + " and " +
+               std::to_string(std::max(st.fan_degrees[0], st.fan_degrees[1])) +
+               " faces meet here (a leaflet along the fan-edge chain stops at this vertex while the chain goes on)";
+        edit =
+            "let that leaflet run along the whole chain (every fan edge of the chain shared by as many faces: "
+            "for a wall on a plate cut by another wall, as long as the plate)";
+    } else if (st.nfan > 2) {
+        what = std::to_string(st.nfan) + " fan edges meet here (the fan-edge chain branches)";
+        edit =
+            "make the fan edges one chain through this vertex (2 fan edges at every inner vertex), or cut the "
+            "leaflets so that each chain ends at this vertex with its own border edges";
+    } else if (st.nfan == 2 && st.nbnd == 0) {  // regular but for inside_a_leaflet
+        what = "another leaflet touches this inner vertex of the fan-edge chain with an interior vertex";
+        edit =
+            "make the touching leaflet share a whole edge there (a fan edge, cutting the other leaflets' faces "
+            "along it), or move its vertex off the chain";
+    } else {
+        what = st.nfan == 2 ? "a leaflet has border edges at this inner vertex of the fan-edge chain"
+                            : "the fan edge (shared by " + std::to_string(st.fan_degrees[0]) +
+                                  " faces) ends inside a leaflet or with " + std::to_string(st.nbnd) +
+                                  " border edges instead of one per face (the paper's limitation 2, not docked)";
+        edit =
+            "let every leaflet around the fan edge end with its own border edge at the chain's end (cut the "
+            "leaflet that continues past it along the chain's line), or extend the fan edge chain to that "
+            "leaflet's border";
+    }
+    return what + "; edit: " + edit;
+}
+
 // Fan-edge vertex: its class, or Error(UnsupportedConfiguration) for a branch edge on it (accepted on a fan-edge end
 // with fan_end_branches) or an irregular fan.
 VertexClass classify_fan_vertex(const Skeleton& s, const VertexStar& st, const std::string& vname, int v,
@@ -323,38 +361,10 @@ VertexClass classify_fan_vertex(const Skeleton& s, const VertexStar& st, const s
     const bool regular =
         !st.inside_a_leaflet && (st.nfan == 1 ? st.nbnd == st.fan_degrees[0]
                                               : st.nfan == 2 && st.fan_degrees[0] == st.fan_degrees[1] && st.nbnd == 0);
-    if (!regular) {
-        // Which configuration: fan edges of unequal degrees meeting here (a leaflet along the chain stops here, e.g. a
-        // wall on one side of a plate shorter than the wall that cuts it), a chain branching here, a leaflet with
-        // border edges at an inner chain vertex, or a fan edge ending inside a leaflet.
-        std::string what, edit;
-        const bool unequal = st.nfan == 2 && st.fan_degrees[0] != st.fan_degrees[1];
-        if (unequal) {
-            what = "2 fan edges shared by " + std::to_string(std::min(st.fan_degrees[0], st.fan_degrees[1])) + " and " +
-                   std::to_string(std::max(st.fan_degrees[0], st.fan_degrees[1])) +
-                   " faces meet here (a leaflet along the fan-edge chain stops at this vertex while the chain goes on)";
-            edit =
-                "let that leaflet run along the whole chain (every fan edge of the chain shared by as many faces: "
-                "for a wall on a plate cut by another wall, as long as the plate)";
-        } else if (st.nfan > 2) {
-            what = std::to_string(st.nfan) + " fan edges meet here (the fan-edge chain branches)";
-            edit =
-                "make the fan edges one chain through this vertex (2 fan edges at every inner vertex), or cut the "
-                "leaflets so that each chain ends at this vertex with its own border edges";
-        } else {
-            what = st.nfan == 2 ? "a leaflet has border edges at this inner vertex of the fan-edge chain"
-                                : "the fan edge (shared by " + std::to_string(st.fan_degrees[0]) +
-                                      " faces) ends inside a leaflet or with " + std::to_string(st.nbnd) +
-                                      " border edges instead of one per face (the paper's limitation 2, not docked)";
-            edit =
-                "let every leaflet around the fan edge end with its own border edge at the chain's end (cut the "
-                "leaflet that continues past it along the chain's line), or extend the fan edge chain to that "
-                "leaflet's border";
-        }
+    if (!regular)
         fail(ErrorCode::UnsupportedConfiguration,
-             vname + ": an irregular fan is not supported: " + what + "; edit: " + edit,
+             vname + ": an irregular fan is not supported: " + irregular_fan_reason(st),
              ElementRef::Kind::SkeletonVertex, v);
-    }
     return st.nfan == 1 ? VertexClass::FanEdgeEnd : VertexClass::FanEdgeVertex;
 }
 

@@ -328,17 +328,23 @@ int split_root_patches(Skeleton& s, double factor) {
     return strips;
 }
 
-// Narrows the feet of docked walls (SkeletonRepairOptions::docked_foot_split). A chain vertex u: 1 or 2 of its sides
-// shared by 3 or more faces (the chain sides), no branch edge at u, on a chain with an inside end. Its plate P: the
-// leaflet (faces joined through sides of 2 faces) with 2 faces at a chain side (a regular fan, which cuts its
-// leaflets, has none). Every side (u, v) of 2 faces of P, v not on the chain, has its strip split at factor x r_u from
-// u: beside the chain when the side shares a face with a chain side, beyond an inside end otherwise. Returns the
-// number of strips split.
-int split_docked_feet(Skeleton& s, double factor) {
-    const int n = static_cast<int>(s.points.size());
-    if (!strips_splittable(s, factor)) return 0;
-    const Leaflets l = make_leaflets(s);
-    std::vector<int> leaflet(s.faces.size(), -1);  // faces joined through sides of exactly 2 faces
+// The leaflets of docked walls' plates: the face strips split by docked_foot_split and what decides them. A chain
+// vertex u: 1 or 2 of its sides shared by 3 or more faces (the chain sides). Its plate: the leaflet (faces joined
+// through sides of exactly 2 faces) with 2 faces at a chain side (a regular fan, which cuts its leaflets, has none).
+struct DockedPlates {
+    Leaflets l;
+    std::vector<int> leaflet;             // per face: its leaflet (the lowest face id in it)
+    std::vector<std::vector<int>> sides;  // per vertex: its face sides' other ends
+    std::vector<std::vector<int>> chain;  // per vertex: its chain sides' other ends
+    std::vector<int> plate;               // per vertex: its plate (-1: none)
+    std::vector<char> branch;             // per vertex: 1 when a branch edge (not a face side) ends there
+};
+
+const std::vector<int>& faces_of(const DockedPlates& dp, int a, int b) { return dp.l.side_faces.at(std::minmax(a, b)); }
+
+// Per face: the leaflet of faces joined through sides of exactly 2 faces, named by its lowest face.
+std::vector<int> two_face_leaflets(const Skeleton& s, const Leaflets& l) {
+    std::vector<int> leaflet(s.faces.size(), -1);
     for (std::size_t f0 = 0; f0 < s.faces.size(); ++f0) {
         if (leaflet[f0] >= 0) continue;
         std::vector<int> todo{static_cast<int>(f0)};
@@ -354,69 +360,95 @@ int split_docked_feet(Skeleton& s, double factor) {
             }
         }
     }
-    std::vector<std::vector<int>> sides(n);  // per vertex: its face sides' other ends
-    for (const auto& [key, fs] : l.side_faces) {
-        sides[key.first].push_back(key.second);
-        sides[key.second].push_back(key.first);
+    return leaflet;
+}
+
+DockedPlates docked_plates(const Skeleton& s) {
+    const int n = static_cast<int>(s.points.size());
+    DockedPlates dp;
+    dp.l = make_leaflets(s);
+    dp.leaflet = two_face_leaflets(s, dp.l);
+    dp.sides.resize(n);
+    for (const auto& [key, fs] : dp.l.side_faces) {
+        dp.sides[key.first].push_back(key.second);
+        dp.sides[key.second].push_back(key.first);
     }
-    std::vector<char> branch(n, 0);
+    dp.branch.assign(n, 0);
     for (const std::array<int, 2>& e : s.edges)
-        if (e[0] >= 0 && e[0] < n && e[1] >= 0 && e[1] < n && !l.side_faces.count(std::minmax(e[0], e[1])))
-            branch[e[0]] = branch[e[1]] = 1;
-    const auto faces_of = [&](int a, int b) -> const std::vector<int>& { return l.side_faces.at(std::minmax(a, b)); };
-    // Per vertex: its chain sides' other ends, and its plate (-1: none).
-    std::vector<std::vector<int>> chain(n);
-    std::vector<int> plate(n, -1);
+        if (e[0] >= 0 && e[0] < n && e[1] >= 0 && e[1] < n && !dp.l.side_faces.count(std::minmax(e[0], e[1])))
+            dp.branch[e[0]] = dp.branch[e[1]] = 1;
+    dp.chain.resize(n);
+    dp.plate.assign(n, -1);
     for (int u = 0; u < n; ++u) {
-        for (const int v : sides[u])
-            if (faces_of(u, v).size() >= 3) chain[u].push_back(v);
-        for (const int w : chain[u]) {
+        for (const int v : dp.sides[u])
+            if (faces_of(dp, u, v).size() >= 3) dp.chain[u].push_back(v);
+        for (const int w : dp.chain[u]) {
             std::map<int, int> per_leaflet;
-            for (const int f : faces_of(u, w)) ++per_leaflet[leaflet[f]];
+            for (const int f : faces_of(dp, u, w)) ++per_leaflet[dp.leaflet[f]];
             for (const auto& [id, count] : per_leaflet)
-                if (count == 2) plate[u] = id;
+                if (count == 2) dp.plate[u] = id;
         }
     }
-    // Docked chains only: a chain (vertices joined by chain sides) with an inside end, a vertex on one chain side
-    // whose plate goes on past it (a side of 2 plate faces sharing no face with the chain side). Not a closed chain
-    // (e.g. torustwist's core, whose opposite arms are one leaflet) nor a fan cutting its leaflets.
-    const auto inside_end = [&](int u) {
-        if (chain[u].size() != 1 || plate[u] < 0) return false;
-        const std::vector<int>& cf = faces_of(u, chain[u][0]);
-        for (const int v : sides[u]) {
-            const std::vector<int>& fs = faces_of(u, v);
-            if (fs.size() != 2 || leaflet[fs[0]] != plate[u] || leaflet[fs[1]] != plate[u]) continue;
-            if (std::none_of(fs.begin(), fs.end(),
-                             [&](int f) { return std::find(cf.begin(), cf.end(), f) != cf.end(); }))
-                return true;
-        }
-        return false;
-    };
+    return dp;
+}
+
+// Whether the side (u, v) is shared by exactly 2 faces of u's plate.
+bool plate_side(const DockedPlates& dp, int u, int v) {
+    const std::vector<int>& fs = faces_of(dp, u, v);
+    return fs.size() == 2 && dp.leaflet[fs[0]] == dp.plate[u] && dp.leaflet[fs[1]] == dp.plate[u];
+}
+
+// An inside end of a docked chain: a vertex on one chain side whose plate goes on past it (a side of 2 plate faces
+// sharing no face with the chain side).
+bool inside_end(const DockedPlates& dp, int u) {
+    if (dp.chain[u].size() != 1 || dp.plate[u] < 0) return false;
+    const std::vector<int>& cf = faces_of(dp, u, dp.chain[u][0]);
+    for (const int v : dp.sides[u]) {
+        if (!plate_side(dp, u, v)) continue;
+        const std::vector<int>& fs = faces_of(dp, u, v);
+        if (std::none_of(fs.begin(), fs.end(), [&](int f) { return std::find(cf.begin(), cf.end(), f) != cf.end(); }))
+            return true;
+    }
+    return false;
+}
+
+// Per vertex: 1 on a docked chain (vertices joined by chain sides, with an inside end). Not a closed chain (e.g.
+// torustwist's core, whose opposite arms are one leaflet) nor a fan cutting its leaflets.
+std::vector<char> docked_chain_vertices(const DockedPlates& dp) {
+    const int n = static_cast<int>(dp.chain.size());
     std::vector<char> docked(n, 0);
     for (int e = 0; e < n; ++e) {
-        if (docked[e] || !inside_end(e)) continue;
+        if (docked[e] || !inside_end(dp, e)) continue;
         std::vector<int> todo{e};
         docked[e] = 1;
         while (!todo.empty()) {
             const int u = todo.back();
             todo.pop_back();
-            for (const int w : chain[u])
+            for (const int w : dp.chain[u])
                 if (!docked[w]) docked[w] = 1, todo.push_back(w);
         }
     }
+    return docked;
+}
+
+// Narrows the feet of docked walls (SkeletonRepairOptions::docked_foot_split). At every vertex u of a docked chain
+// (docked_chain_vertices) without a branch edge, every side (u, v) of 2 faces of u's plate, v not on the chain, has its
+// strip split at factor x r_u from u: beside the chain when the side shares a face with a chain side, beyond an inside
+// end otherwise. Returns the number of strips split.
+int split_docked_feet(Skeleton& s, double factor) {
+    if (!strips_splittable(s, factor)) return 0;
+    const DockedPlates dp = docked_plates(s);
+    const std::vector<char> docked = docked_chain_vertices(dp);
     std::map<EdgeKey, Cut> cuts;
     int strips = 0;
-    for (int u = 0; u < n; ++u) {
-        if (branch[u] || !docked[u] || chain[u].size() > 2 || plate[u] < 0) continue;
-        for (const int v : sides[u]) {
-            const std::vector<int>& fs = faces_of(u, v);
-            if (fs.size() != 2 || leaflet[fs[0]] != plate[u] || leaflet[fs[1]] != plate[u] ||
-                cuts.count(std::minmax(u, v)))
-                continue;
+    for (int u = 0; u < static_cast<int>(s.points.size()); ++u) {
+        if (dp.branch[u] || !docked[u] || dp.chain[u].size() > 2 || dp.plate[u] < 0) continue;
+        for (const int v : dp.sides[u]) {
+            if (!plate_side(dp, u, v) || cuts.count(std::minmax(u, v))) continue;
             const double d = distance(s.points[u], s.points[v]);
             const double target = factor * s.radii[u];
             if (!(d > target)) continue;
-            mark_strip(s, l, u, v, std::min(0.5, target / d), cuts);
+            mark_strip(s, dp.l, u, v, std::min(0.5, target / d), cuts);
             ++strips;
         }
     }

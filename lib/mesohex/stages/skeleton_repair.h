@@ -139,12 +139,11 @@ struct SkeletonRepairOptions {
     // directions becomes 4 quads); new vertices get radii interpolated along their edge (bilinearly in a face).
     double root_patch_factor = 0.8;
     // Docked walls (docked_walls.h): the wall's first row of hexes stands on the plate faces beside the chain (the foot,
-    // 2 plate faces wide, one face longer than the chain at an inside end), so a thin wall (radius about 0.1 x the
-    // plate edge) starts from a base a whole plate edge wide and long; the fit leaves that flare in the crease (finished
-    // Hausdorff 1.2 - 6.6 % of the diagonal). The plate's face strips beside the chain (both sides, through the whole
-    // plate) and beyond every inside end are split at docked_foot_split x the chain vertex's radius from the chain (at
-    // most half the edge): the foot is then as wide as the wall. 0 disables (dimensionless, x radius; 2: measured on
-    // thin and default walls, finished Hausdorff 1.2 - 6.6 % -> 0.34 - 0.53 % on 14 of 15).
+    // 2 plate faces wide, one face longer than the chain at an inside end), so a thin wall (radius well below the
+    // plate edge) starts from a base a whole plate edge wide and long, a flare the fit leaves in the crease. The
+    // plate's face strips beside the chain (both sides, through the whole plate) and beyond every inside end are split
+    // at docked_foot_split x the chain vertex's radius from the chain (at most half the edge): the foot is then as wide
+    // as the wall. 0 disables (dimensionless, x the chain vertex's radius; 2 measured on thin and default walls).
     // docs/blocks.md ("Acceptance audit (session 24)").
     double docked_foot_split = 2;
     // Branches on fan-edge ends (the paper's limitation 3): the fan edge is retracted from the branch's vertex, which

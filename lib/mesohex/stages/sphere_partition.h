@@ -30,8 +30,8 @@ struct SpherePartitionOptions {
     // Three directions: the orange candidate is the one around the axis that maximises min(width terms, 60 degrees x
     // margin ratio), found by the solver of orange_three.h from the scan's three best axes: the margins count against
     // the most a width term can be for three directions (quality_score's 90 degrees would trade margins for width).
-    // Raw min SJ of random seeds 1-400 up on 36, down on 5 (docs/performance.md, "Seventh pass"). false: the pattern
-    // search on quality_score from the same axes (three refined oranges compete), as for n >= 4.
+    // Measured in docs/performance.md, "Seventh pass". false: the pattern search on quality_score from the same axes
+    // (three refined oranges compete), as for n >= 4.
     bool exact_three_orange = true;
 };
 
@@ -94,8 +94,8 @@ namespace detail {
 double orange_quality_exact(const std::vector<Vec3>& directions, const Vec3& axis);
 bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold);
 // For `directions` (n >= 3): the three best scan axes (the searches' starts), the pattern search's axes (each of
-// them refined), and (n = 3) the axis of the three-direction solver that exact_three_orange uses (unit; the best
-// start's when none gives a valid orange).
+// them refined), and (n = 3) the axis of the three-direction solver that exact_three_orange uses (unit; the zero vector
+// when no scan axis gives a valid orange, so the solver has no start).
 std::vector<Vec3> scanned_orange_axes(const std::vector<Vec3>& directions);
 std::vector<Vec3> searched_orange_axes(const std::vector<Vec3>& directions);
 Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions);

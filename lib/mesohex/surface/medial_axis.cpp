@@ -884,7 +884,8 @@ bool uncovered(const Gap& g, const MedialAxisOptions& o, double diag) {
 
 // Grows the tree of a limb part from its root: while a sample of the part is uncovered, the shortest path from the
 // root to the largest sphere on the uncovered sample whose sphere is farthest (path length; ties: lower sample) joins
-// the tree and covers it. Returns the tree edges; branches counts the paths.
+// the tree and covers it (each sample is picked at most once: its gap to its own sphere is 0 only up to rounding, which
+// thresholds of 0 would see as uncovered). Returns the tree edges; branches counts the paths.
 std::vector<std::array<int, 2>> limb_tree(const MedialComplex& mc, const std::vector<int>& part, int root,
                                           PartSamples& ps, const std::vector<Vec3>& samples, const MedialAxisOptions& o,
                                           double diag, int& branches) {
@@ -895,14 +896,16 @@ std::vector<std::array<int, 2>> limb_tree(const MedialComplex& mc, const std::ve
     part_paths(mc, in_part, root, dist, from);
     in_tree[static_cast<size_t>(root)] = 1;
     std::vector<std::array<int, 2>> edges;
+    std::vector<char> picked(ps.sample.size(), 0);
     for (;;) {
         int pick = -1;
         for (size_t i = 0; i < ps.sample.size(); ++i)
-            if (uncovered(ps.gap[i], o, diag) &&
+            if (!picked[i] && uncovered(ps.gap[i], o, diag) &&
                 (pick < 0 || dist[static_cast<size_t>(ps.deepest[i])] >
                                  dist[static_cast<size_t>(ps.deepest[static_cast<size_t>(pick)])]))
                 pick = static_cast<int>(i);
         if (pick < 0) break;
+        picked[static_cast<size_t>(pick)] = 1;
         std::vector<int> added;
         for (int v = ps.deepest[static_cast<size_t>(pick)]; !in_tree[static_cast<size_t>(v)];
              v = from[static_cast<size_t>(v)]) {

@@ -79,8 +79,8 @@ struct MedialAxisOptions {
     // limb_gap x the bbox diagonal and limb_radius_factor x the radius of the nearest kept sphere from every kept
     // sphere is kept as a tree of curves (shortest paths from its sphere nearest the kept ones to its spheres on such
     // samples) joined by one curve edge; its triangles and other spheres go (no cycles; corner debris stays out: a
-    // 90-degree edge lies 0.41 x the sheet's radius from it). false: only the largest part is kept (off by default: on
-    // the 22 shared surfaces it restores hand's fingers, but no `auto` answer changes; docs/sheets.md, "Limbs").
+    // 90-degree edge lies 0.41 x the sheet's radius from it). false: only the largest part is kept (off by default: it
+    // changed no `auto` answer where measured; docs/sheets.md, "Limbs").
     bool keep_limbs = false;
     double limb_gap = 0.01;           // x bbox diagonal
     double limb_radius_factor = 1.0;  // x radius of the nearest kept sphere
