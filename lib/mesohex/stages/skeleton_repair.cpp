@@ -419,6 +419,18 @@ int split_docked_feet(Skeleton& s, double factor) {
             mark_strip(s, l, u, v, std::min(0.5, target / d), cuts);
             ++strips;
         }
+        // A side's wall ending at u inside the chain (the other side's wall goes on): the chain side with fewer faces
+        // is the foot beyond that wall's end, split like the plate's strip beyond an inside end (through the plate
+        // and the walls that go on).
+        if (chain[u].size() != 2) continue;
+        const std::size_t n0 = faces_of(u, chain[u][0]).size(), n1 = faces_of(u, chain[u][1]).size();
+        if (n0 == n1) continue;
+        const int v = chain[u][n0 < n1 ? 0 : 1];
+        const double d = distance(s.points[u], s.points[v]);
+        const double target = factor * s.radii[u];
+        if (!(d > target) || cuts.count(std::minmax(u, v))) continue;
+        mark_strip(s, l, u, v, std::min(0.5, target / d), cuts);
+        ++strips;
     }
     if (strips) apply_cuts(s, cuts);
     return strips;
