@@ -332,8 +332,9 @@ int split_root_patches(Skeleton& s, double factor) {
 // shared by 3 or more faces (the chain sides), no branch edge at u, on a chain with an inside end. Its plate P: the
 // leaflet (faces joined through sides of 2 faces) with 2 faces at a chain side (a regular fan, which cuts its
 // leaflets, has none). Every side (u, v) of 2 faces of P, v not on the chain, has its strip split at factor x r_u from
-// u: beside the chain when the side shares a face with a chain side, beyond an inside end otherwise. Returns the
-// number of strips split.
+// u: beside the chain when the side shares a face with a chain side, beyond an inside end otherwise; and where one
+// side's wall ends at u inside the chain (its two chain sides have different face counts), the chain side with fewer
+// faces at factor x r_u from u (the foot beyond that wall's end). Returns the number of strips split.
 int split_docked_feet(Skeleton& s, double factor) {
     const int n = static_cast<int>(s.points.size());
     if (!strips_splittable(s, factor)) return 0;

@@ -142,8 +142,9 @@ struct SkeletonRepairOptions {
     // 2 plate faces wide, one face longer than the chain at an inside end), so a thin wall (radius about 0.1 x the
     // plate edge) starts from a base a whole plate edge wide and long; the fit leaves that flare in the crease (finished
     // Hausdorff 1.2 - 6.6 % of the diagonal). The plate's face strips beside the chain (both sides, through the whole
-    // plate) and beyond every inside end are split at docked_foot_split x the chain vertex's radius from the chain (at
-    // most half the edge): the foot is then as wide as the wall. 0 disables (dimensionless, x radius; 2: measured on
+    // plate) and beyond every inside end (of the chain, or of one side's wall where the other side's goes on: the chain
+    // side's strip) are split at docked_foot_split x the chain vertex's radius from the chain (at most half the edge):
+    // the foot is then as wide as the wall. 0 disables (dimensionless, x radius; 2: measured on
     // thin and default walls, finished Hausdorff 1.2 - 6.6 % -> 0.34 - 0.53 % on 14 of 15).
     // docs/blocks.md ("Acceptance audit (session 24)").
     double docked_foot_split = 2;
