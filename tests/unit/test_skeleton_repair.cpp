@@ -295,6 +295,21 @@ TEST(SkeletonRepair, NearOrthogonalCrossGetsItsBlockThroughThePipeline) {
     EXPECT_GT(q.sj_min, qp.sj_min);
 }
 
+namespace {
+
+// A raw mesh with `hexes` hexes, valid, not inverted, Euler characteristic 1, irregular edges as predicted.
+void expect_raw_as_predicted(const mesohex::PipelineResult& r, int hexes) {
+    const mesohex::QualityReport q = mesohex::compute_quality(r.raw.mesh);
+    EXPECT_EQ(q.hexes, hexes);
+    EXPECT_EQ(q.singular_interior_edges, r.predicted.interior_irregular_edges);
+    EXPECT_EQ(q.singular_boundary_edges, r.predicted.boundary_irregular_edges);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.euler_characteristic, 1);
+    EXPECT_EQ(q.inverted, 0);
+}
+
+}  // namespace
+
 // Docked walls' feet (docked_foot_split, 2 by default; docs/blocks.md "Acceptance audit (session 24)"): the
 // generated wall (6 x 6 unit plate at z = 0, x and y from -3 to 3; a wall of 2 edges and 2 rows on x = 0 from y = -1
 // to 1), radius 0.1, split at 2 r = 0.2 from the chain: the plate columns x in [-1, 0] and [0, 1] at x = -0.2 and 0.2
@@ -332,13 +347,7 @@ TEST(SkeletonRepair, DockedWallFeetSplitTheirPlateStrips) {
     EXPECT_EQ(r.docked_foot_splits, 4);
     EXPECT_EQ(r.analysis.counts.boundary_edges, 38);
     EXPECT_EQ(r.predicted.hexes, 212);
-    const mesohex::QualityReport q = mesohex::compute_quality(r.raw.mesh);
-    EXPECT_EQ(q.hexes, 212);
-    EXPECT_EQ(q.singular_interior_edges, r.predicted.interior_irregular_edges);
-    EXPECT_EQ(q.singular_boundary_edges, r.predicted.boundary_irregular_edges);
-    EXPECT_TRUE(q.validation.valid());
-    EXPECT_EQ(q.euler_characteristic, 1);
-    EXPECT_EQ(q.inverted, 0);
+    expect_raw_as_predicted(r, 212);
     mesohex::PipelineOptions unsplit;
     unsplit.repair.docked_foot_split = 0;
     EXPECT_EQ(mesohex::compute_quality(mesohex::run_pipeline(in, unsplit).raw.mesh).hexes, 140);
@@ -397,13 +406,7 @@ TEST(SkeletonRepair, DockedFootSplitBeyondAWallEndingInsideTheChain) {
     EXPECT_EQ(pr.docked_foot_splits, 5);
     EXPECT_EQ(pr.analysis.counts.boundary_edges, 34);
     EXPECT_EQ(pr.predicted.hexes, 160);
-    const mesohex::QualityReport q = mesohex::compute_quality(pr.raw.mesh);
-    EXPECT_EQ(q.hexes, 160);
-    EXPECT_TRUE(q.validation.valid());
-    EXPECT_EQ(q.euler_characteristic, 1);
-    EXPECT_EQ(q.inverted, 0);
-    EXPECT_EQ(q.singular_interior_edges, pr.predicted.interior_irregular_edges);
-    EXPECT_EQ(q.singular_boundary_edges, pr.predicted.boundary_irregular_edges);
+    expect_raw_as_predicted(pr, 160);
 }
 
 // A pair whose first edges are short against the room the other two leave (junction_split_clearance): c = origin,
