@@ -295,6 +295,21 @@ TEST(SkeletonRepair, NearOrthogonalCrossGetsItsBlockThroughThePipeline) {
     EXPECT_GT(q.sj_min, qp.sj_min);
 }
 
+namespace {
+
+// A raw mesh with `hexes` hexes, valid, not inverted, Euler characteristic 1, irregular edges as predicted.
+void expect_raw_as_predicted(const mesohex::PipelineResult& r, int hexes) {
+    const mesohex::QualityReport q = mesohex::compute_quality(r.raw.mesh);
+    EXPECT_EQ(q.hexes, hexes);
+    EXPECT_EQ(q.singular_interior_edges, r.predicted.interior_irregular_edges);
+    EXPECT_EQ(q.singular_boundary_edges, r.predicted.boundary_irregular_edges);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.euler_characteristic, 1);
+    EXPECT_EQ(q.inverted, 0);
+}
+
+}  // namespace
+
 // Docked walls' feet (docked_foot_split, 2 by default; docs/blocks.md "Acceptance audit (session 24)"): the
 // generated wall (6 x 6 unit plate at z = 0, x and y from -3 to 3; a wall of 2 edges and 2 rows on x = 0 from y = -1
 // to 1), radius 0.1, split at 2 r = 0.2 from the chain: the plate columns x in [-1, 0] and [0, 1] at x = -0.2 and 0.2
@@ -332,13 +347,7 @@ TEST(SkeletonRepair, DockedWallFeetSplitTheirPlateStrips) {
     EXPECT_EQ(r.docked_foot_splits, 4);
     EXPECT_EQ(r.analysis.counts.boundary_edges, 38);
     EXPECT_EQ(r.predicted.hexes, 212);
-    const mesohex::QualityReport q = mesohex::compute_quality(r.raw.mesh);
-    EXPECT_EQ(q.hexes, 212);
-    EXPECT_EQ(q.singular_interior_edges, r.predicted.interior_irregular_edges);
-    EXPECT_EQ(q.singular_boundary_edges, r.predicted.boundary_irregular_edges);
-    EXPECT_TRUE(q.validation.valid());
-    EXPECT_EQ(q.euler_characteristic, 1);
-    EXPECT_EQ(q.inverted, 0);
+    expect_raw_as_predicted(r, 212);
     mesohex::PipelineOptions unsplit;
     unsplit.repair.docked_foot_split = 0;
     EXPECT_EQ(mesohex::compute_quality(mesohex::run_pipeline(in, unsplit).raw.mesh).hexes, 140);
@@ -346,6 +355,58 @@ TEST(SkeletonRepair, DockedWallFeetSplitTheirPlateStrips) {
     EXPECT_EQ(mesohex::repair_skeleton(mesohex::make_wall_plate(w, 1.0, 0.1), o).docked_foot_splits, 3);
     w.length = 6;  // across: a T fan
     EXPECT_EQ(mesohex::repair_skeleton(mesohex::make_wall_plate(w, 1.0, 0.1), o).docked_foot_splits, 0);
+}
+
+// Walls of unequal extents on the two sides of one chain (bench/issue22_check.py wall_0002, docs/blocks.md
+// "Acceptance audit (session 24)"): 4 x 4 unit plate at z = 0 (x, y in 0..4), chain on x = 2 from y = 1 to 3, a wall
+// of 1 row above (z = 1) over the whole chain, one below (z = -1) over y in [1, 2] only, radius 0.1. V 30, E 48, F 19,
+// boundary edges 16 + 4 + 3 = 23. The lower wall ends at the chain vertex (2, 2), where the chain goes on with 3
+// faces: the strip of that chain side, (2, 2)-(2, 3), is cut at 2 r = 0.2 beyond it (the row y in [2, 3] of the plate
+// and the upper wall's face, y = 2.2: 6 cut edges), besides the 4 strips the chain's ends give (columns x in [1, 2],
+// [2, 3] at 1.8 / 2.2 and rows y in [0, 1], [3, 4] at 0.8 / 3.2, 5 cut edges each): 26 cut edges; 6 plate faces
+// crossed twice (+3 faces, +1 centre, +4 edges each), 8 plate faces and the upper wall's face crossed once (+1 face,
+// +1 edge). V 30 + 26 + 6 = 62, E 48 + 26 + 24 + 9 = 107, F 19 + 18 + 9 = 46 (Euler 1); boundary edges 23 + 4 + 4 +
+// 3 = 34 (the new strip cuts the plate's two border edges and the upper wall's top); raw hexes 2 F + 2 B = 160.
+// Without the cut beyond the lower wall's end (the 4 strips only): the lower wall's foot stands on the whole face row
+// y in [2, 3] and its finished mesh bulges below the plate there (wall_0002: Hausdorff 3.47 % against 0.43 %).
+TEST(SkeletonRepair, DockedFootSplitBeyondAWallEndingInsideTheChain) {
+    Skeleton s;
+    const double r = 0.1;
+    const auto at = [](int x, int y) { return 5 * x + y; };
+    for (int x = 0; x <= 4; ++x)
+        for (int y = 0; y <= 4; ++y) s.points.push_back({double(x), double(y), 0.0});
+    for (int x = 0; x < 4; ++x)
+        for (int y = 0; y < 4; ++y) s.faces.push_back({at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1)});
+    for (int y = 1; y <= 3; ++y) s.points.push_back({2.0, double(y), 1.0});   // 25, 26, 27
+    for (int y = 1; y <= 2; ++y) s.points.push_back({2.0, double(y), -1.0});  // 28, 29
+    s.faces.push_back({at(2, 1), at(2, 2), 26, 25});
+    s.faces.push_back({at(2, 2), at(2, 3), 27, 26});
+    s.faces.push_back({at(2, 1), at(2, 2), 29, 28});
+    s.radii.assign(s.points.size(), r);
+    std::map<std::pair<int, int>, int> sides;
+    for (const std::vector<int>& f : s.faces)
+        for (int i = 0; i < 4; ++i) ++sides[std::minmax(f[i], f[(i + 1) % 4])];
+    int border = 0;
+    for (const auto& [e, count] : sides) {
+        s.edges.push_back({e.first, e.second});
+        border += count == 1;
+    }
+    ASSERT_EQ(s.points.size(), 30u);
+    ASSERT_EQ(s.edges.size(), 48u);
+    ASSERT_EQ(border, 23);
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(s, {});
+    EXPECT_EQ(res.docked_foot_splits, 5);
+    EXPECT_EQ(res.skeleton.points.size(), 62u);
+    EXPECT_EQ(res.skeleton.edges.size(), 107u);
+    EXPECT_EQ(res.skeleton.faces.size(), 46u);
+    int beyond = 0;  // the new strip's points: 5 plate edges, the upper wall's top edge, 2 face centres
+    for (const Vec3& p : res.skeleton.points) beyond += std::abs(p.y - 2.2) < 1e-12;
+    EXPECT_EQ(beyond, 8);
+    const mesohex::PipelineResult pr = mesohex::run_pipeline(s);
+    EXPECT_EQ(pr.docked_foot_splits, 5);
+    EXPECT_EQ(pr.analysis.counts.boundary_edges, 34);
+    EXPECT_EQ(pr.predicted.hexes, 160);
+    expect_raw_as_predicted(pr, 160);
 }
 
 // A pair whose first edges are short against the room the other two leave (junction_split_clearance): c = origin,

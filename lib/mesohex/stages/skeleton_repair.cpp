@@ -431,10 +431,28 @@ std::vector<char> docked_chain_vertices(const DockedPlates& dp) {
     return docked;
 }
 
+// A side's wall ending at u inside the chain (the other side's wall goes on): the chain side with fewer faces is the
+// foot beyond that wall's end, split like the plate's strip beyond an inside end (through the plate and the walls that
+// go on). Returns 1 when it marked a strip.
+int split_beyond_wall_end(const Skeleton& s, const DockedPlates& dp, int u, double factor,
+                          std::map<EdgeKey, Cut>& cuts) {
+    if (dp.chain[u].size() != 2) return 0;
+    const std::size_t n0 = faces_of(dp, u, dp.chain[u][0]).size(), n1 = faces_of(dp, u, dp.chain[u][1]).size();
+    if (n0 == n1) return 0;
+    const int v = dp.chain[u][n0 < n1 ? 0 : 1];
+    const double d = distance(s.points[u], s.points[v]);
+    const double target = factor * s.radii[u];
+    if (!(d > target) || cuts.count(std::minmax(u, v))) return 0;
+    mark_strip(s, dp.l, u, v, std::min(0.5, target / d), cuts);
+    return 1;
+}
+
 // Narrows the feet of docked walls (SkeletonRepairOptions::docked_foot_split). At every vertex u of a docked chain
 // (docked_chain_vertices) without a branch edge, every side (u, v) of 2 faces of u's plate, v not on the chain, has its
 // strip split at factor x r_u from u: beside the chain when the side shares a face with a chain side, beyond an inside
-// end otherwise. Returns the number of strips split.
+// end otherwise; and where one side's wall ends at u inside the chain (its two chain sides have different face
+// counts), the chain side with fewer faces at factor x r_u from u (the foot beyond that wall's end). Returns the
+// number of strips split.
 int split_docked_feet(Skeleton& s, double factor) {
     if (!strips_splittable(s, factor)) return 0;
     const DockedPlates dp = docked_plates(s);
@@ -451,6 +469,7 @@ int split_docked_feet(Skeleton& s, double factor) {
             mark_strip(s, dp.l, u, v, std::min(0.5, target / d), cuts);
             ++strips;
         }
+        strips += split_beyond_wall_end(s, dp, u, factor, cuts);
     }
     if (strips) apply_cuts(s, cuts);
     return strips;

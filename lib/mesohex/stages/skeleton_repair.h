@@ -141,8 +141,9 @@ struct SkeletonRepairOptions {
     // Docked walls (docked_walls.h): the wall's first row of hexes stands on the plate faces beside the chain (the foot,
     // 2 plate faces wide, one face longer than the chain at an inside end), so a thin wall (radius well below the
     // plate edge) starts from a base a whole plate edge wide and long, a flare the fit leaves in the crease. The
-    // plate's face strips beside the chain (both sides, through the whole plate) and beyond every inside end are split
-    // at docked_foot_split x the chain vertex's radius from the chain (at most half the edge): the foot is then as wide
+    // plate's face strips beside the chain (both sides, through the whole plate) and beyond every inside end (of the
+    // chain, or of one side's wall where the other side's goes on: the chain side's strip) are split at
+    // docked_foot_split x the chain vertex's radius from the chain (at most half the edge): the foot is then as wide
     // as the wall. 0 disables (dimensionless, x the chain vertex's radius; 2 measured on thin and default walls).
     // docs/blocks.md ("Acceptance audit (session 24)").
     double docked_foot_split = 2;
