@@ -502,6 +502,67 @@ bool thin_pair_kept(const std::vector<ThinSample>& thin, double thin_separation,
            pq >= kThinNoiseSpacings * t.spacing;
 }
 
+// The medial complex of the kept Voronoi faces and curve edges: the cells they use become its vertices (in cell
+// order, each with the sphere quadric of its four samples' tangent planes), the faces its triangles (fans from each
+// face's first cell), the curve edges its other edges.
+MedialComplex complex_of_faces(const std::vector<Vec3>& samples, const std::vector<Vec3>& centres,
+                               const std::vector<double>& radii, const std::vector<std::array<int, 4>>& cell_samples,
+                               const std::vector<std::vector<int>>& faces,
+                               const std::vector<std::array<int, 2>>& curve_edges) {
+    std::vector<int> cell_to_vertex(centres.size(), -1);
+    MedialComplex mc;
+    for (const std::vector<int>& f : faces)
+        for (int id : f) cell_to_vertex[static_cast<size_t>(id)] = 0;
+    for (const std::array<int, 2>& e : curve_edges)
+        for (int id : e) cell_to_vertex[static_cast<size_t>(id)] = 0;
+    for (size_t i = 0; i < centres.size(); ++i)
+        if (cell_to_vertex[i] == 0) {
+            cell_to_vertex[i] = static_cast<int>(mc.centre.size());
+            mc.centre.push_back(centres[i]);
+            mc.radius.push_back(radii[i]);
+            SphereQuadric q;
+            for (int s : cell_samples[i]) {
+                const Vec3& p = samples[static_cast<size_t>(s)];
+                q.add_plane(normalized(p - centres[i]), p);
+            }
+            // A light pull to the pole itself: 1e-3 of one tangent plane.
+            q.add_point({centres[i].x, centres[i].y, centres[i].z, radii[i]}, 1e-3);
+            mc.quadric.push_back(q);
+            mc.touching.push_back(cell_samples[i]);
+        }
+    const size_t nv = mc.centre.size();
+    mc.alive.assign(nv, 1);
+    mc.version.assign(nv, 0);
+    mc.neighbours.assign(nv, {});
+    mc.vertex_triangles.assign(nv, {});
+    for (const std::vector<int>& f : faces) {
+        const int v0 = cell_to_vertex[static_cast<size_t>(f[0])];
+        for (size_t k = 1; k + 1 < f.size(); ++k) {
+            const std::array<int, 3> t = {v0, cell_to_vertex[static_cast<size_t>(f[k])],
+                                          cell_to_vertex[static_cast<size_t>(f[k + 1])]};
+            const int id = static_cast<int>(mc.triangles.size());
+            mc.triangles.push_back(t);
+            for (int j = 0; j < 3; ++j) {
+                mc.vertex_triangles[static_cast<size_t>(t[static_cast<size_t>(j)])].push_back(id);
+                const int a = t[static_cast<size_t>(j)], b = t[static_cast<size_t>((j + 1) % 3)];
+                mc.neighbours[static_cast<size_t>(a)].push_back(b);
+                mc.neighbours[static_cast<size_t>(b)].push_back(a);
+            }
+        }
+    }
+    mc.triangle_alive.assign(mc.triangles.size(), 1);
+    for (const std::array<int, 2>& e : curve_edges) {
+        const int a = cell_to_vertex[static_cast<size_t>(e[0])], b = cell_to_vertex[static_cast<size_t>(e[1])];
+        mc.neighbours[static_cast<size_t>(a)].push_back(b);
+        mc.neighbours[static_cast<size_t>(b)].push_back(a);
+    }
+    for (std::vector<int>& n : mc.neighbours) {
+        std::sort(n.begin(), n.end());
+        n.erase(std::unique(n.begin(), n.end()), n.end());
+    }
+    return mc;
+}
+
 MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const std::vector<ThinSample>& thin,
                                      double thin_separation, const SurfaceQuery& query, double diag,
                                      double min_angle_deg, bool keep_topology, MedialAxis& out) {
@@ -598,59 +659,7 @@ MedialComplex voronoi_medial_complex(const std::vector<Vec3>& samples, const std
         select_faces(keyed_faces, std::cos(min_angle_deg * kPi / 180.0), keep_topology, curve_edges);
     out.voronoi_faces = static_cast<int>(faces.size());
 
-    // Compact the cells used by kept faces into complex vertices (in cell order).
-    std::vector<int> cell_to_vertex(centres.size(), -1);
-    MedialComplex mc;
-    for (const std::vector<int>& f : faces)
-        for (int id : f) cell_to_vertex[static_cast<size_t>(id)] = 0;
-    for (const std::array<int, 2>& e : curve_edges)
-        for (int id : e) cell_to_vertex[static_cast<size_t>(id)] = 0;
-    for (size_t i = 0; i < centres.size(); ++i)
-        if (cell_to_vertex[i] == 0) {
-            cell_to_vertex[i] = static_cast<int>(mc.centre.size());
-            mc.centre.push_back(centres[i]);
-            mc.radius.push_back(radii[i]);
-            SphereQuadric q;
-            for (int s : cell_samples[i]) {
-                const Vec3& p = samples[static_cast<size_t>(s)];
-                q.add_plane(normalized(p - centres[i]), p);
-            }
-            // A light pull to the pole itself: 1e-3 of one tangent plane.
-            q.add_point({centres[i].x, centres[i].y, centres[i].z, radii[i]}, 1e-3);
-            mc.quadric.push_back(q);
-            mc.touching.push_back(cell_samples[i]);
-        }
-    const size_t nv = mc.centre.size();
-    mc.alive.assign(nv, 1);
-    mc.version.assign(nv, 0);
-    mc.neighbours.assign(nv, {});
-    mc.vertex_triangles.assign(nv, {});
-    for (const std::vector<int>& f : faces) {
-        const int v0 = cell_to_vertex[static_cast<size_t>(f[0])];
-        for (size_t k = 1; k + 1 < f.size(); ++k) {
-            const std::array<int, 3> t = {v0, cell_to_vertex[static_cast<size_t>(f[k])],
-                                          cell_to_vertex[static_cast<size_t>(f[k + 1])]};
-            const int id = static_cast<int>(mc.triangles.size());
-            mc.triangles.push_back(t);
-            for (int j = 0; j < 3; ++j) {
-                mc.vertex_triangles[static_cast<size_t>(t[static_cast<size_t>(j)])].push_back(id);
-                const int a = t[static_cast<size_t>(j)], b = t[static_cast<size_t>((j + 1) % 3)];
-                mc.neighbours[static_cast<size_t>(a)].push_back(b);
-                mc.neighbours[static_cast<size_t>(b)].push_back(a);
-            }
-        }
-    }
-    mc.triangle_alive.assign(mc.triangles.size(), 1);
-    for (const std::array<int, 2>& e : curve_edges) {
-        const int a = cell_to_vertex[static_cast<size_t>(e[0])], b = cell_to_vertex[static_cast<size_t>(e[1])];
-        mc.neighbours[static_cast<size_t>(a)].push_back(b);
-        mc.neighbours[static_cast<size_t>(b)].push_back(a);
-    }
-    for (std::vector<int>& n : mc.neighbours) {
-        std::sort(n.begin(), n.end());
-        n.erase(std::unique(n.begin(), n.end()), n.end());
-    }
-    return mc;
+    return complex_of_faces(samples, centres, radii, cell_samples, faces, curve_edges);
 }
 
 // The segment a-b lies inside the surface and its points keep at least clearance x the radius interpolated between
