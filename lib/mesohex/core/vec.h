@@ -56,6 +56,12 @@ inline Vec3 normalized(const Vec3& a) {
     const double n = norm(a);
     return n > 0 ? a / n : Vec3{};
 }
+// A unit vector perpendicular to the unit t: t x the coordinate axis least aligned with t (deterministic).
+inline Vec3 any_perpendicular(const Vec3& t) {
+    const double ax = std::abs(t.x), ay = std::abs(t.y), az = std::abs(t.z);
+    const Vec3 axis = (ax <= ay && ax <= az) ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+    return normalized(cross(t, axis));
+}
 // Distance from p to the segment ab (to a when the segment is a point).
 inline double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
     const Vec3 ab = b - a;

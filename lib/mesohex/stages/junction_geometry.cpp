@@ -11,12 +11,6 @@ constexpr double kTiny = 1e-24;
 
 }  // namespace
 
-Vec3 any_perpendicular(const Vec3& t) {
-    const double ax = std::abs(t.x), ay = std::abs(t.y), az = std::abs(t.z);
-    const Vec3 axis = (ax <= ay && ax <= az) ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
-    return normalized(cross(t, axis));
-}
-
 // Frame with the given unit t and r as close as possible to r_hint.
 Frame orthonormal_frame(const Vec3& r_hint, const Vec3& t) {
     Vec3 r = r_hint - dot(r_hint, t) * t;

@@ -19,8 +19,6 @@ struct Frame {
 
 // Frame with the given unit t and r as close as possible to r_hint (any perpendicular when r_hint is along t).
 Frame orthonormal_frame(const Vec3& r_hint, const Vec3& t);
-// A unit vector perpendicular to unit t (t x the coordinate axis least aligned with t).
-Vec3 any_perpendicular(const Vec3& t);
 
 // Double-reflection step: transports frame f from x0 to x1 and turns it to the unit tangent t1.
 Frame rotation_minimizing_step(const Frame& f, const Vec3& x0, const Vec3& x1, const Vec3& t1);

@@ -22,9 +22,7 @@ struct Pieces {
 
 // A unit vector orthogonal to the unit vector a, and a x it: the tangent frame of the steps.
 void tangent_frame(const Vec3& a, Vec3& t1, Vec3& t2) {
-    const double ax = std::abs(a.x), ay = std::abs(a.y), az = std::abs(a.z);
-    const Vec3 e = (ax <= ay && ax <= az) ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
-    t1 = normalized(cross(a, e));
+    t1 = any_perpendicular(a);
     t2 = cross(a, t1);
 }
 

@@ -77,12 +77,8 @@ double corner_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
     return angle;
 }
 
-// A unit vector orthogonal to the unit vector a (deterministic).
-Vec3 any_orthogonal(const Vec3& a) {
-    const double ax = std::abs(a.x), ay = std::abs(a.y), az = std::abs(a.z);
-    const Vec3 e = (ax <= ay && ax <= az) ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
-    return normalized(cross(a, e));
-}
+// A unit vector orthogonal to the unit vector a (deterministic; core/vec.h).
+Vec3 any_orthogonal(const Vec3& a) { return any_perpendicular(a); }
 
 // cos and sin of the 8 pattern-search directions phi = k x 45° (tables computed once with std::cos / std::sin).
 const std::array<double, 8>& trial_cos() {
