@@ -182,6 +182,7 @@ int main(int argc, char** argv) {
         if (a == "--bl-corner-reach" && i + 1 < argc) o.import.bl_joint_corner_reach = std::atof(argv[++i]);
         if (a == "--fringe-factor" && i + 1 < argc) o.medial.fringe_factor = std::atof(argv[++i]);
         if (a == "--fringe-node-ends") o.medial.fringe_node_ends = true;
+        if (a == "--no-prune-after-fringe") o.medial.prune_after_fringe = false;
         if (a == "--geometry") geometry = true;
         if (a == "--fill-pinch" && i + 1 < argc) o.import.fill_pinch_max_angle_deg = std::atof(argv[++i]);
         if (a == "--min-side" && i + 1 < argc) o.import.min_border_side_fraction = std::atof(argv[++i]);

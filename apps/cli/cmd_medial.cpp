@@ -77,6 +77,8 @@ void register_medial(CLI::App& app, int* status) {
         ->capture_default_str();
     cmd->add_flag("--fringe-node-ends", args->options.fringe_node_ends,
                   "Also remove the fringe chains that end where curves branch (not only those between sheet vertices)");
+    cmd->add_flag("!--no-prune-after-fringe", o.prune_after_fringe,
+                  "Keep the spurs the fringe removal leaves (short curves from a sheet's border that end in a tip)");
     cmd->footer("Example: mesohex medial plate1.obj -o plate1.ma && mesohex import plate1.ma -o plate1_skel.obj");
     cmd->callback([args, status]() {
         auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
@@ -92,7 +94,8 @@ void register_medial(CLI::App& app, int* status) {
                   << m.initial_vertices << " vertices, " << m.initial_triangles << " triangles (Euler characteristic "
                   << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.limbs << " limbs kept ("
                   << m.limb_branches << " branches), " << m.collapses << " collapses, " << m.thin_triangles_removed
-                  << " thin triangles to curves, " << m.pruned_tips << " tips pruned (read " << ms(t0, t1)
+                  << " thin triangles to curves, " << m.pruned_tips << " tips pruned, " << m.fringe_curves
+                  << " fringe chains removed, " << m.pruned_spurs << " spurs after them (read " << ms(t0, t1)
                   << " ms, medial " << ms(t1, t2) << " ms)\n"
                   << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size() << " edges, "
                   << m.medial.faces.size() << " triangles; " << m.sheets << " sheets, " << m.curves

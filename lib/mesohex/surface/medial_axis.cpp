@@ -1622,6 +1622,31 @@ void measure(MedialAxis& out) {
     out.sheet_fraction = total > 0 ? out.sheet_area / total : 0;
 }
 
+// Removes the points that no edge or face uses, keeping the order of the others (and so the medial mesh's sorting).
+void drop_unused_vertices(Skeleton& m) {
+    const int nv = static_cast<int>(m.points.size());
+    std::vector<char> used(static_cast<size_t>(nv), 0);
+    for (const std::array<int, 2>& e : m.edges) used[static_cast<size_t>(e[0])] = used[static_cast<size_t>(e[1])] = 1;
+    for (const std::vector<int>& f : m.faces)
+        for (int v : f) used[static_cast<size_t>(v)] = 1;
+    std::vector<int> id(static_cast<size_t>(nv), -1);
+    Skeleton out;
+    for (int v = 0; v < nv; ++v)
+        if (used[static_cast<size_t>(v)]) {
+            id[static_cast<size_t>(v)] = static_cast<int>(out.points.size());
+            out.points.push_back(m.points[static_cast<size_t>(v)]);
+            out.radii.push_back(m.radii[static_cast<size_t>(v)]);
+        }
+    for (const std::array<int, 2>& e : m.edges)
+        out.edges.push_back({id[static_cast<size_t>(e[0])], id[static_cast<size_t>(e[1])]});
+    for (const std::vector<int>& f : m.faces) {
+        std::vector<int> g;
+        for (int v : f) g.push_back(id[static_cast<size_t>(v)]);
+        out.faces.push_back(std::move(g));
+    }
+    m = std::move(out);
+}
+
 }  // namespace
 
 int remove_fringe_curves(Skeleton& m, double factor, bool node_ends) {
@@ -1699,27 +1724,68 @@ int remove_fringe_curves(Skeleton& m, double factor, bool node_ends) {
     }
     if (chains == 0) return 0;
     std::erase_if(m.edges, [&](const std::array<int, 2>& e) { return removed.count(key(e[0], e[1])) > 0; });
-    std::vector<char> used(static_cast<size_t>(nv), 0);
-    for (const std::array<int, 2>& e : m.edges) used[static_cast<size_t>(e[0])] = used[static_cast<size_t>(e[1])] = 1;
-    for (const std::vector<int>& f : m.faces)
-        for (int v : f) used[static_cast<size_t>(v)] = 1;
-    std::vector<int> id(static_cast<size_t>(nv), -1);
-    Skeleton out;
-    for (int v = 0; v < nv; ++v)
-        if (used[static_cast<size_t>(v)]) {
-            id[static_cast<size_t>(v)] = static_cast<int>(out.points.size());
-            out.points.push_back(m.points[static_cast<size_t>(v)]);
-            out.radii.push_back(m.radii[static_cast<size_t>(v)]);
-        }
-    for (const std::array<int, 2>& e : m.edges)
-        out.edges.push_back({id[static_cast<size_t>(e[0])], id[static_cast<size_t>(e[1])]});
-    for (const std::vector<int>& f : m.faces) {
-        std::vector<int> g;
-        for (int v : f) g.push_back(id[static_cast<size_t>(v)]);
-        out.faces.push_back(std::move(g));
-    }
-    m = std::move(out);
+    drop_unused_vertices(m);
     return chains;
+}
+
+int prune_spurs(Skeleton& m, double prune_factor) {
+    if (!(prune_factor > 0)) return 0;
+    int pruned = 0;
+    for (bool changed = true; changed;) {
+        changed = false;
+        const size_t nv = m.points.size();
+        std::set<std::array<int, 2>> sides;
+        std::vector<char> in_triangle(nv, 0);
+        for (const std::vector<int>& f : m.faces)
+            for (size_t k = 0; k < f.size(); ++k) {
+                const int a = f[k], b = f[(k + 1) % f.size()];
+                sides.insert({std::min(a, b), std::max(a, b)});
+                in_triangle[static_cast<size_t>(a)] = 1;
+            }
+        std::vector<std::vector<int>> adj(nv);
+        for (const std::array<int, 2>& e : m.edges)
+            if (!sides.count({std::min(e[0], e[1]), std::max(e[0], e[1])})) {
+                adj[static_cast<size_t>(e[0])].push_back(e[1]);
+                adj[static_cast<size_t>(e[1])].push_back(e[0]);
+            }
+        // The shortest spur: from a tip (one curve edge, in no triangle) through plain joints to its node.
+        double best_length = std::numeric_limits<double>::infinity();
+        std::vector<int> best;
+        for (size_t v = 0; v < nv; ++v) {
+            if (adj[v].size() != 1 || in_triangle[v]) continue;
+            std::vector<int> chain = {static_cast<int>(v)};
+            double length = 0;
+            for (int prev = -1, cur = static_cast<int>(v);;) {
+                int next = -1;
+                for (int n : adj[static_cast<size_t>(cur)])
+                    if (n != prev) next = n;
+                if (next < 0) break;
+                length += distance(m.points[static_cast<size_t>(cur)], m.points[static_cast<size_t>(next)]);
+                chain.push_back(next);
+                prev = cur;
+                cur = next;
+                if (adj[static_cast<size_t>(cur)].size() != 2 || in_triangle[static_cast<size_t>(cur)]) break;
+            }
+            const size_t node = static_cast<size_t>(chain.back());
+            if (chain.size() < 2 || (adj[node].size() < 2 && !in_triangle[node])) continue;  // a path or a loop
+            if (length + m.radii[v] >= prune_factor * m.radii[node]) continue;
+            if (length < best_length || (length == best_length && chain < best)) {
+                best_length = length;
+                best = chain;
+            }
+        }
+        if (best.empty()) break;
+        std::set<std::array<int, 2>> gone;
+        for (size_t k = 0; k + 1 < best.size(); ++k)
+            gone.insert({std::min(best[k], best[k + 1]), std::max(best[k], best[k + 1])});
+        std::erase_if(m.edges, [&](const std::array<int, 2>& e) {
+            return gone.count({std::min(e[0], e[1]), std::max(e[0], e[1])}) > 0;
+        });
+        drop_unused_vertices(m);
+        ++pruned;
+        changed = true;
+    }
+    return pruned;
 }
 
 MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOptions& options) {
@@ -1831,6 +1897,9 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     out.medial = to_medial_mesh(s, vertex_alive, 1e-6 * diag);
     if (options.fringe_factor > 0)
         out.fringe_curves = remove_fringe_curves(out.medial, options.fringe_factor, options.fringe_node_ends);
+    // The fringe removal leaves the webs' stubs (a curve node of a web next to a sheet becomes a tip one short edge
+    // from the sheet's border): the same spur rule once more, on the final medial mesh.
+    if (options.prune_after_fringe) out.pruned_spurs = prune_spurs(out.medial, options.prune_factor);
     measure(out);
     return out;
 }

@@ -102,6 +102,11 @@ struct MedialAxisOptions {
     bool fringe_node_ends = true;
     double prune_factor = 2.0;  // a terminal curve branch goes when its length + tip radius < this x the radius
                                 // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
+    // The same spur rule applied again after the fringe removal (prune_spurs): removing a web's chains along a sheet
+    // leaves its nodes as tips one short edge from the sheet's border (torque: 14 such stubs, 0.2 to 0.65 long
+    // against medial radii of 0.6 to 0.8), whose first chunk lies inside the join's own block and inverts
+    // (docs/sheets.md, "Stubs the fringe removal leaves").
+    bool prune_after_fringe = true;
 };
 
 struct MedialAxis {
@@ -123,6 +128,7 @@ struct MedialAxis {
     int thin_triangles_removed = 0;                   // triangles turned into curves (step 5)
     int pruned_tips = 0;                              // curve tips pruned
     int fringe_curves = 0;                            // curve chains removed by remove_fringe_curves
+    int pruned_spurs = 0;                             // spurs pruned after the fringe removal (prune_spurs)
     int sheets = 0;                                   // triangle components through shared edges
     int curves = 0;              // curve branches: chains of curve edges between vertices that are not on exactly
                                  // two curve edges and in no triangle (a closed chain counts once)
@@ -146,5 +152,13 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
 // radius of the nearest triangle is removed, with its inner vertices, if its ends stay connected without it (chains in
 // vertex order; ties to the lower id). Vertex order is kept (ids compacted). Returns the number of chains removed.
 int remove_fringe_curves(Skeleton& medial, double factor, bool node_ends = false);
+
+// Terminal curve branches of a medial mesh (from a tip, a vertex with one curve edge and in no triangle, through
+// vertices with two curve edges and in no triangle, to its node: a sheet vertex or a vertex with 3 or more curve
+// edges) whose length + tip radius is below prune_factor x the node's radius go, shortest first (ties: the smaller
+// vertex ids), one at a time, until none is left; points no edge or face uses any more are dropped, the order of the
+// others kept. A path (both ends tips) stays. Elementary collapses: the Euler characteristic and the components do
+// not change. Returns the number of branches removed.
+int prune_spurs(Skeleton& medial, double prune_factor);
 
 }  // namespace mesohex
