@@ -13,6 +13,8 @@
 
 #include "mesohex/auto_skeleton.h"
 #include "mesohex/mesh.h"
+#include "mesohex/stages/medial_import.h"
+#include "mesohex/surface/medial_axis.h"
 #include "mesohex/surface/radius_from_surface.h"
 #include "mesohex/surface/surface_query.h"
 #include "skeleton_fixtures.h"
@@ -173,6 +175,25 @@ TEST(AutoSkeleton, JoinHandedToACornerMeshesWithoutInversion) {
             import_medial_mesh(test::two_curves_next_to_a_corner({1, -1, -1}, {1, -2, -1}, {0, -3, 0}, r));
         EXPECT_EQ(im.joins_to_corners, 1);
         EXPECT_EQ(raw_inverted(im.skeleton), 0);
+    }
+}
+
+TEST(AutoSkeleton, StubOnASheetBorderInvertsItsChunksAndIsPrunedAsASpur) {
+    // Three unit squares in a row (6 triangles) with one curve edge from border vertex 1 = (1, 0, 0) straight out to
+    // (1, -len, 0), every radius 0.3: torque's stubs after the fringe removal (one edge, 0.66 to 0.88 x the join's
+    // radius). The branch's one chunk starts beyond the join's block, about one radius out, past its own end: its 4
+    // hexes invert.
+    // prune_spurs (length + 0.3 < 2 x 0.3) removes it; the sheet alone meshes without inversion.
+    for (double len : {0.2, 0.25}) {
+        SCOPED_TRACE(len);
+        Skeleton m = test::medial_mesh(
+            {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {3, 1, 0}, {1, -len, 0}},
+            {{1, 8}}, {{0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}}, 0.3);
+        EXPECT_EQ(raw_inverted(import_medial_mesh(m).skeleton), 4);  // the 4 hexes of its one chunk
+        EXPECT_EQ(prune_spurs(m, 2.0), 1);
+        ASSERT_EQ(m.points.size(), 8u);
+        ASSERT_EQ(m.edges.size(), 13u);  // the sheet's sides only
+        EXPECT_EQ(raw_inverted(import_medial_mesh(m).skeleton), 0);
     }
 }
 

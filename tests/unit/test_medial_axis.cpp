@@ -334,6 +334,38 @@ TEST(MedialAxis, FringeChainsEndingAtACurveBranchingPointAreRemovedWithNodeEnds)
     EXPECT_EQ(remove_fringe_curves(m, 3.0, true), 0);  // 2-4 is the only link left
 }
 
+TEST(MedialAxis, SpursAreTheTerminalBranchesThatBarelyLeaveTheirNodesSphere) {
+    // A square sheet of side 2 (0-3, 2 triangles), every radius 0.5 (prune factor 2: length + tip radius < 1).
+    // The stub 2-4-5 runs 0.2 + 0.2 = 0.4 out of the sheet's corner 2 through the joint 4 (0.4 + 0.5 < 1: a spur);
+    // curve node 6, 3 from corner 0, carries the tip 7, 0.3 away (0.3 + 0.5 < 1: a spur), and the limb 6-8 (3 long).
+    // Shortest first: 6-7 goes, then 2-4-5; 0-6-8 is then one branch 6 long and stays. Points 4, 5, 7 go.
+    Skeleton m;
+    m.points = {{0, 0, 0},   {2, 0, 0},  {2, 2, 0},    {0, 2, 0}, {2.2, 2, 0},
+                {2.4, 2, 0}, {-3, 0, 0}, {-3, 0.3, 0}, {-6, 0, 0}};
+    m.radii.assign(m.points.size(), 0.5);
+    m.faces = {{0, 1, 2}, {0, 2, 3}};
+    m.edges = {{0, 1}, {1, 2}, {0, 2}, {2, 3}, {0, 3}, {2, 4}, {4, 5}, {0, 6}, {6, 7}, {6, 8}};
+    ASSERT_EQ(euler_characteristic(m), 9 - 10 + 2);
+    Skeleton loose = m;
+    EXPECT_EQ(prune_spurs(loose, 1.5), 0);  // 0.8 and 0.9 are not below 0.75
+    EXPECT_EQ(loose.edges.size(), 10u);
+    EXPECT_EQ(prune_spurs(m, 2.0), 2);
+    ASSERT_EQ(m.points.size(), 6u);  // 0-3, then 6 -> 4 and 8 -> 5, in their order
+    EXPECT_EQ(m.points[4], (Vec3{-3, 0, 0}));
+    EXPECT_EQ(m.points[5], (Vec3{-6, 0, 0}));
+    EXPECT_EQ(m.edges.size(), 7u);
+    EXPECT_EQ(std::count(m.edges.begin(), m.edges.end(), std::array<int, 2>{0, 4}), 1);
+    EXPECT_EQ(std::count(m.edges.begin(), m.edges.end(), std::array<int, 2>{4, 5}), 1);
+    EXPECT_EQ(m.faces.size(), 2u);
+    EXPECT_EQ(euler_characteristic(m), 6 - 7 + 2);  // the same: elementary collapses
+    EXPECT_EQ(prune_spurs(m, 2.0), 0);
+    Skeleton path;  // a path keeps both its ends
+    path.points = {{0, 0, 0}, {0.1, 0, 0}};
+    path.radii = {1, 1};
+    path.edges = {{0, 1}};
+    EXPECT_EQ(prune_spurs(path, 2.0), 0);
+}
+
 // Limbs: a thick disk (radius 2, 1.2 thick) with a rod (radius 0.25) 1.5 long on each face. The angle filter cuts the
 // rods' axes off the disk's mid-sheet where they meet (the ligature from the reflex rim is seen under small angles):
 // without keep_limbs (the default) only the disk's sheet is left and the rods' ends lie 1.5 from every sphere; with it
