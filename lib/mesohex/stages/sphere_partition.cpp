@@ -1641,6 +1641,13 @@ std::array<SpherePartition, 2> partition_sphere_close_pair_pair(const std::vecto
     PartitionWork work;
     options.no_flat_point_in_close_pair = false;
     SpherePartition without = choose_partition(d, options, work);
+    // A first choice W without a flat point in the pair's crotch is the second call's choice too: W is valid and
+    // clear, so the second call chooses among the clear candidates, where W was the first of the best. Between the
+    // calls only hull candidates change (relaxed further), and only those the first call could skip: all of them when
+    // no hull topology could reach `beat` (the best planar or orange score, <= W's), else the long relaxations of
+    // candidates whose quality_cap is below `beat`; either way their scores stay <= quality_cap < beat <= W's score.
+    // (The candidates a first call relaxes keep their state, so W, when it is one, is the same bits.)
+    if (!flat_point_between(without, close_pair_of_four(d, options.close_pair_gap_deg))) return {without, without};
     options.no_flat_point_in_close_pair = true;
     return {std::move(without), choose_partition(d, options, work)};
 }
