@@ -1326,6 +1326,26 @@ bool hull_candidates(const std::vector<Vec3>& d, double beat, PartitionWork& wor
     return true;
 }
 
+// Three directions: whether the hull path's candidate certainly scores below `beat`. That path has one candidate
+// there (the plane through the tips is the hull, both its faces triangles; degree 4 needs every edge doubled), never
+// relaxed (its three valence-2 chains join the same two poles): the poles are the triangles' vector-area directions
+// +-n, n = (d1 - d0) x (d2 - d0) normalised, the other points the digon centres normalised(d_a + d_b). It is built
+// here directly (the same points up to the rounding of the vector area's sum, ~1e-16), verified and scored; the
+// skip needs a margin of 1e-6 rad (a score moves by far less under such a rounding: its steepest term, an asin near
+// 1, by ~1e-8). An invalid direct build decides nothing (the hull path runs).
+bool three_hull_below(const std::vector<Vec3>& d, double beat) {
+    const Vec3 c = cross(d[1] - d[0], d[2] - d[0]);
+    if (!(norm(c) > 1e-12)) return false;
+    const Vec3 axis = normalized(c);
+    const OrangeFrame f = orange_frame(d, axis);
+    SpherePartition p;
+    p.points = {axis, -axis};
+    for (int k = 0; k < 3; ++k) p.points.push_back(normalized(d[f.order[k]] + d[f.order[(k + 1) % 3]]));
+    p.quads.resize(3);
+    for (int k = 0; k < 3; ++k) p.quads[f.order[k]] = {2 + k, 0, 2 + (k + 2) % 3, 1};  // east, north, west, south
+    return verify_sphere_partition(p, d).empty() && quality_score(p, d) + 1e-6 < beat;
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 
 std::vector<Vec3> validated_directions(const std::vector<Vec3>& directions) {
@@ -1601,7 +1621,7 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     for (double x : orange_scores) beat = std::max(beat, x);
 
     // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
-    if (hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, work)) {
+    if (!(n == 3 && three_hull_below(d, beat)) && hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, work)) {
         finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores, work);
         hull = work.hull_candidates;
     }
