@@ -447,12 +447,12 @@ const std::vector<ScanAxis>& fibonacci_axes() {
     return table;
 }
 
-// Deterministic axis candidates: the best-fit plane normal, the Fibonacci axes, pair normals, circle centres, mean.
-std::vector<ScanAxis> candidate_axes(const std::vector<Vec3>& d) {
+// Deterministic axis candidates besides the Fibonacci axes: the best-fit plane normal (candidate 0), then, after the
+// Fibonacci axes, pair normals, circle centres and the mean. Candidate a of the scan is extra[0] for a = 0, Fibonacci
+// axis a - 1 for a <= 400, else extra[a - 400] (the table is not copied per partition).
+std::vector<ScanAxis> extra_candidate_axes(const std::vector<Vec3>& d) {
     std::vector<ScanAxis> axes;
     axes.push_back(scan_axis(best_fit_plane_normal(d)));
-    const std::vector<ScanAxis>& fib = fibonacci_axes();
-    axes.insert(axes.end(), fib.begin(), fib.end());
     const int n = static_cast<int>(d.size());
     for (int i = 0; i < n && i < 40; ++i)
         for (int j = i + 1; j < n && j < 40; ++j) {
@@ -473,20 +473,27 @@ std::vector<ScanAxis> candidate_axes(const std::vector<Vec3>& d) {
 // The three best candidate axes by (quality, index), as a sort of every valid axis would rank them (fewer when fewer
 // are valid).
 std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& eval) {
-    const std::vector<ScanAxis> axes = candidate_axes(d);
+    const std::vector<ScanAxis>& fib = fibonacci_axes();
+    const std::vector<ScanAxis> extra = extra_candidate_axes(d);
+    const int nf = static_cast<int>(fib.size());
+    const auto axis_at = [&](int a) -> const ScanAxis& {
+        return a == 0 ? extra[0] : a <= nf ? fib[a - 1] : extra[a - nf];
+    };
     std::array<std::pair<double, int>, 3> top;  // (-quality, axis), ascending
     int top_count = 0;
-    for (int a = 0; a < static_cast<int>(axes.size()); ++a) {
+    const int count = nf + static_cast<int>(extra.size());
+    for (int a = 0; a < count; ++a) {
+        const ScanAxis& axis = axis_at(a);
         const double threshold = top_count == 3 ? -top[2].first : -1e300;
         bool valid = false;
-        const double q = eval.quality(axes[a].axis, axes[a].u, axes[a].w, threshold, valid);
+        const double q = eval.quality(axis.axis, axis.u, axis.w, threshold, valid);
         if (!(q > threshold) || !valid) continue;
         int k = top_count < 3 ? top_count++ : 2;
         top[k] = {-q, a};
         for (; k > 0 && top[k] < top[k - 1]; --k) std::swap(top[k], top[k - 1]);
     }
     std::vector<Vec3> best;
-    for (int r = 0; r < top_count; ++r) best.push_back(axes[top[r].second].axis);
+    for (int r = 0; r < top_count; ++r) best.push_back(axis_at(top[r].second).axis);
     return best;
 }
 
