@@ -1336,13 +1336,15 @@ bool hull_candidates(const std::vector<Vec3>& d, double beat, PartitionWork& wor
 // Three directions: whether the hull path's candidate certainly scores below `beat`. That path has one candidate
 // there (the plane through the tips is the hull, both its faces triangles; degree 4 needs every edge doubled), never
 // relaxed (its three valence-2 chains join the same two poles): the poles are the triangles' vector-area directions
-// +-n, n = (d1 - d0) x (d2 - d0) normalised, the other points the digon centres normalised(d_a + d_b). It is built
-// here directly (the same points up to the rounding of the vector area's sum, ~1e-16), verified and scored; the
-// skip needs a margin of 1e-6 rad (a score moves by far less under such a rounding: its steepest term, an asin near
-// 1, by ~1e-8). An invalid direct build decides nothing (the hull path runs).
+// +-n, n = (d1 - d0) x (d2 - d0) normalised, the other points the digon centres normalised(d_a + d_b) (bit for bit:
+// the sum of two terms does not depend on their order). It is built here directly, verified and scored. The vector
+// area's sum rounds differently here (~1e-16 absolute), so only tips with |n| > 1e-6 are decided (the poles then agree
+// within ~1e-10 rad); the score's minimum is never a margin term near 90 degrees (the poles' angle terms are <= 60),
+// so its terms move by at most a few times that, and a score 1e-6 rad below `beat` is certainly below it. An invalid
+// direct build, or near-collinear tips, decide nothing (the hull path runs).
 bool three_hull_below(const std::vector<Vec3>& d, double beat) {
     const Vec3 c = cross(d[1] - d[0], d[2] - d[0]);
-    if (!(norm(c) > 1e-12)) return false;
+    if (!(norm(c) > 1e-6)) return false;
     const Vec3 axis = normalized(c);
     const OrangeFrame f = orange_frame(d, axis);
     SpherePartition p;
