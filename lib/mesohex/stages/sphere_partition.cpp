@@ -447,12 +447,12 @@ const std::vector<ScanAxis>& fibonacci_axes() {
     return table;
 }
 
-// Deterministic axis candidates: the best-fit plane normal, the Fibonacci axes, pair normals, circle centres, mean.
-std::vector<ScanAxis> candidate_axes(const std::vector<Vec3>& d) {
+// Deterministic axis candidates besides the Fibonacci axes: the best-fit plane normal (candidate 0), then, after the
+// Fibonacci axes, pair normals, circle centres and the mean. Candidate a of the scan is extra[0] for a = 0, Fibonacci
+// axis a - 1 for a <= 400, else extra[a - 400] (the table is not copied per partition).
+std::vector<ScanAxis> extra_candidate_axes(const std::vector<Vec3>& d) {
     std::vector<ScanAxis> axes;
     axes.push_back(scan_axis(best_fit_plane_normal(d)));
-    const std::vector<ScanAxis>& fib = fibonacci_axes();
-    axes.insert(axes.end(), fib.begin(), fib.end());
     const int n = static_cast<int>(d.size());
     for (int i = 0; i < n && i < 40; ++i)
         for (int j = i + 1; j < n && j < 40; ++j) {
@@ -473,20 +473,27 @@ std::vector<ScanAxis> candidate_axes(const std::vector<Vec3>& d) {
 // The three best candidate axes by (quality, index), as a sort of every valid axis would rank them (fewer when fewer
 // are valid).
 std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& eval) {
-    const std::vector<ScanAxis> axes = candidate_axes(d);
+    const std::vector<ScanAxis>& fib = fibonacci_axes();
+    const std::vector<ScanAxis> extra = extra_candidate_axes(d);
+    const int nf = static_cast<int>(fib.size());
+    const auto axis_at = [&](int a) -> const ScanAxis& {
+        return a == 0 ? extra[0] : a <= nf ? fib[a - 1] : extra[a - nf];
+    };
     std::array<std::pair<double, int>, 3> top;  // (-quality, axis), ascending
     int top_count = 0;
-    for (int a = 0; a < static_cast<int>(axes.size()); ++a) {
+    const int count = nf + static_cast<int>(extra.size());
+    for (int a = 0; a < count; ++a) {
+        const ScanAxis& axis = axis_at(a);
         const double threshold = top_count == 3 ? -top[2].first : -1e300;
         bool valid = false;
-        const double q = eval.quality(axes[a].axis, axes[a].u, axes[a].w, threshold, valid);
+        const double q = eval.quality(axis.axis, axis.u, axis.w, threshold, valid);
         if (!(q > threshold) || !valid) continue;
         int k = top_count < 3 ? top_count++ : 2;
         top[k] = {-q, a};
         for (; k > 0 && top[k] < top[k - 1]; --k) std::swap(top[k], top[k - 1]);
     }
     std::vector<Vec3> best;
-    for (int r = 0; r < top_count; ++r) best.push_back(axes[top[r].second].axis);
+    for (int r = 0; r < top_count; ++r) best.push_back(axis_at(top[r].second).axis);
     return best;
 }
 
@@ -1326,6 +1333,28 @@ bool hull_candidates(const std::vector<Vec3>& d, double beat, PartitionWork& wor
     return true;
 }
 
+// Three directions: whether the hull path's candidate certainly scores below `beat`. That path has one candidate
+// there (the plane through the tips is the hull, both its faces triangles; degree 4 needs every edge doubled), never
+// relaxed (its three valence-2 chains join the same two poles): the poles are the triangles' vector-area directions
+// +-n, n = (d1 - d0) x (d2 - d0) normalised, the other points the digon centres normalised(d_a + d_b) (bit for bit:
+// the sum of two terms does not depend on their order). It is built here directly, verified and scored. The vector
+// area's sum rounds differently here (~1e-16 absolute), so only tips with |n| > 1e-6 are decided (the poles then agree
+// within ~1e-10 rad); the score's minimum is never a margin term near 90 degrees (the poles' angle terms are <= 60),
+// so its terms move by at most a few times that, and a score 1e-6 rad below `beat` is certainly below it. An invalid
+// direct build, or near-collinear tips, decide nothing (the hull path runs).
+bool three_hull_below(const std::vector<Vec3>& d, double beat) {
+    const Vec3 c = cross(d[1] - d[0], d[2] - d[0]);
+    if (!(norm(c) > 1e-6)) return false;
+    const Vec3 axis = normalized(c);
+    const OrangeFrame f = orange_frame(d, axis);
+    SpherePartition p;
+    p.points = {axis, -axis};
+    for (int k = 0; k < 3; ++k) p.points.push_back(normalized(d[f.order[k]] + d[f.order[(k + 1) % 3]]));
+    p.quads.resize(3);
+    for (int k = 0; k < 3; ++k) p.quads[f.order[k]] = {2 + k, 0, 2 + (k + 2) % 3, 1};  // east, north, west, south
+    return verify_sphere_partition(p, d).empty() && quality_score(p, d) + 1e-6 < beat;
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 
 std::vector<Vec3> validated_directions(const std::vector<Vec3>& directions) {
@@ -1601,7 +1630,7 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     for (double x : orange_scores) beat = std::max(beat, x);
 
     // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
-    if (hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, work)) {
+    if (!(n == 3 && three_hull_below(d, beat)) && hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, work)) {
         finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores, work);
         hull = work.hull_candidates;
     }
@@ -1641,6 +1670,13 @@ std::array<SpherePartition, 2> partition_sphere_close_pair_pair(const std::vecto
     PartitionWork work;
     options.no_flat_point_in_close_pair = false;
     SpherePartition without = choose_partition(d, options, work);
+    // A first choice W without a flat point in the pair's crotch is the second call's choice too: W is valid and
+    // clear, so the second call chooses among the clear candidates, where W was the first of the best. Between the
+    // calls only hull candidates change (relaxed further), and only those the first call could skip: all of them when
+    // no hull topology could reach `beat` (the best planar or orange score, <= W's), else the long relaxations of
+    // candidates whose quality_cap is below `beat`; either way their scores stay <= quality_cap < beat <= W's score.
+    // (The candidates a first call relaxes keep their state, so W, when it is one, is the same bits.)
+    if (!flat_point_between(without, close_pair_of_four(d, options.close_pair_gap_deg))) return {without, without};
     options.no_flat_point_in_close_pair = true;
     return {std::move(without), choose_partition(d, options, work)};
 }
