@@ -1154,3 +1154,49 @@ TEST(FanEndRepair, MovedRootCheckCountsOnlyNearbyInvertedHexes) {
     expect_refusal([&] { check_moved_roots(res); },
                    "repaired skeleton vertex 7: ", "gives 1 inverted raw hex(es) within 4 radii");
 }
+
+// Issue 22 item 5: a refused branch whose tube runs into a leaflet's plate is refused naming that first. tfan -n 1 -m 2
+// (fan edge 0 = (0, 0, -0.5) to 1 = (0, 0, 0.5), strips +x (faces 0, 1), +y, -x of unit quads, radius 0.3) with a
+// branch of 3 unit edges from 1 leaning back 150 degrees off +z in the +x strip's plane, d = (0.5, 0, -0.866): past
+// 3 r = 0.9 of arc, its first sample (arc 0.9 on the first edge) is (0.45, 0, -0.279), inside face 0 (x in [0, 1], z in
+// [-0.5, 0.5]): distance 0, need 0.3 + 0.3 = 0.6. The same branch 60 degrees off +z towards +x+y (phi 45) at radius
+// 0.36 clears the plates (at arc s its centre line is s (0.612, 0.612, 0.5) from (0, 0, 0.5), 0.79 s from the +x
+// and +y strips' top borders: 0.853 at s = 3 r = 1.08, over 0.72 needed) and is refused by the repair's own condition
+// (51 degrees off the border's outward direction, radius 0.36 x the border side 1, above the bend's 0.3), with the
+// edit to thin it to 0.3.
+TEST(FanEndRefusal, BranchRunningIntoALeafletPlateNamedFirst) {
+    GeneratorOptions o;
+    o.n = 1;
+    o.m = 2;
+    Skeleton s = generate_skeleton("tfan", o);
+    const double c150 = std::cos(150 * std::numbers::pi / 180), s150 = std::sin(150 * std::numbers::pi / 180);
+    add_branch(s, {0, 0, 0.5}, {s150, 0, c150});
+    const std::optional<FanEndRefusal> r = fan_end_refusal(s, 1);
+    ASSERT_TRUE(r.has_value());
+    EXPECT_EQ(
+        r->reason.rfind("the branch's tube runs into the plate of face 0: 0.900 along the branch from the vertex", 0),
+        0u)
+        << r->reason;
+    EXPECT_NE(r->reason.find(
+                  "its centre line is 0.000 from that face, where the tube's radius and the plate's need 0.600 (0.000"),
+              std::string::npos)
+        << r->reason;
+    EXPECT_NE(r->reason.find("the repair's own condition: the branch leaves 150 degrees"), std::string::npos);
+    EXPECT_EQ(r->edit.rfind("turn the branch away from face 0's leaflet (its centre line at least 0.600 from it)", 0),
+              0u)
+        << r->edit;
+    expect_refused(s, 1, "runs into the plate of face 0");
+
+    Skeleton clear = generate_skeleton("tfan", o);
+    const double c60 = std::cos(60 * std::numbers::pi / 180), s60 = std::sin(60 * std::numbers::pi / 180);
+    add_branch(clear, {0, 0, 0.5}, {s60 * std::sqrt(0.5), s60 * std::sqrt(0.5), c60});
+    for (double& rad : clear.radii) rad = 0.36;
+    const std::optional<FanEndRefusal> q = fan_end_refusal(clear, 1);
+    ASSERT_TRUE(q.has_value());
+    EXPECT_EQ(q->reason.find("runs into the plate"), std::string::npos) << q->reason;
+    EXPECT_NE(q->reason.find("51 degrees off the border's outward direction"), std::string::npos) << q->reason;
+    EXPECT_NE(q->reason.find("its radius is 0.36 x the border side"), std::string::npos) << q->reason;
+    EXPECT_NE(q->edit.find("or thin it at the vertex to at most 0.3 (0.3 x the border side, 1, so that it is bent)"),
+              std::string::npos)
+        << q->edit;
+}
