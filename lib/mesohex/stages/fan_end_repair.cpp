@@ -318,10 +318,13 @@ std::string angle_words(double cos) {
            " degrees off the fan line's continuation";
 }
 
+// A branch far from the fan line whose moved root the repair refuses, retracted instead (kFallbackCornerDeg)?
+bool fallback_retraction(const Skeleton& s, const Incidence& in, const Candidate& c);
+
 bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, FanEndRefusal* why) {
     if (!fan_end_branch(s, in, w, c, why)) return false;
     const double cos = branch_cos(s, c);
-    if (cos < kFanEndBranchCos)
+    if (cos < kFanEndBranchCos && !fallback_retraction(s, in, c))
         return why != nullptr && refuse(why,
                                         angle_words(cos) +
                                             " (the retraction takes branches within 45 degrees of the fan line; one "
@@ -940,6 +943,17 @@ PlateOverlap plate_overlap(const Skeleton& s, const Incidence& in, int w) {
     return best;
 }
 
+bool fallback_retraction(const Skeleton& s, const Incidence& in, const Candidate& c) {
+    if (branch_cos(s, c) >= kFanEndBranchCos || !root_move(s, in, c).strip.empty()) return false;
+    const int k = carrier(s, c);
+    const Vec3& pw = s.points[c.w];
+    const Vec3 x = s.points[corner_neighbour(s.faces[k], c.w, c.u)];
+    const Vec3 out = normalized(normalized(pw - s.points[c.u]) + normalized(pw - x));
+    // Only a branch clear of the leaflets' plates: one whose tube runs into a plate is refused, naming it.
+    return dot(c.branch, out) >= std::cos(kFallbackCornerDeg * std::numbers::pi / 180) &&
+           !(plate_overlap(s, in, c.w).ratio < 1);
+}
+
 // A refusal at w whose branch's tube meets a leaflet's plate (plate_overlap below 1) names that first: the input's
 // domain has the tube run into the plate there, which no root placement meshes; the repair's own condition follows.
 FanEndRefusal with_plate_overlap(const Skeleton& s, int w, FanEndRefusal why) {
@@ -991,13 +1005,15 @@ std::optional<FanEndRefusal> repair_conditions(const Skeleton& s, int w) {
     if (branch_cos(s, c) < kFanEndBranchCos) {  // moved onto a leaflet border (move_far_roots)
         const RootMove mv = root_move(s, in, c, &why);
         if (!mv.strip.empty()) return std::nullopt;
-        return FanEndRefusal{
-            angle_words(branch_cos(s, c)) +
-                " (not retracted; its root is moved onto the border of the leaflet it leans over only when the strip "
-                "of faces from that border side, from face " +
-                str(mv.face) + ", crosses the leaflet to a border, and " + why.reason + ")",
-            (why.edit.empty() ? std::string("make that strip reach a border, or ") : why.edit + ", or ") +
-                "turn the branch's first edge towards the fan line's continuation, or " + off_fan()};
+        if (!fallback_retraction(s, in, c))
+            return FanEndRefusal{
+                angle_words(branch_cos(s, c)) +
+                    " (not retracted; its root is moved onto the border of the leaflet it leans over only when the "
+                    "strip "
+                    "of faces from that border side, from face " +
+                    str(mv.face) + ", crosses the leaflet to a border, and " + why.reason + ")",
+                (why.edit.empty() ? std::string("make that strip reach a border, or ") : why.edit + ", or ") +
+                    "turn the branch's first edge towards the fan line's continuation, or " + off_fan()};
     }
     if (!retraction_room(s, in, c, &why)) return why;
     // u carries a branch far from the fan line that the repair moves off: judge w after that move (the repair's rounds
@@ -1092,7 +1108,9 @@ void retraction_rounds(Skeleton& s, const std::vector<ChainSplit>& chains, std::
             }
         }
         if (w < n) {
+            const bool far = branch_cos(s, c) < kFanEndBranchCos;
             FanEndRetraction r = retract(s, c);
+            r.far_branch = far;
             for (const ChainSplit& cs : chains)
                 if (cs.end == w) r.fan_edge_split = cs.first_cut, r.strip_faces_split = cs.faces_cut;
             done.push_back(std::move(r));
@@ -1103,7 +1121,9 @@ void retraction_rounds(Skeleton& s, const std::vector<ChainSplit>& chains, std::
         const int m = split_fan_edge(s, split, strips);
         const Incidence again = make_incidence(s);
         if (end_kind(s, again, split_at, c) != EndKind::Retract) break;  // cannot happen: (m, w) continues past m
+        const bool far = branch_cos(s, c) < kFanEndBranchCos;
         FanEndRetraction r = retract(s, c);
+        r.far_branch = far;
         r.fan_edge_split = m;
         r.strip_faces_split = static_cast<int>(strips.size());
         done.push_back(std::move(r));
