@@ -908,6 +908,19 @@ TEST(FanEndRepair, MovedFirstEdgeNotBent) {
     ASSERT_EQ(r.size(), 1u);
     EXPECT_TRUE(r[0].far_branch);
     EXPECT_EQ(r[0].moved_root, -1);
+    // Counts by hand, as TFanBranchContinuingTheFanLine (the carrier is the +y strip's face 5 on the fan edge (1, 2),
+    // faces 1 and 9 get new corners): V 24 + 2, E 35 + 2, F 12 (Euler 1); boundary 18 + (1, 2) + 2 = 21; raw hexes on
+    // the repaired sampling 4 x 3 + 2 x 12 + 2 x 21 = 78.
+    EXPECT_EQ(r[0].carrier_face, 5);
+    EXPECT_EQ(r[0].new_vertices.size(), 2u);
+    EXPECT_EQ(thick.points.size(), 26u);
+    EXPECT_EQ(thick.edges.size(), 37u);
+    EXPECT_EQ(thick.faces.size(), 12u);
+    EXPECT_EQ(euler_characteristic(thick), 1);
+    const PipelineResult raw = raw_as_given(thick);
+    EXPECT_EQ(raw.analysis.counts.boundary_edges, 21);
+    EXPECT_EQ(raw.raw.mesh.hexes.size(), 78u);
+    expect_valid(raw, 1);
     EXPECT_EQ(fan_end_refusal(before, 2), std::nullopt);
     const MeshRun run = mesh_skeleton(before, nullptr);
     EXPECT_TRUE(run.prediction_exact);
