@@ -86,8 +86,8 @@ void check_moved_roots(const PipelineResult& res) {
         if (inverted == 0) continue;
         std::ostringstream why;
         why << (root.by_input ? "skeleton vertex " : "repaired skeleton vertex ") << root.vertex
-            << ": a branch on a fan-edge end far from the fan line, its root moved onto a leaflet border by the "
-               "fan-end repair (issue 22), gives "
+            << ": a branch on a fan-edge end far from the fan line, its root moved onto a leaflet border (or the "
+               "fan edge retracted from it) by the fan-end repair (issue 22), gives "
             << inverted << " inverted raw hex(es) within " << kMovedRootCheckRadii
             << " radii of the moved root (radius " << root.radius
             << "; such roots between two leaflets or near a leaflet's plane fold the branch's first chunk); edit: "
@@ -163,10 +163,11 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         for (const FanEndRetraction& r : repaired.fan_end_retractions) {
             res.fan_end_retractions.push_back(r.vertex);
             res.fan_edge_splits += r.fan_edge_split >= 0 ? 1 : 0;
-            if (r.moved_root < 0) continue;
+            if (r.moved_root < 0 && !r.far_branch) continue;
             const auto [vertex, is_input] = named_vertex(repaired.vertex_map, r.vertex);
+            const int root = r.moved_root >= 0 ? r.moved_root : r.vertex;  // a far branch retracted: its corner w
             res.moved_roots.push_back(
-                {vertex, is_input, repaired.skeleton.points[r.moved_root], repaired.skeleton.radii[r.vertex]});
+                {vertex, is_input, repaired.skeleton.points[root], repaired.skeleton.radii[r.vertex]});
         }
         std::vector<int> pinned;
         if (options.repair.pin_absorbed_balls) pinned = repaired.absorbed_balls;

@@ -898,12 +898,33 @@ TEST(FanEndRepair, MovedFirstEdgeBetweenTheLimitsIsBent) {
 TEST(FanEndRepair, MovedFirstEdgeNotBent) {
     expect_refused(fan_end_towards(3, 150, -90), 2, "would leave it 142 degrees off the border's outward direction");
     expect_refused(fan_end_towards(3, 150, -90), 2, "not bent: the bend would turn it by 63 degrees (at most 55)");
+    // Since session 25 the thick branch is retracted instead (kFallbackCornerDeg): its direction (0, -0.766, 0.643)
+    // makes 4.5 degrees with the +y face's outward corner direction (0, -0.707, 0.707) (the carrier), and its tube
+    // clears the plates; the raw mesh as predicted, valid, no inverted hex.
     Skeleton thick = fan_end_towards(3, 50, -90);
     for (double& r : thick.radii) r = 0.4;
     Skeleton before = thick;
     const std::vector<FanEndRetraction> r = retract_fan_ends(thick);
-    EXPECT_TRUE(r.empty());
-    expect_refused(before, 2, "not bent: its radius is 0.40 x the border side (a bend takes at most 0.30)");
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_TRUE(r[0].far_branch);
+    EXPECT_EQ(r[0].moved_root, -1);
+    // Counts by hand, as TFanBranchContinuingTheFanLine (the carrier is the +y strip's face 5 on the fan edge (1, 2),
+    // faces 1 and 9 get new corners): V 24 + 2, E 35 + 2, F 12 (Euler 1); boundary 18 + (1, 2) + 2 = 21; raw hexes on
+    // the repaired sampling 4 x 3 + 2 x 12 + 2 x 21 = 78.
+    EXPECT_EQ(r[0].carrier_face, 5);
+    EXPECT_EQ(r[0].new_vertices.size(), 2u);
+    EXPECT_EQ(thick.points.size(), 26u);
+    EXPECT_EQ(thick.edges.size(), 37u);
+    EXPECT_EQ(thick.faces.size(), 12u);
+    EXPECT_EQ(euler_characteristic(thick), 1);
+    const PipelineResult raw = raw_as_given(thick);
+    EXPECT_EQ(raw.analysis.counts.boundary_edges, 21);
+    EXPECT_EQ(raw.raw.mesh.hexes.size(), 78u);
+    expect_valid(raw, 1);
+    EXPECT_EQ(fan_end_refusal(before, 2), std::nullopt);
+    const MeshRun run = mesh_skeleton(before, nullptr);
+    EXPECT_TRUE(run.prediction_exact);
+    expect_valid(run.pipeline, 1);
 }
 
 namespace {
@@ -1153,4 +1174,49 @@ TEST(FanEndRepair, MovedRootCheckCountsOnlyNearbyInvertedHexes) {
     cubes({{0.5, true}, {3.5, false}});
     expect_refusal([&] { check_moved_roots(res); },
                    "repaired skeleton vertex 7: ", "gives 1 inverted raw hex(es) within 4 radii");
+}
+
+// Issue 22 item 5: a refused branch whose tube runs into a leaflet's plate is refused naming that first. tfan -n 1 -m 2
+// (fan edge 0 = (0, 0, -0.5) to 1 = (0, 0, 0.5), strips +x (faces 0, 1), +y, -x of unit quads, radius 0.3) with a
+// branch of 3 unit edges from 1 leaning back 150 degrees off +z in the +x strip's plane, d = (0.5, 0, -0.866): past
+// 3 r = 0.9 of arc, its first sample (arc 0.9 on the first edge) is (0.45, 0, -0.279), inside face 0 (x in [0, 1], z in
+// [-0.5, 0.5]): distance 0, need 0.3 + 0.3 = 0.6. The same branch 60 degrees off +z towards +x+y (phi 45) at radius
+// 0.36 clears the plates (at arc s its centre line is s (0.612, 0.612, 0.5) from (0, 0, 0.5), 0.79 s from the +x
+// and +y strips' top borders: 0.853 at s = 3 r = 1.08, over 0.72 needed): not refused.
+TEST(FanEndRefusal, BranchRunningIntoALeafletPlateNamedFirst) {
+    GeneratorOptions o;
+    o.n = 1;
+    o.m = 2;
+    Skeleton s = generate_skeleton("tfan", o);
+    const double c150 = std::cos(150 * std::numbers::pi / 180), s150 = std::sin(150 * std::numbers::pi / 180);
+    add_branch(s, {0, 0, 0.5}, {s150, 0, c150});
+    const std::optional<FanEndRefusal> r = fan_end_refusal(s, 1);
+    ASSERT_TRUE(r.has_value());
+    EXPECT_EQ(
+        r->reason.rfind("the branch's tube runs into the plate of face 0: 0.900 along the branch from the vertex", 0),
+        0u)
+        << r->reason;
+    EXPECT_NE(r->reason.find(
+                  "its centre line is 0.000 from that face, where the tube's radius and the plate's need 0.600 (0.000"),
+              std::string::npos)
+        << r->reason;
+    EXPECT_NE(r->reason.find("the repair's own condition: the branch leaves 150 degrees"), std::string::npos);
+    EXPECT_EQ(r->edit.rfind("turn the branch away from face 0's leaflet (its centre line at least 0.600 from it)", 0),
+              0u)
+        << r->edit;
+    expect_refused(s, 1, "runs into the plate of face 0");
+
+    Skeleton clear = generate_skeleton("tfan", o);
+    const double c60 = std::cos(60 * std::numbers::pi / 180), s60 = std::sin(60 * std::numbers::pi / 180);
+    add_branch(clear, {0, 0, 0.5}, {s60 * std::sqrt(0.5), s60 * std::sqrt(0.5), c60});
+    for (double& rad : clear.radii) rad = 0.36;
+    // Its moved root is refused (51 degrees off the border's outward direction, radius 0.36 x the border side 1,
+    // above the bend's 0.3), and the repair retracts it instead (kFallbackCornerDeg): the -x face's outward corner
+    // direction (0.707, 0, 0.707) makes acos(0.612 x 0.707 + 0.5 x 0.707) = 38 degrees with the branch.
+    EXPECT_EQ(fan_end_refusal(clear, 1), std::nullopt);
+    Skeleton repaired = clear;
+    const std::vector<FanEndRetraction> done = retract_fan_ends(repaired);
+    ASSERT_EQ(done.size(), 1u);
+    EXPECT_TRUE(done[0].far_branch);
+    EXPECT_EQ(done[0].carrier_face, 4);  // the -x strip's face on the fan edge
 }

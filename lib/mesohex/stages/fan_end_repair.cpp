@@ -318,10 +318,13 @@ std::string angle_words(double cos) {
            " degrees off the fan line's continuation";
 }
 
+// A branch far from the fan line whose moved root the repair refuses, retracted instead (kFallbackCornerDeg)?
+bool fallback_retraction(const Skeleton& s, const Incidence& in, const Candidate& c);
+
 bool branch_end(const Skeleton& s, const Incidence& in, int w, Candidate& c, FanEndRefusal* why) {
     if (!fan_end_branch(s, in, w, c, why)) return false;
     const double cos = branch_cos(s, c);
-    if (cos < kFanEndBranchCos)
+    if (cos < kFanEndBranchCos && !fallback_retraction(s, in, c))
         return why != nullptr && refuse(why,
                                         angle_words(cos) +
                                             " (the retraction takes branches within 45 degrees of the fan line; one "
@@ -652,6 +655,27 @@ double run_on_clearance(const Skeleton& s, const Incidence& in, const Vec3& pw, 
 // border keeps its line), so that the cut stays on the first side, at mv.t of it. Fills mv.run, mv.slid (the inner
 // vertices' new places, mv.x's first) and mv.t; false when the run is a single side (mv.x cannot slide) or too short
 // for both bounds (then *why, when given, says so).
+// The edit for a moved root too thick for its border run: the largest radius the run takes.
+std::string thin_to(double rw, const RootMove& mv, double side) {
+    std::ostringstream edit;
+    edit << std::setprecision(3) << "thin the branch at the vertex (now " << rw << ") to the bound above, or make the "
+         << "border of face " << mv.face << " from the vertex straight over more faces, or start the branch from "
+         << "skeleton vertex " << mv.x << " (" << side << " away along that border)";
+    return edit.str();
+}
+
+// The edit for a moved first edge outside the clean-root limits that is not bent (root_move).
+std::string angle_edit(int branches, double radius_ratio, double side) {
+    std::ostringstream edit;
+    edit << std::setprecision(3) << "turn the branch's first edge to within " << kMovedOutDeg
+         << " degrees of the border's outward direction (or more than " << kMovedSideOffOutDeg << " off it and within "
+         << kMovedSideDeg << " of the leaflet's normal)";
+    if (branches == 1 && radius_ratio > kBendMaxRadius)
+        edit << ", or thin it at the vertex to at most " << kBendMaxRadius * side << " (" << kBendMaxRadius
+             << " x the border side, " << side << ", so that it is bent)";
+    return edit.str();
+}
+
 bool thick_root_run(const Skeleton& s, const Incidence& in, int w, RootMove& mv, double proj, FanEndRefusal* why) {
     const double rw = s.radii[w];
     const std::vector<int> run = border_run(s, in, w, mv.x);
@@ -670,7 +694,7 @@ bool thick_root_run(const Skeleton& s, const Incidence& in, int w, RootMove& mv,
                << (run.size() == 2 ? kRootMoveMax * (arc[1] - arc[0]) / kRootMoveRadii
                                    : std::min(kRootMoveMax * total / kRootMoveRadii,
                                               total / (kRootMoveRadii + kRootMoveRunRestRadii)));
-        return refuse(why, reason.str(), "");
+        return refuse(why, reason.str(), thin_to(rw, mv, arc[1] - arc[0]));
     }
     const double a = std::clamp(proj, lo, hi);
     mv.run = run;
@@ -723,7 +747,10 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
                << mv.face << " slid, and its first edge leans back " << std::lround(off_out - 90)
                << " degrees below the border's outward direction's plane (a thick moved "
                << "root takes at most " << std::lround(kThickRootBackDeg) << ")";
-        refuse(why, reason.str(), "");
+        refuse(why, reason.str(),
+               "turn the branch's first edge out of the leaflets' half-space below the border (at most " +
+                   str(static_cast<int>(kThickRootBackDeg)) +
+                   " degrees past the plane normal to the outward direction), or thin it");
         return mv;
     }
     // Checked first, for clean and bent roots alike (issue 22: inverted raw hexes otherwise, measured by
@@ -739,7 +766,11 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
                    << " past its moved root: " << rw << " (one radius) beyond the root along the border it is "
                    << clearance << " from the border line, " << clearance / rw << " radii (at least "
                    << std::defaultfloat << kRunOnClearanceRadii << " needed: the branch's tube and the border's own)";
-            refuse(why, reason.str(), "");
+            refuse(why, reason.str(),
+                   "turn the branch away from the border of face " + str(mv.face) + " (its centre line " +
+                       str(static_cast<int>(kRunOnClearanceRadii)) +
+                       " radii off the border line one radius past the root), or start it from the leaflet's far "
+                       "corner along that border");
             return mv;
         }
     }
@@ -775,7 +806,7 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
                    << kMovedOutDeg << " off the outward direction, or more than " << kMovedSideOffOutDeg
                    << " off it and at most " << kMovedSideDeg
                    << " off the normal), and it is not bent: " << no_bend.str();
-            refuse(why, reason.str(), "");
+            refuse(why, reason.str(), angle_edit(n, radius_ratio, norm(side)));
             return mv;
         }
     }
@@ -867,9 +898,98 @@ std::vector<FanEndRetraction> move_far_roots(Skeleton& s) {
     return done;
 }
 
+// Where a branch at the fan end w comes closest to a leaflet's plate: past kPlateOverlapRootRadii r_w of arc length
+// from w along the branch (its polyline through plain joints: two edges, no face), the sample whose centre-line
+// distance to a face, over the tube's radius there plus the face's mean radius, is least (11 samples per edge).
+struct PlateOverlap {
+    double ratio = std::numeric_limits<double>::infinity();  // distance / (r_tube + r_plate); < 1: they overlap
+    double distance = 0, arc = 0, need = 0;
+    int face = -1;
+};
+
+PlateOverlap plate_overlap(const Skeleton& s, const Incidence& in, int w) {
+    PlateOverlap best;
+    const double from = kPlateOverlapRootRadii * s.radii[w];
+    const auto sample = [&](const Vec3& p, double r, double arc) {
+        for (int f = 0; f < static_cast<int>(s.faces.size()); ++f) {
+            const std::vector<int>& q = s.faces[f];
+            const Vec3 &a = s.points[q[0]], &b = s.points[q[1]], &c = s.points[q[2]], &d = s.points[q[3]];
+            const double dist = std::min(distance(p, closest_point_on_triangle(p, a, b, c)),
+                                         distance(p, closest_point_on_triangle(p, a, c, d)));
+            const double need = r + 0.25 * (s.radii[q[0]] + s.radii[q[1]] + s.radii[q[2]] + s.radii[q[3]]);
+            if (dist / need < best.ratio) best = {dist / need, dist, arc, need, f};
+        }
+    };
+    for (const int e0 : in.vertex_edges[w]) {
+        int prev = w, cur = other_end(s, e0, w);
+        if (faces_on(in, w, cur) != 0) continue;
+        double arc = 0;
+        for (int steps = 0; steps < static_cast<int>(s.points.size()); ++steps) {
+            const Vec3 &a = s.points[prev], &b = s.points[cur];
+            const double len = distance(a, b);
+            for (int k = 1; k <= 10; ++k) {
+                const double f = k / 10.0;
+                if (arc + f * len >= from)
+                    sample(a + f * (b - a), s.radii[prev] + f * (s.radii[cur] - s.radii[prev]), arc + f * len);
+            }
+            arc += len;
+            if (in.vertex_edges[cur].size() != 2 || !in.vertex_faces[cur].empty()) break;
+            const int e = in.vertex_edges[cur][0];
+            const int next =
+                other_end(s, e, cur) == prev ? other_end(s, in.vertex_edges[cur][1], cur) : other_end(s, e, cur);
+            prev = cur, cur = next;
+        }
+    }
+    return best;
+}
+
+bool fallback_retraction(const Skeleton& s, const Incidence& in, const Candidate& c) {
+    if (branch_cos(s, c) >= kFanEndBranchCos || !root_move(s, in, c).strip.empty()) return false;
+    const int k = carrier(s, c);
+    const Vec3& pw = s.points[c.w];
+    const Vec3 x = s.points[corner_neighbour(s.faces[k], c.w, c.u)];
+    const Vec3 out = normalized(normalized(pw - s.points[c.u]) + normalized(pw - x));
+    // Only a branch clear of the leaflets' plates: one whose tube runs into a plate is refused, naming it.
+    return dot(c.branch, out) >= std::cos(kFallbackCornerDeg * std::numbers::pi / 180) &&
+           !(plate_overlap(s, in, c.w).ratio < 1);
+}
+
+// A refusal at w whose branch's tube meets a leaflet's plate (plate_overlap below 1) names that first: the input's
+// domain has the tube run into the plate there, which no root placement meshes; the repair's own condition follows.
+FanEndRefusal with_plate_overlap(const Skeleton& s, int w, FanEndRefusal why) {
+    if (s.radii.size() != s.points.size()) return why;
+    const PlateOverlap o = plate_overlap(s, make_incidence(s), w);
+    if (!(o.ratio < 1)) return why;
+    std::ostringstream words, edit;
+    words << std::fixed << std::setprecision(3) << "the branch's tube runs into the plate of face " << o.face << ": "
+          << o.arc << " along the branch from the vertex (past " << std::defaultfloat << kPlateOverlapRootRadii
+          << std::fixed << " radii, the root's own reach) its centre line is " << o.distance
+          << " from that face, where the tube's "
+          << "radius and the plate's need " << o.need << " (" << o.ratio
+          << " of it); the repair's own condition: " << why.reason;
+    edit << std::fixed << std::setprecision(3) << "turn the branch away from face " << o.face
+         << "'s leaflet (its centre line at "
+         << "least " << o.need << " from it), or thin the branch and that leaflet there to radii adding up to at most "
+         << o.distance << ", or " << why.edit;
+    return {words.str(), edit.str()};
+}
+
+std::optional<FanEndRefusal> repair_conditions(const Skeleton& s, int w);
+
 }  // namespace
 
 std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
+    std::optional<FanEndRefusal> why = repair_conditions(s, w);
+    const int n = static_cast<int>(s.points.size());
+    if (!why || w < 0 || w >= n || !well_formed(s)) return why;
+    Candidate c;
+    if (!fan_end_branch(s, make_incidence(s), w, c, nullptr)) return why;
+    return with_plate_overlap(s, w, std::move(*why));
+}
+
+namespace {
+
+std::optional<FanEndRefusal> repair_conditions(const Skeleton& s, int w) {
     const int n = static_cast<int>(s.points.size());
     for (const std::array<int, 2>& e : s.edges)
         if (e[0] < 0 || e[0] >= n || e[1] < 0 || e[1] >= n || e[0] == e[1])
@@ -885,13 +1005,15 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
     if (branch_cos(s, c) < kFanEndBranchCos) {  // moved onto a leaflet border (move_far_roots)
         const RootMove mv = root_move(s, in, c, &why);
         if (!mv.strip.empty()) return std::nullopt;
-        return FanEndRefusal{
-            angle_words(branch_cos(s, c)) +
-                " (not retracted; its root is moved onto the border of the leaflet it leans over only when the strip "
-                "of faces from that border side, from face " +
-                str(mv.face) + ", crosses the leaflet to a border, and " + why.reason + ")",
-            "make that strip reach a border, or turn the branch's first edge towards the fan line's continuation, or " +
-                off_fan()};
+        if (!fallback_retraction(s, in, c))
+            return FanEndRefusal{
+                angle_words(branch_cos(s, c)) +
+                    " (not retracted; its root is moved onto the border of the leaflet it leans over only when the "
+                    "strip "
+                    "of faces from that border side, from face " +
+                    str(mv.face) + ", crosses the leaflet to a border, and " + why.reason + ")",
+                (why.edit.empty() ? std::string("make that strip reach a border, or ") : why.edit + ", or ") +
+                    "turn the branch's first edge towards the fan line's continuation, or " + off_fan()};
     }
     if (!retraction_room(s, in, c, &why)) return why;
     // u carries a branch far from the fan line that the repair moves off: judge w after that move (the repair's rounds
@@ -899,7 +1021,7 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
     if (movable_far_branch(s, in, c.u)) {
         Skeleton moved = s;
         (void)move_far_roots(moved);
-        return fan_end_refusal(moved, w);
+        return repair_conditions(moved, w);
     }
     const std::string u = "skeleton vertex " + str(c.u);
     // A chain of 1 or 2 fan edges with a retractable branch at its other end too (split_short_chains_with_two_branches).
@@ -946,6 +1068,8 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
     return std::nullopt;  // split, then retracted
 }
 
+}  // namespace
+
 std::optional<FanEndRefusalAt> first_fan_end_refusal(const Skeleton& s) {
     if (!well_formed(s)) return std::nullopt;  // the analysis reports the input
     const Incidence in = make_incidence(s);
@@ -984,7 +1108,9 @@ void retraction_rounds(Skeleton& s, const std::vector<ChainSplit>& chains, std::
             }
         }
         if (w < n) {
+            const bool far = branch_cos(s, c) < kFanEndBranchCos;
             FanEndRetraction r = retract(s, c);
+            r.far_branch = far;
             for (const ChainSplit& cs : chains)
                 if (cs.end == w) r.fan_edge_split = cs.first_cut, r.strip_faces_split = cs.faces_cut;
             done.push_back(std::move(r));
@@ -995,7 +1121,9 @@ void retraction_rounds(Skeleton& s, const std::vector<ChainSplit>& chains, std::
         const int m = split_fan_edge(s, split, strips);
         const Incidence again = make_incidence(s);
         if (end_kind(s, again, split_at, c) != EndKind::Retract) break;  // cannot happen: (m, w) continues past m
+        const bool far = branch_cos(s, c) < kFanEndBranchCos;
         FanEndRetraction r = retract(s, c);
+        r.far_branch = far;
         r.fan_edge_split = m;
         r.strip_faces_split = static_cast<int>(strips.size());
         done.push_back(std::move(r));

@@ -192,6 +192,19 @@ inline constexpr double kRootMoveRunRestRadii = 1.6;
 // leaflets' thick plates (measured: docs/blocks.md, "Moved roots: first joint and thick radii").
 inline constexpr double kThickRootBackDeg = 20;
 
+// A branch more than 45 degrees off the fan line whose moved root is refused (root_move's limits) is retracted instead
+// (the carrier's moved corner carries it) when it leaves within this many degrees of the carrier's outward corner
+// direction o_k = unit(unit(w - u) + unit(w - x_k)) (the branch 60 degrees off the fan line between two leaflets of a
+// T or X: 38 degrees; perpendicular branches 55 - 65, which fold), and only when its tube clears the plates
+// (kPlateOverlapRootRadii). Such a retraction is checked on the raw mesh like a moved root (check_moved_roots, around
+// the retracted corner w). Degrees.
+inline constexpr double kFallbackCornerDeg = 40;
+// A refused branch whose tube runs into a leaflet's plate is refused naming that first (fan_end_refusal): past this
+// many radii r_w of arc length from the fan end along the branch (the root's own reach: a branch leaving w at any
+// angle is within r of the plates at w itself), its centre line closer to a face than the tube's radius plus the
+// face's (the mean of its corners' radii). Dimensionless. Only the refusal's words: nothing meshed changes.
+inline constexpr double kPlateOverlapRootRadii = 3.0;
+
 struct FanEndRetraction {
     int vertex = -1;                // w: the fan-edge end carrying the branch (keeps its index)
     int fan_neighbour = -1;         // u: the other end of the former fan edge (u, w)
@@ -207,6 +220,8 @@ struct FanEndRetraction {
     int bend = -1;                  // a moved first edge bent (kBendRadii): the new vertex p on it; else -1
     int first_joint = -1;           // a moved root's single branch edge not bent: its first joint, moved to
                                     // kFirstJointRadii r_w from the root along the edge; else -1
+    bool far_branch = false;        // retracted though more than 45 degrees off the fan line (its moved root refused,
+                                    // kFallbackCornerDeg): the raw mesh is checked around w like a moved root's
     friend bool operator==(const FanEndRetraction&, const FanEndRetraction&) = default;
 };
 
@@ -221,7 +236,9 @@ struct FanEndRefusal {
 
 // std::nullopt when retract_fan_ends(s) would retract the fan edge from w (with its split or cut first), given the
 // skeleton as it is (radii are read only for the room the retraction needs, kRetractionMinRadii, when there is one per
-// vertex); a reason otherwise, also for a vertex that is no fan-edge end with a branch.
+// vertex); a reason otherwise, also for a vertex that is no fan-edge end with a branch. When the branch is refused and
+// its tube runs into a leaflet's plate (kPlateOverlapRootRadii), the reason names that first (the face, the distance,
+// the radii needed), then the repair's own failing condition; the edit turns the branch away or thins it.
 // A chain of 2 fan edges with branches at both ends whose strips do not cross is retracted at its lower end only: the
 // higher end is refused (on the skeleton after that retraction, its reason is then that u is not a plain fan end).
 // O((V + E + F) log E).
