@@ -386,6 +386,15 @@ TEST(MedialAxis, SpursGoShortestFirstAndTheirNodeMayThenBecomeAJoint) {
         EXPECT_EQ(euler_characteristic(m), 6 - 7 + 2);
         EXPECT_EQ(prune_spurs(m, 2.0), 0);
     }
+    Skeleton alone;  // a lone point (a component of its own) stays when a spur goes
+    alone.points = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {2.2, 0, 0}, {9, 9, 9}};
+    alone.radii.assign(alone.points.size(), 0.5);
+    alone.faces = {{0, 1, 2}};
+    alone.edges = {{0, 1}, {1, 2}, {0, 2}, {1, 3}};
+    EXPECT_EQ(prune_spurs(alone, 2.0), 1);
+    ASSERT_EQ(alone.points.size(), 4u);
+    EXPECT_EQ(alone.points[3], (Vec3{9, 9, 9}));
+    EXPECT_EQ(euler_characteristic(alone), 4 - 3 + 1);  // 2 components, each contractible
 }
 
 // Limbs: a thick disk (radius 2, 1.2 thick) with a rod (radius 0.25) 1.5 long on each face. The angle filter cuts the

@@ -1635,9 +1635,10 @@ void measure(MedialAxis& out) {
 }
 
 // Removes the points that no edge or face uses, keeping the order of the others (and so the medial mesh's sorting).
-void drop_unused_vertices(Skeleton& m) {
+// `used`, when given (one entry a point), marks points kept in any case.
+void drop_unused_vertices(Skeleton& m, std::vector<char> used = {}) {
     const int nv = static_cast<int>(m.points.size());
-    std::vector<char> used(static_cast<size_t>(nv), 0);
+    used.resize(static_cast<size_t>(nv), 0);
     for (const std::array<int, 2>& e : m.edges) used[static_cast<size_t>(e[0])] = used[static_cast<size_t>(e[1])] = 1;
     for (const std::vector<int>& f : m.faces)
         for (int v : f) used[static_cast<size_t>(v)] = 1;
@@ -1781,7 +1782,10 @@ int prune_spurs(Skeleton& m, double prune_factor) {
         std::erase_if(m.edges, [&](const std::array<int, 2>& e) {
             return gone.count({std::min(e[0], e[1]), std::max(e[0], e[1])}) > 0;
         });
-        drop_unused_vertices(m);
+        // Only the spur's own points go (a point alone, a component of its own, stays).
+        std::vector<char> keep(nv, 1);
+        for (size_t k = 0; k + 1 < best.size(); ++k) keep[static_cast<size_t>(best[k])] = 0;
+        drop_unused_vertices(m, std::move(keep));
         ++pruned;
         changed = true;
     }
