@@ -366,6 +366,37 @@ TEST(MedialAxis, SpursAreTheTerminalBranchesThatBarelyLeaveTheirNodesSphere) {
     EXPECT_EQ(prune_spurs(path, 2.0), 0);
 }
 
+TEST(MedialAxis, SpursGoShortestFirstAndTheirNodeMayThenBecomeAJoint) {
+    // The square sheet of side 2 (0-3, 2 triangles), every radius 0.5 (prune factor 2: length + tip radius < 1), and
+    // curve node 4, 3 from corner 0, with two tips: 5 at `up` and 6 at 0.3 below. Both are spurs at first; the shorter
+    // goes, node 4 is then a joint and the other tip ends the branch 6-4-0 (3.3 long), which stays. Lengths 0.35 and
+    // 0.3: tip 6 goes although tip 5 has the smaller id (shortest first). Equal lengths: tip 5 goes (smaller ids).
+    for (const double up : {0.35, 0.3}) {
+        SCOPED_TRACE(up);
+        Skeleton m;
+        m.points = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {-3, 0, 0}, {-3, up, 0}, {-3, -0.3, 0}};
+        m.radii.assign(m.points.size(), 0.5);
+        m.faces = {{0, 1, 2}, {0, 2, 3}};
+        m.edges = {{0, 1}, {1, 2}, {0, 2}, {2, 3}, {0, 3}, {0, 4}, {4, 5}, {4, 6}};
+        ASSERT_EQ(euler_characteristic(m), 7 - 8 + 2);
+        EXPECT_EQ(prune_spurs(m, 2.0), 1);
+        ASSERT_EQ(m.points.size(), 6u);
+        EXPECT_EQ(m.points[5], (up == 0.3 ? Vec3{-3, -0.3, 0} : Vec3{-3, up, 0}));  // the tip that stays
+        EXPECT_EQ(std::count(m.edges.begin(), m.edges.end(), std::array<int, 2>{4, 5}), 1);
+        EXPECT_EQ(euler_characteristic(m), 6 - 7 + 2);
+        EXPECT_EQ(prune_spurs(m, 2.0), 0);
+    }
+    Skeleton alone;  // a lone point (a component of its own) stays when a spur goes
+    alone.points = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {2.2, 0, 0}, {9, 9, 9}};
+    alone.radii.assign(alone.points.size(), 0.5);
+    alone.faces = {{0, 1, 2}};
+    alone.edges = {{0, 1}, {1, 2}, {0, 2}, {1, 3}};
+    EXPECT_EQ(prune_spurs(alone, 2.0), 1);
+    ASSERT_EQ(alone.points.size(), 4u);
+    EXPECT_EQ(alone.points[3], (Vec3{9, 9, 9}));
+    EXPECT_EQ(euler_characteristic(alone), 4 - 3 + 1);  // 2 components, each contractible
+}
+
 // Limbs: a thick disk (radius 2, 1.2 thick) with a rod (radius 0.25) 1.5 long on each face. The angle filter cuts the
 // rods' axes off the disk's mid-sheet where they meet (the ligature from the reflex rim is seen under small angles):
 // without keep_limbs (the default) only the disk's sheet is left and the rods' ends lie 1.5 from every sphere; with it

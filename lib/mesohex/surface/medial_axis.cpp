@@ -1414,6 +1414,32 @@ int remove_thin_triangles(SmallComplex& s, double factor) {
     return removed;
 }
 
+// A terminal curve branch: its vertices from the tip to its node, and its length (the points' unit).
+struct TerminalBranch {
+    std::vector<int> chain;  // tip first, node last
+    double length = 0;
+};
+
+// The branch from tip v (adj: curve neighbours) through the vertices with exactly two of them and in no triangle to
+// the first other vertex, its node (the tip itself when v has no neighbour).
+TerminalBranch terminal_branch(const std::vector<std::vector<int>>& adj, const std::vector<char>& in_triangle,
+                               const std::vector<Vec3>& points, int v) {
+    TerminalBranch b;
+    b.chain = {v};
+    for (int prev = -1, cur = v;;) {
+        int next = -1;
+        for (int n : adj[static_cast<size_t>(cur)])
+            if (n != prev) next = n;
+        if (next < 0) break;
+        b.length += distance(points[static_cast<size_t>(cur)], points[static_cast<size_t>(next)]);
+        b.chain.push_back(next);
+        prev = cur;
+        cur = next;
+        if (adj[static_cast<size_t>(cur)].size() != 2 || in_triangle[static_cast<size_t>(cur)]) break;
+    }
+    return b;
+}
+
 // Terminal curve branches (from a tip: one edge, no triangle, to the first vertex that is in a triangle or not on
 // exactly two edges) whose tube barely leaves the node's sphere (length + tip radius < prune_factor x node radius)
 // go, repeatedly, shortest first within a pass (elementary collapses: homotopy kept). A graph that is a single path
@@ -1438,26 +1464,12 @@ int prune_tips(SmallComplex& s, std::vector<char>& vertex_alive, double prune_fa
         std::vector<Branch> branches;
         for (size_t v = 0; v < s.centre.size(); ++v) {
             if (!vertex_alive[v] || adj[v].size() != 1 || in_triangle[v]) continue;
-            std::vector<int> chain = {static_cast<int>(v)};
-            double length = 0;
-            int prev = -1, cur = static_cast<int>(v);
-            while (true) {
-                const std::vector<int>& a = adj[static_cast<size_t>(cur)];
-                int next = -1;
-                for (int n : a)
-                    if (n != prev) next = n;
-                if (next < 0) break;
-                length += distance(s.centre[static_cast<size_t>(cur)], s.centre[static_cast<size_t>(next)]);
-                chain.push_back(next);
-                prev = cur;
-                cur = next;
-                if (adj[static_cast<size_t>(cur)].size() != 2 || in_triangle[static_cast<size_t>(cur)]) break;
-            }
-            const int node = chain.back();
+            TerminalBranch b = terminal_branch(adj, in_triangle, s.centre, static_cast<int>(v));
+            const int node = b.chain.back();
             if (adj[static_cast<size_t>(node)].size() < 2 && !in_triangle[static_cast<size_t>(node)])
                 continue;  // a path
-            if (length + s.radius[v] < prune_factor * s.radius[static_cast<size_t>(node)])
-                branches.push_back({length, chain});
+            if (b.length + s.radius[v] < prune_factor * s.radius[static_cast<size_t>(node)])
+                branches.push_back({b.length, std::move(b.chain)});
         }
         std::sort(branches.begin(), branches.end(), [](const Branch& x, const Branch& y) {
             return std::tie(x.score, x.chain) < std::tie(y.score, y.chain);
@@ -1623,9 +1635,10 @@ void measure(MedialAxis& out) {
 }
 
 // Removes the points that no edge or face uses, keeping the order of the others (and so the medial mesh's sorting).
-void drop_unused_vertices(Skeleton& m) {
+// `used`, when given (one entry a point), marks points kept in any case.
+void drop_unused_vertices(Skeleton& m, std::vector<char> used = {}) {
     const int nv = static_cast<int>(m.points.size());
-    std::vector<char> used(static_cast<size_t>(nv), 0);
+    used.resize(static_cast<size_t>(nv), 0);
     for (const std::array<int, 2>& e : m.edges) used[static_cast<size_t>(e[0])] = used[static_cast<size_t>(e[1])] = 1;
     for (const std::vector<int>& f : m.faces)
         for (int v : f) used[static_cast<size_t>(v)] = 1;
@@ -1753,25 +1766,13 @@ int prune_spurs(Skeleton& m, double prune_factor) {
         std::vector<int> best;
         for (size_t v = 0; v < nv; ++v) {
             if (adj[v].size() != 1 || in_triangle[v]) continue;
-            std::vector<int> chain = {static_cast<int>(v)};
-            double length = 0;
-            for (int prev = -1, cur = static_cast<int>(v);;) {
-                int next = -1;
-                for (int n : adj[static_cast<size_t>(cur)])
-                    if (n != prev) next = n;
-                if (next < 0) break;
-                length += distance(m.points[static_cast<size_t>(cur)], m.points[static_cast<size_t>(next)]);
-                chain.push_back(next);
-                prev = cur;
-                cur = next;
-                if (adj[static_cast<size_t>(cur)].size() != 2 || in_triangle[static_cast<size_t>(cur)]) break;
-            }
-            const size_t node = static_cast<size_t>(chain.back());
-            if (chain.size() < 2 || (adj[node].size() < 2 && !in_triangle[node])) continue;  // a path or a loop
-            if (length + m.radii[v] >= prune_factor * m.radii[node]) continue;
-            if (length < best_length || (length == best_length && chain < best)) {
-                best_length = length;
-                best = chain;
+            TerminalBranch b = terminal_branch(adj, in_triangle, m.points, static_cast<int>(v));
+            const size_t node = static_cast<size_t>(b.chain.back());
+            if (b.chain.size() < 2 || (adj[node].size() < 2 && !in_triangle[node])) continue;  // a path or a loop
+            if (!(b.length + m.radii[v] < prune_factor * m.radii[node])) continue;  // NaN radii prune nothing
+            if (b.length < best_length || (b.length == best_length && b.chain < best)) {
+                best_length = b.length;
+                best = std::move(b.chain);
             }
         }
         if (best.empty()) break;
@@ -1781,7 +1782,10 @@ int prune_spurs(Skeleton& m, double prune_factor) {
         std::erase_if(m.edges, [&](const std::array<int, 2>& e) {
             return gone.count({std::min(e[0], e[1]), std::max(e[0], e[1])}) > 0;
         });
-        drop_unused_vertices(m);
+        // Only the spur's own points go (a point alone, a component of its own, stays).
+        std::vector<char> keep(nv, 1);
+        for (size_t k = 0; k + 1 < best.size(); ++k) keep[static_cast<size_t>(best[k])] = 0;
+        drop_unused_vertices(m, std::move(keep));
         ++pruned;
         changed = true;
     }

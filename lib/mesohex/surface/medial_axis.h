@@ -156,8 +156,8 @@ int remove_fringe_curves(Skeleton& medial, double factor, bool node_ends = false
 // Terminal curve branches of a medial mesh (from a tip, a vertex with one curve edge and in no triangle, through
 // vertices with two curve edges and in no triangle, to its node: a sheet vertex or a vertex with 3 or more curve
 // edges) whose length + tip radius is below prune_factor x the node's radius go, shortest first (ties: the smaller
-// vertex ids), one at a time, until none is left; points no edge or face uses any more are dropped, the order of the
-// others kept. A path (both ends tips) stays. Elementary collapses: the Euler characteristic and the components do
+// vertex ids), one at a time, until none is left; a spur's points but its node are dropped (a lone point stays), the
+// order of the others kept. A path (both ends tips) stays. Elementary collapses: the Euler characteristic and the components do
 // not change. Returns the number of branches removed.
 int prune_spurs(Skeleton& medial, double prune_factor);
 
