@@ -102,10 +102,11 @@ struct MedialAxisOptions {
     bool fringe_node_ends = true;
     double prune_factor = 2.0;  // a terminal curve branch goes when its length + tip radius < this x the radius
                                 // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
-    // The same spur rule applied again after the fringe removal (prune_spurs): removing a web's chains along a sheet
-    // leaves its nodes as tips one short edge from the sheet's border (torque: 14 such stubs, 0.2 to 0.65 long
-    // against medial radii of 0.6 to 0.8), whose first chunk lies inside the join's own block and inverts
-    // (docs/sheets.md, "Stubs the fringe removal leaves").
+    // The same spur rule (prune_factor) applied again as the last step, after the fringe removal (prune_spurs):
+    // removing a web's chains along a sheet leaves its nodes as tips one short edge from the sheet's border, shorter
+    // than the join's radius, whose first chunk lies inside the join's own block and inverts (docs/sheets.md, "Stubs
+    // the fringe removal leaves"). Runs whatever fringe_factor is; with no fringe removal it finds only spurs the
+    // first pass already took.
     bool prune_after_fringe = true;
 };
 
