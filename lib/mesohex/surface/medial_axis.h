@@ -105,8 +105,8 @@ struct MedialAxisOptions {
     // The same spur rule (prune_factor) applied again as the last step, after the fringe removal (prune_spurs):
     // removing a web's chains along a sheet leaves its nodes as tips one short edge from the sheet's border, shorter
     // than the join's radius, whose first chunk lies inside the join's own block and inverts (docs/sheets.md, "Stubs
-    // the fringe removal leaves"). Runs whatever fringe_factor is; with no fringe removal it finds only spurs the
-    // first pass already took.
+    // the fringe removal leaves"). Runs whatever fringe_factor is (with fringe_factor 0 it found nothing to
+    // prune on the shared surfaces).
     bool prune_after_fringe = true;
 };
 
