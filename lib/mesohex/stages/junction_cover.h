@@ -33,6 +33,15 @@ struct JunctionCoverOptions {
     // outward, never below half of r; the guard below holds. Dimensionless (0.25 = one padding layer); 0 = off
     // (the default: mixed on the shared skeletons and the random set, docs/junctions.md, "Junction inset").
     double inset = 0.0;
+    // Crease opening (issue 16 items 1 and 5): > 0 turns the cover into a crease rule. The raw boundary edges on c's
+    // sphere (a surface point to a surface-edge midpoint) each carry two hexes, one of each chunk whose quads share the
+    // surface edge; their interior dihedral (through the two hexes) folds to 290-330 degrees in the crotch of two
+    // close fat branches, and the padding layer's two hexes there then share the 30-70 degrees left. With this set,
+    // only the two end points of a surface edge whose crease exceeds crease_deg move, out along their rays towards
+    // the union's exit t (fraction ignored), in steps of 1/16 of the way, until no crease at c exceeds crease_deg or
+    // they reach t; then the guard below. Degrees (270: each padding hex gets at least 45 degrees); 0 = off (the
+    // default: docs/junctions.md, "Creases opened from the balls").
+    double crease_deg = 0.0;
     // Guard: a hex of c's chunks may not end below min(sj_floor, its scaled Jacobian with every point on the
     // sphere), nor be inverted; otherwise the moves of its moved points are halved (6 times, then dropped).
     double sj_floor = 0.3;
