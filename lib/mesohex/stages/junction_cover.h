@@ -62,9 +62,11 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
 // incident edges branch edges, no compatible block, degree >= min_degree) of the raw mesh `points` (ids from
 // vertex_base, laid out as build_raw_mesh does), serially in vertex order. edge_hex[e]: the first of the 4 hexes of
 // branch edge e's chunk. radius: the effective radius each vertex was placed with. Deterministic.
-// Returns the number of surface points moved. Complexity: O(branching points x domain edges) for the cones, plus
-// O(surface points x cones x (arc + 1) / 0.02) for the rays, plus the raw mesh's topology with inset; nothing when
-// fraction and inset are 0.
+// With crease_deg > 0 only the end points of c's folded surface edges move (JunctionCoverOptions::crease_deg), as far
+// as opening them needs, at most to their rays' exits. Returns the number of surface points moved. Complexity:
+// O(branching points x domain edges) for the cones, plus O(surface points x cones x (arc + 1) / 0.02) for the rays,
+// plus the raw mesh's topology with inset, plus 17 crease measures of c's chunk hexes per junction with crease_deg;
+// nothing when fraction, inset and crease_deg are 0.
 int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
                     const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
                     const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
