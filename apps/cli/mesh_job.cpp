@@ -207,6 +207,13 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
            "faces (with resampling; 0 = off: docs/blocks.md)")
         ->check(finite_range(0.0, 10.0))
         ->capture_default_str();
+    cmd->add_option("--junction-crease", job->options.pipeline.raw_mesh.cover.crease_deg,
+                    "Open the raw boundary creases on branching points' spheres sharper than this many degrees "
+                    "(interior dihedral through their two hexes): their surface points move out along their rays, "
+                    "at most to where the union of the input's balls ends, guarded like --junction-cover (0 = off, "
+                    "the default: docs/junctions.md)")
+        ->check(finite_range(0.0, 360.0))
+        ->capture_default_str();
     cmd->add_option("--junction-inset", job->options.pipeline.raw_mesh.cover.inset,
                     "Cap the distance of each branching point's surface points at where the union of the input's "
                     "balls ends minus this many x the point's shortest boundary edge (0.25: one padding layer), so the "

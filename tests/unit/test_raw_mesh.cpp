@@ -14,6 +14,7 @@
 #include <tbb/global_control.h>
 
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_convention.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/core/validate.h"
 #include "mesohex/post/quality.h"
@@ -930,6 +931,77 @@ TEST(JunctionCover, InsetKeepsOneLayerInsideTheUnion) {
         for (std::size_t h = 0; h < after.size(); ++h)
             EXPECT_GE(after[h], std::min(JunctionCoverOptions{}.sj_floor, before[h]) - 1e-12);
     }
+}
+
+// The interior dihedral angle, in degrees, of the sharpest raw edge between a surface point and a surface-edge midpoint
+// of c (the creases on c's sphere): per such edge, the sum over the hexes holding it of the angle between the two hex
+// faces through it (measured at the edge's midpoint, normal to it, towards the faces' centroids).
+double sharpest_sphere_crease(const RawMesh& raw, const ConnectionSurfaces& cs, int c) {
+    const int base = raw.vertex_base[c], np = cs.point_begin[c + 1] - cs.point_begin[c];
+    const int ne = cs.edge_begin[c + 1] - cs.edge_begin[c];
+    std::map<std::pair<int, int>, double> angle;
+    for (const std::array<int, 8>& hex : raw.mesh.hexes) {
+        for (const std::array<int, 2>& le : kHexEdges) {
+            const int a = std::min(hex[le[0]], hex[le[1]]), b = std::max(hex[le[0]], hex[le[1]]);
+            if (a < base + 1 || a > base + np || b <= base + np || b > base + np + ne) continue;
+            std::vector<Vec3> centroids;
+            for (const std::array<int, 4>& f : kHexFaces)
+                if (std::ranges::find(f, le[0]) != f.end() && std::ranges::find(f, le[1]) != f.end()) {
+                    Vec3 g{0, 0, 0};
+                    for (int lv : f) g = g + 0.25 * raw.mesh.points[hex[lv]];
+                    centroids.push_back(g);
+                }
+            const Vec3 p = raw.mesh.points[a], q = raw.mesh.points[b];
+            const Vec3 e = normalized(q - p), mid = 0.5 * (p + q);
+            const Vec3 u = centroids[0] - mid - dot(centroids[0] - mid, e) * e;
+            const Vec3 w = centroids[1] - mid - dot(centroids[1] - mid, e) * e;
+            angle[{a, b}] += std::acos(std::clamp(dot(u, w) / (norm(u) * norm(w)), -1.0, 1.0)) * 180 / std::numbers::pi;
+        }
+    }
+    double sharpest = 0;
+    for (const auto& [edge, a] : angle) sharpest = std::max(sharpest, a);
+    return sharpest;
+}
+
+// Crease opening on dino's hip by hand (skeleton_fixtures.h: legs 46 degrees apart, first vertices 1.5 r_c out, the
+// hip meshed in its own balls). On the sphere the legs' two chunks meet at a crease of 320.7 degrees through their two
+// hexes (the padding's two hexes would share the 39 degrees left). With crease_deg 270 the end points of the folded
+// surface edges move out along their rays; one of them (x = 4) can: it stops where its ray leaves the union of the
+// hip's balls, 1.5174 r_c (ray_exit, computed here independently), the other end's ray leaves the union at r_c (it
+// stays). The sharpest crease falls to 275.7 degrees: the rule never carries a point outside the balls. Every other
+// point stays at the raw radius exactly, no hex below min(sj_floor, before). With crease_deg 360 nothing can exceed
+// it: byte-identical to off.
+TEST(JunctionCover, CreaseOpeningUnfoldsTheLegsCrotchOfDinosHip) {
+    const Skeleton s = mesohex::test::dino_hip();
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    RawMeshOptions o;
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, o);
+    o.cover.crease_deg = 360;
+    EXPECT_EQ(build_raw_mesh(s, an, cs, fr, o).mesh.points, off.mesh.points);
+    o.cover.crease_deg = 270;
+    const RawMesh on = build_raw_mesh(s, an, cs, fr, o);
+    EXPECT_NEAR(sharpest_sphere_crease(off, cs, 0), 320.7, 0.1);
+    EXPECT_NEAR(sharpest_sphere_crease(on, cs, 0), 275.7, 0.1);
+    std::vector<RoundCone> balls{{s.points[0], s.points[0], s.radii[0], s.radii[0]}};
+    for (const std::array<int, 2>& e : s.edges)
+        balls.push_back({s.points[e[0]], s.points[e[1]], s.radii[e[0]], s.radii[e[1]]});
+    const int base = off.vertex_base[0], np = cs.point_begin[1] - cs.point_begin[0];
+    const double r = s.radii[0];
+    ASSERT_EQ(np, 6);
+    for (int x = 0; x < np; ++x) {
+        const Vec3 d = fr.directions[cs.point_begin[0] + x];
+        const Vec3 p = on.mesh.points[base + 1 + x] - s.points[0];
+        EXPECT_NEAR(norm(cross(p, d)), 0.0, 1e-12);
+        const double expected = x == 4 ? ray_exit(balls, s.points[0], d, 0.02 * r, 4 * r) : r;
+        EXPECT_NEAR(dot(p, d), expected, 1e-9 * r);
+    }
+    EXPECT_NEAR(distance(on.mesh.points[base + 5], s.points[0]) / r, 1.5174, 1e-4);
+    const std::vector<double> before = scaled_jacobians(off.mesh), after = scaled_jacobians(on.mesh);
+    for (std::size_t h = 0; h < after.size(); ++h)
+        EXPECT_GE(after[h], std::min(JunctionCoverOptions{}.sj_floor, before[h]) - 1e-12);
+    EXPECT_EQ(compute_quality(on.mesh).inverted, 0);
 }
 
 // A fat Y without a gap over 180 degrees (azimuths 0, 100, 220 degrees, 10 degrees out of one plane, centre radius 0.4,

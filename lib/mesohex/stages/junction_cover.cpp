@@ -117,6 +117,70 @@ bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector
     return any;
 }
 
+// The dihedral angle (radians) of a hex at its edge p-q between two of its faces, given by their centroids f and g.
+double dihedral_at(const Vec3& p, const Vec3& q, const Vec3& f, const Vec3& g) {
+    const Vec3 e = normalized(q - p), mid = 0.5 * (p + q);
+    const Vec3 a = f - mid - dot(f - mid, e) * e, b = g - mid - dot(g - mid, e) * e;
+    return std::acos(std::clamp(dot(a, b) / std::max(norm(a) * norm(b), 1e-300), -1.0, 1.0));
+}
+
+// Per surface edge j of c (index from cs.edge_begin[c]): the interior dihedral, in degrees, of the sharper of its two
+// raw boundary half-edges Q_x-M_j and M_j-Q_y, each the sum over its two hexes (one per chunk whose quad holds j) of
+// the angle between the hex's kite face on c's sphere (c, Q, M, Q') and its boundary face; 0 where a half-edge does
+// not have exactly two such hexes. A hex of c's chunk has c's centre, a point, an edge midpoint and a point as its
+// bottom (or top) quad (write_branch_chunks).
+std::vector<double> surface_edge_creases(const ConnectionSurfaces& cs, const JunctionMove& m,
+                                         const std::vector<std::array<int, 8>>& hexes, const std::vector<Vec3>& points,
+                                         const std::vector<int>& hs) {
+    const int ne = cs.edge_begin[m.c + 1] - cs.edge_begin[m.c];
+    std::vector<double> sum(2 * ne, 0.0);
+    std::vector<int> count(2 * ne, 0);
+    for (int h : hs) {
+        const std::array<int, 8>& hex = hexes[h];
+        const int off = hex[0] == m.base ? 0 : 4;
+        if (hex[off] != m.base) continue;
+        std::array<Vec3, 4> near, far;
+        for (int k = 0; k < 4; ++k) near[k] = points[hex[off + k]], far[k] = points[hex[4 - off + k]];
+        const int j = hex[off + 2] - m.base - 1 - m.np;
+        if (j < 0 || j >= ne) continue;
+        const Vec3 kite = 0.25 * (near[0] + near[1] + near[2] + near[3]);
+        for (int k : {1, 3}) {
+            const int x = hex[off + k] - m.base - 1;
+            const int side = cs.edges[cs.edge_begin[m.c] + j][0] == x ? 0 : 1;
+            const Vec3 face = 0.25 * (near[k] + near[2] + far[k] + far[2]);
+            sum[2 * j + side] += dihedral_at(near[k], near[2], kite, face);
+            ++count[2 * j + side];
+        }
+    }
+    std::vector<double> crease(ne, 0.0);
+    for (int j = 0; j < ne; ++j)
+        for (int side = 0; side < 2; ++side)
+            if (count[2 * j + side] == 2) crease[j] = std::max(crease[j], sum[2 * j + side] * 180 / 3.141592653589793);
+    return crease;
+}
+
+// Crease opening (JunctionCoverOptions::crease_deg): the end points of every surface edge whose crease exceeds the
+// limit move a sixteenth of the way towards their targets, until no crease exceeds it or every such point is there.
+void open_creases(const Skeleton& s, const ConnectionSurfaces& cs, const BranchFrames& frames,
+                  const std::vector<std::array<int, 8>>& hexes, const std::vector<int>& hs, double limit_deg,
+                  std::vector<Vec3>& points, JunctionMove& m) {
+    constexpr int kSteps = 16;
+    for (int step = 0; step <= kSteps; ++step) {
+        place_junction(s, cs, frames, m, points);
+        const std::vector<double> crease = surface_edge_creases(cs, m, hexes, points, hs);
+        bool raised = false;
+        for (std::size_t j = 0; j < crease.size(); ++j) {
+            if (crease[j] <= limit_deg) continue;
+            for (int x : cs.edges[cs.edge_begin[m.c] + static_cast<int>(j)]) {
+                if (m.lambda[x] >= 1 || m.target[x] <= m.r) continue;
+                m.lambda[x] = std::min(1.0, m.lambda[x] + 1.0 / kSteps);
+                raised = true;
+            }
+        }
+        if (!raised) break;
+    }
+}
+
 int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                    const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
                    const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
@@ -135,15 +199,17 @@ int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnal
             ray_exit(cones, s.points[c], frames.directions[cs.point_begin[c] + x], 0.02 * rc, (o.arc + 1) * rc);
         double target = t > m.r ? m.r + o.fraction * (t - m.r) : m.r;
         if (o.inset > 0) target = std::max(std::min(target, t - o.inset * shortest_edge[m.base + 1 + x]), 0.5 * m.r);
+        if (o.crease_deg > 0) target = std::max(t, m.r);
         const bool move = target != m.r;
         m.target.push_back(target);
-        m.lambda.push_back(move ? 1.0 : 0.0);
+        m.lambda.push_back(move && !(o.crease_deg > 0) ? 1.0 : 0.0);
         moved += move ? 1 : 0;
     }
     if (moved == 0) return 0;
     const std::vector<int> hs = junction_hexes(an, edge_hex, c);
     std::vector<double> floor(hs.size());
     for (std::size_t i = 0; i < hs.size(); ++i) floor[i] = std::min(o.sj_floor, hex_sj(hexes[hs[i]], points));
+    if (o.crease_deg > 0) open_creases(s, cs, frames, hexes, hs, o.crease_deg, points, m);
     constexpr int kRounds = 7;
     for (int round = 0; round < kRounds; ++round) {
         place_junction(s, cs, frames, m, points);
@@ -195,7 +261,7 @@ int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const Skel
                     const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
                     const std::vector<std::array<int, 8>>& hexes, std::vector<Vec3>& points,
                     const JunctionCoverOptions& options) {
-    if (!(options.fraction > 0) && !(options.inset > 0)) return 0;
+    if (!(options.fraction > 0) && !(options.inset > 0) && !(options.crease_deg > 0)) return 0;
     // Per raw vertex: its shortest boundary edge, every point still on its sphere (JunctionCoverOptions::inset).
     std::vector<double> shortest_edge;
     if (options.inset > 0) shortest_edge = shortest_boundary_edges(hexes, points);

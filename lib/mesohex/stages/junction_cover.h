@@ -33,6 +33,15 @@ struct JunctionCoverOptions {
     // outward, never below half of r; the guard below holds. Dimensionless (0.25 = one padding layer); 0 = off
     // (the default: mixed on the shared skeletons and the random set, docs/junctions.md, "Junction inset").
     double inset = 0.0;
+    // Crease opening (issue 16 items 1 and 5): > 0 turns the cover into a crease rule. The raw boundary edges on c's
+    // sphere (a surface point to a surface-edge midpoint) each carry two hexes, one of each chunk whose quads share the
+    // surface edge; their interior dihedral (through the two hexes) folds to 290-330 degrees in the crotch of two
+    // close fat branches, and the padding layer's two hexes there then share the 30-70 degrees left. With this set,
+    // only the two end points of a surface edge whose crease exceeds crease_deg move, out along their rays towards
+    // the union's exit t (fraction ignored), in steps of 1/16 of the way, until no crease at c exceeds crease_deg or
+    // they reach t; then the guard below. Degrees (270: each padding hex gets at least 45 degrees); 0 = off (the
+    // default: docs/junctions.md, "Creases opened from the balls").
+    double crease_deg = 0.0;
     // Guard: a hex of c's chunks may not end below min(sj_floor, its scaled Jacobian with every point on the
     // sphere), nor be inverted; otherwise the moves of its moved points are halved (6 times, then dropped).
     double sj_floor = 0.3;
@@ -53,9 +62,11 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
 // incident edges branch edges, no compatible block, degree >= min_degree) of the raw mesh `points` (ids from
 // vertex_base, laid out as build_raw_mesh does), serially in vertex order. edge_hex[e]: the first of the 4 hexes of
 // branch edge e's chunk. radius: the effective radius each vertex was placed with. Deterministic.
-// Returns the number of surface points moved. Complexity: O(branching points x domain edges) for the cones, plus
-// O(surface points x cones x (arc + 1) / 0.02) for the rays, plus the raw mesh's topology with inset; nothing when
-// fraction and inset are 0.
+// With crease_deg > 0 only the end points of c's folded surface edges move (JunctionCoverOptions::crease_deg), as far
+// as opening them needs, at most to their rays' exits. Returns the number of surface points moved. Complexity:
+// O(branching points x domain edges) for the cones, plus O(surface points x cones x (arc + 1) / 0.02) for the rays,
+// plus the raw mesh's topology with inset, plus 17 crease measures of c's chunk hexes per junction with crease_deg;
+// nothing when fraction, inset and crease_deg are 0.
 int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
                     const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
                     const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
