@@ -648,13 +648,6 @@ double run_on_clearance(const Skeleton& s, const Incidence& in, const Vec3& pw, 
     return std::numeric_limits<double>::infinity();
 }
 
-// A moved root thicker than the first border side allows (kRootMoveRadii r_w > kRootMoveMax |x - w|): the root goes
-// along the straight border run from w through mv.x (border_run) to the arc length a = clamp(proj, kRootMoveRadii r_w,
-// min(kRootMoveMax S, S - kRootMoveRunRestRadii r_w)) (S the run's length, proj the branch's first vertex projected on
-// it), and the run's inner vertices slide along it, arc length l to a + l (S - a) / S (the run's far end stays, the
-// border keeps its line), so that the cut stays on the first side, at mv.t of it. Fills mv.run, mv.slid (the inner
-// vertices' new places, mv.x's first) and mv.t; false when the run is a single side (mv.x cannot slide) or too short
-// for both bounds (then *why, when given, says so).
 // The edit for a moved root too thick for its border run: the largest radius the run takes.
 std::string thin_to(double rw, const RootMove& mv, double side) {
     std::ostringstream edit;
@@ -676,6 +669,13 @@ std::string angle_edit(int branches, double radius_ratio, double side) {
     return edit.str();
 }
 
+// A moved root thicker than the first border side allows (kRootMoveRadii r_w > kRootMoveMax |x - w|): the root goes
+// along the straight border run from w through mv.x (border_run) to the arc length a = clamp(proj, kRootMoveRadii r_w,
+// min(kRootMoveMax S, S - kRootMoveRunRestRadii r_w)) (S the run's length, proj the branch's first vertex projected on
+// it), and the run's inner vertices slide along it, arc length l to a + l (S - a) / S (the run's far end stays, the
+// border keeps its line), so that the cut stays on the first side, at mv.t of it. Fills mv.run, mv.slid (the inner
+// vertices' new places, mv.x's first) and mv.t; false when the run is a single side (mv.x cannot slide) or too short
+// for both bounds (then *why, when given, says so).
 bool thick_root_run(const Skeleton& s, const Incidence& in, int w, RootMove& mv, double proj, FanEndRefusal* why) {
     const double rw = s.radii[w];
     const std::vector<int> run = border_run(s, in, w, mv.x);
@@ -900,7 +900,8 @@ std::vector<FanEndRetraction> move_far_roots(Skeleton& s) {
 
 // Where a branch at the fan end w comes closest to a leaflet's plate: past kPlateOverlapRootRadii r_w of arc length
 // from w along the branch (its polyline through plain joints: two edges, no face), the sample whose centre-line
-// distance to a face, over the tube's radius there plus the face's mean radius, is least (11 samples per edge).
+// distance to a face, over the tube's radius there plus the face's mean radius, is least (10 samples per edge, its
+// far end included).
 struct PlateOverlap {
     double ratio = std::numeric_limits<double>::infinity();  // distance / (r_tube + r_plate); < 1: they overlap
     double distance = 0, arc = 0, need = 0;
