@@ -1220,3 +1220,14 @@ TEST(FanEndRefusal, BranchRunningIntoALeafletPlateNamedFirst) {
     EXPECT_TRUE(done[0].far_branch);
     EXPECT_EQ(done[0].carrier_face, 4);  // the -x strip's face on the fan edge
 }
+
+// A skeleton without radii (an analysis before they are set): a far branch's moved root and the fallback retraction
+// read r_w; fan_end_refusal must not index the empty radii (ASan: heap overflow otherwise) and says the repair did not
+// judge the branch (the pipeline sets radii first).
+TEST(FanEndRefusal, FarBranchWithoutRadiiIsNotJudged) {
+    Skeleton s = fan_end_towards(3, 50, -90);
+    s.radii.clear();
+    const std::optional<FanEndRefusal> r = fan_end_refusal(s, 2);
+    ASSERT_TRUE(r.has_value());
+    EXPECT_NE(r->reason.find("no radius per vertex"), std::string::npos) << r->reason;
+}

@@ -1004,6 +1004,11 @@ std::optional<FanEndRefusal> repair_conditions(const Skeleton& s, int w) {
     FanEndRefusal why;
     if (!fan_end_branch(s, in, w, c, &why)) return why;
     if (branch_cos(s, c) < kFanEndBranchCos) {  // moved onto a leaflet border (move_far_roots)
+        if (s.radii.size() != s.points.size())  // root_move and fallback_retraction read r_w
+            return FanEndRefusal{angle_words(branch_cos(s, c)) +
+                                     " and the skeleton has no radius per vertex: the repair's moved root is judged "
+                                     "by the branch's radius",
+                                 "give every skeleton vertex a radius (the pipeline does before the repair)"};
         const RootMove mv = root_move(s, in, c, &why);
         if (!mv.strip.empty()) return std::nullopt;
         if (!fallback_retraction(s, in, c))
