@@ -925,6 +925,14 @@ TEST(FanEndRepair, MovedFirstEdgeNotBent) {
     const MeshRun run = mesh_skeleton(before, nullptr);
     EXPECT_TRUE(run.prediction_exact);
     expect_valid(run.pipeline, 1);
+    // The report says which retraction it was (issue 22 item 2): repairs.fan_end_far_retractions, and its text line.
+    EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
+    EXPECT_EQ(run.pipeline.fan_end_far_retractions, std::vector<int>{2});
+    EXPECT_TRUE(run.pipeline.fan_end_moved_roots.empty());
+    EXPECT_NE(repairs_to_text(run.pipeline, run.options)
+                  .find("branches far from the fan line (their moved root refused) retracted with the fan edge, a "
+                        "notch at the leaflets' corner, at input vertices: 2\n"),
+              std::string::npos);
 }
 
 namespace {
@@ -1097,6 +1105,10 @@ TEST(FanEndRepair, InvertedRawHexAtAMovedRootRefused) {
         for (double& r : thinner.radii) r = 0.27;
         const MeshRun run = mesh_skeleton(thinner, nullptr);
         EXPECT_EQ(run.pipeline.moved_roots.size(), 1u);
+        // The report names the moved root (repairs.fan_end_moved_roots), not as a far branch retracted.
+        EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
+        EXPECT_EQ(run.pipeline.fan_end_moved_roots, std::vector<int>{2});
+        EXPECT_TRUE(run.pipeline.fan_end_far_retractions.empty());
         EXPECT_EQ(run.raw_quality.hexes, strips == 3 ? 128 : 154);
         EXPECT_TRUE(run.prediction_exact);
         expect_valid(run.pipeline, 1);
