@@ -163,6 +163,8 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         for (const FanEndRetraction& r : repaired.fan_end_retractions) {
             res.fan_end_retractions.push_back(r.vertex);
             res.fan_edge_splits += r.fan_edge_split >= 0 ? 1 : 0;
+            if (r.moved_root >= 0) res.fan_end_moved_roots.push_back(r.vertex);
+            if (r.moved_root < 0 && r.far_branch) res.fan_end_far_retractions.push_back(r.vertex);
             if (r.moved_root < 0 && !r.far_branch) continue;
             const auto [vertex, is_input] = named_vertex(repaired.vertex_map, r.vertex);
             const int root = r.moved_root >= 0 ? r.moved_root : r.vertex;  // a far branch retracted: its corner w
@@ -228,6 +230,18 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
         for (const int v : res.fan_end_retractions) out << " " << v;
         out << "\n";
     }
+    const auto vertices = [&out](const char* what, const std::vector<int>& vs) {
+        if (vs.empty()) return;
+        out << "repairs: " << what << ":";
+        for (const int v : vs) out << " " << v;
+        out << "\n";
+    };
+    vertices("of these, branches far from the fan line moved onto a leaflet border at input vertices",
+             res.fan_end_moved_roots);
+    vertices(
+        "of these, branches far from the fan line (their moved root refused) retracted with the fan edge, a notch "
+        "at the leaflets' corner, at input vertices",
+        res.fan_end_far_retractions);
     line(
         "fan-edge chains split (with their leaflets' face strips) to be retracted: single fan edges in two, chains "
         "of 1 or 2 fan edges with branches at both ends into 3 or 4, the row under a branch moved off the fan end",

@@ -56,6 +56,11 @@ struct PipelineResult {
     int docked_foot_splits = 0;            // plate face strips split beside and beyond docked chains
     int junction_splits = 0;               // degree-4 branching points the repair split into two of degree 3
     std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners
+    // Of fan_end_retractions: branches far from the fan line whose root the repair moved onto a leaflet border
+    // (FanEndRetraction::moved_root), and those retracted with the fan edge instead (FanEndRetraction::far_branch,
+    // kFallbackCornerDeg: a notch at the leaflets' corner).
+    std::vector<int> fan_end_moved_roots;
+    std::vector<int> fan_end_far_retractions;
     // Fan-edge chains cut before their retraction: single fan edges in two, chains of 1-2 edges with branches at both
     // ends into 3-4.
     int fan_edge_splits = 0;

@@ -925,6 +925,14 @@ TEST(FanEndRepair, MovedFirstEdgeNotBent) {
     const MeshRun run = mesh_skeleton(before, nullptr);
     EXPECT_TRUE(run.prediction_exact);
     expect_valid(run.pipeline, 1);
+    // The report says which retraction it was (issue 22 item 2): repairs.fan_end_far_retractions, and its text line.
+    EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
+    EXPECT_EQ(run.pipeline.fan_end_far_retractions, std::vector<int>{2});
+    EXPECT_TRUE(run.pipeline.fan_end_moved_roots.empty());
+    EXPECT_NE(repairs_to_text(run.pipeline, run.options)
+                  .find("branches far from the fan line (their moved root refused) retracted with the fan edge, a "
+                        "notch at the leaflets' corner, at input vertices: 2\n"),
+              std::string::npos);
 }
 
 namespace {
@@ -1097,6 +1105,10 @@ TEST(FanEndRepair, InvertedRawHexAtAMovedRootRefused) {
         for (double& r : thinner.radii) r = 0.27;
         const MeshRun run = mesh_skeleton(thinner, nullptr);
         EXPECT_EQ(run.pipeline.moved_roots.size(), 1u);
+        // The report names the moved root (repairs.fan_end_moved_roots), not as a far branch retracted.
+        EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
+        EXPECT_EQ(run.pipeline.fan_end_moved_roots, std::vector<int>{2});
+        EXPECT_TRUE(run.pipeline.fan_end_far_retractions.empty());
         EXPECT_EQ(run.raw_quality.hexes, strips == 3 ? 128 : 154);
         EXPECT_TRUE(run.prediction_exact);
         expect_valid(run.pipeline, 1);
@@ -1219,4 +1231,15 @@ TEST(FanEndRefusal, BranchRunningIntoALeafletPlateNamedFirst) {
     ASSERT_EQ(done.size(), 1u);
     EXPECT_TRUE(done[0].far_branch);
     EXPECT_EQ(done[0].carrier_face, 4);  // the -x strip's face on the fan edge
+}
+
+// A skeleton without radii (an analysis before they are set): a far branch's moved root and the fallback retraction
+// read r_w; fan_end_refusal must not index the empty radii (ASan: heap overflow otherwise) and says the repair did not
+// judge the branch (the pipeline sets radii first).
+TEST(FanEndRefusal, FarBranchWithoutRadiiIsNotJudged) {
+    Skeleton s = fan_end_towards(3, 50, -90);
+    s.radii.clear();
+    const std::optional<FanEndRefusal> r = fan_end_refusal(s, 2);
+    ASSERT_TRUE(r.has_value());
+    EXPECT_NE(r->reason.find("no radius per vertex"), std::string::npos) << r->reason;
 }

@@ -648,13 +648,6 @@ double run_on_clearance(const Skeleton& s, const Incidence& in, const Vec3& pw, 
     return std::numeric_limits<double>::infinity();
 }
 
-// A moved root thicker than the first border side allows (kRootMoveRadii r_w > kRootMoveMax |x - w|): the root goes
-// along the straight border run from w through mv.x (border_run) to the arc length a = clamp(proj, kRootMoveRadii r_w,
-// min(kRootMoveMax S, S - kRootMoveRunRestRadii r_w)) (S the run's length, proj the branch's first vertex projected on
-// it), and the run's inner vertices slide along it, arc length l to a + l (S - a) / S (the run's far end stays, the
-// border keeps its line), so that the cut stays on the first side, at mv.t of it. Fills mv.run, mv.slid (the inner
-// vertices' new places, mv.x's first) and mv.t; false when the run is a single side (mv.x cannot slide) or too short
-// for both bounds (then *why, when given, says so).
 // The edit for a moved root too thick for its border run: the largest radius the run takes.
 std::string thin_to(double rw, const RootMove& mv, double side) {
     std::ostringstream edit;
@@ -676,6 +669,13 @@ std::string angle_edit(int branches, double radius_ratio, double side) {
     return edit.str();
 }
 
+// A moved root thicker than the first border side allows (kRootMoveRadii r_w > kRootMoveMax |x - w|): the root goes
+// along the straight border run from w through mv.x (border_run) to the arc length a = clamp(proj, kRootMoveRadii r_w,
+// min(kRootMoveMax S, S - kRootMoveRunRestRadii r_w)) (S the run's length, proj the branch's first vertex projected on
+// it), and the run's inner vertices slide along it, arc length l to a + l (S - a) / S (the run's far end stays, the
+// border keeps its line), so that the cut stays on the first side, at mv.t of it. Fills mv.run, mv.slid (the inner
+// vertices' new places, mv.x's first) and mv.t; false when the run is a single side (mv.x cannot slide) or too short
+// for both bounds (then *why, when given, says so).
 bool thick_root_run(const Skeleton& s, const Incidence& in, int w, RootMove& mv, double proj, FanEndRefusal* why) {
     const double rw = s.radii[w];
     const std::vector<int> run = border_run(s, in, w, mv.x);
@@ -900,7 +900,8 @@ std::vector<FanEndRetraction> move_far_roots(Skeleton& s) {
 
 // Where a branch at the fan end w comes closest to a leaflet's plate: past kPlateOverlapRootRadii r_w of arc length
 // from w along the branch (its polyline through plain joints: two edges, no face), the sample whose centre-line
-// distance to a face, over the tube's radius there plus the face's mean radius, is least (11 samples per edge).
+// distance to a face, over the tube's radius there plus the face's mean radius, is least (10 samples per edge, its
+// far end included).
 struct PlateOverlap {
     double ratio = std::numeric_limits<double>::infinity();  // distance / (r_tube + r_plate); < 1: they overlap
     double distance = 0, arc = 0, need = 0;
@@ -1003,6 +1004,11 @@ std::optional<FanEndRefusal> repair_conditions(const Skeleton& s, int w) {
     FanEndRefusal why;
     if (!fan_end_branch(s, in, w, c, &why)) return why;
     if (branch_cos(s, c) < kFanEndBranchCos) {  // moved onto a leaflet border (move_far_roots)
+        if (s.radii.size() != s.points.size())  // root_move and fallback_retraction read r_w
+            return FanEndRefusal{angle_words(branch_cos(s, c)) +
+                                     " and the skeleton has no radius per vertex: the repair's moved root is judged "
+                                     "by the branch's radius",
+                                 "give every skeleton vertex a radius (the pipeline does before the repair)"};
         const RootMove mv = root_move(s, in, c, &why);
         if (!mv.strip.empty()) return std::nullopt;
         if (!fallback_retraction(s, in, c))
