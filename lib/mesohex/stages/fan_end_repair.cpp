@@ -957,9 +957,9 @@ bool fallback_retraction(const Skeleton& s, const Incidence& in, const Candidate
 
 // A refusal at w whose branch's tube meets a leaflet's plate (plate_overlap below 1) names that first: the input's
 // domain has the tube run into the plate there, which no root placement meshes; the repair's own condition follows.
-FanEndRefusal with_plate_overlap(const Skeleton& s, int w, FanEndRefusal why) {
+FanEndRefusal with_plate_overlap(const Skeleton& s, const Incidence& in, int w, FanEndRefusal why) {
     if (s.radii.size() != s.points.size()) return why;
-    const PlateOverlap o = plate_overlap(s, make_incidence(s), w);
+    const PlateOverlap o = plate_overlap(s, in, w);
     if (!(o.ratio < 1)) return why;
     std::ostringstream words, edit;
     words << std::fixed << std::setprecision(3) << "the branch's tube runs into the plate of face " << o.face << ": "
@@ -983,9 +983,10 @@ std::optional<FanEndRefusal> fan_end_refusal(const Skeleton& s, int w) {
     std::optional<FanEndRefusal> why = repair_conditions(s, w);
     const int n = static_cast<int>(s.points.size());
     if (!why || w < 0 || w >= n || !well_formed(s)) return why;
+    const Incidence in = make_incidence(s);
     Candidate c;
-    if (!fan_end_branch(s, make_incidence(s), w, c, nullptr)) return why;
-    return with_plate_overlap(s, w, std::move(*why));
+    if (!fan_end_branch(s, in, w, c, nullptr)) return why;
+    return with_plate_overlap(s, in, w, std::move(*why));
 }
 
 namespace {
@@ -1015,8 +1016,7 @@ std::optional<FanEndRefusal> repair_conditions(const Skeleton& s, int w) {
             return FanEndRefusal{
                 angle_words(branch_cos(s, c)) +
                     " (not retracted; its root is moved onto the border of the leaflet it leans over only when the "
-                    "strip "
-                    "of faces from that border side, from face " +
+                    "strip of faces from that border side, from face " +
                     str(mv.face) + ", crosses the leaflet to a border, and " + why.reason + ")",
                 (why.edit.empty() ? std::string("make that strip reach a border, or ") : why.edit + ", or ") +
                     "turn the branch's first edge towards the fan line's continuation, or " + off_fan()};

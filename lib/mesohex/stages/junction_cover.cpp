@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
@@ -155,7 +156,7 @@ std::vector<double> surface_edge_creases(const ConnectionSurfaces& cs, const Jun
     std::vector<double> crease(ne, 0.0);
     for (int j = 0; j < ne; ++j)
         for (int side = 0; side < 2; ++side)
-            if (count[2 * j + side] == 2) crease[j] = std::max(crease[j], sum[2 * j + side] * 180 / 3.141592653589793);
+            if (count[2 * j + side] == 2) crease[j] = std::max(crease[j], sum[2 * j + side] * 180 / std::numbers::pi);
     return crease;
 }
 

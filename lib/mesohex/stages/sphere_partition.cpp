@@ -77,9 +77,6 @@ double corner_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
     return angle;
 }
 
-// A unit vector orthogonal to the unit vector a (deterministic; core/vec.h).
-Vec3 any_orthogonal(const Vec3& a) { return any_perpendicular(a); }
-
 // cos and sin of the 8 pattern-search directions phi = k x 45° (tables computed once with std::cos / std::sin).
 const std::array<double, 8>& trial_cos() {
     static const std::array<double, 8> table = [] {
@@ -156,7 +153,7 @@ struct OrangeFrame {
 OrangeFrame orange_frame(const std::vector<Vec3>& d, const Vec3& axis) {
     OrangeFrame f;
     f.axis = axis;
-    f.u = any_orthogonal(axis);
+    f.u = any_perpendicular(axis);
     f.w = cross(axis, f.u);
     const int n = static_cast<int>(d.size());
     f.azimuth.resize(n);
@@ -230,10 +227,10 @@ struct OrangeEvaluator {
     // value <= threshold (valid unset).
     double quality(const Vec3& axis, double threshold, bool& valid) {
         if (three_certainly_at_most(axis, threshold)) return threshold;
-        const Vec3 u = any_orthogonal(axis);
+        const Vec3 u = any_perpendicular(axis);
         return quality(axis, u, cross(axis, u), threshold, valid);
     }
-    // Same with the frame (u = any_orthogonal(axis), w = axis x u) given.
+    // Same with the frame (u = any_perpendicular(axis), w = axis x u) given.
     double quality(const Vec3& axis, const Vec3& u, const Vec3& w, double threshold, bool& valid) {
         if (certainly_at_most(axis, u, w, threshold)) return threshold;
         const int n = static_cast<int>(d.size());
@@ -387,7 +384,7 @@ Vec3 refine_orange_axis(OrangeEvaluator& eval, Vec3 axis) {
     double best = eval.quality(axis, -1e300, valid);
     double step = 0.05;
     for (int iteration = 0; iteration < 100 && step > 1e-4; ++iteration) {
-        const Vec3 t1 = any_orthogonal(axis), t2 = cross(axis, t1);
+        const Vec3 t1 = any_perpendicular(axis), t2 = cross(axis, t1);
         Vec3 best_axis = axis;
         for (int k = 0; k < 8; ++k) {
             const Vec3 trial = normalized(axis + step * (trial_cos()[k] * t1 + trial_sin()[k] * t2));
@@ -420,13 +417,13 @@ SpherePartition build_orange(const OrangeFrame& f) {
     return p;
 }
 
-// An axis to try with its orange frame (u = any_orthogonal(axis), w = axis x u).
+// An axis to try with its orange frame (u = any_perpendicular(axis), w = axis x u).
 struct ScanAxis {
     Vec3 axis, u, w;
 };
 
 ScanAxis scan_axis(const Vec3& axis) {
-    const Vec3 u = any_orthogonal(axis);
+    const Vec3 u = any_perpendicular(axis);
     return {axis, u, cross(axis, u)};
 }
 
@@ -633,7 +630,7 @@ std::optional<BaseMap> hull_base_map(const std::vector<Vec3>& d, double eps) {
         Vec3 centroid{};
         for (int m : f.members) centroid += d[m];
         centroid /= static_cast<double>(f.members.size());
-        const Vec3 u = any_orthogonal(f.normal), w = cross(f.normal, u);
+        const Vec3 u = any_perpendicular(f.normal), w = cross(f.normal, u);
         std::vector<std::pair<double, int>> by_angle;
         for (int m : f.members) by_angle.push_back({std::atan2(dot(d[m] - centroid, w), dot(d[m] - centroid, u)), m});
         std::sort(by_angle.begin(), by_angle.end());
@@ -1193,7 +1190,7 @@ struct Relaxer {
                     for (int q : quads_of[v]) e0 += quad_energy[q];
                 }
                 if (repair && x0 == 0) continue;
-                const Vec3 t1 = any_orthogonal(origin), t2 = cross(origin, t1);
+                const Vec3 t1 = any_perpendicular(origin), t2 = cross(origin, t1);
                 double best_score = repair ? x0 : e0;
                 Vec3 best_pos = origin;
                 for (int k = 0; k < 8; ++k) {
@@ -1588,7 +1585,7 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     Vec3 normal = best_fit_plane_normal(d);
     if (n == 2) {
         const Vec3 c = cross(d[0], d[1]);
-        normal = norm(c) > 1e-9 ? normalized(c) : any_orthogonal(d[0]);
+        normal = norm(c) > 1e-9 ? normalized(c) : any_perpendicular(d[0]);
     }
     double planarity = 0;
     for (const Vec3& p : d) planarity = std::max(planarity, std::abs(dot(p, normal)));
@@ -1733,7 +1730,7 @@ Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions) {
 bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold) {
     const std::vector<double> bound = margin_bounds(directions);
     OrangeEvaluator eval(directions, bound);
-    const Vec3 u = any_orthogonal(axis);
+    const Vec3 u = any_perpendicular(axis);
     return eval.certainly_at_most(axis, u, cross(axis, u), threshold);
 }
 
