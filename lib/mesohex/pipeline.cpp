@@ -86,8 +86,10 @@ void check_moved_roots(const PipelineResult& res) {
         if (inverted == 0) continue;
         std::ostringstream why;
         why << (root.by_input ? "skeleton vertex " : "repaired skeleton vertex ") << root.vertex
-            << ": a branch on a fan-edge end far from the fan line, its root moved onto a leaflet border (or the "
-               "fan edge retracted from it) by the fan-end repair (issue 22), gives "
+            << ": a branch on a fan-edge end" << (root.far ? " far from the fan line" : "")
+            << ", its root moved onto a leaflet border (or the fan edge retracted from it) by the fan-end repair "
+               "(issue "
+               "22), gives "
             << inverted << " inverted raw hex(es) within " << kMovedRootCheckRadii
             << " radii of the moved root (radius " << root.radius
             << "; such roots between two leaflets or near a leaflet's plane fold the branch's first chunk); edit: "
@@ -165,11 +167,11 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
             res.fan_edge_splits += r.fan_edge_split >= 0 ? 1 : 0;
             if (r.moved_root >= 0) res.fan_end_moved_roots.push_back(r.vertex);
             if (r.moved_root < 0 && r.far_branch) res.fan_end_far_retractions.push_back(r.vertex);
-            if (r.moved_root < 0 && !r.far_branch) continue;
+            // Every retracted corner is checked too: u's cap reaches up to it (RawMeshOptions::fan_end_cap_to_border).
             const auto [vertex, is_input] = named_vertex(repaired.vertex_map, r.vertex);
-            const int root = r.moved_root >= 0 ? r.moved_root : r.vertex;  // a far branch retracted: its corner w
-            res.moved_roots.push_back(
-                {vertex, is_input, repaired.skeleton.points[root], repaired.skeleton.radii[r.vertex]});
+            const int root = r.moved_root >= 0 ? r.moved_root : r.vertex;  // a retraction: its corner w
+            res.moved_roots.push_back({vertex, is_input, repaired.skeleton.points[root],
+                                       repaired.skeleton.radii[r.vertex], r.moved_root >= 0 || r.far_branch});
         }
         std::vector<int> pinned;
         if (options.repair.pin_absorbed_balls) pinned = repaired.absorbed_balls;

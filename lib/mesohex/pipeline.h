@@ -41,6 +41,7 @@ struct MovedRootPlace {
     bool by_input = true;
     Vec3 point{};
     double radius = 0;
+    bool far = true;  // a branch far from the fan line (moved, or retracted by the fallback); else a retraction
 };
 
 struct PipelineResult {
@@ -64,8 +65,8 @@ struct PipelineResult {
     // Fan-edge chains cut before their retraction: single fan edges in two, chains of 1-2 edges with branches at both
     // ends into 3-4.
     int fan_edge_splits = 0;
-    // Branches far from the fan line whose root the repair moved onto a leaflet border (FanEndRetraction::moved_root):
-    // checked on the raw mesh (check_moved_roots).
+    // Branches far from the fan line whose root the repair moved onto a leaflet border (FanEndRetraction::moved_root),
+    // and every retracted corner (far or not): checked on the raw mesh (check_moved_roots).
     std::vector<MovedRootPlace> moved_roots;
     int virtual_branches = 0;   // virtual branches added to the meshed skeleton (PipelineOptions::virtual_branches)
     Skeleton skeleton;          // the skeleton actually meshed (radii filled, adapted when resampling)
@@ -93,7 +94,8 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
 // cut point m): throws UnsupportedConfiguration naming the fan-end vertex, the configuration and an edit. The moved
 // roots between two leaflets or near a leaflet's plane give 1 - 2 such hexes at scattered radii (issue 22's sweep,
 // docs/blocks.md "Moved roots: first joint and thick radii"), where no measured angle or radius ratio separates them
-// from their clean neighbours. O(hexes) when there is a moved root, else nothing.
+// from their clean neighbours. Retracted corners are checked the same way (their fan neighbour's cap reaches up to
+// them: RawMeshOptions::fan_end_cap_to_border). O(hexes) when there is a moved root, else nothing.
 void check_moved_roots(const PipelineResult& res);
 
 // The default uniform radius: factor x mean edge length (1.0 for a skeleton without edges).

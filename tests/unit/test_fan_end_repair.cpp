@@ -282,6 +282,41 @@ TEST(FanEndRepair, ThickRadiiMeshWithoutInvertedHexes) {
             }
 }
 
+// The notch closed by the cap (RawMeshOptions::fan_end_cap_to_border): the retracted T and X (fanend -n 3|4 -m 1 on
+// the input sampling) have u = (0, 0, 0.4) and every retracted corner at z = 1 (TFanBranchContinuingTheFanLine), so
+// u's cap stands max(r, 1 - 0.4) = 0.6 beyond u along e = +z: its centre (O_u, or the fan block's cap section centre)
+// at w's old place (0, 0, 1), not at u + r e = (0, 0, 0.7). Hex count and validity unchanged (78 / 100 hexes). A plain
+// fan end (tfan, borders across the fan line: lowest neighbour 0 < r) keeps r: its raw mesh is the same either way.
+TEST(FanEndRepair, RetractedFanEndCapReachesTheCorners) {
+    const auto has_point = [](const PipelineResult& r, const Vec3& p) {
+        return std::ranges::any_of(r.raw.mesh.points, [&](const Vec3& q) { return distance(p, q) < 1e-12; });
+    };
+    for (const int strips : {3, 4}) {
+        SCOPED_TRACE(strips);
+        Skeleton s = fan_end(strips, 1);
+        ASSERT_EQ(retract_fan_ends(s).size(), 1u);
+        ASSERT_NEAR(distance(s.points[1], Vec3{0, 0, 0.4}), 0.0, 1e-12);
+        PipelineOptions o;
+        o.resample = false;
+        const PipelineResult on = run_pipeline(s, o);
+        o.raw_mesh.fan_end_cap_to_border = false;
+        const PipelineResult off = run_pipeline(s, o);
+        EXPECT_TRUE(has_point(on, {0, 0, 1}));
+        EXPECT_FALSE(has_point(on, {0, 0, 0.7}));
+        EXPECT_TRUE(has_point(off, {0, 0, 0.7}));
+        EXPECT_EQ(on.raw.mesh.hexes, off.raw.mesh.hexes);
+        EXPECT_EQ(on.raw.mesh.hexes.size(), strips == 3 ? 78u : 100u);
+        expect_valid(on, 1);
+        GeneratorOptions g;
+        g.m = 2;
+        const Skeleton plain = generate_skeleton(strips == 3 ? "tfan" : "xfan", g);
+        PipelineOptions p;
+        const PipelineResult plain_on = run_pipeline(plain, p);
+        p.raw_mesh.fan_end_cap_to_border = false;
+        EXPECT_EQ(plain_on.raw.mesh, run_pipeline(plain, p).raw.mesh);
+    }
+}
+
 // A fan of `strips` strips of 2 quads on a single fan edge (tfan / xfan -n 1 -m 2: fan line (0,0,-0.5) = 0 to
 // (0,0,0.5) = 1, unit quads, radius 0.3) with a branch of 3 unit edges from 1 along +z (the fan line's continuation).
 Skeleton single_fan_edge_end(int strips, int length = 2) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <numeric>
@@ -571,9 +572,27 @@ Vec3 border_out(const BranchView& view, int u, const Vec3& n) {
     return norm(out) > 0 ? normalized(out) : Vec3{};
 }
 
+// How far the out vertex of leaflet border vertex u stands from u along its outward direction out (unit): r_u, or at
+// a fan-edge end (u on a side of 3 or more faces) the raw mesh's cap there (RawMeshOptions::fan_end_cap_to_border,
+// raw_mesh.h): at least as far as the lowest of u's border neighbours along out (a fan end retracted from a branch,
+// whose carrier corner roots the branch on a patch with u's cap on its rim).
+double out_reach(const BranchView& view, int u, const Vec3& out) {
+    const Skeleton& s = view.s;
+    bool fan = false;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const int e : view.incident[u]) {
+        if (view.branch_edge[e]) continue;
+        const auto it = view.side_count.find(std::minmax(s.edges[e][0], s.edges[e][1]));
+        if (it == view.side_count.end()) continue;
+        fan = fan || it->second > 2;
+        if (it->second == 1) lowest = std::min(lowest, dot(view.pos[view.other(e, u)] - view.pos[u], out));
+    }
+    return fan && std::isfinite(lowest) ? std::max(view.rad[u], lowest) : view.rad[u];
+}
+
 // How far ahead along the branch direction dir (unit) the raw-mesh points of the patch a branch rooted at v stands on
 // reach, from v: every vertex u of the leaflet faces at v puts its plate vertex at u +- r_u n (n = unit normal of v's
-// faces; the side the branch leaves) and, on the border, its out vertices r_u further along u's outward direction
+// faces; the side the branch leaves) and, on the border, its out vertices out_reach further along u's outward direction
 // (away from the centroid of u's faces, in their plane). The first cross-section must lie beyond the farthest of
 // them, or the hexes between the patch and that section fold there: a branch leaving a border 45 degrees off the
 // leaflet's plane sees the border's out-up corners sqrt(2) r_u ahead, beyond the r of its own section.
@@ -585,7 +604,7 @@ double patch_reach(const BranchView& view, int v, const Vec3& dir, const Vec3& n
         for (const int u : s.faces[f]) {
             double ahead = dot(view.pos[u] - view.pos[v], dir) + view.rad[u] * up;
             const Vec3 out = border_out(view, u, n);
-            if (!(out == Vec3{})) ahead += view.rad[u] * std::max(0.0, dot(out, dir));
+            if (!(out == Vec3{})) ahead += out_reach(view, u, out) * std::max(0.0, dot(out, dir));
             reach = std::max(reach, ahead);
         }
     }

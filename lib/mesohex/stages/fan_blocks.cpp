@@ -364,7 +364,8 @@ std::vector<std::array<std::array<int, 2>, 8>> fan_chain_hexes(const FanBlockCha
     return hexes;
 }
 
-void fan_section_points(const FanBlockChain& c, int i, const Vec3& centre, double h, std::vector<Vec3>& out) {
+void fan_section_points(const FanBlockChain& c, int i, const Vec3& centre, double h, double cap,
+                        std::vector<Vec3>& out) {
     const int n = static_cast<int>(c.vertices.size());
     const Vec3 t = c.tangent[i], u = c.axis_u[i], w = cross(t, u);
     const std::array<Vec3, 4> axis{u, w, -1.0 * u, -1.0 * w};
@@ -376,8 +377,8 @@ void fan_section_points(const FanBlockChain& c, int i, const Vec3& centre, doubl
     out.clear();
     section(centre);
     if (c.closed) return;
-    if (i == 0) section(centre - h * t);
-    if (i == n - 1) section(centre + h * t);
+    if (i == 0) section(centre - cap * t);
+    if (i == n - 1) section(centre + cap * t);
 }
 
 void add_fan_block_irregular_edges(const FanBlockChain& c, std::map<int, long>& boundary_irregular_edges) {

@@ -9,7 +9,8 @@
 // Section at chain vertex v with frame (t, u, w) (t along the chain, u and w = t x u the block axes), axes
 // A_k = cos(k pi / 2) u + sin(k pi / 2) w (k = 0..3: +u, +w, -u, -w, counter-clockwise about t), half size h:
 // id 0 = C (v), 1 + k = Q_k (v + h A_k), 5 + k = M_k (v + h (A_k + A_k+1)). A chain end has a second section (ids
-// 9..17) at v + h e, e = the chain's outward direction there. The chunk of a fan edge (and a cap) between section S
+// 9..17) at v + h e, e = the chain's outward direction there (farther at a retracted fan end: raw_mesh.h,
+// RawMeshOptions::fan_end_cap_to_border). The chunk of a fan edge (and a cap) between section S
 // (start, lower along t) and S' is, for k = 0..3, [S(C) S(Q_k) S(M_k) S(Q_k+1) | S'(C) S'(Q_k) S'(M_k) S'(Q_k+1)].
 //
 // Acceptance by measured angles only (fit_square_frame, the 2D version of compatible_blocks' fit_cube_frame): per fan
@@ -93,8 +94,9 @@ int fan_block_vertex_ids(const FanBlocks& blocks, int v);
 // vertices.back() of an open chain) as section ids: for each hex 8 pairs (chain position, section id 0..17).
 std::vector<std::array<std::array<int, 2>, 8>> fan_chain_hexes(const FanBlockChain& chain);
 
-// Positions of the ids of chain vertex position i (9 or 18) with half size h, centre c.
-void fan_section_points(const FanBlockChain& chain, int i, const Vec3& c, double h, std::vector<Vec3>& out);
+// Positions of the ids of chain vertex position i (9 or 18) with half size h, centre c; an open end's cap section
+// (ids 9..17) cap beyond c along the chain's outward direction (h at a plain end).
+void fan_section_points(const FanBlockChain& chain, int i, const Vec3& c, double h, double cap, std::vector<Vec3>& out);
 
 // Boundary edges of valence != 2 that the chain's chunks and caps add (the chain has no interior irregular edge):
 // per fan edge and per cap, the longitudinal edge through M_k has 1 block hex plus one plate (half-chunk) per labelled

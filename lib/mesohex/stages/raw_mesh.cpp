@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -823,18 +824,39 @@ std::vector<double> effective_radii(const Skeleton& skeleton, const SkeletonAnal
     return radius;
 }
 
+// The distance of fan end v's cap beyond v along its out direction e (unit): reach, or with
+// RawMeshOptions::fan_end_cap_to_border the lowest of v's leaflet border neighbours along e when that is farther
+// (every border side at v then leans out past v: a retracted fan end).
+double fan_end_cap_height(const Skeleton& skeleton, const SkeletonAnalysis& an, const RawMeshOptions& options, int v,
+                          const Vec3& e, double reach) {
+    if (!options.fan_end_cap_to_border) return reach;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int ed = an.vertex_edges[i];
+        if (an.edge_degree[ed] != 1) continue;
+        const int x = skeleton.edges[ed][0] == v ? skeleton.edges[ed][1] : skeleton.edges[ed][0];
+        lowest = std::min(lowest, dot(skeleton.points[x] - skeleton.points[v], e));
+    }
+    return std::isfinite(lowest) ? std::max(reach, lowest) : reach;
+}
+
 // A fan-block chain vertex (fan_blocks.h): its section (and cap section) with half size h = min(r, half its shortest
-// incident edge), so that the leaflet corners Q_a = v + h a stay inside every incident edge.
+// incident edge), so that the leaflet corners Q_a = v + h a stay inside every incident edge; the cap section
+// fan_end_cap_height(h) beyond v.
 void place_fan_block_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
-                            double r, int v, RawMesh& raw) {
+                            const RawMeshOptions& options, double r, int v, RawMesh& raw) {
     double h = r;
     for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
         const std::array<int, 2>& ed = skeleton.edges[an.vertex_edges[i]];
         h = std::min(h, 0.5 * distance(skeleton.points[ed[0]], skeleton.points[ed[1]]));
     }
     const FanBlockChain& c = cs.fan_blocks.chains[fan_block_at(cs, v)];
+    const int i = cs.fan_blocks.vertex_index[v], n = static_cast<int>(c.vertices.size());
+    double cap = h;
+    if (!c.closed && (i == 0 || i == n - 1))
+        cap = fan_end_cap_height(skeleton, an, options, v, (i == 0 ? -1.0 : 1.0) * c.tangent[i], h);
     std::vector<Vec3> pts;
-    fan_section_points(c, cs.fan_blocks.vertex_index[v], skeleton.points[v], h, pts);
+    fan_section_points(c, i, skeleton.points[v], h, cap, pts);
     for (std::size_t x = 0; x < pts.size(); ++x) raw.mesh.points[raw.vertex_base[v] + static_cast<int>(x)] = pts[x];
 }
 
@@ -886,10 +908,12 @@ bool unequal_leaflet_faces(std::vector<int> leaflets) {
 // Fan-edge vertices (reference-notes §10): gap vertex = w + r unit(sum of the normals of the faces around the
 // gap, each flipped into the gap), the bisector (or, when one side of the gap has more faces at w than the other
 // (unequal_leaflet_faces), the axis of those normals' narrowest cone: narrower_cone_axis); at a fan end
-// also O_w = w + r e and gap out-copies = gap + r e, e = unit vector along the fan edge pointing away from it
-// (fan_end_out_direction: or the leaflets' own outs' axis). Serial in face order: deterministic.
+// also O_w = w + H e and gap out-copies = gap + H e, e = unit vector along the fan edge pointing away from it
+// (fan_end_out_direction: or the leaflets' own outs' axis), H = r or farther at a retracted fan end
+// (fan_end_cap_height). Serial in face order: deterministic.
 void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
-                        const FanGaps& gaps, const std::vector<double>& radius, RawMesh& raw) {
+                        const FanGaps& gaps, const RawMeshOptions& options, const std::vector<double>& radius,
+                        RawMesh& raw) {
     if (an.counts.fan_edges == 0) return;
     const int nv = static_cast<int>(skeleton.points.size());
     const int nf = static_cast<int>(an.face_vertices.size());
@@ -912,7 +936,7 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
         const VertexClass vc = an.vertex_class[v];
         if (!is_fan(vc)) continue;
         if (fan_block_at(cs, v) >= 0) {
-            place_fan_block_vertex(skeleton, an, cs, radius[v], v, raw);
+            place_fan_block_vertex(skeleton, an, cs, options, radius[v], v, raw);
             continue;
         }
         const int base = raw.vertex_base[v], g = expected_gaps(an, v);
@@ -934,7 +958,8 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
             const int o = skeleton.edges[fe][0] == v ? skeleton.edges[fe][1] : skeleton.edges[fe][0];
             e = normalized(c - skeleton.points[o]);
         }
-        e = r * fan_end_out_direction(skeleton, an, v, e);
+        e = fan_end_out_direction(skeleton, an, v, e);
+        e = fan_end_cap_height(skeleton, an, options, v, e, r) * e;
         raw.mesh.points[base + 1 + g] = c + e;
         for (int j = 0; j < g; ++j) raw.mesh.points[base + 2 + g + j] = raw.mesh.points[base + 1 + j] + e;
     }
@@ -1034,7 +1059,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     write_block_hexes(cs, slots, raw);
     write_fan_block_hexes(cs, slots, raw);
     const std::vector<double> radius = effective_radii(skeleton, an, cs, frames, options);
-    place_fan_vertices(skeleton, an, cs, gaps, radius, raw);
+    place_fan_vertices(skeleton, an, cs, gaps, options, radius, raw);
     place_vertices(skeleton, an, cs, frames, options, radius, raw);
     const bool own = domain == nullptr || domain->radii.size() != domain->points.size();
     cover_junctions(skeleton, own ? skeleton : *domain, an, cs, frames, radius, raw.vertex_base, slots.edge_slot,

@@ -87,6 +87,15 @@ struct RawMeshOptions {
     // out of the sheet's plane or far off its outward direction fold their first chunks (docs/tuning.md).
     double border_root_turn = 1.0;
     double border_root_tilt = 1.0;  // (see border_root_turn; fraction of the tilt, dimensionless)
+    // A fan end's cap (the out vertex O_w on the fan line and the gaps' out-copies; with a fan block, its cap section)
+    // stands r_w beyond w along the fan end's out direction e. With this on, it stands at least as far as the
+    // lowest of w's leaflet border neighbours: max(r_w, min over the border sides (w, x) at w of (x - w) . e), so
+    // that the half-chunks of leaflet borders leaning out past the fan end (a fan edge retracted from a branch,
+    // fan_end_repair.h: the retracted corners 2 r_w along the old border, w's fan neighbour slid to 2 r_w below them)
+    // reach over the fan line up to those corners instead of leaving a notch between the leaflets above the cap.
+    // A fan end whose borders leave it across the fan line (T / X fans, flanges) keeps r_w (docs/blocks.md, "The
+    // notch closed by the cap").
+    bool fan_end_cap_to_border = true;
     // Surface points of plain branching points moved out along their rays towards where the union of the skeleton's
     // balls ends (junction_cover.h); cover.fraction 0 = every point on the sphere of the vertex's radius.
     JunctionCoverOptions cover;
