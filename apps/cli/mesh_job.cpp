@@ -207,6 +207,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
            "faces (with resampling; 0 = off: docs/blocks.md)")
         ->check(finite_range(0.0, 10.0))
         ->capture_default_str();
+    cmd->add_flag("--fan-end-cap-to-border", job->options.pipeline.raw_mesh.fan_end_cap_to_border,
+                  "At a fan end retracted from a branch, raise the cap up to the retracted leaflet corners so the "
+                  "leaflets' border hexes span the notch (off by default: docs/blocks.md, \"The notch closed by the "
+                  "cap\")");
     cmd->add_option("--junction-crease", job->options.pipeline.raw_mesh.cover.crease_deg,
                     "Open the raw boundary creases on branching points' spheres sharper than this many degrees "
                     "(interior dihedral through their two hexes): their surface points move out along their rays, "

@@ -178,7 +178,9 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         if (options.repair.pin_trunk_joints)
             pinned.insert(pinned.end(), repaired.trunk_joints.begin(), repaired.trunk_joints.end());
         pinned.insert(pinned.end(), repaired.fan_end_pins.begin(), repaired.fan_end_pins.end());
-        s = adapt_skeleton(repaired.skeleton, options.adaptation, pinned);
+        AdaptationOptions adaptation = options.adaptation;
+        adaptation.raised_fan_end_caps = options.raw_mesh.fan_end_cap_to_border;
+        s = adapt_skeleton(repaired.skeleton, adaptation, pinned);
         clock.lap("adaptation");
     }
     // After adaptation, which would collapse their short edges; new vertices and edges are appended.

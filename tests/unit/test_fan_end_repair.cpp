@@ -298,6 +298,7 @@ TEST(FanEndRepair, RetractedFanEndCapReachesTheCorners) {
         ASSERT_NEAR(distance(s.points[1], Vec3{0, 0, 0.4}), 0.0, 1e-12);
         PipelineOptions o;
         o.resample = false;
+        o.raw_mesh.fan_end_cap_to_border = true;
         const PipelineResult on = run_pipeline(s, o);
         o.raw_mesh.fan_end_cap_to_border = false;
         const PipelineResult off = run_pipeline(s, o);
@@ -311,6 +312,7 @@ TEST(FanEndRepair, RetractedFanEndCapReachesTheCorners) {
         g.m = 2;
         const Skeleton plain = generate_skeleton(strips == 3 ? "tfan" : "xfan", g);
         PipelineOptions p;
+        p.raw_mesh.fan_end_cap_to_border = true;
         const PipelineResult plain_on = run_pipeline(plain, p);
         p.raw_mesh.fan_end_cap_to_border = false;
         EXPECT_EQ(plain_on.raw.mesh, run_pipeline(plain, p).raw.mesh);

@@ -572,11 +572,12 @@ Vec3 border_out(const BranchView& view, int u, const Vec3& n) {
     return norm(out) > 0 ? normalized(out) : Vec3{};
 }
 
-// How far the out vertex of leaflet border vertex u stands from u along its outward direction out (unit): r_u, or at
-// a fan-edge end (u on a side of 3 or more faces) the raw mesh's cap there (RawMeshOptions::fan_end_cap_to_border,
+// How far the out vertex of leaflet border vertex u stands from u along its outward direction out (unit): r_u, or, when
+// the raw mesh raises fan-end caps (raised), at a fan-edge end (u on a side of 3 or more faces) the raw mesh's cap there (RawMeshOptions::fan_end_cap_to_border,
 // raw_mesh.h): at least as far as the lowest of u's border neighbours along out (a fan end retracted from a branch,
 // whose carrier corner roots the branch on a patch with u's cap on its rim).
-double out_reach(const BranchView& view, int u, const Vec3& out) {
+double out_reach(const BranchView& view, int u, const Vec3& out, bool raised) {
+    if (!raised) return view.rad[u];
     const Skeleton& s = view.s;
     bool fan = false;
     double lowest = std::numeric_limits<double>::infinity();
@@ -596,7 +597,7 @@ double out_reach(const BranchView& view, int u, const Vec3& out) {
 // (away from the centroid of u's faces, in their plane). The first cross-section must lie beyond the farthest of
 // them, or the hexes between the patch and that section fold there: a branch leaving a border 45 degrees off the
 // leaflet's plane sees the border's out-up corners sqrt(2) r_u ahead, beyond the r of its own section.
-double patch_reach(const BranchView& view, int v, const Vec3& dir, const Vec3& n) {
+double patch_reach(const BranchView& view, int v, const Vec3& dir, const Vec3& n, bool raised) {
     const Skeleton& s = view.s;
     const double up = std::abs(dot(n, dir));
     double reach = 0;
@@ -604,7 +605,7 @@ double patch_reach(const BranchView& view, int v, const Vec3& dir, const Vec3& n
         for (const int u : s.faces[f]) {
             double ahead = dot(view.pos[u] - view.pos[v], dir) + view.rad[u] * up;
             const Vec3 out = border_out(view, u, n);
-            if (!(out == Vec3{})) ahead += out_reach(view, u, out) * std::max(0.0, dot(out, dir));
+            if (!(out == Vec3{})) ahead += out_reach(view, u, out, raised) * std::max(0.0, dot(out, dir));
             reach = std::max(reach, ahead);
         }
     }
@@ -653,7 +654,7 @@ std::pair<double, double> root_extent(const BranchView& view, int v, const Vec3&
     if (!rooted) return {0, 0};
     const double extent = o.root_extent * length / leaflet_edges;
     if (!o.root_patch_clearance || !(norm(normal) > 0)) return {extent, 0};
-    return {extent, patch_reach(view, v, dir, normalized(normal))};
+    return {extent, patch_reach(view, v, dir, normalized(normal), o.raised_fan_end_caps)};
 }
 
 // Per branch end: the direction it leaves its end vertex (towards the point of its original polyline at arc length

@@ -45,6 +45,10 @@ struct AdaptationOptions {
     // off the leaflet, the border's out vertices r beyond it), so that the first cross-section lies beyond them
     // (adaptation.cpp, patch_reach; docs/blocks.md). Off: root_extent alone.
     bool root_patch_clearance = true;
+    // The patch's reach models a fan end's out vertex as raised up to its lowest border neighbour, the way the raw mesh
+    // builds it with RawMeshOptions::fan_end_cap_to_border (raw_mesh.h). Not an option of its own: the pipeline sets it
+    // from that one (prepare_skeleton), so that the adaptation and the raw mesh agree.
+    bool raised_fan_end_caps = false;
     // Radius floor used by the bisection test only (never written): max(r, min_radius_fraction * largest radius on the
     // branch; dimensionless). Keeps a near-zero radius at an extremity from bisecting towards it forever.
     double min_radius_fraction = 0.25;

@@ -94,8 +94,9 @@ struct RawMeshOptions {
     // fan_end_repair.h: the retracted corners 2 r_w along the old border, w's fan neighbour slid to 2 r_w below them)
     // reach over the fan line up to those corners instead of leaving a notch between the leaflets above the cap.
     // A fan end whose borders leave it across the fan line (T / X fans, flanges) keeps r_w (docs/blocks.md, "The
-    // notch closed by the cap").
-    bool fan_end_cap_to_border = true;
+    // notch closed by the cap"). Off by default: it raises the raw minimum at retracted fan ends but a finished far
+    // retraction gets inverted hexes and a finished single T loses its Hausdorff target (measured there).
+    bool fan_end_cap_to_border = false;
     // Surface points of plain branching points moved out along their rays towards where the union of the skeleton's
     // balls ends (junction_cover.h); cover.fraction 0 = every point on the sphere of the vertex's radius.
     JunctionCoverOptions cover;
