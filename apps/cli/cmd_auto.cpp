@@ -39,6 +39,9 @@ struct AutoArgs {
     // half of it, so the finishing handles at most max_hexes hexes in all. The finishing's stages cost a bounded number
     // of sweeps per hex: about 2 ms of CPU per hex per attempt on this machine (docs/skeletons.md).
     long max_hexes = 24000;
+    // MeshOptions::finer_retry: the mesh kept is finished once more one level finer when it misses a goal (within
+    // half of max_hexes, like the second attempt).
+    bool finer_retry = true;
     AutoSkeletonOptions skeleton;
 };
 
@@ -123,6 +126,10 @@ void register_auto(CLI::App& app, int* status) {
     cmd->add_flag("--best-effort", args->best_effort,
                   "auto: mesh even when no skeleton gives a raw mesh without inverted hexes (otherwise refused, exit "
                   "status 3, with the skeleton still written)");
+    cmd->add_flag_callback(
+        "--no-finer-retry", [args] { args->finer_retry = false; },
+        "No attempt one subdivision level finer when the mesh kept misses a goal (by default it runs when 8 x its "
+        "hexes stay within half of --max-hexes)");
     cmd->add_option("--max-hexes", args->max_hexes,
                     "Work budget: at most this many finished hexes over both attempts (fewer subdivision levels, no "
                     "second attempt beyond half of it); 0 = no budget")
@@ -199,6 +206,7 @@ void register_auto(CLI::App& app, int* status) {
                   << " faces in " << ms(t1, t2) << " ms -> " << skeleton_path << "\n  " << chosen.reason << "\n";
 
         MeshJob job = args->job;
+        job.options.finer_retry = args->finer_retry;
         if (args->max_hexes > 0) {
             job.options.finishing.max_hexes = args->max_hexes;
             job.options.retry_max_hexes = args->max_hexes / 2;

@@ -112,10 +112,12 @@ void print_summary(const MeshJob& job, const MeshRun& run) {
     for (std::size_t i = 0; i < run.attempts.size(); ++i) {
         const MeshAttempt& a = run.attempts[i];
         std::cout << "attempt " << i + 1 << " (first joints at " << a.free_branching_reach
-                  << " x the reach at branching points): SJ min " << a.sj_min << " avg " << a.sj_avg << ", inverted "
-                  << a.inverted;
+                  << " x the reach at branching points, " << a.levels << " level(s)): " << a.hexes << " hexes, SJ min "
+                  << a.sj_min << " avg " << a.sj_avg << ", inverted " << a.inverted;
         if (a.distance_measured) std::cout << ", Hausdorff " << 100.0 * a.hausdorff_relative_max << " %";
-        std::cout << (a.free_branching_reach == run.options.adaptation.free_branching_reach ? " (kept)" : "") << "\n";
+        const bool kept = a.free_branching_reach == run.options.adaptation.free_branching_reach &&
+                          a.levels == fin.subdivision_levels && a.hexes == f.hexes;
+        std::cout << (kept ? " (kept)" : "") << "\n";
     }
 }
 
@@ -284,6 +286,8 @@ MeshRun mesh_job_run(const MeshJob& job, const Skeleton& skeleton, const std::op
                 << "mesohex: the raw mesh has fan blocks; the paper's fan layout is finished too, the better kept\n";
         if (p.stage == "attempt" && p.what.ends_with("fully padded") && !job.quiet)
             std::cerr << "mesohex: the mesh misses a goal; another attempt with every boundary quad padded\n";
+        if (p.stage == "attempt" && p.what == "one level finer" && !job.quiet)
+            std::cerr << "mesohex: the mesh misses a goal; another attempt one subdivision level finer\n";
         if (p.stage == "attempt" && p.what.ends_with("cautious joints") && !job.quiet)
             std::cerr << "mesohex: the mesh misses a goal; another attempt with first joints farther from the "
                          "branching points\n";

@@ -79,6 +79,7 @@ MeshAttempt attempt_of(const PipelineOptions& pipeline, const PipelineResult& ra
     MeshAttempt a;
     a.free_branching_reach = pipeline.adaptation.free_branching_reach;
     a.fan_blocks = raw.predicted.fan_blocks;
+    a.levels = f.subdivision_levels;
     a.padding = f.pad_mode;
     a.hexes = f.quality.hexes;
     a.sj_min = f.quality.sj_min;
@@ -128,11 +129,12 @@ bool two_layouts(const MeshRun& run, const MeshOptions& options) {
            (!run.attempts.empty() && run.attempts.front().fan_blocks > 0);
 }
 
-// The most finishing attempts the options allow: per layout the first, the fully padded one, the cautious skeleton.
+// The most finishing attempts the options allow: per layout the first, the fully padded one, the cautious skeleton;
+// then the one level finer.
 int max_attempts(const MeshRun& run, const MeshOptions& options) {
     const bool padded = options.retry && options.finishing.pad && options.finishing.pad_selective;
     const int per_layout = 1 + (padded ? 1 : 0) + (cautious_retry_allowed(options) ? 1 : 0);
-    return two_layouts(run, options) ? 2 * per_layout : per_layout;
+    return (two_layouts(run, options) ? 2 * per_layout : per_layout) + (options.finer_retry ? 1 : 0);
 }
 
 // Reports the start of the next finishing attempt (numbered from 1 in the order they run, both layouts together).
@@ -180,6 +182,31 @@ void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMes
     run.pipeline = std::move(second);
     run.options = cautious;
     set_raw_quality(run, options);
+}
+
+// Whether the kept mesh gets the attempt one level finer (MeshOptions::finer_retry): levels chosen by the finishing,
+// uniform refinement, a goal missed, and 8 x its hexes within both budgets.
+bool finer_retry_applies(const MeshOptions& options, const MeshRun& run) {
+    const FinishOptions& fo = options.finishing;
+    if (!options.finer_retry || !run.finish || !fo.subdivide || fo.levels >= 0 || fo.size > 0 ||
+        fo.refinement != FinishOptions::Refinement::Uniform || missed_goals(*run.finish, options.goals) == 0)
+        return false;
+    const long finer = 8 * run.finish->quality.hexes;
+    return (options.retry_max_hexes <= 0 || finer <= options.retry_max_hexes) &&
+           (fo.max_hexes <= 0 || finer <= fo.max_hexes);
+}
+
+// The kept mesh misses a goal: its raw mesh finished again with one level more (and the padding mode it was kept
+// with), the better of the two kept.
+void retry_finer(MeshRun& run, const TriangleMesh& domain, const MeshOptions& options) {
+    if (!finer_retry_applies(options, run)) return;
+    MeshOptions finer = options;
+    finer.finishing.levels = run.finish->subdivision_levels + 1;
+    if (run.finish->pad_mode == "all") finer.finishing.pad_selective = false;
+    report_attempt(run, options, "one level finer");
+    FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(finer, run.pipeline));
+    run.attempts.push_back(attempt_of(run.options, run.pipeline, finished, options.goals));
+    if (better_finish(finished, *run.finish, options.goals)) run.finish = std::move(finished);
 }
 
 // The layout comparison's order (MeshOptions::compare_fan_layouts): fewer inverted hexes (a valid mesh first), fewer
@@ -261,6 +288,7 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const S
         t = std::chrono::steady_clock::now();
         finish_with_retry(run, skeleton, *domain, options);
         compare_fan_layouts(run, skeleton, *domain, options);
+        retry_finer(run, *domain, options);
         run.finish_ms = ms_since(t);
     }
     if (options.partitions > 0) {

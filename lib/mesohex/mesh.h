@@ -26,8 +26,9 @@ struct MeshProgress {
     int steps = 0;      // the stage's cap on `step` (0 when unknown; attempt: the most attempts the options allow)
     double sj_min = 0;  // fit only: current min scaled Jacobian
     long inverted = 0;  // fit, untangle, improve: hexes with scaled Jacobian <= 0
-    std::string what;   // attempt only: "first", "fully padded" (same raw mesh, every quad padded) or "cautious
-                        // joints" (a second skeleton, first joints farther from the branching points)
+    std::string what;   // attempt only: "first", "fully padded" (same raw mesh, every quad padded), "cautious
+                        // joints" (a second skeleton, first joints farther from the branching points) or "one level
+                        // finer" (MeshOptions::finer_retry)
 };
 
 struct MeshOptions {
@@ -49,6 +50,13 @@ struct MeshOptions {
     // many hexes (with finishing.max_hexes = 2 x this, both attempts together finish at most that many; `mesohex
     // auto`). 0 = no limit.
     long retry_max_hexes = 0;
+    // With a domain, levels chosen by the finishing (finishing.levels < 0, no finishing.size, uniform refinement): when
+    // the mesh kept after the attempts above misses a goal, its raw mesh is finished once more with one subdivision
+    // level more and the better kept (better_finish). A coarse finished mesh (a few hundred hexes: short curve
+    // skeletons of round solids) cannot follow the surface, however well its raw mesh is laid out; 8 x the hexes
+    // can (docs/sheets.md, "One level finer"). Only when the finer mesh stays within retry_max_hexes and
+    // finishing.max_hexes (when > 0). Off by default; `mesohex auto` turns it on.
+    bool finer_retry = false;
     MeshGoals goals;  // the goals a finished mesh must meet (else the second attempt)
     // With a domain, when the raw mesh has fan blocks (pipeline.connection_surfaces.blocks.fan_blocks): the skeleton
     // is meshed and finished again (with the same attempts) in the paper's layout on the fan edges, and that result
@@ -72,6 +80,7 @@ struct MeshAttempt {
     double free_branching_reach = 0;  // AdaptationOptions::free_branching_reach used for this attempt
     std::string padding;              // FinishResult::pad_mode of this attempt ("none", "all" or "selective")
     long fan_blocks = 0;              // fan edges with a fan block in this attempt's raw mesh (0: the paper's layout)
+    int levels = 0;                   // subdivision levels applied (FinishResult::subdivision_levels)
     long hexes = 0;
     double sj_min = 0, sj_avg = 0;
     long inverted = 0;

@@ -29,6 +29,7 @@ nlohmann::json attempts_json(const std::vector<MeshAttempt>& attempts) {
         nlohmann::json j = {{"free_branching_reach", a.free_branching_reach},
                             {"padding", a.padding},
                             {"fan_blocks", a.fan_blocks},
+                            {"levels", a.levels},
                             {"hexes", a.hexes},
                             {"sj_min", a.sj_min},
                             {"sj_avg", a.sj_avg},

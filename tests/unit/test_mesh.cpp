@@ -2,6 +2,7 @@
 // hand (a straight segment in a box, the generated shapes without a domain).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -198,6 +199,41 @@ TEST(MeshSkeleton, FullyPaddedAttemptWhenTheBareFinishMissesAGoal) {
     const MeshAttempt& kept = run.finish->pad_mode == "all" ? run.attempts[1] : run.attempts[0];
     EXPECT_EQ(kept.hexes, run.quality().hexes);
     EXPECT_LE(kept.missed_goals, std::min(run.attempts[0].missed_goals, run.attempts[1].missed_goals));
+}
+
+// MeshOptions::finer_retry: the tube in its box misses a goal after its attempts (first, fully padded) at the level the
+// finishing chose; its kept raw mesh is finished once more one level finer (8 x the hexes: uniform subdivision), the
+// fourth attempt the options allow, and the better of the two kept. Not with the levels given, nor beyond the budget.
+TEST(MeshSkeleton, OneLevelFinerWhenTheKeptMeshMissesAGoal) {
+    const TriangleMesh box = box_surface(4, 1, 1);
+    MeshOptions o;
+    o.finer_retry = true;
+    std::vector<MeshProgress> attempts;
+    o.progress = [&attempts](const MeshProgress& p) {
+        if (p.stage == "attempt") attempts.push_back(p);
+    };
+    const MeshRun run = mesh_in_domain(axis_segment(), box, o);
+    ASSERT_TRUE(run.finish.has_value());
+    ASSERT_EQ(run.attempts.size(), 3u);
+    ASSERT_EQ(attempts.size(), 3u);
+    EXPECT_EQ(attempts[2].what, "one level finer");
+    for (const MeshProgress& p : attempts) EXPECT_EQ(p.steps, 4);
+    const MeshAttempt& before =
+        run.attempts[0].missed_goals <= run.attempts[1].missed_goals ? run.attempts[0] : run.attempts[1];
+    EXPECT_GT(std::min(run.attempts[0].missed_goals, run.attempts[1].missed_goals), 0);
+    EXPECT_EQ(run.attempts[2].levels, run.attempts[0].levels + 1);
+    EXPECT_EQ(run.attempts[2].hexes, 8 * before.hexes);
+    EXPECT_EQ(run.attempts[2].padding, before.padding);
+    EXPECT_LE(run.finish->quality.hexes, run.attempts[2].hexes);
+
+    MeshOptions budget = o;
+    budget.retry_max_hexes = 8 * before.hexes - 1;  // the finer mesh would exceed it
+    attempts.clear();
+    EXPECT_EQ(mesh_in_domain(axis_segment(), box, budget).attempts.size(), 2u);
+    MeshOptions given = o;
+    given.finishing.levels = run.attempts[0].levels;
+    attempts.clear();
+    EXPECT_EQ(mesh_in_domain(axis_segment(), box, given).attempts.size(), 2u);
 }
 
 TEST(MeshSkeleton, RawReportSaysWhereTheRadiusCameFrom) {
