@@ -10,9 +10,10 @@
 //   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
 //   D3_NEXT_TO_BP=0|1 its degree_three_chunks_next_to_branching_points, D3_AT_BRIDGES=0|1 its
-//   degree_three_chunks_at_bridges, EXACT_THREE=0|1 its exact_three_orange, JUNCTION_COVER=F RawMeshOptions::
-//   cover.fraction (JUNCTION_INSET=F cover.inset, JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_COVER_MIN_DEGREE and
-//   JUNCTION_COVER_FLOOR its min_degree and sj_floor). The last three
+//   degree_three_chunks_at_bridges, EXACT_THREE=0|1 its exact_three_orange, SHARED_HULL=0|1 its
+//   shared_hull_relaxation, JUNCTION_COVER=F RawMeshOptions::cover.fraction (JUNCTION_INSET=F cover.inset,
+//   JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_COVER_MIN_DEGREE and JUNCTION_COVER_FLOOR its min_degree and
+//   sj_floor). The last three
 //   columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare two
 //   builds or option sets seed by seed to find the seeds a change touches).
 //
@@ -103,6 +104,7 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("D3_AT_BRIDGES"))
         po.connection_surfaces.degree_three_chunks_at_bridges = std::atoi(k) != 0;
     if (const char* k = std::getenv("EXACT_THREE")) po.connection_surfaces.exact_three_orange = std::atoi(k) != 0;
+    if (const char* k = std::getenv("SHARED_HULL")) po.connection_surfaces.shared_hull_relaxation = std::atoi(k) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf(

@@ -362,13 +362,15 @@ TEST(SpherePartition, VerifyCatchesBrokenPartitions) {
 // the value recorded with the code before the test existed (main e1f9b90: every axis evaluated with atan2 / asin).
 // A deliberate change of the partitions changes it (then record the new value and say why in docs/performance.md).
 // The three-direction sets use the pattern search here (exact_three_orange off), whose filter this test checks; their
-// default, the solver of orange_three.h, has its own tests (test_orange_three.cpp).
+// default, the solver of orange_three.h, has its own tests (test_orange_three.cpp). The hull candidates are relaxed
+// each on its own (shared_hull_relaxation off, whose default has its own test below).
 TEST(SpherePartition, FilterCheckSetsGiveTheRecordedBits) {
     PartitionHash hash;
     const std::vector<std::vector<Vec3>> sets = filter_check_sets();
     ASSERT_EQ(sets.size(), 288u);
     mesohex::SpherePartitionOptions search;
     search.exact_three_orange = false;
+    search.shared_hull_relaxation = false;
     for (const std::vector<Vec3>& d : sets) hash.add(partition_sphere(d, search));
     EXPECT_EQ(hash.h, 0xa057f5fc6452f815ull);
 }
@@ -476,7 +478,8 @@ TEST(SpherePartition, ClosePairPairEqualsTwoCalls) {
 
 // Four directions, most with a close pair, partitioned with and without no_flat_point_in_close_pair: the bits of the
 // code before the two calls shared their search and before the hull candidates' long relaxations were left out where
-// the call cannot choose the candidate (main 3ad19aa).
+// the call cannot choose the candidate (main 3ad19aa), with every hull candidate relaxed on its own
+// (shared_hull_relaxation off).
 TEST(SpherePartition, ClosePairSetsGiveTheRecordedBits) {
     PartitionHash hash;
     std::mt19937 rng(20261205);
@@ -486,6 +489,7 @@ TEST(SpherePartition, ClosePairSetsGiveTheRecordedBits) {
         for (const bool on : {false, true}) {
             mesohex::SpherePartitionOptions o;
             o.no_flat_point_in_close_pair = on;
+            o.shared_hull_relaxation = false;
             try {
                 hash.add(partition_sphere(d, o));
                 ++partitions;
@@ -495,4 +499,35 @@ TEST(SpherePartition, ClosePairSetsGiveTheRecordedBits) {
     }
     EXPECT_EQ(partitions, 600);
     EXPECT_EQ(hash.h, 0x8860cbd7f4dd0ce4ull);
+}
+
+// shared_hull_relaxation: hull candidates of one geometry (n = 4: the three ways to double two opposite tetrahedron
+// edges; n = 5: mostly pairs) briefly relaxed once. 120 random sets of 4-6 directions (the benchmark's generator, seed
+// 19): off, the bits of main e5f095e (before the option existed: every candidate relaxed on its own); on, the bits
+// measured when the option was made the default (docs/performance.md, "Ninth pass"), and some sets change (else the
+// option does nothing: 33 of the 120 when recorded).
+TEST(SpherePartition, SharedHullRelaxationGivesTheRecordedBits) {
+    PartitionHash off_hash, on_hash;
+    int changed = 0;
+    std::mt19937 rng(19u);
+    std::uniform_real_distribution<double> uni(-1, 1);
+    for (const int n : {4, 5, 6})
+        for (int k = 0; k < 40; ++k) {
+            std::vector<Vec3> d;
+            while (static_cast<int>(d.size()) < n) {
+                const Vec3 v{uni(rng), uni(rng), uni(rng)};
+                const double r = mesohex::norm(v);
+                if (r > 0.1 && r <= 1) d.push_back(v / r);
+            }
+            mesohex::SpherePartitionOptions off;
+            off.shared_hull_relaxation = false;
+            const SpherePartition a = partition_sphere(d, off), b = partition_sphere(d, {});
+            EXPECT_EQ(mesohex::verify_sphere_partition(b, d), "");
+            off_hash.add(a);
+            on_hash.add(b);
+            changed += !(a.points == b.points && a.quads == b.quads);
+        }
+    EXPECT_EQ(off_hash.h, 0xc7423277505910f0ull);
+    EXPECT_EQ(on_hash.h, 0x8913fd813971e2dfull);
+    EXPECT_GT(changed, 10);
 }

@@ -1264,28 +1264,139 @@ std::vector<SpherePartition> hull_base_candidates(const std::vector<Vec3>& d) {
     return out;
 }
 
-// Relaxes the hull candidates `out` in place, each briefly; returns per candidate whether it is one of the 2 best (by
-// quality_score) that get a long relaxation (relax_hull_candidate_long).
-std::vector<char> relax_hull_candidates_briefly(const std::vector<Vec3>& d, std::vector<SpherePartition>& out) {
+// Hull candidates with one geometry (SpherePartitionOptions::shared_hull_relaxation). Two candidates of one base map
+// often differ only in where their valence-2 points sit on the arcs between real vertices (n = 4: the three ways to
+// double two opposite edges of the tetrahedron put a valence-2 point on two opposite Voronoi edges; n = 5 mostly
+// pairs): their real vertices (valence >= 3) start at the same points, joined by the same arcs, so the quads are the
+// same spherical polygons, and their quality_score agrees at any placement of the real vertices (a valence-2 point
+// lies on its arc: no angle term, the same margins). Their brief relaxations only rank them, so the first candidate
+// of a geometry is relaxed briefly and the others take its real vertices' positions; the long relaxations then run
+// each on its own candidate's energy (which weighs a split arc's margin twice, so they end at different points).
+
+// Per quad, its real vertices (valence >= 3) in quad order.
+std::vector<std::vector<int>> real_corners(const SpherePartition& p) {
+    std::vector<int> valence(p.points.size(), 0);
+    for (const std::array<int, 4>& quad : p.quads)
+        for (int v : quad) ++valence[v];
+    std::vector<std::vector<int>> corners(p.quads.size());
+    for (std::size_t q = 0; q < p.quads.size(); ++q)
+        for (int v : p.quads[q])
+            if (valence[v] >= 3) corners[q].push_back(v);
+    return corners;
+}
+
+// Candidate b's vertex map onto candidate a (per point of b, a's point at the same place; -1 at valence 2) when they
+// have the same geometry: each real vertex of b within 1e-9 of exactly one of a's (the duals' vertices are face centres
+// summed in another order: equal up to rounding), and every quad the same cyclic sequence of real vertices. Else empty.
+std::vector<int> same_geometry(const SpherePartition& a, const std::vector<std::vector<int>>& ca,
+                               const SpherePartition& b, const std::vector<std::vector<int>>& cb) {
+    if (ca.size() != cb.size()) return {};
+    std::vector<int> map(b.points.size(), -1);
+    for (std::size_t q = 0; q < cb.size(); ++q) {
+        const std::size_t k = ca[q].size();
+        if (cb[q].size() != k || k == 0) return {};
+        for (int v : cb[q]) {
+            if (map[v] >= 0) continue;
+            for (int u = 0; u < static_cast<int>(a.points.size()); ++u)
+                if (norm(a.points[u] - b.points[v]) < 1e-9) {
+                    if (map[v] >= 0) return {};  // two of a's points at one place
+                    map[v] = u;
+                }
+            if (map[v] < 0) return {};
+        }
+        const std::size_t shift = std::find(ca[q].begin(), ca[q].end(), map[cb[q][0]]) - ca[q].begin();
+        if (shift == k) return {};
+        for (std::size_t j = 0; j < k; ++j)
+            if (ca[q][(shift + j) % k] != map[cb[q][j]]) return {};
+    }
+    return map;
+}
+
+// Gives candidate p the real-vertex positions of `from` (the first candidate of its geometry) through `map`, its
+// valence-2 points placed on their arcs; false (p unchanged) when that placement fails.
+bool take_geometry(const std::vector<Vec3>& d, const SpherePartition& from, const std::vector<int>& map,
+                   SpherePartition& p) {
+    SpherePartition moved = p;
+    for (std::size_t v = 0; v < map.size(); ++v)
+        if (map[v] >= 0) moved.points[v] = from.points[map[v]];
+    Relaxer r(d, moved);
+    if (!r.find_chains() || !r.place_chains()) return false;
+    p = std::move(moved);
+    return true;
+}
+
+// The brief relaxation of one hull candidate (in place; restored when it has no usable chains); whether it relaxed.
+bool relax_hull_candidate_briefly(const std::vector<Vec3>& d, SpherePartition& p) {
+    Relaxer r(d, p);
+    const SpherePartition original = p;
+    if (!r.find_chains() || !r.place_chains()) {
+        p = original;
+        return false;
+    }
+    if (r.total_violation() > 0) r.descend(true, 40);
+    if (r.total_violation() == 0) r.descend(false, 5);
+    return true;
+}
+
+// The 2 best candidates of `ranked` ((-score, candidate) sorted; score 1: invalid) that get a long relaxation. Without
+// shared groups (rep[c] == c): among the first two, the relaxable valid ones. With them: the best candidate of each of
+// the 2 best geometries, and with a single geometry (n = 4) its 2 best candidates (each relaxed on its own energy).
+std::vector<char> long_relaxations(const std::vector<std::pair<double, int>>& ranked,
+                                   const std::vector<char>& relaxable, const std::vector<int>& rep, bool shared) {
+    std::vector<char> pending(rep.size(), 0);
+    if (!shared) {
+        for (int k = 0; k < static_cast<int>(ranked.size()) && k < 2; ++k)
+            if (relaxable[ranked[k].second] && ranked[k].first <= 0) pending[ranked[k].second] = 1;
+        return pending;
+    }
+    int chosen = 0;
+    for (int pass = 0; pass < 2; ++pass)
+        for (const auto& [score, c] : ranked) {
+            if (chosen == 2 || !relaxable[c] || score > 0 || pending[c]) continue;
+            bool taken = false;  // (first pass) its geometry has a long relaxation already
+            for (std::size_t o = 0; o < rep.size() && pass == 0; ++o) taken = taken || (pending[o] && rep[o] == rep[c]);
+            if (taken) continue;
+            pending[c] = 1;
+            ++chosen;
+        }
+    return pending;
+}
+
+// Relaxes the hull candidates `out` in place, each briefly (with `shared`, once per geometry: the first candidate of a
+// geometry, the others take its positions); returns per candidate whether it gets a long relaxation
+// (relax_hull_candidate_long; long_relaxations).
+std::vector<char> relax_hull_candidates_briefly(const std::vector<Vec3>& d, std::vector<SpherePartition>& out,
+                                                bool shared) {
+    const int nc = static_cast<int>(out.size());
     std::vector<std::pair<double, int>> ranked;  // (-score, candidate)
-    std::vector<char> relaxable(out.size(), 0), long_pending(out.size(), 0);
-    for (int c = 0; c < static_cast<int>(out.size()); ++c) {
-        Relaxer r(d, out[c]);
-        const SpherePartition original = out[c];
-        if (!r.find_chains() || !r.place_chains()) {
-            out[c] = original;
-        } else {
-            relaxable[c] = 1;
-            if (r.total_violation() > 0) r.descend(true, 40);
-            if (r.total_violation() == 0) r.descend(false, 5);
+    std::vector<char> relaxable(nc, 0);
+    std::vector<int> rep(nc, -1);  // per candidate: the first candidate of its geometry (-1: none yet)
+    std::vector<std::vector<std::vector<int>>> corners(nc);
+    const std::vector<SpherePartition> initial = shared ? out : std::vector<SpherePartition>{};
+    for (int c = 0; c < nc; ++c) {
+        if (shared) corners[c] = real_corners(out[c]);
+        for (int r = 0; r < c && shared && rep[c] < 0; ++r) {
+            if (rep[r] != r) continue;
+            const std::vector<int> map = same_geometry(initial[r], corners[r], initial[c], corners[c]);
+            if (!map.empty() && take_geometry(d, out[r], map, out[c])) {
+                rep[c] = r;
+                relaxable[c] = 1;
+            }
+        }
+        if (rep[c] < 0) {
+            relaxable[c] = relax_hull_candidate_briefly(d, out[c]);
+            rep[c] = relaxable[c] ? c : -2;  // only a relaxed candidate gives its positions to others
         }
         const bool valid = verify_sphere_partition(out[c], d).empty();
-        ranked.push_back({valid ? -quality_score(out[c], d) : 1.0, c});
+        const int r = rep[c] >= 0 ? rep[c] : c;
+        // a candidate of an earlier geometry ranks with its score (equal up to rounding), so ties go by index
+        ranked.push_back(
+            {valid ? (r != c && ranked[r].first <= 0 ? ranked[r].first : -quality_score(out[c], d)) : 1.0, c});
     }
+    for (int c = 0; c < nc; ++c)
+        if (rep[c] < 0) rep[c] = c;
     std::sort(ranked.begin(), ranked.end());
-    for (int k = 0; k < static_cast<int>(ranked.size()) && k < 2; ++k)
-        if (relaxable[ranked[k].second] && ranked[k].first <= 0) long_pending[ranked[k].second] = 1;
-    return long_pending;
+    return long_relaxations(ranked, relaxable, rep, shared);
 }
 
 // The long relaxation (100 sweeps) of a briefly relaxed hull candidate: it reads only the candidate itself.
@@ -1309,7 +1420,7 @@ struct PartitionWork {
 // when no candidate can reach `beat` (quality_cap: the winner needs a strictly higher score or an earlier place, so
 // the result is the same without them). A map lookup (.at) that finds an inconsistent structure cannot happen for a
 // verified base map; if it does, the hull path simply contributes nothing.
-bool hull_candidates(const std::vector<Vec3>& d, double beat, PartitionWork& work) {
+bool hull_candidates(const std::vector<Vec3>& d, double beat, bool shared, PartitionWork& work) {
     try {
         if (work.hull == PartitionWork::Hull::None) {
             work.hull_candidates = hull_base_candidates(d);
@@ -1319,7 +1430,7 @@ bool hull_candidates(const std::vector<Vec3>& d, double beat, PartitionWork& wor
             bool may_win = false;
             for (const SpherePartition& p : work.hull_candidates) may_win = may_win || quality_cap(p) >= beat;
             if (!may_win) return false;
-            work.long_pending = relax_hull_candidates_briefly(d, work.hull_candidates);
+            work.long_pending = relax_hull_candidates_briefly(d, work.hull_candidates, shared);
             work.hull = PartitionWork::Hull::Relaxed;
         }
     } catch (const std::out_of_range&) {
@@ -1627,7 +1738,8 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     for (double x : orange_scores) beat = std::max(beat, x);
 
     // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
-    if (!(n == 3 && three_hull_below(d, beat)) && hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, work)) {
+    if (!(n == 3 && three_hull_below(d, beat)) &&
+        hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, options.shared_hull_relaxation, work)) {
         finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores, work);
         hull = work.hull_candidates;
     }

@@ -33,6 +33,13 @@ struct SpherePartitionOptions {
     // Measured in docs/performance.md, "Seventh pass". false: the pattern search on quality_score from the same axes
     // (three refined oranges compete), as for n >= 4.
     bool exact_three_orange = true;
+    // Hull candidates with the same geometry (real vertices at the same points joined by the same arcs; they differ
+    // only in where valence-2 points sit on those arcs, e.g. the three ways to double two opposite edges of the
+    // tetrahedron at n = 4) share one brief relaxation, the one that ranks them (the first of them is relaxed, the
+    // others take its vertex positions); the 2 long relaxations go to the best candidate of each of the 2 best
+    // geometries (of the one geometry at n = 4, its 2 best candidates). Measured in docs/performance.md, "Ninth pass".
+    // false: every candidate relaxed briefly on its own, the 2 best candidates long.
+    bool shared_hull_relaxation = true;
 };
 
 // Preconditions: n >= 2 pairwise distinct directions, in any configuration (antipodal pairs, clusters, coplanar or
