@@ -186,6 +186,13 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "below this scaled Jacobian, towards the direction that maximises the worst such corner "
                     "(docs/junctions.md, \"The padding layer at junctions\")")
         ->check(finite_range(0.0, 1.0));
+    cmd->add_option("--crease-wedge", job->options.finishing.crease_wedge.min_dihedral_deg,
+                    "Before padding, a wedge hex fills the gap at every raw boundary edge of two hexes whose interior "
+                    "dihedral exceeds this many degrees (folded junction crotches; 0 = off, the default: "
+                    "docs/junctions.md, \"Crease wedges\")")
+        ->check(finite_range(0.0, 360.0));
+    cmd->add_flag("--crease-wedge-inside", job->options.finishing.crease_wedge_inside,
+                  "With --crease-wedge: only wedges whose new vertices lie inside the domain");
     cmd->add_option("--pad-search-cos", job->options.finishing.padding.search_cos,
                     "Padding directions searched where the direction leaves a quad corner's normal at a cosine below "
                     "this (folded valleys): the best of five towards the narrowest cone's axis for the new hexes "

@@ -217,6 +217,14 @@ struct Finisher {
                 if (hit->distance < th) return std::max(hit->distance, keep * th);
                 return std::clamp(hit->distance, th, std::max(cap, th));
             };
+        if (options.crease_wedge.min_dihedral_deg > 0) {
+            CreaseWedgeOptions wo = options.crease_wedge;
+            if (options.crease_wedge_inside && !wo.keep_vertex)
+                wo.keep_vertex = [this](const Vec3& p) { return query.inside(p); };
+            CreaseWedgeResult wedged = insert_crease_wedges(mesh, wo);
+            result.crease_wedges = static_cast<long>(wedged.wedge_edges.size());
+            mesh = std::move(wedged.mesh);
+        }
         if (options.pad_selective && padding.bare_quads.empty()) select_bare(padding);
         PaddingResult padded = pad(mesh, padding);
         if (options.pad_inset && padding.layers == 1) inset_step(padded, padding.bare_quads);

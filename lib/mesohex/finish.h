@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesohex/core/hex_mesh.h"
+#include "mesohex/post/crease_wedge.h"
 #include "mesohex/post/pad_inset.h"
 #include "mesohex/post/pad_selection.h"
 #include "mesohex/post/padding.h"
@@ -76,6 +77,14 @@ struct FinishOptions {
     // (measurements: docs/junctions.md, "The fit side of the random set's misses").
     bool pad_inset = false;
     PadInsetOptions pad_insetting;  // the inset's guard
+    // Crease wedges before the padding (pad): a boundary edge of two hexes whose interior dihedral exceeds
+    // crease_wedge.min_dihedral_deg (degrees; 0 = off) gets a wedge hex filling the gap between its two boundary quads
+    // (insert_crease_wedges, crease_wedge.h): the crotch between two chunks of a junction then has three hexes instead
+    // of two. Off by default (measurements: docs/junctions.md, "Crease wedges").
+    CreaseWedgeOptions crease_wedge;
+    // With crease_wedge: a wedge is kept only if its new vertices lie inside the domain (the raw crotch touches the
+    // domain, so a wedge filling the gap beyond it is outside and the fit crushes it back).
+    bool crease_wedge_inside = false;
     // Quality pass on the padded mesh (before subdivision) when its min SJ is below pad_improve_sj (near-flat padding
     // hexes where the averaged normals of a concave junction or a high-valence vertex almost cross; the fit keeps
     // every hex near its start quality, so they would stay bad and hold the boundary off the surface): the untangling
@@ -177,6 +186,7 @@ struct FinishResult {
     int pad_regions = 0, pad_bare_regions = 0;
     // Sharp raw boundary edges, and of them those matched to a sharp edge of the domain.
     long pad_sharp_edges = 0, pad_matched_edges = 0;
+    long crease_wedges = 0;       // wedge hexes added before the padding (crease_wedge)
     long pad_inset_vertices = 0;  // raw boundary vertices moved inward with their padding vertex (pad_inset)
 };
 

@@ -1,0 +1,124 @@
+// Crease wedges: two hexes folded to a 320-degree concave crease (the crotch between two chunks of a junction, in
+// cross-section), the wedge derived on paper.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "mesohex/core/hex_kernels.h"
+#include "mesohex/core/topology.h"
+#include "mesohex/core/validate.h"
+#include "mesohex/post/crease_wedge.h"
+
+using namespace mesohex;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Cross-section: A = (0, 0) the crease, K = (-1, 0) the face shared by the two hexes (the kite), X1 = (cos 20, sin 20)
+// and X2 = (cos 20, -sin 20) the boundary quads' directions, so each hex has 160 degrees at A (the crease 320, the gap
+// 40 degrees around +x); D1 = (-0.3, 1.2), D2 = (-0.3, -1.2). Extruded over z = 0 .. layers, one hex per layer and side.
+HexMesh folded_pair(int layers) {
+    const double c = std::cos(20 * kPi / 180), s = std::sin(20 * kPi / 180);
+    const std::array<Vec3, 6> section = {
+        {{0, 0, 0}, {c, s, 0}, {-0.3, 1.2, 0}, {-1, 0, 0}, {-0.3, -1.2, 0}, {c, -s, 0}}};
+    HexMesh m;
+    for (int z = 0; z <= layers; ++z)
+        for (const Vec3& p : section) m.points.push_back(p + Vec3{0, 0, static_cast<double>(z)});
+    for (int z = 0; z < layers; ++z) {
+        const int o = 6 * z, u = 6 * (z + 1);
+        m.hexes.push_back({o + 0, o + 1, o + 2, o + 3, u + 0, u + 1, u + 2, u + 3});  // A X1 D1 K (counter-clockwise)
+        m.hexes.push_back({o + 0, o + 3, o + 4, o + 5, u + 0, u + 3, u + 4, u + 5});  // A K D2 X2
+    }
+    return m;
+}
+
+double sj(const HexMesh& m, std::size_t h) {
+    std::array<Vec3, 8> p{};
+    for (std::size_t lv = 0; lv < 8; ++lv) p[lv] = m.points[static_cast<std::size_t>(m.hexes[h][lv])];
+    return hex_scaled_jacobian(p);
+}
+
+int hexes_on_edge(const HexMesh& m, int a, int b) {
+    const HexTopology t = compute_hex_topology(m);
+    for (std::size_t e = 0; e < t.edges.size(); ++e)
+        if (t.edges[e][0] == std::min(a, b) && t.edges[e][1] == std::max(a, b)) return t.edge_valence[e];
+    return -1;
+}
+
+}  // namespace
+
+// One layer: the crease (0, 6) measures 320 degrees; one wedge (A, X, C, X') x 2 whose new vertex C = (1 / cos 20, 0)
+// gives its cross-section right angles at X1 and X2, 40 degrees at A and 140 at C: scaled Jacobian sin 40 degrees.
+// The crease then has three hexes; the boundary goes from 10 quads to 12 (q1, q2 inside, 4 wedge faces out).
+TEST(CreaseWedge, OneWedgeFillsTheGapOfAFoldedCrease) {
+    const HexMesh m = folded_pair(1);
+    const VertexHexes vh = vertex_hexes(m);
+    const std::vector<int> at_a(vh.hexes.begin() + vh.begin[0], vh.hexes.begin() + vh.begin[1]);
+    EXPECT_NEAR(interior_dihedral_deg(m, at_a, 0, 6), 320.0, 1e-9);
+    CreaseWedgeOptions o;
+    o.min_dihedral_deg = 270;
+    const CreaseWedgeResult r = insert_crease_wedges(m, o);
+    ASSERT_EQ(r.mesh.hexes.size(), 3u);
+    ASSERT_EQ(r.mesh.points.size(), 14u);
+    ASSERT_EQ(r.wedge_edges.size(), 1u);
+    EXPECT_EQ(r.wedge_edges[0], (std::array<int, 2>{0, 6}));
+    const double reach = 1 / std::cos(20 * kPi / 180);
+    EXPECT_NEAR(distance(r.mesh.points[12], Vec3{reach, 0, 0}), 0, 1e-12);
+    EXPECT_NEAR(distance(r.mesh.points[13], Vec3{reach, 0, 1}), 0, 1e-12);
+    EXPECT_NEAR(sj(r.mesh, 2), std::sin(40 * kPi / 180), 1e-9);
+    EXPECT_GT(sj(r.mesh, 0), 0.3);
+    EXPECT_GT(sj(r.mesh, 1), 0.3);
+    EXPECT_EQ(hexes_on_edge(m, 0, 6), 2);
+    EXPECT_EQ(hexes_on_edge(r.mesh, 0, 6), 3);
+    EXPECT_TRUE(validate(r.mesh).valid());
+    EXPECT_EQ(compute_hex_topology(m).boundary_quads.size(), 10u);
+    EXPECT_EQ(compute_hex_topology(r.mesh).boundary_quads.size(), 12u);
+    // Input hexes and vertices unchanged.
+    for (std::size_t v = 0; v < m.points.size(); ++v) EXPECT_EQ(r.mesh.points[v], m.points[v]);
+    for (std::size_t h = 0; h < m.hexes.size(); ++h) EXPECT_EQ(r.mesh.hexes[h], m.hexes[h]);
+}
+
+// A threshold above the crease's 320 degrees, or 0 (off): the input, unchanged.
+TEST(CreaseWedge, NoEdgeAboveTheThresholdLeavesTheMeshUnchanged) {
+    const HexMesh m = folded_pair(1);
+    CreaseWedgeOptions o;
+    o.min_dihedral_deg = 325;
+    EXPECT_EQ(insert_crease_wedges(m, o).mesh, m);
+    o.min_dihedral_deg = 0;
+    EXPECT_EQ(insert_crease_wedges(m, o).mesh, m);
+}
+
+// keep_vertex refusing the new vertex on the gap's side (x > 1): the one wedge is dropped; refusing only x > 2 keeps it.
+TEST(CreaseWedge, RefusedNewVertexDropsTheWedge) {
+    const HexMesh m = folded_pair(1);
+    CreaseWedgeOptions o;
+    o.min_dihedral_deg = 270;
+    o.keep_vertex = [](const Vec3& p) { return p.x <= 1; };
+    const CreaseWedgeResult r = insert_crease_wedges(m, o);
+    EXPECT_EQ(r.mesh, m);
+    EXPECT_TRUE(r.wedge_edges.empty());
+    o.keep_vertex = [](const Vec3& p) { return p.x <= 2; };
+    EXPECT_EQ(insert_crease_wedges(m, o).mesh.hexes.size(), 3u);
+}
+
+// Two layers: the crease is the chain 0-6-12; two wedges sharing their middle face, so three new vertices, not four;
+// the middle crease vertex 6 has its four boundary quads covered and becomes interior (on 4 hexes + 2 wedges = 3
+// hexes per crease edge). Every wedge sin 40 degrees.
+TEST(CreaseWedge, ConsecutiveWedgesShareTheirEndFace) {
+    const HexMesh m = folded_pair(2);
+    CreaseWedgeOptions o;
+    o.min_dihedral_deg = 270;
+    const CreaseWedgeResult r = insert_crease_wedges(m, o);
+    ASSERT_EQ(r.mesh.hexes.size(), 6u);
+    ASSERT_EQ(r.mesh.points.size(), 18u + 3u);
+    EXPECT_NEAR(sj(r.mesh, 4), std::sin(40 * kPi / 180), 1e-9);
+    EXPECT_NEAR(sj(r.mesh, 5), std::sin(40 * kPi / 180), 1e-9);
+    EXPECT_EQ(hexes_on_edge(r.mesh, 0, 6), 3);
+    EXPECT_EQ(hexes_on_edge(r.mesh, 6, 12), 3);
+    EXPECT_TRUE(validate(r.mesh).valid());
+    const HexTopology t = compute_hex_topology(r.mesh);
+    for (const std::array<int, 4>& q : t.boundary_quads)
+        for (int v : q) EXPECT_NE(v, 6) << "the middle crease vertex stays on the boundary";
+}
