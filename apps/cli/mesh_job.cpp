@@ -150,7 +150,20 @@ void add_padding_options(CLI::App* cmd, MeshJob* job) {
                     "Before padding, a wedge hex fills the gap at every raw boundary edge of two hexes whose interior "
                     "dihedral exceeds this many degrees (folded junction crotches; 0 = off, the default: "
                     "docs/junctions.md, \"Crease wedges\")")
-        ->check(finite_range(0.0, 360.0));
+        ->check(finite_range(0.0, 360.0))
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                // CreaseWedgeOptions::min_dihedral_deg: 0 or a reflex angle (at or below 180 degrees every flat
+                // boundary edge of two hexes would get a wedge over its neighbours).
+                double x = 0;
+                try {
+                    x = std::stod(text);
+                } catch (const std::exception&) {
+                    return "'" + text + "' is not a number";
+                }
+                return x == 0 || x > 180 ? "" : "'" + text + "' is neither 0 (off) nor above 180 degrees";
+            },
+            "0 or (180, 360]"));
     cmd->add_flag("--crease-wedge-inside", job->options.finishing.crease_wedge_inside,
                   "With --crease-wedge: only wedges whose new vertices lie inside the domain");
     cmd->add_option("--pad-search-cos", job->options.finishing.padding.search_cos,
