@@ -121,6 +121,63 @@ void print_summary(const MeshJob& job, const MeshRun& run) {
     }
 }
 
+// The padding flags of add_mesh_job_options (--no-pad, --pad, the padding directions and thickness, the crease
+// wedges before it), in their --help order.
+void add_padding_options(CLI::App* cmd, MeshJob* job) {
+    cmd->add_flag_callback(
+        "--no-pad", [job] { job->options.finishing.pad = false; }, "Skip the padding layer (= --pad none)");
+    cmd->add_option_function<std::string>(
+           "--pad",
+           [job](const std::string& mode) {
+               job->options.finishing.pad = mode != "none";
+               job->options.finishing.pad_selective = mode == "selective";
+           },
+           "Padding layer: all (over the whole raw boundary), selective (not over the regions of the raw boundary "
+           "whose sharp rims already land on matching sharp rims of the domain: one hex corner on such a rim instead "
+           "of two 45-degree hexes; the report's 'padding' says how many boundary quads stayed bare; the default), "
+           "none")
+        ->check(CLI::IsMember({"all", "selective", "none"}));
+    cmd->add_flag(
+        "--pad-inward-edges", job->options.finishing.padding.inward_edges,
+        "Padding layer thickness from the shortest boundary edge OR edge into the mesh at each vertex (thin sheets: "
+        "the sheet's height, not its leaflet edge; docs/sheets.md)");
+    cmd->add_option("--pad-corner-guard", job->options.finishing.padding.corner_guard,
+                    "Padding directions turned where the mean normal leaves a new hex's corner on the raw boundary "
+                    "below this scaled Jacobian, towards the direction that maximises the worst such corner "
+                    "(docs/junctions.md, \"The padding layer at junctions\")")
+        ->check(finite_range(0.0, 1.0));
+    cmd->add_option("--crease-wedge", job->options.finishing.crease_wedge.min_dihedral_deg,
+                    "Before padding, a wedge hex fills the gap at every raw boundary edge of two hexes whose interior "
+                    "dihedral exceeds this many degrees (folded junction crotches; 0 = off, the default: "
+                    "docs/junctions.md, \"Crease wedges\")")
+        ->check(finite_range(0.0, 360.0))
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                // CreaseWedgeOptions::min_dihedral_deg: 0 or a reflex angle (at or below 180 degrees every flat
+                // boundary edge of two hexes would get a wedge over its neighbours).
+                double x = 0;
+                try {
+                    x = std::stod(text);
+                } catch (const std::exception&) {
+                    return "'" + text + "' is not a number";
+                }
+                return x == 0 || x > 180 ? "" : "'" + text + "' is neither 0 (off) nor above 180 degrees";
+            },
+            "0 or (180, 360]"));
+    cmd->add_flag("--crease-wedge-inside", job->options.finishing.crease_wedge_inside,
+                  "With --crease-wedge: only wedges whose new vertices lie inside the domain");
+    cmd->add_option("--pad-search-cos", job->options.finishing.padding.search_cos,
+                    "Padding directions searched where the direction leaves a quad corner's normal at a cosine below "
+                    "this (folded valleys): the best of five towards the narrowest cone's axis for the new hexes "
+                    "around the vertex (0 = off, the default: docs/junctions.md, \"Padding directions at folded "
+                    "valleys\")")
+        ->check(finite_range(0.0, 1.0));
+    cmd->add_option("--pad-overshoot-keep", job->options.finishing.pad_overshoot_keep,
+                    "Where the padding layer would reach past the domain surface, pad only to the surface but at "
+                    "least this share of the layer's own thickness (1: the full layer)")
+        ->check(finite_range(0.01, 1.0));
+}
+
 }  // namespace
 
 void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
@@ -164,45 +221,7 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_flag_callback(
         "--no-fan-blocks", [job] { job->options.pipeline.connection_surfaces.blocks.fan_blocks = false; },
         "No fan block: the paper's gap vertices on every fan edge (8-hex blocks stay on; --no-blocks turns both off)");
-    cmd->add_flag_callback(
-        "--no-pad", [job] { job->options.finishing.pad = false; }, "Skip the padding layer (= --pad none)");
-    cmd->add_option_function<std::string>(
-           "--pad",
-           [job](const std::string& mode) {
-               job->options.finishing.pad = mode != "none";
-               job->options.finishing.pad_selective = mode == "selective";
-           },
-           "Padding layer: all (over the whole raw boundary), selective (not over the regions of the raw boundary "
-           "whose sharp rims already land on matching sharp rims of the domain: one hex corner on such a rim instead "
-           "of two 45-degree hexes; the report's 'padding' says how many boundary quads stayed bare; the default), "
-           "none")
-        ->check(CLI::IsMember({"all", "selective", "none"}));
-    cmd->add_flag(
-        "--pad-inward-edges", job->options.finishing.padding.inward_edges,
-        "Padding layer thickness from the shortest boundary edge OR edge into the mesh at each vertex (thin sheets: "
-        "the sheet's height, not its leaflet edge; docs/sheets.md)");
-    cmd->add_option("--pad-corner-guard", job->options.finishing.padding.corner_guard,
-                    "Padding directions turned where the mean normal leaves a new hex's corner on the raw boundary "
-                    "below this scaled Jacobian, towards the direction that maximises the worst such corner "
-                    "(docs/junctions.md, \"The padding layer at junctions\")")
-        ->check(finite_range(0.0, 1.0));
-    cmd->add_option("--crease-wedge", job->options.finishing.crease_wedge.min_dihedral_deg,
-                    "Before padding, a wedge hex fills the gap at every raw boundary edge of two hexes whose interior "
-                    "dihedral exceeds this many degrees (folded junction crotches; 0 = off, the default: "
-                    "docs/junctions.md, \"Crease wedges\")")
-        ->check(finite_range(0.0, 360.0));
-    cmd->add_flag("--crease-wedge-inside", job->options.finishing.crease_wedge_inside,
-                  "With --crease-wedge: only wedges whose new vertices lie inside the domain");
-    cmd->add_option("--pad-search-cos", job->options.finishing.padding.search_cos,
-                    "Padding directions searched where the direction leaves a quad corner's normal at a cosine below "
-                    "this (folded valleys): the best of five towards the narrowest cone's axis for the new hexes "
-                    "around the vertex (0 = off, the default: docs/junctions.md, \"Padding directions at folded "
-                    "valleys\")")
-        ->check(finite_range(0.0, 1.0));
-    cmd->add_option("--pad-overshoot-keep", job->options.finishing.pad_overshoot_keep,
-                    "Where the padding layer would reach past the domain surface, pad only to the surface but at "
-                    "least this share of the layer's own thickness (1: the full layer)")
-        ->check(finite_range(0.01, 1.0));
+    add_padding_options(cmd, job);
     cmd->add_option("--junction-cover", job->options.pipeline.raw_mesh.cover.fraction,
                     "Move the surface points of branching points out along their rays by this fraction of the way to "
                     "where the union of the input's balls ends, guarded so no junction hex gets worse than min(0.3, "
@@ -263,7 +282,7 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "--no-retry", [job] { job->options.retry = false; },
         "One attempt only: no second adaptation with the first joints farther from the branching points "
         "when the mesh misses a goal (inverted hex, SJ min < 0.3, avg < 0.85, Hausdorff > 1 % of the "
-        "diagonal)");
+        "diagonal); auto's attempt one level finer has its own flag, --no-finer-retry");
     cmd->add_option("--iterations", job->options.finishing.fitting.max_iterations, "Iteration cap of the fitting loop")
         ->capture_default_str();
     cmd->add_option("--fit-weight", job->options.finishing.fitting.lambda,

@@ -88,8 +88,7 @@ void check_moved_roots(const PipelineResult& res) {
         why << (root.by_input ? "skeleton vertex " : "repaired skeleton vertex ") << root.vertex
             << ": a branch on a fan-edge end" << (root.far ? " far from the fan line" : "")
             << ", its root moved onto a leaflet border (or the fan edge retracted from it) by the fan-end repair "
-               "(issue "
-               "22), gives "
+               "(issue 22), gives "
             << inverted << " inverted raw hex(es) within " << kMovedRootCheckRadii
             << " radii of the moved root (radius " << root.radius
             << "; such roots between two leaflets or near a leaflet's plane fold the branch's first chunk); edit: "
@@ -167,7 +166,9 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
             res.fan_edge_splits += r.fan_edge_split >= 0 ? 1 : 0;
             if (r.moved_root >= 0) res.fan_end_moved_roots.push_back(r.vertex);
             if (r.moved_root < 0 && r.far_branch) res.fan_end_far_retractions.push_back(r.vertex);
-            // Every retracted corner is checked too: u's cap reaches up to it (RawMeshOptions::fan_end_cap_to_border).
+            // Every retracted corner is checked too, with RawMeshOptions::fan_end_cap_to_border off as well (off, main's
+            // raw meshes have no inverted hex there: docs/blocks.md, "The notch closed by the cap"); with it on, u's cap
+            // reaches up to that corner.
             const auto [vertex, is_input] = named_vertex(repaired.vertex_map, r.vertex);
             const int root = r.moved_root >= 0 ? r.moved_root : r.vertex;  // a retraction: its corner w
             res.moved_roots.push_back({vertex, is_input, repaired.skeleton.points[root],

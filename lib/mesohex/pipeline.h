@@ -94,8 +94,9 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
 // cut point m): throws UnsupportedConfiguration naming the fan-end vertex, the configuration and an edit. The moved
 // roots between two leaflets or near a leaflet's plane give 1 - 2 such hexes at scattered radii (issue 22's sweep,
 // docs/blocks.md "Moved roots: first joint and thick radii"), where no measured angle or radius ratio separates them
-// from their clean neighbours. Retracted corners are checked the same way (their fan neighbour's cap reaches up to
-// them: RawMeshOptions::fan_end_cap_to_border). O(hexes) when there is a moved root, else nothing.
+// from their clean neighbours. Every retracted corner is checked the same way, whether or not its fan neighbour's cap
+// reaches up to it (RawMeshOptions::fan_end_cap_to_border, off by default). O(hexes) when there is a moved root, else
+// nothing.
 void check_moved_roots(const PipelineResult& res);
 
 // The default uniform radius: factor x mean edge length (1.0 for a skeleton without edges).

@@ -172,6 +172,11 @@ TEST(MeshCli, RealOptionsRefuseNonFiniteAndOutOfRangeValues) {
         EXPECT_EQ(r.status, 105) << value << ": " << r.output;
         EXPECT_NE(r.output.find("--junction-crease"), std::string::npos) << value;
     }
+    for (const char* value : {"nan", "inf", "-0.5", "360.5", "abc", "90", "180"}) {  // --crease-wedge: 0 or (180, 360]
+        const auto r = run_cli("mesh " + tripod() + " -o " + out.string() + " --crease-wedge " + value);
+        EXPECT_EQ(r.status, 105) << value << ": " << r.output;
+        EXPECT_NE(r.output.find("--crease-wedge"), std::string::npos) << value;
+    }
     for (const char* value : {"nan", "inf", "-0.5", "10.5", "abc"}) {  // --docked-foot-split: [0, 10]
         const auto r = run_cli("mesh " + tripod() + " -o " + out.string() + " --docked-foot-split " + value);
         EXPECT_EQ(r.status, 105) << value << ": " << r.output;

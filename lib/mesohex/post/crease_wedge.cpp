@@ -41,7 +41,8 @@ double hex_angle_at_edge(const std::array<Vec3, 8>& p, int la, int lb) {
     return std::atan2(norm(cross(u[0], u[1])), dot(u[0], u[1]));
 }
 
-// The hexes containing the edge (a, b) among hexes_at_a, with the local corners of a and b.
+// The number of hexes containing the edge (a, b) among hexes_at_a; with deg, the sum of their angles at the edge
+// (hex_angle_at_edge) in degrees: the edge's interior dihedral.
 int edge_hex_count(const HexMesh& mesh, const std::vector<int>& hexes_at_a, int a, int b, double* deg) {
     int count = 0;
     double sum = 0;

@@ -40,8 +40,8 @@ struct CreaseWedgeResult {
 // id), an edge is taken when neither of its quads belongs to a taken wedge and every end vertex keeps 0 or at least 3
 // boundary quads (no doublet on the new boundary); a wedge below options.min_sj is dropped and the selection redone
 // without it (up to 8 rounds). Off (min_dihedral_deg <= 0) or no crease: the input, unchanged.
-// Postconditions: hex count = input + wedge_edges.size(); every new hex has scaled Jacobian >= min_sj and its new vertices pass keep_vertex; input hexes
-// and vertices unchanged. Complexity: O(#hexes log #hexes) per round.
+// Postconditions: hex count = input + wedge_edges.size(); every new hex has scaled Jacobian >= min_sj and its new
+// vertices pass keep_vertex; input hexes and vertices unchanged. Complexity: O(#hexes log #hexes) per round.
 CreaseWedgeResult insert_crease_wedges(const HexMesh& mesh, const CreaseWedgeOptions& options = {});
 
 // The interior dihedral of the edge (a, b), in degrees: the sum over the hexes containing it of the angle between the

@@ -573,9 +573,10 @@ Vec3 border_out(const BranchView& view, int u, const Vec3& n) {
 }
 
 // How far the out vertex of leaflet border vertex u stands from u along its outward direction out (unit): r_u, or, when
-// the raw mesh raises fan-end caps (raised), at a fan-edge end (u on a side of 3 or more faces) the raw mesh's cap there (RawMeshOptions::fan_end_cap_to_border,
-// raw_mesh.h): at least as far as the lowest of u's border neighbours along out (a fan end retracted from a branch,
-// whose carrier corner roots the branch on a patch with u's cap on its rim).
+// the raw mesh raises fan-end caps (raised), at a fan-edge end (u on a side of 3 or more faces) the raw mesh's cap
+// there (RawMeshOptions::fan_end_cap_to_border, raw_mesh.h): at least as far as the lowest of u's border neighbours
+// along out (a fan end retracted from a branch, whose carrier corner roots the branch on a patch with u's cap on its
+// rim).
 double out_reach(const BranchView& view, int u, const Vec3& out, bool raised) {
     if (!raised) return view.rad[u];
     const Skeleton& s = view.s;

@@ -9,9 +9,9 @@
 // Section at chain vertex v with frame (t, u, w) (t along the chain, u and w = t x u the block axes), axes
 // A_k = cos(k pi / 2) u + sin(k pi / 2) w (k = 0..3: +u, +w, -u, -w, counter-clockwise about t), half size h:
 // id 0 = C (v), 1 + k = Q_k (v + h A_k), 5 + k = M_k (v + h (A_k + A_k+1)). A chain end has a second section (ids
-// 9..17) at v + h e, e = the chain's outward direction there (farther at a retracted fan end: raw_mesh.h,
-// RawMeshOptions::fan_end_cap_to_border). The chunk of a fan edge (and a cap) between section S
-// (start, lower along t) and S' is, for k = 0..3, [S(C) S(Q_k) S(M_k) S(Q_k+1) | S'(C) S'(Q_k) S'(M_k) S'(Q_k+1)].
+// 9..17) at v + h e, e = the chain's outward direction there (with RawMeshOptions::fan_end_cap_to_border, off by
+// default, farther at a retracted fan end: raw_mesh.h). The chunk of a fan edge (and a cap) between section S (start,
+// lower along t) and S' is, for k = 0..3, [S(C) S(Q_k) S(M_k) S(Q_k+1) | S'(C) S'(Q_k) S'(M_k) S'(Q_k+1)].
 //
 // Acceptance by measured angles only (fit_square_frame, the 2D version of compatible_blocks' fit_cube_frame): per fan
 // edge, the directions of its faces perpendicular to the edge get distinct signed axes of a frame fitted to them,
