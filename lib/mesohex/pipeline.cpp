@@ -230,22 +230,19 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
     line("leaflet strips split around rooted branches", res.root_strip_splits);
     line("plate strips split beside and beyond docked walls' chains", res.docked_foot_splits);
     line("degree-4 branching points split in two", res.junction_splits);
-    if (!res.fan_end_retractions.empty()) {
-        out << "repairs: fan edges retracted from branches on fan-edge ends: at input vertices";
-        for (const int v : res.fan_end_retractions) out << " " << v;
-        out << "\n";
-    }
+    // "repairs: <what> v0 v1 ..." when vs is not empty.
     const auto vertices = [&out](const char* what, const std::vector<int>& vs) {
         if (vs.empty()) return;
-        out << "repairs: " << what << ":";
+        out << "repairs: " << what;
         for (const int v : vs) out << " " << v;
         out << "\n";
     };
-    vertices("of these, branches far from the fan line moved onto a leaflet border at input vertices",
+    vertices("fan edges retracted from branches on fan-edge ends: at input vertices", res.fan_end_retractions);
+    vertices("of these, branches far from the fan line moved onto a leaflet border at input vertices:",
              res.fan_end_moved_roots);
     vertices(
         "of these, branches far from the fan line (their moved root refused) retracted with the fan edge, a notch "
-        "at the leaflets' corner, at input vertices",
+        "at the leaflets' corner, at input vertices:",
         res.fan_end_far_retractions);
     line(
         "fan-edge chains split (with their leaflets' face strips) to be retracted: single fan edges in two, chains "

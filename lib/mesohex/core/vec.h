@@ -70,6 +70,15 @@ inline double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
     return distance(p, a + ab * t);
 }
 
+// The angle (radians, in [0, pi]) between f and g seen around the line through p and q: each taken from the
+// segment's midpoint and projected perpendicular to it. With f, g on two faces of a hex at its edge pq (e.g. their
+// centroids), the hex's dihedral angle there. 0 when a projection vanishes.
+inline double angle_about_edge(const Vec3& p, const Vec3& q, const Vec3& f, const Vec3& g) {
+    const Vec3 e = normalized(q - p), mid = (p + q) * 0.5;
+    const Vec3 a = (f - mid) - e * dot(f - mid, e), b = (g - mid) - e * dot(g - mid, e);
+    return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+
 inline bool is_finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 // det of the 3x3 matrix with columns a, b, c.
 constexpr double det3(const Vec3& a, const Vec3& b, const Vec3& c) { return dot(a, cross(b, c)); }

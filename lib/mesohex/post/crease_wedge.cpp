@@ -22,11 +22,9 @@ struct Crease {
 };
 
 // The angle (radians) of one hex between its two faces at its edge (la, lb), measured between the faces' mid-lines
-// perpendicular to the edge.
+// perpendicular to the edge (each face's far edge midpoint, seen around the edge: angle_about_edge).
 double hex_angle_at_edge(const std::array<Vec3, 8>& p, int la, int lb) {
-    const Vec3 t = normalized(p[static_cast<std::size_t>(lb)] - p[static_cast<std::size_t>(la)]);
-    const Vec3 mid = (p[static_cast<std::size_t>(la)] + p[static_cast<std::size_t>(lb)]) * 0.5;
-    std::array<Vec3, 2> u{};
+    std::array<Vec3, 2> far{};
     int found = 0;
     for (const std::array<int, 4>& face : kHexFaces) {
         if (std::find(face.begin(), face.end(), la) == face.end()) continue;
@@ -34,11 +32,10 @@ double hex_angle_at_edge(const std::array<Vec3, 8>& p, int la, int lb) {
         Vec3 other{};
         for (int lv : face)
             if (lv != la && lv != lb) other += p[static_cast<std::size_t>(lv)] * 0.5;
-        const Vec3 d = other - mid;
-        if (found < 2) u[static_cast<std::size_t>(found)] = d - t * dot(d, t);
+        if (found < 2) far[static_cast<std::size_t>(found)] = other;
         ++found;
     }
-    return std::atan2(norm(cross(u[0], u[1])), dot(u[0], u[1]));
+    return angle_about_edge(p[static_cast<std::size_t>(la)], p[static_cast<std::size_t>(lb)], far[0], far[1]);
 }
 
 // The number of hexes containing the edge (a, b) among hexes_at_a; with deg, the sum of their angles at the edge

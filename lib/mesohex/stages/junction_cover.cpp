@@ -118,13 +118,6 @@ bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector
     return any;
 }
 
-// The dihedral angle (radians) of a hex at its edge p-q between two of its faces, given by their centroids f and g.
-double dihedral_at(const Vec3& p, const Vec3& q, const Vec3& f, const Vec3& g) {
-    const Vec3 e = normalized(q - p), mid = 0.5 * (p + q);
-    const Vec3 a = f - mid - dot(f - mid, e) * e, b = g - mid - dot(g - mid, e) * e;
-    return std::acos(std::clamp(dot(a, b) / std::max(norm(a) * norm(b), 1e-300), -1.0, 1.0));
-}
-
 // Per surface edge j of c (index from cs.edge_begin[c]): the interior dihedral, in degrees, of the sharper of its two
 // raw boundary half-edges Q_x-M_j and M_j-Q_y, each the sum over its two hexes (one per chunk whose quad holds j) of
 // the angle between the hex's kite face on c's sphere (c, Q, M, Q') and its boundary face; 0 where a half-edge does
@@ -149,7 +142,7 @@ std::vector<double> surface_edge_creases(const ConnectionSurfaces& cs, const Jun
             const int x = hex[off + k] - m.base - 1;
             const int side = cs.edges[cs.edge_begin[m.c] + j][0] == x ? 0 : 1;
             const Vec3 face = 0.25 * (near[k] + near[2] + far[k] + far[2]);
-            sum[2 * j + side] += dihedral_at(near[k], near[2], kite, face);
+            sum[2 * j + side] += angle_about_edge(near[k], near[2], kite, face);
             ++count[2 * j + side];
         }
     }
