@@ -11,7 +11,7 @@
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
 //   D3_NEXT_TO_BP=0|1 its degree_three_chunks_next_to_branching_points, D3_AT_BRIDGES=0|1 its
 //   degree_three_chunks_at_bridges, EXACT_THREE=0|1 its exact_three_orange, SHARED_HULL=0|1 its
-//   shared_hull_relaxation, JUNCTION_COVER=F RawMeshOptions::cover.fraction (JUNCTION_INSET=F cover.inset,
+//   shared_hull_relaxation, GRADIENT_LONG=0|1 its gradient_long_relaxation, JUNCTION_COVER=F RawMeshOptions::cover.fraction (JUNCTION_INSET=F cover.inset,
 //   JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_COVER_MIN_DEGREE and JUNCTION_COVER_FLOOR its min_degree and
 //   sj_floor). The last three
 //   columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare two
@@ -105,6 +105,8 @@ int main(int argc, char** argv) {
         po.connection_surfaces.degree_three_chunks_at_bridges = std::atoi(k) != 0;
     if (const char* k = std::getenv("EXACT_THREE")) po.connection_surfaces.exact_three_orange = std::atoi(k) != 0;
     if (const char* k = std::getenv("SHARED_HULL")) po.connection_surfaces.shared_hull_relaxation = std::atoi(k) != 0;
+    if (const char* k = std::getenv("GRADIENT_LONG"))
+        po.connection_surfaces.gradient_long_relaxation = std::atoi(k) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf(

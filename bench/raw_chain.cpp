@@ -9,7 +9,8 @@
 //     INPUT: tree:VERTICES:SEED (bench::random_tree), star:VERTICES, gen:NAME (generate_skeleton), random:SEED
 //            (generate_random_skeleton), or a skeleton file path; gen:all = every generator, random:A-B = seeds A..B
 //   Run under valgrind --tool=callgrind for instruction counts (one rep). EXACT_THREE=0|1 in the environment sets
-//   ConnectionSurfaceOptions::exact_three_orange, SHARED_HULL=0|1 its shared_hull_relaxation.
+//   ConnectionSurfaceOptions::exact_three_orange, SHARED_HULL=0|1 its shared_hull_relaxation, GRADIENT_LONG=0|1 its
+//   gradient_long_relaxation.
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -91,6 +92,8 @@ int main(int argc, char** argv) {
                 po.connection_surfaces.exact_three_orange = std::atoi(k) != 0;
             if (const char* k = std::getenv("SHARED_HULL"))  // ConnectionSurfaceOptions::shared_hull_relaxation
                 po.connection_surfaces.shared_hull_relaxation = std::atoi(k) != 0;
+            if (const char* k = std::getenv("GRADIENT_LONG"))  // ConnectionSurfaceOptions::gradient_long_relaxation
+                po.connection_surfaces.gradient_long_relaxation = std::atoi(k) != 0;
             for (int r = 0; r < reps; ++r) {
                 const double t0 = cpu_ms();
                 const auto w0 = std::chrono::steady_clock::now();

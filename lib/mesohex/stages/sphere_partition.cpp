@@ -1014,6 +1014,7 @@ struct Relaxer {
     static constexpr double kSharpness = 14;
     std::vector<double> bound;
     std::vector<double> trial_energy, best_energy;  // scratch of descend (per quad around the moved vertex)
+    bool gradient_steps = false;  // energy phase: moves along the local gradient (gradient_move), not 8 directions
 
     Relaxer(const std::vector<Vec3>& dirs, SpherePartition& part) : d(dirs), p(part), bound(margin_bounds(dirs)) {
         const int nv = static_cast<int>(p.points.size());
@@ -1158,6 +1159,59 @@ struct Relaxer {
         return x;
     }
 
+    // The unit tangent direction of steepest descent of the local energy at real vertex v (at `origin`, energy e0,
+    // tangent frame t1, t2), from forward differences of length h = min(1e-6, step / 16) (a backward one where the
+    // forward point is invalid); nullopt when neither difference is usable or the gradient is 0. Leaves v moved.
+    std::optional<Vec3> gradient_direction(int v, const Vec3& origin, const Vec3& t1, const Vec3& t2, double e0,
+                                           double step) {
+        const double h = std::min(1e-6, step / 16);
+        double g[2] = {0, 0};
+        for (int axis = 0; axis < 2; ++axis) {
+            const Vec3& t = axis == 0 ? t1 : t2;
+            bool done = false;
+            for (double sign : {1.0, -1.0}) {
+                p.points[v] = normalized(origin + sign * h * t);
+                if (!place_chains(v)) continue;
+                const auto [x, e] = local_terms(v);
+                if (x > 0) continue;
+                g[axis] = sign * (e - e0) / h;
+                done = true;
+                break;
+            }
+            if (!done) return std::nullopt;
+        }
+        const double len = std::hypot(g[0], g[1]);
+        if (!(len > 0)) return std::nullopt;
+        return (-g[0] / len) * t1 + (-g[1] / len) * t2;
+    }
+
+    // The energy phase's move of real vertex v with gradient_steps (instead of the 8 trial directions): along
+    // gradient_direction, a trial at the vertex's step, else at its half and its quarter; after an accepted trial one
+    // at twice its length, again while accepted (5 trials at most). Trials are accepted like the pattern's (the local
+    // energy below best_score by the same relative margin, no violation), best_score / best_pos / best_energy updated;
+    // `step` is set so that descend's growth by 1.25 gives the longest accepted length.
+    void gradient_move(int v, const Vec3& origin, const Vec3& t1, const Vec3& t2, double e0, double& step,
+                       double& best_score, Vec3& best_pos) {
+        const std::optional<Vec3> to = gradient_direction(v, origin, t1, t2, e0, step);
+        double length = step;
+        for (int trial = 0; to && trial < 5; ++trial) {
+            p.points[v] = normalized(origin + length * *to);
+            const double threshold = best_score - 1e-6 * best_score - 1e-12;
+            double e = 0;
+            if (place_chains(v) && local_energy_below(v, threshold, e, trial_energy)) {
+                best_score = e;
+                best_pos = p.points[v];
+                best_energy.assign(trial_energy.begin(), trial_energy.end());
+                length *= 2;
+            } else if (best_pos == origin && trial < 2) {
+                length *= 0.5;
+            } else {
+                break;
+            }
+        }
+        if (!(best_pos == origin)) step = std::max(step, 0.5 * length / 1.25);
+    }
+
     // One phase of coordinate descent with a step per vertex (grown on success, halved on failure); `repair`:
     // minimise the violation, else the energy while the violation stays 0. Stops after max_sweeps sweeps, when every
     // step is tiny, or when a sweep lowers the energy by less than 0.1 %.
@@ -1193,7 +1247,7 @@ struct Relaxer {
                 const Vec3 t1 = any_perpendicular(origin), t2 = cross(origin, t1);
                 double best_score = repair ? x0 : e0;
                 Vec3 best_pos = origin;
-                for (int k = 0; k < 8; ++k) {
+                for (int k = 0; k < (gradient_steps && !repair ? 0 : 8); ++k) {
                     p.points[v] = normalized(origin + step[v] * (trial_cos()[k] * t1 + trial_sin()[k] * t2));
                     if (!place_chains(v)) continue;
                     const double threshold = best_score - 1e-6 * best_score - 1e-12;
@@ -1212,6 +1266,7 @@ struct Relaxer {
                         }
                     }
                 }
+                if (gradient_steps && !repair) gradient_move(v, origin, t1, t2, e0, step[v], best_score, best_pos);
                 p.points[v] = best_pos;
                 place_chains(v);
                 if (!repair && !(best_pos == origin))
@@ -1399,10 +1454,13 @@ std::vector<char> relax_hull_candidates_briefly(const std::vector<Vec3>& d, std:
     return long_relaxations(ranked, relaxable, rep, shared);
 }
 
-// The long relaxation (100 sweeps) of a briefly relaxed hull candidate: it reads only the candidate itself.
-void relax_hull_candidate_long(const std::vector<Vec3>& d, SpherePartition& p) {
+// The long relaxation of a briefly relaxed hull candidate: it reads only the candidate itself. `gradient`
+// (SpherePartitionOptions::gradient_long_relaxation): at most 20 sweeps of gradient moves, else at most 100 sweeps of
+// the 8-direction pattern.
+void relax_hull_candidate_long(const std::vector<Vec3>& d, SpherePartition& p, bool gradient) {
     Relaxer r(d, p);
-    if (r.find_chains() && r.place_chains()) r.descend(false, 100);
+    r.gradient_steps = gradient;
+    if (r.find_chains() && r.place_chains()) r.descend(false, gradient ? 20 : 100);
 }
 
 // What partition_sphere computes that does not depend on no_flat_point_in_close_pair, kept for a second call with the
@@ -1665,10 +1723,10 @@ namespace {
 void finish_hull_candidates(const std::vector<Vec3>& d, double beat, const std::array<int, 2>& pair,
                             const std::vector<SpherePartition>& planar, const std::vector<double>& planar_scores,
                             const std::vector<SpherePartition>& oranges, const std::vector<double>& orange_scores,
-                            PartitionWork& work) {
+                            bool gradient, PartitionWork& work) {
     std::vector<SpherePartition>& hull = work.hull_candidates;
     const auto finish = [&](std::size_t c) {
-        relax_hull_candidate_long(d, hull[c]);
+        relax_hull_candidate_long(d, hull[c], gradient);
         work.long_pending[c] = 0;
     };
     for (std::size_t c = 0; c < hull.size(); ++c)
@@ -1740,7 +1798,8 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
     if (!(n == 3 && three_hull_below(d, beat)) &&
         hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, options.shared_hull_relaxation, work)) {
-        finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores, work);
+        finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores,
+                               options.gradient_long_relaxation, work);
         hull = work.hull_candidates;
     }
     const std::vector<double> hull_scores = scores_of(hull);

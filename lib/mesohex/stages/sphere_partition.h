@@ -40,6 +40,13 @@ struct SpherePartitionOptions {
     // geometries (of the one geometry at n = 4, its 2 best candidates). Measured in docs/performance.md, "Ninth pass".
     // false: every candidate relaxed briefly on its own, the 2 best candidates long.
     bool shared_hull_relaxation = true;
+    // true: the long relaxations of the hull candidates (the 2 chosen after the brief ones) move each real vertex along
+    // its local energy gradient (forward differences; a line search: the vertex's step, its half and quarter, then
+    // twice the step while better), at most 20 sweeps: a quarter fewer energy evaluations than the 8-direction
+    // pattern (at most 100 sweeps) and higher quality_score on average at degrees 4 and 5 and in close-pair pairs,
+    // but the finished random set loses 2 of the 11 seeds whose raw meshes change (docs/performance.md, "Tenth
+    // pass"), so off by default. false: the 8-direction pattern, as in the brief relaxations.
+    bool gradient_long_relaxation = false;
 };
 
 // Preconditions: n >= 2 pairwise distinct directions, in any configuration (antipodal pairs, clusters, coplanar or
