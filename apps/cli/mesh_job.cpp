@@ -239,6 +239,11 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                   "At a fan end retracted from a branch, raise the cap up to the retracted leaflet corners so the "
                   "leaflets' border hexes span the notch (off by default: docs/blocks.md, \"The notch closed by the "
                   "cap\")");
+    cmd->add_option("--bridge-quad-radius", job->options.pipeline.raw_mesh.bridge_quad_radius,
+                    "At a branching point joined to another by a bridge edge, shrink only the surface points of its "
+                    "quad on the bridge to the bridge's margin limit, the others staying on the input radius (0 or 1; "
+                    "docs/junctions.md, \"Bridge quads\")")
+        ->capture_default_str();
     cmd->add_option("--junction-crease", job->options.pipeline.raw_mesh.cover.crease_deg,
                     "Open the raw boundary creases on branching points' spheres sharper than this many degrees "
                     "(interior dihedral through their two hexes): their surface points move out along their rays, "

@@ -1266,3 +1266,60 @@ TEST(RawMesh, GapVertexOfABalancedGapStaysOnTheNormalSum) {
         EXPECT_LT(best, 1e-12) << j;
     }
 }
+
+// RawMeshOptions::bridge_quad_radius on a fat degree-4 junction (r 0.6 at the origin, arms of length 2.4 along -x, +y,
+// -y) joined by a bridge of length 0.7 to a thin degree-3 junction (r 0.3, two arms): the bridge's margin limit
+// shrinks the fat junction's whole sphere to rr < 0.6 (off). On, only the surface points of its quad on the bridge
+// (corners and side midpoints) keep rr; every other surface point goes back to the input radius 0.6 and the
+// midpoint of an edge from a limited to a free point to the mean radius; no hex at the junction falls below min(0.3,
+// before); off is the default.
+TEST(RawMesh, BridgeQuadRadiusKeepsTheFatJunctionsOtherPointsOnItsBall) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0.7, 0, 0}, {-2.4, 0, 0}, {0, 2.4, 0}, {0, -2.4, 0}, {1.8, 0, 1.0}, {1.8, 0, -1.0}};
+    s.radii = {0.6, 0.3, 0.3, 0.3, 0.3, 0.2, 0.2};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {1, 5}, {1, 6}};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ASSERT_EQ(an.vertex_class[0], VertexClass::BranchingPoint);
+    ASSERT_EQ(an.vertex_class[1], VertexClass::BranchingPoint);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    EXPECT_FALSE(RawMeshOptions{}.bridge_quad_radius);
+    RawMeshOptions on_options;
+    on_options.bridge_quad_radius = true;
+    const RawMesh off = build_raw_mesh(s, an, cs, fr);
+    const RawMesh on = build_raw_mesh(s, an, cs, fr, on_options);
+    const int np = cs.point_begin[1] - cs.point_begin[0], ne = cs.edge_begin[1] - cs.edge_begin[0];
+    const auto dist = [&](const RawMesh& raw, int x) {
+        return distance(raw.mesh.points[raw.vertex_base[0] + 1 + x], s.points[0]);
+    };
+    const double rr = dist(off, 0);
+    EXPECT_LT(rr, 0.6 - 1e-3);
+    for (int x = 0; x < np + ne; ++x) EXPECT_NEAR(dist(off, x), rr, 1e-12);
+    const int gq = cs.edge_quad[0][0];  // the fat junction's quad on the bridge (edge 0, side 0)
+    std::vector<bool> limited(static_cast<std::size_t>(np + ne), false);
+    for (int k = 0; k < 4; ++k) {
+        limited[static_cast<std::size_t>(cs.quads[gq][k])] = true;
+        limited[static_cast<std::size_t>(np + cs.quad_edges[gq][k])] = true;
+    }
+    int raised = 0;
+    for (int x = 0; x < np; ++x) {
+        EXPECT_NEAR(dist(on, x), limited[static_cast<std::size_t>(x)] ? rr : 0.6, 1e-12);
+        raised += limited[static_cast<std::size_t>(x)] ? 0 : 1;
+    }
+    EXPECT_GT(raised, 0);
+    for (int j = 0; j < ne; ++j) {
+        const std::array<int, 2>& ed = cs.edges[cs.edge_begin[0] + j];
+        const double mean = 0.5 * (dist(on, ed[0]) + dist(on, ed[1]));
+        EXPECT_NEAR(dist(on, np + j), limited[static_cast<std::size_t>(np + j)] ? rr : mean, 1e-12);
+    }
+    const std::vector<double> before = scaled_jacobians(off.mesh), after = scaled_jacobians(on.mesh);
+    double worst_before = 1, worst_after = 1;
+    for (std::size_t h = 0; h < before.size(); ++h) {
+        worst_before = std::min(worst_before, before[h]);
+        worst_after = std::min(worst_after, after[h]);
+    }
+    EXPECT_GE(worst_after, std::min(0.3, worst_before));
+    // The thin junction keeps its points (its own radius is not limited by the fat one's quad here).
+    for (int x = 0; x < cs.point_begin[2] - cs.point_begin[1]; ++x)
+        EXPECT_EQ(on.mesh.points[on.vertex_base[1] + 1 + x], off.mesh.points[off.vertex_base[1] + 1 + x]);
+}

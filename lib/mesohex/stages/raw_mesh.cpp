@@ -10,6 +10,7 @@
 
 #include "mesohex/core/cone.h"
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/union_find.h"
 #include "mesohex/stages/compatible_blocks.h"
 #include "mesohex/stages/docked_walls.h"
@@ -791,6 +792,57 @@ double branching_margin_radius(const Skeleton& skeleton, const SkeletonAnalysis&
     return radius;
 }
 
+// The unit direction of branching point v's local surface point x (x < np) or edge midpoint (x = np + j).
+Vec3 surface_direction(const ConnectionSurfaces& cs, const BranchFrames& frames, int v, int x) {
+    const int p0 = cs.point_begin[v], np = cs.point_begin[v + 1] - p0;
+    if (x < np) return frames.directions[p0 + x];
+    const std::array<int, 2>& ed = cs.edges[cs.edge_begin[v] + x - np];
+    return normalized(frames.directions[p0 + ed[0]] + frames.directions[p0 + ed[1]]);
+}
+
+// RawMeshOptions::bridge_quad_radius: the radius of each surface point of branching point v (local point x at
+// out[x], local surface edge j at out[np + j]). A point on the quad of a bridge (v, u), u a branching point, gets the
+// margin limit of that bridge (branching_margin_radius's rule for that edge alone; the smallest over its bridges);
+// every other point keeps v's input radius. An edge midpoint gets its edge's bridge limit when the edge is a side of
+// a bridge quad, else the mean of its two ends' radii.
+void bridge_quad_point_radii(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                             const BranchFrames& frames, const RawMeshOptions& options, int v,
+                             std::vector<double>& out) {
+    const int p0 = cs.point_begin[v], np = cs.point_begin[v + 1] - p0;
+    const int e0 = cs.edge_begin[v], ne = cs.edge_begin[v + 1] - e0;
+    const double r = skeleton.radii[v];
+    out.assign(static_cast<std::size_t>(np + ne), r);
+    std::vector<double> side(static_cast<std::size_t>(ne), r);
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (an.edge_degree[e] != 0) continue;
+        const int side_v = skeleton.edges[e][0] == v ? 0 : 1;
+        const int u = skeleton.edges[e][1 - side_v];
+        if (an.vertex_class[u] != VertexClass::BranchingPoint) continue;
+        const Vec3 d = skeleton.points[v] - skeleton.points[u];
+        const double L = norm(d);
+        const int gu = cs.edge_quad[e][1 - side_v], gv = cs.edge_quad[e][side_v];
+        if (gu < 0 || gv < 0 || L <= 0) continue;
+        std::array<Vec3, 4> q;
+        for (int k = 0; k < 4; ++k) q[k] = frames.directions[cs.point_begin[u] + cs.quads[gu][k]];
+        const double m = spherical_quad_margin(q, d / L);
+        if (m <= 0) continue;
+        const double limited = margin_limited_radius(r, L, m, options.margin_fraction);
+        for (int k = 0; k < 4; ++k) {
+            double& a = out[static_cast<std::size_t>(cs.quads[gv][k])];
+            a = std::min(a, limited);
+            double& b = side[static_cast<std::size_t>(cs.quad_edges[gv][k])];
+            b = std::min(b, limited);
+        }
+    }
+    for (int j = 0; j < ne; ++j) {
+        const std::array<int, 2>& ed = cs.edges[e0 + j];
+        const double mean = 0.5 * (out[static_cast<std::size_t>(ed[0])] + out[static_cast<std::size_t>(ed[1])]);
+        out[static_cast<std::size_t>(np + j)] =
+            side[static_cast<std::size_t>(j)] < r ? side[static_cast<std::size_t>(j)] : mean;
+    }
+}
+
 // Sharp turn at a joint v: its cross-section (normal to the bisector) reaches r sin(theta / 2) along each of its
 // edges; keep that within turn_fraction of half of each edge so that neighbouring cross-sections cannot cross.
 double turn_limited_radius(const Skeleton& skeleton, const SkeletonAnalysis& an, const RawMeshOptions& options, int v,
@@ -1038,6 +1090,53 @@ void place_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const 
     });
 }
 
+double min_hex_sj(const HexMesh& mesh, const std::vector<int>& hexes) {
+    double worst = 1.0;
+    for (int h : hexes) {
+        std::array<Vec3, 8> p;
+        for (int lv = 0; lv < 8; ++lv) p[lv] = mesh.points[mesh.hexes[h][lv]];
+        worst = std::min(worst, hex_scaled_jacobian(p));
+    }
+    return worst;
+}
+
+// RawMeshOptions::bridge_quad_radius, after place_vertices: every branching point whose sphere a bridge's margin
+// limit shrank (radius[v] < its input radius) moves its surface points off its bridge quads out to
+// bridge_quad_point_radii, by the largest of t = 1, 1/2, 1/4 of the way that leaves no hex at its centre below
+// min(0.3, before); else they stay. Serial in vertex order (a junction's hexes reach its neighbours' points, which
+// may move in the same pass): the same result for any thread count.
+void raise_bridge_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                            const BranchFrames& frames, const RawMeshOptions& options,
+                            const std::vector<double>& radius, RawMesh& raw) {
+    if (!options.bridge_quad_radius) return;
+    const int nv = static_cast<int>(skeleton.points.size());
+    std::vector<int> centre_of(raw.mesh.points.size(), -1);
+    for (int v = 0; v < nv; ++v)
+        if (an.vertex_class[v] == VertexClass::BranchingPoint && raw.vertex_base[v] >= 0 && block_at(cs, v) < 0 &&
+            radius[v] < skeleton.radii[v])
+            centre_of[static_cast<std::size_t>(raw.vertex_base[v])] = v;
+    std::vector<std::vector<int>> hexes_at(static_cast<std::size_t>(nv));
+    for (int h = 0; h < static_cast<int>(raw.mesh.hexes.size()); ++h)
+        for (int id : raw.mesh.hexes[h])
+            if (centre_of[static_cast<std::size_t>(id)] >= 0)
+                hexes_at[static_cast<std::size_t>(centre_of[static_cast<std::size_t>(id)])].push_back(h);
+    std::vector<double> rad;
+    for (int v = 0; v < nv; ++v) {
+        if (hexes_at[static_cast<std::size_t>(v)].empty()) continue;
+        const std::vector<int>& hexes = hexes_at[static_cast<std::size_t>(v)];
+        bridge_quad_point_radii(skeleton, an, cs, frames, options, v, rad);
+        const double before = min_hex_sj(raw.mesh, hexes), floor = std::min(0.3, before);
+        const Vec3& c = skeleton.points[v];
+        const int base = raw.vertex_base[v], n = static_cast<int>(rad.size());
+        for (double t : {1.0, 0.5, 0.25, 0.0}) {
+            for (int x = 0; x < n; ++x)
+                raw.mesh.points[base + 1 + x] = c + (radius[v] + t * (rad[static_cast<std::size_t>(x)] - radius[v])) *
+                                                        surface_direction(cs, frames, v, x);
+            if (t == 0.0 || min_hex_sj(raw.mesh, hexes) >= floor) break;
+        }
+    }
+}
+
 }  // namespace
 
 RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
@@ -1061,6 +1160,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     const std::vector<double> radius = effective_radii(skeleton, an, cs, frames, options);
     place_fan_vertices(skeleton, an, cs, gaps, options, radius, raw);
     place_vertices(skeleton, an, cs, frames, options, radius, raw);
+    raise_bridge_junctions(skeleton, an, cs, frames, options, radius, raw);
     const bool own = domain == nullptr || domain->radii.size() != domain->points.size();
     cover_junctions(skeleton, own ? skeleton : *domain, an, cs, frames, radius, raw.vertex_base, slots.edge_slot,
                     raw.mesh.hexes, raw.mesh.points, options.cover);

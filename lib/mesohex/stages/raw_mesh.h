@@ -76,6 +76,13 @@ struct RawMeshOptions {
     // m)), m = angular margin of the edge direction inside u's connection quad: its cross-section, seen from u, then
     // lies inside that quad and every raw hex corner on u's sphere is positive. 1 would allow flat corners.
     double margin_fraction = kBranchMarginFraction;  // 0.75 (junction_geometry.h)
+    // At a branching point v joined to another branching point u by a bridge edge: only the surface points of v's
+    // quad on that bridge (its corners and side midpoints) take the bridge's margin limit above; v's other surface
+    // points stay on the sphere of v's input radius (edge midpoints between a limited and a free point at the mean).
+    // Off: the whole sphere of v shrinks to the limit (a fat junction next to a thinner one is meshed at a fraction
+    // of its radius all round). Guarded: the free points move by the largest of 1, 1/2, 1/4 of the way that leaves no
+    // hex at v's centre below min(0.3, before), else they stay. docs/junctions.md, "Bridge quads".
+    bool bridge_quad_radius = false;
     // A joint turning by theta gets at most turn_fraction * (shorter incident edge) / (2 sin(theta / 2)): its
     // cross-section then reaches at most turn_fraction of half of each incident edge (the adaptation stage normally
     // guarantees this already; this only acts on inputs meshed with their own sampling).
