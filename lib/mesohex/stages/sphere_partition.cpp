@@ -1186,10 +1186,11 @@ struct Relaxer {
     }
 
     // The energy phase's move of real vertex v with gradient_steps (instead of the 8 trial directions): along
-    // gradient_direction, a trial at the vertex's step, else at its half and its quarter; after an accepted trial one
-    // at twice its length, again while accepted (5 trials at most). Trials are accepted like the pattern's (the local
-    // energy below best_score by the same relative margin, no violation), best_score / best_pos / best_energy updated;
-    // `step` is set so that descend's growth by 1.25 gives the longest accepted length.
+    // gradient_direction, a trial at the vertex's step, else at its half and its quarter; after an accepted trial at
+    // the full step one at twice its length, again while accepted (5 trials at most). An accepted halved trial ends
+    // the search: its double was tried and rejected, and the threshold has only dropped since. Trials are accepted
+    // like the pattern's (the local energy below best_score by the same relative margin, no violation), best_score /
+    // best_pos / best_energy updated; `step` is set so that descend's growth by 1.25 gives the longest accepted length.
     void gradient_move(int v, const Vec3& origin, const Vec3& t1, const Vec3& t2, double e0, double& step,
                        double& best_score, Vec3& best_pos) {
         const std::optional<Vec3> to = gradient_direction(v, origin, t1, t2, e0, step);
@@ -1203,6 +1204,7 @@ struct Relaxer {
                 best_pos = p.points[v];
                 best_energy.assign(trial_energy.begin(), trial_energy.end());
                 length *= 2;
+                if (length <= step) break;  // halved before: length is a rejected trial's
             } else if (best_pos == origin && trial < 2) {
                 length *= 0.5;
             } else {
