@@ -539,13 +539,13 @@ TEST(SpherePartition, SharedHullRelaxationGivesTheRecordedBits) {
 }
 
 // gradient_long_relaxation (off by default): the hull candidates' long relaxations move each real vertex along its
-// local energy gradient (at most 20 sweeps) instead of the 8-direction pattern (at most 100). It changes the partitions wherever a
-// long relaxation decides them; over these sets (close pairs of four, partitioned with no_flat_point_in_close_pair
-// as the tree's degree-4 points are, and random sets of 4 and 5 directions) the mean quality_score (min of the
-// angle terms and 90 degrees x margin ratio, the max-min the candidates are ranked by) must not drop: measured when
-// recorded 45.84 -> 47.58 degrees for the 60 close-pair sets (43 changed), 65.45 -> 65.48 and 55.68 -> 55.77 for the
-// 40 sets of 4 / 5 (3 / 27 changed); docs/performance.md, "Tenth pass", over 300 sets each. The new partitions' bits
-// are recorded.
+// local energy gradient (at most 20 sweeps) instead of the 8-direction pattern (at most 100). It changes the partitions
+// wherever a long relaxation decides them; over these sets (close pairs of four, partitioned with
+// no_flat_point_in_close_pair as the tree's degree-4 points are, and random sets of 4 and 5 directions) the mean
+// quality_score (min of the angle terms and 90 degrees x margin ratio, the max-min the candidates are ranked by) must
+// not drop: measured when recorded 45.84 -> 47.58 degrees for the 60 close-pair sets (43 changed), 65.45 -> 65.48 and
+// 55.68 -> 55.77 for the 40 sets of 4 / 5 (3 / 27 changed); docs/performance.md, "Tenth pass", over 300 sets each. The
+// new partitions' bits are recorded.
 TEST(SpherePartition, GradientLongRelaxationKeepsTheMeanQuality) {
     const auto score = [](const SpherePartition& p, const std::vector<Vec3>& d) {
         const mesohex::SpherePartitionStats s = mesohex::sphere_partition_stats(p, d);

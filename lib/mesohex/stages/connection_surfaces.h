@@ -115,11 +115,12 @@ struct ConnectionSurfaceOptions {
 // (unit(w - v) for its branch edges in increasing edge id, in that order) and of the options read by its partition
 // (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three,
 // no_flat_point_in_close_pair, degree_three_partition_by_chunks, degree_three_chunks_next_to_branching_points,
-// degree_three_chunks_at_bridges, exact_three_orange, shared_hull_relaxation, gradient_long_relaxation; a point whose partition may read its
-// neighbours' positions, radii and partitions, a degree-3 point chosen by its chunks (at a bridge too) or a degree-4
-// point under no_flat_point_in_close_pair, is not memo-able): an entry keyed on the exact bits of those directions is reused whatever the vertex's number, so an edit
-// that renumbers the skeleton (adaptation re-sampling a branch) recomputes only the branching points whose directions
-// changed. Keys are compared in full (no trust in the hash).
+// degree_three_chunks_at_bridges, exact_three_orange, shared_hull_relaxation, gradient_long_relaxation; a point
+// whose partition may read its neighbours' positions, radii and partitions, a degree-3 point chosen by its chunks (at
+// a bridge too) or a degree-4 point under no_flat_point_in_close_pair, is not memo-able): an entry keyed on the exact
+// bits of those directions is reused whatever the vertex's number, so an edit that renumbers the skeleton
+// (adaptation re-sampling a branch) recomputes only the branching points whose directions changed. Keys are compared
+// in full (no trust in the hash).
 struct SurfaceMemo {
     struct Entry {
         std::vector<Vec3> key;  // the branch directions, compared bit for bit

@@ -81,7 +81,10 @@ struct RawMeshOptions {
     // points stay on the sphere of v's input radius (edge midpoints between a limited and a free point at the mean).
     // Off: the whole sphere of v shrinks to the limit (a fat junction next to a thinner one is meshed at a fraction
     // of its radius all round). Guarded: the free points move by the largest of 1, 1/2, 1/4 of the way that leaves no
-    // hex at v's centre below min(0.3, before), else they stay. docs/junctions.md, "Bridge quads".
+    // hex at v's centre below min(0.3, before), else they stay. docs/junctions.md, "Bridge quads". Does not compose
+    // with the junction cover (cover.fraction, inset, crease_deg): a junction whose points the cover moves is placed
+    // again from the limited radius, so its raise is lost (with fraction or crease_deg at nearly every
+    // such junction: their targets lie beyond the limited radius).
     bool bridge_quad_radius = false;
     // A joint turning by theta gets at most turn_fraction * (shorter incident edge) / (2 sin(theta / 2)): its
     // cross-section then reaches at most turn_fraction of half of each incident edge (the adaptation stage normally
