@@ -222,7 +222,7 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "--no-fan-blocks", [job] { job->options.pipeline.connection_surfaces.blocks.fan_blocks = false; },
         "No fan block: the paper's gap vertices on every fan edge (8-hex blocks stay on; --no-blocks turns both off)");
     cmd->add_flag("--fan-cap-branches", job->options.pipeline.connection_surfaces.blocks.fan_cap_branches,
-                  "A branch on a fan-block chain end within 45 degrees of the fan line's continuation stands on the "
+                  "A branch on a fan-block chain end within 35 degrees of the fan line's continuation stands on the "
                   "block's cap instead of the fan edge being retracted from it (off by default: docs/blocks.md, "
                   "\"Branches on the fan block's cap\")");
     add_padding_options(cmd, job);

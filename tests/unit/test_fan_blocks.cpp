@@ -316,12 +316,13 @@ TEST(FanBlocks, BranchOnTheCapByHand) {
         }
 }
 
-// The cap takes a branch within 45 degrees of the fan line's continuation only: 40 degrees off it (towards +x) is
-// accepted, 50 degrees is not (no chain with a cap branch: the connection surfaces refuse the vertex, naming it; the
-// pipeline retracts it instead, fan_end_repair.h); nor a Y fan's (no block), nor without the option.
-TEST(FanBlocks, BranchOnTheCapOnlyWithin45Degrees) {
+// The cap takes a branch within 35 degrees of the fan line's continuation (kFanCapBranchCos: the pipeline's decision
+// on the input) or, in the connection surfaces, 45 (kFanCapKeepCos, after the resampling): 30 degrees off it (towards
+// +x) both, 40 only the second, 50 neither (the connection surfaces refuse the vertex, naming it; the pipeline retracts
+// it instead, fan_end_repair.h); nor a Y fan's (no block), nor without the option.
+TEST(FanBlocks, BranchOnTheCapOnlyNearTheFanLine) {
     const std::vector<double> t{0, 0.5 * kPi, kPi};
-    for (const double deg : {0.0, 40.0, 50.0}) {
+    for (const double deg : {0.0, 30.0, 40.0, 50.0}) {
         SCOPED_TRACE(deg);
         Skeleton s = fan(t, 2, 2, kIdentity);
         add_branch(s, 2, {std::sin(deg * kDeg), 0, std::cos(deg * kDeg)});
@@ -330,7 +331,9 @@ TEST(FanBlocks, BranchOnTheCapOnlyWithin45Degrees) {
         const SkeletonAnalysis an = analyze_skeleton(s, ao);
         CompatibleBlockOptions on;
         on.fan_cap_branches = true;
-        EXPECT_EQ(fan_cap_roots(find_fan_blocks(s, an, on)), deg < 45 ? std::vector<int>{2} : std::vector<int>{});
+        EXPECT_EQ(fan_cap_roots(find_fan_blocks(s, an, on)), deg < 35 ? std::vector<int>{2} : std::vector<int>{});
+        EXPECT_EQ(fan_cap_roots(find_fan_blocks(s, an, on, kFanCapKeepCos)),
+                  deg < 45 ? std::vector<int>{2} : std::vector<int>{});
         EXPECT_TRUE(find_fan_blocks(s, an, CompatibleBlockOptions{}).chains.empty());  // option off: end refused
         if (deg < 45) {
             const RawRun r = mesh_raw_with_caps(s);

@@ -1641,7 +1641,7 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
     MESOHEX_CHECK(static_cast<int>(an.vertex_class.size()) == nv, "analysis does not match the skeleton");
     check_surface_support(an);
     ConnectionSurfaces cs = allocate_surfaces(an, nv, ne, find_compatible_blocks(skeleton, an, options.blocks));
-    cs.fan_blocks = find_fan_blocks(skeleton, an, options.blocks);
+    cs.fan_blocks = find_fan_blocks(skeleton, an, options.blocks, kFanCapKeepCos);
     // Reuse needs the same CSR layout (same topology and vertex classes); else everything is recomputed.
     const bool reuse = previous != nullptr && static_cast<int>(recompute.size()) == nv &&
                        previous->point_begin == cs.point_begin && previous->quad_begin == cs.quad_begin &&

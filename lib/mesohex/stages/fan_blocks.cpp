@@ -105,27 +105,27 @@ int across(const SkeletonAnalysis& an, int f, int w, int y) {
 }
 
 // The branch edge at chain end position i that may stand on its cap (CompatibleBlockOptions::fan_cap_branches: one
-// branch edge at the end, within kFanCapBranchCos of the outward direction), or -1.
-int cap_branch_edge(const Skeleton& s, const SkeletonAnalysis& an, const FanBlockChain& c, int i) {
+// branch edge at the end, unit(b - w) . e >= cap_cos), or -1.
+int cap_branch_edge(const Skeleton& s, const SkeletonAnalysis& an, const FanBlockChain& c, int i, double cap_cos) {
     const int v = c.vertices[i], n = static_cast<int>(c.vertices.size());
     if (an.vertex_branch_edges[v] != 1) return -1;
     const int e = first_branch_edge(an, v);
     const Vec3 out = normalized(s.points[v] - s.points[c.vertices[i == 0 ? 1 : n - 2]]);
     const Vec3 d = normalized(s.points[other_end(s, e, v)] - s.points[v]);
-    return dot(d, out) >= kFanCapBranchCos ? e : -1;
+    return dot(d, out) >= cap_cos ? e : -1;
 }
 
 // Vertex conditions of the header: inner vertices without branch, with the 2g faces of their fan edges; open ends
 // fan-edge ends with g faces, g border edges and no branch (or, with options.fan_cap_branches, one branch standing on
 // the cap: c.cap_branch).
 bool chain_vertices_fit(const Skeleton& s, const SkeletonAnalysis& an, const Incidence& in,
-                        const CompatibleBlockOptions& options, FanBlockChain& c) {
+                        const CompatibleBlockOptions& options, double cap_cos, FanBlockChain& c) {
     const int n = static_cast<int>(c.vertices.size());
     for (int i = 0; i < n; ++i) {
         const int v = c.vertices[i];
         const bool end = !c.closed && (i == 0 || i == n - 1);
         if (end && an.vertex_branch_edges[v] != 0) {
-            const int e = options.fan_cap_branches ? cap_branch_edge(s, an, c, i) : -1;
+            const int e = options.fan_cap_branches ? cap_branch_edge(s, an, c, i, cap_cos) : -1;
             if (e < 0) return false;
             c.cap_branch[i == 0 ? 0 : 1] = e;
         } else if (an.vertex_branch_edges[v] != 0) {
@@ -299,7 +299,8 @@ SquareFit fit_square_frame(const Vec3& t_in, const std::vector<Vec3>& directions
     return fit;
 }
 
-FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& an, const CompatibleBlockOptions& options) {
+FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& an, const CompatibleBlockOptions& options,
+                          double cap_cos) {
     FanBlocks fb;
     if (!options.enabled || !options.fan_blocks || an.counts.fan_edges == 0) return fb;
     const int nv = static_cast<int>(an.vertex_class.size()), ne = static_cast<int>(an.edge_degree.size());
@@ -320,7 +321,7 @@ FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& an, 
     fb.corner_down.assign(nf, {-1, -1, -1, -1});
     for (FanBlockChain& c : chains) {
         c.degree = an.edge_degree[c.edges[0]];
-        bool ok = c.degree <= 4 && chain_vertices_fit(skeleton, an, in, options, c);
+        bool ok = c.degree <= 4 && chain_vertices_fit(skeleton, an, in, options, cap_cos, c);
         for (const int e : c.edges) ok = ok && an.edge_degree[e] == c.degree;
         std::vector<std::vector<int>> labels;
         ok = ok && fit_chain_edges(skeleton, an, in, c, options, labels);

@@ -23,8 +23,8 @@
 // label, also across the closing vertex of a closed chain), the chain's inner vertices have no branch and only the 2g
 // faces of its fan edges, its ends are fan-edge ends (g faces, g border edges, no branch) or the chain is closed, and
 // no edge is docked (docked_walls.h).
-// With CompatibleBlockOptions::fan_cap_branches an open end may also carry one branch edge (w, b) leaving within 45
-// degrees of the chain's outward direction e there (unit(b - w) . e >= kFanCapBranchCos): the branch stands on the cap
+// With CompatibleBlockOptions::fan_cap_branches an open end may also carry one branch edge (w, b) leaving within 35
+// degrees of the chain's outward direction e there (unit(b - w) . e >= cap_cos): the branch stands on the cap
 // (design note C1). The cap section at w + h e is its first chunk's bottom (fan_cap_section_ids, in the order of the
 // connection quad fan_cap_directions gives): the branch is shortened by h, no hex is added (4 per branch edge as
 // always), and the cap's end face becomes interior (its 8 rim edges get the chunk's hex: add_fan_block_irregular_edges).
@@ -59,9 +59,14 @@ SquareFit fit_square_frame(const Vec3& t, const std::vector<Vec3>& directions, c
 
 inline constexpr int kFanSectionIds = 9;  // ids per section: C, Q_0..Q_3, M_0..M_3
 inline constexpr int kFanChunkHexes = 4;  // hexes per fan edge and per cap
-// A branch stands on a chain end's cap when it leaves within 45 degrees of the chain's outward direction (cos 45
-// degrees, the fan-end repair's kFanEndBranchCos: beyond it the retraction's own limits apply).
-inline constexpr double kFanCapBranchCos = 0.70710678118654752;
+// A branch stands on a chain end's cap when it leaves within 35 degrees of the chain's outward direction (cos 35
+// degrees): measured on issue 22's check (bench/issue22_check.py, seed 22), branches 0 - 30 degrees off the fan line
+// on the cap are valid, 5 of 18 at 45 degrees fold the first chunk (1 - 2 inverted raw hexes; docs/blocks.md,
+// "Branches on the fan block's cap"); the others keep the retraction (fan_end_repair.h, within 45 degrees).
+inline constexpr double kFanCapBranchCos = 0.81915204428899179;
+// The connection surfaces accept a cap branch up to 45 degrees off (cos 45 degrees): the pipeline decides on the input
+// sampling with kFanCapBranchCos, and the resampling may turn the branch's first edge by a few degrees.
+inline constexpr double kFanCapKeepCos = 0.70710678118654752;
 
 // One fan chain with a block.
 struct FanBlockChain {
@@ -91,8 +96,10 @@ struct FanBlocks {
 // The chains of the skeleton that get a block (none unless options.enabled and options.fan_blocks): first the open
 // chains, each from its end with the smaller vertex id, in the order of those ends, then the closed chains in the
 // order of their smallest fan edge, each from that edge's first vertex. Deterministic. O(V + E + F).
+// cap_cos: the least unit(b - w) . e of a branch on a cap (kFanCapBranchCos; the connection surfaces pass
+// kFanCapKeepCos).
 FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
-                          const CompatibleBlockOptions& options);
+                          const CompatibleBlockOptions& options, double cap_cos = kFanCapBranchCos);
 
 // Fan edges and caps with a block (their hex count is 4 x (edges + caps)).
 long fan_block_edges(const FanBlocks& blocks);
