@@ -110,6 +110,9 @@ def interior_irregular(q):
     return sum(q["singular_edges"]["interior"].values())
 
 
+MESH_ARGS = []  # --mesh-args: extra options for every mesh run
+
+
 def run(binary, out, idx, cfg):
     family, label, gen, angled, s = cfg
     base = os.path.join(out, f"c{idx}")
@@ -122,7 +125,7 @@ def run(binary, out, idx, cfg):
     rep = base + ".json"
     if os.path.exists(rep):
         os.remove(rep)
-    m = subprocess.run([binary, "mesh", obj, "-o", base + ".mesh", "--report", rep, "-q", "--threads", "1"],
+    m = subprocess.run([binary, "mesh", obj, "-o", base + ".mesh", "--report", rep, "-q", "--threads", "1", *MESH_ARGS],
                        capture_output=True, text=True)
     err = m.stderr.strip()
     if m.returncode == 3:
@@ -171,7 +174,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--list-refused", action="store_true", help="also list every refusal with its message")
     ap.add_argument("--tsv", help="write one line per run (family, configuration, scale, class, detail) to this file")
+    ap.add_argument("--mesh-args", default="", help="extra options for every mesh run, e.g. '--fan-cap-branches'")
     a = ap.parse_args()
+    MESH_ARGS.extend(a.mesh_args.split())
     os.makedirs(a.out, exist_ok=True)
     cfgs = configurations(set(a.families.split(",")), frange(a.scales), frange(a.angle_scales))
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as ex:

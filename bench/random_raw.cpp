@@ -13,9 +13,10 @@
 //   degree_three_chunks_at_bridges, EXACT_THREE=0|1 its exact_three_orange, SHARED_HULL=0|1 its
 //   shared_hull_relaxation, GRADIENT_LONG=0|1 its gradient_long_relaxation, JUNCTION_COVER=F RawMeshOptions::
 //   cover.fraction (JUNCTION_INSET=F cover.inset, JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_COVER_MIN_DEGREE and
-//   JUNCTION_COVER_FLOOR its min_degree and sj_floor), BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius. The last
-//   three columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw mesh (compare
-//   two builds or option sets seed by seed to find the seeds a change touches).
+//   JUNCTION_COVER_FLOOR its min_degree and sj_floor), BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius,
+//   FAN_CAP_BRANCHES=0|1 CompatibleBlockOptions::fan_cap_branches. The last three columns: stubs kept as side branches,
+//   degree-4 branching points split, and a hash of the raw mesh (compare two builds or option sets seed by seed to find
+//   the seeds a change touches).
 //
 // SKEL=path meshes that skeleton file instead (FIRST = LAST, e.g. `SKEL=curve-skeletons/dino.skel
 // mesohex_random_raw 0 0`; the 3rd argument 1.0 gives the second attempt's adaptation). DUMP=1 also lists the meshed
@@ -108,6 +109,8 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("SHARED_HULL")) po.connection_surfaces.shared_hull_relaxation = std::atoi(k) != 0;
     if (const char* k = std::getenv("GRADIENT_LONG"))
         po.connection_surfaces.gradient_long_relaxation = std::atoi(k) != 0;
+    if (const char* k = std::getenv("FAN_CAP_BRANCHES"))
+        po.connection_surfaces.blocks.fan_cap_branches = std::atoi(k) != 0;
     std::vector<double> mins, offs;
     int inverted_seeds = 0;
     std::printf(

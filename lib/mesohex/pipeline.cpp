@@ -13,6 +13,7 @@
 #include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/skeleton_radii.h"
 #include "mesohex/stages/connection_surfaces.h"
+#include "mesohex/stages/fan_blocks.h"
 #include "mesohex/stages/fan_end_repair.h"
 #include "mesohex/stages/frame_propagation.h"
 
@@ -112,7 +113,13 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     // Validates indices and geometry before anything else (the default radius reads edge lengths).
     // A branch on a fan-edge end is accepted here when the repair below retracts the fan edge from it (the analysis
     // after the repair refuses what is left).
-    AnalysisOptions input_options = options.analysis;
+    // A branch standing on a fan block's cap (CompatibleBlockOptions::fan_cap_branches) is accepted by both analyses;
+    // the connection surfaces refuse one that no accepted chain's cap carries.
+    const CompatibleBlockOptions& blocks = options.connection_surfaces.blocks;
+    const bool fan_caps_on = blocks.enabled && blocks.fan_blocks && blocks.fan_cap_branches;
+    AnalysisOptions meshed_options = options.analysis;
+    meshed_options.fan_cap_branches = meshed_options.fan_cap_branches || fan_caps_on;
+    AnalysisOptions input_options = meshed_options;
     input_options.fan_end_branches = options.resample && options.repair.fan_end_retraction;
     res.input_analysis = analyze_skeleton(input, input_options);
     clock.lap("analysis_input");
@@ -136,14 +143,21 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         // drop) the skeleton is its own repaired and adapted form. Checked against the two calls in test_incremental.
         clock.lap("adaptation");
     } else if (options.resample) {
-        SkeletonRepairResult repaired = repair_skeleton(s, options.repair, &options.connection_surfaces.blocks);
+        // Fan ends whose branch the fan block's cap carries (design note C1) are left to it, not retracted.
+        const std::vector<int> fan_caps =
+            fan_caps_on ? fan_cap_roots(find_fan_blocks(s, res.input_analysis, blocks)) : std::vector<int>{};
+        SkeletonRepairResult repaired = repair_skeleton(s, options.repair, &blocks, fan_caps);
         clock.lap("skeleton_repair");
+        std::vector<int> repaired_caps;  // the same vertices in the repaired numbering
+        for (const int v : fan_caps)
+            if (repaired.vertex_map[v] >= 0) repaired_caps.push_back(repaired.vertex_map[v]);
+        std::sort(repaired_caps.begin(), repaired_caps.end());
         // A branch on a fan-edge end that the repair left (the analysis refuses it after the resampling): named here,
         // with the reason measured on the sampling the repair judged (fan_end_repair.h, first_fan_end_refusal).
         // The vertex is named by its input id (the repair renumbers when it drops trunk joints); a vertex the repair
         // made is named in the repaired numbering.
         if (options.repair.fan_end_retraction && !options.analysis.fan_end_branches)
-            if (const std::optional<FanEndRefusalAt> left = first_fan_end_refusal(repaired.skeleton)) {
+            if (const std::optional<FanEndRefusalAt> left = first_fan_end_refusal(repaired.skeleton, repaired_caps)) {
                 const auto [vertex, is_input] = named_vertex(repaired.vertex_map, left->vertex);
                 throw Error(ErrorCode::UnsupportedConfiguration,
                             (is_input ? "skeleton vertex " : "repaired skeleton vertex ") + std::to_string(vertex) +
@@ -188,12 +202,12 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     res.virtual_branches = static_cast<int>(
         add_virtual_branches(s, options.virtual_branches, &options.connection_surfaces.blocks).at.size());
     if (res.virtual_branches == 0 && options.resample && !input.radii.empty() && s == input &&
-        same_analysis(res.input_analysis, input_options, options.analysis)) {
+        same_analysis(res.input_analysis, input_options, meshed_options)) {
         // Nothing repaired or resampled (e.g. no curve branch): the analysis of the skeleton meshed is the input's.
         res.analysis = res.input_analysis;
         clock.lap("analysis");
     } else if (options.resample || res.virtual_branches > 0) {
-        res.analysis = analyze_skeleton(s, options.analysis);
+        res.analysis = analyze_skeleton(s, meshed_options);
         clock.lap("analysis");
     } else {
         res.analysis = res.input_analysis;

@@ -8,8 +8,10 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
+#include "mesohex/core/error.h"
 #include "mesohex/core/validate.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/fan_blocks.h"
@@ -232,4 +234,129 @@ TEST(FanBlocks, ConditionsAlongTheChain) {
     CompatibleBlockOptions no_fan;
     no_fan.fan_blocks = false;
     EXPECT_TRUE(find_fan_blocks(t, analyze_skeleton(t), no_fan).chains.empty());
+}
+
+namespace {
+
+// The fan of `fan` with a branch of 3 unit edges (radius 0.3) from chain end `from` (the line vertex at z = 0 or z =
+// n) along `dir` (unit).
+void add_branch(Skeleton& s, int from, const Vec3& dir) {
+    for (int k = 1; k <= 3; ++k) {
+        s.points.push_back(s.points[from] + static_cast<double>(k) * dir);
+        s.radii.push_back(0.3);
+        s.edges.push_back(
+            {k == 1 ? from : static_cast<int>(s.points.size()) - 2, static_cast<int>(s.points.size()) - 1});
+    }
+}
+
+// The raw stages with branches on fan-block caps accepted (AnalysisOptions / CompatibleBlockOptions::
+// fan_cap_branches), checked against the prediction like test::checked_raw_mesh.
+RawRun mesh_raw_with_caps(const Skeleton& s) {
+    AnalysisOptions ao;
+    ao.fan_cap_branches = true;
+    ConnectionSurfaceOptions o;
+    o.blocks.fan_cap_branches = true;
+    RawRun r;
+    r.analysis = analyze_skeleton(s, ao);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, r.analysis, o);
+    r.predicted = predict_raw_mesh(s, r.analysis, cs);
+    r.fan_chains = static_cast<long>(cs.fan_blocks.chains.size());
+    const RawMesh raw = build_raw_mesh(s, r.analysis, cs, propagate_frames(s, r.analysis, cs));
+    r.quality = compute_quality(raw.mesh);
+    r.valid = validate(raw.mesh).valid();
+    EXPECT_EQ(r.quality.hexes, r.predicted.hexes);
+    EXPECT_EQ(r.quality.vertices, r.predicted.vertices);
+    EXPECT_EQ(r.quality.singular_interior_edges, r.predicted.interior_irregular_edges);
+    EXPECT_EQ(r.quality.singular_boundary_edges, r.predicted.boundary_irregular_edges);
+    return r;
+}
+
+}  // namespace
+
+// Design note C1: a branch of 3 unit edges on the T / X fan of 2 x 2 strips (n = 2 fan edges, m = 2) continuing the
+// fan line, at its top end (z = 2, the chain's last vertex: cap axes in the block's order), its bottom end (z = 0, the
+// first: reversed order) or both. By hand, from the block's counts (TAndXFansWithAndWithoutBlocksByHand: T 76 hexes,
+// 144 vertices, boundary {1: 40, 3: 8}; X 96, 177, {1: 48, 3: 16}): per branch 12 hexes (3 chunks; no hex of its own
+// at the cap, the branch shortened by h) and 27 vertices (2 joints and the extremity, 9 each; the fan end keeps its 18
+// section ids); boundary: the branch's 12 longitudinal edges and the extremity's 8 rim edges of valence 1, and the cap's
+// 8 rim edges get the first chunk's hex: at a labelled axis 2 -> 3 (T 6, X 8), at the T's free axis 1 -> 2 (2 fewer of
+// valence 1); interior irregular edges unchanged ({3: 4 g}, the strips' outer corners). The T with one branch: the
+// design note's 88 hexes. The worst raw hex is the first chunk's, at the round section's edge point M (first joint at
+// z = 3 (1 from the end), the cap section h = 0.3 beyond the end: the chunk 0.7 long): its two section edges meet at 135
+// degrees (M at 0.3 on the circle between Q = (0.3, 0) and (0, 0.3)), the edge down to the cap's corner (0.3, 0.3)
+// goes a = 0.3 (1 - 1 / sqrt 2) along each axis and 0.7 along the branch: SJ = sin 135 x 0.7 / sqrt(2 a^2 + 0.49)
+// = 0.69622 (below the strips' corners' sin 45 degrees; tolerance 1e-6).
+TEST(FanBlocks, BranchOnTheCapByHand) {
+    for (const int g : {3, 4})
+        for (const int ends : {1, 2, 3}) {  // 1: top, 2: bottom, 3: both
+            SCOPED_TRACE(testing::Message() << "g " << g << " ends " << ends);
+            const std::vector<double> angles =
+                g == 3 ? std::vector<double>{0, 0.5 * kPi, kPi} : std::vector<double>{0, 0.5 * kPi, kPi, 1.5 * kPi};
+            Skeleton s = fan(angles, 2, 2, kIdentity);
+            if (ends & 1) add_branch(s, 2, {0, 0, 1});
+            if (ends & 2) add_branch(s, 0, {0, 0, -1});
+            const long branches = ends == 3 ? 2 : 1;
+            const RawRun r = mesh_raw_with_caps(s);
+            EXPECT_EQ(r.fan_chains, 1);
+            EXPECT_EQ(r.predicted.fan_block_caps, 2);
+            EXPECT_EQ(r.quality.hexes, (g == 3 ? 76 : 96) + 12 * branches);
+            if (g == 3 && ends == 1) {
+                EXPECT_EQ(r.quality.hexes, 88);
+            }
+            EXPECT_EQ(r.quality.vertices, (g == 3 ? 144 : 177) + 27 * branches);
+            EXPECT_EQ(r.quality.singular_interior_edges, (std::map<int, long>{{3, 4L * g}}));
+            EXPECT_EQ(r.quality.singular_boundary_edges,
+                      g == 3 ? (std::map<int, long>{{1, 40 + 18 * branches}, {3, 8 + 6 * branches}})
+                             : (std::map<int, long>{{1, 48 + 20 * branches}, {3, 16 + 8 * branches}}));
+            EXPECT_TRUE(r.valid);
+            EXPECT_EQ(r.quality.euler_characteristic, 1);
+            EXPECT_EQ(r.quality.inverted, 0);
+            const double a = 0.3 * (1 - std::sqrt(0.5));
+            EXPECT_NEAR(r.quality.sj_min, std::sqrt(0.5) * 0.7 / std::sqrt(2 * a * a + 0.49), 1e-6);
+        }
+}
+
+// The cap takes a branch within 35 degrees of the fan line's continuation (kFanCapBranchCos: the pipeline's decision
+// on the input) or, in the connection surfaces, 45 (kFanCapKeepCos, after the resampling): 30 degrees off it (towards
+// +x) both, 40 only the second, 50 neither (the connection surfaces refuse the vertex, naming it; the pipeline retracts
+// it instead, fan_end_repair.h); nor a Y fan's (no block), nor without the option.
+TEST(FanBlocks, BranchOnTheCapOnlyNearTheFanLine) {
+    const std::vector<double> t{0, 0.5 * kPi, kPi};
+    for (const double deg : {0.0, 30.0, 40.0, 50.0}) {
+        SCOPED_TRACE(deg);
+        Skeleton s = fan(t, 2, 2, kIdentity);
+        add_branch(s, 2, {std::sin(deg * kDeg), 0, std::cos(deg * kDeg)});
+        AnalysisOptions ao;
+        ao.fan_cap_branches = true;
+        const SkeletonAnalysis an = analyze_skeleton(s, ao);
+        CompatibleBlockOptions on;
+        on.fan_cap_branches = true;
+        EXPECT_EQ(fan_cap_roots(find_fan_blocks(s, an, on)), deg < 35 ? std::vector<int>{2} : std::vector<int>{});
+        EXPECT_EQ(fan_cap_roots(find_fan_blocks(s, an, on, kFanCapKeepCos)),
+                  deg < 45 ? std::vector<int>{2} : std::vector<int>{});
+        EXPECT_TRUE(find_fan_blocks(s, an, CompatibleBlockOptions{}).chains.empty());  // option off: end refused
+        if (deg < 45) {
+            const RawRun r = mesh_raw_with_caps(s);
+            EXPECT_TRUE(r.valid);
+            EXPECT_EQ(r.quality.inverted, 0);
+            EXPECT_EQ(r.quality.hexes, 88);
+            continue;
+        }
+        ConnectionSurfaceOptions o;
+        o.blocks.fan_cap_branches = true;
+        try {
+            (void)build_connection_surfaces(s, an, o);
+            ADD_FAILURE() << "no refusal";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::UnsupportedConfiguration);
+            EXPECT_NE(std::string(e.what()).find("skeleton vertex 2:"), std::string::npos) << e.what();
+        }
+    }
+    Skeleton y = fan({0, 2 * kPi / 3, 4 * kPi / 3}, 2, 2, kIdentity);
+    add_branch(y, 2, {0, 0, 1});
+    AnalysisOptions ao;
+    ao.fan_cap_branches = true;
+    CompatibleBlockOptions on;
+    on.fan_cap_branches = true;
+    EXPECT_TRUE(fan_cap_roots(find_fan_blocks(y, analyze_skeleton(y, ao), on)).empty());
 }

@@ -34,6 +34,13 @@ struct CompatibleBlockOptions {
     // the paper's layout and keeps the better (MeshOptions::compare_fan_layouts; docs/blocks.md). false
     // (`--no-fan-blocks`): the paper's gap vertices on every fan edge.
     bool fan_blocks = true;
+    // A branch on an open fan-block chain end w (one branch edge (w, b), d = unit(b - w) within 35 degrees of the
+    // chain's outward direction e there: d . e >= kFanCapBranchCos, fan_blocks.h) stands on the block's cap: the cap
+    // section at w + h e is the bottom of the branch's first chunk (design note C1). The pipeline then leaves such a
+    // fan end to the block instead of retracting the fan edge from it (fan_end_repair.h, C2); without a block there
+    // (fan_blocks off, `--no-blocks`, a Y fan, a chain refused) the retraction takes it as before. Needs fan_blocks.
+    // (`--fan-cap-branches`; docs/blocks.md, "Branches on the fan block's cap").
+    bool fan_cap_branches = false;
 };
 
 // Signed cube axes are numbered 2a + s: a = 0, 1, 2 (x, y, z of the block frame), s = 0 for +, 1 for -.

@@ -522,7 +522,7 @@ ConnectionSurfaces allocate_surfaces(const SkeletonAnalysis& an, int nv, int ne,
     for (int b = 0; b < static_cast<int>(cs.blocks.size()); ++b) cs.vertex_block[cs.blocks[b].vertex] = b;
     for (int v = 0; v < nv; ++v) {
         const int nbr = an.vertex_branch_edges[v];
-        const SurfaceSize sz = roots_branch(an, v) ? SurfaceSize{4, 1, 4}
+        const SurfaceSize sz = roots_branch(an, v) || roots_fan_cap(an, v) ? SurfaceSize{4, 1, 4}
                                : cs.vertex_block[v] >= 0
                                    ? SurfaceSize{4 * nbr, nbr, 4 * nbr}
                                    : surface_size(an.vertex_class[v], nbr + an.vertex_boundary_edges[v] / 2);
@@ -878,6 +878,35 @@ void build_rooted_surface(const SurfaceInputs& in, int v, int e, ConnectionSurfa
         const std::array<Vec3, 4> up{to(patch.border[patch.first]), to(patch.middle), to(patch.border[1 - patch.first]),
                                      -1.0 * to(patch.middle)};
         for (int k = 0; k < 4; ++k) cs.directions[p0 + k] = patch.up ? up[k] : up[(4 - k) & 3];
+    }
+}
+
+// Branches standing on a fan block's cap (fan_blocks.h, CompatibleBlockOptions::fan_cap_branches): one quad on the
+// branch edge, its points the cap section's axes in fan_cap_directions' order (raw_mesh.cpp takes the ids from the cap
+// section). Throws Error(UnsupportedConfiguration) naming a fan-edge end with a branch that no accepted chain's cap
+// carries. Serial, in vertex order.
+void build_fan_cap_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& an, ConnectionSurfaces& cs) {
+    const int nv = static_cast<int>(an.vertex_class.size());
+    for (int v = 0; v < nv; ++v) {
+        if (!roots_fan_cap(an, v)) continue;
+        const int e = fan_cap_branch_at(cs.fan_blocks, v);
+        if (e < 0)
+            throw Error(ErrorCode::UnsupportedConfiguration,
+                        "skeleton vertex " + std::to_string(v) +
+                            ": a branch on a fan-edge end that no fan block's cap carries (the chain is not a T or X "
+                            "fan block, or the branch leaves more than 45 degrees off the fan line's continuation); "
+                            "edit: turn the branch's first edge towards the fan line's continuation, or start the "
+                            "branch from a corner of one leaflet off the fan edge",
+                        ElementRef{ElementRef::Kind::SkeletonVertex, v});
+        const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
+        set_square(cs, e0, q0);
+        cs.edge_quad[e][edge_side(skeleton, e, v)] = q0;
+        const FanBlockChain& c = cs.fan_blocks.chains[cs.fan_blocks.vertex_chain[v]];
+        const std::array<Vec3, 4> d = fan_cap_directions(c, cs.fan_blocks.vertex_index[v]);
+        for (int k = 0; k < 4; ++k) {
+            cs.point_valence[p0 + k] = 1;
+            cs.directions[p0 + k] = d[k];
+        }
     }
 }
 
@@ -1616,7 +1645,7 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
     MESOHEX_CHECK(static_cast<int>(an.vertex_class.size()) == nv, "analysis does not match the skeleton");
     check_surface_support(an);
     ConnectionSurfaces cs = allocate_surfaces(an, nv, ne, find_compatible_blocks(skeleton, an, options.blocks));
-    cs.fan_blocks = find_fan_blocks(skeleton, an, options.blocks);
+    cs.fan_blocks = find_fan_blocks(skeleton, an, options.blocks, kFanCapKeepCos);
     // Reuse needs the same CSR layout (same topology and vertex classes); else everything is recomputed.
     const bool reuse = previous != nullptr && static_cast<int>(recompute.size()) == nv &&
                        previous->point_begin == cs.point_begin && previous->quad_begin == cs.quad_begin &&
@@ -1678,6 +1707,7 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
         }
     });
     build_bridge_surfaces(in, at_bridge, cs);
+    build_fan_cap_surfaces(skeleton, an, cs);
     finish_leaflet_junctions(an, sides, cs);
     if (memo_out) {
         *memo_out = collect_memo(cs, keys, options);

@@ -104,14 +104,33 @@ int across(const SkeletonAnalysis& an, int f, int w, int y) {
     return next == y ? prev : next;
 }
 
+// The branch edge at chain end position i that may stand on its cap (CompatibleBlockOptions::fan_cap_branches: one
+// branch edge at the end, unit(b - w) . e >= cap_cos), or -1.
+int cap_branch_edge(const Skeleton& s, const SkeletonAnalysis& an, const FanBlockChain& c, int i, double cap_cos) {
+    const int v = c.vertices[i], n = static_cast<int>(c.vertices.size());
+    if (an.vertex_branch_edges[v] != 1) return -1;
+    const int e = first_branch_edge(an, v);
+    const Vec3 out = normalized(s.points[v] - s.points[c.vertices[i == 0 ? 1 : n - 2]]);
+    const Vec3 d = normalized(s.points[other_end(s, e, v)] - s.points[v]);
+    return dot(d, out) >= cap_cos ? e : -1;
+}
+
 // Vertex conditions of the header: inner vertices without branch, with the 2g faces of their fan edges; open ends
-// fan-edge ends with g faces, g border edges and no branch.
-bool chain_vertices_fit(const SkeletonAnalysis& an, const Incidence& in, const FanBlockChain& c) {
+// fan-edge ends with g faces, g border edges and no branch (or, with options.fan_cap_branches, one branch standing on
+// the cap: c.cap_branch).
+bool chain_vertices_fit(const Skeleton& s, const SkeletonAnalysis& an, const Incidence& in,
+                        const CompatibleBlockOptions& options, double cap_cos, FanBlockChain& c) {
     const int n = static_cast<int>(c.vertices.size());
     for (int i = 0; i < n; ++i) {
         const int v = c.vertices[i];
         const bool end = !c.closed && (i == 0 || i == n - 1);
-        if (an.vertex_branch_edges[v] != 0) return false;
+        if (end && an.vertex_branch_edges[v] != 0) {
+            const int e = options.fan_cap_branches ? cap_branch_edge(s, an, c, i, cap_cos) : -1;
+            if (e < 0) return false;
+            c.cap_branch[i == 0 ? 0 : 1] = e;
+        } else if (an.vertex_branch_edges[v] != 0) {
+            return false;
+        }
         if (end && (an.vertex_class[v] != VertexClass::FanEdgeEnd || an.vertex_boundary_edges[v] != c.degree ||
                     in.vertex_faces[v] != c.degree))
             return false;
@@ -280,7 +299,8 @@ SquareFit fit_square_frame(const Vec3& t_in, const std::vector<Vec3>& directions
     return fit;
 }
 
-FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& an, const CompatibleBlockOptions& options) {
+FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& an, const CompatibleBlockOptions& options,
+                          double cap_cos) {
     FanBlocks fb;
     if (!options.enabled || !options.fan_blocks || an.counts.fan_edges == 0) return fb;
     const int nv = static_cast<int>(an.vertex_class.size()), ne = static_cast<int>(an.edge_degree.size());
@@ -301,7 +321,7 @@ FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& an, 
     fb.corner_down.assign(nf, {-1, -1, -1, -1});
     for (FanBlockChain& c : chains) {
         c.degree = an.edge_degree[c.edges[0]];
-        bool ok = c.degree <= 4 && chain_vertices_fit(an, in, c);
+        bool ok = c.degree <= 4 && chain_vertices_fit(skeleton, an, in, options, cap_cos, c);
         for (const int e : c.edges) ok = ok && an.edge_degree[e] == c.degree;
         std::vector<std::vector<int>> labels;
         ok = ok && fit_chain_edges(skeleton, an, in, c, options, labels);
@@ -332,6 +352,43 @@ long fan_block_caps(const FanBlocks& blocks) {
     long n = 0;
     for (const FanBlockChain& c : blocks.chains) n += c.closed ? 0 : 2;
     return n;
+}
+
+int fan_cap_branch_at(const FanBlocks& blocks, int v) {
+    if (blocks.vertex_chain.empty() || blocks.vertex_chain[v] < 0) return -1;
+    const FanBlockChain& c = blocks.chains[blocks.vertex_chain[v]];
+    const int i = blocks.vertex_index[v], n = static_cast<int>(c.vertices.size());
+    if (c.closed || (i != 0 && i != n - 1)) return -1;
+    return c.cap_branch[i == 0 ? 0 : 1];
+}
+
+std::vector<int> fan_cap_roots(const FanBlocks& blocks) {
+    std::vector<int> out;
+    for (const FanBlockChain& c : blocks.chains)
+        for (int end = 0; end < 2; ++end)
+            if (c.cap_branch[end] >= 0) out.push_back(end == 0 ? c.vertices.front() : c.vertices.back());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+std::array<Vec3, 4> fan_cap_directions(const FanBlockChain& c, int i) {
+    const Vec3 t = c.tangent[i], u = c.axis_u[i], w = cross(t, u);
+    const std::array<Vec3, 4> axis{u, w, -1.0 * u, -1.0 * w};
+    std::array<Vec3, 4> out;
+    for (int x = 0; x < 4; ++x) out[x] = axis[i == 0 ? (4 - x) & 3 : x];
+    return out;
+}
+
+std::array<int, 9> fan_cap_section_ids(const FanBlockChain& /*chain*/, int i) {
+    std::array<int, 9> ids{};
+    ids[0] = kFanSectionIds;
+    for (int x = 0; x < 4; ++x) {
+        // point x is Q_k; the edge (x, x + 1) is M_k at the last vertex, M_(k - 1) (between Q_(k - 1) and Q_k,
+        // k - 1 = -(x + 1)) at the first
+        ids[1 + x] = kFanSectionIds + 1 + (i == 0 ? (4 - x) & 3 : x);
+        ids[5 + x] = kFanSectionIds + 5 + (i == 0 ? (3 - x) & 3 : x);
+    }
+    return ids;
 }
 
 int fan_block_vertex_ids(const FanBlocks& blocks, int v) {
@@ -387,6 +444,14 @@ void add_fan_block_irregular_edges(const FanBlockChain& c, std::map<int, long>& 
         const int docked = c.labelled[k] + c.labelled[(k + 1) & 3];
         if (docked != 1) boundary_irregular_edges[1 + docked] += rows;
         if (!c.labelled[k] && !c.closed) boundary_irregular_edges[1] += 2 * 2;  // two rim edges at each cap
+        for (const int e : c.cap_branch) {  // the branch's first chunk on the cap: +1 on each rim edge
+            if (e < 0) continue;
+            if (c.labelled[k]) {
+                boundary_irregular_edges[3] += 2;
+            } else {
+                boundary_irregular_edges[1] -= 2;
+            }
+        }
     }
 }
 

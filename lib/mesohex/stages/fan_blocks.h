@@ -23,6 +23,11 @@
 // label, also across the closing vertex of a closed chain), the chain's inner vertices have no branch and only the 2g
 // faces of its fan edges, its ends are fan-edge ends (g faces, g border edges, no branch) or the chain is closed, and
 // no edge is docked (docked_walls.h).
+// With CompatibleBlockOptions::fan_cap_branches an open end may also carry one branch edge (w, b) leaving within 35
+// degrees of the chain's outward direction e there (unit(b - w) . e >= cap_cos): the branch stands on the cap
+// (design note C1). The cap section at w + h e is its first chunk's bottom (fan_cap_section_ids, in the order of the
+// connection quad fan_cap_directions gives): the branch is shortened by h, no hex is added (4 per branch edge as
+// always), and the cap's end face becomes interior (its 8 rim edges get the chunk's hex: add_fan_block_irregular_edges).
 #include <array>
 #include <map>
 #include <vector>
@@ -54,6 +59,14 @@ SquareFit fit_square_frame(const Vec3& t, const std::vector<Vec3>& directions, c
 
 inline constexpr int kFanSectionIds = 9;  // ids per section: C, Q_0..Q_3, M_0..M_3
 inline constexpr int kFanChunkHexes = 4;  // hexes per fan edge and per cap
+// A branch stands on a chain end's cap when it leaves within 35 degrees of the chain's outward direction (cos 35
+// degrees): measured on issue 22's check (bench/issue22_check.py, seed 22), branches 0 - 30 degrees off the fan line
+// on the cap are valid, 5 of 18 at 45 degrees fold the first chunk (1 - 2 inverted raw hexes; docs/blocks.md,
+// "Branches on the fan block's cap"); the others keep the retraction (fan_end_repair.h, within 45 degrees).
+inline constexpr double kFanCapBranchCos = 0.81915204428899179;
+// The connection surfaces accept a cap branch up to 45 degrees off (cos 45 degrees): the pipeline decides on the input
+// sampling with kFanCapBranchCos, and the resampling may turn the branch's first edge by a few degrees.
+inline constexpr double kFanCapKeepCos = 0.70710678118654752;
 
 // One fan chain with a block.
 struct FanBlockChain {
@@ -64,6 +77,9 @@ struct FanBlockChain {
     std::vector<Vec3> axis_u;    // per vertex: u (unit, perpendicular to t); the second axis is cross(t, u)
     int degree = 0;              // faces around each fan edge (3 or 4)
     std::vector<char> labelled;  // per axis k = 0..3: a leaflet stands on it (else that side stays boundary)
+    // Per open end (0: vertices.front(), 1: vertices.back()): the branch edge standing on its cap, or -1
+    // (CompatibleBlockOptions::fan_cap_branches).
+    std::array<int, 2> cap_branch{-1, -1};
     friend bool operator==(const FanBlockChain&, const FanBlockChain&) = default;
 };
 
@@ -80,12 +96,29 @@ struct FanBlocks {
 // The chains of the skeleton that get a block (none unless options.enabled and options.fan_blocks): first the open
 // chains, each from its end with the smaller vertex id, in the order of those ends, then the closed chains in the
 // order of their smallest fan edge, each from that edge's first vertex. Deterministic. O(V + E + F).
+// cap_cos: the least unit(b - w) . e of a branch on a cap (kFanCapBranchCos; the connection surfaces pass
+// kFanCapKeepCos).
 FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
-                          const CompatibleBlockOptions& options);
+                          const CompatibleBlockOptions& options, double cap_cos = kFanCapBranchCos);
 
 // Fan edges and caps with a block (their hex count is 4 x (edges + caps)).
 long fan_block_edges(const FanBlocks& blocks);
 long fan_block_caps(const FanBlocks& blocks);
+
+// The branch edge standing on the cap of chain end v (FanBlockChain::cap_branch), or -1.
+int fan_cap_branch_at(const FanBlocks& blocks, int v);
+
+// The vertices whose cap carries a branch, increasing.
+std::vector<int> fan_cap_roots(const FanBlocks& blocks);
+
+// The connection quad of the branch on the cap of chain end position i (0 or n - 1 of an open chain): point x's unit
+// direction, the cap section's axis A_k seen from the end, counter-clockwise about the outward direction (k = x at the
+// last vertex, where e = t; k = -x mod 4 at the first, where e = -t).
+std::array<Vec3, 4> fan_cap_directions(const FanBlockChain& chain, int i);
+
+// The cap section ids (offsets from the vertex's first id, 9..17) in the connection quad's order: centre, the 4 points
+// Q of fan_cap_directions, the 4 edge midpoints M between points x and x + 1.
+std::array<int, 9> fan_cap_section_ids(const FanBlockChain& chain, int i);
 
 // Raw-mesh ids at a chain vertex: 9 (18 at an open end).
 int fan_block_vertex_ids(const FanBlocks& blocks, int v);
@@ -101,7 +134,8 @@ void fan_section_points(const FanBlockChain& chain, int i, const Vec3& c, double
 // Boundary edges of valence != 2 that the chain's chunks and caps add (the chain has no interior irregular edge):
 // per fan edge and per cap, the longitudinal edge through M_k has 1 block hex plus one plate (half-chunk) per labelled
 // neighbouring axis: valence 3 between two labelled axes, 1 between two free ones; on a cap's end face, the two rim
-// edges at a free axis' Q_k have 1 hex.
+// edges at a free axis' Q_k have 1 hex. A cap carrying a branch (cap_branch) adds the chunk's hex to its 8 rim edges:
+// 2 at a free axis' Q_k (regular), 3 at a labelled one's (the half-chunk's out column).
 void add_fan_block_irregular_edges(const FanBlockChain& chain, std::map<int, long>& boundary_irregular_edges);
 
 }  // namespace mesohex

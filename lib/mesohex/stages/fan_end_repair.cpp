@@ -466,16 +466,23 @@ struct ChainSplit {
     int end = -1, first_cut = -1, faces_cut = 0;
 };
 
-std::vector<ChainSplit> split_short_chains_with_two_branches(Skeleton& s) {
+// Is v one of the fan ends left to a fan block's cap (sorted)?
+bool left_to_cap(const std::vector<int>& fan_caps, int v) {
+    return std::binary_search(fan_caps.begin(), fan_caps.end(), v);
+}
+
+std::vector<ChainSplit> split_short_chains_with_two_branches(Skeleton& s, const std::vector<int>& fan_caps) {
     std::vector<ChainSplit> done;
     const int n = static_cast<int>(s.points.size());
     Incidence in = make_incidence(s);  // rebuilt after every cut below
     for (int w = 0; w < n; ++w) {
         Candidate c, other;
-        if (!branch_end(s, in, w, c)) continue;
+        if (left_to_cap(fan_caps, w) || !branch_end(s, in, w, c)) continue;
         const std::vector<int> chain = chain_from(s, in, w, c.u);
         const int k = static_cast<int>(chain.size()) - 1;
-        if (k < 1 || k >= 3 || chain.back() < w || !branch_end(s, in, chain.back(), other)) continue;
+        if (k < 1 || k >= 3 || chain.back() < w || left_to_cap(fan_caps, chain.back()) ||
+            !branch_end(s, in, chain.back(), other))
+            continue;
         bool crossable = true;
         for (int i = 0; i < k && crossable; ++i) {
             Candidate edge{chain[i + 1], chain[i], in.side_faces.at(std::minmax(chain[i], chain[i + 1])), {}};
@@ -1076,10 +1083,11 @@ std::optional<FanEndRefusal> repair_conditions(const Skeleton& s, int w) {
 
 }  // namespace
 
-std::optional<FanEndRefusalAt> first_fan_end_refusal(const Skeleton& s) {
+std::optional<FanEndRefusalAt> first_fan_end_refusal(const Skeleton& s, const std::vector<int>& fan_caps) {
     if (!well_formed(s)) return std::nullopt;  // the analysis reports the input
     const Incidence in = make_incidence(s);
     for (int v = 0; v < static_cast<int>(s.points.size()); ++v) {
+        if (left_to_cap(fan_caps, v)) continue;
         int branches = 0, fans = 0, degree = 0;
         for (const int e : in.vertex_edges[v]) {
             const int f = faces_on(in, v, other_end(s, e, v));
@@ -1097,7 +1105,8 @@ namespace {
 
 // The retraction rounds: one retraction (or a single fan edge's split and retraction) per round, the lowest vertex
 // first, until none is left; appended to done.
-void retraction_rounds(Skeleton& s, const std::vector<ChainSplit>& chains, std::vector<FanEndRetraction>& done) {
+void retraction_rounds(Skeleton& s, const std::vector<ChainSplit>& chains, const std::vector<int>& fan_caps,
+                       std::vector<FanEndRetraction>& done) {
     const int n = static_cast<int>(s.points.size());
     for (int round = 0; round < n; ++round) {
         const Incidence in = make_incidence(s);
@@ -1106,7 +1115,7 @@ void retraction_rounds(Skeleton& s, const std::vector<ChainSplit>& chains, std::
         Candidate split;
         std::vector<Crossing> strips;
         for (; w < n; ++w) {
-            const EndKind kind = end_kind(s, in, w, c);
+            const EndKind kind = left_to_cap(fan_caps, w) ? EndKind::None : end_kind(s, in, w, c);
             if (kind == EndKind::Retract) break;
             if (kind == EndKind::Split && split_at < 0) {
                 strips = fan_edge_strips(s, in, c);
@@ -1138,17 +1147,17 @@ void retraction_rounds(Skeleton& s, const std::vector<ChainSplit>& chains, std::
 
 }  // namespace
 
-std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s) {
+std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s, const std::vector<int>& fan_caps) {
     std::vector<FanEndRetraction> done;
     if (s.faces.empty() || !well_formed(s) || !has_side_of_three_faces(s)) return done;  // a candidate needs a fan edge
-    const std::vector<ChainSplit> chains = split_short_chains_with_two_branches(s);
-    retraction_rounds(s, chains, done);
+    const std::vector<ChainSplit> chains = split_short_chains_with_two_branches(s, fan_caps);
+    retraction_rounds(s, chains, fan_caps, done);
     // Branches far from the fan line: roots moved; a fan end that carried one is then plain, so the other end of its
     // chain may now be retracted (a single fan edge: split first).
     const std::vector<FanEndRetraction> moved = move_far_roots(s);
     if (moved.empty()) return done;
     done.insert(done.end(), moved.begin(), moved.end());
-    retraction_rounds(s, {}, done);
+    retraction_rounds(s, {}, fan_caps, done);
     return done;
 }
 

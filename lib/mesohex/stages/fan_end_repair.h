@@ -255,7 +255,8 @@ struct FanEndRefusalAt {
     int fan_degree = 0;
     FanEndRefusal why;
 };
-std::optional<FanEndRefusalAt> first_fan_end_refusal(const Skeleton& s);
+// Vertices in fan_caps (sorted) are skipped: left to a fan block's cap (retract_fan_ends).
+std::optional<FanEndRefusalAt> first_fan_end_refusal(const Skeleton& s, const std::vector<int>& fan_caps = {});
 
 // Preconditions: one radius > 0 per vertex, faces quads, indices in range (else nothing is done: analysis reports
 // the input). Postconditions: V - E + F unchanged (each retracted face adds w_i and the side (u, w_i)); input vertices,
@@ -268,6 +269,10 @@ std::optional<FanEndRefusalAt> first_fan_end_refusal(const Skeleton& s);
 // by the analysis). Then the roots of branches far from the fan line are moved (increasing w, each after its row
 // cut), then the retraction rounds run again. Edges keep their indices (a moved branch edge changes its end w to m).
 // Deterministic. O(repairs x (V + E + F) log E).
-std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s);
+// fan_caps (sorted vertex ids): fan-edge ends whose branch stands on the fan block's cap (design note C1,
+// CompatibleBlockOptions::fan_cap_branches; the pipeline finds them with find_fan_blocks on the input): left as they
+// are, neither retracted nor cut (a chain with such an end has no other end to retract: the block accepts only chains
+// whose ends are plain or carry such a branch).
+std::vector<FanEndRetraction> retract_fan_ends(Skeleton& s, const std::vector<int>& fan_caps = {});
 
 }  // namespace mesohex

@@ -72,7 +72,7 @@ BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& 
             edges = br.edges;
             auto constrained = [&](int v) {
                 return an.vertex_class[v] == VertexClass::BranchingPoint ||
-                       an.vertex_class[v] == VertexClass::BLJoint || roots_branch(an, v);
+                       an.vertex_class[v] == VertexClass::BLJoint || roots_branch(an, v) || roots_fan_cap(an, v);
             };
             if (!br.ring && !constrained(verts.front()) && constrained(verts.back())) {
                 std::reverse(verts.begin(), verts.end());
@@ -132,9 +132,10 @@ BranchFrames propagate_frames(const Skeleton& skeleton, const SkeletonAnalysis& 
                 // Twist budget per edge: its length, except that an edge ending on a compatible block's face takes
                 // none while the branch has other edges (a block face is as wide as the tube and close to the next
                 // joint: a twisted first chunk folds; the partition's first chunks start from the centre and do not).
+                // The same for an edge standing on a fan block's cap (as wide as the tube, h from its vertex).
                 auto on_block = [&](int i) {
-                    return (i == 0 && !br.ring && cs.vertex_block[verts[0]] >= 0) ||
-                           (i == m - 1 && !br.ring && cs.vertex_block[verts[m]] >= 0);
+                    const auto square = [&](int v) { return cs.vertex_block[v] >= 0 || roots_fan_cap(an, v); };
+                    return (i == 0 && !br.ring && square(verts[0])) || (i == m - 1 && !br.ring && square(verts[m]));
                 };
                 twist.assign(m + 1, 0.0);
                 for (int i = 1; i <= m; ++i) twist[i] = twist[i - 1] + (on_block(i - 1) ? 0.0 : arc[i] - arc[i - 1]);

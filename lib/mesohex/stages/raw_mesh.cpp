@@ -289,7 +289,8 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     for (int v = 0; v < nv; ++v) {
         const int np = cs.point_begin[v + 1] - cs.point_begin[v];
         const int ned = cs.edge_begin[v + 1] - cs.edge_begin[v];
-        if (np > 0 && !roots_branch(an, v)) p.vertices += block_at(cs, v) >= 0 ? kBlockVertices : 1 + np + ned;
+        if (np > 0 && !roots_branch(an, v) && !roots_fan_cap(an, v))
+            p.vertices += block_at(cs, v) >= 0 ? kBlockVertices : 1 + np + ned;
         if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
         if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
         if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
@@ -702,12 +703,19 @@ std::array<int, 9> border_patch_ids(const Skeleton& skeleton, const SkeletonAnal
 }
 
 // Branches rooted on the plates: their connection quad's centre, 4 points and 4 edge midpoints are vertices the
-// plates and half-chunks already have.
-RootedPatches rooted_patch_ids(const Skeleton& skeleton, const SkeletonAnalysis& an, const FaceSideIds& sides,
-                               const HexSlots& slots, const RawMesh& raw) {
+// plates and half-chunks already have; a branch on a fan block's cap: the cap section's (fan_cap_section_ids).
+RootedPatches rooted_patch_ids(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                               const FaceSideIds& sides, const HexSlots& slots, const RawMesh& raw) {
     const int nv = static_cast<int>(skeleton.points.size());
     RootedPatches rp{std::vector<std::array<int, 9>>(nv, std::array<int, 9>{}), std::vector<char>(nv, 0)};
     for (int v = 0; v < nv; ++v) {
+        if (roots_fan_cap(an, v)) {  // on a fan block's cap: the cap section in the connection quad's order
+            const FanBlockChain& c = cs.fan_blocks.chains[fan_block_at(cs, v)];
+            const std::array<int, 9> ids = fan_cap_section_ids(c, cs.fan_blocks.vertex_index[v]);
+            rp.rooted[v] = 1;
+            for (int x = 0; x < 9; ++x) rp.ids[v][x] = raw.vertex_base[v] + ids[x];
+            continue;
+        }
         if (!roots_branch(an, v)) continue;
         rp.rooted[v] = 1;
         const int e = first_branch_edge(an, v);
@@ -1153,7 +1161,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     write_leaflet_plates(an, sides, slots, raw);
     write_half_chunks(an, cs, gaps, sides, slots, raw);
     // Rooted branches read their patch from the plates and half-chunks written above.
-    const RootedPatches rooted = rooted_patch_ids(skeleton, an, sides, slots, raw);
+    const RootedPatches rooted = rooted_patch_ids(skeleton, an, cs, sides, slots, raw);
     write_branch_chunks(skeleton, cs, frames, slots, rooted, raw);
     write_block_hexes(cs, slots, raw);
     write_fan_block_hexes(cs, slots, raw);

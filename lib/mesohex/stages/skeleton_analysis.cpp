@@ -330,8 +330,8 @@ std::string irregular_fan_reason(const VertexStar& st) {
 // Fan-edge vertex: its class, or Error(UnsupportedConfiguration) for a branch edge on it (accepted on a fan-edge end
 // with fan_end_branches) or an irregular fan.
 VertexClass classify_fan_vertex(const Skeleton& s, const VertexStar& st, const std::string& vname, int v,
-                                bool fan_end_branches) {
-    if (st.nb > 0 && st.nfan == 1 && !fan_end_branches) {
+                                bool fan_end_branches, bool fan_cap_branches) {
+    if (st.nb > 0 && st.nfan == 1 && !fan_end_branches && !(fan_cap_branches && st.nb == 1)) {
         // Why the fan-end repair (fan_end_repair.h) does not take it: the first of its conditions that fails, and
         // the edit; none fails when the repair did not run.
         const int g = st.fan_degrees[0];
@@ -370,10 +370,10 @@ VertexClass classify_fan_vertex(const Skeleton& s, const VertexStar& st, const s
 
 // The class of vertex v (pseudo-degree, reference-notes §4.1-4.2, plus explicit rejection of the unsupported); sets
 // vertex_border_root[v] at a border vertex with one branch.
-VertexClass classify_vertex(const Skeleton& s, const VertexStar& st, int v, bool fan_end_branches,
+VertexClass classify_vertex(const Skeleton& s, const VertexStar& st, int v, const AnalysisOptions& options,
                             SkeletonAnalysis& an) {
     const std::string vname = "skeleton vertex " + std::to_string(v);
-    if (st.nfan > 0) return classify_fan_vertex(s, st, vname, v, fan_end_branches);
+    if (st.nfan > 0) return classify_fan_vertex(s, st, vname, v, options.fan_end_branches, options.fan_cap_branches);
     if (st.inside_a_leaflet && st.nb == 1 && st.nbnd == 0 && st.leaflets == 1 && st.ninner == 4 && st.faces == 4) {
         // Beyond the paper's limitation 1: one branch leaving a regular interior vertex (4 faces of one
         // leaflet). The branch's first chunk stands on the 2 x 2 plate faces around the vertex, on the side the
@@ -419,7 +419,7 @@ VertexClass classify_vertex(const Skeleton& s, const VertexStar& st, int v, bool
 
 // Vertex classification. Per vertex: does some leaflet have faces at it but no boundary or fan edge at it (the vertex
 // is inside that leaflet)? Serial in face order.
-void classify_vertices(const Skeleton& s, bool fan_end_branches, SkeletonAnalysis& an) {
+void classify_vertices(const Skeleton& s, const AnalysisOptions& options, SkeletonAnalysis& an) {
     const int nv = static_cast<int>(s.points.size());
     const int nf = static_cast<int>(an.face_vertices.size());
     std::vector<std::vector<std::pair<int, bool>>> leaflet_rim(nv);  // (leaflet, has a rim edge at the vertex)
@@ -466,7 +466,7 @@ void classify_vertices(const Skeleton& s, bool fan_end_branches, SkeletonAnalysi
         st.faces = faces_at[v];
         an.vertex_branch_edges[v] = st.nb;
         an.vertex_boundary_edges[v] = st.nbnd;
-        an.vertex_class[v] = classify_vertex(s, st, v, fan_end_branches, an);
+        an.vertex_class[v] = classify_vertex(s, st, v, options, an);
     }
 }
 
@@ -626,7 +626,7 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     find_leaflets(edge_faces, an);
     compute_face_normals(s, an);
     find_docked_walls(s, an);
-    classify_vertices(s, options.fan_end_branches, an);
+    classify_vertices(s, options, an);
     check_rooted_branches(s, an);
     std::vector<char> branch_edge(s.edges.size()), joint(s.points.size());
     for (std::size_t e = 0; e < branch_edge.size(); ++e) branch_edge[e] = an.edge_degree[e] == 0;

@@ -128,6 +128,10 @@ struct AnalysisOptions {
     // Accept branch edges on a fan-edge end (classified FanEdgeEnd; the raw mesh cannot build them): for the analysis
     // of an input that repair_skeleton's fan-end retraction turns into a leaflet corner (pipeline.cpp).
     bool fan_end_branches = false;
+    // Accept one branch edge on a fan-edge end (classified FanEdgeEnd, vertex_branch_edges 1): a branch standing on
+    // the fan block's cap there (CompatibleBlockOptions::fan_cap_branches, fan_blocks.h); the connection surfaces
+    // refuse it, naming the vertex, when no fan-block chain ends there with that branch accepted. Set by the pipeline.
+    bool fan_cap_branches = false;
 };
 
 // Preconditions (checked, Error(InvalidInput) naming the element otherwise): indices in range, no self-loop edge,
@@ -164,6 +168,11 @@ inline bool face_counts_at(const SkeletonAnalysis& an, int f, int w) {
 inline bool roots_branch(const SkeletonAnalysis& an, int v) {
     return (an.vertex_class[v] == VertexClass::LeafletInterior || an.vertex_class[v] == VertexClass::LeafletBoundary) &&
            an.vertex_branch_edges[v] == 1;
+}
+// Does v carry a branch on a fan-edge end (accepted with AnalysisOptions::fan_cap_branches: the branch stands on the
+// fan block's cap, fan_blocks.h)?
+inline bool roots_fan_cap(const SkeletonAnalysis& an, int v) {
+    return an.vertex_class[v] == VertexClass::FanEdgeEnd && an.vertex_branch_edges[v] == 1;
 }
 // The first branch edge (no face) incident to v in edge id order, or -1.
 inline int first_branch_edge(const SkeletonAnalysis& an, int v) {

@@ -1090,13 +1090,13 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clea
 }  // namespace
 
 SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepairOptions& o,
-                                     const CompatibleBlockOptions* blocks) {
+                                     const CompatibleBlockOptions* blocks, const std::vector<int>& fan_caps) {
     SkeletonRepairResult res;
     res.skeleton = input;
     res.vertex_map.resize(input.points.size());
     for (std::size_t v = 0; v < input.points.size(); ++v) res.vertex_map[v] = static_cast<int>(v);
     Skeleton& s = res.skeleton;
-    if (o.fan_end_retraction) res.fan_end_retractions = retract_fan_ends(s);
+    if (o.fan_end_retraction) res.fan_end_retractions = retract_fan_ends(s, fan_caps);
     for (const FanEndRetraction& r : res.fan_end_retractions)
         for (const int v : {r.bend, r.first_joint})
             if (v >= 0) res.fan_end_pins.push_back(v);

@@ -207,7 +207,10 @@ struct SkeletonRepairResult {
 // place; new edges inside split faces are appended in face order; a split face keeps its index for its first piece,
 // the others are appended. Each split adds per strip edge one vertex and one edge, per cut face one edge and one face
 // (4 edges and 3 faces and a centre vertex for a face cut twice): V - E + F unchanged. O(V + E + F) per root.
+// fan_caps (sorted vertex ids): fan-edge ends whose branch stands on a fan block's cap, left as they are by the
+// fan-end retraction (retract_fan_ends).
 SkeletonRepairResult repair_skeleton(const Skeleton& s, const SkeletonRepairOptions& o = {},
-                                     const CompatibleBlockOptions* blocks = nullptr);
+                                     const CompatibleBlockOptions* blocks = nullptr,
+                                     const std::vector<int>& fan_caps = {});
 
 }  // namespace mesohex
