@@ -142,6 +142,9 @@ void register_auto(CLI::App& app, int* status) {
                   "medial axis: angle filter as a topology-keeping erosion (see mesohex medial --keep-topology)");
     cmd->add_flag("--limbs", args->skeleton.medial.keep_limbs,
                   "medial axis: keep the cut-off limbs as trees of curves (see mesohex medial --limbs)");
+    cmd->add_flag("--extend-rims", args->skeleton.medial.extend_rims,
+                  "medial axis: carry the sheet borders out to the rounded rims the angle filter trimmed them short "
+                  "of (see mesohex medial --extend-rims)");
     cmd->add_option("--thickness-samples", args->skeleton.medial.thickness_samples,
                     "medial axis: samples across the local thickness in thin parts (see mesohex medial "
                     "--thickness-samples; 0 = off)")

@@ -79,6 +79,14 @@ void register_medial(CLI::App& app, int* status) {
                   "Also remove the fringe chains that end where curves branch (not only those between sheet vertices)");
     cmd->add_flag("!--no-prune-after-fringe", o.prune_after_fringe,
                   "Keep the spurs the fringe removal leaves (short curves from a sheet's border that end in a tip)");
+    cmd->add_flag("--extend-rims", o.extend_rims,
+                  "Carry each sheet border vertex out along its sheet to a rounded rim ahead (where the angle filter "
+                  "trimmed the sheet short of it)");
+    cmd->add_option("--rim-reach", o.rim_reach_factor,
+                    "Rims: a border vertex has reached the rim when the surface straight ahead is within this x its "
+                    "ball's radius")
+        ->check(finite_range(1, 4))
+        ->capture_default_str();
     cmd->footer("Example: mesohex medial plate1.obj -o plate1.ma && mesohex import plate1.ma -o plate1_skel.obj");
     cmd->callback([args, status]() {
         auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
@@ -95,8 +103,9 @@ void register_medial(CLI::App& app, int* status) {
                   << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.limbs << " limbs kept ("
                   << m.limb_branches << " branches), " << m.collapses << " collapses, " << m.thin_triangles_removed
                   << " thin triangles to curves, " << m.pruned_tips << " tips pruned, " << m.fringe_curves
-                  << " fringe chains removed, " << m.pruned_spurs << " spurs after them (read " << ms(t0, t1)
-                  << " ms, medial " << ms(t1, t2) << " ms)\n"
+                  << " fringe chains removed, " << m.pruned_spurs << " spurs after them, " << m.rim_moved << " of "
+                  << m.rim_border_vertices << " border vertices out to a rim (" << m.rim_sharp
+                  << " at sharp edges) (read " << ms(t0, t1) << " ms, medial " << ms(t1, t2) << " ms)\n"
                   << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size() << " edges, "
                   << m.medial.faces.size() << " triangles; " << m.sheets << " sheets, " << m.curves
                   << " curves, Euler characteristic " << m.euler << ", sheet fraction " << m.sheet_fraction << " -> "

@@ -210,6 +210,8 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                               {"sheet_fraction", m.sheet_fraction},
                               {"limbs", m.limbs},
                               {"limb_branches", m.limb_branches},
+                              {"rim_border_vertices", m.rim_border_vertices},
+                              {"rim_moved", m.rim_moved},
                               {"coverage_gap_relative", chosen.coverage_gap}};
     }
     if (chosen.raw_checked)

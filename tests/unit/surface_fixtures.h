@@ -1,7 +1,9 @@
 #pragma once
 // Closed triangle surfaces written for the tests, small enough to check by hand.
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "mesohex/core/hex_mesh.h"
 
@@ -23,6 +25,31 @@ inline TriangleMesh torus_surface(double R, double r, int nu, int nv) {
             m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
             m.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
         }
+    return m;
+}
+
+// Prism over a polygon (counter-clockwise, star-shaped from its vertex mean) between z0 and z1; caps as fans from a
+// centre vertex. Outward oriented.
+inline TriangleMesh prism_surface(const std::vector<std::array<double, 2>>& poly, double z0, double z1) {
+    TriangleMesh m;
+    const int n = static_cast<int>(poly.size());
+    double cx = 0, cy = 0;
+    for (const std::array<double, 2>& p : poly) {
+        cx += p[0] / n;
+        cy += p[1] / n;
+    }
+    for (const std::array<double, 2>& p : poly) m.points.push_back({p[0], p[1], z0});
+    for (const std::array<double, 2>& p : poly) m.points.push_back({p[0], p[1], z1});
+    m.points.push_back({cx, cy, z0});
+    m.points.push_back({cx, cy, z1});
+    const int bottom = 2 * n, top = 2 * n + 1;
+    for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        m.triangles.push_back({i, j, n + j});
+        m.triangles.push_back({i, n + j, n + i});
+        m.triangles.push_back({bottom, j, i});
+        m.triangles.push_back({top, n + i, n + j});
+    }
     return m;
 }
 

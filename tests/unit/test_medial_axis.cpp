@@ -23,29 +23,8 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Prism over a polygon (counter-clockwise, star-shaped from its vertex mean) between z0 and z1; caps as fans from a
-// centre vertex. Outward oriented.
 TriangleMesh extrude(const std::vector<std::array<double, 2>>& poly, double z0, double z1) {
-    TriangleMesh m;
-    const int n = static_cast<int>(poly.size());
-    double cx = 0, cy = 0;
-    for (const std::array<double, 2>& p : poly) {
-        cx += p[0] / n;
-        cy += p[1] / n;
-    }
-    for (const std::array<double, 2>& p : poly) m.points.push_back({p[0], p[1], z0});
-    for (const std::array<double, 2>& p : poly) m.points.push_back({p[0], p[1], z1});
-    m.points.push_back({cx, cy, z0});
-    m.points.push_back({cx, cy, z1});
-    const int bottom = 2 * n, top = 2 * n + 1;
-    for (int i = 0; i < n; ++i) {
-        const int j = (i + 1) % n;
-        m.triangles.push_back({i, j, n + j});
-        m.triangles.push_back({i, n + j, n + i});
-        m.triangles.push_back({bottom, j, i});
-        m.triangles.push_back({top, n + i, n + j});
-    }
-    return m;
+    return test::prism_surface(poly, z0, z1);
 }
 
 // Surface of revolution about z of a profile (rho, z) that starts and ends on the axis (rho = 0), n segments.

@@ -1,4 +1,5 @@
 #include "mesohex/surface/medial_axis.h"
+#include "mesohex/surface/medial_rims.h"
 #include "mesohex/surface/skeletonize.h"
 
 #include <CGAL/Delaunay_triangulation_3.h>
@@ -1904,6 +1905,13 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     // The fringe removal leaves the webs' stubs (a curve node of a web next to a sheet becomes a tip one short edge
     // from the sheet's border): the same spur rule once more, on the final medial mesh.
     if (options.prune_after_fringe) out.pruned_spurs = prune_spurs(out.medial, options.prune_factor);
+    if (options.extend_rims) {
+        const RimExtension rims = extend_rim_borders(out.medial, query, options.rim_reach_factor,
+                                                     options.rim_min_radius_fraction, options.rim_max_move);
+        out.rim_border_vertices = rims.border_vertices;
+        out.rim_moved = rims.moved;
+        out.rim_sharp = rims.sharp;
+    }
     measure(out);
     return out;
 }
