@@ -19,6 +19,7 @@ struct AnalyzeArgs {
     std::string path;
     double radius = 0;         // as `mesh --radius`
     bool no_resample = false;  // as `mesh --no-resample`
+    bool no_fan_caps = false;  // as `mesh --no-fan-cap-branches`
     bool no_verdict = false;
 };
 
@@ -32,6 +33,9 @@ void register_analyze(CLI::App& app, int* status) {
     cmd->add_option("skeleton", args->path, "Skeleton file (.skel, .cg, .cgr, .ig, .obj)")->required();
     cmd->add_option("--radius", args->radius, "As for `mesh`: radius for skeletons without one");
     cmd->add_flag("--no-resample", args->no_resample, "As for `mesh`: keep the input sampling");
+    cmd->add_flag("--no-fan-cap-branches", args->no_fan_caps,
+                  "As for `mesh`: retract the fan edge from a branch on a fan-block chain end instead of standing the "
+                  "branch on the block's cap");
     cmd->add_flag("--no-verdict", args->no_verdict, "Only the analysis: do not run the raw pipeline");
     cmd->footer(
         "Example: mesohex analyze cactus.skel\n"
@@ -45,6 +49,7 @@ void register_analyze(CLI::App& app, int* status) {
         PipelineOptions options;
         options.radius = args->radius;
         options.resample = !args->no_resample;
+        options.connection_surfaces.blocks.fan_cap_branches = !args->no_fan_caps;
         const PipelineResult res =
             args->no_verdict ? at_stage("analysis", args->path, [&] { return prepare_skeleton(skeleton, options); })
                              : at_stage("mesh", args->path, [&] { return run_pipeline(skeleton, options); });

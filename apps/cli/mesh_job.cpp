@@ -221,10 +221,11 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_flag_callback(
         "--no-fan-blocks", [job] { job->options.pipeline.connection_surfaces.blocks.fan_blocks = false; },
         "No fan block: the paper's gap vertices on every fan edge (8-hex blocks stay on; --no-blocks turns both off)");
-    cmd->add_flag("--fan-cap-branches", job->options.pipeline.connection_surfaces.blocks.fan_cap_branches,
+    cmd->add_flag("--fan-cap-branches,!--no-fan-cap-branches",
+                  job->options.pipeline.connection_surfaces.blocks.fan_cap_branches,
                   "A branch on a fan-block chain end within 35 degrees of the fan line's continuation stands on the "
-                  "block's cap instead of the fan edge being retracted from it (off by default: docs/blocks.md, "
-                  "\"Branches on the fan block's cap\")");
+                  "block's cap instead of the fan edge being retracted from it (on by default; --no-fan-cap-branches "
+                  "retracts it: docs/blocks.md, \"Branches on the fan block's cap\")");
     add_padding_options(cmd, job);
     cmd->add_option("--junction-cover", job->options.pipeline.raw_mesh.cover.fraction,
                     "Move the surface points of branching points out along their rays by this fraction of the way to "

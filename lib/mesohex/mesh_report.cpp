@@ -123,6 +123,7 @@ nlohmann::json repairs_json(const PipelineResult& res) {
             {"docked_foot_splits", res.docked_foot_splits},
             {"junction_splits", res.junction_splits},
             {"fan_end_retractions", res.fan_end_retractions},
+            {"fan_cap_branches", res.fan_cap_branches},
             {"fan_end_moved_roots", res.fan_end_moved_roots},
             {"fan_end_far_retractions", res.fan_end_far_retractions},
             {"fan_edge_splits", res.fan_edge_splits}};

@@ -147,6 +147,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         const std::vector<int> fan_caps =
             fan_caps_on ? fan_cap_roots(find_fan_blocks(s, res.input_analysis, blocks)) : std::vector<int>{};
         SkeletonRepairResult repaired = repair_skeleton(s, options.repair, &blocks, fan_caps);
+        res.fan_cap_branches = fan_caps;
         clock.lap("skeleton_repair");
         std::vector<int> repaired_caps;  // the same vertices in the repaired numbering
         for (const int v : fan_caps)
@@ -262,8 +263,15 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
         "fan-edge chains split (with their leaflets' face strips) to be retracted: single fan edges in two, chains "
         "of 1 or 2 fan edges with branches at both ends into 3 or 4, the row under a branch moved off the fan end",
         res.fan_edge_splits);
-    const std::string text = out.str();
-    return text.empty() ? "repairs: none\n" : text;
+    std::string text = out.str();
+    if (text.empty()) text = "repairs: none\n";
+    if (!res.fan_cap_branches.empty()) {  // not a repair: the skeleton is meshed as given there
+        std::ostringstream caps;
+        caps << "branches standing on fan blocks' caps (not retracted): at input vertices";
+        for (const int v : res.fan_cap_branches) caps << " " << v;
+        text += caps.str() + "\n";
+    }
+    return text;
 }
 
 }  // namespace mesohex

@@ -57,6 +57,8 @@ struct PipelineResult {
     int docked_foot_splits = 0;            // plate face strips split beside and beyond docked chains
     int junction_splits = 0;               // degree-4 branching points the repair split into two of degree 3
     std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners
+    // Input vertices whose branch stands on a fan block's cap (CompatibleBlockOptions::fan_cap_branches): not repaired.
+    std::vector<int> fan_cap_branches;
     // Of fan_end_retractions: branches far from the fan line whose root the repair moved onto a leaflet border
     // (FanEndRetraction::moved_root), and those retracted with the fan edge instead (FanEndRetraction::far_branch,
     // kFallbackCornerDeg: a notch at the leaflets' corner).

@@ -88,23 +88,34 @@ TEST(CliAnalyze, SameVerdictAsMeshOnEveryGeneratedShape) {
     EXPECT_EQ(accepted, static_cast<int>(names.size()));  // every shape meshes with the defaults
 }
 
-// Branches on fan-edge ends: the T and X fans with a branch continuing the fan line are meshed after the retraction
-// (analyze says so and names the input vertex), perpendicular ones after the root moves onto a leaflet border; a
-// branch leaning back (135 degrees) and the input sampling (no repair without resampling) are refused by both with
-// status 3 (unsupported); a branch on the end of a single fan edge is meshed
-// after the repair splits the fan edge and retracts one half (refused without resampling). Docked walls (inside the
-// plate, on both sides, from the border) are accepted by both.
+// Branches on fan-edge ends: the T and X fans with a branch continuing the fan line stand on the fan block's cap
+// (design note C1; analyze names the input vertex, with and without resampling) and, with --no-fan-cap-branches, are
+// meshed after the retraction (refused without resampling: no repair then); perpendicular ones after the root moves
+// onto a leaflet border; a branch leaning back (135 degrees) has its first edge bent. A branch on the end of a single
+// fan edge stands on the cap too, and with --no-fan-cap-branches is meshed after the repair splits the fan edge and
+// retracts one half (refused without resampling). Docked walls (inside the plate, on both sides, from the border) are
+// accepted by both.
 TEST(CliAnalyze, SameVerdictAsMeshOnRepairedConfigurations) {
+    const std::string retract = " --no-fan-cap-branches";
     for (const char* n : {"3", "4"}) {
         const std::string cont = generate(std::string("fanend") + n + "c.obj", std::string("fanend -n ") + n + " -m 1");
         const Verdicts c = verdicts(cont, "");
         EXPECT_EQ(expect_same_verdict(cont, c), 0);
         EXPECT_TRUE(contains(c.analyze.output,
+                             "repairs: none\nbranches standing on fan blocks' caps (not retracted): at input "
+                             "vertices 2\n"))
+            << c.analyze.output;
+        EXPECT_EQ(expect_same_verdict(cont + " --no-resample", verdicts(cont, " --no-resample")), 0);
+        const Verdicts r = verdicts(cont, retract);
+        EXPECT_EQ(expect_same_verdict(cont + retract, r), 0);
+        EXPECT_TRUE(contains(r.analyze.output,
                              "repairs: fan edges retracted from branches on fan-edge ends: at input "
                              "vertices "))
-            << c.analyze.output;
-        EXPECT_TRUE(contains(c.analyze_only.output, "repairs: fan edges retracted")) << c.analyze_only.output;
-        EXPECT_EQ(expect_same_verdict(cont + " --no-resample", verdicts(cont, " --no-resample")), 3);
+            << r.analyze.output;
+        EXPECT_TRUE(contains(r.analyze_only.output, "repairs: fan edges retracted")) << r.analyze_only.output;
+        EXPECT_FALSE(contains(r.analyze.output, "caps")) << r.analyze.output;
+        EXPECT_EQ(expect_same_verdict(cont + retract + " --no-resample", verdicts(cont, retract + " --no-resample")),
+                  3);
         const std::string perp = generate(std::string("fanend") + n + "p.obj", std::string("fanend -n ") + n + " -m 2");
         EXPECT_EQ(expect_same_verdict(perp, verdicts(perp, "")), 0);  // the root moved onto a leaflet border
         const std::string back = generate(std::string("fanend") + n + "b.obj", std::string("fanend -n ") + n + " -m 5");
@@ -114,12 +125,15 @@ TEST(CliAnalyze, SameVerdictAsMeshOnRepairedConfigurations) {
     const std::string single = (test_dir() / "single_fan_edge.obj").string();
     std::ofstream(single) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 -1 0\nv 1 -1 0\nv 0 0 1\nv 1 0 1\n"
                              "v 2 0 0\nv 3 0 0\nf 1 2 4 3\nf 2 1 5 6\nf 1 2 8 7\nl 2 9\nl 9 10\n";
-    const Verdicts s = verdicts(single, " --radius 0.3");
+    const Verdicts cap = verdicts(single, " --radius 0.3");
+    EXPECT_EQ(expect_same_verdict(single, cap), 0);
+    EXPECT_TRUE(contains(cap.analyze.output, "caps (not retracted): at input vertices 1\n")) << cap.analyze.output;
+    const Verdicts s = verdicts(single, " --radius 0.3" + retract);
     EXPECT_EQ(expect_same_verdict(single, s), 0);
     EXPECT_EQ(s.mesh.status, 0) << s.mesh.output;  // no inverted raw hex
     EXPECT_TRUE(contains(s.analyze.output, "repairs: fan-edge chains split")) << s.analyze.output;
     EXPECT_TRUE(contains(s.analyze.output, "branches on fan-edge ends: at input vertices 1")) << s.analyze.output;
-    const Verdicts raw = verdicts(single, " --radius 0.3 --no-resample");
+    const Verdicts raw = verdicts(single, " --radius 0.3 --no-resample" + retract);
     EXPECT_EQ(expect_same_verdict(single + " --no-resample", raw), 3);
     EXPECT_TRUE(contains(raw.analyze.output, "skeleton vertex 1")) << raw.analyze.output;
     for (const char* wall : {"wall", "wallboth", "walledge"}) {

@@ -334,7 +334,9 @@ TEST(FanBlocks, BranchOnTheCapOnlyNearTheFanLine) {
         EXPECT_EQ(fan_cap_roots(find_fan_blocks(s, an, on)), deg < 35 ? std::vector<int>{2} : std::vector<int>{});
         EXPECT_EQ(fan_cap_roots(find_fan_blocks(s, an, on, kFanCapKeepCos)),
                   deg < 45 ? std::vector<int>{2} : std::vector<int>{});
-        EXPECT_TRUE(find_fan_blocks(s, an, CompatibleBlockOptions{}).chains.empty());  // option off: end refused
+        CompatibleBlockOptions off;
+        off.fan_cap_branches = false;
+        EXPECT_TRUE(find_fan_blocks(s, an, off).chains.empty());  // option off: end refused
         if (deg < 45) {
             const RawRun r = mesh_raw_with_caps(s);
             EXPECT_TRUE(r.valid);

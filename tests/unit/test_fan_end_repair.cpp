@@ -30,9 +30,23 @@ Skeleton fan_end(int strips, int direction) {
     return generate_skeleton("fanend", o);
 }
 
+// The retraction (design note C2) is what these tests check: the fan block's cap (C1, on by default) would carry a
+// branch continuing the fan line instead, so it is turned off here except where a test says otherwise.
+PipelineOptions retraction_options() {
+    PipelineOptions o;
+    o.connection_surfaces.blocks.fan_cap_branches = false;
+    return o;
+}
+
+MeshOptions retraction_mesh_options() {
+    MeshOptions o;
+    o.pipeline = retraction_options();
+    return o;
+}
+
 // The raw stages on the skeleton as given (no resampling, no repair).
 PipelineResult raw_as_given(const Skeleton& s) {
-    PipelineOptions o;
+    PipelineOptions o = retraction_options();
     o.resample = false;
     return run_pipeline(s, o);
 }
@@ -66,7 +80,9 @@ void expect_refused_with(const Skeleton& s, const PipelineOptions& o, int v, con
     expect_refusal([&] { (void)run_pipeline(s, o); }, "skeleton vertex " + std::to_string(v) + ":", words);
 }
 
-void expect_refused(const Skeleton& s, int v, const std::string& words) { expect_refused_with(s, {}, v, words); }
+void expect_refused(const Skeleton& s, int v, const std::string& words) {
+    expect_refused_with(s, retraction_options(), v, words);
+}
 
 }  // namespace
 
@@ -179,7 +195,7 @@ TEST(FanEndRepair, PerpendicularBranchRootMovesOntoALeafletBorder) {
         EXPECT_EQ(q.singular_boundary_edges, raw.predicted.boundary_irregular_edges);
         EXPECT_EQ(q.singular_interior_edges, raw.predicted.interior_irregular_edges);
         // Through mesh_skeleton (repair, resampling): prediction exact, valid, no inverted hex.
-        const MeshRun run = mesh_skeleton(fan_end(strips, 2), nullptr);
+        const MeshRun run = mesh_skeleton(fan_end(strips, 2), nullptr, retraction_mesh_options());
         EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
         EXPECT_TRUE(run.prediction_exact);
         expect_valid(run.pipeline, 1);
@@ -191,7 +207,7 @@ TEST(FanEndRepair, PerpendicularBranchRootMovesOntoALeafletBorder) {
 TEST(FanEndRepair, WholePipelineOnTAndX) {
     for (const int strips : {3, 4}) {
         SCOPED_TRACE(strips);
-        const PipelineResult r = run_pipeline(fan_end(strips, 1));
+        const PipelineResult r = run_pipeline(fan_end(strips, 1), retraction_options());
         EXPECT_EQ(r.fan_end_retractions, std::vector<int>{2});
         EXPECT_EQ(r.input_analysis.vertex_class[2], VertexClass::FanEdgeEnd);
         expect_valid(r, 1);
@@ -274,7 +290,7 @@ TEST(FanEndRepair, ThickRadiiMeshWithoutInvertedHexes) {
                 o.n = strips;
                 o.m = direction;
                 o.radius_scale = scale;
-                const MeshRun run = mesh_skeleton(generate_skeleton("fanend", o), nullptr);
+                const MeshRun run = mesh_skeleton(generate_skeleton("fanend", o), nullptr, retraction_mesh_options());
                 EXPECT_TRUE(run.prediction_exact);
                 expect_valid(run.pipeline, 1);
                 const QualityReport q = compute_quality(run.pipeline.raw.mesh);
@@ -296,7 +312,7 @@ TEST(FanEndRepair, RetractedFanEndCapReachesTheCorners) {
         Skeleton s = fan_end(strips, 1);
         ASSERT_EQ(retract_fan_ends(s).size(), 1u);
         ASSERT_NEAR(distance(s.points[1], Vec3{0, 0, 0.4}), 0.0, 1e-12);
-        PipelineOptions o;
+        PipelineOptions o = retraction_options();
         o.resample = false;
         o.raw_mesh.fan_end_cap_to_border = true;
         const PipelineResult on = run_pipeline(s, o);
@@ -311,7 +327,7 @@ TEST(FanEndRepair, RetractedFanEndCapReachesTheCorners) {
         GeneratorOptions g;
         g.m = 2;
         const Skeleton plain = generate_skeleton(strips == 3 ? "tfan" : "xfan", g);
-        PipelineOptions p;
+        PipelineOptions p = retraction_options();
         p.raw_mesh.fan_end_cap_to_border = true;
         const PipelineResult plain_on = run_pipeline(plain, p);
         p.raw_mesh.fan_end_cap_to_border = false;
@@ -377,7 +393,8 @@ TEST(FanEndRepair, ThickRadiusOnOneFaceStripsRetractsUpToTheCorner) {
         EXPECT_EQ(raw.raw.mesh.hexes.size(), strips == 3 ? 54u : 68u);
         expect_valid(raw, 1);
         for (const double scale : {1.5, 1.8}) {
-            const MeshRun run = mesh_skeleton(thick_single_fan_edge_end(strips, scale), nullptr);
+            const MeshRun run =
+                mesh_skeleton(thick_single_fan_edge_end(strips, scale), nullptr, retraction_mesh_options());
             EXPECT_TRUE(run.prediction_exact);
             expect_valid(run.pipeline, 1);
         }
@@ -441,14 +458,14 @@ TEST(FanEndRepair, SingleFanEdgeThroughThePipeline) {
             const std::vector<FanEndRetraction> r = retract_fan_ends(repaired);
             ASSERT_EQ(r.size(), 1u);
             EXPECT_EQ(r[0].strip_faces_split, length * strips);  // every face of every strip
-            const MeshRun raw = mesh_skeleton(repaired, nullptr);
+            const MeshRun raw = mesh_skeleton(repaired, nullptr, retraction_mesh_options());
             EXPECT_TRUE(raw.prediction_exact);
             EXPECT_EQ(raw.raw_quality.inverted, 0);
         }
     for (const int strips : {3, 4}) {
         SCOPED_TRACE(strips);
         const Skeleton s = single_fan_edge_end(strips);
-        const MeshRun run = mesh_skeleton(s, nullptr);
+        const MeshRun run = mesh_skeleton(s, nullptr, retraction_mesh_options());
         EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{1});
         EXPECT_EQ(run.pipeline.fan_edge_splits, 1);
         EXPECT_NE(repairs_to_text(run.pipeline, run.options).find("fan-edge chains split"), std::string::npos);
@@ -458,7 +475,7 @@ TEST(FanEndRepair, SingleFanEdgeThroughThePipeline) {
         EXPECT_EQ(run.raw_quality.euler_characteristic, 1);
         EXPECT_EQ(run.raw_quality.inverted, 0);
         EXPECT_GT(run.raw_quality.sj_min, 0.0);
-        PipelineOptions off;
+        PipelineOptions off = retraction_options();
         off.repair.fan_end_retraction = false;
         // The repair would split and retract it: the message says it did not run (not a condition that fails).
         expect_refused_with(s, off, 1, "the skeleton repair that retracts the fan edge from it did not run");
@@ -538,7 +555,7 @@ TEST(FanEndRepair, BranchesAtBothEndsOfAShortChain) {
         EXPECT_EQ(raw.analysis.counts.boundary_edges, c.boundary);
         EXPECT_EQ(raw.raw.mesh.hexes.size(), c.hexes);
         expect_valid(raw, 1);
-        const MeshRun run = mesh_skeleton(input, nullptr);
+        const MeshRun run = mesh_skeleton(input, nullptr, retraction_mesh_options());
         EXPECT_EQ(run.pipeline.fan_end_retractions, (std::vector<int>{0, c.single ? 1 : 2}));
         EXPECT_EQ(run.pipeline.fan_edge_splits, 1);
         EXPECT_TRUE(run.prediction_exact);
@@ -561,7 +578,7 @@ TEST(FanEndRepair, BothEndsWithOnePerpendicularBranch) {
     EXPECT_EQ(r[0].moved_root, -1);
     EXPECT_EQ(r[1].vertex, 2);
     EXPECT_EQ(r[1].moved_root, 36);  // after the second branch's 3 vertices, the retraction's 2 and the row cut's 7
-    const MeshRun run = mesh_skeleton(input, nullptr);
+    const MeshRun run = mesh_skeleton(input, nullptr, retraction_mesh_options());
     EXPECT_EQ(run.pipeline.fan_end_retractions, (std::vector<int>{0, 2}));
     EXPECT_TRUE(run.prediction_exact);
     expect_valid(run.pipeline, 1);
@@ -594,7 +611,7 @@ TEST(FanEndRepair, RefusalsNameTheVertexAndSayHowToEdit) {
         expect_refused(s, 1, "inside a fan-edge chain");
     }
     {  // no resampling: no repair, the fan-end branch is refused and the message says to mesh with resampling
-        PipelineOptions o;
+        PipelineOptions o = retraction_options();
         o.resample = false;
         try {
             (void)run_pipeline(fan_end(3, 1), o);
@@ -739,7 +756,7 @@ TEST(FanEndRefusal, SingleFanEdgeOtherEndNotPlain) {
         EXPECT_GE(r[0].fan_edge_split, 0);
         EXPECT_EQ(r[1].vertex, 0);
         EXPECT_GE(r[1].moved_root, 0);
-        const MeshRun run = mesh_skeleton(s, nullptr);
+        const MeshRun run = mesh_skeleton(s, nullptr, retraction_mesh_options());
         EXPECT_TRUE(run.prediction_exact);
         expect_valid(run.pipeline, 1);
     }
@@ -825,7 +842,7 @@ TEST(FanEndRepair, GeneratorVariantsMixedAndLeaningBack) {
     EXPECT_EQ(raw.predicted.fan_blocks, 0);
     EXPECT_EQ(raw.raw.mesh.hexes.size(), 118u);
     expect_valid(raw, 1);
-    const MeshRun run = mesh_skeleton(fan_end(3, 4), nullptr);
+    const MeshRun run = mesh_skeleton(fan_end(3, 4), nullptr, retraction_mesh_options());
     EXPECT_TRUE(run.prediction_exact);
     expect_valid(run.pipeline, 1);
     // Leaning back 135 degrees (-m 5; T towards -y, X towards +x+y): moved as the perpendicular branch (row cut, the
@@ -859,7 +876,7 @@ TEST(FanEndRepair, GeneratorVariantsMixedAndLeaningBack) {
         // As given, the X's branch turns at p by 98 degrees (straight down to b, 0.71 below); the pipeline's
         // resampling (p pinned) runs from p towards the branch's farther points: checked below. The T's turns by 83.
         if (strips == 3) expect_valid(bent, 1);
-        const MeshRun run = mesh_skeleton(fan_end(strips, 5), nullptr);
+        const MeshRun run = mesh_skeleton(fan_end(strips, 5), nullptr, retraction_mesh_options());
         EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
         EXPECT_TRUE(run.prediction_exact);
         expect_valid(run.pipeline, 1);
@@ -920,7 +937,7 @@ TEST(FanEndRepair, MovedFirstEdgeBetweenTheLimitsIsBent) {
         const QualityReport q = compute_quality(raw.raw.mesh);
         EXPECT_EQ(q.singular_boundary_edges, raw.predicted.boundary_irregular_edges);
         EXPECT_EQ(q.singular_interior_edges, raw.predicted.interior_irregular_edges);
-        const MeshRun run = mesh_skeleton(fan_end_towards(strips, theta, phi), nullptr);
+        const MeshRun run = mesh_skeleton(fan_end_towards(strips, theta, phi), nullptr, retraction_mesh_options());
         EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
         EXPECT_TRUE(run.prediction_exact);
         expect_valid(run.pipeline, 1);
@@ -959,7 +976,7 @@ TEST(FanEndRepair, MovedFirstEdgeNotBent) {
     EXPECT_EQ(raw.raw.mesh.hexes.size(), 78u);
     expect_valid(raw, 1);
     EXPECT_EQ(fan_end_refusal(before, 2), std::nullopt);
-    const MeshRun run = mesh_skeleton(before, nullptr);
+    const MeshRun run = mesh_skeleton(before, nullptr, retraction_mesh_options());
     EXPECT_TRUE(run.prediction_exact);
     expect_valid(run.pipeline, 1);
     // The report says which retraction it was (issue 22 item 2): repairs.fan_end_far_retractions, and its text line.
@@ -984,7 +1001,7 @@ Skeleton fan_end_scaled(int strips, int direction, double radius_scale) {
 
 // Through mesh_skeleton (defaults): the raw mesh valid, prediction exact, no inverted hex.
 void expect_meshed_clean(const Skeleton& s) {
-    const MeshRun run = mesh_skeleton(s, nullptr);
+    const MeshRun run = mesh_skeleton(s, nullptr, retraction_mesh_options());
     EXPECT_TRUE(run.prediction_exact);
     EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
     expect_valid(run.pipeline, 1);
@@ -1067,7 +1084,7 @@ TEST(FanEndRepair, FirstJointOfAMovedRootKeptTwoRadiiOut) {
         ASSERT_EQ(repaired.fan_end_pins.size(), 1u);
         EXPECT_NEAR(distance(repaired.skeleton.points[static_cast<std::size_t>(repaired.fan_end_pins[0])], expected),
                     0.0, 1e-12);
-        const MeshRun run = mesh_skeleton(input, nullptr);
+        const MeshRun run = mesh_skeleton(input, nullptr, retraction_mesh_options());
         EXPECT_TRUE(meshed_has_vertex_at(run, expected));
         EXPECT_TRUE(run.prediction_exact);
         expect_valid(run.pipeline, 1);
@@ -1109,7 +1126,7 @@ TEST(FanEndRepair, ThickMovedRootSlidesTheBorderRun) {
         const Vec3 m{0.9, 0, 1}, b = input.points[static_cast<std::size_t>(y)];
         EXPECT_NEAR(distance(s.points[static_cast<std::size_t>(y)], m + 1.5 * normalized(b - m)), 0.0, 1e-12);
         EXPECT_TRUE(retract_fan_ends(s).empty());  // nothing left to repair
-        const MeshRun run = mesh_skeleton(input, nullptr);
+        const MeshRun run = mesh_skeleton(input, nullptr, retraction_mesh_options());
         EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
         EXPECT_TRUE(run.prediction_exact);
         expect_valid(run.pipeline, 1);
@@ -1135,12 +1152,12 @@ TEST(FanEndRepair, InvertedRawHexAtAMovedRootRefused) {
     for (const int strips : {3, 4}) {
         SCOPED_TRACE(strips);
         const Skeleton s = fan_end_towards(strips, 65, 22.5);
-        expect_refusal([&] { (void)mesh_skeleton(s, nullptr); },
+        expect_refusal([&] { (void)mesh_skeleton(s, nullptr, retraction_mesh_options()); },
                        "skeleton vertex 2: a branch on a fan-edge end far from the fan line, its root moved",
                        "gives 1 inverted raw hex(es)");
         Skeleton thinner = s;
         for (double& r : thinner.radii) r = 0.27;
-        const MeshRun run = mesh_skeleton(thinner, nullptr);
+        const MeshRun run = mesh_skeleton(thinner, nullptr, retraction_mesh_options());
         EXPECT_EQ(run.pipeline.moved_roots.size(), 1u);
         // The report names the moved root (repairs.fan_end_moved_roots), not as a far branch retracted.
         EXPECT_EQ(run.pipeline.fan_end_retractions, std::vector<int>{2});
@@ -1167,7 +1184,7 @@ TEST(FanEndRepair, FirstSectionOfAMovedRootClearsTheBorderCorners) {
         const Skeleton s = fan_end_towards(strips, 50, 45);
         for (const bool clearance : {false, true}) {
             SCOPED_TRACE(clearance);
-            PipelineOptions options;
+            PipelineOptions options = retraction_options();
             options.adaptation.root_patch_clearance = clearance;
             const PipelineResult res = run_pipeline(s, options);
             ASSERT_EQ(res.moved_roots.size(), 1u);
@@ -1291,7 +1308,7 @@ TEST(FanEndRepair, BranchOnTheFanBlockCapIsNotRetracted) {
         for (const int direction : {1, 3}) {
             SCOPED_TRACE(std::to_string(strips) + " " + std::to_string(direction));
             const Skeleton s = fan_end(strips, direction);
-            PipelineOptions o;
+            PipelineOptions o = retraction_options();
             o.connection_surfaces.blocks.fan_cap_branches = true;
             const PipelineResult on = run_pipeline(s, o);
             EXPECT_TRUE(on.fan_end_retractions.empty());
@@ -1308,4 +1325,34 @@ TEST(FanEndRepair, BranchOnTheFanBlockCapIsNotRetracted) {
             EXPECT_EQ(off.fan_end_retractions.size(), direction == 3 ? 2u : 1u);
             expect_valid(off, 1);
         }
+}
+
+// Inputs the retraction refuses (a branch too thick for its single fan edge's strips, a strip meeting another fan
+// edge, a short chain that cannot be cut) whose branches continue the fan line: with the defaults the fan block's
+// cap carries each branch (design note C1), so nothing is retracted, split or refused and the raw mesh is valid,
+// exactly predicted, without inverted hex.
+TEST(FanEndRepair, CapTakesBranchesTheRetractionRefuses) {
+    std::vector<std::pair<std::string, Skeleton>> inputs;
+    for (const int strips : {3, 4})
+        inputs.emplace_back("thick " + std::to_string(strips), thick_single_fan_edge_end(strips, 2.0));
+    for (const bool both : {false, true}) {
+        Skeleton s = single_edge(both);
+        add_faces_on(s, 4, 5, {{0, 1, 0}, {0, -1, 0}});
+        inputs.emplace_back(both ? "strip meets, both ends" : "strip meets", s);
+    }
+    Skeleton chain = fan_end(3, 3);
+    add_faces_on(chain, vertex_at(chain, {2, 0, 0}), vertex_at(chain, {2, 0, 1}), {{0, 1, 0}, {0, -1, 0}});
+    inputs.emplace_back("short chain", chain);
+    for (const auto& [what, s] : inputs) {
+        SCOPED_TRACE(what);
+        expect_refusal([&] { (void)run_pipeline(s, retraction_options()); }, "skeleton vertex ", "");
+        const MeshRun run = mesh_skeleton(s, nullptr);
+        EXPECT_FALSE(run.pipeline.fan_cap_branches.empty());
+        EXPECT_TRUE(run.pipeline.fan_end_retractions.empty());
+        EXPECT_EQ(run.pipeline.fan_edge_splits, 0);
+        EXPECT_TRUE(run.prediction_exact);
+        EXPECT_TRUE(run.raw_quality.validation.valid());
+        EXPECT_EQ(run.raw_quality.euler_characteristic, euler_characteristic(s));
+        EXPECT_EQ(run.raw_quality.inverted, 0);
+    }
 }

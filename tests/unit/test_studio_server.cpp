@@ -396,8 +396,9 @@ TEST(StudioServer, AnalyzeGivesTheClassesAndThePrediction) {
     EXPECT_EQ(j["predicted"]["hexes"], 176);
 }
 
-// A branch on a fan-edge end (generator fanend): /api/mesh meshes it after retracting the fan edge, so /api/analyze
-// accepts it too and lists the repair (the input vertex of the branch, a fan-edge end); with a thick branch leaning
+// A branch on a fan-edge end continuing the fan line (generator fanend): /api/mesh meshes it standing on the fan
+// block's cap, so /api/analyze accepts it too and lists it (the input vertex of the branch, a fan-edge end); with a
+// thick branch leaning
 // back from the fan line (135 degrees, radius 0.39 x the border side: too thick to be bent) both refuse it, naming the
 // same vertex.
 TEST(StudioServer, AnalyzeAcceptsWhatMeshRepairs) {
@@ -409,8 +410,10 @@ TEST(StudioServer, AnalyzeAcceptsWhatMeshRepairs) {
     ASSERT_TRUE(a);
     ASSERT_EQ(a->status, 200) << a->body;
     const json j = body_json(a);
-    ASSERT_EQ(j["repairs"]["fan_end_retractions"].size(), 1u) << a->body;
-    const int v = j["repairs"]["fan_end_retractions"][0];
+    // The branch continues the fan line: it stands on the fan block's cap (no retraction; design note C1).
+    EXPECT_TRUE(j["repairs"]["fan_end_retractions"].empty()) << a->body;
+    ASSERT_EQ(j["repairs"]["fan_cap_branches"].size(), 1u) << a->body;
+    const int v = j["repairs"]["fan_cap_branches"][0];
     EXPECT_EQ(j["vertex_class"][v], "FanEdgeEnd") << a->body;
     const auto m = post(*s.client, "/api/mesh?stage=raw", continuing);
     ASSERT_TRUE(m);

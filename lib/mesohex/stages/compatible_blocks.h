@@ -39,8 +39,9 @@ struct CompatibleBlockOptions {
     // section at w + h e is the bottom of the branch's first chunk (design note C1). The pipeline then leaves such a
     // fan end to the block instead of retracting the fan edge from it (fan_end_repair.h, C2); without a block there
     // (fan_blocks off, `--no-blocks`, a Y fan, a chain refused) the retraction takes it as before. Needs fan_blocks.
-    // (`--fan-cap-branches`; docs/blocks.md, "Branches on the fan block's cap").
-    bool fan_cap_branches = false;
+    // On by default; false (`--no-fan-cap-branches`) retracts every such fan end (docs/blocks.md, "Branches on the
+    // fan block's cap").
+    bool fan_cap_branches = true;
 };
 
 // Signed cube axes are numbered 2a + s: a = 0, 1, 2 (x, y, z of the block frame), s = 0 for +, 1 for -.
