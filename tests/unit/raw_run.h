@@ -19,10 +19,12 @@ struct RawRun {
     bool valid = false;
 };
 
-// Builds the raw mesh of s with options o; hexes, vertices and irregular edges must equal the prediction.
-inline RawRun checked_raw_mesh(const Skeleton& s, const ConnectionSurfaceOptions& o = {}) {
+// Builds the raw mesh of s with options o (analysis options a); hexes, vertices and irregular edges must equal the
+// prediction.
+inline RawRun checked_raw_mesh(const Skeleton& s, const ConnectionSurfaceOptions& o = {},
+                               const AnalysisOptions& a = {}) {
     RawRun r;
-    r.analysis = analyze_skeleton(s);
+    r.analysis = analyze_skeleton(s, a);
     const ConnectionSurfaces cs = build_connection_surfaces(s, r.analysis, o);
     r.predicted = predict_raw_mesh(s, r.analysis, cs);
     r.fan_chains = static_cast<long>(cs.fan_blocks.chains.size());

@@ -250,25 +250,13 @@ void add_branch(Skeleton& s, int from, const Vec3& dir) {
 }
 
 // The raw stages with branches on fan-block caps accepted (AnalysisOptions / CompatibleBlockOptions::
-// fan_cap_branches), checked against the prediction like test::checked_raw_mesh.
+// fan_cap_branches), checked against the prediction (test::checked_raw_mesh).
 RawRun mesh_raw_with_caps(const Skeleton& s) {
     AnalysisOptions ao;
     ao.fan_cap_branches = true;
     ConnectionSurfaceOptions o;
     o.blocks.fan_cap_branches = true;
-    RawRun r;
-    r.analysis = analyze_skeleton(s, ao);
-    const ConnectionSurfaces cs = build_connection_surfaces(s, r.analysis, o);
-    r.predicted = predict_raw_mesh(s, r.analysis, cs);
-    r.fan_chains = static_cast<long>(cs.fan_blocks.chains.size());
-    const RawMesh raw = build_raw_mesh(s, r.analysis, cs, propagate_frames(s, r.analysis, cs));
-    r.quality = compute_quality(raw.mesh);
-    r.valid = validate(raw.mesh).valid();
-    EXPECT_EQ(r.quality.hexes, r.predicted.hexes);
-    EXPECT_EQ(r.quality.vertices, r.predicted.vertices);
-    EXPECT_EQ(r.quality.singular_interior_edges, r.predicted.interior_irregular_edges);
-    EXPECT_EQ(r.quality.singular_boundary_edges, r.predicted.boundary_irregular_edges);
-    return r;
+    return test::checked_raw_mesh(s, o, ao);
 }
 
 }  // namespace
