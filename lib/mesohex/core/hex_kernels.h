@@ -124,4 +124,11 @@ inline double hex_scaled_jacobian(const std::array<Vec3, 8>& p) {
     return min_det;
 }
 
+// The same for hex h (8 indices into points).
+inline double hex_scaled_jacobian(const std::vector<Vec3>& points, const std::array<int, 8>& h) {
+    std::array<Vec3, 8> p;
+    for (std::size_t k = 0; k < 8; ++k) p[k] = points[static_cast<std::size_t>(h[k])];
+    return hex_scaled_jacobian(p);
+}
+
 }  // namespace mesohex

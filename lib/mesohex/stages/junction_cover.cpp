@@ -81,12 +81,6 @@ void place_junction(const Skeleton& s, const ConnectionSurfaces& cs, const Branc
     }
 }
 
-double hex_sj(const std::array<int, 8>& h, const std::vector<Vec3>& points) {
-    std::array<Vec3, 8> p;
-    for (int k = 0; k < 8; ++k) p[k] = points[h[k]];
-    return hex_scaled_jacobian(p);
-}
-
 // The hexes of c's chunks (4 per incident branch edge).
 std::vector<int> junction_hexes(const SkeletonAnalysis& an, const std::vector<int>& edge_hex, int c) {
     std::vector<int> hs;
@@ -106,7 +100,7 @@ bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector
     bool any = false;
     for (std::size_t i = 0; i < hs.size(); ++i) {
         const std::array<int, 8>& h = hexes[hs[i]];
-        const double sj = hex_sj(h, points);
+        const double sj = hex_scaled_jacobian(points, h);
         if (sj >= floor[i]) continue;
         for (int id : h) {
             const int x = id - m.base - 1;
@@ -202,7 +196,8 @@ int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnal
     if (moved == 0) return 0;
     const std::vector<int> hs = junction_hexes(an, edge_hex, c);
     std::vector<double> floor(hs.size());
-    for (std::size_t i = 0; i < hs.size(); ++i) floor[i] = std::min(o.sj_floor, hex_sj(hexes[hs[i]], points));
+    for (std::size_t i = 0; i < hs.size(); ++i)
+        floor[i] = std::min(o.sj_floor, hex_scaled_jacobian(points, hexes[hs[i]]));
     if (o.crease_deg > 0) open_creases(s, cs, frames, hexes, hs, o.crease_deg, points, m);
     constexpr int kRounds = 7;
     for (int round = 0; round < kRounds; ++round) {

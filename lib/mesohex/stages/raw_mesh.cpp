@@ -1089,22 +1089,15 @@ void place_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const 
             const int p0 = cs.point_begin[v], np = cs.point_begin[v + 1] - p0;
             raw.mesh.points[base] = c;
             for (int x = 0; x < np; ++x) raw.mesh.points[base + 1 + x] = c + r * frames.directions[p0 + x];
-            for (int j = cs.edge_begin[v]; j < cs.edge_begin[v + 1]; ++j) {
-                const std::array<int, 2>& ed = cs.edges[j];
-                const Vec3 mid = normalized(frames.directions[p0 + ed[0]] + frames.directions[p0 + ed[1]]);
-                raw.mesh.points[base + 1 + np + (j - cs.edge_begin[v])] = c + r * mid;
-            }
+            for (int j = 0; j < cs.edge_begin[v + 1] - cs.edge_begin[v]; ++j)
+                raw.mesh.points[base + 1 + np + j] = c + r * surface_direction(cs, frames, v, np + j);
         }
     });
 }
 
 double min_hex_sj(const HexMesh& mesh, const std::vector<int>& hexes) {
     double worst = 1.0;
-    for (int h : hexes) {
-        std::array<Vec3, 8> p;
-        for (int lv = 0; lv < 8; ++lv) p[lv] = mesh.points[mesh.hexes[h][lv]];
-        worst = std::min(worst, hex_scaled_jacobian(p));
-    }
+    for (int h : hexes) worst = std::min(worst, hex_scaled_jacobian(mesh.points, mesh.hexes[h]));
     return worst;
 }
 
