@@ -18,6 +18,7 @@
 #include "mesohex/core/topology.h"
 #include "mesohex/core/validate.h"
 #include "mesohex/post/quality.h"
+#include "mesohex/stages/adaptation.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/raw_mesh.h"
 #include "mesohex/stages/sphere_partition.h"
@@ -1322,4 +1323,44 @@ TEST(RawMesh, BridgeQuadRadiusKeepsTheFatJunctionsOtherPointsOnItsBall) {
     // The thin junction keeps its points (its own radius is not limited by the fat one's quad here).
     for (int x = 0; x < cs.point_begin[2] - cs.point_begin[1]; ++x)
         EXPECT_EQ(on.mesh.points[on.vertex_base[1] + 1 + x], off.mesh.points[off.vertex_base[1] + 1 + x]);
+}
+
+// Issue 16 item 5: a radius jump along a branch is not what breaks the armadillo's minimum (docs/junctions.md, "The
+// armadillo's claw"). Two generated cases of the jump its report named (a radius 2.6 x larger on one side, over an
+// edge of 1.5 x the small radius), adapted with the defaults: (a) a straight branch, r 0.1 -> 0.1 / 2.6 between x =
+// 0.5 and 0.56; (b) a fat branch (r 2.6 r_c) ending 2.7 r_c from a thin degree-3 point (r_c = 0.04) whose two thin
+// branches leave at +-35 degrees (one tapering to 0.04 r_c): the armadillo's v74 next to its 2.6 x fatter parent.
+// Measured raw min SJ 0.59 and 0.38 (the CLI's finished meshes of their thickened domains: 0.70 / 0.93 / 0.33 % and
+// 0.73 / 0.94 / 0.44 %); asserted with a tolerance of 0.05 below them, nothing inverted.
+TEST(RawMesh, RadiusJumpAlongABranchKeepsItsRawHexesAboveTheTargets) {
+    const double rc = 0.04;
+    Skeleton line;
+    const std::vector<double> xs = {0, 0.2, 0.4, 0.5, 0.56, 0.7, 0.85, 1.0};
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+        line.points.push_back({xs[i], 0, 0});
+        line.radii.push_back(i < 4 ? 0.1 : 0.1 / 2.6);
+        if (i > 0) line.edges.push_back({static_cast<int>(i) - 1, static_cast<int>(i)});
+    }
+    Skeleton fork;
+    fork.points = {{-0.6, 0, 0}, {-0.3, 0, 0}, {0, 0, 0}, {2.7 * rc, 0, 0}};
+    fork.radii = {2.6 * rc, 2.6 * rc, 2.6 * rc, rc};
+    fork.edges = {{0, 1}, {1, 2}, {2, 3}};
+    const double a = 35 * std::numbers::pi / 180;
+    for (const double side : {1.0, -1.0}) {
+        for (int k = 1; k <= 4; ++k) {
+            const double t = 0.1 * k;
+            fork.points.push_back({2.7 * rc + t * std::cos(a), side * t * std::sin(a), 0});
+            fork.radii.push_back(side > 0 ? rc : rc * (1 - 0.24 * k));
+            const int v = static_cast<int>(fork.points.size()) - 1;
+            fork.edges.push_back({k == 1 ? 3 : v - 1, v});
+        }
+    }
+    const std::vector<std::pair<Skeleton, double>> cases = {{line, 0.59}, {fork, 0.38}};
+    for (const auto& [s, measured] : cases) {
+        SCOPED_TRACE(measured);
+        const test::RawRun r = test::checked_raw_mesh(adapt_skeleton(s));
+        EXPECT_TRUE(r.valid);
+        EXPECT_EQ(r.quality.inverted, 0);
+        EXPECT_GE(r.quality.sj_min, measured - 0.05);
+    }
 }
