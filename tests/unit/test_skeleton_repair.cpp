@@ -1236,3 +1236,54 @@ TEST(SkeletonRepair, BandPillowDocksLShapedWallsFromTheBorderAndOnBothSides) {
     expect_raw_as_predicted(both, 258);
     EXPECT_GT(mesohex::compute_quality(both.raw.mesh).sj_min, 0.3);
 }
+
+// A chain vertex where 3 plate faces meet (the other case the band pillow takes): a hexagonal plate, centre c (the
+// origin) split into 3 quads (c, h0, h1, h2), (c, h2, h3, h4), (c, h4, h5, h0) with h_i at radius 1 and 60 i degrees,
+// and two rings of 6 quads out to radius 3 (vertices at radius 2 and 3 on the same rays): V 19, F 15, border 6. The
+// chain h0 -> c -> h2 (turning by 60 degrees at c, 1 plate face on one side, 2 on the other), a wall of 2 unit rows
+// at +z, radius 0.1: V 25, F 19, boundary edges 6 + 6 = 12. The band's path runs on along the rays 0 and 120 degrees
+// to the border: 7 vertices, 6 edges: F + 12, B + 4; without the foot split raw hexes 2 (19 + 12) + 2 (12 + 4) = 94.
+// With it (2 r = 0.2): the strips beyond the two inside ends are one, the ring between radius 1 and 2 (its 6 quads
+// and the 4 band faces on the two rays), closed, cut at 0.2 from the inner ring: + 10 faces, no boundary edge:
+// 2 (31 + 10) + 2 x 16 = 114.
+TEST(SkeletonRepair, BandPillowDocksAWallOnAChainVertexOfThreePlateFaces) {
+    Skeleton s;
+    s.points.push_back({0, 0, 0});
+    for (int ring = 1; ring <= 3; ++ring)
+        for (int i = 0; i < 6; ++i)
+            s.points.push_back({ring * std::cos(i * 60 * kDeg), ring * std::sin(i * 60 * kDeg), 0.0});
+    const auto h = [](int ring, int i) { return 1 + 6 * (ring - 1) + i % 6; };
+    for (const int a : {0, 2, 4}) s.faces.push_back({0, h(1, a), h(1, a + 1), h(1, a + 2)});
+    for (int ring = 2; ring <= 3; ++ring)
+        for (int i = 0; i < 6; ++i) s.faces.push_back({h(ring - 1, i), h(ring, i), h(ring, i + 1), h(ring - 1, i + 1)});
+    const std::array<int, 3> chain{h(1, 0), 0, h(1, 2)};
+    std::array<std::array<int, 3>, 3> w{};
+    for (int j = 0; j < 3; ++j) {
+        w[j][0] = chain[j];
+        for (int k = 1; k <= 2; ++k) {
+            w[j][k] = static_cast<int>(s.points.size());
+            s.points.push_back(s.points[chain[j]] + Vec3{0, 0, double(k)});
+        }
+    }
+    for (int j = 0; j < 2; ++j)
+        for (int k = 0; k < 2; ++k) s.faces.push_back({w[j][k], w[j + 1][k], w[j + 1][k + 1], w[j][k + 1]});
+    s.radii.assign(s.points.size(), 0.1);
+    std::map<std::pair<int, int>, int> sides;
+    for (const std::vector<int>& f : s.faces)
+        for (int i = 0; i < 4; ++i)
+            if (sides.insert({std::minmax(f[i], f[(i + 1) % 4]), 0}).second) s.edges.push_back({f[i], f[(i + 1) % 4]});
+    ASSERT_EQ(s.points.size(), 25u);
+    ASSERT_EQ(s.faces.size(), 19u);
+    ASSERT_EQ(boundary_sides(s), 12);
+    EXPECT_THROW(mesohex::analyze_skeleton(s), mesohex::Error);  // 3 plate faces at c
+    mesohex::PipelineOptions bare;
+    bare.repair.docked_foot_split = 0;
+    const mesohex::PipelineResult rb = mesohex::run_pipeline(s, bare);
+    EXPECT_EQ(rb.docked_band_pillows, 1);
+    EXPECT_EQ(rb.predicted.hexes, 94);
+    expect_raw_as_predicted(rb, 94);
+    const mesohex::PipelineResult r = mesohex::run_pipeline(s);
+    EXPECT_EQ(r.predicted.hexes, 114);
+    expect_raw_as_predicted(r, 114);
+    EXPECT_GT(mesohex::compute_quality(r.raw.mesh).sj_min, 0.45);
+}
