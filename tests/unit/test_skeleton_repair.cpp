@@ -1287,3 +1287,18 @@ TEST(SkeletonRepair, BandPillowDocksAWallOnAChainVertexOfThreePlateFaces) {
     expect_raw_as_predicted(r, 114);
     EXPECT_GT(mesohex::compute_quality(r.raw.mesh).sj_min, 0.45);
 }
+
+// Where the band's path cannot run on, the wall is refused as before, naming the vertex: a spiral chain (2, 2) -> (4,
+// 2) -> (4, 4) -> (1, 4) -> (1, 1) on a 6 x 6 plate, whose inside end (2, 2), run on straight, meets the chain at (1, 2).
+TEST(SkeletonRepair, BandPillowLeavesAPathThatCannotRunOn) {
+    const Skeleton spiral = turning_wall(6, {{{2, 2}, {4, 2}, {4, 4}, {1, 4}, {1, 1}}}, 1, false, 0.1);
+    EXPECT_EQ(mesohex::repair_skeleton(spiral, {}).docked_band_pillows, 0);
+    try {
+        mesohex::run_pipeline(spiral);
+        ADD_FAILURE() << "meshed";
+    } catch (const mesohex::Error& e) {
+        EXPECT_EQ(e.code(), mesohex::ErrorCode::UnsupportedConfiguration);
+        EXPECT_NE(std::string(e.what()).find("band pillow"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("edit:"), std::string::npos) << e.what();
+    }
+}

@@ -222,12 +222,15 @@ void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFace
     if (!ok && band_pillow)
         an.docked_unmatched.push_back(v);
     else if (!ok)
-        refuse(v,
-               "a wall docked on a plate needs the chain to run straight through the plate's grid: 4 plate faces at "
-               "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
-               "on the plate's border); here " +
-                   std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) +
-                   " chain edges; edit: re-sample the plate so that its grid lines follow the wall");
+        refuse(
+            v,
+            "a wall docked on a plate needs the chain to run straight through the plate's grid: 4 plate faces at "
+            "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
+            "on the plate's border); here " +
+                std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) +
+                " chain edges (the repair's band pillow, which makes the grid match, needs the chain's path to run on "
+                "straight through the plate's grid from each inside end to the plate's border); edit: re-sample "
+                "the plate so that its grid lines follow the wall");
     std::array<int, 2> side_wall{-1, -1};  // wall leaflet on the plate's up / down side at v
     for (int c : st.chain) {
         int g = -1;

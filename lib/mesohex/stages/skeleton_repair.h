@@ -219,6 +219,10 @@ struct SkeletonRepairResult {
 // place; new edges inside split faces are appended in face order; a split face keeps its index for its first piece,
 // the others are appended. Each split adds per strip edge one vertex and one edge, per cut face one edge and one face
 // (4 edges and 3 faces and a centre vertex for a face cut twice): V - E + F unchanged. O(V + E + F) per root.
+// The band pillow (docked_band_pillow) comes before the docked feet's strip splits: per pillowed chain its path's
+// copies are appended (2 per path vertex, in path order), then its path's faces (2 per path edge) and edges (the
+// (v, v') pairs, then the copies' path sides); plate faces and sides at a path vertex take its copy in place: V - E +
+// F unchanged. O((V + E + F) x path length) per chain.
 // fan_caps (sorted vertex ids): fan-edge ends whose branch stands on a fan block's cap, left as they are by the
 // fan-end retraction (retract_fan_ends).
 SkeletonRepairResult repair_skeleton(const Skeleton& s, const SkeletonRepairOptions& o = {},
