@@ -240,6 +240,11 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
            "faces (with resampling; 0 = off: docs/blocks.md)")
         ->check(finite_range(0.0, 10.0))
         ->capture_default_str();
+    cmd->add_flag("--docked-band-pillow,!--no-docked-band-pillow", job->options.pipeline.repair.docked_band_pillow,
+                  "A docked wall whose chain does not match the plate's grid (it turns in the grid, or other than 4 "
+                  "plate faces meet at a chain vertex) gets a band of plate faces pillowed along its chain, run on "
+                  "to the plate's border (on by default, with resampling; --no-docked-band-pillow refuses it: "
+                  "docs/blocks.md)");
     cmd->add_flag("--fan-end-cap-to-border", job->options.pipeline.raw_mesh.fan_end_cap_to_border,
                   "At a fan end retracted from a branch, raise the cap up to the retracted leaflet corners so the "
                   "leaflets' border hexes span the notch (off by default: docs/blocks.md, \"The notch closed by the "

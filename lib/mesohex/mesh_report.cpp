@@ -121,6 +121,7 @@ nlohmann::json repairs_json(const PipelineResult& res) {
             {"unseparated_pairs", res.unseparated_pairs},
             {"root_strip_splits", res.root_strip_splits},
             {"docked_foot_splits", res.docked_foot_splits},
+            {"docked_band_pillows", res.docked_band_pillows},
             {"junction_splits", res.junction_splits},
             {"fan_end_retractions", res.fan_end_retractions},
             {"fan_cap_branches", res.fan_cap_branches},

@@ -53,6 +53,7 @@ bool curve_work(const Skeleton& s, const SkeletonAnalysis& an) {
 // options.analysis gives on the same skeleton when the flag is the same or no vertex has a branch on a fan-edge end
 // (the one case the flag decides: FanEdgeEnd with branch edges is accepted with it, an error without it).
 bool same_analysis(const SkeletonAnalysis& a, const AnalysisOptions& input_options, const AnalysisOptions& options) {
+    if (!a.docked_unmatched.empty()) return false;  // accepted only for the band pillow
     if (input_options.fan_end_branches == options.fan_end_branches) return true;
     for (std::size_t v = 0; v < a.vertex_class.size(); ++v)
         if (a.vertex_class[v] == VertexClass::FanEdgeEnd && a.vertex_branch_edges[v] > 0) return false;
@@ -121,6 +122,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     meshed_options.fan_cap_branches = meshed_options.fan_cap_branches || fan_caps_on;
     AnalysisOptions input_options = meshed_options;
     input_options.fan_end_branches = options.resample && options.repair.fan_end_retraction;
+    input_options.docked_band_pillow = options.resample && options.repair.docked_band_pillow;
     res.input_analysis = analyze_skeleton(input, input_options);
     clock.lap("analysis_input");
     if (input.edges.empty() && input.faces.empty())
@@ -136,7 +138,8 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     }
     check_radii(s);
 
-    const bool docked_work = options.repair.docked_foot_split > 0 && res.input_analysis.counts.docked_edges > 0;
+    const bool docked_work = (options.repair.docked_foot_split > 0 && res.input_analysis.counts.docked_edges > 0) ||
+                             !res.input_analysis.docked_unmatched.empty();
     if (options.resample && !curve_work(input, res.input_analysis) && !docked_work) {
         // Repairs and adaptation change curve branches only (skeleton_repair.h, adaptation.h: leaflet vertices, edges
         // and faces are kept, in their order): without a branch edge (and a repeated edge, which the adaptation would
@@ -175,6 +178,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         res.unseparated_pairs = repaired.unseparated;
         res.root_strip_splits = repaired.root_strip_splits;
         res.docked_foot_splits = repaired.docked_foot_splits;
+        res.docked_band_pillows = repaired.docked_band_pillows;
         res.junction_splits = repaired.junction_splits;
         for (const FanEndRetraction& r : repaired.fan_end_retractions) {
             res.fan_end_retractions.push_back(r.vertex);
@@ -244,6 +248,7 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
     line("close pairs left unseparated", res.unseparated_pairs);
     line("leaflet strips split around rooted branches", res.root_strip_splits);
     line("plate strips split beside and beyond docked walls' chains", res.docked_foot_splits);
+    line("docked walls' chains whose plate band was pillowed", res.docked_band_pillows);
     line("degree-4 branching points split in two", res.junction_splits);
     // "repairs: <what> v0 v1 ..." when vs is not empty.
     const auto vertices = [&out](const char* what, const std::vector<int>& vs) {

@@ -55,6 +55,7 @@ struct PipelineResult {
     int unseparated_pairs = 0;             // close branch pairs the repair left (a branch ends inside the other's tube)
     int root_strip_splits = 0;             // leaflet face strips the repair split around rooted branches
     int docked_foot_splits = 0;            // plate face strips split beside and beyond docked chains
+    int docked_band_pillows = 0;           // docked chains whose plate band was pillowed
     int junction_splits = 0;               // degree-4 branching points the repair split into two of degree 3
     std::vector<int> fan_end_retractions;  // input vertices (branches on fan-edge ends) the repair made leaflet corners
     // Input vertices whose branch stands on a fan block's cap (CompatibleBlockOptions::fan_cap_branches): not repaired.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bench_inputs.h"
+#include "mesohex/core/error.h"
 #include "mesohex/pipeline.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
@@ -1097,4 +1098,207 @@ TEST(SkeletonRepair, RepairedTreesGiveTheRecordedBits) {
         }
     EXPECT_EQ(repairs, 290);  // 64 trunks, 69 absorbed stubs, 62 merged ends, 95 side stubs
     EXPECT_EQ(h, 0xb17c958f7127dae8ull);
+}
+
+namespace {
+
+// A hand-written wall on a chain turning in a plate's grid (docs/blocks.md "Docked walls turning in the plate's grid:
+// the band pillow"): an n x n unit plate at z = 0 (x, y in 0..n), a chain through the grid corners `corners` (each leg
+// along x or y), a wall of `rows` unit rows standing on it at +z (one leaflet, folded along each turn's vertical
+// line), with `both` a second one at -z. Radius r everywhere. Faces listed, then every side once.
+Skeleton turning_wall(int n, const std::vector<std::array<int, 2>>& corners, int rows, bool both, double r) {
+    Skeleton s;
+    const auto at = [n](int x, int y) { return (n + 1) * x + y; };
+    for (int x = 0; x <= n; ++x)
+        for (int y = 0; y <= n; ++y) s.points.push_back({double(x), double(y), 0.0});
+    for (int x = 0; x < n; ++x)
+        for (int y = 0; y < n; ++y) s.faces.push_back({at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1)});
+    std::vector<int> chain{at(corners[0][0], corners[0][1])};
+    for (std::size_t c = 1; c < corners.size(); ++c) {
+        std::array<int, 2> p = corners[c - 1];
+        while (p != corners[c]) {
+            for (int k = 0; k < 2; ++k) p[k] += p[k] < corners[c][k] ? 1 : p[k] > corners[c][k] ? -1 : 0;
+            chain.push_back(at(p[0], p[1]));
+        }
+    }
+    for (const double z : both ? std::vector<double>{1.0, -1.0} : std::vector<double>{1.0}) {
+        std::vector<std::vector<int>> w(chain.size());
+        for (std::size_t j = 0; j < chain.size(); ++j) {
+            w[j].push_back(chain[j]);
+            for (int k = 1; k <= rows; ++k) {
+                w[j].push_back(static_cast<int>(s.points.size()));
+                s.points.push_back(s.points[chain[j]] + Vec3{0, 0, k * z});
+            }
+        }
+        for (std::size_t j = 0; j + 1 < chain.size(); ++j)
+            for (int k = 0; k < rows; ++k) s.faces.push_back({w[j][k], w[j + 1][k], w[j + 1][k + 1], w[j][k + 1]});
+    }
+    s.radii.assign(s.points.size(), r);
+    std::map<std::pair<int, int>, int> sides;
+    for (const std::vector<int>& f : s.faces)
+        for (int i = 0; i < 4; ++i)
+            if (sides.insert({std::minmax(f[i], f[(i + 1) % 4]), 0}).second) s.edges.push_back({f[i], f[(i + 1) % 4]});
+    return s;
+}
+
+int boundary_sides(const Skeleton& s) {
+    std::map<std::pair<int, int>, int> sides;
+    for (const std::vector<int>& f : s.faces)
+        for (int i = 0; i < 4; ++i) ++sides[std::minmax(f[i], f[(i + 1) % 4])];
+    int b = 0;
+    for (const auto& [e, count] : sides) b += count == 1;
+    return b;
+}
+
+}  // namespace
+
+// The band pillow on an L-shaped wall (docs/blocks.md "Docked walls turning in the plate's grid: the band pillow").
+// 6 x 6 plate, chain (1, 3) -> (3, 3) -> (3, 5) (4 edges, both ends inside, a 90-degree turn at (3, 3) with 1 plate
+// face on the inner side and 3 on the outer), a wall of 2 rows at +z, radius 0.1: V 49 + 10 = 59, E 84 + 18 = 102, F
+// 36 + 8 = 44, boundary edges 24 + 8 = 32 (before: refused at (3, 3)). The band's path runs on beyond both inside ends
+// to the plate's border: (0, 3) ... (3, 3) ... (3, 6), 7 vertices, 6 edges. Pillow: 2 copies per path vertex (+14 V),
+// 2 faces per path edge (+12 F), edges (v, v') and (p', q') (+14 + 12 E), 2 new border sides per path end (+4 B):
+// V 73, E 128, F 56, B 36 (Euler 1); raw hexes 2 F + 2 B = 184 without the foot split. With it (2 r = 0.2; the sides
+// to the band copies are left): the strips beyond the two inside ends, the column x in [0, 1] (6 plate faces + 2 band
+// faces, 9 cut edges) and the row y in [5, 6] (the same), crossing in the face [0, 1] x [5, 6]: V 73 + 18 + 1 = 92,
+// E 128 + 18 + 14 + 4 = 164, F 56 + 14 + 3 = 73, B 36 + 4 = 40; raw hexes 2 F + 2 B = 226.
+TEST(SkeletonRepair, BandPillowDocksAnLShapedWall) {
+    const Skeleton in = turning_wall(6, {{{1, 3}, {3, 3}, {3, 5}}}, 2, false, 0.1);
+    ASSERT_EQ(in.points.size(), 59u);
+    ASSERT_EQ(in.edges.size(), 102u);
+    ASSERT_EQ(in.faces.size(), 44u);
+    ASSERT_EQ(boundary_sides(in), 32);
+    EXPECT_THROW(mesohex::analyze_skeleton(in), mesohex::Error);  // the turn: 1 plate face inside, 3 outside
+    mesohex::SkeletonRepairOptions no_split;
+    no_split.docked_foot_split = 0;
+    const mesohex::SkeletonRepairResult bare = mesohex::repair_skeleton(in, no_split);
+    EXPECT_EQ(bare.docked_band_pillows, 1);
+    EXPECT_EQ(bare.skeleton.points.size(), 73u);
+    EXPECT_EQ(bare.skeleton.edges.size(), 128u);
+    EXPECT_EQ(bare.skeleton.faces.size(), 56u);
+    EXPECT_EQ(boundary_sides(bare.skeleton), 36);
+    const mesohex::SkeletonAnalysis an = mesohex::analyze_skeleton(bare.skeleton);
+    EXPECT_EQ(an.counts.docked_edges, 4);
+    EXPECT_TRUE(an.docked_unmatched.empty());
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, {});
+    EXPECT_EQ(res.docked_band_pillows, 1);
+    EXPECT_EQ(res.docked_foot_splits, 2);
+    EXPECT_EQ(res.skeleton.points.size(), 92u);
+    EXPECT_EQ(res.skeleton.edges.size(), 164u);
+    EXPECT_EQ(res.skeleton.faces.size(), 73u);
+    EXPECT_EQ(boundary_sides(res.skeleton), 40);
+    // The copies at the turn: the miter, 2 r along each side's normal (inner (2.8, 3.2), outer (3.2, 2.8)).
+    int miters = 0;
+    for (std::size_t v = 59; v < res.skeleton.points.size(); ++v) {
+        const Vec3& p = res.skeleton.points[v];
+        miters += (std::abs(p.x - 2.8) < 1e-12 && std::abs(p.y - 3.2) < 1e-12) ||
+                  (std::abs(p.x - 3.2) < 1e-12 && std::abs(p.y - 2.8) < 1e-12);
+    }
+    EXPECT_EQ(miters, 2);
+    const mesohex::PipelineResult r = mesohex::run_pipeline(in);
+    EXPECT_EQ(r.docked_band_pillows, 1);
+    EXPECT_EQ(r.predicted.hexes, 226);
+    expect_raw_as_predicted(r, 226);
+    EXPECT_GT(mesohex::compute_quality(r.raw.mesh).sj_min, 0.65);  // 0.671 measured
+    mesohex::PipelineOptions bare_options;
+    bare_options.repair.docked_foot_split = 0;
+    const mesohex::PipelineResult rb = mesohex::run_pipeline(in, bare_options);
+    EXPECT_EQ(rb.predicted.hexes, 184);
+    expect_raw_as_predicted(rb, 184);
+    mesohex::PipelineOptions off;
+    off.repair.docked_band_pillow = false;
+    EXPECT_THROW(mesohex::run_pipeline(in, off), mesohex::Error);
+}
+
+// The same L from the border and on both sides. From the border: chain (3, 0) -> (3, 2) -> (5, 2) (4 edges, the end
+// (5, 2) inside), wall of 2 rows at +z, radius 0.1: V 59, F 44, B 24 + 8 = 32 (the wall's end at the border has its
+// border edge too). Path (3, 0) ... (3, 2) ... (6, 2): 6 vertices, 5 edges: V + 12, F + 10, B + 4; the foot split
+// cuts the column x in [5, 6] beyond the inside end (6 + 2 faces, 9 edges, B + 2; the border end's sides are band
+// sides): F 44 + 10 + 8 = 62, B 32 + 4 + 2 = 38, raw hexes 2 F + 2 B = 200. Both sides (the first case with a second
+// wall of 2 rows at -z: + 8 faces, + 8 boundary edges): 226 + 32 = 258.
+TEST(SkeletonRepair, BandPillowDocksLShapedWallsFromTheBorderAndOnBothSides) {
+    const Skeleton edge = turning_wall(6, {{{3, 0}, {3, 2}, {5, 2}}}, 2, false, 0.1);
+    ASSERT_EQ(edge.faces.size(), 44u);
+    ASSERT_EQ(boundary_sides(edge), 32);
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(edge, {});
+    EXPECT_EQ(res.docked_band_pillows, 1);
+    EXPECT_EQ(res.docked_foot_splits, 1);
+    EXPECT_EQ(res.skeleton.faces.size(), 62u);
+    EXPECT_EQ(boundary_sides(res.skeleton), 38);
+    const mesohex::PipelineResult r = mesohex::run_pipeline(edge);
+    EXPECT_EQ(r.predicted.hexes, 200);
+    expect_raw_as_predicted(r, 200);
+    EXPECT_GT(mesohex::compute_quality(r.raw.mesh).sj_min, 0.65);  // 0.671
+    const mesohex::PipelineResult both =
+        mesohex::run_pipeline(turning_wall(6, {{{1, 3}, {3, 3}, {3, 5}}}, 2, true, 0.1));
+    EXPECT_EQ(both.docked_band_pillows, 1);
+    EXPECT_EQ(both.predicted.hexes, 258);
+    expect_raw_as_predicted(both, 258);
+    EXPECT_GT(mesohex::compute_quality(both.raw.mesh).sj_min, 0.65);  // 0.671
+}
+
+// A chain vertex where 3 plate faces meet (the other case the band pillow takes): a hexagonal plate, centre c (the
+// origin) split into 3 quads (c, h0, h1, h2), (c, h2, h3, h4), (c, h4, h5, h0) with h_i at radius 1 and 60 i degrees,
+// and two rings of 6 quads out to radius 3 (vertices at radius 2 and 3 on the same rays): V 19, F 15, border 6. The
+// chain h0 -> c -> h2 (turning by 60 degrees at c, 1 plate face on one side, 2 on the other), a wall of 2 unit rows
+// at +z, radius 0.1: V 25, F 19, boundary edges 6 + 6 = 12. The band's path runs on along the rays 0 and 120 degrees
+// to the border: 7 vertices, 6 edges: F + 12, B + 4; without the foot split raw hexes 2 (19 + 12) + 2 (12 + 4) = 94.
+// With it (2 r = 0.2): the strips beyond the two inside ends are one, the ring between radius 1 and 2 (its 6 quads
+// and the 4 band faces on the two rays), closed, cut at 0.2 from the inner ring: + 10 faces, no boundary edge:
+// 2 (31 + 10) + 2 x 16 = 114.
+TEST(SkeletonRepair, BandPillowDocksAWallOnAChainVertexOfThreePlateFaces) {
+    Skeleton s;
+    s.points.push_back({0, 0, 0});
+    for (int ring = 1; ring <= 3; ++ring)
+        for (int i = 0; i < 6; ++i)
+            s.points.push_back({ring * std::cos(i * 60 * kDeg), ring * std::sin(i * 60 * kDeg), 0.0});
+    const auto h = [](int ring, int i) { return 1 + 6 * (ring - 1) + i % 6; };
+    for (const int a : {0, 2, 4}) s.faces.push_back({0, h(1, a), h(1, a + 1), h(1, a + 2)});
+    for (int ring = 2; ring <= 3; ++ring)
+        for (int i = 0; i < 6; ++i) s.faces.push_back({h(ring - 1, i), h(ring, i), h(ring, i + 1), h(ring - 1, i + 1)});
+    const std::array<int, 3> chain{h(1, 0), 0, h(1, 2)};
+    std::array<std::array<int, 3>, 3> w{};
+    for (int j = 0; j < 3; ++j) {
+        w[j][0] = chain[j];
+        for (int k = 1; k <= 2; ++k) {
+            w[j][k] = static_cast<int>(s.points.size());
+            s.points.push_back(s.points[chain[j]] + Vec3{0, 0, double(k)});
+        }
+    }
+    for (int j = 0; j < 2; ++j)
+        for (int k = 0; k < 2; ++k) s.faces.push_back({w[j][k], w[j + 1][k], w[j + 1][k + 1], w[j][k + 1]});
+    s.radii.assign(s.points.size(), 0.1);
+    std::map<std::pair<int, int>, int> sides;
+    for (const std::vector<int>& f : s.faces)
+        for (int i = 0; i < 4; ++i)
+            if (sides.insert({std::minmax(f[i], f[(i + 1) % 4]), 0}).second) s.edges.push_back({f[i], f[(i + 1) % 4]});
+    ASSERT_EQ(s.points.size(), 25u);
+    ASSERT_EQ(s.faces.size(), 19u);
+    ASSERT_EQ(boundary_sides(s), 12);
+    EXPECT_THROW(mesohex::analyze_skeleton(s), mesohex::Error);  // 3 plate faces at c
+    mesohex::PipelineOptions bare;
+    bare.repair.docked_foot_split = 0;
+    const mesohex::PipelineResult rb = mesohex::run_pipeline(s, bare);
+    EXPECT_EQ(rb.docked_band_pillows, 1);
+    EXPECT_EQ(rb.predicted.hexes, 94);
+    expect_raw_as_predicted(rb, 94);
+    const mesohex::PipelineResult r = mesohex::run_pipeline(s);
+    EXPECT_EQ(r.predicted.hexes, 114);
+    expect_raw_as_predicted(r, 114);
+    EXPECT_GT(mesohex::compute_quality(r.raw.mesh).sj_min, 0.68);  // 0.707
+}
+
+// Where the band's path cannot run on, the wall is refused as before, naming the vertex: a spiral chain (2, 2) -> (4,
+// 2) -> (4, 4) -> (1, 4) -> (1, 1) on a 6 x 6 plate, whose inside end (2, 2), run on straight, meets the chain at (1, 2).
+TEST(SkeletonRepair, BandPillowLeavesAPathThatCannotRunOn) {
+    const Skeleton spiral = turning_wall(6, {{{2, 2}, {4, 2}, {4, 4}, {1, 4}, {1, 1}}}, 1, false, 0.1);
+    EXPECT_EQ(mesohex::repair_skeleton(spiral, {}).docked_band_pillows, 0);
+    try {
+        mesohex::run_pipeline(spiral);
+        ADD_FAILURE() << "meshed";
+    } catch (const mesohex::Error& e) {
+        EXPECT_EQ(e.code(), mesohex::ErrorCode::UnsupportedConfiguration);
+        EXPECT_NE(std::string(e.what()).find("band pillow"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("edit:"), std::string::npos) << e.what();
+    }
 }

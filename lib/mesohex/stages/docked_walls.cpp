@@ -203,8 +203,9 @@ ChainStar chain_star(const Skeleton& s, const SkeletonAnalysis& an, const LocalF
     return st;
 }
 
-// Checks chain vertex v of a docked chain (plate P); refuses with an edit suggestion.
-void check_chain_vertex(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf, int v, int P) {
+// Checks chain vertex v of a docked chain (plate P); refuses with an edit suggestion. With band_pillow, a plate grid
+// that does not match the foot lists v in an.docked_unmatched instead.
+void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, int v, int P, bool band_pillow) {
     const ChainStar st = chain_star(s, an, lf, v, P);
     const int nc = static_cast<int>(st.chain.size());
     bool straight = true;
@@ -218,13 +219,18 @@ void check_chain_vertex(const Skeleton& s, const SkeletonAnalysis& an, const Loc
                     : nc == 1 ? straight && ((st.plate_faces == 4 && st.plate_border == 0) ||
                                              (st.plate_faces == 2 && st.plate_border == 2))
                               : false;
-    if (!ok)
-        refuse(v,
-               "a wall docked on a plate needs the chain to run straight through the plate's grid: 4 plate faces at "
-               "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
-               "on the plate's border); here " +
-                   std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) +
-                   " chain edges; edit: re-sample the plate so that its grid lines follow the wall");
+    if (!ok && band_pillow)
+        an.docked_unmatched.push_back(v);
+    else if (!ok)
+        refuse(
+            v,
+            "a wall docked on a plate needs the chain to run straight through the plate's grid: 4 plate faces at "
+            "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
+            "on the plate's border); here " +
+                std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) +
+                " chain edges (the repair's band pillow, which makes the grid match, needs the chain's path to run on "
+                "straight through the plate's grid from each inside end to the plate's border); edit: re-sample "
+                "the plate so that its grid lines follow the wall");
     std::array<int, 2> side_wall{-1, -1};  // wall leaflet on the plate's up / down side at v
     for (int c : st.chain) {
         int g = -1;
@@ -289,7 +295,8 @@ bool ends_inside(const SkeletonAnalysis& an, const LocalFaces& lf, int v, int fa
 }
 
 // Docks component comp if it is a chain with an end inside a leaflet; refuses such a chain when it cannot be docked.
-void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp) {
+void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp,
+                    bool band_pillow) {
     std::vector<int> vertices;
     const std::vector<int> ends = chain_ends(s, comp, vertices);
     int inside = -1;
@@ -322,7 +329,7 @@ void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& l
     }
     for (int e : comp) an.edge_docked[e] = 1;
     for (int v : vertices) an.vertex_plate[v] = plate;
-    for (int v : vertices) check_chain_vertex(s, an, lf, v, plate);
+    for (int v : vertices) check_chain_vertex(s, an, lf, v, plate, band_pillow);
     for (int v : vertices)
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
             const int e = an.vertex_edges[i];
@@ -332,15 +339,16 @@ void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& l
 
 }  // namespace
 
-void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an) {
+void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow) {
     const int nv = static_cast<int>(s.points.size()), ne = static_cast<int>(s.edges.size());
     an.edge_docked.assign(ne, 0);
     an.vertex_plate.assign(nv, -1);
+    an.docked_unmatched.clear();
     if (std::none_of(an.edge_degree.begin(), an.edge_degree.end(), [](int d) { return d >= 3; })) return;
     const LocalFaces lf = local_faces(s, an);
     std::vector<char> seen(ne, 0);
     for (int e = 0; e < ne; ++e)
-        if (an.edge_degree[e] >= 3 && !seen[e]) dock_component(s, an, lf, fan_component(s, an, e, seen));
+        if (an.edge_degree[e] >= 3 && !seen[e]) dock_component(s, an, lf, fan_component(s, an, e, seen), band_pillow);
 }
 
 VertexClass docked_vertex_class(const SkeletonAnalysis& an, int v, int& plate_boundary_edges) {

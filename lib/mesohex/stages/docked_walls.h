@@ -48,8 +48,10 @@ inline constexpr double kDockWallTiltDeg = 45;
 
 // Analysis step (after leaflets and face normals, before vertex classes): fills analysis.edge_docked and
 // analysis.vertex_plate. A fan chain with an end inside a leaflet that cannot be docked is refused here, naming the
-// vertex and why. Serial, O(E + F) plus the faces of the chain vertices.
-void find_docked_walls(const Skeleton& skeleton, SkeletonAnalysis& analysis);
+// vertex and why; with band_pillow, a chain vertex whose plate grid does not match the foot (the straight-through
+// condition below) is listed in analysis.docked_unmatched instead (AnalysisOptions::docked_band_pillow). Serial,
+// O(E + F) plus the faces of the chain vertices.
+void find_docked_walls(const Skeleton& skeleton, SkeletonAnalysis& analysis, bool band_pillow = false);
 
 // The class of docked chain vertex v by its plate alone (LeafletInterior, or LeafletBoundary at a border end), and its
 // plate's boundary edges there (0 or 2).

@@ -477,7 +477,10 @@ void check_rooted_branches(const Skeleton& s, const SkeletonAnalysis& an) {
     const int nv = static_cast<int>(s.points.size());
     const int nf = static_cast<int>(an.face_vertices.size());
     std::map<std::array<int, 3>, int> owner;  // key -> rooted vertex (a wall's docked vertex: -1 - vertex)
-    for (const FootQuad& q : docked_foot_quads(s, an)) {
+    // A chain left to the band pillow (AnalysisOptions::docked_band_pillow) has no feet yet: the repaired skeleton's
+    // analysis checks them.
+    const std::vector<FootQuad> feet = an.docked_unmatched.empty() ? docked_foot_quads(s, an) : std::vector<FootQuad>{};
+    for (const FootQuad& q : feet) {
         const auto [it, fresh] = owner.insert({{q.kind, q.id, q.up ? 0 : 1}, -1 - q.vertex});
         if (!fresh)
             fail(ErrorCode::UnsupportedConfiguration,
@@ -625,7 +628,7 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     const EdgeFaces edge_faces = build_faces(s, an);
     find_leaflets(edge_faces, an);
     compute_face_normals(s, an);
-    find_docked_walls(s, an);
+    find_docked_walls(s, an, options.docked_band_pillow);
     classify_vertices(s, options, an);
     check_rooted_branches(s, an);
     std::vector<char> branch_edge(s.edges.size()), joint(s.points.size());

@@ -109,6 +109,10 @@ struct SkeletonAnalysis {
     // and its vertex_boundary_edges counted, by its plate alone (LeafletInterior or LeafletBoundary).
     std::vector<char> edge_docked;
     std::vector<int> vertex_plate;
+    // Docked chain vertices whose plate grid does not match the wall's foot (a turn in the grid, other than 4 plate
+    // faces, ...), accepted only with AnalysisOptions::docked_band_pillow (left to the repair's band pillow), chain
+    // by chain; empty otherwise. With any, the feet are not built nor checked (docked_foot_quads is skipped).
+    std::vector<int> docked_unmatched;
     std::vector<Branch> branches;
     // Leaflets. face_vertices is the face re-oriented consistently within its leaflet (the first face of each leaflet,
     // in face-id order, keeps the input orientation). face_normal: Newell normal of the oriented face, unit length.
@@ -132,6 +136,11 @@ struct AnalysisOptions {
     // the fan block's cap there (CompatibleBlockOptions::fan_cap_branches, fan_blocks.h); the connection surfaces
     // refuse it, naming the vertex, when no fan-block chain ends there with that branch accepted. Set by the pipeline.
     bool fan_cap_branches = false;
+    // Accept a docked wall's chain whose feet do not match its plate's grid (a chain turning in the grid, a chain
+    // vertex where other than 4 plate faces meet; listed in SkeletonAnalysis::docked_unmatched, not refused): for the
+    // analysis of an input that repair_skeleton's band pillow (SkeletonRepairOptions::docked_band_pillow) makes
+    // match. Set by the pipeline.
+    bool docked_band_pillow = false;
 };
 
 // Preconditions (checked, Error(InvalidInput) naming the element otherwise): indices in range, no self-loop edge,

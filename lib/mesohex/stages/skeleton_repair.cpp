@@ -451,9 +451,9 @@ int split_beyond_wall_end(const Skeleton& s, const DockedPlates& dp, int u, doub
 // (docked_chain_vertices) without a branch edge, every side (u, v) of 2 faces of u's plate, v not on the chain, has its
 // strip split at factor x r_u from u: beside the chain when the side shares a face with a chain side, beyond an inside
 // end otherwise; and where one side's wall ends at u inside the chain (its two chain sides have different face
-// counts), the chain side with fewer faces at factor x r_u from u (the foot beyond that wall's end). Returns the
-// number of strips split.
-int split_docked_feet(Skeleton& s, double factor) {
+// counts), the chain side with fewer faces at factor x r_u from u (the foot beyond that wall's end). A side to a band
+// copy (band[v], pillow_docked_bands) is left: the band is the foot. Returns the number of strips split.
+int split_docked_feet(Skeleton& s, double factor, const std::vector<char>& band) {
     if (!strips_splittable(s, factor)) return 0;
     const DockedPlates dp = docked_plates(s);
     const std::vector<char> docked = docked_chain_vertices(dp);
@@ -463,6 +463,7 @@ int split_docked_feet(Skeleton& s, double factor) {
         if (dp.branch[u] || !docked[u] || dp.chain[u].size() > 2 || dp.plate[u] < 0) continue;
         for (const int v : dp.sides[u]) {
             if (!plate_side(dp, u, v) || cuts.count(std::minmax(u, v))) continue;
+            if (static_cast<std::size_t>(v) < band.size() && band[v]) continue;  // the band pillow's side: as wide
             const double d = distance(s.points[u], s.points[v]);
             const double target = factor * s.radii[u];
             if (!(d > target)) continue;
@@ -473,6 +474,299 @@ int split_docked_feet(Skeleton& s, double factor) {
     }
     if (strips) apply_cuts(s, cuts);
     return strips;
+}
+
+// Band pillow (SkeletonRepairOptions::docked_band_pillow). The band's width factor without a foot split: the copies
+// then lie half the shortest side from their vertex.
+constexpr double kUnboundedBand = 1e6;
+
+// Per vertex: the faces containing it, in face order.
+std::vector<std::vector<int>> faces_at_vertices(const Skeleton& s) {
+    std::vector<std::vector<int>> at(s.points.size());
+    for (int f = 0; f < static_cast<int>(s.faces.size()); ++f)
+        for (const int v : s.faces[f]) at[v].push_back(f);
+    return at;
+}
+
+bool has_face(const std::vector<int>& fs, int f) { return std::find(fs.begin(), fs.end(), f) != fs.end(); }
+
+// Whether chain vertex u's plate grid matches a docked wall's foot, the analysis' condition (docked_walls.h): 2 chain
+// sides and 4 plate faces, each on one chain side; or 1 chain side with 4 plate faces and no border side, or 2 faces
+// and 2 border sides.
+bool foot_matches(const DockedPlates& dp, const std::vector<std::vector<int>>& at, int u) {
+    const int nc = static_cast<int>(dp.chain[u].size());
+    int faces = 0, border = 0;
+    bool straight = true;
+    for (const int f : at[u]) {
+        if (dp.leaflet[f] != dp.plate[u]) continue;
+        ++faces;
+        int on = 0;
+        for (const int w : dp.chain[u]) on += has_face(faces_of(dp, u, w), f) ? 1 : 0;
+        straight = straight && on <= 1 && (nc == 1 || on == 1);
+    }
+    for (const int v : dp.sides[u]) {
+        const std::vector<int>& fs = faces_of(dp, u, v);
+        border += fs.size() == 1 && dp.leaflet[fs[0]] == dp.plate[u] ? 1 : 0;
+    }
+    if (nc == 2) return faces == 4 && border == 0 && straight;
+    return nc == 1 && straight && ((faces == 4 && border == 0) || (faces == 2 && border == 2));
+}
+
+// A vertex on plate P's border: a side of exactly one face, of P.
+bool plate_border_vertex(const DockedPlates& dp, int v, int P) {
+    for (const int w : dp.sides[v]) {
+        const std::vector<int>& fs = faces_of(dp, v, w);
+        if (fs.size() == 1 && dp.leaflet[fs[0]] == P) return true;
+    }
+    return false;
+}
+
+// The plate side of x that continues the side (p, x) straight through P's grid: x has 4 faces of P, and exactly one of
+// its sides of 2 faces of P, other than (p, x), shares no face with (p, x). -1 when there is none.
+int straight_on(const DockedPlates& dp, const std::vector<std::vector<int>>& at, int p, int x, int P) {
+    int plate_faces = 0;
+    for (const int f : at[x]) plate_faces += dp.leaflet[f] == P ? 1 : 0;
+    if (plate_faces != 4) return -1;
+    const std::vector<int>& pf = faces_of(dp, p, x);
+    int y = -1, found = 0;
+    for (const int v : dp.sides[x]) {
+        const std::vector<int>& fs = faces_of(dp, x, v);
+        if (v == p || fs.size() != 2 || dp.leaflet[fs[0]] != P || dp.leaflet[fs[1]] != P) continue;
+        if (!has_face(pf, fs[0]) && !has_face(pf, fs[1])) y = v, ++found;
+    }
+    return found == 1 ? y : -1;
+}
+
+// The band's path: a docked chain from its end e (vertices joined by chain sides), run on straight through the plate's
+// grid beyond every end inside the plate up to its border (through vertices of 4 plate faces only, no branch, no
+// other chain, no vertex twice). Empty when the chain is not a simple path or cannot run on.
+std::vector<int> band_path(const DockedPlates& dp, const std::vector<std::vector<int>>& at,
+                           const std::vector<char>& docked, int e) {
+    const int P = dp.plate[e];
+    std::vector<int> path{e};
+    for (int prev = -1, u = e;;) {  // the chain
+        int next = -1;
+        for (const int w : dp.chain[u])
+            if (w != prev) next = w;
+        if (dp.chain[u].size() > 2 || dp.plate[u] != P || dp.branch[u]) return {};
+        if (next < 0) break;
+        if (std::find(path.begin(), path.end(), next) != path.end()) return {};
+        path.push_back(next);
+        prev = u, u = next;
+    }
+    const auto run_on = [&](std::vector<int>& p) {  // beyond p.back(), coming from p[p.size() - 2]
+        while (!plate_border_vertex(dp, p.back(), P)) {
+            const int y = straight_on(dp, at, p[p.size() - 2], p.back(), P);
+            if (y < 0 || docked[y] || dp.branch[y] || std::find(p.begin(), p.end(), y) != p.end()) return false;
+            for (const int f : at[y])
+                if (dp.leaflet[f] != P) return false;
+            p.push_back(y);
+        }
+        return true;
+    };
+    if (path.size() < 2 || !run_on(path)) return {};
+    std::reverse(path.begin(), path.end());
+    if (!run_on(path)) return {};
+    return path;
+}
+
+// Unit direction from side (a, b) into face f, perpendicular to the side (towards the opposite side's midpoint).
+Vec3 into_quad(const Skeleton& s, int f, int a, int b) {
+    const Vec3 t = normalized(s.points[b] - s.points[a]);
+    Vec3 c{};
+    for (const int v : s.faces[f])
+        if (v != a && v != b) c = c + 0.5 * s.points[v];
+    const Vec3 d = c - 0.5 * (s.points[a] + s.points[b]);
+    return normalized(d - dot(d, t) * t);
+}
+
+// The plate faces at path vertex path[i] on one side of the path: those joined to face f0 through sides at it that are
+// not path sides.
+std::vector<int> band_arc(const Skeleton& s, const DockedPlates& dp, const std::vector<std::vector<int>>& at,
+                          const std::vector<int>& path, std::size_t i, int f0) {
+    const int v = path[i], P = dp.leaflet[f0];
+    const auto path_side = [&](int w) {
+        return (i > 0 && path[i - 1] == w) || (i + 1 < path.size() && path[i + 1] == w);
+    };
+    std::vector<int> arc{f0};
+    for (std::size_t k = 0; k < arc.size(); ++k) {
+        const std::vector<int>& f = s.faces[arc[k]];
+        const int c = static_cast<int>(std::find(f.begin(), f.end(), v) - f.begin());
+        for (const int w : {f[(c + 1) % 4], f[(c + 3) % 4]}) {
+            if (path_side(w)) continue;
+            for (const int g : faces_of(dp, v, w))
+                if (dp.leaflet[g] == P && has_face(at[v], g) && !has_face(arc, g)) arc.push_back(g);
+        }
+    }
+    std::sort(arc.begin(), arc.end());
+    return arc;
+}
+
+// One side of a band path: per path vertex its faces on that side, per path edge its face there.
+struct BandSide {
+    std::vector<std::vector<int>> arcs;
+    std::vector<int> edge_face;
+};
+
+// The two sides of the path on plate P (plus: the face containing the directed first side, else the first face), or false when a
+// path side is not shared by 2 faces of the plate or a vertex's faces do not part in two at the path.
+bool band_sides(const Skeleton& s, const DockedPlates& dp, const std::vector<std::vector<int>>& at,
+                const std::vector<int>& path, int P, std::array<BandSide, 2>& sides) {
+    std::vector<std::array<int, 2>> ef;
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+        std::vector<int> fs;
+        for (const int f : faces_of(dp, path[i], path[i + 1]))
+            if (dp.leaflet[f] == P) fs.push_back(f);
+        if (fs.size() != 2) return false;
+        ef.push_back({fs[0], fs[1]});
+    }
+    const std::vector<int>& f0 = s.faces[ef[0][1]];
+    for (int k = 0; k < 4; ++k)
+        if (f0[k] == path[0] && f0[(k + 1) % 4] == path[1]) std::swap(ef[0][0], ef[0][1]);
+    for (BandSide& side : sides) side = BandSide{std::vector<std::vector<int>>(path.size()), {}};
+    for (std::size_t i = 0; i < path.size(); ++i) {
+        const std::size_t e = i == 0 ? 0 : i - 1;  // the path edge whose sides are known at vertex i
+        for (int k = 0; k < 2; ++k) sides[k].arcs[i] = band_arc(s, dp, at, path, i, ef[e][k]);
+        if (has_face(sides[1].arcs[i], ef[e][0])) return false;  // one side all around: not parted
+        if (i == 0 || i + 1 == path.size()) continue;
+        const bool first = has_face(sides[0].arcs[i], ef[i][0]), second = has_face(sides[0].arcs[i], ef[i][1]);
+        if (first == second) return false;
+        if (second) std::swap(ef[i][0], ef[i][1]);
+    }
+    for (const std::array<int, 2>& x : ef)
+        for (int k = 0; k < 2; ++k) sides[k].edge_face.push_back(x[k]);
+    return true;
+}
+
+// The direction of path vertex i's copy on side k, per unit of band width: the miter of the side's directions into
+// its faces at an inner vertex (1 / cos of half the turn long), along its border side on that side at a path end (1 /
+// cos of the border's angle off the side's direction long). False for a turn sharper than about 105 degrees or a
+// border leaving the path at a grazing angle.
+bool band_copy(const Skeleton& s, const DockedPlates& dp, const std::vector<int>& path, const BandSide& side,
+               std::size_t i, Vec3& m) {
+    const int v = path[i];
+    const auto into = [&](std::size_t e) { return into_quad(s, side.edge_face[e], path[e], path[e + 1]); };
+    if (i > 0 && i + 1 < path.size()) {
+        const Vec3 d1 = into(i - 1), d2 = into(i);
+        if (!(dot(d1, d2) > -0.25)) return false;
+        m = (1 / (1 + dot(d1, d2))) * (d1 + d2);
+        return true;
+    }
+    const Vec3 d = into(i == 0 ? 0 : i - 1);
+    for (const int b : dp.sides[v]) {
+        const std::vector<int>& fs = faces_of(dp, v, b);
+        if (fs.size() != 1 || !has_face(side.arcs[i], fs[0])) continue;
+        const Vec3 along = normalized(s.points[b] - s.points[v]);
+        const double c = dot(along, d);
+        if (!(c > 0.3)) return false;
+        m = (1 / c) * along;
+        return true;
+    }
+    return false;
+}
+
+// Pillows the band of `path` in place: every path vertex v gets a copy on each side (band_copy, radius r_v), the
+// plate faces at v on that side take the copy instead of v, and every path side (p, q) two new faces (p, q, q', p')
+// oriented like the side's old faces; new edges (v, v') and (p', q'). copies: set to 1 for every new vertex. False
+// (s untouched) when a copy cannot be placed.
+bool pillow_band(Skeleton& s, const DockedPlates& dp, const std::vector<int>& path,
+                 const std::array<BandSide, 2>& sides, double factor, std::vector<char>& copies) {
+    const int n0 = static_cast<int>(s.points.size()), np = static_cast<int>(path.size());
+    // The width: factor x r_v, at most, along the whole path, half of every path vertex's shortest plate side off the
+    // path divided by |m|^2 (the copy at most half that side / |m| from v: at a right turn a quarter of the side, half
+    // way to where the outer face's diagonal crosses).
+    std::vector<Vec3> m(2 * np);
+    double cap = 1e300;
+    for (int i = 0; i < np; ++i) {
+        const int v = path[i];
+        double shortest = 1e300;
+        for (const int x : dp.sides[v]) {
+            const bool on_plate = std::any_of(faces_of(dp, v, x).begin(), faces_of(dp, v, x).end(), [&](int f) {
+                return has_face(sides[0].arcs[i], f) || has_face(sides[1].arcs[i], f);
+            });
+            if (on_plate && (i == 0 || x != path[i - 1]) && (i + 1 == np || x != path[i + 1]))
+                shortest = std::min(shortest, distance(s.points[v], s.points[x]));
+        }
+        for (int k = 0; k < 2; ++k) {
+            if (!band_copy(s, dp, path, sides[k], i, m[2 * i + k])) return false;
+            cap = std::min(cap, 0.5 * shortest / dot(m[2 * i + k], m[2 * i + k]));
+        }
+    }
+    std::vector<Vec3> at(2 * np);
+    for (int i = 0; i < np; ++i)
+        for (int k = 0; k < 2; ++k)
+            at[2 * i + k] = s.points[path[i]] + std::min(factor * s.radii[path[i]], cap) * m[2 * i + k];
+    const auto copy = [&](int i, int k) { return n0 + 2 * i + k; };
+    const auto index = [&](int v) { return static_cast<int>(std::find(path.begin(), path.end(), v) - path.begin()); };
+    // Every side (v, x) off the path at a path vertex v takes v's copy on the side of its faces.
+    const auto side_of = [&](int i, int x) {
+        for (const int f : faces_of(dp, path[i], x))
+            for (int k = 0; k < 2; ++k)
+                if (has_face(sides[k].arcs[i], f)) return k;
+        return -1;
+    };
+    for (std::array<int, 2>& e : s.edges) {
+        const std::array<int, 2> old = e;
+        for (int j = 0; j < 2; ++j) {
+            const int i = index(old[j]);
+            if (i == np || (i > 0 && old[1 - j] == path[i - 1]) || (i + 1 < np && old[1 - j] == path[i + 1])) continue;
+            if (const int k = side_of(i, old[1 - j]); k >= 0) e[j] = copy(i, k);
+        }
+    }
+    for (int i = 0; i < np; ++i)
+        for (int k = 0; k < 2; ++k)
+            for (const int f : sides[k].arcs[i])
+                std::replace(s.faces[f].begin(), s.faces[f].end(), path[i], copy(i, k));
+    for (int i = 0; i < np; ++i)
+        for (int k = 0; k < 2; ++k) {
+            s.points.push_back(at[2 * i + k]);
+            s.radii.push_back(s.radii[path[i]]);
+            s.edges.push_back({path[i], copy(i, k)});
+        }
+    for (int i = 0; i + 1 < np; ++i)
+        for (int k = 0; k < 2; ++k) {
+            const int p = path[i], q = path[i + 1], pc = copy(i, k), qc = copy(i + 1, k);
+            const std::vector<int>& f = s.faces[sides[k].edge_face[i]];
+            bool forward = false;  // the old face runs p' -> q': the new one q' -> p'
+            for (int c = 0; c < 4; ++c) forward = forward || (f[c] == pc && f[(c + 1) % 4] == qc);
+            s.faces.push_back(forward ? std::vector<int>{p, q, qc, pc} : std::vector<int>{q, p, pc, qc});
+            s.edges.push_back({pc, qc});
+        }
+    copies.resize(s.points.size(), 0);
+    std::fill(copies.begin() + n0, copies.end(), 1);
+    return true;
+}
+
+// Pillows the band of every docked chain whose feet do not match its plate's grid (foot_matches fails at a chain
+// vertex) and whose band path exists (band_path, band_sides, pillow_band); chains that match are left as they are.
+// copies: per vertex of the result, 1 for a band copy. Returns the number of bands pillowed.
+int pillow_docked_bands(Skeleton& s, double factor, std::vector<char>& copies) {
+    copies.assign(s.points.size(), 0);
+    if (!strips_splittable(s, factor) || !has_side_of_three_faces(s)) return 0;
+    int bands = 0;
+    std::set<int> tried;  // chain ends whose band could not be pillowed
+    for (bool again = true; again;) {
+        again = false;
+        const DockedPlates dp = docked_plates(s);
+        const std::vector<char> docked = docked_chain_vertices(dp);
+        const std::vector<std::vector<int>> at = faces_at_vertices(s);
+        for (int e = 0; e < static_cast<int>(s.points.size()) && !again; ++e) {
+            if (!docked[e] || dp.chain[e].size() != 1 || tried.count(e)) continue;
+            std::vector<int> path = band_path(dp, at, docked, e);
+            bool unmatched = false;
+            for (const int u : path) unmatched = unmatched || (docked[u] && !foot_matches(dp, at, u));
+            std::array<BandSide, 2> sides;
+            if (!unmatched || !band_sides(s, dp, at, path, dp.plate[e], sides) ||
+                !pillow_band(s, dp, path, sides, factor, copies)) {
+                tried.insert(e);
+                continue;
+            }
+            ++bands;
+            again = true;
+        }
+    }
+    copies.resize(s.points.size(), 0);
+    return bands;
 }
 
 // The shorter walk of a close pair whose tubes do not separate before it ends: a stub (ends at an extremity), a
@@ -1103,7 +1397,11 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     repair_trunks(s, o, res);
     res.junction_splits =
         split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance, blocks);
-    res.docked_foot_splits = split_docked_feet(s, o.docked_foot_split);
+    std::vector<char> band;  // the band pillow's copies
+    if (o.docked_band_pillow)
+        res.docked_band_pillows =
+            pillow_docked_bands(s, o.docked_foot_split > 0 ? o.docked_foot_split : kUnboundedBand, band);
+    res.docked_foot_splits = split_docked_feet(s, o.docked_foot_split, band);
     res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
     return res;
 }

@@ -147,6 +147,17 @@ struct SkeletonRepairOptions {
     // as the wall. 0 disables (dimensionless, x the chain vertex's radius; 2 measured on thin and default walls).
     // docs/blocks.md ("Acceptance audit (session 24)").
     double docked_foot_split = 2;
+    // Docked walls whose feet do not match the plate's grid (the analysis' straight-through condition fails at a chain
+    // vertex: a chain turning in the grid, a chain vertex where other than 4 plate faces meet): the band pillow. The
+    // chain's path, run on straight through the grid beyond every inside end up to the plate's border, gets a copy of
+    // each vertex on each side, docked_foot_split x its radius from it (the miter at a turn; at most half its
+    // shortest other side; half that side when docked_foot_split is 0), and a row of new plate faces between the path
+    // and each side's copies (two chords of faces): every chain vertex then has 2 plate faces on each side, the foot
+    // the analysis docks. Hexes: + 4 per path edge + 4 per path end on the border (before the foot split beyond the
+    // inside ends). Chains that match are left as they are. Not done (the analysis refuses as before) when the path
+    // cannot run on (a vertex of other than 4 plate faces, a branch, another chain, a vertex met twice) or turns by
+    // more than about 105 degrees. docs/blocks.md ("Docked walls turning in the plate's grid: the band pillow").
+    bool docked_band_pillow = true;
     // Branches on fan-edge ends (the paper's limitation 3): the fan edge is retracted from the branch's vertex, which
     // becomes a leaflet corner (stages/fan_end_repair.h; a single fan edge is split in two first, with the face strips
     // crossing it). Done first, on the input skeleton.
@@ -168,8 +179,9 @@ struct SkeletonRepairResult {
     int unseparated = 0;        // close pairs (t would clear the ball) left as they are: a branch ends before the tubes
                                 // separate
     int root_strip_splits = 0;  // face strips split for root patches (root_patch_factor)
-    int docked_foot_splits = 0;  // plate face strips split beside and beyond docked chains (docked_foot_split)
-    int junction_splits = 0;     // degree-4 branching points split in two (junction_split; one new vertex each)
+    int docked_foot_splits = 0;   // plate face strips split beside and beyond docked chains (docked_foot_split)
+    int docked_band_pillows = 0;  // docked chains whose band was pillowed (docked_band_pillow)
+    int junction_splits = 0;      // degree-4 branching points split in two (junction_split; one new vertex each)
     // The ball t of every absorbed stub or merged end, by output id: a radius peak the adaptation keeps as a joint
     // (adapt_skeleton's `pinned`), so that the resampling does not step over it and taper the bump away.
     std::vector<int> absorbed_balls;
@@ -207,6 +219,10 @@ struct SkeletonRepairResult {
 // place; new edges inside split faces are appended in face order; a split face keeps its index for its first piece,
 // the others are appended. Each split adds per strip edge one vertex and one edge, per cut face one edge and one face
 // (4 edges and 3 faces and a centre vertex for a face cut twice): V - E + F unchanged. O(V + E + F) per root.
+// The band pillow (docked_band_pillow) comes before the docked feet's strip splits: per pillowed chain its path's
+// copies are appended (2 per path vertex, in path order), then its path's faces (2 per path edge) and edges (the
+// (v, v') pairs, then the copies' path sides); plate faces and sides at a path vertex take its copy in place: V - E +
+// F unchanged. O((V + E + F) x path length) per chain.
 // fan_caps (sorted vertex ids): fan-edge ends whose branch stands on a fan block's cap, left as they are by the
 // fan-end retraction (retract_fan_ends).
 SkeletonRepairResult repair_skeleton(const Skeleton& s, const SkeletonRepairOptions& o = {},
