@@ -1272,7 +1272,7 @@ TEST(RawMesh, GapVertexOfABalancedGapStaysOnTheNormalSum) {
 // shrinks the fat junction's whole sphere to rr < 0.6 (off). On, only the surface points of its quad on the bridge
 // (corners and side midpoints) keep rr; every other surface point goes back to the input radius 0.6 and the
 // midpoint of an edge from a limited to a free point to the mean radius; no hex at the junction falls below min(0.3,
-// before); off is the default.
+// before); on is the default (with bridge_quad_inset, set to 0 here: the raise onto the ball alone).
 TEST(RawMesh, BridgeQuadRadiusKeepsTheFatJunctionsOtherPointsOnItsBall) {
     Skeleton s;
     s.points = {{0, 0, 0}, {0.7, 0, 0}, {-2.4, 0, 0}, {0, 2.4, 0}, {0, -2.4, 0}, {1.8, 0, 1.0}, {1.8, 0, -1.0}};
@@ -1283,10 +1283,11 @@ TEST(RawMesh, BridgeQuadRadiusKeepsTheFatJunctionsOtherPointsOnItsBall) {
     ASSERT_EQ(an.vertex_class[1], VertexClass::BranchingPoint);
     const ConnectionSurfaces cs = build_connection_surfaces(s, an);
     const BranchFrames fr = propagate_frames(s, an, cs);
-    EXPECT_FALSE(RawMeshOptions{}.bridge_quad_radius);
-    RawMeshOptions on_options;
-    on_options.bridge_quad_radius = true;
-    const RawMesh off = build_raw_mesh(s, an, cs, fr);
+    EXPECT_TRUE(RawMeshOptions{}.bridge_quad_radius);
+    RawMeshOptions off_options, on_options;
+    off_options.bridge_quad_radius = false;
+    on_options.bridge_quad_inset = 0.0;  // the raise onto the ball alone (the inset: the next test)
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, off_options);
     const RawMesh on = build_raw_mesh(s, an, cs, fr, on_options);
     const int np = cs.point_begin[1] - cs.point_begin[0], ne = cs.edge_begin[1] - cs.edge_begin[0];
     const auto dist = [&](const RawMesh& raw, int x) {
@@ -1322,4 +1323,73 @@ TEST(RawMesh, BridgeQuadRadiusKeepsTheFatJunctionsOtherPointsOnItsBall) {
     // The thin junction keeps its points (its own radius is not limited by the fat one's quad here).
     for (int x = 0; x < cs.point_begin[2] - cs.point_begin[1]; ++x)
         EXPECT_EQ(on.mesh.points[on.vertex_base[1] + 1 + x], off.mesh.points[off.vertex_base[1] + 1 + x]);
+}
+
+// RawMeshOptions::bridge_quad_inset on the fixture above (a degree-4 junction r 0.6 with a 0.7 bridge to a degree-3
+// one r 0.3). With the points raised onto the ball (inset 0), each point off the bridge quad has a shortest raw
+// boundary edge e_x; with inset 0.25 it stands at exactly 0.6 - 0.25 e_x (one padding layer inside the ball, so the
+// padding's offset of 0.25 x its shortest edge ends on the ball), the bridge quad's points keep the limit rr, the
+// midpoints of the other edges lie at the mean of their ends; no junction hex below min(0.3, before); the defaults are
+// the raise with inset 0.25.
+TEST(RawMesh, BridgeQuadInsetStopsTheRaisedPointsOneLayerShort) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0.5, 0, 0}, {-2.4, 0, 0}, {0, 2.4, 0}, {0, -2.4, 0}, {1.6, 0, 1.0}, {1.6, 0, -1.0}};
+    s.radii = {0.6, 0.3, 0.3, 0.3, 0.3, 0.2, 0.2};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {1, 5}, {1, 6}};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    EXPECT_EQ(RawMeshOptions{}.bridge_quad_inset, 0.25);
+    RawMeshOptions off_options, raise;
+    off_options.bridge_quad_radius = false;
+    raise.bridge_quad_inset = 0.0;
+    RawMeshOptions inset = raise;
+    inset.bridge_quad_inset = 0.25;
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, off_options);
+    const RawMesh raised = build_raw_mesh(s, an, cs, fr, raise);
+    const RawMesh on = build_raw_mesh(s, an, cs, fr, inset);
+    EXPECT_EQ(build_raw_mesh(s, an, cs, fr).mesh.points, on.mesh.points);  // the defaults
+    const int np = cs.point_begin[1] - cs.point_begin[0], ne = cs.edge_begin[1] - cs.edge_begin[0];
+    const int base = raised.vertex_base[0];
+    const auto dist = [&](const RawMesh& raw, int x) { return distance(raw.mesh.points[base + 1 + x], s.points[0]); };
+    const double rr = dist(off, 0);
+    // Shortest raw boundary edge of each raised point, measured on the raised mesh.
+    const HexTopology topo = compute_hex_topology(raised.mesh);
+    std::vector<double> shortest(raised.mesh.points.size(), 1e9);
+    for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+        if (!topo.edge_on_boundary[e]) continue;
+        const auto [a, b] = topo.edges[e];
+        const double len = distance(raised.mesh.points[a], raised.mesh.points[b]);
+        shortest[a] = std::min(shortest[a], len);
+        shortest[b] = std::min(shortest[b], len);
+    }
+    const int gq = cs.edge_quad[0][0];
+    std::vector<bool> limited(static_cast<std::size_t>(np + ne), false);
+    for (int k = 0; k < 4; ++k) {
+        limited[static_cast<std::size_t>(cs.quads[gq][k])] = true;
+        limited[static_cast<std::size_t>(np + cs.quad_edges[gq][k])] = true;
+    }
+    int inset_points = 0;
+    for (int x = 0; x < np; ++x) {
+        if (limited[static_cast<std::size_t>(x)]) {
+            EXPECT_NEAR(dist(on, x), rr, 1e-12);
+            continue;
+        }
+        const double e = shortest[static_cast<std::size_t>(base + 1 + x)];
+        ASSERT_LT(e, 1.0);
+        EXPECT_NEAR(dist(raised, x), 0.6, 1e-12);
+        EXPECT_NEAR(dist(on, x), std::max(rr, 0.6 - 0.25 * e), 1e-12) << x;
+        EXPECT_LT(dist(on, x), 0.6 - 1e-3);
+        EXPECT_GT(dist(on, x), rr + 1e-3);
+        ++inset_points;
+    }
+    EXPECT_EQ(inset_points, 2);  // 6 points, 4 of them on the bridge quad
+    for (int j = 0; j < ne; ++j) {
+        const std::array<int, 2>& ed = cs.edges[cs.edge_begin[0] + j];
+        const double mean = 0.5 * (dist(on, ed[0]) + dist(on, ed[1]));
+        EXPECT_NEAR(dist(on, np + j), limited[static_cast<std::size_t>(np + j)] ? rr : mean, 1e-12);
+    }
+    const std::vector<double> before = scaled_jacobians(off.mesh), after = scaled_jacobians(on.mesh);
+    EXPECT_GE(*std::min_element(after.begin(), after.end()),
+              std::min(0.3, *std::min_element(before.begin(), before.end())));
 }
