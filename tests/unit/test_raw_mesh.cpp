@@ -1325,12 +1325,13 @@ TEST(RawMesh, BridgeQuadRadiusKeepsTheFatJunctionsOtherPointsOnItsBall) {
         EXPECT_EQ(on.mesh.points[on.vertex_base[1] + 1 + x], off.mesh.points[off.vertex_base[1] + 1 + x]);
 }
 
-// RawMeshOptions::bridge_quad_inset on the fixture above (a degree-4 junction r 0.6 with a 0.7 bridge to a degree-3
-// one r 0.3). With the points raised onto the ball (inset 0), each point off the bridge quad has a shortest raw
-// boundary edge e_x; with inset 0.25 it stands at exactly 0.6 - 0.25 e_x (one padding layer inside the ball, so the
-// padding's offset of 0.25 x its shortest edge ends on the ball), the bridge quad's points keep the limit rr, the
-// midpoints of the other edges lie at the mean of their ends; no junction hex below min(0.3, before); the defaults are
-// the raise with inset 0.25.
+// RawMeshOptions::bridge_quad_inset on a degree-4 junction like the one above (r 0.6 at the origin, arms of length 2.4
+// along -x, +y, -y) with a shorter bridge, 0.5 along +x, to a degree-3 junction (r 0.3). With the points raised onto
+// the ball (inset 0), each of the 2 points off the bridge quad has a shortest raw boundary edge e_x (0.4303 for the
+// limit rr 0.3921, on paper below); with inset 0.25 it stands at exactly 0.6 - 0.25 e_x = 0.4924 (one padding layer
+// inside the ball, so the padding's offset of 0.25 x its shortest edge ends on the ball), the bridge quad's 4 points
+// keep rr, the midpoints of the other edges lie at the mean of their ends; no junction hex below min(0.3, before); the
+// defaults are the raise with inset 0.25.
 TEST(RawMesh, BridgeQuadInsetStopsTheRaisedPointsOneLayerShort) {
     Skeleton s;
     s.points = {{0, 0, 0}, {0.5, 0, 0}, {-2.4, 0, 0}, {0, 2.4, 0}, {0, -2.4, 0}, {1.6, 0, 1.0}, {1.6, 0, -1.0}};
@@ -1376,7 +1377,12 @@ TEST(RawMesh, BridgeQuadInsetStopsTheRaisedPointsOneLayerShort) {
             continue;
         }
         const double e = shortest[static_cast<std::size_t>(base + 1 + x)];
-        ASSERT_LT(e, 1.0);
+        // On paper: the four arms lie in a plane 90 degrees apart, so the junction is an orange with poles +-z and
+        // its free points on the bisectors (-1, +-1, 0) / sqrt 2; the shortest boundary edge runs from such a point
+        // (at 0.6) to the midpoint of its edge to a pole (45 degrees away, at the mean (0.6 + rr) / 2).
+        const double mid = 0.5 * (0.6 + rr);
+        EXPECT_NEAR(e, std::sqrt(0.36 + mid * mid - 2 * 0.6 * mid * std::sqrt(0.5)), 1e-9);
+        EXPECT_NEAR(std::abs(dot(normalized(raised.mesh.points[base + 1 + x] - s.points[0]), Vec3{0, 0, 1})), 0, 1e-9);
         EXPECT_NEAR(dist(raised, x), 0.6, 1e-12);
         EXPECT_NEAR(dist(on, x), std::max(rr, 0.6 - 0.25 * e), 1e-12) << x;
         EXPECT_LT(dist(on, x), 0.6 - 1e-3);
