@@ -10,7 +10,8 @@
 //            (generate_random_skeleton), or a skeleton file path; gen:all = every generator, random:A-B = seeds A..B
 //   Run under valgrind --tool=callgrind for instruction counts (one rep). EXACT_THREE=0|1 in the environment sets
 //   ConnectionSurfaceOptions::exact_three_orange, SHARED_HULL=0|1 its shared_hull_relaxation, GRADIENT_LONG=0|1 its
-//   gradient_long_relaxation.
+//   gradient_long_relaxation, BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius, BRIDGE_QUAD_INSET=F its
+//   bridge_quad_inset.
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -94,6 +95,10 @@ int main(int argc, char** argv) {
                 po.connection_surfaces.shared_hull_relaxation = std::atoi(k) != 0;
             if (const char* k = std::getenv("GRADIENT_LONG"))  // ConnectionSurfaceOptions::gradient_long_relaxation
                 po.connection_surfaces.gradient_long_relaxation = std::atoi(k) != 0;
+            if (const char* k = std::getenv("BRIDGE_QUAD"))  // RawMeshOptions::bridge_quad_radius
+                po.raw_mesh.bridge_quad_radius = std::atoi(k) != 0;
+            if (const char* k = std::getenv("BRIDGE_QUAD_INSET"))  // RawMeshOptions::bridge_quad_inset
+                po.raw_mesh.bridge_quad_inset = std::atof(k);
             for (int r = 0; r < reps; ++r) {
                 const double t0 = cpu_ms();
                 const auto w0 = std::chrono::steady_clock::now();

@@ -249,10 +249,17 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                   "At a fan end retracted from a branch, raise the cap up to the retracted leaflet corners so the "
                   "leaflets' border hexes span the notch (off by default: docs/blocks.md, \"The notch closed by the "
                   "cap\")");
-    cmd->add_option("--bridge-quad-radius", job->options.pipeline.raw_mesh.bridge_quad_radius,
-                    "At a branching point joined to another by a bridge edge, shrink only the surface points of its "
-                    "quad on the bridge to the bridge's margin limit, the others staying on the input radius (0 or 1; "
-                    "docs/junctions.md, \"Bridge quads\")")
+    cmd->add_option(
+           "--bridge-quad-radius", job->options.pipeline.raw_mesh.bridge_quad_radius,
+           "At a branching point joined to another by a bridge edge, shrink only the surface points of its "
+           "quad on the bridge to the bridge's margin limit, the others staying on the input radius (0 or 1, on "
+           "by default; 0: the whole sphere at the limit, docs/junctions.md, \"Bridge quads\")")
+        ->capture_default_str();
+    cmd->add_option("--bridge-quad-inset", job->options.pipeline.raw_mesh.bridge_quad_inset,
+                    "With --bridge-quad-radius 1: the raised points stop this many times their shortest raw boundary "
+                    "edge short of the input ball (0.25 = one padding layer, the default; 0 = on the ball: "
+                    "docs/junctions.md, \"Bridge quads raised one layer short\")")
+        ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
     cmd->add_option("--junction-crease", job->options.pipeline.raw_mesh.cover.crease_deg,
                     "Open the raw boundary creases on branching points' spheres sharper than this many degrees "

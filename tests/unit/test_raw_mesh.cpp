@@ -1273,7 +1273,7 @@ TEST(RawMesh, GapVertexOfABalancedGapStaysOnTheNormalSum) {
 // shrinks the fat junction's whole sphere to rr < 0.6 (off). On, only the surface points of its quad on the bridge
 // (corners and side midpoints) keep rr; every other surface point goes back to the input radius 0.6 and the
 // midpoint of an edge from a limited to a free point to the mean radius; no hex at the junction falls below min(0.3,
-// before); off is the default.
+// before); on is the default (with bridge_quad_inset, set to 0 here: the raise onto the ball alone).
 TEST(RawMesh, BridgeQuadRadiusKeepsTheFatJunctionsOtherPointsOnItsBall) {
     Skeleton s;
     s.points = {{0, 0, 0}, {0.7, 0, 0}, {-2.4, 0, 0}, {0, 2.4, 0}, {0, -2.4, 0}, {1.8, 0, 1.0}, {1.8, 0, -1.0}};
@@ -1284,10 +1284,11 @@ TEST(RawMesh, BridgeQuadRadiusKeepsTheFatJunctionsOtherPointsOnItsBall) {
     ASSERT_EQ(an.vertex_class[1], VertexClass::BranchingPoint);
     const ConnectionSurfaces cs = build_connection_surfaces(s, an);
     const BranchFrames fr = propagate_frames(s, an, cs);
-    EXPECT_FALSE(RawMeshOptions{}.bridge_quad_radius);
-    RawMeshOptions on_options;
-    on_options.bridge_quad_radius = true;
-    const RawMesh off = build_raw_mesh(s, an, cs, fr);
+    EXPECT_TRUE(RawMeshOptions{}.bridge_quad_radius);
+    RawMeshOptions off_options, on_options;
+    off_options.bridge_quad_radius = false;
+    on_options.bridge_quad_inset = 0.0;  // the raise onto the ball alone (the inset: the next test)
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, off_options);
     const RawMesh on = build_raw_mesh(s, an, cs, fr, on_options);
     const int np = cs.point_begin[1] - cs.point_begin[0], ne = cs.edge_begin[1] - cs.edge_begin[0];
     const auto dist = [&](const RawMesh& raw, int x) {
@@ -1363,4 +1364,79 @@ TEST(RawMesh, RadiusJumpAlongABranchKeepsItsRawHexesAboveTheTargets) {
         EXPECT_EQ(r.quality.inverted, 0);
         EXPECT_GE(r.quality.sj_min, measured - 0.05);
     }
+}
+
+// RawMeshOptions::bridge_quad_inset on a degree-4 junction like the one above (r 0.6 at the origin, arms of length 2.4
+// along -x, +y, -y) with a shorter bridge, 0.5 along +x, to a degree-3 junction (r 0.3). With the points raised onto
+// the ball (inset 0), each of the 2 points off the bridge quad has a shortest raw boundary edge e_x (0.4303 for the
+// limit rr 0.3921, on paper below); with inset 0.25 it stands at exactly 0.6 - 0.25 e_x = 0.4924 (one padding layer
+// inside the ball, so the padding's offset of 0.25 x its shortest edge ends on the ball), the bridge quad's 4 points
+// keep rr, the midpoints of the other edges lie at the mean of their ends; no junction hex below min(0.3, before); the
+// defaults are the raise with inset 0.25.
+TEST(RawMesh, BridgeQuadInsetStopsTheRaisedPointsOneLayerShort) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0.5, 0, 0}, {-2.4, 0, 0}, {0, 2.4, 0}, {0, -2.4, 0}, {1.6, 0, 1.0}, {1.6, 0, -1.0}};
+    s.radii = {0.6, 0.3, 0.3, 0.3, 0.3, 0.2, 0.2};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {1, 5}, {1, 6}};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    EXPECT_EQ(RawMeshOptions{}.bridge_quad_inset, 0.25);
+    RawMeshOptions off_options, raise;
+    off_options.bridge_quad_radius = false;
+    raise.bridge_quad_inset = 0.0;
+    RawMeshOptions inset = raise;
+    inset.bridge_quad_inset = 0.25;
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, off_options);
+    const RawMesh raised = build_raw_mesh(s, an, cs, fr, raise);
+    const RawMesh on = build_raw_mesh(s, an, cs, fr, inset);
+    EXPECT_EQ(build_raw_mesh(s, an, cs, fr).mesh.points, on.mesh.points);  // the defaults
+    const int np = cs.point_begin[1] - cs.point_begin[0], ne = cs.edge_begin[1] - cs.edge_begin[0];
+    const int base = raised.vertex_base[0];
+    const auto dist = [&](const RawMesh& raw, int x) { return distance(raw.mesh.points[base + 1 + x], s.points[0]); };
+    const double rr = dist(off, 0);
+    // Shortest raw boundary edge of each raised point, measured on the raised mesh.
+    const HexTopology topo = compute_hex_topology(raised.mesh);
+    std::vector<double> shortest(raised.mesh.points.size(), 1e9);
+    for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+        if (!topo.edge_on_boundary[e]) continue;
+        const auto [a, b] = topo.edges[e];
+        const double len = distance(raised.mesh.points[a], raised.mesh.points[b]);
+        shortest[a] = std::min(shortest[a], len);
+        shortest[b] = std::min(shortest[b], len);
+    }
+    const int gq = cs.edge_quad[0][0];
+    std::vector<bool> limited(static_cast<std::size_t>(np + ne), false);
+    for (int k = 0; k < 4; ++k) {
+        limited[static_cast<std::size_t>(cs.quads[gq][k])] = true;
+        limited[static_cast<std::size_t>(np + cs.quad_edges[gq][k])] = true;
+    }
+    int inset_points = 0;
+    for (int x = 0; x < np; ++x) {
+        if (limited[static_cast<std::size_t>(x)]) {
+            EXPECT_NEAR(dist(on, x), rr, 1e-12);
+            continue;
+        }
+        const double e = shortest[static_cast<std::size_t>(base + 1 + x)];
+        // On paper: the four arms lie in a plane 90 degrees apart, so the junction is an orange with poles +-z and
+        // its free points on the bisectors (-1, +-1, 0) / sqrt 2; the shortest boundary edge runs from such a point
+        // (at 0.6) to the midpoint of its edge to a pole (45 degrees away, at the mean (0.6 + rr) / 2).
+        const double mid = 0.5 * (0.6 + rr);
+        EXPECT_NEAR(e, std::sqrt(0.36 + mid * mid - 2 * 0.6 * mid * std::sqrt(0.5)), 1e-9);
+        EXPECT_NEAR(std::abs(dot(normalized(raised.mesh.points[base + 1 + x] - s.points[0]), Vec3{0, 0, 1})), 0, 1e-9);
+        EXPECT_NEAR(dist(raised, x), 0.6, 1e-12);
+        EXPECT_NEAR(dist(on, x), std::max(rr, 0.6 - 0.25 * e), 1e-12) << x;
+        EXPECT_LT(dist(on, x), 0.6 - 1e-3);
+        EXPECT_GT(dist(on, x), rr + 1e-3);
+        ++inset_points;
+    }
+    EXPECT_EQ(inset_points, 2);  // 6 points, 4 of them on the bridge quad
+    for (int j = 0; j < ne; ++j) {
+        const std::array<int, 2>& ed = cs.edges[cs.edge_begin[0] + j];
+        const double mean = 0.5 * (dist(on, ed[0]) + dist(on, ed[1]));
+        EXPECT_NEAR(dist(on, np + j), limited[static_cast<std::size_t>(np + j)] ? rr : mean, 1e-12);
+    }
+    const std::vector<double> before = scaled_jacobians(off.mesh), after = scaled_jacobians(on.mesh);
+    EXPECT_GE(*std::min_element(after.begin(), after.end()),
+              std::min(0.3, *std::min_element(before.begin(), before.end())));
 }

@@ -11,6 +11,7 @@
 #include "mesohex/core/cone.h"
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_kernels.h"
+#include "mesohex/core/topology.h"
 #include "mesohex/core/union_find.h"
 #include "mesohex/stages/compatible_blocks.h"
 #include "mesohex/stages/docked_walls.h"
@@ -812,14 +813,16 @@ Vec3 surface_direction(const ConnectionSurfaces& cs, const BranchFrames& frames,
 // out[x], local surface edge j at out[np + j]). A point on the quad of a bridge (v, u), u a branching point, gets the
 // margin limit of that bridge (branching_margin_radius's rule for that edge alone; the smallest over its bridges);
 // every other point keeps v's input radius. An edge midpoint gets its edge's bridge limit when the edge is a side of
-// a bridge quad, else the mean of its two ends' radii.
+// a bridge quad, else the mean of its two ends' radii. on_bridge_quad[x]: x is a corner or side midpoint of a bridge
+// quad (its radius is that limit).
 void bridge_quad_point_radii(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
-                             const BranchFrames& frames, const RawMeshOptions& options, int v,
-                             std::vector<double>& out) {
+                             const BranchFrames& frames, const RawMeshOptions& options, int v, std::vector<double>& out,
+                             std::vector<char>& on_bridge_quad) {
     const int p0 = cs.point_begin[v], np = cs.point_begin[v + 1] - p0;
     const int e0 = cs.edge_begin[v], ne = cs.edge_begin[v + 1] - e0;
     const double r = skeleton.radii[v];
     out.assign(static_cast<std::size_t>(np + ne), r);
+    on_bridge_quad.assign(static_cast<std::size_t>(np + ne), 0);
     std::vector<double> side(static_cast<std::size_t>(ne), r);
     for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
         const int e = an.vertex_edges[i];
@@ -841,6 +844,8 @@ void bridge_quad_point_radii(const Skeleton& skeleton, const SkeletonAnalysis& a
             a = std::min(a, limited);
             double& b = side[static_cast<std::size_t>(cs.quad_edges[gv][k])];
             b = std::min(b, limited);
+            on_bridge_quad[static_cast<std::size_t>(cs.quads[gv][k])] = 1;
+            on_bridge_quad[static_cast<std::size_t>(np + cs.quad_edges[gv][k])] = 1;
         }
     }
     for (int j = 0; j < ne; ++j) {
@@ -1101,11 +1106,49 @@ double min_hex_sj(const HexMesh& mesh, const std::vector<int>& hexes) {
     return worst;
 }
 
+// Per raw vertex: the vertices joined to it by a raw boundary edge (RawMeshOptions::bridge_quad_inset).
+std::vector<std::vector<int>> boundary_neighbours(const HexMesh& mesh) {
+    const HexTopology topo = compute_hex_topology(mesh);
+    std::vector<std::vector<int>> nbrs(mesh.points.size());
+    for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+        if (!topo.edge_on_boundary[e]) continue;
+        const auto [a, b] = topo.edges[e];
+        nbrs[static_cast<std::size_t>(a)].push_back(b);
+        nbrs[static_cast<std::size_t>(b)].push_back(a);
+    }
+    return nbrs;
+}
+
+// RawMeshOptions::bridge_quad_inset: with v's points placed at rad (fully raised), each point off v's bridge quads
+// stops inset x its shortest raw boundary edge short of that, never below floor_radius (v's limited radius); the
+// midpoints of edges that are no bridge quad's side go to the mean of their ends again.
+void inset_raised_points(const ConnectionSurfaces& cs, const std::vector<std::vector<int>>& nbrs, int v, int base,
+                         double floor_radius, double inset, const std::vector<char>& on_bridge_quad,
+                         const std::vector<Vec3>& points, std::vector<double>& rad) {
+    const int np = cs.point_begin[v + 1] - cs.point_begin[v];
+    for (int x = 0; x < np; ++x) {
+        if (on_bridge_quad[static_cast<std::size_t>(x)]) continue;
+        const int id = base + 1 + x;
+        double shortest = std::numeric_limits<double>::infinity();
+        for (int w : nbrs[static_cast<std::size_t>(id)]) shortest = std::min(shortest, distance(points[id], points[w]));
+        if (std::isfinite(shortest))
+            rad[static_cast<std::size_t>(x)] =
+                std::max(floor_radius, rad[static_cast<std::size_t>(x)] - inset * shortest);
+    }
+    for (int j = 0; j < cs.edge_begin[v + 1] - cs.edge_begin[v]; ++j) {
+        if (on_bridge_quad[static_cast<std::size_t>(np + j)]) continue;
+        const std::array<int, 2>& ed = cs.edges[cs.edge_begin[v] + j];
+        rad[static_cast<std::size_t>(np + j)] =
+            0.5 * (rad[static_cast<std::size_t>(ed[0])] + rad[static_cast<std::size_t>(ed[1])]);
+    }
+}
+
 // RawMeshOptions::bridge_quad_radius, after place_vertices: every branching point whose sphere a bridge's margin
 // limit shrank (radius[v] < its input radius) moves its surface points off its bridge quads out to
-// bridge_quad_point_radii, by the largest of t = 1, 1/2, 1/4 of the way that leaves no hex at its centre below
-// min(0.3, before); else they stay. Serial in vertex order (a junction's hexes reach its neighbours' points, which
-// may move in the same pass): the same result for any thread count.
+// bridge_quad_point_radii (with bridge_quad_inset, one padding layer short of them: inset_raised_points), by the
+// largest of t = 1, 1/2, 1/4 of the way that leaves no hex at its centre below min(0.3, before); else they stay.
+// Serial in vertex order (a junction's hexes reach its neighbours' points, which may move in the same pass): the
+// same result for any thread count.
 void raise_bridge_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                             const BranchFrames& frames, const RawMeshOptions& options,
                             const std::vector<double>& radius, RawMesh& raw) {
@@ -1121,18 +1164,29 @@ void raise_bridge_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an
         for (int id : raw.mesh.hexes[h])
             if (centre_of[static_cast<std::size_t>(id)] >= 0)
                 hexes_at[static_cast<std::size_t>(centre_of[static_cast<std::size_t>(id)])].push_back(h);
+    const bool inset = options.bridge_quad_inset > 0;
+    const std::vector<std::vector<int>> nbrs = inset ? boundary_neighbours(raw.mesh) : std::vector<std::vector<int>>{};
     std::vector<double> rad;
+    std::vector<char> on_bridge_quad;
     for (int v = 0; v < nv; ++v) {
         if (hexes_at[static_cast<std::size_t>(v)].empty()) continue;
         const std::vector<int>& hexes = hexes_at[static_cast<std::size_t>(v)];
-        bridge_quad_point_radii(skeleton, an, cs, frames, options, v, rad);
+        bridge_quad_point_radii(skeleton, an, cs, frames, options, v, rad, on_bridge_quad);
         const double before = min_hex_sj(raw.mesh, hexes), floor = std::min(0.3, before);
         const Vec3& c = skeleton.points[v];
         const int base = raw.vertex_base[v], n = static_cast<int>(rad.size());
-        for (double t : {1.0, 0.5, 0.25, 0.0}) {
+        const auto place = [&](double t) {
             for (int x = 0; x < n; ++x)
                 raw.mesh.points[base + 1 + x] = c + (radius[v] + t * (rad[static_cast<std::size_t>(x)] - radius[v])) *
                                                         surface_direction(cs, frames, v, x);
+        };
+        if (inset) {
+            place(1.0);
+            inset_raised_points(cs, nbrs, v, base, radius[v], options.bridge_quad_inset, on_bridge_quad,
+                                raw.mesh.points, rad);
+        }
+        for (double t : {1.0, 0.5, 0.25, 0.0}) {
+            place(t);
             if (t == 0.0 || min_hex_sj(raw.mesh, hexes) >= floor) break;
         }
     }
