@@ -33,8 +33,8 @@ TipTrim compact(const Skeleton& s, const std::vector<char>& drop) {
     }
     for (const std::array<int, 2>& e : s.edges)
         if (!drop[static_cast<std::size_t>(e[0])] && !drop[static_cast<std::size_t>(e[1])])
-            out.skeleton.edges.push_back({out.vertex_map[static_cast<std::size_t>(e[0])],
-                                          out.vertex_map[static_cast<std::size_t>(e[1])]});
+            out.skeleton.edges.push_back(
+                {out.vertex_map[static_cast<std::size_t>(e[0])], out.vertex_map[static_cast<std::size_t>(e[1])]});
     for (const std::vector<int>& f : s.faces) {  // no face vertex is dropped
         std::vector<int> g;
         for (const int v : f) g.push_back(out.vertex_map[static_cast<std::size_t>(v)]);
