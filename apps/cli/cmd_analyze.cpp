@@ -1,15 +1,20 @@
 // `mesohex analyze SKELETON`: prints the skeleton analysis (paper step 2): counts, vertex classes, predicted hexes,
 // the repairs `mesh` makes before meshing (pipeline.h prepare_skeleton: e.g. a fan edge retracted from a branch on its
 // end); then the verdict of `mesh` on the same skeleton (the raw pipeline is run, nothing is written), so that a
-// skeleton analyze approves is one mesh accepts, with the same exit status when it does not.
+// skeleton analyze approves is one mesh accepts, with the same exit status when it does not. With --surface, the radii
+// and the branch tips trimmed where the domain does not hold them (mesh.h prepare_mesh_skeleton) as `mesh --surface`,
+// and the verdict is that of `mesh --surface --raw` (mesh_skeleton without the finishing).
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "commands.h"
+#include "mesohex/mesh.h"
 #include "mesohex/pipeline.h"
 #include "mesohex/stages/skeleton_analysis.h"
 #include "mesohex_io/skeleton_io.h"
+#include "mesohex_io/surface_io.h"
 
 namespace mesohex::cli {
 
@@ -21,6 +26,8 @@ struct AnalyzeArgs {
     bool no_resample = false;  // as `mesh --no-resample`
     bool no_fan_caps = false;  // as `mesh --no-fan-cap-branches`
     bool no_verdict = false;
+    std::string surface;        // as `mesh --surface`: radii from it when the file has none, tips outside it trimmed
+    bool no_trim_tips = false;  // as `mesh --no-trim-tips`
 };
 
 }  // namespace
@@ -37,6 +44,9 @@ void register_analyze(CLI::App& app, int* status) {
                   "As for `mesh`: retract the fan edge from a branch on a fan-block chain end instead of standing the "
                   "branch on the block's cap");
     cmd->add_flag("--no-verdict", args->no_verdict, "Only the analysis: do not run the raw pipeline");
+    cmd->add_option("--surface", args->surface,
+                    "As for `mesh`: the domain (radii from it when the file has none; branch tips outside it trimmed)");
+    cmd->add_flag("--no-trim-tips", args->no_trim_tips, "As for `mesh`: keep branch tips outside the --surface domain");
     cmd->footer(
         "Example: mesohex analyze cactus.skel\n"
         "Exit status: 0 = `mesh` accepts the skeleton (the raw mesh was built and has the predicted counts); "
@@ -50,9 +60,21 @@ void register_analyze(CLI::App& app, int* status) {
         options.radius = args->radius;
         options.resample = !args->no_resample;
         options.connection_surfaces.blocks.fan_cap_branches = !args->no_fan_caps;
+        std::optional<TriangleMesh> domain;
+        if (!args->surface.empty()) domain = read_surface(args->surface);
+        MeshOptions mesh_options;  // with --surface: mesh_skeleton's radii and trims, the raw mesh only
+        mesh_options.pipeline = options;
+        mesh_options.finish = false;
+        mesh_options.trim_unheld_tips = !args->no_trim_tips;
+        const auto prepare = [&] {
+            return domain ? prepare_mesh_skeleton(skeleton, &*domain, nullptr, mesh_options)
+                          : prepare_skeleton(skeleton, options);
+        };
+        const auto run = [&] {
+            return domain ? mesh_skeleton(skeleton, &*domain, mesh_options).pipeline : run_pipeline(skeleton, options);
+        };
         const PipelineResult res =
-            args->no_verdict ? at_stage("analysis", args->path, [&] { return prepare_skeleton(skeleton, options); })
-                             : at_stage("mesh", args->path, [&] { return run_pipeline(skeleton, options); });
+            args->no_verdict ? at_stage("analysis", args->path, prepare) : at_stage("mesh", args->path, run);
         std::cout << args->path << "\n" << analysis_to_text(res.input_analysis) << repairs_to_text(res, options);
         *status = 0;
         if (args->no_verdict) return;

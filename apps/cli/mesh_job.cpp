@@ -86,7 +86,7 @@ void print_summary(const MeshJob& job, const MeshRun& run) {
               << res.skeleton.edges.size() << " edges (" << (run.options.resample ? "resampled" : "input sampling")
               << "), radius " << (run.radius_note.empty() ? res.radius_source : run.radius_note);
     if (res.radius_source != "file") std::cout << " " << res.radius;
-    std::cout << "\n";
+    std::cout << "\n" << trimmed_tips_to_text(res);
     std::cout << "raw mesh: " << q.vertices << " vertices, " << q.hexes << " hexes, SJ min " << q.sj_min << " avg "
               << q.sj_avg << ", inverted " << q.inverted << ", " << (q.validation.valid() ? "valid" : "INVALID")
               << ", Euler characteristic " << q.euler_characteristic;
@@ -300,6 +300,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "Skip the untangling of inverted hexes after the fit (the report and exit status 5 still say so)");
     cmd->add_flag_callback(
         "--no-smooth", [job] { job->options.finishing.smooth = false; }, "Skip the final smoothing pass");
+    cmd->add_flag_callback(
+        "--no-trim-tips", [job] { job->options.trim_unheld_tips = false; },
+        "With --surface: mesh branch tips whose centres lie outside the domain as given (default: trimmed back to "
+        "the last vertex inside)");
     cmd->add_flag_callback(
         "--no-retry", [job] { job->options.retry = false; },
         "One attempt only: no second adaptation with the first joints farther from the branching points "

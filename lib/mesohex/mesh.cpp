@@ -38,6 +38,18 @@ std::string take_radii_from_domain(Skeleton& skeleton, const TriangleMesh& domai
     return "surface (" + std::to_string(options.radius_factor) + " x distance)";
 }
 
+// Per skeleton vertex: 1 when its centre lies inside the domain (the ball is held by it); empty when the options do not
+// trim unheld tips (MeshOptions::trim_unheld_tips, resampling) or the skeleton has no branch edge to trim.
+std::vector<char> held_vertices(const Skeleton& skeleton, const TriangleMesh& domain, const SurfaceQuery* domain_query,
+                                const MeshOptions& options) {
+    if (!options.trim_unheld_tips || !options.pipeline.resample || skeleton.edges.empty()) return {};
+    std::optional<SurfaceQuery> own;
+    if (!domain_query) domain_query = &own.emplace(domain, false);
+    return domain_query->inside(skeleton.points);
+}
+
+const std::vector<char>* held_of(const MeshRun& run) { return run.held.empty() ? nullptr : &run.held; }
+
 // Per raw hex: 1 when it is a chunk hex of a branch edge (what longitudinal / radial refinement splits).
 std::vector<char> branch_chunk_hexes(const PipelineResult& run) {
     std::vector<char> chunk(run.raw.hex_edge.size(), 0);
@@ -172,7 +184,7 @@ void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMes
     if (!retry_applies(options, run)) return;
 
     const PipelineOptions cautious = cautious_options(run.options);
-    PipelineResult second = run_pipeline(skeleton, cautious);
+    PipelineResult second = run_pipeline(skeleton, cautious, held_of(run));
     if (second.skeleton == run.pipeline.skeleton) return;  // the same skeleton would give the same mesh
     report_attempt(run, options, "cautious joints");
     FinishResult finished = finish_mesh(second.raw.mesh, domain, finishing_options(options, second));
@@ -227,7 +239,8 @@ void compare_fan_layouts(MeshRun& run, const Skeleton& skeleton, const TriangleM
     paper.pipeline.connection_surfaces.blocks.fan_blocks = false;
     MeshRun other;
     other.options = paper.pipeline;
-    other.pipeline = run_pipeline(skeleton, other.options);
+    other.held = run.held;
+    other.pipeline = run_pipeline(skeleton, other.options, held_of(other));
     set_raw_quality(other, paper);
     other.attempts = run.attempts;  // numbers the progress reports on from the fan-block attempts
     finish_with_retry(other, skeleton, domain, paper);
@@ -248,6 +261,7 @@ Skeleton start_run(MeshRun& run, const Skeleton& input, const TriangleMesh* doma
     Skeleton skeleton = input;
     const auto t = std::chrono::steady_clock::now();
     if (domain) run.radius_note = take_radii_from_domain(skeleton, *domain, domain_query, options);
+    if (domain) run.held = held_vertices(skeleton, *domain, domain_query, options);
     run.radius_ms = ms_since(t);
     run.options = options.pipeline;
     if (options.progress) options.progress({"raw", 1, 1, 0, 0, ""});
@@ -264,8 +278,10 @@ int MeshRun::exit_status() const {
 PipelineResult prepare_mesh_skeleton(const Skeleton& input, const TriangleMesh* domain,
                                      const SurfaceQuery* domain_query, const MeshOptions& options) {
     Skeleton skeleton = input;
+    std::vector<char> held;
     if (domain) take_radii_from_domain(skeleton, *domain, domain_query, options);
-    return prepare_skeleton(skeleton, options.pipeline);
+    if (domain) held = held_vertices(skeleton, *domain, domain_query, options);
+    return prepare_skeleton(skeleton, options.pipeline, held.empty() ? nullptr : &held);
 }
 
 MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const MeshOptions& options) {
@@ -277,7 +293,7 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const S
     MeshRun run;
     const Skeleton skeleton = start_run(run, input, domain, domain_query, options);
     auto t = std::chrono::steady_clock::now();
-    run.pipeline = run_pipeline(skeleton, run.options);
+    run.pipeline = run_pipeline(skeleton, run.options, held_of(run));
     run.pipeline_ms = ms_since(t);
     t = std::chrono::steady_clock::now();
     set_raw_quality(run, options);
@@ -311,7 +327,7 @@ MeshRun mesh_skeleton_raw(const Skeleton& input, const TriangleMesh* domain, con
     const Skeleton skeleton = start_run(run, input, domain, domain_query, options);
     auto t = std::chrono::steady_clock::now();
     // run_pipeline with the stages after prepare_skeleton through the remesh cache (the same calls, the same options).
-    run.pipeline = prepare_skeleton(skeleton, run.options);
+    run.pipeline = prepare_skeleton(skeleton, run.options, held_of(run));
     PipelineResult& res = run.pipeline;
     const auto t_remesh = std::chrono::steady_clock::now();
     RemeshCache& rc = cache.remesh;

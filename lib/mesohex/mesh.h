@@ -38,6 +38,12 @@ struct MeshOptions {
     bool radius_from_surface = false;
     double radius_factor = 0.5;  // x distance to the surface (dimensionless); < 1 leaves room for the padding layer
     PipelineOptions pipeline;    // radius, resampling, adaptation, analysis, connection surfaces, raw mesh
+    // With a domain and resampling: a branch end whose centre lies outside the domain, with the chain of such vertices
+    // leading to it, is trimmed back to the last vertex inside (which becomes the end) before the repairs
+    // (stages/tip_trim.h; the report's repairs.trimmed_tips). A `thicken` grid coarser than a thin tip's radii ends
+    // the domain before the skeleton, and the fit crushes the hexes left outside (docs/junctions.md, "The
+    // armadillo's claw"). false: the skeleton is meshed as given.
+    bool trim_unheld_tips = true;
     // With a domain: pad, subdivide, fit, untangle, improve, smooth (finish_mesh). false = the raw mesh only.
     bool finish = true;
     FinishOptions finishing;  // finishing.chunk_hex is filled by mesh_skeleton for longitudinal / radial refinement
@@ -103,6 +109,9 @@ struct MeshRun {
     // after it (finishing of every attempt, the second attempt's pipeline).
     double radius_ms = 0, pipeline_ms = 0, raw_quality_ms = 0, finish_ms = 0;
     double partition_ms = 0;  // partition_hexes on the mesh kept
+    // Per input skeleton vertex: 1 when its centre lies inside the domain (MeshOptions::trim_unheld_tips); empty
+    // without a domain or with the option off. Every attempt's run_pipeline trims the same tips.
+    std::vector<char> held;
 
     const HexMesh& mesh() const { return finish ? finish->mesh : pipeline.raw.mesh; }
     const QualityReport& quality() const { return finish ? finish->quality : raw_quality; }

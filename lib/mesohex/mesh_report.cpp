@@ -127,7 +127,9 @@ nlohmann::json repairs_json(const PipelineResult& res) {
             {"fan_cap_branches", res.fan_cap_branches},
             {"fan_end_moved_roots", res.fan_end_moved_roots},
             {"fan_end_far_retractions", res.fan_end_far_retractions},
-            {"fan_edge_splits", res.fan_edge_splits}};
+            {"fan_edge_splits", res.fan_edge_splits},
+            {"trimmed_tips", res.trimmed_tips},
+            {"trimmed_tip_ends", res.trimmed_tip_ends}};
 }
 
 nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {

@@ -16,6 +16,7 @@
 #include "mesohex/stages/fan_blocks.h"
 #include "mesohex/stages/fan_end_repair.h"
 #include "mesohex/stages/frame_propagation.h"
+#include "mesohex/stages/tip_trim.h"
 
 namespace mesohex {
 
@@ -68,6 +69,28 @@ std::pair<int, bool> named_vertex(const std::vector<int>& vertex_map, int v) {
     return {static_cast<int>(input_id - vertex_map.begin()), true};
 }
 
+// Trims the branch tips `held` says the domain does not hold from `s` (numbered as the input; trim_unheld_tips) and
+// records them in `res`. Returns the map input vertex -> trimmed id (-1: trimmed), or empty when nothing was trimmed.
+std::vector<int> trim_tips(Skeleton& s, const std::vector<char>& held, PipelineResult& res) {
+    if (held.size() != s.points.size())
+        throw Error(ErrorCode::InvalidInput, "held: " + std::to_string(held.size()) + " entries for " +
+                                                 std::to_string(s.points.size()) + " skeleton vertices");
+    TipTrim trim = trim_unheld_tips(s, held);
+    if (trim.trimmed.empty()) return {};
+    res.trimmed_tips = std::move(trim.trimmed);
+    res.trimmed_tip_ends = std::move(trim.new_ends);
+    s = std::move(trim.skeleton);
+    return std::move(trim.vertex_map);
+}
+
+// `second` after `first` (first[v] < 0 stays < 0): the repair's map composed with the trim's, input -> repaired.
+std::vector<int> compose(const std::vector<int>& first, const std::vector<int>& second) {
+    std::vector<int> out(first.size(), -1);
+    for (std::size_t v = 0; v < first.size(); ++v)
+        if (first[v] >= 0) out[v] = second[static_cast<std::size_t>(first[v])];
+    return out;
+}
+
 }  // namespace
 
 void check_moved_roots(const PipelineResult& res) {
@@ -107,7 +130,7 @@ double default_radius(const Skeleton& s, double factor) {
     return s.edges.empty() || !(total > 0) ? 1.0 : factor * total / static_cast<double>(s.edges.size());
 }
 
-PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& options) {
+PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& options, const std::vector<char>* held) {
     PipelineResult res;
     StageClock clock(res.timings_ms);
 
@@ -149,7 +172,13 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         // Fan ends whose branch the fan block's cap carries (design note C1) are left to it, not retracted.
         const std::vector<int> fan_caps =
             fan_caps_on ? fan_cap_roots(find_fan_blocks(s, res.input_analysis, blocks)) : std::vector<int>{};
-        SkeletonRepairResult repaired = repair_skeleton(s, options.repair, &blocks, fan_caps);
+        // Tips the domain does not hold go first; their vertices are on branches only, so every fan cap stays.
+        const std::vector<int> to_trimmed = held ? trim_tips(s, *held, res) : std::vector<int>{};
+        std::vector<int> trimmed_caps = fan_caps;
+        if (!to_trimmed.empty())
+            for (int& v : trimmed_caps) v = to_trimmed[static_cast<std::size_t>(v)];
+        SkeletonRepairResult repaired = repair_skeleton(s, options.repair, &blocks, trimmed_caps);
+        if (!to_trimmed.empty()) repaired.vertex_map = compose(to_trimmed, repaired.vertex_map);  // named by input ids
         res.fan_cap_branches = fan_caps;
         clock.lap("skeleton_repair");
         std::vector<int> repaired_caps;  // the same vertices in the repaired numbering
@@ -221,8 +250,8 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     return res;
 }
 
-PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& options) {
-    PipelineResult res = prepare_skeleton(input, options);
+PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& options, const std::vector<char>* held) {
+    PipelineResult res = prepare_skeleton(input, options, held);
     StageClock clock(res.timings_ms);
     const ConnectionSurfaces cs = build_connection_surfaces(res.skeleton, res.analysis, options.connection_surfaces);
     res.predicted = predict_raw_mesh(res.skeleton, res.analysis, cs);
@@ -233,6 +262,17 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
     res.raw = build_raw_mesh(res.skeleton, res.analysis, cs, frames, options.raw_mesh, &input);
     clock.lap("raw_mesh");
     return res;
+}
+
+std::string trimmed_tips_to_text(const PipelineResult& res) {
+    if (res.trimmed_tips.empty()) return "";
+    std::ostringstream out;
+    out << "repairs: branch tips outside the domain trimmed: input vertices";
+    for (const int v : res.trimmed_tips) out << " " << v;
+    out << " removed; the branch now ends at input vertices";
+    for (const int v : res.trimmed_tip_ends) out << " " << v;
+    out << "\n";
+    return out.str();
 }
 
 std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& options) {
@@ -250,6 +290,7 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
     line("plate strips split beside and beyond docked walls' chains", res.docked_foot_splits);
     line("docked walls' chains whose plate band was pillowed", res.docked_band_pillows);
     line("degree-4 branching points split in two", res.junction_splits);
+    out << trimmed_tips_to_text(res);
     // "repairs: <what> v0 v1 ..." when vs is not empty.
     const auto vertices = [&out](const char* what, const std::vector<int>& vs) {
         if (vs.empty()) return;

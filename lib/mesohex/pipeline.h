@@ -71,6 +71,10 @@ struct PipelineResult {
     // Branches far from the fan line whose root the repair moved onto a leaflet border (FanEndRetraction::moved_root),
     // and every retracted corner (far or not): checked on the raw mesh (check_moved_roots).
     std::vector<MovedRootPlace> moved_roots;
+    // Branch tips the domain does not hold, trimmed before the structural repairs (stages/tip_trim.h; `held` given to
+    // prepare_skeleton, with resampling): the input vertices removed, and the input vertices that became branch ends.
+    std::vector<int> trimmed_tips;
+    std::vector<int> trimmed_tip_ends;
     int virtual_branches = 0;   // virtual branches added to the meshed skeleton (PipelineOptions::virtual_branches)
     Skeleton skeleton;          // the skeleton actually meshed (radii filled, adapted when resampling)
     SkeletonAnalysis analysis;  // analysis of `skeleton`
@@ -84,14 +88,22 @@ struct PipelineResult {
 // the analysis of the result. Fills everything in PipelineResult up to `analysis` (not predicted, raw). `mesohex
 // analyze` and the studio's analyze call it (or run_pipeline), so every subcommand judges the skeleton `mesh`
 // meshes, after the same repairs. Errors: as run_pipeline's analyses and repairs.
-PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& options = {});
+// held (may be null; else one entry per input vertex): 1 where the domain holds the vertex's ball (mesh.cpp: its
+// centre inside the domain). With resampling, branch tips not held are trimmed before the repairs
+// (trim_unheld_tips, stages/tip_trim.h; PipelineResult::trimmed_tips); vertices are still named by their input ids.
+PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& options = {},
+                                const std::vector<char>* held = nullptr);
 
-// Errors: whatever the stages throw (mesohex::Error naming the element), before anything is built.
-PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& options = {});
+// Errors: whatever the stages throw (mesohex::Error naming the element), before anything is built. held: as
+// prepare_skeleton's.
+PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& options = {},
+                            const std::vector<char>* held = nullptr);
 
 // The repairs prepare_skeleton made, one line each ("repairs: none" when there were none; "repairs: not run (no
 // resampling)" when `resample` was off), for `mesohex analyze`.
 std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& options);
+// The line of repairs_to_text on PipelineResult::trimmed_tips ("" when none were trimmed), which `mesh` prints too.
+std::string trimmed_tips_to_text(const PipelineResult& res);
 
 // Refuses a raw mesh with an inverted hex next to a moved root (its centroid within kMovedRootCheckRadii r_w of the
 // cut point m): throws UnsupportedConfiguration naming the fan-end vertex, the configuration and an edit. The moved

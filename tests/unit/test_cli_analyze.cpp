@@ -150,3 +150,29 @@ TEST(CliAnalyze, SameVerdictAsMeshOnRandomSkeletons) {
         expect_same_verdict(path, verdicts(path, ""));
     }
 }
+
+// With --surface, analyze makes mesh's trims: a straight branch (r 0.25, joints at x = 0.5 ... 3.5, then 4.2 and 4.6)
+// in the box [0, 4] x [0, 1]^2 loses its two joints outside; the verdict is the raw mesh of the 3-long branch, 8 edges
+// of 0.375 (MeshSkeleton.BranchTipsOutsideTheDomainAreTrimmed), 32 hexes; with --no-trim-tips 16 edges, 64 hexes.
+TEST(CliAnalyze, WithASurfaceTipsOutsideItAreTrimmed) {
+    const fs::path skel = test_dir() / "branch.skel";
+    const fs::path box = test_dir() / "box.off";
+    std::ofstream(skel) << "ID Cx Cy Cz RADIUS #NEIGHBORS NEIGHBORS_LIST\n6\n0 0.5 0.5 0.5 0.25 1 1\n"
+                           "1 1.5 0.5 0.5 0.25 2 0 2\n2 2.5 0.5 0.5 0.25 2 1 3\n3 3.5 0.5 0.5 0.25 2 2 4\n"
+                           "4 4.2 0.5 0.5 0.25 2 3 5\n5 4.6 0.5 0.5 0.25 1 4\n";
+    std::ofstream(box) << "OFF\n8 12 0\n0 0 0\n4 0 0\n4 1 0\n0 1 0\n0 0 1\n4 0 1\n4 1 1\n0 1 1\n"
+                          "3 0 3 2\n3 0 2 1\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n"
+                          "3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n";
+    const CliRun on = run_cli("analyze " + skel.string() + " --surface " + box.string());
+    EXPECT_EQ(on.status, 0) << on.output;
+    EXPECT_TRUE(contains(on.output,
+                         "repairs: branch tips outside the domain trimmed: input vertices 4 5 removed; "
+                         "the branch now ends at input vertices 3"))
+        << on.output;
+    EXPECT_TRUE(contains(on.output, "raw mesh of 32 hexes")) << on.output;
+    const CliRun off = run_cli("analyze " + skel.string() + " --surface " + box.string() + " --no-trim-tips");
+    EXPECT_FALSE(contains(off.output, "trimmed")) << off.output;
+    EXPECT_TRUE(contains(off.output, "raw mesh of 64 hexes")) << off.output;
+    const CliRun no_surface = run_cli("analyze " + skel.string());
+    EXPECT_TRUE(contains(no_surface.output, "raw mesh of 64 hexes")) << no_surface.output;
+}

@@ -18,6 +18,7 @@
 #include "mesohex/mesh_report.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/skeleton_analysis.h"
+#include "mesohex/stages/tip_trim.h"
 #include "mesohex/surface/thicken.h"
 
 using namespace mesohex;
@@ -234,6 +235,65 @@ TEST(MeshSkeleton, OneLevelFinerWhenTheKeptMeshMissesAGoal) {
     given.finishing.levels = run.attempts[0].levels;
     attempts.clear();
     EXPECT_EQ(mesh_in_domain(axis_segment(), box, given).attempts.size(), 2u);
+}
+
+// A straight branch along the box [0, 4] x [0, 1] x [0, 1] with file radii 0.25: joints at x = 0.5, 1.5, 2.5, 3.5
+// inside, then 4.2 and 4.6 outside (a domain that ends before the skeleton does).
+Skeleton branch_leaving_the_box() {
+    Skeleton s;
+    for (const double x : {0.5, 1.5, 2.5, 3.5, 4.2, 4.6}) s.points.push_back({x, 0.5, 0.5});
+    s.radii.assign(s.points.size(), 0.25);
+    for (int v = 0; v + 1 < 6; ++v) s.edges.push_back({v, v + 1});
+    return s;
+}
+
+TEST(TipTrim, TheChainOutsideGoesBackToTheLastHeldJoint) {
+    const Skeleton s = branch_leaving_the_box();
+    const TipTrim t = trim_unheld_tips(s, {1, 1, 1, 1, 0, 0});
+    EXPECT_EQ(t.trimmed, (std::vector<int>{4, 5}));
+    EXPECT_EQ(t.new_ends, (std::vector<int>{3}));
+    EXPECT_EQ(t.skeleton.points.size(), 4u);
+    EXPECT_EQ(t.skeleton.edges.size(), 3u);
+    EXPECT_EQ(t.vertex_map, (std::vector<int>{0, 1, 2, 3, -1, -1}));
+    // Not held at both ends of a single branch: the held middle keeps one side (the later chain), never zero edges.
+    const TipTrim both = trim_unheld_tips(s, {0, 0, 1, 0, 0, 0});
+    EXPECT_EQ(both.trimmed, (std::vector<int>{3, 4, 5}));
+    EXPECT_EQ(both.new_ends, (std::vector<int>{2}));
+    // A tip held, or a branch not held up to its other end: nothing trimmed, the skeleton as given.
+    EXPECT_TRUE(trim_unheld_tips(s, {1, 1, 1, 1, 1, 1}).trimmed.empty());
+    const TipTrim none = trim_unheld_tips(s, {0, 0, 0, 0, 0, 0});
+    EXPECT_TRUE(none.trimmed.empty());
+    EXPECT_EQ(none.skeleton, s);
+}
+
+TEST(MeshSkeleton, BranchTipsOutsideTheDomainAreTrimmed) {
+    const TriangleMesh box = box_surface(4, 1, 1);
+    MeshOptions o;
+    o.finish = false;
+    const MeshRun run = mesh_in_domain(branch_leaving_the_box(), box, o);
+    EXPECT_EQ(run.pipeline.trimmed_tips, (std::vector<int>{4, 5}));
+    EXPECT_EQ(run.pipeline.trimmed_tip_ends, (std::vector<int>{3}));
+    // The branch x = 0.5 ... 3.5 (length 3, radius 0.25): adaptation bisects while r + r < length (adaptation.h),
+    // 3 -> 1.5 -> 0.75 -> 0.375: 8 edges, 4 hexes each; the same mesh as the skeleton given without the two outside
+    // vertices. Untrimmed (x up to 4.6, length 4.1): 4.1 / 8 = 0.51 > 0.5 is cut once more, 16 edges, 64 hexes.
+    EXPECT_EQ(run.pipeline.skeleton.edges.size(), 8u);
+    EXPECT_EQ(run.quality().hexes, 32);
+    Skeleton inside = branch_leaving_the_box();
+    inside.points.resize(4);
+    inside.radii.resize(4);
+    inside.edges.resize(3);
+    EXPECT_EQ(run.mesh(), mesh_in_domain(inside, box, o).mesh());
+    const nlohmann::json rep = mesh_report(run, {"branch.obj", "branch.mesh", "box.off", 0, 0});
+    EXPECT_EQ(rep["repairs"]["trimmed_tips"], nlohmann::json::array({4, 5}));
+    EXPECT_NE(repairs_to_text(run.pipeline, run.options)
+                  .find("branch tips outside the domain trimmed: input vertices 4 5 removed; the branch now ends at "
+                        "input vertices 3"),
+              std::string::npos);
+    // Off: the whole branch is meshed, out to x = 4.6.
+    o.trim_unheld_tips = false;
+    const MeshRun off = mesh_in_domain(branch_leaving_the_box(), box, o);
+    EXPECT_TRUE(off.pipeline.trimmed_tips.empty());
+    EXPECT_EQ(off.quality().hexes, 64);
 }
 
 TEST(MeshSkeleton, RawReportSaysWhereTheRadiusCameFrom) {
