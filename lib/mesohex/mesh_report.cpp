@@ -189,6 +189,8 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
         used["pruned_branches"] = sk.pruned_branches;
         used["merged_branch_points"] = sk.merged_branch_points;
         used["extended_extremities"] = sk.extended_extremities;
+        used["recentred_joints"] = sk.recentred_joints;
+        used["recentre_max_shift"] = sk.recentre_max_shift;
     } else {
         used["source"] = "compute_medial_axis + import_medial_mesh (medial meso-skeleton)";
         used["leaflets"] = chosen.import.leaflets;
