@@ -83,9 +83,8 @@ void register_skeletonize(CLI::App& app, int* status) {
                   << surface.triangles.size() << " triangles (read " << ms(t0, t1) << " ms)\n"
                   << "  mean curvature flow skeleton: " << r.mcf_vertices << " vertices; pruned branches "
                   << r.pruned_branches << ", merged branching points " << r.merged_branch_points
-                  << ", extended extremities " << r.extended_extremities << ", re-centred joints "
-                  << r.recentred_joints << " (largest move " << r.recentre_max_shift << ") (" << ms(t1, t2)
-                  << " ms)\n"
+                  << ", extended extremities " << r.extended_extremities << ", re-centred joints " << r.recentred_joints
+                  << " (largest move " << r.recentre_max_shift << ") (" << ms(t1, t2) << " ms)\n"
                   << "  skeleton: " << s.points.size() << " points, " << s.edges.size() << " edges, " << extremities
                   << " extremities, " << branching << " branching points, "
                   << static_cast<long>(s.edges.size()) - static_cast<long>(s.points.size()) + 1 << " cycles -> "

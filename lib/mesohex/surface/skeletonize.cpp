@@ -398,7 +398,7 @@ Vec3 recentre_move(const Graph& g, int v, const AabbTree& tree, const Skeletoniz
     if (squared_norm(t) == 0) return {};
     // The coordinate axis least aligned with the tangent spans the normal plane with it (deterministic frame).
     const Vec3 axis = std::abs(t.x) <= std::abs(t.y) && std::abs(t.x) <= std::abs(t.z) ? Vec3{1, 0, 0}
-                      : std::abs(t.y) <= std::abs(t.z)                                ? Vec3{0, 1, 0}
+                      : std::abs(t.y) <= std::abs(t.z)                                 ? Vec3{0, 1, 0}
                                                                                        : Vec3{0, 0, 1};
     const Vec3 a = normalized(cross(t, axis));
     const Vec3 b = cross(t, a);

@@ -34,9 +34,9 @@ struct SkeletonizeOptions {
     // branch, by the mean of the half-differences of recentre_rays opposite pairs of ray hits with the surface
     // (a pair counts when both rays hit within recentre_reach x the joint's radius; a joint with fewer than half its
     // pairs counted stays), the move capped at recentre_max_move x its radius per pass. 0 passes = off.
-    int recentre_passes = 3;         // Jacobi passes (count)
-    int recentre_rays = 8;           // opposite ray pairs, spread over 180 degrees in the normal plane (count)
-    double recentre_reach = 2.0;     // x radius (dimensionless): farther hits are another part of the solid
+    int recentre_passes = 3;          // Jacobi passes (count)
+    int recentre_rays = 8;            // opposite ray pairs, spread over 180 degrees in the normal plane (count)
+    double recentre_reach = 2.0;      // x radius (dimensionless): farther hits are another part of the solid
     double recentre_max_move = 0.25;  // x radius (dimensionless), per pass
 };
 
@@ -46,7 +46,7 @@ struct Skeletonization {
     int pruned_branches = 0;
     int merged_branch_points = 0;  // merges performed (each removes one branching point)
     int extended_extremities = 0;
-    int recentred_joints = 0;      // joints the re-centring moved (counted once, over all passes)
+    int recentred_joints = 0;       // joints the re-centring moved (counted once, over all passes)
     double recentre_max_shift = 0;  // largest total move of a joint by the re-centring (model units)
 };
 
