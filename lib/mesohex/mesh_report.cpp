@@ -240,6 +240,7 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                                       {"sj_min", chosen.curve_raw_sj_min},
                                       {"valid", chosen.curve_raw_valid},
                                       {"padded_inverted", chosen.curve_padded_inverted},
+                                      {"recentring_dropped", chosen.curve_recentring_dropped},
                                       {"max_answer_inverted", options.max_answer_inverted}};
     if (!chosen.refusal.empty()) decision["refusal"] = chosen.refusal;
     return {{"mode", "auto"},

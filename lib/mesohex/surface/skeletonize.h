@@ -41,7 +41,10 @@ struct SkeletonizeOptions {
 };
 
 struct Skeletonization {
-    Skeleton skeleton;     // curve only (no faces); radii always present, one per point
+    Skeleton skeleton;  // curve only (no faces); radii always present, one per point
+    // The same cleaning without the re-centring (recentre_passes 0): what auto falls back to when the re-centred
+    // skeleton's raw mesh inverts hexes the flow's does not. Equal to skeleton when no joint was re-centred.
+    Skeleton flow_skeleton;
     int mcf_vertices = 0;  // vertices of the raw MCF skeleton
     int pruned_branches = 0;
     int merged_branch_points = 0;  // merges performed (each removes one branching point)
