@@ -407,7 +407,7 @@ Vec3 along_branch(const Graph& g, int v, int next, double length) {
 
 // The move of joint v towards the middle of its cross-section (SkeletonizeOptions::recentre_*), in the plane normal
 // to the chord between the points one radius along its branch on either side: the mean over the counted ray pairs (d, -d) of (t+ - t-) / 2 d, capped.
-// Zero when fewer than half the pairs count.
+// Zero unless every pair counts (a closed tube section).
 Vec3 recentre_move(const Graph& g, int v, const AabbTree& tree, const SkeletonizeOptions& o) {
     const std::vector<int>& n = g.adj[static_cast<size_t>(v)];
     const double r = g.radii[static_cast<size_t>(v)];
@@ -430,7 +430,7 @@ Vec3 recentre_move(const Graph& g, int v, const AabbTree& tree, const Skeletoniz
         sum = sum + d * (0.5 * (plus - minus));
         ++counted;
     }
-    if (2 * counted < o.recentre_rays) return {};
+    if (counted < o.recentre_rays) return {};
     const Vec3 move = sum * (1.0 / counted);
     const double len = norm(move), cap = o.recentre_max_move * r;
     return len > cap ? move * (cap / len) : move;

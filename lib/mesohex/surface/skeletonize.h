@@ -29,11 +29,12 @@ struct SkeletonizeOptions {
     bool extend_extremities = true;   // extend every extremity towards the surface
     double extension_gap = 0.5;       // an extended extremity stops extension_gap x (its radius) before the surface
     // Re-centring of the joints (vertices of degree 2) after pruning and merging: the mean curvature flow's curve
-    // smooths over bulges (the lobes of a knob: 0.3 to 0.65 off the middle of its cross-section there), and the
-    // raw mesh then fills them with stretched padding. Each pass moves every joint, in the plane normal to its
-    // branch, by the mean of the half-differences of recentre_rays opposite pairs of ray hits with the surface
-    // (a pair counts when both rays hit within recentre_reach x the joint's radius; a joint with fewer than half its
-    // pairs counted stays), the move capped at recentre_max_move x its radius per pass. 0 passes = off.
+    // smooths over one-sided bulges (the lobes of a knob: 0.3 to 0.65 off the middle of its cross-section there), and
+    // the raw mesh then fills them with stretched padding. Each pass moves every joint, in the plane normal to its
+    // branch (the chord between the points one radius along it on either side), by the mean of the half-differences
+    // of recentre_rays opposite pairs of ray hits with the surface, capped at recentre_max_move x its radius. Only
+    // where the section is a closed tube: every ray hits within recentre_reach x the joint's radius, else the joint
+    // stays (slabs, walls, junctions). 0 passes = off. Measurements: docs/sheets.md, "Curve skeletons re-centred".
     int recentre_passes = 3;          // Jacobi passes (count)
     int recentre_rays = 8;            // opposite ray pairs, spread over 180 degrees in the normal plane (count)
     double recentre_reach = 2.0;      // x radius (dimensionless): farther hits are another part of the solid
