@@ -452,7 +452,11 @@ int recentre_joints(Graph& g, const AabbTree& tree, const SkeletonizeOptions& o,
     max_shift = 0;
     for (size_t v = 0; v < g.points.size(); ++v) {
         const double shift = distance(g.points[v], start[v]);
-        if (shift > 0) ++moved;
+        if (shift > 0) {
+            ++moved;
+            // An inscribed radius is the distance to the surface: taken again where the joint now is.
+            if (o.inscribed_radii) g.out_radii[v] = std::sqrt(tree.squared_distance(to_point(g.points[v])));
+        }
         max_shift = std::max(max_shift, shift);
     }
     return moved;

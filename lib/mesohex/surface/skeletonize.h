@@ -34,7 +34,8 @@ struct SkeletonizeOptions {
     // branch (the chord between the points one radius along it on either side), by the mean of the half-differences
     // of recentre_rays opposite pairs of ray hits with the surface, capped at recentre_max_move x its radius. Only
     // where the section is a closed tube: every ray hits within recentre_reach x the joint's radius, else the joint
-    // stays (slabs, walls, junctions). 0 passes = off. Measurements: docs/sheets.md, "Curve skeletons re-centred".
+    // stays (slabs, walls, junctions). The radii stay the flow's (with inscribed_radii: the distance to the surface
+    // where the joint now is). 0 passes = off. Measurements: docs/sheets.md, "Curve skeletons re-centred".
     int recentre_passes = 3;          // Jacobi passes (count)
     int recentre_rays = 8;            // opposite ray pairs, spread over 180 degrees in the normal plane (count)
     double recentre_reach = 2.0;      // x radius (dimensionless): farther hits are another part of the solid
