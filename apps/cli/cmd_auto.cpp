@@ -145,6 +145,11 @@ void register_auto(CLI::App& app, int* status) {
     cmd->add_flag("--extend-rims", args->skeleton.medial.extend_rims,
                   "medial axis: carry the sheet borders out to the rounded rims the angle filter trimmed them short "
                   "of (see mesohex medial --extend-rims)");
+    cmd->add_option("--curve-recentre-passes", args->skeleton.skeletonize.recentre_passes,
+                    "curve skeleton: passes moving every joint towards the middle of its cross-section (see mesohex "
+                    "skeletonize --recentre-passes; 0 = off)")
+        ->check(CLI::Range(0, 100))
+        ->capture_default_str();
     cmd->add_option("--thickness-samples", args->skeleton.medial.thickness_samples,
                     "medial axis: samples across the local thickness in thin parts (see mesohex medial "
                     "--thickness-samples; 0 = off)")

@@ -47,6 +47,11 @@ void register_skeletonize(CLI::App& app, int* status) {
     cmd->add_flag("--inscribed-radii", args->options.inscribed_radii,
                   "Radius = distance to the surface (inscribed ball) instead of the median distance to the "
                   "corresponding surface vertices");
+    cmd->add_option("--recentre-passes", args->options.recentre_passes,
+                    "Passes moving every joint towards the middle of its cross-section (ray pairs in the plane "
+                    "normal to the branch; 0 = off)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 100));
     cmd->add_flag("--no-prune", args->no_prune, "Keep every terminal branch");
     cmd->add_flag("--no-merge", args->no_merge, "Do not merge close branching points");
     cmd->add_flag("--no-extend", args->no_extend, "Do not extend the extremities towards the surface");
@@ -78,7 +83,8 @@ void register_skeletonize(CLI::App& app, int* status) {
                   << surface.triangles.size() << " triangles (read " << ms(t0, t1) << " ms)\n"
                   << "  mean curvature flow skeleton: " << r.mcf_vertices << " vertices; pruned branches "
                   << r.pruned_branches << ", merged branching points " << r.merged_branch_points
-                  << ", extended extremities " << r.extended_extremities << " (" << ms(t1, t2) << " ms)\n"
+                  << ", extended extremities " << r.extended_extremities << ", re-centred joints " << r.recentred_joints
+                  << " (largest move " << r.recentre_max_shift << ") (" << ms(t1, t2) << " ms)\n"
                   << "  skeleton: " << s.points.size() << " points, " << s.edges.size() << " edges, " << extremities
                   << " extremities, " << branching << " branching points, "
                   << static_cast<long>(s.edges.size()) - static_cast<long>(s.points.size()) + 1 << " cycles -> "

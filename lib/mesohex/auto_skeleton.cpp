@@ -186,7 +186,24 @@ void use_curve(AutoSkeleton& out, const TriangleMesh& surface, const AutoSkeleto
     out.skeleton = out.curve.skeleton;
     out.kind = SkeletonKind::Curve;
     if (options.kind != SkeletonKind::Auto) return;
-    const QualityReport q = raw_quality_of(out.skeleton, surface, &out.curve_padded_inverted);
+    QualityReport q = raw_quality_of(out.skeleton, surface, &out.curve_padded_inverted);
+    // The re-centring moves joints by up to 0.75 x their radius: where that inverts raw (or padded) hexes that the
+    // flow's own curve does not, keep the flow's curve (fewer inverted hexes, raw and padded together, and valid).
+    const auto failing = [&](const QualityReport& r, long padded) {
+        return !r.validation.valid() || r.inverted > options.max_answer_inverted ||
+               padded > options.max_answer_inverted;
+    };
+    if (out.curve.recentred_joints > 0 && failing(q, out.curve_padded_inverted)) {
+        long flow_padded = 0;
+        const QualityReport flow = raw_quality_of(out.curve.flow_skeleton, surface, &flow_padded);
+        if (flow.validation.valid() &&
+            (!q.validation.valid() || flow.inverted + flow_padded < q.inverted + out.curve_padded_inverted)) {
+            out.skeleton = out.curve.flow_skeleton;
+            out.curve_recentring_dropped = true;
+            out.curve_padded_inverted = flow_padded;
+            q = flow;
+        }
+    }
     out.curve_raw_checked = true;
     out.curve_raw_valid = q.validation.valid();
     out.curve_raw_hexes = q.hexes;

@@ -120,6 +120,9 @@ struct AutoSkeleton {
     long curve_raw_hexes = 0, curve_raw_inverted = 0;
     double curve_raw_sj_min = 0;
     long curve_padded_inverted = 0;  // inverted hexes after the finishing's padding layer on that raw mesh
+    // The re-centred curve skeleton (SkeletonizeOptions::recentre_passes) failed that check and the flow's own curve
+    // (Skeletonization::flow_skeleton) inverted fewer hexes: the skeleton (and the numbers above) are the flow's.
+    bool curve_recentring_dropped = false;
     // Auto: non-empty when the chosen skeleton's raw mesh is invalid or has more than max_answer_inverted inverted
     // hexes; says why, with both skeletons' raw numbers (the skeleton is still returned, for editing).
     std::string refusal;

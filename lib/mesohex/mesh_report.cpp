@@ -192,6 +192,8 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
         used["pruned_branches"] = sk.pruned_branches;
         used["merged_branch_points"] = sk.merged_branch_points;
         used["extended_extremities"] = sk.extended_extremities;
+        used["recentred_joints"] = sk.recentred_joints;
+        used["recentre_max_shift"] = sk.recentre_max_shift;
     } else {
         used["source"] = "compute_medial_axis + import_medial_mesh (medial meso-skeleton)";
         used["leaflets"] = chosen.import.leaflets;
@@ -241,6 +243,7 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                                       {"sj_min", chosen.curve_raw_sj_min},
                                       {"valid", chosen.curve_raw_valid},
                                       {"padded_inverted", chosen.curve_padded_inverted},
+                                      {"recentring_dropped", chosen.curve_recentring_dropped},
                                       {"max_answer_inverted", options.max_answer_inverted}};
     if (!chosen.refusal.empty()) decision["refusal"] = chosen.refusal;
     return {{"mode", "auto"},

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -379,6 +380,114 @@ int extend_extremities(Graph& g, const AabbTree& tree, double gap, double spacin
     return extended;
 }
 
+// Distance along `dir` from `from` to the first surface hit, or -1 when the ray misses or runs along a triangle.
+double ray_hit_distance(const AabbTree& tree, const Vec3& from, const Vec3& dir) {
+    const Kernel::Ray_3 ray(to_point(from), Kernel::Vector_3(dir.x, dir.y, dir.z));
+    const auto hit = tree.first_intersection(ray);
+    if (!hit) return -1;
+    const Point* hp = boost::get<Point>(&hit->first);
+    return hp == nullptr ? -1 : dot(to_vec(*hp) - from, dir);
+}
+
+// The point reached from joint v through its neighbour `next` after an arc length of `length` along the branch, or
+// the branch's end (a vertex of degree != 2) when it comes first: the flow's curve zigzags at the scale of its dense
+// sampling, so the tangent is taken over a radius on each side.
+Vec3 along_branch(const Graph& g, int v, int next, double length) {
+    int prev = v, cur = next;
+    double walked = distance(g.points[static_cast<size_t>(v)], g.points[static_cast<size_t>(cur)]);
+    while (walked < length && g.degree(cur) == 2 && cur != v) {
+        const std::vector<int>& n = g.adj[static_cast<size_t>(cur)];
+        const int nxt = n[0] == prev ? n[1] : n[0];
+        walked += distance(g.points[static_cast<size_t>(cur)], g.points[static_cast<size_t>(nxt)]);
+        prev = cur;
+        cur = nxt;
+    }
+    return g.points[static_cast<size_t>(cur)];
+}
+
+// The move of joint v towards the middle of its cross-section (SkeletonizeOptions::recentre_*), in the plane normal
+// to the chord between the points one radius along its branch on either side: the mean over the counted ray pairs (d, -d) of (t+ - t-) / 2 d, capped.
+// Zero unless every pair counts (a closed tube section).
+Vec3 recentre_move(const Graph& g, int v, const AabbTree& tree, const SkeletonizeOptions& o) {
+    const std::vector<int>& n = g.adj[static_cast<size_t>(v)];
+    const double r = g.radii[static_cast<size_t>(v)];
+    const Vec3 t = normalized(along_branch(g, v, n[1], r) - along_branch(g, v, n[0], r));
+    if (squared_norm(t) == 0) return {};
+    // The coordinate axis least aligned with the tangent spans the normal plane with it (deterministic frame).
+    const Vec3 axis = std::abs(t.x) <= std::abs(t.y) && std::abs(t.x) <= std::abs(t.z) ? Vec3{1, 0, 0}
+                      : std::abs(t.y) <= std::abs(t.z)                                 ? Vec3{0, 1, 0}
+                                                                                       : Vec3{0, 0, 1};
+    const Vec3 a = normalized(cross(t, axis));
+    const Vec3 b = cross(t, a);
+    const Vec3 p = g.points[static_cast<size_t>(v)];
+    Vec3 sum{};
+    int counted = 0;
+    for (int k = 0; k < o.recentre_rays; ++k) {
+        const double angle = std::numbers::pi * k / o.recentre_rays;
+        const Vec3 d = a * std::cos(angle) + b * std::sin(angle);
+        const double plus = ray_hit_distance(tree, p, d), minus = ray_hit_distance(tree, p, d * -1.0);
+        if (plus < 0 || minus < 0 || plus > o.recentre_reach * r || minus > o.recentre_reach * r) continue;
+        sum = sum + d * (0.5 * (plus - minus));
+        ++counted;
+    }
+    if (counted < o.recentre_rays) return {};
+    const Vec3 move = sum * (1.0 / counted);
+    const double len = norm(move), cap = o.recentre_max_move * r;
+    return len > cap ? move * (cap / len) : move;
+}
+
+// Moves every joint (alive, degree 2) towards the middle of its cross-section, recentre_passes Jacobi passes (each
+// from the positions of the previous one). Returns the joints moved; `max_shift` = the largest total move.
+int recentre_joints(Graph& g, const AabbTree& tree, const SkeletonizeOptions& o, double& max_shift) {
+    const std::vector<Vec3> start = g.points;
+    std::vector<Vec3> next;
+    for (int pass = 0; pass < o.recentre_passes; ++pass) {
+        next = g.points;
+        for (int v = 0; v < static_cast<int>(g.points.size()); ++v)
+            if (g.alive[static_cast<size_t>(v)] && g.degree(v) == 2)
+                next[static_cast<size_t>(v)] = g.points[static_cast<size_t>(v)] + recentre_move(g, v, tree, o);
+        g.points = next;
+    }
+    int moved = 0;
+    max_shift = 0;
+    for (size_t v = 0; v < g.points.size(); ++v) {
+        const double shift = distance(g.points[v], start[v]);
+        if (shift > 0) {
+            ++moved;
+            // An inscribed radius is the distance to the surface: taken again where the joint now is.
+            if (o.inscribed_radii) g.out_radii[v] = std::sqrt(tree.squared_distance(to_point(g.points[v])));
+        }
+        max_shift = std::max(max_shift, shift);
+    }
+    return moved;
+}
+
+// The skeleton of the alive vertices in canonical order: sorted lexicographically by (x, y, z) (ties: graph index,
+// itself canonical), edges (a < b) in ascending order.
+Skeleton output_skeleton(const Graph& g) {
+    std::vector<int> alive;
+    for (int v = 0; v < static_cast<int>(g.points.size()); ++v)
+        if (g.alive[static_cast<size_t>(v)]) alive.push_back(v);
+    std::sort(alive.begin(), alive.end(), [&](int a, int b) {
+        const Vec3 &pa = g.points[static_cast<size_t>(a)], &pb = g.points[static_cast<size_t>(b)];
+        return std::tie(pa.x, pa.y, pa.z, a) < std::tie(pb.x, pb.y, pb.z, b);
+    });
+    std::vector<int> new_id(g.points.size(), -1);
+    Skeleton s;
+    for (int v : alive) {
+        new_id[static_cast<size_t>(v)] = static_cast<int>(s.points.size());
+        s.points.push_back(g.points[static_cast<size_t>(v)]);
+        s.radii.push_back(g.out_radii[static_cast<size_t>(v)]);
+    }
+    for (int v : alive)
+        for (int u : g.adj[static_cast<size_t>(v)]) {
+            const int a = new_id[static_cast<size_t>(v)], b = new_id[static_cast<size_t>(u)];
+            if (a < b) s.edges.push_back({a, b});
+        }
+    std::sort(s.edges.begin(), s.edges.end());
+    return s;
+}
+
 }  // namespace
 
 void check_surface_for_skeleton(const TriangleMesh& surface) { check_skeletonizable(surface); }
@@ -386,7 +495,8 @@ void check_surface_for_skeleton(const TriangleMesh& surface) { check_skeletoniza
 Skeletonization skeletonize_surface(const TriangleMesh& surface, const SkeletonizeOptions& options) {
     check_skeletonizable(surface);
     if (!(options.prune_factor >= 0) || !(options.merge_factor >= 0) || !(options.extension_gap >= 0) ||
-        options.max_iterations < 1 || !(options.min_edge_length >= 0))
+        options.max_iterations < 1 || !(options.min_edge_length >= 0) || options.recentre_passes < 0 ||
+        options.recentre_rays < 1 || !(options.recentre_reach > 0) || !(options.recentre_max_move >= 0))
         throw Error(ErrorCode::InvalidInput,
                     "skeletonize: options out of range (factors must be >= 0, "
                     "max_iterations >= 1)");
@@ -486,33 +596,16 @@ Skeletonization skeletonize_surface(const TriangleMesh& surface, const Skeletoni
     result.mcf_vertices = n;
     if (options.prune) result.pruned_branches = prune_branches(g, options.prune_factor);
     if (options.merge_branch_points) result.merged_branch_points = merge_branch_points(g, options.merge_factor);
+    Graph flow = g;  // the cleaned flow skeleton, before the re-centring
+    if (options.recentre_passes > 0)
+        result.recentred_joints = recentre_joints(g, tree, options, result.recentre_max_shift);
     if (options.extend_extremities) {
         const double spacing = edge_count > 0 ? total_length / edge_count : 1.0;
         result.extended_extremities = extend_extremities(g, tree, options.extension_gap, spacing);
+        if (result.recentred_joints > 0) extend_extremities(flow, tree, options.extension_gap, spacing);
     }
-
-    // Output in canonical order: alive vertices sorted lexicographically by (x, y, z) (ties: graph index, itself
-    // canonical), edges (a < b) in ascending order.
-    std::vector<int> alive;
-    for (int v = 0; v < static_cast<int>(g.points.size()); ++v)
-        if (g.alive[static_cast<size_t>(v)]) alive.push_back(v);
-    std::sort(alive.begin(), alive.end(), [&](int a, int b) {
-        const Vec3 &pa = g.points[static_cast<size_t>(a)], &pb = g.points[static_cast<size_t>(b)];
-        return std::tie(pa.x, pa.y, pa.z, a) < std::tie(pb.x, pb.y, pb.z, b);
-    });
-    std::vector<int> new_id(g.points.size(), -1);
-    Skeleton& s = result.skeleton;
-    for (int v : alive) {
-        new_id[static_cast<size_t>(v)] = static_cast<int>(s.points.size());
-        s.points.push_back(g.points[static_cast<size_t>(v)]);
-        s.radii.push_back(g.out_radii[static_cast<size_t>(v)]);
-    }
-    for (int v : alive)
-        for (int u : g.adj[static_cast<size_t>(v)]) {
-            const int a = new_id[static_cast<size_t>(v)], b = new_id[static_cast<size_t>(u)];
-            if (a < b) s.edges.push_back({a, b});
-        }
-    std::sort(s.edges.begin(), s.edges.end());
+    result.skeleton = output_skeleton(g);
+    result.flow_skeleton = result.recentred_joints > 0 ? output_skeleton(flow) : result.skeleton;
     return result;
 }
 

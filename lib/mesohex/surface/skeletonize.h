@@ -28,14 +28,31 @@ struct SkeletonizeOptions {
                                       // merge_factor x (larger of their radii) become one
     bool extend_extremities = true;   // extend every extremity towards the surface
     double extension_gap = 0.5;       // an extended extremity stops extension_gap x (its radius) before the surface
+    // Re-centring of the joints (vertices of degree 2) after pruning and merging: the mean curvature flow's curve
+    // smooths over one-sided bulges (the lobes of a knob: 0.3 to 0.65 off the middle of its cross-section there), and
+    // the raw mesh then fills them with stretched padding. Each pass moves every joint, in the plane normal to its
+    // branch (the chord between the points one radius along it on either side), by the mean of the half-differences
+    // of recentre_rays opposite pairs of ray hits with the surface, capped at recentre_max_move x its radius. Only
+    // where the section is a closed tube: every ray hits within recentre_reach x the joint's radius, else the joint
+    // stays (slabs, walls, junctions). The radii stay the flow's (with inscribed_radii: the distance to the surface
+    // where the joint now is). 0 passes = off. Measurements: docs/sheets.md, "Curve skeletons re-centred".
+    int recentre_passes = 3;          // Jacobi passes (count)
+    int recentre_rays = 8;            // opposite ray pairs, spread over 180 degrees in the normal plane (count)
+    double recentre_reach = 2.0;      // x radius (dimensionless): farther hits are another part of the solid
+    double recentre_max_move = 0.25;  // x radius (dimensionless), per pass
 };
 
 struct Skeletonization {
-    Skeleton skeleton;     // curve only (no faces); radii always present, one per point
+    Skeleton skeleton;  // curve only (no faces); radii always present, one per point
+    // The same cleaning without the re-centring (recentre_passes 0): what auto falls back to when the re-centred
+    // skeleton's raw mesh inverts hexes the flow's does not. Equal to skeleton when no joint was re-centred.
+    Skeleton flow_skeleton;
     int mcf_vertices = 0;  // vertices of the raw MCF skeleton
     int pruned_branches = 0;
     int merged_branch_points = 0;  // merges performed (each removes one branching point)
     int extended_extremities = 0;
+    int recentred_joints = 0;       // joints the re-centring moved (counted once, over all passes)
+    double recentre_max_shift = 0;  // largest total move of a joint by the re-centring (model units)
 };
 
 // Skeletonizes `surface`.
