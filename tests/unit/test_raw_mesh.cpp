@@ -1274,6 +1274,18 @@ TEST(RawMesh, GapVertexOfABalancedGapStaysOnTheNormalSum) {
 // (corners and side midpoints) keep rr; every other surface point goes back to the input radius 0.6 and the
 // midpoint of an edge from a limited to a free point to the mean radius; no hex at the junction falls below min(0.3,
 // before); on is the default (with bridge_quad_inset, set to 0 here: the raise onto the ball alone).
+// The fat junction's quad on the bridge (edge 0, side 0) of the two bridge-quad tests below: its 4 corners and 4 side
+// midpoints marked among the np points and ne edge midpoints of the connection surfaces.
+static std::vector<bool> bridge_quad_marks(const ConnectionSurfaces& cs, int np, int ne) {
+    const int gq = cs.edge_quad[0][0];
+    std::vector<bool> limited(static_cast<std::size_t>(np + ne), false);
+    for (int k = 0; k < 4; ++k) {
+        limited[static_cast<std::size_t>(cs.quads[gq][k])] = true;
+        limited[static_cast<std::size_t>(np + cs.quad_edges[gq][k])] = true;
+    }
+    return limited;
+}
+
 TEST(RawMesh, BridgeQuadRadiusKeepsTheFatJunctionsOtherPointsOnItsBall) {
     Skeleton s;
     s.points = {{0, 0, 0}, {0.7, 0, 0}, {-2.4, 0, 0}, {0, 2.4, 0}, {0, -2.4, 0}, {1.8, 0, 1.0}, {1.8, 0, -1.0}};
@@ -1297,12 +1309,7 @@ TEST(RawMesh, BridgeQuadRadiusKeepsTheFatJunctionsOtherPointsOnItsBall) {
     const double rr = dist(off, 0);
     EXPECT_LT(rr, 0.6 - 1e-3);
     for (int x = 0; x < np + ne; ++x) EXPECT_NEAR(dist(off, x), rr, 1e-12);
-    const int gq = cs.edge_quad[0][0];  // the fat junction's quad on the bridge (edge 0, side 0)
-    std::vector<bool> limited(static_cast<std::size_t>(np + ne), false);
-    for (int k = 0; k < 4; ++k) {
-        limited[static_cast<std::size_t>(cs.quads[gq][k])] = true;
-        limited[static_cast<std::size_t>(np + cs.quad_edges[gq][k])] = true;
-    }
+    const std::vector<bool> limited = bridge_quad_marks(cs, np, ne);
     int raised = 0;
     for (int x = 0; x < np; ++x) {
         EXPECT_NEAR(dist(on, x), limited[static_cast<std::size_t>(x)] ? rr : 0.6, 1e-12);
@@ -1405,12 +1412,7 @@ TEST(RawMesh, BridgeQuadInsetStopsTheRaisedPointsOneLayerShort) {
         shortest[a] = std::min(shortest[a], len);
         shortest[b] = std::min(shortest[b], len);
     }
-    const int gq = cs.edge_quad[0][0];
-    std::vector<bool> limited(static_cast<std::size_t>(np + ne), false);
-    for (int k = 0; k < 4; ++k) {
-        limited[static_cast<std::size_t>(cs.quads[gq][k])] = true;
-        limited[static_cast<std::size_t>(np + cs.quad_edges[gq][k])] = true;
-    }
+    const std::vector<bool> limited = bridge_quad_marks(cs, np, ne);
     int inset_points = 0;
     for (int x = 0; x < np; ++x) {
         if (limited[static_cast<std::size_t>(x)]) {
