@@ -391,7 +391,7 @@ MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
                                          "radius_factor", "levels",      "size",       "refine",
                                          "pad",           "no_pad",      "no_fit",     "no_untangle",
                                          "no_smooth",     "no_retry",    "iterations", "fit_weight",
-                                         "improve_below", "partitions",  "threads"};
+                                         "improve_below", "partitions",  "threads",    "no_trim_tips"};
     for (const auto& item : kwargs) {
         const std::string key = py::cast<std::string>(item.first);
         const py::handle value = item.second;
@@ -442,6 +442,8 @@ MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
             o.finishing.smooth = !flag();
         else if (key == "no_retry")
             o.retry = !flag();
+        else if (key == "no_trim_tips")
+            o.trim_unheld_tips = !flag();
         else if (key == "iterations")
             o.finishing.fitting.max_iterations = py::cast<int>(value);
         else if (key == "fit_weight") {

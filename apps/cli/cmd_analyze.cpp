@@ -22,9 +22,10 @@ namespace {
 
 struct AnalyzeArgs {
     std::string path;
-    double radius = 0;         // as `mesh --radius`
-    bool no_resample = false;  // as `mesh --no-resample`
-    bool no_fan_caps = false;  // as `mesh --no-fan-cap-branches`
+    double radius = 0;            // as `mesh --radius`
+    bool no_resample = false;     // as `mesh --no-resample`
+    bool no_fan_caps = false;     // as `mesh --no-fan-cap-branches`
+    bool no_band_pillow = false;  // as `mesh --no-docked-band-pillow`
     bool no_verdict = false;
     std::string surface;        // as `mesh --surface`: radii from it when the file has none, tips outside it trimmed
     bool no_trim_tips = false;  // as `mesh --no-trim-tips`
@@ -43,6 +44,9 @@ void register_analyze(CLI::App& app, int* status) {
     cmd->add_flag("--no-fan-cap-branches", args->no_fan_caps,
                   "As for `mesh`: retract the fan edge from a branch on a fan-block chain end instead of standing the "
                   "branch on the block's cap");
+    cmd->add_flag("--no-docked-band-pillow", args->no_band_pillow,
+                  "As for `mesh`: refuse a docked wall whose feet do not match its plate's grid instead of pillowing "
+                  "its band");
     cmd->add_flag("--no-verdict", args->no_verdict, "Only the analysis: do not run the raw pipeline");
     cmd->add_option("--surface", args->surface,
                     "As for `mesh`: the domain (radii from it when the file has none; branch tips outside it trimmed)");
@@ -60,6 +64,7 @@ void register_analyze(CLI::App& app, int* status) {
         options.radius = args->radius;
         options.resample = !args->no_resample;
         options.connection_surfaces.blocks.fan_cap_branches = !args->no_fan_caps;
+        options.repair.docked_band_pillow = !args->no_band_pillow;
         std::optional<TriangleMesh> domain;
         if (!args->surface.empty()) domain = read_surface(args->surface);
         MeshOptions mesh_options;  // with --surface: mesh_skeleton's radii and trims, the raw mesh only

@@ -210,14 +210,15 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         res.docked_band_pillows = repaired.docked_band_pillows;
         res.junction_splits = repaired.junction_splits;
         for (const FanEndRetraction& r : repaired.fan_end_retractions) {
-            res.fan_end_retractions.push_back(r.vertex);
+            // Named by input id (the tip trim and the repair renumber); a vertex the repair made by its repaired id.
+            const auto [vertex, is_input] = named_vertex(repaired.vertex_map, r.vertex);
+            res.fan_end_retractions.push_back(vertex);
             res.fan_edge_splits += r.fan_edge_split >= 0 ? 1 : 0;
-            if (r.moved_root >= 0) res.fan_end_moved_roots.push_back(r.vertex);
-            if (r.moved_root < 0 && r.far_branch) res.fan_end_far_retractions.push_back(r.vertex);
+            if (r.moved_root >= 0) res.fan_end_moved_roots.push_back(vertex);
+            if (r.moved_root < 0 && r.far_branch) res.fan_end_far_retractions.push_back(vertex);
             // Every retracted corner is checked too, with RawMeshOptions::fan_end_cap_to_border off as well (off, main's
             // raw meshes have no inverted hex there: docs/blocks.md, "The notch closed by the cap"); with it on, u's cap
             // reaches up to that corner.
-            const auto [vertex, is_input] = named_vertex(repaired.vertex_map, r.vertex);
             const int root = r.moved_root >= 0 ? r.moved_root : r.vertex;  // a retraction: its corner w
             res.moved_roots.push_back({vertex, is_input, repaired.skeleton.points[root],
                                        repaired.skeleton.radii[r.vertex], r.moved_root >= 0 || r.far_branch});

@@ -255,8 +255,8 @@ TriangleMesh one_sided_bulge(double h, double r, double a, double w) {
 // the middle of their cross-sections. A bulge of a = 2 r over w = 2 r on a tube of radius r = 0.5: at the top of the
 // bulge (|z| <= w / 4, where the section normal to the curve is within 14 degrees of the z plane and its middle within
 // 0.03 r of x = b(z) / 2) every joint lies within 0.1 r of that middle, less than half as far as the flow's own curve
-// (measured: 0.06 r against 0.17 r); the same number of points and edges (the extension may differ), the radii the
-// flow's. With 0 passes nothing moves.
+// (measured: 0.06 r against 0.17 r); the same number of points and edges (the extension may differ). With 0 passes
+// nothing moves.
 TEST(Skeletonize, JointsAreRecentredInTheirCrossSections) {
     const double h = 3.0, r = 0.5, a = 1.0, w = 1.0;
     const TriangleMesh surface = one_sided_bulge(h, r, a, w);

@@ -1164,6 +1164,10 @@ void raise_bridge_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an
         for (int id : raw.mesh.hexes[h])
             if (centre_of[static_cast<std::size_t>(id)] >= 0)
                 hexes_at[static_cast<std::size_t>(centre_of[static_cast<std::size_t>(id)])].push_back(h);
+    // The boundary's topology only where a junction is raised (the studio remeshes on every edit).
+    const bool any =
+        std::any_of(hexes_at.begin(), hexes_at.end(), [](const std::vector<int>& h) { return !h.empty(); });
+    if (!any) return;
     const bool inset = options.bridge_quad_inset > 0;
     const std::vector<std::vector<int>> nbrs = inset ? boundary_neighbours(raw.mesh) : std::vector<std::vector<int>>{};
     std::vector<double> rad;

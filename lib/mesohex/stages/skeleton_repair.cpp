@@ -762,6 +762,7 @@ int pillow_docked_bands(Skeleton& s, double factor, std::vector<char>& copies) {
                 continue;
             }
             ++bands;
+            tried.insert(e);  // pillowed once at most: the loop ends even if a pillow left a foot unmatched
             again = true;
         }
     }

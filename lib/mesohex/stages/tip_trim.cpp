@@ -76,7 +76,7 @@ TipTrim trim_unheld_tips(const Skeleton& s, const std::vector<char>& held) {
         ends.push_back(cur);
     }
     // A held vertex between two trimmed chains (a single branch not held at either end) would lose both edges: the
-    // later chain stays.
+    // earlier chain (the lower tip id) stays.
     std::vector<int> new_ends;
     for (std::size_t c = 0; c < chains.size(); ++c) {
         const std::vector<int>& a = adj[static_cast<std::size_t>(ends[c])];
