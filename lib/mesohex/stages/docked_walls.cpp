@@ -203,6 +203,16 @@ ChainStar chain_star(const Skeleton& s, const SkeletonAnalysis& an, const LocalF
     return st;
 }
 
+}  // namespace
+
+bool docked_foot_matches(int chain_edges, int plate_faces, int plate_border, bool straight) {
+    if (chain_edges == 2) return plate_faces == 4 && plate_border == 0 && straight;
+    return chain_edges == 1 && straight &&
+           ((plate_faces == 4 && plate_border == 0) || (plate_faces == 2 && plate_border == 2));
+}
+
+namespace {
+
 // Checks chain vertex v of a docked chain (plate P); refuses with an edit suggestion. With band_pillow, a plate grid
 // that does not match the foot lists v in an.docked_unmatched instead.
 void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, int v, int P, bool band_pillow) {
@@ -215,10 +225,7 @@ void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFace
         for (int c : st.chain) on += face_has_edge(an, f, c) ? 1 : 0;
         straight = straight && on <= 1 && (nc == 1 || on == 1);
     }
-    const bool ok = nc == 2   ? st.plate_faces == 4 && st.plate_border == 0 && straight
-                    : nc == 1 ? straight && ((st.plate_faces == 4 && st.plate_border == 0) ||
-                                             (st.plate_faces == 2 && st.plate_border == 2))
-                              : false;
+    const bool ok = docked_foot_matches(nc, st.plate_faces, st.plate_border, straight);
     if (!ok && band_pillow)
         an.docked_unmatched.push_back(v);
     else if (!ok)

@@ -53,6 +53,12 @@ inline constexpr double kDockWallTiltDeg = 45;
 // O(E + F) plus the faces of the chain vertices.
 void find_docked_walls(const Skeleton& skeleton, SkeletonAnalysis& analysis, bool band_pillow = false);
 
+// The foot condition at a chain vertex with chain_edges chain edges (1 at an end, 2 inside), plate_faces faces of the
+// plate and plate_border plate border edges there, straight when each plate face holds at most one chain edge (exactly
+// one inside the chain): 4 faces and no border, or at an end on the border 2 faces and 2 border edges. Shared by the
+// analysis (find_docked_walls) and the band pillow repair (skeleton_repair.cpp).
+bool docked_foot_matches(int chain_edges, int plate_faces, int plate_border, bool straight);
+
 // The class of docked chain vertex v by its plate alone (LeafletInterior, or LeafletBoundary at a border end), and its
 // plate's boundary edges there (0 or 2).
 VertexClass docked_vertex_class(const SkeletonAnalysis& analysis, int v, int& plate_boundary_edges);

@@ -1,5 +1,7 @@
 #include "mesohex/stages/skeleton_repair.h"
 
+#include "mesohex/stages/docked_walls.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -508,8 +510,7 @@ bool foot_matches(const DockedPlates& dp, const std::vector<std::vector<int>>& a
         const std::vector<int>& fs = faces_of(dp, u, v);
         border += fs.size() == 1 && dp.leaflet[fs[0]] == dp.plate[u] ? 1 : 0;
     }
-    if (nc == 2) return faces == 4 && border == 0 && straight;
-    return nc == 1 && straight && ((faces == 4 && border == 0) || (faces == 2 && border == 2));
+    return docked_foot_matches(nc, faces, border, straight);
 }
 
 // A vertex on plate P's border: a side of exactly one face, of P.
