@@ -336,6 +336,15 @@ int merge_branch_points(Graph& g, double merge_factor) {
     }
 }
 
+// Distance along `dir` from `from` to the first surface hit, or -1 when the ray misses or runs along a triangle.
+double ray_hit_distance(const AabbTree& tree, const Vec3& from, const Vec3& dir) {
+    const Kernel::Ray_3 ray(to_point(from), Kernel::Vector_3(dir.x, dir.y, dir.z));
+    const auto hit = tree.first_intersection(ray);
+    if (!hit) return -1;
+    const Point* hp = boost::get<Point>(&hit->first);
+    return hp == nullptr ? -1 : dot(to_vec(*hp) - from, dir);
+}
+
 // Extends every extremity along its terminal direction up to extension_gap x radius before the surface.
 int extend_extremities(Graph& g, const AabbTree& tree, double gap, double spacing) {
     int extended = 0;
@@ -357,12 +366,9 @@ int extend_extremities(Graph& g, const AabbTree& tree, double gap, double spacin
         const Vec3 tip = g.points[static_cast<size_t>(v)];
         const Vec3 dir = normalized(tip - back);
         if (squared_norm(dir) == 0) continue;
-        const Kernel::Ray_3 ray(to_point(tip), Kernel::Vector_3(dir.x, dir.y, dir.z));
-        const auto hit = tree.first_intersection(ray);
-        if (!hit) continue;
-        const Point* hp = boost::get<Point>(&hit->first);
-        if (hp == nullptr) continue;  // ray along a triangle: leave the extremity as it is
-        const double reach = dot(to_vec(*hp) - tip, dir) - gap * r;
+        const double hit = ray_hit_distance(tree, tip, dir);
+        if (hit < 0) continue;  // no hit, or the ray runs along a triangle: leave the extremity as it is
+        const double reach = hit - gap * r;
         if (reach <= 0.05 * r) continue;
         // Spaced like the skeleton, but never denser than a quarter radius (a blob's flow skeleton can be one tiny edge).
         const int steps = std::max(1, static_cast<int>(std::ceil(reach / std::max(spacing, 0.25 * r))));
@@ -378,15 +384,6 @@ int extend_extremities(Graph& g, const AabbTree& tree, double gap, double spacin
         ++extended;
     }
     return extended;
-}
-
-// Distance along `dir` from `from` to the first surface hit, or -1 when the ray misses or runs along a triangle.
-double ray_hit_distance(const AabbTree& tree, const Vec3& from, const Vec3& dir) {
-    const Kernel::Ray_3 ray(to_point(from), Kernel::Vector_3(dir.x, dir.y, dir.z));
-    const auto hit = tree.first_intersection(ray);
-    if (!hit) return -1;
-    const Point* hp = boost::get<Point>(&hit->first);
-    return hp == nullptr ? -1 : dot(to_vec(*hp) - from, dir);
 }
 
 // The point reached from joint v through its neighbour `next` after an arc length of `length` along the branch, or
@@ -413,11 +410,7 @@ Vec3 recentre_move(const Graph& g, int v, const AabbTree& tree, const Skeletoniz
     const double r = g.radii[static_cast<size_t>(v)];
     const Vec3 t = normalized(along_branch(g, v, n[1], r) - along_branch(g, v, n[0], r));
     if (squared_norm(t) == 0) return {};
-    // The coordinate axis least aligned with the tangent spans the normal plane with it (deterministic frame).
-    const Vec3 axis = std::abs(t.x) <= std::abs(t.y) && std::abs(t.x) <= std::abs(t.z) ? Vec3{1, 0, 0}
-                      : std::abs(t.y) <= std::abs(t.z)                                 ? Vec3{0, 1, 0}
-                                                                                       : Vec3{0, 0, 1};
-    const Vec3 a = normalized(cross(t, axis));
+    const Vec3 a = any_perpendicular(t);  // with b, the normal plane (a deterministic frame)
     const Vec3 b = cross(t, a);
     const Vec3 p = g.points[static_cast<size_t>(v)];
     Vec3 sum{};
