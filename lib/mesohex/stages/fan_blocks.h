@@ -60,9 +60,8 @@ SquareFit fit_square_frame(const Vec3& t, const std::vector<Vec3>& directions, c
 inline constexpr int kFanSectionIds = 9;  // ids per section: C, Q_0..Q_3, M_0..M_3
 inline constexpr int kFanChunkHexes = 4;  // hexes per fan edge and per cap
 // A branch stands on a chain end's cap when it leaves within 35 degrees of the chain's outward direction (cos 35
-// degrees): measured on issue 22's check (bench/issue22_check.py, seed 22), branches 0 - 30 degrees off the fan line
-// on the cap are valid, 5 of 18 at 45 degrees fold the first chunk (1 - 2 inverted raw hexes; docs/blocks.md,
-// "Branches on the fan block's cap"); the others keep the retraction (fan_end_repair.h, within 45 degrees).
+// degrees): beyond it the first chunk on the cap can fold (measurements: docs/tuning.md, docs/blocks.md "Branches on
+// the fan block's cap"); the others keep the retraction (fan_end_repair.h, within 45 degrees).
 inline constexpr double kFanCapBranchCos = 0.81915204428899179;
 // The connection surfaces accept a cap branch up to 45 degrees off (cos 45 degrees): the pipeline decides on the input
 // sampling with kFanCapBranchCos, and the resampling may turn the branch's first edge by a few degrees.

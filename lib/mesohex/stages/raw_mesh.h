@@ -85,14 +85,13 @@ struct RawMeshOptions {
     // with the junction cover (cover.fraction, inset, crease_deg): a junction whose points the cover moves is placed
     // again from the limited radius, so its raise is lost (with fraction or crease_deg at nearly every
     // such junction: their targets lie beyond the limited radius). On by default together with bridge_quad_inset
-    // (alone, on the ball, it lost random seed 111 to the padding over the raised points).
+    // (alone, on the ball, the padding laid over the raised points bulges past the input ball).
     bool bridge_quad_radius = true;
     // With bridge_quad_radius: each raised point (off v's bridge quads) stops bridge_quad_inset x its shortest raw
     // boundary edge (measured with every point raised) short of v's input radius, never below the limited radius,
     // so that the padding layer laid over it (PaddingOptions::thickness 0.25 x the shortest boundary edge) ends on
     // the input ball instead of beyond it (docs/junctions.md, "Bridge quads raised one layer short"). Dimensionless
-    // (0.25 = one padding layer, the default: random seeds 1-300 keep every verdict, knight's min SJ 0.275 -> 0.393);
-    // 0: the raised points on the input ball.
+    // (0.25 = one padding layer, the default; measurements in docs/tuning.md); 0: the raised points on the input ball.
     double bridge_quad_inset = 0.25;
     // A joint turning by theta gets at most turn_fraction * (shorter incident edge) / (2 sin(theta / 2)): its
     // cross-section then reaches at most turn_fraction of half of each incident edge (the adaptation stage normally

@@ -114,9 +114,8 @@ struct MedialAxisOptions {
     // straight ahead is within rim_reach_factor x its ball's radius (the end of a rounded rim's medial sheet, its centre
     // of curvature: 1); it stays when its ball first shrinks below rim_min_radius_fraction x its radius (a sharp edge
     // ahead, where the ratio stays 1 / sin(half the dihedral angle), 1.41 at 90 degrees) or the rim lies farther than
-    // rim_max_move x its radius (docs/sheets.md, "Borders out to rounded rims"). Off by default: on the 22 shared
-    // surfaces it changed no `auto` answer's goals (8 of 22 meet either way); it cleans cup's and wrench's meso raw
-    // meshes but adds raw inversions on dualocta, deckel and hand_loopycuts.
+    // rim_max_move x its radius (docs/sheets.md, "Borders out to rounded rims"). Off by default: measured without a gain
+    // in `auto`'s answers, fewer raw inversions on some medial meshes and more on others (docs/tuning.md).
     bool extend_rims = false;
     double rim_reach_factor = 1.2;         // x the ball radius at the marching point (>= 1)
     double rim_min_radius_fraction = 0.5;  // x the border vertex's ball radius

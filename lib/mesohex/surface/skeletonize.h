@@ -29,7 +29,7 @@ struct SkeletonizeOptions {
     bool extend_extremities = true;   // extend every extremity towards the surface
     double extension_gap = 0.5;       // an extended extremity stops extension_gap x (its radius) before the surface
     // Re-centring of the joints (vertices of degree 2) after pruning and merging: the mean curvature flow's curve
-    // smooths over one-sided bulges (the lobes of a knob: 0.3 to 0.65 off the middle of its cross-section there), and
+    // smooths over one-sided bulges (lobes: the curve runs off the middle of its cross-section there), and
     // the raw mesh then fills them with stretched padding. Each pass moves every joint, in the plane normal to its
     // branch (the chord between the points one radius along it on either side), by the mean of the half-differences
     // of recentre_rays opposite pairs of ray hits with the surface, capped at recentre_max_move x its radius. Only
