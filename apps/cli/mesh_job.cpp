@@ -178,6 +178,59 @@ void add_padding_options(CLI::App* cmd, MeshJob* job) {
         ->check(finite_range(0.01, 1.0));
 }
 
+// The raw-mesh structure flags of add_mesh_job_options (junction cover and crease, docked walls, fan-end caps,
+// bridge quads), in their --help order.
+void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
+    cmd->add_option("--junction-cover", job->options.pipeline.raw_mesh.cover.fraction,
+                    "Move the surface points of branching points out along their rays by this fraction of the way to "
+                    "where the union of the input's balls ends, guarded so no junction hex gets worse than min(0.3, "
+                    "before) (0 = off, the default: docs/junctions.md)")
+        ->check(finite_range(0.0, 1.0))
+        ->capture_default_str();
+    cmd->add_option(
+           "--docked-foot-split", job->options.pipeline.repair.docked_foot_split,
+           "Split the plate's face strips beside a docked wall's chain (both sides) and beyond its inside ends at this "
+           "many x the chain's radius from it, so the wall stands on a foot as wide as itself, not 2 plate "
+           "faces (with resampling; 0 = off: docs/blocks.md)")
+        ->check(finite_range(0.0, 10.0))
+        ->capture_default_str();
+    cmd->add_flag("--docked-band-pillow,!--no-docked-band-pillow", job->options.pipeline.repair.docked_band_pillow,
+                  "A docked wall whose chain does not match the plate's grid (it turns in the grid, or other than 4 "
+                  "plate faces meet at a chain vertex) gets a band of plate faces pillowed along its chain, run on "
+                  "to the plate's border (on by default, with resampling; --no-docked-band-pillow refuses it: "
+                  "docs/blocks.md)");
+    cmd->add_flag("--fan-end-cap-to-border", job->options.pipeline.raw_mesh.fan_end_cap_to_border,
+                  "At a fan end retracted from a branch, raise the cap up to the retracted leaflet corners so the "
+                  "leaflets' border hexes span the notch (off by default: docs/blocks.md, \"The notch closed by the "
+                  "cap\")");
+    cmd->add_option(
+           "--bridge-quad-radius", job->options.pipeline.raw_mesh.bridge_quad_radius,
+           "At a branching point joined to another by a bridge edge, shrink only the surface points of its "
+           "quad on the bridge to the bridge's margin limit, the others staying on the input radius (0 or 1, on "
+           "by default; 0: the whole sphere at the limit, docs/junctions.md, \"Bridge quads\")")
+        ->capture_default_str();
+    cmd->add_option("--bridge-quad-inset", job->options.pipeline.raw_mesh.bridge_quad_inset,
+                    "With --bridge-quad-radius 1: the raised points stop this many times their shortest raw boundary "
+                    "edge short of the input ball (0.25 = one padding layer, the default; 0 = on the ball: "
+                    "docs/junctions.md, \"Bridge quads raised one layer short\")")
+        ->check(finite_range(0.0, 1.0))
+        ->capture_default_str();
+    cmd->add_option("--junction-crease", job->options.pipeline.raw_mesh.cover.crease_deg,
+                    "Open the raw boundary creases on branching points' spheres sharper than this many degrees "
+                    "(interior dihedral through their two hexes): their surface points move out along their rays, "
+                    "at most to where the union of the input's balls ends, guarded like --junction-cover (0 = off, "
+                    "the default: docs/junctions.md)")
+        ->check(finite_range(0.0, 360.0))
+        ->capture_default_str();
+    cmd->add_option("--junction-inset", job->options.pipeline.raw_mesh.cover.inset,
+                    "Cap the distance of each branching point's surface points at where the union of the input's "
+                    "balls ends minus this many x the point's shortest boundary edge (0.25: one padding layer), so the "
+                    "padding layer starts inside the domain; guarded like --junction-cover (0 = off, the default: "
+                    "docs/junctions.md)")
+        ->check(finite_range(0.0, 1.0))
+        ->capture_default_str();
+}
+
 }  // namespace
 
 void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
@@ -227,54 +280,7 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                   "block's cap instead of the fan edge being retracted from it (on by default; --no-fan-cap-branches "
                   "retracts it: docs/blocks.md, \"Branches on the fan block's cap\")");
     add_padding_options(cmd, job);
-    cmd->add_option("--junction-cover", job->options.pipeline.raw_mesh.cover.fraction,
-                    "Move the surface points of branching points out along their rays by this fraction of the way to "
-                    "where the union of the input's balls ends, guarded so no junction hex gets worse than min(0.3, "
-                    "before) (0 = off, the default: docs/junctions.md)")
-        ->check(finite_range(0.0, 1.0))
-        ->capture_default_str();
-    cmd->add_option(
-           "--docked-foot-split", job->options.pipeline.repair.docked_foot_split,
-           "Split the plate's face strips beside a docked wall's chain (both sides) and beyond its inside ends at this "
-           "many x the chain's radius from it, so the wall stands on a foot as wide as itself, not 2 plate "
-           "faces (with resampling; 0 = off: docs/blocks.md)")
-        ->check(finite_range(0.0, 10.0))
-        ->capture_default_str();
-    cmd->add_flag("--docked-band-pillow,!--no-docked-band-pillow", job->options.pipeline.repair.docked_band_pillow,
-                  "A docked wall whose chain does not match the plate's grid (it turns in the grid, or other than 4 "
-                  "plate faces meet at a chain vertex) gets a band of plate faces pillowed along its chain, run on "
-                  "to the plate's border (on by default, with resampling; --no-docked-band-pillow refuses it: "
-                  "docs/blocks.md)");
-    cmd->add_flag("--fan-end-cap-to-border", job->options.pipeline.raw_mesh.fan_end_cap_to_border,
-                  "At a fan end retracted from a branch, raise the cap up to the retracted leaflet corners so the "
-                  "leaflets' border hexes span the notch (off by default: docs/blocks.md, \"The notch closed by the "
-                  "cap\")");
-    cmd->add_option(
-           "--bridge-quad-radius", job->options.pipeline.raw_mesh.bridge_quad_radius,
-           "At a branching point joined to another by a bridge edge, shrink only the surface points of its "
-           "quad on the bridge to the bridge's margin limit, the others staying on the input radius (0 or 1, on "
-           "by default; 0: the whole sphere at the limit, docs/junctions.md, \"Bridge quads\")")
-        ->capture_default_str();
-    cmd->add_option("--bridge-quad-inset", job->options.pipeline.raw_mesh.bridge_quad_inset,
-                    "With --bridge-quad-radius 1: the raised points stop this many times their shortest raw boundary "
-                    "edge short of the input ball (0.25 = one padding layer, the default; 0 = on the ball: "
-                    "docs/junctions.md, \"Bridge quads raised one layer short\")")
-        ->check(finite_range(0.0, 1.0))
-        ->capture_default_str();
-    cmd->add_option("--junction-crease", job->options.pipeline.raw_mesh.cover.crease_deg,
-                    "Open the raw boundary creases on branching points' spheres sharper than this many degrees "
-                    "(interior dihedral through their two hexes): their surface points move out along their rays, "
-                    "at most to where the union of the input's balls ends, guarded like --junction-cover (0 = off, "
-                    "the default: docs/junctions.md)")
-        ->check(finite_range(0.0, 360.0))
-        ->capture_default_str();
-    cmd->add_option("--junction-inset", job->options.pipeline.raw_mesh.cover.inset,
-                    "Cap the distance of each branching point's surface points at where the union of the input's "
-                    "balls ends minus this many x the point's shortest boundary edge (0.25: one padding layer), so the "
-                    "padding layer starts inside the domain; guarded like --junction-cover (0 = off, the default: "
-                    "docs/junctions.md)")
-        ->check(finite_range(0.0, 1.0))
-        ->capture_default_str();
+    add_raw_structure_options(cmd, job);
     cmd->add_flag_callback(
         "--pad-inset", [job] { job->options.finishing.pad_inset = true; },
         "Where the padding layer reaches past the domain surface, move it inward to end at the surface, the raw "

@@ -296,6 +296,9 @@ struct StudioServer::Impl {
     }
 
     void routes();
+    void mesh_routes();
+    void job_routes();
+    void edit_routes();
     void static_routes();
     template <typename F>
     httplib::Server::HandlerWithContentReader post_handler(F f) const {
@@ -328,6 +331,14 @@ void StudioServer::Impl::routes() {
                   res.status);
     });
 
+    mesh_routes();
+    job_routes();
+    edit_routes();
+    static_routes();
+}
+
+// The session, the analysis and the raw / final mesh of a skeleton the page sends.
+void StudioServer::Impl::mesh_routes() {
     http.Get("/api/session",
              guarded([this](const httplib::Request&, httplib::Response& res) { send_json(res, session_body); }));
 
@@ -441,7 +452,10 @@ void StudioServer::Impl::routes() {
                       throw library_error(e);
                   }
               }));
+}
 
+// Finishing jobs: start, poll, cancel, and their progress as server-sent events.
+void StudioServer::Impl::job_routes() {
     http.Post("/api/jobs", post_handler([this](const Req& req, const std::string& body, Res& res) {
                   const Domain& d = require_domain("a finishing job");
                   std::string client =
@@ -500,7 +514,10 @@ void StudioServer::Impl::routes() {
                      return true;
                  });
              }));
+}
 
+// Skeleton editing helpers: automatic skeletons, import, parse / serialize, radii and medial snapping, save.
+void StudioServer::Impl::edit_routes() {
     http.Post("/api/auto-skeleton", post_handler([this](const Req&, const std::string&, Res& res) {
                   const Domain& d = require_domain("the curve skeleton");
                   const std::lock_guard<std::mutex> lock(auto_mutex);
@@ -613,8 +630,6 @@ void StudioServer::Impl::routes() {
                                       {"faces", s.faces.size()}}
                                      .dump(-1, ' ', false, kUtf8Replace));
               }));
-
-    static_routes();
 }
 
 // GET of anything else: a lookup in the in-memory table, never the file system.

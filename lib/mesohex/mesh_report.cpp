@@ -192,8 +192,11 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
         used["pruned_branches"] = sk.pruned_branches;
         used["merged_branch_points"] = sk.merged_branch_points;
         used["extended_extremities"] = sk.extended_extremities;
-        used["recentred_joints"] = sk.recentred_joints;
-        used["recentre_max_shift"] = sk.recentre_max_shift;
+        // The skeleton used: the flow's own curve when the re-centred one was dropped (nothing re-centred in it).
+        const bool dropped = chosen.curve_recentring_dropped;
+        used["recentred_joints"] = dropped ? 0 : sk.recentred_joints;
+        used["recentre_max_shift"] = dropped ? 0.0 : sk.recentre_max_shift;
+        used["recentring_dropped"] = dropped;
     } else {
         used["source"] = "compute_medial_axis + import_medial_mesh (medial meso-skeleton)";
         used["leaflets"] = chosen.import.leaflets;

@@ -262,4 +262,15 @@ BoundarySurface extract_boundary(const HexMesh& mesh, const HexTopology& topo) {
     return out;
 }
 
+std::vector<std::vector<int>> boundary_edge_neighbours(const HexTopology& topo, std::size_t num_points) {
+    std::vector<std::vector<int>> nbrs(num_points);
+    for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+        if (!topo.edge_on_boundary[e]) continue;
+        const auto [a, b] = topo.edges[e];
+        nbrs[static_cast<std::size_t>(a)].push_back(b);
+        nbrs[static_cast<std::size_t>(b)].push_back(a);
+    }
+    return nbrs;
+}
+
 }  // namespace mesohex

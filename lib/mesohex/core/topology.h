@@ -47,4 +47,7 @@ struct BoundarySurface {
 };
 BoundarySurface extract_boundary(const HexMesh& mesh, const HexTopology& topo);
 
+// Per vertex (num_points of them), the vertices joined to it by a boundary edge (edge_on_boundary), in edge order.
+std::vector<std::vector<int>> boundary_edge_neighbours(const HexTopology& topo, std::size_t num_points);
+
 }  // namespace mesohex

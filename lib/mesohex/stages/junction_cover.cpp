@@ -214,15 +214,11 @@ std::vector<double> shortest_boundary_edges(const std::vector<std::array<int, 8>
     HexMesh mesh;
     mesh.points = points;
     mesh.hexes = hexes;
-    const HexTopology topo = compute_hex_topology(mesh);
+    const std::vector<std::vector<int>> nbrs = boundary_edge_neighbours(compute_hex_topology(mesh), points.size());
     std::vector<double> shortest(points.size(), std::numeric_limits<double>::infinity());
-    for (std::size_t e = 0; e < topo.edges.size(); ++e) {
-        if (!topo.edge_on_boundary[e]) continue;
-        const auto [a, b] = topo.edges[e];
-        const double len = distance(points[a], points[b]);
-        shortest[a] = std::min(shortest[a], len);
-        shortest[b] = std::min(shortest[b], len);
-    }
+    for (std::size_t v = 0; v < points.size(); ++v)
+        for (int w : nbrs[v])
+            shortest[v] = std::min(shortest[v], distance(points[v], points[static_cast<std::size_t>(w)]));
     return shortest;
 }
 

@@ -1106,19 +1106,6 @@ double min_hex_sj(const HexMesh& mesh, const std::vector<int>& hexes) {
     return worst;
 }
 
-// Per raw vertex: the vertices joined to it by a raw boundary edge (RawMeshOptions::bridge_quad_inset).
-std::vector<std::vector<int>> boundary_neighbours(const HexMesh& mesh) {
-    const HexTopology topo = compute_hex_topology(mesh);
-    std::vector<std::vector<int>> nbrs(mesh.points.size());
-    for (std::size_t e = 0; e < topo.edges.size(); ++e) {
-        if (!topo.edge_on_boundary[e]) continue;
-        const auto [a, b] = topo.edges[e];
-        nbrs[static_cast<std::size_t>(a)].push_back(b);
-        nbrs[static_cast<std::size_t>(b)].push_back(a);
-    }
-    return nbrs;
-}
-
 // RawMeshOptions::bridge_quad_inset: with v's points placed at rad (fully raised), each point off v's bridge quads
 // stops inset x its shortest raw boundary edge short of that, never below floor_radius (v's limited radius); the
 // midpoints of edges that are no bridge quad's side go to the mean of their ends again.
@@ -1169,7 +1156,9 @@ void raise_bridge_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an
         std::any_of(hexes_at.begin(), hexes_at.end(), [](const std::vector<int>& h) { return !h.empty(); });
     if (!any) return;
     const bool inset = options.bridge_quad_inset > 0;
-    const std::vector<std::vector<int>> nbrs = inset ? boundary_neighbours(raw.mesh) : std::vector<std::vector<int>>{};
+    const std::vector<std::vector<int>> nbrs =
+        inset ? boundary_edge_neighbours(compute_hex_topology(raw.mesh), raw.mesh.points.size())
+              : std::vector<std::vector<int>>{};
     std::vector<double> rad;
     std::vector<char> on_bridge_quad;
     for (int v = 0; v < nv; ++v) {
