@@ -178,6 +178,41 @@ TEST(Adaptation, PinYieldsWhenItsEdgeCannotClear) {
     EXPECT_EQ(yielded, mesohex::adapt_skeleton(s));
 }
 
+// A radius peak on a short bridge is stepped over (docs/junctions.md, "The armadillo's torso and neck"): degree-3
+// points A = (0,0,0) and B = (0.4,0,0), r 0.1, each with two long arms (length 1, r 0.1) at 60 degrees from the
+// bridge (A's in the xy-plane, B's in the xz-plane: they do not cross), joined through the input joint
+// M = (0.2,0,0). Bisection of the bridge (density 1): r_A + r_B = 0.2 < 0.4
+// cuts it at its midpoint, the sample at M with M's radius r_M; the halves stop (0.1 + r_M >= 0.2). Smallest angle at
+// A and B 60 degrees: gamma 30, cot sqrt(3). Section criterion on the edge (A, M), length 0.2, M straight (reach 0):
+// reach(A) = 0.7 max(0.1, r_M sqrt(3)). r_M = 0.1: 0.7 x 0.1732 = 0.1212, 1.25 x 0.1212 = 0.152 <= 0.2: the joint
+// stays, the bridge has a vertex of radius 0.1 at M. r_M = 0.2 (a bulge twice the ends' radius): 0.7 x 0.3464 =
+// 0.2425, 1.25 x 0.2425 = 0.303 > 0.2: the joint goes, A and B are joined by one edge and the meshed tube has radius
+// 0.1 where the input's ball at M has 0.2.
+TEST(Adaptation, RadiusPeakOnAShortBridgeIsSteppedOver) {
+    const double c = 0.5, s3 = std::sqrt(3.0) / 2;
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0.4, 0, 0}, {c, s3, 0}, {c, -s3, 0}, {0.4 - c, 0, s3}, {0.4 - c, 0, -s3}, {0.2, 0, 0}};
+    s.radii = {0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1};
+    s.edges = {{0, 2}, {0, 3}, {1, 4}, {1, 5}, {0, 6}, {6, 1}};
+    const auto has_edge = [](const Skeleton& k, int a, int b) {
+        return std::any_of(k.edges.begin(), k.edges.end(), [&](const std::array<int, 2>& e) {
+            return (e[0] == a && e[1] == b) || (e[0] == b && e[1] == a);
+        });
+    };
+    const mesohex::AdaptationResult flat = mesohex::adapt_skeleton_detailed(s);
+    const auto at = std::find(flat.skeleton.points.begin(), flat.skeleton.points.end(), Vec3{0.2, 0, 0});
+    ASSERT_NE(at, flat.skeleton.points.end());
+    EXPECT_DOUBLE_EQ(flat.skeleton.radii[static_cast<std::size_t>(at - flat.skeleton.points.begin())], 0.1);
+    EXPECT_FALSE(has_edge(flat.skeleton, flat.vertex_map[0], flat.vertex_map[1]));
+    s.radii[6] = 0.2;
+    const mesohex::AdaptationResult bulge = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_TRUE(has_edge(bulge.skeleton, bulge.vertex_map[0], bulge.vertex_map[1]));
+    for (std::size_t v = 0; v < bulge.skeleton.points.size(); ++v)
+        if (std::abs(bulge.skeleton.points[v].y) + std::abs(bulge.skeleton.points[v].z) < 1e-12 &&
+            bulge.skeleton.points[v].x > 0 && bulge.skeleton.points[v].x < 0.4)
+            ADD_FAILURE() << "a vertex on the bridge at x " << bulge.skeleton.points[v].x;
+}
+
 // An L-shaped polyline: every new joint lies on one of the two original segments.
 TEST(Adaptation, SamplesOnBentPolyline) {
     Skeleton s;
