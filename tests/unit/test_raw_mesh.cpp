@@ -1442,3 +1442,56 @@ TEST(RawMesh, BridgeQuadInsetStopsTheRaisedPointsOneLayerShort) {
     EXPECT_GE(*std::min_element(after.begin(), after.end()),
               std::min(0.3, *std::min_element(before.begin(), before.end())));
 }
+
+// Dinopet's torso (docs/junctions.md, "Corners behind the branch"): a body through c (+-x) and two legs whose chords
+// lean by beta = 46 degrees towards -y, (0, -sin beta, +-cos beta). The configuration is mirror-symmetric in x and in
+// z, so the orange's axis is +-y, and the +y pole, a corner of every quad of the orange, lies 90 + beta = 136 degrees
+// from each leg, behind it. On paper (in the plane through the leg and the pole): a leg chunk's boundary edge from
+// the pole P = rho (cos a, sin a), a = 136 degrees, to its section's corner Q on the same side, at L along the leg
+// with radius s, passes |P x Q| / |P - Q| from c: for rho = r = 0.5, L = 1.2, s = 0.25 that is 0.324 = 0.65 r,
+// against 0.490 = 0.98 r for a pole at a = 90 degrees. So the raw boundary next to the pole dips inside c's ball.
+TEST(RawMesh, LeaningLegsPutTheOrangesPoleBehindThem) {
+    const double beta = 46 * std::numbers::pi / 180;
+    const std::vector<Vec3> dirs{
+        {1, 0, 0}, {0, -std::sin(beta), std::cos(beta)}, {-1, 0, 0}, {0, -std::sin(beta), -std::cos(beta)}};
+    Skeleton s = star(dirs, 1, 1.2);
+    s.radii.assign(s.points.size(), 0.25);
+    s.radii[0] = 0.5;
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ConnectionSurfaceOptions co;
+    co.blocks.enabled = false;
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+    const int p0 = cs.point_begin[0], np = cs.point_begin[1] - p0, q0 = cs.quad_begin[0];
+    ASSERT_EQ(np, 6);
+    int behind = -1;  // the pole on +y
+    for (int x = 0; x < np; ++x)
+        if (cs.point_valence[p0 + x] == 4 && cs.directions[p0 + x].y > 0) behind = x;
+    ASSERT_GE(behind, 0);
+    const Vec3 pole = cs.directions[p0 + behind];
+    EXPECT_NEAR(pole.y, 1.0, 1e-6);
+    for (int q = 0; q < 4; ++q)  // on every quad: the bridge's too, were one of the body's edges a bridge
+        EXPECT_NE(std::ranges::find(cs.quads[q0 + q], behind), cs.quads[q0 + q].end());
+    for (const int leg : {1, 3}) EXPECT_NEAR(std::acos(dot(pole, dirs[leg])) * 180 / std::numbers::pi, 136.0, 1e-4);
+    // The paper value above, from the raw mesh: the nearest to c of the leg chunks' boundary edges from the pole (its
+    // radius is r: no bridge here; the pole at 90 degrees would give 0.490).
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    const RawMesh raw = build_raw_mesh(s, an, cs, fr);
+    const int pole_id = raw.vertex_base[0] + 1 + behind;
+    const auto segment_distance = [](const Vec3& a, const Vec3& b) {  // from the origin
+        const Vec3 d = b - a;
+        const double t = std::clamp(-dot(a, d) / dot(d, d), 0.0, 1.0);
+        return norm(a + t * d);
+    };
+    double nearest = 1e9;
+    for (std::size_t h = 0; h < raw.mesh.hexes.size(); ++h) {
+        const std::array<int, 8>& hx = raw.mesh.hexes[h];
+        const int e = raw.hex_edge[h];
+        const int arm = s.edges[e][0] == 0 ? s.edges[e][1] : s.edges[e][0];
+        if (arm != 2 && arm != 4) continue;  // the legs' chunks (star: arm i ends at vertex i + 1)
+        for (int lv = 0; lv < 4; ++lv)
+            if (hx[lv] == pole_id)
+                nearest = std::min(nearest, segment_distance(raw.mesh.points[hx[lv]], raw.mesh.points[hx[lv + 4]]));
+    }
+    EXPECT_NEAR(nearest, 0.32425, 1e-4);  // the paper value: the matched section corner lies in that plane
+    EXPECT_NEAR(raw.mesh.points[pole_id].y, 0.5, 1e-6);
+}
