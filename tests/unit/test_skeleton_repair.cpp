@@ -1298,7 +1298,26 @@ TEST(SkeletonRepair, BandPillowLeavesAPathThatCannotRunOn) {
         ADD_FAILURE() << "meshed";
     } catch (const mesohex::Error& e) {
         EXPECT_EQ(e.code(), mesohex::ErrorCode::UnsupportedConfiguration);
-        EXPECT_NE(std::string(e.what()).find("band pillow"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("band pillow, which makes the grid match, did not take this chain"),
+                  std::string::npos)
+            << e.what();
         EXPECT_NE(std::string(e.what()).find("edit:"), std::string::npos) << e.what();
+    }
+    // With the pillow off the refusal says so (and names no condition of the pillow's).
+    const Skeleton l_wall = turning_wall(6, {{{1, 3}, {3, 3}, {3, 5}}}, 2, false, 0.1);
+    mesohex::PipelineOptions off;
+    off.repair.docked_band_pillow = false;
+    for (const Skeleton* s : {&spiral, &l_wall}) {
+        try {
+            mesohex::run_pipeline(*s, off);
+            ADD_FAILURE() << "meshed";
+        } catch (const mesohex::Error& e) {
+            EXPECT_EQ(e.where().kind, mesohex::ElementRef::Kind::SkeletonVertex);
+            EXPECT_NE(std::string(e.what()).find("band pillow, which makes such a grid match, is off"),
+                      std::string::npos)
+                << e.what();
+            EXPECT_EQ(std::string(e.what()).find("did not take"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("edit: mesh with the band pillow"), std::string::npos) << e.what();
+        }
     }
 }

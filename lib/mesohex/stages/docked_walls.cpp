@@ -215,7 +215,8 @@ namespace {
 
 // Checks chain vertex v of a docked chain (plate P); refuses with an edit suggestion. With band_pillow, a plate grid
 // that does not match the foot lists v in an.docked_unmatched instead.
-void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, int v, int P, bool band_pillow) {
+void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, int v, int P, bool band_pillow,
+                        bool pillow_ran) {
     const ChainStar st = chain_star(s, an, lf, v, P);
     const int nc = static_cast<int>(st.chain.size());
     bool straight = true;
@@ -234,10 +235,16 @@ void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFace
             "a wall docked on a plate needs the chain to run straight through the plate's grid: 4 plate faces at "
             "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
             "on the plate's border); here " +
-                std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) +
-                " chain edges (the repair's band pillow, which makes the grid match, needs the chain's path to run on "
-                "straight through the plate's grid from each inside end to the plate's border); edit: re-sample "
-                "the plate so that its grid lines follow the wall");
+                std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) + " chain edges" +
+                (pillow_ran ? " (the repair's band pillow, which makes the grid match, did not take this chain: it "
+                              "needs the chain's path to run on straight through the plate's grid from each inside end "
+                              "to the plate's border, through vertices of 4 plate faces, no branch, no other chain, no "
+                              "vertex twice, turns of at most about 105 degrees); edit: re-sample the plate so that its "
+                              "grid lines follow the wall, or so that the wall's line runs on through vertices of 4 "
+                              "plate faces to the border"
+                            : " (the repair's band pillow, which makes such a grid match, is off: "
+                              "--no-docked-band-pillow or --no-resample); edit: mesh with the band pillow and "
+                              "resampling on, or re-sample the plate so that its grid lines follow the wall"));
     std::array<int, 2> side_wall{-1, -1};  // wall leaflet on the plate's up / down side at v
     for (int c : st.chain) {
         int g = -1;
@@ -409,7 +416,7 @@ bool join_plate_halves(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces
 // A chain with all ends on borders docks only when a leaflet stops on it and every edge splits into the one plate and
 // walls (else it stays a fan: the paper's layout, or the irregular-fan refusal).
 void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp,
-                    bool band_pillow) {
+                    bool band_pillow, bool pillow_ran) {
     std::vector<int> vertices;
     const std::vector<int> ends = chain_ends(s, comp, vertices);
     int inside = -1;
@@ -452,7 +459,7 @@ void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& l
     }
     for (int e : comp) an.edge_docked[e] = 1;
     for (int v : vertices) an.vertex_plate[v] = plate;
-    for (int v : vertices) check_chain_vertex(s, an, lf, v, plate, band_pillow);
+    for (int v : vertices) check_chain_vertex(s, an, lf, v, plate, band_pillow, pillow_ran);
     for (int v : vertices)
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
             const int e = an.vertex_edges[i];
@@ -462,7 +469,7 @@ void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& l
 
 }  // namespace
 
-void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow) {
+void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow, bool pillow_ran) {
     const int nv = static_cast<int>(s.points.size()), ne = static_cast<int>(s.edges.size());
     an.edge_docked.assign(ne, 0);
     an.vertex_plate.assign(nv, -1);
@@ -471,7 +478,7 @@ void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow
     const LocalFaces lf = local_faces(s, an);
     std::vector<char> seen(ne, 0);
     for (int e = 0; e < ne; ++e)
-        if (an.edge_degree[e] >= 3 && !seen[e]) dock_component(s, an, lf, fan_component(s, an, e, seen), band_pillow);
+        if (an.edge_degree[e] >= 3 && !seen[e]) dock_component(s, an, lf, fan_component(s, an, e, seen), band_pillow, pillow_ran);
 }
 
 VertexClass docked_vertex_class(const SkeletonAnalysis& an, int v, int& plate_boundary_edges) {

@@ -49,9 +49,14 @@ inline constexpr double kDockWallTiltDeg = 45;
 // Analysis step (after leaflets and face normals, before vertex classes): fills analysis.edge_docked and
 // analysis.vertex_plate. A fan chain with an end inside a leaflet that cannot be docked is refused here, naming the
 // vertex and why; with band_pillow, a chain vertex whose plate grid does not match the foot (the straight-through
-// condition below) is listed in analysis.docked_unmatched instead (AnalysisOptions::docked_band_pillow). Serial,
-// O(E + F) plus the faces of the chain vertices.
-void find_docked_walls(const Skeleton& skeleton, SkeletonAnalysis& analysis, bool band_pillow = false);
+// condition below) is listed in analysis.docked_unmatched instead (AnalysisOptions::docked_band_pillow); pillow_ran
+// (AnalysisOptions::docked_band_pillow_ran) only words that refusal otherwise. A chain with all ends on the plate's
+// border whose plate the chain cuts into two leaflets docks too when a leaflet stops on the chain (a wall across the
+// plate with a shorter wall on the other side): the two halves are joined into one leaflet first (the second's faces
+// take the first's id, turned to its orientation), then the chain docks as above. Serial, O(E + F) plus the faces of
+// the chain vertices.
+void find_docked_walls(const Skeleton& skeleton, SkeletonAnalysis& analysis, bool band_pillow = false,
+                       bool pillow_ran = false);
 
 // The foot condition at a chain vertex with chain_edges chain edges (1 at an end, 2 inside), plate_faces faces of the
 // plate and plate_border plate border edges there, straight when each plate face holds at most one chain edge (exactly

@@ -628,7 +628,7 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     const EdgeFaces edge_faces = build_faces(s, an);
     find_leaflets(edge_faces, an);
     compute_face_normals(s, an);
-    find_docked_walls(s, an, options.docked_band_pillow);
+    find_docked_walls(s, an, options.docked_band_pillow, options.docked_band_pillow_ran);
     classify_vertices(s, options, an);
     check_rooted_branches(s, an);
     std::vector<char> branch_edge(s.edges.size()), joint(s.points.size());
