@@ -230,21 +230,21 @@ void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFace
     if (!ok && band_pillow)
         an.docked_unmatched.push_back(v);
     else if (!ok)
-        refuse(
-            v,
-            "a wall docked on a plate needs the chain to run straight through the plate's grid: 4 plate faces at "
-            "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
-            "on the plate's border); here " +
-                std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) + " chain edges" +
-                (pillow_ran ? " (the repair's band pillow, which makes the grid match, did not take this chain: it "
-                              "needs the chain's path to run on straight through the plate's grid from each inside end "
-                              "to the plate's border, through vertices of 4 plate faces, no branch, no other chain, no "
-                              "vertex twice, turns of at most about 105 degrees); edit: re-sample the plate so that its "
-                              "grid lines follow the wall, or so that the wall's line runs on through vertices of 4 "
-                              "plate faces to the border"
-                            : " (the repair's band pillow, which makes such a grid match, is off: "
-                              "--no-docked-band-pillow or --no-resample); edit: mesh with the band pillow and "
-                              "resampling on, or re-sample the plate so that its grid lines follow the wall"));
+        refuse(v,
+               "a wall docked on a plate needs the chain to run straight through the plate's grid: 4 plate faces at "
+               "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
+               "on the plate's border); here " +
+                   std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) + " chain edges" +
+                   (pillow_ran
+                        ? " (the repair's band pillow, which makes the grid match, did not take this chain: it "
+                          "needs the chain's path to run on straight through the plate's grid from each inside end "
+                          "to the plate's border, through vertices of 4 plate faces, no branch, no other chain, no "
+                          "vertex twice, turns of at most about 105 degrees); edit: re-sample the plate so that its "
+                          "grid lines follow the wall, or so that the wall's line runs on through vertices of 4 "
+                          "plate faces to the border"
+                        : " (the repair's band pillow, which makes such a grid match, is off: "
+                          "--no-docked-band-pillow or --no-resample); edit: mesh with the band pillow and "
+                          "resampling on, or re-sample the plate so that its grid lines follow the wall"));
     std::array<int, 2> side_wall{-1, -1};  // wall leaflet on the plate's up / down side at v
     for (int c : st.chain) {
         int g = -1;
@@ -350,8 +350,8 @@ std::array<int, 2> plate_halves(const Skeleton& s, const SkeletonAnalysis& an, c
         for (std::size_t a = 0; a < faces.size(); ++a)
             for (std::size_t b = a + 1; b < faces.size(); ++b) {
                 const int la = an.face_leaflet[faces[a]], lb = an.face_leaflet[faces[b]];
-                if (la != lb && angle_deg(into_face(s, an, faces[a], e), into_face(s, an, faces[b], e)) >=
-                                    kDockPlateAngleDeg)
+                if (la != lb &&
+                    angle_deg(into_face(s, an, faces[a], e), into_face(s, an, faces[b], e)) >= kDockPlateAngleDeg)
                     pairs.push_back({std::min(la, lb), std::max(la, lb)});
             }
         if (i == 0) {
@@ -478,7 +478,8 @@ void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow
     const LocalFaces lf = local_faces(s, an);
     std::vector<char> seen(ne, 0);
     for (int e = 0; e < ne; ++e)
-        if (an.edge_degree[e] >= 3 && !seen[e]) dock_component(s, an, lf, fan_component(s, an, e, seen), band_pillow, pillow_ran);
+        if (an.edge_degree[e] >= 3 && !seen[e])
+            dock_component(s, an, lf, fan_component(s, an, e, seen), band_pillow, pillow_ran);
 }
 
 VertexClass docked_vertex_class(const SkeletonAnalysis& an, int v, int& plate_boundary_edges) {

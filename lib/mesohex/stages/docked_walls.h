@@ -5,7 +5,10 @@
 // Configuration: a chain of fan edges u_0 ... u_m where two faces of one leaflet P (the plate) continue across every
 // chain edge (their in-plane directions at least kDockPlateAngleDeg apart) and the other faces are walls: one wall
 // (degree 3) or one on each side of the plate (degree 4); at least one chain end lies inside P (P has no boundary
-// edge there); every wall within kDockWallTiltDeg of P's normal. A chain whose ends are all on P's border is a regular fan and stays one (the paper's layout).
+// edge there); every wall within kDockWallTiltDeg of P's normal. A chain whose ends are all on P's border is a regular
+// fan and stays one (the paper's layout), unless a leaflet stops on it (a wall across P with a shorter wall on the
+// other side: fan edges of degrees 3 and 4 in one chain, an irregular fan otherwise): then P's two halves, which the
+// chain cuts into two leaflets, are joined into one and the chain docks (find_docked_walls).
 //
 // Scheme: the chain edges are ordinary interior edges of P (its vertices get P's ids only: centre, up, down, and at a
 // border end the out column). A wall has no vertex of its own on the chain: with X = P's up copies for a wall on P's
