@@ -668,7 +668,8 @@ std::string analysis_to_text(const SkeletonAnalysis& an) {
         }
         if (an.vertex_plate[v] >= 0) {
             os << "vertex " << v << ": " << to_string(vc) << " of leaflet " << an.vertex_plate[v]
-               << ", a wall docked on it (chain of fan edges ending inside the leaflet)\n";
+               << ", a wall docked on it (chain of fan edges ending inside the leaflet, or across it with a leaflet "
+                  "stopping on the chain)\n";
             continue;
         }
         if (vc == VertexClass::Joint || vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary)
