@@ -146,6 +146,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     AnalysisOptions input_options = meshed_options;
     input_options.fan_end_branches = options.resample && options.repair.fan_end_retraction;
     input_options.docked_band_pillow = options.resample && options.repair.docked_band_pillow;
+    meshed_options.docked_band_pillow_ran = input_options.docked_band_pillow;
     res.input_analysis = analyze_skeleton(input, input_options);
     clock.lap("analysis_input");
     if (input.edges.empty() && input.faces.empty())

@@ -148,6 +148,46 @@ TEST(DockedWalls, ChainAcrossThePlateStaysARegularFan) {
     EXPECT_EQ(an.counts.leaflets, 3);
 }
 
+// A wall across the plate (plate 4 x 4, column 2, 4 chain edges from border to border, 2 rows at +z) with a shorter
+// wall on the other side (rows 1 to 3 of the chain, 1 row at -z): fan edges of degree 3 and 4 in one chain, refused as
+// an irregular fan before; the chain cuts the plate into two leaflets, which are joined into one and the chain docks.
+// By hand (raw, no repair): F = 16 + 8 + 2 = 26; B = 16 (plate border) + 8 (top wall: its top row 4, end columns
+// 2 + 2) + 4 (bottom wall: 2 + 1 + 1) = 28; hexes 2 F + 2 B = 108. Vertices: plate 16 border x 6 + 9 inside x 3 = 123
+// (the chain's 5 are plate vertices only), top wall off the chain 3 inside x 3 + 7 border x 6 = 51, bottom wall 3
+// border x 6 = 18: 192. Skeleton V 38, E 40 + 18 + 5 = 63, F 26: Euler characteristic 1. Interior valence 3: the up /
+// down edges of the 4 plate corners (8) and of the 2 top corners of each wall (4 + 4): 16; nothing along the chain.
+TEST(DockedWalls, WallAcrossThePlateWithAShorterWallOnTheOtherSideByHand) {
+    WallPlate w;
+    w.plate = 4;
+    w.start = 0;
+    w.length = 4;
+    w.column = 2;
+    Skeleton s = wall_plate(w);
+    ASSERT_EQ(s.points.size(), 35u);
+    const int n0 = 35;
+    for (int j = 1; j <= 3; ++j) s.points.push_back(s.points[2 * 5 + j] + Vec3{0, 0, -1});
+    s.radii.resize(s.points.size(), 0.3);
+    for (int j = 1; j <= 2; ++j) s.faces.push_back({2 * 5 + j, 2 * 5 + j + 1, n0 + j, n0 + j - 1});
+    add_face_edges(s);
+    const RawRun r = mesh_raw(s);
+    EXPECT_EQ(r.analysis.counts.docked_edges, 4);
+    EXPECT_EQ(r.analysis.counts.fan_edges, 0);
+    EXPECT_EQ(r.analysis.counts.leaflets, 3);  // the plate's two halves joined, two walls
+    EXPECT_EQ(r.analysis.counts.vertices - r.analysis.counts.edges + r.analysis.counts.faces, 1);
+    EXPECT_EQ(r.analysis.predicted_hexes, 108);
+    EXPECT_EQ(r.quality.hexes, 108);
+    EXPECT_EQ(r.quality.vertices, 192);
+    EXPECT_EQ(r.quality.singular_interior_edges, (std::map<int, long>{{3, 16}}));
+    EXPECT_TRUE(r.valid);
+    EXPECT_EQ(r.quality.inverted, 0);
+    EXPECT_EQ(r.quality.euler_characteristic, 1);
+    EXPECT_GT(r.quality.sj_min, 0.3);
+    // Without the shorter wall the chain stays a regular T fan (two plate leaflets, not docked).
+    const SkeletonAnalysis t = analyze_skeleton(wall_plate(w));
+    EXPECT_EQ(t.counts.docked_edges, 0);
+    EXPECT_EQ(t.counts.leaflets, 3);
+}
+
 // The remaining refusals name the vertex and the configuration, with an edit suggestion.
 TEST(DockedWalls, RemainingRefusalsNameTheVertex) {
     {  // two walls on the same side of one chain: degree 4 with both walls at +z (one tilted)

@@ -1152,6 +1152,53 @@ int boundary_sides(const Skeleton& s) {
 
 }  // namespace
 
+// A wall across the plate with a shorter wall on the other side (test_docked_walls.cpp,
+// WallAcrossThePlateWithAShorterWallOnTheOtherSideByHand: plate 4 x 4 unit at z = 0, x and y from -2 to 2, chain x = 0;
+// top wall 2 rows over y in [-2, 2], bottom wall 1 row over y in [-1, 1], radius 0.3): the repair joins the plate's
+// halves like the analysis, so the feet are split at 2 r = 0.6, capped at half the side: the columns x in [-1, 0] and
+// [0, 1] at x = -0.5, 0.5 (beside the chain: 4 faces, 5 cut sides each) and, beyond the bottom wall's ends, the rows y
+// in [-2, -1] and [1, 2] at y = -1.5, 1.5 through the plate and the top wall (4 plate + 2 wall faces, 7 cut sides). V 38 + 24 cut
+// sides + 4 centres of the faces crossed twice = 66; F 26 + 12 (crossed once) + 3 x 4 = 50; E 63 + 24 + 12 + 4 x 4 =
+// 115 (Euler 1); boundary 28 + 2 x 2 (beside: the plate's border at y = -2, 2) + 2 x 3 (beyond: x = -2, 2 and the top
+// wall's top) = 38; raw hexes 2 F + 2 B = 176 (108 unsplit).
+TEST(SkeletonRepair, FeetOfAWallAcrossThePlateWithAShorterWallOnTheOtherSideAreSplit) {
+    mesohex::WallPlate w;
+    w.plate = 4;
+    w.start = 0;
+    w.length = 4;
+    w.column = 2;
+    Skeleton in = mesohex::make_wall_plate(w, 1.0, 0.3);
+    ASSERT_EQ(in.points.size(), 35u);
+    for (int j = 1; j <= 3; ++j) in.points.push_back(in.points[2 * 5 + j] + Vec3{0, 0, -1});
+    in.radii.resize(in.points.size(), 0.3);
+    for (int j = 1; j <= 2; ++j) in.faces.push_back({2 * 5 + j, 2 * 5 + j + 1, 35 + j, 35 + j - 1});
+    mesohex::add_face_edges(in);
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, {});
+    EXPECT_EQ(res.docked_foot_splits, 4);
+    const Skeleton& s = res.skeleton;
+    EXPECT_EQ(s.points.size(), 66u);
+    EXPECT_EQ(s.edges.size(), 115u);
+    EXPECT_EQ(s.faces.size(), 50u);
+    EXPECT_EQ(boundary_sides(s), 38);
+    int beside = 0, beyond = 0;
+    for (std::size_t v = 38; v < s.points.size(); ++v) {
+        const Vec3& p = s.points[v];
+        beside += std::abs(std::abs(p.x) - 0.5) < 1e-12 && std::abs(std::abs(p.y) - 1.5) > 1e-9;
+        beyond += std::abs(std::abs(p.y) - 1.5) < 1e-12 && std::abs(std::abs(p.x) - 0.5) > 1e-9;
+    }
+    EXPECT_EQ(beside, 2 * 5);
+    EXPECT_EQ(beyond, 2 * 7);
+    const mesohex::PipelineResult r = mesohex::run_pipeline(in);
+    EXPECT_EQ(r.docked_foot_splits, 4);
+    EXPECT_EQ(r.analysis.counts.docked_edges, 6);  // the chain's 4 edges, 2 of them split at y = -1.5 and 1.5
+    EXPECT_EQ(r.predicted.hexes, 176);
+    expect_raw_as_predicted(r, 176);
+    EXPECT_GT(mesohex::compute_quality(r.raw.mesh).sj_min, 0.6);
+    mesohex::PipelineOptions unsplit;
+    unsplit.repair.docked_foot_split = 0;
+    EXPECT_EQ(mesohex::compute_quality(mesohex::run_pipeline(in, unsplit).raw.mesh).hexes, 108);
+}
+
 // The band pillow on an L-shaped wall (docs/blocks.md "Docked walls turning in the plate's grid: the band pillow").
 // 6 x 6 plate, chain (1, 3) -> (3, 3) -> (3, 5) (4 edges, both ends inside, a 90-degree turn at (3, 3) with 1 plate
 // face on the inner side and 3 on the outer), a wall of 2 rows at +z, radius 0.1: V 49 + 10 = 59, E 84 + 18 = 102, F
@@ -1298,7 +1345,26 @@ TEST(SkeletonRepair, BandPillowLeavesAPathThatCannotRunOn) {
         ADD_FAILURE() << "meshed";
     } catch (const mesohex::Error& e) {
         EXPECT_EQ(e.code(), mesohex::ErrorCode::UnsupportedConfiguration);
-        EXPECT_NE(std::string(e.what()).find("band pillow"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("band pillow, which makes the grid match, did not take this chain"),
+                  std::string::npos)
+            << e.what();
         EXPECT_NE(std::string(e.what()).find("edit:"), std::string::npos) << e.what();
+    }
+    // With the pillow off the refusal says so (and names no condition of the pillow's).
+    const Skeleton l_wall = turning_wall(6, {{{1, 3}, {3, 3}, {3, 5}}}, 2, false, 0.1);
+    mesohex::PipelineOptions off;
+    off.repair.docked_band_pillow = false;
+    for (const Skeleton* s : {&spiral, &l_wall}) {
+        try {
+            mesohex::run_pipeline(*s, off);
+            ADD_FAILURE() << "meshed";
+        } catch (const mesohex::Error& e) {
+            EXPECT_EQ(e.where().kind, mesohex::ElementRef::Kind::SkeletonVertex);
+            EXPECT_NE(std::string(e.what()).find("band pillow, which makes such a grid match, is off"),
+                      std::string::npos)
+                << e.what();
+            EXPECT_EQ(std::string(e.what()).find("did not take"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("edit: mesh with the band pillow"), std::string::npos) << e.what();
+        }
     }
 }

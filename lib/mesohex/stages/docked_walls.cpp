@@ -215,7 +215,8 @@ namespace {
 
 // Checks chain vertex v of a docked chain (plate P); refuses with an edit suggestion. With band_pillow, a plate grid
 // that does not match the foot lists v in an.docked_unmatched instead.
-void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, int v, int P, bool band_pillow) {
+void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, int v, int P, bool band_pillow,
+                        bool pillow_ran) {
     const ChainStar st = chain_star(s, an, lf, v, P);
     const int nc = static_cast<int>(st.chain.size());
     bool straight = true;
@@ -229,15 +230,21 @@ void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFace
     if (!ok && band_pillow)
         an.docked_unmatched.push_back(v);
     else if (!ok)
-        refuse(
-            v,
-            "a wall docked on a plate needs the chain to run straight through the plate's grid: 4 plate faces at "
-            "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
-            "on the plate's border); here " +
-                std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) +
-                " chain edges (the repair's band pillow, which makes the grid match, needs the chain's path to run on "
-                "straight through the plate's grid from each inside end to the plate's border); edit: re-sample "
-                "the plate so that its grid lines follow the wall");
+        refuse(v,
+               "a wall docked on a plate needs the chain to run straight through the plate's grid: 4 plate faces at "
+               "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
+               "on the plate's border); here " +
+                   std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) + " chain edges" +
+                   (pillow_ran
+                        ? " (the repair's band pillow, which makes the grid match, did not take this chain: it "
+                          "needs the chain's path to run on straight through the plate's grid from each inside end "
+                          "to the plate's border, through vertices of 4 plate faces, no branch, no other chain, no "
+                          "vertex twice, turns of at most about 105 degrees); edit: re-sample the plate so that its "
+                          "grid lines follow the wall, or so that the wall's line runs on through vertices of 4 "
+                          "plate faces to the border"
+                        : " (the repair's band pillow, which makes such a grid match, is off: "
+                          "--no-docked-band-pillow or --no-resample); edit: mesh with the band pillow and "
+                          "resampling on, or re-sample the plate so that its grid lines follow the wall"));
     std::array<int, 2> side_wall{-1, -1};  // wall leaflet on the plate's up / down side at v
     for (int c : st.chain) {
         int g = -1;
@@ -301,9 +308,115 @@ bool ends_inside(const SkeletonAnalysis& an, const LocalFaces& lf, int v, int fa
     return false;
 }
 
+// The leaflets with faces at fan edge e, sorted, without repeats.
+std::vector<int> edge_leaflets(const SkeletonAnalysis& an, const LocalFaces& lf, int e) {
+    std::vector<int> l;
+    for (int f : lf.of_edge[e]) l.push_back(an.face_leaflet[f]);
+    std::sort(l.begin(), l.end());
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+    return l;
+}
+
+// Does a leaflet along the chain stop at one of its inner vertices while the chain goes on (the two chain edges there
+// carry different leaflets: a wall across a plate with a shorter wall on the other side, fan edges of degree 3 and 4
+// in one chain)? Such a fan is irregular (the paper's layout refuses it), but docks like a chain ending inside.
+bool leaflet_stops_on_chain(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf,
+                            const std::vector<int>& comp, const std::vector<int>& vertices) {
+    for (int v : vertices) {
+        std::vector<int> at;  // chain edges at v
+        for (int e : comp)
+            if (s.edges[e][0] == v || s.edges[e][1] == v) at.push_back(e);
+        if (at.size() == 2 && edge_leaflets(an, lf, at[0]) != edge_leaflets(an, lf, at[1])) return true;
+    }
+    return false;
+}
+
+// Does face f run through fan edge e from the edge's first vertex to its second?
+bool runs_forward(const Skeleton& s, const SkeletonAnalysis& an, int f, int e) {
+    int k = 0;
+    while (an.face_edges[f][k] != e) ++k;
+    return an.face_vertices[f][k] == s.edges[e][0];
+}
+
+// The two leaflets that continue across every edge of chain comp (one face each, in-plane directions at least
+// kDockPlateAngleDeg apart), lower id first; {-1, -1} when no such pair, or more than one, exists.
+std::array<int, 2> plate_halves(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf,
+                                const std::vector<int>& comp) {
+    std::vector<std::array<int, 2>> common;
+    for (std::size_t i = 0; i < comp.size(); ++i) {
+        const int e = comp[i];
+        const std::vector<int>& faces = lf.of_edge[e];
+        std::vector<std::array<int, 2>> pairs;
+        for (std::size_t a = 0; a < faces.size(); ++a)
+            for (std::size_t b = a + 1; b < faces.size(); ++b) {
+                const int la = an.face_leaflet[faces[a]], lb = an.face_leaflet[faces[b]];
+                if (la != lb &&
+                    angle_deg(into_face(s, an, faces[a], e), into_face(s, an, faces[b], e)) >= kDockPlateAngleDeg)
+                    pairs.push_back({std::min(la, lb), std::max(la, lb)});
+            }
+        if (i == 0) {
+            common = pairs;
+        } else {
+            std::erase_if(common, [&](const std::array<int, 2>& c) {
+                return std::find(pairs.begin(), pairs.end(), c) == pairs.end();
+            });
+        }
+    }
+    if (common.size() != 1) return {-1, -1};
+    for (int e : comp) {  // one face of each half per chain edge
+        int count[2] = {0, 0};
+        for (int f : lf.of_edge[e])
+            for (int h = 0; h < 2; ++h) count[h] += an.face_leaflet[f] == common[0][h] ? 1 : 0;
+        if (count[0] != 1 || count[1] != 1) return {-1, -1};
+    }
+    return common[0];
+}
+
+// A chain with all ends on borders cuts its plate into two leaflets, one on each side: joins them into one (the
+// second's faces take the first's id and, where needed, its orientation: opposite runs through every chain edge), so
+// that the chain docks as on a plate it ends inside. False (nothing changed) when the halves are not found or their
+// orientations disagree along the chain.
+bool join_plate_halves(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp) {
+    const std::array<int, 2> half = plate_halves(s, an, lf, comp);
+    if (half[0] < 0) return false;
+    int flip = -1;  // 1: the second half's faces run the chain edges the same way as the first's
+    for (int e : comp) {
+        int dir[2] = {0, 0};
+        for (int f : lf.of_edge[e])
+            for (int h = 0; h < 2; ++h)
+                if (an.face_leaflet[f] == half[h]) dir[h] = runs_forward(s, an, f, e) ? 1 : 0;
+        const int same = dir[0] == dir[1] ? 1 : 0;
+        if (flip >= 0 && same != flip) return false;
+        flip = same;
+    }
+    Leaflet& first = an.leaflets[half[0]];
+    const Leaflet& second = an.leaflets[half[1]];
+    for (int f : second.faces) {
+        if (flip == 1) {  // as find_leaflets turns a face: (w0, w3, w2, w1), sides 3, 2, 1, 0
+            std::array<int, 4>& fv = an.face_vertices[f];
+            std::swap(fv[1], fv[3]);
+            std::array<int, 4>& fe = an.face_edges[f];
+            fe = {fe[3], fe[2], fe[1], fe[0]};
+            an.face_normal[f] = -1.0 * an.face_normal[f];
+        }
+        first.faces.push_back(f);
+    }
+    std::sort(first.faces.begin(), first.faces.end());
+    first.orientable = first.orientable && second.orientable;
+    an.leaflets.erase(an.leaflets.begin() + half[1]);
+    for (int& l : an.face_leaflet)
+        if (l == half[1])
+            l = half[0];
+        else if (l > half[1])
+            --l;
+    return true;
+}
+
 // Docks component comp if it is a chain with an end inside a leaflet; refuses such a chain when it cannot be docked.
+// A chain with all ends on borders docks only when a leaflet stops on it and every edge splits into the one plate and
+// walls (else it stays a fan: the paper's layout, or the irregular-fan refusal).
 void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp,
-                    bool band_pillow) {
+                    bool band_pillow, bool pillow_ran) {
     std::vector<int> vertices;
     const std::vector<int> ends = chain_ends(s, comp, vertices);
     int inside = -1;
@@ -312,7 +425,17 @@ void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& l
             const int e = an.vertex_edges[i];
             if (an.edge_degree[e] >= 3 && ends_inside(an, lf, v, e)) inside = v;
         }
-    if (inside < 0) return;  // all ends on borders (or a closed chain): a regular fan, the paper's layout
+    if (inside < 0) {
+        if (ends.size() != 2 || !leaflet_stops_on_chain(s, an, lf, comp, vertices) ||
+            !join_plate_halves(s, an, lf, comp))
+            return;
+        int plate = -1;
+        for (int e : comp) {
+            const EdgeSplit sp = split_fan_edge(s, an, lf.of_edge[e], e);
+            if (sp.plate < 0 || (plate >= 0 && sp.plate != plate)) return;
+            plate = sp.plate;
+        }
+    }
     int plate = -1;
     for (int e : comp) {
         const EdgeSplit sp = split_fan_edge(s, an, lf.of_edge[e], e);
@@ -336,7 +459,7 @@ void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& l
     }
     for (int e : comp) an.edge_docked[e] = 1;
     for (int v : vertices) an.vertex_plate[v] = plate;
-    for (int v : vertices) check_chain_vertex(s, an, lf, v, plate, band_pillow);
+    for (int v : vertices) check_chain_vertex(s, an, lf, v, plate, band_pillow, pillow_ran);
     for (int v : vertices)
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
             const int e = an.vertex_edges[i];
@@ -346,7 +469,7 @@ void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& l
 
 }  // namespace
 
-void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow) {
+void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow, bool pillow_ran) {
     const int nv = static_cast<int>(s.points.size()), ne = static_cast<int>(s.edges.size());
     an.edge_docked.assign(ne, 0);
     an.vertex_plate.assign(nv, -1);
@@ -355,7 +478,8 @@ void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow
     const LocalFaces lf = local_faces(s, an);
     std::vector<char> seen(ne, 0);
     for (int e = 0; e < ne; ++e)
-        if (an.edge_degree[e] >= 3 && !seen[e]) dock_component(s, an, lf, fan_component(s, an, e, seen), band_pillow);
+        if (an.edge_degree[e] >= 3 && !seen[e])
+            dock_component(s, an, lf, fan_component(s, an, e, seen), band_pillow, pillow_ran);
 }
 
 VertexClass docked_vertex_class(const SkeletonAnalysis& an, int v, int& plate_boundary_edges) {

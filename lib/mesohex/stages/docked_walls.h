@@ -5,7 +5,10 @@
 // Configuration: a chain of fan edges u_0 ... u_m where two faces of one leaflet P (the plate) continue across every
 // chain edge (their in-plane directions at least kDockPlateAngleDeg apart) and the other faces are walls: one wall
 // (degree 3) or one on each side of the plate (degree 4); at least one chain end lies inside P (P has no boundary
-// edge there); every wall within kDockWallTiltDeg of P's normal. A chain whose ends are all on P's border is a regular fan and stays one (the paper's layout).
+// edge there); every wall within kDockWallTiltDeg of P's normal. A chain whose ends are all on P's border is a regular
+// fan and stays one (the paper's layout), unless a leaflet stops on it (a wall across P with a shorter wall on the
+// other side: fan edges of degrees 3 and 4 in one chain, an irregular fan otherwise): then P's two halves, which the
+// chain cuts into two leaflets, are joined into one and the chain docks (find_docked_walls).
 //
 // Scheme: the chain edges are ordinary interior edges of P (its vertices get P's ids only: centre, up, down, and at a
 // border end the out column). A wall has no vertex of its own on the chain: with X = P's up copies for a wall on P's
@@ -49,9 +52,14 @@ inline constexpr double kDockWallTiltDeg = 45;
 // Analysis step (after leaflets and face normals, before vertex classes): fills analysis.edge_docked and
 // analysis.vertex_plate. A fan chain with an end inside a leaflet that cannot be docked is refused here, naming the
 // vertex and why; with band_pillow, a chain vertex whose plate grid does not match the foot (the straight-through
-// condition below) is listed in analysis.docked_unmatched instead (AnalysisOptions::docked_band_pillow). Serial,
-// O(E + F) plus the faces of the chain vertices.
-void find_docked_walls(const Skeleton& skeleton, SkeletonAnalysis& analysis, bool band_pillow = false);
+// condition below) is listed in analysis.docked_unmatched instead (AnalysisOptions::docked_band_pillow); pillow_ran
+// (AnalysisOptions::docked_band_pillow_ran) only words that refusal otherwise. A chain with all ends on the plate's
+// border whose plate the chain cuts into two leaflets docks too when a leaflet stops on the chain (a wall across the
+// plate with a shorter wall on the other side): the two halves are joined into one leaflet first (the second's faces
+// take the first's id, turned to its orientation), then the chain docks as above. Serial, O(E + F) plus the faces of
+// the chain vertices.
+void find_docked_walls(const Skeleton& skeleton, SkeletonAnalysis& analysis, bool band_pillow = false,
+                       bool pillow_ran = false);
 
 // The foot condition at a chain vertex with chain_edges chain edges (1 at an end, 2 inside), plate_faces faces of the
 // plate and plate_border plate border edges there, straight when each plate face holds at most one chain edge (exactly

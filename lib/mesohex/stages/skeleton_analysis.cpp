@@ -628,7 +628,7 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& opti
     const EdgeFaces edge_faces = build_faces(s, an);
     find_leaflets(edge_faces, an);
     compute_face_normals(s, an);
-    find_docked_walls(s, an, options.docked_band_pillow);
+    find_docked_walls(s, an, options.docked_band_pillow, options.docked_band_pillow_ran);
     classify_vertices(s, options, an);
     check_rooted_branches(s, an);
     std::vector<char> branch_edge(s.edges.size()), joint(s.points.size());
@@ -668,7 +668,8 @@ std::string analysis_to_text(const SkeletonAnalysis& an) {
         }
         if (an.vertex_plate[v] >= 0) {
             os << "vertex " << v << ": " << to_string(vc) << " of leaflet " << an.vertex_plate[v]
-               << ", a wall docked on it (chain of fan edges ending inside the leaflet)\n";
+               << ", a wall docked on it (chain of fan edges ending inside the leaflet, or across it with a leaflet "
+                  "stopping on the chain)\n";
             continue;
         }
         if (vc == VertexClass::Joint || vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary)

@@ -141,6 +141,11 @@ struct AnalysisOptions {
     // analysis of an input that repair_skeleton's band pillow (SkeletonRepairOptions::docked_band_pillow) makes
     // match. Set by the pipeline.
     bool docked_band_pillow = false;
+    // The band pillow ran on this skeleton before the analysis (the analysis of repair_skeleton's output with
+    // SkeletonRepairOptions::docked_band_pillow on): a chain vertex whose feet still do not match is refused saying
+    // that the pillow could not take its path; false (the pillow off, or no resampling) the refusal says to turn it on.
+    // Only words change. Set by the pipeline.
+    bool docked_band_pillow_ran = false;
 };
 
 // Preconditions (checked, Error(InvalidInput) naming the element otherwise): indices in range, no self-loop edge,

@@ -340,6 +340,7 @@ struct DockedPlates {
     std::vector<std::vector<int>> chain;  // per vertex: its chain sides' other ends
     std::vector<int> plate;               // per vertex: its plate (-1: none)
     std::vector<char> branch;             // per vertex: 1 when a branch edge (not a face side) ends there
+    std::vector<char> across;             // per vertex: 1 on a chain whose plate halves were joined (join_plate_halves)
 };
 
 const std::vector<int>& faces_of(const DockedPlates& dp, int a, int b) { return dp.l.side_faces.at(std::minmax(a, b)); }
@@ -365,6 +366,71 @@ std::vector<int> two_face_leaflets(const Skeleton& s, const Leaflets& l) {
     return leaflet;
 }
 
+// Unit direction from side (a, b) into face f, perpendicular to the side (towards the face's centroid).
+Vec3 into_face_of(const Skeleton& s, int f, int a, int b) {
+    const Vec3 t = normalized(s.points[b] - s.points[a]);
+    Vec3 c{};
+    for (const int w : s.faces[f]) c += 0.25 * s.points[w];
+    Vec3 d = c - 0.5 * (s.points[a] + s.points[b]);
+    d = d - dot(d, t) * t;
+    return norm(d) > 0 ? normalized(d) : d;
+}
+
+// The leaflets of the faces on side (a, b), sorted, without repeats.
+std::vector<int> side_leaflets(const DockedPlates& dp, int a, int b) {
+    std::vector<int> l;
+    for (const int f : faces_of(dp, a, b)) l.push_back(dp.leaflet[f]);
+    std::sort(l.begin(), l.end());
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+    return l;
+}
+
+// A chain of sides of 3 or more faces from border to border cuts its plate into two leaflets; when a leaflet stops on
+// it (a wall across the plate with a shorter wall on the other side) the analysis joins the two halves and docks the
+// chain (docked_walls.h): the same here, so that the feet are split. The halves: the two leaflets with one face on
+// every chain side whose faces on the first side are at least kDockPlateAngleDeg apart, the only such pair; a chain
+// with a side of 2 faces of one leaflet (a plate it ends inside) is left.
+void join_plate_halves(const Skeleton& s, DockedPlates& dp, int u0, std::vector<char>& seen) {
+    std::vector<int> comp{u0};
+    seen[u0] = 1;
+    for (std::size_t i = 0; i < comp.size(); ++i)
+        for (const int w : dp.chain[comp[i]])
+            if (!seen[w]) seen[w] = 1, comp.push_back(w);
+    std::vector<std::array<int, 2>> sides;
+    bool stops = false;
+    for (const int u : comp) {
+        for (const int w : dp.chain[u])
+            if (u < w) sides.push_back({u, w});
+        stops = stops || (dp.chain[u].size() == 2 &&
+                          side_leaflets(dp, u, dp.chain[u][0]) != side_leaflets(dp, u, dp.chain[u][1]));
+    }
+    if (!stops) return;
+    std::map<int, std::size_t> once;  // leaflet -> chain sides with exactly one face of it
+    for (const std::array<int, 2>& sd : sides) {
+        std::map<int, int> per;
+        for (const int f : faces_of(dp, sd[0], sd[1])) ++per[dp.leaflet[f]];
+        for (const auto& [l, c] : per) {
+            if (c > 1) return;  // a plate the chain ends inside (or a leaflet crossing itself)
+            ++once[l];
+        }
+    }
+    const std::vector<int>& f0 = faces_of(dp, sides[0][0], sides[0][1]);
+    std::vector<std::array<int, 2>> pairs;
+    for (std::size_t i = 0; i < f0.size(); ++i)
+        for (std::size_t j = i + 1; j < f0.size(); ++j) {
+            const int a = dp.leaflet[f0[i]], b = dp.leaflet[f0[j]];
+            if (once[a] != sides.size() || once[b] != sides.size()) continue;
+            const double c =
+                dot(into_face_of(s, f0[i], sides[0][0], sides[0][1]), into_face_of(s, f0[j], sides[0][0], sides[0][1]));
+            if (c <= std::cos(kDockPlateAngleDeg * std::numbers::pi / 180)) pairs.push_back({a, b});
+        }
+    if (pairs.size() != 1) return;
+    const int keep = std::min(pairs[0][0], pairs[0][1]), drop = std::max(pairs[0][0], pairs[0][1]);
+    for (int& l : dp.leaflet)
+        if (l == drop) l = keep;
+    for (const int u : comp) dp.across[u] = 1;
+}
+
 DockedPlates docked_plates(const Skeleton& s) {
     const int n = static_cast<int>(s.points.size());
     DockedPlates dp;
@@ -381,9 +447,14 @@ DockedPlates docked_plates(const Skeleton& s) {
             dp.branch[e[0]] = dp.branch[e[1]] = 1;
     dp.chain.resize(n);
     dp.plate.assign(n, -1);
-    for (int u = 0; u < n; ++u) {
+    dp.across.assign(n, 0);
+    for (int u = 0; u < n; ++u)
         for (const int v : dp.sides[u])
             if (faces_of(dp, u, v).size() >= 3) dp.chain[u].push_back(v);
+    std::vector<char> seen(n, 0);
+    for (int u = 0; u < n; ++u)
+        if (!seen[u] && !dp.chain[u].empty()) join_plate_halves(s, dp, u, seen);
+    for (int u = 0; u < n; ++u) {
         for (const int w : dp.chain[u]) {
             std::map<int, int> per_leaflet;
             for (const int f : faces_of(dp, u, w)) ++per_leaflet[dp.leaflet[f]];
@@ -414,13 +485,14 @@ bool inside_end(const DockedPlates& dp, int u) {
     return false;
 }
 
-// Per vertex: 1 on a docked chain (vertices joined by chain sides, with an inside end). Not a closed chain (e.g.
+// Per vertex: 1 on a docked chain (vertices joined by chain sides, with an inside end, or across a plate whose halves
+// were joined). Not a closed chain (e.g.
 // torustwist's core, whose opposite arms are one leaflet) nor a fan cutting its leaflets.
 std::vector<char> docked_chain_vertices(const DockedPlates& dp) {
     const int n = static_cast<int>(dp.chain.size());
     std::vector<char> docked(n, 0);
     for (int e = 0; e < n; ++e) {
-        if (docked[e] || !inside_end(dp, e)) continue;
+        if (docked[e] || !(inside_end(dp, e) || dp.across[e])) continue;
         std::vector<int> todo{e};
         docked[e] = 1;
         while (!todo.empty()) {
