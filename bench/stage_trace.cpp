@@ -110,6 +110,7 @@ int main(int argc, char** argv) try {
     mo.retry = false;
     mo.finish = false;
     mo.pipeline.adaptation.free_branching_reach = a.reach;
+    if (const char* k = std::getenv("KEEP_CUT_JOINT")) mo.pipeline.adaptation.keep_cut_joint = std::atof(k);
     const MeshRun run = mesh_skeleton(input, &domain, mo);
     const HexMesh& raw = run.pipeline.raw.mesh;
     const std::vector<double> raw_sj = scaled_jacobians(raw);

@@ -209,6 +209,12 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
            "quad on the bridge to the bridge's margin limit, the others staying on the input radius (0 or 1, on "
            "by default; 0: the whole sphere at the limit, docs/junctions.md, \"Bridge quads\")")
         ->capture_default_str();
+    cmd->add_option("--keep-cut-joint", job->options.pipeline.adaptation.keep_cut_joint,
+                    "Keep a joint next to a branching point that the section criterion would remove when the edge "
+                    "replacing it misses its ball by at least this fraction of its radius, with its radius lowered "
+                    "until the criterion holds (0 = off, the default; docs/junctions.md, \"A cut joint kept thinner\")")
+        ->check(finite_range(0.0, 10.0))
+        ->capture_default_str();
     cmd->add_option("--bridge-quad-inset", job->options.pipeline.raw_mesh.bridge_quad_inset,
                     "With --bridge-quad-radius 1: the raised points stop this many times their shortest raw boundary "
                     "edge short of the input ball (0.25 = one padding layer, the default; 0 = on the ball: "

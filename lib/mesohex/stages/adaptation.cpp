@@ -169,15 +169,41 @@ struct EndReach {
     double patch = 0;   // absolute: ... and the raw-mesh points of that patch (patch_reach), unless a pin yields
 };
 
+// Where the edge a - b passes the ball (x, rx): how far it misses the ball as a fraction of rx (the distance from x
+// to the segment + rx - the segment's interpolated radius at the nearest point), and that interpolated radius.
+struct BallMiss {
+    double fraction = 0;
+    double r_edge = 0;
+};
+
+BallMiss ball_miss(const Vec3& xa, double ra, const Vec3& xb, double rb, const Vec3& x, double rx) {
+    const Vec3 ab = xb - xa;
+    const double len2 = dot(ab, ab);
+    const double u = len2 > 0 ? std::clamp(dot(x - xa, ab) / len2, 0.0, 1.0) : 0.0;
+    const double r_edge = ra + u * (rb - ra);
+    return {(distance(x, xa + u * ab) + rx - r_edge) / rx, r_edge};
+}
+
+// The largest joint radius r with max(a, c r) + s r <= l (0 when a >= l): an edge of length turn_safety x l from an
+// end of reach max(a, c r_joint) to a joint of reach s r meets the criterion (s the joint's sin_half_turn).
+double largest_joint_radius(double a, double c, double s, double l) {
+    if (!(a < l) || !(c + s > 0)) return 0;
+    const double r1 = l / (c + s);
+    if (c * r1 >= a) return r1;
+    return s > 0 ? (l - a) / s : std::numeric_limits<double>::infinity();
+}
+
 // Removes joints that violate the section criterion. x/r hold the whole sampled chain (ends included); end_reach gives
 // the demands of each end (zero at an extremity); ring: x.front() == x.back() is the anchor, a joint that stays.
 // Never leaves fewer than min_edges edges, never removes a pinned joint (pinned: per chain index). Returns the kept
-// chain indices; *stuck (when given) gets the pinned chain indices left on an edge that still violates the criterion
+// chain indices; a joint next to an end that the criterion would remove but whose ball the edge replacing it misses
+// (AdaptationOptions::keep_cut_joint) is kept with a lowered radius in r instead; *stuck (when given) gets the pinned chain indices left on an edge that still violates the criterion
 // (their neighbours could not be removed: a branch end, another pin, or min_edges).
-std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vector<double>& r,
+std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, std::vector<double>& r,
                                       const std::array<EndReach, 2>& end_reach, bool ring, int min_edges,
                                       const std::vector<bool>& pinned, const AdaptationOptions& o,
-                                      std::vector<int>* stuck = nullptr) {
+                                      std::vector<int>* stuck = nullptr, const Polyline* input = nullptr,
+                                      const std::vector<double>* arc = nullptr) {
     std::vector<int> keep(x.size());
     std::iota(keep.begin(), keep.end(), 0);
     if (!(o.turn_safety > 0)) return keep;
@@ -194,6 +220,29 @@ std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vec
         }
         return r[keep[k]] * sin_half_turn(x[keep[k - 1]], x[keep[k]], x[keep[k + 1]]);
     };
+    const std::vector<double> r_input = r;
+    // The violated edge j -> j + 1 joins an end and the victim joint: keep the victim thinner if its ball is cut.
+    const auto kept_thinner = [&](std::size_t j, std::size_t victim) -> bool {
+        const std::size_t last = keep.size() - 1;
+        const bool front = j == 0 && victim == 1, back = j + 1 == last && victim + 1 == last;
+        if (!(o.keep_cut_joint > 0) || ring || (!front && !back)) return false;
+        const EndReach& er = end_reach[front ? 0 : 1];
+        if (!(er.cot_gamma > 0)) return false;
+        const int v = keep[victim], p = keep[victim - 1], q = keep[victim + 1], e = keep[front ? 0 : last];
+        BallMiss miss = ball_miss(x[p], r[p], x[q], r[q], x[v], r_input[v]);
+        for (std::size_t i = 0; input && arc && i < input->x.size(); ++i)
+            if (input->s[i] > (*arc)[p] && input->s[i] < (*arc)[q]) {
+                const BallMiss m = ball_miss(x[p], r[p], x[q], r[q], input->x[i], input->r[i]);
+                if (m.fraction > miss.fraction) miss = m;
+            }
+        if (miss.fraction < o.keep_cut_joint) return false;
+        const double a = std::max({er.sphere * r[e], er.extent, er.patch});
+        const double s = sin_half_turn(x[p], x[v], x[q]);
+        const double r_new = 0.999 * largest_joint_radius(a, er.cot_gamma, s, distance(x[e], x[v]) / o.turn_safety);
+        if (!(r_new >= 0.5 * r_input[v]) || !(r_new < r[v])) return false;
+        r[v] = r_new;
+        return true;
+    };
     std::size_t j = 0;  // edge keep[j] -> keep[j+1]
     while (j + 1 < keep.size()) {
         const double chord = distance(x[keep[j]], x[keep[j + 1]]);
@@ -203,6 +252,10 @@ std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, const std::vec
         const bool a_joint = j > 0 && !pinned[keep[j]], b_joint = j + 2 < keep.size() && !pinned[keep[j + 1]];
         if (violated && can_remove && (a_joint || b_joint)) {
             const std::size_t victim = !a_joint ? j + 1 : (!b_joint ? j : (rb > ra ? j + 1 : j));
+            if (kept_thinner(j, victim)) {
+                ++j;
+                continue;
+            }
             keep.erase(keep.begin() + static_cast<std::ptrdiff_t>(victim));
             j = victim >= 2 ? victim - 2 : 0;  // the turns of the victim's neighbours changed
             continue;
@@ -710,7 +763,7 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
 // Samples branch bi with its ends at positions xa, xb: the joints' arc parameters after bisection, smoothing and the
 // turn criterion; adds the joints the criterion removed to *removed when given.
 std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edges, const Vec3& xa, const Vec3& xb,
-                             const AdaptationOptions& o, int* removed) {
+                             const AdaptationOptions& o, int* removed, std::vector<double>* kept_r = nullptr) {
     const Branch& b = view.branches[bi];
     Polyline pl = view.polylines[bi];
     std::vector<double> t;
@@ -736,7 +789,10 @@ std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edg
         r.push_back(pl.r.back());
         pinned.push_back(false);
         std::vector<int> stuck;
-        keep = apply_turn_criterion(x, r, ends, b.ring, min_edges, pinned, o, &stuck);
+        std::vector<double> arc{0.0};
+        arc.insert(arc.end(), t.begin(), t.end());
+        arc.push_back(pl.length());
+        keep = apply_turn_criterion(x, r, ends, b.ring, min_edges, pinned, o, &stuck, &pl, &arc);
         if (stuck.empty()) break;
         if (ends[0].patch > 0 || ends[1].patch > 0) {
             ends[0].patch = ends[1].patch = 0;
@@ -750,6 +806,8 @@ std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edg
     if (removed) *removed += static_cast<int>(x.size() - keep.size());
     std::vector<double> kept_t;
     for (std::size_t k = 1; k + 1 < keep.size(); ++k) kept_t.push_back(t[keep[k] - 1]);
+    if (kept_r)
+        for (std::size_t k = 1; k + 1 < keep.size(); ++k) kept_r->push_back(r[keep[k]]);
     return kept_t;
 }
 
@@ -895,15 +953,16 @@ void write_resampled_branches(const BranchView& view, Collapses& col, const std:
         const int a = id_of(b.vertices.front()), c = id_of(b.vertices.back());
         int min_edges = (b.ring || a == c) ? 3 : 1;
         if (min_edges == 1 && single_edge_links.count(std::minmax(a, c))) min_edges = 2;
+        std::vector<double> kept_r;
         std::vector<double> t =
-            resample(view, bi, min_edges, out.points[a], out.points[c], o, &result.turn_removed_joints);
+            resample(view, bi, min_edges, out.points[a], out.points[c], o, &result.turn_removed_joints, &kept_r);
         if (t.empty()) single_edge_links.insert(std::minmax(a, c));
         int prev = a;
-        for (const double ti : t) {
-            const auto [p, r] = view.polylines[bi].at(ti);
+        for (std::size_t k = 0; k < t.size(); ++k) {
+            const Vec3 p = view.polylines[bi].at(t[k]).first;
             const int v = static_cast<int>(out.points.size());
             out.points.push_back(p);
-            out.radii.push_back(r);
+            out.radii.push_back(kept_r[k]);
             out.edges.push_back({prev, v});
             prev = v;
         }

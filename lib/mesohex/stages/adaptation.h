@@ -36,6 +36,15 @@ struct AdaptationOptions {
     // (docs/tuning.md). The mesh command retries with branching_reach here when the result misses its goals
     // (MeshGoals, MeshOptions::retry).
     double free_branching_reach = 0.7;
+    // A joint the criterion would remove from an edge that ends at a branching point or leaflet vertex is kept when the
+    // edge replacing it misses a ball by at least keep_cut_joint x that ball's radius (the joint's own ball or an input
+    // vertex's between the replacing edge's ends; miss = distance from the centre to the edge + its radius - the
+    // edge's interpolated radius there): a sharp turn whose corner the edge would cut, or a bulge on a short bridge.
+    // Its radius is then lowered to the largest value for which the edge to the end meets the criterion (the end's
+    // reach uses it as r_next; times 0.999), and it is kept only if that is at least half its own radius (a thinner
+    // joint pinches the tube more than the kept corner gains: then it is removed as before). Dimensionless; 0
+    // disables (docs/junctions.md, "A cut joint kept thinner").
+    double keep_cut_joint = 0.0;
     // A branch rooted on a leaflet's plates (inside the leaflet where 4 faces meet, or on its border: border_root in
     // skeleton_analysis.h) stands on a patch of faces about one leaflet edge wide: its end also reaches root_extent x
     // the mean length of the leaflet edges at the vertex (dimensionless), so the first cross-section clears the patch
