@@ -281,11 +281,16 @@ TEST(LeafletJunctions, EveryRefusalClassNamesTheElementAndSaysHowToEdit) {
         add_face_edges(s);
         expect_rejected_at(s, 4, "touches the interior of another leaflet");
     }
-    {  // fan edges of degrees 3 (0-1) and 4 (1-2) meeting at vertex 1: a fourth strip on the second fan edge only
-        Skeleton s = fan(2, 1, {{0, 1, 0}, {0, -1, 0}, {0, 0, 1}});
+    // Fan edges of degrees 3 (0-1) and 4 (1-2) meeting at vertex 1: a fourth strip on the second fan edge only. The
+    // three whole strips form a Y (120 degrees apart), so no two of them are the halves of one plate that the chain
+    // crosses (kDockPlateAngleDeg: a wall across a plate with a shorter wall on the other side docks, see
+    // DockedWalls.WallAcrossThePlateWithAShorterWallOnTheOtherSideByHand).
+    {
+        const double c = std::sqrt(0.75);
+        Skeleton s = fan(2, 1, {{0, 1, 0}, {0, -0.5, c}, {0, -0.5, -c}});
         const int a = static_cast<int>(s.points.size());
-        s.points.push_back({1, 0, -1});
-        s.points.push_back({2, 0, -1});
+        s.points.push_back({1, -1, 0});
+        s.points.push_back({2, -1, 0});
         s.faces.push_back({1, 2, a + 1, a});
         s.edges.clear();
         add_face_edges(s);
