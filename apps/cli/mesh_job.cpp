@@ -228,6 +228,10 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "the default: docs/junctions.md)")
         ->check(finite_range(0.0, 360.0))
         ->capture_default_str();
+    cmd->add_flag("--junction-crease-midpoints", job->options.pipeline.raw_mesh.cover.crease_midpoints,
+                  "With --junction-crease: move the middle of each folded surface edge out along its own ray "
+                  "instead of the edge's end points (docs/junctions.md, \"Dino's hip and knight's v9 traced through "
+                  "the stages\")");
     cmd->add_option("--junction-inset", job->options.pipeline.raw_mesh.cover.inset,
                     "Cap the distance of each branching point's surface points at where the union of the input's "
                     "balls ends minus this many x the point's shortest boundary edge (0.25: one padding layer), so the "

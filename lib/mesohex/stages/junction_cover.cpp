@@ -63,11 +63,21 @@ struct JunctionMove {
     double r = 0;
     std::vector<double> target;  // per surface point: the distance it moves to (r when it stays)
     std::vector<double> lambda;  // per surface point: the fraction of the move kept
+    // JunctionCoverOptions::crease_midpoints: per surface edge, its midpoint where the raw mesh put it, its target (the
+    // ray's exit from the union, or the start when that lies inside), the fraction of the move kept. Empty otherwise.
+    std::vector<Vec3> mid_from, mid_to;
+    std::vector<double> mid_lambda;
 };
 
 void place_junction(const Skeleton& s, const ConnectionSurfaces& cs, const BranchFrames& frames, const JunctionMove& m,
                     std::vector<Vec3>& points) {
     const Vec3& c = s.points[m.c];
+    if (!m.mid_lambda.empty()) {
+        for (std::size_t j = 0; j < m.mid_lambda.size(); ++j)
+            points[m.base + 1 + m.np + static_cast<int>(j)] =
+                m.mid_from[j] + m.mid_lambda[j] * (m.mid_to[j] - m.mid_from[j]);
+        return;
+    }
     const int p0 = cs.point_begin[m.c];
     std::vector<double> dist(m.np);
     for (int x = 0; x < m.np; ++x) {
@@ -96,7 +106,7 @@ std::vector<int> junction_hexes(const SkeletonAnalysis& an, const std::vector<in
 // no hex is below.
 bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector<Vec3>& points,
                  const std::vector<int>& hs, const std::vector<double>& floor, bool last, JunctionMove& m) {
-    std::vector<char> hit(m.np, 0);
+    std::vector<char> hit(m.np, 0), mid_hit(m.mid_lambda.size(), 0);
     bool any = false;
     for (std::size_t i = 0; i < hs.size(); ++i) {
         const std::array<int, 8>& h = hexes[hs[i]];
@@ -105,10 +115,14 @@ bool guard_round(const std::vector<std::array<int, 8>>& hexes, const std::vector
         for (int id : h) {
             const int x = id - m.base - 1;
             if (x >= 0 && x < m.np && m.lambda[x] > 0) hit[x] = 1, any = true;
+            const int j = x - m.np;
+            if (j >= 0 && j < static_cast<int>(m.mid_lambda.size()) && m.mid_lambda[j] > 0) mid_hit[j] = 1, any = true;
         }
     }
     for (int x = 0; x < m.np; ++x)
         if (hit[x]) m.lambda[x] = last ? 0.0 : 0.5 * m.lambda[x];
+    for (std::size_t j = 0; j < mid_hit.size(); ++j)
+        if (mid_hit[j]) m.mid_lambda[j] = last ? 0.0 : 0.5 * m.mid_lambda[j];
     return any;
 }
 
@@ -159,6 +173,12 @@ void open_creases(const Skeleton& s, const ConnectionSurfaces& cs, const BranchF
         bool raised = false;
         for (std::size_t j = 0; j < crease.size(); ++j) {
             if (crease[j] <= limit_deg) continue;
+            if (!m.mid_lambda.empty()) {
+                if (m.mid_lambda[j] >= 1 || m.mid_to[j] == m.mid_from[j]) continue;
+                m.mid_lambda[j] = std::min(1.0, m.mid_lambda[j] + 1.0 / kSteps);
+                raised = true;
+                continue;
+            }
             for (int x : cs.edges[cs.edge_begin[m.c] + static_cast<int>(j)]) {
                 if (m.lambda[x] >= 1 || m.target[x] <= m.r) continue;
                 m.lambda[x] = std::min(1.0, m.lambda[x] + 1.0 / kSteps);
@@ -193,6 +213,22 @@ int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnal
         m.lambda.push_back(move && !(o.crease_deg > 0) ? 1.0 : 0.0);
         moved += move ? 1 : 0;
     }
+    if (o.crease_deg > 0 && o.crease_midpoints) {  // the folded edges' midpoints move, the points stay
+        moved = 0;
+        const int ne = cs.edge_begin[c + 1] - cs.edge_begin[c];
+        const int p0 = cs.point_begin[c];
+        for (int j = 0; j < ne; ++j) {
+            const std::array<int, 2>& ed = cs.edges[cs.edge_begin[c] + j];
+            const Vec3 d = normalized(frames.directions[p0 + ed[0]] + frames.directions[p0 + ed[1]]);
+            const double t = ray_exit(cones, s.points[c], d, 0.02 * rc, (o.arc + 1) * rc);
+            const Vec3 from = points[m.base + 1 + m.np + j];
+            m.mid_from.push_back(from);
+            const bool out = t > dot(from - s.points[c], d);
+            m.mid_to.push_back(out ? s.points[c] + t * d : from);
+            m.mid_lambda.push_back(0.0);
+            if (out) ++moved;
+        }
+    }
     if (moved == 0) return 0;
     const std::vector<int> hs = junction_hexes(an, edge_hex, c);
     std::vector<double> floor(hs.size());
@@ -205,7 +241,9 @@ int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnal
         if (!guard_round(hexes, points, hs, floor, round == kRounds - 1, m)) break;
         if (round == kRounds - 1) place_junction(s, cs, frames, m, points);
     }
-    return static_cast<int>(std::count_if(m.lambda.begin(), m.lambda.end(), [](double l) { return l > 0; }));
+    const auto kept = [](double l) { return l > 0; };
+    return static_cast<int>(std::count_if(m.lambda.begin(), m.lambda.end(), kept) +
+                            std::count_if(m.mid_lambda.begin(), m.mid_lambda.end(), kept));
 }
 
 // Per vertex: the length of its shortest boundary edge (infinity off the boundary).

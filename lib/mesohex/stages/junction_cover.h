@@ -42,6 +42,14 @@ struct JunctionCoverOptions {
     // they reach t; then the guard below. Degrees (270: each padding hex gets at least 45 degrees); 0 = off (the
     // default: docs/junctions.md, "Creases opened from the balls").
     double crease_deg = 0.0;
+    // With crease_deg > 0: the crease rule moves the *midpoint* of each folded surface edge instead of its two end
+    // points, out along the midpoint's own ray towards the union's exit (never inwards), in the same steps and under
+    // the same guard; the surface points, and the midpoints of unfolded edges, stay where the raw mesh put them (so it
+    // composes with RawMeshOptions::bridge_quad_radius). Between two close fat branches the folded edge is the one
+    // their two quads share; its end points are partition points whose rays leave the domain near c's sphere, its
+    // middle faces the crotch, where the domain reaches farthest (docs/junctions.md, "Dino's hip and knight's v9
+    // traced through the stages"). false: the end points move (the rule above).
+    bool crease_midpoints = false;
     // Guard: a hex of c's chunks may not end below min(sj_floor, its scaled Jacobian with every point on the
     // sphere), nor be inverted; otherwise the moves of its moved points are halved (6 times, then dropped).
     double sj_floor = 0.3;
