@@ -987,6 +987,14 @@ double sharpest_sphere_crease(const RawMesh& raw, const ConnectionSurfaces& cs, 
     return sharpest;
 }
 
+// The union of the hip's input balls: vertex 0's ball and a round cone per edge.
+std::vector<RoundCone> hip_balls(const Skeleton& s) {
+    std::vector<RoundCone> balls{{s.points[0], s.points[0], s.radii[0], s.radii[0]}};
+    for (const std::array<int, 2>& e : s.edges)
+        balls.push_back({s.points[e[0]], s.points[e[1]], s.radii[e[0]], s.radii[e[1]]});
+    return balls;
+}
+
 // Crease opening on dino's hip by hand (skeleton_fixtures.h: legs 46 degrees apart, first vertices 1.5 r_c out, the
 // hip meshed in its own balls). On the sphere the legs' two chunks meet at a crease of 320.7 degrees through their two
 // hexes (the padding's two hexes would share the 39 degrees left). With crease_deg 270 the end points of the folded
@@ -1008,9 +1016,7 @@ TEST(JunctionCover, CreaseOpeningUnfoldsTheLegsCrotchOfDinosHip) {
     const RawMesh on = build_raw_mesh(s, an, cs, fr, o);
     EXPECT_NEAR(sharpest_sphere_crease(off, cs, 0), 320.7, 0.1);
     EXPECT_NEAR(sharpest_sphere_crease(on, cs, 0), 275.7, 0.1);
-    std::vector<RoundCone> balls{{s.points[0], s.points[0], s.radii[0], s.radii[0]}};
-    for (const std::array<int, 2>& e : s.edges)
-        balls.push_back({s.points[e[0]], s.points[e[1]], s.radii[e[0]], s.radii[e[1]]});
+    const std::vector<RoundCone> balls = hip_balls(s);
     const int base = off.vertex_base[0], np = cs.point_begin[1] - cs.point_begin[0];
     const double r = s.radii[0];
     ASSERT_EQ(np, 6);
@@ -1044,9 +1050,7 @@ TEST(JunctionCover, CreaseMidpointsOpenTheLegsCrotchOfDinosHipWithoutMovingItsPo
     o.cover.crease_deg = 270;
     o.cover.crease_midpoints = true;
     const RawMesh on = build_raw_mesh(s, an, cs, fr, o);
-    std::vector<RoundCone> balls{{s.points[0], s.points[0], s.radii[0], s.radii[0]}};
-    for (const std::array<int, 2>& e : s.edges)
-        balls.push_back({s.points[e[0]], s.points[e[1]], s.radii[e[0]], s.radii[e[1]]});
+    const std::vector<RoundCone> balls = hip_balls(s);
     const int base = off.vertex_base[0], np = cs.point_begin[1] - cs.point_begin[0];
     const int ne = cs.edge_begin[1] - cs.edge_begin[0];
     const double r = s.radii[0];
