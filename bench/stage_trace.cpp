@@ -100,7 +100,9 @@ std::string nearest_inputs(const Skeleton& s, const Vec3& p) {
 
 int main(int argc, char** argv) try {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: mesohex_stage_trace SKELETON DOMAIN [--reach R] [--count N] [--near X Y Z R]\n");
+        std::fprintf(
+            stderr,
+            "usage: mesohex_stage_trace SKELETON DOMAIN [--reach R] [--count N] [--near X Y Z R] [-o PREFIX]\n");
         return 2;
     }
     const Args a = parse(argc, argv);
@@ -128,6 +130,11 @@ int main(int argc, char** argv) try {
     }
     std::vector<double> sj[3];
     for (int v = 0; v < 3; ++v) sj[v] = scaled_jacobians(f[v].mesh);
+    if (sj[0].size() != sj[2].size() || sj[1].size() != sj[2].size()) {
+        std::fprintf(stderr, "the three finishes differ in hex count (%zu, %zu, %zu): no common hex ids\n",
+                     sj[0].size(), sj[1].size(), sj[2].size());
+        return 1;
+    }
     std::vector<std::size_t> order;
     for (std::size_t h = 0; h < sj[2].size(); ++h)
         if (!a.near || distance(hex_centre(f[2].mesh, h), a.centre) < a.radius) order.push_back(h);

@@ -213,8 +213,8 @@ TEST(Adaptation, RadiusPeakOnAShortBridgeIsSteppedOver) {
             ADD_FAILURE() << "a vertex on the bridge at x " << bulge.skeleton.points[v].x;
 }
 
-// The same bridge with keep_cut_joint 0.5: the bridge edge 0 - 1 (radius 0.1) would miss the middle joint's ball
-// (r 0.2) by (0 + 0.2 - 0.1) / 0.2 = 0.5 of its radius, so the joint stays, its radius lowered to the largest value for
+// The same bridge with keep_cut_joint 0.45: the bridge edge 0 - 1 (radius 0.1) would miss the middle joint's ball
+// (r 0.2) by (0 + 0.2 - 0.1) / 0.2 = 0.5 of its radius (>= 0.45, off the threshold), so the joint stays, its radius lowered to the largest value for
 // which the edge from point 0 meets the criterion: 0.2 >= 1.25 x 0.7 x r sqrt(3) (gamma 30 degrees, the joint does not
 // turn, the end's own term 0.7 x 0.1 is smaller), r = 0.2 / (1.25 x 0.7 sqrt(3)) = 0.13197, times the 0.999 margin;
 // the edge to point 1 is its mirror image. At 0.6 the miss is too small and the joint goes as before.
@@ -225,7 +225,7 @@ TEST(Adaptation, CutJointIsKeptThinner) {
     s.radii = {0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.2};
     s.edges = {{0, 2}, {0, 3}, {1, 4}, {1, 5}, {0, 6}, {6, 1}};
     AdaptationOptions o;
-    o.keep_cut_joint = 0.5;
+    o.keep_cut_joint = 0.45;
     const mesohex::AdaptationResult kept = mesohex::adapt_skeleton_detailed(s, o);
     const auto at = std::find(kept.skeleton.points.begin(), kept.skeleton.points.end(), Vec3{0.2, 0, 0});
     ASSERT_NE(at, kept.skeleton.points.end());

@@ -1193,7 +1193,7 @@ TEST(SkeletonRepair, FeetOfAWallAcrossThePlateWithAShorterWallOnTheOtherSideAreS
     EXPECT_EQ(r.analysis.counts.docked_edges, 6);  // the chain's 4 edges, 2 of them split at y = -1.5 and 1.5
     EXPECT_EQ(r.predicted.hexes, 176);
     expect_raw_as_predicted(r, 176);
-    EXPECT_GT(mesohex::compute_quality(r.raw.mesh).sj_min, 0.6);
+    EXPECT_GT(mesohex::compute_quality(r.raw.mesh).sj_min, 0.6);  // measured, not derived
     mesohex::PipelineOptions unsplit;
     unsplit.repair.docked_foot_split = 0;
     EXPECT_EQ(mesohex::compute_quality(mesohex::run_pipeline(in, unsplit).raw.mesh).hexes, 108);

@@ -238,8 +238,12 @@ std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, std::vector<do
         if (miss.fraction < o.keep_cut_joint) return false;
         const double a = std::max({er.sphere * r[e], er.extent, er.patch});
         const double s = sin_half_turn(x[p], x[v], x[q]);
-        const double r_new = 0.999 * largest_joint_radius(a, er.cot_gamma, s, distance(x[e], x[v]) / o.turn_safety);
-        if (!(r_new >= 0.5 * r_input[v]) || !(r_new < r[v])) return false;
+        // kKeptMargin (dimensionless): the kept radius just inside the criterion's bound, so that the edge passes it
+        // despite rounding; kKeptFloor (x the input radius): a joint thinner than this pinches the tube, so it goes.
+        constexpr double kKeptMargin = 0.999, kKeptFloor = 0.5;
+        const double r_new =
+            kKeptMargin * largest_joint_radius(a, er.cot_gamma, s, distance(x[e], x[v]) / o.turn_safety);
+        if (!(r_new >= kKeptFloor * r_input[v]) || !(r_new < r[v])) return false;
         r[v] = r_new;
         return true;
     };

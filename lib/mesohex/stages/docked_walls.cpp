@@ -412,30 +412,47 @@ bool join_plate_halves(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces
     return true;
 }
 
-// Docks component comp if it is a chain with an end inside a leaflet; refuses such a chain when it cannot be docked.
-// A chain with all ends on borders docks only when a leaflet stops on it and every edge splits into the one plate and
-// walls (else it stays a fan: the paper's layout, or the irregular-fan refusal).
-void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp,
-                    bool band_pillow, bool pillow_ran) {
+// Docks component comp if it is a chain with an end inside a leaflet, or a chain across a plate whose halves
+// join_across_chain joined; refuses a chain ending inside that cannot be docked. Other chains with all ends on borders
+// stay fans (the paper's layout, or the irregular-fan refusal).
+// The chain's end vertex inside a leaflet (-1: every end on a border).
+int inside_end(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp) {
     std::vector<int> vertices;
-    const std::vector<int> ends = chain_ends(s, comp, vertices);
     int inside = -1;
-    for (int v : ends)
+    for (int v : chain_ends(s, comp, vertices))
         for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1] && inside < 0; ++i) {
             const int e = an.vertex_edges[i];
             if (an.edge_degree[e] >= 3 && ends_inside(an, lf, v, e)) inside = v;
         }
-    if (inside < 0) {
-        if (ends.size() != 2 || !leaflet_stops_on_chain(s, an, lf, comp, vertices) ||
-            !join_plate_halves(s, an, lf, comp))
-            return;
-        int plate = -1;
-        for (int e : comp) {
-            const EdgeSplit sp = split_fan_edge(s, an, lf.of_edge[e], e);
-            if (sp.plate < 0 || (plate >= 0 && sp.plate != plate)) return;
-            plate = sp.plate;
-        }
+    return inside;
+}
+
+// A chain with all ends on borders that cuts its plate into two leaflets, with a leaflet stopping on it: joins the
+// halves (join_plate_halves) when every chain edge then splits into that one plate and walls. True when joined; else
+// the analysis is left exactly as it was (the chain stays a fan).
+bool join_across_chain(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp) {
+    std::vector<int> vertices;
+    if (chain_ends(s, comp, vertices).size() != 2 || inside_end(s, an, lf, comp) >= 0 ||
+        !leaflet_stops_on_chain(s, an, lf, comp, vertices))
+        return false;
+    SkeletonAnalysis joined = an;
+    if (!join_plate_halves(s, joined, lf, comp)) return false;
+    int plate = -1;
+    for (int e : comp) {
+        const EdgeSplit sp = split_fan_edge(s, joined, lf.of_edge[e], e);
+        if (sp.plate < 0 || (plate >= 0 && sp.plate != plate)) return false;
+        plate = sp.plate;
     }
+    an = std::move(joined);
+    return true;
+}
+
+void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp,
+                    bool across, bool band_pillow, bool pillow_ran) {
+    std::vector<int> vertices;
+    (void)chain_ends(s, comp, vertices);
+    const int inside = across ? -1 : inside_end(s, an, lf, comp);
+    if (inside < 0 && !across) return;
     int plate = -1;
     for (int e : comp) {
         const EdgeSplit sp = split_fan_edge(s, an, lf.of_edge[e], e);
@@ -477,9 +494,15 @@ void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow
     if (std::none_of(an.edge_degree.begin(), an.edge_degree.end(), [](int d) { return d >= 3; })) return;
     const LocalFaces lf = local_faces(s, an);
     std::vector<char> seen(ne, 0);
+    std::vector<std::vector<int>> comps;
     for (int e = 0; e < ne; ++e)
-        if (an.edge_degree[e] >= 3 && !seen[e])
-            dock_component(s, an, lf, fan_component(s, an, e, seen), band_pillow, pillow_ran);
+        if (an.edge_degree[e] >= 3 && !seen[e]) comps.push_back(fan_component(s, an, e, seen));
+    // Every plate a chain cuts in two is joined before any chain docks: a join renumbers the leaflets and turns the
+    // second half's faces, which must not happen under a chain already docked on them.
+    std::vector<char> across(comps.size(), 0);
+    for (std::size_t i = 0; i < comps.size(); ++i) across[i] = join_across_chain(s, an, lf, comps[i]) ? 1 : 0;
+    for (std::size_t i = 0; i < comps.size(); ++i)
+        dock_component(s, an, lf, comps[i], across[i] != 0, band_pillow, pillow_ran);
 }
 
 VertexClass docked_vertex_class(const SkeletonAnalysis& an, int v, int& plate_boundary_edges) {

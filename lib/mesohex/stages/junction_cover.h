@@ -71,7 +71,8 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
 // vertex_base, laid out as build_raw_mesh does), serially in vertex order. edge_hex[e]: the first of the 4 hexes of
 // branch edge e's chunk. radius: the effective radius each vertex was placed with. Deterministic.
 // With crease_deg > 0 only the end points of c's folded surface edges move (JunctionCoverOptions::crease_deg), as far
-// as opening them needs, at most to their rays' exits. Returns the number of surface points moved. Complexity:
+// as opening them needs, at most to their rays' exits (with crease_midpoints: the edges' midpoints instead).
+// Returns the number of surface points moved (with crease_midpoints: of edge midpoints moved). Complexity:
 // O(branching points x domain edges) for the cones, plus O(surface points x cones x (arc + 1) / 0.02) for the rays,
 // plus the raw mesh's topology with inset, plus 17 crease measures of c's chunk hexes per junction with crease_deg;
 // nothing when fraction, inset and crease_deg are 0.
