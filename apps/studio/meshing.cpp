@@ -129,17 +129,6 @@ const char* edge_kind(int degree) {
     return "fan";
 }
 
-nlohmann::json predicted_json(const RawMeshPrediction& p) {
-    return {{"hexes", p.hexes},
-            {"vertices", p.vertices},
-            {"compatible_blocks", p.compatible_blocks},
-            {"fan_blocks", {{"edges", p.fan_blocks}, {"caps", p.fan_block_caps}}},
-            {"virtual_branches", p.virtual_branches},
-            {"irregular_edges",
-             {{"interior", valence_histogram_json(p.interior_irregular_edges)},
-              {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};
-}
-
 // The "analysis" of the mesh answer: analysis_json(an) with "predicted", written directly, byte for byte what
 // nlohmann's dump of that object gives (keys in sorted order; the class and kind names need no escaping). A 10 k-hex
 // skeleton has thousands of vertices and edges: building the JSON object cost more than meshing the raw hexes.
@@ -160,7 +149,7 @@ void put_analysis(std::string& out, const SkeletonAnalysis& an, const RawMeshPre
     out += analysis_counts_json(an.counts).dump(-1, ' ', false, kUtf8Replace);
     if (with_names) out += ",\"edge_kind\":", put_names(an.edge_degree, edge_kind);
     out += ",\"predicted\":";
-    out += predicted_json(predicted).dump(-1, ' ', false, kUtf8Replace);
+    out += prediction_json(predicted).dump(-1, ' ', false, kUtf8Replace);
     if (with_names) out += ",\"vertex_class\":", put_names(an.vertex_class, class_name);
     out += '}';
 }
@@ -402,7 +391,7 @@ nlohmann::json analyze_response(const Skeleton& skeleton, const Domain* domain) 
     const Run run = run_mesh(skeleton, domain, request, tm);
     nlohmann::json j = analysis_json(run.run.pipeline.input_analysis);
     j["repairs"] = repairs_json(run.run.pipeline);
-    j["predicted"] = predicted_json(run.run.pipeline.predicted);
+    j["predicted"] = prediction_json(run.run.pipeline.predicted);
     return j;
 }
 

@@ -12,17 +12,6 @@ namespace {
 
 nlohmann::json xyz(const Vec3& p) { return nlohmann::json::array({p.x, p.y, p.z}); }
 
-nlohmann::json prediction_json(const RawMeshPrediction& p) {
-    return {{"hexes", p.hexes},
-            {"vertices", p.vertices},
-            {"compatible_blocks", p.compatible_blocks},
-            {"fan_blocks", {{"edges", p.fan_blocks}, {"caps", p.fan_block_caps}}},
-            {"virtual_branches", p.virtual_branches},
-            {"irregular_edges",
-             {{"interior", valence_histogram_json(p.interior_irregular_edges)},
-              {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};
-}
-
 nlohmann::json attempts_json(const std::vector<MeshAttempt>& attempts) {
     nlohmann::json list = nlohmann::json::array();
     for (const MeshAttempt& a : attempts) {
@@ -105,6 +94,17 @@ nlohmann::json analysis_counts_json(const AnalysisCounts& c) {
             {"boundary_edges", c.boundary_edges},
             {"isolated_vertices", c.isolated},
             {"euler_characteristic", c.vertices - c.edges + c.faces}};
+}
+
+nlohmann::json prediction_json(const RawMeshPrediction& p) {
+    return {{"hexes", p.hexes},
+            {"vertices", p.vertices},
+            {"compatible_blocks", p.compatible_blocks},
+            {"fan_blocks", {{"edges", p.fan_blocks}, {"caps", p.fan_block_caps}}},
+            {"virtual_branches", p.virtual_branches},
+            {"irregular_edges",
+             {{"interior", valence_histogram_json(p.interior_irregular_edges)},
+              {"boundary", valence_histogram_json(p.boundary_irregular_edges)}}}};
 }
 
 nlohmann::json valence_histogram_json(const std::map<int, long>& histogram) {

@@ -34,5 +34,7 @@ nlohmann::json analysis_counts_json(const AnalysisCounts& counts);
 // The report's "repairs" object: the structural repairs prepare_skeleton made (pipeline.h; with resampling only).
 nlohmann::json repairs_json(const PipelineResult& res);
 nlohmann::json valence_histogram_json(const std::map<int, long>& histogram);
+// The report's "predicted" object: hexes, vertices, compatible and fan blocks, virtual branches, irregular edges.
+nlohmann::json prediction_json(const RawMeshPrediction& p);
 
 }  // namespace mesohex
