@@ -296,7 +296,8 @@ std::vector<std::vector<int>> boundary_edge_neighbours(const HexMesh& mesh, cons
         std::vector<int>& out = nbrs[vu];
         for (std::size_t s = 0; s < slots.size(); ++s) {
             bool shared = false;
-            for (std::size_t o = 0; o < slots.size() && !shared; ++o) shared = o != s && slots[o].first == slots[s].first;
+            for (std::size_t o = 0; o < slots.size() && !shared; ++o)
+                shared = o != s && slots[o].first == slots[s].first;
             if (shared) continue;
             const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(slots[s].second[0])];
             const std::array<int, 4>& face = kHexFaces[static_cast<std::size_t>(slots[s].second[1])];
