@@ -293,12 +293,12 @@ std::vector<std::vector<int>> boundary_edge_neighbours(const HexMesh& mesh, cons
                 slots.push_back({key, {h, static_cast<int>(lf)}});
             }
         }
+        std::sort(slots.begin(), slots.end());  // equal keys (one face) next to each other
         std::vector<int>& out = nbrs[vu];
         for (std::size_t s = 0; s < slots.size(); ++s) {
-            bool shared = false;
-            for (std::size_t o = 0; o < slots.size() && !shared; ++o)
-                shared = o != s && slots[o].first == slots[s].first;
-            if (shared) continue;
+            if ((s > 0 && slots[s - 1].first == slots[s].first) ||
+                (s + 1 < slots.size() && slots[s + 1].first == slots[s].first))
+                continue;  // a face of two or more slots: not on the boundary
             const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(slots[s].second[0])];
             const std::array<int, 4>& face = kHexFaces[static_cast<std::size_t>(slots[s].second[1])];
             for (std::size_t i = 0; i < 4; ++i) {
