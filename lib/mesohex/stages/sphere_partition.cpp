@@ -1617,8 +1617,10 @@ std::string verify_sphere_partition(const SpherePartition& p, const std::vector<
         if (!is_finite(p.points[v]) || std::abs(norm(p.points[v]) - 1) > kUnitTolerance)
             return "point " + std::to_string(v) + " is not a finite unit vector";
     // Topology: every directed edge once, its reverse once; each vertex link one cycle; connected; Euler = 2.
-    std::vector<std::vector<std::pair<int, int>>> out(nv);  // out[a] = {(b, quad)} for directed edges a -> b
-    std::vector<int> valence(nv, 0);
+    // The directed edges a -> b, in quad order: the heads of a's are out[a * n + j], j < valence[a] (a vertex is at
+    // most once in a quad, so in at most n edges as their tail).
+    std::vector<int> out(static_cast<std::size_t>(nv) * static_cast<std::size_t>(n)), valence(nv, 0);
+    const auto head = [&](int a, int j) { return out[static_cast<std::size_t>(a) * n + j]; };
     for (int q = 0; q < n; ++q) {
         const std::array<int, 4>& quad = p.quads[q];
         for (int k = 0; k < 4; ++k) {
@@ -1628,26 +1630,27 @@ std::string verify_sphere_partition(const SpherePartition& p, const std::vector<
         }
         for (int k = 0; k < 4; ++k) {
             const int a = quad[k], b = quad[(k + 1) % 4];
-            for (const std::pair<int, int>& e : out[a])
-                if (e.first == b) return "directed edge " + std::to_string(a) + "->" + std::to_string(b) + " twice";
-            out[a].push_back({b, q});
-            ++valence[a];
+            for (int j = 0; j < valence[a]; ++j)
+                if (head(a, j) == b) return "directed edge " + std::to_string(a) + "->" + std::to_string(b) + " twice";
+            out[static_cast<std::size_t>(a) * n + valence[a]++] = b;
         }
     }
     int edges2 = 0;
     for (int a = 0; a < nv; ++a) {
         if (valence[a] == 0) return "point " + std::to_string(a) + " is in no quad";
-        for (const std::pair<int, int>& e : out[a]) {
+        for (int j = 0; j < valence[a]; ++j) {
+            const int b = head(a, j);
             bool reverse = false;
-            for (const std::pair<int, int>& r : out[e.first]) reverse = reverse || r.first == a;
-            if (!reverse) return "edge " + std::to_string(a) + "-" + std::to_string(e.first) + " is on the border";
+            for (int i = 0; i < valence[b]; ++i) reverse = reverse || head(b, i) == a;
+            if (!reverse) return "edge " + std::to_string(a) + "-" + std::to_string(b) + " is on the border";
             ++edges2;
         }
     }
     const int ne = edges2 / 2;
     if (nv - ne + n != 2) return "Euler characteristic " + std::to_string(nv - ne + n) + " != 2";
-    for (int v = 0; v < nv; ++v) {              // the quads around v form one cycle (prev-neighbour -> next-neighbour)
-        std::vector<std::pair<int, int>> link;  // (previous vertex, next vertex) in each quad at v
+    std::vector<std::pair<int, int>> link;  // per vertex v: (previous vertex, next vertex) in each quad at v
+    for (int v = 0; v < nv; ++v) {          // the quads around v form one cycle (prev-neighbour -> next-neighbour)
+        link.clear();
         for (int q = 0; q < n; ++q)
             for (int k = 0; k < 4; ++k)
                 if (p.quads[q][k] == v) link.push_back({p.quads[q][(k + 3) % 4], p.quads[q][(k + 1) % 4]});
@@ -1668,11 +1671,11 @@ std::string verify_sphere_partition(const SpherePartition& p, const std::vector<
         while (!stack.empty()) {
             const int a = stack.back();
             stack.pop_back();
-            for (const std::pair<int, int>& e : out[a])
-                if (!seen[e.first]) {
-                    seen[e.first] = 1;
+            for (int j = 0; j < valence[a]; ++j)
+                if (const int b = head(a, j); !seen[b]) {
+                    seen[b] = 1;
                     ++count;
-                    stack.push_back(e.first);
+                    stack.push_back(b);
                 }
         }
         if (count != nv) return "the quads are not connected";
