@@ -226,3 +226,44 @@ TEST(SkeletonPairs, FanSidesBranchEdgesAndAddedFaceSides) {
     s.edges.push_back({0, 8});  // a branch
     EXPECT_TRUE(has_edge_off_faces(s));
 }
+
+// The local boundary neighbours equal the whole topology's (sorted, without repeats) on every vertex of meshes with
+// interior vertices, a hole, a non-manifold face, repeated hexes and a hex with a repeated vertex; by hand on the
+// 2 x 2 x 2 block: the centre (13) has none, the corner 0 has (1, 0, 0) = 1, (0, 1, 0) = 3, (0, 0, 1) = 9, the bottom
+// face centre 4 its four bottom neighbours 1, 3, 5, 7 (its edge up to 13 is interior).
+TEST(Topology, LocalBoundaryNeighboursEqualTheWholeTopologys) {
+    const auto whole = [](const HexMesh& m) {
+        std::vector<std::vector<int>> n = boundary_edge_neighbours(compute_hex_topology(m), m.points.size());
+        for (std::vector<int>& l : n) {
+            std::sort(l.begin(), l.end());
+            l.erase(std::unique(l.begin(), l.end()), l.end());
+        }
+        return n;
+    };
+    const auto all_vertices = [](const HexMesh& m) {
+        std::vector<int> v(m.points.size());
+        for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<int>(i);
+        return v;
+    };
+    const HexMesh block = make_block(2, 2, 2);
+    const std::vector<std::vector<int>> local = boundary_edge_neighbours(block, {0, 4, 13});
+    EXPECT_EQ(local[0], (std::vector<int>{1, 3, 9}));
+    EXPECT_EQ(local[4], (std::vector<int>{1, 3, 5, 7}));
+    EXPECT_TRUE(local[13].empty());
+    EXPECT_TRUE(local[1].empty());  // not listed
+
+    std::vector<HexMesh> meshes = {block, make_block(4, 3, 2), mesohex::test::make_ring8()};
+    HexMesh holed = make_block(3, 3, 3);
+    holed.hexes.erase(holed.hexes.begin() + 13);  // the centre hex: its 8 corners get interior boundary faces
+    meshes.push_back(holed);
+    HexMesh nonmanifold = mesohex::test::make_unit_cube();
+    for (int i = 0; i < 4; ++i) nonmanifold.points.push_back(nonmanifold.points[4 + i] + Vec3{0, 0, 1});
+    nonmanifold.hexes.push_back({4, 5, 6, 7, 8, 9, 10, 11});
+    nonmanifold.hexes.push_back({4, 5, 6, 7, 8, 9, 10, 11});
+    meshes.push_back(nonmanifold);
+    HexMesh degenerate = make_block(2, 1, 1);
+    degenerate.hexes[1][6] = degenerate.hexes[1][7];  // a collapsed edge: two faces of hex 1 become triangles
+    degenerate.hexes.push_back(degenerate.hexes[0]);  // hex 0 twice: none of its faces is on the boundary
+    meshes.push_back(degenerate);
+    for (const HexMesh& m : meshes) EXPECT_EQ(boundary_edge_neighbours(m, all_vertices(m)), whole(m));
+}

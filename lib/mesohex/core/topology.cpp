@@ -273,4 +273,45 @@ std::vector<std::vector<int>> boundary_edge_neighbours(const HexTopology& topo, 
     return nbrs;
 }
 
+std::vector<std::vector<int>> boundary_edge_neighbours(const HexMesh& mesh, const std::vector<int>& vertices) {
+    std::vector<std::vector<int>> nbrs(mesh.points.size());
+    if (vertices.empty()) return nbrs;
+    const VertexHexes vh = vertex_hexes(mesh);
+    std::vector<std::pair<std::array<int, 4>, std::array<int, 2>>> slots;  // (sorted key, (hex, local face)) with v
+    for (const int v : vertices) {
+        const std::size_t vu = static_cast<std::size_t>(v);
+        slots.clear();
+        for (int k = vh.begin[vu]; k < vh.begin[vu + 1]; ++k) {
+            const int h = vh.hexes[static_cast<std::size_t>(k)];
+            if (k > vh.begin[vu] && vh.hexes[static_cast<std::size_t>(k - 1)] == h) continue;  // v twice in h
+            const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(h)];
+            for (std::size_t lf = 0; lf < 6; ++lf) {
+                std::array<int, 4> key;
+                for (std::size_t i = 0; i < 4; ++i) key[i] = hex[static_cast<std::size_t>(kHexFaces[lf][i])];
+                if (std::find(key.begin(), key.end(), v) == key.end()) continue;
+                sort4(key);
+                slots.push_back({key, {h, static_cast<int>(lf)}});
+            }
+        }
+        std::sort(slots.begin(), slots.end());  // equal keys (one face) next to each other
+        std::vector<int>& out = nbrs[vu];
+        for (std::size_t s = 0; s < slots.size(); ++s) {
+            if ((s > 0 && slots[s - 1].first == slots[s].first) ||
+                (s + 1 < slots.size() && slots[s + 1].first == slots[s].first))
+                continue;  // a face of two or more slots: not on the boundary
+            const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(slots[s].second[0])];
+            const std::array<int, 4>& face = kHexFaces[static_cast<std::size_t>(slots[s].second[1])];
+            for (std::size_t i = 0; i < 4; ++i) {
+                const int a = hex[static_cast<std::size_t>(face[i])];
+                const int b = hex[static_cast<std::size_t>(face[(i + 1) % 4])];
+                if (a == v) out.push_back(b);
+                if (b == v) out.push_back(a);
+            }
+        }
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+    }
+    return nbrs;
+}
+
 }  // namespace mesohex

@@ -50,4 +50,12 @@ BoundarySurface extract_boundary(const HexMesh& mesh, const HexTopology& topo);
 // Per vertex (num_points of them), the vertices joined to it by a boundary edge (edge_on_boundary), in edge order.
 std::vector<std::vector<int>> boundary_edge_neighbours(const HexTopology& topo, std::size_t num_points);
 
+// boundary_edge_neighbours(compute_hex_topology(mesh), mesh.points.size()) for the listed vertices only, without the
+// whole mesh's topology: per mesh vertex, empty unless listed in `vertices`; a listed vertex gets the same neighbours in
+// ascending order without repeats (a degenerate edge from v to itself gives v once). A face with v is on the boundary
+// when no other (hex, local face) slot has its vertex set, and every such slot is in a hex with v, so only the hexes
+// around v are read. O(#hexes) for the vertex -> hex table plus a few hundred operations per listed vertex.
+// Preconditions: indices in range.
+std::vector<std::vector<int>> boundary_edge_neighbours(const HexMesh& mesh, const std::vector<int>& vertices);
+
 }  // namespace mesohex

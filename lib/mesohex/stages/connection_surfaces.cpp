@@ -1667,8 +1667,11 @@ ConnectionSurfaces rebuild_connection_surfaces(const Skeleton& skeleton, const S
     std::vector<char> served(memo_out ? nv : 0, 0);
     std::vector<char> at_bridge(nv, 0);  // computed in the second pass (chosen_at_bridge)
 
-    // Each task writes only its vertex's ranges and the (edge, side) slots of its own incident edges.
-    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256), [&](const tbb::blocked_range<int>& range) {
+    // Each task writes only its vertex's ranges and the (edge, side) slots of its own incident edges. Ranges of 16
+    // vertices at least: a vertex costs from nothing (a joint) to ~10 M instructions (a degree-5 point); with ranges
+    // of 256 one of 2 threads did 62 % of this loop on the 5 120-vertex random tree, with 16 it does 51 %
+    // (docs/performance.md, "Eleventh pass").
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 16), [&](const tbb::blocked_range<int>& range) {
         std::vector<Vec3> dirs;
         std::vector<int> inc;
         for (int v = range.begin(); v != range.end(); ++v) {

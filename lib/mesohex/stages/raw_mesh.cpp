@@ -1156,9 +1156,12 @@ void raise_bridge_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an
         std::any_of(hexes_at.begin(), hexes_at.end(), [](const std::vector<int>& h) { return !h.empty(); });
     if (!any) return;
     const bool inset = options.bridge_quad_inset > 0;
-    const std::vector<std::vector<int>> nbrs =
-        inset ? boundary_edge_neighbours(compute_hex_topology(raw.mesh), raw.mesh.points.size())
-              : std::vector<std::vector<int>>{};
+    std::vector<int> inset_points;  // the surface points of the raised junctions (inset_raised_points reads theirs)
+    for (int v = 0; v < nv && inset; ++v)
+        if (!hexes_at[static_cast<std::size_t>(v)].empty())
+            for (int x = 0; x < cs.point_begin[v + 1] - cs.point_begin[v]; ++x)
+                inset_points.push_back(raw.vertex_base[v] + 1 + x);
+    const std::vector<std::vector<int>> nbrs = boundary_edge_neighbours(raw.mesh, inset_points);
     std::vector<double> rad;
     std::vector<char> on_bridge_quad;
     for (int v = 0; v < nv; ++v) {

@@ -1015,6 +1015,14 @@ struct Relaxer {
     std::vector<double> bound;
     std::vector<double> trial_energy, best_energy;  // scratch of descend (per quad around the moved vertex)
     bool gradient_steps = false;  // energy phase: moves along the local gradient (gradient_move), not 8 directions
+    // The terms of the quads around the vertex being moved that a move of it cannot change (fix_terms): per quad of
+    // quads_of[v] and corner k, its corner term and the term of its side k -> k + 1, with whether each is kept
+    // (fixed_corner_kept / fixed_side_kept; a corner of valence 2 has no term and is never kept).
+    int fixed_for = -1;  // the vertex they are for (-1: none)
+    std::vector<std::array<double, 4>> fixed_corner, fixed_side;
+    std::vector<std::array<char, 4>> fixed_corner_kept, fixed_side_kept;
+    bool fixed_violated = false;  // some fixed term is violated: every trial of the vertex is rejected
+    std::vector<char> moving;     // per point: moves with fixed_for (itself and its chains' valence-2 points)
 
     Relaxer(const std::vector<Vec3>& dirs, SpherePartition& part) : d(dirs), p(part), bound(margin_bounds(dirs)) {
         const int nv = static_cast<int>(p.points.size());
@@ -1120,31 +1128,83 @@ struct Relaxer {
         return {violation, energy};
     }
 
+    // The energy term of the corner of quad q at its position k (a vertex of valence >= 3); false when violated.
+    bool corner_term(int q, int k, double& term) const {
+        const std::array<int, 4>& quad = p.quads[q];
+        double angle = corner_angle(p.points[quad[(k + 3) % 4]], p.points[quad[k]], p.points[quad[(k + 1) % 4]]);
+        if (angle < 0) angle = 0;
+        if (kMinCorner - angle > 0 || angle - (kPi - kMinCorner) > 0) return false;
+        term = std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+        return true;
+    }
+
+    // The energy term of quad q's side from its position k to k + 1 (the margin of d[q]); false when violated.
+    bool side_term(int q, int k, double& term) const {
+        const std::array<int, 4>& quad = p.quads[q];
+        const Vec3 nrm = cross(p.points[quad[k]], p.points[quad[(k + 1) % 4]]);
+        const double len = norm(nrm);
+        const double side = len > 1e-15 ? dot(d[q], nrm) / len : -1;
+        if (kMinSide - side > 0) return false;
+        term = std::exp(-kSharpness * kPi / 2 * std::asin(std::clamp(side, -1.0, 1.0)) / bound[q]);
+        return true;
+    }
+
+    // For the moves of real vertex v: computes the terms of the quads around v that do not read a point moving with
+    // v (neither v nor a valence-2 point of a chain ending at v: place_chains(v) moves only those), at the current
+    // points. local_energy_below then takes them as they are: the same values (same inputs, same code) added in the
+    // same order, so its result is bit for bit the one it computes without them.
+    void fix_terms(int v) {
+        moving.assign(p.points.size(), 0);
+        moving[v] = 1;
+        for (const std::vector<int>& c : chains)
+            if (c.front() == v || c.back() == v)
+                for (std::size_t k = 1; k + 1 < c.size(); ++k) moving[c[k]] = 1;
+        fixed_for = v;
+        fixed_violated = false;
+        const std::size_t nq = quads_of[v].size();
+        fixed_corner.resize(nq);
+        fixed_side.resize(nq);
+        fixed_corner_kept.resize(nq);
+        fixed_side_kept.resize(nq);
+        for (std::size_t j = 0; j < nq; ++j) {
+            const int q = quads_of[v][j];
+            const std::array<int, 4>& quad = p.quads[q];
+            for (int k = 0; k < 4; ++k) {
+                const int prev = quad[(k + 3) % 4], u = quad[k], next = quad[(k + 1) % 4];
+                fixed_corner_kept[j][k] = valence[u] >= 3 && !moving[prev] && !moving[u] && !moving[next];
+                if (fixed_corner_kept[j][k] && !corner_term(q, k, fixed_corner[j][k])) fixed_violated = true;
+                fixed_side_kept[j][k] = !moving[u] && !moving[next];
+                if (fixed_side_kept[j][k] && !side_term(q, k, fixed_side[j][k])) fixed_violated = true;
+            }
+        }
+    }
+
     // For a trial move in the energy phase: true when the local violation is 0 and the local energy is < threshold
     // (then `energy` is local_terms(v).second, bit for bit). Stops at the first violated constraint or as soon as the
     // partial energy reaches the threshold: the terms are >= 0 and floating-point sums only grow when adding them.
-    // `per_quad` gets the energy of each quad around v (in quads_of[v] order) when the result is true.
+    // `per_quad` gets the energy of each quad around v (in quads_of[v] order) when the result is true. Terms that
+    // cannot move with v come from fix_terms(v) when it was called for v (fixed_for).
     bool local_energy_below(int v, double threshold, double& energy, std::vector<double>& per_quad) const {
+        const bool fixed = fixed_for == v;
+        if (fixed && fixed_violated) return false;
         energy = 0;
         per_quad.clear();
-        for (int q : quads_of[v]) {
-            const std::array<int, 4>& quad = p.quads[q];
-            double e = 0;
+        for (std::size_t j = 0; j < quads_of[v].size(); ++j) {
+            const int q = quads_of[v][j];
+            double e = 0, term = 0;
             for (int k = 0; k < 4; ++k) {
-                const int u = quad[k];
-                const Vec3& b = p.points[u];
-                const Vec3& c = p.points[quad[(k + 1) % 4]];
-                if (valence[u] >= 3) {
-                    double angle = corner_angle(p.points[quad[(k + 3) % 4]], b, c);
-                    if (angle < 0) angle = 0;
-                    if (kMinCorner - angle > 0 || angle - (kPi - kMinCorner) > 0) return false;
-                    e += std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+                if (fixed && fixed_corner_kept[j][k]) {
+                    e += fixed_corner[j][k];
+                } else if (valence[p.quads[q][k]] >= 3) {
+                    if (!corner_term(q, k, term)) return false;
+                    e += term;
                 }
-                const Vec3 nrm = cross(b, c);
-                const double len = norm(nrm);
-                const double side = len > 1e-15 ? dot(d[q], nrm) / len : -1;
-                if (kMinSide - side > 0) return false;
-                e += std::exp(-kSharpness * kPi / 2 * std::asin(std::clamp(side, -1.0, 1.0)) / bound[q]);
+                if (fixed && fixed_side_kept[j][k]) {
+                    e += fixed_side[j][k];
+                } else {
+                    if (!side_term(q, k, term)) return false;
+                    e += term;
+                }
                 if (energy + e >= threshold) return false;
             }
             energy += e;
@@ -1247,6 +1307,7 @@ struct Relaxer {
                 }
                 if (repair && x0 == 0) continue;
                 const Vec3 t1 = any_perpendicular(origin), t2 = cross(origin, t1);
+                if (!repair) fix_terms(v);
                 double best_score = repair ? x0 : e0;
                 Vec3 best_pos = origin;
                 for (int k = 0; k < (gradient_steps && !repair ? 0 : 8); ++k) {
@@ -1269,6 +1330,7 @@ struct Relaxer {
                     }
                 }
                 if (gradient_steps && !repair) gradient_move(v, origin, t1, t2, e0, step[v], best_score, best_pos);
+                fixed_for = -1;  // the move changes them
                 p.points[v] = best_pos;
                 place_chains(v);
                 if (!repair && !(best_pos == origin))
@@ -1555,8 +1617,10 @@ std::string verify_sphere_partition(const SpherePartition& p, const std::vector<
         if (!is_finite(p.points[v]) || std::abs(norm(p.points[v]) - 1) > kUnitTolerance)
             return "point " + std::to_string(v) + " is not a finite unit vector";
     // Topology: every directed edge once, its reverse once; each vertex link one cycle; connected; Euler = 2.
-    std::vector<std::vector<std::pair<int, int>>> out(nv);  // out[a] = {(b, quad)} for directed edges a -> b
-    std::vector<int> valence(nv, 0);
+    // The directed edges a -> b, in quad order: the heads of a's are out[a * n + j], j < valence[a] (a vertex is at
+    // most once in a quad, so in at most n edges as their tail).
+    std::vector<int> out(static_cast<std::size_t>(nv) * static_cast<std::size_t>(n)), valence(nv, 0);
+    const auto head = [&](int a, int j) { return out[static_cast<std::size_t>(a) * n + j]; };
     for (int q = 0; q < n; ++q) {
         const std::array<int, 4>& quad = p.quads[q];
         for (int k = 0; k < 4; ++k) {
@@ -1566,26 +1630,27 @@ std::string verify_sphere_partition(const SpherePartition& p, const std::vector<
         }
         for (int k = 0; k < 4; ++k) {
             const int a = quad[k], b = quad[(k + 1) % 4];
-            for (const std::pair<int, int>& e : out[a])
-                if (e.first == b) return "directed edge " + std::to_string(a) + "->" + std::to_string(b) + " twice";
-            out[a].push_back({b, q});
-            ++valence[a];
+            for (int j = 0; j < valence[a]; ++j)
+                if (head(a, j) == b) return "directed edge " + std::to_string(a) + "->" + std::to_string(b) + " twice";
+            out[static_cast<std::size_t>(a) * n + valence[a]++] = b;
         }
     }
     int edges2 = 0;
     for (int a = 0; a < nv; ++a) {
         if (valence[a] == 0) return "point " + std::to_string(a) + " is in no quad";
-        for (const std::pair<int, int>& e : out[a]) {
+        for (int j = 0; j < valence[a]; ++j) {
+            const int b = head(a, j);
             bool reverse = false;
-            for (const std::pair<int, int>& r : out[e.first]) reverse = reverse || r.first == a;
-            if (!reverse) return "edge " + std::to_string(a) + "-" + std::to_string(e.first) + " is on the border";
+            for (int i = 0; i < valence[b]; ++i) reverse = reverse || head(b, i) == a;
+            if (!reverse) return "edge " + std::to_string(a) + "-" + std::to_string(b) + " is on the border";
             ++edges2;
         }
     }
     const int ne = edges2 / 2;
     if (nv - ne + n != 2) return "Euler characteristic " + std::to_string(nv - ne + n) + " != 2";
-    for (int v = 0; v < nv; ++v) {              // the quads around v form one cycle (prev-neighbour -> next-neighbour)
-        std::vector<std::pair<int, int>> link;  // (previous vertex, next vertex) in each quad at v
+    std::vector<std::pair<int, int>> link;  // per vertex v: (previous vertex, next vertex) in each quad at v
+    for (int v = 0; v < nv; ++v) {          // the quads around v form one cycle (prev-neighbour -> next-neighbour)
+        link.clear();
         for (int q = 0; q < n; ++q)
             for (int k = 0; k < 4; ++k)
                 if (p.quads[q][k] == v) link.push_back({p.quads[q][(k + 3) % 4], p.quads[q][(k + 1) % 4]});
@@ -1606,11 +1671,11 @@ std::string verify_sphere_partition(const SpherePartition& p, const std::vector<
         while (!stack.empty()) {
             const int a = stack.back();
             stack.pop_back();
-            for (const std::pair<int, int>& e : out[a])
-                if (!seen[e.first]) {
-                    seen[e.first] = 1;
+            for (int j = 0; j < valence[a]; ++j)
+                if (const int b = head(a, j); !seen[b]) {
+                    seen[b] = 1;
                     ++count;
-                    stack.push_back(e.first);
+                    stack.push_back(b);
                 }
         }
         if (count != nv) return "the quads are not connected";
