@@ -65,7 +65,7 @@ def configurations(families, scales, angle_scales):
             for m in (1, 2, 3):
                 out.append(("fans", f"yfan -m {m}", ["yfan", "-m", str(m)], None, s))
         if "walls" in families:
-            for name in ("wall", "wallboth", "walledge"):
+            for name in ("wall", "wallboth", "walledge", "walledgeboth"):
                 for n in (4, 6):
                     for m in (1, 2, 3):
                         out.append(("walls", f"{name} -n {n} -m {m}", [name, "-n", str(n), "-m", str(m)], None, s))

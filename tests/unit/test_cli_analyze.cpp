@@ -136,7 +136,7 @@ TEST(CliAnalyze, SameVerdictAsMeshOnRepairedConfigurations) {
     const Verdicts raw = verdicts(single, " --radius 0.3 --no-resample" + retract);
     EXPECT_EQ(expect_same_verdict(single + " --no-resample", raw), 3);
     EXPECT_TRUE(contains(raw.analyze.output, "skeleton vertex 1")) << raw.analyze.output;
-    for (const char* wall : {"wall", "wallboth", "walledge"}) {
+    for (const char* wall : {"wall", "wallboth", "walledge", "walledgeboth"}) {
         const std::string path = generate(std::string(wall) + ".obj", wall);
         EXPECT_EQ(expect_same_verdict(path, verdicts(path, "")), 0);
         EXPECT_EQ(expect_same_verdict(path + " --no-resample", verdicts(path, " --no-resample")), 0);

@@ -237,6 +237,14 @@ TEST(CompatibleBlocks, StarsWithAndWithoutBlocksByHand) {
         {"cross", {X, -X, Y, -Y}, {{8, 2}}, {{3, 8}}},
         // 6-star: the cube partition, 8 points of valence 3.
         {"six", {X, -X, Y, -Y, Z, -Z}, {{6, 8}}, {{3, 24}}},
+        // 5-star (cross + z; audit, session 30): 5 quads on the sphere, V = 7, valences summing to 20: the 4 points
+        // between +z and two neighbouring horizontal directions of valence 3, the pole -z of valence 4 (and 2 of
+        // valence 2). Block: one free face (-z); the 8 cube edges away from it lie between two docked faces.
+        {"five", {X, -X, Y, -Y, Z}, {{6, 4}, {8, 1}}, {{3, 16}}},
+        // Non-planar 4-star (x, -x, y, z; audit, session 30): an orange about the axis of the empty cap between -y
+        // and -z, 2 poles of valence 4. Block: free faces -y, -z, one cube edge between them (valence 1), 5 between
+        // two docked faces (x / y, x / z, -x / y, -x / z, y / z).
+        {"four off the plane", {X, -X, Y, Z}, {{8, 2}}, {{1, 2}, {3, 10}}},
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.name);

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <map>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "bench_inputs.h"
@@ -1199,6 +1200,65 @@ TEST(SkeletonRepair, FeetOfAWallAcrossThePlateWithAShorterWallOnTheOtherSideAreS
     EXPECT_EQ(mesohex::compute_quality(mesohex::run_pipeline(in, unsplit).raw.mesh).hexes, 108);
 }
 
+// The repair splits the feet of a wall across a plate exactly where the analysis joins the plate's halves and docks the
+// chain (one test: join_plates_across_chains, docked_walls.h). The plate of the test above (4 x 4, chain x = 0 from y
+// = -2 to 2, vertices 10 .. 14; top wall over the whole chain, a shorter bottom wall over y in [-1, 1]), changed so
+// that the analysis' conditions fail on one chain edge other than the first, where the repair's own test (session 29:
+// the halves' angle measured on the first chain side only, no wall check) joined them and split 4 strips:
+//  (a) the right half bent up at the last chain edge: vertices (1, 1), (1, 2) lifted by tan 40 degrees, (2, 1), (2,
+//      2) by twice that. The right face on chain side (13, 14) leaves the chain at 40 degrees above the plane (into
+//      direction (1, 0, tan 40)), 140 degrees from the left face's (-1, 0, 0), below kDockPlateAngleDeg (150); on
+//      (12, 13) atan(tan 40 / 2) = 22.8 degrees, 157.2 apart; on (10, 11), (11, 12) 180. No pair of leaflets continues
+//      across every chain edge (the walls make 90 - 130 degrees with the halves): no join;
+//  (b) the plate flat, the top wall leaning 55 degrees towards +x (its vertex k rows up at (k sin 55, y, k cos 55)):
+//      the halves are 180 degrees apart on every edge (the wall 145 from the left half, 35 from the right: not a
+//      pair), but after the join every chain edge's wall leans 55 degrees from the plate's normal, above
+//      kDockWallTiltDeg (45): no join.
+// Either way no chain is docked, so no strip is split (the skeleton is returned unchanged, V 38, F 26), and the analysis
+// refuses the irregular fan at vertex 11, where the chain edges of 3 and 4 faces meet (word for word as with the
+// repair off).
+TEST(SkeletonRepair, FeetOfAnAcrossChainAreSplitOnlyWhereTheAnalysisDocksIt) {
+    mesohex::WallPlate w;
+    w.plate = 4;
+    w.start = 0;
+    w.length = 4;
+    w.column = 2;
+    Skeleton flat = mesohex::make_wall_plate(w, 1.0, 0.3);
+    ASSERT_EQ(flat.points.size(), 35u);
+    for (int j = 1; j <= 3; ++j) flat.points.push_back(flat.points[2 * 5 + j] + Vec3{0, 0, -1});
+    flat.radii.resize(flat.points.size(), 0.3);
+    for (int j = 1; j <= 2; ++j) flat.faces.push_back({2 * 5 + j, 2 * 5 + j + 1, 35 + j, 35 + j - 1});
+    mesohex::add_face_edges(flat);
+    ASSERT_EQ(mesohex::repair_skeleton(flat, {}).docked_foot_splits, 4);  // the test above: docked, split
+    Skeleton bent = flat;
+    const double lift = std::tan(40 * std::numbers::pi / 180);
+    for (const int v : {18, 19}) bent.points[v].z = lift;
+    for (const int v : {23, 24}) bent.points[v].z = 2 * lift;
+    Skeleton leaning = flat;
+    const double a = 55 * std::numbers::pi / 180;
+    for (int j = 0; j <= 4; ++j)
+        for (int k = 1; k <= 2; ++k) {
+            Vec3& p = leaning.points[25 + 2 * j + (k - 1)];
+            ASSERT_DOUBLE_EQ(p.z, k);  // the top wall's vertex k rows up
+            p.x = k * std::sin(a);
+            p.z = k * std::cos(a);
+        }
+    for (const Skeleton* in : {&bent, &leaning}) {
+        const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(*in, {});
+        EXPECT_EQ(res.docked_foot_splits, 0);
+        EXPECT_EQ(res.skeleton.points.size(), 38u);
+        EXPECT_EQ(res.skeleton.faces.size(), 26u);
+        std::string why;
+        try {
+            (void)mesohex::analyze_skeleton(res.skeleton);
+        } catch (const mesohex::Error& e) {
+            why = e.what();
+        }
+        EXPECT_NE(why.find("skeleton vertex 11"), std::string::npos) << why;
+        EXPECT_NE(why.find("2 fan edges shared by 3 and 4 faces meet here"), std::string::npos) << why;
+    }
+}
+
 // The band pillow on an L-shaped wall (docs/blocks.md "Docked walls turning in the plate's grid: the band pillow").
 // 6 x 6 plate, chain (1, 3) -> (3, 3) -> (3, 5) (4 edges, both ends inside, a 90-degree turn at (3, 3) with 1 plate
 // face on the inner side and 3 on the outer), a wall of 2 rows at +z, radius 0.1: V 49 + 10 = 59, E 84 + 18 = 102, F
@@ -1348,6 +1408,8 @@ TEST(SkeletonRepair, BandPillowLeavesAPathThatCannotRunOn) {
         EXPECT_NE(std::string(e.what()).find("band pillow, which makes the grid match, did not take this chain"),
                   std::string::npos)
             << e.what();
+        // The pillow's turn limit, from its constant: acos(-0.25) = 104.48 degrees.
+        EXPECT_NE(std::string(e.what()).find("turns of at most about 104 degrees"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("edit:"), std::string::npos) << e.what();
     }
     // With the pillow off the refusal says so (and names no condition of the pillow's).

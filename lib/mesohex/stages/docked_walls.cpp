@@ -205,6 +205,8 @@ ChainStar chain_star(const Skeleton& s, const SkeletonAnalysis& an, const LocalF
 
 }  // namespace
 
+double band_pillow_max_turn_deg() { return std::acos(kBandPillowMinTurnCos) * 180 / std::numbers::pi; }
+
 bool docked_foot_matches(int chain_edges, int plate_faces, int plate_border, bool straight) {
     if (chain_edges == 2) return plate_faces == 4 && plate_border == 0 && straight;
     return chain_edges == 1 && straight &&
@@ -212,6 +214,21 @@ bool docked_foot_matches(int chain_edges, int plate_faces, int plate_border, boo
 }
 
 namespace {
+
+// What the refusal of a chain whose feet do not match the plate's grid says of the band pillow and the edit: that it
+// ran and could not take the chain (ran), or that it is off.
+std::string band_pillow_words(bool ran) {
+    if (!ran)
+        return " (the repair's band pillow, which makes such a grid match, is off: --no-docked-band-pillow or "
+               "--no-resample); edit: mesh with the band pillow and resampling on, or re-sample the plate so that its "
+               "grid lines follow the wall";
+    return " (the repair's band pillow, which makes the grid match, did not take this chain: it needs the chain's path "
+           "to run on straight through the plate's grid from each inside end to the plate's border, through vertices "
+           "of 4 plate faces, no branch, no other chain, no vertex twice, turns of at most about " +
+           std::to_string(std::lround(band_pillow_max_turn_deg())) +
+           " degrees); edit: re-sample the plate so that its grid lines follow the wall, or so that the wall's line "
+           "runs on through vertices of 4 plate faces to the border";
+}
 
 // Checks chain vertex v of a docked chain (plate P); refuses with an edit suggestion. With band_pillow, a plate grid
 // that does not match the foot lists v in an.docked_unmatched instead.
@@ -235,16 +252,7 @@ void check_chain_vertex(const Skeleton& s, SkeletonAnalysis& an, const LocalFace
                "every chain vertex, 2 on each side of the wall (2 faces and 2 border edges where the chain ends "
                "on the plate's border); here " +
                    std::to_string(st.plate_faces) + " plate faces, " + std::to_string(nc) + " chain edges" +
-                   (pillow_ran
-                        ? " (the repair's band pillow, which makes the grid match, did not take this chain: it "
-                          "needs the chain's path to run on straight through the plate's grid from each inside end "
-                          "to the plate's border, through vertices of 4 plate faces, no branch, no other chain, no "
-                          "vertex twice, turns of at most about 105 degrees); edit: re-sample the plate so that its "
-                          "grid lines follow the wall, or so that the wall's line runs on through vertices of 4 "
-                          "plate faces to the border"
-                        : " (the repair's band pillow, which makes such a grid match, is off: "
-                          "--no-docked-band-pillow or --no-resample); edit: mesh with the band pillow and "
-                          "resampling on, or re-sample the plate so that its grid lines follow the wall"));
+                   band_pillow_words(pillow_ran));
     std::array<int, 2> side_wall{-1, -1};  // wall leaflet on the plate's up / down side at v
     for (int c : st.chain) {
         int g = -1;
@@ -429,7 +437,8 @@ int inside_end(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& 
 
 // A chain with all ends on borders that cuts its plate into two leaflets, with a leaflet stopping on it: joins the
 // halves (join_plate_halves) when every chain edge then splits into that one plate and walls. True when joined; else
-// the analysis is left exactly as it was (the chain stays a fan).
+// the analysis is left exactly as it was (the chain stays a fan). The one test of such a chain: the repair's view of
+// docked plates takes it through join_plates_across_chains.
 bool join_across_chain(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp) {
     std::vector<int> vertices;
     if (chain_ends(s, comp, vertices).size() != 2 || inside_end(s, an, lf, comp) >= 0 ||
@@ -486,6 +495,41 @@ void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& l
 
 }  // namespace
 
+namespace {
+
+// The fan-edge components (chains) of the analysis, each as its edges.
+std::vector<std::vector<int>> fan_components(const Skeleton& s, const SkeletonAnalysis& an) {
+    const int ne = static_cast<int>(s.edges.size());
+    std::vector<char> seen(ne, 0);
+    std::vector<std::vector<int>> comps;
+    for (int e = 0; e < ne; ++e)
+        if (an.edge_degree[e] >= 3 && !seen[e]) comps.push_back(fan_component(s, an, e, seen));
+    return comps;
+}
+
+// Per component: 1 when join_across_chain joined its plate's halves. Every plate a chain cuts in two is joined before
+// any chain docks: a join renumbers the leaflets and turns the second half's faces, which must not happen under a
+// chain already docked on them.
+std::vector<char> join_across_chains(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf,
+                                     const std::vector<std::vector<int>>& comps) {
+    std::vector<char> across(comps.size(), 0);
+    for (std::size_t i = 0; i < comps.size(); ++i) across[i] = join_across_chain(s, an, lf, comps[i]) ? 1 : 0;
+    return across;
+}
+
+}  // namespace
+
+std::vector<char> join_plates_across_chains(const Skeleton& s, SkeletonAnalysis& an) {
+    std::vector<char> on(s.edges.size(), 0);
+    if (std::none_of(an.edge_degree.begin(), an.edge_degree.end(), [](int d) { return d >= 3; })) return on;
+    const LocalFaces lf = local_faces(s, an);
+    const std::vector<std::vector<int>> comps = fan_components(s, an);
+    const std::vector<char> across = join_across_chains(s, an, lf, comps);
+    for (std::size_t i = 0; i < comps.size(); ++i)
+        for (int e : comps[i]) on[e] = across[i];
+    return on;
+}
+
 void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow, bool pillow_ran) {
     const int nv = static_cast<int>(s.points.size()), ne = static_cast<int>(s.edges.size());
     an.edge_docked.assign(ne, 0);
@@ -493,14 +537,8 @@ void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow
     an.docked_unmatched.clear();
     if (std::none_of(an.edge_degree.begin(), an.edge_degree.end(), [](int d) { return d >= 3; })) return;
     const LocalFaces lf = local_faces(s, an);
-    std::vector<char> seen(ne, 0);
-    std::vector<std::vector<int>> comps;
-    for (int e = 0; e < ne; ++e)
-        if (an.edge_degree[e] >= 3 && !seen[e]) comps.push_back(fan_component(s, an, e, seen));
-    // Every plate a chain cuts in two is joined before any chain docks: a join renumbers the leaflets and turns the
-    // second half's faces, which must not happen under a chain already docked on them.
-    std::vector<char> across(comps.size(), 0);
-    for (std::size_t i = 0; i < comps.size(); ++i) across[i] = join_across_chain(s, an, lf, comps[i]) ? 1 : 0;
+    const std::vector<std::vector<int>> comps = fan_components(s, an);
+    const std::vector<char> across = join_across_chains(s, an, lf, comps);
     for (std::size_t i = 0; i < comps.size(); ++i)
         dock_component(s, an, lf, comps[i], across[i] != 0, band_pillow, pillow_ran);
 }

@@ -49,6 +49,15 @@ inline constexpr double kDockPlateAngleDeg = 150;
 // The raw minimum scaled Jacobian falls as the wall leans (measurements: docs/blocks.md, "Docked walls").
 inline constexpr double kDockWallTiltDeg = 45;
 
+// The band pillow (skeleton_repair.cpp, SkeletonRepairOptions::docked_band_pillow) puts a path vertex's copy on the
+// miter of the path's two sides' directions into their faces (on one side), only where the cosine of the angle between
+// them, i.e. of the path's turn there, exceeds kBandPillowMinTurnCos (dimensionless): turns of at most
+// acos(-0.25) = 104.5 degrees (the miter then at most 1 / cos(52.2 degrees) = 1.63 band widths long). The analysis'
+// refusal of a chain the pillow did not take states the limit in degrees (band_pillow_max_turn_deg).
+inline constexpr double kBandPillowMinTurnCos = -0.25;
+// acos(kBandPillowMinTurnCos) in degrees: the sharpest turn of a band path the pillow takes.
+double band_pillow_max_turn_deg();
+
 // Analysis step (after leaflets and face normals, before vertex classes): fills analysis.edge_docked and
 // analysis.vertex_plate. A fan chain with an end inside a leaflet that cannot be docked is refused here, naming the
 // vertex and why; with band_pillow, a chain vertex whose plate grid does not match the foot (the straight-through
@@ -60,6 +69,18 @@ inline constexpr double kDockWallTiltDeg = 45;
 // the chain vertices.
 void find_docked_walls(const Skeleton& skeleton, SkeletonAnalysis& analysis, bool band_pillow = false,
                        bool pillow_ran = false);
+
+// The first step of find_docked_walls, also the repair's view of docked plates (skeleton_repair.cpp: the foot split
+// and the band pillow take the chains the analysis docks): every fan-edge chain (a path, 2 ends) with all ends on
+// borders, cutting its plate into two leaflets, on which a leaflet stops (the two chain edges at an inner vertex carry
+// different leaflets: a wall across a plate with a shorter wall on the other side) has its plate's halves joined into
+// one leaflet (the second's faces take the first's id, turned to its orientation) when the halves are the one pair of
+// leaflets continuing across every chain edge (one face each, in-plane directions at least kDockPlateAngleDeg apart),
+// they run the chain edges with one relative orientation, and every chain edge then splits into that plate and walls
+// (at most 4 faces, one wall per side, each within kDockWallTiltDeg of the plate's normal). Needs the analysis'
+// incidence, edge degrees, faces, leaflets and face normals (analyze_leaflets); changes face_leaflet, leaflets and the
+// turned faces' face_vertices, face_edges, face_normal. Returns per edge 1 on a chain whose halves were joined.
+std::vector<char> join_plates_across_chains(const Skeleton& skeleton, SkeletonAnalysis& analysis);
 
 // The foot condition at a chain vertex with chain_edges chain edges (1 at an end, 2 inside), plate_faces faces of the
 // plate and plate_border plate border edges there, straight when each plate face holds at most one chain edge (exactly

@@ -1013,6 +1013,13 @@ std::vector<Shape> wall_shapes() {
          [](const Params& p) {
              return make_wall_plate({p.n, 2, p.m, -1, 0, 1}, p.L, p.r);
          }},
+        {"walledgeboth",
+         {6, 2},
+         {2, 1},
+         "as walledge, with a second wall of m rows below the plate on the same chain (fan edges of degree 4)",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, -1, 0, 2}, p.L, p.r);
+         }},
         {"flange",
          {6, 2},
          {2, 1},

@@ -621,13 +621,18 @@ std::vector<Branch> extract_branches(const Skeleton& s, const std::vector<int>& 
     return branches;
 }
 
-SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& options) {
-    validate_input(s, options);
+SkeletonAnalysis analyze_leaflets(const Skeleton& s) {
     SkeletonAnalysis an;
     build_incidence(s, an);
     const EdgeFaces edge_faces = build_faces(s, an);
     find_leaflets(edge_faces, an);
     compute_face_normals(s, an);
+    return an;
+}
+
+SkeletonAnalysis analyze_skeleton(const Skeleton& s, const AnalysisOptions& options) {
+    validate_input(s, options);
+    SkeletonAnalysis an = analyze_leaflets(s);
     find_docked_walls(s, an, options.docked_band_pillow, options.docked_band_pillow_ran);
     classify_vertices(s, options, an);
     check_rooted_branches(s, an);

@@ -162,6 +162,14 @@ struct AnalysisOptions {
 // Complexity: O(V + E log E + F).
 SkeletonAnalysis analyze_skeleton(const Skeleton& skeleton, const AnalysisOptions& options = {});
 
+// The first steps of analyze_skeleton only: incidence, faces with their edges and the edge degrees, leaflets
+// (consistently oriented) and face normals; no input validation beyond those steps' own (Error(InvalidInput) naming a
+// face whose side is not an edge, or of zero area), nothing classified, docked or counted. For a stage that needs the
+// analysis' leaflets on a skeleton it is changing (skeleton_repair.cpp's view of docked plates, which takes the
+// analysis' joins across chains: join_plates_across_chains, docked_walls.h). Preconditions: indices in range.
+// O(V + E log E + F).
+SkeletonAnalysis analyze_leaflets(const Skeleton& skeleton);
+
 // The branch extraction of analyze_skeleton over plain data, also for a skeleton the analysis would refuse
 // (adaptation resamples the branches of skeletons before they are meshable). vertex_edge_begin / vertex_edges: the
 // incidence (CSR, edges in increasing id per vertex); branch_edge[e] != 0: e is a branch edge; joint[v] != 0: v has

@@ -1,6 +1,7 @@
 #include "mesohex/stages/skeleton_repair.h"
 
 #include "mesohex/stages/docked_walls.h"
+#include "mesohex/stages/skeleton_analysis.h"
 
 #include <algorithm>
 #include <array>
@@ -340,102 +341,32 @@ struct DockedPlates {
     std::vector<std::vector<int>> chain;  // per vertex: its chain sides' other ends
     std::vector<int> plate;               // per vertex: its plate (-1: none)
     std::vector<char> branch;             // per vertex: 1 when a branch edge (not a face side) ends there
-    std::vector<char> across;             // per vertex: 1 on a chain whose plate halves were joined (join_plate_halves)
+    std::vector<char> across;             // per vertex: 1 on a chain whose plate halves were joined
 };
 
 const std::vector<int>& faces_of(const DockedPlates& dp, int a, int b) { return dp.l.side_faces.at(std::minmax(a, b)); }
 
-// Per face: the leaflet of faces joined through sides of exactly 2 faces, named by its lowest face.
-std::vector<int> two_face_leaflets(const Skeleton& s, const Leaflets& l) {
-    std::vector<int> leaflet(s.faces.size(), -1);
-    for (std::size_t f0 = 0; f0 < s.faces.size(); ++f0) {
-        if (leaflet[f0] >= 0) continue;
-        std::vector<int> todo{static_cast<int>(f0)};
-        leaflet[f0] = static_cast<int>(f0);
-        while (!todo.empty()) {
-            const int f = todo.back();
-            todo.pop_back();
-            for (int i = 0; i < 4; ++i) {
-                const std::vector<int>& fs = l.side_faces.at(std::minmax(s.faces[f][i], s.faces[f][(i + 1) % 4]));
-                if (fs.size() != 2) continue;
-                for (const int g : fs)
-                    if (leaflet[g] < 0) leaflet[g] = static_cast<int>(f0), todo.push_back(g);
-            }
-        }
-    }
+// Per face: its leaflet as the analysis finds it (faces joined through sides of exactly 2 faces), named by its lowest
+// face, after the analysis' joins across chains (join_plates_across_chains, docked_walls.h: a chain from border to
+// border cuts its plate into two leaflets; when a leaflet stops on it, a wall across the plate with a shorter wall on
+// the other side, the analysis joins the halves and docks the chain). The same test as the analysis', so that the feet
+// are split exactly on the chains it docks. across: per vertex, 1 on such a chain.
+std::vector<int> docked_leaflets(const Skeleton& s, std::vector<char>& across) {
+    across.assign(s.points.size(), 0);
+    SkeletonAnalysis an = analyze_leaflets(s);
+    const std::vector<char> joined = join_plates_across_chains(s, an);
+    for (std::size_t e = 0; e < joined.size(); ++e)
+        if (joined[e]) across[s.edges[e][0]] = across[s.edges[e][1]] = 1;
+    std::vector<int> leaflet(s.faces.size());
+    for (std::size_t f = 0; f < leaflet.size(); ++f) leaflet[f] = an.leaflets[an.face_leaflet[f]].faces.front();
     return leaflet;
-}
-
-// Unit direction from side (a, b) into face f, perpendicular to the side (towards the face's centroid).
-Vec3 into_face_of(const Skeleton& s, int f, int a, int b) {
-    const Vec3 t = normalized(s.points[b] - s.points[a]);
-    Vec3 c{};
-    for (const int w : s.faces[f]) c += 0.25 * s.points[w];
-    Vec3 d = c - 0.5 * (s.points[a] + s.points[b]);
-    d = d - dot(d, t) * t;
-    return norm(d) > 0 ? normalized(d) : d;
-}
-
-// The leaflets of the faces on side (a, b), sorted, without repeats.
-std::vector<int> side_leaflets(const DockedPlates& dp, int a, int b) {
-    std::vector<int> l;
-    for (const int f : faces_of(dp, a, b)) l.push_back(dp.leaflet[f]);
-    std::sort(l.begin(), l.end());
-    l.erase(std::unique(l.begin(), l.end()), l.end());
-    return l;
-}
-
-// A chain of sides of 3 or more faces from border to border cuts its plate into two leaflets; when a leaflet stops on
-// it (a wall across the plate with a shorter wall on the other side) the analysis joins the two halves and docks the
-// chain (docked_walls.h): the same here, so that the feet are split. The halves: the two leaflets with one face on
-// every chain side whose faces on the first side are at least kDockPlateAngleDeg apart, the only such pair; a chain
-// with a side of 2 faces of one leaflet (a plate it ends inside) is left.
-void join_plate_halves(const Skeleton& s, DockedPlates& dp, int u0, std::vector<char>& seen) {
-    std::vector<int> comp{u0};
-    seen[u0] = 1;
-    for (std::size_t i = 0; i < comp.size(); ++i)
-        for (const int w : dp.chain[comp[i]])
-            if (!seen[w]) seen[w] = 1, comp.push_back(w);
-    std::vector<std::array<int, 2>> sides;
-    bool stops = false;
-    for (const int u : comp) {
-        for (const int w : dp.chain[u])
-            if (u < w) sides.push_back({u, w});
-        stops = stops || (dp.chain[u].size() == 2 &&
-                          side_leaflets(dp, u, dp.chain[u][0]) != side_leaflets(dp, u, dp.chain[u][1]));
-    }
-    if (!stops) return;
-    std::map<int, std::size_t> once;  // leaflet -> chain sides with exactly one face of it
-    for (const std::array<int, 2>& sd : sides) {
-        std::map<int, int> per;
-        for (const int f : faces_of(dp, sd[0], sd[1])) ++per[dp.leaflet[f]];
-        for (const auto& [l, c] : per) {
-            if (c > 1) return;  // a plate the chain ends inside (or a leaflet crossing itself)
-            ++once[l];
-        }
-    }
-    const std::vector<int>& f0 = faces_of(dp, sides[0][0], sides[0][1]);
-    std::vector<std::array<int, 2>> pairs;
-    for (std::size_t i = 0; i < f0.size(); ++i)
-        for (std::size_t j = i + 1; j < f0.size(); ++j) {
-            const int a = dp.leaflet[f0[i]], b = dp.leaflet[f0[j]];
-            if (once[a] != sides.size() || once[b] != sides.size()) continue;
-            const double c =
-                dot(into_face_of(s, f0[i], sides[0][0], sides[0][1]), into_face_of(s, f0[j], sides[0][0], sides[0][1]));
-            if (c <= std::cos(kDockPlateAngleDeg * std::numbers::pi / 180)) pairs.push_back({a, b});
-        }
-    if (pairs.size() != 1) return;
-    const int keep = std::min(pairs[0][0], pairs[0][1]), drop = std::max(pairs[0][0], pairs[0][1]);
-    for (int& l : dp.leaflet)
-        if (l == drop) l = keep;
-    for (const int u : comp) dp.across[u] = 1;
 }
 
 DockedPlates docked_plates(const Skeleton& s) {
     const int n = static_cast<int>(s.points.size());
     DockedPlates dp;
     dp.l = make_leaflets(s);
-    dp.leaflet = two_face_leaflets(s, dp.l);
+    dp.leaflet = docked_leaflets(s, dp.across);
     dp.sides.resize(n);
     for (const auto& [key, fs] : dp.l.side_faces) {
         dp.sides[key.first].push_back(key.second);
@@ -447,13 +378,9 @@ DockedPlates docked_plates(const Skeleton& s) {
             dp.branch[e[0]] = dp.branch[e[1]] = 1;
     dp.chain.resize(n);
     dp.plate.assign(n, -1);
-    dp.across.assign(n, 0);
     for (int u = 0; u < n; ++u)
         for (const int v : dp.sides[u])
             if (faces_of(dp, u, v).size() >= 3) dp.chain[u].push_back(v);
-    std::vector<char> seen(n, 0);
-    for (int u = 0; u < n; ++u)
-        if (!seen[u] && !dp.chain[u].empty()) join_plate_halves(s, dp, u, seen);
     for (int u = 0; u < n; ++u) {
         for (const int w : dp.chain[u]) {
             std::map<int, int> per_leaflet;
@@ -528,7 +455,7 @@ int split_beyond_wall_end(const Skeleton& s, const DockedPlates& dp, int u, doub
 // counts), the chain side with fewer faces at factor x r_u from u (the foot beyond that wall's end). A side to a band
 // copy (band[v], pillow_docked_bands) is left: the band is the foot. Returns the number of strips split.
 int split_docked_feet(Skeleton& s, double factor, const std::vector<char>& band) {
-    if (!strips_splittable(s, factor)) return 0;
+    if (!strips_splittable(s, factor) || !has_side_of_three_faces(s)) return 0;  // a docked chain is a fan line
     const DockedPlates dp = docked_plates(s);
     const std::vector<char> docked = docked_chain_vertices(dp);
     std::map<EdgeKey, Cut> cuts;
@@ -713,7 +640,7 @@ bool band_sides(const Skeleton& s, const DockedPlates& dp, const std::vector<std
 
 // The direction of path vertex i's copy on side k, per unit of band width: the miter of the side's directions into
 // its faces at an inner vertex (1 / cos of half the turn long), along its border side on that side at a path end (1 /
-// cos of the border's angle off the side's direction long). False for a turn sharper than about 105 degrees or a
+// cos of the border's angle off the side's direction long). False for a turn sharper than acos(kBandPillowMinTurnCos) (104.5 degrees, docked_walls.h) or a
 // border leaving the path at a grazing angle.
 bool band_copy(const Skeleton& s, const DockedPlates& dp, const std::vector<int>& path, const BandSide& side,
                std::size_t i, Vec3& m) {
@@ -721,7 +648,7 @@ bool band_copy(const Skeleton& s, const DockedPlates& dp, const std::vector<int>
     const auto into = [&](std::size_t e) { return into_quad(s, side.edge_face[e], path[e], path[e + 1]); };
     if (i > 0 && i + 1 < path.size()) {
         const Vec3 d1 = into(i - 1), d2 = into(i);
-        if (!(dot(d1, d2) > -0.25)) return false;
+        if (!(dot(d1, d2) > kBandPillowMinTurnCos)) return false;
         m = (1 / (1 + dot(d1, d2))) * (d1 + d2);
         return true;
     }

@@ -156,7 +156,7 @@ struct SkeletonRepairOptions {
     // the analysis docks. Hexes: + 4 per path edge + 4 per path end on the border (before the foot split beyond the
     // inside ends). Chains that match are left as they are. Not done (the analysis refuses as before) when the path
     // cannot run on (a vertex of other than 4 plate faces, a branch, another chain, a vertex met twice) or turns by
-    // more than about 105 degrees. docs/blocks.md ("Docked walls turning in the plate's grid: the band pillow").
+    // more than acos(kBandPillowMinTurnCos) = 104.5 degrees (docked_walls.h). docs/blocks.md ("Docked walls turning in the plate's grid: the band pillow").
     bool docked_band_pillow = true;
     // Branches on fan-edge ends (the paper's limitation 3): the fan edge is retracted from the branch's vertex, which
     // becomes a leaflet corner (stages/fan_end_repair.h; a single fan edge is split in two first, with the face strips
