@@ -605,20 +605,21 @@ TEST(SkeletonRepair, StubKeptAsSideBranch) {
 
 // A side stub rooted where its axis leaves the sibling's tube (side_stub_root_exit). The configuration of
 // StubKeptAsSideBranch (c = 0, parent (0, 0, -1), sibling up to (0, 0, 2), the stub 0.3 long at 35 degrees towards
-// +x, every radius 0.1). The stub's axis at arc t lies t sin 35 off the sibling's; sampled at t_k = 0.3 k / 128, the
-// first reaching exit x 0.1 is k = ceil(exit x 0.1 x 128 / (0.3 sin 35)): exit 1 gives k = 75 (74.38), q = (0, 0,
-// 0.3 x 75 / 128 x cos 35) = (0, 0, 0.14399), beyond c's ball (0.1), c a joint (no bridge rule); the edge (q, e) is
-// 0.19991 long (e stays) and leaves the sibling 59.4 degrees from +z instead of 90. With a fourth branch along -x
-// (90 degrees from the sibling and the parent: no other close pair) c stays a branching point and q must lie
-// 0.7 x (0.1 + 0.1) = 0.14 from it: exit 1 still gives 0.14399; exit 0.9 gives k = 67 (66.95), arc 0.3 x 67 / 128 x
-// cos 35 = 0.12863 < 0.14, so q moves out to 0.14 (bisection, 1e-9). exit 0: q nearest e, (0, 0, 0.24575); so too
-// with the stub's end thinner than the sibling (r_e 0.09 < r_q 0.1; 0.172 off it, still a side stub at reach 1.5).
+// +x, every radius 0.1) with a fourth branch along -x (90 degrees from the sibling and the parent: no other close
+// pair), so that c stays a branching point without the stub. The stub's axis at arc t lies t sin 35 off the
+// sibling's; sampled at t_k = 0.3 k / 128, the first reaching exit x 0.1 is k = ceil(exit x 0.1 x 128 / (0.3 sin
+// 35)): exit 1 gives k = 75 (74.38), q = (0, 0, 0.3 x 75 / 128 x cos 35) = (0, 0, 0.14399), beyond c's ball (0.1)
+// and the bridge clearance 0.7 x (0.1 + 0.1) = 0.14; the edge (q, e) is 0.19991 long (e stays) and leaves the sibling
+// 59.4 degrees from +z instead of 90. exit 0.9 gives k = 67 (66.95), arc 0.3 x 67 / 128 x cos 35 = 0.12863 < 0.14,
+// so q moves out to the clearance (bisection, 1e-9). q stays at the point nearest e, (0, 0, 0.24575), with exit 0,
+// with the stub's end thinner than the sibling (r_e 0.09 < r_q 0.1; 0.172 off it, still a side stub at reach 1.5),
+// and without the fourth branch (c becomes a joint).
 TEST(SkeletonRepair, SideStubRootedWhereTheStubLeaves) {
     Skeleton in;
     const double r = 0.1, sin35 = std::sin(35 * kDeg), cos35 = std::cos(35 * kDeg);
-    in.points = {{0, 0, -1}, {0, 0, 0}, {0, 0, 2}, {0.3 * sin35, 0, 0.3 * cos35}};
-    in.radii = {r, r, r, r};
-    in.edges = {{0, 1}, {1, 2}, {1, 3}};
+    in.points = {{0, 0, -1}, {0, 0, 0}, {0, 0, 2}, {0.3 * sin35, 0, 0.3 * cos35}, {-1, 0, 0}};
+    in.radii = {r, r, r, r, r};
+    in.edges = {{0, 1}, {1, 2}, {1, 3}, {1, 4}};
     mesohex::SkeletonRepairOptions o;
     o.side_stub_reach = 1.5;
     const auto root = [&](const Skeleton& sk, double exit) {
@@ -640,18 +641,17 @@ TEST(SkeletonRepair, SideStubRootedWhereTheStubLeaves) {
     EXPECT_NEAR(z1, 0.14399, 1e-5);
     EXPECT_NEAR(root(in, 1.0), z1, 1e-12);
     EXPECT_NEAR(distance(Vec3{0, 0, z1}, in.points[3]), 0.19991, 1e-5);
-    EXPECT_NEAR(root(in, 0.0), 0.3 * cos35, 1e-12);
-    Skeleton four = in;  // c keeps three branches without the stub: the bridge (c, q) must survive adaptation
-    four.points.push_back({-1, 0, 0});
-    four.radii.push_back(r);
-    four.edges.push_back({1, 4});
-    EXPECT_NEAR(root(four, 1.0), z1, 1e-12);
     EXPECT_NEAR(0.3 * 67 / 128 * cos35, 0.12863, 1e-5);
-    EXPECT_NEAR(root(four, 0.9), 0.7 * (1 + 1e-6) * (r + r), 1e-9);  // trunk_clearance, strictly above
-    EXPECT_NEAR(root(four, 0.0), 0.3 * cos35, 1e-12);
-    Skeleton thin = in;  // the stub's end thinner than the sibling (0.09 < 0.1): rooted nearest e whatever the exit
+    EXPECT_NEAR(root(in, 0.9), 0.7 * (1 + 1e-6) * (r + r), 1e-9);  // trunk_clearance, strictly above
+    EXPECT_NEAR(root(in, 0.0), 0.3 * cos35, 1e-12);
+    Skeleton thin = in;
     thin.radii[3] = 0.09;
     EXPECT_NEAR(root(thin, 1.0), 0.3 * cos35, 1e-12);
+    Skeleton three = in;  // without the fourth branch c becomes a joint
+    three.points.pop_back();
+    three.radii.pop_back();
+    three.edges.pop_back();
+    EXPECT_NEAR(root(three, 1.0), 0.3 * cos35, 1e-12);
 }
 
 // A side stub whose end lies inside its root's ball is lengthened. The sibling straight up from c = (0, 0, 0) (parent
@@ -1134,6 +1134,7 @@ TEST(SkeletonRepair, RepairedTreesGiveTheRecordedBits) {
             o.keep_sibling_joints = variant == 1;
             o.merge_branching_ends = variant == 1;
             if (variant == 2) o.side_stub_reach = 0;
+            o.side_stub_root_exit = 0;  // the side stubs' roots of the recording (the point nearest the stub's end)
             const mesohex::SkeletonRepairResult r = mesohex::repair_skeleton(s, o);
             mix(r.skeleton.points.data(), r.skeleton.points.size() * sizeof(Vec3));
             mix(r.skeleton.radii.data(), r.skeleton.radii.size() * sizeof(double));

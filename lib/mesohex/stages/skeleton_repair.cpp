@@ -1106,8 +1106,9 @@ int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const W
     double nearest = 0;
     const AtArc qn = nearest_on_walk(s, keep, s.points[e], nearest);
     const bool bridge = g.degree[keep.verts[0]] >= 4;  // c stays a branching point without the stub
-    // Only a stub at least as fat at its end as the other branch there is rooted where it leaves (side_stub_root_exit).
-    const double exit = s.radii[e] >= qn.r ? o.side_stub_root_exit : 0.0;
+    // Rooted where it leaves (side_stub_root_exit) only at a point that stays a branching point, for a stub at least as
+    // fat at its end as the other branch there.
+    const double exit = s.radii[e] >= qn.r && bridge ? o.side_stub_root_exit : 0.0;
     const double arc = side_root_arc(s, keep, stub, exit, bridge, o.trunk_clearance, nearest);
     const AtArc q = arc == nearest ? qn : at_arc(s, keep, arc);
     const double min_length = o.side_stub_min_length;
