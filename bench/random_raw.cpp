@@ -5,7 +5,8 @@
 //   mesohex_random_raw FIRST LAST [free_branching_reach [trunks [stubs [keep_joints [merge [joint [wide]]]]]]]   (the
 //   others 0/1: SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends, joint_trunks,
 //   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every
-//   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, JUNCTION_SPLIT=H SkeletonRepairOptions::
+//   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, SIDE_STUB_ROOT_EXIT=K its side_stub_root_exit,
+//   JUNCTION_SPLIT=H SkeletonRepairOptions::
 //   junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
 //   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
@@ -92,6 +93,7 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_SPLIT_GAP")) po.repair.junction_split_gap_deg = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_CLEARANCE")) po.repair.junction_split_clearance = std::atof(k);
     if (const char* k = std::getenv("SIDE_STUB_MIN_LENGTH")) po.repair.side_stub_min_length = std::atof(k);
+    if (const char* k = std::getenv("SIDE_STUB_ROOT_EXIT")) po.repair.side_stub_root_exit = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_COVER")) po.raw_mesh.cover.fraction = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_COVER_MIN_DEGREE")) po.raw_mesh.cover.min_degree = std::atoi(k);
     if (const char* k = std::getenv("JUNCTION_COVER_FLOOR")) po.raw_mesh.cover.sj_floor = std::atof(k);

@@ -604,6 +604,57 @@ TEST(SkeletonRepair, StubKeptAsSideBranch) {
     EXPECT_EQ(absorbed.absorbed_stubs, 1);
 }
 
+// A side stub rooted where its axis leaves the sibling's tube (side_stub_root_exit). The configuration of
+// StubKeptAsSideBranch (c = 0, parent (0, 0, -1), sibling up to (0, 0, 2), the stub 0.3 long at 35 degrees towards
+// +x, every radius 0.1) with a fourth branch along -x (90 degrees from the sibling and the parent: no other close
+// pair), so that c stays a branching point without the stub. The stub's axis at arc t lies t sin 35 off the
+// sibling's; sampled at t_k = 0.3 k / 128, the first reaching exit x 0.1 is k = ceil(exit x 0.1 x 128 / (0.3 sin
+// 35)): exit 1 gives k = 75 (74.38), q = (0, 0, 0.3 x 75 / 128 x cos 35) = (0, 0, 0.14399), beyond c's ball (0.1)
+// and the bridge clearance 0.7 x (0.1 + 0.1) = 0.14; the edge (q, e) is 0.19991 long (e stays) and leaves the sibling
+// 59.4 degrees from +z instead of 90. exit 0.9 gives k = 67 (66.95), arc 0.3 x 67 / 128 x cos 35 = 0.12863 < 0.14,
+// so q moves out to the clearance (bisection, 1e-9). q stays at the point nearest e, (0, 0, 0.24575), with exit 0,
+// with the stub's end thinner than the sibling (r_e 0.09 < r_q 0.1; 0.172 off it, still a side stub at reach 1.5),
+// and without the fourth branch (c becomes a joint).
+TEST(SkeletonRepair, SideStubRootedWhereTheStubLeaves) {
+    Skeleton in;
+    const double r = 0.1, sin35 = std::sin(35 * kDeg), cos35 = std::cos(35 * kDeg);
+    in.points = {{0, 0, -1}, {0, 0, 0}, {0, 0, 2}, {0.3 * sin35, 0, 0.3 * cos35}, {-1, 0, 0}};
+    in.radii = {r, r, r, r, r};
+    in.edges = {{0, 1}, {1, 2}, {1, 3}, {1, 4}};
+    mesohex::SkeletonRepairOptions o;
+    o.side_stub_reach = 1.5;
+    const auto root = [&](const Skeleton& sk, double exit) {
+        o.side_stub_root_exit = exit;
+        const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(sk, o);
+        EXPECT_EQ(res.side_stubs, 1);
+        EXPECT_EQ(res.absorbed_stubs + res.trunks + res.junction_splits, 0);
+        const Skeleton& s = res.skeleton;
+        EXPECT_EQ(s.points.size(), sk.points.size() + 1);  // q appended
+        const int q = static_cast<int>(s.points.size()) - 1;
+        EXPECT_EQ(degree(s, q), 3);
+        EXPECT_NEAR(distance(s.points[3], sk.points[3]), 0, 1e-12);  // e stays
+        EXPECT_NEAR(s.radii[q], r, 1e-12);
+        EXPECT_NEAR(s.points[q].x, 0, 1e-12);
+        EXPECT_NEAR(s.points[q].y, 0, 1e-12);
+        return s.points[q].z;
+    };
+    const double z1 = 0.3 * 75 / 128 * cos35;
+    EXPECT_NEAR(z1, 0.14399, 1e-5);
+    EXPECT_NEAR(root(in, 1.0), z1, 1e-12);
+    EXPECT_NEAR(distance(Vec3{0, 0, z1}, in.points[3]), 0.19991, 1e-5);
+    EXPECT_NEAR(0.3 * 67 / 128 * cos35, 0.12863, 1e-5);
+    EXPECT_NEAR(root(in, 0.9), 0.7 * (1 + 1e-6) * (r + r), 1e-9);  // trunk_clearance, strictly above
+    EXPECT_NEAR(root(in, 0.0), 0.3 * cos35, 1e-12);
+    Skeleton thin = in;
+    thin.radii[3] = 0.09;
+    EXPECT_NEAR(root(thin, 1.0), 0.3 * cos35, 1e-12);
+    Skeleton three = in;  // without the fourth branch c becomes a joint
+    three.points.pop_back();
+    three.radii.pop_back();
+    three.edges.pop_back();
+    EXPECT_NEAR(root(three, 1.0), 0.3 * cos35, 1e-12);
+}
+
 // A side stub whose end lies inside its root's ball is lengthened. The sibling straight up from c = (0, 0, 0) (parent
 // (0, 0, -1)), the stub 0.3 long at theta = asin(0.85 / 3) = 16.46 degrees towards +x, radius 0.1 everywhere: at arc s
 // the branches are 2 s sin(theta / 2) = 0.2863 s apart, below 0.2 up to s = 0.70 > 0.3 (a stub); its end e = (0.085, 0,
@@ -1084,6 +1135,7 @@ TEST(SkeletonRepair, RepairedTreesGiveTheRecordedBits) {
             o.keep_sibling_joints = variant == 1;
             o.merge_branching_ends = variant == 1;
             if (variant == 2) o.side_stub_reach = 0;
+            o.side_stub_root_exit = 0;  // the side stubs' roots of the recording (the point nearest the stub's end)
             const mesohex::SkeletonRepairResult r = mesohex::repair_skeleton(s, o);
             mix(r.skeleton.points.data(), r.skeleton.points.size() * sizeof(Vec3));
             mix(r.skeleton.radii.data(), r.skeleton.radii.size() * sizeof(double));

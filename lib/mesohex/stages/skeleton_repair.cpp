@@ -989,13 +989,56 @@ void join_trunk(Skeleton& s, const Graph& g, const Walk& w, int e0, double sep, 
     ed.new_edges.push_back({pv, after});
 }
 
+// The arc length on the kept walk of a side stub's root q (side_stub_root_exit): abeam of the first point of the
+// stub's axis (sampled in 128 steps from c) whose distance to the kept polyline reaches exit x the kept radius there,
+// moved out until q lies beyond c's ball and, when `bridge` (c stays a branching point), |q - c| >= clearance x (r_c
+// + r_q); `nearest`, the arc of the point nearest e, when exit is 0, the axis never leaves, or the root would lie
+// beyond it.
+double side_root_arc(const Skeleton& s, const Walk& keep, const Walk& stub, double exit, bool bridge, double clearance,
+                     double nearest) {
+    if (!(exit > 0)) return nearest;
+    constexpr int steps = 128;
+    double arc = -1, a = 0;
+    for (int k = 1; k <= steps && arc < 0; ++k) {
+        const Vec3 p = at_arc(s, stub, stub.length() * k / steps).x;
+        const AtArc q = nearest_on_walk(s, keep, p, a);
+        if (distance(p, q.x) >= exit * q.r) arc = a;
+    }
+    if (arc < 0) return nearest;
+    const Vec3 c = s.points[keep.verts[0]];
+    const double rc = s.radii[keep.verts[0]], k = clearance * (1 + 1e-6);
+    const auto clear = [&](double t) {
+        const AtArc q = at_arc(s, keep, t);
+        const double d = distance(q.x, c);
+        return d > rc && (!bridge || d >= k * (rc + q.r));
+    };
+    if (!clear(arc)) {
+        if (!clear(nearest)) return nearest;
+        double lo = arc, hi = nearest;
+        for (int it = 0; it < 40; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (clear(mid) ? hi : lo) = mid;
+        }
+        arc = hi;
+    }
+    return std::min(arc, nearest);
+}
+
 // A side stub: q (an existing joint of the kept walk, or a new vertex splitting its segment) gets the edge (q, e);
-// the stub's edges and vertices before e go. Returns q's id before the renumbering.
+// the stub's edges and vertices before e go. q lies at the point of the kept walk nearest e, or where the stub leaves
+// the kept tube (side_root_arc). Returns q's id before the renumbering.
 int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const Walk& stub, int e_stub,
-              double min_length, Edit& ed) {
+              const SkeletonRepairOptions& o, Edit& ed) {
     const int e = stub.verts.back();
-    double arc = 0;
-    const AtArc q = nearest_on_walk(s, keep, s.points[e], arc);
+    double nearest = 0;
+    const AtArc qn = nearest_on_walk(s, keep, s.points[e], nearest);
+    const bool bridge = g.degree[keep.verts[0]] >= 4;  // c stays a branching point without the stub
+    // Rooted where it leaves (side_stub_root_exit) only at a point that stays a branching point, for a stub at least as
+    // fat at its end as the other branch there.
+    const double exit = s.radii[e] >= qn.r && bridge ? o.side_stub_root_exit : 0.0;
+    const double arc = side_root_arc(s, keep, stub, exit, bridge, o.trunk_clearance, nearest);
+    const AtArc q = arc == nearest ? qn : at_arc(s, keep, arc);
+    const double min_length = o.side_stub_min_length;
     int cur = e_keep;
     for (std::size_t k = 0; k < q.k; ++k) {
         const int v = keep.verts[k + 1];
@@ -1166,7 +1209,7 @@ std::vector<int> apply_candidate(Skeleton& s, Graph& g, Tombstones& dead, const 
     const Saved saved = save_walks(s, g, wi, wj);
     Edit ed;
     if (best.kind == PairRepair::side) {
-        made.side_root = join_side(s, g, wi, best.ei, wj, best.ej, o.side_stub_min_length, ed);
+        made.side_root = join_side(s, g, wi, best.ei, wj, best.ej, o, ed);
         ++res.side_stubs;
         return apply_edit(s, g, dead, n, saved, ed);
     }

@@ -76,6 +76,17 @@ struct SkeletonRepairOptions {
     // invert. 1: e outside q's ball, with a margin over the criterion. 0: e stays. docs/junctions.md ("Side stubs
     // inside their root's ball").
     double side_stub_min_length = 1.0;
+    // Where a side stub is rooted when c keeps three or more branches without it and the stub's end e is at least as
+    // fat as the other branch at its point nearest e (r_e >= r_q): abeam of the first point of the stub's axis (walked
+    // from c in 128 steps) whose distance to the other branch's polyline reaches side_stub_root_exit x the other
+    // branch's radius there (dimensionless; 1: where the axis leaves that tube), at the polyline point nearest it,
+    // instead of at the point nearest e; never inside c's ball nor nearer c than the bridge adaptation keeps
+    // (trunk_clearance x (r_c + r_q)), never beyond the point nearest e. The edge (q, e) then runs along the stub's
+    // tube and c's pair leaves on a bridge (c, q), two junctions of degree 3; from the point nearest e the edge leaves
+    // at a right angle and the wedge c, q, e is left to the fit, which on a stub as fat as its sibling ends with the
+    // mesh's boundary through the stub's axis (a dent). 0: the point nearest e everywhere. docs/junctions.md ("Side
+    // stubs rooted where the stub leaves").
+    double side_stub_root_exit = 1.0;
     // The ball t of an absorbed stub (or merged end) is a radius peak on the kept branch: the adaptation's
     // resampling, which evaluates its samples on the polyline at arc lengths of its own choosing, would step over it
     // and taper the bump away (the stub's tip uncovered, the tube after it too fat). true: the pipeline pins every t
