@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
     if (argc > 8) po.repair.joint_trunks = std::atoi(argv[8]) != 0;
     if (argc > 9) po.repair.wide_junction_trunks = std::atoi(argv[9]) != 0;
     if (const char* k = std::getenv("KEEP_CUT_JOINT")) po.adaptation.keep_cut_joint = std::atof(k);
+    if (const char* k = std::getenv("SLIDE_CUT_JOINT")) po.adaptation.slide_cut_joint = std::atoi(k) != 0;
     if (const char* k = std::getenv("SIDE_STUB_REACH")) po.repair.side_stub_reach = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT")) po.repair.junction_split = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_GAP")) po.repair.junction_split_gap_deg = std::atof(k);

@@ -209,6 +209,11 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
            "quad on the bridge to the bridge's margin limit, the others staying on the input radius (0 or 1, on "
            "by default; 0: the whole sphere at the limit, docs/junctions.md, \"Bridge quads\")")
         ->capture_default_str();
+    cmd->add_option("--slide-cut-joint", job->options.pipeline.adaptation.slide_cut_joint,
+                    "A joint next to a branching point or leaflet vertex that the section criterion would remove "
+                    "slides along its branch, away from the junction, to the nearest position where the criterion "
+                    "holds (0 or 1; docs/junctions.md, \"Cut joints slid away from the junction\")")
+        ->capture_default_str();
     cmd->add_option("--keep-cut-joint", job->options.pipeline.adaptation.keep_cut_joint,
                     "Keep a joint next to a branching point or leaflet vertex that the section criterion would remove "
                     "when the edge "

@@ -237,6 +237,36 @@ TEST(Adaptation, CutJointIsKeptThinner) {
               removed.skeleton.points.end());
 }
 
+// slide_cut_joint: a branch leaves the degree-3 point A = (0,0,0) along +x to the corner C = (0.5,0,0) and turns 90
+// degrees to the extremity E = (0.5,0.5,0), r 0.25 everywhere; A's other two arms leave at 60 degrees from +x (in the
+// xz-plane): gamma 30, cot sqrt(3). Bisection (density 1): 0.5 < 1.0 cuts at arc 0.5 = C, the halves stop (0.5 < 0.5
+// fails). Edge (A, C): reach(A) = 0.7 max(0.25, 0.25 sqrt 3) = 0.3031, reach(C) = 0.25 sin 45 = 0.1768, 1.25 x 0.4799 =
+// 0.600 > 0.5: C is removed and A - E is one edge that passes 0.354 = 1.41 r from C. With the slide, C moves along
+// C - E to arc 0.5 + 0.5 k / 32 for the first k whose edges pass: P_k = (0.5, u/2, 0), u = k / 32, |AP| = 0.5
+// sqrt(1 + u^2), the turn at P has cos = u / sqrt(1 + u^2). k = 14: |AP| 0.5458 < 1.25 (0.3031 + 0.25 sin(turn / 2)) =
+// 0.5499; k = 15: 0.5522 >= 0.5465, and |PE| = 0.2656 >= 1.25 x 0.25 sin(turn / 2) = 0.1676. So the joint sits at
+// (0.5, 0.234375, 0) with radius 0.25, and nothing is removed.
+TEST(Adaptation, CutJointSlidesAwayFromTheJunction) {
+    const double c = 0.5, s3 = std::sqrt(3.0) / 2;
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0.5, 0, 0}, {0.5, 0.5, 0}, {c, 0, s3}, {c, 0, -s3}};
+    s.radii = {0.25, 0.25, 0.25, 0.25, 0.25};
+    s.edges = {{0, 1}, {1, 2}, {0, 3}, {0, 4}};
+    const mesohex::AdaptationResult removed = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_EQ(removed.vertex_map[1], -1);
+    EXPECT_EQ(removed.turn_removed_joints, 1);
+    AdaptationOptions o;
+    o.slide_cut_joint = true;
+    const mesohex::AdaptationResult slid = mesohex::adapt_skeleton_detailed(s, o);
+    EXPECT_EQ(slid.turn_removed_joints, 0);
+    const Vec3 p{0.5, 0.234375, 0};
+    const auto at = std::find_if(slid.skeleton.points.begin(), slid.skeleton.points.end(),
+                                 [&](const Vec3& x) { return mesohex::distance(x, p) < 1e-12; });
+    ASSERT_NE(at, slid.skeleton.points.end());
+    EXPECT_DOUBLE_EQ(slid.skeleton.radii[static_cast<std::size_t>(at - slid.skeleton.points.begin())], 0.25);
+    EXPECT_EQ(mesohex::euler_characteristic(slid.skeleton), 1);
+}
+
 // An L-shaped polyline: every new joint lies on one of the two original segments.
 TEST(Adaptation, SamplesOnBentPolyline) {
     Skeleton s;

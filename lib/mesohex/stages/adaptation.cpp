@@ -193,17 +193,55 @@ double largest_joint_radius(double a, double c, double s, double l) {
     return s > 0 ? (l - a) / s : std::numeric_limits<double>::infinity();
 }
 
+// The criterion would remove chain index `victim` from the violated edge j -> j + 1 of a chain (not a ring) whose end
+// next to it has a connection quad (cot_gamma > 0: a branching point or a leaflet vertex). With
+// AdaptationOptions::slide_cut_joint the victim slides instead, along the input polyline away from that end, to the
+// first of kSlideSteps - 1 evenly spaced arc positions before its other neighbour q where both the edge from the end and
+// the edge to q meet the criterion (q's reach taken with the slid joint as its neighbour). Position, radius and arc
+// parameter are updated in x, r, arc; returns false (nothing changed) when no position passes.
+bool slide_away_from_end(std::vector<Vec3>& x, std::vector<double>& r, std::vector<double>& arc,
+                         const std::vector<int>& keep, std::size_t j, std::size_t victim,
+                         const std::array<EndReach, 2>& end_reach, const Polyline& input, const AdaptationOptions& o) {
+    const std::size_t last = keep.size() - 1;
+    const bool front = j == 0 && victim == 1, back = j + 1 == last && victim + 1 == last;
+    if (!o.slide_cut_joint || (!front && !back) || (front && back)) return false;
+    const EndReach& er = end_reach[front ? 0 : 1];
+    if (!(er.cot_gamma > 0)) return false;
+    const std::size_t qk = front ? victim + 1 : victim - 1;  // the victim's other neighbour, in keep
+    const int e = keep[front ? 0 : last], v = keep[victim], q = keep[qk];
+    const bool q_is_end = qk == 0 || qk == last;
+    const EndReach& eq = end_reach[front ? 1 : 0];
+    const int q2 = q_is_end ? q : keep[front ? qk + 1 : qk - 1];
+    const double a = std::max({er.sphere * r[e], er.extent, er.patch});
+    // kSlideSteps: the slid positions tried divide the arc from the victim to q into this many parts (dimensionless).
+    constexpr int kSlideSteps = 32;
+    for (int k = 1; k < kSlideSteps; ++k) {
+        const double t = arc[v] + (arc[q] - arc[v]) * k / kSlideSteps;
+        const auto [p, rp] = input.at(t);
+        const double sp = rp * sin_half_turn(x[e], p, x[q]);
+        const double reach_q = q_is_end ? std::max({eq.sphere * r[q], eq.cot_gamma * rp, eq.extent, eq.patch})
+                                        : r[q] * sin_half_turn(p, x[q], x[q2]);
+        if (distance(x[e], p) < o.turn_safety * (std::max(a, er.cot_gamma * rp) + sp)) continue;
+        if (distance(p, x[q]) < o.turn_safety * (sp + reach_q)) continue;
+        x[v] = p;
+        r[v] = rp;
+        arc[v] = t;
+        return true;
+    }
+    return false;
+}
+
 // Removes joints that violate the section criterion. x/r hold the whole sampled chain (ends included); end_reach gives
 // the demands of each end (zero at an extremity); ring: x.front() == x.back() is the anchor, a joint that stays.
 // Never leaves fewer than min_edges edges, never removes a pinned joint (pinned: per chain index). Returns the kept
 // chain indices; a joint next to an end that the criterion would remove but whose ball the edge replacing it misses
 // (AdaptationOptions::keep_cut_joint) is kept with a lowered radius in r instead; *stuck (when given) gets the pinned chain indices left on an edge that still violates the criterion
 // (their neighbours could not be removed: a branch end, another pin, or min_edges).
-std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, std::vector<double>& r,
+std::vector<int> apply_turn_criterion(std::vector<Vec3>& x, std::vector<double>& r,
                                       const std::array<EndReach, 2>& end_reach, bool ring, int min_edges,
                                       const std::vector<bool>& pinned, const AdaptationOptions& o,
                                       std::vector<int>* stuck = nullptr, const Polyline* input = nullptr,
-                                      const std::vector<double>* arc = nullptr) {
+                                      std::vector<double>* arc = nullptr) {
     std::vector<int> keep(x.size());
     std::iota(keep.begin(), keep.end(), 0);
     if (!(o.turn_safety > 0)) return keep;
@@ -256,7 +294,9 @@ std::vector<int> apply_turn_criterion(const std::vector<Vec3>& x, std::vector<do
         const bool a_joint = j > 0 && !pinned[keep[j]], b_joint = j + 2 < keep.size() && !pinned[keep[j + 1]];
         if (violated && can_remove && (a_joint || b_joint)) {
             const std::size_t victim = !a_joint ? j + 1 : (!b_joint ? j : (rb > ra ? j + 1 : j));
-            if (kept_thinner(j, victim)) {
+            const bool slid =
+                !ring && input && arc && slide_away_from_end(x, r, *arc, keep, j, victim, end_reach, *input, o);
+            if (slid || kept_thinner(j, victim)) {
                 ++j;
                 continue;
             }
@@ -774,6 +814,7 @@ std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edg
     std::vector<Vec3> x;
     std::vector<double> r;
     std::vector<int> keep;
+    std::vector<double> arc;  // per chain index: its arc parameter (the ends' included; slid joints move)
     std::array<EndReach, 2> ends = view.end_reach[bi];
     // A pin whose edges cannot meet the section criterion yields: the branch is sampled again without it. The
     // patch clearance yields first: a pin the repair placed (a bend, a moved root's first joint) is kept as long as
@@ -793,7 +834,7 @@ std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edg
         r.push_back(pl.r.back());
         pinned.push_back(false);
         std::vector<int> stuck;
-        std::vector<double> arc{0.0};
+        arc = {0.0};
         arc.insert(arc.end(), t.begin(), t.end());
         arc.push_back(pl.length());
         keep = apply_turn_criterion(x, r, ends, b.ring, min_edges, pinned, o, &stuck, &pl, &arc);
@@ -809,7 +850,7 @@ std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edg
     }
     if (removed) *removed += static_cast<int>(x.size() - keep.size());
     std::vector<double> kept_t;
-    for (std::size_t k = 1; k + 1 < keep.size(); ++k) kept_t.push_back(t[keep[k] - 1]);
+    for (std::size_t k = 1; k + 1 < keep.size(); ++k) kept_t.push_back(arc[keep[k]]);  // slid joints moved
     if (kept_r)
         for (std::size_t k = 1; k + 1 < keep.size(); ++k) kept_r->push_back(r[keep[k]]);
     return kept_t;

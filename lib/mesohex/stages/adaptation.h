@@ -45,6 +45,12 @@ struct AdaptationOptions {
     // joint pinches the tube more than the kept corner gains: then it is removed as before). Dimensionless; 0
     // disables (docs/junctions.md, "A cut joint kept thinner").
     double keep_cut_joint = 0.0;
+    // A joint the criterion would remove from an edge that ends at a branching point or leaflet vertex slides instead,
+    // along the branch's input polyline away from that end, to the nearest position (of 31 evenly spaced ones before
+    // its next joint) where both its edges meet the criterion; it keeps the input radius there. The edge from the end
+    // then stays closer to the corner the removed joint carried (a sharp turn next to a junction). Removed as before
+    // when no position passes. Tried before keep_cut_joint (docs/junctions.md, "Cut joints slid away from the junction").
+    bool slide_cut_joint = false;
     // A branch rooted on a leaflet's plates (inside the leaflet where 4 faces meet, or on its border: border_root in
     // skeleton_analysis.h) stands on a patch of faces about one leaflet edge wide: its end also reaches root_extent x
     // the mean length of the leaflet edges at the vertex (dimensionless), so the first cross-section clears the patch
