@@ -155,8 +155,15 @@ void register_auto(CLI::App& app, int* status) {
                     "--thickness-samples; 0 = off)")
         ->check(finite_range(0, 64))
         ->capture_default_str();
-    cmd->add_option("--meso-radius-factor", args->skeleton.meso_radius_factor,
-                    "meso-skeleton radii = this x the distance to the surface (0: keep the medial radii)")
+    cmd->add_option(
+           "--meso-radius-factor", args->skeleton.meso_radius_factor,
+           "meso-skeleton radii = this x the distance to the surface when the full radii's raw mesh inverts (0: "
+           "keep the medial radii)")
+        ->check(finite_range(0.0, 1.0))
+        ->capture_default_str();
+    cmd->add_option("--meso-full-radius-factor", args->skeleton.meso_full_radius_factor,
+                    "meso-skeleton radii tried first = this x the distance to the surface; when their raw mesh "
+                    "inverts, --meso-radius-factor instead (0: --meso-radius-factor only)")
         ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
     cmd->add_option("--meso-leaflet-radius-factor", args->skeleton.meso_leaflet_radius_edge_factor,
