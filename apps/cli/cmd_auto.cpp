@@ -145,6 +145,30 @@ void register_auto(CLI::App& app, int* status) {
     cmd->add_flag("--extend-rims", args->skeleton.medial.extend_rims,
                   "medial axis: carry the sheet borders out to the rounded rims the angle filter trimmed them short "
                   "of (see mesohex medial --extend-rims)");
+    cmd->add_option(
+           "--max-relative-error", args->skeleton.medial.max_relative_error,
+           "medial axis: Simplify by fit: refuse a collapse whose sphere's RMS distance to its tangent planes exceeds "
+           "this x its radius (0 = off)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
+    cmd->add_option(
+           "--join-factor", args->skeleton.medial.join_factor,
+           "medial axis: Join the parts the angle filter cut off to the main part by one curve edge when their closest "
+           "spheres are at most this x the larger radius apart (0 = off: only the largest part is kept)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
+    cmd->add_option("--join-min-extent", args->skeleton.medial.join_min_extent,
+                    "medial axis: ... only parts whose extent is at least this x their largest radius (0 = every part)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
+    cmd->add_flag(
+        "!--no-fringe-spare-interior", args->skeleton.medial.fringe_spare_interior,
+        "medial axis: Remove fringe chains between interior sheet vertices too (by default such a handle stays)");
+    cmd->add_option("--max-edge-radius", args->skeleton.medial.max_edge_radius,
+                    "medial axis: simplify by resolution, no edge longer than this x its smaller radius (see mesohex "
+                    "medial --max-edge-radius; 0 = a fixed count)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
     cmd->add_option("--curve-recentre-passes", args->skeleton.skeletonize.recentre_passes,
                     "curve skeleton: passes moving every joint towards the middle of its cross-section (see mesohex "
                     "skeletonize --recentre-passes; 0 = off)")

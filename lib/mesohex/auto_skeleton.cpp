@@ -221,7 +221,8 @@ QualityReport choose_meso_radii(AutoSkeleton& out, const TriangleMesh& surface, 
                 out.import.skeleton = std::move(s);
                 out.raw_sites = sites;
                 out.meso_radius_factor_used = full;
-                out.meso_radius_why = "full radii (" + std::to_string(full) + " x distance): raw mesh passes";
+                why << "full radii (" << full << " x distance): raw mesh passes";
+                out.meso_radius_why = why.str();
                 return raw;
             }
             out.full_raw_hexes = raw.hexes;
