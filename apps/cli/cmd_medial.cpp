@@ -66,6 +66,28 @@ void register_medial(CLI::App& app, int* status) {
     cmd->add_option("--error-tolerance", o.error_tolerance,
                     "... or stop earlier when a collapse costs more than (tolerance x diag)^2")
         ->capture_default_str();
+    cmd->add_option("--join-factor", o.join_factor,
+                    "Join the parts the angle filter cut off to the main part by one curve edge when their closest "
+                    "spheres are at most this x the larger radius apart (0 = off: only the largest part is kept)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
+    cmd->add_option("--join-min-extent", o.join_min_extent,
+                    "... only parts whose extent is at least this x their largest radius (0 = every part)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
+    cmd->add_flag("!--no-fringe-spare-interior", o.fringe_spare_interior,
+                  "Remove fringe chains between interior sheet vertices too (by default such a handle stays)");
+    cmd->add_option("--max-relative-error", o.max_relative_error,
+                    "Simplify by fit: refuse a collapse whose sphere's RMS distance to its tangent planes exceeds "
+                    "this x its radius (0 = off)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
+    cmd->add_option("--max-edge-radius", o.max_edge_radius,
+                    "Simplify by resolution instead of a count: refuse a collapse that makes an edge longer than this "
+                    "x the smaller radius of its ends, and collapse until every collapse left is refused (0 = off: "
+                    "--target-vertices)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
     cmd->add_option("--max-vertices", o.max_vertices, "Never stop above this many vertices")->capture_default_str();
     cmd->add_option("--sheet-width", o.sheet_width_factor,
                     "A triangle is a sheet when its smallest height >= this x its mean radius; thinner ones become "

@@ -181,6 +181,72 @@ QualityReport raw_quality_of(const Skeleton& skeleton, const TriangleMesh& surfa
     return run.raw_quality;
 }
 
+// The imported meso-skeleton with radii factor x each vertex's distance to the surface (0: the medial radii; a point on
+// the surface keeps its own), then capped at joins and borders (cap_leaflet_radii, cap_border_radii).
+Skeleton meso_with_radii(const Skeleton& imported, const SurfaceQuery& query, double factor,
+                         const AutoSkeletonOptions& options, int* capped_leaflet, int* capped_border) {
+    Skeleton s = imported;
+    if (factor > 0) {
+        RadiusFromSurfaceOptions ro;
+        ro.factor = factor;
+        const RadiusFromSurface rs = radius_from_surface(s, query, ro);
+        for (size_t v = 0; v < rs.radii.size(); ++v)
+            if (rs.radii[v] > 0) s.radii[v] = rs.radii[v];
+    }
+    *capped_leaflet = cap_leaflet_radii(s, options.meso_leaflet_radius_edge_factor);
+    *capped_border = cap_border_radii(s, options.meso_border_radius_edge_factor);
+    return s;
+}
+
+bool meso_raw_passes(const QualityReport& raw, const AutoSkeletonOptions& options) {
+    return raw.validation.valid() && raw.inverted <= options.max_raw_inverted && raw.sj_min >= options.min_raw_sj;
+}
+
+// The meso-skeleton's radii (out.import.skeleton): meso_full_radius_factor x the distance when the raw mesh there
+// passes the check (meso_raw_passes), else meso_radius_factor. Sets the raw numbers of the radii taken (raw_checked,
+// raw_sites, meso_radius_*; full_raw_* when the full radii failed) and returns that raw mesh's quality. A raw mesh
+// that cannot be built at the full radii (a mesohex::Error) falls back likewise; at the fallback radii it propagates.
+QualityReport choose_meso_radii(AutoSkeleton& out, const TriangleMesh& surface, const AutoSkeletonOptions& options) {
+    const SurfaceQuery query(surface);
+    const Skeleton imported = out.import.skeleton;
+    const double full = options.meso_full_radius_factor, half = options.meso_radius_factor;
+    std::ostringstream why;
+    if (full > 0 && full != half) {
+        Skeleton s =
+            meso_with_radii(imported, query, full, options, &out.capped_leaflet_radii, &out.capped_border_radii);
+        try {
+            RawInversionSites sites;
+            const QualityReport raw = raw_quality_of(s, surface, nullptr, &sites);
+            if (meso_raw_passes(raw, options)) {
+                out.import.skeleton = std::move(s);
+                out.raw_sites = sites;
+                out.meso_radius_factor_used = full;
+                why << "full radii (" << full << " x distance): raw mesh passes";
+                out.meso_radius_why = why.str();
+                return raw;
+            }
+            out.full_raw_hexes = raw.hexes;
+            out.full_raw_inverted = raw.inverted;
+            out.full_raw_sj_min = raw.sj_min;
+            out.full_raw_valid = raw.validation.valid();
+            why << "full radii (" << full << " x distance): raw mesh " << raw.hexes << " hexes, " << raw.inverted
+                << " inverted (min SJ " << raw.sj_min << (raw.validation.valid() ? "" : ", invalid") << ")";
+        } catch (const Error& e) {
+            out.full_raw_error = e.what();
+            why << "full radii (" << full << " x distance): raw mesh failed (" << e.what() << ")";
+        }
+        out.full_raw_failed = true;
+        why << ", fails the check; " << half << " x distance instead";
+    } else {
+        why << half << " x distance";
+    }
+    out.import.skeleton =
+        meso_with_radii(imported, query, half, options, &out.capped_leaflet_radii, &out.capped_border_radii);
+    out.meso_radius_factor_used = half;
+    out.meso_radius_why = why.str();
+    return raw_quality_of(out.import.skeleton, surface, nullptr, &out.raw_sites);
+}
+
 void use_curve(AutoSkeleton& out, const TriangleMesh& surface, const AutoSkeletonOptions& options) {
     out.curve = skeletonize_surface(surface, options.skeletonize);
     out.skeleton = out.curve.skeleton;
@@ -265,25 +331,18 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
             }
         }
         out.import = import_medial_mesh(out.medial.medial, options.import);
-        if (options.meso_radius_factor > 0) {
-            const SurfaceQuery query(surface);
-            RadiusFromSurfaceOptions ro;
-            ro.factor = options.meso_radius_factor;
-            const RadiusFromSurface rs = radius_from_surface(out.import.skeleton, query, ro);
-            for (size_t v = 0; v < rs.radii.size(); ++v)
-                if (rs.radii[v] > 0)
-                    out.import.skeleton.radii[v] = rs.radii[v];  // a point on the surface keeps its own
-        }
-        out.capped_leaflet_radii = cap_leaflet_radii(out.import.skeleton, options.meso_leaflet_radius_edge_factor);
-        out.capped_border_radii = cap_border_radii(out.import.skeleton, options.meso_border_radius_edge_factor);
-        if (options.kind == SkeletonKind::Auto) {
-            const QualityReport raw = raw_quality_of(out.import.skeleton, surface, nullptr, &out.raw_sites);
+        {
+            const QualityReport raw = choose_meso_radii(out, surface, options);
             out.raw_checked = true;
             out.raw_hexes = raw.hexes;
             out.raw_inverted = raw.inverted;
             out.raw_sj_min = raw.sj_min;
-            why << "; meso raw mesh " << out.raw_hexes << " hexes, " << out.raw_inverted << " inverted (min SJ "
-                << out.raw_sj_min << ", radii " << options.meso_radius_factor << " x distance";
+            out.raw_valid = raw.validation.valid();
+        }
+        if (options.kind == SkeletonKind::Auto) {
+            why << "; meso radii: " << out.meso_radius_why << "; meso raw mesh " << out.raw_hexes << " hexes, "
+                << out.raw_inverted << " inverted (min SJ " << out.raw_sj_min << ", radii "
+                << out.meso_radius_factor_used << " x distance";
             if (options.meso_leaflet_radius_edge_factor > 0)
                 why << ", " << out.capped_leaflet_radii << " leaflet radii at joins capped at "
                     << options.meso_leaflet_radius_edge_factor << " x their shortest leaflet edge";
@@ -297,8 +356,7 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
                     << w.half_chunks << " along leaflet borders, " << w.chunks << " on branches, " << w.plates
                     << " in plates or blocks]";
             }
-            if (!raw.validation.valid() || out.raw_inverted > options.max_raw_inverted ||
-                out.raw_sj_min < options.min_raw_sj) {
+            if (!out.raw_valid || out.raw_inverted > options.max_raw_inverted || out.raw_sj_min < options.min_raw_sj) {
                 why << ": more than " << options.max_raw_inverted << " inverted, min SJ below " << options.min_raw_sj
                     << " or invalid: curve skeleton instead";
                 out.reason = why.str();
@@ -310,7 +368,7 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
         out.skeleton = out.import.skeleton;
         out.kind = SkeletonKind::Meso;
         if (options.kind == SkeletonKind::Meso)
-            why << ": meso-skeleton forced";
+            why << ": meso-skeleton forced (radii: " << out.meso_radius_why << ")";
         else
             why << " >= " << options.min_sheet_fraction << ": flat or thin parts, medial meso-skeleton";
         out.reason = why.str();

@@ -74,6 +74,14 @@ struct AutoSkeletonOptions {
     // with `mesh --surface` on a skeleton without radii: room for the padding layer, and a leaflet's hex layers
     // stay clear of the fold where a bent sheet's offset at the full radius meets itself (docs/tuning.md).
     double meso_radius_factor = 0.5;
+    // The meso-skeleton's radii tried first: meso_full_radius_factor x each vertex's distance to the surface
+    // (dimensionless; 0 = off: meso_radius_factor only). A good medial mesh meets the goals at its full radii (the
+    // shared medial meshes do, and miss at half: docs/sheets.md, "The shared medial meshes on auto's path"); a folded
+    // one inverts raw hexes there. So the raw mesh (mesh_skeleton without finishing, about 0.5 s) is built at this
+    // factor first, and the meso-skeleton takes meso_radius_factor instead when that raw mesh is invalid, has more
+    // than max_raw_inverted inverted hexes, a minimum scaled Jacobian below min_raw_sj, or cannot be built; the
+    // report says which factor was used and why (AutoSkeleton::meso_radius_factor_used, meso_radius_why).
+    double meso_full_radius_factor = 1.0;
     // The meso-skeleton's leaflet vertices next to a join (the corners of every face that has a join, a vertex with
     // both faces and curve edges, among its corners; the join itself keeps its radius, which its branch's first chunk
     // needs): radius at most this x the vertex's shortest leaflet edge (a side of one of its faces; dimensionless; 0:
@@ -108,12 +116,25 @@ struct AutoSkeleton {
     MedialImport import;                      // when kind == Meso
     Skeletonization curve;                    // when kind == Curve
     double coverage_gap = 0;                  // Auto: largest surface-to-medial-spheres gap, x bbox diagonal
-    bool raw_checked = false;                 // the meso-skeleton's raw mesh was built (Auto)
+    bool raw_checked = false;                 // the meso-skeleton's raw mesh was built (Auto or Meso)
     long raw_hexes = 0, raw_inverted = 0;
     double raw_sj_min = 0;
+    bool raw_valid = false;
     int capped_leaflet_radii = 0;  // meso-skeleton radii lowered by meso_leaflet_radius_edge_factor
     int capped_border_radii = 0;   // meso-skeleton radii lowered by meso_border_radius_edge_factor
     RawInversionSites raw_sites;   // where the meso raw mesh's inverted hexes lie (when raw_checked)
+    // The meso-skeleton's radius factor (x distance to the surface; 0: the medial radii) and why: the full factor
+    // (meso_full_radius_factor) when its raw mesh passed the check, else meso_radius_factor (kind Meso or raw_checked).
+    double meso_radius_factor_used = 0;
+    std::string meso_radius_why;
+    // The raw mesh at meso_full_radius_factor when it failed the check and the meso-skeleton fell back to
+    // meso_radius_factor (the numbers above are then the fallback's): hexes, inverted, min SJ, valid, and the error
+    // when it could not be built (empty otherwise).
+    bool full_raw_failed = false;
+    long full_raw_hexes = 0, full_raw_inverted = 0;
+    double full_raw_sj_min = 0;
+    bool full_raw_valid = false;
+    std::string full_raw_error;
     // Auto, curve skeleton chosen: its raw mesh (mesh_skeleton without finishing, radii of the skeleton file).
     bool curve_raw_checked = false;
     bool curve_raw_valid = false;

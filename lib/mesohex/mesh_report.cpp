@@ -223,13 +223,23 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                               {"rim_moved", m.rim_moved},
                               {"coverage_gap_relative", chosen.coverage_gap}};
     }
-    if (chosen.raw_checked)
+    if (chosen.raw_checked) {
+        decision["meso_radii"] = {{"radius_factor_used", chosen.meso_radius_factor_used},
+                                  {"full_radius_factor", options.meso_full_radius_factor},
+                                  {"fallback_radius_factor", options.meso_radius_factor},
+                                  {"why", chosen.meso_radius_why}};
+        if (chosen.full_raw_failed)
+            decision["meso_radii"]["full_raw_mesh"] = {{"hexes", chosen.full_raw_hexes},
+                                                       {"inverted", chosen.full_raw_inverted},
+                                                       {"sj_min", chosen.full_raw_sj_min},
+                                                       {"valid", chosen.full_raw_valid},
+                                                       {"error", chosen.full_raw_error}};
         decision["meso_raw_mesh"] = {{"hexes", chosen.raw_hexes},
                                      {"inverted", chosen.raw_inverted},
                                      {"sj_min", chosen.raw_sj_min},
                                      {"max_inverted", options.max_raw_inverted},
                                      {"min_sj", options.min_raw_sj},
-                                     {"radius_factor", options.meso_radius_factor},
+                                     {"radius_factor", chosen.meso_radius_factor_used},
                                      {"leaflet_radius_edge_factor", options.meso_leaflet_radius_edge_factor},
                                      {"capped_leaflet_radii", chosen.capped_leaflet_radii},
                                      {"border_radius_edge_factor", options.meso_border_radius_edge_factor},
@@ -240,6 +250,7 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                                        {"half_chunks", chosen.raw_sites.half_chunks},
                                        {"chunks", chosen.raw_sites.chunks},
                                        {"plates", chosen.raw_sites.plates}}}};
+    }
     if (chosen.curve_raw_checked)
         decision["curve_raw_mesh"] = {{"hexes", chosen.curve_raw_hexes},
                                       {"inverted", chosen.curve_raw_inverted},

@@ -1,5 +1,6 @@
 // choose_skeleton on a generated thick plate (4 x 4 x 0.6 box): Auto takes the medial meso-skeleton, its radii are
-// meso_radius_factor x the distance to the surface, and the raw check's numbers are those its options require.
+// meso_full_radius_factor x the distance to the surface (meso_radius_factor when those fail the raw check), and the raw
+// check's numbers are those its options require.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -273,12 +274,17 @@ TEST(AutoSkeleton, CreasedBandKeepsItsBorderSidesAndMeshesWithoutInversion) {
     }
 }
 
-TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {
+// The plate's medial axis is its mid-plane (one sheet, no curve): its raw mesh at the full radii (the distance to the
+// surface, the half-thickness 0.3) has nothing inverted, so the full radii are kept.
+TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithFullRadii) {
     const TriangleMesh s = box(2, 0.3);
     const AutoSkeletonOptions o;
     const AutoSkeleton a = choose_skeleton(s, o);
     ASSERT_EQ(a.kind, SkeletonKind::Meso) << a.reason;
     ASSERT_TRUE(a.raw_checked);
+    EXPECT_EQ(a.meso_radius_factor_used, o.meso_full_radius_factor);
+    EXPECT_FALSE(a.full_raw_failed);
+    EXPECT_NE(a.reason.find("full radii"), std::string::npos) << a.reason;
     EXPECT_LE(a.raw_inverted, o.max_raw_inverted);
     EXPECT_EQ(a.raw_sites.joins, 0);  // one sheet, no curve
     EXPECT_EQ(a.raw_sites.plates + a.raw_sites.half_chunks + a.raw_sites.chunks, a.raw_inverted);
@@ -287,10 +293,40 @@ TEST(AutoSkeleton, ThickPlateTakesTheMesoSkeletonWithHalfDistanceRadii) {
     const RadiusFromSurface d = radius_from_surface(a.skeleton, q, {1.0});
     ASSERT_EQ(a.skeleton.radii.size(), a.skeleton.points.size());
     for (size_t v = 0; v < a.skeleton.points.size(); ++v) {
-        EXPECT_NEAR(a.skeleton.radii[v], 0.5 * d.distance[v], 1e-12);
-        // The sheet is the mid-plane: half the distance is about half the half-thickness, at most 0.15.
-        EXPECT_LE(a.skeleton.radii[v], 0.15 + 1e-9);
+        EXPECT_NEAR(a.skeleton.radii[v], d.distance[v], 1e-12);
+        // The sheet is the mid-plane: the distance is at most the half-thickness 0.3.
+        EXPECT_LE(a.skeleton.radii[v], 0.3 + 1e-9);
     }
+}
+
+// When the raw mesh at the full radii fails the check (here: a budget of -1 inverted hexes, which no mesh passes), the
+// meso-skeleton takes meso_radius_factor x the distance and says so; Auto then falls back to the curve skeleton (the
+// half radii fail too), a forced meso-skeleton keeps the half radii.
+TEST(AutoSkeleton, FullRadiiThatFailTheRawCheckFallBackToHalfRadii) {
+    const TriangleMesh s = box(2, 0.3);
+    AutoSkeletonOptions o;
+    o.max_raw_inverted = -1;
+    const AutoSkeleton a = choose_skeleton(s, o);
+    EXPECT_EQ(a.kind, SkeletonKind::Curve) << a.reason;
+    EXPECT_TRUE(a.full_raw_failed);
+    EXPECT_EQ(a.full_raw_inverted, 0);
+    EXPECT_TRUE(a.full_raw_valid);
+    EXPECT_EQ(a.meso_radius_factor_used, o.meso_radius_factor);
+    EXPECT_NE(a.reason.find("fails the check; 0.5 x distance instead"), std::string::npos) << a.reason;
+
+    o.kind = SkeletonKind::Meso;
+    const AutoSkeleton m = choose_skeleton(s, o);
+    ASSERT_EQ(m.kind, SkeletonKind::Meso);
+    EXPECT_TRUE(m.full_raw_failed);
+    EXPECT_EQ(m.meso_radius_factor_used, 0.5);
+    const SurfaceQuery q(s);
+    const RadiusFromSurface d = radius_from_surface(m.skeleton, q, {1.0});
+    for (size_t v = 0; v < m.skeleton.points.size(); ++v) EXPECT_NEAR(m.skeleton.radii[v], 0.5 * d.distance[v], 1e-12);
+
+    o.meso_full_radius_factor = 0;  // off: the half radii only, nothing tried before
+    const AutoSkeleton h = choose_skeleton(s, o);
+    EXPECT_FALSE(h.full_raw_failed);
+    EXPECT_EQ(h.meso_radius_factor_used, 0.5);
 }
 
 TEST(AutoSkeleton, ZeroRadiusFactorKeepsTheMedialRadii) {
@@ -298,6 +334,7 @@ TEST(AutoSkeleton, ZeroRadiusFactorKeepsTheMedialRadii) {
     AutoSkeletonOptions o;
     o.kind = SkeletonKind::Meso;
     o.meso_radius_factor = 0;
+    o.meso_full_radius_factor = 0;  // the medial radii only
     const AutoSkeleton a = choose_skeleton(s, o);
     ASSERT_EQ(a.kind, SkeletonKind::Meso);
     EXPECT_EQ(a.skeleton.radii, a.import.skeleton.radii);

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -128,6 +129,54 @@ TEST(MedialAxis, CylinderIsOneCurve) {
     }
     EXPECT_LT(m.sheet_fraction, 0.05);
     EXPECT_TRUE(raw_mesh_of(m, s).validation.valid());
+}
+
+// Every medial edge (sheet sides and curve edges) no longer than factor x the smaller radius of its two ends.
+void expect_edges_within(const MedialAxis& m, double factor) {
+    for (const std::array<int, 2>& e : m.medial.edges) {
+        const size_t a = static_cast<size_t>(e[0]), b = static_cast<size_t>(e[1]);
+        EXPECT_LE(distance(m.medial.points[a], m.medial.points[b]),
+                  factor * std::min(m.medial.radii[a], m.medial.radii[b]) + 1e-9)
+            << e[0] << "-" << e[1];
+    }
+}
+
+// The simplification stopped by resolution (max_edge_radius) instead of a count: the plate's mid-sheet stays one
+// sheet (a disk) with every edge at most 2 radii, and a plate twice as wide (four times the sheet area at the same
+// radius) keeps more than twice as many spheres (a fixed count keeps 60 on both).
+TEST(MedialAxis, ResolutionStopScalesTheSheetWithItsSize) {
+    MedialAxisOptions o = coarse();
+    o.max_edge_radius = 2;
+    const TriangleMesh small = extrude({{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, -0.3, 0.3);
+    const TriangleMesh large = extrude({{-4, -4}, {4, -4}, {4, 4}, {-4, 4}}, -0.3, 0.3);
+    const MedialAxis a = compute_medial_axis(small, o);
+    const MedialAxis b = compute_medial_axis(large, o);
+    for (const MedialAxis* m : {&a, &b}) {
+        EXPECT_EQ(m->sheets, 1);
+        EXPECT_EQ(m->curves, 0);
+        EXPECT_EQ(m->euler, 1);
+        expect_edges_within(*m, 2);
+    }
+    EXPECT_GT(b.medial.points.size(), 2 * a.medial.points.size());
+    const QualityReport q = raw_mesh_of(a, small);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.inverted, 0);
+}
+
+// The same stop on the cylinder (radius 0.5, axis from z -1.5 to 1.5 after the trim at the rims): one curve whose
+// edges are at most 2 radii (at least 3 of them) and, as every collapse left would make an edge longer, at least one
+// radius on average (at most 7: with consecutive edges of length l1 + l2 <= 2 r a collapse would still be allowed).
+TEST(MedialAxis, ResolutionStopSamplesTheCylindersAxisByItsRadius) {
+    MedialAxisOptions o = coarse();
+    o.max_edge_radius = 2;
+    const TriangleMesh s = revolve({{0, -2}, {0.5, -2}, {0.5, 2}, {0, 2}}, 32);
+    const MedialAxis m = compute_medial_axis(s, o);
+    EXPECT_EQ(m.sheets, 0);
+    EXPECT_EQ(m.curves, 1);
+    EXPECT_EQ(m.euler, 1);
+    expect_edges_within(m, 2);
+    EXPECT_GE(m.medial.edges.size(), 3u);
+    EXPECT_LE(m.medial.edges.size(), 7u) << m.medial.points.size() << " " << m.collapses << " " << m.initial_vertices;
 }
 
 TEST(MedialAxis, TorusIsOneClosedCurve) {
@@ -426,6 +475,64 @@ TEST(MedialAxis, LimbsWithZeroThresholdsEnd) {
 
 // Plates have no limbs: the debris the angle filter leaves at their edges and corners is not longer than thick, and
 // a 90-degree edge lies within the sheet's radius of it, so keep_limbs changes nothing.
+// A 3 x 2 grid of unit squares (12 vertices, 12 triangles; interior vertices 5 = (1, 1) and 6 = (2, 1)), every radius
+// 0.1 (limit 2 x 0.1). Two chains run along the sheet: 5-12-6 between the two interior vertices (a handle's two
+// roots, 0.1 above the sheet) and 0-13-5 from the border corner 0. Without spare_interior both are fringe; with it the
+// chain between interior vertices stays and the one from the border goes.
+TEST(MedialAxis, FringeRuleSparesChainsBetweenInteriorSheetVertices) {
+    Skeleton m;
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 4; ++i) m.points.push_back({static_cast<double>(i), static_cast<double>(j), 0});
+    m.points.push_back({1.5, 1, 0.1});     // 12
+    m.points.push_back({0.5, 0.45, 0.1});  // 13
+    m.radii.assign(m.points.size(), 0.1);
+    std::set<std::array<int, 2>> edges;
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 3; ++i) {
+            const int a = i + 4 * j, b = a + 1, c = a + 5, d = a + 4;
+            for (const std::vector<int>& f : {std::vector<int>{a, b, c}, std::vector<int>{a, c, d}}) {
+                m.faces.push_back(f);
+                for (size_t k = 0; k < 3; ++k)
+                    edges.insert({std::min(f[k], f[(k + 1) % 3]), std::max(f[k], f[(k + 1) % 3])});
+            }
+        }
+    for (const std::array<int, 2>& e : {std::array<int, 2>{5, 12}, {6, 12}, {0, 13}, {5, 13}}) edges.insert(e);
+    m.edges.assign(edges.begin(), edges.end());
+    Skeleton plain = m;
+    EXPECT_EQ(remove_fringe_curves(plain, 2.0, false, false), 2);
+    EXPECT_EQ(plain.points.size(), 12u);
+    EXPECT_EQ(remove_fringe_curves(m, 2.0, false, true), 1);
+    ASSERT_EQ(m.points.size(), 13u);  // 13 goes, 12 stays
+    EXPECT_EQ(m.points[12], (Vec3{1.5, 1, 0.1}));
+    EXPECT_EQ(m.edges.size(), edges.size() - 2);
+    EXPECT_EQ(euler_characteristic(m), 13 - static_cast<long>(edges.size() - 2) + 12);
+}
+
+// The disk with two rods (radius 0.25, 1.5 beyond each face): the angle filter cuts the rods off the disk's sheet;
+// joined back (join_factor 3) only as substantial parts (extent >= 4 x radius: a rod's axis is 6 radii long), they
+// stay, as curves reaching beyond 1.2 of the 2.1. The plates' corner debris is not substantial: nothing joins there.
+TEST(MedialAxis, SubstantialPartsTheAngleFilterCutsOffAreJoined) {
+    const TriangleMesh s =
+        revolve({{0, -2.1}, {0.25, -2.1}, {0.25, -0.6}, {2, -0.6}, {2, 0.6}, {0.25, 0.6}, {0.25, 2.1}, {0, 2.1}}, 32);
+    MedialAxisOptions o = coarse();
+    o.join_factor = 3;
+    o.join_min_extent = 4;
+    const MedialAxis m = compute_medial_axis(s, o);
+    EXPECT_EQ(m.joined_parts, 2);
+    std::array<double, 2> z = {1e9, -1e9};
+    for (const Vec3& p : m.medial.points) z = {std::min(z[0], p.z), std::max(z[1], p.z)};
+    EXPECT_GT(z[1], 1.2);
+    EXPECT_LT(z[0], -1.2);
+    EXPECT_EQ(m.sheets, 1);
+    expect_sane(m, s);
+    for (const TriangleMesh& p : {extrude({{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, -0.3, 0.3),
+                                  extrude({{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 3)}) {
+        const MedialAxis q = compute_medial_axis(p, o);
+        EXPECT_EQ(q.joined_parts, 0);
+        EXPECT_EQ(q.medial, compute_medial_axis(p, coarse()).medial);
+    }
+}
+
 TEST(MedialAxis, PlatesKeepNoLimbs) {
     MedialAxisOptions on = coarse();
     on.keep_limbs = true;

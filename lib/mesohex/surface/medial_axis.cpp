@@ -702,12 +702,31 @@ std::vector<std::vector<int>> complex_parts(const MedialComplex& mc) {
     return parts;
 }
 
+// Bounding-box diagonal of the part's sphere centres.
+double part_extent(const MedialComplex& mc, const std::vector<int>& part) {
+    Vec3 lo = mc.centre[static_cast<size_t>(part[0])], hi = lo;
+    for (int v : part)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], mc.centre[static_cast<size_t>(v)][k]);
+            hi[k] = std::max(hi[k], mc.centre[static_cast<size_t>(v)][k]);
+        }
+    return distance(lo, hi);
+}
+
+double part_max_radius(const MedialComplex& mc, const std::vector<int>& part) {
+    double r = 0;
+    for (int v : part) r = std::max(r, mc.radius[static_cast<size_t>(v)]);
+    return r;
+}
+
 // Parts the angle filter cut apart (a disk's mid-sheet from its hub's axis where the two meet, fins from a rim) are
 // joined back by one curve edge each: in decreasing size, a part of at least min_part_vertices vertices is joined to
 // the growing main part (the largest) through its closest vertex pair, when that pair is at most join_factor x the
 // larger of their radii apart and the segment between them stays inside (segment_inside, clearance 0.25). One edge
-// per part: the homotopy type is the disjoint union's, plus a tree. Returns the number of joins.
-int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_factor, int min_part_vertices) {
+// per part: the homotopy type is the disjoint union's, plus a tree. With min_extent > 0 only the substantial parts join:
+// those whose extent (part_extent) is at least min_extent x their largest radius. Returns the number of joins.
+int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_factor, int min_part_vertices,
+                    double min_extent) {
     const std::vector<std::vector<int>> order = complex_parts(mc);
     if (order.size() < 2) return 0;
     std::vector<int> main = order[0];
@@ -718,6 +737,7 @@ int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_fa
         changed = false;
         for (size_t c = 1; c < order.size(); ++c) {
             if (joined[c] || static_cast<int>(order[c].size()) < min_part_vertices) continue;
+            if (min_extent > 0 && part_extent(mc, order[c]) < min_extent * part_max_radius(mc, order[c])) continue;
             double best = std::numeric_limits<double>::infinity();
             int ba = -1, bb = -1;
             for (int a : order[c])
@@ -801,23 +821,6 @@ Gap union_gap(const SphereGrid& g, const MedialComplex& mc, const Vec3& p) {
         if (k > 0 && g.buckets.empty()) break;
     }
     return best;
-}
-
-// Bounding-box diagonal of the part's sphere centres.
-double part_extent(const MedialComplex& mc, const std::vector<int>& part) {
-    Vec3 lo = mc.centre[static_cast<size_t>(part[0])], hi = lo;
-    for (int v : part)
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], mc.centre[static_cast<size_t>(v)][k]);
-            hi[k] = std::max(hi[k], mc.centre[static_cast<size_t>(v)][k]);
-        }
-    return distance(lo, hi);
-}
-
-double part_max_radius(const MedialComplex& mc, const std::vector<int>& part) {
-    double r = 0;
-    for (int v : part) r = std::max(r, mc.radius[static_cast<size_t>(v)]);
-    return r;
 }
 
 // A cut-off part's surface: the samples on its spheres, with their gap to the kept spheres and the largest radius of
@@ -1168,6 +1171,7 @@ struct Candidate {
     int a, b;
     int version_a, version_b;
     std::array<double, 4> x;
+    double rms = 0;  // sqrt(cost / planes): the merged sphere's root-mean-square distance to its tangent planes
     bool operator>(const Candidate& o) const { return std::tie(cost, a, b) > std::tie(o.cost, o.a, o.b); }
 };
 
@@ -1187,7 +1191,9 @@ Candidate make_candidate(const MedialComplex& mc, int a, int b) {
              {std::array<double, 4>{ca.x, ca.y, ca.z, ra}, std::array<double, 4>{cb.x, cb.y, cb.z, rb}})
             if (q.eval(y) < q.eval(x)) x = y;
     }
-    return {q.eval(x), a, b, mc.version[static_cast<size_t>(a)], mc.version[static_cast<size_t>(b)], x};
+    const double cost = q.eval(x);
+    const double rms = q.A[15] > 0 ? std::sqrt(cost / q.A[15]) : 0;  // A[15]: the planes' count (+ point weights)
+    return {cost, a, b, mc.version[static_cast<size_t>(a)], mc.version[static_cast<size_t>(b)], x, rms};
 }
 
 // Link condition for collapsing edge ab in a 2-complex: the common neighbours of a and b are exactly the third vertices
@@ -1255,6 +1261,19 @@ bool no_fold(const MedialComplex& mc, int a, int b, const Vec3& x, double cos_ma
     return true;
 }
 
+// Every edge of the sphere the collapse of ab makes (x, to the other neighbours of a and b) is at most ratio x the
+// smaller radius of its two ends.
+bool edges_within(const MedialComplex& mc, const Candidate& cand, double ratio) {
+    const Vec3 x{cand.x[0], cand.x[1], cand.x[2]};
+    for (int v : {cand.a, cand.b})
+        for (int n : mc.neighbours[static_cast<size_t>(v)]) {
+            if (n == cand.a || n == cand.b) continue;
+            const double r = std::min(cand.x[3], mc.radius[static_cast<size_t>(n)]);
+            if (distance(x, mc.centre[static_cast<size_t>(n)]) > ratio * r) return false;
+        }
+    return true;
+}
+
 void collapse(MedialComplex& mc, const Candidate& cand) {
     const int a = cand.a, b = cand.b;
     mc.centre[static_cast<size_t>(a)] = {cand.x[0], cand.x[1], cand.x[2]};
@@ -1304,20 +1323,29 @@ int simplify(MedialComplex& mc, const MedialAxisOptions& o, double diag) {
     const double tolerance2 = (o.error_tolerance * diag) * (o.error_tolerance * diag);
     const double cos_fold = std::cos(o.max_fold_deg * kPi / 180.0);
     int collapses = 0;
-    while (!heap.empty() && alive > o.target_vertices) {
+    const bool by_resolution = o.max_edge_radius > 0 || o.max_relative_error > 0;
+    while (!heap.empty() && (by_resolution || alive > o.target_vertices)) {
         const Candidate cand = heap.top();
         heap.pop();
         if (!mc.alive[static_cast<size_t>(cand.a)] || !mc.alive[static_cast<size_t>(cand.b)]) continue;
         if (cand.version_a != mc.version[static_cast<size_t>(cand.a)] ||
             cand.version_b != mc.version[static_cast<size_t>(cand.b)])
             continue;
-        if (o.error_tolerance > 0 && cand.cost > tolerance2 && alive <= o.max_vertices) break;
+        if (!by_resolution && o.error_tolerance > 0 && cand.cost > tolerance2 && alive <= o.max_vertices) break;
+        if (o.max_edge_radius > 0 && !edges_within(mc, cand, o.max_edge_radius)) continue;
+        if (o.max_relative_error > 0 && cand.rms > o.max_relative_error * cand.x[3]) continue;
         if (!link_condition(mc, cand.a, cand.b)) continue;
         if (!no_fold(mc, cand.a, cand.b, {cand.x[0], cand.x[1], cand.x[2]}, cos_fold)) continue;
         collapse(mc, cand);
         --alive;
         ++collapses;
         for (int n : mc.neighbours[static_cast<size_t>(cand.a)]) heap.push(make_candidate(mc, cand.a, n));
+        // By resolution, a collapse refused before may pass now that a neighbour moved: the edges of the merged
+        // sphere's neighbours are queued again (a count stop never refuses by position, so it needs none).
+        if (by_resolution)
+            for (int n : mc.neighbours[static_cast<size_t>(cand.a)])
+                for (int m : mc.neighbours[static_cast<size_t>(n)])
+                    if (m != cand.a) heap.push(make_candidate(mc, n, m));
     }
     return collapses;
 }
@@ -1663,16 +1691,23 @@ void drop_unused_vertices(Skeleton& m, std::vector<char> used = {}) {
 
 }  // namespace
 
-int remove_fringe_curves(Skeleton& m, double factor, bool node_ends) {
+int remove_fringe_curves(Skeleton& m, double factor, bool node_ends, bool spare_interior) {
     const int nv = static_cast<int>(m.points.size());
-    std::set<std::array<int, 2>> sides;
-    std::vector<char> in_triangle(static_cast<size_t>(nv), 0);
+    std::map<std::array<int, 2>, int> side_count;  // triangle side -> triangles on it
+    std::vector<char> in_triangle(static_cast<size_t>(nv), 0), on_border(static_cast<size_t>(nv), 0);
     for (const std::vector<int>& f : m.faces)
         for (size_t k = 0; k < f.size(); ++k) {
             const int a = f[k], b = f[(k + 1) % f.size()];
-            sides.insert({std::min(a, b), std::max(a, b)});
+            ++side_count[{std::min(a, b), std::max(a, b)}];
             in_triangle[static_cast<size_t>(a)] = 1;
         }
+    std::set<std::array<int, 2>> sides;
+    for (const auto& [side, count] : side_count) {
+        sides.insert(side);
+        if (count == 1) on_border[static_cast<size_t>(side[0])] = on_border[static_cast<size_t>(side[1])] = 1;
+    }
+    // A chain between two interior sheet vertices (in a triangle, on no border side) is a handle, not fringe.
+    auto interior = [&](int x) { return in_triangle[static_cast<size_t>(x)] && !on_border[static_cast<size_t>(x)]; };
     std::vector<std::vector<int>> curve_adj(static_cast<size_t>(nv));
     for (const std::array<int, 2>& e : m.edges)
         if (!sides.count({std::min(e[0], e[1]), std::max(e[0], e[1])})) {
@@ -1714,6 +1749,7 @@ int remove_fringe_curves(Skeleton& m, double factor, bool node_ends) {
                        (node_ends && curve_adj[static_cast<size_t>(x)].size() >= 3);
             };
             if (!attached(chain.front()) || !attached(chain.back())) continue;
+            if (spare_interior && interior(chain.front()) && interior(chain.back())) continue;
             bool along = true;
             for (size_t k = 0; along && k + 1 < chain.size(); ++k)
                 for (double t : {0.25, 0.5, 0.75}) {
@@ -1883,7 +1919,8 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
         throw Error(ErrorCode::NumericalFailure, "medial axis: no Voronoi face passed the angle filter (" +
                                                      std::to_string(out.inner_poles) + " inner poles from " +
                                                      std::to_string(out.samples) + " samples)");
-    out.joined_parts = join_components(mc, query, options.join_factor, options.min_part_vertices);
+    out.joined_parts =
+        join_components(mc, query, options.join_factor, options.min_part_vertices, options.join_min_extent);
     if (options.keep_topology) keep_parts_and_paths(mc, options.part_extent_factor);
     out.limbs = keep_limb_trees(mc, samples, query, options, diag, out.limb_branches);
     keep_largest_component(mc);
@@ -1901,7 +1938,8 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     merge_short_curve_edges(s, vertex_alive, 1e-4 * diag);
     out.medial = to_medial_mesh(s, vertex_alive, 1e-6 * diag);
     if (options.fringe_factor > 0)
-        out.fringe_curves = remove_fringe_curves(out.medial, options.fringe_factor, options.fringe_node_ends);
+        out.fringe_curves = remove_fringe_curves(out.medial, options.fringe_factor, options.fringe_node_ends,
+                                                 options.fringe_spare_interior);
     // The fringe removal leaves the webs' stubs (a curve node of a web next to a sheet becomes a tip one short edge
     // from the sheet's border): the same spur rule once more, on the final medial mesh.
     if (options.prune_after_fringe) out.pruned_spurs = prune_spurs(out.medial, options.prune_factor);

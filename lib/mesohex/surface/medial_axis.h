@@ -24,7 +24,8 @@
 //      tangent planes at its touching samples (error of a sphere (c, r) against the plane through p with unit normal
 //      n: (n . (c - p) + r)^2); edges are collapsed cheapest first to the sphere minimizing the summed quadric, only
 //      when the link condition holds (homotopy type and Euler characteristic kept) and no sheet triangle flips, down
-//      to target_vertices (further while the error stays below error_tolerance);
+//      to target_vertices (further while the error stays below error_tolerance), or (max_edge_radius) while no edge
+//      grows longer than max_edge_radius x the smaller radius of its ends;
 //   5. curves and sheets by measured geometry: a triangle is wide when its smallest height is at least
 //      sheet_width_factor x its mean radius; a thin triangle with a side in no other triangle is removed with that
 //      side (an elementary collapse: homotopy kept), until none is left: tubes become curve edges; terminal curve
@@ -64,10 +65,20 @@ struct MedialAxisOptions {
     // keep_topology: a part of wide faces is kept when its extent is at least this x its largest radius, with the
     // shortest curve paths that link the kept parts; other curve edges (debris near the surface) go (x radius).
     double part_extent_factor = 2.0;
-    int target_vertices = 60;          // simplification stops at this many medial vertices ...
-    double error_tolerance = 0;        // > 0: stop earlier, when the next collapse costs more than (tolerance x diag)^2
-                                       //     and fewer than max_vertices are left (0 = off: always target_vertices)
-    int max_vertices = 400;            // the simplification never stops above this many vertices
+    int target_vertices = 60;    // simplification stops at this many medial vertices ...
+    double error_tolerance = 0;  // > 0: stop earlier, when the next collapse costs more than (tolerance x diag)^2
+                                 //     and fewer than max_vertices are left (0 = off: always target_vertices)
+    int max_vertices = 400;      // the simplification never stops above this many vertices
+    // > 0: the simplification stops by resolution instead of at target_vertices: a collapse is refused when an edge of
+    // the merged sphere would be longer than this x the smaller radius of its two ends, and collapses go on until every
+    // one left is refused (target_vertices and error_tolerance are then unused). A sheet's triangles end up about this
+    // many radii wide wherever it is (the shared medial meshes: sheet edges 1.7 - 5.8 radii, median; a fixed count
+    // leaves cup's at 4.6 and hand's at 1.0: docs/sheets.md). 0 = off: target_vertices (x sphere radius).
+    double max_edge_radius = 0;
+    // > 0: likewise by the spheres' fit (with or without max_edge_radius): a collapse is refused when the merged
+    // sphere's root-mean-square distance to the tangent planes of its samples (its quadric error per plane) exceeds
+    // this x its radius (0 = off; x sphere radius).
+    double max_relative_error = 0;
     double max_fold_deg = 60;          // a collapse that turns a sheet triangle by more than this is refused
     double sheet_width_factor = 0.25;  // a triangle is sheet-like when its smallest height >= this x mean radius
     // Parts of the medial complex the angle filter cut apart (a hub's axis from its disk's mid-sheet) are joined back
@@ -76,6 +87,10 @@ struct MedialAxisOptions {
     // min_part_vertices Voronoi vertices are noise and dropped.
     double join_factor = 0;     // x sphere radius (off by default: it joins corner debris on a plate)
     int min_part_vertices = 8;  // Voronoi vertices (also for limbs)
+    // ... and (join_factor > 0) only parts whose extent (bounding-box diagonal of their centres) is at least this x
+    // their largest radius: substantial parts (a finger, a strap), not the corner debris of a plate (0 = every part of
+    // min_part_vertices; x sphere radius).
+    double join_min_extent = 4;
     // Limbs: a part the angle filter cut off (a finger from the palm) whose spheres touch a surface sample farther than
     // limb_gap x the bbox diagonal and limb_radius_factor x the radius of the nearest kept sphere from every kept
     // sphere is kept as a tree of curves (shortest paths from its sphere nearest the kept ones to its spheres on such
@@ -101,6 +116,9 @@ struct MedialAxisOptions {
     // the webs of short chains between a sheet's border and the curves near it, whose border joins of several curves
     // fold the mesher's half-chunks (docs/sheets.md, "Fringe webs"). A chain ending at a tip is never removed.
     bool fringe_node_ends = true;
+    // ... except the chains between two interior sheet vertices (on no border side of the sheet): a handle over a sheet
+    // (the strap of a cup; the paper's limitation 1, which the mesher supports), not fringe (docs/sheets.md, session 30).
+    bool fringe_spare_interior = true;
     double prune_factor = 2.0;  // a terminal curve branch goes when its length + tip radius < this x the radius
                                 // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
     // The same spur rule (prune_factor) applied again as the last step, after the fringe removal (prune_spurs):
@@ -167,7 +185,9 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
 // triangle vertices (with node_ends: or vertices on 3 or more curve edges) and whose points at 1/4, 1/2 and 3/4 of each edge all lie within factor x their interpolated
 // radius of the nearest triangle is removed, with its inner vertices, if its ends stay connected without it (chains in
 // vertex order; ties to the lower id). Vertex order is kept (ids compacted). Returns the number of chains removed.
-int remove_fringe_curves(Skeleton& medial, double factor, bool node_ends = false);
+// With spare_interior, a chain whose two ends are interior sheet vertices (in a triangle, on no triangle side that
+// lies in one triangle only) stays: a handle over a sheet (cup's strap), not a border's fringe.
+int remove_fringe_curves(Skeleton& medial, double factor, bool node_ends = false, bool spare_interior = false);
 
 // Terminal curve branches of a medial mesh (from a tip, a vertex with one curve edge and in no triangle, through
 // vertices with two curve edges and in no triangle, to its node: a sheet vertex or a vertex with 3 or more curve
