@@ -6,8 +6,8 @@
 //   others 0/1: SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends, joint_trunks,
 //   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every
 //   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, SIDE_STUB_ROOT_EXIT=K its side_stub_root_exit,
-//   JUNCTION_SPLIT=H SkeletonRepairOptions::
-//   junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
+//   KEEP_CUT_JOINT=F AdaptationOptions::keep_cut_joint, SLIDE_CUT_JOINT=0|1 its slide_cut_joint,
+//   JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
 //   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
 //   D3_NEXT_TO_BP=0|1 its degree_three_chunks_next_to_branching_points, D3_AT_BRIDGES=0|1 its
@@ -16,9 +16,9 @@
 //   cover.fraction (JUNCTION_INSET=F cover.inset, JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_CREASE_MID=0|1
 //   its crease_midpoints, JUNCTION_COVER_MIN_DEGREE and
 //   JUNCTION_COVER_FLOOR its min_degree and sj_floor), BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius
-//   (BRIDGE_QUAD_INSET=F its bridge_quad_inset), FAN_CAP_BRANCHES=0|1 CompatibleBlockOptions::fan_cap_branches. The last three columns: stubs kept as side branches,
-//   degree-4 branching points split, and a hash of the raw mesh (compare two builds or option sets seed by seed to find
-//   the seeds a change touches).
+//   (BRIDGE_QUAD_INSET=F its bridge_quad_inset), FAN_CAP_BRANCHES=0|1 CompatibleBlockOptions::fan_cap_branches.
+//   The last three columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw
+//   mesh (compare two builds or option sets seed by seed to find the seeds a change touches).
 //
 // SKEL=path meshes that skeleton file instead (FIRST = LAST, e.g. `SKEL=curve-skeletons/dino.skel
 // mesohex_random_raw 0 0`; the 3rd argument 1.0 gives the second attempt's adaptation). DUMP=1 also lists the meshed

@@ -1203,6 +1203,22 @@ int boundary_sides(const Skeleton& s) {
     return b;
 }
 
+// The 4 x 4 plate (unit faces, z = 0, x and y from -2 to 2) with a wall of 2 rows over the chain x = 0 (vertices
+// 10 .. 14) and, on the other side, a shorter wall of 1 row over y in [-1, 1] (vertices 35 .. 37), radius 0.3.
+Skeleton wall_across_with_shorter_bottom() {
+    mesohex::WallPlate w;
+    w.plate = 4;
+    w.start = 0;
+    w.length = 4;
+    w.column = 2;
+    Skeleton in = mesohex::make_wall_plate(w, 1.0, 0.3);
+    for (int j = 1; j <= 3; ++j) in.points.push_back(in.points[2 * 5 + j] + Vec3{0, 0, -1});
+    in.radii.resize(in.points.size(), 0.3);
+    for (int j = 1; j <= 2; ++j) in.faces.push_back({2 * 5 + j, 2 * 5 + j + 1, 35 + j, 35 + j - 1});
+    mesohex::add_face_edges(in);
+    return in;
+}
+
 }  // namespace
 
 // A wall across the plate with a shorter wall on the other side (test_docked_walls.cpp,
@@ -1210,22 +1226,14 @@ int boundary_sides(const Skeleton& s) {
 // top wall 2 rows over y in [-2, 2], bottom wall 1 row over y in [-1, 1], radius 0.3): the repair joins the plate's
 // halves like the analysis, so the feet are split at 2 r = 0.6, capped at half the side: the columns x in [-1, 0] and
 // [0, 1] at x = -0.5, 0.5 (beside the chain: 4 faces, 5 cut sides each) and, beyond the bottom wall's ends, the rows y
-// in [-2, -1] and [1, 2] at y = -1.5, 1.5 through the plate and the top wall (4 plate + 2 wall faces, 7 cut sides). V 38 + 24 cut
+// in [-2, -1] and [1, 2] at y = -1.5, 1.5 through the plate and the top wall (4 plate + 2 wall faces, 7 cut sides). V
+// 38 + 24 cut
 // sides + 4 centres of the faces crossed twice = 66; F 26 + 12 (crossed once) + 3 x 4 = 50; E 63 + 24 + 12 + 4 x 4 =
 // 115 (Euler 1); boundary 28 + 2 x 2 (beside: the plate's border at y = -2, 2) + 2 x 3 (beyond: x = -2, 2 and the top
 // wall's top) = 38; raw hexes 2 F + 2 B = 176 (108 unsplit).
 TEST(SkeletonRepair, FeetOfAWallAcrossThePlateWithAShorterWallOnTheOtherSideAreSplit) {
-    mesohex::WallPlate w;
-    w.plate = 4;
-    w.start = 0;
-    w.length = 4;
-    w.column = 2;
-    Skeleton in = mesohex::make_wall_plate(w, 1.0, 0.3);
-    ASSERT_EQ(in.points.size(), 35u);
-    for (int j = 1; j <= 3; ++j) in.points.push_back(in.points[2 * 5 + j] + Vec3{0, 0, -1});
-    in.radii.resize(in.points.size(), 0.3);
-    for (int j = 1; j <= 2; ++j) in.faces.push_back({2 * 5 + j, 2 * 5 + j + 1, 35 + j, 35 + j - 1});
-    mesohex::add_face_edges(in);
+    const Skeleton in = wall_across_with_shorter_bottom();
+    ASSERT_EQ(in.points.size(), 38u);
     const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, {});
     EXPECT_EQ(res.docked_foot_splits, 4);
     const Skeleton& s = res.skeleton;
@@ -1270,17 +1278,8 @@ TEST(SkeletonRepair, FeetOfAWallAcrossThePlateWithAShorterWallOnTheOtherSideAreS
 // refuses the irregular fan at vertex 11, where the chain edges of 3 and 4 faces meet (word for word as with the
 // repair off).
 TEST(SkeletonRepair, FeetOfAnAcrossChainAreSplitOnlyWhereTheAnalysisDocksIt) {
-    mesohex::WallPlate w;
-    w.plate = 4;
-    w.start = 0;
-    w.length = 4;
-    w.column = 2;
-    Skeleton flat = mesohex::make_wall_plate(w, 1.0, 0.3);
-    ASSERT_EQ(flat.points.size(), 35u);
-    for (int j = 1; j <= 3; ++j) flat.points.push_back(flat.points[2 * 5 + j] + Vec3{0, 0, -1});
-    flat.radii.resize(flat.points.size(), 0.3);
-    for (int j = 1; j <= 2; ++j) flat.faces.push_back({2 * 5 + j, 2 * 5 + j + 1, 35 + j, 35 + j - 1});
-    mesohex::add_face_edges(flat);
+    const Skeleton flat = wall_across_with_shorter_bottom();
+    ASSERT_EQ(flat.points.size(), 38u);
     ASSERT_EQ(mesohex::repair_skeleton(flat, {}).docked_foot_splits, 4);  // the test above: docked, split
     Skeleton bent = flat;
     const double lift = std::tan(40 * std::numbers::pi / 180);

@@ -51,7 +51,8 @@ BoundarySurface extract_boundary(const HexMesh& mesh, const HexTopology& topo);
 std::vector<std::vector<int>> boundary_edge_neighbours(const HexTopology& topo, std::size_t num_points);
 
 // boundary_edge_neighbours(compute_hex_topology(mesh), mesh.points.size()) for the listed vertices only, without the
-// whole mesh's topology: per mesh vertex, empty unless listed in `vertices`; a listed vertex gets the same neighbours in
+// whole mesh's topology: per mesh vertex, empty unless listed in `vertices`; a listed vertex gets the same neighbours
+// in
 // ascending order without repeats (a degenerate edge from v to itself gives v once). A face with v is on the boundary
 // when no other (hex, local face) slot has its vertex set, and every such slot is in a hex with v, so only the hexes
 // around v are read. O(#hexes) for the vertex -> hex table plus a few hundred operations per listed vertex.

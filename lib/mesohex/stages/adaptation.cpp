@@ -196,7 +196,8 @@ double largest_joint_radius(double a, double c, double s, double l) {
 // The criterion would remove chain index `victim` from the violated edge j -> j + 1 of a chain (not a ring) whose end
 // next to it has a connection quad (cot_gamma > 0: a branching point or a leaflet vertex). With
 // AdaptationOptions::slide_cut_joint the victim slides instead, along the input polyline away from that end, to the
-// first of kSlideSteps - 1 evenly spaced arc positions before its other neighbour q where both the edge from the end and
+// first of kSlideSteps - 1 evenly spaced arc positions before its other neighbour q where both the edge from the end
+// and
 // the edge to q meet the criterion (q's reach taken with the slid joint as its neighbour). Position, radius and arc
 // parameter are updated in x, r, arc; returns false (nothing changed) when no position passes.
 bool slide_away_from_end(std::vector<Vec3>& x, std::vector<double>& r, std::vector<double>& arc,
@@ -213,7 +214,8 @@ bool slide_away_from_end(std::vector<Vec3>& x, std::vector<double>& r, std::vect
     const EndReach& eq = end_reach[front ? 1 : 0];
     const int q2 = q_is_end ? q : keep[front ? qk + 1 : qk - 1];
     const double a = std::max({er.sphere * r[e], er.extent, er.patch});
-    // kSlideSteps: the slid positions tried divide the arc from the victim to q into this many parts (dimensionless).
+    // kSlideSteps: the slid positions tried divide the arc from the victim to q into this many parts (dimensionless;
+    // a step is about 3 % of the edge, fine against the criterion's 1.25 safety factor; not tuned).
     constexpr int kSlideSteps = 32;
     for (int k = 1; k < kSlideSteps; ++k) {
         const double t = arc[v] + (arc[q] - arc[v]) * k / kSlideSteps;
@@ -258,7 +260,7 @@ std::vector<int> apply_turn_criterion(std::vector<Vec3>& x, std::vector<double>&
         }
         return r[keep[k]] * sin_half_turn(x[keep[k - 1]], x[keep[k]], x[keep[k + 1]]);
     };
-    const std::vector<double> r_input = r;
+    std::vector<double> r_input = r;  // the input radius at each joint's current position (a slide moves it)
     // The violated edge j -> j + 1 joins an end and the victim joint: keep the victim thinner if its ball is cut.
     const auto kept_thinner = [&](std::size_t j, std::size_t victim) -> bool {
         const std::size_t last = keep.size() - 1;
@@ -294,9 +296,14 @@ std::vector<int> apply_turn_criterion(std::vector<Vec3>& x, std::vector<double>&
         const bool a_joint = j > 0 && !pinned[keep[j]], b_joint = j + 2 < keep.size() && !pinned[keep[j + 1]];
         if (violated && can_remove && (a_joint || b_joint)) {
             const std::size_t victim = !a_joint ? j + 1 : (!b_joint ? j : (rb > ra ? j + 1 : j));
-            const bool slid =
-                !ring && input && arc && slide_away_from_end(x, r, *arc, keep, j, victim, end_reach, *input, o);
-            if (slid || kept_thinner(j, victim)) {
+            if (!ring && input && arc && slide_away_from_end(x, r, *arc, keep, j, victim, end_reach, *input, o)) {
+                // The slid joint turns its other neighbour q by a new angle: q's edges are checked again (at the back
+                // end the edge before q lies behind j). Finite: a joint slides again only after an erase.
+                r_input[keep[victim]] = r[keep[victim]];
+                j = victim >= 2 ? victim - 2 : 0;
+                continue;
+            }
+            if (kept_thinner(j, victim)) {
                 ++j;
                 continue;
             }

@@ -166,7 +166,8 @@ SkeletonAnalysis analyze_skeleton(const Skeleton& skeleton, const AnalysisOption
 // (consistently oriented) and face normals; no input validation beyond those steps' own (Error(InvalidInput) naming a
 // face whose side is not an edge, or of zero area), nothing classified, docked or counted. For a stage that needs the
 // analysis' leaflets on a skeleton it is changing (skeleton_repair.cpp's view of docked plates, which takes the
-// analysis' joins across chains: join_plates_across_chains, docked_walls.h). Preconditions: indices in range.
+// analysis' joins across chains: join_plates_across_chains, docked_walls.h). Preconditions: indices in range, faces
+// of 4 distinct vertices (validate_input is not run; the leaflet walk relies on it).
 // O(V + E log E + F).
 SkeletonAnalysis analyze_leaflets(const Skeleton& skeleton);
 

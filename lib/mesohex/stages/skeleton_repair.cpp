@@ -1,5 +1,8 @@
 #include "mesohex/stages/skeleton_repair.h"
 
+// An exception to one stage per file pair: the repair splits a docked wall's feet exactly where the analysis will dock
+// it, so it takes the analysis' leaflets and joins across chains (analyze_leaflets, join_plates_across_chains) rather
+// than a second test of its own that could disagree (docs/blocks.md, "Audit against issue 22's check list").
 #include "mesohex/stages/docked_walls.h"
 #include "mesohex/stages/skeleton_analysis.h"
 
@@ -640,7 +643,8 @@ bool band_sides(const Skeleton& s, const DockedPlates& dp, const std::vector<std
 
 // The direction of path vertex i's copy on side k, per unit of band width: the miter of the side's directions into
 // its faces at an inner vertex (1 / cos of half the turn long), along its border side on that side at a path end (1 /
-// cos of the border's angle off the side's direction long). False for a turn sharper than acos(kBandPillowMinTurnCos) (104.5 degrees, docked_walls.h) or a
+// cos of the border's angle off the side's direction long). False for a turn sharper than acos(kBandPillowMinTurnCos)
+// (104.5 degrees, docked_walls.h) or a
 // border leaving the path at a grazing angle.
 bool band_copy(const Skeleton& s, const DockedPlates& dp, const std::vector<int>& path, const BandSide& side,
                std::size_t i, Vec3& m) {
@@ -991,10 +995,10 @@ void join_trunk(Skeleton& s, const Graph& g, const Walk& w, int e0, double sep, 
 
 // The arc length on the kept walk of a side stub's root q (side_stub_root_exit): abeam of the first point of the
 // stub's axis (sampled in 128 steps from c) whose distance to the kept polyline reaches exit x the kept radius there,
-// moved out until q lies beyond c's ball and, when `bridge` (c stays a branching point), |q - c| >= clearance x (r_c
-// + r_q); `nearest`, the arc of the point nearest e, when exit is 0, the axis never leaves, or the root would lie
-// beyond it.
-double side_root_arc(const Skeleton& s, const Walk& keep, const Walk& stub, double exit, bool bridge, double clearance,
+// moved out until q lies beyond c's ball and |q - c| >= clearance x (r_c + r_q) (the caller passes exit > 0 only where c
+// stays a branching point, so (c, q) is a bridge adaptation keeps); `nearest`, the arc of the point nearest e, when exit
+// is 0, the axis never leaves, or the root would lie beyond it.
+double side_root_arc(const Skeleton& s, const Walk& keep, const Walk& stub, double exit, double clearance,
                      double nearest) {
     if (!(exit > 0)) return nearest;
     constexpr int steps = 128;
@@ -1010,7 +1014,7 @@ double side_root_arc(const Skeleton& s, const Walk& keep, const Walk& stub, doub
     const auto clear = [&](double t) {
         const AtArc q = at_arc(s, keep, t);
         const double d = distance(q.x, c);
-        return d > rc && (!bridge || d >= k * (rc + q.r));
+        return d > rc && d >= k * (rc + q.r);
     };
     if (!clear(arc)) {
         if (!clear(nearest)) return nearest;
@@ -1036,7 +1040,7 @@ int join_side(Skeleton& s, const Graph& g, const Walk& keep, int e_keep, const W
     // Rooted where it leaves (side_stub_root_exit) only at a point that stays a branching point, for a stub at least as
     // fat at its end as the other branch there.
     const double exit = s.radii[e] >= qn.r && bridge ? o.side_stub_root_exit : 0.0;
-    const double arc = side_root_arc(s, keep, stub, exit, bridge, o.trunk_clearance, nearest);
+    const double arc = side_root_arc(s, keep, stub, exit, o.trunk_clearance, nearest);
     const AtArc q = arc == nearest ? qn : at_arc(s, keep, arc);
     const double min_length = o.side_stub_min_length;
     int cur = e_keep;

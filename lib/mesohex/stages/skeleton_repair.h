@@ -167,7 +167,8 @@ struct SkeletonRepairOptions {
     // the analysis docks. Hexes: + 4 per path edge + 4 per path end on the border (before the foot split beyond the
     // inside ends). Chains that match are left as they are. Not done (the analysis refuses as before) when the path
     // cannot run on (a vertex of other than 4 plate faces, a branch, another chain, a vertex met twice) or turns by
-    // more than acos(kBandPillowMinTurnCos) = 104.5 degrees (docked_walls.h). docs/blocks.md ("Docked walls turning in the plate's grid: the band pillow").
+    // more than acos(kBandPillowMinTurnCos) = 104.5 degrees (docked_walls.h). docs/blocks.md ("Docked walls turning in
+    // the plate's grid: the band pillow").
     bool docked_band_pillow = true;
     // Branches on fan-edge ends (the paper's limitation 3): the fan edge is retracted from the branch's vertex, which
     // becomes a leaflet corner (stages/fan_end_repair.h; a single fan edge is split in two first, with the face strips
@@ -207,7 +208,9 @@ struct SkeletonRepairResult {
 };
 
 // Preconditions: one finite radius > 0 per vertex, edge indices in range (as after analyze_skeleton and check_radii;
-// violations are not repaired but skipped). Pairs with a branch edge shorter than 1e-9 x its radius are skipped
+// violations are not repaired but skipped); faces of 4 distinct vertices whose sides are edges, of non-zero area (as
+// after analyze_skeleton: the docked plates' view takes the analysis' leaflets, analyze_leaflets, which throws
+// Error(InvalidInput) on such a face). Pairs with a branch edge shorter than 1e-9 x its radius are skipped
 // (adaptation's degenerate repairs handle them).
 // Postconditions: V - E + F unchanged (each trunk adds t, the two crotch vertices and the trunk edge, and removes the
 // dropped joints with one edge each, the two first edges of the pair replaced; a side stub adds q and splits the
