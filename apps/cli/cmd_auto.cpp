@@ -100,46 +100,6 @@ void keep_better_of_both(const MeshJob& job, const TriangleMesh& domain, const A
               << ") is better: kept, its skeleton -> " << skeleton_path << "\n";
 }
 
-// The medial axis options `auto` passes to compute_medial_axis (see `mesohex medial`).
-void add_medial_options(CLI::App* cmd, MedialAxisOptions* o) {
-    cmd->add_flag("--keep-topology", o->keep_topology,
-                  "medial axis: angle filter as a topology-keeping erosion (see mesohex medial --keep-topology)");
-    cmd->add_flag("--limbs", o->keep_limbs,
-                  "medial axis: keep the cut-off limbs as trees of curves (see mesohex medial --limbs)");
-    cmd->add_flag("--extend-rims", o->extend_rims,
-                  "medial axis: carry the sheet borders out to the rounded rims the angle filter trimmed them short "
-                  "of (see mesohex medial --extend-rims)");
-    cmd->add_option(
-           "--max-relative-error", o->max_relative_error,
-           "medial axis: simplify by fit: refuse a collapse whose sphere's RMS distance to its tangent planes exceeds "
-           "this x its radius (0 = off)")
-        ->check(finite_range(0, 100))
-        ->capture_default_str();
-    cmd->add_option(
-           "--join-factor", o->join_factor,
-           "medial axis: join the parts the angle filter cut off to the main part by one curve edge when their closest "
-           "spheres are at most this x the larger radius apart (0 = off: only the largest part is kept)")
-        ->check(finite_range(0, 100))
-        ->capture_default_str();
-    cmd->add_option("--join-min-extent", o->join_min_extent,
-                    "medial axis: ... only parts whose extent is at least this x their largest radius (0 = every part)")
-        ->check(finite_range(0, 100))
-        ->capture_default_str();
-    cmd->add_flag(
-        "!--no-fringe-spare-interior", o->fringe_spare_interior,
-        "medial axis: remove fringe chains between interior sheet vertices too (by default such a handle stays)");
-    cmd->add_option("--max-edge-radius", o->max_edge_radius,
-                    "medial axis: simplify by resolution, no edge longer than this x its smaller radius (see mesohex "
-                    "medial --max-edge-radius; 0 = a fixed count)")
-        ->check(finite_range(0, 100))
-        ->capture_default_str();
-    cmd->add_option("--thickness-samples", o->thickness_samples,
-                    "medial axis: samples across the local thickness in thin parts (see mesohex medial "
-                    "--thickness-samples; 0 = off)")
-        ->check(finite_range(0, 64))
-        ->capture_default_str();
-}
-
 }  // namespace
 
 void register_auto(CLI::App& app, int* status) {
@@ -178,7 +138,7 @@ void register_auto(CLI::App& app, int* status) {
     cmd->add_option("--min-sheet-fraction", args->skeleton.min_sheet_fraction,
                     "auto: the meso-skeleton when the medial axis's sheet fraction is at least this")
         ->capture_default_str();
-    add_medial_options(cmd, &args->skeleton.medial);
+    add_medial_axis_options(cmd, args->skeleton.medial, "medial axis: ");
     cmd->add_option("--curve-recentre-passes", args->skeleton.skeletonize.recentre_passes,
                     "curve skeleton: passes moving every joint towards the middle of its cross-section (see mesohex "
                     "skeletonize --recentre-passes; 0 = off)")

@@ -23,6 +23,56 @@ struct MedialArgs {
 
 }  // namespace
 
+// The options `medial` shares with `auto` (which passes them to compute_medial_axis); `prefix` starts every help text.
+void add_medial_axis_options(CLI::App* cmd, MedialAxisOptions& o, const std::string& prefix) {
+    cmd->add_option("--thickness-samples", o.thickness_samples,
+                    prefix +
+                        "Thin parts: where the solid is thinner than this x the sample spacing, extra samples "
+                        "bring the local spacing down to thickness / this (0 = off)")
+        ->check(finite_range(0, 64))
+        ->capture_default_str();
+    cmd->add_flag(
+        "--keep-topology", o.keep_topology,
+        prefix +
+            "Angle filter as an erosion that keeps the inner Voronoi complex's topology (no holes, no cut-off "
+            "parts)");
+    cmd->add_flag("--limbs", o.keep_limbs,
+                  prefix +
+                      "Keep the parts the angle filter cut off that are longer than thick and reach surface the "
+                      "rest leaves uncovered (a finger cut off the palm), as trees of curves joined by one edge "
+                      "each");
+    cmd->add_option("--join-factor", o.join_factor,
+                    prefix +
+                        "Join the parts the angle filter cut off to the main part by one curve edge when their "
+                        "closest spheres are at most this x the larger radius apart (0 = off: only the largest "
+                        "part is kept)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
+    cmd->add_option("--join-min-extent", o.join_min_extent,
+                    prefix + "... only parts whose extent is at least this x their largest radius (0 = every part)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
+    cmd->add_flag("!--no-fringe-spare-interior", o.fringe_spare_interior,
+                  prefix + "Remove fringe chains between interior sheet vertices too (by default such a handle stays)");
+    cmd->add_option("--max-relative-error", o.max_relative_error,
+                    prefix +
+                        "Simplify by fit: refuse a collapse whose sphere's RMS distance to its tangent planes "
+                        "exceeds this x its radius (0 = off)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
+    cmd->add_option("--max-edge-radius", o.max_edge_radius,
+                    prefix +
+                        "Simplify by resolution instead of a count: refuse a collapse that makes an edge longer "
+                        "than this x the smaller radius of its ends, and collapse until every collapse left is "
+                        "refused (0 = off: --target-vertices)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
+    cmd->add_flag("--extend-rims", o.extend_rims,
+                  prefix +
+                      "Carry each sheet border vertex out along its sheet to a rounded rim ahead (where the "
+                      "angle filter trimmed the sheet short of it)");
+}
+
 void register_medial(CLI::App& app, int* status) {
     auto args = std::make_shared<MedialArgs>();
     CLI::App* cmd = app.add_subcommand(
@@ -32,14 +82,10 @@ void register_medial(CLI::App& app, int* status) {
     cmd->add_option("surface", args->input, "Closed, manifold triangle surface (.off .obj .stl .ply)")->required();
     cmd->add_option("-o,--output", args->output, "Output medial mesh (.ma)")->required();
     MedialAxisOptions& o = args->options;
+    add_medial_axis_options(cmd, o, "");
     cmd->add_option("--sample-spacing", o.sample_spacing, "Largest gap between surface samples (x bbox diagonal)")
         ->capture_default_str();
     cmd->add_option("--max-samples", o.max_samples, "Surface samples at most (the spacing grows to fit)")
-        ->capture_default_str();
-    cmd->add_option("--thickness-samples", o.thickness_samples,
-                    "Thin parts: where the solid is thinner than this x the sample spacing, extra samples bring the "
-                    "local spacing down to thickness / this (0 = off)")
-        ->check(finite_range(0, 64))
         ->capture_default_str();
     cmd->add_option("--max-refinement", o.max_refinement,
                     "Thin parts: the local spacing never goes below the sample spacing / this")
@@ -54,39 +100,10 @@ void register_medial(CLI::App& app, int* status) {
                     "Angle filter: a Voronoi face is medial when it sees its two "
                     "samples under at least this angle (degrees)")
         ->capture_default_str();
-    cmd->add_flag(
-        "--keep-topology", o.keep_topology,
-        "Angle filter as an erosion that keeps the inner Voronoi complex's topology (no holes, no cut-off parts)");
-    cmd->add_flag(
-        "--limbs", o.keep_limbs,
-        "Keep the parts the angle filter cut off that are longer than thick and reach surface the rest leaves "
-        "uncovered (a finger cut off the palm), as trees of curves joined by one edge each");
     cmd->add_option("--target-vertices", o.target_vertices, "Simplify down to this many medial vertices")
         ->capture_default_str();
     cmd->add_option("--error-tolerance", o.error_tolerance,
                     "... or stop earlier when a collapse costs more than (tolerance x diag)^2")
-        ->capture_default_str();
-    cmd->add_option("--join-factor", o.join_factor,
-                    "Join the parts the angle filter cut off to the main part by one curve edge when their closest "
-                    "spheres are at most this x the larger radius apart (0 = off: only the largest part is kept)")
-        ->check(finite_range(0, 100))
-        ->capture_default_str();
-    cmd->add_option("--join-min-extent", o.join_min_extent,
-                    "... only parts whose extent is at least this x their largest radius (0 = every part)")
-        ->check(finite_range(0, 100))
-        ->capture_default_str();
-    cmd->add_flag("!--no-fringe-spare-interior", o.fringe_spare_interior,
-                  "Remove fringe chains between interior sheet vertices too (by default such a handle stays)");
-    cmd->add_option("--max-relative-error", o.max_relative_error,
-                    "Simplify by fit: refuse a collapse whose sphere's RMS distance to its tangent planes exceeds "
-                    "this x its radius (0 = off)")
-        ->check(finite_range(0, 100))
-        ->capture_default_str();
-    cmd->add_option("--max-edge-radius", o.max_edge_radius,
-                    "Simplify by resolution instead of a count: refuse a collapse that makes an edge longer than this "
-                    "x the smaller radius of its ends, and collapse until every collapse left is refused (0 = off: "
-                    "--target-vertices)")
-        ->check(finite_range(0, 100))
         ->capture_default_str();
     cmd->add_option("--max-vertices", o.max_vertices, "Never stop above this many vertices")->capture_default_str();
     cmd->add_option("--sheet-width", o.sheet_width_factor,
@@ -101,9 +118,6 @@ void register_medial(CLI::App& app, int* status) {
                   "Also remove the fringe chains that end where curves branch (not only those between sheet vertices)");
     cmd->add_flag("!--no-prune-after-fringe", o.prune_after_fringe,
                   "Keep the spurs the fringe removal leaves (short curves from a sheet's border that end in a tip)");
-    cmd->add_flag("--extend-rims", o.extend_rims,
-                  "Carry each sheet border vertex out along its sheet to a rounded rim ahead (where the angle filter "
-                  "trimmed the sheet short of it)");
     cmd->add_option("--rim-reach", o.rim_reach_factor,
                     "Rims: a border vertex has reached the rim when the surface straight ahead is within this x its "
                     "ball's radius")

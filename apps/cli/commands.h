@@ -11,7 +11,8 @@
 
 namespace mesohex {
 struct MedialImportOptions;
-}
+struct MedialAxisOptions;
+}  // namespace mesohex
 
 namespace mesohex::cli {
 
@@ -69,5 +70,7 @@ void register_thicken(CLI::App& app, int* status);
 void register_auto(CLI::App& app, int* status);
 void register_studio(CLI::App& app, int* status);
 void register_medial(CLI::App& app, int* status);
+// The medial axis options `medial` and `auto` share (cmd_medial.cpp); `prefix` starts every help text.
+void add_medial_axis_options(CLI::App* cmd, MedialAxisOptions& o, const std::string& prefix);
 
 }  // namespace mesohex::cli

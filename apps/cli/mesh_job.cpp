@@ -216,8 +216,8 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
         ->capture_default_str();
     cmd->add_option("--keep-cut-joint", job->options.pipeline.adaptation.keep_cut_joint,
                     "Keep a joint next to a branching point or leaflet vertex that the section criterion would remove "
-                    "when the edge "
-                    "replacing it misses its ball by at least this fraction of its radius, with its radius lowered "
+                    "when the edge replacing it misses its ball by at least this fraction of its radius, with its "
+                    "radius lowered "
                     "until the criterion holds (0 = off, the default; docs/junctions.md, \"A cut joint kept thinner\")")
         ->check(finite_range(0.0, 10.0))
         ->capture_default_str();
