@@ -72,8 +72,8 @@ struct MedialAxisOptions {
     // > 0: the simplification stops by resolution instead of at target_vertices: a collapse is refused when an edge of
     // the merged sphere would be longer than this x the smaller radius of its two ends, and collapses go on until every
     // one left is refused (target_vertices and error_tolerance are then unused). A sheet's triangles end up about this
-    // many radii wide wherever it is (the shared medial meshes: sheet edges 1.7 - 5.8 radii, median; a fixed count
-    // leaves cup's at 4.6 and hand's at 1.0: docs/sheets.md). 0 = off: target_vertices (x sphere radius).
+    // many radii wide wherever it is (a fixed count leaves some shapes' sheets far coarser than others'; measured in
+    // docs/sheets.md). 0 = off: target_vertices (x sphere radius).
     double max_edge_radius = 0;
     // > 0: likewise by the spheres' fit (with or without max_edge_radius): a collapse is refused when the merged
     // sphere's root-mean-square distance to the tangent planes of its samples (its quadric error per plane) exceeds
