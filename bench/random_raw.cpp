@@ -6,7 +6,8 @@
 //   others 0/1: SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends, joint_trunks,
 //   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every
 //   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, SIDE_STUB_ROOT_EXIT=K its side_stub_root_exit,
-//   KEEP_CUT_JOINT=F AdaptationOptions::keep_cut_joint, SLIDE_CUT_JOINT=0|1 its slide_cut_joint,
+//   KEEP_CUT_JOINT=F AdaptationOptions::keep_cut_joint, SLIDE_CUT_JOINT=0|1 its slide_cut_joint, BRIDGE_PEAK=F its
+//   bridge_peak_ratio,
 //   JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
 //   junction_split_clearance, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
@@ -89,6 +90,7 @@ int main(int argc, char** argv) {
     if (argc > 9) po.repair.wide_junction_trunks = std::atoi(argv[9]) != 0;
     if (const char* k = std::getenv("KEEP_CUT_JOINT")) po.adaptation.keep_cut_joint = std::atof(k);
     if (const char* k = std::getenv("SLIDE_CUT_JOINT")) po.adaptation.slide_cut_joint = std::atoi(k) != 0;
+    if (const char* k = std::getenv("BRIDGE_PEAK")) po.adaptation.bridge_peak_ratio = std::atof(k);
     if (const char* k = std::getenv("SIDE_STUB_REACH")) po.repair.side_stub_reach = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT")) po.repair.junction_split = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_GAP")) po.repair.junction_split_gap_deg = std::atof(k);

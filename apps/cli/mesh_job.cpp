@@ -214,6 +214,13 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "slides along its branch, away from the junction, to the nearest position where the criterion "
                     "holds (0 or 1; docs/junctions.md, \"Cut joints slid away from the junction\")")
         ->capture_default_str();
+    cmd->add_option("--bridge-peak-ratio", job->options.pipeline.adaptation.bridge_peak_ratio,
+                    "On a branch between two branching points that resampling would leave as one edge, keep a joint "
+                    "at the input vertex whose radius exceeds the ends' interpolated radius the most, when by at least "
+                    "this ratio, whatever the section criterion says (0 = off, the default; docs/junctions.md, \"A "
+                    "radius peak held on its bridge\")")
+        ->check(finite_range(0.0, 100.0))
+        ->capture_default_str();
     cmd->add_option("--keep-cut-joint", job->options.pipeline.adaptation.keep_cut_joint,
                     "Keep a joint next to a branching point or leaflet vertex that the section criterion would remove "
                     "when the edge replacing it misses its ball by at least this fraction of its radius, with its "

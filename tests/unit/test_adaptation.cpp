@@ -237,6 +237,51 @@ TEST(Adaptation, CutJointIsKeptThinner) {
               removed.skeleton.points.end());
 }
 
+// bridge_peak_ratio: the bridge of RadiusPeakOnAShortBridgeIsSteppedOver with its bulge off-centre, input vertices
+// P = (0.1, 0, 0) r 0.12 and Q = (0.25, 0, 0) r 0.2 between the degree-3 points A = (0,0,0) and B = (0.4,0,0) (r 0.1,
+// so the ends' interpolated radius is 0.1 all along): ratios 1.2 at P and 2 at Q, so Q is the peak. By default the
+// bridge becomes one edge (the criterion removes every joint: RadiusPeakOnAShortBridgeIsSteppedOver). At 1.5 Q is held:
+// bisection of the pieces [0, 0.25] (0.1 + 0.2 > 0.25) and [0.25, 0.4] (0.2 + 0.1 > 0.15) adds nothing, so the bridge
+// is exactly A - Q - B with Q at its input position and radius, although the edge A - Q (0.25) fails the criterion
+// (1.25 x 0.7 x 0.2 x cot 30 = 0.303). At 2.5 (above Q's ratio) A - B is one edge. Each arm (length 1, r 0.1)
+// bisects to 8 edges of 0.125 and the criterion removes its first joint at the junction (0.125 < 1.25 x 0.7 x 0.1 x
+// cot 30 = 0.152; 0.25 passes): 7 edges, 28 for the four arms. The raw mesh has 4 hexes per branch edge: 4 x (28 + 2)
+// = 120 hexes held, 4 x 29 = 116 without, none inverted (the raw margin limit keeps Q's section inside both junction
+// quads).
+TEST(Adaptation, RadiusPeakOnABridgeIsHeld) {
+    const double c = 0.5, s3 = std::sqrt(3.0) / 2;
+    Skeleton s;
+    s.points = {{0, 0, 0},        {0.4, 0, 0},       {c, s3, 0},  {c, -s3, 0},
+                {0.4 - c, 0, s3}, {0.4 - c, 0, -s3}, {0.1, 0, 0}, {0.25, 0, 0}};
+    s.radii = {0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.12, 0.2};
+    s.edges = {{0, 2}, {0, 3}, {1, 4}, {1, 5}, {0, 6}, {6, 7}, {7, 1}};
+    const auto bridge_vertices = [](const Skeleton& k) {
+        std::vector<int> on;
+        for (std::size_t v = 0; v < k.points.size(); ++v)
+            if (std::abs(k.points[v].y) + std::abs(k.points[v].z) < 1e-12 && k.points[v].x > 0 && k.points[v].x < 0.4)
+                on.push_back(static_cast<int>(v));
+        return on;
+    };
+    mesohex::PipelineOptions po;
+    po.adaptation.bridge_peak_ratio = 1.5;
+    const mesohex::AdaptationResult held = mesohex::adapt_skeleton_detailed(s, po.adaptation);
+    const std::vector<int> on = bridge_vertices(held.skeleton);
+    ASSERT_EQ(on.size(), 1u);
+    EXPECT_EQ(held.skeleton.points[on[0]], (Vec3{0.25, 0, 0}));
+    EXPECT_DOUBLE_EQ(held.skeleton.radii[on[0]], 0.2);
+    EXPECT_EQ(held.skeleton.edges.size(), 30u);
+    const mesohex::PipelineResult raw_held = mesohex::run_pipeline(s, po);
+    EXPECT_EQ(raw_held.raw.mesh.hexes.size(), 120u);
+    EXPECT_EQ(mesohex::compute_quality(raw_held.raw.mesh).inverted, 0);
+    for (const double ratio : {2.5, 0.0}) {
+        po.adaptation.bridge_peak_ratio = ratio;
+        const mesohex::AdaptationResult stepped = mesohex::adapt_skeleton_detailed(s, po.adaptation);
+        EXPECT_TRUE(bridge_vertices(stepped.skeleton).empty()) << ratio;
+        EXPECT_EQ(stepped.skeleton.edges.size(), 29u) << ratio;
+        EXPECT_EQ(mesohex::run_pipeline(s, po).raw.mesh.hexes.size(), 116u) << ratio;
+    }
+}
+
 // slide_cut_joint: a branch leaves the degree-3 point A = (0,0,0) along +x to the corner C = (0.5,0,0) and turns 90
 // degrees to the extremity E = (0.5,0.5,0), r 0.25 everywhere; A's other two arms leave at 60 degrees from +x (in the
 // xz-plane): gamma 30, cot sqrt(3). Bisection (density 1): 0.5 < 1.0 cuts at arc 0.5 = C, the halves stop (0.5 < 0.5

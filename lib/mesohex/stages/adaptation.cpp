@@ -811,10 +811,29 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
     }
 }
 
+// AdaptationOptions::bridge_peak_ratio: on a bridge bi (both ends free branching points), the arc length of the
+// interior input vertex with the largest ratio of its radius to the end radii's linear interpolation at its arc
+// length, when that ratio is at least bridge_peak_ratio; -1 otherwise (off, no interior vertex, a ring or a loop).
+double bridge_peak_arc(const BranchView& view, std::size_t bi, const AdaptationOptions& o) {
+    const Branch& b = view.branches[bi];
+    const Polyline& pl = view.polylines[bi];
+    if (!(o.bridge_peak_ratio > 0) || b.ring || b.vertices.front() == b.vertices.back()) return -1;
+    if (!view.is_free_branching_point(b.vertices.front()) || !view.is_free_branching_point(b.vertices.back()))
+        return -1;
+    double best = -1, best_ratio = o.bridge_peak_ratio;
+    for (std::size_t k = 1; k + 1 < pl.x.size(); ++k) {
+        if (!(pl.s[k] > 0 && pl.s[k] < pl.length())) continue;
+        const double r_line = pl.r.front() + (pl.r.back() - pl.r.front()) * pl.s[k] / pl.length();
+        if (pl.r[k] >= best_ratio * r_line) best = pl.s[k], best_ratio = pl.r[k] / r_line;
+    }
+    return best;
+}
+
 // Samples branch bi with its ends at positions xa, xb: the joints' arc parameters after bisection, smoothing and the
 // turn criterion; adds the joints the criterion removed to *removed when given.
 std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edges, const Vec3& xa, const Vec3& xb,
-                             const AdaptationOptions& o, int* removed, std::vector<double>* kept_r = nullptr) {
+                             const AdaptationOptions& o, int* removed, std::vector<double>* kept_r = nullptr,
+                             bool hold_peak = true) {
     const Branch& b = view.branches[bi];
     Polyline pl = view.polylines[bi];
     std::vector<double> t;
@@ -823,6 +842,11 @@ std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edg
     std::vector<int> keep;
     std::vector<double> arc;  // per chain index: its arc parameter (the ends' included; slid joints move)
     std::array<EndReach, 2> ends = view.end_reach[bi];
+    // A held pin (never yields), or -1: the bridge's radius peak, where the resampling would leave one edge.
+    double held = hold_peak ? bridge_peak_arc(view, bi, o) : -1;
+    if (held > 0 && !resample(view, bi, min_edges, xa, xb, o, nullptr, nullptr, false).empty()) held = -1;
+    if (held > 0 && !std::binary_search(pl.pinned.begin(), pl.pinned.end(), held))
+        pl.pinned.insert(std::upper_bound(pl.pinned.begin(), pl.pinned.end(), held), held);
     // A pin whose edges cannot meet the section criterion yields: the branch is sampled again without it. The
     // patch clearance yields first: a pin the repair placed (a bend, a moved root's first joint) is kept as long as
     // the rest of the criterion allows it.
@@ -845,6 +869,7 @@ std::vector<double> resample(const BranchView& view, std::size_t bi, int min_edg
         arc.insert(arc.end(), t.begin(), t.end());
         arc.push_back(pl.length());
         keep = apply_turn_criterion(x, r, ends, b.ring, min_edges, pinned, o, &stuck, &pl, &arc);
+        std::erase_if(stuck, [&](int k) { return t[static_cast<std::size_t>(k) - 1] == held; });
         if (stuck.empty()) break;
         if (ends[0].patch > 0 || ends[1].patch > 0) {
             ends[0].patch = ends[1].patch = 0;

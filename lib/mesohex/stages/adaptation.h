@@ -51,6 +51,15 @@ struct AdaptationOptions {
     // then stays closer to the corner the removed joint carried (a sharp turn next to a junction). Removed as before
     // when no position passes. Tried before keep_cut_joint (docs/junctions.md, "Cut joints slid away from the junction").
     bool slide_cut_joint = false;
+    // On a bridge (a branch whose two ends are free branching points, no leaflet) that the resampling would leave as
+    // one edge, the input vertex with the largest ratio of its radius to the linear interpolation of the end radii at
+    // its arc length becomes a held pin when that ratio is at least bridge_peak_ratio: the bridge keeps a joint there
+    // with its input radius (the first edges at both junctions then point at it), and the pin does not yield to the
+    // section criterion (the raw mesh's margin limit, RawMeshOptions::margin_fraction, bounds its section inside both
+    // junction quads instead). A radius peak between two junctions (a fat torso or neck whose ends are branching
+    // points) is otherwise stepped over. Dimensionless (a radius ratio); 0 disables (docs/junctions.md, "A radius
+    // peak held on its bridge").
+    double bridge_peak_ratio = 0.0;
     // A branch rooted on a leaflet's plates (inside the leaflet where 4 faces meet, or on its border: border_root in
     // skeleton_analysis.h) stands on a patch of faces about one leaflet edge wide: its end also reaches root_extent x
     // the mean length of the leaflet edges at the vertex (dimensionless), so the first cross-section clears the patch
