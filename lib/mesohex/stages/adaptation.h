@@ -124,7 +124,8 @@ struct AdaptationOptions {
 // bisection's samples would step over; the former branching points of trunks (SkeletonRepairResult::trunk_joints).
 // A pin yields where an edge at it still violates the section criterion after every other joint that could go has
 // gone (its neighbour is a branch end or another pin): the branch is then sampled again without that pin, so pins
-// never leave overlapping cross-sections. Ids out of range and vertices that are no joints are ignored.
+// never leave overlapping cross-sections (except the radius peak AdaptationOptions::bridge_peak_ratio holds, which never
+// yields). Ids out of range and vertices that are no joints are ignored.
 Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o = {}, const std::vector<int>& pinned = {});
 
 // The same, with what happened (for reports and tests).
