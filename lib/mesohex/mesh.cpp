@@ -299,7 +299,10 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const S
     set_raw_quality(run, options);
     run.raw_quality_ms = ms_since(t);
     // The raw mesh is the output: an inverted hex at a moved root refuses the run (with a domain the fit may untangle).
-    if ((!domain || !options.finish) && run.raw_quality.inverted > 0) check_moved_roots(run.pipeline);
+    if ((!domain || !options.finish) && run.raw_quality.inverted > 0) {
+        check_moved_roots(run.pipeline);
+        check_border_creases(run.pipeline);
+    }
     if (domain && options.finish) {
         t = std::chrono::steady_clock::now();
         finish_with_retry(run, skeleton, *domain, options);
@@ -355,7 +358,10 @@ MeshRun mesh_skeleton_raw(const Skeleton& input, const TriangleMesh* domain, con
         run.raw_quality = compute_quality(res.raw.mesh, cache.topology);
     }
     run.prediction_exact = prediction_matches(run.raw_quality, res.predicted);
-    if (run.raw_quality.inverted > 0) check_moved_roots(res);  // as mesh_skeleton's raw output
+    if (run.raw_quality.inverted > 0) {  // as mesh_skeleton's raw output
+        check_moved_roots(res);
+        check_border_creases(res);
+    }
     cache.quality = run.raw_quality;
     if (options.keep_raw_topology) run.raw_topology = cache.topology;
     run.raw_quality_ms = ms_since(t);

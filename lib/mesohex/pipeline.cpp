@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -16,6 +17,7 @@
 #include "mesohex/stages/fan_blocks.h"
 #include "mesohex/stages/fan_end_repair.h"
 #include "mesohex/stages/frame_propagation.h"
+#include "mesohex/stages/leaflet_geometry.h"
 #include "mesohex/stages/tip_trim.h"
 
 namespace mesohex {
@@ -121,6 +123,78 @@ void check_moved_roots(const PipelineResult& res) {
                "yourself (a vertex on the border side next to the fan edge), or change its radius there";
         throw Error(ErrorCode::UnsupportedConfiguration, why.str(),
                     ElementRef{ElementRef::Kind::SkeletonVertex, root.vertex});
+    }
+}
+
+namespace {
+
+// Per raw-mesh vertex id: the skeleton vertex whose ids hold it (vertex_base is a prefix sum in vertex order).
+std::vector<int> raw_vertex_owner(const RawMesh& raw) {
+    std::vector<int> owner(raw.mesh.points.size(), -1);
+    const int nv = static_cast<int>(raw.vertex_base.size());
+    for (int v = 0; v < nv; ++v) {
+        if (raw.vertex_base[v] < 0) continue;
+        int end = static_cast<int>(owner.size());
+        for (int u = v + 1; u < nv && end == static_cast<int>(owner.size()); ++u)
+            if (raw.vertex_base[u] >= 0) end = raw.vertex_base[u];
+        for (int id = raw.vertex_base[v]; id < end; ++id) owner[static_cast<std::size_t>(id)] = v;
+    }
+    return owner;
+}
+
+// Whether the faces at leaflet vertex w fold: two of their normals more than kCreaseNormalGainDeg apart (the angle
+// leaflet_vertex_frames takes for a crease).
+bool creased_at(const SkeletonAnalysis& an, int w) {
+    std::vector<Vec3> normals;
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        for (int x : an.face_vertices[f])
+            if (x == w && face_counts_at(an, f, w) && norm(an.face_normal[f]) > 0)
+                normals.push_back(normalized(an.face_normal[f]));
+    const double lim = std::cos(kCreaseNormalGainDeg * std::numbers::pi / 180);
+    for (std::size_t i = 0; i < normals.size(); ++i)
+        for (std::size_t j = i + 1; j < normals.size(); ++j)
+            if (dot(normals[i], normals[j]) < lim) return true;
+    return false;
+}
+
+}  // namespace
+
+void check_border_creases(const PipelineResult& res) {
+    const SkeletonAnalysis& an = res.analysis;
+    const RawMesh& raw = res.raw;
+    if (an.face_vertices.empty()) return;
+    std::vector<int> owner;
+    for (std::size_t h = 0; h < raw.mesh.hexes.size(); ++h) {
+        const int e = raw.hex_edge[h];
+        if (e < 0 || an.edge_degree[e] != 1) continue;  // the half-chunks of leaflet border edges only
+        const std::array<int, 8>& hex = raw.mesh.hexes[h];
+        std::array<Vec3, 8> p;
+        for (std::size_t k = 0; k < 8; ++k) p[k] = raw.mesh.points[static_cast<std::size_t>(hex[k])];
+        if (hex_scaled_jacobian(p) > 0) continue;
+        if (owner.empty()) owner = raw_vertex_owner(raw);
+        for (int lv = 0; lv < 8; ++lv) {
+            const int w = owner[static_cast<std::size_t>(hex[static_cast<std::size_t>(lv)])];
+            const std::array<int, 2>& ed = res.skeleton.edges[e];
+            if (hex_corner_value(p, static_cast<std::size_t>(lv)) > 0 || (w != ed[0] && w != ed[1])) continue;
+            const VertexClass c = an.vertex_class[w];
+            if ((c != VertexClass::LeafletBoundary && c != VertexClass::FanEdgeEnd) || !creased_at(an, w)) continue;
+            const int x = ed[0] == w ? ed[1] : ed[0];
+            const double L = distance(res.skeleton.points[w], res.skeleton.points[x]);
+            const double r = res.skeleton.radii[w];
+            const bool input = w < static_cast<int>(res.input_analysis.vertex_class.size());
+            std::ostringstream why;
+            why << (input ? "skeleton vertex " : "repaired skeleton vertex ") << w
+                << ": a leaflet border that creases there and runs on (a wall standing on part of a plate's border, "
+                   "at the wall's end) folds the half-chunk of border edge ("
+                << w << ", " << x << ") at its out column: an inverted raw hex, radius " << r
+                << " above the bound L / 2 = " << 0.5 * L << " (L = " << L
+                << " the border edge; exact for a wall at right angles to the plate, where the plane of the out "
+                   "column at the crease reaches the neighbour's out-up copy at r = L / 2); edit: lower the radius "
+                   "there below L / 2, end the wall at the plate's corner or run it over the whole border side, or "
+                   "mesh with the domain surface (the fit untangles the half-chunk)";
+            throw Error(ErrorCode::UnsupportedConfiguration, why.str(),
+                        ElementRef{ElementRef::Kind::SkeletonVertex, w});
+        }
     }
 }
 

@@ -114,6 +114,17 @@ std::string trimmed_tips_to_text(const PipelineResult& res);
 // nothing.
 void check_moved_roots(const PipelineResult& res);
 
+// Refuses a raw mesh with an inverted half-chunk hex of a leaflet border edge (w, x) whose inverted corner is on the
+// out column of w, where w's border creases (its faces' normals more than kCreaseNormalGainDeg apart, a leaflet
+// boundary vertex or a fan-edge end): a wall standing on part of a plate's border, at the wall's end (`flange`,
+// `flangeup`). There w's one out column serves the plate's border half-chunk (out across the border, up the plate's
+// normal) and the wall's end half-chunk (out along the border, up the wall's normal); its face lies in the plane of
+// w's out and crease-normal directions, which passes through x's out-up copy at r = L / 2 for a wall at right angles
+// (L = |w x|; docs/blocks.md, "Thick flanges: the bound r < L / 2"), and no placement of w's column alone clears it
+// (measured: at most 0.14 / 0.08 at r = 0.6 / 0.9 L). Throws UnsupportedConfiguration naming w, the bound and an
+// edit. Called, as check_moved_roots, only where the raw mesh is the output. O(hexes) when a half-chunk is inverted.
+void check_border_creases(const PipelineResult& res);
+
 // The default uniform radius: factor x mean edge length (1.0 for a skeleton without edges).
 double default_radius(const Skeleton& skeleton, double factor);
 
