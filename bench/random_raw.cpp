@@ -6,6 +6,7 @@
 //   others 0/1: SkeletonRepairOptions trunks, absorb_stubs, keep_sibling_joints, merge_branching_ends, joint_trunks,
 //   wide_junction_trunks); SIDE_STUB_REACH=K in the environment sets SkeletonRepairOptions::side_stub_reach (0: every
 //   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, SIDE_STUB_ROOT_EXIT=K its side_stub_root_exit,
+//   FAT_STUB_MAIN=0|1 its fat_stub_main_line,
 //   KEEP_CUT_JOINT=F AdaptationOptions::keep_cut_joint, SLIDE_CUT_JOINT=0|1 its slide_cut_joint, BRIDGE_PEAK=F its
 //   bridge_peak_ratio,
 //   JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
@@ -97,6 +98,7 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_SPLIT_CLEARANCE")) po.repair.junction_split_clearance = std::atof(k);
     if (const char* k = std::getenv("SIDE_STUB_MIN_LENGTH")) po.repair.side_stub_min_length = std::atof(k);
     if (const char* k = std::getenv("SIDE_STUB_ROOT_EXIT")) po.repair.side_stub_root_exit = std::atof(k);
+    if (const char* k = std::getenv("FAT_STUB_MAIN")) po.repair.fat_stub_main_line = std::atoi(k) != 0;
     if (const char* k = std::getenv("JUNCTION_COVER")) po.raw_mesh.cover.fraction = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_COVER_MIN_DEGREE")) po.raw_mesh.cover.min_degree = std::atoi(k);
     if (const char* k = std::getenv("JUNCTION_COVER_FLOOR")) po.raw_mesh.cover.sj_floor = std::atof(k);

@@ -281,6 +281,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         res.trunks = repaired.trunks;
         res.absorbed_stubs = repaired.absorbed_stubs;
         res.side_stubs = repaired.side_stubs;
+        res.main_stubs = repaired.main_stubs;
         res.merged_ends = repaired.merged_ends;
         res.unseparated_pairs = repaired.unseparated;
         res.root_strip_splits = repaired.root_strip_splits;
@@ -363,6 +364,7 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
     line("trunks for close branch pairs", res.trunks);
     line("absorbed stubs", res.absorbed_stubs);
     line("stubs kept as side branches", res.side_stubs);
+    line("fat stubs kept as the main line", res.main_stubs);
     line("merged branching ends", res.merged_ends);
     line("close pairs left unseparated", res.unseparated_pairs);
     line("leaflet strips split around rooted branches", res.root_strip_splits);

@@ -51,6 +51,7 @@ struct PipelineResult {
     int trunks = 0;                   // trunk vertices the repair inserted (SkeletonRepairResult)
     int absorbed_stubs = 0;           // stubs the repair absorbed into a trunk vertex
     int side_stubs = 0;               // stubs the repair kept as side branches of their sibling
+    int main_stubs = 0;               // fat stubs the repair kept as the main line (fat_stub_main_line)
     int merged_ends = 0;  // close-pair branches ending at a branching point, absorbed (their children re-attached)
     int unseparated_pairs = 0;             // close branch pairs the repair left (a branch ends inside the other's tube)
     int root_strip_splits = 0;             // leaflet face strips the repair split around rooted branches

@@ -604,6 +604,76 @@ TEST(SkeletonRepair, StubKeptAsSideBranch) {
     EXPECT_EQ(absorbed.absorbed_stubs, 1);
 }
 
+// A fat stub kept as the main line (fat_stub_main_line). c = 0 of degree 3: parent (0, 0, -1), a thin sibling up to
+// (0, 0, 2) (radius 0.2 at c to 0.1 there: 0.2 - 0.05 s at arc s), a stub 0.8 long 20 degrees off it towards +x,
+// radius 0.2 throughout. At s = 0.8 the axes are 2 x 0.8 x sin 10 = 0.2778 apart, less than 0.2 + 0.16: the tubes do
+// not separate before the stub ends, and e lies 0.8 sin 20 = 0.2736 off the sibling, more than 0.7 x r_q (q at arc 0.8
+// cos 20 = 0.7518, r_q 0.1624): a side stub, and r_e 0.2 > r_q. The sibling's axis, sampled at l_k = 2 k / 128, lies
+// l sin 20 off the stub's; the first at the stub's radius 0.2 is k = 38 (37.42), l = 0.59375: x = (0, 0, 0.59375),
+// radius 0.2 - 0.05 l = 0.1703125; t is the stub's point nearest it, at arc l cos 20 = 0.55794 (beyond c's ball, 0.242
+// before e >= 1 x 0.2), radius 0.2. Edges: (parent, c), (c, t), (t, e), (t, x), (x, sibling end). A stub thinner than
+// the sibling at q (r_e 0.15) or the option off: the side stub.
+TEST(SkeletonRepair, FatStubKeptAsTheMainLine) {
+    Skeleton in;
+    const double sin20 = std::sin(20 * kDeg), cos20 = std::cos(20 * kDeg);
+    in.points = {{0, 0, -1}, {0, 0, 0}, {0, 0, 2}, {0.8 * sin20, 0, 0.8 * cos20}};
+    in.radii = {0.2, 0.2, 0.1, 0.2};
+    in.edges = {{0, 1}, {1, 2}, {1, 3}};
+    mesohex::SkeletonRepairOptions o;
+    o.fat_stub_main_line = true;
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, o);
+    EXPECT_EQ(res.main_stubs, 1);
+    EXPECT_EQ(res.side_stubs + res.absorbed_stubs + res.trunks + res.junction_splits, 0);
+    const std::vector<int> joints{1};
+    EXPECT_EQ(res.trunk_joints, joints);  // c pinned as a joint
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 6u);  // the 4 input vertices, then t and x
+    const double at = 0.59375 * cos20;
+    EXPECT_NEAR(distance(s.points[4], Vec3{at * sin20, 0, at * cos20}), 0, 1e-12);
+    EXPECT_NEAR(s.radii[4], 0.2, 1e-12);
+    EXPECT_NEAR(distance(s.points[5], Vec3{0, 0, 0.59375}), 0, 1e-12);
+    EXPECT_NEAR(s.radii[5], 0.1703125, 1e-12);
+    std::vector<std::array<int, 2>> edges;
+    for (const auto& e : s.edges) edges.push_back({std::min(e[0], e[1]), std::max(e[0], e[1])});
+    std::sort(edges.begin(), edges.end());
+    const std::vector<std::array<int, 2>> expected{{0, 1}, {1, 4}, {2, 5}, {3, 4}, {4, 5}};
+    EXPECT_EQ(edges, expected);
+    EXPECT_NEAR(distance(s.points[3], in.points[3]), 0, 1e-12);  // e stays
+    Skeleton thin = in;
+    thin.radii[3] = 0.15;
+    const mesohex::SkeletonRepairResult side = mesohex::repair_skeleton(thin, o);
+    EXPECT_EQ(side.main_stubs, 0);
+    EXPECT_EQ(side.side_stubs, 1);
+    o.fat_stub_main_line = false;
+    const mesohex::SkeletonRepairResult off = mesohex::repair_skeleton(in, o);
+    EXPECT_EQ(off.main_stubs, 0);
+    EXPECT_EQ(off.side_stubs, 1);
+}
+
+// fat_stub_main_line on two random seeds (docs/junctions.md, "Fat stubs kept as the main line"). Seed 144: the stub
+// of v2 (end radius 0.185, the sibling 0.132 at its point nearest the end) becomes the main line, v2 a pinned joint.
+// Seed 422: the thin walk from t would turn back along the stub (a close pair at t whose tubes do not part before the
+// stub ends, absorbed by a second round without parted_at_root): the side stub stays, the repaired skeleton is the
+// one the option off gives.
+TEST(SkeletonRepair, FatStubMainLineOnRandomSeeds) {
+    mesohex::SkeletonRepairOptions on, off;
+    on.fat_stub_main_line = true;
+    off.fat_stub_main_line = false;
+    const Skeleton s144 = mesohex::generate_random_skeleton(144);
+    const mesohex::SkeletonRepairResult a = mesohex::repair_skeleton(s144, on);
+    EXPECT_EQ(a.main_stubs, 1);
+    EXPECT_EQ(a.side_stubs + a.absorbed_stubs + a.trunks, 0);
+    const std::vector<int> joints{2};
+    EXPECT_EQ(a.trunk_joints, joints);
+    EXPECT_EQ(mesohex::repair_skeleton(s144, off).side_stubs, 1);
+    const Skeleton s422 = mesohex::generate_random_skeleton(422);
+    const mesohex::SkeletonRepairResult b = mesohex::repair_skeleton(s422, on), c = mesohex::repair_skeleton(s422, off);
+    EXPECT_EQ(b.main_stubs, 0);
+    EXPECT_EQ(b.side_stubs, 1);
+    EXPECT_EQ(b.skeleton.points, c.skeleton.points);
+    EXPECT_EQ(b.skeleton.edges, c.skeleton.edges);
+}
+
 // A side stub rooted where its axis leaves the sibling's tube (side_stub_root_exit). The configuration of
 // StubKeptAsSideBranch (c = 0, parent (0, 0, -1), sibling up to (0, 0, 2), the stub 0.3 long at 35 degrees towards
 // +x, every radius 0.1) with a fourth branch along -x (90 degrees from the sibling and the parent: no other close

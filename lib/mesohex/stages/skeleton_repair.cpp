@@ -106,10 +106,11 @@ AtArc at_arc(const Skeleton& s, const Walk& w, double t) {
 
 // What a repair does to a close pair (see the header).
 enum class PairRepair {
-    trunk,  // the tubes separate: a trunk vertex on the pair's medial axis
-    stub,   // the shorter branch ends at an extremity inside the other's tube: absorbed
-    merge,  // the shorter branch ends at a branching point inside the other's tube: absorbed, its children leave t
-    side,   // a stub whose end lies far off the other branch: kept as a side branch of it (side_stub_reach)
+    trunk,      // the tubes separate: a trunk vertex on the pair's medial axis
+    stub,       // the shorter branch ends at an extremity inside the other's tube: absorbed
+    merge,      // the shorter branch ends at a branching point inside the other's tube: absorbed, its children leave t
+    side,       // a stub whose end lies far off the other branch: kept as a side branch of it (side_stub_reach)
+    main_stub,  // a stub fatter than the other branch at a degree-3 point: the other rooted on it (fat_stub_main_line)
 };
 
 struct Candidate {
@@ -817,6 +818,56 @@ struct PointScan {
     std::vector<std::pair<int, int>> unseparated;
 };
 
+// Whether the two branches leaving a fat stub's new root t (the stub on from t, the thin walk on from its arc l) part
+// there: 90 degrees or more apart (to rounding), or their tubes separating before the shorter ends (`separation` on
+// the two polylines from t), i.e. t is not itself a close pair that the repair would absorb or trunk again.
+bool parted_at_root(const Skeleton& s, const Walk& stub, const Walk& thin, const AtArc& t, double l) {
+    Skeleton p;  // the two polylines from t, as a scratch skeleton: t, the stub's vertices after t, then x and on
+    Walk a, b;
+    const auto add = [&](Walk& w, const Vec3& x, double r) {
+        w.s.push_back(w.verts.empty() ? 0 : w.s.back() + distance(p.points[w.verts.back()], x));
+        w.verts.push_back(static_cast<int>(p.points.size()));
+        p.points.push_back(x);
+        p.radii.push_back(r);
+    };
+    add(a, t.x, t.r);
+    for (std::size_t k = t.k + 1; k < stub.verts.size(); ++k) add(a, s.points[stub.verts[k]], s.radii[stub.verts[k]]);
+    b.verts.push_back(0);
+    b.s.push_back(0);
+    const AtArc x = at_arc(s, thin, l);
+    add(b, x.x, x.r);
+    for (std::size_t k = x.k + 1; k < thin.verts.size(); ++k)
+        if (thin.s[k] > l) add(b, s.points[thin.verts[k]], s.radii[thin.verts[k]]);
+    if (a.verts.size() < 2 || b.verts.size() < 2 || !(a.length() > 0) || !(b.length() > 0)) return true;
+    const Vec3 da = p.points[a.verts[1]] - t.x, db = p.points[b.verts[1]] - t.x;
+    // x abeam of t inside a stub segment leaves t at a right angle: 1e-9 keeps rounding from calling it a close pair.
+    return dot(da, db) <= 1e-9 * norm(da) * norm(db) || separation(p, a, b) >= 0;
+}
+
+// The root of a thin branch on a fat stub (fat_stub_main_line): the first point x of the thin walk's axis (sampled in
+// 128 steps from c) whose distance to the stub's polyline reaches the stub's radius at its nearest point; t is that
+// nearest point. x moves on to the end of its segment when less than its radius is left of it (no edge shorter than
+// its ball). Returns x's arc length on the thin walk, or -1 when the axis never leaves the stub's tube before the thin
+// walk ends, t lies inside c's ball, or the stub's end e lies nearer t than min_length x max(r_t, r_e) (the side
+// edge's rule, side_stub_min_length).
+double main_stub_root(const Skeleton& s, const Walk& stub, const Walk& thin, double min_length, AtArc& t) {
+    constexpr int steps = 128;
+    const int c = stub.verts[0], e = stub.verts.back();
+    double a = 0;
+    for (int k = 1; k < steps; ++k) {
+        double l = thin.length() * k / steps;
+        const AtArc x = at_arc(s, thin, l);
+        t = nearest_on_walk(s, stub, x.x, a);
+        if (distance(x.x, t.x) < t.r) continue;
+        const double seg = thin.s[x.k + 1] - thin.s[x.k];
+        if ((1 - x.u) * seg < x.r) l = thin.s[x.k] + (1 - 1e-12) * seg;
+        const bool clear = distance(t.x, s.points[e]) >= min_length * std::max(t.r, s.radii[e]);
+        if (!(distance(t.x, s.points[c]) > s.radii[c]) || !clear) return -1;
+        return parted_at_root(s, stub, thin, t, l) ? l : -1;
+    }
+    return -1;
+}
+
 // The trunk length at a branching point that stays one (degree 4 and more, wide_junction_trunks): x, or, when x is
 // below trunk_clearance x (r_c + r_t), the length x' = k (r_c + r) / (1 - k sin a) (k = trunk_clearance) at which
 // the trunk edge is just long enough for adaptation to keep it (r_t = r + x' sin a), at most 0.9 l*: the junction
@@ -860,6 +911,16 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
             const AtArc q = nearest_on_walk(s, keep, e, arc);
             const bool at_end = q.k + 2 == keep.verts.size() && q.u > 1 - 1e-9;
             if (arc > s.radii[c] && !at_end && distance(e, q.x) >= o.side_stub_reach * q.r) {
+                // A stub fatter than the other branch at a degree-3 point: the other rooted on it.
+                AtArc t;
+                const bool fat =
+                    o.fat_stub_main_line && inc.size() == 3 && g.degree[c] == 3 && s.radii[shorter.verts.back()] > q.r;
+                const double x = fat ? main_stub_root(s, shorter, keep, o.side_stub_min_length, t) : -1;
+                if (x > 0) {
+                    if (score > best.score)
+                        best = {score, c, i_short ? j : i, i_short ? i : j, x, t.x, t.r, PairRepair::main_stub};
+                    return;
+                }
                 if (score > best.score)
                     best = {score, c, i_short ? j : i, i_short ? i : j, arc, q.x, q.r, PairRepair::side};
                 return;
@@ -1219,6 +1280,19 @@ std::vector<int> apply_candidate(Skeleton& s, Graph& g, Tombstones& dead, const 
     }
     s.points.push_back(best.t);
     s.radii.push_back(best.rt);
+    if (best.kind == PairRepair::main_stub) {  // the stub leaves t towards its next vertex, the thin walk towards x
+        double a = 0;
+        const AtArc at = nearest_on_walk(s, wj, best.t, a);
+        const std::size_t k = at.k + (at.u > 1 - 1e-9 ? 1 : 0);  // t on a joint: that joint goes, t takes its place
+        const double next = wj.s[k] + (1 - 1e-12) * (wj.s[k + 1] - wj.s[k]);
+        ed.new_edges.push_back({c, t});
+        join_trunk(s, g, wj, best.ej, next, t, ed);
+        join_trunk(s, g, wi, best.ei, best.sep, t, ed);
+        ++res.main_stubs;
+        res.trunk_joints.push_back(c);  // c becomes a joint (parent, stub)
+        made.side_root = t;             // frozen like a side stub's root: its pair parts (parted_at_root)
+        return apply_edit(s, g, dead, n, saved, ed);
+    }
     if (best.kind == PairRepair::trunk) {
         ed.new_edges.push_back({c, t});
         join_trunk(s, g, wi, best.ei, best.sep, t, ed);
