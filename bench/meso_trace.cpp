@@ -10,6 +10,12 @@
 // its radius. Then the count per kind, junctions also by layout (rooted branch / several curves on the border / inner).
 //   mesohex_meso_trace SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F]
 //                      [--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] [--geometry]
+//                      [--radius-factor F] [--leaflet-offset-fraction F]
+// --radius-factor F: the radii F x the distance to the surface, no other attempt (auto's meso_radius_factor F,
+// meso_full_radius_factor 0; F 1 traces the full-radius raw mesh auto tries first, the default the one it keeps).
+// Each site line also gives the site's local leaflet numbers: its radius over its shortest leaflet edge (r/e) and the
+// largest dihedral fold between two faces at one of its leaflet edges (0 = flat; faces of two leaflets: the smaller
+// of the two readings).
 // --geometry adds a line per inverted plate or half-chunk (hex_geometry; bench/classify_meso_trace.py counts them).
 #include <algorithm>
 #include <array>
@@ -87,6 +93,31 @@ std::array<double, 2> curve_angles(const Skeleton& s, const SkeletonAnalysis& an
 }
 
 constexpr double kDeg = 180.0 / 3.14159265358979323846;
+
+// At a skeleton vertex v: its radius over its shortest leaflet edge (0 without one) and the largest fold (degrees)
+// between the normals of two faces that share a leaflet edge at v (0 for a flat sheet or a single face).
+std::array<double, 2> local_leaflet_numbers(const Skeleton& s, const SkeletonAnalysis& an, int v) {
+    double emin = 1e300, fold = 0;
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = an.vertex_edges[static_cast<size_t>(i)];
+        if (an.edge_degree[static_cast<size_t>(e)] == 0) continue;
+        const std::array<int, 2>& ends = s.edges[static_cast<size_t>(e)];
+        emin = std::min(emin, distance(s.points[static_cast<size_t>(ends[0])], s.points[static_cast<size_t>(ends[1])]));
+        std::vector<int> faces;
+        for (size_t f = 0; f < an.face_edges.size(); ++f)
+            for (int fe : an.face_edges[f])
+                if (fe == e) faces.push_back(static_cast<int>(f));
+        for (size_t a = 0; a < faces.size(); ++a)
+            for (size_t b = a + 1; b < faces.size(); ++b) {
+                const size_t fa = static_cast<size_t>(faces[a]), fb = static_cast<size_t>(faces[b]);
+                double c = dot(an.face_normal[fa], an.face_normal[fb]);
+                if (an.face_leaflet[fa] != an.face_leaflet[fb]) c = std::abs(c);  // orientations unrelated
+                fold = std::max(fold, std::acos(std::clamp(c, -1.0, 1.0)) * kDeg);
+            }
+    }
+    const double r = v < static_cast<int>(s.radii.size()) ? s.radii[static_cast<size_t>(v)] : 0.0;
+    return {emin < 1e300 ? r / emin : 0.0, fold};
+}
 
 double angle_between(const Vec3& a, const Vec3& b) {
     const double na = norm(a), nb = norm(b);
@@ -166,13 +197,15 @@ int main(int argc, char** argv) {
         std::fprintf(stderr,
                      "usage: %s SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F] "
                      "[--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] "
-                     "[--geometry]\n",
+                     "[--geometry] [--radius-factor F] [--leaflet-offset-fraction F]\n",
                      argv[0]);
         return 2;
     }
     AutoSkeletonOptions o;
     o.kind = SkeletonKind::Meso;
     bool geometry = false;  // --geometry: a second line per hex (hex_geometry)
+    MeshOptions mo;
+    mo.finish = false;
     for (int i = 2; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--no-bl-notch-corners") o.import.bl_joint_reflex_corners = false;
@@ -184,6 +217,12 @@ int main(int argc, char** argv) {
         if (a == "--fringe-node-ends") o.medial.fringe_node_ends = true;
         if (a == "--no-prune-after-fringe") o.medial.prune_after_fringe = false;
         if (a == "--geometry") geometry = true;
+        if (a == "--leaflet-offset-fraction" && i + 1 < argc)
+            mo.pipeline.raw_mesh.leaflet_offset_fraction = std::atof(argv[++i]);
+        if (a == "--radius-factor" && i + 1 < argc) {
+            o.meso_radius_factor = std::atof(argv[++i]);
+            o.meso_full_radius_factor = 0;
+        }
         if (a == "--fill-pinch" && i + 1 < argc) o.import.fill_pinch_max_angle_deg = std::atof(argv[++i]);
         if (a == "--min-side" && i + 1 < argc) o.import.min_border_side_fraction = std::atof(argv[++i]);
     }
@@ -192,8 +231,6 @@ int main(int argc, char** argv) {
     AutoSkeleton chosen;
     try {
         chosen = choose_skeleton(surface, o);
-        MeshOptions mo;
-        mo.finish = false;
         run = mesh_skeleton(chosen.skeleton, &surface, mo);
     } catch (const std::exception& e) {
         std::printf("refused: %s\n", e.what());
@@ -235,14 +272,16 @@ int main(int argc, char** argv) {
         if (!layout.empty()) ++per_kind["junction " + layout];
         const Vec3& p = s.points[static_cast<size_t>(site)];
         const std::array<double, 2> ca = curve_angles(s, an, site);
+        const std::array<double, 2> ln = local_leaflet_numbers(s, an, site);
         std::printf(
             "hex %6zu sj %7.3f  %-16s len %-7.4g site v%-5d %-9s %-15s curves %d corner %5.1f deg off-plane %5.1f "
             "off-out %5.1f r "
-            "%.4g at (%.4g %.4g %.4g)\n",
+            "%.4g r/e %.2f fold %.0f at (%.4g %.4g %.4g)\n",
             h, sj[h], element.c_str(), edge_length, site, kind.c_str(),
             to_string(an.vertex_class[static_cast<size_t>(site)]), an.vertex_branch_edges[static_cast<size_t>(site)],
             angle[static_cast<size_t>(site)], ca[0], ca[1],
-            site < static_cast<int>(s.radii.size()) ? s.radii[static_cast<size_t>(site)] : 0.0, p.x, p.y, p.z);
+            site < static_cast<int>(s.radii.size()) ? s.radii[static_cast<size_t>(site)] : 0.0, ln[0], ln[1], p.x, p.y,
+            p.z);
         if (geometry && (e < 0 || an.edge_degree[static_cast<size_t>(e)] > 0)) {
             std::array<Vec3, 8> corners{};
             for (int k = 0; k < 8; ++k)

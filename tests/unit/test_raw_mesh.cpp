@@ -1566,3 +1566,40 @@ TEST(RawMesh, LeaningLegsPutTheOrangesPoleBehindThem) {
     EXPECT_NEAR(nearest, 0.32425, 1e-4);  // the paper value: the matched section corner lies in that plane
     EXPECT_NEAR(raw.mesh.points[pole_id].y, 0.5, 1e-6);
 }
+
+TEST(RawMeshLeaflets, CreaseCopiesOnTheConcaveSideStopBeforeTheyPassEachOther) {
+    // A V of two unit squares meeting at the crease x = 0, each 30 degrees off the horizontal (face normals 60 degrees
+    // apart), radius 2.5. A crease vertex's normal is vertical; an outer vertex's is its face's normal, which is
+    // perpendicular to the side from the crease. Along that side (length 1) the crease vertex's up copy moves
+    // r sin 30 = 1.25 towards the outer vertex and the outer vertex's none: the copies pass each other (inverted
+    // hexes). With leaflet_offset_fraction 0.5 the pair may close in by 0.5 x 1 at most: both up copies go
+    // 0.5 / sin 30 = 1.0 (factor 0.4; the diagonals allow 0.8, the crease side and the outer sides 1); every down copy
+    // (the convex side) stays at 2.5.
+    const double c = std::cos(std::numbers::pi / 6), s30 = 0.5;
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0, 1, 0}, {-c, 0, s30}, {-c, 1, s30}, {c, 0, s30}, {c, 1, s30}};
+    s.faces = {{0, 1, 3, 2}, {4, 5, 1, 0}};
+    add_face_edges(s);
+    s.radii.assign(s.points.size(), 2.5);
+    SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, ConnectionSurfaceOptions{});
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    RawMeshOptions o;
+    ASSERT_EQ(o.leaflet_offset_fraction, 0.5);
+    const RawMesh limited = build_raw_mesh(s, an, cs, fr, o);
+    for (int v = 0; v < 6; ++v) {
+        const int base = limited.vertex_base[v];
+        for (int k : {1, 2}) {
+            const Vec3 off = limited.mesh.points[base + k] - s.points[v];
+            const bool concave = dot(off, Vec3{0, 0, 1}) > 0;
+            EXPECT_NEAR(norm(off), concave ? 1.0 : 2.5, 1e-12) << "vertex " << v << " copy " << k;
+        }
+    }
+    const QualityReport q = compute_quality(limited.mesh);
+    EXPECT_EQ(q.hexes, 2 * 2 + 2 * 6);
+    EXPECT_EQ(q.inverted, 0);
+    o.leaflet_offset_fraction = 0;
+    const RawMesh full = build_raw_mesh(s, an, cs, fr, o);
+    EXPECT_NEAR(distance(full.mesh.points[full.vertex_base[0] + 1], s.points[0]), 2.5, 1e-12);
+    EXPECT_GT(compute_quality(full.mesh).inverted, 0);
+}

@@ -1030,16 +1030,54 @@ void place_fan_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, co
     }
 }
 
+// A leaflet vertex placed by place_leaflet_vertex (one up / down column for all its faces).
+bool leaflet_column_class(VertexClass c) {
+    return c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary;
+}
+
+// RawMeshOptions::leaflet_offset_fraction: per leaflet column vertex the factor (at most 1) on its up and on its down
+// offset (with the up / down column's out point) so that, for every two corners v, w of one face (sides and
+// diagonals), the two offsets on that side bring v and w closer along the line v -> w by at most fraction x |w - v|
+// (the offsets fold over each other where they would pass). A pair past the limit scales both its offsets on that
+// side by the same factor; a vertex keeps the smallest factor of its pairs. 1, 1 elsewhere and with fraction <= 0.
+std::vector<std::array<double, 2>> leaflet_offset_limits(const Skeleton& skeleton, const SkeletonAnalysis& an,
+                                                         const LeafletVertexFrames& leaf,
+                                                         const std::vector<double>& radius, double fraction) {
+    std::vector<std::array<double, 2>> limit(skeleton.points.size(), {1.0, 1.0});
+    if (!(fraction > 0)) return limit;
+    for (const std::array<int, 4>& face : an.face_vertices)
+        for (int i = 0; i < 4; ++i)
+            for (int j = i + 1; j < 4; ++j) {
+                const int v = face[i], w = face[j];
+                if (!leaflet_column_class(an.vertex_class[v]) || !leaflet_column_class(an.vertex_class[w])) continue;
+                const Vec3 d = skeleton.points[w] - skeleton.points[v];
+                const double e = norm(d);
+                if (!(e > 0)) continue;
+                const double nv = dot(leaf.normal[v], d) / e * radius[v], nw = dot(leaf.normal[w], d) / e * radius[w];
+                // Up: v moves by up_scale r_v n_v, w by up_scale r_w n_w; down: the opposite signs.
+                const double shrink[2] = {leaf.up_scale[v] * nv - leaf.up_scale[w] * nw,
+                                          leaf.down_scale[w] * nw - leaf.down_scale[v] * nv};
+                for (int side = 0; side < 2; ++side) {
+                    if (!(shrink[side] > fraction * e)) continue;
+                    const double k = fraction * e / shrink[side];
+                    limit[v][side] = std::min(limit[v][side], k);
+                    limit[w][side] = std::min(limit[w][side], k);
+                }
+            }
+    return limit;
+}
+
 // Leaflet vertex v of radius r: centre, up and down; at a boundary vertex also its out column (out, out-up,
-// out-down).
+// out-down); limit: leaflet_offset_limits's up / down factors for v.
 void place_leaflet_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an, const LeafletVertexFrames& leaf,
-                          const RawMeshOptions& options, int v, double r, RawMesh& raw) {
+                          const RawMeshOptions& options, int v, double r, const std::array<double, 2>& limit,
+                          RawMesh& raw) {
     const int base = raw.vertex_base[v];
     const Vec3& c = skeleton.points[v];
     const Vec3 n = r * leaf.normal[v];
     raw.mesh.points[base] = c;
-    raw.mesh.points[base + 1] = c + leaf.up_scale[v] * n;
-    raw.mesh.points[base + 2] = c - leaf.down_scale[v] * n;
+    raw.mesh.points[base + 1] = c + limit[0] * leaf.up_scale[v] * n;
+    raw.mesh.points[base + 2] = c - limit[1] * leaf.down_scale[v] * n;
     if (an.vertex_class[v] != VertexClass::LeafletBoundary) return;
     Vec3 o = leaf.out[v], m = n;
     if (an.vertex_border_root[v] == BorderRoot::Out) {
@@ -1058,8 +1096,8 @@ void place_leaflet_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an, 
     }
     const Vec3 out = c + leaflet_out_distance(skeleton, an, leaf, v, r) * o;
     raw.mesh.points[base + 3] = out;
-    raw.mesh.points[base + 4] = out + m;
-    raw.mesh.points[base + 5] = out - m;
+    raw.mesh.points[base + 4] = out + limit[0] * m;
+    raw.mesh.points[base + 5] = out - limit[1] * m;
 }
 
 // Geometry transfer: centre, surface points and surface-edge midpoints on the sphere of local radius; leaflet
@@ -1069,6 +1107,8 @@ void place_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const 
                     RawMesh& raw) {
     const int nv = static_cast<int>(skeleton.points.size());
     const LeafletVertexFrames leaf = leaflet_vertex_frames(skeleton, an);
+    const std::vector<std::array<double, 2>> limits =
+        leaflet_offset_limits(skeleton, an, leaf, radius, options.leaflet_offset_fraction);
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 512), [&](const tbb::blocked_range<int>& range) {
         for (int v = range.begin(); v != range.end(); ++v) {
             const int base = raw.vertex_base[v];
@@ -1077,7 +1117,7 @@ void place_vertices(const Skeleton& skeleton, const SkeletonAnalysis& an, const 
             const double r = radius[v];
             const VertexClass vc = an.vertex_class[v];
             if (vc == VertexClass::LeafletInterior || vc == VertexClass::LeafletBoundary) {
-                place_leaflet_vertex(skeleton, an, leaf, options, v, r, raw);
+                place_leaflet_vertex(skeleton, an, leaf, options, v, r, limits[v], raw);
                 continue;
             }
             if (block_at(cs, v) >= 0) {

@@ -97,6 +97,14 @@ struct RawMeshOptions {
     // cross-section then reaches at most turn_fraction of half of each incident edge (the adaptation stage normally
     // guarantees this already; this only acts on inputs meshed with their own sampling).
     double turn_fraction = 0.8;
+    // Leaflet offsets that fold over each other: for every two corners v, w of one leaflet face (sides and diagonals),
+    // the up copies (and the down copies) of v and w, r x normal off the sheet, may bring the two closer along the line
+    // v -> w by at most leaflet_offset_fraction x |w - v|; a pair past that has both its copies on that side (and the
+    // border's out-up / out-down copies) pulled in by the same factor (a vertex: the smallest of its pairs). Where a
+    // coarse sheet bends by phi between neighbours at distance e, the copies pass each other once r sin(phi) > e
+    // (the medial sheets' creases at their full radii: docs/sheets.md). Dimensionless, like turn_fraction for joints;
+    // 0 = off (every copy at r).
+    double leaflet_offset_fraction = 0.5;
     // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
     // out-down) in the leaflet's plane towards the branch by border_root_turn x their angle there, then about the
     // border by border_root_tilt x the branch's tilt out of the plane (0, 0 = the column along the border's outward
@@ -129,11 +137,12 @@ struct RawMeshOptions {
 // every hex in VTK order; positions: C_v at the skeleton vertex, Q_v(x) = c + r_v * d_x, M_v(x, y) =
 // c + r_v * unit(d_x + d_y) (on the sphere of local radius r_v, reduced next to branching points, see
 // RawMeshOptions::margin_fraction); leaflet vertex w: up/down = w +- r n (n = LeafletVertexFrames::normal; on the
-// concave side of a sharp crease r x up_scale / down_scale, the miter),
+// concave side of a sharp crease r x up_scale / down_scale, the miter; on a side where two corners of one face would
+// close in by more than leaflet_offset_fraction of their distance, both copies pulled in),
 // out = w + d o (o = LeafletVertexFrames::out, the bisector of the exterior angle of the border; d = r, shortened at
 // reflex corners, see leaflet_out_distance),
-// out-up/out-down = out +- r n (at a border vertex rooting a branch on its out patch, the column out / out-up /
-// out-down turns towards the branch: border_root_turn, border_root_tilt).
+// out-up/out-down = out +- r n, pulled in as up/down (at a border vertex rooting a branch on its out patch, the
+// column out / out-up / out-down turns towards the branch: border_root_turn, border_root_tilt).
 // A branch rooted on a leaflet (LeafletPatch, BorderPatch) has no vertices of its own at its root: its first chunk's
 // bottom kites are the 4 plate / half-chunk faces of the patch.
 // Complexity: O(hexes + surface points), parallel.
