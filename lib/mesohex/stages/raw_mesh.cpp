@@ -1035,65 +1035,35 @@ bool leaflet_column_class(VertexClass c) {
     return c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary;
 }
 
-// One corner of a leaflet hex's skeleton-level quad for leaflet_offset_limits: its point, the vertex whose column it
-// belongs to, and the lengths of its up / down copies along that vertex's normal.
-struct OffsetCorner {
-    Vec3 p;
-    int v;
-    double up, down;
-};
-
-// Two corners a, b: the factor on both copies of each side so that they close in along a -> b by at most fraction x
-// |b - a|; the smaller factor is kept per vertex (limit).
-void limit_offset_pair(const LeafletVertexFrames& leaf, const OffsetCorner& a, const OffsetCorner& b, double fraction,
-                       std::vector<std::array<double, 2>>& limit) {
-    const Vec3 d = b.p - a.p;
-    const double e = norm(d);
-    if (!(e > 0)) return;
-    const double na = dot(leaf.normal[a.v], d) / e, nb = dot(leaf.normal[b.v], d) / e;
-    const double shrink[2] = {a.up * na - b.up * nb, b.down * nb - a.down * na};
-    for (int side = 0; side < 2; ++side) {
-        if (!(shrink[side] > fraction * e)) continue;
-        const double k = fraction * e / shrink[side];
-        limit[a.v][side] = std::min(limit[a.v][side], k);
-        limit[b.v][side] = std::min(limit[b.v][side], k);
-    }
-}
-
 // RawMeshOptions::leaflet_offset_fraction: per leaflet column vertex the factor (at most 1) on its up and on its down
-// copies (with the up / down copies of its out point) so that, for every two corners of one skeleton-level quad of a
-// leaflet hex (a face: sides and diagonals; a border side's half-chunk (a, out a, out b, b): its out side and
-// diagonals), their copies on one side bring the two closer along the line between them by at most fraction x their
-// distance (the copies fold over each other where they would pass). A pair past the limit scales the copies of its
-// two vertices on that side by the same factor; a vertex keeps the smallest factor of its pairs. Border vertices
-// rooting a branch on their out patch take part with their face corners only. 1, 1 elsewhere and with fraction <= 0.
+// offset (with the up / down column's out point) so that, for every two corners v, w of one face (sides and
+// diagonals), the two offsets on that side bring v and w closer along the line v -> w by at most fraction x |w - v|
+// (the offsets fold over each other where they would pass). A pair past the limit scales both its offsets on that
+// side by the same factor; a vertex keeps the smallest factor of its pairs. 1, 1 elsewhere and with fraction <= 0.
 std::vector<std::array<double, 2>> leaflet_offset_limits(const Skeleton& skeleton, const SkeletonAnalysis& an,
                                                          const LeafletVertexFrames& leaf,
                                                          const std::vector<double>& radius, double fraction) {
     std::vector<std::array<double, 2>> limit(skeleton.points.size(), {1.0, 1.0});
     if (!(fraction > 0)) return limit;
-    const auto centre = [&](int v) {
-        return OffsetCorner{skeleton.points[v], v, leaf.up_scale[v] * radius[v], leaf.down_scale[v] * radius[v]};
-    };
     for (const std::array<int, 4>& face : an.face_vertices)
         for (int i = 0; i < 4; ++i)
-            for (int j = i + 1; j < 4; ++j)
-                if (leaflet_column_class(an.vertex_class[face[i]]) && leaflet_column_class(an.vertex_class[face[j]]))
-                    limit_offset_pair(leaf, centre(face[i]), centre(face[j]), fraction, limit);
-    const auto out_corner = [&](int v) {
-        const Vec3 out = skeleton.points[v] + leaflet_out_distance(skeleton, an, leaf, v, radius[v]) * leaf.out[v];
-        return OffsetCorner{out, v, radius[v], radius[v]};
-    };
-    const auto plain_border = [&](int v) {
-        return an.vertex_class[v] == VertexClass::LeafletBoundary && an.vertex_border_root[v] != BorderRoot::Out;
-    };
-    for (int e = 0; e < static_cast<int>(skeleton.edges.size()); ++e) {
-        const int a = skeleton.edges[e][0], b = skeleton.edges[e][1];
-        if (an.edge_degree[e] != 1 || !plain_border(a) || !plain_border(b)) continue;
-        limit_offset_pair(leaf, out_corner(a), out_corner(b), fraction, limit);
-        limit_offset_pair(leaf, centre(a), out_corner(b), fraction, limit);
-        limit_offset_pair(leaf, out_corner(a), centre(b), fraction, limit);
-    }
+            for (int j = i + 1; j < 4; ++j) {
+                const int v = face[i], w = face[j];
+                if (!leaflet_column_class(an.vertex_class[v]) || !leaflet_column_class(an.vertex_class[w])) continue;
+                const Vec3 d = skeleton.points[w] - skeleton.points[v];
+                const double e = norm(d);
+                if (!(e > 0)) continue;
+                const double nv = dot(leaf.normal[v], d) / e * radius[v], nw = dot(leaf.normal[w], d) / e * radius[w];
+                // Up: v moves by up_scale r_v n_v, w by up_scale r_w n_w; down: the opposite signs.
+                const double shrink[2] = {leaf.up_scale[v] * nv - leaf.up_scale[w] * nw,
+                                          leaf.down_scale[w] * nw - leaf.down_scale[v] * nv};
+                for (int side = 0; side < 2; ++side) {
+                    if (!(shrink[side] > fraction * e)) continue;
+                    const double k = fraction * e / shrink[side];
+                    limit[v][side] = std::min(limit[v][side], k);
+                    limit[w][side] = std::min(limit[w][side], k);
+                }
+            }
     return limit;
 }
 

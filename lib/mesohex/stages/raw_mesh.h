@@ -97,14 +97,13 @@ struct RawMeshOptions {
     // cross-section then reaches at most turn_fraction of half of each incident edge (the adaptation stage normally
     // guarantees this already; this only acts on inputs meshed with their own sampling).
     double turn_fraction = 0.8;
-    // Leaflet offsets that fold over each other: for every two corners of one skeleton-level quad of a leaflet hex (a
-    // face: sides and diagonals; a border half-chunk (a, out a, out b, b): its out side and diagonals), their up copies
-    // (and their down copies), r x normal off the sheet, may bring the two closer along the line between them by at
-    // most leaflet_offset_fraction x their distance; a pair past that has both its vertices' copies on that side (with
-    // their out-up / out-down copies) pulled in by the same factor (a vertex: the smallest of its pairs). Where a coarse
-    // sheet bends by phi between neighbours at distance e, the copies pass each other once r sin(phi) is about e (our
-    // medial sheets at their full radii: docs/sheets.md, "Where the full-radius meso raw meshes fold"). Dimensionless,
-    // like turn_fraction for joints; 0 = off (every copy at r).
+    // Leaflet offsets that fold over each other: for every two corners of one leaflet face (sides and diagonals),
+    // their up copies (and their down copies), r x normal off the sheet, may bring the two closer along the line
+    // between them by at most leaflet_offset_fraction x their distance; a pair past that has both its vertices' copies
+    // on that side (with their out-up / out-down copies) pulled in by the same factor (a vertex: the smallest of its
+    // pairs). Where a coarse sheet bends by phi between neighbours at distance e, the copies pass each other once
+    // r sin(phi) is about e (our medial sheets at their full radii: docs/sheets.md, "Where the full-radius meso raw
+    // meshes fold"). Dimensionless, like turn_fraction for joints; 0 = off (every copy at r).
     double leaflet_offset_fraction = 0.5;
     // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
     // out-down) in the leaflet's plane towards the branch by border_root_turn x their angle there, then about the
