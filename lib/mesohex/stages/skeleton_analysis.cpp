@@ -549,8 +549,12 @@ void count_elements(const Skeleton& s, SkeletonAnalysis& an) {
         else if (d == 1)
             ++c.boundary_edges;
     }
-    for (std::size_t e = 0; e < an.edge_degree.size(); ++e)
-        if (an.edge_degree[e] >= 3) ++(an.edge_docked[e] == 1 ? c.docked_edges : c.fan_edges);
+    for (std::size_t e = 0; e < an.edge_degree.size(); ++e) {
+        if (an.edge_docked[e] == 3)
+            ++c.boundary_edges;  // a flange's chain: its plate's border (half-chunks)
+        else if (an.edge_degree[e] >= 3)
+            ++(an.edge_docked[e] == 1 ? c.docked_edges : c.fan_edges);
+    }
     c.branches = static_cast<long>(an.branches.size());
     c.leaflets = static_cast<long>(an.leaflets.size());
     for (const Branch& b : an.branches) c.rings += b.ring ? 1 : 0;
