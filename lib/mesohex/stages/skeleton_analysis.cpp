@@ -675,6 +675,14 @@ std::string analysis_to_text(const SkeletonAnalysis& an) {
             os << "vertex " << v << ": " << to_string(vc) << ", its branch rooted on the plates (" << where << ")\n";
             continue;
         }
+        bool flange = false;  // on a chain docked on its plate's border (edge_docked 3)
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+            flange = flange || an.edge_docked[an.vertex_edges[i]] == 3;
+        if (flange) {
+            os << "vertex " << v << ": " << to_string(vc) << " of leaflet " << an.vertex_plate[v]
+               << ", a wall docked on its border (a flange: the chain is the leaflet's border)\n";
+            continue;
+        }
         if (an.vertex_plate[v] >= 0) {
             os << "vertex " << v << ": " << to_string(vc) << " of leaflet " << an.vertex_plate[v]
                << ", a wall docked on it (chain of fan edges ending inside the leaflet, or across it with a leaflet "
