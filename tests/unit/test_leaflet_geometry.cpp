@@ -131,31 +131,29 @@ TEST(LeafletGeometry, OutPatchOfAStraightBorder) {
 }
 
 // A flange on part of a plate's border: plate(3, 2) with a wall quad standing on the border edge 1-2 (vertices 12, 13
-// on top). Its ends 1 and 2 have 2 plate faces (normal +z) and the wall's (normal +-y): the mean normal unit(2 z +- y)
-// is 63.4 degrees off the wall's, the narrowest cone's axis unit(z +- y) 45 degrees off both (kCreaseNormalGainDeg),
-// and the border edges' outward directions come from their own faces: -y from the plate's border edge 0-1, -x from
-// the wall's side 1-12, out[1] = unit(-x - y). The mean normal folded two of the wall's half-chunk hexes (raw min SJ
-// -0.089); with the cone none is inverted (raw 38 hexes = 2 x 7 faces + 2 x 12 boundary edges).
-TEST(LeafletGeometry, FlangeEndTakesTheNarrowestConeOfItsFaceNormals) {
+// on top), one leaflet creased along 1-2. The analysis cuts it there and docks the wall on the plate's border
+// (docked_walls.h): 1 and 2 are the plate's border vertices, normal +z from its 2 faces alone, out -y from its border
+// edges (the chain edge 1-2 included); the wall is a leaflet of its own. Raw 40 hexes = 2 x 7 faces + 2 x 13 border
+// edges (the plate's 10, the wall's 3). (Before, the creased border vertex took the narrowest cone of its face normals,
+// which still serves a flange from a plate's corner.)
+TEST(LeafletGeometry, FlangeEndIsThePlatesBorderVertex) {
     const Skeleton s = plate_with_wall(3, 2, {1, 2});
     const SkeletonAnalysis an = analyze_skeleton(s);
     ASSERT_EQ(an.vertex_class[1], VertexClass::LeafletBoundary);
+    EXPECT_EQ(an.counts.leaflets, 2);
     const LeafletVertexFrames lf = leaflet_vertex_frames(s, an);
     for (int w : {1, 2}) {
         SCOPED_TRACE(w);
-        EXPECT_NEAR(lf.normal[w].x, 0.0, 1e-12);
-        EXPECT_NEAR(std::abs(lf.normal[w].y), std::sqrt(0.5), 1e-12);
-        EXPECT_NEAR(std::abs(lf.normal[w].z), std::sqrt(0.5), 1e-12);
-        expect_vec(lf.out[w], {w == 1 ? -std::sqrt(0.5) : std::sqrt(0.5), -std::sqrt(0.5), 0}, 1e-12);
+        expect_vec(lf.normal[w], {0, 0, 1}, 1e-12);
+        expect_vec(lf.out[w], {0, -1, 0}, 1e-12);
     }
-    // Away from the flange the plate keeps its mean normal and in-plane out directions.
     expect_vec(lf.normal[5], {0, 0, 1}, 1e-15);
     expect_vec(lf.out[4], {-1, 0, 0}, 1e-15);
     const test::RawRun r = test::checked_raw_mesh(s);
-    EXPECT_EQ(r.quality.hexes, 38);
+    EXPECT_EQ(r.quality.hexes, 40);
     EXPECT_TRUE(r.valid);
     EXPECT_EQ(r.quality.inverted, 0);
-    EXPECT_GT(r.quality.sj_min, 0.3);  // measured 0.335
+    EXPECT_GT(r.quality.sj_min, 0.3);
 }
 
 // A sheet folded evenly (the crease's vertices have as many faces on both sides) keeps its mean normal: plate(2, 2)

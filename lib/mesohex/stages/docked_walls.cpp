@@ -51,11 +51,14 @@ struct LocalFaces {
     std::vector<std::vector<int>> of_vertex;  // per vertex on a fan edge: its faces, in face order
 };
 
-LocalFaces local_faces(const Skeleton& s, const SkeletonAnalysis& an) {
+// Also for the edges marked in `more` (when not empty) and the edges at their vertices, and for a flange's chain
+// (edge_docked 3).
+LocalFaces local_faces(const Skeleton& s, const SkeletonAnalysis& an, const std::vector<char>& more = {}) {
     const int nv = static_cast<int>(s.points.size()), ne = static_cast<int>(s.edges.size());
     std::vector<char> on_fan(nv, 0);
     for (int e = 0; e < ne; ++e)
-        if (an.edge_degree[e] >= 3) on_fan[s.edges[e][0]] = on_fan[s.edges[e][1]] = 1;
+        if (an.edge_degree[e] >= 3 || (!more.empty() && more[e]) || (!an.edge_docked.empty() && an.edge_docked[e] == 3))
+            on_fan[s.edges[e][0]] = on_fan[s.edges[e][1]] = 1;
     LocalFaces lf{std::vector<std::vector<int>>(ne), std::vector<std::vector<int>>(nv)};
     for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
         for (int k = 0; k < 4; ++k) {
@@ -456,12 +459,135 @@ bool join_across_chain(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces
     return true;
 }
 
+// Leaflet candidates for the plate of a border chain at chain edge e (face leaflets `leaf`): a leaflet with exactly one
+// face at e whose other faces are other leaflets within kDockWallTiltDeg of its normal, at most one on each side.
+std::vector<int> border_plate_candidates(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf,
+                                         const std::vector<int>& leaf, int e) {
+    std::vector<int> out;
+    for (int f : lf.of_edge[e]) {
+        const int l = leaf[f];
+        if (std::count_if(lf.of_edge[e].begin(), lf.of_edge[e].end(), [&](int g) { return leaf[g] == l; }) != 1)
+            continue;
+        const Vec3 n = an.face_normal[f];
+        int sides[2] = {0, 0};
+        bool ok = true;
+        for (int g : lf.of_edge[e]) {
+            if (g == f) continue;
+            const Vec3 d = into_face(s, an, g, e);
+            ok = ok && leaf[g] != l && angle_deg(d, dot(d, n) > 0 ? n : -1.0 * n) <= kDockWallTiltDeg;
+            ++sides[dot(d, n) > 0 ? 0 : 1];
+        }
+        if (ok && sides[0] <= 1 && sides[1] <= 1) out.push_back(l);
+    }
+    return out;
+}
+
+// Does chain vertex v (an end or not) meet the border-chain conditions for plate P (see border_chain_plate)?
+bool border_chain_vertex(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf,
+                         const std::vector<int>& leaf, const std::vector<int>& comp, const std::vector<int>& vertices,
+                         int v, bool end, int P) {
+    auto in_comp = [&](int e) { return std::find(comp.begin(), comp.end(), e) != comp.end(); };
+    int chain_edge = -1, chain_edges = 0, border = -1, plate_faces = 0;
+    std::vector<std::array<int, 3>> walls;  // (leaflet, faces, border edges)
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (in_comp(e)) {
+            chain_edge = e;
+            ++chain_edges;
+            continue;
+        }
+        if (an.edge_degree[e] == 0 || an.edge_degree[e] >= 3) return false;
+        const int l = leaf[lf.of_edge[e].front()];
+        if (an.edge_degree[e] == 2) {
+            if (leaf[lf.of_edge[e].back()] != l) return false;
+            continue;
+        }
+        if (l == P) {
+            if (border >= 0) return false;
+            border = e;
+        } else {
+            if (std::find(vertices.begin(), vertices.end(), other_end(s, e, v)) != vertices.end()) return false;
+            count_wall(walls, l, 0, 1);
+        }
+    }
+    if (chain_edges != (end ? 1 : 2)) return false;
+    for (int f : lf.of_vertex[v]) {
+        int on = 0;
+        for (int e : comp) on += face_has_edge(an, f, e) ? 1 : 0;
+        if (leaf[f] == P) {
+            if (on > 1 || (!end && on != 1)) return false;  // the chain runs straight along P's grid
+            ++plate_faces;
+            continue;
+        }
+        if (on == 0) return false;
+        count_wall(walls, leaf[f], 1, 0);
+    }
+    if (plate_faces != 2 || (end ? border < 0 : border >= 0)) return false;
+    for (const std::array<int, 3>& w : walls)
+        if (w[1] != (end ? 1 : 2) || w[2] != (end ? 1 : 0)) return false;
+    if (!end) return true;
+    const Vec3 a = s.points[other_end(s, border, v)] - s.points[v];
+    const Vec3 b = s.points[other_end(s, chain_edge, v)] - s.points[v];
+    return norm(a) > 0 && norm(b) > 0 && angle_deg(normalized(a), normalized(b)) >= kDockPlateAngleDeg;
+}
+
+// The plate of a wall standing on part of a plate's border (a flange): chain comp (face leaflets `leaf`) is a path
+// whose every edge has exactly one face of leaflet P and walls (other leaflets) within kDockWallTiltDeg of P's normal,
+// at most one per side; at every inner chain vertex P has 2 faces, each on one chain edge, and no border edge off the
+// chain, at each end 2 faces and one border edge off the chain continuing the chain's line (at least
+// kDockPlateAngleDeg from the chain edge: P's border runs on past the end; a chain from P's corner is not docked here);
+// no branch edge, no fan edge off the chain and no other leaflet at a chain vertex; each wall has only faces on chain
+// edges at a chain vertex, and at an end one face and one border edge not joining two chain vertices. The one leaflet
+// passing, or -1 (nothing docked) otherwise.
+int border_chain_plate(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf,
+                       const std::vector<int>& leaf, const std::vector<int>& comp) {
+    std::vector<int> vertices;
+    const std::vector<int> ends = chain_ends(s, comp, vertices);
+    if (ends.size() != 2) return -1;
+    std::vector<int> candidates;
+    for (std::size_t i = 0; i < comp.size(); ++i) {
+        const std::vector<int> here = border_plate_candidates(s, an, lf, leaf, comp[i]);
+        if (i == 0)
+            candidates = here;
+        else
+            std::erase_if(candidates, [&](int l) { return std::find(here.begin(), here.end(), l) == here.end(); });
+    }
+    int plate = -1, passing = 0;
+    for (int P : candidates) {
+        bool ok = true;
+        for (int v : vertices)
+            ok = ok && border_chain_vertex(s, an, lf, leaf, comp, vertices, v,
+                                           std::find(ends.begin(), ends.end(), v) != ends.end(), P);
+        if (ok) plate = P, ++passing;
+    }
+    return passing == 1 ? plate : -1;
+}
+
+// Marks chain comp as docked on plate P's border (edge_docked 3, its vertices' plate P, the walls' border edges at
+// them 2).
+void dock_on_border(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp,
+                    int P) {
+    std::vector<int> vertices;
+    (void)chain_ends(s, comp, vertices);
+    for (int e : comp) an.edge_docked[e] = 3;
+    for (int v : vertices) an.vertex_plate[v] = P;
+    for (int v : vertices)
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+            const int e = an.vertex_edges[i];
+            if (an.edge_degree[e] == 1 && an.face_leaflet[lf.of_edge[e].front()] != P) an.edge_docked[e] = 2;
+        }
+}
+
 void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp,
                     bool across, bool band_pillow, bool pillow_ran) {
     std::vector<int> vertices;
     (void)chain_ends(s, comp, vertices);
     const int inside = across ? -1 : inside_end(s, an, lf, comp);
-    if (inside < 0 && !across) return;
+    if (inside < 0 && !across) {  // a flange: docked on its plate's border, or a fan
+        const int P = border_chain_plate(s, an, lf, an.face_leaflet, comp);
+        if (P >= 0) dock_on_border(s, an, lf, comp, P);
+        return;
+    }
     int plate = -1;
     for (int e : comp) {
         const EdgeSplit sp = split_fan_edge(s, an, lf.of_edge[e], e);
@@ -519,6 +645,137 @@ std::vector<char> join_across_chains(const Skeleton& s, SkeletonAnalysis& an, co
 
 }  // namespace
 
+namespace {
+
+// Fold edges: degree 2, one face within kDockWallTiltDeg of the other's normal (a crease of at least 45 degrees).
+std::vector<char> fold_edges(const Skeleton& s, const SkeletonAnalysis& an) {
+    const int ne = static_cast<int>(s.edges.size());
+    std::vector<std::array<int, 2>> faces(ne, {-1, -1});
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        for (int e : an.face_edges[f])
+            if (an.edge_degree[e] == 2) faces[e][faces[e][0] < 0 ? 0 : 1] = f;
+    std::vector<char> fold(ne, 0);
+    for (int e = 0; e < ne; ++e) {
+        if (an.edge_degree[e] != 2 || faces[e][1] < 0) continue;
+        for (int i = 0; i < 2; ++i) {
+            const Vec3 n = an.face_normal[faces[e][i]], d = into_face(s, an, faces[e][1 - i], e);
+            if (norm(n) > 0 && norm(d) > 0 && angle_deg(d, dot(d, n) > 0 ? n : -1.0 * n) <= kDockWallTiltDeg)
+                fold[e] = 1;
+        }
+    }
+    return fold;
+}
+
+// The faces reached from face f0 through adjacency adj, marked in `part` (1).
+void flood_part(const std::vector<std::vector<int>>& adj, int f0, std::vector<char>& part) {
+    std::vector<int> queue{f0};
+    part[f0] = 1;
+    for (std::size_t i = 0; i < queue.size(); ++i)
+        for (int g : adj[queue[i]])
+            if (!part[g]) {
+                part[g] = 1;
+                queue.push_back(g);
+            }
+}
+
+// A crease chain of one leaflet (fold edges, a path) cutting it in two: the face leaflets with the part not holding
+// the first chain edge's first face given a new leaflet id (an.leaflets.size()); empty when the chain does not cut.
+std::vector<int> cut_leaflets(const SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp) {
+    const int l = an.face_leaflet[lf.of_edge[comp[0]].front()];
+    for (int e : comp)
+        for (int f : lf.of_edge[e])
+            if (an.face_leaflet[f] != l) return {};
+    const int nf = static_cast<int>(an.face_vertices.size());
+    std::vector<std::vector<int>> adj(nf);
+    std::vector<int> first(an.edge_degree.size(), -1);  // per edge: the first face of l met on it
+    for (int f : an.leaflets[l].faces)
+        for (int e : an.face_edges[f]) {
+            if (an.edge_degree[e] != 2 || std::find(comp.begin(), comp.end(), e) != comp.end()) continue;
+            if (first[e] < 0) {
+                first[e] = f;
+            } else {
+                adj[f].push_back(first[e]);
+                adj[first[e]].push_back(f);
+            }
+        }
+    std::vector<char> a(nf, 0), b(nf, 0);
+    flood_part(adj, lf.of_edge[comp[0]].front(), a);
+    for (int f : an.leaflets[l].faces)
+        if (!a[f]) {
+            flood_part(adj, f, b);
+            break;
+        }
+    std::vector<int> leaf = an.face_leaflet;
+    for (int f : an.leaflets[l].faces) {
+        if (a[f] == b[f]) return {};  // in neither part (a third part) or both: not a cut in two
+        if (b[f]) leaf[f] = static_cast<int>(an.leaflets.size());
+    }
+    for (int e : comp)
+        if (leaf[lf.of_edge[e].front()] == leaf[lf.of_edge[e].back()]) return {};
+    return leaf;
+}
+
+// A cheap first test of a fold chain (border_chain_vertex decides): a path, no branch or fan edge at its vertices,
+// and 2 border edges at each end (the plate's and the wall's), none at an inner vertex.
+bool flange_crease_star(const Skeleton& s, const SkeletonAnalysis& an, const std::vector<int>& comp) {
+    std::vector<int> vertices;
+    const std::vector<int> ends = chain_ends(s, comp, vertices);
+    if (ends.size() != 2) return false;
+    for (int v : vertices) {
+        int border = 0, on = 0;
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+            const int e = an.vertex_edges[i], d = an.edge_degree[e];
+            if (d == 0 || d >= 3) return false;
+            border += d == 1 ? 1 : 0;
+            on += std::find(comp.begin(), comp.end(), e) != comp.end() ? 1 : 0;
+        }
+        const bool end = std::find(ends.begin(), ends.end(), v) != ends.end();
+        if (on > 2 || border != (end ? 2 : 0)) return false;
+    }
+    return true;
+}
+
+// Flanges on one creased leaflet (a wall standing on part of a plate's border, both one leaflet: `flangeup`): every
+// path of fold edges (fold_edges) that cuts its leaflet in two, one part of which is a plate P whose border runs on in
+// line past both chain ends (border_chain_plate with the cut leaflets), is cut there (the other part becomes a new
+// leaflet, a wall) and docked on P's border. Leaflets and faces are otherwise unchanged.
+void cut_border_creases(const Skeleton& s, SkeletonAnalysis& an) {
+    const std::vector<char> fold = fold_edges(s, an);
+    if (std::none_of(fold.begin(), fold.end(), [](char c) { return c != 0; })) return;
+    const int ne = static_cast<int>(s.edges.size());
+    std::vector<char> seen(ne, 0);
+    for (int e0 = 0; e0 < ne; ++e0) {
+        if (!fold[e0] || seen[e0]) continue;
+        std::vector<int> comp{e0};
+        seen[e0] = 1;
+        for (std::size_t i = 0; i < comp.size(); ++i)
+            for (int w : s.edges[comp[i]])
+                for (int j = an.vertex_edge_begin[w]; j < an.vertex_edge_begin[w + 1]; ++j) {
+                    const int e = an.vertex_edges[j];
+                    if (fold[e] && !seen[e]) seen[e] = 1, comp.push_back(e);
+                }
+        std::sort(comp.begin(), comp.end());
+        if (!flange_crease_star(s, an, comp)) continue;
+        std::vector<char> mark(ne, 0);
+        for (int e : comp) mark[e] = 1;
+        const LocalFaces lf = local_faces(s, an, mark);
+        const std::vector<int> leaf = cut_leaflets(an, lf, comp);
+        if (leaf.empty()) continue;
+        const int P = border_chain_plate(s, an, lf, leaf, comp);
+        if (P < 0) continue;
+        const int l = an.face_leaflet[lf.of_edge[comp[0]].front()];
+        Leaflet wall{{}, an.leaflets[l].orientable};
+        std::erase_if(an.leaflets[l].faces, [&](int f) { return leaf[f] != l; });
+        for (int f = 0; f < static_cast<int>(leaf.size()); ++f)
+            if (leaf[f] != an.face_leaflet[f]) wall.faces.push_back(f);
+        an.leaflets.push_back(wall);
+        an.face_leaflet = leaf;
+        dock_on_border(s, an, lf, comp, P);
+    }
+}
+
+}  // namespace
+
 std::vector<char> join_plates_across_chains(const Skeleton& s, SkeletonAnalysis& an) {
     std::vector<char> on(s.edges.size(), 0);
     if (std::none_of(an.edge_degree.begin(), an.edge_degree.end(), [](int d) { return d >= 3; })) return on;
@@ -535,6 +792,7 @@ void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow
     an.edge_docked.assign(ne, 0);
     an.vertex_plate.assign(nv, -1);
     an.docked_unmatched.clear();
+    cut_border_creases(s, an);
     if (std::none_of(an.edge_degree.begin(), an.edge_degree.end(), [](int d) { return d >= 3; })) return;
     const LocalFaces lf = local_faces(s, an);
     const std::vector<std::vector<int>> comps = fan_components(s, an);
@@ -547,7 +805,7 @@ VertexClass docked_vertex_class(const SkeletonAnalysis& an, int v, int& plate_bo
     plate_boundary_edges = 0;
     for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
         const int e = an.vertex_edges[i];
-        if (an.edge_degree[e] == 1 && an.edge_docked[e] != 2) ++plate_boundary_edges;
+        if ((an.edge_degree[e] == 1 && an.edge_docked[e] != 2) || an.edge_docked[e] == 3) ++plate_boundary_edges;
     }
     return plate_boundary_edges == 2 ? VertexClass::LeafletBoundary : VertexClass::LeafletInterior;
 }
@@ -560,6 +818,8 @@ namespace {
 struct WallCorner {
     int c = -1, end_edge = -1;
     bool up = true, border = false;
+    bool on_border = false;   // the chain is on the plate's border (edge_docked 3): g- = -1, one side on P's out copy
+    bool plate_plus = false;  // on_border: P lies on the wall's +n side (else its -n side)
     int g_plus = -1, g_minus = -1, sigma_plus = -1, sigma_minus = -1;
     int x = -1, x_plus = -1, x_minus = -1;
     std::array<int, 2> beyond{-1, -1};  // kind-0 faces k+ / k- (inside) or kind-1 plate border edges at w (border)
@@ -572,13 +832,43 @@ int adjacent_corner(const SkeletonAnalysis& an, int g, int w, int not_this) {
     return a == not_this ? b : a;
 }
 
+// wall_corner for a chain on P's border (edge_docked 3): g+ = P's one face at c whatever the wall's side, sigma+ its
+// corner next to w off the chain; up_is_plus says whether P lies on the wall's +n side. At the wall's end: x = P's
+// border neighbour of w off the chain, beyond = (P's other face at w, its border edge (w, x)), x+ that face's corner
+// opposite w.
+WallCorner border_wall_corner(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf, int f, int w,
+                              WallCorner wc) {
+    const int P = an.vertex_plate[w];
+    wc.on_border = true;
+    for (int h : lf.of_edge[wc.c])
+        if (an.face_leaflet[h] == P) wc.g_plus = h;
+    wc.up = dot(into_face(s, an, f, wc.c), an.face_normal[wc.g_plus]) > 0;
+    wc.plate_plus = dot(into_face(s, an, wc.g_plus, wc.c), an.face_normal[f]) > 0;
+    wc.sigma_plus = adjacent_corner(an, wc.g_plus, w, other_end(s, wc.c, w));
+    if (wc.end_edge < 0) return wc;
+    for (int i = an.vertex_edge_begin[w]; i < an.vertex_edge_begin[w + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (an.edge_degree[e] == 1 && an.face_leaflet[lf.of_edge[e].front()] == P) {
+            wc.beyond[1] = e;
+            wc.x = other_end(s, e, w);
+        }
+    }
+    for (int h : lf.of_vertex[w])
+        if (an.face_leaflet[h] == P && h != wc.g_plus) {
+            wc.beyond[0] = h;
+            wc.x_plus = an.face_vertices[h][(corner_of(an, h, w) + 2) & 3];
+        }
+    return wc;
+}
+
 WallCorner wall_corner(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf, int f, int k) {
     WallCorner wc;
     const int w = an.face_vertices[f][k], P = an.vertex_plate[w];
     const int e0 = an.face_edges[f][k], e1 = an.face_edges[f][(k + 3) & 3];
-    wc.c = an.edge_docked[e0] == 1 ? e0 : e1;
+    wc.c = an.edge_docked[e0] == 1 || an.edge_docked[e0] == 3 ? e0 : e1;
     const int other = wc.c == e0 ? e1 : e0;
     if (an.edge_docked[other] == 2) wc.end_edge = other;
+    if (an.edge_docked[wc.c] == 3) return border_wall_corner(s, an, lf, f, w, wc);
     std::array<int, 2> g{-1, -1};
     int ng = 0;
     for (int h : lf.of_edge[wc.c])
@@ -622,7 +912,7 @@ WallCorner wall_corner(const Skeleton& s, const SkeletonAnalysis& an, const Loca
 // Calls fn(f, k, WallCorner) for every wall face corner at a docked chain vertex, in face order.
 template <class Fn>
 void for_wall_corners(const Skeleton& s, const SkeletonAnalysis& an, Fn&& fn) {
-    if (std::none_of(an.edge_docked.begin(), an.edge_docked.end(), [](char d) { return d == 1; })) return;
+    if (std::none_of(an.edge_docked.begin(), an.edge_docked.end(), [](char d) { return d == 1 || d == 3; })) return;
     const LocalFaces lf = local_faces(s, an);
     for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
         for (int k = 0; k < 4; ++k) {
@@ -645,6 +935,19 @@ std::vector<FootQuad> docked_foot_quads(const Skeleton& s, const SkeletonAnalysi
     };
     for_wall_corners(s, an, [&](int f, int k, const WallCorner& wc) {
         const int w = an.face_vertices[f][k], wall = an.face_leaflet[f];
+        if (wc.on_border) {  // on P's border: on g+ and c's half-chunk; the end on (w, x)'s plate and half-chunk
+            if (w == std::min(s.edges[wc.c][0], s.edges[wc.c][1])) {
+                for (int x : an.face_vertices[wc.g_plus]) check(w, x);
+                quads.push_back({0, wc.g_plus, wc.up, wall, w});
+                quads.push_back({1, wc.c, wc.up, wall, w});
+            }
+            if (wc.end_edge < 0) return;
+            if (wc.beyond[0] < 0 || wc.beyond[1] < 0) refuse(w, "the plate beyond the wall's end is not 2 faces wide");
+            for (int x : an.face_vertices[wc.beyond[0]]) check(w, x);
+            quads.push_back({0, wc.beyond[0], wc.up, wall, w});
+            quads.push_back({1, wc.beyond[1], wc.up, wall, w});
+            return;
+        }
         // The wall's two plate hexes on the chain edge c stand on g+ and g-: counted once, at c's first end.
         if (w == std::min(s.edges[wc.c][0], s.edges[wc.c][1]))
             for (int g : {wc.g_plus, wc.g_minus}) {
@@ -675,6 +978,16 @@ std::vector<std::array<int, 6>> docked_corner_ids(const Skeleton& s, const Skele
         const int xo = wc.up ? 4 : 5;  // out copy on that side: out-up (+4) or out-down (+5)
         std::array<int, 6>& id = ids[4 * f + k];
         id[0] = base[w] + x;
+        if (wc.on_border) {  // P's side: its X copies; the other side: P's out copies on the wall's side (XO)
+            const int p = wc.plate_plus ? 1 : 2, o = wc.plate_plus ? 2 : 1;
+            id[p] = base[wc.sigma_plus] + x;
+            id[o] = base[w] + xo;
+            if (wc.end_edge < 0) return;
+            id[3] = base[wc.x] + x;
+            id[3 + p] = base[wc.x_plus] + x;
+            id[3 + o] = base[wc.x] + xo;
+            return;
+        }
         id[1] = base[wc.sigma_plus] + x;
         id[2] = base[wc.sigma_minus] + x;
         if (wc.end_edge < 0) return;

@@ -25,6 +25,16 @@
 // interior irregular edge along the chain (a fan block has one of valence 2 x degree per fan edge); the foot's
 // outline edges become boundary edges with one more hex (valence 3 on P's plates).
 //
+// Flanges (docs/blocks.md, "The flange docked on the plate's border"): a chain on part of P's border (every chain
+// edge has one face of P and walls within kDockWallTiltDeg of P's normal, at most one per side; P's border runs on in
+// line past both ends; edge degree 3 or 4, or 2 when P and the wall are one leaflet creased along the chain, which the
+// analysis then cuts into two) is docked on P's border: its edges are P's border edges (edge_docked 3: half-chunks,
+// counted as boundary edges), its vertices P's border vertices (6 ids, P's normal and out alone), and a wall's copies
+// at a chain vertex u are centre -> X(u), on P's side -> X(sigma(u)), on the other side -> XO(u); at its end w
+// out -> X(x), out on P's side -> X(x+), out on the other side -> XO(x) (x: P's border neighbour of w past the chain,
+// x+ the corner of P's face (w, sigma, x+, x) opposite w). The walls' first hexes stand on P's plates and on the
+// chain's half-chunks, their end half-chunks on the plate and the half-chunk of (w, x); the standard count holds. A
+// chain that does not meet these (e.g. from P's corner) stays a fan.
 // Conditions (else Error(UnsupportedConfiguration) naming the vertex, with an edit suggestion): the chain is a path;
 // at every chain vertex P has 4 faces, each containing a chain edge (the chain runs straight through P's grid), or at
 // an end 4 faces and no border (inside) or 2 faces and 2 border edges (on the border); no branch edge at a chain
@@ -59,7 +69,8 @@ inline constexpr double kBandPillowMinTurnCos = -0.25;
 double band_pillow_max_turn_deg();
 
 // Analysis step (after leaflets and face normals, before vertex classes): fills analysis.edge_docked and
-// analysis.vertex_plate. A fan chain with an end inside a leaflet that cannot be docked is refused here, naming the
+// analysis.vertex_plate; first cuts a creased leaflet along a flange's chain (a new leaflet for the wall's part, face
+// orientations kept). A fan chain with an end inside a leaflet that cannot be docked is refused here, naming the
 // vertex and why; with band_pillow, a chain vertex whose plate grid does not match the foot (the straight-through
 // condition below) is listed in analysis.docked_unmatched instead (AnalysisOptions::docked_band_pillow); pillow_ran
 // (AnalysisOptions::docked_band_pillow_ran) only words that refusal otherwise. A chain with all ends on the plate's

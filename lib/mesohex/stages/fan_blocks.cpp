@@ -38,7 +38,7 @@ double fit_angle(const std::vector<double>& phi, const std::vector<int>& labels)
 }
 
 bool is_fan_edge(const SkeletonAnalysis& an, int e) {
-    return an.edge_degree[e] >= 3 && (an.edge_docked.empty() || an.edge_docked[e] != 1);
+    return an.edge_degree[e] >= 3 && (an.edge_docked.empty() || an.edge_docked[e] == 0);
 }
 
 int other_end(const Skeleton& s, int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; }

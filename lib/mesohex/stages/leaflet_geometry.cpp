@@ -198,7 +198,10 @@ LeafletVertexFrames leaflet_vertex_frames(const Skeleton& skeleton, const Skelet
     crease_miters(skeleton, an, face_normals, lf);
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k) {
-            if (an.edge_degree[an.face_edges[f][k]] != 1) continue;
+            const int fe = an.face_edges[f][k];
+            const bool flange =
+                !an.edge_docked.empty() && an.edge_docked[fe] == 3;  // its plate's border (docked_walls.h)
+            if (an.edge_degree[fe] != 1 && !flange) continue;
             const int a = an.face_vertices[f][k], b = an.face_vertices[f][(k + 1) & 3];
             const Vec3 t = normalized(skeleton.points[b] - skeleton.points[a]);
             for (int w : {a, b})
@@ -225,8 +228,9 @@ double leaflet_out_distance(const Skeleton& skeleton, const SkeletonAnalysis& an
     const Vec3& c = skeleton.points[w];
     for (int i = an.vertex_edge_begin[w]; i < an.vertex_edge_begin[w + 1]; ++i) {
         const int e = an.vertex_edges[i];
-        if (an.edge_degree[e] != 1 || (!an.edge_docked.empty() && an.edge_docked[e] == 2 && an.vertex_plate[w] >= 0))
-            continue;  // (a wall's border edge at a docked chain vertex is not its plate's border)
+        const char docked = an.edge_docked.empty() ? 0 : an.edge_docked[e];
+        if ((an.edge_degree[e] != 1 && docked != 3) || (docked == 2 && an.vertex_plate[w] >= 0))
+            continue;  // (a wall's border edge at a docked chain vertex is not its plate's border; a flange's chain is)
         const int x = skeleton.edges[e][0] == w ? skeleton.edges[e][1] : skeleton.edges[e][0];
         const Vec3 ev = skeleton.points[x] - c;
         const double L = norm(ev);

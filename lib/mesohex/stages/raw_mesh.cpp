@@ -161,6 +161,14 @@ struct FanGaps {
     std::vector<Vec3> gap_dir;  // per node: the face normal pointing into its gap
 };
 
+// Is side k of face f a border edge of f's leaflet: an edge of degree 1, or a flange's chain edge (edge_docked 3,
+// docked_walls.h) seen from its plate's face?
+bool border_side(const SkeletonAnalysis& an, int f, int k) {
+    const int e = an.face_edges[f][k];
+    if (an.edge_degree[e] == 1) return true;
+    return an.edge_docked[e] == 3 && an.face_leaflet[f] == an.vertex_plate[an.face_vertices[f][k]];
+}
+
 int face_corner_of(const SkeletonAnalysis& an, int f, int w) {
     for (int k = 0; k < 4; ++k)
         if (an.face_vertices[f][k] == w) return k;
@@ -186,7 +194,7 @@ void unite_fan_gap_nodes(const Skeleton& skeleton, const SkeletonAnalysis& an, U
             }
             continue;
         }
-        if (an.edge_degree[e] < 3 || an.edge_docked[e] == 1) continue;
+        if (an.edge_degree[e] < 3 || an.edge_docked[e] != 0) continue;
         const Vec3 t = normalized(skeleton.points[p1] - skeleton.points[p0]);
         const Vec3 m = 0.5 * (skeleton.points[p0] + skeleton.points[p1]);
         std::vector<std::pair<double, int>> order;  // (angle, face)
@@ -319,7 +327,7 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     // when the fan is regular).
     // A fan edge with a fan block (fan_blocks.h) has none of these.
     for (int e = 0; e < static_cast<int>(an.edge_degree.size()); ++e)
-        if (an.edge_degree[e] >= 3 && an.edge_docked[e] != 1 && fan_block_at(cs, skeleton.edges[e][0]) < 0)
+        if (an.edge_degree[e] >= 3 && an.edge_docked[e] == 0 && fan_block_at(cs, skeleton.edges[e][0]) < 0)
             ++p.interior_irregular_edges[2 * an.edge_degree[e]];
     const std::vector<std::vector<int>> ray_hexes = fan_gap_ray_hexes(an, cs, find_fan_gaps(skeleton, an));
     for (int v = 0; v < nv; ++v) {
@@ -497,9 +505,9 @@ HexSlots reserve_hex_slots(const SkeletonAnalysis& an, const ConnectionSurfaces&
     s.boundary_side.assign(ne, {-1, -1});
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 4; ++k)
-            if (an.edge_degree[an.face_edges[f][k]] == 1) s.boundary_side[an.face_edges[f][k]] = {f, k};
+            if (border_side(an, f, k)) s.boundary_side[an.face_edges[f][k]] = {f, k};
     for (int e = 0; e < ne; ++e)
-        if (an.edge_degree[e] == 1) {
+        if (an.edge_degree[e] == 1 || an.edge_docked[e] == 3) {
             s.boundary_slot[e] = s.n_hex;
             s.n_hex += 2;
         }

@@ -549,8 +549,12 @@ void count_elements(const Skeleton& s, SkeletonAnalysis& an) {
         else if (d == 1)
             ++c.boundary_edges;
     }
-    for (std::size_t e = 0; e < an.edge_degree.size(); ++e)
-        if (an.edge_degree[e] >= 3) ++(an.edge_docked[e] == 1 ? c.docked_edges : c.fan_edges);
+    for (std::size_t e = 0; e < an.edge_degree.size(); ++e) {
+        if (an.edge_docked[e] == 3)
+            ++c.boundary_edges;  // a flange's chain: its plate's border (half-chunks)
+        else if (an.edge_degree[e] >= 3)
+            ++(an.edge_docked[e] == 1 ? c.docked_edges : c.fan_edges);
+    }
     c.branches = static_cast<long>(an.branches.size());
     c.leaflets = static_cast<long>(an.leaflets.size());
     for (const Branch& b : an.branches) c.rings += b.ring ? 1 : 0;
@@ -669,6 +673,14 @@ std::string analysis_to_text(const SkeletonAnalysis& an) {
                                 : root == BorderRoot::Side ? "side patch of the border"
                                                            : "inside the leaflet";
             os << "vertex " << v << ": " << to_string(vc) << ", its branch rooted on the plates (" << where << ")\n";
+            continue;
+        }
+        bool flange = false;  // on a chain docked on its plate's border (edge_docked 3)
+        for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i)
+            flange = flange || an.edge_docked[an.vertex_edges[i]] == 3;
+        if (flange) {
+            os << "vertex " << v << ": " << to_string(vc) << " of leaflet " << an.vertex_plate[v]
+               << ", a wall docked on its border (a flange: the chain is the leaflet's border)\n";
             continue;
         }
         if (an.vertex_plate[v] >= 0) {

@@ -102,9 +102,9 @@ struct SkeletonAnalysis {
                                                  // unless a LeafletBoundary vertex with a branch edge)
     std::vector<int> edge_degree;                // per edge: number of incident faces (0 = branch edge)
     std::vector<int> edge_branch;                // per edge: its branch, or -1
-    // Walls docked on a plate (beyond the paper's limitation 2, docked_walls.h). edge_docked per edge: 1 = a fan edge
-    // of a docked chain (no fan block; its plate continues across it, its walls stand on the plate's faces), 2 = a
-    // wall's boundary edge with an end on a docked chain (its half-chunk stands on the plate), 0 otherwise.
+    // Walls docked on a plate (docked_walls.h). edge_docked: 1 = a fan edge of a docked chain (no fan block; its plate
+    // continues across it, walls stand on the plate's faces), 2 = a wall's boundary edge ending on a docked chain (its
+    // half-chunk stands on the plate), 3 = a flange's chain edge (the plate's border edge: walls on its half-chunk), 0.
     // vertex_plate per vertex: the plate leaflet of a docked chain vertex, else -1; such a vertex is classified,
     // and its vertex_boundary_edges counted, by its plate alone (LeafletInterior or LeafletBoundary).
     std::vector<char> edge_docked;
