@@ -260,7 +260,7 @@ def main():
             continue
         sk = Skel(os.path.join(d, "skel.obj"))
         gen = open(os.path.join(d, "generate.log")).read()
-        kind = "sheet" if "(sheet)" in gen else "tree"
+        kind = "sheet" if "(sheet)" in gen else "character" if "(character)" in gen else "tree"
         c, sj, worst = worst_hex_centroid(os.path.join(d, "mesh.mesh"))
         chain, origin = stage_chain(rep)
         v, dist = sk.nearest(c)

@@ -22,6 +22,9 @@
 //   The last three columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw
 //   mesh (compare two builds or option sets seed by seed to find the seeds a change touches).
 //
+// FAMILY=character takes the character family's skeletons (generate_character_skeleton) instead of the mixed
+// tree / sheet ones; the kind column then reads "character".
+//
 // SKEL=path meshes that skeleton file instead (FIRST = LAST, e.g. `SKEL=curve-skeletons/dino.skel
 // mesohex_random_raw 0 0`; the 3rd argument 1.0 gives the second attempt's adaptation). DUMP=1 also lists the meshed
 // skeleton (vertex, radius, the radius the raw mesh used: smaller next to branching points, see
@@ -132,8 +135,13 @@ int main(int argc, char** argv) {
         // SKEL=path in the environment: that skeleton file instead of the seeds (FIRST = LAST; e.g. the shared curve
         // skeletons, which bring their radii).
         const char* skel_path = std::getenv("SKEL");
-        const Skeleton in =
-            skel_path ? read_skeleton(skel_path) : generate_random_skeleton(static_cast<std::uint64_t>(seed));
+        const char* family = std::getenv("FAMILY");
+        const bool character = family != nullptr && std::string(family) == "character";
+        const auto useed = static_cast<std::uint64_t>(seed);
+        const Skeleton in = skel_path   ? read_skeleton(skel_path)
+                            : character ? generate_character_skeleton(useed)
+                                        : generate_random_skeleton(useed);
+        const char* kind = character ? "character" : random_skeleton_kind(useed);
         try {
             const PipelineResult res = run_pipeline(in, po);
             const Skeleton& s = res.skeleton;
@@ -225,16 +233,16 @@ int main(int argc, char** argv) {
                               : vertex_kind(s, adj, on_face, s.edges[e][0]) + "-" +
                                     vertex_kind(s, adj, on_face, s.edges[e][1]);
             }
-            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %.2f %s %d %d %d %d %d %d %016llx\n", seed,
-                        random_skeleton_kind(seed), s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(),
-                        q.sj_min, q.sj_avg, q.inverted, off, repair_off, where.c_str(), res.trunks, res.absorbed_stubs,
-                        res.merged_ends, res.unseparated_pairs, res.side_stubs, res.junction_splits,
+            std::printf("%ld %s %zu %zu %zu %.3f %.3f %ld %.2f %.2f %s %d %d %d %d %d %d %016llx\n", seed, kind,
+                        s.points.size(), s.edges.size(), res.raw.mesh.hexes.size(), q.sj_min, q.sj_avg, q.inverted, off,
+                        repair_off, where.c_str(), res.trunks, res.absorbed_stubs, res.merged_ends,
+                        res.unseparated_pairs, res.side_stubs, res.junction_splits,
                         static_cast<unsigned long long>(raw_hash(res.raw)));
             mins.push_back(q.sj_min);
             offs.push_back(off);
             inverted_seeds += q.inverted > 0;
         } catch (const Error& e) {
-            std::printf("%ld %s error %s\n", seed, random_skeleton_kind(seed), e.what());
+            std::printf("%ld %s error %s\n", seed, kind, e.what());
         }
     }
     if (mins.empty()) return 1;

@@ -9,6 +9,8 @@
 #   SUMMARY_ONLY=1 bench/random_set.sh N      summarise the seeds of OUT already run (a partial run too)
 #   SEEDS="3 5 8" bench/random_set.sh 0       only these seeds (N ignored; e.g. the seeds a change touches)
 #   DOMAINS=dir                               take skel.obj / domain.off from dir/SEED when there (no regeneration)
+#   GEN_ARGS="--family character"             extra `mesohex generate --random SEED` arguments: the character family
+#                                             (generators.h, generate_character_skeleton); default none (tree / sheet)
 #
 # Prints one line per seed (sorted), then: worst, 5th percentile, median of each measure; the seeds with an inverted
 # hex; the fraction meeting every target (min SJ >= 0.3, avg >= 0.85, Hausdorff <= 1 %, 0 inverted); the seeds
@@ -23,6 +25,7 @@ MESOHEX=${MESOHEX:-$HERE/build/bin/mesohex}
 OUT=${OUT:-$HERE/out/random_set}
 THICKEN_ARGS=${THICKEN_ARGS:---resolution 3}
 MESH_ARGS=${MESH_ARGS:-}
+GEN_ARGS=${GEN_ARGS:-}
 command -v jq >/dev/null || { echo "random_set.sh: needs jq" >&2; exit 2; }
 [ -x "$MESOHEX" ] || { echo "random_set.sh: no mesohex binary at $MESOHEX (build mesohex_cli)" >&2; exit 2; }
 mkdir -p "$OUT"
@@ -38,7 +41,8 @@ run_seed() {
         cp "$DOMAINS/$seed/skel.obj" "$DOMAINS/$seed/domain.off" "$DOMAINS/$seed/generate.log" "$d/"
         rc=$?
     else
-        "$MESOHEX" generate --random "$seed" -o "$d/skel.obj" >"$d/generate.log" 2>&1 &&
+        # shellcheck disable=SC2086
+        "$MESOHEX" generate --random "$seed" $GEN_ARGS -o "$d/skel.obj" >"$d/generate.log" 2>&1 &&
             "$MESOHEX" thicken "$d/skel.obj" -o "$d/domain.off" $THICKEN_ARGS >"$d/thicken.log" 2>&1
         rc=$?
     fi
@@ -52,7 +56,7 @@ run_seed() {
     echo "$rc $(echo "$end - $start" | bc)" >"$d/status"
 }
 export -f run_seed
-export MESOHEX OUT THICKEN_ARGS MESH_ARGS DOMAINS
+export MESOHEX OUT THICKEN_ARGS MESH_ARGS DOMAINS GEN_ARGS
 
 t0=$(date +%s)
 [ -n "${SUMMARY_ONLY:-}" ] || printf '%s\n' $SEED_LIST | xargs -P "$JOBS" -I{} bash -c 'run_seed {}'
@@ -64,7 +68,7 @@ for seed in $SEED_LIST; do
     d="$OUT/$seed"
     [ -f "$d/status" ] || continue  # not run (yet)
     read -r rc secs <"$d/status"
-    kind=$(sed -n 's/.*(\(tree\|sheet\)).*/\1/p' "$d/generate.log")
+    kind=$(sed -n 's/.*(\(tree\|sheet\|character\)).*/\1/p' "$d/generate.log")
     if [ -s "$d/report.json" ] && { [ "$rc" = 0 ] || [ "$rc" = 5 ]; }; then
         jq -r --arg s "$seed" --arg k "$kind" --arg rc "$rc" --arg t "$secs" \
             '[$s, $k, .raw_quality.hexes, .quality.hexes, .quality.sj_min, .quality.sj_avg,

@@ -17,6 +17,7 @@ namespace {
 struct GenerateArgs {
     bool list = false;
     long long random_seed = 0;  // with --random: generate_random_skeleton(seed) instead of a named shape
+    std::string family;         // with --random: "" or "mixed" (tree or sheet by the seed), "character"
     std::string name;
     std::string output;
     GeneratorOptions options;
@@ -42,6 +43,10 @@ void register_generate(CLI::App& app, int* status) {
         "--random", args->random_seed,
         "Random skeleton of the evaluation set (tree or sheet, chosen by the seed; bench/random_set.sh) "
         "instead of a named shape; SEED >= 0");
+    CLI::Option* family_option = cmd->add_option(
+        "--family", args->family,
+        "With --random: mixed (default; tree or sheet, chosen by the seed) or character (a torso bulging between two "
+        "branching points with 2-4 limbs at each end; generate_character_skeleton)");
     cmd->add_option("-o,--output", args->output, "Output skeleton file (.obj or .ig)");
     cmd->add_option("-n", args->options.n, "Main resolution (meaning per shape, see below)");
     cmd->add_option("-m", args->options.m, "Second resolution (meaning per shape, see below)");
@@ -55,7 +60,7 @@ void register_generate(CLI::App& app, int* status) {
                     "Multiplies every radius (default radii are about 0.3 x the edge length)")
         ->capture_default_str();
     cmd->footer(shapes_footer());
-    cmd->callback([args, status, random_option]() {
+    cmd->callback([args, status, random_option, family_option]() {
         if (args->list) {
             for (const std::string& name : generator_names()) std::cout << name << "\n";
             *status = 0;
@@ -69,13 +74,21 @@ void register_generate(CLI::App& app, int* status) {
         if (!random && args->name.empty())
             throw Error(ErrorCode::InvalidInput,
                         "generate: give a shape NAME (mesohex generate --list) or --random SEED");
+        if (family_option->count() > 0 && !random)
+            throw Error(ErrorCode::InvalidInput, "generate: --family needs --random SEED");
+        const bool character = args->family == "character";
+        if (!character && !args->family.empty() && args->family != "mixed")
+            throw Error(ErrorCode::InvalidInput,
+                        "generate: unknown --family '" + args->family + "' (valid: mixed, character)");
         if (args->output.empty()) throw Error(ErrorCode::InvalidInput, "generate: give the output file with -o");
         const auto seed = static_cast<std::uint64_t>(args->random_seed);
-        const Skeleton skeleton =
-            random ? generate_random_skeleton(seed, args->options) : generate_skeleton(args->name, args->options);
+        const Skeleton skeleton = !random     ? generate_skeleton(args->name, args->options)
+                                  : character ? generate_character_skeleton(seed, args->options)
+                                              : generate_random_skeleton(seed, args->options);
         write_skeleton(args->output, skeleton);
-        const std::string title =
-            random ? "--random " + std::to_string(seed) + " (" + random_skeleton_kind(seed) + ")" : args->name;
+        const std::string title = random ? "--random " + std::to_string(seed) + " (" +
+                                               (character ? "character" : random_skeleton_kind(seed)) + ")"
+                                         : args->name;
         std::cout << "generate " << title << ": " << skeleton.points.size() << " points, " << skeleton.edges.size()
                   << " edges, " << skeleton.faces.size() << " faces, Euler characteristic "
                   << euler_characteristic(skeleton) << " -> " << args->output << "\n";

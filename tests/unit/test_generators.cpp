@@ -351,6 +351,111 @@ TEST(Generators, RandomSkeletonsAreValidAndDeterministic) {
     EXPECT_NE(mesohex::generate_random_skeleton(1), mesohex::generate_random_skeleton(2));
 }
 
+// The existing random set is frozen: generate_random_skeleton for seeds 0..299 hashes (FNV-1a 64 over the bits of
+// every point, radius, edge and face) to the value recorded on main c2584cf, before the character family was added;
+// its 300-seed baseline (docs/tuning.md) and the golden meshes depend on these bytes.
+TEST(Generators, RandomSkeletonsOfTheMixedFamilyAreUnchanged) {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    const auto mix = [&h](const void* data, std::size_t size) {
+        const auto* bytes = static_cast<const unsigned char*>(data);
+        for (std::size_t i = 0; i < size; ++i) h = (h ^ bytes[i]) * 0x100000001b3ull;
+    };
+    for (std::uint64_t seed = 0; seed < 300; ++seed) {
+        const Skeleton s = mesohex::generate_random_skeleton(seed);
+        for (const Vec3& p : s.points) mix(&p, sizeof p);
+        mix(s.radii.data(), s.radii.size() * sizeof(double));
+        for (const std::array<int, 2>& e : s.edges) mix(e.data(), sizeof e);
+        for (const auto& f : s.faces) mix(f.data(), f.size() * sizeof(f[0]));
+    }
+    EXPECT_EQ(h, 0x2b0e897d7107b0c9ull);
+}
+
+// The character family, by construction (generators.h, generate_character_skeleton): a valid curve tree the analysis
+// accepts with exactly two branching points A, B of degree 3-5, joined by a torso of 1-3 degree-2 interior vertices
+// whose largest radius is 1.5..2.5 x the larger end radius (and at least 1.5 x the ends' interpolation at its arc
+// position), chord A-B 1.6..3.0 x that peak; end radii 0.12..0.25 (A) and 0.7..1.4 x A's (B); every limb a chain of
+// 1-4 edges whose first joint has 0.6..1.1 x its end's radius and whose radii never grow; deterministic; and every
+// degree (3, 4, 5) and interior count (1, 2, 3) occurs over 200 seeds.
+TEST(Generators, CharacterSkeletonsHaveABulgingTorsoBetweenTwoBranchingPoints) {
+    std::set<int> degrees, inners;
+    for (std::uint64_t seed = 0; seed < 200; ++seed) {
+        SCOPED_TRACE(seed);
+        const Skeleton s = mesohex::generate_character_skeleton(seed);
+        EXPECT_EQ(check_invariants(s), "");
+        EXPECT_NO_THROW((void)mesohex::analyze_skeleton(s));
+        EXPECT_EQ(mesohex::euler_characteristic(s), 1);
+        EXPECT_TRUE(s.faces.empty());
+        EXPECT_GT(min_point_distance(s), 0.0);
+        EXPECT_EQ(mesohex::generate_character_skeleton(seed), s);
+        const int n = static_cast<int>(s.points.size());
+        std::vector<std::vector<int>> adj(static_cast<std::size_t>(n));
+        for (const std::array<int, 2>& e : s.edges) adj[e[0]].push_back(e[1]), adj[e[1]].push_back(e[0]);
+        std::vector<int> branching;
+        for (int v = 0; v < n; ++v)
+            if (adj[v].size() >= 3) branching.push_back(v);
+        ASSERT_EQ(branching.size(), 2u);
+        // The torso: the unique path from A to B (the walk from A along degree-2 vertices that reaches B).
+        std::vector<int> torso;
+        for (const int start : adj[branching[0]]) {
+            std::vector<int> path{branching[0], start};
+            while (adj[path.back()].size() == 2)
+                path.push_back(adj[path.back()][0] == path[path.size() - 2] ? adj[path.back()][1]
+                                                                            : adj[path.back()][0]);
+            if (path.back() == branching[1]) torso = path;
+        }
+        ASSERT_GE(torso.size(), 3u);
+        ASSERT_LE(torso.size(), 5u);
+        inners.insert(static_cast<int>(torso.size()) - 2);
+        const int a = torso.front(), b = torso.back();
+        const double ra = s.radii[a], rb = s.radii[b];
+        for (const int v : {a, b}) {
+            EXPECT_GE(adj[v].size(), 3u);
+            EXPECT_LE(adj[v].size(), 5u);
+            degrees.insert(static_cast<int>(adj[v].size()));
+        }
+        // A is vertex 0 (the torso starts there).
+        const double r_a = a == 0 ? ra : rb, r_b = a == 0 ? rb : ra;
+        EXPECT_GE(r_a, 0.12);
+        EXPECT_LE(r_a, 0.25);
+        EXPECT_GE(r_b / r_a, 0.7 - 1e-12);
+        EXPECT_LE(r_b / r_a, 1.4 + 1e-12);
+        double arc_total = 0;
+        for (std::size_t k = 1; k < torso.size(); ++k)
+            arc_total += mesohex::distance(s.points[torso[k - 1]], s.points[torso[k]]);
+        double peak = 0, peak_over_interpolation = 0, arc = 0;
+        for (std::size_t k = 1; k + 1 < torso.size(); ++k) {
+            arc += mesohex::distance(s.points[torso[k - 1]], s.points[torso[k]]);
+            const double r = s.radii[torso[k]];
+            if (r > peak) peak = r, peak_over_interpolation = r / (ra + (arc / arc_total) * (rb - ra));
+        }
+        EXPECT_GE(peak / std::max(ra, rb), 1.5 - 1e-12);
+        EXPECT_LE(peak / std::max(ra, rb), 2.5 + 1e-12);
+        EXPECT_GE(peak_over_interpolation, 1.5 - 1e-12);
+        const double chord = mesohex::distance(s.points[a], s.points[b]);
+        EXPECT_GE(chord / peak, 1.6 - 1e-9);
+        EXPECT_LE(chord / peak, 3.0 + 1e-9);
+        // Limbs: from each end, every neighbour off the torso starts a chain of 1-4 edges with non-growing radii.
+        for (const int v : {a, b})
+            for (const int first : adj[v]) {
+                if (first == torso[1] || first == torso[torso.size() - 2]) continue;
+                EXPECT_GE(s.radii[first] / s.radii[v], 0.6 - 1e-12);
+                EXPECT_LE(s.radii[first] / s.radii[v], 1.1 + 1e-12);
+                std::vector<int> chain{v, first};
+                while (adj[chain.back()].size() == 2) {
+                    const int next =
+                        adj[chain.back()][0] == chain[chain.size() - 2] ? adj[chain.back()][1] : adj[chain.back()][0];
+                    EXPECT_LE(s.radii[next], s.radii[chain.back()]);
+                    chain.push_back(next);
+                }
+                EXPECT_EQ(adj[chain.back()].size(), 1u);  // an extremity, not the other end
+                EXPECT_LE(chain.size() - 1, 4u);
+            }
+        EXPECT_NE(s, mesohex::generate_random_skeleton(seed));
+    }
+    EXPECT_EQ(degrees, (std::set<int>{3, 4, 5}));
+    EXPECT_EQ(inners, (std::set<int>{1, 2, 3}));
+}
+
 // Leaflet edges are 2-4x their radius (default radius 0.3 x edge length, tolerance to [1.5, 5]).
 TEST(Generators, InvariantsHoldForOtherResolutions) {
     int checked = 0;
@@ -579,4 +684,12 @@ TEST(GenerateCli, RandomSeedWritesTheRandomSkeleton) {
     const int invalid = mesohex::exit_code(mesohex::ErrorCode::InvalidInput);
     EXPECT_EQ(run_cli("generate --random -1 -o " + path.string()).status, invalid);
     EXPECT_EQ(run_cli("generate hand --random 3 -o " + path.string()).status, invalid);
+    EXPECT_EQ(run_cli("generate hand --family character -o " + path.string()).status, invalid);  // needs --random
+    EXPECT_EQ(run_cli("generate --random 3 --family elephant -o " + path.string()).status, invalid);
+    // --family character writes generate_character_skeleton(seed); --family mixed is the default.
+    ASSERT_EQ(run_cli("generate --random 7 --family character -o " + path.string()).status, 0);
+    EXPECT_EQ(mesohex::read_skeleton(path.string()).points.size(),
+              mesohex::generate_character_skeleton(7).points.size());
+    ASSERT_EQ(run_cli("generate --random 7 --family mixed -o " + path.string()).status, 0);
+    EXPECT_EQ(mesohex::read_skeleton(path.string()).points.size(), expected_skeleton.points.size());
 }

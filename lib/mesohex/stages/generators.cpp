@@ -1,5 +1,6 @@
 #include "mesohex/stages/generators.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -932,6 +933,123 @@ Skeleton make_random_sheet(Random& rng, double L, double scale) {
     return s;
 }
 
+// The character family: a torso bridge bulging between two branching points, 2-4 limbs leaving each end (ranges in
+// generators.h, generate_character_skeleton).
+struct Character {
+    Skeleton& s;
+    Random& rng;
+    int torso_edges = 0;      // s.edges[0 .. torso_edges) are the torso's
+    double max_turn = 0;      // radians, per seed
+    double min_radius = 0;    // limb radii never below this
+    std::vector<int> parent;  // per point: the point it grew from (-1: none)
+
+    // True if the segment a -> (p, rp) keeps 1.1 x the radii sum from every segment not touching a, a's parent or a
+    // child of a, and (first limb segment, from a torso end) from every non-torso segment only.
+    bool clear(int a, const Vec3& p, double rp, bool skip_torso) const {
+        for (std::size_t e = 0; e < s.edges.size(); ++e) {
+            if (skip_torso && static_cast<int>(e) < torso_edges) continue;
+            const std::array<int, 2>& ed = s.edges[e];
+            const bool near = ed[0] == a || ed[1] == a || ed[0] == parent[a] || ed[1] == parent[a] ||
+                              parent[ed[0]] == a || parent[ed[1]] == a;
+            if (near) continue;
+            const double need = 1.1 * (std::max(rp, s.radii[a]) + std::max(s.radii[ed[0]], s.radii[ed[1]]));
+            if (segment_distance(s.points[a], p, s.points[ed[0]], s.points[ed[1]]) < need) return false;
+        }
+        return true;
+    }
+
+    int add(int from, const Vec3& p, double r) {
+        const int v = add_point(s, p, r);
+        parent.resize(s.points.size(), -1);
+        parent[v] = from;
+        s.edges.push_back({from, v});
+        return v;
+    }
+
+    // A limb from the torso end `end` along `dir`: 2-4 segments of 2.5..4.5 x the current radius, radius r at its
+    // first joint, x 0.6..0.9 per further joint. The first segment is always placed (the end's degree is fixed);
+    // a later one blocked after 12 draws ends the limb.
+    void limb(int end, Vec3 dir, double r) {
+        const int segments = rng.integer(2, 4);
+        int cur = end;
+        for (int k = 0; k < segments; ++k) {
+            const double len = r * rng.uniform(2.5, 4.5);
+            Vec3 chosen = dir;
+            bool placed = false;
+            for (int attempt = 0; attempt < 12 && !placed; ++attempt) {
+                const Vec3 d =
+                    attempt == 0 && k == 0 ? dir : turned(dir, rng.uniform(0, max_turn), rng.uniform(0, 2 * kPi));
+                if (attempt == 0) chosen = d;
+                if (!clear(cur, s.points[cur] + len * d, r, k == 0)) continue;
+                chosen = d;
+                placed = true;
+            }
+            if (!placed && k > 0) return;
+            cur = add(cur, s.points[cur] + len * chosen, r);
+            dir = chosen;
+            r = std::max(min_radius, r * rng.uniform(0.6, 0.9));
+        }
+    }
+
+    // 2-4 limbs at `end`, leaving 20..80 degrees off the torso's outward direction `out`, azimuths spread over a
+    // fraction 0.35..1 of the full turn, at least 30 degrees apart (else redrawn, up to 12 times, then spread
+    // evenly at 60 degrees off `out`); first-joint radius 0.6..1.1 x the end's radius.
+    void limbs(int end, const Vec3& out) {
+        const int count = rng.integer(2, 4);
+        const double phi0 = rng.uniform(0, 2 * kPi), spread = rng.uniform(0.35, 1.0);
+        std::vector<Vec3> dirs;
+        for (int i = 0; i < count; ++i) {
+            Vec3 d{};
+            bool ok = false;
+            for (int attempt = 0; attempt < 12 && !ok; ++attempt) {
+                const double phi = phi0 + i * spread * 2 * kPi / count + rng.uniform(-0.3, 0.3);
+                d = turned(out, rng.uniform(20, 80) * kPi / 180, phi);
+                ok = std::all_of(dirs.begin(), dirs.end(),
+                                 [&](const Vec3& e) { return dot(d, e) <= std::cos(30 * kPi / 180); });
+            }
+            if (!ok) d = turned(out, 60 * kPi / 180, phi0 + i * 2 * kPi / count);
+            dirs.push_back(d);
+        }
+        for (const Vec3& d : dirs) limb(end, d, s.radii[end] * rng.uniform(0.6, 1.1));
+    }
+};
+
+// Torso radius at parameter t in [0, 1]: the end radii interpolated, raised to the peak r_p at t_p by a sine bump
+// (never above r_p).
+double torso_radius(double t, double ra, double rb, double rp, double tp) {
+    const double base = ra + t * (rb - ra), base_p = ra + tp * (rb - ra);
+    const double f = t <= tp ? std::sin(0.5 * kPi * t / tp) : std::sin(0.5 * kPi * (1 - t) / (1 - tp));
+    return std::min(rp, base + (rp - base_p) * f);
+}
+
+Skeleton make_random_character(Random& rng, double L, double scale) {
+    Skeleton s;
+    const double ra = L * scale * rng.uniform(0.12, 0.25), rb = ra * rng.uniform(0.7, 1.4);
+    const double rp = rng.uniform(1.5, 2.5) * std::max(ra, rb);
+    const double length = rp * rng.uniform(1.6, 3.0);
+    const int inner = rng.integer(1, 3), peak = rng.integer(0, inner - 1);
+    const double tp = rng.uniform(0.35, 0.65);
+    const double arch = rng.uniform(-0.15, 0.15) * length;
+    const Vec3 axis = rng.unit(), bend = turned(axis, 0.5 * kPi, rng.uniform(0, 2 * kPi));  // bend is orthogonal
+    Character c{s, rng, 0, rng.uniform(15, 45) * kPi / 180, std::min(ra, rb) / 4, {}};
+    const auto at = [&](double t) { return length * t * axis + arch * std::sin(kPi * t) * bend; };
+    std::vector<double> ts{0};
+    for (int i = 0; i < inner; ++i)
+        ts.push_back(i < peak    ? tp * (i + 1) / (peak + 1)
+                     : i == peak ? tp
+                                 : tp + (1 - tp) * (i - peak) / static_cast<double>(inner - peak));
+    ts.push_back(1);
+    int cur = add_point(s, at(0), ra);
+    c.parent.assign(1, -1);
+    for (std::size_t k = 1; k < ts.size(); ++k)
+        cur = c.add(cur, at(ts[k]), k + 1 == ts.size() ? rb : torso_radius(ts[k], ra, rb, rp, tp));
+    c.torso_edges = static_cast<int>(s.edges.size());
+    const int a = 0, b = cur;
+    c.limbs(a, normalized(s.points[a] - s.points[1]));
+    c.limbs(b, normalized(s.points[b] - s.points[c.parent[b]]));
+    return s;
+}
+
 struct Shape {
     const char* name;
     std::array<int, 2> default_nm;
@@ -1176,6 +1294,14 @@ std::string generator_help(const std::string& name) { return find_shape(name).he
 Skeleton generate_skeleton(const std::string& name, const GeneratorOptions& options) {
     const Shape& shape = find_shape(name);
     Skeleton s = shape.make(make_params(name, options, shape.default_nm, shape.min_nm));
+    add_face_edges(s);
+    return s;
+}
+
+Skeleton generate_character_skeleton(std::uint64_t seed, const GeneratorOptions& options) {
+    const Params p = make_params("--random --family character", options, {1, 1}, {1, 1});
+    Random rng(seed);
+    Skeleton s = make_random_character(rng, p.L, options.radius_scale);
     add_face_edges(s);
     return s;
 }

@@ -70,6 +70,27 @@ Skeleton make_wall_plate(const WallPlate& wall, double edge_length, double radiu
 // one edge. edge_length and radius_scale as for the named shapes; n, m, quarter_turns unused. O(output^2) (tiny).
 Skeleton generate_random_skeleton(std::uint64_t seed, const GeneratorOptions& options = {});
 
+// The character family of the evaluation set (`mesohex generate --random SEED --family character`,
+// `GEN_ARGS="--family character" bench/random_set.sh`), deterministic in the seed (the same generator as above, its
+// own sequence of draws; generate_random_skeleton is unchanged). What real character skeletons have and the tree
+// kind never makes (the armadillo's torso and neck, docs/junctions.md "A radius peak held on its bridge"): a curve
+// tree with exactly two branching points A and B joined by a torso bridge whose radius bulges between them, and 2-4
+// limbs leaving each end close together, fat near the torso. Ranges (lengths in edge_length units, radii also x
+// radius_scale, angles in degrees):
+//   - torso: end radii r_A = 0.12..0.25, r_B = 0.7..1.4 x r_A; 1-3 interior vertices, one of them the peak at
+//     parameter 0.35..0.65 along the torso, radius r_P = 1.5..2.5 x max(r_A, r_B) (so the peak is 1.5..2.5 x each
+//     end and x the ends' interpolation there); the others on a sine bump between ends and peak, below r_P; length
+//     (chord A -> B) 1.6..3.0 x r_P; arched sideways by up to 0.15 x the length;
+//   - limbs: 2-4 per end (A and B get degree 3-5), leaving 20..80 degrees off the torso's outward direction at that
+//     end, at least 30 degrees apart, azimuths spread over 0.35..1 of the full turn (close together when small);
+//     first-joint radius 0.6..1.1 x the end's radius, x 0.6..0.9 per further joint, never below min(r_A, r_B) / 4;
+//     2-4 segments of 2.5..4.5 x the current radius, later segments turning by up to a per-seed 15..45 degrees;
+//   - clearance as above (1.1 x the radii sum from non-adjacent segments), except that a limb's first segment is
+//     not checked against the torso (it leaves from inside the bulge's envelope) and is always placed; a later
+//     segment blocked after 12 draws ends its limb (so a limb has 1-4 segments).
+// Postconditions as generate_random_skeleton; no face. O(output^2) (tiny).
+Skeleton generate_character_skeleton(std::uint64_t seed, const GeneratorOptions& options = {});
+
 // "tree" or "sheet": the kind generate_random_skeleton(seed) builds.
 const char* random_skeleton_kind(std::uint64_t seed);
 
