@@ -312,6 +312,42 @@ TEST(Adaptation, CutJointSlidesAwayFromTheJunction) {
     EXPECT_EQ(mesohex::euler_characteristic(slid.skeleton), 1);
 }
 
+// The slide's gate (slide_cut_joint). (1) Nothing cut: the degree-3 point A = (0,0,0) with the arms of the test above
+// (gamma 30, cot sqrt 3), one straight edge A - E, E = (1,0,0), r 0.35. Bisection: 0.7 < 1.0 cuts at J = (0.5,0,0);
+// 0.7 < 0.5 fails. Edge (A, J): 1.25 x (0.7 x 0.35 sqrt 3 + 0) = 0.5304 > 0.5: J goes. Ungated it would slide to
+// arc 0.5 + 0.5 x 2 / 32 = 0.53125 >= 0.5304 (k = 1: 0.515625 fails), but A - E passes through J's ball with
+// J's radius: cut (0 + 0.35 - 0.35) / 0.35 = 0 < 0.01, so J is removed and A - E is one edge. The two arms (length 1,
+// r 0.35, 60 degrees from A - E) are the same straight case: 3 joints removed in all, none slid.
+// (2) The corner of the test above (cut (0.354 + 0.25 - 0.25) / 0.25 = 1.41) at a degree-4 point: a fourth arm along
+// -x leaves gamma 30 (its 120 and 180 degrees are not the smallest angle), so the ungated slide would again reach
+// (0.5, 0.234375, 0); a degree-4 point's partition pattern may switch: C is removed as with the slide off.
+TEST(Adaptation, CutJointSlideGate) {
+    const double c = 0.5, s3 = std::sqrt(3.0) / 2;
+    Skeleton straight;
+    straight.points = {{0, 0, 0}, {1, 0, 0}, {c, 0, s3}, {c, 0, -s3}};
+    straight.radii = {0.35, 0.35, 0.35, 0.35};
+    straight.edges = {{0, 1}, {0, 2}, {0, 3}};
+    AdaptationOptions o;
+    o.slide_cut_joint = true;
+    const mesohex::AdaptationResult a = mesohex::adapt_skeleton_detailed(straight, o);
+    EXPECT_EQ(a.turn_removed_joints, 3);
+    EXPECT_EQ(a.skeleton.points.size(), 4u);
+    for (const Vec3& x : a.skeleton.points) EXPECT_FALSE(x.y == 0 && x.z == 0 && x.x > 0 && x.x < 1) << x.x;
+    EXPECT_EQ(mesohex::euler_characteristic(a.skeleton), 1);
+
+    Skeleton corner;
+    corner.points = {{0, 0, 0}, {0.5, 0, 0}, {0.5, 0.5, 0}, {c, 0, s3}, {c, 0, -s3}, {-1, 0, 0}};
+    corner.radii = {0.25, 0.25, 0.25, 0.25, 0.25, 0.25};
+    corner.edges = {{0, 1}, {1, 2}, {0, 3}, {0, 4}, {0, 5}};
+    const mesohex::AdaptationResult off = mesohex::adapt_skeleton_detailed(corner);
+    const mesohex::AdaptationResult on = mesohex::adapt_skeleton_detailed(corner, o);
+    EXPECT_EQ(off.vertex_map[1], -1);
+    EXPECT_EQ(on.vertex_map[1], -1);
+    EXPECT_EQ(on.turn_removed_joints, off.turn_removed_joints);
+    EXPECT_EQ(on.skeleton.points, off.skeleton.points);
+    for (const Vec3& x : on.skeleton.points) EXPECT_GT(mesohex::distance(x, Vec3{0.5, 0.234375, 0}), 1e-3);
+}
+
 // An L-shaped polyline: every new joint lies on one of the two original segments.
 TEST(Adaptation, SamplesOnBentPolyline) {
     Skeleton s;

@@ -167,6 +167,10 @@ struct EndReach {
     double cot_gamma = 0;
     double extent = 0;  // absolute: a branch rooted on a leaflet patch clears root_extent x the patch's edges
     double patch = 0;   // absolute: ... and the raw-mesh points of that patch (patch_reach), unless a pin yields
+    // A branching point of degree >= 4 without a leaflet: its sphere partition's pattern (which pairs of branches
+    // share a quad side) depends on the branch directions, so moving this branch's first joint may switch it
+    // (slide_away_from_end does not slide there). Degree 3 has one pattern (3 quads on 5 points).
+    bool pattern_may_switch = false;
 };
 
 // Where the edge a - b passes the ball (x, rx): how far it misses the ball as a fraction of rx (the distance from x
@@ -184,6 +188,18 @@ BallMiss ball_miss(const Vec3& xa, double ra, const Vec3& xb, double rb, const V
     return {(distance(x, xa + u * ab) + rx - r_edge) / rx, r_edge};
 }
 
+// How deep the edge a - c that replaces the removed joint v cuts into a ball: the largest BallMiss fraction over v's
+// ball (radius rv) and the balls of the input vertices strictly between the arc parameters of a and c (either order).
+double replaced_edge_cut(const std::vector<Vec3>& x, const std::vector<double>& r, const std::vector<double>& arc,
+                         int a, int v, double rv, int c, const Polyline& input) {
+    double cut = ball_miss(x[a], r[a], x[c], r[c], x[v], rv).fraction;
+    const double lo = std::min(arc[a], arc[c]), hi = std::max(arc[a], arc[c]);
+    for (std::size_t i = 0; i < input.x.size(); ++i)
+        if (input.s[i] > lo && input.s[i] < hi)
+            cut = std::max(cut, ball_miss(x[a], r[a], x[c], r[c], input.x[i], input.r[i]).fraction);
+    return cut;
+}
+
 // The largest joint radius r with max(a, c r) + s r <= l (0 when a >= l): an edge of length turn_safety x l from an
 // end of reach max(a, c r_joint) to a joint of reach s r meets the criterion (s the joint's sin_half_turn).
 double largest_joint_radius(double a, double c, double s, double l) {
@@ -197,9 +213,11 @@ double largest_joint_radius(double a, double c, double s, double l) {
 // next to it has a connection quad (cot_gamma > 0: a branching point or a leaflet vertex). With
 // AdaptationOptions::slide_cut_joint the victim slides instead, along the input polyline away from that end, to the
 // first of kSlideSteps - 1 evenly spaced arc positions before its other neighbour q where both the edge from the end
-// and
-// the edge to q meet the criterion (q's reach taken with the slid joint as its neighbour). Position, radius and arc
-// parameter are updated in x, r, arc; returns false (nothing changed) when no position passes.
+// and the edge to q meet the criterion (q's reach taken with the slid joint as its neighbour). Only where the slide has
+// something to keep and cannot switch the junction's pattern: the edge from the end to q cuts a ball (the victim's or
+// an input vertex's between them: replaced_edge_cut >= kSlideMinCut), and the end is no branching point whose
+// partition pattern may switch (EndReach::pattern_may_switch). Position, radius and arc parameter are updated in x, r,
+// arc; returns false (nothing changed) when the gate fails or no position passes.
 bool slide_away_from_end(std::vector<Vec3>& x, std::vector<double>& r, std::vector<double>& arc,
                          const std::vector<int>& keep, std::size_t j, std::size_t victim,
                          const std::array<EndReach, 2>& end_reach, const Polyline& input, const AdaptationOptions& o) {
@@ -207,9 +225,14 @@ bool slide_away_from_end(std::vector<Vec3>& x, std::vector<double>& r, std::vect
     const bool front = j == 0 && victim == 1, back = j + 1 == last && victim + 1 == last;
     if (!o.slide_cut_joint || (!front && !back) || (front && back)) return false;
     const EndReach& er = end_reach[front ? 0 : 1];
-    if (!(er.cot_gamma > 0)) return false;
+    if (!(er.cot_gamma > 0) || er.pattern_may_switch) return false;
     const std::size_t qk = front ? victim + 1 : victim - 1;  // the victim's other neighbour, in keep
     const int e = keep[front ? 0 : last], v = keep[victim], q = keep[qk];
+    // kSlideMinCut (x the ball's radius): below it the edge replacing the victim cuts no ball (a straight piece whose
+    // radius varies linearly gives 0 up to rounding): removing the victim loses nothing, a slide would only keep a
+    // joint (docs/junctions.md, "The cut-joint slide's gate").
+    constexpr double kSlideMinCut = 0.01;
+    if (!(replaced_edge_cut(x, r, arc, e, v, r[v], q, input) >= kSlideMinCut)) return false;
     const bool q_is_end = qk == 0 || qk == last;
     const EndReach& eq = end_reach[front ? 1 : 0];
     const int q2 = q_is_end ? q : keep[front ? qk + 1 : qk - 1];
@@ -269,13 +292,9 @@ std::vector<int> apply_turn_criterion(std::vector<Vec3>& x, std::vector<double>&
         const EndReach& er = end_reach[front ? 0 : 1];
         if (!(er.cot_gamma > 0)) return false;
         const int v = keep[victim], p = keep[victim - 1], q = keep[victim + 1], e = keep[front ? 0 : last];
-        BallMiss miss = ball_miss(x[p], r[p], x[q], r[q], x[v], r_input[v]);
-        for (std::size_t i = 0; input && arc && i < input->x.size(); ++i)
-            if (input->s[i] > (*arc)[p] && input->s[i] < (*arc)[q]) {
-                const BallMiss m = ball_miss(x[p], r[p], x[q], r[q], input->x[i], input->r[i]);
-                if (m.fraction > miss.fraction) miss = m;
-            }
-        if (miss.fraction < o.keep_cut_joint) return false;
+        const double cut = input && arc ? replaced_edge_cut(x, r, *arc, p, v, r_input[v], q, *input)
+                                        : ball_miss(x[p], r[p], x[q], r[q], x[v], r_input[v]).fraction;
+        if (cut < o.keep_cut_joint) return false;
         const double a = std::max({er.sphere * r[e], er.extent, er.patch});
         const double s = sin_half_turn(x[p], x[v], x[q]);
         // kKeptMargin (dimensionless): the kept radius just inside the criterion's bound, so that the edge passes it
@@ -806,7 +825,8 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
             const double gamma = std::clamp(0.5 * beta, pi / 24, pi / 3);
             const double br = view.is_free_branching_point(v) ? o.free_branching_reach : o.branching_reach;
             const auto [extent, patch] = root_extent(view, v, end_dir[bi][side], o);
-            view.end_reach[bi][side] = {br, br / std::tan(gamma), extent, patch};
+            const bool may_switch = view.is_free_branching_point(v) && view.incident[v].size() >= 4;
+            view.end_reach[bi][side] = {br, br / std::tan(gamma), extent, patch, may_switch};
         }
     }
 }

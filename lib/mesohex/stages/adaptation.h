@@ -48,8 +48,12 @@ struct AdaptationOptions {
     // A joint the criterion would remove from an edge that ends at a branching point or leaflet vertex slides instead,
     // along the branch's input polyline away from that end, to the nearest position (of 31 evenly spaced ones before
     // its next joint) where both its edges meet the criterion; it keeps the input radius there. The edge from the end
-    // then stays closer to the corner the removed joint carried (a sharp turn next to a junction). Removed as before
-    // when no position passes. Tried before keep_cut_joint (docs/junctions.md, "Cut joints slid away from the junction").
+    // then stays closer to the corner the removed joint carried (a sharp turn next to a junction). Only where the edge
+    // replacing the joint cuts a ball (the joint's or an input vertex's between the end and the next joint) by at
+    // least 1 % of its radius, and not at a branching point of degree >= 4 without a leaflet (its sphere partition's
+    // pattern depends on the branch directions). Removed as before when the gate fails or no position passes. Tried
+    // before keep_cut_joint (docs/junctions.md, "Cut joints slid away from the junction" and "The cut-joint slide's
+    // gate").
     bool slide_cut_joint = false;
     // On a bridge (a branch whose two ends are free branching points, no leaflet) that the resampling would leave as
     // one edge, the input vertex with the largest ratio of its radius to the linear interpolation of the end radii at
