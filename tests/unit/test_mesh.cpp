@@ -393,6 +393,13 @@ TEST(MeshSkeleton, ThickFlangeIsDockedOnThePlatesBorderAtAnyRadiusBelowTheEdge) 
             const SkeletonAnalysis an = analyze_skeleton(s);
             EXPECT_EQ(an.counts.fan_edges, 0);
             EXPECT_EQ(an.counts.leaflets, both ? 3 : 2);
+            MeshOptions placed;  // the hand placement: leaflet copies where the frames put them
+            placed.pipeline.raw_mesh.leaflet_offset_fraction = 0;
+            const MeshRun exact = mesh_skeleton(s, nullptr, placed);
+            EXPECT_EQ(exact.raw_quality.inverted, 0);
+            EXPECT_NEAR(exact.raw_quality.sj_min, 0.5, 1e-9);
+            // Defaults: the leaflet offset limit (RawMeshOptions::leaflet_offset_fraction, session 31) pulls the
+            // wall's copies at the chain in above r = L / 2; measured 0.473 / 0.316 at r = 0.55 / 0.75, none inverted.
             const MeshRun run = mesh_skeleton(s, nullptr, MeshOptions{});
             EXPECT_EQ(run.raw_quality.hexes, both ? 144 : 132);
             EXPECT_EQ(run.raw_quality.vertices, both ? 255 : 237);
@@ -401,7 +408,10 @@ TEST(MeshSkeleton, ThickFlangeIsDockedOnThePlatesBorderAtAnyRadiusBelowTheEdge) 
             EXPECT_TRUE(run.raw_quality.validation.valid());
             EXPECT_EQ(run.raw_quality.euler_characteristic, 1);
             EXPECT_EQ(run.raw_quality.inverted, 0);
-            EXPECT_NEAR(run.raw_quality.sj_min, 0.5, 1e-9);
+            EXPECT_GE(run.raw_quality.sj_min, 0.3);
+            if (r < 0.5) {
+                EXPECT_NEAR(run.raw_quality.sj_min, 0.5, 1e-9);
+            }
         }
     }
 }
