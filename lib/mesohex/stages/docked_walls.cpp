@@ -132,15 +132,17 @@ EdgeSplit split_fan_edge(const Skeleton& s, const SkeletonAnalysis& an, const st
     return sp;
 }
 
-// The fan edges of the component of fan edge e0 (connected through shared vertices), in edge order.
-std::vector<int> fan_component(const Skeleton& s, const SkeletonAnalysis& an, int e0, std::vector<char>& seen) {
+// The edges marked in `member` connected to member edge e0 through shared vertices (its component), in edge order;
+// marks them in `seen`.
+std::vector<int> edge_component(const Skeleton& s, const SkeletonAnalysis& an, int e0, const std::vector<char>& member,
+                                std::vector<char>& seen) {
     std::vector<int> comp{e0};
     seen[e0] = 1;
     for (std::size_t i = 0; i < comp.size(); ++i)
         for (int w : s.edges[comp[i]])
             for (int j = an.vertex_edge_begin[w]; j < an.vertex_edge_begin[w + 1]; ++j) {
                 const int e = an.vertex_edges[j];
-                if (an.edge_degree[e] >= 3 && !seen[e]) {
+                if (member[e] && !seen[e]) {
                     seen[e] = 1;
                     comp.push_back(e);
                 }
@@ -626,10 +628,11 @@ namespace {
 // The fan-edge components (chains) of the analysis, each as its edges.
 std::vector<std::vector<int>> fan_components(const Skeleton& s, const SkeletonAnalysis& an) {
     const int ne = static_cast<int>(s.edges.size());
-    std::vector<char> seen(ne, 0);
+    std::vector<char> seen(ne, 0), fan(ne, 0);
+    for (int e = 0; e < ne; ++e) fan[e] = an.edge_degree[e] >= 3;
     std::vector<std::vector<int>> comps;
     for (int e = 0; e < ne; ++e)
-        if (an.edge_degree[e] >= 3 && !seen[e]) comps.push_back(fan_component(s, an, e, seen));
+        if (fan[e] && !seen[e]) comps.push_back(edge_component(s, an, e, fan, seen));
     return comps;
 }
 
@@ -746,15 +749,7 @@ void cut_border_creases(const Skeleton& s, SkeletonAnalysis& an) {
     std::vector<char> seen(ne, 0);
     for (int e0 = 0; e0 < ne; ++e0) {
         if (!fold[e0] || seen[e0]) continue;
-        std::vector<int> comp{e0};
-        seen[e0] = 1;
-        for (std::size_t i = 0; i < comp.size(); ++i)
-            for (int w : s.edges[comp[i]])
-                for (int j = an.vertex_edge_begin[w]; j < an.vertex_edge_begin[w + 1]; ++j) {
-                    const int e = an.vertex_edges[j];
-                    if (fold[e] && !seen[e]) seen[e] = 1, comp.push_back(e);
-                }
-        std::sort(comp.begin(), comp.end());
+        const std::vector<int> comp = edge_component(s, an, e0, fold, seen);
         if (!flange_crease_star(s, an, comp)) continue;
         std::vector<char> mark(ne, 0);
         for (int e : comp) mark[e] = 1;

@@ -801,6 +801,16 @@ double segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Ve
     return best;
 }
 
+// A point at p (radius r) grown from point `from` by a new edge; parent (per point: the point it grew from, -1: none)
+// follows. Returns the new point's index.
+int grow_point(Skeleton& s, std::vector<int>& parent, int from, const Vec3& p, double r) {
+    const int v = add_point(s, p, r);
+    parent.resize(s.points.size(), -1);
+    parent[v] = from;
+    s.edges.push_back({from, v});
+    return v;
+}
+
 struct RandomTree {
     Skeleton& s;
     Random& rng;
@@ -825,13 +835,7 @@ struct RandomTree {
         return true;
     }
 
-    int add(int from, const Vec3& p, double r) {
-        const int v = add_point(s, p, r);
-        parent.resize(s.points.size(), -1);
-        parent[v] = from;
-        s.edges.push_back({from, v});
-        return v;
-    }
+    int add(int from, const Vec3& p, double r) { return grow_point(s, parent, from, p, r); }
 
     // A branch from `start` leaving along `dir`, radius r at its first joint; ends in a branching point (2 or 3
     // children) while depth > 0 and the dice say so.
@@ -958,13 +962,7 @@ struct Character {
         return true;
     }
 
-    int add(int from, const Vec3& p, double r) {
-        const int v = add_point(s, p, r);
-        parent.resize(s.points.size(), -1);
-        parent[v] = from;
-        s.edges.push_back({from, v});
-        return v;
-    }
+    int add(int from, const Vec3& p, double r) { return grow_point(s, parent, from, p, r); }
 
     // A limb from the torso end `end` along `dir`: 2-4 segments of 2.5..4.5 x the current radius, radius r at its
     // first joint, x 0.6..0.9 per further joint. The first segment is always placed (the end's degree is fixed);
