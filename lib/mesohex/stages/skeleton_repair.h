@@ -97,8 +97,8 @@ struct SkeletonRepairOptions {
     // the thin branch's walk ends, t lies beyond c's ball, e at least side_stub_min_length x max(r_t, r_e) from t,
     // and the two branches leaving t part there (90 degrees or more apart, or their tubes separating before the
     // shorter ends: t is no close pair itself); otherwise the side stub as above. false: every such stub a side stub
-    // of the thin branch, whose edge (q, e) leaves the wedge c, q, e of the fat tube to the fit (seed 144: the mesh's
-    // boundary through the stub's axis, 5.16 %). Off: measured without a verdict changed (docs/junctions.md, "Fat
+    // of the thin branch, whose edge (q, e) leaves the wedge c, q, e of the fat tube to the fit (the mesh's boundary then
+    // runs through the stub's axis). Off: measured without a verdict changed (docs/junctions.md, "Fat
     // stubs kept as the main line").
     bool fat_stub_main_line = false;
     // The ball t of an absorbed stub (or merged end) is a radius peak on the kept branch: the adaptation's
