@@ -212,7 +212,10 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_option("--slide-cut-joint", job->options.pipeline.adaptation.slide_cut_joint,
                     "A joint next to a branching point or leaflet vertex that the section criterion would remove "
                     "slides along its branch, away from the junction, to the nearest position where the criterion "
-                    "holds (0 or 1; docs/junctions.md, \"Cut joints slid away from the junction\")")
+                    "holds; gated: only where the edge replacing the joint would cut a ball by 1 % of its radius or "
+                    "more, and never at a junction of degree 4 or more (also one the skeleton repair split or gave a "
+                    "trunk, or two points joined by a collapsed short bridge) (0 or 1; docs/junctions.md, \"Cut joints "
+                    "slid away from the junction\", \"The cut-joint slide's gate\")")
         ->capture_default_str();
     cmd->add_option("--bridge-peak-ratio", job->options.pipeline.adaptation.bridge_peak_ratio,
                     "On a branch between two branching points that resampling would leave as one edge, keep a joint "

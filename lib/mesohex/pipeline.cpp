@@ -309,7 +309,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
         pinned.insert(pinned.end(), repaired.fan_end_pins.begin(), repaired.fan_end_pins.end());
         AdaptationOptions adaptation = options.adaptation;
         adaptation.raised_fan_end_caps = options.raw_mesh.fan_end_cap_to_border;
-        s = adapt_skeleton(repaired.skeleton, adaptation, pinned);
+        s = adapt_skeleton(repaired.skeleton, adaptation, pinned, repaired.junction_degree);
         clock.lap("adaptation");
     }
     // After adaptation, which would collapse their short edges; new vertices and edges are appended.

@@ -346,6 +346,40 @@ TEST(Adaptation, CutJointSlideGate) {
     EXPECT_EQ(on.turn_removed_joints, off.turn_removed_joints);
     EXPECT_EQ(on.skeleton.points, off.skeleton.points);
     for (const Vec3& x : on.skeleton.points) EXPECT_GT(mesohex::distance(x, Vec3{0.5, 0.234375, 0}), 1e-3);
+
+    // (3) The degree-3 corner of CutJointSlidesAwayFromTheJunction, its end A marked as a part of a degree-4 junction
+    // of the input (junction_degree 4 at A: a split's half, a trunk's root or t): no slide, C removed as with the
+    // slide off; marked 3 (its own degree) or with an empty list it slides to (0.5, 0.234375, 0).
+    Skeleton part;
+    part.points = {{0, 0, 0}, {0.5, 0, 0}, {0.5, 0.5, 0}, {c, 0, s3}, {c, 0, -s3}};
+    part.radii = {0.25, 0.25, 0.25, 0.25, 0.25};
+    part.edges = {{0, 1}, {1, 2}, {0, 3}, {0, 4}};
+    const mesohex::AdaptationResult plain = mesohex::adapt_skeleton_detailed(part);
+    const mesohex::AdaptationResult held = mesohex::adapt_skeleton_detailed(part, o, {}, {4});
+    EXPECT_EQ(held.vertex_map[1], -1);
+    EXPECT_EQ(held.skeleton.points, plain.skeleton.points);
+    const mesohex::AdaptationResult three = mesohex::adapt_skeleton_detailed(part, o, {}, {3, 0, 0, 0, 0});
+    EXPECT_EQ(three.turn_removed_joints, 0);
+    EXPECT_EQ(three.skeleton.points, mesohex::adapt_skeleton_detailed(part, o).skeleton.points);
+    EXPECT_NE(three.skeleton.points, plain.skeleton.points);
+
+    // (4) Two points of degree 3 joined by a bridge of length 0.1 < collapse_spread (r_A + r_B) = 0.35: A = (0.05, 0, 0)
+    // with the corner branch of CutJointSlidesAwayFromTheJunction (C = (0.5, 0, 0), E = (0.5, 0.5, 0)) and an arm to
+    // (0.05 + c, 0, s3), B = (-0.05, 0, 0) with arms to (0.05 + c, 0, -s3) and (-1, 0, 0). Adaptation collapses the
+    // bridge into one point of degree 3 + 3 - 2 = 4 at the origin (merge_drifts: 0.05 < 0.7 x 0.25): the corner of (2),
+    // its two arms 57.6 degrees from +x (gamma 28.8; ungated the joint slides to (0.5, 0.265625, 0), the 17th of 32
+    // steps). The merged point's partition pattern may switch: no slide, the output is the slide-off one.
+    Skeleton pair;
+    pair.points = {{0.05, 0, 0},  {0.5, 0, 0},       {0.5, 0.5, 0},      {0.05 + c, 0, s3},
+                   {-0.05, 0, 0}, {0.05 + c, 0, -s3}, {-1, 0, 0}};
+    pair.radii.assign(pair.points.size(), 0.25);
+    pair.edges = {{0, 1}, {1, 2}, {0, 3}, {0, 4}, {4, 5}, {4, 6}};
+    const mesohex::AdaptationResult merged_off = mesohex::adapt_skeleton_detailed(pair);
+    const mesohex::AdaptationResult merged_on = mesohex::adapt_skeleton_detailed(pair, o);
+    EXPECT_EQ(merged_on.collapsed_bridges, 1);
+    EXPECT_EQ(merged_on.vertex_map[0], merged_on.vertex_map[4]);
+    EXPECT_EQ(merged_on.skeleton.points, merged_off.skeleton.points);
+    EXPECT_EQ(merged_on.skeleton.radii, merged_off.skeleton.radii);
 }
 
 // An L-shaped polyline: every new joint lies on one of the two original segments.

@@ -142,6 +142,8 @@ TEST(SkeletonRepair, WideJunctionTrunkAtDegreeFour) {
     EXPECT_EQ(degree(s, 1), 3);  // parent, the fourth branch, the trunk
     EXPECT_EQ(degree(s, 5), 3);  // the trunk and the pair
     EXPECT_EQ(degree(s, 4), 1);
+    // c and t are the two parts of the input's degree-4 junction; extremities and crotch points 0.
+    EXPECT_EQ(res.junction_degree, (std::vector<int>{0, 4, 0, 0, 0, 4, 0, 0}));
     // 60 degrees apart (x = 0.067 < r_c): no trunk, with or without the fourth branch.
     Skeleton wide_pair = y_pair(30 * kDeg, 2.0, r);
     wide_pair.points.push_back({0, 1, 0});
@@ -189,6 +191,7 @@ TEST(SkeletonRepair, DegreeFourJunctionSplit) {
     EXPECT_NEAR(distance(s.points[0], s.points[5]), 0.15, 1e-12);  // 2 h
     EXPECT_EQ(degree(s, 0), 3);                                    // the two others and the bridge
     EXPECT_EQ(degree(s, 5), 3);                                    // the pair and the bridge
+    EXPECT_EQ(res.junction_degree, (std::vector<int>{4, 0, 0, 0, 0, 4}));  // both halves of the degree-4 junction
     for (const int v : {1, 2}) {
         bool to_split = false;
         for (const auto& e : s.edges) to_split |= (e[0] == v && e[1] == 5) || (e[0] == 5 && e[1] == v);

@@ -167,9 +167,12 @@ struct EndReach {
     double cot_gamma = 0;
     double extent = 0;  // absolute: a branch rooted on a leaflet patch clears root_extent x the patch's edges
     double patch = 0;   // absolute: ... and the raw-mesh points of that patch (patch_reach), unless a pin yields
-    // A branching point of degree >= 4 without a leaflet: its sphere partition's pattern (which pairs of branches
-    // share a quad side) depends on the branch directions, so moving this branch's first joint may switch it
-    // (slide_away_from_end does not slide there). Degree 3 has one pattern (3 quads on 5 points).
+    // A branching point without a leaflet that is, or was made from, a junction of degree >= 4: its own degree >= 4
+    // (its sphere partition's pattern, which pairs of branches share a quad side, depends on the branch directions,
+    // so moving this branch's first joint may switch it), or a part of such a junction of the input that the repair
+    // made degree 3 (a split's halves, a trunk's root and t: adapt_skeleton's junction_degree), whose parts sit
+    // closer together than the junction's balls. slide_away_from_end does not slide there. A junction of degree 3
+    // has one pattern (3 quads on 5 points).
     bool pattern_may_switch = false;
 };
 
@@ -575,6 +578,7 @@ struct BranchView {
     std::vector<bool> pinned;                        // per vertex: a joint the resampling keeps (may be empty)
     std::vector<std::array<EndReach, 2>> end_reach;  // per branch and end
     std::vector<std::vector<int>> vertex_faces;      // per vertex: the leaflet faces on it, in face order
+    std::vector<int> junction_degree;                // per vertex: its input junction's degree (may be empty)
 
     bool is_joint(int v) const { return incident[v].size() == 2 && !faces.on_face[v]; }
     bool is_free_branching_point(int v) const { return incident[v].size() >= 3 && !faces.on_face[v]; }
@@ -654,7 +658,8 @@ BranchView make_branch_view(const Skeleton& s, std::vector<bool> pinned) {
                     {},
                     {},
                     {},
-                    std::vector<std::vector<int>>(n)};
+                    std::vector<std::vector<int>>(n),
+                    {}};
     for (int f = 0; f < static_cast<int>(s.faces.size()); ++f)
         for (const int v : s.faces[f])
             if (view.vertex_faces[v].empty() || view.vertex_faces[v].back() != f) view.vertex_faces[v].push_back(f);
@@ -825,7 +830,9 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
             const double gamma = std::clamp(0.5 * beta, pi / 24, pi / 3);
             const double br = view.is_free_branching_point(v) ? o.free_branching_reach : o.branching_reach;
             const auto [extent, patch] = root_extent(view, v, end_dir[bi][side], o);
-            const bool may_switch = view.is_free_branching_point(v) && view.incident[v].size() >= 4;
+            const int junction = v < static_cast<int>(view.junction_degree.size()) ? view.junction_degree[v] : 0;
+            const bool may_switch = view.is_free_branching_point(v) &&
+                                    std::max(static_cast<int>(view.incident[v].size()), junction) >= 4;
             view.end_reach[bi][side] = {br, br / std::tan(gamma), extent, patch, may_switch};
         }
     }
@@ -989,10 +996,25 @@ Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions
     return col;
 }
 
+// The degree of each merged class's junction (its members' edges less both ends of every collapsed bridge between
+// them) is raised into view.junction_degree at every member: two points of degree 3 joined by a collapsed bridge are one
+// junction of degree 4 (AdaptationOptions::slide_cut_joint's gate).
+void mark_merged_junctions(BranchView& view, Collapses& col) {
+    const int n = static_cast<int>(view.s.points.size());
+    std::vector<int> degree(static_cast<std::size_t>(n), 0);
+    for (int v = 0; v < n; ++v) degree[col.classes.find(v)] += static_cast<int>(view.incident[v].size());
+    for (std::size_t bi = 0; bi < view.branches.size(); ++bi)
+        if (col.collapsed[bi]) degree[col.classes.find(view.branches[bi].vertices.front())] -= 2;
+    view.junction_degree.resize(static_cast<std::size_t>(n), 0);
+    for (int v = 0; v < n; ++v)
+        view.junction_degree[v] = std::max(view.junction_degree[v], degree[col.classes.find(v)]);
+}
+
 // Merged classes: mean position and radius of their members (for a pair: the midpoint). The branches attached to
 // them start from the merged vertex: their polylines and end directions are rebuilt.
 void move_merged_classes(BranchView& view, Collapses& col, const AdaptationOptions& o) {
     if (col.count == 0) return;
+    mark_merged_junctions(view, col);
     const Skeleton& s = view.s;
     const int n = static_cast<int>(s.points.size());
     std::vector<Vec3> sum_x(n);
@@ -1089,12 +1111,13 @@ std::vector<int> repair_output(Skeleton& out, Repaired& repaired, const Adaptati
 
 }  // namespace
 
-Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o, const std::vector<int>& pinned) {
-    return adapt_skeleton_detailed(s, o, pinned).skeleton;
+Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o, const std::vector<int>& pinned,
+                        const std::vector<int>& junction_degree) {
+    return adapt_skeleton_detailed(s, o, pinned, junction_degree).skeleton;
 }
 
 AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const AdaptationOptions& o,
-                                         const std::vector<int>& pinned) {
+                                         const std::vector<int>& pinned, const std::vector<int>& junction_degree) {
     validate(input, o);
     Repaired repaired = repair_degenerate_branches(input, o);
     std::vector<bool> pinned_repaired;  // in the numbering of repaired.s
@@ -1104,6 +1127,13 @@ AdaptationResult adapt_skeleton_detailed(const Skeleton& input, const Adaptation
         pinned_repaired[repaired.map[v]] = true;
     }
     BranchView view = make_branch_view(repaired.s, std::move(pinned_repaired));
+    // A vertex the degenerate repair merged takes the largest junction degree of its members.
+    for (std::size_t v = 0; v < junction_degree.size() && v < repaired.map.size(); ++v) {
+        const int w = repaired.map[v];
+        if (w < 0 || junction_degree[v] <= 0) continue;
+        view.junction_degree.resize(repaired.s.points.size(), 0);
+        view.junction_degree[w] = std::max(view.junction_degree[w], junction_degree[v]);
+    }
     compute_end_reach(view, o);
     Collapses col = collapse_short_bridges(view, o);
     move_merged_classes(view, col, o);

@@ -50,8 +50,10 @@ struct AdaptationOptions {
     // its next joint) where both its edges meet the criterion; it keeps the input radius there. The edge from the end
     // then stays closer to the corner the removed joint carried (a sharp turn next to a junction). Only where the edge
     // replacing the joint cuts a ball (the joint's or an input vertex's between the end and the next joint) by at
-    // least 1 % of its radius, and not at a branching point of degree >= 4 without a leaflet (its sphere partition's
-    // pattern depends on the branch directions). Removed as before when the gate fails or no position passes. Tried
+    // least 1 % of its radius, and not at a branching point without a leaflet that is or was made from a junction of
+    // degree >= 4 (its sphere partition's pattern depends on the branch directions; a degree-4 junction the repair
+    // split in two or gave a trunk counts at each part, adapt_skeleton's junction_degree, and so do two points of
+    // degree 3 whose short bridge adaptation collapses into one of degree 4). Removed as before when the gate fails or no position passes. Tried
     // before keep_cut_joint (docs/junctions.md, "Cut joints slid away from the junction" and "The cut-joint slide's
     // gate").
     bool slide_cut_joint = false;
@@ -130,7 +132,11 @@ struct AdaptationOptions {
 // gone (its neighbour is a branch end or another pin): the branch is then sampled again without that pin, so pins
 // never leave overlapping cross-sections (except the radius peak AdaptationOptions::bridge_peak_ratio holds, which never
 // yields). Ids out of range and vertices that are no joints are ignored.
-Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o = {}, const std::vector<int>& pinned = {});
+// junction_degree: per vertex of s (may be shorter or empty: 0 for the rest), the degree of the input junction it was
+// made from (SkeletonRepairResult::junction_degree); a free branching point whose value or own degree is 4 or more
+// gets no slide (AdaptationOptions::slide_cut_joint). Only that option reads it.
+Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o = {}, const std::vector<int>& pinned = {},
+                        const std::vector<int>& junction_degree = {});
 
 // The same, with what happened (for reports and tests).
 struct AdaptationResult {
@@ -146,6 +152,7 @@ struct AdaptationResult {
                                   // (coincident_angle)
 };
 AdaptationResult adapt_skeleton_detailed(const Skeleton& s, const AdaptationOptions& o = {},
-                                         const std::vector<int>& pinned = {});
+                                         const std::vector<int>& pinned = {},
+                                         const std::vector<int>& junction_degree = {});
 
 }  // namespace mesohex

@@ -1241,6 +1241,9 @@ void compact(Skeleton& s, const Tombstones& dead, SkeletonRepairResult& res) {
     }
     s.points.resize(kept);
     s.radii.resize(kept);
+    for (int v = 0, k = 0; v < total; ++v)
+        if (!dead.vertex[v]) res.junction_degree[k++] = res.junction_degree[v];
+    res.junction_degree.resize(kept);
     const auto new_id = [&](int v) { return v >= 0 && v < total ? id[v] : -1; };  // -1 too for an invalid id
     std::size_t kept_edges = 0;
     for (std::size_t e = 0; e < s.edges.size(); ++e) {
@@ -1263,6 +1266,7 @@ void compact(Skeleton& s, const Tombstones& dead, SkeletonRepairResult& res) {
 struct Made {
     int side_root = -1;  // a side stub's root q (frozen)
     int merge_t = -1;    // a merge's ball t
+    int junction = -1;   // the vertex the repair made of c's junction: t, or a side stub's root q
 };
 
 // Applies one repair (best.ei, best.ej: edge ids): t, the edge (c, t), and per walk its edits. Returns the touched
@@ -1275,11 +1279,13 @@ std::vector<int> apply_candidate(Skeleton& s, Graph& g, Tombstones& dead, const 
     Edit ed;
     if (best.kind == PairRepair::side) {
         made.side_root = join_side(s, g, wi, best.ei, wj, best.ej, o, ed);
+        made.junction = made.side_root;
         ++res.side_stubs;
         return apply_edit(s, g, dead, n, saved, ed);
     }
     s.points.push_back(best.t);
     s.radii.push_back(best.rt);
+    made.junction = t;
     if (best.kind == PairRepair::main_stub) {  // the stub leaves t towards its next vertex, the thin walk towards x
         double a = 0;
         const AtArc at = nearest_on_walk(s, wj, best.t, a);
@@ -1401,6 +1407,9 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
         best.ei = g.inc[c][best.ei], best.ej = g.inc[c][best.ej];
         Made made;
         const std::vector<int> touched = apply_candidate(s, g, dead, best, o, res, made);
+        res.junction_degree.resize(s.points.size(), 0);
+        if (made.junction >= 0)
+            res.junction_degree[made.junction] = std::max(res.junction_degree[made.junction], res.junction_degree[c]);
         scans.resize(s.points.size());
         stale.resize(s.points.size(), 0);
         rank_key.resize(s.points.size(), 0);
@@ -1420,9 +1429,10 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
 // than 90 degrees apart into two branching points of degree 3 (SkeletonRepairOptions::junction_split, placement and
 // radii there): the close pair moves to a new vertex c', the other two stay at c (moved), joined by the edge (c, c').
 // A point whose directions fit_cube_frame accepts under `blocks` (when given and enabled) keeps its degree 4: it gets a
-// compatible block. Returns the number of points split.
+// compatible block. c' takes c's junction degree (junction_degree: per vertex, grows with s; at least 4 at both
+// halves). Returns the number of points split.
 int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clearance,
-                         const CompatibleBlockOptions* blocks) {
+                         const CompatibleBlockOptions* blocks, std::vector<int>& junction_degree) {
     if (!(factor > 0) || s.radii.size() != s.points.size()) return 0;
     Graph g;
     make_graph(s, g);
@@ -1494,6 +1504,8 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clea
         s.radii.push_back(r_near);
         s.points[c] = far;
         s.radii[c] = r_far;
+        junction_degree[c] = std::max(junction_degree[c], 4);
+        junction_degree.push_back(junction_degree[c]);
         for (const int k : {bi, bj})
             for (int& v : s.edges[g.inc[c][k]])
                 if (v == c) v = cp;
@@ -1501,6 +1513,21 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clea
         ++splits;
     }
     return splits;
+}
+
+// Per vertex of s: its number of edges when that is 3 or more and it lies on no leaflet face, else 0
+// (SkeletonRepairResult::junction_degree before any repair). Edges with an end out of range or a self-loop are skipped.
+std::vector<int> junction_degrees(const Skeleton& s) {
+    const int n = static_cast<int>(s.points.size());
+    std::vector<int> degree(static_cast<std::size_t>(n), 0);
+    for (const auto& [a, b] : s.edges)
+        if (a >= 0 && a < n && b >= 0 && b < n && a != b) ++degree[a], ++degree[b];
+    for (const std::vector<int>& f : s.faces)
+        for (const int v : f)
+            if (v >= 0 && v < n) degree[v] = 0;
+    for (int& d : degree)
+        if (d < 3) d = 0;
+    return degree;
 }
 
 }  // namespace
@@ -1512,19 +1539,22 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
     res.vertex_map.resize(input.points.size());
     for (std::size_t v = 0; v < input.points.size(); ++v) res.vertex_map[v] = static_cast<int>(v);
     Skeleton& s = res.skeleton;
+    res.junction_degree = junction_degrees(input);
     if (o.fan_end_retraction) res.fan_end_retractions = retract_fan_ends(s, fan_caps);
+    res.junction_degree.resize(s.points.size(), 0);
     for (const FanEndRetraction& r : res.fan_end_retractions)
         for (const int v : {r.bend, r.first_joint})
             if (v >= 0) res.fan_end_pins.push_back(v);
     repair_trunks(s, o, res);
-    res.junction_splits =
-        split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance, blocks);
+    res.junction_splits = split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg,
+                                               o.junction_split_clearance, blocks, res.junction_degree);
     std::vector<char> band;  // the band pillow's copies
     if (o.docked_band_pillow)
         res.docked_band_pillows =
             pillow_docked_bands(s, o.docked_foot_split > 0 ? o.docked_foot_split : kUnboundedBand, band);
     res.docked_foot_splits = split_docked_feet(s, o.docked_foot_split, band);
     res.root_strip_splits = split_root_patches(s, o.root_patch_factor);
+    res.junction_degree.resize(s.points.size(), 0);
     return res;
 }
 

@@ -220,6 +220,13 @@ struct SkeletonRepairResult {
     // output id: pinned by the pipeline, so that the resampling keeps the clean first edge (else it cuts the bend and
     // the first edge leans as before, or drops the joint by its section criterion and the hexes past it fold).
     std::vector<int> fan_end_pins;
+    // Per output vertex: the degree of the input's junction it belongs to, or 0. An input vertex off every leaflet
+    // face with three or more edges gives its own degree (counted in the skeleton passed in); the branching points a
+    // repair makes of it take the same value: a trunk's t (c keeps its own), a split's c', a side stub's root q, a
+    // main stub's t, an absorbed ball. So a junction of degree 4 that the repair turned into two of degree 3 (a split's
+    // halves, a trunk's root and t) still reads 4 at each part. Every other vertex (joints, extremities, leaflet
+    // vertices, the repairs' other new vertices) 0. Read by adaptation (AdaptationOptions::slide_cut_joint's gate).
+    std::vector<int> junction_degree;
 };
 
 // Preconditions: one finite radius > 0 per vertex, edge indices in range (as after analyze_skeleton and check_radii;
