@@ -370,7 +370,7 @@ TEST(Adaptation, CutJointSlideGate) {
     // its two arms 57.6 degrees from +x (gamma 28.8; ungated the joint slides to (0.5, 0.265625, 0), the 17th of 32
     // steps). The merged point's partition pattern may switch: no slide, the output is the slide-off one.
     Skeleton pair;
-    pair.points = {{0.05, 0, 0},  {0.5, 0, 0},       {0.5, 0.5, 0},      {0.05 + c, 0, s3},
+    pair.points = {{0.05, 0, 0},  {0.5, 0, 0},        {0.5, 0.5, 0}, {0.05 + c, 0, s3},
                    {-0.05, 0, 0}, {0.05 + c, 0, -s3}, {-1, 0, 0}};
     pair.radii.assign(pair.points.size(), 0.25);
     pair.edges = {{0, 1}, {1, 2}, {0, 3}, {0, 4}, {4, 5}, {4, 6}};

@@ -191,7 +191,8 @@ TEST(SkeletonRepair, DegreeFourJunctionSplit) {
     EXPECT_NEAR(distance(s.points[0], s.points[5]), 0.15, 1e-12);  // 2 h
     EXPECT_EQ(degree(s, 0), 3);                                    // the two others and the bridge
     EXPECT_EQ(degree(s, 5), 3);                                    // the pair and the bridge
-    EXPECT_EQ(res.junction_degree, (std::vector<int>{4, 0, 0, 0, 0, 4}));  // both halves of the degree-4 junction
+    // Both halves carry the degree of the input's junction; extremities 0.
+    EXPECT_EQ(res.junction_degree, (std::vector<int>{4, 0, 0, 0, 0, 4}));
     for (const int v : {1, 2}) {
         bool to_split = false;
         for (const auto& e : s.edges) to_split |= (e[0] == v && e[1] == 5) || (e[0] == 5 && e[1] == v);

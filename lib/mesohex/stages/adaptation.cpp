@@ -831,8 +831,8 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
             const double br = view.is_free_branching_point(v) ? o.free_branching_reach : o.branching_reach;
             const auto [extent, patch] = root_extent(view, v, end_dir[bi][side], o);
             const int junction = v < static_cast<int>(view.junction_degree.size()) ? view.junction_degree[v] : 0;
-            const bool may_switch = view.is_free_branching_point(v) &&
-                                    std::max(static_cast<int>(view.incident[v].size()), junction) >= 4;
+            const bool may_switch =
+                view.is_free_branching_point(v) && std::max(static_cast<int>(view.incident[v].size()), junction) >= 4;
             view.end_reach[bi][side] = {br, br / std::tan(gamma), extent, patch, may_switch};
         }
     }
