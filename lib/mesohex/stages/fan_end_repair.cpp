@@ -119,6 +119,10 @@ bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, Fan
         FanEndRefusal other_why;
         Candidate c;
         const bool taken = branch_end(s, in, v, c, &other_why);
+        // Not taken: v's own refusal as the repair gives it at v (a far branch: the moved root's failing condition, and
+        // first a tube running into a plate), not only the retraction's angle rule that branch_end names.
+        if (!taken)
+            if (std::optional<FanEndRefusal> own = fan_end_refusal(s, v)) other_why = std::move(*own);
         return refuse(why,
                       "carries a branch too" +
                           (taken ? std::string() : " that the repair does not take either (" + other_why.reason + ")"),
