@@ -1019,7 +1019,7 @@ void expect_meshed_clean(const Skeleton& s) {
 // moved root needs 1.5 r = 1.08 of plate beside the fan line, more than 0.7 of the unit side (2 inverted raw hexes
 // before), so the straight border run of 2 unit sides slides (kRootMoveRunRestRadii): it would need (1.5 + 1.6) r =
 // 2.232 > 2: refused, the radius bound 2 / 3.1 = 0.645 named. (3) `fanend -n 4 -m 5` at radius scale 1.1 (r = 0.33 >
-// kBendMaxRadius 0.3 x the unit side; 10 inverted raw hexes before).
+// kBendMaxRadius 0.3 x the unit side; 10 inverted raw hexes before), its tube running into a plate.
 TEST(FanEndRepair, SweepFailuresRefusedAtTheMovedRoot) {
     for (const int strips : {3, 4}) {
         SCOPED_TRACE(strips);
@@ -1041,8 +1041,19 @@ TEST(FanEndRepair, SweepFailuresRefusedAtTheMovedRoot) {
                        "0.645");
     }
     expect_refused(fan_end_scaled(4, 5, 1.1), 2,
-                   "not bent: its radius is 0.33 x the border side (a bend takes at most 0.30)");
+                   "not bent: its radius is 0.33 x the border side (a bend takes at most 0.30, or more leaning back "
+                   "where the branch's tube clears the leaflets' plates)");
     expect_meshed_clean(fan_end_scaled(4, 5, 1.0));
+    // (4) The T leaning back (`fanend -n 3 -m 5`: branch direction (0, -1, -1) / sqrt 2 from (0, 0, 1), towards the
+    // empty side) above the bend's radius bound: its centre line at arc s is 0.707 s from every leaflet (the strips
+    // y = 0 and the +y strip's edge on the fan line), past 3 r at least 2.12 r, over the 2 r that the tube and the
+    // plates need (ratio 1.06 whatever r): bent and meshed at radius scale 1.1 - 1.55 (refused before, 0.33 - 0.47 x
+    // the side). The X's tube, between two leaflets, runs into the +x strip's plate (0.758 of the need at 1.1, above):
+    // still refused.
+    for (const double scale : {1.1, 1.25, 1.4, 1.55}) {
+        SCOPED_TRACE(scale);
+        expect_meshed_clean(fan_end_scaled(3, 5, scale));
+    }
 }
 
 namespace {

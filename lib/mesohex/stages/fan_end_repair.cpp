@@ -601,6 +601,52 @@ struct RootMove {
     std::vector<Vec3> slid;  // ... its inner vertices' new places (run[1] first)
 };
 
+// Where a branch at the fan end w comes closest to a leaflet's plate: past kPlateOverlapRootRadii r_w of arc length
+// from w along the branch (its polyline through plain joints: two edges, no face), the sample whose centre-line
+// distance to a face, over the tube's radius there plus the face's mean radius, is least (10 samples per edge, its
+// far end included).
+struct PlateOverlap {
+    double ratio = std::numeric_limits<double>::infinity();  // distance / (r_tube + r_plate); < 1: they overlap
+    double distance = 0, arc = 0, need = 0;
+    int face = -1;
+};
+
+PlateOverlap plate_overlap(const Skeleton& s, const Incidence& in, int w) {
+    PlateOverlap best;
+    const double from = kPlateOverlapRootRadii * s.radii[w];
+    const auto sample = [&](const Vec3& p, double r, double arc) {
+        for (int f = 0; f < static_cast<int>(s.faces.size()); ++f) {
+            const std::vector<int>& q = s.faces[f];
+            const Vec3 &a = s.points[q[0]], &b = s.points[q[1]], &c = s.points[q[2]], &d = s.points[q[3]];
+            const double dist = std::min(distance(p, closest_point_on_triangle(p, a, b, c)),
+                                         distance(p, closest_point_on_triangle(p, a, c, d)));
+            const double need = r + 0.25 * (s.radii[q[0]] + s.radii[q[1]] + s.radii[q[2]] + s.radii[q[3]]);
+            if (dist / need < best.ratio) best = {dist / need, dist, arc, need, f};
+        }
+    };
+    for (const int e0 : in.vertex_edges[w]) {
+        int prev = w, cur = other_end(s, e0, w);
+        if (faces_on(in, w, cur) != 0) continue;
+        double arc = 0;
+        for (int steps = 0; steps < static_cast<int>(s.points.size()); ++steps) {
+            const Vec3 &a = s.points[prev], &b = s.points[cur];
+            const double len = distance(a, b);
+            for (int k = 1; k <= 10; ++k) {
+                const double f = k / 10.0;
+                if (arc + f * len >= from)
+                    sample(a + f * (b - a), s.radii[prev] + f * (s.radii[cur] - s.radii[prev]), arc + f * len);
+            }
+            arc += len;
+            if (in.vertex_edges[cur].size() != 2 || !in.vertex_faces[cur].empty()) break;
+            const int e = in.vertex_edges[cur][0];
+            const int next =
+                other_end(s, e, cur) == prev ? other_end(s, in.vertex_edges[cur][1], cur) : other_end(s, e, cur);
+            prev = cur, cur = next;
+        }
+    }
+    return best;
+}
+
 // The moved first edge from the cut point m towards v (unit) in the border's frame: along (the border side, unit),
 // out (its outward in-plane direction), normal (the leaflet's). Returns its angles (degrees) off out and off the
 // normal (either side).
@@ -798,9 +844,11 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
         else if (along_side > kRootMoveMax)
             no_bend << "the branch runs on along the border side (its first vertex projects at "
                     << std::lround(100 * along_side) << "% of it, past " << std::lround(100 * kRootMoveMax) << "%)";
-        else if (radius_ratio > kBendMaxRadius)
+        else if (radius_ratio > kBendMaxRadius &&
+                 !(off_out > kMovedSideOffOutDeg && plate_overlap(s, in, c.w).ratio >= 1))
             no_bend << "its radius is " << std::fixed << std::setprecision(2) << radius_ratio
-                    << " x the border side (a bend takes at most " << kBendMaxRadius << ")";
+                    << " x the border side (a bend takes at most " << kBendMaxRadius
+                    << ", or more leaning back where the branch's tube clears the leaflets' plates)";
         else if (!bent_first_edge(v, out, normal, dir, &turn))
             no_bend << (turn < 0
                             ? std::string("the branch lies in the leaflet's plane (no side to bend it to)")
@@ -907,52 +955,6 @@ std::vector<FanEndRetraction> move_far_roots(Skeleton& s) {
         in = make_incidence(s);
     }
     return done;
-}
-
-// Where a branch at the fan end w comes closest to a leaflet's plate: past kPlateOverlapRootRadii r_w of arc length
-// from w along the branch (its polyline through plain joints: two edges, no face), the sample whose centre-line
-// distance to a face, over the tube's radius there plus the face's mean radius, is least (10 samples per edge, its
-// far end included).
-struct PlateOverlap {
-    double ratio = std::numeric_limits<double>::infinity();  // distance / (r_tube + r_plate); < 1: they overlap
-    double distance = 0, arc = 0, need = 0;
-    int face = -1;
-};
-
-PlateOverlap plate_overlap(const Skeleton& s, const Incidence& in, int w) {
-    PlateOverlap best;
-    const double from = kPlateOverlapRootRadii * s.radii[w];
-    const auto sample = [&](const Vec3& p, double r, double arc) {
-        for (int f = 0; f < static_cast<int>(s.faces.size()); ++f) {
-            const std::vector<int>& q = s.faces[f];
-            const Vec3 &a = s.points[q[0]], &b = s.points[q[1]], &c = s.points[q[2]], &d = s.points[q[3]];
-            const double dist = std::min(distance(p, closest_point_on_triangle(p, a, b, c)),
-                                         distance(p, closest_point_on_triangle(p, a, c, d)));
-            const double need = r + 0.25 * (s.radii[q[0]] + s.radii[q[1]] + s.radii[q[2]] + s.radii[q[3]]);
-            if (dist / need < best.ratio) best = {dist / need, dist, arc, need, f};
-        }
-    };
-    for (const int e0 : in.vertex_edges[w]) {
-        int prev = w, cur = other_end(s, e0, w);
-        if (faces_on(in, w, cur) != 0) continue;
-        double arc = 0;
-        for (int steps = 0; steps < static_cast<int>(s.points.size()); ++steps) {
-            const Vec3 &a = s.points[prev], &b = s.points[cur];
-            const double len = distance(a, b);
-            for (int k = 1; k <= 10; ++k) {
-                const double f = k / 10.0;
-                if (arc + f * len >= from)
-                    sample(a + f * (b - a), s.radii[prev] + f * (s.radii[cur] - s.radii[prev]), arc + f * len);
-            }
-            arc += len;
-            if (in.vertex_edges[cur].size() != 2 || !in.vertex_faces[cur].empty()) break;
-            const int e = in.vertex_edges[cur][0];
-            const int next =
-                other_end(s, e, cur) == prev ? other_end(s, in.vertex_edges[cur][1], cur) : other_end(s, e, cur);
-            prev = cur, cur = next;
-        }
-    }
-    return best;
 }
 
 bool fallback_retraction(const Skeleton& s, const Incidence& in, const Candidate& c) {
