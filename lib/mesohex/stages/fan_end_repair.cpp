@@ -647,6 +647,18 @@ PlateOverlap plate_overlap(const Skeleton& s, const Incidence& in, int w) {
     return best;
 }
 
+// The fallback retraction's own condition (fallback_retraction without the moved root's): the branch within
+// kFallbackCornerDeg of the carrier's outward corner direction and its tube clear of the leaflets' plates (one whose
+// tube runs into a plate is refused, naming it).
+bool corner_fallback(const Skeleton& s, const Incidence& in, const Candidate& c) {
+    const int k = carrier(s, c);
+    const Vec3& pw = s.points[c.w];
+    const Vec3 x = s.points[corner_neighbour(s.faces[k], c.w, c.u)];
+    const Vec3 out = normalized(normalized(pw - s.points[c.u]) + normalized(pw - x));
+    return dot(c.branch, out) >= std::cos(kFallbackCornerDeg * std::numbers::pi / 180) &&
+           !(plate_overlap(s, in, c.w).ratio < 1);
+}
+
 // The moved first edge from the cut point m towards v (unit) in the border's frame: along (the border side, unit),
 // out (its outward in-plane direction), normal (the leaflet's). Returns its angles (degrees) off out and off the
 // normal (either side).
@@ -845,7 +857,7 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
             no_bend << "the branch runs on along the border side (its first vertex projects at "
                     << std::lround(100 * along_side) << "% of it, past " << std::lround(100 * kRootMoveMax) << "%)";
         else if (radius_ratio > kBendMaxRadius &&
-                 !(off_out > kMovedSideOffOutDeg && plate_overlap(s, in, c.w).ratio >= 1))
+                 !(off_out > kMovedSideOffOutDeg && plate_overlap(s, in, c.w).ratio >= 1 && !corner_fallback(s, in, c)))
             no_bend << "its radius is " << std::fixed << std::setprecision(2) << radius_ratio
                     << " x the border side (a bend takes at most " << kBendMaxRadius
                     << ", or more leaning back where the branch's tube clears the leaflets' plates)";
@@ -958,14 +970,7 @@ std::vector<FanEndRetraction> move_far_roots(Skeleton& s) {
 }
 
 bool fallback_retraction(const Skeleton& s, const Incidence& in, const Candidate& c) {
-    if (branch_cos(s, c) >= kFanEndBranchCos || !root_move(s, in, c).strip.empty()) return false;
-    const int k = carrier(s, c);
-    const Vec3& pw = s.points[c.w];
-    const Vec3 x = s.points[corner_neighbour(s.faces[k], c.w, c.u)];
-    const Vec3 out = normalized(normalized(pw - s.points[c.u]) + normalized(pw - x));
-    // Only a branch clear of the leaflets' plates: one whose tube runs into a plate is refused, naming it.
-    return dot(c.branch, out) >= std::cos(kFallbackCornerDeg * std::numbers::pi / 180) &&
-           !(plate_overlap(s, in, c.w).ratio < 1);
+    return branch_cos(s, c) < kFanEndBranchCos && root_move(s, in, c).strip.empty() && corner_fallback(s, in, c);
 }
 
 // A refusal at w whose branch's tube meets a leaflet's plate (plate_overlap below 1) names that first: the input's

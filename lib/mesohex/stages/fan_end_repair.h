@@ -159,7 +159,8 @@ inline constexpr double kBendMaxTurnDeg = 55;
 // and the plate's radii): the folds measured above were branches leaning back over a neighbouring leaflet (between
 // two leaflets of a T or X), whose tube runs into that leaflet's plate; one leaning back over the empty side of a T
 // stays clear at any radius (docs/blocks.md, "Refusals left at fan ends, traced"). Branches bent between the out and
-// side limits keep the bound (above it the fallback retraction may take them).
+// side limits keep the bound, and so does a branch that the fallback retraction takes above it (kFallbackCornerDeg):
+// it is retracted as before.
 // The refusal of a branch not bent names the first of these conditions that fails, with its value.
 inline constexpr double kBendMaxRadius = 0.3;
 // Height of the row cut under a moved root, x r_w: the fan edge (u, w) and its faces' strips are cut at that distance
