@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -98,18 +99,28 @@ std::vector<int> compose(const std::vector<int>& first, const std::vector<int>& 
 void check_moved_roots(const PipelineResult& res) {
     if (res.moved_roots.empty()) return;
     const HexMesh& mesh = res.raw.mesh;
-    for (const MovedRootPlace& root : res.moved_roots) {
-        long inverted = 0;
-        for (const std::array<int, 8>& h : mesh.hexes) {
-            std::array<Vec3, 8> p;
-            Vec3 centroid{};
-            for (std::size_t k = 0; k < 8; ++k) {
-                p[k] = mesh.points[static_cast<std::size_t>(h[k])];
-                centroid = centroid + p[k] / 8.0;
-            }
-            if (distance(centroid, root.point) <= kMovedRootCheckRadii * root.radius && hex_scaled_jacobian(p) <= 0)
-                ++inverted;
+    // Each inverted hex counts for the root nearest to its centroid among those within reach (a single fan edge with
+    // roots at both ends has both within reach of the same hexes): the refusal names the root where the hexes fold.
+    std::vector<long> count(res.moved_roots.size(), 0);
+    for (const std::array<int, 8>& h : mesh.hexes) {
+        std::array<Vec3, 8> p;
+        Vec3 centroid{};
+        for (std::size_t k = 0; k < 8; ++k) {
+            p[k] = mesh.points[static_cast<std::size_t>(h[k])];
+            centroid = centroid + p[k] / 8.0;
         }
+        std::size_t nearest = res.moved_roots.size();
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < res.moved_roots.size(); ++i) {
+            const MovedRootPlace& root = res.moved_roots[i];
+            const double d = distance(centroid, root.point);
+            if (d <= kMovedRootCheckRadii * root.radius && d < best) nearest = i, best = d;
+        }
+        if (nearest < res.moved_roots.size() && hex_scaled_jacobian(p) <= 0) ++count[nearest];
+    }
+    for (std::size_t i = 0; i < res.moved_roots.size(); ++i) {
+        const MovedRootPlace& root = res.moved_roots[i];
+        const long inverted = count[i];
         if (inverted == 0) continue;
         std::ostringstream why;
         why << (root.by_input ? "skeleton vertex " : "repaired skeleton vertex ") << root.vertex

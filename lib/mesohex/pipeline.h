@@ -111,7 +111,9 @@ std::string trimmed_tips_to_text(const PipelineResult& res);
 // roots between two leaflets or near a leaflet's plane give 1 - 2 such hexes at scattered radii (issue 22's sweep,
 // docs/blocks.md "Moved roots: first joint and thick radii"), where no measured angle or radius ratio separates them
 // from their clean neighbours. Every retracted corner is checked the same way, whether or not its fan neighbour's cap
-// reaches up to it (RawMeshOptions::fan_end_cap_to_border, off by default). O(hexes) when there is a moved root, else
+// reaches up to it (RawMeshOptions::fan_end_cap_to_border, off by default). Each inverted hex counts for the root
+// nearest to its centroid (within reach), so that the refusal names the root where the hexes fold (a single fan edge
+// has roots at both ends within reach of the same hexes). O(hexes x moved roots) when there is a moved root, else
 // nothing.
 void check_moved_roots(const PipelineResult& res);
 

@@ -1019,7 +1019,7 @@ void expect_meshed_clean(const Skeleton& s) {
 // moved root needs 1.5 r = 1.08 of plate beside the fan line, more than 0.7 of the unit side (2 inverted raw hexes
 // before), so the straight border run of 2 unit sides slides (kRootMoveRunRestRadii): it would need (1.5 + 1.6) r =
 // 2.232 > 2: refused, the radius bound 2 / 3.1 = 0.645 named. (3) `fanend -n 4 -m 5` at radius scale 1.1 (r = 0.33 >
-// kBendMaxRadius 0.3 x the unit side; 10 inverted raw hexes before).
+// kBendMaxRadius 0.3 x the unit side; 10 inverted raw hexes before), its tube running into a plate.
 TEST(FanEndRepair, SweepFailuresRefusedAtTheMovedRoot) {
     for (const int strips : {3, 4}) {
         SCOPED_TRACE(strips);
@@ -1041,8 +1041,19 @@ TEST(FanEndRepair, SweepFailuresRefusedAtTheMovedRoot) {
                        "0.645");
     }
     expect_refused(fan_end_scaled(4, 5, 1.1), 2,
-                   "not bent: its radius is 0.33 x the border side (a bend takes at most 0.30)");
+                   "not bent: its radius is 0.33 x the border side (a bend takes at most 0.30, or more leaning back "
+                   "where the branch's tube clears the leaflets' plates)");
     expect_meshed_clean(fan_end_scaled(4, 5, 1.0));
+    // (4) The T leaning back (`fanend -n 3 -m 5`: branch direction (0, -1, -1) / sqrt 2 from (0, 0, 1), towards the
+    // empty side) above the bend's radius bound: its centre line at arc s is 0.707 s from every leaflet (the strips
+    // y = 0 and the +y strip's edge on the fan line), past 3 r at least 2.12 r, over the 2 r that the tube and the
+    // plates need (ratio 1.06 whatever r): bent and meshed at radius scale 1.1 - 1.55 (refused before, 0.33 - 0.47 x
+    // the side). The X's tube, between two leaflets, runs into the +x strip's plate (0.758 of the need at 1.1, above):
+    // still refused.
+    for (const double scale : {1.1, 1.25, 1.4, 1.55}) {
+        SCOPED_TRACE(scale);
+        expect_meshed_clean(fan_end_scaled(3, 5, scale));
+    }
 }
 
 namespace {
@@ -1242,6 +1253,24 @@ TEST(FanEndRepair, MovedRootCheckCountsOnlyNearbyInvertedHexes) {
                    "repaired skeleton vertex 7: ", "gives 1 inverted raw hex(es) within 4 radii");
 }
 
+// Two roots whose reaches overlap (a single fan edge with roots at both ends): an inverted hex counts for the root
+// nearest to its centroid. Roots 7 at the origin and 9 at (1, 0, 0), radius 0.25 (reach 1); a mirrored unit cube
+// centred at (0.75, 0, 0) is 0.75 from 7 and 0.25 from 9: vertex 9 is named (before: 7, the first in order); centred
+// at (0.25, 0, 0): vertex 7.
+TEST(FanEndRepair, MovedRootCheckNamesTheNearestRoot) {
+    for (const auto& [x, named] : {std::pair{0.75, 9}, std::pair{0.25, 7}}) {
+        PipelineResult res;
+        res.moved_roots.push_back({7, false, Vec3{0, 0, 0}, 0.25});
+        res.moved_roots.push_back({9, false, Vec3{1, 0, 0}, 0.25});
+        for (const Vec3& c : {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{1, 1, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}, Vec3{1, 0, 1},
+                              Vec3{1, 1, 1}, Vec3{0, 1, 1}})
+            res.raw.mesh.points.push_back(Vec3{x + c[0] - 0.5, c[1] - 0.5, 0.5 - c[2]});
+        res.raw.mesh.hexes.push_back({0, 1, 2, 3, 4, 5, 6, 7});
+        expect_refusal([&] { check_moved_roots(res); }, "repaired skeleton vertex " + std::to_string(named) + ": ",
+                       "gives 1 inverted raw hex(es) within 4 radii");
+    }
+}
+
 // Issue 22 item 5: a refused branch whose tube runs into a leaflet's plate is refused naming that first. tfan -n 1 -m 2
 // (fan edge 0 = (0, 0, -0.5) to 1 = (0, 0, 0.5), strips +x (faces 0, 1), +y, -x of unit quads, radius 0.3) with a
 // branch of 3 unit edges from 1 leaning back 150 degrees off +z in the +x strip's plane, d = (0.5, 0, -0.866): past
@@ -1285,6 +1314,33 @@ TEST(FanEndRefusal, BranchRunningIntoALeafletPlateNamedFirst) {
     ASSERT_EQ(done.size(), 1u);
     EXPECT_TRUE(done[0].far_branch);
     EXPECT_EQ(done[0].carrier_face, 4);  // the -x strip's face on the fan edge
+}
+
+// Issue 22 item 5: a single fan edge with a branch at both ends whose other end's branch the repair refuses gives that
+// branch's own reason, not only the retraction's angle rule. tfan -n 1 -m 2 (fan edge 0 = (0, 0, -0.5) to 1 = (0, 0,
+// 0.5), radius 0.3) with a branch continuing the fan line from 0 (-z) and, from 1, the branch of
+// BranchRunningIntoALeafletPlateNamedFirst (150 degrees off +z in the +x strip's plane): vertex 1's own refusal is its
+// tube in face 0's plate (0.900 along it, distance 0, need 0.600); vertex 0 names it. The pipeline names vertex 0 (the
+// first fan end refused) with vertex 1's reason and edit. Before: "(the branch leaves 150 degrees off the fan line's
+// continuation (the retraction takes branches within 45 degrees ...))", which named no failing condition of the move.
+TEST(FanEndRefusal, SingleFanEdgeOtherEndsOwnReasonNamed) {
+    GeneratorOptions o;
+    o.n = 1;
+    o.m = 2;
+    Skeleton s = generate_skeleton("tfan", o);
+    const double c150 = std::cos(150 * std::numbers::pi / 180), s150 = std::sin(150 * std::numbers::pi / 180);
+    add_branch(s, {0, 0, -0.5}, {0, 0, -1});
+    add_branch(s, {0, 0, 0.5}, {s150, 0, c150});
+    const std::string nested =
+        "the fan edge is a single one (its other end, skeleton vertex 1, carries a branch too that the repair does not "
+        "take either (the branch's tube runs into the plate of face 0: 0.900 along the branch from the vertex";
+    expect_reason(s, 0, {nested, "where the tube's radius and the plate's need 0.600"});
+    const std::optional<FanEndRefusal> r = fan_end_refusal(s, 0);
+    ASSERT_TRUE(r.has_value());
+    EXPECT_EQ(r->edit.rfind("turn the branch away from face 0's leaflet (its centre line at least 0.600 from it)", 0),
+              0u)
+        << r->edit;
+    expect_refused(s, 0, nested);
 }
 
 // A skeleton without radii (an analysis before they are set): a far branch's moved root and the fallback retraction

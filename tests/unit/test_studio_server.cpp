@@ -419,8 +419,10 @@ TEST(StudioServer, AnalyzeAcceptsWhatMeshRepairs) {
     ASSERT_TRUE(m);
     EXPECT_EQ(m->status, 200) << m->body.substr(0, 300);
     EXPECT_EQ(body_json(m)["report"]["predicted"]["hexes"], j["predicted"]["hexes"]);
-    o.m =
-        5;  // leaning back 135 degrees: bent at the default radius, refused when thick (a bend takes r <= 0.35 x side)
+    // The X leaning back 135 degrees between two leaflets: bent at the default radius, refused when thick (a bend takes
+    // r <= 0.3 x side there: its tube runs into the +x strip's plate; the T leaning back over its empty side is bent).
+    o.n = 4;
+    o.m = 5;
     o.radius_scale = 1.3;
     const std::string perpendicular = obj_text(generate_skeleton("fanend", o));
     json where[2];

@@ -119,6 +119,10 @@ bool plain_fan_end(const Skeleton& s, const Incidence& in, int v, int other, Fan
         FanEndRefusal other_why;
         Candidate c;
         const bool taken = branch_end(s, in, v, c, &other_why);
+        // Not taken: v's own refusal as the repair gives it at v (a far branch: the moved root's failing condition, and
+        // first a tube running into a plate), not only the retraction's angle rule that branch_end names.
+        if (!taken)
+            if (std::optional<FanEndRefusal> own = fan_end_refusal(s, v)) other_why = std::move(*own);
         return refuse(why,
                       "carries a branch too" +
                           (taken ? std::string() : " that the repair does not take either (" + other_why.reason + ")"),
@@ -597,6 +601,64 @@ struct RootMove {
     std::vector<Vec3> slid;  // ... its inner vertices' new places (run[1] first)
 };
 
+// Where a branch at the fan end w comes closest to a leaflet's plate: past kPlateOverlapRootRadii r_w of arc length
+// from w along the branch (its polyline through plain joints: two edges, no face), the sample whose centre-line
+// distance to a face, over the tube's radius there plus the face's mean radius, is least (10 samples per edge, its
+// far end included).
+struct PlateOverlap {
+    double ratio = std::numeric_limits<double>::infinity();  // distance / (r_tube + r_plate); < 1: they overlap
+    double distance = 0, arc = 0, need = 0;
+    int face = -1;
+};
+
+PlateOverlap plate_overlap(const Skeleton& s, const Incidence& in, int w) {
+    PlateOverlap best;
+    const double from = kPlateOverlapRootRadii * s.radii[w];
+    const auto sample = [&](const Vec3& p, double r, double arc) {
+        for (int f = 0; f < static_cast<int>(s.faces.size()); ++f) {
+            const std::vector<int>& q = s.faces[f];
+            const Vec3 &a = s.points[q[0]], &b = s.points[q[1]], &c = s.points[q[2]], &d = s.points[q[3]];
+            const double dist = std::min(distance(p, closest_point_on_triangle(p, a, b, c)),
+                                         distance(p, closest_point_on_triangle(p, a, c, d)));
+            const double need = r + 0.25 * (s.radii[q[0]] + s.radii[q[1]] + s.radii[q[2]] + s.radii[q[3]]);
+            if (dist / need < best.ratio) best = {dist / need, dist, arc, need, f};
+        }
+    };
+    for (const int e0 : in.vertex_edges[w]) {
+        int prev = w, cur = other_end(s, e0, w);
+        if (faces_on(in, w, cur) != 0) continue;
+        double arc = 0;
+        for (int steps = 0; steps < static_cast<int>(s.points.size()); ++steps) {
+            const Vec3 &a = s.points[prev], &b = s.points[cur];
+            const double len = distance(a, b);
+            for (int k = 1; k <= 10; ++k) {
+                const double f = k / 10.0;
+                if (arc + f * len >= from)
+                    sample(a + f * (b - a), s.radii[prev] + f * (s.radii[cur] - s.radii[prev]), arc + f * len);
+            }
+            arc += len;
+            if (in.vertex_edges[cur].size() != 2 || !in.vertex_faces[cur].empty()) break;
+            const int e = in.vertex_edges[cur][0];
+            const int next =
+                other_end(s, e, cur) == prev ? other_end(s, in.vertex_edges[cur][1], cur) : other_end(s, e, cur);
+            prev = cur, cur = next;
+        }
+    }
+    return best;
+}
+
+// The fallback retraction's own condition (fallback_retraction without the moved root's): the branch within
+// kFallbackCornerDeg of the carrier's outward corner direction and its tube clear of the leaflets' plates (one whose
+// tube runs into a plate is refused, naming it).
+bool corner_fallback(const Skeleton& s, const Incidence& in, const Candidate& c) {
+    const int k = carrier(s, c);
+    const Vec3& pw = s.points[c.w];
+    const Vec3 x = s.points[corner_neighbour(s.faces[k], c.w, c.u)];
+    const Vec3 out = normalized(normalized(pw - s.points[c.u]) + normalized(pw - x));
+    return dot(c.branch, out) >= std::cos(kFallbackCornerDeg * std::numbers::pi / 180) &&
+           !(plate_overlap(s, in, c.w).ratio < 1);
+}
+
 // The moved first edge from the cut point m towards v (unit) in the border's frame: along (the border side, unit),
 // out (its outward in-plane direction), normal (the leaflet's). Returns its angles (degrees) off out and off the
 // normal (either side).
@@ -794,9 +856,11 @@ RootMove root_move(const Skeleton& s, const Incidence& in, const Candidate& c, F
         else if (along_side > kRootMoveMax)
             no_bend << "the branch runs on along the border side (its first vertex projects at "
                     << std::lround(100 * along_side) << "% of it, past " << std::lround(100 * kRootMoveMax) << "%)";
-        else if (radius_ratio > kBendMaxRadius)
+        else if (radius_ratio > kBendMaxRadius &&
+                 !(off_out > kMovedSideOffOutDeg && plate_overlap(s, in, c.w).ratio >= 1 && !corner_fallback(s, in, c)))
             no_bend << "its radius is " << std::fixed << std::setprecision(2) << radius_ratio
-                    << " x the border side (a bend takes at most " << kBendMaxRadius << ")";
+                    << " x the border side (a bend takes at most " << kBendMaxRadius
+                    << ", or more leaning back where the branch's tube clears the leaflets' plates)";
         else if (!bent_first_edge(v, out, normal, dir, &turn))
             no_bend << (turn < 0
                             ? std::string("the branch lies in the leaflet's plane (no side to bend it to)")
@@ -905,61 +969,8 @@ std::vector<FanEndRetraction> move_far_roots(Skeleton& s) {
     return done;
 }
 
-// Where a branch at the fan end w comes closest to a leaflet's plate: past kPlateOverlapRootRadii r_w of arc length
-// from w along the branch (its polyline through plain joints: two edges, no face), the sample whose centre-line
-// distance to a face, over the tube's radius there plus the face's mean radius, is least (10 samples per edge, its
-// far end included).
-struct PlateOverlap {
-    double ratio = std::numeric_limits<double>::infinity();  // distance / (r_tube + r_plate); < 1: they overlap
-    double distance = 0, arc = 0, need = 0;
-    int face = -1;
-};
-
-PlateOverlap plate_overlap(const Skeleton& s, const Incidence& in, int w) {
-    PlateOverlap best;
-    const double from = kPlateOverlapRootRadii * s.radii[w];
-    const auto sample = [&](const Vec3& p, double r, double arc) {
-        for (int f = 0; f < static_cast<int>(s.faces.size()); ++f) {
-            const std::vector<int>& q = s.faces[f];
-            const Vec3 &a = s.points[q[0]], &b = s.points[q[1]], &c = s.points[q[2]], &d = s.points[q[3]];
-            const double dist = std::min(distance(p, closest_point_on_triangle(p, a, b, c)),
-                                         distance(p, closest_point_on_triangle(p, a, c, d)));
-            const double need = r + 0.25 * (s.radii[q[0]] + s.radii[q[1]] + s.radii[q[2]] + s.radii[q[3]]);
-            if (dist / need < best.ratio) best = {dist / need, dist, arc, need, f};
-        }
-    };
-    for (const int e0 : in.vertex_edges[w]) {
-        int prev = w, cur = other_end(s, e0, w);
-        if (faces_on(in, w, cur) != 0) continue;
-        double arc = 0;
-        for (int steps = 0; steps < static_cast<int>(s.points.size()); ++steps) {
-            const Vec3 &a = s.points[prev], &b = s.points[cur];
-            const double len = distance(a, b);
-            for (int k = 1; k <= 10; ++k) {
-                const double f = k / 10.0;
-                if (arc + f * len >= from)
-                    sample(a + f * (b - a), s.radii[prev] + f * (s.radii[cur] - s.radii[prev]), arc + f * len);
-            }
-            arc += len;
-            if (in.vertex_edges[cur].size() != 2 || !in.vertex_faces[cur].empty()) break;
-            const int e = in.vertex_edges[cur][0];
-            const int next =
-                other_end(s, e, cur) == prev ? other_end(s, in.vertex_edges[cur][1], cur) : other_end(s, e, cur);
-            prev = cur, cur = next;
-        }
-    }
-    return best;
-}
-
 bool fallback_retraction(const Skeleton& s, const Incidence& in, const Candidate& c) {
-    if (branch_cos(s, c) >= kFanEndBranchCos || !root_move(s, in, c).strip.empty()) return false;
-    const int k = carrier(s, c);
-    const Vec3& pw = s.points[c.w];
-    const Vec3 x = s.points[corner_neighbour(s.faces[k], c.w, c.u)];
-    const Vec3 out = normalized(normalized(pw - s.points[c.u]) + normalized(pw - x));
-    // Only a branch clear of the leaflets' plates: one whose tube runs into a plate is refused, naming it.
-    return dot(c.branch, out) >= std::cos(kFallbackCornerDeg * std::numbers::pi / 180) &&
-           !(plate_overlap(s, in, c.w).ratio < 1);
+    return branch_cos(s, c) < kFanEndBranchCos && root_move(s, in, c).strip.empty() && corner_fallback(s, in, c);
 }
 
 // A refusal at w whose branch's tube meets a leaflet's plate (plate_overlap below 1) names that first: the input's

@@ -154,6 +154,13 @@ inline constexpr double kBendMaxTurnDeg = 55;
 // 22's sweep: at 0.303 - 0.35 the pin at p yields and the X leaning back (`fanend -n 4 -m 5`) gets 8 - 10 inverted raw
 // hexes, the T leaning back 130 - 135 degrees between two leaflets 10 (docs/blocks.md, "Sweep of the check
 // configurations").
+// Above it a branch leaning back (bent onto the leaflet's normal) is still bent when its tube clears the leaflets'
+// plates (plate_overlap of its centre line past kPlateOverlapRootRadii r_w at least 1: no plate closer than the tube's
+// and the plate's radii): the folds measured above were branches leaning back over a neighbouring leaflet (between
+// two leaflets of a T or X), whose tube runs into that leaflet's plate; one leaning back over the empty side of a T
+// stays clear at any radius (docs/blocks.md, "Refusals left at fan ends, traced"). Branches bent between the out and
+// side limits keep the bound, and so does a branch that the fallback retraction takes above it (kFallbackCornerDeg):
+// it is retracted as before.
 // The refusal of a branch not bent names the first of these conditions that fails, with its value.
 inline constexpr double kBendMaxRadius = 0.3;
 // Height of the row cut under a moved root, x r_w: the fan edge (u, w) and its faces' strips are cut at that distance
