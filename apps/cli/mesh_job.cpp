@@ -214,6 +214,11 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "slides along its branch, away from the junction, to the nearest position where the criterion "
                     "holds (0 or 1; docs/junctions.md, \"Cut joints slid away from the junction\")")
         ->capture_default_str();
+    cmd->add_option("--junction-split-five", job->options.pipeline.repair.junction_split_degree_five,
+                    "Split branching points of degree 5 too: the closest pair of branches moves to a new point along "
+                    "the direction from the others to it, as at degree 4, and the degree-4 point left is split when "
+                    "it can (0 or 1, off by default; docs/junctions.md, \"Degree-5 junctions split\")")
+        ->capture_default_str();
     cmd->add_option("--bridge-peak-ratio", job->options.pipeline.adaptation.bridge_peak_ratio,
                     "On a branch between two branching points that resampling would leave as one edge, keep a joint "
                     "at the input vertex whose radius exceeds the ends' interpolated radius the most, when by at least "
