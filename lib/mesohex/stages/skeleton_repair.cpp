@@ -1522,8 +1522,8 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
             if (v >= 0) res.fan_end_pins.push_back(v);
     repair_trunks(s, o, res);
     if (o.junction_split_degree_five)  // degree 5 first: the degree-4 point each split leaves is split below
-        res.junction_splits = split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg,
-                                                   o.junction_split_clearance, blocks, 5);
+        res.junction_splits =
+            split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance, blocks, 5);
     res.junction_splits +=
         split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg, o.junction_split_clearance, blocks);
     std::vector<char> band;  // the band pillow's copies
