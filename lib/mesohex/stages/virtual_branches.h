@@ -34,7 +34,7 @@ struct VirtualBranchOptions {
     // r_c (the raw mesh's margins narrow it to the quad). One per branching point (the vertex with the farthest
     // exit). Dimensionless; pit_excess 0 = off (the default: docs/junctions.md, "Pit branches").
     double pit_excess = 0;
-    int pit_min_degree = 4;
+    int pit_min_degree = 4;   // only branching points with at least this many branch edges
     double pit_max_deg = 70;  // degrees
     double pit_inset = 0.25;  // x r_c: the cap stays this far inside the exit (one padding layer)
 };
