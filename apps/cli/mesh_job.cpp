@@ -217,6 +217,18 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "trunk, or two points joined by a collapsed short bridge) (0 or 1; docs/junctions.md, \"Cut joints "
                     "slid away from the junction\", \"The cut-joint slide's gate\")")
         ->capture_default_str();
+    cmd->add_option("--junction-split-five", job->options.pipeline.repair.junction_split_degree_five,
+                    "Split branching points of degree 5 too: the closest pair of branches moves to a new point along "
+                    "the direction from the others to it, as at degree 4, and the degree-4 point left is split when "
+                    "it can (0 or 1, off by default; docs/junctions.md, \"Degree-5 junctions split\")")
+        ->capture_default_str();
+    cmd->add_option("--pit-branches", job->options.pipeline.virtual_branches.pit_excess,
+                    "A one-edge branch into the pit inside a ring of branches at a branching point of degree 4 or "
+                    "more, along the direction farthest from its nearest three branches, where the domain reaches "
+                    "beyond the branching point's ball by at least this many x its radius (0 = off, the default; "
+                    "docs/junctions.md, \"Pit branches\")")
+        ->check(finite_range(0.0, 10.0))
+        ->capture_default_str();
     cmd->add_option("--bridge-peak-ratio", job->options.pipeline.adaptation.bridge_peak_ratio,
                     "On a branch between two branching points that resampling would leave as one edge, keep a joint "
                     "at the input vertex whose radius exceeds the ends' interpolated radius the most, when by at least "

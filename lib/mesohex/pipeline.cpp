@@ -325,7 +325,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     }
     // After adaptation, which would collapse their short edges; new vertices and edges are appended.
     res.virtual_branches = static_cast<int>(
-        add_virtual_branches(s, options.virtual_branches, &options.connection_surfaces.blocks).at.size());
+        add_virtual_branches(s, options.virtual_branches, &options.connection_surfaces.blocks, &input).at.size());
     if (res.virtual_branches == 0 && options.resample && !input.radii.empty() && s == input &&
         same_analysis(res.input_analysis, input_options, meshed_options)) {
         // Nothing repaired or resampled (e.g. no curve branch): the analysis of the skeleton meshed is the input's.

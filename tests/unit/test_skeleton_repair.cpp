@@ -236,6 +236,50 @@ TEST(SkeletonRepair, DegreeFourJunctionSplit) {
     EXPECT_EQ(mesohex::repair_skeleton(cross).junction_splits, 0);
 }
 
+// A branching point c = (0,0,0) of degree 5, radius 0.1 (the character family's end of a torso): the close pair of
+// degree_four (+-30 degrees from +z in the xz plane, length 1, end radius 0.05) and three branches 65 degrees from -z
+// at azimuths 90, 210 and 330 degrees (length 1, radius 0.1; 103 degrees apart, the nearest 88.5 degrees from a pair
+// branch: gap 28.5 >= 10). Vertices: 0 c, 1 2 the pair, 3 4 5 the others.
+Skeleton degree_five() {
+    Skeleton s;
+    const double a = 30 * kDeg, b = 65 * kDeg;
+    s.points = {{0, 0, 0}, {std::sin(a), 0, std::cos(a)}, {-std::sin(a), 0, std::cos(a)}};
+    for (const double phi : {90.0, 210.0, 330.0})
+        s.points.push_back({std::sin(b) * std::cos(phi * kDeg), std::sin(b) * std::sin(phi * kDeg), -std::cos(b)});
+    s.radii = {0.1, 0.05, 0.05, 0.1, 0.1, 0.1};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {0, 5}};
+    return s;
+}
+
+// junction_split_degree_five: the three others sum to (0, 0, -3 cos 65), so u = +z as at degree 4; p1 = cos 30, p2 =
+// cos 65 = 0.4226, a = (p1 - p2) / 2 + h = 0.2967 (h = 0.075): c' = (0, 0, a), radius 0.1 - 0.05 a; c moves to
+// (0, 0, a - 2 h), radius 0.1 (the others' edges at b < 0). c is left with degree 4 (the others and the bridge), whose
+// closest pair (two others, about 94 degrees apart seen from the moved c) is not below 90 degrees: no second split.
+// Off (the default): the degree-5 point stays.
+TEST(SkeletonRepair, DegreeFiveJunctionSplit) {
+    EXPECT_EQ(mesohex::repair_skeleton(degree_five()).junction_splits, 0);
+    EXPECT_EQ(mesohex::repair_skeleton(degree_five()).skeleton, degree_five());
+    mesohex::SkeletonRepairOptions five;
+    five.junction_split_degree_five = true;
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(degree_five(), five);
+    EXPECT_EQ(res.trunks, 0);
+    EXPECT_EQ(res.junction_splits, 1);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 7u);
+    ASSERT_EQ(s.edges.size(), 6u);
+    const double a = 0.5 * (std::cos(30 * kDeg) - std::cos(65 * kDeg)) + 0.075;
+    EXPECT_NEAR(a, 0.2967, 1e-4);
+    EXPECT_NEAR(distance(s.points[6], Vec3{0, 0, a}), 0, 1e-12);
+    EXPECT_NEAR(s.radii[6], 0.1 - 0.05 * a, 1e-12);
+    EXPECT_NEAR(distance(s.points[0], Vec3{0, 0, a - 0.15}), 0, 1e-12);
+    EXPECT_NEAR(s.radii[0], 0.1, 1e-12);
+    EXPECT_EQ(degree(s, 0), 4);  // the three others and the bridge
+    EXPECT_EQ(degree(s, 6), 3);  // the pair and the bridge
+    mesohex::SkeletonRepairOptions five_off = five;
+    five_off.junction_split = 0;  // junction_split 0 turns both degrees off
+    EXPECT_EQ(mesohex::repair_skeleton(degree_five(), five_off).junction_splits, 0);
+}
+
 // Issue 22's acceptance audit (bench/issue22_check.py, docs/blocks.md "Acceptance audit (session 24)"): a planar cross
 // +x, (cos 78, sin 78, 0), -x, -y (arms of 2 unit edges, radius 0.1) is near-orthogonal: pair angles 78, 90, 102,
 // 168, 180, 90 (errors 12 <= 25 degrees), each direction about 6 degrees off its axis, so fit_cube_frame accepts it.

@@ -118,5 +118,43 @@ TEST(VirtualBranches, RawMeshCountsExact) {
     EXPECT_EQ(q.singular_boundary_edges, on.predicted.boundary_irregular_edges);
 }
 
+// Pit branches (VirtualBranchOptions::pit_excess): a ring of 4 branches 40 degrees from +z (cone_star) with a fifth
+// along -z, every radius 0.1, one unit edge each, the skeleton its own domain. The Voronoi vertices of the five
+// directions within 70 degrees of their branches: +z only (40 degrees from the ring; the vertices between two ring
+// branches and -z lie 75.6 degrees from theirs: acos(0.249)). Along +z the ray leaves c's ball and enters the ring's
+// tubes, which it leaves at t = 0.1 / sin 40 = 0.155572 (distance t sin 40 from each axis): above (1 + 0.3) x 0.1, so
+// one branch to (0, 0, t - 0.25 x 0.1), radius 0.1; pit_excess 0.6 (0.16 > t) or a degree-3 point (min degree 4):
+// none; no domain or pit_excess 0 (the default): none.
+TEST(VirtualBranches, PitBranchIntoTheRingsCentre) {
+    Skeleton ring = cone_star(4, 40, 1, 0.1);
+    ring.points.push_back({0, 0, -1});
+    ring.radii.push_back(0.1);
+    ring.edges.push_back({0, 5});
+    VirtualBranchOptions o;
+    o.pit_excess = 0.3;
+    Skeleton s = ring;
+    const VirtualBranches vb = add_virtual_branches(s, o, nullptr, &ring);
+    ASSERT_EQ(vb.at.size(), 1u);
+    EXPECT_EQ(vb.at[0], 0);
+    ASSERT_EQ(s.points.size(), 7u);
+    const double t = 0.1 / std::sin(40 * std::numbers::pi / 180);
+    EXPECT_NEAR(t, 0.155572, 1e-6);
+    EXPECT_NEAR(distance(s.points[6], Vec3{0, 0, t - 0.025}), 0, 1e-9);
+    EXPECT_EQ(s.radii[6], 0.1);
+    EXPECT_EQ(s.edges.back(), (std::array<int, 2>{0, 6}));
+    o.pit_excess = 0.6;
+    Skeleton deep = ring;
+    EXPECT_TRUE(add_virtual_branches(deep, o, nullptr, &ring).at.empty());
+    EXPECT_EQ(deep, ring);
+    o.pit_excess = 0.3;
+    Skeleton three = cone_star(3, 40, 1, 0.1);
+    const Skeleton three_domain = three;
+    EXPECT_TRUE(add_virtual_branches(three, o, nullptr, &three_domain).at.empty());
+    Skeleton no_domain = ring;
+    EXPECT_TRUE(add_virtual_branches(no_domain, o).at.empty());
+    Skeleton off = ring;
+    EXPECT_TRUE(add_virtual_branches(off, VirtualBranchOptions{}, nullptr, &ring).at.empty());
+}
+
 }  // namespace
 }  // namespace mesohex

@@ -1425,25 +1425,27 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
     if (repaired) compact(s, dead, res);  // without a repair the skeleton is as it came (no renumbering, as before)
 }
 
-// Splits every branching point of degree 4 left by the trunks (no leaflet, 4 branch edges) whose closest pair is less
-// than 90 degrees apart into two branching points of degree 3 (SkeletonRepairOptions::junction_split, placement and
-// radii there): the close pair moves to a new vertex c', the other two stay at c (moved), joined by the edge (c, c').
-// A point whose directions fit_cube_frame accepts under `blocks` (when given and enabled) keeps its degree 4: it gets a
-// compatible block. c' takes c's junction degree (junction_degree: per vertex, grows with s; at least 4 at both
-// halves). Returns the number of points split.
+// Splits every branching point of `degree` (4 or 5) left by the trunks (no leaflet, `degree` branch edges) whose
+// closest pair is less than 90 degrees apart (and unambiguous: junction_split_gap_deg) into a branching point of
+// degree 3 and one of degree - 1 (SkeletonRepairOptions::junction_split, placement and radii there): the close pair
+// moves to a new vertex c', the others stay at c (moved), joined by the edge (c, c'). A point whose directions
+// fit_cube_frame accepts under `blocks` (when given and enabled) keeps its degree: it gets a compatible block. c' takes
+// c's junction degree (junction_degree: per vertex, grows with s; at least 4 at both halves). Returns the number of
+// points split.
 int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clearance,
-                         const CompatibleBlockOptions* blocks, std::vector<int>& junction_degree) {
+                         const CompatibleBlockOptions* blocks, std::vector<int>& junction_degree, int degree = 4) {
     if (!(factor > 0) || s.radii.size() != s.points.size()) return 0;
     Graph g;
     make_graph(s, g);
     const int n = static_cast<int>(s.points.size());
+    const std::size_t nd = static_cast<std::size_t>(degree);
     int splits = 0;
     for (int c = 0; c < n; ++c) {
-        if (g.on_face[c] || g.inc[c].size() != 4 || g.degree[c] != 4 || !(s.radii[c] > 0)) continue;
-        std::array<int, 4> other{};
-        std::array<Vec3, 4> d{};
+        if (g.on_face[c] || g.inc[c].size() != nd || g.degree[c] != degree || !(s.radii[c] > 0)) continue;
+        std::vector<int> other(nd);
+        std::vector<Vec3> d(nd);
         bool ok = true;
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < degree; ++k) {
             const std::array<int, 2>& e = s.edges[g.inc[c][k]];
             other[k] = e[0] == c ? e[1] : e[0];
             const double len = distance(s.points[other[k]], s.points[c]);
@@ -1451,25 +1453,27 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clea
             d[k] = ok ? (s.points[other[k]] - s.points[c]) / len : Vec3{};
         }
         if (!ok) continue;
-        if (blocks && blocks->enabled && fit_cube_frame({d.begin(), d.end()}, *blocks).accepted) continue;
+        if (blocks && blocks->enabled && fit_cube_frame(d, *blocks).accepted) continue;
         int bi = -1, bj = -1;
         double best = 0;  // the closest pair: largest cosine, above 0 (less than 90 degrees apart)
-        for (int i = 0; i < 4; ++i)
-            for (int j = i + 1; j < 4; ++j)
+        for (int i = 0; i < degree; ++i)
+            for (int j = i + 1; j < degree; ++j)
                 if (dot(d[i], d[j]) > best) best = dot(d[i], d[j]), bi = i, bj = j;
         if (bi < 0) continue;
-        std::array<int, 2> rest{};
-        for (int k = 0, m = 0; k < 4; ++k)
-            if (k != bi && k != bj) rest[m++] = k;
+        std::vector<int> rest;
+        for (int k = 0; k < degree; ++k)
+            if (k != bi && k != bj) rest.push_back(k);
         // An unambiguous pair: every angle across (a pair branch, another branch) exceeds the pair's by gap_deg.
         const auto angle = [&](int x, int y) { return std::acos(std::clamp(dot(d[x], d[y]), -1.0, 1.0)); };
-        const double across =
-            std::min({angle(bi, rest[0]), angle(bi, rest[1]), angle(bj, rest[0]), angle(bj, rest[1])});
+        double across = 1e300;
+        for (const int k : rest) across = std::min({across, angle(bi, k), angle(bj, k)});
         if (!(across - angle(bi, bj) >= gap_deg * std::numbers::pi / 180)) continue;
-        const Vec3 u = normalized(normalized(d[bi] + d[bj]) - normalized(d[rest[0]] + d[rest[1]]));
+        Vec3 rest_sum = d[rest[0]];
+        for (std::size_t k = 1; k < rest.size(); ++k) rest_sum = rest_sum + d[rest[k]];
+        const Vec3 u = normalized(normalized(d[bi] + d[bj]) - normalized(rest_sum));
         if (u == Vec3{}) continue;
         // p1, p2: how far the first vertices lie beyond c along u (the close pair, nearest of the two) and along -u
-        // (the other two). The split points c + a u and c - b u, a + b = 2 h, sit at the same distance m = (p1 + p2)
+        // (the others). The split points c + a u and c - b u, a + b = 2 h, sit at the same distance m = (p1 + p2)
         // / 2 - h before the nearest first vertex on either side (centred in the room the first edges leave); no
         // split when m <= 0.
         const double h = factor * s.radii[c];
@@ -1479,7 +1483,7 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clea
         const double m = 0.5 * (p1 + p2) - h;
         if (!(m > 0)) continue;
         // Radii: the largest of the edges' radii at that distance along them (linear from r_c to the first vertex's).
-        const auto radius_at = [&](std::initializer_list<int> ks, double x) {
+        const auto radius_at = [&](const std::vector<int>& ks, double x) {
             double r = 0;
             for (const int k : ks) {
                 const double len = distance(s.points[other[k]], s.points[c]);
@@ -1490,10 +1494,10 @@ int split_wide_junctions(Skeleton& s, double factor, double gap_deg, double clea
         };
         const double a = p1 - m, b = 2 * h - a;
         const Vec3 near = s.points[c] + a * u, far = s.points[c] - b * u;
-        const double r_near = radius_at({bi, bj}, a), r_far = radius_at({rest[0], rest[1]}, b);
+        const double r_near = radius_at({bi, bj}, a), r_far = radius_at(rest, b);
         // Every moved first edge stays an edge (junction_split_clearance): else no split.
         bool clear = true;
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < degree; ++k) {
             const bool pair = k == bi || k == bj;
             const double len = distance(s.points[other[k]], pair ? near : far);
             clear = clear && len >= clearance * ((pair ? r_near : r_far) + s.radii[other[k]]);
@@ -1546,8 +1550,11 @@ SkeletonRepairResult repair_skeleton(const Skeleton& input, const SkeletonRepair
         for (const int v : {r.bend, r.first_joint})
             if (v >= 0) res.fan_end_pins.push_back(v);
     repair_trunks(s, o, res);
-    res.junction_splits = split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg,
-                                               o.junction_split_clearance, blocks, res.junction_degree);
+    if (o.junction_split_degree_five)  // degree 5 first: the degree-4 point each split leaves is split below
+        res.junction_splits = split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg,
+                                                   o.junction_split_clearance, blocks, res.junction_degree, 5);
+    res.junction_splits += split_wide_junctions(s, o.junction_split, o.junction_split_gap_deg,
+                                                o.junction_split_clearance, blocks, res.junction_degree);
     std::vector<char> band;  // the band pillow's copies
     if (o.docked_band_pillow)
         res.docked_band_pillows =

@@ -153,6 +153,13 @@ struct SkeletonRepairOptions {
     // branch's corner at f. No split then (the point stays of degree 4). 0: no check. docs/junctions.md ("Split only
     // with clear first edges").
     double junction_split_clearance = 0.7;
+    // Branching points of degree 5 (no leaflet) are split the same way first (junction_split, _gap_deg, _clearance:
+    // the closest pair, unambiguous against the three others, moves to c' along u = from the others' mean direction
+    // to the pair's bisector, the same placement and radii): a junction of degree 3 and one of degree 4, which the
+    // degree-4 rule then splits when it can. A degree-5 sphere partition (5 quads on 7 points) has more flat corners
+    // and, with fat branches in a narrow cone, folded creases between neighbouring quads. false: degree 4 only.
+    // docs/junctions.md ("Degree-5 junctions split").
+    bool junction_split_degree_five = false;
     // Root patches of branches standing inside a leaflet. A branch rooted at an interior leaflet vertex v (exactly 4
     // faces around v, every leaflet edge at v shared by 2 faces, exactly one branch edge) stands on the 4 faces around
     // v; its first chunk is as wide as that patch (about 2 leaflet edges) while its tube may be much thinner (a

@@ -1,5 +1,7 @@
 #include "mesohex/stages/virtual_branches.h"
 
+#include "mesohex/stages/junction_cover.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -20,6 +22,50 @@ double angle_deg(const Vec3& a, const Vec3& b) {
     return std::acos(std::clamp(dot(a, b), -1.0, 1.0)) * 180.0 / std::numbers::pi;
 }
 
+// The Voronoi vertices of unit directions d on the sphere at most max_deg from their nearest directions: for each
+// triple, the unit vector equidistant from the three (on their side), kept when no direction is nearer.
+std::vector<Vec3> voronoi_vertices(const std::vector<Vec3>& d, double max_deg) {
+    std::vector<Vec3> out;
+    const int n = static_cast<int>(d.size());
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+            for (int k = j + 1; k < n; ++k) {
+                Vec3 v = cross(d[j] - d[i], d[k] - d[i]);
+                if (!(norm(v) > 1e-9)) continue;
+                v = normalized(v);
+                if (dot(v, d[i]) < 0) v = v * -1.0;
+                const double c = dot(v, d[i]);
+                bool nearest = angle_deg(v, d[i]) <= max_deg;
+                for (int l = 0; l < n && nearest; ++l) nearest = dot(v, d[l]) <= c + 1e-9;
+                if (nearest) out.push_back(v);
+            }
+    return out;
+}
+
+// A pit branch at c (VirtualBranchOptions::pit_excess): appended to s when a Voronoi vertex's ray leaves the domain's
+// union far enough beyond c's ball. Returns whether one was added.
+bool add_pit_branch(Skeleton& s, int c, const std::vector<Vec3>& d, const Skeleton& domain,
+                    const VirtualBranchOptions& o) {
+    const double rc = s.radii[c];
+    std::vector<RoundCone> cones{{s.points[c], s.points[c], rc, rc}};
+    for (const std::array<int, 2>& e : domain.edges) {
+        const Vec3 &a = domain.points[e[0]], &b = domain.points[e[1]];
+        if (distance_to_segment(s.points[c], a, b) <= 3 * rc)
+            cones.push_back({a, b, domain.radii[e[0]], domain.radii[e[1]]});
+    }
+    double best = (1 + o.pit_excess) * rc;
+    Vec3 pit{};
+    for (const Vec3& v : voronoi_vertices(d, o.pit_max_deg)) {
+        const double t = ray_exit(cones, s.points[c], v, 0.02 * rc, 4 * rc);
+        if (t >= best) best = t, pit = v;
+    }
+    if (pit == Vec3{}) return false;
+    s.points.push_back(s.points[c] + pit * std::max(rc, best - o.pit_inset * rc));
+    s.radii.push_back(rc);
+    s.edges.push_back({c, static_cast<int>(s.points.size()) - 1});
+    return true;
+}
+
 }  // namespace
 
 double covering_radius_deg(const std::vector<Vec3>& dirs, int grid_points, Vec3* far) {
@@ -35,9 +81,11 @@ double covering_radius_deg(const std::vector<Vec3>& dirs, int grid_points, Vec3*
     return dirs.empty() ? 180.0 : best;
 }
 
-VirtualBranches add_virtual_branches(Skeleton& s, const VirtualBranchOptions& o, const CompatibleBlockOptions* blocks) {
+VirtualBranches add_virtual_branches(Skeleton& s, const VirtualBranchOptions& o, const CompatibleBlockOptions* blocks,
+                                     const Skeleton* domain) {
     VirtualBranches out;
-    if (!o.enabled) return out;
+    const bool pits = o.pit_excess > 0 && domain && domain->radii.size() == domain->points.size();
+    if (!o.enabled && !pits) return out;
     const int nv = static_cast<int>(s.points.size());
     std::vector<char> in_face(nv, 0);
     for (const std::vector<int>& f : s.faces)
@@ -55,6 +103,8 @@ VirtualBranches add_virtual_branches(Skeleton& s, const VirtualBranchOptions& o,
         const int degree = static_cast<int>(dirs[c].size());
         if (in_face[c] || degree < 3 || degree >= o.max_degree) continue;
         if (blocks && blocks->enabled && fit_cube_frame(dirs[c], *blocks).accepted) continue;
+        if (pits && degree >= o.pit_min_degree && add_pit_branch(s, c, dirs[c], *domain, o)) out.at.push_back(c);
+        if (!o.enabled) continue;
         std::vector<Vec3> d = dirs[c];
         Vec3 v;
         while (static_cast<int>(d.size()) < o.max_degree && covering_radius_deg(d, o.grid_points, &v) > o.max_cap_deg) {
