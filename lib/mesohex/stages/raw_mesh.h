@@ -105,6 +105,15 @@ struct RawMeshOptions {
     // r sin(phi) is about e (our medial sheets at their full radii: docs/sheets.md, "Where the full-radius meso raw
     // meshes fold"). Dimensionless, like turn_fraction for joints; 0 = off (every copy at r).
     double leaflet_offset_fraction = 0.5;
+    // Out rays that cross along a short border side: for every leaflet border edge (a, b) of length L, the out points
+    // of its half-chunk (out a, out b; at a junction end the half-chunk's point on its sphere) may come closer along
+    // a -> b than a and b by at most leaflet_out_fraction x L; past that the out points that can move (a leaflet
+    // border vertex's out column, a junction's sphere point; not a fan vertex's) are pulled towards their vertex by
+    // one factor (a point: the smallest of its sides). The out rays cross once r cos(lean) exceeds L, e.g. a
+    // junction's out point leaning along a border side shorter than its radius, or a border turning by phi between
+    // neighbours L apart with r sin(phi) about L (docs/sheets.md, "Out rays crossing along short border sides").
+    // Dimensionless, the in-plane pair of leaflet_offset_fraction; 0 = off (every out point where it was placed).
+    double leaflet_out_fraction = 0.3;
     // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
     // out-down) in the leaflet's plane towards the branch by border_root_turn x their angle there, then about the
     // border by border_root_tilt x the branch's tilt out of the plane (0, 0 = the column along the border's outward
@@ -140,7 +149,8 @@ struct RawMeshOptions {
 // concave side of a sharp crease r x up_scale / down_scale, the miter; on a side where two corners of one face would
 // close in by more than leaflet_offset_fraction of their distance, both copies pulled in),
 // out = w + d o (o = LeafletVertexFrames::out, the bisector of the exterior angle of the border; d = r, shortened at
-// reflex corners, see leaflet_out_distance),
+// reflex corners, see leaflet_out_distance, and where two out points of a border side close in by more than
+// leaflet_out_fraction of it),
 // out-up/out-down = out +- r n, pulled in as up/down (at a border vertex rooting a branch on its out patch, the
 // column out / out-up / out-down turns towards the branch: border_root_turn, border_root_tilt).
 // A branch rooted on a leaflet (LeafletPatch, BorderPatch) has no vertices of its own at its root: its first chunk's
