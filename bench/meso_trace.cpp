@@ -221,7 +221,7 @@ int main(int argc, char** argv) {
     }
     AutoSkeletonOptions o;
     o.kind = SkeletonKind::Meso;
-    bool geometry = false;  // --geometry: a second line per hex (hex_geometry)
+    bool geometry = false;     // --geometry: a second line per hex (hex_geometry)
     double radius_factor = 0;  // --radius-factor F (0: the radii auto keeps)
     MeshOptions mo;
     mo.finish = false;

@@ -1265,7 +1265,7 @@ std::vector<int> raw_id_owner(const RawMesh& raw) {
 // out-down b), from the up hex (a oa ob b | ua oua oub ub) and the down hex (a b ob oa | da db odb oda); edges whose
 // two hexes do not share a, b, oa, ob that way are left out.
 std::vector<std::array<int, 8>> border_half_chunk_corners(const SkeletonAnalysis& an, const RawMesh& raw,
-                                                           const std::vector<int>& owner) {
+                                                          const std::vector<int>& owner) {
     const auto is_centre = [&](int id) {
         const int w = owner[static_cast<std::size_t>(id)];
         return w >= 0 && raw.vertex_base[w] == id;
