@@ -109,10 +109,12 @@ struct RawMeshOptions {
     // of its half-chunk (out a, out b; at a junction end the half-chunk's point on its sphere) may come closer along
     // a -> b than a and b by at most leaflet_out_fraction x L; past that the out points that can move (a leaflet
     // border vertex's out column, a junction's sphere point; not a fan vertex's) are pulled towards their vertex by
-    // one factor (a point: the smallest of its sides). The out rays cross once r cos(lean) exceeds L, e.g. a
-    // junction's out point leaning along a border side shorter than its radius, or a border turning by phi between
-    // neighbours L apart with r sin(phi) about L (docs/sheets.md, "Out rays crossing along short border sides").
-    // Dimensionless, the in-plane pair of leaflet_offset_fraction; 0 = off (every out point where it was placed).
+    // one factor (a point: the smallest of its sides; a column's out-up / out-down copies move with its out, a
+    // junction's sphere midpoints next to it go halfway). The out rays cross once the two leans along the side add
+    // up to L: a junction's out point leaning along a border side shorter than its radius (a thick BL-joint corner),
+    // or a concave border of curvature radius R closing in by r / R of each side (docs/sheets.md, "Out rays crossing
+    // along short border sides"). Dimensionless, the in-plane pair of leaflet_offset_fraction; 0 = off (every out
+    // point where it was placed).
     double leaflet_out_fraction = 0.3;
     // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
     // out-down) in the leaflet's plane towards the branch by border_root_turn x their angle there, then about the
