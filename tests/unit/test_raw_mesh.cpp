@@ -1654,8 +1654,7 @@ TEST(RawMeshLeaflets, OutPointsOnAConcaveBorderCloseInByAtMostTheOutFraction) {
     const ConnectionSurfaces cs = build_connection_surfaces(s, an, ConnectionSurfaceOptions{});
     const BranchFrames fr = propagate_frames(s, an, cs);
     RawMeshOptions o;
-    ASSERT_EQ(o.leaflet_out_fraction, 0.3);
-    o.leaflet_out_fraction = 0;
+    ASSERT_EQ(o.leaflet_out_fraction, 0);  // off by default
     const RawMesh off = build_raw_mesh(s, an, cs, fr, o);
     o.leaflet_out_fraction = 0.3;
     const RawMesh on = build_raw_mesh(s, an, cs, fr, o);
@@ -1724,4 +1723,15 @@ TEST(RawMeshLeaflets, ThickCornerJointsOutPointsStopShortOfTheirNeighbours) {
     EXPECT_LE(worst_on, 0.3 + 1e-12);
     EXPECT_GT(compute_quality(off.mesh).inverted, 0);
     EXPECT_EQ(compute_quality(on.mesh).inverted, 0);
+    // Junction ends only: the neighbours' short out rays (0.1) stay; the joint's out points alone make up the limit.
+    o.leaflet_out_columns = false;
+    const RawMesh joint = build_raw_mesh(s, an, cs, fr, o);
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
+        if (an.edge_degree[e] == 1 && (s.edges[e][0] == 0 || s.edges[e][1] == 0)) {
+            const SideOuts j = side_outs(an, joint, e), b = side_outs(an, off, e);
+            EXPECT_LE(j.closing, 0.3 * j.length + 1e-12);
+            const bool joint_first = j.a == s.points[0];
+            EXPECT_EQ(joint_first ? j.ob : j.oa, joint_first ? b.ob : b.oa);  // the neighbour's out point
+        }
+    EXPECT_EQ(compute_quality(joint.mesh).inverted, 0);
 }

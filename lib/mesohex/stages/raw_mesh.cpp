@@ -1237,14 +1237,15 @@ void raise_bridge_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an
 }
 
 // Whether raw id `id` of a border half-chunk's out point can be pulled towards its vertex by limit_out_closing: a
-// leaflet column's out or a junction's point on its sphere (not a fan vertex's, not a block's). Its centre's id, or -1.
+// leaflet column's out (with `columns`) or a junction's point on its sphere (not a fan vertex's, not a block's). Its
+// centre's id, or -1.
 int movable_out_centre(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const RawMesh& raw,
-                       const std::vector<int>& owner, int id) {
+                       const std::vector<int>& owner, bool columns, int id) {
     const int w = owner[static_cast<std::size_t>(id)];
     if (w < 0) return -1;
     const int base = raw.vertex_base[w];
     const VertexClass c = an.vertex_class[w];
-    if (c == VertexClass::LeafletBoundary) return id == base + 3 ? base : -1;
+    if (c == VertexClass::LeafletBoundary) return columns && id == base + 3 ? base : -1;
     const bool sphere = !leaflet_column_class(c) && !is_fan(c) && block_at(cs, w) < 0 && id > base &&
                         id <= base + cs.point_begin[w + 1] - cs.point_begin[w];
     return sphere ? base : -1;
@@ -1286,7 +1287,7 @@ std::vector<std::array<int, 8>> border_half_chunk_corners(const SkeletonAnalysis
     return out;
 }
 
-// RawMeshOptions::leaflet_out_fraction, on the placed points: per border half-chunk (a, out a, out b, b) of a leaflet
+// RawMeshOptions::leaflet_out_fraction (and leaflet_out_columns), on the placed points: per border half-chunk (a, out a, out b, b) of a leaflet
 // border edge of length L, the two out points may come closer along a -> b than a and b by at most fraction x L;
 // past that, the movable ones (movable_out_centre) are pulled towards their centres by one factor k, so that the
 // movable part of the closing times k plus the fixed part is fraction x L; a point keeps the smallest k of its
@@ -1294,7 +1295,9 @@ std::vector<std::array<int, 8>> border_half_chunk_corners(const SkeletonAnalysis
 // edges from the out point to its up and down points, shared with the quads across those edges) go to the mean of
 // their ends' radii, (1 + k) / 2 of theirs. A half-chunk whose fixed part alone exceeds the limit is left. Serial in
 // edge order (each k from the positions before any move): deterministic.
-void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, double fraction, RawMesh& raw) {
+void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const RawMeshOptions& options,
+                       RawMesh& raw) {
+    const double fraction = options.leaflet_out_fraction;
     if (!(fraction > 0)) return;
     std::vector<Vec3>& pts = raw.mesh.points;
     const std::vector<int> owner = raw_id_owner(raw);
@@ -1309,7 +1312,9 @@ void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
         const Vec3 u = d / L;
         // How far each out point leans towards the other end, along the side.
         const double lean[2] = {dot(pts[q[1]] - pts[q[0]], u), dot(pts[q[3]] - pts[q[2]], u)};
-        const int c[2] = {movable_out_centre(an, cs, raw, owner, q[1]), movable_out_centre(an, cs, raw, owner, q[2])};
+        const bool cols = options.leaflet_out_columns;
+        const int c[2] = {movable_out_centre(an, cs, raw, owner, cols, q[1]),
+                          movable_out_centre(an, cs, raw, owner, cols, q[2])};
         double movable = 0, fixed = 0;
         for (int k = 0; k < 2; ++k) (c[k] >= 0 ? movable : fixed) += lean[k];
         const double limit = fraction * L;
@@ -1360,7 +1365,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     const bool own = domain == nullptr || domain->radii.size() != domain->points.size();
     cover_junctions(skeleton, own ? skeleton : *domain, an, cs, frames, radius, raw.vertex_base, slots.edge_slot,
                     raw.mesh.hexes, raw.mesh.points, options.cover);
-    limit_out_closing(an, cs, options.leaflet_out_fraction, raw);
+    limit_out_closing(an, cs, options, raw);
     return raw;
 }
 

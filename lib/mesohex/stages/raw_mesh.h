@@ -114,8 +114,13 @@ struct RawMeshOptions {
     // up to L: a junction's out point leaning along a border side shorter than its radius (a thick BL-joint corner),
     // or a concave border of curvature radius R closing in by r / R of each side (docs/sheets.md, "Out rays crossing
     // along short border sides"). Dimensionless, the in-plane pair of leaflet_offset_fraction; 0 = off (every out
-    // point where it was placed).
-    double leaflet_out_fraction = 0.3;
+    // point where it was placed). Off by default: at 0.3 it removes 45 of 148 inverted full-radius meso raw hexes
+    // and gives two more surfaces their full radii without changing an `auto` answer, but the shared hand.ma's
+    // finish misses its Hausdorff target (its border columns pulled in, the fit no longer reaches the rim).
+    double leaflet_out_fraction = 0;
+    // With leaflet_out_fraction: the leaflet border columns' out points may move too; false: only junctions' sphere
+    // points do (the thick joins' out rays; a border's own out rays keep their distance, so the rims stay reached).
+    bool leaflet_out_columns = true;
     // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
     // out-down) in the leaflet's plane towards the branch by border_root_turn x their angle there, then about the
     // border by border_root_tilt x the branch's tilt out of the plane (0, 0 = the column along the border's outward
