@@ -1287,11 +1287,11 @@ std::vector<std::array<int, 8>> border_half_chunk_corners(const SkeletonAnalysis
     return out;
 }
 
-// RawMeshOptions::leaflet_out_fraction (and leaflet_out_columns), on the placed points: per border half-chunk (a, out a, out b, b) of a leaflet
-// border edge of length L, the two out points may come closer along a -> b than a and b by at most fraction x L;
-// past that, the movable ones (movable_out_centre) are pulled towards their centres by one factor k, so that the
-// movable part of the closing times k plus the fixed part is fraction x L; a point keeps the smallest k of its
-// half-chunks. A column's out-up and out-down copies move with its out; a junction's (the midpoints of the sphere's
+// RawMeshOptions::leaflet_out_fraction (and leaflet_out_columns), on the placed points: per border half-chunk
+// (a, out a, out b, b) of a leaflet border edge of length L, the two out points may come closer along a -> b than a
+// and b by at most fraction x L; past that, the movable ones (movable_out_centre) are pulled towards their centres by
+// one factor k, so that the movable part of the closing times k plus the fixed part is fraction x L; a point keeps
+// the smallest k of its half-chunks. A column's out-up and out-down copies move with its out; a junction's (the midpoints of the sphere's
 // edges from the out point to its up and down points, shared with the quads across those edges) go to the mean of
 // their ends' radii, (1 + k) / 2 of theirs. A half-chunk whose fixed part alone exceeds the limit is left. Serial in
 // edge order (each k from the positions before any move): deterministic.
