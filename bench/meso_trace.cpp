@@ -10,9 +10,11 @@
 // its radius. Then the count per kind, junctions also by layout (rooted branch / several curves on the border / inner).
 //   mesohex_meso_trace SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F]
 //                      [--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] [--geometry]
-//                      [--radius-factor F] [--leaflet-offset-fraction F]
-// --radius-factor F: the radii F x the distance to the surface, no other attempt (auto's meso_radius_factor F,
-// meso_full_radius_factor 0; F 1 traces the full-radius raw mesh auto tries first, the default the one it keeps).
+//                      [--radius-factor F] [--leaflet-offset-fraction F] [--leaflet-out-fraction F]
+//                      [--leaflet-out-junctions-only]
+// --radius-factor F: the radii F x the distance to the surface (capped as auto caps them) on the skeleton auto
+// imports; F 1 traces the full-radius raw mesh auto tries first, the default the one it keeps. A raw mesh that the
+// raw output's checks refuse (check_border_creases, check_moved_roots: auto then falls back) is traced without them.
 // Each site line also gives the site's local leaflet numbers: its radius over its shortest leaflet edge (r/e) and the
 // largest dihedral fold between two faces at one of its leaflet edges (0 = flat; faces of two leaflets: the smaller
 // of the two readings).
@@ -28,10 +30,14 @@
 #include <vector>
 
 #include "mesohex/auto_skeleton.h"
+#include "mesohex/core/error.h"
 #include "mesohex/mesh.h"
+#include "mesohex/pipeline.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/medial_import.h"
 #include "mesohex/stages/skeleton_analysis.h"
+#include "mesohex/surface/radius_from_surface.h"
+#include "mesohex/surface/surface_query.h"
 #include "mesohex_io/surface_io.h"
 
 namespace {
@@ -177,6 +183,19 @@ std::string hex_geometry(const std::array<Vec3, 8>& p, bool plate, bool b_second
     return buf;
 }
 
+// --radius-factor F: the imported meso-skeleton's radii F x each vertex's distance to the surface (a vertex on the
+// surface keeps its medial radius), capped at joins and borders: auto_skeleton.cpp's meso_with_radii.
+void with_radius_factor(Skeleton& s, const TriangleMesh& surface, const AutoSkeletonOptions& o, double factor) {
+    const SurfaceQuery query(surface);
+    RadiusFromSurfaceOptions ro;
+    ro.factor = factor;
+    const RadiusFromSurface rs = radius_from_surface(s, query, ro);
+    for (size_t v = 0; v < rs.radii.size(); ++v)
+        if (rs.radii[v] > 0) s.radii[v] = rs.radii[v];
+    cap_leaflet_radii(s, o.meso_leaflet_radius_edge_factor);
+    cap_border_radii(s, o.meso_border_radius_edge_factor);
+}
+
 bool is_join(const SkeletonAnalysis& an, int v) {
     const std::string k = site_kind(an, v);
     return k == "bl-joint" || k == "junction";
@@ -197,13 +216,15 @@ int main(int argc, char** argv) {
         std::fprintf(stderr,
                      "usage: %s SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F] "
                      "[--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] "
-                     "[--geometry] [--radius-factor F] [--leaflet-offset-fraction F]\n",
+                     "[--geometry] [--radius-factor F] [--leaflet-offset-fraction F] [--leaflet-out-fraction F] "
+                     "[--leaflet-out-junctions-only]\n",
                      argv[0]);
         return 2;
     }
     AutoSkeletonOptions o;
     o.kind = SkeletonKind::Meso;
-    bool geometry = false;  // --geometry: a second line per hex (hex_geometry)
+    bool geometry = false;     // --geometry: a second line per hex (hex_geometry)
+    double radius_factor = 0;  // --radius-factor F (0: the radii auto keeps)
     MeshOptions mo;
     mo.finish = false;
     for (int i = 2; i < argc; ++i) {
@@ -219,10 +240,10 @@ int main(int argc, char** argv) {
         if (a == "--geometry") geometry = true;
         if (a == "--leaflet-offset-fraction" && i + 1 < argc)
             mo.pipeline.raw_mesh.leaflet_offset_fraction = std::atof(argv[++i]);
-        if (a == "--radius-factor" && i + 1 < argc) {
-            o.meso_radius_factor = std::atof(argv[++i]);
-            o.meso_full_radius_factor = 0;
-        }
+        if (a == "--leaflet-out-fraction" && i + 1 < argc)
+            mo.pipeline.raw_mesh.leaflet_out_fraction = std::atof(argv[++i]);
+        if (a == "--leaflet-out-junctions-only") mo.pipeline.raw_mesh.leaflet_out_columns = false;
+        if (a == "--radius-factor" && i + 1 < argc) radius_factor = std::atof(argv[++i]);
         if (a == "--fill-pinch" && i + 1 < argc) o.import.fill_pinch_max_angle_deg = std::atof(argv[++i]);
         if (a == "--min-side" && i + 1 < argc) o.import.min_border_side_fraction = std::atof(argv[++i]);
     }
@@ -230,8 +251,29 @@ int main(int argc, char** argv) {
     MeshRun run;
     AutoSkeleton chosen;
     try {
-        chosen = choose_skeleton(surface, o);
+        if (radius_factor > 0) {  // auto's meso path up to the radii (choose_skeleton with SkeletonKind::Meso)
+            chosen.medial = compute_medial_axis(surface, o.medial);
+            chosen.import = import_medial_mesh(chosen.medial.medial, o.import);
+            chosen.skeleton = chosen.import.skeleton;
+            with_radius_factor(chosen.skeleton, surface, o, radius_factor);
+        } else {
+            chosen = choose_skeleton(surface, o);
+        }
+    } catch (const std::exception& e) {
+        std::printf("refused: %s\n", e.what());
+        return 0;
+    }
+    try {
         run = mesh_skeleton(chosen.skeleton, &surface, mo);
+    } catch (const Error& e) {
+        // The raw output's own checks (check_border_creases, check_moved_roots) refuse some inverted raw meshes;
+        // auto then falls back as for any failed raw check. Traced from the pipeline without those checks.
+        if (e.code() != ErrorCode::UnsupportedConfiguration) {
+            std::printf("refused: %s\n", e.what());
+            return 0;
+        }
+        std::printf("raw check refused (%s); traced without it\n", e.what());
+        run.pipeline = run_pipeline(chosen.skeleton, mo.pipeline);
     } catch (const std::exception& e) {
         std::printf("refused: %s\n", e.what());
         return 0;
@@ -305,7 +347,8 @@ int main(int argc, char** argv) {
             std::printf("\n");
         }
     }
-    std::printf("raw %zu hexes, %ld inverted, min SJ %.3f\n", sj.size(), inverted, run.raw_quality.sj_min);
+    std::printf("raw %zu hexes, %ld inverted, min SJ %.3f\n", sj.size(), inverted,
+                sj.empty() ? 0.0 : *std::min_element(sj.begin(), sj.end()));
     for (const auto& [k, n] : per_kind) std::printf("  %-16s %d\n", k.c_str(), n);
     return 0;
 }

@@ -1606,3 +1606,132 @@ TEST(RawMeshLeaflets, CreaseCopiesOnTheConcaveSideStopBeforeTheyPassEachOther) {
     EXPECT_NEAR(distance(full.mesh.points[full.vertex_base[0] + 1], s.points[0]), 2.5, 1e-12);
     EXPECT_GT(compute_quality(full.mesh).inverted, 0);
 }
+
+namespace {
+
+// The out points of border edge e's half-chunk (a, out a, out b, b) from its up hex (a oa ob b | ...), and how far the
+// two close in along a -> b (out a's lean towards b plus out b's towards a); a, b as the hex orders them.
+struct SideOuts {
+    Vec3 a, oa, ob, b;
+    double closing = 0, length = 0;
+};
+SideOuts side_outs(const SkeletonAnalysis& an, const RawMesh& raw, int e) {
+    SideOuts o;
+    const auto centre = [&](int id) { return std::ranges::find(raw.vertex_base, id) != raw.vertex_base.end(); };
+    for (std::size_t h = 0; h < raw.mesh.hexes.size(); ++h) {
+        const std::array<int, 8>& hx = raw.mesh.hexes[h];
+        if (raw.hex_edge[h] != e || an.edge_degree[e] != 1 || centre(hx[1])) continue;
+        o.a = raw.mesh.points[hx[0]];
+        o.oa = raw.mesh.points[hx[1]];
+        o.ob = raw.mesh.points[hx[2]];
+        o.b = raw.mesh.points[hx[3]];
+    }
+    o.length = distance(o.a, o.b);
+    const Vec3 u = (o.b - o.a) / o.length;
+    o.closing = dot(o.oa - o.a, u) + dot(o.b - o.ob, u);
+    return o;
+}
+
+}  // namespace
+
+TEST(RawMeshLeaflets, OutPointsOnAConcaveBorderCloseInByAtMostTheOutFraction) {
+    // A ring sector of 3 faces around the z axis: inner radius 1, outer 2, at 0, 30, 60, 90 degrees; radius 0.5. The
+    // inner arc is concave: its middle vertices 1 and 2 (reflex, 210 degrees) have their out rays along -radial, so
+    // along their side (length L = 2 sin 15 degrees) they close in by 2 d sin 15 = d x L (d their out distance, the
+    // arc's radius 1): d = 0.5 (leaflet_out_distance's reflex limit 0.3 L / sin 15 = 0.6 does not act) closes in by
+    // 0.5 L. With leaflet_out_fraction 0.3 both go to d = 0.3 exactly (factor 0.6); their sides to the corners 0 and
+    // 3 close in by less (the corners' outs lean away), so every other out point stays.
+    Skeleton s;
+    for (const double rad : {1.0, 2.0})
+        for (int k = 0; k <= 3; ++k) {
+            const double t = k * std::numbers::pi / 6;
+            s.points.push_back({rad * std::cos(t), rad * std::sin(t), 0});
+        }
+    for (int k = 0; k < 3; ++k) s.faces.push_back({k, 4 + k, 5 + k, k + 1});
+    add_face_edges(s);
+    s.radii.assign(s.points.size(), 0.5);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, ConnectionSurfaceOptions{});
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    RawMeshOptions o;
+    ASSERT_EQ(o.leaflet_out_fraction, 0);  // off by default
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, o);
+    o.leaflet_out_fraction = 0.3;
+    const RawMesh on = build_raw_mesh(s, an, cs, fr, o);
+    for (const int v : {1, 2}) {
+        ASSERT_EQ(an.vertex_class[v], VertexClass::LeafletBoundary);
+        const Vec3 inward = -1.0 * s.points[v];  // unit: the inner arc has radius 1
+        for (int k = 3; k <= 5; ++k) {           // out, out-up, out-down: the column moves as one
+            const Vec3 before = off.mesh.points[off.vertex_base[v] + k], after = on.mesh.points[on.vertex_base[v] + k];
+            EXPECT_NEAR(norm(after - before - (-0.2) * inward), 0.0, 1e-12) << "vertex " << v << " id " << k;
+        }
+        EXPECT_NEAR(distance(off.mesh.points[off.vertex_base[v] + 3], s.points[v]), 0.5, 1e-12);
+        EXPECT_NEAR(distance(on.mesh.points[on.vertex_base[v] + 3], s.points[v]), 0.3, 1e-12);
+    }
+    int side12 = -1;
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
+        if (std::min(s.edges[e][0], s.edges[e][1]) == 1 && std::max(s.edges[e][0], s.edges[e][1]) == 2) side12 = e;
+    ASSERT_GE(side12, 0);
+    const SideOuts b = side_outs(an, off, side12), a = side_outs(an, on, side12);
+    EXPECT_NEAR(b.closing, 0.5 * b.length, 1e-12);
+    EXPECT_NEAR(a.closing, 0.3 * a.length, 1e-12);
+    ASSERT_EQ(off.mesh.points.size(), on.mesh.points.size());
+    int moved = 0;  // every other point where it was
+    for (std::size_t id = 0; id < on.mesh.points.size(); ++id) moved += on.mesh.points[id] != off.mesh.points[id];
+    EXPECT_EQ(moved, 6);
+    const QualityReport q = compute_quality(on.mesh);
+    EXPECT_EQ(q.hexes, 3 * 2 + 8 * 2);
+    EXPECT_EQ(q.inverted, 0);
+}
+
+TEST(RawMeshLeaflets, ThickCornerJointsOutPointsStopShortOfTheirNeighbours) {
+    // plate(3, 3) with a 3-edge branch leaving its corner 0 (a BL-joint) 30 degrees off the corner's outward bisector;
+    // radius 1.6 at the corner (thicker than its unit border edges are long), 0.1 elsewhere. The joint's sphere
+    // points that its two border half-chunks take as out points lean along their sides: with leaflet_out_fraction
+    // 0, on one side they close in by more than the side (the out rays cross: an inverted half-chunk; measured
+    // 1.33 and 0.89 x L); with 0.3 each of the two sides closes in by at most 0.3 of its length (both are pulled to
+    // exactly that), and no hex of the mesh is inverted.
+    Skeleton s = plate(3, 3);
+    const double t = 255.0 * std::numbers::pi / 180;
+    for (int k = 1, prev = 0; k <= 3; ++k) {
+        s.points.push_back({k * std::cos(t), k * std::sin(t), 0});
+        s.edges.push_back({prev, static_cast<int>(s.points.size()) - 1});
+        prev = static_cast<int>(s.points.size()) - 1;
+    }
+    s.radii.assign(s.points.size(), 0.1);
+    s.radii[0] = 1.6;
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ASSERT_EQ(an.vertex_class[0], VertexClass::BLJoint);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, ConnectionSurfaceOptions{});
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    RawMeshOptions o;
+    o.leaflet_out_fraction = 0;
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, o);
+    o.leaflet_out_fraction = 0.3;
+    const RawMesh on = build_raw_mesh(s, an, cs, fr, o);
+    double worst_off = 0, worst_on = 0;
+    int sides = 0;
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e) {
+        if (an.edge_degree[e] != 1 || (s.edges[e][0] != 0 && s.edges[e][1] != 0)) continue;
+        ++sides;
+        const SideOuts b = side_outs(an, off, e), a = side_outs(an, on, e);
+        worst_off = std::max(worst_off, b.closing / b.length);
+        worst_on = std::max(worst_on, a.closing / a.length);
+    }
+    EXPECT_EQ(sides, 2);
+    EXPECT_GT(worst_off, 1.0);
+    EXPECT_LE(worst_on, 0.3 + 1e-12);
+    EXPECT_GT(compute_quality(off.mesh).inverted, 0);
+    EXPECT_EQ(compute_quality(on.mesh).inverted, 0);
+    // Junction ends only: the neighbours' short out rays (0.1) stay; the joint's out points alone make up the limit.
+    o.leaflet_out_columns = false;
+    const RawMesh joint = build_raw_mesh(s, an, cs, fr, o);
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
+        if (an.edge_degree[e] == 1 && (s.edges[e][0] == 0 || s.edges[e][1] == 0)) {
+            const SideOuts j = side_outs(an, joint, e), b = side_outs(an, off, e);
+            EXPECT_LE(j.closing, 0.3 * j.length + 1e-12);
+            const bool joint_first = j.a == s.points[0];
+            EXPECT_EQ(joint_first ? j.ob : j.oa, joint_first ? b.ob : b.oa);  // the neighbour's out point
+        }
+    EXPECT_EQ(compute_quality(joint.mesh).inverted, 0);
+}

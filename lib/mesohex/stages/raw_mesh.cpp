@@ -1236,6 +1236,108 @@ void raise_bridge_junctions(const Skeleton& skeleton, const SkeletonAnalysis& an
     }
 }
 
+// Whether raw id `id` of a border half-chunk's out point can be pulled towards its vertex by limit_out_closing: a
+// leaflet column's out (with `columns`) or a junction's point on its sphere (not a fan vertex's, not a block's). Its
+// centre's id, or -1.
+int movable_out_centre(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const RawMesh& raw,
+                       const std::vector<int>& owner, bool columns, int id) {
+    const int w = owner[static_cast<std::size_t>(id)];
+    if (w < 0) return -1;
+    const int base = raw.vertex_base[w];
+    const VertexClass c = an.vertex_class[w];
+    if (c == VertexClass::LeafletBoundary) return columns && id == base + 3 ? base : -1;
+    const bool sphere = !leaflet_column_class(c) && !is_fan(c) && block_at(cs, w) < 0 && id > base &&
+                        id <= base + cs.point_begin[w + 1] - cs.point_begin[w];
+    return sphere ? base : -1;
+}
+
+// Per raw id: the skeleton vertex whose ids hold it (vertex_base is a prefix sum in vertex order), or -1.
+std::vector<int> raw_id_owner(const RawMesh& raw) {
+    std::vector<int> owner(raw.mesh.points.size(), -1);
+    for (int v = static_cast<int>(raw.vertex_base.size()) - 1, next = static_cast<int>(owner.size()); v >= 0; --v) {
+        if (raw.vertex_base[v] < 0) continue;
+        for (int id = raw.vertex_base[v]; id < next; ++id) owner[static_cast<std::size_t>(id)] = v;
+        next = raw.vertex_base[v];
+    }
+    return owner;
+}
+
+// Per leaflet border edge: its two half-chunk hexes' corners as (a, out a, out b, b, out-up a, out-up b, out-down a,
+// out-down b), from the up hex (a oa ob b | ua oua oub ub) and the down hex (a b ob oa | da db odb oda); edges whose
+// two hexes do not share a, b, oa, ob that way are left out.
+std::vector<std::array<int, 8>> border_half_chunk_corners(const SkeletonAnalysis& an, const RawMesh& raw,
+                                                          const std::vector<int>& owner) {
+    const auto is_centre = [&](int id) {
+        const int w = owner[static_cast<std::size_t>(id)];
+        return w >= 0 && raw.vertex_base[w] == id;
+    };
+    std::vector<std::array<int, 2>> hexes(an.edge_degree.size(), {-1, -1});  // up, down
+    for (int h = 0; h < static_cast<int>(raw.mesh.hexes.size()); ++h) {
+        const int e = raw.hex_edge[h];
+        const std::array<int, 8>& hx = raw.mesh.hexes[h];
+        if (e >= 0 && an.edge_degree[e] == 1 && is_centre(hx[0])) hexes[e][is_centre(hx[1]) ? 1 : 0] = h;
+    }
+    std::vector<std::array<int, 8>> out;
+    for (const std::array<int, 2>& hs : hexes) {
+        if (hs[0] < 0 || hs[1] < 0) continue;
+        const std::array<int, 8>&up = raw.mesh.hexes[hs[0]], &dn = raw.mesh.hexes[hs[1]];
+        if (dn[0] != up[0] || dn[1] != up[3] || dn[2] != up[2] || dn[3] != up[1]) continue;
+        out.push_back({up[0], up[1], up[2], up[3], up[5], up[6], dn[7], dn[6]});
+    }
+    return out;
+}
+
+// RawMeshOptions::leaflet_out_fraction (and leaflet_out_columns), on the placed points: per border half-chunk
+// (a, out a, out b, b) of a leaflet border edge of length L, the two out points may come closer along a -> b than a
+// and b by at most fraction x L; past that, the movable ones (movable_out_centre) are pulled towards their centres by
+// one factor k, so that the movable part of the closing times k plus the fixed part is fraction x L; a point keeps
+// the smallest k of its half-chunks. A column's out-up and out-down copies move with its out; a junction's (the midpoints of the sphere's
+// edges from the out point to its up and down points, shared with the quads across those edges) go to the mean of
+// their ends' radii, (1 + k) / 2 of theirs. A half-chunk whose fixed part alone exceeds the limit is left. Serial in
+// edge order (each k from the positions before any move): deterministic.
+void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const RawMeshOptions& options,
+                       RawMesh& raw) {
+    const double fraction = options.leaflet_out_fraction;
+    if (!(fraction > 0)) return;
+    std::vector<Vec3>& pts = raw.mesh.points;
+    const std::vector<int> owner = raw_id_owner(raw);
+    std::vector<double> factor(pts.size(), 1.0);
+    std::vector<int> centre(pts.size(), -1);
+    std::vector<std::array<int, 2>> copies(pts.size(), {-1, -1});  // per out point: its out-up and out-down copies
+    std::vector<int> moved;
+    for (const std::array<int, 8>& q : border_half_chunk_corners(an, raw, owner)) {
+        const Vec3 d = pts[q[3]] - pts[q[0]];
+        const double L = norm(d);
+        if (!(L > 0)) continue;
+        const Vec3 u = d / L;
+        // How far each out point leans towards the other end, along the side.
+        const double lean[2] = {dot(pts[q[1]] - pts[q[0]], u), dot(pts[q[3]] - pts[q[2]], u)};
+        const bool cols = options.leaflet_out_columns;
+        const int c[2] = {movable_out_centre(an, cs, raw, owner, cols, q[1]),
+                          movable_out_centre(an, cs, raw, owner, cols, q[2])};
+        double movable = 0, fixed = 0;
+        for (int k = 0; k < 2; ++k) (c[k] >= 0 ? movable : fixed) += lean[k];
+        const double limit = fraction * L;
+        if (!(lean[0] + lean[1] > limit) || !(movable > 0) || !(limit - fixed > 0)) continue;
+        for (int k = 0; k < 2; ++k) {
+            const int id = q[1 + k];
+            if (c[k] < 0) continue;
+            if (centre[id] < 0) moved.push_back(id);
+            centre[id] = c[k];
+            copies[id] = {q[4 + k], q[6 + k]};
+            factor[id] = std::min(factor[id], (limit - fixed) / movable);
+        }
+    }
+    for (const int id : moved) {
+        const Vec3& c = pts[centre[id]];
+        const double k = factor[id];
+        const bool column = an.vertex_class[owner[id]] == VertexClass::LeafletBoundary;
+        const Vec3 delta = (k - 1.0) * (pts[id] - c);
+        pts[id] += delta;
+        for (const int x : copies[id]) pts[x] = column ? pts[x] + delta : c + 0.5 * (1.0 + k) * (pts[x] - c);
+    }
+}
+
 }  // namespace
 
 RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
@@ -1263,6 +1365,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     const bool own = domain == nullptr || domain->radii.size() != domain->points.size();
     cover_junctions(skeleton, own ? skeleton : *domain, an, cs, frames, radius, raw.vertex_base, slots.edge_slot,
                     raw.mesh.hexes, raw.mesh.points, options.cover);
+    limit_out_closing(an, cs, options, raw);
     return raw;
 }
 

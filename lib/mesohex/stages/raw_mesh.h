@@ -105,6 +105,22 @@ struct RawMeshOptions {
     // r sin(phi) is about e (our medial sheets at their full radii: docs/sheets.md, "Where the full-radius meso raw
     // meshes fold"). Dimensionless, like turn_fraction for joints; 0 = off (every copy at r).
     double leaflet_offset_fraction = 0.5;
+    // Out rays that cross along a short border side: for every leaflet border edge (a, b) of length L, the out points
+    // of its half-chunk (out a, out b; at a junction end the half-chunk's point on its sphere) may come closer along
+    // a -> b than a and b by at most leaflet_out_fraction x L; past that the out points that can move (a leaflet
+    // border vertex's out column, a junction's sphere point; not a fan vertex's) are pulled towards their vertex by
+    // one factor (a point: the smallest of its sides; a column's out-up / out-down copies move with its out, a
+    // junction's sphere midpoints next to it go halfway). The out rays cross once the two leans along the side add
+    // up to L: a junction's out point leaning along a border side shorter than its radius (a thick BL-joint corner),
+    // or a concave border of curvature radius R closing in by r / R of each side (docs/sheets.md, "Out rays crossing
+    // along short border sides"). Dimensionless, the in-plane pair of leaflet_offset_fraction; 0 = off (every out
+    // point where it was placed). Off by default: at 0.3 it removes 45 of 148 inverted full-radius meso raw hexes
+    // and gives two more surfaces their full radii without changing an `auto` answer, but the shared hand.ma's
+    // finish misses its Hausdorff target (its border columns pulled in, the fit no longer reaches the rim).
+    double leaflet_out_fraction = 0;
+    // With leaflet_out_fraction: the leaflet border columns' out points may move too; false: only junctions' sphere
+    // points do (the thick joins' out rays; a border's own out rays keep their distance, so the rims stay reached).
+    bool leaflet_out_columns = true;
     // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
     // out-down) in the leaflet's plane towards the branch by border_root_turn x their angle there, then about the
     // border by border_root_tilt x the branch's tilt out of the plane (0, 0 = the column along the border's outward
@@ -140,7 +156,8 @@ struct RawMeshOptions {
 // concave side of a sharp crease r x up_scale / down_scale, the miter; on a side where two corners of one face would
 // close in by more than leaflet_offset_fraction of their distance, both copies pulled in),
 // out = w + d o (o = LeafletVertexFrames::out, the bisector of the exterior angle of the border; d = r, shortened at
-// reflex corners, see leaflet_out_distance),
+// reflex corners, see leaflet_out_distance, and where two out points of a border side close in by more than
+// leaflet_out_fraction of it),
 // out-up/out-down = out +- r n, pulled in as up/down (at a border vertex rooting a branch on its out patch, the
 // column out / out-up / out-down turns towards the branch: border_root_turn, border_root_tilt).
 // A branch rooted on a leaflet (LeafletPatch, BorderPatch) has no vertices of its own at its root: its first chunk's
