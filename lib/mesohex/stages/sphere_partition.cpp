@@ -427,20 +427,29 @@ ScanAxis scan_axis(const Vec3& axis) {
     return {axis, u, cross(axis, u)};
 }
 
-// 400 roughly uniform axes (Fibonacci points on the upper hemisphere; -axis is the same orange) with their frames:
-// the same for every partition, so computed once (an immutable table; thread-safe initialisation).
+// `count` roughly uniform axes (Fibonacci points on the upper hemisphere; -axis is the same orange) with their frames.
+std::vector<ScanAxis> make_fibonacci_axes(int count) {
+    std::vector<ScanAxis> axes;
+    const double golden = kPi * (3 - std::sqrt(5.0));
+    for (int k = 0; k < count; ++k) {
+        const double z = 1 - (k + 0.5) / count;
+        const double r = std::sqrt(std::max(0.0, 1 - z * z));
+        axes.push_back(scan_axis(Vec3{r * std::cos(golden * k), r * std::sin(golden * k), z}));
+    }
+    return axes;
+}
+
+// The scan's 400 Fibonacci axes: the same for every partition, so computed once (an immutable table; thread-safe
+// initialisation).
 const std::vector<ScanAxis>& fibonacci_axes() {
-    static const std::vector<ScanAxis> table = [] {
-        std::vector<ScanAxis> axes;
-        const int count = 400;
-        const double golden = kPi * (3 - std::sqrt(5.0));
-        for (int k = 0; k < count; ++k) {
-            const double z = 1 - (k + 0.5) / count;
-            const double r = std::sqrt(std::max(0.0, 1 - z * z));
-            axes.push_back(scan_axis(Vec3{r * std::cos(golden * k), r * std::sin(golden * k), z}));
-        }
-        return axes;
-    }();
+    static const std::vector<ScanAxis> table = make_fibonacci_axes(400);
+    return table;
+}
+
+// The coarse scan of three directions (SpherePartitionOptions::coarse_three_scan): 60 Fibonacci axes, about 0.3 rad
+// apart (the hemisphere's 2 pi sr / 60 is a cell of 0.32 rad), once.
+const std::vector<ScanAxis>& coarse_fibonacci_axes() {
+    static const std::vector<ScanAxis> table = make_fibonacci_axes(60);
     return table;
 }
 
@@ -467,25 +476,26 @@ std::vector<ScanAxis> extra_candidate_axes(const std::vector<Vec3>& d) {
     return axes;
 }
 
-// The three best candidate axes by (quality, index), as a sort of every valid axis would rank them (fewer when fewer
-// are valid).
-std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& eval) {
-    const std::vector<ScanAxis>& fib = fibonacci_axes();
+// The `keep` (at most 8) best candidate axes by (quality, index), best first, as a sort of every valid axis would rank
+// them (fewer when fewer are valid); the candidates are the extra axes and the Fibonacci table `fib`.
+std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& eval,
+                                 const std::vector<ScanAxis>& fib = fibonacci_axes(), int keep = 3) {
     const std::vector<ScanAxis> extra = extra_candidate_axes(d);
     const int nf = static_cast<int>(fib.size());
     const auto axis_at = [&](int a) -> const ScanAxis& {
         return a == 0 ? extra[0] : a <= nf ? fib[a - 1] : extra[a - nf];
     };
-    std::array<std::pair<double, int>, 3> top;  // (-quality, axis), ascending
+    std::array<std::pair<double, int>, 8> top;  // (-quality, axis), ascending
+    keep = std::clamp(keep, 1, 8);
     int top_count = 0;
     const int count = nf + static_cast<int>(extra.size());
     for (int a = 0; a < count; ++a) {
         const ScanAxis& axis = axis_at(a);
-        const double threshold = top_count == 3 ? -top[2].first : -1e300;
+        const double threshold = top_count == keep ? -top[keep - 1].first : -1e300;
         bool valid = false;
         const double q = eval.quality(axis.axis, axis.u, axis.w, threshold, valid);
         if (!(q > threshold) || !valid) continue;
-        int k = top_count < 3 ? top_count++ : 2;
+        int k = top_count < keep ? top_count++ : keep - 1;
         top[k] = {-q, a};
         for (; k > 0 && top[k] < top[k - 1]; --k) std::swap(top[k], top[k - 1]);
     }
@@ -494,25 +504,43 @@ std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& ev
     return best;
 }
 
+// The coarse scan's solver starts: of the ranked axes, each one more than 0.5 rad (as lines: an axis and its negative
+// are one orange) from every better-ranked start, at most 3. Axes closer than that lie in one cell or neighbouring cells
+// of the 60-axis scan, where the solver climbs to the same maximum; distinct starts reach more maxima.
+std::vector<Vec3> distinct_starts(const std::vector<Vec3>& ranked) {
+    const double cos_min = std::cos(0.5);
+    std::vector<Vec3> starts;
+    for (const Vec3& a : ranked) {
+        bool near = false;
+        for (const Vec3& s : starts) near = near || std::abs(dot(a, s)) > cos_min;
+        if (!near) starts.push_back(a);
+        if (starts.size() == 3) break;
+    }
+    return starts;
+}
+
 // The margin weight of the three-direction orange's axis (orange_three.h): a margin ratio of 1 counts as 60 degrees,
 // the most a width term can be for three directions, instead of quality_score's 90 degrees (with which the maximum
 // trades margins for width: docs/performance.md, "Seventh pass").
 constexpr double kThreeMarginWeight = kPi / 3;
 
 // The three-direction solver's axis (orange_three.h) from the best scan axes; its score <= 0 when no start is valid.
-OrangeAxisThree exact_three_axis(const std::vector<Vec3>& d, const std::vector<double>& bound, OrangeEvaluator& eval) {
-    return best_orange_axis_three({d[0], d[1], d[2]}, {bound[0], bound[1], bound[2]}, kThreeMarginWeight,
-                                  best_scan_axes(d, eval));
+// With `coarse` (SpherePartitionOptions::coarse_three_scan) the starts are distinct_starts of the coarse scan's 8 best.
+OrangeAxisThree exact_three_axis(const std::vector<Vec3>& d, const std::vector<double>& bound, OrangeEvaluator& eval,
+                                 bool coarse) {
+    return best_orange_axis_three(
+        {d[0], d[1], d[2]}, {bound[0], bound[1], bound[2]}, kThreeMarginWeight,
+        coarse ? distinct_starts(best_scan_axes(d, eval, coarse_fibonacci_axes(), 8)) : best_scan_axes(d, eval));
 }
 
-// Oranges around the best axes: for three directions with exact_three, the one around the solver's axis; else around
-// the three best candidate axes, each refined by local search.
-std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d, bool exact_three) {
+// Oranges around the best axes: for three directions with exact_three, the one around the solver's axis (its starts
+// from the coarse scan with coarse_three); else around the three best candidate axes, each refined by local search.
+std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d, bool exact_three, bool coarse_three) {
     const std::vector<double> bound = margin_bounds(d);
     OrangeEvaluator eval(d, bound);
     std::vector<SpherePartition> oranges;
     if (exact_three && d.size() == 3) {
-        const OrangeAxisThree best = exact_three_axis(d, bound, eval);
+        const OrangeAxisThree best = exact_three_axis(d, bound, eval, coarse_three);
         if (best.score > 0) {
             const OrangeFrame frame = orange_frame(d, best.axis);
             if (orange_margin(frame) > 0) oranges.push_back(build_orange(frame));
@@ -1852,7 +1880,7 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     };
     // 2. Oranges around the best axes.
     if (!work.have_oranges) {
-        work.oranges = axis_oranges(d, options.exact_three_orange);
+        work.oranges = axis_oranges(d, options.exact_three_orange, options.coarse_three_scan);
         work.orange_scores = scores_of(work.oranges);
         work.have_oranges = true;
     }
@@ -1959,10 +1987,10 @@ std::vector<Vec3> scanned_orange_axes(const std::vector<Vec3>& directions) {
     return best_scan_axes(directions, eval);
 }
 
-Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions) {
+Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions, bool coarse_scan) {
     const std::vector<double> bound = margin_bounds(directions);
     OrangeEvaluator eval(directions, bound);
-    return exact_three_axis(directions, bound, eval).axis;
+    return exact_three_axis(directions, bound, eval, coarse_scan).axis;
 }
 
 bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold) {
