@@ -125,6 +125,8 @@ int main(int argc, char** argv) {
         po.connection_surfaces.gradient_long_relaxation = std::atoi(k) != 0;
     if (const char* k = std::getenv("COARSE_THREE"))  // ConnectionSurfaceOptions::coarse_three_scan
         po.connection_surfaces.coarse_three_scan = std::atoi(k) != 0;
+    if (const char* k = std::getenv("FIRST_IMPROVING"))  // ConnectionSurfaceOptions::first_improving_long_relaxation
+        po.connection_surfaces.first_improving_long_relaxation = std::atoi(k) != 0;
     if (const char* k = std::getenv("FAN_CAP_BRANCHES"))
         po.connection_surfaces.blocks.fan_cap_branches = std::atoi(k) != 0;
     std::vector<double> mins, offs;

@@ -98,6 +98,8 @@ int main(int argc, char** argv) {
                 po.connection_surfaces.gradient_long_relaxation = std::atoi(k) != 0;
             if (const char* k = std::getenv("COARSE_THREE"))  // ConnectionSurfaceOptions::coarse_three_scan
                 po.connection_surfaces.coarse_three_scan = std::atoi(k) != 0;
+            if (const char* k = std::getenv("FIRST_IMPROVING"))  // ConnectionSurfaceOptions::first_improving_long_relaxation
+                po.connection_surfaces.first_improving_long_relaxation = std::atoi(k) != 0;
             if (const char* k = std::getenv("BRIDGE_QUAD"))  // RawMeshOptions::bridge_quad_radius
                 po.raw_mesh.bridge_quad_radius = std::atoi(k) != 0;
             if (const char* k = std::getenv("BRIDGE_QUAD_INSET"))  // RawMeshOptions::bridge_quad_inset

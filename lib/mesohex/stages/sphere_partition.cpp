@@ -1043,6 +1043,10 @@ struct Relaxer {
     std::vector<double> bound;
     std::vector<double> trial_energy, best_energy;  // scratch of descend (per quad around the moved vertex)
     bool gradient_steps = false;  // energy phase: moves along the local gradient (gradient_move), not 8 directions
+    // Energy phase (pattern): the 8 trials of a vertex start at the direction it moved in last and stop at the first
+    // accepted one (SpherePartitionOptions::first_improving_long_relaxation), not the best of 8.
+    bool first_improving = false;
+    std::vector<int> last_dir;  // per vertex: the trial direction accepted last (first_improving)
     // The terms of the quads around the vertex being moved that a move of it cannot change (fix_terms): per quad of
     // quads_of[v] and corner k, its corner term and the term of its side k -> k + 1, with whether each is kept
     // (fixed_corner_kept / fixed_side_kept; a corner of valence 2 has no term and is never kept).
@@ -1123,6 +1127,15 @@ struct Relaxer {
     // violation >= 0 (0 when the quad is valid with the margins above) and energy of quad q (0 unless `energy_too`:
     // the repair phase and total_violation need the violation only, and the exp / asin of the energy are most of
     // the cost).
+    // A real corner's energy term exp(-kSharpness angle) + exp(-kSharpness (pi - angle)), the second computed as
+    // exp(-kSharpness pi) / the first: one exp call instead of two, the same value up to a few ulps (the partitions of
+    // every measured input are the same bits as with two calls: docs/performance.md, "Twelfth pass").
+    double corner_energy(double angle) const {
+        static const double far = std::exp(-kSharpness * kPi);
+        const double e = std::exp(-kSharpness * angle);
+        return e + far / e;
+    }
+
     std::pair<double, double> quad_terms(int q, bool energy_too = true) const {
         const std::array<int, 4>& quad = p.quads[q];
         double violation = 0, energy = 0;
@@ -1134,7 +1147,7 @@ struct Relaxer {
                 double angle = corner_angle(p.points[quad[(k + 3) % 4]], b, c);
                 if (angle < 0) angle = 0;
                 violation += std::max(0.0, kMinCorner - angle) + std::max(0.0, angle - (kPi - kMinCorner));
-                if (energy_too) energy += std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+                if (energy_too) energy += corner_energy(angle);
             }
             const Vec3 nrm = cross(b, c);
             const double len = norm(nrm);
@@ -1162,7 +1175,7 @@ struct Relaxer {
         double angle = corner_angle(p.points[quad[(k + 3) % 4]], p.points[quad[k]], p.points[quad[(k + 1) % 4]]);
         if (angle < 0) angle = 0;
         if (kMinCorner - angle > 0 || angle - (kPi - kMinCorner) > 0) return false;
-        term = std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+        term = corner_energy(angle);
         return true;
     }
 
@@ -1338,7 +1351,11 @@ struct Relaxer {
                 if (!repair) fix_terms(v);
                 double best_score = repair ? x0 : e0;
                 Vec3 best_pos = origin;
-                for (int k = 0; k < (gradient_steps && !repair ? 0 : 8); ++k) {
+                const bool first = first_improving && !repair;
+                if (first && last_dir.empty()) last_dir.assign(nv, 0);
+                for (int j = 0; j < (gradient_steps && !repair ? 0 : 8); ++j) {
+                    const int k = first ? (last_dir[v] + j) % 8 : j;
+                    if (first && !(best_pos == origin)) break;
                     p.points[v] = normalized(origin + step[v] * (trial_cos()[k] * t1 + trial_sin()[k] * t2));
                     if (!place_chains(v)) continue;
                     const double threshold = best_score - 1e-6 * best_score - 1e-12;
@@ -1354,6 +1371,7 @@ struct Relaxer {
                             best_score = e;
                             best_pos = p.points[v];
                             best_energy.assign(trial_energy.begin(), trial_energy.end());
+                            if (first) last_dir[v] = k;
                         }
                     }
                 }
@@ -1546,13 +1564,14 @@ std::vector<char> relax_hull_candidates_briefly(const std::vector<Vec3>& d, std:
     return long_relaxations(ranked, relaxable, rep, shared);
 }
 
-// The long relaxation of a briefly relaxed hull candidate: it reads only the candidate itself. `gradient`
-// (SpherePartitionOptions::gradient_long_relaxation): at most 20 sweeps of gradient moves, else at most 100 sweeps of
-// the 8-direction pattern.
-void relax_hull_candidate_long(const std::vector<Vec3>& d, SpherePartition& p, bool gradient) {
+// The long relaxation of a briefly relaxed hull candidate: it reads only the candidate itself. With
+// SpherePartitionOptions::gradient_long_relaxation at most 20 sweeps of gradient moves, else at most 100 sweeps of
+// the 8-direction pattern (first_improving_long_relaxation: the first better trial taken).
+void relax_hull_candidate_long(const std::vector<Vec3>& d, SpherePartition& p, const SpherePartitionOptions& options) {
     Relaxer r(d, p);
-    r.gradient_steps = gradient;
-    if (r.find_chains() && r.place_chains()) r.descend(false, gradient ? 20 : 100);
+    r.gradient_steps = options.gradient_long_relaxation;
+    r.first_improving = options.first_improving_long_relaxation;
+    if (r.find_chains() && r.place_chains()) r.descend(false, r.gradient_steps ? 20 : 100);
 }
 
 // What partition_sphere computes that does not depend on no_flat_point_in_close_pair, kept for a second call with the
@@ -1818,10 +1837,10 @@ namespace {
 void finish_hull_candidates(const std::vector<Vec3>& d, double beat, const std::array<int, 2>& pair,
                             const std::vector<SpherePartition>& planar, const std::vector<double>& planar_scores,
                             const std::vector<SpherePartition>& oranges, const std::vector<double>& orange_scores,
-                            bool gradient, PartitionWork& work) {
+                            const SpherePartitionOptions& options, PartitionWork& work) {
     std::vector<SpherePartition>& hull = work.hull_candidates;
     const auto finish = [&](std::size_t c) {
-        relax_hull_candidate_long(d, hull[c], gradient);
+        relax_hull_candidate_long(d, hull[c], options);
         work.long_pending[c] = 0;
     };
     for (std::size_t c = 0; c < hull.size(); ++c)
@@ -1893,8 +1912,7 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
     if (!(n == 3 && three_hull_below(d, beat)) &&
         hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, options.shared_hull_relaxation, work)) {
-        finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores,
-                               options.gradient_long_relaxation, work);
+        finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores, options, work);
         hull = work.hull_candidates;
     }
     const std::vector<double> hull_scores = scores_of(hull);

@@ -52,6 +52,11 @@ struct SpherePartitionOptions {
     // (distinct maxima), instead of the 3 best of 400 axes: the scan costs a seventh, and the three starts reach the
     // global maximum as often (docs/performance.md, "Twelfth pass"). false: the 400-axis scan's 3 best axes.
     bool coarse_three_scan = true;
+    // true: in the long relaxations' pattern moves (gradient_long_relaxation off) each real vertex tries the 8
+    // directions starting with the one it moved in last and takes the first trial that lowers the energy (not the
+    // best of the 8): a third fewer instructions on branchy trees, but the raw meshes of the random set lose more than
+    // they gain (docs/performance.md, "Twelfth pass"), so off. false: the best of the 8 trials.
+    bool first_improving_long_relaxation = false;
 };
 
 // Preconditions: n >= 2 pairwise distinct directions, in any configuration (antipodal pairs, clusters, coplanar or
