@@ -49,8 +49,9 @@ struct SpherePartitionOptions {
     bool gradient_long_relaxation = false;
     // Three directions with exact_three_orange: the solver starts from up to 3 of the 8 best axes of a coarse scan (60
     // Fibonacci axes, about 0.3 rad apart, and the same extra axes), each more than 0.5 rad from every better one
-    // (distinct maxima), instead of the 3 best of 400 axes: the scan costs a seventh, and the three starts reach the
-    // global maximum as often (docs/performance.md, "Twelfth pass"). false: the 400-axis scan's 3 best axes.
+    // (so in distinct basins), instead of the 3 best of 400 axes (often neighbours in one basin): the scan costs about
+    // half, and the starts reach the 400-axis starts' maximum or a higher one (docs/performance.md, "Twelfth pass").
+    // false: the 400-axis scan's 3 best axes.
     bool coarse_three_scan = true;
     // true: in the long relaxations' pattern moves (gradient_long_relaxation off) each real vertex tries the 8
     // directions starting with the one it moved in last and takes the first trial that lowers the energy (not the
