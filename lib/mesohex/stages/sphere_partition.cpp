@@ -1124,9 +1124,6 @@ struct Relaxer {
         return true;
     }
 
-    // violation >= 0 (0 when the quad is valid with the margins above) and energy of quad q (0 unless `energy_too`:
-    // the repair phase and total_violation need the violation only, and the exp / asin of the energy are most of
-    // the cost).
     // A real corner's energy term exp(-kSharpness angle) + exp(-kSharpness (pi - angle)), the second computed as
     // exp(-kSharpness pi) / the first: one exp call instead of two, the same value up to a few ulps (the partitions of
     // every measured input are the same bits as with two calls: docs/performance.md, "Twelfth pass").
@@ -1136,6 +1133,9 @@ struct Relaxer {
         return e + far / e;
     }
 
+    // violation >= 0 (0 when the quad is valid with the margins above) and energy of quad q (0 unless `energy_too`:
+    // the repair phase and total_violation need the violation only, and the exp / asin of the energy are most of
+    // the cost).
     std::pair<double, double> quad_terms(int q, bool energy_too = true) const {
         const std::array<int, 4>& quad = p.quads[q];
         double violation = 0, energy = 0;
