@@ -50,7 +50,7 @@ struct SpherePartitionOptions {
     // Three directions with exact_three_orange: the solver starts from up to 3 of the 8 best axes of a coarse scan (60
     // Fibonacci axes, about 0.3 rad apart, and the same extra axes), each more than 0.5 rad from every better one
     // (so in distinct basins), instead of the 3 best of 400 axes (often neighbours in one basin): the scan costs about
-    // half, and the starts reach the 400-axis starts' maximum or a higher one (docs/performance.md, "Twelfth pass").
+    // half, and the starts reach a higher maximum about as often as a lower one (docs/performance.md, "Twelfth pass").
     // false: the 400-axis scan's 3 best axes.
     bool coarse_three_scan = true;
     // true: in the long relaxations' pattern moves (gradient_long_relaxation off) each real vertex tries the 8
