@@ -1155,6 +1155,8 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
         po.exact_three_orange = options.exact_three_orange;
         po.shared_hull_relaxation = options.shared_hull_relaxation;
         po.gradient_long_relaxation = options.gradient_long_relaxation;
+        po.coarse_three_scan = options.coarse_three_scan;
+        po.first_improving_long_relaxation = options.first_improving_long_relaxation;
         // Three branch edges, no leaflet side: with degree_three_partition_by_chunks both candidates below; else, at a
         // gap over 180 degrees, the orange around the best-fit plane's normal (a tolerance of 1 takes
         // partition_sphere's planar path for any three directions), see plane_orange_at_degree_three.
@@ -1392,7 +1394,9 @@ void build_bridge_surfaces(const SurfaceInputs& in, const std::vector<char>& at_
     const SpherePartitionOptions po{.planarity_tolerance = in.options.planarity_tolerance,
                                     .exact_three_orange = in.options.exact_three_orange,
                                     .shared_hull_relaxation = in.options.shared_hull_relaxation,
-                                    .gradient_long_relaxation = in.options.gradient_long_relaxation};
+                                    .gradient_long_relaxation = in.options.gradient_long_relaxation,
+                                    .coarse_three_scan = in.options.coarse_three_scan,
+                                    .first_improving_long_relaxation = in.options.first_improving_long_relaxation};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -1460,7 +1464,8 @@ bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o)
            m.degree_three_chunks_next_to_branching_points == o.degree_three_chunks_next_to_branching_points &&
            m.degree_three_chunks_at_bridges == o.degree_three_chunks_at_bridges &&
            m.exact_three_orange == o.exact_three_orange && m.shared_hull_relaxation == o.shared_hull_relaxation &&
-           m.gradient_long_relaxation == o.gradient_long_relaxation;
+           m.gradient_long_relaxation == o.gradient_long_relaxation && m.coarse_three_scan == o.coarse_three_scan &&
+           m.first_improving_long_relaxation == o.first_improving_long_relaxation;
 }
 
 // FNV-1a (64 bits) of the key's bytes.
@@ -1529,6 +1534,8 @@ SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::ve
     m.exact_three_orange = options.exact_three_orange;
     m.shared_hull_relaxation = options.shared_hull_relaxation;
     m.gradient_long_relaxation = options.gradient_long_relaxation;
+    m.coarse_three_scan = options.coarse_three_scan;
+    m.first_improving_long_relaxation = options.first_improving_long_relaxation;
     std::vector<std::pair<std::uint64_t, int>> order;
     for (int v = 0; v < static_cast<int>(keys.size()); ++v)
         if (!keys[v].empty()) order.push_back({memo_hash(keys[v]), v});

@@ -104,6 +104,12 @@ struct ConnectionSurfaceOptions {
     // relaxations move each real vertex along its local energy gradient (at most 20 sweeps) instead of the
     // 8-direction pattern (at most 100); off by default (the finished random set loses 2 of its 11 changed seeds).
     bool gradient_long_relaxation = false;
+    // Passed to partition_sphere (SpherePartitionOptions::coarse_three_scan): the three-direction solver starts from
+    // distinct axes of a 60-axis scan instead of the 400-axis scan's 3 best.
+    bool coarse_three_scan = true;
+    // Passed to partition_sphere (SpherePartitionOptions::first_improving_long_relaxation): the long relaxations'
+    // pattern takes a vertex's first better trial, starting with its last direction; off (measured, raw meshes worse).
+    bool first_improving_long_relaxation = false;
     // 8-hex compatible blocks at branching points whose branch directions are near a cube's face normals
     // (find_compatible_blocks) and 4-hex fan blocks along T / X fan chains (find_fan_blocks, same tolerances);
     // blocks.enabled = false keeps the paper's layout (`--no-blocks`).
@@ -115,7 +121,8 @@ struct ConnectionSurfaceOptions {
 // (unit(w - v) for its branch edges in increasing edge id, in that order) and of the options read by its partition
 // (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three,
 // no_flat_point_in_close_pair, degree_three_partition_by_chunks, degree_three_chunks_next_to_branching_points,
-// degree_three_chunks_at_bridges, exact_three_orange, shared_hull_relaxation, gradient_long_relaxation; a point
+// degree_three_chunks_at_bridges, exact_three_orange, shared_hull_relaxation, gradient_long_relaxation,
+// coarse_three_scan, first_improving_long_relaxation; a point
 // whose partition may read its neighbours' positions, radii and partitions, a degree-3 point chosen by its chunks (at
 // a bridge too) or a degree-4 point under no_flat_point_in_close_pair, is not memo-able): an entry keyed on the exact
 // bits of those directions is reused whatever the vertex's number, so an edit that renumbers the skeleton
@@ -143,6 +150,8 @@ struct SurfaceMemo {
     bool exact_three_orange = false;
     bool shared_hull_relaxation = false;
     bool gradient_long_relaxation = false;
+    bool coarse_three_scan = false;
+    bool first_improving_long_relaxation = false;
     std::vector<Entry> entries;                        // one per distinct key
     std::vector<std::pair<std::uint64_t, int>> index;  // (hash of the key, entry), sorted
     int hits = 0;                                      // surfaces the last rebuild took from the memo it was given

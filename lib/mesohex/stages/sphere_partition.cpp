@@ -427,20 +427,29 @@ ScanAxis scan_axis(const Vec3& axis) {
     return {axis, u, cross(axis, u)};
 }
 
-// 400 roughly uniform axes (Fibonacci points on the upper hemisphere; -axis is the same orange) with their frames:
-// the same for every partition, so computed once (an immutable table; thread-safe initialisation).
+// `count` roughly uniform axes (Fibonacci points on the upper hemisphere; -axis is the same orange) with their frames.
+std::vector<ScanAxis> make_fibonacci_axes(int count) {
+    std::vector<ScanAxis> axes;
+    const double golden = kPi * (3 - std::sqrt(5.0));
+    for (int k = 0; k < count; ++k) {
+        const double z = 1 - (k + 0.5) / count;
+        const double r = std::sqrt(std::max(0.0, 1 - z * z));
+        axes.push_back(scan_axis(Vec3{r * std::cos(golden * k), r * std::sin(golden * k), z}));
+    }
+    return axes;
+}
+
+// The scan's 400 Fibonacci axes: the same for every partition, so computed once (an immutable table; thread-safe
+// initialisation).
 const std::vector<ScanAxis>& fibonacci_axes() {
-    static const std::vector<ScanAxis> table = [] {
-        std::vector<ScanAxis> axes;
-        const int count = 400;
-        const double golden = kPi * (3 - std::sqrt(5.0));
-        for (int k = 0; k < count; ++k) {
-            const double z = 1 - (k + 0.5) / count;
-            const double r = std::sqrt(std::max(0.0, 1 - z * z));
-            axes.push_back(scan_axis(Vec3{r * std::cos(golden * k), r * std::sin(golden * k), z}));
-        }
-        return axes;
-    }();
+    static const std::vector<ScanAxis> table = make_fibonacci_axes(400);
+    return table;
+}
+
+// The coarse scan of three directions (SpherePartitionOptions::coarse_three_scan): 60 Fibonacci axes, about 0.3 rad
+// apart (the hemisphere's 2 pi sr / 60 is a cell of 0.32 rad), once.
+const std::vector<ScanAxis>& coarse_fibonacci_axes() {
+    static const std::vector<ScanAxis> table = make_fibonacci_axes(60);
     return table;
 }
 
@@ -467,25 +476,26 @@ std::vector<ScanAxis> extra_candidate_axes(const std::vector<Vec3>& d) {
     return axes;
 }
 
-// The three best candidate axes by (quality, index), as a sort of every valid axis would rank them (fewer when fewer
-// are valid).
-std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& eval) {
-    const std::vector<ScanAxis>& fib = fibonacci_axes();
+// The `keep` (at most 8) best candidate axes by (quality, index), best first, as a sort of every valid axis would rank
+// them (fewer when fewer are valid); the candidates are the extra axes and the Fibonacci table `fib`.
+std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& eval,
+                                 const std::vector<ScanAxis>& fib = fibonacci_axes(), int keep = 3) {
     const std::vector<ScanAxis> extra = extra_candidate_axes(d);
     const int nf = static_cast<int>(fib.size());
     const auto axis_at = [&](int a) -> const ScanAxis& {
         return a == 0 ? extra[0] : a <= nf ? fib[a - 1] : extra[a - nf];
     };
-    std::array<std::pair<double, int>, 3> top;  // (-quality, axis), ascending
+    std::array<std::pair<double, int>, 8> top;  // (-quality, axis), ascending
+    keep = std::clamp(keep, 1, 8);
     int top_count = 0;
     const int count = nf + static_cast<int>(extra.size());
     for (int a = 0; a < count; ++a) {
         const ScanAxis& axis = axis_at(a);
-        const double threshold = top_count == 3 ? -top[2].first : -1e300;
+        const double threshold = top_count == keep ? -top[keep - 1].first : -1e300;
         bool valid = false;
         const double q = eval.quality(axis.axis, axis.u, axis.w, threshold, valid);
         if (!(q > threshold) || !valid) continue;
-        int k = top_count < 3 ? top_count++ : 2;
+        int k = top_count < keep ? top_count++ : keep - 1;
         top[k] = {-q, a};
         for (; k > 0 && top[k] < top[k - 1]; --k) std::swap(top[k], top[k - 1]);
     }
@@ -494,25 +504,43 @@ std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& ev
     return best;
 }
 
+// The coarse scan's solver starts: of the ranked axes, each one more than 0.5 rad (as lines: an axis and its negative
+// are one orange) from every better-ranked start, at most 3. Axes closer than that lie in one cell or neighbouring cells
+// of the 60-axis scan, where the solver climbs to the same maximum; distinct starts reach more maxima.
+std::vector<Vec3> distinct_starts(const std::vector<Vec3>& ranked) {
+    const double cos_min = std::cos(0.5);
+    std::vector<Vec3> starts;
+    for (const Vec3& a : ranked) {
+        bool near = false;
+        for (const Vec3& s : starts) near = near || std::abs(dot(a, s)) > cos_min;
+        if (!near) starts.push_back(a);
+        if (starts.size() == 3) break;
+    }
+    return starts;
+}
+
 // The margin weight of the three-direction orange's axis (orange_three.h): a margin ratio of 1 counts as 60 degrees,
 // the most a width term can be for three directions, instead of quality_score's 90 degrees (with which the maximum
 // trades margins for width: docs/performance.md, "Seventh pass").
 constexpr double kThreeMarginWeight = kPi / 3;
 
 // The three-direction solver's axis (orange_three.h) from the best scan axes; its score <= 0 when no start is valid.
-OrangeAxisThree exact_three_axis(const std::vector<Vec3>& d, const std::vector<double>& bound, OrangeEvaluator& eval) {
-    return best_orange_axis_three({d[0], d[1], d[2]}, {bound[0], bound[1], bound[2]}, kThreeMarginWeight,
-                                  best_scan_axes(d, eval));
+// With `coarse` (SpherePartitionOptions::coarse_three_scan) the starts are distinct_starts of the coarse scan's 8 best.
+OrangeAxisThree exact_three_axis(const std::vector<Vec3>& d, const std::vector<double>& bound, OrangeEvaluator& eval,
+                                 bool coarse) {
+    return best_orange_axis_three(
+        {d[0], d[1], d[2]}, {bound[0], bound[1], bound[2]}, kThreeMarginWeight,
+        coarse ? distinct_starts(best_scan_axes(d, eval, coarse_fibonacci_axes(), 8)) : best_scan_axes(d, eval));
 }
 
-// Oranges around the best axes: for three directions with exact_three, the one around the solver's axis; else around
-// the three best candidate axes, each refined by local search.
-std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d, bool exact_three) {
+// Oranges around the best axes: for three directions with exact_three, the one around the solver's axis (its starts
+// from the coarse scan with coarse_three); else around the three best candidate axes, each refined by local search.
+std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d, bool exact_three, bool coarse_three) {
     const std::vector<double> bound = margin_bounds(d);
     OrangeEvaluator eval(d, bound);
     std::vector<SpherePartition> oranges;
     if (exact_three && d.size() == 3) {
-        const OrangeAxisThree best = exact_three_axis(d, bound, eval);
+        const OrangeAxisThree best = exact_three_axis(d, bound, eval, coarse_three);
         if (best.score > 0) {
             const OrangeFrame frame = orange_frame(d, best.axis);
             if (orange_margin(frame) > 0) oranges.push_back(build_orange(frame));
@@ -1015,6 +1043,10 @@ struct Relaxer {
     std::vector<double> bound;
     std::vector<double> trial_energy, best_energy;  // scratch of descend (per quad around the moved vertex)
     bool gradient_steps = false;  // energy phase: moves along the local gradient (gradient_move), not 8 directions
+    // Energy phase (pattern): the 8 trials of a vertex start at the direction it moved in last and stop at the first
+    // accepted one (SpherePartitionOptions::first_improving_long_relaxation), not the best of 8.
+    bool first_improving = false;
+    std::vector<int> last_dir;  // per vertex: the trial direction accepted last (first_improving)
     // The terms of the quads around the vertex being moved that a move of it cannot change (fix_terms): per quad of
     // quads_of[v] and corner k, its corner term and the term of its side k -> k + 1, with whether each is kept
     // (fixed_corner_kept / fixed_side_kept; a corner of valence 2 has no term and is never kept).
@@ -1092,6 +1124,15 @@ struct Relaxer {
         return true;
     }
 
+    // A real corner's energy term exp(-kSharpness angle) + exp(-kSharpness (pi - angle)), the second computed as
+    // exp(-kSharpness pi) / the first: one exp call instead of two, the same value up to a few ulps (the partitions of
+    // every measured input are the same bits as with two calls: docs/performance.md, "Twelfth pass").
+    double corner_energy(double angle) const {
+        static const double far = std::exp(-kSharpness * kPi);
+        const double e = std::exp(-kSharpness * angle);
+        return e + far / e;
+    }
+
     // violation >= 0 (0 when the quad is valid with the margins above) and energy of quad q (0 unless `energy_too`:
     // the repair phase and total_violation need the violation only, and the exp / asin of the energy are most of
     // the cost).
@@ -1106,7 +1147,7 @@ struct Relaxer {
                 double angle = corner_angle(p.points[quad[(k + 3) % 4]], b, c);
                 if (angle < 0) angle = 0;
                 violation += std::max(0.0, kMinCorner - angle) + std::max(0.0, angle - (kPi - kMinCorner));
-                if (energy_too) energy += std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+                if (energy_too) energy += corner_energy(angle);
             }
             const Vec3 nrm = cross(b, c);
             const double len = norm(nrm);
@@ -1134,7 +1175,7 @@ struct Relaxer {
         double angle = corner_angle(p.points[quad[(k + 3) % 4]], p.points[quad[k]], p.points[quad[(k + 1) % 4]]);
         if (angle < 0) angle = 0;
         if (kMinCorner - angle > 0 || angle - (kPi - kMinCorner) > 0) return false;
-        term = std::exp(-kSharpness * angle) + std::exp(-kSharpness * (kPi - angle));
+        term = corner_energy(angle);
         return true;
     }
 
@@ -1310,7 +1351,11 @@ struct Relaxer {
                 if (!repair) fix_terms(v);
                 double best_score = repair ? x0 : e0;
                 Vec3 best_pos = origin;
-                for (int k = 0; k < (gradient_steps && !repair ? 0 : 8); ++k) {
+                const bool first = first_improving && !repair;
+                if (first && last_dir.empty()) last_dir.assign(nv, 0);
+                for (int j = 0; j < (gradient_steps && !repair ? 0 : 8); ++j) {
+                    const int k = first ? (last_dir[v] + j) % 8 : j;
+                    if (first && !(best_pos == origin)) break;
                     p.points[v] = normalized(origin + step[v] * (trial_cos()[k] * t1 + trial_sin()[k] * t2));
                     if (!place_chains(v)) continue;
                     const double threshold = best_score - 1e-6 * best_score - 1e-12;
@@ -1326,6 +1371,7 @@ struct Relaxer {
                             best_score = e;
                             best_pos = p.points[v];
                             best_energy.assign(trial_energy.begin(), trial_energy.end());
+                            if (first) last_dir[v] = k;
                         }
                     }
                 }
@@ -1518,13 +1564,14 @@ std::vector<char> relax_hull_candidates_briefly(const std::vector<Vec3>& d, std:
     return long_relaxations(ranked, relaxable, rep, shared);
 }
 
-// The long relaxation of a briefly relaxed hull candidate: it reads only the candidate itself. `gradient`
-// (SpherePartitionOptions::gradient_long_relaxation): at most 20 sweeps of gradient moves, else at most 100 sweeps of
-// the 8-direction pattern.
-void relax_hull_candidate_long(const std::vector<Vec3>& d, SpherePartition& p, bool gradient) {
+// The long relaxation of a briefly relaxed hull candidate: it reads only the candidate itself. With
+// SpherePartitionOptions::gradient_long_relaxation at most 20 sweeps of gradient moves, else at most 100 sweeps of
+// the 8-direction pattern (first_improving_long_relaxation: the first better trial taken).
+void relax_hull_candidate_long(const std::vector<Vec3>& d, SpherePartition& p, const SpherePartitionOptions& options) {
     Relaxer r(d, p);
-    r.gradient_steps = gradient;
-    if (r.find_chains() && r.place_chains()) r.descend(false, gradient ? 20 : 100);
+    r.gradient_steps = options.gradient_long_relaxation;
+    r.first_improving = options.first_improving_long_relaxation;
+    if (r.find_chains() && r.place_chains()) r.descend(false, r.gradient_steps ? 20 : 100);
 }
 
 // What partition_sphere computes that does not depend on no_flat_point_in_close_pair, kept for a second call with the
@@ -1790,10 +1837,10 @@ namespace {
 void finish_hull_candidates(const std::vector<Vec3>& d, double beat, const std::array<int, 2>& pair,
                             const std::vector<SpherePartition>& planar, const std::vector<double>& planar_scores,
                             const std::vector<SpherePartition>& oranges, const std::vector<double>& orange_scores,
-                            bool gradient, PartitionWork& work) {
+                            const SpherePartitionOptions& options, PartitionWork& work) {
     std::vector<SpherePartition>& hull = work.hull_candidates;
     const auto finish = [&](std::size_t c) {
-        relax_hull_candidate_long(d, hull[c], gradient);
+        relax_hull_candidate_long(d, hull[c], options);
         work.long_pending[c] = 0;
     };
     for (std::size_t c = 0; c < hull.size(); ++c)
@@ -1852,7 +1899,7 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     };
     // 2. Oranges around the best axes.
     if (!work.have_oranges) {
-        work.oranges = axis_oranges(d, options.exact_three_orange);
+        work.oranges = axis_oranges(d, options.exact_three_orange, options.coarse_three_scan);
         work.orange_scores = scores_of(work.oranges);
         work.have_oranges = true;
     }
@@ -1865,8 +1912,7 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     // 3. Hull -> 4-regular map -> dual -> relaxation (skipped when its topologies cannot beat the oranges).
     if (!(n == 3 && three_hull_below(d, beat)) &&
         hull_candidates(d, pair[0] >= 0 ? -1e300 : beat, options.shared_hull_relaxation, work)) {
-        finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores,
-                               options.gradient_long_relaxation, work);
+        finish_hull_candidates(d, beat, pair, planar, planar_scores, oranges, orange_scores, options, work);
         hull = work.hull_candidates;
     }
     const std::vector<double> hull_scores = scores_of(hull);
@@ -1959,10 +2005,10 @@ std::vector<Vec3> scanned_orange_axes(const std::vector<Vec3>& directions) {
     return best_scan_axes(directions, eval);
 }
 
-Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions) {
+Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions, bool coarse_scan) {
     const std::vector<double> bound = margin_bounds(directions);
     OrangeEvaluator eval(directions, bound);
-    return exact_three_axis(directions, bound, eval).axis;
+    return exact_three_axis(directions, bound, eval, coarse_scan).axis;
 }
 
 bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold) {

@@ -47,6 +47,17 @@ struct SpherePartitionOptions {
     // but the finished random set loses 2 of the 11 seeds whose raw meshes change (docs/performance.md, "Tenth
     // pass"), so off by default. false: the 8-direction pattern, as in the brief relaxations.
     bool gradient_long_relaxation = false;
+    // Three directions with exact_three_orange: the solver starts from up to 3 of the 8 best axes of a coarse scan (60
+    // Fibonacci axes, about 0.3 rad apart, and the same extra axes), each more than 0.5 rad from every better one
+    // (so in distinct basins), instead of the 3 best of 400 axes (often neighbours in one basin): the scan costs about
+    // half, and the starts reach a higher maximum about as often as a lower one (docs/performance.md, "Twelfth pass").
+    // false: the 400-axis scan's 3 best axes.
+    bool coarse_three_scan = true;
+    // true: in the long relaxations' pattern moves (gradient_long_relaxation off) each real vertex tries the 8
+    // directions starting with the one it moved in last and takes the first trial that lowers the energy (not the
+    // best of the 8): a third fewer instructions on branchy trees, but the raw meshes of the random set lose more than
+    // they gain (docs/performance.md, "Twelfth pass"), so off. false: the best of the 8 trials.
+    bool first_improving_long_relaxation = false;
 };
 
 // Preconditions: n >= 2 pairwise distinct directions, in any configuration (antipodal pairs, clusters, coplanar or
@@ -108,11 +119,13 @@ namespace detail {
 double orange_quality_exact(const std::vector<Vec3>& directions, const Vec3& axis);
 bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold);
 // For `directions` (n >= 3): the three best scan axes (the searches' starts), the pattern search's axes (each of
-// them refined), and (n = 3) the axis of the three-direction solver that exact_three_orange uses (unit; the zero vector
-// when no scan axis gives a valid orange, so the solver has no start).
+// them refined), and (n = 3) the axis of the three-direction solver that exact_three_orange uses with coarse_scan
+// (SpherePartitionOptions::coarse_three_scan) (unit; the zero vector when no scan axis gives a valid orange, so the
+// solver has no start).
 std::vector<Vec3> scanned_orange_axes(const std::vector<Vec3>& directions);
 std::vector<Vec3> searched_orange_axes(const std::vector<Vec3>& directions);
-Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions);
+Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions,
+                             bool coarse_scan = SpherePartitionOptions{}.coarse_three_scan);
 }  // namespace detail
 
 }  // namespace mesohex
