@@ -12,21 +12,24 @@ namespace mesohex {
 
 namespace {
 
-// Whether x lies in the union of the balls swept along the cone (radius linear in the arc parameter s): the
-// largest r(s) - |x - p(s)| over s in [0, 1] is attained at s* = (z - k rho / sqrt(1 - k^2)) / L with
-// k = (ra - rb) / L (z, rho: x's axial and radial coordinates), clamped (the function is concave in s).
-bool inside_cone(const RoundCone& k, const Vec3& x) {
+// The depth of x in the union of the balls swept along the cone (radius linear in the arc parameter s): the
+// largest r(s) - |x - p(s)| over s in [0, 1], attained at s* = (z - k rho / sqrt(1 - k^2)) / L with
+// k = (ra - rb) / L (z, rho: x's axial and radial coordinates), clamped (the function is concave in s); x is inside
+// when it is >= 0. A cone with |rb - ra| >= L is the larger of its end balls.
+double cone_depth(const RoundCone& k, const Vec3& x) {
     const Vec3 ab = k.b - k.a;
     const double len = norm(ab);
     const double dr = k.rb - k.ra;
-    if (len < 1e-300 || std::abs(dr) >= len) return distance(x, k.a) <= k.ra || distance(x, k.b) <= k.rb;
+    if (len < 1e-300 || std::abs(dr) >= len) return std::max(k.ra - distance(x, k.a), k.rb - distance(x, k.b));
     const Vec3 u = ab / len;
     const double z = dot(x - k.a, u);
     const double rho = norm(x - k.a - z * u);
     const double slope = -dr / len;
     const double s = std::clamp((z - slope * rho / std::sqrt(1 - slope * slope)) / len, 0.0, 1.0);
-    return distance(x, k.a + s * ab) <= k.ra + s * dr;
+    return k.ra + s * dr - distance(x, k.a + s * ab);
 }
+
+bool inside_cone(const RoundCone& k, const Vec3& x) { return cone_depth(k, x) >= 0; }
 
 bool inside_union(const std::vector<RoundCone>& cones, const Vec3& x) {
     return std::any_of(cones.begin(), cones.end(), [&](const RoundCone& k) { return inside_cone(k, x); });
@@ -279,6 +282,34 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
     }
 }
 
+std::vector<char> bulged_bridge_ends(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
+                                     double ratio) {
+    std::vector<RoundCone> cones;
+    for (const std::array<int, 2>& e : domain.edges)
+        cones.push_back({domain.points[e[0]], domain.points[e[1]], domain.radii[e[0]], domain.radii[e[1]]});
+    std::vector<char> ends(skeleton.points.size(), 0);
+    constexpr int kSamples = 16;
+    for (int e = 0; e < static_cast<int>(skeleton.edges.size()); ++e) {
+        const int c = skeleton.edges[e][0], u = skeleton.edges[e][1];
+        if (an.edge_degree[e] != 0 || c == u || an.vertex_class[c] != VertexClass::BranchingPoint ||
+            an.vertex_class[u] != VertexClass::BranchingPoint)
+            continue;
+        bool bulged = false;
+        for (int i = 1; i < kSamples && !bulged; ++i) {
+            const double s = static_cast<double>(i) / kSamples;
+            const Vec3 p = skeleton.points[c] + s * (skeleton.points[u] - skeleton.points[c]);
+            const double interpolated = skeleton.radii[c] + s * (skeleton.radii[u] - skeleton.radii[c]);
+            for (const RoundCone& k : cones)
+                if (cone_depth(k, p) >= ratio * interpolated) {
+                    bulged = true;
+                    break;
+                }
+        }
+        if (bulged) ends[static_cast<std::size_t>(c)] = ends[static_cast<std::size_t>(u)] = 1;
+    }
+    return ends;
+}
+
 int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
                     const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
                     const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
@@ -288,10 +319,14 @@ int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const Skel
     // Per raw vertex: its shortest boundary edge, every point still on its sphere (JunctionCoverOptions::inset).
     std::vector<double> shortest_edge;
     if (options.inset > 0) shortest_edge = shortest_boundary_edges(hexes, points);
+    const bool bridges_only = options.bridge_bulge > 0;
+    std::vector<char> bridge_end;
+    if (bridges_only) bridge_end = bulged_bridge_ends(skeleton, domain, an, options.bridge_bulge);
     int moved = 0;
     const int nv = static_cast<int>(skeleton.points.size());
     for (int c = 0; c < nv; ++c)
-        if (coverable(skeleton, an, cs, vertex_base, options, c))
+        if ((!bridges_only || bridge_end[static_cast<std::size_t>(c)]) &&
+            coverable(skeleton, an, cs, vertex_base, options, c))
             moved += cover_junction(skeleton, domain, an, cs, frames, radius, vertex_base, edge_hex, hexes, points,
                                     shortest_edge, options, c);
     return moved;
