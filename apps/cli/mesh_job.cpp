@@ -228,13 +228,6 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "radius peak held on its bridge\")")
         ->check(finite_range(0.0, 100.0))
         ->capture_default_str();
-    cmd->add_option("--bridge-one-chunk", job->options.pipeline.adaptation.bridge_one_chunk,
-                    "A branch between two branching points with an input vertex this many times as fat as the ends' "
-                    "interpolated radius keeps no joint (one chunk from junction to junction; with "
-                    "--junction-cover-bulge its two ends are placed from the bridge's balls) (0 = off, the default; "
-                    "docs/junctions.md, \"Bulged bridges covered from both ends\")")
-        ->check(finite_range(0.0, 100.0))
-        ->capture_default_str();
     cmd->add_option("--keep-cut-joint", job->options.pipeline.adaptation.keep_cut_joint,
                     "Keep a joint next to a branching point or leaflet vertex that the section criterion would remove "
                     "when the edge replacing it misses its ball by at least this fraction of its radius, with its "

@@ -831,27 +831,22 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
     }
 }
 
-// On a bridge bi (both ends free branching points), the arc length of the interior input vertex with the largest
-// ratio of its radius to the end radii's linear interpolation at its arc length, when that ratio is at least `ratio`;
-// -1 otherwise (ratio 0, no interior vertex, a ring or a loop). bridge_peak_arc: AdaptationOptions::bridge_peak_ratio's
-// peak; AdaptationOptions::bridge_one_chunk: a bridge with such a peak keeps no joint.
-double bridge_peak_at(const BranchView& view, std::size_t bi, double ratio) {
+// AdaptationOptions::bridge_peak_ratio: on a bridge bi (both ends free branching points), the arc length of the
+// interior input vertex with the largest ratio of its radius to the end radii's linear interpolation at its arc
+// length, when that ratio is at least bridge_peak_ratio; -1 otherwise (off, no interior vertex, a ring or a loop).
+double bridge_peak_arc(const BranchView& view, std::size_t bi, const AdaptationOptions& o) {
     const Branch& b = view.branches[bi];
     const Polyline& pl = view.polylines[bi];
-    if (!(ratio > 0) || b.ring || b.vertices.front() == b.vertices.back()) return -1;
+    if (!(o.bridge_peak_ratio > 0) || b.ring || b.vertices.front() == b.vertices.back()) return -1;
     if (!view.is_free_branching_point(b.vertices.front()) || !view.is_free_branching_point(b.vertices.back()))
         return -1;
-    double best = -1, best_ratio = ratio;
+    double best = -1, best_ratio = o.bridge_peak_ratio;
     for (std::size_t k = 1; k + 1 < pl.x.size(); ++k) {
         if (!(pl.s[k] > 0 && pl.s[k] < pl.length())) continue;
         const double r_line = pl.r.front() + (pl.r.back() - pl.r.front()) * pl.s[k] / pl.length();
         if (pl.r[k] >= best_ratio * r_line) best = pl.s[k], best_ratio = pl.r[k] / r_line;
     }
     return best;
-}
-
-double bridge_peak_arc(const BranchView& view, std::size_t bi, const AdaptationOptions& o) {
-    return bridge_peak_at(view, bi, o.bridge_peak_ratio);
 }
 
 // Samples branch bi with its ends at positions xa, xb: the joints' arc parameters after bisection, smoothing and the
@@ -1056,10 +1051,8 @@ void write_resampled_branches(const BranchView& view, Collapses& col, const std:
         int min_edges = (b.ring || a == c) ? 3 : 1;
         if (min_edges == 1 && single_edge_links.count(std::minmax(a, c))) min_edges = 2;
         std::vector<double> kept_r;
-        const bool one_chunk = min_edges == 1 && bridge_peak_at(view, bi, o.bridge_one_chunk) > 0;
-        std::vector<double> t = one_chunk ? std::vector<double>{}
-                                          : resample(view, bi, min_edges, out.points[a], out.points[c], o,
-                                                     &result.turn_removed_joints, &kept_r);
+        std::vector<double> t =
+            resample(view, bi, min_edges, out.points[a], out.points[c], o, &result.turn_removed_joints, &kept_r);
         if (t.empty()) single_edge_links.insert(std::minmax(a, c));
         int prev = a;
         for (std::size_t k = 0; k < t.size(); ++k) {

@@ -64,15 +64,6 @@ struct AdaptationOptions {
     // points) is otherwise stepped over. Dimensionless (a radius ratio); 0 disables (docs/junctions.md, "A radius
     // peak held on its bridge").
     double bridge_peak_ratio = 0.0;
-    // A bridge (both ends free branching points, no leaflet) whose interior input vertex has a radius of at least
-    // bridge_one_chunk x the end radii's linear interpolation at its arc length (bridge_peak_ratio's measure) keeps
-    // no joint: it becomes one edge, one chunk of 4 hexes running from one junction's bridge quad straight to the
-    // other's, so that no section between the junctions is pinched by the raw mesh's margin limit (a joint at
-    // distance L from a junction is meshed at most L sin(0.75 m) wide, m its margin in the junction's quad). With
-    // JunctionCoverOptions::bridge_bulge the two junctions' surface points are then placed from the union of the
-    // bridge's balls, so that the chunk spans the bulge (docs/junctions.md, "Bulged bridges covered from both ends").
-    // Dimensionless (a radius ratio); 0 disables. Takes precedence over bridge_peak_ratio.
-    double bridge_one_chunk = 0.0;
     // A branch rooted on a leaflet's plates (inside the leaflet where 4 faces meet, or on its border: border_root in
     // skeleton_analysis.h) stands on a patch of faces about one leaflet edge wide: its end also reaches root_extent x
     // the mean length of the leaflet edges at the vertex (dimensionless), so the first cross-section clears the patch
