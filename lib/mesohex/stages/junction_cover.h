@@ -50,11 +50,11 @@ struct JunctionCoverOptions {
     // middle faces the crotch, where the domain reaches farthest (docs/junctions.md, "Dino's hip and knight's v9
     // traced through the stages"). false: the end points move (the rule above).
     bool crease_midpoints = false;
-    // Bulged bridges (issue 16 item 5): > 0 restricts the cover to the two ends of every bridge (a branch edge
-    // between two branching points) along which the domain bulges: some point p of the bridge's segment, at arc
-    // fraction s = 1/16, 2/16, ..., 15/16 from c to u, lies at depth (the largest r(t) - |p - x(t)| over the domain's
-    // round cones, the radius of the largest ball around p inside their union) of at least bridge_bulge x the ends'
-    // radii interpolated there (r_c + s (r_u - r_c), the meshed skeleton's radii). Both ends of such a bridge get their
+    // Bulged bridges (issue 16 item 5): > 0 restricts the cover to the two ends of every bridge (a branch edge between
+    // two branching points) along which the domain bulges: some point p of the bridge's segment, at arc fraction s =
+    // 1/16, 2/16, ..., 15/16 from c to u, lies at depth (the largest r(t) - dist(p, x(t)) over the domain's round
+    // cones, the radius of the largest ball around p inside their union) of at least bridge_bulge x the ends' radii
+    // interpolated there (r_c + s (r_u - r_c), the meshed skeleton's radii). Both ends of such a bridge get their
     // points placed from the union of the bridge's balls (fraction, inset, guard as above; in vertex order, each end's
     // guard reading the other's current points), so the bridge's chunk, which runs from one end's quad straight to the
     // other's, spans the bulge instead of the ends' spheres (docs/junctions.md, "Bulged bridges covered from both
