@@ -1616,8 +1616,8 @@ TEST(RawMeshLeaflets, CreaseCopiesOnTheConcaveSideStopBeforeTheyPassEachOther) {
 // (the bulged depth elsewhere on the segment is below P's: A - P is a round cone from 0.1 to 0.25 whose depth on its
 // axis is its radius there). On paper the raw mesh has 5 branch edges x 4 hexes = 20 hexes, the prediction, whatever
 // the cover does (it only moves points), and is one ball (Euler characteristic 1). Covered from both ends, A's and B's
-// surface points move out along their rays, never beyond the ray's exit from the union (at most 0.25 + 0.25 from
-// A), with no hex below min(0.3, before); with the straight domain the option leaves the raw mesh exactly as the
+// surface points move out along their rays, never farther than the cover's march, (arc + 1) r = 0.4 from their
+// centre, with no hex below min(0.3, before); with the straight domain the option leaves the raw mesh exactly as the
 // cover off, while the cover of every junction (bridge_bulge 0) moves the points between the limbs.
 TEST(JunctionCover, BulgedBridgeIsCoveredFromBothEnds) {
     const double r = 0.1, a = 50 * std::numbers::pi / 180, arm = 0.5;
@@ -1667,7 +1667,7 @@ TEST(JunctionCover, BulgedBridgeIsCoveredFromBothEnds) {
         for (int x = 0; x < np; ++x) {
             const double d = distance(on.mesh.points[on.vertex_base[c] + 1 + x], s.points[c]);
             EXPECT_GE(d, r - 1e-12);
-            EXPECT_LE(d, 0.5 + 1e-9);
+            EXPECT_LE(d, (JunctionCoverOptions{}.arc + 1) * r + 1e-9);
             farthest = std::max(farthest, d);
         }
         EXPECT_GT(farthest, 1.5 * r);  // the bulge's ball reaches far past the end's sphere
