@@ -1611,7 +1611,8 @@ TEST(RawMeshLeaflets, CreaseCopiesOnTheConcaveSideStopBeforeTheyPassEachOther) {
 // each with two limbs of one edge (length 0.5, 50 degrees off the torso's outward direction, in the x-y plane), radius
 // 0.1 everywhere in the meshed skeleton. The domain skeleton has the bridge as A - P - B with P = (0.25, 0, 0):
 // radius r_P 0.25 (bulged) or 0.1 (straight). The bridge test samples p = A + s (B - A), s = 1/16 .. 15/16: at s = 1/2
-// the depth is P's radius, 0.25 = 2.5 x the ends' interpolated 0.1 (>= 1.5 x: A and B marked); in the straight domain
+// the depth is P's radius, 0.25 = 2.5 x the ends' interpolated 0.1 (>= 1.5 x: A and B marked, also when the meshed
+// bridge has a joint at P's place: the samples then run along its two edges, the same points); in the straight domain
 // no point of the segment is deeper than 0.1 (< 1.5 x 0.1: nothing marked), and nothing is marked at ratio 2.6 either
 // (the bulged depth elsewhere on the segment is below P's: A - P is a round cone from 0.1 to 0.25 whose depth on its
 // axis is its radius there). On paper the raw mesh has 5 branch edges x 4 hexes = 20 hexes, the prediction, whatever
@@ -1642,6 +1643,15 @@ TEST(JunctionCover, BulgedBridgeIsCoveredFromBothEnds) {
     EXPECT_EQ(bulged_bridge_ends(s, bulged, an, 1.5), (std::vector<char>{1, 1, 0, 0, 0, 0}));
     EXPECT_EQ(bulged_bridge_ends(s, bulged, an, 2.6), (std::vector<char>(6, 0)));
     EXPECT_EQ(bulged_bridge_ends(s, straight, an, 1.5), (std::vector<char>(6, 0)));
+    {  // the same bridge meshed with a joint J = (0.25, 0, 0) in the middle: a bridge of two edges, the same samples
+        Skeleton j = s;
+        j.points.push_back({0.25, 0, 0});
+        j.radii.push_back(r);
+        j.edges = {{0, 6}, {6, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
+        const SkeletonAnalysis aj = analyze_skeleton(j);
+        EXPECT_EQ(bulged_bridge_ends(j, bulged, aj, 1.5), (std::vector<char>{1, 1, 0, 0, 0, 0, 0}));
+        EXPECT_EQ(bulged_bridge_ends(j, straight, aj, 1.5), (std::vector<char>(7, 0)));
+    }
     ConnectionSurfaceOptions co;
     co.blocks.enabled = false;
     const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);

@@ -263,6 +263,45 @@ std::vector<double> shortest_boundary_edges(const std::vector<std::array<int, 8>
     return shortest;
 }
 
+// The bridge leaving branching point c by branch edge e: its vertices from c through joints to the next vertex that
+// is no joint, when that is another branching point; empty otherwise (an extremity, a leaflet, a loop back to c).
+std::vector<int> bridge_chain(const Skeleton& s, const SkeletonAnalysis& an, int c, int e) {
+    std::vector<int> chain{c};
+    int prev_edge = e, v = other_end(s, e, c);
+    while (an.edge_degree[prev_edge] == 0 && an.vertex_class[v] == VertexClass::Joint && v != c) {
+        chain.push_back(v);
+        const int a = an.vertex_edges[an.vertex_edge_begin[v]], b = an.vertex_edges[an.vertex_edge_begin[v] + 1];
+        prev_edge = a == prev_edge ? b : a;
+        v = other_end(s, prev_edge, v);
+    }
+    if (an.edge_degree[prev_edge] != 0 || v == c || an.vertex_class[v] != VertexClass::BranchingPoint) return {};
+    chain.push_back(v);
+    return chain;
+}
+
+// Whether some point of the chain's polyline at arc fraction 1/16 .. 15/16 lies at depth >= ratio x the chain ends'
+// radii interpolated at that fraction, in the union of the cones (JunctionCoverOptions::bridge_bulge).
+bool chain_bulges(const Skeleton& s, const std::vector<RoundCone>& cones, const std::vector<int>& chain, double ratio) {
+    std::vector<double> arc{0.0};
+    for (std::size_t k = 1; k < chain.size(); ++k)
+        arc.push_back(arc.back() + distance(s.points[chain[k - 1]], s.points[chain[k]]));
+    const double total = arc.back();
+    if (!(total > 0)) return false;
+    constexpr int kSamples = 16;
+    std::size_t k = 1;
+    for (int i = 1; i < kSamples; ++i) {
+        const double f = static_cast<double>(i) / kSamples, at = f * total;
+        while (k + 1 < arc.size() && arc[k] < at) ++k;
+        const double len = arc[k] - arc[k - 1];
+        const double t = len > 0 ? (at - arc[k - 1]) / len : 0.0;
+        const Vec3 p = s.points[chain[k - 1]] + t * (s.points[chain[k]] - s.points[chain[k - 1]]);
+        const double interpolated = s.radii[chain.front()] + f * (s.radii[chain.back()] - s.radii[chain.front()]);
+        for (const RoundCone& cone : cones)
+            if (cone_depth(cone, p) >= ratio * interpolated) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& d, double step, double t_max) {
@@ -288,24 +327,13 @@ std::vector<char> bulged_bridge_ends(const Skeleton& skeleton, const Skeleton& d
     for (const std::array<int, 2>& e : domain.edges)
         cones.push_back({domain.points[e[0]], domain.points[e[1]], domain.radii[e[0]], domain.radii[e[1]]});
     std::vector<char> ends(skeleton.points.size(), 0);
-    constexpr int kSamples = 16;
-    for (int e = 0; e < static_cast<int>(skeleton.edges.size()); ++e) {
-        const int c = skeleton.edges[e][0], u = skeleton.edges[e][1];
-        if (an.edge_degree[e] != 0 || c == u || an.vertex_class[c] != VertexClass::BranchingPoint ||
-            an.vertex_class[u] != VertexClass::BranchingPoint)
-            continue;
-        bool bulged = false;
-        for (int i = 1; i < kSamples && !bulged; ++i) {
-            const double s = static_cast<double>(i) / kSamples;
-            const Vec3 p = skeleton.points[c] + s * (skeleton.points[u] - skeleton.points[c]);
-            const double interpolated = skeleton.radii[c] + s * (skeleton.radii[u] - skeleton.radii[c]);
-            for (const RoundCone& k : cones)
-                if (cone_depth(k, p) >= ratio * interpolated) {
-                    bulged = true;
-                    break;
-                }
+    for (int c = 0; c < static_cast<int>(skeleton.points.size()); ++c) {
+        if (an.vertex_class[c] != VertexClass::BranchingPoint) continue;
+        for (int i = an.vertex_edge_begin[c]; i < an.vertex_edge_begin[c + 1]; ++i) {
+            const std::vector<int> chain = bridge_chain(skeleton, an, c, an.vertex_edges[i]);
+            if (chain.empty() || !chain_bulges(skeleton, cones, chain, ratio)) continue;
+            ends[static_cast<std::size_t>(c)] = ends[static_cast<std::size_t>(chain.back())] = 1;
         }
-        if (bulged) ends[static_cast<std::size_t>(c)] = ends[static_cast<std::size_t>(u)] = 1;
     }
     return ends;
 }
