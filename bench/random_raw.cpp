@@ -18,7 +18,7 @@
 //   FIRST_IMPROVING=0|1 its first_improving_long_relaxation, JUNCTION_COVER=F RawMeshOptions::
 //   cover.fraction (JUNCTION_INSET=F cover.inset, JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_CREASE_MID=0|1
 //   its crease_midpoints, JUNCTION_COVER_MIN_DEGREE and
-//   JUNCTION_COVER_FLOOR its min_degree and sj_floor), BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius
+//   JUNCTION_COVER_FLOOR its min_degree and sj_floor, JUNCTION_COVER_BULGE its bridge_bulge), BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius
 //   (BRIDGE_QUAD_INSET=F its bridge_quad_inset), FAN_CAP_BRANCHES=0|1 CompatibleBlockOptions::fan_cap_branches.
 //   The last three columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw
 //   mesh (compare two builds or option sets seed by seed to find the seeds a change touches).
@@ -109,6 +109,7 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_COVER")) po.raw_mesh.cover.fraction = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_COVER_MIN_DEGREE")) po.raw_mesh.cover.min_degree = std::atoi(k);
     if (const char* k = std::getenv("JUNCTION_COVER_FLOOR")) po.raw_mesh.cover.sj_floor = std::atof(k);
+    if (const char* k = std::getenv("JUNCTION_COVER_BULGE")) po.raw_mesh.cover.bridge_bulge = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_INSET")) po.raw_mesh.cover.inset = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_CREASE")) po.raw_mesh.cover.crease_deg = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_CREASE_MID")) po.raw_mesh.cover.crease_midpoints = std::atoi(k) != 0;

@@ -187,6 +187,13 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "before) (0 = off, the default: docs/junctions.md)")
         ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
+    cmd->add_option("--junction-cover-bulge", job->options.pipeline.raw_mesh.cover.bridge_bulge,
+                    "With --junction-cover: cover only the two ends of each bridge between branching points along "
+                    "which the input's balls reach this many times the ends' interpolated radius (a bulged torso), "
+                    "both ends from the union of the bridge's balls (0 = every junction, the default: "
+                    "docs/junctions.md, \"Bulged bridges covered from both ends\")")
+        ->check(finite_range(0.0, 100.0))
+        ->capture_default_str();
     cmd->add_option(
            "--docked-foot-split", job->options.pipeline.repair.docked_foot_split,
            "Split the plate's face strips beside a docked wall's chain (both sides) and beyond its inside ends at this "

@@ -1735,3 +1735,93 @@ TEST(RawMeshLeaflets, ThickCornerJointsOutPointsStopShortOfTheirNeighbours) {
         }
     EXPECT_EQ(compute_quality(joint.mesh).inverted, 0);
 }
+
+// A short bridge with a bulge (JunctionCoverOptions::bridge_bulge): branching points A = (0, 0, 0) and B = (0.5, 0, 0),
+// each with two limbs of one edge (length 0.5, 50 degrees off the torso's outward direction, in the x-y plane), radius
+// 0.1 everywhere in the meshed skeleton. The domain skeleton has the bridge as A - P - B with P = (0.25, 0, 0):
+// radius r_P 0.25 (bulged) or 0.1 (straight). The bridge test samples p = A + s (B - A), s = 1/16 .. 15/16: at s = 1/2
+// the depth is P's radius, 0.25 = 2.5 x the ends' interpolated 0.1 (>= 1.5 x: A and B marked, also when the meshed
+// bridge has a joint at P's place: the samples then run along its two edges, the same points); in the straight domain
+// no point of the segment is deeper than 0.1 (< 1.5 x 0.1: nothing marked), and nothing is marked at ratio 2.6 either
+// (the bulged depth elsewhere on the segment is below P's: A - P is a round cone from 0.1 to 0.25 whose depth on its
+// axis is its radius there). On paper the raw mesh has 5 branch edges x 4 hexes = 20 hexes, the prediction, whatever
+// the cover does (it only moves points), and is one ball (Euler characteristic 1). Covered from both ends, A's and B's
+// surface points move out along their rays, never farther than the cover's march, (arc + 1) r = 0.4 from their
+// centre, with no hex below min(0.3, before); with the straight domain the option leaves the raw mesh exactly as the
+// cover off, while the cover of every junction (bridge_bulge 0) moves the points between the limbs.
+TEST(JunctionCover, BulgedBridgeIsCoveredFromBothEnds) {
+    const double r = 0.1, a = 50 * std::numbers::pi / 180, arm = 0.5;
+    Skeleton s;
+    s.points = {{0, 0, 0},
+                {0.5, 0, 0},
+                {-arm * std::cos(a), arm * std::sin(a), 0},
+                {-arm * std::cos(a), -arm * std::sin(a), 0},
+                {0.5 + arm * std::cos(a), arm * std::sin(a), 0},
+                {0.5 + arm * std::cos(a), -arm * std::sin(a), 0}};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
+    s.radii.assign(s.points.size(), r);
+    auto domain_with_peak = [&](double rp) {
+        Skeleton d = s;
+        d.points.push_back({0.25, 0, 0});
+        d.radii.push_back(rp);
+        d.edges = {{0, 6}, {6, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
+        return d;
+    };
+    const Skeleton bulged = domain_with_peak(0.25), straight = domain_with_peak(0.1);
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    EXPECT_EQ(bulged_bridge_ends(s, bulged, an, 1.5), (std::vector<char>{1, 1, 0, 0, 0, 0}));
+    EXPECT_EQ(bulged_bridge_ends(s, bulged, an, 2.6), (std::vector<char>(6, 0)));
+    EXPECT_EQ(bulged_bridge_ends(s, straight, an, 1.5), (std::vector<char>(6, 0)));
+    {  // the same bridge meshed with a joint J = (0.25, 0, 0) in the middle: a bridge of two edges, the same samples
+        Skeleton j = s;
+        j.points.push_back({0.25, 0, 0});
+        j.radii.push_back(r);
+        j.edges = {{0, 6}, {6, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
+        const SkeletonAnalysis aj = analyze_skeleton(j);
+        EXPECT_EQ(bulged_bridge_ends(j, bulged, aj, 1.5), (std::vector<char>{1, 1, 0, 0, 0, 0, 0}));
+        EXPECT_EQ(bulged_bridge_ends(j, straight, aj, 1.5), (std::vector<char>(7, 0)));
+    }
+    ConnectionSurfaceOptions co;
+    co.blocks.enabled = false;
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    auto raw = [&](double fraction, double bulge, const Skeleton& domain) {
+        RawMeshOptions o;
+        o.cover.fraction = fraction;
+        o.cover.bridge_bulge = bulge;
+        return build_raw_mesh(s, an, cs, fr, o, &domain);
+    };
+    const RawMesh off = raw(0.0, 0.0, bulged), on = raw(1.0, 1.5, bulged);
+    EXPECT_EQ(an.predicted_hexes, 20);
+    EXPECT_EQ(on.mesh.hexes.size(), 20u);
+    const QualityReport qo = compute_quality(off.mesh), qn = compute_quality(on.mesh);
+    EXPECT_EQ(qn.euler_characteristic, 1);
+    EXPECT_EQ(qn.inverted, 0);
+    const std::vector<double> before = scaled_jacobians(off.mesh), after = scaled_jacobians(on.mesh);
+    for (std::size_t h = 0; h < after.size(); ++h)
+        EXPECT_GE(after[h], std::min(JunctionCoverOptions{}.sj_floor, before[h]) - 1e-12);
+    for (int c : {0, 1}) {
+        const int np = cs.point_begin[c + 1] - cs.point_begin[c];
+        double farthest = 0;
+        for (int x = 0; x < np; ++x) {
+            const double d = distance(on.mesh.points[on.vertex_base[c] + 1 + x], s.points[c]);
+            EXPECT_GE(d, r - 1e-12);
+            EXPECT_LE(d, (JunctionCoverOptions{}.arc + 1) * r + 1e-9);
+            farthest = std::max(farthest, d);
+        }
+        EXPECT_GT(farthest, 1.5 * r);  // the bulge's ball reaches far past the end's sphere
+    }
+    auto owned_by_an_end = [&](int id) {  // a centre, surface point or edge midpoint of A or B
+        for (int c : {0, 1}) {
+            const int n = 1 + (cs.point_begin[c + 1] - cs.point_begin[c]) + (cs.edge_begin[c + 1] - cs.edge_begin[c]);
+            if (id >= on.vertex_base[c] && id < on.vertex_base[c] + n) return true;
+        }
+        return false;
+    };
+    for (int id = 0; id < static_cast<int>(on.mesh.points.size()); ++id)  // the limbs' extremities: untouched
+        if (!owned_by_an_end(id)) {
+            EXPECT_EQ(on.mesh.points[id], off.mesh.points[id]);
+        }
+    EXPECT_EQ(raw(1.0, 1.5, straight).mesh.points, off.mesh.points);
+    EXPECT_NE(raw(1.0, 0.0, straight).mesh.points, off.mesh.points);
+}

@@ -12,21 +12,24 @@ namespace mesohex {
 
 namespace {
 
-// Whether x lies in the union of the balls swept along the cone (radius linear in the arc parameter s): the
-// largest r(s) - |x - p(s)| over s in [0, 1] is attained at s* = (z - k rho / sqrt(1 - k^2)) / L with
-// k = (ra - rb) / L (z, rho: x's axial and radial coordinates), clamped (the function is concave in s).
-bool inside_cone(const RoundCone& k, const Vec3& x) {
+// The depth of x in the union of the balls swept along the cone (radius linear in the arc parameter s): the
+// largest r(s) - |x - p(s)| over s in [0, 1], attained at s* = (z - k rho / sqrt(1 - k^2)) / L with
+// k = (ra - rb) / L (z, rho: x's axial and radial coordinates), clamped (the function is concave in s); x is inside
+// when it is >= 0. A cone with |rb - ra| >= L is the larger of its end balls.
+double cone_depth(const RoundCone& k, const Vec3& x) {
     const Vec3 ab = k.b - k.a;
     const double len = norm(ab);
     const double dr = k.rb - k.ra;
-    if (len < 1e-300 || std::abs(dr) >= len) return distance(x, k.a) <= k.ra || distance(x, k.b) <= k.rb;
+    if (len < 1e-300 || std::abs(dr) >= len) return std::max(k.ra - distance(x, k.a), k.rb - distance(x, k.b));
     const Vec3 u = ab / len;
     const double z = dot(x - k.a, u);
     const double rho = norm(x - k.a - z * u);
     const double slope = -dr / len;
     const double s = std::clamp((z - slope * rho / std::sqrt(1 - slope * slope)) / len, 0.0, 1.0);
-    return distance(x, k.a + s * ab) <= k.ra + s * dr;
+    return k.ra + s * dr - distance(x, k.a + s * ab);
 }
+
+bool inside_cone(const RoundCone& k, const Vec3& x) { return cone_depth(k, x) >= 0; }
 
 bool inside_union(const std::vector<RoundCone>& cones, const Vec3& x) {
     return std::any_of(cones.begin(), cones.end(), [&](const RoundCone& k) { return inside_cone(k, x); });
@@ -260,6 +263,45 @@ std::vector<double> shortest_boundary_edges(const std::vector<std::array<int, 8>
     return shortest;
 }
 
+// The bridge leaving branching point c by branch edge e: its vertices from c through joints to the next vertex that
+// is no joint, when that is another branching point; empty otherwise (an extremity, a leaflet, a loop back to c).
+std::vector<int> bridge_chain(const Skeleton& s, const SkeletonAnalysis& an, int c, int e) {
+    std::vector<int> chain{c};
+    int prev_edge = e, v = other_end(s, e, c);
+    while (an.edge_degree[prev_edge] == 0 && an.vertex_class[v] == VertexClass::Joint && v != c) {
+        chain.push_back(v);
+        const int a = an.vertex_edges[an.vertex_edge_begin[v]], b = an.vertex_edges[an.vertex_edge_begin[v] + 1];
+        prev_edge = a == prev_edge ? b : a;
+        v = other_end(s, prev_edge, v);
+    }
+    if (an.edge_degree[prev_edge] != 0 || v == c || an.vertex_class[v] != VertexClass::BranchingPoint) return {};
+    chain.push_back(v);
+    return chain;
+}
+
+// Whether some point of the chain's polyline at arc fraction 1/16 .. 15/16 lies at depth >= ratio x the chain ends'
+// radii interpolated at that fraction, in the union of the cones (JunctionCoverOptions::bridge_bulge).
+bool chain_bulges(const Skeleton& s, const std::vector<RoundCone>& cones, const std::vector<int>& chain, double ratio) {
+    std::vector<double> arc{0.0};
+    for (std::size_t k = 1; k < chain.size(); ++k)
+        arc.push_back(arc.back() + distance(s.points[chain[k - 1]], s.points[chain[k]]));
+    const double total = arc.back();
+    if (!(total > 0)) return false;
+    constexpr int kSamples = 16;
+    std::size_t k = 1;
+    for (int i = 1; i < kSamples; ++i) {
+        const double f = static_cast<double>(i) / kSamples, at = f * total;
+        while (k + 1 < arc.size() && arc[k] < at) ++k;
+        const double len = arc[k] - arc[k - 1];
+        const double t = len > 0 ? (at - arc[k - 1]) / len : 0.0;
+        const Vec3 p = s.points[chain[k - 1]] + t * (s.points[chain[k]] - s.points[chain[k - 1]]);
+        const double interpolated = s.radii[chain.front()] + f * (s.radii[chain.back()] - s.radii[chain.front()]);
+        for (const RoundCone& cone : cones)
+            if (cone_depth(cone, p) >= ratio * interpolated) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& d, double step, double t_max) {
@@ -279,6 +321,23 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
     }
 }
 
+std::vector<char> bulged_bridge_ends(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
+                                     double ratio) {
+    std::vector<RoundCone> cones;
+    for (const std::array<int, 2>& e : domain.edges)
+        cones.push_back({domain.points[e[0]], domain.points[e[1]], domain.radii[e[0]], domain.radii[e[1]]});
+    std::vector<char> ends(skeleton.points.size(), 0);
+    for (int c = 0; c < static_cast<int>(skeleton.points.size()); ++c) {
+        if (an.vertex_class[c] != VertexClass::BranchingPoint) continue;
+        for (int i = an.vertex_edge_begin[c]; i < an.vertex_edge_begin[c + 1]; ++i) {
+            const std::vector<int> chain = bridge_chain(skeleton, an, c, an.vertex_edges[i]);
+            if (chain.empty() || !chain_bulges(skeleton, cones, chain, ratio)) continue;
+            ends[static_cast<std::size_t>(c)] = ends[static_cast<std::size_t>(chain.back())] = 1;
+        }
+    }
+    return ends;
+}
+
 int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
                     const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
                     const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
@@ -288,10 +347,14 @@ int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const Skel
     // Per raw vertex: its shortest boundary edge, every point still on its sphere (JunctionCoverOptions::inset).
     std::vector<double> shortest_edge;
     if (options.inset > 0) shortest_edge = shortest_boundary_edges(hexes, points);
+    const bool bridges_only = options.bridge_bulge > 0;
+    std::vector<char> bridge_end;
+    if (bridges_only) bridge_end = bulged_bridge_ends(skeleton, domain, an, options.bridge_bulge);
     int moved = 0;
     const int nv = static_cast<int>(skeleton.points.size());
     for (int c = 0; c < nv; ++c)
-        if (coverable(skeleton, an, cs, vertex_base, options, c))
+        if ((!bridges_only || bridge_end[static_cast<std::size_t>(c)]) &&
+            coverable(skeleton, an, cs, vertex_base, options, c))
             moved += cover_junction(skeleton, domain, an, cs, frames, radius, vertex_base, edge_hex, hexes, points,
                                     shortest_edge, options, c);
     return moved;

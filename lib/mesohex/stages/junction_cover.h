@@ -50,6 +50,17 @@ struct JunctionCoverOptions {
     // middle faces the crotch, where the domain reaches farthest (docs/junctions.md, "Dino's hip and knight's v9
     // traced through the stages"). false: the end points move (the rule above).
     bool crease_midpoints = false;
+    // Bulged bridges (issue 16 item 5): > 0 restricts the cover to the two ends of every bridge (the branch edges,
+    // through joints, from one branching point c to another, u) along which the domain bulges: some point p of the
+    // bridge's polyline, at arc fraction s = 1/16, 2/16, ..., 15/16 from c to u, lies at depth (the largest r(t) -
+    // dist(p, x(t)) over the domain's round cones, the radius of the largest ball around p inside their union) of at
+    // least bridge_bulge x the ends' radii interpolated there (r_c + s (r_u - r_c), the meshed skeleton's radii). Both
+    // ends of such a bridge get their points placed from the union of the bridge's balls (fraction, inset, guard as
+    // above; in vertex order, each end's guard reading the other's current points): on a bridge of one edge the chunk,
+    // which runs from one end's quad straight to the other's, then spans the bulge instead of the ends' spheres
+    // (docs/junctions.md, "Bulged bridges covered from both ends"). Every other junction keeps its sphere.
+    // Dimensionless ratio (> 1); 0 = every coverable junction.
+    double bridge_bulge = 0.0;
     // Guard: a hex of c's chunks may not end below min(sj_floor, its scaled Jacobian with every point on the
     // sphere), nor be inverted; otherwise the moves of its moved points are halved (6 times, then dropped).
     double sj_floor = 0.3;
@@ -72,10 +83,17 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
 // branch edge e's chunk. radius: the effective radius each vertex was placed with. Deterministic.
 // With crease_deg > 0 only the end points of c's folded surface edges move (JunctionCoverOptions::crease_deg), as far
 // as opening them needs, at most to their rays' exits (with crease_midpoints: the edges' midpoints instead).
+// With bridge_bulge > 0 only the ends of bulged bridges (bulged_bridge_ends) are covered.
 // Returns the number of surface points moved (with crease_midpoints: of edge midpoints moved). Complexity:
 // O(branching points x domain edges) for the cones, plus O(surface points x cones x (arc + 1) / 0.02) for the rays,
 // plus the raw mesh's topology with inset, plus 17 crease measures of c's chunk hexes per junction with crease_deg;
 // nothing when fraction, inset and crease_deg are 0.
+// JunctionCoverOptions::bridge_bulge: per vertex of `skeleton`, 1 when it ends a bridge (branch edges through joints
+// to another branching point) along which the union of `domain`'s round cones reaches ratio x the ends' interpolated
+// radii (the test as described there), else 0. O(bridge edges + bridges x 15 x domain edges).
+std::vector<char> bulged_bridge_ends(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
+                                     double ratio);
+
 int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
                     const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
                     const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
