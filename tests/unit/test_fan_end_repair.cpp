@@ -1271,6 +1271,18 @@ TEST(FanEndRepair, MovedRootCheckNamesTheNearestRoot) {
     }
 }
 
+namespace {
+// tfan -n 1 -m 2: the single fan edge 0 = (0, 0, -0.5) to 1 = (0, 0, 0.5) with its strips, radius 0.3.
+Skeleton single_edge_tfan() {
+    GeneratorOptions o;
+    o.n = 1;
+    o.m = 2;
+    return generate_skeleton("tfan", o);
+}
+// The unit direction 150 degrees off +z in the +x strip's plane.
+Vec3 leaning_back_150() { return {std::sin(150 * std::numbers::pi / 180), 0, std::cos(150 * std::numbers::pi / 180)}; }
+}  // namespace
+
 // Issue 22 item 5: a refused branch whose tube runs into a leaflet's plate is refused naming that first. tfan -n 1 -m 2
 // (fan edge 0 = (0, 0, -0.5) to 1 = (0, 0, 0.5), strips +x (faces 0, 1), +y, -x of unit quads, radius 0.3) with a
 // branch of 3 unit edges from 1 leaning back 150 degrees off +z in the +x strip's plane, d = (0.5, 0, -0.866): past
@@ -1279,12 +1291,8 @@ TEST(FanEndRepair, MovedRootCheckNamesTheNearestRoot) {
 // 0.36 clears the plates (at arc s its centre line is s (0.612, 0.612, 0.5) from (0, 0, 0.5), 0.79 s from the +x
 // and +y strips' top borders: 0.853 at s = 3 r = 1.08, over 0.72 needed): not refused.
 TEST(FanEndRefusal, BranchRunningIntoALeafletPlateNamedFirst) {
-    GeneratorOptions o;
-    o.n = 1;
-    o.m = 2;
-    Skeleton s = generate_skeleton("tfan", o);
-    const double c150 = std::cos(150 * std::numbers::pi / 180), s150 = std::sin(150 * std::numbers::pi / 180);
-    add_branch(s, {0, 0, 0.5}, {s150, 0, c150});
+    Skeleton s = single_edge_tfan();
+    add_branch(s, {0, 0, 0.5}, leaning_back_150());
     const std::optional<FanEndRefusal> r = fan_end_refusal(s, 1);
     ASSERT_TRUE(r.has_value());
     EXPECT_EQ(
@@ -1301,7 +1309,7 @@ TEST(FanEndRefusal, BranchRunningIntoALeafletPlateNamedFirst) {
         << r->edit;
     expect_refused(s, 1, "runs into the plate of face 0");
 
-    Skeleton clear = generate_skeleton("tfan", o);
+    Skeleton clear = single_edge_tfan();
     const double c60 = std::cos(60 * std::numbers::pi / 180), s60 = std::sin(60 * std::numbers::pi / 180);
     add_branch(clear, {0, 0, 0.5}, {s60 * std::sqrt(0.5), s60 * std::sqrt(0.5), c60});
     for (double& rad : clear.radii) rad = 0.36;
@@ -1324,13 +1332,9 @@ TEST(FanEndRefusal, BranchRunningIntoALeafletPlateNamedFirst) {
 // first fan end refused) with vertex 1's reason and edit. Before: "(the branch leaves 150 degrees off the fan line's
 // continuation (the retraction takes branches within 45 degrees ...))", which named no failing condition of the move.
 TEST(FanEndRefusal, SingleFanEdgeOtherEndsOwnReasonNamed) {
-    GeneratorOptions o;
-    o.n = 1;
-    o.m = 2;
-    Skeleton s = generate_skeleton("tfan", o);
-    const double c150 = std::cos(150 * std::numbers::pi / 180), s150 = std::sin(150 * std::numbers::pi / 180);
+    Skeleton s = single_edge_tfan();
     add_branch(s, {0, 0, -0.5}, {0, 0, -1});
-    add_branch(s, {0, 0, 0.5}, {s150, 0, c150});
+    add_branch(s, {0, 0, 0.5}, leaning_back_150());
     const std::string nested =
         "the fan edge is a single one (its other end, skeleton vertex 1, carries a branch too that the repair does not "
         "take either (the branch's tube runs into the plate of face 0: 0.900 along the branch from the vertex";
