@@ -114,9 +114,8 @@ struct RawMeshOptions {
     // up to L: a junction's out point leaning along a border side shorter than its radius (a thick BL-joint corner),
     // or a concave border of curvature radius R closing in by r / R of each side (docs/sheets.md, "Out rays crossing
     // along short border sides"). Dimensionless, the in-plane pair of leaflet_offset_fraction; 0 = off (every out
-    // point where it was placed). Off by default: at 0.3 it removes 45 of 148 inverted full-radius meso raw hexes
-    // and gives two more surfaces their full radii without changing an `auto` answer, but the shared hand.ma's
-    // finish misses its Hausdorff target (its border columns pulled in, the fit no longer reaches the rim).
+    // point where it was placed). Off by default: pulling a border column's out point in also pulls in the rim the
+    // padding and the fit must reach (measurements: docs/sheets.md and docs/tuning.md).
     double leaflet_out_fraction = 0;
     // With leaflet_out_fraction: the leaflet border columns' out points may move too; false: only junctions' sphere
     // points do (the thick joins' out rays; a border's own out rays keep their distance, so the rims stay reached).
