@@ -139,20 +139,6 @@ void check_moved_roots(const PipelineResult& res) {
 
 namespace {
 
-// Per raw-mesh vertex id: the skeleton vertex whose ids hold it (vertex_base is a prefix sum in vertex order).
-std::vector<int> raw_vertex_owner(const RawMesh& raw) {
-    std::vector<int> owner(raw.mesh.points.size(), -1);
-    const int nv = static_cast<int>(raw.vertex_base.size());
-    for (int v = 0; v < nv; ++v) {
-        if (raw.vertex_base[v] < 0) continue;
-        int end = static_cast<int>(owner.size());
-        for (int u = v + 1; u < nv && end == static_cast<int>(owner.size()); ++u)
-            if (raw.vertex_base[u] >= 0) end = raw.vertex_base[u];
-        for (int id = raw.vertex_base[v]; id < end; ++id) owner[static_cast<std::size_t>(id)] = v;
-    }
-    return owner;
-}
-
 // Whether the faces at leaflet vertex w fold: two of their normals more than kCreaseNormalGainDeg apart (the angle
 // leaflet_vertex_frames takes for a crease).
 bool creased_at(const SkeletonAnalysis& an, int w) {

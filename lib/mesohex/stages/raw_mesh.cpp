@@ -1251,17 +1251,6 @@ int movable_out_centre(const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
     return sphere ? base : -1;
 }
 
-// Per raw id: the skeleton vertex whose ids hold it (vertex_base is a prefix sum in vertex order), or -1.
-std::vector<int> raw_id_owner(const RawMesh& raw) {
-    std::vector<int> owner(raw.mesh.points.size(), -1);
-    for (int v = static_cast<int>(raw.vertex_base.size()) - 1, next = static_cast<int>(owner.size()); v >= 0; --v) {
-        if (raw.vertex_base[v] < 0) continue;
-        for (int id = raw.vertex_base[v]; id < next; ++id) owner[static_cast<std::size_t>(id)] = v;
-        next = raw.vertex_base[v];
-    }
-    return owner;
-}
-
 // Per leaflet border edge: its two half-chunk hexes' corners as (a, out a, out b, b, out-up a, out-up b, out-down a,
 // out-down b), from the up hex (a oa ob b | ua oua oub ub) and the down hex (a b ob oa | da db odb oda); edges whose
 // two hexes do not share a, b, oa, ob that way are left out.
@@ -1291,16 +1280,16 @@ std::vector<std::array<int, 8>> border_half_chunk_corners(const SkeletonAnalysis
 // (a, out a, out b, b) of a leaflet border edge of length L, the two out points may come closer along a -> b than a
 // and b by at most fraction x L; past that, the movable ones (movable_out_centre) are pulled towards their centres by
 // one factor k, so that the movable part of the closing times k plus the fixed part is fraction x L; a point keeps
-// the smallest k of its half-chunks. A column's out-up and out-down copies move with its out; a junction's (the midpoints of the sphere's
-// edges from the out point to its up and down points, shared with the quads across those edges) go to the mean of
-// their ends' radii, (1 + k) / 2 of theirs. A half-chunk whose fixed part alone exceeds the limit is left. Serial in
+// the smallest k of its half-chunks. A column's out-up and out-down copies move with its out; a junction's (the
+// midpoints of the sphere's edges from the out point to its up and down points, shared with the quads across those
+// edges) go to the mean of their ends' radii, (1 + k) / 2 of theirs. A half-chunk whose fixed part alone exceeds the limit is left. Serial in
 // edge order (each k from the positions before any move): deterministic.
 void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const RawMeshOptions& options,
                        RawMesh& raw) {
     const double fraction = options.leaflet_out_fraction;
     if (!(fraction > 0)) return;
     std::vector<Vec3>& pts = raw.mesh.points;
-    const std::vector<int> owner = raw_id_owner(raw);
+    const std::vector<int> owner = raw_vertex_owner(raw);
     std::vector<double> factor(pts.size(), 1.0);
     std::vector<int> centre(pts.size(), -1);
     std::vector<std::array<int, 2>> copies(pts.size(), {-1, -1});  // per out point: its out-up and out-down copies
@@ -1339,6 +1328,16 @@ void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
 }
 
 }  // namespace
+
+std::vector<int> raw_vertex_owner(const RawMesh& raw) {
+    std::vector<int> owner(raw.mesh.points.size(), -1);
+    for (int v = static_cast<int>(raw.vertex_base.size()) - 1, next = static_cast<int>(owner.size()); v >= 0; --v) {
+        if (raw.vertex_base[v] < 0) continue;
+        for (int id = raw.vertex_base[v]; id < next; ++id) owner[static_cast<std::size_t>(id)] = v;
+        next = raw.vertex_base[v];
+    }
+    return owner;
+}
 
 RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                        const BranchFrames& frames, const RawMeshOptions& options, const Skeleton* domain) {

@@ -142,6 +142,9 @@ struct RawMeshOptions {
     JunctionCoverOptions cover;
 };
 
+// Per raw-mesh vertex id: the skeleton vertex whose ids hold it (vertex_base is a prefix sum in vertex order), or -1.
+std::vector<int> raw_vertex_owner(const RawMesh& raw);
+
 // Preconditions: skeleton.radii has one finite radius > 0 per vertex (Error(InvalidInput) naming the vertex
 // otherwise); analysis, surfaces and frames computed from this skeleton.
 // Postconditions: mesh.hexes.size() == analysis.predicted_hexes + 8 x surfaces.blocks.size() + 4 x (fan-block edges +
