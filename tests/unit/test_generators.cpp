@@ -122,6 +122,10 @@ struct Expected {
 //  flange (the chain on the plate's border, walls above and below): 61 points, 104 edges, 44 faces as wallboth;
 //    boundary 24 - 2 + 2 x 6 = 34; 2 fan edges of degree 3 (plate and two walls), 3 leaflets. flangeup (one wall): 55,
 //    94, 40 as wall; the chain's edges have 2 faces: one leaflet creased 90 degrees, boundary 22 + 6 = 28, no fan edge.
+//  flangecorner (plate 4 x 4, walls 2 x 2 above and below on the chain (0, 0) - (0, 2) from the plate's corner):
+//    25 + 2 x 6 = 37 points, 40 + 2 x 10 = 60 edges, 16 + 2 x 4 = 24 faces; boundary 16 - 2 + 2 x 6 = 26; 2 fan
+//    edges of degree 3, 3 leaflets. flangecornerup (one wall): 31, 50, 20; one leaflet creased along the chain,
+//    boundary 14 + 6 = 20, no fan edge.
 //  fold (2n x m = 6 x 3): 7 x 4 = 28 points, 6 x 4 + 7 x 3 = 45 edges, 18 faces; boundary 2(6 + 3).
 //  vfan: as tfan (3 strips of 2 quads on a fan edge of 2 edges).
 //  airplane (chord m = 3 x span 2n = 8, nose and tail 3 edges each): 4 x 9 + 6 = 42 points, 3 x 9 + 4 x 8 + 6 = 65
@@ -143,6 +147,7 @@ const std::vector<Expected>& expected() {
         {"wall", 55, 94, 40, 1, 2, 0, 30, 2, 3},          {"wallboth", 61, 104, 44, 1, 3, 0, 36, 2, 4},
         {"walledge", 55, 94, 40, 1, 2, 0, 30, 2, 3},      {"walledgeboth", 61, 104, 44, 1, 3, 0, 36, 2, 4},
         {"flange", 61, 104, 44, 1, 3, 0, 34, 2, 3},       {"flangeup", 55, 94, 40, 1, 1, 0, 28, 0, 0},
+        {"flangecorner", 37, 60, 24, 1, 3, 0, 26, 2, 3}, {"flangecornerup", 31, 50, 20, 1, 1, 0, 20, 0, 0},
         {"pan", 43, 67, 24, 0, 1, 9, 20, 0, 0},           {"fold", 28, 45, 18, 1, 1, 0, 18, 0, 0},
         {"vfan", 21, 32, 12, 1, 3, 0, 18, 2, 3},          {"airplane", 42, 65, 24, 1, 1, 6, 22, 0, 0},
         {"wireplate", 32, 47, 15, 0, 1, 9, 16, 0, 0},     {"fanblock", 28, 45, 18, 1, 3, 0, 21, 3, 3},

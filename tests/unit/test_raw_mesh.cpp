@@ -1262,10 +1262,12 @@ TEST(RawMesh, FanLineTurningInsideAPlateIsPredicted) {
 // Vertices: 9 interior x 3 + 16 plate border x 6 + 6 wall far x 6 = 159. Every hex valid at radius 0.15 - 0.75 (0.5 -
 // 2.5 x 0.3); the worst is the wall's end half-chunk (one row: 0.500, bench/flange_dock_sj.py) or, here, next to the
 // plate's corner (x = (0, 0) beyond the end (1, 0)).
-// The same walls on the chain (0, 0) -> (1, 0) -> (2, 0) from the plate's corner stay a fan (the paper's layout with
-// the fan end's out column; docs/blocks.md, build plan item 6): 2 x 20 + 2 x 22 = 84 hexes. Its fan end (2, 0) has
-// O_w between the walls' out (+x) and the plate's (-y), O_w = w + r (1, -1, 0) / sqrt 2, and the gap vertex above the
-// plate on the bisector of the plate and the wall, w + r (0, 1, 1) / sqrt 2.
+// The same walls on the chain (0, 0) -> (1, 0) -> (2, 0) from the plate's corner, the corner (0, 0) (and the walls'
+// vertices above and below it) moved to (0.6, -0.6): the plate's border turns there by 54 degrees, more than
+// kCornerCubeMaxSkewDeg off a right angle, so no corner cube (RawMesh.FlangeFromThePlatesCornerGetsACornerCube) and
+// the chain stays a fan (the paper's layout with the fan end's out column): 2 x 20 + 2 x 22 = 84 hexes. Its fan end
+// (2, 0) has O_w between the walls' out (+x) and the plate's (-y), O_w = w + r (1, -1, 0) / sqrt 2, and the gap
+// vertex above the plate on the bisector of the plate and the wall, w + r (0, 1, 1) / sqrt 2.
 TEST(RawMesh, FlangeWithWallsAboveAndBelowHasNoInvertedHex) {
     {
         Skeleton s = plate_with_walls(4, 4, {1, 2, 3}, true, true);
@@ -1281,6 +1283,7 @@ TEST(RawMesh, FlangeWithWallsAboveAndBelowHasNoInvertedHex) {
         }
     }
     Skeleton s = plate_with_walls(4, 4, {0, 1, 2}, true, true);
+    for (int v : {0, 25, 28}) s.points[v] += Vec3{0.6, -0.6, 0};  // the corner and the walls' vertices on it
     const test::RawRun r = test::checked_raw_mesh(s);
     EXPECT_EQ(r.analysis.counts.fan_edges, 2);
     EXPECT_EQ(r.predicted.hexes, 84);
@@ -1302,6 +1305,56 @@ TEST(RawMesh, FlangeWithWallsAboveAndBelowHasNoInvertedHex) {
     int above = 0;
     for (int j = 1; j <= 3; ++j) above += distance(raw.mesh.points[base + j], Vec3{2, q, q}) < 1e-12;
     EXPECT_EQ(above, 1);
+}
+
+// A flange from the plate's corner: plate(4, 4) with walls one row high above and below on the chain (0, 0) -> (1, 0)
+// -> (2, 0) of its border side y = 0 from the corner c = (0, 0) (docs/blocks.md, "Flanges from the plate's corner: the
+// corner cube"). Docked on the plate's border with a corner cube at c: hexes 2 x 20 faces + 2 x 24 border edges (the
+// plate's 16 with the chain, 4 per wall) + 2 (the cube) = 90; vertices 9 interior x 3 + 15 plate border x 6 + 12 (c)
+// + 6 wall far x 6 = 165. c's ids: centre, up, down, K (-r, -r, 0) with its up / down copies, then the columns
+// (0, -r, 0) (the chain edge's: the plate's face (0, 1, 6, 5) leaves c by it) and (-r, 0, 0), each with up and down
+// copies r z off; the 2 cube hexes are boxes r x r x r (scaled Jacobian 1), and the edge c - up(c) has 4 hexes (the
+// plate, two half-chunks, the cube): 2 interior irregular edges fewer than at a plain corner (valence 3).
+TEST(RawMesh, FlangeFromThePlatesCornerGetsACornerCube) {
+    for (double r : {0.3, 0.45, 0.75}) {
+        SCOPED_TRACE(r);
+        Skeleton s = plate_with_walls(4, 4, {0, 1, 2}, true, true);
+        s.radii.assign(s.points.size(), r);
+        const test::RawRun run = test::checked_raw_mesh(s);
+        EXPECT_EQ(run.analysis.counts.fan_edges, 0);
+        ASSERT_TRUE(has_corner_cube(run.analysis, 0));
+        EXPECT_EQ(std::count(run.analysis.corner_cube.begin(), run.analysis.corner_cube.end(), char{1}), 1);
+        EXPECT_EQ(run.predicted.hexes, 90);
+        EXPECT_EQ(run.predicted.vertices, 165);
+        EXPECT_TRUE(run.valid);
+        EXPECT_EQ(run.quality.euler_characteristic, 1);
+        EXPECT_EQ(run.quality.inverted, 0);
+        const ConnectionSurfaces cs = build_connection_surfaces(s, run.analysis);
+        RawMeshOptions placed;  // the frames' placement (no leaflet offset limit above r = L / 2)
+        placed.leaflet_offset_fraction = 0;
+        const RawMesh raw = build_raw_mesh(s, run.analysis, cs, propagate_frames(s, run.analysis, cs), placed);
+        const int base = raw.vertex_base[0];
+        const std::vector<Vec3>& p = raw.mesh.points;
+        const Vec3 z{0, 0, r};
+        const std::array<Vec3, 3> column{Vec3{-r, -r, 0}, Vec3{0, -r, 0}, Vec3{-r, 0, 0}};
+        for (int j = 0; j < 3; ++j) {
+            EXPECT_NEAR(distance(p[base + 3 + 3 * j], column[j]), 0, 1e-12) << j;
+            EXPECT_NEAR(distance(p[base + 4 + 3 * j], column[j] + z), 0, 1e-12) << j;
+            EXPECT_NEAR(distance(p[base + 5 + 3 * j], column[j] - z), 0, 1e-12) << j;
+        }
+        const std::vector<double> sj = scaled_jacobians(raw.mesh);
+        int cube_hexes = 0;
+        for (std::size_t h = 0; h < raw.mesh.hexes.size(); ++h) {
+            const std::array<int, 8>& hx = raw.mesh.hexes[h];
+            if (std::find(hx.begin(), hx.end(), base + 3) == hx.end()) continue;  // K is in the cube hexes only
+            ++cube_hexes;
+            EXPECT_NEAR(sj[h], 1, 1e-12);
+        }
+        EXPECT_EQ(cube_hexes, 2);
+        EXPECT_EQ(run.predicted.interior_irregular_edges.count(3) ? run.predicted.interior_irregular_edges.at(3) : 0,
+                  (3 + 4) * 2);  // the plate's other 3 corners and the walls' 4 top corners (1 face + 2
+                                 // half-chunks), up and down
+    }
 }
 
 // A T fan on the 2-edge fan line (0, 0, 0) -> (0, 0, 2): three strips of 2 unit quads at 120 degrees, strip A (along

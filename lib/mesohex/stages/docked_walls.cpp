@@ -484,8 +484,17 @@ std::vector<int> border_plate_candidates(const Skeleton& s, const SkeletonAnalys
     return out;
 }
 
-// Does chain vertex v (an end or not) meet the border-chain conditions for plate P (see border_chain_plate)?
-bool border_chain_vertex(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf,
+// The angle (degrees) between the directions from v to the other ends of edges a and b.
+double edge_angle_deg(const Skeleton& s, int v, int a, int b) {
+    const Vec3 da = s.points[other_end(s, a, v)] - s.points[v];
+    const Vec3 db = s.points[other_end(s, b, v)] - s.points[v];
+    return norm(da) > 0 && norm(db) > 0 ? angle_deg(normalized(da), normalized(db)) : 0;
+}
+
+// Does chain vertex v (an end or not) meet the border-chain conditions for plate P (see border_chain_plate)? 0 no,
+// 1 yes, 2 yes at an end on P's corner (a corner cube: one face of P, its border turning within kCornerCubeMaxSkewDeg
+// of a right angle).
+int border_chain_vertex(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf,
                          const std::vector<int>& leaf, const std::vector<int>& comp, const std::vector<int>& vertices,
                          int v, bool end, int P) {
     auto in_comp = [&](int e) { return std::find(comp.begin(), comp.end(), e) != comp.end(); };
@@ -498,51 +507,54 @@ bool border_chain_vertex(const Skeleton& s, const SkeletonAnalysis& an, const Lo
             ++chain_edges;
             continue;
         }
-        if (an.edge_degree[e] == 0 || an.edge_degree[e] >= 3) return false;
+        if (an.edge_degree[e] == 0 || an.edge_degree[e] >= 3) return 0;
         const int l = leaf[lf.of_edge[e].front()];
         if (an.edge_degree[e] == 2) {
-            if (leaf[lf.of_edge[e].back()] != l) return false;
+            if (leaf[lf.of_edge[e].back()] != l) return 0;
             continue;
         }
         if (l == P) {
-            if (border >= 0) return false;
+            if (border >= 0) return 0;
             border = e;
         } else {
-            if (std::find(vertices.begin(), vertices.end(), other_end(s, e, v)) != vertices.end()) return false;
+            if (std::find(vertices.begin(), vertices.end(), other_end(s, e, v)) != vertices.end()) return 0;
             count_wall(walls, l, 0, 1);
         }
     }
-    if (chain_edges != (end ? 1 : 2)) return false;
+    if (chain_edges != (end ? 1 : 2)) return 0;
     for (int f : lf.of_vertex[v]) {
         int on = 0;
         for (int e : comp) on += face_has_edge(an, f, e) ? 1 : 0;
         if (leaf[f] == P) {
-            if (on > 1 || (!end && on != 1)) return false;  // the chain runs straight along P's grid
+            if (on > 1 || (!end && on != 1)) return 0;  // the chain runs straight along P's grid
             ++plate_faces;
             continue;
         }
-        if (on == 0) return false;
+        if (on == 0) return 0;
         count_wall(walls, leaf[f], 1, 0);
     }
-    if (plate_faces != 2 || (end ? border < 0 : border >= 0)) return false;
+    const bool corner = end && plate_faces == 1;
+    if ((plate_faces != 2 && !corner) || (end ? border < 0 : border >= 0)) return 0;
     for (const std::array<int, 3>& w : walls)
-        if (w[1] != (end ? 1 : 2) || w[2] != (end ? 1 : 0)) return false;
-    if (!end) return true;
-    const Vec3 a = s.points[other_end(s, border, v)] - s.points[v];
-    const Vec3 b = s.points[other_end(s, chain_edge, v)] - s.points[v];
-    return norm(a) > 0 && norm(b) > 0 && angle_deg(normalized(a), normalized(b)) >= kDockPlateAngleDeg;
+        if (w[1] != (end ? 1 : 2) || w[2] != (end ? 1 : 0)) return 0;
+    if (!end) return 1;
+    const double turn = edge_angle_deg(s, v, border, chain_edge);
+    if (corner) return std::abs(turn - 90) <= kCornerCubeMaxSkewDeg ? 2 : 0;
+    return turn >= kDockPlateAngleDeg ? 1 : 0;
 }
 
 // The plate of a wall standing on part of a plate's border (a flange): chain comp (face leaflets `leaf`) is a path
 // whose every edge has exactly one face of leaflet P and walls (other leaflets) within kDockWallTiltDeg of P's normal,
 // at most one per side; at every inner chain vertex P has 2 faces, each on one chain edge, and no border edge off the
 // chain, at each end 2 faces and one border edge off the chain continuing the chain's line (at least
-// kDockPlateAngleDeg from the chain edge: P's border runs on past the end; a chain from P's corner is not docked here);
-// no branch edge, no fan edge off the chain and no other leaflet at a chain vertex; each wall has only faces on chain
-// edges at a chain vertex, and at an end one face and one border edge not joining two chain vertices. The one leaflet
-// passing, or -1 (nothing docked) otherwise.
+// kDockPlateAngleDeg from the chain edge: P's border runs on past the end), or at one end (not both) P's corner: one
+// face, on the chain edge, and a border edge off the chain within kCornerCubeMaxSkewDeg of a right angle to it (its
+// vertex returned in `cube`, else -1); no branch edge, no fan edge off the chain and no other leaflet at a chain
+// vertex; each wall has only faces on chain edges at a chain vertex, and at an end one face and one border edge not
+// joining two chain vertices. The one leaflet passing, or -1 (nothing docked) otherwise.
 int border_chain_plate(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf,
-                       const std::vector<int>& leaf, const std::vector<int>& comp) {
+                       const std::vector<int>& leaf, const std::vector<int>& comp, int& cube) {
+    cube = -1;
     std::vector<int> vertices;
     const std::vector<int> ends = chain_ends(s, comp, vertices);
     if (ends.size() != 2) return -1;
@@ -554,23 +566,31 @@ int border_chain_plate(const Skeleton& s, const SkeletonAnalysis& an, const Loca
         else
             std::erase_if(candidates, [&](int l) { return std::find(here.begin(), here.end(), l) == here.end(); });
     }
-    int plate = -1, passing = 0;
+    int plate = -1, passing = 0, corner = -1;
     for (int P : candidates) {
+        int corners = 0, at = -1;
         bool ok = true;
-        for (int v : vertices)
-            ok = ok && border_chain_vertex(s, an, lf, leaf, comp, vertices, v,
-                                           std::find(ends.begin(), ends.end(), v) != ends.end(), P);
-        if (ok) plate = P, ++passing;
+        for (int v : vertices) {
+            const int k = ok ? border_chain_vertex(s, an, lf, leaf, comp, vertices, v,
+                                                   std::find(ends.begin(), ends.end(), v) != ends.end(), P)
+                             : 0;
+            ok = k > 0;
+            if (k == 2) ++corners, at = v;
+        }
+        if (ok && corners <= 1) plate = P, corner = at, ++passing;
     }
-    return passing == 1 ? plate : -1;
+    if (passing != 1) return -1;
+    cube = corner;
+    return plate;
 }
 
 // Marks chain comp as docked on plate P's border (edge_docked 3, its vertices' plate P, the walls' border edges at
-// them 2).
-void dock_on_border(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp,
-                    int P) {
+// them 2) and P's corner `cube` (or -1) as a corner cube.
+void dock_on_border(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& lf, const std::vector<int>& comp, int P,
+                    int cube) {
     std::vector<int> vertices;
     (void)chain_ends(s, comp, vertices);
+    if (cube >= 0) an.corner_cube[cube] = 1;
     for (int e : comp) an.edge_docked[e] = 3;
     for (int v : vertices) an.vertex_plate[v] = P;
     for (int v : vertices)
@@ -586,8 +606,9 @@ void dock_component(const Skeleton& s, SkeletonAnalysis& an, const LocalFaces& l
     (void)chain_ends(s, comp, vertices);
     const int inside = across ? -1 : inside_end(s, an, lf, comp);
     if (inside < 0 && !across) {  // a flange: docked on its plate's border, or a fan
-        const int P = border_chain_plate(s, an, lf, an.face_leaflet, comp);
-        if (P >= 0) dock_on_border(s, an, lf, comp, P);
+        int cube = -1;
+        const int P = border_chain_plate(s, an, lf, an.face_leaflet, comp, cube);
+        if (P >= 0) dock_on_border(s, an, lf, comp, P, cube);
         return;
     }
     int plate = -1;
@@ -756,7 +777,8 @@ void cut_border_creases(const Skeleton& s, SkeletonAnalysis& an) {
         const LocalFaces lf = local_faces(s, an, mark);
         const std::vector<int> leaf = cut_leaflets(an, lf, comp);
         if (leaf.empty()) continue;
-        const int P = border_chain_plate(s, an, lf, leaf, comp);
+        int cube = -1;
+        const int P = border_chain_plate(s, an, lf, leaf, comp, cube);
         if (P < 0) continue;
         const int l = an.face_leaflet[lf.of_edge[comp[0]].front()];
         Leaflet wall{{}, an.leaflets[l].orientable};
@@ -765,7 +787,7 @@ void cut_border_creases(const Skeleton& s, SkeletonAnalysis& an) {
             if (leaf[f] != an.face_leaflet[f]) wall.faces.push_back(f);
         an.leaflets.push_back(wall);
         an.face_leaflet = leaf;
-        dock_on_border(s, an, lf, comp, P);
+        dock_on_border(s, an, lf, comp, P, cube);
     }
 }
 
@@ -786,6 +808,7 @@ void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow
     const int nv = static_cast<int>(s.points.size()), ne = static_cast<int>(s.edges.size());
     an.edge_docked.assign(ne, 0);
     an.vertex_plate.assign(nv, -1);
+    an.corner_cube.assign(nv, 0);
     an.docked_unmatched.clear();
     cut_border_creases(s, an);
     if (std::none_of(an.edge_degree.begin(), an.edge_degree.end(), [](int d) { return d >= 3; })) return;
@@ -794,6 +817,10 @@ void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow
     const std::vector<char> across = join_across_chains(s, an, lf, comps);
     for (std::size_t i = 0; i < comps.size(); ++i)
         dock_component(s, an, lf, comps[i], across[i] != 0, band_pillow, pillow_ran);
+}
+
+int corner_cube_column(const SkeletonAnalysis& an, int f, int c, int e) {
+    return an.face_edges[f][corner_of(an, f, c)] == e ? 6 : 9;
 }
 
 VertexClass docked_vertex_class(const SkeletonAnalysis& an, int v, int& plate_boundary_edges) {
@@ -937,6 +964,12 @@ std::vector<FootQuad> docked_foot_quads(const Skeleton& s, const SkeletonAnalysi
                 quads.push_back({1, wc.c, wc.up, wall, w});
             }
             if (wc.end_edge < 0) return;
+            if (has_corner_cube(an, w)) {  // on the half-chunk of (w, sigma+) and on the corner cube
+                check(w, wc.x);
+                quads.push_back({1, wc.beyond[1], wc.up, wall, w});
+                quads.push_back({2, w, wc.up, wall, w});
+                return;
+            }
             if (wc.beyond[0] < 0 || wc.beyond[1] < 0) refuse(w, "the plate beyond the wall's end is not 2 faces wide");
             for (int x : an.face_vertices[wc.beyond[0]]) check(w, x);
             quads.push_back({0, wc.beyond[0], wc.up, wall, w});
@@ -977,6 +1010,15 @@ std::vector<std::array<int, 6>> docked_corner_ids(const Skeleton& s, const Skele
             const int p = wc.plate_plus ? 1 : 2, o = wc.plate_plus ? 2 : 1;
             id[p] = base[wc.sigma_plus] + x;
             id[o] = base[w] + xo;
+            if (has_corner_cube(an, w)) {  // the chain's own column at w; the end on (w, x)'s column and K
+                const int chain = corner_cube_column(an, wc.g_plus, w, wc.c);
+                id[o] = base[w] + chain + x;
+                if (wc.end_edge < 0) return;
+                id[3] = base[w] + (15 - chain) + x;
+                id[3 + p] = base[wc.x] + xo;
+                id[3 + o] = base[w] + xo;
+                return;
+            }
             if (wc.end_edge < 0) return;
             id[3] = base[wc.x] + x;
             id[3 + p] = base[wc.x_plus] + x;

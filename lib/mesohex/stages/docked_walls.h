@@ -34,7 +34,18 @@
 // out -> X(x), out on P's side -> X(x+), out on the other side -> XO(x) (x: P's border neighbour of w past the chain,
 // x+ the corner of P's face (w, sigma, x+, x) opposite w). The walls' first hexes stand on P's plates and on the
 // chain's half-chunks, their end half-chunks on the plate and the half-chunk of (w, x); the standard count holds. A
-// chain that does not meet these (e.g. from P's corner) stays a fan.
+// chain that does not meet these stays a fan.
+//
+// Corner cubes (docs/blocks.md, "Flanges from the plate's corner: the corner cube"): a flange chain may start at P's
+// corner c (one face of P there, P's border turning within kCornerCubeMaxSkewDeg of a right angle; at most one end of
+// a chain: a chain from corner to corner stays a fan). c then has three out columns instead of one: A and B, straight
+// out of each of its two border edges (the half-chunk of the border edge that P's face leaves c by uses A, the other
+// B), and K = A + B - c (the usual out column, ids +3 .. +5), each with its up and down copies: 12 ids (centre, up,
+// down, K, KU, KD, A, AU, AD, B, BU, BD), and 2 corner hexes (c, B, K, A | up copies) and its mirror below (2 more
+// hexes than the standard count). A wall's copies at c: on P's side X(sigma(c)) as above, on the other side X of
+// the chain edge's column (AU / AD or BU / BD); at its end out -> X of the other border edge's column, out on P's side
+// -> XO(sigma(c)), out on the other side -> X(K): the wall's end half-chunk stands on the half-chunk of (c, sigma(c))
+// and on the corner cube.
 // Conditions (else Error(UnsupportedConfiguration) naming the vertex, with an edit suggestion): the chain is a path;
 // at every chain vertex P has 4 faces, each containing a chain edge (the chain runs straight through P's grid), or at
 // an end 4 faces and no border (inside) or 2 faces and 2 border edges (on the border); no branch edge at a chain
@@ -53,6 +64,16 @@ namespace mesohex {
 // Smallest angle (degrees) between the in-plane directions of the two plate faces at a chain edge (from the edge to
 // the opposite side of each face): 150 = a plate bent by at most 30 degrees across the chain.
 inline constexpr double kDockPlateAngleDeg = 150;
+
+// A flange chain's end at its plate's corner gets a corner cube (see "Corner cubes" above) when the plate's two border
+// edges there are within this many degrees of a right angle (the cube's corner hexes then have a scaled Jacobian of
+// at least cos(kCornerCubeMaxSkewDeg) at c); other corners leave the chain a fan.
+inline constexpr double kCornerCubeMaxSkewDeg = 30;
+
+// Offset from a corner cube vertex c's first raw id of the out column (out, out-up, out-down) that the half-chunk of
+// border edge e of c's plate uses there: 6 (A) when the plate's face f at c leaves c by e, else 9 (B: f arrives at c
+// by e).
+int corner_cube_column(const SkeletonAnalysis& analysis, int f, int c, int e);
 
 // Largest angle (degrees) between a wall's direction from the chain (in-plane for the wall, perpendicular to the chain)
 // and the plate's normal on its side: the first wall hexes on the acute side are wedges of about that opening.
@@ -103,8 +124,8 @@ bool docked_foot_matches(int chain_edges, int plate_faces, int plate_border, boo
 // plate's boundary edges there (0 or 2).
 VertexClass docked_vertex_class(const SkeletonAnalysis& analysis, int v, int& plate_boundary_edges);
 
-// A quad of a plate's outer surface that a wall hex stands on: the X-side face of plate face `id` (kind 0), or of the
-// half-chunk of plate boundary edge `id` (kind 1); up = P's up side. wall = the wall's leaflet, vertex = the chain
+// A quad of a plate's outer surface that a wall hex stands on: the X-side face of plate face `id` (kind 0), of the
+// half-chunk of plate boundary edge `id` (kind 1), or of the corner cube at vertex `id` (kind 2); up = P's up side. wall = the wall's leaflet, vertex = the chain
 // vertex it is docked at (for messages).
 struct FootQuad {
     int kind = 0, id = -1;

@@ -1151,6 +1151,21 @@ std::vector<Shape> wall_shapes() {
          [](const Params& p) {
              return make_wall_plate({p.n, 2, p.m, 0, -1, 1}, p.L, p.r);
          }},
+        {"flangecorner",
+         {4, 2},
+         {2, 1},
+         "plate of n x n quads (default 4) with walls of m rows (default 2) above and below on a chain of 2 fan "
+         "edges along one border side from the plate's corner (a flange with a corner cube at that end)",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, 0, 0, 2}, p.L, p.r);
+         }},
+        {"flangecornerup",
+         {4, 2},
+         {2, 1},
+         "as flangecorner, with the wall above the plate only",
+         [](const Params& p) {
+             return make_wall_plate({p.n, 2, p.m, 0, 0, 1}, p.L, p.r);
+         }},
     };
 }
 

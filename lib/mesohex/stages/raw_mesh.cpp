@@ -45,6 +45,23 @@ int expected_gaps(const SkeletonAnalysis& an, int v) {
     return 0;
 }
 
+int face_corner_of(const SkeletonAnalysis& an, int f, int w) {
+    for (int k = 0; k < 4; ++k)
+        if (an.face_vertices[f][k] == w) return k;
+    return -1;
+}
+
+// Per vertex: its plate's one face at a corner cube vertex (SkeletonAnalysis::corner_cube), else -1; empty without
+// corner cubes.
+std::vector<int> corner_cube_faces(const SkeletonAnalysis& an) {
+    if (std::find(an.corner_cube.begin(), an.corner_cube.end(), char{1}) == an.corner_cube.end()) return {};
+    std::vector<int> face(an.corner_cube.size(), -1);
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        for (int w : an.face_vertices[f])
+            if (an.corner_cube[w] && face_counts_at(an, f, w)) face[w] = f;
+    return face;
+}
+
 // Rooted branches reuse the 9 vertices of their patch; each of the patch's 8 outer edges gets the first chunk's
 // hex on top of what it had: 2 hexes (plates, half-chunks), or 1 where it was a convex half-chunk edge. Patches of
 // neighbouring rooted vertices can share outer edges (fingers rooted at every other border vertex): counted per
@@ -53,11 +70,13 @@ int expected_gaps(const SkeletonAnalysis& an, int v) {
 // (base 2); OU / OD = the out-up / out-down copies of a border vertex and its neighbour (base 1). A side patch next to
 // a fan-block chain (a branch moved off a fan-edge end onto a leaflet border, fan_end_repair.h): its U / D edge along
 // the fan edge and its XU / XD edge at the chain end are the block's section-corner edges M(w) M(u) and M(w) M(cap),
-// whose base is the block's, 1 + the leaflets on M's two axes (add_fan_block_irregular_edges), not 2.
+// whose base is the block's, 1 + the leaflets on M's two axes (add_fan_block_irregular_edges), not 2. At a corner cube
+// vertex c (its two out columns) XU is keyed by c and the border neighbour the column serves, and KX = the edge from
+// that column's up (down) copy to K's (base 1, the cube's top).
 void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                               RawMeshPrediction& p) {
     const int nv = static_cast<int>(an.vertex_class.size());
-    enum Family { U, D, OX, DX, XU, XD, OU, OD };
+    enum Family { U, D, OX, DX, XU, XD, OU, OD, KU, KD };
     std::map<std::array<int, 3>, std::array<int, 2>> patch_edges;  // key -> (base hexes, patches)
     auto add = [&](int family, int a, int b, int base) {
         std::array<int, 2>& x = patch_edges[{family, std::min(a, b), std::max(a, b)}];
@@ -119,6 +138,7 @@ void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& 
     // Walls docked on a plate (docked_walls.h): each foot quad gets one wall hex. An edge under two hexes of the same
     // wall (inside the foot) becomes interior with base + 2 hexes; an outline edge is a patch edge like the above.
     std::map<std::array<int, 3>, std::array<int, 3>> foot;  // key -> (base hexes, wall, hexes of that wall)
+    const std::vector<int> cube_face = corner_cube_faces(an);
     auto add_foot = [&](int family, int a, int b, int base, int wall) {
         const std::array<int, 3> key{family, std::min(a, b), std::max(a, b)};
         std::array<int, 3>& x = foot[key];
@@ -134,10 +154,18 @@ void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& 
             for (int k = 0; k < 4; ++k) add_foot(q.up ? U : D, fv[k], fv[(k + 1) & 3], 2, q.wall);
             continue;
         }
+        if (q.kind == 2) {  // the corner cube's top (bottom) at vertex q.id: its two column edges and two K edges
+            const int f = cube_face[q.id], k = face_corner_of(an, f, q.id);
+            for (int n : {an.face_vertices[f][(k + 1) & 3], an.face_vertices[f][(k + 3) & 3]}) {
+                add_foot(q.up ? XU : XD, q.id, n, 2, q.wall);
+                add_foot(q.up ? KU : KD, q.id, n, 1, q.wall);
+            }
+            continue;
+        }
         const int a = skeleton.edges[q.id][0], b = skeleton.edges[q.id][1];
         add_foot(q.up ? U : D, a, b, 2, q.wall);
-        add_foot(q.up ? XU : XD, a, a, 2, q.wall);
-        add_foot(q.up ? XU : XD, b, b, 2, q.wall);
+        add_foot(q.up ? XU : XD, a, has_corner_cube(an, a) ? b : a, 2, q.wall);
+        add_foot(q.up ? XU : XD, b, has_corner_cube(an, b) ? a : b, 2, q.wall);
         add_foot(q.up ? OU : OD, a, b, 1, q.wall);
     }
     for (const auto& [key, x] : foot) {
@@ -167,12 +195,6 @@ bool border_side(const SkeletonAnalysis& an, int f, int k) {
     const int e = an.face_edges[f][k];
     if (an.edge_degree[e] == 1) return true;
     return an.edge_docked[e] == 3 && an.face_leaflet[f] == an.vertex_plate[an.face_vertices[f][k]];
-}
-
-int face_corner_of(const SkeletonAnalysis& an, int f, int w) {
-    for (int k = 0; k < 4; ++k)
-        if (an.face_vertices[f][k] == w) return k;
-    return -1;
 }
 
 // Joins the (face, corner, side) nodes that face the same gap (see find_fan_gaps).
@@ -302,7 +324,9 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
             p.vertices += block_at(cs, v) >= 0 ? kBlockVertices : 1 + np + ned;
         if (an.vertex_class[v] == VertexClass::Extremity) p.boundary_irregular_edges[1] += 8;
         if (an.vertex_class[v] == VertexClass::LeafletInterior) p.vertices += 3;
-        if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += 6;
+        if (an.vertex_class[v] == VertexClass::LeafletBoundary) p.vertices += has_corner_cube(an, v) ? 12 : 6;
+        // A corner cube: the 3 edges of each corner hex between two of its outer faces (at K) have 1 hex.
+        if (has_corner_cube(an, v)) p.boundary_irregular_edges[1] += 6;
         if (an.vertex_class[v] != VertexClass::BranchingPoint || an.vertex_boundary_edges[v] > 0 ||
             block_at(cs, v) >= 0)
             continue;
@@ -318,7 +342,7 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     for (int v = 0; v < nv; ++v) {
         const VertexClass c = an.vertex_class[v];
         if (c != VertexClass::LeafletInterior && c != VertexClass::LeafletBoundary) continue;
-        const int k = faces_at[v] + (c == VertexClass::LeafletBoundary ? 2 : 0);
+        const int k = faces_at[v] + (c == VertexClass::LeafletBoundary ? 2 : 0) + (has_corner_cube(an, v) ? 1 : 0);
         if (k != 4) p.interior_irregular_edges[k] += 2;
     }
     // Fan edges (reference-notes §8.6): the fan edge has 2 hexes per face, the extension edge w -> O_w at a fan end
@@ -420,7 +444,7 @@ int assign_vertex_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, 
                                                    (cs.edge_begin[v + 1] - cs.edge_begin[v]);
         } else if (c == VertexClass::LeafletInterior || c == VertexClass::LeafletBoundary) {
             vertex_base[v] = n_points;
-            n_points += c == VertexClass::LeafletInterior ? 3 : 6;
+            n_points += c == VertexClass::LeafletInterior ? 3 : has_corner_cube(an, v) ? 12 : 6;
         } else if (is_fan(c)) {
             // centre, one vertex per gap; at a fan end also O_w and one out-copy per gap; on a fan-block chain its
             // section (and cap section)
@@ -487,6 +511,7 @@ struct HexSlots {
     std::vector<std::array<int, 2>> boundary_side;  // per boundary edge: (face, side index) traversing it
     int block_slot0 = 0;                            // first compatible-block hex (8 per block, in block order)
     int fan_slot0 = 0;                              // first fan-block hex (fan_chain_hexes, in chain order)
+    int cube_slot0 = 0;                             // first corner-cube hex (2 per corner cube, in vertex order)
     int n_hex = 0;
 };
 
@@ -517,6 +542,8 @@ HexSlots reserve_hex_slots(const SkeletonAnalysis& an, const ConnectionSurfaces&
     s.fan_slot0 = s.n_hex;
     const long fan = kFanChunkHexes * (fan_block_edges(cs.fan_blocks) + fan_block_caps(cs.fan_blocks));
     s.n_hex += static_cast<int>(fan);
+    s.cube_slot0 = s.n_hex;
+    s.n_hex += 2 * static_cast<int>(std::count(an.corner_cube.begin(), an.corner_cube.end(), char{1}));
     MESOHEX_CHECK(s.n_hex == an.predicted_hexes + kBlockHexes * blocks + fan, "hex slots differ from the prediction");
     return s;
 }
@@ -540,6 +567,21 @@ void write_fan_block_hexes(const ConnectionSurfaces& cs, const HexSlots& slots, 
             for (int k = 0; k < 8; ++k) raw.mesh.hexes[h][k] = raw.vertex_base[c.vertices[hex[k][0]]] + hex[k][1];
             raw.hex_edge[h++] = -1;
         }
+}
+
+// Corner cubes (docked_walls.h): at corner cube vertex c with ids c, U, D, K, KU, KD, A, AU, AD, B, BU, BD (offsets
+// 0 .. 11; A serves the border edge by which c's plate face leaves c, B the one it arrives by), the hexes
+// (c, B, K, A | U, BU, KU, AU) and (c, A, K, B | D, AD, KD, BD), in vertex order.
+void write_corner_cubes(const SkeletonAnalysis& an, const HexSlots& slots, RawMesh& raw) {
+    int h = slots.cube_slot0;
+    for (int v = 0; v < static_cast<int>(an.corner_cube.size()); ++v) {
+        if (!an.corner_cube[v]) continue;
+        const int c = raw.vertex_base[v];
+        raw.mesh.hexes[h] = {c, c + 9, c + 3, c + 6, c + 1, c + 10, c + 4, c + 7};
+        raw.mesh.hexes[h + 1] = {c, c + 6, c + 3, c + 9, c + 2, c + 8, c + 5, c + 11};
+        raw.hex_edge[h] = raw.hex_edge[h + 1] = -1;
+        h += 2;
+    }
 }
 
 // Leaflet plates (reference-notes §8.2-8.3, VTK order). Ids at a leaflet vertex: base = centre, +1 up, +2 down,
@@ -615,6 +657,9 @@ void write_half_chunk(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, 
         oub = b + 2 + g + gaps.gap_of[f * 8 + kb * 2];
         odb = b + 2 + g + gaps.gap_of[f * 8 + kb * 2 + 1];
     }
+    // A corner cube (docked_walls.h): the plate's face leaves wa by e (column A), arrives at wb by e (column B).
+    if (has_corner_cube(an, wa) && face_counts_at(an, f, wa)) oa = a + 6, oua = a + 7, oda = a + 8;
+    if (has_corner_cube(an, wb) && face_counts_at(an, f, wb)) ob = b + 9, oub = b + 10, odb = b + 11;
     // A wall's end on a docked chain (docked_walls.h): its out column is the plate's.
     if (!sides.docked.empty() && sides.docked[4 * f + k][3] >= 0) {
         const std::array<int, 6>& d = sides.docked[4 * f + k];
@@ -1075,6 +1120,28 @@ std::vector<std::array<double, 2>> leaflet_offset_limits(const Skeleton& skeleto
     return limit;
 }
 
+// Corner cube vertex v (docked_walls.h) of radius r, plate normal n: its columns A and B stand r straight out of its
+// two border edges (in the plate's plane, normal to the edge), K at A + B - v; each with its up / down copies at r n
+// (limit: leaflet_offset_limits's factors).
+void place_corner_cube(const Skeleton& skeleton, const SkeletonAnalysis& an, const Vec3& n, int v, double r,
+                       const std::array<double, 2>& limit, RawMesh& raw) {
+    int f = -1, k = -1;  // the plate's one face at v, v's corner in it
+    for (int g = 0; g < static_cast<int>(an.face_vertices.size()) && k < 0; ++g)
+        if (face_counts_at(an, g, v)) f = g, k = face_corner_of(an, g, v);
+    const int base = raw.vertex_base[v];
+    const Vec3& c = skeleton.points[v];
+    const Vec3 ta = skeleton.points[an.face_vertices[f][(k + 1) & 3]] - c;  // along the edge f leaves v by
+    const Vec3 tb = c - skeleton.points[an.face_vertices[f][(k + 3) & 3]];  // along the edge f arrives by
+    const Vec3 a = c + r * normalized(cross(ta, n)), b = c + r * normalized(cross(tb, n)), kk = a + b - c;
+    const Vec3 up = limit[0] * r * n, dn = limit[1] * r * n;
+    const std::array<Vec3, 3> column{kk, a, b};
+    for (int j = 0; j < 3; ++j) {
+        raw.mesh.points[base + 3 + 3 * j] = column[j];
+        raw.mesh.points[base + 4 + 3 * j] = column[j] + up;
+        raw.mesh.points[base + 5 + 3 * j] = column[j] - dn;
+    }
+}
+
 // Leaflet vertex v of radius r: centre, up and down; at a boundary vertex also its out column (out, out-up,
 // out-down); limit: leaflet_offset_limits's up / down factors for v.
 void place_leaflet_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an, const LeafletVertexFrames& leaf,
@@ -1106,6 +1173,7 @@ void place_leaflet_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an, 
     raw.mesh.points[base + 3] = out;
     raw.mesh.points[base + 4] = out + limit[0] * m;
     raw.mesh.points[base + 5] = out - limit[1] * m;
+    if (has_corner_cube(an, v)) place_corner_cube(skeleton, an, leaf.normal[v], v, r, limit, raw);
 }
 
 // Geometry transfer: centre, surface points and surface-edge midpoints on the sphere of local radius; leaflet
@@ -1357,6 +1425,7 @@ RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     write_branch_chunks(skeleton, cs, frames, slots, rooted, raw);
     write_block_hexes(cs, slots, raw);
     write_fan_block_hexes(cs, slots, raw);
+    write_corner_cubes(an, slots, raw);
     const std::vector<double> radius = effective_radii(skeleton, an, cs, frames, options);
     place_fan_vertices(skeleton, an, cs, gaps, options, radius, raw);
     place_vertices(skeleton, an, cs, frames, options, radius, raw);

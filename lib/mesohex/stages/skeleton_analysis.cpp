@@ -485,7 +485,7 @@ void check_rooted_branches(const Skeleton& s, const SkeletonAnalysis& an) {
         if (!fresh)
             fail(ErrorCode::UnsupportedConfiguration,
                  "skeleton vertex " + std::to_string(q.vertex) + ": the foot of the wall docked there (leaflet " +
-                     std::to_string(q.wall) + ") would stand on plate " + (q.kind == 0 ? "face " : "border edge ") +
+                     std::to_string(q.wall) + ") would stand on plate " + (q.kind == 0 ? "face " : q.kind == 1 ? "border edge " : "corner cube at vertex ") +
                      std::to_string(q.id) + ", which the wall docked at skeleton vertex " +
                      std::to_string(-1 - it->second) +
                      " stands on too; edit: move the walls at least two plate faces apart, or to opposite sides",
@@ -578,7 +578,8 @@ void count_elements(const Skeleton& s, SkeletonAnalysis& an) {
     for (int v = 0; v < nv; ++v)
         if (an.vertex_class[v] != VertexClass::Isolated && sets.find(v) == v) ++c.components;
     c.cycles = c.components - ((c.vertices - c.isolated) - c.edges + c.faces);
-    an.predicted_hexes = 4 * c.branch_edges + 2 * c.faces + 2 * c.boundary_edges;
+    const long cubes = std::count(an.corner_cube.begin(), an.corner_cube.end(), char{1});
+    an.predicted_hexes = 4 * c.branch_edges + 2 * c.faces + 2 * c.boundary_edges + 2 * cubes;
 }
 
 }  // namespace
@@ -680,7 +681,8 @@ std::string analysis_to_text(const SkeletonAnalysis& an) {
             flange = flange || an.edge_docked[an.vertex_edges[i]] == 3;
         if (flange) {
             os << "vertex " << v << ": " << to_string(vc) << " of leaflet " << an.vertex_plate[v]
-               << ", a wall docked on its border (a flange: the chain is the leaflet's border)\n";
+               << ", a wall docked on its border (a flange: the chain is the leaflet's border)"
+               << (has_corner_cube(an, v) ? ", its corner cube" : "") << "\n";
             continue;
         }
         if (an.vertex_plate[v] >= 0) {

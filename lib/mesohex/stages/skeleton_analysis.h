@@ -109,6 +109,10 @@ struct SkeletonAnalysis {
     // and its vertex_boundary_edges counted, by its plate alone (LeafletInterior or LeafletBoundary).
     std::vector<char> edge_docked;
     std::vector<int> vertex_plate;
+    // Per vertex: 1 at a corner cube (docked_walls.h, "Corner cubes"): a flange's chain end at its plate's corner, whose
+    // two border edges get out columns of their own (12 raw ids instead of 6) and 2 corner hexes; else 0 (empty when
+    // nothing is docked).
+    std::vector<char> corner_cube;
     // Docked chain vertices whose plate grid does not match the wall's foot (a turn in the grid, other than 4 plate
     // faces, ...), accepted only with AnalysisOptions::docked_band_pillow (left to the repair's band pillow), chain
     // by chain; empty otherwise. With any, the feet are not built nor checked (docked_foot_quads is skipped).
@@ -122,7 +126,8 @@ struct SkeletonAnalysis {
     std::vector<std::array<int, 4>> face_edges;  // edge of side (face_vertices[k], face_vertices[k+1])
     std::vector<Vec3> face_normal;
     AnalysisCounts counts;
-    // Raw-mesh hex count known from the analysis alone: 4 per branch edge + 2 per leaflet face + 2 per boundary edge.
+    // Raw-mesh hex count known from the analysis alone: 4 per branch edge + 2 per leaflet face + 2 per boundary edge
+    // + 2 per corner cube.
     long predicted_hexes = 0;
 };
 
@@ -186,6 +191,9 @@ std::vector<Branch> extract_branches(const Skeleton& skeleton, const std::vector
 inline bool face_counts_at(const SkeletonAnalysis& an, int f, int w) {
     return an.vertex_plate.empty() || an.vertex_plate[w] < 0 || an.face_leaflet[f] == an.vertex_plate[w];
 }
+
+// Is v a corner cube's vertex (SkeletonAnalysis::corner_cube)?
+inline bool has_corner_cube(const SkeletonAnalysis& an, int v) { return !an.corner_cube.empty() && an.corner_cube[v]; }
 
 // Does v root a branch on the plates (a leaflet interior or boundary vertex with exactly one branch edge)?
 inline bool roots_branch(const SkeletonAnalysis& an, int v) {
