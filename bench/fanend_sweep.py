@@ -3,7 +3,8 @@
 configurations").
 
 For every generated configuration (fan-edge ends `fanend -n 3|4 -m 1..5`, T / X fans, fan blocks, Y fans, walls on
-plates, flanges (walls above, or above and below, a chain on part of a plate's border), cube stars, Y and
+plates, flanges (walls above, or above and below, a chain on part of a plate's border; `cornerflanges`: the chain from
+the plate's corner), cube stars, Y and
 tetrahedral stars, and T / X fans whose top fan end carries a 3-edge branch turned theta degrees off the fan line
 towards azimuth phi) at radius scales from 0.5 to 2.6, runs `mesohex mesh` (raw, defaults, one thread) with
 `--report` and classifies the run:
@@ -24,7 +25,7 @@ towards azimuth phi) at radius scales from 0.5 to 2.6, runs `mesohex mesh` (raw,
 Prints the counts per class and per family, then a table of every run not clean or refused (and of bad refusals).
 
   bench/fanend_sweep.py [--mesohex build/bin/mesohex] [--out DIR] [--families fanend,angled,...] [--scales 0.5:2.6:0.05]
-                        [--jobs 2] [--list-refused] [--tsv FILE]
+                        [--jobs 2] [--list-refused] [--tsv FILE] [--generator BINARY]
 
 --tsv FILE writes one line per run (family, configuration, radius scale, class, detail), in configuration order, to
 compare two builds run by run.
@@ -74,6 +75,12 @@ def configurations(families, scales, angle_scales):
                 for n in (4, 6):
                     for m in (1, 2, 3):
                         out.append(("flanges", f"{name} -n {n} -m {m}", [name, "-n", str(n), "-m", str(m)], None, s))
+        if "cornerflanges" in families:
+            for name in ("flangecorner", "flangecornerup"):
+                for n in (4, 6):
+                    for m in (1, 2, 3):
+                        out.append(
+                            ("cornerflanges", f"{name} -n {n} -m {m}", [name, "-n", str(n), "-m", str(m)], None, s))
         if "stars" in families:
             for n in (3, 4, 5, 6):
                 for m in (1, 2, 3):
@@ -111,13 +118,14 @@ def interior_irregular(q):
 
 
 MESH_ARGS = []  # --mesh-args: extra options for every mesh run
+GENERATOR = []  # --generator: the binary that generates the skeletons (default: the meshing one)
 
 
 def run(binary, out, idx, cfg):
     family, label, gen, angled, s = cfg
     base = os.path.join(out, f"c{idx}")
     obj = base + ".obj"
-    g = subprocess.run([binary, "generate", *gen, "--radius-scale", str(s), "-o", obj], capture_output=True, text=True)
+    g = subprocess.run([GENERATOR[0] if GENERATOR else binary, "generate", *gen, "--radius-scale", str(s), "-o", obj], capture_output=True, text=True)
     if g.returncode != 0:
         return (cfg, "gen-error", g.stderr.strip().split("\n")[-1][:160])
     if angled:
@@ -175,8 +183,12 @@ def main():
     ap.add_argument("--list-refused", action="store_true", help="also list every refusal with its message")
     ap.add_argument("--tsv", help="write one line per run (family, configuration, scale, class, detail) to this file")
     ap.add_argument("--mesh-args", default="", help="extra options for every mesh run, e.g. '--fan-cap-branches'")
+    ap.add_argument("--generator", help="generate the skeletons with this binary (e.g. a newer build's generators, "
+                    "meshed by --mesohex)")
     a = ap.parse_args()
     MESH_ARGS.extend(a.mesh_args.split())
+    if a.generator:
+        GENERATOR.append(a.generator)
     os.makedirs(a.out, exist_ok=True)
     cfgs = configurations(set(a.families.split(",")), frange(a.scales), frange(a.angle_scales))
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as ex:

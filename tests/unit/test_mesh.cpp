@@ -415,3 +415,39 @@ TEST(MeshSkeleton, ThickFlangeIsDockedOnThePlatesBorderAtAnyRadiusBelowTheEdge) 
         }
     }
 }
+
+// A flange from the plate's corner (`flangecorner` / `flangecornerup`: plate 4 x 4 of unit quads, walls of 2 rows on
+// the chain (0, 0) -> (0, 2) of the side x = 0 from the corner; docs/blocks.md, "Flanges from the plate's corner: the
+// corner cube"): docked on the plate's border with a corner cube at the corner, at any r < L. Counts by hand: hexes
+// 2 F + 2 B + 2 (the cube), one wall F 20, B 16 + 6 = 22: 86; walls above and below F 24, B 16 + 12 = 28: 106.
+// Vertices: the plate's 9 interior x 3 + 15 border x 6 + 12 at the corner = 129, each wall 5 border x 6 + 1 interior
+// x 3 = 33: 162 / 195. With the frames' placement the worst hex is the wall's end half-chunk at the mid-side end (2
+// rows: 1 / sqrt 3, the flange's value); the corner's own hexes are at least 0.707 (the +n half of the wall's end
+// half-chunk, a frustum; the cubes are boxes).
+TEST(MeshSkeleton, FlangeFromThePlatesCornerIsDockedWithACornerCube) {
+    for (const char* name : {"flangecorner", "flangecornerup"}) {
+        const bool both = std::string(name) == "flangecorner";
+        for (const double r : {0.3, 0.45, 0.55, 0.75}) {
+            SCOPED_TRACE(std::string(name) + " r " + std::to_string(r));
+            GeneratorOptions g;
+            g.radius_scale = r / 0.3;
+            const Skeleton s = generate_skeleton(name, g);
+            const SkeletonAnalysis an = analyze_skeleton(s);
+            EXPECT_EQ(an.counts.fan_edges, 0);
+            EXPECT_EQ(std::count(an.corner_cube.begin(), an.corner_cube.end(), char{1}), 1);
+            MeshOptions placed;
+            placed.pipeline.raw_mesh.leaflet_offset_fraction = 0;
+            const MeshRun exact = mesh_skeleton(s, nullptr, placed);
+            EXPECT_EQ(exact.raw_quality.inverted, 0);
+            EXPECT_NEAR(exact.raw_quality.sj_min, 1 / std::sqrt(3.0), 1e-9);
+            const MeshRun run = mesh_skeleton(s, nullptr, MeshOptions{});
+            EXPECT_EQ(run.raw_quality.hexes, both ? 106 : 86);
+            EXPECT_EQ(run.raw_quality.vertices, both ? 195 : 162);
+            EXPECT_EQ(run.pipeline.predicted.hexes, run.raw_quality.hexes);
+            EXPECT_TRUE(run.prediction_exact);
+            EXPECT_TRUE(run.raw_quality.validation.valid());
+            EXPECT_EQ(run.raw_quality.euler_characteristic, 1);
+            EXPECT_EQ(run.raw_quality.inverted, 0);
+        }
+    }
+}
