@@ -495,8 +495,8 @@ double edge_angle_deg(const Skeleton& s, int v, int a, int b) {
 // 1 yes, 2 yes at an end on P's corner (a corner cube: one face of P, its border turning within kCornerCubeMaxSkewDeg
 // of a right angle).
 int border_chain_vertex(const Skeleton& s, const SkeletonAnalysis& an, const LocalFaces& lf,
-                         const std::vector<int>& leaf, const std::vector<int>& comp, const std::vector<int>& vertices,
-                         int v, bool end, int P) {
+                        const std::vector<int>& leaf, const std::vector<int>& comp, const std::vector<int>& vertices,
+                        int v, bool end, int P) {
     auto in_comp = [&](int e) { return std::find(comp.begin(), comp.end(), e) != comp.end(); };
     int chain_edge = -1, chain_edges = 0, border = -1, plate_faces = 0;
     std::vector<std::array<int, 3>> walls;  // (leaflet, faces, border edges)

@@ -485,7 +485,10 @@ void check_rooted_branches(const Skeleton& s, const SkeletonAnalysis& an) {
         if (!fresh)
             fail(ErrorCode::UnsupportedConfiguration,
                  "skeleton vertex " + std::to_string(q.vertex) + ": the foot of the wall docked there (leaflet " +
-                     std::to_string(q.wall) + ") would stand on plate " + (q.kind == 0 ? "face " : q.kind == 1 ? "border edge " : "corner cube at vertex ") +
+                     std::to_string(q.wall) + ") would stand on plate " +
+                     (q.kind == 0   ? "face "
+                      : q.kind == 1 ? "border edge "
+                                    : "corner cube at vertex ") +
                      std::to_string(q.id) + ", which the wall docked at skeleton vertex " +
                      std::to_string(-1 - it->second) +
                      " stands on too; edit: move the walls at least two plate faces apart, or to opposite sides",
