@@ -106,6 +106,7 @@ int check(int nodes, int count) {
         if (delta > 1e-9) ++higher;
         if (delta < -1e-9) {
             ++lower;
+            if (delta < -kPi / 180) ++lower_1deg;
             loss = std::max(loss, -delta);
         }
     }

@@ -108,8 +108,8 @@ struct ConnectionSurfaceOptions {
     // distinct axes of a 60-axis scan instead of the 400-axis scan's 3 best.
     bool coarse_three_scan = true;
     // Passed to partition_sphere (SpherePartitionOptions::tabled_three_start): the three-direction solver starts from a
-    // table of maxima (and the pair normals, the tips' plane normal, the mean) instead of a scan; off (measured).
-    bool tabled_three_start = false;
+    // table of maxima (and the pair normals, the tips' plane normal, the mean) instead of a scan.
+    bool tabled_three_start = true;
     // Passed to partition_sphere (SpherePartitionOptions::first_improving_long_relaxation): the long relaxations'
     // pattern takes a vertex's first better trial, starting with its last direction; off (measured, raw meshes worse).
     bool first_improving_long_relaxation = false;

@@ -58,7 +58,7 @@ struct SpherePartitionOptions {
     // triple's, the pair normals, the tips' plane normal and the mean, the 2 best more than 0.3 rad apart), the scan
     // only when none of them gives a valid orange. Measured in docs/performance.md, "Thirteenth pass". false: the
     // scan's starts (coarse_three_scan).
-    bool tabled_three_start = false;
+    bool tabled_three_start = true;
     // true: in the long relaxations' pattern moves (gradient_long_relaxation off) each real vertex tries the 8
     // directions starting with the one it moved in last and takes the first trial that lowers the energy (not the
     // best of the 8): a third fewer instructions on branchy trees, but the raw meshes of the random set lose more than
