@@ -421,6 +421,8 @@ std::vector<Vec3> tabled_orange_starts_three(const std::array<Vec3, 3>& d, const
     return starts;
 }
 
+const signed char* orange_three_table() { return kOrangeTable.data(); }
+
 std::vector<Vec3> tabled_orange_starts_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
                                              double margin_weight) {
     return tabled_orange_starts_three(d, bound, margin_weight, kOrangeTable.data(), kOrangeTableNodes);

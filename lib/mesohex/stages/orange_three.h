@@ -72,7 +72,10 @@ Vec3 orange_three_table_axis(double alpha, double beta, double gamma, double mar
 std::vector<Vec3> tabled_orange_starts_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
                                              double margin_weight, const signed char* table, int nodes);
 
-// The same with the committed table (orange_three_table.inc, kOrangeTableNodes nodes, margin weight pi / 3).
+// The committed table (orange_three_table.inc: kOrangeTableNodes^3 nodes, margin weight pi / 3), 3 values per node.
+const signed char* orange_three_table();
+
+// The same with the committed table.
 std::vector<Vec3> tabled_orange_starts_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
                                              double margin_weight);
 }  // namespace mesohex
