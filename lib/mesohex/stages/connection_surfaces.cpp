@@ -1467,7 +1467,8 @@ bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o)
            m.degree_three_chunks_at_bridges == o.degree_three_chunks_at_bridges &&
            m.exact_three_orange == o.exact_three_orange && m.shared_hull_relaxation == o.shared_hull_relaxation &&
            m.gradient_long_relaxation == o.gradient_long_relaxation && m.coarse_three_scan == o.coarse_three_scan &&
-           m.tabled_three_start == o.tabled_three_start && m.first_improving_long_relaxation == o.first_improving_long_relaxation;
+           m.tabled_three_start == o.tabled_three_start &&
+           m.first_improving_long_relaxation == o.first_improving_long_relaxation;
 }
 
 // FNV-1a (64 bits) of the key's bytes.

@@ -297,9 +297,7 @@ OrangeAxisThree best_orange_axis_three(const std::array<Vec3, 3>& d, const std::
     return best;
 }
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 double orange_table_angle(double u) { return 0.5 * kPi * (1 - std::cos(kPi * u)); }
 double orange_table_coordinate(double angle) { return std::acos(std::clamp(1 - 2 * angle / kPi, -1.0, 1.0)) / kPi; }
