@@ -14,7 +14,7 @@
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
 //   D3_NEXT_TO_BP=0|1 its degree_three_chunks_next_to_branching_points, D3_AT_BRIDGES=0|1 its
 //   degree_three_chunks_at_bridges, EXACT_THREE=0|1 its exact_three_orange, SHARED_HULL=0|1 its
-//   shared_hull_relaxation, GRADIENT_LONG=0|1 its gradient_long_relaxation, COARSE_THREE=0|1 its coarse_three_scan,
+//   shared_hull_relaxation, GRADIENT_LONG=0|1 its gradient_long_relaxation, COARSE_THREE=0|1 its coarse_three_scan, TABLED_THREE=0|1 its tabled_three_start,
 //   FIRST_IMPROVING=0|1 its first_improving_long_relaxation, JUNCTION_COVER=F RawMeshOptions::
 //   cover.fraction (JUNCTION_INSET=F cover.inset, JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_CREASE_MID=0|1
 //   its crease_midpoints, JUNCTION_COVER_MIN_DEGREE and
@@ -129,6 +129,7 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("GRADIENT_LONG"))
         po.connection_surfaces.gradient_long_relaxation = std::atoi(k) != 0;
     if (const char* k = std::getenv("COARSE_THREE")) po.connection_surfaces.coarse_three_scan = std::atoi(k) != 0;
+    if (const char* k = std::getenv("TABLED_THREE")) po.connection_surfaces.tabled_three_start = std::atoi(k) != 0;
     if (const char* k = std::getenv("FIRST_IMPROVING"))
         po.connection_surfaces.first_improving_long_relaxation = std::atoi(k) != 0;
     if (const char* k = std::getenv("FAN_CAP_BRANCHES"))

@@ -11,7 +11,7 @@
 //            (generate_random_skeleton), or a skeleton file path; gen:all = every generator, random:A-B = seeds A..B
 //   Run under valgrind --tool=callgrind for instruction counts (one rep). EXACT_THREE=0|1 in the environment sets
 //   ConnectionSurfaceOptions::exact_three_orange, SHARED_HULL=0|1 its shared_hull_relaxation, GRADIENT_LONG=0|1 its
-//   gradient_long_relaxation, COARSE_THREE=0|1 its coarse_three_scan, FIRST_IMPROVING=0|1 its
+//   gradient_long_relaxation, COARSE_THREE=0|1 its coarse_three_scan, TABLED_THREE=0|1 its tabled_three_start, FIRST_IMPROVING=0|1 its
 //   first_improving_long_relaxation, BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius, BRIDGE_QUAD_INSET=F its
 //   bridge_quad_inset.
 #include <algorithm>
@@ -99,6 +99,8 @@ int main(int argc, char** argv) {
                 po.connection_surfaces.gradient_long_relaxation = std::atoi(k) != 0;
             if (const char* k = std::getenv("COARSE_THREE"))  // ConnectionSurfaceOptions::coarse_three_scan
                 po.connection_surfaces.coarse_three_scan = std::atoi(k) != 0;
+            if (const char* k = std::getenv("TABLED_THREE"))  // ConnectionSurfaceOptions::tabled_three_start
+                po.connection_surfaces.tabled_three_start = std::atoi(k) != 0;
             // ConnectionSurfaceOptions::first_improving_long_relaxation
             if (const char* k = std::getenv("FIRST_IMPROVING"))
                 po.connection_surfaces.first_improving_long_relaxation = std::atoi(k) != 0;

@@ -319,8 +319,8 @@ TEST(SpherePartition, ThreeDirectionsHaveTwoValenceThreeVerticesAndScoreAtMostSi
 // midpoints normalised(d_a + d_b), which puts every direction as far from its quad's sides as its nearest neighbour
 // allows (margin ratio 1); the exact orange here reaches 0.951. partition_sphere skips the three-direction hull path
 // only when that candidate certainly scores below the best orange, so it must still return it (it fails when the
-// skip is unconditional). Run with the 400-axis scan's starts (coarse_three_scan off): the coarse scan's distinct
-// starts reach a higher orange here (quality_score 57.29 degrees, margin ratio 0.969, against the hull candidate's
+// skip is unconditional). Run with the 400-axis scan's starts (coarse_three_scan and tabled_three_start off): the
+// coarse scan's distinct starts and the table's reach a higher orange here (quality_score 57.29 degrees, margin ratio 0.969, against the hull candidate's
 // 57.14), which the default returns; it scores at least the hull candidate's.
 double quality_deg(const SpherePartition& p, const std::vector<Vec3>& d) {
     const mesohex::SpherePartitionStats s = mesohex::sphere_partition_stats(p, d);
@@ -332,6 +332,7 @@ TEST(SpherePartition, ThreeDirectionsKeepAHullCandidateThatWins) {
                                  {-0.86652029261974595, 0.12586074369604253, -0.48301310093461131}};
     mesohex::SpherePartitionOptions full_scan;
     full_scan.coarse_three_scan = false;
+    full_scan.tabled_three_start = false;
     const SpherePartition p = partition_sphere(d, full_scan);
     ASSERT_EQ(mesohex::verify_sphere_partition(p, d), "");
     EXPECT_GT(mesohex::sphere_partition_stats(p, d).min_margin_ratio, 1 - 1e-9);

@@ -1156,6 +1156,7 @@ SpherePartition partition_branching_point(const SurfaceInputs& in, int v, const 
         po.shared_hull_relaxation = options.shared_hull_relaxation;
         po.gradient_long_relaxation = options.gradient_long_relaxation;
         po.coarse_three_scan = options.coarse_three_scan;
+        po.tabled_three_start = options.tabled_three_start;
         po.first_improving_long_relaxation = options.first_improving_long_relaxation;
         // Three branch edges, no leaflet side: with degree_three_partition_by_chunks both candidates below; else, at a
         // gap over 180 degrees, the orange around the best-fit plane's normal (a tolerance of 1 takes
@@ -1396,6 +1397,7 @@ void build_bridge_surfaces(const SurfaceInputs& in, const std::vector<char>& at_
                                     .shared_hull_relaxation = in.options.shared_hull_relaxation,
                                     .gradient_long_relaxation = in.options.gradient_long_relaxation,
                                     .coarse_three_scan = in.options.coarse_three_scan,
+                                    .tabled_three_start = in.options.tabled_three_start,
                                     .first_improving_long_relaxation = in.options.first_improving_long_relaxation};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4),
                       [&](const tbb::blocked_range<std::size_t>& range) {
@@ -1465,6 +1467,7 @@ bool memo_options_match(const SurfaceMemo& m, const ConnectionSurfaceOptions& o)
            m.degree_three_chunks_at_bridges == o.degree_three_chunks_at_bridges &&
            m.exact_three_orange == o.exact_three_orange && m.shared_hull_relaxation == o.shared_hull_relaxation &&
            m.gradient_long_relaxation == o.gradient_long_relaxation && m.coarse_three_scan == o.coarse_three_scan &&
+           m.tabled_three_start == o.tabled_three_start &&
            m.first_improving_long_relaxation == o.first_improving_long_relaxation;
 }
 
@@ -1535,6 +1538,7 @@ SurfaceMemo collect_memo(const ConnectionSurfaces& cs, const std::vector<std::ve
     m.shared_hull_relaxation = options.shared_hull_relaxation;
     m.gradient_long_relaxation = options.gradient_long_relaxation;
     m.coarse_three_scan = options.coarse_three_scan;
+    m.tabled_three_start = options.tabled_three_start;
     m.first_improving_long_relaxation = options.first_improving_long_relaxation;
     std::vector<std::pair<std::uint64_t, int>> order;
     for (int v = 0; v < static_cast<int>(keys.size()); ++v)

@@ -107,6 +107,9 @@ struct ConnectionSurfaceOptions {
     // Passed to partition_sphere (SpherePartitionOptions::coarse_three_scan): the three-direction solver starts from
     // distinct axes of a 60-axis scan instead of the 400-axis scan's 3 best.
     bool coarse_three_scan = true;
+    // Passed to partition_sphere (SpherePartitionOptions::tabled_three_start): the three-direction solver starts from a
+    // table of maxima (and the pair normals, the tips' plane normal, the mean) instead of a scan.
+    bool tabled_three_start = true;
     // Passed to partition_sphere (SpherePartitionOptions::first_improving_long_relaxation): the long relaxations'
     // pattern takes a vertex's first better trial, starting with its last direction; off (measured, raw meshes worse).
     bool first_improving_long_relaxation = false;
@@ -122,7 +125,7 @@ struct ConnectionSurfaceOptions {
 // (planarity_tolerance, relax_partitions, relax_below_margin, plane_orange_at_degree_three,
 // no_flat_point_in_close_pair, degree_three_partition_by_chunks, degree_three_chunks_next_to_branching_points,
 // degree_three_chunks_at_bridges, exact_three_orange, shared_hull_relaxation, gradient_long_relaxation,
-// coarse_three_scan, first_improving_long_relaxation; a point
+// coarse_three_scan, tabled_three_start, first_improving_long_relaxation; a point
 // whose partition may read its neighbours' positions, radii and partitions, a degree-3 point chosen by its chunks (at
 // a bridge too) or a degree-4 point under no_flat_point_in_close_pair, is not memo-able): an entry keyed on the exact
 // bits of those directions is reused whatever the vertex's number, so an edit that renumbers the skeleton
@@ -151,6 +154,7 @@ struct SurfaceMemo {
     bool shared_hull_relaxation = false;
     bool gradient_long_relaxation = false;
     bool coarse_three_scan = false;
+    bool tabled_three_start = false;
     bool first_improving_long_relaxation = false;
     std::vector<Entry> entries;                        // one per distinct key
     std::vector<std::pair<std::uint64_t, int>> index;  // (hash of the key, entry), sorted

@@ -297,4 +297,133 @@ OrangeAxisThree best_orange_axis_three(const std::array<Vec3, 3>& d, const std::
     return best;
 }
 
+namespace {}  // namespace
+
+double orange_table_angle(double u) { return 0.5 * kPi * (1 - std::cos(kPi * u)); }
+double orange_table_coordinate(double angle) { return std::acos(std::clamp(1 - 2 * angle / kPi, -1.0, 1.0)) / kPi; }
+
+namespace {
+
+double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
+
+// Whether the axis a lies within `radius` rad of an axis in `kept`, as lines (a and -a are one orange).
+bool near_any(const Vec3& a, const std::vector<Vec3>& kept, double radius) {
+    const double c = std::cos(radius);
+    for (const Vec3& k : kept)
+        if (std::abs(dot(a, k)) > c) return true;
+    return false;
+}
+
+// The table's reference starts: 400 Fibonacci axes on the upper hemisphere.
+std::vector<Vec3> reference_axes() {
+    std::vector<Vec3> axes;
+    const double golden = kPi * (3 - std::sqrt(5.0));
+    for (int k = 0; k < 400; ++k) {
+        const double z = 1 - (k + 0.5) / 400;
+        const double r = std::sqrt(std::max(0.0, 1 - z * z));
+        axes.push_back(Vec3{r * std::cos(golden * k), r * std::sin(golden * k), z});
+    }
+    return axes;
+}
+
+#include "mesohex/stages/orange_three_table.inc"
+
+// The axes of the 8 table nodes around d's pairwise angles (tabled_orange_starts_three), nearest node first, in d's
+// frame, each more than 0.3 rad (as a line) from the ones before; none when the frame is ill-conditioned.
+std::vector<Vec3> table_corner_axes(const std::array<Vec3, 3>& d, const signed char* table, int nodes) {
+    static constexpr std::array<std::array<int, 3>, 3> kPairs = {{{0, 1, 2}, {0, 2, 1}, {1, 2, 0}}};
+    int pick = 0;
+    double best_sine = -1;
+    for (int p = 0; p < 3; ++p) {
+        const double s = norm(cross(d[kPairs[p][0]], d[kPairs[p][1]]));
+        if (s > best_sine) best_sine = s, pick = p;
+    }
+    if (!(best_sine >= 0.2)) return {};
+    const auto [i, j, k] = kPairs[pick];
+    const Vec3 e1 = d[i], e2 = normalized(d[j] - dot(d[j], e1) * e1), e3 = cross(e1, e2);
+    const double side = dot(d[k], e3) < 0 ? -1 : 1;
+    const std::array<double, 3> angle = {angle_of(d[i], d[j]), angle_of(d[i], d[k]), angle_of(d[j], d[k])};
+    std::array<int, 3> base{};
+    std::array<double, 3> t{};
+    for (int m = 0; m < 3; ++m) {
+        const double f = orange_table_coordinate(angle[m]) * (nodes - 1);
+        base[m] = std::clamp(static_cast<int>(std::floor(f)), 0, nodes - 2);
+        t[m] = std::clamp(f - base[m], 0.0, 1.0);
+    }
+    std::array<std::pair<double, int>, 8> corners;  // (-weight, corner), nearest first
+    for (int c = 0; c < 8; ++c) {
+        double w = 1;
+        for (int m = 0; m < 3; ++m) w *= (c >> m & 1) ? t[m] : 1 - t[m];
+        corners[c] = {-w, c};
+    }
+    std::sort(corners.begin(), corners.end());
+    std::vector<Vec3> axes;
+    for (const auto& [w, c] : corners) {
+        const int index = ((base[0] + (c & 1)) * nodes + base[1] + (c >> 1 & 1)) * nodes + base[2] + (c >> 2 & 1);
+        const signed char* a = table + 3 * index;
+        if (a[0] == 0 && a[1] == 0 && a[2] == 0) continue;
+        const Vec3 axis = normalized(double(a[0]) * e1 + double(a[1]) * e2 + side * double(a[2]) * e3);
+        if (!near_any(axis, axes, 0.3)) axes.push_back(axis);
+    }
+    return axes;
+}
+
+}  // namespace
+
+Vec3 orange_three_table_axis(double alpha, double beta, double gamma, double margin_weight) {
+    const double sa = std::sin(alpha);
+    if (!(sa > 1e-6)) return {};
+    const double y = (std::cos(gamma) - std::cos(alpha) * std::cos(beta)) / sa;
+    const double z2 = 1 - std::cos(beta) * std::cos(beta) - y * y;
+    if (z2 < -1e-9) return {};  // not a triple: the angles break the triangle inequality
+    const std::array<Vec3, 3> d = {Vec3{1, 0, 0}, Vec3{std::cos(alpha), sa, 0},
+                                   normalized(Vec3{std::cos(beta), y, std::sqrt(std::max(0.0, z2))})};
+    std::array<double, 3> bound{kPi, kPi, kPi};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (i != j) bound[i] = std::min(bound[i], 0.5 * angle_of(d[i], d[j]));
+    if (std::min({bound[0], bound[1], bound[2]}) < 0.01) return {};
+    std::vector<std::pair<double, int>> ranked;  // (-score, axis)
+    const std::vector<Vec3> axes = reference_axes();
+    for (int a = 0; a < static_cast<int>(axes.size()); ++a)
+        ranked.push_back({-orange_score_three(d, bound, margin_weight, axes[a]), a});
+    std::sort(ranked.begin(), ranked.end());
+    std::vector<Vec3> starts;
+    for (int r = 0; r < 8 && r < static_cast<int>(ranked.size()); ++r)
+        if (!near_any(axes[ranked[r].second], starts, 0.3)) starts.push_back(axes[ranked[r].second]);
+    const OrangeAxisThree best = best_orange_axis_three(d, bound, margin_weight, starts);
+    if (!(best.score > 0)) return {};
+    return best.axis.z < 0 ? -1.0 * best.axis : best.axis;
+}
+
+std::vector<Vec3> tabled_orange_starts_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
+                                             double margin_weight, const signed char* table, int nodes) {
+    std::vector<Vec3> candidates = table_corner_axes(d, table, nodes);
+    for (int a = 0; a < 3; ++a) {
+        const Vec3 c = cross(d[a], d[(a + 1) % 3]);
+        if (norm(c) > 1e-6) candidates.push_back(normalized(c));
+    }
+    const Vec3 centre = cross(d[1] - d[0], d[2] - d[0]), mean = d[0] + d[1] + d[2];
+    if (norm(centre) > 1e-12) candidates.push_back(normalized(centre));
+    if (norm(mean) > 1e-9) candidates.push_back(normalized(mean));
+    std::vector<std::pair<double, int>> ranked;  // (-score, candidate)
+    for (int c = 0; c < static_cast<int>(candidates.size()); ++c)
+        ranked.push_back({-orange_score_three(d, bound, margin_weight, candidates[c]), c});
+    std::stable_sort(ranked.begin(), ranked.end());
+    std::vector<Vec3> starts;
+    for (const auto& [score, c] : ranked) {
+        if (!(score < 0)) break;  // no valid orange around it, nor around the rest
+        if (!near_any(candidates[c], starts, 0.3)) starts.push_back(candidates[c]);
+        if (starts.size() == 2) break;
+    }
+    return starts;
+}
+
+const signed char* orange_three_table() { return kOrangeTable.data(); }
+
+std::vector<Vec3> tabled_orange_starts_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
+                                             double margin_weight) {
+    return tabled_orange_starts_three(d, bound, margin_weight, kOrangeTable.data(), kOrangeTableNodes);
+}
+
 }  // namespace mesohex

@@ -43,4 +43,39 @@ double orange_score_three(const std::array<Vec3, 3>& d, const std::array<double,
 OrangeAxisThree best_orange_axis_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
                                        double margin_weight, const std::vector<Vec3>& starts);
 
+// The tabulated maxima of three directions (SpherePartitionOptions::tabled_three_start). Three unit directions are
+// determined up to a rotation and a reflection (neither changes the score) by their pairwise angles: in the canonical
+// frame of a pair (i, j), d_i = (1, 0, 0), d_j = (cos alpha, sin alpha, 0) and d_k above the xy-plane, with alpha the
+// angle (i, j), beta (i, k), gamma (j, k). The table holds, at kOrangeTableNodes^3 nodes of (alpha, beta, gamma), each
+// in [0, pi] (steps denser near 0 and pi: orange_table_angle), the axis of the best maximum found from many starts (orange_three_table_axis), in the
+// canonical frame and rounded to 1/127 per coordinate; the zero vector where the node is no triple (the angles break
+// the triangle inequality), two directions are closer than 0.02 rad, or no orange there is valid.
+constexpr int kOrangeTableNodes = 13;
+// The table's node angles: node a of n at orange_table_angle(a / (n - 1)) = pi (1 - cos(pi u)) / 2 (radians), denser
+// near 0 and pi, where the maxima move fastest with the angles (close pairs, near-opposite pairs); its inverse.
+double orange_table_angle(double u);
+double orange_table_coordinate(double angle);
+
+// The canonical-frame axis of one table node (the triple of the angles above, radians; alpha in (0, pi)) at
+// `margin_weight`: the best end of best_orange_axis_three from the distinct 8 best of 400 Fibonacci axes (more than
+// 0.3 rad apart as lines), with z >= 0 (an axis and its negative are one orange); the zero vector as above. What
+// bench/orange_table.cpp writes into orange_three_table.inc.
+Vec3 orange_three_table_axis(double alpha, double beta, double gamma, double margin_weight);
+
+// The solver's 2 starts for `d` (unit, pairwise distinct; `bound` and `margin_weight` as above) from a table of
+// `nodes`^3 axes (`table`: per node x, y, z in units of 1/127, node (a, b, c) at index (a nodes + b) nodes + c): the
+// frame pair is the pair of directions whose angle has the largest sine (no table axes when it is below 0.2); the axes
+// of the 8 nodes around the triple's angles, nearest node first, mapped back from the canonical frame, each kept when
+// more than 0.3 rad (as a line) from every kept one; then the three pair normals, the normal of the tips' plane and
+// the mean direction. Of these, the two best by score more than 0.3 rad apart (as lines); fewer when fewer have a
+// valid orange (score > 0), none when none has: the caller then scans.
+std::vector<Vec3> tabled_orange_starts_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
+                                             double margin_weight, const signed char* table, int nodes);
+
+// The committed table (orange_three_table.inc: kOrangeTableNodes^3 nodes, margin weight pi / 3), 3 values per node.
+const signed char* orange_three_table();
+
+// The same with the committed table.
+std::vector<Vec3> tabled_orange_starts_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
+                                             double margin_weight);
 }  // namespace mesohex

@@ -526,8 +526,17 @@ constexpr double kThreeMarginWeight = kPi / 3;
 
 // The three-direction solver's axis (orange_three.h) from the best scan axes; its score <= 0 when no start is valid.
 // With `coarse` (SpherePartitionOptions::coarse_three_scan) the starts are distinct_starts of the coarse scan's 8 best.
+// With `tabled` (SpherePartitionOptions::tabled_three_start) the starts come from the table, the scan only when none
+// gives a valid orange.
 OrangeAxisThree exact_three_axis(const std::vector<Vec3>& d, const std::vector<double>& bound, OrangeEvaluator& eval,
-                                 bool coarse) {
+                                 bool coarse, bool tabled = false) {
+    if (tabled) {
+        const std::array<Vec3, 3> t = {d[0], d[1], d[2]};
+        const std::array<double, 3> b = {bound[0], bound[1], bound[2]};
+        const OrangeAxisThree best =
+            best_orange_axis_three(t, b, kThreeMarginWeight, tabled_orange_starts_three(t, b, kThreeMarginWeight));
+        if (best.score > 0) return best;
+    }
     return best_orange_axis_three(
         {d[0], d[1], d[2]}, {bound[0], bound[1], bound[2]}, kThreeMarginWeight,
         coarse ? distinct_starts(best_scan_axes(d, eval, coarse_fibonacci_axes(), 8)) : best_scan_axes(d, eval));
@@ -535,12 +544,13 @@ OrangeAxisThree exact_three_axis(const std::vector<Vec3>& d, const std::vector<d
 
 // Oranges around the best axes: for three directions with exact_three, the one around the solver's axis (its starts
 // from the coarse scan with coarse_three); else around the three best candidate axes, each refined by local search.
-std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d, bool exact_three, bool coarse_three) {
+std::vector<SpherePartition> axis_oranges(const std::vector<Vec3>& d, bool exact_three, bool coarse_three,
+                                          bool tabled_three) {
     const std::vector<double> bound = margin_bounds(d);
     OrangeEvaluator eval(d, bound);
     std::vector<SpherePartition> oranges;
     if (exact_three && d.size() == 3) {
-        const OrangeAxisThree best = exact_three_axis(d, bound, eval, coarse_three);
+        const OrangeAxisThree best = exact_three_axis(d, bound, eval, coarse_three, tabled_three);
         if (best.score > 0) {
             const OrangeFrame frame = orange_frame(d, best.axis);
             if (orange_margin(frame) > 0) oranges.push_back(build_orange(frame));
@@ -1899,7 +1909,8 @@ SpherePartition choose_partition(const std::vector<Vec3>& d, const SpherePartiti
     };
     // 2. Oranges around the best axes.
     if (!work.have_oranges) {
-        work.oranges = axis_oranges(d, options.exact_three_orange, options.coarse_three_scan);
+        work.oranges =
+            axis_oranges(d, options.exact_three_orange, options.coarse_three_scan, options.tabled_three_start);
         work.orange_scores = scores_of(work.oranges);
         work.have_oranges = true;
     }
@@ -2005,10 +2016,10 @@ std::vector<Vec3> scanned_orange_axes(const std::vector<Vec3>& directions) {
     return best_scan_axes(directions, eval);
 }
 
-Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions, bool coarse_scan) {
+Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions, bool coarse_scan, bool tabled) {
     const std::vector<double> bound = margin_bounds(directions);
     OrangeEvaluator eval(directions, bound);
-    return exact_three_axis(directions, bound, eval, coarse_scan).axis;
+    return exact_three_axis(directions, bound, eval, coarse_scan, tabled).axis;
 }
 
 bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& axis, double threshold) {

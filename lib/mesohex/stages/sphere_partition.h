@@ -53,6 +53,12 @@ struct SpherePartitionOptions {
     // half, and the starts reach a higher maximum about as often as a lower one (docs/performance.md, "Twelfth pass").
     // false: the 400-axis scan's 3 best axes.
     bool coarse_three_scan = true;
+    // Three directions with exact_three_orange: the solver climbs from 2 starts taken from a table instead of a scan
+    // (orange_three.h, tabled_orange_starts_three: the tabulated maxima at the 8 nodes of pairwise angles around the
+    // triple's, the pair normals, the tips' plane normal and the mean, the 2 best more than 0.3 rad apart), the scan
+    // only when none of them gives a valid orange. Measured in docs/performance.md, "Thirteenth pass". false: the
+    // scan's starts (coarse_three_scan).
+    bool tabled_three_start = true;
     // true: in the long relaxations' pattern moves (gradient_long_relaxation off) each real vertex tries the 8
     // directions starting with the one it moved in last and takes the first trial that lowers the energy (not the
     // best of the 8): a third fewer instructions on branchy trees, but the raw meshes of the random set lose more than
@@ -125,7 +131,8 @@ bool orange_certainly_at_most(const std::vector<Vec3>& directions, const Vec3& a
 std::vector<Vec3> scanned_orange_axes(const std::vector<Vec3>& directions);
 std::vector<Vec3> searched_orange_axes(const std::vector<Vec3>& directions);
 Vec3 exact_three_orange_axis(const std::vector<Vec3>& directions,
-                             bool coarse_scan = SpherePartitionOptions{}.coarse_three_scan);
+                             bool coarse_scan = SpherePartitionOptions{}.coarse_three_scan,
+                             bool tabled = SpherePartitionOptions{}.tabled_three_start);
 }  // namespace detail
 
 }  // namespace mesohex
