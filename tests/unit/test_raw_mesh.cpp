@@ -13,6 +13,7 @@
 
 #include <tbb/global_control.h>
 
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/error.h"
 #include "mesohex/core/hex_convention.h"
 #include "mesohex/core/topology.h"
@@ -1734,6 +1735,53 @@ TEST(RawMeshLeaflets, ThickCornerJointsOutPointsStopShortOfTheirNeighbours) {
             EXPECT_EQ(joint_first ? j.ob : j.oa, joint_first ? b.ob : b.oa);  // the neighbour's out point
         }
     EXPECT_EQ(compute_quality(joint.mesh).inverted, 0);
+}
+
+TEST(RawMeshLeaflets, OutColumnTurnedAlongAShortSideLosesOnlyItsLeanWithLeanOnly) {
+    // plate_with_a_border_branch: a branch leaves the straight border y = 0 at vertex 1 = (1, 0, 0) in the plate's
+    // plane, 55 degrees off the outward -y towards +x (BorderRoot::Out: at most 60), radius 1.5 at vertex 1 and 0.1
+    // elsewhere. Vertex 1's out column turns with the branch: out 1 = (1, 0, 0) + 1.5 (sin 55, -cos 55, 0), leaning
+    // 1.5 sin 55 = 1.229 towards corner 2 along their side (length 1) and away from corner 0 on the other. Corner 2's
+    // out leans away from 1 along its bisector: 0.1 / sqrt 2. So the side (1, 2) closes in by
+    // 1.5 sin 55 - 0.1 / sqrt 2 = 1.158 > 1: the out rays cross. With leaflet_out_fraction 0.3 and lean_only, vertex 1's
+    // lean (the only positive one) is cut to 0.3 + 0.1 / sqrt 2 = 0.371 (factor k = 0.302): out 1 moves along -x only,
+    // keeping its offset across the side, 1.5 cos 55 = 0.860, and the side closes in by exactly 0.3; pulled towards
+    // the vertex instead (lean_only false) its offset across the side shrinks by the same factor to 0.260.
+    const double t = 55 * std::numbers::pi / 180, r = 1.5;
+    Skeleton s = plate_with_a_border_branch({std::sin(t), -std::cos(t), 0});
+    s.radii.assign(s.points.size(), 0.1);
+    s.radii[1] = r;
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ASSERT_EQ(an.vertex_border_root[1], BorderRoot::Out);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, ConnectionSurfaceOptions{});
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    int side12 = -1;
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
+        if (std::min(s.edges[e][0], s.edges[e][1]) == 1 && std::max(s.edges[e][0], s.edges[e][1]) == 2) side12 = e;
+    ASSERT_GE(side12, 0);
+    RawMeshOptions o;
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, o);
+    o.leaflet_out_fraction = 0.3;
+    o.leaflet_out_lean_only = true;
+    const RawMesh lean = build_raw_mesh(s, an, cs, fr, o);
+    o.leaflet_out_lean_only = false;
+    const RawMesh pull = build_raw_mesh(s, an, cs, fr, o);
+    const int out1 = off.vertex_base[1] + 3;
+    const SideOuts b = side_outs(an, off, side12), l = side_outs(an, lean, side12), p = side_outs(an, pull, side12);
+    std::printf("closing off %.6f lean %.6f pull %.6f L %.6f\n", b.closing, l.closing, p.closing, b.length);
+    for (const RawMesh* m : {&off, &lean, &pull}) {
+        const Vec3 q = m->mesh.points[out1];
+        std::printf("out1 %.6f %.6f %.6f inverted %ld minsj %.4f\n", q.x, q.y, q.z, compute_quality(m->mesh).inverted, compute_quality(m->mesh).sj_min);
+        for (std::size_t h = 0; h < m->mesh.hexes.size(); ++h) {
+            const double sj = hex_scaled_jacobian(m->mesh.points, m->mesh.hexes[h]);
+            if (sj < 0.2) {
+                const int e = m->hex_edge[h];
+                std::printf("  hex %zu sj %.3f edge %d (%d %d) ids", h, sj, e, e >= 0 ? s.edges[e][0] : -1, e >= 0 ? s.edges[e][1] : -1);
+                for (int id : m->mesh.hexes[h]) std::printf(" %d", id);
+                std::printf("\n");
+            }
+        }
+    }
 }
 
 // A short bridge with a bulge (JunctionCoverOptions::bridge_bulge): branching points A = (0, 0, 0) and B = (0.5, 0, 0),
