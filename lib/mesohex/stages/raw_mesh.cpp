@@ -1381,8 +1381,9 @@ void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
         const Vec3& c = pts[centre[id]];
         const double k = factor[id];
         const bool column = an.vertex_class[owner[id]] == VertexClass::LeafletBoundary;
-        const Vec3 delta = lean_only && lean_cut_column(an, owner[id]) ? nearest_within_caps(pts[id] - c, caps[id]) - (pts[id] - c)
-                                               : (k - 1.0) * (pts[id] - c);
+        const Vec3 delta = lean_only && lean_cut_column(an, owner[id])
+                               ? nearest_within_caps(pts[id] - c, caps[id]) - (pts[id] - c)
+                               : (k - 1.0) * (pts[id] - c);
         pts[id] += delta;
         for (const int x : copies[id]) pts[x] = column ? pts[x] + delta : c + 0.5 * (1.0 + k) * (pts[x] - c);
     }
