@@ -1332,12 +1332,13 @@ bool lean_cut_column(const SkeletonAnalysis& an, int w) {
 // centres by one factor k, so that the movable part of the closing times k plus the fixed part is fraction x L; a
 // point keeps the smallest k of its half-chunks. A half-chunk whose fixed part alone exceeds the limit is left.
 // Lean (true): past the limit, the positive leans of the movable ones are cut by one factor k >= 0 (0 when the rest
-// alone exceeds the limit), each a cap on its offset along its side; a point moves to the nearest offset within the
-// caps of all its half-chunks (nearest_within_caps): its offset across the side and off the sheet stays.
-// Either way a column's out-up and out-down copies move with its out; a junction's (the midpoints of the sphere's
-// edges from the out point to its up and down points, shared with the quads across those edges) go halfway: to
-// (1 + k) / 2 of their radius (pull), by half the out point's move (lean). Serial in edge order (every limit from
-// the positions before any move): deterministic.
+// alone exceeds the limit); for a plain column's out point (lean_cut_column) each cut is a cap on its offset along
+// that side, and it moves to the nearest offset within the caps of all its half-chunks (nearest_within_caps): its
+// offset across the side and off the sheet stays. The other movable points are pulled by their smallest k as above
+// (not with k 0: a point on its centre would flatten the branch's chunk).
+// A column's out-up and out-down copies move with its out; a junction's (the midpoints of the sphere's edges from the
+// out point to its up and down points, shared with the quads across those edges) go to the mean of their ends' radii,
+// (1 + k) / 2 of theirs. Serial in edge order (every limit from the positions before any move): deterministic.
 void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const RawMeshOptions& options,
                        RawMesh& raw) {
     const double fraction = options.leaflet_out_fraction;
@@ -1368,20 +1369,22 @@ void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
         const double k_side = std::max(0.0, (limit - fixed) / movable);
         for (int k = 0; k < 2; ++k) {
             const int id = q[1 + k];
-            if (c[k] < 0 || (lean_only && !(lean[k] > 0))) continue;
+            const bool cut = lean_only && lean_cut_column(an, owner[id]);
+            if (c[k] < 0 || (lean_only && !(lean[k] > 0)) || (!cut && !(k_side > 0))) continue;
             if (centre[id] < 0) moved.push_back(id);
             centre[id] = c[k];
             copies[id] = {q[4 + k], q[6 + k]};
-            factor[id] = std::min(factor[id], k_side);
-            if (lean_only && lean_cut_column(an, owner[id]))
+            if (cut)
                 caps[id].push_back({k == 0 ? u : -1.0 * u, k_side * lean[k]});  // (its offset's lean: lean[k])
+            else
+                factor[id] = std::min(factor[id], k_side);
         }
     }
     for (const int id : moved) {
         const Vec3& c = pts[centre[id]];
         const double k = factor[id];
         const bool column = an.vertex_class[owner[id]] == VertexClass::LeafletBoundary;
-        const Vec3 delta = lean_only && lean_cut_column(an, owner[id])
+        const Vec3 delta = !caps.empty() && !caps[id].empty()
                                ? nearest_within_caps(pts[id] - c, caps[id]) - (pts[id] - c)
                                : (k - 1.0) * (pts[id] - c);
         pts[id] += delta;

@@ -120,10 +120,13 @@ struct RawMeshOptions {
     // With leaflet_out_fraction: the leaflet border columns' out points may move too; false: only junctions' sphere
     // points do (the thick joins' out rays; a border's own out rays keep their distance, so the rims stay reached).
     bool leaflet_out_columns = true;
-    // With leaflet_out_fraction, how an out point moves: false, towards its vertex (its whole offset shortened by the
-    // factor); true, only its lean along the side is cut (per side the movable out points' positive leans by one
-    // factor, each point to the nearest position within the caps of its sides), so its offset across the side and off
-    // the sheet, the distance towards the rim the padding and the fit must reach, stays.
+    // With leaflet_out_fraction, how a plain border column's out point moves: false, towards its vertex (its whole
+    // offset shortened by the side's factor); true, only its lean along the side is cut (per side the movable out
+    // points' positive leans by one factor; the point goes to the nearest position within the caps of its sides), so
+    // its offset across the side and off the sheet stays. Out points a branch's first chunk stands on (a junction's
+    // sphere point, a column turned towards a branch rooted on its out patch) are pulled either way: slid along the
+    // side, their patch turns away from the branch and the chunk folds. Off by default: no gain over the pull
+    // (measurements: docs/sheets.md, "Only the lean along the side").
     bool leaflet_out_lean_only = false;
     // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
     // out-down) in the leaflet's plane towards the branch by border_root_turn x their angle there, then about the
