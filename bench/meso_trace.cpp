@@ -11,7 +11,7 @@
 //   mesohex_meso_trace SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F]
 //                      [--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] [--geometry]
 //                      [--radius-factor F] [--leaflet-offset-fraction F] [--leaflet-out-fraction F]
-//                      [--leaflet-out-junctions-only]
+//                      [--leaflet-out-junctions-only] [--leaflet-out-lean-only | --leaflet-out-pull]
 // --radius-factor F: the radii F x the distance to the surface (capped as auto caps them) on the skeleton auto
 // imports; F 1 traces the full-radius raw mesh auto tries first, the default the one it keeps. A raw mesh that the
 // raw output's checks refuse (check_border_creases, check_moved_roots: auto then falls back) is traced without them.
@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
                      "usage: %s SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F] "
                      "[--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] "
                      "[--geometry] [--radius-factor F] [--leaflet-offset-fraction F] [--leaflet-out-fraction F] "
-                     "[--leaflet-out-junctions-only]\n",
+                     "[--leaflet-out-junctions-only] [--leaflet-out-lean-only | --leaflet-out-pull]\n",
                      argv[0]);
         return 2;
     }
@@ -243,10 +243,13 @@ int main(int argc, char** argv) {
         if (a == "--leaflet-out-fraction" && i + 1 < argc)
             mo.pipeline.raw_mesh.leaflet_out_fraction = std::atof(argv[++i]);
         if (a == "--leaflet-out-junctions-only") mo.pipeline.raw_mesh.leaflet_out_columns = false;
+        if (a == "--leaflet-out-lean-only") mo.pipeline.raw_mesh.leaflet_out_lean_only = true;
+        if (a == "--leaflet-out-pull") mo.pipeline.raw_mesh.leaflet_out_lean_only = false;
         if (a == "--radius-factor" && i + 1 < argc) radius_factor = std::atof(argv[++i]);
         if (a == "--fill-pinch" && i + 1 < argc) o.import.fill_pinch_max_angle_deg = std::atof(argv[++i]);
         if (a == "--min-side" && i + 1 < argc) o.import.min_border_side_fraction = std::atof(argv[++i]);
     }
+    o.raw_mesh = mo.pipeline.raw_mesh;  // auto's raw checks with the same raw mesh options
     const TriangleMesh surface = read_surface(argv[1]);
     MeshRun run;
     AutoSkeleton chosen;

@@ -8,7 +8,8 @@
 //   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, SIDE_STUB_ROOT_EXIT=K its side_stub_root_exit,
 //   FAT_STUB_MAIN=0|1 its fat_stub_main_line,
 //   KEEP_CUT_JOINT=F AdaptationOptions::keep_cut_joint, SLIDE_CUT_JOINT=0|1 its slide_cut_joint, BRIDGE_PEAK=F its
-//   bridge_peak_ratio,
+//   bridge_peak_ratio, LEAFLET_OUT_FRACTION=F RawMeshOptions::leaflet_out_fraction, LEAFLET_OUT_LEAN_ONLY=0|1 its
+//   leaflet_out_lean_only,
 //   JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
 //   junction_split_clearance, JUNCTION_SPLIT_FIVE=1 its junction_split_degree_five, PIT_BRANCHES=F and PIT_MIN_DEGREE=N VirtualBranchOptions::pit_excess and pit_min_degree, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
@@ -93,6 +94,8 @@ int main(int argc, char** argv) {
     if (argc > 7) po.repair.merge_branching_ends = std::atoi(argv[7]) != 0;
     if (argc > 8) po.repair.joint_trunks = std::atoi(argv[8]) != 0;
     if (argc > 9) po.repair.wide_junction_trunks = std::atoi(argv[9]) != 0;
+    if (const char* k = std::getenv("LEAFLET_OUT_FRACTION")) po.raw_mesh.leaflet_out_fraction = std::atof(k);
+    if (const char* k = std::getenv("LEAFLET_OUT_LEAN_ONLY")) po.raw_mesh.leaflet_out_lean_only = std::atoi(k) != 0;
     if (const char* k = std::getenv("KEEP_CUT_JOINT")) po.adaptation.keep_cut_joint = std::atof(k);
     if (const char* k = std::getenv("SLIDE_CUT_JOINT")) po.adaptation.slide_cut_joint = std::atoi(k) != 0;
     if (const char* k = std::getenv("BRIDGE_PEAK")) po.adaptation.bridge_peak_ratio = std::atof(k);

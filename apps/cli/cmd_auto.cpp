@@ -191,6 +191,7 @@ void register_auto(CLI::App& app, int* status) {
         so.kind = args->skeleton_kind == "curve"  ? SkeletonKind::Curve
                   : args->skeleton_kind == "meso" ? SkeletonKind::Meso
                                                   : SkeletonKind::Auto;
+        so.raw_mesh = args->job.options.pipeline.raw_mesh;
         // Throws (nothing written) when it cannot be done, naming the surface file.
         AutoSkeleton chosen = at_stage("skeleton", args->surface, [&] { return choose_skeleton(*domain, so); });
         const auto t2 = std::chrono::steady_clock::now();

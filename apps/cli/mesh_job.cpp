@@ -172,6 +172,11 @@ void add_padding_options(CLI::App* cmd, MeshJob* job) {
                     "around the vertex (0 = off, the default: docs/junctions.md, \"Padding directions at folded "
                     "valleys\")")
         ->check(finite_range(0.0, 1.0));
+    cmd->add_option("--pad-improve-sj", job->options.finishing.pad_improve_sj,
+                    "Quality pass on the padded mesh before subdivision when it has no inverted hex and its min SJ is "
+                    "below this (0 = off)")
+        ->check(finite_range(0.0, 1.0))
+        ->capture_default_str();
     cmd->add_option("--pad-overshoot-keep", job->options.finishing.pad_overshoot_keep,
                     "Where the padding layer would reach past the domain surface, pad only to the surface but at "
                     "least this share of the layer's own thickness (1: the full layer)")
@@ -256,6 +261,16 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "docs/junctions.md, \"Bridge quads raised one layer short\")")
         ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
+    cmd->add_option("--leaflet-out-fraction", job->options.pipeline.raw_mesh.leaflet_out_fraction,
+                    "The two out points of a leaflet border side may close in along it by at most this fraction of "
+                    "its length (out rays crossing along short sides; 0 = off: docs/sheets.md, \"Out rays crossing "
+                    "along short border sides\")")
+        ->check(finite_range(0.0, 1.0))
+        ->capture_default_str();
+    cmd->add_flag("--leaflet-out-lean-only,!--leaflet-out-pull", job->options.pipeline.raw_mesh.leaflet_out_lean_only,
+                  "With --leaflet-out-fraction: cut only the out points' lean along the side, keeping their distance "
+                  "across it (--leaflet-out-pull: pull them towards their vertex; docs/sheets.md, \"Only the lean "
+                  "along the side\")");
     cmd->add_option("--junction-crease", job->options.pipeline.raw_mesh.cover.crease_deg,
                     "Open the raw boundary creases on branching points' spheres sharper than this many degrees "
                     "(interior dihedral through their two hexes): their surface points move out along their rays, "

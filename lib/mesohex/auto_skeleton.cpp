@@ -163,11 +163,12 @@ double medial_coverage_gap(const TriangleMesh& surface, const Skeleton& medial) 
 
 // The raw mesh (no finishing) of a skeleton with radii, in the surface; with `padded`, also the number of inverted
 // hexes after the finishing's padding layer alone (the first stage of finish_mesh, with its defaults).
-// With `sites`, also where its inverted hexes lie (locate_raw_inversions).
-QualityReport raw_quality_of(const Skeleton& skeleton, const TriangleMesh& surface, long* padded_inverted = nullptr,
-                             RawInversionSites* sites = nullptr) {
+// With `sites`, also where its inverted hexes lie (locate_raw_inversions). The raw mesh with `raw_mesh`'s options.
+QualityReport raw_quality_of(const Skeleton& skeleton, const TriangleMesh& surface, const RawMeshOptions& raw_mesh,
+                             long* padded_inverted = nullptr, RawInversionSites* sites = nullptr) {
     MeshOptions raw_options;
     raw_options.finish = false;
+    raw_options.pipeline.raw_mesh = raw_mesh;
     const MeshRun run = mesh_skeleton(skeleton, &surface, raw_options);
     if (sites) *sites = locate_raw_inversions(run.pipeline.skeleton, run.pipeline.raw);
     if (padded_inverted) {
@@ -216,7 +217,7 @@ QualityReport choose_meso_radii(AutoSkeleton& out, const TriangleMesh& surface, 
             meso_with_radii(imported, query, full, options, &out.capped_leaflet_radii, &out.capped_border_radii);
         try {
             RawInversionSites sites;
-            const QualityReport raw = raw_quality_of(s, surface, nullptr, &sites);
+            const QualityReport raw = raw_quality_of(s, surface, options.raw_mesh, nullptr, &sites);
             if (meso_raw_passes(raw, options)) {
                 out.import.skeleton = std::move(s);
                 out.raw_sites = sites;
@@ -244,7 +245,7 @@ QualityReport choose_meso_radii(AutoSkeleton& out, const TriangleMesh& surface, 
         meso_with_radii(imported, query, half, options, &out.capped_leaflet_radii, &out.capped_border_radii);
     out.meso_radius_factor_used = half;
     out.meso_radius_why = why.str();
-    return raw_quality_of(out.import.skeleton, surface, nullptr, &out.raw_sites);
+    return raw_quality_of(out.import.skeleton, surface, options.raw_mesh, nullptr, &out.raw_sites);
 }
 
 void use_curve(AutoSkeleton& out, const TriangleMesh& surface, const AutoSkeletonOptions& options) {
@@ -252,7 +253,7 @@ void use_curve(AutoSkeleton& out, const TriangleMesh& surface, const AutoSkeleto
     out.skeleton = out.curve.skeleton;
     out.kind = SkeletonKind::Curve;
     if (options.kind != SkeletonKind::Auto) return;
-    QualityReport q = raw_quality_of(out.skeleton, surface, &out.curve_padded_inverted);
+    QualityReport q = raw_quality_of(out.skeleton, surface, options.raw_mesh, &out.curve_padded_inverted);
     // The re-centring moves joints by up to 0.75 x their radius: where that inverts raw (or padded) hexes that the
     // flow's own curve does not, keep the flow's curve (fewer inverted hexes, raw and padded together, and valid).
     const auto failing = [&](const QualityReport& r, long padded) {
@@ -261,7 +262,7 @@ void use_curve(AutoSkeleton& out, const TriangleMesh& surface, const AutoSkeleto
     };
     if (out.curve.recentred_joints > 0 && failing(q, out.curve_padded_inverted)) {
         long flow_padded = 0;
-        const QualityReport flow = raw_quality_of(out.curve.flow_skeleton, surface, &flow_padded);
+        const QualityReport flow = raw_quality_of(out.curve.flow_skeleton, surface, options.raw_mesh, &flow_padded);
         if (flow.validation.valid() &&
             (!q.validation.valid() || flow.inverted + flow_padded < q.inverted + out.curve_padded_inverted)) {
             out.skeleton = out.curve.flow_skeleton;

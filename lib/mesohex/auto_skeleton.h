@@ -102,6 +102,9 @@ struct AutoSkeletonOptions {
     // untangle it, which spends its round caps (the slow part of `auto` on the shared plates with holes, and the
     // result then misses the targets anyway; docs/skeletons.md). The CLI refuses such a surface unless --best-effort.
     long max_answer_inverted = 0;
+    // The raw meshes of the checks above (meso and curve) are built with these options (the CLI passes the mesh job's,
+    // so the check judges the raw mesh the answer is finished from).
+    RawMeshOptions raw_mesh;
     MedialAxisOptions medial;
     MedialImportOptions import = meso_import_options();  // max_sheet_offset 0.25 (see meso_import_options)
     SkeletonizeOptions skeletonize;

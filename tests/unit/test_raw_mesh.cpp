@@ -1687,13 +1687,9 @@ SideOuts side_outs(const SkeletonAnalysis& an, const RawMesh& raw, int e) {
 
 }  // namespace
 
-TEST(RawMeshLeaflets, OutPointsOnAConcaveBorderCloseInByAtMostTheOutFraction) {
-    // A ring sector of 3 faces around the z axis: inner radius 1, outer 2, at 0, 30, 60, 90 degrees; radius 0.5. The
-    // inner arc is concave: its middle vertices 1 and 2 (reflex, 210 degrees) have their out rays along -radial, so
-    // along their side (length L = 2 sin 15 degrees) they close in by 2 d sin 15 = d x L (d their out distance, the
-    // arc's radius 1): d = 0.5 (leaflet_out_distance's reflex limit 0.3 L / sin 15 = 0.6 does not act) closes in by
-    // 0.5 L. With leaflet_out_fraction 0.3 both go to d = 0.3 exactly (factor 0.6); their sides to the corners 0 and
-    // 3 close in by less (the corners' outs lean away), so every other out point stays.
+// A ring sector of 3 faces around the z axis: inner radius 1, outer 2, at 0, 30, 60, 90 degrees; radius 0.5 (the inner
+// arc's chords L = 2 sin 15 degrees).
+Skeleton ring_sector() {
     Skeleton s;
     for (const double rad : {1.0, 2.0})
         for (int k = 0; k <= 3; ++k) {
@@ -1703,6 +1699,17 @@ TEST(RawMeshLeaflets, OutPointsOnAConcaveBorderCloseInByAtMostTheOutFraction) {
     for (int k = 0; k < 3; ++k) s.faces.push_back({k, 4 + k, 5 + k, k + 1});
     add_face_edges(s);
     s.radii.assign(s.points.size(), 0.5);
+    return s;
+}
+
+TEST(RawMeshLeaflets, OutPointsOnAConcaveBorderCloseInByAtMostTheOutFraction) {
+    // A ring sector of 3 faces around the z axis: inner radius 1, outer 2, at 0, 30, 60, 90 degrees; radius 0.5. The
+    // inner arc is concave: its middle vertices 1 and 2 (reflex, 210 degrees) have their out rays along -radial, so
+    // along their side (length L = 2 sin 15 degrees) they close in by 2 d sin 15 = d x L (d their out distance, the
+    // arc's radius 1): d = 0.5 (leaflet_out_distance's reflex limit 0.3 L / sin 15 = 0.6 does not act) closes in by
+    // 0.5 L. With leaflet_out_fraction 0.3 both go to d = 0.3 exactly (factor 0.6); their sides to the corners 0 and
+    // 3 close in by less (the corners' outs lean away), so every other out point stays.
+    const Skeleton s = ring_sector();
     const SkeletonAnalysis an = analyze_skeleton(s);
     const ConnectionSurfaces cs = build_connection_surfaces(s, an, ConnectionSurfaceOptions{});
     const BranchFrames fr = propagate_frames(s, an, cs);
@@ -1787,6 +1794,90 @@ TEST(RawMeshLeaflets, ThickCornerJointsOutPointsStopShortOfTheirNeighbours) {
             EXPECT_EQ(joint_first ? j.ob : j.oa, joint_first ? b.ob : b.oa);  // the neighbour's out point
         }
     EXPECT_EQ(compute_quality(joint.mesh).inverted, 0);
+}
+
+TEST(RawMeshLeaflets, OutPointsOnAConcaveBorderLoseOnlyTheirLeanWithLeanOnly) {
+    // The inner arc's middle vertices 1 and 2 have radial out rays (d = 0.5) leaning 0.5 sin 15 = L / 4 each along
+    // their common side (1, 2): it closes in by L / 2. With leaflet_out_fraction 0.3 and lean_only both leans are cut
+    // by one factor to 0.3 L / 2 = 0.3 sin 15 (k = 0.6): out 1 moves by 0.2 sin 15 along 2 -> 1 (out 2 along 1 -> 2),
+    // its offset across the side stays 0.5 cos 15 and off the sheet 0, so its distance becomes
+    // sqrt((0.5 cos 15)^2 + (0.3 sin 15)^2) instead of the pull's 0.3. On the sides to the corners 0 and 3 the outs
+    // still close in by less than 0.3 L (out 1 now leans 0.5 sin 15 + 0.2 sin 15 cos 30 towards 0, corner 0's out
+    // 0.5 cos 127.5 away from 1): no cap there, so the columns of 1 and 2 (6 points) are all that moves.
+    const Skeleton s = ring_sector();
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, ConnectionSurfaceOptions{});
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    RawMeshOptions o;
+    ASSERT_FALSE(o.leaflet_out_lean_only);  // off by default
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, o);
+    o.leaflet_out_fraction = 0.3;
+    o.leaflet_out_lean_only = true;
+    const RawMesh on = build_raw_mesh(s, an, cs, fr, o);
+    const double s15 = std::sin(std::numbers::pi / 12), c15 = std::cos(std::numbers::pi / 12);
+    const Vec3 u12 = normalized(s.points[2] - s.points[1]), up{0, 0, 1};
+    const Vec3 across = cross(u12, up);  // in the plane, perpendicular to the side
+    for (const int v : {1, 2}) {
+        const Vec3 along = v == 1 ? u12 : -1.0 * u12;  // towards the other end of the side
+        const Vec3 expected_move = -0.2 * s15 * along;
+        for (int k = 3; k <= 5; ++k) {  // out, out-up, out-down: the column moves as one
+            const Vec3 before = off.mesh.points[off.vertex_base[v] + k], after = on.mesh.points[on.vertex_base[v] + k];
+            EXPECT_NEAR(norm(after - before - expected_move), 0.0, 1e-12) << "vertex " << v << " id " << k;
+        }
+        const Vec3 offset = on.mesh.points[on.vertex_base[v] + 3] - s.points[v];
+        EXPECT_NEAR(dot(offset, along), 0.3 * s15, 1e-12);
+        EXPECT_NEAR(std::abs(dot(offset, across)), 0.5 * c15, 1e-12);
+        EXPECT_NEAR(dot(offset, up), 0.0, 1e-12);
+        EXPECT_NEAR(norm(offset), std::hypot(0.5 * c15, 0.3 * s15), 1e-12);
+    }
+    int side12 = -1;
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
+        if (std::min(s.edges[e][0], s.edges[e][1]) == 1 && std::max(s.edges[e][0], s.edges[e][1]) == 2) side12 = e;
+    ASSERT_GE(side12, 0);
+    EXPECT_NEAR(side_outs(an, off, side12).closing, 0.5 * 2 * s15, 1e-12);
+    EXPECT_NEAR(side_outs(an, on, side12).closing, 0.3 * 2 * s15, 1e-12);
+    int moved = 0;
+    for (std::size_t id = 0; id < on.mesh.points.size(); ++id) moved += on.mesh.points[id] != off.mesh.points[id];
+    EXPECT_EQ(moved, 6);
+    EXPECT_EQ(compute_quality(on.mesh).inverted, 0);
+}
+
+TEST(RawMeshLeaflets, OutColumnTurnedTowardsABranchIsPulledNotSlidWithLeanOnly) {
+    // plate_with_a_border_branch: the branch leaves the straight border y = 0 at vertex 1 = (1, 0, 0) in the plate's
+    // plane, 55 degrees off the outward -y towards +x (BorderRoot::Out: at most 60); radius 1.5 at vertex 1, 0.1
+    // elsewhere. Vertex 1's out column turns with the branch: out 1 = (1, 0, 0) + 1.5 (sin 55, -cos 55, 0) leans
+    // 1.5 sin 55 = 1.229 towards corner 2 along their side (L = 1); corner 2's out leans 0.1 / sqrt 2 away from 1.
+    // The side closes in by 1.5 sin 55 - 0.1 / sqrt 2 = 1.158 L: the out rays cross (out 1 lies beyond out 2 along
+    // the side). The branch's first chunk stands on the patch of vertex 1's column, so lean_only pulls that column
+    // towards vertex 1 (slid along the side, the patch would turn away from the branch and the chunk fold): by
+    // k = (0.3 + 0.1 / sqrt 2) / (1.5 sin 55), the factor of the only positive lean, so the side closes in by exactly
+    // 0.3; corner 2, leaning away, stays. No hex is inverted (4 of the branch's first chunk are, off).
+    const double t = 55 * std::numbers::pi / 180, r = 1.5;
+    Skeleton s = plate_with_a_border_branch({std::sin(t), -std::cos(t), 0});
+    s.radii.assign(s.points.size(), 0.1);
+    s.radii[1] = r;
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    ASSERT_EQ(an.vertex_border_root[1], BorderRoot::Out);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, ConnectionSurfaceOptions{});
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    int side12 = -1;
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
+        if (std::min(s.edges[e][0], s.edges[e][1]) == 1 && std::max(s.edges[e][0], s.edges[e][1]) == 2) side12 = e;
+    ASSERT_GE(side12, 0);
+    RawMeshOptions o;
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, o);
+    o.leaflet_out_fraction = 0.3;
+    o.leaflet_out_lean_only = true;
+    const RawMesh on = build_raw_mesh(s, an, cs, fr, o);
+    EXPECT_NEAR(side_outs(an, off, side12).closing, r * std::sin(t) - 0.1 / std::sqrt(2.0), 1e-12);
+    EXPECT_NEAR(side_outs(an, on, side12).closing, 0.3, 1e-12);
+    const double k = (0.3 + 0.1 / std::sqrt(2.0)) / (r * std::sin(t));
+    const Vec3 out1 = Vec3{1, 0, 0} + k * r * Vec3{std::sin(t), -std::cos(t), 0};
+    EXPECT_NEAR(distance(on.mesh.points[on.vertex_base[1] + 3], out1), 0.0, 1e-12);
+    for (int id = 3; id <= 5; ++id)
+        EXPECT_EQ(on.mesh.points[on.vertex_base[2] + id], off.mesh.points[off.vertex_base[2] + id]);
+    EXPECT_EQ(compute_quality(off.mesh).inverted, 4);
+    EXPECT_EQ(compute_quality(on.mesh).inverted, 0);
 }
 
 // A short bridge with a bulge (JunctionCoverOptions::bridge_bulge): branching points A = (0, 0, 0) and B = (0.5, 0, 0),

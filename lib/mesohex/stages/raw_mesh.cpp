@@ -1344,21 +1344,78 @@ std::vector<std::array<int, 8>> border_half_chunk_corners(const SkeletonAnalysis
     return out;
 }
 
-// RawMeshOptions::leaflet_out_fraction (and leaflet_out_columns), on the placed points: per border half-chunk
-// (a, out a, out b, b) of a leaflet border edge of length L, the two out points may come closer along a -> b than a
-// and b by at most fraction x L; past that, the movable ones (movable_out_centre) are pulled towards their centres by
-// one factor k, so that the movable part of the closing times k plus the fixed part is fraction x L; a point keeps
-// the smallest k of its half-chunks. A column's out-up and out-down copies move with its out; a junction's (the
-// midpoints of the sphere's edges from the out point to its up and down points, shared with the quads across those
-// edges) go to the mean of their ends' radii, (1 + k) / 2 of theirs. A half-chunk whose fixed part alone exceeds the limit is left. Serial in
-// edge order (each k from the positions before any move): deterministic.
+// One cap on an out point's offset x from its centre (limit_out_closing's lean mode): dot(x, dir) <= cap.
+struct LeanCap {
+    Vec3 dir;
+    double cap = 0;
+};
+
+// The offset nearest to x whose every cap holds (x itself when they do): the caps are half-spaces, so the nearest
+// point lies on at most three of their planes; with one or two sides per out point this tries x projected onto each
+// plane and onto each line where two planes meet and keeps the nearest that keeps every cap. When none does (planes
+// that meet nowhere), x projected onto the planes in turn, a few rounds.
+Vec3 nearest_within_caps(const Vec3& x, const std::vector<LeanCap>& caps) {
+    const auto holds = [&](const Vec3& y) {
+        return std::all_of(caps.begin(), caps.end(),
+                           [&](const LeanCap& c) { return dot(y, c.dir) <= c.cap + 1e-12 * (1 + std::abs(c.cap)); });
+    };
+    if (holds(x)) return x;
+    const auto onto = [](const Vec3& y, const LeanCap& c) { return y - (dot(y, c.dir) - c.cap) * c.dir; };
+    Vec3 best = x;
+    double best_d = std::numeric_limits<double>::infinity();
+    const auto consider = [&](const Vec3& y) {
+        const double d = norm(y - x);
+        if (d < best_d && holds(y)) best = y, best_d = d;
+    };
+    const std::size_t n = caps.size();
+    for (std::size_t i = 0; i < n; ++i) consider(onto(x, caps[i]));
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+            // y = x - p d_i - q d_j with dot(y, d_i) = cap_i, dot(y, d_j) = cap_j (unit d: Gram [[1, g], [g, 1]]).
+            const double g = dot(caps[i].dir, caps[j].dir), det = 1 - g * g;
+            if (!(det > 1e-12)) continue;
+            const double ei = dot(x, caps[i].dir) - caps[i].cap, ej = dot(x, caps[j].dir) - caps[j].cap;
+            consider(x - ((ei - g * ej) / det) * caps[i].dir - ((ej - g * ei) / det) * caps[j].dir);
+        }
+    if (best_d < std::numeric_limits<double>::infinity()) return best;
+    Vec3 y = x;
+    for (int round = 0; round < 16; ++round)
+        for (const LeanCap& c : caps)
+            if (dot(y, c.dir) > c.cap) y = onto(y, c);
+    return y;
+}
+
+// Whether limit_out_closing's lean mode cuts only the lean of vertex w's out point: a plain leaflet border column's.
+// A column turned towards a branch rooted on its out patch (BorderRoot::Out) and a junction's sphere point carry a
+// branch's first chunk, which stands on the patch they span: moved along the side, the patch no longer faces the
+// branch and that chunk folds; they are pulled towards their vertex instead.
+bool lean_cut_column(const SkeletonAnalysis& an, int w) {
+    return an.vertex_class[w] == VertexClass::LeafletBoundary && an.vertex_border_root[w] != BorderRoot::Out;
+}
+
+// RawMeshOptions::leaflet_out_fraction (with leaflet_out_columns and leaflet_out_lean_only), on the placed points: per
+// border half-chunk (a, out a, out b, b) of a leaflet border edge of length L, the two out points may come closer
+// along a -> b than a and b by at most fraction x L.
+// Pull (leaflet_out_lean_only false): past the limit, the movable ones (movable_out_centre) are pulled towards their
+// centres by one factor k, so that the movable part of the closing times k plus the fixed part is fraction x L; a
+// point keeps the smallest k of its half-chunks. A half-chunk whose fixed part alone exceeds the limit is left.
+// Lean (true): past the limit, the positive leans of the movable ones are cut by one factor k >= 0 (0 when the rest
+// alone exceeds the limit); for a plain column's out point (lean_cut_column) each cut is a cap on its offset along
+// that side, and it moves to the nearest offset within the caps of all its half-chunks (nearest_within_caps): its
+// offset across the side and off the sheet stays. The other movable points are pulled by their smallest k as above
+// (not with k 0: a point on its centre would flatten the branch's chunk).
+// A column's out-up and out-down copies move with its out; a junction's (the midpoints of the sphere's edges from the
+// out point to its up and down points, shared with the quads across those edges) go to the mean of their ends' radii,
+// (1 + k) / 2 of theirs. Serial in edge order (every limit from the positions before any move): deterministic.
 void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const RawMeshOptions& options,
                        RawMesh& raw) {
     const double fraction = options.leaflet_out_fraction;
     if (!(fraction > 0)) return;
+    const bool lean_only = options.leaflet_out_lean_only;
     std::vector<Vec3>& pts = raw.mesh.points;
     const std::vector<int> owner = raw_vertex_owner(raw);
     std::vector<double> factor(pts.size(), 1.0);
+    std::vector<std::vector<LeanCap>> caps(lean_only ? pts.size() : 0);
     std::vector<int> centre(pts.size(), -1);
     std::vector<std::array<int, 2>> copies(pts.size(), {-1, -1});  // per out point: its out-up and out-down copies
     std::vector<int> moved;
@@ -1373,23 +1430,31 @@ void limit_out_closing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
         const int c[2] = {movable_out_centre(an, cs, raw, owner, cols, q[1]),
                           movable_out_centre(an, cs, raw, owner, cols, q[2])};
         double movable = 0, fixed = 0;
-        for (int k = 0; k < 2; ++k) (c[k] >= 0 ? movable : fixed) += lean[k];
+        for (int k = 0; k < 2; ++k) (c[k] >= 0 && (!lean_only || lean[k] > 0) ? movable : fixed) += lean[k];
         const double limit = fraction * L;
-        if (!(lean[0] + lean[1] > limit) || !(movable > 0) || !(limit - fixed > 0)) continue;
+        if (!(lean[0] + lean[1] > limit) || !(movable > 0)) continue;
+        if (!lean_only && !(limit - fixed > 0)) continue;
+        const double k_side = std::max(0.0, (limit - fixed) / movable);
         for (int k = 0; k < 2; ++k) {
             const int id = q[1 + k];
-            if (c[k] < 0) continue;
+            const bool cut = lean_only && lean_cut_column(an, owner[id]);
+            if (c[k] < 0 || (lean_only && !(lean[k] > 0)) || (!cut && !(k_side > 0))) continue;
             if (centre[id] < 0) moved.push_back(id);
             centre[id] = c[k];
             copies[id] = {q[4 + k], q[6 + k]};
-            factor[id] = std::min(factor[id], (limit - fixed) / movable);
+            if (cut)
+                caps[id].push_back({k == 0 ? u : -1.0 * u, k_side * lean[k]});  // (its offset's lean: lean[k])
+            else
+                factor[id] = std::min(factor[id], k_side);
         }
     }
     for (const int id : moved) {
         const Vec3& c = pts[centre[id]];
         const double k = factor[id];
         const bool column = an.vertex_class[owner[id]] == VertexClass::LeafletBoundary;
-        const Vec3 delta = (k - 1.0) * (pts[id] - c);
+        const Vec3 delta = !caps.empty() && !caps[id].empty()
+                               ? nearest_within_caps(pts[id] - c, caps[id]) - (pts[id] - c)
+                               : (k - 1.0) * (pts[id] - c);
         pts[id] += delta;
         for (const int x : copies[id]) pts[x] = column ? pts[x] + delta : c + 0.5 * (1.0 + k) * (pts[x] - c);
     }

@@ -120,6 +120,14 @@ struct RawMeshOptions {
     // With leaflet_out_fraction: the leaflet border columns' out points may move too; false: only junctions' sphere
     // points do (the thick joins' out rays; a border's own out rays keep their distance, so the rims stay reached).
     bool leaflet_out_columns = true;
+    // With leaflet_out_fraction, how a plain border column's out point moves: false, towards its vertex (its whole
+    // offset shortened by the side's factor); true, only its lean along the side is cut (per side the movable out
+    // points' positive leans by one factor; the point goes to the nearest position within the caps of its sides), so
+    // its offset across the side and off the sheet stays. Out points a branch's first chunk stands on (a junction's
+    // sphere point, a column turned towards a branch rooted on its out patch) are pulled either way: slid along the
+    // side, their patch turns away from the branch and the chunk folds. Off by default: no gain over the pull
+    // (measurements: docs/sheets.md, "Only the lean along the side").
+    bool leaflet_out_lean_only = false;
     // A leaflet border vertex rooting a branch on its out patch (BorderRoot::Out) turns its out column (out, out-up,
     // out-down) in the leaflet's plane towards the branch by border_root_turn x their angle there, then about the
     // border by border_root_tilt x the branch's tilt out of the plane (0, 0 = the column along the border's outward
@@ -159,7 +167,7 @@ std::vector<int> raw_vertex_owner(const RawMesh& raw);
 // close in by more than leaflet_offset_fraction of their distance, both copies pulled in),
 // out = w + d o (o = LeafletVertexFrames::out, the bisector of the exterior angle of the border; d = r, shortened at
 // reflex corners, see leaflet_out_distance, and where two out points of a border side close in by more than
-// leaflet_out_fraction of it),
+// leaflet_out_fraction of it: pulled in, or with leaflet_out_lean_only their lean along the side cut),
 // out-up/out-down = out +- r n, pulled in as up/down (at a border vertex rooting a branch on its out patch, the
 // column out / out-up / out-down turns towards the branch: border_root_turn, border_root_tilt).
 // A branch rooted on a leaflet (LeafletPatch, BorderPatch) has no vertices of its own at its root: its first chunk's
