@@ -18,7 +18,7 @@
 //   shared_hull_relaxation, GRADIENT_LONG=0|1 its gradient_long_relaxation, COARSE_THREE=0|1 its coarse_three_scan, TABLED_THREE=0|1 its tabled_three_start,
 //   FIRST_IMPROVING=0|1 its first_improving_long_relaxation, JUNCTION_COVER=F RawMeshOptions::
 //   cover.fraction (JUNCTION_INSET=F cover.inset, JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_CREASE_MID=0|1
-//   its crease_midpoints, JUNCTION_COVER_MIN_DEGREE and
+//   its crease_midpoints, JUNCTION_CREASE_PAIR=DEG its crease_pair_deg, JUNCTION_COVER_MIN_DEGREE and
 //   JUNCTION_COVER_FLOOR its min_degree and sj_floor, JUNCTION_COVER_BULGE its bridge_bulge), BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius
 //   (BRIDGE_QUAD_INSET=F its bridge_quad_inset), FAN_CAP_BRANCHES=0|1 CompatibleBlockOptions::fan_cap_branches.
 //   The last three columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw
@@ -116,6 +116,7 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_INSET")) po.raw_mesh.cover.inset = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_CREASE")) po.raw_mesh.cover.crease_deg = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_CREASE_MID")) po.raw_mesh.cover.crease_midpoints = std::atoi(k) != 0;
+    if (const char* k = std::getenv("JUNCTION_CREASE_PAIR")) po.raw_mesh.cover.crease_pair_deg = std::atof(k);
     if (const char* k = std::getenv("BRIDGE_QUAD")) po.raw_mesh.bridge_quad_radius = std::atoi(k) != 0;
     if (const char* k = std::getenv("BRIDGE_QUAD_INSET")) po.raw_mesh.bridge_quad_inset = std::atof(k);
     if (const char* k = std::getenv("PIN_TRUNK_JOINTS")) po.repair.pin_trunk_joints = std::atoi(k) != 0;

@@ -282,6 +282,12 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                   "With --junction-crease: move the middle of each folded surface edge out along its own ray "
                   "instead of the edge's end points (docs/junctions.md, \"Dino's hip and knight's v9 traced through "
                   "the stages\")");
+    cmd->add_option("--junction-crease-pair", job->options.pipeline.raw_mesh.cover.crease_pair_deg,
+                    "With --junction-crease-midpoints: move only the middle of a folded surface edge whose two quads "
+                    "belong to branches less than this many degrees apart (a close pair's shared edge; 0 = every "
+                    "folded edge, the default: docs/junctions.md, \"The three shared skeletons that miss\")")
+        ->check(finite_range(0.0, 180.0))
+        ->capture_default_str();
     cmd->add_option("--junction-inset", job->options.pipeline.raw_mesh.cover.inset,
                     "Cap the distance of each branching point's surface points at where the union of the input's "
                     "balls ends minus this many x the point's shortest boundary edge (0.25: one padding layer), so the "
@@ -375,6 +381,10 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "One attempt only: no second adaptation with the first joints farther from the branching points "
         "when the mesh misses a goal (inverted hex, SJ min < 0.3, avg < 0.85, Hausdorff > 1 % of the "
         "diagonal); auto's attempt one level finer has its own flag, --no-finer-retry");
+    cmd->add_flag("--retry-by-shortfall", job->options.retry_by_shortfall,
+                  "When every attempt misses the same number of goals, keep the one with the smallest product of "
+                  "the factors by which it misses them (default: the smallest Hausdorff distance; docs/junctions.md, "
+                  "\"The retry's choice when every attempt misses\")");
     cmd->add_option("--iterations", job->options.finishing.fitting.max_iterations, "Iteration cap of the fitting loop")
         ->capture_default_str();
     cmd->add_option("--fit-weight", job->options.finishing.fitting.lambda,

@@ -561,4 +561,23 @@ bool better_finish(const FinishResult& a, const FinishResult& b, const MeshGoals
     return a.quality.sj_min > b.quality.sj_min;
 }
 
+double goal_shortfall(const FinishResult& r, const MeshGoals& goals) {
+    const QualityReport& q = r.quality;
+    const auto below = [](double value, double goal) {
+        if (!(value < goal)) return 0.0;
+        return value > 0 ? std::log(goal / value) : std::numeric_limits<double>::infinity();
+    };
+    double sum = below(q.sj_min, goals.sj_min) + below(q.sj_avg, goals.sj_avg);
+    if (r.distance_measured && r.distance.relative_max > goals.hausdorff && goals.hausdorff > 0)
+        sum += std::log(r.distance.relative_max / goals.hausdorff);
+    return sum;
+}
+
+bool better_finish_by_shortfall(const FinishResult& a, const FinishResult& b, const MeshGoals& goals) {
+    if (const int c = compare_inverted_then_goals(a, b, goals); c != 0) return c < 0;
+    const double sa = goal_shortfall(a, goals), sb = goal_shortfall(b, goals);
+    if (sa != sb) return sa < sb;
+    return better_finish(a, b, goals);
+}
+
 }  // namespace mesohex

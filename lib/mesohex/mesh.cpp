@@ -158,6 +158,12 @@ void report_attempt(const MeshRun& run, const MeshOptions& options, const std::s
                       paper_after_blocks ? "paper's fan layout, " + what : what});
 }
 
+// The order the attempts are kept in (MeshOptions::retry_by_shortfall).
+bool better_attempt(const FinishResult& a, const FinishResult& b, const MeshOptions& options) {
+    return options.retry_by_shortfall ? better_finish_by_shortfall(a, b, options.goals)
+                                      : better_finish(a, b, options.goals);
+}
+
 // The selective padding left regions of the raw boundary bare and the result misses a goal: the same raw mesh is
 // finished again with every quad padded, and the better of the two kept. Bare regions are chosen by how the raw
 // rims match the domain's, not by how far the fit must then move them; where the raw boundary lies well inside the
@@ -170,7 +176,7 @@ void retry_fully_padded(MeshRun& run, const TriangleMesh& domain, const MeshOpti
     report_attempt(run, options, "fully padded");
     FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(padded, run.pipeline));
     run.attempts.push_back(attempt_of(run.options, run.pipeline, finished, options.goals));
-    if (better_finish(finished, *run.finish, options.goals)) run.finish = std::move(finished);
+    if (better_attempt(finished, *run.finish, options)) run.finish = std::move(finished);
 }
 
 // Finishes the raw mesh of `run` in the domain; when the result misses a goal, the same raw mesh fully padded if the
@@ -189,7 +195,7 @@ void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMes
     report_attempt(run, options, "cautious joints");
     FinishResult finished = finish_mesh(second.raw.mesh, domain, finishing_options(options, second));
     run.attempts.push_back(attempt_of(cautious, second, finished, options.goals));
-    if (!better_finish(finished, *run.finish, options.goals)) return;
+    if (!better_attempt(finished, *run.finish, options)) return;
     run.finish = std::move(finished);
     run.pipeline = std::move(second);
     run.options = cautious;
@@ -218,7 +224,7 @@ void retry_finer(MeshRun& run, const TriangleMesh& domain, const MeshOptions& op
     report_attempt(run, options, "one level finer");
     FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(finer, run.pipeline));
     run.attempts.push_back(attempt_of(run.options, run.pipeline, finished, options.goals));
-    if (better_finish(finished, *run.finish, options.goals)) run.finish = std::move(finished);
+    if (better_attempt(finished, *run.finish, options)) run.finish = std::move(finished);
 }
 
 // The layout comparison's order (MeshOptions::compare_fan_layouts): fewer inverted hexes (a valid mesh first), fewer

@@ -64,6 +64,12 @@ struct MeshOptions {
     // finishing.max_hexes (when > 0). Off by default; `mesohex auto` turns it on.
     bool finer_retry = false;
     MeshGoals goals;  // the goals a finished mesh must meet (else the second attempt)
+    // How the attempts above are ranked when they tie on inverted hexes and on the number of goals missed. false:
+    // the smaller relative Hausdorff distance, then the higher min scaled Jacobian (better_finish). true: the smaller
+    // goal_shortfall first (the product of the factors by which each missed goal is missed, so a 30 % lower min SJ is
+    // not traded for a 3 % smaller Hausdorff distance, nor the reverse), then better_finish's order
+    // (better_finish_by_shortfall; docs/junctions.md, "The retry's choice when every attempt misses").
+    bool retry_by_shortfall = false;
     // With a domain, when the raw mesh has fan blocks (pipeline.connection_surfaces.blocks.fan_blocks): the skeleton
     // is meshed and finished again (with the same attempts) in the paper's layout on the fan edges, and that result
     // kept only when it is better (better_layout: valid and not inverted, fewer missed goals, then a higher min SJ).

@@ -343,6 +343,41 @@ TEST(Finish, GoalsAndTheBetterOfTwoResults) {
     EXPECT_EQ(mesohex::missed_goals(far, loose), 1);
 }
 
+// The choice between two results that both miss (MeshOptions::retry_by_shortfall): goal_shortfall is the sum of the
+// logs of the factors by which each missed goal is missed. Armadillo's two attempts (both miss min SJ and Hausdorff):
+// 0.190 / 2.39 % gives ln(0.3 / 0.19) + ln(2.39) = 0.45676 + 0.87129 = 1.32805, 0.133 / 2.31 % gives
+// ln(0.3 / 0.133) + ln(2.31) = 0.81343 + 0.83725 = 1.65068: the first is kept, where better_finish (the smaller
+// distance) keeps the second.
+TEST(Finish, ShortfallRanksTwoResultsThatMissTheSameGoals) {
+    const auto result = [](long inverted, double sj_min, double sj_avg, double hausdorff) {
+        FinishResult r;
+        r.quality.inverted = inverted;
+        r.quality.sj_min = sj_min;
+        r.quality.sj_avg = sj_avg;
+        r.distance_measured = true;
+        r.distance.relative_max = hausdorff;
+        return r;
+    };
+    const FinishResult first = result(0, 0.190, 0.911, 0.0239);
+    const FinishResult second = result(0, 0.133, 0.906, 0.0231);
+    EXPECT_NEAR(mesohex::goal_shortfall(first), std::log(0.3 / 0.19) + std::log(2.39), 1e-12);
+    EXPECT_NEAR(mesohex::goal_shortfall(first), 1.32805, 1e-5);
+    EXPECT_NEAR(mesohex::goal_shortfall(second), 1.65068, 1e-5);
+    EXPECT_EQ(mesohex::goal_shortfall(result(0, 0.3, 0.85, 0.01)), 0.0);  // every goal met (inclusive)
+    // The average counts like the others: 0.8 against 0.85 is ln(0.85 / 0.8) = 0.06062.
+    EXPECT_NEAR(mesohex::goal_shortfall(result(0, 0.5, 0.8, 0.005)), std::log(0.85 / 0.8), 1e-12);
+    EXPECT_TRUE(std::isinf(mesohex::goal_shortfall(result(0, 0.0, 0.9, 0.005))));  // a flat hex
+    EXPECT_TRUE(mesohex::better_finish_by_shortfall(first, second));
+    EXPECT_FALSE(mesohex::better_finish_by_shortfall(second, first));
+    EXPECT_TRUE(mesohex::better_finish(second, first));  // the default order: the smaller distance
+    // Fewer goals missed still comes first: 0.29 / 5 % (two goals, shortfall 1.64) is not kept over 0.05 / 0.9 %
+    // (one goal, ln 6 = 1.79), nor is a mesh with an inverted hex over either.
+    const FinishResult one_goal = result(0, 0.05, 0.9, 0.009);
+    EXPECT_TRUE(mesohex::better_finish_by_shortfall(one_goal, result(0, 0.29, 0.9, 0.05)));
+    EXPECT_TRUE(mesohex::better_finish_by_shortfall(one_goal, result(1, 0.29, 0.9, 0.009)));
+    EXPECT_FALSE(mesohex::better_finish_by_shortfall(first, first));  // strict
+}
+
 // Padding towards the domain (FinishOptions::pad_to_domain): the 2 x 2 x 2 block stretched to 2 x 2 x 6. The vertex in
 // the middle of its face y = 0, (1, 0, 3), has boundary edges of 1 (along x) and 3 (along z): the layer's own offset
 // is 0.25 x 1, the cap 0.25 x mean edge 2 = 0.5. Its new vertex goes along -y as far as the domain's face y = -h,

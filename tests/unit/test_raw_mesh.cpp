@@ -1076,6 +1076,55 @@ TEST(JunctionCover, CreaseMidpointsOpenTheLegsCrotchOfDinosHipWithoutMovingItsPo
     EXPECT_EQ(compute_quality(on.mesh).inverted, 0);
 }
 
+// The midpoint rule restricted to a close pair's shared edge (JunctionCoverOptions::crease_pair_deg) on the same
+// hand-built hip. Its branches' directions from the hip: the legs (vertices 3 and 4) are 46.35 degrees apart, every
+// other pair 79.4 degrees or more (computed here). The legs' two quads share exactly one surface edge (the quads'
+// sides, ConnectionSurfaces::quad_edges). With crease_pair_deg 60 only that edge's midpoint may move (the others stay
+// where the raw mesh put them, every surface point too); with 40 (below the legs' angle) nothing moves: the raw mesh
+// is the one without the rule.
+TEST(JunctionCover, CreasePairMovesOnlyTheEdgeTheCloseLegsShare) {
+    const Skeleton s = mesohex::test::dino_hip();
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    const auto angle = [&](int a, int b) {
+        return std::acos(dot(normalized(s.points[a]), normalized(s.points[b]))) * 180 / std::numbers::pi;
+    };
+    EXPECT_NEAR(angle(3, 4), 46.35, 0.01);
+    for (int a = 1; a <= 4; ++a)
+        for (int b = a + 1; b <= 4; ++b)
+            if (!(a == 3 && b == 4)) {
+                EXPECT_GT(angle(a, b), 79.4);
+            }
+    // The legs' quads at the hip (edges 2 and 3 are 0-3 and 0-4, the hip is their side 0) and their shared side.
+    const int q3 = cs.edge_quad[2][0] - cs.quad_begin[0], q4 = cs.edge_quad[3][0] - cs.quad_begin[0];
+    std::vector<int> shared;
+    for (int k3 : cs.quad_edges[cs.quad_begin[0] + q3])
+        for (int k4 : cs.quad_edges[cs.quad_begin[0] + q4])
+            if (k3 == k4) shared.push_back(k3);
+    ASSERT_EQ(shared.size(), 1u);
+    RawMeshOptions o;
+    const RawMesh off = build_raw_mesh(s, an, cs, fr, o);
+    o.cover.crease_deg = 270;
+    o.cover.crease_midpoints = true;
+    o.cover.crease_pair_deg = 40;
+    EXPECT_EQ(build_raw_mesh(s, an, cs, fr, o).mesh.points, off.mesh.points);
+    o.cover.crease_pair_deg = 60;
+    const RawMesh on = build_raw_mesh(s, an, cs, fr, o);
+    const int base = off.vertex_base[0], np = cs.point_begin[1] - cs.point_begin[0];
+    const int ne = cs.edge_begin[1] - cs.edge_begin[0];
+    for (int x = 0; x < np; ++x) EXPECT_EQ(on.mesh.points[base + 1 + x], off.mesh.points[base + 1 + x]);
+    for (int j = 0; j < ne; ++j) {
+        const int id = base + 1 + np + j;
+        if (j == shared[0]) {
+            EXPECT_GT(distance(on.mesh.points[id], s.points[0]), distance(off.mesh.points[id], s.points[0]));
+        } else {
+            EXPECT_EQ(on.mesh.points[id], off.mesh.points[id]);
+        }
+    }
+    EXPECT_EQ(compute_quality(on.mesh).inverted, 0);
+}
+
 // A fat Y without a gap over 180 degrees (azimuths 0, 100, 220 degrees, 10 degrees out of one plane, centre radius 0.4,
 // arms 1 long ending at radius 0.25): partition_sphere's general choice tilts its axis, a valence-3 pole 71.4 degrees
 // from a branch; the orange around the branches' best-fit plane normal keeps its poles 84.7 degrees from every branch.

@@ -192,6 +192,36 @@ void open_creases(const Skeleton& s, const ConnectionSurfaces& cs, const BranchF
     }
 }
 
+// JunctionCoverOptions::crease_pair_deg: per surface edge j of c (index from cs.edge_begin[c]), 1 when the two chunk
+// hexes whose bottom (or top) quad holds j's midpoint belong to two branch edges of c whose directions from c (to
+// their other ends) are less than pair_deg apart: the edge a close pair's two quads share.
+std::vector<char> close_pair_edges(const Skeleton& s, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
+                                   const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
+                                   const JunctionMove& m, double pair_deg) {
+    const int ne = cs.edge_begin[m.c + 1] - cs.edge_begin[m.c];
+    std::vector<std::vector<int>> holders(ne);
+    for (int i = an.vertex_edge_begin[m.c]; i < an.vertex_edge_begin[m.c + 1]; ++i) {
+        const int e = an.vertex_edges[i], h0 = edge_hex[e];
+        for (int k = 0; h0 >= 0 && k < 4; ++k) {
+            const std::array<int, 8>& hex = hexes[h0 + k];
+            const int off = hex[0] == m.base ? 0 : 4;
+            const int j = hex[off + 2] - m.base - 1 - m.np;
+            if (hex[off] != m.base || j < 0 || j >= ne) continue;
+            if (std::find(holders[j].begin(), holders[j].end(), e) == holders[j].end()) holders[j].push_back(e);
+        }
+    }
+    const Vec3& c = s.points[m.c];
+    const double cos_limit = std::cos(pair_deg * std::numbers::pi / 180);
+    std::vector<char> close(ne, 0);
+    for (int j = 0; j < ne; ++j) {
+        if (holders[j].size() != 2) continue;
+        const Vec3 a = normalized(s.points[other_end(s, holders[j][0], m.c)] - c);
+        const Vec3 b = normalized(s.points[other_end(s, holders[j][1], m.c)] - c);
+        close[j] = dot(a, b) > cos_limit ? 1 : 0;
+    }
+    return close;
+}
+
 int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                    const BranchFrames& frames, const std::vector<double>& radius, const std::vector<int>& vertex_base,
                    const std::vector<int>& edge_hex, const std::vector<std::array<int, 8>>& hexes,
@@ -220,13 +250,16 @@ int cover_junction(const Skeleton& s, const Skeleton& domain, const SkeletonAnal
         moved = 0;
         const int ne = cs.edge_begin[c + 1] - cs.edge_begin[c];
         const int p0 = cs.point_begin[c];
+        const std::vector<char> pair = o.crease_pair_deg > 0
+                                           ? close_pair_edges(s, an, cs, edge_hex, hexes, m, o.crease_pair_deg)
+                                           : std::vector<char>(ne, 1);
         for (int j = 0; j < ne; ++j) {
             const std::array<int, 2>& ed = cs.edges[cs.edge_begin[c] + j];
             const Vec3 d = normalized(frames.directions[p0 + ed[0]] + frames.directions[p0 + ed[1]]);
-            const double t = ray_exit(cones, s.points[c], d, 0.02 * rc, (o.arc + 1) * rc);
+            const double t = pair[j] ? ray_exit(cones, s.points[c], d, 0.02 * rc, (o.arc + 1) * rc) : 0.0;
             const Vec3 from = points[m.base + 1 + m.np + j];
             m.mid_from.push_back(from);
-            const bool out = t > dot(from - s.points[c], d);
+            const bool out = pair[j] && t > dot(from - s.points[c], d);
             m.mid_to.push_back(out ? s.points[c] + t * d : from);
             m.mid_lambda.push_back(0.0);
             if (out) ++moved;

@@ -50,6 +50,11 @@ struct JunctionCoverOptions {
     // middle faces the crotch, where the domain reaches farthest (docs/junctions.md, "Dino's hip and knight's v9
     // traced through the stages"). false: the end points move (the rule above).
     bool crease_midpoints = false;
+    // With crease_midpoints: only the midpoint of a folded surface edge whose two quads belong to two branch edges
+    // of c less than crease_pair_deg apart (their first edges' directions from c) moves: the edge a close pair's
+    // two quads share, which faces the pair's crotch, where the union of two tubes reaches r / sin(angle / 2) from
+    // c (docs/junctions.md, "The three shared skeletons that miss"). Degrees; 0 = every folded edge.
+    double crease_pair_deg = 0.0;
     // Bulged bridges (issue 16 item 5): > 0 restricts the cover to the two ends of every bridge (the branch edges,
     // through joints, from one branching point c to another, u) along which the domain bulges: some point p of the
     // bridge's polyline, at arc fraction s = 1/16, 2/16, ..., 15/16 from c to u, lies at depth (the largest r(t) -
