@@ -962,8 +962,8 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
     const bool ball_rule = c_joint || (o.wide_junction_trunks && inc.size() >= 4 && plain);
     double xt = 0, rt = 0;
     if (ball_rule ? !(x > s.radii[c]) : !(x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a))) {
-        const bool valley = o.valley_trunk_degree > 0 && plain &&
-                            static_cast<int>(inc.size()) >= std::max(o.valley_trunk_degree, 4);
+        const bool valley =
+            o.valley_trunk_degree > 0 && plain && static_cast<int>(inc.size()) >= std::max(o.valley_trunk_degree, 4);
         if (!valley || !valley_trunk(s.radii[c], r, sin_a, sep, o, xt, rt)) return;
     } else {
         xt = c_joint ? x : survivable_trunk(x, s.radii[c], r, sin_a, sep, o);
