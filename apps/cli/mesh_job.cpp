@@ -240,6 +240,11 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "radius (0.6 by default)")
         ->check(finite_range(0.0, 10.0))
         ->capture_default_str();
+    cmd->add_option("--valley-trunks-per-point", job->options.pipeline.repair.valley_trunks_per_point,
+                    "With --valley-trunks: build a valley trunk at a branching point only while it has fewer than "
+                    "this many trunks of either rule (0 = no limit; 1 by default)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
     cmd->add_option("--pit-branches", job->options.pipeline.virtual_branches.pit_excess,
                     "A one-edge branch into the pit inside a ring of branches at a branching point of degree 4 or "
                     "more, along the direction farthest from its nearest three branches, where the domain reaches "

@@ -37,6 +37,7 @@ struct Graph {
     std::vector<int> degree;   // all edges, leaflet sides included
     std::vector<bool> frozen;  // not scanned: the roots of side stubs (their pairs are the stub's own repair)
     std::vector<bool> merged;  // balls t made by a merge: no further merge at them (as c or as b)
+    std::vector<int> trunks;   // per vertex: trunks built at it as c (valley_trunks_per_point)
 };
 
 // Fills g for s, reusing g's arrays (called once per repair round).
@@ -120,6 +121,7 @@ struct Candidate {
     Vec3 t;
     double rt = 0;
     PairRepair kind = PairRepair::trunk;
+    bool valley = false;  // a valley trunk (valley_trunk_degree)
 };
 
 bool is_extremity(const Graph& g, int v) { return g.degree[v] == 1 && !g.on_face[v]; }
@@ -961,10 +963,13 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
     const bool plain = g.degree[c] == static_cast<int>(inc.size());
     const bool ball_rule = c_joint || (o.wide_junction_trunks && inc.size() >= 4 && plain);
     double xt = 0, rt = 0;
-    if (ball_rule ? !(x > s.radii[c]) : !(x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a))) {
-        const bool valley =
-            o.valley_trunk_degree > 0 && plain && static_cast<int>(inc.size()) >= std::max(o.valley_trunk_degree, 4);
-        if (!valley || !valley_trunk(s.radii[c], r, sin_a, sep, o, xt, rt)) return;
+    const bool valley = !(ball_rule ? x > s.radii[c] : x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a));
+    if (valley) {
+        const bool room = o.valley_trunks_per_point <= 0 ||
+                          (static_cast<std::size_t>(c) < g.trunks.size() && g.trunks[c] < o.valley_trunks_per_point);
+        const bool on = o.valley_trunk_degree > 0 && plain && room &&
+                        static_cast<int>(inc.size()) >= std::max(o.valley_trunk_degree, 4);
+        if (!on || !valley_trunk(s.radii[c], r, sin_a, sep, o, xt, rt)) return;
     } else {
         xt = c_joint ? x : survivable_trunk(x, s.radii[c], r, sin_a, sep, o);
         rt = r + xt * sin_a;
@@ -973,7 +978,7 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
     const Vec3 dir = normalized(m - s.points[c]);
     if (dir == Vec3{}) return;
     const double score = x / s.radii[c];
-    if (score > best.score) best = {score, c, i, j, sep, s.points[c] + xt * dir, rt, PairRepair::trunk};
+    if (score > best.score) best = {score, c, i, j, sep, s.points[c] + xt * dir, rt, PairRepair::trunk, valley};
 }
 
 // Branching points whose pairs are scanned: no leaflet, 3 or more branch edges, a radius.
@@ -1218,6 +1223,7 @@ std::vector<int> apply_edit(Skeleton& s, Graph& g, Tombstones& dead, int n, cons
     g.degree.resize(total, 0);
     g.frozen.resize(total, false);
     g.merged.resize(total, false);
+    g.trunks.resize(total, 0);
     std::vector<int> touched;
     for (int v = n; v < static_cast<int>(total); ++v) touched.push_back(v);
     for (const auto& [v, before] : saved.vertices)
@@ -1390,6 +1396,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
     make_graph(s, g);
     g.frozen.assign(s.points.size(), false);  // side stub roots
     g.merged.assign(s.points.size(), false);  // balls made by merges
+    g.trunks.assign(s.points.size(), 0);
     Tombstones dead{std::vector<char>(s.points.size(), 0), std::vector<char>(s.edges.size(), 0), {}};
     const int n0 = static_cast<int>(s.points.size());
     for (const std::vector<int>& f : s.faces)
@@ -1434,6 +1441,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
         rank_key.resize(s.points.size(), 0);
         if (made.side_root >= 0) g.frozen[made.side_root] = true;
         if (made.merge_t >= 0) g.merged[made.merge_t] = true;
+        if (best.kind == PairRepair::trunk) ++g.trunks[c];
         const std::vector<int> points = mark_stale(s, g, touched, stale);
         if (o.rescan_all) {
             for (int v = 0; v < static_cast<int>(s.points.size()); ++v) update(v, true);

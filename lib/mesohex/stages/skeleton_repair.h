@@ -58,6 +58,11 @@ struct SkeletonRepairOptions {
     // With valley_trunk_degree: the smallest radius of t, as a fraction of the pair's mean radius r at l*
     // (dimensionless; 0.6 admits straight equal pairs up to about 72 degrees apart when r = r_c).
     double valley_trunk_min_radius = 0.6;
+    // With valley_trunk_degree: a valley trunk is built at c only while c has fewer than this many trunks (of either
+    // rule: a wide-junction trunk counts); 0 = no limit. Two trunks at one point leave it as a new close pair about
+    // 60-90 degrees apart, and the valley between them (between two of the input's branches that belong to
+    // different pairs) stays on c's sphere, next to two trunk balls. Count of trunks (dimensionless).
+    int valley_trunks_per_point = 1;
     // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
     // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
     // the same arc length, radius absorbed_ball_width x their distance + the larger radius there (a ball over both
