@@ -242,7 +242,7 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
         ->capture_default_str();
     cmd->add_option("--valley-trunks-per-point", job->options.pipeline.repair.valley_trunks_per_point,
                     "With --valley-trunks: build a valley trunk at a branching point only while it has fewer than "
-                    "this many trunks of either rule (0 = no limit; 1 by default)")
+                    "this many trunks of either rule (0 = no limit, the default)")
         ->check(CLI::Range(0, 64))
         ->capture_default_str();
     cmd->add_option("--pit-branches", job->options.pipeline.virtual_branches.pit_excess,

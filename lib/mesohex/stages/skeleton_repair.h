@@ -61,8 +61,9 @@ struct SkeletonRepairOptions {
     // With valley_trunk_degree: a valley trunk is built at c only while c has fewer than this many trunks (of either
     // rule: a wide-junction trunk counts); 0 = no limit. Two trunks at one point leave it as a new close pair about
     // 60-90 degrees apart, and the valley between them (between two of the input's branches that belong to
-    // different pairs) stays on c's sphere, next to two trunk balls. Count of trunks (dimensionless).
-    int valley_trunks_per_point = 1;
+    // different pairs) stays on c's sphere, next to two trunk balls. Count of trunks (dimensionless); docs/junctions.md
+    // ("Valley trunks") has both settings measured.
+    int valley_trunks_per_point = 0;
     // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
     // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
     // the same arc length, radius absorbed_ball_width x their distance + the larger radius there (a ball over both
