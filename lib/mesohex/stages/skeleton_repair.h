@@ -56,7 +56,7 @@ struct SkeletonRepairOptions {
     // degree 4 and more (degree 3 is the joint trunks' case). docs/junctions.md ("Valley trunks").
     int valley_trunk_degree = 0;
     // With valley_trunk_degree: the smallest radius of t, as a fraction of the pair's mean radius r at l*
-    // (dimensionless; 0.6 admits straight equal pairs up to about 72 degrees apart when r = r_c).
+    // (dimensionless; 0.6 admits straight equal pairs up to about 71 degrees apart when r = r_c).
     double valley_trunk_min_radius = 0.6;
     // With valley_trunk_degree: a valley trunk is built at c only while c has fewer than this many trunks (of either
     // rule: a wide-junction trunk counts); 0 = no limit. Two trunks at one point leave it as a new close pair about
