@@ -11,7 +11,9 @@
 //   bridge_peak_ratio, LEAFLET_OUT_FRACTION=F RawMeshOptions::leaflet_out_fraction, LEAFLET_OUT_LEAN_ONLY=0|1 its
 //   leaflet_out_lean_only,
 //   JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
-//   junction_split_clearance, JUNCTION_SPLIT_FIVE=1 its junction_split_degree_five, PIT_BRANCHES=F and PIT_MIN_DEGREE=N VirtualBranchOptions::pit_excess and pit_min_degree, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
+//   junction_split_clearance, JUNCTION_SPLIT_FIVE=1 its junction_split_degree_five, VALLEY_TRUNKS=N its valley_trunk_degree
+//   (VALLEY_TRUNK_MIN_RADIUS=F its valley_trunk_min_radius, VALLEY_TRUNKS_PER_POINT=N its
+//   valley_trunks_per_point), PIT_BRANCHES=F and PIT_MIN_DEGREE=N VirtualBranchOptions::pit_excess and pit_min_degree, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
 //   D3_NEXT_TO_BP=0|1 its degree_three_chunks_next_to_branching_points, D3_AT_BRIDGES=0|1 its
 //   degree_three_chunks_at_bridges, EXACT_THREE=0|1 its exact_three_orange, SHARED_HULL=0|1 its
@@ -105,6 +107,9 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_SPLIT_CLEARANCE")) po.repair.junction_split_clearance = std::atof(k);
     if (const char* k = std::getenv("PIT_BRANCHES")) po.virtual_branches.pit_excess = std::atof(k);
     if (const char* k = std::getenv("PIT_MIN_DEGREE")) po.virtual_branches.pit_min_degree = std::atoi(k);
+    if (const char* k = std::getenv("VALLEY_TRUNKS")) po.repair.valley_trunk_degree = std::atoi(k);
+    if (const char* k = std::getenv("VALLEY_TRUNKS_PER_POINT")) po.repair.valley_trunks_per_point = std::atoi(k);
+    if (const char* k = std::getenv("VALLEY_TRUNK_MIN_RADIUS")) po.repair.valley_trunk_min_radius = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_FIVE")) po.repair.junction_split_degree_five = std::atoi(k) != 0;
     if (const char* k = std::getenv("SIDE_STUB_MIN_LENGTH")) po.repair.side_stub_min_length = std::atof(k);
     if (const char* k = std::getenv("SIDE_STUB_ROOT_EXIT")) po.repair.side_stub_root_exit = std::atof(k);

@@ -234,6 +234,22 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "the direction from the others to it, as at degree 4, and the degree-4 point left is split when "
                     "it can (0 or 1, off by default; docs/junctions.md, \"Degree-5 junctions split\")")
         ->capture_default_str();
+    cmd->add_option("--valley-trunks", job->options.pipeline.repair.valley_trunk_degree,
+                    "At branching points of at least this degree, give a close pair of fat branches whose tubes "
+                    "branch inside the point's ball a trunk all the same, ending where its ball reaches the crotch "
+                    "between them (0 = off, the default; docs/junctions.md, \"Valley trunks\")")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
+    cmd->add_option("--valley-trunk-min-radius", job->options.pipeline.repair.valley_trunk_min_radius,
+                    "With --valley-trunks: the smallest radius of the trunk's end, as a fraction of the pair's mean "
+                    "radius (0.6 by default)")
+        ->check(finite_range(0.0, 10.0))
+        ->capture_default_str();
+    cmd->add_option("--valley-trunks-per-point", job->options.pipeline.repair.valley_trunks_per_point,
+                    "With --valley-trunks: build a valley trunk at a branching point only while it has fewer than "
+                    "this many trunks of either rule (0 = no limit, the default)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
     cmd->add_option("--pit-branches", job->options.pipeline.virtual_branches.pit_excess,
                     "A one-edge branch into the pit inside a ring of branches at a branching point of degree 4 or "
                     "more, along the direction farthest from its nearest three branches, where the domain reaches "

@@ -14,6 +14,7 @@
 #include "mesohex/pipeline.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
+#include "mesohex/stages/raw_mesh.h"
 #include "mesohex/stages/skeleton_repair.h"
 
 using mesohex::Skeleton;
@@ -359,6 +360,76 @@ void expect_raw_as_predicted(const mesohex::PipelineResult& r, int hexes) {
 }
 
 }  // namespace
+
+// Valley trunks (valley_trunk_degree): c = origin, radius 0.1, of degree 4: a fat pair 60 degrees apart (+-30 degrees
+// from +z in the xz plane), one branch along -z and one along +y (90 and 150 degrees from the pair: no other close
+// pair); every branch 1 long, radius 0.1. Vertices: 0 c, 1 2 the pair, 3 -z, 4 +y.
+Skeleton valley_four() {
+    Skeleton s;
+    const double a = 30 * kDeg;
+    s.points = {{0, 0, 0}, {std::sin(a), 0, std::cos(a)}, {-std::sin(a), 0, std::cos(a)}, {0, 0, -1}, {0, 1, 0}};
+    s.radii.assign(5, 0.1);
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+    return s;
+}
+
+// The pair's tubes separate at l* = 0.1 / sin 30 = 0.2 (sin a = 0.5); its medial junction x = (l* - r) / (1 + sin a) =
+// 0.0667 lies inside c's ball (r_c = 0.1): no trunk by the ball rule (the degree-4 split takes the pair instead).
+// Valley trunk: x_v = 0.7 (r_c + l*) / 1.7 = 0.12353 > r_c, r_t = min(l* - x_v, r + x_v sin a) = min(0.07647, 0.1618)
+// = 0.07647 >= 0.6 r: t = (0, 0, 0.12353) (vertex 5), its ball reaching the crotch (0, 0, 0.2); the pair leaves t
+// towards its points at l* (vertices 6, 7: (+-0.1, 0, 0.17321)), 2 atan(0.1 / 0.04968) = 127.1 degrees apart. c keeps
+// -z, +y and the trunk (degree 3). V = 5 + 3 = 8, E = 4 - 2 + 5 = 7. The raw mesh of that skeleton (no adaptation):
+// 4 hexes per edge, 28, none inverted. With valley_trunk_min_radius 0.8 (r_t = 0.765 r): no trunk.
+TEST(SkeletonRepair, ValleyTrunkForAFatPairAtDegreeFour) {
+    const Skeleton in = valley_four();
+    const mesohex::SkeletonRepairResult off = mesohex::repair_skeleton(in);
+    EXPECT_EQ(off.trunks, 0);
+    EXPECT_EQ(off.junction_splits, 1);
+    mesohex::SkeletonRepairOptions o;
+    o.valley_trunk_degree = 4;
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, o);
+    EXPECT_EQ(res.trunks, 1);
+    EXPECT_EQ(res.junction_splits, 0);
+    const Skeleton& s = res.skeleton;
+    ASSERT_EQ(s.points.size(), 8u);
+    ASSERT_EQ(s.edges.size(), 7u);
+    const double xv = 0.7 * 0.3 / 1.7;
+    EXPECT_NEAR(xv, 0.12353, 1e-5);
+    EXPECT_NEAR(distance(s.points[5], Vec3{0, 0, xv}), 0, 1e-6);
+    EXPECT_NEAR(s.radii[5], 0.2 - xv, 1e-6);
+    EXPECT_NEAR(s.points[5].z + s.radii[5], 0.2, 1e-12);  // t's ball reaches the crotch
+    EXPECT_NEAR(distance(s.points[5], s.points[0]), 0.7 * (s.radii[0] + s.radii[5]), 1e-6);
+    EXPECT_EQ(degree(s, 0), 3);
+    EXPECT_EQ(degree(s, 5), 3);
+    for (const int v : {6, 7}) {
+        EXPECT_NEAR(std::abs(s.points[v].x), 0.1, 1e-9);
+        EXPECT_NEAR(s.points[v].z, 0.2 * std::cos(30 * kDeg), 1e-9);
+    }
+    const Vec3 da = normalized(s.points[6] - s.points[5]), db = normalized(s.points[7] - s.points[5]);
+    EXPECT_NEAR(std::acos(dot(da, db)) / kDeg, 127.1, 0.1);
+    const mesohex::SkeletonAnalysis an = mesohex::analyze_skeleton(s);
+    const mesohex::ConnectionSurfaces cs = mesohex::build_connection_surfaces(s, an);
+    const mesohex::RawMesh raw = mesohex::build_raw_mesh(s, an, cs, mesohex::propagate_frames(s, an, cs));
+    const mesohex::QualityReport q = mesohex::compute_quality(raw.mesh);
+    EXPECT_EQ(q.hexes, 28);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.euler_characteristic, 1);
+    EXPECT_EQ(q.inverted, 0);
+    EXPECT_NEAR(q.sj_min, 0.420, 0.005);
+    // Through the pipeline (adaptation resamples the branches): the raw minimum 0.333 with the degree-4 split (off),
+    // 0.422 with the valley trunk; both raw meshes as predicted (4 hexes per meshed edge, no block).
+    const mesohex::PipelineResult po = mesohex::run_pipeline(in);
+    mesohex::PipelineOptions valley;
+    valley.repair.valley_trunk_degree = 4;
+    const mesohex::PipelineResult pv = mesohex::run_pipeline(in, valley);
+    expect_raw_as_predicted(po, 4 * static_cast<int>(po.skeleton.edges.size()));
+    expect_raw_as_predicted(pv, 4 * static_cast<int>(pv.skeleton.edges.size()));
+    EXPECT_NEAR(mesohex::compute_quality(po.raw.mesh).sj_min, 0.333, 0.005);
+    EXPECT_NEAR(mesohex::compute_quality(pv.raw.mesh).sj_min, 0.422, 0.005);
+    mesohex::SkeletonRepairOptions strict = o;
+    strict.valley_trunk_min_radius = 0.8;
+    EXPECT_EQ(mesohex::repair_skeleton(in, strict).trunks, 0);
+}
 
 // Docked walls' feet (docked_foot_split, 2 by default; docs/blocks.md "Acceptance audit (session 24)"): the
 // generated wall (6 x 6 unit plate at z = 0, x and y from -3 to 3; a wall of 2 edges and 2 rows on x = 0 from y = -1

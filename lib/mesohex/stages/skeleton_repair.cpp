@@ -37,6 +37,7 @@ struct Graph {
     std::vector<int> degree;   // all edges, leaflet sides included
     std::vector<bool> frozen;  // not scanned: the roots of side stubs (their pairs are the stub's own repair)
     std::vector<bool> merged;  // balls t made by a merge: no further merge at them (as c or as b)
+    std::vector<int> trunks;   // per vertex: trunks built at it as c (valley_trunks_per_point)
 };
 
 // Fills g for s, reusing g's arrays (called once per repair round).
@@ -120,6 +121,7 @@ struct Candidate {
     Vec3 t;
     double rt = 0;
     PairRepair kind = PairRepair::trunk;
+    bool valley = false;  // a valley trunk (valley_trunk_degree)
 };
 
 bool is_extremity(const Graph& g, int v) { return g.degree[v] == 1 && !g.on_face[v]; }
@@ -878,6 +880,18 @@ double survivable_trunk(double x, double rc, double r, double sin_a, double sep,
     return std::max(x, std::min(k * (rc + r) / (1 - k * sin_a), 0.9 * sep));
 }
 
+// A valley trunk (SkeletonRepairOptions::valley_trunk_degree) for a pair whose medial junction lies inside c's ball:
+// t at x_v = k (r_c + l*) / (1 + k) along the bisector (k = trunk_clearance, strictly above it as adaptation's
+// collapse rule needs), radius r_t = min(l* - x_v, r + x_v sin a): the trunk edge is then k (r_c + r_t) when the
+// crotch binds. False (no trunk) when r_t < valley_trunk_min_radius x r or x_v <= r_c.
+bool valley_trunk(double rc, double r, double sin_a, double sep, const SkeletonRepairOptions& o, double& xt,
+                  double& rt) {
+    const double k = o.trunk_clearance * (1 + 1e-6);
+    xt = k * (rc + sep) / (1 + k);
+    rt = std::min(sep - xt, r + xt * sin_a);
+    return xt > rc && rt >= o.valley_trunk_min_radius * r && rt > 0;
+}
+
 // The close pair (walks i, j at c): updates scan.best when its repair scores higher; records it in
 // scan.unseparated when its tubes do not separate and the shorter walk is not absorbable.
 void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOptions& o, int c,
@@ -946,15 +960,25 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
     // ball (joint_trunks). At degree 4 and more c stays a branching point: the same rule with wide_junction_trunks
     // (adaptation may collapse a short trunk, moving the junction towards the pair), else a long enough bridge.
     const bool c_joint = o.joint_trunks && inc.size() == 3 && g.degree[c] == 3;
-    const bool ball_rule =
-        c_joint || (o.wide_junction_trunks && inc.size() >= 4 && g.degree[c] == static_cast<int>(inc.size()));
-    if (ball_rule ? !(x > s.radii[c]) : !(x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a))) return;
+    const bool plain = g.degree[c] == static_cast<int>(inc.size());
+    const bool ball_rule = c_joint || (o.wide_junction_trunks && inc.size() >= 4 && plain);
+    double xt = 0, rt = 0;
+    const bool valley = !(ball_rule ? x > s.radii[c] : x >= o.trunk_clearance * (s.radii[c] + r + x * sin_a));
+    if (valley) {
+        const bool room = o.valley_trunks_per_point <= 0 ||
+                          (static_cast<std::size_t>(c) < g.trunks.size() && g.trunks[c] < o.valley_trunks_per_point);
+        const bool on = o.valley_trunk_degree > 0 && plain && room &&
+                        static_cast<int>(inc.size()) >= std::max(o.valley_trunk_degree, 4);
+        if (!on || !valley_trunk(s.radii[c], r, sin_a, sep, o, xt, rt)) return;
+    } else {
+        xt = c_joint ? x : survivable_trunk(x, s.radii[c], r, sin_a, sep, o);
+        rt = r + xt * sin_a;
+    }
     const Vec3 m = 0.5 * (a.x + b.x);
     const Vec3 dir = normalized(m - s.points[c]);
     if (dir == Vec3{}) return;
     const double score = x / s.radii[c];
-    const double xt = c_joint ? x : survivable_trunk(x, s.radii[c], r, sin_a, sep, o);
-    if (score > best.score) best = {score, c, i, j, sep, s.points[c] + xt * dir, r + xt * sin_a, PairRepair::trunk};
+    if (score > best.score) best = {score, c, i, j, sep, s.points[c] + xt * dir, rt, PairRepair::trunk, valley};
 }
 
 // Branching points whose pairs are scanned: no leaflet, 3 or more branch edges, a radius.
@@ -1199,6 +1223,7 @@ std::vector<int> apply_edit(Skeleton& s, Graph& g, Tombstones& dead, int n, cons
     g.degree.resize(total, 0);
     g.frozen.resize(total, false);
     g.merged.resize(total, false);
+    g.trunks.resize(total, 0);
     std::vector<int> touched;
     for (int v = n; v < static_cast<int>(total); ++v) touched.push_back(v);
     for (const auto& [v, before] : saved.vertices)
@@ -1371,6 +1396,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
     make_graph(s, g);
     g.frozen.assign(s.points.size(), false);  // side stub roots
     g.merged.assign(s.points.size(), false);  // balls made by merges
+    g.trunks.assign(s.points.size(), 0);
     Tombstones dead{std::vector<char>(s.points.size(), 0), std::vector<char>(s.edges.size(), 0), {}};
     const int n0 = static_cast<int>(s.points.size());
     for (const std::vector<int>& f : s.faces)
@@ -1415,6 +1441,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
         rank_key.resize(s.points.size(), 0);
         if (made.side_root >= 0) g.frozen[made.side_root] = true;
         if (made.merge_t >= 0) g.merged[made.merge_t] = true;
+        if (best.kind == PairRepair::trunk) ++g.trunks[c];
         const std::vector<int> points = mark_stale(s, g, touched, stale);
         if (o.rescan_all) {
             for (int v = 0; v < static_cast<int>(s.points.size()); ++v) update(v, true);

@@ -44,6 +44,26 @@ struct SkeletonRepairOptions {
     // is lengthened along the same direction to x' = trunk_clearance (r_c + r_t) (at most 0.9 l*), so that adaptation
     // keeps it (it collapses shorter bridges back into one vertex). docs/junctions.md, docs/tuning.md.
     bool wide_junction_trunks = true;
+    // Valley trunks (issue 16 item 1): at a branching point of degree >= valley_trunk_degree (no leaflet), a close
+    // pair (less than 90 degrees apart) whose medial junction lies inside c's ball (x <= r_c: two fat branches 40-80
+    // degrees apart, whose crotch, the valley between their tubes, lies l* = r / sin(beta / 2) out along their
+    // bisector) gets a trunk all the same: t on the bisector at x_v = k (r_c + l*) / (1 + k) (k = trunk_clearance, so
+    // the trunk edge is just long enough for adaptation to keep it), radius r_t = min(l* - x_v, r + x_v sin a) (its ball
+    // reaches the crotch and stays between the tubes' outer walls). The pair then leaves t about 120 degrees apart,
+    // and the valley vertex of t's partition lies at the crotch instead of on c's sphere. Not built when r_t <
+    // valley_trunk_min_radius x r (wide pairs: t's ball would be a small fraction of the branches') or when the
+    // trunk is no longer than c's radius. Vertex degree (number of branch edges); 0 = off; values up to 4 act at
+    // degree 4 and more (degree 3 is the joint trunks' case). docs/junctions.md ("Valley trunks").
+    int valley_trunk_degree = 0;
+    // With valley_trunk_degree: the smallest radius of t, as a fraction of the pair's mean radius r at l*
+    // (dimensionless; 0.6 admits straight equal pairs up to about 71 degrees apart when r = r_c).
+    double valley_trunk_min_radius = 0.6;
+    // With valley_trunk_degree: a valley trunk is built at c only while c has fewer than this many trunks (of either
+    // rule: a wide-junction trunk counts); 0 = no limit. Two trunks at one point leave it as a new close pair about
+    // 60-90 degrees apart, and the valley between them (between two of the input's branches that belong to
+    // different pairs) stays on c's sphere, next to two trunk balls. Count of trunks (dimensionless); docs/junctions.md
+    // ("Valley trunks") has both settings measured.
+    int valley_trunks_per_point = 0;
     // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
     // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
     // the same arc length, radius absorbed_ball_width x their distance + the larger radius there (a ball over both
