@@ -309,17 +309,23 @@ TEST(Finish, SameMeshForAnyThreadCount) {
                 one.mesh.hexes.size(), one.quality.sj_min, 100 * one.distance.relative_max);
 }
 
+namespace {
+
+// A finished result set by hand: its inverted count, min / avg SJ and Hausdorff distance (fraction of the diagonal).
+FinishResult result(long inverted, double sj_min, double sj_avg, double hausdorff) {
+    FinishResult r;
+    r.quality.inverted = inverted;
+    r.quality.sj_min = sj_min;
+    r.quality.sj_avg = sj_avg;
+    r.distance_measured = true;
+    r.distance.relative_max = hausdorff;
+    return r;
+}
+
+}  // namespace
+
 // The goals a second attempt is weighed by (MeshGoals: min 0.3, average 0.85, Hausdorff 1 %), on hand-set results.
 TEST(Finish, GoalsAndTheBetterOfTwoResults) {
-    const auto result = [](long inverted, double sj_min, double sj_avg, double hausdorff) {
-        FinishResult r;
-        r.quality.inverted = inverted;
-        r.quality.sj_min = sj_min;
-        r.quality.sj_avg = sj_avg;
-        r.distance_measured = true;
-        r.distance.relative_max = hausdorff;
-        return r;
-    };
     const FinishResult meets = result(0, 0.66, 0.92, 0.0076);    // auto cactus, cautious reach
     const FinishResult far = result(0, 0.23, 0.91, 0.042);       // auto cactus, default reach: min and distance
     const FinishResult fat = result(0, 0.104, 0.899, 0.0179);    // dino, default reach
@@ -349,15 +355,6 @@ TEST(Finish, GoalsAndTheBetterOfTwoResults) {
 // ln(0.3 / 0.133) + ln(2.31) = 0.81343 + 0.83725 = 1.65068: the first is kept, where better_finish (the smaller
 // distance) keeps the second.
 TEST(Finish, ShortfallRanksTwoResultsThatMissTheSameGoals) {
-    const auto result = [](long inverted, double sj_min, double sj_avg, double hausdorff) {
-        FinishResult r;
-        r.quality.inverted = inverted;
-        r.quality.sj_min = sj_min;
-        r.quality.sj_avg = sj_avg;
-        r.distance_measured = true;
-        r.distance.relative_max = hausdorff;
-        return r;
-    };
     const FinishResult first = result(0, 0.190, 0.911, 0.0239);
     const FinishResult second = result(0, 0.133, 0.906, 0.0231);
     EXPECT_NEAR(mesohex::goal_shortfall(first), std::log(0.3 / 0.19) + std::log(2.39), 1e-12);
