@@ -18,6 +18,7 @@
 #include <random>
 #include <vector>
 
+#include "direction_fixtures.h"
 #include "mesohex/stages/orange_three.h"
 #include "mesohex/stages/sphere_partition.h"
 
@@ -43,60 +44,35 @@ std::vector<signed char> make_table(int nodes) {
     return table;
 }
 
-std::array<double, 3> bounds(const std::array<Vec3, 3>& d) {
-    std::array<double, 3> b{kPi, kPi, kPi};
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            if (j != i) b[i] = std::min(b[i], 0.5 * std::atan2(norm(cross(d[i], d[j])), dot(d[i], d[j])));
-    return b;
-}
-
-// test_orange_three.cpp's random triples (uniform, near a plane, in a cone, tree-like, near-T).
-std::array<Vec3, 3> random_triple(std::mt19937_64& rng, int kind) {
-    std::normal_distribution<double> g(0, 1);
-    std::uniform_real_distribution<double> u(0, 1);
-    std::vector<Vec3> d;
-    while (d.size() < 3) {
-        Vec3 v{g(rng), g(rng), g(rng)};
-        if (kind == 1) v.z *= 0.2;
-        if (kind == 2) v.z = std::abs(v.z) + 1.5;
-        if (kind == 3 && d.empty()) v = Vec3{0, 0, -1};
-        if (kind == 3 && !d.empty()) v.z = std::abs(v.z) * 0.7 + 0.3;
-        if (kind == 4 && d.size() == 1) v = -1.0 * d[0] + 0.3 * u(rng) * v;
-        v = normalized(v);
-        bool apart = true;
-        for (const Vec3& o : d) apart = apart && std::acos(std::clamp(dot(o, v), -1.0, 1.0)) > 0.05;
-        if (apart) d.push_back(v);
-    }
-    return {d[0], d[1], d[2]};
-}
-
 int check(int nodes, int count) {
     const std::vector<signed char> table = make_table(nodes);
     std::mt19937_64 rng(20261207);
     std::vector<std::array<Vec3, 3>> triples;
-    for (int k = 0; k < count; ++k) triples.push_back(random_triple(rng, k % 5));
+    for (int k = 0; k < count; ++k) {
+        const std::vector<Vec3> d = test::random_direction_triple(rng, k % 5);
+        triples.push_back({d[0], d[1], d[2]});
+    }
     int higher = 0, lower = 0, fallback = 0, lower_1deg = 0;
     double loss = 0, sum = 0, starts = 0;
     std::vector<double> coarse_score(count), table_score(count);
     const auto t0 = std::chrono::steady_clock::now();
     for (int k = 0; k < count; ++k) {
         const std::vector<Vec3> v(triples[k].begin(), triples[k].end());
-        coarse_score[k] =
-            orange_score_three(triples[k], bounds(triples[k]), kWeight, detail::exact_three_orange_axis(v, true));
+        coarse_score[k] = orange_score_three(triples[k], test::orange_bounds(triples[k]), kWeight,
+                                             detail::exact_three_orange_axis(v, true));
     }
     const auto t1 = std::chrono::steady_clock::now();
     for (int k = 0; k < count; ++k) {
         const std::vector<Vec3> s =
-            tabled_orange_starts_three(triples[k], bounds(triples[k]), kWeight, table.data(), nodes);
+            tabled_orange_starts_three(triples[k], test::orange_bounds(triples[k]), kWeight, table.data(), nodes);
         starts += static_cast<double>(s.size());
-        const OrangeAxisThree best = best_orange_axis_three(triples[k], bounds(triples[k]), kWeight, s);
+        const OrangeAxisThree best = best_orange_axis_three(triples[k], test::orange_bounds(triples[k]), kWeight, s);
         table_score[k] = best.score;
         if (s.empty() || !(best.score > 0)) {
             ++fallback;
             const std::vector<Vec3> v(triples[k].begin(), triples[k].end());
-            table_score[k] =
-                orange_score_three(triples[k], bounds(triples[k]), kWeight, detail::exact_three_orange_axis(v, true));
+            table_score[k] = orange_score_three(triples[k], test::orange_bounds(triples[k]), kWeight,
+                                                detail::exact_three_orange_axis(v, true));
         }
     }
     const auto t2 = std::chrono::steady_clock::now();

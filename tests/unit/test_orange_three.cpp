@@ -7,10 +7,12 @@
 #include <random>
 #include <vector>
 
+#include "direction_fixtures.h"
 #include "mesohex/stages/orange_three.h"
 #include "mesohex/stages/sphere_partition.h"
 
 using mesohex::Vec3;
+using mesohex::test::random_direction_triple;
 
 namespace {
 
@@ -18,40 +20,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180;
 constexpr double kScoreWeight = kPi / 2;  // quality_score's margin weight (a margin ratio of 1 counts as 90 degrees)
 constexpr double kThreeWeight = kPi / 3;  // the weight partition_sphere's three-direction orange uses
-
-// Half the angle from each direction to its nearest other one (sphere_partition's margin bound), radians.
-std::array<double, 3> bounds(const std::array<Vec3, 3>& d) {
-    std::array<double, 3> b;
-    for (int i = 0; i < 3; ++i) {
-        b[i] = kPi;
-        for (int j = 0; j < 3; ++j)
-            if (j != i)
-                b[i] = std::min(b[i],
-                                0.5 * std::atan2(mesohex::norm(mesohex::cross(d[i], d[j])), mesohex::dot(d[i], d[j])));
-    }
-    return b;
-}
-
-// Random triples of five kinds (uniform, near a plane (Y-like), in a cone, tree-like (one back, two forward), a
-// near-T (two nearly opposite)); pairs closer than 0.05 rad are redrawn.
-std::vector<Vec3> random_triple(std::mt19937_64& rng, int kind) {
-    std::normal_distribution<double> g(0, 1);
-    std::uniform_real_distribution<double> u(0, 1);
-    std::vector<Vec3> d;
-    while (d.size() < 3) {
-        Vec3 v{g(rng), g(rng), g(rng)};
-        if (kind == 1) v.z *= 0.2;
-        if (kind == 2) v.z = std::abs(v.z) + 1.5;
-        if (kind == 3 && d.empty()) v = Vec3{0, 0, -1};
-        if (kind == 3 && !d.empty()) v.z = std::abs(v.z) * 0.7 + 0.3;
-        if (kind == 4 && d.size() == 1) v = -d[0] + 0.3 * u(rng) * v;
-        v = mesohex::normalized(v);
-        bool apart = true;
-        for (const Vec3& o : d) apart = apart && std::acos(std::clamp(mesohex::dot(o, v), -1.0, 1.0)) > 0.05;
-        if (apart) d.push_back(v);
-    }
-    return d;
-}
 
 // The solver's starts of one setting (coarse scan, table) against another's, on 3 000 triples of the five kinds (the
 // same triples for every call): how often the second ends higher / lower than the first (by more than 1e-9), its
@@ -68,12 +36,14 @@ StartComparison compare_starts(StartSetting base, StartSetting tried) {
     std::mt19937_64 rng(20261207);
     StartComparison c;
     for (int set = 0; set < 3000; ++set) {
-        const std::vector<Vec3> d = random_triple(rng, set % 5);
+        const std::vector<Vec3> d = random_direction_triple(rng, set % 5);
         const std::array<Vec3, 3> a = {d[0], d[1], d[2]};
         const Vec3 base_axis = mesohex::detail::exact_three_orange_axis(d, base.coarse, base.tabled);
         const Vec3 tried_axis = mesohex::detail::exact_three_orange_axis(d, tried.coarse, tried.tabled);
-        const double base_score = mesohex::orange_score_three(a, bounds(a), kThreeWeight, base_axis);
-        const double tried_score = mesohex::orange_score_three(a, bounds(a), kThreeWeight, tried_axis);
+        const double base_score =
+            mesohex::orange_score_three(a, mesohex::test::orange_bounds(a), kThreeWeight, base_axis);
+        const double tried_score =
+            mesohex::orange_score_three(a, mesohex::test::orange_bounds(a), kThreeWeight, tried_axis);
         c.sum += tried_score - base_score;
         if (tried_score > base_score + 1e-9) ++c.higher;
         if (tried_score < base_score - 1e-9) {
@@ -94,7 +64,7 @@ StartComparison compare_starts(StartSetting base, StartSetting tried) {
 TEST(OrangeThree, PlanarYStarPeaksAtThePlaneNormalWithSixtyDegrees) {
     const std::array<Vec3, 3> d = {Vec3{1, 0, 0}, Vec3{std::cos(2 * kPi / 3), std::sin(2 * kPi / 3), 0},
                                    Vec3{std::cos(4 * kPi / 3), std::sin(4 * kPi / 3), 0}};
-    const std::array<double, 3> b = bounds(d);
+    const std::array<double, 3> b = mesohex::test::orange_bounds(d);
     EXPECT_NEAR(b[0], 60 * kDeg, 1e-12);
     for (const double weight : {kScoreWeight, kThreeWeight}) {
         EXPECT_NEAR(mesohex::orange_score_three(d, b, weight, {0, 0, 1}), 60 * kDeg, 1e-12);
@@ -114,7 +84,7 @@ TEST(OrangeThree, PlanarYStarPeaksAtThePlaneNormalWithSixtyDegrees) {
 // 1): score 45 with either margin weight.
 TEST(OrangeThree, TPeaksAtFortyFiveDegrees) {
     const std::array<Vec3, 3> d = {Vec3{1, 0, 0}, Vec3{-1, 0, 0}, Vec3{0, 1, 0}};
-    const std::array<double, 3> b = bounds(d);
+    const std::array<double, 3> b = mesohex::test::orange_bounds(d);
     for (const double weight : {kScoreWeight, kThreeWeight}) {
         EXPECT_NEAR(mesohex::orange_score_three(d, b, weight, {0, 0, 1}), 45 * kDeg, 1e-12);
         std::mt19937_64 rng(7);
@@ -137,12 +107,13 @@ TEST(OrangeThree, ScoreIsTheOrangeEvaluatorsQuality) {
     std::normal_distribution<double> g(0, 1);
     int compared = 0;
     for (int set = 0; set < 2000; ++set) {
-        const std::vector<Vec3> v = random_triple(rng, set % 5);
+        const std::vector<Vec3> v = random_direction_triple(rng, set % 5);
         const std::array<Vec3, 3> d = {v[0], v[1], v[2]};
         const Vec3 axis = mesohex::normalized(Vec3{g(rng), g(rng), g(rng)});
         const double exact = mesohex::detail::orange_quality_exact(v, axis);
         if (!(exact > 0)) continue;  // (the evaluator returns early below 0)
-        ASSERT_NEAR(mesohex::orange_score_three(d, bounds(d), kScoreWeight, axis), exact, 1e-12) << "set " << set;
+        ASSERT_NEAR(mesohex::orange_score_three(d, mesohex::test::orange_bounds(d), kScoreWeight, axis), exact, 1e-12)
+            << "set " << set;
         ++compared;
     }
     EXPECT_GT(compared, 500);
@@ -158,13 +129,13 @@ TEST(OrangeThree, AtLeastAsHighAsThePatternSearch) {
     int above = 0;
     double largest_gain = 0;
     for (int set = 0; set < 3000; ++set) {
-        const std::vector<Vec3> d = random_triple(rng, set % 5);
+        const std::vector<Vec3> d = random_direction_triple(rng, set % 5);
         double searched = -1e300;
         for (const Vec3& axis : mesohex::detail::searched_orange_axes(d))
             searched = std::max(searched, mesohex::detail::orange_quality_exact(d, axis));
         const std::array<Vec3, 3> a = {d[0], d[1], d[2]};
-        const mesohex::OrangeAxisThree best =
-            mesohex::best_orange_axis_three(a, bounds(a), kScoreWeight, mesohex::detail::scanned_orange_axes(d));
+        const mesohex::OrangeAxisThree best = mesohex::best_orange_axis_three(
+            a, mesohex::test::orange_bounds(a), kScoreWeight, mesohex::detail::scanned_orange_axes(d));
         const double solved = mesohex::detail::orange_quality_exact(d, best.axis);
         ASSERT_GE(solved, searched - 1e-9) << "set " << set;
         if (solved > searched + 1e-9) ++above;
@@ -184,16 +155,17 @@ TEST(OrangeThree, PartitionUsesTheSolversAxis) {
     std::mt19937_64 rng(20261207);
     int compared = 0;
     for (int set = 0; set < 300; ++set) {
-        const std::vector<Vec3> d = random_triple(rng, set % 5);
+        const std::vector<Vec3> d = random_direction_triple(rng, set % 5);
         const mesohex::SpherePartition p = mesohex::partition_sphere(d);
         ASSERT_EQ(mesohex::verify_sphere_partition(p, d), "");
         const Vec3 axis = mesohex::detail::exact_three_orange_axis(d);
         if (!(mesohex::norm(p.points[0] - axis) < 1e-12)) continue;  // the planar path's orange
         ++compared;
         const std::array<Vec3, 3> a = {d[0], d[1], d[2]};
-        const double solved = mesohex::orange_score_three(a, bounds(a), kThreeWeight, axis);
+        const double solved = mesohex::orange_score_three(a, mesohex::test::orange_bounds(a), kThreeWeight, axis);
         for (const Vec3& searched : mesohex::detail::searched_orange_axes(d))
-            ASSERT_GE(solved, mesohex::orange_score_three(a, bounds(a), kThreeWeight, searched) - 1e-9)
+            ASSERT_GE(solved,
+                      mesohex::orange_score_three(a, mesohex::test::orange_bounds(a), kThreeWeight, searched) - 1e-9)
                 << "set " << set;
     }
     EXPECT_GT(compared, 200);
@@ -207,7 +179,7 @@ TEST(OrangeThree, PartitionUsesTheSolversAxis) {
 TEST(OrangeThree, AxisThroughADirectionScoresZero) {
     const std::array<Vec3, 3> d = {Vec3{0, 0, 1}, mesohex::normalized(Vec3{1, 0, 0.2}),
                                    mesohex::normalized(Vec3{-0.5, 0.8, -0.3})};
-    const std::array<double, 3> b = bounds(d);
+    const std::array<double, 3> b = mesohex::test::orange_bounds(d);
     for (const double weight : {kScoreWeight, kThreeWeight}) {
         const double at_pole = mesohex::orange_score_three(d, b, weight, d[0]);
         EXPECT_TRUE(std::isfinite(at_pole));
