@@ -220,6 +220,7 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
            "At a branching point joined to another by a bridge edge, shrink only the surface points of its "
            "quad on the bridge to the bridge's margin limit, the others staying on the input radius (0 or 1, on "
            "by default; 0: the whole sphere at the limit, docs/junctions.md, \"Bridge quads\")")
+        ->check(CLI::IsMember({"0", "1"}))
         ->capture_default_str();
     cmd->add_option("--slide-cut-joint", job->options.pipeline.adaptation.slide_cut_joint,
                     "A joint next to a branching point or leaflet vertex that the section criterion would remove "
@@ -228,11 +229,13 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "more, and never at a junction of degree 4 or more (also one the skeleton repair split or gave a "
                     "trunk, or two points joined by a collapsed short bridge) (0 or 1; docs/junctions.md, \"Cut joints "
                     "slid away from the junction\", \"The cut-joint slide's gate\")")
+        ->check(CLI::IsMember({"0", "1"}))
         ->capture_default_str();
     cmd->add_option("--junction-split-five", job->options.pipeline.repair.junction_split_degree_five,
                     "Split branching points of degree 5 too: the closest pair of branches moves to a new point along "
                     "the direction from the others to it, as at degree 4, and the degree-4 point left is split when "
                     "it can (0 or 1, off by default; docs/junctions.md, \"Degree-5 junctions split\")")
+        ->check(CLI::IsMember({"0", "1"}))
         ->capture_default_str();
     cmd->add_option("--valley-trunks", job->options.pipeline.repair.valley_trunk_degree,
                     "At branching points of at least this degree, give a close pair of fat branches whose tubes "

@@ -192,6 +192,26 @@ TEST(MeshCli, RealOptionsRefuseNonFiniteAndOutOfRangeValues) {
     EXPECT_EQ(ok.status, 0) << ok.output;
 }
 
+// The 0-or-1 switches given as numbers refuse anything else (CLI11 reads any non-zero number as true), naming the
+// option, with CLI11's validation exit status (105), before anything is written; 0 and 1 are taken.
+TEST(MeshCli, SwitchOptionsTakeOnlyZeroOrOne) {
+    const fs::path out = temp_dir() / "never_switch.mesh";
+    fs::remove(out);
+    for (const char* option : {"--slide-cut-joint", "--junction-split-five", "--bridge-quad-radius"}) {
+        for (const char* value : {"7", "-1", "2", "0.5", "yes"}) {
+            const auto r = run_cli("mesh " + tripod() + " -o " + out.string() + " " + option + " " + value);
+            EXPECT_EQ(r.status, 105) << option << " " << value << ": " << r.output;
+            EXPECT_NE(r.output.find(option), std::string::npos) << option << " " << value;
+        }
+        EXPECT_FALSE(fs::exists(out));
+        for (const char* value : {"0", "1"}) {
+            const auto r = run_cli("mesh " + tripod() + " -q -o " + out.string() + " " + option + " " + value);
+            EXPECT_EQ(r.status, 0) << option << " " << value << ": " << r.output;
+        }
+        fs::remove(out);
+    }
+}
+
 // Directional refinement: longitudinal and radial levels split only some sheets, so a level gives fewer hexes than
 // the 8x of a uniform level but more than the padded mesh, and the mesh stays valid with the skeleton's Euler
 // characteristic.
