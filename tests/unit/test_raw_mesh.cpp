@@ -1406,6 +1406,46 @@ TEST(RawMesh, FlangeFromThePlatesCornerGetsACornerCube) {
     }
 }
 
+// The corner cube's foot and a branch rooted on a border's out faces are told apart whatever the numbering: a flange
+// from the plate's corner plus a branch out of the border vertex (2, 0, 0) along +x is accepted, and stays accepted
+// with the corner vertex renumbered to the id of a border edge at the branch's root (a shared key kind once made the
+// second numbering a "foot on the same plate faces" refusal).
+TEST(RawMesh, CornerCubeFootAndBorderBranchKeysDoNotDependOnNumbering) {
+    Skeleton s = generate_skeleton("flangecorner", GeneratorOptions{});
+    const int nv = static_cast<int>(s.points.size());
+    int root = -1;
+    for (int v = 0; v < nv; ++v)
+        if (norm(s.points[v] - Vec3{2, 0, 0}) < 1e-9) root = v;
+    ASSERT_GE(root, 0);
+    s.points.push_back({3, 0, 0});
+    s.points.push_back({4, 0, 0});
+    s.radii.push_back(0.3);
+    s.radii.push_back(0.3);
+    s.edges.push_back({root, nv});
+    s.edges.push_back({nv, nv + 1});
+    const SkeletonAnalysis first = analyze_skeleton(s);
+    const int corner = static_cast<int>(std::find(first.corner_cube.begin(), first.corner_cube.end(), char{1}) -
+                                        first.corner_cube.begin());
+    ASSERT_LT(corner, nv);
+    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e) {
+        if (first.edge_degree[e] != 1 || (s.edges[e][0] != root && s.edges[e][1] != root)) continue;
+        if (e >= nv + 2 || e == corner) continue;
+        SCOPED_TRACE("corner renumbered to " + std::to_string(e));
+        Skeleton swapped = s;  // vertices corner and e exchange ids
+        const auto renumber = [&](int& w) { w = w == corner ? e : w == e ? corner : w; };
+        std::swap(swapped.points[corner], swapped.points[e]);
+        std::swap(swapped.radii[corner], swapped.radii[e]);
+        for (auto& edge : swapped.edges) renumber(edge[0]), renumber(edge[1]);
+        for (auto& face : swapped.faces)
+            for (int& w : face) renumber(w);
+        SkeletonAnalysis second;
+        ASSERT_NO_THROW(second = analyze_skeleton(swapped));
+        EXPECT_EQ(second.counts.fan_edges, first.counts.fan_edges);
+        EXPECT_EQ(second.predicted_hexes, first.predicted_hexes);
+        EXPECT_EQ(second.corner_cube[e], 1);
+    }
+}
+
 // A T fan on the 2-edge fan line (0, 0, 0) -> (0, 0, 2): three strips of 2 unit quads at 120 degrees, strip A (along
 // +x) twisted, its far corners at y = -0.6, 0, 0.6. At the fan vertex (0, 0, 1) every gap has 2 faces of each of its
 // two leaflets, but A's two face normals differ (by 32 degrees), so the narrowest cone's axis around a gap's 4

@@ -471,7 +471,9 @@ void classify_vertices(const Skeleton& s, const AnalysisOptions& options, Skelet
 }
 
 // Branches rooted on the plates: no two may stand on the same raw quad (a plate's up / down face, a half-chunk's
-// up / down face, or one of the two half-chunk out faces of a boundary edge). Keys: (kind, face or edge, side).
+// up / down face, or one of the two half-chunk out faces of a boundary edge). Keys: (kind, id, side): kind 0 a plate
+// face, 1 a border edge's half-chunk, 2 a corner cube's top (id: the corner vertex; walls' feet only), 3 a border
+// edge's out faces.
 // Error(UnsupportedConfiguration) naming the second vertex otherwise.
 void check_rooted_branches(const Skeleton& s, const SkeletonAnalysis& an) {
     const int nv = static_cast<int>(s.points.size());
@@ -532,9 +534,9 @@ void check_rooted_branches(const Skeleton& s, const SkeletonAnalysis& an) {
             for (int f : faces) claim(v, 0, f, side);
             for (int e : border) claim(v, 1, e, side);
         } else {
-            for (int e : border) {
-                claim(v, 2, e, 0);
-                claim(v, 2, e, 1);
+            for (int e : border) {  // kind 3: a border edge's out faces (kind 2 is a corner cube's top, by vertex)
+                claim(v, 3, e, 0);
+                claim(v, 3, e, 1);
             }
         }
     }
