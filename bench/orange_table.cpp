@@ -99,7 +99,14 @@ int check(int nodes, int count) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc >= 4 && !std::strcmp(argv[1], "--check")) return check(std::atoi(argv[2]), std::atoi(argv[3]));
+    if (argc >= 4 && !std::strcmp(argv[1], "--check")) {
+        const int nodes = std::atoi(argv[2]), count = std::atoi(argv[3]);
+        if (nodes < 2 || count < 1) {
+            std::fprintf(stderr, "mesohex_orange_table: --check needs NODES >= 2 and COUNT >= 1\n");
+            return 2;
+        }
+        return check(nodes, count);
+    }
     const int nodes = argc >= 2 ? std::atoi(argv[1]) : kOrangeTableNodes;
     if (nodes < 2) {
         std::fprintf(stderr, "mesohex_orange_table: NODES must be >= 2\n");

@@ -9,6 +9,8 @@ int main(int argc, char** argv) {
         "mesohex: all-hex meshes guided by meso-skeletons (curve branches + quad leaflets).\n"
         "Example: mesohex quality out.mesh --json"};
     app.require_subcommand(1);
+    // A flag takes no value but its own (`--best-effort=7` is an error, not true); subcommands inherit this.
+    app.option_defaults()->disable_flag_override();
     int status = 0;
     mesohex::cli::register_mesh(app, &status);
     mesohex::cli::register_analyze(app, &status);

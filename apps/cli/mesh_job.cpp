@@ -240,8 +240,9 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_option("--valley-trunks", job->options.pipeline.repair.valley_trunk_degree,
                     "At branching points of at least this degree, give a close pair of fat branches whose tubes "
                     "branch inside the point's ball a trunk all the same, ending where its ball reaches the crotch "
-                    "between them (0 = off, the default; docs/junctions.md, \"Valley trunks\")")
-        ->check(CLI::Range(0, 64))
+                    "between them (0 = off, the default, or a degree of 4 to 64; docs/junctions.md, \"Valley "
+                    "trunks\")")
+        ->check(CLI::IsMember({0}) | CLI::Range(4, 64))
         ->capture_default_str();
     cmd->add_option("--valley-trunk-min-radius", job->options.pipeline.repair.valley_trunk_min_radius,
                     "With --valley-trunks: the smallest radius of the trunk's end, as a fraction of the pair's mean "

@@ -214,7 +214,7 @@ bool better_finish(const FinishResult& a, const FinishResult& b, const MeshGoals
 double goal_shortfall(const FinishResult& r, const MeshGoals& goals = {});
 // Like better_finish, with the smaller goal_shortfall deciding between two results that tie on inverted hexes and on
 // goals missed (before the Hausdorff distance and the min scaled Jacobian): with both missing min SJ and Hausdorff,
-// 0.190 / 2.39 % (shortfall ln(0.3 / 0.190) + ln(2.39) = 1.33) is better than 0.133 / 2.31 % (1.65).
+// 0.2 / 2 % (shortfall ln(0.3 / 0.2) + ln(2) = 1.10) is better than 0.1 / 1.9 % (ln 3 + ln 1.9 = 1.74).
 bool better_finish_by_shortfall(const FinishResult& a, const FinishResult& b, const MeshGoals& goals = {});
 
 // Preconditions: `raw` has indices in range (the stages throw InvalidInput otherwise); `domain` has a non-degenerate

@@ -193,7 +193,8 @@ TEST(MeshCli, RealOptionsRefuseNonFiniteAndOutOfRangeValues) {
 }
 
 // The 0-or-1 switches given as numbers refuse anything else (CLI11 reads any non-zero number as true), naming the
-// option, with CLI11's validation exit status (105), before anything is written; 0 and 1 are taken.
+// option, with CLI11's validation exit status (105), before anything is written; 0 and 1 are taken. Flags take no
+// value of their own (`--flag=7` is refused).
 TEST(MeshCli, SwitchOptionsTakeOnlyZeroOrOne) {
     const fs::path out = temp_dir() / "never_switch.mesh";
     fs::remove(out);
@@ -209,6 +210,11 @@ TEST(MeshCli, SwitchOptionsTakeOnlyZeroOrOne) {
             EXPECT_EQ(r.status, 0) << option << " " << value << ": " << r.output;
         }
         fs::remove(out);
+    }
+    for (const char* flag : {"--retry-by-shortfall=7", "--leaflet-out-lean-only=5", "--no-blocks=0"}) {
+        const auto r = run_cli("mesh " + tripod() + " -o " + out.string() + " " + flag);
+        EXPECT_NE(r.status, 0) << flag << ": " << r.output;
+        EXPECT_FALSE(fs::exists(out)) << flag;
     }
 }
 

@@ -1774,8 +1774,6 @@ SideOuts side_outs(const SkeletonAnalysis& an, const RawMesh& raw, int e) {
     return o;
 }
 
-}  // namespace
-
 // A ring sector of 3 faces around the z axis: inner radius 1, outer 2, at 0, 30, 60, 90 degrees; radius 0.5 (the inner
 // arc's chords L = 2 sin 15 degrees).
 Skeleton ring_sector() {
@@ -1790,6 +1788,8 @@ Skeleton ring_sector() {
     s.radii.assign(s.points.size(), 0.5);
     return s;
 }
+
+}  // namespace
 
 TEST(RawMeshLeaflets, OutPointsOnAConcaveBorderCloseInByAtMostTheOutFraction) {
     // A ring sector of 3 faces around the z axis: inner radius 1, outer 2, at 0, 30, 60, 90 degrees; radius 0.5. The

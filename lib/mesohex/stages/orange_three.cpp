@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+
+#include "mesohex/core/error.h"
 
 namespace mesohex {
 namespace {
@@ -297,8 +300,6 @@ OrangeAxisThree best_orange_axis_three(const std::array<Vec3, 3>& d, const std::
     return best;
 }
 
-namespace {}  // namespace
-
 double orange_table_angle(double u) { return 0.5 * kPi * (1 - std::cos(kPi * u)); }
 double orange_table_coordinate(double angle) { return std::acos(std::clamp(1 - 2 * angle / kPi, -1.0, 1.0)) / kPi; }
 
@@ -398,6 +399,7 @@ Vec3 orange_three_table_axis(double alpha, double beta, double gamma, double mar
 
 std::vector<Vec3> tabled_orange_starts_three(const std::array<Vec3, 3>& d, const std::array<double, 3>& bound,
                                              double margin_weight, const signed char* table, int nodes) {
+    MESOHEX_CHECK(table != nullptr && nodes >= 2, "tabled_orange_starts_three needs a table of at least 2^3 nodes");
     std::vector<Vec3> candidates = table_corner_axes(d, table, nodes);
     for (int a = 0; a < 3; ++a) {
         const Vec3 c = cross(d[a], d[(a + 1) % 3]);

@@ -52,8 +52,8 @@ struct SkeletonRepairOptions {
     // reaches the crotch and stays between the tubes' outer walls). The pair then leaves t about 120 degrees apart,
     // and the valley vertex of t's partition lies at the crotch instead of on c's sphere. Not built when r_t <
     // valley_trunk_min_radius x r (wide pairs: t's ball would be a small fraction of the branches') or when the
-    // trunk is no longer than c's radius. Vertex degree (number of branch edges); 0 = off; values up to 4 act at
-    // degree 4 and more (degree 3 is the joint trunks' case). docs/junctions.md ("Valley trunks").
+    // trunk is no longer than c's radius. Vertex degree (number of branch edges); 0 = off; values below 4 act as 4
+    // (degree 3 is the joint trunks' case; the CLI takes 0 or 4 to 64). docs/junctions.md ("Valley trunks").
     int valley_trunk_degree = 0;
     // With valley_trunk_degree: the smallest radius of t, as a fraction of the pair's mean radius r at l*
     // (dimensionless; 0.6 admits straight equal pairs up to about 71 degrees apart when r = r_c).
