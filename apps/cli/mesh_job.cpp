@@ -177,6 +177,9 @@ void add_padding_options(CLI::App* cmd, MeshJob* job) {
                     "below this (0 = off)")
         ->check(finite_range(0.0, 1.0))
         ->capture_default_str();
+    cmd->add_flag("--pad-improve-keep-distance", job->options.finishing.pad_improve_keep_distance,
+                  "With --pad-improve-sj: drop the pass's result when it moves the padded boundary farther from the "
+                  "domain (docs/sheets.md, \"What pad-improve does to hand.ma\")");
     cmd->add_option("--pad-overshoot-keep", job->options.finishing.pad_overshoot_keep,
                     "Where the padding layer would reach past the domain surface, pad only to the surface but at "
                     "least this share of the layer's own thickness (1: the full layer)")

@@ -233,7 +233,8 @@ struct Finisher {
         // Near-flat padding hexes: relax them on the coarse padded mesh (FinishOptions::pad_improve_sj).
         if (options.pad_improve_sj > 0 && result.stages.back().inverted == 0 &&
             result.stages.back().sj_min < options.pad_improve_sj)
-            quality_pass("pad-improve", options.pad_improve_sj, options.pad_improving, false, result.pad_improved);
+            quality_pass("pad-improve", options.pad_improve_sj, options.pad_improving,
+                         options.pad_improve_keep_distance, result.pad_improved);
     }
 
     // Subdivision levels: given, from a target size, or from the domain size (one more for a poor raw mesh).

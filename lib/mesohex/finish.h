@@ -92,6 +92,11 @@ struct FinishOptions {
     // only if min SJ rises and nothing is inverted. Stage "pad-improve" (only when it ran). 0 = off. Scaled Jacobian.
     double pad_improve_sj = 0.2;
     UntangleOptions pad_improving = pad_improve_defaults();  // energy and holds of that pass
+    // With pad_improve_sj: the pass's result is also dropped when it moves the boundary farther from the domain
+    // (two-sided distance above max(its value before, improve_distance_budget x diagonal), as the quality pass after
+    // the fit): relaxed outward where the padding already lies outside, the layer is a thickness the fit has to
+    // crush back within its SJ guard (docs/sheets.md, "What pad-improve does to hand.ma"). Off by default.
+    bool pad_improve_keep_distance = false;
     bool subdivide = true;       // refine (levels / size / min_resolution below, refinement)
     int levels = -1;             // >= 0: this many 1 -> 8 levels; < 0: from `size` when > 0, else from min_resolution
     double size = 0;             // target mean edge length (levels_for_size on the padded mesh), used when levels < 0
