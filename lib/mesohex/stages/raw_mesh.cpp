@@ -1128,6 +1128,7 @@ void place_corner_cube(const Skeleton& skeleton, const SkeletonAnalysis& an, con
     int f = -1, k = -1;  // the plate's one face at v, v's corner in it
     for (int g = 0; g < static_cast<int>(an.face_vertices.size()) && k < 0; ++g)
         if (face_counts_at(an, g, v)) f = g, k = face_corner_of(an, g, v);
+    MESOHEX_CHECK(f >= 0 && k >= 0, "corner cube vertex " + std::to_string(v) + " has no plate face");
     const int base = raw.vertex_base[v];
     const Vec3& c = skeleton.points[v];
     const Vec3 ta = skeleton.points[an.face_vertices[f][(k + 1) & 3]] - c;  // along the edge f leaves v by
