@@ -18,12 +18,6 @@ namespace {
 
 int other_end(const Skeleton& s, int e, int v) { return s.edges[e][0] == v ? s.edges[e][1] : s.edges[e][0]; }
 
-int corner_of(const SkeletonAnalysis& an, int f, int w) {
-    for (int k = 0; k < 4; ++k)
-        if (an.face_vertices[f][k] == w) return k;
-    return -1;
-}
-
 bool face_has_edge(const SkeletonAnalysis& an, int f, int e) {
     return std::find(an.face_edges[f].begin(), an.face_edges[f].end(), e) != an.face_edges[f].end();
 }
@@ -820,7 +814,7 @@ void find_docked_walls(const Skeleton& s, SkeletonAnalysis& an, bool band_pillow
 }
 
 int corner_cube_column(const SkeletonAnalysis& an, int f, int c, int e) {
-    return an.face_edges[f][corner_of(an, f, c)] == e ? 6 : 9;
+    return an.face_edges[f][face_corner(an, f, c)] == e ? kCornerCubeColumnA : kCornerCubeColumnB;
 }
 
 VertexClass docked_vertex_class(const SkeletonAnalysis& an, int v, int& plate_boundary_edges) {
@@ -849,7 +843,7 @@ struct WallCorner {
 
 // The corner of plate face g adjacent to w other than `not_this`.
 int adjacent_corner(const SkeletonAnalysis& an, int g, int w, int not_this) {
-    const int k = corner_of(an, g, w);
+    const int k = face_corner(an, g, w);
     const int a = an.face_vertices[g][(k + 1) & 3], b = an.face_vertices[g][(k + 3) & 3];
     return a == not_this ? b : a;
 }
@@ -878,7 +872,7 @@ WallCorner border_wall_corner(const Skeleton& s, const SkeletonAnalysis& an, con
     for (int h : lf.of_vertex[w])
         if (an.face_leaflet[h] == P && h != wc.g_plus) {
             wc.beyond[0] = h;
-            wc.x_plus = an.face_vertices[h][(corner_of(an, h, w) + 2) & 3];
+            wc.x_plus = an.face_vertices[h][(face_corner(an, h, w) + 2) & 3];
         }
     return wc;
 }
@@ -917,7 +911,7 @@ WallCorner wall_corner(const Skeleton& s, const SkeletonAnalysis& an, const Loca
     // neighbour of w, x+- their corners opposite w.
     for (int h : lf.of_vertex[w]) {
         if (an.face_leaflet[h] != P || face_has_edge(an, h, wc.c)) continue;
-        const int kh = corner_of(an, h, w);
+        const int kh = face_corner(an, h, w);
         const int a = an.face_vertices[h][(kh + 1) & 3], b = an.face_vertices[h][(kh + 3) & 3];
         const int i = a == wc.sigma_plus || b == wc.sigma_plus     ? 0
                       : a == wc.sigma_minus || b == wc.sigma_minus ? 1

@@ -73,6 +73,7 @@ inline constexpr double kCornerCubeMaxSkewDeg = 30;
 // Offset from a corner cube vertex c's first raw id of the out column (out, out-up, out-down) that the half-chunk of
 // border edge e of c's plate uses there: 6 (A) when the plate's face f at c leaves c by e, else 9 (B: f arrives at c
 // by e).
+inline constexpr int kCornerCubeColumnA = 6, kCornerCubeColumnB = 9;
 int corner_cube_column(const SkeletonAnalysis& analysis, int f, int c, int e);
 
 // Largest angle (degrees) between a wall's direction from the chain (in-plane for the wall, perpendicular to the chain)

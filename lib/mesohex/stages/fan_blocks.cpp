@@ -90,16 +90,9 @@ Incidence make_incidence(const SkeletonAnalysis& an, int nv, int ne) {
     return in;
 }
 
-// Corner of vertex w in face f.
-int corner_of(const SkeletonAnalysis& an, int f, int w) {
-    for (int k = 0; k < 4; ++k)
-        if (an.face_vertices[f][k] == w) return k;
-    return -1;
-}
-
 // Face f's neighbour of w other than y (w, y adjacent in f).
 int across(const SkeletonAnalysis& an, int f, int w, int y) {
-    const int k = corner_of(an, f, w);
+    const int k = face_corner(an, f, w);
     const int next = an.face_vertices[f][(k + 1) & 3], prev = an.face_vertices[f][(k + 3) & 3];
     return next == y ? prev : next;
 }
@@ -167,7 +160,7 @@ int spoke_label(const SkeletonAnalysis& an, const Incidence& in, const FanBlockC
     const int e = c.edges[i];
     for (std::size_t j = 0; j < in.edge_faces[e].size(); ++j) {
         const int f = in.edge_faces[e][j][0];
-        if (corner_of(an, f, x) >= 0 && corner_of(an, f, v) >= 0) return labels[i][j];
+        if (face_corner(an, f, x) >= 0 && face_corner(an, f, v) >= 0) return labels[i][j];
     }
     return -1;
 }
@@ -184,10 +177,10 @@ bool label_corners(const Skeleton& s, const SkeletonAnalysis& an, const Incidenc
             const int f = in.edge_faces[e][j][0], l = labels[i][j];
             c.labelled[l] = 1;
             for (const int w : s.edges[e]) {
-                int& slot = fb.corner_axis[f][corner_of(an, f, w)];
+                int& slot = fb.corner_axis[f][face_corner(an, f, w)];
                 if (slot >= 0) return false;  // a face on two chain edges
                 slot = l;
-                set.push_back({f, corner_of(an, f, w)});
+                set.push_back({f, face_corner(an, f, w)});
             }
         }
     }
@@ -235,7 +228,7 @@ void chain_frames(const Skeleton& s, const SkeletonAnalysis& an, const Incidence
         for (const int e : edges_at(c, i)) {
             const int y = other_end(s, e, v);
             for (const auto& fk : in.edge_faces[e]) {
-                const int f = fk[0], k = corner_of(an, f, v);
+                const int f = fk[0], k = face_corner(an, f, v);
                 Vec3 d = s.points[across(an, f, v, y)] - p;
                 d = normalized(d - dot(d, t) * t);
                 if (phi.empty()) a = d, b = cross(t, d);

@@ -45,12 +45,6 @@ int expected_gaps(const SkeletonAnalysis& an, int v) {
     return 0;
 }
 
-int face_corner_of(const SkeletonAnalysis& an, int f, int w) {
-    for (int k = 0; k < 4; ++k)
-        if (an.face_vertices[f][k] == w) return k;
-    return -1;
-}
-
 // Per vertex: its plate's one face at a corner cube vertex (SkeletonAnalysis::corner_cube), else -1; empty without
 // corner cubes.
 std::vector<int> corner_cube_faces(const SkeletonAnalysis& an) {
@@ -155,7 +149,7 @@ void count_rooted_patch_edges(const Skeleton& skeleton, const SkeletonAnalysis& 
             continue;
         }
         if (q.kind == 2) {  // the corner cube's top (bottom) at vertex q.id: its two column edges and two K edges
-            const int f = cube_face[q.id], k = face_corner_of(an, f, q.id);
+            const int f = cube_face[q.id], k = face_corner(an, f, q.id);
             for (int n : {an.face_vertices[f][(k + 1) & 3], an.face_vertices[f][(k + 3) & 3]}) {
                 add_foot(q.up ? XU : XD, q.id, n, 2, q.wall);
                 add_foot(q.up ? KU : KD, q.id, n, 1, q.wall);
@@ -211,8 +205,7 @@ void unite_fan_gap_nodes(const Skeleton& skeleton, const SkeletonAnalysis& an, U
                 if (!is_fan(an.vertex_class[w])) continue;
                 const int f = edge_faces[e][0].first, g = edge_faces[e][1].first;
                 for (int side = 0; side < 2; ++side)
-                    nodes.unite(f * 8 + face_corner_of(an, f, w) * 2 + side,
-                                g * 8 + face_corner_of(an, g, w) * 2 + side);
+                    nodes.unite(f * 8 + face_corner(an, f, w) * 2 + side, g * 8 + face_corner(an, g, w) * 2 + side);
             }
             continue;
         }
@@ -237,12 +230,12 @@ void unite_fan_gap_nodes(const Skeleton& skeleton, const SkeletonAnalysis& an, U
         const int d = static_cast<int>(order.size());
         for (int i = 0; i < d; ++i) {
             const int f = order[i].second, g = order[(i + 1) % d].second;
-            const int cf = face_corner_of(an, f, p0), cg = face_corner_of(an, g, p0);
+            const int cf = face_corner(an, f, p0), cg = face_corner(an, g, p0);
             const bool bit_f = an.face_vertices[f][cf] != p0 || an.face_vertices[f][(cf + 1) & 3] != p1;
             const bool bit_g = an.face_vertices[g][cg] != p0 || an.face_vertices[g][(cg + 1) & 3] != p1;
             for (int w : {p0, p1})
-                nodes.unite(f * 8 + face_corner_of(an, f, w) * 2 + (bit_f ? 1 : 0),
-                            g * 8 + face_corner_of(an, g, w) * 2 + (bit_g ? 0 : 1));
+                nodes.unite(f * 8 + face_corner(an, f, w) * 2 + (bit_f ? 1 : 0),
+                            g * 8 + face_corner(an, g, w) * 2 + (bit_g ? 0 : 1));
         }
     }
 }
@@ -658,8 +651,12 @@ void write_half_chunk(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, 
         odb = b + 2 + g + gaps.gap_of[f * 8 + kb * 2 + 1];
     }
     // A corner cube (docked_walls.h): the plate's face leaves wa by e (column A), arrives at wb by e (column B).
-    if (has_corner_cube(an, wa) && face_counts_at(an, f, wa)) oa = a + 6, oua = a + 7, oda = a + 8;
-    if (has_corner_cube(an, wb) && face_counts_at(an, f, wb)) ob = b + 9, oub = b + 10, odb = b + 11;
+    if (has_corner_cube(an, wa) && face_counts_at(an, f, wa)) {
+        oa = a + kCornerCubeColumnA, oua = oa + 1, oda = oa + 2;
+    }
+    if (has_corner_cube(an, wb) && face_counts_at(an, f, wb)) {
+        ob = b + kCornerCubeColumnB, oub = ob + 1, odb = ob + 2;
+    }
     // A wall's end on a docked chain (docked_walls.h): its out column is the plate's.
     if (!sides.docked.empty() && sides.docked[4 * f + k][3] >= 0) {
         const std::array<int, 6>& d = sides.docked[4 * f + k];
@@ -1127,7 +1124,7 @@ void place_corner_cube(const Skeleton& skeleton, const SkeletonAnalysis& an, con
                        const std::array<double, 2>& limit, RawMesh& raw) {
     int f = -1, k = -1;  // the plate's one face at v, v's corner in it
     for (int g = 0; g < static_cast<int>(an.face_vertices.size()) && k < 0; ++g)
-        if (face_counts_at(an, g, v)) f = g, k = face_corner_of(an, g, v);
+        if (face_counts_at(an, g, v)) f = g, k = face_corner(an, g, v);
     MESOHEX_CHECK(f >= 0 && k >= 0, "corner cube vertex " + std::to_string(v) + " has no plate face");
     const int base = raw.vertex_base[v];
     const Vec3& c = skeleton.points[v];

@@ -187,6 +187,13 @@ std::vector<Branch> extract_branches(const Skeleton& skeleton, const std::vector
                                      const std::vector<int>& vertex_edges, const std::vector<char>& branch_edge,
                                      const std::vector<char>& joint, std::vector<int>& edge_branch);
 
+// The corner (0-3) of quad face f at vertex w, -1 when w is not one of its corners.
+inline int face_corner(const SkeletonAnalysis& an, int f, int w) {
+    for (int k = 0; k < 4; ++k)
+        if (an.face_vertices[f][k] == w) return k;
+    return -1;
+}
+
 // Does face f count at its corner w as a leaflet face of w (false only for a wall's face at a docked chain vertex)?
 inline bool face_counts_at(const SkeletonAnalysis& an, int f, int w) {
     return an.vertex_plate.empty() || an.vertex_plate[w] < 0 || an.face_leaflet[f] == an.vertex_plate[w];
