@@ -45,14 +45,21 @@ int expected_gaps(const SkeletonAnalysis& an, int v) {
     return 0;
 }
 
+// The plate's one face at corner cube vertex v (SkeletonAnalysis::corner_cube); checked.
+int corner_cube_face(const SkeletonAnalysis& an, int v) {
+    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
+        if (face_corner(an, f, v) >= 0 && face_counts_at(an, f, v)) return f;
+    MESOHEX_CHECK(false, "corner cube vertex " + std::to_string(v) + " has no plate face");
+    return -1;
+}
+
 // Per vertex: its plate's one face at a corner cube vertex (SkeletonAnalysis::corner_cube), else -1; empty without
 // corner cubes.
 std::vector<int> corner_cube_faces(const SkeletonAnalysis& an) {
     if (std::find(an.corner_cube.begin(), an.corner_cube.end(), char{1}) == an.corner_cube.end()) return {};
     std::vector<int> face(an.corner_cube.size(), -1);
-    for (int f = 0; f < static_cast<int>(an.face_vertices.size()); ++f)
-        for (int w : an.face_vertices[f])
-            if (an.corner_cube[w] && face_counts_at(an, f, w)) face[w] = f;
+    for (int v = 0; v < static_cast<int>(an.corner_cube.size()); ++v)
+        if (an.corner_cube[v]) face[v] = corner_cube_face(an, v);
     return face;
 }
 
@@ -1122,10 +1129,7 @@ std::vector<std::array<double, 2>> leaflet_offset_limits(const Skeleton& skeleto
 // (limit: leaflet_offset_limits's factors).
 void place_corner_cube(const Skeleton& skeleton, const SkeletonAnalysis& an, const Vec3& n, int v, double r,
                        const std::array<double, 2>& limit, RawMesh& raw) {
-    int f = -1, k = -1;  // the plate's one face at v, v's corner in it
-    for (int g = 0; g < static_cast<int>(an.face_vertices.size()) && k < 0; ++g)
-        if (face_counts_at(an, g, v)) f = g, k = face_corner(an, g, v);
-    MESOHEX_CHECK(f >= 0 && k >= 0, "corner cube vertex " + std::to_string(v) + " has no plate face");
+    const int f = corner_cube_face(an, v), k = face_corner(an, f, v);  // the plate's one face at v, v's corner in it
     const int base = raw.vertex_base[v];
     const Vec3& c = skeleton.points[v];
     const Vec3 ta = skeleton.points[an.face_vertices[f][(k + 1) & 3]] - c;  // along the edge f leaves v by
