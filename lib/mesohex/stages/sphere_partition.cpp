@@ -1077,6 +1077,7 @@ struct Relaxer {
     std::vector<int> term_order;
     std::vector<std::pair<double, int>> order_keys;  // scratch of order_terms
     std::vector<std::array<double, 8>> moving_terms, best_moving;
+    double fixed_sum = 0;  // the sum of fixed_for's fixed terms (order_terms)
     bool screened = false;
 
     Relaxer(const std::vector<Vec3>& dirs, SpherePartition& part) : d(dirs), p(part), bound(margin_bounds(dirs)) {
@@ -1258,10 +1259,12 @@ struct Relaxer {
     }
 
     // Lists the terms of v's quads that move with v (fix_terms(v) called) in term_order by falling term_cache (equal
-    // ones in list order): the terms that hold most of the energy before the move mostly hold most of it after a
-    // trial step, so screen_terms finds a rejected trial after few terms.
+    // ones in list order; NaN as infinity) and sums the fixed ones into fixed_sum: the terms that hold most of the
+    // energy before the move mostly hold most of it after a trial step, so screen_terms finds a rejected trial after
+    // few terms.
     void order_terms(int v) {
         order_keys.clear();
+        fixed_sum = 0;
         for (std::size_t j = 0; j < quads_of[v].size(); ++j) {
             const int q = quads_of[v][j];
             for (int slot = 0; slot < 8; ++slot) {
@@ -1269,6 +1272,8 @@ struct Relaxer {
                 const bool moves =
                     slot % 2 == 0 ? !fixed_corner_kept[j][k] && valence[p.quads[q][k]] >= 3 : !fixed_side_kept[j][k];
                 const double t = term_cache[q][slot];
+                if (slot % 2 == 0 ? fixed_corner_kept[j][k] : fixed_side_kept[j][k])
+                    fixed_sum += slot % 2 == 0 ? fixed_corner[j][k] : fixed_side[j][k];
                 if (moves) order_keys.push_back({std::isnan(t) ? kInfinity : t, static_cast<int>(8 * j) + slot});
             }
         }
@@ -1288,12 +1293,7 @@ struct Relaxer {
         const double limit = threshold * (1 + 1e-12);
         const std::size_t nq = quads_of[v].size();
         moving_terms.resize(nq);
-        double sum = 0;
-        for (std::size_t j = 0; j < nq; ++j)
-            for (int k = 0; k < 4; ++k) {
-                if (fixed_corner_kept[j][k]) sum += fixed_corner[j][k];
-                if (fixed_side_kept[j][k]) sum += fixed_side[j][k];
-            }
+        double sum = fixed_sum;
         if (sum >= limit) return false;
         for (const int code : term_order) {
             const std::size_t j = static_cast<std::size_t>(code / 8);
