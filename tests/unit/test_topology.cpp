@@ -266,4 +266,13 @@ TEST(Topology, LocalBoundaryNeighboursEqualTheWholeTopologys) {
     degenerate.hexes.push_back(degenerate.hexes[0]);  // hex 0 twice: none of its faces is on the boundary
     meshes.push_back(degenerate);
     for (const HexMesh& m : meshes) EXPECT_EQ(boundary_edge_neighbours(m, all_vertices(m)), whole(m));
+
+    // The listed vertices run in parallel ranges: every vertex of a 6 x 6 x 6 block (343, several ranges) listed in
+    // reverse order and then once more gets the whole topology's list, each neighbour once.
+    const HexMesh big = make_block(6, 6, 6);
+    std::vector<int> twice = all_vertices(big);
+    std::reverse(twice.begin(), twice.end());
+    const std::vector<int> once = all_vertices(big);
+    twice.insert(twice.end(), once.begin(), once.end());
+    EXPECT_EQ(boundary_edge_neighbours(big, twice), whole(big));
 }

@@ -273,44 +273,62 @@ std::vector<std::vector<int>> boundary_edge_neighbours(const HexTopology& topo, 
     return nbrs;
 }
 
+namespace {
+
+// The boundary edge neighbours of vertex v (sorted, once each), from the faces of its hexes (vh) that no other hex
+// shares; `slots` is scratch.
+std::vector<int> boundary_neighbours_of(const HexMesh& mesh, const VertexHexes& vh, int v,
+                                        std::vector<std::pair<std::array<int, 4>, std::array<int, 2>>>& slots) {
+    const std::size_t vu = static_cast<std::size_t>(v);
+    slots.clear();  // (sorted key, (hex, local face)) with v
+    for (int k = vh.begin[vu]; k < vh.begin[vu + 1]; ++k) {
+        const int h = vh.hexes[static_cast<std::size_t>(k)];
+        if (k > vh.begin[vu] && vh.hexes[static_cast<std::size_t>(k - 1)] == h) continue;  // v twice in h
+        const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(h)];
+        for (std::size_t lf = 0; lf < 6; ++lf) {
+            std::array<int, 4> key;
+            for (std::size_t i = 0; i < 4; ++i) key[i] = hex[static_cast<std::size_t>(kHexFaces[lf][i])];
+            if (std::find(key.begin(), key.end(), v) == key.end()) continue;
+            sort4(key);
+            slots.push_back({key, {h, static_cast<int>(lf)}});
+        }
+    }
+    std::sort(slots.begin(), slots.end());  // equal keys (one face) next to each other
+    std::vector<int> out;
+    for (std::size_t s = 0; s < slots.size(); ++s) {
+        if ((s > 0 && slots[s - 1].first == slots[s].first) ||
+            (s + 1 < slots.size() && slots[s + 1].first == slots[s].first))
+            continue;  // a face of two or more slots: not on the boundary
+        const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(slots[s].second[0])];
+        const std::array<int, 4>& face = kHexFaces[static_cast<std::size_t>(slots[s].second[1])];
+        for (std::size_t i = 0; i < 4; ++i) {
+            const int a = hex[static_cast<std::size_t>(face[i])];
+            const int b = hex[static_cast<std::size_t>(face[(i + 1) % 4])];
+            if (a == v) out.push_back(b);
+            if (b == v) out.push_back(a);
+        }
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+}  // namespace
+
+// The listed vertices in parallel (each writes only its own list; a vertex listed twice gets the same list once).
 std::vector<std::vector<int>> boundary_edge_neighbours(const HexMesh& mesh, const std::vector<int>& vertices) {
     std::vector<std::vector<int>> nbrs(mesh.points.size());
     if (vertices.empty()) return nbrs;
     const VertexHexes vh = vertex_hexes(mesh);
-    std::vector<std::pair<std::array<int, 4>, std::array<int, 2>>> slots;  // (sorted key, (hex, local face)) with v
-    for (const int v : vertices) {
-        const std::size_t vu = static_cast<std::size_t>(v);
-        slots.clear();
-        for (int k = vh.begin[vu]; k < vh.begin[vu + 1]; ++k) {
-            const int h = vh.hexes[static_cast<std::size_t>(k)];
-            if (k > vh.begin[vu] && vh.hexes[static_cast<std::size_t>(k - 1)] == h) continue;  // v twice in h
-            const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(h)];
-            for (std::size_t lf = 0; lf < 6; ++lf) {
-                std::array<int, 4> key;
-                for (std::size_t i = 0; i < 4; ++i) key[i] = hex[static_cast<std::size_t>(kHexFaces[lf][i])];
-                if (std::find(key.begin(), key.end(), v) == key.end()) continue;
-                sort4(key);
-                slots.push_back({key, {h, static_cast<int>(lf)}});
-            }
-        }
-        std::sort(slots.begin(), slots.end());  // equal keys (one face) next to each other
-        std::vector<int>& out = nbrs[vu];
-        for (std::size_t s = 0; s < slots.size(); ++s) {
-            if ((s > 0 && slots[s - 1].first == slots[s].first) ||
-                (s + 1 < slots.size() && slots[s + 1].first == slots[s].first))
-                continue;  // a face of two or more slots: not on the boundary
-            const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(slots[s].second[0])];
-            const std::array<int, 4>& face = kHexFaces[static_cast<std::size_t>(slots[s].second[1])];
-            for (std::size_t i = 0; i < 4; ++i) {
-                const int a = hex[static_cast<std::size_t>(face[i])];
-                const int b = hex[static_cast<std::size_t>(face[(i + 1) % 4])];
-                if (a == v) out.push_back(b);
-                if (b == v) out.push_back(a);
-            }
-        }
-        std::sort(out.begin(), out.end());
-        out.erase(std::unique(out.begin(), out.end()), out.end());
-    }
+    std::vector<int> listed = vertices;
+    std::sort(listed.begin(), listed.end());
+    listed.erase(std::unique(listed.begin(), listed.end()), listed.end());
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, listed.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::vector<std::pair<std::array<int, 4>, std::array<int, 2>>> slots;
+            for (std::size_t i = r.begin(); i < r.end(); ++i)
+                nbrs[static_cast<std::size_t>(listed[i])] = boundary_neighbours_of(mesh, vh, listed[i], slots);
+        });
     return nbrs;
 }
 

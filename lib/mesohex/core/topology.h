@@ -55,8 +55,8 @@ std::vector<std::vector<int>> boundary_edge_neighbours(const HexTopology& topo, 
 // in
 // ascending order without repeats (a degenerate edge from v to itself gives v once). A face with v is on the boundary
 // when no other (hex, local face) slot has its vertex set, and every such slot is in a hex with v, so only the hexes
-// around v are read. O(#hexes) for the vertex -> hex table plus a few hundred operations per listed vertex.
-// Preconditions: indices in range.
+// around v are read. O(#hexes) for the vertex -> hex table plus a few hundred operations per listed vertex (the
+// listed vertices in parallel: the same result for any thread count). Preconditions: indices in range.
 std::vector<std::vector<int>> boundary_edge_neighbours(const HexMesh& mesh, const std::vector<int>& vertices);
 
 }  // namespace mesohex

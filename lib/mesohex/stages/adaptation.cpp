@@ -13,6 +13,9 @@
 #include <utility>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "mesohex/core/error.h"
 #include "mesohex/core/union_find.h"
 
@@ -1059,33 +1062,62 @@ void write_kept_vertices(const BranchView& view, Collapses& col, std::vector<int
 }
 
 // Every branch not collapsed, resampled between its kept ends, appended to out (new joints and edges in branch
-// order). Two branches never both become one edge between the same two vertices.
+// order). Two branches never both become one edge between the same two vertices. The resampling runs in parallel
+// with each branch's min_edges as the edges before it decide it (a link that some earlier branch of the loop turns into
+// one edge is not known yet); the serial pass that appends them samples again, with the right min_edges, the rare
+// branch whose min_edges the earlier ones changed: the same result as sampling one branch after the other.
 void write_resampled_branches(const BranchView& view, Collapses& col, const std::vector<int>& new_id,
                               const AdaptationOptions& o, AdaptationResult& result) {
     Skeleton& out = result.skeleton;
     const auto id_of = [&](int v) { return new_id[col.classes.find(v)]; };
     std::set<std::pair<int, int>> single_edge_links;  // to never emit two edges joining the same two vertices
     for (const std::array<int, 2>& e : out.edges) single_edge_links.insert(std::minmax(e[0], e[1]));
-    for (std::size_t bi = 0; bi < view.branches.size(); ++bi) {
+    const std::size_t nb = view.branches.size();
+    struct Sampled {
+        int a = -1, c = -1, min_edges = 1, removed = 0;
+        std::vector<double> t, r;
+    };
+    std::vector<Sampled> sampled(nb);
+    const auto min_edges_of = [&](const Sampled& b, bool ring) {
+        if (ring || b.a == b.c) return 3;
+        return single_edge_links.count(std::minmax(b.a, b.c)) ? 2 : 1;
+    };
+    for (std::size_t bi = 0; bi < nb; ++bi) {
         if (col.collapsed[bi]) continue;
-        const Branch& b = view.branches[bi];
-        const int a = id_of(b.vertices.front()), c = id_of(b.vertices.back());
-        int min_edges = (b.ring || a == c) ? 3 : 1;
-        if (min_edges == 1 && single_edge_links.count(std::minmax(a, c))) min_edges = 2;
-        std::vector<double> kept_r;
-        std::vector<double> t =
-            resample(view, bi, min_edges, out.points[a], out.points[c], o, &result.turn_removed_joints, &kept_r);
-        if (t.empty()) single_edge_links.insert(std::minmax(a, c));
-        int prev = a;
-        for (std::size_t k = 0; k < t.size(); ++k) {
-            const Vec3 p = view.polylines[bi].at(t[k]).first;
+        sampled[bi].a = id_of(view.branches[bi].vertices.front());
+        sampled[bi].c = id_of(view.branches[bi].vertices.back());
+        sampled[bi].min_edges = min_edges_of(sampled[bi], view.branches[bi].ring);
+    }
+    const auto sample = [&](std::size_t bi) {
+        Sampled& b = sampled[bi];
+        b.removed = 0;
+        b.r.clear();
+        b.t = resample(view, bi, b.min_edges, out.points[b.a], out.points[b.c], o, &b.removed, &b.r);
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 16), [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t bi = range.begin(); bi < range.end(); ++bi)
+            if (!col.collapsed[bi]) sample(bi);
+    });
+    for (std::size_t bi = 0; bi < nb; ++bi) {
+        if (col.collapsed[bi]) continue;
+        Sampled& b = sampled[bi];
+        const int min_edges = min_edges_of(b, view.branches[bi].ring);
+        if (min_edges != b.min_edges) {
+            b.min_edges = min_edges;
+            sample(bi);
+        }
+        result.turn_removed_joints += b.removed;
+        if (b.t.empty()) single_edge_links.insert(std::minmax(b.a, b.c));
+        int prev = b.a;
+        for (std::size_t k = 0; k < b.t.size(); ++k) {
+            const Vec3 p = view.polylines[bi].at(b.t[k]).first;
             const int v = static_cast<int>(out.points.size());
             out.points.push_back(p);
-            out.radii.push_back(kept_r[k]);
+            out.radii.push_back(b.r[k]);
             out.edges.push_back({prev, v});
             prev = v;
         }
-        out.edges.push_back({prev, c});
+        out.edges.push_back({prev, b.c});
     }
 }
 

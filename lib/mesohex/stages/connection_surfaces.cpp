@@ -135,6 +135,22 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
         }
         return m;
     };
+    // Whether some side of a quad around x that reads neither x nor a point moving with it (its ends and the point
+    // after them, which quad_side_sine's convexity test reads) bounds the margin of every trial of x by `floor`:
+    // then no trial can beat floor (local_min returns a value <= floor for each), and they need not run. floor >= -1
+    // (such trials read no margin_of, whose cache they would otherwise change).
+    auto capped = [&](int x, double floor) {
+        if (!(floor >= -1)) return false;
+        for (const int i : incident[x]) {
+            const std::array<int, 4>& quad = part.quads[i];
+            for (int k = 0; k < 4; ++k) {
+                if (quad[k] == x || quad[(k + 1) % 4] == x || quad[(k + 2) % 4] == x) continue;
+                double v = 0;
+                if (!quad_side_sine(quad_of(i), k, dirs[i], v) || std::asin(v) <= floor) return true;
+            }
+        }
+        return false;
+    };
     double worst = 10;
     for (int i = 0; i < nq; ++i) worst = std::min(worst, margin_of(i));
     if (worst >= good_margin) return part;  // already comfortable: most junctions of degree <= 6 stop here
@@ -156,7 +172,7 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
             const Vec3 w = cross(p, u);
             double best = local_min(x);
             Vec3 best_p = p;
-            for (int k = 0; k < 8; ++k) {
+            for (int k = capped(x, best + 1e-9) ? 8 : 0; k < 8; ++k) {
                 const Vec3 dir = cos_a[k] * u + sin_a[k] * w;
                 cur.points[x] = normalized(cos_step * p + sin_step * dir);
                 const double m = local_min(x, best + 1e-9);

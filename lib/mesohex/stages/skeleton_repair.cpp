@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -94,15 +95,29 @@ struct AtArc {
     double u = 0;  // position inside segment k, 0..1
 };
 
-AtArc at_arc(const Skeleton& s, const Walk& w, double t) {
+// at_arc given `above`: the first position of w.s whose arc length is above t (clamped), i.e. std::upper_bound's.
+AtArc at_arc_above(const Skeleton& s, const Walk& w, double t, std::size_t above) {
     const std::size_t last = w.verts.size() - 1;
     t = std::clamp(t, 0.0, w.length());
-    std::size_t k = static_cast<std::size_t>(std::upper_bound(w.s.begin(), w.s.end(), t) - w.s.begin());
+    std::size_t k = above;
     k = k == 0 ? 0 : std::min(k - 1, last - 1);
     const double len = w.s[k + 1] - w.s[k];
     const double u = len > 0 ? std::clamp((t - w.s[k]) / len, 0.0, 1.0) : 0.0;
     const int a = w.verts[k], b = w.verts[k + 1];
     return {s.points[a] + u * (s.points[b] - s.points[a]), s.radii[a] + u * (s.radii[b] - s.radii[a]), k, u};
+}
+
+AtArc at_arc(const Skeleton& s, const Walk& w, double t) {
+    const double c = std::clamp(t, 0.0, w.length());
+    return at_arc_above(s, w, t, static_cast<std::size_t>(std::upper_bound(w.s.begin(), w.s.end(), c) - w.s.begin()));
+}
+
+// at_arc for a t at least as large as the one that left `above` (0 at first): walks `above` up from there to t's
+// position (w.s is non-decreasing, so the same position as std::upper_bound's) and leaves it there.
+AtArc at_arc_from(const Skeleton& s, const Walk& w, double t, std::size_t& above) {
+    const double c = std::clamp(t, 0.0, w.length());
+    while (above < w.s.size() && !(w.s[above] > c)) ++above;
+    return at_arc_above(s, w, t, above);
 }
 
 // What a repair does to a close pair (see the header).
@@ -146,25 +161,70 @@ AtArc nearest_on_walk(const Skeleton& s, const Walk& w, const Vec3& p, double& a
     return best;
 }
 
+// How fast the tube gap (distance of the axes minus the sum of the radii) of walk w and any other walk can rise per
+// unit of arc length on w's side: per segment, at_arc's point moves by its chord and its radius by its change over the
+// segment's arc length (1 + the radius slope, up to the roundings of w.s); the steepest segment's. Infinity when a
+// segment has zero arc length (at_arc jumps there).
+double gap_slope(const Skeleton& s, const Walk& w) {
+    double slope = 0;
+    for (std::size_t k = 0; k + 1 < w.verts.size(); ++k) {
+        const int a = w.verts[k], b = w.verts[k + 1];
+        const double len = w.s[k + 1] - w.s[k];
+        if (!(len > 0)) return std::numeric_limits<double>::infinity();
+        slope = std::max(slope, (distance(s.points[a], s.points[b]) + std::abs(s.radii[b] - s.radii[a])) / len);
+    }
+    return slope;
+}
+
+// The largest coordinate or radius magnitude on walk w: the scale of the roundings of at_arc and distance on it.
+double walk_extent(const Skeleton& s, const Walk& w) {
+    double m = 0;
+    for (const int v : w.verts)
+        m = std::max({m, std::abs(s.points[v].x), std::abs(s.points[v].y), std::abs(s.points[v].z), s.radii[v]});
+    return m;
+}
+
 // The arc length where the tubes of walks i and j separate, or -1 if they do not before the shorter one ends.
+// The arc lengths it tries grow (the scan) or stay at or above lo (the bisection), so each walk's segment is found
+// from the last one at lo (at_arc_from) rather than by a binary search: the same segments, the same values. The scan
+// skips the steps that provably do not part the tubes (gap_slope): the same lo, the same result.
 double separation(const Skeleton& s, const Walk& wi, const Walk& wj) {
     const double len = std::min(wi.length(), wj.length());
-    const auto apart = [&](double t) {
-        const AtArc a = at_arc(s, wi, t), b = at_arc(s, wj, t);
-        return distance(a.x, b.x) >= a.r + b.r;
+    std::array<std::size_t, 2> at_lo{0, 0};  // per walk: at_arc_from's position for lo
+    double gap = 0;                          // of the last `apart`: the distance of the axes minus the radii
+    const auto apart = [&](double t, std::array<std::size_t, 2>& at) {
+        const AtArc a = at_arc_from(s, wi, t, at[0]), b = at_arc_from(s, wj, t, at[1]);
+        const double d = distance(a.x, b.x), r = a.r + b.r;
+        gap = d - r;
+        return d >= r;
     };
+    const double slope = (gap_slope(s, wi) + gap_slope(s, wj)) * (1 + 1e-6);
+    const double slack = 1e-9 * std::max(walk_extent(s, wi), walk_extent(s, wj));
     constexpr int steps = 128;
     double lo = 0;
     for (int k = 1; k <= steps; ++k) {
         const double t = len * k / steps;
-        if (!apart(t)) {
+        std::array<std::size_t, 2> at_t = at_lo;
+        if (!apart(t, at_t)) {
             lo = t;
+            at_lo = at_t;
+            // The next steps whose gap cannot have risen to -slack are not apart either: lo moves to the last of them.
+            int last = k;
+            while (last < steps && gap + slope * (len * (last + 1) / steps - t) < -slack) ++last;
+            if (last > k) lo = len * last / steps;
+            k = last;
             continue;
         }
         double hi = t;
         for (int it = 0; it < 40; ++it) {
             const double mid = 0.5 * (lo + hi);
-            (apart(mid) ? hi : lo) = mid;
+            std::array<std::size_t, 2> at_mid = at_lo;
+            if (apart(mid, at_mid)) {
+                hi = mid;
+            } else {
+                lo = mid;
+                at_lo = at_mid;
+            }
         }
         return hi;
     }

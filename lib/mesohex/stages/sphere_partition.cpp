@@ -1039,6 +1039,8 @@ std::optional<SpherePartition> dual_partition(const BaseMap& base, const std::ve
 // removes constraint violations (if the start is invalid), phase 2 lowers the energy without ever leaving the valid
 // set. Bounded sweeps, step halving.
 
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
 struct Relaxer {
     const std::vector<Vec3>& d;
     SpherePartition& p;
@@ -1065,6 +1067,18 @@ struct Relaxer {
     std::vector<std::array<char, 4>> fixed_corner_kept, fixed_side_kept;
     bool fixed_violated = false;  // some fixed term is violated: every trial of the vertex is rejected
     std::vector<char> moving;     // per point: moves with fixed_for (itself and its chains' valence-2 points)
+    // The screening of a trial (screen_terms). A quad's 8 terms are numbered by slot: corner k at 2k, side k at 2k + 1.
+    // term_cache: per quad, its terms at the last accepted points (kept by descend; only an order, never a result);
+    // term_order: the moving terms of fixed_for's quads (8 j + slot, j the position in quads_of) by falling
+    // term_cache; moving_terms: per position j the trial's moving terms, computed once and then summed in
+    // local_energy_below's order; screened: the last local_energy_below filled moving_terms; best_moving: the
+    // moving_terms of the best trial so far (empty when not screened).
+    std::vector<std::array<double, 8>> term_cache;
+    std::vector<int> term_order;
+    std::vector<std::pair<double, int>> order_keys;  // scratch of order_terms
+    std::vector<std::array<double, 8>> moving_terms, best_moving;
+    double fixed_sum = 0;  // the sum of fixed_for's fixed terms (order_terms)
+    bool screened = false;
 
     Relaxer(const std::vector<Vec3>& dirs, SpherePartition& part) : d(dirs), p(part), bound(margin_bounds(dirs)) {
         const int nv = static_cast<int>(p.points.size());
@@ -1230,14 +1244,83 @@ struct Relaxer {
         }
     }
 
+    // The terms of quad q at the current points by slot (a violated term: infinity), for term_cache.
+    std::array<double, 8> quad_term_values(int q) const {
+        std::array<double, 8> t;
+        for (int k = 0; k < 4; ++k) {
+            constexpr double violated = kInfinity;
+            if (valence[p.quads[q][k]] < 3)
+                t[2 * k] = 0;
+            else if (!corner_term(q, k, t[2 * k]))
+                t[2 * k] = violated;
+            if (!side_term(q, k, t[2 * k + 1])) t[2 * k + 1] = violated;
+        }
+        return t;
+    }
+
+    // Lists the terms of v's quads that move with v (fix_terms(v) called) in term_order by falling term_cache (equal
+    // ones in list order; NaN as infinity) and sums the fixed ones into fixed_sum: the terms that hold most of the
+    // energy before the move mostly hold most of it after a trial step, so screen_terms finds a rejected trial after
+    // few terms.
+    void order_terms(int v) {
+        order_keys.clear();
+        fixed_sum = 0;
+        for (std::size_t j = 0; j < quads_of[v].size(); ++j) {
+            const int q = quads_of[v][j];
+            for (int slot = 0; slot < 8; ++slot) {
+                const int k = slot / 2;
+                const bool moves =
+                    slot % 2 == 0 ? !fixed_corner_kept[j][k] && valence[p.quads[q][k]] >= 3 : !fixed_side_kept[j][k];
+                const double t = term_cache[q][slot];
+                if (slot % 2 == 0 ? fixed_corner_kept[j][k] : fixed_side_kept[j][k])
+                    fixed_sum += slot % 2 == 0 ? fixed_corner[j][k] : fixed_side[j][k];
+                if (moves) order_keys.push_back({std::isnan(t) ? kInfinity : t, static_cast<int>(8 * j) + slot});
+            }
+        }
+        std::sort(order_keys.begin(), order_keys.end(), [](const auto& a, const auto& b) {
+            return a.first > b.first || (a.first == b.first && a.second < b.second);
+        });
+        term_order.resize(order_keys.size());
+        for (std::size_t i = 0; i < order_keys.size(); ++i) term_order[i] = order_keys[i].second;
+    }
+
+    // Computes the terms of the trial that move with v (fix_terms(v) and order_terms(v) called) into moving_terms, in
+    // term_order; false when one is violated or when the fixed terms and the terms so far sum (in this order) to at
+    // least threshold x (1 + 1e-12), threshold > 0. The rejection is exact: every term is >= 0 and any floating-point
+    // sum of n such terms lies within a relative (n - 1) x 2^-53 of their exact sum (n < 10^3 here), so
+    // local_energy_below's own sum of all of them, in its order, reaches threshold too.
+    bool screen_terms(int v, double threshold) {
+        const double limit = threshold * (1 + 1e-12);
+        const std::size_t nq = quads_of[v].size();
+        moving_terms.resize(nq);
+        double sum = fixed_sum;
+        if (sum >= limit) return false;
+        for (const int code : term_order) {
+            const std::size_t j = static_cast<std::size_t>(code / 8);
+            const int q = quads_of[v][j], slot = code % 8;
+            double& term = moving_terms[j][static_cast<std::size_t>(slot)];
+            if (!(slot % 2 == 0 ? corner_term(q, slot / 2, term) : side_term(q, slot / 2, term))) return false;
+            sum += term;
+            if (sum >= limit) return false;
+        }
+        return true;
+    }
+
     // For a trial move in the energy phase: true when the local violation is 0 and the local energy is < threshold
     // (then `energy` is local_terms(v).second, bit for bit). Stops at the first violated constraint or as soon as the
     // partial energy reaches the threshold: the terms are >= 0 and floating-point sums only grow when adding them.
     // `per_quad` gets the energy of each quad around v (in quads_of[v] order) when the result is true. Terms that
     // cannot move with v come from fix_terms(v) when it was called for v (fixed_for).
-    bool local_energy_below(int v, double threshold, double& energy, std::vector<double>& per_quad) const {
+    //
+    // With fix_terms(v) and order_terms(v) called, the terms that move with v are first computed by screen_terms (the
+    // highest terms at v's origin first), which rejects the trial as soon as their partial sum with
+    // the fixed terms provably reaches the threshold; the sums below then read those terms (the same values: same
+    // inputs, same code), so the result is the same as without the screening.
+    bool local_energy_below(int v, double threshold, double& energy, std::vector<double>& per_quad) {
         const bool fixed = fixed_for == v;
         if (fixed && fixed_violated) return false;
+        screened = fixed && threshold > 0 && term_cache.size() == p.quads.size();
+        if (screened && !screen_terms(v, threshold)) return false;
         energy = 0;
         per_quad.clear();
         for (std::size_t j = 0; j < quads_of[v].size(); ++j) {
@@ -1247,13 +1330,19 @@ struct Relaxer {
                 if (fixed && fixed_corner_kept[j][k]) {
                     e += fixed_corner[j][k];
                 } else if (valence[p.quads[q][k]] >= 3) {
-                    if (!corner_term(q, k, term)) return false;
+                    if (screened)
+                        term = moving_terms[j][2 * k];
+                    else if (!corner_term(q, k, term))
+                        return false;
                     e += term;
                 }
                 if (fixed && fixed_side_kept[j][k]) {
                     e += fixed_side[j][k];
                 } else {
-                    if (!side_term(q, k, term)) return false;
+                    if (screened)
+                        term = moving_terms[j][2 * k + 1];
+                    else if (!side_term(q, k, term))
+                        return false;
                     e += term;
                 }
                 if (energy + e >= threshold) return false;
@@ -1314,6 +1403,7 @@ struct Relaxer {
                 best_score = e;
                 best_pos = p.points[v];
                 best_energy.assign(trial_energy.begin(), trial_energy.end());
+                keep_best_terms();
                 length *= 2;
                 if (length <= step) break;  // halved before: length is a rejected trial's
             } else if (best_pos == origin && trial < 2) {
@@ -1323,6 +1413,28 @@ struct Relaxer {
             }
         }
         if (!(best_pos == origin)) step = std::max(step, 0.5 * length / 1.25);
+    }
+
+    // After a trial of fixed_for was accepted: its moving terms become the best trial's (for update_term_cache).
+    void keep_best_terms() {
+        if (screened)
+            best_moving.assign(moving_terms.begin(), moving_terms.end());
+        else
+            best_moving.clear();
+    }
+
+    // term_cache of v's quads after v moved to its best trial (fix_terms(v) still in place): the fixed terms and the
+    // best trial's moving ones; left as it was when the best trial was not screened.
+    void update_term_cache(int v) {
+        if (best_moving.size() != quads_of[v].size() || term_cache.size() != p.quads.size()) return;
+        for (std::size_t j = 0; j < quads_of[v].size(); ++j) {
+            std::array<double, 8>& t = term_cache[quads_of[v][j]];
+            for (int k = 0; k < 4; ++k) {
+                const bool corner = valence[p.quads[quads_of[v][j]][k]] >= 3;
+                t[2 * k] = !corner ? 0 : fixed_corner_kept[j][k] ? fixed_corner[j][k] : best_moving[j][2 * k];
+                t[2 * k + 1] = fixed_side_kept[j][k] ? fixed_side[j][k] : best_moving[j][2 * k + 1];
+            }
+        }
     }
 
     // One phase of coordinate descent with a step per vertex (grown on success, halved on failure); `repair`:
@@ -1338,6 +1450,8 @@ struct Relaxer {
         std::vector<double> step(nv, 0.05);
         std::vector<double> quad_energy(repair ? 0 : nq);
         for (int q = 0; q < nq && !repair; ++q) quad_energy[q] = quad_terms(q).second;
+        term_cache.clear();
+        for (int q = 0; q < nq && !repair; ++q) term_cache.push_back(quad_term_values(q));
         const auto cached_total = [&] {
             double e = 0;
             for (int q = 0; q < nq; ++q) e += quad_energy[q];
@@ -1358,7 +1472,11 @@ struct Relaxer {
                 }
                 if (repair && x0 == 0) continue;
                 const Vec3 t1 = any_perpendicular(origin), t2 = cross(origin, t1);
-                if (!repair) fix_terms(v);
+                if (!repair) {
+                    fix_terms(v);
+                    order_terms(v);
+                    best_moving.clear();
+                }
                 double best_score = repair ? x0 : e0;
                 Vec3 best_pos = origin;
                 const bool first = first_improving && !repair;
@@ -1381,11 +1499,13 @@ struct Relaxer {
                             best_score = e;
                             best_pos = p.points[v];
                             best_energy.assign(trial_energy.begin(), trial_energy.end());
+                            keep_best_terms();
                             if (first) last_dir[v] = k;
                         }
                     }
                 }
                 if (gradient_steps && !repair) gradient_move(v, origin, t1, t2, e0, step[v], best_score, best_pos);
+                if (!repair && !(best_pos == origin)) update_term_cache(v);
                 fixed_for = -1;  // the move changes them
                 p.points[v] = best_pos;
                 place_chains(v);
