@@ -74,7 +74,7 @@ struct MeshOptions {
     // Off by default; `mesohex auto` turns it on (docs/sheets.md, "Refined until the distance goal is met").
     bool refine_to_distance = false;
     int distance_max_levels = 4;  // refine_to_distance: subdivision levels at most (count)
-    MeshGoals goals;  // the goals a finished mesh must meet (else the second attempt)
+    MeshGoals goals;              // the goals a finished mesh must meet (else the second attempt)
     // How the attempts above are ranked when they tie on inverted hexes and on the number of goals missed. false:
     // the smaller relative Hausdorff distance, then the higher min scaled Jacobian (better_finish). true: the smaller
     // goal_shortfall first (the product of the factors by which each missed goal is missed, so a 30 % lower min SJ is
@@ -114,9 +114,9 @@ struct MeshAttempt {
 
 // What MeshOptions::refine_to_distance decided on a finished run.
 struct DistanceRefinement {
-    double tolerance = 0;       // goals.hausdorff (x the domain's bbox diagonal)
-    int levels_before = 0;      // subdivision levels of the mesh kept before the rule
-    std::vector<int> levels;    // the levels of each finer finish it ran, in order (empty: none ran)
+    double tolerance = 0;           // goals.hausdorff (x the domain's bbox diagonal)
+    int levels_before = 0;          // subdivision levels of the mesh kept before the rule
+    std::vector<int> levels;        // the levels of each finer finish it ran, in order (empty: none ran)
     std::vector<double> hausdorff;  // their relative Hausdorff distances
     std::vector<long> hexes;        // their hex counts
     int levels_kept = 0;            // subdivision levels of the mesh kept after the rule

@@ -31,9 +31,10 @@ nlohmann::json attempts_json(const std::vector<MeshAttempt>& attempts) {
 }
 
 nlohmann::json distance_refinement_json(const DistanceRefinement& d) {
-    return {{"tolerance", d.tolerance},     {"levels_before", d.levels_before}, {"levels_tried", d.levels},
-            {"hausdorff_tried", d.hausdorff}, {"hexes_tried", d.hexes},          {"levels_kept", d.levels_kept},
-            {"stop", d.stop},               {"reason", d.reason}};
+    return {{"tolerance", d.tolerance}, {"levels_before", d.levels_before},
+            {"levels_tried", d.levels}, {"hausdorff_tried", d.hausdorff},
+            {"hexes_tried", d.hexes},   {"levels_kept", d.levels_kept},
+            {"stop", d.stop},           {"reason", d.reason}};
 }
 
 nlohmann::json stages_json(const std::vector<FinishStage>& stages) {
