@@ -42,6 +42,9 @@ struct AutoArgs {
     // MeshOptions::finer_retry: the mesh kept is finished once more one level finer when it misses a goal (within
     // half of max_hexes, like the second attempt).
     bool finer_retry = true;
+    // MeshOptions::refine_to_distance: finer levels while the mesh kept misses only the distance goal (and possibly the
+    // average SJ), within max_hexes finished over all attempts.
+    bool refine_to_distance = true;
     AutoSkeletonOptions skeleton;
 };
 
@@ -130,6 +133,11 @@ void register_auto(CLI::App& app, int* status) {
         "--no-finer-retry", [args] { args->finer_retry = false; },
         "No attempt one subdivision level finer when the mesh kept misses a goal (by default it runs when 8 x its "
         "hexes stay within half of --max-hexes)");
+    cmd->add_flag_callback(
+        "--no-distance-refinement", [args] { args->refine_to_distance = false; },
+        "No finer levels when the mesh kept misses the Hausdorff goal with its min SJ met (by default one level finer "
+        "at a time while the goal is missed, each kept when better, within --max-hexes finished over all attempts; "
+        "the report's distance_refinement says what was decided)");
     cmd->add_option("--max-hexes", args->max_hexes,
                     "Work budget: at most this many finished hexes over both attempts (fewer subdivision levels, no "
                     "second attempt beyond half of it); 0 = no budget")
@@ -212,6 +220,7 @@ void register_auto(CLI::App& app, int* status) {
 
         MeshJob job = args->job;
         job.options.finer_retry = args->finer_retry;
+        job.options.refine_to_distance = args->refine_to_distance;
         if (args->max_hexes > 0) {
             job.options.finishing.max_hexes = args->max_hexes;
             job.options.retry_max_hexes = args->max_hexes / 2;

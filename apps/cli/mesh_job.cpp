@@ -108,6 +108,9 @@ void print_summary(const MeshJob& job, const MeshRun& run) {
         std::cout << ", Hausdorff " << fin.distance.max << " (" << 100.0 * fin.distance.relative_max
                   << " % of the bbox diagonal)";
     std::cout << " -> " << job.output << "\n";
+    if (const std::optional<DistanceRefinement>& d = run.distance_refinement)
+        std::cout << "distance refinement: " << d->stop << " (" << d->reason << "), " << d->levels_kept
+                  << " level(s) kept\n";
     if (run.attempts.size() < 2) return;
     for (std::size_t i = 0; i < run.attempts.size(); ++i) {
         const MeshAttempt& a = run.attempts[i];
@@ -439,6 +442,9 @@ MeshRun mesh_job_run(const MeshJob& job, const Skeleton& skeleton, const std::op
             std::cerr << "mesohex: the mesh misses a goal; another attempt with every boundary quad padded\n";
         if (p.stage == "attempt" && p.what == "one level finer" && !job.quiet)
             std::cerr << "mesohex: the mesh misses a goal; another attempt one subdivision level finer\n";
+        if (p.stage == "attempt" && p.what == "finer for the distance goal" && !job.quiet)
+            std::cerr << "mesohex: the mesh misses the Hausdorff goal with its min SJ met; another attempt one "
+                         "subdivision level finer\n";
         if (p.stage == "attempt" && p.what.ends_with("cautious joints") && !job.quiet)
             std::cerr << "mesohex: the mesh misses a goal; another attempt with first joints farther from the "
                          "branching points\n";

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -146,7 +147,8 @@ bool two_layouts(const MeshRun& run, const MeshOptions& options) {
 int max_attempts(const MeshRun& run, const MeshOptions& options) {
     const bool padded = options.retry && options.finishing.pad && options.finishing.pad_selective;
     const int per_layout = 1 + (padded ? 1 : 0) + (cautious_retry_allowed(options) ? 1 : 0);
-    return (two_layouts(run, options) ? 2 * per_layout : per_layout) + (options.finer_retry ? 1 : 0);
+    return (two_layouts(run, options) ? 2 * per_layout : per_layout) + (options.finer_retry ? 1 : 0) +
+           (options.refine_to_distance ? options.distance_max_levels : 0);
 }
 
 // Reports the start of the next finishing attempt (numbered from 1 in the order they run, both layouts together).
@@ -225,6 +227,79 @@ void retry_finer(MeshRun& run, const TriangleMesh& domain, const MeshOptions& op
     FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(finer, run.pipeline));
     run.attempts.push_back(attempt_of(run.options, run.pipeline, finished, options.goals));
     if (better_attempt(finished, *run.finish, options)) run.finish = std::move(finished);
+}
+
+// Why MeshOptions::refine_to_distance tries no finer level on the kept mesh after `finished` hexes finished by all
+// attempts: the stop code and its reason (DistanceRefinement); both empty when it tries one.
+std::pair<std::string, std::string> distance_refinement_stop(const MeshRun& run, const MeshOptions& options,
+                                                             long finished) {
+    const FinishOptions& fo = options.finishing;
+    const FinishResult& f = *run.finish;
+    const MeshGoals& goals = options.goals;
+    std::ostringstream why;
+    if (!fo.subdivide || fo.levels >= 0 || fo.size > 0 || fo.refinement != FinishOptions::Refinement::Uniform)
+        return {"levels given", "the subdivision levels are given (levels, size or a directional refinement)"};
+    if (!f.distance_measured) return {"not measured", "the distance to the surface was not measured"};
+    if (f.distance.relative_max <= goals.hausdorff) {
+        why << "Hausdorff " << 100 * f.distance.relative_max << " % within the goal " << 100 * goals.hausdorff << " %";
+        return {"distance met", why.str()};
+    }
+    if (f.quality.inverted > 0 || !f.quality.validation.valid())
+        return {"inverted", "the mesh kept is invalid or has inverted hexes: a finer level does not untangle it"};
+    if (!(f.quality.sj_min >= goals.sj_min)) {
+        why << "min SJ " << f.quality.sj_min << " below the goal " << goals.sj_min
+            << ": a subdivision keeps every corner's scaled Jacobian, a finer level does not raise the minimum";
+        return {"min SJ missed", why.str()};
+    }
+    if (f.subdivision_levels + 1 > options.distance_max_levels) {
+        why << f.subdivision_levels << " levels, the most allowed (" << options.distance_max_levels << ")";
+        return {"max levels", why.str()};
+    }
+    const long finer = 8 * f.quality.hexes;
+    if (fo.max_hexes > 0 && finished + finer > fo.max_hexes) {
+        why << finer << " hexes one level finer, after " << finished << " finished, exceed the budget of "
+            << fo.max_hexes;
+        return {"budget", why.str()};
+    }
+    return {"", ""};
+}
+
+// MeshOptions::refine_to_distance: the kept mesh finished one level finer while it misses only the distance goal
+// (and possibly the average), each finer mesh kept when better; what was decided goes to run.distance_refinement.
+void refine_to_distance(MeshRun& run, const TriangleMesh& domain, const MeshOptions& options) {
+    if (!options.refine_to_distance || !run.finish) return;
+    DistanceRefinement& dr = run.distance_refinement.emplace();
+    dr.tolerance = options.goals.hausdorff;
+    dr.levels_before = run.finish->subdivision_levels;
+    long finished = 0;
+    for (const MeshAttempt& a : run.attempts) finished += a.hexes;
+    for (;;) {
+        auto [stop, reason] = distance_refinement_stop(run, options, finished);
+        if (!stop.empty()) {
+            dr.stop = std::move(stop);
+            dr.reason = std::move(reason);
+            break;
+        }
+        MeshOptions finer = options;
+        finer.finishing.levels = run.finish->subdivision_levels + 1;
+        if (run.finish->pad_mode == "all") finer.finishing.pad_selective = false;
+        report_attempt(run, options, "finer for the distance goal");
+        FinishResult f = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(finer, run.pipeline));
+        run.attempts.push_back(attempt_of(run.options, run.pipeline, f, options.goals));
+        finished += f.quality.hexes;
+        dr.levels.push_back(f.subdivision_levels);
+        dr.hausdorff.push_back(f.distance_measured ? f.distance.relative_max : 0.0);
+        dr.hexes.push_back(f.quality.hexes);
+        if (!better_attempt(f, *run.finish, options)) {
+            std::ostringstream why;
+            why << f.subdivision_levels << " levels (" << f.quality.hexes << " hexes) not better than the mesh kept";
+            dr.stop = "not better";
+            dr.reason = why.str();
+            break;
+        }
+        run.finish = std::move(f);
+    }
+    dr.levels_kept = run.finish->subdivision_levels;
 }
 
 // The layout comparison's order (MeshOptions::compare_fan_layouts): fewer inverted hexes (a valid mesh first), fewer
@@ -314,6 +389,7 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const S
         finish_with_retry(run, skeleton, *domain, options);
         compare_fan_layouts(run, skeleton, *domain, options);
         retry_finer(run, *domain, options);
+        refine_to_distance(run, *domain, options);
         run.finish_ms = ms_since(t);
     }
     if (options.partitions > 0) {

@@ -63,7 +63,18 @@ struct MeshOptions {
     // can (docs/sheets.md, "One level finer"). Only when the finer mesh stays within retry_max_hexes and
     // finishing.max_hexes (when > 0). Off by default; `mesohex auto` turns it on.
     bool finer_retry = false;
-    MeshGoals goals;  // the goals a finished mesh must meet (else the second attempt)
+    // With a domain, levels chosen by the finishing (as finer_retry), after finer_retry: while the mesh kept misses the
+    // Hausdorff goal (goals.hausdorff) but meets the min scaled Jacobian with no inverted hex, its raw mesh is finished
+    // again one level finer than the kept mesh (with the padding mode it was kept with) and the better kept
+    // (better_finish). It stops when the distance goal is met, when the finer mesh is not kept, at
+    // distance_max_levels, or when the hexes finished by all attempts, the finer one included, would exceed
+    // finishing.max_hexes (when > 0: the finishing's time is about proportional to them). Not when min SJ is missed: a
+    // subdivision keeps every corner's scaled Jacobian (the child hex at a parent's corner has that corner's edge
+    // directions), so finer levels do not raise the minimum. What it decided and why: MeshRun::distance_refinement.
+    // Off by default; `mesohex auto` turns it on (docs/sheets.md, "Refined until the distance goal is met").
+    bool refine_to_distance = false;
+    int distance_max_levels = 4;  // refine_to_distance: subdivision levels at most (count)
+    MeshGoals goals;              // the goals a finished mesh must meet (else the second attempt)
     // How the attempts above are ranked when they tie on inverted hexes and on the number of goals missed. false:
     // the smaller relative Hausdorff distance, then the higher min scaled Jacobian (better_finish). true: the smaller
     // goal_shortfall first (the product of the factors by which each missed goal is missed, so a 30 % lower min SJ is
@@ -101,6 +112,20 @@ struct MeshAttempt {
     double hausdorff_relative_max = 0;  // x the domain's bbox diagonal (when distance_measured)
 };
 
+// What MeshOptions::refine_to_distance decided on a finished run.
+struct DistanceRefinement {
+    double tolerance = 0;           // goals.hausdorff (x the domain's bbox diagonal)
+    int levels_before = 0;          // subdivision levels of the mesh kept before the rule
+    std::vector<int> levels;        // the levels of each finer finish it ran, in order (empty: none ran)
+    std::vector<double> hausdorff;  // their relative Hausdorff distances
+    std::vector<long> hexes;        // their hex counts
+    int levels_kept = 0;            // subdivision levels of the mesh kept after the rule
+    // Why it stopped (or never ran): "distance met", "min SJ missed", "inverted", "not measured", "levels given",
+    // "not better", "budget", "max levels".
+    std::string stop;
+    std::string reason;  // the same with its numbers, for a reader
+};
+
 struct MeshRun {
     std::string radius_note;             // "" (radii as run_pipeline chose them) or "surface (F x distance)"
     PipelineOptions options;             // the pipeline options of the kept attempt
@@ -111,6 +136,8 @@ struct MeshRun {
     std::optional<FinishResult> finish;  // set when a domain was given and options.finish
     std::vector<MeshAttempt> attempts;   // finished attempts, first the default adaptation
     std::optional<Partition> partition;  // of mesh(), set when options.partitions > 0
+    // Set when MeshOptions::refine_to_distance asked for it on a finished run.
+    std::optional<DistanceRefinement> distance_refinement;
     // Wall times (ms): radii from the domain, run_pipeline (the kept attempt's), raw-mesh quality, and everything
     // after it (finishing of every attempt, the second attempt's pipeline).
     double radius_ms = 0, pipeline_ms = 0, raw_quality_ms = 0, finish_ms = 0;

@@ -30,6 +30,13 @@ nlohmann::json attempts_json(const std::vector<MeshAttempt>& attempts) {
     return list;
 }
 
+nlohmann::json distance_refinement_json(const DistanceRefinement& d) {
+    return {{"tolerance", d.tolerance}, {"levels_before", d.levels_before},
+            {"levels_tried", d.levels}, {"hausdorff_tried", d.hausdorff},
+            {"hexes_tried", d.hexes},   {"levels_kept", d.levels_kept},
+            {"stop", d.stop},           {"reason", d.reason}};
+}
+
 nlohmann::json stages_json(const std::vector<FinishStage>& stages) {
     nlohmann::json list = nlohmann::json::array();
     for (const FinishStage& st : stages)
@@ -173,6 +180,7 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
         rep["attempts"] = attempts_json(run.attempts);  // first the default adaptation, then the cautious one
         rep["free_branching_reach"] = run.options.adaptation.free_branching_reach;  // of the mesh written
         if (fin.distance_measured) rep["hausdorff"] = hausdorff_json(fin.distance);
+        if (run.distance_refinement) rep["distance_refinement"] = distance_refinement_json(*run.distance_refinement);
     }
     if (run.partition) rep["partition"] = nlohmann::json::parse(partition_to_json(*run.partition));
     rep["timings_ms"] = timings_json(run, context);

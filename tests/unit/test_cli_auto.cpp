@@ -260,7 +260,9 @@ TEST(AutoCli, MesoMeshMissingAGoalIsComparedWithTheCurveSkeletons) {
 // rule (padded mean edge against diagonal / 16) gives one level: 448 hexes, min / avg SJ 0.600 / 0.842, Hausdorff
 // 1.24 %, two goals missed by a mesh too coarse to follow the surface. The same raw mesh one level finer
 // (MeshOptions::finer_retry, 8 x 448 = 3 584 hexes within half of the 24 000 budget) meets every target and is kept
-// (0.601 / 0.949, 0.95 %; docs/sheets.md, "One level finer"); --no-finer-retry keeps the first.
+// (0.601 / 0.949, 0.95 %; docs/sheets.md, "One level finer"). With --no-finer-retry the 448-hex mesh meets the min SJ
+// and misses the distance goal, so MeshOptions::refine_to_distance finishes it one level finer (the same 3 584 hexes);
+// with --no-distance-refinement as well the first is kept.
 TEST(AutoCli, CoarseCurveMeshIsFinishedOneLevelFinerAndMeetsTheTargets) {
     const fs::path surface = fs::path(MESOHEX_SHARED_DATA_DIR) / "surfaces" / "torque.obj";
     const fs::path out = temp_dir() / "torque.mesh", report = temp_dir() / "torque.json";
@@ -278,9 +280,19 @@ TEST(AutoCli, CoarseCurveMeshIsFinishedOneLevelFinerAndMeetsTheTargets) {
     EXPECT_EQ(rep["attempts"][1]["hexes"].get<long>(), 8 * 448);
     EXPECT_EQ(rep["attempts"][1]["missed_goals"].get<int>(), 0);
     EXPECT_EQ(rep["subdivision_levels"].get<int>(), 2);
+    EXPECT_EQ(rep["distance_refinement"]["stop"], "distance met");
+    EXPECT_TRUE(rep["distance_refinement"]["levels_tried"].empty());
     expect_every_target(out, rep);
 
-    const auto coarse = run_cli(args + " --no-finer-retry");
+    const auto by_distance = run_cli(args + " --no-finer-retry");
+    ASSERT_EQ(by_distance.status, 0) << by_distance.output;
+    const nlohmann::json finer = read_json(report);
+    EXPECT_EQ(finer["distance_refinement"]["levels_before"].get<int>(), 1);
+    EXPECT_EQ(finer["distance_refinement"]["levels_tried"], nlohmann::json::array({2}));
+    EXPECT_EQ(finer["distance_refinement"]["stop"], "distance met");
+    EXPECT_EQ(finer["quality"]["hexes"].get<long>(), 8 * 448);
+
+    const auto coarse = run_cli(args + " --no-finer-retry --no-distance-refinement");
     ASSERT_EQ(coarse.status, 0) << coarse.output;
     const nlohmann::json first = read_json(report);
     ASSERT_EQ(first["attempts"].size(), 1u);

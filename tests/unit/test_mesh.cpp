@@ -237,6 +237,97 @@ TEST(MeshSkeleton, OneLevelFinerWhenTheKeptMeshMissesAGoal) {
     EXPECT_EQ(mesh_in_domain(axis_segment(), box, given).attempts.size(), 2u);
 }
 
+// The unit sphere as a UV mesh: the poles (-1, 0, 0) and (1, 0, 0), `rings` - 1 rings of `segments` vertices between
+// them (ring i at angle pi i / rings from the first pole), counter-clockwise seen from outside.
+TriangleMesh uv_sphere(int rings, int segments) {
+    TriangleMesh s;
+    s.points.push_back({-1, 0, 0});
+    for (int i = 1; i < rings; ++i) {
+        const double t = M_PI * i / rings;
+        for (int j = 0; j < segments; ++j) {
+            const double p = 2 * M_PI * j / segments;
+            s.points.push_back({-std::cos(t), std::sin(t) * std::cos(p), std::sin(t) * std::sin(p)});
+        }
+    }
+    s.points.push_back({1, 0, 0});
+    const auto at = [segments](int i, int j) { return 1 + (i - 1) * segments + j % segments; };
+    const int last = static_cast<int>(s.points.size()) - 1;
+    for (int j = 0; j < segments; ++j) s.triangles.push_back({0, at(1, j + 1), at(1, j)});
+    for (int i = 1; i + 1 < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            s.triangles.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+            s.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+        }
+    for (int j = 0; j < segments; ++j) s.triangles.push_back({last, at(rings - 1, j), at(rings - 1, j + 1)});
+    return s;
+}
+
+// MeshOptions::refine_to_distance on a short segment (x = -0.2 .. 0.2) in the unit sphere (24 x 32 facets), radii
+// 0.5 x the distance: the level rule gives 1 level, 160 hexes (a padded raw mesh of 20 hexes, nothing left bare on a
+// smooth surface, no branching point for a cautious skeleton), which meets the min SJ (about 0.72) but misses the
+// Hausdorff goal (about 1.15 % of the diagonal): too few boundary vertices on a round surface. One level finer
+// (8 x 160 = 1 280 hexes, about 0.42 %) meets it and is kept; with a goal of 0.3 % that one still misses and a third
+// level (10 240 hexes, about 0.26 %) meets it. The rule stops at the budget, never runs when min SJ is missed (a
+// subdivision keeps every corner's scaled Jacobian) nor with the levels given, and the report says so.
+TEST(MeshSkeleton, FinerLevelsWhileOnlyTheDistanceGoalIsMissed) {
+    const TriangleMesh sphere = uv_sphere(24, 32);
+    Skeleton segment;
+    segment.points = {{-0.2, 0, 0}, {0.2, 0, 0}};
+    segment.edges = {{0, 1}};
+    MeshOptions o;
+    o.refine_to_distance = true;
+    const MeshRun run = mesh_in_domain(segment, sphere, o);
+    ASSERT_TRUE(run.finish.has_value());
+    ASSERT_TRUE(run.distance_refinement.has_value());
+    ASSERT_EQ(run.attempts.size(), 2u);
+    EXPECT_EQ(run.attempts[0].levels, 1);
+    EXPECT_EQ(run.attempts[0].hexes, 160);
+    EXPECT_GE(run.attempts[0].sj_min, 0.3);
+    EXPECT_GT(run.attempts[0].hausdorff_relative_max, 0.01);
+    const DistanceRefinement& d = *run.distance_refinement;
+    EXPECT_EQ(d.levels_before, 1);
+    EXPECT_EQ(d.levels, std::vector<int>{2});
+    EXPECT_EQ(d.hexes, std::vector<long>{8 * 160});
+    EXPECT_EQ(d.levels_kept, 2);
+    EXPECT_EQ(d.stop, "distance met");
+    EXPECT_LE(run.finish->distance.relative_max, 0.01);
+    EXPECT_EQ(run.quality().hexes, 1280);
+    EXPECT_EQ(missed_goals(*run.finish, o.goals), 0);
+    const nlohmann::json rep = mesh_report(run, {"segment.obj", "segment.mesh", "sphere.off", 0, 0});
+    EXPECT_EQ(rep["distance_refinement"]["levels_tried"], nlohmann::json::array({2}));
+    EXPECT_EQ(rep["distance_refinement"]["stop"], "distance met");
+    EXPECT_EQ(rep["distance_refinement"]["tolerance"].get<double>(), 0.01);
+
+    MeshOptions tight = o;
+    tight.goals.hausdorff = 0.003;
+    const MeshRun three = mesh_in_domain(segment, sphere, tight);
+    ASSERT_TRUE(three.distance_refinement.has_value());
+    EXPECT_EQ(three.distance_refinement->levels, (std::vector<int>{2, 3}));
+    EXPECT_EQ(three.distance_refinement->hexes, (std::vector<long>{1280, 10240}));
+    EXPECT_GT(three.distance_refinement->hausdorff[0], 0.003);
+    EXPECT_EQ(three.distance_refinement->stop, "distance met");
+    EXPECT_EQ(three.quality().hexes, 10240);
+
+    MeshOptions budget = tight;  // the third level would bring the hexes finished to 160 + 1 280 + 10 240
+    budget.finishing.max_hexes = 160 + 1280 + 10240 - 1;
+    const MeshRun two = mesh_in_domain(segment, sphere, budget);
+    EXPECT_EQ(two.distance_refinement->levels, std::vector<int>{2});
+    EXPECT_EQ(two.distance_refinement->stop, "budget");
+    EXPECT_EQ(two.quality().hexes, 1280);
+
+    MeshOptions strict = o;
+    strict.goals.sj_min = 0.9;  // missed at 1 level: no finer level
+    const MeshRun kept = mesh_in_domain(segment, sphere, strict);
+    EXPECT_TRUE(kept.distance_refinement->levels.empty());
+    EXPECT_EQ(kept.distance_refinement->stop, "min SJ missed");
+    EXPECT_EQ(kept.quality().hexes, 160);
+    MeshOptions given = o;
+    given.finishing.levels = 1;
+    EXPECT_EQ(mesh_in_domain(segment, sphere, given).distance_refinement->stop, "levels given");
+    o.refine_to_distance = false;
+    EXPECT_FALSE(mesh_in_domain(segment, sphere, o).distance_refinement.has_value());
+}
+
 // A straight branch along the box [0, 4] x [0, 1] x [0, 1] with file radii 0.25: joints at x = 0.5, 1.5, 2.5, 3.5
 // inside, then 4.2 and 4.6 outside (a domain that ends before the skeleton does).
 Skeleton branch_leaving_the_box() {
