@@ -27,7 +27,8 @@
 //   mesh (compare two builds or option sets seed by seed to find the seeds a change touches).
 //
 // FAMILY=character takes the character family's skeletons (generate_character_skeleton) instead of the mixed
-// tree / sheet ones; the kind column then reads "character".
+// tree / sheet ones; the kind column then reads "character". FAMILY=twinjunction: the twin-junction family
+// (generate_twin_junction_skeleton), kind "twinjunction".
 //
 // SKEL=path meshes that skeleton file instead (FIRST = LAST, e.g. `SKEL=curve-skeletons/dino.skel
 // mesohex_random_raw 0 0`; the 3rd argument 1.0 gives the second attempt's adaptation). DUMP=1 also lists the meshed
@@ -155,11 +156,13 @@ int main(int argc, char** argv) {
         const char* skel_path = std::getenv("SKEL");
         const char* family = std::getenv("FAMILY");
         const bool character = family != nullptr && std::string(family) == "character";
+        const bool twin = family != nullptr && std::string(family) == "twinjunction";
         const auto useed = static_cast<std::uint64_t>(seed);
         const Skeleton in = skel_path   ? read_skeleton(skel_path)
                             : character ? generate_character_skeleton(useed)
+                            : twin      ? generate_twin_junction_skeleton(useed)
                                         : generate_random_skeleton(useed);
-        const char* kind = character ? "character" : random_skeleton_kind(useed);
+        const char* kind = character ? "character" : twin ? "twinjunction" : random_skeleton_kind(useed);
         try {
             const PipelineResult res = run_pipeline(in, po);
             const Skeleton& s = res.skeleton;
