@@ -8,7 +8,8 @@
 //   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, SIDE_STUB_ROOT_EXIT=K its side_stub_root_exit,
 //   FAT_STUB_MAIN=0|1 its fat_stub_main_line,
 //   KEEP_CUT_JOINT=F AdaptationOptions::keep_cut_joint, SLIDE_CUT_JOINT=0|1 its slide_cut_joint, BRIDGE_PEAK=F its
-//   bridge_peak_ratio, OVERLAP_MERGE=F its overlap_merge_ratio, LEAFLET_OUT_FRACTION=F
+//   bridge_peak_ratio, OVERLAP_MERGE=F its overlap_merge_ratio (OVERLAP_MERGE_MAX_DEGREE=K its
+//   overlap_merge_max_degree), LEAFLET_OUT_FRACTION=F
 //   RawMeshOptions::leaflet_out_fraction, LEAFLET_OUT_LEAN_ONLY=0|1 its leaflet_out_lean_only,
 //   JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
 //   junction_split_clearance, JUNCTION_SPLIT_FIVE=1 its junction_split_degree_five, VALLEY_TRUNKS=N its valley_trunk_degree
@@ -103,6 +104,7 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("SLIDE_CUT_JOINT")) po.adaptation.slide_cut_joint = std::atoi(k) != 0;
     if (const char* k = std::getenv("BRIDGE_PEAK")) po.adaptation.bridge_peak_ratio = std::atof(k);
     if (const char* k = std::getenv("OVERLAP_MERGE")) po.adaptation.overlap_merge_ratio = std::atof(k);
+    if (const char* k = std::getenv("OVERLAP_MERGE_MAX_DEGREE")) po.adaptation.overlap_merge_max_degree = std::atoi(k);
     if (const char* k = std::getenv("SIDE_STUB_REACH")) po.repair.side_stub_reach = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT")) po.repair.junction_split = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_GAP")) po.repair.junction_split_gap_deg = std::atof(k);

@@ -957,10 +957,20 @@ bool merge_drifts(const Skeleton& s, const std::vector<int>& merged, const Adapt
 }
 
 // Whether the candidate bridge a - c (both classes single vertices, neither merged) is merged by overlap:
-// (r_a + r_c) / |ac| >= overlap_merge_ratio (> 0).
-bool overlap_merge(const Skeleton& s, int a, int c, const AdaptationOptions& o) {
+// (r_a + r_c) / |ac| >= overlap_merge_ratio (> 0), the merged degree (deg a + deg c - 2) at most
+// overlap_merge_max_degree (unless 0), and neither end made by the skeleton repair from a larger junction (its
+// junction_degree above its own degree: a split's half, a trunk's t or root).
+bool overlap_merge(const BranchView& view, int a, int c, const AdaptationOptions& o) {
+    const Skeleton& s = view.s;
     const double chord = distance(s.points[a], s.points[c]);
-    return o.overlap_merge_ratio > 0 && chord > 0 && s.radii[a] + s.radii[c] >= o.overlap_merge_ratio * chord;
+    if (!(o.overlap_merge_ratio > 0 && chord > 0 && s.radii[a] + s.radii[c] >= o.overlap_merge_ratio * chord))
+        return false;
+    const auto degree = [&](int v) { return static_cast<int>(view.incident[v].size()); };
+    const auto repaired = [&](int v) {
+        return v < static_cast<int>(view.junction_degree.size()) && view.junction_degree[v] > degree(v);
+    };
+    if (repaired(a) || repaired(c)) return false;
+    return o.overlap_merge_max_degree <= 0 || degree(a) + degree(c) - 2 <= o.overlap_merge_max_degree;
 }
 
 // Collapses candidate bridges, shortest first, unless another branch joins the same two classes (it would become a
@@ -997,7 +1007,7 @@ Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions
         std::vector<int> merged = members[ca];
         merged.insert(merged.end(), members[cc].begin(), members[cc].end());
         const bool held = !col.overlap_merged.empty() && (col.overlap_merged[ca] || col.overlap_merged[cc]);
-        const bool by_overlap = !held && merged.size() == 2 && overlap_merge(view.s, ca, cc, o);
+        const bool by_overlap = !held && merged.size() == 2 && overlap_merge(view, ca, cc, o);
         if (held || (!by_overlap && merge_drifts(view.s, merged, o))) continue;
         if (by_overlap) {
             col.overlap_merged.resize(static_cast<std::size_t>(n), false);

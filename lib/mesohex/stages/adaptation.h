@@ -100,9 +100,15 @@ struct AdaptationOptions {
     // r_b) to max(r_a, d + r_b) (d = |ab|, from a); the ball is centred at that interval's midpoint, its radius the
     // mean of the interval's half-length and the larger radius (for equal radii r: the midpoint and r + d / 4, the
     // stubs' absorbed ball, SkeletonRepairOptions::absorbed_ball_width). Both points' other branches leave it. Only
-    // pairs of points no other collapse merged; a merged pair takes part in no further collapse. Dimensionless (a
-    // ratio of lengths); 0 = off (docs/junctions.md, "Overlapping junction balls merged").
+    // pairs of points no other collapse merged, neither made by the skeleton repair from a larger junction (its
+    // junction_degree above its own degree: a split's half, a trunk's t or root; the merge would undo the repair);
+    // a merged pair takes part in no further collapse. Dimensionless (a ratio of lengths); 0 = off
+    // (docs/junctions.md, "Overlapping junction balls merged").
     double overlap_merge_ratio = 0.0;
+    // With overlap_merge_ratio: the largest degree of the merged junction (the two points' degrees less the bridge
+    // at each), number of branch edges; 0 = no limit. Two points of degree 3 make one of degree 4; two of degree 4
+    // one of degree 6, whose sphere partition has more flat corners and narrower quads.
+    int overlap_merge_max_degree = 4;
     // Repairs of degenerate branch configurations, made first (they would stop the sphere partition with "directions
     // i and j coincide", or leave a zero direction):
     // - a branch edge shorter than merge_distance x the smaller radius of its ends (unitless; 0 = exactly zero length
