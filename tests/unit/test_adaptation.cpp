@@ -442,6 +442,7 @@ TEST(Adaptation, ShortBridgeCollapsesToMidpoint) {
 // collapse_spread x 0.5 = 0.35). With overlap_merge_ratio 1.2 they merge into one vertex of degree 4 on the union's
 // span along x, [-0.6, 1.2]: centre 0.3, radius (0.9 + 0.6) / 2 = 0.75. At 1.3 (above 1.25) they stay. Where the mean
 // rule would collapse too (collapse_spread 2), the overlap rule places the pair (0.3, r 0.75; the mean: 0.4, r 0.5).
+// Not for points the repair made from a larger junction, nor beyond overlap_merge_max_degree.
 TEST(Adaptation, OverlappingJunctionBallsMergeOnTheUnionsSpan) {
     Skeleton s;
     s.points = {{0, 0, 0}, {0.8, 0, 0}, {-10, 5, 0}, {-10, -5, 0}, {10.8, 5, 0}, {10.8, -5, 0}};
@@ -470,6 +471,22 @@ TEST(Adaptation, OverlappingJunctionBallsMergeOnTheUnionsSpan) {
     const mesohex::AdaptationResult span = mesohex::adapt_skeleton_detailed(s, o);
     EXPECT_NEAR(mesohex::distance(span.skeleton.points[0], Vec3{0.3, 0, 0}), 0.0, 1e-12);
     EXPECT_NEAR(span.skeleton.radii[0], 0.75, 1e-12);
+    // Points the repair made from a junction of degree 4 (junction_degree 4 above their own 3: a split's halves) are
+    // not merged by overlap (the mean rule, collapse_spread 2, still merges them at its midpoint).
+    const mesohex::AdaptationResult split = mesohex::adapt_skeleton_detailed(s, o, {}, {4, 4});
+    EXPECT_EQ(split.collapsed_bridges, 1);
+    EXPECT_NEAR(mesohex::distance(split.skeleton.points[0], Vec3{0.4, 0, 0}), 0.0, 1e-12);
+    o.collapse_spread = 0.7;
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, o, {}, {4, 4}).collapsed_bridges, 0);
+    // A third arm at B: the merged junction would have degree 5 > overlap_merge_max_degree 4; with no limit (0) it merges.
+    s.points.push_back({10.8, 0, 5});
+    s.radii.push_back(0.3);
+    s.edges.push_back({1, 6});
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, o).collapsed_bridges, 0);
+    o.overlap_merge_max_degree = 0;
+    const mesohex::AdaptationResult five = mesohex::adapt_skeleton_detailed(s, o);
+    EXPECT_EQ(five.collapsed_bridges, 1);
+    EXPECT_EQ(degrees(five.skeleton)[0], 5);
 }
 
 // overlap_ball by hand: equal radii 0.5 at distance 0.4 -> the midpoint, radius 0.5 + 0.4 / 4 = 0.6 (the absorbed
