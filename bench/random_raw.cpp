@@ -8,8 +8,9 @@
 //   stub absorbed), SIDE_STUB_MIN_LENGTH=K its side_stub_min_length, SIDE_STUB_ROOT_EXIT=K its side_stub_root_exit,
 //   FAT_STUB_MAIN=0|1 its fat_stub_main_line,
 //   KEEP_CUT_JOINT=F AdaptationOptions::keep_cut_joint, SLIDE_CUT_JOINT=0|1 its slide_cut_joint, BRIDGE_PEAK=F its
-//   bridge_peak_ratio, LEAFLET_OUT_FRACTION=F RawMeshOptions::leaflet_out_fraction, LEAFLET_OUT_LEAN_ONLY=0|1 its
-//   leaflet_out_lean_only,
+//   bridge_peak_ratio, OVERLAP_MERGE=F its overlap_merge_ratio (OVERLAP_MERGE_MAX_DEGREE=K its
+//   overlap_merge_max_degree), LEAFLET_OUT_FRACTION=F
+//   RawMeshOptions::leaflet_out_fraction, LEAFLET_OUT_LEAN_ONLY=0|1 its leaflet_out_lean_only,
 //   JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
 //   junction_split_clearance, JUNCTION_SPLIT_FIVE=1 its junction_split_degree_five, VALLEY_TRUNKS=N its valley_trunk_degree
 //   (VALLEY_TRUNK_MIN_RADIUS=F its valley_trunk_min_radius, VALLEY_TRUNKS_PER_POINT=N its
@@ -27,7 +28,8 @@
 //   mesh (compare two builds or option sets seed by seed to find the seeds a change touches).
 //
 // FAMILY=character takes the character family's skeletons (generate_character_skeleton) instead of the mixed
-// tree / sheet ones; the kind column then reads "character".
+// tree / sheet ones; the kind column then reads "character". FAMILY=twinjunction: the twin-junction family
+// (generate_twin_junction_skeleton), kind "twinjunction".
 //
 // SKEL=path meshes that skeleton file instead (FIRST = LAST, e.g. `SKEL=curve-skeletons/dino.skel
 // mesohex_random_raw 0 0`; the 3rd argument 1.0 gives the second attempt's adaptation). DUMP=1 also lists the meshed
@@ -101,6 +103,8 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("KEEP_CUT_JOINT")) po.adaptation.keep_cut_joint = std::atof(k);
     if (const char* k = std::getenv("SLIDE_CUT_JOINT")) po.adaptation.slide_cut_joint = std::atoi(k) != 0;
     if (const char* k = std::getenv("BRIDGE_PEAK")) po.adaptation.bridge_peak_ratio = std::atof(k);
+    if (const char* k = std::getenv("OVERLAP_MERGE")) po.adaptation.overlap_merge_ratio = std::atof(k);
+    if (const char* k = std::getenv("OVERLAP_MERGE_MAX_DEGREE")) po.adaptation.overlap_merge_max_degree = std::atoi(k);
     if (const char* k = std::getenv("SIDE_STUB_REACH")) po.repair.side_stub_reach = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT")) po.repair.junction_split = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_GAP")) po.repair.junction_split_gap_deg = std::atof(k);
@@ -155,11 +159,13 @@ int main(int argc, char** argv) {
         const char* skel_path = std::getenv("SKEL");
         const char* family = std::getenv("FAMILY");
         const bool character = family != nullptr && std::string(family) == "character";
+        const bool twin = family != nullptr && std::string(family) == "twinjunction";
         const auto useed = static_cast<std::uint64_t>(seed);
         const Skeleton in = skel_path   ? read_skeleton(skel_path)
                             : character ? generate_character_skeleton(useed)
+                            : twin      ? generate_twin_junction_skeleton(useed)
                                         : generate_random_skeleton(useed);
-        const char* kind = character ? "character" : random_skeleton_kind(useed);
+        const char* kind = character ? "character" : twin ? "twinjunction" : random_skeleton_kind(useed);
         try {
             const PipelineResult res = run_pipeline(in, po);
             const Skeleton& s = res.skeleton;

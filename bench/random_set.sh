@@ -10,7 +10,9 @@
 #   SEEDS="3 5 8" bench/random_set.sh 0       only these seeds (N ignored; e.g. the seeds a change touches)
 #   DOMAINS=dir                               take skel.obj / domain.off from dir/SEED when there (no regeneration)
 #   GEN_ARGS="--family character"             extra `mesohex generate --random SEED` arguments: the character family
-#                                             (generators.h, generate_character_skeleton); default none (tree / sheet)
+#                                             (generators.h, generate_character_skeleton); "--family twinjunction":
+#                                             two branching points whose balls overlap (generate_twin_junction_skeleton);
+#                                             default none (tree / sheet)
 #
 # Prints one line per seed (sorted), then: worst, 5th percentile, median of each measure; the seeds with an inverted
 # hex; the fraction meeting every target (min SJ >= 0.3, avg >= 0.85, Hausdorff <= 1 %, 0 inverted); the seeds
@@ -68,7 +70,7 @@ for seed in $SEED_LIST; do
     d="$OUT/$seed"
     [ -f "$d/status" ] || continue  # not run (yet)
     read -r rc secs <"$d/status"
-    kind=$(sed -n 's/.*(\(tree\|sheet\|character\)).*/\1/p' "$d/generate.log")
+    kind=$(sed -n 's/.*(\(tree\|sheet\|character\|twinjunction\)).*/\1/p' "$d/generate.log")
     if [ -s "$d/report.json" ] && { [ "$rc" = 0 ] || [ "$rc" = 5 ]; }; then
         jq -r --arg s "$seed" --arg k "$kind" --arg rc "$rc" --arg t "$secs" \
             '[$s, $k, .raw_quality.hexes, .quality.hexes, .quality.sj_min, .quality.sj_avg,

@@ -115,6 +115,9 @@ int main(int argc, char** argv) try {
     if (const char* k = std::getenv("KEEP_CUT_JOINT")) mo.pipeline.adaptation.keep_cut_joint = std::atof(k);
     if (const char* k = std::getenv("SLIDE_CUT_JOINT")) mo.pipeline.adaptation.slide_cut_joint = std::atoi(k) != 0;
     if (const char* k = std::getenv("BRIDGE_PEAK")) mo.pipeline.adaptation.bridge_peak_ratio = std::atof(k);
+    if (const char* k = std::getenv("OVERLAP_MERGE")) mo.pipeline.adaptation.overlap_merge_ratio = std::atof(k);
+    if (const char* k = std::getenv("OVERLAP_MERGE_MAX_DEGREE"))
+        mo.pipeline.adaptation.overlap_merge_max_degree = std::atoi(k);
     const MeshRun run = mesh_skeleton(input, &domain, mo);
     const HexMesh& raw = run.pipeline.raw.mesh;
     const std::vector<double> raw_sj = scaled_jacobians(raw);

@@ -45,8 +45,9 @@ void register_generate(CLI::App& app, int* status) {
         "instead of a named shape; SEED >= 0");
     CLI::Option* family_option = cmd->add_option(
         "--family", args->family,
-        "With --random: mixed (default; tree or sheet, chosen by the seed) or character (a torso bulging between two "
-        "branching points with 2-4 limbs at each end; generate_character_skeleton)");
+        "With --random: mixed (default; tree or sheet, chosen by the seed), character (a torso bulging between two "
+        "branching points with 2-4 limbs at each end; generate_character_skeleton) or twinjunction (two branching "
+        "points whose balls overlap, each with two fat legs leaning back; generate_twin_junction_skeleton)");
     cmd->add_option("-o,--output", args->output, "Output skeleton file (.obj or .ig)");
     cmd->add_option("-n", args->options.n, "Main resolution (meaning per shape, see below)");
     cmd->add_option("-m", args->options.m, "Second resolution (meaning per shape, see below)");
@@ -76,18 +77,22 @@ void register_generate(CLI::App& app, int* status) {
                         "generate: give a shape NAME (mesohex generate --list) or --random SEED");
         if (family_option->count() > 0 && !random)
             throw Error(ErrorCode::InvalidInput, "generate: --family needs --random SEED");
-        const bool character = args->family == "character";
-        if (!character && !args->family.empty() && args->family != "mixed")
+        const bool character = args->family == "character", twin = args->family == "twinjunction";
+        if (!character && !twin && !args->family.empty() && args->family != "mixed")
             throw Error(ErrorCode::InvalidInput,
-                        "generate: unknown --family '" + args->family + "' (valid: mixed, character)");
+                        "generate: unknown --family '" + args->family + "' (valid: mixed, character, twinjunction)");
         if (args->output.empty()) throw Error(ErrorCode::InvalidInput, "generate: give the output file with -o");
         const auto seed = static_cast<std::uint64_t>(args->random_seed);
         const Skeleton skeleton = !random     ? generate_skeleton(args->name, args->options)
                                   : character ? generate_character_skeleton(seed, args->options)
+                                  : twin      ? generate_twin_junction_skeleton(seed, args->options)
                                               : generate_random_skeleton(seed, args->options);
         write_skeleton(args->output, skeleton);
         const std::string title = random ? "--random " + std::to_string(seed) + " (" +
-                                               (character ? "character" : random_skeleton_kind(seed)) + ")"
+                                               (character ? "character"
+                                                : twin    ? "twinjunction"
+                                                          : random_skeleton_kind(seed)) +
+                                               ")"
                                          : args->name;
         std::cout << "generate " << title << ": " << skeleton.points.size() << " points, " << skeleton.edges.size()
                   << " edges, " << skeleton.faces.size() << " faces, Euler characteristic "

@@ -274,6 +274,17 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "radius peak held on its bridge\")")
         ->check(finite_range(0.0, 100.0))
         ->capture_default_str();
+    cmd->add_option("--overlap-merge-ratio", job->options.pipeline.adaptation.overlap_merge_ratio,
+                    "Merge two branching points joined by a one-edge bridge into one junction when their balls "
+                    "overlap by (r_a + r_b) / distance >= this ratio (centred on the union's span along the bridge; 0 "
+                    "= off, the default; docs/junctions.md, \"Overlapping junction balls merged\")")
+        ->check(finite_range(0.0, 100.0))
+        ->capture_default_str();
+    cmd->add_option("--overlap-merge-max-degree", job->options.pipeline.adaptation.overlap_merge_max_degree,
+                    "With --overlap-merge-ratio: merge only when the merged junction has at most this many branches "
+                    "(0 = no limit)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
     cmd->add_option("--keep-cut-joint", job->options.pipeline.adaptation.keep_cut_joint,
                     "Keep a joint next to a branching point or leaflet vertex that the section criterion would remove "
                     "when the edge replacing it misses its ball by at least this fraction of its radius, with its "

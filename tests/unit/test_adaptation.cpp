@@ -437,6 +437,73 @@ TEST(Adaptation, ShortBridgeCollapsesToMidpoint) {
     EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, o).collapsed_bridges, 1);
 }
 
+// Two branching points whose balls overlap: A = (0, 0, 0), r 0.6 and B = (0.8, 0, 0), r 0.4, (r_A + r_B) / |AB| =
+// 1.25, each with two long arms. By default the mean rule refuses (the ends would lie 0.4 from the midpoint, more than
+// collapse_spread x 0.5 = 0.35). With overlap_merge_ratio 1.2 they merge into one vertex of degree 4 on the union's
+// span along x, [-0.6, 1.2]: centre 0.3, radius (0.9 + 0.6) / 2 = 0.75. At 1.3 (above 1.25) they stay. Where the mean
+// rule would collapse too (collapse_spread 2), the overlap rule places the pair (0.3, r 0.75; the mean: 0.4, r 0.5).
+// Not for points the repair made from a larger junction, nor beyond overlap_merge_max_degree.
+TEST(Adaptation, OverlappingJunctionBallsMergeOnTheUnionsSpan) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0.8, 0, 0}, {-10, 5, 0}, {-10, -5, 0}, {10.8, 5, 0}, {10.8, -5, 0}};
+    s.radii = {0.6, 0.4, 0.3, 0.3, 0.3, 0.3};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s).collapsed_bridges, 0);
+    AdaptationOptions o;
+    o.overlap_merge_ratio = 1.2;
+    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s, o);
+    EXPECT_EQ(r.collapsed_bridges, 1);
+    EXPECT_EQ(r.vertex_map[0], 0);
+    EXPECT_EQ(r.vertex_map[1], 0);
+    EXPECT_NEAR(mesohex::distance(r.skeleton.points[0], Vec3{0.3, 0, 0}), 0.0, 1e-12);
+    EXPECT_NEAR(r.skeleton.radii[0], 0.75, 1e-12);
+    EXPECT_EQ(degrees(r.skeleton)[0], 4);
+    EXPECT_EQ(count_degree_at_least(r.skeleton, 3), 1);
+    EXPECT_EQ(mesohex::euler_characteristic(r.skeleton), 1);
+    o.overlap_merge_ratio = 1.3;
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, o).collapsed_bridges, 0);
+    o.collapse_spread = 2;
+    const mesohex::AdaptationResult mean = mesohex::adapt_skeleton_detailed(s, o);
+    EXPECT_EQ(mean.collapsed_bridges, 1);
+    EXPECT_NEAR(mesohex::distance(mean.skeleton.points[0], Vec3{0.4, 0, 0}), 0.0, 1e-12);
+    EXPECT_NEAR(mean.skeleton.radii[0], 0.5, 1e-12);
+    o.overlap_merge_ratio = 1.2;
+    const mesohex::AdaptationResult span = mesohex::adapt_skeleton_detailed(s, o);
+    EXPECT_NEAR(mesohex::distance(span.skeleton.points[0], Vec3{0.3, 0, 0}), 0.0, 1e-12);
+    EXPECT_NEAR(span.skeleton.radii[0], 0.75, 1e-12);
+    // Points the repair made from a junction of degree 4 (junction_degree 4 above their own 3: a split's halves) are
+    // not merged by overlap (the mean rule, collapse_spread 2, still merges them at its midpoint).
+    const mesohex::AdaptationResult split = mesohex::adapt_skeleton_detailed(s, o, {}, {4, 4});
+    EXPECT_EQ(split.collapsed_bridges, 1);
+    EXPECT_NEAR(mesohex::distance(split.skeleton.points[0], Vec3{0.4, 0, 0}), 0.0, 1e-12);
+    o.collapse_spread = 0.7;
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, o, {}, {4, 4}).collapsed_bridges, 0);
+    // A third arm at B: the merged junction would have degree 5 > overlap_merge_max_degree 4; with no limit (0) it merges.
+    s.points.push_back({10.8, 0, 5});
+    s.radii.push_back(0.3);
+    s.edges.push_back({1, 6});
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, o).collapsed_bridges, 0);
+    o.overlap_merge_max_degree = 0;
+    const mesohex::AdaptationResult five = mesohex::adapt_skeleton_detailed(s, o);
+    EXPECT_EQ(five.collapsed_bridges, 1);
+    EXPECT_EQ(degrees(five.skeleton)[0], 5);
+}
+
+// overlap_ball by hand: equal radii 0.5 at distance 0.4 -> the midpoint, radius 0.5 + 0.4 / 4 = 0.6 (the absorbed
+// ball's rule); a ball inside the other (r 1 at the origin, r 0.3 at 0.2) -> the larger ball; coincident centres ->
+// the larger radius.
+TEST(Adaptation, OverlapBallByHand) {
+    const mesohex::OverlapBall equal = mesohex::overlap_ball({0, 0, 0}, 0.5, {0, 0.4, 0}, 0.5);
+    EXPECT_NEAR(mesohex::distance(equal.centre, Vec3{0, 0.2, 0}), 0.0, 1e-12);
+    EXPECT_NEAR(equal.radius, 0.6, 1e-12);
+    const mesohex::OverlapBall inside = mesohex::overlap_ball({0, 0, 0}, 1, {0.2, 0, 0}, 0.3);
+    EXPECT_NEAR(mesohex::distance(inside.centre, Vec3{0, 0, 0}), 0.0, 1e-12);
+    EXPECT_NEAR(inside.radius, 1.0, 1e-12);
+    const mesohex::OverlapBall same = mesohex::overlap_ball({1, 2, 3}, 0.2, {1, 2, 3}, 0.7);
+    EXPECT_EQ(same.centre, (Vec3{1, 2, 3}));
+    EXPECT_EQ(same.radius, 0.7);
+}
+
 // Three branching points in a row 1 apart, radius 0.8: each bridge alone may collapse (1 < 1.12), but merging the
 // chain whole would put its ends 1 from the mean position, more than 0.7 x 0.8 = 0.56: one collapse, two branching
 // points left (the merged one of degree 4, the third of degree 3).

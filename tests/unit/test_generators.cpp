@@ -461,6 +461,92 @@ TEST(Generators, CharacterSkeletonsHaveABulgingTorsoBetweenTwoBranchingPoints) {
     EXPECT_EQ(inners, (std::set<int>{1, 2, 3}));
 }
 
+// The twin-junction family, by construction (generators.h, generate_twin_junction_skeleton): a valid curve tree with
+// exactly two branching points, A (vertex 0) and B, of degree 3 or 4, joined by a straight bridge of 1-3 edges whose
+// radii interpolate the ends'; r_A in 0.2..0.35, r_B / r_A in 0.55..0.9 and the overlap (r_A + r_B) / |AB| in
+// 1 / 0.95 .. 1 / 0.7 (the balls overlap); at each end two legs (the first two limbs in edge order) whose first
+// segment is 0.8..1.5 x its radius long (0.8..1.0 x the end's) and leans -5..20 degrees from the plane across the
+// bridge towards the end's outward side, the two 145 degrees or more apart around the bridge axis; radii never grow
+// along a limb nor fall below r_B / 4; deterministic; degrees 3 and 4 and bridges of 1, 2 and 3 edges all occur.
+TEST(Generators, TwinJunctionSkeletonsHaveTwoBranchingPointsWhoseBallsOverlap) {
+    constexpr double kDeg = std::numbers::pi / 180;
+    std::set<int> degrees, bridges;
+    for (std::uint64_t seed = 0; seed < 200; ++seed) {
+        SCOPED_TRACE(seed);
+        const Skeleton s = mesohex::generate_twin_junction_skeleton(seed);
+        EXPECT_EQ(check_invariants(s), "");
+        EXPECT_NO_THROW((void)mesohex::analyze_skeleton(s));
+        EXPECT_EQ(mesohex::euler_characteristic(s), 1);
+        EXPECT_TRUE(s.faces.empty());
+        EXPECT_GT(min_point_distance(s), 0.0);
+        EXPECT_EQ(mesohex::generate_twin_junction_skeleton(seed), s);
+        const int n = static_cast<int>(s.points.size());
+        std::vector<std::vector<int>> adj(static_cast<std::size_t>(n));
+        for (const std::array<int, 2>& e : s.edges) adj[e[0]].push_back(e[1]), adj[e[1]].push_back(e[0]);
+        std::vector<int> branching;
+        for (int v = 0; v < n; ++v)
+            if (adj[v].size() >= 3) branching.push_back(v);
+        ASSERT_EQ(branching.size(), 2u);
+        ASSERT_EQ(branching[0], 0);
+        // The bridge: A's first edge (edge 0) walked along degree-2 vertices; it must reach B.
+        std::vector<int> bridge{0, s.edges[0][1]};
+        while (adj[bridge.back()].size() == 2)
+            bridge.push_back(adj[bridge.back()][0] == bridge[bridge.size() - 2] ? adj[bridge.back()][1]
+                                                                                : adj[bridge.back()][0]);
+        ASSERT_EQ(bridge.back(), branching[1]);
+        bridges.insert(static_cast<int>(bridge.size()) - 1);
+        const int b = bridge.back();
+        const double ra = s.radii[0], rb = s.radii[b], d = mesohex::distance(s.points[0], s.points[b]);
+        EXPECT_GE(ra, 0.2 - 1e-12);
+        EXPECT_LE(ra, 0.35 + 1e-12);
+        EXPECT_GE(rb / ra, 0.55 - 1e-12);
+        EXPECT_LE(rb / ra, 0.9 + 1e-12);
+        EXPECT_GE((ra + rb) / d, 1 / 0.95 - 1e-9);
+        EXPECT_LE((ra + rb) / d, 1 / 0.7 + 1e-9);
+        const Vec3 axis = (s.points[b] - s.points[0]) / d;
+        for (std::size_t k = 1; k + 1 < bridge.size(); ++k) {  // straight, radii interpolated
+            const double t = mesohex::dot(s.points[bridge[k]] - s.points[0], axis) / d;
+            EXPECT_NEAR(mesohex::distance(s.points[bridge[k]], s.points[0] + t * d * axis), 0.0, 1e-12);
+            EXPECT_NEAR(s.radii[bridge[k]], ra + t * (rb - ra), 1e-12);
+        }
+        for (const int v : {0, b}) {
+            degrees.insert(static_cast<int>(adj[v].size()));
+            EXPECT_LE(adj[v].size(), 4u);
+            const Vec3 out = v == 0 ? -1.0 * axis : axis;
+            std::vector<Vec3> across;  // the legs' first directions projected across the bridge
+            for (const int first : adj[v]) {
+                if (first == bridge[1] || first == bridge[bridge.size() - 2]) continue;
+                const Vec3 dir = (s.points[first] - s.points[v]) / mesohex::distance(s.points[first], s.points[v]);
+                if (across.size() < 2) {
+                    EXPECT_GE(std::asin(mesohex::dot(dir, out)), -5 * kDeg - 1e-9);
+                    EXPECT_LE(std::asin(mesohex::dot(dir, out)), 20 * kDeg + 1e-9);
+                    EXPECT_GE(s.radii[first] / s.radii[v], 0.8 - 1e-12);
+                    EXPECT_LE(s.radii[first] / s.radii[v], 1.0 + 1e-12);
+                    const double len = mesohex::distance(s.points[first], s.points[v]) / s.radii[first];
+                    EXPECT_GE(len, 0.8 - 1e-9);
+                    EXPECT_LE(len, 1.5 + 1e-9);
+                    const Vec3 p = dir - mesohex::dot(dir, axis) * axis;
+                    across.push_back(p / mesohex::norm(p));
+                }
+                std::vector<int> chain{v, first};
+                while (adj[chain.back()].size() == 2) {
+                    const int next =
+                        adj[chain.back()][0] == chain[chain.size() - 2] ? adj[chain.back()][1] : adj[chain.back()][0];
+                    EXPECT_LE(s.radii[next], s.radii[chain.back()]);
+                    chain.push_back(next);
+                }
+                EXPECT_EQ(adj[chain.back()].size(), 1u);  // an extremity, not the other end
+                for (const int w : chain) EXPECT_GE(s.radii[w], rb / 4 - 1e-12);
+            }
+            ASSERT_EQ(across.size(), 2u);
+            EXPECT_GE(std::acos(std::clamp(mesohex::dot(across[0], across[1]), -1.0, 1.0)), 145 * kDeg - 1e-9);
+        }
+        EXPECT_NE(s, mesohex::generate_character_skeleton(seed));
+    }
+    EXPECT_EQ(degrees, (std::set<int>{3, 4}));
+    EXPECT_EQ(bridges, (std::set<int>{1, 2, 3}));
+}
+
 // Leaflet edges are 2-4x their radius (default radius 0.3 x edge length, tolerance to [1.5, 5]).
 TEST(Generators, InvariantsHoldForOtherResolutions) {
     int checked = 0;
@@ -695,6 +781,9 @@ TEST(GenerateCli, RandomSeedWritesTheRandomSkeleton) {
     ASSERT_EQ(run_cli("generate --random 7 --family character -o " + path.string()).status, 0);
     EXPECT_EQ(mesohex::read_skeleton(path.string()).points.size(),
               mesohex::generate_character_skeleton(7).points.size());
+    ASSERT_EQ(run_cli("generate --random 7 --family twinjunction -o " + path.string()).status, 0);
+    EXPECT_EQ(mesohex::read_skeleton(path.string()).points.size(),
+              mesohex::generate_twin_junction_skeleton(7).points.size());
     ASSERT_EQ(run_cli("generate --random 7 --family mixed -o " + path.string()).status, 0);
     EXPECT_EQ(mesohex::read_skeleton(path.string()).points.size(), expected_skeleton.points.size());
 }

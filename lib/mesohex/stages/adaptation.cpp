@@ -923,6 +923,9 @@ struct Collapses {
     UnionFind classes;
     std::vector<bool> collapsed;  // per branch
     int count = 0;
+    // Per vertex: a member of a pair merged by AdaptationOptions::overlap_merge_ratio (placed by overlap_ball, taking
+    // part in no further collapse). Empty when none.
+    std::vector<bool> overlap_merged;
 };
 
 // Short bridges between two free branching points that resampling would leave as one edge: collapse candidates,
@@ -956,12 +959,30 @@ bool merge_drifts(const Skeleton& s, const std::vector<int>& merged, const Adapt
                        [&](int v) { return !(distance(s.points[v], mean) < o.collapse_spread * mean_r); });
 }
 
+// Whether the candidate bridge a - c (both classes single vertices, neither merged) is merged by overlap:
+// (r_a + r_c) / |ac| >= overlap_merge_ratio (> 0), the merged degree (deg a + deg c - 2) at most
+// overlap_merge_max_degree (unless 0), and neither end made by the skeleton repair from a larger junction (its
+// junction_degree above its own degree: a split's half, a trunk's t or root).
+bool overlap_merge(const BranchView& view, int a, int c, const AdaptationOptions& o) {
+    const Skeleton& s = view.s;
+    const double chord = distance(s.points[a], s.points[c]);
+    if (!(o.overlap_merge_ratio > 0 && chord > 0 && s.radii[a] + s.radii[c] >= o.overlap_merge_ratio * chord))
+        return false;
+    const auto degree = [&](int v) { return static_cast<int>(view.incident[v].size()); };
+    const auto repaired = [&](int v) {
+        return v < static_cast<int>(view.junction_degree.size()) && view.junction_degree[v] > degree(v);
+    };
+    if (repaired(a) || repaired(c)) return false;
+    return o.overlap_merge_max_degree <= 0 || degree(a) + degree(c) - 2 <= o.overlap_merge_max_degree;
+}
+
 // Collapses candidate bridges, shortest first, unless another branch joins the same two classes (it would become a
-// loop) or the merged vertex drifts (merge_drifts).
+// loop) or the merged vertex drifts (merge_drifts). A pair of single vertices whose balls overlap by
+// overlap_merge_ratio or more merges without the drift check; such a pair takes part in no further collapse.
 Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions& o) {
     const int n = static_cast<int>(view.s.points.size());
     const std::vector<Branch>& branches = view.branches;
-    Collapses col{UnionFind(n), std::vector<bool>(branches.size(), false), 0};
+    Collapses col{UnionFind(n), std::vector<bool>(branches.size(), false), 0, {}};
     if (!o.collapse_short_bridges) return col;
     UnionFind& classes = col.classes;
     const std::vector<std::pair<double, std::size_t>> candidates = bridge_candidates(view, o);
@@ -988,7 +1009,13 @@ Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions
         if (other_link) continue;
         std::vector<int> merged = members[ca];
         merged.insert(merged.end(), members[cc].begin(), members[cc].end());
-        if (merge_drifts(view.s, merged, o)) continue;
+        const bool held = !col.overlap_merged.empty() && (col.overlap_merged[ca] || col.overlap_merged[cc]);
+        const bool by_overlap = !held && merged.size() == 2 && overlap_merge(view, ca, cc, o);
+        if (held || (!by_overlap && merge_drifts(view.s, merged, o))) continue;
+        if (by_overlap) {
+            col.overlap_merged.resize(static_cast<std::size_t>(n), false);
+            col.overlap_merged[ca] = col.overlap_merged[cc] = true;
+        }
         const int keep_class = std::min(ca, cc), gone = std::max(ca, cc);
         members[keep_class].insert(members[keep_class].end(), members[gone].begin(), members[gone].end());
         members[gone].clear();
@@ -1013,7 +1040,8 @@ void mark_merged_junctions(BranchView& view, Collapses& col) {
         view.junction_degree[v] = std::max(view.junction_degree[v], degree[col.classes.find(v)]);
 }
 
-// Merged classes: mean position and radius of their members (for a pair: the midpoint). The branches attached to
+// Merged classes: mean position and radius of their members (for a pair: the midpoint); a pair merged by overlap
+// (overlap_merge_ratio): overlap_ball. The branches attached to
 // them start from the merged vertex: their polylines and end directions are rebuilt.
 void move_merged_classes(BranchView& view, Collapses& col, const AdaptationOptions& o) {
     if (col.count == 0) return;
@@ -1027,11 +1055,18 @@ void move_merged_classes(BranchView& view, Collapses& col, const AdaptationOptio
         const int c = col.classes.find(v);
         sum_x[c] += s.points[v], sum_r[c] += s.radii[v], ++count[c];
     }
+    std::vector<int> partner(static_cast<std::size_t>(n), -1);  // per vertex of an overlap-merged pair: the other
+    for (int v = 0; v < static_cast<int>(col.overlap_merged.size()); ++v)
+        if (col.overlap_merged[v] && col.classes.find(v) != v)
+            partner[v] = col.classes.find(v), partner[partner[v]] = v;
     for (int v = 0; v < n; ++v) {
         const int c = col.classes.find(v);
         if (count[c] < 2) continue;
-        view.pos[v] = sum_x[c] / count[c];
-        view.rad[v] = sum_r[c] / count[c];
+        const int w = partner[c];
+        const OverlapBall ball = w < 0 ? OverlapBall{sum_x[c] / count[c], sum_r[c] / count[c]}
+                                       : overlap_ball(s.points[c], s.radii[c], s.points[w], s.radii[w]);
+        view.pos[v] = ball.centre;
+        view.rad[v] = ball.radius;
     }
     build_polylines(view);
     compute_end_reach(view, o);
@@ -1142,6 +1177,14 @@ std::vector<int> repair_output(Skeleton& out, Repaired& repaired, const Adaptati
 }
 
 }  // namespace
+
+OverlapBall overlap_ball(const Vec3& a, double ra, const Vec3& b, double rb) {
+    const double d = distance(a, b);
+    if (!(d > 0)) return {a, std::max(ra, rb)};
+    const Vec3 u = (b - a) / d;
+    const double lo = std::min(-ra, d - rb), hi = std::max(ra, d + rb);  // the union's span along u, from a
+    return {a + (0.5 * (lo + hi)) * u, 0.5 * (0.5 * (hi - lo) + std::max(ra, rb))};
+}
 
 Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o, const std::vector<int>& pinned,
                         const std::vector<int>& junction_degree) {

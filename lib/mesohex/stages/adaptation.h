@@ -93,6 +93,22 @@ struct AdaptationOptions {
     // (r_a + r_b) (dimensionless). Chains of bridges merged whole drift away from the balls at their ends and the
     // mesh then misses them (docs/tuning.md).
     double collapse_spread = 0.7;
+    // Two free branching points joined by a bridge that the resampling leaves as one edge are merged into one junction
+    // when their balls overlap by (r_a + r_b) / |ab| >= overlap_merge_ratio, even where collapse_spread refuses (it
+    // needs a ratio above 1 / collapse_spread, 1.43 by default). The merged vertex is overlap_ball(a, r_a, b, r_b)
+    // (below), not the mean: along the bridge's axis the union of the two balls spans the interval from min(-r_a, d -
+    // r_b) to max(r_a, d + r_b) (d = |ab|, from a); the ball is centred at that interval's midpoint, its radius the
+    // mean of the interval's half-length and the larger radius (for equal radii r: the midpoint and r + d / 4, the
+    // stubs' absorbed ball, SkeletonRepairOptions::absorbed_ball_width). Both points' other branches leave it. Only
+    // pairs of points no other collapse merged, neither made by the skeleton repair from a larger junction (its
+    // junction_degree above its own degree: a split's half, a trunk's t or root; the merge would undo the repair);
+    // a merged pair takes part in no further collapse. Dimensionless (a ratio of lengths); 0 = off
+    // (docs/junctions.md, "Overlapping junction balls merged").
+    double overlap_merge_ratio = 0.0;
+    // With overlap_merge_ratio: the largest degree of the merged junction (the two points' degrees less the bridge
+    // at each), number of branch edges; 0 = no limit. Two points of degree 3 make one of degree 4; two of degree 4
+    // one of degree 6, whose sphere partition has more flat corners and narrower quads.
+    int overlap_merge_max_degree = 4;
     // Repairs of degenerate branch configurations, made first (they would stop the sphere partition with "directions
     // i and j coincide", or leave a zero direction):
     // - a branch edge shorter than merge_distance x the smaller radius of its ends (unitless; 0 = exactly zero length
@@ -135,6 +151,14 @@ struct AdaptationOptions {
 // junction_degree: per vertex of s (may be shorter or empty: 0 for the rest), the degree of the input junction it was
 // made from (SkeletonRepairResult::junction_degree); a free branching point whose value or own degree is 4 or more
 // gets no slide (AdaptationOptions::slide_cut_joint). Only that option reads it.
+// The ball that replaces two overlapping balls (a, r_a) and (b, r_b) merged by AdaptationOptions::
+// overlap_merge_ratio (its comment gives the rule); a == b gives the larger ball.
+struct OverlapBall {
+    Vec3 centre;
+    double radius = 0;
+};
+OverlapBall overlap_ball(const Vec3& a, double ra, const Vec3& b, double rb);
+
 Skeleton adapt_skeleton(const Skeleton& s, const AdaptationOptions& o = {}, const std::vector<int>& pinned = {},
                         const std::vector<int>& junction_degree = {});
 

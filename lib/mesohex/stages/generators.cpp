@@ -1048,6 +1048,91 @@ Skeleton make_random_character(Random& rng, double L, double scale) {
     return s;
 }
 
+// The twin-junction family: two branching points whose balls overlap, joined by a straight bridge, each with a pair
+// of fat legs leaving across the bridge and bending back, and sometimes a tail (ranges in generators.h,
+// generate_twin_junction_skeleton).
+
+// Whether the outer half of the segment a -> (p, rp) keeps 1.1 x the radii sum from every segment that is not the
+// bridge's and touches neither a junction (A or B: the bridge and every limb's first segment lie in the overlapping
+// balls by design), nor a, a's parent or a child of a.
+bool twin_clear(const Character& c, int a, const Vec3& p, double rp, int ja, int jb) {
+    const Vec3 q = 0.5 * (c.s.points[a] + p);
+    for (std::size_t e = static_cast<std::size_t>(c.torso_edges); e < c.s.edges.size(); ++e) {
+        const std::array<int, 2>& ed = c.s.edges[e];
+        const auto near = [&](int v) { return v == ja || v == jb || v == a || v == c.parent[a] || c.parent[v] == a; };
+        if (near(ed[0]) || near(ed[1])) continue;
+        const double need = 1.1 * (std::max(rp, c.s.radii[a]) + std::max(c.s.radii[ed[0]], c.s.radii[ed[1]]));
+        if (segment_distance(q, p, c.s.points[ed[0]], c.s.points[ed[1]]) < need) return false;
+    }
+    return true;
+}
+
+// A leg from `end` (the other junction: `other`): 2-3 segments, radius r at its first joint (x 0.7..0.9 per further
+// joint). Segment k leaves in the plane of `across` and `out`, leaning from `across` towards `out` by lean0 + k /
+// (segments - 1) x bend (radians). The first segment (0.8..1.5 x r long, from inside the junction's ball) is placed
+// as planned; a later one (2.5..4 x r) blocked (twin_clear) is redrawn leaning 7.5 degrees further back each time
+// (turned by up to 15 degrees about that), and after 12 draws ends the leg.
+void twin_leg(Character& c, int end, int other, const Vec3& across, const Vec3& out, double r, double lean0,
+              double bend) {
+    const int segments = c.rng.integer(2, 3);
+    int cur = end;
+    for (int k = 0; k < segments; ++k) {
+        const double lean = lean0 + bend * k / (segments - 1);
+        const Vec3 base = normalized(std::cos(lean) * across + std::sin(lean) * out);
+        const double len = r * (k == 0 ? c.rng.uniform(0.8, 1.5) : c.rng.uniform(2.5, 4.0));
+        bool placed = k == 0;
+        Vec3 chosen = base;
+        for (int attempt = 0; attempt < 12 && !placed; ++attempt) {
+            const double back = lean + attempt * 7.5 * kPi / 180;
+            chosen = normalized(std::cos(back) * across + std::sin(back) * out);
+            if (attempt > 0) chosen = turned(chosen, c.rng.uniform(0, 15) * kPi / 180, c.rng.uniform(0, 2 * kPi));
+            placed = twin_clear(c, cur, c.s.points[cur] + len * chosen, r, end, other);
+        }
+        if (!placed) return;
+        cur = c.add(cur, c.s.points[cur] + len * chosen, r);
+        r = std::max(c.min_radius, r * c.rng.uniform(0.7, 0.9));
+    }
+}
+
+// The legs (and, with probability tail_chance, a tail) of one end: legs at azimuths psi and psi + 180 +- 35 degrees
+// around the bridge axis (u1, u2 span the plane across it), leaning towards `out` by -5..20 degrees at the root and
+// bending back by 25..50 degrees more (probability 0.7) or 0..10; first-joint radius 0.8..1.0 x the end's. The tail
+// leaves within 30 degrees of `out`, first-joint radius 0.6..0.9 x the end's (Character::limb).
+void twin_end(Character& c, int end, int other, const Vec3& out, const Vec3& u1, const Vec3& u2, double psi,
+              double tail_chance) {
+    const double rx = c.s.radii[end];
+    const std::array<double, 2> azimuths{psi, psi + kPi + c.rng.uniform(-35, 35) * kPi / 180};
+    for (const double phi : azimuths) {
+        const Vec3 across = std::cos(phi) * u1 + std::sin(phi) * u2;
+        const double lean0 = c.rng.uniform(-5, 20) * kPi / 180;
+        const double bend = (c.rng.chance(0.7) ? c.rng.uniform(25, 50) : c.rng.uniform(0, 10)) * kPi / 180;
+        twin_leg(c, end, other, across, out, rx * c.rng.uniform(0.8, 1.0), lean0, bend);
+    }
+    if (c.rng.chance(tail_chance))
+        c.limb(end, turned(out, c.rng.uniform(0, 30) * kPi / 180, c.rng.uniform(0, 2 * kPi)),
+               rx * c.rng.uniform(0.6, 0.9));
+}
+
+Skeleton make_random_twin_junction(Random& rng, double L, double scale) {
+    Skeleton s;
+    const double ra = L * scale * rng.uniform(0.2, 0.35), rb = ra * rng.uniform(0.55, 0.9);
+    const double length = (ra + rb) * rng.uniform(0.7, 0.95);  // (r_A + r_B) / |AB| in [1.05, 1.43]
+    const int inner = rng.integer(0, 2);
+    const Vec3 axis = rng.unit(), u1 = turned(axis, 0.5 * kPi, rng.uniform(0, 2 * kPi)), u2 = cross(axis, u1);
+    Character c{s, rng, 0, rng.uniform(15, 40) * kPi / 180, rb / 4, {}};
+    int cur = add_point(s, {0, 0, 0}, ra);
+    c.parent.assign(1, -1);
+    for (int k = 1; k <= inner + 1; ++k) {
+        const double t = static_cast<double>(k) / (inner + 1);
+        cur = c.add(cur, length * t * axis, ra + t * (rb - ra));
+    }
+    c.torso_edges = static_cast<int>(s.edges.size());
+    const double psi = rng.uniform(0, 2 * kPi);
+    twin_end(c, 0, cur, -axis, u1, u2, psi, 0.6);
+    twin_end(c, cur, 0, axis, u1, u2, psi + rng.uniform(-30, 30) * kPi / 180, 0.5);
+    return s;
+}
+
 struct Shape {
     const char* name;
     std::array<int, 2> default_nm;
@@ -1315,6 +1400,14 @@ Skeleton generate_character_skeleton(std::uint64_t seed, const GeneratorOptions&
     const Params p = make_params("--random --family character", options, {1, 1}, {1, 1});
     Random rng(seed);
     Skeleton s = make_random_character(rng, p.L, options.radius_scale);
+    add_face_edges(s);
+    return s;
+}
+
+Skeleton generate_twin_junction_skeleton(std::uint64_t seed, const GeneratorOptions& options) {
+    const Params p = make_params("--random --family twinjunction", options, {1, 1}, {1, 1});
+    Random rng(seed);
+    Skeleton s = make_random_twin_junction(rng, p.L, options.radius_scale);
     add_face_edges(s);
     return s;
 }

@@ -91,6 +91,28 @@ Skeleton generate_random_skeleton(std::uint64_t seed, const GeneratorOptions& op
 // Postconditions as generate_random_skeleton; no face. O(output^2) (tiny).
 Skeleton generate_character_skeleton(std::uint64_t seed, const GeneratorOptions& options = {});
 
+// The twin-junction family of the evaluation set (`mesohex generate --random SEED --family twinjunction`,
+// `GEN_ARGS="--family twinjunction" bench/random_set.sh`), deterministic in the seed (the same generator, its own
+// sequence of draws). Two branching points A (vertex 0) and B closer than their radii: the balls overlap, (r_A + r_B)
+// / |AB| = 1.05..1.43 (a curve skeleton's torso and shoulders, docs/junctions.md "The three shared skeletons that
+// miss"), each with a pair of fat legs leaving across the bridge and leaning back. Ranges (lengths in edge_length
+// units, radii also x radius_scale, angles in degrees):
+//   - bridge: r_A = 0.2..0.35, r_B = 0.55..0.9 x r_A; straight, |AB| = 0.7..0.95 x (r_A + r_B), 0-2 interior vertices
+//     evenly spaced with the end radii interpolated (no bulge);
+//   - legs: 2 per end, at azimuths psi and psi + 180 +- 35 around the bridge axis (B's psi within 30 of A's), each
+//     leaning from the plane across the bridge towards that end's outward direction (A: away from B, B: away from
+//     A) by -5..20 at the root, then bending back by 25..50 more over its later segments (probability 0.7; else
+//     0..10); 2-3 segments, the first 0.8..1.5 x the first-joint radius long (inside or at the junction's ball), the
+//     others 2.5..4 x the current radius; first-joint radius 0.8..1.0 x the end's, x 0.7..0.9 per further joint;
+//   - tail: with probability 0.6 at A and 0.5 at B, a limb leaving within 30 of the outward direction, first-joint
+//     radius 0.6..0.9 x the end's, as a character limb (2-4 segments of 2.5..4.5 x the radius, turning by up to a
+//     per-seed 15..40); so A and B have degree 3 or 4;
+//   - clearance as the character family (1.1 x the radii sum from non-adjacent segments; a limb's first segment is
+//     always placed, unchecked against the bridge; a later segment blocked after 12 draws ends its limb); radii never
+//     below r_B / 4.
+// Postconditions as generate_random_skeleton; no face. O(output^2) (tiny).
+Skeleton generate_twin_junction_skeleton(std::uint64_t seed, const GeneratorOptions& options = {});
+
 // "tree" or "sheet": the kind generate_random_skeleton(seed) builds.
 const char* random_skeleton_kind(std::uint64_t seed);
 
