@@ -277,7 +277,7 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_option("--overlap-merge-ratio", job->options.pipeline.adaptation.overlap_merge_ratio,
                     "Merge two branching points joined by a one-edge bridge into one junction when their balls "
                     "overlap by (r_a + r_b) / distance >= this ratio (centred on the union's span along the bridge; 0 "
-                    "= off, the default; docs/junctions.md, \"Overlapping junction balls merged\")")
+                    "= off; docs/junctions.md, \"Overlapping junction balls merged\")")
         ->check(finite_range(0.0, 100.0))
         ->capture_default_str();
     cmd->add_option("--overlap-merge-max-degree", job->options.pipeline.adaptation.overlap_merge_max_degree,

@@ -403,13 +403,21 @@ TEST(Adaptation, SamplesOnBentPolyline) {
 }
 
 // Two branching points 1 apart with radius 0.8 (1 < 0.7 x (0.8 + 0.8) = 1.12: collapse_spread), each with two long
-// arms: they merge at the midpoint.
+// arms: the mean rule (overlap_merge_ratio 0) merges them at the midpoint with the mean radius. By default the balls'
+// overlap (0.8 + 0.8) / 1 = 1.6 >= overlap_merge_ratio 1.2 places the merged ball on the union's span [-0.8, 1.8]:
+// centre 0.5, radius (1.3 + 0.8) / 2 = 1.05.
 TEST(Adaptation, ShortBridgeCollapsesToMidpoint) {
     Skeleton s;
     s.points = {{0, 0, 0}, {1, 0, 0}, {-10, 5, 0}, {-10, -5, 0}, {11, 5, 0}, {11, -5, 0}};
     s.radii = {0.8, 0.8, 0.5, 0.5, 0.5, 0.5};
     s.edges = {{0, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
-    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s);
+    const mesohex::AdaptationResult d = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_EQ(d.collapsed_bridges, 1);
+    EXPECT_EQ(d.skeleton.points[0], (Vec3{0.5, 0, 0}));
+    EXPECT_DOUBLE_EQ(d.skeleton.radii[0], 1.05);
+    AdaptationOptions mean;
+    mean.overlap_merge_ratio = 0;
+    const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s, mean);
     EXPECT_EQ(r.collapsed_bridges, 1);
     EXPECT_EQ(r.vertex_map[0], r.vertex_map[1]);
     EXPECT_EQ(r.vertex_map[0], 0);
@@ -420,26 +428,27 @@ TEST(Adaptation, ShortBridgeCollapsesToMidpoint) {
     EXPECT_EQ(mesohex::euler_characteristic(r.skeleton), 1);
     // The same bridge 2 long (0.8 + 0.8 < 2) stays.
     s.points[1] = {2, 0, 0};
-    const mesohex::AdaptationResult kept = mesohex::adapt_skeleton_detailed(s);
+    const mesohex::AdaptationResult kept = mesohex::adapt_skeleton_detailed(s, mean);
     EXPECT_EQ(kept.collapsed_bridges, 0);
     EXPECT_EQ(count_degree_at_least(kept.skeleton, 3), 2);
     // With collapsing off, the short bridge stays too.
     s.points[1] = {1, 0, 0};
-    AdaptationOptions o;
+    AdaptationOptions o = mean;
     o.collapse_short_bridges = false;
     EXPECT_EQ(count_degree_at_least(mesohex::adapt_skeleton(s, o), 3), 2);
     // Radius 0.6: the balls overlap (1.2 > 1) but the ends would lie 0.5 from the midpoint, more than 0.7 x 0.6 = 0.42:
-    // no collapse by default; with collapse_spread 1 (the reference's rule, r_a + r_b > chord) it collapses.
+    // no collapse by the mean rule; with collapse_spread 1 (the reference's rule, r_a + r_b > chord) it collapses.
     s.radii[0] = s.radii[1] = 0.6;
-    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s).collapsed_bridges, 0);
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, mean).collapsed_bridges, 0);
     o.collapse_short_bridges = true;
     o.collapse_spread = 1;
     EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, o).collapsed_bridges, 1);
 }
 
 // Two branching points whose balls overlap: A = (0, 0, 0), r 0.6 and B = (0.8, 0, 0), r 0.4, (r_A + r_B) / |AB| =
-// 1.25, each with two long arms. By default the mean rule refuses (the ends would lie 0.4 from the midpoint, more than
-// collapse_spread x 0.5 = 0.35). With overlap_merge_ratio 1.2 they merge into one vertex of degree 4 on the union's
+// 1.25, each with two long arms. The mean rule alone (overlap_merge_ratio 0) refuses (the ends would lie 0.4 from the
+// midpoint, more than collapse_spread x 0.5 = 0.35). With overlap_merge_ratio 1.2 (the default) they merge into one
+// vertex of degree 4 on the union's
 // span along x, [-0.6, 1.2]: centre 0.3, radius (0.9 + 0.6) / 2 = 0.75. At 1.3 (above 1.25) they stay. Where the mean
 // rule would collapse too (collapse_spread 2), the overlap rule places the pair (0.3, r 0.75; the mean: 0.4, r 0.5).
 // Not for points the repair made from a larger junction, nor beyond overlap_merge_max_degree.
@@ -448,8 +457,10 @@ TEST(Adaptation, OverlappingJunctionBallsMergeOnTheUnionsSpan) {
     s.points = {{0, 0, 0}, {0.8, 0, 0}, {-10, 5, 0}, {-10, -5, 0}, {10.8, 5, 0}, {10.8, -5, 0}};
     s.radii = {0.6, 0.4, 0.3, 0.3, 0.3, 0.3};
     s.edges = {{0, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
-    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s).collapsed_bridges, 0);
     AdaptationOptions o;
+    o.overlap_merge_ratio = 0;
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, o).collapsed_bridges, 0);
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s).collapsed_bridges, 1);
     o.overlap_merge_ratio = 1.2;
     const mesohex::AdaptationResult r = mesohex::adapt_skeleton_detailed(s, o);
     EXPECT_EQ(r.collapsed_bridges, 1);
@@ -517,9 +528,11 @@ TEST(Adaptation, ChainOfShortBridgesDoesNotDrift) {
     EXPECT_EQ(count_degree_at_least(r.skeleton, 3), 2);
     EXPECT_EQ(count_degree_at_least(r.skeleton, 4), 1);
     EXPECT_EQ(mesohex::euler_characteristic(r.skeleton), 1);
-    // With collapse_spread 2 the whole chain merges into one vertex of degree 5 at (1, 0, 0).
+    // With collapse_spread 2 (and the mean rule alone: overlap_merge_ratio 0) the whole chain merges into one vertex of
+    // degree 5 at (1, 0, 0).
     AdaptationOptions o;
     o.collapse_spread = 2;
+    o.overlap_merge_ratio = 0;
     const mesohex::AdaptationResult all = mesohex::adapt_skeleton_detailed(s, o);
     EXPECT_EQ(all.collapsed_bridges, 2);
     EXPECT_EQ(count_degree_at_least(all.skeleton, 3), 1);

@@ -102,9 +102,9 @@ struct AdaptationOptions {
     // stubs' absorbed ball, SkeletonRepairOptions::absorbed_ball_width). Both points' other branches leave it. Only
     // pairs of points no other collapse merged, neither made by the skeleton repair from a larger junction (its
     // junction_degree above its own degree: a split's half, a trunk's t or root; the merge would undo the repair);
-    // a merged pair takes part in no further collapse. Dimensionless (a ratio of lengths); 0 = off
+    // a merged pair takes part in no further collapse. Dimensionless (a ratio of lengths); 0 = off, 1.2 by default
     // (docs/junctions.md, "Overlapping junction balls merged").
-    double overlap_merge_ratio = 0.0;
+    double overlap_merge_ratio = 1.2;
     // With overlap_merge_ratio: the largest degree of the merged junction (the two points' degrees less the bridge
     // at each), number of branch edges; 0 = no limit. Two points of degree 3 make one of degree 4; two of degree 4
     // one of degree 6, whose sphere partition has more flat corners and narrower quads.
