@@ -754,7 +754,8 @@ std::array<int, 9> border_patch_ids(const Skeleton& skeleton, const SkeletonAnal
 }
 
 // Branches rooted on the plates: their connection quad's centre, 4 points and 4 edge midpoints are vertices the
-// plates and half-chunks already have; a branch on a fan block's cap: the cap section's (fan_cap_section_ids).
+// plates and half-chunks already have; a branch on a fan block's cap: the cap section's (fan_cap_section_ids), on
+// its side section: the side's 2 x 2 quads (fan_side_section_ids).
 RootedPatches rooted_patch_ids(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                                const FaceSideIds& sides, const HexSlots& slots, const RawMesh& raw) {
     const int nv = static_cast<int>(skeleton.points.size());
@@ -762,8 +763,14 @@ RootedPatches rooted_patch_ids(const Skeleton& skeleton, const SkeletonAnalysis&
     for (int v = 0; v < nv; ++v) {
         if (roots_fan_cap(an, v)) {  // on a fan block's cap: the cap section in the connection quad's order
             const FanBlockChain& c = cs.fan_blocks.chains[fan_block_at(cs, v)];
-            const std::array<int, 9> ids = fan_cap_section_ids(c, cs.fan_blocks.vertex_index[v]);
+            const int i = cs.fan_blocks.vertex_index[v];
             rp.rooted[v] = 1;
+            if (c.side_axis[i == 0 ? 0 : 1] >= 0) {  // on the block's side section (fan_side_section_ids)
+                const std::array<std::array<int, 2>, 9> ids = fan_side_section_ids(c, i);
+                for (int x = 0; x < 9; ++x) rp.ids[v][x] = raw.vertex_base[c.vertices[ids[x][0]]] + ids[x][1];
+                continue;
+            }
+            const std::array<int, 9> ids = fan_cap_section_ids(c, i);
             for (int x = 0; x < 9; ++x) rp.ids[v][x] = raw.vertex_base[v] + ids[x];
             continue;
         }
