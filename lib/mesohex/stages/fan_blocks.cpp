@@ -270,8 +270,12 @@ bool side_branches_fit(const Skeleton& s, FanBlockChain& c, double cap_cos) {
         for (int k = 0; k < 4; ++k)
             if (!c.labelled[k] && dot(d, axis[k]) >= cap_cos && (best < 0 || dot(d, axis[k]) > dot(d, axis[best])))
                 best = k;
-        if (best < 0) return false;
         c.side_axis[end] = best;
+        if (best >= 0) continue;
+        for (int j = 0; j < 4; ++j)  // else the notch between two labelled axes
+            if (c.labelled[j] && c.labelled[(j + 1) & 3] && dot(d, normalized(axis[j] + axis[(j + 1) & 3])) >= cap_cos)
+                c.notch[end] = j;
+        if (c.notch[end] < 0) return false;
     }
     return true;
 }
@@ -397,7 +401,11 @@ std::vector<int> fan_cap_roots(const FanBlocks& blocks) {
 std::array<Vec3, 4> fan_cap_directions(const FanBlockChain& c, int i) {
     const Vec3 t = c.tangent[i], u = c.axis_u[i], w = cross(t, u);
     const std::array<Vec3, 4> axis{u, w, -1.0 * u, -1.0 * w};
-    const int side = c.side_axis[i == 0 ? 0 : 1];
+    const int side = c.side_axis[i == 0 ? 0 : 1], notch = c.notch[i == 0 ? 0 : 1];
+    if (notch >= 0) {
+        const Vec3 a = normalized(axis[(notch + 1) & 3] - axis[notch]);
+        return {a, t, -1.0 * a, -1.0 * t};
+    }
     if (side >= 0) {
         const Vec3 a = axis[(side + 1) & 3];
         return {a, t, -1.0 * a, -1.0 * t};
@@ -502,16 +510,26 @@ void add_side_branch_edges(const FanBlockChain& c, int s, std::map<int, long>& e
     revalue(edges, 1, 2, 2);  // the rim on the cap's end face (the cap's hex only)
 }
 
+// The branch's first chunk in the notch at M_j (notch): the fold's 2 edges get 2 hexes each.
+void add_notch_branch_edges(int j, std::map<int, long>& boundary, std::map<int, long>& interior) {
+    if (j < 0) return;
+    revalue(boundary, 3, 2, 2);  // the fold (block hex + 2 plates or half-chunks): interior now, counted below
+    interior[5] += 2;
+    revalue(boundary, 2, 3, 6);  // the rim on the plates' sides and the half-chunks' sides
+    revalue(boundary, 1, 2, 2);  // the rim on the half-chunks' outer edges
+}
+
 }  // namespace
 
-void add_fan_block_irregular_edges(const FanBlockChain& c, std::map<int, long>& boundary_irregular_edges) {
+void add_fan_block_irregular_edges(const FanBlockChain& c, std::map<int, long>& boundary_irregular_edges,
+                                   std::map<int, long>& interior_irregular_edges) {
     const long rows = static_cast<long>(c.edges.size()) + (c.closed ? 0 : 2);
     for (int k = 0; k < 4; ++k) {
         const int docked = c.labelled[k] + c.labelled[(k + 1) & 3];
         if (docked != 1) boundary_irregular_edges[1 + docked] += rows;
         if (!c.labelled[k] && !c.closed) boundary_irregular_edges[1] += 2 * 2;  // two rim edges at each cap
         for (int end = 0; end < 2; ++end) {  // the branch's first chunk on the cap: +1 on each rim edge
-            if (c.cap_branch[end] < 0 || c.side_axis[end] >= 0) continue;
+            if (c.cap_branch[end] < 0 || c.side_axis[end] >= 0 || c.notch[end] >= 0) continue;
             if (c.labelled[k]) {
                 boundary_irregular_edges[3] += 2;
             } else {
@@ -519,7 +537,10 @@ void add_fan_block_irregular_edges(const FanBlockChain& c, std::map<int, long>& 
             }
         }
     }
-    for (int end = 0; end < 2; ++end) add_side_branch_edges(c, c.side_axis[end], boundary_irregular_edges);
+    for (int end = 0; end < 2; ++end) {
+        add_side_branch_edges(c, c.side_axis[end], boundary_irregular_edges);
+        add_notch_branch_edges(c.notch[end], boundary_irregular_edges, interior_irregular_edges);
+    }
 }
 
 }  // namespace mesohex

@@ -83,6 +83,10 @@ struct FanBlockChain {
     // Per open end: the free axis s whose side section the branch (cap_branch) stands on instead of the cap, or -1
     // (CompatibleBlockOptions::fan_side_branches).
     std::array<int, 2> side_axis{-1, -1};
+    // Per open end: the section corner M_j (between two labelled axes j and j + 1) whose notch between the two
+    // leaflets' plates the branch (cap_branch) stands in instead of the cap, or -1 (fan_side_branches; an X's
+    // branch between two leaflets).
+    std::array<int, 2> notch{-1, -1};
     friend bool operator==(const FanBlockChain&, const FanBlockChain&) = default;
 };
 
@@ -117,7 +121,8 @@ std::vector<int> fan_cap_roots(const FanBlocks& blocks);
 // The connection quad of the branch on the cap of chain end position i (0 or n - 1 of an open chain): point x's unit
 // direction, the cap section's axis A_k seen from the end, counter-clockwise about the outward direction (k = x at the
 // last vertex, where e = t; k = -x mod 4 at the first, where e = -t). On a side section (side_axis s >= 0): A_s+1, t,
-// -A_s+1, -t (counter-clockwise about A_s).
+// -A_s+1, -t (counter-clockwise about A_s); in a notch M_j (notch j >= 0): unit(A_j+1 - A_j), t, unit(A_j - A_j+1),
+// -t (counter-clockwise about A_j + A_j+1).
 std::array<Vec3, 4> fan_cap_directions(const FanBlockChain& chain, int i);
 
 // The cap section ids (offsets from the vertex's first id, 9..17) in the connection quad's order: centre, the 4 points
@@ -133,6 +138,18 @@ std::array<int, 9> fan_cap_section_ids(const FanBlockChain& chain, int i);
 // position, section id 0..17), in fan_cap_directions' order (centre, the 4 points, the 4 corners between points x
 // and x + 1).
 std::array<std::array<int, 2>, 9> fan_side_section_ids(const FanBlockChain& chain, int i);
+
+// The notch (CompatibleBlockOptions::fan_side_branches): a branch at open end position i leaving between two
+// labelled axes, d . unit(A_j + A_j+1) >= cap_cos, stands on the 2 x 2 patch folded along the block's corner M_j:
+// centre M_j(w); points, counter-clockwise about A_j + A_j+1: the plate copy of leaflet j + 1's face on the last fan
+// edge at its border neighbour of w (direction A_j+1), M_j of the +t row (K at the last vertex, L at the first), the
+// copy of leaflet j's face (A_j), M_j of the -t row; corners: those faces' copies at L's border neighbours (the L row)
+// and the out copies of their border half-chunks (the K row). Its two edges on the fold M_j get 2 chunk hexes each
+// (interior valence 5). fan_cap_directions gives the points' directions projected normal to A_j + A_j+1.
+
+// The section at a notch end has half size min(r, kFanNotchHalf x its shortest leaflet border edge) (raw_mesh.cpp,
+// fan_notch_half_size): the plates' first faces keep at least 1 - kFanNotchHalf of their border side.
+inline constexpr double kFanNotchHalf = 0.8;
 
 // Raw-mesh ids at a chain vertex: 9 (18 at an open end).
 int fan_block_vertex_ids(const FanBlocks& blocks, int v);
@@ -153,6 +170,10 @@ void fan_section_points(const FanBlockChain& chain, int i, const Vec3& c, double
 // section s adds the chunk's hex to the patch's 8 rim edges: the 4 through M_s-1 and M_s (fan edge and cap rows,
 // valence 2 + the labelled axes beside them), the 2 at L (2 -> 3), the 2 at the cap's end face (1 -> 2); its 4
 // inner edges become interior and regular (2 + 2).
-void add_fan_block_irregular_edges(const FanBlockChain& chain, std::map<int, long>& boundary_irregular_edges);
+// A branch in the notch at M_j (notch) adds the chunk's hexes to the patch: the 2 fold edges on M_j's column (boundary
+// valence 3) become interior of valence 5; the 6 rim edges on the plates and the half-chunks' sides 2 -> 3, the 2 on
+// the half-chunks' outer edges 1 -> 2.
+void add_fan_block_irregular_edges(const FanBlockChain& chain, std::map<int, long>& boundary_irregular_edges,
+                                   std::map<int, long>& interior_irregular_edges);
 
 }  // namespace mesohex
