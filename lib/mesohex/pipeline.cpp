@@ -73,8 +73,10 @@ std::pair<int, bool> named_vertex(const std::vector<int>& vertex_map, int v) {
 }
 
 // The fan ends whose branch a fan block carries (sorted input ids): on the cap (design note C1) where accepted; on the
-// side section (CompatibleBlockOptions::fan_side_branches) only where the fan-end repair alone refuses a fan end the
-// side sections carry (a trial repair on a copy; every fan end the repair takes keeps the repair).
+// side section or in a notch (CompatibleBlockOptions::fan_side_branches) only where the fan-end repair alone refuses
+// a fan end they carry for the moved root's border budget, the branch's tube clear of the plates
+// (FanEndRefusal::thick_root; a trial repair on a copy: every fan end the repair takes keeps the repair, every other
+// refusal stays).
 std::vector<int> block_carried_ends(const Skeleton& s, const SkeletonAnalysis& an, const PipelineOptions& options) {
     const CompatibleBlockOptions& blocks = options.connection_surfaces.blocks;
     CompatibleBlockOptions caps_only = blocks;
@@ -90,7 +92,7 @@ std::vector<int> block_carried_ends(const Skeleton& s, const SkeletonAnalysis& a
         if (repaired.vertex_map[v] >= 0) repaired_caps.push_back(repaired.vertex_map[v]);
     std::sort(repaired_caps.begin(), repaired_caps.end());
     const std::optional<FanEndRefusalAt> left = first_fan_end_refusal(repaired.skeleton, repaired_caps);
-    if (!left) return caps;
+    if (!left || !left->why.thick_root) return caps;
     const auto [vertex, is_input] = named_vertex(repaired.vertex_map, left->vertex);
     return is_input && std::ranges::binary_search(sides, vertex) ? sides : caps;
 }
