@@ -346,7 +346,6 @@ TEST(FanBlocks, BranchOnTheSideSectionAndInTheNotchByHand) {
         EXPECT_EQ(r.quality.euler_characteristic, 1);
         EXPECT_EQ(r.quality.inverted, 0);
         EXPECT_GT(r.quality.sj_min, 0.2);
-        std::printf("g %d sj_min %.6f\n", g, r.quality.sj_min);
     }
 }
 

@@ -42,13 +42,15 @@ struct CompatibleBlockOptions {
     // On by default; false (`--no-fan-cap-branches`) retracts every such fan end (docs/blocks.md, "Branches on the
     // fan block's cap").
     bool fan_cap_branches = true;
-    // A branch on an open fan-block chain end w of a T whose first edge leaves across the fan line, d within 35
-    // degrees of a free block axis A_s (no leaflet on it: d . A_s >= kFanCapBranchCos), stands on the block's side
-    // section: the 2 x 2 quads of the block's side s over the last fan edge and the cap are the bottom of the
-    // branch's first chunk (fan_blocks.h). The pipeline takes it only where the fan-end repair refuses the fan end
-    // (the moved root's border budget, fan_end_repair.h); every fan end the repair takes keeps the repair. Needs
-    // fan_cap_branches. On by default; false (`--no-fan-side-branches`) leaves those fan ends refused
-    // (docs/blocks.md, "Thick moved roots on the fan block's side section").
+    // A branch on an open fan-block chain end w whose first edge d leaves across the fan line stands on the block:
+    // within 35 degrees of a free block axis A_s (a T's empty side: d . A_s >= kFanCapBranchCos) on the side section,
+    // the 2 x 2 quads of side s over the last fan edge and the cap; within 35 degrees of the diagonal between two
+    // leaflets (an X, or a T between its leaflets) in the notch, the 2 x 2 patch folded along the block's corner
+    // there (its sections there r wide, up to kFanNotchHalf of the border edge). Both are the bottom of the branch's
+    // first chunk (fan_blocks.h). The pipeline takes them only where the fan-end repair refuses the fan end for the
+    // moved root's border budget, the branch's tube clear of the plates (FanEndRefusal::thick_root); every fan end
+    // the repair takes keeps the repair. Needs fan_cap_branches. On by default; false (`--no-fan-side-branches`)
+    // leaves those fan ends refused (docs/blocks.md, "Thick moved roots on the fan block's side section").
     bool fan_side_branches = true;
 };
 
