@@ -123,7 +123,8 @@ bool chain_vertices_fit(const Skeleton& s, const SkeletonAnalysis& an, const Inc
             int e = options.fan_cap_branches ? cap_branch_edge(s, an, c, i, cap_cos) : -1;
             if (e < 0 && options.fan_cap_branches && options.fan_side_branches && an.vertex_branch_edges[v] == 1) {
                 e = first_branch_edge(an, v);
-                c.side_axis[i == 0 ? 0 : 1] = kSidePending;  // its free axis is checked on the frames (side_branches_fit)
+                c.side_axis[i == 0 ? 0 : 1] =
+                    kSidePending;  // its free axis is checked on the frames (side_branches_fit)
             }
             if (e < 0) return false;
             c.cap_branch[i == 0 ? 0 : 1] = e;

@@ -394,7 +394,8 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     for (const CubeBlock& b : cs.blocks) add_block_irregular_edges(b, p.boundary_irregular_edges);
     // Fan blocks: 4 hexes per fan edge and per open chain end, no interior irregular edge (but the 2 of valence 5 of
     // a branch in a notch).
-    for (const FanBlockChain& c : cs.fan_blocks.chains) add_fan_block_irregular_edges(c, p.boundary_irregular_edges, p.interior_irregular_edges);
+    for (const FanBlockChain& c : cs.fan_blocks.chains)
+        add_fan_block_irregular_edges(c, p.boundary_irregular_edges, p.interior_irregular_edges);
     std::erase_if(p.boundary_irregular_edges, [](const auto& kv) { return kv.second == 0; });
     p.fan_blocks = fan_block_edges(cs.fan_blocks);
     p.fan_block_caps = fan_block_caps(cs.fan_blocks);
@@ -771,7 +772,7 @@ NotchWing notch_wing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, c
         const std::vector<std::array<int, 4>>& side = up ? sides.up : sides.dn;
         const int kx = ((kw + 1) & 3) == kl ? (kw + 3) & 3 : (kw + 1) & 3;  // w's border neighbour x
         const int ky = (kw + 2) & 3;                                        // l's
-        const int be = an.face_edges[f][((kw + 1) & 3) == kx ? kw : kx];   // the border side (w, x)
+        const int be = an.face_edges[f][((kw + 1) & 3) == kx ? kw : kx];    // the border side (w, x)
         const int h = slots.boundary_slot[be];
         const bool x_first = an.face_vertices[slots.boundary_side[be][0]][slots.boundary_side[be][1]] ==
                              an.face_vertices[f][kx];  // the half-chunk runs from x
