@@ -25,6 +25,7 @@ struct AnalyzeArgs {
     double radius = 0;            // as `mesh --radius`
     bool no_resample = false;     // as `mesh --no-resample`
     bool no_fan_caps = false;     // as `mesh --no-fan-cap-branches`
+    bool no_fan_sides = false;    // as `mesh --no-fan-side-branches`
     bool no_band_pillow = false;  // as `mesh --no-docked-band-pillow`
     bool no_verdict = false;
     std::string surface;        // as `mesh --surface`: radii from it when the file has none, tips outside it trimmed
@@ -44,6 +45,9 @@ void register_analyze(CLI::App& app, int* status) {
     cmd->add_flag("--no-fan-cap-branches", args->no_fan_caps,
                   "As for `mesh`: retract the fan edge from a branch on a fan-block chain end instead of standing the "
                   "branch on the block's cap");
+    cmd->add_flag("--no-fan-side-branches", args->no_fan_sides,
+                  "As for `mesh`: leave a branch across the fan line too thick for its moved root refused instead of "
+                  "standing it on the fan block's side section or notch");
     cmd->add_flag("--no-docked-band-pillow", args->no_band_pillow,
                   "As for `mesh`: refuse a docked wall whose feet do not match its plate's grid instead of pillowing "
                   "its band");
@@ -64,6 +68,7 @@ void register_analyze(CLI::App& app, int* status) {
         options.radius = args->radius;
         options.resample = !args->no_resample;
         options.connection_surfaces.blocks.fan_cap_branches = !args->no_fan_caps;
+        options.connection_surfaces.blocks.fan_side_branches = !args->no_fan_sides;
         options.repair.docked_band_pillow = !args->no_band_pillow;
         std::optional<TriangleMesh> domain;
         if (!args->surface.empty()) domain = read_surface(args->surface);

@@ -382,6 +382,12 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                   "A branch on a fan-block chain end within 35 degrees of the fan line's continuation stands on the "
                   "block's cap instead of the fan edge being retracted from it (on by default; --no-fan-cap-branches "
                   "retracts it: docs/blocks.md, \"Branches on the fan block's cap\")");
+    cmd->add_flag("--fan-side-branches,!--no-fan-side-branches",
+                  job->options.pipeline.connection_surfaces.blocks.fan_side_branches,
+                  "Where the fan-end repair refuses a branch across the fan line as too thick for the moved root's "
+                  "border, the branch stands on the fan block's side section (a T's empty side) or in its notch "
+                  "between two leaflets (on by default; --no-fan-side-branches leaves it refused: docs/blocks.md, "
+                  "\"Thick moved roots on the fan block's side section\")");
     add_padding_options(cmd, job);
     add_raw_structure_options(cmd, job);
     cmd->add_flag_callback(

@@ -311,7 +311,8 @@ bool better_layout(const FinishResult& a, const FinishResult& b, const MeshGoals
 }
 
 // The raw mesh kept has fan blocks: the same skeleton meshed and finished (with its own attempts) in the paper's layout
-// on the fan edges, kept when better_layout says so. The attempts of both are listed, the fan-block ones first.
+// on the fan edges, kept when better_layout says so. The attempts of both are listed, the fan-block ones first. When
+// the paper's layout refuses the skeleton (UnsupportedConfiguration), the fan blocks' is kept.
 void compare_fan_layouts(MeshRun& run, const Skeleton& skeleton, const TriangleMesh& domain,
                          const MeshOptions& options) {
     if (!options.compare_fan_layouts || run.pipeline.predicted.fan_blocks == 0 || !run.finish) return;
@@ -321,7 +322,14 @@ void compare_fan_layouts(MeshRun& run, const Skeleton& skeleton, const TriangleM
     MeshRun other;
     other.options = paper.pipeline;
     other.held = run.held;
-    other.pipeline = run_pipeline(skeleton, other.options, held_of(other));
+    try {
+        other.pipeline = run_pipeline(skeleton, other.options, held_of(other));
+    } catch (const Error& e) {
+        // The paper's layout refuses what only a block carries (a branch on a fan block's side section or in its
+        // notch, CompatibleBlockOptions::fan_side_branches): the block's layout is the only one.
+        if (e.code() == ErrorCode::UnsupportedConfiguration) return;
+        throw;
+    }
     set_raw_quality(other, paper);
     other.attempts = run.attempts;  // numbers the progress reports on from the fan-block attempts
     finish_with_retry(other, skeleton, domain, paper);

@@ -72,6 +72,31 @@ std::pair<int, bool> named_vertex(const std::vector<int>& vertex_map, int v) {
     return {static_cast<int>(input_id - vertex_map.begin()), true};
 }
 
+// The fan ends whose branch a fan block carries (sorted input ids): on the cap (design note C1) where accepted; on the
+// side section or in a notch (CompatibleBlockOptions::fan_side_branches) only where the fan-end repair alone refuses
+// a fan end they carry for the moved root's border budget, the branch's tube clear of the plates
+// (FanEndRefusal::thick_root; a trial repair on a copy: every fan end the repair takes keeps the repair, every other
+// refusal stays).
+std::vector<int> block_carried_ends(const Skeleton& s, const SkeletonAnalysis& an, const PipelineOptions& options) {
+    const CompatibleBlockOptions& blocks = options.connection_surfaces.blocks;
+    CompatibleBlockOptions caps_only = blocks;
+    caps_only.fan_side_branches = false;
+    std::vector<int> caps = fan_cap_roots(find_fan_blocks(s, an, caps_only));
+    if (!blocks.fan_side_branches || !options.repair.fan_end_retraction || options.analysis.fan_end_branches)
+        return caps;
+    std::vector<int> sides = fan_cap_roots(find_fan_blocks(s, an, blocks));
+    if (sides == caps) return caps;
+    const SkeletonRepairResult repaired = repair_skeleton(s, options.repair, &blocks, caps);
+    std::vector<int> repaired_caps;
+    for (const int v : caps)
+        if (repaired.vertex_map[v] >= 0) repaired_caps.push_back(repaired.vertex_map[v]);
+    std::sort(repaired_caps.begin(), repaired_caps.end());
+    const std::optional<FanEndRefusalAt> left = first_fan_end_refusal(repaired.skeleton, repaired_caps);
+    if (!left || !left->why.thick_root) return caps;
+    const auto [vertex, is_input] = named_vertex(repaired.vertex_map, left->vertex);
+    return is_input && std::ranges::binary_search(sides, vertex) ? sides : caps;
+}
+
 // Trims the branch tips `held` says the domain does not hold from `s` (numbered as the input; trim_unheld_tips) and
 // records them in `res`. Returns the map input vertex -> trimmed id (-1: trimmed), or empty when nothing was trimmed.
 std::vector<int> trim_tips(Skeleton& s, const std::vector<char>& held, PipelineResult& res) {
@@ -246,7 +271,7 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
     } else if (options.resample) {
         // Fan ends whose branch the fan block's cap carries (design note C1) are left to it, not retracted.
         const std::vector<int> fan_caps =
-            fan_caps_on ? fan_cap_roots(find_fan_blocks(s, res.input_analysis, blocks)) : std::vector<int>{};
+            fan_caps_on ? block_carried_ends(s, res.input_analysis, options) : std::vector<int>{};
         // Tips the domain does not hold go first; their vertices are on branches only, so every fan cap stays.
         const std::vector<int> to_trimmed = held ? trim_tips(s, *held, res) : std::vector<int>{};
         std::vector<int> trimmed_caps = fan_caps;

@@ -304,6 +304,51 @@ TEST(FanBlocks, BranchOnTheCapByHand) {
         }
 }
 
+// The side section and the notch (CompatibleBlockOptions::fan_side_branches, on by default): a branch of 3 unit edges
+// from the top end w = (0, 0, 2) of the T / X fan of 2 x 2 strips (n = 2 fan edges, m = 2, radius 0.3) across the fan
+// line: the T's along -y (its free axis), the X's along (1, 1, 0) / sqrt 2 (between the +x and +y leaflets). Counts by
+// hand from the block's (T 76 hexes, 144 vertices, boundary {1: 40, 3: 8}, interior {3: 12}; X 96, 177, {1: 48, 3:
+// 16}, {3: 16}): per branch 12 hexes and 27 vertices as on the cap (no hex of its own at the root, the fan end keeps its
+// 18 section ids); the branch's 12 longitudinal edges and its extremity's 8 rim edges of valence 1 (+20). T, side
+// section s = -y: the patch M_2 Q_3 M_3 over the fan edge (1, 2) and the cap; its 4 rim edges through M_2 and M_3 (block
+// hex + the +x or -x plate, 2) and its 2 rim edges at z = 1 (the chunks below and above, 2) get the first chunk's hex:
+// 6 of valence 3; its 2 rim edges on the cap's end face (1, the cap's hex) 2: {1: 40 + 20 - 2, 3: 8 + 6}, interior
+// unchanged (the patch's 4 inner edges 2 + 2 = 4). X, notch M_j between +x and +y: the 2 fold edges on M_j's column
+// (block hex + 2 plates or half-chunks, boundary 3) get 2 chunk hexes each: interior valence 5; the 6 rim edges on the
+// plates' and half-chunks' sides 2 -> 3, the 2 on the half-chunks' outer edges 1 -> 2: {1: 48 + 20 - 2, 3: 16 - 2 + 6},
+// interior {3: 16, 5: 2}. The sections at the X's notch end and its chain neighbour keep h = min(0.3, 0.8 x 1) = 0.3.
+TEST(FanBlocks, BranchOnTheSideSectionAndInTheNotchByHand) {
+    for (const int g : {3, 4}) {
+        SCOPED_TRACE(g);
+        const std::vector<double> angles =
+            g == 3 ? std::vector<double>{0, 0.5 * kPi, kPi} : std::vector<double>{0, 0.5 * kPi, kPi, 1.5 * kPi};
+        Skeleton s = fan(angles, 2, 2, kIdentity);
+        add_branch(s, 2, g == 3 ? Vec3{0, -1, 0} : Vec3{2.5 * std::sqrt(0.5), 2.5 * std::sqrt(0.5), 0});
+        s.radii.assign(s.points.size(), 0.75);
+        AnalysisOptions ao;
+        ao.fan_cap_branches = true;
+        CompatibleBlockOptions on;
+        const FanBlocks fb = find_fan_blocks(s, analyze_skeleton(s, ao), on);
+        ASSERT_EQ(fb.chains.size(), 1u);
+        EXPECT_EQ(fb.chains[0].side_axis[1] >= 0, g == 3);
+        EXPECT_EQ(fb.chains[0].notch[1] >= 0, g == 4);
+        on.fan_side_branches = false;
+        EXPECT_TRUE(find_fan_blocks(s, analyze_skeleton(s, ao), on).chains.empty());
+        const RawRun r = mesh_raw_with_caps(s);
+        EXPECT_EQ(r.fan_chains, 1);
+        EXPECT_EQ(r.quality.hexes, g == 3 ? 88 : 108);
+        EXPECT_EQ(r.quality.vertices, g == 3 ? 171 : 204);
+        EXPECT_EQ(r.quality.singular_interior_edges,
+                  g == 3 ? (std::map<int, long>{{3, 12}}) : (std::map<int, long>{{3, 16}, {5, 2}}));
+        EXPECT_EQ(r.quality.singular_boundary_edges,
+                  g == 3 ? (std::map<int, long>{{1, 58}, {3, 14}}) : (std::map<int, long>{{1, 66}, {3, 20}}));
+        EXPECT_TRUE(r.valid);
+        EXPECT_EQ(r.quality.euler_characteristic, 1);
+        EXPECT_EQ(r.quality.inverted, 0);
+        EXPECT_GT(r.quality.sj_min, 0.2);
+    }
+}
+
 // The cap takes a branch within 35 degrees of the fan line's continuation (kFanCapBranchCos: the pipeline's decision
 // on the input) or, in the connection surfaces, 45 (kFanCapKeepCos, after the resampling): 30 degrees off it (towards
 // +x) both, 40 only the second, 50 neither (the connection surfaces refuse the vertex, naming it; the pipeline retracts

@@ -1056,6 +1056,35 @@ TEST(FanEndRepair, SweepFailuresRefusedAtTheMovedRoot) {
     }
 }
 
+// The 12 refusals of the moved root's border budget (`fanend -n 3|4 -m 2|4` at radius scale 2.3 - 2.6, r = 0.69 -
+// 0.78 > 2 / 3.1 of the straight border run): with the fan block's side sections (CompatibleBlockOptions::
+// fan_side_branches, default) the T's branch stands on the block's free side, the X's in the notch between the +x and
+// +y leaflets (docs/blocks.md, "Thick moved roots on the fan block's side section"); `-m 4`'s continuing branch at
+// vertex 0 on the cap (the chain is a block now): nothing retracted or moved, prediction exact, valid, no inverted hex,
+// raw min SJ above 0.25 (measured 0.29 - 0.64). Off, refused as before; at scale 2.15 (within the budget) the root is
+// moved as before.
+TEST(FanEndRepair, ThickMovedRootsStandOnTheBlocksSideSectionOrNotch) {
+    for (const int strips : {3, 4})
+        for (const int direction : {2, 4})
+            for (const double scale : {2.3, 2.6}) {
+                SCOPED_TRACE(testing::Message() << strips << " " << direction << " " << scale);
+                const Skeleton s = fan_end_scaled(strips, direction, scale);
+                const MeshRun run = mesh_skeleton(s, nullptr);
+                EXPECT_TRUE(run.prediction_exact);
+                EXPECT_TRUE(run.pipeline.fan_end_retractions.empty());
+                const std::vector<int> carried = direction == 2 ? std::vector<int>{2} : std::vector<int>{0, 2};
+                EXPECT_EQ(run.pipeline.fan_cap_branches, carried);
+                expect_valid(run.pipeline, 1);
+                EXPECT_GT(run.raw_quality.sj_min, 0.25);
+                PipelineOptions off;
+                off.connection_surfaces.blocks.fan_side_branches = false;
+                expect_refused_with(s, off, 2, "that is a radius of at most 0.645");
+            }
+    const MeshRun within = mesh_skeleton(fan_end_scaled(3, 2, 2.15), nullptr);
+    EXPECT_EQ(within.pipeline.fan_end_moved_roots, std::vector<int>{2});
+    EXPECT_TRUE(within.pipeline.fan_cap_branches.empty());
+}
+
 namespace {
 
 // The meshed skeleton (after the resampling) has a vertex at p (within 1e-9).

@@ -42,6 +42,16 @@ struct CompatibleBlockOptions {
     // On by default; false (`--no-fan-cap-branches`) retracts every such fan end (docs/blocks.md, "Branches on the
     // fan block's cap").
     bool fan_cap_branches = true;
+    // A branch on an open fan-block chain end w whose first edge d leaves across the fan line stands on the block:
+    // within 35 degrees of a free block axis A_s (a T's empty side: d . A_s >= kFanCapBranchCos) on the side section,
+    // the 2 x 2 quads of side s over the last fan edge and the cap; within 35 degrees of the diagonal between two
+    // leaflets (an X, or a T between its leaflets) in the notch, the 2 x 2 patch folded along the block's corner
+    // there (its sections there r wide, up to kFanNotchHalf of the border edge). Both are the bottom of the branch's
+    // first chunk (fan_blocks.h). The pipeline takes them only where the fan-end repair refuses the fan end for the
+    // moved root's border budget, the branch's tube clear of the plates (FanEndRefusal::thick_root); every fan end
+    // the repair takes keeps the repair. Needs fan_cap_branches. On by default; false (`--no-fan-side-branches`)
+    // leaves those fan ends refused (docs/blocks.md, "Thick moved roots on the fan block's side section").
+    bool fan_side_branches = true;
 };
 
 // Signed cube axes are numbered 2a + s: a = 0, 1, 2 (x, y, z of the block frame), s = 0 for +, 1 for -.

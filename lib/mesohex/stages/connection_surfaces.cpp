@@ -909,10 +909,11 @@ void build_fan_cap_surfaces(const Skeleton& skeleton, const SkeletonAnalysis& an
         if (e < 0)
             throw Error(ErrorCode::UnsupportedConfiguration,
                         "skeleton vertex " + std::to_string(v) +
-                            ": a branch on a fan-edge end that no fan block's cap carries (the chain is not a T or X "
-                            "fan block, or the branch leaves more than 45 degrees off the fan line's continuation); "
-                            "edit: turn the branch's first edge towards the fan line's continuation, or start the "
-                            "branch from a corner of one leaflet off the fan edge",
+                            ": a branch on a fan-edge end that no fan block's cap, side section or notch carries "
+                            "(the chain is not a T or X fan block, or the branch leaves more than 45 degrees off the "
+                            "fan line's continuation, off a T's empty side and off the diagonal between two "
+                            "leaflets); edit: turn the branch's first edge towards the fan line's continuation, or "
+                            "start the branch from a corner of one leaflet off the fan edge",
                         ElementRef{ElementRef::Kind::SkeletonVertex, v});
         const int p0 = cs.point_begin[v], q0 = cs.quad_begin[v], e0 = cs.edge_begin[v];
         set_square(cs, e0, q0);

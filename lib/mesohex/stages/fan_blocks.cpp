@@ -108,6 +108,8 @@ int cap_branch_edge(const Skeleton& s, const SkeletonAnalysis& an, const FanBloc
     return dot(d, out) >= cap_cos ? e : -1;
 }
 
+constexpr int kSidePending = 4;  // FanBlockChain::side_axis before the frames are fitted
+
 // Vertex conditions of the header: inner vertices without branch, with the 2g faces of their fan edges; open ends
 // fan-edge ends with g faces, g border edges and no branch (or, with options.fan_cap_branches, one branch standing on
 // the cap: c.cap_branch).
@@ -118,7 +120,12 @@ bool chain_vertices_fit(const Skeleton& s, const SkeletonAnalysis& an, const Inc
         const int v = c.vertices[i];
         const bool end = !c.closed && (i == 0 || i == n - 1);
         if (end && an.vertex_branch_edges[v] != 0) {
-            const int e = options.fan_cap_branches ? cap_branch_edge(s, an, c, i, cap_cos) : -1;
+            int e = options.fan_cap_branches ? cap_branch_edge(s, an, c, i, cap_cos) : -1;
+            if (e < 0 && options.fan_cap_branches && options.fan_side_branches && an.vertex_branch_edges[v] == 1) {
+                e = first_branch_edge(an, v);
+                c.side_axis[i == 0 ? 0 : 1] =
+                    kSidePending;  // its free axis is checked on the frames (side_branches_fit)
+            }
             if (e < 0) return false;
             c.cap_branch[i == 0 ? 0 : 1] = e;
         } else if (an.vertex_branch_edges[v] != 0) {
@@ -250,6 +257,30 @@ void chain_frames(const Skeleton& s, const SkeletonAnalysis& an, const Incidence
     }
 }
 
+// The free axis s (no leaflet labelled s) whose side section carries each pending end branch (side_axis
+// kSidePending): the one nearest the branch's first edge d, accepted when d . A_s >= cap_cos; false if none.
+bool side_branches_fit(const Skeleton& s, FanBlockChain& c, double cap_cos) {
+    const int n = static_cast<int>(c.vertices.size());
+    for (int end = 0; end < 2; ++end) {
+        if (c.side_axis[end] != kSidePending) continue;
+        const int i = end == 0 ? 0 : n - 1, v = c.vertices[i];
+        const Vec3 t = c.tangent[i], u = c.axis_u[i], w = cross(t, u);
+        const std::array<Vec3, 4> axis{u, w, -1.0 * u, -1.0 * w};
+        const Vec3 d = normalized(s.points[other_end(s, c.cap_branch[end], v)] - s.points[v]);
+        int best = -1;
+        for (int k = 0; k < 4; ++k)
+            if (!c.labelled[k] && dot(d, axis[k]) >= cap_cos && (best < 0 || dot(d, axis[k]) > dot(d, axis[best])))
+                best = k;
+        c.side_axis[end] = best;
+        if (best >= 0) continue;
+        for (int j = 0; j < 4; ++j)  // else the notch between two labelled axes
+            if (c.labelled[j] && c.labelled[(j + 1) & 3] && dot(d, normalized(axis[j] + axis[(j + 1) & 3])) >= cap_cos)
+                c.notch[end] = j;
+        if (c.notch[end] < 0) return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 SquareFit fit_square_frame(const Vec3& t_in, const std::vector<Vec3>& directions, const Vec3& seed,
@@ -325,6 +356,10 @@ FanBlocks find_fan_blocks(const Skeleton& skeleton, const SkeletonAnalysis& an, 
             continue;
         }
         chain_frames(skeleton, an, in, c, fb);
+        if (!side_branches_fit(skeleton, c, cap_cos)) {
+            for (const auto& [f, k] : set) fb.corner_axis[f][k] = fb.corner_up[f][k] = fb.corner_down[f][k] = -1;
+            continue;
+        }
         for (int i = 0; i < static_cast<int>(c.vertices.size()); ++i) {
             fb.vertex_chain[c.vertices[i]] = static_cast<int>(fb.chains.size());
             fb.vertex_index[c.vertices[i]] = i;
@@ -367,9 +402,35 @@ std::vector<int> fan_cap_roots(const FanBlocks& blocks) {
 std::array<Vec3, 4> fan_cap_directions(const FanBlockChain& c, int i) {
     const Vec3 t = c.tangent[i], u = c.axis_u[i], w = cross(t, u);
     const std::array<Vec3, 4> axis{u, w, -1.0 * u, -1.0 * w};
+    const int side = c.side_axis[i == 0 ? 0 : 1], notch = c.notch[i == 0 ? 0 : 1];
+    if (notch >= 0) {
+        const Vec3 a = normalized(axis[(notch + 1) & 3] - axis[notch]);
+        return {a, t, -1.0 * a, -1.0 * t};
+    }
+    if (side >= 0) {
+        const Vec3 a = axis[(side + 1) & 3];
+        return {a, t, -1.0 * a, -1.0 * t};
+    }
     std::array<Vec3, 4> out;
     for (int x = 0; x < 4; ++x) out[x] = axis[i == 0 ? (4 - x) & 3 : x];
     return out;
+}
+
+std::array<std::array<int, 2>, 9> fan_side_section_ids(const FanBlockChain& c, int i) {
+    const int n = static_cast<int>(c.vertices.size()), s = c.side_axis[i == 0 ? 0 : 1];
+    const int sm = (s + 3) & 3, l = i == 0 ? 1 : n - 2;
+    // The rows of +t and -t: (chain position, first section id); the cap section K is beyond w along e.
+    const std::array<int, 2> cap{i, kFanSectionIds}, next{l, 0};
+    const std::array<int, 2> plus = i == 0 ? next : cap, minus = i == 0 ? cap : next;
+    return {{{i, 1 + s},
+             {i, 5 + s},
+             {plus[0], plus[1] + 1 + s},
+             {i, 5 + sm},
+             {minus[0], minus[1] + 1 + s},
+             {plus[0], plus[1] + 5 + s},
+             {plus[0], plus[1] + 5 + sm},
+             {minus[0], minus[1] + 5 + sm},
+             {minus[0], minus[1] + 5 + s}}};
 }
 
 std::array<int, 9> fan_cap_section_ids(const FanBlockChain& /*chain*/, int i) {
@@ -431,20 +492,55 @@ void fan_section_points(const FanBlockChain& c, int i, const Vec3& centre, doubl
     if (i == n - 1) section(centre + cap * t);
 }
 
-void add_fan_block_irregular_edges(const FanBlockChain& c, std::map<int, long>& boundary_irregular_edges) {
+namespace {
+
+// count edges of valence `from` become valence `to` (irregular boundary valences only: 2 is regular).
+void revalue(std::map<int, long>& edges, int from, int to, long count) {
+    if (from != 2 && (edges[from] -= count) == 0) edges.erase(from);
+    if (to != 2) edges[to] += count;
+}
+
+// The branch's first chunk on side section s (fan_side_section_ids): +1 hex on the patch's 8 rim edges.
+void add_side_branch_edges(const FanBlockChain& c, int s, std::map<int, long>& edges) {
+    if (s < 0) return;
+    for (const int m : {(s + 3) & 3, s}) {  // the longitudinal edges through M_s-1 and M_s: fan edge and cap rows
+        const int valence = 1 + c.labelled[m] + c.labelled[(m + 1) & 3];
+        revalue(edges, valence, valence + 1, 2);
+    }
+    revalue(edges, 2, 3, 2);  // the rim at L (between the last fan edge's chunk and the one before, or L's cap)
+    revalue(edges, 1, 2, 2);  // the rim on the cap's end face (the cap's hex only)
+}
+
+// The branch's first chunk in the notch at M_j (notch): the fold's 2 edges get 2 hexes each.
+void add_notch_branch_edges(int j, std::map<int, long>& boundary, std::map<int, long>& interior) {
+    if (j < 0) return;
+    revalue(boundary, 3, 2, 2);  // the fold (block hex + 2 plates or half-chunks): interior now, counted below
+    interior[5] += 2;
+    revalue(boundary, 2, 3, 6);  // the rim on the plates' sides and the half-chunks' sides
+    revalue(boundary, 1, 2, 2);  // the rim on the half-chunks' outer edges
+}
+
+}  // namespace
+
+void add_fan_block_irregular_edges(const FanBlockChain& c, std::map<int, long>& boundary_irregular_edges,
+                                   std::map<int, long>& interior_irregular_edges) {
     const long rows = static_cast<long>(c.edges.size()) + (c.closed ? 0 : 2);
     for (int k = 0; k < 4; ++k) {
         const int docked = c.labelled[k] + c.labelled[(k + 1) & 3];
         if (docked != 1) boundary_irregular_edges[1 + docked] += rows;
         if (!c.labelled[k] && !c.closed) boundary_irregular_edges[1] += 2 * 2;  // two rim edges at each cap
-        for (const int e : c.cap_branch) {  // the branch's first chunk on the cap: +1 on each rim edge
-            if (e < 0) continue;
+        for (int end = 0; end < 2; ++end) {  // the branch's first chunk on the cap: +1 on each rim edge
+            if (c.cap_branch[end] < 0 || c.side_axis[end] >= 0 || c.notch[end] >= 0) continue;
             if (c.labelled[k]) {
                 boundary_irregular_edges[3] += 2;
             } else {
                 boundary_irregular_edges[1] -= 2;
             }
         }
+    }
+    for (int end = 0; end < 2; ++end) {
+        add_side_branch_edges(c, c.side_axis[end], boundary_irregular_edges);
+        add_notch_branch_edges(c.notch[end], boundary_irregular_edges, interior_irregular_edges);
     }
 }
 

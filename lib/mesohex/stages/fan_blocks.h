@@ -25,7 +25,8 @@
 // no edge is docked (docked_walls.h).
 // With CompatibleBlockOptions::fan_cap_branches an open end may also carry one branch edge (w, b) leaving within 35
 // degrees of the chain's outward direction e there (unit(b - w) . e >= cap_cos): the branch stands on the cap
-// (design note C1). The cap section at w + h e is its first chunk's bottom (fan_cap_section_ids, in the order of the
+// (design note C1); with fan_side_branches, a T's end branch leaving within 35 degrees of its free axis stands on
+// the block's side section there (fan_side_section_ids). The cap section at w + h e is its first chunk's bottom (fan_cap_section_ids, in the order of the
 // connection quad fan_cap_directions gives): the branch is shortened by h, no hex is added (4 per branch edge as
 // always), and the cap's end face becomes interior (its 8 rim edges get the chunk's hex: add_fan_block_irregular_edges).
 #include <array>
@@ -79,6 +80,13 @@ struct FanBlockChain {
     // Per open end (0: vertices.front(), 1: vertices.back()): the branch edge standing on its cap, or -1
     // (CompatibleBlockOptions::fan_cap_branches).
     std::array<int, 2> cap_branch{-1, -1};
+    // Per open end: the free axis s whose side section the branch (cap_branch) stands on instead of the cap, or -1
+    // (CompatibleBlockOptions::fan_side_branches).
+    std::array<int, 2> side_axis{-1, -1};
+    // Per open end: the section corner M_j (between two labelled axes j and j + 1) whose notch between the two
+    // leaflets' plates the branch (cap_branch) stands in instead of the cap, or -1 (fan_side_branches; an X's
+    // branch between two leaflets).
+    std::array<int, 2> notch{-1, -1};
     friend bool operator==(const FanBlockChain&, const FanBlockChain&) = default;
 };
 
@@ -112,12 +120,36 @@ std::vector<int> fan_cap_roots(const FanBlocks& blocks);
 
 // The connection quad of the branch on the cap of chain end position i (0 or n - 1 of an open chain): point x's unit
 // direction, the cap section's axis A_k seen from the end, counter-clockwise about the outward direction (k = x at the
-// last vertex, where e = t; k = -x mod 4 at the first, where e = -t).
+// last vertex, where e = t; k = -x mod 4 at the first, where e = -t). On a side section (side_axis s >= 0): A_s+1, t,
+// -A_s+1, -t (counter-clockwise about A_s); in a notch M_j (notch j >= 0): unit(A_j+1 - A_j), t, unit(A_j - A_j+1),
+// -t (counter-clockwise about A_j + A_j+1).
 std::array<Vec3, 4> fan_cap_directions(const FanBlockChain& chain, int i);
 
 // The cap section ids (offsets from the vertex's first id, 9..17) in the connection quad's order: centre, the 4 points
 // Q of fan_cap_directions, the 4 edge midpoints M between points x and x + 1.
 std::array<int, 9> fan_cap_section_ids(const FanBlockChain& chain, int i);
+
+// The side section (CompatibleBlockOptions::fan_side_branches): a branch at open end position i leaving across the
+// chain, d = unit(b - w) with d . A_s >= cap_cos for a free axis s (no leaflet labelled s: a T's empty side), stands
+// on the block's side s: the 2 x 2 quads M_s-1 Q_s M_s of three sections (the end's neighbour L on the chain, the end
+// w, its cap section K). The patch's centre is Q_s(w); its points, counter-clockwise about A_s, are M_s(w) (direction
+// A_s+1), the section of +t (K at the last vertex, L at the first), M_s-1(w) (-A_s+1) and the section of -t; its
+// edge midpoints the corners M between them. No hex is added (4 per branch edge as always). Per point: (chain
+// position, section id 0..17), in fan_cap_directions' order (centre, the 4 points, the 4 corners between points x
+// and x + 1).
+std::array<std::array<int, 2>, 9> fan_side_section_ids(const FanBlockChain& chain, int i);
+
+// The notch (CompatibleBlockOptions::fan_side_branches): a branch at open end position i leaving between two
+// labelled axes, d . unit(A_j + A_j+1) >= cap_cos, stands on the 2 x 2 patch folded along the block's corner M_j:
+// centre M_j(w); points, counter-clockwise about A_j + A_j+1: the plate copy of leaflet j + 1's face on the last fan
+// edge at its border neighbour of w (direction A_j+1), M_j of the +t row (K at the last vertex, L at the first), the
+// copy of leaflet j's face (A_j), M_j of the -t row; corners: those faces' copies at L's border neighbours (the L row)
+// and the out copies of their border half-chunks (the K row). Its two edges on the fold M_j get 2 chunk hexes each
+// (interior valence 5). fan_cap_directions gives the points' directions projected normal to A_j + A_j+1.
+
+// The section at a notch end has half size min(r, kFanNotchHalf x its shortest leaflet border edge) (raw_mesh.cpp,
+// fan_notch_half_size): the plates' first faces keep at least 1 - kFanNotchHalf of their border side.
+inline constexpr double kFanNotchHalf = 0.8;
 
 // Raw-mesh ids at a chain vertex: 9 (18 at an open end).
 int fan_block_vertex_ids(const FanBlocks& blocks, int v);
@@ -134,7 +166,14 @@ void fan_section_points(const FanBlockChain& chain, int i, const Vec3& c, double
 // per fan edge and per cap, the longitudinal edge through M_k has 1 block hex plus one plate (half-chunk) per labelled
 // neighbouring axis: valence 3 between two labelled axes, 1 between two free ones; on a cap's end face, the two rim
 // edges at a free axis' Q_k have 1 hex. A cap carrying a branch (cap_branch) adds the chunk's hex to its 8 rim edges:
-// 2 at a free axis' Q_k (regular), 3 at a labelled one's (the half-chunk's out column).
-void add_fan_block_irregular_edges(const FanBlockChain& chain, std::map<int, long>& boundary_irregular_edges);
+// 2 at a free axis' Q_k (regular), 3 at a labelled one's (the half-chunk's out column). A branch on the side
+// section s adds the chunk's hex to the patch's 8 rim edges: the 4 through M_s-1 and M_s (fan edge and cap rows,
+// valence 2 + the labelled axes beside them), the 2 at L (2 -> 3), the 2 at the cap's end face (1 -> 2); its 4
+// inner edges become interior and regular (2 + 2).
+// A branch in the notch at M_j (notch) adds the chunk's hexes to the patch: the 2 fold edges on M_j's column (boundary
+// valence 3) become interior of valence 5; the 6 rim edges on the plates and the half-chunks' sides 2 -> 3, the 2 on
+// the half-chunks' outer edges 1 -> 2.
+void add_fan_block_irregular_edges(const FanBlockChain& chain, std::map<int, long>& boundary_irregular_edges,
+                                   std::map<int, long>& interior_irregular_edges);
 
 }  // namespace mesohex

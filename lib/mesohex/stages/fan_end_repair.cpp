@@ -763,7 +763,9 @@ bool thick_root_run(const Skeleton& s, const Incidence& in, int w, RootMove& mv,
                << (run.size() == 2 ? kRootMoveMax * (arc[1] - arc[0]) / kRootMoveRadii
                                    : std::min(kRootMoveMax * total / kRootMoveRadii,
                                               total / (kRootMoveRadii + kRootMoveRunRestRadii)));
-        return refuse(why, reason.str(), thin_to(rw, mv, arc[1] - arc[0]));
+        refuse(why, reason.str(), thin_to(rw, mv, arc[1] - arc[0]));
+        if (why != nullptr) why->thick_root = true;
+        return false;
     }
     const double a = std::clamp(proj, lo, hi);
     mv.run = run;
@@ -1037,7 +1039,8 @@ std::optional<FanEndRefusal> repair_conditions(const Skeleton& s, int w) {
                     "strip of faces from that border side, from face " +
                     str(mv.face) + ", crosses the leaflet to a border, and " + why.reason + ")",
                 (why.edit.empty() ? std::string("make that strip reach a border, or ") : why.edit + ", or ") +
-                    "turn the branch's first edge towards the fan line's continuation, or " + off_fan()};
+                    "turn the branch's first edge towards the fan line's continuation, or " + off_fan(),
+                why.thick_root};
     }
     if (!retraction_room(s, in, c, &why)) return why;
     // u carries a branch far from the fan line that the repair moves off: judge w after that move (the repair's rounds

@@ -239,6 +239,10 @@ struct FanEndRetraction {
 struct FanEndRefusal {
     std::string reason;  // the failing condition and its measured value
     std::string edit;    // a concrete edit suggestion
+    // The failing condition is the moved root's border budget (thick_root_run: the root too thick for the straight
+    // border run beside the fan line) and the branch's tube clears the plates: the pipeline then stands the branch on
+    // the fan block's side section or notch where one carries it (CompatibleBlockOptions::fan_side_branches).
+    bool thick_root = false;
 };
 
 // std::nullopt when retract_fan_ends(s) would retract the fan edge from w (with its split or cut first), given the

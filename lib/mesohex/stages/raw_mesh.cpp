@@ -399,8 +399,10 @@ RawMeshPrediction predict_raw_mesh(const Skeleton& skeleton, const SkeletonAnaly
     // Compatible blocks: 27 vertices and 8 hexes each, no interior irregular edge; boundary valence 1 / 3 at the cube
     // edges between two free / two docked faces.
     for (const CubeBlock& b : cs.blocks) add_block_irregular_edges(b, p.boundary_irregular_edges);
-    // Fan blocks: 4 hexes per fan edge and per open chain end, no interior irregular edge.
-    for (const FanBlockChain& c : cs.fan_blocks.chains) add_fan_block_irregular_edges(c, p.boundary_irregular_edges);
+    // Fan blocks: 4 hexes per fan edge and per open chain end, no interior irregular edge (but the 2 of valence 5 of
+    // a branch in a notch).
+    for (const FanBlockChain& c : cs.fan_blocks.chains)
+        add_fan_block_irregular_edges(c, p.boundary_irregular_edges, p.interior_irregular_edges);
     std::erase_if(p.boundary_irregular_edges, [](const auto& kv) { return kv.second == 0; });
     p.fan_blocks = fan_block_edges(cs.fan_blocks);
     p.fan_block_caps = fan_block_caps(cs.fan_blocks);
@@ -760,8 +762,50 @@ std::array<int, 9> border_patch_ids(const Skeleton& skeleton, const SkeletonAnal
             D[f0][(c0 + 2) & 3]};
 }
 
+// One wing of a notch patch (FanBlockChain::notch): the face of the last fan edge (w, l) labelled `label` at w, its
+// plate copies on the side of M_j at w's and l's border neighbours ({at w's neighbour, at l's}) and the out copy on
+// that side of its border half-chunk at w's neighbour.
+struct NotchWing {
+    int at_w = -1, at_l = -1, out = -1;
+};
+
+NotchWing notch_wing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const FaceSideIds& sides,
+                     const HexSlots& slots, const RawMesh& raw, int w, int l, int label, int j) {
+    const int nf = static_cast<int>(an.face_vertices.size());
+    for (int f = 0; f < nf; ++f) {
+        const int kw = face_corner(an, f, w), kl = face_corner(an, f, l);
+        if (kw < 0 || kl < 0 || cs.fan_blocks.corner_axis[f][kw] != label) continue;
+        const bool up = cs.fan_blocks.corner_up[f][kw] == j;  // the side of M_j
+        const std::vector<std::array<int, 4>>& side = up ? sides.up : sides.dn;
+        const int kx = ((kw + 1) & 3) == kl ? (kw + 3) & 3 : (kw + 1) & 3;  // w's border neighbour x
+        const int ky = (kw + 2) & 3;                                        // l's
+        const int be = an.face_edges[f][((kw + 1) & 3) == kx ? kw : kx];    // the border side (w, x)
+        const int h = slots.boundary_slot[be];
+        const bool x_first = an.face_vertices[slots.boundary_side[be][0]][slots.boundary_side[be][1]] ==
+                             an.face_vertices[f][kx];  // the half-chunk runs from x
+        const std::array<int, 8>& hu = raw.mesh.hexes[h];
+        const std::array<int, 8>& hd = raw.mesh.hexes[h + 1];
+        return {side[f][kx], side[f][ky], up ? (x_first ? hu[5] : hu[6]) : (x_first ? hd[7] : hd[6])};
+    }
+    return {};
+}
+
+// A branch in the notch at M_j of its chain end v (fan_blocks.h, FanBlockChain::notch): the folded 2 x 2 patch.
+std::array<int, 9> notch_patch_ids(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, const FaceSideIds& sides,
+                                   const HexSlots& slots, const RawMesh& raw, const FanBlockChain& c, int i) {
+    const int n = static_cast<int>(c.vertices.size()), j = c.notch[i == 0 ? 0 : 1];
+    const int w = c.vertices[i], l = c.vertices[i == 0 ? 1 : n - 2];
+    const NotchWing a = notch_wing(an, cs, sides, slots, raw, w, l, j, j);  // leaflet j (direction A_j)
+    const NotchWing b = notch_wing(an, cs, sides, slots, raw, w, l, (j + 1) & 3, j);
+    const int mw = raw.vertex_base[w] + 5 + j, mk = mw + kFanSectionIds, ml = raw.vertex_base[l] + 5 + j;
+    if (i == 0)  // +t is the L row
+        return {mw, b.at_w, ml, a.at_w, mk, b.at_l, a.at_l, a.out, b.out};
+    return {mw, b.at_w, mk, a.at_w, ml, b.out, a.out, a.at_l, b.at_l};
+}
+
 // Branches rooted on the plates: their connection quad's centre, 4 points and 4 edge midpoints are vertices the
-// plates and half-chunks already have; a branch on a fan block's cap: the cap section's (fan_cap_section_ids).
+// plates and half-chunks already have; a branch on a fan block's cap: the cap section's (fan_cap_section_ids), on
+// its side section: the side's 2 x 2 quads (fan_side_section_ids).
 RootedPatches rooted_patch_ids(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,
                                const FaceSideIds& sides, const HexSlots& slots, const RawMesh& raw) {
     const int nv = static_cast<int>(skeleton.points.size());
@@ -769,8 +813,18 @@ RootedPatches rooted_patch_ids(const Skeleton& skeleton, const SkeletonAnalysis&
     for (int v = 0; v < nv; ++v) {
         if (roots_fan_cap(an, v)) {  // on a fan block's cap: the cap section in the connection quad's order
             const FanBlockChain& c = cs.fan_blocks.chains[fan_block_at(cs, v)];
-            const std::array<int, 9> ids = fan_cap_section_ids(c, cs.fan_blocks.vertex_index[v]);
+            const int i = cs.fan_blocks.vertex_index[v];
             rp.rooted[v] = 1;
+            if (c.notch[i == 0 ? 0 : 1] >= 0) {  // in the notch between two leaflets at a section corner
+                rp.ids[v] = notch_patch_ids(an, cs, sides, slots, raw, c, i);
+                continue;
+            }
+            if (c.side_axis[i == 0 ? 0 : 1] >= 0) {  // on the block's side section (fan_side_section_ids)
+                const std::array<std::array<int, 2>, 9> ids = fan_side_section_ids(c, i);
+                for (int x = 0; x < 9; ++x) rp.ids[v][x] = raw.vertex_base[c.vertices[ids[x][0]]] + ids[x][1];
+                continue;
+            }
+            const std::array<int, 9> ids = fan_cap_section_ids(c, i);
             for (int x = 0; x < 9; ++x) rp.ids[v][x] = raw.vertex_base[v] + ids[x];
             continue;
         }
@@ -962,6 +1016,23 @@ double fan_end_cap_height(const Skeleton& skeleton, const SkeletonAnalysis& an, 
     return std::isfinite(lowest) ? std::max(reach, lowest) : reach;
 }
 
+// The half size of the sections at a chain end with a branch in a notch (FanBlockChain::notch) and at its neighbour
+// on the chain: min(r, kFanNotchHalf x
+// its shortest leaflet border edge), so that the section corner M_j stands where the two plates' faces meet (each
+// plate r thick beyond the fan line), the notch a right angle; the half-edge bound of other vertices would pull the
+// plates' copies in to M_j and close the notch to a narrow groove (the plate copy at the border neighbour r off the
+// leaflet, M_j h off it: docs/blocks.md, "Thick moved roots on the fan block's side section").
+double fan_notch_half_size(const Skeleton& skeleton, const SkeletonAnalysis& an, double r, int v) {
+    double h = r;
+    for (int i = an.vertex_edge_begin[v]; i < an.vertex_edge_begin[v + 1]; ++i) {
+        const int e = an.vertex_edges[i];
+        if (an.edge_degree[e] != 1) continue;
+        const std::array<int, 2>& ed = skeleton.edges[e];
+        h = std::min(h, kFanNotchHalf * distance(skeleton.points[ed[0]], skeleton.points[ed[1]]));
+    }
+    return h;
+}
+
 // A fan-block chain vertex (fan_blocks.h): its section (and cap section) with half size h = min(r, half its shortest
 // incident edge), so that the leaflet corners Q_a = v + h a stay inside every incident edge; the cap section
 // fan_end_cap_height(h) beyond v.
@@ -974,6 +1045,9 @@ void place_fan_block_vertex(const Skeleton& skeleton, const SkeletonAnalysis& an
     }
     const FanBlockChain& c = cs.fan_blocks.chains[fan_block_at(cs, v)];
     const int i = cs.fan_blocks.vertex_index[v], n = static_cast<int>(c.vertices.size());
+    // A notch end and its neighbour on the chain (the fold M_j runs straight over the last fan edge).
+    if (!c.closed && ((i <= 1 && c.notch[0] >= 0) || (i >= n - 2 && c.notch[1] >= 0)))
+        h = fan_notch_half_size(skeleton, an, r, v);
     double cap = h;
     if (!c.closed && (i == 0 || i == n - 1))
         cap = fan_end_cap_height(skeleton, an, options, v, (i == 0 ? -1.0 : 1.0) * c.tangent[i], h);
