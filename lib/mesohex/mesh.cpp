@@ -67,7 +67,8 @@ FinishOptions finishing_options(const MeshOptions& options, const PipelineResult
         fo.chunk_hex = branch_chunk_hexes(run);
     if (options.crease_wedge_pair_deg > 0 && fo.crease_wedge.min_dihedral_deg > 0) {
         fo.crease_wedge.listed_only = true;
-        fo.crease_wedge.listed = close_pair_crease_edges(run.skeleton, run.analysis, run.raw, options.crease_wedge_pair_deg);
+        fo.crease_wedge.listed =
+            close_pair_crease_edges(run.skeleton, run.analysis, run.raw, options.crease_wedge_pair_deg);
     }
     if (!options.progress) return fo;
     const auto& report = options.progress;

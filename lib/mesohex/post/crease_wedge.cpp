@@ -84,8 +84,8 @@ std::vector<Crease> find_creases(const HexMesh& mesh, const HexTopology& topo, c
     for (std::size_t i = 0; i < edge_quads.size();) {
         std::size_t j = i;
         while (j < edge_quads.size() && edge_quads[j].first == edge_quads[i].first) ++j;
-        const bool listed = !options.listed_only || std::binary_search(options.listed.begin(), options.listed.end(),
-                                                                        edge_quads[i].first);
+        const bool listed = !options.listed_only ||
+                            std::binary_search(options.listed.begin(), options.listed.end(), edge_quads[i].first);
         if (j - i == 2 && listed) {
             Crease c;
             c.a = edge_quads[i].first[0];
