@@ -24,6 +24,9 @@
 //   its crease_midpoints, JUNCTION_CREASE_PAIR=DEG its crease_pair_deg, JUNCTION_COVER_MIN_DEGREE and
 //   JUNCTION_COVER_FLOOR its min_degree and sj_floor, JUNCTION_COVER_BULGE its bridge_bulge), BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius
 //   (BRIDGE_QUAD_INSET=F its bridge_quad_inset), FAN_CAP_BRANCHES=0|1 CompatibleBlockOptions::fan_cap_branches.
+//   CREASE_WEDGE=DEG lists, before the seed's line, the wedges finish_mesh would insert with FinishOptions::
+//   crease_wedge at DEG (one line "  wedge SEED edge A B at vC degree D" each; CREASE_WEDGE_PAIR=DEG2 restricts them
+//   as MeshOptions::crease_wedge_pair_deg does); the raw mesh and its hash are unchanged.
 //   The last three columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw
 //   mesh (compare two builds or option sets seed by seed to find the seeds a change touches).
 //
@@ -51,6 +54,7 @@
 
 #include "mesohex/core/error.h"
 #include "mesohex/pipeline.h"
+#include "mesohex/post/crease_wedge.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/generators.h"
 #include "mesohex/stages/skeleton_repair.h"
@@ -243,6 +247,24 @@ int main(int argc, char** argv) {
                     const int h = q.worst_hexes[k], e = res.raw.hex_edge[h];
                     std::printf("  worst hex %d sj %.3f edge %d (%d %d)\n", h, q.sj[h], e, e < 0 ? -1 : s.edges[e][0],
                                 e < 0 ? -1 : s.edges[e][1]);
+                }
+            }
+            if (const char* cw = std::getenv("CREASE_WEDGE")) {
+                // The wedges finish_mesh would insert before the padding (FinishOptions::crease_wedge at CREASE_WEDGE
+                // degrees; with CREASE_WEDGE_PAIR=DEG only on close pairs' creases, MeshOptions::
+                // crease_wedge_pair_deg): one line per wedge, its crease edge's branching point and that point's degree.
+                CreaseWedgeOptions wo;
+                wo.min_dihedral_deg = std::atof(cw);
+                if (const char* pd = std::getenv("CREASE_WEDGE_PAIR")) {
+                    wo.listed_only = true;
+                    wo.listed = close_pair_crease_edges(s, res.analysis, res.raw, std::atof(pd));
+                }
+                const CreaseWedgeResult wr = insert_crease_wedges(res.raw.mesh, wo);
+                const std::vector<int> owner = raw_vertex_owner(res.raw);
+                for (const std::array<int, 2>& we : wr.wedge_edges) {
+                    const int c = owner[static_cast<std::size_t>(we[0])];
+                    std::printf("  wedge %ld edge %d %d at v%d degree %d\n", seed, we[0], we[1], c,
+                                c < 0 ? 0 : res.analysis.vertex_edge_begin[c + 1] - res.analysis.vertex_edge_begin[c]);
                 }
             }
             std::vector<std::vector<int>> adj(s.points.size());

@@ -167,6 +167,11 @@ void add_padding_options(CLI::App* cmd, MeshJob* job) {
                 return x == 0 || x > 180 ? "" : "'" + text + "' is neither 0 (off) nor above 180 degrees";
             },
             "0 or (180, 360]"));
+    cmd->add_option("--crease-wedge-pair", job->options.crease_wedge_pair_deg,
+                    "With --crease-wedge: wedges only on the crease two branches less than this many degrees apart "
+                    "share at a branching point (0 = every folded crease, the default: docs/junctions.md, \"The "
+                    "close pair's crease carried by a wedge\")")
+        ->check(finite_range(0.0, 180.0));
     cmd->add_flag("--crease-wedge-inside", job->options.finishing.crease_wedge_inside,
                   "With --crease-wedge: only wedges whose new vertices lie inside the domain");
     cmd->add_option("--pad-search-cos", job->options.finishing.padding.search_cos,

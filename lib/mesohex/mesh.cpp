@@ -66,6 +66,11 @@ FinishOptions finishing_options(const MeshOptions& options, const PipelineResult
     FinishOptions fo = options.finishing;
     if (fo.refinement != FinishOptions::Refinement::Uniform && fo.chunk_hex.empty())
         fo.chunk_hex = branch_chunk_hexes(run);
+    if (options.crease_wedge_pair_deg > 0 && fo.crease_wedge.min_dihedral_deg > 0) {
+        fo.crease_wedge.listed_only = true;
+        fo.crease_wedge.listed =
+            close_pair_crease_edges(run.skeleton, run.analysis, run.raw, options.crease_wedge_pair_deg);
+    }
     if (!options.progress) return fo;
     const auto& report = options.progress;
     const int fit_cap = fo.fitting.max_iterations;

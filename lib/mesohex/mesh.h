@@ -47,6 +47,12 @@ struct MeshOptions {
     // With a domain: pad, subdivide, fit, untangle, improve, smooth (finish_mesh). false = the raw mesh only.
     bool finish = true;
     FinishOptions finishing;  // finishing.chunk_hex is filled by mesh_skeleton for longitudinal / radial refinement
+    // > 0, with finishing.crease_wedge on (min_dihedral_deg > 0): the wedges go only on the crease a close pair of
+    // branches shares at a branching point, i.e. on the raw boundary edges between two of its surface ids held by the
+    // chunks of two branch edges less than this many degrees apart (close_pair_crease_edges, raw_mesh.h; the other
+    // folded creases keep two hexes). Degrees; 0 = every crease sharper than min_dihedral_deg (docs/junctions.md,
+    // "The close pair's crease carried by a wedge").
+    double crease_wedge_pair_deg = 0;
     // Further attempts when the finished mesh misses one of `goals`, keeping the best (better_finish): first, if the
     // selective padding left quads bare, the same raw mesh with every quad padded; then adapt again with the first
     // joints at adaptation.branching_reach (instead of free_branching_reach), only with resampling, a fit, and when

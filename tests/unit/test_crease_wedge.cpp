@@ -122,3 +122,26 @@ TEST(CreaseWedge, ConsecutiveWedgesShareTheirEndFace) {
     for (const std::array<int, 4>& q : t.boundary_quads)
         for (int v : q) EXPECT_NE(v, 6) << "the middle crease vertex stays on the boundary";
 }
+
+// listed_only (the close-pair restriction, MeshOptions::crease_wedge_pair_deg): on the one-layer fold, listing the
+// crease edge (0, 6) gives the unrestricted wedge (3 hexes, 14 points); listing only another edge, (1, 7) (a side
+// edge of one hex), or nothing gives no wedge: the input.
+TEST(CreaseWedge, ListedOnlyKeepsTheWedgeOnTheListedCreaseAlone) {
+    const HexMesh m = folded_pair(1);
+    CreaseWedgeOptions o;
+    o.min_dihedral_deg = 270;
+    o.listed_only = true;
+    o.listed = {{0, 6}};
+    const CreaseWedgeResult on = insert_crease_wedges(m, o);
+    ASSERT_EQ(on.wedge_edges.size(), 1u);
+    EXPECT_EQ(on.mesh.hexes.size(), 3u);
+    EXPECT_EQ(on.mesh.points.size(), 14u);
+    for (const std::vector<std::array<int, 2>>& listed :
+         {std::vector<std::array<int, 2>>{{1, 7}}, std::vector<std::array<int, 2>>{}}) {
+        o.listed = listed;
+        const CreaseWedgeResult off = insert_crease_wedges(m, o);
+        EXPECT_TRUE(off.wedge_edges.empty());
+        EXPECT_EQ(off.mesh.points, m.points);
+        EXPECT_EQ(off.mesh.hexes, m.hexes);
+    }
+}

@@ -1125,6 +1125,38 @@ TEST(JunctionCover, CreasePairMovesOnlyTheEdgeTheCloseLegsShare) {
     EXPECT_EQ(compute_quality(on.mesh).inverted, 0);
 }
 
+// The crease a close pair shares (close_pair_crease_edges, MeshOptions::crease_wedge_pair_deg) on the same
+// hand-built hip: the legs (46.35 degrees apart; every other pair 79.4 or more) share one side of their quads on the
+// hip's sphere, (Q_a, Q_b) with midpoint M; at 60 degrees (and at 79, still below every other pair) the rule lists
+// exactly its two halves (Q_a, M) and (M, Q_b) as raw vertex pairs; at 40 (below the legs' angle) nothing; at 180
+// every side of the partition held by two chunks: each side's two halves (the hip's 6 points and 4 quads have 8 sides).
+TEST(RawMesh, ClosePairCreaseEdgesAreTheHalvesOfTheLegsSharedSide) {
+    const Skeleton s = mesohex::test::dino_hip();
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    const RawMesh raw = build_raw_mesh(s, an, cs, fr, RawMeshOptions{});
+    const int q3 = cs.edge_quad[2][0] - cs.quad_begin[0], q4 = cs.edge_quad[3][0] - cs.quad_begin[0];
+    std::vector<int> shared;
+    for (int k3 : cs.quad_edges[cs.quad_begin[0] + q3])
+        for (int k4 : cs.quad_edges[cs.quad_begin[0] + q4])
+            if (k3 == k4) shared.push_back(k3);
+    ASSERT_EQ(shared.size(), 1u);
+    const int base = raw.vertex_base[0], np = cs.point_begin[1] - cs.point_begin[0];
+    const int ne = cs.edge_begin[1] - cs.edge_begin[0];
+    ASSERT_EQ(np, 6);
+    ASSERT_EQ(ne, 8);
+    const std::array<int, 2>& side = cs.edges[cs.edge_begin[0] + shared[0]];
+    const int m = base + 1 + np + shared[0], qa = base + 1 + side[0], qb = base + 1 + side[1];
+    std::vector<std::array<int, 2>> want = {{std::min(qa, m), std::max(qa, m)}, {std::min(qb, m), std::max(qb, m)}};
+    std::sort(want.begin(), want.end());
+    EXPECT_EQ(close_pair_crease_edges(s, an, raw, 60), want);
+    EXPECT_EQ(close_pair_crease_edges(s, an, raw, 79), want);
+    EXPECT_TRUE(close_pair_crease_edges(s, an, raw, 40).empty());
+    EXPECT_TRUE(close_pair_crease_edges(s, an, raw, 0).empty());
+    EXPECT_EQ(close_pair_crease_edges(s, an, raw, 180).size(), 2u * ne);
+}
+
 // A fat Y without a gap over 180 degrees (azimuths 0, 100, 220 degrees, 10 degrees out of one plane, centre radius 0.4,
 // arms 1 long ending at radius 0.25): partition_sphere's general choice tilts its axis, a valence-3 pole 71.4 degrees
 // from a branch; the orange around the branches' best-fit plane normal keeps its poles 84.7 degrees from every branch.

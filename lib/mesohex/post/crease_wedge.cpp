@@ -70,7 +70,8 @@ std::array<int, 2> other_neighbours(const std::array<int, 4>& q, int a, int b) {
 
 // Every boundary edge with two hexes and two boundary quads whose interior dihedral exceeds min_deg, in order of
 // decreasing dihedral (ties by the edge's vertex pair).
-std::vector<Crease> find_creases(const HexMesh& mesh, const HexTopology& topo, double min_deg) {
+std::vector<Crease> find_creases(const HexMesh& mesh, const HexTopology& topo, const CreaseWedgeOptions& options) {
+    const double min_deg = options.min_dihedral_deg;
     std::vector<std::pair<std::array<int, 2>, int>> edge_quads;  // (edge, boundary quad)
     for (std::size_t q = 0; q < topo.boundary_quads.size(); ++q)
         for (std::size_t i = 0; i < 4; ++i) {
@@ -83,7 +84,9 @@ std::vector<Crease> find_creases(const HexMesh& mesh, const HexTopology& topo, d
     for (std::size_t i = 0; i < edge_quads.size();) {
         std::size_t j = i;
         while (j < edge_quads.size() && edge_quads[j].first == edge_quads[i].first) ++j;
-        if (j - i == 2) {
+        const bool listed = !options.listed_only ||
+                            std::binary_search(options.listed.begin(), options.listed.end(), edge_quads[i].first);
+        if (j - i == 2 && listed) {
             Crease c;
             c.a = edge_quads[i].first[0];
             c.b = edge_quads[i].first[1];
@@ -258,7 +261,7 @@ CreaseWedgeResult insert_crease_wedges(const HexMesh& mesh, const CreaseWedgeOpt
     unchanged.first_new_hex = static_cast<int>(mesh.hexes.size());
     if (!(options.min_dihedral_deg > 0)) return unchanged;
     const HexTopology topo = compute_hex_topology(mesh);
-    const std::vector<Crease> creases = find_creases(mesh, topo, options.min_dihedral_deg);
+    const std::vector<Crease> creases = find_creases(mesh, topo, options);
     if (creases.empty()) return unchanged;
     std::vector<int> boundary_count(mesh.points.size(), 0);
     for (const std::array<int, 4>& q : topo.boundary_quads)

@@ -1,5 +1,6 @@
 #pragma once
 // Crease wedges: a column of hexes filling the gap at a folded concave boundary crease, before padding.
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -20,6 +21,12 @@ struct CreaseWedgeOptions {
     // wedge with a new vertex refused is dropped and the selection redone without it, as for min_sj. Empty: every
     // position is kept.
     std::function<bool(const Vec3&)> keep_vertex;
+    // true: only the edges in `listed` may get a wedge (mesh_skeleton fills it with the edges a close pair of
+    // branches shares at a branching point: MeshOptions::crease_wedge_pair_deg); false: every boundary edge of two
+    // hexes may.
+    bool listed_only = false;
+    // With listed_only: the edges that may get a wedge, as vertex pairs (v0 < v1), sorted ascending.
+    std::vector<std::array<int, 2>> listed;
 };
 
 struct CreaseWedgeResult {

@@ -10,6 +10,7 @@
 
 #include "mesohex/core/cone.h"
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_convention.h"
 #include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/core/union_find.h"
@@ -1546,6 +1547,43 @@ std::vector<int> raw_vertex_owner(const RawMesh& raw) {
         next = raw.vertex_base[v];
     }
     return owner;
+}
+
+std::vector<std::array<int, 2>> close_pair_crease_edges(const Skeleton& skeleton, const SkeletonAnalysis& an,
+                                                        const RawMesh& raw, double pair_deg) {
+    if (!(pair_deg > 0)) return {};
+    const std::vector<int> owner = raw_vertex_owner(raw);
+    // (edge, skeleton edge of a chunk hex holding it), for the edges between two surface ids of a branching point.
+    std::vector<std::pair<std::array<int, 2>, int>> held;
+    for (std::size_t h = 0; h < raw.hex_edge.size(); ++h) {
+        const int e = raw.hex_edge[h];
+        if (e < 0 || an.edge_degree[e] != 0) continue;
+        const std::array<int, 8>& hex = raw.mesh.hexes[h];
+        for (const std::array<int, 2>& le : kHexEdges) {
+            const int v0 = hex[le[0]], v1 = hex[le[1]], c = owner[v0];
+            if (c < 0 || owner[v1] != c || an.vertex_class[c] != VertexClass::BranchingPoint) continue;
+            if (v0 == raw.vertex_base[c] || v1 == raw.vertex_base[c]) continue;  // a ray from the centre
+            held.push_back({{std::min(v0, v1), std::max(v0, v1)}, e});
+        }
+    }
+    std::sort(held.begin(), held.end());
+    const double cos_limit = std::cos(pair_deg * std::numbers::pi / 180);
+    std::vector<std::array<int, 2>> out;
+    for (std::size_t i = 0; i < held.size();) {
+        std::size_t j = i;
+        while (j < held.size() && held[j].first == held[i].first) ++j;
+        const int e1 = held[i].second, e2 = held[i + 1 < j ? i + 1 : i].second;
+        const int c = owner[held[i].first[0]];
+        if (j - i == 2 && e1 != e2) {
+            const auto away = [&](int e) {
+                const int w = skeleton.edges[e][0] == c ? skeleton.edges[e][1] : skeleton.edges[e][0];
+                return normalized(skeleton.points[w] - skeleton.points[c]);
+            };
+            if (dot(away(e1), away(e2)) > cos_limit) out.push_back(held[i].first);
+        }
+        i = j;
+    }
+    return out;
 }
 
 RawMesh build_raw_mesh(const Skeleton& skeleton, const SkeletonAnalysis& an, const ConnectionSurfaces& cs,

@@ -153,6 +153,15 @@ struct RawMeshOptions {
 // Per raw-mesh vertex id: the skeleton vertex whose ids hold it (vertex_base is a prefix sum in vertex order), or -1.
 std::vector<int> raw_vertex_owner(const RawMesh& raw);
 
+// The raw boundary edges a close pair of branches shares at a branching point: every edge (v0 < v1) between two
+// surface ids of a branching point c (a surface point and a surface-edge midpoint on c's sphere) held by exactly two
+// chunk hexes, of two branch edges of c whose directions from c (to their other ends) are less than pair_deg degrees
+// apart. These are the halves of the surface edge the pair's two quads share: the crease between the two chunks,
+// folded nearly onto itself when the branches are close (docs/junctions.md, "The close pair's crease carried by a
+// wedge"). Sorted, no duplicates; empty when pair_deg <= 0. O(hexes log hexes).
+std::vector<std::array<int, 2>> close_pair_crease_edges(const Skeleton& skeleton, const SkeletonAnalysis& analysis,
+                                                        const RawMesh& raw, double pair_deg);
+
 // Preconditions: skeleton.radii has one finite radius > 0 per vertex (Error(InvalidInput) naming the vertex
 // otherwise); analysis, surfaces and frames computed from this skeleton.
 // Postconditions: mesh.hexes.size() == analysis.predicted_hexes + 8 x surfaces.blocks.size() + 4 x (fan-block edges +
