@@ -38,6 +38,9 @@ struct Graph {
     std::vector<bool> frozen;  // not scanned: the roots of side stubs (their pairs are the stub's own repair)
     std::vector<bool> merged;  // balls t made by a merge: no further merge at them (as c or as b)
     std::vector<int> trunks;   // per vertex: trunks built at it as c (valley_trunks_per_point)
+    // per vertex: the unit directions of the trunks built at it as c, and whether each is a valley trunk
+    // (valley_trunks_apart)
+    std::vector<std::vector<std::pair<Vec3, bool>>> trunk_dirs;
 };
 
 // Fills g for s, reusing g's arrays (called once per repair round).
@@ -889,7 +892,18 @@ bool valley_trunk(double rc, double r, double sin_a, double sep, const SkeletonR
     const double k = o.trunk_clearance * (1 + 1e-6);
     xt = k * (rc + sep) / (1 + k);
     rt = std::min(sep - xt, r + xt * sin_a);
+    const double off = xt * sin_a;  // the tubes' axes' distance from the bisector at t
+    if (o.valley_trunk_fit_across) rt = std::min(rt, std::sqrt(std::max(0.0, r * r - off * off)));
     return xt > rc && rt >= o.valley_trunk_min_radius * r && rt > 0;
+}
+
+// Whether a trunk from c along unit direction dir (a valley trunk or not) keeps 90 degrees or more from every trunk
+// already built at c of which at least one of the two is a valley trunk (SkeletonRepairOptions::valley_trunks_apart).
+bool apart_from_trunks(const Graph& g, int c, const Vec3& dir, bool valley) {
+    if (static_cast<std::size_t>(c) >= g.trunk_dirs.size()) return true;
+    for (const auto& [d, was_valley] : g.trunk_dirs[c])
+        if ((valley || was_valley) && dot(d, dir) > 0) return false;
+    return true;
 }
 
 // The close pair (walks i, j at c): updates scan.best when its repair scores higher; records it in
@@ -977,6 +991,7 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
     const Vec3 m = 0.5 * (a.x + b.x);
     const Vec3 dir = normalized(m - s.points[c]);
     if (dir == Vec3{}) return;
+    if (o.valley_trunk_degree > 0 && o.valley_trunks_apart && !apart_from_trunks(g, c, dir, valley)) return;
     const double score = x / s.radii[c];
     if (score > best.score) best = {score, c, i, j, sep, s.points[c] + xt * dir, rt, PairRepair::trunk, valley};
 }
@@ -1224,6 +1239,7 @@ std::vector<int> apply_edit(Skeleton& s, Graph& g, Tombstones& dead, int n, cons
     g.frozen.resize(total, false);
     g.merged.resize(total, false);
     g.trunks.resize(total, 0);
+    g.trunk_dirs.resize(total);
     std::vector<int> touched;
     for (int v = n; v < static_cast<int>(total); ++v) touched.push_back(v);
     for (const auto& [v, before] : saved.vertices)
@@ -1397,6 +1413,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
     g.frozen.assign(s.points.size(), false);  // side stub roots
     g.merged.assign(s.points.size(), false);  // balls made by merges
     g.trunks.assign(s.points.size(), 0);
+    g.trunk_dirs.assign(s.points.size(), {});
     Tombstones dead{std::vector<char>(s.points.size(), 0), std::vector<char>(s.edges.size(), 0), {}};
     const int n0 = static_cast<int>(s.points.size());
     for (const std::vector<int>& f : s.faces)
@@ -1441,7 +1458,10 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
         rank_key.resize(s.points.size(), 0);
         if (made.side_root >= 0) g.frozen[made.side_root] = true;
         if (made.merge_t >= 0) g.merged[made.merge_t] = true;
-        if (best.kind == PairRepair::trunk) ++g.trunks[c];
+        if (best.kind == PairRepair::trunk) {
+            ++g.trunks[c];
+            g.trunk_dirs[c].push_back({normalized(best.t - s.points[c]), best.valley});
+        }
         const std::vector<int> points = mark_stale(s, g, touched, stale);
         if (o.rescan_all) {
             for (int v = 0; v < static_cast<int>(s.points.size()); ++v) update(v, true);

@@ -64,6 +64,16 @@ struct SkeletonRepairOptions {
     // different pairs) stays on c's sphere, next to two trunk balls. Count of trunks (dimensionless); docs/junctions.md
     // ("Valley trunks") has both settings measured.
     int valley_trunks_per_point = 0;
+    // With valley_trunk_degree: a trunk is built at c only 90 degrees or more from every trunk already at c when
+    // either of the two is a valley trunk. Two trunks less than 90 degrees apart are a new close pair at c: the valley
+    // between them (between two of the input's branches that belong to different pairs) stays on c's sphere and the
+    // raw mesh webs across it. The trunk built is the pair's with the highest score (x / r_c: the medial junction
+    // farthest out), the others are refused. false: no such test (valley_trunks_per_point alone).
+    bool valley_trunks_apart = true;
+    // With valley_trunk_degree: t's radius is at most the half-width of the pair's two tubes across the pair's plane
+    // at t, sqrt(r^2 - (x_v sin a)^2) (the tubes' axes lie x_v sin a off the bisector there), so that t's ball stays
+    // inside the union of the tubes in 3D, not only in the pair's plane. false: r_t as above.
+    bool valley_trunk_fit_across = false;
     // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
     // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
     // the same arc length, radius absorbed_ball_width x their distance + the larger radius there (a ball over both
