@@ -886,15 +886,16 @@ double survivable_trunk(double x, double rc, double r, double sin_a, double sep,
 // A valley trunk (SkeletonRepairOptions::valley_trunk_degree) for a pair whose medial junction lies inside c's ball:
 // t at x_v = k (r_c + l*) / (1 + k) along the bisector (k = trunk_clearance, strictly above it as adaptation's
 // collapse rule needs), radius r_t = min(l* - x_v, r + x_v sin a): the trunk edge is then k (r_c + r_t) when the
-// crotch binds. False (no trunk) when r_t < valley_trunk_min_radius x r or x_v <= r_c.
-bool valley_trunk(double rc, double r, double sin_a, double sep, const SkeletonRepairOptions& o, double& xt,
-                  double& rt) {
+// crotch binds. False (no trunk) when r_t < valley_trunk_min_radius x r_fat (the fatter branch's radius at l*) or
+// x_v <= r_c.
+bool valley_trunk(double rc, double r, double r_fat, double sin_a, double sep, const SkeletonRepairOptions& o,
+                  double& xt, double& rt) {
     const double k = o.trunk_clearance * (1 + 1e-6);
     xt = k * (rc + sep) / (1 + k);
     rt = std::min(sep - xt, r + xt * sin_a);
     const double off = xt * sin_a;  // the tubes' axes' distance from the bisector at t
     if (o.valley_trunk_fit_across) rt = std::min(rt, std::sqrt(std::max(0.0, r * r - off * off)));
-    return xt > rc && rt >= o.valley_trunk_min_radius * r && rt > 0;
+    return xt > rc && rt >= o.valley_trunk_min_radius * r_fat && rt > 0;
 }
 
 // Whether a trunk from c along unit direction dir (a valley trunk or not) keeps 90 degrees or more from every trunk
@@ -983,7 +984,7 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
                           (static_cast<std::size_t>(c) < g.trunks.size() && g.trunks[c] < o.valley_trunks_per_point);
         const bool on = o.valley_trunk_degree > 0 && plain && room &&
                         static_cast<int>(inc.size()) >= std::max(o.valley_trunk_degree, 4);
-        if (!on || !valley_trunk(s.radii[c], r, sin_a, sep, o, xt, rt)) return;
+        if (!on || !valley_trunk(s.radii[c], r, std::max(a.r, b.r), sin_a, sep, o, xt, rt)) return;
     } else {
         xt = c_joint ? x : survivable_trunk(x, s.radii[c], r, sin_a, sep, o);
         rt = r + xt * sin_a;

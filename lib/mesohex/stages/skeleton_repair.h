@@ -51,12 +51,14 @@ struct SkeletonRepairOptions {
     // the trunk edge is just long enough for adaptation to keep it), radius r_t = min(l* - x_v, r + x_v sin a) (its ball
     // reaches the crotch and stays between the tubes' outer walls). The pair then leaves t about 120 degrees apart,
     // and the valley vertex of t's partition lies at the crotch instead of on c's sphere. Not built when r_t <
-    // valley_trunk_min_radius x r (wide pairs: t's ball would be a small fraction of the branches') or when the
+    // valley_trunk_min_radius x the fatter branch's radius (wide or unequal pairs: t's ball would be a small fraction of the branches') or when the
     // trunk is no longer than c's radius. Vertex degree (number of branch edges); 0 = off; values below 4 act as 4
     // (degree 3 is the joint trunks' case; the CLI takes 0 or 4 to 64). docs/junctions.md ("Valley trunks").
     int valley_trunk_degree = 0;
-    // With valley_trunk_degree: the smallest radius of t, as a fraction of the pair's mean radius r at l*
-    // (dimensionless; 0.6 admits straight equal pairs up to about 71 degrees apart when r = r_c).
+    // With valley_trunk_degree: the smallest radius of t, as a fraction of the fatter branch's radius at l*
+    // (dimensionless; 0.6 admits straight equal pairs up to about 71 degrees apart when r = r_c). Against the fatter
+    // branch, not the pair's mean: a branch much fatter than t's ball would leave t through a thin neck and flare
+    // out of the domain beside it (a fat limb paired with a thin one).
     double valley_trunk_min_radius = 0.6;
     // With valley_trunk_degree: a valley trunk is built at c only while c has fewer than this many trunks (of either
     // rule: a wide-junction trunk counts); 0 = no limit. Two trunks at one point leave it as a new close pair about
