@@ -51,9 +51,10 @@ struct SkeletonRepairOptions {
     // the trunk edge is just long enough for adaptation to keep it), radius r_t = min(l* - x_v, r + x_v sin a) (its ball
     // reaches the crotch and stays between the tubes' outer walls). The pair then leaves t about 120 degrees apart,
     // and the valley vertex of t's partition lies at the crotch instead of on c's sphere. Not built when r_t <
-    // valley_trunk_min_radius x the fatter branch's radius (wide or unequal pairs: t's ball would be a small fraction of the branches') or when the
-    // trunk is no longer than c's radius. Vertex degree (number of branch edges); 0 = off; values below 4 act as 4
-    // (degree 3 is the joint trunks' case; the CLI takes 0 or 4 to 64). docs/junctions.md ("Valley trunks").
+    // valley_trunk_min_radius x the fatter branch's radius at l* (wide or unequal pairs: t's ball would be a small
+    // fraction of the branches') or when the trunk is no longer than c's radius. Vertex degree (number of branch
+    // edges); 0 = off; values below 4 act as 4 (degree 3 is the joint trunks' case; the CLI takes 0 or 4 to 64).
+    // docs/junctions.md ("Valley trunks").
     int valley_trunk_degree = 0;
     // With valley_trunk_degree: the smallest radius of t, as a fraction of the fatter branch's radius at l*
     // (dimensionless; 0.6 admits straight equal pairs up to about 71 degrees apart when r = r_c). Against the fatter
