@@ -14,7 +14,8 @@
 //   JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
 //   junction_split_clearance, JUNCTION_SPLIT_FIVE=1 its junction_split_degree_five, VALLEY_TRUNKS=N its valley_trunk_degree
 //   (VALLEY_TRUNK_MIN_RADIUS=F its valley_trunk_min_radius, VALLEY_TRUNKS_PER_POINT=N its
-//   valley_trunks_per_point), PIT_BRANCHES=F and PIT_MIN_DEGREE=N VirtualBranchOptions::pit_excess and pit_min_degree, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
+//   valley_trunks_per_point, VALLEY_TRUNKS_APART=0|1 its valley_trunks_apart, VALLEY_FIT_ACROSS=0|1 its
+//   valley_trunk_fit_across), PIT_BRANCHES=F and PIT_MIN_DEGREE=N VirtualBranchOptions::pit_excess and pit_min_degree, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
 //   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
 //   D3_NEXT_TO_BP=0|1 its degree_three_chunks_next_to_branching_points, D3_AT_BRIDGES=0|1 its
 //   degree_three_chunks_at_bridges, EXACT_THREE=0|1 its exact_three_orange, SHARED_HULL=0|1 its
@@ -117,6 +118,8 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("PIT_MIN_DEGREE")) po.virtual_branches.pit_min_degree = std::atoi(k);
     if (const char* k = std::getenv("VALLEY_TRUNKS")) po.repair.valley_trunk_degree = std::atoi(k);
     if (const char* k = std::getenv("VALLEY_TRUNKS_PER_POINT")) po.repair.valley_trunks_per_point = std::atoi(k);
+    if (const char* k = std::getenv("VALLEY_TRUNKS_APART")) po.repair.valley_trunks_apart = std::atoi(k) != 0;
+    if (const char* k = std::getenv("VALLEY_FIT_ACROSS")) po.repair.valley_trunk_fit_across = std::atoi(k) != 0;
     if (const char* k = std::getenv("VALLEY_TRUNK_MIN_RADIUS")) po.repair.valley_trunk_min_radius = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_SPLIT_FIVE")) po.repair.junction_split_degree_five = std::atoi(k) != 0;
     if (const char* k = std::getenv("SIDE_STUB_MIN_LENGTH")) po.repair.side_stub_min_length = std::atof(k);

@@ -265,6 +265,16 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "this many trunks of either rule (0 = no limit, the default)")
         ->check(CLI::Range(0, 64))
         ->capture_default_str();
+    cmd->add_option("--valley-trunks-apart", job->options.pipeline.repair.valley_trunks_apart,
+                    "With --valley-trunks: build a trunk at a branching point only 90 degrees or more from every "
+                    "trunk already there when either is a valley trunk (0 or 1, 1 by default)")
+        ->check(CLI::IsMember({"0", "1"}))
+        ->capture_default_str();
+    cmd->add_option("--valley-trunk-fit-across", job->options.pipeline.repair.valley_trunk_fit_across,
+                    "With --valley-trunks: cap the trunk end's radius at the pair's tubes' half-width across the "
+                    "pair's plane (0 or 1, 0 by default)")
+        ->check(CLI::IsMember({"0", "1"}))
+        ->capture_default_str();
     cmd->add_option("--pit-branches", job->options.pipeline.virtual_branches.pit_excess,
                     "A one-edge branch into the pit inside a ring of branches at a branching point of degree 4 or "
                     "more, along the direction farthest from its nearest three branches, where the domain reaches "

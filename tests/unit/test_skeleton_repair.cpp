@@ -431,6 +431,84 @@ TEST(SkeletonRepair, ValleyTrunkForAFatPairAtDegreeFour) {
     EXPECT_EQ(mesohex::repair_skeleton(in, strict).trunks, 0);
 }
 
+// A ring of four at c = origin (radius 0.1): two fat pairs, each 60 degrees apart about its bisector u1 =
+// (-sin 40, 0, cos 40) or u2 = (sin 40, 0, cos 40) (80 degrees apart), the pair in the plane of u and y: limbs
+// cos 30 u +- sin 30 y; every limb 1 long, radius 0.1. Vertices: 0 c, 1 2 pair one, 3 4 pair two.
+Skeleton valley_ring() {
+    Skeleton s;
+    s.points = {{0, 0, 0}};
+    for (const double side : {-1.0, 1.0}) {
+        const Vec3 u{side * std::sin(40 * kDeg), 0, std::cos(40 * kDeg)};
+        for (const double y : {1.0, -1.0})
+            s.points.push_back(std::cos(30 * kDeg) * u + y * std::sin(30 * kDeg) * Vec3{0, 1, 0});
+    }
+    s.points.push_back({0, 0, -1});
+    s.radii.assign(6, 0.1);
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {0, 5}};
+    return s;
+}
+
+// Both pairs are valley pairs as in ValleyTrunkForAFatPairAtDegreeFour (l* = 0.2, x = 0.0667 < r_c, score x / r_c =
+// 0.667 each; the pairs across, limbs of different pairs on the same side of y, are cos^-1(0.75 cos 80 + 0.25) = 67.6
+// degrees apart and score lower: l* = 0.1 / sin 33.8 = 0.180, x = 0.051). The first pair in order (1, 2) gets its
+// trunk t1 along u1 (t1 = 0.12353 u1, r_t 0.07647, two crotch vertices: V + 3, E + 3), leaving c of degree 4 (pair
+// two, -z, t1). Without valley_trunks_apart pair two then gets its own trunk along u2, 80 degrees from t1: two trunks
+// at c, V 6 + 6 = 12, E 5 + 6 = 11, c of degree 3 (-z and the two trunks). With it (the default) the second trunk,
+// less than 90 degrees from t1, is refused: one trunk, and c (degree 4, pair two 60 degrees apart) is split by the
+// degree-4 junction split (pair two moves to a new vertex c': V + 1, E + 1): V 6 + 3 + 1 = 10, E 5 + 3 + 1 = 9.
+TEST(SkeletonRepair, ValleyTrunksApartAtARingOfFour) {
+    const Skeleton in = valley_ring();
+    mesohex::SkeletonRepairOptions o;
+    o.valley_trunk_degree = 4;
+    o.valley_trunks_apart = false;
+    const mesohex::SkeletonRepairResult two = mesohex::repair_skeleton(in, o);
+    EXPECT_EQ(two.trunks, 2);
+    EXPECT_EQ(two.junction_splits, 0);
+    ASSERT_EQ(two.skeleton.points.size(), 12u);
+    EXPECT_EQ(two.skeleton.edges.size(), 11u);
+    EXPECT_EQ(degree(two.skeleton, 0), 3);
+    const Vec3 t1 = two.skeleton.points[6], t2 = two.skeleton.points[9];
+    EXPECT_NEAR(distance(t1, 0.12353 * Vec3{-std::sin(40 * kDeg), 0, std::cos(40 * kDeg)}), 0, 1e-5);
+    EXPECT_NEAR(std::acos(dot(normalized(t1), normalized(t2))) / kDeg, 80, 1e-6);
+    o.valley_trunks_apart = true;
+    const mesohex::SkeletonRepairResult one = mesohex::repair_skeleton(in, o);
+    EXPECT_EQ(one.trunks, 1);
+    EXPECT_EQ(one.junction_splits, 1);
+    ASSERT_EQ(one.skeleton.points.size(), 10u);
+    EXPECT_EQ(one.skeleton.edges.size(), 9u);
+    EXPECT_NEAR(distance(one.skeleton.points[6], t1), 0, 1e-12);
+    EXPECT_NEAR(one.skeleton.radii[6], 0.2 - 0.7 * 0.3 / 1.7, 1e-6);
+}
+
+// valley_trunk_min_radius is a fraction of the fatter branch's radius at l*: valley_four with the branch along
+// (-sin 30, 0, cos 30) thin (a joint 0.02 out, then radius 0.05 to its end). The tubes part where the axes are r_fat
+// + r_thin = 0.15 apart, at l* = 0.15 (60 degrees: the axes are l apart at arc l); r = 0.075, sin a = 0.5, x = 0.05 <
+// r_c: a valley pair. x_v = 0.7 x 0.25 / 1.7 = 0.10294 > r_c, r_t = min(0.15 - x_v, 0.075 + x_v / 2) = 0.04706:
+// 0.627 of the mean radius but 0.471 of the fatter branch's 0.1. So no trunk at 0.6 (nor 0.48), a trunk at 0.47:
+// t = (0, 0, x_v) (vertex 5 once the joint before l*, inside the trunk, is gone), V 6 - 1 + 3 = 8.
+TEST(SkeletonRepair, ValleyTrunkMinRadiusAgainstTheFatterBranch) {
+    Skeleton in = valley_four();
+    const Vec3 d = normalized(in.points[2]);
+    in.points.push_back(0.02 * d);
+    in.radii.push_back(0.05);
+    in.radii[2] = 0.05;
+    in.edges[1] = {0, 5};
+    in.edges.push_back({5, 2});
+    mesohex::SkeletonRepairOptions o;
+    o.valley_trunk_degree = 4;
+    EXPECT_EQ(mesohex::repair_skeleton(in, o).trunks, 0);
+    o.valley_trunk_min_radius = 0.48;
+    EXPECT_EQ(mesohex::repair_skeleton(in, o).trunks, 0);
+    o.valley_trunk_min_radius = 0.47;
+    const mesohex::SkeletonRepairResult res = mesohex::repair_skeleton(in, o);
+    ASSERT_EQ(res.trunks, 1);
+    const double xv = 0.7 * 0.25 / 1.7;
+    ASSERT_EQ(res.skeleton.points.size(), 8u);  // the joint 0.02 out (before l*) goes: 6 - 1 + 3
+    EXPECT_NEAR(distance(res.skeleton.points[5], xv * Vec3{0, 0, 1}), 0, 1e-6);
+    EXPECT_NEAR(res.skeleton.radii[5], 0.15 - xv, 1e-6);
+    EXPECT_NEAR(res.skeleton.radii[5] / 0.1, 0.4706, 1e-4);
+}
+
 // Docked walls' feet (docked_foot_split, 2 by default; docs/blocks.md "Acceptance audit (session 24)"): the
 // generated wall (6 x 6 unit plate at z = 0, x and y from -3 to 3; a wall of 2 edges and 2 rows on x = 0 from y = -1
 // to 1), radius 0.1, split at 2 r = 0.2 from the chain: the plate columns x in [-1, 0] and [0, 1] at x = -0.2 and 0.2

@@ -39,6 +39,9 @@ struct Graph {
     std::vector<bool> frozen;  // not scanned: the roots of side stubs (their pairs are the stub's own repair)
     std::vector<bool> merged;  // balls t made by a merge: no further merge at them (as c or as b)
     std::vector<int> trunks;   // per vertex: trunks built at it as c (valley_trunks_per_point)
+    // per vertex: the unit directions of the trunks built at it as c, and whether each is a valley trunk
+    // (valley_trunks_apart)
+    std::vector<std::vector<std::pair<Vec3, bool>>> trunk_dirs;
 };
 
 // Fills g for s, reusing g's arrays (called once per repair round).
@@ -943,13 +946,25 @@ double survivable_trunk(double x, double rc, double r, double sin_a, double sep,
 // A valley trunk (SkeletonRepairOptions::valley_trunk_degree) for a pair whose medial junction lies inside c's ball:
 // t at x_v = k (r_c + l*) / (1 + k) along the bisector (k = trunk_clearance, strictly above it as adaptation's
 // collapse rule needs), radius r_t = min(l* - x_v, r + x_v sin a): the trunk edge is then k (r_c + r_t) when the
-// crotch binds. False (no trunk) when r_t < valley_trunk_min_radius x r or x_v <= r_c.
-bool valley_trunk(double rc, double r, double sin_a, double sep, const SkeletonRepairOptions& o, double& xt,
-                  double& rt) {
+// crotch binds. False (no trunk) when r_t < valley_trunk_min_radius x r_fat (the fatter branch's radius at l*) or
+// x_v <= r_c.
+bool valley_trunk(double rc, double r, double r_fat, double sin_a, double sep, const SkeletonRepairOptions& o,
+                  double& xt, double& rt) {
     const double k = o.trunk_clearance * (1 + 1e-6);
     xt = k * (rc + sep) / (1 + k);
     rt = std::min(sep - xt, r + xt * sin_a);
-    return xt > rc && rt >= o.valley_trunk_min_radius * r && rt > 0;
+    const double off = xt * sin_a;  // the tubes' axes' distance from the bisector at t
+    if (o.valley_trunk_fit_across) rt = std::min(rt, std::sqrt(std::max(0.0, r * r - off * off)));
+    return xt > rc && rt >= o.valley_trunk_min_radius * r_fat && rt > 0;
+}
+
+// Whether a trunk from c along unit direction dir (a valley trunk or not) keeps 90 degrees or more from every trunk
+// already built at c of which at least one of the two is a valley trunk (SkeletonRepairOptions::valley_trunks_apart).
+bool apart_from_trunks(const Graph& g, int c, const Vec3& dir, bool valley) {
+    if (static_cast<std::size_t>(c) >= g.trunk_dirs.size()) return true;
+    for (const auto& [d, was_valley] : g.trunk_dirs[c])
+        if ((valley || was_valley) && dot(d, dir) > 0) return false;
+    return true;
 }
 
 // The close pair (walks i, j at c): updates scan.best when its repair scores higher; records it in
@@ -1029,7 +1044,7 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
                           (static_cast<std::size_t>(c) < g.trunks.size() && g.trunks[c] < o.valley_trunks_per_point);
         const bool on = o.valley_trunk_degree > 0 && plain && room &&
                         static_cast<int>(inc.size()) >= std::max(o.valley_trunk_degree, 4);
-        if (!on || !valley_trunk(s.radii[c], r, sin_a, sep, o, xt, rt)) return;
+        if (!on || !valley_trunk(s.radii[c], r, std::max(a.r, b.r), sin_a, sep, o, xt, rt)) return;
     } else {
         xt = c_joint ? x : survivable_trunk(x, s.radii[c], r, sin_a, sep, o);
         rt = r + xt * sin_a;
@@ -1037,6 +1052,7 @@ void consider_pair(const Skeleton& s, const Graph& g, const SkeletonRepairOption
     const Vec3 m = 0.5 * (a.x + b.x);
     const Vec3 dir = normalized(m - s.points[c]);
     if (dir == Vec3{}) return;
+    if (o.valley_trunk_degree > 0 && o.valley_trunks_apart && !apart_from_trunks(g, c, dir, valley)) return;
     const double score = x / s.radii[c];
     if (score > best.score) best = {score, c, i, j, sep, s.points[c] + xt * dir, rt, PairRepair::trunk, valley};
 }
@@ -1284,6 +1300,7 @@ std::vector<int> apply_edit(Skeleton& s, Graph& g, Tombstones& dead, int n, cons
     g.frozen.resize(total, false);
     g.merged.resize(total, false);
     g.trunks.resize(total, 0);
+    g.trunk_dirs.resize(total);
     std::vector<int> touched;
     for (int v = n; v < static_cast<int>(total); ++v) touched.push_back(v);
     for (const auto& [v, before] : saved.vertices)
@@ -1457,6 +1474,7 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
     g.frozen.assign(s.points.size(), false);  // side stub roots
     g.merged.assign(s.points.size(), false);  // balls made by merges
     g.trunks.assign(s.points.size(), 0);
+    g.trunk_dirs.assign(s.points.size(), {});
     Tombstones dead{std::vector<char>(s.points.size(), 0), std::vector<char>(s.edges.size(), 0), {}};
     const int n0 = static_cast<int>(s.points.size());
     for (const std::vector<int>& f : s.faces)
@@ -1501,7 +1519,10 @@ void repair_trunks(Skeleton& s, const SkeletonRepairOptions& o, SkeletonRepairRe
         rank_key.resize(s.points.size(), 0);
         if (made.side_root >= 0) g.frozen[made.side_root] = true;
         if (made.merge_t >= 0) g.merged[made.merge_t] = true;
-        if (best.kind == PairRepair::trunk) ++g.trunks[c];
+        if (best.kind == PairRepair::trunk) {
+            ++g.trunks[c];
+            g.trunk_dirs[c].push_back({normalized(best.t - s.points[c]), best.valley});
+        }
         const std::vector<int> points = mark_stale(s, g, touched, stale);
         if (o.rescan_all) {
             for (int v = 0; v < static_cast<int>(s.points.size()); ++v) update(v, true);

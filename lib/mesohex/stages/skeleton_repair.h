@@ -51,12 +51,15 @@ struct SkeletonRepairOptions {
     // the trunk edge is just long enough for adaptation to keep it), radius r_t = min(l* - x_v, r + x_v sin a) (its ball
     // reaches the crotch and stays between the tubes' outer walls). The pair then leaves t about 120 degrees apart,
     // and the valley vertex of t's partition lies at the crotch instead of on c's sphere. Not built when r_t <
-    // valley_trunk_min_radius x r (wide pairs: t's ball would be a small fraction of the branches') or when the
-    // trunk is no longer than c's radius. Vertex degree (number of branch edges); 0 = off; values below 4 act as 4
-    // (degree 3 is the joint trunks' case; the CLI takes 0 or 4 to 64). docs/junctions.md ("Valley trunks").
+    // valley_trunk_min_radius x the fatter branch's radius at l* (wide or unequal pairs: t's ball would be a small
+    // fraction of the branches') or when the trunk is no longer than c's radius. Vertex degree (number of branch
+    // edges); 0 = off; values below 4 act as 4 (degree 3 is the joint trunks' case; the CLI takes 0 or 4 to 64).
+    // docs/junctions.md ("Valley trunks").
     int valley_trunk_degree = 0;
-    // With valley_trunk_degree: the smallest radius of t, as a fraction of the pair's mean radius r at l*
-    // (dimensionless; 0.6 admits straight equal pairs up to about 71 degrees apart when r = r_c).
+    // With valley_trunk_degree: the smallest radius of t, as a fraction of the fatter branch's radius at l*
+    // (dimensionless; 0.6 admits straight equal pairs up to about 71 degrees apart when r = r_c). Against the fatter
+    // branch, not the pair's mean: a branch much fatter than t's ball would leave t through a thin neck and flare
+    // out of the domain beside it (a fat limb paired with a thin one).
     double valley_trunk_min_radius = 0.6;
     // With valley_trunk_degree: a valley trunk is built at c only while c has fewer than this many trunks (of either
     // rule: a wide-junction trunk counts); 0 = no limit. Two trunks at one point leave it as a new close pair about
@@ -64,6 +67,16 @@ struct SkeletonRepairOptions {
     // different pairs) stays on c's sphere, next to two trunk balls. Count of trunks (dimensionless); docs/junctions.md
     // ("Valley trunks") has both settings measured.
     int valley_trunks_per_point = 0;
+    // With valley_trunk_degree: a trunk is built at c only 90 degrees or more from every trunk already at c when
+    // either of the two is a valley trunk. Two trunks less than 90 degrees apart are a new close pair at c: the valley
+    // between them (between two of the input's branches that belong to different pairs) stays on c's sphere and the
+    // raw mesh webs across it. The trunk built is the pair's with the highest score (x / r_c: the medial junction
+    // farthest out), the others are refused. false: no such test (valley_trunks_per_point alone).
+    bool valley_trunks_apart = true;
+    // With valley_trunk_degree: t's radius is at most the half-width of the pair's two tubes across the pair's plane
+    // at t, sqrt(r^2 - (x_v sin a)^2) (the tubes' axes lie x_v sin a off the bisector there), so that t's ball stays
+    // inside the union of the tubes in 3D, not only in the pair's plane. false: r_t as above.
+    bool valley_trunk_fit_across = false;
     // A stub: the shorter branch of a close pair ends at an extremity before the two tubes separate (a bump on the
     // other branch's tube, a thumb). It is absorbed: t at the midpoint of its end and of the other branch's point at
     // the same arc length, radius absorbed_ball_width x their distance + the larger radius there (a ball over both
