@@ -126,14 +126,18 @@ struct Finisher {
     // two-sided distance to the domain grows beyond max(its value before, improve_distance_budget x diagonal). The
     // smoothing, which keeps the boundary on the surface, is left to raise those hexes (docs/tuning.md).
     // hold_outside: the pass holds the vertices outside the domain that it would move farther out
-    // (untangle_holding_outside).
+    // (untangle_holding_outside, FinishOptions::pad_improve_hold_outside).
     void quality_pass(const char* name, double target_sj, const UntangleOptions& base, bool on_surface, bool& kept,
                       bool hold_outside = false) {
         const Clock::time_point t = Clock::now();
         const FinishStage& before = result.stages.back();
         UntangleOptions uo = base;
         uo.target_sj = target_sj;
-        UntangleResult u = hold_outside ? untangle_holding_outside(uo) : untangle(mesh, uo);
+        UntangleResult u = hold_outside
+                               ? untangle_holding_outside(
+                                     mesh, uo, [this](const std::vector<Vec3>& p) { return signed_distances(p); },
+                                     options.pad_improve_hold_rounds)
+                               : untangle(mesh, uo);
         const FinishStage after = measure(name, 0, u.mesh);
         bool keep = after.inverted <= before.inverted && after.sj_min > before.sj_min;
         if (keep && on_surface && !uo.fix_boundary && before.inverted == 0)
@@ -159,39 +163,6 @@ struct Finisher {
         for (std::size_t i = 0; i < points.size(); ++i)
             d[i] = (inside[i] ? -1.0 : 1.0) * std::sqrt(closest[i].squared_distance);
         return d;
-    }
-
-    // The untangling pass on `mesh` (FinishOptions::pad_improve_hold_outside): while its result moves vertices that
-    // lie outside the domain farther out (signed distance larger than at the start), those vertices are held at their
-    // start (UntangleOptions::frozen, added to any already frozen) and the pass runs again from the start, at most
-    // pad_improve_hold_rounds more times. Iterations add up over the runs.
-    UntangleResult untangle_holding_outside(UntangleOptions uo) const {
-        UntangleResult u = untangle(mesh, uo);
-        if (u.rounds == 0 || options.pad_improve_hold_rounds <= 0) return u;
-        const std::vector<double> start = signed_distances(mesh.points);
-        if (uo.frozen.empty()) uo.frozen.assign(mesh.points.size(), false);
-        long iterations = u.iterations;
-        for (int round = 0; round < options.pad_improve_hold_rounds; ++round) {
-            std::vector<std::size_t> moved;  // free vertices outside at the start that the pass moved
-            std::vector<Vec3> at;
-            for (std::size_t v = 0; v < mesh.points.size(); ++v)
-                if (!uo.frozen[v] && start[v] > 0 && !(u.mesh.points[v] == mesh.points[v])) {
-                    moved.push_back(v);
-                    at.push_back(u.mesh.points[v]);
-                }
-            const std::vector<double> now = signed_distances(at);
-            bool held = false;
-            for (std::size_t i = 0; i < moved.size(); ++i)
-                if (now[i] > start[moved[i]]) {
-                    uo.frozen[moved[i]] = true;
-                    held = true;
-                }
-            if (!held) break;
-            u = untangle(mesh, uo);
-            iterations += u.iterations;
-        }
-        u.iterations = iterations;
-        return u;
     }
 
     // Where a point lands on the domain along d: the first hit from inside, else the closest point; with the normal

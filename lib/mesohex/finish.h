@@ -105,7 +105,7 @@ struct FinishOptions {
     // the layer the fit has to pull back (docs/sheets.md, "What pad-improve does to hand.ma").
     bool pad_improve_hold_outside = false;
     int pad_improve_hold_rounds = 3;  // reruns of the pass at most (count)
-    bool subdivide = true;       // refine (levels / size / min_resolution below, refinement)
+    bool subdivide = true;            // refine (levels / size / min_resolution below, refinement)
     int levels = -1;             // >= 0: this many 1 -> 8 levels; < 0: from `size` when > 0, else from min_resolution
     double size = 0;             // target mean edge length (levels_for_size on the padded mesh), used when levels < 0
     double min_resolution = 16;  // levels < 0, size <= 0: at least 1 level, more (up to max_auto_levels) while the
