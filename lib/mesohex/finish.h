@@ -102,7 +102,8 @@ struct FinishOptions {
     // point and inside test, larger after the pass than before): the pass runs, those vertices are frozen, and it runs
     // again from the padded mesh, up to pad_improve_hold_rounds more times while a further one moves out; every other
     // vertex moves as without the rule. Where the padding already overshoots the domain the pass then does not thicken
-    // the layer the fit has to pull back (docs/sheets.md, "What pad-improve does to hand.ma").
+    // the layer the fit has to pull back. Off by default (measurements: docs/sheets.md, "Pad-improve that holds the
+    // vertices outside").
     bool pad_improve_hold_outside = false;
     int pad_improve_hold_rounds = 3;  // reruns of the pass at most (count)
     bool subdivide = true;            // refine (levels / size / min_resolution below, refinement)
