@@ -188,6 +188,9 @@ void add_padding_options(CLI::App* cmd, MeshJob* job) {
     cmd->add_flag("--pad-improve-keep-distance", job->options.finishing.pad_improve_keep_distance,
                   "With --pad-improve-sj: drop the pass's result when it moves the padded boundary farther from the "
                   "domain (docs/sheets.md, \"What pad-improve does to hand.ma\")");
+    cmd->add_flag("--pad-improve-hold-outside", job->options.finishing.pad_improve_hold_outside,
+                  "With --pad-improve-sj: the pass holds the vertices outside the domain that it would move farther "
+                  "out (docs/sheets.md, \"Pad-improve that holds the vertices outside\")");
     cmd->add_option("--pad-overshoot-keep", job->options.finishing.pad_overshoot_keep,
                     "Where the padding layer would reach past the domain surface, pad only to the surface but at "
                     "least this share of the layer's own thickness (1: the full layer)")

@@ -125,12 +125,19 @@ struct Finisher {
     // into the domain or along it, away from the surface they covered; its result is then also dropped if the
     // two-sided distance to the domain grows beyond max(its value before, improve_distance_budget x diagonal). The
     // smoothing, which keeps the boundary on the surface, is left to raise those hexes (docs/tuning.md).
-    void quality_pass(const char* name, double target_sj, const UntangleOptions& base, bool on_surface, bool& kept) {
+    // hold_outside: the pass holds the vertices outside the domain that it would move farther out
+    // (untangle_holding_outside, FinishOptions::pad_improve_hold_outside).
+    void quality_pass(const char* name, double target_sj, const UntangleOptions& base, bool on_surface, bool& kept,
+                      bool hold_outside = false) {
         const Clock::time_point t = Clock::now();
         const FinishStage& before = result.stages.back();
         UntangleOptions uo = base;
         uo.target_sj = target_sj;
-        UntangleResult u = untangle(mesh, uo);
+        UntangleResult u = hold_outside
+                               ? untangle_holding_outside(
+                                     mesh, uo, [this](const std::vector<Vec3>& p) { return signed_distances(p); },
+                                     options.pad_improve_hold_rounds)
+                               : untangle(mesh, uo);
         const FinishStage after = measure(name, 0, u.mesh);
         bool keep = after.inverted <= before.inverted && after.sj_min > before.sj_min;
         if (keep && on_surface && !uo.fix_boundary && before.inverted == 0)
@@ -146,6 +153,16 @@ struct Finisher {
         stage.ms = ms_since(t);
         stage.iterations = u.iterations;
         record(stage);
+    }
+
+    // Signed distance of each point to the domain (positive outside).
+    std::vector<double> signed_distances(const std::vector<Vec3>& points) const {
+        const std::vector<ClosestPoint> closest = query.closest(points);
+        const std::vector<char> inside = query.inside(points);
+        std::vector<double> d(points.size());
+        for (std::size_t i = 0; i < points.size(); ++i)
+            d[i] = (inside[i] ? -1.0 : 1.0) * std::sqrt(closest[i].squared_distance);
+        return d;
     }
 
     // Where a point lands on the domain along d: the first hit from inside, else the closest point; with the normal
@@ -234,7 +251,7 @@ struct Finisher {
         if (options.pad_improve_sj > 0 && result.stages.back().inverted == 0 &&
             result.stages.back().sj_min < options.pad_improve_sj)
             quality_pass("pad-improve", options.pad_improve_sj, options.pad_improving,
-                         options.pad_improve_keep_distance, result.pad_improved);
+                         options.pad_improve_keep_distance, result.pad_improved, options.pad_improve_hold_outside);
     }
 
     // Subdivision levels: given, from a target size, or from the domain size (one more for a poor raw mesh).

@@ -97,7 +97,16 @@ struct FinishOptions {
     // the fit): relaxed outward where the padding already lies outside, the layer is a thickness the fit has to
     // crush back within its SJ guard (docs/sheets.md, "What pad-improve does to hand.ma"). Off by default.
     bool pad_improve_keep_distance = false;
-    bool subdivide = true;       // refine (levels / size / min_resolution below, refinement)
+    // With pad_improve_sj: the pass holds, at their place on the padded mesh, the vertices (boundary or interior) that
+    // lie outside the domain and that it would move farther out (signed distance to the domain, from its closest
+    // point and inside test, larger after the pass than before): the pass runs, those vertices are frozen, and it runs
+    // again from the padded mesh, up to pad_improve_hold_rounds more times while a further one moves out; every other
+    // vertex moves as without the rule. Where the padding already overshoots the domain the pass then does not thicken
+    // the layer the fit has to pull back. Off by default (measurements: docs/sheets.md, "Pad-improve that holds the
+    // vertices outside").
+    bool pad_improve_hold_outside = false;
+    int pad_improve_hold_rounds = 3;  // reruns of the pass at most (count)
+    bool subdivide = true;            // refine (levels / size / min_resolution below, refinement)
     int levels = -1;             // >= 0: this many 1 -> 8 levels; < 0: from `size` when > 0, else from min_resolution
     double size = 0;             // target mean edge length (levels_for_size on the padded mesh), used when levels < 0
     double min_resolution = 16;  // levels < 0, size <= 0: at least 1 level, more (up to max_auto_levels) while the

@@ -240,3 +240,41 @@ TEST(Untangle, QualityPassRaisesTheMinimumAndKeepsTheBoundary) {
     options.target_sj = 1.0;
     EXPECT_THROW(untangle(m, options), Error);
 }
+
+// A padded block by hand: make_block(2, 2, 2), its upper layer the padding, the corner vertex (2, 2, 2) pushed inward
+// along the diagonal to (1.7, 1.7, 1.7) (its hex skewed, not inverted). The domain is the half-space
+// x + y + z <= 5.05: of all vertices only that corner (x + y + z = 5.1; the next ones 5) lies outside it. A quality
+// pass with a softly held boundary (as the finishing's pad-improve) moves the corner back out along the diagonal,
+// farther from the domain (measured: 0.029 -> 0.258 outside); untangle_holding_outside holds it at its place and leaves
+// the other vertices free.
+TEST(Untangle, HoldingOutsideKeepsTheVertexOutsideThePlaneDomain) {
+    HexMesh m = make_block(2, 2, 2);
+    const std::size_t corner = static_cast<std::size_t>(vid(2, 2, 2, 2));
+    m.points[corner] = {1.7, 1.7, 1.7};
+    ASSERT_EQ(compute_quality(m).inverted, 0);
+    const SignedDistancesFn plane = [](const std::vector<Vec3>& p) {
+        std::vector<double> d;
+        for (const Vec3& x : p) d.push_back((x.x + x.y + x.z - 5.05) / std::sqrt(3.0));
+        return d;
+    };
+    const std::vector<double> start = plane(m.points);
+    for (std::size_t v = 0; v < m.points.size(); ++v) EXPECT_EQ(start[v] > 0, v == corner) << v;
+    UntangleOptions options;
+    options.fix_boundary = false;
+    options.boundary_attach = 10;
+    options.region_rings = 1;
+    options.target_sj = 0.8;
+    const UntangleResult free = untangle(m, options);
+    ASSERT_GT(free.rounds, 0);
+    EXPECT_GT(plane({free.mesh.points[corner]})[0], start[corner] + 0.01);  // moved out
+    const UntangleResult held = untangle_holding_outside(m, options, plane, 3);
+    EXPECT_EQ(held.mesh.points[corner], m.points[corner]);
+    EXPECT_EQ(held.inverted_after, 0);
+    EXPECT_GE(held.iterations, free.iterations);
+    std::size_t moved = 0;
+    for (std::size_t v = 0; v < m.points.size(); ++v) moved += held.mesh.points[v] == m.points[v] ? 0 : 1;
+    EXPECT_GT(moved, 0u);
+    EXPECT_GT(held.sj_min_after, held.sj_min_before);  // the others still raise the skewed hex (0.18 -> 0.55)
+    // Without reruns the first pass is returned as it is.
+    EXPECT_EQ(untangle_holding_outside(m, options, plane, 0).mesh, free.mesh);
+}

@@ -470,4 +470,36 @@ UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options) {
     return result;
 }
 
+UntangleResult untangle_holding_outside(const HexMesh& mesh, UntangleOptions options,
+                                        const SignedDistancesFn& signed_distances, int max_reruns) {
+    UntangleResult u = untangle(mesh, options);
+    if (u.rounds == 0 || max_reruns <= 0) return u;
+    const std::vector<double> start = signed_distances(mesh.points);
+    if (start.size() != mesh.points.size())
+        throw Error(ErrorCode::InvalidInput, "untangle_holding_outside: one signed distance per vertex expected");
+    if (options.frozen.empty()) options.frozen.assign(mesh.points.size(), false);
+    long iterations = u.iterations;
+    for (int rerun = 0; rerun < max_reruns; ++rerun) {
+        std::vector<std::size_t> moved;  // free vertices outside at the start that the pass moved
+        std::vector<Vec3> at;
+        for (std::size_t v = 0; v < mesh.points.size(); ++v)
+            if (!options.frozen[v] && start[v] > 0 && !(u.mesh.points[v] == mesh.points[v])) {
+                moved.push_back(v);
+                at.push_back(u.mesh.points[v]);
+            }
+        const std::vector<double> now = signed_distances(at);
+        bool held = false;
+        for (std::size_t i = 0; i < moved.size(); ++i)
+            if (now[i] > start[moved[i]]) {
+                options.frozen[moved[i]] = true;
+                held = true;
+            }
+        if (!held) break;
+        u = untangle(mesh, options);
+        iterations += u.iterations;
+    }
+    u.iterations = iterations;
+    return u;
+}
+
 }  // namespace mesohex

@@ -58,4 +58,15 @@ struct UntangleResult {
 // Preconditions: indices in range (InvalidInput otherwise).
 UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options = {});
 
+// Signed distances of points to a domain (positive outside), one per point.
+using SignedDistancesFn = std::function<std::vector<double>(const std::vector<Vec3>& points)>;
+
+// untangle, holding the vertices that lie outside a domain where it would move them farther out: while the result
+// moves a vertex whose signed distance at the start is positive to a larger signed distance, those vertices are
+// frozen at their start (added to options.frozen) and the pass runs again from `mesh`, at most max_reruns more times
+// (the last run's result is returned as it is). Every other vertex moves as in untangle. iterations: over all runs.
+// Preconditions: as untangle; signed_distances returns one value per point.
+UntangleResult untangle_holding_outside(const HexMesh& mesh, UntangleOptions options,
+                                        const SignedDistancesFn& signed_distances, int max_reruns);
+
 }  // namespace mesohex
