@@ -441,6 +441,7 @@ MeshRun mesh_skeleton_raw(const Skeleton& input, const TriangleMesh* domain, con
     res.timings_ms.push_back({"frames", 0.0});  // in the remesh above
     res.timings_ms.push_back({"raw_mesh", 0.0});
     res.raw = rc.raw;
+    add_fan_side_roots(res, rc.surfaces.fan_blocks, skeleton, run.options.resample);
     run.pipeline_ms = ms_since(t);
 
     t = std::chrono::steady_clock::now();

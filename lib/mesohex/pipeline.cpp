@@ -119,6 +119,45 @@ std::vector<int> compose(const std::vector<int>& first, const std::vector<int>& 
     return out;
 }
 
+// The refusal of a root the fan-end repair moved (or a corner it retracted) with `inverted` raw hexes in reach.
+std::string moved_root_refusal(const MovedRootPlace& root, long inverted) {
+    std::ostringstream why;
+    why << (root.by_input ? "skeleton vertex " : "repaired skeleton vertex ") << root.vertex
+        << ": a branch on a fan-edge end" << (root.far ? " far from the fan line" : "")
+        << ", its root moved onto a leaflet border (or the fan edge retracted from it) by the fan-end repair "
+           "(issue 22), gives "
+        << inverted << " inverted raw hex(es) within " << kMovedRootCheckRadii << " radii of the moved root (radius "
+        << root.radius
+        << "; such roots between two leaflets or near a leaflet's plane fold the branch's first chunk); edit: "
+           "turn the branch into one leaflet's plane or along the fan line, or root it on the leaflet's border "
+           "yourself (a vertex on the border side next to the fan edge), or change its radius there";
+    return why.str();
+}
+
+// The refusal of a fan end whose branch stands on its fan block's side section or in its notch, with `inverted` raw
+// hexes in reach. The first chunk folds when its first section lies inside the block (a side section: closer to the
+// fan end than the block's side, h = half the section) or less than r past a notch's corner M_j (sqrt 2 r off the fan
+// end): hence the edit's r (above h wherever the repair refuses the moved root) and (1 + sqrt 2) r (docs/blocks.md,
+// "Thick moved roots on the fan block's side section").
+std::string fan_side_refusal(const MovedRootPlace& root, long inverted) {
+    const bool notch = root.kind == RootPlaceKind::Notch;
+    std::ostringstream why;
+    why << (root.by_input ? "skeleton vertex " : "repaired skeleton vertex ") << root.vertex
+        << ": a thick branch on a fan-edge end standing "
+        << (notch ? "in the fan block's notch between two leaflets"
+                  : "on the fan block's side section (a T's empty side)")
+        << " (CompatibleBlockOptions::fan_side_branches, issue 22) gives " << inverted
+        << " inverted raw hex(es) within " << kMovedRootCheckRadii << " radii of the fan end (radius " << root.radius
+        << (notch ? "; the branch's first chunk folds against the two leaflets' plates when its first joint lies less "
+                    "than r past the notch's corner"
+                  : "; the branch's first chunk folds into the block when its first joint lies inside the block's side")
+        << "); edit: move the branch's first joint at least " << (notch ? "(1 + sqrt 2) r = " : "r = ")
+        << (notch ? 1 + std::numbers::sqrt2 : 1.0) * root.radius
+        << " from the fan end (or mesh with the resampling, which places it), or mesh with --no-fan-side-branches "
+           "(the fan-end repair then moves the root, or refuses it naming its bound)";
+    return why.str();
+}
+
 }  // namespace
 
 void check_moved_roots(const PipelineResult& res) {
@@ -145,21 +184,29 @@ void check_moved_roots(const PipelineResult& res) {
     }
     for (std::size_t i = 0; i < res.moved_roots.size(); ++i) {
         const MovedRootPlace& root = res.moved_roots[i];
-        const long inverted = count[i];
-        if (inverted == 0) continue;
-        std::ostringstream why;
-        why << (root.by_input ? "skeleton vertex " : "repaired skeleton vertex ") << root.vertex
-            << ": a branch on a fan-edge end" << (root.far ? " far from the fan line" : "")
-            << ", its root moved onto a leaflet border (or the fan edge retracted from it) by the fan-end repair "
-               "(issue 22), gives "
-            << inverted << " inverted raw hex(es) within " << kMovedRootCheckRadii
-            << " radii of the moved root (radius " << root.radius
-            << "; such roots between two leaflets or near a leaflet's plane fold the branch's first chunk); edit: "
-               "turn the branch into one leaflet's plane or along the fan line, or root it on the leaflet's border "
-               "yourself (a vertex on the border side next to the fan edge), or change its radius there";
-        throw Error(ErrorCode::UnsupportedConfiguration, why.str(),
+        if (count[i] == 0) continue;
+        const std::string why = root.kind == RootPlaceKind::Repaired ? moved_root_refusal(root, count[i])
+                                                                     : fan_side_refusal(root, count[i]);
+        throw Error(ErrorCode::UnsupportedConfiguration, why,
                     ElementRef{ElementRef::Kind::SkeletonVertex, root.vertex});
     }
+}
+
+void add_fan_side_roots(PipelineResult& res, const FanBlocks& blocks, const Skeleton& input, bool resampled) {
+    for (const FanBlockChain& chain : blocks.chains)
+        for (std::size_t end = 0; end < 2; ++end) {
+            if (chain.closed || (chain.side_axis[end] < 0 && chain.notch[end] < 0)) continue;
+            const int w = end == 0 ? chain.vertices.front() : chain.vertices.back();
+            const Vec3 p = res.skeleton.points[static_cast<std::size_t>(w)];
+            MovedRootPlace root{w,    !resampled,
+                                p,    res.skeleton.radii[static_cast<std::size_t>(w)],
+                                true, chain.notch[end] >= 0 ? RootPlaceKind::Notch : RootPlaceKind::SideSection};
+            if (resampled)  // named by the input vertex at w's place (the repair and the resampling keep fan ends)
+                for (const int v : res.fan_cap_branches)
+                    if (distance(input.points[static_cast<std::size_t>(v)], p) < 1e-9)
+                        root.vertex = v, root.by_input = true;
+            res.moved_roots.push_back(root);
+        }
 }
 
 namespace {
@@ -363,6 +410,7 @@ PipelineResult run_pipeline(const Skeleton& input, const PipelineOptions& option
     clock.lap("frames");
     res.raw = build_raw_mesh(res.skeleton, res.analysis, cs, frames, options.raw_mesh, &input);
     clock.lap("raw_mesh");
+    add_fan_side_roots(res, cs.fan_blocks, input, options.resample);
     return res;
 }
 

@@ -13,6 +13,8 @@
 
 namespace mesohex {
 
+struct FanBlocks;
+
 struct PipelineOptions {
     // Radius: the file's per-vertex radii when present; else `radius` when > 0; else the default
     // default_radius_factor x (mean length of all skeleton edges), the same for every vertex.
@@ -34,14 +36,21 @@ struct StageTiming {
     double ms = 0;
 };
 
+// What stands at a root checked on the raw mesh (check_moved_roots): a root the fan-end repair moved or a corner it
+// retracted (fan_end_repair.h), or a fan end whose branch stands on its fan block's side section or in its notch
+// between two leaflets (CompatibleBlockOptions::fan_side_branches; FanBlockChain::side_axis, notch).
+enum class RootPlaceKind { Repaired, SideSection, Notch };
+
 // A moved root (fan_end_repair.h): the fan-end vertex named in messages (its input id, or its repaired id when the
-// repair made it: by_input), the cut point m that carries the branch and the radius r_w there (model units).
+// repair made it: by_input), the cut point m that carries the branch and the radius r_w there (model units). For a
+// side section or a notch: the fan end w itself and r_w.
 struct MovedRootPlace {
     int vertex = -1;
     bool by_input = true;
     Vec3 point{};
     double radius = 0;
     bool far = true;  // a branch far from the fan line (moved, or retracted by the fallback); else a retraction
+    RootPlaceKind kind = RootPlaceKind::Repaired;
 };
 
 struct PipelineResult {
@@ -70,7 +79,8 @@ struct PipelineResult {
     // ends into 3-4.
     int fan_edge_splits = 0;
     // Branches far from the fan line whose root the repair moved onto a leaflet border (FanEndRetraction::moved_root),
-    // and every retracted corner (far or not): checked on the raw mesh (check_moved_roots).
+    // and every retracted corner (far or not); after the connection surfaces, the fan ends whose branch stands on the
+    // fan block's side section or in its notch (add_fan_side_roots): checked on the raw mesh (check_moved_roots).
     std::vector<MovedRootPlace> moved_roots;
     // Branch tips the domain does not hold, trimmed before the structural repairs (stages/tip_trim.h; `held` given to
     // prepare_skeleton, with resampling): the input vertices removed, and the input vertices that became branch ends.
@@ -106,6 +116,12 @@ std::string repairs_to_text(const PipelineResult& res, const PipelineOptions& op
 // The line of repairs_to_text on PipelineResult::trimmed_tips ("" when none were trimmed), which `mesh` prints too.
 std::string trimmed_tips_to_text(const PipelineResult& res);
 
+// Appends to res.moved_roots the fan ends whose branch stands on a fan block's side section or in its notch
+// (blocks: the connection surfaces' fan blocks of res.skeleton), at the fan end w with radius r_w; named by the input
+// vertex at w's place among res.fan_cap_branches (resampled), by w itself when res.skeleton is numbered as `input`
+// (no resampling: the meshed skeleton is the input, virtual branches appended), else by w's meshed id.
+void add_fan_side_roots(PipelineResult& res, const FanBlocks& blocks, const Skeleton& input, bool resampled);
+
 // Refuses a raw mesh with an inverted hex next to a moved root (its centroid within kMovedRootCheckRadii r_w of the
 // cut point m): throws UnsupportedConfiguration naming the fan-end vertex, the configuration and an edit. The moved
 // roots between two leaflets or near a leaflet's plane give 1 - 2 such hexes at scattered radii (issue 22's sweep,
@@ -113,8 +129,10 @@ std::string trimmed_tips_to_text(const PipelineResult& res);
 // from their clean neighbours. Every retracted corner is checked the same way, whether or not its fan neighbour's cap
 // reaches up to it (RawMeshOptions::fan_end_cap_to_border, off by default). Each inverted hex counts for the root
 // nearest to its centroid (within reach), so that the refusal names the root where the hexes fold (a single fan edge
-// has roots at both ends within reach of the same hexes). O(hexes x moved roots) when there is a moved root, else
-// nothing.
+// has roots at both ends within reach of the same hexes). The fan ends whose branch stands on a fan block's side
+// section or in its notch (add_fan_side_roots) are checked the same way around the fan end: their first chunk folds
+// when its first section lies less than r past the block's side or the notch's corner (the skeleton meshed as given
+// with a close first joint). O(hexes x moved roots) when there is a moved root, else nothing.
 void check_moved_roots(const PipelineResult& res);
 
 // Refuses a raw mesh with an inverted half-chunk hex of a leaflet border edge (w, x) whose inverted corner is on the

@@ -9,6 +9,7 @@
 #include <functional>
 #include <numbers>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -1083,6 +1084,71 @@ TEST(FanEndRepair, ThickMovedRootsStandOnTheBlocksSideSectionOrNotch) {
     const MeshRun within = mesh_skeleton(fan_end_scaled(3, 2, 2.15), nullptr);
     EXPECT_EQ(within.pipeline.fan_end_moved_roots, std::vector<int>{2});
     EXPECT_TRUE(within.pipeline.fan_cap_branches.empty());
+}
+
+namespace {
+
+// `fanend -n strips -m 2` at radius scale `scale` with its 3-edge branch's vertices (ids `first`, +1, +2, unit edges)
+// moved to first_joint, first_joint + 1, first_joint + 2 from the fan end w = (0, 0, 1) along the branch's direction.
+Skeleton fan_end_first_joint(int strips, double scale, double first_joint) {
+    Skeleton s = fan_end_scaled(strips, 2, scale);
+    const int first = strips == 3 ? 21 : 27;
+    const Vec3 w{0, 0, 1};
+    const Vec3 d = normalized(s.points[static_cast<std::size_t>(first)] - w);
+    for (int k = 0; k < 3; ++k) s.points[static_cast<std::size_t>(first + k)] = w + (first_joint + k) * d;
+    return s;
+}
+
+}  // namespace
+
+// The raw-mesh check at fan ends whose branch stands on the block (add_fan_side_roots, check_moved_roots), on the
+// skeleton meshed as given (no resampling). X (`fanend -n 4 -m 2`, notch M_j at (r, r) off w, sqrt 2 r along the
+// branch's diagonal) at scale 2.3 / 2.6 (r = 0.69 / 0.78): the first joint 1.0 from w lies 1.0 - 1.41 r < r past M_j
+// (inside the notch, 0.02 / -0.10): 4 hexes of the first chunk inverted, refused naming vertex 2 and the edit
+// (1 + sqrt 2) r; moved to 2.5 from w (2.21 / 1.79 r past M_j) the raw mesh has no inverted hex (measured min SJ 0.43
+// / 0.31); with the resampling (defaults) clean, the notch end checked and named by its input id. T (`-n 3 -m 2`, r =
+// 0.78, the side section at h = 0.5 off w): as given (first joint 1.0 from w, past the side) clean; moved to 0.4 (inside
+// the block's side) 2 hexes inverted, refused with the edit r.
+TEST(FanEndRepair, SideSectionAndNotchEndsCheckedOnTheRawMesh) {
+    MeshOptions as_given;
+    as_given.pipeline.resample = false;
+    for (const double scale : {2.3, 2.6}) {
+        SCOPED_TRACE(scale);
+        const double r = 0.3 * scale;
+        const Skeleton s = fan_end_scaled(4, 2, scale);
+        const PipelineResult res = run_pipeline(s, as_given.pipeline);
+        ASSERT_EQ(res.moved_roots.size(), 1u);
+        EXPECT_EQ(res.moved_roots[0].kind, RootPlaceKind::Notch);
+        EXPECT_EQ(res.moved_roots[0].vertex, 2);
+        EXPECT_TRUE(res.moved_roots[0].by_input);
+        EXPECT_NEAR(distance(res.moved_roots[0].point, Vec3{0, 0, 1}), 0.0, 1e-12);
+        EXPECT_NEAR(res.moved_roots[0].radius, r, 1e-12);
+        std::ostringstream bound;
+        bound << "(1 + sqrt 2) r = " << (1 + std::numbers::sqrt2) * r << " from the fan end";
+        expect_refusal([&] { (void)mesh_skeleton(s, nullptr, as_given); },
+                       "skeleton vertex 2: a thick branch on a fan-edge end standing in the fan block's notch",
+                       "gives 4 inverted raw hex(es) within 4 radii");
+        expect_refusal([&] { (void)mesh_skeleton(s, nullptr, as_given); }, "skeleton vertex 2:", bound.str());
+        const MeshRun farther = mesh_skeleton(fan_end_first_joint(4, scale, 2.5), nullptr, as_given);
+        EXPECT_EQ(farther.raw_quality.inverted, 0);
+        EXPECT_GT(farther.raw_quality.sj_min, 0.25);
+        expect_valid(farther.pipeline, 1);
+        const MeshRun resampled = mesh_skeleton(s, nullptr);
+        EXPECT_EQ(resampled.raw_quality.inverted, 0);
+        ASSERT_EQ(resampled.pipeline.moved_roots.size(), 1u);
+        EXPECT_EQ(resampled.pipeline.moved_roots[0].kind, RootPlaceKind::Notch);
+        EXPECT_EQ(resampled.pipeline.moved_roots[0].vertex, 2);
+        EXPECT_TRUE(resampled.pipeline.moved_roots[0].by_input);
+    }
+    const MeshRun t_as_given = mesh_skeleton(fan_end_scaled(3, 2, 2.6), nullptr, as_given);
+    EXPECT_EQ(t_as_given.raw_quality.inverted, 0);
+    ASSERT_EQ(t_as_given.pipeline.moved_roots.size(), 1u);
+    EXPECT_EQ(t_as_given.pipeline.moved_roots[0].kind, RootPlaceKind::SideSection);
+    expect_refusal([&] { (void)mesh_skeleton(fan_end_first_joint(3, 2.6, 0.4), nullptr, as_given); },
+                   "skeleton vertex 2: a thick branch on a fan-edge end standing on the fan block's side section",
+                   "gives 2 inverted raw hex(es)");
+    expect_refusal([&] { (void)mesh_skeleton(fan_end_first_joint(3, 2.6, 0.4), nullptr, as_given); },
+                   "skeleton vertex 2:", "at least r = 0.78 from the fan end");
 }
 
 namespace {
