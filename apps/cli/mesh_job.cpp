@@ -197,6 +197,37 @@ void add_padding_options(CLI::App* cmd, MeshJob* job) {
         ->check(finite_range(0.01, 1.0));
 }
 
+// The skeleton repair's valley trunks (SkeletonRepairOptions::valley_trunk_*), for add_raw_structure_options.
+void add_valley_trunk_options(CLI::App* cmd, MeshJob* job) {
+    cmd->add_option("--valley-trunks", job->options.pipeline.repair.valley_trunk_degree,
+                    "At branching points of at least this degree, give a close pair of fat branches whose tubes "
+                    "branch inside the point's ball a trunk all the same, ending where its ball reaches the crotch "
+                    "between them (0 = off, the default, or a degree of 4 to 64; docs/junctions.md, \"Valley "
+                    "trunks\")")
+        ->check(CLI::IsMember({0}) | CLI::Range(4, 64))
+        ->capture_default_str();
+    cmd->add_option("--valley-trunk-min-radius", job->options.pipeline.repair.valley_trunk_min_radius,
+                    "With --valley-trunks: the smallest radius of the trunk's end, as a fraction of the fatter "
+                    "branch's radius there (0.6 by default)")
+        ->check(finite_range(0.0, 10.0))
+        ->capture_default_str();
+    cmd->add_option("--valley-trunks-per-point", job->options.pipeline.repair.valley_trunks_per_point,
+                    "With --valley-trunks: build a valley trunk at a branching point only while it has fewer than "
+                    "this many trunks of either rule (0 = no limit, the default)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
+    cmd->add_option("--valley-trunks-apart", job->options.pipeline.repair.valley_trunks_apart,
+                    "With --valley-trunks: build a trunk at a branching point only 90 degrees or more from every "
+                    "trunk already there when either is a valley trunk (0 or 1, 1 by default)")
+        ->check(CLI::IsMember({"0", "1"}))
+        ->capture_default_str();
+    cmd->add_option("--valley-trunk-fit-across", job->options.pipeline.repair.valley_trunk_fit_across,
+                    "With --valley-trunks: cap the trunk end's radius at the pair's tubes' half-width across the "
+                    "pair's plane (0 or 1, 0 by default)")
+        ->check(CLI::IsMember({"0", "1"}))
+        ->capture_default_str();
+}
+
 // The raw-mesh structure flags of add_mesh_job_options (junction cover and crease, docked walls, fan-end caps,
 // bridge quads), in their --help order.
 void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
@@ -251,33 +282,7 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "it can (0 or 1, off by default; docs/junctions.md, \"Degree-5 junctions split\")")
         ->check(CLI::IsMember({"0", "1"}))
         ->capture_default_str();
-    cmd->add_option("--valley-trunks", job->options.pipeline.repair.valley_trunk_degree,
-                    "At branching points of at least this degree, give a close pair of fat branches whose tubes "
-                    "branch inside the point's ball a trunk all the same, ending where its ball reaches the crotch "
-                    "between them (0 = off, the default, or a degree of 4 to 64; docs/junctions.md, \"Valley "
-                    "trunks\")")
-        ->check(CLI::IsMember({0}) | CLI::Range(4, 64))
-        ->capture_default_str();
-    cmd->add_option("--valley-trunk-min-radius", job->options.pipeline.repair.valley_trunk_min_radius,
-                    "With --valley-trunks: the smallest radius of the trunk's end, as a fraction of the pair's mean "
-                    "radius (0.6 by default)")
-        ->check(finite_range(0.0, 10.0))
-        ->capture_default_str();
-    cmd->add_option("--valley-trunks-per-point", job->options.pipeline.repair.valley_trunks_per_point,
-                    "With --valley-trunks: build a valley trunk at a branching point only while it has fewer than "
-                    "this many trunks of either rule (0 = no limit, the default)")
-        ->check(CLI::Range(0, 64))
-        ->capture_default_str();
-    cmd->add_option("--valley-trunks-apart", job->options.pipeline.repair.valley_trunks_apart,
-                    "With --valley-trunks: build a trunk at a branching point only 90 degrees or more from every "
-                    "trunk already there when either is a valley trunk (0 or 1, 1 by default)")
-        ->check(CLI::IsMember({"0", "1"}))
-        ->capture_default_str();
-    cmd->add_option("--valley-trunk-fit-across", job->options.pipeline.repair.valley_trunk_fit_across,
-                    "With --valley-trunks: cap the trunk end's radius at the pair's tubes' half-width across the "
-                    "pair's plane (0 or 1, 0 by default)")
-        ->check(CLI::IsMember({"0", "1"}))
-        ->capture_default_str();
+    add_valley_trunk_options(cmd, job);
     cmd->add_option("--pit-branches", job->options.pipeline.virtual_branches.pit_excess,
                     "A one-edge branch into the pit inside a ring of branches at a branching point of degree 4 or "
                     "more, along the direction farthest from its nearest three branches, where the domain reaches "

@@ -45,6 +45,7 @@ constexpr double kAngleTolerance = 1e-8;        // rad; slack on "angle <= 180°
 constexpr double kSumTolerance = 1e-6;          // rad / sr; slack on vertex angle sums and the total area
 constexpr double kMinMargin = 1e-10;            // sin of the angular distance of a direction to its quad boundary
 constexpr double kGoodOrange = 15 * kPi / 180;  // a planar set's orange is used at once when its quality_score >= this
+constexpr std::size_t kScreenMaxQuads = 500;    // quads around a vertex up to which the relaxation screens its terms
 
 double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 
@@ -1287,8 +1288,9 @@ struct Relaxer {
     // Computes the terms of the trial that move with v (fix_terms(v) and order_terms(v) called) into moving_terms, in
     // term_order; false when one is violated or when the fixed terms and the terms so far sum (in this order) to at
     // least threshold x (1 + 1e-12), threshold > 0. The rejection is exact: every term is >= 0 and any floating-point
-    // sum of n such terms lies within a relative (n - 1) x 2^-53 of their exact sum (n < 10^3 here), so
-    // local_energy_below's own sum of all of them, in its order, reaches threshold too.
+    // sum of n such terms lies within a relative (n - 1) x 2^-53 of their exact sum, so local_energy_below's own sum of
+    // all of them, in its order, reaches threshold too while (n - 1) x 2^-53 < 1e-12, n < 4500: the screen runs only at
+    // vertices of at most kScreenMaxQuads quads (8 terms each).
     bool screen_terms(int v, double threshold) {
         const double limit = threshold * (1 + 1e-12);
         const std::size_t nq = quads_of[v].size();
@@ -1319,7 +1321,8 @@ struct Relaxer {
     bool local_energy_below(int v, double threshold, double& energy, std::vector<double>& per_quad) {
         const bool fixed = fixed_for == v;
         if (fixed && fixed_violated) return false;
-        screened = fixed && threshold > 0 && term_cache.size() == p.quads.size();
+        screened =
+            fixed && threshold > 0 && term_cache.size() == p.quads.size() && quads_of[v].size() <= kScreenMaxQuads;
         if (screened && !screen_terms(v, threshold)) return false;
         energy = 0;
         per_quad.clear();
