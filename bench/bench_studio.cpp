@@ -1,7 +1,8 @@
 // Studio latency: the raw mesh the page asks for after every edit (POST /api/mesh?stage=raw), at about 10 k hexes.
 //   BM_StudioRawServer/E       the server's share of an edit without HTTP: read the skeleton from the OBJ text the
 //                              page sends, then mesh_response (run the raw pipeline, build the body). Counters: the
-//                              phases of MeshTimings (ms per run, averaged; parse = reading the body: OBJ text or MHSK bytes).
+//                              phases of MeshTimings (ms per run, averaged;
+//                              parse = reading the body: OBJ text or MHSK bytes).
 //   BM_StudioRawRoundTrip/E    the full HTTP round trip over loopback: OBJ text up, body down, through a studio
 //                              server started in-process on a free port (httplib::Client; the browser's decoding
 //                              and drawing are not included: bench/studio_page_latency.mjs measures those).
@@ -22,8 +23,9 @@
 //                              points), 2 the same session with the memo off (cache.remesh.memo_enabled = false),
 //                              3 the session of 1 answering patches of the previous answer (since=, what the page
 //                              asks for; row patches when the mesh is renumbered).
-//                              Counters: hexes, answer_kb (bytes of the last answer / 1000), incremental (share of runs that were incremental by index), memo
-//                              (branching-point surfaces taken from the memo per run), computed (those computed).
+//                              Counters: hexes, answer_kb (bytes of the last answer / 1000), incremental (share of runs
+//                              that were incremental by index), memo (branching-point surfaces
+//                              taken from the memo per run), computed (those computed).
 #include <benchmark/benchmark.h>
 
 #include <chrono>

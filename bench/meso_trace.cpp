@@ -9,8 +9,8 @@
 // For each site: its curve edges, its leaflet corner angle (sum of the face angles, degrees; above 180 a notch) and
 // its radius. Then the count per kind, junctions also by layout (rooted branch / several curves on the border / inner).
 //   mesohex_meso_trace SURFACE [--no-bl-notch-corners] [--no-bl-branch-corners] [--bl-corner-max-push F]
-//                      [--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F] [--geometry]
-//                      [--radius-factor F] [--leaflet-offset-fraction F] [--leaflet-out-fraction F]
+//                      [--bl-corner-reach F] [--fringe-factor F] [--fringe-node-ends] [--fill-pinch DEG] [--min-side F]
+//                      [--geometry] [--radius-factor F] [--leaflet-offset-fraction F] [--leaflet-out-fraction F]
 //                      [--leaflet-out-junctions-only] [--leaflet-out-lean-only | --leaflet-out-pull]
 // --radius-factor F: the radii F x the distance to the surface (capped as auto caps them) on the skeleton auto
 // imports; F 1 traces the full-radius raw mesh auto tries first, the default the one it keeps. A raw mesh that the

@@ -11,25 +11,27 @@
 //   bridge_peak_ratio, OVERLAP_MERGE=F its overlap_merge_ratio (OVERLAP_MERGE_MAX_DEGREE=K its
 //   overlap_merge_max_degree), LEAFLET_OUT_FRACTION=F
 //   RawMeshOptions::leaflet_out_fraction, LEAFLET_OUT_LEAN_ONLY=0|1 its leaflet_out_lean_only,
-//   JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE its junction_split_gap_deg and
-//   junction_split_clearance, JUNCTION_SPLIT_FIVE=1 its junction_split_degree_five, VALLEY_TRUNKS=N its valley_trunk_degree
-//   (VALLEY_TRUNK_MIN_RADIUS=F its valley_trunk_min_radius, VALLEY_TRUNKS_PER_POINT=N its
-//   valley_trunks_per_point, VALLEY_TRUNKS_APART=0|1 its valley_trunks_apart, VALLEY_FIT_ACROSS=0|1 its
-//   valley_trunk_fit_across), PIT_BRANCHES=F and PIT_MIN_DEGREE=N VirtualBranchOptions::pit_excess and pit_min_degree, PIN_TRUNK_JOINTS=0 turns SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1
-//   sets ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
+//   JUNCTION_SPLIT=H SkeletonRepairOptions::junction_split (0: off), JUNCTION_SPLIT_GAP and JUNCTION_SPLIT_CLEARANCE
+//   its junction_split_gap_deg and junction_split_clearance, JUNCTION_SPLIT_FIVE=1 its junction_split_degree_five,
+//   VALLEY_TRUNKS=N its valley_trunk_degree (VALLEY_TRUNK_MIN_RADIUS=F its valley_trunk_min_radius,
+//   VALLEY_TRUNKS_PER_POINT=N its valley_trunks_per_point, VALLEY_TRUNKS_APART=0|1 its valley_trunks_apart,
+//   VALLEY_FIT_ACROSS=0|1 its valley_trunk_fit_across), PIT_BRANCHES=F and PIT_MIN_DEGREE=N
+//   VirtualBranchOptions::pit_excess and pit_min_degree, PIN_TRUNK_JOINTS=0 turns
+//   SkeletonRepairOptions::pin_trunk_joints off, NO_FLAT_CROTCH=0|1 sets
+//   ConnectionSurfaceOptions::no_flat_point_in_close_pair, D3_BY_CHUNKS=0|1 its degree_three_partition_by_chunks,
 //   D3_NEXT_TO_BP=0|1 its degree_three_chunks_next_to_branching_points, D3_AT_BRIDGES=0|1 its
-//   degree_three_chunks_at_bridges, EXACT_THREE=0|1 its exact_three_orange, SHARED_HULL=0|1 its
-//   shared_hull_relaxation, GRADIENT_LONG=0|1 its gradient_long_relaxation, COARSE_THREE=0|1 its coarse_three_scan, TABLED_THREE=0|1 its tabled_three_start,
-//   FIRST_IMPROVING=0|1 its first_improving_long_relaxation, JUNCTION_COVER=F RawMeshOptions::
-//   cover.fraction (JUNCTION_INSET=F cover.inset, JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_CREASE_MID=0|1
-//   its crease_midpoints, JUNCTION_CREASE_PAIR=DEG its crease_pair_deg, JUNCTION_COVER_MIN_DEGREE and
-//   JUNCTION_COVER_FLOOR its min_degree and sj_floor, JUNCTION_COVER_BULGE its bridge_bulge), BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius
-//   (BRIDGE_QUAD_INSET=F its bridge_quad_inset), FAN_CAP_BRANCHES=0|1 CompatibleBlockOptions::fan_cap_branches.
-//   CREASE_WEDGE=DEG lists, before the seed's line, the wedges finish_mesh would insert with FinishOptions::
-//   crease_wedge at DEG (one line "  wedge SEED edge A B at vC degree D" each; CREASE_WEDGE_PAIR=DEG2 restricts them
-//   as MeshOptions::crease_wedge_pair_deg does); the raw mesh and its hash are unchanged.
-//   The last three columns: stubs kept as side branches, degree-4 branching points split, and a hash of the raw
-//   mesh (compare two builds or option sets seed by seed to find the seeds a change touches).
+//   degree_three_chunks_at_bridges, EXACT_THREE=0|1 its exact_three_orange, SHARED_HULL=0|1 its shared_hull_relaxation,
+//   GRADIENT_LONG=0|1 its gradient_long_relaxation, COARSE_THREE=0|1 its coarse_three_scan, TABLED_THREE=0|1 its
+//   tabled_three_start, FIRST_IMPROVING=0|1 its first_improving_long_relaxation, JUNCTION_COVER=F RawMeshOptions::
+//   cover.fraction (JUNCTION_INSET=F cover.inset, JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_CREASE_MID=0|1 its
+//   crease_midpoints, JUNCTION_CREASE_PAIR=DEG its crease_pair_deg, JUNCTION_COVER_MIN_DEGREE and JUNCTION_COVER_FLOOR
+//   its min_degree and sj_floor, JUNCTION_COVER_BULGE its bridge_bulge), BRIDGE_QUAD=0|1
+//   RawMeshOptions::bridge_quad_radius (BRIDGE_QUAD_INSET=F its bridge_quad_inset), FAN_CAP_BRANCHES=0|1
+//   CompatibleBlockOptions::fan_cap_branches. CREASE_WEDGE=DEG lists, before the seed's line, the wedges finish_mesh
+//   would insert with FinishOptions::crease_wedge at DEG (one line "  wedge SEED edge A B at vC degree D" each;
+//   CREASE_WEDGE_PAIR=DEG2 restricts them as MeshOptions::crease_wedge_pair_deg does); the raw mesh and its hash are
+//   unchanged. The last three columns: stubs kept as side branches, degree-4 branching points split, and a
+//   hash of the raw mesh (compare two builds or option sets seed by seed to find the seeds a change touches).
 //
 // FAMILY=character takes the character family's skeletons (generate_character_skeleton) instead of the mixed
 // tree / sheet ones; the kind column then reads "character". FAMILY=twinjunction: the twin-junction family
@@ -255,7 +257,8 @@ int main(int argc, char** argv) {
             if (const char* cw = std::getenv("CREASE_WEDGE")) {
                 // The wedges finish_mesh would insert before the padding (FinishOptions::crease_wedge at CREASE_WEDGE
                 // degrees; with CREASE_WEDGE_PAIR=DEG only on close pairs' creases, MeshOptions::
-                // crease_wedge_pair_deg): one line per wedge, its crease edge's branching point and that point's degree.
+                // crease_wedge_pair_deg): one line per wedge, its
+                // crease edge's branching point and that point's degree.
                 CreaseWedgeOptions wo;
                 wo.min_dihedral_deg = std::atof(cw);
                 if (const char* pd = std::getenv("CREASE_WEDGE_PAIR")) {

@@ -11,9 +11,9 @@
 //            (generate_random_skeleton), or a skeleton file path; gen:all = every generator, random:A-B = seeds A..B
 //   Run under valgrind --tool=callgrind for instruction counts (one rep). EXACT_THREE=0|1 in the environment sets
 //   ConnectionSurfaceOptions::exact_three_orange, SHARED_HULL=0|1 its shared_hull_relaxation, GRADIENT_LONG=0|1 its
-//   gradient_long_relaxation, COARSE_THREE=0|1 its coarse_three_scan, TABLED_THREE=0|1 its tabled_three_start, FIRST_IMPROVING=0|1 its
-//   first_improving_long_relaxation, BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius, BRIDGE_QUAD_INSET=F its
-//   bridge_quad_inset.
+//   gradient_long_relaxation, COARSE_THREE=0|1 its coarse_three_scan, TABLED_THREE=0|1 its tabled_three_start,
+//   FIRST_IMPROVING=0|1 its first_improving_long_relaxation, BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius,
+//   BRIDGE_QUAD_INSET=F its bridge_quad_inset.
 #include <algorithm>
 #include <chrono>
 #include <cstdint>

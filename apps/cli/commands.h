@@ -17,9 +17,9 @@ struct MedialAxisOptions;
 namespace mesohex::cli {
 
 // Runs f() as the stage `stage` on input `file`: a mesohex::Error gets "<file>: " in front when `name_file` (unless
-// it already names the file) and is otherwise passed on; any other exception (CGAL::Failure_exception, std::bad_alloc, Eigen, TBB) becomes
-// Error(NumericalFailure) "<file>: <stage>: internal failure: ..." (exit status 6). Nothing is written by a failed
-// stage, since outputs are written after it.
+// it already names the file) and is otherwise passed on; any other exception (CGAL::Failure_exception, std::bad_alloc,
+// Eigen, TBB) becomes Error(NumericalFailure) "<file>: <stage>: internal failure: ..." (exit status 6). Nothing is
+// written by a failed stage, since outputs are written after it.
 template <typename F>
 auto at_stage(const std::string& stage, const std::string& file, F&& f, bool name_file = true) -> decltype(f()) {
     try {
@@ -55,8 +55,8 @@ inline CLI::Validator finite_range(double lo, double hi) {
 }
 
 // The import's flags for notch and several-curve leaflet corners (--no-bl-notch-corners, --no-bl-branch-corners,
-// --bl-corner-max-push, --bl-corner-reach) and the pinch fill (--fill-pinch), writing into *o (which must outlive the parse); each help text starts with
-// help_prefix. Shared by `import` and `auto` (cmd_import.cpp).
+// --bl-corner-max-push, --bl-corner-reach) and the pinch fill (--fill-pinch), writing into *o (which must outlive the
+// parse); each help text starts with help_prefix. Shared by `import` and `auto` (cmd_import.cpp).
 void add_bl_corner_options(CLI::App* cmd, MedialImportOptions* o, const std::string& help_prefix);
 
 void register_quality(CLI::App& app, int* status);

@@ -4,8 +4,8 @@
 // the shape has flat or thin parts. The choice is made from measured geometry: the medial axis's sheet fraction
 // (MedialAxis::sheet_fraction: the share of its measure that is sheet-like triangles rather than curves), then the
 // raw mesh of the imported meso-skeleton (mesh_skeleton without finishing, about 0.1 s): Auto keeps the meso-skeleton
-// only when that raw mesh is valid, has at most max_raw_inverted inverted hexes and a minimum scaled Jacobian of at least min_raw_sj (the finishing repairs a few, not
-// many, and spends its whole time budget trying).
+// only when that raw mesh is valid, has at most max_raw_inverted inverted hexes and a minimum scaled Jacobian of at
+// least min_raw_sj (the finishing repairs a few, not many, and spends its whole time budget trying).
 #include <string>
 
 #include "mesohex/core/hex_mesh.h"
@@ -97,8 +97,8 @@ struct AutoSkeletonOptions {
     // "Short border sides", and docs/tuning.md).
     double meso_border_radius_edge_factor = 0;
     // Auto: the answer. When the raw mesh of the curve skeleton Auto falls back to is invalid or has more than
-    // max_answer_inverted inverted hexes, raw or after the finishing's padding layer, `refusal` says so (a meso-skeleton
-    // is only chosen with a raw mesh that passed its own, stricter check): the finishing would have to
+    // max_answer_inverted inverted hexes, raw or after the finishing's padding layer, `refusal` says so (a
+    // meso-skeleton is only chosen with a raw mesh that passed its own, stricter check): the finishing would have to
     // untangle it, which spends its round caps (the slow part of `auto` on the shared plates with holes, and the
     // result then misses the targets anyway; docs/skeletons.md). The CLI refuses such a surface unless --best-effort.
     long max_answer_inverted = 0;
@@ -164,8 +164,8 @@ AutoSkeleton choose_skeleton(const TriangleMesh& surface, const AutoSkeletonOpti
 
 // Auto chose the meso-skeleton (`meso`) and its finished mesh missed a goal (`why`, in words): the curve skeleton of
 // the same surface, with meso's medial measures and raw numbers kept and `why` added to its reason, judged like Auto's
-// own curve answer (`refusal` set when its raw mesh is invalid or inverted). The caller finishes it and keeps the better
-// of the two finished meshes (`mesohex auto`: better_finish). Deterministic.
+// own curve answer (`refusal` set when its raw mesh is invalid or inverted). The caller finishes it and keeps the
+// better of the two finished meshes (`mesohex auto`: better_finish). Deterministic.
 AutoSkeleton curve_instead(const TriangleMesh& surface, const AutoSkeletonOptions& options, const AutoSkeleton& meso,
                            const std::string& why);
 

@@ -54,9 +54,9 @@ RemeshStats remesh_full(RemeshCache& cache, const Skeleton& skeleton, const Skel
 // Brings the cache to `skeleton`: when it has the same edges, faces and number of vertices as cache.skeleton, the
 // connection surfaces of the vertices within three edges of a changed vertex are recomputed and the others reused;
 // otherwise (or when the vertex classes change) this is remesh_full. Either way the branching-point surfaces to
-// compute are first looked up in cache.memo by content (their branch directions' bits), whatever their numbering. Afterwards cache.raw equals (bit for bit) what
-// remesh_full(skeleton) gives. On error the cache is left unchanged. Cost: O(V + E + F) plus the recomputed surfaces.
-// `analysis` (may be null): as for remesh_full.
+// compute are first looked up in cache.memo by content (their branch directions' bits), whatever their numbering.
+// Afterwards cache.raw equals (bit for bit) what remesh_full(skeleton) gives. On error the cache is left unchanged.
+// Cost: O(V + E + F) plus the recomputed surfaces. `analysis` (may be null): as for remesh_full.
 RemeshStats remesh_incremental(RemeshCache& cache, const Skeleton& skeleton,
                                const SkeletonAnalysis* analysis = nullptr);
 

@@ -364,9 +364,9 @@ PipelineResult prepare_skeleton(const Skeleton& input, const PipelineOptions& op
             res.fan_edge_splits += r.fan_edge_split >= 0 ? 1 : 0;
             if (r.moved_root >= 0) res.fan_end_moved_roots.push_back(vertex);
             if (r.moved_root < 0 && r.far_branch) res.fan_end_far_retractions.push_back(vertex);
-            // Every retracted corner is checked too, with RawMeshOptions::fan_end_cap_to_border off as well (off, main's
-            // raw meshes have no inverted hex there: docs/blocks.md, "The notch closed by the cap"); with it on, u's cap
-            // reaches up to that corner.
+            // Every retracted corner is checked too, with RawMeshOptions::fan_end_cap_to_border off as well (off,
+            // main's raw meshes have no inverted hex there: docs/blocks.md, "The notch closed by the cap"); with it on,
+            // u's cap reaches up to that corner.
             const int root = r.moved_root >= 0 ? r.moved_root : r.vertex;  // a retraction: its corner w
             res.moved_roots.push_back({vertex, is_input, repaired.skeleton.points[root],
                                        repaired.skeleton.radii[r.vertex], r.moved_root >= 0 || r.far_branch});

@@ -143,7 +143,8 @@ void check_moved_roots(const PipelineResult& res);
 // w's out and crease-normal directions, which passes through x's out-up copy at r = L / 2 for a wall at right angles
 // (L = |w x|; docs/blocks.md, "Thick flanges: the bound r < L / 2"), and no placement of w's column alone clears it
 // (measured: at most 0.14 / 0.08 at r = 0.6 / 0.9 L). Throws UnsupportedConfiguration naming w, the bound and an
-// edit, only when w's radius is above L / 2 (an inverted hex there below the bound has another cause: counted only). Called, as check_moved_roots, only where the raw mesh is the output. O(hexes) when a half-chunk is inverted.
+// edit, only when w's radius is above L / 2 (an inverted hex there below the bound has another cause: counted only).
+// Called, as check_moved_roots, only where the raw mesh is the output. O(hexes) when a half-chunk is inverted.
 void check_border_creases(const PipelineResult& res);
 
 // The default uniform radius: factor x mean edge length (1.0 for a skeleton without edges).

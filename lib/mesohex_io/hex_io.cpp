@@ -1,6 +1,7 @@
 // Hex mesh formats: MEDIT .mesh, legacy VTK .vtk, VTK XML .vtu (ASCII), Gmsh .msh 4.1 (ASCII), Abaqus .inp (write),
 // Exodus II .exo / .e (write, in exodus_io.cpp). All of them use the VTK hex vertex order (MEDIT, Gmsh, Abaqus C3D8
-// and Exodus HEX8 number the hexahedron like VTK), so no permutation happens here. Readers parse the whole file as text, track line numbers, and throw mesohex::Error
+// and Exodus HEX8 number the hexahedron like VTK), so no permutation happens here.
+// Readers parse the whole file as text, track line numbers, and throw mesohex::Error
 // "path:line: message" on anything they do not understand.
 #include "mesohex_io/hex_io.h"
 #include "mesohex_io/exodus_io.h"

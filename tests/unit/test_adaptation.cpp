@@ -214,10 +214,11 @@ TEST(Adaptation, RadiusPeakOnAShortBridgeIsSteppedOver) {
 }
 
 // The same bridge with keep_cut_joint 0.45: the bridge edge 0 - 1 (radius 0.1) would miss the middle joint's ball
-// (r 0.2) by (0 + 0.2 - 0.1) / 0.2 = 0.5 of its radius (>= 0.45, off the threshold), so the joint stays, its radius lowered to the largest value for
-// which the edge from point 0 meets the criterion: 0.2 >= 1.25 x 0.7 x r sqrt(3) (gamma 30 degrees, the joint does not
-// turn, the end's own term 0.7 x 0.1 is smaller), r = 0.2 / (1.25 x 0.7 sqrt(3)) = 0.13197, times the 0.999 margin;
-// the edge to point 1 is its mirror image. At 0.6 the miss is too small and the joint goes as before.
+// (r 0.2) by (0 + 0.2 - 0.1) / 0.2 = 0.5 of its radius (>= 0.45, off the threshold), so the joint stays, its radius
+// lowered to the largest value for which the edge from point 0 meets the criterion: 0.2 >= 1.25 x 0.7 x r sqrt(3)
+// (gamma 30 degrees, the joint does not turn, the end's own term 0.7 x 0.1 is smaller), r = 0.2 / (1.25 x 0.7 sqrt(3))
+// = 0.13197, times the 0.999 margin; the edge to point 1 is its mirror
+// image. At 0.6 the miss is too small and the joint goes as before.
 TEST(Adaptation, CutJointIsKeptThinner) {
     const double c = 0.5, s3 = std::sqrt(3.0) / 2;
     Skeleton s;
@@ -363,8 +364,8 @@ TEST(Adaptation, CutJointSlideGate) {
     EXPECT_EQ(three.skeleton.points, mesohex::adapt_skeleton_detailed(part, o).skeleton.points);
     EXPECT_NE(three.skeleton.points, plain.skeleton.points);
 
-    // (4) Two points of degree 3 joined by a bridge of length 0.1 < collapse_spread (r_A + r_B) = 0.35: A = (0.05, 0, 0)
-    // with the corner branch of CutJointSlidesAwayFromTheJunction (C = (0.5, 0, 0), E = (0.5, 0.5, 0)) and an arm to
+    // (4) Two points of degree 3 joined by a bridge of length 0.1 < collapse_spread (r_A + r_B) = 0.35: A = (0.05, 0,
+    // 0) with the corner branch of CutJointSlidesAwayFromTheJunction (C = (0.5, 0, 0), E = (0.5, 0.5, 0)) and an arm to
     // (0.05 + c, 0, s3), B = (-0.05, 0, 0) with arms to (0.05 + c, 0, -s3) and (-1, 0, 0). Adaptation collapses the
     // bridge into one point of degree 3 + 3 - 2 = 4 at the origin (merge_drifts: 0.05 < 0.7 x 0.25): the corner of (2),
     // its two arms 57.6 degrees from +x (gamma 28.8; ungated the joint slides to (0.5, 0.265625, 0), the 17th of 32
@@ -489,7 +490,8 @@ TEST(Adaptation, OverlappingJunctionBallsMergeOnTheUnionsSpan) {
     EXPECT_NEAR(mesohex::distance(split.skeleton.points[0], Vec3{0.4, 0, 0}), 0.0, 1e-12);
     o.collapse_spread = 0.7;
     EXPECT_EQ(mesohex::adapt_skeleton_detailed(s, o, {}, {4, 4}).collapsed_bridges, 0);
-    // A third arm at B: the merged junction would have degree 5 > overlap_merge_max_degree 4; with no limit (0) it merges.
+    // A third arm at B: the merged junction would have degree 5
+    // > overlap_merge_max_degree 4; with no limit (0) it merges.
     s.points.push_back({10.8, 0, 5});
     s.radii.push_back(0.3);
     s.edges.push_back({1, 6});

@@ -232,8 +232,8 @@ TEST(AutoCli, SculptsCurvedSheetsStayOnTheMedialAxisAndMeetTheTargets) {
 // hand.off: the medial meso-skeleton's raw mesh is clean (0 inverted, min SJ 0.307), so auto takes it, but its
 // finished mesh misses two goals (min SJ 0.140, Hausdorff 9.67 %: the medial mesh leaves a gap of 12 % of the diagonal
 // at the hand's fingers). auto then finishes the curve skeleton too (min SJ 0.106, Hausdorff 2.80 %, two goals missed
-// as well, a smaller distance; 0.244 / 3.37 % before its joints were re-centred, docs/sheets.md; 0.101 before session 28's
-// tip trim and bridge-quad inset, docs/junctions.md) and keeps it: the report's kind is "curve",
+// as well, a smaller distance; 0.244 / 3.37 % before its joints were re-centred, docs/sheets.md; 0.101 before session
+// 28's tip trim and bridge-quad inset, docs/junctions.md) and keeps it: the report's kind is "curve",
 // its reason says what was compared, and the skeleton written beside the mesh is the curve skeleton (no leaflet
 // faces).
 TEST(AutoCli, MesoMeshMissingAGoalIsComparedWithTheCurveSkeletons) {

@@ -18,7 +18,8 @@ constexpr double kPi = std::numbers::pi;
 
 // Cross-section: A = (0, 0) the crease, K = (-1, 0) the face shared by the two hexes (the kite), X1 = (cos 20, sin 20)
 // and X2 = (cos 20, -sin 20) the boundary quads' directions, so each hex has 160 degrees at A (the crease 320, the gap
-// 40 degrees around +x); D1 = (-0.3, 1.2), D2 = (-0.3, -1.2). Extruded over z = 0 .. layers, one hex per layer and side.
+// 40 degrees around +x); D1 = (-0.3, 1.2), D2 = (-0.3, -1.2).
+// Extruded over z = 0 .. layers, one hex per layer and side.
 HexMesh folded_pair(int layers) {
     const double c = std::cos(20 * kPi / 180), s = std::sin(20 * kPi / 180);
     const std::array<Vec3, 6> section = {
@@ -90,7 +91,8 @@ TEST(CreaseWedge, NoEdgeAboveTheThresholdLeavesTheMeshUnchanged) {
     EXPECT_EQ(insert_crease_wedges(m, o).mesh, m);
 }
 
-// keep_vertex refusing the new vertex on the gap's side (x > 1): the one wedge is dropped; refusing only x > 2 keeps it.
+// keep_vertex refusing the new vertex on the gap's side (x >
+// 1): the one wedge is dropped; refusing only x > 2 keeps it.
 TEST(CreaseWedge, RefusedNewVertexDropsTheWedge) {
     const HexMesh m = folded_pair(1);
     CreaseWedgeOptions o;

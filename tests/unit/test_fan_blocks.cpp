@@ -266,12 +266,12 @@ RawRun mesh_raw_with_caps(const Skeleton& s) {
 // first: reversed order) or both. By hand, from the block's counts (TAndXFansWithAndWithoutBlocksByHand: T 76 hexes,
 // 144 vertices, boundary {1: 40, 3: 8}; X 96, 177, {1: 48, 3: 16}): per branch 12 hexes (3 chunks; no hex of its own
 // at the cap, the branch shortened by h) and 27 vertices (2 joints and the extremity, 9 each; the fan end keeps its 18
-// section ids); boundary: the branch's 12 longitudinal edges and the extremity's 8 rim edges of valence 1, and the cap's
-// 8 rim edges get the first chunk's hex: at a labelled axis 2 -> 3 (T 6, X 8), at the T's free axis 1 -> 2 (2 fewer of
-// valence 1); interior irregular edges unchanged ({3: 4 g}, the strips' outer corners). The T with one branch: the
-// design note's 88 hexes. The worst raw hex is the first chunk's, at the round section's edge point M (first joint at
-// z = 3 (1 from the end), the cap section h = 0.3 beyond the end: the chunk 0.7 long): its two section edges meet at 135
-// degrees (M at 0.3 on the circle between Q = (0.3, 0) and (0, 0.3)), the edge down to the cap's corner (0.3, 0.3)
+// section ids); boundary: the branch's 12 longitudinal edges and the extremity's 8 rim edges of valence 1, and the
+// cap's 8 rim edges get the first chunk's hex: at a labelled axis 2 -> 3 (T 6, X 8), at the T's free axis 1 -> 2 (2
+// fewer of valence 1); interior irregular edges unchanged ({3: 4 g}, the strips' outer corners). The T with one branch:
+// the design note's 88 hexes. The worst raw hex is the first chunk's, at the round section's edge point M (first joint
+// at z = 3 (1 from the end), the cap section h = 0.3 beyond the end: the chunk 0.7 long): its two section edges meet at
+// 135 degrees (M at 0.3 on the circle between Q = (0.3, 0) and (0, 0.3)), the edge down to the cap's corner (0.3, 0.3)
 // goes a = 0.3 (1 - 1 / sqrt 2) along each axis and 0.7 along the branch: SJ = sin 135 x 0.7 / sqrt(2 a^2 + 0.49)
 // = 0.69622 (below the strips' corners' sin 45 degrees; tolerance 1e-6).
 TEST(FanBlocks, BranchOnTheCapByHand) {
@@ -308,15 +308,16 @@ TEST(FanBlocks, BranchOnTheCapByHand) {
 // from the top end w = (0, 0, 2) of the T / X fan of 2 x 2 strips (n = 2 fan edges, m = 2, radius 0.3) across the fan
 // line: the T's along -y (its free axis), the X's along (1, 1, 0) / sqrt 2 (between the +x and +y leaflets). Counts by
 // hand from the block's (T 76 hexes, 144 vertices, boundary {1: 40, 3: 8}, interior {3: 12}; X 96, 177, {1: 48, 3:
-// 16}, {3: 16}): per branch 12 hexes and 27 vertices as on the cap (no hex of its own at the root, the fan end keeps its
-// 18 section ids); the branch's 12 longitudinal edges and its extremity's 8 rim edges of valence 1 (+20). T, side
-// section s = -y: the patch M_2 Q_3 M_3 over the fan edge (1, 2) and the cap; its 4 rim edges through M_2 and M_3 (block
-// hex + the +x or -x plate, 2) and its 2 rim edges at z = 1 (the chunks below and above, 2) get the first chunk's hex:
-// 6 of valence 3; its 2 rim edges on the cap's end face (1, the cap's hex) 2: {1: 40 + 20 - 2, 3: 8 + 6}, interior
-// unchanged (the patch's 4 inner edges 2 + 2 = 4). X, notch M_j between +x and +y: the 2 fold edges on M_j's column
-// (block hex + 2 plates or half-chunks, boundary 3) get 2 chunk hexes each: interior valence 5; the 6 rim edges on the
-// plates' and half-chunks' sides 2 -> 3, the 2 on the half-chunks' outer edges 1 -> 2: {1: 48 + 20 - 2, 3: 16 - 2 + 6},
-// interior {3: 16, 5: 2}. The sections at the X's notch end and its chain neighbour keep h = min(0.3, 0.8 x 1) = 0.3.
+// 16}, {3: 16}): per branch 12 hexes and 27 vertices as on the cap (no hex of its own at the root, the fan end keeps
+// its 18 section ids); the branch's 12 longitudinal edges and its extremity's 8 rim edges of valence 1 (+20). T, side
+// section s = -y: the patch M_2 Q_3 M_3 over the fan edge (1, 2) and the cap; its 4 rim edges through M_2 and M_3
+// (block hex + the +x or -x plate, 2) and its 2 rim edges at z = 1 (the chunks below and above, 2) get the first
+// chunk's hex: 6 of valence 3; its 2 rim edges on the cap's end face (1, the cap's hex) 2: {1: 40 + 20 - 2, 3: 8 + 6},
+// interior unchanged (the patch's 4 inner edges 2 + 2 = 4). X, notch M_j between +x and +y: the 2 fold edges on M_j's
+// column (block hex + 2 plates or half-chunks, boundary 3) get 2 chunk hexes each: interior valence 5; the 6 rim edges
+// on the plates' and half-chunks' sides 2 -> 3, the 2 on the half-chunks' outer edges 1 -> 2: {1: 48 + 20 - 2, 3: 16 -
+// 2 + 6}, interior {3: 16, 5: 2}. The sections at the X's notch
+// end and its chain neighbour keep h = min(0.3, 0.8 x 1) = 0.3.
 TEST(FanBlocks, BranchOnTheSideSectionAndInTheNotchByHand) {
     for (const int g : {3, 4}) {
         SCOPED_TRACE(g);

@@ -501,12 +501,13 @@ void add_branch(Skeleton& s, Vec3 p, Vec3 d) {
 // Fan-edge chains with a branch continuing the fan line at both ends (strips of g = 3 or 4 leaflets, radius 0.3,
 // branches of 3 unit edges). Both ends are retracted after the chain is cut into at least 3 fan edges.
 // (a) `fanend -n g -m 3` (chain (0,0,-1)-(0,0,0)-(0,0,1) of 2 edges, strips of 2 x 2 unit quads, the branch of -m 1
-// and a second one from (0,0,-1) along -z): each fan edge is halved with its g strips of 2 faces (per edge: 1 + 2g cut sides, 2g faces
-// cut). T: V 27 + 2 x 7 = 41, E 38 + 2 x 13 = 64, F 12 + 2 x 6 = 24; two retractions (g - 1 = 2 faces each): V 45,
-// E 68. Boundary: per leaflet 4 x 2 faces, 12 sides minus 4 on the fan line = 8, x 3 = 24, plus per end the fan edge
-// and g - 1 sides (u, w_i): 30. Fan edges left 2, branch edges 6: hexes 4 x 6 + 2 x 24 + 2 x 30 = 132. X: V 33 + 2 x 9
-// = 51, E 48 + 2 x 17 = 82, F 32; retractions: V 57, E 88; boundary 4 x 8 + 2 x 4 = 40; hexes 24 + 64 + 80 = 168.
-// (b) `tfan` / `xfan -n 1 -m 2` (one fan edge (0,0,-0.5)-(0,0,0.5), strips of 2 unit quads) with branches from both
+// and a second one from (0,0,-1) along -z): each fan edge is halved with its g strips of 2 faces (per edge: 1 + 2g cut
+// sides, 2g faces cut). T: V 27 + 2 x 7 = 41, E 38 + 2 x 13 = 64, F 12 + 2 x 6 = 24; two retractions (g - 1 = 2 faces
+// each): V 45, E 68. Boundary: per leaflet 4 x 2 faces, 12 sides minus 4 on the fan line = 8, x 3 = 24, plus per end
+// the fan edge and g - 1 sides (u, w_i): 30. Fan edges left 2, branch edges 6: hexes 4 x 6 + 2 x 24 + 2 x 30 = 132. X:
+// V 33 + 2 x 9 = 51, E 48 + 2 x 17 = 82, F 32; retractions: V 57, E 88; boundary 4 x 8 + 2 x 4 = 40; hexes 24 + 64 + 80
+// = 168. (b) `tfan` / `xfan -n 1 -m 2` (one fan edge
+// (0,0,-0.5)-(0,0,0.5), strips of 2 unit quads) with branches from both
 // ends: the fan edge is cut into thirds (two cuts, 1 + 2g sides and 2g faces each). T: V 20 + 14 = 34, E 25 + 26 = 51,
 // F 18; retractions: V 38, E 55; boundary 3 x 7 + 2 x 3 = 27, one fan edge left; hexes 24 + 36 + 54 = 114. X: V 24 +
 // 18 = 42, E 31 + 34 = 65, F 24; V 48, E 71; boundary 4 x 7 + 2 x 4 = 36; hexes 24 + 48 + 72 = 144.
@@ -1107,8 +1108,8 @@ Skeleton fan_end_first_joint(int strips, double scale, double first_joint) {
 // (inside the notch, 0.02 / -0.10): 4 hexes of the first chunk inverted, refused naming vertex 2 and the edit
 // (1 + sqrt 2) r; moved to 2.5 from w (2.21 / 1.79 r past M_j) the raw mesh has no inverted hex (measured min SJ 0.43
 // / 0.31); with the resampling (defaults) clean, the notch end checked and named by its input id. T (`-n 3 -m 2`, r =
-// 0.78, the side section at h = 0.5 off w): as given (first joint 1.0 from w, past the side) clean; moved to 0.4 (inside
-// the block's side) 2 hexes inverted, refused with the edit r.
+// 0.78, the side section at h = 0.5 off w): as given (first joint 1.0 from w, past the side) clean; moved to 0.4
+// (inside the block's side) 2 hexes inverted, refused with the edit r.
 TEST(FanEndRepair, SideSectionAndNotchEndsCheckedOnTheRawMesh) {
     MeshOptions as_given;
     as_given.pipeline.resample = false;

@@ -294,8 +294,9 @@ TEST(Fitting, ConjugateGradientKeepsTheCubeAndIsDeterministic) {
 }
 
 TEST(Fitting, PaddedSubdividedShellFitsTwoSpheres) {
-    // Box shell [-1.5, 1.5]^3 minus the centre cube (two boundary components), padded on both, subdivided 1 -> 8, fitted
-    // to the union of the spheres of radius 2 (outside) and 0.4 (the cavity): every vertex goes to the nearer sphere.
+    // Box shell [-1.5, 1.5]^3 minus the centre cube (two boundary components), padded on both, subdivided 1 -> 8,
+    // fitted to the union of the spheres of radius 2 (outside) and
+    // 0.4 (the cavity): every vertex goes to the nearer sphere.
     HexMesh shell = make_block(3, 3, 3);
     shell.hexes.erase(shell.hexes.begin() + 13);
     for (Vec3& p : shell.points) p = p - Vec3{1.5, 1.5, 1.5};

@@ -273,6 +273,28 @@ double min_point_distance(const Skeleton& s) {
     return best;
 }
 
+// The checks every generated curve tree passes (invariants, accepted by the analysis, Euler characteristic 1, no
+// faces, no coincident points, the same skeleton again from the same seed: `again`); returns its adjacency lists.
+std::vector<std::vector<int>> checked_tree_adjacency(const Skeleton& s, const Skeleton& again) {
+    EXPECT_EQ(check_invariants(s), "");
+    EXPECT_NO_THROW((void)mesohex::analyze_skeleton(s));
+    EXPECT_EQ(mesohex::euler_characteristic(s), 1);
+    EXPECT_TRUE(s.faces.empty());
+    EXPECT_GT(min_point_distance(s), 0.0);
+    EXPECT_EQ(again, s);
+    std::vector<std::vector<int>> adj(s.points.size());
+    for (const std::array<int, 2>& e : s.edges) adj[e[0]].push_back(e[1]), adj[e[1]].push_back(e[0]);
+    return adj;
+}
+
+// The vertices of degree >= 3, in order.
+std::vector<int> branching_vertices(const std::vector<std::vector<int>>& adj) {
+    std::vector<int> branching;
+    for (int v = 0; v < static_cast<int>(adj.size()); ++v)
+        if (adj[v].size() >= 3) branching.push_back(v);
+    return branching;
+}
+
 }  // namespace
 
 TEST(Generators, NamesAreTheShapesInOrder) {
@@ -386,18 +408,8 @@ TEST(Generators, CharacterSkeletonsHaveABulgingTorsoBetweenTwoBranchingPoints) {
     for (std::uint64_t seed = 0; seed < 200; ++seed) {
         SCOPED_TRACE(seed);
         const Skeleton s = mesohex::generate_character_skeleton(seed);
-        EXPECT_EQ(check_invariants(s), "");
-        EXPECT_NO_THROW((void)mesohex::analyze_skeleton(s));
-        EXPECT_EQ(mesohex::euler_characteristic(s), 1);
-        EXPECT_TRUE(s.faces.empty());
-        EXPECT_GT(min_point_distance(s), 0.0);
-        EXPECT_EQ(mesohex::generate_character_skeleton(seed), s);
-        const int n = static_cast<int>(s.points.size());
-        std::vector<std::vector<int>> adj(static_cast<std::size_t>(n));
-        for (const std::array<int, 2>& e : s.edges) adj[e[0]].push_back(e[1]), adj[e[1]].push_back(e[0]);
-        std::vector<int> branching;
-        for (int v = 0; v < n; ++v)
-            if (adj[v].size() >= 3) branching.push_back(v);
+        const std::vector<std::vector<int>> adj = checked_tree_adjacency(s, mesohex::generate_character_skeleton(seed));
+        const std::vector<int> branching = branching_vertices(adj);
         ASSERT_EQ(branching.size(), 2u);
         // The torso: the unique path from A to B (the walk from A along degree-2 vertices that reaches B).
         std::vector<int> torso;
@@ -474,18 +486,9 @@ TEST(Generators, TwinJunctionSkeletonsHaveTwoBranchingPointsWhoseBallsOverlap) {
     for (std::uint64_t seed = 0; seed < 200; ++seed) {
         SCOPED_TRACE(seed);
         const Skeleton s = mesohex::generate_twin_junction_skeleton(seed);
-        EXPECT_EQ(check_invariants(s), "");
-        EXPECT_NO_THROW((void)mesohex::analyze_skeleton(s));
-        EXPECT_EQ(mesohex::euler_characteristic(s), 1);
-        EXPECT_TRUE(s.faces.empty());
-        EXPECT_GT(min_point_distance(s), 0.0);
-        EXPECT_EQ(mesohex::generate_twin_junction_skeleton(seed), s);
-        const int n = static_cast<int>(s.points.size());
-        std::vector<std::vector<int>> adj(static_cast<std::size_t>(n));
-        for (const std::array<int, 2>& e : s.edges) adj[e[0]].push_back(e[1]), adj[e[1]].push_back(e[0]);
-        std::vector<int> branching;
-        for (int v = 0; v < n; ++v)
-            if (adj[v].size() >= 3) branching.push_back(v);
+        const std::vector<std::vector<int>> adj =
+            checked_tree_adjacency(s, mesohex::generate_twin_junction_skeleton(seed));
+        const std::vector<int> branching = branching_vertices(adj);
         ASSERT_EQ(branching.size(), 2u);
         ASSERT_EQ(branching[0], 0);
         // The bridge: A's first edge (edge 0) walked along degree-2 vertices; it must reach B.

@@ -247,8 +247,8 @@ TEST(Incremental, MemoServesBranchingPointsAfterARenumberingEdit) {
     EXPECT_GE(renumbered, 1);
 }
 
-// Random moves (1-2 vertices of the input, up to 0.03 per axis, before adaptation; 8 per tree) on three random trees: every
-// remesh equals a fresh remesh_full bit for bit, renumbering edits included, and those reuse memo surfaces.
+// Random moves (1-2 vertices of the input, up to 0.03 per axis, before adaptation; 8 per tree) on three random trees:
+// every remesh equals a fresh remesh_full bit for bit, renumbering edits included, and those reuse memo surfaces.
 TEST(Incremental, MemoOnRandomMovesBeforeAdaptation) {
     int renumbered = 0, checked = 0;
     for (std::uint32_t seed = 1; seed <= 3; ++seed) {

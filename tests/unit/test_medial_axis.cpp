@@ -301,8 +301,8 @@ TEST(MedialAxis, KeepTopologyKeepsTheSolidsEulerCharacteristic) {
     EXPECT_LE(d.initial_euler, 1);
     EXPECT_EQ(compute_medial_axis(hub, o).initial_euler, 1);
     // The plain filter with the thin-part samples but without the thin-part criterion (thin_separation 0): no hole in
-    // the disk's sheet any more, but the ligature inside the hub (the sheet between the two reflex rims, seen under less
-    // than 110 degrees within 0.23 of the axis) is cut: an annulus (0), the hub's axis a separate, smaller part.
+    // the disk's sheet any more, but the ligature inside the hub (the sheet between the two reflex rims, seen under
+    // less than 110 degrees within 0.23 of the axis) is cut: an annulus (0), the hub's axis a separate, smaller part.
     MedialAxisOptions angle_only = coarse();
     angle_only.thin_separation = 0;
     const MedialAxis plain = compute_medial_axis(hub, angle_only);

@@ -346,7 +346,8 @@ TEST(TipTrim, TheChainOutsideGoesBackToTheLastHeldJoint) {
     EXPECT_EQ(t.skeleton.points.size(), 4u);
     EXPECT_EQ(t.skeleton.edges.size(), 3u);
     EXPECT_EQ(t.vertex_map, (std::vector<int>{0, 1, 2, 3, -1, -1}));
-    // Not held at both ends of a single branch: the held middle keeps one side (the earlier chain, lower tip id), never zero edges.
+    // Not held at both ends of a single branch: the held middle keeps
+    // one side (the earlier chain, lower tip id), never zero edges.
     const TipTrim both = trim_unheld_tips(s, {0, 0, 1, 0, 0, 0});
     EXPECT_EQ(both.trimmed, (std::vector<int>{3, 4, 5}));
     EXPECT_EQ(both.new_ends, (std::vector<int>{2}));

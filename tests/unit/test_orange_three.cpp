@@ -100,8 +100,8 @@ TEST(OrangeThree, TPeaksAtFortyFiveDegrees) {
     }
 }
 
-// With the margin weight 90 degrees the pieces' minimum is partition_sphere's exact orange quality (sphere_partition.cpp,
-// OrangeEvaluator, the search's objective) up to rounding, on random triples and axes.
+// With the margin weight 90 degrees the pieces' minimum is partition_sphere's exact orange quality
+// (sphere_partition.cpp, OrangeEvaluator, the search's objective) up to rounding, on random triples and axes.
 TEST(OrangeThree, ScoreIsTheOrangeEvaluatorsQuality) {
     std::mt19937_64 rng(20261206);
     std::normal_distribution<double> g(0, 1);

@@ -215,9 +215,9 @@ TEST(Padding, RejectsBadInput) {
     EXPECT_THROW(pad(mesohex::test::make_unit_cube(), options(1, -1)), Error);
 }
 
-// The narrow slot (make_narrow_slot). At the slot's floor the two bottom corners' normals (45 degrees, toward each other) would carry
-// their outer vertices past each other (offset ~0.25 each, half width 0.1) and invert the new hexes on the floor;
-// the padding pulls those outer vertices back instead.
+// The narrow slot (make_narrow_slot). At the slot's floor the two bottom corners' normals (45 degrees, toward each
+// other) would carry their outer vertices past each other (offset ~0.25 each, half width 0.1) and invert the new hexes
+// on the floor; the padding pulls those outer vertices back instead.
 TEST(Padding, NarrowSlotDoesNotInvert) {
     const HexMesh u = make_narrow_slot();
     ASSERT_EQ(u.hexes.size(), 21u);
@@ -611,8 +611,8 @@ TEST(Padding, SearchTurnsTheDirectionAtAConcaveEdgeEndOnly) {
     EXPECT_EQ(compute_quality(searched.mesh).inverted, 0);
 }
 
-// maximin_direction: for three orthonormal vectors the cone axis (1, 1, 1) / sqrt 3 (each dot 1 / sqrt 3); for (0, 0, 1)
-// and (0.5, 0, 0) (a right-angled corner next to one of sine 0.5) the direction where both dots are equal, m_z = 0.5
+// maximin_direction: for three orthonormal vectors the cone axis (1, 1, 1) / sqrt 3 (each dot 1 / sqrt 3); for (0, 0,
+// 1) and (0.5, 0, 0) (a right-angled corner next to one of sine 0.5) the direction where both dots are equal, m_z = 0.5
 // m_x: (2, 0, 1) / sqrt 5, value 1 / sqrt 5; neither vector's own direction does better than 0.
 TEST(Padding, MaximinDirectionOfCornerVectors) {
     const std::vector<Vec3> axes{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};

@@ -98,8 +98,8 @@ using mesohex::test::plate_with_wall;
 using mesohex::test::plate_with_walls;
 using mesohex::test::random_directions;
 
-// Leaflet meshes: hexes = 2 per face + 2 per boundary edge (+ 4 per fan edge and per cap of a fan block, docs/blocks.md),
-// valid, Euler characteristic of the skeleton, predicted irregular edges == measured, no inverted hex.
+// Leaflet meshes: hexes = 2 per face + 2 per boundary edge (+ 4 per fan edge and per cap of a fan block,
+// docs/blocks.md), valid, Euler characteristic of the skeleton, predicted irregular edges == measured, no inverted hex.
 void expect_good_leaflet_mesh(const Skeleton& s, const Built& b, long hexes) {
     const HexMesh& m = b.raw.mesh;
     EXPECT_EQ(static_cast<long>(m.hexes.size()), hexes + 4 * (b.prediction.fan_blocks + b.prediction.fan_block_caps));
@@ -1076,6 +1076,17 @@ TEST(JunctionCover, CreaseMidpointsOpenTheLegsCrotchOfDinosHipWithoutMovingItsPo
     EXPECT_EQ(compute_quality(on.mesh).inverted, 0);
 }
 
+// The sides (local edge ids of point 0's partition) that dino_hip's two close legs' quads share at the hip (edges 2
+// and 3 are 0-3 and 0-4, the hip is their side 0).
+static std::vector<int> legs_shared_sides(const ConnectionSurfaces& cs) {
+    const int q3 = cs.edge_quad[2][0] - cs.quad_begin[0], q4 = cs.edge_quad[3][0] - cs.quad_begin[0];
+    std::vector<int> shared;
+    for (int k3 : cs.quad_edges[cs.quad_begin[0] + q3])
+        for (int k4 : cs.quad_edges[cs.quad_begin[0] + q4])
+            if (k3 == k4) shared.push_back(k3);
+    return shared;
+}
+
 // The midpoint rule restricted to a close pair's shared edge (JunctionCoverOptions::crease_pair_deg) on the same
 // hand-built hip. Its branches' directions from the hip: the legs (vertices 3 and 4) are 46.35 degrees apart, every
 // other pair 79.4 degrees or more (computed here). The legs' two quads share exactly one surface edge (the quads'
@@ -1097,11 +1108,7 @@ TEST(JunctionCover, CreasePairMovesOnlyTheEdgeTheCloseLegsShare) {
                 EXPECT_GT(angle(a, b), 79.4);
             }
     // The legs' quads at the hip (edges 2 and 3 are 0-3 and 0-4, the hip is their side 0) and their shared side.
-    const int q3 = cs.edge_quad[2][0] - cs.quad_begin[0], q4 = cs.edge_quad[3][0] - cs.quad_begin[0];
-    std::vector<int> shared;
-    for (int k3 : cs.quad_edges[cs.quad_begin[0] + q3])
-        for (int k4 : cs.quad_edges[cs.quad_begin[0] + q4])
-            if (k3 == k4) shared.push_back(k3);
+    const std::vector<int> shared = legs_shared_sides(cs);
     ASSERT_EQ(shared.size(), 1u);
     RawMeshOptions o;
     const RawMesh off = build_raw_mesh(s, an, cs, fr, o);
@@ -1136,11 +1143,7 @@ TEST(RawMesh, ClosePairCreaseEdgesAreTheHalvesOfTheLegsSharedSide) {
     const ConnectionSurfaces cs = build_connection_surfaces(s, an);
     const BranchFrames fr = propagate_frames(s, an, cs);
     const RawMesh raw = build_raw_mesh(s, an, cs, fr, RawMeshOptions{});
-    const int q3 = cs.edge_quad[2][0] - cs.quad_begin[0], q4 = cs.edge_quad[3][0] - cs.quad_begin[0];
-    std::vector<int> shared;
-    for (int k3 : cs.quad_edges[cs.quad_begin[0] + q3])
-        for (int k4 : cs.quad_edges[cs.quad_begin[0] + q4])
-            if (k3 == k4) shared.push_back(k3);
+    const std::vector<int> shared = legs_shared_sides(cs);
     ASSERT_EQ(shared.size(), 1u);
     const int base = raw.vertex_base[0], np = cs.point_begin[1] - cs.point_begin[0];
     const int ne = cs.edge_begin[1] - cs.edge_begin[0];

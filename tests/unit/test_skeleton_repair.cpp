@@ -155,7 +155,8 @@ TEST(SkeletonRepair, WideJunctionTrunkAtDegreeFour) {
 
 // A branching point c = (0,0,0) of degree 4, radius 0.1: a close pair 60 degrees apart (+-30 degrees from +z in the xz
 // plane, length `pair_len`, end radius 0.05) and two branches +-50 degrees from -z in the yz plane (length `rest_len`,
-// radius 0.1; 100 degrees apart, not a close pair). No trunk (the pair's tubes separate inside c's ball). Vertices: 0 c, 1 2 the pair, 3 4 the others.
+// radius 0.1; 100 degrees apart, not a close pair). No trunk (the pair's tubes
+// separate inside c's ball). Vertices: 0 c, 1 2 the pair, 3 4 the others.
 Skeleton degree_four(double pair_len, double rest_len) {
     Skeleton s;
     const double a = 30 * kDeg, b = 50 * kDeg;
@@ -1541,9 +1542,9 @@ TEST(SkeletonRepair, FeetOfAWallAcrossThePlateWithAShorterWallOnTheOtherSideAreS
 //      the halves are 180 degrees apart on every edge (the wall 145 from the left half, 35 from the right: not a
 //      pair), but after the join every chain edge's wall leans 55 degrees from the plate's normal, above
 //      kDockWallTiltDeg (45): no join.
-// Either way no chain is docked, so no strip is split (the skeleton is returned unchanged, V 38, F 26), and the analysis
-// refuses the irregular fan at vertex 11, where the chain edges of 3 and 4 faces meet (word for word as with the
-// repair off).
+// Either way no chain is docked, so no strip is split (the skeleton is returned unchanged, V 38, F 26), and the
+// analysis refuses the irregular fan at vertex 11, where the chain edges of 3 and 4 faces meet (word for word as with
+// the repair off).
 TEST(SkeletonRepair, FeetOfAnAcrossChainAreSplitOnlyWhereTheAnalysisDocksIt) {
     const Skeleton flat = wall_across_with_shorter_bottom();
     ASSERT_EQ(flat.points.size(), 38u);
@@ -1714,7 +1715,8 @@ TEST(SkeletonRepair, BandPillowDocksAWallOnAChainVertexOfThreePlateFaces) {
 }
 
 // Where the band's path cannot run on, the wall is refused as before, naming the vertex: a spiral chain (2, 2) -> (4,
-// 2) -> (4, 4) -> (1, 4) -> (1, 1) on a 6 x 6 plate, whose inside end (2, 2), run on straight, meets the chain at (1, 2).
+// 2) -> (4, 4) -> (1, 4) -> (1, 1) on a 6 x 6 plate, whose
+// inside end (2, 2), run on straight, meets the chain at (1, 2).
 TEST(SkeletonRepair, BandPillowLeavesAPathThatCannotRunOn) {
     const Skeleton spiral = turning_wall(6, {{{2, 2}, {4, 2}, {4, 4}, {1, 4}, {1, 1}}}, 1, false, 0.1);
     EXPECT_EQ(mesohex::repair_skeleton(spiral, {}).docked_band_pillows, 0);

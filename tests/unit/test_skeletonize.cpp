@@ -223,8 +223,8 @@ TEST(Skeletonize, BentTubeGivesAPathWithTrueRadii) {
 }
 
 // A tube along z from -h to h, closed by flat ends, whose one side bulges: the cross-section at height z is the circle
-// of radius r + b(z) / 2 around (b(z) / 2, 0, z), b(z) = a exp(-(z / w)^2): its side at x = -r stays straight, the other
-// side moves out to r + b(z) (a knob's lobe). The middle of the section at z is x = b(z) / 2.
+// of radius r + b(z) / 2 around (b(z) / 2, 0, z), b(z) = a exp(-(z / w)^2): its side at x = -r stays straight, the
+// other side moves out to r + b(z) (a knob's lobe). The middle of the section at z is x = b(z) / 2.
 TriangleMesh one_sided_bulge(double h, double r, double a, double w) {
     const int around = 32, n = 80;
     TriangleMesh m;

@@ -100,8 +100,9 @@ TEST(Smoothing, InvertedInputUnchangedAndBadInputRejected) {
 }
 
 // The max-min pass alone (no sweeps before or after it): 2 x 2 x 2 block, centre vertex (id 13) moved by
-// (0.3, 0.2, 0.1), boundary fixed. Every move raises the smallest scaled Jacobian of the hexes it touches, so the centre walks back toward
-// (1, 1, 1): the min SJ rises from 0.80 toward 1 and nothing else moves. worst_below 0: the pass is off, nothing moves.
+// (0.3, 0.2, 0.1), boundary fixed. Every move raises the smallest scaled Jacobian of the hexes it touches, so the
+// centre walks back toward (1, 1, 1): the min SJ rises from 0.80 toward 1
+// and nothing else moves. worst_below 0: the pass is off, nothing moves.
 TEST(Smoothing, MaxMinPassRaisesTheWorstHex) {
     HexMesh m = block(2, 2);
     m.points[13] = {1.3, 1.2, 1.1};

@@ -320,8 +320,8 @@ TEST(SpherePartition, ThreeDirectionsHaveTwoValenceThreeVerticesAndScoreAtMostSi
 // allows (margin ratio 1); the exact orange here reaches 0.951. partition_sphere skips the three-direction hull path
 // only when that candidate certainly scores below the best orange, so it must still return it (it fails when the
 // skip is unconditional). Run with the 400-axis scan's starts (coarse_three_scan and tabled_three_start off): the
-// coarse scan's distinct starts and the table's reach a higher orange here (quality_score 57.29 degrees, margin ratio 0.969, against the hull candidate's
-// 57.14), which the default returns; it scores at least the hull candidate's.
+// coarse scan's distinct starts and the table's reach a higher orange here (quality_score 57.29 degrees, margin ratio
+// 0.969, against the hull candidate's 57.14), which the default returns; it scores at least the hull candidate's.
 double quality_deg(const SpherePartition& p, const std::vector<Vec3>& d) {
     const mesohex::SpherePartitionStats s = mesohex::sphere_partition_stats(p, d);
     return std::min({s.min_angle, kPi - s.max_angle, kPi / 2 * s.min_margin_ratio}) / kDeg;

@@ -149,7 +149,8 @@ TEST(Untangle, BoundaryVertexFoldNeedsAMovingBoundary) {
 TEST(Untangle, HexWithPositiveCornersAndANegativeCentreFrame) {
     // A twisted hex (half-integer corners): its 8 corner frames are positive (smallest normalized determinant 0.075)
     // but its centre frame is not (xi = (2.5, 3, -1.5), eta = (1.5, 0, 0.5), zeta = (1.5, 1, 0.5): det -3.5,
-    // normalized -0.28), so its scaled Jacobian is negative and it counts as inverted. The untangling energy includes the centre
+    // normalized -0.28), so its scaled Jacobian is negative and it
+    // counts as inverted. The untangling energy includes the centre
     // frame: with its vertices free (softly attached) it is repaired.
     HexMesh m;
     m.points = {{1, 0.5, 1}, {0.5, 1, 0}, {2, 2, 1.5}, {1, 0, 1}, {1, 1.5, 2.5}, {2, 1, 0}, {2, 1.5, 1.5}, {1, 0.5, 0}};

@@ -54,13 +54,13 @@ struct PadSelection {
 
 // The bare regions: a region of raw boundary quads is bare when (1) it is bounded by at least one sharp raw edge,
 // (2) every sharp raw edge around it has a normal angle >= min_rim_angle and matches a sharp edge of `domain` near
-// where its midpoint lands (along the mean of its two quad normals) and along its direction (PadSelectionOptions), (3) every vertex inside it (on no
-// sharp edge) has 4 boundary quads, or 3 (a leaflet's convex corner), (4) every quad lands where the domain's normal is within
-// normal_tolerance of its own. Then, until nothing changes, a bare region becomes padded when it meets a padded quad
-// along a concave edge (the padding's side face would lie on the bare region) or at a vertex where the padded quads
-// form more than one fan (the new vertex there would pinch the boundary). `domain` must be oriented outward.
-// Boundary edges with other than two boundary quads count as sharp and unmatched. Deterministic; O(sharp raw edges x
-// sharp domain edges) for the matching.
+// where its midpoint lands (along the mean of its two quad normals) and along its direction (PadSelectionOptions), (3)
+// every vertex inside it (on no sharp edge) has 4 boundary quads, or 3 (a leaflet's convex corner), (4) every quad
+// lands where the domain's normal is within normal_tolerance of its own. Then, until nothing changes, a bare region
+// becomes padded when it meets a padded quad along a concave edge (the padding's side face would lie on the bare
+// region) or at a vertex where the padded quads form more than one fan (the new vertex there would pinch the boundary).
+// `domain` must be oriented outward. Boundary edges with other than two boundary quads count as sharp and unmatched.
+// Deterministic; O(sharp raw edges x sharp domain edges) for the matching.
 PadSelection select_bare_regions(const HexMesh& mesh, const TriangleMesh& domain, const LandingFn& land,
                                  const PadSelectionOptions& options = {});
 

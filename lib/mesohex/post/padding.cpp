@@ -397,7 +397,8 @@ void pad_once(HexMesh& mesh, std::vector<int>& origin, std::vector<int>& layer_o
     if (options.corner_guard > 0) lay.shrink_to_guard(options.corner_guard);
     mesh.hexes.reserve(mesh.hexes.size() + quads.size());
     for (const std::array<int, 4>& q : quads) {
-        // q is outward from the mesh, i.e. its right-hand normal points into the new hex: it is the hex's bottom 0-1-2-3.
+        // q is outward from the mesh, i.e. its right-hand normal
+        // points into the new hex: it is the hex's bottom 0-1-2-3.
         std::array<int, 8> hex{};
         for (int i = 0; i < 4; ++i) {
             hex[static_cast<std::size_t>(i)] = q[static_cast<std::size_t>(i)];

@@ -81,11 +81,12 @@ struct PaddingResult {
 // For every boundary quad (a, b, c, d) (outward) adds the hex (a, b, c, d, a', b', c', d'), where v' is a new vertex
 // per boundary vertex v, at p_v + t_v * m_v: m_v is the unit mean of the unit normals of the boundary quads at v,
 // scaled by 1 / (mean over those quads of m_v . n_q) (clamped to at most 3, at a concave vertex to concave_scale) so
-// that a planar face moves by t_v and a convex cube corner moves to the corner of the offset cube; t_v = thickness x (shortest boundary edge at v, or edge into the mesh with inward_edges)
-// or absolute_thickness. A new hex that would be inverted gets the offsets of its outer vertices halved (up to 6 times);
-// if it stays inverted, the directions of its vertices are tilted toward their worst-facing quad normal and the
-// offsets restored, then halved again (up to 20 times). Every boundary component is padded; new vertices are numbered in order of first appearance in
-// the boundary quads of compute_hex_topology, the new hexes in boundary-quad order.
+// that a planar face moves by t_v and a convex cube corner moves to the corner of the offset cube; t_v = thickness x
+// (shortest boundary edge at v, or edge into the mesh with inward_edges) or absolute_thickness. A new hex that would be
+// inverted gets the offsets of its outer vertices halved (up to 6 times); if it stays inverted, the directions of its
+// vertices are tilted toward their worst-facing quad normal and the offsets restored, then halved again (up to 20
+// times). Every boundary component is padded; new vertices are numbered in order of first
+// appearance in the boundary quads of compute_hex_topology, the new hexes in boundary-quad order.
 // Postconditions: hex count = old + number of boundary quads (per layer); every boundary hex of the result exposes
 // exactly one face to the boundary when the input boundary is a closed 2-manifold; old boundary edges of valence 1
 // (convex feature lines) become interior edges of valence 3. Euler characteristic is preserved.

@@ -16,8 +16,9 @@ struct SubdivisionResult {
 
 // Directional refinement. `edge_selected` is indexed by the edge ids of compute_hex_topology(mesh) (size = its edge
 // count). Edges are grouped into sheets: the 4 parallel edges of one direction of a hex are in one sheet, and sheets
-// sharing an edge are merged (a sheet of hexes is dual to its edge set). Every sheet containing a selected edge is split
-// in two: its edges are cut at their midpoints, and every hex is cut once per split direction (2, 4 or 8 children).
+// sharing an edge are merged (a sheet of hexes is dual to its edge set). Every sheet containing a selected edge is
+// split in two: its edges are cut at their midpoints, and every
+// hex is cut once per split direction (2, 4 or 8 children).
 // Numbering: input vertices keep their ids; then one midpoint per split edge (edge-id order), one centroid (mean of the
 // 4 corners) per face with both directions split (face-id order), one centroid (mean of the 8 corners) per hex with
 // all 3 directions split (hex order). Children of hex h are consecutive, in lattice order (first axis 0-1 fastest,

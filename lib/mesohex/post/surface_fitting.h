@@ -99,11 +99,11 @@ struct FitResult {
 
 // The local-global optimizer. Builds the target lengths and the normal matrix A^T A once and factorizes it
 // (SimplicialLDLT; symbolic analysis once per connectivity, numeric factorization again only when the targets are
-// refreshed, every refresh_every steps), then every step(): local step (parallel over edges, deterministic) computes the ideal direction of
-// every oriented edge from the corner normals of its hexes and the surface target of every boundary vertex; global
-// step solves A^T A X = A^T b for the 3 coordinates with the stored factorization; then the inversion guard.
-// With FitSolver::ConjugateGradient (the default above 1000 vertices: the sparse Cholesky factor of a 3D mesh
-// Laplacian grows superlinearly; at 56 k hexes the factorization takes over a minute and one solve ~0.3 s), the
+// refreshed, every refresh_every steps), then every step(): local step (parallel over edges, deterministic) computes
+// the ideal direction of every oriented edge from the corner normals of its hexes and the surface target of every
+// boundary vertex; global step solves A^T A X = A^T b for the 3 coordinates with the stored factorization; then the
+// inversion guard. With FitSolver::ConjugateGradient (the default above 1000 vertices: the sparse Cholesky factor of a
+// 3D mesh Laplacian grows superlinearly; at 56 k hexes the factorization takes over a minute and one solve ~0.3 s), the
 // matrix is assembled once (again per refresh) and each global step runs a warm-started Jacobi-preconditioned CG
 // until the residual dropped by cg_tolerance: a fixed point of the exact iteration is one of this iteration too.
 // Rows of A: per edge e = (1, 2) and orientation, w_e (x2 - x1) = Lbar d (d = ideal unit direction at the start vertex,

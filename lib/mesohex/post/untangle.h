@@ -32,9 +32,9 @@ struct UntangleOptions {
                                      // then the largest min SJ (never more inverted hexes than at the start)
     // Rounds: a quality pass (target_sj > 0) stops when none of its first quality_patience rounds ended with a min SJ
     // above the start's; it then returns the start. (The finishing keeps a quality pass only when the min SJ rose; on
-    // 38 inputs of bench/finish_all.sh and 20 random seeds every pass that rose did so by round 2, docs/performance.md.)
-    // It also stops, returning its best state, after quality_patience rounds in a row that did not improve that state
-    // (fewest inverted, then fewest below target, then largest min SJ). <= 0: never stop early.
+    // 38 inputs of bench/finish_all.sh and 20 random seeds every pass that rose did so by round 2,
+    // docs/performance.md.) It also stops, returning its best state, after quality_patience rounds in a row that did
+    // not improve that state (fewest inverted, then fewest below target, then largest min SJ). <= 0: never stop early.
     int quality_patience = 5;
     std::function<void(const UntangleProgress&)> progress;  // optional, called after every round
 };
@@ -51,10 +51,11 @@ struct UntangleResult {
 // If no hex has scaled Jacobian <= 0, returns the mesh unchanged (rounds = 0). Otherwise minimizes
 // sum over the 8 corners and the centre frame of the active hexes of f(J), J = (corner frame) / h_hex (centre frame:
 // its three axes, each a sum of 4 edges, / 4 h_hex; h_hex = the hex's mean edge length at the start; ideal = cube of
-// that size; the centre frame is the scaled Jacobian's ninth, which can be negative with 8 positive corners), chi(D, eps) = (D + sqrt(eps^2 + D^2)) / 2 in place of det J, over the free
-// vertices (interior vertices near inverted hexes), decreasing eps as in the paper, until every hex has a positive
-// scaled Jacobian (or max_rounds). The energy is finite for every position, so the minimization never needs a
-// feasible start. Reports what remains inverted. Deterministic (parallel evaluation with fixed reduction order).
+// that size; the centre frame is the scaled Jacobian's ninth, which can be negative with 8 positive corners), chi(D,
+// eps) = (D + sqrt(eps^2 + D^2)) / 2 in place of det J, over the free vertices (interior vertices near inverted hexes),
+// decreasing eps as in the paper, until every hex has a positive scaled Jacobian (or max_rounds). The energy is finite
+// for every position, so the minimization never needs a feasible start. Reports what
+// remains inverted. Deterministic (parallel evaluation with fixed reduction order).
 // Preconditions: indices in range (InvalidInput otherwise).
 UntangleResult untangle(const HexMesh& mesh, const UntangleOptions& options = {});
 

@@ -266,8 +266,9 @@ bool slide_away_from_end(std::vector<Vec3>& x, std::vector<double>& r, std::vect
 // the demands of each end (zero at an extremity); ring: x.front() == x.back() is the anchor, a joint that stays.
 // Never leaves fewer than min_edges edges, never removes a pinned joint (pinned: per chain index). Returns the kept
 // chain indices; a joint next to an end that the criterion would remove but whose ball the edge replacing it misses
-// (AdaptationOptions::keep_cut_joint) is kept with a lowered radius in r instead; *stuck (when given) gets the pinned chain indices left on an edge that still violates the criterion
-// (their neighbours could not be removed: a branch end, another pin, or min_edges).
+// (AdaptationOptions::keep_cut_joint) is kept with a lowered radius in r instead; *stuck (when given) gets the pinned
+// chain indices left on an edge that still violates the criterion (their
+// neighbours could not be removed: a branch end, another pin, or min_edges).
 std::vector<int> apply_turn_criterion(std::vector<Vec3>& x, std::vector<double>& r,
                                       const std::array<EndReach, 2>& end_reach, bool ring, int min_edges,
                                       const std::vector<bool>& pinned, const AdaptationOptions& o,
@@ -389,8 +390,8 @@ FaceMembership face_membership(const Skeleton& s) {
 }
 
 // Merges the two ends of every branch edge shorter than merge_distance x the smaller end radius (not both on a
-// leaflet face; the merged vertex takes the leaflet vertex's position, else the mean, and the larger radius), then drops
-// self-loops and repeated edges. Vertices are renumbered in order; unused vertex ids disappear only by merging.
+// leaflet face; the merged vertex takes the leaflet vertex's position, else the mean, and the larger radius), then
+// drops self-loops and repeated edges. Vertices are renumbered in order; unused vertex ids disappear only by merging.
 // inside_branches: also edges between two joints (on the final output, where no resampling follows). Returns whether
 // anything was merged or dropped.
 bool merge_short_edges(Repaired& r, const AdaptationOptions& o, bool inside_branches = false) {
@@ -1027,8 +1028,8 @@ Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions
 }
 
 // The degree of each merged class's junction (its members' edges less both ends of every collapsed bridge between
-// them) is raised into view.junction_degree at every member: two points of degree 3 joined by a collapsed bridge are one
-// junction of degree 4 (AdaptationOptions::slide_cut_joint's gate).
+// them) is raised into view.junction_degree at every member: two points of degree 3 joined by a collapsed bridge are
+// one junction of degree 4 (AdaptationOptions::slide_cut_joint's gate).
 void mark_merged_junctions(BranchView& view, Collapses& col) {
     const int n = static_cast<int>(view.s.points.size());
     std::vector<int> degree(static_cast<std::size_t>(n), 0);

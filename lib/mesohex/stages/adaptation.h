@@ -53,9 +53,9 @@ struct AdaptationOptions {
     // least 1 % of its radius, and not at a branching point without a leaflet that is or was made from a junction of
     // degree >= 4 (its sphere partition's pattern depends on the branch directions; a degree-4 junction the repair
     // split in two or gave a trunk counts at each part, adapt_skeleton's junction_degree, and so do two points of
-    // degree 3 whose short bridge adaptation collapses into one of degree 4). Removed as before when the gate fails or no position passes. Tried
-    // before keep_cut_joint (docs/junctions.md, "Cut joints slid away from the junction" and "The cut-joint slide's
-    // gate").
+    // degree 3 whose short bridge adaptation collapses into one of degree 4). Removed as before when the gate fails or
+    // no position passes. Tried before keep_cut_joint (docs/junctions.md, "Cut joints slid away from the junction" and
+    // "The cut-joint slide's gate").
     bool slide_cut_joint = false;
     // On a bridge (a branch whose two ends are free branching points, no leaflet) that the resampling would leave as
     // one edge, the input vertex with the largest ratio of its radius to the linear interpolation of the end radii at
@@ -146,8 +146,8 @@ struct AdaptationOptions {
 // bisection's samples would step over; the former branching points of trunks (SkeletonRepairResult::trunk_joints).
 // A pin yields where an edge at it still violates the section criterion after every other joint that could go has
 // gone (its neighbour is a branch end or another pin): the branch is then sampled again without that pin, so pins
-// never leave overlapping cross-sections (except the radius peak AdaptationOptions::bridge_peak_ratio holds, which never
-// yields). Ids out of range and vertices that are no joints are ignored.
+// never leave overlapping cross-sections (except the radius peak AdaptationOptions::bridge_peak_ratio holds, which
+// never yields). Ids out of range and vertices that are no joints are ignored.
 // junction_degree: per vertex of s (may be shorter or empty: 0 for the rest), the degree of the input junction it was
 // made from (SkeletonRepairResult::junction_degree); a free branching point whose value or own degree is 4 or more
 // gets no slide (AdaptationOptions::slide_cut_joint). Only that option reads it.

@@ -126,8 +126,8 @@ bool docked_foot_matches(int chain_edges, int plate_faces, int plate_border, boo
 VertexClass docked_vertex_class(const SkeletonAnalysis& analysis, int v, int& plate_boundary_edges);
 
 // A quad of a plate's outer surface that a wall hex stands on: the X-side face of plate face `id` (kind 0), of the
-// half-chunk of plate boundary edge `id` (kind 1), or of the corner cube at vertex `id` (kind 2); up = P's up side. wall = the wall's leaflet, vertex = the chain
-// vertex it is docked at (for messages).
+// half-chunk of plate boundary edge `id` (kind 1), or of the corner cube at vertex `id` (kind 2); up = P's up side.
+// wall = the wall's leaflet, vertex = the chain vertex it is docked at (for messages).
 struct FootQuad {
     int kind = 0, id = -1;
     bool up = true;

@@ -19,16 +19,17 @@
 // axes (90 or 180 degrees). A 120-degree Y fan is never accepted: 3 distinct labels among 4 signed axes in a plane
 // always contain an opposite pair, which needs >= 155 degrees (the tolerance 25 included), and a Y has no pair above
 // 120 + 2 x jitter. Along the chain: every fan edge passes (frame carried over from the previous edge, so the labels
-// follow the chain), each leaflet keeps its label (the two faces of a leaflet at an interior chain vertex carry the same
-// label, also across the closing vertex of a closed chain), the chain's inner vertices have no branch and only the 2g
-// faces of its fan edges, its ends are fan-edge ends (g faces, g border edges, no branch) or the chain is closed, and
-// no edge is docked (docked_walls.h).
+// follow the chain), each leaflet keeps its label (the two faces of a leaflet at an interior chain vertex carry the
+// same label, also across the closing vertex of a closed chain), the chain's inner vertices have no branch and only the
+// 2g faces of its fan edges, its ends are fan-edge ends (g faces, g border edges, no branch) or the chain is closed,
+// and no edge is docked (docked_walls.h).
 // With CompatibleBlockOptions::fan_cap_branches an open end may also carry one branch edge (w, b) leaving within 35
 // degrees of the chain's outward direction e there (unit(b - w) . e >= cap_cos): the branch stands on the cap
 // (design note C1); with fan_side_branches, a T's end branch leaving within 35 degrees of its free axis stands on
-// the block's side section there (fan_side_section_ids). The cap section at w + h e is its first chunk's bottom (fan_cap_section_ids, in the order of the
-// connection quad fan_cap_directions gives): the branch is shortened by h, no hex is added (4 per branch edge as
-// always), and the cap's end face becomes interior (its 8 rim edges get the chunk's hex: add_fan_block_irregular_edges).
+// the block's side section there (fan_side_section_ids). The cap section at w + h e is its first chunk's bottom
+// (fan_cap_section_ids, in the order of the connection quad fan_cap_directions gives): the branch is shortened by h, no
+// hex is added (4 per branch edge as always), and the cap's end face becomes
+// interior (its 8 rim edges get the chunk's hex: add_fan_block_irregular_edges).
 #include <array>
 #include <map>
 #include <vector>

@@ -279,8 +279,9 @@ double retraction_reach(const Skeleton& s, const std::vector<int>& run) {
 double branch_cos(const Skeleton& s, const Candidate& c);
 
 // Is there room to retract the fan edge from c.w: on every face's border run the longest retraction reaches at least
-// kRetractionMinRadii r_w, kRetractionRadii r_w for a branch leaning off the fan line (kRetractionAlignedCos; else *why, when given, names the first face short of it, its run and the ratio)? A skeleton
-// without one radius per vertex passes.
+// kRetractionMinRadii r_w, kRetractionRadii r_w for a branch leaning off the fan line (kRetractionAlignedCos; else
+// *why, when given, names the first face short of it, its run and
+// the ratio)? A skeleton without one radius per vertex passes.
 bool retraction_room(const Skeleton& s, const Incidence& in, const Candidate& c, FanEndRefusal* why) {
     if (s.radii.size() != s.points.size()) return true;  // no radii yet (an analysis before they are set): not judged
     const std::vector<std::vector<int>> runs = face_runs(s, in, c);
@@ -1051,7 +1052,8 @@ std::optional<FanEndRefusal> repair_conditions(const Skeleton& s, int w) {
         return repair_conditions(moved, w);
     }
     const std::string u = "skeleton vertex " + str(c.u);
-    // A chain of 1 or 2 fan edges with a retractable branch at its other end too (split_short_chains_with_two_branches).
+    // A chain of 1 or 2 fan edges with a retractable branch at
+    // its other end too (split_short_chains_with_two_branches).
     const std::vector<int> chain = chain_from(s, in, w, c.u);
     const int k = static_cast<int>(chain.size()) - 1;
     if (k >= 1 && k < 3 && branch_end(s, in, chain.back(), other)) {

@@ -260,10 +260,11 @@ Skeleton make_y_fan(const Params& p) {
 // into the middle of the widest gap between strips (T: -y; X: 45 degrees, between the +x and +y strips). Branch
 // edges of length L, radius that of the fan. The configuration of the paper's limitation 3: the analysis refuses it,
 // the skeleton repair retracts the fan edge when the branch continues the fan line (stages/fan_end_repair.h).
-// m = 3: continuing at both ends (a second branch from the lower end (0, 0, -L) along -z; the repair cuts the chain into
-// 4 fan edges, then retracts both ends). m = 4: perpendicular at the upper end (as m = 2) and continuing at the lower
-// end (the repair retracts the lower end, then moves the upper branch's root onto a leaflet border). m = 5: leaning back,
-// 135 degrees off the fan line's continuation, in the plane of m = 2's direction and the fan line (refused: no repair).
+// m = 3: continuing at both ends (a second branch from the lower end (0, 0, -L) along -z; the repair cuts the chain
+// into 4 fan edges, then retracts both ends). m = 4: perpendicular at the upper end (as m = 2) and continuing at the
+// lower end (the repair retracts the lower end, then moves the upper branch's root onto a leaflet border). m = 5:
+// leaning back, 135 degrees off the fan line's continuation, in the
+// plane of m = 2's direction and the fan line (refused: no repair).
 Skeleton make_fan_end(const Params& p) {
     if (p.n > 4) throw Error(ErrorCode::InvalidInput, "generate fanend: n (strips) must be 3 or 4");
     if (p.m > 5) throw Error(ErrorCode::InvalidInput, "generate fanend: m (branch direction) must be 1 to 5");

@@ -29,9 +29,10 @@ struct GeneratorOptions {
 };
 
 // The valid shape names, in a fixed order: plate, box, torus, tfan, xfan, fanend, hand, chair, bird, twist, torustwist,
-// dualocta, cubestar, ystar, tetrastar, turbine, wall, wallboth, walledge, walledgeboth, flange, flangeup, flangecorner,
-// flangecornerup, pan, fold, vfan, airplane, wireplate, fanblock, yfan. fold, vfan, airplane and wireplate are thin
-// sheets (issue 16 item 3): their sheet radius is 0.1 x the edge length (x radius_scale), not the 0.3 stated above.
+// dualocta, cubestar, ystar, tetrastar, turbine, wall, wallboth, walledge, walledgeboth, flange, flangeup,
+// flangecorner, flangecornerup, pan, fold, vfan, airplane, wireplate, fanblock, yfan. fold, vfan, airplane and
+// wireplate are thin sheets (issue 16 item 3): their sheet radius is
+// 0.1 x the edge length (x radius_scale), not the 0.3 stated above.
 std::vector<std::string> generator_names();
 
 // One line describing the shape and what n, m (and quarter_turns) mean for it, with their defaults.

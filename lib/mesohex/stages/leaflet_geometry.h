@@ -15,10 +15,10 @@ namespace mesohex {
 // The 2 x 2 patch of leaflet faces around a leaflet interior vertex v that roots a branch (4 faces of one leaflet,
 // branch edge `branch_edge`), as the branch sees it: up = the branch leaves to the side of the faces' oriented
 // normals (its first chunk stands on the plates' up faces, else on their down faces); seen from that side, point k
-// (the edge neighbour neighbour[k], corner corner_point[k] of face[k]) and point k + 1 bound face[k], counter-clockwise;
-// corner_diagonal[k] is the corner of face[k] opposite v, corner_centre[k] the corner of v. The connection quad of
-// the branch at v is (0, 1, 2, 3) with these points and edge k = (k, k + 1) at the diagonal of face[k].
-// Throws Error(UnsupportedConfiguration) naming v unless exactly 4 faces meet at v in one oriented fan.
+// (the edge neighbour neighbour[k], corner corner_point[k] of face[k]) and point k + 1 bound face[k],
+// counter-clockwise; corner_diagonal[k] is the corner of face[k] opposite v, corner_centre[k] the corner of v. The
+// connection quad of the branch at v is (0, 1, 2, 3) with these points and edge k = (k, k + 1) at the diagonal of
+// face[k]. Throws Error(UnsupportedConfiguration) naming v unless exactly 4 faces meet at v in one oriented fan.
 struct LeafletPatch {
     bool up = true;
     std::array<int, 4> face{}, corner_centre{}, corner_point{}, corner_diagonal{}, neighbour{};

@@ -47,9 +47,10 @@ OrangeAxisThree best_orange_axis_three(const std::array<Vec3, 3>& d, const std::
 // determined up to a rotation and a reflection (neither changes the score) by their pairwise angles: in the canonical
 // frame of a pair (i, j), d_i = (1, 0, 0), d_j = (cos alpha, sin alpha, 0) and d_k above the xy-plane, with alpha the
 // angle (i, j), beta (i, k), gamma (j, k). The table holds, at kOrangeTableNodes^3 nodes of (alpha, beta, gamma), each
-// in [0, pi] (steps denser near 0 and pi: orange_table_angle), the axis of the best maximum found from many starts (orange_three_table_axis), in the
-// canonical frame and rounded to 1/127 per coordinate; the zero vector where the node is no triple (the angles break
-// the triangle inequality), two directions are closer than 0.02 rad, or no orange there is valid.
+// in [0, pi] (steps denser near 0 and pi: orange_table_angle), the axis of the best maximum found from many starts
+// (orange_three_table_axis), in the canonical frame and rounded to 1/127 per coordinate; the zero vector where the node
+// is no triple (the angles break the triangle inequality), two
+// directions are closer than 0.02 rad, or no orange there is valid.
 constexpr int kOrangeTableNodes = 13;
 // The table's node angles: node a of n at orange_table_angle(a / (n - 1)) = pi (1 - cos(pi u)) / 2 (radians), denser
 // near 0 and pi, where the maxima move fastest with the angles (close pairs, near-opposite pairs); its inverse.

@@ -33,7 +33,8 @@ namespace mesohex {
 // A fan vertex's gap vertex leaves the bisector (the unit sum of the gap's face normals) and a fan end's O_w the fan
 // line's continuation for the axis of the narrowest cone around those normals (around the leaflets' own out
 // directions at the fan end) when that axis narrows their widest angle by more than this (degrees;
-// narrower_cone_axis of core/cone.h, called in raw_mesh.cpp place_fan_vertices). 5, as kCreaseNormalGainDeg: a T / X fan gains 0; a leaflet running on past a fan end (a
+// narrower_cone_axis of core/cone.h, called in raw_mesh.cpp place_fan_vertices). 5,
+// as kCreaseNormalGainDeg: a T / X fan gains 0; a leaflet running on past a fan end (a
 // flange: the fan chain on part of a plate's border) moves them.
 inline constexpr double kFanDirectionGainDeg = 5.0;
 

@@ -109,9 +109,9 @@ struct SkeletonAnalysis {
     // and its vertex_boundary_edges counted, by its plate alone (LeafletInterior or LeafletBoundary).
     std::vector<char> edge_docked;
     std::vector<int> vertex_plate;
-    // Per vertex: 1 at a corner cube (docked_walls.h, "Corner cubes"): a flange's chain end at its plate's corner, whose
-    // two border edges get out columns of their own (12 raw ids instead of 6) and 2 corner hexes; else 0 (empty when
-    // nothing is docked).
+    // Per vertex: 1 at a corner cube (docked_walls.h, "Corner cubes"): a flange's chain end at its plate's corner,
+    // whose two border edges get out columns of their own (12 raw ids instead of 6) and 2 corner hexes; else 0 (empty
+    // when nothing is docked).
     std::vector<char> corner_cube;
     // Docked chain vertices whose plate grid does not match the wall's foot (a turn in the grid, other than 4 plate
     // faces, ...), accepted only with AnalysisOptions::docked_band_pillow (left to the repair's band pillow), chain
@@ -160,9 +160,10 @@ struct AnalysisOptions {
 // 4 faces of one leaflet meet (rooted on the plates, LeafletPatch), or on a fan-edge vertex
 // (limitation 3); an irregular fan (limitation 2): a fan edge ending inside a leaflet, i.e. a fan-edge end where not
 // every face around the fan edge leaves by its own boundary edge, unless its chain is docked (walls standing on a
-// plate, docked_walls.h; refused there with a named vertex when the docking does not apply), a fan-edge chain vertex with a boundary edge, with
-// fan edges of unequal degrees or with more than two fan edges, or any fan-edge vertex inside a leaflet; a leaflet
-// touching the interior of another leaflet; a vertex with an odd number of leaflet boundary edges.
+// plate, docked_walls.h; refused there with a named vertex when the docking does not apply), a fan-edge chain vertex
+// with a boundary edge, with fan edges of unequal degrees or with more than two fan edges, or any fan-edge vertex
+// inside a leaflet; a leaflet touching the interior of another
+// leaflet; a vertex with an odd number of leaflet boundary edges.
 // Postconditions: every branch edge is in exactly one branch; every face in exactly one leaflet.
 // Complexity: O(V + E log E + F).
 SkeletonAnalysis analyze_skeleton(const Skeleton& skeleton, const AnalysisOptions& options = {});

@@ -677,8 +677,8 @@ struct BandSide {
     std::vector<int> edge_face;
 };
 
-// The two sides of the path on plate P (plus: the face containing the directed first side, else the first face), or false when a
-// path side is not shared by 2 faces of the plate or a vertex's faces do not part in two at the path.
+// The two sides of the path on plate P (plus: the face containing the directed first side, else the first face), or
+// false when a path side is not shared by 2 faces of the plate or a vertex's faces do not part in two at the path.
 bool band_sides(const Skeleton& s, const DockedPlates& dp, const std::vector<std::vector<int>>& at,
                 const std::vector<int>& path, int P, std::array<BandSide, 2>& sides) {
     std::vector<std::array<int, 2>> ef;
@@ -1156,9 +1156,9 @@ void join_trunk(Skeleton& s, const Graph& g, const Walk& w, int e0, double sep, 
 
 // The arc length on the kept walk of a side stub's root q (side_stub_root_exit): abeam of the first point of the
 // stub's axis (sampled in 128 steps from c) whose distance to the kept polyline reaches exit x the kept radius there,
-// moved out until q lies beyond c's ball and |q - c| >= clearance x (r_c + r_q) (the caller passes exit > 0 only where c
-// stays a branching point, so (c, q) is a bridge adaptation keeps); `nearest`, the arc of the point nearest e, when exit
-// is 0, the axis never leaves, or the root would lie beyond it.
+// moved out until q lies beyond c's ball and |q - c| >= clearance x (r_c + r_q) (the caller passes exit > 0 only where
+// c stays a branching point, so (c, q) is a bridge adaptation keeps); `nearest`, the arc of the point nearest e, when
+// exit is 0, the axis never leaves, or the root would lie beyond it.
 double side_root_arc(const Skeleton& s, const Walk& keep, const Walk& stub, double exit, double clearance,
                      double nearest) {
     if (!(exit > 0)) return nearest;

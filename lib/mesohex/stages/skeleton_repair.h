@@ -48,9 +48,9 @@ struct SkeletonRepairOptions {
     // pair (less than 90 degrees apart) whose medial junction lies inside c's ball (x <= r_c: two fat branches 40-80
     // degrees apart, whose crotch, the valley between their tubes, lies l* = r / sin(beta / 2) out along their
     // bisector) gets a trunk all the same: t on the bisector at x_v = k (r_c + l*) / (1 + k) (k = trunk_clearance, so
-    // the trunk edge is just long enough for adaptation to keep it), radius r_t = min(l* - x_v, r + x_v sin a) (its ball
-    // reaches the crotch and stays between the tubes' outer walls). The pair then leaves t about 120 degrees apart,
-    // and the valley vertex of t's partition lies at the crotch instead of on c's sphere. Not built when r_t <
+    // the trunk edge is just long enough for adaptation to keep it), radius r_t = min(l* - x_v, r + x_v sin a) (its
+    // ball reaches the crotch and stays between the tubes' outer walls). The pair then leaves t about 120 degrees
+    // apart, and the valley vertex of t's partition lies at the crotch instead of on c's sphere. Not built when r_t <
     // valley_trunk_min_radius x the fatter branch's radius at l* (wide or unequal pairs: t's ball would be a small
     // fraction of the branches') or when the trunk is no longer than c's radius. Vertex degree (number of branch
     // edges); 0 = off; values below 4 act as 4 (degree 3 is the joint trunks' case; the CLI takes 0 or 4 to 64).
@@ -130,8 +130,8 @@ struct SkeletonRepairOptions {
     // the thin branch's walk ends, t lies beyond c's ball, e at least side_stub_min_length x max(r_t, r_e) from t,
     // and the two branches leaving t part there (90 degrees or more apart, or their tubes separating before the
     // shorter ends: t is no close pair itself); otherwise the side stub as above. false: every such stub a side stub
-    // of the thin branch, whose edge (q, e) leaves the wedge c, q, e of the fat tube to the fit (the mesh's boundary then
-    // runs through the stub's axis). Off: measured without a verdict changed (docs/junctions.md, "Fat
+    // of the thin branch, whose edge (q, e) leaves the wedge c, q, e of the fat tube to the fit (the mesh's boundary
+    // then runs through the stub's axis). Off: measured without a verdict changed (docs/junctions.md, "Fat
     // stubs kept as the main line").
     bool fat_stub_main_line = false;
     // The ball t of an absorbed stub (or merged end) is a radius peak on the kept branch: the adaptation's
@@ -147,10 +147,11 @@ struct SkeletonRepairOptions {
     // pin whose edges cannot clear the criterion yields: adaptation.h). docs/junctions.md ("Trunk joints pinned").
     bool pin_trunk_joints = true;
     // Absorbing a walk (stub or merge), the other branch's joints before t stay: each moves to the midpoint of its
-    // point and the absorbed walk's point at the same arc length, radius absorbed_ball_width x their distance + the larger
-    // radius (a ball over both tubes there, as t's; not pinned), so a turn of the other branch inside the absorbed stretch is not cut
-    // off by a chord from c to t. false: they go, and the other branch leaves t towards its first vertex after t.
-    // Off by default: on the random set it changed 4 seeds, mixed (docs/tuning.md, "Joint trunks, kept joints").
+    // point and the absorbed walk's point at the same arc length, radius absorbed_ball_width x their distance + the
+    // larger radius (a ball over both tubes there, as t's; not pinned), so a turn of the other branch inside the
+    // absorbed stretch is not cut off by a chord from c to t. false: they go, and the other branch leaves t towards its
+    // first vertex after t. Off by default: on the random set it changed
+    // 4 seeds, mixed (docs/tuning.md, "Joint trunks, kept joints").
     bool keep_sibling_joints = false;
     // A merge: the shorter branch of a close pair ends at a branching point b (no leaflet) before the tubes separate.
     // It is absorbed like a stub (t at the midpoint of b and the other branch's point at the same arc length, radius as
@@ -164,8 +165,8 @@ struct SkeletonRepairOptions {
     // branches is less than 90 degrees apart are split into two branching points of degree 3: the close pair leaves a
     // new vertex c' = c + a u, the other two branches stay at c, moved to c - b u, joined by the edge (c, c') of length
     // a + b = 2 h, h = junction_split x r_c (dimensionless, x the branching point's radius); u is the unit direction
-    // from the other pair's bisector to the close pair's. The split points sit at the same distance m = (p1 + p2) / 2 - h
-    // before the nearest first vertex on either side (p1, p2: that vertex's distance beyond c along u, resp. -u: the
+    // from the other pair's bisector to the close pair's. The split points sit at the same distance m = (p1 + p2) / 2 -
+    // h before the nearest first vertex on either side (p1, p2: that vertex's distance beyond c along u, resp. -u: the
     // bridge is centred in the room the first edges leave, not on c); no split when m <= 0.
     // Radii: the largest of the moved branches' radii at that distance along their first edges. A degree-4
     // junction's sphere partition (4 quads on 6 points) has flat corners and, with a close pair of fat branches,
@@ -203,8 +204,8 @@ struct SkeletonRepairOptions {
     // that loops, crosses itself or was already split for another root keeps its first cut; a face crossed in both
     // directions becomes 4 quads); new vertices get radii interpolated along their edge (bilinearly in a face).
     double root_patch_factor = 0.8;
-    // Docked walls (docked_walls.h): the wall's first row of hexes stands on the plate faces beside the chain (the foot,
-    // 2 plate faces wide, one face longer than the chain at an inside end), so a thin wall (radius well below the
+    // Docked walls (docked_walls.h): the wall's first row of hexes stands on the plate faces beside the chain (the
+    // foot, 2 plate faces wide, one face longer than the chain at an inside end), so a thin wall (radius well below the
     // plate edge) starts from a base a whole plate edge wide and long, a flare the fit leaves in the crease. The
     // plate's face strips beside the chain (both sides, through the whole plate) and beyond every inside end (of the
     // chain, or of one side's wall where the other side's goes on: the chain side's strip) are split at

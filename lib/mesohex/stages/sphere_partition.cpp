@@ -506,8 +506,8 @@ std::vector<Vec3> best_scan_axes(const std::vector<Vec3>& d, OrangeEvaluator& ev
 }
 
 // The coarse scan's solver starts: of the ranked axes, each one more than 0.5 rad (as lines: an axis and its negative
-// are one orange) from every better-ranked start, at most 3. Axes closer than that lie in one cell or neighbouring cells
-// of the 60-axis scan, where the solver climbs to the same maximum; distinct starts reach more maxima.
+// are one orange) from every better-ranked start, at most 3. Axes closer than that lie in one cell or neighbouring
+// cells of the 60-axis scan, where the solver climbs to the same maximum; distinct starts reach more maxima.
 std::vector<Vec3> distinct_starts(const std::vector<Vec3>& ranked) {
     const double cos_min = std::cos(0.5);
     std::vector<Vec3> starts;

@@ -229,8 +229,8 @@ struct ThinSample {
     double spacing = 0;
 };
 
-// The probe cell of triangle t (cells first[t] .. first[t] + k[t]^2 - 1, in for_each_grid_triangle order) that holds the
-// point x of that triangle (by its barycentric coordinates).
+// The probe cell of triangle t (cells first[t] .. first[t] + k[t]^2 - 1, in for_each_grid_triangle order) that holds
+// the point x of that triangle (by its barycentric coordinates).
 int cell_at(const TriangleMesh& m, int t, int first, int k, const Vec3& x) {
     const Vec3& A = m.points[static_cast<size_t>(m.triangles[static_cast<size_t>(t)][0])];
     const Vec3 e1 = m.points[static_cast<size_t>(m.triangles[static_cast<size_t>(t)][1])] - A;
@@ -464,7 +464,8 @@ void add_flat_inner_cells(const std::vector<Vec3>& samples, const SurfaceQuery& 
         if (in[k]) inside[static_cast<size_t>(flat[k])] = 1;
 }
 
-// The inner faces in Delaunay-edge order, filtered by angle (dropped, or eroded with keep_topology; see erode_by_angle).
+// The inner faces in Delaunay-edge order, filtered by angle
+// (dropped, or eroded with keep_topology; see erode_by_angle).
 using KeyedFace = std::tuple<std::array<int, 2>, std::vector<int>, double>;
 std::vector<std::vector<int>> select_faces(std::vector<KeyedFace>& keyed_faces, double cos_min, bool keep_topology,
                                            std::vector<std::array<int, 2>>& curve_edges) {
@@ -723,8 +724,8 @@ double part_max_radius(const MedialComplex& mc, const std::vector<int>& part) {
 // joined back by one curve edge each: in decreasing size, a part of at least min_part_vertices vertices is joined to
 // the growing main part (the largest) through its closest vertex pair, when that pair is at most join_factor x the
 // larger of their radii apart and the segment between them stays inside (segment_inside, clearance 0.25). One edge
-// per part: the homotopy type is the disjoint union's, plus a tree. With min_extent > 0 only the substantial parts join:
-// those whose extent (part_extent) is at least min_extent x their largest radius. Returns the number of joins.
+// per part: the homotopy type is the disjoint union's, plus a tree. With min_extent > 0 only the substantial parts
+// join: those whose extent (part_extent) is at least min_extent x their largest radius. Returns the number of joins.
 int join_components(MedialComplex& mc, const SurfaceQuery& query, double join_factor, int min_part_vertices,
                     double min_extent) {
     const std::vector<std::vector<int>> order = complex_parts(mc);
@@ -935,8 +936,8 @@ std::vector<std::array<int, 2>> limb_tree(const MedialComplex& mc, const std::ve
 }
 
 // How far the part's spheres lie from its tree: the largest, over the part's vertices, of the smallest distance to a
-// tree vertex's centre in units of that vertex's radius (at most 1: every centre inside a tree sphere, a tube; a sheet's
-// centres between the paths lie farther).
+// tree vertex's centre in units of that vertex's radius (at most 1: every centre inside a tree sphere, a tube; a
+// sheet's centres between the paths lie farther).
 double tree_width(const MedialComplex& mc, const std::vector<int>& part, const std::vector<std::array<int, 2>>& edges,
                   int root) {
     std::vector<int> tree = {root};

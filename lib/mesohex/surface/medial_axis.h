@@ -29,8 +29,8 @@
 //   5. curves and sheets by measured geometry: a triangle is wide when its smallest height is at least
 //      sheet_width_factor x its mean radius; a thin triangle with a side in no other triangle is removed with that
 //      side (an elementary collapse: homotopy kept), until none is left: tubes become curve edges; terminal curve
-//      branches that barely leave the sphere they start from are pruned (spurs); only the largest connected part is kept;
-//      curve chains between sheet vertices (or curve branching points) that run along a sheet (fringe_factor) are
+//      branches that barely leave the sphere they start from are pruned (spurs); only the largest connected part is
+//      kept; curve chains between sheet vertices (or curve branching points) that run along a sheet (fringe_factor) are
 //      removed (remove_fringe_curves);
 //   6. sheet borders trimmed short of a rounded rim are carried out to it (extend_rims, surface/medial_rims.h).
 // Deterministic: same surface and options, same output (the samples, the Delaunay insertion order and every later
@@ -117,7 +117,8 @@ struct MedialAxisOptions {
     // fold the mesher's half-chunks (docs/sheets.md, "Fringe webs"). A chain ending at a tip is never removed.
     bool fringe_node_ends = true;
     // ... except the chains between two interior sheet vertices (on no border side of the sheet): a handle over a sheet
-    // (the strap of a cup; the paper's limitation 1, which the mesher supports), not fringe (docs/sheets.md, session 30).
+    // (the strap of a cup; the paper's limitation 1, which the
+    // mesher supports), not fringe (docs/sheets.md, session 30).
     bool fringe_spare_interior = true;
     double prune_factor = 2.0;  // a terminal curve branch goes when its length + tip radius < this x the radius
                                 // where it joins the rest (it barely leaves that sphere: a spur, not a limb)
@@ -129,11 +130,11 @@ struct MedialAxisOptions {
     bool prune_after_fringe = true;
     // Last: sheet borders carried out to the rounded rims the angle filter trimmed them short of (extend_rim_borders,
     // surface/medial_rims.h): a regular border vertex marches along its sheet's outward direction until the surface
-    // straight ahead is within rim_reach_factor x its ball's radius (the end of a rounded rim's medial sheet, its centre
-    // of curvature: 1); it stays when its ball first shrinks below rim_min_radius_fraction x its radius (a sharp edge
-    // ahead, where the ratio stays 1 / sin(half the dihedral angle), 1.41 at 90 degrees) or the rim lies farther than
-    // rim_max_move x its radius (docs/sheets.md, "Borders out to rounded rims"). Off by default: measured without a gain
-    // in `auto`'s answers, fewer raw inversions on some medial meshes and more on others (docs/tuning.md).
+    // straight ahead is within rim_reach_factor x its ball's radius (the end of a rounded rim's medial sheet, its
+    // centre of curvature: 1); it stays when its ball first shrinks below rim_min_radius_fraction x its radius (a sharp
+    // edge ahead, where the ratio stays 1 / sin(half the dihedral angle), 1.41 at 90 degrees) or the rim lies farther
+    // than rim_max_move x its radius (docs/sheets.md, "Borders out to rounded rims"). Off by default: measured without
+    // a gain in `auto`'s answers, fewer raw inversions on some medial meshes and more on others (docs/tuning.md).
     bool extend_rims = false;
     double rim_reach_factor = 1.2;         // x the ball radius at the marching point (>= 1)
     double rim_min_radius_fraction = 0.5;  // x the border vertex's ball radius
@@ -175,26 +176,27 @@ struct MedialAxis {
 };
 
 // Preconditions (InvalidInput naming the element otherwise): a closed, edge- and vertex-manifold, consistently
-// oriented triangle surface with no degenerate triangle, in one connected component (check_surface). NumericalFailure when no medial sphere
-// survives the filter (a surface too thin for the sampling). Complexity: O(N log N) for N samples (Delaunay, inside
-// tests, simplification with a priority queue).
+// oriented triangle surface with no degenerate triangle, in one connected component (check_surface). NumericalFailure
+// when no medial sphere survives the filter (a surface too thin for the sampling). Complexity: O(N log N) for N samples
+// (Delaunay, inside tests, simplification with a priority queue).
 MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOptions& options = {});
 
 // Step 5 of compute_medial_axis, on a medial mesh (points with radii, edges, triangle faces): every curve chain (curve
 // edges, in no triangle, between nodes: vertices in a triangle or not on exactly two curve edges) whose two ends are
-// triangle vertices (with node_ends: or vertices on 3 or more curve edges) and whose points at 1/4, 1/2 and 3/4 of each edge all lie within factor x their interpolated
-// radius of the nearest triangle is removed, with its inner vertices, if its ends stay connected without it (chains in
-// vertex order; ties to the lower id). Vertex order is kept (ids compacted). Returns the number of chains removed.
-// With spare_interior, a chain whose two ends are interior sheet vertices (in a triangle, on no triangle side that
-// lies in one triangle only) stays: a handle over a sheet (cup's strap), not a border's fringe.
+// triangle vertices (with node_ends: or vertices on 3 or more curve edges) and whose points at 1/4, 1/2 and 3/4 of each
+// edge all lie within factor x their interpolated radius of the nearest triangle is removed, with its inner vertices,
+// if its ends stay connected without it (chains in vertex order; ties to the lower id). Vertex order is kept (ids
+// compacted). Returns the number of chains removed. With spare_interior, a chain whose two ends are interior sheet
+// vertices (in a triangle, on no triangle side that lies in one triangle
+// only) stays: a handle over a sheet (cup's strap), not a border's fringe.
 int remove_fringe_curves(Skeleton& medial, double factor, bool node_ends = false, bool spare_interior = false);
 
 // Terminal curve branches of a medial mesh (from a tip, a vertex with one curve edge and in no triangle, through
 // vertices with two curve edges and in no triangle, to its node: a sheet vertex or a vertex with 3 or more curve
 // edges) whose length + tip radius is below prune_factor x the node's radius go, shortest first (ties: the smaller
 // vertex ids), one at a time, until none is left; a spur's points but its node are dropped (a lone point stays), the
-// order of the others kept. A path (both ends tips) stays. Elementary collapses: the Euler characteristic and the components do
-// not change. Returns the number of branches removed.
+// order of the others kept. A path (both ends tips) stays. Elementary collapses: the Euler characteristic and the
+// components do not change. Returns the number of branches removed.
 int prune_spurs(Skeleton& medial, double prune_factor);
 
 }  // namespace mesohex

@@ -370,7 +370,8 @@ int extend_extremities(Graph& g, const AabbTree& tree, double gap, double spacin
         if (hit < 0) continue;  // no hit, or the ray runs along a triangle: leave the extremity as it is
         const double reach = hit - gap * r;
         if (reach <= 0.05 * r) continue;
-        // Spaced like the skeleton, but never denser than a quarter radius (a blob's flow skeleton can be one tiny edge).
+        // Spaced like the skeleton, but never denser than a quarter
+        // radius (a blob's flow skeleton can be one tiny edge).
         const int steps = std::max(1, static_cast<int>(std::ceil(reach / std::max(spacing, 0.25 * r))));
         int prev = v;
         for (int k = 1; k <= steps; ++k) {
@@ -403,8 +404,8 @@ Vec3 along_branch(const Graph& g, int v, int next, double length) {
 }
 
 // The move of joint v towards the middle of its cross-section (SkeletonizeOptions::recentre_*), in the plane normal
-// to the chord between the points one radius along its branch on either side: the mean over the counted ray pairs (d, -d) of (t+ - t-) / 2 d, capped.
-// Zero unless every pair counts (a closed tube section).
+// to the chord between the points one radius along its branch on either side: the mean over the counted ray pairs (d,
+// -d) of (t+ - t-) / 2 d, capped. Zero unless every pair counts (a closed tube section).
 Vec3 recentre_move(const Graph& g, int v, const AabbTree& tree, const SkeletonizeOptions& o) {
     const std::vector<int>& n = g.adj[static_cast<size_t>(v)];
     const double r = g.radii[static_cast<size_t>(v)];

@@ -31,8 +31,8 @@ struct SurfaceDistance {
 // face_subdivision grows. The vertices are measured first; a triangle sample is measured only when the vertex
 // distances and the 1-Lipschitz bound do not already rule it out as the largest (the maxima are those of all samples,
 // at a fraction of the queries: O(vertices + samples near the farthest places) queries, each starting from the
-// triangle its predecessor found). Preconditions: both surfaces have a non-degenerate triangle (InvalidInput otherwise).
-// Parallel, deterministic. O((S_mesh + S_surface) log F).
+// triangle its predecessor found). Preconditions: both surfaces have a non-degenerate triangle (InvalidInput
+// otherwise). Parallel, deterministic. O((S_mesh + S_surface) log F).
 SurfaceDistance surface_distance(const QuadMesh& boundary, const SurfaceQuery& domain,
                                  const SurfaceDistanceOptions& options = {});
 SurfaceDistance surface_distance(const TriangleMesh& boundary, const SurfaceQuery& domain,
