@@ -295,6 +295,19 @@ std::vector<int> branching_vertices(const std::vector<std::vector<int>>& adj) {
     return branching;
 }
 
+// The limb from branching point v through its neighbour first along degree-2 vertices, checked to end at an
+// extremity (not the other branching point) with radii that never grow.
+std::vector<int> limb_to_extremity(const Skeleton& s, const std::vector<std::vector<int>>& adj, int v, int first) {
+    std::vector<int> chain{v, first};
+    while (adj[chain.back()].size() == 2) {
+        const int next = adj[chain.back()][0] == chain[chain.size() - 2] ? adj[chain.back()][1] : adj[chain.back()][0];
+        EXPECT_LE(s.radii[next], s.radii[chain.back()]);
+        chain.push_back(next);
+    }
+    EXPECT_EQ(adj[chain.back()].size(), 1u);
+    return chain;
+}
+
 }  // namespace
 
 TEST(Generators, NamesAreTheShapesInOrder) {
@@ -457,14 +470,7 @@ TEST(Generators, CharacterSkeletonsHaveABulgingTorsoBetweenTwoBranchingPoints) {
                 if (first == torso[1] || first == torso[torso.size() - 2]) continue;
                 EXPECT_GE(s.radii[first] / s.radii[v], 0.6 - 1e-12);
                 EXPECT_LE(s.radii[first] / s.radii[v], 1.1 + 1e-12);
-                std::vector<int> chain{v, first};
-                while (adj[chain.back()].size() == 2) {
-                    const int next =
-                        adj[chain.back()][0] == chain[chain.size() - 2] ? adj[chain.back()][1] : adj[chain.back()][0];
-                    EXPECT_LE(s.radii[next], s.radii[chain.back()]);
-                    chain.push_back(next);
-                }
-                EXPECT_EQ(adj[chain.back()].size(), 1u);  // an extremity, not the other end
+                const std::vector<int> chain = limb_to_extremity(s, adj, v, first);
                 EXPECT_LE(chain.size() - 1, 4u);
             }
         EXPECT_NE(s, mesohex::generate_random_skeleton(seed));
@@ -531,14 +537,7 @@ TEST(Generators, TwinJunctionSkeletonsHaveTwoBranchingPointsWhoseBallsOverlap) {
                     const Vec3 p = dir - mesohex::dot(dir, axis) * axis;
                     across.push_back(p / mesohex::norm(p));
                 }
-                std::vector<int> chain{v, first};
-                while (adj[chain.back()].size() == 2) {
-                    const int next =
-                        adj[chain.back()][0] == chain[chain.size() - 2] ? adj[chain.back()][1] : adj[chain.back()][0];
-                    EXPECT_LE(s.radii[next], s.radii[chain.back()]);
-                    chain.push_back(next);
-                }
-                EXPECT_EQ(adj[chain.back()].size(), 1u);  // an extremity, not the other end
+                const std::vector<int> chain = limb_to_extremity(s, adj, v, first);
                 for (const int w : chain) EXPECT_GE(s.radii[w], rb / 4 - 1e-12);
             }
             ASSERT_EQ(across.size(), 2u);
