@@ -505,6 +505,23 @@ TEST(Adaptation, OverlappingJunctionBallsMergeOnTheUnionsSpan) {
 // overlap_ball by hand: equal radii 0.5 at distance 0.4 -> the midpoint, radius 0.5 + 0.4 / 4 = 0.6 (the absorbed
 // ball's rule); a ball inside the other (r 1 at the origin, r 0.3 at 0.2) -> the larger ball; coincident centres ->
 // the larger radius.
+// A triangle of branching points: A = (0, 0, 0) and C = (0.75, 0, 0), radius 0.5 ((0.5 + 0.5) / 0.75 = 1.33 >= 1.2,
+// below the mean rule's 1 / 0.7 = 1.43), both joined to X = (0.375, 2, 0) (radius 0.3; its bridges 2.03 long, ratio
+// 0.39), each with one long arm. Merging A and C would turn the triangle into a cycle of two branches: no collapse.
+// Without the edge C - X (C with two arms instead) the pair merges by overlap.
+TEST(Adaptation, OverlapMergeSkipsAPairWithACommonNeighbour) {
+    Skeleton s;
+    s.points = {{0, 0, 0}, {0.75, 0, 0}, {0.375, 2, 0}, {-10, -5, 0}, {10.75, -5, 0}, {0.375, 12, 0}};
+    s.radii = {0.5, 0.5, 0.3, 0.3, 0.3, 0.3};
+    s.edges = {{0, 1}, {0, 2}, {1, 2}, {0, 3}, {1, 4}, {2, 5}};
+    EXPECT_EQ(mesohex::adapt_skeleton_detailed(s).collapsed_bridges, 0);
+    s.edges = {{0, 1}, {0, 2}, {1, 5}, {0, 3}, {1, 4}};
+    s.points[5] = {10.75, 5, 0};
+    const mesohex::AdaptationResult tree = mesohex::adapt_skeleton_detailed(s);
+    EXPECT_EQ(tree.collapsed_bridges, 1);
+    EXPECT_EQ(tree.vertex_map[0], tree.vertex_map[1]);
+}
+
 TEST(Adaptation, OverlapBallByHand) {
     const mesohex::OverlapBall equal = mesohex::overlap_ball({0, 0, 0}, 0.5, {0, 0.4, 0}, 0.5);
     EXPECT_NEAR(mesohex::distance(equal.centre, Vec3{0, 0.2, 0}), 0.0, 1e-12);

@@ -977,9 +977,28 @@ bool overlap_merge(const BranchView& view, int a, int c, const AdaptationOptions
     return o.overlap_merge_max_degree <= 0 || degree(a) + degree(c) - 2 <= o.overlap_merge_max_degree;
 }
 
+// Whether the single-vertex classes a and c each have a branch (other than bridge bi and the collapsed ones) to one
+// same class: merging a and c would turn that triangle into a cycle of two branches.
+bool share_neighbour_class(const std::vector<Branch>& branches, const std::vector<std::vector<int>>& branches_at,
+                           const std::vector<bool>& collapsed, UnionFind& classes, int a, int c, std::size_t bi) {
+    const auto other_end = [&](int bj, int v) {
+        const int x = classes.find(branches[bj].vertices.front()), y = classes.find(branches[bj].vertices.back());
+        return x == v ? y : x;
+    };
+    std::vector<int> around_a;
+    for (const int bj : branches_at[a])
+        if (bj != static_cast<int>(bi) && !collapsed[bj]) around_a.push_back(other_end(bj, a));
+    for (const int bj : branches_at[c])
+        if (bj != static_cast<int>(bi) && !collapsed[bj] &&
+            std::find(around_a.begin(), around_a.end(), other_end(bj, c)) != around_a.end())
+            return true;
+    return false;
+}
+
 // Collapses candidate bridges, shortest first, unless another branch joins the same two classes (it would become a
 // loop) or the merged vertex drifts (merge_drifts). A pair of single vertices whose balls overlap by
-// overlap_merge_ratio or more merges without the drift check; such a pair takes part in no further collapse.
+// overlap_merge_ratio or more and that share no neighbour class merges without the drift check (placed by
+// overlap_ball, also where the drift check would pass); such a pair takes part in no further collapse.
 Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions& o) {
     const int n = static_cast<int>(view.s.points.size());
     const std::vector<Branch>& branches = view.branches;
@@ -1011,7 +1030,8 @@ Collapses collapse_short_bridges(const BranchView& view, const AdaptationOptions
         std::vector<int> merged = members[ca];
         merged.insert(merged.end(), members[cc].begin(), members[cc].end());
         const bool held = !col.overlap_merged.empty() && (col.overlap_merged[ca] || col.overlap_merged[cc]);
-        const bool by_overlap = !held && merged.size() == 2 && overlap_merge(view, ca, cc, o);
+        const bool by_overlap = !held && merged.size() == 2 && overlap_merge(view, ca, cc, o) &&
+                                !share_neighbour_class(branches, branches_at, col.collapsed, classes, ca, cc, bi);
         if (held || (!by_overlap && merge_drifts(view.s, merged, o))) continue;
         if (by_overlap) {
             col.overlap_merged.resize(static_cast<std::size_t>(n), false);

@@ -101,9 +101,10 @@ struct AdaptationOptions {
     // mean of the interval's half-length and the larger radius (for equal radii r: the midpoint and r + d / 4, the
     // stubs' absorbed ball, SkeletonRepairOptions::absorbed_ball_width). Both points' other branches leave it. Only
     // pairs of points no other collapse merged, neither made by the skeleton repair from a larger junction (its
-    // junction_degree above its own degree: a split's half, a trunk's t or root; the merge would undo the repair);
-    // a merged pair takes part in no further collapse. Dimensionless (a ratio of lengths); 0 = off, 1.2 by default
-    // (docs/junctions.md, "Overlapping junction balls merged").
+    // junction_degree above its own degree: a split's half, a trunk's t or root; the merge would undo the repair), and
+    // without a branch each to one same branching point (the triangle would become a cycle of two branches); a merged
+    // pair takes part in no further collapse. Where collapse_spread would merge the pair too, this rule places it.
+    // Dimensionless (a ratio of lengths); 0 = off, 1.2 by default (docs/junctions.md, "Overlapping junction balls").
     double overlap_merge_ratio = 1.2;
     // With overlap_merge_ratio: the largest degree of the merged junction (the two points' degrees less the bridge
     // at each), number of branch edges; 0 = no limit. Two points of degree 3 make one of degree 4; two of degree 4
