@@ -782,12 +782,16 @@ NotchWing notch_wing(const SkeletonAnalysis& an, const ConnectionSurfaces& cs, c
         const int ky = (kw + 2) & 3;                                        // l's
         const int be = an.face_edges[f][((kw + 1) & 3) == kx ? kw : kx];    // the border side (w, x)
         const int h = slots.boundary_slot[be];
+        MESOHEX_CHECK(h >= 0,
+                      "fan notch at skeleton vertex " + std::to_string(w) + ": its border side has no half-chunk");
         const bool x_first = an.face_vertices[slots.boundary_side[be][0]][slots.boundary_side[be][1]] ==
                              an.face_vertices[f][kx];  // the half-chunk runs from x
         const std::array<int, 8>& hu = raw.mesh.hexes[h];
         const std::array<int, 8>& hd = raw.mesh.hexes[h + 1];
         return {side[f][kx], side[f][ky], up ? (x_first ? hu[5] : hu[6]) : (x_first ? hd[7] : hd[6])};
     }
+    MESOHEX_CHECK(false, "fan notch at skeleton vertex " + std::to_string(w) +
+                             ": no face of its last fan edge in leaflet " + std::to_string(label));
     return {};
 }
 
