@@ -221,16 +221,23 @@ bool finer_retry_applies(const MeshOptions& options, const MeshRun& run) {
            (fo.max_hexes <= 0 || finer <= fo.max_hexes);
 }
 
-// The kept mesh misses a goal: its raw mesh finished again with one level more (and the padding mode it was kept
-// with), the better of the two kept.
-void retry_finer(MeshRun& run, const TriangleMesh& domain, const MeshOptions& options) {
-    if (!finer_retry_applies(options, run)) return;
+// The kept mesh's raw mesh finished again with one level more (and the padding mode it was kept with), reported as
+// the attempt `why` and recorded in run.attempts.
+FinishResult finish_one_level_finer(MeshRun& run, const TriangleMesh& domain, const MeshOptions& options,
+                                    const char* why) {
     MeshOptions finer = options;
     finer.finishing.levels = run.finish->subdivision_levels + 1;
     if (run.finish->pad_mode == "all") finer.finishing.pad_selective = false;
-    report_attempt(run, options, "one level finer");
+    report_attempt(run, options, why);
     FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(finer, run.pipeline));
     run.attempts.push_back(attempt_of(run.options, run.pipeline, finished, options.goals));
+    return finished;
+}
+
+// The kept mesh misses a goal: its raw mesh finished again with one level more, the better of the two kept.
+void retry_finer(MeshRun& run, const TriangleMesh& domain, const MeshOptions& options) {
+    if (!finer_retry_applies(options, run)) return;
+    FinishResult finished = finish_one_level_finer(run, domain, options, "one level finer");
     if (better_attempt(finished, *run.finish, options)) run.finish = std::move(finished);
 }
 
@@ -285,12 +292,7 @@ void refine_to_distance(MeshRun& run, const TriangleMesh& domain, const MeshOpti
             dr.reason = std::move(reason);
             break;
         }
-        MeshOptions finer = options;
-        finer.finishing.levels = run.finish->subdivision_levels + 1;
-        if (run.finish->pad_mode == "all") finer.finishing.pad_selective = false;
-        report_attempt(run, options, "finer for the distance goal");
-        FinishResult f = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(finer, run.pipeline));
-        run.attempts.push_back(attempt_of(run.options, run.pipeline, f, options.goals));
+        FinishResult f = finish_one_level_finer(run, domain, options, "finer for the distance goal");
         finished += f.quality.hexes;
         dr.levels.push_back(f.subdivision_levels);
         dr.hausdorff.push_back(f.distance_measured ? f.distance.relative_max : 0.0);
