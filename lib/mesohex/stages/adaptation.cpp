@@ -496,26 +496,45 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
     std::vector<bool> removed(s.edges.size(), false);
     bool changed = false;
     long budget = 4 * static_cast<long>(s.edges.size()) + 4;
+    // The pair (inc[i], inc[j]) of v's edges that would be re-attached: {near, far, e_far}, or near = -1.
+    const auto pair_at = [&](int v, const std::vector<int>& inc, std::size_t i, std::size_t j) {
+        const int ei = inc[i], ej = inc[j];
+        const int wi = s.edges[ei][0] == v ? s.edges[ei][1] : s.edges[ei][0];
+        const int wj = s.edges[ej][0] == v ? s.edges[ej][1] : s.edges[ej][0];
+        const Vec3 di = s.points[wi] - s.points[v], dj = s.points[wj] - s.points[v];
+        const double li = norm(di), lj = norm(dj);
+        if (!(li > 0 && lj > 0) || !(dot(di, dj) >= cos_limit * li * lj)) return std::array<int, 3>{-1, -1, -1};
+        const bool i_near = li < lj || (li == lj && wi < wj);
+        const int near = i_near ? wi : wj;
+        if (on_face[near]) return std::array<int, 3>{-1, -1, -1};
+        return std::array<int, 3>{near, i_near ? wj : wi, i_near ? ej : ei};
+    };
+    // The vertices with such a pair at the start, found in parallel (most inputs have none). A vertex's pairs change
+    // only when its edges do: as `near` (an edge added) or `far` (an edge's other end moved to near) of a
+    // re-attachment, marked in `touched`; the loop below examines only the vertices of either list, which are the
+    // ones where the full scan would find a pair, so the result is the scan's.
+    std::vector<char> has_pair(n, 0), touched(n, 0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, 256), [&](const tbb::blocked_range<int>& range) {
+        for (int v = range.begin(); v < range.end(); ++v)
+            for (std::size_t i = 0; i < incident[v].size() && !has_pair[v]; ++i)
+                for (std::size_t j = i + 1; j < incident[v].size() && !has_pair[v]; ++j)
+                    has_pair[v] = pair_at(v, incident[v], i, j)[0] >= 0;
+    });
     std::vector<int> queue(n);
     std::iota(queue.begin(), queue.end(), 0);
     while (!queue.empty() && budget > 0) {
         const int v = queue.back();
         queue.pop_back();
+        if (!has_pair[v] && !touched[v]) continue;
         std::vector<int>& inc = incident[v];
         bool again = true;
         while (again && budget > 0) {
             again = false;
             for (std::size_t i = 0; i < inc.size() && !again; ++i)
                 for (std::size_t j = i + 1; j < inc.size() && !again; ++j) {
-                    const int ei = inc[i], ej = inc[j];
-                    const int wi = s.edges[ei][0] == v ? s.edges[ei][1] : s.edges[ei][0];
-                    const int wj = s.edges[ej][0] == v ? s.edges[ej][1] : s.edges[ej][0];
-                    const Vec3 di = s.points[wi] - s.points[v], dj = s.points[wj] - s.points[v];
-                    const double li = norm(di), lj = norm(dj);
-                    if (!(li > 0 && lj > 0) || !(dot(di, dj) >= cos_limit * li * lj)) continue;
-                    const bool i_near = li < lj || (li == lj && wi < wj);
-                    const int near = i_near ? wi : wj, far = i_near ? wj : wi, e_far = i_near ? ej : ei;
-                    if (on_face[near]) continue;
+                    const auto [near, far, e_far] = pair_at(v, inc, i, j);
+                    if (near < 0) continue;
+                    touched[near] = touched[far] = 1;
                     if (!links_built) {
                         for (const std::array<int, 2>& e : s.edges) links.insert(std::minmax(e[0], e[1]));
                         links_built = true;
@@ -817,8 +836,9 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
             dirs_at[b].push_back(normalized(view.pos[a] - view.pos[b]));
         }
     const double pi = std::numbers::pi;
-    for (std::size_t bi = 0; bi < branches.size(); ++bi) {
-        if (branches[bi].ring) continue;
+    // Each branch writes only its own end_reach and reads the view: in parallel, the same values for any thread count.
+    const auto reach_of = [&](std::size_t bi) {
+        if (branches[bi].ring) return;
         for (int side = 0; side < 2; ++side) {
             const int v = side == 0 ? branches[bi].vertices.front() : branches[bi].vertices.back();
             if (view.incident[v].size() == 1 && !view.faces.on_face[v]) continue;  // extremity: flat, no demand
@@ -839,7 +859,11 @@ void compute_end_reach(BranchView& view, const AdaptationOptions& o) {
                 view.is_free_branching_point(v) && std::max(static_cast<int>(view.incident[v].size()), junction) >= 4;
             view.end_reach[bi][side] = {br, br / std::tan(gamma), extent, patch, may_switch};
         }
-    }
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, branches.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t bi = range.begin(); bi < range.end(); ++bi) reach_of(bi);
+                      });
 }
 
 // AdaptationOptions::bridge_peak_ratio: on a bridge bi (both ends free branching points), the arc length of the
