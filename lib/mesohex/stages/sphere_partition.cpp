@@ -1143,7 +1143,10 @@ struct Relaxer {
             const int m = static_cast<int>(c.size()) - 1;
             for (int k = 1; k < m; ++k) {
                 const double t = static_cast<double>(k) / m;
-                p.points[c[k]] = normalized(std::sin((1 - t) * angle) * a + std::sin(t * angle) * b);
+                // The middle point of a chain of two edges (t = 1 - t = 0.5) has two equal arguments: one sin call.
+                const double from = (1 - t) * angle, to = t * angle;
+                const double sin_from = std::sin(from), sin_to = to == from ? sin_from : std::sin(to);
+                p.points[c[k]] = normalized(sin_from * a + sin_to * b);
             }
         }
         return true;
