@@ -53,9 +53,14 @@ double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(norm(cros
 std::vector<double> margin_bounds(const std::vector<Vec3>& directions) {
     const int n = static_cast<int>(directions.size());
     std::vector<double> bound(n, kPi / 2);
+    // Each pair once: angle_between(a, b) and angle_between(b, a) are the same bits (cross(b, a) = -cross(a, b)
+    // component by component, the dot product is commutative term by term), and min() does not depend on the order.
     for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j)
-            if (i != j) bound[i] = std::min(bound[i], 0.5 * angle_between(directions[i], directions[j]));
+        for (int j = i + 1; j < n; ++j) {
+            const double half = 0.5 * angle_between(directions[i], directions[j]);
+            bound[i] = std::min(bound[i], half);
+            bound[j] = std::min(bound[j], half);
+        }
     for (double& b : bound) b = std::max(b, 1e-12);
     return bound;
 }
