@@ -486,18 +486,29 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
     const std::vector<bool>& on_face = faces.on_face;
     std::set<std::pair<int, int>> links;  // the current edges; built at the first re-attachment (most inputs have none)
     bool links_built = false;
-    std::vector<std::vector<int>> incident(n);
-    for (int e = 0; e < static_cast<int>(s.edges.size()); ++e)
+    // Per vertex its branch edges in edge order, first as one array (start[v] .. start[v + 1] in flat).
+    std::vector<int> start(static_cast<std::size_t>(n) + 1, 0), flat;
+    std::vector<char> branch_edge(s.edges.size(), 0);
+    for (std::size_t e = 0; e < s.edges.size(); ++e)
         if (!faces.is_side(s.edges[e][0], s.edges[e][1])) {
-            incident[s.edges[e][0]].push_back(e);
-            incident[s.edges[e][1]].push_back(e);
+            branch_edge[e] = 1;
+            ++start[s.edges[e][0] + 1];
+            ++start[s.edges[e][1] + 1];
         }
+    for (int v = 0; v < n; ++v) start[v + 1] += start[v];
+    flat.resize(static_cast<std::size_t>(start[n]));
+    {
+        std::vector<int> at(start.begin(), start.end() - 1);
+        for (std::size_t e = 0; e < s.edges.size(); ++e)
+            if (branch_edge[e])
+                for (const int v : s.edges[e]) flat[at[v]++] = static_cast<int>(e);
+    }
     const double cos_limit = std::cos(o.coincident_angle);
     std::vector<bool> removed(s.edges.size(), false);
     bool changed = false;
     long budget = 4 * static_cast<long>(s.edges.size()) + 4;
     // The pair (inc[i], inc[j]) of v's edges that would be re-attached: {near, far, e_far}, or near = -1.
-    const auto pair_at = [&](int v, const std::vector<int>& inc, std::size_t i, std::size_t j) {
+    const auto pair_at = [&](int v, const int* inc, std::size_t i, std::size_t j) {
         const int ei = inc[i], ej = inc[j];
         const int wi = s.edges[ei][0] == v ? s.edges[ei][1] : s.edges[ei][0];
         const int wj = s.edges[ej][0] == v ? s.edges[ej][1] : s.edges[ej][0];
@@ -509,17 +520,22 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
         if (on_face[near]) return std::array<int, 3>{-1, -1, -1};
         return std::array<int, 3>{near, i_near ? wj : wi, i_near ? ej : ei};
     };
-    // The vertices with such a pair at the start, found in parallel (most inputs have none). A vertex's pairs change
-    // only when its edges do: as `near` (an edge added) or `far` (an edge's other end moved to near) of a
-    // re-attachment, marked in `touched`; the loop below examines only the vertices of either list, which are the
-    // ones where the full scan would find a pair, so the result is the scan's.
+    // The vertices with such a pair at the start, found in parallel (most inputs have none: then nothing changes). A
+    // vertex's pairs change only when its edges do: as `near` (an edge added) or `far` (an edge's other end moved to
+    // near) of a re-attachment, marked in `touched`; the loop below examines only the vertices of either list, which
+    // are the ones where the full scan would find a pair, so the result is the scan's.
     std::vector<char> has_pair(n, 0), touched(n, 0);
     tbb::parallel_for(tbb::blocked_range<int>(0, n, 256), [&](const tbb::blocked_range<int>& range) {
-        for (int v = range.begin(); v < range.end(); ++v)
-            for (std::size_t i = 0; i < incident[v].size() && !has_pair[v]; ++i)
-                for (std::size_t j = i + 1; j < incident[v].size() && !has_pair[v]; ++j)
-                    has_pair[v] = pair_at(v, incident[v], i, j)[0] >= 0;
+        for (int v = range.begin(); v < range.end(); ++v) {
+            const std::size_t count = static_cast<std::size_t>(start[v + 1] - start[v]);
+            for (std::size_t i = 0; i < count && !has_pair[v]; ++i)
+                for (std::size_t j = i + 1; j < count && !has_pair[v]; ++j)
+                    has_pair[v] = pair_at(v, flat.data() + start[v], i, j)[0] >= 0;
+        }
     });
+    if (std::find(has_pair.begin(), has_pair.end(), 1) == has_pair.end()) return false;
+    std::vector<std::vector<int>> incident(n);
+    for (int v = 0; v < n; ++v) incident[v].assign(flat.begin() + start[v], flat.begin() + start[v + 1]);
     std::vector<int> queue(n);
     std::iota(queue.begin(), queue.end(), 0);
     while (!queue.empty() && budget > 0) {
@@ -532,7 +548,7 @@ bool reattach_coincident(Repaired& r, const AdaptationOptions& o) {
             again = false;
             for (std::size_t i = 0; i < inc.size() && !again; ++i)
                 for (std::size_t j = i + 1; j < inc.size() && !again; ++j) {
-                    const auto [near, far, e_far] = pair_at(v, inc, i, j);
+                    const auto [near, far, e_far] = pair_at(v, inc.data(), i, j);
                     if (near < 0) continue;
                     touched[near] = touched[far] = 1;
                     if (!links_built) {
