@@ -1836,20 +1836,27 @@ std::string verify_sphere_partition(const SpherePartition& p, const std::vector<
     }
     const int ne = edges2 / 2;
     if (nv - ne + n != 2) return "Euler characteristic " + std::to_string(nv - ne + n) + " != 2";
-    std::vector<std::pair<int, int>> link;  // per vertex v: (previous vertex, next vertex) in each quad at v
-    for (int v = 0; v < nv; ++v) {          // the quads around v form one cycle (prev-neighbour -> next-neighbour)
-        link.clear();
+    // Per vertex v, (previous vertex, next vertex) in each quad at v, in quad order: links[start[v] .. start[v + 1]),
+    // start[v] = the valences before v (a vertex is at most once in a quad, so in valence[v] quads).
+    std::vector<int> start(static_cast<std::size_t>(nv) + 1, 0);
+    for (int v = 0; v < nv; ++v) start[v + 1] = start[v] + valence[v];
+    std::vector<std::pair<int, int>> links(static_cast<std::size_t>(start[nv]));
+    {
+        std::vector<int> at(start.begin(), start.end() - 1);
         for (int q = 0; q < n; ++q)
-            for (int k = 0; k < 4; ++k)
-                if (p.quads[q][k] == v) link.push_back({p.quads[q][(k + 3) % 4], p.quads[q][(k + 1) % 4]});
-        int steps = 0, at = link[0].second;
+            for (int k = 0; k < 4; ++k) links[at[p.quads[q][k]]++] = {p.quads[q][(k + 3) % 4], p.quads[q][(k + 1) % 4]};
+    }
+    for (int v = 0; v < nv; ++v) {  // the quads around v form one cycle (prev-neighbour -> next-neighbour)
+        const auto first = links.begin() + start[v], last = links.begin() + start[v + 1];
+        const int count = start[v + 1] - start[v];
+        int steps = 0, at = first->second;
         do {
-            const auto it = std::find_if(link.begin(), link.end(), [&](const auto& l) { return l.first == at; });
-            if (it == link.end()) return "vertex " + std::to_string(v) + " is not manifold";
+            const auto it = std::find_if(first, last, [&](const auto& l) { return l.first == at; });
+            if (it == last) return "vertex " + std::to_string(v) + " is not manifold";
             at = it->second;
             ++steps;
-        } while (at != link[0].second && steps <= static_cast<int>(link.size()));
-        if (steps != static_cast<int>(link.size())) return "vertex " + std::to_string(v) + " is not manifold";
+        } while (at != first->second && steps <= count);
+        if (steps != count) return "vertex " + std::to_string(v) + " is not manifold";
     }
     {  // connected
         std::vector<char> seen(nv, 0);
