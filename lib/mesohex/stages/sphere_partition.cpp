@@ -1080,6 +1080,9 @@ struct Relaxer {
     // local_energy_below's order; screened: the last local_energy_below filled moving_terms; best_moving: the
     // moving_terms of the best trial so far (empty when not screened).
     std::vector<std::array<double, 8>> term_cache;
+    // cache_exact: per quad, term_cache holds exactly quad_term_values at the current points (set by descend, cleared
+    // for a moved vertex's quads when update_term_cache cannot update them); fix_terms then reads the fixed terms there.
+    std::vector<char> cache_exact;
     std::vector<int> term_order;
     std::vector<std::pair<double, int>> order_keys;  // scratch of order_terms
     std::vector<std::array<double, 8>> moving_terms, best_moving;
@@ -1240,17 +1243,33 @@ struct Relaxer {
         fixed_side.resize(nq);
         fixed_corner_kept.resize(nq);
         fixed_side_kept.resize(nq);
+        const bool cached = term_cache.size() == p.quads.size() && cache_exact.size() == p.quads.size();
         for (std::size_t j = 0; j < nq; ++j) {
             const int q = quads_of[v][j];
             const std::array<int, 4>& quad = p.quads[q];
+            const bool exact = cached && cache_exact[q];
             for (int k = 0; k < 4; ++k) {
                 const int prev = quad[(k + 3) % 4], u = quad[k], next = quad[(k + 1) % 4];
                 fixed_corner_kept[j][k] = valence[u] >= 3 && !moving[prev] && !moving[u] && !moving[next];
-                if (fixed_corner_kept[j][k] && !corner_term(q, k, fixed_corner[j][k])) fixed_violated = true;
+                if (fixed_corner_kept[j][k] &&
+                    !(exact ? cached_term(q, 2 * k, fixed_corner[j][k]) : corner_term(q, k, fixed_corner[j][k])))
+                    fixed_violated = true;
                 fixed_side_kept[j][k] = !moving[u] && !moving[next];
-                if (fixed_side_kept[j][k] && !side_term(q, k, fixed_side[j][k])) fixed_violated = true;
+                if (fixed_side_kept[j][k] &&
+                    !(exact ? cached_term(q, 2 * k + 1, fixed_side[j][k]) : side_term(q, k, fixed_side[j][k])))
+                    fixed_violated = true;
             }
         }
+    }
+
+    // corner_term / side_term of quad q's slot (corner k at 2k, side k at 2k + 1) from an exact term_cache: the value
+    // it stored from them at the same points, a violated term as infinity (no valid term is: every one is an exp of a
+    // finite non-positive argument, or NaN).
+    bool cached_term(int q, int slot, double& term) const {
+        const double t = term_cache[q][static_cast<std::size_t>(slot)];
+        if (std::isinf(t)) return false;
+        term = t;
+        return true;
     }
 
     // The terms of quad q at the current points by slot (a violated term: infinity), for term_cache.
@@ -1437,7 +1456,11 @@ struct Relaxer {
     // term_cache of v's quads after v moved to its best trial (fix_terms(v) still in place): the fixed terms and the
     // best trial's moving ones; left as it was when the best trial was not screened.
     void update_term_cache(int v) {
-        if (best_moving.size() != quads_of[v].size() || term_cache.size() != p.quads.size()) return;
+        if (best_moving.size() != quads_of[v].size() || term_cache.size() != p.quads.size()) {
+            if (cache_exact.size() == p.quads.size())
+                for (const int q : quads_of[v]) cache_exact[q] = 0;
+            return;
+        }
         for (std::size_t j = 0; j < quads_of[v].size(); ++j) {
             std::array<double, 8>& t = term_cache[quads_of[v][j]];
             for (int k = 0; k < 4; ++k) {
@@ -1463,6 +1486,7 @@ struct Relaxer {
         for (int q = 0; q < nq && !repair; ++q) quad_energy[q] = quad_terms(q).second;
         term_cache.clear();
         for (int q = 0; q < nq && !repair; ++q) term_cache.push_back(quad_term_values(q));
+        cache_exact.assign(repair ? 0 : nq, 1);
         const auto cached_total = [&] {
             double e = 0;
             for (int q = 0; q < nq; ++q) e += quad_energy[q];
