@@ -271,6 +271,7 @@ std::array<Vec3, 4> matched_far_quad(const Frame& f, const std::array<Vec3, 4>& 
 // corner values of the model hexes.
 void junction_terms(const JunctionModel& m, const std::vector<Vec3>& pts, std::vector<double>& terms) {
     terms.clear();
+    terms.reserve(34 * m.quads.size() + 8 * m.hexes.size());  // the most it pushes: one allocation, not one per growth
     for (std::size_t i = 0; i < m.quads.size(); ++i) {
         std::array<Vec3, 4> q;
         for (int k = 0; k < 4; ++k) q[k] = pts[m.quads[i][k]];
