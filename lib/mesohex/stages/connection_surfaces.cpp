@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -96,9 +97,19 @@ struct QuadMarginAbove {
 SpherePartition relax_partition(const SpherePartition& part, const std::vector<Vec3>& dirs, double good_margin) {
     const int np = static_cast<int>(part.points.size());
     const int nq = static_cast<int>(part.quads.size());
-    std::vector<std::vector<int>> incident(np);
+    // The quads around each point, in quad order: flat[start[x] .. start[x + 1]).
+    std::vector<int> start(static_cast<std::size_t>(np) + 1, 0), flat(4 * static_cast<std::size_t>(nq));
     for (int i = 0; i < nq; ++i)
-        for (int x : part.quads[i]) incident[x].push_back(i);
+        for (int x : part.quads[i]) ++start[x + 1];
+    for (int x = 0; x < np; ++x) start[x + 1] += start[x];
+    {
+        std::vector<int> at(start.begin(), start.end() - 1);
+        for (int i = 0; i < nq; ++i)
+            for (int x : part.quads[i]) flat[at[x]++] = i;
+    }
+    const auto incident = [&](int x) {
+        return std::span<const int>(flat.data() + start[x], static_cast<std::size_t>(start[x + 1] - start[x]));
+    };
     SpherePartition cur = part;
     for (Vec3& p : cur.points) p = normalized(p);
     auto quad_of = [&](int i) {
@@ -124,10 +135,11 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
     std::vector<int> first(np, 0);
     auto local_min = [&](int x, double floor = -1e300) {
         double m = 10;
-        const int count = static_cast<int>(incident[x].size());
+        const int count = static_cast<int>(incident(x).size());
         for (int j = 0; j < count; ++j) {
             const int at = (first[x] + j) % count;
-            m = std::min(m, floor < -1 ? margin_of(incident[x][at]) : margin_above(incident[x][at], floor));
+            const int i = incident(x)[static_cast<std::size_t>(at)];
+            m = std::min(m, floor < -1 ? margin_of(i) : margin_above(i, floor));
             if (m <= floor) {
                 first[x] = at;
                 break;
@@ -141,7 +153,7 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
     // (such trials read no margin_of, whose cache they would otherwise change).
     auto capped = [&](int x, double floor) {
         if (!(floor >= -1)) return false;
-        for (const int i : incident[x]) {
+        for (const int i : incident(x)) {
             const std::array<int, 4>& quad = part.quads[i];
             for (int k = 0; k < 4; ++k) {
                 if (quad[k] == x || quad[(k + 1) % 4] == x || quad[(k + 2) % 4] == x) continue;
@@ -183,7 +195,7 @@ SpherePartition relax_partition(const SpherePartition& part, const std::vector<V
             }
             cur.points[x] = best_p;
             if (!(best_p == p))
-                for (const int i : incident[x]) known[i] = 0;  // its quads' margins change
+                for (const int i : incident(x)) known[i] = 0;  // its quads' margins change
             improved = improved || !(best_p == p);
         }
         if (!improved) step *= 0.5;
