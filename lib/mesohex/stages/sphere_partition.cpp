@@ -27,6 +27,7 @@
 #include <numeric>
 #include <optional>
 #include <set>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -1051,7 +1052,7 @@ struct Relaxer {
     const std::vector<Vec3>& d;
     SpherePartition& p;
     std::vector<int> valence;
-    std::vector<std::vector<int>> quads_of;
+    std::vector<int> quad_start, quad_list;     // the quads of point v, in quad order: quad_list[quad_start[v] ..]
     std::vector<std::vector<int>> chains;       // per chain: real start, valence-2 vertices..., real end
     static constexpr double kMinCorner = 2e-3;  // rad, kept from 0 and 180° at real corners
     static constexpr double kMinSide = 1e-3;    // sin-distance of a direction to its quad's edges
@@ -1066,7 +1067,7 @@ struct Relaxer {
     bool first_improving = false;
     std::vector<int> last_dir;  // per vertex: the trial direction accepted last (first_improving)
     // The terms of the quads around the vertex being moved that a move of it cannot change (fix_terms): per quad of
-    // quads_of[v] and corner k, its corner term and the term of its side k -> k + 1, with whether each is kept
+    // quads_of(v) and corner k, its corner term and the term of its side k -> k + 1, with whether each is kept
     // (fixed_corner_kept / fixed_side_kept; a corner of valence 2 has no term and is never kept).
     int fixed_for = -1;  // the vertex they are for (-1: none)
     std::vector<std::array<double, 4>> fixed_corner, fixed_side;
@@ -1092,37 +1093,48 @@ struct Relaxer {
     Relaxer(const std::vector<Vec3>& dirs, SpherePartition& part) : d(dirs), p(part), bound(margin_bounds(dirs)) {
         const int nv = static_cast<int>(p.points.size());
         valence.assign(nv, 0);
-        quads_of.assign(nv, {});
+        for (const std::array<int, 4>& quad : p.quads)
+            for (int v : quad) ++valence[v];
+        quad_start.assign(static_cast<std::size_t>(nv) + 1, 0);
+        for (int v = 0; v < nv; ++v) quad_start[v + 1] = quad_start[v] + valence[v];
+        quad_list.resize(static_cast<std::size_t>(quad_start[nv]));
+        std::vector<int> at(quad_start.begin(), quad_start.end() - 1);
         for (int q = 0; q < static_cast<int>(p.quads.size()); ++q)
-            for (int v : p.quads[q]) {
-                ++valence[v];
-                quads_of[v].push_back(q);
-            }
+            for (int v : p.quads[q]) quad_list[at[v]++] = q;
+    }
+
+    std::span<const int> quads_of(int v) const {
+        return {quad_list.data() + quad_start[v], static_cast<std::size_t>(quad_start[v + 1] - quad_start[v])};
     }
 
     // Chains of valence-2 vertices between two real vertices; false if some chain has no usable real ends.
     bool find_chains() {
         const int nv = static_cast<int>(p.points.size());
-        std::vector<std::vector<int>> nbr(nv);
+        // Per vertex its distinct neighbours in first-seen order: nbr(v)[0 .. count[v]), room for 2 x valence.
+        std::vector<int> nbr_list(2 * static_cast<std::size_t>(quad_start[nv])), count(nv, 0);
+        const auto nbr = [&](int v) { return nbr_list.data() + 2 * quad_start[v]; };
+        const auto add = [&](int a, int b) {
+            if (std::find(nbr(a), nbr(a) + count[a], b) == nbr(a) + count[a]) nbr(a)[count[a]++] = b;
+        };
         for (const std::array<int, 4>& quad : p.quads)
             for (int k = 0; k < 4; ++k) {
                 const int a = quad[k], b = quad[(k + 1) % 4];
-                if (std::find(nbr[a].begin(), nbr[a].end(), b) == nbr[a].end()) nbr[a].push_back(b);
-                if (std::find(nbr[b].begin(), nbr[b].end(), a) == nbr[b].end()) nbr[b].push_back(a);
+                add(a, b);
+                add(b, a);
             }
         std::vector<char> done(nv, 0);
         for (int v = 0; v < nv; ++v) {
             if (valence[v] != 2 || done[v]) continue;
-            if (nbr[v].size() != 2) return false;
+            if (count[v] != 2) return false;
             std::vector<int> left = {v}, right;
             for (int side = 0; side < 2; ++side) {  // walk both ways until a real vertex
-                int prev = v, at = nbr[v][side];
+                int prev = v, at = nbr(v)[side];
                 std::vector<int>& path = side == 0 ? left : right;
                 int guard = 0;
                 while (valence[at] == 2 && ++guard <= nv) {
                     if (at == v) return false;  // a cycle of valence-2 vertices (pillow)
                     path.push_back(at);
-                    const int next = nbr[at][0] == prev ? nbr[at][1] : nbr[at][0];
+                    const int next = nbr(at)[0] == prev ? nbr(at)[1] : nbr(at)[0];
                     prev = at;
                     at = next;
                 }
@@ -1197,7 +1209,7 @@ struct Relaxer {
 
     std::pair<double, double> local_terms(int v, bool energy_too = true) const {
         double violation = 0, energy = 0;
-        for (int q : quads_of[v]) {
+        for (int q : quads_of(v)) {
             const auto [x, e] = quad_terms(q, energy_too);
             violation += x;
             energy += e;
@@ -1238,14 +1250,14 @@ struct Relaxer {
                 for (std::size_t k = 1; k + 1 < c.size(); ++k) moving[c[k]] = 1;
         fixed_for = v;
         fixed_violated = false;
-        const std::size_t nq = quads_of[v].size();
+        const std::size_t nq = quads_of(v).size();
         fixed_corner.resize(nq);
         fixed_side.resize(nq);
         fixed_corner_kept.resize(nq);
         fixed_side_kept.resize(nq);
         const bool cached = term_cache.size() == p.quads.size() && cache_exact.size() == p.quads.size();
         for (std::size_t j = 0; j < nq; ++j) {
-            const int q = quads_of[v][j];
+            const int q = quads_of(v)[j];
             const std::array<int, 4>& quad = p.quads[q];
             const bool exact = cached && cache_exact[q];
             for (int k = 0; k < 4; ++k) {
@@ -1293,8 +1305,8 @@ struct Relaxer {
     void order_terms(int v) {
         order_keys.clear();
         fixed_sum = 0;
-        for (std::size_t j = 0; j < quads_of[v].size(); ++j) {
-            const int q = quads_of[v][j];
+        for (std::size_t j = 0; j < quads_of(v).size(); ++j) {
+            const int q = quads_of(v)[j];
             for (int slot = 0; slot < 8; ++slot) {
                 const int k = slot / 2;
                 const bool moves =
@@ -1320,13 +1332,13 @@ struct Relaxer {
     // vertices of at most kScreenMaxQuads quads (8 terms each).
     bool screen_terms(int v, double threshold) {
         const double limit = threshold * (1 + 1e-12);
-        const std::size_t nq = quads_of[v].size();
+        const std::size_t nq = quads_of(v).size();
         moving_terms.resize(nq);
         double sum = fixed_sum;
         if (sum >= limit) return false;
         for (const int code : term_order) {
             const std::size_t j = static_cast<std::size_t>(code / 8);
-            const int q = quads_of[v][j], slot = code % 8;
+            const int q = quads_of(v)[j], slot = code % 8;
             double& term = moving_terms[j][static_cast<std::size_t>(slot)];
             if (!(slot % 2 == 0 ? corner_term(q, slot / 2, term) : side_term(q, slot / 2, term))) return false;
             sum += term;
@@ -1338,7 +1350,7 @@ struct Relaxer {
     // For a trial move in the energy phase: true when the local violation is 0 and the local energy is < threshold
     // (then `energy` is local_terms(v).second, bit for bit). Stops at the first violated constraint or as soon as the
     // partial energy reaches the threshold: the terms are >= 0 and floating-point sums only grow when adding them.
-    // `per_quad` gets the energy of each quad around v (in quads_of[v] order) when the result is true. Terms that
+    // `per_quad` gets the energy of each quad around v (in quads_of(v) order) when the result is true. Terms that
     // cannot move with v come from fix_terms(v) when it was called for v (fixed_for).
     //
     // With fix_terms(v) and order_terms(v) called, the terms that move with v are first computed by screen_terms (the
@@ -1349,12 +1361,12 @@ struct Relaxer {
         const bool fixed = fixed_for == v;
         if (fixed && fixed_violated) return false;
         screened =
-            fixed && threshold > 0 && term_cache.size() == p.quads.size() && quads_of[v].size() <= kScreenMaxQuads;
+            fixed && threshold > 0 && term_cache.size() == p.quads.size() && quads_of(v).size() <= kScreenMaxQuads;
         if (screened && !screen_terms(v, threshold)) return false;
         energy = 0;
         per_quad.clear();
-        for (std::size_t j = 0; j < quads_of[v].size(); ++j) {
-            const int q = quads_of[v][j];
+        for (std::size_t j = 0; j < quads_of(v).size(); ++j) {
+            const int q = quads_of(v)[j];
             double e = 0, term = 0;
             for (int k = 0; k < 4; ++k) {
                 if (fixed && fixed_corner_kept[j][k]) {
@@ -1456,15 +1468,15 @@ struct Relaxer {
     // term_cache of v's quads after v moved to its best trial (fix_terms(v) still in place): the fixed terms and the
     // best trial's moving ones; left as it was when the best trial was not screened.
     void update_term_cache(int v) {
-        if (best_moving.size() != quads_of[v].size() || term_cache.size() != p.quads.size()) {
+        if (best_moving.size() != quads_of(v).size() || term_cache.size() != p.quads.size()) {
             if (cache_exact.size() == p.quads.size())
-                for (const int q : quads_of[v]) cache_exact[q] = 0;
+                for (const int q : quads_of(v)) cache_exact[q] = 0;
             return;
         }
-        for (std::size_t j = 0; j < quads_of[v].size(); ++j) {
-            std::array<double, 8>& t = term_cache[quads_of[v][j]];
+        for (std::size_t j = 0; j < quads_of(v).size(); ++j) {
+            std::array<double, 8>& t = term_cache[quads_of(v)[j]];
             for (int k = 0; k < 4; ++k) {
-                const bool corner = valence[p.quads[quads_of[v][j]][k]] >= 3;
+                const bool corner = valence[p.quads[quads_of(v)[j]][k]] >= 3;
                 t[2 * k] = !corner ? 0 : fixed_corner_kept[j][k] ? fixed_corner[j][k] : best_moving[j][2 * k];
                 t[2 * k + 1] = fixed_side_kept[j][k] ? fixed_side[j][k] : best_moving[j][2 * k + 1];
             }
@@ -1503,7 +1515,7 @@ struct Relaxer {
                 if (repair) {
                     x0 = local_terms(v, false).first;
                 } else {
-                    for (int q : quads_of[v]) e0 += quad_energy[q];
+                    for (int q : quads_of(v)) e0 += quad_energy[q];
                 }
                 if (repair && x0 == 0) continue;
                 const Vec3 t1 = any_perpendicular(origin), t2 = cross(origin, t1);
@@ -1545,7 +1557,7 @@ struct Relaxer {
                 p.points[v] = best_pos;
                 place_chains(v);
                 if (!repair && !(best_pos == origin))
-                    for (std::size_t j = 0; j < quads_of[v].size(); ++j) quad_energy[quads_of[v][j]] = best_energy[j];
+                    for (std::size_t j = 0; j < quads_of(v).size(); ++j) quad_energy[quads_of(v)[j]] = best_energy[j];
                 step[v] = best_pos == origin ? 0.5 * step[v] : std::min(0.2, 1.25 * step[v]);
             }
             if (!active || (repair && total_violation() == 0)) return;
