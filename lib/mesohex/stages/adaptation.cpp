@@ -663,22 +663,31 @@ std::vector<Branch> branches_in_resampling_order(const BranchView& view) {
     return sorted;
 }
 
+// Each branch's polyline on its own (in parallel: a branch writes only its polyline).
 void build_polylines(BranchView& view) {
     view.polylines.resize(view.branches.size());
-    for (std::size_t i = 0; i < view.branches.size(); ++i) {
+    const auto build = [&](std::size_t i) {
         Polyline& pl = view.polylines[i];
         pl = Polyline{};
+        const std::size_t m = view.branches[i].vertices.size();
+        pl.x.reserve(m);
+        pl.r.reserve(m);
+        pl.s.reserve(m);
         double acc = 0;
-        for (std::size_t k = 0; k < view.branches[i].vertices.size(); ++k) {
+        for (std::size_t k = 0; k < m; ++k) {
             const int v = view.branches[i].vertices[k];
             if (k > 0) acc += distance(pl.x.back(), view.pos[v]);
             pl.x.push_back(view.pos[v]);
             pl.r.push_back(view.rad[v]);
             pl.s.push_back(acc);
-            const bool interior = k > 0 && k + 1 < view.branches[i].vertices.size();
+            const bool interior = k > 0 && k + 1 < m;
             if (interior && v < static_cast<int>(view.pinned.size()) && view.pinned[v]) pl.pinned.push_back(acc);
         }
-    }
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, view.branches.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t i = range.begin(); i < range.end(); ++i) build(i);
+                      });
 }
 
 // Leaflet membership, incidence, branches and their polylines over the input positions and radii (end_reach is
