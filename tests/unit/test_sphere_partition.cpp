@@ -367,6 +367,23 @@ TEST(SpherePartition, VerifyCatchesBrokenPartitions) {
     EXPECT_NE(mesohex::verify_sphere_partition(moved, d), "");
 }
 
+// Two cubes glued at two opposite corners (0 and 7): 14 vertices, 24 edges, 12 quads, so the Euler characteristic is 2
+// and every edge has both directions, but the quads around vertex 0 form two cycles of 3 (one per cube): the link test
+// is the first to fail, at vertex 0.
+TEST(SpherePartition, VerifyCatchesAPinchedVertex) {
+    const std::vector<std::array<int, 4>> cube = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                                  {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    SpherePartition p;
+    for (int v = 0; v < 14; ++v) p.points.push_back(mesohex::normalized(Vec3{1.0 + v, 2.0 - v, 0.5 * v + 1}));
+    const auto second = [](int v) { return v == 0 || v == 7 ? v : 7 + v; };  // the second cube's corners 1-6: 8-13
+    for (const std::array<int, 4>& q : cube) p.quads.push_back(q);
+    for (const std::array<int, 4>& q : cube)
+        p.quads.push_back({second(q[0]), second(q[1]), second(q[2]), second(q[3])});
+    std::vector<Vec3> d;
+    for (int k = 0; k < 12; ++k) d.push_back(mesohex::normalized(Vec3{1.0 * k, 1, 2.0 - k}));
+    EXPECT_EQ(mesohex::verify_sphere_partition(p, d), "vertex 0 is not manifold");
+}
+
 // The orange search rejects most trial axes with a libm-free test (sphere_partition.cpp, certainly_at_most) that must
 // never reject an axis the exact evaluation would keep: the partitions of 288 direction sets (random, nearly planar,
 // clustered, tree-like, lattice directions with exact azimuth ties and zero coordinates, close pairs; n = 3-6) hash to
