@@ -1327,8 +1327,9 @@ double height_over_radius(const std::array<Vec3, 3>& p, const std::array<double,
 }
 
 // No triangle of a or b (other than those on ab) that is a sheet triangle (smallest height >= width x mean radius)
-// stops being one when a and b merge into the candidate's sphere.
-bool keeps_sheet_triangles(const MedialComplex& mc, const Candidate& cand, double width) {
+// stops being one or turns by more than the fold limit when a and b merge into the candidate's sphere. Thin triangles
+// (the strips a simplified tube leaves, curves after step 5) may turn and collapse freely.
+bool keeps_sheet_triangles(const MedialComplex& mc, const Candidate& cand, double width, double cos_fold) {
     const Vec3 x{cand.x[0], cand.x[1], cand.x[2]};
     for (int v : {cand.a, cand.b})
         for (int t : mc.vertex_triangles[static_cast<size_t>(v)]) {
@@ -1344,7 +1345,11 @@ bool keeps_sheet_triangles(const MedialComplex& mc, const Candidate& cand, doubl
                 q[k] = moved ? x : p[k];
                 rq[k] = moved ? cand.x[3] : rp[k];
             }
-            if (height_over_radius(p, rp) >= width && height_over_radius(q, rq) < width) return false;
+            if (height_over_radius(p, rp) < width) continue;
+            if (height_over_radius(q, rq) < width) return false;
+            const Vec3 n0 = cross(p[1] - p[0], p[2] - p[0]);
+            const Vec3 n1 = cross(q[1] - q[0], q[2] - q[0]);
+            if (dot(n0, n1) < cos_fold * norm(n0) * norm(n1)) return false;
         }
     return true;
 }
@@ -1369,8 +1374,7 @@ int collapse_short_edges(MedialComplex& mc, double ratio, double cos_fold, doubl
             cand.version_b != mc.version[static_cast<size_t>(cand.b)])
             continue;
         if (!link_condition(mc, cand.a, cand.b)) continue;
-        if (!no_fold(mc, cand.a, cand.b, {cand.x[0], cand.x[1], cand.x[2]}, cos_fold)) continue;
-        if (!keeps_sheet_triangles(mc, cand, sheet_width)) continue;
+        if (!keeps_sheet_triangles(mc, cand, sheet_width, cos_fold)) continue;
         collapse(mc, cand);
         ++collapses;
         // The merged sphere's short edges, and those of its neighbours (a refused collapse may pass now).
