@@ -10,7 +10,9 @@ edge length / mean radius of its two ends (sheet edges and curve edges apart); t
 height / mean radius; the fold between adjacent triangles (angle of their planes); where curves join sheets (border
 or interior vertices), curve branching points and tips; the surface's gap to the swept spheres (sampled along edges
 and triangles, radii interpolated; x diagonal: a part the medial mesh misses shows as a large gap); balls crossing the
-surface (r > 1.05 x the distance); the surface vertices farther than 3 % of the diagonal from the spheres and their
+surface (r > 1.05 x the distance); sheet sides (border and interior apart) over the smaller distance of their ends
+to the surface (auto's radii); how centred each centre is (far-side / near-side distance along the ray away from its
+nearest surface point, 1 = centred); the surface vertices farther than 3 % of the diagonal from the spheres and their
 bounding box (where the missing part is). Quantiles as min p10 median p90 max unless said. Brute force (numpy,
 python3-numpy): seconds per medial mesh on the shared surfaces."""
 import sys
@@ -89,6 +91,47 @@ def point_tri_dist(pts, A, B, C):
         d = np.linalg.norm(p - q, axis=-1).min(1)
         out[s:s + 64] = d
     return out
+
+
+def nearest_point(p, A, B, C):
+    """Nearest point to p on the triangles (projection onto each plane, barycentrics clamped; brute force)."""
+    ab, ac = B - A, C - A
+    n = np.cross(ab, ac)
+    pp = p - (((p - A) * n).sum(1) / ((n * n).sum(1) + 1e-300))[:, None] * n
+    v2 = pp - A
+    d00, d01, d11 = (ab * ab).sum(1), (ab * ac).sum(1), (ac * ac).sum(1)
+    d20, d21 = (v2 * ab).sum(1), (v2 * ac).sum(1)
+    den = d00 * d11 - d01 * d01 + 1e-300
+    v = np.clip((d11 * d20 - d01 * d21) / den, 0, 1)
+    w = np.clip((d00 * d21 - d01 * d20) / den, 0, 1)
+    s = v + w
+    v, w = np.where(s > 1, v / s, v), np.where(s > 1, w / s, w)
+    cp = A + v[:, None] * ab + w[:, None] * ac
+    return cp[np.argmin(np.linalg.norm(cp - p, axis=1))]
+
+
+def ray_hit(o, u, A, B, C):
+    """Distance along the ray o + t u to the first triangle it crosses (Moller-Trumbore, brute force; inf if none)."""
+    e1, e2 = B - A, C - A
+    h = np.cross(u, e2)
+    a = (e1 * h).sum(1)
+    ok = np.abs(a) > 1e-14
+    f = np.where(ok, 1 / np.where(ok, a, 1), 0)
+    s = o - A
+    bu = f * (s * h).sum(1)
+    qv = np.cross(s, e1)
+    bv = f * (qv * u).sum(1)
+    t = f * (e2 * qv).sum(1)
+    hit = ok & (bu >= 0) & (bv >= 0) & (bu + bv <= 1) & (t > 1e-12)
+    return t[hit].min() if hit.any() else np.inf
+
+
+def centred(V, A, B, C, d):
+    out = []
+    for c, dc in zip(V, d):
+        u = c - nearest_point(c, A, B, C)
+        out.append(ray_hit(c, u / max(np.linalg.norm(u), 1e-300), A, B, C) / max(dc, 1e-300))
+    return np.array(out)
 
 
 def q(a, ps=(0, 10, 50, 90, 100)):
@@ -179,6 +222,14 @@ def main(ma, surf):
     far = gaps > 0.03 * diag
     print('surface vertices farther than 3 %% diag: %d of %d%s' %
           (int(far.sum()), len(P), ', bbox %s - %s' % (P[far].min(0).round(2), P[far].max(0).round(2)) if far.any() else ''))
+    # sides against the distance of their ends to the surface (auto's radii): border and interior sheet edges apart
+    def dlen(es):
+        return np.array([np.linalg.norm(V[a] - V[b]) / min(d[a], d[b]) for a, b in es])
+    inner = [e for e, l in tri_edges.items() if len(l) == 2]
+    print('border side / smaller distance:', q(dlen(border)) if border else '-',
+          ' interior sheet edge / smaller distance:', q(dlen(inner)) if inner else '-')
+    # centred: far-side over near-side distance along the ray from the centre away from its nearest surface point
+    print('far side / near side distance (1 = centred):', q(centred(V, A, B, C, d)))
     # spheres poking out: centre dist < r?  (r / d > 1 means ball crosses surface)
     print('balls crossing surface (r > 1.05 d): %d of %d' % (int((R > 1.05 * d).sum()), len(V)))
 

@@ -67,6 +67,12 @@ void add_medial_axis_options(CLI::App* cmd, MedialAxisOptions& o, const std::str
                         "refused (0 = off: --target-vertices)")
         ->check(finite_range(0, 100))
         ->capture_default_str();
+    cmd->add_option("--min-edge-radius", o.min_edge_radius,
+                    prefix +
+                        "After the count (or resolution) stop, go on collapsing the edges shorter than this x the "
+                        "smaller radius of their ends, cheapest first (0 = off)")
+        ->check(finite_range(0, 100))
+        ->capture_default_str();
     cmd->add_flag("--extend-rims", o.extend_rims,
                   prefix +
                       "Carry each sheet border vertex out along its sheet to a rounded rim ahead (where the "

@@ -179,6 +179,43 @@ TEST(MedialAxis, ResolutionStopSamplesTheCylindersAxisByItsRadius) {
     EXPECT_LE(m.medial.edges.size(), 7u) << m.medial.points.size() << " " << m.collapses << " " << m.initial_vertices;
 }
 
+// Every medial edge at least factor x the smaller radius of its two ends.
+void expect_edges_at_least(const MedialAxis& m, double factor) {
+    for (const std::array<int, 2>& e : m.medial.edges) {
+        const size_t a = static_cast<size_t>(e[0]), b = static_cast<size_t>(e[1]);
+        EXPECT_GE(distance(m.medial.points[a], m.medial.points[b]),
+                  factor * std::min(m.medial.radii[a], m.medial.radii[b]) - 1e-9)
+            << e[0] << "-" << e[1];
+    }
+}
+
+// The second stop (min_edge_radius): on the flat plate (mid-sheet 3.4 wide, radius 0.3) the count stop's 60 spheres
+// leave sides of about 0.4 to 0.6 = 1.3 to 2 radii; with the bound 2 the collapses go on until no side is shorter than
+// 2 radii (a flat sheet neither folds nor thins, so none is refused), the sheet stays one disk with fewer spheres and
+// its raw mesh has no inverted hex. On the cylinder (radius 0.5, axis 3 long) the curve's edges become at least 2
+// radii = 1.0 long: at most 3 of them.
+TEST(MedialAxis, MinEdgeRadiusLeavesNoEdgeShortAgainstItsSpheres) {
+    MedialAxisOptions o = coarse();
+    o.min_edge_radius = 2;
+    const TriangleMesh plate = extrude({{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, -0.3, 0.3);
+    const MedialAxis m = compute_medial_axis(plate, o);
+    EXPECT_EQ(m.sheets, 1);
+    EXPECT_EQ(m.curves, 0);
+    EXPECT_EQ(m.euler, 1);
+    expect_edges_at_least(m, 2);
+    EXPECT_LT(m.medial.points.size(), compute_medial_axis(plate, coarse()).medial.points.size());
+    const QualityReport q = raw_mesh_of(m, plate);
+    EXPECT_TRUE(q.validation.valid());
+    EXPECT_EQ(q.inverted, 0);
+    const TriangleMesh cylinder = revolve({{0, -2}, {0.5, -2}, {0.5, 2}, {0, 2}}, 32);
+    const MedialAxis c = compute_medial_axis(cylinder, o);
+    EXPECT_EQ(c.sheets, 0);
+    EXPECT_EQ(c.curves, 1);
+    EXPECT_EQ(c.euler, 1);
+    expect_edges_at_least(c, 2);
+    EXPECT_LE(c.medial.edges.size(), 3u);
+}
+
 TEST(MedialAxis, TorusIsOneClosedCurve) {
     const TriangleMesh s = torus(2, 0.5, 48, 16);
     expect_closed(s);

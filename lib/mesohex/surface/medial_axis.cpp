@@ -1312,6 +1312,79 @@ void collapse(MedialComplex& mc, const Candidate& cand) {
     mc.neighbours[static_cast<size_t>(b)].clear();
 }
 
+// ab is shorter than ratio x the smaller radius of a and b.
+bool short_edge(const MedialComplex& mc, int a, int b, double ratio) {
+    const double r = std::min(mc.radius[static_cast<size_t>(a)], mc.radius[static_cast<size_t>(b)]);
+    return distance(mc.centre[static_cast<size_t>(a)], mc.centre[static_cast<size_t>(b)]) < ratio * r;
+}
+
+// Smallest height of triangle p over the mean of radii r (0 when degenerate).
+double height_over_radius(const std::array<Vec3, 3>& p, const std::array<double, 3>& r) {
+    const double area2 = norm(cross(p[1] - p[0], p[2] - p[0]));
+    const double longest = std::max({distance(p[0], p[1]), distance(p[1], p[2]), distance(p[2], p[0])});
+    const double mean_r = (r[0] + r[1] + r[2]) / 3.0;
+    return longest > 0 && mean_r > 0 ? area2 / longest / mean_r : 0.0;
+}
+
+// No triangle of a or b (other than those on ab) that is a sheet triangle (smallest height >= width x mean radius)
+// stops being one or turns by more than the fold limit when a and b merge into the candidate's sphere. Thin triangles
+// (the strips a simplified tube leaves, curves after step 5) may turn and collapse freely.
+bool keeps_sheet_triangles(const MedialComplex& mc, const Candidate& cand, double width, double cos_fold) {
+    const Vec3 x{cand.x[0], cand.x[1], cand.x[2]};
+    for (int v : {cand.a, cand.b})
+        for (int t : mc.vertex_triangles[static_cast<size_t>(v)]) {
+            if (!mc.triangle_alive[static_cast<size_t>(t)]) continue;
+            const std::array<int, 3>& tri = mc.triangles[static_cast<size_t>(t)];
+            if (contains(tri, cand.a) && contains(tri, cand.b)) continue;
+            std::array<Vec3, 3> p{}, q{};
+            std::array<double, 3> rp{}, rq{};
+            for (size_t k = 0; k < 3; ++k) {
+                const bool moved = tri[k] == cand.a || tri[k] == cand.b;
+                p[k] = mc.centre[static_cast<size_t>(tri[k])];
+                rp[k] = mc.radius[static_cast<size_t>(tri[k])];
+                q[k] = moved ? x : p[k];
+                rq[k] = moved ? cand.x[3] : rp[k];
+            }
+            if (height_over_radius(p, rp) < width) continue;
+            if (height_over_radius(q, rq) < width) return false;
+            const Vec3 n0 = cross(p[1] - p[0], p[2] - p[0]);
+            const Vec3 n1 = cross(q[1] - q[0], q[2] - q[0]);
+            if (dot(n0, n1) < cos_fold * norm(n0) * norm(n1)) return false;
+        }
+    return true;
+}
+
+// The second stop of simplify (min_edge_radius): collapse, cheapest first, the edges shorter than ratio x the smaller
+// radius of their ends (link condition and fold limit as before) until none is left that can go.
+int collapse_short_edges(MedialComplex& mc, double ratio, double cos_fold, double sheet_width) {
+    if (ratio <= 0) return 0;
+    std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap;
+    for (size_t v = 0; v < mc.centre.size(); ++v) {
+        if (!mc.alive[v]) continue;
+        for (int n : mc.neighbours[v])
+            if (static_cast<int>(v) < n && short_edge(mc, static_cast<int>(v), n, ratio))
+                heap.push(make_candidate(mc, static_cast<int>(v), n));
+    }
+    int collapses = 0;
+    while (!heap.empty()) {
+        const Candidate cand = heap.top();
+        heap.pop();
+        if (!mc.alive[static_cast<size_t>(cand.a)] || !mc.alive[static_cast<size_t>(cand.b)]) continue;
+        if (cand.version_a != mc.version[static_cast<size_t>(cand.a)] ||
+            cand.version_b != mc.version[static_cast<size_t>(cand.b)])
+            continue;
+        if (!link_condition(mc, cand.a, cand.b)) continue;
+        if (!keeps_sheet_triangles(mc, cand, sheet_width, cos_fold)) continue;
+        collapse(mc, cand);
+        ++collapses;
+        // The merged sphere's short edges, and those of its neighbours (a refused collapse may pass now).
+        for (int n : mc.neighbours[static_cast<size_t>(cand.a)])
+            for (int m : mc.neighbours[static_cast<size_t>(n)])
+                if (short_edge(mc, n, m, ratio)) heap.push(make_candidate(mc, n, m));
+    }
+    return collapses;
+}
+
 int simplify(MedialComplex& mc, const MedialAxisOptions& o, double diag) {
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap;
     int alive = 0;
@@ -1348,7 +1421,7 @@ int simplify(MedialComplex& mc, const MedialAxisOptions& o, double diag) {
                 for (int m : mc.neighbours[static_cast<size_t>(n)])
                     if (m != cand.a) heap.push(make_candidate(mc, n, m));
     }
-    return collapses;
+    return collapses + collapse_short_edges(mc, o.min_edge_radius, cos_fold, o.sheet_width_factor);
 }
 
 // ---------------------------------------------------------------- curves and sheets

@@ -79,6 +79,13 @@ struct MedialAxisOptions {
     // sphere's root-mean-square distance to the tangent planes of its samples (its quadric error per plane) exceeds
     // this x its radius (0 = off; x sphere radius).
     double max_relative_error = 0;
+    // > 0: after the stop above, collapses go on (cheapest first, with the link condition) on the edges shorter than
+    // this x the smaller radius of their two ends, until none is left that can go; a collapse is refused when a sheet
+    // triangle (sheet_width_factor) of its star would turn by more than max_fold_deg or become thin (the thin strips
+    // a simplified tube leaves may turn and go). No sheet or curve edge stays short against the spheres it joins,
+    // whatever the count (a medial sheet is as thick as its radius: sides shorter than it give leaflet hexes taller
+    // than wide; docs/skeletons.md, "Short edges against the radius"). 0 = off (x sphere radius).
+    double min_edge_radius = 0;
     double max_fold_deg = 60;          // a collapse that turns a sheet triangle by more than this is refused
     double sheet_width_factor = 0.25;  // a triangle is sheet-like when its smallest height >= this x mean radius
     // Parts of the medial complex the angle filter cut apart (a hub's axis from its disk's mid-sheet) are joined back
