@@ -1081,8 +1081,9 @@ struct Relaxer {
     // local_energy_below's order; screened: the last local_energy_below filled moving_terms; best_moving: the
     // moving_terms of the best trial so far (empty when not screened).
     std::vector<std::array<double, 8>> term_cache;
-    // cache_exact: per quad, term_cache holds exactly quad_term_values at the current points (set by descend, cleared
-    // for a moved vertex's quads when update_term_cache cannot update them); fix_terms then reads the fixed terms there.
+    // cache_exact: per quad, term_cache holds exactly quad_term_values at the current points (set by descend,
+    // cleared for a moved vertex's quads when update_term_cache cannot update them); fix_terms then reads the fixed
+    // terms there.
     std::vector<char> cache_exact;
     std::vector<int> term_order;
     std::vector<std::pair<double, int>> order_keys;  // scratch of order_terms
