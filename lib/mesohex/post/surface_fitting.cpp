@@ -434,6 +434,7 @@ struct SurfaceFitter::Impl {
     HexStats measure_all(std::vector<double>& sj);
     void build_incidence();
     void two_sided_corrections(std::vector<Vec3>& correction);
+    void raise_floors_for_two_sided();
     void ignore_facing_away(const std::vector<Vec3>& query);
     void compute_targets();
     void factorize();
@@ -669,6 +670,17 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
     cached_correction = correction;
     cached_sample_gap = sample_gap;
     gap = std::max(gap, sample_gap);
+}
+
+// FitOptions::two_sided_floor: as the two-sided pull starts, every hex's floor rises to min(its SJ now,
+// two_sided_floor) where that is higher; the guard then keeps the pull towards samples the boundary does not reach from
+// taking a hex below it.
+void SurfaceFitter::Impl::raise_floors_for_two_sided() {
+    if (!(options.two_sided_floor > 0) || !(options.two_sided_weight > 0) || surface.samples.empty() ||
+        !surface.samples_to_boundary)
+        return;
+    for (std::size_t h = 0; h < hex_floor.size(); ++h)
+        hex_floor[h] = std::max(hex_floor[h], std::min(hex_sj[h], options.two_sided_floor));
 }
 
 // The facing test (FitOptions::facing_limit): a boundary vertex whose closest surface point faces away from it keeps
@@ -1004,6 +1016,7 @@ FitProgress SurfaceFitter::step() {
     }
     FitProgress progress;
     progress.iteration = ++s.iteration;
+    if (s.iteration == s.options.two_sided_start + 1) s.raise_floors_for_two_sided();
     progress.energy = s.local_step();
     if (s.direct)
         s.solve();
