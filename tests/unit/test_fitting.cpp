@@ -373,6 +373,9 @@ TEST(Fitting, TwoSidedFitReachesWhatTheClosestPointsMiss) {
     EXPECT_EQ(two_sided.inverted_after, 0);
     EXPECT_GT(two_sided.sj_min_after, 0.5);
     EXPECT_LT(two_sided.max_distance, 0.05);  // the boundary vertices still lie on the box
+    EXPECT_EQ(one_sided.uncovered, -1);       // no two-sided step
+    // At the first two-sided step the box's top (z = 3) lies about 1 above the mesh's top face (measured 1.019).
+    EXPECT_NEAR(two_sided.uncovered, 1.0, 0.05);
 }
 
 // The guard works per hex: a step that would invert the hexes under one pulled vertex damps the moves of those hexes'

@@ -100,6 +100,9 @@ struct FitResult {
     double sj_min_before = 0, sj_min_after = 0;
     double energy = 0;        // last energy
     double max_distance = 0;  // largest distance of a boundary vertex to the surface at the end (0 if !fit_boundary)
+    // The largest distance of a surface sample to the boundary at the first two-sided step (model units; -1 when no
+    // two-sided step ran): how far the domain reaches past what the one-sided phase covered.
+    double uncovered = -1;
 };
 
 // The local-global optimizer. Builds the target lengths and the normal matrix A^T A once and factorizes it
@@ -133,6 +136,8 @@ public:
     // At the last step's start: the largest distance of a boundary vertex to its closest surface point and (two-sided
     // fit) of a surface sample to the boundary.
     double surface_gap() const;
+    // The largest sample-to-boundary distance of the first two-sided matching; -1 before it.
+    double first_sample_gap() const;
     // Changes the weight of the boundary rows (refactorizes / reassembles the matrix). lambda > 0.
     void set_lambda(double lambda);
 
