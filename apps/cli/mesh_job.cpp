@@ -457,6 +457,12 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                     "Weight of the pull of the boundary onto the surface, relative to the shape terms")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--fit-two-sided-floor", job->options.finishing.fitting.two_sided_floor,
+                    "From the fit's first two-sided step on, no hex may go below min(its scaled Jacobian then, this): "
+                    "the pull towards surface samples the boundary does not reach stops short of crushing hexes "
+                    "(0 = off, the default: docs/sheets.md, \"The fit's crush traced\")")
+        ->capture_default_str()
+        ->check(finite_range(0.0, 1.0));
     cmd->add_option("--improve-below", job->options.finishing.improve_sj,
                     "Quality pass after fitting on the hexes whose scaled Jacobian is below this (0 = off)")
         ->capture_default_str()

@@ -401,6 +401,7 @@ struct Finisher {
         result.fit_iterations = fit.iterations;
         result.fit_converged = fit.converged;
         result.fit_max_distance = fit.max_distance;
+        result.fit_uncovered = fit.uncovered >= 0 ? fit.uncovered / query.bbox_diagonal() : -1.0;
         record(with_iterations(measure("fit", ms_since(t), mesh), fit.iterations));
     }
 

@@ -182,6 +182,7 @@ struct FinishResult {
     int fit_iterations = 0;
     bool fit_converged = false;
     double fit_max_distance = 0;  // largest boundary-vertex distance to the surface at the end of the fit
+    double fit_uncovered = -1;    // FitResult::uncovered / the domain's bbox diagonal (-1: no two-sided step ran)
     bool untangled = false;       // untangle ran
     int untangle_rounds = 0;
     bool untangled_boundary_moved = false;  // the free-boundary fallback of the untangle stage was kept

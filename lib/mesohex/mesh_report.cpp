@@ -167,6 +167,7 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
         rep["subdivision_levels"] = fin.subdivision_levels;
         rep["inherited_levels"] = fin.inherited_levels;
         rep["fit"] = {{"iterations", fin.fit_iterations}, {"converged", fin.fit_converged}};
+        if (fin.fit_uncovered >= 0) rep["fit"]["uncovered_relative"] = fin.fit_uncovered;
         rep["untangled"] = fin.untangled;
         rep["padding"] = {{"mode", fin.pad_mode},
                           {"boundary_quads", fin.pad_boundary_quads},

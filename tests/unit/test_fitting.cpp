@@ -8,6 +8,7 @@
 
 #include "hex_fixtures.h"
 #include "mesohex/core/error.h"
+#include "mesohex/core/hex_kernels.h"
 #include "mesohex/core/validate.h"
 #include "mesohex/post/padding.h"
 #include "mesohex/post/quality.h"
@@ -89,6 +90,31 @@ void expect_facing_outcome(const HexMesh& before, const HexMesh& after, bool tes
         EXPECT_LT(worst, 1e-6);
     else
         EXPECT_GT(bottom_drop, min_drop);
+}
+
+// Samples for the two-sided fit: a grid of step `step` on the six faces of the box [lo, hi], matched with the mesh
+// boundary by SurfaceQuery.
+void add_box_samples(SurfaceProjector& surface, Vec3 lo, Vec3 hi, double step) {
+    for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            const int nb = static_cast<int>(std::lround((hi[b] - lo[b]) / step));
+            const int nc = static_cast<int>(std::lround((hi[c] - lo[c]) / step));
+            for (int i = 0; i <= nb; ++i)
+                for (int j = 0; j <= nc; ++j) {
+                    Vec3 p;
+                    p[a] = side ? hi[a] : lo[a];
+                    p[b] = lo[b] + step * i;
+                    p[c] = lo[c] + step * j;
+                    surface.samples.push_back(p);
+                }
+        }
+    const std::vector<Vec3>* samples = &surface.samples;
+    surface.samples_to_boundary = [samples](const TriangleMesh& boundary, std::vector<SurfaceProjector::Hit>& hits) {
+        const std::vector<ClosestPoint> found = SurfaceQuery(boundary).closest(*samples);
+        hits.clear();
+        for (const ClosestPoint& c : found) hits.push_back({c.triangle, c.point});
+    };
 }
 
 }  // namespace
@@ -327,26 +353,7 @@ TEST(Fitting, TwoSidedFitReachesWhatTheClosestPointsMiss) {
     for (Vec3& p : block.points) p = Vec3{-1 + 0.5 * p.x, -1 + 0.5 * p.y, 0.5 * p.z};
     const Vec3 lo{-1, -1, 0}, hi{1, 1, 3};
     SurfaceProjector surface = box_surface(lo, hi);
-    // Samples: a grid of step 0.25 on the six faces of the taller box.
-    for (int a = 0; a < 3; ++a)
-        for (int side = 0; side < 2; ++side) {
-            const int b = (a + 1) % 3, c = (a + 2) % 3;
-            const int nb = static_cast<int>(std::lround((hi[b] - lo[b]) / 0.25));
-            const int nc = static_cast<int>(std::lround((hi[c] - lo[c]) / 0.25));
-            for (int i = 0; i <= nb; ++i)
-                for (int j = 0; j <= nc; ++j) {
-                    Vec3 p;
-                    p[a] = side ? hi[a] : lo[a];
-                    p[b] = lo[b] + 0.25 * i;
-                    p[c] = lo[c] + 0.25 * j;
-                    surface.samples.push_back(p);
-                }
-        }
-    surface.samples_to_boundary = [&surface](const TriangleMesh& boundary, std::vector<SurfaceProjector::Hit>& hits) {
-        const std::vector<ClosestPoint> found = SurfaceQuery(boundary).closest(surface.samples);
-        hits.clear();
-        for (const ClosestPoint& c : found) hits.push_back({c.triangle, c.point});
-    };
+    add_box_samples(surface, lo, hi, 0.25);
     auto top_gap = [](const HexMesh& m) {  // distance from the centre of the box's top face to the mesh's top
         double best = 1e300;
         for (const Vec3& p : m.points) best = std::min(best, distance(p, Vec3{0, 0, 3}));
@@ -366,6 +373,9 @@ TEST(Fitting, TwoSidedFitReachesWhatTheClosestPointsMiss) {
     EXPECT_EQ(two_sided.inverted_after, 0);
     EXPECT_GT(two_sided.sj_min_after, 0.5);
     EXPECT_LT(two_sided.max_distance, 0.05);  // the boundary vertices still lie on the box
+    EXPECT_EQ(one_sided.uncovered, -1);       // no two-sided step
+    // At the first two-sided step the box's top (z = 3) lies about 1 above the mesh's top face (measured 1.019).
+    EXPECT_NEAR(two_sided.uncovered, 1.0, 0.05);
 }
 
 // The guard works per hex: a step that would invert the hexes under one pulled vertex damps the moves of those hexes'
@@ -451,4 +461,53 @@ TEST(Fitting, SamplesOnASurfaceFacingAwayDoNotPull) {
             options.facing_limit = limit;
             expect_facing_outcome(cube, fit_to_surface(cube, surface, options).mesh, with_normals && limit >= -1, 0.01);
         }
+}
+
+// The block [-1, 1]^2 x [0, 2] (4 x 4 x 4 cubes of edge 0.5, a tube's stand-in) in the flat box [-6, 6] x [-1, 1] x
+// [0, 2], whose end faces lie 5 away from the block's (10 edges): only the two-sided pull reaches them. The default fit
+// gets there, every hex a 3 x 0.5 x 0.5 box (scaled Jacobian 1), through a transient in which some hex dips below 0.3
+// (measured 0.10). With two_sided_floor 0.3 no hex goes below min(its SJ at the last one-sided step, 0.3) at any step of
+// the two-sided phase, and the fit stops short of the end faces (measured gap 0.75): the floor also holds back dips
+// that would recover (docs/sheets.md, "The fit's crush traced").
+TEST(Fitting, TwoSidedFloorHoldsEveryHexDuringTheTwoSidedPhase) {
+    HexMesh block = make_block(4, 4, 4);
+    for (Vec3& p : block.points) p = Vec3{-1 + 0.5 * p.x, -1 + 0.5 * p.y, 0.5 * p.z};
+    const Vec3 lo{-6, -1, 0}, hi{6, 1, 2};
+    SurfaceProjector surface = box_surface(lo, hi);
+    add_box_samples(surface, lo, hi, 0.25);
+    struct Run {
+        double lowest = 1;       // over the two-sided phase
+        double below_start = 1;  // min over that phase and the hexes of SJ - min(SJ at its start, 0.3)
+        double end_sj = 0, end_gap = 0;
+    };
+    auto run = [&](double floor) {
+        FitOptions options;
+        options.two_sided_start = 20;
+        options.two_sided_floor = floor;
+        SurfaceFitter fitter(block, surface, options);
+        Run r;
+        std::vector<double> start;
+        for (int it = 1; it <= 200; ++it) {
+            fitter.step();
+            const HexMesh& m = fitter.mesh();
+            for (std::size_t h = 0; h < m.hexes.size(); ++h) {
+                const double sj = hex_scaled_jacobian(m.points, m.hexes[h]);
+                if (it == options.two_sided_start) start.push_back(sj);
+                if (it <= options.two_sided_start) continue;
+                r.lowest = std::min(r.lowest, sj);
+                r.below_start = std::min(r.below_start, sj - std::min(start[h], 0.3));
+            }
+        }
+        r.end_sj = fitter.sj_min();
+        r.end_gap = fitter.surface_gap();
+        return r;
+    };
+    const Run plain = run(0);
+    EXPECT_LT(plain.lowest, 0.2);    // measured 0.101
+    EXPECT_GT(plain.end_sj, 0.99);   // every hex a box again
+    EXPECT_LT(plain.end_gap, 0.01);  // measured 1e-4
+    const Run held = run(0.3);
+    EXPECT_GE(held.below_start, -1e-9);
+    EXPECT_GE(held.lowest, 0.3 - 1e-9);
+    EXPECT_GT(held.end_gap, 0.5);  // measured 0.75
 }

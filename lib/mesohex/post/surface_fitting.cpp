@@ -414,7 +414,8 @@ struct SurfaceFitter::Impl {
     std::vector<Vec3> last_move;          // per vertex: its move in the last step (CG warm start)
     std::vector<Vec3> cached_correction;  // the two-sided corrections of the last matching, per boundary vertex
     double cached_sample_gap = 0;
-    double gap = 0;  // at the last local step: largest vertex-to-surface and sample-to-boundary distance
+    double first_sample_gap = -1;  // of the first matching
+    double gap = 0;                // at the last local step: largest vertex-to-surface and sample-to-boundary distance
     // Per step buffers.
     std::vector<Vec3> edge_rhs;  // w Lbar (d1 - d2) per edge: added to x2, subtracted from x1
     std::vector<Vec3> targets;   // per boundary vertex
@@ -434,6 +435,7 @@ struct SurfaceFitter::Impl {
     HexStats measure_all(std::vector<double>& sj);
     void build_incidence();
     void two_sided_corrections(std::vector<Vec3>& correction);
+    void raise_floors_for_two_sided();
     void ignore_facing_away(const std::vector<Vec3>& query);
     void compute_targets();
     void factorize();
@@ -668,7 +670,19 @@ void SurfaceFitter::Impl::two_sided_corrections(std::vector<Vec3>& correction) {
     for (std::size_t i = 0; i < nb; ++i) correction[i] = correction[i] * (1.0 / (1.0 + weight[i]));
     cached_correction = correction;
     cached_sample_gap = sample_gap;
+    if (first_sample_gap < 0) first_sample_gap = sample_gap;
     gap = std::max(gap, sample_gap);
+}
+
+// FitOptions::two_sided_floor: as the two-sided pull starts, every hex's floor rises to min(its SJ now,
+// two_sided_floor) where that is higher; the guard then keeps the pull towards samples the boundary does not reach from
+// taking a hex below it.
+void SurfaceFitter::Impl::raise_floors_for_two_sided() {
+    if (!(options.two_sided_floor > 0) || !(options.two_sided_weight > 0) || surface.samples.empty() ||
+        !surface.samples_to_boundary)
+        return;
+    for (std::size_t h = 0; h < hex_floor.size(); ++h)
+        hex_floor[h] = std::max(hex_floor[h], std::min(hex_sj[h], options.two_sided_floor));
 }
 
 // The facing test (FitOptions::facing_limit): a boundary vertex whose closest surface point faces away from it keeps
@@ -1004,6 +1018,7 @@ FitProgress SurfaceFitter::step() {
     }
     FitProgress progress;
     progress.iteration = ++s.iteration;
+    if (s.iteration == s.options.two_sided_start + 1) s.raise_floors_for_two_sided();
     progress.energy = s.local_step();
     if (s.direct)
         s.solve();
@@ -1125,6 +1140,7 @@ double SurfaceFitter::sj_min() const { return impl_->stats.sj_min; }
 double SurfaceFitter::mean_target_length() const { return impl_->mean_target; }
 
 double SurfaceFitter::surface_gap() const { return impl_->gap; }
+double SurfaceFitter::first_sample_gap() const { return impl_->first_sample_gap; }
 
 void SurfaceFitter::set_lambda(double lambda) {
     if (!(lambda > 0) || !std::isfinite(lambda))
@@ -1190,6 +1206,7 @@ FitResult fit_to_surface(const HexMesh& mesh, const SurfaceProjector& surface, c
     result.mesh = fitter.mesh();
     result.inverted_after = fitter.inverted();
     result.sj_min_after = fitter.sj_min();
+    result.uncovered = fitter.first_sample_gap();
     if (options.fit_boundary) {
         const HexTopology topo = compute_hex_topology(result.mesh);
         std::vector<bool> seen(result.mesh.points.size(), false);

@@ -75,6 +75,11 @@ struct FitOptions {
     int two_sided_start = 50;       // ... from this step on (the boundary first settles on the surface), matching
     int two_sided_every = 2;        // the samples with the boundary again every this many steps
     double reach = 0.5;             // a boundary target is at most reach x Lbar from its vertex (0 = no limit)
+    // Scaled Jacobian (dimensionless, 0 = off): from the first two-sided step on, the guard's floor of every hex is
+    // raised to min(its SJ at that step, two_sided_floor) where that is above its own floor (sj_guard): the pull towards
+    // surface samples the boundary does not reach (corners of the domain far from the raw mesh, the far side of a thin
+    // part) may then not take a hex below it, while the one-sided phase before keeps the lower floor.
+    double two_sided_floor = 0;
     // Cosine (dimensionless): a closest surface point whose outward normal is more than acos(facing_limit) (120
     // degrees) away from the boundary vertex's outward normal lies on a part of the surface that faces the other
     // way (the other sheet across a sharp fold, the other side of a thin slab): it does not pull the vertex in that
@@ -95,6 +100,9 @@ struct FitResult {
     double sj_min_before = 0, sj_min_after = 0;
     double energy = 0;        // last energy
     double max_distance = 0;  // largest distance of a boundary vertex to the surface at the end (0 if !fit_boundary)
+    // The largest distance of a surface sample to the boundary at the first two-sided step (model units; -1 when no
+    // two-sided step ran): how far the domain reaches past what the one-sided phase covered.
+    double uncovered = -1;
 };
 
 // The local-global optimizer. Builds the target lengths and the normal matrix A^T A once and factorizes it
@@ -128,6 +136,8 @@ public:
     // At the last step's start: the largest distance of a boundary vertex to its closest surface point and (two-sided
     // fit) of a surface sample to the boundary.
     double surface_gap() const;
+    // The largest sample-to-boundary distance of the first two-sided matching; -1 before it.
+    double first_sample_gap() const;
     // Changes the weight of the boundary rows (refactorizes / reassembles the matrix). lambda > 0.
     void set_lambda(double lambda);
 
