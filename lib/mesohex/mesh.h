@@ -4,6 +4,7 @@
 // points when the first misses a goal -> the better of the two. `mesohex mesh`, `mesohex auto`, the studio and the
 // Python module all call mesh_skeleton; they only map their flags to MeshOptions and print or serialize MeshRun.
 // No printing; progress through MeshOptions::progress (which may throw to cancel a run).
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -30,6 +31,24 @@ struct MeshProgress {
                         // joints" (a second skeleton, first joints farther from the branching points) or "one level
                         // finer" (MeshOptions::finer_retry)
 };
+
+// A structural alternative (MeshOptions::structural_retry): one mechanism that is off by default, switched on for one
+// more attempt on the skeleton of the mesh kept. Each changes the block structure or the finish input where its case
+// occurs (docs/junctions.md, "Structural alternatives when the mesh kept misses").
+enum class StructuralAlternative {
+    ValleyTrunks,       // SkeletonRepairOptions::valley_trunk_degree 4: trunks for close fat pairs at degree >= 4
+    SlideCutJoint,      // AdaptationOptions::slide_cut_joint: cut joints slid away from the junction
+    PitBranches,        // VirtualBranchOptions::pit_excess 0.3: a branch into the pit inside a ring of branches
+    CloseCreaseWedge,   // crease wedges (300 degrees) on a close pair's crease only (crease_wedge_pair_deg 60)
+    BulgedBridgeCover,  // JunctionCoverOptions fraction 1 with bridge_bulge 1.5: bulged bridges covered from both ends
+};
+
+// The name the report, the progress and the CLI give an alternative ("valley trunks", "slid cut joints", ...).
+const char* structural_alternative_name(StructuralAlternative a);
+// Its command-line name ("valley-trunks", "slide-cut-joint", "pit-branches", "crease-wedge", "bridge-cover").
+const char* structural_alternative_flag(StructuralAlternative a);
+// Every alternative, in the enum's order.
+std::vector<StructuralAlternative> all_structural_alternatives();
 
 struct MeshOptions {
     // Radius when the skeleton file has none (in skeleton units). With a domain: radius_factor x the distance of each
@@ -80,6 +99,20 @@ struct MeshOptions {
     // Off by default; `mesohex auto` turns it on (docs/sheets.md, "Refined until the distance goal is met").
     bool refine_to_distance = false;
     int distance_max_levels = 4;  // refine_to_distance: subdivision levels at most (count)
+    // After the attempts above (both fan layouts, before finer_retry): while the mesh kept misses a goal, the next of
+    // structural_alternatives is meshed (the kept attempt's pipeline options with that mechanism on) and finished once
+    // (with the padding mode the mesh kept has), the better kept (the ranking below). An alternative whose skeleton,
+    // raw mesh and finish input equal an attempt's already finished (compared by hash) is skipped without a finish;
+    // one the pipeline refuses (a mesohex::Error) is skipped. It stops at the first mesh kept that meets every goal
+    // (unless structural_try_all), and does not run when the mesh kept has more than retry_max_hexes hexes, nor
+    // without a fit, nor without resampling. A mesh that meets every goal after the attempts above is untouched.
+    // What ran and why: MeshRun::structural.
+    bool structural_retry = true;
+    std::vector<StructuralAlternative> structural_alternatives = {StructuralAlternative::ValleyTrunks,
+                                                                  StructuralAlternative::SlideCutJoint,
+                                                                  StructuralAlternative::CloseCreaseWedge};
+    // structural_retry: every alternative is finished even after one meets every goal (measurement; the best kept).
+    bool structural_try_all = false;
     MeshGoals goals;              // the goals a finished mesh must meet (else the second attempt)
     // How the attempts above are ranked when they tie on inverted hexes and on the number of goals missed. false:
     // the smaller relative Hausdorff distance, then the higher min scaled Jacobian (better_finish). true: the smaller
@@ -106,6 +139,10 @@ struct MeshOptions {
 
 // One finished attempt, as the report lists it.
 struct MeshAttempt {
+    // What was tried: MeshProgress::what of the attempt ("first", "fully padded", "cautious joints", "one level
+    // finer", "finer for the distance goal", a structural alternative's name), with "paper's fan layout, " before it
+    // when finished in the paper's layout after the fan blocks'.
+    std::string what;
     double free_branching_reach = 0;  // AdaptationOptions::free_branching_reach used for this attempt
     std::string padding;              // FinishResult::pad_mode of this attempt ("none", "all" or "selective")
     long fan_blocks = 0;              // fan edges with a fan block in this attempt's raw mesh (0: the paper's layout)
@@ -116,6 +153,17 @@ struct MeshAttempt {
     int missed_goals = 0;
     bool distance_measured = false;
     double hausdorff_relative_max = 0;  // x the domain's bbox diagonal (when distance_measured)
+    // FNV-1a hash of the finish input (raw mesh, requested levels, padding mode, listed crease edges): two attempts
+    // with the same hash finished the same input. Not in the report.
+    std::uint64_t finish_input = 0;
+};
+
+// What MeshOptions::structural_retry did on a finished run whose mesh kept missed a goal after the other attempts.
+struct StructuralRetry {
+    std::vector<std::string> finished;  // the alternatives finished, in order (each one attempt in MeshRun::attempts)
+    std::vector<std::string> skipped;   // the alternatives not finished, each "NAME: why"
+    std::string kept;                   // the name of the alternative kept, "" when none was better than the mesh kept
+    std::string stop;  // "goals met", "all tried", "budget" (hexes over retry_max_hexes)
 };
 
 // What MeshOptions::refine_to_distance decided on a finished run.
@@ -141,6 +189,9 @@ struct MeshRun {
     bool prediction_exact = false;       // raw counts and irregular edges equal the prediction
     std::optional<FinishResult> finish;  // set when a domain was given and options.finish
     std::vector<MeshAttempt> attempts;   // finished attempts, first the default adaptation
+    int kept_attempt = -1;               // index in attempts of the mesh kept (-1 without a finish)
+    // Set when MeshOptions::structural_retry considered alternatives (the mesh kept missed a goal).
+    std::optional<StructuralRetry> structural;
     std::optional<Partition> partition;  // of mesh(), set when options.partitions > 0
     // Set when MeshOptions::refine_to_distance asked for it on a finished run.
     std::optional<DistanceRefinement> distance_refinement;
