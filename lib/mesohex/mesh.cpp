@@ -188,10 +188,13 @@ std::uint64_t finish_input_hash(const HexMesh& raw, const FinishOptions& fo) {
     for (const auto& hex : raw.hexes) h = fnv(h, hex.data(), sizeof hex);
     const CreaseWedgeOptions& w = fo.crease_wedge;
     const bool wedges = w.min_dihedral_deg > 0 && !(w.listed_only && w.listed.empty());  // else none can be inserted
-    const int flags[] = {fo.levels, fo.pad ? 1 : 0, fo.pad_selective ? 1 : 0, wedges ? 1 : 0, w.listed_only ? 1 : 0};
+    const int flags[] = {fo.levels, fo.pad ? 1 : 0, fo.pad_selective ? 1 : 0, wedges ? 1 : 0};
     h = fnv(h, flags, sizeof flags);
     if (!wedges) return h;
-    for (const auto& e : w.listed) h = fnv(h, e.data(), sizeof e);
+    const int listed_only = w.listed_only ? 1 : 0;
+    h = fnv(h, &listed_only, sizeof listed_only);
+    if (w.listed_only)
+        for (const auto& e : w.listed) h = fnv(h, e.data(), sizeof e);
     return fnv(h, &w.min_dihedral_deg, sizeof(double));
 }
 
