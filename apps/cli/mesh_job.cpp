@@ -458,9 +458,13 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                        if (n == structural_alternative_flag(a)) job->options.structural_alternatives.push_back(a);
            },
            "The structural alternatives tried in this order (comma-separated: valley-trunks, slide-cut-joint, "
-           "pit-branches, crease-wedge, bridge-cover; default valley-trunks,slide-cut-joint,crease-wedge)")
+           "pit-branches, crease-wedge, bridge-cover; default valley-trunks,slide-cut-joint,crease-wedge,bridge-cover)")
         ->delimiter(',')
         ->check(CLI::IsMember({"valley-trunks", "slide-cut-joint", "pit-branches", "crease-wedge", "bridge-cover"}));
+    cmd->add_option("--structural-max-finished", job->options.structural_max_finished,
+                    "At most this many structural alternatives finished (0 = no limit)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
     cmd->add_flag("--structural-try-all", job->options.structural_try_all,
                   "Finish every structural alternative even after one meets every goal (measurement; the best kept)");
     cmd->add_flag("--retry-by-shortfall", job->options.retry_by_shortfall,
@@ -504,6 +508,10 @@ MeshRun mesh_job_run(const MeshJob& job, const Skeleton& skeleton, const std::op
         if (p.stage == "attempt" && p.what.ends_with("cautious joints") && !job.quiet)
             std::cerr << "mesohex: the mesh misses a goal; another attempt with first joints farther from the "
                          "branching points\n";
+        for (const StructuralAlternative a : all_structural_alternatives())
+            if (p.stage == "attempt" && p.what.ends_with(structural_alternative_name(a)) && !job.quiet)
+                std::cerr << "mesohex: the mesh kept misses a goal; another attempt with a structural alternative: "
+                          << structural_alternative_name(a) << "\n";
         display.update(p);
     };
     try {

@@ -1,5 +1,6 @@
 #include "mesohex/mesh.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <limits>
@@ -154,7 +155,8 @@ bool two_layouts(const MeshRun& run, const MeshOptions& options) {
 int max_attempts(const MeshRun& run, const MeshOptions& options) {
     const bool padded = options.retry && options.finishing.pad && options.finishing.pad_selective;
     const int per_layout = 1 + (padded ? 1 : 0) + (cautious_retry_allowed(options) ? 1 : 0);
-    const int structural = options.structural_retry ? static_cast<int>(options.structural_alternatives.size()) : 0;
+    int structural = options.structural_retry ? static_cast<int>(options.structural_alternatives.size()) : 0;
+    if (options.structural_max_finished > 0) structural = std::min(structural, options.structural_max_finished);
     return (two_layouts(run, options) ? 2 * per_layout : per_layout) + structural + (options.finer_retry ? 1 : 0) +
            (options.refine_to_distance ? options.distance_max_levels : 0);
 }
@@ -460,7 +462,10 @@ void try_alternative(MeshRun& run, StructuralAlternative a, const Skeleton& skel
     FinishResult finished = finish_mesh(raw.raw.mesh, domain, fo);
     const int index = record_attempt(run, options, name, alt.pipeline, raw, finished, fo);
     sr.finished.push_back(name);
-    if (!better_attempt(finished, *run.finish, options)) return;
+    // Ranked by the goals' shortfall whatever retry_by_shortfall says: another structure trades min SJ for distance
+    // freely, and a mesh that misses by less overall is the one to keep (docs/junctions.md, "Structural
+    // alternatives when the mesh kept misses").
+    if (!better_finish_by_shortfall(finished, *run.finish, options.goals)) return;
     run.finish = std::move(finished);
     run.kept_attempt = index;
     sr.kept = name;
@@ -472,8 +477,8 @@ void try_alternative(MeshRun& run, StructuralAlternative a, const Skeleton& skel
 
 // MeshOptions::structural_retry: while the mesh kept misses a goal, the next structural alternative, the better kept.
 void retry_structural(MeshRun& run, const Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options) {
-    if (!options.structural_retry || !run.finish || options.structural_alternatives.empty() ||
-        !options.finishing.fit || !options.pipeline.resample || missed_goals(*run.finish, options.goals) == 0)
+    if (!options.structural_retry || !run.finish || options.structural_alternatives.empty() || !options.finishing.fit ||
+        !options.pipeline.resample || missed_goals(*run.finish, options.goals) == 0)
         return;
     StructuralRetry& sr = run.structural.emplace();
     if (options.retry_max_hexes > 0 && run.finish->quality.hexes > options.retry_max_hexes) {
@@ -481,8 +486,22 @@ void retry_structural(MeshRun& run, const Skeleton& skeleton, const TriangleMesh
         return;
     }
     sr.stop = "all tried";
+    long finished = 0;
+    for (const MeshAttempt& a : run.attempts) finished += a.hexes;
     for (const StructuralAlternative a : options.structural_alternatives) {
+        // The finishing's time is about proportional to the hexes it finishes: finishing.max_hexes bounds them all.
+        if (options.finishing.max_hexes > 0 && finished + run.finish->quality.hexes > options.finishing.max_hexes) {
+            sr.stop = "budget";
+            return;
+        }
+        if (options.structural_max_finished > 0 &&
+            static_cast<int>(sr.finished.size()) >= options.structural_max_finished) {
+            sr.stop = "most finished";
+            return;
+        }
+        const std::size_t before = run.attempts.size();
         try_alternative(run, a, skeleton, domain, options);
+        if (run.attempts.size() > before) finished += run.attempts.back().hexes;
         if (!options.structural_try_all && missed_goals(*run.finish, options.goals) == 0) {
             sr.stop = "goals met";
             return;

@@ -1,7 +1,8 @@
 #pragma once
 // The one library call that meshes like `mesohex mesh`: radii (from the file, the domain, an option or the default)
-// -> run_pipeline (raw mesh) -> finish_mesh in the domain -> a second attempt with the cautious reach at branching
-// points when the first misses a goal -> the better of the two. `mesohex mesh`, `mesohex auto`, the studio and the
+// -> run_pipeline (raw mesh) -> finish_mesh in the domain -> further attempts while the mesh kept misses a goal (every
+// quad padded, the cautious reach at branching points, the other fan layout, structural alternatives, finer levels),
+// the best kept. `mesohex mesh`, `mesohex auto`, the studio and the
 // Python module all call mesh_skeleton; they only map their flags to MeshOptions and print or serialize MeshRun.
 // No printing; progress through MeshOptions::progress (which may throw to cancel a run).
 #include <cstdint>
@@ -28,8 +29,9 @@ struct MeshProgress {
     double sj_min = 0;  // fit only: current min scaled Jacobian
     long inverted = 0;  // fit, untangle, improve: hexes with scaled Jacobian <= 0
     std::string what;   // attempt only: "first", "fully padded" (same raw mesh, every quad padded), "cautious
-                        // joints" (a second skeleton, first joints farther from the branching points) or "one level
-                        // finer" (MeshOptions::finer_retry)
+                        // joints" (a second skeleton, first joints farther from the branching points), a structural
+                        // alternative's name (MeshOptions::structural_retry) or "one level finer"
+                        // (MeshOptions::finer_retry)
 };
 
 // A structural alternative (MeshOptions::structural_retry): one mechanism that is off by default, switched on for one
@@ -101,19 +103,26 @@ struct MeshOptions {
     int distance_max_levels = 4;  // refine_to_distance: subdivision levels at most (count)
     // After the attempts above (both fan layouts, before finer_retry): while the mesh kept misses a goal, the next of
     // structural_alternatives is meshed (the kept attempt's pipeline options with that mechanism on) and finished once
-    // (with the padding mode the mesh kept has), the better kept (the ranking below). An alternative whose skeleton,
-    // raw mesh and finish input equal an attempt's already finished (compared by hash) is skipped without a finish;
-    // one the pipeline refuses (a mesohex::Error) is skipped. It stops at the first mesh kept that meets every goal
-    // (unless structural_try_all), and does not run when the mesh kept has more than retry_max_hexes hexes, nor
-    // without a fit, nor without resampling. A mesh that meets every goal after the attempts above is untouched.
-    // What ran and why: MeshRun::structural.
+    // (with the padding mode the mesh kept has), the better kept by better_finish_by_shortfall (whatever
+    // retry_by_shortfall says: the mesh that misses the goals by less overall; one that meets every goal always
+    // wins). Each alternative starts from the mesh kept so far. One whose raw mesh and finish input equal an attempt's
+    // already finished (compared by hash) is skipped without a finish; one the pipeline refuses (a mesohex::Error) is
+    // skipped. It stops at the first mesh kept that meets every goal (unless structural_try_all), and does not run
+    // when the mesh kept has more than retry_max_hexes hexes, nor without a fit, nor without resampling; with
+    // finishing.max_hexes > 0 it stops before an alternative when the hexes finished by all attempts plus the mesh
+    // kept's would exceed it. A mesh that meets every goal after the attempts above is untouched (no attempt added).
+    // What ran and why: MeshRun::structural (docs/junctions.md, "Structural alternatives when the mesh kept misses").
     bool structural_retry = true;
-    std::vector<StructuralAlternative> structural_alternatives = {StructuralAlternative::ValleyTrunks,
-                                                                  StructuralAlternative::SlideCutJoint,
-                                                                  StructuralAlternative::CloseCreaseWedge};
+    // structural_retry: the alternatives in the order they are tried (the most often winning first).
+    std::vector<StructuralAlternative> structural_alternatives = {
+        StructuralAlternative::ValleyTrunks, StructuralAlternative::SlideCutJoint,
+        StructuralAlternative::CloseCreaseWedge, StructuralAlternative::BulgedBridgeCover};
+    // structural_retry: at most this many alternatives finished (count; those skipped by their hash do not count;
+    // 0 = no limit). Each costs about one finish of the mesh kept.
+    int structural_max_finished = 3;
     // structural_retry: every alternative is finished even after one meets every goal (measurement; the best kept).
     bool structural_try_all = false;
-    MeshGoals goals;              // the goals a finished mesh must meet (else the second attempt)
+    MeshGoals goals;  // the goals a finished mesh must meet (else the second attempt)
     // How the attempts above are ranked when they tie on inverted hexes and on the number of goals missed. false:
     // the smaller relative Hausdorff distance, then the higher min scaled Jacobian (better_finish). true: the smaller
     // goal_shortfall first (the product of the factors by which each missed goal is missed, so a 30 % lower min SJ is
@@ -163,7 +172,9 @@ struct StructuralRetry {
     std::vector<std::string> finished;  // the alternatives finished, in order (each one attempt in MeshRun::attempts)
     std::vector<std::string> skipped;   // the alternatives not finished, each "NAME: why"
     std::string kept;                   // the name of the alternative kept, "" when none was better than the mesh kept
-    std::string stop;  // "goals met", "all tried", "budget" (hexes over retry_max_hexes)
+    // "goals met", "all tried", "budget" (retry_max_hexes or finishing.max_hexes), "most finished"
+    // (structural_max_finished)
+    std::string stop;
 };
 
 // What MeshOptions::refine_to_distance decided on a finished run.

@@ -15,16 +15,11 @@ nlohmann::json xyz(const Vec3& p) { return nlohmann::json::array({p.x, p.y, p.z}
 nlohmann::json attempts_json(const std::vector<MeshAttempt>& attempts) {
     nlohmann::json list = nlohmann::json::array();
     for (const MeshAttempt& a : attempts) {
-        nlohmann::json j = {{"what", a.what},
-                            {"free_branching_reach", a.free_branching_reach},
-                            {"padding", a.padding},
-                            {"fan_blocks", a.fan_blocks},
-                            {"levels", a.levels},
-                            {"hexes", a.hexes},
-                            {"sj_min", a.sj_min},
-                            {"sj_avg", a.sj_avg},
-                            {"inverted", a.inverted},
-                            {"missed_goals", a.missed_goals}};
+        nlohmann::json j = {{"what", a.what},         {"free_branching_reach", a.free_branching_reach},
+                            {"padding", a.padding},   {"fan_blocks", a.fan_blocks},
+                            {"levels", a.levels},     {"hexes", a.hexes},
+                            {"sj_min", a.sj_min},     {"sj_avg", a.sj_avg},
+                            {"inverted", a.inverted}, {"missed_goals", a.missed_goals}};
         if (a.distance_measured) j["hausdorff_relative_max"] = a.hausdorff_relative_max;
         list.push_back(j);
     }

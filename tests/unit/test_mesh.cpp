@@ -182,11 +182,11 @@ TEST(MeshSkeleton, FullyPaddedAttemptWhenTheBareFinishMissesAGoal) {
     ASSERT_TRUE(run.finish.has_value());
     ASSERT_GE(run.attempts.size(), 2u);
     // Every attempt is announced once, numbered in the order they run, out of the 6 the default options allow (first,
-    // fully padded, cautious joints, the 3 structural alternatives).
+    // fully padded, cautious joints, 3 structural alternatives: structural_max_finished).
     ASSERT_EQ(attempts.size(), run.attempts.size());
     for (std::size_t i = 0; i < attempts.size(); ++i) {
         EXPECT_EQ(attempts[i].step, static_cast<int>(i) + 1);
-        EXPECT_EQ(attempts[i].steps, 6);  // and the 3 structural alternatives
+        EXPECT_EQ(attempts[i].steps, 6);  // and 3 of the 4 structural alternatives
     }
     EXPECT_EQ(attempts[0].what, "first");
     EXPECT_EQ(attempts[1].what, "fully padded");
@@ -202,8 +202,10 @@ TEST(MeshSkeleton, FullyPaddedAttemptWhenTheBareFinishMissesAGoal) {
     EXPECT_LE(kept.missed_goals, std::min(run.attempts[0].missed_goals, run.attempts[1].missed_goals));
 }
 
-// A Y: a trunk of length 3 along -x and two branches of length 3 leaving the origin 15 degrees either side of +x (a close
-// pair, 30 degrees apart: the crease their chunks share is folded beyond 300 degrees), every radius 0.5.
+namespace {
+
+// A Y: a trunk of length 3 along -x and two branches of length 3 leaving the origin 15 degrees either side of +x (a
+// close pair, 30 degrees apart: the crease their chunks share is folded beyond 300 degrees), every radius 0.5.
 Skeleton close_pair_y() {
     const double a = 15.0 * std::acos(-1.0) / 180.0;
     Skeleton s;
@@ -213,10 +215,13 @@ Skeleton close_pair_y() {
     return s;
 }
 
+}  // namespace
+
 // MeshOptions::structural_retry on the tube in its box, which misses a goal after its attempts (first, fully padded):
 // it has no branching point, so no alternative changes the finish input (no degree-4 point for a valley trunk, no
 // joint next to a junction to slide, no close pair's crease for a wedge). Each is skipped by its hash, the run keeps
-// its two attempts and the progress counts the three alternatives among the attempts the options allow (3 + 3).
+// its two attempts and the progress counts the alternatives among the attempts the options allow (3 + at most 3
+// structural ones finished, structural_max_finished).
 TEST(MeshSkeleton, StructuralAlternativesSkippedWhenTheyChangeNothing) {
     const TriangleMesh box = box_surface(4, 1, 1);
     MeshOptions o;
@@ -235,7 +240,8 @@ TEST(MeshSkeleton, StructuralAlternativesSkippedWhenTheyChangeNothing) {
     EXPECT_EQ(run.structural->skipped,
               (std::vector<std::string>{"valley trunks: the same finish input as an attempt finished",
                                         "slid cut joints: the same finish input as an attempt finished",
-                                        "close-pair crease wedge: the same finish input as an attempt finished"}));
+                                        "close-pair crease wedge: the same finish input as an attempt finished",
+                                        "bulged bridges covered: the same finish input as an attempt finished"}));
     EXPECT_EQ(run.structural->kept, "");
     EXPECT_EQ(run.structural->stop, "all tried");
     EXPECT_EQ(run.attempts[static_cast<std::size_t>(run.kept_attempt)].hexes, run.quality().hexes);
@@ -243,9 +249,9 @@ TEST(MeshSkeleton, StructuralAlternativesSkippedWhenTheyChangeNothing) {
 
 // The close pair's Y in its thickened domain with a min SJ goal no hex can reach (1.0: every finish misses): after
 // the first attempt (retries off, one subdivision level) the close-pair crease wedge is finished as a second
-// attempt, since the pair is 30 degrees apart (< 60) and shares a crease, and the better of the two (better_finish) is kept. The two results are
-// recomputed apart (the wedges switched on directly) to say which. With goals every finish meets, the first attempt
-// is the only one and nothing structural runs.
+// attempt, since the pair is 30 degrees apart (< 60) and shares a crease, and the better of the two
+// (better_finish_by_shortfall) is kept. The two results are recomputed apart (the wedges switched on directly) to say
+// which. With goals every finish meets, the first attempt is the only one and nothing structural runs.
 TEST(MeshSkeleton, StructuralAlternativeFinishedAndTheBetterKept) {
     const Skeleton y = close_pair_y();
     ThickenOptions t;
@@ -275,7 +281,7 @@ TEST(MeshSkeleton, StructuralAlternativeFinishedAndTheBetterKept) {
     EXPECT_GT(wedge.finish->crease_wedges, 0);
     EXPECT_EQ(run.attempts[1].hexes, wedge.quality().hexes);
     EXPECT_EQ(run.attempts[1].sj_min, wedge.quality().sj_min);
-    const bool wedge_better = better_finish(*wedge.finish, *first.finish, o.goals);
+    const bool wedge_better = better_finish_by_shortfall(*wedge.finish, *first.finish, o.goals);
     EXPECT_EQ(run.kept_attempt, wedge_better ? 1 : 0);
     EXPECT_EQ(run.structural->kept, wedge_better ? "close-pair crease wedge" : "");
     EXPECT_EQ(run.mesh(), wedge_better ? wedge.mesh() : first.mesh());
@@ -291,7 +297,9 @@ TEST(MeshSkeleton, StructuralAlternativeFinishedAndTheBetterKept) {
 
 // MeshOptions::finer_retry: the tube in its box misses a goal after its attempts (first, fully padded) at the level the
 // finishing chose; its kept raw mesh is finished once more one level finer (8 x the hexes: uniform subdivision), the
-// seventh attempt the options allow (after 3 retries and 3 structural alternatives), and the better of the two kept. Not with the levels given, nor beyond the budget.
+// seventh attempt
+// the options allow (after 3 retries and 3 structural alternatives), and the better of the two kept. Not with the
+// levels given, nor beyond the budget.
 TEST(MeshSkeleton, OneLevelFinerWhenTheKeptMeshMissesAGoal) {
     const TriangleMesh box = box_surface(4, 1, 1);
     MeshOptions o;
