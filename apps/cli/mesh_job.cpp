@@ -458,7 +458,7 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                        if (n == structural_alternative_flag(a)) job->options.structural_alternatives.push_back(a);
            },
            "The structural alternatives tried in this order (comma-separated: valley-trunks, slide-cut-joint, "
-           "pit-branches, crease-wedge, bridge-cover; default valley-trunks,slide-cut-joint,crease-wedge,bridge-cover)")
+           "pit-branches, crease-wedge, bridge-cover; default all five in this order)")
         ->delimiter(',')
         ->check(CLI::IsMember({"valley-trunks", "slide-cut-joint", "pit-branches", "crease-wedge", "bridge-cover"}));
     cmd->add_option("--structural-max-finished", job->options.structural_max_finished,

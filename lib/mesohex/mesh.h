@@ -113,10 +113,9 @@ struct MeshOptions {
     // kept's would exceed it. A mesh that meets every goal after the attempts above is untouched (no attempt added).
     // What ran and why: MeshRun::structural (docs/junctions.md, "Structural alternatives when the mesh kept misses").
     bool structural_retry = true;
-    // structural_retry: the alternatives in the order they are tried (the most often winning first).
-    std::vector<StructuralAlternative> structural_alternatives = {
-        StructuralAlternative::ValleyTrunks, StructuralAlternative::SlideCutJoint,
-        StructuralAlternative::CloseCreaseWedge, StructuralAlternative::BulgedBridgeCover};
+    // structural_retry: the alternatives in the order they are tried (every one, in the enum's order: the order
+    // measured, docs/junctions.md).
+    std::vector<StructuralAlternative> structural_alternatives = all_structural_alternatives();
     // structural_retry: at most this many alternatives finished (count; those skipped by their hash do not count;
     // 0 = no limit). Each costs about one finish of the mesh kept.
     int structural_max_finished = 3;

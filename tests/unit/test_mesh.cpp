@@ -186,7 +186,7 @@ TEST(MeshSkeleton, FullyPaddedAttemptWhenTheBareFinishMissesAGoal) {
     ASSERT_EQ(attempts.size(), run.attempts.size());
     for (std::size_t i = 0; i < attempts.size(); ++i) {
         EXPECT_EQ(attempts[i].step, static_cast<int>(i) + 1);
-        EXPECT_EQ(attempts[i].steps, 6);  // and 3 of the 4 structural alternatives
+        EXPECT_EQ(attempts[i].steps, 6);  // and 3 of the 5 structural alternatives
     }
     EXPECT_EQ(attempts[0].what, "first");
     EXPECT_EQ(attempts[1].what, "fully padded");
@@ -219,7 +219,8 @@ Skeleton close_pair_y() {
 
 // MeshOptions::structural_retry on the tube in its box, which misses a goal after its attempts (first, fully padded):
 // it has no branching point, so no alternative changes the finish input (no degree-4 point for a valley trunk, no
-// joint next to a junction to slide, no close pair's crease for a wedge). Each is skipped by its hash, the run keeps
+// joint next to a junction to slide, no ring of branches for a pit branch, no close pair's crease for a wedge, no
+// bulged bridge to cover). Each is skipped by its hash, the run keeps
 // its two attempts and the progress counts the alternatives among the attempts the options allow (3 + at most 3
 // structural ones finished, structural_max_finished).
 TEST(MeshSkeleton, StructuralAlternativesSkippedWhenTheyChangeNothing) {
@@ -240,6 +241,7 @@ TEST(MeshSkeleton, StructuralAlternativesSkippedWhenTheyChangeNothing) {
     EXPECT_EQ(run.structural->skipped,
               (std::vector<std::string>{"valley trunks: the same finish input as an attempt finished",
                                         "slid cut joints: the same finish input as an attempt finished",
+                                        "pit branches: the same finish input as an attempt finished",
                                         "close-pair crease wedge: the same finish input as an attempt finished",
                                         "bulged bridges covered: the same finish input as an attempt finished"}));
     EXPECT_EQ(run.structural->kept, "");
