@@ -441,10 +441,14 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "With --surface: mesh branch tips whose centres lie outside the domain as given (default: trimmed back to "
         "the last vertex inside)");
     cmd->add_flag_callback(
-        "--no-retry", [job] { job->options.retry = false; },
+        "--no-retry",
+        [job] {
+            job->options.retry = false;
+            job->options.structural_retry = false;
+        },
         "One attempt only: no second adaptation with the first joints farther from the branching points "
-        "when the mesh misses a goal (inverted hex, SJ min < 0.3, avg < 0.85, Hausdorff > 1 % of the "
-        "diagonal); auto's attempt one level finer has its own flag, --no-finer-retry");
+        "and no structural alternative when the mesh misses a goal (inverted hex, SJ min < 0.3, avg < 0.85, "
+        "Hausdorff > 1 % of the diagonal); auto's attempt one level finer has its own flag, --no-finer-retry");
     cmd->add_flag_callback(
         "--no-structural-retry", [job] { job->options.structural_retry = false; },
         "No structural alternatives when the mesh kept after the other attempts misses a goal (docs/junctions.md, "

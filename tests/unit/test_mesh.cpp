@@ -117,6 +117,7 @@ TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
     MeshOptions o;
     o.finishing.levels = 1;
     o.retry = false;  // the first attempt's counts (the retries: FullyPaddedAttemptWhenTheBareFinishMissesAGoal)
+    o.structural_retry = false;  // (StructuralAlternativesSkippedWhenTheyChangeNothing)
     const MeshRun run = mesh_in_domain(axis_segment(), box, o);
     ASSERT_TRUE(run.finish.has_value());
     ASSERT_EQ(run.attempts.size(), 1u);
@@ -152,6 +153,7 @@ TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
                                             "fit",
                                             "untangled",
                                             "attempts",
+                                            "kept_attempt",
                                             "free_branching_reach",
                                             "hausdorff",
                                             "timings_ms",
