@@ -45,6 +45,9 @@ struct AutoArgs {
     // MeshOptions::refine_to_distance: finer levels while the mesh kept misses only the distance goal (and possibly the
     // average SJ), within max_hexes finished over all attempts.
     bool refine_to_distance = true;
+    // MeshOptions::structural_retry: off in auto until measured on its surfaces (its budget is 60 s of CPU per
+    // surface; docs/junctions.md, "Structural alternatives when the mesh kept misses").
+    bool structural_retry = false;
     AutoSkeletonOptions skeleton;
 };
 
@@ -138,6 +141,9 @@ void register_auto(CLI::App& app, int* status) {
         "No finer levels when the mesh kept misses the Hausdorff goal with its min SJ met (by default one level finer "
         "at a time while the goal is missed, each kept when better, within --max-hexes finished over all attempts; "
         "the report's distance_refinement says what was decided)");
+    cmd->add_flag("--structural-retry", args->structural_retry,
+                  "Structural alternatives when the mesh kept misses a goal, as `mesh` tries them (off in auto by "
+                  "default: docs/junctions.md, \"Structural alternatives when the mesh kept misses\")");
     cmd->add_option("--max-hexes", args->max_hexes,
                     "Work budget: at most this many finished hexes over both attempts (fewer subdivision levels, no "
                     "second attempt beyond half of it); 0 = no budget")
@@ -221,6 +227,7 @@ void register_auto(CLI::App& app, int* status) {
         MeshJob job = args->job;
         job.options.finer_retry = args->finer_retry;
         job.options.refine_to_distance = args->refine_to_distance;
+        job.options.structural_retry = job.options.structural_retry && args->structural_retry;
         if (args->max_hexes > 0) {
             job.options.finishing.max_hexes = args->max_hexes;
             job.options.retry_max_hexes = args->max_hexes / 2;

@@ -114,13 +114,11 @@ void print_summary(const MeshJob& job, const MeshRun& run) {
     if (run.attempts.size() < 2) return;
     for (std::size_t i = 0; i < run.attempts.size(); ++i) {
         const MeshAttempt& a = run.attempts[i];
-        std::cout << "attempt " << i + 1 << " (first joints at " << a.free_branching_reach
+        std::cout << "attempt " << i + 1 << " (" << a.what << ", first joints at " << a.free_branching_reach
                   << " x the reach at branching points, " << a.levels << " level(s)): " << a.hexes << " hexes, SJ min "
                   << a.sj_min << " avg " << a.sj_avg << ", inverted " << a.inverted;
         if (a.distance_measured) std::cout << ", Hausdorff " << 100.0 * a.hausdorff_relative_max << " %";
-        const bool kept = a.free_branching_reach == run.options.adaptation.free_branching_reach &&
-                          a.levels == fin.subdivision_levels && a.hexes == f.hexes;
-        std::cout << (kept ? " (kept)" : "") << "\n";
+        std::cout << (static_cast<int>(i) == run.kept_attempt ? " (kept)" : "") << "\n";
     }
 }
 
@@ -443,10 +441,36 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
         "With --surface: mesh branch tips whose centres lie outside the domain as given (default: trimmed back to "
         "the last vertex inside)");
     cmd->add_flag_callback(
-        "--no-retry", [job] { job->options.retry = false; },
+        "--no-retry",
+        [job] {
+            job->options.retry = false;
+            job->options.structural_retry = false;
+        },
         "One attempt only: no second adaptation with the first joints farther from the branching points "
-        "when the mesh misses a goal (inverted hex, SJ min < 0.3, avg < 0.85, Hausdorff > 1 % of the "
-        "diagonal); auto's attempt one level finer has its own flag, --no-finer-retry");
+        "and no structural alternative when the mesh misses a goal (inverted hex, SJ min < 0.3, avg < 0.85, "
+        "Hausdorff > 1 % of the diagonal); auto's attempt one level finer has its own flag, --no-finer-retry");
+    cmd->add_flag_callback(
+        "--no-structural-retry", [job] { job->options.structural_retry = false; },
+        "No structural alternatives when the mesh kept after the other attempts misses a goal (docs/junctions.md, "
+        "\"Structural alternatives when the mesh kept misses\")");
+    cmd->add_option_function<std::vector<std::string>>(
+           "--structural-alternatives",
+           [job](const std::vector<std::string>& names) {
+               job->options.structural_alternatives.clear();
+               for (const std::string& n : names)
+                   for (const StructuralAlternative a : all_structural_alternatives())
+                       if (n == structural_alternative_flag(a)) job->options.structural_alternatives.push_back(a);
+           },
+           "The structural alternatives tried in this order (comma-separated: valley-trunks, slide-cut-joint, "
+           "pit-branches, crease-wedge, bridge-cover; default all five in this order)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"valley-trunks", "slide-cut-joint", "pit-branches", "crease-wedge", "bridge-cover"}));
+    cmd->add_option("--structural-max-finished", job->options.structural_max_finished,
+                    "At most this many structural alternatives finished (0 = no limit)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
+    cmd->add_flag("--structural-try-all", job->options.structural_try_all,
+                  "Finish every structural alternative even after one meets every goal (measurement; the best kept)");
     cmd->add_flag("--retry-by-shortfall", job->options.retry_by_shortfall,
                   "When every attempt misses the same number of goals, keep the one with the smallest product of "
                   "the factors by which it misses them (default: the smallest Hausdorff distance; docs/junctions.md, "
@@ -494,6 +518,10 @@ MeshRun mesh_job_run(const MeshJob& job, const Skeleton& skeleton, const std::op
         if (p.stage == "attempt" && p.what.ends_with("cautious joints") && !job.quiet)
             std::cerr << "mesohex: the mesh misses a goal; another attempt with first joints farther from the "
                          "branching points\n";
+        for (const StructuralAlternative a : all_structural_alternatives())
+            if (p.stage == "attempt" && p.what.ends_with(structural_alternative_name(a)) && !job.quiet)
+                std::cerr << "mesohex: the mesh kept misses a goal; another attempt with a structural alternative: "
+                          << structural_alternative_name(a) << "\n";
         display.update(p);
     };
     try {

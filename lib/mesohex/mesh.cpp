@@ -1,6 +1,8 @@
 #include "mesohex/mesh.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -95,6 +97,7 @@ FinishOptions finishing_options(const MeshOptions& options, const PipelineResult
 MeshAttempt attempt_of(const PipelineOptions& pipeline, const PipelineResult& raw, const FinishResult& f,
                        const MeshGoals& goals) {
     MeshAttempt a;
+    a.what = f.pad_mode;  // replaced by record_attempt
     a.free_branching_reach = pipeline.adaptation.free_branching_reach;
     a.fan_blocks = raw.predicted.fan_blocks;
     a.levels = f.subdivision_levels;
@@ -152,17 +155,59 @@ bool two_layouts(const MeshRun& run, const MeshOptions& options) {
 int max_attempts(const MeshRun& run, const MeshOptions& options) {
     const bool padded = options.retry && options.finishing.pad && options.finishing.pad_selective;
     const int per_layout = 1 + (padded ? 1 : 0) + (cautious_retry_allowed(options) ? 1 : 0);
-    return (two_layouts(run, options) ? 2 * per_layout : per_layout) + (options.finer_retry ? 1 : 0) +
+    int structural = options.structural_retry ? static_cast<int>(options.structural_alternatives.size()) : 0;
+    if (options.structural_max_finished > 0) structural = std::min(structural, options.structural_max_finished);
+    return (two_layouts(run, options) ? 2 * per_layout : per_layout) + structural + (options.finer_retry ? 1 : 0) +
            (options.refine_to_distance ? options.distance_max_levels : 0);
+}
+
+// What the next attempt is called: `what`, after "paper's fan layout, " in the paper's layout after the fan blocks'.
+std::string attempt_name(const MeshRun& run, const MeshOptions& options, const std::string& what) {
+    const bool paper_after_blocks = !run.attempts.empty() && run.attempts.front().fan_blocks > 0 &&
+                                    !options.pipeline.connection_surfaces.blocks.fan_blocks;
+    return paper_after_blocks ? "paper's fan layout, " + what : what;
 }
 
 // Reports the start of the next finishing attempt (numbered from 1 in the order they run, both layouts together).
 void report_attempt(const MeshRun& run, const MeshOptions& options, const std::string& what) {
     if (!options.progress) return;
-    const bool paper_after_blocks = !run.attempts.empty() && run.attempts.front().fan_blocks > 0 &&
-                                    !options.pipeline.connection_surfaces.blocks.fan_blocks;
     options.progress({"attempt", static_cast<int>(run.attempts.size()) + 1, max_attempts(run, options), 0, 0,
-                      paper_after_blocks ? "paper's fan layout, " + what : what});
+                      attempt_name(run, options, what)});
+}
+
+std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ULL;
+    return h;
+}
+
+// FNV-1a hash of what a finish starts from: the raw mesh (points and hexes, bit for bit), the requested subdivision
+// levels, whether the padding is selective and the crease edges listed for wedges. Two attempts with the same hash
+// finish the same input (MeshOptions::structural_retry skips the second).
+std::uint64_t finish_input_hash(const HexMesh& raw, const FinishOptions& fo) {
+    std::uint64_t h = 14695981039346656037ULL;
+    for (const Vec3& p : raw.points) h = fnv(h, &p, sizeof p);
+    for (const auto& hex : raw.hexes) h = fnv(h, hex.data(), sizeof hex);
+    const CreaseWedgeOptions& w = fo.crease_wedge;
+    const bool wedges = w.min_dihedral_deg > 0 && !(w.listed_only && w.listed.empty());  // else none can be inserted
+    const int flags[] = {fo.levels, fo.pad ? 1 : 0, fo.pad_selective ? 1 : 0, wedges ? 1 : 0};
+    h = fnv(h, flags, sizeof flags);
+    if (!wedges) return h;
+    const int listed_only = w.listed_only ? 1 : 0;
+    h = fnv(h, &listed_only, sizeof listed_only);
+    if (w.listed_only)
+        for (const auto& e : w.listed) h = fnv(h, e.data(), sizeof e);
+    return fnv(h, &w.min_dihedral_deg, sizeof(double));
+}
+
+// Appends the attempt `what` finished from `raw` with `fo` to run.attempts; returns its index.
+int record_attempt(MeshRun& run, const MeshOptions& options, const std::string& what, const PipelineOptions& pipeline,
+                   const PipelineResult& raw, const FinishResult& f, const FinishOptions& fo) {
+    MeshAttempt a = attempt_of(pipeline, raw, f, options.goals);
+    a.what = attempt_name(run, options, what);
+    a.finish_input = finish_input_hash(raw.raw.mesh, fo);
+    run.attempts.push_back(std::move(a));
+    return static_cast<int>(run.attempts.size()) - 1;
 }
 
 // The order the attempts are kept in (MeshOptions::retry_by_shortfall).
@@ -181,9 +226,12 @@ void retry_fully_padded(MeshRun& run, const TriangleMesh& domain, const MeshOpti
     MeshOptions padded = options;
     padded.finishing.pad_selective = false;
     report_attempt(run, options, "fully padded");
-    FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(padded, run.pipeline));
-    run.attempts.push_back(attempt_of(run.options, run.pipeline, finished, options.goals));
-    if (better_attempt(finished, *run.finish, options)) run.finish = std::move(finished);
+    const FinishOptions fo = finishing_options(padded, run.pipeline);
+    FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, fo);
+    const int index = record_attempt(run, options, "fully padded", run.options, run.pipeline, finished, fo);
+    if (!better_attempt(finished, *run.finish, options)) return;
+    run.finish = std::move(finished);
+    run.kept_attempt = index;
 }
 
 // Finishes the raw mesh of `run` in the domain; when the result misses a goal, the same raw mesh fully padded if the
@@ -191,8 +239,9 @@ void retry_fully_padded(MeshRun& run, const TriangleMesh& domain, const MeshOpti
 // best.
 void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options) {
     report_attempt(run, options, "first");
-    run.finish = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(options, run.pipeline));
-    run.attempts.push_back(attempt_of(run.options, run.pipeline, *run.finish, options.goals));
+    const FinishOptions fo = finishing_options(options, run.pipeline);
+    run.finish = finish_mesh(run.pipeline.raw.mesh, domain, fo);
+    run.kept_attempt = record_attempt(run, options, "first", run.options, run.pipeline, *run.finish, fo);
     retry_fully_padded(run, domain, options);
     if (!retry_applies(options, run)) return;
 
@@ -200,10 +249,12 @@ void finish_with_retry(MeshRun& run, const Skeleton& skeleton, const TriangleMes
     PipelineResult second = run_pipeline(skeleton, cautious, held_of(run));
     if (second.skeleton == run.pipeline.skeleton) return;  // the same skeleton would give the same mesh
     report_attempt(run, options, "cautious joints");
-    FinishResult finished = finish_mesh(second.raw.mesh, domain, finishing_options(options, second));
-    run.attempts.push_back(attempt_of(cautious, second, finished, options.goals));
+    const FinishOptions second_fo = finishing_options(options, second);
+    FinishResult finished = finish_mesh(second.raw.mesh, domain, second_fo);
+    const int index = record_attempt(run, options, "cautious joints", cautious, second, finished, second_fo);
     if (!better_attempt(finished, *run.finish, options)) return;
     run.finish = std::move(finished);
+    run.kept_attempt = index;
     run.pipeline = std::move(second);
     run.options = cautious;
     set_raw_quality(run, options);
@@ -229,8 +280,9 @@ FinishResult finish_one_level_finer(MeshRun& run, const TriangleMesh& domain, co
     finer.finishing.levels = run.finish->subdivision_levels + 1;
     if (run.finish->pad_mode == "all") finer.finishing.pad_selective = false;
     report_attempt(run, options, why);
-    FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, finishing_options(finer, run.pipeline));
-    run.attempts.push_back(attempt_of(run.options, run.pipeline, finished, options.goals));
+    const FinishOptions fo = finishing_options(finer, run.pipeline);
+    FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, fo);
+    record_attempt(run, options, why, run.options, run.pipeline, finished, fo);
     return finished;
 }
 
@@ -238,7 +290,9 @@ FinishResult finish_one_level_finer(MeshRun& run, const TriangleMesh& domain, co
 void retry_finer(MeshRun& run, const TriangleMesh& domain, const MeshOptions& options) {
     if (!finer_retry_applies(options, run)) return;
     FinishResult finished = finish_one_level_finer(run, domain, options, "one level finer");
-    if (better_attempt(finished, *run.finish, options)) run.finish = std::move(finished);
+    if (!better_attempt(finished, *run.finish, options)) return;
+    run.finish = std::move(finished);
+    run.kept_attempt = static_cast<int>(run.attempts.size()) - 1;
 }
 
 // Why MeshOptions::refine_to_distance tries no finer level on the kept mesh after `finished` hexes finished by all
@@ -305,6 +359,7 @@ void refine_to_distance(MeshRun& run, const TriangleMesh& domain, const MeshOpti
             break;
         }
         run.finish = std::move(f);
+        run.kept_attempt = static_cast<int>(run.attempts.size()) - 1;
     }
     dr.levels_kept = run.finish->subdivision_levels;
 }
@@ -348,6 +403,110 @@ void compare_fan_layouts(MeshRun& run, const Skeleton& skeleton, const TriangleM
     run.raw_topology = std::move(other.raw_topology);
     run.prediction_exact = other.prediction_exact;
     run.finish = std::move(other.finish);
+    run.kept_attempt = other.kept_attempt;
+}
+
+// `options` with the alternative's mechanism switched on, the pipeline options being `kept` (the mesh kept's).
+MeshOptions alternative_options(StructuralAlternative a, const MeshOptions& options, const PipelineOptions& kept) {
+    MeshOptions alt = options;
+    alt.pipeline = kept;
+    switch (a) {
+        case StructuralAlternative::ValleyTrunks: alt.pipeline.repair.valley_trunk_degree = 4; break;
+        case StructuralAlternative::SlideCutJoint: alt.pipeline.adaptation.slide_cut_joint = true; break;
+        case StructuralAlternative::PitBranches: alt.pipeline.virtual_branches.pit_excess = 0.3; break;
+        case StructuralAlternative::CloseCreaseWedge:
+            alt.finishing.crease_wedge.min_dihedral_deg = 300;
+            alt.crease_wedge_pair_deg = 60;
+            break;
+        case StructuralAlternative::BulgedBridgeCover:
+            alt.pipeline.raw_mesh.cover.fraction = 1;
+            alt.pipeline.raw_mesh.cover.bridge_bulge = 1.5;
+            break;
+    }
+    return alt;
+}
+
+// Whether the alternative leaves the pipeline as the mesh kept's (only its finish input changes).
+bool finishing_only(StructuralAlternative a) { return a == StructuralAlternative::CloseCreaseWedge; }
+
+bool finish_input_tried(const MeshRun& run, std::uint64_t hash) {
+    for (const MeshAttempt& a : run.attempts)
+        if (a.finish_input == hash) return true;
+    return false;
+}
+
+// One structural alternative on a run whose mesh kept misses a goal: meshed, finished once unless its finish input
+// was finished already (then the reason goes to run.structural->skipped), the better kept.
+void try_alternative(MeshRun& run, StructuralAlternative a, const Skeleton& skeleton, const TriangleMesh& domain,
+                     const MeshOptions& options) {
+    StructuralRetry& sr = *run.structural;
+    const std::string name = structural_alternative_name(a);
+    MeshOptions alt = alternative_options(a, options, run.options);
+    if (run.finish->pad_mode == "all") alt.finishing.pad_selective = false;
+    std::optional<PipelineResult> own;
+    if (!finishing_only(a)) {
+        try {
+            own = run_pipeline(skeleton, alt.pipeline, held_of(run));
+        } catch (const Error& e) {
+            sr.skipped.push_back(name + ": refused (" + e.what() + ")");
+            return;
+        }
+    }
+    const PipelineResult& raw = own ? *own : run.pipeline;
+    const FinishOptions fo = finishing_options(alt, raw);
+    if (finish_input_tried(run, finish_input_hash(raw.raw.mesh, fo))) {
+        sr.skipped.push_back(name + ": the same finish input as an attempt finished");
+        return;
+    }
+    report_attempt(run, options, name);
+    FinishResult finished = finish_mesh(raw.raw.mesh, domain, fo);
+    const int index = record_attempt(run, options, name, alt.pipeline, raw, finished, fo);
+    sr.finished.push_back(name);
+    // Ranked by the goals' shortfall whatever retry_by_shortfall says: another structure trades min SJ for distance
+    // freely, and a mesh that misses by less overall is the one to keep (docs/junctions.md, "Structural
+    // alternatives when the mesh kept misses").
+    if (!better_finish_by_shortfall(finished, *run.finish, options.goals)) return;
+    run.finish = std::move(finished);
+    run.kept_attempt = index;
+    sr.kept = name;
+    if (!own) return;
+    run.pipeline = std::move(*own);
+    run.options = alt.pipeline;
+    set_raw_quality(run, options);
+}
+
+// MeshOptions::structural_retry: while the mesh kept misses a goal, the next structural alternative, the better kept.
+void retry_structural(MeshRun& run, const Skeleton& skeleton, const TriangleMesh& domain, const MeshOptions& options) {
+    if (!options.structural_retry || !run.finish || options.structural_alternatives.empty() || !options.finishing.fit ||
+        !options.pipeline.resample || missed_goals(*run.finish, options.goals) == 0)
+        return;
+    StructuralRetry& sr = run.structural.emplace();
+    if (options.retry_max_hexes > 0 && run.finish->quality.hexes > options.retry_max_hexes) {
+        sr.stop = "budget";
+        return;
+    }
+    sr.stop = "all tried";
+    long finished = 0;
+    for (const MeshAttempt& a : run.attempts) finished += a.hexes;
+    for (const StructuralAlternative a : options.structural_alternatives) {
+        // The finishing's time is about proportional to the hexes it finishes: finishing.max_hexes bounds them all.
+        if (options.finishing.max_hexes > 0 && finished + run.finish->quality.hexes > options.finishing.max_hexes) {
+            sr.stop = "budget";
+            return;
+        }
+        if (options.structural_max_finished > 0 &&
+            static_cast<int>(sr.finished.size()) >= options.structural_max_finished) {
+            sr.stop = "most finished";
+            return;
+        }
+        const std::size_t before = run.attempts.size();
+        try_alternative(run, a, skeleton, domain, options);
+        if (run.attempts.size() > before) finished += run.attempts.back().hexes;
+        if (!options.structural_try_all && missed_goals(*run.finish, options.goals) == 0) {
+            sr.stop = "goals met";
+            return;
+        }
+    }
 }
 
 // The start shared by mesh_skeleton and mesh_skeleton_raw: the skeleton with its radii from the domain (when given,
@@ -365,6 +524,34 @@ Skeleton start_run(MeshRun& run, const Skeleton& input, const TriangleMesh* doma
 }
 
 }  // namespace
+
+const char* structural_alternative_name(StructuralAlternative a) {
+    switch (a) {
+        case StructuralAlternative::ValleyTrunks: return "valley trunks";
+        case StructuralAlternative::SlideCutJoint: return "slid cut joints";
+        case StructuralAlternative::PitBranches: return "pit branches";
+        case StructuralAlternative::CloseCreaseWedge: return "close-pair crease wedge";
+        case StructuralAlternative::BulgedBridgeCover: return "bulged bridges covered";
+    }
+    return "unknown";
+}
+
+const char* structural_alternative_flag(StructuralAlternative a) {
+    switch (a) {
+        case StructuralAlternative::ValleyTrunks: return "valley-trunks";
+        case StructuralAlternative::SlideCutJoint: return "slide-cut-joint";
+        case StructuralAlternative::PitBranches: return "pit-branches";
+        case StructuralAlternative::CloseCreaseWedge: return "crease-wedge";
+        case StructuralAlternative::BulgedBridgeCover: return "bridge-cover";
+    }
+    return "unknown";
+}
+
+std::vector<StructuralAlternative> all_structural_alternatives() {
+    return {StructuralAlternative::ValleyTrunks, StructuralAlternative::SlideCutJoint,
+            StructuralAlternative::PitBranches, StructuralAlternative::CloseCreaseWedge,
+            StructuralAlternative::BulgedBridgeCover};
+}
 
 int MeshRun::exit_status() const {
     const QualityReport& q = quality();
@@ -403,6 +590,7 @@ MeshRun mesh_skeleton(const Skeleton& input, const TriangleMesh* domain, const S
         t = std::chrono::steady_clock::now();
         finish_with_retry(run, skeleton, *domain, options);
         compare_fan_layouts(run, skeleton, *domain, options);
+        retry_structural(run, skeleton, *domain, options);
         retry_finer(run, *domain, options);
         refine_to_distance(run, *domain, options);
         run.finish_ms = ms_since(t);

@@ -1,9 +1,11 @@
 #pragma once
 // The one library call that meshes like `mesohex mesh`: radii (from the file, the domain, an option or the default)
-// -> run_pipeline (raw mesh) -> finish_mesh in the domain -> a second attempt with the cautious reach at branching
-// points when the first misses a goal -> the better of the two. `mesohex mesh`, `mesohex auto`, the studio and the
+// -> run_pipeline (raw mesh) -> finish_mesh in the domain -> further attempts while the mesh kept misses a goal (every
+// quad padded, the cautious reach at branching points, the other fan layout, structural alternatives, finer levels),
+// the best kept. `mesohex mesh`, `mesohex auto`, the studio and the
 // Python module all call mesh_skeleton; they only map their flags to MeshOptions and print or serialize MeshRun.
 // No printing; progress through MeshOptions::progress (which may throw to cancel a run).
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -27,9 +29,28 @@ struct MeshProgress {
     double sj_min = 0;  // fit only: current min scaled Jacobian
     long inverted = 0;  // fit, untangle, improve: hexes with scaled Jacobian <= 0
     std::string what;   // attempt only: "first", "fully padded" (same raw mesh, every quad padded), "cautious
-                        // joints" (a second skeleton, first joints farther from the branching points) or "one level
-                        // finer" (MeshOptions::finer_retry)
+                        // joints" (a second skeleton, first joints farther from the branching points), a structural
+                        // alternative's name (MeshOptions::structural_retry) or "one level finer"
+                        // (MeshOptions::finer_retry)
 };
+
+// A structural alternative (MeshOptions::structural_retry): one mechanism that is off by default, switched on for one
+// more attempt on the skeleton of the mesh kept. Each changes the block structure or the finish input where its case
+// occurs (docs/junctions.md, "Structural alternatives when the mesh kept misses").
+enum class StructuralAlternative {
+    ValleyTrunks,       // SkeletonRepairOptions::valley_trunk_degree 4: trunks for close fat pairs at degree >= 4
+    SlideCutJoint,      // AdaptationOptions::slide_cut_joint: cut joints slid away from the junction
+    PitBranches,        // VirtualBranchOptions::pit_excess 0.3: a branch into the pit inside a ring of branches
+    CloseCreaseWedge,   // crease wedges (300 degrees) on a close pair's crease only (crease_wedge_pair_deg 60)
+    BulgedBridgeCover,  // JunctionCoverOptions fraction 1 with bridge_bulge 1.5: bulged bridges covered from both ends
+};
+
+// The name the report, the progress and the CLI give an alternative ("valley trunks", "slid cut joints", ...).
+const char* structural_alternative_name(StructuralAlternative a);
+// Its command-line name ("valley-trunks", "slide-cut-joint", "pit-branches", "crease-wedge", "bridge-cover").
+const char* structural_alternative_flag(StructuralAlternative a);
+// Every alternative, in the enum's order.
+std::vector<StructuralAlternative> all_structural_alternatives();
 
 struct MeshOptions {
     // Radius when the skeleton file has none (in skeleton units). With a domain: radius_factor x the distance of each
@@ -80,7 +101,27 @@ struct MeshOptions {
     // Off by default; `mesohex auto` turns it on (docs/sheets.md, "Refined until the distance goal is met").
     bool refine_to_distance = false;
     int distance_max_levels = 4;  // refine_to_distance: subdivision levels at most (count)
-    MeshGoals goals;              // the goals a finished mesh must meet (else the second attempt)
+    // After the attempts above (both fan layouts, before finer_retry): while the mesh kept misses a goal, the next of
+    // structural_alternatives is meshed (the kept attempt's pipeline options with that mechanism on) and finished once
+    // (with the padding mode the mesh kept has), the better kept by better_finish_by_shortfall (whatever
+    // retry_by_shortfall says: the mesh that misses the goals by less overall; one that meets every goal always
+    // wins). Each alternative starts from the mesh kept so far. One whose raw mesh and finish input equal an attempt's
+    // already finished (compared by hash) is skipped without a finish; one the pipeline refuses (a mesohex::Error) is
+    // skipped. It stops at the first mesh kept that meets every goal (unless structural_try_all), and does not run
+    // when the mesh kept has more than retry_max_hexes hexes, nor without a fit, nor without resampling; with
+    // finishing.max_hexes > 0 it stops before an alternative when the hexes finished by all attempts plus the mesh
+    // kept's would exceed it. A mesh that meets every goal after the attempts above is untouched (no attempt added).
+    // What ran and why: MeshRun::structural (docs/junctions.md, "Structural alternatives when the mesh kept misses").
+    bool structural_retry = true;
+    // structural_retry: the alternatives in the order they are tried (every one, in the enum's order: the order
+    // measured, docs/junctions.md).
+    std::vector<StructuralAlternative> structural_alternatives = all_structural_alternatives();
+    // structural_retry: at most this many alternatives finished (count; those skipped by their hash do not count;
+    // 0 = no limit). Each costs about one finish of the mesh kept.
+    int structural_max_finished = 3;
+    // structural_retry: every alternative is finished even after one meets every goal (measurement; the best kept).
+    bool structural_try_all = false;
+    MeshGoals goals;  // the goals a finished mesh must meet (else the second attempt)
     // How the attempts above are ranked when they tie on inverted hexes and on the number of goals missed. false:
     // the smaller relative Hausdorff distance, then the higher min scaled Jacobian (better_finish). true: the smaller
     // goal_shortfall first (the product of the factors by which each missed goal is missed, so a 30 % lower min SJ is
@@ -106,6 +147,10 @@ struct MeshOptions {
 
 // One finished attempt, as the report lists it.
 struct MeshAttempt {
+    // What was tried: MeshProgress::what of the attempt ("first", "fully padded", "cautious joints", "one level
+    // finer", "finer for the distance goal", a structural alternative's name), with "paper's fan layout, " before it
+    // when finished in the paper's layout after the fan blocks'.
+    std::string what;
     double free_branching_reach = 0;  // AdaptationOptions::free_branching_reach used for this attempt
     std::string padding;              // FinishResult::pad_mode of this attempt ("none", "all" or "selective")
     long fan_blocks = 0;              // fan edges with a fan block in this attempt's raw mesh (0: the paper's layout)
@@ -116,6 +161,19 @@ struct MeshAttempt {
     int missed_goals = 0;
     bool distance_measured = false;
     double hausdorff_relative_max = 0;  // x the domain's bbox diagonal (when distance_measured)
+    // FNV-1a hash of the finish input (raw mesh, requested levels, padding mode, listed crease edges): two attempts
+    // with the same hash finished the same input. Not in the report.
+    std::uint64_t finish_input = 0;
+};
+
+// What MeshOptions::structural_retry did on a finished run whose mesh kept missed a goal after the other attempts.
+struct StructuralRetry {
+    std::vector<std::string> finished;  // the alternatives finished, in order (each one attempt in MeshRun::attempts)
+    std::vector<std::string> skipped;   // the alternatives not finished, each "NAME: why"
+    std::string kept;                   // the name of the alternative kept, "" when none was better than the mesh kept
+    // "goals met", "all tried", "budget" (retry_max_hexes or finishing.max_hexes), "most finished"
+    // (structural_max_finished)
+    std::string stop;
 };
 
 // What MeshOptions::refine_to_distance decided on a finished run.
@@ -141,6 +199,9 @@ struct MeshRun {
     bool prediction_exact = false;       // raw counts and irregular edges equal the prediction
     std::optional<FinishResult> finish;  // set when a domain was given and options.finish
     std::vector<MeshAttempt> attempts;   // finished attempts, first the default adaptation
+    int kept_attempt = -1;               // index in attempts of the mesh kept (-1 without a finish)
+    // Set when MeshOptions::structural_retry considered alternatives (the mesh kept missed a goal).
+    std::optional<StructuralRetry> structural;
     std::optional<Partition> partition;  // of mesh(), set when options.partitions > 0
     // Set when MeshOptions::refine_to_distance asked for it on a finished run.
     std::optional<DistanceRefinement> distance_refinement;

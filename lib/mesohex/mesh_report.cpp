@@ -15,15 +15,11 @@ nlohmann::json xyz(const Vec3& p) { return nlohmann::json::array({p.x, p.y, p.z}
 nlohmann::json attempts_json(const std::vector<MeshAttempt>& attempts) {
     nlohmann::json list = nlohmann::json::array();
     for (const MeshAttempt& a : attempts) {
-        nlohmann::json j = {{"free_branching_reach", a.free_branching_reach},
-                            {"padding", a.padding},
-                            {"fan_blocks", a.fan_blocks},
-                            {"levels", a.levels},
-                            {"hexes", a.hexes},
-                            {"sj_min", a.sj_min},
-                            {"sj_avg", a.sj_avg},
-                            {"inverted", a.inverted},
-                            {"missed_goals", a.missed_goals}};
+        nlohmann::json j = {{"what", a.what},         {"free_branching_reach", a.free_branching_reach},
+                            {"padding", a.padding},   {"fan_blocks", a.fan_blocks},
+                            {"levels", a.levels},     {"hexes", a.hexes},
+                            {"sj_min", a.sj_min},     {"sj_avg", a.sj_avg},
+                            {"inverted", a.inverted}, {"missed_goals", a.missed_goals}};
         if (a.distance_measured) j["hausdorff_relative_max"] = a.hausdorff_relative_max;
         list.push_back(j);
     }
@@ -178,7 +174,11 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
                           {"matched_edges", fin.pad_matched_edges},
                           {"inset_vertices", fin.pad_inset_vertices}};
         if (fin.crease_wedges > 0) rep["padding"]["crease_wedges"] = fin.crease_wedges;
-        rep["attempts"] = attempts_json(run.attempts);  // first the default adaptation, then the cautious one
+        rep["attempts"] = attempts_json(run.attempts);  // in the order they ran
+        rep["kept_attempt"] = run.kept_attempt;         // index in attempts of the mesh written
+        if (const std::optional<StructuralRetry>& sr = run.structural)
+            rep["structural_retry"] = {
+                {"finished", sr->finished}, {"skipped", sr->skipped}, {"kept", sr->kept}, {"stop", sr->stop}};
         rep["free_branching_reach"] = run.options.adaptation.free_branching_reach;  // of the mesh written
         if (fin.distance_measured) rep["hausdorff"] = hausdorff_json(fin.distance);
         if (run.distance_refinement) rep["distance_refinement"] = distance_refinement_json(*run.distance_refinement);

@@ -117,6 +117,7 @@ TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
     MeshOptions o;
     o.finishing.levels = 1;
     o.retry = false;  // the first attempt's counts (the retries: FullyPaddedAttemptWhenTheBareFinishMissesAGoal)
+    o.structural_retry = false;  // (StructuralAlternativesSkippedWhenTheyChangeNothing)
     const MeshRun run = mesh_in_domain(axis_segment(), box, o);
     ASSERT_TRUE(run.finish.has_value());
     ASSERT_EQ(run.attempts.size(), 1u);
@@ -152,6 +153,7 @@ TEST(MeshSkeleton, FinishedInTheDomainWithItsReport) {
                                             "fit",
                                             "untangled",
                                             "attempts",
+                                            "kept_attempt",
                                             "free_branching_reach",
                                             "hausdorff",
                                             "timings_ms",
@@ -181,12 +183,12 @@ TEST(MeshSkeleton, FullyPaddedAttemptWhenTheBareFinishMissesAGoal) {
     const MeshRun run = mesh_in_domain(axis_segment(), box, o);
     ASSERT_TRUE(run.finish.has_value());
     ASSERT_GE(run.attempts.size(), 2u);
-    // Every attempt is announced once, numbered in the order they run, out of the 3 the default options allow (first,
-    // fully padded, cautious joints).
+    // Every attempt is announced once, numbered in the order they run, out of the 6 the default options allow (first,
+    // fully padded, cautious joints, 3 structural alternatives: structural_max_finished).
     ASSERT_EQ(attempts.size(), run.attempts.size());
     for (std::size_t i = 0; i < attempts.size(); ++i) {
         EXPECT_EQ(attempts[i].step, static_cast<int>(i) + 1);
-        EXPECT_EQ(attempts[i].steps, 3);
+        EXPECT_EQ(attempts[i].steps, 6);  // and 3 of the 5 structural alternatives
     }
     EXPECT_EQ(attempts[0].what, "first");
     EXPECT_EQ(attempts[1].what, "fully padded");
@@ -202,9 +204,106 @@ TEST(MeshSkeleton, FullyPaddedAttemptWhenTheBareFinishMissesAGoal) {
     EXPECT_LE(kept.missed_goals, std::min(run.attempts[0].missed_goals, run.attempts[1].missed_goals));
 }
 
+namespace {
+
+// A Y: a trunk of length 3 along -x and two branches of length 3 leaving the origin 15 degrees either side of +x (a
+// close pair, 30 degrees apart: the crease their chunks share is folded beyond 300 degrees), every radius 0.5.
+Skeleton close_pair_y() {
+    const double a = 15.0 * std::acos(-1.0) / 180.0;
+    Skeleton s;
+    s.points = {{0, 0, 0}, {-3, 0, 0}, {3 * std::cos(a), 3 * std::sin(a), 0}, {3 * std::cos(a), -3 * std::sin(a), 0}};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}};
+    s.radii = {0.5, 0.5, 0.5, 0.5};
+    return s;
+}
+
+}  // namespace
+
+// MeshOptions::structural_retry on the tube in its box, which misses a goal after its attempts (first, fully padded):
+// it has no branching point, so no alternative changes the finish input (no degree-4 point for a valley trunk, no
+// joint next to a junction to slide, no ring of branches for a pit branch, no close pair's crease for a wedge, no
+// bulged bridge to cover). Each is skipped by its hash, the run keeps
+// its two attempts and the progress counts the alternatives among the attempts the options allow (3 + at most 3
+// structural ones finished, structural_max_finished).
+TEST(MeshSkeleton, StructuralAlternativesSkippedWhenTheyChangeNothing) {
+    const TriangleMesh box = box_surface(4, 1, 1);
+    MeshOptions o;
+    o.finishing.levels = 1;
+    std::vector<MeshProgress> attempts;
+    o.progress = [&attempts](const MeshProgress& p) {
+        if (p.stage == "attempt") attempts.push_back(p);
+    };
+    const MeshRun run = mesh_in_domain(axis_segment(), box, o);
+    ASSERT_EQ(run.attempts.size(), 2u);
+    EXPECT_EQ(run.attempts[0].what, "first");
+    EXPECT_EQ(run.attempts[1].what, "fully padded");
+    for (const MeshProgress& p : attempts) EXPECT_EQ(p.steps, 6);
+    ASSERT_TRUE(run.structural.has_value());
+    EXPECT_TRUE(run.structural->finished.empty());
+    EXPECT_EQ(run.structural->skipped,
+              (std::vector<std::string>{"valley trunks: the same finish input as an attempt finished",
+                                        "slid cut joints: the same finish input as an attempt finished",
+                                        "pit branches: the same finish input as an attempt finished",
+                                        "close-pair crease wedge: the same finish input as an attempt finished",
+                                        "bulged bridges covered: the same finish input as an attempt finished"}));
+    EXPECT_EQ(run.structural->kept, "");
+    EXPECT_EQ(run.structural->stop, "all tried");
+    EXPECT_EQ(run.attempts[static_cast<std::size_t>(run.kept_attempt)].hexes, run.quality().hexes);
+}
+
+// The close pair's Y in its thickened domain with a min SJ goal no hex can reach (1.0: every finish misses): after
+// the first attempt (retries off, one subdivision level) the close-pair crease wedge is finished as a second
+// attempt, since the pair is 30 degrees apart (< 60) and shares a crease, and the better of the two
+// (better_finish_by_shortfall) is kept. The two results are recomputed apart (the wedges switched on directly) to say
+// which. With goals every finish meets, the first attempt is the only one and nothing structural runs.
+TEST(MeshSkeleton, StructuralAlternativeFinishedAndTheBetterKept) {
+    const Skeleton y = close_pair_y();
+    ThickenOptions t;
+    t.cells_per_radius = 3;
+    const TriangleMesh domain = thicken(y, t);
+    MeshOptions o;
+    o.retry = false;
+    o.finishing.levels = 1;
+    o.goals.sj_min = 1.0;
+    o.structural_alternatives = {StructuralAlternative::CloseCreaseWedge};
+    const MeshRun run = mesh_in_domain(y, domain, o);
+    ASSERT_EQ(run.attempts.size(), 2u);
+    EXPECT_EQ(run.attempts[0].what, "first");
+    EXPECT_EQ(run.attempts[1].what, "close-pair crease wedge");
+    ASSERT_TRUE(run.structural.has_value());
+    EXPECT_EQ(run.structural->finished, (std::vector<std::string>{"close-pair crease wedge"}));
+    EXPECT_TRUE(run.structural->skipped.empty());
+
+    MeshOptions plain = o;
+    plain.structural_retry = false;
+    const MeshRun first = mesh_in_domain(y, domain, plain);
+    MeshOptions wedged = plain;
+    wedged.finishing.crease_wedge.min_dihedral_deg = 300;
+    wedged.crease_wedge_pair_deg = 60;
+    const MeshRun wedge = mesh_in_domain(y, domain, wedged);
+    ASSERT_EQ(first.attempts.size(), 1u);
+    EXPECT_GT(wedge.finish->crease_wedges, 0);
+    EXPECT_EQ(run.attempts[1].hexes, wedge.quality().hexes);
+    EXPECT_EQ(run.attempts[1].sj_min, wedge.quality().sj_min);
+    const bool wedge_better = better_finish_by_shortfall(*wedge.finish, *first.finish, o.goals);
+    EXPECT_EQ(run.kept_attempt, wedge_better ? 1 : 0);
+    EXPECT_EQ(run.structural->kept, wedge_better ? "close-pair crease wedge" : "");
+    EXPECT_EQ(run.mesh(), wedge_better ? wedge.mesh() : first.mesh());
+
+    MeshOptions easy = o;
+    easy.goals = {0.0, 0.0, 1.0};  // any valid mesh with no inverted hex meets them
+    const MeshRun met = mesh_in_domain(y, domain, easy);
+    ASSERT_EQ(met.attempts.size(), 1u);
+    EXPECT_EQ(met.kept_attempt, 0);
+    EXPECT_FALSE(met.structural.has_value());
+    EXPECT_EQ(met.mesh(), first.mesh());
+}
+
 // MeshOptions::finer_retry: the tube in its box misses a goal after its attempts (first, fully padded) at the level the
 // finishing chose; its kept raw mesh is finished once more one level finer (8 x the hexes: uniform subdivision), the
-// fourth attempt the options allow, and the better of the two kept. Not with the levels given, nor beyond the budget.
+// seventh attempt
+// the options allow (after 3 retries and 3 structural alternatives), and the better of the two kept. Not with the
+// levels given, nor beyond the budget.
 TEST(MeshSkeleton, OneLevelFinerWhenTheKeptMeshMissesAGoal) {
     const TriangleMesh box = box_surface(4, 1, 1);
     MeshOptions o;
@@ -218,7 +317,7 @@ TEST(MeshSkeleton, OneLevelFinerWhenTheKeptMeshMissesAGoal) {
     ASSERT_EQ(run.attempts.size(), 3u);
     ASSERT_EQ(attempts.size(), 3u);
     EXPECT_EQ(attempts[2].what, "one level finer");
-    for (const MeshProgress& p : attempts) EXPECT_EQ(p.steps, 4);
+    for (const MeshProgress& p : attempts) EXPECT_EQ(p.steps, 7);  // 3 retries, 3 structural, 1 finer
     const MeshAttempt& before =
         run.attempts[0].missed_goals <= run.attempts[1].missed_goals ? run.attempts[0] : run.attempts[1];
     EXPECT_GT(std::min(run.attempts[0].missed_goals, run.attempts[1].missed_goals), 0);
