@@ -25,8 +25,8 @@
 //   tabled_three_start, FIRST_IMPROVING=0|1 its first_improving_long_relaxation, JUNCTION_COVER=F RawMeshOptions::
 //   cover.fraction (JUNCTION_INSET=F cover.inset, JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_CREASE_MID=0|1 its
 //   crease_midpoints, JUNCTION_CREASE_PAIR=DEG its crease_pair_deg, JUNCTION_COVER_MIN_DEGREE and JUNCTION_COVER_FLOOR
-//   its min_degree and sj_floor, JUNCTION_COVER_BULGE its bridge_bulge), BRIDGE_QUAD=0|1
-//   RawMeshOptions::bridge_quad_radius (BRIDGE_QUAD_INSET=F its bridge_quad_inset), FAN_CAP_BRANCHES=0|1
+//   its min_degree and sj_floor, JUNCTION_COVER_BULGE its bridge_bulge, JUNCTION_COVER_OVERLAP its bridge_overlap),
+//   BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius (BRIDGE_QUAD_INSET=F its bridge_quad_inset), FAN_CAP_BRANCHES=0|1
 //   CompatibleBlockOptions::fan_cap_branches. CREASE_WEDGE=DEG lists, before the seed's line, the wedges finish_mesh
 //   would insert with FinishOptions::crease_wedge at DEG (one line "  wedge SEED edge A B at vC degree D" each;
 //   CREASE_WEDGE_PAIR=DEG2 restricts them as MeshOptions::crease_wedge_pair_deg does); the raw mesh and its hash are
@@ -131,6 +131,7 @@ int main(int argc, char** argv) {
     if (const char* k = std::getenv("JUNCTION_COVER_MIN_DEGREE")) po.raw_mesh.cover.min_degree = std::atoi(k);
     if (const char* k = std::getenv("JUNCTION_COVER_FLOOR")) po.raw_mesh.cover.sj_floor = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_COVER_BULGE")) po.raw_mesh.cover.bridge_bulge = std::atof(k);
+    if (const char* k = std::getenv("JUNCTION_COVER_OVERLAP")) po.raw_mesh.cover.bridge_overlap = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_INSET")) po.raw_mesh.cover.inset = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_CREASE")) po.raw_mesh.cover.crease_deg = std::atof(k);
     if (const char* k = std::getenv("JUNCTION_CREASE_MID")) po.raw_mesh.cover.crease_midpoints = std::atoi(k) != 0;

@@ -242,6 +242,13 @@ void add_raw_structure_options(CLI::App* cmd, MeshJob* job) {
                     "docs/junctions.md, \"Bulged bridges covered from both ends\")")
         ->check(finite_range(0.0, 100.0))
         ->capture_default_str();
+    cmd->add_option("--junction-cover-overlap", job->options.pipeline.raw_mesh.cover.bridge_overlap,
+                    "With --junction-cover: cover only the two ends of each bridge between branching points whose "
+                    "balls overlap by (r_a + r_b) / distance >= this ratio (twin junctions), both ends from the union "
+                    "of the input's balls; with --junction-cover-bulge, the ends either selects (0 = off, the default: "
+                    "docs/junctions.md, \"Twin junctions: the slit between the two ends' limbs\")")
+        ->check(finite_range(0.0, 100.0))
+        ->capture_default_str();
     cmd->add_option(
            "--docked-foot-split", job->options.pipeline.repair.docked_foot_split,
            "Split the plate's face strips beside a docked wall's chain (both sides) and beyond its inside ends at this "

@@ -2093,3 +2093,65 @@ TEST(JunctionCover, BulgedBridgeIsCoveredFromBothEnds) {
     EXPECT_EQ(raw(1.0, 1.5, straight).mesh.points, off.mesh.points);
     EXPECT_NE(raw(1.0, 0.0, straight).mesh.points, off.mesh.points);
 }
+
+// Overlapping bridge ends (JunctionCoverOptions::bridge_overlap): branching points A = (0, 0, 0), r 0.3, and
+// B = (0.4, 0, 0), r 0.2, each with two one-edge limbs 0.6 long at 50 degrees off its outward direction in the x-y plane
+// (extremity radius 0.1). (r_A + r_B) / |AB| = 0.5 / 0.4 = 1.25: both ends are marked at ratio 1.2 and 1.25 (the
+// comparison is >=), nothing at 1.3; the same bridge meshed through a joint J = (0.2, 0, 0) is judged by its ends'
+// chord (the same marks). On paper the raw mesh has 5 branch edges x 4 hexes = 20 hexes, the prediction, whatever the
+// cover does, and is one ball (Euler characteristic 1). Covered at ratio 1.2 (fraction 1, the skeleton's own balls as
+// the domain), no hex is inverted or below min(0.3, before), every extremity's raw point stays, and A's points reach
+// past its sphere (the ray from A along the bridge leaves the union only at B's far side, 0.6 from A); at ratio 1.3
+// the raw mesh is exactly the cover off.
+TEST(JunctionCover, OverlappingBridgeIsCoveredFromBothEnds) {
+    const double a = 50 * std::numbers::pi / 180, arm = 0.6;
+    Skeleton s;
+    s.points = {{0, 0, 0},
+                {0.4, 0, 0},
+                {-arm * std::cos(a), arm * std::sin(a), 0},
+                {-arm * std::cos(a), -arm * std::sin(a), 0},
+                {0.4 + arm * std::cos(a), arm * std::sin(a), 0},
+                {0.4 + arm * std::cos(a), -arm * std::sin(a), 0}};
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
+    s.radii = {0.3, 0.2, 0.1, 0.1, 0.1, 0.1};
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    EXPECT_EQ(overlapping_bridge_ends(s, an, 1.2), (std::vector<char>{1, 1, 0, 0, 0, 0}));
+    EXPECT_EQ(overlapping_bridge_ends(s, an, 1.25), (std::vector<char>{1, 1, 0, 0, 0, 0}));
+    EXPECT_EQ(overlapping_bridge_ends(s, an, 1.3), (std::vector<char>(6, 0)));
+    {  // the bridge through a joint J: its ends' chord decides
+        Skeleton j = s;
+        j.points.push_back({0.2, 0, 0});
+        j.radii.push_back(0.25);
+        j.edges = {{0, 6}, {6, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}};
+        const SkeletonAnalysis aj = analyze_skeleton(j);
+        EXPECT_EQ(overlapping_bridge_ends(j, aj, 1.2), (std::vector<char>{1, 1, 0, 0, 0, 0, 0}));
+        EXPECT_EQ(overlapping_bridge_ends(j, aj, 1.3), (std::vector<char>(7, 0)));
+    }
+    ConnectionSurfaceOptions co;
+    co.blocks.enabled = false;
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an, co);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    auto raw = [&](double fraction, double overlap) {
+        RawMeshOptions o;
+        o.cover.fraction = fraction;
+        o.cover.bridge_overlap = overlap;
+        return build_raw_mesh(s, an, cs, fr, o, &s);
+    };
+    const RawMesh off = raw(0.0, 0.0), on = raw(1.0, 1.2);
+    EXPECT_EQ(an.predicted_hexes, 20);
+    EXPECT_EQ(on.mesh.hexes.size(), 20u);
+    const QualityReport qn = compute_quality(on.mesh);
+    EXPECT_EQ(qn.euler_characteristic, 1);
+    EXPECT_EQ(qn.inverted, 0);
+    const std::vector<double> before = scaled_jacobians(off.mesh), after = scaled_jacobians(on.mesh);
+    for (std::size_t h = 0; h < after.size(); ++h)
+        EXPECT_GE(after[h], std::min(JunctionCoverOptions{}.sj_floor, before[h]) - 1e-12);
+    for (int v = 2; v < 6; ++v)  // the extremities' centres and cap points
+        for (int id = on.vertex_base[v]; id < on.vertex_base[v] + 1; ++id)
+            EXPECT_EQ(on.mesh.points[id], off.mesh.points[id]);
+    double farthest = 0;
+    for (int x = 0; x < cs.point_begin[1] - cs.point_begin[0]; ++x)
+        farthest = std::max(farthest, distance(on.mesh.points[on.vertex_base[0] + 1 + x], s.points[0]));
+    EXPECT_GT(farthest, 0.3 + 1e-6);
+    EXPECT_EQ(raw(1.0, 1.3).mesh.points, off.mesh.points);
+}

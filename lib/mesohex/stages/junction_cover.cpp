@@ -371,6 +371,22 @@ std::vector<char> bulged_bridge_ends(const Skeleton& skeleton, const Skeleton& d
     return ends;
 }
 
+std::vector<char> overlapping_bridge_ends(const Skeleton& skeleton, const SkeletonAnalysis& an, double ratio) {
+    std::vector<char> ends(skeleton.points.size(), 0);
+    for (int c = 0; c < static_cast<int>(skeleton.points.size()); ++c) {
+        if (an.vertex_class[c] != VertexClass::BranchingPoint) continue;
+        for (int i = an.vertex_edge_begin[c]; i < an.vertex_edge_begin[c + 1]; ++i) {
+            const std::vector<int> chain = bridge_chain(skeleton, an, c, an.vertex_edges[i]);
+            if (chain.empty()) continue;
+            const int u = chain.back();
+            const double gap = distance(skeleton.points[c], skeleton.points[u]);
+            if (skeleton.radii[c] + skeleton.radii[u] >= ratio * gap)
+                ends[static_cast<std::size_t>(c)] = ends[static_cast<std::size_t>(u)] = 1;
+        }
+    }
+    return ends;
+}
+
 int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
                     const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
                     const std::vector<int>& vertex_base, const std::vector<int>& edge_hex,
@@ -380,9 +396,13 @@ int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const Skel
     // Per raw vertex: its shortest boundary edge, every point still on its sphere (JunctionCoverOptions::inset).
     std::vector<double> shortest_edge;
     if (options.inset > 0) shortest_edge = shortest_boundary_edges(hexes, points);
-    const bool bridges_only = options.bridge_bulge > 0;
-    std::vector<char> bridge_end;
-    if (bridges_only) bridge_end = bulged_bridge_ends(skeleton, domain, an, options.bridge_bulge);
+    const bool bridges_only = options.bridge_bulge > 0 || options.bridge_overlap > 0;
+    std::vector<char> bridge_end(skeleton.points.size(), 0);
+    if (options.bridge_bulge > 0) bridge_end = bulged_bridge_ends(skeleton, domain, an, options.bridge_bulge);
+    if (options.bridge_overlap > 0) {
+        const std::vector<char> overlap = overlapping_bridge_ends(skeleton, an, options.bridge_overlap);
+        for (std::size_t v = 0; v < overlap.size(); ++v) bridge_end[v] = bridge_end[v] || overlap[v];
+    }
     int moved = 0;
     const int nv = static_cast<int>(skeleton.points.size());
     for (int c = 0; c < nv; ++c)

@@ -66,6 +66,16 @@ struct JunctionCoverOptions {
     // (docs/junctions.md, "Bulged bridges covered from both ends"). Every other junction keeps its sphere.
     // Dimensionless ratio (> 1); 0 = every coverable junction.
     double bridge_bulge = 0.0;
+    // Overlapping bridge ends (issue 16 items 1 and 5): > 0 restricts the cover to the two ends c, u of every bridge
+    // (branch edges through joints from one branching point to another, as for bridge_bulge) whose end balls overlap
+    // by (r_c + r_u) / |c - u| >= bridge_overlap (the meshed skeleton's centres and radii). Two fat branching points so
+    // close (dinopet's torso and shoulders, the twin-junction family) send their limbs out from inside each other's
+    // balls: a limb of c and a limb of u on the same side fuse into one web across the bridge, which the spheres of c
+    // and u leave as a slit between the two limbs' chunks; both ends' points are then placed from the union of the
+    // balls (fraction, inset, guard as above; docs/junctions.md, "Twin junctions: the slit between the two ends'
+    // limbs"). With bridge_bulge also > 0, an end either rule selects is covered. Dimensionless ratio (> 0);
+    // 0 = off (bridge_bulge alone decides; both 0: every coverable junction).
+    double bridge_overlap = 0.0;
     // Guard: a hex of c's chunks may not end below min(sj_floor, its scaled Jacobian with every point on the
     // sphere), nor be inverted; otherwise the moves of its moved points are halved (6 times, then dropped).
     double sj_floor = 0.3;
@@ -98,6 +108,10 @@ double ray_exit(const std::vector<RoundCone>& cones, const Vec3& c, const Vec3& 
 // radii (the test as described there), else 0. O(bridge edges + bridges x 15 x domain edges).
 std::vector<char> bulged_bridge_ends(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
                                      double ratio);
+
+// JunctionCoverOptions::bridge_overlap: per vertex of `skeleton`, 1 when it ends a bridge (branch edges through joints
+// to another branching point u) with (r_c + r_u) >= ratio x |c - u|, else 0. O(bridge edges).
+std::vector<char> overlapping_bridge_ends(const Skeleton& skeleton, const SkeletonAnalysis& an, double ratio);
 
 int cover_junctions(const Skeleton& skeleton, const Skeleton& domain, const SkeletonAnalysis& an,
                     const ConnectionSurfaces& cs, const BranchFrames& frames, const std::vector<double>& radius,
