@@ -177,6 +177,7 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
                           {"matched_edges", fin.pad_matched_edges},
                           {"inset_vertices", fin.pad_inset_vertices}};
         if (fin.crease_wedges > 0) rep["padding"]["crease_wedges"] = fin.crease_wedges;
+        if (fin.crotch_sheets > 0) rep["padding"]["crotch_sheets"] = fin.crotch_sheets;
         rep["attempts"] = attempts_json(run.attempts);  // first the default adaptation, then the cautious one
         rep["free_branching_reach"] = run.options.adaptation.free_branching_reach;  // of the mesh written
         if (fin.distance_measured) rep["hausdorff"] = hausdorff_json(fin.distance);
