@@ -38,8 +38,8 @@ struct CreaseWedgeOptions {
     // wedge is not cut. Empty: no cut (the wedge spans the quads' whole length).
     std::function<double(const Vec3&, const Vec3&)> crotch_distance;
     // With crotch_distance: the multiple of the distance to the domain along the bisector at which the wedge's new
-    // vertices stand (dimensionless, > 0; 1 = on the domain's surface at the crotch's deepest line, 2 = as far again
-    // beyond it, where the crotch's two sides still lie close to the wedge: measurements in docs/tuning.md).
+    // vertices stand (dimensionless, > 0; 1 = where the bisector leaves the domain, the crotch's deepest line;
+    // measurements in docs/tuning.md).
     double crotch_reach = 2.0;
 };
 
