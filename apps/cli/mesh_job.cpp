@@ -170,6 +170,11 @@ void add_padding_options(CLI::App* cmd, MeshJob* job) {
                     "share at a branching point (0 = every folded crease, the default: docs/junctions.md, \"The "
                     "close pair's crease carried by a wedge\")")
         ->check(finite_range(0.0, 180.0));
+    cmd->add_option("--crotch-wedge", job->options.crotch_wedge_pair_deg,
+                    "Crotch wedges: the crease two branches less than this many degrees apart share at a branching "
+                    "point gets a wedge only as long as the domain's crotch, its two chunks cut there (0 = off, the "
+                    "default: docs/junctions.md, \"The close pair's wedge only as long as the crotch\")")
+        ->check(finite_range(0.0, 180.0));
     cmd->add_flag("--crease-wedge-inside", job->options.finishing.crease_wedge_inside,
                   "With --crease-wedge: only wedges whose new vertices lie inside the domain");
     cmd->add_option("--pad-search-cos", job->options.finishing.padding.search_cos,

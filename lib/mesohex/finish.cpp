@@ -238,8 +238,15 @@ struct Finisher {
             CreaseWedgeOptions wo = options.crease_wedge;
             if (options.crease_wedge_inside && !wo.keep_vertex)
                 wo.keep_vertex = [this](const Vec3& p) { return query.inside(p); };
+            if (options.crease_wedge_crotch && !wo.crotch_distance)
+                wo.crotch_distance = [this](const Vec3& p, const Vec3& d) {
+                    if (!query.inside(p)) return 0.0;
+                    const std::optional<RayHit> hit = query.first_hit(p, d);
+                    return hit ? hit->distance : std::numeric_limits<double>::infinity();
+                };
             CreaseWedgeResult wedged = insert_crease_wedges(mesh, wo);
             result.crease_wedges = static_cast<long>(wedged.wedge_edges.size());
+            result.crotch_sheets = wedged.crotch_sheets;
             mesh = std::move(wedged.mesh);
         }
         if (options.pad_selective && padding.bare_quads.empty()) select_bare(padding);

@@ -85,6 +85,10 @@ struct FinishOptions {
     // With crease_wedge: a wedge is kept only if its new vertices lie inside the domain (the raw crotch touches the
     // domain, so a wedge filling the gap beyond it is outside and the fit crushes it back).
     bool crease_wedge_inside = false;
+    // With crease_wedge: the crotch cut (CreaseWedgeOptions::crotch_distance, the distance to the domain along a ray
+    // from inside it): the hexes on each wedge's crease are cut, with their sheets, where the domain's crotch ends, so
+    // that the wedge is only as long as the crotch (MeshOptions::crotch_wedge_pair_deg sets it).
+    bool crease_wedge_crotch = false;
     // Quality pass on the padded mesh (before subdivision) when its min SJ is below pad_improve_sj (near-flat padding
     // hexes where the averaged normals of a concave junction or a high-valence vertex almost cross; the fit keeps
     // every hex near its start quality, so they would stay bad and hold the boundary off the surface): the untangling
@@ -202,6 +206,7 @@ struct FinishResult {
     // Sharp raw boundary edges, and of them those matched to a sharp edge of the domain.
     long pad_sharp_edges = 0, pad_matched_edges = 0;
     long crease_wedges = 0;       // wedge hexes added before the padding (crease_wedge)
+    long crotch_sheets = 0;       // hex sheets cut at the crotch for them (crease_wedge_crotch)
     long pad_inset_vertices = 0;  // raw boundary vertices moved inward with their padding vertex (pad_inset)
 };
 

@@ -73,6 +73,14 @@ FinishOptions finishing_options(const MeshOptions& options, const PipelineResult
         fo.crease_wedge.listed =
             close_pair_crease_edges(run.skeleton, run.analysis, run.raw, options.crease_wedge_pair_deg);
     }
+    if (options.crotch_wedge_pair_deg > 0) {
+        if (!(fo.crease_wedge.min_dihedral_deg > 0))
+            fo.crease_wedge.min_dihedral_deg = options.crotch_wedge_dihedral_deg;
+        fo.crease_wedge.listed_only = true;
+        fo.crease_wedge.listed =
+            close_pair_crease_edges(run.skeleton, run.analysis, run.raw, options.crotch_wedge_pair_deg);
+        fo.crease_wedge_crotch = true;
+    }
     if (!options.progress) return fo;
     const auto& report = options.progress;
     const int fit_cap = fo.fitting.max_iterations;

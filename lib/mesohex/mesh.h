@@ -74,6 +74,15 @@ struct MeshOptions {
     // folded creases keep two hexes). Degrees; 0 = every crease sharper than min_dihedral_deg (docs/junctions.md,
     // "The close pair's crease carried by a wedge").
     double crease_wedge_pair_deg = 0;
+    // > 0: crotch wedges, one switch for the whole mechanism (docs/junctions.md, "The close pair's wedge only as long
+    // as the crotch"): the close pairs' creases (close_pair_crease_edges at this many degrees, as
+    // crease_wedge_pair_deg) get a crease wedge (at dihedrals above finishing.crease_wedge.min_dihedral_deg when set,
+    // else crotch_wedge_dihedral_deg) after the two chunks on each crease are cut where the domain's crotch ends
+    // (FinishOptions::crease_wedge_crotch). Degrees; 0 = off.
+    double crotch_wedge_pair_deg = 0;
+    // With crotch_wedge_pair_deg and finishing.crease_wedge off: the dihedral above which a listed crease gets its
+    // wedge (degrees, in (180, 360)).
+    double crotch_wedge_dihedral_deg = 300;
     // Further attempts when the finished mesh misses one of `goals`, keeping the best (better_finish): first, if the
     // selective padding left quads bare, the same raw mesh with every quad padded; then adapt again with the first
     // joints at adaptation.branching_reach (instead of free_branching_reach), only with resampling, a fit, and when

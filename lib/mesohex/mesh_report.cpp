@@ -174,6 +174,7 @@ nlohmann::json mesh_report(const MeshRun& run, const ReportContext& context) {
                           {"matched_edges", fin.pad_matched_edges},
                           {"inset_vertices", fin.pad_inset_vertices}};
         if (fin.crease_wedges > 0) rep["padding"]["crease_wedges"] = fin.crease_wedges;
+        if (fin.crotch_sheets > 0) rep["padding"]["crotch_sheets"] = fin.crotch_sheets;
         rep["attempts"] = attempts_json(run.attempts);  // in the order they ran
         rep["kept_attempt"] = run.kept_attempt;         // index in attempts of the mesh written
         if (const std::optional<StructuralRetry>& sr = run.structural)

@@ -2,7 +2,9 @@
 // cross-section), the wedge derived on paper.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "mesohex/core/hex_kernels.h"
@@ -146,4 +148,58 @@ TEST(CreaseWedge, ListedOnlyKeepsTheWedgeOnTheListedCreaseAlone) {
         EXPECT_EQ(off.mesh.points, m.points);
         EXPECT_EQ(off.mesh.hexes, m.hexes);
     }
+}
+
+// The crotch cut on the one-layer fold, the domain the half-space x < 0.5 (its distance along the bisector +x from the
+// crease vertices A, A' is 0.5), crotch_reach 1: the uncut wedge would reach 1 / cos 20 = 1.0642, so each hex is cut
+// (its sheet is that hex alone: the fold is one layer) at f = 0.5 cos 20 = 0.4698 of its quad edges A-X1 (A-X2) and, at
+// the same mean fraction, K-D1 (K-D2); the wedge's new vertices then stand at (0.5, 0, z), on the domain, and its
+// cross-section is the uncut one scaled by f: scaled Jacobian sin 40 degrees. Counts by hand: 2 hexes -> 4 (each cut
+// in two) -> 5 with the wedge; 12 points + 4 per cut sheet + 2 new wedge vertices = 22; boundary quads 10 -> 18 (4
+// hexes, 3 inner faces: the kite and the two cuts) -> 20 (the wedge covers 2, adds 4); the crease (0, 6) on three
+// hexes. With the half-space x < 2 (beyond the uncut reach) nothing is cut: the uncut wedge (3 hexes, 14 points); with
+// every point outside (distance 0) no wedge: the input.
+TEST(CreaseWedge, CrotchCutEndsTheWedgeAtTheDomain) {
+    const HexMesh m = folded_pair(1);
+    CreaseWedgeOptions o;
+    o.min_dihedral_deg = 270;
+    o.crotch_reach = 1;
+    const auto half_space = [](double x0) {
+        return [x0](const Vec3& p, const Vec3& d) {
+            if (p.x >= x0) return 0.0;
+            return d.x > 0 ? (x0 - p.x) / d.x : std::numeric_limits<double>::infinity();
+        };
+    };
+    o.crotch_distance = half_space(0.5);
+    const CreaseWedgeResult r = insert_crease_wedges(m, o);
+    ASSERT_EQ(r.wedge_edges.size(), 1u);
+    EXPECT_EQ(r.crotch_sheets, 2);
+    ASSERT_EQ(r.mesh.hexes.size(), 5u);
+    ASSERT_EQ(r.mesh.points.size(), 22u);
+    const double c = std::cos(20 * kPi / 180), s = std::sin(20 * kPi / 180), f = 0.5 * c;
+    EXPECT_NEAR(distance(r.mesh.points[20], Vec3{0.5, 0, 0}), 0, 1e-12);
+    EXPECT_NEAR(distance(r.mesh.points[21], Vec3{0.5, 0, 1}), 0, 1e-12);
+    // The cut on A-X1 and on K-D1 (every edge of the one-hex sheet is a boundary edge: the mean fraction).
+    const auto has_point = [&](const Vec3& p) {
+        return std::any_of(r.mesh.points.begin(), r.mesh.points.end(),
+                           [&](const Vec3& q) { return distance(p, q) < 1e-12; });
+    };
+    EXPECT_TRUE(has_point(Vec3{f * c, f * s, 0}));
+    EXPECT_TRUE(has_point(Vec3{f * c, -f * s, 1}));
+    EXPECT_TRUE(has_point(Vec3{-1 + f * 0.7, f * 1.2, 0}));
+    EXPECT_NEAR(sj(r.mesh, 4), std::sin(40 * kPi / 180), 1e-9);
+    for (std::size_t h = 0; h < 4; ++h) EXPECT_GT(sj(r.mesh, h), 0.3) << h;
+    EXPECT_EQ(hexes_on_edge(r.mesh, 0, 6), 3);
+    EXPECT_TRUE(validate(r.mesh).valid());
+    EXPECT_EQ(compute_hex_topology(r.mesh).boundary_quads.size(), 20u);
+    // Input vertices kept (the cut's and the wedge's come after them).
+    for (std::size_t v = 0; v < m.points.size(); ++v) EXPECT_EQ(r.mesh.points[v], m.points[v]);
+
+    o.crotch_distance = half_space(2);
+    const CreaseWedgeResult far = insert_crease_wedges(m, o);
+    EXPECT_EQ(far.crotch_sheets, 0);
+    EXPECT_EQ(far.mesh.hexes.size(), 3u);
+    EXPECT_EQ(far.mesh.points.size(), 14u);
+    o.crotch_distance = half_space(-1);
+    EXPECT_EQ(insert_crease_wedges(m, o).mesh, m);
 }

@@ -17,6 +17,7 @@
 #include "mesohex/core/hex_convention.h"
 #include "mesohex/core/topology.h"
 #include "mesohex/core/validate.h"
+#include "mesohex/post/crease_wedge.h"
 #include "mesohex/post/quality.h"
 #include "mesohex/stages/adaptation.h"
 #include "mesohex/stages/generators.h"
@@ -1158,6 +1159,54 @@ TEST(RawMesh, ClosePairCreaseEdgesAreTheHalvesOfTheLegsSharedSide) {
     EXPECT_TRUE(close_pair_crease_edges(s, an, raw, 40).empty());
     EXPECT_TRUE(close_pair_crease_edges(s, an, raw, 0).empty());
     EXPECT_EQ(close_pair_crease_edges(s, an, raw, 180).size(), 2u * ne);
+}
+
+// The crotch wedge (MeshOptions::crotch_wedge_pair_deg) on the same hand-built hip, the domain the ball of radius
+// R = 1.1 r_c around the hip (the legs' crotch lies 1.07-1.24 r_c out on dino), crotch_reach 1: of the two listed
+// halves of the legs' shared side only (M, Q_b) is folded past 300 degrees (320.7; (Q_a, M) 166.3: the section "The
+// close pair's crease carried by a wedge"), so it gets the one wedge, after both legs' chunks are cut across. Counts
+// by hand: each leg's chunk is one closed sheet of 4 hexes with 9 edges along the leg (the axis, 4 corner and 4
+// midpoint edges), so the cut adds 2 x 4 hexes and 2 x 9 vertices, the wedge 1 hex and 2 vertices: 16 -> 25 hexes.
+// Every hex positive, the mesh valid, (M, Q_b) on three hexes (leg, wedge, leg), (Q_a, M) still on two, and the
+// wedge's two new vertices just inside the ball (within 0.95 R .. R: their step along the bisector ends on the ball, the
+// cut quads' slant along the crease then moves them a little along it).
+TEST(RawMesh, CrotchWedgeCutsTheLegsChunksAtTheCrotch) {
+    const Skeleton s = mesohex::test::dino_hip();
+    const SkeletonAnalysis an = analyze_skeleton(s);
+    const ConnectionSurfaces cs = build_connection_surfaces(s, an);
+    const BranchFrames fr = propagate_frames(s, an, cs);
+    const RawMesh raw = build_raw_mesh(s, an, cs, fr, RawMeshOptions{});
+    ASSERT_EQ(raw.mesh.hexes.size(), 16u);
+    const double r = 1.1 * s.radii[0];
+    CreaseWedgeOptions o;
+    o.min_dihedral_deg = 300;
+    o.listed_only = true;
+    o.listed = close_pair_crease_edges(s, an, raw, 60);
+    ASSERT_EQ(o.listed.size(), 2u);
+    o.crotch_reach = 1;
+    o.crotch_distance = [&](const Vec3& p, const Vec3& d) {
+        const Vec3 x = p - s.points[0];
+        const double b = dot(x, d), c = dot(x, x) - r * r;
+        return c >= 0 ? 0.0 : -b + std::sqrt(b * b - c);
+    };
+    const CreaseWedgeResult w = insert_crease_wedges(raw.mesh, o);
+    ASSERT_EQ(w.wedge_edges.size(), 1u);
+    EXPECT_EQ(w.wedge_edges[0], o.listed[1]);
+    EXPECT_EQ(w.crotch_sheets, 2);
+    EXPECT_EQ(w.mesh.hexes.size(), 16u + 8u + 1u);
+    EXPECT_EQ(w.mesh.points.size(), raw.mesh.points.size() + 18u + 2u);
+    EXPECT_TRUE(validate(w.mesh).valid());
+    EXPECT_EQ(compute_quality(w.mesh).inverted, 0);
+    const HexTopology t = compute_hex_topology(w.mesh);
+    for (std::size_t i = 0; i < 2; ++i) {
+        const auto it = std::find(t.edges.begin(), t.edges.end(), o.listed[i]);
+        ASSERT_NE(it, t.edges.end());
+        EXPECT_EQ(t.edge_valence[static_cast<std::size_t>(it - t.edges.begin())], i == 0 ? 2 : 3);
+    }
+    for (std::size_t v = w.mesh.points.size() - 2; v < w.mesh.points.size(); ++v) {
+        EXPECT_LE(distance(w.mesh.points[v], s.points[0]), r);
+        EXPECT_GT(distance(w.mesh.points[v], s.points[0]), 0.95 * r);
+    }
 }
 
 // A fat Y without a gap over 180 degrees (azimuths 0, 100, 220 degrees, 10 degrees out of one plane, centre radius 0.4,

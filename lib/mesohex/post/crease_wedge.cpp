@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <tuple>
 
 #include "mesohex/core/hex_convention.h"
 #include "mesohex/core/hex_kernels.h"
@@ -254,12 +255,21 @@ double interior_dihedral_deg(const HexMesh& mesh, const std::vector<int>& hexes_
     return deg;
 }
 
-CreaseWedgeResult insert_crease_wedges(const HexMesh& mesh, const CreaseWedgeOptions& options) {
+namespace {
+
+constexpr int kCrotchPasses = 3;
+
+CreaseWedgeResult unchanged_result(const HexMesh& mesh) {
     CreaseWedgeResult unchanged;
     unchanged.mesh = mesh;
     unchanged.first_new_vertex = static_cast<int>(mesh.points.size());
     unchanged.first_new_hex = static_cast<int>(mesh.hexes.size());
-    if (!(options.min_dihedral_deg > 0)) return unchanged;
+    return unchanged;
+}
+
+// The wedge rounds on one mesh: selection, build, drop the failed wedges and select again (up to kMaxRounds).
+CreaseWedgeResult wedge_rounds(const HexMesh& mesh, const CreaseWedgeOptions& options) {
+    const CreaseWedgeResult unchanged = unchanged_result(mesh);
     const HexTopology topo = compute_hex_topology(mesh);
     const std::vector<Crease> creases = find_creases(mesh, topo, options);
     if (creases.empty()) return unchanged;
@@ -283,6 +293,229 @@ CreaseWedgeResult insert_crease_wedges(const HexMesh& mesh, const CreaseWedgeOpt
                     banned[i] = 1;
     }
     return unchanged;
+}
+
+// The first selection on the input (no wedge built): the creases a wedge would go on.
+std::vector<Crease> first_selection(const HexMesh& mesh, const CreaseWedgeOptions& options) {
+    const HexTopology topo = compute_hex_topology(mesh);
+    const std::vector<Crease> creases = find_creases(mesh, topo, options);
+    std::vector<int> boundary_count(mesh.points.size(), 0);
+    for (const std::array<int, 4>& q : topo.boundary_quads)
+        for (int v : q) ++boundary_count[static_cast<std::size_t>(v)];
+    return select_creases(creases, std::vector<char>(creases.size(), 0), boundary_count, topo.boundary_quads.size());
+}
+
+// The three classes of four parallel local edges of a hex, each oriented the same way across it (first -> second).
+constexpr std::array<std::array<std::array<int, 2>, 4>, 3> kParallelEdges = {{
+    {{{0, 1}, {3, 2}, {4, 5}, {7, 6}}},
+    {{{0, 3}, {1, 2}, {4, 7}, {5, 6}}},
+    {{{0, 4}, {1, 5}, {2, 6}, {3, 7}}},
+}};
+
+// The sheet of hexes dual to an edge: its hexes with their class of parallel edges and whether it runs against the
+// class's orientation, and its edges (key v0 < v1) oriented from the seed's start side. ok = false when the sheet
+// meets itself (a hex twice, an edge in both orientations) or exceeds kMaxCrotchSheetHexes.
+struct Sheet {
+    std::vector<std::array<int, 3>> hexes;                   // (hex, class, reversed)
+    std::map<std::array<int, 2>, std::array<int, 2>> edges;  // key -> (from, to)
+    bool ok = true;
+};
+
+Sheet collect_sheet(const HexMesh& mesh, const VertexHexes& vh, int from, int to) {
+    Sheet sheet;
+    std::map<int, std::array<int, 2>> seen;  // hex -> (class, reversed)
+    std::vector<std::array<int, 2>> queue = {{from, to}};
+    sheet.edges[{std::min(from, to), std::max(from, to)}] = {from, to};
+    for (std::size_t qi = 0; qi < queue.size() && sheet.ok; ++qi) {
+        const int x = queue[qi][0], y = queue[qi][1];
+        for (int i = vh.begin[static_cast<std::size_t>(x)]; i < vh.begin[static_cast<std::size_t>(x) + 1]; ++i) {
+            const int h = vh.hexes[static_cast<std::size_t>(i)];
+            const std::array<int, 8>& hex = mesh.hexes[static_cast<std::size_t>(h)];
+            for (int k = 0; k < 3; ++k)
+                for (const std::array<int, 2>& p : kParallelEdges[static_cast<std::size_t>(k)]) {
+                    const int h0 = hex[static_cast<std::size_t>(p[0])], h1 = hex[static_cast<std::size_t>(p[1])];
+                    if (!((h0 == x && h1 == y) || (h0 == y && h1 == x))) continue;
+                    const int reversed = h0 == x ? 0 : 1;
+                    const auto [it, fresh] = seen.try_emplace(h, std::array<int, 2>{k, reversed});
+                    if (!fresh) {
+                        if (it->second != std::array<int, 2>{k, reversed}) sheet.ok = false;
+                        continue;
+                    }
+                    sheet.hexes.push_back({h, k, reversed});
+                    for (const std::array<int, 2>& q : kParallelEdges[static_cast<std::size_t>(k)]) {
+                        int a = hex[static_cast<std::size_t>(q[0])], b = hex[static_cast<std::size_t>(q[1])];
+                        if (reversed) std::swap(a, b);
+                        const auto [e, added] =
+                            sheet.edges.try_emplace({std::min(a, b), std::max(a, b)}, std::array<int, 2>{a, b});
+                        if (added)
+                            queue.push_back({a, b});
+                        else if (e->second != std::array<int, 2>{a, b})
+                            sheet.ok = false;
+                    }
+                }
+        }
+        if (static_cast<int>(sheet.hexes.size()) > kMaxCrotchSheetHexes) sheet.ok = false;
+    }
+    std::sort(sheet.hexes.begin(), sheet.hexes.end());
+    return sheet;
+}
+
+// Fractions (from the sheet's start side) at which the crotch cut crosses a crease end's two quad edges: the
+// distance to the domain along the end's bisector (x crotch_reach) over the uncut wedge's reach there (cap_point);
+// {-1} when the end lies outside the domain.
+double crotch_fraction(const HexMesh& mesh, int v, int v1, int v2, const Vec3& t, const CreaseWedgeOptions& options) {
+    const Vec3& p = mesh.points[static_cast<std::size_t>(v)];
+    const Vec3 d1 = mesh.points[static_cast<std::size_t>(v1)] - p, d2 = mesh.points[static_cast<std::size_t>(v2)] - p;
+    const Vec3 u1 = d1 - t * dot(d1, t), u2 = d2 - t * dot(d2, t);
+    const double gap = std::atan2(norm(cross(u1, u2)), dot(u1, u2));
+    const Vec3 bisector = normalized(normalized(u1) + normalized(u2));
+    const double reach = 0.5 * (norm(u1) + norm(u2)) / std::max(std::cos(0.5 * gap), 0.1);
+    const double room = options.crotch_distance(p, bisector) * options.crotch_reach;
+    if (!(room > 0) || !(reach > 0)) return -1;
+    return room / reach;
+}
+
+constexpr double kMinCut = 0.1, kMaxCut = 0.9;  // the cut's fraction along a crease end's quad edge
+
+// A crease end's cut on one of its quad edges: the crease vertex and the fraction from it.
+using Proposals = std::map<std::array<int, 2>, std::vector<std::pair<int, double>>>;
+
+// Cuts one sheet across (see crotch_cut): its crease ends' quad edges at their proposed fractions (the mean of the
+// proposals, clamped to [kMinCut, kMaxCut]), its other boundary edges at the mean of those, its interior edges at the
+// point nearest the centroid of the boundary cuts (clamped to [0.05, 0.95]); each hex is replaced by its part on the
+// start side and its other part appended. false (nothing cut) when every proposal is at least 1: the uncut wedge
+// stays inside the domain there.
+bool cut_sheet(const Sheet& sheet, const Proposals& proposals, const std::map<std::array<int, 2>, bool>& on_boundary,
+               HexMesh& mesh) {
+    std::map<std::array<int, 2>, double> frac;
+    double sum = 0;
+    bool needed = false;
+    for (const auto& [key, fe] : sheet.edges) {
+        const auto it = proposals.find(key);
+        if (it == proposals.end()) continue;
+        double f = 0;
+        for (const auto& [v, x] : it->second) f += v == fe[0] ? x : 1 - x;
+        f /= static_cast<double>(it->second.size());
+        needed = needed || f < 1;
+        frac[key] = std::clamp(f, kMinCut, kMaxCut);
+        sum += frac[key];
+    }
+    if (!needed) return false;
+    const double mean = sum / static_cast<double>(frac.size());
+    const auto at = [&](const std::array<int, 2>& fe, double f) {
+        const Vec3& p = mesh.points[static_cast<std::size_t>(fe[0])];
+        return p + (mesh.points[static_cast<std::size_t>(fe[1])] - p) * f;
+    };
+    Vec3 centroid{};
+    int boundary = 0;
+    for (const auto& [key, fe] : sheet.edges) {
+        if (!on_boundary.at(key)) continue;
+        const double f = frac.try_emplace(key, mean).first->second;
+        centroid += at(fe, f);
+        ++boundary;
+    }
+    if (boundary > 0) centroid = centroid / static_cast<double>(boundary);
+    std::map<std::array<int, 2>, int> id;
+    for (const auto& [key, fe] : sheet.edges) {
+        if (!frac.contains(key)) {
+            const Vec3& p = mesh.points[static_cast<std::size_t>(fe[0])];
+            const Vec3 d = mesh.points[static_cast<std::size_t>(fe[1])] - p;
+            frac[key] = std::clamp(dot(centroid - p, d) / std::max(dot(d, d), 1e-300), 0.05, 0.95);
+        }
+        id[key] = static_cast<int>(mesh.points.size());
+        mesh.points.push_back(at(fe, frac[key]));
+    }
+    for (const std::array<int, 3>& hk : sheet.hexes) {
+        const std::array<int, 8> hex = mesh.hexes[static_cast<std::size_t>(hk[0])];
+        std::array<int, 8> near = hex, far = hex;
+        for (std::array<int, 2> p : kParallelEdges[static_cast<std::size_t>(hk[1])]) {
+            if (hk[2]) std::swap(p[0], p[1]);
+            const int x = hex[static_cast<std::size_t>(p[0])], y = hex[static_cast<std::size_t>(p[1])];
+            const int n = id.at({std::min(x, y), std::max(x, y)});
+            near[static_cast<std::size_t>(p[1])] = n;
+            far[static_cast<std::size_t>(p[0])] = n;
+        }
+        mesh.hexes[static_cast<std::size_t>(hk[0])] = near;
+        mesh.hexes.push_back(far);
+    }
+    return true;
+}
+
+// The crotch cut of the creases `taken` (see CreaseWedgeOptions::crotch_distance): the cut mesh, the creases kept
+// (those whose ends lie inside the domain and whose two sheets are closed, small and disjoint from the other cut
+// sheets) and the number of sheets cut.
+struct CrotchCut {
+    HexMesh mesh;
+    std::vector<std::array<int, 2>> kept;  // crease edges (a < b), sorted
+    int sheets = 0;
+};
+
+CrotchCut crotch_cut(const HexMesh& mesh, const std::vector<Crease>& taken, const CreaseWedgeOptions& options) {
+    const VertexHexes vh = vertex_hexes(mesh);
+    std::vector<Sheet> sheets;
+    Proposals proposals;
+    std::vector<int> owner(mesh.hexes.size(), -1);  // hex -> sheet
+    CrotchCut out;
+    for (const Crease& c : taken) {
+        const Vec3 t =
+            normalized(mesh.points[static_cast<std::size_t>(c.b)] - mesh.points[static_cast<std::size_t>(c.a)]);
+        const double fa = crotch_fraction(mesh, c.a, c.a1, c.a2, t, options);
+        const double fb = crotch_fraction(mesh, c.b, c.b1, c.b2, t, options);
+        if (fa < 0 || fb < 0) continue;
+        std::array<Sheet, 2> pair = {collect_sheet(mesh, vh, c.a, c.a1), collect_sheet(mesh, vh, c.a, c.a2)};
+        bool ok = pair[0].ok && pair[1].ok;
+        std::array<int, 2> index = {-1, -1};
+        for (std::size_t i = 0; i < 2 && ok; ++i) {
+            const int first = pair[i].hexes.front()[0];
+            index[i] = owner[static_cast<std::size_t>(first)];
+            for (const std::array<int, 3>& hk : pair[i].hexes)
+                if (owner[static_cast<std::size_t>(hk[0])] != index[i]) ok = false;  // overlaps another sheet
+        }
+        if (!ok || (index[0] >= 0 && index[0] == index[1])) continue;
+        for (std::size_t i = 0; i < 2; ++i)
+            if (index[i] < 0) {
+                for (const std::array<int, 3>& hk : pair[i].hexes)
+                    owner[static_cast<std::size_t>(hk[0])] = static_cast<int>(sheets.size());
+                sheets.push_back(std::move(pair[i]));
+            }
+        for (const auto& [x, y, f] : {std::tuple{c.a, c.a1, fa}, std::tuple{c.a, c.a2, fa}, std::tuple{c.b, c.b1, fb},
+                                      std::tuple{c.b, c.b2, fb}})
+            proposals[{std::min(x, y), std::max(x, y)}].push_back({x, f});
+        out.kept.push_back({c.a, c.b});
+    }
+    std::sort(out.kept.begin(), out.kept.end());
+    out.mesh = mesh;
+    const HexTopology topo = compute_hex_topology(mesh);
+    std::map<std::array<int, 2>, bool> on_boundary;
+    for (std::size_t e = 0; e < topo.edges.size(); ++e) on_boundary[topo.edges[e]] = topo.edge_on_boundary[e];
+    for (const Sheet& sheet : sheets) out.sheets += cut_sheet(sheet, proposals, on_boundary, out.mesh) ? 1 : 0;
+    return out;
+}
+
+}  // namespace
+
+CreaseWedgeResult insert_crease_wedges(const HexMesh& mesh, const CreaseWedgeOptions& options) {
+    if (!(options.min_dihedral_deg > 0)) return unchanged_result(mesh);
+    if (!options.crotch_distance) return wedge_rounds(mesh, options);
+    std::vector<Crease> taken = first_selection(mesh, options);
+    for (int pass = 0; pass < kCrotchPasses && !taken.empty(); ++pass) {
+        const CrotchCut cut = crotch_cut(mesh, taken, options);
+        CreaseWedgeOptions wo = options;
+        wo.listed_only = true;
+        wo.listed = cut.kept;
+        CreaseWedgeResult r = wedge_rounds(cut.mesh, wo);
+        if (r.wedge_edges.empty()) break;
+        r.first_new_vertex = static_cast<int>(mesh.points.size());
+        r.first_new_hex = static_cast<int>(mesh.hexes.size());
+        r.crotch_sheets = cut.sheets;
+        if (r.wedge_edges.size() == cut.kept.size() || pass + 1 == kCrotchPasses) return r;
+        std::vector<std::array<int, 2>> got = r.wedge_edges;
+        std::sort(got.begin(), got.end());
+        std::erase_if(taken, [&](const Crease& c) {
+            return !std::binary_search(got.begin(), got.end(), std::array<int, 2>{c.a, c.b});
+        });
+    }
+    return unchanged_result(mesh);
 }
 
 }  // namespace mesohex
