@@ -464,15 +464,17 @@ TEST(MedialAxis, SpursGoShortestFirstAndTheirNodeMayThenBecomeAJoint) {
 
 // Limbs: a thick disk (radius 2, 1.2 thick) with a rod (radius 0.25) 1.5 long on each face. The angle filter cuts the
 // rods' axes off the disk's mid-sheet where they meet (the ligature from the reflex rim is seen under small angles):
-// without keep_limbs (the default) only the disk's sheet is left and the rods' ends lie 1.5 from every sphere; with it
-// both rods come back as one curve each, joined to the sheet (trees: the Euler characteristic stays).
+// without keep_limbs and cover_fraction only the disk's sheet is left and the rods' ends lie 1.5 from every sphere;
+// with keep_limbs both rods come back as one curve each, joined to the sheet (trees: the Euler characteristic stays).
 TEST(MedialAxis, RodsTheAngleFilterCutsOffAreKeptAsCurves) {
     const TriangleMesh s =
         revolve({{0, -2.1}, {0.25, -2.1}, {0.25, -0.6}, {2, -0.6}, {2, 0.6}, {0.25, 0.6}, {0.25, 2.1}, {0, 2.1}}, 32);
     expect_closed(s);
-    MedialAxisOptions on = coarse();
+    MedialAxisOptions off = coarse();
+    off.cover_fraction = 0;  // the limbs alone (the covering parts would keep the rods whole first)
+    MedialAxisOptions on = off;
     on.keep_limbs = true;
-    const MedialAxis a = compute_medial_axis(s, coarse());
+    const MedialAxis a = compute_medial_axis(s, off);
     const MedialAxis b = compute_medial_axis(s, on);
     auto reach = [](const MedialAxis& m) {  // {lowest, highest} z of a sphere centre
         std::array<double, 2> z = {1e9, -1e9};
@@ -502,6 +504,7 @@ TEST(MedialAxis, LimbsWithZeroThresholdsEnd) {
     const TriangleMesh s =
         revolve({{0, -2.1}, {0.25, -2.1}, {0.25, -0.6}, {2, -0.6}, {2, 0.6}, {0.25, 0.6}, {0.25, 2.1}, {0, 2.1}}, 32);
     MedialAxisOptions o = coarse();
+    o.cover_fraction = 0;
     o.keep_limbs = true;
     o.limb_gap = 0;
     o.limb_radius_factor = 0;
@@ -581,7 +584,9 @@ TEST(MedialAxis, PartsCoveringUncoveredSurfaceAreKeptWhole) {
         revolve({{0, -2.1}, {0.25, -2.1}, {0.25, -0.6}, {2, -0.6}, {2, 0.6}, {0.25, 0.6}, {0.25, 2.1}, {0, 2.1}}, 32);
     MedialAxisOptions o = coarse();
     o.cover_fraction = 0.01;
-    const MedialAxis a = compute_medial_axis(s, coarse());
+    MedialAxisOptions off = coarse();
+    off.cover_fraction = 0;
+    const MedialAxis a = compute_medial_axis(s, off);
     const MedialAxis m = compute_medial_axis(s, o);
     EXPECT_EQ(a.covering_parts, 0);
     EXPECT_EQ(m.covering_parts, 2);
@@ -597,7 +602,7 @@ TEST(MedialAxis, PartsCoveringUncoveredSurfaceAreKeptWhole) {
                                   extrude({{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 3)}) {
         const MedialAxis q = compute_medial_axis(p, o);
         EXPECT_EQ(q.covering_parts, 0);
-        EXPECT_EQ(q.medial, compute_medial_axis(p, coarse()).medial);
+        EXPECT_EQ(q.medial, compute_medial_axis(p, off).medial);
     }
 }
 

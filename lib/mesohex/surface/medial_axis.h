@@ -20,8 +20,8 @@
 //      side), followed by keep_parts_and_paths (wide-face parts of extent >= part_extent_factor x radius and the
 //      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off; cover_fraction > 0
 //      keeps the cut-off parts that cover enough of the surface the others leave uncovered, joined by a curve edge;
-//      keep_limbs keeps the cut-off parts longer than thick that reach uncovered surface as trees of curves (all four
-//      off by default);
+//      keep_limbs keeps the cut-off parts longer than thick that reach uncovered surface as trees of curves (all but
+//      cover_fraction off by default);
 //   4. simplification (in the spirit of Q-MAT, Li et al. 2015): every sphere carries the sphere quadric of the
 //      tangent planes at its touching samples (error of a sphere (c, r) against the plane through p with unit normal
 //      n: (n . (c - p) + r)^2); edges are collapsed cheapest first to the sphere minimizing the summed quadric, only
@@ -112,7 +112,7 @@ struct MedialAxisOptions {
     // each other, when its spheres touch at least this fraction of all surface samples that the kept spheres leave
     // uncovered (limb_gap, limb_radius_factor); in decreasing size, before the limbs (0 = off: only the largest part,
     // and what join_factor and keep_limbs add; fraction of the surface samples).
-    double cover_fraction = 0;
+    double cover_fraction = 0.01;
     double limb_gap = 0.01;           // x bbox diagonal
     double limb_radius_factor = 1.0;  // x radius of the nearest kept sphere
     // ... when its centres' bounding-box diagonal is at least this x its largest radius (a limb is longer than thick;
