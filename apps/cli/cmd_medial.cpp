@@ -41,6 +41,12 @@ void add_medial_axis_options(CLI::App* cmd, MedialAxisOptions& o, const std::str
                       "Keep the parts the angle filter cut off that are longer than thick and reach surface the "
                       "rest leaves uncovered (a finger cut off the palm), as trees of curves joined by one edge "
                       "each");
+    cmd->add_option("--cover-fraction", o.cover_fraction,
+                    prefix +
+                        "Keep whole every part the angle filter cut off whose spheres cover at least this fraction "
+                        "of the surface samples the kept parts leave uncovered, joined by one curve edge (0 = off)")
+        ->check(finite_range(0, 1))
+        ->capture_default_str();
     cmd->add_option("--join-factor", o.join_factor,
                     prefix +
                         "Join the parts the angle filter cut off to the main part by one curve edge when their "
@@ -142,12 +148,13 @@ void register_medial(CLI::App& app, int* status) {
                   << " in thin parts, " << m.thin_faces << " thin-part faces"
                   << "), " << m.inner_poles << " inner poles, " << m.voronoi_faces << " Voronoi faces kept -> "
                   << m.initial_vertices << " vertices, " << m.initial_triangles << " triangles (Euler characteristic "
-                  << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.limbs << " limbs kept ("
-                  << m.limb_branches << " branches), " << m.collapses << " collapses, " << m.thin_triangles_removed
-                  << " thin triangles to curves, " << m.pruned_tips << " tips pruned, " << m.fringe_curves
-                  << " fringe chains removed, " << m.pruned_spurs << " spurs after them, " << m.rim_moved << " of "
-                  << m.rim_border_vertices << " border vertices out to a rim (" << m.rim_sharp
-                  << " at sharp edges) (read " << ms(t0, t1) << " ms, medial " << ms(t1, t2) << " ms)\n"
+                  << m.initial_euler << "); " << m.joined_parts << " parts joined, " << m.covering_parts
+                  << " covering parts kept, " << m.limbs << " limbs kept (" << m.limb_branches << " branches), "
+                  << m.collapses << " collapses, " << m.thin_triangles_removed << " thin triangles to curves, "
+                  << m.pruned_tips << " tips pruned, " << m.fringe_curves << " fringe chains removed, "
+                  << m.pruned_spurs << " spurs after them, " << m.rim_moved << " of " << m.rim_border_vertices
+                  << " border vertices out to a rim (" << m.rim_sharp << " at sharp edges) (read " << ms(t0, t1)
+                  << " ms, medial " << ms(t1, t2) << " ms)\n"
                   << "  medial mesh: " << m.medial.points.size() << " vertices, " << m.medial.edges.size() << " edges, "
                   << m.medial.faces.size() << " triangles; " << m.sheets << " sheets, " << m.curves
                   << " curves, Euler characteristic " << m.euler << ", sheet fraction " << m.sheet_fraction << " -> "

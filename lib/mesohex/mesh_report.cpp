@@ -227,6 +227,7 @@ nlohmann::json auto_skeleton_report(const AutoSkeleton& chosen, const AutoSkelet
                               {"sheet_area", m.sheet_area},
                               {"curve_band_area", m.curve_band_area},
                               {"sheet_fraction", m.sheet_fraction},
+                              {"covering_parts", m.covering_parts},
                               {"limbs", m.limbs},
                               {"limb_branches", m.limb_branches},
                               {"rim_border_vertices", m.rim_border_vertices},

@@ -464,15 +464,17 @@ TEST(MedialAxis, SpursGoShortestFirstAndTheirNodeMayThenBecomeAJoint) {
 
 // Limbs: a thick disk (radius 2, 1.2 thick) with a rod (radius 0.25) 1.5 long on each face. The angle filter cuts the
 // rods' axes off the disk's mid-sheet where they meet (the ligature from the reflex rim is seen under small angles):
-// without keep_limbs (the default) only the disk's sheet is left and the rods' ends lie 1.5 from every sphere; with it
-// both rods come back as one curve each, joined to the sheet (trees: the Euler characteristic stays).
+// without keep_limbs and cover_fraction only the disk's sheet is left and the rods' ends lie 1.5 from every sphere;
+// with keep_limbs both rods come back as one curve each, joined to the sheet (trees: the Euler characteristic stays).
 TEST(MedialAxis, RodsTheAngleFilterCutsOffAreKeptAsCurves) {
     const TriangleMesh s =
         revolve({{0, -2.1}, {0.25, -2.1}, {0.25, -0.6}, {2, -0.6}, {2, 0.6}, {0.25, 0.6}, {0.25, 2.1}, {0, 2.1}}, 32);
     expect_closed(s);
-    MedialAxisOptions on = coarse();
+    MedialAxisOptions off = coarse();
+    off.cover_fraction = 0;  // the limbs alone (the covering parts would keep the rods whole first)
+    MedialAxisOptions on = off;
     on.keep_limbs = true;
-    const MedialAxis a = compute_medial_axis(s, coarse());
+    const MedialAxis a = compute_medial_axis(s, off);
     const MedialAxis b = compute_medial_axis(s, on);
     auto reach = [](const MedialAxis& m) {  // {lowest, highest} z of a sphere centre
         std::array<double, 2> z = {1e9, -1e9};
@@ -502,6 +504,7 @@ TEST(MedialAxis, LimbsWithZeroThresholdsEnd) {
     const TriangleMesh s =
         revolve({{0, -2.1}, {0.25, -2.1}, {0.25, -0.6}, {2, -0.6}, {2, 0.6}, {0.25, 0.6}, {0.25, 2.1}, {0, 2.1}}, 32);
     MedialAxisOptions o = coarse();
+    o.cover_fraction = 0;
     o.keep_limbs = true;
     o.limb_gap = 0;
     o.limb_radius_factor = 0;
@@ -567,6 +570,39 @@ TEST(MedialAxis, SubstantialPartsTheAngleFilterCutsOffAreJoined) {
         const MedialAxis q = compute_medial_axis(p, o);
         EXPECT_EQ(q.joined_parts, 0);
         EXPECT_EQ(q.medial, compute_medial_axis(p, coarse()).medial);
+    }
+}
+
+// Covering parts: the disk with two rods (radius 0.25, 1.5 beyond each face). The angle filter cuts the rods' axes off
+// the disk's sheet; the largest part alone leaves the rods' ends 1.5 from every sphere. Each rod's part touches the
+// samples of its rod (its side 2 pi 0.25 x 1.5 and its end: about 5 % of the surface's area each), which no sphere of
+// the disk covers (gap up to 1.5 - 0.6 > limb_gap x diag): with cover_fraction 0.01 both are kept whole, joined by one
+// edge each (no cycle added: the Euler characteristic is the default's), and reach beyond 1.2 of the 2.1. On the
+// plates (a square plate, an L-bracket) no cut-off part covers anything: the medial mesh is the default's.
+TEST(MedialAxis, PartsCoveringUncoveredSurfaceAreKeptWhole) {
+    const TriangleMesh s =
+        revolve({{0, -2.1}, {0.25, -2.1}, {0.25, -0.6}, {2, -0.6}, {2, 0.6}, {0.25, 0.6}, {0.25, 2.1}, {0, 2.1}}, 32);
+    MedialAxisOptions o = coarse();
+    o.cover_fraction = 0.01;
+    MedialAxisOptions off = coarse();
+    off.cover_fraction = 0;
+    const MedialAxis a = compute_medial_axis(s, off);
+    const MedialAxis m = compute_medial_axis(s, o);
+    EXPECT_EQ(a.covering_parts, 0);
+    EXPECT_EQ(m.covering_parts, 2);
+    std::array<double, 2> z = {1e9, -1e9};
+    for (const Vec3& p : m.medial.points) z = {std::min(z[0], p.z), std::max(z[1], p.z)};
+    EXPECT_GT(z[1], 1.2);
+    EXPECT_LT(z[0], -1.2);
+    EXPECT_EQ(m.sheets, 1);
+    EXPECT_EQ(m.curves, a.curves + 2);
+    EXPECT_EQ(m.euler, a.euler);
+    expect_sane(m, s);
+    for (const TriangleMesh& p : {extrude({{-2, -2}, {2, -2}, {2, 2}, {-2, 2}}, -0.3, 0.3),
+                                  extrude({{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 3)}) {
+        const MedialAxis q = compute_medial_axis(p, o);
+        EXPECT_EQ(q.covering_parts, 0);
+        EXPECT_EQ(q.medial, compute_medial_axis(p, off).medial);
     }
 }
 

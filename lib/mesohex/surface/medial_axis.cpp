@@ -1021,6 +1021,47 @@ int keep_limb_trees(MedialComplex& mc, const std::vector<Vec3>& samples, const S
     return limbs;
 }
 
+// Covering parts (docs/skeletons.md, "Parts that cover the shape"): the angle filter cuts the inner Voronoi complex
+// where a part's medial axis meets another's (a fuselage's axis and a wing's sheet, the two loops of a double torus),
+// and keeping only the largest part loses the others whole. In decreasing size, a part of at least min_part_vertices
+// vertices whose spheres touch at least cover_fraction x all samples that the kept spheres (the largest part and the
+// parts kept before) leave uncovered (limb_gap, limb_radius_factor) is kept whole and joined to the kept vertex
+// closest to it by one curve edge, when that segment stays inside (clearance 0.25 x radius). One edge per part: the
+// homotopy type is the disjoint union's plus a tree. Returns the number of parts kept.
+int keep_covering_parts(MedialComplex& mc, const std::vector<Vec3>& samples, const SurfaceQuery& query,
+                        const MedialAxisOptions& o, double diag) {
+    if (o.cover_fraction <= 0) return 0;
+    const std::vector<std::vector<int>> parts = complex_parts(mc);
+    if (parts.size() < 2) return 0;
+    SphereGrid kept;
+    double mean_radius = 0;
+    for (int v : parts[0]) mean_radius += mc.radius[static_cast<size_t>(v)] / static_cast<double>(parts[0].size());
+    kept.cell = std::max(mean_radius, 1e-3 * diag);
+    for (int v : parts[0]) grid_insert(kept, mc, v);
+    std::vector<int> kept_vertices = parts[0];
+    const double needed = o.cover_fraction * static_cast<double>(samples.size());
+    int joins = 0;
+    for (size_t p = 1; p < parts.size(); ++p) {
+        const std::vector<int>& part = parts[p];
+        if (static_cast<int>(part.size()) < o.min_part_vertices) break;  // sorted by size: the rest is noise too
+        const PartSamples ps = part_samples(mc, part, samples, kept);
+        const auto covers =
+            std::count_if(ps.gap.begin(), ps.gap.end(), [&](const Gap& g) { return uncovered(g, o, diag); });
+        if (static_cast<double>(covers) < needed) continue;
+        const std::array<int, 2> pair = closest_pair(mc, part, kept_vertices);
+        const int a = pair[0], b = pair[1];
+        if (a < 0 || !segment_inside(query, mc.centre[static_cast<size_t>(a)], mc.radius[static_cast<size_t>(a)],
+                                     mc.centre[static_cast<size_t>(b)], mc.radius[static_cast<size_t>(b)], 0.25))
+            continue;
+        insert_sorted(mc.neighbours[static_cast<size_t>(a)], b);
+        insert_sorted(mc.neighbours[static_cast<size_t>(b)], a);
+        for (int v : part) grid_insert(kept, mc, v);
+        kept_vertices.insert(kept_vertices.end(), part.begin(), part.end());
+        ++joins;
+    }
+    return joins;
+}
+
 // After the erosion (keep_topology): the triangle parts (vertices joined through triangles) whose extent (bounding-box
 // diagonal of their centres) is at least extent_factor x their largest radius are kept (sheets and tube bundles; the
 // small islands of wide faces at corners go), joined by the shortest curve paths (Dijkstra, edge length; free inside a
@@ -1996,6 +2037,7 @@ MedialAxis compute_medial_axis(const TriangleMesh& surface, const MedialAxisOpti
     out.joined_parts =
         join_components(mc, query, options.join_factor, options.min_part_vertices, options.join_min_extent);
     if (options.keep_topology) keep_parts_and_paths(mc, options.part_extent_factor);
+    out.covering_parts = keep_covering_parts(mc, samples, query, options, diag);
     out.limbs = keep_limb_trees(mc, samples, query, options, diag, out.limb_branches);
     keep_largest_component(mc);
     out.initial_vertices = static_cast<int>(std::count(mc.alive.begin(), mc.alive.end(), 1));

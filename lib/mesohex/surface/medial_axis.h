@@ -18,8 +18,10 @@
 //      part, which the angle cuts);
 //      with keep_topology the filter is an erosion by elementary collapses instead (narrow faces go only from a free
 //      side), followed by keep_parts_and_paths (wide-face parts of extent >= part_extent_factor x radius and the
-//      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off; keep_limbs keeps the
-//      cut-off parts longer than thick that reach uncovered surface as trees of curves (all three off by default);
+//      shortest curve paths linking them); join_factor > 0 joins parts the plain filter cut off; cover_fraction > 0
+//      keeps the cut-off parts that cover enough of the surface the others leave uncovered, joined by a curve edge;
+//      keep_limbs keeps the cut-off parts longer than thick that reach uncovered surface as trees of curves (all but
+//      cover_fraction off by default);
 //   4. simplification (in the spirit of Q-MAT, Li et al. 2015): every sphere carries the sphere quadric of the
 //      tangent planes at its touching samples (error of a sphere (c, r) against the plane through p with unit normal
 //      n: (n . (c - p) + r)^2); edges are collapsed cheapest first to the sphere minimizing the summed quadric, only
@@ -105,6 +107,12 @@ struct MedialAxisOptions {
     // 90-degree edge lies 0.41 x the sheet's radius from it). false: only the largest part is kept (off by default: it
     // changed no `auto` answer where measured; docs/sheets.md, "Limbs").
     bool keep_limbs = false;
+    // Covering parts: a part the angle filter cut off (a fuselage's axis from the wings' sheet, one loop of a double
+    // torus from the other) is kept whole, joined by one curve edge between its sphere and the kept sphere closest to
+    // each other, when its spheres touch at least this fraction of all surface samples that the kept spheres leave
+    // uncovered (limb_gap, limb_radius_factor); in decreasing size, before the limbs (0 = off: only the largest part,
+    // and what join_factor and keep_limbs add; fraction of the surface samples).
+    double cover_fraction = 0.01;
     double limb_gap = 0.01;           // x bbox diagonal
     double limb_radius_factor = 1.0;  // x radius of the nearest kept sphere
     // ... when its centres' bounding-box diagonal is at least this x its largest radius (a limb is longer than thick;
@@ -161,6 +169,7 @@ struct MedialAxis {
     int initial_vertices = 0, initial_triangles = 0;  // the medial complex before simplification
     long initial_euler = 0;                           // V - E + F of the medial complex before simplification
     int joined_parts = 0;                             // parts joined back to the main part (join_factor)
+    int covering_parts = 0;                           // cut-off parts kept whole (cover_fraction)
     int limbs = 0;                                    // cut-off parts kept as trees (limb_gap)
     int limb_branches = 0;                            // paths of those trees
     int collapses = 0;                                // edge collapses performed
