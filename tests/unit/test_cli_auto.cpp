@@ -256,6 +256,30 @@ TEST(AutoCli, HandsMesoRawMeshWithItsFingersFailsTheCheck) {
     EXPECT_NEAR(q.sj_min, 0.1057, 0.001);
 }
 
+// The same hand without the fingers' parts (--cover-fraction 0, the medial mesh before session 35): the medial
+// meso-skeleton's raw mesh is clean (0 inverted, min SJ 0.307), so auto takes it, but its finished mesh misses two
+// goals (min SJ 0.140, Hausdorff 9.67 %: the gap at the fingers). auto then finishes the curve skeleton too (min SJ
+// 0.106, Hausdorff 2.80 %, a smaller distance) and keeps it: the path that compares a finished meso mesh with the
+// curve skeleton's, its reason saying what was compared.
+TEST(AutoCli, MesoMeshMissingAGoalIsComparedWithTheCurveSkeletons) {
+    const fs::path surface = fs::path(MESOHEX_SHARED_DATA_DIR) / "surfaces" / "hand.off";
+    const fs::path out = temp_dir() / "hand_c0.mesh", report = temp_dir() / "hand_c0.json";
+    const fs::path skeleton_path = temp_dir() / "hand_c0.skeleton.obj";
+    const auto r = run_cli("auto " + surface.string() + " -o " + out.string() + " --report " + report.string() +
+                           " --cover-fraction 0 --quiet --threads 1");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const nlohmann::json rep = read_json(report);
+    EXPECT_EQ(rep["skeleton_kind"], "curve");
+    const std::string reason = rep["skeleton_decision"]["reason"];
+    EXPECT_NE(reason.find("medial meso-skeleton; its finished mesh (min / avg SJ 0.14"), std::string::npos) << reason;
+    EXPECT_NE(reason.find("better, curve skeleton kept"), std::string::npos) << reason;
+    EXPECT_TRUE(mesohex::read_skeleton(skeleton_path.string()).faces.empty());
+    const mesohex::QualityReport q = mesohex::compute_quality(mesohex::read_hex_mesh(out.string()));
+    EXPECT_EQ(q.hexes, 3264);
+    EXPECT_EQ(q.inverted, 0);
+    EXPECT_NEAR(q.sj_min, 0.1057, 0.001);
+}
+
 // torque.obj (a rounded, twisted bar): the medial axis has a sheet (fraction 0.54 -> 1 after the spur pruning) but its
 // meso raw mesh has an inverted hex, so auto takes the curve skeleton: 4 edges, 16 raw hexes, 56 padded. The level
 // rule (padded mean edge against diagonal / 16) gives one level: 448 hexes, min / avg SJ 0.600 / 0.842, Hausdorff
