@@ -474,9 +474,11 @@ void add_mesh_job_options(CLI::App* cmd, MeshJob* job) {
                        if (n == structural_alternative_flag(a)) job->options.structural_alternatives.push_back(a);
            },
            "The structural alternatives tried in this order (comma-separated: valley-trunks, slide-cut-joint, "
-           "pit-branches, crease-wedge, bridge-cover; default all five in this order)")
+           "pit-branches, crease-wedge, crotch-wedge, bridge-cover; default valley-trunks, slide-cut-joint, "
+           "pit-branches, crotch-wedge, bridge-cover)")
         ->delimiter(',')
-        ->check(CLI::IsMember({"valley-trunks", "slide-cut-joint", "pit-branches", "crease-wedge", "bridge-cover"}));
+        ->check(CLI::IsMember(
+            {"valley-trunks", "slide-cut-joint", "pit-branches", "crease-wedge", "crotch-wedge", "bridge-cover"}));
     cmd->add_option("--structural-max-finished", job->options.structural_max_finished,
                     "At most this many structural alternatives finished (0 = no limit)")
         ->check(CLI::Range(0, 64))

@@ -426,6 +426,7 @@ MeshOptions alternative_options(StructuralAlternative a, const MeshOptions& opti
             alt.finishing.crease_wedge.min_dihedral_deg = 300;
             alt.crease_wedge_pair_deg = 60;
             break;
+        case StructuralAlternative::CrotchWedge: alt.crotch_wedge_pair_deg = 60; break;
         case StructuralAlternative::BulgedBridgeCover:
             alt.pipeline.raw_mesh.cover.fraction = 1;
             alt.pipeline.raw_mesh.cover.bridge_bulge = 1.5;
@@ -435,7 +436,9 @@ MeshOptions alternative_options(StructuralAlternative a, const MeshOptions& opti
 }
 
 // Whether the alternative leaves the pipeline as the mesh kept's (only its finish input changes).
-bool finishing_only(StructuralAlternative a) { return a == StructuralAlternative::CloseCreaseWedge; }
+bool finishing_only(StructuralAlternative a) {
+    return a == StructuralAlternative::CloseCreaseWedge || a == StructuralAlternative::CrotchWedge;
+}
 
 bool finish_input_tried(const MeshRun& run, std::uint64_t hash) {
     for (const MeshAttempt& a : run.attempts)
@@ -539,6 +542,7 @@ const char* structural_alternative_name(StructuralAlternative a) {
         case StructuralAlternative::SlideCutJoint: return "slid cut joints";
         case StructuralAlternative::PitBranches: return "pit branches";
         case StructuralAlternative::CloseCreaseWedge: return "close-pair crease wedge";
+        case StructuralAlternative::CrotchWedge: return "close-pair crotch wedge";
         case StructuralAlternative::BulgedBridgeCover: return "bulged bridges covered";
     }
     return "unknown";
@@ -550,6 +554,7 @@ const char* structural_alternative_flag(StructuralAlternative a) {
         case StructuralAlternative::SlideCutJoint: return "slide-cut-joint";
         case StructuralAlternative::PitBranches: return "pit-branches";
         case StructuralAlternative::CloseCreaseWedge: return "crease-wedge";
+        case StructuralAlternative::CrotchWedge: return "crotch-wedge";
         case StructuralAlternative::BulgedBridgeCover: return "bridge-cover";
     }
     return "unknown";
@@ -557,7 +562,13 @@ const char* structural_alternative_flag(StructuralAlternative a) {
 
 std::vector<StructuralAlternative> all_structural_alternatives() {
     return {StructuralAlternative::ValleyTrunks, StructuralAlternative::SlideCutJoint,
-            StructuralAlternative::PitBranches, StructuralAlternative::CloseCreaseWedge,
+            StructuralAlternative::PitBranches,  StructuralAlternative::CloseCreaseWedge,
+            StructuralAlternative::CrotchWedge,  StructuralAlternative::BulgedBridgeCover};
+}
+
+std::vector<StructuralAlternative> default_structural_alternatives() {
+    return {StructuralAlternative::ValleyTrunks, StructuralAlternative::SlideCutJoint,
+            StructuralAlternative::PitBranches, StructuralAlternative::CrotchWedge,
             StructuralAlternative::BulgedBridgeCover};
 }
 

@@ -42,15 +42,21 @@ enum class StructuralAlternative {
     SlideCutJoint,      // AdaptationOptions::slide_cut_joint: cut joints slid away from the junction
     PitBranches,        // VirtualBranchOptions::pit_excess 0.3: a branch into the pit inside a ring of branches
     CloseCreaseWedge,   // crease wedges (300 degrees) on a close pair's crease only (crease_wedge_pair_deg 60)
+    CrotchWedge,        // the close pair's wedge only as long as the crotch (crotch_wedge_pair_deg 60)
     BulgedBridgeCover,  // JunctionCoverOptions fraction 1 with bridge_bulge 1.5: bulged bridges covered from both ends
 };
 
 // The name the report, the progress and the CLI give an alternative ("valley trunks", "slid cut joints", ...).
 const char* structural_alternative_name(StructuralAlternative a);
-// Its command-line name ("valley-trunks", "slide-cut-joint", "pit-branches", "crease-wedge", "bridge-cover").
+// Its command-line name ("valley-trunks", "slide-cut-joint", "pit-branches", "crease-wedge", "crotch-wedge",
+// "bridge-cover").
 const char* structural_alternative_flag(StructuralAlternative a);
 // Every alternative, in the enum's order.
 std::vector<StructuralAlternative> all_structural_alternatives();
+// The alternatives tried by default, in their order: valley trunks, slid cut joints, pit branches, crotch wedge,
+// bulged bridges covered (the crotch wedge in place of the crease wedge it contains: where the uncut wedge fits in the
+// domain it is the same wedge; docs/junctions.md, "Structural alternatives when the mesh kept misses").
+std::vector<StructuralAlternative> default_structural_alternatives();
 
 struct MeshOptions {
     // Radius when the skeleton file has none (in skeleton units). With a domain: radius_factor x the distance of each
@@ -124,7 +130,7 @@ struct MeshOptions {
     bool structural_retry = true;
     // structural_retry: the alternatives in the order they are tried (every one, in the enum's order: the order
     // measured, docs/junctions.md).
-    std::vector<StructuralAlternative> structural_alternatives = all_structural_alternatives();
+    std::vector<StructuralAlternative> structural_alternatives = default_structural_alternatives();
     // structural_retry: at most this many alternatives finished (count; those skipped by their hash do not count;
     // 0 = no limit). Each costs about one finish of the mesh kept.
     int structural_max_finished = 3;

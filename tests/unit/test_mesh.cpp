@@ -244,7 +244,7 @@ TEST(MeshSkeleton, StructuralAlternativesSkippedWhenTheyChangeNothing) {
               (std::vector<std::string>{"valley trunks: the same finish input as an attempt finished",
                                         "slid cut joints: the same finish input as an attempt finished",
                                         "pit branches: the same finish input as an attempt finished",
-                                        "close-pair crease wedge: the same finish input as an attempt finished",
+                                        "close-pair crotch wedge: the same finish input as an attempt finished",
                                         "bulged bridges covered: the same finish input as an attempt finished"}));
     EXPECT_EQ(run.structural->kept, "");
     EXPECT_EQ(run.structural->stop, "all tried");
