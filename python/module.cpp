@@ -440,9 +440,9 @@ MeshCall mesh_call(const py::kwargs& kwargs, bool with_radius) {
             if (flag()) o.finishing.untangle = false;
         } else if (key == "no_smooth")
             o.finishing.smooth = !flag();
-        else if (key == "no_retry")
-            o.retry = !flag();
-        else if (key == "no_trim_tips")
+        else if (key == "no_retry") {
+            if (flag()) o.retry = o.structural_retry = false;  // as the CLI's --no-retry: one attempt
+        } else if (key == "no_trim_tips")
             o.trim_unheld_tips = !flag();
         else if (key == "iterations")
             o.finishing.fitting.max_iterations = py::cast<int>(value);
@@ -554,7 +554,8 @@ MeshResult auto_py(const py::object& surface_arg, const std::string& output, con
                    const std::string& skeleton, const py::kwargs& kwargs) {
     if (skeleton != "auto" && skeleton != "curve" && skeleton != "meso")
         throw Error(ErrorCode::InvalidInput, "skeleton must be 'auto', 'curve' or 'meso', not '" + skeleton + "'");
-    const MeshCall call = mesh_call(kwargs, false);
+    MeshCall call = mesh_call(kwargs, false);
+    call.options.structural_retry = false;  // as `mesohex auto`: off until measured on its surfaces
     ThreadLimit limit(call.threads);
     MeshNames names{"", "", output, report};
     std::string report_text;

@@ -169,18 +169,25 @@ int max_attempts(const MeshRun& run, const MeshOptions& options) {
            (options.refine_to_distance ? options.distance_max_levels : 0);
 }
 
-// What the next attempt is called: `what`, after "paper's fan layout, " in the paper's layout after the fan blocks'.
-std::string attempt_name(const MeshRun& run, const MeshOptions& options, const std::string& what) {
-    const bool paper_after_blocks = !run.attempts.empty() && run.attempts.front().fan_blocks > 0 &&
-                                    !options.pipeline.connection_surfaces.blocks.fan_blocks;
+// What the next attempt, meshed with `pipeline`, is called: `what`, after "paper's fan layout, " in the paper's layout
+// after the fan blocks'.
+std::string attempt_name(const MeshRun& run, const PipelineOptions& pipeline, const std::string& what) {
+    const bool paper_after_blocks =
+        !run.attempts.empty() && run.attempts.front().fan_blocks > 0 && !pipeline.connection_surfaces.blocks.fan_blocks;
     return paper_after_blocks ? "paper's fan layout, " + what : what;
 }
 
-// Reports the start of the next finishing attempt (numbered from 1 in the order they run, both layouts together).
-void report_attempt(const MeshRun& run, const MeshOptions& options, const std::string& what) {
+// Reports the start of the next finishing attempt (numbered from 1 in the order they run, both layouts together),
+// meshed with `pipeline`.
+void report_attempt(const MeshRun& run, const MeshOptions& options, const PipelineOptions& pipeline,
+                    const std::string& what) {
     if (!options.progress) return;
     options.progress({"attempt", static_cast<int>(run.attempts.size()) + 1, max_attempts(run, options), 0, 0,
-                      attempt_name(run, options, what)});
+                      attempt_name(run, pipeline, what)});
+}
+
+void report_attempt(const MeshRun& run, const MeshOptions& options, const std::string& what) {
+    report_attempt(run, options, options.pipeline, what);
 }
 
 std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t bytes) {
@@ -212,7 +219,7 @@ std::uint64_t finish_input_hash(const HexMesh& raw, const FinishOptions& fo) {
 int record_attempt(MeshRun& run, const MeshOptions& options, const std::string& what, const PipelineOptions& pipeline,
                    const PipelineResult& raw, const FinishResult& f, const FinishOptions& fo) {
     MeshAttempt a = attempt_of(pipeline, raw, f, options.goals);
-    a.what = attempt_name(run, options, what);
+    a.what = attempt_name(run, pipeline, what);
     a.finish_input = finish_input_hash(raw.raw.mesh, fo);
     run.attempts.push_back(std::move(a));
     return static_cast<int>(run.attempts.size()) - 1;
@@ -287,7 +294,7 @@ FinishResult finish_one_level_finer(MeshRun& run, const TriangleMesh& domain, co
     MeshOptions finer = options;
     finer.finishing.levels = run.finish->subdivision_levels + 1;
     if (run.finish->pad_mode == "all") finer.finishing.pad_selective = false;
-    report_attempt(run, options, why);
+    report_attempt(run, options, run.options, why);
     const FinishOptions fo = finishing_options(finer, run.pipeline);
     FinishResult finished = finish_mesh(run.pipeline.raw.mesh, domain, fo);
     record_attempt(run, options, why, run.options, run.pipeline, finished, fo);
@@ -469,8 +476,17 @@ void try_alternative(MeshRun& run, StructuralAlternative a, const Skeleton& skel
         sr.skipped.push_back(name + ": the same finish input as an attempt finished");
         return;
     }
-    report_attempt(run, options, name);
-    FinishResult finished = finish_mesh(raw.raw.mesh, domain, fo);
+    report_attempt(run, options, alt.pipeline, name);
+    std::optional<FinishResult> result;
+    try {
+        result = finish_mesh(raw.raw.mesh, domain, fo);
+    } catch (const Error& e) {
+        // The input finished once already: a failure here is the alternative's (e.g. the fit's factorization on its
+        // mesh), not the run's.
+        sr.skipped.push_back(name + ": failed in the finish (" + e.what() + ")");
+        return;
+    }
+    FinishResult& finished = *result;
     const int index = record_attempt(run, options, name, alt.pipeline, raw, finished, fo);
     sr.finished.push_back(name);
     // Ranked by the goals' shortfall whatever retry_by_shortfall says: another structure trades min SJ for distance

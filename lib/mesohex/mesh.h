@@ -121,15 +121,15 @@ struct MeshOptions {
     // (with the padding mode the mesh kept has), the better kept by better_finish_by_shortfall (whatever
     // retry_by_shortfall says: the mesh that misses the goals by less overall; one that meets every goal always
     // wins). Each alternative starts from the mesh kept so far. One whose raw mesh and finish input equal an attempt's
-    // already finished (compared by hash) is skipped without a finish; one the pipeline refuses (a mesohex::Error) is
-    // skipped. It stops at the first mesh kept that meets every goal (unless structural_try_all), and does not run
+    // already finished (compared by hash) is skipped without a finish; one the pipeline refuses or whose finish fails (a
+    // mesohex::Error) is skipped. It stops at the first mesh kept that meets every goal (unless structural_try_all), and does not run
     // when the mesh kept has more than retry_max_hexes hexes, nor without a fit, nor without resampling; with
     // finishing.max_hexes > 0 it stops before an alternative when the hexes finished by all attempts plus the mesh
     // kept's would exceed it. A mesh that meets every goal after the attempts above is untouched (no attempt added).
     // What ran and why: MeshRun::structural (docs/junctions.md, "Structural alternatives when the mesh kept misses").
     bool structural_retry = true;
-    // structural_retry: the alternatives in the order they are tried (every one, in the enum's order: the order
-    // measured, docs/junctions.md).
+    // structural_retry: the alternatives in the order they are tried (by default every one but the crease wedge,
+    // whose place the crotch wedge takes, in the enum's order: the order measured, docs/junctions.md).
     std::vector<StructuralAlternative> structural_alternatives = default_structural_alternatives();
     // structural_retry: at most this many alternatives finished (count; those skipped by their hash do not count;
     // 0 = no limit). Each costs about one finish of the mesh kept.
@@ -157,7 +157,9 @@ struct MeshOptions {
     // Keep the raw mesh's topology (computed for its quality anyway) in MeshRun::raw_topology: for a caller that
     // draws its singular edges and boundary (the studio). false = dropped after the quality (memory).
     bool keep_raw_topology = false;
-    std::function<void(const MeshProgress&)> progress;  // may be empty; may throw to cancel (the exception propagates)
+    // May be empty; may throw to cancel (the exception propagates), with anything but a mesohex::Error: one thrown
+    // during a structural alternative's finish is that alternative's failure, a skip (structural_retry).
+    std::function<void(const MeshProgress&)> progress;
 };
 
 // One finished attempt, as the report lists it.

@@ -86,6 +86,26 @@ def test_errors_carry_the_exit_status(plate, tmp_path):
     assert not (tmp_path / "m.stl").exists()
 
 
+def test_no_retry_is_one_attempt(tmp_path):
+    """no_retry=True is the CLI's --no-retry: one attempt, no structural alternative either. A segment along the axis
+    of a 4 x 1 x 1 box, one level: the first mesh misses a goal (tests/unit/test_mesh.cpp,
+    StructuralAlternativesSkippedWhenTheyChangeNothing), so by default it is finished fully padded too and the
+    structural alternatives are considered."""
+    (tmp_path / "seg.obj").write_text("v 0.5 0.5 0.5\nv 3.5 0.5 0.5\nl 1 2\n")
+    pts = [(0, 0, 0), (4, 0, 0), (4, 1, 0), (0, 1, 0), (0, 0, 1), (4, 0, 1), (4, 1, 1), (0, 1, 1)]
+    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    tris = [t for q in quads for t in ((q[0], q[1], q[2]), (q[0], q[2], q[3]))]
+    (tmp_path / "box.off").write_text("OFF\n8 12 0\n" + "".join("%d %d %d\n" % p for p in pts) +
+                                      "".join("3 %d %d %d\n" % t for t in tris))
+    args = (str(tmp_path / "seg.obj"), str(tmp_path / "box.off"))
+    default = mesohex.mesh(*args, levels=1, threads=1).report
+    assert [a["what"] for a in default["attempts"]] == ["first", "fully padded"]
+    assert "structural_retry" in default
+    one = mesohex.mesh(*args, levels=1, threads=1, no_retry=True).report
+    assert [a["what"] for a in one["attempts"]] == ["first"] and one["kept_attempt"] == 0
+    assert "structural_retry" not in one
+
+
 def test_auto_on_a_capsule(tmp_path):
     capsule = mesohex.thicken(mesohex.Skeleton(np.array([[0, 0, 0], [4, 0, 0]], dtype=float), np.array([[0, 1]]),
                                                radii=np.array([0.6, 0.6])), resolution=3)

@@ -299,6 +299,45 @@ TEST(MeshSkeleton, StructuralAlternativeFinishedAndTheBetterKept) {
     EXPECT_EQ(met.mesh(), first.mesh());
 }
 
+// An alternative whose finish throws a mesohex::Error (here from the progress callback in its finish, as a fit whose
+// factorization fails would) is skipped: the run ends with the mesh kept before it, as without the alternative. Any
+// other exception (a caller's cancellation) propagates.
+TEST(MeshSkeleton, StructuralAlternativeWhoseFinishFailsIsSkipped) {
+    const Skeleton y = close_pair_y();
+    ThickenOptions t;
+    t.cells_per_radius = 3;
+    const TriangleMesh domain = thicken(y, t);
+    MeshOptions o;
+    o.retry = false;
+    o.finishing.levels = 1;
+    o.goals.sj_min = 1.0;
+    o.structural_alternatives = {StructuralAlternative::CloseCreaseWedge};
+    MeshOptions plain = o;
+    plain.structural_retry = false;
+    const MeshRun first = mesh_in_domain(y, domain, plain);
+    bool in_wedge = false;  // shared by the callback's copies (the run copies its options)
+    const auto failing = [&in_wedge](bool mesohex_error) {
+        return [mesohex_error, &in_wedge](const MeshProgress& p) {
+            if (p.stage == "attempt") in_wedge = p.what == "close-pair crease wedge";
+            if (!in_wedge || p.stage == "attempt") return;  // the wedge's first finishing stage that reports
+            if (mesohex_error) throw Error(ErrorCode::NumericalFailure, "test: the fit failed");
+            throw std::runtime_error("test: cancelled");
+        };
+    };
+    o.progress = failing(true);
+    const MeshRun run = mesh_in_domain(y, domain, o);
+    ASSERT_EQ(run.attempts.size(), 1u);
+    EXPECT_EQ(run.kept_attempt, 0);
+    ASSERT_TRUE(run.structural.has_value());
+    EXPECT_TRUE(run.structural->finished.empty());
+    EXPECT_EQ(run.structural->skipped,
+              (std::vector<std::string>{"close-pair crease wedge: failed in the finish (test: the fit failed)"}));
+    EXPECT_EQ(run.structural->stop, "all tried");
+    EXPECT_EQ(run.mesh(), first.mesh());
+    o.progress = failing(false);
+    EXPECT_THROW(mesh_in_domain(y, domain, o), std::runtime_error);
+}
+
 // MeshOptions::finer_retry: the tube in its box misses a goal after its attempts (first, fully padded) at the level the
 // finishing chose; its kept raw mesh is finished once more one level finer (8 x the hexes: uniform subdivision), the
 // seventh attempt
