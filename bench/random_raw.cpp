@@ -26,11 +26,11 @@
 //   cover.fraction (JUNCTION_INSET=F cover.inset, JUNCTION_CREASE=DEG cover.crease_deg, JUNCTION_CREASE_MID=0|1 its
 //   crease_midpoints, JUNCTION_CREASE_PAIR=DEG its crease_pair_deg, JUNCTION_COVER_MIN_DEGREE and JUNCTION_COVER_FLOOR
 //   its min_degree and sj_floor, JUNCTION_COVER_BULGE its bridge_bulge, JUNCTION_COVER_OVERLAP its bridge_overlap),
-//   BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius (BRIDGE_QUAD_INSET=F its bridge_quad_inset), FAN_CAP_BRANCHES=0|1
-//   CompatibleBlockOptions::fan_cap_branches. CREASE_WEDGE=DEG lists, before the seed's line, the wedges finish_mesh
-//   would insert with FinishOptions::crease_wedge at DEG (one line "  wedge SEED edge A B at vC degree D" each;
-//   CREASE_WEDGE_PAIR=DEG2 restricts them as MeshOptions::crease_wedge_pair_deg does); the raw mesh and its hash are
-//   unchanged. The last three columns: stubs kept as side branches, degree-4 branching points split, and a
+//   BRIDGE_QUAD=0|1 RawMeshOptions::bridge_quad_radius (BRIDGE_QUAD_INSET=F its bridge_quad_inset),
+//   FAN_CAP_BRANCHES=0|1 CompatibleBlockOptions::fan_cap_branches. CREASE_WEDGE=DEG lists, before the seed's line, the
+//   wedges finish_mesh would insert with FinishOptions::crease_wedge at DEG (one line "  wedge SEED edge A B at vC
+//   degree D" each; CREASE_WEDGE_PAIR=DEG2 restricts them as MeshOptions::crease_wedge_pair_deg does); the raw mesh and
+//   its hash are unchanged. The last three columns: stubs kept as side branches, degree-4 branching points split, and a
 //   hash of the raw mesh (compare two builds or option sets seed by seed to find the seeds a change touches).
 //
 // FAMILY=character takes the character family's skeletons (generate_character_skeleton) instead of the mixed

@@ -121,12 +121,13 @@ struct MeshOptions {
     // (with the padding mode the mesh kept has), the better kept by better_finish_by_shortfall (whatever
     // retry_by_shortfall says: the mesh that misses the goals by less overall; one that meets every goal always
     // wins). Each alternative starts from the mesh kept so far. One whose raw mesh and finish input equal an attempt's
-    // already finished (compared by hash) is skipped without a finish; one the pipeline refuses or whose finish fails (a
-    // mesohex::Error) is skipped. It stops at the first mesh kept that meets every goal (unless structural_try_all), and does not run
-    // when the mesh kept has more than retry_max_hexes hexes, nor without a fit, nor without resampling; with
-    // finishing.max_hexes > 0 it stops before an alternative when the hexes finished by all attempts plus the mesh
-    // kept's would exceed it. A mesh that meets every goal after the attempts above is untouched (no attempt added).
-    // What ran and why: MeshRun::structural (docs/junctions.md, "Structural alternatives when the mesh kept misses").
+    // already finished (compared by hash) is skipped without a finish; one the pipeline refuses or whose finish fails
+    // (a mesohex::Error) is skipped. It stops at the first mesh kept that meets every goal (unless structural_try_all),
+    // and does not run when the mesh kept has more than retry_max_hexes hexes, nor without a fit, nor without
+    // resampling; with finishing.max_hexes > 0 it stops before an alternative when the hexes finished by all attempts
+    // plus the mesh kept's would exceed it. A mesh that meets every goal after the attempts above is untouched (no
+    // attempt added). What ran and why: MeshRun::structural (docs/junctions.md, "Structural alternatives when the mesh
+    // kept misses").
     bool structural_retry = true;
     // structural_retry: the alternatives in the order they are tried (by default every one but the crease wedge,
     // whose place the crotch wedge takes, in the enum's order: the order measured, docs/junctions.md).

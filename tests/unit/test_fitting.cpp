@@ -466,8 +466,8 @@ TEST(Fitting, SamplesOnASurfaceFacingAwayDoNotPull) {
 // The block [-1, 1]^2 x [0, 2] (4 x 4 x 4 cubes of edge 0.5, a tube's stand-in) in the flat box [-6, 6] x [-1, 1] x
 // [0, 2], whose end faces lie 5 away from the block's (10 edges): only the two-sided pull reaches them. The default fit
 // gets there, every hex a 3 x 0.5 x 0.5 box (scaled Jacobian 1), through a transient in which some hex dips below 0.3
-// (measured 0.10). With two_sided_floor 0.3 no hex goes below min(its SJ at the last one-sided step, 0.3) at any step of
-// the two-sided phase, and the fit stops short of the end faces (measured gap 0.75): the floor also holds back dips
+// (measured 0.10). With two_sided_floor 0.3 no hex goes below min(its SJ at the last one-sided step, 0.3) at any step
+// of the two-sided phase, and the fit stops short of the end faces (measured gap 0.75): the floor also holds back dips
 // that would recover (docs/sheets.md, "The fit's crush traced").
 TEST(Fitting, TwoSidedFloorHoldsEveryHexDuringTheTwoSidedPhase) {
     HexMesh block = make_block(4, 4, 4);

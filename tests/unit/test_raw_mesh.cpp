@@ -1168,8 +1168,8 @@ TEST(RawMesh, ClosePairCreaseEdgesAreTheHalvesOfTheLegsSharedSide) {
 // by hand: each leg's chunk is one closed sheet of 4 hexes with 9 edges along the leg (the axis, 4 corner and 4
 // midpoint edges), so the cut adds 2 x 4 hexes and 2 x 9 vertices, the wedge 1 hex and 2 vertices: 16 -> 25 hexes.
 // Every hex positive, the mesh valid, (M, Q_b) on three hexes (leg, wedge, leg), (Q_a, M) still on two, and the
-// wedge's two new vertices just inside the ball (within 0.95 R .. R: their step along the bisector ends on the ball, the
-// cut quads' slant along the crease then moves them a little along it).
+// wedge's two new vertices just inside the ball (within 0.95 R .. R: their step along the bisector ends on the ball,
+// the cut quads' slant along the crease then moves them a little along it).
 TEST(RawMesh, CrotchWedgeCutsTheLegsChunksAtTheCrotch) {
     const Skeleton s = mesohex::test::dino_hip();
     const SkeletonAnalysis an = analyze_skeleton(s);
@@ -2144,14 +2144,14 @@ TEST(JunctionCover, BulgedBridgeIsCoveredFromBothEnds) {
 }
 
 // Overlapping bridge ends (JunctionCoverOptions::bridge_overlap): branching points A = (0, 0, 0), r 0.3, and
-// B = (0.4, 0, 0), r 0.2, each with two one-edge limbs 0.6 long at 50 degrees off its outward direction in the x-y plane
-// (extremity radius 0.1). (r_A + r_B) / |AB| = 0.5 / 0.4 = 1.25: both ends are marked at ratio 1.2 and 1.25 (the
+// B = (0.4, 0, 0), r 0.2, each with two one-edge limbs 0.6 long at 50 degrees off its outward direction in the x-y
+// plane (extremity radius 0.1). (r_A + r_B) / |AB| = 0.5 / 0.4 = 1.25: both ends are marked at ratio 1.2 and 1.25 (the
 // comparison is >=), nothing at 1.3; the same bridge meshed through a joint J = (0.2, 0, 0) is judged by its ends'
 // chord (the same marks). On paper the raw mesh has 5 branch edges x 4 hexes = 20 hexes, the prediction, whatever the
 // cover does, and is one ball (Euler characteristic 1). Covered at ratio 1.2 (fraction 1, the skeleton's own balls as
 // the domain), no hex is inverted or below min(0.3, before), every extremity's raw point stays, and A's points reach
-// past its sphere (the ray from A along the bridge leaves the union only at B's far side, 0.6 from A); at ratio 1.3
-// the raw mesh is exactly the cover off.
+// past its sphere (the ray from A along the bridge leaves the union only at B's far side, 0.6 from A); at ratio 1.3 the
+// raw mesh is exactly the cover off.
 TEST(JunctionCover, OverlappingBridgeIsCoveredFromBothEnds) {
     const double a = 50 * std::numbers::pi / 180, arm = 0.6;
     Skeleton s;

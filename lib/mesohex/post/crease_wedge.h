@@ -72,8 +72,8 @@ struct CreaseWedgeResult {
 // without it (up to 8 rounds). Off (min_dihedral_deg <= 0) or no crease: the input, unchanged.
 // With options.crotch_distance: first the crotch cut (see there), then the same on the cut mesh for the creases it
 // kept (up to 3 passes, each from the input, cutting only the sheets of the previous pass's wedges).
-// Postconditions: hex count = input + cut hexes + wedge_edges.size(); every new hex has scaled Jacobian >= min_sj and its new
-// vertices pass keep_vertex; input hexes and vertices unchanged. Complexity: O(#hexes log #hexes) per round.
+// Postconditions: hex count = input + cut hexes + wedge_edges.size(); every new hex has scaled Jacobian >= min_sj and
+// its new vertices pass keep_vertex; input hexes and vertices unchanged. Complexity: O(#hexes log #hexes) per round.
 CreaseWedgeResult insert_crease_wedges(const HexMesh& mesh, const CreaseWedgeOptions& options = {});
 
 // The interior dihedral of the edge (a, b), in degrees: the sum over the hexes containing it of the angle between the

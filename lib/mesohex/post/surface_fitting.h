@@ -76,9 +76,9 @@ struct FitOptions {
     int two_sided_every = 2;        // the samples with the boundary again every this many steps
     double reach = 0.5;             // a boundary target is at most reach x Lbar from its vertex (0 = no limit)
     // Scaled Jacobian (dimensionless, 0 = off): from the first two-sided step on, the guard's floor of every hex is
-    // raised to min(its SJ at that step, two_sided_floor) where that is above its own floor (sj_guard): the pull towards
-    // surface samples the boundary does not reach (corners of the domain far from the raw mesh, the far side of a thin
-    // part) may then not take a hex below it, while the one-sided phase before keeps the lower floor.
+    // raised to min(its SJ at that step, two_sided_floor) where that is above its own floor (sj_guard): the pull
+    // towards surface samples the boundary does not reach (corners of the domain far from the raw mesh, the far side of
+    // a thin part) may then not take a hex below it, while the one-sided phase before keeps the lower floor.
     double two_sided_floor = 0;
     // Cosine (dimensionless): a closest surface point whose outward normal is more than acos(facing_limit) (120
     // degrees) away from the boundary vertex's outward normal lies on a part of the surface that faces the other
