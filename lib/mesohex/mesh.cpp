@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -455,8 +456,17 @@ bool finish_input_tried(const MeshRun& run, std::uint64_t hash) {
 
 // One structural alternative on a run whose mesh kept misses a goal: meshed, finished once unless its finish input
 // was finished already (then the reason goes to run.structural->skipped), the better kept.
+// The hexes an alternative's finish would give, estimated from the mesh kept: its finished hexes scaled by the ratio
+// of the raw hexes (the same levels and padding mode; the padding layer about proportional too).
+long estimated_finished_hexes(const MeshRun& run, const PipelineResult& raw) {
+    const double kept_raw = static_cast<double>(std::max<std::size_t>(run.pipeline.raw.mesh.hexes.size(), 1));
+    return static_cast<long>(std::ceil(static_cast<double>(run.finish->quality.hexes) *
+                                       static_cast<double>(raw.raw.mesh.hexes.size()) / kept_raw));
+}
+
+// budget_left: the hexes the alternative's finish may still give under finishing.max_hexes (< 0: no limit).
 void try_alternative(MeshRun& run, StructuralAlternative a, const Skeleton& skeleton, const TriangleMesh& domain,
-                     const MeshOptions& options) {
+                     const MeshOptions& options, long budget_left) {
     StructuralRetry& sr = *run.structural;
     const std::string name = structural_alternative_name(a);
     MeshOptions alt = alternative_options(a, options, run.options);
@@ -474,6 +484,11 @@ void try_alternative(MeshRun& run, StructuralAlternative a, const Skeleton& skel
     const FinishOptions fo = finishing_options(alt, raw);
     if (finish_input_tried(run, finish_input_hash(raw.raw.mesh, fo))) {
         sr.skipped.push_back(name + ": the same finish input as an attempt finished");
+        return;
+    }
+    if (const long estimate = estimated_finished_hexes(run, raw); budget_left >= 0 && estimate > budget_left) {
+        sr.skipped.push_back(name + ": over the hex budget (about " + std::to_string(estimate) + " hexes, " +
+                             std::to_string(budget_left) + " left)");
         return;
     }
     report_attempt(run, options, alt.pipeline, name);
@@ -527,7 +542,8 @@ void retry_structural(MeshRun& run, const Skeleton& skeleton, const TriangleMesh
             return;
         }
         const std::size_t before = run.attempts.size();
-        try_alternative(run, a, skeleton, domain, options);
+        const long budget_left = options.finishing.max_hexes > 0 ? options.finishing.max_hexes - finished : -1;
+        try_alternative(run, a, skeleton, domain, options, budget_left);
         if (run.attempts.size() > before) finished += run.attempts.back().hexes;
         if (!options.structural_try_all && missed_goals(*run.finish, options.goals) == 0) {
             sr.stop = "goals met";

@@ -125,7 +125,8 @@ struct MeshOptions {
     // (a mesohex::Error) is skipped. It stops at the first mesh kept that meets every goal (unless structural_try_all),
     // and does not run when the mesh kept has more than retry_max_hexes hexes, nor without a fit, nor without
     // resampling; with finishing.max_hexes > 0 it stops before an alternative when the hexes finished by all attempts
-    // plus the mesh kept's would exceed it. A mesh that meets every goal after the attempts above is untouched (no
+    // plus the mesh kept's would exceed it, and skips one whose finish would (estimated: the mesh kept's hexes x the
+    // ratio of the raw hexes). A mesh that meets every goal after the attempts above is untouched (no
     // attempt added). What ran and why: MeshRun::structural (docs/junctions.md, "Structural alternatives when the mesh
     // kept misses").
     bool structural_retry = true;
