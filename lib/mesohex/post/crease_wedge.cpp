@@ -152,16 +152,31 @@ std::vector<Crease> select_creases(const std::vector<Crease>& creases, const std
     return taken;
 }
 
-// The new vertex's position proposed by one wedge end v (v1 in q1, v2 in q2, t the unit edge direction): on the
-// bisector of the two quads' directions perpendicular to the edge, where the cross-section has right angles at v1, v2.
-Vec3 cap_point(const HexMesh& mesh, int v, int v1, int v2, const Vec3& t) {
+// One wedge end v (v1 in q1, v2 in q2, t the unit edge direction): the bisector of the two quads' directions
+// perpendicular to the edge, the reach along it where the cross-section has right angles at v1, v2, and the mean of
+// v1's and v2's offsets along the edge.
+struct WedgeRay {
+    Vec3 bisector;
+    double reach = 0;
+    double along = 0;
+};
+
+WedgeRay wedge_ray(const HexMesh& mesh, int v, int v1, int v2, const Vec3& t) {
     const Vec3& p = mesh.points[static_cast<std::size_t>(v)];
     const Vec3 d1 = mesh.points[static_cast<std::size_t>(v1)] - p, d2 = mesh.points[static_cast<std::size_t>(v2)] - p;
     const Vec3 u1 = d1 - t * dot(d1, t), u2 = d2 - t * dot(d2, t);
     const double gap = std::atan2(norm(cross(u1, u2)), dot(u1, u2));
-    const Vec3 bisector = normalized(normalized(u1) + normalized(u2));
-    const double reach = 0.5 * (norm(u1) + norm(u2)) / std::max(std::cos(0.5 * gap), 0.1);
-    return p + bisector * reach + t * (0.5 * (dot(d1, t) + dot(d2, t)));
+    WedgeRay ray;
+    ray.bisector = normalized(normalized(u1) + normalized(u2));
+    ray.reach = 0.5 * (norm(u1) + norm(u2)) / std::max(std::cos(0.5 * gap), 0.1);
+    ray.along = 0.5 * (dot(d1, t) + dot(d2, t));
+    return ray;
+}
+
+// The new vertex's position proposed by one wedge end v: on its ray's bisector at the reach (wedge_ray).
+Vec3 cap_point(const HexMesh& mesh, int v, int v1, int v2, const Vec3& t) {
+    const WedgeRay ray = wedge_ray(mesh, v, v1, v2, t);
+    return mesh.points[static_cast<std::size_t>(v)] + ray.bisector * ray.reach + t * ray.along;
 }
 
 struct Built {
@@ -364,15 +379,11 @@ Sheet collect_sheet(const HexMesh& mesh, const VertexHexes& vh, int from, int to
 // distance to the domain along the end's bisector (x crotch_reach) over the uncut wedge's reach there (cap_point);
 // {-1} when the end lies outside the domain.
 double crotch_fraction(const HexMesh& mesh, int v, int v1, int v2, const Vec3& t, const CreaseWedgeOptions& options) {
-    const Vec3& p = mesh.points[static_cast<std::size_t>(v)];
-    const Vec3 d1 = mesh.points[static_cast<std::size_t>(v1)] - p, d2 = mesh.points[static_cast<std::size_t>(v2)] - p;
-    const Vec3 u1 = d1 - t * dot(d1, t), u2 = d2 - t * dot(d2, t);
-    const double gap = std::atan2(norm(cross(u1, u2)), dot(u1, u2));
-    const Vec3 bisector = normalized(normalized(u1) + normalized(u2));
-    const double reach = 0.5 * (norm(u1) + norm(u2)) / std::max(std::cos(0.5 * gap), 0.1);
-    const double room = options.crotch_distance(p, bisector) * options.crotch_reach;
-    if (!(room > 0) || !(reach > 0)) return -1;
-    return room / reach;
+    const WedgeRay ray = wedge_ray(mesh, v, v1, v2, t);
+    const double room =
+        options.crotch_distance(mesh.points[static_cast<std::size_t>(v)], ray.bisector) * options.crotch_reach;
+    if (!(room > 0) || !(ray.reach > 0)) return -1;
+    return room / ray.reach;
 }
 
 constexpr double kMinCut = 0.1, kMaxCut = 0.9;  // the cut's fraction along a crease end's quad edge

@@ -974,6 +974,16 @@ void keep_tree_of_part(MedialComplex& mc, const std::vector<int>& part, const st
     insert_sorted(mc.neighbours[static_cast<size_t>(anchor)], root);
 }
 
+// A grid of one part's spheres, its step the part's mean radius (at least 1e-3 x diag).
+SphereGrid part_grid(const MedialComplex& mc, const std::vector<int>& part, double diag) {
+    SphereGrid grid;
+    double mean_radius = 0;
+    for (int v : part) mean_radius += mc.radius[static_cast<size_t>(v)] / static_cast<double>(part.size());
+    grid.cell = std::max(mean_radius, 1e-3 * diag);
+    for (int v : part) grid_insert(grid, mc, v);
+    return grid;
+}
+
 // Limbs (docs/sheets.md, "Limbs the angle filter cut off"): every part the angle filter cut off the largest one, in
 // decreasing size, whose spheres touch a surface sample that the kept spheres (the largest part and the limbs kept
 // before) leave uncovered (gap above limb_gap x diag and limb_radius_factor x the nearest kept radius) is kept as a
@@ -986,11 +996,7 @@ int keep_limb_trees(MedialComplex& mc, const std::vector<Vec3>& samples, const S
     if (!o.keep_limbs) return 0;
     std::vector<std::vector<int>> parts = complex_parts(mc);
     if (parts.size() < 2) return 0;
-    SphereGrid kept;
-    double mean_radius = 0;
-    for (int v : parts[0]) mean_radius += mc.radius[static_cast<size_t>(v)] / static_cast<double>(parts[0].size());
-    kept.cell = std::max(mean_radius, 1e-3 * diag);
-    for (int v : parts[0]) grid_insert(kept, mc, v);
+    SphereGrid kept = part_grid(mc, parts[0], diag);
     std::vector<int> kept_vertices = parts[0];
     int limbs = 0;
     for (size_t p = 1; p < parts.size(); ++p) {
@@ -1033,11 +1039,7 @@ int keep_covering_parts(MedialComplex& mc, const std::vector<Vec3>& samples, con
     if (o.cover_fraction <= 0) return 0;
     const std::vector<std::vector<int>> parts = complex_parts(mc);
     if (parts.size() < 2) return 0;
-    SphereGrid kept;
-    double mean_radius = 0;
-    for (int v : parts[0]) mean_radius += mc.radius[static_cast<size_t>(v)] / static_cast<double>(parts[0].size());
-    kept.cell = std::max(mean_radius, 1e-3 * diag);
-    for (int v : parts[0]) grid_insert(kept, mc, v);
+    SphereGrid kept = part_grid(mc, parts[0], diag);
     std::vector<int> kept_vertices = parts[0];
     const double needed = o.cover_fraction * static_cast<double>(samples.size());
     int joins = 0;
