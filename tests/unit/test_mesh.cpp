@@ -217,6 +217,23 @@ Skeleton close_pair_y() {
     return s;
 }
 
+// The close pair's Y thickened at 3 cells per radius.
+TriangleMesh close_pair_y_domain(const Skeleton& y) {
+    ThickenOptions t;
+    t.cells_per_radius = 3;
+    return thicken(y, t);
+}
+
+// One attempt at one level, a min SJ goal no mesh meets, and the close-pair crease wedge as the only alternative.
+MeshOptions wedge_alternative_only() {
+    MeshOptions o;
+    o.retry = false;
+    o.finishing.levels = 1;
+    o.goals.sj_min = 1.0;
+    o.structural_alternatives = {StructuralAlternative::CloseCreaseWedge};
+    return o;
+}
+
 }  // namespace
 
 // MeshOptions::structural_retry on the tube in its box, which misses a goal after its attempts (first, fully padded):
@@ -258,14 +275,8 @@ TEST(MeshSkeleton, StructuralAlternativesSkippedWhenTheyChangeNothing) {
 // which. With goals every finish meets, the first attempt is the only one and nothing structural runs.
 TEST(MeshSkeleton, StructuralAlternativeFinishedAndTheBetterKept) {
     const Skeleton y = close_pair_y();
-    ThickenOptions t;
-    t.cells_per_radius = 3;
-    const TriangleMesh domain = thicken(y, t);
-    MeshOptions o;
-    o.retry = false;
-    o.finishing.levels = 1;
-    o.goals.sj_min = 1.0;
-    o.structural_alternatives = {StructuralAlternative::CloseCreaseWedge};
+    const TriangleMesh domain = close_pair_y_domain(y);
+    const MeshOptions o = wedge_alternative_only();
     const MeshRun run = mesh_in_domain(y, domain, o);
     ASSERT_EQ(run.attempts.size(), 2u);
     EXPECT_EQ(run.attempts[0].what, "first");
@@ -304,14 +315,8 @@ TEST(MeshSkeleton, StructuralAlternativeFinishedAndTheBetterKept) {
 // other exception (a caller's cancellation) propagates.
 TEST(MeshSkeleton, StructuralAlternativeWhoseFinishFailsIsSkipped) {
     const Skeleton y = close_pair_y();
-    ThickenOptions t;
-    t.cells_per_radius = 3;
-    const TriangleMesh domain = thicken(y, t);
-    MeshOptions o;
-    o.retry = false;
-    o.finishing.levels = 1;
-    o.goals.sj_min = 1.0;
-    o.structural_alternatives = {StructuralAlternative::CloseCreaseWedge};
+    const TriangleMesh domain = close_pair_y_domain(y);
+    MeshOptions o = wedge_alternative_only();
     MeshOptions plain = o;
     plain.structural_retry = false;
     const MeshRun first = mesh_in_domain(y, domain, plain);

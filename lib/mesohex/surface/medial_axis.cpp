@@ -1219,6 +1219,12 @@ struct Candidate {
     bool operator>(const Candidate& o) const { return std::tie(cost, a, b) > std::tie(o.cost, o.a, o.b); }
 };
 
+// Whether a queued collapse no longer applies: an end collapsed away, or changed since the candidate was made.
+bool stale(const MedialComplex& mc, const Candidate& c) {
+    const auto a = static_cast<size_t>(c.a), b = static_cast<size_t>(c.b);
+    return !mc.alive[a] || !mc.alive[b] || c.version_a != mc.version[a] || c.version_b != mc.version[b];
+}
+
 Candidate make_candidate(const MedialComplex& mc, int a, int b) {
     if (a > b) std::swap(a, b);
     SphereQuadric q = mc.quadric[static_cast<size_t>(a)];
@@ -1412,10 +1418,7 @@ int collapse_short_edges(MedialComplex& mc, double ratio, double cos_fold, doubl
     while (!heap.empty()) {
         const Candidate cand = heap.top();
         heap.pop();
-        if (!mc.alive[static_cast<size_t>(cand.a)] || !mc.alive[static_cast<size_t>(cand.b)]) continue;
-        if (cand.version_a != mc.version[static_cast<size_t>(cand.a)] ||
-            cand.version_b != mc.version[static_cast<size_t>(cand.b)])
-            continue;
+        if (stale(mc, cand)) continue;
         if (!link_condition(mc, cand.a, cand.b)) continue;
         if (!keeps_sheet_triangles(mc, cand, sheet_width, cos_fold)) continue;
         collapse(mc, cand);
@@ -1444,10 +1447,7 @@ int simplify(MedialComplex& mc, const MedialAxisOptions& o, double diag) {
     while (!heap.empty() && (by_resolution || alive > o.target_vertices)) {
         const Candidate cand = heap.top();
         heap.pop();
-        if (!mc.alive[static_cast<size_t>(cand.a)] || !mc.alive[static_cast<size_t>(cand.b)]) continue;
-        if (cand.version_a != mc.version[static_cast<size_t>(cand.a)] ||
-            cand.version_b != mc.version[static_cast<size_t>(cand.b)])
-            continue;
+        if (stale(mc, cand)) continue;
         if (!by_resolution && o.error_tolerance > 0 && cand.cost > tolerance2 && alive <= o.max_vertices) break;
         if (o.max_edge_radius > 0 && !edges_within(mc, cand, o.max_edge_radius)) continue;
         if (o.max_relative_error > 0 && cand.rms > o.max_relative_error * cand.x[3]) continue;
